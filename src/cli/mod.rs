@@ -1,0 +1,59 @@
+//! Sub-commands of the `e3d` binary.
+
+pub mod run;
+
+use std::process::ExitCode;
+
+/// Exit codes, stable and documented in `docs/robustness.md`.
+pub mod exit {
+    /// Bad input: a scene, a sweep file, a parameter, a command.
+    pub const BAD_INPUT: u8 = 2;
+    /// An output could not be written (or would overwrite without leave).
+    pub const OUTPUT: u8 = 3;
+    /// A simulation failed (for example it blew up).
+    pub const SIMULATION: u8 = 4;
+}
+
+/// An error of the command line, with its exit code.
+#[derive(Debug)]
+pub struct CliError {
+    pub code: u8,
+    pub message: String,
+}
+
+impl CliError {
+    pub fn input(m: impl std::fmt::Display) -> Self {
+        CliError {
+            code: exit::BAD_INPUT,
+            message: m.to_string(),
+        }
+    }
+    pub fn output(m: impl std::fmt::Display) -> Self {
+        CliError {
+            code: exit::OUTPUT,
+            message: m.to_string(),
+        }
+    }
+    pub fn simulation(m: impl std::fmt::Display) -> Self {
+        CliError {
+            code: exit::SIMULATION,
+            message: m.to_string(),
+        }
+    }
+}
+
+impl std::fmt::Display for CliError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for CliError {}
+
+pub type CliResult = Result<(), CliError>;
+
+/// Prints the error and returns its exit code.
+pub fn report_error(e: &CliError) -> ExitCode {
+    eprintln!("error: {}", e.message);
+    ExitCode::from(e.code)
+}

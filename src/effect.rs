@@ -1,0 +1,362 @@
+//! Effects: binning terminal states, the running effect model `p` and the
+//! target `p*`.
+//!
+//! An *effect* is an integer in `0..num_effects`. Scenes bin the terminal
+//! position of a tracked point on an [`EffectGrid`] of rectangular cells,
+//! `row * cols + col`, row 0 at the top (largest y).
+//!
+//! The learner keeps an [`EffectModel`]: the running histogram
+//! `p <- (1 - eta) p + eta onehot(e)`, and compares it with a [`Target`]
+//! distribution `p*` (uniform: explore everything).
+
+use serde::{Deserialize, Serialize};
+
+/// The smallest probability used inside a logarithm: `log p` and `log p*`
+/// are taken of `max(p, P_FLOOR)`, so that an effect never seen (or a target
+/// of zero) gives a large but finite intrinsic reward.
+pub const P_FLOOR: f64 = 1e-300;
+
+/// A rectangular grid of cells over the plane, numbered `row * cols + col`
+/// with row 0 at the top (largest y) and column 0 at the left.
+///
+/// ```
+/// use e3d::EffectGrid;
+/// // arm7's grid: 15 x 15 cells of 0.25 m over [-1.875, 1.875]^2
+/// let g = EffectGrid::new(15, 15, [-1.875, -1.875], [1.875, 1.875]).unwrap();
+/// assert_eq!(g.effect_of([1.75, 0.0]), 119);
+/// assert_eq!(g.cell_of([1.75, 0.0]), (7, 14));
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EffectGrid {
+    /// Number of rows (along y).
+    pub rows: usize,
+    /// Number of columns (along x).
+    pub cols: usize,
+    /// Lower-left corner `(x, y)` of the covered rectangle, in metres.
+    pub min: [f64; 2],
+    /// Upper-right corner `(x, y)` of the covered rectangle, in metres.
+    pub max: [f64; 2],
+}
+
+/// The largest number of effects a scene may have.
+pub const MAX_EFFECTS: usize = 1 << 20;
+
+impl EffectGrid {
+    /// A grid of `rows x cols` cells covering `[min, max]`.
+    pub fn new(rows: usize, cols: usize, min: [f64; 2], max: [f64; 2]) -> Result<Self, String> {
+        let g = EffectGrid {
+            rows,
+            cols,
+            min,
+            max,
+        };
+        g.validate()?;
+        Ok(g)
+    }
+
+    /// Checks the grid: at least one cell, not more than [`MAX_EFFECTS`],
+    /// finite corners with `min < max`.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.rows == 0 || self.cols == 0 {
+            return Err(format!(
+                "an effect grid needs at least one cell, found {} rows x {} columns",
+                self.rows, self.cols
+            ));
+        }
+        if self.rows.saturating_mul(self.cols) > MAX_EFFECTS {
+            return Err(format!(
+                "{} x {} cells is more than the {MAX_EFFECTS} effects supported",
+                self.rows, self.cols
+            ));
+        }
+        if !(self.min.iter().chain(&self.max).all(|v| v.is_finite())
+            && self.min[0] < self.max[0]
+            && self.min[1] < self.max[1])
+        {
+            return Err(format!(
+                "the grid's corners must be finite with min < max, found min {:?}, max {:?}",
+                self.min, self.max
+            ));
+        }
+        Ok(())
+    }
+
+    /// The number of cells (effects).
+    pub fn num_cells(&self) -> usize {
+        self.rows * self.cols
+    }
+
+    /// Cell width and height.
+    pub fn cell_size(&self) -> [f64; 2] {
+        [
+            (self.max[0] - self.min[0]) / self.cols as f64,
+            (self.max[1] - self.min[1]) / self.rows as f64,
+        ]
+    }
+
+    /// The `(row, col)` of the cell holding `p`. Points outside the grid are
+    /// clamped to the nearest border cell.
+    pub fn cell_of(&self, p: [f64; 2]) -> (usize, usize) {
+        let [w, h] = self.cell_size();
+        let col = ((p[0] - self.min[0]) / w).floor();
+        let row = ((self.max[1] - p[1]) / h).floor();
+        let clamp = |v: f64, n: usize| {
+            if v.is_nan() || v < 0.0 {
+                0
+            } else {
+                (v as usize).min(n - 1)
+            }
+        };
+        (clamp(row, self.rows), clamp(col, self.cols))
+    }
+
+    /// The effect index of the cell holding `p`.
+    pub fn effect_of(&self, p: [f64; 2]) -> usize {
+        let (r, c) = self.cell_of(p);
+        r * self.cols + c
+    }
+
+    /// Whether `p` lies inside the covered rectangle.
+    pub fn contains(&self, p: [f64; 2]) -> bool {
+        p[0] >= self.min[0] && p[0] <= self.max[0] && p[1] >= self.min[1] && p[1] <= self.max[1]
+    }
+
+    /// The centre of cell `(row, col)`.
+    pub fn center(&self, row: usize, col: usize) -> [f64; 2] {
+        let [w, h] = self.cell_size();
+        [
+            self.min[0] + (col as f64 + 0.5) * w,
+            self.max[1] - (row as f64 + 0.5) * h,
+        ]
+    }
+}
+
+/// The target distribution `p*` over effects.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Target {
+    /// The same weight on every effect: explore everything.
+    Uniform,
+    /// Given weights, one per effect; normalised to sum 1. Zeros are allowed
+    /// (an effect to avoid): its `log p*` is taken at [`P_FLOOR`].
+    Weights(Vec<f64>),
+}
+
+impl Target {
+    /// `log p*(e)` for every effect, checked against `num_effects`.
+    pub fn log_probs(&self, num_effects: usize) -> Result<Vec<f64>, String> {
+        if num_effects == 0 {
+            return Err("there must be at least one effect".into());
+        }
+        match self {
+            Target::Uniform => Ok(vec![-(num_effects as f64).ln(); num_effects]),
+            Target::Weights(w) => {
+                if w.len() != num_effects {
+                    return Err(format!(
+                        "the target has {} weights, expected one per effect ({num_effects})",
+                        w.len()
+                    ));
+                }
+                if let Some(bad) = w.iter().find(|v| !v.is_finite() || **v < 0.0) {
+                    return Err(format!(
+                        "target weights must be finite and >= 0, found {bad}"
+                    ));
+                }
+                let sum: f64 = w.iter().sum();
+                if sum <= 0.0 || !sum.is_finite() {
+                    return Err("target weights must have a positive, finite sum".into());
+                }
+                Ok(w.iter().map(|v| (v / sum).max(P_FLOOR).ln()).collect())
+            }
+        }
+    }
+
+    /// The target probabilities `p*(e)`.
+    pub fn probs(&self, num_effects: usize) -> Result<Vec<f64>, String> {
+        match self {
+            Target::Uniform => Ok(vec![1.0 / num_effects as f64; num_effects]),
+            Target::Weights(w) => {
+                self.log_probs(num_effects)?;
+                let sum: f64 = w.iter().sum();
+                Ok(w.iter().map(|v| v / sum).collect())
+            }
+        }
+    }
+}
+
+/// The running effect histogram `p <- (1 - eta) p + eta onehot(e)`,
+/// starting uniform.
+///
+/// The update is O(1): `p = scale * q`, so decaying every entry is one
+/// multiplication of `scale`; `q` is rescaled (O(num_effects)) only when
+/// `scale` falls below 1e-150, which keeps every value in range.
+///
+/// ```
+/// use e3d::EffectModel;
+/// let mut p = EffectModel::new(4, 0.5).unwrap();
+/// p.observe(2);
+/// assert!((p.prob(2) - 0.625).abs() < 1e-15);
+/// assert!((p.prob(0) - 0.125).abs() < 1e-15);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EffectModel {
+    q: Vec<f64>,
+    scale: f64,
+    eta: f64,
+}
+
+impl EffectModel {
+    /// A uniform histogram over `num_effects` effects with rate `eta` in (0, 1].
+    pub fn new(num_effects: usize, eta: f64) -> Result<Self, String> {
+        if num_effects == 0 {
+            return Err("there must be at least one effect".into());
+        }
+        if !(eta > 0.0 && eta <= 1.0) {
+            return Err(format!("eta must be in (0, 1], found {eta}"));
+        }
+        Ok(EffectModel {
+            q: vec![1.0 / num_effects as f64; num_effects],
+            scale: 1.0,
+            eta,
+        })
+    }
+
+    /// The number of effects.
+    pub fn num_effects(&self) -> usize {
+        self.q.len()
+    }
+
+    /// The rate `eta`.
+    pub fn eta(&self) -> f64 {
+        self.eta
+    }
+
+    /// Records an observed effect: `p <- (1 - eta) p + eta onehot(e)`.
+    #[inline]
+    pub fn observe(&mut self, effect: usize) {
+        let keep = 1.0 - self.eta;
+        if keep == 0.0 {
+            // eta = 1: p becomes the one-hot of e.
+            self.q.iter_mut().for_each(|v| *v = 0.0);
+            self.q[effect] = 1.0;
+            self.scale = 1.0;
+            return;
+        }
+        self.scale *= keep;
+        self.q[effect] += self.eta / self.scale;
+        if self.scale < 1e-150 {
+            let s = self.scale;
+            self.q.iter_mut().for_each(|v| *v *= s);
+            self.scale = 1.0;
+        }
+    }
+
+    /// `p(e)`.
+    #[inline]
+    pub fn prob(&self, effect: usize) -> f64 {
+        self.scale * self.q[effect]
+    }
+
+    /// `log p(e)`, taken at [`P_FLOOR`] for a vanishing `p(e)`.
+    #[inline]
+    pub fn log_prob(&self, effect: usize) -> f64 {
+        self.prob(effect).max(P_FLOOR).ln()
+    }
+
+    /// The whole distribution `p`.
+    pub fn probs(&self) -> Vec<f64> {
+        self.q.iter().map(|v| v * self.scale).collect()
+    }
+}
+
+/// Shannon entropy (natural log) of a distribution given by counts or
+/// weights; zeros contribute nothing.
+pub fn entropy(weights: &[f64]) -> f64 {
+    let total: f64 = weights.iter().sum();
+    if total <= 0.0 {
+        return 0.0;
+    }
+    let h = -weights
+        .iter()
+        .filter(|&&w| w > 0.0)
+        .map(|&w| {
+            let p = w / total;
+            p * p.ln()
+        })
+        .sum::<f64>();
+    // a single effect gives -0.0; report it as 0
+    if h > 0.0 {
+        h
+    } else {
+        0.0
+    }
+}
+
+/// `KL(q || p*)` of the distribution given by `weights` against the target
+/// log-probabilities `log_target`.
+pub fn kl_divergence(weights: &[f64], log_target: &[f64]) -> f64 {
+    let total: f64 = weights.iter().sum();
+    if total <= 0.0 {
+        return 0.0;
+    }
+    weights
+        .iter()
+        .zip(log_target)
+        .filter(|(&w, _)| w > 0.0)
+        .map(|(&w, &lt)| {
+            let q = w / total;
+            q * (q.ln() - lt)
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn effect_model_matches_the_plain_update_over_many_steps() {
+        let eta = 0.01;
+        let mut m = EffectModel::new(5, eta).unwrap();
+        let mut plain = vec![0.2; 5];
+        for t in 0..100_000usize {
+            let e = (t * 7 + t / 3) % 5;
+            m.observe(e);
+            for (i, v) in plain.iter_mut().enumerate() {
+                *v = (1.0 - eta) * *v + if i == e { eta } else { 0.0 };
+            }
+        }
+        for i in 0..5 {
+            assert!((m.prob(i) - plain[i]).abs() < 1e-12, "{i}");
+        }
+        let sum: f64 = m.probs().iter().sum();
+        assert!((sum - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn eta_one_gives_a_one_hot() {
+        let mut m = EffectModel::new(3, 1.0).unwrap();
+        m.observe(1);
+        m.observe(2);
+        assert_eq!(m.probs(), vec![0.0, 0.0, 1.0]);
+        assert_eq!(m.log_prob(0), P_FLOOR.ln());
+    }
+
+    #[test]
+    fn grid_bins_points_with_row_zero_at_the_top() {
+        let g = EffectGrid::new(3, 6, [0.0, 0.0], [6.0, 3.0]).unwrap();
+        assert_eq!(g.effect_of([0.5, 2.5]), 0);
+        assert_eq!(g.effect_of([5.5, 0.5]), 17);
+        assert_eq!(g.effect_of([-3.0, 10.0]), 0);
+        assert_eq!(g.center(2, 5), [5.5, 0.5]);
+        assert!(EffectGrid::new(0, 6, [0.0, 0.0], [6.0, 3.0]).is_err());
+    }
+
+    #[test]
+    fn entropy_and_kl_of_simple_cases() {
+        assert!((entropy(&[1.0, 1.0, 0.0, 0.0]) - 2f64.ln()).abs() < 1e-15);
+        let lt = Target::Uniform.log_probs(4).unwrap();
+        assert!((kl_divergence(&[1.0, 1.0, 1.0, 1.0], &lt)).abs() < 1e-15);
+        assert!((kl_divergence(&[1.0, 0.0, 0.0, 0.0], &lt) - 4f64.ln()).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,92 @@
+use super::{slot_offsets, Learner, Params};
+use crate::command::{Command, CommandSpace};
+use crate::world::Outcome;
+use rand::{Rng, RngExt};
+
+/// Epsilon-greedy, per slot and off-policy: with probability `epsilon` a
+/// slot's symbol is drawn uniformly, otherwise it is the argmax of
+/// `Q[:, slot]`, ties broken at random. After each trial
+/// `Q[a_i, i] <- (1 - alpha) Q[a_i, i] + alpha r`.
+///
+/// Ties are broken at random on purpose: taking the first maximal symbol
+/// would start the greedy policy on `EEEEEEE`, next to the goal of
+/// `two_rooms`, and flatter the baseline.
+#[derive(Debug, Clone)]
+pub struct EpsilonGreedy {
+    q: Vec<f64>,
+    offsets: Vec<usize>,
+    alpha: f64,
+    epsilon: f64,
+}
+
+impl EpsilonGreedy {
+    /// A fresh learner (Q = 0) with `params.alpha` and `params.epsilon`.
+    pub fn new(space: &CommandSpace, params: &Params) -> Self {
+        let offsets = slot_offsets(space);
+        EpsilonGreedy {
+            q: vec![0.0; *offsets.last().unwrap_or(&0)],
+            offsets,
+            alpha: params.alpha,
+            epsilon: params.epsilon,
+        }
+    }
+
+    /// `Q[:, slot]`.
+    pub fn q(&self, slot: usize) -> &[f64] {
+        &self.q[self.offsets[slot]..self.offsets[slot + 1]]
+    }
+}
+
+impl Learner for EpsilonGreedy {
+    fn name(&self) -> &str {
+        "egreedy"
+    }
+
+    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command) {
+        let n = self.offsets.len() - 1;
+        command.symbols.resize(n, 0);
+        for slot in 0..n {
+            let q = &self.q[self.offsets[slot]..self.offsets[slot + 1]];
+            let explore: f64 = rng.random();
+            command.symbols[slot] = if explore < self.epsilon {
+                rng.random_range(0..q.len()) as u8
+            } else {
+                let best = q.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                let ties = q.iter().filter(|&&v| v == best).count();
+                let pick = rng.random_range(0..ties);
+                q.iter()
+                    .enumerate()
+                    .filter(|(_, &v)| v == best)
+                    .nth(pick)
+                    .map(|(i, _)| i)
+                    .unwrap_or(0) as u8
+            };
+        }
+    }
+
+    fn learn(&mut self, command: &Command, outcome: &Outcome) {
+        for (slot, &a) in command.symbols.iter().enumerate() {
+            let q = &mut self.q[self.offsets[slot] + a as usize];
+            *q = (1.0 - self.alpha) * *q + self.alpha * outcome.reward;
+        }
+    }
+
+    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
+        let q = self.q(slot);
+        let k = q.len() as f64;
+        let best = q.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let ties = q.iter().filter(|&&v| v == best).count() as f64;
+        Some(
+            q.iter()
+                .map(|&v| {
+                    self.epsilon / k
+                        + if v == best {
+                            (1.0 - self.epsilon) / ties
+                        } else {
+                            0.0
+                        }
+                })
+                .collect(),
+        )
+    }
+}

@@ -1,0 +1,222 @@
+//! Learners: propose a command, learn from its outcome.
+//!
+//! - [`E3d`]: the paper's End-Effect Exploration Drive (Algorithm 1);
+//! - [`UniformPolicy`]: every symbol equally likely, learns nothing;
+//! - [`EpsilonGreedy`]: per-slot epsilon-greedy on the extrinsic reward.
+//!
+//! Implement [`Learner`] to plug in your own.
+
+mod e3d;
+mod egreedy;
+mod uniform;
+
+pub use e3d::E3d;
+pub use egreedy::EpsilonGreedy;
+pub use uniform::UniformPolicy;
+
+use crate::command::{Command, CommandSpace};
+use crate::effect::Target;
+use crate::world::Outcome;
+use rand::Rng;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::str::FromStr;
+
+/// A learner of open-loop commands.
+///
+/// A session calls [`propose`](Learner::propose), executes the command,
+/// then calls [`learn`](Learner::learn) with its outcome. The learner sees
+/// nothing of the world but the command space and the outcomes.
+pub trait Learner {
+    /// A short name (`"e3d"`, `"uniform"`, `"egreedy"`).
+    fn name(&self) -> &str;
+
+    /// Draws the next command into `command` (which the caller reuses from
+    /// trial to trial: no allocation needed). Every random draw comes from
+    /// `rng`.
+    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command);
+
+    /// Learns from the outcome of `command`.
+    fn learn(&mut self, command: &Command, outcome: &Outcome);
+
+    /// The probability of each symbol of `slot` under the current policy,
+    /// if the policy draws slots independently (all the shipped learners
+    /// do). Used for the exact effect distribution of a policy.
+    fn slot_policy(&self, _slot: usize) -> Option<Vec<f64>> {
+        None
+    }
+}
+
+impl<L: Learner + ?Sized> Learner for Box<L> {
+    fn name(&self) -> &str {
+        (**self).name()
+    }
+    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command) {
+        (**self).propose(rng, command)
+    }
+    fn learn(&mut self, command: &Command, outcome: &Outcome) {
+        (**self).learn(command, outcome)
+    }
+    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
+        (**self).slot_policy(slot)
+    }
+}
+
+/// A hyper-parameter out of its range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{name} = {value}: expected {expected}")]
+pub struct ParamError {
+    /// The parameter (`alpha`, `beta`, ...).
+    pub name: &'static str,
+    /// The value given.
+    pub value: f64,
+    /// The accepted range, in words.
+    pub expected: &'static str,
+}
+
+/// The hyper-parameters of the shipped learners. Defaults: the paper's task
+/// 1 (alpha 0.3, beta 1, lambda 0.03, eta 0.01) and epsilon 0.1.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// Learning rate, > 0.
+    pub alpha: f64,
+    /// Inverse temperature of the softmax policy, > 0.
+    pub beta: f64,
+    /// Weight of the extrinsic reward, >= 0.
+    pub lambda: f64,
+    /// Rate of the running effect histogram, in (0, 1].
+    pub eta: f64,
+    /// Exploration rate of epsilon-greedy, in [0, 1].
+    pub epsilon: f64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params::TASK1
+    }
+}
+
+impl Params {
+    /// The paper's task 1 (exploration without reward).
+    pub const TASK1: Params = Params {
+        alpha: 0.3,
+        beta: 1.0,
+        lambda: 0.03,
+        eta: 0.01,
+        epsilon: 0.1,
+    };
+    /// The paper's task 2 (sparse reward): beta = 100.
+    pub const TASK2: Params = Params {
+        beta: 100.0,
+        ..Params::TASK1
+    };
+
+    /// Checks every range: alpha > 0, beta > 0, lambda >= 0,
+    /// 0 < eta <= 1, 0 <= epsilon <= 1, all finite.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let check = |name, value: f64, ok: bool, expected| {
+            if ok && value.is_finite() {
+                Ok(())
+            } else {
+                Err(ParamError {
+                    name,
+                    value,
+                    expected,
+                })
+            }
+        };
+        check("alpha", self.alpha, self.alpha > 0.0, "a finite number > 0")?;
+        check("beta", self.beta, self.beta > 0.0, "a finite number > 0")?;
+        check(
+            "lambda",
+            self.lambda,
+            self.lambda >= 0.0,
+            "a finite number >= 0",
+        )?;
+        check(
+            "eta",
+            self.eta,
+            self.eta > 0.0 && self.eta <= 1.0,
+            "a number in (0, 1]",
+        )?;
+        check(
+            "epsilon",
+            self.epsilon,
+            (0.0..=1.0).contains(&self.epsilon),
+            "a number in [0, 1]",
+        )
+    }
+}
+
+/// The shipped learners, by name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LearnerKind {
+    /// [`E3d`].
+    E3d,
+    /// [`UniformPolicy`].
+    Uniform,
+    /// [`EpsilonGreedy`].
+    Egreedy,
+}
+
+impl LearnerKind {
+    /// Every kind.
+    pub const ALL: [LearnerKind; 3] =
+        [LearnerKind::E3d, LearnerKind::Uniform, LearnerKind::Egreedy];
+
+    /// The name used on the command line and in results.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LearnerKind::E3d => "e3d",
+            LearnerKind::Uniform => "uniform",
+            LearnerKind::Egreedy => "egreedy",
+        }
+    }
+
+    /// Makes a fresh learner of this kind for `space`, `num_effects` effects
+    /// and target `p*` (used by E3D only).
+    pub fn make(
+        self,
+        params: &Params,
+        space: &CommandSpace,
+        num_effects: usize,
+        target: &Target,
+    ) -> Result<Box<dyn Learner + Send>, String> {
+        params.validate().map_err(|e| e.to_string())?;
+        Ok(match self {
+            LearnerKind::E3d => Box::new(E3d::new(space, num_effects, params, target)?),
+            LearnerKind::Uniform => Box::new(UniformPolicy::new(space)),
+            LearnerKind::Egreedy => Box::new(EpsilonGreedy::new(space, params)),
+        })
+    }
+}
+
+impl fmt::Display for LearnerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for LearnerKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        LearnerKind::ALL
+            .into_iter()
+            .find(|k| k.as_str() == s)
+            .ok_or_else(|| format!("unknown learner `{s}`; expected one of: e3d, uniform, egreedy"))
+    }
+}
+
+/// Flat per-slot table storage: `offsets[slot] + symbol`.
+pub(crate) fn slot_offsets(space: &CommandSpace) -> Vec<usize> {
+    let mut offsets = Vec::with_capacity(space.num_slots() + 1);
+    let mut at = 0;
+    for k in space.sizes() {
+        offsets.push(at);
+        at += k;
+    }
+    offsets.push(at);
+    offsets
+}

@@ -1,0 +1,40 @@
+use super::Learner;
+use crate::command::{Command, CommandSpace};
+use crate::world::Outcome;
+use rand::{Rng, RngExt};
+
+/// The uniform policy: every symbol of every slot equally likely, always.
+/// The paper's baseline for task 1.
+#[derive(Debug, Clone)]
+pub struct UniformPolicy {
+    sizes: Vec<usize>,
+}
+
+impl UniformPolicy {
+    /// A uniform policy over `space`.
+    pub fn new(space: &CommandSpace) -> Self {
+        UniformPolicy {
+            sizes: space.sizes().collect(),
+        }
+    }
+}
+
+impl Learner for UniformPolicy {
+    fn name(&self) -> &str {
+        "uniform"
+    }
+
+    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command) {
+        command.symbols.resize(self.sizes.len(), 0);
+        for (s, &k) in command.symbols.iter_mut().zip(&self.sizes) {
+            *s = rng.random_range(0..k) as u8;
+        }
+    }
+
+    fn learn(&mut self, _command: &Command, _outcome: &Outcome) {}
+
+    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
+        let k = self.sizes[slot];
+        Some(vec![1.0 / k as f64; k])
+    }
+}

@@ -1,0 +1,234 @@
+//! Scene errors that point into the file.
+
+use super::Invalid;
+use std::fmt;
+
+/// A scene that cannot be loaded: where, and what was expected.
+///
+/// Displays as `FILE:LINE:COL: MESSAGE` (or `FILE: MESSAGE` when there is no
+/// position), the form editors and terminals turn into links.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SceneError {
+    /// The file (or `<builtin NAME>`, or the name that was not found).
+    pub file: String,
+    /// 1-based line and column, where the mistake has a place in the file.
+    pub position: Option<(usize, usize)>,
+    /// What is wrong and what was expected.
+    pub message: String,
+}
+
+impl std::error::Error for SceneError {}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.position {
+            Some((l, c)) => write!(f, "{}:{l}:{c}: {}", self.file, self.message),
+            None => write!(f, "{}: {}", self.file, self.message),
+        }
+    }
+}
+
+impl SceneError {
+    pub(crate) fn new(file: &str, position: Option<(usize, usize)>, message: String) -> Self {
+        SceneError {
+            file: file.to_string(),
+            position,
+            message,
+        }
+    }
+
+    /// From a RON parse error: its position, and a sentence with a "did you
+    /// mean" for misspelt fields and variants.
+    pub(crate) fn from_ron(file: &str, _text: &str, e: ron::error::SpannedError) -> Self {
+        use ron::error::Error as E;
+        let message = match &e.code {
+            E::NoSuchStructField {
+                expected,
+                found,
+                outer,
+            } => {
+                let within = outer
+                    .as_ref()
+                    .map(|o| format!(" in `{o}`"))
+                    .unwrap_or_default();
+                format!(
+                    "unknown field `{found}`{within}{}; expected one of: {}",
+                    did_you_mean(found, expected),
+                    expected.join(", ")
+                )
+            }
+            E::NoSuchEnumVariant {
+                expected,
+                found,
+                outer,
+            } => {
+                let within = outer
+                    .as_ref()
+                    .map(|o| format!(" for `{o}`"))
+                    .unwrap_or_default();
+                format!(
+                    "unknown variant `{found}`{within}{}; expected one of: {}",
+                    did_you_mean(found, expected),
+                    expected.join(", ")
+                )
+            }
+            E::MissingStructField { field, outer } => {
+                let within = outer
+                    .as_ref()
+                    .map(|o| format!(" in `{o}`"))
+                    .unwrap_or_default();
+                format!("missing field `{field}`{within}")
+            }
+            E::DuplicateStructField { field, outer } => {
+                let within = outer
+                    .as_ref()
+                    .map(|o| format!(" in `{o}`"))
+                    .unwrap_or_default();
+                format!("field `{field}` given twice{within}")
+            }
+            other => other.to_string(),
+        };
+        SceneError::new(file, Some((e.span.start.line, e.span.start.col)), message)
+    }
+
+    pub(crate) fn from_validation(file: &str, text: &str, v: Invalid) -> Self {
+        let position = locate(text, &v.field, v.anchor.as_deref(), v.nth);
+        SceneError::new(
+            file,
+            position,
+            format!("field `{}`: expected {}", v.field, v.expected),
+        )
+    }
+}
+
+/// A known name close to `found`, as `" (did you mean `x`?)"`, or "".
+pub fn did_you_mean(found: &str, known: &[&str]) -> String {
+    let best = known
+        .iter()
+        .map(|k| (edit_distance(&found.to_lowercase(), &k.to_lowercase()), *k))
+        .min();
+    match best {
+        Some((d, k)) if d <= 2.max(found.len() / 3) && d < found.len() => {
+            format!(" (did you mean `{k}`?)")
+        }
+        _ => String::new(),
+    }
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for i in 1..=a.len() {
+        let mut cur = vec![i; b.len() + 1];
+        for j in 1..=b.len() {
+            let sub = prev[j - 1] + usize::from(a[i - 1] != b[j - 1]);
+            cur[j] = sub.min(prev[j] + 1).min(cur[j - 1] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+/// 1-based (line, column) of byte offset `at` in `text`.
+pub(crate) fn position_at(text: &str, at: usize) -> (usize, usize) {
+    let before = &text[..at.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before
+        .rsplit('\n')
+        .next()
+        .map(|l| l.chars().count())
+        .unwrap_or(0)
+        + 1;
+    (line, col)
+}
+
+/// Where a validation failure sits: the `nth` occurrence of `anchor` if
+/// given, else the `nth` occurrence of `field` used as a field name
+/// (`field:`), skipping comments.
+fn locate(text: &str, field: &str, anchor: Option<&str>, nth: usize) -> Option<(usize, usize)> {
+    let code = blank_comments(text);
+    let hits: Vec<usize> = match anchor {
+        Some(a) => code.match_indices(a).map(|(i, _)| i).collect(),
+        None => code
+            .match_indices(field)
+            .filter(|(i, _)| {
+                let before_ok = code[..*i]
+                    .chars()
+                    .next_back()
+                    .is_none_or(|c| !(c.is_alphanumeric() || c == '_'));
+                let after = code[i + field.len()..].trim_start();
+                before_ok && (after.starts_with(':') || after.starts_with('('))
+            })
+            .map(|(i, _)| i)
+            .collect(),
+    };
+    hits.get(nth)
+        .or_else(|| hits.first())
+        .map(|&i| position_at(text, i))
+}
+
+/// The text with `//` and `/* */` comments (outside strings) replaced by
+/// spaces, so that byte offsets stay the same.
+fn blank_comments(text: &str) -> String {
+    let b = text.as_bytes();
+    let mut out = b.to_vec();
+    let (mut i, mut in_str) = (0, false);
+    while i < b.len() {
+        if in_str {
+            if b[i] == b'\\' {
+                i += 2;
+                continue;
+            }
+            if b[i] == b'"' {
+                in_str = false;
+            }
+            i += 1;
+        } else if b[i] == b'"' {
+            in_str = true;
+            i += 1;
+        } else if b[i..].starts_with(b"//") {
+            while i < b.len() && b[i] != b'\n' {
+                out[i] = b' ';
+                i += 1;
+            }
+        } else if b[i..].starts_with(b"/*") {
+            while i < b.len() && !b[i..].starts_with(b"*/") {
+                if b[i] != b'\n' {
+                    out[i] = b' ';
+                }
+                i += 1;
+            }
+            for k in i..(i + 2).min(b.len()) {
+                out[k] = b' ';
+            }
+            i += 2;
+        } else {
+            i += 1;
+        }
+    }
+    // Only ASCII bytes were replaced by ASCII spaces, within comments that
+    // start and end on ASCII delimiters; multi-byte characters inside a
+    // comment are blanked byte by byte, which keeps valid UTF-8.
+    String::from_utf8(out).unwrap_or_else(|_| text.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggests_close_names_only() {
+        assert_eq!(
+            did_you_mean("colz", &["rows", "cols"]),
+            " (did you mean `cols`?)"
+        );
+        assert_eq!(did_you_mean("zzzzzz", &["rows", "cols"]), "");
+    }
+
+    #[test]
+    fn locates_fields_outside_comments() {
+        let text = "// rows: no\n(\n  rows: 3,\n)";
+        assert_eq!(locate(text, "rows", None, 0), Some((3, 3)));
+    }
+}

@@ -1,0 +1,382 @@
+//! Scenes: the RON files that describe a world, its command schema, its
+//! effects and its reward.
+//!
+//! A scene file holds one `Scene(...)`:
+//!
+//! ```ron
+//! Scene(
+//!     name: "two_rooms",
+//!     world: Grid(rows: 3, cols: 6, start: (0, 0), walls: [((0, 2), (0, 3))]),
+//!     command: Repeat(slots: 7, alphabet: [
+//!         (symbol: 'E', action: Move(drow: 0, dcol: 1)),
+//!         (symbol: 'S', action: Move(drow: 1, dcol: 0)),
+//!     ]),
+//!     reward: (cells: [(2, 5)]),
+//! )
+//! ```
+//!
+//! [`Scene::load`] parses and validates; every mistake is a [`SceneError`]
+//! naming the file, the line and column, the field and what was expected.
+//! [`Scene::build`] turns a scene into a [`World`](crate::World).
+//! `docs/scenes.md` documents every field.
+
+mod error;
+
+pub use error::SceneError;
+
+use crate::command::{CommandSpace, MAX_ALPHABET, MAX_SLOTS};
+use crate::effect::EffectGrid;
+use crate::world::{GridSpec, GridWorld, World};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A parsed and validated scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// The scene's name (used in errors, pictures and results).
+    pub name: String,
+    /// A sentence or two for people.
+    #[serde(default)]
+    pub description: String,
+    /// What kind of world executes the commands.
+    pub world: WorldSpec,
+    /// The command schema: slots, their symbols and what each symbol does.
+    pub command: CommandSpec,
+    /// The reward (task 2). Without it, every reward is 0.
+    #[serde(default)]
+    pub reward: RewardSpec,
+}
+
+/// The kind of world a scene describes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum WorldSpec {
+    /// A grid of cells with walls between some neighbours; every symbol is a
+    /// one-cell move ([`Action::Move`]). The effect is the terminal cell.
+    Grid(GridSpec),
+}
+
+/// The command schema.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum CommandSpec {
+    /// `slots` slots sharing one alphabet (the grid: 7 x {E, S, W, N}).
+    Repeat {
+        /// The number of slots `n`.
+        slots: usize,
+        /// The symbols every slot accepts.
+        alphabet: Vec<SymbolSpec>,
+    },
+    /// One entry per slot, each with its own alphabet (the arm: slot k drives
+    /// joint k).
+    Slots(Vec<SlotSpec>),
+}
+
+/// One slot of a [`CommandSpec::Slots`] schema.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlotSpec {
+    /// An optional name, for pictures and errors.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The symbols this slot accepts.
+    pub alphabet: Vec<SymbolSpec>,
+}
+
+/// A symbol and what it does.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SymbolSpec {
+    /// The character that stands for this symbol in written commands.
+    pub symbol: char,
+    /// What the symbol does when executed.
+    pub action: Action,
+}
+
+/// What a symbol does.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Action {
+    /// Nothing.
+    Idle,
+    /// Grid scenes: move by `(drow, dcol)` cells (one cell at most); a move
+    /// into a wall or out of the grid leaves the agent where it is.
+    Move {
+        /// Rows to move (+1 is down, south).
+        drow: i32,
+        /// Columns to move (+1 is right, east).
+        dcol: i32,
+    },
+}
+
+/// The reward: `value` when the terminal effect is one of `cells`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RewardSpec {
+    /// The rewarded cells `(row, col)` of the effect grid.
+    #[serde(default)]
+    pub cells: Vec<(usize, usize)>,
+    /// The reward given in a rewarded cell (default 1).
+    #[serde(default = "one")]
+    pub value: f64,
+    /// Why these cells (for example the rule that chose them).
+    #[serde(default)]
+    pub note: String,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+impl Default for RewardSpec {
+    fn default() -> Self {
+        RewardSpec {
+            cells: Vec::new(),
+            value: 1.0,
+            note: String::new(),
+        }
+    }
+}
+
+/// The scenes shipped in `scenes/`, built into the binary: `(name, RON text)`.
+pub const BUILTIN: &[(&str, &str)] = &[("two_rooms", include_str!("../../scenes/two_rooms.ron"))];
+
+/// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
+pub const DEFAULT_SCENE: &str = "two_rooms";
+
+impl Scene {
+    /// Loads and validates a scene file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        if path.is_dir() {
+            return Err(SceneError::new(
+                &file,
+                None,
+                "this is a directory; expected a scene file (.ron)".into(),
+            ));
+        }
+        let bytes = std::fs::read(path)
+            .map_err(|e| SceneError::new(&file, None, format!("cannot read the file: {e}")))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let upto = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+            let pos = error::position_at(&String::from_utf8_lossy(upto), upto.len());
+            SceneError::new(
+                &file,
+                Some(pos),
+                "the file is not valid UTF-8 text; expected a RON scene".into(),
+            )
+        })?;
+        Scene::parse(&text, &file)
+    }
+
+    /// Parses and validates scene text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
+        if text.trim().is_empty() {
+            return Err(SceneError::new(
+                file,
+                None,
+                "the file is empty; expected `Scene(name: ..., world: ..., command: ...)`".into(),
+            ));
+        }
+        let scene: Scene = ron_options()
+            .from_str(text)
+            .map_err(|e| SceneError::from_ron(file, text, e))?;
+        scene
+            .validate()
+            .map_err(|v| SceneError::from_validation(file, text, v))?;
+        Ok(scene)
+    }
+
+    /// A scene shipped with e3d, by name (see [`BUILTIN`]).
+    pub fn builtin(name: &str) -> Option<Scene> {
+        BUILTIN.iter().find(|(n, _)| *n == name).map(|(n, text)| {
+            Scene::parse(text, &format!("<builtin {n}>")).expect("shipped scenes are valid")
+        })
+    }
+
+    /// A scene by path, or by the name of a built-in scene when no such
+    /// file exists.
+    pub fn resolve(path_or_name: &str) -> Result<Scene, SceneError> {
+        let p = Path::new(path_or_name);
+        if !p.exists() {
+            if let Some(s) = Scene::builtin(path_or_name) {
+                return Ok(s);
+            }
+            let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
+            return Err(SceneError::new(
+                path_or_name,
+                None,
+                format!(
+                    "no such file, and no built-in scene of that name; expected a path to a .ron scene or one of: {}",
+                    names.join(", ")
+                ),
+            ));
+        }
+        Scene::load(p)
+    }
+
+    /// The command space of this scene.
+    pub fn command_space(&self) -> CommandSpace {
+        CommandSpace::new(
+            self.slots()
+                .map(|a| a.iter().map(|s| s.symbol).collect())
+                .collect(),
+        )
+        .expect("validated scene")
+    }
+
+    /// The alphabets, slot by slot.
+    pub fn slots(&self) -> impl Iterator<Item = &[SymbolSpec]> + '_ {
+        let n = match &self.command {
+            CommandSpec::Repeat { slots, .. } => *slots,
+            CommandSpec::Slots(s) => s.len(),
+        };
+        (0..n).map(move |i| match &self.command {
+            CommandSpec::Repeat { alphabet, .. } => alphabet.as_slice(),
+            CommandSpec::Slots(s) => s[i].alphabet.as_slice(),
+        })
+    }
+
+    /// The grid effects are binned on.
+    pub fn effect_grid(&self) -> EffectGrid {
+        match &self.world {
+            WorldSpec::Grid(g) => g.effect_grid(),
+        }
+    }
+
+    /// The number of effects.
+    pub fn num_effects(&self) -> usize {
+        self.effect_grid().num_cells()
+    }
+
+    /// The reward of each effect (`value` on reward cells, 0 elsewhere).
+    pub fn reward_table(&self) -> Vec<f64> {
+        let g = self.effect_grid();
+        let mut r = vec![0.0; g.num_cells()];
+        for &(row, col) in &self.reward.cells {
+            r[row * g.cols + col] = self.reward.value;
+        }
+        r
+    }
+
+    /// Builds the world that executes this scene's commands.
+    pub fn build(&self) -> Box<dyn World + Send> {
+        match &self.world {
+            WorldSpec::Grid(g) => Box::new(GridWorld::from_scene(self, g)),
+        }
+    }
+
+    /// Checks everything that parsing alone cannot.
+    fn validate(&self) -> Result<(), Invalid> {
+        if self.name.trim().is_empty() {
+            return Err(Invalid::at("name", None, "a non-empty name"));
+        }
+        let n = self.slots().count();
+        if n == 0 {
+            return Err(Invalid::at("command", None, "at least one slot"));
+        }
+        if n > MAX_SLOTS {
+            return Err(Invalid::at(
+                "slots",
+                None,
+                &format!("at most {MAX_SLOTS} slots, found {n}"),
+            ));
+        }
+        for (i, alphabet) in self.slots().enumerate() {
+            if alphabet.is_empty() {
+                return Err(Invalid::at(
+                    "alphabet",
+                    None,
+                    &format!("slot {i}: at least one symbol in the alphabet, found none"),
+                ));
+            }
+            if alphabet.len() > MAX_ALPHABET {
+                return Err(Invalid::at(
+                    "alphabet",
+                    None,
+                    &format!(
+                        "slot {i}: at most {MAX_ALPHABET} symbols, found {}",
+                        alphabet.len()
+                    ),
+                ));
+            }
+            for (j, s) in alphabet.iter().enumerate() {
+                if alphabet[..j].iter().any(|t| t.symbol == s.symbol) {
+                    return Err(Invalid::at(
+                        "symbol",
+                        Some(&format!("'{}'", s.symbol)),
+                        &format!(
+                            "slot {i}: distinct symbols, but '{}' appears twice",
+                            s.symbol
+                        ),
+                    )
+                    .nth(1));
+                }
+                if s.symbol.is_whitespace() || s.symbol == ',' {
+                    return Err(Invalid::at(
+                        "symbol",
+                        None,
+                        "a printable symbol other than ',' (commands are written as strings)",
+                    ));
+                }
+            }
+        }
+        match &self.world {
+            WorldSpec::Grid(g) => g.validate(self)?,
+        }
+        let grid = self.effect_grid();
+        if !self.reward.value.is_finite() {
+            return Err(Invalid::at("value", None, "a finite reward value"));
+        }
+        for &(r, c) in &self.reward.cells {
+            if r >= grid.rows || c >= grid.cols {
+                return Err(Invalid::at(
+                    "cells",
+                    None,
+                    &format!(
+                        "reward cells inside the {} x {} effect grid, found ({r}, {c})",
+                        grid.rows, grid.cols
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The RON dialect of scene files: newtype variants may be written without
+/// their inner parentheses (`Grid(rows: 3, ...)`), and optional fields
+/// without `Some(...)`.
+pub fn ron_options() -> ron::Options {
+    use ron::extensions::Extensions;
+    ron::Options::default()
+        .with_default_extension(Extensions::UNWRAP_VARIANT_NEWTYPES | Extensions::IMPLICIT_SOME)
+}
+
+/// A validation failure, before it is placed in the file.
+#[derive(Debug)]
+pub(crate) struct Invalid {
+    /// The field at fault.
+    pub field: String,
+    /// A text near the fault (for example `name: "puck"`), searched first.
+    pub anchor: Option<String>,
+    /// Which occurrence of the field after the anchor (0 = first).
+    pub nth: usize,
+    /// What was expected (and what was found).
+    pub expected: String,
+}
+
+impl Invalid {
+    pub(crate) fn at(field: &str, anchor: Option<&str>, expected: &str) -> Invalid {
+        Invalid {
+            field: field.to_string(),
+            anchor: anchor.map(str::to_string),
+            nth: 0,
+            expected: expected.to_string(),
+        }
+    }
+
+    fn nth(mut self, n: usize) -> Invalid {
+        self.nth = n;
+        self
+    }
+}

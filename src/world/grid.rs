@@ -1,0 +1,215 @@
+//! The grid world: the paper's degenerate kinematic scene.
+
+use super::{Outcome, World, WorldError};
+use crate::command::{Command, CommandSpace};
+use crate::effect::EffectGrid;
+use crate::scene::{Action, Invalid, Scene};
+use serde::{Deserialize, Serialize};
+
+/// The `Grid` world of a scene file: `rows x cols` cells, walls between
+/// some neighbouring cells, a start cell. Row 0 is at the top, column 0 at
+/// the left; in metres each cell is 1 x 1 with the grid's lower-left corner
+/// at the origin.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridSpec {
+    /// Number of rows.
+    pub rows: usize,
+    /// Number of columns.
+    pub cols: usize,
+    /// The start cell `(row, col)`.
+    pub start: (usize, usize),
+    /// Walls between two neighbouring cells, `((row, col), (row, col))`.
+    /// The outer border is always a wall.
+    #[serde(default)]
+    pub walls: Vec<((usize, usize), (usize, usize))>,
+}
+
+impl GridSpec {
+    /// The effect grid: one effect per cell.
+    pub fn effect_grid(&self) -> EffectGrid {
+        EffectGrid {
+            rows: self.rows,
+            cols: self.cols,
+            min: [0.0, 0.0],
+            max: [self.cols as f64, self.rows as f64],
+        }
+    }
+
+    pub(crate) fn validate(&self, scene: &Scene) -> Result<(), Invalid> {
+        self.effect_grid()
+            .validate()
+            .map_err(|e| Invalid::at(if self.rows == 0 { "rows" } else { "cols" }, None, &e))?;
+        let inside = |(r, c): (usize, usize)| r < self.rows && c < self.cols;
+        if !inside(self.start) {
+            return Err(Invalid::at(
+                "start",
+                None,
+                &format!(
+                    "a start cell inside the {} x {} grid, found {:?}",
+                    self.rows, self.cols, self.start
+                ),
+            ));
+        }
+        for &(a, b) in &self.walls {
+            if !inside(a) || !inside(b) {
+                return Err(Invalid::at(
+                    "walls",
+                    None,
+                    &format!("walls between cells inside the grid, found {a:?}-{b:?}"),
+                ));
+            }
+            if a.0.abs_diff(b.0) + a.1.abs_diff(b.1) != 1 {
+                return Err(Invalid::at(
+                    "walls",
+                    None,
+                    &format!("walls between neighbouring cells, found {a:?}-{b:?}"),
+                ));
+            }
+        }
+        for alphabet in scene.slots() {
+            for s in alphabet {
+                match s.action {
+                    Action::Idle => {}
+                    Action::Move { drow, dcol } if drow.abs() + dcol.abs() <= 1 => {}
+                    Action::Move { .. } => {
+                        return Err(Invalid::at(
+                            "action",
+                            Some("Move"),
+                            &format!(
+                                "symbol '{}': a one-cell move (|drow| + |dcol| <= 1)",
+                                s.symbol
+                            ),
+                        ))
+                    }
+                    #[allow(unreachable_patterns)]
+                    _ => {
+                        return Err(Invalid::at(
+                            "action",
+                            None,
+                            &format!(
+                                "symbol '{}': a Grid world takes Move or Idle actions only",
+                                s.symbol
+                            ),
+                        ))
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A grid world built from a scene: precomputed transitions, so executing a
+/// command is `n` table look-ups.
+#[derive(Debug, Clone)]
+pub struct GridWorld {
+    space: CommandSpace,
+    grid: EffectGrid,
+    start: usize,
+    /// `next[(slot_offset + symbol) * cells + cell]`: the cell after the move.
+    next: Vec<u32>,
+    slot_offset: Vec<usize>,
+    reward: Vec<f64>,
+}
+
+impl GridWorld {
+    /// Builds the world of a validated scene whose world is `spec`.
+    pub fn from_scene(scene: &Scene, spec: &GridSpec) -> GridWorld {
+        let space = scene.command_space();
+        let cells = spec.rows * spec.cols;
+        let blocked = |a: (usize, usize), b: (usize, usize)| {
+            spec.walls
+                .iter()
+                .any(|&(p, q)| (p == a && q == b) || (p == b && q == a))
+        };
+        let mut next = Vec::new();
+        let mut slot_offset = Vec::new();
+        for alphabet in scene.slots() {
+            slot_offset.push(next.len() / cells);
+            for sym in alphabet {
+                let (dr, dc) = match sym.action {
+                    Action::Move { drow, dcol } => (drow, dcol),
+                    _ => (0, 0),
+                };
+                for cell in 0..cells {
+                    let (r, c) = (cell / spec.cols, cell % spec.cols);
+                    let (nr, nc) = (r as i64 + dr as i64, c as i64 + dc as i64);
+                    let to = if nr < 0
+                        || nc < 0
+                        || nr >= spec.rows as i64
+                        || nc >= spec.cols as i64
+                        || blocked((r, c), (nr as usize, nc as usize))
+                    {
+                        cell
+                    } else {
+                        nr as usize * spec.cols + nc as usize
+                    };
+                    next.push(to as u32);
+                }
+            }
+        }
+        GridWorld {
+            space,
+            grid: spec.effect_grid(),
+            start: spec.start.0 * spec.cols + spec.start.1,
+            next,
+            slot_offset,
+            reward: scene.reward_table(),
+        }
+    }
+
+    /// The cell grid.
+    pub fn grid(&self) -> &EffectGrid {
+        &self.grid
+    }
+
+    /// The cells visited by a command, start included (for pictures).
+    pub fn path(&self, command: &Command) -> Vec<usize> {
+        let cells = self.grid.num_cells();
+        let mut cell = self.start;
+        let mut path = vec![cell];
+        for (slot, &s) in command.symbols.iter().enumerate() {
+            cell = self.next[(self.slot_offset[slot] + s as usize) * cells + cell] as usize;
+            path.push(cell);
+        }
+        path
+    }
+}
+
+impl World for GridWorld {
+    fn command_space(&self) -> &CommandSpace {
+        &self.space
+    }
+
+    fn num_effects(&self) -> usize {
+        self.grid.num_cells()
+    }
+
+    #[inline]
+    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
+        if command.len() != self.space.num_slots() {
+            return Err(WorldError::BadCommand {
+                command: command.to_string(),
+                reason: format!("expected {} slots", self.space.num_slots()),
+            });
+        }
+        let cells = self.grid.num_cells();
+        let mut cell = self.start;
+        for (slot, &s) in command.symbols.iter().enumerate() {
+            if s as usize >= self.space.alphabet(slot).len() {
+                return Err(WorldError::BadCommand {
+                    command: command.to_string(),
+                    reason: format!("slot {slot} has no symbol {s}"),
+                });
+            }
+            cell = self.next[(self.slot_offset[slot] + s as usize) * cells + cell] as usize;
+        }
+        let (r, c) = (cell / self.grid.cols, cell % self.grid.cols);
+        Ok(Outcome {
+            effect: cell,
+            reward: self.reward[cell],
+            point: self.grid.center(r, c),
+        })
+    }
+}

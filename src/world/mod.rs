@@ -1,0 +1,115 @@
+//! Worlds: what executes a command open loop and reports its terminal state.
+//!
+//! A [`World`] takes a whole [`Command`], runs it without feedback, and
+//! returns an [`Outcome`]: the terminal position of the tracked point, the
+//! effect it falls in, and the reward. The learner sees only the outcome.
+//!
+//! - [`GridWorld`]: the degenerate kinematic scene (one-cell moves, walls);
+//! - [`OutcomeTable`]: every command of a deterministic world executed
+//!   once, then looked up.
+//!
+//! Implement [`World`] to plug in your own simulator or robot.
+
+mod grid;
+mod table;
+
+pub use grid::{GridSpec, GridWorld};
+pub use table::{OutcomeTable, MAX_TABLE_COMMANDS};
+
+use crate::command::{Command, CommandSpace};
+use serde::{Deserialize, Serialize};
+
+/// What the learner reads after a command: the terminal state, binned.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Outcome {
+    /// The effect: the bin of the terminal state, in `0..num_effects`.
+    pub effect: usize,
+    /// The (extrinsic) reward.
+    pub reward: f64,
+    /// The terminal position `(x, y)` of the tracked point, in metres (on a
+    /// grid: the centre of the terminal cell, cells being 1 x 1 with row 0
+    /// at the top).
+    pub point: [f64; 2],
+}
+
+/// A failure while executing a command.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WorldError {
+    /// The command does not fit the world's command space.
+    #[error("command {command} does not fit this world: {reason}")]
+    BadCommand {
+        /// The command, as symbol indices.
+        command: String,
+        /// Why.
+        reason: String,
+    },
+    /// The simulation produced a non-finite or exploding state.
+    #[error("scene `{scene}`, command `{command}`: the simulation blew up: {reason}")]
+    Diverged {
+        /// The scene's name.
+        scene: String,
+        /// The command, as symbols.
+        command: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// Any other failure of a user's world.
+    #[error("{0}")]
+    Other(String),
+}
+
+/// A world that executes commands open loop.
+///
+/// ```
+/// use e3d::{Command, CommandSpace, Outcome, World, WorldError};
+///
+/// /// Effect = number of 'b' symbols.
+/// struct CountB { space: CommandSpace }
+///
+/// impl World for CountB {
+///     fn command_space(&self) -> &CommandSpace { &self.space }
+///     fn num_effects(&self) -> usize { self.space.num_slots() + 1 }
+///     fn execute(&mut self, c: &Command) -> Result<Outcome, WorldError> {
+///         let n = c.symbols.iter().filter(|&&s| s == 1).count();
+///         Ok(Outcome { effect: n, reward: 0.0, point: [n as f64, 0.0] })
+///     }
+/// }
+///
+/// let mut w = CountB { space: CommandSpace::repeat(3, &['a', 'b']).unwrap() };
+/// let c = w.command_space().parse("bab").unwrap();
+/// assert_eq!(w.execute(&c).unwrap().effect, 2);
+/// ```
+pub trait World {
+    /// The commands this world accepts.
+    fn command_space(&self) -> &CommandSpace;
+
+    /// The number of effects: every outcome's effect is below it.
+    fn num_effects(&self) -> usize;
+
+    /// Executes `command` open loop from the start state and returns its
+    /// terminal outcome. The world is back at its start state for the next
+    /// call: commands do not influence each other.
+    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError>;
+
+    /// Whether the same command always gives the same outcome. Deterministic
+    /// worlds with a small command space can be replaced by an
+    /// [`OutcomeTable`], which executes each command only once.
+    fn is_deterministic(&self) -> bool {
+        true
+    }
+}
+
+impl<W: World + ?Sized> World for Box<W> {
+    fn command_space(&self) -> &CommandSpace {
+        (**self).command_space()
+    }
+    fn num_effects(&self) -> usize {
+        (**self).num_effects()
+    }
+    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
+        (**self).execute(command)
+    }
+    fn is_deterministic(&self) -> bool {
+        (**self).is_deterministic()
+    }
+}
