@@ -60,13 +60,13 @@ impl EffectGrid {
     pub fn validate(&self) -> Result<(), String> {
         if self.rows == 0 || self.cols == 0 {
             return Err(format!(
-                "an effect grid needs at least one cell, found {} rows x {} columns",
+                "at least one cell, found {} rows x {} columns",
                 self.rows, self.cols
             ));
         }
         if self.rows.saturating_mul(self.cols) > MAX_EFFECTS {
             return Err(format!(
-                "{} x {} cells is more than the {MAX_EFFECTS} effects supported",
+                "at most {MAX_EFFECTS} cells (effects), found {} x {}",
                 self.rows, self.cols
             ));
         }
@@ -75,7 +75,7 @@ impl EffectGrid {
             && self.min[1] < self.max[1])
         {
             return Err(format!(
-                "the grid's corners must be finite with min < max, found min {:?}, max {:?}",
+                "finite corners with min < max, found min {:?}, max {:?}",
                 self.min, self.max
             ));
         }
@@ -318,7 +318,7 @@ mod tests {
     fn effect_model_matches_the_plain_update_over_many_steps() {
         let eta = 0.01;
         let mut m = EffectModel::new(5, eta).unwrap();
-        let mut plain = vec![0.2; 5];
+        let mut plain = [0.2; 5];
         for t in 0..100_000usize {
             let e = (t * 7 + t / 3) % 5;
             m.observe(e);
@@ -326,8 +326,8 @@ mod tests {
                 *v = (1.0 - eta) * *v + if i == e { eta } else { 0.0 };
             }
         }
-        for i in 0..5 {
-            assert!((m.prob(i) - plain[i]).abs() < 1e-12, "{i}");
+        for (i, want) in plain.iter().enumerate() {
+            assert!((m.prob(i) - want).abs() < 1e-12, "{i}");
         }
         let sum: f64 = m.probs().iter().sum();
         assert!((sum - 1.0).abs() < 1e-12);

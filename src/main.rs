@@ -17,12 +17,15 @@ struct Cli {
 enum Cmd {
     /// Run one learning session on a scene and print a summary.
     Run(cli::run::RunArgs),
+    /// Reproduce the paper's Figures 2 and 3 on two_rooms (SVG, CSV, summary.md).
+    Reproduce(cli::reproduce::ReproduceArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Cmd::Run(a) => cli::run::run(a),
+        Cmd::Reproduce(a) => cli::reproduce::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,1 +1,55 @@
-//! Figures.
+//! Reports: the paper's experiment and the figures and tables drawn from it.
+//!
+//! - [`paper`]: Figures 2 and 3 of Daucé (2020) on `two_rooms`, run as
+//!   sessions and summarised (what `e3d reproduce` prints and draws).
+
+pub mod paper;
+
+/// Mean, sample standard deviation, minimum and maximum of `xs`.
+pub fn describe(xs: &[f64]) -> Stats {
+    let n = xs.len() as f64;
+    if xs.is_empty() {
+        return Stats::default();
+    }
+    let mean = xs.iter().sum::<f64>() / n;
+    let var = if xs.len() > 1 {
+        xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    Stats {
+        mean,
+        sd: var.sqrt(),
+        min: xs.iter().copied().fold(f64::INFINITY, f64::min),
+        max: xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    }
+}
+
+/// The median of `xs` (mean of the two middle values for an even count),
+/// `None` for no value.
+pub fn median(xs: &[f64]) -> Option<f64> {
+    if xs.is_empty() {
+        return None;
+    }
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    let m = v.len() / 2;
+    Some(if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        (v[m - 1] + v[m]) / 2.0
+    })
+}
+
+/// Summary statistics of a sample.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Stats {
+    /// Mean.
+    pub mean: f64,
+    /// Sample standard deviation (n - 1).
+    pub sd: f64,
+    /// Minimum.
+    pub min: f64,
+    /// Maximum.
+    pub max: f64,
+}

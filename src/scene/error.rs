@@ -39,7 +39,7 @@ impl SceneError {
 
     /// From a RON parse error: its position, and a sentence with a "did you
     /// mean" for misspelt fields and variants.
-    pub(crate) fn from_ron(file: &str, _text: &str, e: ron::error::SpannedError) -> Self {
+    pub(crate) fn from_ron(file: &str, text: &str, e: ron::error::SpannedError) -> Self {
         use ron::error::Error as E;
         let message = match &e.code {
             E::NoSuchStructField {
@@ -86,7 +86,16 @@ impl SceneError {
                     .unwrap_or_default();
                 format!("field `{field}` given twice{within}")
             }
-            other => other.to_string(),
+            other => {
+                let mut m = other.to_string();
+                if let Some(c) = m.get(..1) {
+                    m.replace_range(..1, &c.to_lowercase());
+                }
+                match field_before(text, e.span.start.line, e.span.start.col) {
+                    Some(f) => format!("field `{f}`: {m}"),
+                    None => m,
+                }
+            }
         };
         SceneError::new(file, Some((e.span.start.line, e.span.start.col)), message)
     }
@@ -128,6 +137,41 @@ fn edit_distance(a: &str, b: &str) -> usize {
         prev = cur;
     }
     prev[b.len()]
+}
+
+/// The name of the field whose value starts at or before the 1-based
+/// `(line, col)`: the last `ident:` before it on that line or the one above.
+fn field_before(text: &str, line: usize, col: usize) -> Option<String> {
+    let code = blank_comments(text);
+    let lines: Vec<&str> = code.lines().collect();
+    let this = lines.get(line.checked_sub(1)?)?;
+    let upto: String = this.chars().take(col.saturating_sub(1)).collect();
+    let prev = line
+        .checked_sub(2)
+        .and_then(|l| lines.get(l))
+        .copied()
+        .unwrap_or("");
+    for chunk in [upto.as_str(), prev] {
+        let mut best = None;
+        for (i, _) in chunk.match_indices(':') {
+            let name: String = chunk[..i]
+                .trim_end()
+                .chars()
+                .rev()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect::<Vec<_>>()
+                .into_iter()
+                .rev()
+                .collect();
+            if !name.is_empty() && !name.starts_with(|c: char| c.is_ascii_digit()) {
+                best = Some(name);
+            }
+        }
+        if best.is_some() {
+            return best;
+        }
+    }
+    None
 }
 
 /// 1-based (line, column) of byte offset `at` in `text`.
@@ -199,9 +243,8 @@ fn blank_comments(text: &str) -> String {
                 }
                 i += 1;
             }
-            for k in i..(i + 2).min(b.len()) {
-                out[k] = b' ';
-            }
+            let end = (i + 2).min(b.len());
+            out[i..end].iter_mut().for_each(|c| *c = b' ');
             i += 2;
         } else {
             i += 1;

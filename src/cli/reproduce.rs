@@ -1,0 +1,79 @@
+//! `e3d reproduce`: the paper's Figures 2 and 3 on two_rooms.
+
+use super::run::write_file;
+use super::{CliError, CliResult};
+use clap::Args;
+use e3d::report::paper::{run_paper, PaperConfig, ARMS};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Arguments of `e3d reproduce`.
+#[derive(Args, Debug)]
+pub struct ReproduceArgs {
+    /// The folder for fig2.svg, fig3.svg, their CSV and summary.md
+    /// (created if needed; the files of an earlier reproduction are replaced).
+    #[arg(long, default_value = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Sessions per learner.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    pub sessions: u64,
+    /// Trials per session.
+    #[arg(long, default_value_t = 5000, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub trials: u64,
+    /// Session i uses seed SEED + i.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+}
+
+pub fn run(a: ReproduceArgs) -> CliResult {
+    let config = PaperConfig {
+        sessions: a.sessions as usize,
+        trials: a.trials as usize,
+        seed: a.seed,
+    };
+    if a.out.exists() && !a.out.is_dir() {
+        return Err(CliError::output(format!(
+            "{}: exists and is not a directory",
+            a.out.display()
+        )));
+    }
+    std::fs::create_dir_all(&a.out).map_err(|e| {
+        CliError::output(format!(
+            "{}: cannot create the folder: {e}",
+            a.out.display()
+        ))
+    })?;
+    let start = Instant::now();
+    // indicatif draws only when stderr is a terminal
+    let bar = ProgressBar::new((ARMS.len() * config.sessions) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} sessions, {elapsed}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message("two_rooms");
+    let results = run_paper(config, &|| bar.inc(1));
+    bar.finish_and_clear();
+
+    let fig2 = results.fig2_svg().map_err(CliError::output)?;
+    let fig3 = results.fig3_svg().map_err(CliError::output)?;
+    let summary = results.summary_markdown();
+    let files: [(&str, &[u8]); 5] = [
+        ("fig2.svg", fig2.as_bytes()),
+        ("fig2.csv", results.fig2_csv().into_bytes().leak()),
+        ("fig3.svg", fig3.as_bytes()),
+        ("fig3.csv", results.fig3_csv().into_bytes().leak()),
+        ("summary.md", summary.as_bytes()),
+    ];
+    for (name, bytes) in files {
+        write_file(&a.out.join(name), bytes)?;
+    }
+    println!("{summary}");
+    println!(
+        "wrote fig2.svg, fig2.csv, fig3.svg, fig3.csv and summary.md in {} ({:.1} s)",
+        a.out.display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}

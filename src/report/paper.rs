@@ -1,0 +1,592 @@
+//! The paper's experiment on `two_rooms` (Daucé 2020, Figures 2 and 3).
+//!
+//! - Task 1 (exploration, no reward): E3D (alpha 0.3, beta 1, lambda 0.03,
+//!   eta 0.01) against the uniform policy; Figure 2 shows where the terminal
+//!   states fall over 5000 trials.
+//! - Task 2 (sparse reward in the lower-right corner of room B): E3D with
+//!   beta 100 against epsilon-greedy (epsilon 0.1); Figure 3 shows the
+//!   cumulative reward over 5000 trials and 10 sessions.
+//!
+//! Session `i` of every learner uses seed `seed + i` (the same seeds for
+//! every learner). Sessions run in parallel; the results do not depend on
+//! the number of threads.
+
+use super::{describe, median, Stats};
+use crate::effect::{entropy, EffectGrid, Target};
+use crate::learner::{LearnerKind, Params};
+use crate::scene::Scene;
+use crate::scene::WorldSpec;
+use crate::session::{
+    policy_effect_distribution, run_session, Metrics, SessionConfig, SessionRecord,
+};
+use crate::world::{GridSpec, OutcomeTable};
+use plotters::prelude::*;
+use rayon::prelude::*;
+use std::fmt::Write as _;
+
+/// The settings of a reproduction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PaperConfig {
+    /// Sessions per learner (the paper: 10).
+    pub sessions: usize,
+    /// Trials per session (the paper: 5000).
+    pub trials: usize,
+    /// Session `i` uses seed `seed + i`.
+    pub seed: u64,
+}
+
+impl Default for PaperConfig {
+    fn default() -> Self {
+        PaperConfig {
+            sessions: 10,
+            trials: 5000,
+            seed: 0,
+        }
+    }
+}
+
+/// One learner in one task.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Arm {
+    /// A label for tables and figures.
+    pub label: &'static str,
+    /// The task (1: no reward, 2: sparse reward).
+    pub task: u8,
+    /// The learner.
+    pub learner: LearnerKind,
+    /// Its hyper-parameters.
+    pub params: Params,
+}
+
+/// The four arms of the paper: task 1 uniform and E3D, task 2 E3D and
+/// epsilon-greedy.
+pub const ARMS: [Arm; 4] = [
+    Arm {
+        label: "uniform policy",
+        task: 1,
+        learner: LearnerKind::Uniform,
+        params: Params::TASK1,
+    },
+    Arm {
+        label: "E3D",
+        task: 1,
+        learner: LearnerKind::E3d,
+        params: Params::TASK1,
+    },
+    Arm {
+        label: "E3D (beta 100)",
+        task: 2,
+        learner: LearnerKind::E3d,
+        params: Params::TASK2,
+    },
+    Arm {
+        label: "epsilon-greedy (0.1)",
+        task: 2,
+        learner: LearnerKind::Egreedy,
+        params: Params::TASK2,
+    },
+];
+
+/// The sessions of one arm.
+#[derive(Debug, Clone)]
+pub struct ArmResult {
+    /// The arm.
+    pub arm: Arm,
+    /// One record per session.
+    pub records: Vec<SessionRecord>,
+    /// One metrics row per session.
+    pub metrics: Vec<Metrics>,
+    /// The exact effect distribution of each session's final policy.
+    pub final_policy: Vec<Vec<f64>>,
+}
+
+/// Everything the reproduction computed.
+#[derive(Debug, Clone)]
+pub struct PaperResults {
+    /// The settings.
+    pub config: PaperConfig,
+    /// The cells of the grid.
+    pub grid: EffectGrid,
+    /// The grid world (walls, start).
+    pub spec: GridSpec,
+    /// The rewarded cells.
+    pub reward_cells: Vec<(usize, usize)>,
+    /// The four arms, in the order of [`ARMS`].
+    pub arms: Vec<ArmResult>,
+    /// The exact effect distribution of the uniform policy.
+    pub uniform_exact: Vec<f64>,
+}
+
+/// The rewarded cell's column starts room B at column 3 of `two_rooms`.
+const ROOM_B_FIRST_COL: usize = 3;
+
+/// Runs the paper's experiment. `progress` is called once per finished
+/// session (from worker threads).
+pub fn run_paper(config: PaperConfig, progress: &(dyn Fn() + Sync)) -> PaperResults {
+    let scene = Scene::builtin("two_rooms").expect("two_rooms is built in");
+    let table = OutcomeTable::build(&mut scene.build()).expect("the grid cannot fail");
+    let space = scene.command_space();
+    let n_eff = scene.num_effects();
+    let jobs: Vec<(usize, usize)> = (0..ARMS.len())
+        .flat_map(|a| (0..config.sessions).map(move |s| (a, s)))
+        .collect();
+    let done: Vec<(SessionRecord, Vec<f64>)> = jobs
+        .par_iter()
+        .map(|&(a, s)| {
+            let arm = &ARMS[a];
+            let mut learner = arm
+                .learner
+                .make(&arm.params, &space, n_eff, &Target::Uniform)
+                .expect("the paper's parameters are valid");
+            let cfg = SessionConfig {
+                trials: config.trials,
+                seed: config.seed.wrapping_add(s as u64),
+                use_reward: arm.task == 2,
+            };
+            let rec = run_session(&mut &table, &mut learner, &cfg).expect("the grid cannot fail");
+            let exact = policy_effect_distribution(&table, &*learner)
+                .expect("shipped learners have per-slot policies");
+            progress();
+            (rec, exact)
+        })
+        .collect();
+    let mut it = done.into_iter();
+    let arms = ARMS
+        .iter()
+        .map(|arm| {
+            let (records, final_policy): (Vec<_>, Vec<_>) =
+                it.by_ref().take(config.sessions).unzip();
+            let metrics = records
+                .iter()
+                .map(|r| r.metrics(&Target::Uniform))
+                .collect();
+            ArmResult {
+                arm: *arm,
+                records,
+                metrics,
+                final_policy,
+            }
+        })
+        .collect();
+    let uniform = LearnerKind::Uniform
+        .make(&Params::TASK1, &space, n_eff, &Target::Uniform)
+        .expect("valid");
+    PaperResults {
+        config,
+        grid: scene.effect_grid(),
+        spec: match &scene.world {
+            WorldSpec::Grid(g) => g.clone(),
+            #[allow(unreachable_patterns)]
+            _ => unreachable!("two_rooms is a grid"),
+        },
+        reward_cells: scene.reward.cells.clone(),
+        uniform_exact: policy_effect_distribution(&table, &*uniform).expect("uniform"),
+        arms,
+    }
+}
+
+/// One row of the summary table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SummaryRow {
+    /// The arm's label.
+    pub label: &'static str,
+    /// The task.
+    pub task: u8,
+    /// Normalised entropy of the terminal cells over all trials.
+    pub normalized_entropy: Stats,
+    /// Normalised entropy of the exact distribution of the final policy.
+    pub final_policy_entropy: Stats,
+    /// Share of trials that ended in room B.
+    pub room_b_share: Stats,
+    /// Cumulative reward at each checkpoint of [`PaperResults::checkpoints`].
+    pub cumulative_reward: Vec<Stats>,
+    /// Median 1-based trial of the first reward over the sessions that got
+    /// one, and how many sessions got none.
+    pub median_first_reward: Option<f64>,
+    /// Sessions that never got a reward.
+    pub sessions_without_reward: usize,
+}
+
+impl ArmResult {
+    /// Mean share of each effect over all trials of all sessions.
+    pub fn effect_shares(&self) -> Vec<f64> {
+        let n = self.records[0].num_effects;
+        let mut shares = vec![0.0; n];
+        let mut total = 0.0;
+        for r in &self.records {
+            for (s, c) in shares.iter_mut().zip(r.effect_counts(0..r.trials())) {
+                *s += c;
+                total += c;
+            }
+        }
+        shares.iter_mut().for_each(|s| *s /= total);
+        shares
+    }
+
+    /// Per trial: (mean, sd, min, max) of the cumulative reward over sessions.
+    pub fn cumulative_reward_bands(&self) -> Vec<Stats> {
+        let curves: Vec<Vec<f64>> = self
+            .records
+            .iter()
+            .map(|r| r.cumulative_rewards())
+            .collect();
+        let trials = curves.first().map_or(0, Vec::len);
+        let mut column = vec![0.0; curves.len()];
+        (0..trials)
+            .map(|t| {
+                for (c, curve) in column.iter_mut().zip(&curves) {
+                    *c = curve[t];
+                }
+                describe(&column)
+            })
+            .collect()
+    }
+}
+
+impl PaperResults {
+    /// The trials at which the cumulative reward is reported: 1000, 2000 and
+    /// the last trial (5000), those within the session.
+    pub fn checkpoints(&self) -> Vec<usize> {
+        let t = self.config.trials;
+        let mut c: Vec<usize> = [1000, 2000].into_iter().filter(|&c| c < t).collect();
+        c.push(t);
+        c
+    }
+
+    /// The summary table, one row per arm.
+    pub fn summary(&self) -> Vec<SummaryRow> {
+        let cols = self.grid.cols;
+        let norm = (self.grid.num_cells() as f64).ln();
+        self.arms
+            .iter()
+            .map(|a| {
+                let get = |f: &dyn Fn(&SessionRecord, &Metrics) -> f64| {
+                    let xs: Vec<f64> = a
+                        .records
+                        .iter()
+                        .zip(&a.metrics)
+                        .map(|(r, m)| f(r, m))
+                        .collect();
+                    describe(&xs)
+                };
+                let firsts: Vec<f64> = a
+                    .metrics
+                    .iter()
+                    .filter_map(|m| m.first_reward_trial.map(|t| t as f64))
+                    .collect();
+                let exact: Vec<f64> = a.final_policy.iter().map(|d| entropy(d) / norm).collect();
+                SummaryRow {
+                    label: a.arm.label,
+                    task: a.arm.task,
+                    normalized_entropy: get(&|_, m| m.normalized_entropy),
+                    final_policy_entropy: describe(&exact),
+                    room_b_share: get(&|r, _| {
+                        r.effects
+                            .iter()
+                            .filter(|&&e| e as usize % cols >= ROOM_B_FIRST_COL)
+                            .count() as f64
+                            / r.trials() as f64
+                    }),
+                    cumulative_reward: self
+                        .checkpoints()
+                        .iter()
+                        .map(|&c| get(&|r, _| r.rewards[..c].iter().sum()))
+                        .collect(),
+                    median_first_reward: median(&firsts),
+                    sessions_without_reward: a.metrics.len() - firsts.len(),
+                }
+            })
+            .collect()
+    }
+
+    /// The summary as a Markdown table (what `summary.md` holds).
+    pub fn summary_markdown(&self) -> String {
+        let cps = self.checkpoints();
+        let mut s = String::new();
+        let c = &self.config;
+        let _ = writeln!(
+            s,
+            "# two_rooms: the paper's experiment\n\n{} sessions x {} trials per learner, session i seeded with {} + i. \
+             Normalised entropy: H / log(18) of the terminal cells over all trials (the exact value for the uniform policy is {:.4}); \
+             final policy: the same for the exact effect distribution of the policy after the last trial. \
+             Cells give mean +- sd [min, max] over sessions.\n",
+            c.sessions,
+            c.trials,
+            c.seed,
+            entropy(&self.uniform_exact) / (self.grid.num_cells() as f64).ln()
+        );
+        let mut head =
+            "| task | learner | normalised entropy | final policy entropy | share in room B |"
+                .to_string();
+        let mut rule = "|---|---|---|---|---|".to_string();
+        for cp in &cps {
+            let _ = write!(head, " reward at {cp} |");
+            rule.push_str("---|");
+        }
+        head.push_str(" median first reward |");
+        rule.push_str("---|");
+        let _ = writeln!(s, "{head}\n{rule}");
+        let fmt = |st: &Stats, d: usize| {
+            format!(
+                "{:.d$} +- {:.d$} [{:.d$}, {:.d$}]",
+                st.mean, st.sd, st.min, st.max
+            )
+        };
+        for r in self.summary() {
+            let _ = write!(
+                s,
+                "| {} | {} | {} | {} | {} |",
+                r.task,
+                r.label,
+                fmt(&r.normalized_entropy, 3),
+                fmt(&r.final_policy_entropy, 3),
+                fmt(&r.room_b_share, 3)
+            );
+            for st in &r.cumulative_reward {
+                let cell = if r.task == 1 {
+                    "-".to_string()
+                } else {
+                    fmt(st, 1)
+                };
+                let _ = write!(s, " {cell} |");
+            }
+            let first = match (r.median_first_reward, r.sessions_without_reward) {
+                _ if r.task == 1 => "- (no reward in task 1)".to_string(),
+                (None, _) => "never".to_string(),
+                (Some(m), 0) => format!("{m}"),
+                (Some(m), k) => format!("{m} ({k} sessions never)"),
+            };
+            let _ = writeln!(s, " {first} |");
+        }
+        s
+    }
+
+    /// The numbers behind Figure 2: `learner,row,col,effect,share,uniform_exact`.
+    pub fn fig2_csv(&self) -> String {
+        let mut s = String::from("learner,row,col,effect,share,uniform_exact\n");
+        for a in self.arms.iter().filter(|a| a.arm.task == 1) {
+            for (e, share) in a.effect_shares().iter().enumerate() {
+                let _ = writeln!(
+                    s,
+                    "{},{},{},{},{},{}",
+                    a.arm.learner,
+                    e / self.grid.cols,
+                    e % self.grid.cols,
+                    e,
+                    share,
+                    self.uniform_exact[e]
+                );
+            }
+        }
+        s
+    }
+
+    /// The numbers behind Figure 3: per trial, mean, sd, min and max of the
+    /// cumulative reward of each task-2 learner.
+    pub fn fig3_csv(&self) -> String {
+        let arms: Vec<&ArmResult> = self.arms.iter().filter(|a| a.arm.task == 2).collect();
+        let mut s = String::from("trial");
+        for a in &arms {
+            for k in ["mean", "sd", "min", "max"] {
+                let _ = write!(s, ",{}_{k}", a.arm.learner);
+            }
+        }
+        s.push('\n');
+        let bands: Vec<Vec<Stats>> = arms.iter().map(|a| a.cumulative_reward_bands()).collect();
+        for t in 0..self.config.trials {
+            let _ = write!(s, "{}", t + 1);
+            for b in &bands {
+                let st = b[t];
+                let _ = write!(s, ",{},{},{},{}", st.mean, st.sd, st.min, st.max);
+            }
+            s.push('\n');
+        }
+        s
+    }
+
+    /// Figure 2 as SVG: the share of terminal cells over the sessions, the
+    /// uniform policy beside E3D, over the 3 x 6 grid with its wall and door.
+    pub fn fig2_svg(&self) -> Result<String, String> {
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (1000, 420)).into_drawing_area();
+            root.fill(&WHITE).map_err(|e| e.to_string())?;
+            let (title_area, body) = root.split_vertically(50);
+            title_area
+                .titled(
+                    &format!(
+                        "two_rooms, task 1: where {} trials end ({} sessions)",
+                        self.config.trials, self.config.sessions
+                    ),
+                    ("sans-serif", 22),
+                )
+                .map_err(|e| e.to_string())?;
+            let panels = body.split_evenly((1, 2));
+            let arms: Vec<&ArmResult> = self.arms.iter().filter(|a| a.arm.task == 1).collect();
+            let norm = (self.grid.num_cells() as f64).ln();
+            for (panel, arm) in panels.iter().zip(arms) {
+                let shares = arm.effect_shares();
+                let h = entropy(&shares) / norm;
+                draw_grid_panel(
+                    panel,
+                    &format!("{}: H/log 18 = {h:.3}", arm.arm.label),
+                    &self.spec,
+                    &self.reward_cells,
+                    &shares,
+                )
+                .map_err(|e| e.to_string())?;
+            }
+            root.present().map_err(|e| e.to_string())?;
+        }
+        Ok(svg)
+    }
+
+    /// Figure 3 as SVG: cumulative reward against trials, mean line and
+    /// min-max band over sessions, for each task-2 learner.
+    pub fn fig3_svg(&self) -> Result<String, String> {
+        let arms: Vec<&ArmResult> = self.arms.iter().filter(|a| a.arm.task == 2).collect();
+        let bands: Vec<Vec<Stats>> = arms.iter().map(|a| a.cumulative_reward_bands()).collect();
+        let top = bands
+            .iter()
+            .flat_map(|b| b.last().map(|s| s.max))
+            .fold(1.0, f64::max);
+        let trials = self.config.trials;
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (900, 560)).into_drawing_area();
+            root.fill(&WHITE).map_err(|e| e.to_string())?;
+            let mut chart = ChartBuilder::on(&root)
+                .caption(
+                    format!(
+                        "two_rooms, task 2: cumulative reward ({} sessions; line: mean, band: min-max)",
+                        self.config.sessions
+                    ),
+                    ("sans-serif", 20),
+                )
+                .margin(20)
+                .x_label_area_size(45)
+                .y_label_area_size(70)
+                .build_cartesian_2d(0f64..trials as f64, 0f64..top * 1.05)
+                .map_err(|e| e.to_string())?;
+            chart
+                .configure_mesh()
+                .x_desc("trial")
+                .y_desc("cumulative reward")
+                .x_label_formatter(&|x| format!("{x:.0}"))
+                .y_label_formatter(&|y| format!("{y:.0}"))
+                .light_line_style(WHITE.mix(0.0))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            let colours = [RGBColor(200, 60, 40), RGBColor(40, 90, 180)];
+            // thin the curves to at most ~1000 points: the figure, not the CSV
+            let step = (trials / 1000).max(1);
+            for ((arm, band), colour) in arms.iter().zip(&bands).zip(colours) {
+                let idx: Vec<usize> = (0..trials).step_by(step).chain([trials - 1]).collect();
+                let mut poly: Vec<(f64, f64)> =
+                    idx.iter().map(|&t| ((t + 1) as f64, band[t].max)).collect();
+                poly.extend(idx.iter().rev().map(|&t| ((t + 1) as f64, band[t].min)));
+                chart
+                    .draw_series(std::iter::once(Polygon::new(
+                        poly,
+                        colour.mix(0.2).filled(),
+                    )))
+                    .map_err(|e| e.to_string())?;
+                chart
+                    .draw_series(LineSeries::new(
+                        idx.iter().map(|&t| ((t + 1) as f64, band[t].mean)),
+                        colour.stroke_width(3),
+                    ))
+                    .map_err(|e| e.to_string())?
+                    .label(arm.arm.label)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
+                    });
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.9))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| e.to_string())?;
+            root.present().map_err(|e| e.to_string())?;
+        }
+        Ok(svg)
+    }
+}
+
+type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
+
+/// A heat map of `shares` over a grid world, with its walls, start and
+/// reward cells.
+fn draw_grid_panel(
+    area: &Area<'_>,
+    title: &str,
+    spec: &GridSpec,
+    reward_cells: &[(usize, usize)],
+    shares: &[f64],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let (rows, cols) = (spec.rows, spec.cols);
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(25)
+        .build_cartesian_2d(0f64..cols as f64, 0f64..rows as f64)?;
+    let peak = shares.iter().copied().fold(1e-12, f64::max);
+    for r in 0..rows {
+        for c in 0..cols {
+            let s = shares[r * cols + c];
+            let v = (s / peak).clamp(0.0, 1.0);
+            let colour = RGBColor(
+                (255.0 - 215.0 * v) as u8,
+                (255.0 - 165.0 * v) as u8,
+                (255.0 - 75.0 * v) as u8,
+            );
+            let (x0, y1) = (c as f64, (rows - r) as f64);
+            chart.draw_series(std::iter::once(Rectangle::new(
+                [(x0, y1 - 1.0), (x0 + 1.0, y1)],
+                colour.filled(),
+            )))?;
+            chart.draw_series(std::iter::once(Rectangle::new(
+                [(x0, y1 - 1.0), (x0 + 1.0, y1)],
+                RGBColor(200, 200, 200).stroke_width(1),
+            )))?;
+            let text_colour = if v > 0.6 { WHITE } else { BLACK };
+            chart.draw_series(std::iter::once(Text::new(
+                format!("{:.1}%", 100.0 * s),
+                (x0 + 0.3, y1 - 0.45),
+                ("sans-serif", 16).into_font().color(&text_colour),
+            )))?;
+        }
+    }
+    let marks =
+        std::iter::once(("start", spec.start)).chain(reward_cells.iter().map(|&rc| ("reward", rc)));
+    for (label, (r, c)) in marks {
+        chart.draw_series(std::iter::once(Text::new(
+            label,
+            (c as f64 + 0.05, (rows - r) as f64 - 0.2),
+            ("sans-serif", 12)
+                .into_font()
+                .color(&RGBColor(120, 120, 120)),
+        )))?;
+    }
+    let wall = BLACK.stroke_width(5);
+    let (w, h) = (cols as f64, rows as f64);
+    chart.draw_series(std::iter::once(PathElement::new(
+        vec![(0.0, 0.0), (w, 0.0), (w, h), (0.0, h), (0.0, 0.0)],
+        wall,
+    )))?;
+    // a wall between two cells is drawn on their common edge
+    chart.draw_series(spec.walls.iter().map(|&(a, b)| {
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        let top = (rows - a.0) as f64;
+        let points = if a.0 == b.0 {
+            let x = b.1 as f64;
+            vec![(x, top - 1.0), (x, top)]
+        } else {
+            let y = top - 1.0;
+            vec![(a.1 as f64, y), (a.1 as f64 + 1.0, y)]
+        };
+        PathElement::new(points, wall)
+    }))?;
+    Ok(())
+}

@@ -1,0 +1,78 @@
+//! Every file in tests/bad_inputs/*.ron holds one mistake; its first line
+//! says `// expect: TEXT`, a text the error must contain. The error must
+//! also start with the file's path.
+
+use e3d::Scene;
+use std::path::Path;
+
+/// Files that cannot carry their expectation in a comment.
+const SPECIAL: &[(&str, &str)] = &[
+    (
+        "empty.ron",
+        "the file is empty; expected `Scene(name: ..., world: ..., command: ...)`",
+    ),
+    ("not_utf8.ron", "1:14: the file is not valid UTF-8 text"),
+];
+
+#[test]
+fn every_bad_scene_is_refused_with_its_place_and_what_was_expected() {
+    let mut checked = 0;
+    let mut entries: Vec<_> = std::fs::read_dir("tests/bad_inputs")
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    entries.sort();
+    for path in entries {
+        let name = path.file_name().unwrap().to_str().unwrap();
+        let expect = match SPECIAL.iter().find(|(n, _)| *n == name) {
+            Some((_, e)) => e.to_string(),
+            None => {
+                let text = std::fs::read_to_string(&path).unwrap();
+                text.lines()
+                    .next()
+                    .and_then(|l| l.strip_prefix("// expect: "))
+                    .unwrap_or_else(|| panic!("{name}: first line must be `// expect: ...`"))
+                    .to_string()
+            }
+        };
+        let err = Scene::load(&path).expect_err(name).to_string();
+        let prefix = format!("{}:", path.display());
+        assert!(
+            err.starts_with(&prefix),
+            "{name}: `{err}` does not start with the file"
+        );
+        assert!(err.contains(&expect), "{name}: `{err}` lacks `{expect}`");
+        checked += 1;
+    }
+    assert!(checked >= 17, "only {checked} bad scenes");
+}
+
+#[test]
+fn a_directory_or_a_missing_file_is_a_clear_error() {
+    let e = Scene::load("tests").unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "tests: this is a directory; expected a scene file (.ron)"
+    );
+    let e = Scene::load("tests/no_such.ron").unwrap_err().to_string();
+    assert!(
+        e.starts_with("tests/no_such.ron: cannot read the file:"),
+        "{e}"
+    );
+    assert!(Path::new("scenes/two_rooms.ron").exists());
+}
+
+#[test]
+fn the_cli_exits_with_code_2_and_prints_the_place() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args(["run", "tests/bad_inputs/unknown_field.ron"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("tests/bad_inputs/unknown_field.ron:4:26: unknown field `colz`"),
+        "{err}"
+    );
+}

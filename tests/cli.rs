@@ -1,0 +1,149 @@
+//! The command line: outputs, refusals and exit codes.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn e3d(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("e3d-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap()
+}
+
+#[test]
+fn run_writes_trials_and_summary_and_the_same_seed_gives_the_same_bytes() {
+    let (a, b) = (tmp("run-a"), tmp("run-b"));
+    for d in [&a, &b] {
+        let o = e3d(&[
+            "run",
+            "scenes/two_rooms.ron",
+            "--beta",
+            "100",
+            "--seed",
+            "4",
+            "--trials",
+            "2000",
+            "--out",
+            d.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    assert_eq!(read(&a.join("trials.csv")), read(&b.join("trials.csv")));
+    assert_eq!(read(&a.join("summary.json")), read(&b.join("summary.json")));
+    let csv = String::from_utf8(read(&a.join("trials.csv"))).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("trial,command,effect,reward"));
+    assert_eq!(csv.lines().count(), 2001);
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(row[0], "1");
+    assert_eq!(row[1].len(), 7);
+    assert!(row[1].chars().all(|c| "ESWN".contains(c)));
+    let json: serde_json::Value = serde_json::from_slice(&read(&a.join("summary.json"))).unwrap();
+    for key in [
+        "normalized_entropy",
+        "kl_to_target",
+        "distinct_effects",
+        "cumulative_reward",
+        "first_reward_trial",
+        "alpha",
+        "beta",
+        "lambda",
+        "eta",
+        "epsilon",
+        "seed",
+        "trials",
+        "learner",
+        "scene",
+    ] {
+        assert!(json.get(key).is_some(), "summary.json lacks {key}");
+    }
+    assert_eq!(json["beta"], 100.0);
+    assert_eq!(json["seed"], 4);
+    // the summary agrees with the trials
+    let total: f64 = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse::<f64>().unwrap())
+        .sum();
+    assert_eq!(json["cumulative_reward"].as_f64().unwrap(), total);
+}
+
+#[test]
+fn run_refuses_to_overwrite_without_force() {
+    let d = tmp("overwrite");
+    let out = d.to_str().unwrap();
+    assert!(e3d(&["run", "--trials", "10", "--out", out])
+        .status
+        .success());
+    let before = read(&d.join("trials.csv"));
+    let o = e3d(&["run", "--trials", "20", "--out", out]);
+    assert_eq!(o.status.code(), Some(3));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("trials.csv exists; pass --force"), "{err}");
+    assert_eq!(read(&d.join("trials.csv")), before, "nothing was touched");
+    assert!(e3d(&["run", "--trials", "20", "--out", out, "--force"])
+        .status
+        .success());
+    assert_eq!(
+        String::from_utf8(read(&d.join("trials.csv")))
+            .unwrap()
+            .lines()
+            .count(),
+        21
+    );
+}
+
+#[test]
+fn bad_parameters_and_scenes_exit_with_code_2_and_say_why() {
+    let o = e3d(&["run", "--eta", "1.5"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--eta = 1.5: expected a number in (0, 1]"));
+    let o = e3d(&["run", "no/such/scene.ron"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no such file"));
+    let o = e3d(&["run", "--learner", "greedy"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn reproduce_writes_the_same_bytes_whatever_the_number_of_threads() {
+    let outs: Vec<_> = ["1", "2"]
+        .iter()
+        .map(|threads| {
+            let d = tmp(&format!("repro-{threads}"));
+            let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+                .args([
+                    "reproduce",
+                    "--sessions",
+                    "4",
+                    "--trials",
+                    "1500",
+                    "--out",
+                    d.to_str().unwrap(),
+                ])
+                .env("RAYON_NUM_THREADS", threads)
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            assert!(String::from_utf8_lossy(&o.stdout).contains("| 2 | E3D (beta 100) |"));
+            d
+        })
+        .collect();
+    for f in ["fig2.svg", "fig2.csv", "fig3.svg", "fig3.csv", "summary.md"] {
+        let a = read(&outs[0].join(f));
+        assert!(a.len() > 200, "{f} is nearly empty");
+        assert_eq!(a, read(&outs[1].join(f)), "{f} differs");
+    }
+    let svg = String::from_utf8(read(&outs[0].join("fig2.svg"))).unwrap();
+    assert!(svg.contains("uniform policy") && svg.contains("E3D"));
+}
