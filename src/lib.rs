@@ -57,6 +57,11 @@ pub mod scene;
 pub mod session;
 pub mod world;
 
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
+
 pub use command::{Command, CommandError, CommandSpace};
 pub use effect::{EffectGrid, EffectModel, Target};
 pub use learner::{E3d, EpsilonGreedy, Learner, LearnerKind, ParamError, Params, UniformPolicy};

@@ -58,6 +58,7 @@ fn without_reward_beta_cancels_out() {
     let (a, b) = (effects(1.0), effects(100.0));
     // the same draws up to floating-point rounding: identical sequences
     let same = a.iter().zip(&b).filter(|(x, y)| x == y).count();
+    eprintln!("beta cancels: {same} of {} effects equal", a.len());
     assert!(
         same as f64 >= 0.999 * a.len() as f64,
         "{same} of {}",
