@@ -107,46 +107,55 @@ pub struct GridWorld {
     space: CommandSpace,
     grid: EffectGrid,
     start: usize,
-    /// `next[(slot_offset + symbol) * cells + cell]`: the cell after the move.
+    /// `next[kind * cells + cell]`: the cell after a move of kind `kind`
+    /// (see [`MOVES`]) from `cell`.
     next: Vec<u32>,
+    /// `kind[slot_offset[slot] + symbol]`: the move kind of each symbol.
+    kind: Vec<u8>,
     slot_offset: Vec<usize>,
     reward: Vec<f64>,
 }
 
+/// The one-cell moves `(drow, dcol)` a grid knows: stay, E, S, W, N.
+const MOVES: [(i32, i32); 5] = [(0, 0), (0, 1), (1, 0), (0, -1), (-1, 0)];
+
 impl GridWorld {
     /// Builds the world of a validated scene whose world is `spec`.
+    /// Memory: 5 transitions per cell, whatever the number of slots.
     pub fn from_scene(scene: &Scene, spec: &GridSpec) -> GridWorld {
         let space = scene.command_space();
         let cells = spec.rows * spec.cols;
-        let blocked = |a: (usize, usize), b: (usize, usize)| {
-            spec.walls
-                .iter()
-                .any(|&(p, q)| (p == a && q == b) || (p == b && q == a))
-        };
-        let mut next = Vec::new();
+        let mut walls: Vec<(usize, usize)> = spec
+            .walls
+            .iter()
+            .flat_map(|&(a, b)| {
+                let (a, b) = (a.0 * spec.cols + a.1, b.0 * spec.cols + b.1);
+                [(a, b), (b, a)]
+            })
+            .collect();
+        walls.sort_unstable();
+        let mut next = Vec::with_capacity(MOVES.len() * cells);
+        for (dr, dc) in MOVES {
+            for cell in 0..cells {
+                let (r, c) = (cell / spec.cols, cell % spec.cols);
+                let (nr, nc) = (r as i64 + dr as i64, c as i64 + dc as i64);
+                let inside = nr >= 0 && nc >= 0 && nr < spec.rows as i64 && nc < spec.cols as i64;
+                let to = if inside { nr as usize * spec.cols + nc as usize } else { cell };
+                let blocked = walls.binary_search(&(cell, to)).is_ok();
+                next.push(if blocked { cell } else { to } as u32);
+            }
+        }
+        let mut kind = Vec::new();
         let mut slot_offset = Vec::new();
         for alphabet in scene.slots() {
-            slot_offset.push(next.len() / cells);
+            slot_offset.push(kind.len());
             for sym in alphabet {
-                let (dr, dc) = match sym.action {
+                let mv = match sym.action {
                     Action::Move { drow, dcol } => (drow, dcol),
                     _ => (0, 0),
                 };
-                for cell in 0..cells {
-                    let (r, c) = (cell / spec.cols, cell % spec.cols);
-                    let (nr, nc) = (r as i64 + dr as i64, c as i64 + dc as i64);
-                    let to = if nr < 0
-                        || nc < 0
-                        || nr >= spec.rows as i64
-                        || nc >= spec.cols as i64
-                        || blocked((r, c), (nr as usize, nc as usize))
-                    {
-                        cell
-                    } else {
-                        nr as usize * spec.cols + nc as usize
-                    };
-                    next.push(to as u32);
-                }
+                // validation admits only the one-cell moves of MOVES
+                kind.push(MOVES.iter().position(|&m| m == mv).unwrap_or(0) as u8);
             }
         }
         GridWorld {
@@ -154,9 +163,16 @@ impl GridWorld {
             grid: spec.effect_grid(),
             start: spec.start.0 * spec.cols + spec.start.1,
             next,
+            kind,
             slot_offset,
             reward: scene.reward_table(),
         }
+    }
+
+    #[inline]
+    fn step(&self, cell: usize, slot: usize, symbol: u8) -> usize {
+        let k = self.kind[self.slot_offset[slot] + symbol as usize] as usize;
+        self.next[k * self.grid.num_cells() + cell] as usize
     }
 
     /// The cell grid.
@@ -166,11 +182,10 @@ impl GridWorld {
 
     /// The cells visited by a command, start included (for pictures).
     pub fn path(&self, command: &Command) -> Vec<usize> {
-        let cells = self.grid.num_cells();
         let mut cell = self.start;
         let mut path = vec![cell];
         for (slot, &s) in command.symbols.iter().enumerate() {
-            cell = self.next[(self.slot_offset[slot] + s as usize) * cells + cell] as usize;
+            cell = self.step(cell, slot, s);
             path.push(cell);
         }
         path
@@ -194,7 +209,6 @@ impl World for GridWorld {
                 reason: format!("expected {} slots", self.space.num_slots()),
             });
         }
-        let cells = self.grid.num_cells();
         let mut cell = self.start;
         for (slot, &s) in command.symbols.iter().enumerate() {
             if s as usize >= self.space.alphabet(slot).len() {
@@ -203,7 +217,7 @@ impl World for GridWorld {
                     reason: format!("slot {slot} has no symbol {s}"),
                 });
             }
-            cell = self.next[(self.slot_offset[slot] + s as usize) * cells + cell] as usize;
+            cell = self.step(cell, slot, s);
         }
         let (r, c) = (cell / self.grid.cols, cell % self.grid.cols);
         Ok(Outcome {

@@ -5,7 +5,7 @@ use crate::command::{Command, CommandSpace};
 use rayon::prelude::*;
 
 /// The largest command space an [`OutcomeTable`] will enumerate.
-pub const MAX_TABLE_COMMANDS: u64 = 1 << 24;
+pub const MAX_TABLE_COMMANDS: u64 = 1 << 22;
 
 /// Every command of a deterministic world, executed once, its outcome kept.
 ///
