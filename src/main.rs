@@ -19,6 +19,8 @@ enum Cmd {
     Run(cli::run::RunArgs),
     /// Reproduce the paper's Figures 2 and 3 on two_rooms (SVG, CSV, summary.md).
     Reproduce(cli::reproduce::ReproduceArgs),
+    /// Measure what a scene costs: rollouts/s, steps/s, E3D trials/s.
+    Bench(cli::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -26,6 +28,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Cmd::Run(a) => cli::run::run(a),
         Cmd::Reproduce(a) => cli::reproduce::run(a),
+        Cmd::Bench(a) => cli::bench::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

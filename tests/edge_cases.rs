@@ -21,7 +21,10 @@ fn all_finite(l: &E3d, slots: usize) -> bool {
 #[test]
 fn eta_one_makes_p_the_last_effect_and_stays_finite() {
     let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
-    let p = Params { eta: 1.0, ..Params::TASK1 };
+    let p = Params {
+        eta: 1.0,
+        ..Params::TASK1
+    };
     let mut l = E3d::new(&space, 3, &p, &Target::Uniform).unwrap();
     l.learn(&Command::new(vec![0, 0]), &outcome(2, 0.0));
     assert_eq!(l.effect_model().probs(), vec![0.0, 0.0, 1.0]);
@@ -48,7 +51,10 @@ fn vanishing_probabilities_are_floored_not_infinite() {
 #[test]
 fn huge_beta_does_not_overflow_the_softmax() {
     let space = CommandSpace::repeat(2, &['a', 'b', 'c']).unwrap();
-    let p = Params { beta: 1e300, ..Params::TASK1 };
+    let p = Params {
+        beta: 1e300,
+        ..Params::TASK1
+    };
     let mut l = E3d::new(&space, 4, &p, &Target::Uniform).unwrap();
     for t in 0..100 {
         l.learn(&Command::new(vec![(t % 3) as u8, 1]), &outcome(t % 4, 1.0));
@@ -63,7 +69,10 @@ fn huge_beta_does_not_overflow_the_softmax() {
 #[test]
 fn lambda_zero_ignores_the_reward() {
     let space = CommandSpace::repeat(1, &['a', 'b']).unwrap();
-    let p = Params { lambda: 0.0, ..Params::TASK2 };
+    let p = Params {
+        lambda: 0.0,
+        ..Params::TASK2
+    };
     let mut with = E3d::new(&space, 2, &p, &Target::Uniform).unwrap();
     let mut without = E3d::new(&space, 2, &p, &Target::Uniform).unwrap();
     for t in 0..50 {
@@ -80,13 +89,21 @@ fn effects_never_reached_keep_their_prior_and_the_session_runs() {
     let scene = Scene::builtin("two_rooms").unwrap();
     let mut world = scene.build();
     let mut l = E3d::new(&scene.command_space(), 24, &Params::TASK1, &Target::Uniform).unwrap();
-    let cfg = SessionConfig { trials: 2000, seed: 3, use_reward: false };
+    let cfg = SessionConfig {
+        trials: 2000,
+        seed: 3,
+        use_reward: false,
+    };
     let rec = run_session(&mut world, &mut l, &cfg).unwrap();
     assert_eq!(rec.metrics(&Target::Uniform).distinct_effects, 18);
     assert!(all_finite(&l, 7));
     // their p decays towards 0 but stays a probability
     let p = l.effect_model().probs();
-    assert!(p[18..].iter().all(|&v| (0.0..1e-6).contains(&v)), "{:?}", &p[18..]);
+    assert!(
+        p[18..].iter().all(|&v| (0.0..1e-6).contains(&v)),
+        "{:?}",
+        &p[18..]
+    );
     assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-9);
 }
 
@@ -98,7 +115,11 @@ fn a_target_with_zeros_steers_away_from_those_effects() {
     let w: Vec<f64> = (0..18).map(|e| if e % 6 < 3 { 1.0 } else { 0.0 }).collect();
     let target = Target::Weights(w);
     let mut l = E3d::new(&scene.command_space(), 18, &Params::TASK1, &target).unwrap();
-    let cfg = SessionConfig { trials: 5000, seed: 2, use_reward: false };
+    let cfg = SessionConfig {
+        trials: 5000,
+        seed: 2,
+        use_reward: false,
+    };
     let rec = run_session(&mut world, &mut l, &cfg).unwrap();
     assert!(all_finite(&l, 7));
     let in_b = rec.effects[1000..].iter().filter(|&&e| e % 6 >= 3).count();
@@ -112,10 +133,22 @@ fn a_target_with_zeros_steers_away_from_those_effects() {
 fn bad_targets_are_refused() {
     let space = CommandSpace::repeat(1, &['a']).unwrap();
     for (w, msg) in [
-        (vec![1.0], "the target has 1 weights, expected one per effect (2)"),
-        (vec![0.0, 0.0], "target weights must have a positive, finite sum"),
-        (vec![-1.0, 2.0], "target weights must be finite and >= 0, found -1"),
-        (vec![f64::NAN, 2.0], "target weights must be finite and >= 0, found NaN"),
+        (
+            vec![1.0],
+            "the target has 1 weights, expected one per effect (2)",
+        ),
+        (
+            vec![0.0, 0.0],
+            "target weights must have a positive, finite sum",
+        ),
+        (
+            vec![-1.0, 2.0],
+            "target weights must be finite and >= 0, found -1",
+        ),
+        (
+            vec![f64::NAN, 2.0],
+            "target weights must be finite and >= 0, found NaN",
+        ),
     ] {
         let e = E3d::new(&space, 2, &Params::TASK1, &Target::Weights(w)).unwrap_err();
         assert_eq!(e, msg);

@@ -13,7 +13,12 @@ fn shipped() -> Vec<(String, String)> {
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .map(|p| (p.display().to_string(), std::fs::read_to_string(&p).unwrap()))
+        .map(|p| {
+            (
+                p.display().to_string(),
+                std::fs::read_to_string(&p).unwrap(),
+            )
+        })
         .collect();
     v.sort();
     v
@@ -21,10 +26,43 @@ fn shipped() -> Vec<(String, String)> {
 
 /// Tokens that make mutations hit the parser's and the validator's corners.
 const TOKENS: &[&str] = &[
-    "(", ")", "[", "]", ",", ":", "\"", "'", "-", "0", "1", "-1", "1e308", "-1e308", "NaN", "inf",
-    "1e-320", "18446744073709551616", "99999999999", "Some(", "None", "Grid", "Idle", "Move",
-    "name", "rows", "cols", "slots", "alphabet", "cells", "walls", "start", "//", "/*", "\n",
-    "é", "\u{0}",
+    "(",
+    ")",
+    "[",
+    "]",
+    ",",
+    ":",
+    "\"",
+    "'",
+    "-",
+    "0",
+    "1",
+    "-1",
+    "1e308",
+    "-1e308",
+    "NaN",
+    "inf",
+    "1e-320",
+    "18446744073709551616",
+    "99999999999",
+    "Some(",
+    "None",
+    "Grid",
+    "Idle",
+    "Move",
+    "name",
+    "rows",
+    "cols",
+    "slots",
+    "alphabet",
+    "cells",
+    "walls",
+    "start",
+    "//",
+    "/*",
+    "\n",
+    "é",
+    "\u{0}",
 ];
 
 fn check(text: &str) {

@@ -1,5 +1,6 @@
 //! Sub-commands of the `e3d` binary.
 
+pub mod bench;
 pub mod reproduce;
 pub mod run;
 

@@ -18,6 +18,12 @@ use rand::{Rng, RngExt};
 /// with the fresh `p(e)`. Without reward, `beta` cancels out: the logits are
 /// `beta Q` and the change of `Q` is proportional to `1 / beta`.
 ///
+/// Cost: a trial changes one entry of `Q` per slot, so the learner keeps the
+/// softmax weights `exp(beta Q - m_slot)` and their sum per slot, and
+/// updates one weight per slot (one `exp`) per trial; the shift `m_slot` is
+/// reset to the slot's largest logit only when the sum leaves
+/// `[1e-100, 1e100]`. The histogram update is O(1) ([`EffectModel`]).
+///
 /// ```
 /// use e3d::{Command, CommandSpace, E3d, Learner, Outcome, Params, Target};
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
@@ -32,7 +38,13 @@ use rand::{Rng, RngExt};
 pub struct E3d {
     q: Vec<f64>,
     offsets: Vec<usize>,
+    /// `exp(beta q - shift[slot])`, laid out as `q`.
     weights: Vec<f64>,
+    /// Running sums of `weights` within each slot (the last one of a slot
+    /// is the slot's total), laid out as `q`.
+    cumulative: Vec<f64>,
+    /// Per slot: the shift of its logits.
+    shift: Vec<f64>,
     model: EffectModel,
     log_target: Vec<f64>,
     alpha: f64,
@@ -55,7 +67,12 @@ impl E3d {
         let total = *offsets.last().unwrap_or(&0);
         Ok(E3d {
             q: vec![0.0; total],
-            weights: vec![0.0; space.max_alphabet()],
+            weights: vec![1.0; total],
+            cumulative: space
+                .sizes()
+                .flat_map(|k| (1..=k).map(|i| i as f64))
+                .collect(),
+            shift: vec![0.0; space.num_slots()],
             offsets,
             model: EffectModel::new(num_effects, params.eta)?,
             log_target: target.log_probs(num_effects)?,
@@ -68,6 +85,37 @@ impl E3d {
     /// `Q[:, slot]`.
     pub fn q(&self, slot: usize) -> &[f64] {
         &self.q[self.offsets[slot]..self.offsets[slot + 1]]
+    }
+
+    /// Recomputes a slot's weights with its largest logit as the shift.
+    fn reshift(&mut self, slot: usize) {
+        let (lo, hi) = (self.offsets[slot], self.offsets[slot + 1]);
+        let top = self.q[lo..hi]
+            .iter()
+            .map(|&q| self.beta * q)
+            .fold(f64::NEG_INFINITY, f64::max);
+        self.shift[slot] = top;
+        for i in lo..hi {
+            self.weights[i] = (self.beta * self.q[i] - top).exp();
+        }
+        self.accumulate(slot, lo);
+    }
+
+    /// Recomputes the running sums of `slot` from entry `from` on; false if
+    /// the total left `[1e-100, 1e100]` (time to reshift).
+    #[inline]
+    fn accumulate(&mut self, slot: usize, from: usize) -> bool {
+        let (lo, hi) = (self.offsets[slot], self.offsets[slot + 1]);
+        let mut acc = if from > lo {
+            self.cumulative[from - 1]
+        } else {
+            0.0
+        };
+        for i in from..hi {
+            acc += self.weights[i];
+            self.cumulative[i] = acc;
+        }
+        (1e-100..=1e100).contains(&acc)
     }
 
     /// The running effect histogram `p`.
@@ -85,23 +133,12 @@ impl Learner for E3d {
         let n = self.offsets.len() - 1;
         command.symbols.resize(n, 0);
         for slot in 0..n {
-            let q = &self.q[self.offsets[slot]..self.offsets[slot + 1]];
-            let w = &mut self.weights[..q.len()];
-            let top = q.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            let mut z = 0.0;
-            for (w, &v) in w.iter_mut().zip(q) {
-                *w = (self.beta * (v - top)).exp();
-                z += *w;
-            }
-            let mut u = rng.random::<f64>() * z;
-            let mut pick = q.len() - 1;
-            for (k, &wk) in w.iter().enumerate() {
-                if u < wk {
-                    pick = k;
-                    break;
-                }
-                u -= wk;
-            }
+            let cum = &self.cumulative[self.offsets[slot]..self.offsets[slot + 1]];
+            let (last, below) = cum.split_last().expect("alphabets are not empty");
+            // the first symbol whose running sum exceeds u: branch-free, as
+            // the draw is unpredictable by nature
+            let u = rng.random::<f64>() * last;
+            let pick: usize = below.iter().map(|&c| usize::from(c <= u)).sum();
             command.symbols[slot] = pick as u8;
         }
     }
@@ -113,16 +150,18 @@ impl Learner for E3d {
         let decay = 1.0 - self.alpha * self.lambda;
         let drive = self.alpha * self.lambda * outcome.reward - self.alpha / self.beta * surprise;
         for (slot, &a) in command.symbols.iter().enumerate() {
-            let q = &mut self.q[self.offsets[slot] + a as usize];
-            *q = decay * *q + drive;
+            let i = self.offsets[slot] + a as usize;
+            self.q[i] = decay * self.q[i] + drive;
+            self.weights[i] = (self.beta * self.q[i] - self.shift[slot]).exp();
+            if !self.accumulate(slot, i) {
+                self.reshift(slot);
+            }
         }
     }
 
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
-        let q = self.q(slot);
-        let top = q.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let w: Vec<f64> = q.iter().map(|&v| (self.beta * (v - top)).exp()).collect();
-        let z: f64 = w.iter().sum();
-        Some(w.into_iter().map(|v| v / z).collect())
+        let (lo, hi) = (self.offsets[slot], self.offsets[slot + 1]);
+        let total = self.cumulative[hi - 1];
+        Some(self.weights[lo..hi].iter().map(|v| v / total).collect())
     }
 }

@@ -258,6 +258,14 @@ impl Scene {
         r
     }
 
+    /// The simulation steps one command takes (`None` for worlds without
+    /// time steps, like grids).
+    pub fn steps_per_command(&self) -> Option<usize> {
+        match &self.world {
+            WorldSpec::Grid(_) => None,
+        }
+    }
+
     /// Builds the world that executes this scene's commands.
     pub fn build(&self) -> Box<dyn World + Send> {
         match &self.world {

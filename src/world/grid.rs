@@ -140,7 +140,11 @@ impl GridWorld {
                 let (r, c) = (cell / spec.cols, cell % spec.cols);
                 let (nr, nc) = (r as i64 + dr as i64, c as i64 + dc as i64);
                 let inside = nr >= 0 && nc >= 0 && nr < spec.rows as i64 && nc < spec.cols as i64;
-                let to = if inside { nr as usize * spec.cols + nc as usize } else { cell };
+                let to = if inside {
+                    nr as usize * spec.cols + nc as usize
+                } else {
+                    cell
+                };
                 let blocked = walls.binary_search(&(cell, to)).is_ok();
                 next.push(if blocked { cell } else { to } as u32);
             }

@@ -1,0 +1,115 @@
+//! `e3d bench`: what a scene costs.
+
+use super::run::{load_scene, table_worthwhile};
+use super::{CliError, CliResult};
+use clap::Args;
+use e3d::{run_session, LearnerKind, OutcomeTable, Params, SessionConfig, Target, World};
+use std::time::{Duration, Instant};
+
+/// Arguments of `e3d bench`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scene files or built-in scene names (default: two_rooms).
+    #[arg(default_value = e3d::scene::DEFAULT_SCENE)]
+    pub scenes: Vec<String>,
+    /// Seconds to spend on each measurement.
+    #[arg(long, default_value_t = 2.0)]
+    pub seconds: f64,
+}
+
+/// Repeats `f` until `budget` has passed; returns calls per second.
+fn rate(budget: Duration, mut f: impl FnMut() -> usize) -> f64 {
+    let start = Instant::now();
+    let mut n = 0usize;
+    while start.elapsed() < budget {
+        n += f();
+    }
+    n as f64 / start.elapsed().as_secs_f64()
+}
+
+pub fn run(a: BenchArgs) -> CliResult {
+    if !(a.seconds > 0.0 && a.seconds <= 3600.0) {
+        return Err(CliError::input(format!(
+            "--seconds {}: expected a number in (0, 3600]",
+            a.seconds
+        )));
+    }
+    let budget = Duration::from_secs_f64(a.seconds);
+    println!("scene,measure,rate,unit");
+    for name in &a.scenes {
+        let scene = load_scene(name)?;
+        let mut world = scene.build();
+        let space = world.command_space().clone();
+        let n_commands = space.num_commands().unwrap_or(u64::MAX);
+        // rollouts: every command in index order, cycling (no table)
+        let mut i = 0u64;
+        let mut cmd = space.first();
+        let mut failure = None;
+        let rollouts = rate(budget, || {
+            for _ in 0..16 {
+                space.write_command_at(i % n_commands, &mut cmd);
+                if let Err(e) = world.execute(&cmd) {
+                    failure.get_or_insert(e);
+                }
+                i += 1;
+            }
+            16
+        });
+        if let Some(e) = failure {
+            return Err(CliError::simulation(e));
+        }
+        println!("{},rollouts,{rollouts:.1},1/s", scene.name);
+        if let Some(steps) = scene.steps_per_command() {
+            println!("{},steps,{:.1},1/s", scene.name, rollouts * steps as f64);
+        }
+        let n_effects = world.num_effects();
+        let make = || {
+            LearnerKind::E3d
+                .make(&Params::TASK1, &space, n_effects, &Target::Uniform)
+                .map_err(CliError::input)
+        };
+        let trials = 5000;
+        let cfg = |seed| SessionConfig {
+            trials,
+            seed,
+            use_reward: true,
+        };
+        if table_worthwhile(&scene, &*world, trials as u64) {
+            let t0 = Instant::now();
+            let table = OutcomeTable::build(&mut world).map_err(CliError::simulation)?;
+            println!(
+                "{},outcome table build ({} commands),{:.3},s",
+                scene.name,
+                table.len(),
+                t0.elapsed().as_secs_f64()
+            );
+            let mut seed = 0;
+            let mut err = None;
+            let r = rate(budget, || {
+                seed += 1;
+                let mut l = make().expect("valid parameters");
+                if let Err(e) = run_session(&mut &table, &mut l, &cfg(seed)) {
+                    err.get_or_insert(e);
+                }
+                trials
+            });
+            if let Some(e) = err {
+                return Err(CliError::simulation(e));
+            }
+            println!("{},e3d trials (outcome table),{r:.1},1/s", scene.name);
+            println!("{},e3d trial (outcome table),{:.1},ns", scene.name, 1e9 / r);
+        } else {
+            let short = SessionConfig {
+                trials: 200,
+                seed: 1,
+                use_reward: true,
+            };
+            let t0 = Instant::now();
+            let mut l = make()?;
+            run_session(&mut world, &mut l, &short).map_err(CliError::simulation)?;
+            let r = 200.0 / t0.elapsed().as_secs_f64();
+            println!("{},e3d trials (simulated),{r:.1},1/s", scene.name);
+        }
+    }
+    Ok(())
+}
