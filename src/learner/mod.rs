@@ -195,7 +195,7 @@ impl LearnerKind {
 
 impl fmt::Display for LearnerKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
+        f.pad(self.as_str())
     }
 }
 
