@@ -5,12 +5,9 @@
 //! cargo run --example execute -- scenes/two_rooms.ron SEEEEES NNNNNNN
 //! ```
 
-use e3d::{Scene, World};
+use e3d::{Outcome, Scene, World};
 
-fn run(
-    scene: &str,
-    commands: &[String],
-) -> Result<Vec<(String, usize, f64)>, Box<dyn std::error::Error>> {
+fn run(scene: &str, commands: &[String]) -> Result<Vec<Outcome>, Box<dyn std::error::Error>> {
     let scene = Scene::resolve(scene)?;
     let mut world = scene.build();
     let space = world.command_space().clone();
@@ -31,7 +28,7 @@ fn run(
             "{text}: effect {:>3}  reward {}  terminal point ({:.3}, {:.3})",
             o.effect, o.reward, o.point[0], o.point[1]
         );
-        rows.push((text.clone(), o.effect, o.reward));
+        rows.push(o);
     }
     Ok(rows)
 }
