@@ -52,10 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 #[test]
 fn the_door_and_the_reward() {
     let rows = run("two_rooms", &["EEEEEEE".into(), "SEEEEES".into()]).unwrap();
-    assert_eq!(rows[0].1, 2, "the wall stops the agent at (0, 2)");
-    assert_eq!(
-        (rows[1].1, rows[1].2),
-        (17, 1.0),
-        "through the door to the reward"
-    );
+    assert_eq!(rows[0].effect, 2, "the wall stops the agent at (0, 2)");
+    assert_eq!(rows[1].effect, 17, "through the door to the corner");
+    assert_eq!(rows[1].reward, 1.0);
 }
