@@ -17,7 +17,7 @@
 //!
 //! [`Scene::load`] parses and validates; every mistake is a [`SceneError`]
 //! naming the file, the line and column, the field and what was expected.
-//! [`Scene::build`] turns a scene into a [`World`](crate::world::World).
+//! [`Scene::build`] turns a scene into a world ([`crate::World`]).
 //! `docs/scenes.md` documents every field.
 
 mod error;
