@@ -147,3 +147,19 @@ fn reproduce_writes_the_same_bytes_whatever_the_number_of_threads() {
     let svg = String::from_utf8(read(&outs[0].join("fig2.svg"))).unwrap();
     assert!(svg.contains("uniform policy") && svg.contains("E3D"));
 }
+
+#[test]
+fn an_unwritable_output_folder_is_a_clear_error() {
+    let d = tmp("unwritable");
+    std::fs::create_dir_all(&d).unwrap();
+    let file = d.join("a-file");
+    std::fs::write(&file, b"x").unwrap();
+    let out = file.join("sub");
+    let o = e3d(&["run", "--trials", "10", "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(3));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("a-file/sub: cannot create the folder"), "{err}");
+    let o = e3d(&["reproduce", "--sessions", "1", "--trials", "10", "--out", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("exists and is not a directory"));
+}
