@@ -8,9 +8,9 @@
 
 use e3d::{
     run_session, Command, CommandSpace, Learner, LearnerKind, Outcome, Params, Scene,
-    SessionConfig, Target,
+    SessionConfig, SessionRng, Target,
 };
-use rand::{Rng, RngExt};
+use rand::RngExt;
 
 /// Count-based exploration: `Q[a_i, i] += alpha (1/sqrt(N(e)) - Q[a_i, i])`.
 struct CountBonus {
@@ -36,7 +36,7 @@ impl Learner for CountBonus {
         "count-bonus"
     }
 
-    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command) {
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
         command.symbols.resize(self.q.len(), 0);
         for (slot, q) in self.q.iter().enumerate() {
             let pol = self.slot_policy(slot).unwrap();

@@ -158,8 +158,19 @@ fn an_unwritable_output_folder_is_a_clear_error() {
     let o = e3d(&["run", "--trials", "10", "--out", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(3));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("a-file/sub: cannot create the folder"), "{err}");
-    let o = e3d(&["reproduce", "--sessions", "1", "--trials", "10", "--out", file.to_str().unwrap()]);
+    assert!(
+        err.contains("a-file/sub: cannot create the folder"),
+        "{err}"
+    );
+    let o = e3d(&[
+        "reproduce",
+        "--sessions",
+        "1",
+        "--trials",
+        "10",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(3));
     assert!(String::from_utf8_lossy(&o.stderr).contains("exists and is not a directory"));
 }

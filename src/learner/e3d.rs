@@ -1,8 +1,9 @@
-use super::{slot_offsets, Learner, Params};
+use super::{Learner, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::{EffectModel, Target};
+use crate::session::SessionRng;
 use crate::world::Outcome;
-use rand::{Rng, RngExt};
+use rand::RngExt;
 
 /// End-Effect Exploration Drive: the paper's Algorithm 1.
 ///
@@ -19,10 +20,13 @@ use rand::{Rng, RngExt};
 /// `beta Q` and the change of `Q` is proportional to `1 / beta`.
 ///
 /// Cost: a trial changes one entry of `Q` per slot, so the learner keeps the
-/// softmax weights `exp(beta Q - m_slot)` and their sum per slot, and
-/// updates one weight per slot (one `exp`) per trial; the shift `m_slot` is
-/// reset to the slot's largest logit only when the sum leaves
-/// `[1e-100, 1e100]`. The histogram update is O(1) ([`EffectModel`]).
+/// softmax weights `exp(beta Q - m_slot)` and their running sums per slot,
+/// and updates one weight per slot (one `exp`) per trial; the shift `m_slot`
+/// is reset to the slot's largest logit only when the sum leaves
+/// `[1e-100, 1e100]`. Sampling counts the running sums below a uniform draw
+/// (no branch to mispredict). The histogram update is O(1)
+/// ([`EffectModel`]). Tables have a fixed stride (the largest alphabet) so
+/// that a slot is one slice; a shorter alphabet's padding has weight 0.
 ///
 /// ```
 /// use e3d::{Command, CommandSpace, E3d, Learner, Outcome, Params, Target};
@@ -36,15 +40,18 @@ use rand::{Rng, RngExt};
 /// ```
 #[derive(Debug, Clone)]
 pub struct E3d {
+    /// `Q`, `stride` entries per slot.
     q: Vec<f64>,
-    offsets: Vec<usize>,
-    /// `exp(beta q - shift[slot])`, laid out as `q`.
+    /// `exp(beta Q - shift[slot])`, laid out as `q` (0 on padding).
     weights: Vec<f64>,
-    /// Running sums of `weights` within each slot (the last one of a slot
-    /// is the slot's total), laid out as `q`.
+    /// Running sums of `weights` within each slot, laid out as `q`; a
+    /// slot's total is at its alphabet's last symbol.
     cumulative: Vec<f64>,
     /// Per slot: the shift of its logits.
     shift: Vec<f64>,
+    /// Per slot: its alphabet size.
+    sizes: Vec<usize>,
+    stride: usize,
     model: EffectModel,
     log_target: Vec<f64>,
     alpha: f64,
@@ -63,17 +70,24 @@ impl E3d {
         target: &Target,
     ) -> Result<Self, String> {
         params.validate().map_err(|e| e.to_string())?;
-        let offsets = slot_offsets(space);
-        let total = *offsets.last().unwrap_or(&0);
+        let stride = space.max_alphabet();
+        let sizes: Vec<usize> = space.sizes().collect();
+        let total = stride * sizes.len();
+        let mut weights = vec![0.0; total];
+        let mut cumulative = vec![0.0; total];
+        for (slot, &k) in sizes.iter().enumerate() {
+            for a in 0..stride {
+                weights[slot * stride + a] = if a < k { 1.0 } else { 0.0 };
+                cumulative[slot * stride + a] = a.min(k - 1) as f64 + 1.0;
+            }
+        }
         Ok(E3d {
             q: vec![0.0; total],
-            weights: vec![1.0; total],
-            cumulative: space
-                .sizes()
-                .flat_map(|k| (1..=k).map(|i| i as f64))
-                .collect(),
-            shift: vec![0.0; space.num_slots()],
-            offsets,
+            weights,
+            cumulative,
+            shift: vec![0.0; sizes.len()],
+            sizes,
+            stride,
             model: EffectModel::new(num_effects, params.eta)?,
             log_target: target.log_probs(num_effects)?,
             alpha: params.alpha,
@@ -84,38 +98,25 @@ impl E3d {
 
     /// `Q[:, slot]`.
     pub fn q(&self, slot: usize) -> &[f64] {
-        &self.q[self.offsets[slot]..self.offsets[slot + 1]]
+        &self.q[slot * self.stride..slot * self.stride + self.sizes[slot]]
     }
 
     /// Recomputes a slot's weights with its largest logit as the shift.
     fn reshift(&mut self, slot: usize) {
-        let (lo, hi) = (self.offsets[slot], self.offsets[slot + 1]);
-        let top = self.q[lo..hi]
+        let (lo, k) = (slot * self.stride, self.sizes[slot]);
+        let top = self.q[lo..lo + k]
             .iter()
             .map(|&q| self.beta * q)
             .fold(f64::NEG_INFINITY, f64::max);
         self.shift[slot] = top;
-        for i in lo..hi {
+        for i in lo..lo + k {
             self.weights[i] = (self.beta * self.q[i] - top).exp();
         }
-        self.accumulate(slot, lo);
-    }
-
-    /// Recomputes the running sums of `slot` from entry `from` on; false if
-    /// the total left `[1e-100, 1e100]` (time to reshift).
-    #[inline]
-    fn accumulate(&mut self, slot: usize, from: usize) -> bool {
-        let (lo, hi) = (self.offsets[slot], self.offsets[slot + 1]);
-        let mut acc = if from > lo {
-            self.cumulative[from - 1]
-        } else {
-            0.0
-        };
-        for i in from..hi {
+        let mut acc = 0.0;
+        for i in lo..lo + self.stride {
             acc += self.weights[i];
             self.cumulative[i] = acc;
         }
-        (1e-100..=1e100).contains(&acc)
     }
 
     /// The running effect histogram `p`.
@@ -129,17 +130,20 @@ impl Learner for E3d {
         "e3d"
     }
 
-    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command) {
-        let n = self.offsets.len() - 1;
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
+        let n = self.sizes.len();
         command.symbols.resize(n, 0);
-        for slot in 0..n {
-            let cum = &self.cumulative[self.offsets[slot]..self.offsets[slot + 1]];
-            let (last, below) = cum.split_last().expect("alphabets are not empty");
-            // the first symbol whose running sum exceeds u: branch-free, as
-            // the draw is unpredictable by nature
-            let u = rng.random::<f64>() * last;
-            let pick: usize = below.iter().map(|&c| usize::from(c <= u)).sum();
-            command.symbols[slot] = pick as u8;
+        for ((sym, cum), &k) in command
+            .symbols
+            .iter_mut()
+            .zip(self.cumulative.chunks_exact(self.stride))
+            .zip(&self.sizes)
+        {
+            // the first symbol whose running sum exceeds u, counted without
+            // branches: the draw is unpredictable by nature
+            let u = rng.random::<f64>() * cum[k - 1];
+            let pick: usize = cum[..k - 1].iter().map(|&c| usize::from(c <= u)).sum();
+            *sym = pick as u8;
         }
     }
 
@@ -149,19 +153,54 @@ impl Learner for E3d {
         let surprise = self.model.log_prob(e) - self.log_target[e];
         let decay = 1.0 - self.alpha * self.lambda;
         let drive = self.alpha * self.lambda * outcome.reward - self.alpha / self.beta * surprise;
-        for (slot, &a) in command.symbols.iter().enumerate() {
-            let i = self.offsets[slot] + a as usize;
-            self.q[i] = decay * self.q[i] + drive;
-            self.weights[i] = (self.beta * self.q[i] - self.shift[slot]).exp();
-            if !self.accumulate(slot, i) {
-                self.reshift(slot);
+        let stride = self.stride;
+        // first every slot's new Q and weight (independent: the exps overlap)
+        for (slot, (&a, (q, w))) in command
+            .symbols
+            .iter()
+            .zip(
+                self.q
+                    .chunks_exact_mut(stride)
+                    .zip(self.weights.chunks_exact_mut(stride)),
+            )
+            .enumerate()
+        {
+            let a = a as usize;
+            q[a] = decay * q[a] + drive;
+            w[a] = (self.beta * q[a] - self.shift[slot]).exp();
+        }
+        // then the running sums from the changed symbol on
+        let mut out_of_range = 0u64;
+        for (slot, (&a, (w, cum))) in command
+            .symbols
+            .iter()
+            .zip(
+                self.weights
+                    .chunks_exact(stride)
+                    .zip(self.cumulative.chunks_exact_mut(stride)),
+            )
+            .enumerate()
+        {
+            let a = a as usize;
+            let mut acc = if a > 0 { cum[a - 1] } else { 0.0 };
+            for (c, &wk) in cum[a..].iter_mut().zip(&w[a..]) {
+                acc += wk;
+                *c = acc;
             }
+            if !(1e-100..=1e100).contains(&acc) {
+                out_of_range |= 1 << slot;
+            }
+        }
+        while out_of_range != 0 {
+            let slot = out_of_range.trailing_zeros() as usize;
+            self.reshift(slot);
+            out_of_range &= out_of_range - 1;
         }
     }
 
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
-        let (lo, hi) = (self.offsets[slot], self.offsets[slot + 1]);
-        let total = self.cumulative[hi - 1];
-        Some(self.weights[lo..hi].iter().map(|v| v / total).collect())
+        let (lo, k) = (slot * self.stride, self.sizes[slot]);
+        let total = self.cumulative[lo + k - 1];
+        Some(self.weights[lo..lo + k].iter().map(|v| v / total).collect())
     }
 }

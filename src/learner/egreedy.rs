@@ -1,7 +1,8 @@
 use super::{slot_offsets, Learner, Params};
 use crate::command::{Command, CommandSpace};
+use crate::session::SessionRng;
 use crate::world::Outcome;
-use rand::{Rng, RngExt};
+use rand::RngExt;
 
 /// Epsilon-greedy, per slot and off-policy: with probability `epsilon` a
 /// slot's symbol is drawn uniformly, otherwise it is the argmax of
@@ -42,7 +43,7 @@ impl Learner for EpsilonGreedy {
         "egreedy"
     }
 
-    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command) {
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
         let n = self.offsets.len() - 1;
         command.symbols.resize(n, 0);
         for slot in 0..n {

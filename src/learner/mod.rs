@@ -16,8 +16,8 @@ pub use uniform::UniformPolicy;
 
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
+use crate::session::SessionRng;
 use crate::world::Outcome;
-use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -33,8 +33,10 @@ pub trait Learner {
 
     /// Draws the next command into `command` (which the caller reuses from
     /// trial to trial: no allocation needed). Every random draw comes from
-    /// `rng`.
-    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command);
+    /// `rng`, the session's generator: a concrete, portable type rather than
+    /// `dyn Rng`, so that draws inline (a trial costs nanoseconds); use it
+    /// through `rand::RngExt` (`rng.random::<f64>()`, `rng.random_range(..)`).
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command);
 
     /// Learns from the outcome of `command`.
     fn learn(&mut self, command: &Command, outcome: &Outcome);
@@ -51,7 +53,7 @@ impl<L: Learner + ?Sized> Learner for Box<L> {
     fn name(&self) -> &str {
         (**self).name()
     }
-    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command) {
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
         (**self).propose(rng, command)
     }
     fn learn(&mut self, command: &Command, outcome: &Outcome) {

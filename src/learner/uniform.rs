@@ -1,7 +1,8 @@
 use super::Learner;
 use crate::command::{Command, CommandSpace};
+use crate::session::SessionRng;
 use crate::world::Outcome;
-use rand::{Rng, RngExt};
+use rand::RngExt;
 
 /// The uniform policy: every symbol of every slot equally likely, always.
 /// The paper's baseline for task 1.
@@ -24,7 +25,7 @@ impl Learner for UniformPolicy {
         "uniform"
     }
 
-    fn propose(&mut self, rng: &mut dyn Rng, command: &mut Command) {
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
         command.symbols.resize(self.sizes.len(), 0);
         for (s, &k) in command.symbols.iter_mut().zip(&self.sizes) {
             *s = rng.random_range(0..k) as u8;
