@@ -2,7 +2,10 @@
 
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
+use crate::scene::Scene;
 use rayon::prelude::*;
+use std::io;
+use std::path::{Path, PathBuf};
 
 /// The largest command space an [`OutcomeTable`] will enumerate.
 pub const MAX_TABLE_COMMANDS: u64 = 1 << 22;
@@ -156,5 +159,151 @@ impl World for &OutcomeTable {
     #[inline]
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
         Ok(*self.lookup(command))
+    }
+}
+
+/// The first bytes of an outcome-table file.
+const MAGIC: &[u8; 8] = b"E3DTAB01";
+
+/// FNV-1a, 64 bits: a small portable hash, the same on every platform.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+impl OutcomeTable {
+    /// The key of a scene's table: a hash of the scene's content (its
+    /// canonical RON form, so comments and layout do not matter) and of
+    /// the e3d version, which changes whenever a simulation might.
+    pub fn key(scene: &Scene) -> u64 {
+        let canonical = ron::to_string(scene).unwrap_or_default();
+        fnv1a64(format!("e3d {} {canonical}", env!("CARGO_PKG_VERSION")).as_bytes())
+    }
+
+    /// The file of a scene's table in the folder `dir`:
+    /// `NAME-KEY.e3dtable`.
+    pub fn cache_path(scene: &Scene, dir: &Path) -> PathBuf {
+        let safe: String = scene
+            .name
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        dir.join(format!("{safe}-{:016x}.e3dtable", Self::key(scene)))
+    }
+
+    /// The table of `scene`: read from `dir` if a table with the scene's
+    /// key is there, otherwise computed in parallel and written there
+    /// (whole or not at all). The result is identical either way.
+    pub fn cached(scene: &Scene, dir: &Path) -> Result<OutcomeTable, WorldError> {
+        let path = Self::cache_path(scene, dir);
+        if let Ok(t) = Self::load(&path, scene) {
+            return Ok(t);
+        }
+        let table = Self::build_parallel(|| scene.build())?;
+        // a cache that cannot be written is not an error: it costs time only
+        if std::fs::create_dir_all(dir).is_ok() {
+            let _ = crate::io::write_atomic(&path, &table.to_bytes(Self::key(scene)));
+        }
+        Ok(table)
+    }
+
+    /// The table as bytes: magic, key, count, then per command its effect
+    /// (u32), reward, x and y (f64), all little-endian.
+    pub fn to_bytes(&self, key: u64) -> Vec<u8> {
+        let mut b = Vec::with_capacity(24 + self.outcomes.len() * 28);
+        b.extend_from_slice(MAGIC);
+        b.extend_from_slice(&key.to_le_bytes());
+        b.extend_from_slice(&(self.outcomes.len() as u64).to_le_bytes());
+        for o in &self.outcomes {
+            b.extend_from_slice(&(o.effect as u32).to_le_bytes());
+            for v in [o.reward, o.point[0], o.point[1]] {
+                b.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        b
+    }
+
+    /// Reads a table written by [`to_bytes`](Self::to_bytes) for `scene`;
+    /// refuses a file of another scene, version or size.
+    pub fn load(path: &Path, scene: &Scene) -> io::Result<OutcomeTable> {
+        let bytes = std::fs::read(path)?;
+        let bad = |m: &str| {
+            io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!("{}: {m}", path.display()),
+            )
+        };
+        let space = scene.command_space();
+        let n = space
+            .num_commands()
+            .ok_or_else(|| bad("command space too large"))?;
+        let num_effects = scene.num_effects();
+        if bytes.len() != 24 + n as usize * 28 || &bytes[..8] != MAGIC {
+            return Err(bad("not an outcome table of this scene"));
+        }
+        let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().expect("8 bytes"));
+        if u64_at(8) != Self::key(scene) || u64_at(16) != n {
+            return Err(bad("the table belongs to another scene or version"));
+        }
+        let f64_at = |i: usize| f64::from_le_bytes(bytes[i..i + 8].try_into().expect("8 bytes"));
+        let mut outcomes = Vec::with_capacity(n as usize);
+        for k in 0..n as usize {
+            let at = 24 + k * 28;
+            let effect =
+                u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes")) as usize;
+            if effect >= num_effects {
+                return Err(bad("an effect out of range"));
+            }
+            outcomes.push(Outcome {
+                effect,
+                reward: f64_at(at + 4),
+                point: [f64_at(at + 12), f64_at(at + 20)],
+            });
+        }
+        Ok(OutcomeTable {
+            space,
+            num_effects,
+            outcomes,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cached_table_reads_back_identical_and_refuses_other_scenes() {
+        let scene = Scene::builtin("two_rooms").unwrap();
+        let dir = std::env::temp_dir().join(format!("e3d-table-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let built = OutcomeTable::cached(&scene, &dir).unwrap();
+        let path = OutcomeTable::cache_path(&scene, &dir);
+        assert!(path.exists());
+        let read = OutcomeTable::load(&path, &scene).unwrap();
+        assert_eq!(read.outcomes, built.outcomes);
+        assert_eq!(
+            read.outcomes,
+            OutcomeTable::build(&mut scene.build()).unwrap().outcomes
+        );
+        let mut other = scene.clone();
+        other.reward.value = 2.0;
+        assert_ne!(OutcomeTable::key(&other), OutcomeTable::key(&scene));
+        assert!(OutcomeTable::load(&path, &other).is_err());
+        std::fs::write(&path, b"garbage").unwrap();
+        assert!(OutcomeTable::load(&path, &scene).is_err());
+        // a broken cache file is rebuilt, not trusted
+        assert_eq!(
+            OutcomeTable::cached(&scene, &dir).unwrap().outcomes,
+            built.outcomes
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }
