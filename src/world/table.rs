@@ -29,6 +29,24 @@ pub struct OutcomeTable {
     space: CommandSpace,
     num_effects: usize,
     outcomes: Vec<Outcome>,
+    /// The place value of each slot in the mixed-radix index, so that a
+    /// look-up is independent multiply-adds rather than a dependent chain.
+    places: Vec<u64>,
+}
+
+/// The place value of each slot in [`CommandSpace::index_of`].
+fn places(space: &CommandSpace) -> Vec<u64> {
+    let mut places: Vec<u64> = space
+        .sizes()
+        .rev()
+        .scan(1u64, |acc, k| {
+            let place = *acc;
+            *acc = acc.saturating_mul(k as u64);
+            Some(place)
+        })
+        .collect();
+    places.reverse();
+    places
 }
 
 impl OutcomeTable {
@@ -44,6 +62,7 @@ impl OutcomeTable {
         }
         Ok(OutcomeTable {
             num_effects: world.num_effects(),
+            places: places(&space),
             space,
             outcomes,
         })
@@ -77,6 +96,7 @@ impl OutcomeTable {
             )
             .collect::<Result<_, _>>()?;
         Ok(OutcomeTable {
+            places: places(&space),
             space,
             num_effects,
             outcomes: chunks.into_iter().flatten().collect(),
@@ -142,7 +162,13 @@ impl OutcomeTable {
     /// The outcome of `command`, without `&mut`.
     #[inline]
     pub fn lookup(&self, command: &Command) -> &Outcome {
-        &self.outcomes[self.space.index_of(command) as usize]
+        let i: u64 = command
+            .symbols
+            .iter()
+            .zip(&self.places)
+            .map(|(&s, &p)| s as u64 * p)
+            .sum();
+        &self.outcomes[i as usize]
     }
 }
 
@@ -268,6 +294,7 @@ impl OutcomeTable {
             });
         }
         Ok(OutcomeTable {
+            places: places(&space),
             space,
             num_effects,
             outcomes,
