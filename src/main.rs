@@ -17,12 +17,18 @@ struct Cli {
 enum Cmd {
     /// Run one learning session on a scene and print a summary.
     Run(cli::run::RunArgs),
+    /// Run a sweep file: every (cell, seed) session, in parallel, resumably.
+    Sweep(cli::sweep::SweepArgs),
+    /// Join the output folders of the shards of one sweep.
+    Merge(cli::sweep::MergeArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Cmd::Run(a) => cli::run::run(a),
+        Cmd::Sweep(a) => cli::sweep::run(a),
+        Cmd::Merge(a) => cli::sweep::merge(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

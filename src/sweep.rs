@@ -198,8 +198,19 @@ pub enum Scale {
 }
 
 impl Values {
-    /// The values, in order. A linear range ends exactly on `to`; a log
-    /// range's inner values are `exp` of evenly spaced logarithms.
+    /// The values, in order. A range's values are rounded to 12
+    /// significant digits (so that `(scale: Log, from: 1, to: 1000, steps:
+    /// 4)` gives 1, 10, 100, 1000 and not 99.99999999999996); a log range
+    /// is evenly spaced in `log10`.
+    ///
+    /// ```
+    /// use e3d::sweep::{Scale, Values};
+    /// let v = Values::Range { scale: Scale::Log, from: 1.0, to: 1000.0, steps: 7 };
+    /// assert_eq!(v.values()[2], 10.0);
+    /// assert_eq!(v.values()[1], 3.16227766017);
+    /// let v = Values::Range { scale: Scale::Linear, from: 0.01, to: 0.1, steps: 4 };
+    /// assert_eq!(v.values(), vec![0.01, 0.04, 0.07, 0.1]);
+    /// ```
     pub fn values(&self) -> Vec<f64> {
         match *self {
             Values::List(ref v) => v.clone(),
@@ -210,21 +221,25 @@ impl Values {
                 steps,
             } => (0..steps)
                 .map(|k| {
-                    if steps == 1 || k == 0 {
-                        from
-                    } else if k == steps - 1 {
-                        to
-                    } else {
-                        let f = k as f64 / (steps - 1) as f64;
-                        match scale {
-                            Scale::Linear => from + (to - from) * f,
-                            Scale::Log => (from.ln() + (to.ln() - from.ln()) * f).exp(),
-                        }
+                    if steps == 1 {
+                        return from;
                     }
+                    let (a, b) = ((steps - 1 - k) as f64, k as f64);
+                    let d = (steps - 1) as f64;
+                    let v = match scale {
+                        Scale::Linear => (from * a + to * b) / d,
+                        Scale::Log => 10f64.powf((from.log10() * a + to.log10() * b) / d),
+                    };
+                    round12(v)
                 })
                 .collect(),
         }
     }
+}
+
+/// `v` rounded to 12 significant digits.
+fn round12(v: f64) -> f64 {
+    format!("{v:.11e}").parse().unwrap_or(v)
 }
 
 impl<'de> Deserialize<'de> for Values {
@@ -564,7 +579,13 @@ pub struct Sweep {
     cells: Vec<Cell>,
 }
 
-fn invalid(file: &str, text: &str, field: &str, anchor: Option<&str>, expected: &str) -> SweepError {
+fn invalid(
+    file: &str,
+    text: &str,
+    field: &str,
+    anchor: Option<&str>,
+    expected: &str,
+) -> SweepError {
     SweepError::Input(SceneError::from_validation(
         file,
         text,
@@ -646,7 +667,11 @@ impl Sweep {
             return Err(bad("use_reward", None, "each of true and false once"));
         }
         if spec.sessions == 0 {
-            return Err(bad("sessions", None, "at least 1 session per cell, found 0"));
+            return Err(bad(
+                "sessions",
+                None,
+                "at least 1 session per cell, found 0",
+            ));
         }
         if spec.trials == 0 {
             return Err(bad("trials", None, "at least 1 trial per session, found 0"));
@@ -658,11 +683,18 @@ impl Sweep {
                 None => vec![param_of(&Params::TASK1, i)],
                 Some(v) => {
                     if let Values::Range {
-                        scale, from, to, steps,
+                        scale,
+                        from,
+                        to,
+                        steps,
                     } = *v
                     {
                         if steps == 0 {
-                            return Err(bad(name, None, "a range of at least 1 step, found steps: 0"));
+                            return Err(bad(
+                                name,
+                                None,
+                                "a range of at least 1 step, found steps: 0",
+                            ));
                         }
                         if !(from.is_finite() && to.is_finite()) {
                             return Err(bad(name, None, "finite bounds `from` and `to`"));
@@ -692,11 +724,7 @@ impl Sweep {
                         let mut p = Params::TASK1;
                         set_param(&mut p, i, *x);
                         if let Err(e) = p.validate() {
-                            return Err(bad(
-                                name,
-                                None,
-                                &format!("{}, found {x}", e.expected),
-                            ));
+                            return Err(bad(name, None, &format!("{}, found {x}", e.expected)));
                         }
                     }
                     values
@@ -737,9 +765,7 @@ impl Sweep {
         let mut scenes: Vec<Scene> = Vec::new();
         for name in &spec.scenes {
             let scene = resolve_scene(name, base).map_err(|e| match e {
-                SceneResolve::NotFound(msg) => {
-                    bad("scenes", Some(&format!("\"{name}\"")), &msg)
-                }
+                SceneResolve::NotFound(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
                 SceneResolve::Scene(e) => SweepError::Input(e),
             })?;
             if scene.name.contains([',', '"', '\n', '\r']) {
@@ -1249,8 +1275,10 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
             )));
         }
         let read = journal::read(&jp)?;
-        let sweep_copy = std::fs::read(dir.join(SWEEP_COPY)).map_err(io_err(&dir.join(SWEEP_COPY)))?;
-        let version = std::fs::read(dir.join(VERSION_FILE)).map_err(io_err(&dir.join(VERSION_FILE)))?;
+        let sweep_copy =
+            std::fs::read(dir.join(SWEEP_COPY)).map_err(io_err(&dir.join(SWEEP_COPY)))?;
+        let version =
+            std::fs::read(dir.join(VERSION_FILE)).map_err(io_err(&dir.join(VERSION_FILE)))?;
         let h = &read.header;
         match &first {
             None => first = Some((h.clone(), sweep_copy, version)),
@@ -1402,9 +1430,7 @@ mod tests {
             steps: 4,
         }
         .values();
-        assert_eq!(v[0], 1.0);
-        assert_eq!(v[3], 1000.0);
-        assert!((v[1] - 10.0).abs() < 1e-12 && (v[2] - 100.0).abs() < 1e-10);
+        assert_eq!(v, vec![1.0, 10.0, 100.0, 1000.0]);
         let v = Values::Range {
             scale: Scale::Linear,
             from: 0.0,

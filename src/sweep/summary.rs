@@ -131,10 +131,7 @@ pub fn summarize<'a>(
         }
     }
     // which metrics may be empty (get an `_n` column)
-    let has_n: Vec<bool> = metrics
-        .iter()
-        .map(|m| *m == "first_reward_trial")
-        .collect();
+    let has_n: Vec<bool> = metrics.iter().map(|m| *m == "first_reward_trial").collect();
     let mut out = String::new();
     let mut header: Vec<String> = KEY_COLUMNS[..CELL_COLUMNS]
         .iter()
