@@ -21,6 +21,8 @@ enum Cmd {
     Sweep(cli::sweep::SweepArgs),
     /// Join the output folders of the shards of one sweep.
     Merge(cli::sweep::MergeArgs),
+    /// Draw a sweep's summary: a line plot over one parameter, a heat map over two.
+    Plot(cli::plot::PlotArgs),
 }
 
 fn main() -> ExitCode {
@@ -29,6 +31,7 @@ fn main() -> ExitCode {
         Cmd::Run(a) => cli::run::run(a),
         Cmd::Sweep(a) => cli::sweep::run(a),
         Cmd::Merge(a) => cli::sweep::merge(a),
+        Cmd::Plot(a) => cli::plot::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

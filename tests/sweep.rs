@@ -414,3 +414,110 @@ fn shipped_sweeps_parse() {
         assert!(err.contains("arm7.ron"), "{err}");
     }
 }
+
+#[test]
+fn plots_are_drawn_from_the_summary() {
+    let d = temp("plot");
+    let file = small_sweep(&d, 2, 200);
+    let out = d.join("out");
+    let o = out.to_str().unwrap();
+    ok(e3d(&["sweep", file.to_str().unwrap(), "--out", o]));
+    let svg = d.join("beta.svg");
+    ok(e3d(&[
+        "plot",
+        o,
+        "--x",
+        "beta",
+        "--metric",
+        "normalized_entropy",
+        "--where",
+        "use_reward=false",
+        "--out",
+        svg.to_str().unwrap(),
+    ]));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg"));
+    // one line per eta, the baselines as dashed lines, labelled
+    for label in [
+        "e3d, eta=0.003",
+        "e3d, eta=0.009487",
+        "e3d, eta=0.03",
+        "uniform",
+        "egreedy, epsilon=0.05",
+        "beta (log scale)",
+    ] {
+        assert!(text.contains(label), "no `{label}` in the plot");
+    }
+    // an existing figure is not overwritten without --force
+    let again = e3d(&[
+        "plot",
+        o,
+        "--x",
+        "beta",
+        "--metric",
+        "normalized_entropy",
+        "--out",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(again.status.code(), Some(3));
+    // a heat map, with one value of beta only (a single column)
+    let heat = d.join("heat.svg");
+    ok(e3d(&[
+        "plot",
+        o,
+        "--x",
+        "beta",
+        "--y",
+        "eta",
+        "--metric",
+        "kl_to_target",
+        "--where",
+        "use_reward=true",
+        "--where",
+        "beta=100",
+        "--out",
+        heat.to_str().unwrap(),
+    ]));
+    assert!(std::fs::read_to_string(&heat).unwrap().contains("<rect"));
+    // mistakes are explained
+    let r = e3d(&[
+        "plot",
+        o,
+        "--x",
+        "beta",
+        "--metric",
+        "normalised_entropy",
+        "--out",
+        d.join("x.svg").to_str().unwrap(),
+    ]);
+    assert_eq!(r.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&r.stderr).contains(
+        "no metric `normalised_entropy` in the summary (did you mean `normalized_entropy`?)"
+    ));
+    let r = e3d(&[
+        "plot",
+        o,
+        "--x",
+        "beta",
+        "--y",
+        "eta",
+        "--metric",
+        "kl_to_target",
+        "--out",
+        d.join("y.svg").to_str().unwrap(),
+    ]);
+    assert!(String::from_utf8_lossy(&r.stderr)
+        .contains("these columns vary: use_reward (false, true); choose with --where"));
+    let r = e3d(&[
+        "plot",
+        o,
+        "--x",
+        "bta",
+        "--metric",
+        "kl_to_target",
+        "--out",
+        d.join("z.svg").to_str().unwrap(),
+    ]);
+    assert!(String::from_utf8_lossy(&r.stderr)
+        .contains("`bta` is not a parameter (did you mean `beta`?)"));
+}

@@ -1,5 +1,6 @@
 //! Sub-commands of the `e3d` binary.
 
+pub mod plot;
 pub mod run;
 pub mod sweep;
 
