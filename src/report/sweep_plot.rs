@@ -15,7 +15,6 @@
 
 use crate::scene::did_you_mean;
 use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS, PARAM_NAMES};
-use plotters::coord::ranged1d::{IntoSegmentedCoord, SegmentValue};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -626,36 +625,27 @@ fn draw_heat(
         let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(draw_err)?;
         let (left, right) = root.split_horizontally(w - 130);
-        let (nx, ny) = (xv.len() as i32, yv.len() as i32);
+        let (nx, ny) = (xv.len(), yv.len());
         let mut chart = ChartBuilder::on(&left)
             .caption(title, (FONT, 20))
             .margin(15)
             .x_label_area_size(50)
             .y_label_area_size(80)
-            .build_cartesian_2d((0..nx - 1).into_segmented(), (0..ny - 1).into_segmented())
+            .build_cartesian_2d(0f64..nx as f64, 0f64..ny as f64)
             .map_err(draw_err)?;
-        let xl = |v: &SegmentValue<i32>| match v {
-            SegmentValue::CenterOf(i) if (*i as usize) < xv.len() => short(xv[*i as usize]),
-            _ => String::new(),
-        };
-        let yl = |v: &SegmentValue<i32>| match v {
-            SegmentValue::CenterOf(i) if (*i as usize) < yv.len() => short(yv[*i as usize]),
-            _ => String::new(),
-        };
         chart
             .configure_mesh()
             .disable_mesh()
+            .x_labels(0)
+            .y_labels(0)
             .x_desc(x_name)
             .y_desc(y_name)
             .axis_desc_style((FONT, 16))
-            .label_style((FONT, 14))
-            .x_label_formatter(&xl)
-            .y_label_formatter(&yl)
             .draw()
             .map_err(draw_err)?;
         for (i, col) in grid.iter().enumerate() {
             for (j, v) in col.iter().enumerate() {
-                let (i, j) = (i as i32, j as i32);
+                let (x, y) = (i as f64, j as f64);
                 let t = v.map(|v| (v - vmin) / span);
                 let fill = match t {
                     Some(t) => viridis(t).filled(),
@@ -663,10 +653,7 @@ fn draw_heat(
                 };
                 chart
                     .draw_series(std::iter::once(Rectangle::new(
-                        [
-                            (SegmentValue::Exact(i), SegmentValue::Exact(j)),
-                            (SegmentValue::Exact(i + 1), SegmentValue::Exact(j + 1)),
-                        ],
+                        [(x, y), (x + 1.0, y + 1.0)],
                         fill,
                     )))
                     .map_err(draw_err)?;
@@ -676,13 +663,26 @@ fn draw_heat(
                     .color(&color)
                     .pos(Pos::new(HPos::Center, VPos::Center));
                 chart
-                    .draw_series(std::iter::once(Text::new(
-                        label,
-                        (SegmentValue::CenterOf(i), SegmentValue::CenterOf(j)),
-                        style,
-                    )))
+                    .draw_series(std::iter::once(Text::new(label, (x + 0.5, y + 0.5), style)))
                     .map_err(draw_err)?;
             }
+        }
+        // tick labels at the centres of the cells, drawn by hand
+        for (i, v) in xv.iter().enumerate() {
+            let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
+            let style = TextStyle::from((FONT, 14).into_font())
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top));
+            left.draw(&Text::new(short(*v), (px, py + 6), style))
+                .map_err(draw_err)?;
+        }
+        for (j, v) in yv.iter().enumerate() {
+            let (px, py) = chart.backend_coord(&(0.0, j as f64 + 0.5));
+            let style = TextStyle::from((FONT, 14).into_font())
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Right, VPos::Center));
+            left.draw(&Text::new(short(*v), (px - 6, py), style))
+                .map_err(draw_err)?;
         }
         // the colour bar
         right
