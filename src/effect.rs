@@ -318,7 +318,7 @@ mod tests {
     fn effect_model_matches_the_plain_update_over_many_steps() {
         let eta = 0.01;
         let mut m = EffectModel::new(5, eta).unwrap();
-        let mut plain = vec![0.2; 5];
+        let mut plain = [0.2; 5];
         for t in 0..100_000usize {
             let e = (t * 7 + t / 3) % 5;
             m.observe(e);
@@ -326,8 +326,8 @@ mod tests {
                 *v = (1.0 - eta) * *v + if i == e { eta } else { 0.0 };
             }
         }
-        for i in 0..5 {
-            assert!((m.prob(i) - plain[i]).abs() < 1e-12, "{i}");
+        for (i, p) in plain.iter().enumerate() {
+            assert!((m.prob(i) - p).abs() < 1e-12, "{i}");
         }
         let sum: f64 = m.probs().iter().sum();
         assert!((sum - 1.0).abs() < 1e-12);

@@ -402,7 +402,7 @@ fn shipped_sweeps_parse() {
     let paper = e3d::Sweep::load(root.join("scenes/sweeps/paper.ron")).unwrap();
     // e3d: 2 rewards x 7 beta x 4 eta; uniform and egreedy: 2 rewards each
     assert_eq!(paper.cells().len(), 56 + 2 + 2);
-    assert_eq!(paper.num_sessions(), 600);
+    assert_eq!(paper.num_sessions(), 1200);
     // arm7.ron names scenes/arm7.ron, which the physics scenes bring
     if root.join("scenes/arm7.ron").exists() {
         let arm = e3d::Sweep::load(root.join("scenes/sweeps/arm7.ron")).unwrap();
