@@ -1107,6 +1107,12 @@ impl Sweep {
                 dir.display()
             )));
         }
+        if non_empty && !dir.join(SWEEP_COPY).exists() {
+            return Err(SweepError::Output(format!(
+                "{}: holds no {SWEEP_COPY}, so no sweep to resume; choose another --out",
+                dir.display()
+            )));
+        }
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
         // the copy of the sweep and the version: the same, or refused
         for (name, bytes) in [

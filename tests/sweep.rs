@@ -7,12 +7,30 @@ use std::time::{Duration, Instant};
 
 const E3D: &str = env!("CARGO_BIN_EXE_e3d");
 
-/// A fresh, empty temporary folder for one test.
-fn temp(name: &str) -> PathBuf {
+/// A fresh, empty temporary folder for one test, removed at the end unless
+/// the test fails (to look into).
+struct TempDir(PathBuf);
+
+impl std::ops::Deref for TempDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+fn temp(name: &str) -> TempDir {
     let d = std::env::temp_dir().join(format!("e3d-test-sweep-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
-    d
+    TempDir(d)
 }
 
 /// A small sweep on two_rooms: 2 x 3 e3d cells, 2 egreedy cells, 1 uniform,
@@ -520,4 +538,51 @@ fn plots_are_drawn_from_the_summary() {
     ]);
     assert!(String::from_utf8_lossy(&r.stderr)
         .contains("`bta` is not a parameter (did you mean `beta`?)"));
+}
+
+/// The known behaviour of the paper's task 2 on two_rooms (SCENES.md):
+/// E3D keeps the reward only when beta * lambda > log(18), that is beta >
+/// 96 with lambda = 0.03; the uniform policy finds it 9 times in 16384.
+#[test]
+fn the_sweep_shows_the_beta_threshold_of_task_2() {
+    let text = r#"Sweep(
+        scenes: ["two_rooms"], learners: [e3d, uniform], use_reward: [true],
+        params: (beta: [10, 300]), sessions: 4, trials: 3000, seed: 5,
+        metrics: [cumulative_reward(3000), first_reward_trial],
+    )"#;
+    let sweep = e3d::Sweep::parse(text, "threshold.ron", None).unwrap();
+    let results = sweep.run(2).unwrap();
+    let mean = |cell: usize| {
+        let v: Vec<f64> = results
+            .iter()
+            .filter(|r| r.session.cell == cell)
+            .map(|r| r.values[0].unwrap())
+            .collect();
+        assert_eq!(v.len(), 4);
+        v.iter().sum::<f64>() / 4.0
+    };
+    let (below, above, uniform) = (mean(0), mean(1), mean(2));
+    assert!(below < 400.0, "beta 10: {below}");
+    assert!(above > 1500.0, "beta 300: {above}");
+    // 3000 x 9 / 16384 = 1.6 expected
+    assert!(uniform < 8.0, "uniform: {uniform}");
+}
+
+#[test]
+fn resume_refuses_a_folder_that_holds_no_sweep() {
+    let d = temp("foreign");
+    let file = small_sweep(&d, 1, 100);
+    let out = d.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let r = e3d(&[
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--resume",
+    ]);
+    assert_eq!(r.status.code(), Some(3));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("holds no sweep.ron"));
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 1);
 }

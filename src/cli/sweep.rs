@@ -186,7 +186,7 @@ impl Reporter {
 
     fn finish(&mut self) {
         if let Some(b) = self.bar.take() {
-            b.finish();
+            b.finish_and_clear();
         }
     }
 }
