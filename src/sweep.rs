@@ -102,7 +102,10 @@ pub const KEY_COLUMNS: [&str; 10] = [
 pub const CELL_COLUMNS: usize = 8;
 
 /// The largest number of sessions a sweep may hold.
-pub const MAX_SESSIONS: usize = 1 << 32;
+pub const MAX_SESSIONS: usize = 1_000_000_000;
+
+/// The largest number of steps of a range.
+pub const MAX_STEPS: usize = 100_000;
 
 /// Whether `learner` uses the hyper-parameter `param` (one of
 /// [`PARAM_NAMES`]).
@@ -663,7 +666,9 @@ impl Sweep {
                 "[true], [false] or [false, true], found []",
             ));
         }
-        if spec.use_reward.len() > 1 && spec.use_reward[0] == spec.use_reward[1] {
+        if spec.use_reward.len() > 2
+            || (spec.use_reward.len() == 2 && spec.use_reward[0] == spec.use_reward[1])
+        {
             return Err(bad("use_reward", None, "each of true and false once"));
         }
         if spec.sessions == 0 {
@@ -694,6 +699,15 @@ impl Sweep {
                                 name,
                                 None,
                                 "a range of at least 1 step, found steps: 0",
+                            ));
+                        }
+                        if steps > MAX_STEPS {
+                            return Err(bad(
+                                name,
+                                None,
+                                &format!(
+                                    "a range of at most {MAX_STEPS} steps, found steps: {steps}"
+                                ),
                             ));
                         }
                         if !(from.is_finite() && to.is_finite()) {
@@ -787,8 +801,27 @@ impl Sweep {
             }
             scenes.push(scene);
         }
+        // the size, before making the cells
+        let mut num_cells: usize = 0;
+        for &learner in &spec.learners {
+            let per: usize = (0..5)
+                .filter(|&i| uses_param(learner, PARAM_NAMES[i]))
+                .fold(1usize, |acc, i| acc.saturating_mul(axes[i].len()));
+            num_cells = num_cells.saturating_add(per.saturating_mul(spec.use_reward.len()));
+        }
+        let num_cells = num_cells.saturating_mul(scenes.len());
+        if num_cells.saturating_mul(spec.sessions) > MAX_SESSIONS {
+            return Err(bad(
+                "sessions",
+                None,
+                &format!(
+                    "at most {MAX_SESSIONS} sessions in all, found {num_cells} cells x {}",
+                    spec.sessions
+                ),
+            ));
+        }
         // cells
-        let mut cells = Vec::new();
+        let mut cells = Vec::with_capacity(num_cells);
         for (si, _) in scenes.iter().enumerate() {
             for &learner in &spec.learners {
                 let used: [bool; 5] = std::array::from_fn(|i| uses_param(learner, PARAM_NAMES[i]));
@@ -818,17 +851,6 @@ impl Sweep {
                     }
                 }
             }
-        }
-        if cells.len().saturating_mul(spec.sessions) > MAX_SESSIONS {
-            return Err(bad(
-                "sessions",
-                None,
-                &format!(
-                    "at most {MAX_SESSIONS} sessions in all, found {} cells x {}",
-                    cells.len(),
-                    spec.sessions
-                ),
-            ));
         }
         Ok(Sweep {
             spec,

@@ -20,7 +20,7 @@
 use super::{fnv1a64, io_err, Shard, SweepError};
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
-use std::io::{Seek, SeekFrom, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -185,12 +185,12 @@ impl Journal {
     /// Opens a journal for appending after its first `valid_len` bytes
     /// (dropping a torn or corrupt tail).
     pub fn append(path: &Path, valid_len: u64) -> Result<Journal, SweepError> {
-        let mut file = OpenOptions::new()
-            .write(true)
+        // O_APPEND: every line lands at the end of the file, whole
+        let file = OpenOptions::new()
+            .append(true)
             .open(path)
             .map_err(io_err(path))?;
         file.set_len(valid_len).map_err(io_err(path))?;
-        file.seek(SeekFrom::End(0)).map_err(io_err(path))?;
         file.sync_all().map_err(io_err(path))?;
         Ok(Journal {
             path: path.to_path_buf(),
