@@ -9,7 +9,7 @@
 //! ```
 //!
 //! A data line is `CHECKSUM INDEX,ROW\n`: the 16 hex digits of
-//! [`fnv1a64`](super::fnv1a64) of `INDEX,ROW`, a space, the session's
+//! [`fnv1a64`] of `INDEX,ROW`, a space, the session's
 //! canonical index and its `results.csv` row. Each line goes to the file in
 //! one `write` as soon as its session ends (so it survives the process
 //! being killed), and the file is synced to disk at least every half
