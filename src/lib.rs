@@ -22,7 +22,9 @@
 //!   ([`EffectModel`]) and the target ([`Target`]);
 //! - [`learner`]: the [`Learner`] trait, [`E3d`], [`UniformPolicy`],
 //!   [`EpsilonGreedy`];
-//! - [`session`]: the trial loop ([`run_session`]) and its [`Metrics`].
+//! - [`session`]: the trial loop ([`run_session`]) and its [`Metrics`];
+//! - [`sweep`]: grids of sessions over scenes, learners and parameters
+//!   ([`Sweep`]), run in parallel, resumable, in shards.
 //!
 //! ```
 //! use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};
@@ -55,6 +57,7 @@ pub mod learner;
 pub mod report;
 pub mod scene;
 pub mod session;
+pub mod sweep;
 pub mod world;
 
 /// The README's examples, compiled and run as doctests.
@@ -70,4 +73,5 @@ pub use session::{
     policy_effect_distribution, run_session, run_session_with, Metrics, SessionConfig,
     SessionRecord, SessionRng,
 };
+pub use sweep::{Sweep, SweepError};
 pub use world::{GridWorld, Outcome, OutcomeTable, World, WorldError};

@@ -21,6 +21,12 @@ enum Cmd {
     Reproduce(cli::reproduce::ReproduceArgs),
     /// Measure what a scene costs: rollouts/s, steps/s, E3D trials/s.
     Bench(cli::bench::BenchArgs),
+    /// Run a sweep file: every (cell, seed) session, in parallel, resumably.
+    Sweep(cli::sweep::SweepArgs),
+    /// Join the output folders of the shards of one sweep.
+    Merge(cli::sweep::MergeArgs),
+    /// Draw a sweep's summary: a line plot over one parameter, a heat map over two.
+    Plot(cli::plot::PlotArgs),
 }
 
 fn main() -> ExitCode {
@@ -29,6 +35,9 @@ fn main() -> ExitCode {
         Cmd::Run(a) => cli::run::run(a),
         Cmd::Reproduce(a) => cli::reproduce::run(a),
         Cmd::Bench(a) => cli::bench::run(a),
+        Cmd::Sweep(a) => cli::sweep::run(a),
+        Cmd::Merge(a) => cli::sweep::merge(a),
+        Cmd::Plot(a) => cli::plot::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,8 +1,10 @@
 //! Sub-commands of the `e3d` binary.
 
 pub mod bench;
+pub mod plot;
 pub mod reproduce;
 pub mod run;
+pub mod sweep;
 
 use std::process::ExitCode;
 

@@ -1,9 +1,12 @@
-//! Reports: the paper's experiment and the figures and tables drawn from it.
+//! Reports: the paper's experiment, the figures and tables drawn from it,
+//! and the plots of sweeps.
 //!
 //! - [`paper`]: Figures 2 and 3 of Daucé (2020) on `two_rooms`, run as
-//!   sessions and summarised (what `e3d reproduce` prints and draws).
+//!   sessions and summarised (what `e3d reproduce` prints and draws);
+//! - [`sweep_plot`]: line plots and heat maps of a sweep's summary.
 
 pub mod paper;
+pub mod sweep_plot;
 
 /// Mean, sample standard deviation, minimum and maximum of `xs`.
 pub fn describe(xs: &[f64]) -> Stats {

@@ -91,9 +91,11 @@ impl SceneError {
                 if let Some(c) = m.get(..1) {
                     m.replace_range(..1, &c.to_lowercase());
                 }
+                // a value of the wrong type: name the field it was given to
+                let about_a_value = m.starts_with("expected");
                 match field_before(text, e.span.start.line, e.span.start.col) {
-                    Some(f) => format!("field `{f}`: {m}"),
-                    None => m,
+                    Some(f) if about_a_value => format!("field `{f}`: {m}"),
+                    _ => m,
                 }
             }
         };

@@ -22,7 +22,7 @@
 
 mod error;
 
-pub use error::SceneError;
+pub use error::{did_you_mean, SceneError};
 
 use crate::command::{CommandSpace, MAX_ALPHABET, MAX_SLOTS};
 use crate::effect::EffectGrid;

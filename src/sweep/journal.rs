@@ -1,0 +1,284 @@
+//! The journal of a sweep: every finished session, one checksummed line
+//! each, appended as sessions finish.
+//!
+//! ```text
+//! # e3d sweep journal v1
+//! # sweep=9b1f0c2a7d3e4f55 shard=1/1 total=600 per_cell=10 version=0.1.0
+//! # columns=scene,learner,use_reward,alpha,...
+//! 5d8f2e0b9a7c6d41 17,two_rooms,e3d,false,0.3,1,0.03,0.01,,7,123456789,0.93,...
+//! ```
+//!
+//! A data line is `CHECKSUM INDEX,ROW\n`: the 16 hex digits of
+//! [`fnv1a64`] of `INDEX,ROW`, a space, the session's
+//! canonical index and its `results.csv` row. Each line goes to the file in
+//! one `write` as soon as its session ends (so it survives the process
+//! being killed), and the file is synced to disk at least every half
+//! second and at the end. On reading, the lines after the first one that
+//! is torn (no line break) or fails its checksum are ignored, and
+//! appending starts there again.
+
+use super::{fnv1a64, io_err, Shard, SweepError};
+use std::collections::BTreeMap;
+use std::fs::{File, OpenOptions};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+const MAGIC: &str = "# e3d sweep journal v1";
+
+/// The first lines of a journal: which sweep and which shard it belongs to.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct JournalHeader {
+    /// FNV-1a of the sweep file's bytes.
+    pub sweep_hash: u64,
+    /// The shard this journal records.
+    pub shard: Shard,
+    /// The number of sessions of the whole sweep.
+    pub total: usize,
+    /// Sessions per cell.
+    pub per_cell: usize,
+    /// The e3d version that wrote it.
+    pub version: String,
+    /// The header line of `results.csv`.
+    pub columns: String,
+}
+
+impl JournalHeader {
+    /// A short description, for messages.
+    pub fn describe(&self) -> String {
+        format!(
+            "shard {} of sweep {:016x} with {} sessions, e3d {}",
+            self.shard, self.sweep_hash, self.total, self.version
+        )
+    }
+
+    fn text(&self) -> String {
+        format!(
+            "{MAGIC}\n# sweep={:016x} shard={} total={} per_cell={} version={}\n# columns={}\n",
+            self.sweep_hash, self.shard, self.total, self.per_cell, self.version, self.columns
+        )
+    }
+}
+
+/// A journal read back.
+#[derive(Debug, Clone)]
+pub struct JournalRead {
+    /// Its header.
+    pub header: JournalHeader,
+    /// The rows of the finished sessions, by canonical index.
+    pub rows: BTreeMap<usize, String>,
+    /// The length in bytes of the valid part (header and whole, correct
+    /// lines); anything after it is ignored.
+    pub valid_len: u64,
+}
+
+fn corrupt(path: &Path, what: &str) -> SweepError {
+    SweepError::Output(format!(
+        "{}: not an e3d sweep journal ({what}); choose another --out",
+        path.display()
+    ))
+}
+
+/// Reads a journal, keeping the whole, correct lines before the first bad
+/// one.
+pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
+    let bytes = std::fs::read(path).map_err(io_err(path))?;
+    let mut lines = bytes.split_inclusive(|&b| b == b'\n');
+    let mut header_line = |n: usize| -> Result<String, SweepError> {
+        match lines.next() {
+            Some(l) if l.ends_with(b"\n") => String::from_utf8(l[..l.len() - 1].to_vec())
+                .map_err(|_| corrupt(path, &format!("line {n} is not UTF-8"))),
+            _ => Err(corrupt(path, "its header is incomplete")),
+        }
+    };
+    let magic = header_line(1)?;
+    if magic != MAGIC {
+        return Err(corrupt(path, "line 1 is not the journal's title"));
+    }
+    let meta = header_line(2)?;
+    let columns = header_line(3)?;
+    let header_len = (magic.len() + meta.len() + columns.len() + 3) as u64;
+    let columns = columns
+        .strip_prefix("# columns=")
+        .ok_or_else(|| corrupt(path, "line 3 lacks `# columns=`"))?
+        .to_string();
+    let mut fields: BTreeMap<&str, &str> = BTreeMap::new();
+    for kv in meta.trim_start_matches('#').split_whitespace() {
+        if let Some((k, v)) = kv.split_once('=') {
+            fields.insert(k, v);
+        }
+    }
+    let get = |k: &str| {
+        fields
+            .get(k)
+            .copied()
+            .ok_or_else(|| corrupt(path, &format!("line 2 lacks `{k}=`")))
+    };
+    let bad_num = |k: &str| corrupt(path, &format!("line 2: `{k}` is not a number"));
+    let header = JournalHeader {
+        sweep_hash: u64::from_str_radix(get("sweep")?, 16).map_err(|_| bad_num("sweep"))?,
+        shard: get("shard")?.parse().map_err(|_| bad_num("shard"))?,
+        total: get("total")?.parse().map_err(|_| bad_num("total"))?,
+        per_cell: get("per_cell")?.parse().map_err(|_| bad_num("per_cell"))?,
+        version: get("version")?.to_string(),
+        columns,
+    };
+    let mut valid_len = header_len;
+    let mut rows = BTreeMap::new();
+    for line in lines {
+        let Some(entry) = parse_line(line) else { break };
+        let (index, row) = entry;
+        if let Some(old) = rows.get(&index) {
+            if *old != row {
+                return Err(corrupt(
+                    path,
+                    &format!("session {index} appears twice with different results"),
+                ));
+            }
+        }
+        rows.insert(index, row);
+        valid_len += line.len() as u64;
+    }
+    Ok(JournalRead {
+        header,
+        rows,
+        valid_len,
+    })
+}
+
+/// `CHECKSUM INDEX,ROW\n` -> `(INDEX, ROW)`, or `None` if torn or wrong.
+fn parse_line(line: &[u8]) -> Option<(usize, String)> {
+    let body = line.strip_suffix(b"\n")?;
+    let text = std::str::from_utf8(body).ok()?;
+    let (sum, payload) = text.split_once(' ')?;
+    if sum.len() != 16 || u64::from_str_radix(sum, 16).ok()? != fnv1a64(payload.as_bytes()) {
+        return None;
+    }
+    let (index, row) = payload.split_once(',')?;
+    Some((index.parse().ok()?, row.to_string()))
+}
+
+fn line(index: usize, row: &str) -> String {
+    let payload = format!("{index},{row}");
+    format!("{:016x} {payload}\n", fnv1a64(payload.as_bytes()))
+}
+
+/// A journal open for appending.
+#[derive(Debug)]
+pub struct Journal {
+    path: PathBuf,
+    file: File,
+    last_sync: Instant,
+}
+
+/// How often appended lines are synced to disk.
+const SYNC_EVERY: Duration = Duration::from_millis(500);
+
+impl Journal {
+    /// Creates a journal with `header` and no session (atomically), then
+    /// opens it for appending.
+    pub fn create(path: &Path, header: &JournalHeader) -> Result<Journal, SweepError> {
+        crate::io::write_atomic(path, header.text().as_bytes()).map_err(io_err(path))?;
+        Journal::append(path, header.text().len() as u64)
+    }
+
+    /// Opens a journal for appending after its first `valid_len` bytes
+    /// (dropping a torn or corrupt tail).
+    pub fn append(path: &Path, valid_len: u64) -> Result<Journal, SweepError> {
+        // O_APPEND: every line lands at the end of the file, whole
+        let file = OpenOptions::new()
+            .append(true)
+            .open(path)
+            .map_err(io_err(path))?;
+        file.set_len(valid_len).map_err(io_err(path))?;
+        file.sync_all().map_err(io_err(path))?;
+        Ok(Journal {
+            path: path.to_path_buf(),
+            file,
+            last_sync: Instant::now(),
+        })
+    }
+
+    /// Appends the row of session `index` (one `write`), syncing to disk
+    /// when the last sync is older than half a second.
+    pub fn push(&mut self, index: usize, row: &str) -> Result<(), SweepError> {
+        self.file
+            .write_all(line(index, row).as_bytes())
+            .map_err(io_err(&self.path))?;
+        if self.last_sync.elapsed() >= SYNC_EVERY {
+            self.sync()?;
+        }
+        Ok(())
+    }
+
+    /// Syncs the journal to disk.
+    pub fn sync(&mut self) -> Result<(), SweepError> {
+        self.file.sync_data().map_err(io_err(&self.path))?;
+        self.last_sync = Instant::now();
+        Ok(())
+    }
+}
+
+/// Writes a whole journal (header and `rows` in index order) atomically.
+pub fn write_whole(
+    path: &Path,
+    header: &JournalHeader,
+    rows: &BTreeMap<usize, String>,
+) -> Result<(), SweepError> {
+    let mut text = header.text();
+    for (i, r) in rows {
+        text.push_str(&line(*i, r));
+    }
+    crate::io::write_atomic(path, text.as_bytes()).map_err(io_err(path))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn header() -> JournalHeader {
+        JournalHeader {
+            sweep_hash: 0xabc,
+            shard: Shard { k: 2, n: 3 },
+            total: 10,
+            per_cell: 2,
+            version: "0.1.0".into(),
+            columns: "scene,learner,x".into(),
+        }
+    }
+
+    #[test]
+    fn torn_and_corrupt_tails_are_dropped_then_overwritten() {
+        let dir = std::env::temp_dir().join(format!("e3d-journal-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("journal.txt");
+        let mut j = Journal::create(&p, &header()).unwrap();
+        j.push(1, "a,b,1").unwrap();
+        j.push(4, "a,b,2").unwrap();
+        drop(j);
+        let good_len = std::fs::metadata(&p).unwrap().len();
+        // a torn line: no line break
+        let mut f = OpenOptions::new().append(true).open(&p).unwrap();
+        f.write_all(b"0123456789abcdef 7,a,b").unwrap();
+        drop(f);
+        let r = read(&p).unwrap();
+        assert_eq!(r.header, header());
+        assert_eq!(r.rows.len(), 2);
+        assert_eq!(r.rows[&4], "a,b,2");
+        assert_eq!(r.valid_len, good_len);
+        // appending starts at the valid end
+        let mut j = Journal::append(&p, r.valid_len).unwrap();
+        j.push(7, "a,b,3").unwrap();
+        drop(j);
+        let r = read(&p).unwrap();
+        assert_eq!(r.rows.keys().copied().collect::<Vec<_>>(), vec![1, 4, 7]);
+        // a flipped byte fails the checksum: that line and the rest go
+        let mut bytes = std::fs::read(&p).unwrap();
+        let at = bytes.len() - 3;
+        bytes[at] = b'9';
+        std::fs::write(&p, &bytes).unwrap();
+        let r = read(&p).unwrap();
+        assert_eq!(r.rows.keys().copied().collect::<Vec<_>>(), vec![1, 4]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

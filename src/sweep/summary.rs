@@ -1,0 +1,205 @@
+//! `summary.csv`: per cell, the mean, standard deviation and 95% interval
+//! of each metric.
+//!
+//! For each metric column `m` of `results.csv`, the summary has `m_mean`,
+//! `m_sd` (sample standard deviation, `n - 1` in the denominator),
+//! `m_ci_low` and `m_ci_high`: the 95% confidence interval of the mean,
+//! `mean -/+ t(0.975, n - 1) sd / sqrt(n)` (Student). With one session the
+//! sd and the interval are empty. Empty values (a session that never got a
+//! reward has no `first_reward_trial`) are left out; a metric with empty
+//! values also gets `m_n`, the number of sessions that have one.
+
+use super::{SweepError, CELL_COLUMNS, KEY_COLUMNS};
+
+/// The 97.5% quantile of Student's t with `df` degrees of freedom (exact
+/// to 9 digits up to 30, then the Cornish-Fisher expansion to 1/df^4, within 1e-7).
+///
+/// ```
+/// use e3d::sweep::summary::t975;
+/// assert!((t975(9) - 2.262157163).abs() < 1e-9);
+/// assert!((t975(1000) - 1.962339).abs() < 1e-6);
+/// ```
+pub fn t975(df: usize) -> f64 {
+    const T: [f64; 30] = [
+        12.706204736,
+        4.302652730,
+        3.182446305,
+        2.776445105,
+        2.570581836,
+        2.446911851,
+        2.364624252,
+        2.306004135,
+        2.262157163,
+        2.228138852,
+        2.200985160,
+        2.178812830,
+        2.160368656,
+        2.144786688,
+        2.131449546,
+        2.119905299,
+        2.109815578,
+        2.100922040,
+        2.093024054,
+        2.085963447,
+        2.079613845,
+        2.073873068,
+        2.068657610,
+        2.063898562,
+        2.059538553,
+        2.055529439,
+        2.051830516,
+        2.048407142,
+        2.045229642,
+        2.042272456,
+    ];
+    if df == 0 {
+        return f64::NAN;
+    }
+    if df <= 30 {
+        return T[df - 1];
+    }
+    let z: f64 = 1.959_963_984_540_054;
+    let v = df as f64;
+    let (z3, z5, z7, z9) = (z.powi(3), z.powi(5), z.powi(7), z.powi(9));
+    z + (z3 + z) / (4.0 * v)
+        + (5.0 * z5 + 16.0 * z3 + 3.0 * z) / (96.0 * v.powi(2))
+        + (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / (384.0 * v.powi(3))
+        + (79.0 * z9 + 776.0 * z7 + 1482.0 * z5 - 1920.0 * z3 - 945.0 * z) / (92160.0 * v.powi(4))
+}
+
+/// Mean, sd and 95% interval of `xs` (sd and interval `None` below 2 values).
+pub fn stats(xs: &[f64]) -> (Option<f64>, Option<f64>, Option<(f64, f64)>) {
+    let n = xs.len();
+    if n == 0 {
+        return (None, None, None);
+    }
+    let mean = xs.iter().sum::<f64>() / n as f64;
+    if n < 2 {
+        return (Some(mean), None, None);
+    }
+    let var = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1) as f64;
+    let sd = var.sqrt();
+    let half = t975(n - 1) * sd / (n as f64).sqrt();
+    (Some(mean), Some(sd), Some((mean - half, mean + half)))
+}
+
+fn num(v: Option<f64>) -> String {
+    v.map(super::format_number).unwrap_or_default()
+}
+
+/// The summary of `results.csv` rows (without header, in canonical order,
+/// so that the sessions of a cell are consecutive) whose header line is
+/// `columns`.
+pub fn summarize<'a>(
+    columns: &str,
+    rows: impl Iterator<Item = &'a str>,
+) -> Result<String, SweepError> {
+    let cols: Vec<&str> = columns.split(',').collect();
+    if cols.len() < KEY_COLUMNS.len() || cols[..KEY_COLUMNS.len()] != KEY_COLUMNS {
+        return Err(SweepError::Output(format!(
+            "unexpected results columns `{columns}`"
+        )));
+    }
+    let metrics = &cols[KEY_COLUMNS.len()..];
+    // group consecutive rows by their cell columns
+    let mut groups: Vec<(String, Vec<Vec<Option<f64>>>)> = Vec::new();
+    for row in rows {
+        let f: Vec<&str> = row.split(',').collect();
+        if f.len() != cols.len() {
+            return Err(SweepError::Output(format!(
+                "a results row has {} fields, expected {}: `{row}`",
+                f.len(),
+                cols.len()
+            )));
+        }
+        let key = f[..CELL_COLUMNS].join(",");
+        let values = f[KEY_COLUMNS.len()..]
+            .iter()
+            .map(|v| {
+                if v.is_empty() {
+                    Ok(None)
+                } else {
+                    v.parse::<f64>().map(Some).map_err(|_| {
+                        SweepError::Output(format!("a results value is not a number: `{v}`"))
+                    })
+                }
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        match groups.last_mut() {
+            Some((k, v)) if *k == key => v.push(values),
+            _ => groups.push((key, vec![values])),
+        }
+    }
+    // which metrics may be empty (get an `_n` column)
+    let has_n: Vec<bool> = metrics.iter().map(|m| *m == "first_reward_trial").collect();
+    let mut out = String::new();
+    let mut header: Vec<String> = KEY_COLUMNS[..CELL_COLUMNS]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    header.push("sessions".into());
+    for (m, &n) in metrics.iter().zip(&has_n) {
+        for suffix in ["mean", "sd", "ci_low", "ci_high"] {
+            header.push(format!("{m}_{suffix}"));
+        }
+        if n {
+            header.push(format!("{m}_n"));
+        }
+    }
+    out.push_str(&header.join(","));
+    out.push('\n');
+    for (key, sessions) in &groups {
+        let mut f = vec![key.clone(), sessions.len().to_string()];
+        for (j, &n) in has_n.iter().enumerate() {
+            let xs: Vec<f64> = sessions.iter().filter_map(|s| s[j]).collect();
+            let (mean, sd, ci) = stats(&xs);
+            f.push(num(mean));
+            f.push(num(sd));
+            f.push(num(ci.map(|c| c.0)));
+            f.push(num(ci.map(|c| c.1)));
+            if n {
+                f.push(xs.len().to_string());
+            }
+        }
+        out.push_str(&f.join(","));
+        out.push('\n');
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interval_of_a_known_sample() {
+        let (m, sd, ci) = stats(&[1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(m, Some(2.5));
+        let sd = sd.unwrap();
+        assert!((sd - 1.2909944487358056).abs() < 1e-15);
+        let (lo, hi) = ci.unwrap();
+        let half = 3.182446305 * sd / 2.0;
+        assert!((lo - (2.5 - half)).abs() < 1e-12 && (hi - (2.5 + half)).abs() < 1e-12);
+        assert_eq!(stats(&[5.0]), (Some(5.0), None, None));
+        // the expansion joins the table smoothly
+        assert!((t975(31) - 2.039513446).abs() < 1e-7);
+        assert!((t975(60) - 2.000297822).abs() < 1e-7);
+    }
+
+    #[test]
+    fn groups_cells_and_counts_missing_first_rewards() {
+        let cols = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,session,seed,x,first_reward_trial";
+        let rows = [
+            "s,e3d,true,0.3,1,0.03,0.01,,0,11,1,5",
+            "s,e3d,true,0.3,1,0.03,0.01,,1,12,3,",
+            "s,uniform,true,,,,,,0,13,2,",
+        ];
+        let s = summarize(cols, rows.iter().copied()).unwrap();
+        let lines: Vec<&str> = s.lines().collect();
+        assert_eq!(lines.len(), 3);
+        assert!(lines[0].ends_with("first_reward_trial_ci_high,first_reward_trial_n"));
+        assert!(lines[1].starts_with("s,e3d,true,0.3,1,0.03,0.01,,2,2,1.4142135623730951,"));
+        assert!(lines[1].ends_with(",5,,,,1"));
+        assert_eq!(lines[2], "s,uniform,true,,,,,,1,2,,,,,,,,0");
+    }
+}
