@@ -191,20 +191,13 @@ impl World for &OutcomeTable {
 /// The first bytes of an outcome-table file.
 const MAGIC: &[u8; 8] = b"E3DTAB01";
 
-/// FNV-1a, 64 bits: a small portable hash, the same on every platform.
-pub fn fnv1a64(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
-
 impl OutcomeTable {
     /// The key of a scene's table: a hash of the scene's content (its
     /// canonical RON form, so comments and layout do not matter) and of
     /// the e3d version, which changes whenever a simulation might.
     pub fn key(scene: &Scene) -> u64 {
         let canonical = ron::to_string(scene).unwrap_or_default();
-        fnv1a64(format!("e3d {} {canonical}", env!("CARGO_PKG_VERSION")).as_bytes())
+        crate::sweep::fnv1a64(format!("e3d {} {canonical}", env!("CARGO_PKG_VERSION")).as_bytes())
     }
 
     /// The file of a scene's table in the folder `dir`:
