@@ -580,6 +580,7 @@ pub struct Sweep {
     scenes: Vec<Scene>,
     metrics: Vec<MetricSpec>,
     cells: Vec<Cell>,
+    table_cache: Option<PathBuf>,
 }
 
 fn invalid(
@@ -859,7 +860,17 @@ impl Sweep {
             scenes,
             metrics,
             cells,
+            table_cache: None,
         })
+    }
+
+    /// Keeps the outcome tables of the sweep's scenes in the folder `dir`
+    /// (see [`OutcomeTable::cached`]): a physics scene's commands are then
+    /// simulated once for every run, resume and shard that shares the
+    /// folder. The results are the same bytes with or without it.
+    pub fn with_table_cache(mut self, dir: impl Into<PathBuf>) -> Self {
+        self.table_cache = Some(dir.into());
+        self
     }
 
     /// The scenes, in the order of the file.
@@ -1033,10 +1044,10 @@ impl Sweep {
                 .iter()
                 .zip(&trials_per_scene)
                 .map(|(scene, &trials)| {
-                    if trials == 0 || !table_worthwhile(scene, trials) {
+                    if trials == 0 || !OutcomeTable::worthwhile(scene, &scene.build(), trials) {
                         return Ok(None);
                     }
-                    OutcomeTable::build_parallel(|| scene.build()).map(Some)
+                    OutcomeTable::for_scene(scene, self.table_cache.as_deref()).map(Some)
                 })
                 .collect::<Result<_, WorldError>>()
         })?;
@@ -1402,19 +1413,6 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
         resumed: rows.len(),
         ran: 0,
     })
-}
-
-/// Whether a sweep should run `scene` on an [`OutcomeTable`]: its world is
-/// deterministic, its command space at most
-/// [`MAX_TABLE_COMMANDS`](crate::world::MAX_TABLE_COMMANDS), and either it
-/// is a grid (a table costs microseconds) or the table holds no more
-/// commands than the trials the sweep will run on the scene.
-pub fn table_worthwhile(scene: &Scene, trials: u64) -> bool {
-    let world = scene.build();
-    let n = world.command_space().num_commands().unwrap_or(u64::MAX);
-    world.is_deterministic()
-        && n <= crate::world::MAX_TABLE_COMMANDS
-        && (matches!(scene.world, crate::scene::WorldSpec::Grid(_)) || n <= trials)
 }
 
 enum SceneResolve {

@@ -1,6 +1,6 @@
 //! `e3d bench`: what a scene costs.
 
-use super::run::{load_scene, table_worthwhile};
+use super::run::load_scene;
 use super::{CliError, CliResult};
 use clap::Args;
 use e3d::{run_session, LearnerKind, OutcomeTable, Params, SessionConfig, Target, World};
@@ -74,7 +74,7 @@ pub fn run(a: BenchArgs) -> CliResult {
             seed,
             use_reward: true,
         };
-        if table_worthwhile(&scene, &*world, trials as u64) {
+        if OutcomeTable::worthwhile(&scene, &*world, trials as u64) {
             let t0 = Instant::now();
             let table = OutcomeTable::build(&mut world).map_err(CliError::simulation)?;
             println!(

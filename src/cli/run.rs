@@ -4,7 +4,7 @@ use super::{CliError, CliResult};
 use clap::Args;
 use e3d::{
     policy_effect_distribution, run_session, LearnerKind, Metrics, OutcomeTable, Params, Scene,
-    SessionConfig, Target, World,
+    SessionConfig, Target,
 };
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -35,6 +35,10 @@ pub struct RunArgs {
     /// Overwrite the files of an earlier run in --out.
     #[arg(long)]
     pub force: bool,
+    /// Keep the scene's outcome table (every command executed once) in DIR
+    /// and reuse it; keyed by the scene's content and the e3d version.
+    #[arg(long, value_name = "DIR")]
+    pub table_cache: Option<PathBuf>,
 }
 
 /// The learners' hyper-parameters on the command line (defaults: task 1).
@@ -122,15 +126,6 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> CliResult {
         .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
 }
 
-/// Whether to run on an outcome table: always on grids (it costs
-/// microseconds), elsewhere when the table is not larger than the session.
-pub fn table_worthwhile(scene: &Scene, world: &dyn World, trials: u64) -> bool {
-    let n = world.command_space().num_commands().unwrap_or(u64::MAX);
-    world.is_deterministic()
-        && n <= e3d::world::MAX_TABLE_COMMANDS
-        && (matches!(scene.world, e3d::scene::WorldSpec::Grid(_)) || n <= trials)
-}
-
 pub fn run(a: RunArgs) -> CliResult {
     let params = a.params.params()?;
     let scene = load_scene(&a.scene)?;
@@ -149,8 +144,11 @@ pub fn run(a: RunArgs) -> CliResult {
         seed: a.seed,
         use_reward: !a.no_reward,
     };
-    let table = if table_worthwhile(&scene, &*world, a.trials) {
-        Some(OutcomeTable::build(&mut world).map_err(CliError::simulation)?)
+    let table = if OutcomeTable::worthwhile(&scene, &*world, a.trials) {
+        Some(
+            OutcomeTable::for_scene(&scene, a.table_cache.as_deref())
+                .map_err(CliError::simulation)?,
+        )
     } else {
         None
     };

@@ -26,6 +26,10 @@ pub struct SweepArgs {
     /// with `e3d merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<Shard>,
+    /// Keep the scenes' outcome tables (every command executed once) in DIR
+    /// and reuse them across runs, resumes and shards.
+    #[arg(long, value_name = "DIR")]
+    pub table_cache: Option<PathBuf>,
 }
 
 /// Arguments of `e3d merge`.
@@ -50,7 +54,10 @@ pub(crate) fn sweep_error(e: SweepError) -> CliError {
 }
 
 pub fn run(a: SweepArgs) -> CliResult {
-    let sweep = Sweep::load(&a.file).map_err(sweep_error)?;
+    let mut sweep = Sweep::load(&a.file).map_err(sweep_error)?;
+    if let Some(dir) = &a.table_cache {
+        sweep = sweep.with_table_cache(dir);
+    }
     let threads = a.threads.map(usize::from).unwrap_or_else(|| {
         std::thread::available_parallelism()
             .map(|n| n.get())

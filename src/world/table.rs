@@ -192,6 +192,27 @@ impl World for &OutcomeTable {
 const MAGIC: &[u8; 8] = b"E3DTAB01";
 
 impl OutcomeTable {
+    /// Whether a session or sweep running `trials` trials on `scene` should
+    /// run on an outcome table: the world is deterministic, its command
+    /// space small enough, and the table costs less than the trials it
+    /// replaces (always on grids, where it costs microseconds; elsewhere
+    /// when the commands are not more than the trials).
+    pub fn worthwhile(scene: &Scene, world: &dyn World, trials: u64) -> bool {
+        let n = world.command_space().num_commands().unwrap_or(u64::MAX);
+        world.is_deterministic()
+            && n <= MAX_TABLE_COMMANDS
+            && (matches!(scene.world, crate::scene::WorldSpec::Grid(_)) || n <= trials)
+    }
+
+    /// The table of `scene`: from the folder `cache` if given (see
+    /// [`cached`](Self::cached)), else built in parallel.
+    pub fn for_scene(scene: &Scene, cache: Option<&Path>) -> Result<OutcomeTable, WorldError> {
+        match cache {
+            Some(dir) => Self::cached(scene, dir),
+            None => Self::build_parallel(|| scene.build()),
+        }
+    }
+
     /// The key of a scene's table: a hash of the scene's content (its
     /// canonical RON form, so comments and layout do not matter) and of
     /// the e3d version, which changes whenever a simulation might.
