@@ -97,6 +97,9 @@ pub const KEY_COLUMNS: [&str; 10] = [
     "seed",
 ];
 
+/// The last column of `results.csv`: empty, or why the session failed.
+pub const FAILURE_COLUMN: &str = "failure";
+
 /// The number of leading [`KEY_COLUMNS`] that identify a cell (all but
 /// `session` and `seed`).
 pub const CELL_COLUMNS: usize = 8;
@@ -518,8 +521,13 @@ pub struct SessionSpec {
 pub struct SessionResult {
     /// The session.
     pub session: SessionSpec,
-    /// One value per [`Sweep::metric_columns`] (`None`: no first reward).
+    /// One value per [`Sweep::metric_columns`] (`None`: no first reward, or
+    /// a failed session).
     pub values: Vec<Option<f64>>,
+    /// Why the session failed (its world reported an error, for example a
+    /// physics blow-up naming the command); `None` for a session that ran.
+    /// A failed session is recorded, not fatal: the sweep goes on.
+    pub failure: Option<String>,
 }
 
 /// A shard `K/N` of a sweep: the sessions whose index `i` has
@@ -897,6 +905,7 @@ impl Sweep {
     pub fn results_header(&self) -> String {
         let mut cols: Vec<String> = KEY_COLUMNS.iter().map(|s| s.to_string()).collect();
         cols.extend(self.metric_columns());
+        cols.push(FAILURE_COLUMN.to_string());
         cols.join(",")
     }
 
@@ -963,6 +972,13 @@ impl Sweep {
                 .iter()
                 .map(|v| v.map(format_number).unwrap_or_default()),
         );
+        // one line, no comma: the reason stays one CSV field
+        f.push(
+            r.failure
+                .as_deref()
+                .unwrap_or_default()
+                .replace([',', '\n', '\r'], ";"),
+        );
         f.join(",")
     }
 
@@ -989,7 +1005,16 @@ impl Sweep {
             seed: session.seed,
             use_reward: cell.use_reward,
         };
-        let rec = run_session(world, &mut learner, &cfg)?;
+        let rec = match run_session(world, &mut learner, &cfg) {
+            Ok(rec) => rec,
+            Err(e) => {
+                return Ok(SessionResult {
+                    session: *session,
+                    values: vec![None; self.metrics.len()],
+                    failure: Some(e.to_string()),
+                })
+            }
+        };
         let m = rec.metrics(&target);
         let needs_cumulative = self
             .metrics
@@ -1015,6 +1040,7 @@ impl Sweep {
         Ok(SessionResult {
             session: *session,
             values,
+            failure: None,
         })
     }
 

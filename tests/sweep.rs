@@ -125,7 +125,7 @@ fn one_thread_and_two_threads_give_the_same_bytes() {
     assert_eq!(
         lines[0],
         "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,session,seed,\
-         normalized_entropy,kl_to_target,distinct_effects,cumulative_reward_at_400,first_reward_trial"
+         normalized_entropy,kl_to_target,distinct_effects,cumulative_reward_at_400,first_reward_trial,failure"
     );
     // canonical order: e3d first, no reward, beta 1, eta 0.003, sessions 0..3
     assert!(lines[1].starts_with("two_rooms,e3d,false,0.3,1,0.03,0.003,,0,"));
@@ -135,8 +135,9 @@ fn one_thread_and_two_threads_give_the_same_bytes() {
     assert!(lines[1 + 6 * 3].starts_with("two_rooms,e3d,true,"));
     assert!(lines[1 + 12 * 3].starts_with("two_rooms,egreedy,false,0.3,,,,0.05,0,"));
     assert!(lines[1 + 16 * 3].starts_with("two_rooms,uniform,false,,,,,,0,"));
-    // without reward, the cumulative reward is 0 and there is no first reward
-    assert!(lines[1].ends_with(",0,"));
+    // without reward, the cumulative reward is 0 and there is no first
+    // reward; the session did not fail
+    assert!(lines[1].ends_with(",0,,"));
     // the seed column is the documented function of the identity
     let seed: u64 = lines[1].split(',').nth(9).unwrap().parse().unwrap();
     assert_eq!(
@@ -152,7 +153,7 @@ fn one_thread_and_two_threads_give_the_same_bytes() {
         .lines()
         .nth(1)
         .unwrap()
-        .starts_with("two_rooms,e3d,false,0.3,1,0.03,0.003,,3,"));
+        .starts_with("two_rooms,e3d,false,0.3,1,0.03,0.003,,3,0,"));
 }
 
 #[test]

@@ -7,9 +7,11 @@
 //! `mean -/+ t(0.975, n - 1) sd / sqrt(n)` (Student). With one session the
 //! sd and the interval are empty. Empty values (a session that never got a
 //! reward has no `first_reward_trial`) are left out; a metric with empty
-//! values also gets `m_n`, the number of sessions that have one.
+//! values also gets `m_n`, the number of sessions that have one. Failed
+//! sessions (a non-empty `failure` in `results.csv`) count in `failed` and
+//! give no value.
 
-use super::{SweepError, CELL_COLUMNS, KEY_COLUMNS};
+use super::{SweepError, CELL_COLUMNS, FAILURE_COLUMN, KEY_COLUMNS};
 
 /// The 97.5% quantile of Student's t with `df` degrees of freedom (exact
 /// to 9 digits up to 30, then the Cornish-Fisher expansion to 1/df^4, within 1e-7).
@@ -100,9 +102,10 @@ pub fn summarize<'a>(
             "unexpected results columns `{columns}`"
         )));
     }
-    let metrics = &cols[KEY_COLUMNS.len()..];
+    let with_failure = cols.last() == Some(&FAILURE_COLUMN);
+    let metrics = &cols[KEY_COLUMNS.len()..cols.len() - usize::from(with_failure)];
     // group consecutive rows by their cell columns
-    let mut groups: Vec<(String, Vec<Vec<Option<f64>>>)> = Vec::new();
+    let mut groups: Vec<(String, Vec<Vec<Option<f64>>>, usize)> = Vec::new();
     for row in rows {
         let f: Vec<&str> = row.split(',').collect();
         if f.len() != cols.len() {
@@ -113,7 +116,8 @@ pub fn summarize<'a>(
             )));
         }
         let key = f[..CELL_COLUMNS].join(",");
-        let values = f[KEY_COLUMNS.len()..]
+        let failed = with_failure && !f[f.len() - 1].is_empty();
+        let values = f[KEY_COLUMNS.len()..KEY_COLUMNS.len() + metrics.len()]
             .iter()
             .map(|v| {
                 if v.is_empty() {
@@ -125,9 +129,13 @@ pub fn summarize<'a>(
                 }
             })
             .collect::<Result<Vec<_>, _>>()?;
+        let failed = usize::from(failed);
         match groups.last_mut() {
-            Some((k, v)) if *k == key => v.push(values),
-            _ => groups.push((key, vec![values])),
+            Some((k, v, n)) if *k == key => {
+                v.push(values);
+                *n += failed;
+            }
+            _ => groups.push((key, vec![values], failed)),
         }
     }
     // which metrics may be empty (get an `_n` column)
@@ -138,6 +146,9 @@ pub fn summarize<'a>(
         .map(|s| s.to_string())
         .collect();
     header.push("sessions".into());
+    if with_failure {
+        header.push("failed".into());
+    }
     for (m, &n) in metrics.iter().zip(&has_n) {
         for suffix in ["mean", "sd", "ci_low", "ci_high"] {
             header.push(format!("{m}_{suffix}"));
@@ -148,8 +159,11 @@ pub fn summarize<'a>(
     }
     out.push_str(&header.join(","));
     out.push('\n');
-    for (key, sessions) in &groups {
+    for (key, sessions, failed) in &groups {
         let mut f = vec![key.clone(), sessions.len().to_string()];
+        if with_failure {
+            f.push(failed.to_string());
+        }
         for (j, &n) in has_n.iter().enumerate() {
             let xs: Vec<f64> = sessions.iter().filter_map(|s| s[j]).collect();
             let (mean, sd, ci) = stats(&xs);
