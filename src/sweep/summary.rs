@@ -105,7 +105,9 @@ pub fn summarize<'a>(
     let with_failure = cols.last() == Some(&FAILURE_COLUMN);
     let metrics = &cols[KEY_COLUMNS.len()..cols.len() - usize::from(with_failure)];
     // group consecutive rows by their cell columns
-    let mut groups: Vec<(String, Vec<Vec<Option<f64>>>, usize)> = Vec::new();
+    // per cell: its key, each session's values, and how many failed
+    type Group = (String, Vec<Vec<Option<f64>>>, usize);
+    let mut groups: Vec<Group> = Vec::new();
     for row in rows {
         let f: Vec<&str> = row.split(',').collect();
         if f.len() != cols.len() {
