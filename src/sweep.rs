@@ -610,23 +610,7 @@ impl Sweep {
     pub fn load(path: impl AsRef<Path>) -> Result<Sweep, SweepError> {
         let path = path.as_ref();
         let file = path.display().to_string();
-        if path.is_dir() {
-            return Err(SceneError::new(
-                &file,
-                None,
-                "this is a directory; expected a sweep file (.ron)".into(),
-            )
-            .into());
-        }
-        let bytes = std::fs::read(path)
-            .map_err(|e| SceneError::new(&file, None, format!("cannot read the file: {e}")))?;
-        let text = String::from_utf8(bytes).map_err(|_| {
-            SceneError::new(
-                &file,
-                None,
-                "the file is not valid UTF-8 text; expected a RON sweep".into(),
-            )
-        })?;
+        let text = crate::scene::read_text(path, "sweep")?;
         Sweep::parse(&text, &file, path.parent())
     }
 

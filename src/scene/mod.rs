@@ -146,26 +146,8 @@ impl Scene {
     /// Loads and validates a scene file.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
-        let file = path.display().to_string();
-        if path.is_dir() {
-            return Err(SceneError::new(
-                &file,
-                None,
-                "this is a directory; expected a scene file (.ron)".into(),
-            ));
-        }
-        let bytes = std::fs::read(path)
-            .map_err(|e| SceneError::new(&file, None, format!("cannot read the file: {e}")))?;
-        let text = String::from_utf8(bytes).map_err(|e| {
-            let upto = &e.as_bytes()[..e.utf8_error().valid_up_to()];
-            let pos = error::position_at(&String::from_utf8_lossy(upto), upto.len());
-            SceneError::new(
-                &file,
-                Some(pos),
-                "the file is not valid UTF-8 text; expected a RON scene".into(),
-            )
-        })?;
-        Scene::parse(&text, &file)
+        let text = read_text(path, "scene")?;
+        Scene::parse(&text, &path.display().to_string())
     }
 
     /// Parses and validates scene text; `file` names it in errors.
@@ -349,6 +331,31 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// Reads a RON file of the given kind (`scene`, `sweep`) as text: a
+/// directory, an unreadable file or bytes that are not UTF-8 are errors
+/// that name the file (and, for bad bytes, where they start).
+pub(crate) fn read_text(path: &Path, kind: &str) -> Result<String, SceneError> {
+    let file = path.display().to_string();
+    if path.is_dir() {
+        return Err(SceneError::new(
+            &file,
+            None,
+            format!("this is a directory; expected a {kind} file (.ron)"),
+        ));
+    }
+    let bytes = std::fs::read(path)
+        .map_err(|e| SceneError::new(&file, None, format!("cannot read the file: {e}")))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let upto = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        let pos = error::position_at(&String::from_utf8_lossy(upto), upto.len());
+        SceneError::new(
+            &file,
+            Some(pos),
+            format!("the file is not valid UTF-8 text; expected a RON {kind}"),
+        )
+    })
 }
 
 /// The RON dialect of scene files: newtype variants may be written without
