@@ -3,8 +3,8 @@
 use super::{CliError, CliResult};
 use clap::Args;
 use e3d::{
-    policy_effect_distribution, run_session, LearnerKind, Metrics, OutcomeTable, Params, Scene,
-    SessionConfig, Target,
+    policy_effect_distribution, run_session_with, LearnerKind, Metrics, OutcomeTable, Params,
+    Scene, SessionConfig, Target,
 };
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -152,11 +152,21 @@ pub fn run(a: RunArgs) -> CliResult {
     } else {
         None
     };
+    // a progress bar on a terminal (indicatif draws nothing otherwise)
+    let bar = indicatif::ProgressBar::new(a.trials);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} trials, {eta} left")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(scene.name.clone());
+    let tick = |t: usize| bar.set_position(t as u64);
     let record = match &table {
-        Some(t) => run_session(&mut &*t, &mut learner, &cfg),
-        None => run_session(&mut world, &mut learner, &cfg),
+        Some(t) => run_session_with(&mut &*t, &mut learner, &cfg, tick),
+        None => run_session_with(&mut world, &mut learner, &cfg, tick),
     }
     .map_err(CliError::simulation)?;
+    bar.finish_and_clear();
     let metrics = record.metrics(&target);
     let exact = table
         .as_ref()
