@@ -65,4 +65,4 @@ pub use session::{
     policy_effect_distribution, run_session, run_session_with, Metrics, SessionConfig,
     SessionRecord, SessionRng,
 };
-pub use world::{GridWorld, Outcome, OutcomeTable, World, WorldError};
+pub use world::{GridWorld, Outcome, OutcomeTable, PhysicsWorld, World, WorldError};
