@@ -17,12 +17,15 @@ struct Cli {
 enum Cmd {
     /// Run one learning session on a scene and print a summary.
     Run(cli::run::RunArgs),
+    /// Check, draw or execute a scene: `check`, `render`, `exec`, `reward-cell`.
+    Scene(cli::scene::SceneArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Cmd::Run(a) => cli::run::run(a),
+        Cmd::Scene(a) => cli::scene::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

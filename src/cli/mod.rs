@@ -1,6 +1,7 @@
 //! Sub-commands of the `e3d` binary.
 
 pub mod run;
+pub mod scene;
 
 use std::process::ExitCode;
 

@@ -339,6 +339,10 @@ fn finite2(p: (f64, f64)) -> bool {
 }
 
 /// The world position of local point `p` on a body at `pos`, `angle`.
+pub fn to_world_point(pos: (f64, f64), angle: f64, p: (f64, f64)) -> (f64, f64) {
+    to_world(pos, angle, p)
+}
+
 pub(crate) fn to_world(pos: (f64, f64), angle: f64, p: (f64, f64)) -> (f64, f64) {
     let (s, c) = angle.sin_cos();
     (pos.0 + c * p.0 - s * p.1, pos.1 + s * p.0 + c * p.1)

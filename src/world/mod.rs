@@ -13,10 +13,12 @@
 
 mod grid;
 mod physics;
+mod reach;
 mod table;
 
 pub use grid::{GridSpec, GridWorld};
 pub use physics::{BodyPose, PhysicsWorld, Trace};
+pub use reach::{farthest_reached_cell, FarthestCell};
 pub use table::{OutcomeTable, MAX_TABLE_COMMANDS};
 
 use crate::command::{Command, CommandSpace};
