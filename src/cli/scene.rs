@@ -30,7 +30,7 @@ pub enum SceneCmd {
         /// A scene file, or the name of a built-in scene.
         scene: String,
         /// A command (its symbols, one per slot) whose path to draw.
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         command: Option<String>,
         /// The SVG file to write.
         #[arg(long, value_name = "FILE.svg")]
@@ -41,7 +41,7 @@ pub enum SceneCmd {
         /// A scene file, or the name of a built-in scene.
         scene: String,
         /// Commands (symbols, one per slot); `-` reads one per line from stdin.
-        #[arg(required = true)]
+        #[arg(required = true, allow_hyphen_values = true)]
         commands: Vec<String>,
     },
     /// Execute every command once and apply SCENES.md's rule for a
