@@ -36,7 +36,11 @@ fn the_all_zero_command_leaves_the_tip_at_rest() {
     let c = w.command_space().parse("0000000").unwrap();
     let o = w.execute(&c).unwrap();
     // no input, no gravity, no contact: nothing moves at all
-    assert!((o.point[0] - 1.75).abs() < 1e-5 && o.point[1].abs() < 1e-5, "{:?}", o.point);
+    assert!(
+        (o.point[0] - 1.75).abs() < 1e-5 && o.point[1].abs() < 1e-5,
+        "{:?}",
+        o.point
+    );
     assert_eq!(o.effect, 7 * 15 + 14);
     // and no energy appears from nowhere
     let e = w.kinetic_energy_trace(&c).unwrap();
@@ -59,7 +63,10 @@ fn once_the_push_ends_the_energy_never_exceeds_what_the_push_gave() {
     let mut w = physics(&s);
     let space = w.command_space().clone();
     let mut checked = 0;
-    for i in (0..2187).step_by(7).chain([space.index_of(&space.parse("-0+++++").unwrap())]) {
+    for i in (0..2187)
+        .step_by(7)
+        .chain([space.index_of(&space.parse("-0+++++").unwrap())])
+    {
         let c = space.command_at(i);
         let e = w.kinetic_energy_trace(&c).unwrap();
         let pushed = e[14];
@@ -75,7 +82,11 @@ fn once_the_push_ends_the_energy_never_exceeds_what_the_push_gave() {
             .windows(2)
             .filter(|w| w[1] - w[0] > 1e-9 + 1e-4 * w[0])
             .count();
-        assert!(rebounds <= 1, "command {}: {rebounds} steps of growth", space.format(&c));
+        assert!(
+            rebounds <= 1,
+            "command {}: {rebounds} steps of growth",
+            space.format(&c)
+        );
         checked += 1;
     }
     assert_eq!(checked, 313 + 1);
@@ -158,7 +169,7 @@ fn e3d_spreads_arm7_effects_more_evenly_than_uniform() {
             let mut l = kind
                 .make(&Params::TASK1, &space, 225, &Target::Uniform)
                 .unwrap();
-            let rec = run_session(&mut &*table(), &mut l, &cfg).unwrap();
+            let rec = run_session(&mut table(), &mut l, &cfg).unwrap();
             let counts = rec.effect_counts(0..cfg.trials);
             let reached = counts.iter().filter(|&&c| c > 0.0).count();
             e3d::effect::entropy(&counts) / (reached as f64).ln()

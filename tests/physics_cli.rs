@@ -47,7 +47,10 @@ fn a_body_faster_than_max_speed_is_a_divergence() {
             reason,
         }) => {
             assert_eq!((scene.as_str(), command.as_str()), ("blowup", "0K"));
-            assert!(reason.contains("above the scene's max_speed 100 m/s"), "{reason}");
+            assert!(
+                reason.contains("above the scene's max_speed 100 m/s"),
+                "{reason}"
+            );
         }
         other => panic!("{other:?}"),
     }
@@ -58,7 +61,10 @@ fn a_body_at_the_angular_cap_is_a_divergence_unless_allowed() {
     // 100 N*m on a rod of I = 1/3 kg m²: 300 rad/s² reaches Rapier's cap of
     // 45° per step (47 rad/s at 1/60 s) after 0.16 s
     let e = run(&scene(100.0, 1.0, false), "T0").unwrap_err();
-    assert!(e.to_string().contains("Rapier's cap of 45° per step"), "{e}");
+    assert!(
+        e.to_string().contains("Rapier's cap of 45° per step"),
+        "{e}"
+    );
     // with fast_rotation the rod may spin that fast
     assert!(run(&scene(100.0, 1.0, true), "T0").is_ok());
 }
@@ -69,7 +75,10 @@ fn e3d() -> Proc {
 
 #[test]
 fn scene_check_summarises_arm7() {
-    let out = e3d().args(["scene", "check", "scenes/arm7.ron"]).output().unwrap();
+    let out = e3d()
+        .args(["scene", "check", "scenes/arm7.ron"])
+        .output()
+        .unwrap();
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     for want in [
@@ -90,7 +99,11 @@ fn scene_exec_prints_csv_and_reads_stdin() {
         .args(["scene", "exec", "arm7", "0000000", "-++++--"])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = String::from_utf8(out.stdout).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines[0], "command,effect,reward,x,y");
@@ -112,30 +125,54 @@ fn scene_exec_prints_csv_and_reads_stdin() {
         .unwrap();
     let out = child.wait_with_output().unwrap();
     let text = String::from_utf8(out.stdout).unwrap();
-    assert!(text.contains("\nSEEEEES,17,1,") && text.contains("\nNNNWWWW,0,0,"), "{text}");
+    assert!(
+        text.contains("\nSEEEEES,17,1,") && text.contains("\nNNNWWWW,0,0,"),
+        "{text}"
+    );
 }
 
 #[test]
 fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
     // a command that does not fit: bad input (2)
-    let out = e3d().args(["scene", "exec", "arm7", "00"]).output().unwrap();
+    let out = e3d()
+        .args(["scene", "exec", "arm7", "00"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
     // a scene mistake: bad input (2), with file:line:col
     let dir = std::env::temp_dir().join(format!("e3d-physics-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.ron");
-    std::fs::write(&bad, scene(1.0, 1.0, false).replace("mass: 1.0, position: (0.0, 3.0)", "mass: 0.0, position: (0.0, 3.0)")).unwrap();
+    std::fs::write(
+        &bad,
+        scene(1.0, 1.0, false).replace(
+            "mass: 1.0, position: (0.0, 3.0)",
+            "mass: 0.0, position: (0.0, 3.0)",
+        ),
+    )
+    .unwrap();
     let out = e3d().args(["scene", "check"]).arg(&bad).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
-    assert!(err.contains("bad.ron:7:20: field `mass`: expected body `puck`: a mass > 0"), "{err}");
+    assert!(
+        err.contains("bad.ron:7:20: field `mass`: expected body `puck`: a mass > 0"),
+        "{err}"
+    );
     // a blown-up simulation: 4
     let blow = dir.join("blowup.ron");
     std::fs::write(&blow, scene(1.0, 1e4, false)).unwrap();
-    let out = e3d().args(["scene", "exec"]).arg(&blow).arg("0K").output().unwrap();
+    let out = e3d()
+        .args(["scene", "exec"])
+        .arg(&blow)
+        .arg("0K")
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(4));
     let err = String::from_utf8(out.stderr).unwrap();
-    assert!(err.contains("command `0K`: the simulation blew up"), "{err}");
+    assert!(
+        err.contains("command `0K`: the simulation blew up"),
+        "{err}"
+    );
     // render writes an SVG with the path
     let svg = dir.join("arm7.svg");
     let out = e3d()

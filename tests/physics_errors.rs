@@ -54,7 +54,10 @@ fn check(from: &str, to: &str, needle: &str, field: &str, expect: &str) {
     let e = error(from, to);
     let p = pos(from, to, needle);
     assert!(e.starts_with(&p), "`{e}` should start with `{p}`");
-    assert!(e.contains(&format!("field `{field}`")), "`{e}` should name field `{field}`");
+    assert!(
+        e.contains(&format!("field `{field}`")),
+        "`{e}` should name field `{field}`"
+    );
     assert!(e.contains(expect), "`{e}` should say `{expect}`");
 }
 
@@ -83,7 +86,10 @@ fn a_duplicate_body_name() {
     let e = error(r#"(name: "lower","#, r#"(name: "upper","#);
     // the second `"upper"` (line 7, where "lower" was) is the duplicate
     assert!(e.starts_with("s.ron:7:20: "), "{e}");
-    assert!(e.contains("field `name`") && e.contains("distinct body names, but `upper` is used twice"), "{e}");
+    assert!(
+        e.contains("field `name`") && e.contains("distinct body names, but `upper` is used twice"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -193,7 +199,11 @@ fn an_actuator_symbol_in_a_grid_world() {
 )"#;
     let e = Scene::parse(text, "g.ron").unwrap_err().to_string();
     assert!(e.starts_with("g.ron:"), "{e}");
-    assert!(e.contains("field `action`") && e.contains("symbol 'T': a Grid world takes Move or Idle actions only"), "{e}");
+    assert!(
+        e.contains("field `action`")
+            && e.contains("symbol 'T': a Grid world takes Move or Idle actions only"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -266,5 +276,8 @@ fn a_body_named_ground() {
 fn an_unknown_field_is_named_with_a_suggestion() {
     let e = error("mass: 0.2, position: (0.75", "mas: 0.2, position: (0.75");
     assert!(e.starts_with("s.ron:7:"), "{e}");
-    assert!(e.contains("unknown field `mas`") && e.contains("did you mean `mass`?"), "{e}");
+    assert!(
+        e.contains("unknown field `mas`") && e.contains("did you mean `mass`?"),
+        "{e}"
+    );
 }

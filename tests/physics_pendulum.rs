@@ -59,7 +59,10 @@ fn the_small_oscillation_period_is_two_pi_sqrt_i_over_mgd() {
     // theta0² / 16 = 1.6e-4, the crossing interpolation about (omega dt)² /
     // 8 / cycles. 1% leaves room for all of it; we also check 0.2%.
     let rel = (period - expected).abs() / expected;
-    eprintln!("period {period:.5} s, expected {expected:.5} s, {rel:.2e} relative, {} crossings", ups.len());
+    eprintln!(
+        "period {period:.5} s, expected {expected:.5} s, {rel:.2e} relative, {} crossings",
+        ups.len()
+    );
     assert!(rel < 0.01, "period {period}, expected {expected}");
     assert!(rel < 0.002, "period {period}, expected {expected}");
 }
@@ -76,23 +79,36 @@ fn an_undamped_pendulum_keeps_its_amplitude() {
         .map(|p| p[0].abs())
         .fold(0.0, f64::max);
     let first = 0.2f64.sin();
-    assert!((last_swing - first).abs() / first < 0.05, "{last_swing} vs {first}");
+    assert!(
+        (last_swing - first).abs() / first < 0.05,
+        "{last_swing} vs {first}"
+    );
 }
 
 #[test]
 fn targets_move_the_arm_of_pendulum3_and_idle_keeps_it_hanging() {
     let scene = Scene::load("scenes/pendulum3.ron").unwrap();
     let mut w = scene.build();
-    let mut at = |c: &str| w.execute(&w.command_space().parse(c).unwrap()).unwrap().point;
+    let mut at = |c: &str| {
+        w.execute(&w.command_space().parse(c).unwrap())
+            .unwrap()
+            .point
+    };
     // no target: the motors hold the hanging pose
     let rest = at("ccc");
-    assert!(rest[0].abs() < 1e-4 && (rest[1] + 0.9).abs() < 1e-3, "{rest:?}");
+    assert!(
+        rest[0].abs() < 1e-4 && (rest[1] + 0.9).abs() < 1e-3,
+        "{rest:?}"
+    );
     // the shoulder swings the whole arm to the right (positive angle:
     // counter-clockwise from hanging); gravity makes it sag below the target
     let right = at("ecc");
     assert!(right[0] > 0.6 && right[1] > -0.4, "{right:?}");
     let left = at("acc");
-    assert!((left[0] + right[0]).abs() < 1e-3 && (left[1] - right[1]).abs() < 1e-3, "{left:?} mirrors {right:?}");
+    assert!(
+        (left[0] + right[0]).abs() < 1e-3 && (left[1] - right[1]).abs() < 1e-3,
+        "{left:?} mirrors {right:?}"
+    );
     // 125 commands reach many cells
     let space = w.command_space().clone();
     let mut cells = std::collections::BTreeSet::new();

@@ -42,18 +42,30 @@ fn a_free_puck_glides_impulse_over_damping() {
     let continuous = 1.6 / 1.5;
     let discrete = |dt: f64| continuous * (1.0 + 1.5 * dt);
     let d60 = glide(20.0, 1.0 / 60.0);
-    assert!((d60 - discrete(1.0 / 60.0)).abs() / discrete(1.0 / 60.0) < 1e-4, "{d60}");
-    assert!((d60 - continuous) / continuous > 0.02, "{d60}: the 1/60 step is 2.5% long");
+    assert!(
+        (d60 - discrete(1.0 / 60.0)).abs() / discrete(1.0 / 60.0) < 1e-4,
+        "{d60}"
+    );
+    assert!(
+        (d60 - continuous) / continuous > 0.02,
+        "{d60}: the 1/60 step is 2.5% long"
+    );
     // The error is first order in dt: at 1/240 s it is 0.6%, within the 2%
     // the continuous model asks for.
     let d240 = glide(20.0, 1.0 / 240.0);
-    assert!((d240 - discrete(1.0 / 240.0)).abs() / discrete(1.0 / 240.0) < 1e-4, "{d240}");
+    assert!(
+        (d240 - discrete(1.0 / 240.0)).abs() / discrete(1.0 / 240.0) < 1e-4,
+        "{d240}"
+    );
     assert!((d240 - continuous).abs() / continuous < 0.02, "{d240}");
     // After one second (60 steps) it has covered 1 - r^60 of its glide:
     // r^60 = 1.025^-60 = 0.2273 (continuous: e^-1.5 = 0.2231).
     let d1 = glide(0.0, 1.0 / 60.0);
     let r60 = (1.0f64 / 1.025).powi(60);
-    assert!((d1 - discrete(1.0 / 60.0) * (1.0 - r60)).abs() < 1e-4, "{d1}");
+    assert!(
+        (d1 - discrete(1.0 / 60.0) * (1.0 - r60)).abs() < 1e-4,
+        "{d1}"
+    );
 }
 
 #[test]

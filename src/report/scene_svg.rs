@@ -92,7 +92,10 @@ fn header(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Overlay>) 
         out,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}" font-family="Helvetica, Arial, sans-serif">"#
     );
-    let _ = writeln!(out, r##"<rect width="100%" height="100%" fill="#ffffff"/>"##);
+    let _ = writeln!(
+        out,
+        r##"<rect width="100%" height="100%" fill="#ffffff"/>"##
+    );
     let _ = writeln!(
         out,
         r##"<text x="{MARGIN}" y="24" font-size="18" font-weight="bold" fill="#222">{}</text>"##,
@@ -148,11 +151,23 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
     let mut d = String::new();
     for c in 0..=g.cols {
         let x = g.min[0] + c as f64 * cw;
-        let _ = write!(d, "M{:.2},{:.2}V{:.2}", v.x(x), v.y(g.max[1]), v.y(g.min[1]));
+        let _ = write!(
+            d,
+            "M{:.2},{:.2}V{:.2}",
+            v.x(x),
+            v.y(g.max[1]),
+            v.y(g.min[1])
+        );
     }
     for r in 0..=g.rows {
         let y = g.max[1] - r as f64 * ch;
-        let _ = write!(d, "M{:.2},{:.2}H{:.2}", v.x(g.min[0]), v.y(y), v.x(g.max[0]));
+        let _ = write!(
+            d,
+            "M{:.2},{:.2}H{:.2}",
+            v.x(g.min[0]),
+            v.y(y),
+            v.x(g.max[0])
+        );
     }
     let _ = writeln!(
         out,
@@ -224,20 +239,51 @@ fn grid_svg(scene: &Scene, g: &GridSpec, overlay: Option<&Overlay>) -> String {
     let _ = writeln!(
         out,
         r##"<text x="{:.2}" y="{:.2}" font-size="{:.0}" text-anchor="middle" dominant-baseline="central" fill="#1f4e9c" font-weight="bold">S</text>"##,
-        v.x(s[0]),
-        v.y(s[1]),
-        v.len(0.4)
+        v.x(s[0] - 0.3),
+        v.y(s[1] + 0.28),
+        v.len(0.25)
     );
     path_layer(&mut out, &v, overlay);
     out.push_str("</svg>\n");
     out
 }
 
+/// A one-line key at the bottom right.
+fn legend(out: &mut String, v: &View, with_path: bool) {
+    let mut items = vec![
+        ("#6fa8dc", "start pose"),
+        ("#7fd17f", "reward cell"),
+        ("#d62728", "tracked point"),
+    ];
+    if with_path {
+        items.insert(1, ("#f4b183", "end pose"));
+        items.push(("#e07000", "path, terminal cell"));
+    }
+    let mut x = v.width() - MARGIN;
+    let y = v.height() - 10.0;
+    for (colour, label) in items.iter().rev() {
+        x -= 6.8 * label.len() as f64 + 22.0;
+        let _ = writeln!(
+            out,
+            r##"<rect x="{:.1}" y="{:.1}" width="11" height="11" fill="{colour}" stroke="#555" stroke-width="0.5"/><text x="{:.1}" y="{:.1}" font-size="11" fill="#333">{label}</text>"##,
+            x,
+            y - 9.0,
+            x + 15.0,
+            y
+        );
+    }
+}
+
 /// The outline points of a shape at a pose (for bounds).
 fn shape_points(shape: &ShapeSpec, pos: (f64, f64), angle: f64) -> Vec<(f64, f64)> {
     let local: Vec<(f64, f64)> = match shape {
         ShapeSpec::Ball { radius } => {
-            vec![(-radius, -radius), (*radius, *radius), (-radius, *radius), (*radius, -radius)]
+            vec![
+                (-radius, -radius),
+                (*radius, *radius),
+                (-radius, *radius),
+                (*radius, -radius),
+            ]
         }
         ShapeSpec::Cuboid { width, height } => {
             let (w, h) = (width / 2.0, height / 2.0);
@@ -255,16 +301,18 @@ fn shape_points(shape: &ShapeSpec, pos: (f64, f64), angle: f64) -> Vec<(f64, f64
     local.into_iter().map(|p| to_world(pos, angle, p)).collect()
 }
 
+/// Fill colour, stroke colour and opacity of a body.
+struct Paint<'a>(&'a str, &'a str, f64);
+
 fn body_svg(
     out: &mut String,
     v: &View,
     shape: &ShapeSpec,
     pos: (f64, f64),
     angle: f64,
-    fill: &str,
-    stroke: &str,
-    opacity: f64,
+    paint: Paint,
 ) {
+    let Paint(fill, stroke, opacity) = paint;
     let style = format!(
         r#"fill="{fill}" fill-opacity="{opacity}" stroke="{stroke}" stroke-opacity="{opacity}" stroke-width="1.5""#
     );
@@ -369,9 +417,20 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
     };
     for b in &p.bodies {
         let (fill, stroke) = colours(b.kind);
-        let op = if b.kind == BodyKind::Fixed { 0.95 } else { start_opacity };
+        let op = if b.kind == BodyKind::Fixed {
+            0.95
+        } else {
+            start_opacity
+        };
         let _ = writeln!(out, "<g><title>{}</title>", esc(&b.name));
-        body_svg(&mut out, &v, &b.shape, b.position, b.angle, fill, stroke, op);
+        body_svg(
+            &mut out,
+            &v,
+            &b.shape,
+            b.position,
+            b.angle,
+            Paint(fill, stroke, op),
+        );
         out.push_str("</g>\n");
     }
     if let Some(poses) = overlay.and_then(|o| o.poses.as_ref()) {
@@ -386,9 +445,7 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
                 &b.shape,
                 (pose.position[0], pose.position[1]),
                 pose.angle,
-                "#f4b183",
-                "#a0522d",
-                0.9,
+                Paint("#f4b183", "#a0522d", 0.9),
             );
             out.push_str("</g>\n");
         }
@@ -402,7 +459,11 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
         } else {
             continue;
         };
-        let fill = if j.parent == GROUND { "#2e323b" } else { "#ffffff" };
+        let fill = if j.parent == GROUND {
+            "#2e323b"
+        } else {
+            "#ffffff"
+        };
         let _ = writeln!(
             out,
             r##"<circle cx="{:.2}" cy="{:.2}" r="4" fill="{fill}" stroke="#2e323b" stroke-width="1.5"><title>{}</title></circle>"##,
@@ -433,6 +494,7 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
         y + 4.0,
         format_args!("{} m", scale_bar(max[0] - min[0]))
     );
+    legend(&mut out, &v, overlay.is_some());
     out.push_str("</svg>\n");
     out
 }

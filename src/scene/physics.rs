@@ -420,7 +420,11 @@ impl PhysicsSpec {
                 match self.bodies.iter().position(|b| b.name == j.parent) {
                     Some(p) => Some(p),
                     None => {
-                        return Err(self.unknown_body("parent", &j.parent, &format!("joint `{}`", j.name)))
+                        return Err(self.unknown_body(
+                            "parent",
+                            &j.parent,
+                            &format!("joint `{}`", j.name),
+                        ))
                     }
                 }
             };
@@ -428,25 +432,40 @@ impl PhysicsSpec {
                 return Err(Invalid::at(
                     "child",
                     Some(&at),
-                    &format!("joint `{}`: a body as child; `ground` can only be a parent", j.name),
+                    &format!(
+                        "joint `{}`: a body as child; `ground` can only be a parent",
+                        j.name
+                    ),
                 ));
             }
             let cb = match self.bodies.iter().position(|b| b.name == j.child) {
                 Some(c) => c,
-                None => return Err(self.unknown_body("child", &j.child, &format!("joint `{}`", j.name))),
+                None => {
+                    return Err(self.unknown_body(
+                        "child",
+                        &j.child,
+                        &format!("joint `{}`", j.name),
+                    ))
+                }
             };
             if pb == Some(cb) {
                 return Err(Invalid::at(
                     "child",
                     Some(&at),
-                    &format!("joint `{}`: two different bodies, but it joins `{}` to itself", j.name, j.child),
+                    &format!(
+                        "joint `{}`: two different bodies, but it joins `{}` to itself",
+                        j.name, j.child
+                    ),
                 ));
             }
             if self.bodies[cb].kind != BodyKind::Dynamic {
                 return Err(Invalid::at(
                     "child",
                     Some(&at),
-                    &format!("joint `{}`: a dynamic child body, but `{}` is {:?}", j.name, j.child, self.bodies[cb].kind),
+                    &format!(
+                        "joint `{}`: a dynamic child body, but `{}` is {:?}",
+                        j.name, j.child, self.bodies[cb].kind
+                    ),
                 ));
             }
             if let Some(p) = parent_of[cb] {
@@ -468,7 +487,10 @@ impl PhysicsSpec {
                     return Err(Invalid::at(
                         "parent",
                         Some(&at),
-                        &format!("joint `{}`: joints that form trees, but this one closes a loop", j.name),
+                        &format!(
+                            "joint `{}`: joints that form trees, but this one closes a loop",
+                            j.name
+                        ),
                     ));
                 }
                 hops += 1;
@@ -477,9 +499,16 @@ impl PhysicsSpec {
                     self.bodies.iter().position(|x| &x.name == p)
                 });
             }
-            for (field, v) in [("parent_anchor", j.parent_anchor), ("child_anchor", j.child_anchor)] {
+            for (field, v) in [
+                ("parent_anchor", j.parent_anchor),
+                ("child_anchor", j.child_anchor),
+            ] {
                 if !finite2(v) {
-                    return Err(Invalid::at(field, Some(&at), &format!("joint `{}`: finite coordinates", j.name)));
+                    return Err(Invalid::at(
+                        field,
+                        Some(&at),
+                        &format!("joint `{}`: finite coordinates", j.name),
+                    ));
                 }
             }
             if let Some((lo, hi)) = j.limits {
@@ -498,11 +527,18 @@ impl PhysicsSpec {
                 return Err(Invalid::at(
                     "damping",
                     Some(&at),
-                    &format!("joint `{}`: a damping >= 0 in N·m·s/rad, found {}", j.name, j.damping),
+                    &format!(
+                        "joint `{}`: a damping >= 0 in N·m·s/rad, found {}",
+                        j.name, j.damping
+                    ),
                 ));
             }
             if let Some(m) = j.motor {
-                if !(m.stiffness.is_finite() && m.stiffness > 0.0 && m.damping.is_finite() && m.damping >= 0.0) {
+                if !(m.stiffness.is_finite()
+                    && m.stiffness > 0.0
+                    && m.damping.is_finite()
+                    && m.damping >= 0.0)
+                {
                     return Err(Invalid::at(
                         "motor",
                         Some(&at),
@@ -516,7 +552,11 @@ impl PhysicsSpec {
             // the anchors must meet at the start pose
             let pa = match pb {
                 None => j.parent_anchor,
-                Some(p) => to_world(self.bodies[p].position, self.bodies[p].angle, j.parent_anchor),
+                Some(p) => to_world(
+                    self.bodies[p].position,
+                    self.bodies[p].angle,
+                    j.parent_anchor,
+                ),
             };
             let c = &self.bodies[cb];
             let ca = to_world(c.position, c.angle, j.child_anchor);
@@ -539,7 +579,11 @@ impl PhysicsSpec {
         };
         for (f, v) in [(field, values[0]), ("settle", values[1])] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(Invalid::at(f, None, &format!("a duration >= 0 in seconds, found {v}")));
+                return Err(Invalid::at(
+                    f,
+                    None,
+                    &format!("a duration >= 0 in seconds, found {v}"),
+                ));
             }
             let steps = v / self.dt;
             if (steps - steps.round()).abs() > 1e-6 * steps.max(1.0) {
@@ -555,7 +599,11 @@ impl PhysicsSpec {
         }
         let (phase, _, _) = self.schedule.steps(self.dt);
         if phase == 0 {
-            return Err(Invalid::at(field, None, "at least one time step in which the slots act"));
+            return Err(Invalid::at(
+                field,
+                None,
+                "at least one time step in which the slots act",
+            ));
         }
         let n = scene.slots().count();
         let total = self.schedule.total_steps(self.dt, n);
@@ -571,7 +619,11 @@ impl PhysicsSpec {
             return Err(self.unknown_body("body", &self.effect.body, "the effect's tracked point"));
         }
         if !finite2(self.effect.point) {
-            return Err(Invalid::at("point", None, "a tracked point with finite coordinates"));
+            return Err(Invalid::at(
+                "point",
+                None,
+                "a tracked point with finite coordinates",
+            ));
         }
         self.effect
             .grid
@@ -586,7 +638,11 @@ impl PhysicsSpec {
                 let at = format!("'{}'", s.symbol);
                 let bad = |what: String| Invalid {
                     nth,
-                    ..Invalid::at("action", Some(&at), &format!("symbol '{}': {what}", s.symbol))
+                    ..Invalid::at(
+                        "action",
+                        Some(&at),
+                        &format!("symbol '{}': {what}", s.symbol),
+                    )
                 };
                 match &s.action {
                     Action::Idle => {}
@@ -654,7 +710,11 @@ impl PhysicsSpec {
             Some(&quoted(name)),
             &format!(
                 "{whose}: a known body{}, but there is no body `{name}`{}; bodies: {}",
-                if field == "parent" { " or `ground`" } else { "" },
+                if field == "parent" {
+                    " or `ground`"
+                } else {
+                    ""
+                },
                 super::error::did_you_mean(name, &names),
                 names.join(", ")
             ),
@@ -671,7 +731,11 @@ impl PhysicsSpec {
             bad(format!(
                 "a known joint, but there is no joint `{name}`{}; joints: {}",
                 super::error::did_you_mean(name, &names),
-                if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
             ))
         })
     }
@@ -700,11 +764,19 @@ impl PhysicsSpec {
         }
         let who = format!("body `{}`", b.name);
         if !b.shape.numbers().iter().all(|v| v.is_finite()) {
-            return Err(Invalid::at("shape", Some(&at), &format!("{who}: finite numbers in its shape")));
+            return Err(Invalid::at(
+                "shape",
+                Some(&at),
+                &format!("{who}: finite numbers in its shape"),
+            ));
         }
         match &b.shape {
             ShapeSpec::Ball { radius } | ShapeSpec::Capsule { radius, .. } if *radius <= 0.0 => {
-                return Err(Invalid::at("radius", Some(&at), &format!("{who}: a radius > 0, found {radius}")))
+                return Err(Invalid::at(
+                    "radius",
+                    Some(&at),
+                    &format!("{who}: a radius > 0, found {radius}"),
+                ))
             }
             ShapeSpec::Cuboid { width, height } if *width <= 0.0 || *height <= 0.0 => {
                 return Err(Invalid::at(
@@ -714,24 +786,44 @@ impl PhysicsSpec {
                 ))
             }
             ShapeSpec::Segment { a, b: e } if a == e => {
-                return Err(Invalid::at("shape", Some(&at), &format!("{who}: a segment of two distinct points")))
+                return Err(Invalid::at(
+                    "shape",
+                    Some(&at),
+                    &format!("{who}: a segment of two distinct points"),
+                ))
             }
             ShapeSpec::Polyline { points } if points.len() < 2 => {
-                return Err(Invalid::at("points", Some(&at), &format!("{who}: at least two points")))
+                return Err(Invalid::at(
+                    "points",
+                    Some(&at),
+                    &format!("{who}: at least two points"),
+                ))
             }
             _ => {}
         }
         if b.mass.is_some() && b.density.is_some() {
-            return Err(Invalid::at("mass", Some(&at), &format!("{who}: `mass` or `density`, not both")));
+            return Err(Invalid::at(
+                "mass",
+                Some(&at),
+                &format!("{who}: `mass` or `density`, not both"),
+            ));
         }
         if let Some(m) = b.mass {
             if !(m.is_finite() && m > 0.0) {
-                return Err(Invalid::at("mass", Some(&at), &format!("{who}: a mass > 0 in kg, found {m}")));
+                return Err(Invalid::at(
+                    "mass",
+                    Some(&at),
+                    &format!("{who}: a mass > 0 in kg, found {m}"),
+                ));
             }
         }
         if let Some(d) = b.density {
             if !(d.is_finite() && d > 0.0) {
-                return Err(Invalid::at("density", Some(&at), &format!("{who}: a density > 0 in kg/m², found {d}")));
+                return Err(Invalid::at(
+                    "density",
+                    Some(&at),
+                    &format!("{who}: a density > 0 in kg/m², found {d}"),
+                ));
             }
         }
         if b.kind == BodyKind::Dynamic {
@@ -742,8 +834,12 @@ impl PhysicsSpec {
                     &format!("{who}: a `mass` (a dynamic segment or polyline has no area, so no mass from its density)"),
                 ));
             }
-            if !(b.mass_kg() > 0.0) {
-                return Err(Invalid::at("mass", Some(&at), &format!("{who}: a mass > 0")));
+            if b.mass_kg().is_nan() || b.mass_kg() <= 0.0 {
+                return Err(Invalid::at(
+                    "mass",
+                    Some(&at),
+                    &format!("{who}: a mass > 0"),
+                ));
             }
             if b.shape.area() <= 0.0 && !b.lock_rotation {
                 return Err(Invalid::at(
@@ -754,11 +850,23 @@ impl PhysicsSpec {
             }
         }
         if !finite2(b.position) || !b.angle.is_finite() {
-            return Err(Invalid::at("position", Some(&at), &format!("{who}: a finite start pose")));
+            return Err(Invalid::at(
+                "position",
+                Some(&at),
+                &format!("{who}: a finite start pose"),
+            ));
         }
-        for (f, v) in [("linear_damping", b.linear_damping), ("angular_damping", b.angular_damping), ("friction", b.friction)] {
+        for (f, v) in [
+            ("linear_damping", b.linear_damping),
+            ("angular_damping", b.angular_damping),
+            ("friction", b.friction),
+        ] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(Invalid::at(f, Some(&at), &format!("{who}: a finite number >= 0, found {v}")));
+                return Err(Invalid::at(
+                    f,
+                    Some(&at),
+                    &format!("{who}: a finite number >= 0, found {v}"),
+                ));
             }
         }
         if !(b.restitution.is_finite() && (0.0..=1.0).contains(&b.restitution)) {

@@ -25,13 +25,13 @@ use crate::command::{Command, CommandSpace};
 use crate::effect::EffectGrid;
 use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec, GROUND};
 use crate::scene::{Action, Scene};
+use rapier2d::math::{Pose, Real, Vector};
 use rapier2d::prelude::{
     BroadPhaseBvh, CCDSolver, ColliderBuilder, ColliderSet, ImpulseJointSet, IntegrationParameters,
     InteractionGroups, IslandManager, JointAxis, MotorModel, MultibodyJointSet, NarrowPhase,
     PhysicsPipeline, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle, RigidBodySet,
     RigidBodyType, SoftBodySet,
 };
-use rapier2d::math::{Pose, Real, Vector};
 
 /// Rapier's per-step rotation cap (45°) for bodies without fast rotation.
 const MAX_ROTATION_PER_STEP: f64 = std::f64::consts::FRAC_PI_4;
@@ -250,9 +250,11 @@ impl PhysicsWorld {
                 rj = rj.limits([lo as Real, hi as Real]);
             }
             if let Some(m) = j.motor {
-                rj = rj
-                    .motor_model(MotorModel::ForceBased)
-                    .motor_position(0.0, m.stiffness as Real, m.damping as Real);
+                rj = rj.motor_model(MotorModel::ForceBased).motor_position(
+                    0.0,
+                    m.stiffness as Real,
+                    m.damping as Real,
+                );
             }
             let mut data = rj.build().data;
             // angle 0 is the start pose, whatever the bodies' start angles
@@ -270,7 +272,10 @@ impl PhysicsWorld {
         // link's assembly id (valid at any time, also before the first step)
         for j in &spec.joints {
             let c = handle_of(&j.child).expect("validated");
-            let link = *s.multibody_joints.rigid_body_link(c).expect("a jointed body");
+            let link = *s
+                .multibody_joints
+                .rigid_body_link(c)
+                .expect("a jointed body");
             let mb = s
                 .multibody_joints
                 .get_multibody_mut(link.multibody)
@@ -522,8 +527,15 @@ impl PhysicsWorld {
             let t = b.translation();
             let v = b.linvel();
             let w = b.angvel() as f64;
-            if !(t.x.is_finite() && t.y.is_finite() && v.x.is_finite() && v.y.is_finite() && w.is_finite()) {
-                return Err(self.diverged(command, "a body's pose or velocity is not finite".into()));
+            if !(t.x.is_finite()
+                && t.y.is_finite()
+                && v.x.is_finite()
+                && v.y.is_finite()
+                && w.is_finite())
+            {
+                return Err(
+                    self.diverged(command, "a body's pose or velocity is not finite".into())
+                );
             }
             let speed = (v.x as f64).hypot(v.y as f64);
             if speed > self.max_speed {
