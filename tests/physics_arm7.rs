@@ -179,3 +179,36 @@ fn e3d_spreads_arm7_effects_more_evenly_than_uniform() {
         assert!(e > u + 0.03, "seed {seed}: E3D {e} vs uniform {u}");
     }
 }
+
+#[test]
+fn arm7_curls_into_contacts_and_limits_well_below_the_speed_caps() {
+    // Over all 2187 commands (`e3d scene stats arm7`): 44.2% bring two
+    // non-neighbour links into contact, 24.1% press a joint against a
+    // limit, the top angular speed is 11.7 rad/s (Rapier's cap: 47.1).
+    // Here every 7th command.
+    let s = scene();
+    let mut w = physics(&s);
+    let space = w.command_space().clone();
+    let (mut n, mut contacts, mut limits, mut spin) = (0, 0, 0, 0.0f64);
+    for i in (0..2187).step_by(7) {
+        let st = w.inspect(&space.command_at(i)).unwrap();
+        n += 1;
+        contacts += usize::from(st.contact_steps > 0);
+        limits += usize::from(st.limit_steps > 0);
+        spin = spin.max(st.max_spin);
+    }
+    let (c, l) = (contacts as f64 / n as f64, limits as f64 / n as f64);
+    eprintln!("{n} commands: contacts {c:.3}, limits {l:.3}, top spin {spin:.2} rad/s");
+    assert!((0.30..0.60).contains(&c), "contacts {c}");
+    assert!((0.12..0.40).contains(&l), "limits {l}");
+    assert!(
+        spin < 0.5 * std::f64::consts::FRAC_PI_4 * 60.0,
+        "spin {spin}"
+    );
+    // the all-zero command touches nothing
+    let zero = w.inspect(&space.parse("0000000").unwrap()).unwrap();
+    assert_eq!(
+        (zero.contact_steps, zero.limit_steps, zero.max_spin),
+        (0, 0, 0.0)
+    );
+}

@@ -56,6 +56,12 @@ pub enum SceneCmd {
         #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
         from: Option<[f64; 2]>,
     },
+    /// Execute every command of a physics scene and report what happens:
+    /// contacts between moving bodies, joints at their limits, top speeds.
+    Stats {
+        /// A scene file, or the name of a built-in scene.
+        scene: String,
+    },
 }
 
 fn parse_point(s: &str) -> Result<[f64; 2], String> {
@@ -80,6 +86,7 @@ pub fn run(a: SceneArgs) -> CliResult {
         } => render(&load_scene(&scene)?, command.as_deref(), &out),
         SceneCmd::Exec { scene, commands } => exec(&load_scene(&scene)?, &commands),
         SceneCmd::RewardCell { scene, from } => reward_cell(&load_scene(&scene)?, from),
+        SceneCmd::Stats { scene } => stats(&load_scene(&scene)?),
     }
 }
 
@@ -352,6 +359,69 @@ fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         "the scene's reward cells {:?} {} the rule's cell",
         scene.reward.cells,
         if ok { "match" } else { "do NOT match" }
+    );
+    Ok(())
+}
+
+fn stats(scene: &Scene) -> CliResult {
+    use rayon::prelude::*;
+    let WorldSpec::Physics(spec) = &scene.world else {
+        return Err(CliError::input(
+            "`e3d scene stats` is for physics scenes; this is a grid scene",
+        ));
+    };
+    let space = scene.command_space();
+    let n = space.num_commands().unwrap_or(u64::MAX);
+    if n > e3d::world::MAX_TABLE_COMMANDS {
+        return Err(CliError::input(format!(
+            "{n} commands: too many to execute them all"
+        )));
+    }
+    let start = std::time::Instant::now();
+    let all: Vec<e3d::world::RunStats> = (0..n)
+        .into_par_iter()
+        .map_init(
+            || PhysicsWorld::from_scene(scene, spec),
+            |w, i| w.inspect(&space.command_at(i)),
+        )
+        .collect::<Result<_, _>>()
+        .map_err(world_error)?;
+    let secs = start.elapsed().as_secs_f64();
+    let count = |f: &dyn Fn(&e3d::world::RunStats) -> bool| all.iter().filter(|s| f(s)).count();
+    let pct = |k: usize| 100.0 * k as f64 / all.len() as f64;
+    let contacts = count(&|s| s.contact_steps > 0);
+    let limits = count(&|s| s.limit_steps > 0);
+    let max_speed = all.iter().map(|s| s.max_speed).fold(0.0, f64::max);
+    let max_spin = all.iter().map(|s| s.max_spin).fold(0.0, f64::max);
+    let mut cells = vec![0u64; scene.num_effects()];
+    for s in &all {
+        cells[s.outcome.effect] += 1;
+    }
+    println!(
+        "scene {}: {} commands in {:.2} s ({:.0} rollouts/s on {} thread(s))",
+        scene.name,
+        all.len(),
+        secs,
+        all.len() as f64 / secs,
+        rayon::current_num_threads()
+    );
+    println!(
+        "reached cells: {} of {}",
+        cells.iter().filter(|&&c| c > 0).count(),
+        cells.len()
+    );
+    println!(
+        "commands bringing two moving bodies into contact: {contacts} ({:.1}%)",
+        pct(contacts)
+    );
+    println!(
+        "commands pressing a joint against a limit (within 0.01 rad): {limits} ({:.1}%)",
+        pct(limits)
+    );
+    println!(
+        "top linear speed {max_speed:.3} m/s (max_speed {} m/s); top angular speed {max_spin:.2} rad/s (Rapier's cap: {:.2} rad/s)",
+        spec.max_speed,
+        std::f64::consts::FRAC_PI_4 / spec.dt
     );
     Ok(())
 }

@@ -17,7 +17,7 @@ mod reach;
 mod table;
 
 pub use grid::{GridSpec, GridWorld};
-pub use physics::{BodyPose, PhysicsWorld, Trace};
+pub use physics::{BodyPose, PhysicsWorld, RunStats, Trace};
 pub use reach::{farthest_reached_cell, FarthestCell};
 pub use table::{OutcomeTable, MAX_TABLE_COMMANDS};
 

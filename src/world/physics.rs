@@ -109,6 +109,33 @@ pub struct Trace {
     pub outcome: Outcome,
 }
 
+/// What happened during one command, for diagnostics (see
+/// [`PhysicsWorld::inspect`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunStats {
+    /// The outcome (as [`World::execute`] returns it).
+    pub outcome: Outcome,
+    /// The largest linear speed of a dynamic body, m/s.
+    pub max_speed: f64,
+    /// The largest angular speed of a dynamic body, rad/s.
+    pub max_spin: f64,
+    /// Steps during which two dynamic bodies touch (jointed neighbours
+    /// never do unless their joint has `contacts: true`).
+    pub contact_steps: u64,
+    /// Steps during which some joint is within 0.01 rad of a limit (or
+    /// beyond it: limits are slightly compliant).
+    pub limit_steps: u64,
+}
+
+/// A joint, for diagnostics: child, parent, angle offset, limits.
+#[derive(Debug, Clone, Copy)]
+struct JointInfo {
+    child: RigidBodyHandle,
+    parent: Option<RigidBodyHandle>,
+    offset: f64,
+    limits: Option<(f64, f64)>,
+}
+
 /// A scene's rigid-body world (see the [module docs](self)).
 ///
 /// ```
@@ -143,6 +170,7 @@ pub struct PhysicsWorld {
     settle_steps: u64,
     together: bool,
     max_speed: f64,
+    joints: Vec<JointInfo>,
 }
 
 impl std::fmt::Debug for PhysicsWorld {
@@ -239,6 +267,7 @@ impl PhysicsWorld {
                 body_index(name).map(|i| handles[i])
             }
         };
+        let mut joints = Vec::new();
         for j in &spec.joints {
             let parent_angle = body_index(&j.parent).map_or(0.0, |i| spec.bodies[i].angle);
             let child = &spec.bodies[body_index(&j.child).expect("validated: known child")];
@@ -264,6 +293,12 @@ impl PhysicsWorld {
             ));
             let p = handle_of(&j.parent).expect("validated: known parent");
             let c = handle_of(&j.child).expect("validated: known child");
+            joints.push(JointInfo {
+                child: c,
+                parent: (j.parent != GROUND).then_some(p),
+                offset: child.angle - parent_angle,
+                limits: j.limits,
+            });
             s.multibody_joints
                 .insert(p, c, data, true)
                 .expect("validated: joints form trees");
@@ -354,6 +389,7 @@ impl PhysicsWorld {
             settle_steps,
             together,
             max_speed: spec.max_speed,
+            joints,
         }
     }
 
@@ -407,6 +443,54 @@ impl PhysicsWorld {
             )
         })?;
         Ok(e)
+    }
+
+    /// Executes `command` and reports speeds, contacts between dynamic
+    /// bodies and joints at their limits (for diagnostics and docs).
+    pub fn inspect(&mut self, command: &Command) -> Result<RunStats, WorldError> {
+        let (mut max_speed, mut max_spin) = (0.0f64, 0.0f64);
+        let (mut contact_steps, mut limit_steps) = (0u64, 0u64);
+        let outcome =
+            self.run(command, |w| {
+                let bodies = &w.sets.bodies;
+                for (h, _) in &w.dynamic {
+                    let b = &bodies[*h];
+                    max_speed = max_speed.max((b.linvel().length()) as f64);
+                    max_spin = max_spin.max((b.angvel() as f64).abs());
+                }
+                let dynamic = |c: rapier2d::prelude::ColliderHandle| {
+                    w.sets.colliders[c]
+                        .parent()
+                        .is_some_and(|h| bodies[h].is_dynamic())
+                };
+                if w.sets.narrow_phase.contact_pairs().any(|p| {
+                    p.has_any_active_contact() && dynamic(p.collider1) && dynamic(p.collider2)
+                }) {
+                    contact_steps += 1;
+                }
+                let at_limit = w.joints.iter().any(|j| {
+                    let Some((lo, hi)) = j.limits else {
+                        return false;
+                    };
+                    let pa = j
+                        .parent
+                        .map_or(0.0, |p| bodies[p].rotation().angle() as f64);
+                    let mut a = bodies[j.child].rotation().angle() as f64 - pa - j.offset;
+                    a = (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI;
+                    a <= lo + 0.01 || a >= hi - 0.01
+                });
+                if at_limit {
+                    limit_steps += 1;
+                }
+            })?;
+        Ok(RunStats {
+            outcome,
+            max_speed,
+            max_spin,
+            contact_steps,
+            limit_steps,
+        })
     }
 
     fn tracked_position_in(&self, sets: &Sets) -> [f64; 2] {
