@@ -136,7 +136,16 @@ struct JointInfo {
     limits: Option<(f64, f64)>,
 }
 
-/// A scene's rigid-body world (see the [module docs](self)).
+/// A scene's rigid-body world, simulated by Rapier.
+///
+/// Built once per scene; before each command every Rapier set is restored
+/// from a pristine copy, so the same command always gives the same bits.
+/// Jointed bodies are multibodies; joint damping is their implicit per-DoF
+/// damping. Impulses act once at the start of a slot's phase, forces and
+/// torques are held during it, joint targets hold until changed; then the
+/// world settles and the effect is the cell of the tracked point. A
+/// blown-up state (quarantine, non-finite values, `max_speed`, Rapier's
+/// angular cap) is a [`WorldError::Diverged`], never an effect.
 ///
 /// ```
 /// use e3d::{Scene, World};
