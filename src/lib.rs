@@ -17,7 +17,8 @@
 //!
 //! - [`scene`]: the RON scene format, parsed and checked ([`Scene`]);
 //! - [`command`]: [`CommandSpace`] (slots and alphabets) and [`Command`];
-//! - [`world`]: the [`World`] trait, the [`GridWorld`], the [`OutcomeTable`];
+//! - [`world`]: the [`World`] trait, the [`GridWorld`], the Rapier-based
+//!   [`PhysicsWorld`], the [`OutcomeTable`];
 //! - [`effect`]: binning ([`EffectGrid`]), the running histogram
 //!   ([`EffectModel`]) and the target ([`Target`]);
 //! - [`learner`]: the [`Learner`] trait, [`E3d`], [`UniformPolicy`],
@@ -74,4 +75,4 @@ pub use session::{
     SessionRecord, SessionRng,
 };
 pub use sweep::{Sweep, SweepError};
-pub use world::{GridWorld, Outcome, OutcomeTable, World, WorldError};
+pub use world::{GridWorld, Outcome, OutcomeTable, PhysicsWorld, World, WorldError};

@@ -27,6 +27,8 @@ enum Cmd {
     Merge(cli::sweep::MergeArgs),
     /// Draw a sweep's summary: a line plot over one parameter, a heat map over two.
     Plot(cli::plot::PlotArgs),
+    /// Check, draw or execute a scene: `check`, `render`, `exec`, `reward-cell`.
+    Scene(cli::scene::SceneArgs),
 }
 
 fn main() -> ExitCode {
@@ -38,6 +40,7 @@ fn main() -> ExitCode {
         Cmd::Sweep(a) => cli::sweep::run(a),
         Cmd::Merge(a) => cli::sweep::merge(a),
         Cmd::Plot(a) => cli::plot::run(a),
+        Cmd::Scene(a) => cli::scene::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

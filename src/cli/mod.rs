@@ -4,6 +4,7 @@ pub mod bench;
 pub mod plot;
 pub mod reproduce;
 pub mod run;
+pub mod scene;
 pub mod sweep;
 
 use std::process::ExitCode;

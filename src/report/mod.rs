@@ -1,11 +1,13 @@
 //! Reports: the paper's experiment, the figures and tables drawn from it,
-//! and the plots of sweeps.
+//! pictures of scenes and the plots of sweeps.
 //!
 //! - [`paper`]: Figures 2 and 3 of Daucé (2020) on `two_rooms`, run as
 //!   sessions and summarised (what `e3d reproduce` prints and draws);
+//! - [`scene_svg`]: pictures of scenes, with a command's path;
 //! - [`sweep_plot`]: line plots and heat maps of a sweep's summary.
 
 pub mod paper;
+pub mod scene_svg;
 pub mod sweep_plot;
 
 /// Mean, sample standard deviation, minimum and maximum of `xs`.

@@ -21,12 +21,14 @@
 //! `docs/scenes.md` documents every field.
 
 mod error;
+pub mod physics;
 
 pub use error::{did_you_mean, SceneError};
+pub use physics::PhysicsSpec;
 
 use crate::command::{CommandSpace, MAX_ALPHABET, MAX_SLOTS};
 use crate::effect::EffectGrid;
-use crate::world::{GridSpec, GridWorld, World};
+use crate::world::{GridSpec, GridWorld, PhysicsWorld, World};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -54,6 +56,10 @@ pub enum WorldSpec {
     /// A grid of cells with walls between some neighbours; every symbol is a
     /// one-cell move ([`Action::Move`]). The effect is the terminal cell.
     Grid(GridSpec),
+    /// Rigid bodies and revolute joints simulated by Rapier; symbols are
+    /// torques, impulses, forces or joint targets. The effect is the cell
+    /// of a tracked point (see [`physics`]).
+    Physics(PhysicsSpec),
 }
 
 /// The command schema.
@@ -105,6 +111,40 @@ pub enum Action {
         /// Columns to move (+1 is right, east).
         dcol: i32,
     },
+    /// Physics scenes: a torque in N·m on a revolute joint (+torque on the
+    /// child body, -torque on the parent, nothing on `ground`), held during
+    /// the slot's phase.
+    Torque {
+        /// The joint's name.
+        joint: String,
+        /// The torque in N·m (counter-clockwise positive).
+        torque: f64,
+    },
+    /// Physics scenes: an impulse in N·s on a body's centre of mass, once
+    /// at the start of the slot's phase.
+    Impulse {
+        /// The body's name.
+        body: String,
+        /// The impulse `(x, y)` in N·s.
+        impulse: (f64, f64),
+    },
+    /// Physics scenes: a force in N on a body's centre of mass, held
+    /// during the slot's phase.
+    Force {
+        /// The body's name.
+        body: String,
+        /// The force `(x, y)` in N.
+        force: (f64, f64),
+    },
+    /// Physics scenes: a new set point, in radians from the start pose, for
+    /// the position motor of a joint (which needs a `motor`); it holds
+    /// until another `Target` on that joint.
+    Target {
+        /// The joint's name.
+        joint: String,
+        /// The target angle in radians.
+        angle: f64,
+    },
 }
 
 /// The reward: `value` when the terminal effect is one of `cells`.
@@ -137,7 +177,13 @@ impl Default for RewardSpec {
 }
 
 /// The scenes shipped in `scenes/`, built into the binary: `(name, RON text)`.
-pub const BUILTIN: &[(&str, &str)] = &[("two_rooms", include_str!("../../scenes/two_rooms.ron"))];
+pub const BUILTIN: &[(&str, &str)] = &[
+    ("two_rooms", include_str!("../../scenes/two_rooms.ron")),
+    ("puck_rooms", include_str!("../../scenes/puck_rooms.ron")),
+    ("arm7", include_str!("../../scenes/arm7.ron")),
+    ("pendulum3", include_str!("../../scenes/pendulum3.ron")),
+    ("maze3", include_str!("../../scenes/maze3.ron")),
+];
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
 pub const DEFAULT_SCENE: &str = "two_rooms";
@@ -222,6 +268,7 @@ impl Scene {
     pub fn effect_grid(&self) -> EffectGrid {
         match &self.world {
             WorldSpec::Grid(g) => g.effect_grid(),
+            WorldSpec::Physics(p) => p.effect_grid(),
         }
     }
 
@@ -245,6 +292,7 @@ impl Scene {
     pub fn steps_per_command(&self) -> Option<usize> {
         match &self.world {
             WorldSpec::Grid(_) => None,
+            WorldSpec::Physics(p) => Some(p.schedule.total_steps(p.dt, self.slots().count()) as usize),
         }
     }
 
@@ -252,6 +300,7 @@ impl Scene {
     pub fn build(&self) -> Box<dyn World + Send> {
         match &self.world {
             WorldSpec::Grid(g) => Box::new(GridWorld::from_scene(self, g)),
+            WorldSpec::Physics(p) => Box::new(PhysicsWorld::from_scene(self, p)),
         }
     }
 
@@ -312,6 +361,7 @@ impl Scene {
         }
         match &self.world {
             WorldSpec::Grid(g) => g.validate(self)?,
+            WorldSpec::Physics(p) => p.validate(self)?,
         }
         let grid = self.effect_grid();
         if !self.reward.value.is_finite() {

@@ -5,15 +5,20 @@
 //! effect it falls in, and the reward. The learner sees only the outcome.
 //!
 //! - [`GridWorld`]: the degenerate kinematic scene (one-cell moves, walls);
+//! - [`PhysicsWorld`]: rigid bodies and joints simulated by Rapier;
 //! - [`OutcomeTable`]: every command of a deterministic world executed
 //!   once, then looked up.
 //!
 //! Implement [`World`] to plug in your own simulator or robot.
 
 mod grid;
+mod physics;
+mod reach;
 mod table;
 
 pub use grid::{GridSpec, GridWorld};
+pub use physics::{BodyPose, PhysicsWorld, RunStats, Trace};
+pub use reach::{farthest_reached_cell, FarthestCell};
 pub use table::{OutcomeTable, MAX_TABLE_COMMANDS};
 
 use crate::command::{Command, CommandSpace};

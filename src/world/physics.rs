@@ -1,0 +1,710 @@
+//! The physics world: a scene's bodies and joints simulated by Rapier.
+//!
+//! [`PhysicsWorld`] builds the Rapier world once, keeps a pristine copy of
+//! every set, and restores it (`clone_from`) before each command: every
+//! command starts from the same bits, so the same command always gives the
+//! same terminal state, whatever ran before it. Jointed bodies are
+//! [multibodies](rapier2d::dynamics::MultibodyJointSet) (reduced
+//! coordinates: chains do not stretch); joint damping is the multibody's
+//! implicit per-DoF damping.
+//!
+//! A command runs open loop. Per slot, per the scene's schedule:
+//! impulses are applied once at the start of the phase, forces and torques
+//! are held during the phase and removed at its end, joint targets move the
+//! set point of the joint's position motor and hold. After the last phase
+//! the world settles. The effect is the cell of the tracked point at the
+//! end (moving or not).
+//!
+//! After every step the world checks for a blown-up simulation (Rapier's
+//! quarantine, non-finite poses or velocities, a body faster than the
+//! scene's `max_speed`, a body at Rapier's angular speed cap) and reports
+//! it as [`WorldError::Diverged`] rather than a silent effect.
+
+use super::{Outcome, World, WorldError};
+use crate::command::{Command, CommandSpace};
+use crate::effect::EffectGrid;
+use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec, GROUND};
+use crate::scene::{Action, Scene};
+use rapier2d::math::{Pose, Real, Vector};
+use rapier2d::prelude::{
+    BroadPhaseBvh, CCDSolver, ColliderBuilder, ColliderSet, ImpulseJointSet, IntegrationParameters,
+    InteractionGroups, IslandManager, JointAxis, MotorModel, MultibodyJointSet, NarrowPhase,
+    PhysicsPipeline, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle, RigidBodySet,
+    RigidBodyType, SoftBodySet,
+};
+
+/// Rapier's per-step rotation cap (45°) for bodies without fast rotation.
+const MAX_ROTATION_PER_STEP: f64 = std::f64::consts::FRAC_PI_4;
+
+/// Everything Rapier keeps between steps: restored whole before a command.
+#[derive(Clone, Default)]
+struct Sets {
+    islands: IslandManager,
+    broad_phase: BroadPhaseBvh,
+    narrow_phase: NarrowPhase,
+    bodies: RigidBodySet,
+    colliders: ColliderSet,
+    impulse_joints: ImpulseJointSet,
+    multibody_joints: MultibodyJointSet,
+    soft_bodies: SoftBodySet,
+    ccd: CCDSolver,
+}
+
+impl Sets {
+    fn restore(&mut self, from: &Sets) {
+        self.islands.clone_from(&from.islands);
+        self.broad_phase.clone_from(&from.broad_phase);
+        self.narrow_phase.clone_from(&from.narrow_phase);
+        self.bodies.clone_from(&from.bodies);
+        self.colliders.clone_from(&from.colliders);
+        self.impulse_joints.clone_from(&from.impulse_joints);
+        self.multibody_joints.clone_from(&from.multibody_joints);
+        self.soft_bodies.clone_from(&from.soft_bodies);
+        self.ccd.clone_from(&from.ccd);
+    }
+}
+
+/// One symbol's action, resolved to handles.
+#[derive(Debug, Clone, Copy)]
+enum Act {
+    Idle,
+    Torque {
+        child: RigidBodyHandle,
+        parent: Option<RigidBodyHandle>,
+        torque: Real,
+    },
+    Impulse {
+        body: RigidBodyHandle,
+        impulse: Vector,
+    },
+    Force {
+        body: RigidBodyHandle,
+        force: Vector,
+    },
+    Target {
+        child: RigidBodyHandle,
+        angle: Real,
+        stiffness: Real,
+        damping: Real,
+    },
+}
+
+/// The pose of one body, for pictures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyPose {
+    /// The position of the body's origin `(x, y)`, metres.
+    pub position: [f64; 2],
+    /// The angle in radians.
+    pub angle: f64,
+}
+
+/// What [`PhysicsWorld::trace`] records.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trace {
+    /// The tracked point at the start and after every step.
+    pub points: Vec<[f64; 2]>,
+    /// The terminal pose of every body of the scene, in the scene's order.
+    pub poses: Vec<BodyPose>,
+    /// The outcome (as [`World::execute`] returns it).
+    pub outcome: Outcome,
+}
+
+/// What happened during one command, for diagnostics (see
+/// [`PhysicsWorld::inspect`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunStats {
+    /// The outcome (as [`World::execute`] returns it).
+    pub outcome: Outcome,
+    /// The largest linear speed of a dynamic body, m/s.
+    pub max_speed: f64,
+    /// The largest angular speed of a dynamic body, rad/s.
+    pub max_spin: f64,
+    /// Steps during which two dynamic bodies touch (jointed neighbours
+    /// never do unless their joint has `contacts: true`).
+    pub contact_steps: u64,
+    /// Steps during which some joint is within 0.01 rad of a limit (or
+    /// beyond it: limits are slightly compliant).
+    pub limit_steps: u64,
+}
+
+/// A joint, for diagnostics: child, parent, angle offset, limits.
+#[derive(Debug, Clone, Copy)]
+struct JointInfo {
+    child: RigidBodyHandle,
+    parent: Option<RigidBodyHandle>,
+    offset: f64,
+    limits: Option<(f64, f64)>,
+}
+
+/// A scene's rigid-body world, simulated by Rapier.
+///
+/// Built once per scene; before each command every Rapier set is restored
+/// from a pristine copy, so the same command always gives the same bits.
+/// Jointed bodies are multibodies; joint damping is their implicit per-DoF
+/// damping. Impulses act once at the start of a slot's phase, forces and
+/// torques are held during it, joint targets hold until changed; then the
+/// world settles and the effect is the cell of the tracked point. A
+/// blown-up state (quarantine, non-finite values, `max_speed`, Rapier's
+/// angular cap) is a [`WorldError::Diverged`], never an effect.
+///
+/// ```
+/// use e3d::{Scene, World};
+/// let scene = Scene::builtin("puck_rooms").unwrap();
+/// let mut world = scene.build();
+/// let c = world.command_space().parse("SEEEEES").unwrap();
+/// let a = world.execute(&c).unwrap();
+/// // the same command, the same bits
+/// assert_eq!(world.execute(&c).unwrap(), a);
+/// ```
+pub struct PhysicsWorld {
+    scene: String,
+    space: CommandSpace,
+    grid: EffectGrid,
+    reward: Vec<f64>,
+    gravity: Vector,
+    params: IntegrationParameters,
+    pipeline: PhysicsPipeline,
+    pristine: Sets,
+    sets: Sets,
+    /// The scene's bodies, in order.
+    handles: Vec<RigidBodyHandle>,
+    /// Dynamic bodies, and whether each may spin fast.
+    dynamic: Vec<(RigidBodyHandle, bool)>,
+    tracked: RigidBodyHandle,
+    tracked_point: Vector,
+    /// `acts[offset[slot] + symbol]`.
+    acts: Vec<Act>,
+    offset: Vec<usize>,
+    phase_steps: u64,
+    settle_steps: u64,
+    together: bool,
+    max_speed: f64,
+    joints: Vec<JointInfo>,
+}
+
+impl std::fmt::Debug for PhysicsWorld {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PhysicsWorld")
+            .field("scene", &self.scene)
+            .field("bodies", &self.handles.len())
+            .field("phase_steps", &self.phase_steps)
+            .field("settle_steps", &self.settle_steps)
+            .finish()
+    }
+}
+
+fn v2(p: (f64, f64)) -> Vector {
+    Vector::new(p.0 as Real, p.1 as Real)
+}
+
+impl PhysicsWorld {
+    /// Builds the world of a validated scene whose world is `spec`.
+    ///
+    /// # Panics
+    /// Only on a scene that did not pass validation (for example a joint
+    /// loop, which Rapier's multibodies cannot hold); [`Scene::load`] and
+    /// [`Scene::parse`] validate.
+    pub fn from_scene(scene: &Scene, spec: &PhysicsSpec) -> PhysicsWorld {
+        let mut s = Sets::default();
+        let mut handles = Vec::new();
+        let mut dynamic = Vec::new();
+        for b in &spec.bodies {
+            let kind = match b.kind {
+                BodyKind::Dynamic => RigidBodyType::Dynamic,
+                BodyKind::Kinematic => RigidBodyType::KinematicVelocityBased,
+                BodyKind::Fixed => RigidBodyType::Fixed,
+            };
+            let mut rb = RigidBodyBuilder::new(kind)
+                .translation(v2(b.position))
+                .rotation(b.angle as Real)
+                .linear_damping(b.linear_damping as Real)
+                .angular_damping(b.angular_damping as Real)
+                // a sleeping body stops short: the effect would depend on
+                // the sleep thresholds
+                .can_sleep(false)
+                .allow_fast_rotation(b.fast_rotation);
+            if b.lock_rotation {
+                rb = rb.lock_rotations();
+            }
+            let area = b.shape.area();
+            if area <= 0.0 && b.kind == BodyKind::Dynamic {
+                // segments and polylines have no area: the mass is the body's own
+                rb = rb.additional_mass(b.mass_kg() as Real);
+            }
+            let h = s.bodies.insert(rb);
+            let mut co = match &b.shape {
+                ShapeSpec::Ball { radius } => ColliderBuilder::ball(*radius as Real),
+                ShapeSpec::Cuboid { width, height } => {
+                    ColliderBuilder::cuboid((width / 2.0) as Real, (height / 2.0) as Real)
+                }
+                ShapeSpec::Capsule { a, b, radius } => {
+                    ColliderBuilder::capsule_from_endpoints(v2(*a), v2(*b), *radius as Real)
+                }
+                ShapeSpec::Segment { a, b } => ColliderBuilder::segment(v2(*a), v2(*b)),
+                ShapeSpec::Polyline { points } => {
+                    ColliderBuilder::polyline(points.iter().map(|p| v2(*p)).collect(), None)
+                }
+            }
+            .friction(b.friction as Real)
+            .restitution(b.restitution as Real);
+            co = if area <= 0.0 {
+                co.density(0.0)
+            } else if let Some(m) = b.mass {
+                co.mass(m as Real)
+            } else {
+                co.density(b.density.unwrap_or(1.0) as Real)
+            };
+            if !b.collide {
+                co = co.collision_groups(InteractionGroups::none());
+            }
+            s.colliders.insert_with_parent(co, h, &mut s.bodies);
+            handles.push(h);
+            if b.kind == BodyKind::Dynamic {
+                dynamic.push((h, b.fast_rotation));
+            }
+        }
+        let ground = if spec.joints.iter().any(|j| j.parent == GROUND) {
+            Some(s.bodies.insert(RigidBodyBuilder::fixed()))
+        } else {
+            None
+        };
+        let body_index = |name: &str| spec.bodies.iter().position(|b| b.name == name);
+        let handle_of = |name: &str| -> Option<RigidBodyHandle> {
+            if name == GROUND {
+                ground
+            } else {
+                body_index(name).map(|i| handles[i])
+            }
+        };
+        let mut joints = Vec::new();
+        for j in &spec.joints {
+            let parent_angle = body_index(&j.parent).map_or(0.0, |i| spec.bodies[i].angle);
+            let child = &spec.bodies[body_index(&j.child).expect("validated: known child")];
+            let mut rj = RevoluteJointBuilder::new()
+                .local_anchor1(v2(j.parent_anchor))
+                .local_anchor2(v2(j.child_anchor))
+                .contacts_enabled(j.contacts);
+            if let Some((lo, hi)) = j.limits {
+                rj = rj.limits([lo as Real, hi as Real]);
+            }
+            if let Some(m) = j.motor {
+                rj = rj.motor_model(MotorModel::ForceBased).motor_position(
+                    0.0,
+                    m.stiffness as Real,
+                    m.damping as Real,
+                );
+            }
+            let mut data = rj.build().data;
+            // angle 0 is the start pose, whatever the bodies' start angles
+            data.set_local_frame1(Pose::new(
+                v2(j.parent_anchor),
+                (child.angle - parent_angle) as Real,
+            ));
+            let p = handle_of(&j.parent).expect("validated: known parent");
+            let c = handle_of(&j.child).expect("validated: known child");
+            joints.push(JointInfo {
+                child: c,
+                parent: (j.parent != GROUND).then_some(p),
+                offset: child.angle - parent_angle,
+                limits: j.limits,
+            });
+            s.multibody_joints
+                .insert(p, c, data, true)
+                .expect("validated: joints form trees");
+        }
+        // joint damping: the multibody's per-DoF damping, indexed by the
+        // link's assembly id (valid at any time, also before the first step)
+        for j in &spec.joints {
+            let c = handle_of(&j.child).expect("validated");
+            let link = *s
+                .multibody_joints
+                .rigid_body_link(c)
+                .expect("a jointed body");
+            let mb = s
+                .multibody_joints
+                .get_multibody_mut(link.multibody)
+                .expect("a live multibody");
+            let aid = mb.link(link.id).expect("a live link").assembly_id();
+            mb.damping_mut()[aid] = j.damping as Real;
+        }
+
+        let space = scene.command_space();
+        let mut acts = Vec::new();
+        let mut offset = Vec::new();
+        for alphabet in scene.slots() {
+            offset.push(acts.len());
+            for sym in alphabet {
+                acts.push(match &sym.action {
+                    Action::Idle | Action::Move { .. } => Act::Idle,
+                    Action::Torque { joint, torque } => {
+                        let j = spec.joint(joint).expect("validated: known joint");
+                        Act::Torque {
+                            child: handle_of(&j.child).expect("validated"),
+                            parent: if j.parent == GROUND {
+                                None
+                            } else {
+                                handle_of(&j.parent)
+                            },
+                            torque: *torque as Real,
+                        }
+                    }
+                    Action::Impulse { body, impulse } => Act::Impulse {
+                        body: handle_of(body).expect("validated: known body"),
+                        impulse: v2(*impulse),
+                    },
+                    Action::Force { body, force } => Act::Force {
+                        body: handle_of(body).expect("validated: known body"),
+                        force: v2(*force),
+                    },
+                    Action::Target { joint, angle } => {
+                        let j = spec.joint(joint).expect("validated: known joint");
+                        let m = j.motor.expect("validated: a Target's joint has a motor");
+                        Act::Target {
+                            child: handle_of(&j.child).expect("validated"),
+                            angle: *angle as Real,
+                            stiffness: m.stiffness as Real,
+                            damping: m.damping as Real,
+                        }
+                    }
+                });
+            }
+        }
+        let mut params = IntegrationParameters {
+            dt: spec.dt as Real,
+            ..IntegrationParameters::default()
+        };
+        if let Some(n) = spec.solver_iterations {
+            params.num_solver_iterations = n;
+        }
+        let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
+        let tracked_index = body_index(&spec.effect.body).expect("validated: tracked body");
+        PhysicsWorld {
+            scene: scene.name.clone(),
+            space,
+            grid: spec.effect_grid(),
+            reward: scene.reward_table(),
+            gravity: v2(spec.gravity),
+            params,
+            pipeline: PhysicsPipeline::new(),
+            sets: s.clone(),
+            pristine: s,
+            tracked: handles[tracked_index],
+            tracked_point: v2(spec.effect.point),
+            handles,
+            dynamic,
+            acts,
+            offset,
+            phase_steps,
+            settle_steps,
+            together,
+            max_speed: spec.max_speed,
+            joints,
+        }
+    }
+
+    /// The effect grid.
+    pub fn grid(&self) -> &EffectGrid {
+        &self.grid
+    }
+
+    /// The number of steps one command takes.
+    pub fn steps_per_command(&self) -> u64 {
+        if self.together {
+            self.phase_steps + self.settle_steps
+        } else {
+            self.phase_steps * self.space.num_slots() as u64 + self.settle_steps
+        }
+    }
+
+    /// Executes `command` and records the tracked point after every step
+    /// and the terminal pose of every body (for pictures).
+    pub fn trace(&mut self, command: &Command) -> Result<Trace, WorldError> {
+        let mut points = vec![self.tracked_position_in(&self.pristine)];
+        let outcome = self.run(command, |w| points.push(w.tracked_position()))?;
+        let poses = self
+            .handles
+            .iter()
+            .map(|&h| {
+                let p = self.sets.bodies[h].position();
+                BodyPose {
+                    position: [p.translation.x as f64, p.translation.y as f64],
+                    angle: p.rotation.angle() as f64,
+                }
+            })
+            .collect();
+        Ok(Trace {
+            points,
+            poses,
+            outcome,
+        })
+    }
+
+    /// The total kinetic energy (J) of the dynamic bodies at the end of
+    /// each step of `command` (for tests of energy conservation).
+    pub fn kinetic_energy_trace(&mut self, command: &Command) -> Result<Vec<f64>, WorldError> {
+        let mut e = Vec::new();
+        self.run(command, |w| {
+            e.push(
+                w.dynamic
+                    .iter()
+                    .map(|(h, _)| w.sets.bodies[*h].kinetic_energy() as f64)
+                    .sum(),
+            )
+        })?;
+        Ok(e)
+    }
+
+    /// Executes `command` and reports speeds, contacts between dynamic
+    /// bodies and joints at their limits (for diagnostics and docs).
+    pub fn inspect(&mut self, command: &Command) -> Result<RunStats, WorldError> {
+        let (mut max_speed, mut max_spin) = (0.0f64, 0.0f64);
+        let (mut contact_steps, mut limit_steps) = (0u64, 0u64);
+        let outcome =
+            self.run(command, |w| {
+                let bodies = &w.sets.bodies;
+                for (h, _) in &w.dynamic {
+                    let b = &bodies[*h];
+                    max_speed = max_speed.max((b.linvel().length()) as f64);
+                    max_spin = max_spin.max((b.angvel() as f64).abs());
+                }
+                let dynamic = |c: rapier2d::prelude::ColliderHandle| {
+                    w.sets.colliders[c]
+                        .parent()
+                        .is_some_and(|h| bodies[h].is_dynamic())
+                };
+                if w.sets.narrow_phase.contact_pairs().any(|p| {
+                    p.has_any_active_contact() && dynamic(p.collider1) && dynamic(p.collider2)
+                }) {
+                    contact_steps += 1;
+                }
+                let at_limit = w.joints.iter().any(|j| {
+                    let Some((lo, hi)) = j.limits else {
+                        return false;
+                    };
+                    let pa = j
+                        .parent
+                        .map_or(0.0, |p| bodies[p].rotation().angle() as f64);
+                    let mut a = bodies[j.child].rotation().angle() as f64 - pa - j.offset;
+                    a = (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI;
+                    a <= lo + 0.01 || a >= hi - 0.01
+                });
+                if at_limit {
+                    limit_steps += 1;
+                }
+            })?;
+        Ok(RunStats {
+            outcome,
+            max_speed,
+            max_spin,
+            contact_steps,
+            limit_steps,
+        })
+    }
+
+    fn tracked_position_in(&self, sets: &Sets) -> [f64; 2] {
+        let p = sets.bodies[self.tracked]
+            .position()
+            .transform_point(self.tracked_point);
+        [p.x as f64, p.y as f64]
+    }
+
+    fn tracked_position(&self) -> [f64; 2] {
+        self.tracked_position_in(&self.sets)
+    }
+
+    fn diverged(&self, command: &Command, reason: String) -> WorldError {
+        WorldError::Diverged {
+            scene: self.scene.clone(),
+            command: self.space.format(command),
+            reason,
+        }
+    }
+
+    fn check_command(&self, command: &Command) -> Result<(), WorldError> {
+        if command.len() != self.space.num_slots() {
+            return Err(WorldError::BadCommand {
+                command: command.to_string(),
+                reason: format!("expected {} slots", self.space.num_slots()),
+            });
+        }
+        for (slot, &s) in command.symbols.iter().enumerate() {
+            if s as usize >= self.space.alphabet(slot).len() {
+                return Err(WorldError::BadCommand {
+                    command: command.to_string(),
+                    reason: format!("slot {slot} has no symbol {s}"),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Starts the actions of one slot.
+    fn apply(&mut self, act: Act) {
+        let bodies = &mut self.sets.bodies;
+        match act {
+            Act::Idle => {}
+            Act::Torque {
+                child,
+                parent,
+                torque,
+            } => {
+                bodies[child].add_torque(torque, true);
+                if let Some(p) = parent {
+                    bodies[p].add_torque(-torque, true);
+                }
+            }
+            Act::Impulse { body, impulse } => bodies[body].apply_impulse(impulse, true),
+            Act::Force { body, force } => bodies[body].add_force(force, true),
+            Act::Target {
+                child,
+                angle,
+                stiffness,
+                damping,
+            } => {
+                let mbj = &mut self.sets.multibody_joints;
+                let link = *mbj.rigid_body_link(child).expect("a jointed body");
+                if let Some(l) = mbj
+                    .get_multibody_mut(link.multibody)
+                    .and_then(|mb| mb.link_mut(link.id))
+                {
+                    l.joint
+                        .data
+                        .set_motor_position(JointAxis::AngX, angle, stiffness, damping);
+                }
+            }
+        }
+    }
+
+    /// Removes every held force and torque.
+    fn release(&mut self) {
+        for (h, _) in &self.dynamic {
+            let b = &mut self.sets.bodies[*h];
+            b.reset_forces(false);
+            b.reset_torques(false);
+        }
+    }
+
+    /// One step, then the checks.
+    fn step(&mut self, command: &Command) -> Result<(), WorldError> {
+        let s = &mut self.sets;
+        self.pipeline.step(
+            self.gravity,
+            &self.params,
+            &mut s.islands,
+            &mut s.broad_phase,
+            &mut s.narrow_phase,
+            &mut s.bodies,
+            &mut s.colliders,
+            &mut s.impulse_joints,
+            &mut s.multibody_joints,
+            &mut s.soft_bodies,
+            &mut s.ccd,
+            &(),
+            &(),
+        );
+        let q = self.pipeline.quarantine();
+        if !q.bodies().is_empty() || !q.colliders().is_empty() {
+            return Err(self.diverged(
+                command,
+                format!(
+                    "Rapier quarantined {} bod(ies) and {} collider(s) whose state became non-finite",
+                    q.bodies().len(),
+                    q.colliders().len()
+                ),
+            ));
+        }
+        let dt = self.params.dt as f64;
+        for &(h, fast) in &self.dynamic {
+            let b = &self.sets.bodies[h];
+            let t = b.translation();
+            let v = b.linvel();
+            let w = b.angvel() as f64;
+            if !(t.x.is_finite()
+                && t.y.is_finite()
+                && v.x.is_finite()
+                && v.y.is_finite()
+                && w.is_finite())
+            {
+                return Err(
+                    self.diverged(command, "a body's pose or velocity is not finite".into())
+                );
+            }
+            let speed = (v.x as f64).hypot(v.y as f64);
+            if speed > self.max_speed {
+                return Err(self.diverged(
+                    command,
+                    format!(
+                        "a body moves at {speed:.1} m/s, above the scene's max_speed {} m/s",
+                        self.max_speed
+                    ),
+                ));
+            }
+            if !fast && w.abs() * dt >= 0.99 * MAX_ROTATION_PER_STEP {
+                return Err(self.diverged(
+                    command,
+                    format!(
+                        "a body spins at {:.1} rad/s, Rapier's cap of 45° per step: its rotation would be silently clamped (give it `fast_rotation: true` or a smaller dt)",
+                        w.abs()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs `command` from the pristine state, calling `each_step` after
+    /// every step; returns the outcome.
+    fn run(
+        &mut self,
+        command: &Command,
+        mut each_step: impl FnMut(&Self),
+    ) -> Result<Outcome, WorldError> {
+        self.check_command(command)?;
+        self.sets.restore(&self.pristine);
+        if self.together {
+            for (slot, &s) in command.symbols.iter().enumerate() {
+                self.apply(self.acts[self.offset[slot] + s as usize]);
+            }
+            for _ in 0..self.phase_steps {
+                self.step(command)?;
+                each_step(self);
+            }
+            self.release();
+        } else {
+            for (slot, &s) in command.symbols.iter().enumerate() {
+                self.apply(self.acts[self.offset[slot] + s as usize]);
+                for _ in 0..self.phase_steps {
+                    self.step(command)?;
+                    each_step(self);
+                }
+                self.release();
+            }
+        }
+        for _ in 0..self.settle_steps {
+            self.step(command)?;
+            each_step(self);
+        }
+        let point = self.tracked_position();
+        let effect = self.grid.effect_of(point);
+        Ok(Outcome {
+            effect,
+            reward: self.reward[effect],
+            point,
+        })
+    }
+}
+
+impl World for PhysicsWorld {
+    fn command_space(&self) -> &CommandSpace {
+        &self.space
+    }
+
+    fn num_effects(&self) -> usize {
+        self.grid.num_cells()
+    }
+
+    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
+        self.run(command, |_| {})
+    }
+}

@@ -1,0 +1,187 @@
+//! Blown-up simulations are reported, never turned into an effect; the
+//! `e3d scene` commands and their exit codes.
+
+use e3d::{Scene, World, WorldError};
+use std::process::Command as Proc;
+
+/// A rod on a pivot (no gravity) and a free puck; slot 0 drives the rod
+/// with `torque`, slot 1 kicks the puck with `kick` N*s.
+fn scene(torque: f64, kick: f64, fast: bool) -> String {
+    format!(
+        r#"Scene(
+    name: "blowup",
+    world: Physics(
+        bodies: [
+            (name: "rod", shape: Cuboid(width: 1.0, height: 0.05), mass: 1.0, position: (0.5, 0.0),
+             fast_rotation: {fast}),
+            (name: "puck", shape: Ball(radius: 0.1), mass: 1.0, position: (0.0, 3.0)),
+        ],
+        joints: [(name: "pivot", parent: "ground", child: "rod", child_anchor: (-0.5, 0.0))],
+        schedule: Simultaneous(push: 0.5, settle: 0.5),
+        effect: (body: "rod", point: (0.5, 0.0),
+                 grid: (rows: 2, cols: 2, min: (-1.0, -1.0), max: (1.0, 1.0))),
+    ),
+    command: Slots([
+        (alphabet: [(symbol: '0', action: Idle), (symbol: 'T', action: Torque(joint: "pivot", torque: {torque}))]),
+        (alphabet: [(symbol: '0', action: Idle), (symbol: 'K', action: Impulse(body: "puck", impulse: ({kick}, 0.0)))]),
+    ]),
+)"#
+    )
+}
+
+fn run(text: &str, cmd: &str) -> Result<e3d::Outcome, WorldError> {
+    let s = Scene::parse(text, "blowup.ron").unwrap();
+    let mut w = s.build();
+    let c = w.command_space().parse(cmd).unwrap();
+    w.execute(&c)
+}
+
+#[test]
+fn a_body_faster_than_max_speed_is_a_divergence() {
+    let text = scene(1.0, 1e4, false);
+    assert!(run(&text, "T0").is_ok());
+    match run(&text, "0K") {
+        Err(WorldError::Diverged {
+            scene,
+            command,
+            reason,
+        }) => {
+            assert_eq!((scene.as_str(), command.as_str()), ("blowup", "0K"));
+            assert!(
+                reason.contains("above the scene's max_speed 100 m/s"),
+                "{reason}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_body_at_the_angular_cap_is_a_divergence_unless_allowed() {
+    // 100 N*m on a rod of I = 1/3 kg m²: 300 rad/s² reaches Rapier's cap of
+    // 45° per step (47 rad/s at 1/60 s) after 0.16 s
+    let e = run(&scene(100.0, 1.0, false), "T0").unwrap_err();
+    assert!(
+        e.to_string().contains("Rapier's cap of 45° per step"),
+        "{e}"
+    );
+    // with fast_rotation the rod may spin that fast
+    assert!(run(&scene(100.0, 1.0, true), "T0").is_ok());
+}
+
+fn e3d() -> Proc {
+    Proc::new(env!("CARGO_BIN_EXE_e3d"))
+}
+
+#[test]
+fn scene_check_summarises_arm7() {
+    let out = e3d()
+        .args(["scene", "check", "scenes/arm7.ron"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for want in [
+        "bodies (7):",
+        "joints (7):",
+        "distinct commands: 2187",
+        "effects: 225 (15 x 15 cells",
+        "reward cells: [(6, 5)]",
+        "120 step(s) per command",
+    ] {
+        assert!(text.contains(want), "missing `{want}` in\n{text}");
+    }
+}
+
+#[test]
+fn scene_exec_prints_csv_and_reads_stdin() {
+    let out = e3d()
+        .args(["scene", "exec", "arm7", "0000000", "-++++--"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "command,effect,reward,x,y");
+    assert_eq!(lines[1], "0000000,119,0,1.75,0");
+    assert!(lines[2].starts_with("-++++--,95,1,"), "{}", lines[2]);
+
+    use std::io::Write;
+    let mut child = e3d()
+        .args(["scene", "exec", "scenes/puck_rooms.ron", "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b"SEEEEES\nNNNWWWW\n")
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("\nSEEEEES,17,1,") && text.contains("\nNNNWWWW,0,0,"),
+        "{text}"
+    );
+}
+
+#[test]
+fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
+    // a command that does not fit: bad input (2)
+    let out = e3d()
+        .args(["scene", "exec", "arm7", "00"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    // a scene mistake: bad input (2), with file:line:col
+    let dir = std::env::temp_dir().join(format!("e3d-physics-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.ron");
+    std::fs::write(
+        &bad,
+        scene(1.0, 1.0, false).replace(
+            "mass: 1.0, position: (0.0, 3.0)",
+            "mass: 0.0, position: (0.0, 3.0)",
+        ),
+    )
+    .unwrap();
+    let out = e3d().args(["scene", "check"]).arg(&bad).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("bad.ron:7:20: field `mass`: expected body `puck`: a mass > 0"),
+        "{err}"
+    );
+    // a blown-up simulation: 4
+    let blow = dir.join("blowup.ron");
+    std::fs::write(&blow, scene(1.0, 1e4, false)).unwrap();
+    let out = e3d()
+        .args(["scene", "exec"])
+        .arg(&blow)
+        .arg("0K")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(4));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("command `0K`: the simulation blew up"),
+        "{err}"
+    );
+    // render writes an SVG with the path
+    let svg = dir.join("arm7.svg");
+    let out = e3d()
+        .args(["scene", "render", "arm7", "--command", "-++++--", "--out"])
+        .arg(&svg)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.contains("<polyline") && text.contains("effect 95"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
