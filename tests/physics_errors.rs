@@ -198,7 +198,7 @@ fn an_actuator_symbol_in_a_grid_world() {
     ]),
 )"#;
     let e = Scene::parse(text, "g.ron").unwrap_err().to_string();
-    assert!(e.starts_with("g.ron:"), "{e}");
+    assert!(e.starts_with("g.ron:6:18: "), "{e}");
     assert!(
         e.contains("field `action`")
             && e.contains("symbol 'T': a Grid world takes Move or Idle actions only"),
