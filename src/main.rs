@@ -17,7 +17,7 @@ struct Cli {
 enum Cmd {
     /// Run one learning session on a scene and print a summary.
     Run(cli::run::RunArgs),
-    /// Check, draw or execute a scene: `check`, `render`, `exec`, `reward-cell`.
+    /// Check, draw or execute a scene: `check`, `render`, `exec`, `reward-cell`, `stats`.
     Scene(cli::scene::SceneArgs),
 }
 
