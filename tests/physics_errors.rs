@@ -198,7 +198,7 @@ fn an_actuator_symbol_in_a_grid_world() {
     ]),
 )"#;
     let e = Scene::parse(text, "g.ron").unwrap_err().to_string();
-    assert!(e.starts_with("g.ron:"), "{e}");
+    assert!(e.starts_with("g.ron:6:18: "), "{e}");
     assert!(
         e.contains("field `action`")
             && e.contains("symbol 'T': a Grid world takes Move or Idle actions only"),
@@ -280,4 +280,29 @@ fn an_unknown_field_is_named_with_a_suggestion() {
         e.contains("unknown field `mas`") && e.contains("did you mean `mass`?"),
         "{e}"
     );
+}
+
+#[test]
+fn a_reward_region_outside_every_cell() {
+    let text = BASE.replacen(
+        "    command: Slots([",
+        "    reward: (regions: [(name: \"far\", min: (5.0, 5.0), max: (6.0, 6.0))]),\n    command: Slots([",
+        1,
+    );
+    let e = Scene::parse(&text, "s.ron").unwrap_err().to_string();
+    assert!(e.starts_with("s.ron:18:31: "), "{e}");
+    assert!(
+        e.contains("field `regions`: expected region `far`: a rectangle holding the centre of at least one effect cell"),
+        "{e}"
+    );
+    // a region over cells gives their reward
+    let ok = BASE.replacen(
+        "    command: Slots([",
+        "    reward: (regions: [(name: \"right\", min: (0.0, -1.0), max: (1.0, 1.0))]),\n    command: Slots([",
+        1,
+    );
+    let s = Scene::parse(&ok, "s.ron").unwrap();
+    let r = s.reward_table();
+    assert_eq!(r.iter().filter(|&&v| v == 1.0).count(), 8);
+    assert_eq!((r[2], r[3], r[0]), (1.0, 1.0, 0.0));
 }

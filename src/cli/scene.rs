@@ -183,6 +183,17 @@ fn check(scene: &Scene) -> CliResult {
         grid.min[1],
         grid.max[1]
     );
+    for r in &scene.reward.regions {
+        println!(
+            "reward region `{}`: [{}, {}] x [{}, {}], cells {:?}",
+            r.name,
+            r.min.0,
+            r.max.0,
+            r.min.1,
+            r.max.1,
+            r.cells(&grid)
+        );
+    }
     if scene.reward.cells.is_empty() {
         println!("reward cells: none");
     } else {

@@ -123,7 +123,11 @@ fn header(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Overlay>) 
 fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Overlay>) {
     let g = scene.effect_grid();
     let [cw, ch] = g.cell_size();
-    for &(r, c) in &scene.reward.cells {
+    let rewards = scene.reward_table();
+    let rewarded = (0..g.num_cells())
+        .filter(|&e| rewards[e] != 0.0)
+        .map(|e| (e / g.cols, e % g.cols));
+    for (r, c) in rewarded {
         let x0 = g.min[0] + c as f64 * cw;
         let y1 = g.max[1] - r as f64 * ch;
         let _ = writeln!(
@@ -173,6 +177,19 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
         out,
         r##"<path d="{d}" stroke="#b8c4d6" stroke-width="0.8" fill="none"/>"##
     );
+    for region in &scene.reward.regions {
+        let _ = writeln!(
+            out,
+            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="#2e8b57" stroke-width="1.5" stroke-dasharray="5,3"/><text x="{:.2}" y="{:.2}" font-size="11" fill="#2e8b57">{}</text>"##,
+            v.x(region.min.0),
+            v.y(region.max.1),
+            v.len(region.max.0 - region.min.0),
+            v.len(region.max.1 - region.min.1),
+            v.x(region.min.0) + 3.0,
+            v.y(region.max.1) + 12.0,
+            esc(&region.name)
+        );
+    }
 }
 
 fn path_layer(out: &mut String, v: &View, overlay: Option<&Overlay>) {

@@ -22,9 +22,11 @@
 
 mod error;
 pub mod physics;
+mod region;
 
 pub use error::{did_you_mean, SceneError};
 pub use physics::PhysicsSpec;
+pub use region::RegionSpec;
 
 use crate::command::{CommandSpace, MAX_ALPHABET, MAX_SLOTS};
 use crate::effect::EffectGrid;
@@ -154,6 +156,10 @@ pub struct RewardSpec {
     /// The rewarded cells `(row, col)` of the effect grid.
     #[serde(default)]
     pub cells: Vec<(usize, usize)>,
+    /// Named rectangles (metres): the cells whose centre lies inside are
+    /// rewarded too.
+    #[serde(default)]
+    pub regions: Vec<RegionSpec>,
     /// The reward given in a rewarded cell (default 1).
     #[serde(default = "one")]
     pub value: f64,
@@ -170,6 +176,7 @@ impl Default for RewardSpec {
     fn default() -> Self {
         RewardSpec {
             cells: Vec::new(),
+            regions: Vec::new(),
             value: 1.0,
             note: String::new(),
         }
@@ -284,6 +291,11 @@ impl Scene {
         for &(row, col) in &self.reward.cells {
             r[row * g.cols + col] = self.reward.value;
         }
+        for region in &self.reward.regions {
+            for (row, col) in region.cells(&g) {
+                r[row * g.cols + col] = self.reward.value;
+            }
+        }
         r
     }
 
@@ -378,6 +390,9 @@ impl Scene {
                     ),
                 ));
             }
+        }
+        for region in &self.reward.regions {
+            region.validate(&grid)?;
         }
         Ok(())
     }

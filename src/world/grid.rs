@@ -86,7 +86,7 @@ impl GridSpec {
                     _ => {
                         return Err(Invalid::at(
                             "action",
-                            None,
+                            Some(&format!("'{}'", s.symbol)),
                             &format!(
                                 "symbol '{}': a Grid world takes Move or Idle actions only",
                                 s.symbol
