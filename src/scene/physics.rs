@@ -4,7 +4,7 @@
 //! schedule (how long each slot acts, how long the world settles), the
 //! tracked point whose terminal position is the effect, and the effect grid.
 //! Every field is in SI units (metres, kilograms, seconds, radians, newtons);
-//! y points up. `docs/scenes-physics.md` documents every field and its
+//! y points up. `docs/scenes.md` ("Physics worlds") documents every field and its
 //! default.
 //!
 //! ```ron
