@@ -1049,18 +1049,21 @@ impl Sweep {
         for s in sessions {
             trials_per_scene[self.cells[s.cell].scene] += self.spec.trials as u64;
         }
+        // A table that cannot be built (some command blows up) is not used:
+        // the sessions then run on the world, and only those that meet the
+        // failing command fail (and are recorded so).
         let tables: Vec<Option<OutcomeTable>> = pool.install(|| {
             self.scenes
                 .iter()
                 .zip(&trials_per_scene)
                 .map(|(scene, &trials)| {
                     if trials == 0 || !OutcomeTable::worthwhile(scene, &scene.build(), trials) {
-                        return Ok(None);
+                        return None;
                     }
-                    OutcomeTable::for_scene(scene, self.table_cache.as_deref()).map(Some)
+                    OutcomeTable::for_scene(scene, self.table_cache.as_deref()).ok()
                 })
-                .collect::<Result<_, WorldError>>()
-        })?;
+                .collect()
+        });
         let tables = &tables;
         std::thread::scope(|scope| {
             let (tx, rx) = std::sync::mpsc::channel::<Result<SessionResult, SweepError>>();

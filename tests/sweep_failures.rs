@@ -1,0 +1,89 @@
+//! A session whose simulation blows up is recorded as failed, with the
+//! command that blew up, and the sweep goes on.
+
+use std::process::Command;
+
+const BLOWUP: &str = r#"Scene(
+    name: "blowup",
+    world: Physics(
+        bodies: [
+            (name: "rod", shape: Cuboid(width: 1.0, height: 0.05), mass: 1.0, position: (0.5, 0.0)),
+            (name: "puck", shape: Ball(radius: 0.1), mass: 1.0, position: (0.0, 3.0)),
+        ],
+        joints: [(name: "pivot", parent: "ground", child: "rod", child_anchor: (-0.5, 0.0))],
+        schedule: Simultaneous(push: 0.5, settle: 0.5),
+        effect: (body: "rod", point: (0.5, 0.0),
+                 grid: (rows: 2, cols: 2, min: (-1.0, -1.0), max: (1.0, 1.0))),
+    ),
+    command: Slots([
+        (alphabet: [(symbol: '0', action: Idle), (symbol: 'T', action: Torque(joint: "pivot", torque: 1.0))]),
+        // an absurd impulse: 10^4 N*s on a 1 kg puck
+        (alphabet: [(symbol: '0', action: Idle), (symbol: 'K', action: Impulse(body: "puck", impulse: (10000.0, 0.0)))]),
+    ]),
+)"#;
+
+const SWEEP: &str = r#"Sweep(
+    scenes: ["blowup.ron"],
+    learners: [uniform],
+    use_reward: [false],
+    sessions: 12,
+    trials: 1,
+    seed: 3,
+)"#;
+
+#[test]
+fn a_blown_up_session_is_recorded_and_the_sweep_goes_on() {
+    let dir = std::env::temp_dir().join(format!("e3d-sweep-fail-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("blowup.ron"), BLOWUP).unwrap();
+    std::fs::write(dir.join("sweep.ron"), SWEEP).unwrap();
+    let out = dir.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args([
+            "sweep",
+            dir.join("sweep.ron").to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let results = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let rows: Vec<&str> = results.lines().skip(1).collect();
+    assert_eq!(rows.len(), 12);
+    let failed: Vec<&&str> = rows.iter().filter(|r| !r.ends_with(',')).collect();
+    // one trial of the uniform policy: half the commands push the puck
+    assert!(!failed.is_empty() && failed.len() < 12, "{results}");
+    for r in &failed {
+        assert!(r.contains("scene `blowup`"), "{r}");
+        assert!(
+            r.contains("command `0K`") || r.contains("command `TK`"),
+            "{r}"
+        );
+        assert!(r.contains("max_speed"), "{r}");
+    }
+    let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let header: Vec<&str> = summary.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = summary.lines().nth(1).unwrap().split(',').collect();
+    let at = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
+    assert_eq!(at("sessions"), "12");
+    assert_eq!(at("failed"), failed.len().to_string());
+
+    // e3d run on the same scene stops with exit code 4 and names the command
+    let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args([
+            "run",
+            dir.join("blowup.ron").to_str().unwrap(),
+            "--learner",
+            "uniform",
+            "--trials",
+            "50",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(4));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("scene `blowup`, command `"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
