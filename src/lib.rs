@@ -71,8 +71,8 @@ pub use effect::{EffectGrid, EffectModel, Target};
 pub use learner::{E3d, EpsilonGreedy, Learner, LearnerKind, ParamError, Params, UniformPolicy};
 pub use scene::{Scene, SceneError};
 pub use session::{
-    policy_effect_distribution, run_session, run_session_with, Metrics, SessionConfig,
-    SessionRecord, SessionRng,
+    policy_effect_distribution, run_lockstep, run_session, run_session_with, Metrics,
+    SessionConfig, SessionRecord, SessionRng,
 };
 pub use sweep::{Sweep, SweepError};
 pub use world::{GridWorld, Outcome, OutcomeTable, PhysicsWorld, World, WorldError};

@@ -109,6 +109,88 @@ where
     Ok(rec)
 }
 
+/// Runs several sessions on one world in lockstep: at every trial each
+/// session proposes its command, the world executes them all in one
+/// [`World::execute_batch`] (several copies of a physics scene stepped
+/// together), then each session learns from its own outcome.
+///
+/// Every session follows its algorithm exactly as [`run_session`] would,
+/// trial by trial, with its own generator: the records are the same as
+/// running the sessions one after the other (tested). All sessions run the
+/// trials of the longest; a session with fewer trials stops proposing at
+/// its end. A session whose command fails gets the error; the others go on.
+pub fn run_lockstep<W, L>(
+    world: &mut W,
+    learners: &mut [L],
+    configs: &[SessionConfig],
+) -> Vec<Result<SessionRecord, WorldError>>
+where
+    W: World + ?Sized,
+    L: Learner,
+{
+    assert_eq!(learners.len(), configs.len(), "one config per learner");
+    let n = world.command_space().num_slots();
+    let mut rngs: Vec<SessionRng> = configs
+        .iter()
+        .map(|c| SessionRng::seed_from_u64(c.seed))
+        .collect();
+    let mut records: Vec<Result<SessionRecord, WorldError>> = configs
+        .iter()
+        .map(|c| {
+            Ok(SessionRecord {
+                num_slots: n,
+                num_effects: world.num_effects(),
+                commands: Vec::with_capacity(c.trials * n),
+                effects: Vec::with_capacity(c.trials),
+                rewards: Vec::with_capacity(c.trials),
+            })
+        })
+        .collect();
+    let mut commands: Vec<Command> = configs
+        .iter()
+        .map(|_| world.command_space().first())
+        .collect();
+    let mut active: Vec<usize> = Vec::with_capacity(configs.len());
+    // reused from trial to trial: no allocation per trial
+    let mut batch: Vec<Command> = commands.clone();
+    let mut outcomes = Vec::with_capacity(configs.len());
+    let longest = configs.iter().map(|c| c.trials).max().unwrap_or(0);
+    for t in 0..longest {
+        active.clear();
+        for (i, c) in configs.iter().enumerate() {
+            if t < c.trials && records[i].is_ok() {
+                learners[i].propose(&mut rngs[i], &mut commands[i]);
+                batch[active.len()].symbols.clone_from(&commands[i].symbols);
+                active.push(i);
+            }
+        }
+        if active.is_empty() {
+            break;
+        }
+        outcomes.clear();
+        world.execute_batch(&batch[..active.len()], &mut outcomes);
+        for (&i, result) in active.iter().zip(outcomes.drain(..)) {
+            let mut outcome = match result {
+                Ok(o) => o,
+                Err(e) => {
+                    records[i] = Err(e);
+                    continue;
+                }
+            };
+            if !configs[i].use_reward {
+                outcome.reward = 0.0;
+            }
+            learners[i].learn(&commands[i], &outcome);
+            if let Ok(rec) = &mut records[i] {
+                rec.commands.extend_from_slice(&commands[i].symbols);
+                rec.effects.push(outcome.effect as u32);
+                rec.rewards.push(outcome.reward);
+            }
+        }
+    }
+    records
+}
+
 /// The numbers that summarise a session.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {

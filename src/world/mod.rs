@@ -102,6 +102,17 @@ pub trait World {
     fn is_deterministic(&self) -> bool {
         true
     }
+
+    /// Executes several commands, each from the start state, and appends
+    /// their outcomes to `out` in order: the same outcomes as calling
+    /// [`execute`](World::execute) on each. Worlds that can run many
+    /// commands at once (several copies of a scene stepped together)
+    /// override it; the default executes them one by one.
+    fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
+        for c in commands {
+            out.push(self.execute(c));
+        }
+    }
 }
 
 impl<W: World + ?Sized> World for Box<W> {
@@ -116,5 +127,8 @@ impl<W: World + ?Sized> World for Box<W> {
     }
     fn is_deterministic(&self) -> bool {
         (**self).is_deterministic()
+    }
+    fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
+        (**self).execute_batch(commands, out)
     }
 }

@@ -1,0 +1,41 @@
+//! Sessions in lockstep give the records of sessions run one by one.
+
+use e3d::{run_lockstep, run_session, LearnerKind, Params, Scene, SessionConfig, Target};
+
+#[test]
+fn lockstep_sessions_equal_independent_sessions() {
+    for name in ["two_rooms", "puck_rooms"] {
+        let scene = Scene::builtin(name).unwrap();
+        let space = scene.command_space();
+        let kinds = [
+            LearnerKind::E3d,
+            LearnerKind::Uniform,
+            LearnerKind::Egreedy,
+            LearnerKind::E3d,
+        ];
+        let trials = if name == "two_rooms" { 2000 } else { 40 };
+        let configs: Vec<SessionConfig> = (0..4)
+            .map(|i| SessionConfig {
+                // different lengths: the shorter sessions stop on time
+                trials: trials - 5 * i,
+                seed: 100 + i as u64,
+                use_reward: i % 2 == 0,
+            })
+            .collect();
+        let make = |k: LearnerKind| {
+            k.make(
+                &Params::TASK2,
+                &space,
+                scene.num_effects(),
+                &Target::Uniform,
+            )
+            .unwrap()
+        };
+        let mut learners: Vec<_> = kinds.iter().map(|&k| make(k)).collect();
+        let together = run_lockstep(&mut scene.build(), &mut learners, &configs);
+        for ((k, cfg), rec) in kinds.iter().zip(&configs).zip(together) {
+            let alone = run_session(&mut scene.build(), &mut make(*k), cfg).unwrap();
+            assert_eq!(rec.unwrap(), alone, "{name}, {k}");
+        }
+    }
+}
