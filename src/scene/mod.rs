@@ -304,7 +304,9 @@ impl Scene {
     pub fn steps_per_command(&self) -> Option<usize> {
         match &self.world {
             WorldSpec::Grid(_) => None,
-            WorldSpec::Physics(p) => Some(p.schedule.total_steps(p.dt, self.slots().count()) as usize),
+            WorldSpec::Physics(p) => {
+                Some(p.schedule.total_steps(p.dt, self.slots().count()) as usize)
+            }
         }
     }
 
