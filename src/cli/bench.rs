@@ -3,7 +3,10 @@
 use super::run::load_scene;
 use super::{CliError, CliResult};
 use clap::Args;
-use e3d::{run_session, LearnerKind, OutcomeTable, Params, SessionConfig, Target, World};
+use e3d::scene::WorldSpec;
+use e3d::{
+    run_session, LearnerKind, OutcomeTable, Params, PhysicsWorld, SessionConfig, Target, World,
+};
 use std::time::{Duration, Instant};
 
 /// Arguments of `e3d bench`.
@@ -62,6 +65,32 @@ pub fn run(a: BenchArgs) -> CliResult {
         if let Some(steps) = scene.steps_per_command() {
             println!("{},steps,{:.1},1/s", scene.name, rollouts * steps as f64);
         }
+        if let WorldSpec::Physics(p) = &scene.world {
+            // many commands at once in one Rapier world (one thread)
+            let copies = e3d::world::TABLE_COPIES;
+            let mut multi = PhysicsWorld::with_copies(&scene, p, copies);
+            let mut cmds = vec![space.first(); copies];
+            let mut out = Vec::with_capacity(copies);
+            let mut i = 0u64;
+            let r = rate(budget, || {
+                for c in cmds.iter_mut() {
+                    space.write_command_at(i % n_commands, c);
+                    i += 1;
+                }
+                out.clear();
+                multi.execute_batch(&cmds, &mut out);
+                copies
+            });
+            let exact = if p.copies_are_exact() {
+                "bit-identical"
+            } else {
+                "not bit-identical: tables use one copy"
+            };
+            println!(
+                "{},rollouts ({copies} copies per world; {exact}),{r:.1},1/s",
+                scene.name
+            );
+        }
         let n_effects = world.num_effects();
         let make = || {
             LearnerKind::E3d
@@ -76,11 +105,12 @@ pub fn run(a: BenchArgs) -> CliResult {
         };
         if OutcomeTable::worthwhile(&scene, &*world, trials as u64) {
             let t0 = Instant::now();
-            let table = OutcomeTable::build(&mut world).map_err(CliError::simulation)?;
+            let table = OutcomeTable::build_scene(&scene).map_err(CliError::simulation)?;
             println!(
-                "{},outcome table build ({} commands),{:.3},s",
+                "{},outcome table build ({} commands; {} thread(s)),{:.3},s",
                 scene.name,
                 table.len(),
+                rayon::current_num_threads(),
                 t0.elapsed().as_secs_f64()
             );
             let mut seed = 0;

@@ -56,6 +56,17 @@ pub enum SceneCmd {
         #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
         from: Option<[f64; 2]>,
     },
+    /// Compute a scene's whole outcome table ahead of time, in parallel on
+    /// every core (physics scenes: many commands at once per Rapier world
+    /// where that is exact), and report its size, time and rollouts/s.
+    Table {
+        /// A scene file, or the name of a built-in scene.
+        scene: String,
+        /// The folder of the table cache (read if the table is there,
+        /// written otherwise); without it the table is computed and not kept.
+        #[arg(long, value_name = "DIR")]
+        cache: Option<PathBuf>,
+    },
     /// Execute every command of a physics scene and report what happens:
     /// contacts between moving bodies, joints at their limits, top speeds.
     Stats {
@@ -87,6 +98,7 @@ pub fn run(a: SceneArgs) -> CliResult {
         SceneCmd::Exec { scene, commands } => exec(&load_scene(&scene)?, &commands),
         SceneCmd::RewardCell { scene, from } => reward_cell(&load_scene(&scene)?, from),
         SceneCmd::Stats { scene } => stats(&load_scene(&scene)?),
+        SceneCmd::Table { scene, cache } => table(&load_scene(&scene)?, cache.as_deref()),
     }
 }
 
@@ -311,7 +323,7 @@ fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         )));
     }
     let start = std::time::Instant::now();
-    let table = OutcomeTable::build_parallel(|| scene.build()).map_err(world_error)?;
+    let table = OutcomeTable::build_scene(scene).map_err(world_error)?;
     let secs = start.elapsed().as_secs_f64();
     let grid = scene.effect_grid();
     let cell = farthest_reached_cell(&table, &grid, from)
@@ -434,5 +446,51 @@ fn stats(scene: &Scene) -> CliResult {
         spec.max_speed,
         std::f64::consts::FRAC_PI_4 / spec.dt
     );
+    Ok(())
+}
+
+fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    if n > e3d::world::MAX_TABLE_COMMANDS {
+        return Err(CliError::input(format!(
+            "{n} commands: too many for an outcome table (at most {})",
+            e3d::world::MAX_TABLE_COMMANDS
+        )));
+    }
+    let existed = cache.is_some_and(|d| OutcomeTable::cache_path(scene, d).exists());
+    let start = std::time::Instant::now();
+    let table = OutcomeTable::for_scene(scene, cache).map_err(world_error)?;
+    let secs = start.elapsed().as_secs_f64();
+    let how = match &scene.world {
+        WorldSpec::Physics(p) if p.copies_are_exact() => {
+            format!("{} copies per Rapier world", e3d::world::TABLE_COPIES)
+        }
+        WorldSpec::Physics(_) => "one command per Rapier world".to_string(),
+        WorldSpec::Grid(_) => "grid".to_string(),
+    };
+    println!(
+        "scene {}: {} commands in {:.3} s ({:.0} rollouts/s, {} thread(s), {how})",
+        scene.name,
+        table.len(),
+        secs,
+        table.len() as f64 / secs,
+        rayon::current_num_threads()
+    );
+    match cache {
+        Some(dir) => {
+            let path = OutcomeTable::cache_path(scene, dir);
+            if existed {
+                println!("read from {}", path.display());
+            } else if path.exists() {
+                println!("written to {}", path.display());
+            } else {
+                println!(
+                    "could not write {} (the table was computed)",
+                    path.display()
+                );
+            }
+        }
+        None => println!("not written (give --cache DIR to keep it)"),
+    }
     Ok(())
 }

@@ -17,9 +17,9 @@ mod reach;
 mod table;
 
 pub use grid::{GridSpec, GridWorld};
-pub use physics::{BodyPose, PhysicsWorld, RunStats, Trace};
+pub use physics::{BodyPose, PhysicsWorld, RunStats, Trace, MAX_COPIES};
 pub use reach::{farthest_reached_cell, FarthestCell};
-pub use table::{OutcomeTable, MAX_TABLE_COMMANDS};
+pub use table::{OutcomeTable, MAX_TABLE_COMMANDS, TABLE_COPIES};
 
 use crate::command::{Command, CommandSpace};
 use serde::{Deserialize, Serialize};

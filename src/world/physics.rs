@@ -27,10 +27,10 @@ use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec, GROUND};
 use crate::scene::{Action, Scene};
 use rapier2d::math::{Pose, Real, Vector};
 use rapier2d::prelude::{
-    BroadPhaseBvh, CCDSolver, ColliderBuilder, ColliderSet, ImpulseJointSet, IntegrationParameters,
-    InteractionGroups, IslandManager, JointAxis, MotorModel, MultibodyJointSet, NarrowPhase,
-    PhysicsPipeline, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle, RigidBodySet,
-    RigidBodyType, SoftBodySet,
+    BroadPhaseBvh, CCDSolver, ColliderBuilder, ColliderSet, Group, ImpulseJointSet,
+    IntegrationParameters, InteractionGroups, InteractionTestMode, IslandManager, JointAxis,
+    MotorModel, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RevoluteJointBuilder,
+    RigidBodyBuilder, RigidBodyHandle, RigidBodySet, RigidBodyType, SoftBodySet,
 };
 
 /// Rapier's per-step rotation cap (45°) for bodies without fast rotation.
@@ -166,19 +166,31 @@ pub struct PhysicsWorld {
     pipeline: PhysicsPipeline,
     pristine: Sets,
     sets: Sets,
-    /// The scene's bodies, in order.
-    handles: Vec<RigidBodyHandle>,
-    /// Dynamic bodies, and whether each may spin fast.
-    dynamic: Vec<(RigidBodyHandle, bool)>,
-    tracked: RigidBodyHandle,
+    /// The copies of the scene's moving bodies (one unless built by
+    /// [`with_copies`](PhysicsWorld::with_copies)); copy 0 is the one
+    /// [`World::execute`] uses.
+    copies: Vec<Replica>,
+    /// The copy owning each body, by the body handle's index (`u32::MAX`
+    /// for shared fixed bodies): attributes Rapier's quarantine.
+    copy_of_body: Vec<u32>,
     tracked_point: Vector,
-    /// `acts[offset[slot] + symbol]`.
-    acts: Vec<Act>,
     offset: Vec<usize>,
     phase_steps: u64,
     settle_steps: u64,
     together: bool,
     max_speed: f64,
+}
+
+/// One copy of a scene's non-fixed bodies and joints, resolved to handles.
+#[derive(Debug, Clone)]
+struct Replica {
+    /// The scene's bodies, in order (fixed bodies are shared by the copies).
+    handles: Vec<RigidBodyHandle>,
+    /// Dynamic bodies, and whether each may spin fast.
+    dynamic: Vec<(RigidBodyHandle, bool)>,
+    tracked: RigidBodyHandle,
+    /// `acts[offset[slot] + symbol]`.
+    acts: Vec<Act>,
     joints: Vec<JointInfo>,
 }
 
@@ -186,7 +198,8 @@ impl std::fmt::Debug for PhysicsWorld {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PhysicsWorld")
             .field("scene", &self.scene)
-            .field("bodies", &self.handles.len())
+            .field("bodies", &self.copies[0].handles.len())
+            .field("copies", &self.copies.len())
             .field("phase_steps", &self.phase_steps)
             .field("settle_steps", &self.settle_steps)
             .finish()
@@ -197,6 +210,205 @@ fn v2(p: (f64, f64)) -> Vector {
     Vector::new(p.0 as Real, p.1 as Real)
 }
 
+/// The largest number of copies one world holds: each copy has its own
+/// collision group bit, and Rapier has 32.
+pub const MAX_COPIES: usize = 32;
+
+/// Builds one copy of the scene's non-fixed bodies, their joints and the
+/// actions on them into `s`. Fixed bodies are built by the first copy
+/// (into `fixed`, by scene index) and shared by the others. `groups` keeps
+/// this copy's colliders apart from the other copies' while they still
+/// touch the fixed bodies.
+fn build_copy(
+    s: &mut Sets,
+    scene: &Scene,
+    spec: &PhysicsSpec,
+    groups: InteractionGroups,
+    fixed: &mut [Option<RigidBodyHandle>],
+) -> Replica {
+    let mut handles = Vec::new();
+    let mut dynamic = Vec::new();
+    for (i, b) in spec.bodies.iter().enumerate() {
+        if let Some(h) = fixed[i] {
+            handles.push(h);
+            continue;
+        }
+        let kind = match b.kind {
+            BodyKind::Dynamic => RigidBodyType::Dynamic,
+            BodyKind::Kinematic => RigidBodyType::KinematicVelocityBased,
+            BodyKind::Fixed => RigidBodyType::Fixed,
+        };
+        let mut rb = RigidBodyBuilder::new(kind)
+            .translation(v2(b.position))
+            .rotation(b.angle as Real)
+            .linear_damping(b.linear_damping as Real)
+            .angular_damping(b.angular_damping as Real)
+            // a sleeping body stops short: the effect would depend on
+            // the sleep thresholds
+            .can_sleep(false)
+            .allow_fast_rotation(b.fast_rotation);
+        if b.lock_rotation {
+            rb = rb.lock_rotations();
+        }
+        let area = b.shape.area();
+        if area <= 0.0 && b.kind == BodyKind::Dynamic {
+            // segments and polylines have no area: the mass is the body's own
+            rb = rb.additional_mass(b.mass_kg() as Real);
+        }
+        let h = s.bodies.insert(rb);
+        let mut co = match &b.shape {
+            ShapeSpec::Ball { radius } => ColliderBuilder::ball(*radius as Real),
+            ShapeSpec::Cuboid { width, height } => {
+                ColliderBuilder::cuboid((width / 2.0) as Real, (height / 2.0) as Real)
+            }
+            ShapeSpec::Capsule { a, b, radius } => {
+                ColliderBuilder::capsule_from_endpoints(v2(*a), v2(*b), *radius as Real)
+            }
+            ShapeSpec::Segment { a, b } => ColliderBuilder::segment(v2(*a), v2(*b)),
+            ShapeSpec::Polyline { points } => {
+                ColliderBuilder::polyline(points.iter().map(|p| v2(*p)).collect(), None)
+            }
+        }
+        .friction(b.friction as Real)
+        .restitution(b.restitution as Real);
+        co = if area <= 0.0 {
+            co.density(0.0)
+        } else if let Some(m) = b.mass {
+            co.mass(m as Real)
+        } else {
+            co.density(b.density.unwrap_or(1.0) as Real)
+        };
+        co = if !b.collide {
+            co.collision_groups(InteractionGroups::none())
+        } else if b.kind == BodyKind::Fixed {
+            co.collision_groups(InteractionGroups::all())
+        } else {
+            co.collision_groups(groups)
+        };
+        s.colliders.insert_with_parent(co, h, &mut s.bodies);
+        handles.push(h);
+        if b.kind == BodyKind::Dynamic {
+            dynamic.push((h, b.fast_rotation));
+        }
+        if b.kind == BodyKind::Fixed {
+            fixed[i] = Some(h);
+        }
+    }
+    // one ground per copy: a multibody rooted at a shared ground would join
+    // the copies into one multibody
+    let ground = if spec.joints.iter().any(|j| j.parent == GROUND) {
+        Some(s.bodies.insert(RigidBodyBuilder::fixed()))
+    } else {
+        None
+    };
+    let body_index = |name: &str| spec.bodies.iter().position(|b| b.name == name);
+    let handle_of = |name: &str| -> Option<RigidBodyHandle> {
+        if name == GROUND {
+            ground
+        } else {
+            body_index(name).map(|i| handles[i])
+        }
+    };
+    let mut joints = Vec::new();
+    for j in &spec.joints {
+        let parent_angle = body_index(&j.parent).map_or(0.0, |i| spec.bodies[i].angle);
+        let child = &spec.bodies[body_index(&j.child).expect("validated: known child")];
+        let mut rj = RevoluteJointBuilder::new()
+            .local_anchor1(v2(j.parent_anchor))
+            .local_anchor2(v2(j.child_anchor))
+            .contacts_enabled(j.contacts);
+        if let Some((lo, hi)) = j.limits {
+            rj = rj.limits([lo as Real, hi as Real]);
+        }
+        if let Some(m) = j.motor {
+            rj = rj.motor_model(MotorModel::ForceBased).motor_position(
+                0.0,
+                m.stiffness as Real,
+                m.damping as Real,
+            );
+        }
+        let mut data = rj.build().data;
+        // angle 0 is the start pose, whatever the bodies' start angles
+        data.set_local_frame1(Pose::new(
+            v2(j.parent_anchor),
+            (child.angle - parent_angle) as Real,
+        ));
+        let p = handle_of(&j.parent).expect("validated: known parent");
+        let c = handle_of(&j.child).expect("validated: known child");
+        joints.push(JointInfo {
+            child: c,
+            parent: (j.parent != GROUND).then_some(p),
+            offset: child.angle - parent_angle,
+            limits: j.limits,
+        });
+        s.multibody_joints
+            .insert(p, c, data, true)
+            .expect("validated: joints form trees");
+    }
+    // joint damping: the multibody's per-DoF damping, indexed by the
+    // link's assembly id (valid at any time, also before the first step)
+    for j in &spec.joints {
+        let c = handle_of(&j.child).expect("validated");
+        let link = *s
+            .multibody_joints
+            .rigid_body_link(c)
+            .expect("a jointed body");
+        let mb = s
+            .multibody_joints
+            .get_multibody_mut(link.multibody)
+            .expect("a live multibody");
+        let aid = mb.link(link.id).expect("a live link").assembly_id();
+        mb.damping_mut()[aid] = j.damping as Real;
+    }
+
+    let mut acts = Vec::new();
+    for alphabet in scene.slots() {
+        for sym in alphabet {
+            acts.push(match &sym.action {
+                Action::Idle | Action::Move { .. } => Act::Idle,
+                Action::Torque { joint, torque } => {
+                    let j = spec.joint(joint).expect("validated: known joint");
+                    Act::Torque {
+                        child: handle_of(&j.child).expect("validated"),
+                        parent: if j.parent == GROUND {
+                            None
+                        } else {
+                            handle_of(&j.parent)
+                        },
+                        torque: *torque as Real,
+                    }
+                }
+                Action::Impulse { body, impulse } => Act::Impulse {
+                    body: handle_of(body).expect("validated: known body"),
+                    impulse: v2(*impulse),
+                },
+                Action::Force { body, force } => Act::Force {
+                    body: handle_of(body).expect("validated: known body"),
+                    force: v2(*force),
+                },
+                Action::Target { joint, angle } => {
+                    let j = spec.joint(joint).expect("validated: known joint");
+                    let m = j.motor.expect("validated: a Target's joint has a motor");
+                    Act::Target {
+                        child: handle_of(&j.child).expect("validated"),
+                        angle: *angle as Real,
+                        stiffness: m.stiffness as Real,
+                        damping: m.damping as Real,
+                    }
+                }
+            });
+        }
+    }
+    let tracked_index = body_index(&spec.effect.body).expect("validated: tracked body");
+    Replica {
+        tracked: handles[tracked_index],
+        handles,
+        dynamic,
+        acts,
+        joints,
+    }
+}
+
 impl PhysicsWorld {
     /// Builds the world of a validated scene whose world is `spec`.
     ///
@@ -205,169 +417,60 @@ impl PhysicsWorld {
     /// loop, which Rapier's multibodies cannot hold); [`Scene::load`] and
     /// [`Scene::parse`] validate.
     pub fn from_scene(scene: &Scene, spec: &PhysicsSpec) -> PhysicsWorld {
-        let mut s = Sets::default();
-        let mut handles = Vec::new();
-        let mut dynamic = Vec::new();
-        for b in &spec.bodies {
-            let kind = match b.kind {
-                BodyKind::Dynamic => RigidBodyType::Dynamic,
-                BodyKind::Kinematic => RigidBodyType::KinematicVelocityBased,
-                BodyKind::Fixed => RigidBodyType::Fixed,
-            };
-            let mut rb = RigidBodyBuilder::new(kind)
-                .translation(v2(b.position))
-                .rotation(b.angle as Real)
-                .linear_damping(b.linear_damping as Real)
-                .angular_damping(b.angular_damping as Real)
-                // a sleeping body stops short: the effect would depend on
-                // the sleep thresholds
-                .can_sleep(false)
-                .allow_fast_rotation(b.fast_rotation);
-            if b.lock_rotation {
-                rb = rb.lock_rotations();
-            }
-            let area = b.shape.area();
-            if area <= 0.0 && b.kind == BodyKind::Dynamic {
-                // segments and polylines have no area: the mass is the body's own
-                rb = rb.additional_mass(b.mass_kg() as Real);
-            }
-            let h = s.bodies.insert(rb);
-            let mut co = match &b.shape {
-                ShapeSpec::Ball { radius } => ColliderBuilder::ball(*radius as Real),
-                ShapeSpec::Cuboid { width, height } => {
-                    ColliderBuilder::cuboid((width / 2.0) as Real, (height / 2.0) as Real)
-                }
-                ShapeSpec::Capsule { a, b, radius } => {
-                    ColliderBuilder::capsule_from_endpoints(v2(*a), v2(*b), *radius as Real)
-                }
-                ShapeSpec::Segment { a, b } => ColliderBuilder::segment(v2(*a), v2(*b)),
-                ShapeSpec::Polyline { points } => {
-                    ColliderBuilder::polyline(points.iter().map(|p| v2(*p)).collect(), None)
-                }
-            }
-            .friction(b.friction as Real)
-            .restitution(b.restitution as Real);
-            co = if area <= 0.0 {
-                co.density(0.0)
-            } else if let Some(m) = b.mass {
-                co.mass(m as Real)
-            } else {
-                co.density(b.density.unwrap_or(1.0) as Real)
-            };
-            if !b.collide {
-                co = co.collision_groups(InteractionGroups::none());
-            }
-            s.colliders.insert_with_parent(co, h, &mut s.bodies);
-            handles.push(h);
-            if b.kind == BodyKind::Dynamic {
-                dynamic.push((h, b.fast_rotation));
-            }
-        }
-        let ground = if spec.joints.iter().any(|j| j.parent == GROUND) {
-            Some(s.bodies.insert(RigidBodyBuilder::fixed()))
-        } else {
-            None
-        };
-        let body_index = |name: &str| spec.bodies.iter().position(|b| b.name == name);
-        let handle_of = |name: &str| -> Option<RigidBodyHandle> {
-            if name == GROUND {
-                ground
-            } else {
-                body_index(name).map(|i| handles[i])
-            }
-        };
-        let mut joints = Vec::new();
-        for j in &spec.joints {
-            let parent_angle = body_index(&j.parent).map_or(0.0, |i| spec.bodies[i].angle);
-            let child = &spec.bodies[body_index(&j.child).expect("validated: known child")];
-            let mut rj = RevoluteJointBuilder::new()
-                .local_anchor1(v2(j.parent_anchor))
-                .local_anchor2(v2(j.child_anchor))
-                .contacts_enabled(j.contacts);
-            if let Some((lo, hi)) = j.limits {
-                rj = rj.limits([lo as Real, hi as Real]);
-            }
-            if let Some(m) = j.motor {
-                rj = rj.motor_model(MotorModel::ForceBased).motor_position(
-                    0.0,
-                    m.stiffness as Real,
-                    m.damping as Real,
-                );
-            }
-            let mut data = rj.build().data;
-            // angle 0 is the start pose, whatever the bodies' start angles
-            data.set_local_frame1(Pose::new(
-                v2(j.parent_anchor),
-                (child.angle - parent_angle) as Real,
-            ));
-            let p = handle_of(&j.parent).expect("validated: known parent");
-            let c = handle_of(&j.child).expect("validated: known child");
-            joints.push(JointInfo {
-                child: c,
-                parent: (j.parent != GROUND).then_some(p),
-                offset: child.angle - parent_angle,
-                limits: j.limits,
-            });
-            s.multibody_joints
-                .insert(p, c, data, true)
-                .expect("validated: joints form trees");
-        }
-        // joint damping: the multibody's per-DoF damping, indexed by the
-        // link's assembly id (valid at any time, also before the first step)
-        for j in &spec.joints {
-            let c = handle_of(&j.child).expect("validated");
-            let link = *s
-                .multibody_joints
-                .rigid_body_link(c)
-                .expect("a jointed body");
-            let mb = s
-                .multibody_joints
-                .get_multibody_mut(link.multibody)
-                .expect("a live multibody");
-            let aid = mb.link(link.id).expect("a live link").assembly_id();
-            mb.damping_mut()[aid] = j.damping as Real;
-        }
+        Self::with_copies(scene, spec, 1)
+    }
 
+    /// Builds a world holding `copies` independent copies of the scene's
+    /// non-fixed bodies and joints (fixed bodies are built once and
+    /// shared), for [`execute_batch`](Self::execute_batch): up to `copies`
+    /// commands at once in one Rapier world, which amortises Rapier's
+    /// per-step overhead over the copies. Each copy has its own collision
+    /// group: the copies touch the fixed bodies and, within a copy, the
+    /// scene's own collision rules hold, but no two copies touch.
+    ///
+    /// Each copy's outcome is the one a single-copy world gives, bit for
+    /// bit, on the shipped scenes (tested); a scene whose copies would
+    /// differ should be executed one command per world.
+    ///
+    /// # Panics
+    /// If `copies` is 0 or above [`MAX_COPIES`], or on a scene that did not
+    /// pass validation.
+    pub fn with_copies(scene: &Scene, spec: &PhysicsSpec, copies: usize) -> PhysicsWorld {
+        assert!(
+            (1..=MAX_COPIES).contains(&copies),
+            "between 1 and {MAX_COPIES} copies, not {copies}"
+        );
+        let mut s = Sets::default();
+        let mut fixed = vec![None; spec.bodies.len()];
+        let mut copy_of_body = Vec::new();
+        let replicas: Vec<Replica> = (0..copies)
+            .map(|c| {
+                let groups = if copies == 1 {
+                    InteractionGroups::all()
+                } else {
+                    let bit = Group::from_bits_truncate(1 << c);
+                    InteractionGroups::new(bit, bit, InteractionTestMode::And)
+                };
+                let before = s.bodies.len();
+                let r = build_copy(&mut s, scene, spec, groups, &mut fixed);
+                for (h, _) in s.bodies.iter().skip(before) {
+                    let i = h.into_raw_parts().0 as usize;
+                    if copy_of_body.len() <= i {
+                        copy_of_body.resize(i + 1, u32::MAX);
+                    }
+                    if !fixed.contains(&Some(h)) {
+                        copy_of_body[i] = c as u32;
+                    }
+                }
+                r
+            })
+            .collect();
         let space = scene.command_space();
-        let mut acts = Vec::new();
         let mut offset = Vec::new();
+        let mut n = 0;
         for alphabet in scene.slots() {
-            offset.push(acts.len());
-            for sym in alphabet {
-                acts.push(match &sym.action {
-                    Action::Idle | Action::Move { .. } => Act::Idle,
-                    Action::Torque { joint, torque } => {
-                        let j = spec.joint(joint).expect("validated: known joint");
-                        Act::Torque {
-                            child: handle_of(&j.child).expect("validated"),
-                            parent: if j.parent == GROUND {
-                                None
-                            } else {
-                                handle_of(&j.parent)
-                            },
-                            torque: *torque as Real,
-                        }
-                    }
-                    Action::Impulse { body, impulse } => Act::Impulse {
-                        body: handle_of(body).expect("validated: known body"),
-                        impulse: v2(*impulse),
-                    },
-                    Action::Force { body, force } => Act::Force {
-                        body: handle_of(body).expect("validated: known body"),
-                        force: v2(*force),
-                    },
-                    Action::Target { joint, angle } => {
-                        let j = spec.joint(joint).expect("validated: known joint");
-                        let m = j.motor.expect("validated: a Target's joint has a motor");
-                        Act::Target {
-                            child: handle_of(&j.child).expect("validated"),
-                            angle: *angle as Real,
-                            stiffness: m.stiffness as Real,
-                            damping: m.damping as Real,
-                        }
-                    }
-                });
-            }
+            offset.push(n);
+            n += alphabet.len();
         }
         let mut params = IntegrationParameters {
             dt: spec.dt as Real,
@@ -377,7 +480,6 @@ impl PhysicsWorld {
             params.num_solver_iterations = n;
         }
         let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
-        let tracked_index = body_index(&spec.effect.body).expect("validated: tracked body");
         PhysicsWorld {
             scene: scene.name.clone(),
             space,
@@ -388,17 +490,14 @@ impl PhysicsWorld {
             pipeline: PhysicsPipeline::new(),
             sets: s.clone(),
             pristine: s,
-            tracked: handles[tracked_index],
+            copies: replicas,
+            copy_of_body,
             tracked_point: v2(spec.effect.point),
-            handles,
-            dynamic,
-            acts,
             offset,
             phase_steps,
             settle_steps,
             together,
             max_speed: spec.max_speed,
-            joints,
         }
     }
 
@@ -419,9 +518,9 @@ impl PhysicsWorld {
     /// Executes `command` and records the tracked point after every step
     /// and the terminal pose of every body (for pictures).
     pub fn trace(&mut self, command: &Command) -> Result<Trace, WorldError> {
-        let mut points = vec![self.tracked_position_in(&self.pristine)];
+        let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
         let outcome = self.run(command, |w| points.push(w.tracked_position()))?;
-        let poses = self
+        let poses = self.copies[0]
             .handles
             .iter()
             .map(|&h| {
@@ -445,7 +544,8 @@ impl PhysicsWorld {
         let mut e = Vec::new();
         self.run(command, |w| {
             e.push(
-                w.dynamic
+                w.copies[0]
+                    .dynamic
                     .iter()
                     .map(|(h, _)| w.sets.bodies[*h].kinetic_energy() as f64)
                     .sum(),
@@ -462,7 +562,7 @@ impl PhysicsWorld {
         let outcome =
             self.run(command, |w| {
                 let bodies = &w.sets.bodies;
-                for (h, _) in &w.dynamic {
+                for (h, _) in &w.copies[0].dynamic {
                     let b = &bodies[*h];
                     max_speed = max_speed.max((b.linvel().length()) as f64);
                     max_spin = max_spin.max((b.angvel() as f64).abs());
@@ -477,7 +577,7 @@ impl PhysicsWorld {
                 }) {
                     contact_steps += 1;
                 }
-                let at_limit = w.joints.iter().any(|j| {
+                let at_limit = w.copies[0].joints.iter().any(|j| {
                     let Some((lo, hi)) = j.limits else {
                         return false;
                     };
@@ -502,15 +602,15 @@ impl PhysicsWorld {
         })
     }
 
-    fn tracked_position_in(&self, sets: &Sets) -> [f64; 2] {
-        let p = sets.bodies[self.tracked]
+    fn tracked_position_in(&self, sets: &Sets, copy: usize) -> [f64; 2] {
+        let p = sets.bodies[self.copies[copy].tracked]
             .position()
             .transform_point(self.tracked_point);
         [p.x as f64, p.y as f64]
     }
 
     fn tracked_position(&self) -> [f64; 2] {
-        self.tracked_position_in(&self.sets)
+        self.tracked_position_in(&self.sets, 0)
     }
 
     fn diverged(&self, command: &Command, reason: String) -> WorldError {
@@ -576,17 +676,25 @@ impl PhysicsWorld {
         }
     }
 
-    /// Removes every held force and torque.
+    /// Starts the actions of slot `slot` of `command` on copy `copy`.
+    fn apply_slot(&mut self, copy: usize, command: &Command, slot: usize) {
+        let s = command.symbols[slot] as usize;
+        self.apply(self.copies[copy].acts[self.offset[slot] + s]);
+    }
+
+    /// Removes every held force and torque (of every copy).
     fn release(&mut self) {
-        for (h, _) in &self.dynamic {
-            let b = &mut self.sets.bodies[*h];
-            b.reset_forces(false);
-            b.reset_torques(false);
+        for r in &self.copies {
+            for (h, _) in &r.dynamic {
+                let b = &mut self.sets.bodies[*h];
+                b.reset_forces(false);
+                b.reset_torques(false);
+            }
         }
     }
 
-    /// One step, then the checks.
-    fn step(&mut self, command: &Command) -> Result<(), WorldError> {
+    /// One Rapier step of the whole world.
+    fn pipeline_step(&mut self) {
         let s = &mut self.sets;
         self.pipeline.step(
             self.gravity,
@@ -603,19 +711,53 @@ impl PhysicsWorld {
             &(),
             &(),
         );
+    }
+
+    /// The copies Rapier quarantined during the last step, with the number
+    /// of bodies and colliders of each (`None`: nothing quarantined).
+    fn quarantined(&self) -> Option<Vec<(usize, usize)>> {
         let q = self.pipeline.quarantine();
-        if !q.bodies().is_empty() || !q.colliders().is_empty() {
-            return Err(self.diverged(
-                command,
-                format!(
-                    "Rapier quarantined {} bod(ies) and {} collider(s) whose state became non-finite",
-                    q.bodies().len(),
-                    q.colliders().len()
-                ),
-            ));
+        if q.bodies().is_empty() && q.colliders().is_empty() {
+            return None;
         }
+        let mut per_copy = vec![(0usize, 0usize); self.copies.len()];
+        let copy_of = |h: RigidBodyHandle| -> Option<usize> {
+            let c = *self.copy_of_body.get(h.into_raw_parts().0 as usize)?;
+            (c != u32::MAX).then_some(c as usize)
+        };
+        // a body or collider of no known copy counts against every copy
+        let mut charge = |c: Option<usize>, body: bool| match c {
+            Some(c) => {
+                if body {
+                    per_copy[c].0 += 1
+                } else {
+                    per_copy[c].1 += 1
+                }
+            }
+            None => per_copy
+                .iter_mut()
+                .for_each(|p| if body { p.0 += 1 } else { p.1 += 1 }),
+        };
+        for &h in q.bodies() {
+            charge(copy_of(h), true);
+        }
+        for &c in q.colliders() {
+            charge(
+                self.sets
+                    .colliders
+                    .get(c)
+                    .and_then(|c| c.parent())
+                    .and_then(copy_of),
+                false,
+            );
+        }
+        Some(per_copy)
+    }
+
+    /// Why copy `copy` counts as blown up after a step, if it does.
+    fn blown_up(&self, copy: usize) -> Option<String> {
         let dt = self.params.dt as f64;
-        for &(h, fast) in &self.dynamic {
+        for &(h, fast) in &self.copies[copy].dynamic {
             let b = &self.sets.bodies[h];
             let t = b.translation();
             let v = b.linvel();
@@ -626,72 +768,160 @@ impl PhysicsWorld {
                 && v.y.is_finite()
                 && w.is_finite())
             {
-                return Err(
-                    self.diverged(command, "a body's pose or velocity is not finite".into())
-                );
+                return Some("a body's pose or velocity is not finite".into());
             }
             let speed = (v.x as f64).hypot(v.y as f64);
             if speed > self.max_speed {
-                return Err(self.diverged(
-                    command,
-                    format!(
-                        "a body moves at {speed:.1} m/s, above the scene's max_speed {} m/s",
-                        self.max_speed
-                    ),
+                return Some(format!(
+                    "a body moves at {speed:.1} m/s, above the scene's max_speed {} m/s",
+                    self.max_speed
                 ));
             }
             if !fast && w.abs() * dt >= 0.99 * MAX_ROTATION_PER_STEP {
-                return Err(self.diverged(
-                    command,
-                    format!(
-                        "a body spins at {:.1} rad/s, Rapier's cap of 45° per step: its rotation would be silently clamped (give it `fast_rotation: true` or a smaller dt)",
-                        w.abs()
-                    ),
+                return Some(format!(
+                    "a body spins at {:.1} rad/s, Rapier's cap of 45° per step: its rotation would be silently clamped (give it `fast_rotation: true` or a smaller dt)",
+                    w.abs()
                 ));
             }
         }
-        Ok(())
+        None
     }
 
-    /// Runs `command` from the pristine state, calling `each_step` after
-    /// every step; returns the outcome.
-    fn run(
+    /// One step, then the checks of the copies still running (`failed[c]`
+    /// is `None`); a copy that blows up gets its error in `failed`.
+    /// Returns whether some copy is still running.
+    fn step(&mut self, commands: &[Command], failed: &mut [Option<WorldError>]) -> bool {
+        self.pipeline_step();
+        if let Some(q) = self.quarantined() {
+            for (c, &(bodies, colliders)) in q.iter().enumerate().take(commands.len()) {
+                if failed[c].is_none() && bodies + colliders > 0 {
+                    failed[c] = Some(self.diverged(
+                        &commands[c],
+                        format!(
+                            "Rapier quarantined {bodies} bod(ies) and {colliders} collider(s) whose state became non-finite"
+                        ),
+                    ));
+                }
+            }
+        }
+        let mut running = false;
+        for c in 0..commands.len() {
+            if failed[c].is_none() {
+                match self.blown_up(c) {
+                    Some(reason) => failed[c] = Some(self.diverged(&commands[c], reason)),
+                    None => running = true,
+                }
+            }
+        }
+        running
+    }
+
+    /// Runs `commands` (at most one per copy; copy `c` runs `commands[c]`,
+    /// copies without a command stay idle) from the pristine state, calling
+    /// `each_step` after every step, and appends one result per command to
+    /// `out`.
+    fn run_copies(
         &mut self,
-        command: &Command,
+        commands: &[Command],
+        out: &mut Vec<Result<Outcome, WorldError>>,
         mut each_step: impl FnMut(&Self),
-    ) -> Result<Outcome, WorldError> {
-        self.check_command(command)?;
+    ) {
+        let n = commands.len();
+        assert!(n <= self.copies.len(), "more commands than copies");
+        let mut failed: Vec<Option<WorldError>> = commands
+            .iter()
+            .map(|c| self.check_command(c).err())
+            .collect();
         self.sets.restore(&self.pristine);
+        let slots = self.space.num_slots();
+        let mut running = failed.iter().any(Option::is_none);
         if self.together {
-            for (slot, &s) in command.symbols.iter().enumerate() {
-                self.apply(self.acts[self.offset[slot] + s as usize]);
+            for (c, command) in commands.iter().enumerate() {
+                if failed[c].is_none() {
+                    for slot in 0..slots {
+                        self.apply_slot(c, command, slot);
+                    }
+                }
             }
             for _ in 0..self.phase_steps {
-                self.step(command)?;
+                if !running {
+                    break;
+                }
+                running = self.step(commands, &mut failed);
                 each_step(self);
             }
             self.release();
         } else {
-            for (slot, &s) in command.symbols.iter().enumerate() {
-                self.apply(self.acts[self.offset[slot] + s as usize]);
+            for slot in 0..slots {
+                for (c, command) in commands.iter().enumerate() {
+                    if failed[c].is_none() {
+                        self.apply_slot(c, command, slot);
+                    }
+                }
                 for _ in 0..self.phase_steps {
-                    self.step(command)?;
+                    if !running {
+                        break;
+                    }
+                    running = self.step(commands, &mut failed);
                     each_step(self);
                 }
                 self.release();
             }
         }
         for _ in 0..self.settle_steps {
-            self.step(command)?;
+            if !running {
+                break;
+            }
+            running = self.step(commands, &mut failed);
             each_step(self);
         }
-        let point = self.tracked_position();
-        let effect = self.grid.effect_of(point);
-        Ok(Outcome {
-            effect,
-            reward: self.reward[effect],
-            point,
-        })
+        for (c, f) in failed.into_iter().enumerate() {
+            out.push(match f {
+                Some(e) => Err(e),
+                None => {
+                    let point = self.tracked_position_in(&self.sets, c);
+                    let effect = self.grid.effect_of(point);
+                    Ok(Outcome {
+                        effect,
+                        reward: self.reward[effect],
+                        point,
+                    })
+                }
+            });
+        }
+    }
+
+    /// Runs `command` on copy 0 from the pristine state, calling
+    /// `each_step` after every step; returns the outcome.
+    fn run(
+        &mut self,
+        command: &Command,
+        each_step: impl FnMut(&Self),
+    ) -> Result<Outcome, WorldError> {
+        let mut out = Vec::with_capacity(1);
+        self.run_copies(std::slice::from_ref(command), &mut out, each_step);
+        out.pop().expect("one result per command")
+    }
+
+    /// The number of copies this world holds (see
+    /// [`with_copies`](Self::with_copies)).
+    pub fn num_copies(&self) -> usize {
+        self.copies.len()
+    }
+
+    /// Executes `commands` (any number), up to [`num_copies`](Self::num_copies)
+    /// at once, and appends one result per command to `out`, in order. Each
+    /// result is the one [`World::execute`] gives for that command; a
+    /// command that blows up fails alone, the others of its batch go on.
+    pub fn execute_batch(
+        &mut self,
+        commands: &[Command],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+    ) {
+        out.reserve(commands.len());
+        for batch in commands.chunks(self.copies.len()) {
+            self.run_copies(batch, out, |_| {});
+        }
     }
 }
 

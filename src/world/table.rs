@@ -2,13 +2,19 @@
 
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
-use crate::scene::Scene;
+use crate::scene::physics::PhysicsSpec;
+use crate::scene::{Scene, WorldSpec};
+use crate::world::PhysicsWorld;
 use rayon::prelude::*;
 use std::io;
 use std::path::{Path, PathBuf};
 
 /// The largest command space an [`OutcomeTable`] will enumerate.
 pub const MAX_TABLE_COMMANDS: u64 = 1 << 22;
+
+/// The copies per Rapier world [`OutcomeTable::build_scene`] uses for
+/// physics scenes (measured on puck_rooms: see docs/benchmarks.md).
+pub const TABLE_COPIES: usize = 32;
 
 /// Every command of a deterministic world, executed once, its outcome kept.
 ///
@@ -99,6 +105,64 @@ impl OutcomeTable {
             places: places(&space),
             space,
             num_effects,
+            outcomes: chunks.into_iter().flatten().collect(),
+        })
+    }
+
+    /// The table of a scene, computed in parallel (rayon): for a physics
+    /// scene whose copies are exact (see
+    /// [`PhysicsSpec::copies_are_exact`](crate::scene::physics::PhysicsSpec::copies_are_exact)),
+    /// [`TABLE_COPIES`] commands at once per Rapier world; otherwise one
+    /// command at a time per worker, as [`build_parallel`](Self::build_parallel).
+    /// The table is identical to [`build`](Self::build)'s either way.
+    pub fn build_scene(scene: &Scene) -> Result<OutcomeTable, WorldError> {
+        match &scene.world {
+            WorldSpec::Physics(p) if p.copies_are_exact() => {
+                Self::build_batched(scene, p, TABLE_COPIES)
+            }
+            _ => Self::build_parallel(|| scene.build()),
+        }
+    }
+
+    /// The table of a physics scene, computed in parallel with `copies`
+    /// commands at once per Rapier world (see
+    /// [`PhysicsWorld::execute_batch`]). Identical to [`build`](Self::build)'s
+    /// when the scene's copies are exact.
+    pub fn build_batched(
+        scene: &Scene,
+        spec: &PhysicsSpec,
+        copies: usize,
+    ) -> Result<OutcomeTable, WorldError> {
+        let space = scene.command_space();
+        let n = Self::check_size(&space)?;
+        let chunk = 2 * copies as u64;
+        let chunks: Vec<Vec<Outcome>> = (0..n.div_ceil(chunk))
+            .into_par_iter()
+            .map_init(
+                || {
+                    (
+                        PhysicsWorld::with_copies(scene, spec, copies),
+                        Vec::new(),
+                        Vec::new(),
+                    )
+                },
+                |(world, cmds, out), k| {
+                    cmds.clear();
+                    out.clear();
+                    for i in k * chunk..((k + 1) * chunk).min(n) {
+                        let mut c = space.first();
+                        space.write_command_at(i, &mut c);
+                        cmds.push(c);
+                    }
+                    world.execute_batch(cmds, out);
+                    out.drain(..).collect::<Result<Vec<_>, _>>()
+                },
+            )
+            .collect::<Result<_, _>>()?;
+        Ok(OutcomeTable {
+            places: places(&space),
+            num_effects: scene.num_effects(),
+            space,
             outcomes: chunks.into_iter().flatten().collect(),
         })
     }
@@ -209,7 +273,7 @@ impl OutcomeTable {
     pub fn for_scene(scene: &Scene, cache: Option<&Path>) -> Result<OutcomeTable, WorldError> {
         match cache {
             Some(dir) => Self::cached(scene, dir),
-            None => Self::build_parallel(|| scene.build()),
+            None => Self::build_scene(scene),
         }
     }
 
@@ -246,7 +310,7 @@ impl OutcomeTable {
         if let Ok(t) = Self::load(&path, scene) {
             return Ok(t);
         }
-        let table = Self::build_parallel(|| scene.build())?;
+        let table = Self::build_scene(scene)?;
         // a cache that cannot be written is not an error: it costs time only
         if std::fs::create_dir_all(dir).is_ok() {
             let _ = crate::io::write_atomic(&path, &table.to_bytes(Self::key(scene)));

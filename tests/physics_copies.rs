@@ -1,0 +1,140 @@
+//! Multi-copy physics: K commands at once in one Rapier world give the
+//! outcomes of one command per world, bit for bit; a command that blows
+//! up fails alone.
+
+use e3d::scene::WorldSpec;
+use e3d::{Command, Outcome, OutcomeTable, PhysicsWorld, Scene, World, WorldError};
+
+fn world(scene: &Scene, copies: usize) -> PhysicsWorld {
+    match &scene.world {
+        WorldSpec::Physics(p) => PhysicsWorld::with_copies(scene, p, copies),
+        _ => unreachable!("a physics scene"),
+    }
+}
+
+/// `n` commands spread over the command space (a fixed stride).
+fn commands(scene: &Scene, n: u64) -> Vec<Command> {
+    let space = scene.command_space();
+    let total = space.num_commands().unwrap();
+    let stride = (total / n).max(1) | 1;
+    (0..n)
+        .map(|k| {
+            let mut c = space.first();
+            space.write_command_at((k * stride + k / 3) % total, &mut c);
+            c
+        })
+        .collect()
+}
+
+fn same_bits(a: &Outcome, b: &Outcome) -> bool {
+    a.effect == b.effect
+        && a.reward.to_bits() == b.reward.to_bits()
+        && a.point[0].to_bits() == b.point[0].to_bits()
+        && a.point[1].to_bits() == b.point[1].to_bits()
+}
+
+fn check_identical(name: &str, n: u64, copies: usize) {
+    let scene = Scene::load(&format!("scenes/{name}.ron")).unwrap();
+    let cmds = commands(&scene, n);
+    let mut single = world(&scene, 1);
+    let mut multi = world(&scene, copies);
+    assert_eq!(multi.num_copies(), copies);
+    let mut out = Vec::new();
+    multi.execute_batch(&cmds, &mut out);
+    assert_eq!(out.len(), cmds.len());
+    for (c, got) in cmds.iter().zip(&out) {
+        let want = single.execute(c).unwrap();
+        let got = got.as_ref().unwrap();
+        assert!(
+            same_bits(&want, got),
+            "{name}: {} single {want:?} batched {got:?}",
+            scene.command_space().format(c)
+        );
+    }
+}
+
+#[test]
+fn puck_rooms_copies_are_bit_identical_to_one_world_per_command() {
+    // 300 commands: 9 full batches of 32 and a partial one
+    check_identical("puck_rooms", 300, 32);
+}
+
+#[test]
+fn copies_are_exact_only_with_one_moving_body_with_contacts() {
+    // arm7's links touch each other: in one world with other copies,
+    // Rapier orders the contacts differently and the last bits of some
+    // terminal points differ (for example `--+++--`, by about 1e-5 m), so
+    // its table is built one command per world
+    let exact = |name: &str| match Scene::builtin(name).unwrap().world {
+        WorldSpec::Physics(p) => p.copies_are_exact(),
+        _ => unreachable!(),
+    };
+    assert!(exact("puck_rooms") && exact("maze3"));
+    assert!(!exact("arm7") && !exact("pendulum3"));
+}
+
+#[test]
+fn puck_rooms_table_built_batched_is_the_table_built_one_by_one() {
+    let scene = Scene::builtin("puck_rooms").unwrap();
+    let batched = OutcomeTable::build_scene(&scene).unwrap();
+    let single = OutcomeTable::build_parallel(|| scene.build()).unwrap();
+    assert_eq!(batched.len(), 16384);
+    let key = OutcomeTable::key(&scene);
+    assert_eq!(batched.to_bytes(key), single.to_bytes(key));
+}
+
+#[test]
+fn pendulum3_and_maze3_copies_are_bit_identical() {
+    check_identical("pendulum3", 60, 16);
+    check_identical("maze3", 60, 16);
+}
+
+#[test]
+fn a_blown_up_copy_fails_alone() {
+    // a rod on a pivot and a free puck; `K` kicks the puck far above max_speed
+    let text = r#"Scene(
+    name: "blowup",
+    world: Physics(
+        bodies: [
+            (name: "rod", shape: Cuboid(width: 1.0, height: 0.05), mass: 1.0, position: (0.5, 0.0)),
+            (name: "puck", shape: Ball(radius: 0.1), mass: 1.0, position: (0.0, 3.0)),
+        ],
+        joints: [(name: "pivot", parent: "ground", child: "rod", child_anchor: (-0.5, 0.0))],
+        schedule: Simultaneous(push: 0.5, settle: 0.5),
+        effect: (body: "rod", point: (0.5, 0.0),
+                 grid: (rows: 2, cols: 2, min: (-1.0, -1.0), max: (1.0, 1.0))),
+    ),
+    command: Slots([
+        (alphabet: [(symbol: '0', action: Idle), (symbol: 'T', action: Torque(joint: "pivot", torque: 1.0))]),
+        (alphabet: [(symbol: '0', action: Idle), (symbol: 'K', action: Impulse(body: "puck", impulse: (10000.0, 0.0)))]),
+    ]),
+)"#;
+    let scene = Scene::parse(text, "blowup.ron").unwrap();
+    let space = scene.command_space();
+    let cmds: Vec<Command> = ["T0", "0K", "00", "TK", "T0"]
+        .iter()
+        .map(|s| space.parse(s).unwrap())
+        .collect();
+    let mut single = world(&scene, 1);
+    let mut multi = world(&scene, 4);
+    let mut out = Vec::new();
+    multi.execute_batch(&cmds, &mut out);
+    for (c, got) in cmds.iter().zip(&out) {
+        let want = single.execute(c);
+        match (&want, got) {
+            (Ok(a), Ok(b)) => assert!(same_bits(a, b), "{a:?} {b:?}"),
+            (Err(a), Err(b)) => assert_eq!(a, b),
+            _ => panic!("{want:?} vs {got:?}"),
+        }
+    }
+    assert!(matches!(out[1], Err(WorldError::Diverged { ref command, .. }) if command == "0K"));
+    assert!(out[0].is_ok() && out[2].is_ok() && out[4].is_ok());
+    // a bad command is reported for itself
+    let bad = Command {
+        symbols: vec![0, 5],
+    };
+    out.clear();
+    multi.execute_batch(&[cmds[0].clone(), bad], &mut out);
+    assert!(out[0].is_ok());
+    assert!(matches!(out[1], Err(WorldError::BadCommand { .. })));
+}
