@@ -937,4 +937,9 @@ impl World for PhysicsWorld {
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
         self.run(command, |_| {})
     }
+
+    fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
+        // the inherent method: up to `num_copies` commands stepped together
+        PhysicsWorld::execute_batch(self, commands, out)
+    }
 }
