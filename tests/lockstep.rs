@@ -1,6 +1,9 @@
 //! Sessions in lockstep give the records of sessions run one by one.
 
-use e3d::{run_lockstep, run_session, LearnerKind, Params, Scene, SessionConfig, Target};
+use e3d::scene::WorldSpec;
+use e3d::{
+    run_lockstep, run_session, LearnerKind, Params, PhysicsWorld, Scene, SessionConfig, Target,
+};
 
 #[test]
 fn lockstep_sessions_equal_independent_sessions() {
@@ -37,5 +40,34 @@ fn lockstep_sessions_equal_independent_sessions() {
             let alone = run_session(&mut scene.build(), &mut make(*k), cfg).unwrap();
             assert_eq!(rec.unwrap(), alone, "{name}, {k}");
         }
+    }
+}
+
+#[test]
+fn lockstep_on_a_multi_copy_world_equals_independent_sessions() {
+    let scene = Scene::builtin("puck_rooms").unwrap();
+    let WorldSpec::Physics(spec) = &scene.world else {
+        panic!("puck_rooms is a physics scene")
+    };
+    let space = scene.command_space();
+    let make = || {
+        LearnerKind::E3d
+            .make(&Params::TASK1, &space, 18, &Target::Uniform)
+            .unwrap()
+    };
+    let configs: Vec<SessionConfig> = (0..6)
+        .map(|i| SessionConfig {
+            trials: 30,
+            seed: i,
+            use_reward: false,
+        })
+        .collect();
+    let mut learners: Vec<_> = configs.iter().map(|_| make()).collect();
+    // 4 copies for 6 sessions: batches of 4 and 2 each trial
+    let mut world = PhysicsWorld::with_copies(&scene, spec, 4);
+    let together = run_lockstep(&mut world, &mut learners, &configs);
+    for (cfg, rec) in configs.iter().zip(together) {
+        let alone = run_session(&mut scene.build(), &mut make(), cfg).unwrap();
+        assert_eq!(rec.unwrap(), alone, "seed {}", cfg.seed);
     }
 }
