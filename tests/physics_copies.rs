@@ -34,7 +34,7 @@ fn same_bits(a: &Outcome, b: &Outcome) -> bool {
 }
 
 fn check_identical(name: &str, n: u64, copies: usize) {
-    let scene = Scene::load(&format!("scenes/{name}.ron")).unwrap();
+    let scene = Scene::load(format!("scenes/{name}.ron")).unwrap();
     let cmds = commands(&scene, n);
     let mut single = world(&scene, 1);
     let mut multi = world(&scene, copies);
