@@ -185,3 +185,28 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
     assert!(text.starts_with("<svg") && text.contains("<polyline") && text.contains("effect 95"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn scene_table_computes_writes_then_reads_the_table() {
+    let dir = std::env::temp_dir().join(format!("e3d-scene-table-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let run = || {
+        let out = e3d()
+            .args(["scene", "table", "puck_rooms", "--cache"])
+            .arg(&dir)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let first = run();
+    assert!(
+        first.contains("commands in") && first.contains("rollouts/s"),
+        "{first}"
+    );
+    assert!(first.contains("32 copies per Rapier world"), "{first}");
+    assert!(first.contains("written to"), "{first}");
+    let second = run();
+    assert!(second.contains("read from"), "{second}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
