@@ -91,24 +91,7 @@ fn pendulum3_and_maze3_copies_are_bit_identical() {
 
 #[test]
 fn a_blown_up_copy_fails_alone() {
-    // a rod on a pivot and a free puck; `K` kicks the puck far above max_speed
-    let text = r#"Scene(
-    name: "blowup",
-    world: Physics(
-        bodies: [
-            (name: "rod", shape: Cuboid(width: 1.0, height: 0.05), mass: 1.0, position: (0.5, 0.0)),
-            (name: "puck", shape: Ball(radius: 0.1), mass: 1.0, position: (0.0, 3.0)),
-        ],
-        joints: [(name: "pivot", parent: "ground", child: "rod", child_anchor: (-0.5, 0.0))],
-        schedule: Simultaneous(push: 0.5, settle: 0.5),
-        effect: (body: "rod", point: (0.5, 0.0),
-                 grid: (rows: 2, cols: 2, min: (-1.0, -1.0), max: (1.0, 1.0))),
-    ),
-    command: Slots([
-        (alphabet: [(symbol: '0', action: Idle), (symbol: 'T', action: Torque(joint: "pivot", torque: 1.0))]),
-        (alphabet: [(symbol: '0', action: Idle), (symbol: 'K', action: Impulse(body: "puck", impulse: (10000.0, 0.0)))]),
-    ]),
-)"#;
+    let text = include_str!("scenes/blowup.ron");
     let scene = Scene::parse(text, "blowup.ron").unwrap();
     let space = scene.command_space();
     let cmds: Vec<Command> = ["T0", "0K", "00", "TK", "T0"]

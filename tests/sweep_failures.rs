@@ -3,24 +3,7 @@
 
 use std::process::Command;
 
-const BLOWUP: &str = r#"Scene(
-    name: "blowup",
-    world: Physics(
-        bodies: [
-            (name: "rod", shape: Cuboid(width: 1.0, height: 0.05), mass: 1.0, position: (0.5, 0.0)),
-            (name: "puck", shape: Ball(radius: 0.1), mass: 1.0, position: (0.0, 3.0)),
-        ],
-        joints: [(name: "pivot", parent: "ground", child: "rod", child_anchor: (-0.5, 0.0))],
-        schedule: Simultaneous(push: 0.5, settle: 0.5),
-        effect: (body: "rod", point: (0.5, 0.0),
-                 grid: (rows: 2, cols: 2, min: (-1.0, -1.0), max: (1.0, 1.0))),
-    ),
-    command: Slots([
-        (alphabet: [(symbol: '0', action: Idle), (symbol: 'T', action: Torque(joint: "pivot", torque: 1.0))]),
-        // an absurd impulse: 10^4 N*s on a 1 kg puck
-        (alphabet: [(symbol: '0', action: Idle), (symbol: 'K', action: Impulse(body: "puck", impulse: (10000.0, 0.0)))]),
-    ]),
-)"#;
+const BLOWUP: &str = include_str!("scenes/blowup.ron");
 
 const SWEEP: &str = r#"Sweep(
     scenes: ["blowup.ron"],
