@@ -839,10 +839,17 @@ impl PhysicsWorld {
         self.sets.restore(&self.pristine);
         let slots = self.space.num_slots();
         let mut running = failed.iter().any(Option::is_none);
-        if self.together {
+        // one phase with every slot (simultaneous) or one phase per slot
+        // (sequential): apply the phase's slots, step, release
+        let (phases, width) = if self.together {
+            (1, slots)
+        } else {
+            (slots, 1)
+        };
+        for phase in 0..phases {
             for (c, command) in commands.iter().enumerate() {
                 if failed[c].is_none() {
-                    for slot in 0..slots {
+                    for slot in phase * width..(phase + 1) * width {
                         self.apply_slot(c, command, slot);
                     }
                 }
@@ -855,22 +862,6 @@ impl PhysicsWorld {
                 each_step(self);
             }
             self.release();
-        } else {
-            for slot in 0..slots {
-                for (c, command) in commands.iter().enumerate() {
-                    if failed[c].is_none() {
-                        self.apply_slot(c, command, slot);
-                    }
-                }
-                for _ in 0..self.phase_steps {
-                    if !running {
-                        break;
-                    }
-                    running = self.step(commands, &mut failed);
-                    each_step(self);
-                }
-                self.release();
-            }
         }
         for _ in 0..self.settle_steps {
             if !running {
