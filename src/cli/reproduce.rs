@@ -59,11 +59,12 @@ pub fn run(a: ReproduceArgs) -> CliResult {
     let fig2 = results.fig2_svg().map_err(CliError::output)?;
     let fig3 = results.fig3_svg().map_err(CliError::output)?;
     let summary = results.summary_markdown();
+    let (fig2_csv, fig3_csv) = (results.fig2_csv(), results.fig3_csv());
     let files: [(&str, &[u8]); 5] = [
         ("fig2.svg", fig2.as_bytes()),
-        ("fig2.csv", results.fig2_csv().into_bytes().leak()),
+        ("fig2.csv", fig2_csv.as_bytes()),
         ("fig3.svg", fig3.as_bytes()),
-        ("fig3.csv", results.fig3_csv().into_bytes().leak()),
+        ("fig3.csv", fig3_csv.as_bytes()),
         ("summary.md", summary.as_bytes()),
     ];
     for (name, bytes) in files {
