@@ -75,14 +75,12 @@ pub fn stats(xs: &[f64]) -> (Option<f64>, Option<f64>, Option<(f64, f64)>) {
     if n == 0 {
         return (None, None, None);
     }
-    let mean = xs.iter().sum::<f64>() / n as f64;
+    let d = crate::report::describe(xs);
     if n < 2 {
-        return (Some(mean), None, None);
+        return (Some(d.mean), None, None);
     }
-    let var = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1) as f64;
-    let sd = var.sqrt();
-    let half = t975(n - 1) * sd / (n as f64).sqrt();
-    (Some(mean), Some(sd), Some((mean - half, mean + half)))
+    let half = t975(n - 1) * d.sd / (n as f64).sqrt();
+    (Some(d.mean), Some(d.sd), Some((d.mean - half, d.mean + half)))
 }
 
 fn num(v: Option<f64>) -> String {
