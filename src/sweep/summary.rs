@@ -80,7 +80,11 @@ pub fn stats(xs: &[f64]) -> (Option<f64>, Option<f64>, Option<(f64, f64)>) {
         return (Some(d.mean), None, None);
     }
     let half = t975(n - 1) * d.sd / (n as f64).sqrt();
-    (Some(d.mean), Some(d.sd), Some((d.mean - half, d.mean + half)))
+    (
+        Some(d.mean),
+        Some(d.sd),
+        Some((d.mean - half, d.mean + half)),
+    )
 }
 
 fn num(v: Option<f64>) -> String {
