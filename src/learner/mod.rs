@@ -8,6 +8,7 @@
 
 mod e3d;
 mod egreedy;
+mod exp;
 mod uniform;
 
 pub use e3d::E3d;
