@@ -184,6 +184,12 @@ impl Target {
     }
 }
 
+/// `log p`, taken at [`P_FLOOR`] for a vanishing `p`.
+#[inline]
+pub(crate) fn log_floored(p: f64) -> f64 {
+    p.max(P_FLOOR).ln()
+}
+
 /// The running effect histogram `p <- (1 - eta) p + eta onehot(e)`,
 /// starting uniform.
 ///
@@ -231,24 +237,29 @@ impl EffectModel {
         self.eta
     }
 
-    /// Records an observed effect: `p <- (1 - eta) p + eta onehot(e)`.
+    /// Records an observed effect: `p <- (1 - eta) p + eta onehot(e)`;
+    /// returns the new `p(e)` (the same bits as [`prob`](Self::prob), without
+    /// reading it back from memory).
     #[inline]
-    pub fn observe(&mut self, effect: usize) {
+    pub fn observe(&mut self, effect: usize) -> f64 {
         let keep = 1.0 - self.eta;
         if keep == 0.0 {
             // eta = 1: p becomes the one-hot of e.
             self.q.iter_mut().for_each(|v| *v = 0.0);
             self.q[effect] = 1.0;
             self.scale = 1.0;
-            return;
+            return 1.0;
         }
         self.scale *= keep;
-        self.q[effect] += self.eta / self.scale;
+        let v = self.q[effect] + self.eta / self.scale;
+        self.q[effect] = v;
         if self.scale < 1e-150 {
             let s = self.scale;
             self.q.iter_mut().for_each(|v| *v *= s);
             self.scale = 1.0;
+            return self.q[effect];
         }
+        self.scale * v
     }
 
     /// `p(e)`.
@@ -260,7 +271,7 @@ impl EffectModel {
     /// `log p(e)`, taken at [`P_FLOOR`] for a vanishing `p(e)`.
     #[inline]
     pub fn log_prob(&self, effect: usize) -> f64 {
-        self.prob(effect).max(P_FLOOR).ln()
+        log_floored(self.prob(effect))
     }
 
     /// The whole distribution `p`.

@@ -1,7 +1,7 @@
 use super::exp::{exp_lane, exp_lanes, LANES};
 use super::{Learner, Params};
 use crate::command::{Command, CommandSpace};
-use crate::effect::{EffectModel, Target};
+use crate::effect::{log_floored, EffectModel, Target};
 use crate::session::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
@@ -239,8 +239,8 @@ impl E3d {
     #[inline(always)]
     fn learn_inline(&mut self, command: &Command, outcome: &Outcome) {
         let e = outcome.effect;
-        self.model.observe(e);
-        let surprise = self.model.log_prob(e) - self.log_target[e];
+        let p = self.model.observe(e);
+        let surprise = log_floored(p) - self.log_target[e];
         let decay = 1.0 - self.alpha * self.lambda;
         let drive = self.alpha * self.lambda * outcome.reward - self.alpha / self.beta * surprise;
         let (beta, sizes) = (self.beta, &self.sizes);
