@@ -72,6 +72,9 @@ struct SlotTables<const W: usize> {
     shift: Vec<f64>,
 }
 
+/// A slot's weights are re-shifted when their total leaves this range.
+const TOTAL_RANGE: std::ops::RangeInclusive<f64> = 1e-100..=1e100;
+
 /// The slot tables at the smallest width that fits.
 #[derive(Debug, Clone)]
 enum Tables {
@@ -127,11 +130,12 @@ impl<const W: usize> SlotTables<W> {
     }
 
     /// `Q[a_i, i] <- decay Q[a_i, i] + drive` for each slot `i`, with the
-    /// new weights and running sums; returns the slots whose total left
-    /// `[1e-100, 1e100]` (bit `i` for slot `i`).
+    /// new weights and running sums; returns whether a slot's total left
+    /// [`TOTAL_RANGE`] (see [`out_of_range`](Self::out_of_range)).
     #[inline(always)]
-    fn update(&mut self, symbols: &[u8], decay: f64, drive: f64, beta: f64) -> u64 {
-        let mut out_of_range = 0u64;
+    fn update(&mut self, symbols: &[u8], decay: f64, drive: f64, beta: f64) -> bool {
+        // the smallest and largest totals, kept in registers
+        let (mut lo, mut hi) = (1.0f64, 1.0f64);
         for (chunk, symbols) in symbols.chunks(LANES).enumerate() {
             let first = chunk * LANES;
             let n = symbols.len();
@@ -152,12 +156,11 @@ impl<const W: usize> SlotTables<W> {
             // then each slot's running sums over the whole width: a trip
             // count that does not depend on the symbol drawn (the same
             // bits as summing from the changed symbol on)
-            for (i, (((&a, &wi), weights), cum)) in symbols
+            for (((&a, &wi), weights), cum) in symbols
                 .iter()
                 .zip(&w)
                 .zip(&mut self.weights[first..first + n])
                 .zip(&mut self.cumulative[first..first + n])
-                .enumerate()
             {
                 weights[a as usize] = wi;
                 let mut acc = 0.0;
@@ -165,10 +168,16 @@ impl<const W: usize> SlotTables<W> {
                     acc += wk;
                     *c = acc;
                 }
-                out_of_range |= u64::from(!(1e-100..=1e100).contains(&acc)) << (first + i);
+                lo = lo.min(acc);
+                hi = hi.max(acc);
             }
         }
-        out_of_range
+        !(TOTAL_RANGE.contains(&lo) && TOTAL_RANGE.contains(&hi))
+    }
+
+    /// Whether `slot`'s total is outside [`TOTAL_RANGE`] (or NaN).
+    fn out_of_range(&self, slot: usize) -> bool {
+        !TOTAL_RANGE.contains(&self.cumulative[slot][W - 1])
     }
 
     /// Recomputes a slot's weights with its largest logit as the shift.
@@ -245,11 +254,12 @@ impl E3d {
         let drive = self.alpha * self.lambda * outcome.reward - self.alpha / self.beta * surprise;
         let (beta, sizes) = (self.beta, &self.sizes);
         with_tables!(&mut self.slots, t => {
-            let mut out_of_range = t.update(&command.symbols, decay, drive, beta);
-            while out_of_range != 0 {
-                let slot = out_of_range.trailing_zeros() as usize;
-                t.reshift(slot, sizes[slot], beta);
-                out_of_range &= out_of_range - 1;
+            if t.update(&command.symbols, decay, drive, beta) {
+                for (slot, &k) in sizes.iter().enumerate() {
+                    if t.out_of_range(slot) {
+                        t.reshift(slot, k, beta);
+                    }
+                }
             }
         })
     }
