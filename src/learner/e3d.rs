@@ -24,7 +24,7 @@ use rand::RngExt;
 /// softmax weights `exp(beta Q - m_slot)` and their running sums per slot,
 /// and updates one weight per slot per trial; the shift `m_slot` is reset
 /// to the slot's largest logit only when the sum leaves `[1e-100, 1e100]`.
-/// The slots' new weights are computed together, [`LANES`](super::exp)
+/// The slots' new weights are computed together, 8
 /// exponentials at once by a portable, vectorised `exp` (`learner/exp.rs`:
 /// the same bits on every machine; AVX2 is used where the processor has
 /// it, with the same results). Each slot's table has a fixed width (4, 8,
