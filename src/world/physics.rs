@@ -184,9 +184,20 @@ pub struct PhysicsWorld {
     settle_steps: u64,
     together: bool,
     max_speed: f64,
-    /// Whether limits far from their joints are left out of a step (always,
-    /// except in the test that shows it changes no bit).
+    /// Whether limits far from their joints are left out of a step (see
+    /// [`gate_limits`](Self::gate_limits); on for `execute` and
+    /// `execute_batch`, off for traces and in the test that compares).
     gate_limits: bool,
+    /// Per joint (copies one after another): its angle when its limit was
+    /// left out of the current step, NaN when the limit is on.
+    gated_angles: Vec<f64>,
+    /// The margin of the gating ([`LIMIT_GATE_MARGIN`]) and the number of
+    /// steps of speed added to it (4); smaller in a test.
+    gate_margin: f64,
+    gate_speed_steps: f64,
+    /// Whether a joint whose limit was off moved further in one step than
+    /// the gating assumes (then the command is run again, limits on).
+    gate_missed: bool,
 }
 
 /// One copy of a scene's non-fixed bodies and joints, resolved to handles.
@@ -507,6 +518,10 @@ impl PhysicsWorld {
             together,
             max_speed: spec.max_speed,
             gate_limits: true,
+            gated_angles: Vec::new(),
+            gate_margin: LIMIT_GATE_MARGIN,
+            gate_speed_steps: 4.0,
+            gate_missed: false,
         }
     }
 
@@ -528,7 +543,7 @@ impl PhysicsWorld {
     /// and the terminal pose of every body (for pictures).
     pub fn trace(&mut self, command: &Command) -> Result<Trace, WorldError> {
         let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
-        let outcome = self.run(command, |w| points.push(w.tracked_position()))?;
+        let outcome = self.run(command, false, |w| points.push(w.tracked_position()))?;
         let poses = self.copies[0]
             .handles
             .iter()
@@ -551,7 +566,7 @@ impl PhysicsWorld {
     /// each step of `command` (for tests of energy conservation).
     pub fn kinetic_energy_trace(&mut self, command: &Command) -> Result<Vec<f64>, WorldError> {
         let mut e = Vec::new();
-        self.run(command, |w| {
+        self.run(command, false, |w| {
             e.push(
                 w.copies[0]
                     .dynamic
@@ -569,7 +584,7 @@ impl PhysicsWorld {
         let (mut max_speed, mut max_spin) = (0.0f64, 0.0f64);
         let (mut contact_steps, mut limit_steps) = (0u64, 0u64);
         let outcome =
-            self.run(command, |w| {
+            self.run(command, false, |w| {
                 let bodies = &w.sets.bodies;
                 for (h, _) in &w.copies[0].dynamic {
                     let b = &bodies[*h];
@@ -705,48 +720,81 @@ impl PhysicsWorld {
     /// Switches off, for the coming step, the limits of the joints that
     /// cannot reach them during it, and on again those of the others.
     ///
-    /// This is exact, not an approximation: Rapier builds a multibody
-    /// joint's limit constraint at every substep whatever the joint's
-    /// position, and one whose joint is inside its limits has impulse
-    /// bounds `[0, 0]`, so it never changes a velocity (`v + 0 = v`). It
-    /// still costs a solve with the multibody's LU factorisation at every
-    /// substep, about 14% of an arm7 rollout. A joint further than
-    /// [`LIMIT_GATE_MARGIN`] plus four steps of its current speed from both
-    /// limits keeps its limit off for one step. Joints with a motor are left
-    /// alone (Rapier's motor constraint reads the limits too).
+    /// Why this changes no result: Rapier rebuilds a multibody joint's
+    /// limit constraint at every substep whatever the joint's position, and
+    /// one whose joint is inside its limits has impulse bounds `[0, 0]`, so
+    /// it never changes a velocity (`v + 0 = v`). It still costs a solve
+    /// with the multibody's LU factorisation at every substep, about 14% of
+    /// an arm7 rollout. A joint further than [`LIMIT_GATE_MARGIN`] plus four
+    /// steps of its current speed from both limits keeps its limit off for
+    /// one step. Joints with a motor are left alone (Rapier's motor
+    /// constraint reads the limits too).
+    ///
+    /// The margin is an assumption about how far a joint can move within
+    /// one step, so it is checked: after the step, a joint whose limit was
+    /// off and which moved more than half the margin sets `gate_missed`,
+    /// and the command is run again with every limit on
+    /// ([`run_copies`](Self::run_copies)). Every table of the shipped
+    /// scenes is byte-identical with and without the gating.
     fn gate_limits(&mut self) {
         if !self.gate_limits {
             return;
         }
         let dt = self.params.dt as f64;
+        let total: usize = self.copies.iter().map(|c| c.joints.len()).sum();
+        self.gated_angles.resize(total, f64::NAN);
         let mbs = &mut self.sets.multibody_joints;
-        for copy in &self.copies {
-            for j in &copy.joints {
-                let Some((lo, hi)) = j.limits else { continue };
-                let Some(link) = mbs.rigid_body_link(j.child).copied() else {
-                    continue;
-                };
-                let Some(mb) = mbs.get_multibody_mut(link.multibody) else {
-                    continue;
-                };
-                let Some(l) = mb.link(link.id) else { continue };
-                if !l.joint().data.motor_axes.is_empty() {
-                    continue;
-                }
-                // a revolute joint's angle is its angular coordinate
-                let q = l.joint().coords()[2] as f64;
-                let w = mb.generalized_velocity()[l.assembly_id()] as f64;
-                let margin = LIMIT_GATE_MARGIN + 4.0 * w.abs() * dt;
-                let near = q - lo < margin || hi - q < margin;
-                let Some(l) = mb.link_mut(link.id) else {
-                    continue;
-                };
-                let axes = &mut l.joint.data.limit_axes;
-                if near {
-                    axes.insert(JointAxesMask::ANG_X);
-                } else {
-                    axes.remove(JointAxesMask::ANG_X);
-                }
+        let joints = self.copies.iter().flat_map(|c| &c.joints);
+        for (j, gated) in joints.zip(&mut self.gated_angles) {
+            *gated = f64::NAN;
+            let Some((lo, hi)) = j.limits else { continue };
+            let Some(link) = mbs.rigid_body_link(j.child).copied() else {
+                continue;
+            };
+            let Some(mb) = mbs.get_multibody_mut(link.multibody) else {
+                continue;
+            };
+            let Some(l) = mb.link(link.id) else { continue };
+            if !l.joint().data.motor_axes.is_empty() {
+                continue;
+            }
+            // a revolute joint's angle is its angular coordinate
+            let q = l.joint().coords()[2] as f64;
+            let w = mb.generalized_velocity()[l.assembly_id()] as f64;
+            let margin = self.gate_margin + self.gate_speed_steps * w.abs() * dt;
+            let near = q - lo < margin || hi - q < margin;
+            let Some(l) = mb.link_mut(link.id) else {
+                continue;
+            };
+            let axes = &mut l.joint.data.limit_axes;
+            if near {
+                axes.insert(JointAxesMask::ANG_X);
+            } else {
+                axes.remove(JointAxesMask::ANG_X);
+                *gated = q;
+            }
+        }
+    }
+
+    /// After a step: whether a joint whose limit was off moved more than
+    /// half of [`LIMIT_GATE_MARGIN`] (see [`gate_limits`](Self::gate_limits)).
+    fn check_gated(&mut self) {
+        if !self.gate_limits || self.gate_missed {
+            return;
+        }
+        let mbs = &self.sets.multibody_joints;
+        let joints = self.copies.iter().flat_map(|c| &c.joints);
+        for (j, &q0) in joints.zip(&self.gated_angles) {
+            if q0.is_nan() {
+                continue;
+            }
+            let moved = mbs
+                .rigid_body_link(j.child)
+                .and_then(|link| mbs.get_multibody(link.multibody)?.link(link.id))
+                .map(|l| (l.joint().coords()[2] as f64 - q0).abs());
+            if !moved.is_some_and(|m| m <= 0.5 * self.gate_margin) {
+                self.gate_missed = true;
+                return;
             }
         }
     }
@@ -754,6 +802,12 @@ impl PhysicsWorld {
     /// One Rapier step of the whole world.
     fn pipeline_step(&mut self) {
         self.gate_limits();
+        self.step_rapier();
+        self.check_gated();
+    }
+
+    /// Rapier's step, nothing else.
+    fn step_rapier(&mut self) {
         let s = &mut self.sets;
         self.pipeline.step(
             self.gravity,
@@ -883,7 +937,35 @@ impl PhysicsWorld {
     /// copies without a command stay idle) from the pristine state, calling
     /// `each_step` after every step, and appends one result per command to
     /// `out`.
+    ///
+    /// With `gated`, limits far from their joints are left out of steps
+    /// ([`gate_limits`](Self::gate_limits)); if a joint then moves further
+    /// than the gating assumes, the commands are run again with every limit
+    /// on, so the results are always those of Rapier with every limit.
+    /// Traces run with every limit on (`gated` false), so that `each_step`
+    /// sees each step once.
     fn run_copies(
+        &mut self,
+        commands: &[Command],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+        gated: bool,
+        each_step: impl FnMut(&Self),
+    ) {
+        let configured = self.gate_limits;
+        self.gate_limits = configured && gated;
+        self.gate_missed = false;
+        let start = out.len();
+        self.run_copies_once(commands, out, each_step);
+        if self.gate_missed {
+            out.truncate(start);
+            self.gate_limits = false;
+            self.run_copies_once(commands, out, |_| {});
+        }
+        self.gate_limits = configured;
+    }
+
+    /// [`run_copies`](Self::run_copies) once, with the gating as set.
+    fn run_copies_once(
         &mut self,
         commands: &[Command],
         out: &mut Vec<Result<Outcome, WorldError>>,
@@ -950,10 +1032,11 @@ impl PhysicsWorld {
     fn run(
         &mut self,
         command: &Command,
+        gated: bool,
         each_step: impl FnMut(&Self),
     ) -> Result<Outcome, WorldError> {
         let mut out = Vec::with_capacity(1);
-        self.run_copies(std::slice::from_ref(command), &mut out, each_step);
+        self.run_copies(std::slice::from_ref(command), &mut out, gated, each_step);
         out.pop().expect("one result per command")
     }
 
@@ -980,7 +1063,7 @@ impl PhysicsWorld {
     ) {
         out.reserve(commands.len());
         for batch in commands.chunks(self.copies.len()) {
-            self.run_copies(batch, out, |_| {});
+            self.run_copies(batch, out, true, |_| {});
         }
     }
 }
@@ -995,7 +1078,7 @@ impl World for PhysicsWorld {
     }
 
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        self.run(command, |_| {})
+        self.run(command, true, |_| {})
     }
 
     fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
@@ -1038,5 +1121,33 @@ mod tests {
                 assert_eq!(a.effect, b.effect);
             }
         }
+    }
+
+    /// When a joint moves further in a step than the gating assumes, the
+    /// command is run again with every limit on: with a margin far too
+    /// small (joints reach their limits while those are off), the results
+    /// are still those of the ungated world, and the rerun happened.
+    #[test]
+    fn a_missed_gate_reruns_the_command_with_every_limit() {
+        let scene = Scene::builtin("arm7").unwrap();
+        let WorldSpec::Physics(spec) = &scene.world else {
+            unreachable!("a physics scene")
+        };
+        let space = scene.command_space();
+        let mut careless = PhysicsWorld::from_scene(&scene, spec);
+        careless.gate_margin = 1e-6;
+        careless.gate_speed_steps = 0.0;
+        let mut plain = PhysicsWorld::from_scene(&scene, spec);
+        plain.gate_limits = false;
+        let mut reruns = 0;
+        let mut c = space.first();
+        for k in 0..20u64 {
+            space.write_command_at(k * 7919 % 2187, &mut c);
+            let a = careless.execute(&c).unwrap();
+            reruns += usize::from(careless.gate_missed);
+            let b = plain.execute(&c).unwrap();
+            assert_eq!(a.point.map(f64::to_bits), b.point.map(f64::to_bits), "{k}");
+        }
+        assert!(reruns >= 15, "only {reruns} of 20 commands were rerun");
     }
 }
