@@ -363,24 +363,18 @@ fn body_svg(
         ShapeSpec::Capsule { a, b, radius } => {
             let (a, b) = (to_world(pos, angle, *a), to_world(pos, angle, *b));
             let w = v.len(2.0 * radius);
-            let _ = writeln!(
-                out,
-                r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{stroke}" stroke-opacity="{opacity}" stroke-width="{:.2}" stroke-linecap="round"/>"#,
-                v.x(a.0),
-                v.y(a.1),
-                v.x(b.0),
-                v.y(b.1),
-                w + 3.0
-            );
-            let _ = writeln!(
-                out,
-                r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{fill}" stroke-opacity="{opacity}" stroke-width="{:.2}" stroke-linecap="round"/>"#,
-                v.x(a.0),
-                v.y(a.1),
-                v.x(b.0),
-                v.y(b.1),
-                w
-            );
+            // a round-capped line of the outline colour, then a narrower one
+            // of the fill colour on it
+            for (colour, width) in [(stroke, w + 3.0), (fill, w)] {
+                let _ = writeln!(
+                    out,
+                    r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{colour}" stroke-opacity="{opacity}" stroke-width="{width:.2}" stroke-linecap="round"/>"#,
+                    v.x(a.0),
+                    v.y(a.1),
+                    v.x(b.0),
+                    v.y(b.1),
+                );
+            }
         }
         ShapeSpec::Segment { .. } | ShapeSpec::Polyline { .. } => {
             let pts: Vec<String> = shape_points(shape, pos, angle)
