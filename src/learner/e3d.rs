@@ -96,15 +96,24 @@ macro_rules! with_tables {
     };
 }
 
+/// A slot's running sums of `weights`, in symbol order; returns the total.
+#[inline(always)]
+fn running_sums<const W: usize>(weights: &[f64; W], cumulative: &mut [f64; W]) -> f64 {
+    let mut acc = 0.0;
+    for (c, &w) in cumulative.iter_mut().zip(weights) {
+        acc += w;
+        *c = acc;
+    }
+    acc
+}
+
 impl<const W: usize> SlotTables<W> {
     fn new(sizes: &[usize]) -> Self {
         let mut weights = vec![[0.0; W]; sizes.len()];
         let mut cumulative = vec![[0.0; W]; sizes.len()];
-        for (slot, &k) in sizes.iter().enumerate() {
-            for a in 0..W {
-                weights[slot][a] = if a < k { 1.0 } else { 0.0 };
-                cumulative[slot][a] = a.min(k - 1) as f64 + 1.0;
-            }
+        for ((w, c), &k) in weights.iter_mut().zip(&mut cumulative).zip(sizes) {
+            w[..k].fill(1.0);
+            running_sums(w, c);
         }
         SlotTables {
             q: vec![[0.0; W]; sizes.len()],
@@ -134,7 +143,8 @@ impl<const W: usize> SlotTables<W> {
     /// [`TOTAL_RANGE`] (see [`out_of_range`](Self::out_of_range)).
     #[inline(always)]
     fn update(&mut self, symbols: &[u8], decay: f64, drive: f64, beta: f64) -> bool {
-        // the smallest and largest totals, kept in registers
+        // the smallest and largest totals, kept in registers (a NaN total
+        // makes them NaN, which is out of range too)
         let (mut lo, mut hi) = (1.0f64, 1.0f64);
         for (chunk, symbols) in symbols.chunks(LANES).enumerate() {
             let first = chunk * LANES;
@@ -163,13 +173,9 @@ impl<const W: usize> SlotTables<W> {
                 .zip(&mut self.cumulative[first..first + n])
             {
                 weights[a as usize] = wi;
-                let mut acc = 0.0;
-                for (c, &wk) in cum.iter_mut().zip(weights.iter()) {
-                    acc += wk;
-                    *c = acc;
-                }
-                lo = lo.min(acc);
-                hi = hi.max(acc);
+                let total = running_sums(weights, cum);
+                lo = if total >= lo { lo } else { total };
+                hi = if total <= hi { hi } else { total };
             }
         }
         !(TOTAL_RANGE.contains(&lo) && TOTAL_RANGE.contains(&hi))
@@ -191,11 +197,7 @@ impl<const W: usize> SlotTables<W> {
         for (w, &q) in self.weights[slot].iter_mut().zip(q) {
             *w = exp_lane(beta * q - top);
         }
-        let mut acc = 0.0;
-        for (c, &w) in self.cumulative[slot].iter_mut().zip(&self.weights[slot]) {
-            acc += w;
-            *c = acc;
-        }
+        running_sums(&self.weights[slot], &mut self.cumulative[slot]);
     }
 
     fn policy(&self, slot: usize, k: usize) -> Vec<f64> {
