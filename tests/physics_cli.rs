@@ -201,7 +201,7 @@ fn scene_table_computes_writes_then_reads_the_table() {
     };
     let first = run();
     assert!(
-        first.contains("commands in") && first.contains("rollouts/s"),
+        first.contains("commands in") && first.contains("commands/s"),
         "{first}"
     );
     assert!(first.contains("32 copies per Rapier world"), "{first}");

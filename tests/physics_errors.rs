@@ -306,3 +306,47 @@ fn a_reward_region_outside_every_cell() {
     assert_eq!(r.iter().filter(|&&v| v == 1.0).count(), 8);
     assert_eq!((r[2], r[3], r[0]), (1.0, 1.0, 0.0));
 }
+
+#[test]
+fn a_symmetry_the_scene_does_not_have() {
+    let sched = "schedule: Simultaneous(push: 0.25, settle: 0.5),";
+    // the wall lies off the mirror line
+    check(
+        sched,
+        &format!("{sched} symmetry: FlipY,"),
+        r#""wall""#,
+        "position",
+        "symmetry FlipY: every body its own mirror image, on the mirror line (y = 0), but `wall` is at (0.0, -1.0)",
+    );
+    // about the y axis, the bodies do not point along the line
+    check(
+        sched,
+        &format!("{sched} symmetry: FlipX,"),
+        r#""wall""#,
+        "angle",
+        "symmetry FlipX: every body along the mirror line (angle pi/2 or -pi/2), but `wall` has angle 0",
+    );
+}
+
+#[test]
+fn a_symmetry_without_the_mirror_image_of_a_symbol() {
+    // arm7 declares FlipY; a torque without its opposite breaks it, and the
+    // error points at that slot's symbol, not at the first '+'
+    let text = std::fs::read_to_string("scenes/arm7.ron").unwrap();
+    let from = r#"(symbol: '+', action: Torque(joint: "j7", torque: 0.06))"#;
+    assert_eq!(text.matches(from).count(), 1);
+    let bad = text.replacen(
+        from,
+        r#"(symbol: '+', action: Torque(joint: "j7", torque: 0.07))"#,
+        1,
+    );
+    let e = Scene::parse(&bad, "arm7.ron").unwrap_err().to_string();
+    let at = bad.find(r#"'-', action: Torque(joint: "j7""#).unwrap();
+    let line = bad[..at].matches('\n').count() + 1;
+    assert!(e.starts_with(&format!("arm7.ron:{line}:")), "{e}");
+    assert!(
+        e.contains("field `action`")
+            && e.contains("symmetry FlipY: the mirror image of every symbol's action in the same slot, but slot 6 has none for '-'"),
+        "{e}"
+    );
+}

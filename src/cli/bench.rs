@@ -106,12 +106,19 @@ pub fn run(a: BenchArgs) -> CliResult {
         if OutcomeTable::worthwhile(&scene, &*world, trials as u64) {
             let t0 = Instant::now();
             let table = OutcomeTable::build_scene(&scene).map_err(CliError::simulation)?;
+            let secs = t0.elapsed().as_secs_f64();
+            let simulated = OutcomeTable::simulated_commands(&scene).unwrap_or(n_commands);
             println!(
-                "{},outcome table build ({} commands; {} thread(s)),{:.3},s",
+                "{},outcome table build ({} commands, {simulated} simulated; {} thread(s)),{secs:.3},s",
                 scene.name,
                 table.len(),
                 rayon::current_num_threads(),
-                t0.elapsed().as_secs_f64()
+            );
+            println!(
+                "{},outcome table commands ({} thread(s)),{:.1},1/s",
+                scene.name,
+                rayon::current_num_threads(),
+                table.len() as f64 / secs
             );
             let mut seed = 0;
             let mut err = None;

@@ -4,7 +4,7 @@ use super::run::{load_scene, write_file};
 use super::{CliError, CliResult};
 use clap::{Args, Subcommand};
 use e3d::report::scene_svg::{scene_svg, Overlay};
-use e3d::scene::{physics::BodyKind, Scene, WorldSpec};
+use e3d::scene::{physics::BodyKind, PhysicsSpec, Scene, WorldSpec};
 use e3d::world::{farthest_reached_cell, GridSpec, PhysicsWorld};
 use e3d::{Command, GridWorld, OutcomeTable, World, WorldError};
 use std::io::BufRead;
@@ -461,15 +461,23 @@ fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
     let start = std::time::Instant::now();
     let table = OutcomeTable::for_scene(scene, cache).map_err(world_error)?;
     let secs = start.elapsed().as_secs_f64();
-    let how = match &scene.world {
+    let mut how = match &scene.world {
         WorldSpec::Physics(p) if p.copies_are_exact() => {
             format!("{} copies per Rapier world", e3d::world::TABLE_COPIES)
         }
         WorldSpec::Physics(_) => "one command per Rapier world".to_string(),
         WorldSpec::Grid(_) => "grid".to_string(),
     };
+    if let WorldSpec::Physics(PhysicsSpec {
+        symmetry: Some(sym),
+        ..
+    }) = &scene.world
+    {
+        let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
+        how = format!("{how}; {sym:?} symmetry: {simulated} simulated, the others reflected");
+    }
     println!(
-        "scene {}: {} commands in {:.3} s ({:.0} rollouts/s, {} thread(s), {how})",
+        "scene {}: {} commands in {:.3} s ({:.0} commands/s, {} thread(s), {how})",
         scene.name,
         table.len(),
         secs,

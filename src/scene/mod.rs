@@ -23,10 +23,12 @@
 mod error;
 pub mod physics;
 mod region;
+pub mod symmetry;
 
 pub use error::{did_you_mean, SceneError};
 pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
+pub use symmetry::Symmetry;
 
 use crate::command::{CommandSpace, MAX_ALPHABET, MAX_SLOTS};
 use crate::effect::EffectGrid;

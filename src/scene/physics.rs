@@ -17,6 +17,7 @@
 //! ),
 //! ```
 
+use super::symmetry::Symmetry;
 use super::{Action, Invalid, Scene};
 use crate::effect::EffectGrid;
 use serde::{Deserialize, Serialize};
@@ -57,6 +58,12 @@ pub struct PhysicsSpec {
     pub schedule: Schedule,
     /// The tracked point and the grid its terminal position is binned on.
     pub effect: EffectSpec,
+    /// A reflection that leaves the scene unchanged (default none): then
+    /// of each pair of mirror-image commands only one is simulated, the
+    /// other's outcome is its reflection (see [`Symmetry`]). Exact in real
+    /// arithmetic, not bit for bit in Rapier.
+    #[serde(default)]
+    pub symmetry: Option<Symmetry>,
 }
 
 fn default_dt() -> f64 {
@@ -709,6 +716,9 @@ impl PhysicsSpec {
                     }
                 }
             }
+        }
+        if let Some(sym) = self.symmetry {
+            sym.validate(self, scene)?;
         }
         Ok(())
     }

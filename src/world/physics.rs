@@ -24,7 +24,7 @@ use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
 use crate::effect::EffectGrid;
 use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec, GROUND};
-use crate::scene::{Action, Scene};
+use crate::scene::{Action, Scene, Symmetry};
 use rapier2d::math::{Pose, Real, Vector};
 use rapier2d::prelude::{
     BroadPhaseBvh, CCDSolver, ColliderBuilder, ColliderSet, Group, ImpulseJointSet,
@@ -198,6 +198,9 @@ pub struct PhysicsWorld {
     /// Whether a joint whose limit was off moved further in one step than
     /// the gating assumes (then the command is run again, limits on).
     gate_missed: bool,
+    /// The scene's declared symmetry and, per slot, each symbol's mirror
+    /// image (see [`twin`](Self::twin)).
+    mirror: Option<(Symmetry, Vec<Vec<u8>>)>,
 }
 
 /// One copy of a scene's non-fixed bodies and joints, resolved to handles.
@@ -522,6 +525,44 @@ impl PhysicsWorld {
             gate_margin: LIMIT_GATE_MARGIN,
             gate_speed_steps: 4.0,
             gate_missed: false,
+            mirror: spec.symmetry.map(|sym| {
+                let maps = sym.symbol_maps(scene).expect("validated scene");
+                (sym, maps)
+            }),
+        }
+    }
+
+    /// The mirror image of `command` when the scene declares a
+    /// [`Symmetry`] and that image has the lower index: the command this
+    /// world simulates in its place, reflecting the outcome. `None` for the
+    /// commands it simulates themselves (all of them without a symmetry).
+    pub fn twin(&self, command: &Command) -> Option<Command> {
+        let (_, maps) = self.mirror.as_ref()?;
+        self.check_command(command).ok()?;
+        let image = Command::new(
+            command
+                .symbols
+                .iter()
+                .zip(maps)
+                .map(|(&s, m)| m[s as usize])
+                .collect(),
+        );
+        (self.space.index_of(&image) < self.space.index_of(command)).then_some(image)
+    }
+
+    /// The outcome of a command's mirror image, from the outcome of the
+    /// command (its terminal point reflected, then binned); unchanged
+    /// without a symmetry.
+    pub fn reflect_outcome(&self, outcome: Outcome) -> Outcome {
+        let Some((sym, _)) = &self.mirror else {
+            return outcome;
+        };
+        let point = sym.reflect(outcome.point);
+        let effect = self.grid.effect_of(point);
+        Outcome {
+            effect,
+            reward: self.reward[effect],
+            point,
         }
     }
 
@@ -541,10 +582,13 @@ impl PhysicsWorld {
 
     /// Executes `command` and records the tracked point after every step
     /// and the terminal pose of every body (for pictures).
+    ///
+    /// With a [`Symmetry`], a command whose [`twin`](Self::twin) is
+    /// simulated in its place gets the twin's trace, reflected.
     pub fn trace(&mut self, command: &Command) -> Result<Trace, WorldError> {
         let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
         let outcome = self.run(command, false, |w| points.push(w.tracked_position()))?;
-        let poses = self.copies[0]
+        let mut poses: Vec<BodyPose> = self.copies[0]
             .handles
             .iter()
             .map(|&h| {
@@ -555,6 +599,15 @@ impl PhysicsWorld {
                 }
             })
             .collect();
+        if let (Some((sym, _)), Some(_)) = (&self.mirror, self.twin(command)) {
+            for p in &mut points[1..] {
+                *p = sym.reflect(*p);
+            }
+            for pose in &mut poses {
+                pose.position = sym.reflect(pose.position);
+                pose.angle = sym.reflect_angle(pose.angle);
+            }
+        }
         Ok(Trace {
             points,
             poses,
@@ -1029,6 +1082,9 @@ impl PhysicsWorld {
 
     /// Runs `command` on copy 0 from the pristine state, calling
     /// `each_step` after every step; returns the outcome.
+    ///
+    /// A command with a [`twin`](Self::twin) runs its twin instead, and
+    /// gets the reflected outcome (`each_step` sees the twin's steps).
     fn run(
         &mut self,
         command: &Command,
@@ -1036,8 +1092,36 @@ impl PhysicsWorld {
         each_step: impl FnMut(&Self),
     ) -> Result<Outcome, WorldError> {
         let mut out = Vec::with_capacity(1);
-        self.run_copies(std::slice::from_ref(command), &mut out, gated, each_step);
-        out.pop().expect("one result per command")
+        let twin = self.twin(command);
+        let run = twin.as_ref().unwrap_or(command);
+        self.run_copies(std::slice::from_ref(run), &mut out, gated, each_step);
+        let result = out.pop().expect("one result per command");
+        match twin {
+            None => result,
+            Some(t) => self.mirrored_result(command, &t, result),
+        }
+    }
+
+    /// The result of `command` from the result of its twin `twin`: the
+    /// outcome reflected, or the twin's failure, naming both commands.
+    fn mirrored_result(
+        &self,
+        command: &Command,
+        twin: &Command,
+        result: Result<Outcome, WorldError>,
+    ) -> Result<Outcome, WorldError> {
+        match result {
+            Ok(o) => Ok(self.reflect_outcome(o)),
+            Err(WorldError::Diverged { scene, reason, .. }) => Err(WorldError::Diverged {
+                scene,
+                command: self.space.format(command),
+                reason: format!(
+                    "{reason} (simulated as its mirror image {}, by the scene's symmetry)",
+                    self.space.format(twin)
+                ),
+            }),
+            Err(e) => Err(e),
+        }
     }
 
     /// Restores every Rapier set to the pristine state, as before each
@@ -1056,14 +1140,30 @@ impl PhysicsWorld {
     /// at once, and appends one result per command to `out`, in order. Each
     /// result is the one [`World::execute`] gives for that command; a
     /// command that blows up fails alone, the others of its batch go on.
+    /// With a    /// [`Symmetry`], a command with a [`twin`](Self::twin) runs as its
+    /// twin.
     pub fn execute_batch(
         &mut self,
         commands: &[Command],
         out: &mut Vec<Result<Outcome, WorldError>>,
     ) {
         out.reserve(commands.len());
-        for batch in commands.chunks(self.copies.len()) {
+        let start = out.len();
+        let twins: Vec<Option<Command>> = commands.iter().map(|c| self.twin(c)).collect();
+        let runs: Vec<Command> = commands
+            .iter()
+            .zip(&twins)
+            .map(|(c, t)| t.as_ref().unwrap_or(c).clone())
+            .collect();
+        for batch in runs.chunks(self.copies.len()) {
             self.run_copies(batch, out, true, |_| {});
+        }
+        for (k, (c, t)) in commands.iter().zip(&twins).enumerate() {
+            if let Some(t) = t {
+                let r =
+                    std::mem::replace(&mut out[start + k], Err(WorldError::Other(String::new())));
+                out[start + k] = self.mirrored_result(c, t, r);
+            }
         }
     }
 }

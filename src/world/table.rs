@@ -114,9 +114,14 @@ impl OutcomeTable {
     /// [`PhysicsSpec::copies_are_exact`](crate::scene::physics::PhysicsSpec::copies_are_exact)),
     /// [`TABLE_COPIES`] commands at once per Rapier world; otherwise one
     /// command at a time per worker, as [`build_parallel`](Self::build_parallel).
-    /// The table is identical to [`build`](Self::build)'s either way.
+    /// A physics scene with a [`Symmetry`](crate::scene::Symmetry)
+    /// simulates only one command of each mirror-image pair and reflects
+    /// the other's outcome, as its world does
+    /// ([`PhysicsWorld::twin`]). The table is identical to
+    /// [`build`](Self::build)'s either way.
     pub fn build_scene(scene: &Scene) -> Result<OutcomeTable, WorldError> {
         match &scene.world {
+            WorldSpec::Physics(p) if p.symmetry.is_some() => Self::build_mirrored(scene, p),
             WorldSpec::Physics(p) if p.copies_are_exact() => {
                 Self::build_batched(scene, p, TABLE_COPIES)
             }
@@ -135,9 +140,95 @@ impl OutcomeTable {
     ) -> Result<OutcomeTable, WorldError> {
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
-        let chunk = 2 * copies as u64;
-        let chunks: Vec<Vec<Outcome>> = (0..n.div_ceil(chunk))
-            .into_par_iter()
+        let all: Vec<u64> = (0..n).collect();
+        let outcomes = Self::execute_indices(scene, spec, copies, &all)?;
+        Ok(OutcomeTable {
+            places: places(&space),
+            num_effects: scene.num_effects(),
+            space,
+            outcomes,
+        })
+    }
+
+    /// The table of a physics scene with a symmetry: the commands without a
+    /// [`twin`](PhysicsWorld::twin) are simulated (in parallel, batched
+    /// where copies are exact), the others take their twin's outcome,
+    /// reflected.
+    fn build_mirrored(scene: &Scene, spec: &PhysicsSpec) -> Result<OutcomeTable, WorldError> {
+        let space = scene.command_space();
+        let n = Self::check_size(&space)?;
+        let probe = PhysicsWorld::from_scene(scene, spec);
+        let mut c = space.first();
+        let twins: Vec<Option<u64>> = (0..n)
+            .map(|i| {
+                space.write_command_at(i, &mut c);
+                probe.twin(&c).map(|t| space.index_of(&t))
+            })
+            .collect();
+        let simulated: Vec<u64> = (0..n).filter(|&i| twins[i as usize].is_none()).collect();
+        let copies = if spec.copies_are_exact() {
+            TABLE_COPIES
+        } else {
+            1
+        };
+        let results = Self::execute_indices(scene, spec, copies, &simulated)?;
+        let mut outcomes: Vec<Option<Outcome>> = vec![None; n as usize];
+        for (&i, o) in simulated.iter().zip(results) {
+            outcomes[i as usize] = Some(o);
+        }
+        // a twin's index is below its command's: filled in index order
+        for (i, twin) in twins.iter().enumerate() {
+            if let Some(t) = *twin {
+                let o = outcomes[t as usize].expect("a twin is simulated");
+                outcomes[i] = Some(probe.reflect_outcome(o));
+            }
+        }
+        Ok(OutcomeTable {
+            places: places(&space),
+            num_effects: scene.num_effects(),
+            space,
+            outcomes: outcomes
+                .into_iter()
+                .map(|o| o.expect("every command"))
+                .collect(),
+        })
+    }
+
+    /// How many commands [`build_scene`](Self::build_scene) simulates for
+    /// `scene`: every command, or one of each mirror-image pair for a
+    /// physics scene with a [`Symmetry`](crate::scene::Symmetry) (arm7:
+    /// 1094 of 2187). `None` for a space too large for a table.
+    pub fn simulated_commands(scene: &Scene) -> Option<u64> {
+        let space = scene.command_space();
+        let n = Self::check_size(&space).ok()?;
+        match &scene.world {
+            WorldSpec::Physics(p) if p.symmetry.is_some() => {
+                let probe = PhysicsWorld::from_scene(scene, p);
+                let mut c = space.first();
+                Some(
+                    (0..n)
+                        .filter(|&i| {
+                            space.write_command_at(i, &mut c);
+                            probe.twin(&c).is_none()
+                        })
+                        .count() as u64,
+                )
+            }
+            _ => Some(n),
+        }
+    }
+
+    /// The outcomes of the commands with the given indices, in order,
+    /// computed in parallel with `copies` commands at once per Rapier world.
+    fn execute_indices(
+        scene: &Scene,
+        spec: &PhysicsSpec,
+        copies: usize,
+        indices: &[u64],
+    ) -> Result<Vec<Outcome>, WorldError> {
+        let space = scene.command_space();
+        let chunks: Vec<Vec<Outcome>> = indices
+            .par_chunks(2 * copies)
             .map_init(
                 || {
                     (
@@ -146,25 +237,16 @@ impl OutcomeTable {
                         Vec::new(),
                     )
                 },
-                |(world, cmds, out), k| {
+                |(world, cmds, out), batch| {
                     cmds.clear();
                     out.clear();
-                    for i in k * chunk..((k + 1) * chunk).min(n) {
-                        let mut c = space.first();
-                        space.write_command_at(i, &mut c);
-                        cmds.push(c);
-                    }
+                    cmds.extend(batch.iter().map(|&i| space.command_at(i)));
                     world.execute_batch(cmds, out);
                     out.drain(..).collect::<Result<Vec<_>, _>>()
                 },
             )
             .collect::<Result<_, _>>()?;
-        Ok(OutcomeTable {
-            places: places(&space),
-            num_effects: scene.num_effects(),
-            space,
-            outcomes: chunks.into_iter().flatten().collect(),
-        })
+        Ok(chunks.into_iter().flatten().collect())
     }
 
     fn check_size(space: &CommandSpace) -> Result<u64, WorldError> {
