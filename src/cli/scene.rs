@@ -337,7 +337,7 @@ fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         .collect();
     sorted.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
     println!(
-        "scene {}: executed {} commands in {:.2} s ({:.0} rollouts/s on {} thread(s))",
+        "scene {}: executed {} commands in {:.2} s ({:.0} commands/s on {} thread(s))",
         scene.name,
         table.len(),
         secs,
