@@ -88,6 +88,7 @@ fn scene_check_summarises_arm7() {
         "effects: 225 (15 x 15 cells",
         "reward cells: [(6, 5)]",
         "120 step(s) per command",
+        "symmetry: FlipY (checked): 1094 of 2187 commands simulated, the others reflected",
     ] {
         assert!(text.contains(want), "missing `{want}` in\n{text}");
     }

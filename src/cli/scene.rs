@@ -172,6 +172,15 @@ fn check(scene: &Scene) -> CliResult {
                 "tracked point: ({}, {}) on `{}`",
                 p.effect.point.0, p.effect.point.1, p.effect.body
             );
+            if let Some(sym) = p.symmetry {
+                let n = space.num_commands().unwrap_or(u64::MAX);
+                match OutcomeTable::simulated_commands(scene) {
+                    Some(k) => println!(
+                        "symmetry: {sym:?} (checked): {k} of {n} commands simulated, the others reflected"
+                    ),
+                    None => println!("symmetry: {sym:?} (checked)"),
+                }
+            }
         }
     }
     println!("slots ({}):", space.num_slots());
