@@ -133,3 +133,55 @@ fn the_mirrored_table_is_the_world_and_keeps_99_percent_of_rapiers_effects() {
     let rewarded = |t: &OutcomeTable| t.outcomes().filter(|o| o.reward > 0.0).count();
     assert_eq!((rewarded(&mirrored), rewarded(&rapier)), (5, 5));
 }
+
+#[test]
+fn pendulum3_has_the_symmetry_flip_x_and_it_keeps_its_effects() {
+    // pendulum3 hangs along -y under gravity: x -> -x leaves it unchanged
+    // (its links point down, angle -pi/2; targets come in pairs +-a). It
+    // does not declare it (125 commands cost nothing); declared here, the
+    // loader accepts it and the reflected outcomes agree with Rapier's.
+    let text = std::fs::read_to_string("scenes/pendulum3.ron").unwrap();
+    let from = "schedule: Simultaneous(push: 1.0, settle: 1.0),";
+    assert_eq!(text.matches(from).count(), 1);
+    let sym = Scene::parse(
+        &text.replacen(from, &format!("{from} symmetry: FlipX,"), 1),
+        "p.ron",
+    )
+    .expect("pendulum3 has the symmetry FlipX");
+    let plain = Scene::builtin("pendulum3").unwrap();
+    let (a, b) = (
+        OutcomeTable::build_scene(&sym).unwrap(),
+        OutcomeTable::build_scene(&plain).unwrap(),
+    );
+    assert_eq!(OutcomeTable::simulated_commands(&sym), Some(63));
+    let equal = a
+        .outcomes()
+        .zip(b.outcomes())
+        .filter(|(x, y)| x.effect == y.effect)
+        .count();
+    println!("pendulum3 with FlipX: {equal} of 125 effects equal to Rapier's");
+    assert!(equal * 100 >= 125 * 99, "{equal} of 125 effects equal");
+    // a reflected trace: the hand's pose is the mirror image of its twin's
+    let mut w = PhysicsWorld::from_scene(&sym, spec(&sym));
+    let space = sym.command_space();
+    let c = space.parse("ddc").unwrap();
+    let t = w.twin(&c).expect("ddc is answered by its mirror image bbc");
+    assert_eq!(space.format(&t), "bbc");
+    let (tc, tt) = (w.trace(&c).unwrap(), w.trace(&t).unwrap());
+    let (pc, pt) = (tc.poses[2], tt.poses[2]);
+    assert_eq!(pc.position, [-pt.position[0], pt.position[1]]);
+    let turn = (pc.angle - (std::f64::consts::PI - pt.angle)).rem_euclid(std::f64::consts::TAU);
+    assert!(
+        turn < 1e-9 || turn > std::f64::consts::TAU - 1e-9,
+        "{} {}",
+        pc.angle,
+        pt.angle
+    );
+    // and a scene that does not have the symmetry is refused
+    let bad = text.replacen(from, &format!("{from} symmetry: FlipY,"), 1);
+    let e = Scene::parse(&bad, "p.ron").unwrap_err().to_string();
+    assert!(
+        e.contains("symmetry FlipY: gravity along the mirror line"),
+        "{e}"
+    );
+}
