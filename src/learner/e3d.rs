@@ -149,23 +149,27 @@ fn update_lanes<const W: usize>(
     // then each slot's running sums over the whole width: a trip count
     // that does not depend on the symbol drawn (the same bits as summing
     // from the changed symbol on)
+    // (a fixed trip count with an early exit: unrolled)
     let mut totals = [1.0; LANES];
-    for (((&a, &wi), s), t) in symbols
-        .iter()
-        .zip(&w)
-        .zip(slots.iter_mut())
-        .zip(&mut totals)
-    {
-        s.weights[a as usize] = wi;
-        *t = running_sums(&s.weights, &mut s.cumulative);
+    let n = slots.len();
+    for i in 0..LANES {
+        if i == n {
+            break;
+        }
+        let s = &mut slots[i];
+        s.weights[symbols[i] as usize] = w[i];
+        totals[i] = running_sums(&s.weights, &mut s.cumulative);
     }
-    // the totals checked together (vector comparisons; a NaN fails both)
+    // the totals checked together: their smallest and largest (`minsd`,
+    // `maxsd`), and their sum, NaN if any is (none is negative)
+    let (mut small, mut large, mut sum) = (totals[0], totals[0], totals[0]);
+    for &t in &totals[1..] {
+        small = if small < t { small } else { t };
+        large = if large > t { large } else { t };
+        sum += t;
+    }
     let (lo, hi) = (*TOTAL_RANGE.start(), *TOTAL_RANGE.end());
-    let mut bad = 0u8;
-    for &t in &totals {
-        bad |= u8::from(!(t >= lo && t <= hi));
-    }
-    bad != 0
+    !(small >= lo && large <= hi && !sum.is_nan())
 }
 
 impl<const W: usize> SlotTables<W> {
@@ -190,7 +194,10 @@ impl<const W: usize> SlotTables<W> {
     /// Draws each slot's symbol: the number of running sums at or below
     /// `u * total`. Padding sums equal the total, which `u * total` never
     /// reaches (`u < 1`), and a symbol of weight 0 is skipped.
-    #[inline(always)]
+    ///
+    /// Not inlined: each width gets its own function, whose register saves
+    /// are only those it needs.
+    #[inline(never)]
     fn propose(&self, rng: &mut SessionRng, symbols: &mut [u8]) {
         let n = symbols.len().min(self.slots.len());
         let (symbols, slots) = (&mut symbols[..n], &self.slots[..n]);
@@ -344,6 +351,22 @@ impl E3d {
     fn learn_avx2(&mut self, command: &Command, outcome: &Outcome) {
         self.learn_inline(command, outcome, Some(std::hint::black_box(&SPLATS)))
     }
+
+    /// [`learn_inline`](Self::learn_inline) for the baseline instruction
+    /// set; a function of its own, so that [`Learner::learn`] is a test and
+    /// a jump (its register saves and stack frame are not paid on the AVX2
+    /// path).
+    #[inline(never)]
+    fn learn_baseline(&mut self, command: &Command, outcome: &Outcome) {
+        self.learn_inline(command, outcome, None)
+    }
+}
+
+/// `symbols.resize(n, 0)`, for [`E3d::propose`]'s first call.
+#[cold]
+#[inline(never)]
+fn resize_cold(symbols: &mut Vec<u8>, n: usize) {
+    symbols.resize(n, 0);
 }
 
 /// Whether this processor runs AVX2 (see [`E3d`]).
@@ -364,7 +387,11 @@ impl Learner for E3d {
     }
 
     fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
-        command.symbols.resize(self.sizes.len(), 0);
+        if command.symbols.len() != self.sizes.len() {
+            // out of line: the usual call (a command reused from trial to
+            // trial) then needs no register saves
+            resize_cold(&mut command.symbols, self.sizes.len());
+        }
         with_tables!(&self.slots, t => t.propose(rng, &mut command.symbols))
     }
 
@@ -375,7 +402,7 @@ impl Learner for E3d {
             unsafe { self.learn_avx2(command, outcome) };
             return;
         }
-        self.learn_inline(command, outcome, None)
+        self.learn_baseline(command, outcome)
     }
 
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
