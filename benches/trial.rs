@@ -5,7 +5,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use e3d::{
-    run_session, Learner, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, SessionRng,
+    run_session, E3d, Learner, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, SessionRng,
     Target, World,
 };
 use rand::SeedableRng;
@@ -32,6 +32,18 @@ fn trial(c: &mut Criterion) {
             })
         });
     }
+    // the concrete type, as a library user holds it (no dyn dispatch)
+    let mut learner = E3d::new(&space, 18, &Params::TASK2, &Target::Uniform).unwrap();
+    let mut rng = SessionRng::seed_from_u64(1);
+    let mut cmd = space.first();
+    g.bench_function("e3d trial, concrete E3d (propose, table, learn)", |b| {
+        b.iter(|| {
+            learner.propose(&mut rng, &mut cmd);
+            let o = *table.lookup(&cmd);
+            learner.learn(&cmd, &o);
+            black_box(o.effect)
+        })
+    });
     let mut world = scene.build();
     let cmd = space.parse("SEEEEES").unwrap();
     g.bench_function("grid execute", |b| {

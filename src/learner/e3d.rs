@@ -1,4 +1,4 @@
-use super::exp::{exp_lane, exp_lanes, LANES};
+use super::exp::{exp_lane, exp_lanes, exp_lanes_in, Splats, LANES, SPLATS};
 use super::{Learner, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::{log_floored, EffectModel, Target};
@@ -51,25 +51,35 @@ pub struct E3d {
     sizes: Vec<usize>,
     model: EffectModel,
     log_target: Vec<f64>,
-    alpha: f64,
+    /// `alpha lambda`, `1 - alpha lambda` and `alpha / beta`, computed once
+    /// (the same operations as in the update, so the same bits).
+    alpha_lambda: f64,
+    decay: f64,
+    alpha_over_beta: f64,
     beta: f64,
-    lambda: f64,
     /// Whether `learn` runs its AVX2 build (same results, fewer
     /// instructions); decided once, from the processor.
     avx2: bool,
 }
 
-/// Every slot's tables, `W` entries per slot (`W` >= the largest alphabet).
+/// One slot's tables, `W` entries (`W` >= the largest alphabet), kept
+/// together so that a slot is one base address.
+#[derive(Debug, Clone)]
+struct Slot<const W: usize> {
+    /// `Q`.
+    q: [f64; W],
+    /// `exp(beta Q - shift)` (0 on padding).
+    weights: [f64; W],
+    /// Running sums of `weights`; the last entry is the slot's total.
+    cumulative: [f64; W],
+    /// The shift of the slot's logits.
+    shift: f64,
+}
+
+/// Every slot's tables.
 #[derive(Debug, Clone)]
 struct SlotTables<const W: usize> {
-    /// `Q`.
-    q: Vec<[f64; W]>,
-    /// `exp(beta Q - shift[slot])` (0 on padding).
-    weights: Vec<[f64; W]>,
-    /// Running sums of `weights`; the last entry is the slot's total.
-    cumulative: Vec<[f64; W]>,
-    /// The shift of each slot's logits.
-    shift: Vec<f64>,
+    slots: Vec<Slot<W>>,
 }
 
 /// A slot's weights are re-shifted when their total leaves this range.
@@ -98,111 +108,176 @@ macro_rules! with_tables {
 
 /// A slot's running sums of `weights`, in symbol order; returns the total.
 #[inline(always)]
+///
+/// The sum starts at the first weight rather than at `0.0 + w[0]`: the
+/// same bits, since no weight is `-0.0` (weights are `exp` values or the
+/// padding's `+0.0`), the one value `0.0 +` changes.
 fn running_sums<const W: usize>(weights: &[f64; W], cumulative: &mut [f64; W]) -> f64 {
-    let mut acc = 0.0;
-    for (c, &w) in cumulative.iter_mut().zip(weights) {
+    let mut acc = weights[0];
+    cumulative[0] = acc;
+    for (c, &w) in cumulative[1..].iter_mut().zip(&weights[1..]) {
         acc += w;
         *c = acc;
     }
     acc
 }
 
+/// `Q[a_i, i] <- decay Q[a_i, i] + drive` for at most [`LANES`] slots
+/// (`slots` and `symbols` of the same length), with their new weights and
+/// running sums; returns whether a new total is outside [`TOTAL_RANGE`]
+/// (or NaN).
+#[inline(always)]
+fn update_lanes<const W: usize>(
+    slots: &mut [Slot<W>],
+    symbols: &[u8],
+    (decay, drive, beta): (f64, f64, f64),
+    splats: Option<&Splats>,
+) -> bool {
+    debug_assert!(slots.len() == symbols.len() && slots.len() <= LANES);
+    // every touched entry's new Q and logit, then their weights in one
+    // vectorised call (the slots are independent)
+    let mut x = [0.0; LANES];
+    for ((&a, s), xi) in symbols.iter().zip(slots.iter_mut()).zip(&mut x) {
+        let q = &mut s.q[a as usize];
+        *q = decay * *q + drive;
+        *xi = beta * *q - s.shift;
+    }
+    let w = match splats {
+        Some(k) => exp_lanes_in(&x, k),
+        None => exp_lanes(&x),
+    };
+    // then each slot's running sums over the whole width: a trip count
+    // that does not depend on the symbol drawn (the same bits as summing
+    // from the changed symbol on)
+    // (a fixed trip count with an early exit: unrolled)
+    let mut totals = [1.0; LANES];
+    let n = slots.len();
+    for i in 0..LANES {
+        if i == n {
+            break;
+        }
+        let s = &mut slots[i];
+        s.weights[symbols[i] as usize] = w[i];
+        totals[i] = running_sums(&s.weights, &mut s.cumulative);
+    }
+    // the totals checked together: their smallest and largest (`minsd`,
+    // `maxsd`), and their sum, NaN if any is (none is negative)
+    let (mut small, mut large, mut sum) = (totals[0], totals[0], totals[0]);
+    for &t in &totals[1..] {
+        small = if small < t { small } else { t };
+        large = if large > t { large } else { t };
+        sum += t;
+    }
+    let (lo, hi) = (*TOTAL_RANGE.start(), *TOTAL_RANGE.end());
+    !(small >= lo && large <= hi && !sum.is_nan())
+}
+
 impl<const W: usize> SlotTables<W> {
     fn new(sizes: &[usize]) -> Self {
-        let mut weights = vec![[0.0; W]; sizes.len()];
-        let mut cumulative = vec![[0.0; W]; sizes.len()];
-        for ((w, c), &k) in weights.iter_mut().zip(&mut cumulative).zip(sizes) {
-            w[..k].fill(1.0);
-            running_sums(w, c);
-        }
-        SlotTables {
-            q: vec![[0.0; W]; sizes.len()],
-            weights,
-            cumulative,
-            shift: vec![0.0; sizes.len()],
-        }
+        let slots = sizes
+            .iter()
+            .map(|&k| {
+                let mut s = Slot {
+                    q: [0.0; W],
+                    weights: [0.0; W],
+                    cumulative: [0.0; W],
+                    shift: 0.0,
+                };
+                s.weights[..k].fill(1.0);
+                running_sums(&s.weights, &mut s.cumulative);
+                s
+            })
+            .collect();
+        SlotTables { slots }
     }
 
     /// Draws each slot's symbol: the number of running sums at or below
     /// `u * total`. Padding sums equal the total, which `u * total` never
     /// reaches (`u < 1`), and a symbol of weight 0 is skipped.
-    #[inline(always)]
+    ///
+    /// Not inlined: each width gets its own function, whose register saves
+    /// are only those it needs.
+    #[inline(never)]
     fn propose(&self, rng: &mut SessionRng, symbols: &mut [u8]) {
-        for (sym, cum) in symbols.iter_mut().zip(&self.cumulative) {
-            let u = rng.random::<f64>() * cum[W - 1];
-            let mut pick = 0u8;
-            for &c in cum {
-                pick += u8::from(c <= u);
+        let n = symbols.len().min(self.slots.len());
+        let (symbols, slots) = (&mut symbols[..n], &self.slots[..n]);
+        if n <= LANES {
+            // at most 8 slots: a fixed trip count with an early exit, which
+            // unrolls (no loop counter, no pointer increments); the
+            // generator is a local copy, written back once
+            let mut r = rng.clone();
+            for i in 0..LANES {
+                if i == n {
+                    break;
+                }
+                symbols[i] = Self::draw(&mut r, &slots[i].cumulative);
             }
-            *sym = pick;
+            *rng = r;
+        } else {
+            for (sym, slot) in symbols.iter_mut().zip(slots) {
+                *sym = Self::draw(rng, &slot.cumulative);
+            }
         }
+    }
+
+    /// One slot's symbol (see [`propose`](Self::propose)).
+    #[inline(always)]
+    fn draw(rng: &mut SessionRng, cum: &[f64; W]) -> u8 {
+        let u = rng.random::<f64>() * cum[W - 1];
+        let mut pick = 0u8;
+        for &c in cum {
+            pick += u8::from(c <= u);
+        }
+        pick
     }
 
     /// `Q[a_i, i] <- decay Q[a_i, i] + drive` for each slot `i`, with the
     /// new weights and running sums; returns whether a slot's total left
     /// [`TOTAL_RANGE`] (see [`out_of_range`](Self::out_of_range)).
     #[inline(always)]
-    fn update(&mut self, symbols: &[u8], decay: f64, drive: f64, beta: f64) -> bool {
-        // the smallest and largest totals, kept in registers (a NaN total
-        // makes them NaN, which is out of range too)
-        let (mut lo, mut hi) = (1.0f64, 1.0f64);
-        for (chunk, symbols) in symbols.chunks(LANES).enumerate() {
-            let first = chunk * LANES;
-            let n = symbols.len();
-            // every touched entry's new Q and logit, then their weights in
-            // one vectorised call (the slots are independent)
-            let mut x = [0.0; LANES];
-            for (((&a, q), &m), xi) in symbols
-                .iter()
-                .zip(&mut self.q[first..first + n])
-                .zip(&self.shift[first..first + n])
-                .zip(&mut x)
-            {
-                let q = &mut q[a as usize];
-                *q = decay * *q + drive;
-                *xi = beta * *q - m;
+    fn update(&mut self, symbols: &[u8], c: (f64, f64, f64), splats: Option<&Splats>) -> bool {
+        let n = symbols.len();
+        let slots = &mut self.slots[..n];
+        if n <= LANES {
+            // one group: straight-line code
+            update_lanes(slots, symbols, c, splats)
+        } else {
+            let mut bad = false;
+            for (slots, symbols) in slots.chunks_mut(LANES).zip(symbols.chunks(LANES)) {
+                bad |= update_lanes(slots, symbols, c, splats);
             }
-            let w = exp_lanes(&x);
-            // then each slot's running sums over the whole width: a trip
-            // count that does not depend on the symbol drawn (the same
-            // bits as summing from the changed symbol on)
-            for (((&a, &wi), weights), cum) in symbols
-                .iter()
-                .zip(&w)
-                .zip(&mut self.weights[first..first + n])
-                .zip(&mut self.cumulative[first..first + n])
-            {
-                weights[a as usize] = wi;
-                let total = running_sums(weights, cum);
-                lo = if total >= lo { lo } else { total };
-                hi = if total <= hi { hi } else { total };
-            }
+            bad
         }
-        !(TOTAL_RANGE.contains(&lo) && TOTAL_RANGE.contains(&hi))
     }
 
     /// Whether `slot`'s total is outside [`TOTAL_RANGE`] (or NaN).
     fn out_of_range(&self, slot: usize) -> bool {
-        !TOTAL_RANGE.contains(&self.cumulative[slot][W - 1])
+        !TOTAL_RANGE.contains(&self.slots[slot].cumulative[W - 1])
     }
 
     /// Recomputes a slot's weights with its largest logit as the shift.
     fn reshift(&mut self, slot: usize, k: usize, beta: f64) {
-        let q = &self.q[slot][..k];
+        let s = &mut self.slots[slot];
+        let q = &s.q[..k];
         let top = q
             .iter()
             .map(|&q| beta * q)
             .fold(f64::NEG_INFINITY, f64::max);
-        self.shift[slot] = top;
-        for (w, &q) in self.weights[slot].iter_mut().zip(q) {
+        s.shift = top;
+        for (w, &q) in s.weights.iter_mut().zip(q) {
             *w = exp_lane(beta * q - top);
         }
-        running_sums(&self.weights[slot], &mut self.cumulative[slot]);
+        running_sums(&s.weights, &mut s.cumulative);
+    }
+
+    fn q(&self, slot: usize, k: usize) -> &[f64] {
+        &self.slots[slot].q[..k]
     }
 
     fn policy(&self, slot: usize, k: usize) -> Vec<f64> {
-        let total = self.cumulative[slot][W - 1];
-        self.weights[slot][..k].iter().map(|v| v / total).collect()
+        let s = &self.slots[slot];
+        let total = s.cumulative[W - 1];
+        s.weights[..k].iter().map(|v| v / total).collect()
     }
 }
 
@@ -229,9 +304,10 @@ impl E3d {
             sizes,
             model: EffectModel::new(num_effects, params.eta)?,
             log_target: target.log_probs(num_effects)?,
-            alpha: params.alpha,
+            alpha_lambda: params.alpha * params.lambda,
+            decay: 1.0 - params.alpha * params.lambda,
+            alpha_over_beta: params.alpha / params.beta,
             beta: params.beta,
-            lambda: params.lambda,
             avx2: has_avx2(),
         })
     }
@@ -239,7 +315,7 @@ impl E3d {
     /// `Q[:, slot]`.
     pub fn q(&self, slot: usize) -> &[f64] {
         let k = self.sizes[slot];
-        with_tables!(&self.slots, t => &t.q[slot][..k])
+        with_tables!(&self.slots, t => t.q(slot, k))
     }
 
     /// The running effect histogram `p`.
@@ -247,16 +323,18 @@ impl E3d {
         &self.model
     }
 
+    ///
+    /// `splats`: where `exp` takes its constants from, if from memory (see
+    /// [`exp_lanes_in`]).
     #[inline(always)]
-    fn learn_inline(&mut self, command: &Command, outcome: &Outcome) {
+    fn learn_inline(&mut self, command: &Command, outcome: &Outcome, splats: Option<&Splats>) {
         let e = outcome.effect;
         let p = self.model.observe(e);
         let surprise = log_floored(p) - self.log_target[e];
-        let decay = 1.0 - self.alpha * self.lambda;
-        let drive = self.alpha * self.lambda * outcome.reward - self.alpha / self.beta * surprise;
-        let (beta, sizes) = (self.beta, &self.sizes);
+        let drive = self.alpha_lambda * outcome.reward - self.alpha_over_beta * surprise;
+        let (decay, beta, sizes) = (self.decay, self.beta, &self.sizes);
         with_tables!(&mut self.slots, t => {
-            if t.update(&command.symbols, decay, drive, beta) {
+            if t.update(&command.symbols, (decay, drive, beta), splats) {
                 for (slot, &k) in sizes.iter().enumerate() {
                     if t.out_of_range(slot) {
                         t.reshift(slot, k, beta);
@@ -271,8 +349,24 @@ impl E3d {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     fn learn_avx2(&mut self, command: &Command, outcome: &Outcome) {
-        self.learn_inline(command, outcome)
+        self.learn_inline(command, outcome, Some(std::hint::black_box(&SPLATS)))
     }
+
+    /// [`learn_inline`](Self::learn_inline) for the baseline instruction
+    /// set; a function of its own, so that [`Learner::learn`] is a test and
+    /// a jump (its register saves and stack frame are not paid on the AVX2
+    /// path).
+    #[inline(never)]
+    fn learn_baseline(&mut self, command: &Command, outcome: &Outcome) {
+        self.learn_inline(command, outcome, None)
+    }
+}
+
+/// `symbols.resize(n, 0)`, for [`E3d::propose`]'s first call.
+#[cold]
+#[inline(never)]
+fn resize_cold(symbols: &mut Vec<u8>, n: usize) {
+    symbols.resize(n, 0);
 }
 
 /// Whether this processor runs AVX2 (see [`E3d`]).
@@ -293,7 +387,11 @@ impl Learner for E3d {
     }
 
     fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
-        command.symbols.resize(self.sizes.len(), 0);
+        if command.symbols.len() != self.sizes.len() {
+            // out of line: the usual call (a command reused from trial to
+            // trial) then needs no register saves
+            resize_cold(&mut command.symbols, self.sizes.len());
+        }
         with_tables!(&self.slots, t => t.propose(rng, &mut command.symbols))
     }
 
@@ -304,7 +402,7 @@ impl Learner for E3d {
             unsafe { self.learn_avx2(command, outcome) };
             return;
         }
-        self.learn_inline(command, outcome)
+        self.learn_baseline(command, outcome)
     }
 
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
@@ -339,6 +437,75 @@ mod tests {
         (0..sizes.len())
             .flat_map(|s| l.q(s).iter().map(|v| v.to_bits()).collect::<Vec<_>>())
             .collect()
+    }
+
+    /// The slot tables (one group of 8 or chunks, the unrolled draws, `exp`
+    /// from memory or not, the totals checked together) against a plain,
+    /// slot-by-slot transcription: the same draws and the same bits.
+    fn tables_match_the_plain_update<const W: usize>(sizes: &[usize], splats: Option<&Splats>) {
+        let mut t = SlotTables::<W>::new(sizes);
+        let mut plain = t.clone();
+        let mut rng = SessionRng::seed_from_u64(9);
+        let mut rng_plain = rng.clone();
+        let mut symbols = vec![0u8; sizes.len()];
+        for trial in 0..4000 {
+            t.propose(&mut rng, &mut symbols);
+            // plain: one slot after the other
+            let drawn: Vec<u8> = plain
+                .slots
+                .iter()
+                .map(|s| {
+                    let u = rng_plain.random::<f64>() * s.cumulative[W - 1];
+                    s.cumulative.iter().filter(|&&c| c <= u).count() as u8
+                })
+                .collect();
+            assert_eq!(symbols, drawn, "trial {trial}");
+            let drive = ((trial * 7919) % 101) as f64 / 50.0 - 1.0;
+            let (decay, beta) = (0.991, if trial % 2 == 0 { 1.0 } else { 100.0 });
+            let bad = t.update(&symbols, (decay, drive, beta), splats);
+            let mut bad_plain = false;
+            for (s, &a) in plain.slots.iter_mut().zip(&symbols) {
+                let a = a as usize;
+                s.q[a] = decay * s.q[a] + drive;
+                s.weights[a] = exp_lane(beta * s.q[a] - s.shift);
+                let mut acc = 0.0;
+                for (c, &w) in s.cumulative.iter_mut().zip(&s.weights) {
+                    acc += w;
+                    *c = acc;
+                }
+                bad_plain |= !TOTAL_RANGE.contains(&acc);
+            }
+            assert_eq!(bad, bad_plain, "trial {trial}");
+            for (slot, &k) in sizes.iter().enumerate() {
+                if t.out_of_range(slot) {
+                    t.reshift(slot, k, beta);
+                    plain.reshift(slot, k, beta);
+                }
+            }
+            for (a, b) in t.slots.iter().zip(&plain.slots) {
+                let bits = |s: &Slot<W>| {
+                    let mut v: Vec<u64> = s.q.iter().map(|x| x.to_bits()).collect();
+                    v.extend(s.weights.iter().map(|x| x.to_bits()));
+                    v.extend(s.cumulative.iter().map(|x| x.to_bits()));
+                    v.push(s.shift.to_bits());
+                    v
+                };
+                assert_eq!(bits(a), bits(b), "trial {trial}");
+            }
+        }
+        assert_eq!(rng, rng_plain);
+    }
+
+    #[test]
+    fn slot_tables_give_the_bits_of_a_plain_transcription() {
+        let k = std::hint::black_box(&SPLATS);
+        for splats in [None, Some(k)] {
+            tables_match_the_plain_update::<4>(&[4; 7], splats);
+            tables_match_the_plain_update::<4>(&[4, 2, 3, 4, 1, 4, 4, 3, 2, 4, 4], splats);
+            tables_match_the_plain_update::<4>(&[3], splats);
+            tables_match_the_plain_update::<8>(&[8, 5, 7, 8, 6, 8, 8, 2], splats);
+            tables_match_the_plain_update::<16>(&[9, 16, 12], splats);
+        }
     }
 
     #[test]
