@@ -31,7 +31,20 @@ enum Cmd {
     Scene(cli::scene::SceneArgs),
 }
 
+/// Lets a closed pipe end the program quietly, as it does other Unix tools
+/// (`e3d scene exec arm7 - | head`): Rust ignores SIGPIPE, so a write to a
+/// closed stdout would otherwise panic with a backtrace.
+fn default_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in `main`, before any thread starts;
+    // restoring a signal's default disposition has no other effect
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
+    default_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Cmd::Run(a) => cli::run::run(a),

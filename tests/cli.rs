@@ -174,3 +174,27 @@ fn an_unwritable_output_folder_is_a_clear_error() {
     assert_eq!(o.status.code(), Some(3));
     assert!(String::from_utf8_lossy(&o.stderr).contains("exists and is not a directory"));
 }
+
+/// A reader that closes the pipe early (`| head`) ends e3d quietly: no
+/// panic, no backtrace.
+#[cfg(unix)]
+#[test]
+fn a_closed_stdout_ends_quietly() {
+    let dir = std::env::temp_dir().join(format!("e3d-pipe-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let commands = dir.join("commands.txt");
+    std::fs::write(&commands, "SEEEEES\n".repeat(200_000)).unwrap();
+    let err = dir.join("stderr.txt");
+    let script = format!(
+        "'{}' scene exec two_rooms - < '{}' 2> '{}' | head -n 2",
+        env!("CARGO_BIN_EXE_e3d"),
+        commands.display(),
+        err.display()
+    );
+    let out = Command::new("sh").arg("-c").arg(&script).output().unwrap();
+    let head = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(head.lines().count(), 2, "{head}");
+    let stderr = std::fs::read_to_string(&err).unwrap();
+    assert!(stderr.is_empty(), "e3d wrote to stderr: {stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
