@@ -28,6 +28,14 @@ fn spec(s: &Scene) -> &PhysicsSpec {
     }
 }
 
+/// How many commands have the same effect in both tables.
+fn equal_effects(a: &OutcomeTable, b: &OutcomeTable) -> usize {
+    a.outcomes()
+        .zip(b.outcomes())
+        .filter(|(x, y)| x.effect == y.effect)
+        .count()
+}
+
 #[test]
 fn arm7_simulates_one_command_of_each_mirror_pair() {
     let scene = arm7(true);
@@ -116,11 +124,7 @@ fn the_mirrored_table_is_the_world_and_keeps_99_percent_of_rapiers_effects() {
     for i in simulated {
         assert_eq!(mirrored.get(i), rapier.get(i), "{i}");
     }
-    let equal = mirrored
-        .outcomes()
-        .zip(rapier.outcomes())
-        .filter(|(a, b)| a.effect == b.effect)
-        .count();
+    let equal = equal_effects(&mirrored, &rapier);
     println!("arm7 mirrored: {equal} of 2187 effects equal to Rapier's");
     assert!(equal * 100 >= 2187 * 99, "{equal} of 2187 effects equal");
     // the cells reached and the reward cell's commands are the same
@@ -154,11 +158,7 @@ fn pendulum3_has_the_symmetry_flip_x_and_it_keeps_its_effects() {
         OutcomeTable::build_scene(&plain).unwrap(),
     );
     assert_eq!(OutcomeTable::simulated_commands(&sym), Some(63));
-    let equal = a
-        .outcomes()
-        .zip(b.outcomes())
-        .filter(|(x, y)| x.effect == y.effect)
-        .count();
+    let equal = equal_effects(&a, &b);
     println!("pendulum3 with FlipX: {equal} of 125 effects equal to Rapier's");
     assert!(equal * 100 >= 125 * 99, "{equal} of 125 effects equal");
     // a reflected trace: the hand's pose is the mirror image of its twin's
