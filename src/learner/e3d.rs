@@ -57,8 +57,8 @@ pub struct E3d {
     decay: f64,
     alpha_over_beta: f64,
     beta: f64,
-    /// Whether `learn` runs its AVX2 build (same results, fewer
-    /// instructions); decided once, from the processor.
+    /// Whether `learn` and `propose` run their AVX2 builds (same results,
+    /// fewer instructions); decided once, from the processor.
     avx2: bool,
 }
 
@@ -199,6 +199,31 @@ impl<const W: usize> SlotTables<W> {
     /// are only those it needs.
     #[inline(never)]
     fn propose(&self, rng: &mut SessionRng, symbols: &mut [u8]) {
+        self.propose_with(rng, symbols, Self::draw)
+    }
+
+    /// [`propose`](Self::propose) with AVX2, POPCNT and BMI2: each slot's
+    /// count is a compare of 4 running sums at a time (`vcmppd`, the same
+    /// `c <= u`, false with NaN as in [`draw`](Self::draw)), a mask and
+    /// `popcnt`, and the generator's 128-bit products are `mulx` (no
+    /// register moves); the same draws from the generator, so the same
+    /// symbols and the same generator state.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,popcnt,bmi2")]
+    #[inline(never)]
+    fn propose_avx2(&self, rng: &mut SessionRng, symbols: &mut [u8]) {
+        self.propose_with(rng, symbols, |r, cum| Self::draw_avx2(r, cum))
+    }
+
+    /// The loop over the slots of [`propose`](Self::propose), `draw` giving
+    /// one slot's symbol.
+    #[inline(always)]
+    fn propose_with(
+        &self,
+        rng: &mut SessionRng,
+        symbols: &mut [u8],
+        draw: impl Fn(&mut SessionRng, &[f64; W]) -> u8,
+    ) {
         let n = symbols.len().min(self.slots.len());
         let (symbols, slots) = (&mut symbols[..n], &self.slots[..n]);
         if n <= LANES {
@@ -210,12 +235,12 @@ impl<const W: usize> SlotTables<W> {
                 if i == n {
                     break;
                 }
-                symbols[i] = Self::draw(&mut r, &slots[i].cumulative);
+                symbols[i] = draw(&mut r, &slots[i].cumulative);
             }
             *rng = r;
         } else {
             for (sym, slot) in symbols.iter_mut().zip(slots) {
-                *sym = Self::draw(rng, &slot.cumulative);
+                *sym = draw(rng, &slot.cumulative);
             }
         }
     }
@@ -229,6 +254,28 @@ impl<const W: usize> SlotTables<W> {
             pick += u8::from(c <= u);
         }
         pick
+    }
+
+    /// [`draw`](Self::draw) with AVX2: the running sums 4 at a time (every
+    /// width is a multiple of 4). `u >= c` rather than `c <= u` (the same
+    /// predicate, ordered: false with NaN) puts the sums in the memory
+    /// operand of `vcmppd`, which saves their load.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,popcnt,bmi2")]
+    #[inline]
+    fn draw_avx2(rng: &mut SessionRng, cum: &[f64; W]) -> u8 {
+        use std::arch::x86_64::{_mm256_cmp_pd, _mm256_loadu_pd, _mm256_movemask_pd};
+        use std::arch::x86_64::{_mm256_set1_pd, _CMP_GE_OQ};
+        const { assert!(W % 4 == 0 && W <= 64) };
+        let u = _mm256_set1_pd(rng.random::<f64>() * cum[W - 1]);
+        let mut below = 0u64;
+        for (k, c) in cum.chunks_exact(4).enumerate() {
+            // SAFETY: `c` is 4 `f64`s (an unaligned load)
+            let c = unsafe { _mm256_loadu_pd(c.as_ptr()) };
+            let m = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GE_OQ>(u, c));
+            below |= (m as u64) << (4 * k);
+        }
+        below.count_ones() as u8
     }
 
     /// `Q[a_i, i] <- decay Q[a_i, i] + drive` for each slot `i`, with the
@@ -369,11 +416,14 @@ fn resize_cold(symbols: &mut Vec<u8>, n: usize) {
     symbols.resize(n, 0);
 }
 
-/// Whether this processor runs AVX2 (see [`E3d`]).
+/// Whether this processor runs AVX2, with POPCNT and BMI2 (see [`E3d`];
+/// every processor with AVX2 has the other two, but they are not implied).
 fn has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("popcnt")
+            && std::arch::is_x86_feature_detected!("bmi2")
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
@@ -391,6 +441,13 @@ impl Learner for E3d {
             // out of line: the usual call (a command reused from trial to
             // trial) then needs no register saves
             resize_cold(&mut command.symbols, self.sizes.len());
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is true only where the processor has AVX2,
+            // POPCNT and BMI2
+            with_tables!(&self.slots, t => unsafe { t.propose_avx2(rng, &mut command.symbols) });
+            return;
         }
         with_tables!(&self.slots, t => t.propose(rng, &mut command.symbols))
     }
@@ -506,6 +563,71 @@ mod tests {
             tables_match_the_plain_update::<8>(&[8, 5, 7, 8, 6, 8, 8, 2], splats);
             tables_match_the_plain_update::<16>(&[9, 16, 12], splats);
         }
+    }
+
+    /// Random-ish slot tables of width `W` for `sizes`: weights of 0 (and
+    /// padding; all 0 too, a total of 0), tiny and huge ones, totals at
+    /// both ends of [`TOTAL_RANGE`], and a slot whose total is NaN.
+    fn odd_tables<const W: usize>(sizes: &[usize], seed: u64) -> SlotTables<W> {
+        let mut t = SlotTables::<W>::new(sizes);
+        let mut r = SessionRng::seed_from_u64(seed);
+        for (i, (s, &k)) in t.slots.iter_mut().zip(sizes).enumerate() {
+            for w in &mut s.weights[..k] {
+                *w = match r.random_range(0..6) {
+                    0 => 0.0,
+                    1 => r.random::<f64>() * 1e-300,
+                    2 => r.random::<f64>() * 1e300,
+                    _ => r.random::<f64>(),
+                };
+            }
+            let total = running_sums(&s.weights, &mut s.cumulative);
+            // scale some slots' totals to the ends of the range
+            let scale = match i % 4 {
+                1 if total > 0.0 => *TOTAL_RANGE.start() / total,
+                2 if total > 0.0 => *TOTAL_RANGE.end() / total,
+                _ => 1.0,
+            };
+            for w in &mut s.weights[..k] {
+                *w *= scale;
+            }
+            if i == 5 {
+                s.weights[0] = f64::NAN;
+            }
+            running_sums(&s.weights, &mut s.cumulative);
+        }
+        t
+    }
+
+    /// `propose_avx2` against the portable `propose`: the same symbols and
+    /// the same generator state after each call.
+    fn avx2_draws_match<const W: usize>() {
+        for n in [1, 3, 7, 8, 11] {
+            for seed in 0..20 {
+                let sizes: Vec<usize> = (0..n).map(|i| 1 + (i * 5 + seed) % W).collect();
+                let t = odd_tables::<W>(&sizes, seed as u64);
+                let mut rng = SessionRng::seed_from_u64(seed as u64 + 100);
+                let mut rng_avx2 = rng.clone();
+                let (mut a, mut b) = (vec![0u8; n], vec![0u8; n]);
+                for call in 0..200 {
+                    t.propose(&mut rng, &mut a);
+                    // SAFETY: the caller checked `has_avx2`
+                    unsafe { t.propose_avx2(&mut rng_avx2, &mut b) };
+                    assert_eq!(a, b, "W {W}, {n} slots, seed {seed}, call {call}");
+                    assert_eq!(rng, rng_avx2);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_avx2_draws_are_the_portable_ones() {
+        if !has_avx2() {
+            return;
+        }
+        avx2_draws_match::<4>();
+        avx2_draws_match::<8>();
+        avx2_draws_match::<16>();
+        avx2_draws_match::<64>();
     }
 
     #[test]
