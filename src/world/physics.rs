@@ -1149,12 +1149,16 @@ impl PhysicsWorld {
     ) {
         out.reserve(commands.len());
         let start = out.len();
-        let twins: Vec<Option<Command>> = commands.iter().map(|c| self.twin(c)).collect();
-        let runs: Vec<Command> = commands
-            .iter()
-            .zip(&twins)
-            .map(|(c, t)| t.as_ref().unwrap_or(c).clone())
-            .collect();
+        let twins: Vec<Option<Command>> = match self.mirror {
+            Some(_) => commands.iter().map(|c| self.twin(c)).collect(),
+            None => Vec::new(),
+        };
+        let runs: std::borrow::Cow<'_, [Command]> = if twins.iter().any(Option::is_some) {
+            let runs = commands.iter().zip(&twins);
+            runs.map(|(c, t)| t.as_ref().unwrap_or(c).clone()).collect()
+        } else {
+            commands.into()
+        };
         for batch in runs.chunks(self.copies.len()) {
             self.run_copies(batch, out, true, |_| {});
         }
