@@ -1,0 +1,62 @@
+//! A tight loop of E3D trials on two_rooms (propose, table look-up, learn),
+//! for timings and instruction counts without a benchmark harness.
+//!
+//! ```sh
+//! cargo run --release --example trial_loop -- 5000000 concrete 7   # best of 7 runs, ns per trial
+//! scripts/trial-instructions.sh                                    # instructions per trial (callgrind)
+//! ```
+//!
+//! Arguments: trials (default 5 000 000), `concrete` (the `E3d` type, the
+//! default) or `dyn` (a `Box<dyn Learner>`), runs (default 1). The check
+//! value is a sum of the effects: the same for the same code and seed.
+use e3d::{E3d, Learner, LearnerKind, OutcomeTable, Params, Scene, SessionRng, Target};
+use rand::SeedableRng;
+use std::hint::black_box;
+use std::time::Instant;
+
+fn run<L: Learner + ?Sized>(
+    l: &mut L,
+    table: &OutcomeTable,
+    rng: &mut SessionRng,
+    cmd: &mut e3d::Command,
+    n: usize,
+) -> usize {
+    let mut acc = 0usize;
+    for _ in 0..n {
+        l.propose(rng, cmd);
+        let o = *table.lookup(cmd);
+        l.learn(cmd, &o);
+        acc = acc.wrapping_add(black_box(o.effect));
+    }
+    acc
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let n: usize = args.get(1).map(|s| s.parse().unwrap()).unwrap_or(5_000_000);
+    let mode = args.get(2).cloned().unwrap_or("concrete".into());
+    let runs: usize = args.get(3).map(|s| s.parse().unwrap()).unwrap_or(1);
+    let scene = Scene::builtin("two_rooms").unwrap();
+    let table = OutcomeTable::build(&mut scene.build()).unwrap();
+    let space = scene.command_space();
+    let mut best = f64::INFINITY;
+    let mut check = 0;
+    for _ in 0..runs {
+        let mut rng = SessionRng::seed_from_u64(1);
+        let mut cmd = space.first();
+        let t = Instant::now();
+        let acc = if mode == "dyn" {
+            let mut l = LearnerKind::E3d
+                .make(&Params::TASK2, &space, 18, &Target::Uniform)
+                .unwrap();
+            run(&mut l, &table, &mut rng, &mut cmd, n)
+        } else {
+            let mut l = E3d::new(&space, 18, &Params::TASK2, &Target::Uniform).unwrap();
+            run(&mut l, &table, &mut rng, &mut cmd, n)
+        };
+        let dt = t.elapsed().as_secs_f64() / n as f64 * 1e9;
+        best = best.min(dt);
+        check = acc;
+    }
+    println!("{mode}: best {best:.2} ns/trial over {runs} runs (check {check})");
+}
