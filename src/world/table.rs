@@ -37,12 +37,50 @@ pub struct OutcomeTable {
     outcomes: Vec<Outcome>,
     /// The place value of each slot in the mixed-radix index, so that a
     /// look-up is independent multiply-adds rather than a dependent chain.
-    places: Vec<u64>,
+    places: Places,
+}
+
+/// The place values of a command space's slots (see [`places`]).
+#[derive(Debug, Clone)]
+struct Places {
+    /// One per slot.
+    each: Vec<u64>,
+    /// The same in a fixed array when there are at most [`SHORT`] slots
+    /// (0 beyond them): a look-up then unrolls, with no bounds checks.
+    short: Option<[u64; SHORT]>,
+}
+
+/// The most slots of the unrolled look-up.
+const SHORT: usize = 8;
+
+impl Places {
+    /// The index of the command `symbols` (see [`CommandSpace::index_of`]).
+    #[inline(always)]
+    fn index(&self, symbols: &[u8]) -> u64 {
+        match &self.short {
+            // the same as the zip below: places beyond the slots are 0
+            Some(p) => {
+                let mut i = 0u64;
+                for k in 0..SHORT {
+                    if k == symbols.len() {
+                        break;
+                    }
+                    i += symbols[k] as u64 * p[k];
+                }
+                i
+            }
+            _ => symbols
+                .iter()
+                .zip(&self.each)
+                .map(|(&s, &p)| s as u64 * p)
+                .sum(),
+        }
+    }
 }
 
 /// The place value of each slot in [`CommandSpace::index_of`].
-fn places(space: &CommandSpace) -> Vec<u64> {
-    let mut places: Vec<u64> = space
+fn places(space: &CommandSpace) -> Places {
+    let mut each: Vec<u64> = space
         .sizes()
         .rev()
         .scan(1u64, |acc, k| {
@@ -51,8 +89,13 @@ fn places(space: &CommandSpace) -> Vec<u64> {
             Some(place)
         })
         .collect();
-    places.reverse();
-    places
+    each.reverse();
+    let short = (each.len() <= SHORT).then(|| {
+        let mut p = [0u64; SHORT];
+        p[..each.len()].copy_from_slice(&each);
+        p
+    });
+    Places { each, short }
 }
 
 impl OutcomeTable {
@@ -308,13 +351,7 @@ impl OutcomeTable {
     /// The outcome of `command`, without `&mut`.
     #[inline]
     pub fn lookup(&self, command: &Command) -> &Outcome {
-        let i: u64 = command
-            .symbols
-            .iter()
-            .zip(&self.places)
-            .map(|(&s, &p)| s as u64 * p)
-            .sum();
-        &self.outcomes[i as usize]
+        &self.outcomes[self.places.index(&command.symbols) as usize]
     }
 }
 
@@ -465,6 +502,27 @@ impl OutcomeTable {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The unrolled look-up (at most 8 slots) and the general one give
+    /// `CommandSpace::index_of`, over mixed alphabets of 1 to 11 slots.
+    #[test]
+    fn places_give_the_index_of_every_command() {
+        for n in 1..=11usize {
+            let alphabets: Vec<Vec<char>> = (0..n)
+                .map(|slot| ('a'..='z').take(1 + (slot * 7 + 2) % 5).collect())
+                .collect();
+            let space = CommandSpace::new(alphabets).unwrap();
+            let p = places(&space);
+            assert_eq!(p.short.is_some(), n <= SHORT);
+            let total = space.num_commands().unwrap();
+            let mut c = space.first();
+            for i in (0..total).step_by((total / 500).max(1) as usize) {
+                space.write_command_at(i, &mut c);
+                assert_eq!(p.index(&c.symbols), i, "{n} slots");
+                assert_eq!(space.index_of(&c), i);
+            }
+        }
+    }
 
     #[test]
     fn a_cached_table_reads_back_identical_and_refuses_other_scenes() {
