@@ -31,8 +31,10 @@ use rand::RngExt;
 /// 16 or 64, the smallest that holds the largest alphabet; padding has
 /// weight 0), so that sampling counts the running sums below a uniform draw
 /// over the whole width (no branch to mispredict) and the running sums are
-/// recomputed over a fixed length. The histogram update is O(1)
-/// ([`EffectModel`]); nothing is allocated per trial.
+/// recomputed over a fixed length; with AVX2, a slot's count is one vector
+/// compare of 4 running sums at a time and a population count (the same
+/// symbols). The histogram update is O(1) ([`EffectModel`]); nothing is
+/// allocated per trial.
 ///
 /// ```
 /// use e3d::{Command, CommandSpace, E3d, Learner, Outcome, Params, Target};
