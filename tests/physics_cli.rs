@@ -184,6 +184,8 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
     assert!(out.status.success());
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.starts_with("<svg") && text.contains("<polyline") && text.contains("effect 95"));
+    // arm7 declares FlipY: the picture shows its mirror line
+    assert!(text.contains("mirror line (FlipY)"), "no mirror line");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -3,7 +3,7 @@
 //! under one command and its terminal cell.
 
 use crate::scene::physics::{to_world, BodyKind, PhysicsSpec, ShapeSpec, GROUND};
-use crate::scene::{Scene, WorldSpec};
+use crate::scene::{Scene, Symmetry, WorldSpec};
 use crate::world::{BodyPose, GridSpec};
 use std::fmt::Write;
 
@@ -420,6 +420,21 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
     let mut out = String::new();
     header(&mut out, &v, scene, overlay);
     effect_layer(&mut out, &v, scene, overlay);
+    // the mirror line of a declared symmetry, across the whole picture
+    if let Some(sym) = p.symmetry {
+        let (a, b) = match sym {
+            Symmetry::FlipY => ((v.min[0], 0.0), (v.max[0], 0.0)),
+            Symmetry::FlipX => ((0.0, v.min[1]), (0.0, v.max[1])),
+        };
+        let _ = writeln!(
+            out,
+            r##"<g><title>mirror line ({sym:?}): one command of each mirror pair is simulated</title><line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="#7b68ee" stroke-width="1" stroke-dasharray="8,4,2,4"/></g>"##,
+            v.x(a.0),
+            v.y(a.1),
+            v.x(b.0),
+            v.y(b.1)
+        );
+    }
     // bodies at their start pose (faded when a terminal pose is drawn too)
     let start_opacity = if overlay.and_then(|o| o.poses.as_ref()).is_some() {
         0.35
