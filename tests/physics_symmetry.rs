@@ -182,3 +182,43 @@ fn pendulum3_has_the_symmetry_flip_x_and_it_keeps_its_effects() {
         "{e}"
     );
 }
+
+#[test]
+fn a_symmetric_puck_table_batches_its_simulated_half_and_matches_execute() {
+    // one moving body: copies are exact, so the table runs the simulated
+    // half 32 at a time; it must still equal `execute` of every command
+    let text = r#"Scene(
+        name: "puck_mirror",
+        world: Physics(
+            bodies: [
+                (name: "wall", kind: Fixed, shape: Cuboid(width: 0.2, height: 4.0), position: (2.5, 0.0), restitution: 0.5),
+                (name: "puck", shape: Ball(radius: 0.2), mass: 1.0, linear_damping: 1.5, friction: 0.0, restitution: 0.5, lock_rotation: true),
+            ],
+            schedule: Sequential(phase: 0.5, settle: 0.5),
+            effect: (body: "puck", grid: (rows: 4, cols: 4, min: (-1.0, -2.0), max: (3.0, 2.0))),
+            symmetry: FlipY,
+        ),
+        command: Repeat(slots: 4, alphabet: [
+            (symbol: 'U', action: Impulse(body: "puck", impulse: (1.0, 0.6))),
+            (symbol: 'R', action: Impulse(body: "puck", impulse: (1.2, 0.0))),
+            (symbol: 'D', action: Impulse(body: "puck", impulse: (1.0, -0.6))),
+        ]),
+    )"#;
+    let scene = Scene::parse(text, "puck_mirror.ron").unwrap();
+    assert!(spec(&scene).copies_are_exact());
+    assert_eq!(OutcomeTable::simulated_commands(&scene), Some(41));
+    let table = OutcomeTable::build_scene(&scene).unwrap();
+    let one_by_one = OutcomeTable::build(&mut scene.build()).unwrap();
+    assert!(table.outcomes().eq(one_by_one.outcomes()));
+    // the mirror images really are reflected: U... ends below the axis
+    // where D... ends above it, and the puck hits the wall on some
+    let space = scene.command_space();
+    let (up, down) = (space.parse("UUUU").unwrap(), space.parse("DDDD").unwrap());
+    let (u, d) = (table.lookup(&up), table.lookup(&down));
+    assert_eq!(u.point, [d.point[0], -d.point[1]]);
+    assert!(u.point[1] > 0.5, "{:?}", u.point);
+    assert!(
+        table.outcomes().any(|o| o.point[0] > 2.0),
+        "the wall is reached"
+    );
+}
