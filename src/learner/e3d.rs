@@ -109,11 +109,11 @@ macro_rules! with_tables {
 }
 
 /// A slot's running sums of `weights`, in symbol order; returns the total.
-#[inline(always)]
 ///
 /// The sum starts at the first weight rather than at `0.0 + w[0]`: the
 /// same bits, since no weight is `-0.0` (weights are `exp` values or the
 /// padding's `+0.0`), the one value `0.0 +` changes.
+#[inline(always)]
 fn running_sums<const W: usize>(weights: &[f64; W], cumulative: &mut [f64; W]) -> f64 {
     let mut acc = weights[0];
     cumulative[0] = acc;

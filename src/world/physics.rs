@@ -1140,8 +1140,8 @@ impl PhysicsWorld {
     /// at once, and appends one result per command to `out`, in order. Each
     /// result is the one [`World::execute`] gives for that command; a
     /// command that blows up fails alone, the others of its batch go on.
-    /// With a    /// [`Symmetry`], a command with a [`twin`](Self::twin) runs as its
-    /// twin.
+    /// With a [`Symmetry`], a command with a [`twin`](Self::twin) runs as
+    /// its twin.
     pub fn execute_batch(
         &mut self,
         commands: &[Command],

@@ -78,6 +78,18 @@ impl Places {
     }
 }
 
+/// For each of the `n` commands of `space`, the index of its
+/// [`twin`](PhysicsWorld::twin) in `world`, if it has one.
+fn twin_indices(world: &PhysicsWorld, space: &CommandSpace, n: u64) -> Vec<Option<u64>> {
+    let mut c = space.first();
+    (0..n)
+        .map(|i| {
+            space.write_command_at(i, &mut c);
+            world.twin(&c).map(|t| space.index_of(&t))
+        })
+        .collect()
+}
+
 /// The place value of each slot in [`CommandSpace::index_of`].
 fn places(space: &CommandSpace) -> Places {
     let mut each: Vec<u64> = space
@@ -201,13 +213,7 @@ impl OutcomeTable {
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
         let probe = PhysicsWorld::from_scene(scene, spec);
-        let mut c = space.first();
-        let twins: Vec<Option<u64>> = (0..n)
-            .map(|i| {
-                space.write_command_at(i, &mut c);
-                probe.twin(&c).map(|t| space.index_of(&t))
-            })
-            .collect();
+        let twins = twin_indices(&probe, &space, n);
         let simulated: Vec<u64> = (0..n).filter(|&i| twins[i as usize].is_none()).collect();
         let copies = if spec.copies_are_exact() {
             TABLE_COPIES
@@ -247,15 +253,8 @@ impl OutcomeTable {
         match &scene.world {
             WorldSpec::Physics(p) if p.symmetry.is_some() => {
                 let probe = PhysicsWorld::from_scene(scene, p);
-                let mut c = space.first();
-                Some(
-                    (0..n)
-                        .filter(|&i| {
-                            space.write_command_at(i, &mut c);
-                            probe.twin(&c).is_none()
-                        })
-                        .count() as u64,
-                )
+                let twins = twin_indices(&probe, &space, n);
+                Some(twins.iter().filter(|t| t.is_none()).count() as u64)
             }
             _ => Some(n),
         }
