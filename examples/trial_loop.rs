@@ -7,8 +7,11 @@
 //! ```
 //!
 //! Arguments: trials (default 5 000 000), `concrete` (the `E3d` type, the
-//! default) or `dyn` (a `Box<dyn Learner>`), runs (default 1). The check
-//! value is a sum of the effects: the same for the same code and seed.
+//! default), `dyn` (a `Box<dyn Learner>`) or `two` (two independent
+//! sessions, their trials interleaved: the time per trial shows whether
+//! one session's trials could overlap with another's), runs (default 1).
+//! The check value is a sum of the effects: the same for the same code and
+//! seed.
 use e3d::{E3d, Learner, LearnerKind, OutcomeTable, Params, Scene, SessionRng, Target};
 use rand::SeedableRng;
 use std::hint::black_box;
@@ -45,7 +48,22 @@ fn main() {
         let mut rng = SessionRng::seed_from_u64(1);
         let mut cmd = space.first();
         let t = Instant::now();
-        let acc = if mode == "dyn" {
+        let acc = if mode == "two" {
+            let mut a = E3d::new(&space, 18, &Params::TASK2, &Target::Uniform).unwrap();
+            let mut b = a.clone();
+            let mut rng_b = SessionRng::seed_from_u64(2);
+            let mut cmd_b = space.first();
+            let mut acc = 0usize;
+            for _ in 0..n / 2 {
+                a.propose(&mut rng, &mut cmd);
+                b.propose(&mut rng_b, &mut cmd_b);
+                let (oa, ob) = (*table.lookup(&cmd), *table.lookup(&cmd_b));
+                a.learn(&cmd, &oa);
+                b.learn(&cmd_b, &ob);
+                acc = acc.wrapping_add(black_box(oa.effect) + black_box(ob.effect));
+            }
+            acc
+        } else if mode == "dyn" {
             let mut l = LearnerKind::E3d
                 .make(&Params::TASK2, &space, 18, &Target::Uniform)
                 .unwrap();

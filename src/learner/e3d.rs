@@ -124,6 +124,19 @@ fn running_sums<const W: usize>(weights: &[f64; W], cumulative: &mut [f64; W]) -
     acc
 }
 
+/// The table entry of symbol `a`: `a` itself for every symbol of the slot's
+/// alphabet. Masked to the width rather than bounds-checked (one `and`
+/// instead of a compare and a branch at each of the two uses per slot): a
+/// symbol outside the alphabet is a caller's bug, caught by the debug
+/// assertion of `E3d`'s [`Learner::learn`], and can never touch memory
+/// outside the slot (a release build then updates a padding entry or
+/// another symbol's, where it used to update a padding entry or panic).
+#[inline(always)]
+fn entry<const W: usize>(a: u8) -> usize {
+    const { assert!(W.is_power_of_two()) };
+    usize::from(a) & (W - 1)
+}
+
 /// `Q[a_i, i] <- decay Q[a_i, i] + drive` for at most [`LANES`] slots
 /// (`slots` and `symbols` of the same length), with their new weights and
 /// running sums; returns whether a new total is outside [`TOTAL_RANGE`]
@@ -139,8 +152,15 @@ fn update_lanes<const W: usize>(
     // every touched entry's new Q and logit, then their weights in one
     // vectorised call (the slots are independent)
     let mut x = [0.0; LANES];
-    for ((&a, s), xi) in symbols.iter().zip(slots.iter_mut()).zip(&mut x) {
-        let q = &mut s.q[a as usize];
+    let mut at = [0usize; LANES];
+    for (((&a, s), xi), at) in symbols
+        .iter()
+        .zip(slots.iter_mut())
+        .zip(&mut x)
+        .zip(&mut at)
+    {
+        *at = entry::<W>(a);
+        let q = &mut s.q[*at];
         *q = decay * *q + drive;
         *xi = beta * *q - s.shift;
     }
@@ -159,7 +179,7 @@ fn update_lanes<const W: usize>(
             break;
         }
         let s = &mut slots[i];
-        s.weights[symbols[i] as usize] = w[i];
+        s.weights[at[i] & (W - 1)] = w[i];
         totals[i] = running_sums(&s.weights, &mut s.cumulative);
     }
     // the totals checked together: their smallest and largest (`minsd`,
@@ -455,6 +475,17 @@ impl Learner for E3d {
     }
 
     fn learn(&mut self, command: &Command, outcome: &Outcome) {
+        debug_assert!(
+            command.symbols.len() == self.sizes.len()
+                && command
+                    .symbols
+                    .iter()
+                    .zip(&self.sizes)
+                    .all(|(&a, &k)| usize::from(a) < k),
+            "learn: command {:?} is not in the command space (alphabet sizes {:?})",
+            command.symbols,
+            self.sizes
+        );
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` is true only where the processor has AVX2
@@ -652,5 +683,21 @@ mod tests {
                 assert!(a.iter().any(|&v| v != 0));
             }
         }
+    }
+
+    /// A symbol outside its slot's alphabet is caught in debug builds (a
+    /// release build masks it to the table's width, see `entry`).
+    #[test]
+    #[cfg(debug_assertions)]
+    #[should_panic(expected = "is not in the command space")]
+    fn learn_rejects_a_symbol_outside_the_alphabet() {
+        let space = CommandSpace::repeat(2, &['a', 'b', 'c']).unwrap();
+        let mut l = E3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
+        let o = Outcome {
+            effect: 0,
+            reward: 0.0,
+            point: [0.0, 0.0],
+        };
+        l.learn(&Command::new(vec![0, 3]), &o);
     }
 }
