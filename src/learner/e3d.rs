@@ -36,6 +36,11 @@ use rand::RngExt;
 /// symbols). The histogram update is O(1) ([`EffectModel`]); nothing is
 /// allocated per trial.
 ///
+/// `learn` takes a command of the learner's command space, as `propose`
+/// writes it: one symbol per slot, each within its slot's alphabet. Debug
+/// builds check this; release builds do not (a symbol outside its alphabet
+/// updates another entry of the same slot).
+///
 /// ```
 /// use e3d::{Command, CommandSpace, E3d, Learner, Outcome, Params, Target};
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
