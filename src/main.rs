@@ -19,7 +19,8 @@ enum Cmd {
     Run(cli::run::RunArgs),
     /// Reproduce the paper's Figures 2 and 3 on two_rooms (SVG, CSV, summary.md).
     Reproduce(cli::reproduce::ReproduceArgs),
-    /// Measure what a scene costs: rollouts/s, steps/s, E3D trials/s.
+    /// Measure what a scene costs: rollouts/s, steps/s, E3D trials/s (CSV; each
+    /// figure the median and the best of 5 slices of its time).
     Bench(cli::bench::BenchArgs),
     /// Run a sweep file: every (cell, seed) session, in parallel, resumably.
     Sweep(cli::sweep::SweepArgs),

@@ -198,3 +198,63 @@ fn a_closed_stdout_ends_quietly() {
     assert!(stderr.is_empty(), "e3d wrote to stderr: {stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `e3d bench`: a CSV line per measure, each a median no faster than the
+/// best of its slices, and the measures of both kinds of scene.
+#[test]
+fn bench_prints_every_measure_with_its_median_and_best() {
+    let o = e3d(&["bench", "two_rooms", "pendulum3", "--seconds", "0.05"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8(o.stdout).unwrap();
+    let mut lines = out.lines();
+    assert_eq!(lines.next(), Some("scene,measure,rate,best,unit"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let measures: Vec<String> = rows.iter().map(|r| format!("{},{}", r[0], r[1])).collect();
+    for want in [
+        "two_rooms,rollouts",
+        "two_rooms,outcome table build (16384 commands; 16384 simulated;",
+        "two_rooms,e3d trials (outcome table)",
+        "two_rooms,e3d trial (outcome table)",
+        "pendulum3,rollouts",
+        "pendulum3,steps",
+        "pendulum3,rollouts (32 copies per world; not bit-identical: tables use one copy)",
+        "pendulum3,outcome table build (125 commands; 125 simulated;",
+        "pendulum3,e3d trials (outcome table)",
+    ] {
+        assert!(
+            measures.iter().any(|m| m.starts_with(want)),
+            "no `{want}` in\n{out}"
+        );
+    }
+    for r in &rows {
+        assert_eq!(r.len(), 5, "{r:?}");
+        let (rate, best): (f64, f64) = (r[2].parse().unwrap(), r[3].parse().unwrap());
+        assert!(rate > 0.0 && rate.is_finite(), "{r:?}");
+        // a rate's best is at least its median; a time's at most
+        if r[4] == "1/s" {
+            assert!(best >= rate, "{r:?}");
+        } else {
+            assert!(best <= rate, "{r:?}");
+        }
+    }
+    // pendulum3 runs 120 steps a command: steps are 120 rollouts
+    let get = |m: &str| {
+        rows.iter()
+            .find(|r| r[0] == "pendulum3" && r[1] == m)
+            .unwrap()[2]
+    };
+    let (rollouts, steps): (f64, f64) = (
+        get("rollouts").parse().unwrap(),
+        get("steps").parse().unwrap(),
+    );
+    assert!(
+        (steps / rollouts - 120.0).abs() < 0.1,
+        "{steps} / {rollouts}"
+    );
+    // a time that is not a number of seconds is refused
+    let o = e3d(&["bench", "two_rooms", "--seconds", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("--seconds 0: expected a number in (0, 3600]")
+    );
+}
