@@ -28,7 +28,7 @@ enum Cmd {
     Merge(cli::sweep::MergeArgs),
     /// Draw a sweep's summary: a line plot over one parameter, a heat map over two.
     Plot(cli::plot::PlotArgs),
-    /// Check, draw or execute a scene: `check`, `render`, `exec`, `reward-cell`, `stats`.
+    /// Check, draw or execute a scene: `check`, `render`, `exec`, `table`, `reward-cell`, `stats`.
     Scene(cli::scene::SceneArgs),
 }
 

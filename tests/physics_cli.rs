@@ -213,3 +213,61 @@ fn scene_table_computes_writes_then_reads_the_table() {
     assert!(second.contains("read from"), "{second}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `e3d scene reward-cell` applies SCENES.md's rule and says whether the
+/// scene's reward cells agree; on pendulum3 (125 commands, no reward) the
+/// rule picks cell (2, 1), reached by 2 commands.
+#[test]
+fn scene_reward_cell_prints_the_rule_and_its_commands() {
+    let out = e3d()
+        .args(["scene", "reward-cell", "pendulum3"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    for want in [
+        "scene pendulum3: executed 125 commands in ",
+        "reached cells: 32 of 64",
+        "rule: farthest reached cell from (0.0000, -0.9000): (2, 1) = effect 17, centre (-0.625, 0.375), 1.4199 m away, reached by 2 command(s)",
+        "commands reaching it: aac aad",
+        "the scene's reward cells [] do NOT match the rule's cell",
+    ] {
+        assert!(text.contains(want), "missing `{want}` in\n{text}");
+    }
+}
+
+/// `e3d scene stats` counts contacts, limits and top speeds over the whole
+/// command space, and refuses a grid scene with exit code 2.
+#[test]
+fn scene_stats_reports_a_physics_scene_and_refuses_a_grid() {
+    let out = e3d()
+        .args(["scene", "stats", "pendulum3"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    for want in [
+        "scene pendulum3: 125 commands in ",
+        "reached cells: 32 of 64",
+        "commands bringing two moving bodies into contact: 0 (0.0%)",
+        "commands pressing a joint against a limit (within 0.01 rad): 0 (0.0%)",
+        "top linear speed 8.729 m/s (max_speed 100 m/s); top angular speed 22.59 rad/s",
+    ] {
+        assert!(text.contains(want), "missing `{want}` in\n{text}");
+    }
+    let out = e3d()
+        .args(["scene", "stats", "two_rooms"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("is for physics scenes; this is a grid scene"));
+}

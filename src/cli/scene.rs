@@ -374,7 +374,9 @@ fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
     println!("most common cells: {}", top.join(", "));
     let center = grid.center(cell.row, cell.col);
     println!(
-        "rule: farthest reached cell from ({}, {}): ({}, {}) = effect {}, centre ({}, {}), {:.4} m away, reached by {} command(s)",
+        "rule: farthest reached cell from ({:.4}, {:.4}): ({}, {}) = effect {}, centre ({}, {}), {:.4} m away, reached by {} command(s)",
+        // 4 decimals, as the distance: pendulum3's start, cos(-pi/2) * 0.9,
+        // prints as 0.0000, not 0.000000000000000006123233995736766
         from[0], from[1], cell.row, cell.col, cell.effect, center[0], center[1], cell.distance, cell.commands
     );
     let space = scene.command_space();
