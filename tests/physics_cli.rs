@@ -73,25 +73,39 @@ fn e3d() -> Proc {
     Proc::new(env!("CARGO_BIN_EXE_e3d"))
 }
 
-#[test]
-fn scene_check_summarises_arm7() {
-    let out = e3d()
-        .args(["scene", "check", "scenes/arm7.ron"])
-        .output()
-        .unwrap();
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).unwrap();
-    for want in [
-        "bodies (7):",
-        "joints (7):",
-        "distinct commands: 2187",
-        "effects: 225 (15 x 15 cells",
-        "reward cells: [(6, 5)]",
-        "120 step(s) per command",
-        "symmetry: FlipY (checked): 1094 of 2187 commands simulated, the others reflected",
-    ] {
+/// The standard output of `e3d ARGS`, which must succeed.
+fn stdout_of(args: &[&str]) -> String {
+    let out = e3d().args(args).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Asserts that `text` contains each of `wants`.
+fn assert_contains_all(text: &str, wants: &[&str]) {
+    for want in wants {
         assert!(text.contains(want), "missing `{want}` in\n{text}");
     }
+}
+
+#[test]
+fn scene_check_summarises_arm7() {
+    let text = stdout_of(&["scene", "check", "scenes/arm7.ron"]);
+    assert_contains_all(
+        &text,
+        &[
+            "bodies (7):",
+            "joints (7):",
+            "distinct commands: 2187",
+            "effects: 225 (15 x 15 cells",
+            "reward cells: [(6, 5)]",
+            "120 step(s) per command",
+            "symmetry: FlipY (checked): 1094 of 2187 commands simulated, the others reflected",
+        ],
+    );
 }
 
 #[test]
@@ -219,50 +233,34 @@ fn scene_table_computes_writes_then_reads_the_table() {
 /// rule picks cell (2, 1), reached by 2 commands.
 #[test]
 fn scene_reward_cell_prints_the_rule_and_its_commands() {
-    let out = e3d()
-        .args(["scene", "reward-cell", "pendulum3"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8(out.stdout).unwrap();
-    for want in [
+    let text = stdout_of(&["scene", "reward-cell", "pendulum3"]);
+    assert_contains_all(
+        &text,
+        &[
         "scene pendulum3: executed 125 commands in ",
         "reached cells: 32 of 64",
         "rule: farthest reached cell from (0.0000, -0.9000): (2, 1) = effect 17, centre (-0.625, 0.375), 1.4199 m away, reached by 2 command(s)",
         "commands reaching it: aac aad",
         "the scene's reward cells [] do NOT match the rule's cell",
-    ] {
-        assert!(text.contains(want), "missing `{want}` in\n{text}");
-    }
+        ],
+    );
 }
 
 /// `e3d scene stats` counts contacts, limits and top speeds over the whole
 /// command space, and refuses a grid scene with exit code 2.
 #[test]
 fn scene_stats_reports_a_physics_scene_and_refuses_a_grid() {
-    let out = e3d()
-        .args(["scene", "stats", "pendulum3"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let text = stdout_of(&["scene", "stats", "pendulum3"]);
+    assert_contains_all(
+        &text,
+        &[
+            "scene pendulum3: 125 commands in ",
+            "reached cells: 32 of 64",
+            "commands bringing two moving bodies into contact: 0 (0.0%)",
+            "commands pressing a joint against a limit (within 0.01 rad): 0 (0.0%)",
+            "top linear speed 8.729 m/s (max_speed 100 m/s); top angular speed 22.59 rad/s",
+        ],
     );
-    let text = String::from_utf8(out.stdout).unwrap();
-    for want in [
-        "scene pendulum3: 125 commands in ",
-        "reached cells: 32 of 64",
-        "commands bringing two moving bodies into contact: 0 (0.0%)",
-        "commands pressing a joint against a limit (within 0.01 rad): 0 (0.0%)",
-        "top linear speed 8.729 m/s (max_speed 100 m/s); top angular speed 22.59 rad/s",
-    ] {
-        assert!(text.contains(want), "missing `{want}` in\n{text}");
-    }
     let out = e3d()
         .args(["scene", "stats", "two_rooms"])
         .output()
