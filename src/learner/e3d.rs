@@ -184,6 +184,8 @@ fn update_lanes<const W: usize>(
             break;
         }
         let s = &mut slots[i];
+        // `at[i]` is already masked; masking again (the same value) lets
+        // the compiler see it is in bounds
         s.weights[at[i] & (W - 1)] = w[i];
         totals[i] = running_sums(&s.weights, &mut s.cumulative);
     }
