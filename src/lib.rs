@@ -18,12 +18,17 @@
 //! - [`scene`]: the RON scene format, parsed and checked ([`Scene`]);
 //! - [`command`]: [`CommandSpace`] (slots and alphabets) and [`Command`];
 //! - [`world`]: the [`World`] trait, the [`GridWorld`], the Rapier-based
-//!   [`PhysicsWorld`], the [`OutcomeTable`];
+//!   [`PhysicsWorld`], the [`OutcomeTable`] (every command once, up
+//!   front), the [`OutcomeMemo`] (every proposed command once, whatever
+//!   the size of the space) and the [`ExecutionPlan`] that chooses between
+//!   them by cost;
 //! - [`effect`]: binning ([`EffectGrid`]), the running histogram
 //!   ([`EffectModel`]) and the target ([`Target`]);
 //! - [`learner`]: the [`Learner`] trait, [`E3d`], [`UniformPolicy`],
 //!   [`EpsilonGreedy`];
-//! - [`session`]: the trial loop ([`run_session`]) and its [`Metrics`];
+//! - [`session`]: the trial loop ([`run_session`], or [`run_session_into`]
+//!   a [`Recorder`] such as [`RunningMetrics`], in constant memory),
+//!   sessions in lockstep ([`run_lockstep`]) and their [`Metrics`];
 //! - [`sweep`]: grids of sessions over scenes, learners and parameters
 //!   ([`Sweep`]), run in parallel, resumable, in shards.
 //!
@@ -71,8 +76,11 @@ pub use effect::{EffectGrid, EffectModel, Target};
 pub use learner::{E3d, EpsilonGreedy, Learner, LearnerKind, ParamError, Params, UniformPolicy};
 pub use scene::{Scene, SceneError};
 pub use session::{
-    policy_effect_distribution, run_lockstep, run_session, run_session_with, Metrics,
-    SessionConfig, SessionRecord, SessionRng,
+    policy_effect_distribution, run_lockstep, run_lockstep_into, run_session, run_session_into,
+    run_session_with, Metrics, Recorder, RunningMetrics, SessionConfig, SessionRecord, SessionRng,
 };
 pub use sweep::{Sweep, SweepError};
-pub use world::{GridWorld, Outcome, OutcomeTable, PhysicsWorld, World, WorldError};
+pub use world::{
+    ExecutionPlan, Executor, GridWorld, Memoized, Outcome, OutcomeMemo, OutcomeTable, PhysicsWorld,
+    Strategy, World, WorldError,
+};

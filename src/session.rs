@@ -7,7 +7,7 @@
 use crate::command::{Command, CommandSpace};
 use crate::effect::{entropy, kl_divergence, Target};
 use crate::learner::Learner;
-use crate::world::{OutcomeTable, World, WorldError};
+use crate::world::{Outcome, OutcomeTable, World, WorldError};
 use rand::SeedableRng;
 use serde::{Deserialize, Serialize};
 use std::io::{self, Write};
@@ -75,21 +75,49 @@ pub fn run_session_with<W, L>(
     world: &mut W,
     learner: &mut L,
     config: &SessionConfig,
-    mut progress: impl FnMut(usize),
+    progress: impl FnMut(usize),
 ) -> Result<SessionRecord, WorldError>
 where
     W: World + ?Sized,
     L: Learner + ?Sized,
 {
-    let n = world.command_space().num_slots();
+    let mut rec = SessionRecord::new(world, config.trials);
+    run_session_into(world, learner, config, &mut rec, progress)?;
+    Ok(rec)
+}
+
+/// Runs a session, handing each trial to `recorder` instead of keeping
+/// them: with a [`RunningMetrics`], a session of any length runs in
+/// constant memory. `progress(trials_done)` is called every 256 trials and
+/// at the end.
+///
+/// ```
+/// use e3d::{run_session, run_session_into, LearnerKind, Params, RunningMetrics, Scene,
+///           SessionConfig, Target};
+/// let scene = Scene::builtin("two_rooms").unwrap();
+/// let make = || LearnerKind::E3d
+///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+///     .unwrap();
+/// let cfg = SessionConfig { trials: 3000, seed: 1, use_reward: false };
+/// let mut running = RunningMetrics::new(scene.num_effects());
+/// run_session_into(&mut scene.build(), &mut make(), &cfg, &mut running, |_| {}).unwrap();
+/// let kept = run_session(&mut scene.build(), &mut make(), &cfg).unwrap();
+/// // the same metrics, bit for bit, without keeping the 3000 trials
+/// assert_eq!(running.metrics(&Target::Uniform), kept.metrics(&Target::Uniform));
+/// ```
+pub fn run_session_into<W, L, R>(
+    world: &mut W,
+    learner: &mut L,
+    config: &SessionConfig,
+    recorder: &mut R,
+    mut progress: impl FnMut(usize),
+) -> Result<(), WorldError>
+where
+    W: World + ?Sized,
+    L: Learner + ?Sized,
+    R: Recorder + ?Sized,
+{
     let mut rng = SessionRng::seed_from_u64(config.seed);
-    let mut rec = SessionRecord {
-        num_slots: n,
-        num_effects: world.num_effects(),
-        commands: Vec::with_capacity(config.trials * n),
-        effects: Vec::with_capacity(config.trials),
-        rewards: Vec::with_capacity(config.trials),
-    };
     let mut command = world.command_space().first();
     for t in 0..config.trials {
         learner.propose(&mut rng, &mut command);
@@ -98,15 +126,150 @@ where
             outcome.reward = 0.0;
         }
         learner.learn(&command, &outcome);
-        rec.commands.extend_from_slice(&command.symbols);
-        rec.effects.push(outcome.effect as u32);
-        rec.rewards.push(outcome.reward);
+        recorder.record(&command, &outcome);
         if t % 256 == 255 {
             progress(t + 1);
         }
     }
     progress(config.trials);
-    Ok(rec)
+    Ok(())
+}
+
+/// What a session keeps of each trial.
+///
+/// [`SessionRecord`] keeps every trial; [`RunningMetrics`] only what the
+/// metrics need (constant memory); a pair `(A, B)` hands each trial to
+/// both; implement it to stream trials elsewhere (a file, a plot).
+pub trait Recorder {
+    /// One trial: the command and its outcome as the learner saw it (the
+    /// reward is 0 when the session ignores rewards).
+    fn record(&mut self, command: &Command, outcome: &Outcome);
+}
+
+impl<R: Recorder + ?Sized> Recorder for &mut R {
+    fn record(&mut self, command: &Command, outcome: &Outcome) {
+        (**self).record(command, outcome)
+    }
+}
+
+/// `None` records nothing (an optional output).
+impl<R: Recorder> Recorder for Option<R> {
+    fn record(&mut self, command: &Command, outcome: &Outcome) {
+        if let Some(r) = self {
+            r.record(command, outcome)
+        }
+    }
+}
+
+impl<A: Recorder, B: Recorder> Recorder for (A, B) {
+    fn record(&mut self, command: &Command, outcome: &Outcome) {
+        self.0.record(command, outcome);
+        self.1.record(command, outcome);
+    }
+}
+
+impl Recorder for SessionRecord {
+    fn record(&mut self, command: &Command, outcome: &Outcome) {
+        self.commands.extend_from_slice(&command.symbols);
+        self.effects.push(outcome.effect as u32);
+        self.rewards.push(outcome.reward);
+    }
+}
+
+/// The trials the last-trials entropy covers.
+const LAST: usize = 1000;
+
+/// The metrics of a session, kept as it runs, in constant memory: effect
+/// counts, the last 1000 effects, the reward so far and at chosen trials.
+/// Its [`metrics`](Self::metrics) equal [`SessionRecord::metrics`] bit for
+/// bit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunningMetrics {
+    counts: Vec<u64>,
+    /// The last [`LAST`] effects, a ring (`trials % LAST` is the next).
+    last: Vec<u32>,
+    trials: usize,
+    cumulative: f64,
+    first_reward: Option<usize>,
+    /// Trials (1-based, increasing) at which the cumulative reward is kept.
+    checkpoints: Vec<usize>,
+    at_checkpoints: Vec<f64>,
+}
+
+impl RunningMetrics {
+    /// Nothing recorded yet, for a world of `num_effects` effects.
+    pub fn new(num_effects: usize) -> Self {
+        Self::with_checkpoints(num_effects, &[])
+    }
+
+    /// The same, keeping the cumulative reward after each of the trials
+    /// `checkpoints` (1-based) for [`cumulative_reward_at`](Self::cumulative_reward_at).
+    pub fn with_checkpoints(num_effects: usize, checkpoints: &[usize]) -> Self {
+        let mut checkpoints = checkpoints.to_vec();
+        checkpoints.sort_unstable();
+        checkpoints.dedup();
+        RunningMetrics {
+            counts: vec![0; num_effects],
+            last: Vec::with_capacity(LAST),
+            trials: 0,
+            cumulative: 0.0,
+            first_reward: None,
+            at_checkpoints: Vec::with_capacity(checkpoints.len()),
+            checkpoints,
+        }
+    }
+
+    /// The number of trials recorded.
+    pub fn trials(&self) -> usize {
+        self.trials
+    }
+
+    /// How many trials ended in each effect.
+    pub fn effect_counts(&self) -> Vec<f64> {
+        self.counts.iter().map(|&c| c as f64).collect()
+    }
+
+    /// The sum of the rewards after trial `t` (1-based), if `t` was one of
+    /// the checkpoints and has been reached.
+    pub fn cumulative_reward_at(&self, t: usize) -> Option<f64> {
+        let k = self.checkpoints.iter().position(|&c| c == t)?;
+        self.at_checkpoints.get(k).copied()
+    }
+
+    /// The session's metrics against the target `p*`.
+    pub fn metrics(&self, target: &Target) -> Metrics {
+        let mut last = vec![0.0; self.counts.len()];
+        for &e in &self.last {
+            last[e as usize] += 1.0;
+        }
+        Metrics::from_counts(
+            &self.effect_counts(),
+            &last,
+            self.cumulative,
+            self.first_reward,
+            self.trials,
+            target,
+        )
+    }
+}
+
+impl Recorder for RunningMetrics {
+    fn record(&mut self, _command: &Command, outcome: &Outcome) {
+        self.counts[outcome.effect] += 1;
+        if self.last.len() < LAST {
+            self.last.push(outcome.effect as u32);
+        } else {
+            self.last[self.trials % LAST] = outcome.effect as u32;
+        }
+        self.trials += 1;
+        self.cumulative += outcome.reward;
+        if self.first_reward.is_none() && outcome.reward > 0.0 {
+            self.first_reward = Some(self.trials);
+        }
+        if self.checkpoints.get(self.at_checkpoints.len()) == Some(&self.trials) {
+            self.at_checkpoints.push(self.cumulative);
+        }
+    }
 }
 
 /// Runs several sessions on one world in lockstep: at every trial each
@@ -128,24 +291,43 @@ where
     W: World + ?Sized,
     L: Learner,
 {
+    let mut records: Vec<SessionRecord> = configs
+        .iter()
+        .map(|c| SessionRecord::new(world, c.trials))
+        .collect();
+    let status = run_lockstep_into(world, learners, configs, &mut records, |_| {});
+    status
+        .into_iter()
+        .zip(records)
+        .map(|(s, r)| s.map(|()| r))
+        .collect()
+}
+
+/// [`run_lockstep`], handing each session's trials to its own recorder
+/// (`recorders[i]` for session `i`); returns each session's status. A
+/// session whose command fails stops there with the error (its recorder
+/// keeps the trials before it); the others go on. `progress(trials)` is
+/// called every 256 lockstep trials with the trials done since the last
+/// call, summed over the sessions, and at the end.
+pub fn run_lockstep_into<W, L, R>(
+    world: &mut W,
+    learners: &mut [L],
+    configs: &[SessionConfig],
+    recorders: &mut [R],
+    mut progress: impl FnMut(u64),
+) -> Vec<Result<(), WorldError>>
+where
+    W: World + ?Sized,
+    L: Learner,
+    R: Recorder,
+{
     assert_eq!(learners.len(), configs.len(), "one config per learner");
-    let n = world.command_space().num_slots();
+    assert_eq!(recorders.len(), configs.len(), "one recorder per session");
     let mut rngs: Vec<SessionRng> = configs
         .iter()
         .map(|c| SessionRng::seed_from_u64(c.seed))
         .collect();
-    let mut records: Vec<Result<SessionRecord, WorldError>> = configs
-        .iter()
-        .map(|c| {
-            Ok(SessionRecord {
-                num_slots: n,
-                num_effects: world.num_effects(),
-                commands: Vec::with_capacity(c.trials * n),
-                effects: Vec::with_capacity(c.trials),
-                rewards: Vec::with_capacity(c.trials),
-            })
-        })
-        .collect();
+    let mut status: Vec<Result<(), WorldError>> = configs.iter().map(|_| Ok(())).collect();
     let mut commands: Vec<Command> = configs
         .iter()
         .map(|_| world.command_space().first())
@@ -155,10 +337,15 @@ where
     let mut batch: Vec<Command> = commands.clone();
     let mut outcomes = Vec::with_capacity(configs.len());
     let longest = configs.iter().map(|c| c.trials).max().unwrap_or(0);
+    let mut since = 0u64;
     for t in 0..longest {
+        if t % 256 == 0 && since > 0 {
+            progress(since);
+            since = 0;
+        }
         active.clear();
         for (i, c) in configs.iter().enumerate() {
-            if t < c.trials && records[i].is_ok() {
+            if t < c.trials && status[i].is_ok() {
                 learners[i].propose(&mut rngs[i], &mut commands[i]);
                 batch[active.len()].symbols.clone_from(&commands[i].symbols);
                 active.push(i);
@@ -173,7 +360,7 @@ where
             let mut outcome = match result {
                 Ok(o) => o,
                 Err(e) => {
-                    records[i] = Err(e);
+                    status[i] = Err(e);
                     continue;
                 }
             };
@@ -181,14 +368,12 @@ where
                 outcome.reward = 0.0;
             }
             learners[i].learn(&commands[i], &outcome);
-            if let Ok(rec) = &mut records[i] {
-                rec.commands.extend_from_slice(&commands[i].symbols);
-                rec.effects.push(outcome.effect as u32);
-                rec.rewards.push(outcome.reward);
-            }
+            recorders[i].record(&commands[i], &outcome);
         }
+        since += active.len() as u64;
     }
-    records
+    progress(since);
+    status
 }
 
 /// The numbers that summarise a session.
@@ -211,7 +396,49 @@ pub struct Metrics {
     pub trials: usize,
 }
 
+impl Metrics {
+    /// The metrics from the effect counts over all trials and over the last
+    /// 1000, the sum of the rewards, the first rewarded trial and the
+    /// number of trials.
+    fn from_counts(
+        all: &[f64],
+        last: &[f64],
+        cumulative_reward: f64,
+        first_reward_trial: Option<usize>,
+        trials: usize,
+        target: &Target,
+    ) -> Metrics {
+        let num_effects = all.len();
+        let norm = (num_effects as f64).ln();
+        let norm = if norm > 0.0 { norm } else { 1.0 };
+        let log_target = target
+            .log_probs(num_effects)
+            .unwrap_or_else(|_| vec![-norm; num_effects]);
+        Metrics {
+            normalized_entropy: entropy(all) / norm,
+            normalized_entropy_last_1000: entropy(last) / norm,
+            kl_to_target: kl_divergence(all, &log_target),
+            distinct_effects: all.iter().filter(|&&c| c > 0.0).count(),
+            cumulative_reward,
+            first_reward_trial,
+            trials,
+        }
+    }
+}
+
 impl SessionRecord {
+    /// An empty record for `trials` trials on `world`.
+    pub fn new<W: World + ?Sized>(world: &W, trials: usize) -> Self {
+        let n = world.command_space().num_slots();
+        SessionRecord {
+            num_slots: n,
+            num_effects: world.num_effects(),
+            commands: Vec::with_capacity(trials.saturating_mul(n)),
+            effects: Vec::with_capacity(trials),
+            rewards: Vec::with_capacity(trials),
+        }
+    }
+
     /// The number of trials.
     pub fn trials(&self) -> usize {
         self.effects.len()
@@ -246,21 +473,15 @@ impl SessionRecord {
     pub fn metrics(&self, target: &Target) -> Metrics {
         let t = self.trials();
         let all = self.effect_counts(0..t);
-        let last = self.effect_counts(t.saturating_sub(1000)..t);
-        let norm = (self.num_effects as f64).ln();
-        let norm = if norm > 0.0 { norm } else { 1.0 };
-        let log_target = target
-            .log_probs(self.num_effects)
-            .unwrap_or_else(|_| vec![-norm; self.num_effects]);
-        Metrics {
-            normalized_entropy: entropy(&all) / norm,
-            normalized_entropy_last_1000: entropy(&last) / norm,
-            kl_to_target: kl_divergence(&all, &log_target),
-            distinct_effects: all.iter().filter(|&&c| c > 0.0).count(),
-            cumulative_reward: self.rewards.iter().sum(),
-            first_reward_trial: self.rewards.iter().position(|&r| r > 0.0).map(|i| i + 1),
-            trials: t,
-        }
+        let last = self.effect_counts(t.saturating_sub(LAST)..t);
+        Metrics::from_counts(
+            &all,
+            &last,
+            self.rewards.iter().fold(0.0, |a, r| a + r),
+            self.rewards.iter().position(|&r| r > 0.0).map(|i| i + 1),
+            t,
+            target,
+        )
     }
 
     /// Writes `trial,command,effect,reward` CSV, one row per trial (trial

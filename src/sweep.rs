@@ -69,8 +69,8 @@ pub mod summary;
 use crate::effect::Target;
 use crate::learner::{LearnerKind, Params};
 use crate::scene::{ron_options, Invalid, Scene, SceneError};
-use crate::session::{run_session, SessionConfig};
-use crate::world::{OutcomeTable, World, WorldError};
+use crate::session::{run_lockstep_into, run_session_into, RunningMetrics, SessionConfig};
+use crate::world::{Executor, Workload, World, WorldError, DEFAULT_MEMO_CAP};
 use journal::{Journal, JournalHeader};
 use rayon::prelude::*;
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
@@ -589,6 +589,18 @@ pub struct Sweep {
     metrics: Vec<MetricSpec>,
     cells: Vec<Cell>,
     table_cache: Option<PathBuf>,
+    memo_cap: usize,
+    notices: Option<Notices>,
+}
+
+/// Where a sweep tells how it obtains outcomes (one line each).
+#[derive(Clone)]
+struct Notices(std::sync::Arc<dyn Fn(&str) + Send + Sync>);
+
+impl fmt::Debug for Notices {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("Notices")
+    }
 }
 
 fn invalid(
@@ -853,6 +865,8 @@ impl Sweep {
             metrics,
             cells,
             table_cache: None,
+            memo_cap: DEFAULT_MEMO_CAP,
+            notices: None,
         })
     }
 
@@ -863,6 +877,28 @@ impl Sweep {
     pub fn with_table_cache(mut self, dir: impl Into<PathBuf>) -> Self {
         self.table_cache = Some(dir.into());
         self
+    }
+
+    /// Caps the outcome memo of each scene at `cap` entries (0: no memo;
+    /// default [`DEFAULT_MEMO_CAP`]). The results are the same bytes
+    /// whatever the cap; only the time changes.
+    pub fn with_memo_cap(mut self, cap: usize) -> Self {
+        self.memo_cap = cap;
+        self
+    }
+
+    /// Calls `f` with one line for each scene saying how its outcomes are
+    /// obtained (table, memo or live, and why), and after the run what the
+    /// memo simulated and kept. `e3d sweep` prints them on stderr.
+    pub fn with_notices(mut self, f: impl Fn(&str) + Send + Sync + 'static) -> Self {
+        self.notices = Some(Notices(std::sync::Arc::new(f)));
+        self
+    }
+
+    fn notice(&self, line: &str) {
+        if let Some(f) = &self.notices {
+            (f.0)(line);
+        }
     }
 
     /// The scenes, in the order of the file.
@@ -967,48 +1003,106 @@ impl Sweep {
     }
 
     /// Runs one session on `world` (which must be a world of the session's
-    /// scene, or its outcome table).
+    /// scene, or its outcome table), in constant memory.
     pub fn run_session(
         &self,
         session: &SessionSpec,
         world: &mut dyn World,
     ) -> Result<SessionResult, SweepError> {
+        let mut learner = self.learner(session, world)?;
+        let mut metrics = self.recorder(world);
+        let status = run_session_into(
+            world,
+            &mut learner,
+            &self.config(session),
+            &mut metrics,
+            |_| {},
+        );
+        Ok(self.result(session, status, &metrics))
+    }
+
+    /// Runs `sessions` (all of one scene) in lockstep on `world`: at each
+    /// trial the new commands of all of them are executed together. The
+    /// results are those of [`run_session`](Self::run_session), in order.
+    pub fn run_sessions_lockstep(
+        &self,
+        sessions: &[SessionSpec],
+        world: &mut dyn World,
+    ) -> Result<Vec<SessionResult>, SweepError> {
+        let mut learners = sessions
+            .iter()
+            .map(|s| self.learner(s, world))
+            .collect::<Result<Vec<_>, _>>()?;
+        let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
+        let mut recorders: Vec<RunningMetrics> =
+            sessions.iter().map(|_| self.recorder(world)).collect();
+        let status = run_lockstep_into(world, &mut learners, &configs, &mut recorders, |_| {});
+        Ok(sessions
+            .iter()
+            .zip(status)
+            .zip(&recorders)
+            .map(|((s, st), m)| self.result(s, st, m))
+            .collect())
+    }
+
+    fn learner(
+        &self,
+        session: &SessionSpec,
+        world: &dyn World,
+    ) -> Result<Box<dyn crate::learner::Learner + Send>, SweepError> {
         let cell = &self.cells[session.cell];
-        let target = Target::Uniform;
-        let mut learner = cell
-            .learner
+        if world.command_space() != &self.scenes[cell.scene].command_space() {
+            return Err(SweepError::Other(format!(
+                "session {} is of scene `{}`, but the world has another command space",
+                session.index, self.scenes[cell.scene].name
+            )));
+        }
+        cell.learner
             .make(
                 &cell.params,
                 world.command_space(),
                 world.num_effects(),
-                &target,
+                &Target::Uniform,
             )
-            .map_err(SweepError::Other)?;
-        let cfg = SessionConfig {
+            .map_err(SweepError::Other)
+    }
+
+    fn config(&self, session: &SessionSpec) -> SessionConfig {
+        SessionConfig {
             trials: self.spec.trials,
             seed: session.seed,
-            use_reward: cell.use_reward,
-        };
-        let rec = match run_session(world, &mut learner, &cfg) {
-            Ok(rec) => rec,
-            Err(e) => {
-                return Ok(SessionResult {
-                    session: *session,
-                    values: vec![None; self.metrics.len()],
-                    failure: Some(e.to_string()),
-                })
-            }
-        };
-        let m = rec.metrics(&target);
-        let needs_cumulative = self
+            use_reward: self.cells[session.cell].use_reward,
+        }
+    }
+
+    /// The running metrics a session keeps: the cumulative reward at the
+    /// trials the metrics name.
+    fn recorder(&self, world: &dyn World) -> RunningMetrics {
+        let checkpoints: Vec<usize> = self
             .metrics
             .iter()
-            .any(|m| matches!(m, MetricSpec::CumulativeReward(_)));
-        let cumulative = if needs_cumulative {
-            rec.cumulative_rewards()
-        } else {
-            Vec::new()
-        };
+            .filter_map(|m| match *m {
+                MetricSpec::CumulativeReward(t) => Some(t),
+                _ => None,
+            })
+            .collect();
+        RunningMetrics::with_checkpoints(world.num_effects(), &checkpoints)
+    }
+
+    fn result(
+        &self,
+        session: &SessionSpec,
+        status: Result<(), WorldError>,
+        running: &RunningMetrics,
+    ) -> SessionResult {
+        if let Err(e) = status {
+            return SessionResult {
+                session: *session,
+                values: vec![None; self.metrics.len()],
+                failure: Some(e.to_string()),
+            };
+        }
+        let m = running.metrics(&Target::Uniform);
         let values = self
             .metrics
             .iter()
@@ -1017,21 +1111,49 @@ impl Sweep {
                 MetricSpec::NormalizedEntropyLast1000 => Some(m.normalized_entropy_last_1000),
                 MetricSpec::KlToTarget => Some(m.kl_to_target),
                 MetricSpec::DistinctEffects => Some(m.distinct_effects as f64),
-                MetricSpec::CumulativeReward(t) => cumulative.get(t - 1).copied(),
+                MetricSpec::CumulativeReward(t) => running.cumulative_reward_at(t),
                 MetricSpec::FirstRewardTrial => m.first_reward_trial.map(|t| t as f64),
             })
             .collect();
-        Ok(SessionResult {
+        SessionResult {
             session: *session,
             values,
             failure: None,
-        })
+        }
+    }
+
+    /// How the outcomes of each scene will be obtained for `sessions` on
+    /// `threads` threads (see [`ExecutionPlan::choose`]), without reading
+    /// or building anything but the table folder's headers.
+    pub fn workloads(&self, sessions: &[SessionSpec], threads: usize) -> Vec<Workload> {
+        let mut work = vec![
+            Workload {
+                trials: 0,
+                sessions: 0,
+                threads: threads.max(1),
+            };
+            self.scenes.len()
+        ];
+        for s in sessions {
+            let w = &mut work[self.cells[s.cell].scene];
+            w.trials += self.spec.trials as u64;
+            w.sessions += 1;
+        }
+        work
     }
 
     /// Runs `sessions` on a local pool of `threads` threads, calling
     /// `on_result` on the calling thread as each one finishes (in no
-    /// particular order). Deterministic worlds with small command spaces
-    /// are run on one [`OutcomeTable`] per scene, shared by all threads.
+    /// particular order).
+    ///
+    /// Each scene's outcomes come from the cheapest of an outcome table,
+    /// an outcome memo or live execution ([`Executor`]), shared by all
+    /// threads; under the memo and live execution the scene's sessions run
+    /// in lockstep groups, each group's new commands stepped together in
+    /// multi-copy worlds where copies are exact. The results are the same,
+    /// bit for bit, whatever is chosen and whatever the threads. Each
+    /// choice is told to the notice callback ([`with_notices`](Self::with_notices)),
+    /// and so is what a memo simulated and kept.
     /// An error from `on_result` or from a session stops the sweep and is
     /// returned.
     pub fn run_with(
@@ -1044,39 +1166,58 @@ impl Sweep {
             .num_threads(threads.max(1))
             .build()
             .map_err(|e| SweepError::Other(format!("cannot start the threads: {e}")))?;
-        // one table per scene that has work to do
-        let mut trials_per_scene = vec![0u64; self.scenes.len()];
-        for s in sessions {
-            trials_per_scene[self.cells[s.cell].scene] += self.spec.trials as u64;
-        }
-        // A table that cannot be built (some command blows up) is not used:
-        // the sessions then run on the world, and only those that meet the
-        // failing command fail (and are recorded so).
-        let tables: Vec<Option<OutcomeTable>> = pool.install(|| {
+        let work = self.workloads(sessions, pool.current_num_threads());
+        let executors: Vec<Option<Executor>> = pool.install(|| {
             self.scenes
                 .iter()
-                .zip(&trials_per_scene)
-                .map(|(scene, &trials)| {
-                    if trials == 0 || !OutcomeTable::worthwhile(scene, &scene.build(), trials) {
-                        return None;
+                .zip(&work)
+                .map(|(scene, w)| {
+                    if w.sessions == 0 {
+                        return Ok(None);
                     }
-                    OutcomeTable::for_scene(scene, self.table_cache.as_deref()).ok()
+                    let e = Executor::new(scene, w, self.table_cache.as_deref(), self.memo_cap)
+                        .map_err(|e| SweepError::Other(e.to_string()))?;
+                    self.notice(&e.plan().to_string());
+                    Ok(Some(e))
                 })
-                .collect()
-        });
-        let tables = &tables;
-        std::thread::scope(|scope| {
+                .collect::<Result<_, SweepError>>()
+        })?;
+        // the units of work: one session on a table, or a lockstep group
+        let mut units: Vec<Vec<SessionSpec>> = Vec::new();
+        for (si, exec) in executors.iter().enumerate() {
+            let Some(exec) = exec else { continue };
+            let mine: Vec<SessionSpec> = sessions
+                .iter()
+                .filter(|s| self.cells[s.cell].scene == si)
+                .copied()
+                .collect();
+            if exec.table().is_some() {
+                units.extend(mine.into_iter().map(|s| vec![s]));
+            } else {
+                let size = mine.len().div_ceil(exec.plan().groups.max(1));
+                units.extend(mine.chunks(size.max(1)).map(<[SessionSpec]>::to_vec));
+            }
+        }
+        let (executors, units) = (&executors, &units);
+        let outcome = std::thread::scope(|scope| {
             let (tx, rx) = std::sync::mpsc::channel::<Result<SessionResult, SweepError>>();
             let pool = &pool;
             scope.spawn(move || {
                 pool.install(|| {
-                    let _ = sessions.par_iter().try_for_each_with(tx, |tx, s| {
-                        let scene = self.cells[s.cell].scene;
-                        let r = match &tables[scene] {
-                            Some(t) => self.run_session(s, &mut &*t),
-                            None => self.run_session(s, &mut self.scenes[scene].build()),
+                    let _ = units.par_iter().try_for_each_with(tx, |tx, unit| {
+                        let scene = self.cells[unit[0].cell].scene;
+                        let exec = executors[scene].as_ref().expect("a scene with work");
+                        let mut world = exec.world(unit.len());
+                        let results = if unit.len() == 1 {
+                            self.run_session(&unit[0], &mut *world).map(|r| vec![r])
+                        } else {
+                            self.run_sessions_lockstep(unit, &mut *world)
                         };
-                        tx.send(r).map_err(|_| ())
+                        match results {
+                            Ok(rs) => rs.into_iter().try_for_each(|r| tx.send(Ok(r))),
+                            Err(e) => tx.send(Err(e)),
+                        }
+                        .map_err(|_| ())
                     });
                 })
             });
@@ -1089,7 +1230,13 @@ impl Sweep {
             }
             drop(rx);
             outcome
-        })
+        });
+        for exec in executors.iter().flatten() {
+            if let Some(line) = exec.finish() {
+                self.notice(&line);
+            }
+        }
+        outcome
     }
 
     /// Runs every session on `threads` threads and returns the results in

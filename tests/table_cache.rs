@@ -31,14 +31,25 @@ fn runs_and_sweeps_give_the_same_bytes_with_and_without_a_table_cache() {
     }
     let tables: Vec<_> = std::fs::read_dir(&cache).unwrap().collect();
     assert_eq!(tables.len(), 1, "one table for two_rooms");
-    for out in ["cached-1", "cached-2"] {
-        for f in ["trials.csv", "summary.json"] {
-            assert_eq!(
-                std::fs::read(root.join("plain").join(f)).unwrap(),
-                std::fs::read(root.join(out).join(f)).unwrap(),
-                "{out}/{f}"
-            );
-        }
+    let summary = |dir: &str| -> (serde_json::Value, serde_json::Value) {
+        let text = std::fs::read_to_string(root.join(dir).join("summary.json")).unwrap();
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let execution = v.as_object_mut().unwrap().remove("execution").unwrap();
+        (v, execution)
+    };
+    let (plain, how) = summary("plain");
+    assert_eq!(how["strategy"], "table");
+    assert_eq!(how["on_disk"]["state"], "nocache");
+    for (out, state) in [("cached-1", "missing"), ("cached-2", "full")] {
+        assert_eq!(
+            std::fs::read(root.join("plain").join("trials.csv")).unwrap(),
+            std::fs::read(root.join(out).join("trials.csv")).unwrap(),
+            "{out}/trials.csv"
+        );
+        // every field but how the outcomes were obtained
+        let (cached, how) = summary(out);
+        assert_eq!(plain, cached, "{out}/summary.json");
+        assert_eq!(how["on_disk"]["state"], state, "{out}");
     }
     let sweep = "scripts/slurm/test-sweep.ron";
     e3d(&["sweep", sweep, "--out", &p("sweep-plain"), "--threads", "2"]);

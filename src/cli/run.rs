@@ -2,9 +2,11 @@
 
 use super::{CliError, CliResult};
 use clap::Args;
+use e3d::world::{Executor, Workload};
 use e3d::{
-    policy_effect_distribution, run_session_with, LearnerKind, Metrics, OutcomeTable, Params,
-    Scene, SessionConfig, Target,
+    policy_effect_distribution, run_lockstep_into, run_session_into, Command, CommandSpace,
+    ExecutionPlan, LearnerKind, Metrics, Outcome, Params, Recorder, RunningMetrics, Scene,
+    SessionConfig, Target,
 };
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -35,10 +37,17 @@ pub struct RunArgs {
     /// Overwrite the files of an earlier run in --out.
     #[arg(long)]
     pub force: bool,
-    /// Keep the scene's outcome table (every command executed once) in DIR
-    /// and reuse it; keyed by the scene's content and the e3d version.
+    /// Keep the scene's outcomes in DIR and reuse them: a whole table, or
+    /// the commands executed so far (the file grows from run to run); keyed
+    /// by the scene's content and the e3d version.
     #[arg(long, value_name = "DIR")]
     pub table_cache: Option<PathBuf>,
+    /// Run N sessions, seeded --seed, --seed + 1, ..., in lockstep: each
+    /// trial's new commands of all sessions are simulated together.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    pub sessions: u64,
+    #[command(flatten)]
+    pub memo: MemoArgs,
 }
 
 /// The learners' hyper-parameters on the command line (defaults: task 1).
@@ -77,7 +86,7 @@ impl ParamArgs {
     }
 }
 
-/// What `summary.json` holds.
+/// What `summary.json` holds (one session).
 #[derive(Serialize)]
 struct Summary<'a> {
     e3d_version: &'static str,
@@ -92,6 +101,30 @@ struct Summary<'a> {
     /// The exact effect distribution of the final policy (small command
     /// spaces only).
     policy_effect_distribution: Option<Vec<f64>>,
+    effect_counts: Vec<f64>,
+    /// How the outcomes were obtained (table, memo or live, and why).
+    execution: &'a ExecutionPlan,
+}
+
+/// What `summary.json` holds with `--sessions N` (N > 1).
+#[derive(Serialize)]
+struct SessionsSummary<'a> {
+    e3d_version: &'static str,
+    scene: &'a str,
+    learner: &'static str,
+    #[serde(flatten)]
+    params: Params,
+    use_reward: bool,
+    /// Per session: its seed, metrics and effect counts.
+    sessions: Vec<OneSession<'a>>,
+    execution: &'a ExecutionPlan,
+}
+
+#[derive(Serialize)]
+struct OneSession<'a> {
+    seed: u64,
+    #[serde(flatten)]
+    metrics: &'a Metrics,
     effect_counts: Vec<f64>,
 }
 
@@ -126,57 +159,234 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> CliResult {
         .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
 }
 
+/// The outcome memo's options, shared by `run` and `sweep`.
+#[derive(Args, Debug, Clone)]
+pub struct MemoArgs {
+    /// The most command outcomes kept in memory by the outcome memo (each
+    /// command simulated once; about 50-100 bytes an entry); 0 turns it off.
+    #[arg(long, value_name = "N", default_value_t = e3d::world::DEFAULT_MEMO_CAP)]
+    pub memo_cap: usize,
+}
+
+/// Streams `trial,command,effect,reward` rows (with a leading `session`
+/// column for several sessions) into a temporary file beside the final
+/// one: a session of any length never holds its trials in memory.
+struct TrialsCsv {
+    out: std::io::BufWriter<std::fs::File>,
+    path: PathBuf,
+    space: CommandSpace,
+    session: Option<usize>,
+    trial: usize,
+    error: Option<std::io::Error>,
+}
+
+impl TrialsCsv {
+    fn create(
+        path: PathBuf,
+        space: &CommandSpace,
+        session: Option<usize>,
+    ) -> Result<Self, CliError> {
+        let f = std::fs::File::create(&path)
+            .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))?;
+        Ok(TrialsCsv {
+            out: std::io::BufWriter::with_capacity(1 << 16, f),
+            path,
+            space: space.clone(),
+            session,
+            trial: 0,
+            error: None,
+        })
+    }
+
+    /// Flushes; the file's path, or why it could not be written.
+    fn finish(mut self) -> Result<PathBuf, CliError> {
+        use std::io::Write;
+        let r = match self.error.take() {
+            Some(e) => Err(e),
+            None => self.out.flush(),
+        };
+        r.map_err(|e| CliError::output(format!("{}: cannot write: {e}", self.path.display())))?;
+        Ok(self.path)
+    }
+}
+
+impl Recorder for TrialsCsv {
+    fn record(&mut self, command: &Command, outcome: &Outcome) {
+        use std::io::Write;
+        self.trial += 1;
+        if self.error.is_some() {
+            return;
+        }
+        let r = match self.session {
+            Some(s) => write!(self.out, "{s},"),
+            None => Ok(()),
+        }
+        .and_then(|()| {
+            writeln!(
+                self.out,
+                "{},{},{},{}",
+                self.trial,
+                self.space.format(command),
+                outcome.effect,
+                outcome.reward
+            )
+        });
+        if let Err(e) = r {
+            self.error = Some(e);
+        }
+    }
+}
+
+/// The temporary file of a final file `path`.
+fn temp_of(path: &Path, tag: &str) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.{tag}-{}", std::process::id()))
+}
+
+/// Joins the temporary trial files into `path` under one header, then
+/// renames it into place: the final file is whole or absent.
+fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
+    use std::io::Write;
+    let tmp = temp_of(path, "tmp");
+    let result = (|| -> std::io::Result<()> {
+        let mut out = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
+        writeln!(out, "{header}")?;
+        for p in parts {
+            std::io::copy(&mut std::fs::File::open(p)?, &mut out)?;
+        }
+        out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    for p in parts {
+        let _ = std::fs::remove_file(p);
+    }
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
+}
+
 pub fn run(a: RunArgs) -> CliResult {
     let params = a.params.params()?;
     let scene = load_scene(&a.scene)?;
     if let Some(dir) = &a.out {
         prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
     }
-    let mut world = scene.build();
-    let space = world.command_space().clone();
+    let sessions = a.sessions as usize;
+    let seeds: Vec<u64> = (0..a.sessions)
+        .map(|i| a.seed.checked_add(i))
+        .collect::<Option<_>>()
+        .ok_or_else(|| {
+            CliError::input(format!(
+                "--seed {} with --sessions {}: the seeds seed..seed+N-1 pass 2^64 - 1",
+                a.seed, a.sessions
+            ))
+        })?;
+    let space = scene.command_space();
+    let num_effects = scene.num_effects();
     let target = Target::Uniform;
-    let mut learner = a
-        .learner
-        .make(&params, &space, world.num_effects(), &target)
-        .map_err(CliError::input)?;
-    let cfg = SessionConfig {
+    let cfg = |seed: u64| SessionConfig {
         trials: a.trials as usize,
-        seed: a.seed,
+        seed,
         use_reward: !a.no_reward,
     };
-    // a table some command of which blows up is not used: the session then
-    // fails on the command it actually tried, and says which
-    let table = if OutcomeTable::worthwhile(&scene, &*world, a.trials) {
-        OutcomeTable::for_scene(&scene, a.table_cache.as_deref()).ok()
-    } else {
-        None
+    let make = || {
+        a.learner
+            .make(&params, &space, num_effects, &target)
+            .map_err(CliError::input)
     };
+    make()?;
+    let work = Workload {
+        trials: a.trials.saturating_mul(a.sessions),
+        sessions,
+        threads: rayon::current_num_threads(),
+    };
+    let exec = Executor::new(&scene, &work, a.table_cache.as_deref(), a.memo.memo_cap)
+        .map_err(CliError::simulation)?;
+    eprintln!("outcomes: {}", exec.plan());
     // a progress bar on a terminal (indicatif draws nothing otherwise)
-    let bar = indicatif::ProgressBar::new(a.trials);
+    let bar = indicatif::ProgressBar::new(work.trials);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} trials, {eta} left")
             .expect("valid template")
             .progress_chars("=> "),
     );
     bar.set_message(scene.name.clone());
-    let tick = |t: usize| bar.set_position(t as u64);
-    let record = match &table {
-        Some(t) => run_session_with(&mut &*t, &mut learner, &cfg, tick),
-        None => run_session_with(&mut world, &mut learner, &cfg, tick),
+    let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
+    let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {
+        csv_path
+            .as_ref()
+            .map(|p| {
+                let tag = format!("session{i}");
+                TrialsCsv::create(temp_of(p, &tag), &space, (sessions > 1).then_some(i))
+            })
+            .transpose()
+    };
+    let mut learners = Vec::with_capacity(sessions);
+    let mut recorders = Vec::with_capacity(sessions);
+    for i in 0..sessions {
+        learners.push(make()?);
+        recorders.push((RunningMetrics::new(num_effects), csv(i)?));
     }
-    .map_err(CliError::simulation)?;
+    let status: Vec<Result<(), e3d::WorldError>> = if sessions == 1 {
+        let mut world = exec.world(1);
+        let tick = |t: usize| bar.set_position(t as u64);
+        vec![run_session_into(
+            &mut *world,
+            &mut learners[0],
+            &cfg(seeds[0]),
+            &mut recorders[0],
+            tick,
+        )]
+    } else {
+        // lockstep groups (one session per group on a table), in parallel
+        use rayon::prelude::*;
+        let groups = if exec.table().is_some() {
+            sessions
+        } else {
+            exec.plan().groups.max(1)
+        };
+        let size = sessions.div_ceil(groups);
+        let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
+        let parts: Vec<Vec<Result<(), e3d::WorldError>>> = learners
+            .par_chunks_mut(size)
+            .zip(recorders.par_chunks_mut(size))
+            .zip(configs.par_chunks(size))
+            .map(|((l, r), c)| {
+                let mut world = exec.world(l.len());
+                run_lockstep_into(&mut *world, l, c, r, |t| bar.inc(t))
+            })
+            .collect();
+        parts.into_iter().flatten().collect()
+    };
     bar.finish_and_clear();
-    let metrics = record.metrics(&target);
-    let exact = table
-        .as_ref()
-        .and_then(|t| policy_effect_distribution(t, &*learner));
+    if let Some(line) = exec.finish() {
+        eprintln!("outcomes: {line}");
+    }
+    // the first failing session fails the run, naming its command
+    let mut files = Vec::new();
+    for (st, (_, csv)) in status.into_iter().zip(recorders.iter_mut()) {
+        st.map_err(CliError::simulation)?;
+        if let Some(c) = csv.take() {
+            files.push(c.finish()?);
+        }
+    }
+    let metrics: Vec<Metrics> = recorders.iter().map(|r| r.0.metrics(&target)).collect();
+    let exact = match (exec.table(), sessions) {
+        (Some(t), 1) => policy_effect_distribution(t, &*learners[0]),
+        _ => None,
+    };
 
     println!(
-        "scene {} | learner {} | {} trials | seed {} | alpha {} beta {} lambda {} eta {} epsilon {}{}",
+        "scene {} | learner {} | {} trials{} | seed {} | alpha {} beta {} lambda {} eta {} epsilon {}{}",
         scene.name,
         a.learner,
         a.trials,
-        a.seed,
+        if sessions > 1 { format!(" x {sessions} sessions") } else { String::new() },
+        if sessions > 1 { format!("{}..={}", seeds[0], seeds[sessions - 1]) } else { a.seed.to_string() },
         params.alpha,
         params.beta,
         params.lambda,
@@ -184,45 +394,83 @@ pub fn run(a: RunArgs) -> CliResult {
         params.epsilon,
         if a.no_reward { " | no reward" } else { "" }
     );
-    println!(
-        "normalized entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
-        metrics.normalized_entropy,
-        metrics.normalized_entropy_last_1000,
-        metrics.kl_to_target,
-        metrics.distinct_effects,
-        world.num_effects()
-    );
-    println!(
-        "cumulative reward {} | first reward at trial {}",
-        metrics.cumulative_reward,
-        metrics
-            .first_reward_trial
-            .map_or("-".to_string(), |t| t.to_string())
-    );
+    for (i, m) in metrics.iter().enumerate() {
+        let who = if sessions > 1 {
+            format!("seed {}: ", seeds[i])
+        } else {
+            String::new()
+        };
+        println!(
+            "{who}normalized entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
+            m.normalized_entropy,
+            m.normalized_entropy_last_1000,
+            m.kl_to_target,
+            m.distinct_effects,
+            num_effects
+        );
+        println!(
+            "{who}cumulative reward {} | first reward at trial {}",
+            m.cumulative_reward,
+            m.first_reward_trial
+                .map_or("-".to_string(), |t| t.to_string())
+        );
+    }
+    if sessions > 1 {
+        let mean =
+            |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
+        println!(
+            "mean of {sessions} sessions: normalized entropy {:.4} | cumulative reward {:.1}",
+            mean(&|m| m.normalized_entropy),
+            mean(&|m| m.cumulative_reward)
+        );
+    }
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
         println!("exact effect distribution of the final policy: normalized entropy {h:.4}");
     }
 
     if let Some(dir) = &a.out {
-        let mut csv = Vec::new();
-        record
-            .write_trials_csv(&space, &mut csv)
-            .map_err(CliError::output)?;
-        let summary = Summary {
-            e3d_version: env!("CARGO_PKG_VERSION"),
-            scene: &scene.name,
-            learner: a.learner.as_str(),
-            params,
-            seed: a.seed,
-            use_reward: !a.no_reward,
-            metrics: &metrics,
-            policy_effect_distribution: exact,
-            effect_counts: record.effect_counts(0..record.trials()),
-        };
-        let mut json = serde_json::to_vec_pretty(&summary).map_err(CliError::output)?;
+        let mut json = if sessions == 1 {
+            serde_json::to_vec_pretty(&Summary {
+                e3d_version: env!("CARGO_PKG_VERSION"),
+                scene: &scene.name,
+                learner: a.learner.as_str(),
+                params,
+                seed: a.seed,
+                use_reward: !a.no_reward,
+                metrics: &metrics[0],
+                policy_effect_distribution: exact,
+                effect_counts: recorders[0].0.effect_counts(),
+                execution: exec.plan(),
+            })
+        } else {
+            serde_json::to_vec_pretty(&SessionsSummary {
+                e3d_version: env!("CARGO_PKG_VERSION"),
+                scene: &scene.name,
+                learner: a.learner.as_str(),
+                params,
+                use_reward: !a.no_reward,
+                sessions: metrics
+                    .iter()
+                    .zip(&recorders)
+                    .zip(&seeds)
+                    .map(|((m, r), &seed)| OneSession {
+                        seed,
+                        metrics: m,
+                        effect_counts: r.0.effect_counts(),
+                    })
+                    .collect(),
+                execution: exec.plan(),
+            })
+        }
+        .map_err(CliError::output)?;
         json.push(b'\n');
-        write_file(&dir.join("trials.csv"), &csv)?;
+        let header = if sessions > 1 {
+            "session,trial,command,effect,reward"
+        } else {
+            "trial,command,effect,reward"
+        };
+        join_trials(&dir.join("trials.csv"), header, &files)?;
         write_file(&dir.join("summary.json"), &json)?;
         println!(
             "wrote {} and {}",

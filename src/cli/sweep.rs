@@ -30,6 +30,8 @@ pub struct SweepArgs {
     /// and reuse them across runs, resumes and shards.
     #[arg(long, value_name = "DIR")]
     pub table_cache: Option<PathBuf>,
+    #[command(flatten)]
+    pub memo: super::run::MemoArgs,
 }
 
 /// Arguments of `e3d merge`.
@@ -58,6 +60,9 @@ pub fn run(a: SweepArgs) -> CliResult {
     if let Some(dir) = &a.table_cache {
         sweep = sweep.with_table_cache(dir);
     }
+    sweep = sweep
+        .with_memo_cap(a.memo.memo_cap)
+        .with_notices(|line| eprintln!("outcomes: {line}"));
     let threads = a.threads.map(usize::from).unwrap_or_else(|| {
         std::thread::available_parallelism()
             .map(|n| n.get())

@@ -7,19 +7,27 @@
 //! - [`GridWorld`]: the degenerate kinematic scene (one-cell moves, walls);
 //! - [`PhysicsWorld`]: rigid bodies and joints simulated by Rapier;
 //! - [`OutcomeTable`]: every command of a deterministic world executed
-//!   once, then looked up.
+//!   once, then looked up;
+//! - [`OutcomeMemo`] and [`Memoized`]: the commands sessions propose, each
+//!   executed once, whatever the size of the space;
+//! - [`ExecutionPlan`] and [`Executor`]: table, memo or live, chosen by
+//!   cost for a run or a sweep, and carried out.
 //!
 //! Implement [`World`] to plug in your own simulator or robot.
 
 mod grid;
+mod memo;
 mod physics;
+mod plan;
 mod reach;
 mod table;
 
 pub use grid::{GridSpec, GridWorld};
+pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
 pub use physics::{BodyPose, PhysicsWorld, RunStats, Trace, MAX_COPIES};
+pub use plan::{lockstep_groups, ExecutionPlan, Executor, OnDisk, Strategy, Workload};
 pub use reach::{farthest_reached_cell, FarthestCell};
-pub use table::{OutcomeTable, MAX_TABLE_COMMANDS, TABLE_COPIES};
+pub use table::{CachedOutcomes, OutcomeTable, MAX_TABLE_COMMANDS, TABLE_COPIES};
 
 use crate::command::{Command, CommandSpace};
 use serde::{Deserialize, Serialize};

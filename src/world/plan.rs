@@ -1,0 +1,599 @@
+//! How the commands of a run or a sweep are executed, decided by cost.
+//!
+//! Three ways to get the outcomes of a scene's commands, all giving the same
+//! outcomes bit for bit:
+//!
+//! - [`Strategy::Table`]: every command executed once up front, in
+//!   parallel, many copies per Rapier world, then looked up
+//!   ([`OutcomeTable`]); or read whole from a table file;
+//! - [`Strategy::Memo`]: commands executed as sessions propose them, each
+//!   only once ([`OutcomeMemo`]), the new commands of sessions in lockstep
+//!   batched into multi-copy worlds;
+//! - [`Strategy::Live`]: every proposal executed (worlds that are not
+//!   deterministic, grids whose moves cost less than a look-up, spaces of
+//!   more than 2^64 commands).
+//!
+//! [`ExecutionPlan::choose`] estimates the time of each from the size of
+//! the command space, the trials to run in all, how many sessions can step
+//! together, the threads, the scene's symmetry and what a table file
+//! already holds, and takes the cheapest. [`Executor`] carries the plan out
+//! for one scene: it reads or builds the table, or fills the memo, and
+//! makes the worlds the sessions run on.
+//!
+//! ```
+//! use e3d::world::{ExecutionPlan, Strategy, Workload, DEFAULT_MEMO_CAP};
+//! use e3d::Scene;
+//! let puck = Scene::builtin("puck_rooms").unwrap();
+//! let work = |trials, sessions| Workload { trials, sessions, threads: 2 };
+//! // 5000 trials of one session: the 16384-command table is cheaper
+//! let plan = ExecutionPlan::choose(&puck, &work(5000, 1), None, DEFAULT_MEMO_CAP);
+//! assert_eq!(plan.strategy, Strategy::Table);
+//! // 200 trials: simulate only what the session proposes
+//! let plan = ExecutionPlan::choose(&puck, &work(200, 1), None, DEFAULT_MEMO_CAP);
+//! assert_eq!(plan.strategy, Strategy::Memo);
+//! ```
+
+use super::{
+    Memoized, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError, MAX_TABLE_COMMANDS,
+    TABLE_COPIES,
+};
+use crate::scene::physics::BodyKind;
+use crate::scene::{Scene, WorldSpec};
+use crate::world::table::CachedOutcomes;
+use serde::Serialize;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// How outcomes are obtained (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Strategy {
+    /// A whole outcome table, built or read.
+    Table,
+    /// An outcome memo: each proposed command executed once.
+    Memo,
+    /// Every proposal executed.
+    Live,
+}
+
+impl fmt::Display for Strategy {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Strategy::Table => "table",
+            Strategy::Memo => "memo",
+            Strategy::Live => "live",
+        })
+    }
+}
+
+/// The work a plan is for: all the sessions of one scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Workload {
+    /// The trials of all sessions together.
+    pub trials: u64,
+    /// The number of sessions (they may step together in lockstep).
+    pub sessions: usize,
+    /// The threads available.
+    pub threads: usize,
+}
+
+/// What a table file holds, as far as a plan is concerned.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "state", rename_all = "lowercase")]
+pub enum OnDisk {
+    /// No table folder was given.
+    NoCache,
+    /// The file is not there yet (it will be written).
+    Missing {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A whole table.
+    Full {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Some commands' outcomes (a memo saved by an earlier run).
+    Partial {
+        /// The file.
+        path: PathBuf,
+        /// How many commands it holds.
+        entries: u64,
+    },
+    /// A file that cannot be used (another format, damaged): it will be
+    /// replaced.
+    Unusable {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
+    /// The command space has more than 2^64 commands: no table file.
+    TooLarge,
+}
+
+impl OnDisk {
+    fn entries(&self, n: u64) -> u64 {
+        match self {
+            OnDisk::Full { .. } => n,
+            OnDisk::Partial { entries, .. } => *entries,
+            _ => 0,
+        }
+    }
+}
+
+/// The decision for one scene and its estimated costs (seconds, from a
+/// fixed cost model measured on the development machine: see
+/// `docs/benchmarks.md`; only their ratios decide).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ExecutionPlan {
+    /// What was chosen.
+    pub strategy: Strategy,
+    /// The scene.
+    pub scene: String,
+    /// The commands of the space (`None`: more than 2^64).
+    pub commands: Option<u64>,
+    /// The commands a table simulates (one of each mirror-image pair under
+    /// a symmetry), when a table is possible.
+    pub simulated: Option<u64>,
+    /// Copies per Rapier world: commands stepped together (1 for grids and
+    /// for scenes whose copies are not bit-identical to a single world).
+    pub copies: usize,
+    /// Groups of sessions in lockstep (memo and live); each group steps
+    /// its sessions' new commands together.
+    pub groups: usize,
+    /// The table file, if a folder was given.
+    pub on_disk: OnDisk,
+    /// The memo's cap on entries.
+    pub memo_cap: usize,
+    /// The estimated seconds of the table, if possible.
+    pub table_seconds: Option<f64>,
+    /// The estimated seconds of the sessions' own executions (memo or live).
+    pub sessions_seconds: f64,
+    /// Why, in a few words.
+    pub why: String,
+}
+
+/// The cost model: seconds of one rollout and how copies share a step.
+#[derive(Debug, Clone, Copy)]
+struct Costs {
+    /// One command in a single-copy world.
+    rollout: f64,
+    /// The part of a rollout that copies in one world share (the rest is
+    /// paid per copy).
+    shared: f64,
+    /// Whether copies are exact (else: one copy per world).
+    exact: bool,
+    /// Grids: executing is about as cheap as a look-up.
+    grid: bool,
+}
+
+/// Seconds per trial of a look-up in a table and in a memo.
+const TABLE_LOOKUP: f64 = 4e-9;
+const MEMO_LOOKUP: f64 = 60e-9;
+/// Seconds per command of the table's own bookkeeping and of reading it.
+const TABLE_ENTRY: f64 = 100e-9;
+const TABLE_READ: f64 = 30e-9;
+/// A table that costs less than this is always taken: it also gives the
+/// exact effect distribution of the final policy.
+const CHEAP_TABLE: f64 = 0.05;
+
+impl Costs {
+    fn of(scene: &Scene) -> Costs {
+        match &scene.world {
+            WorldSpec::Grid(_) => Costs {
+                rollout: 2e-9 * scene.command_space().num_slots() as f64 + 1e-9,
+                shared: 0.0,
+                exact: false,
+                grid: true,
+            },
+            WorldSpec::Physics(p) => {
+                let moving = p
+                    .bodies
+                    .iter()
+                    .filter(|b| b.kind != BodyKind::Fixed)
+                    .count() as f64;
+                let joints = p.joints.len() as f64;
+                // per single-copy step: 1.6 us that copies share, 0.3 us per
+                // moving body, and the multibody algebra, quadratic in the
+                // joints (fitted to puck_rooms and arm7: 1.9 and 24 us)
+                let shared = 1.6e-6;
+                let own = 0.3e-6 * moving + 0.4e-6 * joints * joints;
+                let steps = p
+                    .schedule
+                    .total_steps(p.dt, scene.command_space().num_slots())
+                    as f64;
+                Costs {
+                    rollout: steps * (shared + own),
+                    shared: steps * shared,
+                    exact: p.copies_are_exact(),
+                    grid: false,
+                }
+            }
+        }
+    }
+
+    /// Seconds per command when `k` commands step together in one world.
+    fn per_command(&self, k: usize) -> f64 {
+        if !self.exact || k <= 1 {
+            return self.rollout;
+        }
+        self.shared / k as f64 + (self.rollout - self.shared)
+    }
+}
+
+/// The number of lockstep groups for `sessions` sessions on `threads`
+/// threads, each stepping at most `copies` commands together: enough
+/// groups to keep every thread busy, as few as that allows.
+pub fn lockstep_groups(sessions: usize, threads: usize, copies: usize) -> usize {
+    let threads = threads.max(1);
+    let per_thread = sessions.div_ceil(threads * copies.max(1)).max(1);
+    (threads * per_thread).min(sessions).max(1)
+}
+
+impl ExecutionPlan {
+    /// The cheapest way to run `work` on `scene`, given what the table
+    /// folder holds (`on_disk`; `None`: no folder) and the memo's cap (0:
+    /// no memo).
+    pub fn choose(
+        scene: &Scene,
+        work: &Workload,
+        on_disk: Option<&OnDisk>,
+        memo_cap: usize,
+    ) -> ExecutionPlan {
+        let space = scene.command_space();
+        let n = space.num_commands();
+        let costs = Costs::of(scene);
+        let threads = work.threads.max(1);
+        let copies = if costs.exact { TABLE_COPIES } else { 1 };
+        let groups = lockstep_groups(work.sessions, threads, copies);
+        let width = work.sessions.div_ceil(groups).clamp(1, copies);
+        let parallel = groups.min(threads) as f64;
+        let trials = work.trials as f64;
+        let on_disk = on_disk.cloned().unwrap_or(OnDisk::NoCache);
+        let mut plan = ExecutionPlan {
+            strategy: Strategy::Live,
+            scene: scene.name.clone(),
+            commands: n,
+            simulated: None,
+            copies: width,
+            groups,
+            on_disk: on_disk.clone(),
+            memo_cap,
+            table_seconds: None,
+            sessions_seconds: trials * costs.per_command(width) / parallel,
+            why: String::new(),
+        };
+        let Some(n) = n else {
+            plan.why = "more than 2^64 commands: no table or memo can index them".into();
+            return plan;
+        };
+        let known = on_disk.entries(n);
+        // the memo: at most one execution per distinct command, and a
+        // look-up per trial; how often commands repeat is not known ahead,
+        // so it is worth it wherever a look-up costs less than a rollout
+        let misses = work.trials.min(n - known.min(n)) as f64;
+        let memo_seconds = misses * costs.per_command(width) / parallel + trials * MEMO_LOOKUP;
+        let use_memo = memo_cap > 0 && costs.per_command(width) > 2.0 * MEMO_LOOKUP;
+        if use_memo {
+            plan.strategy = Strategy::Memo;
+            plan.sessions_seconds = memo_seconds;
+        }
+        if n > MAX_TABLE_COMMANDS {
+            plan.why = format!("{n} commands: too many for a table (at most {MAX_TABLE_COMMANDS})");
+            return plan;
+        }
+        let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
+        plan.simulated = Some(simulated);
+        let table_seconds = if matches!(on_disk, OnDisk::Full { .. }) {
+            n as f64 * TABLE_READ
+        } else {
+            simulated as f64 * costs.per_command(copies) / threads as f64 + n as f64 * TABLE_ENTRY
+        } + trials * TABLE_LOOKUP;
+        plan.table_seconds = Some(table_seconds);
+        let alternative = plan.sessions_seconds;
+        if table_seconds <= alternative || table_seconds < CHEAP_TABLE {
+            plan.strategy = Strategy::Table;
+            plan.copies = copies;
+            plan.why = if matches!(on_disk, OnDisk::Full { .. }) {
+                "the whole table is on disk".into()
+            } else if table_seconds < CHEAP_TABLE {
+                format!("{n} commands: a table costs next to nothing")
+            } else {
+                format!(
+                    "the table (about {}) costs less than the {} trials {} (about {})",
+                    seconds(table_seconds),
+                    work.trials,
+                    if use_memo { "memoised" } else { "live" },
+                    seconds(alternative)
+                )
+            };
+        } else {
+            plan.why = format!(
+                "{} trials {} (about {}) cost less than the table of {n} commands (about {})",
+                work.trials,
+                if use_memo { "memoised" } else { "live" },
+                seconds(alternative),
+                seconds(table_seconds)
+            );
+        }
+        if costs.grid && plan.strategy == Strategy::Live && plan.why.is_empty() {
+            plan.why = "a grid move costs less than a look-up".into();
+        }
+        plan
+    }
+}
+
+fn seconds(s: f64) -> String {
+    if s < 0.01 {
+        format!("{:.1} ms", s * 1e3)
+    } else if s < 100.0 {
+        format!("{s:.2} s")
+    } else {
+        format!("{:.0} min", s / 60.0)
+    }
+}
+
+impl fmt::Display for ExecutionPlan {
+    /// One line: what was chosen, how, and why.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: ", self.scene)?;
+        match self.strategy {
+            Strategy::Table => match &self.on_disk {
+                OnDisk::Full { path } => write!(f, "outcome table read from {}", path.display())?,
+                _ => {
+                    let n = self.commands.unwrap_or(0);
+                    let sim = self.simulated.unwrap_or(n);
+                    write!(f, "outcome table of {n} commands")?;
+                    if sim < n {
+                        write!(f, " ({sim} simulated, the others mirrored)")?;
+                    }
+                    if self.copies > 1 {
+                        write!(f, ", {} copies per world", self.copies)?;
+                    }
+                }
+            },
+            Strategy::Memo | Strategy::Live => {
+                write!(
+                    f,
+                    "{} ({}",
+                    if self.strategy == Strategy::Memo {
+                        "outcome memo: each proposed command simulated once"
+                    } else {
+                        "live: every proposal executed"
+                    },
+                    match self.commands {
+                        Some(n) => format!("{n} commands"),
+                        None => "more than 2^64 commands".into(),
+                    }
+                )?;
+                if self.groups > 1 || self.copies > 1 {
+                    write!(
+                        f,
+                        "; sessions in lockstep, {} group(s), up to {} commands per world",
+                        self.groups, self.copies
+                    )?;
+                }
+                if self.strategy == Strategy::Memo {
+                    write!(f, "; cap {} entries", self.memo_cap)?;
+                }
+                write!(f, ")")?;
+            }
+        }
+        write!(f, ": {}", self.why)?;
+        match &self.on_disk {
+            OnDisk::Partial { path, entries } => {
+                write!(f, "; {entries} outcomes read from {}", path.display())?
+            }
+            OnDisk::Unusable { path, reason } => {
+                write!(f, "; table cache {} not used: {reason}", path.display())?
+            }
+            OnDisk::Missing { path }
+                if self.strategy == Strategy::Table || self.strategy == Strategy::Memo =>
+            {
+                write!(f, "; will be kept in {}", path.display())?
+            }
+            OnDisk::TooLarge => write!(f, "; no table cache for more than 2^64 commands")?,
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// Carries out an [`ExecutionPlan`] for one scene: holds its table or its
+/// memo, makes the worlds sessions run on, and keeps the outcomes in the
+/// table folder at the end.
+///
+/// ```
+/// use e3d::world::{Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
+/// use e3d::{Scene, World};
+/// let scene = Scene::builtin("puck_rooms").unwrap();
+/// let work = Workload { trials: 100, sessions: 1, threads: 1 };
+/// let exec = Executor::new(&scene, &work, None, DEFAULT_MEMO_CAP).unwrap();
+/// assert_eq!(exec.plan().strategy, Strategy::Memo);
+/// let mut world = exec.world(1);
+/// let c = world.command_space().parse("SEEEEES").unwrap();
+/// assert_eq!(world.execute(&c).unwrap(), scene.build().execute(&c).unwrap());
+/// ```
+pub struct Executor<'s> {
+    scene: &'s Scene,
+    plan: ExecutionPlan,
+    table: Option<OutcomeTable>,
+    memo: Option<OutcomeMemo>,
+    cache: Option<PathBuf>,
+    /// Entries the memo held when read from disk.
+    read: usize,
+}
+
+impl<'s> Executor<'s> {
+    /// Reads the table folder `cache` if given, chooses the plan and
+    /// prepares it: the table is read or built (in parallel, on the
+    /// current rayon pool), the memo filled from a partial file. A table
+    /// that cannot be built (some command blows up) falls back to the memo
+    /// or live execution, so that only the sessions that meet the failing
+    /// command fail.
+    pub fn new(
+        scene: &'s Scene,
+        work: &Workload,
+        cache: Option<&Path>,
+        memo_cap: usize,
+    ) -> Result<Executor<'s>, WorldError> {
+        let space = scene.command_space();
+        let path = cache.map(|dir| OutcomeTable::cache_path(scene, dir));
+        let mut file = None;
+        let on_disk = match (&path, space.num_commands()) {
+            (None, _) => OnDisk::NoCache,
+            (Some(_), None) => OnDisk::TooLarge,
+            (Some(p), Some(_)) => match OutcomeTable::read_file(p, scene) {
+                Ok(CachedOutcomes::Full(t)) => {
+                    file = Some(CachedOutcomes::Full(t));
+                    OnDisk::Full { path: p.clone() }
+                }
+                Ok(CachedOutcomes::Partial(e)) => {
+                    let entries = e.len() as u64;
+                    file = Some(CachedOutcomes::Partial(e));
+                    OnDisk::Partial {
+                        path: p.clone(),
+                        entries,
+                    }
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                    OnDisk::Missing { path: p.clone() }
+                }
+                Err(e) => OnDisk::Unusable {
+                    path: p.clone(),
+                    reason: e.to_string().rsplit(": ").next().unwrap_or("").to_string(),
+                },
+            },
+        };
+        let deterministic = scene.build().is_deterministic();
+        let mut plan = ExecutionPlan::choose(scene, work, Some(&on_disk), memo_cap);
+        if !deterministic {
+            plan.strategy = Strategy::Live;
+            plan.why = "the world is not deterministic".into();
+        }
+        let mut exec = Executor {
+            scene,
+            table: None,
+            memo: None,
+            cache: path,
+            read: 0,
+            plan,
+        };
+        if exec.plan.strategy == Strategy::Table {
+            exec.table = match file.take() {
+                Some(CachedOutcomes::Full(t)) => Some(t),
+                _ => match OutcomeTable::build_scene(scene) {
+                    Ok(t) => {
+                        if let Some(p) = &exec.cache {
+                            if let Err(e) = t.write_file(p, scene) {
+                                exec.plan.why.push_str(&format!(
+                                    "; the table could not be kept in {}: {e}",
+                                    p.display()
+                                ));
+                            }
+                        }
+                        Some(t)
+                    }
+                    Err(e) => {
+                        exec.plan.strategy = if memo_cap > 0 {
+                            Strategy::Memo
+                        } else {
+                            Strategy::Live
+                        };
+                        exec.plan.why = format!("no table: {e}");
+                        None
+                    }
+                },
+            };
+        }
+        if exec.plan.strategy == Strategy::Memo {
+            let memo = OutcomeMemo::new(&space, scene.num_effects(), memo_cap)?;
+            if let Some(CachedOutcomes::Partial(entries)) = file {
+                for (i, o) in entries {
+                    memo.insert(i, o);
+                }
+            }
+            exec.read = memo.len();
+            exec.memo = Some(memo);
+        }
+        Ok(exec)
+    }
+
+    /// The plan being carried out.
+    pub fn plan(&self) -> &ExecutionPlan {
+        &self.plan
+    }
+
+    /// The table, under [`Strategy::Table`].
+    pub fn table(&self) -> Option<&OutcomeTable> {
+        self.table.as_ref()
+    }
+
+    /// The memo, under [`Strategy::Memo`].
+    pub fn memo(&self) -> Option<&OutcomeMemo> {
+        self.memo.as_ref()
+    }
+
+    /// A world for a group of sessions stepping `width` commands together:
+    /// the shared table, or a world of `min(width, plan copies)` copies
+    /// (through the memo under [`Strategy::Memo`]). Its outcomes are the
+    /// same, bit for bit, whatever the width.
+    pub fn world(&self, width: usize) -> Box<dyn World + Send + '_> {
+        if let Some(t) = &self.table {
+            return Box::new(t);
+        }
+        let copies = width.clamp(1, self.plan.copies.max(1));
+        let inner: Box<dyn World + Send> = match &self.scene.world {
+            WorldSpec::Physics(p) if copies > 1 => {
+                Box::new(PhysicsWorld::with_copies(self.scene, p, copies))
+            }
+            _ => self.scene.build(),
+        };
+        match &self.memo {
+            Some(m) => Box::new(Memoized::new(inner, m)),
+            None => inner,
+        }
+    }
+
+    /// Keeps the memo's outcomes in the table folder (merged with what
+    /// the file holds now, written whole or not at all) and returns one
+    /// line saying what was simulated and kept; `None` without a memo.
+    pub fn finish(&self) -> Option<String> {
+        let memo = self.memo.as_ref()?;
+        let mut line = format!(
+            "{}: {} commands simulated, {} looked up in the memo ({} kept{})",
+            self.scene.name,
+            memo.misses(),
+            memo.hits(),
+            memo.len(),
+            if memo.is_full() {
+                "; the memo is full: raise --memo-cap to keep more"
+            } else {
+                ""
+            }
+        );
+        let Some(path) = &self.cache else {
+            return Some(line);
+        };
+        if memo.len() == self.read {
+            return Some(line);
+        }
+        // another run may have grown the file meanwhile: keep both
+        if let Ok(CachedOutcomes::Partial(e)) = OutcomeTable::read_file(path, self.scene) {
+            for (i, o) in e {
+                memo.insert(i, o);
+            }
+        }
+        let entries = memo.entries();
+        match OutcomeTable::write_partial(path, self.scene, &entries) {
+            Ok(()) => line.push_str(&format!(
+                "; {} outcomes kept in {}",
+                entries.len(),
+                path.display()
+            )),
+            Err(e) => line.push_str(&format!("; could not write {}: {e}", path.display())),
+        }
+        Some(line)
+    }
+}
