@@ -70,7 +70,7 @@ use crate::effect::Target;
 use crate::learner::{LearnerKind, Params};
 use crate::scene::{ron_options, Invalid, Scene, SceneError};
 use crate::session::{run_lockstep_into, run_session_into, RunningMetrics, SessionConfig};
-use crate::world::{Executor, Workload, World, WorldError, DEFAULT_MEMO_CAP};
+use crate::world::{ExecOptions, Executor, Strategy, Workload, World, WorldError};
 use journal::{Journal, JournalHeader};
 use rayon::prelude::*;
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
@@ -588,8 +588,7 @@ pub struct Sweep {
     scenes: Vec<Scene>,
     metrics: Vec<MetricSpec>,
     cells: Vec<Cell>,
-    table_cache: Option<PathBuf>,
-    memo_cap: usize,
+    exec: ExecOptions,
     notices: Option<Notices>,
 }
 
@@ -864,8 +863,7 @@ impl Sweep {
             scenes,
             metrics,
             cells,
-            table_cache: None,
-            memo_cap: DEFAULT_MEMO_CAP,
+            exec: ExecOptions::default(),
             notices: None,
         })
     }
@@ -875,7 +873,7 @@ impl Sweep {
     /// simulated once for every run, resume and shard that shares the
     /// folder. The results are the same bytes with or without it.
     pub fn with_table_cache(mut self, dir: impl Into<PathBuf>) -> Self {
-        self.table_cache = Some(dir.into());
+        self.exec.cache = Some(dir.into());
         self
     }
 
@@ -883,7 +881,15 @@ impl Sweep {
     /// default [`DEFAULT_MEMO_CAP`]). The results are the same bytes
     /// whatever the cap; only the time changes.
     pub fn with_memo_cap(mut self, cap: usize) -> Self {
-        self.memo_cap = cap;
+        self.exec.memo_cap = cap;
+        self
+    }
+
+    /// Uses `strategy` for every scene where it can be used, whatever it
+    /// costs (`None`: the cheapest, the default). The results are the same
+    /// bytes whatever the strategy.
+    pub fn with_strategy(mut self, strategy: Option<Strategy>) -> Self {
+        self.exec.force = strategy;
         self
     }
 
@@ -1175,7 +1181,7 @@ impl Sweep {
                     if w.sessions == 0 {
                         return Ok(None);
                     }
-                    let e = Executor::new(scene, w, self.table_cache.as_deref(), self.memo_cap)
+                    let e = Executor::new(scene, w, &self.exec)
                         .map_err(|e| SweepError::Other(e.to_string()))?;
                     self.notice(&e.plan().to_string());
                     Ok(Some(e))

@@ -2,7 +2,7 @@
 
 use super::{CliError, CliResult};
 use clap::Args;
-use e3d::world::{Executor, Workload};
+use e3d::world::{ExecOptions, Executor, Strategy, Workload};
 use e3d::{
     policy_effect_distribution, run_lockstep_into, run_session_into, Command, CommandSpace,
     ExecutionPlan, LearnerKind, Metrics, Outcome, Params, Recorder, RunningMetrics, Scene,
@@ -166,6 +166,36 @@ pub struct MemoArgs {
     /// command simulated once; about 50-100 bytes an entry); 0 turns it off.
     #[arg(long, value_name = "N", default_value_t = e3d::world::DEFAULT_MEMO_CAP)]
     pub memo_cap: usize,
+    /// How outcomes are obtained: auto (the cheapest by the cost rule),
+    /// table (every command once, up front), memo (each proposed command
+    /// once) or live (every proposal simulated). The results are the same.
+    #[arg(long, value_name = "HOW", default_value = "auto", value_parser = parse_outcomes)]
+    pub outcomes: Outcomes,
+}
+
+/// `--outcomes`: `auto` or a strategy.
+#[derive(Debug, Clone, Copy)]
+pub struct Outcomes(pub Option<Strategy>);
+
+fn parse_outcomes(s: &str) -> Result<Outcomes, String> {
+    match s {
+        "auto" => Ok(Outcomes(None)),
+        _ => s
+            .parse::<Strategy>()
+            .map(|st| Outcomes(Some(st)))
+            .map_err(|_| format!("`{s}`: expected auto, table, memo or live")),
+    }
+}
+
+impl MemoArgs {
+    /// The options of an [`Executor`] with the table folder `cache`.
+    pub fn options(&self, cache: Option<&Path>) -> ExecOptions {
+        ExecOptions {
+            cache: cache.map(Path::to_path_buf),
+            memo_cap: self.memo_cap,
+            force: self.outcomes.0,
+        }
+    }
 }
 
 /// Streams `trial,command,effect,reward` rows (with a leading `session`
@@ -304,7 +334,7 @@ pub fn run(a: RunArgs) -> CliResult {
         sessions,
         threads: rayon::current_num_threads(),
     };
-    let exec = Executor::new(&scene, &work, a.table_cache.as_deref(), a.memo.memo_cap)
+    let exec = Executor::new(&scene, &work, &a.memo.options(a.table_cache.as_deref()))
         .map_err(CliError::simulation)?;
     eprintln!("outcomes: {}", exec.plan());
     // a progress bar on a terminal (indicatif draws nothing otherwise)

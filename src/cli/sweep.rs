@@ -62,6 +62,7 @@ pub fn run(a: SweepArgs) -> CliResult {
     }
     sweep = sweep
         .with_memo_cap(a.memo.memo_cap)
+        .with_strategy(a.memo.outcomes.0)
         .with_notices(|line| eprintln!("outcomes: {line}"));
     let threads = a.threads.map(usize::from).unwrap_or_else(|| {
         std::thread::available_parallelism()

@@ -34,15 +34,15 @@
 //! ```
 
 use super::{
-    Memoized, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError, MAX_TABLE_COMMANDS,
-    TABLE_COPIES,
+    Memoized, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError, DEFAULT_MEMO_CAP,
+    MAX_TABLE_COMMANDS, TABLE_COPIES,
 };
 use crate::scene::physics::BodyKind;
 use crate::scene::{Scene, WorldSpec};
 use crate::world::table::CachedOutcomes;
 use serde::Serialize;
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// How outcomes are obtained (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -56,6 +56,18 @@ pub enum Strategy {
     Live,
 }
 
+impl std::str::FromStr for Strategy {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Strategy, String> {
+        match s {
+            "table" => Ok(Strategy::Table),
+            "memo" => Ok(Strategy::Memo),
+            "live" => Ok(Strategy::Live),
+            _ => Err(format!("`{s}`: expected table, memo or live")),
+        }
+    }
+}
+
 impl fmt::Display for Strategy {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
@@ -63,6 +75,29 @@ impl fmt::Display for Strategy {
             Strategy::Memo => "memo",
             Strategy::Live => "live",
         })
+    }
+}
+
+/// How a run or a sweep may obtain outcomes: the table folder, the memo's
+/// cap, and a strategy imposed instead of chosen.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ExecOptions {
+    /// The folder of table files (whole or partial), read and written.
+    pub cache: Option<PathBuf>,
+    /// The most outcomes the memo keeps (0: no memo).
+    pub memo_cap: usize,
+    /// A strategy to use whatever it costs (`None`: the cheapest). A table
+    /// asked of a space too large for one falls back to the memo.
+    pub force: Option<Strategy>,
+}
+
+impl Default for ExecOptions {
+    fn default() -> Self {
+        ExecOptions {
+            cache: None,
+            memo_cap: DEFAULT_MEMO_CAP,
+            force: None,
+        }
     }
 }
 
@@ -405,11 +440,11 @@ impl fmt::Display for ExecutionPlan {
 /// table folder at the end.
 ///
 /// ```
-/// use e3d::world::{Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
+/// use e3d::world::{ExecOptions, Executor, Strategy, Workload};
 /// use e3d::{Scene, World};
 /// let scene = Scene::builtin("puck_rooms").unwrap();
 /// let work = Workload { trials: 100, sessions: 1, threads: 1 };
-/// let exec = Executor::new(&scene, &work, None, DEFAULT_MEMO_CAP).unwrap();
+/// let exec = Executor::new(&scene, &work, &ExecOptions::default()).unwrap();
 /// assert_eq!(exec.plan().strategy, Strategy::Memo);
 /// let mut world = exec.world(1);
 /// let c = world.command_space().parse("SEEEEES").unwrap();
@@ -426,20 +461,23 @@ pub struct Executor<'s> {
 }
 
 impl<'s> Executor<'s> {
-    /// Reads the table folder `cache` if given, chooses the plan and
-    /// prepares it: the table is read or built (in parallel, on the
-    /// current rayon pool), the memo filled from a partial file. A table
-    /// that cannot be built (some command blows up) falls back to the memo
-    /// or live execution, so that only the sessions that meet the failing
-    /// command fail.
+    /// Reads the table folder of `options` if given, chooses the plan
+    /// (or takes the one forced) and prepares it: the table is read or
+    /// built (in parallel, on the current rayon pool), the memo filled
+    /// from a partial file. A table that cannot be built (some command
+    /// blows up) falls back to the memo or live execution, so that only
+    /// the sessions that meet the failing command fail.
     pub fn new(
         scene: &'s Scene,
         work: &Workload,
-        cache: Option<&Path>,
-        memo_cap: usize,
+        options: &ExecOptions,
     ) -> Result<Executor<'s>, WorldError> {
+        let memo_cap = options.memo_cap;
         let space = scene.command_space();
-        let path = cache.map(|dir| OutcomeTable::cache_path(scene, dir));
+        let path = options
+            .cache
+            .as_deref()
+            .map(|dir| OutcomeTable::cache_path(scene, dir));
         let mut file = None;
         let on_disk = match (&path, space.num_commands()) {
             (None, _) => OnDisk::NoCache,
@@ -468,6 +506,27 @@ impl<'s> Executor<'s> {
         };
         let deterministic = scene.build().is_deterministic();
         let mut plan = ExecutionPlan::choose(scene, work, Some(&on_disk), memo_cap);
+        if let Some(force) = options.force {
+            let possible = match force {
+                Strategy::Table => plan.simulated.is_some(),
+                Strategy::Memo => plan.commands.is_some() && memo_cap > 0,
+                Strategy::Live => true,
+            };
+            if possible && force != plan.strategy {
+                plan.why = format!("asked for (the cost rule chose {})", plan.strategy);
+                plan.strategy = force;
+                if force == Strategy::Table {
+                    plan.copies = if matches!(&scene.world, WorldSpec::Physics(p) if p.copies_are_exact())
+                    {
+                        TABLE_COPIES
+                    } else {
+                        1
+                    };
+                }
+            } else if !possible {
+                plan.why = format!("{force} was asked for but cannot be used: {}", plan.why);
+            }
+        }
         if !deterministic {
             plan.strategy = Strategy::Live;
             plan.why = "the world is not deterministic".into();

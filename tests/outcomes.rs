@@ -1,0 +1,265 @@
+//! Table, memo or live: the same results, bit for bit, whatever the cost
+//! rule chooses, the threads, the lockstep groups and the table folder.
+
+use e3d::sweep::{SessionResult, Sweep};
+use e3d::world::{
+    CachedOutcomes, ExecOptions, ExecutionPlan, Executor, OnDisk, Strategy, Workload,
+    DEFAULT_MEMO_CAP,
+};
+use e3d::{OutcomeTable, Scene, World};
+use std::path::PathBuf;
+
+fn sweep(scene: &str, sessions: usize, trials: usize) -> Sweep {
+    let text = format!(
+        r#"Sweep(scenes: ["{scene}"], learners: [e3d, uniform, egreedy], use_reward: [false, true],
+           params: (beta: [1, 100]), sessions: {sessions}, trials: {trials}, seed: 11)"#
+    );
+    Sweep::parse(&text, "test.ron", None).unwrap()
+}
+
+fn run(s: Sweep, strategy: Option<Strategy>, threads: usize) -> Vec<SessionResult> {
+    s.with_strategy(strategy).run(threads).unwrap()
+}
+
+fn builtin_text(name: &str) -> String {
+    let (_, text) = e3d::scene::BUILTIN
+        .iter()
+        .find(|(n, _)| *n == name)
+        .unwrap();
+    text.to_string()
+}
+
+fn temp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("e3d-outcomes-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+#[test]
+fn table_memo_and_live_give_the_same_sweep_on_any_threads() {
+    // puck_rooms: exact copies, so lockstep groups step many commands per
+    // world; 8 cells x 4 = 32 sessions
+    let base = run(sweep("puck_rooms", 4, 30), Some(Strategy::Live), 1);
+    assert_eq!(base.len(), 32);
+    assert!(base.iter().all(|r| r.failure.is_none()));
+    for (strategy, threads) in [
+        (Some(Strategy::Live), 2),
+        (Some(Strategy::Memo), 1),
+        (Some(Strategy::Memo), 2),
+        (None, 2),
+    ] {
+        assert_eq!(
+            run(sweep("puck_rooms", 4, 30), strategy, threads),
+            base,
+            "{strategy:?} on {threads} threads"
+        );
+    }
+    // with the memo off, the memo strategy cannot be used: live, same bytes
+    let off = sweep("puck_rooms", 4, 30).with_memo_cap(0);
+    assert_eq!(run(off, Some(Strategy::Memo), 2), base);
+    // a memo of 5 entries: full at once, the rest simulated every time
+    let tiny = sweep("puck_rooms", 4, 30).with_memo_cap(5);
+    assert_eq!(run(tiny, Some(Strategy::Memo), 2), base);
+}
+
+#[test]
+fn a_table_gives_the_same_sweep_as_the_memo_on_a_grid_and_a_puck() {
+    for scene in ["two_rooms", "puck_rooms"] {
+        let table = run(sweep(scene, 2, 25), Some(Strategy::Table), 2);
+        let memo = run(sweep(scene, 2, 25), Some(Strategy::Memo), 2);
+        assert_eq!(table, memo, "{scene}");
+        // the values are real numbers, not all empty
+        assert!(table[0].values.iter().any(|v| v.is_some_and(|x| x > 0.0)));
+    }
+}
+
+#[test]
+fn the_cost_rule_takes_the_cheaper_way() {
+    let work = |trials, sessions| Workload {
+        trials,
+        sessions,
+        threads: 2,
+    };
+    let choose = |scene: &Scene, trials, sessions| {
+        ExecutionPlan::choose(scene, &work(trials, sessions), None, DEFAULT_MEMO_CAP)
+    };
+    let puck = Scene::builtin("puck_rooms").unwrap();
+    assert_eq!(choose(&puck, 5000, 1).strategy, Strategy::Table);
+    assert_eq!(choose(&puck, 300, 1).strategy, Strategy::Memo);
+    let grid = Scene::builtin("two_rooms").unwrap();
+    assert_eq!(choose(&grid, 5000, 1).strategy, Strategy::Table);
+    // a grid of 11 slots (4^11 commands) for 10 trials: moves, no table
+    let text = builtin_text("two_rooms").replace("slots: 7", "slots: 11");
+    let big_grid = Scene::parse(&text, "grid11.ron").unwrap();
+    let plan = choose(&big_grid, 10, 1);
+    assert_eq!(plan.strategy, Strategy::Live, "{plan}");
+    // the puck with 14 slots: no table fits; 100 sessions in 4 groups of 25
+    let text = builtin_text("puck_rooms").replace("slots: 7", "slots: 14");
+    let puck14 = Scene::parse(&text, "puck14.ron").unwrap();
+    let plan = choose(&puck14, 500_000, 100);
+    assert_eq!(plan.strategy, Strategy::Memo);
+    assert_eq!((plan.groups, plan.copies), (4, 25), "{plan}");
+    assert!(plan.to_string().contains("too many for a table"), "{plan}");
+    // arm7: copies are not exact, so one command per world
+    let arm = Scene::builtin("arm7").unwrap();
+    let plan = choose(&arm, 5000, 10);
+    assert_eq!(plan.copies, 1);
+    assert_eq!(plan.simulated, Some(1094));
+    // a whole table on disk is always taken
+    let on_disk = OnDisk::Full {
+        path: PathBuf::from("t"),
+    };
+    let plan = ExecutionPlan::choose(&puck, &work(10, 1), Some(&on_disk), DEFAULT_MEMO_CAP);
+    assert_eq!(plan.strategy, Strategy::Table);
+}
+
+#[test]
+fn the_memo_grows_its_file_and_a_damaged_file_is_replaced() {
+    let dir = temp("memo");
+    let puck = Scene::builtin("puck_rooms").unwrap();
+    let base = run(sweep("puck_rooms", 2, 20), Some(Strategy::Live), 2);
+    let cached = |strategy| {
+        sweep("puck_rooms", 2, 20)
+            .with_table_cache(&dir)
+            .with_strategy(strategy)
+            .run(2)
+            .unwrap()
+    };
+    assert_eq!(cached(Some(Strategy::Memo)), base);
+    let path = OutcomeTable::cache_path(&puck, &dir);
+    let Ok(CachedOutcomes::Partial(first)) = OutcomeTable::read_file(&path, &puck) else {
+        panic!("a partial table file")
+    };
+    assert!(
+        first.len() > 100 && first.len() <= 8 * 2 * 20,
+        "{}",
+        first.len()
+    );
+    // every kept outcome is the world's own
+    let mut world = puck.build();
+    let space = puck.command_space();
+    for (i, o) in first.iter().step_by(37) {
+        assert_eq!(world.execute(&space.command_at(*i)).unwrap(), *o);
+    }
+    // a second run reads it, simulates only new commands, and adds them
+    let options = ExecOptions {
+        cache: Some(dir.clone()),
+        force: Some(Strategy::Memo),
+        ..ExecOptions::default()
+    };
+    let work = Workload {
+        trials: 100,
+        sessions: 1,
+        threads: 1,
+    };
+    let exec = Executor::new(&puck, &work, &options).unwrap();
+    assert_eq!(
+        exec.plan().on_disk,
+        OnDisk::Partial {
+            path: path.clone(),
+            entries: first.len() as u64
+        }
+    );
+    assert_eq!(exec.memo().unwrap().len(), first.len());
+    // a damaged body: said, not used, and replaced by this run's file
+    let mut bytes = std::fs::read(&path).unwrap();
+    let k = bytes.len() / 2;
+    bytes[k] ^= 0x40;
+    std::fs::write(&path, &bytes).unwrap();
+    let exec = Executor::new(&puck, &work, &options).unwrap();
+    let OnDisk::Unusable { reason, .. } = &exec.plan().on_disk else {
+        panic!("{:?}", exec.plan().on_disk)
+    };
+    assert!(reason.contains("checksum"), "{reason}");
+    assert!(exec.plan().to_string().contains("not used: damaged"));
+    assert_eq!(cached(Some(Strategy::Memo)), base);
+    assert!(matches!(
+        OutcomeTable::read_file(&path, &puck),
+        Ok(CachedOutcomes::Partial(_))
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Runs the binary; its stdout and stderr.
+fn e3d(args: &[&str]) -> (String, String) {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args(args)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(o.status.success(), "{args:?}: {err}");
+    (String::from_utf8_lossy(&o.stdout).to_string(), err)
+}
+
+#[test]
+fn e3d_run_says_how_and_gives_the_same_trials_every_way() {
+    let root = temp("run");
+    let out = |s: &str| root.join(s).to_str().unwrap().to_string();
+    let mut csv = Vec::new();
+    for how in ["live", "memo", "table", "auto"] {
+        let (_, err) = e3d(&[
+            "run",
+            "puck_rooms",
+            "--trials",
+            "150",
+            "--outcomes",
+            how,
+            "--out",
+            &out(how),
+        ]);
+        let said = match how {
+            "table" => "outcomes: puck_rooms: outcome table of 16384 commands",
+            "live" => "outcomes: puck_rooms: live: every proposal executed",
+            _ => "outcomes: puck_rooms: outcome memo",
+        };
+        assert!(err.contains(said), "{how}: {err}");
+        csv.push(std::fs::read_to_string(root.join(how).join("trials.csv")).unwrap());
+    }
+    assert_eq!(csv[0].lines().count(), 151);
+    assert!(csv.iter().all(|c| *c == csv[0]));
+    // three sessions in lockstep: session 0 is the single run of seed 0,
+    // session 2 that of seed 2
+    let (stdout, _) = e3d(&[
+        "run",
+        "puck_rooms",
+        "--trials",
+        "150",
+        "--sessions",
+        "3",
+        "--out",
+        &out("three"),
+    ]);
+    assert!(
+        stdout.contains("150 trials x 3 sessions | seed 0..=2"),
+        "{stdout}"
+    );
+    let three = std::fs::read_to_string(root.join("three").join("trials.csv")).unwrap();
+    assert_eq!(
+        three.lines().next(),
+        Some("session,trial,command,effect,reward")
+    );
+    assert_eq!(three.lines().count(), 451);
+    let session = |k: &str| -> Vec<String> {
+        three
+            .lines()
+            .skip(1)
+            .filter_map(|l| l.strip_prefix(k).map(str::to_string))
+            .collect()
+    };
+    let single: Vec<String> = csv[0].lines().skip(1).map(str::to_string).collect();
+    assert_eq!(session("0,"), single);
+    e3d(&[
+        "run",
+        "puck_rooms",
+        "--trials",
+        "150",
+        "--seed",
+        "2",
+        "--out",
+        &out("seed2"),
+    ]);
+    let seed2 = std::fs::read_to_string(root.join("seed2").join("trials.csv")).unwrap();
+    let seed2: Vec<String> = seed2.lines().skip(1).map(str::to_string).collect();
+    assert_eq!(session("2,"), seed2);
+    let _ = std::fs::remove_dir_all(&root);
+}
