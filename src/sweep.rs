@@ -590,6 +590,7 @@ pub struct Sweep {
     cells: Vec<Cell>,
     exec: ExecOptions,
     notices: Option<Notices>,
+    trials_done: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
 }
 
 /// Where a sweep tells how it obtains outcomes (one line each).
@@ -865,6 +866,7 @@ impl Sweep {
             cells,
             exec: ExecOptions::default(),
             notices: None,
+            trials_done: None,
         })
     }
 
@@ -899,6 +901,24 @@ impl Sweep {
     pub fn with_notices(mut self, f: impl Fn(&str) + Send + Sync + 'static) -> Self {
         self.notices = Some(Notices(std::sync::Arc::new(f)));
         self
+    }
+
+    /// Adds every trial run to `counter` as sessions go (from the worker
+    /// threads, every 256 lockstep trials, or when a session on a table
+    /// ends): progress finer than whole sessions, for sessions in lockstep
+    /// that all end together.
+    pub fn with_trial_counter(
+        mut self,
+        counter: std::sync::Arc<std::sync::atomic::AtomicU64>,
+    ) -> Self {
+        self.trials_done = Some(counter);
+        self
+    }
+
+    fn count_trials(&self, n: u64) {
+        if let Some(c) = &self.trials_done {
+            c.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        }
     }
 
     fn notice(&self, line: &str) {
@@ -1024,6 +1044,7 @@ impl Sweep {
             &mut metrics,
             |_| {},
         );
+        self.count_trials(metrics.trials() as u64);
         Ok(self.result(session, status, &metrics))
     }
 
@@ -1042,7 +1063,9 @@ impl Sweep {
         let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
         let mut recorders: Vec<RunningMetrics> =
             sessions.iter().map(|_| self.recorder(world)).collect();
-        let status = run_lockstep_into(world, &mut learners, &configs, &mut recorders, |_| {});
+        let status = run_lockstep_into(world, &mut learners, &configs, &mut recorders, |t| {
+            self.count_trials(t)
+        });
         Ok(sessions
             .iter()
             .zip(status)
