@@ -263,3 +263,43 @@ fn e3d_run_says_how_and_gives_the_same_trials_every_way() {
     assert_eq!(session("2,"), seed2);
     let _ = std::fs::remove_dir_all(&root);
 }
+
+#[test]
+fn a_command_and_its_mirror_image_share_one_memo_entry() {
+    let arm = Scene::builtin("arm7").unwrap();
+    let space = arm.command_space();
+    let memo = e3d::OutcomeMemo::new(&space, arm.num_effects(), 100).unwrap();
+    let mut world = e3d::Memoized::new(arm.build(), &memo);
+    let mut plain = arm.build();
+    let c = space.parse("+-0+0-+").unwrap();
+    let image = space.parse("-+0-0+-").unwrap();
+    assert!(plain.mirror_of(&c).is_some() != plain.mirror_of(&image).is_some());
+    assert_eq!(world.execute(&c).unwrap(), plain.execute(&c).unwrap());
+    assert_eq!(
+        world.execute(&image).unwrap(),
+        plain.execute(&image).unwrap()
+    );
+    assert_eq!((memo.len(), memo.misses(), memo.hits()), (1, 1, 1));
+    // in one batch: the pair and a repeat, one simulation
+    let d = space.parse("0+++---").unwrap();
+    let d_image = space.parse("0---+++").unwrap();
+    let mut out = Vec::new();
+    world.execute_batch(
+        &[d.clone(), d_image.clone(), c.clone(), d.clone()],
+        &mut out,
+    );
+    let expected: Vec<_> = [&d, &d_image, &c, &d]
+        .iter()
+        .map(|x| plain.execute(x))
+        .collect();
+    assert_eq!(out, expected);
+    assert_eq!(memo.len(), 2);
+    // a sweep on arm7 through the memo: the same results as live
+    let text = r#"Sweep(scenes: ["arm7"], learners: [e3d, uniform], use_reward: [false],
+        params: (), sessions: 2, trials: 40, seed: 5)"#;
+    let s = || Sweep::parse(text, "arm.ron", None).unwrap();
+    assert_eq!(
+        run(s(), Some(Strategy::Memo), 2),
+        run(s(), Some(Strategy::Live), 2)
+    );
+}

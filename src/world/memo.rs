@@ -216,8 +216,9 @@ type Pending = HashMap<u64, usize, BuildHasherDefault<IndexHasher>>;
 #[derive(Clone, Copy)]
 enum Slot {
     Known(Outcome),
-    /// The k-th command executed in this batch.
-    Executed(usize),
+    /// The k-th command executed in this batch; `true`: the mirror image
+    /// of the command asked for, whose outcome is reflected.
+    Executed(usize, bool),
     /// Not in the command space: passed to the world, which says why.
     Bad(usize),
 }
@@ -271,11 +272,25 @@ impl<W: World> World for Memoized<'_, W> {
         let Some(i) = self.index(command) else {
             return self.world.execute(command);
         };
-        if let Some(o) = self.memo.get(i) {
-            return Ok(o);
+        // under a symmetry the memo keeps the simulated command of a pair
+        let mirror = self.world.mirror_of(command);
+        let key = mirror
+            .as_ref()
+            .map_or(i, |m| self.world.command_space().index_of(m));
+        if let Some(o) = self.memo.get(key) {
+            return Ok(match mirror {
+                Some(_) => self.world.mirror_outcome(o),
+                None => o,
+            });
         }
         let o = self.world.execute(command)?;
-        self.memo.insert(i, o);
+        self.memo.insert(
+            key,
+            match mirror {
+                Some(_) => self.world.mirror_outcome(o),
+                None => o,
+            },
+        );
         Ok(o)
     }
 
@@ -294,19 +309,29 @@ impl<W: World> World for Memoized<'_, W> {
                     self.miss_index.push(u64::MAX);
                     Slot::Bad(self.misses.len() - 1)
                 }
-                Some(i) => match self.pending.get(&i) {
-                    // proposed twice in this batch: executed once
-                    Some(&k) => Slot::Executed(k),
-                    None => match self.memo.get(i) {
-                        Some(o) => Slot::Known(o),
-                        None => {
-                            self.pending.insert(i, self.misses.len());
-                            self.misses.push(c.clone());
-                            self.miss_index.push(i);
-                            Slot::Executed(self.misses.len() - 1)
-                        }
-                    },
-                },
+                Some(i) => {
+                    // a command and its mirror image share one entry: the
+                    // one the world simulates
+                    let mirror = self.world.mirror_of(c);
+                    let reflect = mirror.is_some();
+                    let key = mirror
+                        .as_ref()
+                        .map_or(i, |m| self.world.command_space().index_of(m));
+                    match self.pending.get(&key) {
+                        // proposed twice in this batch: executed once
+                        Some(&k) => Slot::Executed(k, reflect),
+                        None => match self.memo.get(key) {
+                            Some(o) if reflect => Slot::Known(self.world.mirror_outcome(o)),
+                            Some(o) => Slot::Known(o),
+                            None => {
+                                self.pending.insert(key, self.misses.len());
+                                self.misses.push(mirror.unwrap_or_else(|| c.clone()));
+                                self.miss_index.push(key);
+                                Slot::Executed(self.misses.len() - 1, reflect)
+                            }
+                        },
+                    }
+                }
             };
             self.slots.push(slot);
         }
@@ -320,10 +345,15 @@ impl<W: World> World for Memoized<'_, W> {
             }
         }
         out.reserve(commands.len());
-        for slot in &self.slots {
+        for (c, slot) in commands.iter().zip(&self.slots) {
             out.push(match *slot {
                 Slot::Known(o) => Ok(o),
-                Slot::Executed(k) | Slot::Bad(k) => self.results[k].clone(),
+                Slot::Executed(k, false) | Slot::Bad(k) => self.results[k].clone(),
+                Slot::Executed(k, true) => match &self.results[k] {
+                    Ok(o) => Ok(self.world.mirror_outcome(*o)),
+                    // the error as the world words it for this command
+                    Err(_) => self.world.execute(c),
+                },
             });
         }
     }

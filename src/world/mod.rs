@@ -121,6 +121,22 @@ pub trait World {
             out.push(self.execute(c));
         }
     }
+
+    /// Under a mirror symmetry: the command whose outcome, through
+    /// [`mirror_outcome`](World::mirror_outcome), is `command`'s (its
+    /// mirror image), when the world simulates that one in its place.
+    /// `None` (the default) for a command simulated itself. An
+    /// [`OutcomeMemo`] keeps only the simulated command of each pair.
+    fn mirror_of(&self, _command: &Command) -> Option<Command> {
+        None
+    }
+
+    /// The outcome of a command's mirror image from the command's outcome
+    /// (see [`mirror_of`](World::mirror_of)); an involution, bit for bit.
+    /// The default leaves it unchanged.
+    fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
+        outcome
+    }
 }
 
 impl<W: World + ?Sized> World for Box<W> {
@@ -138,5 +154,11 @@ impl<W: World + ?Sized> World for Box<W> {
     }
     fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
         (**self).execute_batch(commands, out)
+    }
+    fn mirror_of(&self, command: &Command) -> Option<Command> {
+        (**self).mirror_of(command)
+    }
+    fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
+        (**self).mirror_outcome(outcome)
     }
 }

@@ -1189,6 +1189,14 @@ impl World for PhysicsWorld {
         // the inherent method: up to `num_copies` commands stepped together
         PhysicsWorld::execute_batch(self, commands, out)
     }
+
+    fn mirror_of(&self, command: &Command) -> Option<Command> {
+        self.twin(command)
+    }
+
+    fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
+        self.reflect_outcome(outcome)
+    }
 }
 
 #[cfg(test)]

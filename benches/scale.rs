@@ -1,0 +1,107 @@
+//! Research-scale command spaces: what the outcome memo costs per trial,
+//! and sessions in lockstep on a space no table fits (`puck_rooms` with 14
+//! slots, 4^14 commands).
+//!
+//! `cargo bench --bench scale`; criterion prints each rate (elements/s are
+//! trials/s, summed over sessions). The end-to-end targets (a whole sweep,
+//! `e3d run` against `e3d scene table`, against pymunk) are measured by
+//! `scripts/bench-scale.sh`; the figures are in docs/benchmarks.md.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use e3d::world::{ExecOptions, Executor, Memoized, OutcomeMemo, Strategy, Workload};
+use e3d::World;
+use e3d::{run_lockstep_into, LearnerKind, Params, RunningMetrics, Scene, SessionConfig, Target};
+use std::hint::black_box;
+
+fn puck14() -> Scene {
+    let (_, text) = e3d::scene::BUILTIN
+        .iter()
+        .find(|(n, _)| *n == "puck_rooms")
+        .unwrap();
+    let text = text
+        .replace("slots: 7", "slots: 14")
+        .replace("name: \"puck_rooms\"", "name: \"puck_rooms14\"");
+    Scene::parse(&text, "puck_rooms14").unwrap()
+}
+
+fn scale(c: &mut Criterion) {
+    let mut g = c.benchmark_group("scale");
+    g.sample_size(10);
+    // a memo hit: the look-up a repeated command costs instead of a rollout
+    let scene = Scene::builtin("puck_rooms").unwrap();
+    let space = scene.command_space();
+    let memo = OutcomeMemo::new(&space, scene.num_effects(), 1 << 20).unwrap();
+    let mut world = Memoized::new(scene.build(), &memo);
+    let cmds: Vec<_> = (0..64u64)
+        .map(|k| space.command_at(k * 7919 % 16384))
+        .collect();
+    for c in &cmds {
+        world.execute(c).unwrap();
+    }
+    let mut i = 0;
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("memo hit (puck_rooms)", |b| {
+        b.iter(|| {
+            i = (i + 1) % cmds.len();
+            black_box(world.execute(&cmds[i]).unwrap().effect)
+        })
+    });
+    // 25 E3D sessions in lockstep on puck_rooms14, 20 trials each, a fresh
+    // memo each time: nearly every command new, 25 per world step
+    let scene = puck14();
+    let space = scene.command_space();
+    let work = Workload {
+        trials: 500,
+        sessions: 25,
+        threads: 1,
+    };
+    let options = ExecOptions {
+        force: Some(Strategy::Memo),
+        ..ExecOptions::default()
+    };
+    g.throughput(Throughput::Elements(500));
+    let mut seed = 0;
+    g.bench_function(
+        "25 e3d sessions x 20 trials in lockstep (puck_rooms14, memo)",
+        |b| {
+            b.iter(|| {
+                seed += 1;
+                let exec = Executor::new(&scene, &work, &options).unwrap();
+                let mut world = exec.world(25);
+                let mut learners: Vec<_> = (0..25)
+                    .map(|_| {
+                        LearnerKind::E3d
+                            .make(
+                                &Params::TASK1,
+                                &space,
+                                scene.num_effects(),
+                                &Target::Uniform,
+                            )
+                            .unwrap()
+                    })
+                    .collect();
+                let configs: Vec<SessionConfig> = (0..25)
+                    .map(|k| SessionConfig {
+                        trials: 20,
+                        seed: seed * 100 + k,
+                        use_reward: false,
+                    })
+                    .collect();
+                let mut rec: Vec<RunningMetrics> = (0..25)
+                    .map(|_| RunningMetrics::new(scene.num_effects()))
+                    .collect();
+                black_box(run_lockstep_into(
+                    &mut *world,
+                    &mut learners,
+                    &configs,
+                    &mut rec,
+                    |_| {},
+                ))
+            })
+        },
+    );
+    g.finish();
+}
+
+criterion_group!(benches, scale);
+criterion_main!(benches);
