@@ -14,8 +14,9 @@
 #
 # Usage: scripts/slurm/test-cluster.sh        (from anywhere; as root, or with sudo)
 #        scripts/slurm/test-cluster.sh stop   (stop a cluster kept with KEEP_CLUSTER=1)
-# Environment: E3D (an e3d binary; default: the debug build of `cargo test`,
-# made or refreshed with `cargo test --no-run`, which reuses its artefacts), E3D_SLURM_DIR, E3D_SLURM_PORT
+# Environment: E3D (an e3d binary; default: the release build of `cargo test
+# --release`, made or refreshed with `cargo test --release --no-run`, which
+# reuses its artefacts), E3D_SLURM_DIR, E3D_SLURM_PORT
 # (first of two ports, default 16817), KEEP_CLUSTER=1 (leave the daemons
 # running for the next run).
 set -euo pipefail
@@ -57,12 +58,11 @@ fi
 
 # 2. e3d
 if [ -z "${E3D:-}" ]; then
-    # `cargo test --no-run` builds the binary with the same features as
-    # `cargo test` (dev-dependencies unify features): nothing to rebuild
-    # after the test suite, where `cargo build` would rebuild Rapier
-    log "building e3d (cargo test --no-run)"
-    (cd "$ROOT" && cargo test --quiet --no-run 2>/dev/null)
-    E3D="$ROOT/target/debug/e3d"
+    # `cargo test --release --no-run` builds the binary of the test suite:
+    # nothing to rebuild after it
+    log "building e3d (cargo test --release --no-run)"
+    (cd "$ROOT" && cargo test --release --quiet --no-run 2>/dev/null)
+    E3D="$ROOT/target/release/e3d"
 fi
 E3D="$(realpath "$E3D")"
 [ -x "$E3D" ] || die "no e3d binary at $E3D"
