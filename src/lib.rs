@@ -71,6 +71,11 @@ pub mod world;
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
 
+/// The examples of `docs/outcomes.md`, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/outcomes.md")]
+pub struct OutcomesDoctests;
+
 pub use command::{Command, CommandError, CommandSpace};
 pub use effect::{EffectGrid, EffectModel, Target};
 pub use learner::{E3d, EpsilonGreedy, Learner, LearnerKind, ParamError, Params, UniformPolicy};
