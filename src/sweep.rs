@@ -104,8 +104,10 @@ pub const FAILURE_COLUMN: &str = "failure";
 /// `session` and `seed`).
 pub const CELL_COLUMNS: usize = 8;
 
-/// The largest number of sessions a sweep may hold.
-pub const MAX_SESSIONS: usize = 1_000_000_000;
+/// The largest number of sessions a sweep may hold: its plan keeps every
+/// cell and session in memory (about 150 bytes each, so at most about
+/// 1.5 GB), and is refused before any is made when it would be larger.
+pub const MAX_SESSIONS: usize = 10_000_000;
 
 /// The largest number of steps of a range.
 pub const MAX_STEPS: usize = 100_000;
@@ -820,7 +822,7 @@ impl Sweep {
                 "sessions",
                 None,
                 &format!(
-                    "at most {MAX_SESSIONS} sessions in all, found {num_cells} cells x {}",
+                    "at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {}",
                     spec.sessions
                 ),
             ));

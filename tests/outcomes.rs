@@ -303,3 +303,21 @@ fn a_command_and_its_mirror_image_share_one_memo_entry() {
         run(s(), Some(Strategy::Live), 2)
     );
 }
+
+#[test]
+fn a_sweep_too_large_to_plan_is_refused_at_once_with_its_size() {
+    // 100000 x 1000 values: 1e8 cells, refused before any cell is made
+    let text = r#"Sweep(scenes: ["two_rooms"], learners: [e3d], use_reward: [false],
+        params: (beta: (scale: Log, from: 1, to: 1000, steps: 100000),
+                 eta: (scale: Linear, from: 0.001, to: 0.1, steps: 1000)),
+        sessions: 1, trials: 10, seed: 1)"#;
+    let start = std::time::Instant::now();
+    let e = Sweep::parse(text, "huge.ron", None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("at most 10000000 sessions in all") && e.contains("100000000 cells x 1"),
+        "{e}"
+    );
+    assert!(start.elapsed().as_secs() < 5);
+}
