@@ -192,6 +192,11 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("arm7", include_str!("../../scenes/arm7.ron")),
     ("pendulum3", include_str!("../../scenes/pendulum3.ron")),
     ("maze3", include_str!("../../scenes/maze3.ron")),
+    (
+        "puck_rooms14",
+        include_str!("../../scenes/puck_rooms14.ron"),
+    ),
+    ("arm7x5", include_str!("../../scenes/arm7x5.ron")),
 ];
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
