@@ -54,15 +54,17 @@ done
 cmp "$TMP/sweep-1/results.csv" "$TMP/sweep-2/results.csv" && echo "results.csv identical on 1 and 2 threads"
 echo "speed-up on 2 threads: $(ratio "$sweep_1" "$sweep_2") (target >= 1.8)"
 
-echo "# 3. e3d scene exec puck_rooms - on 3000 distinct commands"
-python3 scripts/random-commands.py puck_rooms 3000 1 > "$TMP/cmds.txt"
+echo "# 3. e3d scene exec puck_rooms - on 3000 distinct commands (and 4. pymunk on the same)"
+if [ -n "${PYTHON:-}" ]; then
+    pm=$("$PYTHON" benches/pymunk/puck_rooms.py 3000 --commands-out "$TMP/cmds.txt" 2>/dev/null \
+        | awk -F, '/^pymunk,/ {print $5}')
+else
+    python3 scripts/random-commands.py ESWN 7 3000 1 > "$TMP/cmds.txt"
+fi
 exec_s=$(secs sh -c "'$E3D' scene exec puck_rooms - < '$TMP/cmds.txt'")
 exec_rate=$(echo "3000 / $exec_s" | bc -l)
 printf "scene exec: %.2f s, %.0f rollouts/s\n" "$exec_s" "$exec_rate"
-
 if [ -n "${PYTHON:-}" ]; then
-    echo "# 4. pymunk, one rollout at a time, the same 3000 commands"
-    pm=$("$PYTHON" benches/pymunk/puck_rooms.py 3000 2>/dev/null | awk -F, '/^pymunk,/ {print $5}')
     printf "pymunk: %.0f rollouts/s; scene exec / pymunk: %.2f (target >= 2)\n" "$pm" \
         "$(echo "$exec_rate / $pm" | bc -l)"
     per_core=$(echo "100 * $TRIALS / $sweep_1" | bc -l)
