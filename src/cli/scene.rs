@@ -1,14 +1,14 @@
 //! `e3d scene`: check, draw and execute scene files.
 
 use super::run::{load_scene, write_file};
-use super::{CliError, CliResult};
+use super::{progress, CliError, CliResult};
 use clap::{Args, Subcommand};
 use e3d::report::scene_svg::{scene_svg, Overlay};
 use e3d::scene::{physics::BodyKind, PhysicsSpec, Scene, WorldSpec};
 use e3d::world::{farthest_reached_cell, GridSpec, PhysicsWorld};
 use e3d::{Command, GridWorld, OutcomeTable, World, WorldError};
 use std::io::BufRead;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `e3d scene`.
 #[derive(Args, Debug)]
@@ -332,7 +332,7 @@ fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         )));
     }
     let start = std::time::Instant::now();
-    let table = OutcomeTable::build_scene(scene).map_err(world_error)?;
+    let table = build_table(scene)?;
     let secs = start.elapsed().as_secs_f64();
     let grid = scene.effect_grid();
     let cell = farthest_reached_cell(&table, &grid, from)
@@ -412,14 +412,20 @@ fn stats(scene: &Scene) -> CliResult {
         )));
     }
     let start = std::time::Instant::now();
-    let all: Vec<e3d::world::RunStats> = (0..n)
-        .into_par_iter()
-        .map_init(
-            || PhysicsWorld::from_scene(scene, spec),
-            |w, i| w.inspect(&space.command_at(i)),
-        )
-        .collect::<Result<_, _>>()
-        .map_err(world_error)?;
+    let all: Vec<e3d::world::RunStats> = simulate_all(scene, n, |progress| {
+        (0..n)
+            .into_par_iter()
+            .map_init(
+                || PhysicsWorld::from_scene(scene, spec),
+                |w, i| {
+                    let stats = w.inspect(&space.command_at(i));
+                    progress(1);
+                    stats
+                },
+            )
+            .collect::<Result<_, _>>()
+    })
+    .map_err(world_error)?;
     let secs = start.elapsed().as_secs_f64();
     let count = |f: &dyn Fn(&e3d::world::RunStats) -> bool| all.iter().filter(|s| f(s)).count();
     let pct = |k: usize| 100.0 * k as f64 / all.len() as f64;
@@ -468,9 +474,11 @@ fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
             e3d::world::MAX_TABLE_COMMANDS
         )));
     }
-    let existed = cache.is_some_and(|d| OutcomeTable::cache_path(scene, d).exists());
     let start = std::time::Instant::now();
-    let table = OutcomeTable::for_scene(scene, cache).map_err(world_error)?;
+    let (table, existed) = match cache {
+        Some(dir) => cached_table(scene, dir)?,
+        None => (build_table(scene)?, false),
+    };
     let secs = start.elapsed().as_secs_f64();
     let mut how = match &scene.world {
         WorldSpec::Physics(p) if p.copies_are_exact() => {
@@ -512,4 +520,53 @@ fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
         None => println!("not written (give --cache DIR to keep it)"),
     }
     Ok(())
+}
+
+/// Says on stderr how many commands of `scene` are about to be simulated
+/// (`simulated`: fewer than all with a symmetry), then runs `work` with
+/// its progress shown there (see [`progress::track`]).
+fn simulate_all<T>(
+    scene: &Scene,
+    simulated: u64,
+    work: impl FnOnce(&(dyn Fn(u64) + Sync)) -> T,
+) -> T {
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    let what = if simulated < n {
+        format!("{simulated} of {n} commands (the others are mirror images)")
+    } else {
+        format!("{simulated} commands")
+    };
+    eprintln!(
+        "scene {}: simulating {what} on {} thread(s)",
+        scene.name,
+        rayon::current_num_threads()
+    );
+    progress::track(&format!("scene {}", scene.name), simulated, work)
+}
+
+/// [`OutcomeTable::build_scene`], its cost and progress on stderr.
+fn build_table(scene: &Scene) -> Result<OutcomeTable, CliError> {
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
+    simulate_all(scene, simulated, |progress| {
+        OutcomeTable::build_scene_with_progress(scene, progress)
+    })
+    .map_err(world_error)
+}
+
+/// The table of `scene` as [`OutcomeTable::cached`] gives it, with the
+/// progress of its building shown ([`build_table`]), and whether it was
+/// read from `dir`.
+fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, bool), CliError> {
+    let path = OutcomeTable::cache_path(scene, dir);
+    if let Ok(t) = OutcomeTable::load(&path, scene) {
+        return Ok((t, true));
+    }
+    let table = build_table(scene)?;
+    // a cache that cannot be written is not an error: it costs time only
+    if std::fs::create_dir_all(dir).is_ok() {
+        let bytes = table.to_bytes(OutcomeTable::key(scene));
+        let _ = e3d::io::write_atomic(&path, &bytes);
+    }
+    Ok((table, false))
 }
