@@ -377,6 +377,8 @@ impl<'a> Executor<'a> {
                 copies,
                 idle,
             } => {
+                // shared by the workers
+                let idle: &Mutex<_> = idle;
                 // every thread gets a piece, of at most one batch
                 let piece = commands
                     .len()
