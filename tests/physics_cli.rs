@@ -173,13 +173,13 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
         err.contains("bad.ron:7:20: field `mass`: expected body `puck`: a mass > 0"),
         "{err}"
     );
-    // a blown-up simulation: 4
+    // a blown-up simulation: 4, after the rows of the commands before it
     let blow = dir.join("blowup.ron");
     std::fs::write(&blow, scene(1.0, 1e4, false)).unwrap();
     let out = e3d()
         .args(["scene", "exec"])
         .arg(&blow)
-        .arg("0K")
+        .args(["T0", "0K", "00"])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(4));
@@ -188,6 +188,9 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
         err.contains("command `0K`: the simulation blew up"),
         "{err}"
     );
+    let rows = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(rows.lines().count(), 2, "{rows}");
+    assert!(rows.lines().nth(1).unwrap().starts_with("T0,"), "{rows}");
     // render writes an SVG with the path
     let svg = dir.join("arm7.svg");
     let out = e3d()

@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod plot;
+pub mod progress;
 pub mod reproduce;
 pub mod run;
 pub mod scene;

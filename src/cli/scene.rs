@@ -1,14 +1,17 @@
 //! `e3d scene`: check, draw and execute scene files.
 
 use super::run::{load_scene, write_file};
-use super::{CliError, CliResult};
+use super::{progress, CliError, CliResult};
 use clap::{Args, Subcommand};
 use e3d::report::scene_svg::{scene_svg, Overlay};
 use e3d::scene::{physics::BodyKind, PhysicsSpec, Scene, WorldSpec};
 use e3d::world::{farthest_reached_cell, GridSpec, PhysicsWorld};
-use e3d::{Command, GridWorld, OutcomeTable, World, WorldError};
-use std::io::BufRead;
-use std::path::PathBuf;
+use e3d::{Command, CommandSpace, GridWorld, OutcomeTable, World, WorldError};
+use std::fmt::Write as _;
+use std::io::{BufRead, Write as _};
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::SyncSender;
+use std::sync::Mutex;
 
 /// Arguments of `e3d scene`.
 #[derive(Args, Debug)]
@@ -36,13 +39,21 @@ pub enum SceneCmd {
         #[arg(long, value_name = "FILE.svg")]
         out: PathBuf,
     },
-    /// Execute commands and print `command,effect,reward,x,y` CSV.
+    /// Execute commands and print `command,effect,reward,x,y` CSV, in
+    /// input order, as they are done: stdin is read as it comes, and what
+    /// has arrived runs in parallel on every core (physics scenes: many
+    /// commands at once per Rapier world where that is exact).
     Exec {
         /// A scene file, or the name of a built-in scene.
         scene: String,
         /// Commands (symbols, one per slot); `-` reads one per line from stdin.
         #[arg(required = true, allow_hyphen_values = true)]
         commands: Vec<String>,
+        /// Look the commands up in the scene's outcome table in this folder
+        /// (written by `e3d scene table --cache DIR`) instead of simulating
+        /// them; without a usable table there, say why and simulate.
+        #[arg(long, value_name = "DIR")]
+        table_cache: Option<PathBuf>,
     },
     /// Execute every command once and apply SCENES.md's rule for a
     /// hard-to-reach reward cell: among the reached cells, the farthest
@@ -95,7 +106,11 @@ pub fn run(a: SceneArgs) -> CliResult {
             command,
             out,
         } => render(&load_scene(&scene)?, command.as_deref(), &out),
-        SceneCmd::Exec { scene, commands } => exec(&load_scene(&scene)?, &commands),
+        SceneCmd::Exec {
+            scene,
+            commands,
+            table_cache,
+        } => exec(&load_scene(&scene)?, commands, table_cache.as_deref()),
         SceneCmd::RewardCell { scene, from } => reward_cell(&load_scene(&scene)?, from),
         SceneCmd::Stats { scene } => stats(&load_scene(&scene)?),
         SceneCmd::Table { scene, cache } => table(&load_scene(&scene)?, cache.as_deref()),
@@ -281,37 +296,220 @@ fn grid_path(w: &GridWorld, g: &GridSpec, c: &Command) -> Vec<[f64; 2]> {
         .collect()
 }
 
-fn exec(scene: &Scene, commands: &[String]) -> CliResult {
-    let mut world = scene.build();
-    let space = world.command_space().clone();
-    let mut texts: Vec<String> = Vec::new();
-    for c in commands {
-        if c == "-" {
-            for line in std::io::stdin().lock().lines() {
-                let line = line.map_err(|e| CliError::input(format!("stdin: {e}")))?;
-                if !line.trim().is_empty() {
-                    texts.push(line.trim().to_string());
-                }
+/// A command read by [`read_commands`], or why the input ends there.
+type Read = Result<Command, CliError>;
+
+/// Parses the `commands` of `e3d scene exec` in order (`-`: every
+/// non-blank line of stdin, as it comes) and sends them to `tx`, up to the
+/// first that does not parse (sent as an error naming its stdin line) or
+/// until the receiver is gone.
+fn read_commands(space: &CommandSpace, commands: &[String], tx: &SyncSender<Read>) {
+    let send = |r: Read| {
+        let stop = r.is_err();
+        tx.send(r).is_ok() && !stop
+    };
+    for arg in commands {
+        if arg != "-" {
+            if !send(space.parse(arg).map_err(CliError::input)) {
+                return;
             }
-        } else {
-            texts.push(c.clone());
+            continue;
+        }
+        for (k, line) in std::io::stdin().lock().lines().enumerate() {
+            let r = match line {
+                Err(e) => Err(CliError::input(format!("stdin line {}: {e}", k + 1))),
+                Ok(l) if l.trim().is_empty() => continue,
+                Ok(l) => space
+                    .parse(l.trim())
+                    .map_err(|e| CliError::input(format!("stdin line {}: {e}", k + 1))),
+            };
+            if !send(r) {
+                return;
+            }
         }
     }
-    let mut out = String::from("command,effect,reward,x,y\n");
-    for t in &texts {
-        let c = space.parse(t).map_err(CliError::input)?;
-        let o = world.execute(&c).map_err(world_error)?;
-        out.push_str(&format!(
-            "{},{},{},{},{}\n",
-            space.format(&c),
-            o.effect,
-            o.reward,
-            o.point[0],
-            o.point[1]
-        ));
+}
+
+/// How `e3d scene exec` executes a chunk of commands; it keeps its worlds
+/// from one chunk to the next (building a physics world costs).
+enum Executor<'a> {
+    /// One world, one command after another: a grid, or a table look-up
+    /// (microseconds a command).
+    Direct(Box<dyn World + 'a>),
+    /// A physics scene on every core: each piece of a chunk takes an idle
+    /// world of `copies` copies (or builds one) and executes as a batch.
+    Parallel {
+        scene: &'a Scene,
+        spec: &'a PhysicsSpec,
+        copies: usize,
+        idle: Mutex<Vec<PhysicsWorld>>,
+    },
+}
+
+impl<'a> Executor<'a> {
+    fn new(scene: &'a Scene, table: Option<OutcomeTable>) -> Executor<'a> {
+        match (table, &scene.world) {
+            (Some(t), _) => Executor::Direct(Box::new(t)),
+            (None, WorldSpec::Grid(_)) => Executor::Direct(scene.build()),
+            (None, WorldSpec::Physics(spec)) => Executor::Parallel {
+                scene,
+                spec,
+                // as the outcome table: bit-identical to one copy per world
+                copies: if spec.copies_are_exact() {
+                    e3d::world::TABLE_COPIES
+                } else {
+                    1
+                },
+                idle: Mutex::new(Vec::new()),
+            },
+        }
     }
-    print!("{out}");
-    Ok(())
+
+    /// Appends the result of each of `commands` to `out`, in order: those
+    /// of [`World::execute`], bit for bit.
+    fn run(&mut self, commands: &[Command], out: &mut Vec<Result<e3d::Outcome, WorldError>>) {
+        use rayon::prelude::*;
+        match self {
+            Executor::Direct(world) => world.execute_batch(commands, out),
+            Executor::Parallel {
+                scene,
+                spec,
+                copies,
+                idle,
+            } => {
+                // shared by the workers
+                let idle: &Mutex<_> = idle;
+                // every thread gets a piece, of at most one batch
+                let piece = commands
+                    .len()
+                    .div_ceil(rayon::current_num_threads())
+                    .clamp(1, *copies);
+                let take = || idle.lock().unwrap_or_else(|e| e.into_inner()).pop();
+                let pieces: Vec<Vec<_>> = commands
+                    .par_chunks(piece)
+                    .map(|part| {
+                        let mut world = take()
+                            .unwrap_or_else(|| PhysicsWorld::with_copies(scene, spec, *copies));
+                        let mut results = Vec::with_capacity(part.len());
+                        world.execute_batch(part, &mut results);
+                        idle.lock().unwrap_or_else(|e| e.into_inner()).push(world);
+                        results
+                    })
+                    .collect();
+                out.extend(pieces.into_iter().flatten());
+            }
+        }
+    }
+}
+
+/// The most commands `e3d scene exec` executes at once: two batches of
+/// [`TABLE_COPIES`](e3d::world::TABLE_COPIES) per thread.
+fn chunk_limit() -> usize {
+    2 * rayon::current_num_threads() * e3d::world::TABLE_COPIES
+}
+
+/// The outcome table of `scene` in the folder `dir`, if one is there and
+/// can be used; otherwise `None`, having said why in one line on stderr.
+fn exec_table(scene: &Scene, dir: &Path) -> Option<OutcomeTable> {
+    let path = OutcomeTable::cache_path(scene, dir);
+    match OutcomeTable::load(&path, scene) {
+        Ok(t) => Some(t),
+        Err(e) => {
+            let shown = path.display().to_string();
+            let why = if e.kind() == std::io::ErrorKind::NotFound {
+                format!("no outcome table {shown} (`e3d scene table --cache` writes it)")
+            } else if e.to_string().contains(&shown) {
+                format!("cannot use the outcome table {e}")
+            } else {
+                format!("cannot use the outcome table {shown}: {e}")
+            };
+            eprintln!("note: {why}; simulating the commands");
+            None
+        }
+    }
+}
+
+/// `e3d scene exec`: a reader thread parses the commands as they come; the
+/// main thread waits for one, takes what else is queued (up to
+/// [`chunk_limit`]), executes that chunk on every core and prints its rows
+/// in input order, flushed, before the next chunk. The first command that
+/// does not parse or that blows up ends the output, after the rows before
+/// it, with its error.
+fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
+    let space = scene.command_space();
+    let mut executor = Executor::new(scene, table_cache.and_then(|d| exec_table(scene, d)));
+    let limit = chunk_limit();
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(2 * limit);
+    let reader_space = space.clone();
+    // not joined: it may wait on stdin when the output ends with an error
+    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let mut stdout = std::io::stdout().lock();
+    let mut write = |text: &str| {
+        stdout
+            .write_all(text.as_bytes())
+            .and_then(|()| stdout.flush())
+            .map_err(|e| CliError::output(format!("standard output: {e}")))
+    };
+    let header = "command,effect,reward,x,y\n";
+    let mut header_written = false;
+    let (mut chunk, mut results, mut text) = (Vec::new(), Vec::new(), String::new());
+    let mut end: Option<CliError> = None;
+    while end.is_none() {
+        chunk.clear();
+        let Ok(mut next) = rx.recv() else {
+            break;
+        };
+        loop {
+            match next {
+                Ok(c) => chunk.push(c),
+                Err(e) => {
+                    end = Some(e);
+                    break;
+                }
+            }
+            if chunk.len() == limit {
+                break;
+            }
+            match rx.try_recv() {
+                Ok(r) => next = r,
+                Err(_) => break,
+            }
+        }
+        results.clear();
+        executor.run(&chunk, &mut results);
+        text.clear();
+        for (c, r) in chunk.iter().zip(results.drain(..)) {
+            match r {
+                Ok(o) => {
+                    let _ = writeln!(
+                        text,
+                        "{},{},{},{},{}",
+                        space.format(c),
+                        o.effect,
+                        o.reward,
+                        o.point[0],
+                        o.point[1]
+                    );
+                }
+                Err(e) => {
+                    end = Some(world_error(e));
+                    break;
+                }
+            }
+        }
+        if !text.is_empty() {
+            if !header_written {
+                text.insert_str(0, header);
+                header_written = true;
+            }
+            write(&text)?;
+        }
+    }
+    match end {
+        Some(e) => Err(e),
+        None if header_written => Ok(()),
+        None => write(header),
+    }
 }
 
 fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
@@ -332,7 +530,7 @@ fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         )));
     }
     let start = std::time::Instant::now();
-    let table = OutcomeTable::build_scene(scene).map_err(world_error)?;
+    let table = build_table(scene)?;
     let secs = start.elapsed().as_secs_f64();
     let grid = scene.effect_grid();
     let cell = farthest_reached_cell(&table, &grid, from)
@@ -412,14 +610,20 @@ fn stats(scene: &Scene) -> CliResult {
         )));
     }
     let start = std::time::Instant::now();
-    let all: Vec<e3d::world::RunStats> = (0..n)
-        .into_par_iter()
-        .map_init(
-            || PhysicsWorld::from_scene(scene, spec),
-            |w, i| w.inspect(&space.command_at(i)),
-        )
-        .collect::<Result<_, _>>()
-        .map_err(world_error)?;
+    let all: Vec<e3d::world::RunStats> = simulate_all(scene, n, |progress| {
+        (0..n)
+            .into_par_iter()
+            .map_init(
+                || PhysicsWorld::from_scene(scene, spec),
+                |w, i| {
+                    let stats = w.inspect(&space.command_at(i));
+                    progress(1);
+                    stats
+                },
+            )
+            .collect::<Result<_, _>>()
+    })
+    .map_err(world_error)?;
     let secs = start.elapsed().as_secs_f64();
     let count = |f: &dyn Fn(&e3d::world::RunStats) -> bool| all.iter().filter(|s| f(s)).count();
     let pct = |k: usize| 100.0 * k as f64 / all.len() as f64;
@@ -468,9 +672,11 @@ fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
             e3d::world::MAX_TABLE_COMMANDS
         )));
     }
-    let existed = cache.is_some_and(|d| OutcomeTable::cache_path(scene, d).exists());
     let start = std::time::Instant::now();
-    let table = OutcomeTable::for_scene(scene, cache).map_err(world_error)?;
+    let (table, existed) = match cache {
+        Some(dir) => cached_table(scene, dir)?,
+        None => (build_table(scene)?, false),
+    };
     let secs = start.elapsed().as_secs_f64();
     let mut how = match &scene.world {
         WorldSpec::Physics(p) if p.copies_are_exact() => {
@@ -512,4 +718,53 @@ fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
         None => println!("not written (give --cache DIR to keep it)"),
     }
     Ok(())
+}
+
+/// Says on stderr how many commands of `scene` are about to be simulated
+/// (`simulated`: fewer than all with a symmetry), then runs `work` with
+/// its progress shown there (see [`progress::track`]).
+fn simulate_all<T>(
+    scene: &Scene,
+    simulated: u64,
+    work: impl FnOnce(&(dyn Fn(u64) + Sync)) -> T,
+) -> T {
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    let what = if simulated < n {
+        format!("{simulated} of {n} commands (the others are mirror images)")
+    } else {
+        format!("{simulated} commands")
+    };
+    eprintln!(
+        "scene {}: simulating {what} on {} thread(s)",
+        scene.name,
+        rayon::current_num_threads()
+    );
+    progress::track(&format!("scene {}", scene.name), simulated, work)
+}
+
+/// [`OutcomeTable::build_scene`], its cost and progress on stderr.
+fn build_table(scene: &Scene) -> Result<OutcomeTable, CliError> {
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
+    simulate_all(scene, simulated, |progress| {
+        OutcomeTable::build_scene_with_progress(scene, progress)
+    })
+    .map_err(world_error)
+}
+
+/// The table of `scene` as [`OutcomeTable::cached`] gives it, with the
+/// progress of its building shown ([`build_table`]), and whether it was
+/// read from `dir`.
+fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, bool), CliError> {
+    let path = OutcomeTable::cache_path(scene, dir);
+    if let Ok(t) = OutcomeTable::load(&path, scene) {
+        return Ok((t, true));
+    }
+    let table = build_table(scene)?;
+    // a cache that cannot be written is not an error: it costs time only
+    if std::fs::create_dir_all(dir).is_ok() {
+        let bytes = table.to_bytes(OutcomeTable::key(scene));
+        let _ = e3d::io::write_atomic(&path, &bytes);
+    }
+    Ok((table, false))
 }

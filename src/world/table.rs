@@ -136,6 +136,19 @@ impl OutcomeTable {
         W: World,
         F: Fn() -> W + Sync,
     {
+        Self::build_parallel_with_progress(make_world, &|_| {})
+    }
+
+    /// [`build_parallel`](Self::build_parallel), calling `progress` with
+    /// the number of commands of each chunk done.
+    fn build_parallel_with_progress<W, F>(
+        make_world: F,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<OutcomeTable, WorldError>
+    where
+        W: World,
+        F: Fn() -> W + Sync,
+    {
         let probe = make_world();
         let space = probe.command_space().clone();
         let num_effects = probe.num_effects();
@@ -147,12 +160,16 @@ impl OutcomeTable {
             .map_init(
                 || (make_world(), space.first()),
                 |(world, c), k| {
-                    (k * chunk..((k + 1) * chunk).min(n))
+                    let range = k * chunk..((k + 1) * chunk).min(n);
+                    let done = range.end - range.start;
+                    let outcomes = range
                         .map(|i| {
                             space.write_command_at(i, c);
                             world.execute(c)
                         })
-                        .collect::<Result<Vec<_>, _>>()
+                        .collect::<Result<Vec<_>, _>>();
+                    progress(done);
+                    outcomes
                 },
             )
             .collect::<Result<_, _>>()?;
@@ -175,12 +192,25 @@ impl OutcomeTable {
     /// ([`PhysicsWorld::twin`]). The table is identical to
     /// [`build`](Self::build)'s either way.
     pub fn build_scene(scene: &Scene) -> Result<OutcomeTable, WorldError> {
+        Self::build_scene_with_progress(scene, &|_| {})
+    }
+
+    /// [`build_scene`](Self::build_scene), calling `progress` from the
+    /// workers with the number of commands of each chunk simulated (they
+    /// add up to [`simulated_commands`](Self::simulated_commands)), for a
+    /// progress bar. The table is the same, bit for bit.
+    pub fn build_scene_with_progress(
+        scene: &Scene,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<OutcomeTable, WorldError> {
         match &scene.world {
-            WorldSpec::Physics(p) if p.symmetry.is_some() => Self::build_mirrored(scene, p),
-            WorldSpec::Physics(p) if p.copies_are_exact() => {
-                Self::build_batched(scene, p, TABLE_COPIES)
+            WorldSpec::Physics(p) if p.symmetry.is_some() => {
+                Self::build_mirrored(scene, p, progress)
             }
-            _ => Self::build_parallel(|| scene.build()),
+            WorldSpec::Physics(p) if p.copies_are_exact() => {
+                Self::build_batched_with_progress(scene, p, TABLE_COPIES, progress)
+            }
+            _ => Self::build_parallel_with_progress(|| scene.build(), progress),
         }
     }
 
@@ -193,10 +223,21 @@ impl OutcomeTable {
         spec: &PhysicsSpec,
         copies: usize,
     ) -> Result<OutcomeTable, WorldError> {
+        Self::build_batched_with_progress(scene, spec, copies, &|_| {})
+    }
+
+    /// [`build_batched`](Self::build_batched), calling `progress` with the
+    /// number of commands of each batch done.
+    fn build_batched_with_progress(
+        scene: &Scene,
+        spec: &PhysicsSpec,
+        copies: usize,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<OutcomeTable, WorldError> {
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
         let all: Vec<u64> = (0..n).collect();
-        let outcomes = Self::execute_indices(scene, spec, copies, &all)?;
+        let outcomes = Self::execute_indices(scene, spec, copies, &all, progress)?;
         Ok(OutcomeTable {
             places: places(&space),
             num_effects: scene.num_effects(),
@@ -208,8 +249,13 @@ impl OutcomeTable {
     /// The table of a physics scene with a symmetry: the commands without a
     /// [`twin`](PhysicsWorld::twin) are simulated (in parallel, batched
     /// where copies are exact), the others take their twin's outcome,
-    /// reflected.
-    fn build_mirrored(scene: &Scene, spec: &PhysicsSpec) -> Result<OutcomeTable, WorldError> {
+    /// reflected. `progress` is called with the number of commands of each
+    /// simulated batch.
+    fn build_mirrored(
+        scene: &Scene,
+        spec: &PhysicsSpec,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<OutcomeTable, WorldError> {
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
         let probe = PhysicsWorld::from_scene(scene, spec);
@@ -220,7 +266,7 @@ impl OutcomeTable {
         } else {
             1
         };
-        let results = Self::execute_indices(scene, spec, copies, &simulated)?;
+        let results = Self::execute_indices(scene, spec, copies, &simulated, progress)?;
         let mut outcomes: Vec<Option<Outcome>> = vec![None; n as usize];
         for (&i, o) in simulated.iter().zip(results) {
             outcomes[i as usize] = Some(o);
@@ -261,12 +307,14 @@ impl OutcomeTable {
     }
 
     /// The outcomes of the commands with the given indices, in order,
-    /// computed in parallel with `copies` commands at once per Rapier world.
+    /// computed in parallel with `copies` commands at once per Rapier world;
+    /// `progress` is called with the number of commands of each batch done.
     fn execute_indices(
         scene: &Scene,
         spec: &PhysicsSpec,
         copies: usize,
         indices: &[u64],
+        progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<Outcome>, WorldError> {
         let space = scene.command_space();
         let chunks: Vec<Vec<Outcome>> = indices
@@ -284,6 +332,7 @@ impl OutcomeTable {
                     out.clear();
                     cmds.extend(batch.iter().map(|&i| space.command_at(i)));
                     world.execute_batch(cmds, out);
+                    progress(batch.len() as u64);
                     out.drain(..).collect::<Result<Vec<_>, _>>()
                 },
             )
