@@ -140,18 +140,19 @@ fn exec_answers_each_line_before_stdin_ends() {
     }
 }
 
-/// With `--table-cache`, the commands are looked up in the table written
-/// by `e3d scene table --cache`: the same rows, and nothing on stderr;
-/// without a usable table there, one line says why and the commands are
-/// simulated, with the same rows again.
+/// With `--table-cache`, the commands are looked up in the scene's table
+/// file, whole or partial; the new ones are simulated and added to the
+/// file, which grows into a whole table; a file that cannot be used is
+/// said in one line and replaced. The rows are the same every time.
 #[test]
 fn exec_with_a_table_cache_gives_the_same_rows() {
+    use e3d::world::CachedOutcomes;
     let dir = std::env::temp_dir().join(format!("e3d-exec-cache-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let scene = Scene::builtin("pendulum3").unwrap();
     let texts = commands(&scene, 125);
     let want = expected_csv(&scene, &texts).join("\n") + "\n";
-    let run = || {
+    let run = |texts: &[String]| {
         let out = exec_stdin(
             &["pendulum3", "--table-cache", dir.to_str().unwrap()],
             texts.join("\n"),
@@ -162,35 +163,51 @@ fn exec_with_a_table_cache_gives_the_same_rows() {
             String::from_utf8(out.stderr).unwrap(),
         )
     };
-    // no table yet: said, then simulated
-    let (rows, err) = run();
-    assert_eq!(rows, want);
+    let path = OutcomeTable::cache_path(&scene, &dir);
+    let entries = || match OutcomeTable::read_file(&path, &scene).unwrap() {
+        CachedOutcomes::Full(t) => t.len(),
+        CachedOutcomes::Partial(e) => e.len(),
+    };
+    // nothing there yet: said, simulated, kept (10 of 125 commands)
+    let (rows, err) = run(&texts[..10]);
+    assert_eq!(rows.lines().count(), 11);
+    assert!(want.starts_with(&rows));
     assert!(
-        err.starts_with("note: no outcome table ") && err.ends_with("; simulating the commands\n"),
+        err.starts_with("note: no outcome table ")
+            && err.ends_with("; simulating the commands, keeping their outcomes there\n"),
         "{err}"
     );
     assert_eq!(err.lines().count(), 1, "{err}");
-    // the table written by `scene table --cache`: looked up
+    assert_eq!(entries(), 10);
+    // the partial file is used, the others added: now a whole table
+    let (rows, err) = run(&texts);
+    assert_eq!(rows, want);
+    assert!(err.is_empty(), "{err}");
+    assert!(matches!(
+        OutcomeTable::read_file(&path, &scene),
+        Ok(CachedOutcomes::Full(_))
+    ));
+    // the whole table, as `scene table --cache` also reads it
     let out = e3d()
         .args(["scene", "table", "pendulum3", "--cache"])
         .arg(&dir)
         .output()
         .unwrap();
     assert!(out.status.success(), "{out:?}");
-    let path = OutcomeTable::cache_path(&scene, &dir);
-    assert!(path.exists());
-    let (rows, err) = run();
+    assert!(String::from_utf8_lossy(&out.stdout).contains("read from"));
+    let (rows, err) = run(&texts);
     assert_eq!(rows, want);
     assert!(err.is_empty(), "{err}");
-    // a broken table: said, then simulated
+    // a broken file: said, simulated, replaced
     std::fs::write(&path, b"not a table").unwrap();
-    let (rows, err) = run();
+    let (rows, err) = run(&texts);
     assert_eq!(rows, want);
     assert!(
         err.starts_with("note: cannot use the outcome table "),
         "{err}"
     );
     assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(entries(), 125);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -332,7 +332,7 @@ fn read_commands(space: &CommandSpace, commands: &[String], tx: &SyncSender<Read
 
 /// How `e3d scene exec` executes a chunk of commands; it keeps its worlds
 /// from one chunk to the next (building a physics world costs).
-enum Executor<'a> {
+enum ExecPool<'a> {
     /// One world, one command after another: a grid, or a table look-up
     /// (microseconds a command).
     Direct(Box<dyn World + 'a>),
@@ -346,12 +346,12 @@ enum Executor<'a> {
     },
 }
 
-impl<'a> Executor<'a> {
-    fn new(scene: &'a Scene, table: Option<OutcomeTable>) -> Executor<'a> {
+impl<'a> ExecPool<'a> {
+    fn new(scene: &'a Scene, table: Option<OutcomeTable>) -> ExecPool<'a> {
         match (table, &scene.world) {
-            (Some(t), _) => Executor::Direct(Box::new(t)),
-            (None, WorldSpec::Grid(_)) => Executor::Direct(scene.build()),
-            (None, WorldSpec::Physics(spec)) => Executor::Parallel {
+            (Some(t), _) => ExecPool::Direct(Box::new(t)),
+            (None, WorldSpec::Grid(_)) => ExecPool::Direct(scene.build()),
+            (None, WorldSpec::Physics(spec)) => ExecPool::Parallel {
                 scene,
                 spec,
                 // as the outcome table: bit-identical to one copy per world
@@ -370,8 +370,8 @@ impl<'a> Executor<'a> {
     fn run(&mut self, commands: &[Command], out: &mut Vec<Result<e3d::Outcome, WorldError>>) {
         use rayon::prelude::*;
         match self {
-            Executor::Direct(world) => world.execute_batch(commands, out),
-            Executor::Parallel {
+            ExecPool::Direct(world) => world.execute_batch(commands, out),
+            ExecPool::Parallel {
                 scene,
                 spec,
                 copies,
@@ -408,24 +408,56 @@ fn chunk_limit() -> usize {
     2 * rayon::current_num_threads() * e3d::world::TABLE_COPIES
 }
 
-/// The outcome table of `scene` in the folder `dir`, if one is there and
-/// can be used; otherwise `None`, having said why in one line on stderr.
-fn exec_table(scene: &Scene, dir: &Path) -> Option<OutcomeTable> {
+/// What the folder `dir` holds for `scene`: a whole table (looked up), or
+/// a memo of the commands executed so far (partial file, or empty when the
+/// file is missing or cannot be used, having said why on stderr). The
+/// memo's new outcomes are written back at the end ([`keep_memo`]).
+fn exec_cache(scene: &Scene, dir: &Path) -> (Option<OutcomeTable>, Option<e3d::OutcomeMemo>) {
+    use e3d::world::CachedOutcomes;
     let path = OutcomeTable::cache_path(scene, dir);
-    match OutcomeTable::load(&path, scene) {
-        Ok(t) => Some(t),
+    let space = scene.command_space();
+    let memo = || e3d::OutcomeMemo::new(&space, scene.num_effects(), e3d::world::DEFAULT_MEMO_CAP);
+    match OutcomeTable::read_file(&path, scene) {
+        Ok(CachedOutcomes::Full(t)) => (Some(t), None),
+        Ok(CachedOutcomes::Partial(entries)) => {
+            let m = memo().ok();
+            if let Some(m) = &m {
+                for (i, o) in entries {
+                    m.insert(i, o);
+                }
+            }
+            (None, m)
+        }
         Err(e) => {
             let shown = path.display().to_string();
             let why = if e.kind() == std::io::ErrorKind::NotFound {
-                format!("no outcome table {shown} (`e3d scene table --cache` writes it)")
+                format!("no outcome table {shown} yet")
             } else if e.to_string().contains(&shown) {
                 format!("cannot use the outcome table {e}")
             } else {
                 format!("cannot use the outcome table {shown}: {e}")
             };
-            eprintln!("note: {why}; simulating the commands");
-            None
+            eprintln!("note: {why}; simulating the commands, keeping their outcomes there");
+            (None, memo().ok())
         }
+    }
+}
+
+/// Writes the memo's outcomes (with what the file holds now) as the
+/// scene's partial table in `dir`; a failure costs time only, and is said.
+fn keep_memo(scene: &Scene, dir: &Path, memo: &e3d::OutcomeMemo) {
+    use e3d::world::CachedOutcomes;
+    let path = OutcomeTable::cache_path(scene, dir);
+    if let Ok(CachedOutcomes::Partial(e)) = OutcomeTable::read_file(&path, scene) {
+        for (i, o) in e {
+            memo.insert(i, o);
+        }
+    }
+    if let Err(e) = OutcomeTable::write_partial(&path, scene, &memo.entries()) {
+        eprintln!(
+            "note: could not keep the outcomes in {}: {e}",
+            path.display()
+        );
     }
 }
 
@@ -437,7 +469,12 @@ fn exec_table(scene: &Scene, dir: &Path) -> Option<OutcomeTable> {
 /// it, with its error.
 fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
     let space = scene.command_space();
-    let mut executor = Executor::new(scene, table_cache.and_then(|d| exec_table(scene, d)));
+    let (table, memo) = match table_cache {
+        Some(d) => exec_cache(scene, d),
+        None => (None, None),
+    };
+    let mut executor = ExecPool::new(scene, table);
+    let (mut pending, mut pending_results) = (Vec::new(), Vec::new());
     let limit = chunk_limit();
     let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(2 * limit);
     let reader_space = space.clone();
@@ -476,7 +513,38 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
             }
         }
         results.clear();
-        executor.run(&chunk, &mut results);
+        match &memo {
+            None => executor.run(&chunk, &mut results),
+            // the commands already kept are looked up, the others executed
+            // (each once) and kept
+            Some(m) => {
+                pending.clear();
+                let keys: Vec<u64> = chunk.iter().map(|c| space.index_of(c)).collect();
+                let known: Vec<Option<e3d::Outcome>> = keys.iter().map(|&k| m.get(k)).collect();
+                pending.extend(
+                    chunk
+                        .iter()
+                        .zip(&known)
+                        .filter(|(_, k)| k.is_none())
+                        .map(|(c, _)| c.clone()),
+                );
+                pending_results.clear();
+                executor.run(&pending, &mut pending_results);
+                let mut fresh = pending_results.drain(..);
+                for (&k, o) in keys.iter().zip(known) {
+                    results.push(match o {
+                        Some(o) => Ok(o),
+                        None => {
+                            let r = fresh.next().expect("one result per command");
+                            if let Ok(o) = &r {
+                                m.insert(k, *o);
+                            }
+                            r
+                        }
+                    });
+                }
+            }
+        }
         text.clear();
         for (c, r) in chunk.iter().zip(results.drain(..)) {
             match r {
@@ -504,6 +572,9 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
             }
             write(&text)?;
         }
+    }
+    if let (Some(m), Some(dir)) = (&memo, table_cache) {
+        keep_memo(scene, dir, m);
     }
     match end {
         Some(e) => Err(e),
