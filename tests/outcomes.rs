@@ -321,3 +321,45 @@ fn a_sweep_too_large_to_plan_is_refused_at_once_with_its_size() {
     );
     assert!(start.elapsed().as_secs() < 5);
 }
+
+#[test]
+fn a_table_completed_from_a_partial_file_equals_the_built_one() {
+    for name in ["pendulum3", "arm7"] {
+        let scene = Scene::builtin(name).unwrap();
+        let built = OutcomeTable::build_scene(&scene).unwrap();
+        // every third command known (arm7: simulated and mirrored ones)
+        let known: Vec<_> = built
+            .outcomes()
+            .enumerate()
+            .filter(|(i, _)| i % 3 == 0)
+            .map(|(i, o)| (i as u64, *o))
+            .collect();
+        let completed = OutcomeTable::complete(&scene, &known).unwrap();
+        let a: Vec<_> = built.outcomes().collect();
+        let b: Vec<_> = completed.outcomes().collect();
+        assert_eq!(a, b, "{name}");
+    }
+    // a run asked for a table over a partial file completes and keeps it
+    let dir = temp("complete");
+    let scene = Scene::builtin("pendulum3").unwrap();
+    let built = OutcomeTable::build_scene(&scene).unwrap();
+    let part: Vec<_> = (0..40u64).map(|i| (i, *built.get(i))).collect();
+    let path = OutcomeTable::cache_path(&scene, &dir);
+    OutcomeTable::write_partial(&path, &scene, &part).unwrap();
+    let work = Workload {
+        trials: 1000,
+        sessions: 1,
+        threads: 2,
+    };
+    let options = ExecOptions {
+        cache: Some(dir.clone()),
+        ..ExecOptions::default()
+    };
+    let exec = Executor::new(&scene, &work, &options).unwrap();
+    assert_eq!(exec.plan().strategy, Strategy::Table, "{}", exec.plan());
+    assert!(matches!(
+        OutcomeTable::read_file(&path, &scene),
+        Ok(CachedOutcomes::Full(_))
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+}

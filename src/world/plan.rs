@@ -542,28 +542,39 @@ impl<'s> Executor<'s> {
         if exec.plan.strategy == Strategy::Table {
             exec.table = match file.take() {
                 Some(CachedOutcomes::Full(t)) => Some(t),
-                _ => match OutcomeTable::build_scene(scene) {
-                    Ok(t) => {
-                        if let Some(p) = &exec.cache {
-                            if let Err(e) = t.write_file(p, scene) {
-                                exec.plan.why.push_str(&format!(
-                                    "; the table could not be kept in {}: {e}",
-                                    p.display()
-                                ));
-                            }
+                other => {
+                    let built = match &other {
+                        // what the file holds is not simulated again
+                        Some(CachedOutcomes::Partial(known)) => {
+                            OutcomeTable::complete(scene, known)
                         }
-                        Some(t)
+                        _ => OutcomeTable::build_scene(scene),
+                    };
+                    // kept for the memo, should the table fail
+                    file = other;
+                    match built {
+                        Ok(t) => {
+                            if let Some(p) = &exec.cache {
+                                if let Err(e) = t.write_file(p, scene) {
+                                    exec.plan.why.push_str(&format!(
+                                        "; the table could not be kept in {}: {e}",
+                                        p.display()
+                                    ));
+                                }
+                            }
+                            Some(t)
+                        }
+                        Err(e) => {
+                            exec.plan.strategy = if memo_cap > 0 {
+                                Strategy::Memo
+                            } else {
+                                Strategy::Live
+                            };
+                            exec.plan.why = format!("no table: {e}");
+                            None
+                        }
                     }
-                    Err(e) => {
-                        exec.plan.strategy = if memo_cap > 0 {
-                            Strategy::Memo
-                        } else {
-                            Strategy::Live
-                        };
-                        exec.plan.why = format!("no table: {e}");
-                        None
-                    }
-                },
+                }
             };
         }
         if exec.plan.strategy == Strategy::Memo {

@@ -289,6 +289,59 @@ impl OutcomeTable {
         })
     }
 
+    /// The table of `scene` from the outcomes `known` (command index and
+    /// outcome, for example a partial table file), simulating only the
+    /// commands they lack (one of each mirror-image pair under a
+    /// symmetry), in parallel, batched where copies are exact. The table
+    /// is the same, bit for bit, as [`build_scene`](Self::build_scene)'s
+    /// when `known` holds the world's own outcomes.
+    pub fn complete(scene: &Scene, known: &[(u64, Outcome)]) -> Result<OutcomeTable, WorldError> {
+        let WorldSpec::Physics(spec) = &scene.world else {
+            // a grid's table costs microseconds
+            return Self::build_scene(scene);
+        };
+        let space = scene.command_space();
+        let n = Self::check_size(&space)?;
+        let mut outcomes: Vec<Option<Outcome>> = vec![None; n as usize];
+        for &(i, o) in known.iter().filter(|e| e.0 < n) {
+            outcomes[i as usize] = Some(o);
+        }
+        let probe = PhysicsWorld::from_scene(scene, spec);
+        let twins = match spec.symmetry {
+            Some(_) => twin_indices(&probe, &space, n),
+            None => Vec::new(),
+        };
+        let twin = |i: u64| twins.get(i as usize).copied().flatten();
+        let missing: Vec<u64> = (0..n)
+            .filter(|&i| outcomes[i as usize].is_none() && twin(i).is_none())
+            .collect();
+        let copies = if spec.copies_are_exact() {
+            TABLE_COPIES
+        } else {
+            1
+        };
+        let results = Self::execute_indices(scene, spec, copies, &missing, &|_| {})?;
+        for (&i, o) in missing.iter().zip(results) {
+            outcomes[i as usize] = Some(o);
+        }
+        // a twin's index is below its command's: filled in index order
+        for i in 0..n {
+            if let (None, Some(t)) = (outcomes[i as usize], twin(i)) {
+                let o = outcomes[t as usize].expect("a twin is known or simulated");
+                outcomes[i as usize] = Some(probe.reflect_outcome(o));
+            }
+        }
+        Ok(OutcomeTable {
+            places: places(&space),
+            num_effects: scene.num_effects(),
+            space,
+            outcomes: outcomes
+                .into_iter()
+                .map(|o| o.expect("every command"))
+                .collect(),
+        })
+    }
+
     /// How many commands [`build_scene`](Self::build_scene) simulates for
     /// `scene`: every command, or one of each mirror-image pair for a
     /// physics scene with a [`Symmetry`](crate::scene::Symmetry) (arm7:
