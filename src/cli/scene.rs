@@ -827,15 +827,23 @@ fn build_table(scene: &Scene) -> Result<OutcomeTable, CliError> {
 /// progress of its building shown ([`build_table`]), and whether it was
 /// read from `dir`.
 fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, bool), CliError> {
+    use e3d::world::CachedOutcomes;
     let path = OutcomeTable::cache_path(scene, dir);
-    if let Ok(t) = OutcomeTable::load(&path, scene) {
-        return Ok((t, true));
-    }
-    let table = build_table(scene)?;
+    let table = match OutcomeTable::read_file(&path, scene) {
+        Ok(CachedOutcomes::Full(t)) => return Ok((t, true)),
+        // what the partial file holds is not simulated again
+        Ok(CachedOutcomes::Partial(known)) => {
+            eprintln!(
+                "scene {}: {} outcomes read from {}; simulating the others",
+                scene.name,
+                known.len(),
+                path.display()
+            );
+            OutcomeTable::complete(scene, &known).map_err(world_error)?
+        }
+        Err(_) => build_table(scene)?,
+    };
     // a cache that cannot be written is not an error: it costs time only
-    if std::fs::create_dir_all(dir).is_ok() {
-        let bytes = table.to_bytes(OutcomeTable::key(scene));
-        let _ = e3d::io::write_atomic(&path, &bytes);
-    }
+    let _ = table.write_file(&path, scene);
     Ok((table, false))
 }
