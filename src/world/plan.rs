@@ -177,6 +177,9 @@ pub struct ExecutionPlan {
     /// Groups of sessions in lockstep (memo and live); each group steps
     /// its sessions' new commands together.
     pub groups: usize,
+    /// Whether copies of the scene in one world give a single world's
+    /// outcomes bit for bit (else each world holds one copy).
+    pub exact_copies: bool,
     /// The table file, if a folder was given.
     pub on_disk: OnDisk,
     /// The memo's cap on entries.
@@ -293,6 +296,7 @@ impl ExecutionPlan {
             simulated: None,
             copies: width,
             groups,
+            exact_copies: costs.exact,
             on_disk: on_disk.clone(),
             memo_cap,
             table_seconds: None,
@@ -402,11 +406,17 @@ impl fmt::Display for ExecutionPlan {
                         None => "more than 2^64 commands".into(),
                     }
                 )?;
-                if self.groups > 1 || self.copies > 1 {
+                if self.copies > 1 {
                     write!(
                         f,
                         "; sessions in lockstep, {} group(s), up to {} commands per world",
                         self.groups, self.copies
+                    )?;
+                } else if self.groups > 1 && !self.exact_copies {
+                    write!(
+                        f,
+                        "; {} group(s) of sessions, one command per world: copies of this scene are not bit-identical to one world",
+                        self.groups
                     )?;
                 }
                 if self.strategy == Strategy::Memo {
