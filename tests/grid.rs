@@ -1,4 +1,4 @@
-//! The two-room grid of SCENES.md section 1.
+//! The two-room grid of docs/canonical-scenes.md, section 1.
 
 use e3d::{OutcomeTable, Scene, World};
 

@@ -1,4 +1,4 @@
-//! arm7 (SCENES.md section 3): rest, replay, energy, the reward-cell rule,
+//! arm7 (docs/canonical-scenes.md, section 3): rest, replay, energy, the reward-cell rule,
 //! and arm7 as a learning problem.
 
 use e3d::scene::WorldSpec;

@@ -231,7 +231,7 @@ fn scene_table_computes_writes_then_reads_the_table() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `e3d scene reward-cell` applies SCENES.md's rule and says whether the
+/// `e3d scene reward-cell` applies the rule of docs/canonical-scenes.md and says whether the
 /// scene's reward cells agree; on pendulum3 (125 commands, no reward) the
 /// rule picks cell (2, 1), reached by 2 commands.
 #[test]

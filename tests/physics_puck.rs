@@ -1,5 +1,5 @@
 //! Pucks: the integrator against closed forms, and puck_rooms as a learning
-//! problem (SCENES.md section 2).
+//! problem (docs/canonical-scenes.md, section 2).
 
 use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target, World};
 

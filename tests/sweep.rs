@@ -542,7 +542,7 @@ fn plots_are_drawn_from_the_summary() {
         .contains("`bta` is not a parameter (did you mean `beta`?)"));
 }
 
-/// The known behaviour of the paper's task 2 on two_rooms (SCENES.md):
+/// The known behaviour of the paper's task 2 on two_rooms (docs/canonical-scenes.md):
 /// E3D keeps the reward only when beta * lambda > log(18), that is beta >
 /// 96 with lambda = 0.03; the uniform policy finds it 9 times in 16384.
 #[test]

@@ -55,7 +55,7 @@ pub enum SceneCmd {
         #[arg(long, value_name = "DIR")]
         table_cache: Option<PathBuf>,
     },
-    /// Execute every command once and apply SCENES.md's rule for a
+    /// Execute every command once and apply the rule of docs/canonical-scenes.md for a
     /// hard-to-reach reward cell: among the reached cells, the farthest
     /// from the tracked point's start; ties to the fewest commands, then
     /// the lowest index.

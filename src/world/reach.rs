@@ -1,5 +1,5 @@
 //! What a whole command space reaches: per-cell counts and the rule that
-//! picks arm7's rewarded cell (SCENES.md section 3).
+//! picks arm7's rewarded cell (docs/canonical-scenes.md, section 3).
 
 use super::OutcomeTable;
 use crate::effect::EffectGrid;
@@ -21,7 +21,7 @@ pub struct FarthestCell {
     pub reached_cells: usize,
 }
 
-/// The rule of SCENES.md for a hard-to-reach reward cell: among the cells
+/// The rule of docs/canonical-scenes.md for a hard-to-reach reward cell: among the cells
 /// reached by at least one command of `table`, the one whose centre is
 /// farthest from `from`; ties go to the cell reached by the fewest
 /// commands, then to the lowest index. `None` if the table is empty.
