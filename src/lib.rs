@@ -76,6 +76,12 @@ pub struct ReadmeDoctests;
 #[doc = include_str!("../docs/outcomes.md")]
 pub struct OutcomesDoctests;
 
+/// The `rand` crate (0.10) whose traits e3d's generators implement: a
+/// custom [`Learner`] draws from its [`SessionRng`] with `e3d::rand::RngExt`
+/// (`rng.random::<f64>()`, `rng.random_range(0..k)`), with no version of
+/// rand to pin in its own manifest.
+pub use rand;
+
 pub use command::{Command, CommandError, CommandSpace};
 pub use effect::{EffectGrid, EffectModel, Target};
 pub use learner::{E3d, EpsilonGreedy, Learner, LearnerKind, ParamError, Params, UniformPolicy};

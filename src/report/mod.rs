@@ -5,9 +5,14 @@
 //!   sessions and summarised (what `e3d reproduce` prints and draws);
 //! - [`scene_svg`]: pictures of scenes, with a command's path;
 //! - [`sweep_plot`]: line plots and heat maps of a sweep's summary.
+//!
+//! `paper` and `sweep_plot` draw with plotters and need the feature
+//! `plots` (on by default); `scene_svg` writes its SVG itself.
 
+#[cfg(feature = "plots")]
 pub mod paper;
 pub mod scene_svg;
+#[cfg(feature = "plots")]
 pub mod sweep_plot;
 
 /// Mean, sample standard deviation, minimum and maximum of `xs`.
