@@ -6,11 +6,11 @@
 //! cargo run --release --example custom_learner
 //! ```
 
+use e3d::rand::RngExt;
 use e3d::{
     run_session, Command, CommandSpace, Learner, LearnerKind, Outcome, Params, Scene,
     SessionConfig, SessionRng, Target,
-};
-use e3d::rand::RngExt; // the rand e3d uses, re-exported: no version to pin
+}; // the rand e3d uses, re-exported: no version to pin
 
 /// Count-based exploration: `Q[a_i, i] += alpha (1/sqrt(N(e)) - Q[a_i, i])`.
 struct CountBonus {

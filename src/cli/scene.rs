@@ -54,6 +54,11 @@ pub enum SceneCmd {
         /// them; without a usable table there, say why and simulate.
         #[arg(long, value_name = "DIR")]
         table_cache: Option<PathBuf>,
+        /// Also write each command's whole motion to FILE.csv: per step, the
+        /// time, every body's pose and velocity, every joint's angle and
+        /// velocity (physics scenes; one command at a time).
+        #[arg(long, value_name = "FILE.csv", conflicts_with = "table_cache")]
+        trace: Option<PathBuf>,
     },
     /// Execute every command once and apply the rule of docs/canonical-scenes.md for a
     /// hard-to-reach reward cell: among the reached cells, the farthest
@@ -109,7 +114,14 @@ pub fn run(a: SceneArgs) -> CliResult {
         SceneCmd::Exec {
             scene,
             commands,
+            trace: Some(path),
+            ..
+        } => exec_trace(&load_scene(&scene)?, commands, &path),
+        SceneCmd::Exec {
+            scene,
+            commands,
             table_cache,
+            trace: None,
         } => exec(&load_scene(&scene)?, commands, table_cache.as_deref()),
         SceneCmd::RewardCell { scene, from } => reward_cell(&load_scene(&scene)?, from),
         SceneCmd::Stats { scene } => stats(&load_scene(&scene)?),
@@ -328,6 +340,64 @@ fn read_commands(space: &CommandSpace, commands: &[String], tx: &SyncSender<Read
             }
         }
     }
+}
+
+/// `e3d scene exec --trace FILE`: each command's motion, one after the
+/// other on one world, its CSV row printed as it is done and its frames
+/// streamed into a temporary file renamed to FILE at the end (whole or not
+/// at all).
+fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
+    let Some(mut world) = scene.physics_world() else {
+        return Err(CliError::input(format!(
+            "scene `{}` is a grid: it has no motion to trace (`e3d scene render --command` draws a command's path)",
+            scene.name
+        )));
+    };
+    let space = scene.command_space();
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(64);
+    let reader_space = space.clone();
+    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    let out_err =
+        |e: std::io::Error| CliError::output(format!("{}: cannot write: {e}", path.display()));
+    let mut file = std::io::BufWriter::new(std::fs::File::create(&tmp).map_err(out_err)?);
+    let result = (|| -> CliResult {
+        let mut stdout = std::io::stdout().lock();
+        let mut first = true;
+        for r in rx {
+            let c = r?;
+            let m = world.motion(&c).map_err(world_error)?;
+            let text = space.format(&c);
+            m.write_csv(&mut file, Some(&text), first)
+                .map_err(out_err)?;
+            let o = m.outcome;
+            let mut row = String::new();
+            if first {
+                row.push_str("command,effect,reward,x,y\n");
+            }
+            let _ = writeln!(
+                row,
+                "{text},{},{},{},{}",
+                o.effect, o.reward, o.point[0], o.point[1]
+            );
+            stdout
+                .write_all(row.as_bytes())
+                .and_then(|()| stdout.flush())
+                .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+            first = false;
+        }
+        use std::io::Write as _;
+        file.flush().map_err(out_err)?;
+        std::fs::rename(&tmp, path).map_err(out_err)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
 }
 
 /// How `e3d scene exec` executes a chunk of commands; it keeps its worlds

@@ -317,6 +317,18 @@ impl Scene {
         }
     }
 
+    /// The scene's Rapier world itself, for what only a physics world
+    /// gives ([`PhysicsWorld::motion`](crate::world::PhysicsWorld::motion),
+    /// [`trace`](crate::world::PhysicsWorld::trace),
+    /// [`inspect`](crate::world::PhysicsWorld::inspect)); `None` for a grid
+    /// scene.
+    pub fn physics_world(&self) -> Option<crate::world::PhysicsWorld> {
+        match &self.world {
+            WorldSpec::Physics(p) => Some(crate::world::PhysicsWorld::from_scene(self, p)),
+            WorldSpec::Grid(_) => None,
+        }
+    }
+
     /// Builds the world that executes this scene's commands.
     pub fn build(&self) -> Box<dyn World + Send> {
         match &self.world {

@@ -24,7 +24,7 @@ mod table;
 
 pub use grid::{GridSpec, GridWorld};
 pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
-pub use physics::{BodyPose, PhysicsWorld, RunStats, Trace, MAX_COPIES};
+pub use physics::{BodyPose, Frame, Motion, PhysicsWorld, RunStats, Trace, MAX_COPIES};
 pub use plan::{lockstep_groups, ExecOptions, ExecutionPlan, Executor, OnDisk, Strategy, Workload};
 pub use reach::{farthest_reached_cell, FarthestCell};
 pub use table::{CachedOutcomes, OutcomeTable, MAX_TABLE_COMMANDS, TABLE_COPIES};

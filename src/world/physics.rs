@@ -114,6 +114,88 @@ pub struct Trace {
     pub outcome: Outcome,
 }
 
+/// The whole motion of one command, step by step (see
+/// [`PhysicsWorld::motion`]): every body's pose and velocity and every
+/// joint's angle and angular velocity, at the start and after each step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Motion {
+    /// The scene's bodies, in its order (fixed ones included).
+    pub bodies: Vec<String>,
+    /// The scene's joints, in its order.
+    pub joints: Vec<String>,
+    /// The start (time 0) and every step after it.
+    pub frames: Vec<Frame>,
+    /// The outcome (as [`World::execute`] returns it).
+    pub outcome: Outcome,
+}
+
+/// One instant of a [`Motion`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Seconds since the start of the command.
+    pub time: f64,
+    /// The pose of each body, in [`Motion::bodies`]' order.
+    pub poses: Vec<BodyPose>,
+    /// Each body's velocity: `(vx, vy)` m/s and the angular velocity rad/s.
+    pub velocities: Vec<[f64; 3]>,
+    /// Each joint's angle (the child's rotation relative to the parent,
+    /// 0 at the start pose, radians in `(-pi, pi]`), in
+    /// [`Motion::joints`]' order.
+    pub joint_angles: Vec<f64>,
+    /// Each joint's angular velocity (child's minus parent's), rad/s.
+    pub joint_velocities: Vec<f64>,
+}
+
+impl Motion {
+    /// Writes the motion as CSV, one row per frame: `step,time`, then per
+    /// body `NAME.x,NAME.y,NAME.angle,NAME.vx,NAME.vy,NAME.omega`, then per
+    /// joint `NAME.angle,NAME.velocity`; with `command`, a leading
+    /// `command` column holding it (and `header` false: rows only, for
+    /// several commands in one file).
+    pub fn write_csv(
+        &self,
+        mut out: impl std::io::Write,
+        command: Option<&str>,
+        header: bool,
+    ) -> std::io::Result<()> {
+        if header {
+            let mut cols: Vec<String> = Vec::new();
+            if command.is_some() {
+                cols.push("command".into());
+            }
+            cols.extend(["step".into(), "time".into()]);
+            for b in &self.bodies {
+                for f in ["x", "y", "angle", "vx", "vy", "omega"] {
+                    cols.push(format!("{b}.{f}"));
+                }
+            }
+            for j in &self.joints {
+                cols.push(format!("{j}.angle"));
+                cols.push(format!("{j}.velocity"));
+            }
+            writeln!(out, "{}", cols.join(","))?;
+        }
+        for (k, f) in self.frames.iter().enumerate() {
+            let mut row = String::new();
+            if let Some(c) = command {
+                row.push_str(c);
+                row.push(',');
+            }
+            row.push_str(&format!("{k},{}", f.time));
+            for (p, v) in f.poses.iter().zip(&f.velocities) {
+                for x in [p.position[0], p.position[1], p.angle, v[0], v[1], v[2]] {
+                    row.push_str(&format!(",{x}"));
+                }
+            }
+            for (a, w) in f.joint_angles.iter().zip(&f.joint_velocities) {
+                row.push_str(&format!(",{a},{w}"));
+            }
+            writeln!(out, "{row}")?;
+        }
+        Ok(())
+    }
+}
+
 /// What happened during one command, for diagnostics (see
 /// [`PhysicsWorld::inspect`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -201,6 +283,11 @@ pub struct PhysicsWorld {
     /// The scene's declared symmetry and, per slot, each symbol's mirror
     /// image (see [`twin`](Self::twin)).
     mirror: Option<(Symmetry, Vec<Vec<u8>>)>,
+    /// The scene's time step, seconds (Rapier holds it as f32).
+    dt: f64,
+    /// The scene's body and joint names, in its order (for motions).
+    body_names: Vec<String>,
+    joint_names: Vec<String>,
 }
 
 /// One copy of a scene's non-fixed bodies and joints, resolved to handles.
@@ -529,6 +616,9 @@ impl PhysicsWorld {
                 let maps = sym.symbol_maps(scene).expect("validated scene");
                 (sym, maps)
             }),
+            dt: spec.dt,
+            body_names: spec.bodies.iter().map(|b| b.name.clone()).collect(),
+            joint_names: spec.joints.iter().map(|j| j.name.clone()).collect(),
         }
     }
 
@@ -613,6 +703,91 @@ impl PhysicsWorld {
             poses,
             outcome,
         })
+    }
+
+    /// Executes `command` and records its whole motion ([`Motion`]): every
+    /// body's pose and velocity, every joint's angle and angular velocity,
+    /// with the time, at the start and after every step. The outcome is
+    /// [`World::execute`]'s; with a [`Symmetry`], a command whose
+    /// [`twin`](Self::twin) is simulated in its place gets the twin's
+    /// motion, reflected.
+    ///
+    /// ```
+    /// use e3d::Scene;
+    /// let scene = Scene::builtin("arm7").unwrap();
+    /// let mut world = scene.physics_world().unwrap();
+    /// let c = scene.command_space().parse("+0-0+0-").unwrap();
+    /// let m = world.motion(&c).unwrap();
+    /// assert_eq!(m.frames.len(), 121); // the start and 120 steps
+    /// assert_eq!(m.joints.len(), 7);
+    /// assert!(m.frames[15].joint_angles[0] > 0.0); // joint 1 pushed by +t
+    /// ```
+    pub fn motion(&mut self, command: &Command) -> Result<Motion, WorldError> {
+        let dt = self.dt;
+        let mut frames = vec![self.frame_of(&self.pristine, 0.0)];
+        let outcome = self.run(command, false, |w| {
+            let t = frames.len() as f64 * dt;
+            frames.push(w.frame_of(&w.sets, t));
+        })?;
+        if let (Some((sym, _)), Some(_)) = (&self.mirror, self.twin(command)) {
+            let sym = *sym;
+            for f in &mut frames {
+                for (p, v) in f.poses.iter_mut().zip(&mut f.velocities) {
+                    p.position = sym.reflect(p.position);
+                    p.angle = sym.reflect_angle(p.angle);
+                    let [vx, vy] = sym.reflect([v[0], v[1]]);
+                    *v = [vx, vy, -v[2]];
+                }
+                // a mirror turns every relative rotation the other way
+                for a in f.joint_angles.iter_mut().chain(&mut f.joint_velocities) {
+                    *a = -*a;
+                }
+            }
+        }
+        Ok(Motion {
+            bodies: self.body_names.clone(),
+            joints: self.joint_names.clone(),
+            frames,
+            outcome,
+        })
+    }
+
+    /// The state of copy 0 in `sets`, at time `time`.
+    fn frame_of(&self, sets: &Sets, time: f64) -> Frame {
+        let bodies = &sets.bodies;
+        let (mut poses, mut velocities) = (Vec::new(), Vec::new());
+        for &h in &self.copies[0].handles {
+            let b = &bodies[h];
+            let p = b.position();
+            poses.push(BodyPose {
+                position: [p.translation.x as f64, p.translation.y as f64],
+                angle: p.rotation.angle() as f64,
+            });
+            let v = b.linvel();
+            velocities.push([v.x as f64, v.y as f64, b.angvel() as f64]);
+        }
+        let (mut joint_angles, mut joint_velocities) = (Vec::new(), Vec::new());
+        for j in &self.copies[0].joints {
+            let (pa, pw) = j.parent.map_or((0.0, 0.0), |p| {
+                (
+                    bodies[p].rotation().angle() as f64,
+                    bodies[p].angvel() as f64,
+                )
+            });
+            let c = &bodies[j.child];
+            let a = c.rotation().angle() as f64 - pa - j.offset;
+            let a =
+                (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+            joint_angles.push(a);
+            joint_velocities.push(c.angvel() as f64 - pw);
+        }
+        Frame {
+            time,
+            poses,
+            velocities,
+            joint_angles,
+            joint_velocities,
+        }
     }
 
     /// The total kinetic energy (J) of the dynamic bodies at the end of
