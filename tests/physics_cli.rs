@@ -154,7 +154,7 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
-    // a scene mistake: bad input (2), with file:line:col
+    // a scene mistake: bad input (2), with file:line:col of the field
     let dir = std::env::temp_dir().join(format!("e3d-physics-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.ron");
@@ -170,7 +170,7 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(
-        err.contains("bad.ron:7:20: field `mass`: expected body `puck`: a mass > 0"),
+        err.contains("bad.ron:7:54: field `mass`: expected body `puck`: a mass > 0"),
         "{err}"
     );
     // a blown-up simulation: 4

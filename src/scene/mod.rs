@@ -336,7 +336,15 @@ impl Scene {
                 &format!("at most {MAX_SLOTS} slots, found {n}"),
             ));
         }
+        // how often each symbol was written in the alphabets before this
+        // slot's (a Repeat schema writes its alphabet once)
+        let mut written: std::collections::HashMap<char, usize> = Default::default();
+        let repeat = matches!(self.command, CommandSpec::Repeat { .. });
         for (i, alphabet) in self.slots().enumerate() {
+            if repeat && i > 0 {
+                break;
+            }
+            let mut here: std::collections::HashSet<char> = Default::default();
             if alphabet.is_empty() {
                 return Err(Invalid::at(
                     "alphabet",
@@ -354,8 +362,9 @@ impl Scene {
                     ),
                 ));
             }
-            for (j, s) in alphabet.iter().enumerate() {
-                if alphabet[..j].iter().any(|t| t.symbol == s.symbol) {
+            for s in alphabet {
+                if !here.insert(s.symbol) {
+                    let before = written.get(&s.symbol).copied().unwrap_or(0);
                     return Err(Invalid::at(
                         "symbol",
                         Some(&format!("'{}'", s.symbol)),
@@ -364,7 +373,7 @@ impl Scene {
                             s.symbol
                         ),
                     )
-                    .nth(1));
+                    .nth(before + 1));
                 }
                 if s.symbol.is_whitespace() || s.symbol == ',' {
                     return Err(Invalid::at(
@@ -373,6 +382,9 @@ impl Scene {
                         "a printable symbol other than ',' (commands are written as strings)",
                     ));
                 }
+            }
+            for c in here {
+                *written.entry(c).or_insert(0) += 1;
             }
         }
         match &self.world {
