@@ -199,6 +199,52 @@ fn a_closed_stdout_ends_quietly() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Output that cannot be written is exit code 3 with a message, never a
+/// panic (101) nor a silent success: a full device on stdout or stderr,
+/// and a closed stdout (`>&-`, whose output Rust would discard).
+#[cfg(unix)]
+#[test]
+fn unwritable_or_closed_output_is_exit_code_3() {
+    let bin = env!("CARGO_BIN_EXE_e3d");
+    let sh = |script: String| {
+        let o = Command::new("sh").arg("-c").arg(&script).output().unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
+    };
+    let (code, err) = sh(format!("'{bin}' scene check two_rooms > /dev/full"));
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("error: cannot write to stdout: No space left on device"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    let (code, err) = sh(format!("'{bin}' scene check two_rooms >&-"));
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("error: standard output is closed"), "{err}");
+    // /dev/null is a fine place for results
+    let (code, err) = sh(format!("'{bin}' scene check two_rooms > /dev/null"));
+    assert_eq!(code, Some(0), "{err}");
+    // stderr full: the progress line of a sweep cannot be written
+    let dir = std::env::temp_dir().join(format!("e3d-full-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("s.ron"),
+        "Sweep(scenes: [\"two_rooms\"], learners: [uniform], sessions: 1, trials: 5)",
+    )
+    .unwrap();
+    let o = Command::new(bin)
+        .args(["sweep", dir.join("s.ron").to_str().unwrap(), "--out"])
+        .arg(dir.join("out"))
+        .stderr(std::fs::File::create("/dev/full").unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(3));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `e3d bench`: a CSV line per measure, each a median no faster than the
 /// best of its slices, and the measures of both kinds of scene.
 #[test]
