@@ -588,3 +588,31 @@ fn resume_refuses_a_folder_that_holds_no_sweep() {
     assert!(String::from_utf8_lossy(&r.stderr).contains("holds no sweep.ron"));
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 1);
 }
+
+/// `journal.txt` replaced by a symbolic link (to another file) is refused
+/// on `--resume`: the file it points to is neither truncated nor appended
+/// to.
+#[cfg(unix)]
+#[test]
+fn a_journal_that_is_a_symbolic_link_is_refused() {
+    let dir = temp("symlink");
+    let file = small_sweep(&dir, 1, 20);
+    let out = dir.join("out");
+    let f = file.to_str().unwrap();
+    let o = out.to_str().unwrap();
+    ok(e3d(&["sweep", f, "--out", o, "--threads", "1"]));
+    let journal = out.join("journal.txt");
+    let victim = dir.join("victim.txt");
+    std::fs::copy(&journal, &victim).unwrap();
+    let before = std::fs::read(&victim).unwrap();
+    std::fs::remove_file(&journal).unwrap();
+    std::os::unix::fs::symlink(&victim, &journal).unwrap();
+    let r = e3d(&["sweep", f, "--out", o, "--resume"]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("journal.txt: is a symbolic link; refused"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&victim).unwrap(), before);
+}

@@ -19,7 +19,7 @@
 
 use super::{fnv1a64, io_err, Shard, SweepError};
 use std::collections::BTreeMap;
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -82,6 +82,12 @@ fn corrupt(path: &Path, what: &str) -> SweepError {
 /// Reads a journal, keeping the whole, correct lines before the first bad
 /// one.
 pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
+    if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        return Err(SweepError::Output(format!(
+            "{}: is a symbolic link; refused (e3d reads and appends only to a journal it made); choose another --out",
+            path.display()
+        )));
+    }
     let bytes = std::fs::read(path).map_err(io_err(path))?;
     let mut lines = bytes.split_inclusive(|&b| b == b'\n');
     let mut header_line = |n: usize| -> Result<String, SweepError> {
@@ -185,11 +191,10 @@ impl Journal {
     /// Opens a journal for appending after its first `valid_len` bytes
     /// (dropping a torn or corrupt tail).
     pub fn append(path: &Path, valid_len: u64) -> Result<Journal, SweepError> {
-        // O_APPEND: every line lands at the end of the file, whole
-        let file = OpenOptions::new()
-            .append(true)
-            .open(path)
-            .map_err(io_err(path))?;
+        // O_APPEND: every line lands at the end of the file, whole;
+        // O_NOFOLLOW: a symbolic link in its place is refused, not
+        // truncated and appended to
+        let file = crate::io::open_append_nofollow(path).map_err(io_err(path))?;
         file.set_len(valid_len).map_err(io_err(path))?;
         file.sync_all().map_err(io_err(path))?;
         Ok(Journal {
@@ -258,7 +263,7 @@ mod tests {
         drop(j);
         let good_len = std::fs::metadata(&p).unwrap().len();
         // a torn line: no line break
-        let mut f = OpenOptions::new().append(true).open(&p).unwrap();
+        let mut f = std::fs::OpenOptions::new().append(true).open(&p).unwrap();
         f.write_all(b"0123456789abcdef 7,a,b").unwrap();
         drop(f);
         let r = read(&p).unwrap();
