@@ -76,3 +76,37 @@ fn the_cli_exits_with_code_2_and_prints_the_place() {
         "{err}"
     );
 }
+
+#[cfg(unix)]
+#[test]
+fn a_device_a_fifo_or_a_huge_file_is_refused_not_read() {
+    // /dev/zero never ends: it was read until the process was killed
+    let e = Scene::load("/dev/zero").unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "/dev/zero: this is not a regular file (a pipe, a device or a socket); expected a scene file (.ron)"
+    );
+    let dir = std::env::temp_dir().join(format!("e3d-bad-files-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // a FIFO without writer would block for ever
+    let fifo = dir.join("fifo.ron");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: a valid C string path
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    let e = e3d::sweep::Sweep::load(&fifo).unwrap_err().to_string();
+    assert!(
+        e.ends_with("fifo.ron: this is not a regular file (a pipe, a device or a socket); expected a sweep file (.ron)"),
+        "{e}"
+    );
+    // a file one byte over 16 MiB (sparse: nothing is written)
+    let big = dir.join("big.ron");
+    let f = std::fs::File::create(&big).unwrap();
+    f.set_len(16 * 1024 * 1024 + 1).unwrap();
+    let e = Scene::load(&big).unwrap_err().to_string();
+    assert!(
+        e.ends_with("big.ron: the file holds 16777217 bytes; a scene file may hold at most 16777216 bytes (16 MiB)"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

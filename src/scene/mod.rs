@@ -414,6 +414,10 @@ impl Scene {
     }
 }
 
+/// The largest scene or sweep file read, in bytes (16 MiB): the shipped
+/// scenes hold a few kB; anything larger is a wrong path.
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
 /// Reads a RON file of the given kind (`scene`, `sweep`) as text: a
 /// directory, an unreadable file or bytes that are not UTF-8 are errors
 /// that name the file (and, for bad bytes, where they start).
@@ -426,8 +430,44 @@ pub(crate) fn read_text(path: &Path, kind: &str) -> Result<String, SceneError> {
             format!("this is a directory; expected a {kind} file (.ron)"),
         ));
     }
-    let bytes = std::fs::read(path)
-        .map_err(|e| SceneError::new(&file, None, format!("cannot read the file: {e}")))?;
+    let cannot =
+        |e: std::io::Error| SceneError::new(&file, None, format!("cannot read the file: {e}"));
+    let meta = std::fs::metadata(path).map_err(cannot)?;
+    if !meta.is_file() {
+        // a FIFO would block for ever, a device like /dev/zero never end
+        return Err(SceneError::new(
+            &file,
+            None,
+            format!(
+                "this is not a regular file (a pipe, a device or a socket); expected a {kind} file (.ron)"
+            ),
+        ));
+    }
+    let too_big = |n: String| {
+        SceneError::new(
+            &file,
+            None,
+            format!(
+                "the file holds {n} bytes; a {kind} file may hold at most {MAX_FILE_BYTES} bytes (16 MiB)"
+            ),
+        )
+    };
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(too_big(meta.len().to_string()));
+    }
+    // read at most one byte more than allowed (the file may grow meanwhile)
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(
+            std::fs::File::open(path).map_err(cannot)?,
+            MAX_FILE_BYTES + 1,
+        ),
+        &mut bytes,
+    )
+    .map_err(cannot)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_big(format!("more than {MAX_FILE_BYTES}")));
+    }
     String::from_utf8(bytes).map_err(|e| {
         let upto = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         let pos = error::position_at(&String::from_utf8_lossy(upto), upto.len());
