@@ -523,3 +523,46 @@ fn numbers_at_the_limits_simulate_without_panic() {
     let e = Scene::parse(&over, "s.ron").unwrap_err().to_string();
     assert!(e.contains("adds 1.0297e6 rad/s to `upper`"), "{e}");
 }
+
+/// A scene of `n` balls (fixed, so that nothing is simulated).
+fn many_bodies(n: usize) -> String {
+    let bodies: String = (0..n)
+        .map(|i| {
+            format!(
+                "(name: \"b{i}\", kind: Fixed, shape: Ball(radius: 0.1), position: ({}.0, 0.0)),\n",
+                i % 1000
+            )
+        })
+        .collect();
+    BASE.replacen(
+        "        bodies: [\n",
+        &format!("        bodies: [\n{bodies}"),
+        1,
+    )
+}
+
+#[test]
+fn body_names_are_checked_in_linear_time_and_bodies_are_capped() {
+    // 40,000 bodies took 21.6 s to validate (every name against every
+    // earlier one); 10,000 take milliseconds now
+    let text = many_bodies(10_000 - 3);
+    let t = std::time::Instant::now();
+    Scene::parse(&text, "s.ron").unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    assert!(secs < 0.5, "10,000 bodies took {secs} s");
+    let e = Scene::parse(&many_bodies(10_000 - 2), "s.ron")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("s.ron:4:9: field `bodies`: expected at most 10000 bodies, found 10001"),
+        "{e}"
+    );
+    // a duplicate among many is still found, and pointed at
+    let dup = text.replacen("(name: \"b9000\",", "(name: \"b17\",", 1);
+    let e = Scene::parse(&dup, "s.ron").unwrap_err().to_string();
+    assert!(
+        e.contains("distinct body names, but `b17` is used twice"),
+        "{e}"
+    );
+    assert!(e.starts_with("s.ron:9005:"), "{e}");
+}
