@@ -551,7 +551,13 @@ impl Shard {
 
     /// How many of `total` sessions belong to this shard.
     pub fn count(&self, total: usize) -> usize {
-        (total + self.n - self.k) / self.n
+        // the indices k-1, k-1+n, ... below total; no `total + n`, which
+        // overflowed for n near usize::MAX (1/18446744073709551615 had
+        // "0 sessions")
+        match total.checked_sub(self.k) {
+            Some(rest) => rest / self.n + 1,
+            None => 0,
+        }
     }
 }
 
@@ -1493,6 +1499,17 @@ mod tests {
         assert_eq!(shards[2].count(total), 5);
         assert_eq!("2/3".parse::<Shard>().unwrap(), shards[1]);
         assert!("0/3".parse::<Shard>().is_err());
+        // no overflow with the largest N
+        let huge: Shard = "1/18446744073709551615".parse().unwrap();
+        assert_eq!(huge.count(total), 1);
+        assert_eq!(huge.count(0), 0);
+        let last = Shard {
+            k: usize::MAX,
+            n: usize::MAX,
+        };
+        assert_eq!(last.count(total), 0);
+        assert_eq!(last.count(usize::MAX), 1);
+        assert_eq!(Shard { k: 3, n: 3 }.count(2), 0);
         assert!("4/3".parse::<Shard>().is_err());
     }
 

@@ -616,3 +616,27 @@ fn a_journal_that_is_a_symbolic_link_is_refused() {
     );
     assert_eq!(std::fs::read(&victim).unwrap(), before);
 }
+
+/// `--shard 1/18446744073709551615`: the first shard holds session 0 (its
+/// count overflowed into 0 sessions, and the sweep never completed).
+#[test]
+fn a_shard_of_the_largest_n_holds_its_sessions() {
+    let dir = temp("hugeshard");
+    let file = small_sweep(&dir, 1, 5);
+    let out = dir.join("out");
+    let o = ok(e3d(&[
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--shard",
+        "1/18446744073709551615",
+    ]));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("shard 1/18446744073709551615 (1 sessions)"),
+        "{err}"
+    );
+    let results = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(results.lines().count(), 2, "{results}");
+}
