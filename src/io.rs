@@ -29,6 +29,12 @@ fn create_temp(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
     Err(last.unwrap_or_else(|| io::Error::other("no free temporary name")))
 }
 
+/// Whether `name` is the name of a temporary file of [`write_atomic`]
+/// (`.NAME.tmp-...`), left behind by a process killed while writing.
+pub fn is_temporary(name: &str) -> bool {
+    name.starts_with('.') && name.contains(".tmp-")
+}
+
 /// Writes `path` atomically: the bytes go to a new temporary file in the
 /// same folder (created exclusively, under a unique name: never an
 /// existing file nor the target of a symbolic link), which is synced and

@@ -1148,11 +1148,26 @@ impl Sweep {
                 dir.display()
             )));
         }
-        let non_empty = dir.is_dir()
-            && std::fs::read_dir(dir)
-                .map_err(io_err(dir))?
-                .next()
-                .is_some();
+        // a folder that holds only temporary files of write_atomic (never
+        // renamed, so never part of a sweep) was left by a run killed
+        // while copying the sweep file: it counts as empty, and they go
+        let mut non_empty = false;
+        let mut temporaries = Vec::new();
+        if dir.is_dir() {
+            for entry in std::fs::read_dir(dir).map_err(io_err(dir))? {
+                let entry = entry.map_err(io_err(dir))?;
+                if crate::io::is_temporary(&entry.file_name().to_string_lossy()) {
+                    temporaries.push(entry.path());
+                } else {
+                    non_empty = true;
+                }
+            }
+        }
+        if !non_empty {
+            for t in temporaries {
+                let _ = std::fs::remove_file(t);
+            }
+        }
         if non_empty && !options.resume {
             return Err(SweepError::Output(format!(
                 "{} exists and is not empty; pass --resume to complete the sweep it holds, or choose another --out",

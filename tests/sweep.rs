@@ -640,3 +640,25 @@ fn a_shard_of_the_largest_n_holds_its_sessions() {
     let results = std::fs::read_to_string(out.join("results.csv")).unwrap();
     assert_eq!(results.lines().count(), 2, "{results}");
 }
+
+/// A run killed while copying `sweep.ron` into a new folder leaves only a
+/// temporary file there: a fresh run and `--resume` both accept the folder
+/// (they refused it: not empty, and no sweep.ron to resume).
+#[test]
+fn a_folder_left_by_a_kill_during_the_first_copy_is_accepted() {
+    let dir = temp("killcopy");
+    let file = small_sweep(&dir, 1, 5);
+    let f = file.to_str().unwrap();
+    for resume in [false, true] {
+        let out = dir.join(format!("out-{resume}"));
+        std::fs::create_dir_all(&out).unwrap();
+        std::fs::write(out.join(".sweep.ron.tmp-4242-0-1f"), "Sweep(sce").unwrap();
+        let mut args = vec!["sweep", f, "--out", out.to_str().unwrap()];
+        if resume {
+            args.push("--resume");
+        }
+        ok(e3d(&args));
+        assert!(out.join("results.csv").exists());
+        assert!(!out.join(".sweep.ron.tmp-4242-0-1f").exists());
+    }
+}
