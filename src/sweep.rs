@@ -107,6 +107,10 @@ pub const CELL_COLUMNS: usize = 8;
 /// The largest number of sessions a sweep may hold.
 pub const MAX_SESSIONS: usize = 1_000_000_000;
 
+/// The largest number of trials per session (the bound of `e3d run
+/// --trials`).
+pub const MAX_TRIALS: usize = 100_000_000;
+
 /// The largest number of steps of a range.
 pub const MAX_STEPS: usize = 100_000;
 
@@ -679,6 +683,16 @@ impl Sweep {
         }
         if spec.trials == 0 {
             return Err(bad("trials", None, "at least 1 trial per session, found 0"));
+        }
+        if spec.trials > MAX_TRIALS {
+            return Err(bad(
+                "trials",
+                None,
+                &format!(
+                    "at most {} trials per session (as `e3d run --trials`), found {}",
+                    MAX_TRIALS, spec.trials
+                ),
+            ));
         }
         // the hyper-parameters
         let mut axes: Vec<Vec<f64>> = Vec::with_capacity(5);
