@@ -304,3 +304,24 @@ fn bench_prints_every_measure_with_its_median_and_best() {
         String::from_utf8_lossy(&o.stderr).contains("--seconds 0: expected a number in (0, 3600]")
     );
 }
+
+/// `reproduce --seed`: session i uses SEED + i, which must not wrap past
+/// 2^64 - 1 (it did, silently).
+#[test]
+fn a_reproduce_seed_that_would_wrap_is_refused() {
+    let o = e3d(&[
+        "reproduce",
+        "--seed",
+        "18446744073709551615",
+        "--sessions",
+        "2",
+        "--out",
+        "/nonexistent/x",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--seed 18446744073709551615 with --sessions 2: session i uses seed SEED + i, which would pass 2^64 - 1; expected a seed of at most 18446744073709551614"),
+        "{err}"
+    );
+}
