@@ -116,3 +116,102 @@ mod tests {
         fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+/// The name of the lock file of an output folder.
+pub const LOCK_FILE: &str = ".lock";
+
+/// An exclusive lock on an output folder: `DIR/.lock`, held with
+/// `flock` (unix) and holding `pid=P host=H` for messages. The kernel
+/// releases it when its process ends, however it ends; the file is removed
+/// when the lock is dropped.
+#[derive(Debug)]
+pub struct DirLock {
+    path: PathBuf,
+    #[allow(dead_code)]
+    file: File,
+    /// The holder that left the file behind (killed before it could remove
+    /// it), whose lock was taken over.
+    pub previous: Option<String>,
+}
+
+/// `pid=P host=H`, this process.
+fn holder() -> String {
+    let mut host = String::from("?");
+    #[cfg(unix)]
+    {
+        let mut buf = [0u8; 256];
+        // SAFETY: the buffer is writable for its length
+        if unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len()) } == 0 {
+            let end = buf.iter().position(|&b| b == 0).unwrap_or(buf.len());
+            host = String::from_utf8_lossy(&buf[..end]).into_owned();
+        }
+    }
+    format!("pid={} host={host}", std::process::id())
+}
+
+impl DirLock {
+    /// Takes the lock of folder `dir` (which must exist), or says who holds
+    /// it: `Err` of kind `WouldBlock` whose message is the holder.
+    pub fn acquire(dir: &Path) -> io::Result<DirLock> {
+        let path = dir.join(LOCK_FILE);
+        loop {
+            let mut o = OpenOptions::new();
+            o.read(true).write(true).create(true).truncate(false);
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::OpenOptionsExt;
+                o.custom_flags(libc::O_NOFOLLOW);
+            }
+            let mut file = o.open(&path)?;
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::MetadataExt;
+                use std::os::unix::io::AsRawFd;
+                // SAFETY: flock on a descriptor we own
+                if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } != 0 {
+                    let e = io::Error::last_os_error();
+                    if e.kind() != io::ErrorKind::WouldBlock {
+                        return Err(e);
+                    }
+                    let mut who = String::new();
+                    let _ = io::Read::read_to_string(&mut file, &mut who);
+                    let who = who.trim();
+                    return Err(io::Error::new(
+                        io::ErrorKind::WouldBlock,
+                        if who.is_empty() {
+                            "another e3d".to_string()
+                        } else {
+                            format!("e3d {who}")
+                        },
+                    ));
+                }
+                // the holder before us may have removed the file meanwhile:
+                // then our lock is on a file nobody else will open
+                let same = fs::symlink_metadata(&path)
+                    .is_ok_and(|m| m.ino() == file.metadata().map_or(0, |f| f.ino()));
+                if !same {
+                    continue;
+                }
+            }
+            let mut old = String::new();
+            let _ = io::Read::read_to_string(&mut file, &mut old);
+            file.set_len(0)?;
+            io::Seek::seek(&mut file, io::SeekFrom::Start(0))?;
+            file.write_all(format!("{}\n", holder()).as_bytes())?;
+            let old = old.trim().to_string();
+            return Ok(DirLock {
+                path,
+                file,
+                previous: (!old.is_empty()).then_some(old),
+            });
+        }
+    }
+}
+
+impl Drop for DirLock {
+    fn drop(&mut self) {
+        // removed while still held: a process that opened it meanwhile
+        // sees the change of file and opens it again
+        let _ = fs::remove_file(&self.path);
+    }
+}

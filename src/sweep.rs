@@ -1170,7 +1170,11 @@ impl Sweep {
         if dir.is_dir() {
             for entry in std::fs::read_dir(dir).map_err(io_err(dir))? {
                 let entry = entry.map_err(io_err(dir))?;
-                if crate::io::is_temporary(&entry.file_name().to_string_lossy()) {
+                let name = entry.file_name().to_string_lossy().into_owned();
+                if name == crate::io::LOCK_FILE {
+                    continue;
+                }
+                if crate::io::is_temporary(&name) {
                     temporaries.push(entry.path());
                 } else {
                     non_empty = true;

@@ -663,3 +663,40 @@ fn a_folder_left_by_a_kill_during_the_first_copy_is_accepted() {
         assert!(!out.join(".sweep.ron.tmp-4242-0-1f").exists());
     }
 }
+
+/// Two sweeps into one folder: the second is refused with who holds the
+/// lock (both did all the work); a lock file left by a killed run is
+/// taken over with a warning; the lock file goes when the run ends.
+#[cfg(unix)]
+#[test]
+fn a_second_sweep_into_a_locked_folder_is_refused() {
+    let dir = temp("lock");
+    let file = small_sweep(&dir, 1, 5);
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let args = [
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    {
+        let _held = e3d::io::DirLock::acquire(&out).unwrap();
+        let r = e3d(&args);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(3), "{err}");
+        let me = format!("in use by e3d pid={} host=", std::process::id());
+        assert!(err.contains(&me), "{err}");
+        assert!(!out.join("journal.txt").exists());
+    }
+    // released: a lock file without a live holder is taken over
+    std::fs::write(out.join(".lock"), "pid=4194999 host=gone\n").unwrap();
+    let r = ok(e3d(&args));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("warning: ") && err.contains("took over the lock of a run that ended without releasing it (pid=4194999 host=gone)"),
+        "{err}"
+    );
+    assert!(out.join("results.csv").exists());
+    assert!(!out.join(".lock").exists());
+}
