@@ -1153,6 +1153,11 @@ impl Sweep {
             shard,
             total: self.num_sessions(),
             per_cell: self.spec.sessions,
+            scenes: self
+                .scenes
+                .iter()
+                .map(|s| (s.name.clone(), OutcomeTable::key(s)))
+                .collect(),
             version: VERSION.to_string(),
             columns: self.results_header(),
         };
@@ -1222,6 +1227,14 @@ impl Sweep {
         }
         let (mut journal, mut done) = if journal_path.exists() {
             let read = journal::read(&journal_path)?;
+            if let Some((name, now, then)) = header.changed_scene(&read.header) {
+                if read.header.sweep_hash == header.sweep_hash {
+                    return Err(SweepError::Output(format!(
+                        "{}: scene `{name}` changed since this folder's sessions ran (content {then:016x}, now {now:016x}); one results file cannot mix two versions of a scene: restore it, or choose another --out",
+                        journal_path.display()
+                    )));
+                }
+            }
             if read.header != header {
                 return Err(SweepError::Output(format!(
                     "{}: written by another run ({}); this run is shard {} of sweep {:016x} with {} sessions; choose another --out",
@@ -1374,6 +1387,13 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
         match &first {
             None => first = Some((h.clone(), sweep_copy, version)),
             Some((h0, s0, v0)) => {
+                if let Some((name, here, there)) = h.changed_scene(h0) {
+                    return Err(SweepError::Output(format!(
+                        "{}: ran scene `{name}` with other content ({here:016x}) than {} ({there:016x}); the scene was edited between the shards, which cannot be merged: rerun them with one version",
+                        dir.display(),
+                        inputs[0].display()
+                    )));
+                }
                 if h.sweep_hash != h0.sweep_hash
                     || h.shard.n != h0.shard.n
                     || h.total != h0.total

@@ -700,3 +700,81 @@ fn a_second_sweep_into_a_locked_folder_is_refused() {
     assert!(out.join("results.csv").exists());
     assert!(!out.join(".lock").exists());
 }
+
+/// A scene edited between shards, or before `--resume`, would mix two
+/// versions of it in one results file: both are refused, naming the scene.
+#[test]
+fn a_scene_edited_between_shards_or_before_resume_is_refused() {
+    let dir = temp("edited");
+    let scene = dir.join("rooms.ron");
+    let original = std::fs::read_to_string("scenes/two_rooms.ron").unwrap();
+    std::fs::write(&scene, &original).unwrap();
+    let file = dir.join("s.ron");
+    std::fs::write(
+        &file,
+        "Sweep(scenes: [\"rooms.ron\"], learners: [uniform], sessions: 4, trials: 5)",
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    ok(e3d(&[
+        "sweep",
+        f,
+        "--out",
+        a.to_str().unwrap(),
+        "--shard",
+        "1/2",
+    ]));
+    // the reward moves: another scene under the same name
+    let edited = original.replacen("value: 1.0", "value: 2.0", 1);
+    assert_ne!(edited, original);
+    std::fs::write(&scene, &edited).unwrap();
+    let r = e3d(&[
+        "sweep",
+        f,
+        "--out",
+        a.to_str().unwrap(),
+        "--shard",
+        "1/2",
+        "--resume",
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("journal.txt: scene `two_rooms` changed since this folder's sessions ran"),
+        "{err}"
+    );
+    ok(e3d(&[
+        "sweep",
+        f,
+        "--out",
+        b.to_str().unwrap(),
+        "--shard",
+        "2/2",
+    ]));
+    let m = dir.join("merged");
+    let r = e3d(&[
+        "merge",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("ran scene `two_rooms` with other content"),
+        "{err}"
+    );
+    // comments and layout are not content
+    std::fs::write(&scene, format!("// a comment\n{original}")).unwrap();
+    ok(e3d(&[
+        "sweep",
+        f,
+        "--out",
+        a.to_str().unwrap(),
+        "--shard",
+        "1/2",
+        "--resume",
+    ]));
+}
