@@ -325,3 +325,35 @@ fn a_reproduce_seed_that_would_wrap_is_refused() {
         "{err}"
     );
 }
+
+/// A one-slot command `-` cannot be an argument of `scene exec` (`-`
+/// means standard input); on standard input it is a command like any other.
+#[test]
+fn a_command_written_minus_is_given_on_stdin() {
+    use std::io::Write;
+    let dir = std::env::temp_dir().join(format!("e3d-minus-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("minus.ron");
+    std::fs::write(
+        &scene,
+        r#"Scene(name: "minus", world: Grid(rows: 1, cols: 2, start: (0, 0)),
+    command: Repeat(slots: 1, alphabet: [(symbol: '-', action: Move(drow: 0, dcol: 1)), (symbol: '0', action: Idle)]))"#,
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args(["scene", "exec", scene.to_str().unwrap(), "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(b"-\n0\n").unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success());
+    let out = String::from_utf8(o.stdout).unwrap();
+    let rows: Vec<String> = out
+        .lines()
+        .map(|l| l.split(',').take(2).collect::<Vec<_>>().join(","))
+        .collect();
+    assert_eq!(rows, ["command,effect", "-,1", "0,0"], "{out}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

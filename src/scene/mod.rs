@@ -340,6 +340,7 @@ impl Scene {
         // slot's (a Repeat schema writes its alphabet once)
         let mut written: std::collections::HashMap<char, usize> = Default::default();
         let repeat = matches!(self.command, CommandSpec::Repeat { .. });
+        let mut written_symbols = 0;
         for (i, alphabet) in self.slots().enumerate() {
             if repeat && i > 0 {
                 break;
@@ -375,13 +376,18 @@ impl Scene {
                     )
                     .nth(before + 1));
                 }
-                if s.symbol.is_whitespace() || s.symbol == ',' {
+                if !printable_symbol(s.symbol) {
                     return Err(Invalid::at(
                         "symbol",
                         None,
-                        "a printable symbol other than ',' (commands are written as strings)",
-                    ));
+                        &format!(
+                            "a printable symbol other than ',' (commands are written as strings): not whitespace, a control, format (zero-width) or combining character, found U+{:04X}",
+                            u32::from(s.symbol)
+                        ),
+                    )
+                    .nth(written_symbols));
                 }
+                written_symbols += 1;
             }
             for c in here {
                 *written.entry(c).or_insert(0) += 1;
@@ -412,6 +418,16 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// Whether `c` can stand for a symbol in a written command: it shows as
+/// one visible character. Refused: whitespace, `,`, control characters
+/// (BEL), and what has no width of its own, format characters (U+200B, a
+/// zero-width space) and combining marks (U+0301), which would join the
+/// symbol before them.
+pub fn printable_symbol(c: char) -> bool {
+    use unicode_width::UnicodeWidthChar;
+    !(c.is_whitespace() || c.is_control() || c == ',') && c.width().is_some_and(|w| w > 0)
 }
 
 /// The largest scene or sweep file read, in bytes (16 MiB): the shipped
