@@ -628,6 +628,7 @@ impl Sweep {
     /// is the folder scene paths are relative to (the current folder when
     /// `None`).
     pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<Sweep, SweepError> {
+        let text = crate::scene::prepare_text(text, file, "sweep")?;
         if text.trim().is_empty() {
             return Err(SceneError::new(
                 file,

@@ -96,6 +96,15 @@ impl SceneError {
                     || ["integer", "digit", "out of bounds", "float"]
                         .iter()
                         .any(|w| m.contains(w));
+                if m.contains("out of bounds") {
+                    // say what was written, and what a count takes
+                    let token = token_at(text, e.span.start.line, e.span.start.col);
+                    if token.starts_with('-') {
+                        m = format!("{m}: expected a whole number >= 0, found {token}");
+                    } else if !token.is_empty() {
+                        m = format!("{m}: {token} is too large for this field");
+                    }
+                }
                 match field_before(text, e.span.start.line, e.span.start.col) {
                     Some(f) if about_a_value => format!("field `{f}`: {m}"),
                     _ => m,
@@ -177,6 +186,25 @@ fn field_before(text: &str, line: usize, col: usize) -> Option<String> {
         }
     }
     None
+}
+
+/// The number-like word at or just before the 1-based `(line, col)`.
+fn token_at(text: &str, line: usize, col: usize) -> String {
+    let Some(l) = line.checked_sub(1).and_then(|i| text.lines().nth(i)) else {
+        return String::new();
+    };
+    let chars: Vec<char> = l.chars().collect();
+    let is_num = |c: char| c.is_ascii_alphanumeric() || "-+._".contains(c);
+    let mut at = col.saturating_sub(1).min(chars.len());
+    // RON reports the end of the number: step back to its start
+    while at > 0 && is_num(chars[at - 1]) {
+        at -= 1;
+    }
+    chars[at..]
+        .iter()
+        .take_while(|&&c| is_num(c))
+        .take(40)
+        .collect()
 }
 
 /// 1-based (line, column) of byte offset `at` in `text`.

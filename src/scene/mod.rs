@@ -207,6 +207,7 @@ impl Scene {
 
     /// Parses and validates scene text; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
+        let text = prepare_text(text, file, "scene")?;
         if text.trim().is_empty() {
             return Err(SceneError::new(
                 file,
@@ -418,6 +419,27 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// The text of a scene or sweep file as RON reads it: a UTF-8 byte order
+/// mark (which some editors write) is dropped; CR-only line endings (old
+/// Mac files), which RON reads as one line, are refused with a message.
+pub(crate) fn prepare_text<'a>(
+    text: &'a str,
+    file: &str,
+    kind: &str,
+) -> Result<&'a str, SceneError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    if text.contains('\r') && !text.contains('\n') {
+        return Err(SceneError::new(
+            file,
+            None,
+            format!(
+                "the file's lines end with CR only (old Mac line endings), which are not supported; expected a RON {kind} with LF or CRLF line endings"
+            ),
+        ));
+    }
+    Ok(text)
 }
 
 /// Whether `c` can stand for a symbol in a written command: it shows as
