@@ -269,3 +269,25 @@ fn scene_stats_reports_a_physics_scene_and_refuses_a_grid() {
     assert!(String::from_utf8_lossy(&out.stderr)
         .contains("is for physics scenes; this is a grid scene"));
 }
+
+/// `scene check` warns, on standard error, about what is possible but
+/// suspicious: here a dynamic body that starts outside the effect grid.
+#[test]
+fn scene_check_warns_about_a_body_outside_the_effect_grid() {
+    let o = e3d()
+        .args(["scene", "check", "tests/scenes/blowup.ron"])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(
+        err.trim(),
+        "warning: scene blowup: dynamic body `puck` starts at (0, 3), outside the effect grid"
+    );
+    // the shipped scenes have nothing to warn about
+    for s in ["puck_rooms", "arm7", "pendulum3", "maze3"] {
+        let o = e3d().args(["scene", "check", s]).output().unwrap();
+        assert!(o.status.success());
+        assert_eq!(String::from_utf8_lossy(&o.stderr), "", "{s}");
+    }
+}

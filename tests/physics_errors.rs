@@ -529,7 +529,7 @@ fn many_bodies(n: usize) -> String {
     let bodies: String = (0..n)
         .map(|i| {
             format!(
-                "(name: \"b{i}\", kind: Fixed, shape: Ball(radius: 0.1), position: ({}.0, 0.0)),\n",
+                "(name: \"b{i}\", kind: Fixed, shape: Ball(radius: 0.1), position: ({}.0, 5.0)),\n",
                 i % 1000
             )
         })

@@ -127,6 +127,9 @@ fn check(scene: &Scene) -> CliResult {
             );
         }
         WorldSpec::Physics(p) => {
+            for w in p.warnings() {
+                eprintln!("warning: scene {}: {w}", scene.name);
+            }
             let (phase, settle, together) = p.schedule.steps(p.dt);
             println!(
                 "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",

@@ -21,6 +21,7 @@
 //! `docs/scenes.md` documents every field.
 
 mod error;
+pub mod overlap;
 pub mod physics;
 mod region;
 pub mod symmetry;

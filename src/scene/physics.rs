@@ -1062,7 +1062,56 @@ impl PhysicsSpec {
         if let Some(sym) = self.symmetry {
             sym.validate(self, scene)?;
         }
+        // bodies in one another at the start: Rapier would push them
+        // apart explosively before the first command
+        if let Some((i, j, depth)) = super::overlap::first_overlap(self) {
+            let (a, b) = (&self.bodies[i], &self.bodies[j]);
+            return Err(Invalid::at(
+                "position",
+                Some(&quoted(&b.name)),
+                &format!(
+                    "body `{}`: a start pose where it does not overlap `{}` ({:?} and {:?} overlap by {} m; at most {} m, touching, is allowed)",
+                    b.name,
+                    a.name,
+                    b.kind,
+                    a.kind,
+                    show(depth),
+                    super::overlap::OVERLAP_TOLERANCE
+                ),
+            ));
+        }
         Ok(())
+    }
+
+    /// What is possible but suspicious, for `e3d scene check`: a tracked
+    /// point that starts outside the effect grid (it is binned in the
+    /// nearest border cell), a dynamic body outside it.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let g = &self.effect.grid;
+        let inside = |p: (f64, f64)| {
+            p.0 >= g.min[0] && p.0 <= g.max[0] && p.1 >= g.min[1] && p.1 <= g.max[1]
+        };
+        if let Some(b) = self.body(&self.effect.body) {
+            let p = to_world(b.position, b.angle, self.effect.point);
+            if !inside(p) {
+                out.push(format!(
+                    "the tracked point starts at ({}, {}), outside the effect grid [{}, {}] x [{}, {}]: it counts in the nearest border cell",
+                    show(p.0), show(p.1), g.min[0], g.max[0], g.min[1], g.max[1]
+                ));
+            }
+        }
+        for b in &self.bodies {
+            if b.kind == BodyKind::Dynamic && !inside(b.position) {
+                out.push(format!(
+                    "dynamic body `{}` starts at ({}, {}), outside the effect grid",
+                    b.name,
+                    show(b.position.0),
+                    show(b.position.1)
+                ));
+            }
+        }
+        out
     }
 
     fn body_names(&self) -> String {
