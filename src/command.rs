@@ -13,6 +13,24 @@ pub const MAX_ALPHABET: usize = 64;
 /// The largest number of slots in a command.
 pub const MAX_SLOTS: usize = 64;
 
+/// The longest command echoed whole in a message, in characters.
+pub const ECHO_CHARS: usize = 80;
+
+/// A command as echoed in messages: whole up to [`ECHO_CHARS`]
+/// characters, else its start and `…` with its length (a 50 MB line was
+/// printed whole).
+pub fn echo(text: &str) -> String {
+    let mut chars = text.char_indices();
+    match chars.nth(ECHO_CHARS) {
+        None => text.to_string(),
+        Some((at, _)) => format!(
+            "{}… ({} characters in all)",
+            &text[..at],
+            text.chars().count()
+        ),
+    }
+}
+
 /// An error about a command or a command space.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CommandError {
@@ -127,6 +145,31 @@ impl CommandSpace {
             .try_fold(1u64, |acc, k| acc.checked_mul(k as u64))
     }
 
+    /// The number of commands written out exactly, in decimal, even when
+    /// it does not fit a `u64` (4^64 is
+    /// 340282366920938463463374607431768211456, not 18446744073709551615).
+    pub fn num_commands_text(&self) -> String {
+        // base 10^9 digits, least significant first
+        let mut digits: Vec<u64> = vec![1];
+        for k in self.sizes() {
+            let mut carry = 0u64;
+            for d in digits.iter_mut() {
+                let v = *d * k as u64 + carry;
+                *d = v % 1_000_000_000;
+                carry = v / 1_000_000_000;
+            }
+            while carry > 0 {
+                digits.push(carry % 1_000_000_000);
+                carry /= 1_000_000_000;
+            }
+        }
+        let mut out = digits.last().map_or(String::new(), |d| d.to_string());
+        for d in digits.iter().rev().skip(1) {
+            out.push_str(&format!("{d:09}"));
+        }
+        out
+    }
+
     /// A command of all first symbols (index 0 in every slot).
     pub fn first(&self) -> Command {
         Command {
@@ -149,7 +192,7 @@ impl CommandSpace {
         let chars: Vec<char> = text.trim().chars().collect();
         if chars.len() != self.num_slots() {
             return Err(CommandError::WrongLength {
-                text: text.to_string(),
+                text: echo(text),
                 found: chars.len(),
                 expected: self.num_slots(),
             });
@@ -160,7 +203,7 @@ impl CommandSpace {
                 Some(k) => symbols.push(k as u8),
                 None => {
                     return Err(CommandError::UnknownSymbol {
-                        text: text.to_string(),
+                        text: echo(text),
                         symbol: *c,
                         slot,
                         alphabet: a.iter().collect(),
@@ -249,6 +292,33 @@ mod tests {
         for i in 0..6 {
             assert_eq!(s.index_of(&s.command_at(i)), i);
         }
+    }
+
+    #[test]
+    fn long_commands_are_echoed_shortened() {
+        let space = CommandSpace::new(vec![vec!['E', 'S']; 7]).unwrap();
+        let long = "E".repeat(1_000_000);
+        let e = space.parse(&long).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            format!(
+                "command `{}… (1000000 characters in all)` has 1000000 symbols, expected 7 (one per slot)",
+                "E".repeat(80)
+            )
+        );
+        assert_eq!(echo("ééé"), "ééé");
+    }
+
+    #[test]
+    fn huge_counts_are_written_exactly() {
+        let space = CommandSpace::new(vec![vec!['a', 'b', 'c', 'd']; 64]).unwrap();
+        assert_eq!(space.num_commands(), None);
+        assert_eq!(
+            space.num_commands_text(),
+            "340282366920938463463374607431768211456"
+        );
+        let small = CommandSpace::new(vec![vec!['a', 'b', 'c']; 7]).unwrap();
+        assert_eq!(small.num_commands_text(), "2187");
     }
 
     #[test]

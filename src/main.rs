@@ -44,8 +44,64 @@ fn default_sigpipe() {
     }
 }
 
+/// Whether standard output was closed when e3d started (`>&-`). Rust's
+/// runtime then opens /dev/null in its place, read-write, and would
+/// discard the results silently; a shell's `> /dev/null` opens it
+/// write-only. So a read-write /dev/null on descriptor 1 means closed.
+fn stdout_was_closed() -> bool {
+    #[cfg(unix)]
+    // SAFETY: fcntl and fstat only read the descriptor's state; stat reads
+    // a path literal into a zeroed struct
+    unsafe {
+        let flags = libc::fcntl(1, libc::F_GETFL);
+        if flags == -1 {
+            return true;
+        }
+        if flags & libc::O_ACCMODE != libc::O_RDWR {
+            return false;
+        }
+        let mut out: libc::stat = std::mem::zeroed();
+        let mut null: libc::stat = std::mem::zeroed();
+        libc::fstat(1, &mut out) == 0
+            && libc::stat(c"/dev/null".as_ptr(), &mut null) == 0
+            && (out.st_mode & libc::S_IFMT) == libc::S_IFCHR
+            && out.st_rdev == null.st_rdev
+    }
+    #[cfg(not(unix))]
+    false
+}
+
+/// Output that cannot be written (`> /dev/full`, a disk full, a closed
+/// descriptor) ends e3d with exit code 3 and a message, as
+/// docs/robustness.md promises, instead of a panic (code 101): `println!`
+/// panics with "failed printing to stdout", which this hook turns into
+/// the exit. Other panics keep the default report.
+fn output_errors_exit_3() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if let Some(rest) = msg.strip_prefix("failed printing to ") {
+            // stderr may be the one that fails: then nothing can be said
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "error: cannot write to {rest}");
+            std::process::exit(i32::from(cli::exit::OUTPUT));
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
     default_sigpipe();
+    output_errors_exit_3();
+    if stdout_was_closed() {
+        eprintln!("error: standard output is closed; e3d writes its results there (redirect it to a file or to /dev/null)");
+        return ExitCode::from(cli::exit::OUTPUT);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Cmd::Run(a) => cli::run::run(a),
@@ -56,8 +112,16 @@ fn main() -> ExitCode {
         Cmd::Plot(a) => cli::plot::run(a),
         Cmd::Scene(a) => cli::scene::run(a),
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => cli::report_error(&e),
+    // what is still buffered: a failed flush is a failed write too
+    let flushed = {
+        use std::io::Write;
+        std::io::stdout().flush()
+    };
+    match (result, flushed) {
+        (Ok(()), Ok(())) => ExitCode::SUCCESS,
+        (Ok(()), Err(e)) => cli::report_error(&cli::CliError::output(format!(
+            "cannot write to standard output: {e}"
+        ))),
+        (Err(e), _) => cli::report_error(&e),
     }
 }

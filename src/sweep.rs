@@ -109,6 +109,10 @@ pub const CELL_COLUMNS: usize = 8;
 /// 1.5 GB), and is refused before any is made when it would be larger.
 pub const MAX_SESSIONS: usize = 10_000_000;
 
+/// The largest number of trials per session (the bound of `e3d run
+/// --trials`).
+pub const MAX_TRIALS: usize = 100_000_000;
+
 /// The largest number of steps of a range.
 pub const MAX_STEPS: usize = 100_000;
 
@@ -553,7 +557,13 @@ impl Shard {
 
     /// How many of `total` sessions belong to this shard.
     pub fn count(&self, total: usize) -> usize {
-        (total + self.n - self.k) / self.n
+        // the indices k-1, k-1+n, ... below total; no `total + n`, which
+        // overflowed for n near usize::MAX (1/18446744073709551615 had
+        // "0 sessions")
+        match total.checked_sub(self.k) {
+            Some(rest) => rest / self.n + 1,
+            None => 0,
+        }
     }
 }
 
@@ -632,6 +642,7 @@ impl Sweep {
     /// is the folder scene paths are relative to (the current folder when
     /// `None`).
     pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<Sweep, SweepError> {
+        let text = crate::scene::prepare_text(text, file, "sweep")?;
         if text.trim().is_empty() {
             return Err(SceneError::new(
                 file,
@@ -687,6 +698,16 @@ impl Sweep {
         }
         if spec.trials == 0 {
             return Err(bad("trials", None, "at least 1 trial per session, found 0"));
+        }
+        if spec.trials > MAX_TRIALS {
+            return Err(bad(
+                "trials",
+                None,
+                &format!(
+                    "at most {} trials per session (as `e3d run --trials`), found {}",
+                    MAX_TRIALS, spec.trials
+                ),
+            ));
         }
         // the hyper-parameters
         let mut axes: Vec<Vec<f64>> = Vec::with_capacity(5);
@@ -1311,6 +1332,11 @@ impl Sweep {
             shard,
             total: self.num_sessions(),
             per_cell: self.spec.sessions,
+            scenes: self
+                .scenes
+                .iter()
+                .map(|s| (s.name.clone(), OutcomeTable::key(s)))
+                .collect(),
             version: VERSION.to_string(),
             columns: self.results_header(),
         };
@@ -1320,11 +1346,30 @@ impl Sweep {
                 dir.display()
             )));
         }
-        let non_empty = dir.is_dir()
-            && std::fs::read_dir(dir)
-                .map_err(io_err(dir))?
-                .next()
-                .is_some();
+        // a folder that holds only temporary files of write_atomic (never
+        // renamed, so never part of a sweep) was left by a run killed
+        // while copying the sweep file: it counts as empty, and they go
+        let mut non_empty = false;
+        let mut temporaries = Vec::new();
+        if dir.is_dir() {
+            for entry in std::fs::read_dir(dir).map_err(io_err(dir))? {
+                let entry = entry.map_err(io_err(dir))?;
+                let name = entry.file_name().to_string_lossy().into_owned();
+                if name == crate::io::LOCK_FILE {
+                    continue;
+                }
+                if crate::io::is_temporary(&name) {
+                    temporaries.push(entry.path());
+                } else {
+                    non_empty = true;
+                }
+            }
+        }
+        if !non_empty {
+            for t in temporaries {
+                let _ = std::fs::remove_file(t);
+            }
+        }
         if non_empty && !options.resume {
             return Err(SweepError::Output(format!(
                 "{} exists and is not empty; pass --resume to complete the sweep it holds, or choose another --out",
@@ -1361,6 +1406,14 @@ impl Sweep {
         }
         let (mut journal, mut done) = if journal_path.exists() {
             let read = journal::read(&journal_path)?;
+            if let Some((name, now, then)) = header.changed_scene(&read.header) {
+                if read.header.sweep_hash == header.sweep_hash {
+                    return Err(SweepError::Output(format!(
+                        "{}: scene `{name}` changed since this folder's sessions ran (content {then:016x}, now {now:016x}); one results file cannot mix two versions of a scene: restore it, or choose another --out",
+                        journal_path.display()
+                    )));
+                }
+            }
             if read.header != header {
                 return Err(SweepError::Output(format!(
                     "{}: written by another run ({}); this run is shard {} of sweep {:016x} with {} sessions; choose another --out",
@@ -1513,6 +1566,13 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
         match &first {
             None => first = Some((h.clone(), sweep_copy, version)),
             Some((h0, s0, v0)) => {
+                if let Some((name, here, there)) = h.changed_scene(h0) {
+                    return Err(SweepError::Output(format!(
+                        "{}: ran scene `{name}` with other content ({here:016x}) than {} ({there:016x}); the scene was edited between the shards, which cannot be merged: rerun them with one version",
+                        dir.display(),
+                        inputs[0].display()
+                    )));
+                }
                 if h.sweep_hash != h0.sweep_hash
                     || h.shard.n != h0.shard.n
                     || h.total != h0.total
@@ -1671,6 +1731,17 @@ mod tests {
         assert_eq!(shards[2].count(total), 5);
         assert_eq!("2/3".parse::<Shard>().unwrap(), shards[1]);
         assert!("0/3".parse::<Shard>().is_err());
+        // no overflow with the largest N
+        let huge: Shard = "1/18446744073709551615".parse().unwrap();
+        assert_eq!(huge.count(total), 1);
+        assert_eq!(huge.count(0), 0);
+        let last = Shard {
+            k: usize::MAX,
+            n: usize::MAX,
+        };
+        assert_eq!(last.count(total), 0);
+        assert_eq!(last.count(usize::MAX), 1);
+        assert_eq!(Shard { k: 3, n: 3 }.count(2), 0);
         assert!("4/3".parse::<Shard>().is_err());
     }
 

@@ -199,6 +199,52 @@ fn a_closed_stdout_ends_quietly() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Output that cannot be written is exit code 3 with a message, never a
+/// panic (101) nor a silent success: a full device on stdout or stderr,
+/// and a closed stdout (`>&-`, whose output Rust would discard).
+#[cfg(unix)]
+#[test]
+fn unwritable_or_closed_output_is_exit_code_3() {
+    let bin = env!("CARGO_BIN_EXE_e3d");
+    let sh = |script: String| {
+        let o = Command::new("sh").arg("-c").arg(&script).output().unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
+    };
+    let (code, err) = sh(format!("'{bin}' scene check two_rooms > /dev/full"));
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("error: cannot write to stdout: No space left on device"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    let (code, err) = sh(format!("'{bin}' scene check two_rooms >&-"));
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("error: standard output is closed"), "{err}");
+    // /dev/null is a fine place for results
+    let (code, err) = sh(format!("'{bin}' scene check two_rooms > /dev/null"));
+    assert_eq!(code, Some(0), "{err}");
+    // stderr full: the progress line of a sweep cannot be written
+    let dir = std::env::temp_dir().join(format!("e3d-full-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("s.ron"),
+        "Sweep(scenes: [\"two_rooms\"], learners: [uniform], sessions: 1, trials: 5)",
+    )
+    .unwrap();
+    let o = Command::new(bin)
+        .args(["sweep", dir.join("s.ron").to_str().unwrap(), "--out"])
+        .arg(dir.join("out"))
+        .stderr(std::fs::File::create("/dev/full").unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(3));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `e3d bench`: a CSV line per measure, each a median no faster than the
 /// best of its slices, and the measures of both kinds of scene.
 #[test]
@@ -257,4 +303,57 @@ fn bench_prints_every_measure_with_its_median_and_best() {
     assert!(
         String::from_utf8_lossy(&o.stderr).contains("--seconds 0: expected a number in (0, 3600]")
     );
+}
+
+/// `reproduce --seed`: session i uses SEED + i, which must not wrap past
+/// 2^64 - 1 (it did, silently).
+#[test]
+fn a_reproduce_seed_that_would_wrap_is_refused() {
+    let o = e3d(&[
+        "reproduce",
+        "--seed",
+        "18446744073709551615",
+        "--sessions",
+        "2",
+        "--out",
+        "/nonexistent/x",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--seed 18446744073709551615 with --sessions 2: session i uses seed SEED + i, which would pass 2^64 - 1; expected a seed of at most 18446744073709551614"),
+        "{err}"
+    );
+}
+
+/// A one-slot command `-` cannot be an argument of `scene exec` (`-`
+/// means standard input); on standard input it is a command like any other.
+#[test]
+fn a_command_written_minus_is_given_on_stdin() {
+    use std::io::Write;
+    let dir = std::env::temp_dir().join(format!("e3d-minus-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("minus.ron");
+    std::fs::write(
+        &scene,
+        r#"Scene(name: "minus", world: Grid(rows: 1, cols: 2, start: (0, 0)),
+    command: Repeat(slots: 1, alphabet: [(symbol: '-', action: Move(drow: 0, dcol: 1)), (symbol: '0', action: Idle)]))"#,
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args(["scene", "exec", scene.to_str().unwrap(), "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(b"-\n0\n").unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success());
+    let out = String::from_utf8(o.stdout).unwrap();
+    let rows: Vec<String> = out
+        .lines()
+        .map(|l| l.split(',').take(2).collect::<Vec<_>>().join(","))
+        .collect();
+    assert_eq!(rows, ["command,effect", "-,1", "0,0"], "{out}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

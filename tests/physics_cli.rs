@@ -154,7 +154,7 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
-    // a scene mistake: bad input (2), with file:line:col
+    // a scene mistake: bad input (2), with file:line:col of the field
     let dir = std::env::temp_dir().join(format!("e3d-physics-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.ron");
@@ -170,7 +170,7 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(
-        err.contains("bad.ron:7:20: field `mass`: expected body `puck`: a mass > 0"),
+        err.contains("bad.ron:7:54: field `mass`: expected body `puck`: a mass > 0"),
         "{err}"
     );
     // a blown-up simulation: 4, after the rows of the commands before it
@@ -271,4 +271,26 @@ fn scene_stats_reports_a_physics_scene_and_refuses_a_grid() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr)
         .contains("is for physics scenes; this is a grid scene"));
+}
+
+/// `scene check` warns, on standard error, about what is possible but
+/// suspicious: here a dynamic body that starts outside the effect grid.
+#[test]
+fn scene_check_warns_about_a_body_outside_the_effect_grid() {
+    let o = e3d()
+        .args(["scene", "check", "tests/scenes/blowup.ron"])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(
+        err.trim(),
+        "warning: scene blowup: dynamic body `puck` starts at (0, 3), outside the effect grid"
+    );
+    // the shipped scenes have nothing to warn about
+    for s in ["puck_rooms", "arm7", "pendulum3", "maze3"] {
+        let o = e3d().args(["scene", "check", s]).output().unwrap();
+        assert!(o.status.success());
+        assert_eq!(String::from_utf8_lossy(&o.stderr), "", "{s}");
+    }
 }

@@ -370,6 +370,8 @@ fn bad_sweep_files_are_refused_with_their_place() {
         ("no_such_scene.ron", "no_such_scene.ron:2:14: field `scenes`: expected a scene file (relative to the sweep file) or a built-in scene (two_rooms, puck_rooms, arm7, pendulum3, maze3, puck_rooms14, arm7x5), found `two_room`"),
         ("zero_sessions.ron", "zero_sessions.ron:5:5: field `sessions`: expected at least 1 session per cell, found 0"),
         ("zero_trials.ron", "zero_trials.ron:6:5: field `trials`: expected at least 1 trial per session, found 0"),
+        ("negative_sessions.ron", "negative_sessions.ron:5:16: field `sessions`: integer is out of bounds: expected a whole number >= 0, found -4"),
+        ("too_many_trials.ron", "too_many_trials.ron:6:5: field `trials`: expected at most 100000000 trials per session (as `e3d run --trials`), found 1000000000"),
         ("unknown_learner.ron", "unknown_learner.ron:3:25: unknown variant `e3b` for `LearnerKind` (did you mean `e3d`?); expected one of: e3d, uniform, egreedy"),
         ("range_without_scale.ron", "range_without_scale.ron:6:46: missing field `scale` in a range; expected `scale: Linear` or `scale: Log`"),
         ("bad_metric.ron", "bad_metric.ron:7:29: field `metrics`: expected cumulative_reward(T) with T in 1..=100 (the trials), found 500"),
@@ -587,4 +589,193 @@ fn resume_refuses_a_folder_that_holds_no_sweep() {
     assert_eq!(r.status.code(), Some(3));
     assert!(String::from_utf8_lossy(&r.stderr).contains("holds no sweep.ron"));
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 1);
+}
+
+/// `journal.txt` replaced by a symbolic link (to another file) is refused
+/// on `--resume`: the file it points to is neither truncated nor appended
+/// to.
+#[cfg(unix)]
+#[test]
+fn a_journal_that_is_a_symbolic_link_is_refused() {
+    let dir = temp("symlink");
+    let file = small_sweep(&dir, 1, 20);
+    let out = dir.join("out");
+    let f = file.to_str().unwrap();
+    let o = out.to_str().unwrap();
+    ok(e3d(&["sweep", f, "--out", o, "--threads", "1"]));
+    let journal = out.join("journal.txt");
+    let victim = dir.join("victim.txt");
+    std::fs::copy(&journal, &victim).unwrap();
+    let before = std::fs::read(&victim).unwrap();
+    std::fs::remove_file(&journal).unwrap();
+    std::os::unix::fs::symlink(&victim, &journal).unwrap();
+    let r = e3d(&["sweep", f, "--out", o, "--resume"]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("journal.txt: is a symbolic link; refused"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&victim).unwrap(), before);
+}
+
+/// `--shard 1/18446744073709551615`: the first shard holds session 0 (its
+/// count overflowed into 0 sessions, and the sweep never completed).
+#[test]
+fn a_shard_of_the_largest_n_holds_its_sessions() {
+    let dir = temp("hugeshard");
+    let file = small_sweep(&dir, 1, 5);
+    let out = dir.join("out");
+    let o = ok(e3d(&[
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--shard",
+        "1/18446744073709551615",
+    ]));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("shard 1/18446744073709551615 (1 sessions)"),
+        "{err}"
+    );
+    let results = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(results.lines().count(), 2, "{results}");
+}
+
+/// A run killed while copying `sweep.ron` into a new folder leaves only a
+/// temporary file there: a fresh run and `--resume` both accept the folder
+/// (they refused it: not empty, and no sweep.ron to resume).
+#[test]
+fn a_folder_left_by_a_kill_during_the_first_copy_is_accepted() {
+    let dir = temp("killcopy");
+    let file = small_sweep(&dir, 1, 5);
+    let f = file.to_str().unwrap();
+    for resume in [false, true] {
+        let out = dir.join(format!("out-{resume}"));
+        std::fs::create_dir_all(&out).unwrap();
+        std::fs::write(out.join(".sweep.ron.tmp-4242-0-1f"), "Sweep(sce").unwrap();
+        let mut args = vec!["sweep", f, "--out", out.to_str().unwrap()];
+        if resume {
+            args.push("--resume");
+        }
+        ok(e3d(&args));
+        assert!(out.join("results.csv").exists());
+        assert!(!out.join(".sweep.ron.tmp-4242-0-1f").exists());
+    }
+}
+
+/// Two sweeps into one folder: the second is refused with who holds the
+/// lock (both did all the work); a lock file left by a killed run is
+/// taken over with a warning; the lock file goes when the run ends.
+#[cfg(unix)]
+#[test]
+fn a_second_sweep_into_a_locked_folder_is_refused() {
+    let dir = temp("lock");
+    let file = small_sweep(&dir, 1, 5);
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let args = [
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    {
+        let _held = e3d::io::DirLock::acquire(&out).unwrap();
+        let r = e3d(&args);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(3), "{err}");
+        let me = format!("in use by e3d pid={} host=", std::process::id());
+        assert!(err.contains(&me), "{err}");
+        assert!(!out.join("journal.txt").exists());
+    }
+    // released: a lock file without a live holder is taken over
+    std::fs::write(out.join(".lock"), "pid=4194999 host=gone\n").unwrap();
+    let r = ok(e3d(&args));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("warning: ") && err.contains("took over the lock of a run that ended without releasing it (pid=4194999 host=gone)"),
+        "{err}"
+    );
+    assert!(out.join("results.csv").exists());
+    assert!(!out.join(".lock").exists());
+}
+
+/// A scene edited between shards, or before `--resume`, would mix two
+/// versions of it in one results file: both are refused, naming the scene.
+#[test]
+fn a_scene_edited_between_shards_or_before_resume_is_refused() {
+    let dir = temp("edited");
+    let scene = dir.join("rooms.ron");
+    let original = std::fs::read_to_string("scenes/two_rooms.ron").unwrap();
+    std::fs::write(&scene, &original).unwrap();
+    let file = dir.join("s.ron");
+    std::fs::write(
+        &file,
+        "Sweep(scenes: [\"rooms.ron\"], learners: [uniform], sessions: 4, trials: 5)",
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    ok(e3d(&[
+        "sweep",
+        f,
+        "--out",
+        a.to_str().unwrap(),
+        "--shard",
+        "1/2",
+    ]));
+    // the reward moves: another scene under the same name
+    let edited = original.replacen("value: 1.0", "value: 2.0", 1);
+    assert_ne!(edited, original);
+    std::fs::write(&scene, &edited).unwrap();
+    let r = e3d(&[
+        "sweep",
+        f,
+        "--out",
+        a.to_str().unwrap(),
+        "--shard",
+        "1/2",
+        "--resume",
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("journal.txt: scene `two_rooms` changed since this folder's sessions ran"),
+        "{err}"
+    );
+    ok(e3d(&[
+        "sweep",
+        f,
+        "--out",
+        b.to_str().unwrap(),
+        "--shard",
+        "2/2",
+    ]));
+    let m = dir.join("merged");
+    let r = e3d(&[
+        "merge",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("ran scene `two_rooms` with other content"),
+        "{err}"
+    );
+    // comments and layout are not content
+    std::fs::write(&scene, format!("// a comment\n{original}")).unwrap();
+    ok(e3d(&[
+        "sweep",
+        f,
+        "--out",
+        a.to_str().unwrap(),
+        "--shard",
+        "1/2",
+        "--resume",
+    ]));
 }

@@ -70,3 +70,36 @@ fn a_blown_up_session_is_recorded_and_the_sweep_goes_on() {
     assert!(err.contains("scene `blowup`, command `"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_sweep_naming_a_scene_rapier_would_panic_on_is_refused_before_any_work() {
+    let dir = std::env::temp_dir().join(format!("e3d-sweep-overflow-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string("tests/bad_inputs/motor_torque_overflow.ron").unwrap();
+    std::fs::write(dir.join("motor.ron"), scene).unwrap();
+    std::fs::write(
+        dir.join("sweep.ron"),
+        SWEEP.replace("blowup.ron", "motor.ron"),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args([
+            "sweep",
+            dir.join("sweep.ron").to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("motor.ron:15:95: field `torque`: expected symbol '+': a torque that adds at most 1e6 rad/s"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -60,6 +60,8 @@ pub type CliResult = Result<(), CliError>;
 
 /// Prints the error and returns its exit code.
 pub fn report_error(e: &CliError) -> ExitCode {
-    eprintln!("error: {}", e.message);
+    use std::io::Write;
+    // a standard error that cannot be written does not change the code
+    let _ = writeln!(std::io::stderr(), "error: {}", e.message);
     ExitCode::from(e.code)
 }

@@ -27,6 +27,17 @@ pub struct ReproduceArgs {
 }
 
 pub fn run(a: ReproduceArgs) -> CliResult {
+    // session i uses seed SEED + i: it must not pass 2^64 - 1 (it wrapped
+    // round to 0 silently, giving the seeds of another run)
+    let last = a.sessions - 1;
+    if a.seed.checked_add(last).is_none() {
+        return Err(CliError::input(format!(
+            "--seed {} with --sessions {}: session i uses seed SEED + i, which would pass 2^64 - 1; expected a seed of at most {}",
+            a.seed,
+            a.sessions,
+            u64::MAX - last
+        )));
+    }
     let config = PaperConfig {
         sessions: a.sessions as usize,
         trials: a.trials as usize,

@@ -154,6 +154,9 @@ fn check(scene: &Scene) -> CliResult {
             );
         }
         WorldSpec::Physics(p) => {
+            for w in p.warnings() {
+                eprintln!("warning: scene {}: {w}", scene.name);
+            }
             let (phase, settle, together) = p.schedule.steps(p.dt);
             println!(
                 "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",
@@ -200,7 +203,7 @@ fn check(scene: &Scene) -> CliResult {
                 p.effect.point.0, p.effect.point.1, p.effect.body
             );
             if let Some(sym) = p.symmetry {
-                let n = space.num_commands().unwrap_or(u64::MAX);
+                let n = space.num_commands_text();
                 match OutcomeTable::simulated_commands(scene) {
                     Some(k) => println!(
                         "symmetry: {sym:?} (checked): {k} of {n} commands simulated, the others reflected"
@@ -215,12 +218,7 @@ fn check(scene: &Scene) -> CliResult {
         let syms: String = alphabet.iter().map(|s| s.symbol).collect();
         println!("  {i}: {syms}");
     }
-    println!(
-        "distinct commands: {}",
-        space
-            .num_commands()
-            .map_or("more than 2^64".to_string(), |n| n.to_string())
-    );
+    println!("distinct commands: {}", space.num_commands_text());
     println!(
         "effects: {} ({} x {} cells over [{}, {}] x [{}, {}])",
         grid.num_cells(),
@@ -666,7 +664,8 @@ fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
     if n > e3d::world::MAX_TABLE_COMMANDS {
         return Err(CliError::input(format!(
-            "{n} commands: too many to execute them all (at most {})",
+            "{} commands: too many to execute them all (at most {})",
+            scene.command_space().num_commands_text(),
             e3d::world::MAX_TABLE_COMMANDS
         )));
     }
@@ -747,7 +746,9 @@ fn stats(scene: &Scene) -> CliResult {
     let n = space.num_commands().unwrap_or(u64::MAX);
     if n > e3d::world::MAX_TABLE_COMMANDS {
         return Err(CliError::input(format!(
-            "{n} commands: too many to execute them all"
+            "{} commands: too many to execute them all (at most {})",
+            space.num_commands_text(),
+            e3d::world::MAX_TABLE_COMMANDS
         )));
     }
     let start = std::time::Instant::now();
@@ -809,7 +810,8 @@ fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
     if n > e3d::world::MAX_TABLE_COMMANDS {
         return Err(CliError::input(format!(
-            "{n} commands: too many for an outcome table (at most {})",
+            "{} commands: too many for an outcome table (at most {})",
+            scene.command_space().num_commands_text(),
             e3d::world::MAX_TABLE_COMMANDS
         )));
     }

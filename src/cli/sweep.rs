@@ -86,6 +86,8 @@ pub fn run(a: SweepArgs) -> CliResult {
         threads,
         if threads == 1 { "" } else { "s" }
     );
+    // one run at a time in a folder: two would both do all the work
+    let _lock = lock_out(&a.out)?;
     let start = Instant::now();
     let counter = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
     let sweep = sweep.with_trial_counter(counter.clone());
@@ -150,6 +152,39 @@ pub fn run(a: SweepArgs) -> CliResult {
             .join(" and ")
     );
     Ok(())
+}
+
+/// Takes the lock of the output folder (creating it), or refuses with who
+/// holds it. A lock file left by a killed run is taken over, with a
+/// warning. A folder that cannot be created is left to the sweep's own
+/// checks and messages.
+fn lock_out(dir: &std::path::Path) -> Result<Option<e3d::io::DirLock>, CliError> {
+    if dir.exists() && !dir.is_dir() {
+        return Ok(None);
+    }
+    if std::fs::create_dir_all(dir).is_err() {
+        return Ok(None);
+    }
+    match e3d::io::DirLock::acquire(dir) {
+        Ok(lock) => {
+            if let Some(old) = &lock.previous {
+                eprintln!(
+                    "warning: {}: took over the lock of a run that ended without releasing it ({old})",
+                    dir.display()
+                );
+            }
+            Ok(Some(lock))
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => Err(CliError::output(format!(
+            "{}: in use by {e}, which is running a sweep into it; wait for it to end or choose another --out",
+            dir.display()
+        ))),
+        Err(e) => Err(CliError::output(format!(
+            "{}: cannot take the lock {}: {e}",
+            dir.display(),
+            dir.join(e3d::io::LOCK_FILE).display()
+        ))),
+    }
 }
 
 pub fn merge(a: MergeArgs) -> CliResult {

@@ -92,7 +92,19 @@ impl SceneError {
                     m.replace_range(..1, &c.to_lowercase());
                 }
                 // a value of the wrong type: name the field it was given to
-                let about_a_value = m.starts_with("expected");
+                let about_a_value = m.starts_with("expected")
+                    || ["integer", "digit", "out of bounds", "float"]
+                        .iter()
+                        .any(|w| m.contains(w));
+                if m.contains("out of bounds") {
+                    // say what was written, and what a count takes
+                    let token = token_at(text, e.span.start.line, e.span.start.col);
+                    if token.starts_with('-') {
+                        m = format!("{m}: expected a whole number >= 0, found {token}");
+                    } else if !token.is_empty() {
+                        m = format!("{m}: {token} is too large for this field");
+                    }
+                }
                 match field_before(text, e.span.start.line, e.span.start.col) {
                     Some(f) if about_a_value => format!("field `{f}`: {m}"),
                     _ => m,
@@ -176,6 +188,25 @@ fn field_before(text: &str, line: usize, col: usize) -> Option<String> {
     None
 }
 
+/// The number-like word at or just before the 1-based `(line, col)`.
+fn token_at(text: &str, line: usize, col: usize) -> String {
+    let Some(l) = line.checked_sub(1).and_then(|i| text.lines().nth(i)) else {
+        return String::new();
+    };
+    let chars: Vec<char> = l.chars().collect();
+    let is_num = |c: char| c.is_ascii_alphanumeric() || "-+._".contains(c);
+    let mut at = col.saturating_sub(1).min(chars.len());
+    // RON reports the end of the number: step back to its start
+    while at > 0 && is_num(chars[at - 1]) {
+        at -= 1;
+    }
+    chars[at..]
+        .iter()
+        .take_while(|&&c| is_num(c))
+        .take(40)
+        .collect()
+}
+
 /// 1-based (line, column) of byte offset `at` in `text`.
 pub(crate) fn position_at(text: &str, at: usize) -> (usize, usize) {
     let before = &text[..at.min(text.len())];
@@ -194,24 +225,60 @@ pub(crate) fn position_at(text: &str, at: usize) -> (usize, usize) {
 /// (`field:`), skipping comments.
 fn locate(text: &str, field: &str, anchor: Option<&str>, nth: usize) -> Option<(usize, usize)> {
     let code = blank_comments(text);
-    let hits: Vec<usize> = match anchor {
-        Some(a) => code.match_indices(a).map(|(i, _)| i).collect(),
-        None => code
+    let fields = |from: usize, to: usize| -> Vec<usize> {
+        code[from..to]
             .match_indices(field)
-            .filter(|(i, _)| {
-                let before_ok = code[..*i]
+            .map(|(i, _)| from + i)
+            .filter(|&i| {
+                let before_ok = code[..i]
                     .chars()
                     .next_back()
                     .is_none_or(|c| !(c.is_alphanumeric() || c == '_'));
                 let after = code[i + field.len()..].trim_start();
                 before_ok && (after.starts_with(':') || after.starts_with('('))
             })
-            .map(|(i, _)| i)
-            .collect(),
+            .collect()
     };
-    hits.get(nth)
-        .or_else(|| hits.first())
-        .map(|&i| position_at(text, i))
+    let hits: Vec<usize> = match anchor {
+        Some(a) => code.match_indices(a).map(|(i, _)| i).collect(),
+        None => fields(0, code.len()),
+    };
+    let at = *hits.get(nth).or_else(|| hits.first())?;
+    // an anchor (a body's name, a symbol): the field itself, when it is
+    // written inside the same parentheses
+    let at = match anchor {
+        Some(_) => {
+            let end = closing_paren(&code, at);
+            fields(at, end).first().copied().unwrap_or(at)
+        }
+        None => at,
+    };
+    Some(position_at(text, at))
+}
+
+/// The byte offset of the `)` that closes the parentheses around `at` (the
+/// end of the text if none).
+fn closing_paren(code: &str, at: usize) -> usize {
+    let mut depth = 0usize;
+    let mut in_str = false;
+    let b = code.as_bytes();
+    let mut i = at;
+    while i < b.len() {
+        match b[i] {
+            b'\\' if in_str => i += 1,
+            b'"' => in_str = !in_str,
+            b'(' | b'[' if !in_str => depth += 1,
+            b')' | b']' if !in_str => {
+                if depth == 0 {
+                    return i;
+                }
+                depth -= 1;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    b.len()
 }
 
 /// The text with `//` and `/* */` comments (outside strings) replaced by

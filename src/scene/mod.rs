@@ -21,6 +21,7 @@
 //! `docs/scenes.md` documents every field.
 
 mod error;
+pub mod overlap;
 pub mod physics;
 mod region;
 pub mod symmetry;
@@ -212,6 +213,7 @@ impl Scene {
 
     /// Parses and validates scene text; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
+        let text = prepare_text(text, file, "scene")?;
         if text.trim().is_empty() {
             return Err(SceneError::new(
                 file,
@@ -353,7 +355,16 @@ impl Scene {
                 &format!("at most {MAX_SLOTS} slots, found {n}"),
             ));
         }
+        // how often each symbol was written in the alphabets before this
+        // slot's (a Repeat schema writes its alphabet once)
+        let mut written: std::collections::HashMap<char, usize> = Default::default();
+        let repeat = matches!(self.command, CommandSpec::Repeat { .. });
+        let mut written_symbols = 0;
         for (i, alphabet) in self.slots().enumerate() {
+            if repeat && i > 0 {
+                break;
+            }
+            let mut here: std::collections::HashSet<char> = Default::default();
             if alphabet.is_empty() {
                 return Err(Invalid::at(
                     "alphabet",
@@ -371,8 +382,9 @@ impl Scene {
                     ),
                 ));
             }
-            for (j, s) in alphabet.iter().enumerate() {
-                if alphabet[..j].iter().any(|t| t.symbol == s.symbol) {
+            for s in alphabet {
+                if !here.insert(s.symbol) {
+                    let before = written.get(&s.symbol).copied().unwrap_or(0);
                     return Err(Invalid::at(
                         "symbol",
                         Some(&format!("'{}'", s.symbol)),
@@ -381,15 +393,23 @@ impl Scene {
                             s.symbol
                         ),
                     )
-                    .nth(1));
+                    .nth(before + 1));
                 }
-                if s.symbol.is_whitespace() || s.symbol == ',' {
+                if !printable_symbol(s.symbol) {
                     return Err(Invalid::at(
                         "symbol",
                         None,
-                        "a printable symbol other than ',' (commands are written as strings)",
-                    ));
+                        &format!(
+                            "a printable symbol other than ',' (commands are written as strings): not whitespace, a control, format (zero-width) or combining character, found U+{:04X}",
+                            u32::from(s.symbol)
+                        ),
+                    )
+                    .nth(written_symbols));
                 }
+                written_symbols += 1;
+            }
+            for c in here {
+                *written.entry(c).or_insert(0) += 1;
             }
         }
         match &self.world {
@@ -419,6 +439,41 @@ impl Scene {
     }
 }
 
+/// The text of a scene or sweep file as RON reads it: a UTF-8 byte order
+/// mark (which some editors write) is dropped; CR-only line endings (old
+/// Mac files), which RON reads as one line, are refused with a message.
+pub(crate) fn prepare_text<'a>(
+    text: &'a str,
+    file: &str,
+    kind: &str,
+) -> Result<&'a str, SceneError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    if text.contains('\r') && !text.contains('\n') {
+        return Err(SceneError::new(
+            file,
+            None,
+            format!(
+                "the file's lines end with CR only (old Mac line endings), which are not supported; expected a RON {kind} with LF or CRLF line endings"
+            ),
+        ));
+    }
+    Ok(text)
+}
+
+/// Whether `c` can stand for a symbol in a written command: it shows as
+/// one visible character. Refused: whitespace, `,`, control characters
+/// (BEL), and what has no width of its own, format characters (U+200B, a
+/// zero-width space) and combining marks (U+0301), which would join the
+/// symbol before them.
+pub fn printable_symbol(c: char) -> bool {
+    use unicode_width::UnicodeWidthChar;
+    !(c.is_whitespace() || c.is_control() || c == ',') && c.width().is_some_and(|w| w > 0)
+}
+
+/// The largest scene or sweep file read, in bytes (16 MiB): the shipped
+/// scenes hold a few kB; anything larger is a wrong path.
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
 /// Reads a RON file of the given kind (`scene`, `sweep`) as text: a
 /// directory, an unreadable file or bytes that are not UTF-8 are errors
 /// that name the file (and, for bad bytes, where they start).
@@ -431,8 +486,44 @@ pub(crate) fn read_text(path: &Path, kind: &str) -> Result<String, SceneError> {
             format!("this is a directory; expected a {kind} file (.ron)"),
         ));
     }
-    let bytes = std::fs::read(path)
-        .map_err(|e| SceneError::new(&file, None, format!("cannot read the file: {e}")))?;
+    let cannot =
+        |e: std::io::Error| SceneError::new(&file, None, format!("cannot read the file: {e}"));
+    let meta = std::fs::metadata(path).map_err(cannot)?;
+    if !meta.is_file() {
+        // a FIFO would block for ever, a device like /dev/zero never end
+        return Err(SceneError::new(
+            &file,
+            None,
+            format!(
+                "this is not a regular file (a pipe, a device or a socket); expected a {kind} file (.ron)"
+            ),
+        ));
+    }
+    let too_big = |n: String| {
+        SceneError::new(
+            &file,
+            None,
+            format!(
+                "the file holds {n} bytes; a {kind} file may hold at most {MAX_FILE_BYTES} bytes (16 MiB)"
+            ),
+        )
+    };
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(too_big(meta.len().to_string()));
+    }
+    // read at most one byte more than allowed (the file may grow meanwhile)
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(
+            std::fs::File::open(path).map_err(cannot)?,
+            MAX_FILE_BYTES + 1,
+        ),
+        &mut bytes,
+    )
+    .map_err(cannot)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_big(format!("more than {MAX_FILE_BYTES}")));
+    }
     String::from_utf8(bytes).map_err(|e| {
         let upto = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         let pos = error::position_at(&String::from_utf8_lossy(upto), upto.len());

@@ -21,6 +21,7 @@ use super::symmetry::Symmetry;
 use super::{Action, Invalid, Scene};
 use crate::effect::EffectGrid;
 use serde::{Deserialize, Serialize};
+use std::collections::{HashMap, HashSet};
 
 /// The name that stands for the fixed world frame in joints (`parent:
 /// "ground"`). No body may take it.
@@ -29,6 +30,142 @@ pub const GROUND: &str = "ground";
 /// The largest number of steps one command may take (about 2.8 hours at
 /// 1/60 s): a guard against a mistyped duration.
 pub const MAX_STEPS: u64 = 600_000;
+
+/// The bounds of the numbers of a physics scene: what Rapier, which
+/// computes in `f32`, can hold, and what one step can carry. A value
+/// outside is refused at load with the field, the value and the bound
+/// (`docs/robustness.md`, "Numbers a physics scene may hold").
+pub mod limits {
+    /// Coordinates, anchors, tracked point, grid corners and sizes, in
+    /// metres: `f32` still resolves 1 mm at this distance from the origin.
+    pub const MAX_LENGTH: f64 = 1e4;
+    /// Radius, width and height, in metres.
+    pub const MIN_SIZE: f64 = 1e-4;
+    /// A dynamic body's mass (given or from its density), kg.
+    pub const MIN_MASS: f64 = 1e-6;
+    /// A dynamic body's mass, kg.
+    pub const MAX_MASS: f64 = 1e9;
+    /// Densities, kg/m².
+    pub const MIN_DENSITY: f64 = 1e-6;
+    /// Densities, kg/m².
+    pub const MAX_DENSITY: f64 = 1e9;
+    /// Angles (start angles, joint limits, targets), radians.
+    pub const MAX_ANGLE: f64 = 1e3;
+    /// The magnitude of gravity, m/s².
+    pub const MAX_GRAVITY: f64 = 1e6;
+    /// `max_speed`, m/s: below Rapier's own cap of 400 m/s, which would
+    /// otherwise slow a body down silently before the check sees it.
+    pub const MAX_SPEED: f64 = 399.0;
+    /// The speed (m/s) or spin (rad/s) one impulse, force or torque may add
+    /// to a body in one step, computed on the body alone (its mass, its
+    /// inertia about its centre): far above any `max_speed`, so such a
+    /// command is reported as blown up, yet far below the 1.8e19 m/s whose
+    /// square overflows `f32` (Rapier then stops the body silently, or
+    /// panics in a motor constraint).
+    pub const MAX_STEP_CHANGE: f64 = 1e6;
+    /// Dampings and motor gains.
+    pub const MAX_COEFFICIENT: f64 = 1e9;
+    /// Friction coefficients.
+    pub const MAX_FRICTION: f64 = 1e3;
+    /// A non-zero number smaller in magnitude is 0 or subnormal in `f32`
+    /// (`f32::MIN_POSITIVE`, about 1.2e-38): refused rather than read as 0.
+    pub const MIN_MAGNITUDE: f64 = f32::MIN_POSITIVE as f64;
+    /// Bodies in a scene.
+    pub const MAX_BODIES: usize = 10_000;
+    /// Joints in a scene.
+    pub const MAX_JOINTS: usize = 10_000;
+    /// Points of one polyline.
+    pub const MAX_POINTS: usize = 100_000;
+}
+
+use limits::*;
+
+/// `Err` unless `v` is finite, in `[lo, hi]` (magnitude `|v|` when
+/// `signed`), and 0 or at least [`MIN_MAGNITUDE`] in magnitude.
+fn in_range(v: f64, lo: f64, hi: f64, signed: bool) -> bool {
+    let m = if signed { v.abs() } else { v };
+    v.is_finite() && m >= lo && m <= hi && (v == 0.0 || v.abs() >= MIN_MAGNITUDE)
+}
+
+/// A number's bounds, for messages: `"in [lo, hi] UNIT"`, `"|v| <= hi UNIT"`.
+fn bounds(lo: f64, hi: f64, signed: bool, unit: &str) -> String {
+    let unit = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    let tiny = "0 or at least 1.2e-38 in magnitude (f32)";
+    match (signed, lo) {
+        (true, _) => format!("|value| <= {}{unit}, {tiny}", show(hi)),
+        (false, 0.0) => format!("in [0, {}]{unit}, {tiny}", show(hi)),
+        (false, l) => format!("in [{}, {}]{unit}", show(l), show(hi)),
+    }
+}
+
+/// A number for messages: as written for ordinary magnitudes, else in
+/// scientific notation (`1e39`, not 39 digits).
+pub(crate) fn show(v: f64) -> String {
+    let s = if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    };
+    if s.len() <= 12 {
+        return s;
+    }
+    // a computed value: 5 significant digits
+    let s = if (1e-4..1e6).contains(&v.abs()) {
+        format!(
+            "{v:.*}",
+            (4 - v.abs().log10().floor() as i64).max(0) as usize
+        )
+    } else {
+        format!("{v:.4e}")
+    };
+    let (m, e) = s
+        .split_once('e')
+        .map_or((s.as_str(), None), |(m, e)| (m, Some(e)));
+    let m = if m.contains('.') {
+        m.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        m
+    };
+    match e {
+        Some(e) => format!("{m}e{e}"),
+        None => m.to_string(),
+    }
+}
+
+/// The check of one number: `who: WHAT BOUNDS, found V`.
+#[allow(clippy::too_many_arguments)]
+fn number(
+    field: &str,
+    anchor: Option<&str>,
+    who: &str,
+    what: &str,
+    v: f64,
+    (lo, hi): (f64, f64),
+    signed: bool,
+    unit: &str,
+) -> Result<(), Invalid> {
+    if in_range(v, lo, hi, signed) {
+        return Ok(());
+    }
+    let who = if who.is_empty() {
+        String::new()
+    } else {
+        format!("{who}: ")
+    };
+    Err(Invalid::at(
+        field,
+        anchor,
+        &format!(
+            "{who}{what} {}, found {}",
+            bounds(lo, hi, signed, unit),
+            show(v)
+        ),
+    ))
+}
 
 /// A rigid-body world simulated by Rapier (see [`PhysicsWorld`](crate::world::PhysicsWorld)).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -311,6 +448,27 @@ impl BodySpec {
     }
 }
 
+impl BodySpec {
+    /// The body's moment of inertia about its centre of mass, kg·m², or a
+    /// lower bound of it (a capsule counts as its disc of `radius`); `None`
+    /// for a body that does not turn (not dynamic, or `lock_rotation`).
+    pub fn min_inertia(&self) -> Option<f64> {
+        if self.kind != BodyKind::Dynamic || self.lock_rotation {
+            return None;
+        }
+        let m = self.mass_kg();
+        match self.shape {
+            ShapeSpec::Ball { radius } | ShapeSpec::Capsule { radius, .. } => {
+                Some(0.5 * m * radius * radius)
+            }
+            ShapeSpec::Cuboid { width, height } => {
+                Some(m * (width * width + height * height) / 12.0)
+            }
+            ShapeSpec::Segment { .. } | ShapeSpec::Polyline { .. } => None,
+        }
+    }
+}
+
 impl ShapeSpec {
     /// The area in m² (0 for segments and polylines).
     pub fn area(&self) -> f64 {
@@ -391,6 +549,18 @@ impl PhysicsSpec {
         if !finite2(g) {
             return Err(Invalid::at("gravity", None, "finite numbers (m/s²)"));
         }
+        for c in [g.0, g.1] {
+            number(
+                "gravity",
+                None,
+                "",
+                "components",
+                c,
+                (0.0, MAX_GRAVITY),
+                true,
+                "m/s²",
+            )?;
+        }
         if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
             return Err(Invalid::at(
                 "dt",
@@ -407,26 +577,48 @@ impl PhysicsSpec {
                 ));
             }
         }
-        if !(self.max_speed.is_finite() && self.max_speed > 0.0) {
+        if !(self.max_speed > 0.0 && in_range(self.max_speed, MIN_MAGNITUDE, MAX_SPEED, false)) {
             return Err(Invalid::at(
                 "max_speed",
                 None,
-                &format!("a speed > 0 in m/s, found {}", self.max_speed),
+                &format!(
+                    "a speed in [1.2e-38, {MAX_SPEED}] m/s (Rapier caps speeds at 400 m/s, silently), found {}",
+                    show(self.max_speed)
+                ),
             ));
         }
         if self.bodies.is_empty() {
             return Err(Invalid::at("bodies", None, "at least one body"));
         }
-        for (i, b) in self.bodies.iter().enumerate() {
-            self.validate_body(b, i)?;
+        if self.bodies.len() > MAX_BODIES {
+            return Err(Invalid::at(
+                "bodies",
+                None,
+                &format!("at most {MAX_BODIES} bodies, found {}", self.bodies.len()),
+            ));
         }
+        if self.joints.len() > MAX_JOINTS {
+            return Err(Invalid::at(
+                "joints",
+                None,
+                &format!("at most {MAX_JOINTS} joints, found {}", self.joints.len()),
+            ));
+        }
+        // names to indices: linear in the number of bodies and joints
+        let mut index: HashMap<&str, usize> = HashMap::with_capacity(self.bodies.len());
+        for (i, b) in self.bodies.iter().enumerate() {
+            let first = *index.entry(b.name.as_str()).or_insert(i);
+            self.validate_body(b, first != i)?;
+        }
+        let position = |name: &str| index.get(name).copied();
+        let mut joint_names: HashSet<&str> = HashSet::with_capacity(self.joints.len());
         let mut parent_of: Vec<Option<usize>> = vec![None; self.bodies.len()];
         for (i, j) in self.joints.iter().enumerate() {
             let at = quoted(&j.name);
             if j.name.trim().is_empty() {
                 return Err(Invalid::at("name", None, "a non-empty joint name"));
             }
-            if self.joints[..i].iter().any(|o| o.name == j.name) {
+            if !joint_names.insert(j.name.as_str()) {
                 return Err(Invalid {
                     nth: 1,
                     ..Invalid::at(
@@ -439,7 +631,7 @@ impl PhysicsSpec {
             let pb = if j.parent == GROUND {
                 None
             } else {
-                match self.bodies.iter().position(|b| b.name == j.parent) {
+                match position(&j.parent) {
                     Some(p) => Some(p),
                     None => {
                         return Err(self.unknown_body(
@@ -460,7 +652,7 @@ impl PhysicsSpec {
                     ),
                 ));
             }
-            let cb = match self.bodies.iter().position(|b| b.name == j.child) {
+            let cb = match position(&j.child) {
                 Some(c) => c,
                 None => {
                     return Err(self.unknown_body(
@@ -516,11 +708,9 @@ impl PhysicsSpec {
                     ));
                 }
                 hops += 1;
-                up = parent_of[b].and_then(|k| {
-                    let p = &self.joints[k].parent;
-                    self.bodies.iter().position(|x| &x.name == p)
-                });
+                up = parent_of[b].and_then(|k| position(&self.joints[k].parent));
             }
+            let who = format!("joint `{}`", j.name);
             for (field, v) in [
                 ("parent_anchor", j.parent_anchor),
                 ("child_anchor", j.child_anchor),
@@ -531,6 +721,18 @@ impl PhysicsSpec {
                         Some(&at),
                         &format!("joint `{}`: finite coordinates", j.name),
                     ));
+                }
+                for c in [v.0, v.1] {
+                    number(
+                        field,
+                        Some(&at),
+                        &who,
+                        "coordinates",
+                        c,
+                        (0.0, MAX_LENGTH),
+                        true,
+                        "m",
+                    )?;
                 }
             }
             if let Some((lo, hi)) = j.limits {
@@ -544,6 +746,18 @@ impl PhysicsSpec {
                         ),
                     ));
                 }
+                for v in [lo, hi] {
+                    number(
+                        "limits",
+                        Some(&at),
+                        &who,
+                        "limits",
+                        v,
+                        (0.0, MAX_ANGLE),
+                        true,
+                        "rad",
+                    )?;
+                }
             }
             if !(j.damping.is_finite() && j.damping >= 0.0) {
                 return Err(Invalid::at(
@@ -555,6 +769,16 @@ impl PhysicsSpec {
                     ),
                 ));
             }
+            number(
+                "damping",
+                Some(&at),
+                &who,
+                "a damping",
+                j.damping,
+                (0.0, MAX_COEFFICIENT),
+                false,
+                "N·m·s/rad",
+            )?;
             if let Some(m) = j.motor {
                 if !(m.stiffness.is_finite()
                     && m.stiffness > 0.0
@@ -570,6 +794,26 @@ impl PhysicsSpec {
                         ),
                     ));
                 }
+                number(
+                    "stiffness",
+                    Some(&at),
+                    &who,
+                    "a motor stiffness",
+                    m.stiffness,
+                    (MIN_MAGNITUDE, MAX_COEFFICIENT),
+                    false,
+                    "N·m/rad",
+                )?;
+                number(
+                    "motor",
+                    Some(&at),
+                    &who,
+                    "a motor damping",
+                    m.damping,
+                    (0.0, MAX_COEFFICIENT),
+                    false,
+                    "N·m·s/rad",
+                )?;
             }
             // the anchors must meet at the start pose
             let pa = match pb {
@@ -607,6 +851,16 @@ impl PhysicsSpec {
                     &format!("a duration >= 0 in seconds, found {v}"),
                 ));
             }
+            number(
+                f,
+                None,
+                "",
+                "a duration",
+                v,
+                (0.0, MAX_STEPS as f64),
+                false,
+                "s",
+            )?;
             let steps = v / self.dt;
             if (steps - steps.round()).abs() > 1e-6 * steps.max(1.0) {
                 return Err(Invalid::at(
@@ -647,25 +901,56 @@ impl PhysicsSpec {
                 "a tracked point with finite coordinates",
             ));
         }
+        for c in [self.effect.point.0, self.effect.point.1] {
+            number(
+                "point",
+                None,
+                "the tracked point",
+                "coordinates",
+                c,
+                (0.0, MAX_LENGTH),
+                true,
+                "m",
+            )?;
+        }
         self.effect
             .grid
             .validate()
             .map_err(|e| Invalid::at("grid", None, &format!("a valid grid: {e}")))?;
+        for &c in self.effect.grid.min.iter().chain(&self.effect.grid.max) {
+            number(
+                "grid",
+                None,
+                "the effect grid",
+                "corners",
+                c,
+                (0.0, MAX_LENGTH),
+                true,
+                "m",
+            )?;
+        }
         // the actions
-        let mut seen: Vec<char> = Vec::new();
+        let mut seen: HashMap<char, usize> = HashMap::new();
         for alphabet in scene.slots() {
             for s in alphabet {
-                let nth = seen.iter().filter(|&&c| c == s.symbol).count();
-                seen.push(s.symbol);
+                let count = seen.entry(s.symbol).or_insert(0);
+                let nth = *count;
+                *count += 1;
                 let at = format!("'{}'", s.symbol);
-                let bad = |what: String| Invalid {
+                let bad_at = |field: &str, what: String| Invalid {
                     nth,
-                    ..Invalid::at(
-                        "action",
-                        Some(&at),
-                        &format!("symbol '{}': {what}", s.symbol),
-                    )
+                    ..Invalid::at(field, Some(&at), &format!("symbol '{}': {what}", s.symbol))
                 };
+                let bad = |what: String| bad_at("action", what);
+                // a number of the action: its own field
+                let field = match &s.action {
+                    Action::Torque { .. } => "torque",
+                    Action::Impulse { .. } => "impulse",
+                    Action::Force { .. } => "force",
+                    Action::Target { .. } => "angle",
+                    _ => "action",
+                };
+                let bad_number = |what: String| bad_at(field, what);
                 match &s.action {
                     Action::Idle => {}
                     Action::Move { .. } => {
@@ -674,9 +959,35 @@ impl PhysicsSpec {
                         ))
                     }
                     Action::Torque { joint, torque } => {
-                        self.known_joint(joint, &bad)?;
+                        let j = self.known_joint(joint, &bad)?;
                         if !torque.is_finite() {
-                            return Err(bad(format!("a finite torque in N·m, found {torque}")));
+                            return Err(bad_number(format!("a finite torque in N·m, found {torque}")));
+                        }
+                        if !in_range(*torque, 0.0, f64::MAX, true) {
+                            return Err(bad_number(format!(
+                                "a torque 0 or at least 1.2e-38 N·m in magnitude (f32), found {}",
+                                show(*torque)
+                            )));
+                        }
+                        // +torque on the child, -torque on a dynamic parent
+                        for name in [&j.child, &j.parent] {
+                            let Some(b) = position(name).map(|i| &self.bodies[i]) else {
+                                continue;
+                            };
+                            let Some(inertia) = b.min_inertia() else {
+                                continue;
+                            };
+                            let spin = torque.abs() * self.dt / inertia;
+                            if spin > MAX_STEP_CHANGE {
+                                return Err(bad_number(format!(
+                                    "a torque that adds at most {} rad/s to a body in one step, but {} N·m adds {} rad/s to `{name}` (inertia about {} kg·m², dt {} s)",
+                                    show(MAX_STEP_CHANGE),
+                                    show(*torque),
+                                    show(spin),
+                                    show(inertia),
+                                    show(self.dt)
+                                )));
+                            }
                         }
                     }
                     Action::Target { joint, angle } => {
@@ -687,18 +998,25 @@ impl PhysicsSpec {
                             )));
                         }
                         if !angle.is_finite() {
-                            return Err(bad(format!("a finite angle in radians, found {angle}")));
+                            return Err(bad_number(format!("a finite angle in radians, found {angle}")));
+                        }
+                        if !in_range(*angle, 0.0, MAX_ANGLE, true) {
+                            return Err(bad_number(format!(
+                                "a target angle {}, found {}",
+                                bounds(0.0, MAX_ANGLE, true, "rad"),
+                                show(*angle)
+                            )));
                         }
                         if let Some((lo, hi)) = j.limits {
                             if *angle < lo || *angle > hi {
-                                return Err(bad(format!(
+                                return Err(bad_number(format!(
                                     "a target within joint `{joint}`'s limits ({lo}, {hi}), found {angle}"
                                 )));
                             }
                         }
                     }
                     Action::Impulse { body, impulse: v } | Action::Force { body, force: v } => {
-                        let b = match self.body(body) {
+                        let b = match position(body).map(|i| &self.bodies[i]) {
                             Some(b) => b,
                             None => {
                                 return Err(bad(format!(
@@ -711,7 +1029,31 @@ impl PhysicsSpec {
                             return Err(bad(format!("a dynamic body, but `{body}` is {:?}", b.kind)));
                         }
                         if !finite2(*v) {
-                            return Err(bad("finite components".into()));
+                            return Err(bad_number("finite components".into()));
+                        }
+                        let (what, unit, per_step) = match &s.action {
+                            Action::Impulse { .. } => ("an impulse", "N·s", 1.0),
+                            _ => ("a force", "N", self.dt),
+                        };
+                        if !(in_range(v.0, 0.0, f64::MAX, true) && in_range(v.1, 0.0, f64::MAX, true)) {
+                            return Err(bad_number(format!(
+                                "{what} whose components are 0 or at least 1.2e-38 {unit} in magnitude (f32), found ({}, {})",
+                                show(v.0),
+                                show(v.1)
+                            )));
+                        }
+                        let m = b.mass_kg();
+                        let dv = v.0.hypot(v.1) * per_step / m;
+                        if dv > MAX_STEP_CHANGE {
+                            return Err(bad_number(format!(
+                                "{what} that adds at most {} m/s to a body in one step, but ({}, {}) {unit} adds {} m/s to `{body}` ({} kg{})",
+                                show(MAX_STEP_CHANGE),
+                                show(v.0),
+                                show(v.1),
+                                show(dv),
+                                show(m),
+                                if per_step == 1.0 { String::new() } else { format!(", dt {} s", show(self.dt)) }
+                            )));
                         }
                     }
                 }
@@ -720,7 +1062,56 @@ impl PhysicsSpec {
         if let Some(sym) = self.symmetry {
             sym.validate(self, scene)?;
         }
+        // bodies in one another at the start: Rapier would push them
+        // apart explosively before the first command
+        if let Some((i, j, depth)) = super::overlap::first_overlap(self) {
+            let (a, b) = (&self.bodies[i], &self.bodies[j]);
+            return Err(Invalid::at(
+                "position",
+                Some(&quoted(&b.name)),
+                &format!(
+                    "body `{}`: a start pose where it does not overlap `{}` ({:?} and {:?} overlap by {} m; at most {} m, touching, is allowed)",
+                    b.name,
+                    a.name,
+                    b.kind,
+                    a.kind,
+                    show(depth),
+                    super::overlap::OVERLAP_TOLERANCE
+                ),
+            ));
+        }
         Ok(())
+    }
+
+    /// What is possible but suspicious, for `e3d scene check`: a tracked
+    /// point that starts outside the effect grid (it is binned in the
+    /// nearest border cell), a dynamic body outside it.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let g = &self.effect.grid;
+        let inside = |p: (f64, f64)| {
+            p.0 >= g.min[0] && p.0 <= g.max[0] && p.1 >= g.min[1] && p.1 <= g.max[1]
+        };
+        if let Some(b) = self.body(&self.effect.body) {
+            let p = to_world(b.position, b.angle, self.effect.point);
+            if !inside(p) {
+                out.push(format!(
+                    "the tracked point starts at ({}, {}), outside the effect grid [{}, {}] x [{}, {}]: it counts in the nearest border cell",
+                    show(p.0), show(p.1), g.min[0], g.max[0], g.min[1], g.max[1]
+                ));
+            }
+        }
+        for b in &self.bodies {
+            if b.kind == BodyKind::Dynamic && !inside(b.position) {
+                out.push(format!(
+                    "dynamic body `{}` starts at ({}, {}), outside the effect grid",
+                    b.name,
+                    show(b.position.0),
+                    show(b.position.1)
+                ));
+            }
+        }
+        out
     }
 
     fn body_names(&self) -> String {
@@ -765,7 +1156,7 @@ impl PhysicsSpec {
         })
     }
 
-    fn validate_body(&self, b: &BodySpec, i: usize) -> Result<(), Invalid> {
+    fn validate_body(&self, b: &BodySpec, duplicate: bool) -> Result<(), Invalid> {
         let at = quoted(&b.name);
         if b.name.trim().is_empty() {
             return Err(Invalid::at("name", None, "a non-empty body name"));
@@ -777,7 +1168,7 @@ impl PhysicsSpec {
                 "a body name other than `ground` (it stands for the fixed world frame)",
             ));
         }
-        if self.bodies[..i].iter().any(|o| o.name == b.name) {
+        if duplicate {
             return Err(Invalid {
                 nth: 1,
                 ..Invalid::at(
@@ -824,7 +1215,37 @@ impl PhysicsSpec {
                     &format!("{who}: at least two points"),
                 ))
             }
+            ShapeSpec::Polyline { points } if points.len() > MAX_POINTS => {
+                return Err(Invalid::at(
+                    "points",
+                    Some(&at),
+                    &format!("{who}: at most {MAX_POINTS} points, found {}", points.len()),
+                ))
+            }
             _ => {}
+        }
+        // what f32 can hold: sizes, then every coordinate
+        let sizes: Vec<(&str, f64)> = match &b.shape {
+            ShapeSpec::Ball { radius } | ShapeSpec::Capsule { radius, .. } => {
+                vec![("radius", *radius)]
+            }
+            ShapeSpec::Cuboid { width, height } => vec![("width", *width), ("height", *height)],
+            _ => Vec::new(),
+        };
+        for (f, v) in sizes {
+            number(f, Some(&at), &who, f, v, (MIN_SIZE, MAX_LENGTH), false, "m")?;
+        }
+        for v in b.shape.numbers() {
+            number(
+                "shape",
+                Some(&at),
+                &who,
+                "coordinates",
+                v,
+                (0.0, MAX_LENGTH),
+                true,
+                "m",
+            )?;
         }
         if b.mass.is_some() && b.density.is_some() {
             return Err(Invalid::at(
@@ -850,6 +1271,28 @@ impl PhysicsSpec {
                     &format!("{who}: a density > 0 in kg/m², found {d}"),
                 ));
             }
+            number(
+                "density",
+                Some(&at),
+                &who,
+                "a density",
+                d,
+                (MIN_DENSITY, MAX_DENSITY),
+                false,
+                "kg/m²",
+            )?;
+        }
+        if let Some(m) = b.mass {
+            number(
+                "mass",
+                Some(&at),
+                &who,
+                "a mass",
+                m,
+                (MIN_MASS, MAX_MASS),
+                false,
+                "kg",
+            )?;
         }
         if b.kind == BodyKind::Dynamic {
             if b.shape.area() <= 0.0 && b.mass.is_none() {
@@ -866,6 +1309,21 @@ impl PhysicsSpec {
                     &format!("{who}: a mass > 0"),
                 ));
             }
+            let field = if b.density.is_some() {
+                "density"
+            } else {
+                "shape"
+            };
+            number(
+                field,
+                Some(&at),
+                &who,
+                "a mass (density x area)",
+                b.mass_kg(),
+                (MIN_MASS, MAX_MASS),
+                false,
+                "kg",
+            )?;
             if b.shape.area() <= 0.0 && !b.lock_rotation {
                 return Err(Invalid::at(
                     "shape",
@@ -881,10 +1339,32 @@ impl PhysicsSpec {
                 &format!("{who}: a finite start pose"),
             ));
         }
-        for (f, v) in [
-            ("linear_damping", b.linear_damping),
-            ("angular_damping", b.angular_damping),
-            ("friction", b.friction),
+        for v in [b.position.0, b.position.1] {
+            number(
+                "position",
+                Some(&at),
+                &who,
+                "coordinates",
+                v,
+                (0.0, MAX_LENGTH),
+                true,
+                "m",
+            )?;
+        }
+        number(
+            "angle",
+            Some(&at),
+            &who,
+            "an angle",
+            b.angle,
+            (0.0, MAX_ANGLE),
+            true,
+            "rad",
+        )?;
+        for (f, v, hi) in [
+            ("linear_damping", b.linear_damping, MAX_COEFFICIENT),
+            ("angular_damping", b.angular_damping, MAX_COEFFICIENT),
+            ("friction", b.friction, MAX_FRICTION),
         ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(Invalid::at(
@@ -893,8 +1373,9 @@ impl PhysicsSpec {
                     &format!("{who}: a finite number >= 0, found {v}"),
                 ));
             }
+            number(f, Some(&at), &who, "a number", v, (0.0, hi), false, "")?;
         }
-        if !(b.restitution.is_finite() && (0.0..=1.0).contains(&b.restitution)) {
+        if !(in_range(b.restitution, 0.0, 1.0, false)) {
             return Err(Invalid::at(
                 "restitution",
                 Some(&at),

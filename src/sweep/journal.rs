@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! # e3d sweep journal v1
-//! # sweep=9b1f0c2a7d3e4f55 shard=1/1 total=600 per_cell=10 version=0.1.0
+//! # sweep=9b1f0c2a7d3e4f55 shard=1/1 total=600 per_cell=10 scenes=3c5e2a917b0d4f68@two_rooms version=0.1.0
 //! # columns=scene,learner,use_reward,alpha,...
 //! 5d8f2e0b9a7c6d41 17,two_rooms,e3d,false,0.3,1,0.03,0.01,,7,123456789,0.93,...
 //! ```
@@ -19,7 +19,7 @@
 
 use super::{fnv1a64, io_err, Shard, SweepError};
 use std::collections::BTreeMap;
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -37,6 +37,11 @@ pub struct JournalHeader {
     pub total: usize,
     /// Sessions per cell.
     pub per_cell: usize,
+    /// Each scene of the sweep, in its order: its name and
+    /// [`OutcomeTable::key`](crate::OutcomeTable::key), a hash of its
+    /// canonical content and the e3d version. A scene edited between
+    /// shards, or before `--resume`, changes its key.
+    pub scenes: Vec<(String, u64)>,
     /// The e3d version that wrote it.
     pub version: String,
     /// The header line of `results.csv`.
@@ -53,12 +58,83 @@ impl JournalHeader {
     }
 
     fn text(&self) -> String {
+        let scenes: Vec<String> = self
+            .scenes
+            .iter()
+            .map(|(name, key)| format!("{key:016x}@{}", encode(name)))
+            .collect();
         format!(
-            "{MAGIC}\n# sweep={:016x} shard={} total={} per_cell={} version={}\n# columns={}\n",
-            self.sweep_hash, self.shard, self.total, self.per_cell, self.version, self.columns
+            "{MAGIC}\n# sweep={:016x} shard={} total={} per_cell={} scenes={} version={}\n# columns={}\n",
+            self.sweep_hash,
+            self.shard,
+            self.total,
+            self.per_cell,
+            scenes.join(","),
+            self.version,
+            self.columns
         )
     }
+
+    /// The first scene whose content differs between `self` and `other`
+    /// (same sweep file): `(name, key here, key there)`.
+    pub fn changed_scene(&self, other: &JournalHeader) -> Option<(String, u64, u64)> {
+        if self.scenes.len() != other.scenes.len() {
+            return None;
+        }
+        self.scenes
+            .iter()
+            .zip(&other.scenes)
+            .find(|(a, b)| a.1 != b.1)
+            .map(|(a, b)| (a.0.clone(), a.1, b.1))
+    }
 }
+
+/// A scene name in the header line: whitespace, `%`, `,`, `=` and `@`
+/// percent-encoded.
+fn encode(name: &str) -> String {
+    let mut out = String::new();
+    for c in name.chars() {
+        if c.is_whitespace() || "%,=@".contains(c) {
+            let mut buf = [0u8; 4];
+            for b in c.encode_utf8(&mut buf).bytes() {
+                out.push_str(&format!("%{b:02X}"));
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+fn decode(text: &str) -> Option<String> {
+    let b = text.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%' {
+            out.push(u8::from_str_radix(text.get(i + 1..i + 3)?, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+fn parse_scenes(v: &str) -> Option<Vec<(String, u64)>> {
+    if v.is_empty() {
+        return Some(Vec::new());
+    }
+    v.split(',')
+        .map(|item| {
+            let (key, name) = item.split_once('@')?;
+            Some((decode(name)?, u64::from_str_radix(key, 16).ok()?))
+        })
+        .collect()
+}
+
+impl JournalHeader {}
 
 /// A journal read back.
 #[derive(Debug, Clone)]
@@ -82,6 +158,12 @@ fn corrupt(path: &Path, what: &str) -> SweepError {
 /// Reads a journal, keeping the whole, correct lines before the first bad
 /// one.
 pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
+    if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        return Err(SweepError::Output(format!(
+            "{}: is a symbolic link; refused (e3d reads and appends only to a journal it made); choose another --out",
+            path.display()
+        )));
+    }
     let bytes = std::fs::read(path).map_err(io_err(path))?;
     let mut lines = bytes.split_inclusive(|&b| b == b'\n');
     let mut header_line = |n: usize| -> Result<String, SweepError> {
@@ -120,6 +202,13 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
         shard: get("shard")?.parse().map_err(|_| bad_num("shard"))?,
         total: get("total")?.parse().map_err(|_| bad_num("total"))?,
         per_cell: get("per_cell")?.parse().map_err(|_| bad_num("per_cell"))?,
+        // journals written before scenes were part of the identity have
+        // none: they match no run, and are refused as another run's
+        scenes: match fields.get("scenes") {
+            None => Vec::new(),
+            Some(v) => parse_scenes(v)
+                .ok_or_else(|| corrupt(path, "line 2: `scenes` is not a list of KEY@NAME"))?,
+        },
         version: get("version")?.to_string(),
         columns,
     };
@@ -185,11 +274,10 @@ impl Journal {
     /// Opens a journal for appending after its first `valid_len` bytes
     /// (dropping a torn or corrupt tail).
     pub fn append(path: &Path, valid_len: u64) -> Result<Journal, SweepError> {
-        // O_APPEND: every line lands at the end of the file, whole
-        let file = OpenOptions::new()
-            .append(true)
-            .open(path)
-            .map_err(io_err(path))?;
+        // O_APPEND: every line lands at the end of the file, whole;
+        // O_NOFOLLOW: a symbolic link in its place is refused, not
+        // truncated and appended to
+        let file = crate::io::open_append_nofollow(path).map_err(io_err(path))?;
         file.set_len(valid_len).map_err(io_err(path))?;
         file.sync_all().map_err(io_err(path))?;
         Ok(Journal {
@@ -242,6 +330,7 @@ mod tests {
             shard: Shard { k: 2, n: 3 },
             total: 10,
             per_cell: 2,
+            scenes: vec![("two rooms, 100%".into(), 0xfe), ("b".into(), 1)],
             version: "0.1.0".into(),
             columns: "scene,learner,x".into(),
         }
@@ -258,7 +347,7 @@ mod tests {
         drop(j);
         let good_len = std::fs::metadata(&p).unwrap().len();
         // a torn line: no line break
-        let mut f = OpenOptions::new().append(true).open(&p).unwrap();
+        let mut f = std::fs::OpenOptions::new().append(true).open(&p).unwrap();
         f.write_all(b"0123456789abcdef 7,a,b").unwrap();
         drop(f);
         let r = read(&p).unwrap();
