@@ -70,7 +70,7 @@ use crate::effect::Target;
 use crate::learner::{LearnerKind, Params};
 use crate::scene::{ron_options, Invalid, Scene, SceneError};
 use crate::session::{run_lockstep_into, run_session_into, RunningMetrics, SessionConfig};
-use crate::world::{ExecOptions, Executor, Strategy, Workload, World, WorldError};
+use crate::world::{ExecOptions, Executor, OutcomeTable, Strategy, Workload, World, WorldError};
 use journal::{Journal, JournalHeader};
 use rayon::prelude::*;
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
