@@ -1259,12 +1259,31 @@ impl Sweep {
                     let _ = units.par_iter().try_for_each_with(tx, |tx, unit| {
                         let scene = self.cells[unit[0].cell].scene;
                         let exec = executors[scene].as_ref().expect("a scene with work");
-                        let mut world = exec.world(unit.len());
-                        let results = if unit.len() == 1 {
-                            self.run_session(&unit[0], &mut *world).map(|r| vec![r])
-                        } else {
-                            self.run_sessions_lockstep(unit, &mut *world)
-                        };
+                        // a panic inside the engine fails this unit's
+                        // sessions, recorded so, not the whole sweep
+                        let run = std::panic::AssertUnwindSafe(|| {
+                            let mut world = exec.world(unit.len());
+                            if unit.len() == 1 {
+                                self.run_session(&unit[0], &mut *world).map(|r| vec![r])
+                            } else {
+                                self.run_sessions_lockstep(unit, &mut *world)
+                            }
+                        });
+                        let results = std::panic::catch_unwind(run).unwrap_or_else(|p| {
+                            let why = p
+                                .downcast_ref::<String>()
+                                .cloned()
+                                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                                .unwrap_or_else(|| "no message".into());
+                            Ok(unit
+                                .iter()
+                                .map(|s| SessionResult {
+                                    session: *s,
+                                    values: vec![None; self.metrics.len()],
+                                    failure: Some(format!("the simulation panicked: {why}")),
+                                })
+                                .collect())
+                        });
                         match results {
                             Ok(rs) => rs.into_iter().try_for_each(|r| tx.send(Ok(r))),
                             Err(e) => tx.send(Err(e)),
