@@ -256,37 +256,7 @@ impl OutcomeTable {
         spec: &PhysicsSpec,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<OutcomeTable, WorldError> {
-        let space = scene.command_space();
-        let n = Self::check_size(&space)?;
-        let probe = PhysicsWorld::from_scene(scene, spec);
-        let twins = twin_indices(&probe, &space, n);
-        let simulated: Vec<u64> = (0..n).filter(|&i| twins[i as usize].is_none()).collect();
-        let copies = if spec.copies_are_exact() {
-            TABLE_COPIES
-        } else {
-            1
-        };
-        let results = Self::execute_indices(scene, spec, copies, &simulated, progress)?;
-        let mut outcomes: Vec<Option<Outcome>> = vec![None; n as usize];
-        for (&i, o) in simulated.iter().zip(results) {
-            outcomes[i as usize] = Some(o);
-        }
-        // a twin's index is below its command's: filled in index order
-        for (i, twin) in twins.iter().enumerate() {
-            if let Some(t) = *twin {
-                let o = outcomes[t as usize].expect("a twin is simulated");
-                outcomes[i] = Some(probe.reflect_outcome(o));
-            }
-        }
-        Ok(OutcomeTable {
-            places: places(&space),
-            num_effects: scene.num_effects(),
-            space,
-            outcomes: outcomes
-                .into_iter()
-                .map(|o| o.expect("every command"))
-                .collect(),
-        })
+        Self::complete_physics(scene, spec, &[], progress)
     }
 
     /// The table of `scene` from the outcomes `known` (command index and
@@ -296,10 +266,21 @@ impl OutcomeTable {
     /// is the same, bit for bit, as [`build_scene`](Self::build_scene)'s
     /// when `known` holds the world's own outcomes.
     pub fn complete(scene: &Scene, known: &[(u64, Outcome)]) -> Result<OutcomeTable, WorldError> {
-        let WorldSpec::Physics(spec) = &scene.world else {
+        match &scene.world {
+            WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, &|_| {}),
             // a grid's table costs microseconds
-            return Self::build_scene(scene);
-        };
+            WorldSpec::Grid(_) => Self::build_scene(scene),
+        }
+    }
+
+    /// [`complete`](Self::complete) for a physics scene, calling `progress`
+    /// with the number of commands of each simulated batch.
+    fn complete_physics(
+        scene: &Scene,
+        spec: &PhysicsSpec,
+        known: &[(u64, Outcome)],
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<OutcomeTable, WorldError> {
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
         let mut outcomes: Vec<Option<Outcome>> = vec![None; n as usize];
@@ -320,7 +301,7 @@ impl OutcomeTable {
         } else {
             1
         };
-        let results = Self::execute_indices(scene, spec, copies, &missing, &|_| {})?;
+        let results = Self::execute_indices(scene, spec, copies, &missing, progress)?;
         for (&i, o) in missing.iter().zip(results) {
             outcomes[i as usize] = Some(o);
         }
