@@ -36,8 +36,8 @@ def main():
 
     # one command, then a batch (numpy in, numpy out)
     world = scene.world()
-    print("SSEEEEE ->", world.execute("SSEEEEE"))
-    cmds = scene.parse(["EESSEES", "SSEEEEE", "NNNNNNN"])
+    print("SEEEEES ->", world.execute("SEEEEES"))  # the rewarded corner of room B
+    cmds = scene.parse(["EESSEES", "SEEEEES", "NNNNNNN"])
     out = world.execute_batch(cmds)
     print("effects", out.effect, "rewards", out.reward, "x", out.x, "y", out.y)
 
@@ -52,7 +52,7 @@ def main():
             for i in range(10)
         ]
         print(f"{learner:<10} {describe(h):<32} {PUBLISHED[learner]}")
-    print(f"({time.perf_counter() - start:.1f} s)")
+    print(f"({time.perf_counter() - start:.2f} s for the 20 sessions)")
 
     # task 2 on the physics puck, one session: E3D finds the sparse reward
     rec = e3d.run_session("puck_rooms", learner="e3d", trials=5000, seed=0, beta=100.0)

@@ -477,7 +477,7 @@ struct PyOutcome {
 impl PyOutcome {
     fn __repr__(&self) -> String {
         format!(
-            "Outcome(effect={}, reward={}, x={}, y={})",
+            "Outcome(effect={}, reward={:?}, x={:?}, y={:?})",
             self.effect, self.reward, self.x, self.y
         )
     }
