@@ -137,3 +137,27 @@ def test_execute_batch_releases_the_gil():
         t.join()
     # the Python thread ran while the batch was simulated
     assert len(ticks) > 100
+
+
+def test_a_blow_up_raises_simulation_error_with_the_clis_text(root, cli):
+    path = root / "tests" / "scenes" / "blowup.ron"
+    scene = e3d.Scene.load(path)
+    w = scene.world()
+    assert w.execute("00").effect == 3
+    with pytest.raises(e3d.SimulationError) as err:
+        w.execute_batch(["00", "0K", "T0"])
+    assert isinstance(err.value, RuntimeError)
+    r = cli("scene", "exec", path, "00", "0K", check=False)
+    assert r.returncode != 0
+    assert r.stderr.strip() == f"error: {err.value}"
+    assert "command `0K`: the simulation blew up" in str(err.value)
+    # the session stops with the same error
+    class Kick:
+        def propose(self, rng):
+            return "0K"
+
+        def learn(self, command, effect, reward):
+            pass
+
+    with pytest.raises(e3d.SimulationError, match="command `0K`"):
+        e3d.run_session(scene, learner=Kick(), trials=3)
