@@ -117,14 +117,10 @@ fn check_view(space: &CommandSpace, view: ArrayView2<'_, u8>) -> PyResult<Vec<Co
     let mut out = Vec::with_capacity(view.nrows());
     for (i, row) in view.rows().into_iter().enumerate() {
         let symbols: Vec<u8> = row.iter().copied().collect();
-        if let Some(slot) = symbols
-            .iter()
-            .zip(&sizes)
-            .position(|(&s, &k)| s as usize >= k)
-        {
+        if symbols.iter().zip(&sizes).any(|(&s, &k)| s as usize >= k) {
+            // the message names the first symbol out of range
             let wide: Vec<i64> = symbols.iter().map(|&s| s as i64).collect();
-            let _ = slot;
-            return Err(check_row(space, i, &wide).unwrap_err());
+            check_row(space, i, &wide)?;
         }
         out.push(Command::new(symbols));
     }
@@ -960,7 +956,7 @@ fn run_session(
             drop(world);
             let mut execution = exec.plan().to_string();
             if let Some(line) = exec.finish() {
-                execution.push_str("\n");
+                execution.push('\n');
                 execution.push_str(&line);
             }
             Ok((rec, execution))
