@@ -19,7 +19,7 @@ def cli_exec(cli, scene_name, commands_text):
     return read_csv(r.stdout)
 
 
-@pytest.mark.parametrize("name", ["two_rooms", "puck_rooms", "arm7", "pendulum3"])
+@pytest.mark.parametrize("name", e3d.Scene.builtins())
 def test_execute_batch_equals_scene_exec_bit_for_bit(cli, name):
     scene = e3d.Scene.builtin(name)
     cmds = random_commands(scene, 200, seed=1)
