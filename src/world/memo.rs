@@ -244,6 +244,13 @@ impl<'m, W: World> Memoized<'m, W> {
         &self.world
     }
 
+    /// The inner world back, to be kept and wrapped again later (a pool
+    /// of multi-copy worlds costs less than building one per batch); the
+    /// memo keeps every outcome it was given.
+    pub fn into_inner(self) -> W {
+        self.world
+    }
+
     fn index(&self, c: &Command) -> Option<u64> {
         let space = self.world.command_space();
         (c.symbols.len() == space.num_slots()

@@ -1,0 +1,69 @@
+"""A Gymnasium environment for e3d's open-loop setting.
+
+One episode is one trial: ``reset()`` puts the world at its start state,
+``step(action)`` executes a whole command open loop (``action`` holds one
+symbol index per slot, ``action_space = MultiDiscrete(alphabet sizes)``) and
+returns its effect (``observation_space = Discrete(num_effects)``), its
+reward and ``terminated=True``. The observation after ``reset()`` is the
+effect of the start state (``Scene.start_effect``).
+
+The world is deterministic: the same action always gives the same effect
+and reward, whatever the seed; ``reset(seed=...)`` seeds ``self.np_random``
+as Gymnasium asks, for agents that sample from it. Outcomes are kept (each
+command is simulated once per environment).
+
+Importing this module imports gymnasium; ``import e3d`` does not.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Optional, Union
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from . import Scene
+
+__all__ = ["E3dEnv"]
+
+
+class E3dEnv(gym.Env):
+    """One command per episode on an e3d scene.
+
+    Parameters
+    ----------
+    scene:
+        A ``Scene``, or a scene file's path or a built-in scene's name.
+    use_reward:
+        ``False`` gives reward 0 always (the paper's task 1).
+
+    ``info`` holds ``x``, ``y`` (the terminal point, metres) and ``command``
+    (the command as its symbols) after ``step``.
+    """
+
+    metadata = {"render_modes": []}
+
+    def __init__(self, scene: Union[Scene, str], use_reward: bool = True):
+        super().__init__()
+        self.scene = scene if isinstance(scene, Scene) else Scene.resolve(str(scene))
+        self.world = self.scene.world()
+        self.use_reward = bool(use_reward)
+        self.action_space = spaces.MultiDiscrete(
+            np.array(self.scene.alphabet_sizes, dtype=np.int64)
+        )
+        self.observation_space = spaces.Discrete(self.scene.num_effects)
+        self._start = np.int64(self.scene.start_effect)
+
+    def reset(
+        self, *, seed: Optional[int] = None, options: Optional[dict] = None
+    ) -> tuple[np.int64, dict[str, Any]]:
+        super().reset(seed=seed)
+        return self._start, {}
+
+    def step(self, action) -> tuple[np.int64, float, bool, bool, dict[str, Any]]:
+        symbols = np.asarray(action)
+        out = self.world.execute(symbols)
+        reward = float(out.reward) if self.use_reward else 0.0
+        info = {"x": out.x, "y": out.y, "command": self.scene.format(symbols)}
+        return np.int64(out.effect), reward, True, False, info

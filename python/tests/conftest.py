@@ -1,0 +1,54 @@
+"""Shared fixtures: the repository's root and the e3d CLI to compare with.
+
+The CLI is ``$E3D_BIN`` or the repository's ``target/release/e3d`` (built by
+``cargo build --release``, which scripts/test-python.sh runs); tests that
+compare with it are skipped when neither exists.
+"""
+
+import csv
+import io
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def _cli_path():
+    p = os.environ.get("E3D_BIN")
+    if p:
+        return pathlib.Path(p)
+    return ROOT / "target" / "release" / "e3d"
+
+
+@pytest.fixture(scope="session")
+def root():
+    return ROOT
+
+
+@pytest.fixture(scope="session")
+def cli():
+    """Runs the CLI: cli(*args, input=None) -> CompletedProcess (text)."""
+    path = _cli_path()
+    if not path.exists():
+        pytest.skip(f"no e3d CLI at {path}: run `cargo build --release` or set E3D_BIN")
+
+    def run(*args, input=None, check=True):
+        r = subprocess.run(
+            [str(path), *map(str, args)],
+            input=input,
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+        )
+        if check and r.returncode != 0:
+            raise AssertionError(f"e3d {' '.join(map(str, args))} failed: {r.stderr}")
+        return r
+
+    return run
+
+
+def read_csv(text):
+    return list(csv.DictReader(io.StringIO(text)))

@@ -1,0 +1,67 @@
+import numpy as np
+import pytest
+
+gym = pytest.importorskip("gymnasium")
+from gymnasium.utils.env_checker import check_env  # noqa: E402
+
+import e3d  # noqa: E402
+from e3d.gym import E3dEnv  # noqa: E402
+
+
+def test_import_e3d_does_not_import_gymnasium():
+    import subprocess
+    import sys
+
+    code = "import sys, e3d; assert 'gymnasium' not in sys.modules; print('ok')"
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.stdout.strip() == "ok", r.stderr
+
+
+@pytest.mark.parametrize("name", e3d.Scene.builtins())
+def test_check_env_passes_on_every_shipped_scene(name):
+    env = E3dEnv(e3d.Scene.builtin(name))
+    check_env(env, skip_render_check=True)
+    assert env.action_space.nvec.tolist() == env.scene.alphabet_sizes
+    assert env.observation_space.n == env.scene.num_effects
+
+
+def test_one_episode_is_one_command():
+    env = E3dEnv("two_rooms")
+    obs, info = env.reset(seed=0)
+    assert obs == 0 and info == {}
+    action = env.scene.parse("SEEEEES")[0]
+    obs, reward, terminated, truncated, info = env.step(action)
+    assert (obs, reward, terminated, truncated) == (17, 1.0, True, False)
+    assert info["command"] == "SEEEEES" and (info["x"], info["y"]) == (5.5, 0.5)
+    assert env.observation_space.contains(obs)
+
+
+def test_no_reward_and_sampled_actions():
+    env = E3dEnv("two_rooms", use_reward=False)
+    env.reset(seed=1)
+    env.action_space.seed(1)
+    for _ in range(50):
+        obs, reward, terminated, _, _ = env.step(env.action_space.sample())
+        assert reward == 0.0 and terminated
+
+
+def test_reset_is_deterministic_and_steps_match_the_world():
+    env = E3dEnv("puck_rooms")
+    a, _ = env.reset(seed=5)
+    b, _ = env.reset(seed=5)
+    assert a == b == env.scene.start_effect
+    cmds = np.random.default_rng(0).integers(0, 4, size=(20, 7)).astype(np.uint8)
+    out = env.scene.world().execute_batch(cmds)
+    for c, e, r in zip(cmds, out.effect, out.reward):
+        env.reset()
+        obs, reward, *_ = env.step(c)
+        assert (obs, reward) == (e, r)
+
+
+def test_bad_actions_raise_value_error():
+    env = E3dEnv("two_rooms")
+    env.reset()
+    with pytest.raises(ValueError):
+        env.step([0, 0, 0])
+    with pytest.raises(ValueError):
+        env.step([9] * 7)
