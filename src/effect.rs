@@ -303,6 +303,23 @@ pub fn entropy(weights: &[f64]) -> f64 {
     }
 }
 
+/// [`entropy`] divided by `log(cells)`: 1 when `weights` are spread
+/// evenly over `cells` effects. With `cells` the reachable effects (an
+/// [`OutcomeTable`](crate::OutcomeTable) knows them), this is the
+/// entropy "over the reachable cells"; with every effect, the metric
+/// sessions report.
+///
+/// ```
+/// use e3d::effect::normalized_entropy_over;
+/// // even over 2 of 4 cells: 0.5 over all 4, 1 over the 2 reachable
+/// assert!((normalized_entropy_over(&[3.0, 3.0, 0.0, 0.0], 4) - 0.5).abs() < 1e-12);
+/// assert!((normalized_entropy_over(&[3.0, 3.0, 0.0, 0.0], 2) - 1.0).abs() < 1e-12);
+/// ```
+pub fn normalized_entropy_over(weights: &[f64], cells: usize) -> f64 {
+    let norm = (cells as f64).ln();
+    entropy(weights) / if norm > 0.0 { norm } else { 1.0 }
+}
+
 /// `KL(q || p*)` of the distribution given by `weights` against the target
 /// log-probabilities `log_target`.
 pub fn kl_divergence(weights: &[f64], log_target: &[f64]) -> f64 {

@@ -102,6 +102,10 @@ struct Summary<'a> {
     /// spaces only).
     policy_effect_distribution: Option<Vec<f64>>,
     effect_counts: Vec<f64>,
+    /// The effects some command reaches, when a table knows them (and
+    /// fewer than all), and the normalised entropy over them.
+    reachable_effects: Option<usize>,
+    normalized_entropy_reachable: Option<f64>,
     /// How the outcomes were obtained (table, memo or live, and why).
     execution: &'a ExecutionPlan,
 }
@@ -424,6 +428,15 @@ pub fn run(a: RunArgs) -> CliResult {
         params.epsilon,
         if a.no_reward { " | no reward" } else { "" }
     );
+    // with a table, the reachable cells are known: the entropy over them
+    let reachable = exec
+        .table()
+        .map(|t| t.reachable_effects())
+        .filter(|&r| r < num_effects);
+    let over_reachable: Vec<Option<f64>> = recorders
+        .iter()
+        .map(|r| reachable.map(|k| e3d::effect::normalized_entropy_over(&r.0.effect_counts(), k)))
+        .collect();
     for (i, m) in metrics.iter().enumerate() {
         let who = if sessions > 1 {
             format!("seed {}: ", seeds[i])
@@ -438,6 +451,9 @@ pub fn run(a: RunArgs) -> CliResult {
             m.distinct_effects,
             num_effects
         );
+        if let (Some(k), Some(h)) = (reachable, over_reachable[i]) {
+            println!("{who}over the {k} reachable cells: normalized entropy {h:.4}");
+        }
         println!(
             "{who}cumulative reward {} | first reward at trial {}",
             m.cumulative_reward,
@@ -471,6 +487,8 @@ pub fn run(a: RunArgs) -> CliResult {
                 metrics: &metrics[0],
                 policy_effect_distribution: exact,
                 effect_counts: recorders[0].0.effect_counts(),
+                reachable_effects: reachable,
+                normalized_entropy_reachable: over_reachable[0],
                 execution: exec.plan(),
             })
         } else {

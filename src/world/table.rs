@@ -404,6 +404,11 @@ impl OutcomeTable {
         self.outcomes.iter()
     }
 
+    /// The number of effects some command reaches.
+    pub fn reachable_effects(&self) -> usize {
+        self.effect_counts().iter().filter(|&&c| c > 0).count()
+    }
+
     /// How many commands end in each effect.
     pub fn effect_counts(&self) -> Vec<u64> {
         let mut counts = vec![0u64; self.num_effects];
