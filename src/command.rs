@@ -177,13 +177,16 @@ impl CommandSpace {
         }
     }
 
-    /// The command written as symbols, one character per slot.
+    /// The command written as symbols, one character per slot. A symbol
+    /// index outside its slot's alphabet (a command of another space) is
+    /// written `?`, and slots beyond this space's are left out: formatting
+    /// never panics, so that errors can always show the command.
     pub fn format(&self, command: &Command) -> String {
         command
             .symbols
             .iter()
             .zip(&self.alphabets)
-            .map(|(&s, a)| a[s as usize])
+            .map(|(&s, a)| a.get(s as usize).copied().unwrap_or('?'))
             .collect()
     }
 
@@ -282,6 +285,13 @@ impl fmt::Display for Command {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_command_of_another_space_formats_without_panicking() {
+        let s = CommandSpace::new(vec![vec!['a', 'b'], vec!['x', 'y']]).unwrap();
+        assert_eq!(s.format(&Command::new(vec![1, 7])), "b?");
+        assert_eq!(s.format(&Command::new(vec![0, 1, 2])), "ay");
+    }
 
     #[test]
     fn index_round_trip_over_mixed_radix() {
