@@ -435,9 +435,18 @@ impl<'a> ExecPool<'a> {
 
     /// Appends the result of each of `commands` to `out`, in order: those
     /// of [`World::execute`], bit for bit.
-    fn run(&mut self, commands: &[Command], out: &mut Vec<Result<e3d::Outcome, WorldError>>) {
+    /// With `memo`, the physics worlds' commands go through it
+    /// ([`Memoized`](e3d::Memoized)): those kept are looked up, the others
+    /// simulated once and kept.
+    fn run(
+        &mut self,
+        commands: &[Command],
+        memo: Option<&e3d::OutcomeMemo>,
+        out: &mut Vec<Result<e3d::Outcome, WorldError>>,
+    ) {
         use rayon::prelude::*;
         match self {
+            // a grid's move or a table's look-up costs less than the memo's
             ExecPool::Direct(world) => world.execute_batch(commands, out),
             ExecPool::Parallel {
                 scene,
@@ -459,7 +468,13 @@ impl<'a> ExecPool<'a> {
                         let mut world = take()
                             .unwrap_or_else(|| PhysicsWorld::with_copies(scene, spec, *copies));
                         let mut results = Vec::with_capacity(part.len());
-                        world.execute_batch(part, &mut results);
+                        if let Some(m) = memo {
+                            let mut through = e3d::Memoized::new(world, m);
+                            through.execute_batch(part, &mut results);
+                            world = through.into_inner();
+                        } else {
+                            world.execute_batch(part, &mut results);
+                        }
                         idle.lock().unwrap_or_else(|e| e.into_inner()).push(world);
                         results
                     })
@@ -479,7 +494,7 @@ fn chunk_limit() -> usize {
 /// What the folder `dir` holds for `scene`: a whole table (looked up), or
 /// a memo of the commands executed so far (partial file, or empty when the
 /// file is missing or cannot be used, having said why on stderr). The
-/// memo's new outcomes are written back at the end ([`keep_memo`]).
+/// memo's new outcomes are written back at the end (`OutcomeMemo::save`).
 fn exec_cache(scene: &Scene, dir: &Path) -> (Option<OutcomeTable>, Option<e3d::OutcomeMemo>) {
     use e3d::world::CachedOutcomes;
     let path = OutcomeTable::cache_path(scene, dir);
@@ -490,9 +505,7 @@ fn exec_cache(scene: &Scene, dir: &Path) -> (Option<OutcomeTable>, Option<e3d::O
         Ok(CachedOutcomes::Partial(entries)) => {
             let m = memo().ok();
             if let Some(m) = &m {
-                for (i, o) in entries {
-                    m.insert(i, o);
-                }
+                m.extend(entries);
             }
             (None, m)
         }
@@ -511,24 +524,6 @@ fn exec_cache(scene: &Scene, dir: &Path) -> (Option<OutcomeTable>, Option<e3d::O
     }
 }
 
-/// Writes the memo's outcomes (with what the file holds now) as the
-/// scene's partial table in `dir`; a failure costs time only, and is said.
-fn keep_memo(scene: &Scene, dir: &Path, memo: &e3d::OutcomeMemo) {
-    use e3d::world::CachedOutcomes;
-    let path = OutcomeTable::cache_path(scene, dir);
-    if let Ok(CachedOutcomes::Partial(e)) = OutcomeTable::read_file(&path, scene) {
-        for (i, o) in e {
-            memo.insert(i, o);
-        }
-    }
-    if let Err(e) = OutcomeTable::write_partial(&path, scene, &memo.entries()) {
-        eprintln!(
-            "note: could not keep the outcomes in {}: {e}",
-            path.display()
-        );
-    }
-}
-
 /// `e3d scene exec`: a reader thread parses the commands as they come; the
 /// main thread waits for one, takes what else is queued (up to
 /// [`chunk_limit`]), executes that chunk on every core and prints its rows
@@ -542,7 +537,6 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
         None => (None, None),
     };
     let mut executor = ExecPool::new(scene, table);
-    let (mut pending, mut pending_results) = (Vec::new(), Vec::new());
     let limit = chunk_limit();
     let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(2 * limit);
     let reader_space = space.clone();
@@ -581,38 +575,7 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
             }
         }
         results.clear();
-        match &memo {
-            None => executor.run(&chunk, &mut results),
-            // the commands already kept are looked up, the others executed
-            // (each once) and kept
-            Some(m) => {
-                pending.clear();
-                let keys: Vec<u64> = chunk.iter().map(|c| space.index_of(c)).collect();
-                let known: Vec<Option<e3d::Outcome>> = keys.iter().map(|&k| m.get(k)).collect();
-                pending.extend(
-                    chunk
-                        .iter()
-                        .zip(&known)
-                        .filter(|(_, k)| k.is_none())
-                        .map(|(c, _)| c.clone()),
-                );
-                pending_results.clear();
-                executor.run(&pending, &mut pending_results);
-                let mut fresh = pending_results.drain(..);
-                for (&k, o) in keys.iter().zip(known) {
-                    results.push(match o {
-                        Some(o) => Ok(o),
-                        None => {
-                            let r = fresh.next().expect("one result per command");
-                            if let Ok(o) = &r {
-                                m.insert(k, *o);
-                            }
-                            r
-                        }
-                    });
-                }
-            }
-        }
+        executor.run(&chunk, memo.as_ref(), &mut results);
         text.clear();
         for (c, r) in chunk.iter().zip(results.drain(..)) {
             match r {
@@ -641,8 +604,14 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
             write(&text)?;
         }
     }
-    if let (Some(m), Some(dir)) = (&memo, table_cache) {
-        keep_memo(scene, dir, m);
+    if let (Some(m), Some(dir)) = (memo.as_ref().filter(|m| !m.is_empty()), table_cache) {
+        let path = OutcomeTable::cache_path(scene, dir);
+        if let Err(e) = m.save(&path, scene) {
+            eprintln!(
+                "note: could not keep the outcomes in {}: {e}",
+                path.display()
+            );
+        }
     }
     match end {
         Some(e) => Err(e),

@@ -182,6 +182,27 @@ impl OutcomeMemo {
         self.misses.load(Ordering::Relaxed)
     }
 
+    /// Keeps every outcome of `entries` (command index and outcome, as a
+    /// partial table file holds them), as far as the cap allows.
+    pub fn extend(&self, entries: impl IntoIterator<Item = (u64, Outcome)>) {
+        for (i, o) in entries {
+            self.insert(i, o);
+        }
+    }
+
+    /// Writes the kept outcomes as `scene`'s partial table file at `path`
+    /// (whole or not at all), first taking in what the file holds now (so
+    /// that runs sharing a folder add to each other's outcomes); returns
+    /// the number of outcomes written.
+    pub fn save(&self, path: &std::path::Path, scene: &crate::Scene) -> std::io::Result<usize> {
+        if let Ok(super::CachedOutcomes::Partial(e)) = super::OutcomeTable::read_file(path, scene) {
+            self.extend(e);
+        }
+        let entries = self.entries();
+        super::OutcomeTable::write_partial(path, scene, &entries)?;
+        Ok(entries.len())
+    }
+
     /// Every kept outcome with its command index, in index order.
     pub fn entries(&self) -> Vec<(u64, Outcome)> {
         let mut all: Vec<(u64, Outcome)> = Vec::with_capacity(self.len());

@@ -590,9 +590,7 @@ impl<'s> Executor<'s> {
         if exec.plan.strategy == Strategy::Memo {
             let memo = OutcomeMemo::new(&space, scene.num_effects(), memo_cap)?;
             if let Some(CachedOutcomes::Partial(entries)) = file {
-                for (i, o) in entries {
-                    memo.insert(i, o);
-                }
+                memo.extend(entries);
             }
             exec.read = memo.len();
             exec.memo = Some(memo);
@@ -659,19 +657,8 @@ impl<'s> Executor<'s> {
         if memo.len() == self.read {
             return Some(line);
         }
-        // another run may have grown the file meanwhile: keep both
-        if let Ok(CachedOutcomes::Partial(e)) = OutcomeTable::read_file(path, self.scene) {
-            for (i, o) in e {
-                memo.insert(i, o);
-            }
-        }
-        let entries = memo.entries();
-        match OutcomeTable::write_partial(path, self.scene, &entries) {
-            Ok(()) => line.push_str(&format!(
-                "; {} outcomes kept in {}",
-                entries.len(),
-                path.display()
-            )),
+        match memo.save(path, self.scene) {
+            Ok(n) => line.push_str(&format!("; {n} outcomes kept in {}", path.display())),
             Err(e) => line.push_str(&format!("; could not write {}: {e}", path.display())),
         }
         Some(line)
