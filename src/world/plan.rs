@@ -34,8 +34,8 @@
 //! ```
 
 use super::{
-    Memoized, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError, DEFAULT_MEMO_CAP,
-    MAX_TABLE_COMMANDS, TABLE_COPIES,
+    Memoized, Outcome, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError,
+    DEFAULT_MEMO_CAP, MAX_TABLE_COMMANDS, TABLE_COPIES,
 };
 use crate::scene::physics::BodyKind;
 use crate::scene::{Scene, WorldSpec};
@@ -550,42 +550,26 @@ impl<'s> Executor<'s> {
             plan,
         };
         if exec.plan.strategy == Strategy::Table {
-            exec.table = match file.take() {
-                Some(CachedOutcomes::Full(t)) => Some(t),
-                other => {
-                    let built = match &other {
-                        // what the file holds is not simulated again
-                        Some(CachedOutcomes::Partial(known)) => {
-                            OutcomeTable::complete(scene, known)
-                        }
-                        _ => OutcomeTable::build_scene(scene),
-                    };
-                    // kept for the memo, should the table fail
-                    file = other;
-                    match built {
-                        Ok(t) => {
-                            if let Some(p) = &exec.cache {
-                                if let Err(e) = t.write_file(p, scene) {
-                                    exec.plan.why.push_str(&format!(
-                                        "; the table could not be kept in {}: {e}",
-                                        p.display()
-                                    ));
-                                }
-                            }
-                            Some(t)
-                        }
-                        Err(e) => {
-                            exec.plan.strategy = if memo_cap > 0 {
-                                Strategy::Memo
-                            } else {
-                                Strategy::Live
-                            };
-                            exec.plan.why = format!("no table: {e}");
-                            None
-                        }
-                    }
+            let built = match file {
+                Some(CachedOutcomes::Full(t)) => {
+                    file = None;
+                    Ok(t)
                 }
+                // what a partial file holds is not simulated again
+                Some(CachedOutcomes::Partial(ref known)) => exec.build_table(known),
+                None => exec.build_table(&[]),
             };
+            match built {
+                Ok(t) => exec.table = Some(t),
+                Err(e) => {
+                    exec.plan.strategy = if memo_cap > 0 {
+                        Strategy::Memo
+                    } else {
+                        Strategy::Live
+                    };
+                    exec.plan.why = format!("no table: {e}");
+                }
+            }
         }
         if exec.plan.strategy == Strategy::Memo {
             let memo = OutcomeMemo::new(&space, scene.num_effects(), memo_cap)?;
@@ -596,6 +580,25 @@ impl<'s> Executor<'s> {
             exec.memo = Some(memo);
         }
         Ok(exec)
+    }
+
+    /// The table of the scene from the outcomes `known`, kept in the table
+    /// folder if there is one (a failure to write is said in the plan).
+    fn build_table(&mut self, known: &[(u64, Outcome)]) -> Result<OutcomeTable, WorldError> {
+        let t = if known.is_empty() {
+            OutcomeTable::build_scene(self.scene)?
+        } else {
+            OutcomeTable::complete(self.scene, known)?
+        };
+        if let Some(p) = &self.cache {
+            if let Err(e) = t.write_file(p, self.scene) {
+                self.plan.why.push_str(&format!(
+                    "; the table could not be kept in {}: {e}",
+                    p.display()
+                ));
+            }
+        }
+        Ok(t)
     }
 
     /// The plan being carried out.
