@@ -26,7 +26,7 @@ fn trial(c: &mut Criterion) {
         g.bench_function(format!("{kind} trial (propose, table, learn)"), |b| {
             b.iter(|| {
                 learner.propose(&mut rng, &mut cmd);
-                let o = *table.lookup(&cmd);
+                let o = *table.lookup(&cmd).unwrap();
                 learner.learn(&cmd, &o);
                 black_box(o.effect)
             })
@@ -39,7 +39,7 @@ fn trial(c: &mut Criterion) {
     g.bench_function("e3d trial, concrete E3d (propose, table, learn)", |b| {
         b.iter(|| {
             learner.propose(&mut rng, &mut cmd);
-            let o = *table.lookup(&cmd);
+            let o = *table.lookup(&cmd).unwrap();
             learner.learn(&cmd, &o);
             black_box(o.effect)
         })
@@ -50,7 +50,7 @@ fn trial(c: &mut Criterion) {
         b.iter(|| black_box(world.execute(black_box(&cmd)).unwrap().effect))
     });
     g.bench_function("table lookup", |b| {
-        b.iter(|| black_box(table.lookup(black_box(&cmd)).effect))
+        b.iter(|| black_box(table.lookup(black_box(&cmd)).unwrap().effect))
     });
     g.finish();
 

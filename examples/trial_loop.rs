@@ -27,7 +27,7 @@ fn run<L: Learner + ?Sized>(
     let mut acc = 0usize;
     for _ in 0..n {
         l.propose(rng, cmd);
-        let o = *table.lookup(cmd);
+        let o = *table.lookup(cmd).unwrap();
         l.learn(cmd, &o);
         acc = acc.wrapping_add(black_box(o.effect));
     }
@@ -57,7 +57,7 @@ fn main() {
             for _ in 0..n / 2 {
                 a.propose(&mut rng, &mut cmd);
                 b.propose(&mut rng_b, &mut cmd_b);
-                let (oa, ob) = (*table.lookup(&cmd), *table.lookup(&cmd_b));
+                let (oa, ob) = (*table.lookup(&cmd).unwrap(), *table.lookup(&cmd_b).unwrap());
                 a.learn(&cmd, &oa);
                 b.learn(&cmd_b, &ob);
                 acc = acc.wrapping_add(black_box(oa.effect) + black_box(ob.effect));

@@ -26,6 +26,8 @@
 //!   ([`EffectModel`]) and the target ([`Target`]);
 //! - [`learner`]: the [`Learner`] trait, [`E3d`], [`UniformPolicy`],
 //!   [`EpsilonGreedy`];
+//! - [`rng`]: the [`SessionRng`] every session draws from, fixed by its
+//!   seed;
 //! - [`session`]: the trial loop ([`run_session`], or [`run_session_into`]
 //!   a [`Recorder`] such as [`RunningMetrics`], in constant memory),
 //!   sessions in lockstep ([`run_lockstep`]) and their [`Metrics`];
@@ -61,6 +63,7 @@ pub mod effect;
 pub mod io;
 pub mod learner;
 pub mod report;
+pub mod rng;
 pub mod scene;
 pub mod session;
 pub mod sweep;
@@ -85,10 +88,11 @@ pub use rand;
 pub use command::{Command, CommandError, CommandSpace};
 pub use effect::{EffectGrid, EffectModel, Target};
 pub use learner::{E3d, EpsilonGreedy, Learner, LearnerKind, ParamError, Params, UniformPolicy};
+pub use rng::SessionRng;
 pub use scene::{Scene, SceneError};
 pub use session::{
     policy_effect_distribution, run_lockstep, run_lockstep_into, run_session, run_session_into,
-    run_session_with, Metrics, Recorder, RunningMetrics, SessionConfig, SessionRecord, SessionRng,
+    run_session_with, Metrics, Recorder, RunningMetrics, SessionConfig, SessionRecord,
 };
 pub use sweep::{Sweep, SweepError};
 pub use world::{

@@ -5,17 +5,14 @@
 //! and records, per trial, the command, the effect and the reward.
 
 use crate::command::{Command, CommandSpace};
-use crate::effect::{entropy, kl_divergence, Target};
+use crate::effect::{entropy, kl_divergence, normalized_entropy_over, Target};
 use crate::learner::Learner;
 use crate::world::{Outcome, OutcomeTable, World, WorldError};
 use rand::SeedableRng;
 use serde::{Deserialize, Serialize};
 use std::io::{self, Write};
 
-/// The random generator of a session: PCG 64-bit MCG (`rand_pcg::Pcg64Mcg`),
-/// portable and fixed by its seed. A session seeded with `s` uses
-/// `SessionRng::seed_from_u64(s)`.
-pub type SessionRng = rand_pcg::Pcg64Mcg;
+use crate::rng::SessionRng;
 
 /// How to run a session.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -38,10 +35,12 @@ pub struct SessionRecord {
     pub num_effects: usize,
     /// The commands, `num_slots` symbol indices per trial, one after another.
     pub commands: Vec<u8>,
-    /// The effect of each trial.
-    pub effects: Vec<u32>,
+    /// The effect of each trial (as in [`Outcome::effect`]).
+    pub effects: Vec<usize>,
     /// The reward the learner received at each trial.
     pub rewards: Vec<f64>,
+    /// The terminal point `(x, y)` of each trial (as in [`Outcome::point`]).
+    pub points: Vec<[f64; 2]>,
 }
 
 /// Runs `config.trials` trials of `learner` on `world`.
@@ -171,8 +170,9 @@ impl<A: Recorder, B: Recorder> Recorder for (A, B) {
 impl Recorder for SessionRecord {
     fn record(&mut self, command: &Command, outcome: &Outcome) {
         self.commands.extend_from_slice(&command.symbols);
-        self.effects.push(outcome.effect as u32);
+        self.effects.push(outcome.effect);
         self.rewards.push(outcome.reward);
+        self.points.push(outcome.point);
     }
 }
 
@@ -238,6 +238,16 @@ impl RunningMetrics {
 
     /// The session's metrics against the target `p*`.
     pub fn metrics(&self, target: &Target) -> Metrics {
+        self.metrics_given(target, None)
+    }
+
+    /// The same, with the entropy over the `reachable_effects` effects
+    /// some command reaches (see [`SessionRecord::metrics_over_reachable`]).
+    pub fn metrics_over_reachable(&self, target: &Target, reachable_effects: usize) -> Metrics {
+        self.metrics_given(target, Some(reachable_effects))
+    }
+
+    fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
         let mut last = vec![0.0; self.counts.len()];
         for &e in &self.last {
             last[e as usize] += 1.0;
@@ -249,6 +259,7 @@ impl RunningMetrics {
             self.first_reward,
             self.trials,
             target,
+            reachable,
         )
     }
 }
@@ -394,6 +405,16 @@ pub struct Metrics {
     pub first_reward_trial: Option<usize>,
     /// The number of trials.
     pub trials: usize,
+    /// The number of effects some command reaches, when it is known (an
+    /// [`OutcomeTable`] knows it: [`OutcomeTable::reachable_effects`]) and
+    /// given to [`SessionRecord::metrics_over_reachable`] or
+    /// [`RunningMetrics::metrics_over_reachable`]; `None` otherwise.
+    pub reachable_effects: Option<usize>,
+    /// The entropy of the terminal effects over all trials divided by
+    /// `log(reachable_effects)`: 1 = uniform over what can be reached
+    /// (see [`normalized_entropy_over`](crate::effect::normalized_entropy_over)).
+    /// `None` when the reachable effects are not known.
+    pub normalized_entropy_reachable: Option<f64>,
 }
 
 impl Metrics {
@@ -407,6 +428,7 @@ impl Metrics {
         first_reward_trial: Option<usize>,
         trials: usize,
         target: &Target,
+        reachable: Option<usize>,
     ) -> Metrics {
         let num_effects = all.len();
         let norm = (num_effects as f64).ln();
@@ -422,6 +444,8 @@ impl Metrics {
             cumulative_reward,
             first_reward_trial,
             trials,
+            reachable_effects: reachable,
+            normalized_entropy_reachable: reachable.map(|k| normalized_entropy_over(all, k)),
         }
     }
 }
@@ -436,6 +460,7 @@ impl SessionRecord {
             commands: Vec::with_capacity(trials.saturating_mul(n)),
             effects: Vec::with_capacity(trials),
             rewards: Vec::with_capacity(trials),
+            points: Vec::with_capacity(trials),
         }
     }
 
@@ -453,7 +478,7 @@ impl SessionRecord {
     pub fn effect_counts(&self, range: std::ops::Range<usize>) -> Vec<f64> {
         let mut counts = vec![0.0; self.num_effects];
         for &e in &self.effects[range] {
-            counts[e as usize] += 1.0;
+            counts[e] += 1.0;
         }
         counts
     }
@@ -471,6 +496,32 @@ impl SessionRecord {
 
     /// The session's metrics against the target `p*`.
     pub fn metrics(&self, target: &Target) -> Metrics {
+        self.metrics_given(target, None)
+    }
+
+    /// The same, with the entropy over the `reachable_effects` effects
+    /// some command reaches as well ([`Metrics::normalized_entropy_reachable`]).
+    ///
+    /// ```
+    /// use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target};
+    /// let scene = Scene::builtin("two_rooms").unwrap();
+    /// let table = OutcomeTable::build(&mut scene.build()).unwrap();
+    /// let mut l = LearnerKind::E3d
+    ///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+    ///     .unwrap();
+    /// let cfg = SessionConfig { trials: 2000, seed: 3, use_reward: false };
+    /// let rec = run_session(&mut &table, &mut l, &cfg).unwrap();
+    /// let m = rec.metrics_over_reachable(&Target::Uniform, table.reachable_effects());
+    /// assert_eq!(m.reachable_effects, Some(table.reachable_effects()));
+    /// // fewer cells in the normaliser: a higher entropy than over all of them
+    /// assert!(m.normalized_entropy_reachable.unwrap() >= m.normalized_entropy);
+    /// assert_eq!(rec.metrics(&Target::Uniform).normalized_entropy_reachable, None);
+    /// ```
+    pub fn metrics_over_reachable(&self, target: &Target, reachable_effects: usize) -> Metrics {
+        self.metrics_given(target, Some(reachable_effects))
+    }
+
+    fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
         let t = self.trials();
         let all = self.effect_counts(0..t);
         let last = self.effect_counts(t.saturating_sub(LAST)..t);
@@ -481,6 +532,7 @@ impl SessionRecord {
             self.rewards.iter().position(|&r| r > 0.0).map(|i| i + 1),
             t,
             target,
+            reachable,
         )
     }
 

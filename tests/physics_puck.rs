@@ -102,10 +102,10 @@ fn puck_rooms_goes_where_the_grid_goes() {
 
 /// The normalised entropy of the effects over the cells reached, and the
 /// share of trials ending in room B (x > 3, columns 3..6).
-fn spread(effects: &[u32], num_effects: usize) -> (f64, f64, usize) {
+fn spread(effects: &[usize], num_effects: usize) -> (f64, f64, usize) {
     let mut counts = vec![0.0; num_effects];
     for &e in effects {
-        counts[e as usize] += 1.0;
+        counts[e] += 1.0;
     }
     let reached = counts.iter().filter(|&&c| c > 0.0).count();
     let h = e3d::effect::entropy(&counts) / (reached as f64).ln();

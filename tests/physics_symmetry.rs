@@ -214,7 +214,7 @@ fn a_symmetric_puck_table_batches_its_simulated_half_and_matches_execute() {
     // where D... ends above it, and the puck hits the wall on some
     let space = scene.command_space();
     let (up, down) = (space.parse("UUUU").unwrap(), space.parse("DDDD").unwrap());
-    let (u, d) = (table.lookup(&up), table.lookup(&down));
+    let (u, d) = (table.lookup(&up).unwrap(), table.lookup(&down).unwrap());
     assert_eq!(u.point, [d.point[0], -d.point[1]]);
     assert!(u.point[1] > 0.5, "{:?}", u.point);
     assert!(

@@ -83,7 +83,7 @@ fn optimised_e3d_follows_the_plain_algorithm() {
             same += usize::from(c == c_plain);
             // both learn from the plain learner's command, so that one
             // rounding-level difference in a draw does not fork the runs
-            let o = *table.lookup(&c_plain);
+            let o = *table.lookup(&c_plain).unwrap();
             fast.learn(&c_plain, &o);
             plain.learn(&c_plain, o.effect, o.reward);
         }

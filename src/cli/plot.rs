@@ -1,6 +1,6 @@
 //! `e3d plot`: figures of a sweep, from its summary.csv.
 
-use super::run::{prepare_out, write_file};
+use super::output::{prepare_out, write_file};
 use super::{CliError, CliResult};
 use clap::Args;
 use e3d::report::sweep_plot::{plot, PlotSpec, Summary};

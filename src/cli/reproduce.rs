@@ -1,6 +1,6 @@
 //! `e3d reproduce`: the paper's Figures 2 and 3 on two_rooms.
 
-use super::run::write_file;
+use super::output::write_file;
 use super::{CliError, CliResult};
 use clap::Args;
 use e3d::report::paper::{run_paper, PaperConfig, ARMS};

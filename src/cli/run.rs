@@ -1,5 +1,6 @@
 //! `e3d run`: one session on a scene.
 
+use super::output::{prepare_out, write_file};
 use super::{CliError, CliResult};
 use clap::Args;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload};
@@ -102,10 +103,6 @@ struct Summary<'a> {
     /// spaces only).
     policy_effect_distribution: Option<Vec<f64>>,
     effect_counts: Vec<f64>,
-    /// The effects some command reaches, when a table knows them (and
-    /// fewer than all), and the normalised entropy over them.
-    reachable_effects: Option<usize>,
-    normalized_entropy_reachable: Option<f64>,
     /// How the outcomes were obtained (table, memo or live, and why).
     execution: &'a ExecutionPlan,
 }
@@ -135,32 +132,6 @@ struct OneSession<'a> {
 /// Loads a scene by path or built-in name, as a CLI error.
 pub fn load_scene(name: &str) -> Result<Scene, CliError> {
     Scene::resolve(name).map_err(CliError::input)
-}
-
-/// Refuses to overwrite the given files in `dir` unless `force`; creates `dir`.
-pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
-    if dir.exists() && !dir.is_dir() {
-        return Err(CliError::output(format!(
-            "{}: exists and is not a directory",
-            dir.display()
-        )));
-    }
-    if !force {
-        if let Some(f) = files.iter().map(|f| dir.join(f)).find(|p| p.exists()) {
-            return Err(CliError::output(format!(
-                "{} exists; pass --force to overwrite it, or choose another --out",
-                f.display()
-            )));
-        }
-    }
-    std::fs::create_dir_all(dir)
-        .map_err(|e| CliError::output(format!("{}: cannot create the folder: {e}", dir.display())))
-}
-
-/// Writes a file whole or not at all, as a CLI error.
-pub fn write_file(path: &Path, bytes: &[u8]) -> CliResult {
-    e3d::io::write_atomic(path, bytes)
-        .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
 }
 
 /// The outcome memo's options, shared by `run` and `sweep`.
@@ -408,7 +379,19 @@ pub fn run(a: RunArgs) -> CliResult {
             files.push(c.finish()?);
         }
     }
-    let metrics: Vec<Metrics> = recorders.iter().map(|r| r.0.metrics(&target)).collect();
+    // with a table, the reachable cells are known (when fewer than all):
+    // the metrics then hold the entropy over them too
+    let reachable = exec
+        .table()
+        .map(|t| t.reachable_effects())
+        .filter(|&r| r < num_effects);
+    let metrics: Vec<Metrics> = recorders
+        .iter()
+        .map(|r| match reachable {
+            Some(k) => r.0.metrics_over_reachable(&target, k),
+            None => r.0.metrics(&target),
+        })
+        .collect();
     let exact = match (exec.table(), sessions) {
         (Some(t), 1) => policy_effect_distribution(t, &*learners[0]),
         _ => None,
@@ -428,15 +411,6 @@ pub fn run(a: RunArgs) -> CliResult {
         params.epsilon,
         if a.no_reward { " | no reward" } else { "" }
     );
-    // with a table, the reachable cells are known: the entropy over them
-    let reachable = exec
-        .table()
-        .map(|t| t.reachable_effects())
-        .filter(|&r| r < num_effects);
-    let over_reachable: Vec<Option<f64>> = recorders
-        .iter()
-        .map(|r| reachable.map(|k| e3d::effect::normalized_entropy_over(&r.0.effect_counts(), k)))
-        .collect();
     for (i, m) in metrics.iter().enumerate() {
         let who = if sessions > 1 {
             format!("seed {}: ", seeds[i])
@@ -451,7 +425,7 @@ pub fn run(a: RunArgs) -> CliResult {
             m.distinct_effects,
             num_effects
         );
-        if let (Some(k), Some(h)) = (reachable, over_reachable[i]) {
+        if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
             println!("{who}over the {k} reachable cells: normalized entropy {h:.4}");
         }
         println!(
@@ -487,8 +461,6 @@ pub fn run(a: RunArgs) -> CliResult {
                 metrics: &metrics[0],
                 policy_effect_distribution: exact,
                 effect_counts: recorders[0].0.effect_counts(),
-                reachable_effects: reachable,
-                normalized_entropy_reachable: over_reachable[0],
                 execution: exec.plan(),
             })
         } else {

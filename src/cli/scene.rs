@@ -1,6 +1,7 @@
 //! `e3d scene`: check, draw and execute scene files.
 
-use super::run::{load_scene, write_file};
+use super::output::write_file;
+use super::run::load_scene;
 use super::{progress, CliError, CliResult};
 use clap::{Args, Subcommand};
 use e3d::report::scene_svg::{scene_svg, Overlay};

@@ -2,7 +2,7 @@ use super::exp::{exp_lane, exp_lanes, exp_lanes_in, Splats, LANES, SPLATS};
 use super::{Learner, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::{log_floored, EffectModel, Target};
-use crate::session::SessionRng;
+use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
 

@@ -1,6 +1,6 @@
 use super::{slot_offsets, Learner, Params};
 use crate::command::{Command, CommandSpace};
-use crate::session::SessionRng;
+use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
 

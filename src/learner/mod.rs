@@ -17,7 +17,7 @@ pub use uniform::UniformPolicy;
 
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
-use crate::session::SessionRng;
+use crate::rng::SessionRng;
 use crate::world::Outcome;
 use serde::{Deserialize, Serialize};
 use std::fmt;

@@ -207,20 +207,9 @@ impl World for GridWorld {
 
     #[inline]
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        if command.len() != self.space.num_slots() {
-            return Err(WorldError::BadCommand {
-                command: command.to_string(),
-                reason: format!("expected {} slots", self.space.num_slots()),
-            });
-        }
+        super::check_command(&self.space, command)?;
         let mut cell = self.start;
         for (slot, &s) in command.symbols.iter().enumerate() {
-            if s as usize >= self.space.alphabet(slot).len() {
-                return Err(WorldError::BadCommand {
-                    command: command.to_string(),
-                    reason: format!("slot {slot} has no symbol {s}"),
-                });
-            }
             cell = self.step(cell, slot, s);
         }
         let (r, c) = (cell / self.grid.cols, cell % self.grid.cols);

@@ -274,12 +274,9 @@ impl<'m, W: World> Memoized<'m, W> {
 
     fn index(&self, c: &Command) -> Option<u64> {
         let space = self.world.command_space();
-        (c.symbols.len() == space.num_slots()
-            && c.symbols
-                .iter()
-                .zip(space.sizes())
-                .all(|(&s, k)| (s as usize) < k))
-        .then(|| space.index_of(c))
+        super::check_command(space, c)
+            .is_ok()
+            .then(|| space.index_of(c))
     }
 }
 

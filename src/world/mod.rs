@@ -71,6 +71,38 @@ pub enum WorldError {
     Other(String),
 }
 
+/// `Ok` if `command` fits `space` (one symbol per slot, each in its
+/// slot's alphabet), else the [`WorldError::BadCommand`] every world of
+/// e3d returns for it. Call it from your own [`World::execute`] to behave
+/// the same way.
+///
+/// ```
+/// use e3d::world::check_command;
+/// use e3d::{Command, CommandSpace, WorldError};
+/// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
+/// assert!(check_command(&space, &Command::new(vec![0, 1])).is_ok());
+/// let e = check_command(&space, &Command::new(vec![0, 2])).unwrap_err();
+/// assert!(matches!(e, WorldError::BadCommand { .. }));
+/// assert_eq!(e.to_string(), "command [0, 2] does not fit this world: slot 1 has no symbol 2");
+/// ```
+pub fn check_command(space: &CommandSpace, command: &Command) -> Result<(), WorldError> {
+    if command.len() != space.num_slots() {
+        return Err(WorldError::BadCommand {
+            command: command.to_string(),
+            reason: format!("expected {} slots", space.num_slots()),
+        });
+    }
+    for (slot, (&s, k)) in command.symbols.iter().zip(space.sizes()).enumerate() {
+        if s as usize >= k {
+            return Err(WorldError::BadCommand {
+                command: command.to_string(),
+                reason: format!("slot {slot} has no symbol {s}"),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// A world that executes commands open loop.
 ///
 /// ```

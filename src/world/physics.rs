@@ -874,21 +874,7 @@ impl PhysicsWorld {
     }
 
     fn check_command(&self, command: &Command) -> Result<(), WorldError> {
-        if command.len() != self.space.num_slots() {
-            return Err(WorldError::BadCommand {
-                command: command.to_string(),
-                reason: format!("expected {} slots", self.space.num_slots()),
-            });
-        }
-        for (slot, &s) in command.symbols.iter().enumerate() {
-            if s as usize >= self.space.alphabet(slot).len() {
-                return Err(WorldError::BadCommand {
-                    command: command.to_string(),
-                    reason: format!("slot {slot} has no symbol {s}"),
-                });
-            }
-        }
-        Ok(())
+        super::check_command(&self.space, command)
     }
 
     /// Starts the actions of one slot.

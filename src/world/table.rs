@@ -40,41 +40,53 @@ pub struct OutcomeTable {
     places: Places,
 }
 
-/// The place values of a command space's slots (see [`places`]).
+/// The place values and alphabet sizes of a command space's slots (see
+/// [`places`]).
 #[derive(Debug, Clone)]
 struct Places {
-    /// One per slot.
+    /// One place value per slot.
     each: Vec<u64>,
-    /// The same in a fixed array when there are at most [`SHORT`] slots
-    /// (0 beyond them): a look-up then unrolls, with no bounds checks.
-    short: Option<[u64; SHORT]>,
+    /// One alphabet size per slot.
+    sizes: Vec<u64>,
+    /// The same in fixed arrays when there are at most [`SHORT`] slots
+    /// (places 0 and sizes 1 beyond them): a look-up then unrolls, with no
+    /// bounds checks.
+    short: Option<([u64; SHORT], [u64; SHORT])>,
 }
 
 /// The most slots of the unrolled look-up.
 const SHORT: usize = 8;
 
 impl Places {
-    /// The index of the command `symbols` (see [`CommandSpace::index_of`]).
+    /// The index of the command `symbols` (see [`CommandSpace::index_of`]),
+    /// or `None` if it does not fit the space (a wrong length, or a symbol
+    /// outside its slot's alphabet).
     #[inline(always)]
-    fn index(&self, symbols: &[u8]) -> u64 {
+    fn index(&self, symbols: &[u8]) -> Option<u64> {
+        if symbols.len() != self.each.len() {
+            return None;
+        }
+        let (mut i, mut fits) = (0u64, true);
         match &self.short {
-            // the same as the zip below: places beyond the slots are 0
-            Some(p) => {
-                let mut i = 0u64;
-                for k in 0..SHORT {
-                    if k == symbols.len() {
+            // the same as the zip below, unrolled
+            Some((p, k)) => {
+                for j in 0..SHORT {
+                    if j == symbols.len() {
                         break;
                     }
-                    i += symbols[k] as u64 * p[k];
+                    let s = symbols[j] as u64;
+                    fits &= s < k[j];
+                    i += s * p[j];
                 }
-                i
             }
-            _ => symbols
-                .iter()
-                .zip(&self.each)
-                .map(|(&s, &p)| s as u64 * p)
-                .sum(),
+            _ => {
+                for ((&s, &p), &k) in symbols.iter().zip(&self.each).zip(&self.sizes) {
+                    fits &= (s as u64) < k;
+                    i += s as u64 * p;
+                }
+            }
         }
+        fits.then_some(i)
     }
 }
 
@@ -102,12 +114,14 @@ fn places(space: &CommandSpace) -> Places {
         })
         .collect();
     each.reverse();
+    let sizes: Vec<u64> = space.sizes().map(|k| k as u64).collect();
     let short = (each.len() <= SHORT).then(|| {
-        let mut p = [0u64; SHORT];
+        let (mut p, mut k) = ([0u64; SHORT], [1u64; SHORT]);
         p[..each.len()].copy_from_slice(&each);
-        p
+        k[..sizes.len()].copy_from_slice(&sizes);
+        (p, k)
     });
-    Places { each, short }
+    Places { each, sizes, short }
 }
 
 impl OutcomeTable {
@@ -430,15 +444,40 @@ impl World for OutcomeTable {
 
     #[inline]
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        Ok(*self.lookup(command))
+        self.lookup(command).copied()
     }
 }
 
 impl OutcomeTable {
-    /// The outcome of `command`, without `&mut`.
+    /// The outcome of `command`, without `&mut`; a command that does not
+    /// fit the table's space is a [`WorldError::BadCommand`], as in every
+    /// world.
+    ///
+    /// ```
+    /// use e3d::{Command, OutcomeTable, Scene, World, WorldError};
+    /// let scene = Scene::builtin("two_rooms").unwrap();
+    /// let table = OutcomeTable::build(&mut scene.build()).unwrap();
+    /// let c = scene.command_space().parse("EEEEEEE").unwrap();
+    /// assert_eq!(table.lookup(&c).unwrap(), &scene.build().execute(&c).unwrap());
+    /// let bad = Command::new(vec![0, 1, 9, 0, 0, 0, 0]);
+    /// assert!(matches!(table.lookup(&bad), Err(WorldError::BadCommand { .. })));
+    /// ```
     #[inline]
-    pub fn lookup(&self, command: &Command) -> &Outcome {
-        &self.outcomes[self.places.index(&command.symbols) as usize]
+    pub fn lookup(&self, command: &Command) -> Result<&Outcome, WorldError> {
+        match self.places.index(&command.symbols) {
+            Some(i) => Ok(&self.outcomes[i as usize]),
+            None => Err(bad_command(&self.space, command)),
+        }
+    }
+}
+
+/// The error of a command that does not fit `space` (kept out of the
+/// look-up's hot path).
+#[cold]
+fn bad_command(space: &CommandSpace, command: &Command) -> WorldError {
+    match super::check_command(space, command) {
+        Err(e) => e,
+        Ok(()) => unreachable!("a command that fits has an index"),
     }
 }
 
@@ -454,7 +493,7 @@ impl World for &OutcomeTable {
 
     #[inline]
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        Ok(*self.lookup(command))
+        self.lookup(command).copied()
     }
 }
 
@@ -750,9 +789,19 @@ mod tests {
             let mut c = space.first();
             for i in (0..total).step_by((total / 500).max(1) as usize) {
                 space.write_command_at(i, &mut c);
-                assert_eq!(p.index(&c.symbols), i, "{n} slots");
+                assert_eq!(p.index(&c.symbols), Some(i), "{n} slots");
                 assert_eq!(space.index_of(&c), i);
             }
+            // a symbol beyond its alphabet, in the first and the last slot,
+            // and a wrong length, have no index (unrolled and general)
+            let mut bad = space.first();
+            bad.symbols[0] = space.alphabet(0).len() as u8;
+            assert_eq!(p.index(&bad.symbols), None, "{n} slots");
+            let mut bad = space.first();
+            bad.symbols[n - 1] = space.alphabet(n - 1).len() as u8;
+            assert_eq!(p.index(&bad.symbols), None, "{n} slots");
+            assert_eq!(p.index(&vec![0; n + 1]), None, "{n} slots");
+            assert_eq!(p.index(&vec![0; n - 1]), None, "{n} slots");
         }
     }
 
