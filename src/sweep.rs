@@ -126,11 +126,7 @@ pub const MAX_STEPS: usize = 100_000;
 /// assert!(!uses_param(LearnerKind::Uniform, "alpha"));
 /// ```
 pub fn uses_param(learner: LearnerKind, param: &str) -> bool {
-    match learner {
-        LearnerKind::E3d => matches!(param, "alpha" | "beta" | "lambda" | "eta"),
-        LearnerKind::Egreedy => matches!(param, "alpha" | "epsilon"),
-        LearnerKind::Uniform => false,
-    }
+    learner.params().contains(&param)
 }
 
 /// 64-bit FNV-1a of `bytes` (offset basis `0xcbf29ce484222325`, prime
@@ -665,7 +661,7 @@ impl Sweep {
             return Err(bad(
                 "learners",
                 None,
-                "at least one learner (e3d, uniform, egreedy), found none",
+                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm), found none",
             ));
         }
         for (i, l) in spec.learners.iter().enumerate() {

@@ -18,7 +18,8 @@ pub struct RunArgs {
     /// A scene file, or the name of a built-in scene.
     #[arg(default_value = e3d::scene::DEFAULT_SCENE)]
     pub scene: String,
-    /// The learner: e3d, uniform or egreedy.
+    /// The learner: e3d, uniform or egreedy (the paper's), or e3d_relax,
+    /// count or smm (docs/algorithms.md).
     #[arg(long, default_value = "e3d")]
     pub learner: LearnerKind,
     /// The number of trials.

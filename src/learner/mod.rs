@@ -2,17 +2,32 @@
 //!
 //! - [`E3d`]: the paper's End-Effect Exploration Drive (Algorithm 1);
 //! - [`UniformPolicy`]: every symbol equally likely, learns nothing;
-//! - [`EpsilonGreedy`]: per-slot epsilon-greedy on the extrinsic reward.
+//! - [`EpsilonGreedy`]: per-slot epsilon-greedy on the extrinsic reward;
+//!
+//! and drives beyond the paper, on the same per-slot softmax policy:
+//!
+//! - [`RelaxedE3d`]: E3D whose unchosen symbols relax towards 0, so that
+//!   no slot can lock onto a move that does nothing;
+//! - [`CountBonus`]: a `1 / sqrt(N(e))` bonus on effect counts;
+//! - [`StateMarginalMatching`]: the density ratio `log p*(e) - log rho(e)`
+//!   over every trial so far, with historical averaging of the policy.
 //!
 //! Implement [`Learner`] to plug in your own.
 
+mod count;
 mod e3d;
 mod egreedy;
 mod exp;
+mod relaxed;
+mod smm;
+mod softmax;
 mod uniform;
 
+pub use count::CountBonus;
 pub use e3d::E3d;
 pub use egreedy::EpsilonGreedy;
+pub use relaxed::RelaxedE3d;
+pub use smm::StateMarginalMatching;
 pub use uniform::UniformPolicy;
 
 use crate::command::{Command, CommandSpace};
@@ -154,7 +169,7 @@ impl Params {
 
 /// The shipped learners, by name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(rename_all = "snake_case")]
 pub enum LearnerKind {
     /// [`E3d`].
     E3d,
@@ -162,12 +177,24 @@ pub enum LearnerKind {
     Uniform,
     /// [`EpsilonGreedy`].
     Egreedy,
+    /// [`RelaxedE3d`] (`e3d_relax`).
+    E3dRelax,
+    /// [`CountBonus`] (`count`).
+    Count,
+    /// [`StateMarginalMatching`] (`smm`).
+    Smm,
 }
 
 impl LearnerKind {
-    /// Every kind.
-    pub const ALL: [LearnerKind; 3] =
-        [LearnerKind::E3d, LearnerKind::Uniform, LearnerKind::Egreedy];
+    /// Every kind: the paper's three, then the drives beyond it.
+    pub const ALL: [LearnerKind; 6] = [
+        LearnerKind::E3d,
+        LearnerKind::Uniform,
+        LearnerKind::Egreedy,
+        LearnerKind::E3dRelax,
+        LearnerKind::Count,
+        LearnerKind::Smm,
+    ];
 
     /// The name used on the command line and in results.
     pub fn as_str(self) -> &'static str {
@@ -175,6 +202,26 @@ impl LearnerKind {
             LearnerKind::E3d => "e3d",
             LearnerKind::Uniform => "uniform",
             LearnerKind::Egreedy => "egreedy",
+            LearnerKind::E3dRelax => "e3d_relax",
+            LearnerKind::Count => "count",
+            LearnerKind::Smm => "smm",
+        }
+    }
+
+    /// The parameters of [`Params`] this kind reads (`alpha`, `beta`,
+    /// `lambda`, `eta`, `epsilon`); the others it ignores.
+    ///
+    /// ```
+    /// use e3d::LearnerKind;
+    /// assert_eq!(LearnerKind::E3d.params(), ["alpha", "beta", "lambda", "eta"]);
+    /// assert!(LearnerKind::Uniform.params().is_empty());
+    /// ```
+    pub fn params(self) -> &'static [&'static str] {
+        match self {
+            LearnerKind::E3d | LearnerKind::E3dRelax => &["alpha", "beta", "lambda", "eta"],
+            LearnerKind::Count | LearnerKind::Smm => &["alpha", "beta", "lambda"],
+            LearnerKind::Egreedy => &["alpha", "epsilon"],
+            LearnerKind::Uniform => &[],
         }
     }
 
@@ -192,6 +239,14 @@ impl LearnerKind {
             LearnerKind::E3d => Box::new(E3d::new(space, num_effects, params, target)?),
             LearnerKind::Uniform => Box::new(UniformPolicy::new(space)),
             LearnerKind::Egreedy => Box::new(EpsilonGreedy::new(space, params)),
+            LearnerKind::E3dRelax => Box::new(RelaxedE3d::new(space, num_effects, params, target)?),
+            LearnerKind::Count => Box::new(CountBonus::new(space, num_effects, params)),
+            LearnerKind::Smm => Box::new(StateMarginalMatching::new(
+                space,
+                num_effects,
+                params,
+                target,
+            )?),
         })
     }
 }
@@ -208,7 +263,13 @@ impl FromStr for LearnerKind {
         LearnerKind::ALL
             .into_iter()
             .find(|k| k.as_str() == s)
-            .ok_or_else(|| format!("unknown learner `{s}`; expected one of: e3d, uniform, egreedy"))
+            .ok_or_else(|| {
+                let names: Vec<&str> = LearnerKind::ALL.iter().map(|k| k.as_str()).collect();
+                format!(
+                    "unknown learner `{s}`; expected one of: {}",
+                    names.join(", ")
+                )
+            })
     }
 }
 

@@ -1,0 +1,137 @@
+use super::softmax::SoftmaxSlots;
+use super::{Learner, Params};
+use crate::command::{Command, CommandSpace};
+use crate::effect::{log_floored, EffectModel, Target};
+use crate::rng::SessionRng;
+use crate::world::Outcome;
+
+/// E3D that cannot lock: the paper's update of the chosen symbols, and
+/// every value relaxing slowly towards 0.
+///
+/// After a trial with effect `e` and reward `r`, `p` is updated as in
+/// [`E3d`](super::E3d), then for every slot `i`
+///
+/// ```text
+/// Q[a, i] <- (1 - rho alpha lambda) Q[a, i]                 for every symbol a
+/// Q[a_i, i] <- (1 - alpha lambda) Q[a_i, i] + alpha lambda r
+///              - (alpha / beta) (log p(e) - log p*(e))
+/// ```
+///
+/// with `rho` = [`RELAX`](Self::RELAX) = 0.02 by default: the chosen
+/// symbol gets E3D's update, and every value forgets towards 0 fifty times
+/// more slowly than a chosen one decays.
+///
+/// Why it cannot lock: in E3D, a symbol a slot stops choosing keeps its
+/// value for ever. A slot whose other symbols were pushed down early (say
+/// slot 0 of two_rooms on `N`, a move that does nothing from the start)
+/// then never tries them again, and the effects that need every move (the
+/// far corner) stay unseen: nothing pulls towards an effect never seen.
+/// Averaged over the effects a policy visits, E3D's intrinsic reward is
+/// `-(1/beta) KL(p || p*)`, negative while the visits miss the target, so
+/// the symbol a slot keeps choosing settles below 0, while here the ones
+/// it stopped choosing climb back towards 0 and are tried again. A
+/// rewarded symbol settles near `r`, above 0, and keeps its lead.
+///
+/// Measured on two_rooms over 10 000 sessions of 5000 trials
+/// (docs/reproducing.md): task 2 sessions that never reach the reward,
+/// 78 with E3D and 0 with this learner; task 1 entropy 0.985 and 0.978;
+/// task 2 reward 4440 and 4455.
+///
+/// ```
+/// use e3d::learner::RelaxedE3d;
+/// use e3d::{Command, CommandSpace, Learner, Outcome, Params, Target};
+/// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
+/// let mut l = RelaxedE3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
+/// l.learn(&Command::new(vec![0, 1]), &Outcome { effect: 2, reward: 0.0, point: [0.0; 2] });
+/// let pushed = l.q(0)[0];
+/// assert!(pushed < 0.0);
+/// // symbol 1 of slot 0 is chosen next: symbol 0 relaxes towards 0
+/// l.learn(&Command::new(vec![1, 1]), &Outcome { effect: 0, reward: 0.0, point: [0.0; 2] });
+/// let relaxed = (1.0 - RelaxedE3d::RELAX * 0.3 * 0.03) * pushed;
+/// assert_eq!(l.q(0)[0], relaxed);
+/// ```
+#[derive(Debug, Clone)]
+pub struct RelaxedE3d {
+    slots: SoftmaxSlots,
+    model: EffectModel,
+    log_target: Vec<f64>,
+    decay: f64,
+    alpha_lambda: f64,
+    alpha_over_beta: f64,
+    /// `1 - rho alpha lambda`.
+    relax: f64,
+}
+
+impl RelaxedE3d {
+    /// The default rate `rho` of the relaxation, relative to `alpha lambda`.
+    pub const RELAX: f64 = 0.02;
+
+    /// A fresh learner (Q = 0, p uniform) with `params.alpha`, `beta`,
+    /// `lambda` and `eta`, the target `p*`, and `rho` = [`RELAX`](Self::RELAX).
+    pub fn new(
+        space: &CommandSpace,
+        num_effects: usize,
+        params: &Params,
+        target: &Target,
+    ) -> Result<Self, String> {
+        Ok(RelaxedE3d {
+            slots: SoftmaxSlots::new(space, params.beta),
+            model: EffectModel::new(num_effects, params.eta)?,
+            log_target: target.log_probs(num_effects)?,
+            decay: 1.0 - params.alpha * params.lambda,
+            alpha_lambda: params.alpha * params.lambda,
+            alpha_over_beta: params.alpha / params.beta,
+            relax: 1.0 - Self::RELAX * params.alpha * params.lambda,
+        })
+    }
+
+    /// The same learner with another rate `rho` (0 gives the paper's E3D,
+    /// in plain code); `rho` must be in `[0, 1 / (alpha lambda)]`.
+    pub fn with_relax(mut self, rho: f64) -> Result<Self, String> {
+        let relax = 1.0 - rho * self.alpha_lambda;
+        if !(rho >= 0.0 && (0.0..=1.0).contains(&relax)) {
+            return Err(format!(
+                "rho = {rho}: expected a number in [0, {}]",
+                1.0 / self.alpha_lambda
+            ));
+        }
+        self.relax = relax;
+        Ok(self)
+    }
+
+    /// `Q[:, slot]`.
+    pub fn q(&self, slot: usize) -> &[f64] {
+        self.slots.slot(slot)
+    }
+}
+
+impl Learner for RelaxedE3d {
+    fn name(&self) -> &str {
+        "e3d_relax"
+    }
+
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
+        self.slots.sample_from(&self.slots.q, rng, command);
+    }
+
+    fn learn(&mut self, command: &Command, outcome: &Outcome) {
+        let e = outcome.effect;
+        let pe = self.model.observe(e);
+        let push = -self.alpha_over_beta * (log_floored(pe) - self.log_target[e]);
+        for q in &mut self.slots.q {
+            *q *= self.relax;
+        }
+        self.slots.update_chosen(
+            command,
+            self.decay,
+            self.alpha_lambda * outcome.reward + push,
+        );
+    }
+
+    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
+        Some(SoftmaxSlots::probs_of(
+            self.slots.beta,
+            self.slots.slot(slot),
+        ))
+    }
+}
