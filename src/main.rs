@@ -22,6 +22,9 @@ enum Cmd {
     /// Measure what a scene costs: rollouts/s, steps/s, E3D trials/s (CSV; each
     /// figure the median and the best of 5 slices of its time).
     Bench(cli::bench::BenchArgs),
+    /// Compare every drive (e3d, e3d_relax, count, smm, uniform, egreedy) on
+    /// the canonical scenes: a table and a figure.
+    Compare(cli::compare::CompareArgs),
     /// Run a sweep file: every (cell, seed) session, in parallel, resumably.
     Sweep(cli::sweep::SweepArgs),
     /// Join the output folders of the shards of one sweep.
@@ -108,6 +111,7 @@ fn main() -> ExitCode {
         Cmd::Reproduce(a) => cli::reproduce::run(a),
         Cmd::Bench(a) => cli::bench::run(a),
         Cmd::Sweep(a) => cli::sweep::run(a),
+        Cmd::Compare(a) => cli::compare::run(a),
         Cmd::Merge(a) => cli::sweep::merge(a),
         Cmd::Plot(a) => cli::plot::run(a),
         Cmd::Scene(a) => cli::scene::run(a),

@@ -1,6 +1,7 @@
 //! Sub-commands of the `e3d` binary.
 
 pub mod bench;
+pub mod compare;
 pub mod output;
 pub mod plot;
 pub mod progress;

@@ -4,11 +4,14 @@
 //! - [`paper`]: Figures 2 and 3 of Daucé (2020) on `two_rooms`, run as
 //!   sessions and summarised (what `e3d reproduce` prints and draws);
 //! - [`scene_svg`]: pictures of scenes, with a command's path;
-//! - [`sweep_plot`]: line plots and heat maps of a sweep's summary.
+//! - [`sweep_plot`]: line plots and heat maps of a sweep's summary;
+//! - [`drives`]: every drive on the canonical scenes, as a table and a
+//!   figure (what `e3d compare` writes).
 //!
 //! `paper` and `sweep_plot` draw with plotters and need the feature
 //! `plots` (on by default); `scene_svg` writes its SVG itself.
 
+pub mod drives;
 #[cfg(feature = "plots")]
 pub mod paper;
 pub mod scene_svg;

@@ -1,0 +1,119 @@
+//! `e3d compare`: every drive on the canonical scenes, one table and one
+//! figure (the sweep `scenes/sweeps/drives.ron`, run in memory).
+
+use super::output::{prepare_out, write_file};
+use super::sweep::sweep_error;
+use super::CliResult;
+use clap::Args;
+use e3d::report::drives::{drives_sweep, DriveComparison};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Arguments of `e3d compare`.
+#[derive(Args, Debug)]
+pub struct CompareArgs {
+    /// The folder for drives.md, drives.csv, drives.svg and results.csv.
+    #[arg(long, default_value = "out/drives", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Sessions per learner, scene and task.
+    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    pub sessions: u64,
+    /// Trials per session.
+    #[arg(long, default_value_t = 5000, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub trials: u64,
+    /// Only these scenes (built-in names, comma-separated; default:
+    /// two_rooms, puck_rooms, arm7, maze3).
+    #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+    pub scenes: Vec<String>,
+    /// Threads (default: every core).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=4096))]
+    pub threads: Option<u16>,
+    /// Replace the files of an earlier comparison in --out.
+    #[arg(long)]
+    pub force: bool,
+}
+
+pub fn run(a: CompareArgs) -> CliResult {
+    let names: Vec<&str> = a.scenes.iter().map(String::as_str).collect();
+    let files = ["drives.md", "drives.csv", "drives.svg", "results.csv"];
+    prepare_out(&a.out, &files, a.force)?;
+    let counter = Arc::new(AtomicU64::new(0));
+    let sweep = drives_sweep(a.sessions as usize, a.trials as usize, &names)
+        .map_err(sweep_error)?
+        .with_notices(|line| eprintln!("outcomes: {line}"))
+        .with_trial_counter(counter.clone());
+    let threads = a
+        .threads
+        .map(usize::from)
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let total = sweep.num_sessions() as u64 * a.trials;
+    eprintln!(
+        "compare: {} learners on {} scenes, tasks 1 and 2: {} cells x {} sessions of {} trials, {threads} thread{}",
+        sweep.spec.learners.len(),
+        sweep.scenes().len(),
+        sweep.cells().len(),
+        a.sessions,
+        a.trials,
+        if threads == 1 { "" } else { "s" }
+    );
+    let start = Instant::now();
+    let finished = AtomicBool::new(false);
+    let results = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            // a line every 5 s (a bar would need the sweep's reporter)
+            let mut last = Instant::now();
+            while !finished.load(Ordering::Relaxed) {
+                std::thread::sleep(Duration::from_millis(200));
+                if last.elapsed() >= Duration::from_secs(5) {
+                    let done = counter.load(Ordering::Relaxed).min(total);
+                    let secs = start.elapsed().as_secs_f64();
+                    let eta = if done > 0 {
+                        format!(", ETA {:.0} s", secs / done as f64 * (total - done) as f64)
+                    } else {
+                        String::new()
+                    };
+                    let end = if std::io::stderr().is_terminal() {
+                        "\r"
+                    } else {
+                        "\n"
+                    };
+                    eprint!(
+                        "compare: {:.0}% of the trials, {secs:.0} s elapsed{eta}   {end}",
+                        100.0 * done as f64 / total.max(1) as f64
+                    );
+                    last = Instant::now();
+                }
+            }
+        });
+        let r = sweep.run(threads);
+        finished.store(true, Ordering::Relaxed);
+        r
+    })
+    .map_err(sweep_error)?;
+    let cmp = DriveComparison::new(&sweep, &results);
+    let mut rows = sweep.results_header();
+    rows.push('\n');
+    for r in &results {
+        rows.push_str(&sweep.result_row(r));
+        rows.push('\n');
+    }
+    let md = cmp.markdown();
+    for (name, bytes) in [
+        ("drives.md", md.as_bytes()),
+        ("drives.csv", cmp.csv().as_bytes()),
+        ("drives.svg", cmp.svg().as_bytes()),
+        ("results.csv", rows.as_bytes()),
+    ] {
+        write_file(&a.out.join(name), bytes)?;
+    }
+    println!("{md}");
+    println!(
+        "wrote drives.md, drives.csv, drives.svg and results.csv in {} ({:.1} s)",
+        a.out.display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
