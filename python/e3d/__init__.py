@@ -43,6 +43,7 @@ from ._e3d import (
     run_sessions,
 )
 from ._sweep import sweep_text
+from ._types import PythonLearner
 
 
 def run_sweep(
@@ -82,6 +83,7 @@ __all__ = [
     "BatchOutcome",
     "Motion",
     "Outcome",
+    "PythonLearner",
     "Scene",
     "SceneError",
     "SessionBatch",

@@ -1298,7 +1298,7 @@ fn run_session(
         stop: || error.borrow().is_some(),
     };
     let mut rec = SessionRecord::new(&guarded, trials);
-    let mut throttle = Throttle::new(py, progress, trials as u64);
+    let mut throttle = Throttle::new(py, progress, trials as u64)?;
     let status = e3d::run_session_into(&mut guarded, &mut pl, &cfg, &mut rec, |t| {
         if error.borrow().is_none() {
             if let Err(e) = throttle.tick(t as u64, t == trials) {
@@ -1650,7 +1650,7 @@ fn run_sessions(
         .iter()
         .map(|c| SessionRecord::new(&guarded, c.trials))
         .collect();
-    let mut throttle = Throttle::new(py, progress, total);
+    let mut throttle = Throttle::new(py, progress, total)?;
     let mut done = 0u64;
     let status = e3d::run_lockstep_into(&mut guarded, &mut learners, &configs, &mut records, |t| {
         done += t;

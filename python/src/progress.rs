@@ -64,6 +64,17 @@ impl Watch {
     }
 }
 
+/// Refuses a `progress` that cannot be called, before any work.
+fn check_callable(progress: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+    match progress {
+        Some(p) if !p.is_callable() => Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "progress: expected a callable, progress(done, total), found {}",
+            p.get_type().name()?
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Runs `work` on a thread of its own, the GIL released, waking every
 /// [`TICK`] to check for signals and call `progress(done, total)` (see the
 /// module). Returns `work`'s result, or the first exception raised by a
@@ -79,6 +90,7 @@ where
     R: Send,
     F: FnOnce(&Watch) -> R + Send,
 {
+    check_callable(progress)?;
     let callback: Option<Py<PyAny>> = progress.map(|p| p.clone().unbind());
     let (result, error) = py.detach(|| {
         std::thread::scope(|scope| {
@@ -148,15 +160,20 @@ pub struct Throttle<'py> {
 }
 
 impl<'py> Throttle<'py> {
-    pub fn new(py: Python<'py>, callback: Option<&Bound<'py, PyAny>>, total: u64) -> Self {
-        Throttle {
+    pub fn new(
+        py: Python<'py>,
+        callback: Option<&Bound<'py, PyAny>>,
+        total: u64,
+    ) -> PyResult<Self> {
+        check_callable(callback)?;
+        Ok(Throttle {
             py,
             callback: callback.cloned(),
             total,
             last_check: Instant::now(),
             last_call: None,
             reported: None,
-        }
+        })
     }
 
     /// `done` units done; `last` for the final call (always made).

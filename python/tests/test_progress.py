@@ -92,6 +92,15 @@ def test_an_exception_from_progress_stops_the_call():
     assert time.perf_counter() - start < 10
 
 
+def test_progress_must_be_callable():
+    with pytest.raises(TypeError, match="progress: expected a callable"):
+        e3d.run_session("two_rooms", trials=10, progress=3)
+    with pytest.raises(TypeError, match="progress: expected a callable"):
+        e3d.run_session("two_rooms", learner=Uniform(), trials=10, progress="no")
+    with pytest.raises(TypeError, match="progress: expected a callable"):
+        e3d.Scene.builtin("two_rooms").world().execute_batch(["EEEEEEE"], progress=[])
+
+
 def interrupt_after(seconds):
     """Sends this process SIGINT (Ctrl-C) from another thread."""
     t = threading.Timer(seconds, os.kill, (os.getpid(), signal.SIGINT))
