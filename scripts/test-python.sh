@@ -2,7 +2,10 @@
 # The Python package's tests: builds the e3d CLI (the tests compare with
 # it), installs ./python with pip into a virtual environment (a new one in
 # a temporary folder, or $E3D_VENV, created if missing and reused), with
-# pytest, gymnasium and numpy, then runs python/tests.
+# pytest, gymnasium, numpy, mypy and maturin; checks the type stubs against
+# the built module (mypy's stubtest) and the source distribution (maturin
+# sdist: what it holds, and that cargo resolves the e3d crate inside it),
+# then runs python/tests.
 #
 #   scripts/test-python.sh                 # cold: a fresh venv, a fresh build
 #   E3D_VENV=/tmp/e3d-venv scripts/test-python.sh   # keeps the venv for next time
@@ -15,13 +18,9 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
 
 python="${PYTHON:-python3}"
-if [[ -n "${E3D_VENV:-}" ]]; then
-  venv="$E3D_VENV"
-else
-  tmp="$(mktemp -d)"
-  trap 'rm -rf "$tmp"' EXIT
-  venv="$tmp/venv"
-fi
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+venv="${E3D_VENV:-$tmp/venv}"
 if [[ ! -x "$venv/bin/python" ]]; then
   "$python" -m venv "$venv"
 fi
@@ -30,10 +29,44 @@ start=$SECONDS
 echo "== cargo build --release (the CLI the tests compare with)"
 cargo build --release --quiet --bin e3d
 
-echo "== pip install ./python pytest gymnasium numpy (into $venv)"
+echo "== pip install ./python pytest gymnasium numpy mypy maturin (into $venv)"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
-"$venv/bin/python" -m pip install --quiet ./python pytest gymnasium numpy
+"$venv/bin/python" -m pip install --quiet ./python pytest gymnasium numpy mypy 'maturin>=1.7,<2'
 "$venv/bin/python" -c 'import e3d; print("e3d", e3d.__version__, "installed")'
+
+echo "== stubtest e3d (the stubs against the built module)"
+(cd "$venv" && "$venv/bin/python" -m mypy.stubtest --concise e3d)
+
+echo "== maturin sdist (the source distribution holds what its build needs)"
+sdist="$tmp/sdist"
+(cd python && "$venv/bin/maturin" sdist --out "$sdist" >/dev/null 2>&1) || {
+  echo "test-python.sh: maturin sdist failed:" >&2
+  (cd python && "$venv/bin/maturin" sdist --out "$sdist") >&2 || true
+  exit 1
+}
+tar -xzf "$sdist"/e3d-*.tar.gz -C "$sdist"
+"$venv/bin/python" - "$sdist"/e3d-*/ <<'PY'
+import json, pathlib, subprocess, sys
+top = pathlib.Path(sys.argv[1]).resolve()
+need = ["pyproject.toml", "e3d/__init__.py", "e3d/_e3d.pyi", "e3d/py.typed", "e3d/gym.py",
+        "python/Cargo.toml", "python/Cargo.lock", "python/src/lib.rs", "Cargo.toml",
+        "src/lib.rs", "scenes/two_rooms.ron", "scenes/arm7x5.ron"]
+missing = [n for n in need if not (top / n).is_file()]
+# every file the crate includes at compile time (built-in scenes, docs)
+import re
+for rs in (top / "src").rglob("*.rs"):
+    for inc in re.findall(r'include_(?:str|bytes)!\("([^"]+)"\)', rs.read_text()):
+        if not (rs.parent / inc).is_file():
+            missing.append(f"{inc} (included by {rs.relative_to(top)})")
+assert not missing, f"the sdist lacks {missing}"
+assert 'manifest-path = "python/Cargo.toml"' in (top / "pyproject.toml").read_text()
+meta = json.loads(subprocess.run(
+    ["cargo", "metadata", "--format-version", "1", "--manifest-path", str(top / "python/Cargo.toml")],
+    check=True, capture_output=True, text=True).stdout)
+lib = [p for p in meta["packages"] if p["name"] == "e3d"]
+assert lib and pathlib.Path(lib[0]["manifest_path"]).resolve() == top / "Cargo.toml", lib
+print("sdist ok:", top.name, "with the e3d crate inside")
+PY
 
 echo "== pytest python/tests"
 set +e

@@ -11,37 +11,89 @@ out::
     out.effect, out.reward, out.x, out.y           # numpy arrays, one entry per command
     rec = e3d.run_session(scene, learner="e3d", trials=5000, seed=0)
     rec.effects, rec.metrics["normalized_entropy"]
+    recs = e3d.run_sessions(scene, learner="e3d", trials=5000, seeds=range(10))
+    recs.effects                                   # int64[10, 5000], one row a session
+    cols = e3d.run_sweep({"scenes": ["two_rooms"], "learners": ["e3d", "uniform"],
+                          "sessions": 10, "trials": 5000})   # dict of columns: pandas.DataFrame(cols)
 
 ``e3d.gym`` holds a Gymnasium environment (it imports gymnasium; this
 module does not). See docs/python.md in the repository.
 """
 
+import os
+from typing import Any, Callable, Mapping, Optional, Union
+
+import numpy as np
+
+from . import _e3d
 from ._e3d import (
     E3D_VERSION,
     BatchOutcome,
+    Motion,
     Outcome,
     Scene,
     SceneError,
+    SessionBatch,
     SessionRecord,
     SessionRng,
     SimulationError,
     World,
     __version__,
     run_session,
-    run_sweep,
+    run_sessions,
 )
+from ._sweep import sweep_text
+from ._types import PythonLearner
+
+
+def run_sweep(
+    sweep: Union[str, "os.PathLike[str]", Mapping[str, Any]],
+    threads: Optional[int] = None,
+    table_cache: Union[str, "os.PathLike[str]", None] = None,
+    out: Union[str, "os.PathLike[str]", None] = None,
+    resume: bool = False,
+    progress: Optional[Callable[[int, int], object]] = None,
+) -> "dict[str, Union[np.ndarray, list[str]]]":
+    """Runs every session of a sweep, in parallel, and returns its
+    ``results.csv`` as a dict of columns (``pandas.DataFrame(cols)`` and
+    ``polars.DataFrame(cols)`` take it as it is), in the file's order:
+    ``scene``, ``learner``, ``failure`` (lists of str), ``use_reward`` (bool
+    array), ``session`` (int64), ``seed`` (uint64), the parameters and the
+    metrics (float64, NaN where the CSV cell is empty). The values of
+    ``e3d sweep FILE --out DIR`` (docs/analysis.md names the columns).
+
+    ``sweep``: a sweep file's path (scene paths relative to its folder), the
+    text of one, or a dict of its fields (see ``sweep_text``; scene paths
+    relative to the current folder). ``threads``: default every core (the
+    results do not depend on it). ``table_cache``: the CLI's
+    ``--table-cache``. ``out``: a folder that receives exactly what
+    ``e3d sweep --out DIR`` writes, the same bytes; ``resume=True``
+    completes the sweep it holds (``--resume``). ``progress``: called as
+    ``progress(trials_done, trials_of_all_sessions)`` at most ten times a
+    second and once at the end. Ctrl-C raises ``KeyboardInterrupt`` once
+    the sessions running have finished.
+    """
+    if isinstance(sweep, Mapping):
+        sweep = sweep_text(sweep)
+    return _e3d.run_sweep(sweep, threads, table_cache, out, resume, progress)
+
 
 __all__ = [
     "E3D_VERSION",
     "BatchOutcome",
+    "Motion",
     "Outcome",
+    "PythonLearner",
     "Scene",
     "SceneError",
+    "SessionBatch",
     "SessionRecord",
     "SessionRng",
     "SimulationError",
     "World",
     "__version__",
     "run_session",
+    "run_sessions",
     "run_sweep",
+    "sweep_text",
 ]

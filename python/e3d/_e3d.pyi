@@ -1,7 +1,7 @@
 """Type stubs of e3d's native module (``e3d._e3d``), re-exported by ``e3d``."""
 
 from os import PathLike
-from typing import Any, Optional, Protocol, Sequence, Union, overload
+from typing import Any, Optional, Sequence, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -15,8 +15,27 @@ class SceneError(ValueError):
 class SimulationError(RuntimeError):
     """A command whose simulation failed (a physics blow-up), naming scene and command."""
 
-CommandsLike = Union[str, Sequence[str], npt.ArrayLike]
+from e3d._types import CommandsLike, Progress, PythonLearner
 
+__all__ = [
+    "BatchOutcome",
+    "E3D_VERSION",
+    "Motion",
+    "Outcome",
+    "Scene",
+    "SceneError",
+    "SessionBatch",
+    "SessionRecord",
+    "SessionRng",
+    "SimulationError",
+    "World",
+    "__version__",
+    "run_session",
+    "run_sessions",
+    "run_sweep",
+]
+
+@final
 class Scene:
     """A parsed and validated scene."""
 
@@ -62,6 +81,7 @@ class Scene:
     def format(self, commands: npt.ArrayLike) -> Union[str, list[str]]: ...
     def world(self) -> World: ...
 
+@final
 class Outcome:
     @property
     def effect(self) -> int: ...
@@ -72,6 +92,7 @@ class Outcome:
     @property
     def y(self) -> float: ...
 
+@final
 class BatchOutcome:
     @property
     def effect(self) -> npt.NDArray[np.int64]: ...
@@ -83,6 +104,44 @@ class BatchOutcome:
     def y(self) -> npt.NDArray[np.float64]: ...
     def __len__(self) -> int: ...
 
+@final
+class Motion:
+    """A command's whole motion (``World.trace``): one row a frame, the start then every step."""
+
+    @property
+    def command(self) -> str: ...
+    @property
+    def bodies(self) -> list[str]: ...
+    @property
+    def joints(self) -> list[str]: ...
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """``[frames]``, seconds."""
+    @property
+    def x(self) -> npt.NDArray[np.float64]:
+        """``[frames, bodies]``, metres; so are ``y``, ``angle`` (rad), ``vx``, ``vy``, ``omega``."""
+    @property
+    def y(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def angle(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def vx(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def vy(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def omega(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def joint_angle(self) -> npt.NDArray[np.float64]:
+        """``[frames, joints]``: the child's rotation relative to its parent, radians."""
+    @property
+    def joint_velocity(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def outcome(self) -> Outcome: ...
+    def columns(self) -> dict[str, npt.NDArray[Any]]:
+        """The columns of ``e3d scene exec --trace FILE.csv``, in its order."""
+    def __len__(self) -> int: ...
+
+@final
 class World:
     """Executes a scene's commands; keeps every outcome (no command simulated twice)."""
 
@@ -91,8 +150,12 @@ class World:
     @property
     def memo_len(self) -> int: ...
     def execute(self, command: CommandsLike) -> Outcome: ...
-    def execute_batch(self, commands: CommandsLike) -> BatchOutcome: ...
+    def execute_batch(
+        self, commands: CommandsLike, progress: Optional[Progress] = None
+    ) -> BatchOutcome: ...
+    def trace(self, command: CommandsLike) -> Motion: ...
 
+@final
 class SessionRng:
     """The session's generator, valid during ``propose(rng)`` only."""
 
@@ -100,10 +163,7 @@ class SessionRng:
     def integers(self, n: int) -> int: ...
     def choice(self, weights: Sequence[float]) -> int: ...
 
-class PythonLearner(Protocol):
-    def propose(self, rng: SessionRng) -> Union[str, npt.ArrayLike]: ...
-    def learn(self, command: npt.NDArray[np.uint8], effect: int, reward: float) -> Any: ...
-
+@final
 class SessionRecord:
     @property
     def scene(self) -> str: ...
@@ -140,9 +200,60 @@ def run_session(
     epsilon: float = 0.1,
     outcomes: Optional[str] = None,
     table_cache: Union[str, PathLike[str], None] = None,
+    progress: Optional[Progress] = None,
 ) -> SessionRecord: ...
+
+@final
+class SessionBatch:
+    """Sessions run in lockstep (``run_sessions``): arrays with one row a session."""
+
+    @property
+    def scene(self) -> str: ...
+    @property
+    def learner(self) -> str: ...
+    @property
+    def seeds(self) -> npt.NDArray[np.uint64]: ...
+    @property
+    def trials(self) -> int: ...
+    @property
+    def commands(self) -> npt.NDArray[np.uint8]:
+        """``[sessions, trials, num_slots]``."""
+    @property
+    def effects(self) -> npt.NDArray[np.int64]:
+        """``[sessions, trials]``."""
+    @property
+    def rewards(self) -> npt.NDArray[np.float64]:
+        """``[sessions, trials]``."""
+    @property
+    def metrics(self) -> dict[str, npt.NDArray[Any]]:
+        """One array ``[sessions]`` a metric; ``first_reward_trial`` is NaN where none."""
+    @property
+    def execution(self) -> str: ...
+    def __len__(self) -> int: ...
+    def __getitem__(self, i: int, /) -> SessionRecord: ...
+
+def run_sessions(
+    scene: Union[Scene, str, PathLike[str]],
+    learner: Union[str, Sequence[PythonLearner], None] = None,
+    trials: int = 5000,
+    seeds: Optional[Sequence[int]] = None,
+    sessions: Optional[int] = None,
+    seed: int = 0,
+    use_reward: bool = True,
+    alpha: float = 0.3,
+    beta: float = 1.0,
+    lambda_: float = 0.03,
+    eta: float = 0.01,
+    epsilon: float = 0.1,
+    outcomes: Optional[str] = None,
+    table_cache: Union[str, PathLike[str], None] = None,
+    progress: Optional[Progress] = None,
+) -> SessionBatch: ...
 def run_sweep(
     sweep: Union[str, PathLike[str]],
     threads: Optional[int] = None,
     table_cache: Union[str, PathLike[str], None] = None,
+    out: Union[str, PathLike[str], None] = None,
+    resume: bool = False,
+    progress: Optional[Progress] = None,
 ) -> dict[str, Union[npt.NDArray[Any], list[str]]]: ...

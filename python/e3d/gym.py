@@ -12,7 +12,9 @@ and reward, whatever the seed; ``reset(seed=...)`` seeds ``self.np_random``
 as Gymnasium asks, for agents that sample from it. Outcomes are kept (each
 command is simulated once per environment).
 
-Importing this module imports gymnasium; ``import e3d`` does not.
+Importing this module imports gymnasium (``import e3d`` does not) and
+registers the environment as ``"e3d/E3d-v0"``:
+``gymnasium.make("e3d/E3d-v0", scene="two_rooms")``.
 """
 
 from __future__ import annotations
@@ -25,7 +27,10 @@ from gymnasium import spaces
 
 from . import Scene
 
-__all__ = ["E3dEnv"]
+__all__ = ["E3dEnv", "ENV_ID"]
+
+ENV_ID = "e3d/E3d-v0"
+"""The id under which ``gymnasium.make`` finds ``E3dEnv``."""
 
 
 class E3dEnv(gym.Env):
@@ -37,15 +42,30 @@ class E3dEnv(gym.Env):
         A ``Scene``, or a scene file's path or a built-in scene's name.
     use_reward:
         ``False`` gives reward 0 always (the paper's task 1).
+    render_mode:
+        ``None``, the only mode (``metadata["render_modes"]`` is empty:
+        ``e3d scene render`` draws a command's path as SVG, and
+        ``World.trace`` gives its whole motion).
 
     ``info`` holds ``x``, ``y`` (the terminal point, metres) and ``command``
     (the command as its symbols) after ``step``.
     """
 
-    metadata = {"render_modes": []}
+    metadata: dict[str, Any] = {"render_modes": []}
 
-    def __init__(self, scene: Union[Scene, str], use_reward: bool = True):
+    def __init__(
+        self,
+        scene: Union[Scene, str],
+        use_reward: bool = True,
+        render_mode: Optional[str] = None,
+    ):
         super().__init__()
+        if render_mode is not None:
+            raise ValueError(
+                f"render_mode = {render_mode!r}: E3dEnv does not render (render_modes is empty); "
+                "`e3d scene render --command` draws a command's path, World.trace gives its motion"
+            )
+        self.render_mode = None
         self.scene = scene if isinstance(scene, Scene) else Scene.resolve(str(scene))
         self.world = self.scene.world()
         self.use_reward = bool(use_reward)
@@ -67,3 +87,11 @@ class E3dEnv(gym.Env):
         reward = float(out.reward) if self.use_reward else 0.0
         info = {"x": out.x, "y": out.y, "command": self.scene.format(symbols)}
         return np.int64(out.effect), reward, True, False, info
+
+    def render(self) -> None:
+        """Nothing to draw (``render_mode`` is ``None``): returns ``None``."""
+        return None
+
+
+if ENV_ID not in gym.registry:
+    gym.register(id=ENV_ID, entry_point="e3d.gym:E3dEnv")

@@ -46,11 +46,11 @@ def main():
     print("\nFigure 2 (task 1, two_rooms): normalised entropy over 5000 trials, 10 sessions")
     print(f"{'learner':<10} {'this script':<32} {'docs/figures/summary.md'}")
     for learner in ["uniform", "e3d"]:
-        h = [
-            e3d.run_session(scene, learner=learner, trials=5000, seed=i, use_reward=False)
-            .metrics["normalized_entropy"]
-            for i in range(10)
-        ]
+        # the 10 sessions at once (seeds 0..9, as `e3d run --sessions 10 --seed 0`);
+        # each is the run_session of its seed
+        batch = e3d.run_sessions(scene, learner=learner, trials=5000, sessions=10, seed=0,
+                                 use_reward=False)
+        h = batch.metrics["normalized_entropy"].tolist()
         print(f"{learner:<10} {describe(h):<32} {PUBLISHED[learner]}")
     print(f"({time.perf_counter() - start:.2f} s for the 20 sessions)")
 
@@ -61,6 +61,16 @@ def main():
         f"\npuck_rooms, E3D beta 100: cumulative reward {m['cumulative_reward']:.0f},"
         f" first reward at trial {m['first_reward_trial']},"
         f" {np.unique(rec.effects).size} distinct effects"
+    )
+
+    # the whole motion of the first rewarded command: the puck's path, step by step
+    first = int(np.argmax(rec.rewards > 0))
+    motion = e3d.Scene.builtin("puck_rooms").world().trace(rec.commands[first])
+    b = motion.bodies.index("puck")
+    print(
+        f"its command {motion.command}: {len(motion)} frames over {motion.time[-1]:.2f} s,"
+        f" {motion.bodies[b]} from ({motion.x[0, b]:.2f}, {motion.y[0, b]:.2f})"
+        f" to ({motion.x[-1, b]:.2f}, {motion.y[-1, b]:.2f})"
     )
 
 

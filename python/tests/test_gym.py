@@ -19,8 +19,18 @@ def test_import_e3d_does_not_import_gymnasium():
 
 @pytest.mark.parametrize("name", e3d.Scene.builtins())
 def test_check_env_passes_on_every_shipped_scene(name):
+    import warnings
+
     env = E3dEnv(e3d.Scene.builtin(name))
-    check_env(env, skip_render_check=True)
+    with warnings.catch_warnings():
+        # a warning of the checker is a failure too
+        warnings.simplefilter("error")
+        check_env(env, skip_render_check=True)
+        # through gymnasium.make: a spec, so the render modes are checked too
+        made = gym.make("e3d/E3d-v0", scene=name)
+        check_env(made.unwrapped)
+        made.reset(seed=0)
+        made.step(made.action_space.sample())
     assert env.action_space.nvec.tolist() == env.scene.alphabet_sizes
     assert env.observation_space.n == env.scene.num_effects
 
@@ -65,3 +75,11 @@ def test_bad_actions_raise_value_error():
         env.step([0, 0, 0])
     with pytest.raises(ValueError):
         env.step([9] * 7)
+
+
+def test_render_mode_is_none_only():
+    env = E3dEnv("two_rooms", render_mode=None)
+    assert env.render_mode is None and env.metadata["render_modes"] == []
+    assert env.render() is None
+    with pytest.raises(ValueError, match="render_mode = 'rgb_array'"):
+        E3dEnv("two_rooms", render_mode="rgb_array")

@@ -72,3 +72,108 @@ def test_sweep_errors_name_file_line_and_column(tmp_path, cli):
     assert r.stderr.strip().splitlines()[-1] == f"error: {err.value}"
     with pytest.raises(e3d.SceneError, match="^<string>"):
         e3d.run_sweep("Sweep(scenes: [])")
+
+
+def small_file(tmp_path, root):
+    path = tmp_path / "small.ron"
+    path.write_text(SMALL.replace("scenes/", str(root / "scenes") + "/"))
+    return path
+
+
+def test_out_writes_the_clis_files_byte_for_byte(cli, tmp_path, root):
+    path = small_file(tmp_path, root)
+    cli("sweep", path, "--out", tmp_path / "cli")
+    cols = e3d.run_sweep(path, threads=1, out=tmp_path / "py")
+    for f in ["results.csv", "summary.csv", "sweep.ron", "version.txt"]:
+        assert (tmp_path / "py" / f).read_bytes() == (tmp_path / "cli" / f).read_bytes(), f
+    # the journal holds the same rows (in the order sessions finished)
+    def rows(d):
+        lines = (tmp_path / d / "journal.txt").read_text().splitlines()
+        return sorted(line for line in lines if not line.startswith("#"))
+    assert rows("py") == rows("cli")
+    # the columns returned are the file's
+    want = read_csv((tmp_path / "cli" / "results.csv").read_text())
+    assert cols["seed"].tolist() == [int(r["seed"]) for r in want]
+    assert cols["kl_to_target"].tolist() == [float(r["kl_to_target"]) for r in want]
+    # without out: the same values
+    again = e3d.run_sweep(path, threads=2)
+    assert list(again) == list(cols)
+    for k in cols:
+        a, b = again[k], cols[k]
+        assert (a.tolist() if isinstance(a, np.ndarray) else a) == pytest.approx(
+            b.tolist() if isinstance(b, np.ndarray) else b, nan_ok=True), k
+
+
+def test_out_refuses_a_folder_in_use_as_the_cli_does(cli, tmp_path, root):
+    path = small_file(tmp_path, root)
+    e3d.run_sweep(path, out=tmp_path / "o")
+    with pytest.raises(OSError) as err:
+        e3d.run_sweep(path, out=tmp_path / "o")
+    r = cli("sweep", path, "--out", tmp_path / "o", check=False)
+    assert r.returncode != 0 and r.stderr.strip().splitlines()[-1] == f"error: {err.value}"
+    # resuming a complete folder runs nothing and gives the same rows
+    before = (tmp_path / "o" / "results.csv").read_bytes()
+    cols = e3d.run_sweep(path, out=tmp_path / "o", resume=True)
+    assert (tmp_path / "o" / "results.csv").read_bytes() == before
+    assert len(cols["scene"]) == 32
+
+
+def test_a_dict_is_the_same_sweep_as_its_file(tmp_path, root, monkeypatch):
+    monkeypatch.chdir(root)
+    d = {
+        "name": "small",
+        "scenes": ["scenes/two_rooms.ron", "scenes/puck_rooms.ron"],
+        "learners": ["e3d", "uniform", "egreedy"],
+        "use_reward": [False, True],
+        "params": {"beta": [1, 100], "eta": 0.01},
+        "sessions": 2,
+        "trials": 300,
+        "seed": 7,
+    }
+    text = e3d.sweep_text(d)
+    assert text.startswith("Sweep(\n") and "learners: [e3d, uniform, egreedy]" in text
+    from_dict = e3d.run_sweep(d, threads=2, out=tmp_path / "d")
+    (tmp_path / "f.ron").write_text(SMALL)
+    e3d.run_sweep(SMALL, threads=2, out=tmp_path / "t")
+    assert (tmp_path / "d" / "results.csv").read_bytes() == (tmp_path / "t" / "results.csv").read_bytes()
+    assert from_dict["normalized_entropy"].shape == (32,)
+
+
+def test_dict_ranges_metrics_and_errors(root, monkeypatch):
+    monkeypatch.chdir(root)
+    d = {
+        "scenes": ["two_rooms"],
+        "learners": "e3d",  # one value for a list
+        "params": {"beta": {"scale": "Log", "from": 1, "to": 100, "steps": 3}},
+        "sessions": 1,
+        "trials": 50,
+        "metrics": ["normalized_entropy", "cumulative_reward_at_20", "cumulative_reward(50)"],
+    }
+    cols = e3d.run_sweep(d)
+    assert cols["beta"].tolist() == [1.0, 10.0, 100.0]
+    assert [k for k in cols if k.startswith("cumulative")] == ["cumulative_reward_at_20", "cumulative_reward_at_50"]
+    # the library checks the text: its error names the line and column of the text
+    with pytest.raises(e3d.SceneError, match=r"^<string>:3:21: unknown variant `nope`"):
+        e3d.run_sweep({**d, "learners": ["e3d", "nope"]})
+    with pytest.raises(ValueError, match="expected a name"):
+        e3d.sweep_text({**d, "learners": ["not a name"]})
+    with pytest.raises(ValueError, match="finite"):
+        e3d.sweep_text({**d, "params": {"beta": float("inf")}})
+
+
+def test_columns_are_those_of_docs_analysis(root, monkeypatch):
+    # docs/analysis.md lists results.csv's key columns; run_sweep returns them first
+    import re
+
+    text = (root / "docs" / "analysis.md").read_text()
+    section = text[text.index("## `e3d sweep FILE --out DIR`"):]
+    keys = re.search(r"canonical order: `([^`]*)`", section.replace("\n", " ")).group(1)
+    keys = [k.strip() for k in keys.split(",")]
+    monkeypatch.chdir(root)
+    cols = e3d.run_sweep(SMALL, threads=2)
+    assert list(cols)[: len(keys)] == keys
+    assert list(cols)[len(keys):] == [
+        "normalized_entropy", "normalized_entropy_last_1000", "kl_to_target",
+        "distinct_effects", "cumulative_reward_at_300", "first_reward_trial", "failure"]
+    n = len(cols["scene"])
+    assert n == 32 and all(len(v) == n for v in cols.values())

@@ -1,0 +1,25 @@
+"""Type aliases and protocols of e3d's API, for annotations (the stubs of
+``e3d._e3d`` use them; ``e3d`` re-exports ``PythonLearner``)."""
+
+from typing import Any, Callable, Protocol, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+CommandsLike = Union[str, Sequence[str], npt.ArrayLike]
+"""Commands: a string of symbols, a list of them, or an integer array of symbol indices."""
+
+Progress = Callable[[int, int], object]
+"""``progress(done, total)``: called at most ten times a second and once at the end."""
+
+
+class PythonLearner(Protocol):
+    """A learner written in Python, for ``run_session`` and ``run_sessions``."""
+
+    def propose(self, rng: Any) -> Union[str, npt.ArrayLike]:
+        """The next command (symbol indices, or a string), drawn from ``rng`` (a ``SessionRng``)."""
+        ...
+
+    def learn(self, command: "npt.NDArray[np.uint8]", effect: int, reward: float) -> Any:
+        """Learns from the command's outcome."""
+        ...
