@@ -27,13 +27,31 @@
 //! returns the results in canonical order; [`Sweep::run_to_dir`] is the
 //! resumable, shardable form behind `e3d sweep`.
 //!
+//! The module, by concept:
+//!
+//! - the spec ([`SweepSpec`], [`Values`], [`ParamValues`], [`MetricSpec`]):
+//!   what to run, parsed from a file ([`SweepSpec::parse`]) or built in
+//!   code ([`SweepSpec::new`]), written back by [`SweepSpec::to_ron`];
+//! - the [`factory`]: what the spec's names become, scenes
+//!   ([`WorldFactory`], [`SweepScene`]; built in: [`SceneFiles`]; a
+//!   registry of your own: [`Worlds`]) and learners ([`LearnerFactory`];
+//!   [`Learners`]). [`Sweep::parse`] and [`Sweep::new`] use the built-in
+//!   ones, [`Sweep::parse_with`] and [`Sweep::with_factories`] yours;
+//! - the plan: [`Cell`]s, [`SessionSpec`]s with their identities and
+//!   seeds, [`Shard`]s;
+//! - the run: [`Sweep::run_session`], [`Sweep::run_with`], [`Sweep::run`],
+//!   [`Sweep::run_to_dir`];
+//! - the results: [`SessionResult`], the rows of `results.csv`, the files
+//!   of an output folder ([`DirReport`]) and [`merge`].
+//!
 //! # Cells
 //!
 //! The cells are the product, in this order, of the scenes, the learners,
 //! the `use_reward` values and the values of `alpha`, `beta`, `lambda`,
 //! `eta` and `epsilon`, each in the order of the file. A learner's grid
-//! spans only the parameters it uses ([`uses_param`]): the uniform policy
-//! uses none, epsilon-greedy `alpha` and `epsilon`, E3D the four others.
+//! spans only the parameters it uses ([`uses_param`]; for a custom
+//! learner, [`LearnerFactory::uses`]): the uniform policy uses none,
+//! epsilon-greedy `alpha` and `epsilon`, E3D the four others.
 //! A parameter a learner does not use is left empty in the results.
 //!
 //! # Seeds
@@ -66,6 +84,8 @@
 pub mod journal;
 pub mod summary;
 
+pub mod factory;
+
 mod error;
 mod plan;
 mod results;
@@ -74,6 +94,10 @@ mod spec;
 
 pub(crate) use error::io_err;
 pub use error::SweepError;
+pub use factory::{
+    BoxError, FactoryError, LearnerFactory, Learners, LiveScene, MakeLearner, SceneFiles, SceneRun,
+    SweepScene, WorldFactory, Worlds,
+};
 pub use plan::{
     fnv1a64, format_number, session_seed, splitmix64, uses_param, Cell, SessionSpec, Shard, Sweep,
 };

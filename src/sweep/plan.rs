@@ -1,15 +1,19 @@
 //! The plan of a sweep: its cells, its sessions with their identities and
 //! seeds, shards, and the work each scene gets.
 
-use super::spec::{param_of, MetricSpec, SweepSpec, PARAM_NAMES};
+use super::factory::{
+    is_identifier, FactoryError, LearnerFactory, Learners, SceneFiles, SweepScene, WorldFactory,
+};
+use super::spec::{invalid, param_of, set_param, MetricSpec, SweepSpec, CODE_FILE, PARAM_NAMES};
+use super::{SweepError, MAX_SESSIONS};
 use crate::learner::{LearnerKind, Params};
-use crate::scene::Scene;
 use crate::world::{ExecOptions, Strategy, Workload};
 #[cfg(doc)]
 use crate::world::{ExecutionPlan, OutcomeTable, DEFAULT_MEMO_CAP};
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::str::FromStr;
+use std::sync::Arc;
 
 /// Whether `learner` uses the hyper-parameter `param` (one of
 /// [`PARAM_NAMES`]).
@@ -77,8 +81,8 @@ pub struct Cell {
     pub index: usize,
     /// The index of the scene in [`Sweep::scenes`].
     pub scene: usize,
-    /// The learner.
-    pub learner: LearnerKind,
+    /// The learner's name (one of the spec's `learners`).
+    pub learner: String,
     /// Whether the learner sees the reward.
     pub use_reward: bool,
     /// The hyper-parameters (those the learner does not use hold the first
@@ -153,16 +157,20 @@ impl FromStr for Shard {
     }
 }
 
-/// A checked sweep: the file, its scenes and its cells.
-#[derive(Debug, Clone)]
+/// A checked sweep: the spec, its scenes and learners as its factories
+/// made them, and its cells.
+#[derive(Clone)]
 pub struct Sweep {
-    /// The file as written.
+    /// The spec.
     pub spec: SweepSpec,
-    /// The text of the file (copied into output folders).
+    /// The text of the sweep file, or [`SweepSpec::to_ron`] for a sweep
+    /// built in code (copied into output folders, and compared on resume).
     pub text: String,
-    /// The file's name, for messages.
+    /// The file's name, for messages (`<SweepSpec>` for a sweep built in
+    /// code).
     pub file: String,
-    pub(super) scenes: Vec<Scene>,
+    pub(super) scenes: Vec<Arc<dyn SweepScene>>,
+    pub(super) learners: Arc<dyn LearnerFactory>,
     pub(super) metrics: Vec<MetricSpec>,
     pub(super) cells: Vec<Cell>,
     pub(super) exec: ExecOptions,
@@ -180,7 +188,234 @@ impl fmt::Debug for Notices {
     }
 }
 
+impl fmt::Debug for Sweep {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Sweep")
+            .field("spec", &self.spec)
+            .field("file", &self.file)
+            .field(
+                "scenes",
+                &self.scenes.iter().map(|s| s.name()).collect::<Vec<_>>(),
+            )
+            .field("learners", &self.learners.names())
+            .field("metrics", &self.metrics)
+            .field("cells", &self.cells.len())
+            .field("exec", &self.exec)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Sweep {
+    /// Loads and checks a sweep file; scene paths are relative to its folder.
+    pub fn load(path: impl AsRef<Path>) -> Result<Sweep, SweepError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = crate::scene::read_text(path, "sweep")?;
+        Sweep::parse(&text, &file, path.parent())
+    }
+
+    /// Parses and checks sweep text; `file` names it in errors, `base`
+    /// is the folder scene paths are relative to (the current folder when
+    /// `None`). The factories are the built-in ones: [`SceneFiles`] and
+    /// [`Learners::builtin`].
+    pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<Sweep, SweepError> {
+        Sweep::parse_with(text, file, &SceneFiles::new(base), Learners::builtin())
+    }
+
+    /// Parses and checks sweep text whose scenes `worlds` makes and whose
+    /// learners `learners` makes; a name either does not know is refused
+    /// at its place in the text.
+    ///
+    /// ```
+    /// use e3d::sweep::{Learners, Sweep, Worlds};
+    /// use e3d::{LearnerKind, Scene};
+    /// // the uniform policy under another name, on a scene edited in code
+    /// let mut scene = Scene::builtin("two_rooms").unwrap();
+    /// scene.name = "rooms".into();
+    /// let learners = Learners::new().with("blind", &[], |p, space, n, target| {
+    ///     Ok(LearnerKind::Uniform.make(p, space, n, target)?)
+    /// });
+    /// let text = r#"Sweep(scenes: ["rooms"], learners: [blind], sessions: 2, trials: 100)"#;
+    /// let sweep = Sweep::parse_with(text, "code.ron", &Worlds::new().with_scene(scene), learners.clone()).unwrap();
+    /// assert_eq!(sweep.identity(&sweep.cells()[0], 1),
+    ///     "scene=rooms;learner=blind;use_reward=true;alpha=-;beta=-;lambda=-;eta=-;epsilon=-;session=1");
+    /// let bad = r#"Sweep(scenes: ["rooms"], learners: [blnd], sessions: 2, trials: 100)"#;
+    /// let e = Sweep::parse_with(bad, "bad.ron", &Worlds::new(), learners).unwrap_err();
+    /// assert_eq!(e.to_string(), "bad.ron:1:37: unknown learner `blnd` (did you mean `blind`?); expected one of: blind");
+    /// ```
+    pub fn parse_with(
+        text: &str,
+        file: &str,
+        worlds: &dyn WorldFactory,
+        learners: impl LearnerFactory + 'static,
+    ) -> Result<Sweep, SweepError> {
+        let (spec, text) = SweepSpec::from_text(text, file, &learners)?;
+        Sweep::build(
+            spec,
+            text.to_string(),
+            file,
+            text,
+            worlds,
+            Arc::new(learners),
+        )
+    }
+
+    /// A sweep built in code, with the built-in factories ([`SceneFiles`]
+    /// relative to the current folder, [`Learners::builtin`]).
+    ///
+    /// ```
+    /// use e3d::sweep::{Sweep, SweepSpec};
+    /// let sweep = Sweep::new(SweepSpec::new(["two_rooms"], ["e3d", "uniform"], 2, 100)).unwrap();
+    /// assert_eq!(sweep.num_sessions(), 4);
+    /// // the same sweep, and the same seeds, as the file it writes
+    /// let file = Sweep::parse(&sweep.text, "copy.ron", None).unwrap();
+    /// assert_eq!(file.sessions(), sweep.sessions());
+    /// let e = Sweep::new(SweepSpec::new(["two_rooms"], ["e3d"], 0, 100)).unwrap_err();
+    /// assert_eq!(e.to_string(), "<SweepSpec>: field `sessions`: expected at least 1 session per cell, found 0");
+    /// ```
+    pub fn new(spec: SweepSpec) -> Result<Sweep, SweepError> {
+        Sweep::with_factories(spec, &SceneFiles::default(), Learners::builtin())
+    }
+
+    /// A sweep built in code whose scenes `worlds` makes and whose
+    /// learners `learners` makes (see [`factory`](super::factory)). Its
+    /// [`text`](Self::text) is [`SweepSpec::to_ron`].
+    pub fn with_factories(
+        spec: SweepSpec,
+        worlds: &dyn WorldFactory,
+        learners: impl LearnerFactory + 'static,
+    ) -> Result<Sweep, SweepError> {
+        let text = spec.to_ron();
+        Sweep::build(spec, text, CODE_FILE, "", worlds, Arc::new(learners))
+    }
+
+    /// Checks `spec` (placing mistakes in `located`), makes its scenes and
+    /// its cells.
+    fn build(
+        spec: SweepSpec,
+        text: String,
+        file: &str,
+        located: &str,
+        worlds: &dyn WorldFactory,
+        learners: Arc<dyn LearnerFactory>,
+    ) -> Result<Sweep, SweepError> {
+        let bad = |field: &str, anchor: Option<&str>, expected: &str| {
+            invalid(file, located, field, anchor, expected)
+        };
+        let checked = spec.check_in(file, located)?;
+        let (axes, metrics) = (checked.axes, checked.metrics);
+        // the learners: known, and names that fit a CSV field and a file
+        let mut uses: Vec<[bool; 5]> = Vec::with_capacity(spec.learners.len());
+        for name in &spec.learners {
+            let Some(used) = learners.uses(name) else {
+                return Err(bad(
+                    "learners",
+                    None,
+                    &format!(
+                        "one of the learners ({}), found `{name}`",
+                        learners.names().join(", ")
+                    ),
+                ));
+            };
+            if !is_identifier(name) {
+                return Err(bad(
+                    "learners",
+                    None,
+                    &format!("learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `{name}`"),
+                ));
+            }
+            uses.push(used);
+        }
+        // scenes
+        let mut scenes: Vec<Arc<dyn SweepScene>> = Vec::new();
+        for name in &spec.scenes {
+            let scene = worlds.scene(name).map_err(|e| match e {
+                FactoryError::Unknown(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
+                FactoryError::Failed(e) => e,
+            })?;
+            if scene.name().contains([',', '"', '\n', '\r']) {
+                return Err(bad(
+                    "scenes",
+                    Some(&format!("\"{name}\"")),
+                    &format!(
+                        "scenes whose name has no comma, quote or line break (for CSV), found `{}`",
+                        scene.name()
+                    ),
+                ));
+            }
+            if scenes.iter().any(|s| s.name() == scene.name()) {
+                return Err(bad(
+                    "scenes",
+                    Some(&format!("\"{name}\"")),
+                    &format!("each scene once, but `{}` appears twice", scene.name()),
+                ));
+            }
+            scenes.push(scene);
+        }
+        // the size, before making the cells
+        let mut num_cells: usize = 0;
+        for used in &uses {
+            let per: usize = (0..5)
+                .filter(|&i| used[i])
+                .fold(1usize, |acc, i| acc.saturating_mul(axes[i].len()));
+            num_cells = num_cells.saturating_add(per.saturating_mul(spec.use_reward.len()));
+        }
+        let num_cells = num_cells.saturating_mul(scenes.len());
+        if num_cells.saturating_mul(spec.sessions) > MAX_SESSIONS {
+            return Err(bad(
+                "sessions",
+                None,
+                &format!(
+                    "at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {}",
+                    spec.sessions
+                ),
+            ));
+        }
+        // cells
+        let mut cells = Vec::with_capacity(num_cells);
+        for (si, _) in scenes.iter().enumerate() {
+            for (learner, &used) in spec.learners.iter().zip(&uses) {
+                let dims: Vec<usize> = (0..5)
+                    .map(|i| if used[i] { axes[i].len() } else { 1 })
+                    .collect();
+                let count: usize = dims.iter().product();
+                for &use_reward in &spec.use_reward {
+                    for mut k in 0..count {
+                        let mut params = Params::TASK1;
+                        let mut pick = [0usize; 5];
+                        for i in (0..5).rev() {
+                            pick[i] = k % dims[i];
+                            k /= dims[i];
+                        }
+                        for i in 0..5 {
+                            set_param(&mut params, i, axes[i][pick[i]]);
+                        }
+                        cells.push(Cell {
+                            index: cells.len(),
+                            scene: si,
+                            learner: learner.clone(),
+                            use_reward,
+                            params,
+                            used,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(Sweep {
+            spec,
+            text,
+            file: file.to_string(),
+            scenes,
+            learners,
+            metrics,
+            cells,
+            exec: ExecOptions::default(),
+            notices: None,
+            trials_done: None,
+        })
+    }
+
     /// Keeps the outcome tables of the sweep's scenes in the folder `dir`
     /// (see [`OutcomeTable::cached`]): a physics scene's commands are then
     /// simulated once for every run, resume and shard that shares the
@@ -238,8 +473,8 @@ impl Sweep {
         }
     }
 
-    /// The scenes, in the order of the file.
-    pub fn scenes(&self) -> &[Scene] {
+    /// The scenes, in the order of the spec.
+    pub fn scenes(&self) -> &[Arc<dyn SweepScene>] {
         &self.scenes
     }
 
@@ -262,8 +497,8 @@ impl Sweep {
     /// parameters, empty when unused), as written in the CSV files.
     pub fn cell_fields(&self, cell: &Cell) -> Vec<String> {
         let mut f = vec![
-            self.scenes[cell.scene].name.clone(),
-            cell.learner.as_str().to_string(),
+            self.scenes[cell.scene].name().to_string(),
+            cell.learner.clone(),
             cell.use_reward.to_string(),
         ];
         for i in 0..5 {

@@ -1,6 +1,7 @@
 //! Running a sweep: one session, sessions in lockstep, all of them on a
 //! thread pool, and resumably into a folder.
 
+use super::factory::{describe_space, SceneRun};
 use super::journal::{self, Journal, JournalHeader};
 use super::plan::{fnv1a64, SessionSpec, Shard, Sweep};
 use super::results::{
@@ -10,14 +11,30 @@ use super::spec::MetricSpec;
 use super::{io_err, SweepError};
 use crate::effect::Target;
 use crate::session::{run_lockstep_into, run_session_into, RunningMetrics, SessionConfig};
-use crate::world::{Executor, OutcomeTable, World, WorldError};
+#[cfg(doc)]
+use crate::world::Executor;
+use crate::world::{World, WorldError};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
 
 impl Sweep {
-    /// Runs one session on `world` (which must be a world of the session's
-    /// scene, or its outcome table), in constant memory.
+    /// Runs one session on `world` (a world of the session's scene, or its
+    /// outcome table), in constant memory. A world of another command
+    /// space, or with another number of effects, is refused with an error
+    /// naming both.
+    ///
+    /// ```
+    /// use e3d::{Scene, Sweep};
+    /// let sweep = Sweep::parse(r#"Sweep(scenes: ["two_rooms"], learners: [e3d], sessions: 1, trials: 50)"#, "s.ron", None).unwrap();
+    /// let session = sweep.sessions()[0];
+    /// let mut rooms = Scene::builtin("two_rooms").unwrap().build();
+    /// assert!(sweep.run_session(&session, &mut *rooms).is_ok());
+    /// let mut arm = Scene::builtin("arm7").unwrap().build();
+    /// let e = sweep.run_session(&session, &mut *arm).unwrap_err().to_string();
+    /// assert!(e.contains("whose commands are 7 slots of `ESWN` with 18 effects"), "{e}");
+    /// assert!(e.contains("but the world's commands are 7 slots of `-0+`"), "{e}");
+    /// ```
     pub fn run_session(
         &self,
         session: &SessionSpec,
@@ -68,20 +85,28 @@ impl Sweep {
         world: &dyn World,
     ) -> Result<Box<dyn crate::learner::Learner + Send>, SweepError> {
         let cell = &self.cells[session.cell];
-        if world.command_space() != &self.scenes[cell.scene].command_space() {
+        let scene = &self.scenes[cell.scene];
+        let space = scene.command_space();
+        if world.command_space() != &space || world.num_effects() != scene.num_effects() {
             return Err(SweepError::Other(format!(
-                "session {} is of scene `{}`, but the world has another command space",
-                session.index, self.scenes[cell.scene].name
+                "session {} is of scene `{}`, whose commands are {} with {} effects, but the world's commands are {} with {} effects",
+                session.index,
+                scene.name(),
+                describe_space(&space),
+                scene.num_effects(),
+                describe_space(world.command_space()),
+                world.num_effects()
             )));
         }
-        cell.learner
+        self.learners
             .make(
+                &cell.learner,
                 &cell.params,
                 world.command_space(),
                 world.num_effects(),
                 &Target::Uniform,
             )
-            .map_err(SweepError::Other)
+            .map_err(|e| SweepError::Other(e.to_string()))
     }
 
     fn config(&self, session: &SessionSpec) -> SessionConfig {
@@ -164,7 +189,7 @@ impl Sweep {
             .build()
             .map_err(|e| SweepError::Other(format!("cannot start the threads: {e}")))?;
         let work = self.workloads(sessions, pool.current_num_threads());
-        let executors: Vec<Option<Executor>> = pool.install(|| {
+        let executors: Vec<Option<Box<dyn SceneRun + '_>>> = pool.install(|| {
             self.scenes
                 .iter()
                 .zip(&work)
@@ -172,9 +197,10 @@ impl Sweep {
                     if w.sessions == 0 {
                         return Ok(None);
                     }
-                    let e = Executor::new(scene, w, &self.exec)
-                        .map_err(|e| SweepError::Other(e.to_string()))?;
-                    self.notice(&e.plan().to_string());
+                    let e = scene.prepare(w, &self.exec)?;
+                    if let Some(line) = e.describe() {
+                        self.notice(&line);
+                    }
                     Ok(Some(e))
                 })
                 .collect::<Result<_, SweepError>>()
@@ -188,11 +214,12 @@ impl Sweep {
                 .filter(|s| self.cells[s.cell].scene == si)
                 .copied()
                 .collect();
-            if exec.table().is_some() {
-                units.extend(mine.into_iter().map(|s| vec![s]));
-            } else {
-                let size = mine.len().div_ceil(exec.plan().groups.max(1));
-                units.extend(mine.chunks(size.max(1)).map(<[SessionSpec]>::to_vec));
+            match exec.lockstep_groups() {
+                None => units.extend(mine.into_iter().map(|s| vec![s])),
+                Some(groups) => {
+                    let size = mine.len().div_ceil(groups.max(1));
+                    units.extend(mine.chunks(size.max(1)).map(<[SessionSpec]>::to_vec));
+                }
             }
         }
         let (executors, units) = (&executors, &units);
@@ -299,7 +326,7 @@ impl Sweep {
             scenes: self
                 .scenes
                 .iter()
-                .map(|s| (s.name.clone(), OutcomeTable::key(s)))
+                .map(|s| (s.name().to_string(), s.content_key()))
                 .collect(),
             version: VERSION.to_string(),
             columns: self.results_header(),

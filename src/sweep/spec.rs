@@ -1,15 +1,17 @@
-//! The sweep file: hyper-parameter values, metrics, the [`SweepSpec`] as
-//! written, and its parsing and checking into a [`Sweep`].
+//! The sweep file: hyper-parameter values, metrics and the [`SweepSpec`]
+//! as written, built in code, parsed, checked and written back.
 
-use super::plan::{uses_param, Cell, Sweep};
+use super::factory::{LearnerFactory, Learners};
+#[cfg(doc)]
+use super::Sweep;
 use super::SweepError;
-use crate::learner::{LearnerKind, Params};
-use crate::scene::{ron_options, Invalid, Scene, SceneError};
-use crate::world::ExecOptions;
+#[cfg(doc)]
+use crate::learner::LearnerKind;
+use crate::learner::Params;
+use crate::scene::{ron_options, Invalid, SceneError};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
-use std::path::Path;
 
 /// The names of the hyper-parameters, in the order of the cells and columns.
 pub const PARAM_NAMES: [&str; 5] = ["alpha", "beta", "lambda", "eta", "epsilon"];
@@ -94,6 +96,79 @@ impl Values {
                 })
                 .collect(),
         }
+    }
+}
+
+impl Values {
+    /// The values given, in order.
+    pub fn list(values: impl IntoIterator<Item = f64>) -> Values {
+        Values::List(values.into_iter().collect())
+    }
+
+    /// `steps` values from `from` to `to`, evenly spaced.
+    pub fn linear(from: f64, to: f64, steps: usize) -> Values {
+        Values::Range {
+            scale: Scale::Linear,
+            from,
+            to,
+            steps,
+        }
+    }
+
+    /// `steps` values from `from` to `to`, evenly spaced in `log10`.
+    pub fn log(from: f64, to: f64, steps: usize) -> Values {
+        Values::Range {
+            scale: Scale::Log,
+            from,
+            to,
+            steps,
+        }
+    }
+
+    /// The values as written in a sweep file (numbers in Rust's shortest
+    /// round-trip form, with a `.0` or an exponent, so that they read back
+    /// exactly).
+    ///
+    /// ```
+    /// use e3d::sweep::Values;
+    /// assert_eq!(Values::list([0.1, 100.0]).to_ron(), "[0.1, 100.0]");
+    /// assert_eq!(Values::log(1.0, 1e3, 4).to_ron(), "(scale: Log, from: 1.0, to: 1000.0, steps: 4)");
+    /// ```
+    pub fn to_ron(&self) -> String {
+        match self {
+            Values::List(v) => format!(
+                "[{}]",
+                v.iter()
+                    .map(|x| format!("{x:?}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            Values::Range {
+                scale,
+                from,
+                to,
+                steps,
+            } => format!("(scale: {scale:?}, from: {from:?}, to: {to:?}, steps: {steps})"),
+        }
+    }
+}
+
+impl From<f64> for Values {
+    /// One value.
+    fn from(v: f64) -> Values {
+        Values::List(vec![v])
+    }
+}
+
+impl From<Vec<f64>> for Values {
+    fn from(v: Vec<f64>) -> Values {
+        Values::List(v)
+    }
+}
+
+impl<const N: usize> From<[f64; N]> for Values {
+    fn from(v: [f64; N]) -> Values {
+        Values::List(v.to_vec())
     }
 }
 
@@ -201,7 +276,7 @@ pub(super) fn param_of(p: &Params, i: usize) -> f64 {
     [p.alpha, p.beta, p.lambda, p.eta, p.epsilon][i]
 }
 
-fn set_param(p: &mut Params, i: usize, v: f64) {
+pub(super) fn set_param(p: &mut Params, i: usize, v: f64) {
     match i {
         0 => p.alpha = v,
         1 => p.beta = v,
@@ -262,7 +337,25 @@ fn default_use_reward() -> Vec<bool> {
     vec![true]
 }
 
-/// A sweep file, as written (see `docs/sweeps.md`).
+/// A sweep, as data: what to run (see `docs/sweeps.md` for its RON form).
+///
+/// Parse one from a sweep file ([`SweepSpec::parse`]), or build one in
+/// code ([`SweepSpec::new`] and the `with_` methods, whose defaults are
+/// those of a file); [`to_ron`](SweepSpec::to_ron) writes it back as a
+/// sweep file that parses to an equal spec. A [`Sweep`] is a spec checked
+/// and resolved by factories of worlds and learners.
+///
+/// ```
+/// use e3d::sweep::{MetricSpec, ParamValues, SweepSpec, Values};
+/// let spec = SweepSpec::new(["two_rooms"], ["e3d", "uniform"], 3, 500)
+///     .with_use_reward([false])
+///     .with_params(ParamValues { beta: Some(Values::log(1.0, 1000.0, 4)), ..Default::default() })
+///     .with_seed(2020)
+///     .with_metrics([MetricSpec::NormalizedEntropy, MetricSpec::CumulativeReward(500)]);
+/// let text = spec.to_ron();
+/// assert!(text.contains("beta: (scale: Log, from: 1.0, to: 1000.0, steps: 4)"));
+/// assert_eq!(SweepSpec::parse(&text, "spec.ron").unwrap(), spec);
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Sweep")]
 pub struct SweepSpec {
@@ -272,10 +365,13 @@ pub struct SweepSpec {
     /// A sentence or two, for people.
     #[serde(default)]
     pub description: String,
-    /// Scene files (relative to the sweep file's folder) or built-in names.
+    /// The scenes, as the world factory knows them: with the built-in one,
+    /// scene files (relative to the sweep file's folder) or built-in names.
     pub scenes: Vec<String>,
-    /// The learners.
-    pub learners: Vec<LearnerKind>,
+    /// The learners' names (`e3d`, `uniform`, `egreedy`, or those of a
+    /// custom [`LearnerFactory`]); in a file, bare identifiers.
+    #[serde(deserialize_with = "learner_names")]
+    pub learners: Vec<String>,
     /// Whether the learners see the reward: `[true]`, `[false]` or both
     /// (default `[true]`).
     #[serde(default = "default_use_reward")]
@@ -295,33 +391,207 @@ pub struct SweepSpec {
     pub metrics: Option<Vec<MetricSpec>>,
 }
 
-fn invalid(
-    file: &str,
-    text: &str,
-    field: &str,
-    anchor: Option<&str>,
-    expected: &str,
-) -> SweepError {
-    SweepError::Input(SceneError::from_validation(
-        file,
-        text,
-        Invalid::at(field, anchor, expected),
-    ))
+/// The built-in learners' names, in the order of [`LearnerKind::ALL`].
+const BUILTIN_LEARNERS: &[&str] = &["e3d", "uniform", "egreedy"];
+
+thread_local! {
+    /// The learner names a sweep file being parsed may use (`None`: the
+    /// built-in ones).
+    static KNOWN_LEARNERS: std::cell::RefCell<Option<Vec<String>>> =
+        const { std::cell::RefCell::new(None) };
 }
 
-impl Sweep {
-    /// Loads and checks a sweep file; scene paths are relative to its folder.
-    pub fn load(path: impl AsRef<Path>) -> Result<Sweep, SweepError> {
-        let path = path.as_ref();
-        let file = path.display().to_string();
-        let text = crate::scene::read_text(path, "sweep")?;
-        Sweep::parse(&text, &file, path.parent())
+/// Sets the learner names a parse on this thread accepts, until dropped.
+struct KnownLearners(Option<Vec<String>>);
+
+impl KnownLearners {
+    fn set(names: Vec<String>) -> KnownLearners {
+        KnownLearners(KNOWN_LEARNERS.with(|k| k.replace(Some(names))))
+    }
+}
+
+impl Drop for KnownLearners {
+    fn drop(&mut self) {
+        let previous = self.0.take();
+        KNOWN_LEARNERS.with(|k| *k.borrow_mut() = previous);
+    }
+}
+
+/// A learner name in a sweep file: a bare identifier, read as a variant
+/// of `LearnerKind` was (so that a mistake is reported at the name, with
+/// the same words), and checked against the known names.
+struct LearnerName(String);
+
+impl<'de> Deserialize<'de> for LearnerName {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<LearnerName, D::Error> {
+        struct Ident;
+        impl<'de> de::DeserializeSeed<'de> for Ident {
+            type Value = String;
+            fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<String, D::Error> {
+                d.deserialize_identifier(self)
+            }
+        }
+        impl Visitor<'_> for Ident {
+            type Value = String;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a learner name")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<String, E> {
+                KNOWN_LEARNERS.with(|k| match &*k.borrow() {
+                    None if BUILTIN_LEARNERS.contains(&v) => Ok(v.to_string()),
+                    Some(known) if known.iter().any(|n| n == v) => Ok(v.to_string()),
+                    Some(known)
+                        if known
+                            .iter()
+                            .map(String::as_str)
+                            .ne(BUILTIN_LEARNERS.iter().copied()) =>
+                    {
+                        let names: Vec<&str> = known.iter().map(String::as_str).collect();
+                        Err(E::custom(format_args!(
+                            "unknown learner `{v}`{}; expected one of: {}",
+                            crate::scene::did_you_mean(v, &names),
+                            names.join(", ")
+                        )))
+                    }
+                    _ => Err(E::unknown_variant(v, BUILTIN_LEARNERS)),
+                })
+            }
+        }
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = LearnerName;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a learner name")
+            }
+            fn visit_enum<A: de::EnumAccess<'de>>(self, a: A) -> Result<LearnerName, A::Error> {
+                let (name, variant) = a.variant_seed(Ident)?;
+                de::VariantAccess::unit_variant(variant)?;
+                Ok(LearnerName(name))
+            }
+        }
+        d.deserialize_enum("LearnerKind", BUILTIN_LEARNERS, V)
+    }
+}
+
+fn learner_names<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<String>, D::Error> {
+    Ok(Vec::<LearnerName>::deserialize(d)?
+        .into_iter()
+        .map(|n| n.0)
+        .collect())
+}
+
+/// The file name errors give a sweep built in code.
+pub(super) const CODE_FILE: &str = "<SweepSpec>";
+
+/// What checking a spec finds: the values of each parameter and the
+/// metrics kept.
+pub(super) struct Checked {
+    pub(super) axes: Vec<Vec<f64>>,
+    pub(super) metrics: Vec<MetricSpec>,
+}
+
+impl SweepSpec {
+    /// A spec of the `scenes` x `learners` grid, `sessions` sessions of
+    /// `trials` trials per cell, with the defaults of a sweep file: no name
+    /// or description, `use_reward: [true]`, every hyper-parameter at the
+    /// default of `e3d run` ([`Params::TASK1`]), base seed 0 and every
+    /// metric ([`MetricSpec::defaults`]).
+    ///
+    /// ```
+    /// use e3d::sweep::SweepSpec;
+    /// let spec = SweepSpec::new(["two_rooms"], ["e3d"], 10, 5000);
+    /// assert_eq!(spec.use_reward, [true]);
+    /// assert_eq!((spec.seed, spec.metrics.clone()), (0, None));
+    /// assert_eq!(spec, SweepSpec::parse(
+    ///     r#"Sweep(scenes: ["two_rooms"], learners: [e3d], sessions: 10, trials: 5000)"#,
+    ///     "min.ron",
+    /// ).unwrap());
+    /// ```
+    pub fn new<S, L>(
+        scenes: impl IntoIterator<Item = S>,
+        learners: impl IntoIterator<Item = L>,
+        sessions: usize,
+        trials: usize,
+    ) -> SweepSpec
+    where
+        S: Into<String>,
+        L: Into<String>,
+    {
+        SweepSpec {
+            name: String::new(),
+            description: String::new(),
+            scenes: scenes.into_iter().map(Into::into).collect(),
+            learners: learners.into_iter().map(Into::into).collect(),
+            use_reward: default_use_reward(),
+            params: ParamValues::default(),
+            sessions,
+            trials,
+            seed: 0,
+            metrics: None,
+        }
     }
 
-    /// Parses and checks sweep text; `file` names it in errors, `base`
-    /// is the folder scene paths are relative to (the current folder when
-    /// `None`).
-    pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<Sweep, SweepError> {
+    /// Sets the name.
+    pub fn with_name(mut self, name: impl Into<String>) -> SweepSpec {
+        self.name = name.into();
+        self
+    }
+
+    /// Sets the description.
+    pub fn with_description(mut self, description: impl Into<String>) -> SweepSpec {
+        self.description = description.into();
+        self
+    }
+
+    /// Sets whether the learners see the reward (`[false, true]`: both).
+    pub fn with_use_reward(mut self, use_reward: impl IntoIterator<Item = bool>) -> SweepSpec {
+        self.use_reward = use_reward.into_iter().collect();
+        self
+    }
+
+    /// Sets the values of the hyper-parameters.
+    pub fn with_params(mut self, params: ParamValues) -> SweepSpec {
+        self.params = params;
+        self
+    }
+
+    /// Sets the base seed.
+    pub fn with_seed(mut self, seed: u64) -> SweepSpec {
+        self.seed = seed;
+        self
+    }
+
+    /// Sets the metrics kept, in order.
+    pub fn with_metrics(mut self, metrics: impl IntoIterator<Item = MetricSpec>) -> SweepSpec {
+        self.metrics = Some(metrics.into_iter().collect());
+        self
+    }
+
+    /// Parses and checks the text of a sweep file whose learners are the
+    /// built-in ones; `file` names it in errors. The scenes are not looked
+    /// at (a [`Sweep`] resolves them).
+    pub fn parse(text: &str, file: &str) -> Result<SweepSpec, SweepError> {
+        SweepSpec::parse_with(text, file, &Learners::builtin())
+    }
+
+    /// [`parse`](Self::parse) for a sweep file whose learners are those of
+    /// `learners`: a name it does not make is refused at its place.
+    pub fn parse_with(
+        text: &str,
+        file: &str,
+        learners: &dyn LearnerFactory,
+    ) -> Result<SweepSpec, SweepError> {
+        let (spec, text) = SweepSpec::from_text(text, file, learners)?;
+        spec.check_in(file, text)?;
+        Ok(spec)
+    }
+
+    /// The spec of `text`, read but not checked, and the text as read.
+    pub(super) fn from_text<'t>(
+        text: &'t str,
+        file: &str,
+        learners: &dyn LearnerFactory,
+    ) -> Result<(SweepSpec, &'t str), SweepError> {
         let text = crate::scene::prepare_text(text, file, "sweep")?;
         if text.trim().is_empty() {
             return Err(SceneError::new(
@@ -332,9 +602,17 @@ impl Sweep {
             )
             .into());
         }
+        let _known = KnownLearners::set(learners.names());
         let spec: SweepSpec = ron_options()
             .from_str(text)
             .map_err(|e| SceneError::from_ron(file, text, e))?;
+        Ok((spec, text))
+    }
+
+    /// Checks everything that does not depend on the scenes, placing
+    /// mistakes in `text` (`""`: nowhere).
+    pub(super) fn check_in(&self, file: &str, text: &str) -> Result<Checked, SweepError> {
+        let spec = self;
         let bad = |field: &str, anchor: Option<&str>, expected: &str| {
             invalid(file, text, field, anchor, expected)
         };
@@ -483,123 +761,67 @@ impl Sweep {
                 ));
             }
         }
-        // scenes
-        let mut scenes: Vec<Scene> = Vec::new();
-        for name in &spec.scenes {
-            let scene = resolve_scene(name, base).map_err(|e| match e {
-                SceneResolve::NotFound(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
-                SceneResolve::Scene(e) => SweepError::Input(e),
-            })?;
-            if scene.name.contains([',', '"', '\n', '\r']) {
-                return Err(bad(
-                    "scenes",
-                    Some(&format!("\"{name}\"")),
-                    &format!(
-                        "scenes whose name has no comma, quote or line break (for CSV), found `{}`",
-                        scene.name
-                    ),
-                ));
-            }
-            if scenes.iter().any(|s| s.name == scene.name) {
-                return Err(bad(
-                    "scenes",
-                    Some(&format!("\"{name}\"")),
-                    &format!("each scene once, but `{}` appears twice", scene.name),
-                ));
-            }
-            scenes.push(scene);
+        Ok(Checked { axes, metrics })
+    }
+
+    /// The spec as a sweep file: RON that [`parse`](Self::parse) (or
+    /// [`parse_with`](Self::parse_with) for custom learners) reads back
+    /// to an equal spec. Empty names, descriptions and parameters left
+    /// to their default are left out; numbers are written exactly.
+    pub fn to_ron(&self) -> String {
+        let string = |s: &str| ron::to_string(s).unwrap_or_else(|_| format!("{s:?}"));
+        let mut out = String::from("Sweep(\n");
+        if !self.name.is_empty() {
+            out.push_str(&format!("    name: {},\n", string(&self.name)));
         }
-        // the size, before making the cells
-        let mut num_cells: usize = 0;
-        for &learner in &spec.learners {
-            let per: usize = (0..5)
-                .filter(|&i| uses_param(learner, PARAM_NAMES[i]))
-                .fold(1usize, |acc, i| acc.saturating_mul(axes[i].len()));
-            num_cells = num_cells.saturating_add(per.saturating_mul(spec.use_reward.len()));
-        }
-        let num_cells = num_cells.saturating_mul(scenes.len());
-        if num_cells.saturating_mul(spec.sessions) > MAX_SESSIONS {
-            return Err(bad(
-                "sessions",
-                None,
-                &format!(
-                    "at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {}",
-                    spec.sessions
-                ),
+        if !self.description.is_empty() {
+            out.push_str(&format!(
+                "    description: {},\n",
+                string(&self.description)
             ));
         }
-        // cells
-        let mut cells = Vec::with_capacity(num_cells);
-        for (si, _) in scenes.iter().enumerate() {
-            for &learner in &spec.learners {
-                let used: [bool; 5] = std::array::from_fn(|i| uses_param(learner, PARAM_NAMES[i]));
-                let dims: Vec<usize> = (0..5)
-                    .map(|i| if used[i] { axes[i].len() } else { 1 })
-                    .collect();
-                let count: usize = dims.iter().product();
-                for &use_reward in &spec.use_reward {
-                    for mut k in 0..count {
-                        let mut params = Params::TASK1;
-                        let mut pick = [0usize; 5];
-                        for i in (0..5).rev() {
-                            pick[i] = k % dims[i];
-                            k /= dims[i];
-                        }
-                        for i in 0..5 {
-                            set_param(&mut params, i, axes[i][pick[i]]);
-                        }
-                        cells.push(Cell {
-                            index: cells.len(),
-                            scene: si,
-                            learner,
-                            use_reward,
-                            params,
-                            used,
-                        });
-                    }
-                }
-            }
+        let scenes: Vec<String> = self.scenes.iter().map(|s| string(s)).collect();
+        out.push_str(&format!("    scenes: [{}],\n", scenes.join(", ")));
+        out.push_str(&format!("    learners: [{}],\n", self.learners.join(", ")));
+        let use_reward: Vec<String> = self.use_reward.iter().map(bool::to_string).collect();
+        out.push_str(&format!("    use_reward: [{}],\n", use_reward.join(", ")));
+        let params: Vec<String> = PARAM_NAMES
+            .iter()
+            .filter_map(|name| {
+                let v = self.params.get(name)?;
+                Some(format!("        {name}: {},\n", v.to_ron()))
+            })
+            .collect();
+        if !params.is_empty() {
+            out.push_str(&format!("    params: (\n{}    ),\n", params.concat()));
         }
-        Ok(Sweep {
-            spec,
-            text: text.to_string(),
-            file: file.to_string(),
-            scenes,
-            metrics,
-            cells,
-            exec: ExecOptions::default(),
-            notices: None,
-            trials_done: None,
-        })
+        out.push_str(&format!("    sessions: {},\n", self.sessions));
+        out.push_str(&format!("    trials: {},\n", self.trials));
+        out.push_str(&format!("    seed: {},\n", self.seed));
+        if let Some(metrics) = &self.metrics {
+            let m: Vec<String> = metrics
+                .iter()
+                .map(|m| ron::to_string(m).unwrap_or_default())
+                .collect();
+            out.push_str(&format!("    metrics: [{}],\n", m.join(", ")));
+        }
+        out.push_str(")\n");
+        out
     }
 }
 
-enum SceneResolve {
-    NotFound(String),
-    Scene(SceneError),
-}
-
-/// A scene named in a sweep: a path relative to `base` (or absolute), or a
-/// built-in name.
-fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, SceneResolve> {
-    let p = Path::new(name);
-    let path = match base {
-        Some(b) if p.is_relative() => b.join(p),
-        _ => p.to_path_buf(),
-    };
-    if path.exists() {
-        return Scene::load(&path).map_err(SceneResolve::Scene);
-    }
-    if let Some(s) = Scene::builtin(name) {
-        return Ok(s);
-    }
-    let names: Vec<&str> = crate::scene::BUILTIN.iter().map(|(n, _)| *n).collect();
-    Err(SceneResolve::NotFound(format!(
-        "a scene file (relative to the sweep file) or a built-in scene ({}), found `{name}`: no file {}{}",
-        names.join(", "),
-        path.display(),
-        crate::scene::did_you_mean(name, &names)
-    )))
+pub(super) fn invalid(
+    file: &str,
+    text: &str,
+    field: &str,
+    anchor: Option<&str>,
+    expected: &str,
+) -> SweepError {
+    SweepError::Input(SceneError::from_validation(
+        file,
+        text,
+        Invalid::at(field, anchor, expected),
+    ))
 }
 
 #[cfg(test)]
