@@ -32,7 +32,9 @@
 //!   a [`Recorder`] such as [`RunningMetrics`], in constant memory),
 //!   sessions in lockstep ([`run_lockstep`]) and their [`Metrics`];
 //! - [`sweep`]: grids of sessions over scenes, learners and parameters
-//!   ([`Sweep`]), run in parallel, resumable, in shards.
+//!   ([`Sweep`], from a file or a [`SweepSpec`](sweep::SweepSpec) built in
+//!   code), run in parallel, resumable, in shards; your own worlds and
+//!   learners go in through [`sweep::Worlds`] and [`sweep::Learners`].
 //!
 //! ```
 //! use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};

@@ -19,8 +19,7 @@
 //! ```
 
 use super::{describe, median, Stats};
-use crate::learner::LearnerKind;
-use crate::sweep::{SessionResult, Sweep, SweepError};
+use crate::sweep::{SessionResult, Sweep, SweepError, PARAM_NAMES};
 use std::fmt::Write;
 
 /// The sweep file of the comparison, as shipped.
@@ -95,19 +94,19 @@ impl DriveComparison {
             .position(|c| c.starts_with("cumulative_reward_at_"));
         let first = col("first_reward_trial");
         let cells = sweep.cells();
-        let beta_used = |k: LearnerKind| k.params().contains(&"beta");
+        let beta = PARAM_NAMES.iter().position(|&p| p == "beta").unwrap_or(1);
         let mut rows = Vec::new();
         for (si, scene) in sweep.scenes().iter().enumerate() {
-            for &kind in &sweep.spec.learners {
+            for kind in &sweep.spec.learners {
                 let pick = |task2: bool| -> Vec<&SessionResult> {
                     let wanted = if task2 { TASK2_BETA } else { TASK1_BETA };
                     let ids: Vec<usize> = cells
                         .iter()
                         .filter(|c| {
                             c.scene == si
-                                && c.learner == kind
+                                && c.learner == *kind
                                 && c.use_reward == task2
-                                && (!beta_used(kind) || c.params.beta == wanted)
+                                && (!c.used[beta] || c.params.beta == wanted)
                         })
                         .map(|c| c.index)
                         .collect();
@@ -125,8 +124,8 @@ impl DriveComparison {
                 let firsts = values(&t2, first);
                 let rewarded: Vec<f64> = firsts.iter().flatten().copied().collect();
                 rows.push(DriveRow {
-                    scene: scene.name.clone(),
-                    learner: kind.as_str().to_string(),
+                    scene: scene.name().to_string(),
+                    learner: kind.clone(),
                     task1_entropy: describe(&h),
                     task2_reward: describe(&rew),
                     task2_first_reward: median(&rewarded),

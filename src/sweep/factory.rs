@@ -1,0 +1,629 @@
+//! What a sweep's names become: the worlds of its scenes and its learners.
+//!
+//! A [`SweepSpec`] names its scenes and learners; a [`WorldFactory`] turns
+//! each scene name into a [`SweepScene`] (its command space, its effects,
+//! and the worlds its sessions run on), and a [`LearnerFactory`] turns each
+//! learner name into fresh learners. The built-in factories are those of
+//! `e3d sweep`: [`SceneFiles`] (scene files and built-in scene names, each
+//! run through an [`Executor`]: outcome table, memo or live execution,
+//! sessions in lockstep) and [`Learners::builtin`] ([`LearnerKind`]).
+//!
+//! Your own worlds and learners go in through the registries [`Worlds`]
+//! and [`Learners`], or through your own implementations of the traits:
+//!
+//! ```
+//! use e3d::sweep::{Learners, Sweep, SweepSpec, Worlds};
+//! use e3d::{Command, CommandSpace, Outcome, World, WorldError};
+//!
+//! /// Effect = number of 'b' symbols.
+//! struct CountB(CommandSpace);
+//! impl World for CountB {
+//!     fn command_space(&self) -> &CommandSpace { &self.0 }
+//!     fn num_effects(&self) -> usize { self.0.num_slots() + 1 }
+//!     fn execute(&mut self, c: &Command) -> Result<Outcome, WorldError> {
+//!         let n = c.symbols.iter().filter(|&&s| s == 1).count();
+//!         Ok(Outcome { effect: n, reward: 0.0, point: [n as f64, 0.0] })
+//!     }
+//! }
+//!
+//! let worlds = Worlds::new()
+//!     .with_world("count_b", || CountB(CommandSpace::repeat(4, &['a', 'b']).unwrap()))
+//!     .with_scene_files(None); // built-in scene names and files still work
+//! let spec = SweepSpec::new(["count_b", "two_rooms"], ["uniform"], 2, 50);
+//! let sweep = Sweep::with_factories(spec, &worlds, Learners::builtin()).unwrap();
+//! let results = sweep.run(2).unwrap();
+//! assert_eq!(results.len(), 4);
+//! assert!(sweep.result_row(&results[0]).starts_with("count_b,uniform,true,"));
+//! ```
+
+use super::plan::fnv1a64;
+use super::SweepError;
+#[cfg(doc)]
+use super::SweepSpec;
+use super::PARAM_NAMES;
+use crate::command::CommandSpace;
+use crate::effect::Target;
+use crate::learner::{Learner, LearnerKind, Params};
+use crate::scene::Scene;
+use crate::world::{ExecOptions, Executor, OutcomeTable, Workload, World};
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// An error a factory returns: any error type, sent across threads.
+pub type BoxError = Box<dyn std::error::Error + Send + Sync>;
+
+// ---------------------------------------------------------------------------
+// Worlds
+// ---------------------------------------------------------------------------
+
+/// One scene of a sweep, as its [`WorldFactory`] made it: what its sessions
+/// need to know, and the worlds they run on.
+///
+/// [`Scene`] implements it (outcome table, memo or live execution, chosen
+/// by cost, sessions in lockstep: exactly `e3d sweep`), and so does
+/// [`LiveScene`] (a closure that makes worlds). Implement it yourself to
+/// share outcomes between sessions in your own way.
+pub trait SweepScene: Send + Sync {
+    /// The name written in `results.csv` and in the sessions' identities
+    /// (so in their seeds). It must hold no comma, quote or line break.
+    fn name(&self) -> &str;
+
+    /// The command space of every world of this scene (the learners are
+    /// made for it; a world of another space is refused).
+    fn command_space(&self) -> CommandSpace;
+
+    /// The number of effects of every world of this scene.
+    fn num_effects(&self) -> usize;
+
+    /// A key of the scene's content, written in the journal of an output
+    /// folder: a resume or a merge after it changed is refused, since one
+    /// results file would mix two versions of the scene.
+    fn content_key(&self) -> u64;
+
+    /// Gets ready for `work` (all the sessions of this scene in one run)
+    /// and returns where its sessions get their worlds. `options` are the
+    /// sweep's table folder, memo cap and forced strategy (see
+    /// [`Sweep::with_table_cache`](super::Sweep::with_table_cache)); a
+    /// scene that keeps no outcomes may ignore them. Called on the run's
+    /// thread pool, so that a table can be built in parallel.
+    fn prepare<'a>(
+        &'a self,
+        work: &Workload,
+        options: &ExecOptions,
+    ) -> Result<Box<dyn SceneRun + 'a>, SweepError>;
+
+    /// The scene file behind this scene, if it has one.
+    fn scene(&self) -> Option<&Scene> {
+        None
+    }
+}
+
+/// The worlds of one scene during one run (see [`SweepScene::prepare`]).
+pub trait SceneRun: Send + Sync {
+    /// How the scene's sessions are run: `None`, each alone on a world of
+    /// its own; `Some(g)`, in `g` lockstep groups, the new commands of a
+    /// group executed together ([`World::execute_batch`]).
+    fn lockstep_groups(&self) -> Option<usize>;
+
+    /// A fresh world for `width` sessions stepping together (1 for a
+    /// session alone). Its outcomes must not depend on the width.
+    fn world(&self, width: usize) -> Box<dyn World + Send + '_>;
+
+    /// One line saying how outcomes are obtained, told to the sweep's
+    /// notices before any session runs (`None`: nothing to say).
+    fn describe(&self) -> Option<String> {
+        None
+    }
+
+    /// Called once every session has run: keeps what should be kept and
+    /// returns one line saying what was done, told to the notices.
+    fn finish(&self) -> Option<String> {
+        None
+    }
+}
+
+/// Why a [`WorldFactory`] made no scene of a name.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FactoryError {
+    /// The factory knows no such scene. The text says what it expected and
+    /// what was found (`a scene file ... or a built-in scene (...), found
+    /// `x``); the sweep reports it at the name in the sweep file.
+    #[error("expected {0}")]
+    Unknown(String),
+    /// The scene is known but could not be made (a mistake in its file,
+    /// a simulator that does not start, ...).
+    #[error(transparent)]
+    Failed(SweepError),
+}
+
+/// Makes the scenes a sweep names (once each, before any session runs).
+pub trait WorldFactory {
+    /// The scene the sweep names `name`.
+    fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError>;
+}
+
+impl SweepScene for Scene {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn command_space(&self) -> CommandSpace {
+        Scene::command_space(self)
+    }
+    fn num_effects(&self) -> usize {
+        Scene::num_effects(self)
+    }
+    /// [`OutcomeTable::key`]: the scene's canonical form and the e3d
+    /// version.
+    fn content_key(&self) -> u64 {
+        OutcomeTable::key(self)
+    }
+    /// An [`Executor`]: the cheapest of an outcome table, a memo and live
+    /// execution, for `work`.
+    fn prepare<'a>(
+        &'a self,
+        work: &Workload,
+        options: &ExecOptions,
+    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
+        let e = Executor::new(self, work, options).map_err(|e| SweepError::Other(e.to_string()))?;
+        Ok(Box::new(e))
+    }
+    fn scene(&self) -> Option<&Scene> {
+        Some(self)
+    }
+}
+
+impl SceneRun for Executor<'_> {
+    /// One at a time on the table; in the plan's groups otherwise.
+    fn lockstep_groups(&self) -> Option<usize> {
+        if self.table().is_some() {
+            None
+        } else {
+            Some(self.plan().groups.max(1))
+        }
+    }
+    fn world(&self, width: usize) -> Box<dyn World + Send + '_> {
+        Executor::world(self, width)
+    }
+    /// The plan ([`Executor::plan`]) in words.
+    fn describe(&self) -> Option<String> {
+        Some(Executor::plan(self).to_string())
+    }
+    fn finish(&self) -> Option<String> {
+        Executor::finish(self)
+    }
+}
+
+/// The built-in world factory, `e3d sweep`'s: a name is a scene file,
+/// relative to `base` (or absolute), or else a built-in scene name
+/// ([`Scene::builtin`]); each scene runs through an [`Executor`].
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct SceneFiles {
+    /// The folder relative scene paths start from (the current folder
+    /// when `None`); for a sweep file, its folder.
+    pub base: Option<PathBuf>,
+}
+
+impl SceneFiles {
+    /// Scene files relative to `base` (the current folder when `None`).
+    pub fn new(base: Option<&Path>) -> SceneFiles {
+        SceneFiles {
+            base: base.map(Path::to_path_buf),
+        }
+    }
+}
+
+impl WorldFactory for SceneFiles {
+    fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError> {
+        resolve_scene(name, self.base.as_deref()).map(|s| Arc::new(s) as Arc<dyn SweepScene>)
+    }
+}
+
+/// A scene named in a sweep: a path relative to `base` (or absolute), or a
+/// built-in name.
+fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, FactoryError> {
+    let p = Path::new(name);
+    let path = match base {
+        Some(b) if p.is_relative() => b.join(p),
+        _ => p.to_path_buf(),
+    };
+    if path.exists() {
+        return Scene::load(&path).map_err(|e| FactoryError::Failed(SweepError::Input(e)));
+    }
+    if let Some(s) = Scene::builtin(name) {
+        return Ok(s);
+    }
+    let names: Vec<&str> = crate::scene::BUILTIN.iter().map(|(n, _)| *n).collect();
+    Err(FactoryError::Unknown(format!(
+        "a scene file (relative to the sweep file) or a built-in scene ({}), found `{name}`: no file {}{}",
+        names.join(", "),
+        path.display(),
+        crate::scene::did_you_mean(name, &names)
+    )))
+}
+
+/// A scene whose worlds a closure makes: each session runs alone on a
+/// fresh world (live execution: no table, no memo, no lockstep), so a
+/// deterministic world gives the same results whatever the threads.
+///
+/// ```
+/// use e3d::sweep::{LiveScene, SweepScene};
+/// use e3d::Scene;
+/// let scene = LiveScene::new("rooms", || Scene::builtin("two_rooms").unwrap().build());
+/// assert_eq!(scene.name(), "rooms");
+/// assert_eq!(scene.num_effects(), 18);
+/// ```
+pub struct LiveScene<F> {
+    name: String,
+    space: CommandSpace,
+    num_effects: usize,
+    key: u64,
+    make: F,
+}
+
+impl<F, W> LiveScene<F>
+where
+    F: Fn() -> W,
+    W: World,
+{
+    /// The scene `name` whose worlds `make` makes. One world is made at
+    /// once, for its command space and number of effects. The content key
+    /// is a hash of the name, the command space and the number of effects
+    /// (see [`with_key`](Self::with_key)).
+    pub fn new(name: impl Into<String>, make: F) -> LiveScene<F> {
+        let name = name.into();
+        let world = make();
+        let space = world.command_space().clone();
+        let num_effects = world.num_effects();
+        let alphabets: Vec<String> = (0..space.num_slots())
+            .map(|i| space.alphabet(i).iter().collect())
+            .collect();
+        let key = fnv1a64(format!("{name};{};{num_effects}", alphabets.join("|")).as_bytes());
+        LiveScene {
+            name,
+            space,
+            num_effects,
+            key,
+            make,
+        }
+    }
+
+    /// Sets the content key ([`SweepScene::content_key`]): give a hash of
+    /// whatever defines your world (its parameters, a version), so that a
+    /// resume after it changed is refused.
+    pub fn with_key(mut self, key: u64) -> LiveScene<F> {
+        self.key = key;
+        self
+    }
+}
+
+impl<F> fmt::Debug for LiveScene<F> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("LiveScene")
+            .field("name", &self.name)
+            .field("space", &self.space)
+            .field("num_effects", &self.num_effects)
+            .field("key", &format_args!("{:016x}", self.key))
+            .finish_non_exhaustive()
+    }
+}
+
+impl<F, W> SweepScene for LiveScene<F>
+where
+    F: Fn() -> W + Send + Sync,
+    W: World + Send + 'static,
+{
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn command_space(&self) -> CommandSpace {
+        self.space.clone()
+    }
+    fn num_effects(&self) -> usize {
+        self.num_effects
+    }
+    fn content_key(&self) -> u64 {
+        self.key
+    }
+    fn prepare<'a>(
+        &'a self,
+        _work: &Workload,
+        _options: &ExecOptions,
+    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
+        Ok(Box::new(LiveRun(self)))
+    }
+}
+
+struct LiveRun<'a, F>(&'a LiveScene<F>);
+
+impl<F, W> SceneRun for LiveRun<'_, F>
+where
+    F: Fn() -> W + Send + Sync,
+    W: World + Send + 'static,
+{
+    fn lockstep_groups(&self) -> Option<usize> {
+        None
+    }
+    fn world(&self, _width: usize) -> Box<dyn World + Send + '_> {
+        Box::new((self.0.make)())
+    }
+    fn describe(&self) -> Option<String> {
+        Some(format!(
+            "{}: live execution: each session on a fresh world of its own (a world made by code)",
+            self.0.name
+        ))
+    }
+}
+
+/// A world factory from scenes registered by name, and optionally scene
+/// files and built-in names for the others.
+///
+/// A name is looked up among the registered scenes first (by
+/// [`SweepScene::name`]; a later one replaces an earlier one of the same
+/// name), then, with [`with_scene_files`](Self::with_scene_files), as a
+/// scene file or a built-in scene.
+#[derive(Clone, Default)]
+pub struct Worlds {
+    scenes: Vec<Arc<dyn SweepScene>>,
+    files: Option<SceneFiles>,
+}
+
+impl Worlds {
+    /// No scene at all.
+    pub fn new() -> Worlds {
+        Worlds::default()
+    }
+
+    /// Registers `name`, whose worlds `make` makes (a [`LiveScene`]).
+    pub fn with_world<F, W>(self, name: impl Into<String>, make: F) -> Worlds
+    where
+        F: Fn() -> W + Send + Sync + 'static,
+        W: World + Send + 'static,
+    {
+        self.with_scene(LiveScene::new(name, make))
+    }
+
+    /// Registers a scene under its [`SweepScene::name`]: a [`Scene`] made
+    /// or edited in code (run as `e3d sweep` runs scene files), a
+    /// [`LiveScene`], or your own.
+    pub fn with_scene(mut self, scene: impl SweepScene + 'static) -> Worlds {
+        self.scenes.retain(|s| s.name() != scene.name());
+        self.scenes.push(Arc::new(scene));
+        self
+    }
+
+    /// Makes the names that are not registered scene files relative to
+    /// `base` (the current folder when `None`) or built-in scenes, as
+    /// [`SceneFiles`].
+    pub fn with_scene_files(mut self, base: Option<&Path>) -> Worlds {
+        self.files = Some(SceneFiles::new(base));
+        self
+    }
+
+    /// The registered scenes' names, in order.
+    pub fn names(&self) -> Vec<&str> {
+        self.scenes.iter().map(|s| s.name()).collect()
+    }
+}
+
+impl fmt::Debug for Worlds {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Worlds")
+            .field("scenes", &self.names())
+            .field("files", &self.files)
+            .finish()
+    }
+}
+
+impl WorldFactory for Worlds {
+    fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError> {
+        if let Some(s) = self.scenes.iter().find(|s| s.name() == name) {
+            return Ok(s.clone());
+        }
+        match &self.files {
+            Some(files) => files.scene(name),
+            None => {
+                let names = self.names();
+                Err(FactoryError::Unknown(format!(
+                    "one of the scenes made by code ({}), found `{name}`{}",
+                    names.join(", "),
+                    crate::scene::did_you_mean(name, &names)
+                )))
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Learners
+// ---------------------------------------------------------------------------
+
+/// Makes the learners a sweep names, afresh for each session.
+///
+/// A learner's name is written in `results.csv` and in the sessions'
+/// identities (so in their seeds); it must be a RON identifier (ASCII
+/// letters, digits and `_`, not starting with a digit) to be written in a
+/// sweep file. Its hyper-parameters are among [`PARAM_NAMES`]: its grid
+/// spans only those it uses, and the others are empty in the results.
+pub trait LearnerFactory: Send + Sync {
+    /// The learners this factory makes, in the order messages list them.
+    fn names(&self) -> Vec<String>;
+
+    /// Which of [`PARAM_NAMES`] learner `name` uses; `None` for a name
+    /// this factory does not make.
+    fn uses(&self, name: &str) -> Option<[bool; 5]>;
+
+    /// A fresh learner `name` with `params` (those it does not use hold
+    /// the first value of their list) for `space`, `num_effects` effects
+    /// and the target `p*`. An error stops the sweep.
+    fn make(
+        &self,
+        name: &str,
+        params: &Params,
+        space: &CommandSpace,
+        num_effects: usize,
+        target: &Target,
+    ) -> Result<Box<dyn Learner + Send>, BoxError>;
+}
+
+/// How a custom learner is made: from its parameters, the command space,
+/// the number of effects and the target.
+pub type MakeLearner = dyn Fn(&Params, &CommandSpace, usize, &Target) -> Result<Box<dyn Learner + Send>, BoxError>
+    + Send
+    + Sync;
+
+#[derive(Clone)]
+enum Entry {
+    Builtin(LearnerKind),
+    Custom([bool; 5], Arc<MakeLearner>),
+}
+
+/// A learner factory from learners registered by name: the built-in ones
+/// ([`LearnerKind`], with [`Learners::builtin`]) and your own.
+///
+/// ```
+/// use e3d::sweep::{LearnerFactory, Learners};
+/// use e3d::{Learner, LearnerKind, Params};
+/// // epsilon-greedy under another name, sweeping only epsilon
+/// let learners = Learners::builtin().with("greedy", &["epsilon"], |p, space, n, target| {
+///     let p = Params { alpha: 0.5, ..*p };
+///     Ok(LearnerKind::Egreedy.make(&p, space, n, target)?)
+/// });
+/// assert_eq!(learners.names(), ["e3d", "uniform", "egreedy", "greedy"]);
+/// assert_eq!(learners.uses("greedy"), Some([false, false, false, false, true]));
+/// assert_eq!(learners.uses("e3d"), Some([true, true, true, true, false]));
+/// assert_eq!(learners.uses("nope"), None);
+/// ```
+#[derive(Clone, Default)]
+pub struct Learners {
+    entries: Vec<(String, Entry)>,
+}
+
+impl Learners {
+    /// No learner at all.
+    pub fn new() -> Learners {
+        Learners::default()
+    }
+
+    /// The built-in learners, `e3d sweep`'s: `e3d`, `uniform`, `egreedy`
+    /// ([`LearnerKind::make`], using the parameters of
+    /// [`uses_param`](super::uses_param)).
+    pub fn builtin() -> Learners {
+        Learners {
+            entries: LearnerKind::ALL
+                .into_iter()
+                .map(|k| (k.as_str().to_string(), Entry::Builtin(k)))
+                .collect(),
+        }
+    }
+
+    /// Registers the learner `name`, which uses the hyper-parameters
+    /// `uses` (among [`PARAM_NAMES`]) and is made by `make`. It replaces
+    /// any learner of that name registered before, built-in ones included.
+    ///
+    /// # Panics
+    ///
+    /// If `name` is not a RON identifier (ASCII letters, digits and `_`,
+    /// not starting with a digit), or a parameter is not one of
+    /// [`PARAM_NAMES`]: mistakes in the program, not in its data.
+    pub fn with<F>(mut self, name: &str, uses: &[&str], make: F) -> Learners
+    where
+        F: Fn(&Params, &CommandSpace, usize, &Target) -> Result<Box<dyn Learner + Send>, BoxError>
+            + Send
+            + Sync
+            + 'static,
+    {
+        assert!(
+            is_identifier(name),
+            "learner `{name}`: a name of ASCII letters, digits and `_`, not starting with a digit"
+        );
+        let mut used = [false; 5];
+        for p in uses {
+            let i = PARAM_NAMES.iter().position(|n| n == p).unwrap_or_else(|| {
+                panic!(
+                    "learner `{name}`: parameter `{p}` is not one of {}",
+                    PARAM_NAMES.join(", ")
+                )
+            });
+            used[i] = true;
+        }
+        let entry = Entry::Custom(used, Arc::new(make));
+        match self.entries.iter_mut().find(|(n, _)| n == name) {
+            Some(e) => e.1 = entry,
+            None => self.entries.push((name.to_string(), entry)),
+        }
+        self
+    }
+
+    fn entry(&self, name: &str) -> Option<&Entry> {
+        self.entries.iter().find(|(n, _)| n == name).map(|(_, e)| e)
+    }
+}
+
+impl fmt::Debug for Learners {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_list()
+            .entries(self.entries.iter().map(|(n, _)| n))
+            .finish()
+    }
+}
+
+impl LearnerFactory for Learners {
+    fn names(&self) -> Vec<String> {
+        self.entries.iter().map(|(n, _)| n.clone()).collect()
+    }
+
+    fn uses(&self, name: &str) -> Option<[bool; 5]> {
+        Some(match self.entry(name)? {
+            Entry::Builtin(k) => std::array::from_fn(|i| super::uses_param(*k, PARAM_NAMES[i])),
+            Entry::Custom(used, _) => *used,
+        })
+    }
+
+    fn make(
+        &self,
+        name: &str,
+        params: &Params,
+        space: &CommandSpace,
+        num_effects: usize,
+        target: &Target,
+    ) -> Result<Box<dyn Learner + Send>, BoxError> {
+        match self.entry(name) {
+            Some(Entry::Builtin(k)) => Ok(k.make(params, space, num_effects, target)?),
+            Some(Entry::Custom(_, make)) => make(params, space, num_effects, target),
+            None => Err(format!("no learner `{name}` in this factory").into()),
+        }
+    }
+}
+
+/// Whether `name` is a RON identifier: ASCII letters, digits and `_`, not
+/// starting with a digit (so also one CSV field, and unambiguous in an
+/// identity).
+pub(crate) fn is_identifier(name: &str) -> bool {
+    let mut chars = name.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// A command space in a sentence: `7 slots of ESWN`, or each slot's
+/// alphabet.
+pub(crate) fn describe_space(space: &CommandSpace) -> String {
+    let alphabet = |i: usize| -> String { space.alphabet(i).iter().collect() };
+    let n = space.num_slots();
+    if (1..n).all(|i| space.alphabet(i) == space.alphabet(0)) {
+        crate::command::echo(&format!(
+            "{n} slot{} of `{}`",
+            if n == 1 { "" } else { "s" },
+            alphabet(0)
+        ))
+    } else {
+        crate::command::echo(&format!(
+            "slots {}",
+            (0..n)
+                .map(|i| format!("`{}`", alphabet(i)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))
+    }
+}

@@ -1,0 +1,112 @@
+//! Sweeps: grids of sessions over scenes, learners and hyper-parameters.
+//!
+//! A sweep file (RON, documented in `docs/sweeps.md`) names the scenes, the
+//! learners, the reward settings, a list or a range of values for each
+//! hyper-parameter, the number of sessions (seeds) per cell, the trials per
+//! session, a base seed and the metrics to keep:
+//!
+//! ```ron
+//! Sweep(
+//!     scenes: ["two_rooms"],
+//!     learners: [e3d, uniform],
+//!     use_reward: [false],
+//!     params: (
+//!         beta: (scale: Log, from: 1, to: 1000, steps: 4),
+//!         eta: [0.01, 0.1],
+//!     ),
+//!     sessions: 3,
+//!     trials: 500,
+//!     seed: 2020,
+//!     metrics: [normalized_entropy, cumulative_reward(500)],
+//! )
+//! ```
+//!
+//! [`Sweep::parse`] (or [`Sweep::load`]) checks everything before any work
+//! starts; [`Sweep::cells`] lists the grid; [`Sweep::sessions`] lists every
+//! session with its seed; [`Sweep::run`] runs them all in parallel and
+//! returns the results in canonical order; [`Sweep::run_to_dir`] is the
+//! resumable, shardable form behind `e3d sweep`.
+//!
+//! The module, by concept:
+//!
+//! - the spec ([`SweepSpec`], [`Values`], [`ParamValues`], [`MetricSpec`]):
+//!   what to run, parsed from a file ([`SweepSpec::parse`]) or built in
+//!   code ([`SweepSpec::new`]), written back by [`SweepSpec::to_ron`];
+//! - the [`factory`]: what the spec's names become, scenes
+//!   ([`WorldFactory`], [`SweepScene`]; built in: [`SceneFiles`]; a
+//!   registry of your own: [`Worlds`]) and learners ([`LearnerFactory`];
+//!   [`Learners`]). [`Sweep::parse`] and [`Sweep::new`] use the built-in
+//!   ones, [`Sweep::parse_with`] and [`Sweep::with_factories`] yours;
+//! - the plan: [`Cell`]s, [`SessionSpec`]s with their identities and
+//!   seeds, [`Shard`]s;
+//! - the run: [`Sweep::run_session`], [`Sweep::run_with`], [`Sweep::run`],
+//!   [`Sweep::run_to_dir`];
+//! - the results: [`SessionResult`], the rows of `results.csv`, the files
+//!   of an output folder ([`DirReport`]) and [`merge`].
+//!
+//! # Cells
+//!
+//! The cells are the product, in this order, of the scenes, the learners,
+//! the `use_reward` values and the values of `alpha`, `beta`, `lambda`,
+//! `eta` and `epsilon`, each in the order of the file. A learner's grid
+//! spans only the parameters it uses ([`uses_param`]; for a custom
+//! learner, [`LearnerFactory::uses`]): the uniform policy uses none,
+//! epsilon-greedy `alpha` and `epsilon`, E3D the four others.
+//! A parameter a learner does not use is left empty in the results.
+//!
+//! # Seeds
+//!
+//! Session `i` of a cell (`i` in `0..sessions`) is seeded with
+//! [`session_seed`]`(base_seed, identity)`, where the identity is the text
+//! `scene=S;learner=L;use_reward=B;alpha=A;beta=B;lambda=L;eta=E;epsilon=P;session=I`
+//! with every number written as in `results.csv` (Rust's shortest
+//! round-trip form, `-` for an unused parameter). A session's seed thus
+//! depends on what it is, never on when or where it runs: the results are
+//! the same, byte for byte, with one thread or many, in one process or in
+//! shards.
+//!
+//! ```
+//! use e3d::sweep::Sweep;
+//! let text = r#"Sweep(
+//!     scenes: ["two_rooms"], learners: [e3d, uniform], use_reward: [false],
+//!     params: (eta: [0.01, 0.1]), sessions: 2, trials: 300, seed: 1,
+//! )"#;
+//! let sweep = Sweep::parse(text, "example.ron", None).unwrap();
+//! // e3d x 2 values of eta, and the uniform policy once
+//! assert_eq!(sweep.cells().len(), 3);
+//! assert_eq!(sweep.sessions().len(), 6);
+//! let results = sweep.run(2).unwrap();
+//! let one_thread = sweep.run(1).unwrap();
+//! assert_eq!(results, one_thread);
+//! assert_eq!(results[0].values.len(), sweep.metric_columns().len());
+//! ```
+
+pub mod journal;
+pub mod summary;
+
+pub mod factory;
+
+mod error;
+mod plan;
+mod results;
+mod run;
+mod spec;
+
+pub(crate) use error::io_err;
+pub use error::SweepError;
+pub use factory::{
+    BoxError, FactoryError, LearnerFactory, Learners, LiveScene, MakeLearner, SceneFiles, SceneRun,
+    SweepScene, WorldFactory, Worlds,
+};
+pub use plan::{
+    fnv1a64, format_number, session_seed, splitmix64, uses_param, Cell, SessionSpec, Shard, Sweep,
+};
+pub use results::{
+    merge, DirReport, SessionResult, CELL_COLUMNS, FAILURE_COLUMN, JOURNAL, KEY_COLUMNS, RESULTS,
+    SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,
+};
+pub use run::DirOptions;
+pub use spec::{
+    MetricSpec, ParamValues, Scale, SweepSpec, Values, MAX_SESSIONS, MAX_STEPS, MAX_TRIALS,
+    PARAM_NAMES,
+};

@@ -1,0 +1,599 @@
+//! The plan of a sweep: its cells, its sessions with their identities and
+//! seeds, shards, and the work each scene gets.
+
+use super::factory::{
+    is_identifier, FactoryError, LearnerFactory, Learners, SceneFiles, SweepScene, WorldFactory,
+};
+use super::spec::{invalid, param_of, set_param, MetricSpec, SweepSpec, CODE_FILE, PARAM_NAMES};
+use super::{SweepError, MAX_SESSIONS};
+use crate::learner::{LearnerKind, Params};
+use crate::world::{ExecOptions, Strategy, Workload};
+#[cfg(doc)]
+use crate::world::{ExecutionPlan, OutcomeTable, DEFAULT_MEMO_CAP};
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::sync::Arc;
+
+/// Whether `learner` uses the hyper-parameter `param` (one of
+/// [`PARAM_NAMES`]).
+///
+/// ```
+/// use e3d::{sweep::uses_param, LearnerKind};
+/// assert!(uses_param(LearnerKind::E3d, "eta"));
+/// assert!(!uses_param(LearnerKind::Egreedy, "beta"));
+/// assert!(!uses_param(LearnerKind::Uniform, "alpha"));
+/// ```
+pub fn uses_param(learner: LearnerKind, param: &str) -> bool {
+    learner.params().contains(&param)
+}
+
+/// 64-bit FNV-1a of `bytes` (offset basis `0xcbf29ce484222325`, prime
+/// `0x100000001b3`).
+///
+/// ```
+/// assert_eq!(e3d::sweep::fnv1a64(b""), 0xcbf29ce484222325);
+/// assert_eq!(e3d::sweep::fnv1a64(b"a"), 0xaf63dc4c8601ec8c);
+/// ```
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// The SplitMix64 finaliser of `x + 0x9e3779b97f4a7c15` (Steele, Lea and
+/// Flood 2014): one step of the SplitMix64 generator seeded with `x`.
+///
+/// ```
+/// assert_eq!(e3d::sweep::splitmix64(0), 0xe220a8397b1dcdaf);
+/// ```
+pub fn splitmix64(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// The seed of a session: `splitmix64(splitmix64(base) ^ fnv1a64(identity))`,
+/// where `identity` is the session's canonical text (see the module docs).
+pub fn session_seed(base: u64, identity: &str) -> u64 {
+    splitmix64(splitmix64(base) ^ fnv1a64(identity.as_bytes()))
+}
+
+/// A number as written in results and identities: Rust's shortest
+/// round-trip decimal form (`0.3`, `100`, `0.001`).
+pub fn format_number(v: f64) -> String {
+    format!("{v}")
+}
+
+/// One cell of the grid: a scene, a learner, a reward setting and one value
+/// of each hyper-parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cell {
+    /// The cell's index in canonical order.
+    pub index: usize,
+    /// The index of the scene in [`Sweep::scenes`].
+    pub scene: usize,
+    /// The learner's name (one of the spec's `learners`).
+    pub learner: String,
+    /// Whether the learner sees the reward.
+    pub use_reward: bool,
+    /// The hyper-parameters (those the learner does not use hold the first
+    /// value of their list; they have no effect).
+    pub params: Params,
+    /// Which of [`PARAM_NAMES`] the learner uses.
+    pub used: [bool; 5],
+}
+
+/// One session of a sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SessionSpec {
+    /// The session's index in canonical order (`cell * sessions + replicate`).
+    pub index: usize,
+    /// The index of its cell.
+    pub cell: usize,
+    /// Which session of its cell (`0..sessions`).
+    pub replicate: usize,
+    /// Its seed ([`session_seed`]).
+    pub seed: u64,
+}
+
+/// A shard `K/N` of a sweep: the sessions whose index `i` has
+/// `i % N == K - 1` (K is 1-based, as Slurm array task ids usually are).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// Which part, `1..=n`.
+    pub k: usize,
+    /// How many parts.
+    pub n: usize,
+}
+
+impl Shard {
+    /// The whole sweep (`1/1`).
+    pub const ALL: Shard = Shard { k: 1, n: 1 };
+
+    /// Whether session `index` belongs to this shard.
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.n == self.k - 1
+    }
+
+    /// How many of `total` sessions belong to this shard.
+    pub fn count(&self, total: usize) -> usize {
+        // the indices k-1, k-1+n, ... below total; no `total + n`, which
+        // overflowed for n near usize::MAX (1/18446744073709551615 had
+        // "0 sessions")
+        match total.checked_sub(self.k) {
+            Some(rest) => rest / self.n + 1,
+            None => 0,
+        }
+    }
+}
+
+impl fmt::Display for Shard {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}/{}", self.k, self.n)
+    }
+}
+
+impl FromStr for Shard {
+    type Err = String;
+    /// `"K/N"` with `1 <= K <= N`.
+    fn from_str(s: &str) -> Result<Shard, String> {
+        let bad = || format!("`{s}`: expected K/N with 1 <= K <= N, for example 2/8");
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let k: usize = k.trim().parse().map_err(|_| bad())?;
+        let n: usize = n.trim().parse().map_err(|_| bad())?;
+        if n == 0 || k == 0 || k > n {
+            return Err(bad());
+        }
+        Ok(Shard { k, n })
+    }
+}
+
+/// A checked sweep: the spec, its scenes and learners as its factories
+/// made them, and its cells.
+#[derive(Clone)]
+pub struct Sweep {
+    /// The spec.
+    pub spec: SweepSpec,
+    /// The text of the sweep file, or [`SweepSpec::to_ron`] for a sweep
+    /// built in code (copied into output folders, and compared on resume).
+    pub text: String,
+    /// The file's name, for messages (`<SweepSpec>` for a sweep built in
+    /// code).
+    pub file: String,
+    pub(super) scenes: Vec<Arc<dyn SweepScene>>,
+    pub(super) learners: Arc<dyn LearnerFactory>,
+    pub(super) metrics: Vec<MetricSpec>,
+    pub(super) cells: Vec<Cell>,
+    pub(super) exec: ExecOptions,
+    pub(super) notices: Option<Notices>,
+    pub(super) trials_done: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
+}
+
+/// Where a sweep tells how it obtains outcomes (one line each).
+#[derive(Clone)]
+pub(super) struct Notices(pub(super) std::sync::Arc<dyn Fn(&str) + Send + Sync>);
+
+impl fmt::Debug for Notices {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("Notices")
+    }
+}
+
+impl fmt::Debug for Sweep {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Sweep")
+            .field("spec", &self.spec)
+            .field("file", &self.file)
+            .field(
+                "scenes",
+                &self.scenes.iter().map(|s| s.name()).collect::<Vec<_>>(),
+            )
+            .field("learners", &self.learners.names())
+            .field("metrics", &self.metrics)
+            .field("cells", &self.cells.len())
+            .field("exec", &self.exec)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Sweep {
+    /// Loads and checks a sweep file; scene paths are relative to its folder.
+    pub fn load(path: impl AsRef<Path>) -> Result<Sweep, SweepError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = crate::scene::read_text(path, "sweep")?;
+        Sweep::parse(&text, &file, path.parent())
+    }
+
+    /// Parses and checks sweep text; `file` names it in errors, `base`
+    /// is the folder scene paths are relative to (the current folder when
+    /// `None`). The factories are the built-in ones: [`SceneFiles`] and
+    /// [`Learners::builtin`].
+    pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<Sweep, SweepError> {
+        Sweep::parse_with(text, file, &SceneFiles::new(base), Learners::builtin())
+    }
+
+    /// Parses and checks sweep text whose scenes `worlds` makes and whose
+    /// learners `learners` makes; a name either does not know is refused
+    /// at its place in the text.
+    ///
+    /// ```
+    /// use e3d::sweep::{Learners, Sweep, Worlds};
+    /// use e3d::{LearnerKind, Scene};
+    /// // the uniform policy under another name, on a scene edited in code
+    /// let mut scene = Scene::builtin("two_rooms").unwrap();
+    /// scene.name = "rooms".into();
+    /// let learners = Learners::new().with("blind", &[], |p, space, n, target| {
+    ///     Ok(LearnerKind::Uniform.make(p, space, n, target)?)
+    /// });
+    /// let text = r#"Sweep(scenes: ["rooms"], learners: [blind], sessions: 2, trials: 100)"#;
+    /// let sweep = Sweep::parse_with(text, "code.ron", &Worlds::new().with_scene(scene), learners.clone()).unwrap();
+    /// assert_eq!(sweep.identity(&sweep.cells()[0], 1),
+    ///     "scene=rooms;learner=blind;use_reward=true;alpha=-;beta=-;lambda=-;eta=-;epsilon=-;session=1");
+    /// let bad = r#"Sweep(scenes: ["rooms"], learners: [blnd], sessions: 2, trials: 100)"#;
+    /// let e = Sweep::parse_with(bad, "bad.ron", &Worlds::new(), learners).unwrap_err();
+    /// assert_eq!(e.to_string(), "bad.ron:1:37: unknown learner `blnd` (did you mean `blind`?); expected one of: blind");
+    /// ```
+    pub fn parse_with(
+        text: &str,
+        file: &str,
+        worlds: &dyn WorldFactory,
+        learners: impl LearnerFactory + 'static,
+    ) -> Result<Sweep, SweepError> {
+        let (spec, text) = SweepSpec::from_text(text, file, &learners)?;
+        Sweep::build(
+            spec,
+            text.to_string(),
+            file,
+            text,
+            worlds,
+            Arc::new(learners),
+        )
+    }
+
+    /// A sweep built in code, with the built-in factories ([`SceneFiles`]
+    /// relative to the current folder, [`Learners::builtin`]).
+    ///
+    /// ```
+    /// use e3d::sweep::{Sweep, SweepSpec};
+    /// let sweep = Sweep::new(SweepSpec::new(["two_rooms"], ["e3d", "uniform"], 2, 100)).unwrap();
+    /// assert_eq!(sweep.num_sessions(), 4);
+    /// // the same sweep, and the same seeds, as the file it writes
+    /// let file = Sweep::parse(&sweep.text, "copy.ron", None).unwrap();
+    /// assert_eq!(file.sessions(), sweep.sessions());
+    /// let e = Sweep::new(SweepSpec::new(["two_rooms"], ["e3d"], 0, 100)).unwrap_err();
+    /// assert_eq!(e.to_string(), "<SweepSpec>: field `sessions`: expected at least 1 session per cell, found 0");
+    /// ```
+    pub fn new(spec: SweepSpec) -> Result<Sweep, SweepError> {
+        Sweep::with_factories(spec, &SceneFiles::default(), Learners::builtin())
+    }
+
+    /// A sweep built in code whose scenes `worlds` makes and whose
+    /// learners `learners` makes (see [`factory`](super::factory)). Its
+    /// [`text`](Self::text) is [`SweepSpec::to_ron`].
+    pub fn with_factories(
+        spec: SweepSpec,
+        worlds: &dyn WorldFactory,
+        learners: impl LearnerFactory + 'static,
+    ) -> Result<Sweep, SweepError> {
+        let text = spec.to_ron();
+        Sweep::build(spec, text, CODE_FILE, "", worlds, Arc::new(learners))
+    }
+
+    /// Checks `spec` (placing mistakes in `located`), makes its scenes and
+    /// its cells.
+    fn build(
+        spec: SweepSpec,
+        text: String,
+        file: &str,
+        located: &str,
+        worlds: &dyn WorldFactory,
+        learners: Arc<dyn LearnerFactory>,
+    ) -> Result<Sweep, SweepError> {
+        let bad = |field: &str, anchor: Option<&str>, expected: &str| {
+            invalid(file, located, field, anchor, expected)
+        };
+        let checked = spec.check_in(file, located)?;
+        let (axes, metrics) = (checked.axes, checked.metrics);
+        // the learners: known, and names that fit a CSV field and a file
+        let mut uses: Vec<[bool; 5]> = Vec::with_capacity(spec.learners.len());
+        for name in &spec.learners {
+            let Some(used) = learners.uses(name) else {
+                return Err(bad(
+                    "learners",
+                    None,
+                    &format!(
+                        "one of the learners ({}), found `{name}`",
+                        learners.names().join(", ")
+                    ),
+                ));
+            };
+            if !is_identifier(name) {
+                return Err(bad(
+                    "learners",
+                    None,
+                    &format!("learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `{name}`"),
+                ));
+            }
+            uses.push(used);
+        }
+        // scenes
+        let mut scenes: Vec<Arc<dyn SweepScene>> = Vec::new();
+        for name in &spec.scenes {
+            let scene = worlds.scene(name).map_err(|e| match e {
+                FactoryError::Unknown(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
+                FactoryError::Failed(e) => e,
+            })?;
+            if scene.name().contains([',', '"', '\n', '\r']) {
+                return Err(bad(
+                    "scenes",
+                    Some(&format!("\"{name}\"")),
+                    &format!(
+                        "scenes whose name has no comma, quote or line break (for CSV), found `{}`",
+                        scene.name()
+                    ),
+                ));
+            }
+            if scenes.iter().any(|s| s.name() == scene.name()) {
+                return Err(bad(
+                    "scenes",
+                    Some(&format!("\"{name}\"")),
+                    &format!("each scene once, but `{}` appears twice", scene.name()),
+                ));
+            }
+            scenes.push(scene);
+        }
+        // the size, before making the cells
+        let mut num_cells: usize = 0;
+        for used in &uses {
+            let per: usize = (0..5)
+                .filter(|&i| used[i])
+                .fold(1usize, |acc, i| acc.saturating_mul(axes[i].len()));
+            num_cells = num_cells.saturating_add(per.saturating_mul(spec.use_reward.len()));
+        }
+        let num_cells = num_cells.saturating_mul(scenes.len());
+        if num_cells.saturating_mul(spec.sessions) > MAX_SESSIONS {
+            return Err(bad(
+                "sessions",
+                None,
+                &format!(
+                    "at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {}",
+                    spec.sessions
+                ),
+            ));
+        }
+        // cells
+        let mut cells = Vec::with_capacity(num_cells);
+        for (si, _) in scenes.iter().enumerate() {
+            for (learner, &used) in spec.learners.iter().zip(&uses) {
+                let dims: Vec<usize> = (0..5)
+                    .map(|i| if used[i] { axes[i].len() } else { 1 })
+                    .collect();
+                let count: usize = dims.iter().product();
+                for &use_reward in &spec.use_reward {
+                    for mut k in 0..count {
+                        let mut params = Params::TASK1;
+                        let mut pick = [0usize; 5];
+                        for i in (0..5).rev() {
+                            pick[i] = k % dims[i];
+                            k /= dims[i];
+                        }
+                        for i in 0..5 {
+                            set_param(&mut params, i, axes[i][pick[i]]);
+                        }
+                        cells.push(Cell {
+                            index: cells.len(),
+                            scene: si,
+                            learner: learner.clone(),
+                            use_reward,
+                            params,
+                            used,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(Sweep {
+            spec,
+            text,
+            file: file.to_string(),
+            scenes,
+            learners,
+            metrics,
+            cells,
+            exec: ExecOptions::default(),
+            notices: None,
+            trials_done: None,
+        })
+    }
+
+    /// Keeps the outcome tables of the sweep's scenes in the folder `dir`
+    /// (see [`OutcomeTable::cached`]): a physics scene's commands are then
+    /// simulated once for every run, resume and shard that shares the
+    /// folder. The results are the same bytes with or without it.
+    pub fn with_table_cache(mut self, dir: impl Into<PathBuf>) -> Self {
+        self.exec.cache = Some(dir.into());
+        self
+    }
+
+    /// Caps the outcome memo of each scene at `cap` entries (0: no memo;
+    /// default [`DEFAULT_MEMO_CAP`]). The results are the same bytes
+    /// whatever the cap; only the time changes.
+    pub fn with_memo_cap(mut self, cap: usize) -> Self {
+        self.exec.memo_cap = cap;
+        self
+    }
+
+    /// Uses `strategy` for every scene where it can be used, whatever it
+    /// costs (`None`: the cheapest, the default). The results are the same
+    /// bytes whatever the strategy.
+    pub fn with_strategy(mut self, strategy: Option<Strategy>) -> Self {
+        self.exec.force = strategy;
+        self
+    }
+
+    /// Calls `f` with one line for each scene saying how its outcomes are
+    /// obtained (table, memo or live, and why), and after the run what the
+    /// memo simulated and kept. `e3d sweep` prints them on stderr.
+    pub fn with_notices(mut self, f: impl Fn(&str) + Send + Sync + 'static) -> Self {
+        self.notices = Some(Notices(std::sync::Arc::new(f)));
+        self
+    }
+
+    /// Adds every trial run to `counter` as sessions go (from the worker
+    /// threads, every 256 lockstep trials, or when a session on a table
+    /// ends): progress finer than whole sessions, for sessions in lockstep
+    /// that all end together.
+    pub fn with_trial_counter(
+        mut self,
+        counter: std::sync::Arc<std::sync::atomic::AtomicU64>,
+    ) -> Self {
+        self.trials_done = Some(counter);
+        self
+    }
+
+    pub(super) fn count_trials(&self, n: u64) {
+        if let Some(c) = &self.trials_done {
+            c.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    pub(super) fn notice(&self, line: &str) {
+        if let Some(f) = &self.notices {
+            (f.0)(line);
+        }
+    }
+
+    /// The scenes, in the order of the spec.
+    pub fn scenes(&self) -> &[Arc<dyn SweepScene>] {
+        &self.scenes
+    }
+
+    /// The cells, in canonical order.
+    pub fn cells(&self) -> &[Cell] {
+        &self.cells
+    }
+
+    /// The kept metrics.
+    pub fn metrics(&self) -> &[MetricSpec] {
+        &self.metrics
+    }
+
+    /// The number of sessions.
+    pub fn num_sessions(&self) -> usize {
+        self.cells.len() * self.spec.sessions
+    }
+
+    /// The cell columns of `cell` (scene, learner, use_reward, then the five
+    /// parameters, empty when unused), as written in the CSV files.
+    pub fn cell_fields(&self, cell: &Cell) -> Vec<String> {
+        let mut f = vec![
+            self.scenes[cell.scene].name().to_string(),
+            cell.learner.clone(),
+            cell.use_reward.to_string(),
+        ];
+        for i in 0..5 {
+            f.push(if cell.used[i] {
+                format_number(param_of(&cell.params, i))
+            } else {
+                String::new()
+            });
+        }
+        f
+    }
+
+    /// The canonical identity text of session `replicate` of `cell` (see
+    /// the module docs); its seed is `session_seed(base, identity)`.
+    pub fn identity(&self, cell: &Cell, replicate: usize) -> String {
+        let f = self.cell_fields(cell);
+        let mut s = format!("scene={};learner={};use_reward={}", f[0], f[1], f[2]);
+        for (i, name) in PARAM_NAMES.iter().enumerate() {
+            let v = if f[3 + i].is_empty() { "-" } else { &f[3 + i] };
+            s.push_str(&format!(";{name}={v}"));
+        }
+        s.push_str(&format!(";session={replicate}"));
+        s
+    }
+
+    /// Every session, in canonical order.
+    pub fn sessions(&self) -> Vec<SessionSpec> {
+        let per = self.spec.sessions;
+        self.cells
+            .iter()
+            .flat_map(|c| {
+                (0..per).map(move |r| SessionSpec {
+                    index: c.index * per + r,
+                    cell: c.index,
+                    replicate: r,
+                    seed: session_seed(self.spec.seed, &self.identity(c, r)),
+                })
+            })
+            .collect()
+    }
+
+    /// How the outcomes of each scene will be obtained for `sessions` on
+    /// `threads` threads (see [`ExecutionPlan::choose`]), without reading
+    /// or building anything but the table folder's headers.
+    pub fn workloads(&self, sessions: &[SessionSpec], threads: usize) -> Vec<Workload> {
+        let mut work = vec![
+            Workload {
+                trials: 0,
+                sessions: 0,
+                threads: threads.max(1),
+            };
+            self.scenes.len()
+        ];
+        for s in sessions {
+            let w = &mut work[self.cells[s.cell].scene];
+            w.trials += self.spec.trials as u64;
+            w.sessions += 1;
+        }
+        work
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_partition_the_sessions() {
+        let total = 17;
+        let shards: Vec<Shard> = (1..=3).map(|k| Shard { k, n: 3 }).collect();
+        for i in 0..total {
+            assert_eq!(shards.iter().filter(|s| s.contains(i)).count(), 1);
+        }
+        let counts: usize = shards.iter().map(|s| s.count(total)).sum();
+        assert_eq!(counts, total);
+        assert_eq!(shards[0].count(total), 6);
+        assert_eq!(shards[2].count(total), 5);
+        assert_eq!("2/3".parse::<Shard>().unwrap(), shards[1]);
+        assert!("0/3".parse::<Shard>().is_err());
+        // no overflow with the largest N
+        let huge: Shard = "1/18446744073709551615".parse().unwrap();
+        assert_eq!(huge.count(total), 1);
+        assert_eq!(huge.count(0), 0);
+        let last = Shard {
+            k: usize::MAX,
+            n: usize::MAX,
+        };
+        assert_eq!(last.count(total), 0);
+        assert_eq!(last.count(usize::MAX), 1);
+        assert_eq!(Shard { k: 3, n: 3 }.count(2), 0);
+        assert!("4/3".parse::<Shard>().is_err());
+    }
+
+    #[test]
+    fn seeds_are_fixed_by_identity() {
+        // a documented, portable rule: these numbers must never change
+        assert_eq!(splitmix64(1), 0x910a2dec89025cc1);
+        let id = "scene=two_rooms;learner=e3d;use_reward=true;alpha=0.3;beta=100;lambda=0.03;eta=0.01;epsilon=-;session=0";
+        assert_eq!(session_seed(0, id), session_seed(0, id));
+        assert_ne!(session_seed(0, id), session_seed(1, id));
+    }
+}

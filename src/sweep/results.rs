@@ -1,0 +1,272 @@
+//! The results of a sweep: the columns and rows of `results.csv`, the
+//! files of an output folder, and the merge of shards.
+
+use super::journal::{self, JournalHeader};
+use super::plan::{format_number, SessionSpec, Shard, Sweep};
+use super::spec::MetricSpec;
+use super::{io_err, summary, SweepError};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The columns of `results.csv` before the metrics.
+pub const KEY_COLUMNS: [&str; 10] = [
+    "scene",
+    "learner",
+    "use_reward",
+    "alpha",
+    "beta",
+    "lambda",
+    "eta",
+    "epsilon",
+    "session",
+    "seed",
+];
+
+/// The last column of `results.csv`: empty, or why the session failed.
+pub const FAILURE_COLUMN: &str = "failure";
+
+/// The number of leading [`KEY_COLUMNS`] that identify a cell (all but
+/// `session` and `seed`).
+pub const CELL_COLUMNS: usize = 8;
+
+/// The result of one session: its identity and the kept metrics.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SessionResult {
+    /// The session.
+    pub session: SessionSpec,
+    /// One value per [`Sweep::metric_columns`] (`None`: no first reward, or
+    /// a failed session).
+    pub values: Vec<Option<f64>>,
+    /// Why the session failed (its world reported an error, for example a
+    /// physics blow-up naming the command); `None` for a session that ran.
+    /// A failed session is recorded, not fatal: the sweep goes on.
+    pub failure: Option<String>,
+}
+
+impl Sweep {
+    /// The metric column names.
+    pub fn metric_columns(&self) -> Vec<String> {
+        self.metrics.iter().map(MetricSpec::column).collect()
+    }
+
+    /// The header line of `results.csv` (without line break).
+    pub fn results_header(&self) -> String {
+        let mut cols: Vec<String> = KEY_COLUMNS.iter().map(|s| s.to_string()).collect();
+        cols.extend(self.metric_columns());
+        cols.push(FAILURE_COLUMN.to_string());
+        cols.join(",")
+    }
+
+    /// The CSV row of a result (without line break).
+    pub fn result_row(&self, r: &SessionResult) -> String {
+        let cell = &self.cells[r.session.cell];
+        let mut f = self.cell_fields(cell);
+        f.push(r.session.replicate.to_string());
+        f.push(r.session.seed.to_string());
+        f.extend(
+            r.values
+                .iter()
+                .map(|v| v.map(format_number).unwrap_or_default()),
+        );
+        // one line, no comma: the reason stays one CSV field
+        f.push(
+            r.failure
+                .as_deref()
+                .unwrap_or_default()
+                .replace([',', '\n', '\r'], ";"),
+        );
+        f.join(",")
+    }
+}
+
+/// What [`Sweep::run_to_dir`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DirReport {
+    /// The sessions of the shard.
+    pub sessions: usize,
+    /// How many were already in the journal.
+    pub resumed: usize,
+    /// How many ran now.
+    pub ran: usize,
+}
+
+/// The e3d version written into output folders.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+/// The journal's file name in an output folder.
+pub const JOURNAL: &str = "journal.txt";
+/// The copy of the sweep file in an output folder.
+pub const SWEEP_COPY: &str = "sweep.ron";
+/// The version file in an output folder.
+pub const VERSION_FILE: &str = "version.txt";
+/// The per-session results in an output folder.
+pub const RESULTS: &str = "results.csv";
+/// The per-cell summary in an output folder.
+pub const SUMMARY: &str = "summary.csv";
+
+pub(super) fn version_line() -> String {
+    format!("e3d {VERSION}\n")
+}
+
+/// Writes `results.csv` (and `summary.csv` for a whole sweep) from the
+/// journal's rows, when every session of the shard is there.
+pub(super) fn write_final(
+    dir: &Path,
+    header: &JournalHeader,
+    rows: &BTreeMap<usize, String>,
+) -> Result<(), SweepError> {
+    let expected = header.shard.count(header.total);
+    if rows.len() != expected {
+        return Err(SweepError::Output(format!(
+            "{}: {} of {} sessions done; run again with --resume",
+            dir.display(),
+            rows.len(),
+            expected
+        )));
+    }
+    let mut csv = String::with_capacity(64 * (rows.len() + 1));
+    csv.push_str(&header.columns);
+    csv.push('\n');
+    for row in rows.values() {
+        csv.push_str(row);
+        csv.push('\n');
+    }
+    let p = dir.join(RESULTS);
+    crate::io::write_atomic(&p, csv.as_bytes()).map_err(io_err(&p))?;
+    if header.shard.n == 1 {
+        let s = summary::summarize(&header.columns, rows.values().map(String::as_str))?;
+        let p = dir.join(SUMMARY);
+        crate::io::write_atomic(&p, s.as_bytes()).map_err(io_err(&p))?;
+    }
+    Ok(())
+}
+
+/// Joins the output folders of the shards of one sweep into `out`, which
+/// then holds the same files, byte for byte, as a one-process run
+/// (`results.csv`, `summary.csv`, `sweep.ron`, `version.txt`, and a
+/// journal in canonical order). Every shard `1..=N` must be given once and
+/// be complete. `out` must not exist or be empty.
+pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
+    if inputs.is_empty() {
+        return Err(SweepError::Output(
+            "nothing to merge: name the shards' folders".into(),
+        ));
+    }
+    let mut first: Option<(JournalHeader, Vec<u8>, Vec<u8>)> = None;
+    let mut seen: BTreeMap<usize, PathBuf> = BTreeMap::new();
+    let mut rows: BTreeMap<usize, String> = BTreeMap::new();
+    for dir in inputs {
+        let jp = dir.join(JOURNAL);
+        if !jp.exists() {
+            return Err(SweepError::Output(format!(
+                "{}: no {JOURNAL}; expected the --out folder of `e3d sweep --shard K/N`",
+                dir.display()
+            )));
+        }
+        let read = journal::read(&jp)?;
+        let sweep_copy =
+            std::fs::read(dir.join(SWEEP_COPY)).map_err(io_err(&dir.join(SWEEP_COPY)))?;
+        let version =
+            std::fs::read(dir.join(VERSION_FILE)).map_err(io_err(&dir.join(VERSION_FILE)))?;
+        let h = &read.header;
+        match &first {
+            None => first = Some((h.clone(), sweep_copy, version)),
+            Some((h0, s0, v0)) => {
+                if let Some((name, here, there)) = h.changed_scene(h0) {
+                    return Err(SweepError::Output(format!(
+                        "{}: ran scene `{name}` with other content ({here:016x}) than {} ({there:016x}); the scene was edited between the shards, which cannot be merged: rerun them with one version",
+                        dir.display(),
+                        inputs[0].display()
+                    )));
+                }
+                if h.sweep_hash != h0.sweep_hash
+                    || h.shard.n != h0.shard.n
+                    || h.total != h0.total
+                    || h.columns != h0.columns
+                    || &sweep_copy != s0
+                {
+                    return Err(SweepError::Output(format!(
+                        "{}: holds {}, but {} holds {}; shards of different sweeps cannot be merged",
+                        dir.display(),
+                        h.describe(),
+                        inputs[0].display(),
+                        h0.describe()
+                    )));
+                }
+                if &version != v0 || h.version != h0.version {
+                    return Err(SweepError::Output(format!(
+                        "{}: made by e3d {}, but {} by e3d {}; rerun the shards with one version",
+                        dir.display(),
+                        h.version,
+                        inputs[0].display(),
+                        h0.version
+                    )));
+                }
+            }
+        }
+        if let Some(other) = seen.insert(h.shard.k, dir.clone()) {
+            return Err(SweepError::Output(format!(
+                "shard {} given twice: {} and {}",
+                h.shard,
+                other.display(),
+                dir.display()
+            )));
+        }
+        let expected = h.shard.count(h.total);
+        let mine = read
+            .rows
+            .into_iter()
+            .filter(|(i, _)| h.shard.contains(*i) && *i < h.total)
+            .collect::<Vec<_>>();
+        if mine.len() != expected {
+            return Err(SweepError::Output(format!(
+                "{}: shard {} is incomplete ({} of {} sessions); finish it with `e3d sweep ... --shard {} --resume`",
+                dir.display(),
+                h.shard,
+                mine.len(),
+                expected,
+                h.shard
+            )));
+        }
+        rows.extend(mine);
+    }
+    let (h0, sweep_copy, version) = first.expect("at least one input");
+    let missing: Vec<String> = (1..=h0.shard.n)
+        .filter(|k| !seen.contains_key(k))
+        .map(|k| format!("{k}/{}", h0.shard.n))
+        .collect();
+    if !missing.is_empty() {
+        return Err(SweepError::Output(format!(
+            "missing shard(s) {}; give the folders of all {} shards",
+            missing.join(", "),
+            h0.shard.n
+        )));
+    }
+    if out.exists()
+        && (!out.is_dir()
+            || std::fs::read_dir(out)
+                .map_err(io_err(out))?
+                .next()
+                .is_some())
+    {
+        return Err(SweepError::Output(format!(
+            "{} exists and is not empty; choose another --out",
+            out.display()
+        )));
+    }
+    std::fs::create_dir_all(out).map_err(io_err(out))?;
+    let header = JournalHeader {
+        shard: Shard::ALL,
+        ..h0
+    };
+    for (name, bytes) in [(SWEEP_COPY, &sweep_copy), (VERSION_FILE, &version)] {
+        let p = out.join(name);
+        crate::io::write_atomic(&p, bytes).map_err(io_err(&p))?;
+    }
+    journal::write_whole(&out.join(JOURNAL), &header, &rows)?;
+    write_final(out, &header, &rows)?;
+    Ok(DirReport {
+        sessions: rows.len(),
+        resumed: rows.len(),
+        ran: 0,
+    })
+}

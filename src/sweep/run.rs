@@ -1,0 +1,466 @@
+//! Running a sweep: one session, sessions in lockstep, all of them on a
+//! thread pool, and resumably into a folder.
+
+use super::factory::{describe_space, SceneRun};
+use super::journal::{self, Journal, JournalHeader};
+use super::plan::{fnv1a64, SessionSpec, Shard, Sweep};
+use super::results::{
+    version_line, write_final, DirReport, SessionResult, JOURNAL, SWEEP_COPY, VERSION, VERSION_FILE,
+};
+use super::spec::MetricSpec;
+use super::{io_err, SweepError};
+use crate::effect::Target;
+use crate::session::{run_lockstep_into, run_session_into, RunningMetrics, SessionConfig};
+#[cfg(doc)]
+use crate::world::Executor;
+use crate::world::{World, WorldError};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+impl Sweep {
+    /// Runs one session on `world` (a world of the session's scene, or its
+    /// outcome table), in constant memory. A world of another command
+    /// space, or with another number of effects, is refused with an error
+    /// naming both.
+    ///
+    /// ```
+    /// use e3d::{Scene, Sweep};
+    /// let sweep = Sweep::parse(r#"Sweep(scenes: ["two_rooms"], learners: [e3d], sessions: 1, trials: 50)"#, "s.ron", None).unwrap();
+    /// let session = sweep.sessions()[0];
+    /// let mut rooms = Scene::builtin("two_rooms").unwrap().build();
+    /// assert!(sweep.run_session(&session, &mut *rooms).is_ok());
+    /// let mut arm = Scene::builtin("arm7").unwrap().build();
+    /// let e = sweep.run_session(&session, &mut *arm).unwrap_err().to_string();
+    /// assert!(e.contains("whose commands are 7 slots of `ESWN` with 18 effects"), "{e}");
+    /// assert!(e.contains("but the world's commands are 7 slots of `-0+`"), "{e}");
+    /// ```
+    pub fn run_session(
+        &self,
+        session: &SessionSpec,
+        world: &mut dyn World,
+    ) -> Result<SessionResult, SweepError> {
+        let mut learner = self.learner(session, world)?;
+        let mut metrics = self.recorder(world);
+        let status = run_session_into(
+            world,
+            &mut learner,
+            &self.config(session),
+            &mut metrics,
+            |_| {},
+        );
+        self.count_trials(metrics.trials() as u64);
+        Ok(self.result(session, status, &metrics))
+    }
+
+    /// Runs `sessions` (all of one scene) in lockstep on `world`: at each
+    /// trial the new commands of all of them are executed together. The
+    /// results are those of [`run_session`](Self::run_session), in order.
+    pub fn run_sessions_lockstep(
+        &self,
+        sessions: &[SessionSpec],
+        world: &mut dyn World,
+    ) -> Result<Vec<SessionResult>, SweepError> {
+        let mut learners = sessions
+            .iter()
+            .map(|s| self.learner(s, world))
+            .collect::<Result<Vec<_>, _>>()?;
+        let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
+        let mut recorders: Vec<RunningMetrics> =
+            sessions.iter().map(|_| self.recorder(world)).collect();
+        let status = run_lockstep_into(world, &mut learners, &configs, &mut recorders, |t| {
+            self.count_trials(t)
+        });
+        Ok(sessions
+            .iter()
+            .zip(status)
+            .zip(&recorders)
+            .map(|((s, st), m)| self.result(s, st, m))
+            .collect())
+    }
+
+    fn learner(
+        &self,
+        session: &SessionSpec,
+        world: &dyn World,
+    ) -> Result<Box<dyn crate::learner::Learner + Send>, SweepError> {
+        let cell = &self.cells[session.cell];
+        let scene = &self.scenes[cell.scene];
+        let space = scene.command_space();
+        if world.command_space() != &space || world.num_effects() != scene.num_effects() {
+            return Err(SweepError::Other(format!(
+                "session {} is of scene `{}`, whose commands are {} with {} effects, but the world's commands are {} with {} effects",
+                session.index,
+                scene.name(),
+                describe_space(&space),
+                scene.num_effects(),
+                describe_space(world.command_space()),
+                world.num_effects()
+            )));
+        }
+        self.learners
+            .make(
+                &cell.learner,
+                &cell.params,
+                world.command_space(),
+                world.num_effects(),
+                &Target::Uniform,
+            )
+            .map_err(|e| SweepError::Other(e.to_string()))
+    }
+
+    fn config(&self, session: &SessionSpec) -> SessionConfig {
+        SessionConfig {
+            trials: self.spec.trials,
+            seed: session.seed,
+            use_reward: self.cells[session.cell].use_reward,
+        }
+    }
+
+    /// The running metrics a session keeps: the cumulative reward at the
+    /// trials the metrics name.
+    fn recorder(&self, world: &dyn World) -> RunningMetrics {
+        let checkpoints: Vec<usize> = self
+            .metrics
+            .iter()
+            .filter_map(|m| match *m {
+                MetricSpec::CumulativeReward(t) => Some(t),
+                _ => None,
+            })
+            .collect();
+        RunningMetrics::with_checkpoints(world.num_effects(), &checkpoints)
+    }
+
+    fn result(
+        &self,
+        session: &SessionSpec,
+        status: Result<(), WorldError>,
+        running: &RunningMetrics,
+    ) -> SessionResult {
+        if let Err(e) = status {
+            return SessionResult {
+                session: *session,
+                values: vec![None; self.metrics.len()],
+                failure: Some(e.to_string()),
+            };
+        }
+        let m = running.metrics(&Target::Uniform);
+        let values = self
+            .metrics
+            .iter()
+            .map(|spec| match *spec {
+                MetricSpec::NormalizedEntropy => Some(m.normalized_entropy),
+                MetricSpec::NormalizedEntropyLast1000 => Some(m.normalized_entropy_last_1000),
+                MetricSpec::KlToTarget => Some(m.kl_to_target),
+                MetricSpec::DistinctEffects => Some(m.distinct_effects as f64),
+                MetricSpec::CumulativeReward(t) => running.cumulative_reward_at(t),
+                MetricSpec::FirstRewardTrial => m.first_reward_trial.map(|t| t as f64),
+            })
+            .collect();
+        SessionResult {
+            session: *session,
+            values,
+            failure: None,
+        }
+    }
+
+    /// Runs `sessions` on a local pool of `threads` threads, calling
+    /// `on_result` on the calling thread as each one finishes (in no
+    /// particular order).
+    ///
+    /// Each scene's outcomes come from the cheapest of an outcome table,
+    /// an outcome memo or live execution ([`Executor`]), shared by all
+    /// threads; under the memo and live execution the scene's sessions run
+    /// in lockstep groups, each group's new commands stepped together in
+    /// multi-copy worlds where copies are exact. The results are the same,
+    /// bit for bit, whatever is chosen and whatever the threads. Each
+    /// choice is told to the notice callback ([`with_notices`](Self::with_notices)),
+    /// and so is what a memo simulated and kept.
+    /// An error from `on_result` or from a session stops the sweep and is
+    /// returned.
+    pub fn run_with(
+        &self,
+        sessions: &[SessionSpec],
+        threads: usize,
+        mut on_result: impl FnMut(SessionResult) -> Result<(), SweepError>,
+    ) -> Result<(), SweepError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads.max(1))
+            .build()
+            .map_err(|e| SweepError::Other(format!("cannot start the threads: {e}")))?;
+        let work = self.workloads(sessions, pool.current_num_threads());
+        let executors: Vec<Option<Box<dyn SceneRun + '_>>> = pool.install(|| {
+            self.scenes
+                .iter()
+                .zip(&work)
+                .map(|(scene, w)| {
+                    if w.sessions == 0 {
+                        return Ok(None);
+                    }
+                    let e = scene.prepare(w, &self.exec)?;
+                    if let Some(line) = e.describe() {
+                        self.notice(&line);
+                    }
+                    Ok(Some(e))
+                })
+                .collect::<Result<_, SweepError>>()
+        })?;
+        // the units of work: one session on a table, or a lockstep group
+        let mut units: Vec<Vec<SessionSpec>> = Vec::new();
+        for (si, exec) in executors.iter().enumerate() {
+            let Some(exec) = exec else { continue };
+            let mine: Vec<SessionSpec> = sessions
+                .iter()
+                .filter(|s| self.cells[s.cell].scene == si)
+                .copied()
+                .collect();
+            match exec.lockstep_groups() {
+                None => units.extend(mine.into_iter().map(|s| vec![s])),
+                Some(groups) => {
+                    let size = mine.len().div_ceil(groups.max(1));
+                    units.extend(mine.chunks(size.max(1)).map(<[SessionSpec]>::to_vec));
+                }
+            }
+        }
+        let (executors, units) = (&executors, &units);
+        let outcome = std::thread::scope(|scope| {
+            let (tx, rx) = std::sync::mpsc::channel::<Result<SessionResult, SweepError>>();
+            let pool = &pool;
+            scope.spawn(move || {
+                pool.install(|| {
+                    let _ = units.par_iter().try_for_each_with(tx, |tx, unit| {
+                        let scene = self.cells[unit[0].cell].scene;
+                        let exec = executors[scene].as_ref().expect("a scene with work");
+                        // a panic inside the engine fails this unit's
+                        // sessions, recorded so, not the whole sweep
+                        let run = std::panic::AssertUnwindSafe(|| {
+                            let mut world = exec.world(unit.len());
+                            if unit.len() == 1 {
+                                self.run_session(&unit[0], &mut *world).map(|r| vec![r])
+                            } else {
+                                self.run_sessions_lockstep(unit, &mut *world)
+                            }
+                        });
+                        let results = std::panic::catch_unwind(run).unwrap_or_else(|p| {
+                            let why = p
+                                .downcast_ref::<String>()
+                                .cloned()
+                                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                                .unwrap_or_else(|| "no message".into());
+                            Ok(unit
+                                .iter()
+                                .map(|s| SessionResult {
+                                    session: *s,
+                                    values: vec![None; self.metrics.len()],
+                                    failure: Some(format!("the simulation panicked: {why}")),
+                                })
+                                .collect())
+                        });
+                        match results {
+                            Ok(rs) => rs.into_iter().try_for_each(|r| tx.send(Ok(r))),
+                            Err(e) => tx.send(Err(e)),
+                        }
+                        .map_err(|_| ())
+                    });
+                })
+            });
+            let mut outcome = Ok(());
+            while let Ok(r) = rx.recv() {
+                if let Err(e) = r.and_then(&mut on_result) {
+                    outcome = Err(e);
+                    break;
+                }
+            }
+            drop(rx);
+            outcome
+        });
+        for exec in executors.iter().flatten() {
+            if let Some(line) = exec.finish() {
+                self.notice(&line);
+            }
+        }
+        outcome
+    }
+
+    /// Runs every session on `threads` threads and returns the results in
+    /// canonical order.
+    pub fn run(&self, threads: usize) -> Result<Vec<SessionResult>, SweepError> {
+        let sessions = self.sessions();
+        let mut out: Vec<Option<SessionResult>> = vec![None; sessions.len()];
+        self.run_with(&sessions, threads, |r| {
+            let i = r.session.index;
+            out[i] = Some(r);
+            Ok(())
+        })?;
+        Ok(out.into_iter().flatten().collect())
+    }
+
+    /// Runs the sweep (or one shard of it) into the folder `dir`, resumably.
+    ///
+    /// The folder receives `sweep.ron` (a copy of the file), `version.txt`,
+    /// `journal.txt` (every finished session, one checksummed line each,
+    /// appended as they finish) and, once every session of the shard is in
+    /// the journal, `results.csv` (one row per session, canonical order)
+    /// and, for a whole sweep, `summary.csv` (one row per cell). The final
+    /// files are written atomically from the journal, so that a run killed
+    /// at any moment and resumed gives the same bytes as an uninterrupted
+    /// one.
+    ///
+    /// Without `options.resume`, a folder that exists and is not empty is
+    /// refused. With it, the folder must hold the same sweep file (byte for
+    /// byte), the same e3d version and the same shard; only the missing
+    /// sessions run. `progress(done, total)` is called after each session.
+    pub fn run_to_dir(
+        &self,
+        dir: &Path,
+        options: &DirOptions,
+        mut progress: impl FnMut(usize, usize),
+    ) -> Result<DirReport, SweepError> {
+        let shard = options.shard;
+        let journal_path = dir.join(JOURNAL);
+        let header = JournalHeader {
+            sweep_hash: fnv1a64(self.text.as_bytes()),
+            shard,
+            total: self.num_sessions(),
+            per_cell: self.spec.sessions,
+            scenes: self
+                .scenes
+                .iter()
+                .map(|s| (s.name().to_string(), s.content_key()))
+                .collect(),
+            version: VERSION.to_string(),
+            columns: self.results_header(),
+        };
+        if dir.exists() && !dir.is_dir() {
+            return Err(SweepError::Output(format!(
+                "{}: exists and is not a folder",
+                dir.display()
+            )));
+        }
+        // a folder that holds only temporary files of write_atomic (never
+        // renamed, so never part of a sweep) was left by a run killed
+        // while copying the sweep file: it counts as empty, and they go
+        let mut non_empty = false;
+        let mut temporaries = Vec::new();
+        if dir.is_dir() {
+            for entry in std::fs::read_dir(dir).map_err(io_err(dir))? {
+                let entry = entry.map_err(io_err(dir))?;
+                let name = entry.file_name().to_string_lossy().into_owned();
+                if name == crate::io::LOCK_FILE {
+                    continue;
+                }
+                if crate::io::is_temporary(&name) {
+                    temporaries.push(entry.path());
+                } else {
+                    non_empty = true;
+                }
+            }
+        }
+        if !non_empty {
+            for t in temporaries {
+                let _ = std::fs::remove_file(t);
+            }
+        }
+        if non_empty && !options.resume {
+            return Err(SweepError::Output(format!(
+                "{} exists and is not empty; pass --resume to complete the sweep it holds, or choose another --out",
+                dir.display()
+            )));
+        }
+        if non_empty && !dir.join(SWEEP_COPY).exists() {
+            return Err(SweepError::Output(format!(
+                "{}: holds no {SWEEP_COPY}, so no sweep to resume; choose another --out",
+                dir.display()
+            )));
+        }
+        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        // the copy of the sweep and the version: the same, or refused
+        for (name, bytes) in [
+            (SWEEP_COPY, self.text.as_bytes().to_vec()),
+            (VERSION_FILE, version_line().into_bytes()),
+        ] {
+            let p = dir.join(name);
+            match std::fs::read(&p) {
+                Ok(old) if old == bytes => {}
+                Ok(_) => {
+                    return Err(SweepError::Output(format!(
+                        "{}: differs from this run's ({}); the folder holds another sweep or was made by another e3d version; choose another --out",
+                        p.display(),
+                        if name == SWEEP_COPY { self.file.clone() } else { format!("e3d {VERSION}") }
+                    )))
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                    crate::io::write_atomic(&p, &bytes).map_err(io_err(&p))?
+                }
+                Err(e) => return Err(io_err(&p)(e)),
+            }
+        }
+        let (mut journal, mut done) = if journal_path.exists() {
+            let read = journal::read(&journal_path)?;
+            if let Some((name, now, then)) = header.changed_scene(&read.header) {
+                if read.header.sweep_hash == header.sweep_hash {
+                    return Err(SweepError::Output(format!(
+                        "{}: scene `{name}` changed since this folder's sessions ran (content {then:016x}, now {now:016x}); one results file cannot mix two versions of a scene: restore it, or choose another --out",
+                        journal_path.display()
+                    )));
+                }
+            }
+            if read.header != header {
+                return Err(SweepError::Output(format!(
+                    "{}: written by another run ({}); this run is shard {} of sweep {:016x} with {} sessions; choose another --out",
+                    journal_path.display(),
+                    read.header.describe(),
+                    shard,
+                    header.sweep_hash,
+                    header.total
+                )));
+            }
+            let j = Journal::append(&journal_path, read.valid_len)?;
+            (j, read.rows)
+        } else {
+            (Journal::create(&journal_path, &header)?, BTreeMap::new())
+        };
+        let all = self.sessions();
+        let mine: Vec<SessionSpec> = all
+            .into_iter()
+            .filter(|s| shard.contains(s.index))
+            .collect();
+        done.retain(|i, _| shard.contains(*i) && *i < header.total);
+        let resumed = done.len();
+        let todo: Vec<SessionSpec> = mine
+            .iter()
+            .filter(|s| !done.contains_key(&s.index))
+            .copied()
+            .collect();
+        let total = mine.len();
+        progress(done.len(), total);
+        let mut count = done.len();
+        self.run_with(&todo, options.threads, |r| {
+            let row = self.result_row(&r);
+            journal.push(r.session.index, &row)?;
+            done.insert(r.session.index, row);
+            count += 1;
+            progress(count, total);
+            Ok(())
+        })?;
+        journal.sync()?;
+        drop(journal);
+        write_final(dir, &header, &done)?;
+        Ok(DirReport {
+            sessions: total,
+            resumed,
+            ran: todo.len(),
+        })
+    }
+}
+
+/// How [`Sweep::run_to_dir`] runs.
+#[derive(Debug, Clone, Copy)]
+pub struct DirOptions {
+    /// Threads of the local pool.
+    pub threads: usize,
+    /// Complete the sweep an existing folder holds.
+    pub resume: bool,
+    /// Which part of the sweep ([`Shard::ALL`]: all of it).
+    pub shard: Shard,
+}

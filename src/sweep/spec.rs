@@ -1,0 +1,850 @@
+//! The sweep file: hyper-parameter values, metrics and the [`SweepSpec`]
+//! as written, built in code, parsed, checked and written back.
+
+use super::factory::{LearnerFactory, Learners};
+#[cfg(doc)]
+use super::Sweep;
+use super::SweepError;
+#[cfg(doc)]
+use crate::learner::LearnerKind;
+use crate::learner::Params;
+use crate::scene::{ron_options, Invalid, SceneError};
+use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// The names of the hyper-parameters, in the order of the cells and columns.
+pub const PARAM_NAMES: [&str; 5] = ["alpha", "beta", "lambda", "eta", "epsilon"];
+
+/// The largest number of sessions a sweep may hold: its plan keeps every
+/// cell and session in memory (about 150 bytes each, so at most about
+/// 1.5 GB), and is refused before any is made when it would be larger.
+pub const MAX_SESSIONS: usize = 10_000_000;
+
+/// The largest number of trials per session (the bound of `e3d run
+/// --trials`).
+pub const MAX_TRIALS: usize = 100_000_000;
+
+/// The largest number of steps of a range.
+pub const MAX_STEPS: usize = 100_000;
+
+/// The values of one hyper-parameter: a single number, a list, or a range.
+///
+/// In RON: `0.3`, `[0.1, 0.3]`, `(scale: Linear, from: 0.01, to: 0.1,
+/// steps: 4)` or `(scale: Log, from: 1, to: 1000, steps: 7)`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum Values {
+    /// The values given, in order.
+    List(Vec<f64>),
+    /// `steps` values from `from` to `to` (both included), evenly spaced on
+    /// a linear or a logarithmic scale.
+    Range {
+        /// Linear or logarithmic spacing.
+        scale: Scale,
+        /// The first value.
+        from: f64,
+        /// The last value.
+        to: f64,
+        /// How many values (1: `from` alone).
+        steps: usize,
+    },
+}
+
+/// The spacing of a [`Values::Range`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Scale {
+    /// `from + (to - from) k / (steps - 1)`.
+    Linear,
+    /// `from (to / from)^(k / (steps - 1))`; `from` and `to` must be > 0.
+    Log,
+}
+
+impl Values {
+    /// The values, in order. A range's values are rounded to 12
+    /// significant digits (so that `(scale: Log, from: 1, to: 1000, steps:
+    /// 4)` gives 1, 10, 100, 1000 and not 99.99999999999996); a log range
+    /// is evenly spaced in `log10`.
+    ///
+    /// ```
+    /// use e3d::sweep::{Scale, Values};
+    /// let v = Values::Range { scale: Scale::Log, from: 1.0, to: 1000.0, steps: 7 };
+    /// assert_eq!(v.values()[2], 10.0);
+    /// assert_eq!(v.values()[1], 3.16227766017);
+    /// let v = Values::Range { scale: Scale::Linear, from: 0.01, to: 0.1, steps: 4 };
+    /// assert_eq!(v.values(), vec![0.01, 0.04, 0.07, 0.1]);
+    /// ```
+    pub fn values(&self) -> Vec<f64> {
+        match *self {
+            Values::List(ref v) => v.clone(),
+            Values::Range {
+                scale,
+                from,
+                to,
+                steps,
+            } => (0..steps)
+                .map(|k| {
+                    if steps == 1 {
+                        return from;
+                    }
+                    let (a, b) = ((steps - 1 - k) as f64, k as f64);
+                    let d = (steps - 1) as f64;
+                    let v = match scale {
+                        Scale::Linear => (from * a + to * b) / d,
+                        Scale::Log => 10f64.powf((from.log10() * a + to.log10() * b) / d),
+                    };
+                    round12(v)
+                })
+                .collect(),
+        }
+    }
+}
+
+impl Values {
+    /// The values given, in order.
+    pub fn list(values: impl IntoIterator<Item = f64>) -> Values {
+        Values::List(values.into_iter().collect())
+    }
+
+    /// `steps` values from `from` to `to`, evenly spaced.
+    pub fn linear(from: f64, to: f64, steps: usize) -> Values {
+        Values::Range {
+            scale: Scale::Linear,
+            from,
+            to,
+            steps,
+        }
+    }
+
+    /// `steps` values from `from` to `to`, evenly spaced in `log10`.
+    pub fn log(from: f64, to: f64, steps: usize) -> Values {
+        Values::Range {
+            scale: Scale::Log,
+            from,
+            to,
+            steps,
+        }
+    }
+
+    /// The values as written in a sweep file (numbers in Rust's shortest
+    /// round-trip form, with a `.0` or an exponent, so that they read back
+    /// exactly).
+    ///
+    /// ```
+    /// use e3d::sweep::Values;
+    /// assert_eq!(Values::list([0.1, 100.0]).to_ron(), "[0.1, 100.0]");
+    /// assert_eq!(Values::log(1.0, 1e3, 4).to_ron(), "(scale: Log, from: 1.0, to: 1000.0, steps: 4)");
+    /// ```
+    pub fn to_ron(&self) -> String {
+        match self {
+            Values::List(v) => format!(
+                "[{}]",
+                v.iter()
+                    .map(|x| format!("{x:?}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            Values::Range {
+                scale,
+                from,
+                to,
+                steps,
+            } => format!("(scale: {scale:?}, from: {from:?}, to: {to:?}, steps: {steps})"),
+        }
+    }
+}
+
+impl From<f64> for Values {
+    /// One value.
+    fn from(v: f64) -> Values {
+        Values::List(vec![v])
+    }
+}
+
+impl From<Vec<f64>> for Values {
+    fn from(v: Vec<f64>) -> Values {
+        Values::List(v)
+    }
+}
+
+impl<const N: usize> From<[f64; N]> for Values {
+    fn from(v: [f64; N]) -> Values {
+        Values::List(v.to_vec())
+    }
+}
+
+/// `v` rounded to 12 significant digits.
+fn round12(v: f64) -> f64 {
+    format!("{v:.11e}").parse().unwrap_or(v)
+}
+
+impl<'de> Deserialize<'de> for Values {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Values, D::Error> {
+        struct V;
+        const FIELDS: &[&str] = &["scale", "from", "to", "steps"];
+        impl<'de> Visitor<'de> for V {
+            type Value = Values;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(
+                    "a number, a list of numbers `[a, b, ...]`, or a range \
+                     `(scale: Linear or Log, from: a, to: b, steps: n)`",
+                )
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Values, E> {
+                Ok(Values::List(vec![v]))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Values, E> {
+                Ok(Values::List(vec![v as f64]))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Values, E> {
+                Ok(Values::List(vec![v as f64]))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut s: A) -> Result<Values, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = s.next_element::<f64>()? {
+                    v.push(x);
+                }
+                Ok(Values::List(v))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut m: A) -> Result<Values, A::Error> {
+                let (mut scale, mut from, mut to, mut steps) = (None, None, None, None);
+                while let Some(key) = m.next_key::<String>()? {
+                    let dup = match key.as_str() {
+                        "scale" => scale.replace(m.next_value::<Scale>()?).is_some(),
+                        "from" => from.replace(m.next_value::<f64>()?).is_some(),
+                        "to" => to.replace(m.next_value::<f64>()?).is_some(),
+                        "steps" => steps.replace(m.next_value::<usize>()?).is_some(),
+                        _ => return Err(de::Error::unknown_field(&key, FIELDS)),
+                    };
+                    if dup {
+                        return Err(de::Error::custom(format_args!(
+                            "field `{key}` given twice in a range"
+                        )));
+                    }
+                }
+                Ok(Values::Range {
+                    scale: scale.ok_or_else(|| {
+                        de::Error::custom(
+                            "missing field `scale` in a range; expected `scale: Linear` or `scale: Log`",
+                        )
+                    })?,
+                    from: from.ok_or_else(|| de::Error::missing_field("from"))?,
+                    to: to.ok_or_else(|| de::Error::missing_field("to"))?,
+                    steps: steps.ok_or_else(|| de::Error::missing_field("steps"))?,
+                })
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// The values of each hyper-parameter. A parameter left out takes the
+/// default of `e3d run` ([`Params::TASK1`]: alpha 0.3, beta 1, lambda 0.03,
+/// eta 0.01, epsilon 0.1).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename = "params")]
+pub struct ParamValues {
+    /// Learning rate.
+    #[serde(default)]
+    pub alpha: Option<Values>,
+    /// Inverse temperature.
+    #[serde(default)]
+    pub beta: Option<Values>,
+    /// Weight of the extrinsic reward.
+    #[serde(default)]
+    pub lambda: Option<Values>,
+    /// Rate of the effect histogram.
+    #[serde(default)]
+    pub eta: Option<Values>,
+    /// Exploration rate of epsilon-greedy.
+    #[serde(default)]
+    pub epsilon: Option<Values>,
+}
+
+impl ParamValues {
+    fn get(&self, name: &str) -> Option<&Values> {
+        match name {
+            "alpha" => self.alpha.as_ref(),
+            "beta" => self.beta.as_ref(),
+            "lambda" => self.lambda.as_ref(),
+            "eta" => self.eta.as_ref(),
+            _ => self.epsilon.as_ref(),
+        }
+    }
+}
+
+pub(super) fn param_of(p: &Params, i: usize) -> f64 {
+    [p.alpha, p.beta, p.lambda, p.eta, p.epsilon][i]
+}
+
+pub(super) fn set_param(p: &mut Params, i: usize, v: f64) {
+    match i {
+        0 => p.alpha = v,
+        1 => p.beta = v,
+        2 => p.lambda = v,
+        3 => p.eta = v,
+        _ => p.epsilon = v,
+    }
+}
+
+/// A metric kept for each session (a column of `results.csv`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MetricSpec {
+    /// Normalised entropy of the effects over all trials.
+    NormalizedEntropy,
+    /// Normalised entropy over the last 1000 trials.
+    #[serde(rename = "normalized_entropy_last_1000")]
+    NormalizedEntropyLast1000,
+    /// KL divergence of the effects to the target, in nats.
+    KlToTarget,
+    /// Number of distinct effects reached.
+    DistinctEffects,
+    /// The sum of rewards over the first `t` trials (column
+    /// `cumulative_reward_at_T`).
+    CumulativeReward(usize),
+    /// The 1-based trial of the first reward (empty when none).
+    FirstRewardTrial,
+}
+
+impl MetricSpec {
+    /// The column name.
+    pub fn column(&self) -> String {
+        match self {
+            MetricSpec::NormalizedEntropy => "normalized_entropy".into(),
+            MetricSpec::NormalizedEntropyLast1000 => "normalized_entropy_last_1000".into(),
+            MetricSpec::KlToTarget => "kl_to_target".into(),
+            MetricSpec::DistinctEffects => "distinct_effects".into(),
+            MetricSpec::CumulativeReward(t) => format!("cumulative_reward_at_{t}"),
+            MetricSpec::FirstRewardTrial => "first_reward_trial".into(),
+        }
+    }
+
+    /// The metrics kept when a sweep names none: all of them, with the
+    /// cumulative reward at the last trial.
+    pub fn defaults(trials: usize) -> Vec<MetricSpec> {
+        vec![
+            MetricSpec::NormalizedEntropy,
+            MetricSpec::NormalizedEntropyLast1000,
+            MetricSpec::KlToTarget,
+            MetricSpec::DistinctEffects,
+            MetricSpec::CumulativeReward(trials),
+            MetricSpec::FirstRewardTrial,
+        ]
+    }
+}
+
+fn default_use_reward() -> Vec<bool> {
+    vec![true]
+}
+
+/// A sweep, as data: what to run (see `docs/sweeps.md` for its RON form).
+///
+/// Parse one from a sweep file ([`SweepSpec::parse`]), or build one in
+/// code ([`SweepSpec::new`] and the `with_` methods, whose defaults are
+/// those of a file); [`to_ron`](SweepSpec::to_ron) writes it back as a
+/// sweep file that parses to an equal spec. A [`Sweep`] is a spec checked
+/// and resolved by factories of worlds and learners.
+///
+/// ```
+/// use e3d::sweep::{MetricSpec, ParamValues, SweepSpec, Values};
+/// let spec = SweepSpec::new(["two_rooms"], ["e3d", "uniform"], 3, 500)
+///     .with_use_reward([false])
+///     .with_params(ParamValues { beta: Some(Values::log(1.0, 1000.0, 4)), ..Default::default() })
+///     .with_seed(2020)
+///     .with_metrics([MetricSpec::NormalizedEntropy, MetricSpec::CumulativeReward(500)]);
+/// let text = spec.to_ron();
+/// assert!(text.contains("beta: (scale: Log, from: 1.0, to: 1000.0, steps: 4)"));
+/// assert_eq!(SweepSpec::parse(&text, "spec.ron").unwrap(), spec);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Sweep")]
+pub struct SweepSpec {
+    /// A name, for people.
+    #[serde(default)]
+    pub name: String,
+    /// A sentence or two, for people.
+    #[serde(default)]
+    pub description: String,
+    /// The scenes, as the world factory knows them: with the built-in one,
+    /// scene files (relative to the sweep file's folder) or built-in names.
+    pub scenes: Vec<String>,
+    /// The learners' names (`e3d`, `uniform`, `egreedy`, or those of a
+    /// custom [`LearnerFactory`]); in a file, bare identifiers.
+    #[serde(deserialize_with = "learner_names")]
+    pub learners: Vec<String>,
+    /// Whether the learners see the reward: `[true]`, `[false]` or both
+    /// (default `[true]`).
+    #[serde(default = "default_use_reward")]
+    pub use_reward: Vec<bool>,
+    /// The values of each hyper-parameter.
+    #[serde(default)]
+    pub params: ParamValues,
+    /// Sessions (seeds) per cell, >= 1.
+    pub sessions: usize,
+    /// Trials per session, >= 1.
+    pub trials: usize,
+    /// The base seed every session's seed is derived from.
+    #[serde(default)]
+    pub seed: u64,
+    /// The metrics to keep (default: [`MetricSpec::defaults`]).
+    #[serde(default)]
+    pub metrics: Option<Vec<MetricSpec>>,
+}
+
+/// The built-in learners' names, in the order of [`LearnerKind::ALL`].
+const BUILTIN_LEARNERS: &[&str] = &["e3d", "uniform", "egreedy"];
+
+thread_local! {
+    /// The learner names a sweep file being parsed may use (`None`: the
+    /// built-in ones).
+    static KNOWN_LEARNERS: std::cell::RefCell<Option<Vec<String>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Sets the learner names a parse on this thread accepts, until dropped.
+struct KnownLearners(Option<Vec<String>>);
+
+impl KnownLearners {
+    fn set(names: Vec<String>) -> KnownLearners {
+        KnownLearners(KNOWN_LEARNERS.with(|k| k.replace(Some(names))))
+    }
+}
+
+impl Drop for KnownLearners {
+    fn drop(&mut self) {
+        let previous = self.0.take();
+        KNOWN_LEARNERS.with(|k| *k.borrow_mut() = previous);
+    }
+}
+
+/// A learner name in a sweep file: a bare identifier, read as a variant
+/// of `LearnerKind` was (so that a mistake is reported at the name, with
+/// the same words), and checked against the known names.
+struct LearnerName(String);
+
+impl<'de> Deserialize<'de> for LearnerName {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<LearnerName, D::Error> {
+        struct Ident;
+        impl<'de> de::DeserializeSeed<'de> for Ident {
+            type Value = String;
+            fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<String, D::Error> {
+                d.deserialize_identifier(self)
+            }
+        }
+        impl Visitor<'_> for Ident {
+            type Value = String;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a learner name")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<String, E> {
+                KNOWN_LEARNERS.with(|k| match &*k.borrow() {
+                    None if BUILTIN_LEARNERS.contains(&v) => Ok(v.to_string()),
+                    Some(known) if known.iter().any(|n| n == v) => Ok(v.to_string()),
+                    Some(known)
+                        if known
+                            .iter()
+                            .map(String::as_str)
+                            .ne(BUILTIN_LEARNERS.iter().copied()) =>
+                    {
+                        let names: Vec<&str> = known.iter().map(String::as_str).collect();
+                        Err(E::custom(format_args!(
+                            "unknown learner `{v}`{}; expected one of: {}",
+                            crate::scene::did_you_mean(v, &names),
+                            names.join(", ")
+                        )))
+                    }
+                    _ => Err(E::unknown_variant(v, BUILTIN_LEARNERS)),
+                })
+            }
+        }
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = LearnerName;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a learner name")
+            }
+            fn visit_enum<A: de::EnumAccess<'de>>(self, a: A) -> Result<LearnerName, A::Error> {
+                let (name, variant) = a.variant_seed(Ident)?;
+                de::VariantAccess::unit_variant(variant)?;
+                Ok(LearnerName(name))
+            }
+        }
+        d.deserialize_enum("LearnerKind", BUILTIN_LEARNERS, V)
+    }
+}
+
+fn learner_names<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<String>, D::Error> {
+    Ok(Vec::<LearnerName>::deserialize(d)?
+        .into_iter()
+        .map(|n| n.0)
+        .collect())
+}
+
+/// The file name errors give a sweep built in code.
+pub(super) const CODE_FILE: &str = "<SweepSpec>";
+
+/// What checking a spec finds: the values of each parameter and the
+/// metrics kept.
+pub(super) struct Checked {
+    pub(super) axes: Vec<Vec<f64>>,
+    pub(super) metrics: Vec<MetricSpec>,
+}
+
+impl SweepSpec {
+    /// A spec of the `scenes` x `learners` grid, `sessions` sessions of
+    /// `trials` trials per cell, with the defaults of a sweep file: no name
+    /// or description, `use_reward: [true]`, every hyper-parameter at the
+    /// default of `e3d run` ([`Params::TASK1`]), base seed 0 and every
+    /// metric ([`MetricSpec::defaults`]).
+    ///
+    /// ```
+    /// use e3d::sweep::SweepSpec;
+    /// let spec = SweepSpec::new(["two_rooms"], ["e3d"], 10, 5000);
+    /// assert_eq!(spec.use_reward, [true]);
+    /// assert_eq!((spec.seed, spec.metrics.clone()), (0, None));
+    /// assert_eq!(spec, SweepSpec::parse(
+    ///     r#"Sweep(scenes: ["two_rooms"], learners: [e3d], sessions: 10, trials: 5000)"#,
+    ///     "min.ron",
+    /// ).unwrap());
+    /// ```
+    pub fn new<S, L>(
+        scenes: impl IntoIterator<Item = S>,
+        learners: impl IntoIterator<Item = L>,
+        sessions: usize,
+        trials: usize,
+    ) -> SweepSpec
+    where
+        S: Into<String>,
+        L: Into<String>,
+    {
+        SweepSpec {
+            name: String::new(),
+            description: String::new(),
+            scenes: scenes.into_iter().map(Into::into).collect(),
+            learners: learners.into_iter().map(Into::into).collect(),
+            use_reward: default_use_reward(),
+            params: ParamValues::default(),
+            sessions,
+            trials,
+            seed: 0,
+            metrics: None,
+        }
+    }
+
+    /// Sets the name.
+    pub fn with_name(mut self, name: impl Into<String>) -> SweepSpec {
+        self.name = name.into();
+        self
+    }
+
+    /// Sets the description.
+    pub fn with_description(mut self, description: impl Into<String>) -> SweepSpec {
+        self.description = description.into();
+        self
+    }
+
+    /// Sets whether the learners see the reward (`[false, true]`: both).
+    pub fn with_use_reward(mut self, use_reward: impl IntoIterator<Item = bool>) -> SweepSpec {
+        self.use_reward = use_reward.into_iter().collect();
+        self
+    }
+
+    /// Sets the values of the hyper-parameters.
+    pub fn with_params(mut self, params: ParamValues) -> SweepSpec {
+        self.params = params;
+        self
+    }
+
+    /// Sets the base seed.
+    pub fn with_seed(mut self, seed: u64) -> SweepSpec {
+        self.seed = seed;
+        self
+    }
+
+    /// Sets the metrics kept, in order.
+    pub fn with_metrics(mut self, metrics: impl IntoIterator<Item = MetricSpec>) -> SweepSpec {
+        self.metrics = Some(metrics.into_iter().collect());
+        self
+    }
+
+    /// Parses and checks the text of a sweep file whose learners are the
+    /// built-in ones; `file` names it in errors. The scenes are not looked
+    /// at (a [`Sweep`] resolves them).
+    pub fn parse(text: &str, file: &str) -> Result<SweepSpec, SweepError> {
+        SweepSpec::parse_with(text, file, &Learners::builtin())
+    }
+
+    /// [`parse`](Self::parse) for a sweep file whose learners are those of
+    /// `learners`: a name it does not make is refused at its place.
+    pub fn parse_with(
+        text: &str,
+        file: &str,
+        learners: &dyn LearnerFactory,
+    ) -> Result<SweepSpec, SweepError> {
+        let (spec, text) = SweepSpec::from_text(text, file, learners)?;
+        spec.check_in(file, text)?;
+        Ok(spec)
+    }
+
+    /// The spec of `text`, read but not checked, and the text as read.
+    pub(super) fn from_text<'t>(
+        text: &'t str,
+        file: &str,
+        learners: &dyn LearnerFactory,
+    ) -> Result<(SweepSpec, &'t str), SweepError> {
+        let text = crate::scene::prepare_text(text, file, "sweep")?;
+        if text.trim().is_empty() {
+            return Err(SceneError::new(
+                file,
+                None,
+                "the file is empty; expected `Sweep(scenes: [...], learners: [...], sessions: N, trials: T)`"
+                    .into(),
+            )
+            .into());
+        }
+        let _known = KnownLearners::set(learners.names());
+        let spec: SweepSpec = ron_options()
+            .from_str(text)
+            .map_err(|e| SceneError::from_ron(file, text, e))?;
+        Ok((spec, text))
+    }
+
+    /// Checks everything that does not depend on the scenes, placing
+    /// mistakes in `text` (`""`: nowhere).
+    pub(super) fn check_in(&self, file: &str, text: &str) -> Result<Checked, SweepError> {
+        let spec = self;
+        let bad = |field: &str, anchor: Option<&str>, expected: &str| {
+            invalid(file, text, field, anchor, expected)
+        };
+        if spec.scenes.is_empty() {
+            return Err(bad("scenes", None, "at least one scene, found none"));
+        }
+        if spec.learners.is_empty() {
+            return Err(bad(
+                "learners",
+                None,
+                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm), found none",
+            ));
+        }
+        for (i, l) in spec.learners.iter().enumerate() {
+            if spec.learners[..i].contains(l) {
+                return Err(bad(
+                    "learners",
+                    None,
+                    &format!("each learner once, but `{l}` appears twice"),
+                ));
+            }
+        }
+        if spec.use_reward.is_empty() {
+            return Err(bad(
+                "use_reward",
+                None,
+                "[true], [false] or [false, true], found []",
+            ));
+        }
+        if spec.use_reward.len() > 2
+            || (spec.use_reward.len() == 2 && spec.use_reward[0] == spec.use_reward[1])
+        {
+            return Err(bad("use_reward", None, "each of true and false once"));
+        }
+        if spec.sessions == 0 {
+            return Err(bad(
+                "sessions",
+                None,
+                "at least 1 session per cell, found 0",
+            ));
+        }
+        if spec.trials == 0 {
+            return Err(bad("trials", None, "at least 1 trial per session, found 0"));
+        }
+        if spec.trials > MAX_TRIALS {
+            return Err(bad(
+                "trials",
+                None,
+                &format!(
+                    "at most {} trials per session (as `e3d run --trials`), found {}",
+                    MAX_TRIALS, spec.trials
+                ),
+            ));
+        }
+        // the hyper-parameters
+        let mut axes: Vec<Vec<f64>> = Vec::with_capacity(5);
+        for (i, name) in PARAM_NAMES.iter().enumerate() {
+            let values = match spec.params.get(name) {
+                None => vec![param_of(&Params::TASK1, i)],
+                Some(v) => {
+                    if let Values::Range {
+                        scale,
+                        from,
+                        to,
+                        steps,
+                    } = *v
+                    {
+                        if steps == 0 {
+                            return Err(bad(
+                                name,
+                                None,
+                                "a range of at least 1 step, found steps: 0",
+                            ));
+                        }
+                        if steps > MAX_STEPS {
+                            return Err(bad(
+                                name,
+                                None,
+                                &format!(
+                                    "a range of at most {MAX_STEPS} steps, found steps: {steps}"
+                                ),
+                            ));
+                        }
+                        if !(from.is_finite() && to.is_finite()) {
+                            return Err(bad(name, None, "finite bounds `from` and `to`"));
+                        }
+                        if scale == Scale::Log && (from <= 0.0 || to <= 0.0) {
+                            return Err(bad(
+                                name,
+                                None,
+                                &format!(
+                                    "a log range between two numbers > 0, found from: {from}, to: {to} (a log range cannot reach or cross zero)"
+                                ),
+                            ));
+                        }
+                    }
+                    let values = v.values();
+                    if values.is_empty() {
+                        return Err(bad(name, None, "at least one value, found an empty list"));
+                    }
+                    for (j, x) in values.iter().enumerate() {
+                        if values[..j].contains(x) {
+                            return Err(bad(
+                                name,
+                                None,
+                                &format!("distinct values, but {x} appears twice"),
+                            ));
+                        }
+                        let mut p = Params::TASK1;
+                        set_param(&mut p, i, *x);
+                        if let Err(e) = p.validate() {
+                            return Err(bad(name, None, &format!("{}, found {x}", e.expected)));
+                        }
+                    }
+                    values
+                }
+            };
+            axes.push(values);
+        }
+        // metrics
+        let metrics = spec
+            .metrics
+            .clone()
+            .unwrap_or_else(|| MetricSpec::defaults(spec.trials));
+        if metrics.is_empty() {
+            return Err(bad("metrics", None, "at least one metric, found none"));
+        }
+        for (i, m) in metrics.iter().enumerate() {
+            if let MetricSpec::CumulativeReward(t) = *m {
+                if t == 0 || t > spec.trials {
+                    return Err(bad(
+                        "metrics",
+                        Some("cumulative_reward"),
+                        &format!(
+                            "cumulative_reward(T) with T in 1..={} (the trials), found {t}",
+                            spec.trials
+                        ),
+                    ));
+                }
+            }
+            if metrics[..i].contains(m) {
+                return Err(bad(
+                    "metrics",
+                    None,
+                    &format!("each metric once, but `{}` appears twice", m.column()),
+                ));
+            }
+        }
+        Ok(Checked { axes, metrics })
+    }
+
+    /// The spec as a sweep file: RON that [`parse`](Self::parse) (or
+    /// [`parse_with`](Self::parse_with) for custom learners) reads back
+    /// to an equal spec. Empty names, descriptions and parameters left
+    /// to their default are left out; numbers are written exactly.
+    pub fn to_ron(&self) -> String {
+        let string = |s: &str| ron::to_string(s).unwrap_or_else(|_| format!("{s:?}"));
+        let mut out = String::from("Sweep(\n");
+        if !self.name.is_empty() {
+            out.push_str(&format!("    name: {},\n", string(&self.name)));
+        }
+        if !self.description.is_empty() {
+            out.push_str(&format!(
+                "    description: {},\n",
+                string(&self.description)
+            ));
+        }
+        let scenes: Vec<String> = self.scenes.iter().map(|s| string(s)).collect();
+        out.push_str(&format!("    scenes: [{}],\n", scenes.join(", ")));
+        out.push_str(&format!("    learners: [{}],\n", self.learners.join(", ")));
+        let use_reward: Vec<String> = self.use_reward.iter().map(bool::to_string).collect();
+        out.push_str(&format!("    use_reward: [{}],\n", use_reward.join(", ")));
+        let params: Vec<String> = PARAM_NAMES
+            .iter()
+            .filter_map(|name| {
+                let v = self.params.get(name)?;
+                Some(format!("        {name}: {},\n", v.to_ron()))
+            })
+            .collect();
+        if !params.is_empty() {
+            out.push_str(&format!("    params: (\n{}    ),\n", params.concat()));
+        }
+        out.push_str(&format!("    sessions: {},\n", self.sessions));
+        out.push_str(&format!("    trials: {},\n", self.trials));
+        out.push_str(&format!("    seed: {},\n", self.seed));
+        if let Some(metrics) = &self.metrics {
+            let m: Vec<String> = metrics
+                .iter()
+                .map(|m| ron::to_string(m).unwrap_or_default())
+                .collect();
+            out.push_str(&format!("    metrics: [{}],\n", m.join(", ")));
+        }
+        out.push_str(")\n");
+        out
+    }
+}
+
+pub(super) fn invalid(
+    file: &str,
+    text: &str,
+    field: &str,
+    anchor: Option<&str>,
+    expected: &str,
+) -> SweepError {
+    SweepError::Input(SceneError::from_validation(
+        file,
+        text,
+        Invalid::at(field, anchor, expected),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_hit_their_ends() {
+        let v = Values::Range {
+            scale: Scale::Log,
+            from: 1.0,
+            to: 1000.0,
+            steps: 4,
+        }
+        .values();
+        assert_eq!(v, vec![1.0, 10.0, 100.0, 1000.0]);
+        let v = Values::Range {
+            scale: Scale::Linear,
+            from: 0.0,
+            to: 1.0,
+            steps: 5,
+        }
+        .values();
+        assert_eq!(v, vec![0.0, 0.25, 0.5, 0.75, 1.0]);
+    }
+}
