@@ -85,7 +85,7 @@ pub use rand;
 pub use command::{Command, CommandError, CommandSpace};
 pub use effect::{EffectGrid, EffectModel, Target};
 pub use learner::{E3d, EpsilonGreedy, Learner, LearnerKind, ParamError, Params, UniformPolicy};
-pub use scene::{Scene, SceneError};
+pub use scene::{Scene, SceneError, SceneErrorKind};
 pub use session::{
     policy_effect_distribution, run_lockstep, run_lockstep_into, run_session, run_session_into,
     run_session_with, Metrics, Recorder, RunningMetrics, SessionConfig, SessionRecord, SessionRng,

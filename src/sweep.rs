@@ -644,13 +644,7 @@ impl Sweep {
     pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<Sweep, SweepError> {
         let text = crate::scene::prepare_text(text, file, "sweep")?;
         if text.trim().is_empty() {
-            return Err(SceneError::new(
-                file,
-                None,
-                "the file is empty; expected `Sweep(scenes: [...], learners: [...], sessions: N, trials: T)`"
-                    .into(),
-            )
-            .into());
+            return Err(SceneError::empty(file, "sweep").into());
         }
         let spec: SweepSpec = ron_options()
             .from_str(text)

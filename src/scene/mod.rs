@@ -26,7 +26,7 @@ pub mod physics;
 mod region;
 pub mod symmetry;
 
-pub use error::{did_you_mean, SceneError};
+pub use error::{did_you_mean, SceneError, SceneErrorKind};
 pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
 pub use symmetry::Symmetry;
@@ -215,11 +215,7 @@ impl Scene {
     pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
         let text = prepare_text(text, file, "scene")?;
         if text.trim().is_empty() {
-            return Err(SceneError::new(
-                file,
-                None,
-                "the file is empty; expected `Scene(name: ..., world: ..., command: ...)`".into(),
-            ));
+            return Err(SceneError::empty(file, "scene"));
         }
         let scene: Scene = ron_options()
             .from_str(text)
@@ -245,14 +241,10 @@ impl Scene {
             if let Some(s) = Scene::builtin(path_or_name) {
                 return Ok(s);
             }
-            let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
             return Err(SceneError::new(
                 path_or_name,
-                None,
-                format!(
-                    "no such file, and no built-in scene of that name; expected a path to a .ron scene or one of: {}",
-                    names.join(", ")
-                ),
+                "scene",
+                SceneErrorKind::NoSuchScene,
             ));
         }
         Scene::load(p)
@@ -445,17 +437,11 @@ impl Scene {
 pub(crate) fn prepare_text<'a>(
     text: &'a str,
     file: &str,
-    kind: &str,
+    kind: &'static str,
 ) -> Result<&'a str, SceneError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.contains('\r') && !text.contains('\n') {
-        return Err(SceneError::new(
-            file,
-            None,
-            format!(
-                "the file's lines end with CR only (old Mac line endings), which are not supported; expected a RON {kind} with LF or CRLF line endings"
-            ),
-        ));
+        return Err(SceneError::new(file, kind, SceneErrorKind::CrLineEndings));
     }
     Ok(text)
 }
@@ -477,39 +463,22 @@ pub const MAX_FILE_BYTES: u64 = 16 << 20;
 /// Reads a RON file of the given kind (`scene`, `sweep`) as text: a
 /// directory, an unreadable file or bytes that are not UTF-8 are errors
 /// that name the file (and, for bad bytes, where they start).
-pub(crate) fn read_text(path: &Path, kind: &str) -> Result<String, SceneError> {
+pub(crate) fn read_text(path: &Path, kind: &'static str) -> Result<String, SceneError> {
     let file = path.display().to_string();
+    let error = |k: SceneErrorKind| SceneError::new(&file, kind, k);
     if path.is_dir() {
-        return Err(SceneError::new(
-            &file,
-            None,
-            format!("this is a directory; expected a {kind} file (.ron)"),
-        ));
+        return Err(error(SceneErrorKind::Directory));
     }
-    let cannot =
-        |e: std::io::Error| SceneError::new(&file, None, format!("cannot read the file: {e}"));
+    let cannot = |e: std::io::Error| error(SceneErrorKind::Io(e));
     let meta = std::fs::metadata(path).map_err(cannot)?;
     if !meta.is_file() {
         // a FIFO would block for ever, a device like /dev/zero never end
-        return Err(SceneError::new(
-            &file,
-            None,
-            format!(
-                "this is not a regular file (a pipe, a device or a socket); expected a {kind} file (.ron)"
-            ),
-        ));
+        return Err(error(SceneErrorKind::NotRegularFile));
     }
-    let too_big = |n: String| {
-        SceneError::new(
-            &file,
-            None,
-            format!(
-                "the file holds {n} bytes; a {kind} file may hold at most {MAX_FILE_BYTES} bytes (16 MiB)"
-            ),
-        )
-    };
     if meta.len() > MAX_FILE_BYTES {
-        return Err(too_big(meta.len().to_string()));
+        return Err(error(SceneErrorKind::TooLarge {
+            bytes: Some(meta.len()),
+        }));
     }
     // read at most one byte more than allowed (the file may grow meanwhile)
     let mut bytes = Vec::with_capacity(meta.len() as usize);
@@ -522,16 +491,16 @@ pub(crate) fn read_text(path: &Path, kind: &str) -> Result<String, SceneError> {
     )
     .map_err(cannot)?;
     if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(too_big(format!("more than {MAX_FILE_BYTES}")));
+        return Err(error(SceneErrorKind::TooLarge { bytes: None }));
     }
     String::from_utf8(bytes).map_err(|e| {
         let upto = &e.as_bytes()[..e.utf8_error().valid_up_to()];
-        let pos = error::position_at(&String::from_utf8_lossy(upto), upto.len());
-        SceneError::new(
-            &file,
-            Some(pos),
-            format!("the file is not valid UTF-8 text; expected a RON {kind}"),
-        )
+        let (line, col) = error::position_at(&String::from_utf8_lossy(upto), upto.len());
+        error(SceneErrorKind::NotUtf8 {
+            line,
+            col,
+            error: e.utf8_error(),
+        })
     })
 }
 
