@@ -83,8 +83,10 @@ pub struct OutcomesDoctests;
 pub use rand;
 
 pub use command::{Command, CommandError, CommandSpace};
-pub use effect::{EffectGrid, EffectModel, Target};
-pub use learner::{E3d, EpsilonGreedy, Learner, LearnerKind, ParamError, Params, UniformPolicy};
+pub use effect::{EffectError, EffectGrid, EffectModel, Target, TargetError};
+pub use learner::{
+    E3d, EpsilonGreedy, Learner, LearnerError, LearnerKind, ParamError, Params, UniformPolicy,
+};
 pub use scene::{Scene, SceneError, SceneErrorKind};
 pub use session::{
     policy_effect_distribution, run_lockstep, run_lockstep_into, run_session, run_session_into,

@@ -1110,7 +1110,7 @@ impl Sweep {
                 world.num_effects(),
                 &Target::Uniform,
             )
-            .map_err(SweepError::Other)
+            .map_err(|e| SweepError::Other(e.to_string()))
     }
 
     fn config(&self, session: &SessionSpec) -> SessionConfig {

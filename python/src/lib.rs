@@ -946,7 +946,7 @@ fn run_session(
     if let Some(kind) = kind {
         let mut made = kind
             .make(&params, &space, n_eff, &Target::Uniform)
-            .map_err(PyValueError::new_err)?;
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
         let inner = scene.inner.clone();
         let (rec, execution) = py.detach(|| -> Result<_, Fail> {
             let exec = Executor::new(&inner, &work, &options)?;

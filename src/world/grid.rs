@@ -37,9 +37,10 @@ impl GridSpec {
     }
 
     pub(crate) fn validate(&self, scene: &Scene) -> Result<(), Invalid> {
-        self.effect_grid()
-            .validate()
-            .map_err(|e| Invalid::at(if self.rows == 0 { "rows" } else { "cols" }, None, &e))?;
+        self.effect_grid().validate().map_err(|e| {
+            let field = if self.rows == 0 { "rows" } else { "cols" };
+            Invalid::at(field, None, &e.to_string())
+        })?;
         let inside = |(r, c): (usize, usize)| r < self.rows && c < self.cols;
         if !inside(self.start) {
             return Err(Invalid::at(
