@@ -15,7 +15,10 @@
 //! Learner::learn(&Command, &Outcome)
 //! ```
 //!
-//! - [`scene`]: the RON scene format, parsed and checked ([`Scene`]);
+//! - [`scene`]: the RON scene format, parsed and checked ([`Scene`]); a
+//!   scene edited in code is checked again by [`Scene::validate`] and
+//!   [`Scene::try_build`], and written back by [`Scene::to_ron`]; every
+//!   mistake is a [`SceneError`] of some [`SceneErrorKind`];
 //! - [`command`]: [`CommandSpace`] (slots and alphabets) and [`Command`];
 //! - [`world`]: the [`World`] trait, the [`GridWorld`], the Rapier-based
 //!   [`PhysicsWorld`], the [`OutcomeTable`] (every command once, up

@@ -121,7 +121,8 @@ pub struct GridWorld {
 const MOVES: [(i32, i32); 5] = [(0, 0), (0, 1), (1, 0), (0, -1), (-1, 0)];
 
 impl GridWorld {
-    /// Builds the world of a validated scene whose world is `spec`.
+    /// Builds the world of a validated scene whose world is `spec`
+    /// ([`Scene::validate`]; [`Scene::try_build`] validates, then builds).
     /// Memory: 5 transitions per cell, whatever the number of slots.
     pub fn from_scene(scene: &Scene, spec: &GridSpec) -> GridWorld {
         let space = scene.command_space();
