@@ -42,9 +42,88 @@ pub struct EffectGrid {
 /// The largest number of effects a scene may have.
 pub const MAX_EFFECTS: usize = 1 << 20;
 
+/// An effect grid ([`EffectGrid::new`], [`EffectGrid::validate`]) or an
+/// effect model ([`EffectModel::new`]) that cannot be made.
+///
+/// ```
+/// use e3d::effect::{EffectError, EffectGrid};
+/// let e = EffectGrid::new(0, 6, [0.0, 0.0], [6.0, 3.0]).unwrap_err();
+/// assert_eq!(e, EffectError::NoCells { rows: 0, cols: 6 });
+/// assert_eq!(e.to_string(), "at least one cell, found 0 rows x 6 columns");
+/// ```
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EffectError {
+    /// A grid without cells.
+    #[error("at least one cell, found {rows} rows x {cols} columns")]
+    NoCells {
+        /// Rows asked for.
+        rows: usize,
+        /// Columns asked for.
+        cols: usize,
+    },
+    /// A grid of more than [`MAX_EFFECTS`] cells.
+    #[error("at most {MAX_EFFECTS} cells (effects), found {rows} x {cols}")]
+    TooManyCells {
+        /// Rows asked for.
+        rows: usize,
+        /// Columns asked for.
+        cols: usize,
+    },
+    /// Corners that are not finite, or not `min < max` on both axes.
+    #[error("finite corners with min < max, found min {min:?}, max {max:?}")]
+    Corners {
+        /// The lower-left corner given.
+        min: [f64; 2],
+        /// The upper-right corner given.
+        max: [f64; 2],
+    },
+    /// An effect model over no effects.
+    #[error("there must be at least one effect")]
+    NoEffects,
+    /// An effect model's rate outside (0, 1].
+    #[error("eta must be in (0, 1], found {0}")]
+    Eta(f64),
+}
+
+/// A [`Target`] that does not fit the effects.
+///
+/// ```
+/// use e3d::effect::{Target, TargetError};
+/// let e = Target::Weights(vec![1.0, 2.0]).probs(3).unwrap_err();
+/// assert_eq!(e, TargetError::Length { weights: 2, effects: 3 });
+/// assert_eq!(e.to_string(), "the target has 2 weights, expected one per effect (3)");
+/// ```
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TargetError {
+    /// A target over no effects.
+    #[error("there must be at least one effect")]
+    NoEffects,
+    /// Not one weight per effect.
+    #[error("the target has {weights} weights, expected one per effect ({effects})")]
+    Length {
+        /// The weights given.
+        weights: usize,
+        /// The effects.
+        effects: usize,
+    },
+    /// A weight that is negative or not finite.
+    #[error("target weights must be finite and >= 0, found {0}")]
+    Weight(f64),
+    /// Weights whose sum is 0 or not finite.
+    #[error("target weights must have a positive, finite sum")]
+    Sum,
+}
+
 impl EffectGrid {
     /// A grid of `rows x cols` cells covering `[min, max]`.
-    pub fn new(rows: usize, cols: usize, min: [f64; 2], max: [f64; 2]) -> Result<Self, String> {
+    pub fn new(
+        rows: usize,
+        cols: usize,
+        min: [f64; 2],
+        max: [f64; 2],
+    ) -> Result<Self, EffectError> {
         let g = EffectGrid {
             rows,
             cols,
@@ -57,27 +136,22 @@ impl EffectGrid {
 
     /// Checks the grid: at least one cell, not more than [`MAX_EFFECTS`],
     /// finite corners with `min < max`.
-    pub fn validate(&self) -> Result<(), String> {
-        if self.rows == 0 || self.cols == 0 {
-            return Err(format!(
-                "at least one cell, found {} rows x {} columns",
-                self.rows, self.cols
-            ));
+    pub fn validate(&self) -> Result<(), EffectError> {
+        let (rows, cols) = (self.rows, self.cols);
+        if rows == 0 || cols == 0 {
+            return Err(EffectError::NoCells { rows, cols });
         }
-        if self.rows.saturating_mul(self.cols) > MAX_EFFECTS {
-            return Err(format!(
-                "at most {MAX_EFFECTS} cells (effects), found {} x {}",
-                self.rows, self.cols
-            ));
+        if rows.saturating_mul(cols) > MAX_EFFECTS {
+            return Err(EffectError::TooManyCells { rows, cols });
         }
         if !(self.min.iter().chain(&self.max).all(|v| v.is_finite())
             && self.min[0] < self.max[0]
             && self.min[1] < self.max[1])
         {
-            return Err(format!(
-                "finite corners with min < max, found min {:?}, max {:?}",
-                self.min, self.max
-            ));
+            return Err(EffectError::Corners {
+                min: self.min,
+                max: self.max,
+            });
         }
         Ok(())
     }
@@ -144,39 +218,38 @@ pub enum Target {
 
 impl Target {
     /// `log p*(e)` for every effect, checked against `num_effects`.
-    pub fn log_probs(&self, num_effects: usize) -> Result<Vec<f64>, String> {
+    pub fn log_probs(&self, num_effects: usize) -> Result<Vec<f64>, TargetError> {
         if num_effects == 0 {
-            return Err("there must be at least one effect".into());
+            return Err(TargetError::NoEffects);
         }
         match self {
             Target::Uniform => Ok(vec![-(num_effects as f64).ln(); num_effects]),
             Target::Weights(w) => {
                 if w.len() != num_effects {
-                    return Err(format!(
-                        "the target has {} weights, expected one per effect ({num_effects})",
-                        w.len()
-                    ));
+                    return Err(TargetError::Length {
+                        weights: w.len(),
+                        effects: num_effects,
+                    });
                 }
-                if let Some(bad) = w.iter().find(|v| !v.is_finite() || **v < 0.0) {
-                    return Err(format!(
-                        "target weights must be finite and >= 0, found {bad}"
-                    ));
+                if let Some(&bad) = w.iter().find(|v| !v.is_finite() || **v < 0.0) {
+                    return Err(TargetError::Weight(bad));
                 }
                 let sum: f64 = w.iter().sum();
                 if sum <= 0.0 || !sum.is_finite() {
-                    return Err("target weights must have a positive, finite sum".into());
+                    return Err(TargetError::Sum);
                 }
                 Ok(w.iter().map(|v| (v / sum).max(P_FLOOR).ln()).collect())
             }
         }
     }
 
-    /// The target probabilities `p*(e)`.
-    pub fn probs(&self, num_effects: usize) -> Result<Vec<f64>, String> {
+    /// The target probabilities `p*(e)`, checked against `num_effects`
+    /// as [`log_probs`](Self::log_probs) checks them.
+    pub fn probs(&self, num_effects: usize) -> Result<Vec<f64>, TargetError> {
+        self.log_probs(num_effects)?;
         match self {
             Target::Uniform => Ok(vec![1.0 / num_effects as f64; num_effects]),
             Target::Weights(w) => {
-                self.log_probs(num_effects)?;
                 let sum: f64 = w.iter().sum();
                 Ok(w.iter().map(|v| v / sum).collect())
             }
@@ -213,12 +286,12 @@ pub struct EffectModel {
 
 impl EffectModel {
     /// A uniform histogram over `num_effects` effects with rate `eta` in (0, 1].
-    pub fn new(num_effects: usize, eta: f64) -> Result<Self, String> {
+    pub fn new(num_effects: usize, eta: f64) -> Result<Self, EffectError> {
         if num_effects == 0 {
-            return Err("there must be at least one effect".into());
+            return Err(EffectError::NoEffects);
         }
         if !(eta > 0.0 && eta <= 1.0) {
-            return Err(format!("eta must be in (0, 1], found {eta}"));
+            return Err(EffectError::Eta(eta));
         }
         Ok(EffectModel {
             q: vec![1.0 / num_effects as f64; num_effects],
@@ -378,6 +451,37 @@ mod tests {
         assert_eq!(g.effect_of([-3.0, 10.0]), 0);
         assert_eq!(g.center(2, 5), [5.5, 0.5]);
         assert!(EffectGrid::new(0, 6, [0.0, 0.0], [6.0, 3.0]).is_err());
+    }
+
+    #[test]
+    fn errors_are_typed() {
+        assert_eq!(
+            EffectGrid::new(1 << 11, 1 << 10, [0.0, 0.0], [6.0, 3.0]),
+            Err(EffectError::TooManyCells {
+                rows: 1 << 11,
+                cols: 1 << 10
+            })
+        );
+        let e = EffectGrid::new(3, 6, [0.0, f64::NAN], [6.0, 3.0]).unwrap_err();
+        assert!(matches!(e, EffectError::Corners { .. }));
+        assert_eq!(
+            e.to_string(),
+            "finite corners with min < max, found min [0.0, NaN], max [6.0, 3.0]"
+        );
+        assert_eq!(EffectModel::new(0, 0.5), Err(EffectError::NoEffects));
+        assert_eq!(EffectModel::new(3, 0.0), Err(EffectError::Eta(0.0)));
+        assert_eq!(
+            EffectModel::new(3, 2.0).unwrap_err().to_string(),
+            "eta must be in (0, 1], found 2"
+        );
+        assert_eq!(
+            Target::Weights(vec![1.0, -2.0]).log_probs(2),
+            Err(TargetError::Weight(-2.0))
+        );
+        assert_eq!(
+            Target::Weights(vec![0.0, 0.0]).probs(2),
+            Err(TargetError::Sum)
+        );
     }
 
     #[test]

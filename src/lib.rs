@@ -15,7 +15,10 @@
 //! Learner::learn(&Command, &Outcome)
 //! ```
 //!
-//! - [`scene`]: the RON scene format, parsed and checked ([`Scene`]);
+//! - [`scene`]: the RON scene format, parsed and checked ([`Scene`]); a
+//!   scene edited in code is checked again by [`Scene::validate`] and
+//!   [`Scene::try_build`], and written back by [`Scene::to_ron`]; every
+//!   mistake is a [`SceneError`] of some [`SceneErrorKind`];
 //! - [`command`]: [`CommandSpace`] (slots and alphabets) and [`Command`];
 //! - [`world`]: the [`World`] trait, the [`GridWorld`], the Rapier-based
 //!   [`PhysicsWorld`], the [`OutcomeTable`] (every command once, up
@@ -88,10 +91,12 @@ pub struct OutcomesDoctests;
 pub use rand;
 
 pub use command::{Command, CommandError, CommandSpace};
-pub use effect::{EffectGrid, EffectModel, Target};
-pub use learner::{E3d, EpsilonGreedy, Learner, LearnerKind, ParamError, Params, UniformPolicy};
+pub use effect::{EffectError, EffectGrid, EffectModel, Target, TargetError};
+pub use learner::{
+    E3d, EpsilonGreedy, Learner, LearnerError, LearnerKind, ParamError, Params, UniformPolicy,
+};
 pub use rng::SessionRng;
-pub use scene::{Scene, SceneError};
+pub use scene::{Scene, SceneError, SceneErrorKind};
 pub use session::{
     policy_effect_distribution, run_lockstep, run_lockstep_into, run_session, run_session_into,
     run_session_with, Metrics, Recorder, RunningMetrics, SessionConfig, SessionRecord,

@@ -1,8 +1,8 @@
 //! Numeric edge cases of the learners: defined, finite, tested.
 
 use e3d::{
-    run_session, Command, CommandSpace, E3d, EffectModel, Learner, Outcome, Params, Scene,
-    SessionConfig, Target,
+    run_session, Command, CommandSpace, E3d, EffectModel, Learner, LearnerError, Outcome, Params,
+    Scene, SessionConfig, Target, TargetError,
 };
 
 fn outcome(effect: usize, reward: f64) -> Outcome {
@@ -150,7 +150,24 @@ fn bad_targets_are_refused() {
             "target weights must be finite and >= 0, found NaN",
         ),
     ] {
-        let e = E3d::new(&space, 2, &Params::TASK1, &Target::Weights(w)).unwrap_err();
-        assert_eq!(e, msg);
+        let e = E3d::new(&space, 2, &Params::TASK1, &Target::Weights(w.clone())).unwrap_err();
+        assert_eq!(e.to_string(), msg);
+        // typed: the target's own error, also from Target::probs
+        let LearnerError::Target(t) = e else {
+            panic!("{e:?}")
+        };
+        // (compared as text: a NaN weight is not equal to itself)
+        assert_eq!(
+            Target::Weights(w).probs(2).unwrap_err().to_string(),
+            t.to_string()
+        );
     }
+    assert_eq!(Target::Uniform.probs(0), Err(TargetError::NoEffects));
+    assert_eq!(
+        Target::Weights(vec![1.0]).probs(2),
+        Err(TargetError::Length {
+            weights: 1,
+            effects: 2
+        })
+    );
 }

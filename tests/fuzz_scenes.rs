@@ -68,7 +68,12 @@ const TOKENS: &[&str] = &[
 fn check(text: &str) {
     match Scene::parse(text, "fuzz.ron") {
         Ok(scene) => {
-            // a scene that loads can be built and executed
+            // a scene that loads is written back as text that loads equal
+            match Scene::parse(&scene.to_ron(), "fuzz.ron") {
+                Ok(back) => assert_eq!(back, scene),
+                Err(e) => panic!("to_ron does not load back: {e}"),
+            }
+            // and can be built and executed
             let mut w = scene.build();
             let c = w.command_space().first();
             let _ = w.execute(&c);

@@ -1,8 +1,8 @@
 //! The learners against hand-computed updates, and their ranges.
 
 use e3d::{
-    Command, CommandSpace, E3d, EpsilonGreedy, Learner, LearnerKind, Outcome, Params, SessionRng,
-    Target,
+    Command, CommandSpace, E3d, EpsilonGreedy, Learner, LearnerError, LearnerKind, Outcome, Params,
+    SessionRng, Target,
 };
 use rand::SeedableRng;
 
@@ -172,7 +172,12 @@ fn parameters_out_of_range_are_refused_with_the_range() {
             .make(&p, &space, 2, &Target::Uniform)
             .err()
             .unwrap();
-        assert_eq!(err, msg);
+        assert_eq!(err.to_string(), msg);
+        // typed: the parameter's own error (a NaN is not equal to itself)
+        let LearnerError::Params(e) = err else {
+            panic!("{err:?}")
+        };
+        assert_eq!(e.name, p.validate().unwrap_err().name);
     }
     assert!(Params {
         eta: 1.0,

@@ -1268,7 +1268,7 @@ fn run_session(
     if let Some(kind) = builtin_kind(learner)? {
         let mut made = kind
             .make(&a.params, &space, n_eff, &Target::Uniform)
-            .map_err(PyValueError::new_err)?;
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
         let inner = scene.inner.clone();
         let watch = Watch::new();
         let (rec, execution) = watched(py, progress, trials as u64, &watch, |watch| {

@@ -1,5 +1,5 @@
 use super::exp::{exp_lane, exp_lanes, exp_lanes_in, Splats, LANES, SPLATS};
-use super::{Learner, Params};
+use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::{log_floored, EffectModel, Target};
 use crate::rng::SessionRng;
@@ -366,8 +366,8 @@ impl E3d {
         num_effects: usize,
         params: &Params,
         target: &Target,
-    ) -> Result<Self, String> {
-        params.validate().map_err(|e| e.to_string())?;
+    ) -> Result<Self, LearnerError> {
+        params.validate()?;
         let sizes: Vec<usize> = space.sizes().collect();
         let slots = match space.max_alphabet() {
             0..=4 => Tables::W4(SlotTables::new(&sizes)),

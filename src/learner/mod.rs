@@ -31,7 +31,7 @@ pub use smm::StateMarginalMatching;
 pub use uniform::UniformPolicy;
 
 use crate::command::{Command, CommandSpace};
-use crate::effect::Target;
+use crate::effect::{EffectError, Target, TargetError};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use serde::{Deserialize, Serialize};
@@ -90,6 +90,33 @@ pub struct ParamError {
     pub value: f64,
     /// The accepted range, in words.
     pub expected: &'static str,
+}
+
+/// Why a shipped learner could not be made ([`LearnerKind::make`],
+/// [`E3d::new`]): the error of the part at fault, whose message it shows.
+///
+/// ```
+/// use e3d::{CommandSpace, LearnerError, LearnerKind, Params, Target};
+/// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
+/// let bad = Params { eta: 1.5, ..Params::TASK1 };
+/// let e = LearnerKind::E3d.make(&bad, &space, 4, &Target::Uniform).err().unwrap();
+/// assert!(matches!(&e, LearnerError::Params(p) if p.name == "eta"));
+/// assert_eq!(e.to_string(), "eta = 1.5: expected a number in (0, 1]");
+/// let e = LearnerKind::E3d.make(&Params::TASK1, &space, 4, &Target::Weights(vec![1.0])).err().unwrap();
+/// assert!(matches!(e, LearnerError::Target(_)));
+/// ```
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum LearnerError {
+    /// A hyper-parameter out of its range.
+    #[error(transparent)]
+    Params(#[from] ParamError),
+    /// The effect model cannot be made (no effects).
+    #[error(transparent)]
+    Effects(#[from] EffectError),
+    /// The target does not fit the effects.
+    #[error(transparent)]
+    Target(#[from] TargetError),
 }
 
 /// The hyper-parameters of the shipped learners. Defaults: the paper's task
@@ -233,8 +260,8 @@ impl LearnerKind {
         space: &CommandSpace,
         num_effects: usize,
         target: &Target,
-    ) -> Result<Box<dyn Learner + Send>, String> {
-        params.validate().map_err(|e| e.to_string())?;
+    ) -> Result<Box<dyn Learner + Send>, LearnerError> {
+        params.validate()?;
         Ok(match self {
             LearnerKind::E3d => Box::new(E3d::new(space, num_effects, params, target)?),
             LearnerKind::Uniform => Box::new(UniformPolicy::new(space)),

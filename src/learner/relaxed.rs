@@ -1,5 +1,5 @@
 use super::softmax::SoftmaxSlots;
-use super::{Learner, Params};
+use super::{Learner, LearnerError, ParamError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::{log_floored, EffectModel, Target};
 use crate::rng::SessionRng;
@@ -73,7 +73,8 @@ impl RelaxedE3d {
         num_effects: usize,
         params: &Params,
         target: &Target,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, LearnerError> {
+        params.validate()?;
         Ok(RelaxedE3d {
             slots: SoftmaxSlots::new(space, params.beta),
             model: EffectModel::new(num_effects, params.eta)?,
@@ -87,13 +88,14 @@ impl RelaxedE3d {
 
     /// The same learner with another rate `rho` (0 gives the paper's E3D,
     /// in plain code); `rho` must be in `[0, 1 / (alpha lambda)]`.
-    pub fn with_relax(mut self, rho: f64) -> Result<Self, String> {
+    pub fn with_relax(mut self, rho: f64) -> Result<Self, ParamError> {
         let relax = 1.0 - rho * self.alpha_lambda;
         if !(rho >= 0.0 && (0.0..=1.0).contains(&relax)) {
-            return Err(format!(
-                "rho = {rho}: expected a number in [0, {}]",
-                1.0 / self.alpha_lambda
-            ));
+            return Err(ParamError {
+                name: "rho",
+                value: rho,
+                expected: "a number in [0, 1 / (alpha lambda)]",
+            });
         }
         self.relax = relax;
         Ok(self)

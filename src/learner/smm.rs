@@ -1,5 +1,5 @@
 use super::softmax::SoftmaxSlots;
-use super::{Learner, Params};
+use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
 use crate::rng::SessionRng;
@@ -68,7 +68,8 @@ impl StateMarginalMatching {
         num_effects: usize,
         params: &Params,
         target: &Target,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, LearnerError> {
+        params.validate()?;
         Ok(StateMarginalMatching {
             slots: SoftmaxSlots::new(space, params.beta),
             counts: vec![0; num_effects],

@@ -1,39 +1,206 @@
 //! Scene errors that point into the file.
 
-use super::Invalid;
+use super::{Invalid, MAX_FILE_BYTES};
 use std::fmt;
 
-/// A scene that cannot be loaded: where, and what was expected.
+/// A scene (or sweep) that cannot be loaded or used: which file, and what
+/// kind of mistake ([`SceneErrorKind`]).
 ///
 /// Displays as `FILE:LINE:COL: MESSAGE` (or `FILE: MESSAGE` when there is no
-/// position), the form editors and terminals turn into links.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// position), the form editors and terminals turn into links. A file that
+/// cannot be read has the I/O error as its [`source`](std::error::Error::source)
+/// (and in its message, which the command line prints alone).
+///
+/// ```
+/// use e3d::scene::{Scene, SceneErrorKind};
+///
+/// let missing = Scene::load("no/such/scene.ron").unwrap_err();
+/// assert!(matches!(missing.kind(), SceneErrorKind::Io(e) if e.kind() == std::io::ErrorKind::NotFound));
+/// assert!(std::error::Error::source(&missing).is_some());
+///
+/// let typo = Scene::parse("Scene(name: \"x\", wrold: Grid(rows: 1))", "x.ron").unwrap_err();
+/// assert!(matches!(typo.kind(), SceneErrorKind::Syntax { line: 1, col: 18, .. }));
+/// assert_eq!(typo.position(), Some((1, 18)));
+/// assert!(typo.to_string().starts_with("x.ron:1:18: unknown field `wrold`"));
+/// ```
+#[derive(Debug)]
 pub struct SceneError {
-    /// The file (or `<builtin NAME>`, or the name that was not found).
-    pub file: String,
-    /// 1-based line and column, where the mistake has a place in the file.
-    pub position: Option<(usize, usize)>,
-    /// What is wrong and what was expected.
-    pub message: String,
+    file: String,
+    /// `scene` or `sweep`: the kind of file, for messages.
+    what: &'static str,
+    kind: SceneErrorKind,
 }
 
-impl std::error::Error for SceneError {}
+/// What is wrong with a scene or sweep file, or with a scene built or
+/// edited in code ([`Scene::validate`](super::Scene::validate)).
+///
+/// Positions are 1-based `(line, column)` in the file's text.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum SceneErrorKind {
+    /// The file could not be read (it does not exist, it may not be read,
+    /// ...): the I/O error, also the error's source.
+    Io(std::io::Error),
+    /// The path is a directory.
+    Directory,
+    /// The path is not a regular file (a pipe, a device or a socket).
+    NotRegularFile,
+    /// The file holds more than [`MAX_FILE_BYTES`].
+    TooLarge {
+        /// Its size in bytes; `None` when it grew past the limit while it
+        /// was read.
+        bytes: Option<u64>,
+    },
+    /// The file's bytes are not UTF-8 text.
+    NotUtf8 {
+        /// Line of the first bad byte.
+        line: usize,
+        /// Column of the first bad byte.
+        col: usize,
+        /// The decoding error (also the error's source).
+        error: std::str::Utf8Error,
+    },
+    /// The lines end with CR only (old Mac files), which RON reads as one
+    /// line.
+    CrLineEndings,
+    /// The file holds nothing but white space.
+    Empty,
+    /// The text is not RON of the expected shape: a syntax error, an
+    /// unknown or missing field, an unknown variant, a value of the wrong
+    /// type.
+    Syntax {
+        /// Line of the mistake.
+        line: usize,
+        /// Column of the mistake.
+        col: usize,
+        /// What is wrong and what was expected.
+        message: String,
+    },
+    /// A value the format allows but the scene cannot hold (a range, a
+    /// name that is not known, a symmetry the scene breaks, ...).
+    Invalid {
+        /// The field at fault (`mass`, `torque`, `slots`, ...).
+        field: String,
+        /// What was expected, and what was found.
+        expected: String,
+        /// `(line, col)` of the field in the file; `None` for a scene that
+        /// has no text (built or edited in code), or when the field is not
+        /// written in it.
+        position: Option<(usize, usize)>,
+    },
+    /// [`Scene::resolve`](super::Scene::resolve): no such file, and no
+    /// built-in scene of that name.
+    NoSuchScene,
+}
+
+impl std::error::Error for SceneError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match &self.kind {
+            SceneErrorKind::Io(e) => Some(e),
+            SceneErrorKind::NotUtf8 { error, .. } => Some(error),
+            _ => None,
+        }
+    }
+}
 
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.position {
-            Some((l, c)) => write!(f, "{}:{l}:{c}: {}", self.file, self.message),
-            None => write!(f, "{}: {}", self.file, self.message),
+        match self.position() {
+            Some((l, c)) => write!(f, "{}:{l}:{c}: ", self.file)?,
+            None => write!(f, "{}: ", self.file)?,
+        }
+        let what = self.what;
+        match &self.kind {
+            SceneErrorKind::Io(e) => write!(f, "cannot read the file: {e}"),
+            SceneErrorKind::Directory => {
+                write!(f, "this is a directory; expected a {what} file (.ron)")
+            }
+            SceneErrorKind::NotRegularFile => write!(
+                f,
+                "this is not a regular file (a pipe, a device or a socket); expected a {what} file (.ron)"
+            ),
+            SceneErrorKind::TooLarge { bytes } => {
+                match bytes {
+                    Some(n) => write!(f, "the file holds {n} bytes")?,
+                    None => write!(f, "the file holds more than {MAX_FILE_BYTES} bytes")?,
+                }
+                write!(
+                    f,
+                    "; a {what} file may hold at most {MAX_FILE_BYTES} bytes (16 MiB)"
+                )
+            }
+            SceneErrorKind::NotUtf8 { .. } => {
+                write!(f, "the file is not valid UTF-8 text; expected a RON {what}")
+            }
+            SceneErrorKind::CrLineEndings => write!(
+                f,
+                "the file's lines end with CR only (old Mac line endings), which are not supported; expected a RON {what} with LF or CRLF line endings"
+            ),
+            SceneErrorKind::Empty => match what {
+                "sweep" => write!(
+                    f,
+                    "the file is empty; expected `Sweep(scenes: [...], learners: [...], sessions: N, trials: T)`"
+                ),
+                _ => write!(
+                    f,
+                    "the file is empty; expected `Scene(name: ..., world: ..., command: ...)`"
+                ),
+            },
+            SceneErrorKind::Syntax { message, .. } => f.write_str(message),
+            SceneErrorKind::Invalid {
+                field, expected, ..
+            } => write!(f, "field `{field}`: expected {expected}"),
+            SceneErrorKind::NoSuchScene => {
+                let names: Vec<&str> = super::BUILTIN.iter().map(|(n, _)| *n).collect();
+                write!(
+                    f,
+                    "no such file, and no built-in scene of that name; expected a path to a .ron scene or one of: {}",
+                    names.join(", ")
+                )
+            }
         }
     }
 }
 
 impl SceneError {
-    pub(crate) fn new(file: &str, position: Option<(usize, usize)>, message: String) -> Self {
+    /// `what`: `scene` or `sweep`, the kind of file, for messages.
+    pub(crate) fn new(file: &str, what: &'static str, kind: SceneErrorKind) -> Self {
         SceneError {
             file: file.to_string(),
-            position,
-            message,
+            what,
+            kind,
+        }
+    }
+
+    /// An empty scene or sweep file (`what`).
+    pub(crate) fn empty(file: &str, what: &'static str) -> Self {
+        SceneError::new(file, what, SceneErrorKind::Empty)
+    }
+
+    /// The file (or `<builtin NAME>` for a shipped scene, `<scene NAME>`
+    /// for one validated in code, or the name that was not found).
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// What kind of mistake this is.
+    pub fn kind(&self) -> &SceneErrorKind {
+        &self.kind
+    }
+
+    /// The kind, by value (to take the I/O error out).
+    pub fn into_kind(self) -> SceneErrorKind {
+        self.kind
+    }
+
+    /// 1-based `(line, column)` of the mistake in the file, where it has
+    /// one.
+    pub fn position(&self) -> Option<(usize, usize)> {
+        match self.kind {
+            SceneErrorKind::NotUtf8 { line, col, .. }
+            | SceneErrorKind::Syntax { line, col, .. } => Some((line, col)),
+            SceneErrorKind::Invalid { position, .. } => position,
+            _ => None,
         }
     }
 
@@ -111,15 +278,34 @@ impl SceneError {
                 }
             }
         };
-        SceneError::new(file, Some((e.span.start.line, e.span.start.col)), message)
-    }
-
-    pub(crate) fn from_validation(file: &str, text: &str, v: Invalid) -> Self {
-        let position = locate(text, &v.field, v.anchor.as_deref(), v.nth);
         SceneError::new(
             file,
-            position,
-            format!("field `{}`: expected {}", v.field, v.expected),
+            "scene",
+            SceneErrorKind::Syntax {
+                line: e.span.start.line,
+                col: e.span.start.col,
+                message,
+            },
+        )
+    }
+
+    /// A validation failure placed in the file's `text`: the field it
+    /// names, found there.
+    pub(crate) fn from_validation(file: &str, text: &str, v: Invalid) -> Self {
+        let position = locate(text, &v.field, v.anchor.as_deref(), v.nth);
+        SceneError::invalid(file, v, position)
+    }
+
+    /// A validation failure at `position` (`None`: a scene without text).
+    pub(crate) fn invalid(file: &str, v: Invalid, position: Option<(usize, usize)>) -> Self {
+        SceneError::new(
+            file,
+            "scene",
+            SceneErrorKind::Invalid {
+                field: v.field,
+                expected: v.expected,
+                position,
+            },
         )
     }
 }

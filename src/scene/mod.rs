@@ -16,8 +16,15 @@
 //! ```
 //!
 //! [`Scene::load`] parses and validates; every mistake is a [`SceneError`]
-//! naming the file, the line and column, the field and what was expected.
+//! naming the file, the line and column, the field and what was expected,
+//! of a [`SceneErrorKind`] a program can match (a missing file is
+//! [`SceneErrorKind::Io`], a RON mistake [`SceneErrorKind::Syntax`]).
 //! [`Scene::build`] turns a scene into a world ([`crate::World`]).
+//!
+//! A scene's fields are public: one built or edited in code is checked by
+//! [`Scene::validate`] (the loader's own checks) and built by
+//! [`Scene::try_build`], which refuse an invalid scene where `build`
+//! panics; [`Scene::to_ron`] writes it as text that loads back equal.
 //! `docs/scenes.md` documents every field.
 
 mod error;
@@ -26,7 +33,7 @@ pub mod physics;
 mod region;
 pub mod symmetry;
 
-pub use error::{did_you_mean, SceneError};
+pub use error::{did_you_mean, SceneError, SceneErrorKind};
 pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
 pub use symmetry::Symmetry;
@@ -215,17 +222,14 @@ impl Scene {
     pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
         let text = prepare_text(text, file, "scene")?;
         if text.trim().is_empty() {
-            return Err(SceneError::new(
-                file,
-                None,
-                "the file is empty; expected `Scene(name: ..., world: ..., command: ...)`".into(),
-            ));
+            return Err(SceneError::empty(file, "scene"));
         }
         let scene: Scene = ron_options()
             .from_str(text)
             .map_err(|e| SceneError::from_ron(file, text, e))?;
+        // the checks of `validate`, the failure placed in the text
         scene
-            .validate()
+            .check()
             .map_err(|v| SceneError::from_validation(file, text, v))?;
         Ok(scene)
     }
@@ -245,20 +249,20 @@ impl Scene {
             if let Some(s) = Scene::builtin(path_or_name) {
                 return Ok(s);
             }
-            let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
             return Err(SceneError::new(
                 path_or_name,
-                None,
-                format!(
-                    "no such file, and no built-in scene of that name; expected a path to a .ron scene or one of: {}",
-                    names.join(", ")
-                ),
+                "scene",
+                SceneErrorKind::NoSuchScene,
             ));
         }
         Scene::load(p)
     }
 
     /// The command space of this scene.
+    ///
+    /// # Panics
+    /// On a scene without slots, or with an empty, too large or repeating
+    /// alphabet ([`validate`](Self::validate) refuses them).
     pub fn command_space(&self) -> CommandSpace {
         CommandSpace::new(
             self.slots()
@@ -324,23 +328,132 @@ impl Scene {
     /// [`trace`](crate::world::PhysicsWorld::trace),
     /// [`inspect`](crate::world::PhysicsWorld::inspect)); `None` for a grid
     /// scene.
-    pub fn physics_world(&self) -> Option<crate::world::PhysicsWorld> {
-        match &self.world {
-            WorldSpec::Physics(p) => Some(crate::world::PhysicsWorld::from_scene(self, p)),
+    ///
+    /// # Panics
+    /// On a scene that [`validate`](Self::validate) refuses (one edited in
+    /// code), with its message; [`try_physics_world`](Self::try_physics_world)
+    /// returns the error instead.
+    pub fn physics_world(&self) -> Option<PhysicsWorld> {
+        self.try_physics_world().unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// [`physics_world`](Self::physics_world), validated first: an invalid
+    /// scene is an error, never a panic.
+    ///
+    /// ```
+    /// use e3d::Scene;
+    /// let arm = Scene::builtin("arm7").unwrap();
+    /// assert!(arm.try_physics_world().unwrap().is_some());
+    /// let grid = Scene::builtin("two_rooms").unwrap();
+    /// assert!(grid.try_physics_world().unwrap().is_none());
+    /// ```
+    pub fn try_physics_world(&self) -> Result<Option<PhysicsWorld>, SceneError> {
+        self.validate()?;
+        Ok(match &self.world {
+            WorldSpec::Physics(p) => Some(PhysicsWorld::from_scene(self, p)),
             WorldSpec::Grid(_) => None,
-        }
+        })
     }
 
     /// Builds the world that executes this scene's commands.
+    ///
+    /// A convenience for scenes known to be valid (those of [`load`](Self::load),
+    /// [`parse`](Self::parse), [`builtin`](Self::builtin), [`resolve`](Self::resolve)).
+    ///
+    /// # Panics
+    /// On a scene that [`validate`](Self::validate) refuses (one edited in
+    /// code: a NaN, a torque that breaks its symmetry, no slots), with the
+    /// validation's message; [`try_build`](Self::try_build) returns the
+    /// error instead.
     pub fn build(&self) -> Box<dyn World + Send> {
-        match &self.world {
-            WorldSpec::Grid(g) => Box::new(GridWorld::from_scene(self, g)),
-            WorldSpec::Physics(p) => Box::new(PhysicsWorld::from_scene(self, p)),
-        }
+        self.try_build().unwrap_or_else(|e| panic!("{e}"))
     }
 
-    /// Checks everything that parsing alone cannot.
-    fn validate(&self) -> Result<(), Invalid> {
+    /// Validates the scene ([`validate`](Self::validate)), then builds the
+    /// world that executes its commands: an edited scene that cannot be
+    /// simulated is an error, never a panic.
+    ///
+    /// ```
+    /// use e3d::scene::{Action, CommandSpec, Scene, SceneErrorKind};
+    ///
+    /// let mut arm = Scene::builtin("arm7").unwrap();
+    /// assert!(arm.try_build().is_ok());
+    /// // arm7 declares `symmetry: FlipY`: a torque whose mirror image is
+    /// // not in its slot breaks it (`build` would panic)
+    /// if let CommandSpec::Slots(slots) = &mut arm.command {
+    ///     slots[0].alphabet[2].action = Action::Torque { joint: "j1".into(), torque: 2.0 };
+    /// }
+    /// let err = arm.try_build().err().unwrap();
+    /// assert!(matches!(err.kind(), SceneErrorKind::Invalid { field, .. } if field == "action"));
+    /// assert!(err.to_string().starts_with("<scene arm7>: field `action`: expected symmetry FlipY"));
+    /// ```
+    pub fn try_build(&self) -> Result<Box<dyn World + Send>, SceneError> {
+        self.validate()?;
+        Ok(match &self.world {
+            WorldSpec::Grid(g) => Box::new(GridWorld::from_scene(self, g)),
+            WorldSpec::Physics(p) => Box::new(PhysicsWorld::from_scene(self, p)),
+        })
+    }
+
+    /// Runs every check [`load`](Self::load) and [`parse`](Self::parse)
+    /// run after reading the RON (the same function): ranges, names,
+    /// joints that form trees, a declared symmetry the scene keeps, bodies
+    /// that do not overlap, reward cells inside the grid, ... A scene
+    /// whose public fields were edited in code should pass it before it is
+    /// built ([`try_build`](Self::try_build) does).
+    ///
+    /// The error is [`SceneErrorKind::Invalid`], with the message loading
+    /// would give but no position (there is no text), and
+    /// `<scene NAME>` as its file.
+    ///
+    /// ```
+    /// use e3d::scene::{Scene, SceneErrorKind, WorldSpec};
+    ///
+    /// let mut puck = Scene::builtin("puck_rooms").unwrap();
+    /// assert!(puck.validate().is_ok());
+    /// if let WorldSpec::Physics(p) = &mut puck.world {
+    ///     p.bodies.last_mut().unwrap().mass = Some(f64::NAN);
+    /// }
+    /// let err = puck.validate().unwrap_err();
+    /// assert!(matches!(err.kind(), SceneErrorKind::Invalid { field, .. } if field == "mass"));
+    /// assert_eq!(err.to_string(), "<scene puck_rooms>: field `mass`: expected body `puck`: a mass > 0 in kg, found NaN");
+    /// ```
+    pub fn validate(&self) -> Result<(), SceneError> {
+        self.check()
+            .map_err(|v| SceneError::invalid(&format!("<scene {}>", self.name), v, None))
+    }
+
+    /// The scene as RON text in the scene files' dialect, every field
+    /// written (defaults included): [`parse`](Self::parse) reads it back
+    /// equal, `Scene::parse(&s.to_ron(), f) == Ok(s)` for a valid scene
+    /// (numbers are written in Rust's shortest form that reads back the
+    /// same bits). An invalid scene is written too, and refused when read.
+    ///
+    /// Plain `ron::to_string` does not read back through [`parse`](Self::parse):
+    /// it writes `world: Grid((rows: ...))` and `limits: Some((-1.0, 1.0))`,
+    /// which the scene dialect (newtype variants without their inner
+    /// parentheses, options without `Some`, [`ron_options`]) refuses.
+    ///
+    /// ```
+    /// use e3d::Scene;
+    /// let arm = Scene::builtin("arm7").unwrap();
+    /// let text = arm.to_ron();
+    /// assert!(text.starts_with("Scene(\n    name: \"arm7\","));
+    /// assert_eq!(Scene::parse(&text, "arm7.ron").unwrap(), arm);
+    /// ```
+    pub fn to_ron(&self) -> String {
+        let pretty = ron::ser::PrettyConfig::new();
+        let body = ron_options()
+            .to_string_pretty(self, pretty)
+            .expect("a scene is plain data: it always serialises");
+        // ron writes structs without their names: name the outer one, as
+        // scene files do
+        format!("Scene{body}\n")
+    }
+
+    /// Checks everything that parsing alone cannot (the checks of
+    /// [`validate`](Self::validate), before they are placed in a file).
+    fn check(&self) -> Result<(), Invalid> {
         if self.name.trim().is_empty() {
             return Err(Invalid::at("name", None, "a non-empty name"));
         }
@@ -445,17 +558,11 @@ impl Scene {
 pub(crate) fn prepare_text<'a>(
     text: &'a str,
     file: &str,
-    kind: &str,
+    kind: &'static str,
 ) -> Result<&'a str, SceneError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.contains('\r') && !text.contains('\n') {
-        return Err(SceneError::new(
-            file,
-            None,
-            format!(
-                "the file's lines end with CR only (old Mac line endings), which are not supported; expected a RON {kind} with LF or CRLF line endings"
-            ),
-        ));
+        return Err(SceneError::new(file, kind, SceneErrorKind::CrLineEndings));
     }
     Ok(text)
 }
@@ -477,39 +584,22 @@ pub const MAX_FILE_BYTES: u64 = 16 << 20;
 /// Reads a RON file of the given kind (`scene`, `sweep`) as text: a
 /// directory, an unreadable file or bytes that are not UTF-8 are errors
 /// that name the file (and, for bad bytes, where they start).
-pub(crate) fn read_text(path: &Path, kind: &str) -> Result<String, SceneError> {
+pub(crate) fn read_text(path: &Path, kind: &'static str) -> Result<String, SceneError> {
     let file = path.display().to_string();
+    let error = |k: SceneErrorKind| SceneError::new(&file, kind, k);
     if path.is_dir() {
-        return Err(SceneError::new(
-            &file,
-            None,
-            format!("this is a directory; expected a {kind} file (.ron)"),
-        ));
+        return Err(error(SceneErrorKind::Directory));
     }
-    let cannot =
-        |e: std::io::Error| SceneError::new(&file, None, format!("cannot read the file: {e}"));
+    let cannot = |e: std::io::Error| error(SceneErrorKind::Io(e));
     let meta = std::fs::metadata(path).map_err(cannot)?;
     if !meta.is_file() {
         // a FIFO would block for ever, a device like /dev/zero never end
-        return Err(SceneError::new(
-            &file,
-            None,
-            format!(
-                "this is not a regular file (a pipe, a device or a socket); expected a {kind} file (.ron)"
-            ),
-        ));
+        return Err(error(SceneErrorKind::NotRegularFile));
     }
-    let too_big = |n: String| {
-        SceneError::new(
-            &file,
-            None,
-            format!(
-                "the file holds {n} bytes; a {kind} file may hold at most {MAX_FILE_BYTES} bytes (16 MiB)"
-            ),
-        )
-    };
     if meta.len() > MAX_FILE_BYTES {
-        return Err(too_big(meta.len().to_string()));
+        return Err(error(SceneErrorKind::TooLarge {
+            bytes: Some(meta.len()),
+        }));
     }
     // read at most one byte more than allowed (the file may grow meanwhile)
     let mut bytes = Vec::with_capacity(meta.len() as usize);
@@ -522,16 +612,16 @@ pub(crate) fn read_text(path: &Path, kind: &str) -> Result<String, SceneError> {
     )
     .map_err(cannot)?;
     if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(too_big(format!("more than {MAX_FILE_BYTES}")));
+        return Err(error(SceneErrorKind::TooLarge { bytes: None }));
     }
     String::from_utf8(bytes).map_err(|e| {
         let upto = &e.as_bytes()[..e.utf8_error().valid_up_to()];
-        let pos = error::position_at(&String::from_utf8_lossy(upto), upto.len());
-        SceneError::new(
-            &file,
-            Some(pos),
-            format!("the file is not valid UTF-8 text; expected a RON {kind}"),
-        )
+        let (line, col) = error::position_at(&String::from_utf8_lossy(upto), upto.len());
+        error(SceneErrorKind::NotUtf8 {
+            line,
+            col,
+            error: e.utf8_error(),
+        })
     })
 }
 

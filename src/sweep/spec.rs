@@ -594,13 +594,7 @@ impl SweepSpec {
     ) -> Result<(SweepSpec, &'t str), SweepError> {
         let text = crate::scene::prepare_text(text, file, "sweep")?;
         if text.trim().is_empty() {
-            return Err(SceneError::new(
-                file,
-                None,
-                "the file is empty; expected `Sweep(scenes: [...], learners: [...], sessions: N, trials: T)`"
-                    .into(),
-            )
-            .into());
+            return Err(SceneError::empty(file, "sweep").into());
         }
         let _known = KnownLearners::set(learners.names());
         let spec: SweepSpec = ron_options()

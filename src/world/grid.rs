@@ -37,9 +37,10 @@ impl GridSpec {
     }
 
     pub(crate) fn validate(&self, scene: &Scene) -> Result<(), Invalid> {
-        self.effect_grid()
-            .validate()
-            .map_err(|e| Invalid::at(if self.rows == 0 { "rows" } else { "cols" }, None, &e))?;
+        self.effect_grid().validate().map_err(|e| {
+            let field = if self.rows == 0 { "rows" } else { "cols" };
+            Invalid::at(field, None, &e.to_string())
+        })?;
         let inside = |(r, c): (usize, usize)| r < self.rows && c < self.cols;
         if !inside(self.start) {
             return Err(Invalid::at(
@@ -120,7 +121,8 @@ pub struct GridWorld {
 const MOVES: [(i32, i32); 5] = [(0, 0), (0, 1), (1, 0), (0, -1), (-1, 0)];
 
 impl GridWorld {
-    /// Builds the world of a validated scene whose world is `spec`.
+    /// Builds the world of a validated scene whose world is `spec`
+    /// ([`Scene::validate`]; [`Scene::try_build`] validates, then builds).
     /// Memory: 5 transitions per cell, whatever the number of slots.
     pub fn from_scene(scene: &Scene, spec: &GridSpec) -> GridWorld {
         let space = scene.command_space();

@@ -524,7 +524,8 @@ impl PhysicsWorld {
     /// # Panics
     /// Only on a scene that did not pass validation (for example a joint
     /// loop, which Rapier's multibodies cannot hold); [`Scene::load`] and
-    /// [`Scene::parse`] validate.
+    /// [`Scene::parse`] validate, and so does [`Scene::try_physics_world`]
+    /// (check a scene edited in code with [`Scene::validate`]).
     pub fn from_scene(scene: &Scene, spec: &PhysicsSpec) -> PhysicsWorld {
         Self::with_copies(scene, spec, 1)
     }
