@@ -6,7 +6,7 @@ use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, 
 
 #[test]
 fn e3d_explores_more_evenly_and_gets_more_reward_than_the_baselines() {
-    let r = run_paper(PaperConfig::default(), &|| {});
+    let r = run_paper(PaperConfig::default(), &|_| {});
     let rows = r.summary();
     let [uniform, e3d, e3d_reward, egreedy] = &rows[..] else {
         panic!("four arms")

@@ -4,7 +4,6 @@ use super::run::write_file;
 use super::{CliError, CliResult};
 use clap::Args;
 use e3d::report::paper::{run_paper, PaperConfig, ARMS};
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -56,16 +55,11 @@ pub fn run(a: ReproduceArgs) -> CliResult {
         ))
     })?;
     let start = Instant::now();
-    // indicatif draws only when stderr is a terminal
-    let bar = ProgressBar::new((ARMS.len() * config.sessions) as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} sessions, {elapsed}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_message("two_rooms");
-    let results = run_paper(config, &|| bar.inc(1));
-    bar.finish_and_clear();
+    // a bar on a terminal, a line every few seconds otherwise
+    let trials = (ARMS.len() * config.sessions) as u64 * a.trials;
+    let results = super::progress::track("reproduce two_rooms", "trials", trials, |p| {
+        run_paper(config, &|k| p.add(k))
+    });
 
     let fig2 = results.fig2_svg().map_err(CliError::output)?;
     let fig3 = results.fig3_svg().map_err(CliError::output)?;

@@ -341,14 +341,6 @@ pub fn run(a: RunArgs) -> CliResult {
     let exec = Executor::new(&scene, &work, &a.memo.options(a.table_cache.as_deref()))
         .map_err(CliError::simulation)?;
     eprintln!("outcomes: {}", exec.plan());
-    // a progress bar on a terminal (indicatif draws nothing otherwise)
-    let bar = indicatif::ProgressBar::new(work.trials);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} trials, {eta} left")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_message(scene.name.clone());
     let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
     let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {
         csv_path
@@ -365,38 +357,44 @@ pub fn run(a: RunArgs) -> CliResult {
         learners.push(make()?);
         recorders.push((RunningMetrics::new(num_effects), csv(i)?));
     }
-    let status: Vec<Result<(), e3d::WorldError>> = if sessions == 1 {
-        let mut world = exec.world(1);
-        let tick = |t: usize| bar.set_position(t as u64);
-        vec![run_session_into(
-            &mut *world,
-            &mut learners[0],
-            &cfg(seeds[0]),
-            &mut recorders[0],
-            tick,
-        )]
-    } else {
-        // lockstep groups (one session per group on a table), in parallel
-        use rayon::prelude::*;
-        let groups = if exec.table().is_some() {
-            sessions
+    // a bar on a terminal, a line every few seconds otherwise
+    let label = format!("run {}", scene.name);
+    let status = super::progress::track(&label, "trials", work.trials, |p| {
+        if sessions == 1 {
+            let mut world = exec.world(1);
+            let tick = |t: usize| p.set(t as u64);
+            vec![run_session_into(
+                &mut *world,
+                &mut learners[0],
+                &cfg(seeds[0]),
+                &mut recorders[0],
+                tick,
+            )]
         } else {
-            exec.plan().groups.max(1)
-        };
-        let size = sessions.div_ceil(groups);
-        let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
-        let parts: Vec<Vec<Result<(), e3d::WorldError>>> = learners
-            .par_chunks_mut(size)
-            .zip(recorders.par_chunks_mut(size))
-            .zip(configs.par_chunks(size))
-            .map(|((l, r), c)| {
-                let mut world = exec.world(l.len());
-                run_lockstep_into(&mut *world, l, c, r, |t| bar.inc(t))
-            })
-            .collect();
-        parts.into_iter().flatten().collect()
-    };
-    bar.finish_and_clear();
+            // lockstep groups (one session per group on a table), in parallel
+            use rayon::prelude::*;
+            let groups = if exec.table().is_some() {
+                sessions
+            } else {
+                exec.plan().groups.max(1)
+            };
+            let size = sessions.div_ceil(groups);
+            let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
+            let parts: Vec<Vec<Result<(), e3d::WorldError>>> = learners
+                .par_chunks_mut(size)
+                .zip(recorders.par_chunks_mut(size))
+                .zip(configs.par_chunks(size))
+                .map(|((l, r), c)| {
+                    let mut world = exec.world(l.len());
+                    run_lockstep_into(&mut *world, l, c, r, |t| p.add(t))
+                })
+                .collect();
+            parts
+                .into_iter()
+                .flatten()
+                .collect::<Vec<Result<(), e3d::WorldError>>>()
+        }
+    });
     if let Some(line) = exec.finish() {
         eprintln!("outcomes: {line}");
     }

@@ -366,28 +366,33 @@ fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
     let result = (|| -> CliResult {
         let mut stdout = std::io::stdout().lock();
         let mut first = true;
-        for r in rx {
-            let c = r?;
-            let m = world.motion(&c).map_err(world_error)?;
-            let text = space.format(&c);
-            m.write_csv(&mut file, Some(&text), first)
-                .map_err(out_err)?;
-            let o = m.outcome;
-            let mut row = String::new();
-            if first {
-                row.push_str("command,effect,reward,x,y\n");
+        let label = format!("scene exec {}", scene.name);
+        progress::track_stream(&label, "commands", |p| -> CliResult {
+            for r in rx {
+                let c = r?;
+                let m = world.motion(&c).map_err(world_error)?;
+                p.add(1);
+                let text = space.format(&c);
+                m.write_csv(&mut file, Some(&text), first)
+                    .map_err(out_err)?;
+                let o = m.outcome;
+                let mut row = String::new();
+                if first {
+                    row.push_str("command,effect,reward,x,y\n");
+                }
+                let _ = writeln!(
+                    row,
+                    "{text},{},{},{},{}",
+                    o.effect, o.reward, o.point[0], o.point[1]
+                );
+                stdout
+                    .write_all(row.as_bytes())
+                    .and_then(|()| stdout.flush())
+                    .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+                first = false;
             }
-            let _ = writeln!(
-                row,
-                "{text},{},{},{},{}",
-                o.effect, o.reward, o.point[0], o.point[1]
-            );
-            stdout
-                .write_all(row.as_bytes())
-                .and_then(|()| stdout.flush())
-                .map_err(|e| CliError::output(format!("standard output: {e}")))?;
-            first = false;
-        }
+            Ok(())
+        })?;
         use std::io::Write as _;
         file.flush().map_err(out_err)?;
         std::fs::rename(&tmp, path).map_err(out_err)
@@ -553,57 +558,62 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
     let mut header_written = false;
     let (mut chunk, mut results, mut text) = (Vec::new(), Vec::new(), String::new());
     let mut end: Option<CliError> = None;
-    while end.is_none() {
-        chunk.clear();
-        let Ok(mut next) = rx.recv() else {
-            break;
-        };
-        loop {
-            match next {
-                Ok(c) => chunk.push(c),
-                Err(e) => {
-                    end = Some(e);
-                    break;
-                }
-            }
-            if chunk.len() == limit {
+    let label = format!("scene exec {}", scene.name);
+    progress::track_stream(&label, "commands", |p| -> CliResult {
+        while end.is_none() {
+            chunk.clear();
+            let Ok(mut next) = rx.recv() else {
                 break;
-            }
-            match rx.try_recv() {
-                Ok(r) => next = r,
-                Err(_) => break,
-            }
-        }
-        results.clear();
-        executor.run(&chunk, memo.as_ref(), &mut results);
-        text.clear();
-        for (c, r) in chunk.iter().zip(results.drain(..)) {
-            match r {
-                Ok(o) => {
-                    let _ = writeln!(
-                        text,
-                        "{},{},{},{},{}",
-                        space.format(c),
-                        o.effect,
-                        o.reward,
-                        o.point[0],
-                        o.point[1]
-                    );
+            };
+            loop {
+                match next {
+                    Ok(c) => chunk.push(c),
+                    Err(e) => {
+                        end = Some(e);
+                        break;
+                    }
                 }
-                Err(e) => {
-                    end = Some(world_error(e));
+                if chunk.len() == limit {
                     break;
                 }
+                match rx.try_recv() {
+                    Ok(r) => next = r,
+                    Err(_) => break,
+                }
+            }
+            results.clear();
+            executor.run(&chunk, memo.as_ref(), &mut results);
+            p.add(chunk.len() as u64);
+            text.clear();
+            for (c, r) in chunk.iter().zip(results.drain(..)) {
+                match r {
+                    Ok(o) => {
+                        let _ = writeln!(
+                            text,
+                            "{},{},{},{},{}",
+                            space.format(c),
+                            o.effect,
+                            o.reward,
+                            o.point[0],
+                            o.point[1]
+                        );
+                    }
+                    Err(e) => {
+                        end = Some(world_error(e));
+                        break;
+                    }
+                }
+            }
+            if !text.is_empty() {
+                if !header_written {
+                    text.insert_str(0, header);
+                    header_written = true;
+                }
+                write(&text)?;
             }
         }
-        if !text.is_empty() {
-            if !header_written {
-                text.insert_str(0, header);
-                header_written = true;
-            }
-            write(&text)?;
-        }
-    }
+        Ok(())
+    })?;
     if let (Some(m), Some(dir)) = (memo.as_ref().filter(|m| !m.is_empty()), table_cache) {
         let path = OutcomeTable::cache_path(scene, dir);
         if let Err(e) = m.save(&path, scene) {
@@ -851,7 +861,12 @@ fn simulate_all<T>(
         scene.name,
         rayon::current_num_threads()
     );
-    progress::track(&format!("scene {}", scene.name), simulated, work)
+    progress::track(
+        &format!("scene {}", scene.name),
+        "commands",
+        simulated,
+        |p| work(&|k| p.add(k)),
+    )
 }
 
 /// [`OutcomeTable::build_scene`], its cost and progress on stderr.

@@ -17,7 +17,7 @@ use crate::learner::{LearnerKind, Params};
 use crate::scene::Scene;
 use crate::scene::WorldSpec;
 use crate::session::{
-    policy_effect_distribution, run_session, Metrics, SessionConfig, SessionRecord,
+    policy_effect_distribution, run_session_with, Metrics, SessionConfig, SessionRecord,
 };
 use crate::world::{GridSpec, OutcomeTable};
 use plotters::prelude::*;
@@ -120,9 +120,10 @@ pub struct PaperResults {
 /// The rewarded cell's column starts room B at column 3 of `two_rooms`.
 const ROOM_B_FIRST_COL: usize = 3;
 
-/// Runs the paper's experiment. `progress` is called once per finished
-/// session (from worker threads).
-pub fn run_paper(config: PaperConfig, progress: &(dyn Fn() + Sync)) -> PaperResults {
+/// Runs the paper's experiment. `progress` is called (from worker threads)
+/// with the number of trials just run, every 256 trials of a session and
+/// at its end: the counts add up to `4 x sessions x trials`.
+pub fn run_paper(config: PaperConfig, progress: &(dyn Fn(u64) + Sync)) -> PaperResults {
     let scene = Scene::builtin("two_rooms").expect("two_rooms is built in");
     let table = OutcomeTable::build(&mut scene.build()).expect("the grid cannot fail");
     let space = scene.command_space();
@@ -143,10 +144,14 @@ pub fn run_paper(config: PaperConfig, progress: &(dyn Fn() + Sync)) -> PaperResu
                 seed: config.seed.wrapping_add(s as u64),
                 use_reward: arm.task == 2,
             };
-            let rec = run_session(&mut &table, &mut learner, &cfg).expect("the grid cannot fail");
+            let mut reported = 0;
+            let rec = run_session_with(&mut &table, &mut learner, &cfg, |t| {
+                progress((t - reported) as u64);
+                reported = t;
+            })
+            .expect("the grid cannot fail");
             let exact = policy_effect_distribution(&table, &*learner)
                 .expect("shipped learners have per-slot policies");
-            progress();
             (rec, exact)
         })
         .collect();
