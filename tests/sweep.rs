@@ -253,6 +253,38 @@ fn a_killed_sweep_resumes_to_the_same_bytes() {
     assert_same_files(&whole, &killed, &FINAL_FILES);
 }
 
+/// A folder that is not empty is refused before the sweep prints its
+/// plan: the error alone, no "N cells x M sessions" line that looks like
+/// a start.
+#[test]
+fn a_refused_folder_prints_no_plan() {
+    let d = temp("refuse-first");
+    let a = small_sweep(&d, 1, 50);
+    let out = d.join("out");
+    let o = out.to_str().unwrap();
+    let first = ok(e3d(&["sweep", a.to_str().unwrap(), "--out", o]));
+    assert!(String::from_utf8_lossy(&first.stderr).contains("cells x 1 sessions"));
+    let r = e3d(&["sweep", a.to_str().unwrap(), "--out", o]);
+    assert_eq!(r.status.code(), Some(3));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("exists and is not empty; pass --resume to complete the sweep it holds"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("cells x"),
+        "the plan came before the refusal: {err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    // a resume of a complete sweep says what an earlier run did
+    let r = ok(e3d(&["sweep", a.to_str().unwrap(), "--out", o, "--resume"]));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("; 18 of the 18 done by an earlier run"),
+        "{err}"
+    );
+}
+
 #[test]
 fn resume_refuses_a_folder_of_another_sweep() {
     let d = temp("other");

@@ -303,6 +303,23 @@ fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
     result.map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
 }
 
+/// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order
+/// of a sweep's columns; nothing for the uniform policy, which uses none.
+fn used_params(learner: LearnerKind, p: &Params) -> String {
+    let values = [p.alpha, p.beta, p.lambda, p.eta, p.epsilon];
+    let used: Vec<String> = e3d::sweep::PARAM_NAMES
+        .iter()
+        .zip(values)
+        .filter(|(name, _)| e3d::sweep::uses_param(learner, name))
+        .map(|(name, v)| format!("{name} {v}"))
+        .collect();
+    if used.is_empty() {
+        String::new()
+    } else {
+        format!(" | {}", used.join(" "))
+    }
+}
+
 pub fn run(a: RunArgs) -> CliResult {
     let params = a.params.params()?;
     let scene = load_scene(&a.scene)?;
@@ -413,17 +430,21 @@ pub fn run(a: RunArgs) -> CliResult {
     };
 
     println!(
-        "scene {} | learner {} | {} trials{} | seed {} | alpha {} beta {} lambda {} eta {} epsilon {}{}",
+        "scene {} | learner {} | {} trials{} | seed {}{}{}",
         scene.name,
         a.learner,
         a.trials,
-        if sessions > 1 { format!(" x {sessions} sessions") } else { String::new() },
-        if sessions > 1 { format!("{}..={}", seeds[0], seeds[sessions - 1]) } else { a.seed.to_string() },
-        params.alpha,
-        params.beta,
-        params.lambda,
-        params.eta,
-        params.epsilon,
+        if sessions > 1 {
+            format!(" x {sessions} sessions")
+        } else {
+            String::new()
+        },
+        if sessions > 1 {
+            format!("{}..={}", seeds[0], seeds[sessions - 1])
+        } else {
+            a.seed.to_string()
+        },
+        used_params(a.learner, &params),
         if a.no_reward { " | no reward" } else { "" }
     );
     // with a table, the reachable cells are known: the entropy over them
@@ -442,7 +463,7 @@ pub fn run(a: RunArgs) -> CliResult {
             String::new()
         };
         println!(
-            "{who}normalized entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
+            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
             m.normalized_entropy,
             m.normalized_entropy_last_1000,
             m.kl_to_target,
@@ -450,7 +471,7 @@ pub fn run(a: RunArgs) -> CliResult {
             num_effects
         );
         if let (Some(k), Some(h)) = (reachable, over_reachable[i]) {
-            println!("{who}over the {k} reachable cells: normalized entropy {h:.4}");
+            println!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
         }
         println!(
             "{who}cumulative reward {} | first reward at trial {}",
@@ -463,14 +484,14 @@ pub fn run(a: RunArgs) -> CliResult {
         let mean =
             |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
         println!(
-            "mean of {sessions} sessions: normalized entropy {:.4} | cumulative reward {:.1}",
+            "mean of {sessions} sessions: normalised entropy {:.4} | cumulative reward {:.1}",
             mean(&|m| m.normalized_entropy),
             mean(&|m| m.cumulative_reward)
         );
     }
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
-        println!("exact effect distribution of the final policy: normalized entropy {h:.4}");
+        println!("exact effect distribution of the final policy: normalised entropy {h:.4}");
     }
 
     if let Some(dir) = &a.out {

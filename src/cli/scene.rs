@@ -240,12 +240,19 @@ fn check(scene: &Scene) -> CliResult {
             r.cells(&grid)
         );
     }
-    if scene.reward.cells.is_empty() {
-        println!("reward cells: none");
+    // every rewarded cell, listed or in a region: one answer
+    let cells = rewarded_cells(scene);
+    if cells.is_empty() {
+        println!("reward cells: none (the scene declares no reward cell or region)");
     } else {
+        let from = match (scene.reward.cells.is_empty(), scene.reward.regions.len()) {
+            (true, 1) => " (from the region above)".to_string(),
+            (true, _) => " (from the regions above)".to_string(),
+            (false, 0) => String::new(),
+            (false, _) => " (listed and from the regions above)".to_string(),
+        };
         println!(
-            "reward cells: {:?}, value {}{}",
-            scene.reward.cells,
+            "reward cells: {cells:?}{from}, value {}{}",
             scene.reward.value,
             if scene.reward.note.is_empty() {
                 String::new()
@@ -255,6 +262,19 @@ fn check(scene: &Scene) -> CliResult {
         );
     }
     Ok(())
+}
+
+/// The cells the scene rewards: those it lists and those of its regions,
+/// in order, once each.
+fn rewarded_cells(scene: &Scene) -> Vec<(usize, usize)> {
+    let grid = scene.effect_grid();
+    let mut cells: Vec<(usize, usize)> = scene.reward.cells.clone();
+    for r in &scene.reward.regions {
+        cells.extend(r.cells(&grid));
+    }
+    cells.sort_unstable();
+    cells.dedup();
+    cells
 }
 
 fn render(scene: &Scene, command: Option<&str>, out: &std::path::Path) -> CliResult {
@@ -705,12 +725,17 @@ fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         .map(|(i, _)| space.format(&space.command_at(i as u64)))
         .collect();
     println!("commands reaching it: {}", reaching.join(" "));
-    let ok = scene.reward.cells == [(cell.row, cell.col)];
-    println!(
-        "the scene's reward cells {:?} {} the rule's cell",
-        scene.reward.cells,
-        if ok { "match" } else { "do NOT match" }
-    );
+    let declared = rewarded_cells(scene);
+    let rule = (cell.row, cell.col);
+    if declared.is_empty() {
+        println!(
+            "the scene declares no reward cell; by the rule it would be {rule:?}: `reward: (cells: [{rule:?}])`"
+        );
+    } else if declared == [rule] {
+        println!("the scene's reward cells {declared:?} match the rule's cell");
+    } else {
+        println!("the scene's reward cells {declared:?} do NOT match the rule's cell {rule:?}");
+    }
     Ok(())
 }
 
