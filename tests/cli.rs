@@ -357,3 +357,108 @@ fn a_command_written_minus_is_given_on_stdin() {
     assert_eq!(rows, ["command,effect", "-,1", "0,0"], "{out}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `reproduce` follows the rule of `run` and `plot`: its default folder
+/// `out` is created on a fresh clone (the README's first command), but an
+/// earlier reproduction's files are replaced only with `--force`, and a
+/// refusal names `--force` and touches nothing.
+#[test]
+fn reproduce_refuses_to_replace_an_earlier_reproduction_without_force() {
+    let d = tmp("repro-force");
+    std::fs::create_dir_all(&d).unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["reproduce", "--sessions", "1", "--trials", "50"];
+        args.extend_from_slice(extra);
+        Command::new(env!("CARGO_BIN_EXE_e3d"))
+            .args(&args)
+            .current_dir(&d)
+            .output()
+            .unwrap()
+    };
+    // no out/ yet: the README's `cargo run --release -- reproduce`
+    let o = run(&[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let fig2 = d.join("out").join("fig2.svg");
+    let before = read(&fig2);
+    let o = run(&["--seed", "5"]);
+    assert_eq!(o.status.code(), Some(3));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("out/fig2.svg exists; pass --force to overwrite it, or choose another --out"),
+        "{err}"
+    );
+    assert!(o.stdout.is_empty(), "refused before any work");
+    assert_eq!(read(&fig2), before, "nothing was touched");
+    let o = run(&["--seed", "5", "--force"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_ne!(read(&fig2), before, "--force replaced it");
+    // any one of its five files is enough to refuse
+    std::fs::remove_dir_all(d.join("out")).unwrap();
+    std::fs::create_dir_all(d.join("out")).unwrap();
+    std::fs::write(d.join("out").join("summary.md"), "mine").unwrap();
+    let o = run(&[]);
+    assert_eq!(o.status.code(), Some(3));
+    assert_eq!(
+        std::fs::read_to_string(d.join("out").join("summary.md")).unwrap(),
+        "mine"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `run` prints the parameters its learner uses, none for the uniform
+/// policy, and spells "normalised" as the docs do.
+#[test]
+fn run_prints_only_the_parameters_its_learner_uses() {
+    let first_line = |learner: &str| {
+        let o = e3d(&["run", "--learner", learner, "--trials", "20"]);
+        assert!(o.status.success());
+        let out = String::from_utf8(o.stdout).unwrap();
+        assert!(
+            out.contains("normalised entropy") && !out.contains("normalized"),
+            "{out}"
+        );
+        out.lines().next().unwrap().to_string()
+    };
+    assert_eq!(
+        first_line("uniform"),
+        "scene two_rooms | learner uniform | 20 trials | seed 0"
+    );
+    assert_eq!(
+        first_line("egreedy"),
+        "scene two_rooms | learner egreedy | 20 trials | seed 0 | alpha 0.3 epsilon 0.1"
+    );
+    assert_eq!(
+        first_line("e3d"),
+        "scene two_rooms | learner e3d | 20 trials | seed 0 | alpha 0.3 beta 1 lambda 0.03 eta 0.01"
+    );
+}
+
+/// `scene check` gives one answer about the reward: the cells of a region
+/// are the scene's reward cells (maze3), and a scene without reward says so.
+#[test]
+fn scene_check_lists_the_cells_of_reward_regions_as_reward_cells() {
+    let out = |scene: &str| {
+        let o = e3d(&["scene", "check", scene]);
+        assert!(o.status.success());
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let maze = out("maze3");
+    assert!(
+        maze.contains("reward region `corner C`: [5.5, 6] x [0, 0.5], cells [(3, 11)]")
+            && maze.contains("reward cells: [(3, 11)] (from the region above), value 1"),
+        "{maze}"
+    );
+    assert!(!maze.contains("reward cells: none"), "{maze}");
+    assert!(out("two_rooms").contains("reward cells: [(2, 5)], value 1\n"));
+    assert!(out("pendulum3")
+        .contains("reward cells: none (the scene declares no reward cell or region)"));
+}
+
+/// `plot --metric` reads summary.csv, and its help says so.
+#[test]
+fn plot_help_names_the_file_it_reads() {
+    let o = e3d(&["plot", "--help"]);
+    let help = String::from_utf8(o.stdout).unwrap();
+    assert!(help.contains("summary.csv names it"), "{help}");
+    assert!(!help.contains("results.csv"), "{help}");
+}

@@ -373,9 +373,9 @@ fn e3d_run_gives_the_entropy_over_the_reachable_cells_when_a_table_knows_them() 
         "{err}"
     );
     assert!(
-        stdout.contains("normalized entropy 0.7250 (last 1000: 0.7328)")
+        stdout.contains("normalised entropy 0.7250 (last 1000: 0.7328)")
             && stdout.contains("68 of 225 effects reached")
-            && stdout.contains("over the 68 reachable cells: normalized entropy 0.9306"),
+            && stdout.contains("over the 68 reachable cells: normalised entropy 0.9306"),
         "{stdout}"
     );
     // two_rooms reaches every cell: no second figure

@@ -244,7 +244,7 @@ fn scene_reward_cell_prints_the_rule_and_its_commands() {
         "reached cells: 32 of 64",
         "rule: farthest reached cell from (0.0000, -0.9000): (2, 1) = effect 17, centre (-0.625, 0.375), 1.4199 m away, reached by 2 command(s)",
         "commands reaching it: aac aad",
-        "the scene's reward cells [] do NOT match the rule's cell",
+        "the scene declares no reward cell; by the rule it would be (2, 1): `reward: (cells: [(2, 1)])`",
         ],
     );
 }

@@ -253,6 +253,38 @@ fn a_killed_sweep_resumes_to_the_same_bytes() {
     assert_same_files(&whole, &killed, &FINAL_FILES);
 }
 
+/// A folder that is not empty is refused before the sweep prints its
+/// plan: the error alone, no "N cells x M sessions" line that looks like
+/// a start.
+#[test]
+fn a_refused_folder_prints_no_plan() {
+    let d = temp("refuse-first");
+    let a = small_sweep(&d, 1, 50);
+    let out = d.join("out");
+    let o = out.to_str().unwrap();
+    let first = ok(e3d(&["sweep", a.to_str().unwrap(), "--out", o]));
+    assert!(String::from_utf8_lossy(&first.stderr).contains("cells x 1 sessions"));
+    let r = e3d(&["sweep", a.to_str().unwrap(), "--out", o]);
+    assert_eq!(r.status.code(), Some(3));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("exists and is not empty; pass --resume to complete the sweep it holds"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("cells x"),
+        "the plan came before the refusal: {err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    // a resume of a complete sweep says what an earlier run did
+    let r = ok(e3d(&["sweep", a.to_str().unwrap(), "--out", o, "--resume"]));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("; 18 of the 18 done by an earlier run"),
+        "{err}"
+    );
+}
+
 #[test]
 fn resume_refuses_a_folder_of_another_sweep() {
     let d = temp("other");
@@ -459,16 +491,59 @@ fn plots_are_drawn_from_the_summary() {
     ]));
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.starts_with("<svg"));
-    // one line per eta, the baselines as dashed lines, labelled
+    // one line per eta, the baselines as dashed lines, labelled in words
     for label in [
-        "e3d, eta=0.003",
-        "e3d, eta=0.009487",
-        "e3d, eta=0.03",
+        "e3d, eta 0.003",
+        "e3d, eta 0.009487",
+        "e3d, eta 0.03",
         "uniform",
-        "egreedy, epsilon=0.05",
-        "beta (log scale)",
+        "egreedy, epsilon 0.05",
+        "Normalised entropy against beta (without reward)",
+        "beta (inverse temperature), log scale",
+        "normalised entropy: mean, 95% CI of the mean",
     ] {
         assert!(text.contains(label), "no `{label}` in the plot");
+    }
+    // the swept betas are 1 and 100: the log axis ticks at the decades 1,
+    // 10, 100, not at the swept values alone
+    let texts: Vec<&str> = text
+        .split("</text>")
+        .filter_map(|t| t.rsplit('>').next())
+        .map(str::trim)
+        .collect();
+    for tick in ["1", "10", "100"] {
+        assert!(texts.contains(&tick), "no tick {tick}: {texts:?}");
+    }
+    // no snake_case title, no legend titled "legend"
+    assert!(
+        !texts.iter().any(|t| t.contains("normalized_entropy")),
+        "{texts:?}"
+    );
+    assert!(!texts.contains(&"legend"), "{texts:?}");
+    // 12 series (e3d: 2 reward settings x 3 eta; egreedy: 2 x 2 epsilon;
+    // uniform: 2): all in the legend, under the plot
+    let all = d.join("all.svg");
+    ok(e3d(&[
+        "plot",
+        o,
+        "--x",
+        "beta",
+        "--metric",
+        "normalized_entropy",
+        "--out",
+        all.to_str().unwrap(),
+    ]));
+    let all = std::fs::read_to_string(&all).unwrap();
+    for label in [
+        "e3d, without reward, eta 0.003",
+        "e3d, with reward, eta 0.03",
+        "egreedy, with reward, epsilon 0.2",
+        "uniform, with reward",
+    ] {
+        assert!(
+            all.contains(&format!("\n{label}\n")),
+            "no `{label}` in the legend"
+        );
     }
     // an existing figure is not overwritten without --force
     let again = e3d(&[

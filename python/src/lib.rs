@@ -1564,7 +1564,7 @@ fn run_sessions(
         for _ in 0..n {
             learners.push(
                 kind.make(&a.params, &space, n_eff, &Target::Uniform)
-                    .map_err(PyValueError::new_err)?,
+                    .map_err(|e| PyValueError::new_err(e.to_string()))?,
             );
         }
         let inner = scene.inner.clone();

@@ -2,15 +2,13 @@
 //! figure (the sweep `scenes/sweeps/drives.ron`, run in memory).
 
 use super::output::{prepare_out, write_file};
+use super::progress;
 use super::sweep::sweep_error;
 use super::CliResult;
 use clap::Args;
 use e3d::report::drives::{drives_sweep, DriveComparison};
-use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Arguments of `e3d compare`.
 #[derive(Args, Debug)]
@@ -40,11 +38,9 @@ pub fn run(a: CompareArgs) -> CliResult {
     let names: Vec<&str> = a.scenes.iter().map(String::as_str).collect();
     let files = ["drives.md", "drives.csv", "drives.svg", "results.csv"];
     prepare_out(&a.out, &files, a.force)?;
-    let counter = Arc::new(AtomicU64::new(0));
     let sweep = drives_sweep(a.sessions as usize, a.trials as usize, &names)
         .map_err(sweep_error)?
-        .with_notices(|line| eprintln!("outcomes: {line}"))
-        .with_trial_counter(counter.clone());
+        .with_notices(|line| eprintln!("outcomes: {line}"));
     let threads = a
         .threads
         .map(usize::from)
@@ -60,39 +56,12 @@ pub fn run(a: CompareArgs) -> CliResult {
         if threads == 1 { "" } else { "s" }
     );
     let start = Instant::now();
-    let finished = AtomicBool::new(false);
-    let results = std::thread::scope(|scope| {
-        scope.spawn(|| {
-            // a line every 5 s (a bar would need the sweep's reporter)
-            let mut last = Instant::now();
-            while !finished.load(Ordering::Relaxed) {
-                std::thread::sleep(Duration::from_millis(200));
-                if last.elapsed() >= Duration::from_secs(5) {
-                    let done = counter.load(Ordering::Relaxed).min(total);
-                    let secs = start.elapsed().as_secs_f64();
-                    let eta = if done > 0 {
-                        format!(", ETA {:.0} s", secs / done as f64 * (total - done) as f64)
-                    } else {
-                        String::new()
-                    };
-                    let end = if std::io::stderr().is_terminal() {
-                        "\r"
-                    } else {
-                        "\n"
-                    };
-                    eprint!(
-                        "compare: {:.0}% of the trials, {secs:.0} s elapsed{eta}   {end}",
-                        100.0 * done as f64 / total.max(1) as f64
-                    );
-                    last = Instant::now();
-                }
-            }
-        });
-        let r = sweep.run(threads);
-        finished.store(true, Ordering::Relaxed);
-        r
-    })
-    .map_err(sweep_error)?;
+    let (sweep, results) = progress::track("compare", "trials", total, |p| {
+        let sweep = sweep.with_trial_counter(p.counter());
+        let results = sweep.run(threads);
+        (sweep, results)
+    });
+    let results = results.map_err(sweep_error)?;
     let cmp = DriveComparison::new(&sweep, &results);
     let mut rows = sweep.results_header();
     rows.push('\n');

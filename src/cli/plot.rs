@@ -17,7 +17,8 @@ pub struct PlotArgs {
     /// A second parameter: draw a heat map of the mean over (x, y).
     #[arg(long)]
     pub y: Option<String>,
-    /// The metric, as named in results.csv (normalized_entropy,
+    /// The metric, as summary.csv names it: METRIC of its columns
+    /// METRIC_mean, METRIC_ci_low, ... (normalized_entropy,
     /// cumulative_reward_at_5000, ...).
     #[arg(long)]
     pub metric: String,

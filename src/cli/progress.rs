@@ -1,35 +1,150 @@
-//! The progress of a long computation, on standard error: an estimate of
-//! its time once a sample has been measured, then a bar with ETA on a
-//! terminal, or a line every few seconds otherwise (batch logs show that
-//! work goes on). Nothing goes to standard output.
+//! The progress of a long computation, on standard error, for every long
+//! command (`run`, `sweep`, `reproduce`, `scene table|stats|reward-cell|exec`):
+//! an estimate of its time once a sample has been measured, then a bar
+//! with ETA on a terminal, or a line every few seconds otherwise, so that a
+//! batch log (Slurm, `2> log`, a pipe) shows that work goes on. Nothing
+//! goes to standard output, and a command that ends within the first
+//! seconds prints nothing.
 
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// How long the first sample runs before the estimate of the whole.
 const SAMPLE: Duration = Duration::from_secs(1);
 
 /// How often a line is printed when standard error is not a terminal.
-const EVERY: Duration = Duration::from_secs(5);
+pub const EVERY: Duration = Duration::from_secs(5);
 
-/// Runs `work`, which calls its argument (from any thread) with the number
-/// of commands it has just finished, out of `total`, while a reporter
-/// thread shows the progress as `LABEL: ...` on standard error.
-pub fn track<T>(label: &str, total: u64, work: impl FnOnce(&(dyn Fn(u64) + Sync)) -> T) -> T {
-    let done = AtomicU64::new(0);
+/// The count of a tracked computation, moved on by the work from any
+/// thread and read by the reporter.
+pub struct Progress {
+    /// Units done by this run.
+    done: Arc<AtomicU64>,
+    /// Units done before this run (a resumed sweep): shown in the position,
+    /// left out of the rate.
+    base: AtomicU64,
+    /// A position known to be reached (sessions finished), whatever `done`
+    /// says.
+    floor: AtomicU64,
+    /// The units in all; 0 while unknown (a stream of commands).
+    total: AtomicU64,
+    /// Shown after the count, for example `3/40 sessions`.
+    note: Mutex<String>,
+}
+
+impl Progress {
+    fn new(total: u64) -> Progress {
+        Progress {
+            done: Arc::new(AtomicU64::new(0)),
+            base: AtomicU64::new(0),
+            floor: AtomicU64::new(0),
+            total: AtomicU64::new(total),
+            note: Mutex::new(String::new()),
+        }
+    }
+
+    /// `k` more units done.
+    pub fn add(&self, k: u64) {
+        self.done.fetch_add(k, Ordering::Relaxed);
+    }
+
+    /// `d` units done by this run in all.
+    pub fn set(&self, d: u64) {
+        self.done.store(d, Ordering::Relaxed);
+    }
+
+    /// The counter of the units done by this run, to hand to code that
+    /// counts on its own (`Sweep::with_trial_counter`).
+    pub fn counter(&self) -> Arc<AtomicU64> {
+        self.done.clone()
+    }
+
+    /// The units in all, once known.
+    pub fn set_total(&self, total: u64) {
+        self.total.store(total, Ordering::Relaxed);
+    }
+
+    /// The units done before this run started.
+    pub fn set_base(&self, base: u64) {
+        self.base.store(base, Ordering::Relaxed);
+    }
+
+    /// At least `pos` units are done (before and by this run).
+    pub fn at_least(&self, pos: u64) {
+        self.floor.fetch_max(pos, Ordering::Relaxed);
+    }
+
+    /// What to show after the count.
+    pub fn note(&self, note: impl Into<String>) {
+        *self.note.lock().unwrap_or_else(|e| e.into_inner()) = note.into();
+    }
+
+    /// (position, units done by this run, total).
+    fn read(&self) -> (u64, u64, u64) {
+        let ran = self.done.load(Ordering::Relaxed);
+        let base = self.base.load(Ordering::Relaxed);
+        let total = self.total.load(Ordering::Relaxed);
+        let mut pos = (base + ran).max(self.floor.load(Ordering::Relaxed));
+        if total > 0 {
+            pos = pos.min(total);
+        }
+        (pos, pos.saturating_sub(base), total)
+    }
+
+    fn note_text(&self) -> String {
+        self.note.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+}
+
+/// Runs `work`, which moves its [`Progress`] on (from any thread), while a
+/// reporter thread shows it as `LABEL: ... UNIT ...` on standard error.
+/// `total` may be 0 until [`Progress::set_total`] tells it (nothing is
+/// shown meanwhile).
+pub fn track<T>(label: &str, unit: &str, total: u64, work: impl FnOnce(&Progress) -> T) -> T {
+    track_as(label, unit, total, true, false, work)
+}
+
+/// [`track`] for a command that prints its results as they come (`scene
+/// exec`): no total, and no spinner when standard output is the terminal
+/// too (the rows show the progress there, and a spinner would cut into
+/// them); off a terminal, the same lines.
+pub fn track_stream<T>(label: &str, unit: &str, work: impl FnOnce(&Progress) -> T) -> T {
+    track_as(label, unit, 0, !std::io::stdout().is_terminal(), true, work)
+}
+
+fn track_as<T>(
+    label: &str,
+    unit: &str,
+    total: u64,
+    bar: bool,
+    stream: bool,
+    work: impl FnOnce(&Progress) -> T,
+) -> T {
+    let progress = Progress::new(total);
     let finished = AtomicBool::new(false);
-    let count = |k: u64| {
-        done.fetch_add(k, Ordering::Relaxed);
-    };
+    let terminal = std::io::stderr().is_terminal();
     std::thread::scope(|s| {
-        let reporter = s.spawn(|| report(label, total, &done, &finished));
+        let reporter = s.spawn(|| {
+            let mut r = Reporter::new(label, unit, terminal);
+            r.bar_allowed = bar;
+            r.stream = stream;
+            loop {
+                std::thread::park_timeout(Duration::from_millis(100));
+                if finished.load(Ordering::Acquire) {
+                    break;
+                }
+                r.show(&progress, Instant::now());
+            }
+            r.finish();
+        });
         // set even if `work` panics, or the scope would wait for the reporter
         let _stop = Stop {
             finished: &finished,
             reporter: reporter.thread().clone(),
         };
-        work(&count)
+        work(&progress)
     })
 }
 
@@ -46,57 +161,296 @@ impl Drop for Stop<'_> {
     }
 }
 
-fn report(label: &str, total: u64, done: &AtomicU64, finished: &AtomicBool) {
-    let start = Instant::now();
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let bar = indicatif::ProgressBar::new(total);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{msg} [{bar:30}] {pos}/{len} commands, {eta} left",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
-        bar.set_message(label.to_string());
-        bar
-    });
-    let mut estimated = false;
-    let mut last_line = start;
-    loop {
-        std::thread::park_timeout(Duration::from_millis(100));
-        if finished.load(Ordering::Acquire) {
-            break;
-        }
-        let d = done.load(Ordering::Relaxed).min(total);
-        let secs = start.elapsed().as_secs_f64();
-        if let Some(bar) = &bar {
-            bar.set_position(d);
-        }
-        if !estimated && d > 0 && start.elapsed() >= SAMPLE {
-            estimated = true;
-            let line = format!(
-                "{label}: about {:.0} s in all ({d} commands in the first {secs:.1} s)",
-                secs * total as f64 / d as f64
-            );
-            match &bar {
-                Some(bar) => bar.println(line),
-                None => eprintln!("{line}"),
-            }
-        }
-        if bar.is_none() && last_line.elapsed() >= EVERY {
-            let left = if d > 0 {
-                format!(", about {:.0} s left", secs * (total - d) as f64 / d as f64)
-            } else {
-                String::new()
-            };
-            eprintln!(
-                "{label}: {d}/{total} commands ({:.0}%), {secs:.0} s elapsed{left}",
-                100.0 * d as f64 / total.max(1) as f64
-            );
-            last_line = Instant::now();
+/// What the reporter thread keeps between two looks at the count.
+struct Reporter<'a> {
+    label: &'a str,
+    unit: &'a str,
+    terminal: bool,
+    /// On a terminal: draw a bar (or a spinner), or nothing at all.
+    bar_allowed: bool,
+    /// No total ever (a spinner, and lines only when the count moves);
+    /// otherwise nothing is shown until the total is known.
+    stream: bool,
+    bar: Option<indicatif::ProgressBar>,
+    start: Instant,
+    estimated: bool,
+    last_line: Instant,
+    /// The position the last line showed.
+    last_pos: u64,
+    /// The last look at which this run had counted nothing: the rate is
+    /// measured from there.
+    counting_since: Instant,
+}
+
+/// Units done in a time, from the first count.
+#[derive(Debug, Clone, Copy)]
+struct Rate {
+    units: u64,
+    time: Duration,
+}
+
+impl Rate {
+    /// The seconds `left` units take at this rate (`None` before any).
+    fn secs_for(&self, left: u64) -> Option<f64> {
+        (self.units > 0).then(|| self.time.as_secs_f64() * left as f64 / self.units as f64)
+    }
+}
+
+impl<'a> Reporter<'a> {
+    fn new(label: &'a str, unit: &'a str, terminal: bool) -> Self {
+        let start = Instant::now();
+        Reporter {
+            label,
+            unit,
+            terminal,
+            bar_allowed: true,
+            stream: false,
+            bar: None,
+            start,
+            estimated: false,
+            last_line: start,
+            last_pos: 0,
+            counting_since: start,
         }
     }
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
+
+    fn show(&mut self, p: &Progress, now: Instant) {
+        let (pos, ran, total) = p.read();
+        if total == 0 && !self.stream {
+            return;
+        }
+        let note = p.note_text();
+        if self.terminal {
+            if !self.bar_allowed {
+                return;
+            }
+            self.draw_bar(pos, total, &note);
+        }
+        // the rate is measured from the first count, not from the start:
+        // building an outcome table first does not count as slow trials
+        if ran == 0 {
+            self.counting_since = now;
+        }
+        let rate = Rate {
+            units: ran,
+            time: now - self.counting_since,
+        };
+        if !self.estimated && total > 0 && rate.units > 0 && rate.time >= SAMPLE {
+            self.estimated = true;
+            let line = estimate_line(self.label, self.unit, pos, total, now - self.start, rate);
+            self.print(line);
+        }
+        // without a total (a stream), a line only when the count moved:
+        // waiting for input is not work going on
+        let due = now - self.last_line >= EVERY;
+        if !self.terminal && due && (total > 0 || pos != self.last_pos) {
+            self.print(status_line(
+                self.label,
+                self.unit,
+                (pos, total),
+                &note,
+                now - self.start,
+                rate,
+            ));
+            self.last_line = now;
+            self.last_pos = pos;
+        }
+    }
+
+    fn draw_bar(&mut self, pos: u64, total: u64, note: &str) {
+        let unit = self.unit;
+        let bar = self.bar.get_or_insert_with(|| {
+            let (bar, template) = if total > 0 {
+                (
+                    indicatif::ProgressBar::new(total),
+                    format!("{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit}, {{eta}} left"),
+                )
+            } else {
+                (
+                    indicatif::ProgressBar::new_spinner(),
+                    format!("{{msg}} {{spinner}} {{pos}} {unit}, {{elapsed}}"),
+                )
+            };
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(&template)
+                    .expect("valid template")
+                    .progress_chars("=> "),
+            );
+            // what an earlier run did is not part of this run's rate
+            bar.set_position(pos);
+            bar.reset_eta();
+            bar
+        });
+        if total > 0 && bar.length() != Some(total) {
+            bar.set_length(total);
+        }
+        bar.set_message(if note.is_empty() {
+            self.label.to_string()
+        } else {
+            format!("{} ({note})", self.label)
+        });
+        bar.set_position(pos);
+    }
+
+    fn print(&self, line: String) {
+        match &self.bar {
+            Some(bar) => bar.println(line),
+            None => eprintln!("{line}"),
+        }
+    }
+
+    fn finish(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// `LABEL: about 12 s in all (214 commands in 1.0 s)`: the time so far
+/// and what is left at the measured rate.
+fn estimate_line(
+    label: &str,
+    unit: &str,
+    pos: u64,
+    total: u64,
+    elapsed: Duration,
+    rate: Rate,
+) -> String {
+    let rest = rate.secs_for(total.saturating_sub(pos)).unwrap_or(0.0);
+    format!(
+        "{label}: about {:.0} s in all ({} {unit} in {:.1} s)",
+        elapsed.as_secs_f64() + rest,
+        rate.units,
+        rate.time.as_secs_f64()
+    )
+}
+
+/// The line printed every [`EVERY`] off a terminal:
+/// `LABEL: 1200/5000 trials (24%), 3/10 sessions, 5 s elapsed, about 16 s left`
+/// (without a total: `LABEL: 1200 commands, 5 s elapsed`).
+fn status_line(
+    label: &str,
+    unit: &str,
+    (pos, total): (u64, u64),
+    note: &str,
+    elapsed: Duration,
+    rate: Rate,
+) -> String {
+    let secs = elapsed.as_secs_f64();
+    let note = if note.is_empty() {
+        String::new()
+    } else {
+        format!(", {note}")
+    };
+    if total == 0 {
+        return format!("{label}: {pos} {unit}{note}, {secs:.0} s elapsed");
+    }
+    let left = match rate.secs_for(total.saturating_sub(pos)) {
+        Some(l) => format!(", about {l:.0} s left"),
+        None => String::new(),
+    };
+    format!(
+        "{label}: {pos}/{total} {unit} ({:.0}%){note}, {secs:.0} s elapsed{left}",
+        100.0 * pos as f64 / total as f64
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_off_a_terminal_say_count_share_time_and_what_is_left() {
+        let t = Duration::from_secs(5);
+        let rate = |units, secs| Rate {
+            units,
+            time: Duration::from_secs(secs),
+        };
+        assert_eq!(
+            status_line("run arm7", "trials", (1000, 5000), "", t, rate(1000, 5)),
+            "run arm7: 1000/5000 trials (20%), 5 s elapsed, about 20 s left"
+        );
+        // a resumed sweep, after its table: the rate is this run's, from
+        // its first trials
+        assert_eq!(
+            status_line(
+                "sweep",
+                "trials",
+                (3000, 5000),
+                "3/5 sessions",
+                t,
+                rate(1000, 2)
+            ),
+            "sweep: 3000/5000 trials (60%), 3/5 sessions, 5 s elapsed, about 4 s left"
+        );
+        assert_eq!(
+            status_line("run x", "trials", (0, 5000), "", t, rate(0, 0)),
+            "run x: 0/5000 trials (0%), 5 s elapsed"
+        );
+        assert_eq!(
+            status_line("scene exec arm7", "commands", (640, 0), "", t, rate(640, 5)),
+            "scene exec arm7: 640 commands, 5 s elapsed"
+        );
+        assert_eq!(
+            estimate_line(
+                "scene arm7",
+                "commands",
+                214,
+                1094,
+                Duration::from_secs(1),
+                rate(214, 1)
+            ),
+            "scene arm7: about 5 s in all (214 commands in 1.0 s)"
+        );
+        // 6 s of table first, then 100 trials a second
+        assert_eq!(
+            estimate_line(
+                "sweep",
+                "trials",
+                100,
+                1000,
+                Duration::from_secs(7),
+                rate(100, 1)
+            ),
+            "sweep: about 16 s in all (100 trials in 1.0 s)"
+        );
+    }
+
+    #[test]
+    fn the_position_counts_the_earlier_run_and_the_floor() {
+        let p = Progress::new(0);
+        p.set_total(100);
+        p.set_base(40);
+        p.add(5);
+        assert_eq!(p.read(), (45, 5, 100));
+        p.at_least(60);
+        assert_eq!(p.read(), (60, 20, 100));
+        p.add(500);
+        assert_eq!(p.read(), (100, 60, 100));
+    }
+
+    #[test]
+    fn a_reporter_off_a_terminal_prints_nothing_in_the_first_seconds() {
+        // no line before EVERY (a short command leaves stderr empty)
+        let p = Progress::new(10);
+        let mut r = Reporter::new("x", "commands", false);
+        p.add(3);
+        let t0 = r.start;
+        r.show(&p, t0 + Duration::from_millis(500));
+        assert!(!r.estimated);
+        assert_eq!(r.last_line, t0);
+        r.show(&p, t0 + EVERY);
+        assert!(r.estimated);
+        assert_eq!(r.last_line, t0 + EVERY);
+        // a stream whose count does not move (waiting for input): no line
+        let p = Progress::new(0);
+        let mut r = Reporter::new("x", "commands", false);
+        r.stream = true;
+        let t0 = r.start;
+        r.show(&p, t0 + EVERY);
+        assert_eq!(r.last_line, t0);
+        p.add(1);
+        r.show(&p, t0 + 2 * EVERY);
+        assert_eq!(r.last_line, t0 + 2 * EVERY);
     }
 }

@@ -1,10 +1,9 @@
 //! `e3d reproduce`: the paper's Figures 2 and 3 on two_rooms.
 
-use super::output::write_file;
+use super::output::{prepare_out, write_file};
 use super::{CliError, CliResult};
 use clap::Args;
 use e3d::report::paper::{run_paper, PaperConfig, ARMS};
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -12,9 +11,12 @@ use std::time::Instant;
 #[derive(Args, Debug)]
 pub struct ReproduceArgs {
     /// The folder for fig2.svg, fig3.svg, their CSV and summary.md
-    /// (created if needed; the files of an earlier reproduction are replaced).
+    /// (created if needed).
     #[arg(long, default_value = "out", value_name = "DIR")]
     pub out: PathBuf,
+    /// Replace the files of an earlier reproduction in --out.
+    #[arg(long)]
+    pub force: bool,
     /// Sessions per learner.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=10_000))]
     pub sessions: u64,
@@ -25,6 +27,9 @@ pub struct ReproduceArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
 }
+
+/// The files `e3d reproduce` writes in its folder.
+const FILES: [&str; 5] = ["fig2.svg", "fig2.csv", "fig3.svg", "fig3.csv", "summary.md"];
 
 pub fn run(a: ReproduceArgs) -> CliResult {
     // session i uses seed SEED + i: it must not pass 2^64 - 1 (it wrapped
@@ -43,42 +48,27 @@ pub fn run(a: ReproduceArgs) -> CliResult {
         trials: a.trials as usize,
         seed: a.seed,
     };
-    if a.out.exists() && !a.out.is_dir() {
-        return Err(CliError::output(format!(
-            "{}: exists and is not a directory",
-            a.out.display()
-        )));
-    }
-    std::fs::create_dir_all(&a.out).map_err(|e| {
-        CliError::output(format!(
-            "{}: cannot create the folder: {e}",
-            a.out.display()
-        ))
-    })?;
+    // as `run` and `plot`: an earlier result is replaced only with --force
+    prepare_out(&a.out, &FILES, a.force)?;
     let start = Instant::now();
-    // indicatif draws only when stderr is a terminal
-    let bar = ProgressBar::new((ARMS.len() * config.sessions) as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} sessions, {elapsed}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_message("two_rooms");
-    let results = run_paper(config, &|| bar.inc(1));
-    bar.finish_and_clear();
+    // a bar on a terminal, a line every few seconds otherwise
+    let trials = (ARMS.len() * config.sessions) as u64 * a.trials;
+    let results = super::progress::track("reproduce two_rooms", "trials", trials, |p| {
+        run_paper(config, &|k| p.add(k))
+    });
 
     let fig2 = results.fig2_svg().map_err(CliError::output)?;
     let fig3 = results.fig3_svg().map_err(CliError::output)?;
     let summary = results.summary_markdown();
     let (fig2_csv, fig3_csv) = (results.fig2_csv(), results.fig3_csv());
-    let files: [(&str, &[u8]); 5] = [
-        ("fig2.svg", fig2.as_bytes()),
-        ("fig2.csv", fig2_csv.as_bytes()),
-        ("fig3.svg", fig3.as_bytes()),
-        ("fig3.csv", fig3_csv.as_bytes()),
-        ("summary.md", summary.as_bytes()),
+    let bytes: [&[u8]; 5] = [
+        fig2.as_bytes(),
+        fig2_csv.as_bytes(),
+        fig3.as_bytes(),
+        fig3_csv.as_bytes(),
+        summary.as_bytes(),
     ];
-    for (name, bytes) in files {
+    for (name, bytes) in FILES.into_iter().zip(bytes) {
         write_file(&a.out.join(name), bytes)?;
     }
     println!("{summary}");

@@ -275,6 +275,23 @@ fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
     result.map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
 }
 
+/// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order
+/// of a sweep's columns; nothing for the uniform policy, which uses none.
+fn used_params(learner: LearnerKind, p: &Params) -> String {
+    let values = [p.alpha, p.beta, p.lambda, p.eta, p.epsilon];
+    let used: Vec<String> = e3d::sweep::PARAM_NAMES
+        .iter()
+        .zip(values)
+        .filter(|(name, _)| e3d::sweep::uses_param(learner, name))
+        .map(|(name, v)| format!("{name} {v}"))
+        .collect();
+    if used.is_empty() {
+        String::new()
+    } else {
+        format!(" | {}", used.join(" "))
+    }
+}
+
 pub fn run(a: RunArgs) -> CliResult {
     let params = a.params.params()?;
     let scene = load_scene(&a.scene)?;
@@ -313,14 +330,6 @@ pub fn run(a: RunArgs) -> CliResult {
     let exec = Executor::new(&scene, &work, &a.memo.options(a.table_cache.as_deref()))
         .map_err(CliError::simulation)?;
     eprintln!("outcomes: {}", exec.plan());
-    // a progress bar on a terminal (indicatif draws nothing otherwise)
-    let bar = indicatif::ProgressBar::new(work.trials);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} trials, {eta} left")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_message(scene.name.clone());
     let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
     let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {
         csv_path
@@ -337,38 +346,44 @@ pub fn run(a: RunArgs) -> CliResult {
         learners.push(make()?);
         recorders.push((RunningMetrics::new(num_effects), csv(i)?));
     }
-    let status: Vec<Result<(), e3d::WorldError>> = if sessions == 1 {
-        let mut world = exec.world(1);
-        let tick = |t: usize| bar.set_position(t as u64);
-        vec![run_session_into(
-            &mut *world,
-            &mut learners[0],
-            &cfg(seeds[0]),
-            &mut recorders[0],
-            tick,
-        )]
-    } else {
-        // lockstep groups (one session per group on a table), in parallel
-        use rayon::prelude::*;
-        let groups = if exec.table().is_some() {
-            sessions
+    // a bar on a terminal, a line every few seconds otherwise
+    let label = format!("run {}", scene.name);
+    let status = super::progress::track(&label, "trials", work.trials, |p| {
+        if sessions == 1 {
+            let mut world = exec.world(1);
+            let tick = |t: usize| p.set(t as u64);
+            vec![run_session_into(
+                &mut *world,
+                &mut learners[0],
+                &cfg(seeds[0]),
+                &mut recorders[0],
+                tick,
+            )]
         } else {
-            exec.plan().groups.max(1)
-        };
-        let size = sessions.div_ceil(groups);
-        let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
-        let parts: Vec<Vec<Result<(), e3d::WorldError>>> = learners
-            .par_chunks_mut(size)
-            .zip(recorders.par_chunks_mut(size))
-            .zip(configs.par_chunks(size))
-            .map(|((l, r), c)| {
-                let mut world = exec.world(l.len());
-                run_lockstep_into(&mut *world, l, c, r, |t| bar.inc(t))
-            })
-            .collect();
-        parts.into_iter().flatten().collect()
-    };
-    bar.finish_and_clear();
+            // lockstep groups (one session per group on a table), in parallel
+            use rayon::prelude::*;
+            let groups = if exec.table().is_some() {
+                sessions
+            } else {
+                exec.plan().groups.max(1)
+            };
+            let size = sessions.div_ceil(groups);
+            let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
+            let parts: Vec<Vec<Result<(), e3d::WorldError>>> = learners
+                .par_chunks_mut(size)
+                .zip(recorders.par_chunks_mut(size))
+                .zip(configs.par_chunks(size))
+                .map(|((l, r), c)| {
+                    let mut world = exec.world(l.len());
+                    run_lockstep_into(&mut *world, l, c, r, |t| p.add(t))
+                })
+                .collect();
+            parts
+                .into_iter()
+                .flatten()
+                .collect::<Vec<Result<(), e3d::WorldError>>>()
+        }
+    });
     if let Some(line) = exec.finish() {
         eprintln!("outcomes: {line}");
     }
@@ -399,17 +414,21 @@ pub fn run(a: RunArgs) -> CliResult {
     };
 
     println!(
-        "scene {} | learner {} | {} trials{} | seed {} | alpha {} beta {} lambda {} eta {} epsilon {}{}",
+        "scene {} | learner {} | {} trials{} | seed {}{}{}",
         scene.name,
         a.learner,
         a.trials,
-        if sessions > 1 { format!(" x {sessions} sessions") } else { String::new() },
-        if sessions > 1 { format!("{}..={}", seeds[0], seeds[sessions - 1]) } else { a.seed.to_string() },
-        params.alpha,
-        params.beta,
-        params.lambda,
-        params.eta,
-        params.epsilon,
+        if sessions > 1 {
+            format!(" x {sessions} sessions")
+        } else {
+            String::new()
+        },
+        if sessions > 1 {
+            format!("{}..={}", seeds[0], seeds[sessions - 1])
+        } else {
+            a.seed.to_string()
+        },
+        used_params(a.learner, &params),
         if a.no_reward { " | no reward" } else { "" }
     );
     for (i, m) in metrics.iter().enumerate() {
@@ -419,7 +438,7 @@ pub fn run(a: RunArgs) -> CliResult {
             String::new()
         };
         println!(
-            "{who}normalized entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
+            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
             m.normalized_entropy,
             m.normalized_entropy_last_1000,
             m.kl_to_target,
@@ -427,7 +446,7 @@ pub fn run(a: RunArgs) -> CliResult {
             num_effects
         );
         if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
-            println!("{who}over the {k} reachable cells: normalized entropy {h:.4}");
+            println!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
         }
         println!(
             "{who}cumulative reward {} | first reward at trial {}",
@@ -440,14 +459,14 @@ pub fn run(a: RunArgs) -> CliResult {
         let mean =
             |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
         println!(
-            "mean of {sessions} sessions: normalized entropy {:.4} | cumulative reward {:.1}",
+            "mean of {sessions} sessions: normalised entropy {:.4} | cumulative reward {:.1}",
             mean(&|m| m.normalized_entropy),
             mean(&|m| m.cumulative_reward)
         );
     }
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
-        println!("exact effect distribution of the final policy: normalized entropy {h:.4}");
+        println!("exact effect distribution of the final policy: normalised entropy {h:.4}");
     }
 
     if let Some(dir) = &a.out {

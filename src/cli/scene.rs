@@ -241,12 +241,19 @@ fn check(scene: &Scene) -> CliResult {
             r.cells(&grid)
         );
     }
-    if scene.reward.cells.is_empty() {
-        println!("reward cells: none");
+    // every rewarded cell, listed or in a region: one answer
+    let cells = rewarded_cells(scene);
+    if cells.is_empty() {
+        println!("reward cells: none (the scene declares no reward cell or region)");
     } else {
+        let from = match (scene.reward.cells.is_empty(), scene.reward.regions.len()) {
+            (true, 1) => " (from the region above)".to_string(),
+            (true, _) => " (from the regions above)".to_string(),
+            (false, 0) => String::new(),
+            (false, _) => " (listed and from the regions above)".to_string(),
+        };
         println!(
-            "reward cells: {:?}, value {}{}",
-            scene.reward.cells,
+            "reward cells: {cells:?}{from}, value {}{}",
             scene.reward.value,
             if scene.reward.note.is_empty() {
                 String::new()
@@ -256,6 +263,19 @@ fn check(scene: &Scene) -> CliResult {
         );
     }
     Ok(())
+}
+
+/// The cells the scene rewards: those it lists and those of its regions,
+/// in order, once each.
+fn rewarded_cells(scene: &Scene) -> Vec<(usize, usize)> {
+    let grid = scene.effect_grid();
+    let mut cells: Vec<(usize, usize)> = scene.reward.cells.clone();
+    for r in &scene.reward.regions {
+        cells.extend(r.cells(&grid));
+    }
+    cells.sort_unstable();
+    cells.dedup();
+    cells
 }
 
 fn render(scene: &Scene, command: Option<&str>, out: &std::path::Path) -> CliResult {
@@ -367,28 +387,33 @@ fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
     let result = (|| -> CliResult {
         let mut stdout = std::io::stdout().lock();
         let mut first = true;
-        for r in rx {
-            let c = r?;
-            let m = world.motion(&c).map_err(world_error)?;
-            let text = space.format(&c);
-            m.write_csv(&mut file, Some(&text), first)
-                .map_err(out_err)?;
-            let o = m.outcome;
-            let mut row = String::new();
-            if first {
-                row.push_str("command,effect,reward,x,y\n");
+        let label = format!("scene exec {}", scene.name);
+        progress::track_stream(&label, "commands", |p| -> CliResult {
+            for r in rx {
+                let c = r?;
+                let m = world.motion(&c).map_err(world_error)?;
+                p.add(1);
+                let text = space.format(&c);
+                m.write_csv(&mut file, Some(&text), first)
+                    .map_err(out_err)?;
+                let o = m.outcome;
+                let mut row = String::new();
+                if first {
+                    row.push_str("command,effect,reward,x,y\n");
+                }
+                let _ = writeln!(
+                    row,
+                    "{text},{},{},{},{}",
+                    o.effect, o.reward, o.point[0], o.point[1]
+                );
+                stdout
+                    .write_all(row.as_bytes())
+                    .and_then(|()| stdout.flush())
+                    .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+                first = false;
             }
-            let _ = writeln!(
-                row,
-                "{text},{},{},{},{}",
-                o.effect, o.reward, o.point[0], o.point[1]
-            );
-            stdout
-                .write_all(row.as_bytes())
-                .and_then(|()| stdout.flush())
-                .map_err(|e| CliError::output(format!("standard output: {e}")))?;
-            first = false;
-        }
+            Ok(())
+        })?;
         use std::io::Write as _;
         file.flush().map_err(out_err)?;
         std::fs::rename(&tmp, path).map_err(out_err)
@@ -554,57 +579,62 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
     let mut header_written = false;
     let (mut chunk, mut results, mut text) = (Vec::new(), Vec::new(), String::new());
     let mut end: Option<CliError> = None;
-    while end.is_none() {
-        chunk.clear();
-        let Ok(mut next) = rx.recv() else {
-            break;
-        };
-        loop {
-            match next {
-                Ok(c) => chunk.push(c),
-                Err(e) => {
-                    end = Some(e);
-                    break;
-                }
-            }
-            if chunk.len() == limit {
+    let label = format!("scene exec {}", scene.name);
+    progress::track_stream(&label, "commands", |p| -> CliResult {
+        while end.is_none() {
+            chunk.clear();
+            let Ok(mut next) = rx.recv() else {
                 break;
-            }
-            match rx.try_recv() {
-                Ok(r) => next = r,
-                Err(_) => break,
-            }
-        }
-        results.clear();
-        executor.run(&chunk, memo.as_ref(), &mut results);
-        text.clear();
-        for (c, r) in chunk.iter().zip(results.drain(..)) {
-            match r {
-                Ok(o) => {
-                    let _ = writeln!(
-                        text,
-                        "{},{},{},{},{}",
-                        space.format(c),
-                        o.effect,
-                        o.reward,
-                        o.point[0],
-                        o.point[1]
-                    );
+            };
+            loop {
+                match next {
+                    Ok(c) => chunk.push(c),
+                    Err(e) => {
+                        end = Some(e);
+                        break;
+                    }
                 }
-                Err(e) => {
-                    end = Some(world_error(e));
+                if chunk.len() == limit {
                     break;
                 }
+                match rx.try_recv() {
+                    Ok(r) => next = r,
+                    Err(_) => break,
+                }
+            }
+            results.clear();
+            executor.run(&chunk, memo.as_ref(), &mut results);
+            p.add(chunk.len() as u64);
+            text.clear();
+            for (c, r) in chunk.iter().zip(results.drain(..)) {
+                match r {
+                    Ok(o) => {
+                        let _ = writeln!(
+                            text,
+                            "{},{},{},{},{}",
+                            space.format(c),
+                            o.effect,
+                            o.reward,
+                            o.point[0],
+                            o.point[1]
+                        );
+                    }
+                    Err(e) => {
+                        end = Some(world_error(e));
+                        break;
+                    }
+                }
+            }
+            if !text.is_empty() {
+                if !header_written {
+                    text.insert_str(0, header);
+                    header_written = true;
+                }
+                write(&text)?;
             }
         }
-        if !text.is_empty() {
-            if !header_written {
-                text.insert_str(0, header);
-                header_written = true;
-            }
-            write(&text)?;
-        }
-    }
+        Ok(())
+    })?;
     if let (Some(m), Some(dir)) = (memo.as_ref().filter(|m| !m.is_empty()), table_cache) {
         let path = OutcomeTable::cache_path(scene, dir);
         if let Err(e) = m.save(&path, scene) {
@@ -696,12 +726,17 @@ fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         .map(|(i, _)| space.format(&space.command_at(i as u64)))
         .collect();
     println!("commands reaching it: {}", reaching.join(" "));
-    let ok = scene.reward.cells == [(cell.row, cell.col)];
-    println!(
-        "the scene's reward cells {:?} {} the rule's cell",
-        scene.reward.cells,
-        if ok { "match" } else { "do NOT match" }
-    );
+    let declared = rewarded_cells(scene);
+    let rule = (cell.row, cell.col);
+    if declared.is_empty() {
+        println!(
+            "the scene declares no reward cell; by the rule it would be {rule:?}: `reward: (cells: [{rule:?}])`"
+        );
+    } else if declared == [rule] {
+        println!("the scene's reward cells {declared:?} match the rule's cell");
+    } else {
+        println!("the scene's reward cells {declared:?} do NOT match the rule's cell {rule:?}");
+    }
     Ok(())
 }
 
@@ -852,7 +887,12 @@ fn simulate_all<T>(
         scene.name,
         rayon::current_num_threads()
     );
-    progress::track(&format!("scene {}", scene.name), simulated, work)
+    progress::track(
+        &format!("scene {}", scene.name),
+        "commands",
+        simulated,
+        |p| work(&|k| p.add(k)),
+    )
 }
 
 /// [`OutcomeTable::build_scene`], its cost and progress on stderr.

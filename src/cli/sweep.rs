@@ -1,11 +1,10 @@
 //! `e3d sweep` and `e3d merge`: grids of sessions, resumable, in shards.
 
-use super::{CliError, CliResult};
+use super::{progress, CliError, CliResult};
 use clap::Args;
 use e3d::sweep::{self, DirOptions, Shard, Sweep, SweepError};
-use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Arguments of `e3d sweep`.
 #[derive(Args, Debug)]
@@ -71,7 +70,7 @@ pub fn run(a: SweepArgs) -> CliResult {
     });
     let shard = a.shard.unwrap_or(Shard::ALL);
     let total = sweep.num_sessions();
-    eprintln!(
+    let plan = format!(
         "sweep {}: {} cells x {} sessions = {} sessions of {} trials{}, {} thread{}",
         a.file.display(),
         sweep.cells().len(),
@@ -89,21 +88,13 @@ pub fn run(a: SweepArgs) -> CliResult {
     // one run at a time in a folder: two would both do all the work
     let _lock = lock_out(&a.out)?;
     let start = Instant::now();
-    let counter = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
-    let sweep = sweep.with_trial_counter(counter.clone());
-    let trials = sweep.spec.trials as u64;
-    let reporter = std::sync::Mutex::new(Reporter::new(trials));
-    let finished = std::sync::atomic::AtomicBool::new(false);
-    let report = std::thread::scope(|scope| {
-        // between sessions, the trials of sessions in lockstep move it on
-        scope.spawn(|| {
-            while !finished.load(std::sync::atomic::Ordering::Relaxed) {
-                std::thread::sleep(Duration::from_millis(200));
-                let t = counter.load(std::sync::atomic::Ordering::Relaxed);
-                reporter.lock().unwrap_or_else(|e| e.into_inner()).trials(t);
-            }
-        });
-        let r = sweep.run_to_dir(
+    let per_session = sweep.spec.trials as u64;
+    // progress counts trials, so that sessions in lockstep, which all end
+    // together, still move it; its total is known once the folder is read
+    let report = progress::track("sweep", "trials", 0, |p| {
+        let sweep = sweep.with_trial_counter(p.counter());
+        let mut planned = false;
+        sweep.run_to_dir(
             &a.out,
             &DirOptions {
                 threads,
@@ -111,20 +102,24 @@ pub fn run(a: SweepArgs) -> CliResult {
                 shard,
             },
             |done, total| {
-                reporter
-                    .lock()
-                    .unwrap_or_else(|e| e.into_inner())
-                    .update(done, total)
+                // the first call comes once every check of the folder has
+                // passed: a refusal is not preceded by the plan
+                if !planned {
+                    planned = true;
+                    if done > 0 {
+                        eprintln!("{plan}; {done} of the {total} done by an earlier run");
+                    } else {
+                        eprintln!("{plan}");
+                    }
+                    p.set_base(done as u64 * per_session);
+                    p.set_total(total as u64 * per_session);
+                }
+                p.at_least(done as u64 * per_session);
+                p.note(format!("{done}/{total} sessions"));
             },
-        );
-        finished.store(true, std::sync::atomic::Ordering::Relaxed);
-        r
+        )
     })
     .map_err(sweep_error);
-    reporter
-        .into_inner()
-        .unwrap_or_else(|e| e.into_inner())
-        .finish();
     let report = report?;
     let secs = start.elapsed().as_secs_f64();
     eprintln!(
@@ -197,102 +192,4 @@ pub fn merge(a: MergeArgs) -> CliResult {
         a.out.join(sweep::SUMMARY).display()
     );
     Ok(())
-}
-
-/// Progress: a bar with ETA on a terminal, plain lines every few seconds
-/// otherwise (logs, Slurm). It counts trials, so that sessions in lockstep,
-/// which all end together, still show progress.
-struct Reporter {
-    bar: Option<indicatif::ProgressBar>,
-    start: Instant,
-    last_line: Option<Instant>,
-    /// Trials per session.
-    per_session: u64,
-    /// Sessions of the shard, and those done before this run.
-    total: usize,
-    resumed: Option<usize>,
-    done: usize,
-    /// Trials run by this run so far.
-    ran: u64,
-}
-
-impl Reporter {
-    fn new(per_session: u64) -> Reporter {
-        Reporter {
-            bar: None,
-            start: Instant::now(),
-            last_line: None,
-            per_session,
-            total: 0,
-            resumed: None,
-            done: 0,
-            ran: 0,
-        }
-    }
-
-    /// Sessions done (called after each session).
-    fn update(&mut self, done: usize, total: usize) {
-        self.resumed.get_or_insert(done);
-        self.done = done;
-        self.total = total;
-        self.show(done == total);
-    }
-
-    /// Trials run by this run so far (called from a ticker).
-    fn trials(&mut self, ran: u64) {
-        if ran != self.ran {
-            self.ran = ran;
-            self.show(false);
-        }
-    }
-
-    fn show(&mut self, last: bool) {
-        let Some(resumed) = self.resumed else { return };
-        let total = self.total as u64 * self.per_session;
-        let before = resumed as u64 * self.per_session;
-        let done = (before + self.ran)
-            .max(self.done as u64 * self.per_session)
-            .min(total);
-        let sessions = format!("{}/{} sessions", self.done, self.total);
-        if std::io::stderr().is_terminal() {
-            let bar = self.bar.get_or_insert_with(|| {
-                let b = indicatif::ProgressBar::new(total);
-                b.set_style(
-                    indicatif::ProgressStyle::with_template(
-                        "{bar:40.cyan/blue} {percent}% of the trials, {msg}  {elapsed_precise} elapsed, ETA {eta_precise}",
-                    )
-                    .expect("a valid template"),
-                );
-                b.set_position(done);
-                b.reset_eta();
-                b
-            });
-            bar.set_message(sessions);
-            bar.set_position(done);
-            return;
-        }
-        let due = self
-            .last_line
-            .is_none_or(|t| t.elapsed() >= Duration::from_secs(5));
-        if due || last {
-            let secs = self.start.elapsed().as_secs_f64();
-            let ran = done - before;
-            let eta = if ran > 0 && done < total {
-                format!(", ETA {:.0} s", secs / ran as f64 * (total - done) as f64)
-            } else {
-                String::new()
-            };
-            eprintln!(
-                "sweep: {sessions} ({:.0}% of the trials), {secs:.1} s elapsed{eta}",
-                100.0 * done as f64 / total.max(1) as f64
-            );
-            self.last_line = Some(Instant::now());
-        }
-    }
-
-    fn finish(&mut self) {
-        if let Some(b) = self.bar.take() {
-            b.finish_and_clear();
-        }
-    }
 }

@@ -17,10 +17,11 @@ use crate::learner::{LearnerKind, Params};
 use crate::scene::Scene;
 use crate::scene::WorldSpec;
 use crate::session::{
-    policy_effect_distribution, run_session, Metrics, SessionConfig, SessionRecord,
+    policy_effect_distribution, run_session_with, Metrics, SessionConfig, SessionRecord,
 };
 use crate::world::{GridSpec, OutcomeTable};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use rayon::prelude::*;
 use std::fmt::Write as _;
 
@@ -120,9 +121,10 @@ pub struct PaperResults {
 /// The rewarded cell's column starts room B at column 3 of `two_rooms`.
 const ROOM_B_FIRST_COL: usize = 3;
 
-/// Runs the paper's experiment. `progress` is called once per finished
-/// session (from worker threads).
-pub fn run_paper(config: PaperConfig, progress: &(dyn Fn() + Sync)) -> PaperResults {
+/// Runs the paper's experiment. `progress` is called (from worker threads)
+/// with the number of trials just run, every 256 trials of a session and
+/// at its end: the counts add up to `4 x sessions x trials`.
+pub fn run_paper(config: PaperConfig, progress: &(dyn Fn(u64) + Sync)) -> PaperResults {
     let scene = Scene::builtin("two_rooms").expect("two_rooms is built in");
     let table = OutcomeTable::build(&mut scene.build()).expect("the grid cannot fail");
     let space = scene.command_space();
@@ -143,10 +145,14 @@ pub fn run_paper(config: PaperConfig, progress: &(dyn Fn() + Sync)) -> PaperResu
                 seed: config.seed.wrapping_add(s as u64),
                 use_reward: arm.task == 2,
             };
-            let rec = run_session(&mut &table, &mut learner, &cfg).expect("the grid cannot fail");
+            let mut reported = 0;
+            let rec = run_session_with(&mut &table, &mut learner, &cfg, |t| {
+                progress((t - reported) as u64);
+                reported = t;
+            })
+            .expect("the grid cannot fail");
             let exact = policy_effect_distribution(&table, &*learner)
                 .expect("shipped learners have per-slot policies");
-            progress();
             (rec, exact)
         })
         .collect();
@@ -404,45 +410,104 @@ impl PaperResults {
         s
     }
 
-    /// Figure 2 as SVG: the share of terminal cells over the sessions, the
-    /// uniform policy beside E3D, over the 3 x 6 grid with its wall and door.
+    /// The top of Figure 2's colour scale: the largest share of any cell
+    /// in either panel. Both panels share it, so that one colour means one
+    /// share in both (uniform's 15.8% is darker than E3D's 8.0%).
+    pub fn fig2_scale_max(&self) -> f64 {
+        self.arms
+            .iter()
+            .filter(|a| a.arm.task == 1)
+            .flat_map(|a| a.effect_shares())
+            .fold(1e-12, f64::max)
+    }
+
+    /// Normalised entropy of the pooled shares of an arm (all trials of all
+    /// sessions as one sample: what Figure 2 shows), beside the mean of
+    /// the sessions' own values the table reports. Entropy is concave, so
+    /// the pooled value is at least the mean: each session's unevenness
+    /// falls in different cells and pooling evens it out.
+    pub fn pooled_entropy(&self, arm: &ArmResult) -> f64 {
+        entropy(&arm.effect_shares()) / (self.grid.num_cells() as f64).ln()
+    }
+
+    /// Figure 2 as SVG: the share of the terminal cells of all trials of
+    /// all sessions (pooled), the uniform policy beside E3D, over the 3 x 6
+    /// grid with its wall and door, on one colour scale with its bar and
+    /// the target share 1/18 marked on it.
     pub fn fig2_svg(&self) -> Result<String, String> {
+        let arms: Vec<&ArmResult> = self.arms.iter().filter(|a| a.arm.task == 1).collect();
+        let peak = self.fig2_scale_max();
+        let n = self.grid.num_cells();
+        let target = 1.0 / n as f64;
+        let means: Vec<String> = self
+            .summary()
+            .iter()
+            .filter(|r| r.task == 1)
+            .map(|r| format!("{} {:.3}", r.label, r.normalized_entropy.mean))
+            .collect();
         let mut svg = String::new();
         {
-            let root = SVGBackend::with_string(&mut svg, (1000, 420)).into_drawing_area();
+            let root = SVGBackend::with_string(&mut svg, (1100, 530)).into_drawing_area();
             root.fill(&WHITE).map_err(|e| e.to_string())?;
-            let (title_area, body) = root.split_vertically(50);
-            title_area
-                .titled(
-                    &format!(
-                        "two_rooms, task 1: where {} trials end ({} sessions)",
-                        self.config.trials, self.config.sessions
-                    ),
-                    ("sans-serif", 22),
-                )
-                .map_err(|e| e.to_string())?;
-            let panels = body.split_evenly((1, 2));
-            let arms: Vec<&ArmResult> = self.arms.iter().filter(|a| a.arm.task == 1).collect();
-            let norm = (self.grid.num_cells() as f64).ln();
+            let (title_area, body) = root.split_vertically(118);
+            let c = &self.config;
+            let text = |t: &str, at: (i32, i32), size: f64, colour: &RGBColor| {
+                title_area.draw(&Text::new(
+                    t.to_string(),
+                    at,
+                    ("sans-serif", size).into_font().color(colour),
+                ))
+            };
+            text(
+                &format!(
+                    "two_rooms, task 1: where the trials end, {} sessions x {} trials pooled",
+                    c.sessions, c.trials
+                ),
+                (25, 12),
+                26.0,
+                &BLACK,
+            )
+            .map_err(|e| e.to_string())?;
+            let grey = RGBColor(70, 70, 70);
+            let lines = [
+                format!(
+                    "Each cell: its share of all {} trials of the {} sessions, on one colour scale for both panels (the bar: target 1/{n}).",
+                    c.sessions * c.trials,
+                    c.sessions
+                ),
+                format!(
+                    "H/log {n} here: of the pooled shares. The table gives the mean of the sessions' own ({}),",
+                    means.join(", ")
+                ),
+                "lower: each session is uneven in different cells, and pooling evens that out.".to_string(),
+            ];
+            for (k, line) in lines.iter().enumerate() {
+                text(line, (25, 48 + 21 * k as i32), 17.0, &grey).map_err(|e| e.to_string())?;
+            }
+            let (panels_area, bar_area) = body.split_horizontally(940);
+            let panels = panels_area.split_evenly((1, 2));
             for (panel, arm) in panels.iter().zip(arms) {
                 let shares = arm.effect_shares();
-                let h = entropy(&shares) / norm;
+                let h = self.pooled_entropy(arm);
                 draw_grid_panel(
                     panel,
-                    &format!("{}: H/log 18 = {h:.3}", arm.arm.label),
+                    &format!("{}: H/log {n} = {h:.3} (pooled)", arm.arm.label),
                     &self.spec,
-                    &self.reward_cells,
                     &shares,
+                    peak,
                 )
                 .map_err(|e| e.to_string())?;
             }
+            draw_colour_bar(&bar_area, peak, target, n).map_err(|e| e.to_string())?;
             root.present().map_err(|e| e.to_string())?;
         }
         Ok(svg)
     }
 
-    /// Figure 3 as SVG: cumulative reward against trials, mean line and
-    /// min-max band over sessions, for each task-2 learner.
+    /// Figure 3 as SVG: cumulative reward against trials for each task-2
+    /// learner, over the sessions: the mean as a line, mean +- sd as a
+    /// dark band and min-max as a light one, the statistics of the table
+    /// (`mean +- sd [min, max]`).
     pub fn fig3_svg(&self) -> Result<String, String> {
         let arms: Vec<&ArmResult> = self.arms.iter().filter(|a| a.arm.task == 2).collect();
         let bands: Vec<Vec<Stats>> = arms.iter().map(|a| a.cumulative_reward_bands()).collect();
@@ -453,58 +518,101 @@ impl PaperResults {
         let trials = self.config.trials;
         let mut svg = String::new();
         {
-            let root = SVGBackend::with_string(&mut svg, (900, 560)).into_drawing_area();
+            let root = SVGBackend::with_string(&mut svg, (1000, 640)).into_drawing_area();
             root.fill(&WHITE).map_err(|e| e.to_string())?;
-            let mut chart = ChartBuilder::on(&root)
-                .caption(
-                    format!(
-                        "two_rooms, task 2: cumulative reward ({} sessions; line: mean, band: min-max)",
-                        self.config.sessions
-                    ),
-                    ("sans-serif", 20),
-                )
+            let (head, body) = root.split_vertically(78);
+            head.draw(&Text::new(
+                "two_rooms, task 2: cumulative reward".to_string(),
+                (30, 12),
+                ("sans-serif", 26).into_font().color(&BLACK),
+            ))
+            .map_err(|e| e.to_string())?;
+            head.draw(&Text::new(
+                format!(
+                    "over {} sessions: line, mean; dark band, mean \u{b1} sd; light band, min to max (the table's mean +- sd [min, max])",
+                    self.config.sessions
+                ),
+                (30, 48),
+                ("sans-serif", 17).into_font().color(&RGBColor(70, 70, 70)),
+            ))
+            .map_err(|e| e.to_string())?;
+            let mut chart = ChartBuilder::on(&body)
                 .margin(20)
-                .x_label_area_size(45)
-                .y_label_area_size(70)
+                .margin_top(5)
+                .x_label_area_size(60)
+                .y_label_area_size(90)
                 .build_cartesian_2d(0f64..trials as f64, 0f64..top * 1.05)
                 .map_err(|e| e.to_string())?;
             chart
                 .configure_mesh()
                 .x_desc("trial")
                 .y_desc("cumulative reward")
+                .axis_desc_style(("sans-serif", 20))
+                .label_style(("sans-serif", 18))
                 .x_label_formatter(&|x| format!("{x:.0}"))
                 .y_label_formatter(&|y| format!("{y:.0}"))
                 .light_line_style(WHITE.mix(0.0))
+                .bold_line_style(RGBColor(225, 225, 225))
                 .draw()
                 .map_err(|e| e.to_string())?;
             let colours = [RGBColor(200, 60, 40), RGBColor(40, 90, 180)];
             // thin the curves to at most ~1000 points: the figure, not the CSV
             let step = (trials / 1000).max(1);
-            for ((arm, band), colour) in arms.iter().zip(&bands).zip(colours) {
-                let idx: Vec<usize> = (0..trials).step_by(step).chain([trials - 1]).collect();
-                let mut poly: Vec<(f64, f64)> =
-                    idx.iter().map(|&t| ((t + 1) as f64, band[t].max)).collect();
-                poly.extend(idx.iter().rev().map(|&t| ((t + 1) as f64, band[t].min)));
+            let idx: Vec<usize> = (0..trials).step_by(step).chain([trials - 1]).collect();
+            let band_of =
+                |band: &[Stats], lo: &dyn Fn(&Stats) -> f64, hi: &dyn Fn(&Stats) -> f64| {
+                    let mut poly: Vec<(f64, f64)> = idx
+                        .iter()
+                        .map(|&t| ((t + 1) as f64, hi(&band[t])))
+                        .collect();
+                    poly.extend(idx.iter().rev().map(|&t| ((t + 1) as f64, lo(&band[t]))));
+                    poly
+                };
+            for (band, colour) in bands.iter().zip(colours) {
                 chart
                     .draw_series(std::iter::once(Polygon::new(
-                        poly,
-                        colour.mix(0.2).filled(),
+                        band_of(band, &|s| s.min, &|s| s.max),
+                        colour.mix(0.13).filled(),
                     )))
                     .map_err(|e| e.to_string())?;
+                // the sd band is clipped at 0: a cumulative reward is not negative
+                chart
+                    .draw_series(std::iter::once(Polygon::new(
+                        band_of(band, &|s| (s.mean - s.sd).max(0.0), &|s| s.mean + s.sd),
+                        colour.mix(0.3).filled(),
+                    )))
+                    .map_err(|e| e.to_string())?;
+            }
+            for ((arm, band), colour) in arms.iter().zip(&bands).zip(colours) {
                 chart
                     .draw_series(LineSeries::new(
                         idx.iter().map(|&t| ((t + 1) as f64, band[t].mean)),
                         colour.stroke_width(3),
                     ))
                     .map_err(|e| e.to_string())?
-                    .label(arm.arm.label)
+                    .label(format!("{}: mean", arm.arm.label))
                     .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
+                        PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+                    });
+                chart
+                    .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
+                    .map_err(|e| e.to_string())?
+                    .label("  mean \u{b1} sd")
+                    .legend(move |(x, y)| {
+                        Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.3).filled())
+                    });
+                chart
+                    .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
+                    .map_err(|e| e.to_string())?
+                    .label("  min to max")
+                    .legend(move |(x, y)| {
+                        Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.13).filled())
                     });
             }
             chart
                 .configure_series_labels()
                 .position(SeriesLabelPosition::UpperLeft)
+                .label_font(("sans-serif", 17))
                 .background_style(WHITE.mix(0.9))
                 .border_style(BLACK)
                 .draw()
@@ -517,30 +625,42 @@ impl PaperResults {
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
 
-/// A heat map of `shares` over a grid world, with its walls, start and
-/// reward cells.
+/// The colour (red, green, blue) of a share on Figure 2's scale from 0
+/// (white) to `peak` (dark blue), the same in every panel and on the
+/// colour bar.
+pub fn share_rgb(share: f64, peak: f64) -> [u8; 3] {
+    let v = (share / peak).clamp(0.0, 1.0);
+    [
+        (255.0 - 215.0 * v).round() as u8,
+        (255.0 - 165.0 * v).round() as u8,
+        (255.0 - 75.0 * v).round() as u8,
+    ]
+}
+
+fn share_colour(share: f64, peak: f64) -> RGBColor {
+    let [r, g, b] = share_rgb(share, peak);
+    RGBColor(r, g, b)
+}
+
+/// A heat map of `shares` over a grid world on the scale 0..`peak`, with
+/// its walls and start (no reward: this is task 1).
 fn draw_grid_panel(
     area: &Area<'_>,
     title: &str,
     spec: &GridSpec,
-    reward_cells: &[(usize, usize)],
     shares: &[f64],
+    peak: f64,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let (rows, cols) = (spec.rows, spec.cols);
     let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 18))
-        .margin(25)
+        .caption(title, ("sans-serif", 21))
+        .margin(22)
+        .margin_top(12)
         .build_cartesian_2d(0f64..cols as f64, 0f64..rows as f64)?;
-    let peak = shares.iter().copied().fold(1e-12, f64::max);
     for r in 0..rows {
         for c in 0..cols {
             let s = shares[r * cols + c];
-            let v = (s / peak).clamp(0.0, 1.0);
-            let colour = RGBColor(
-                (255.0 - 215.0 * v) as u8,
-                (255.0 - 165.0 * v) as u8,
-                (255.0 - 75.0 * v) as u8,
-            );
+            let colour = share_colour(s, peak);
             let (x0, y1) = (c as f64, (rows - r) as f64);
             chart.draw_series(std::iter::once(Rectangle::new(
                 [(x0, y1 - 1.0), (x0 + 1.0, y1)],
@@ -550,25 +670,29 @@ fn draw_grid_panel(
                 [(x0, y1 - 1.0), (x0 + 1.0, y1)],
                 RGBColor(200, 200, 200).stroke_width(1),
             )))?;
-            let text_colour = if v > 0.6 { WHITE } else { BLACK };
+            let text_colour = if s / peak > 0.6 { WHITE } else { BLACK };
             chart.draw_series(std::iter::once(Text::new(
                 format!("{:.1}%", 100.0 * s),
-                (x0 + 0.3, y1 - 0.45),
-                ("sans-serif", 16).into_font().color(&text_colour),
+                (x0 + 0.5, y1 - 0.5),
+                ("sans-serif", 19)
+                    .into_font()
+                    .color(&text_colour)
+                    .pos(Pos::new(HPos::Center, VPos::Center)),
             )))?;
         }
     }
-    let marks =
-        std::iter::once(("start", spec.start)).chain(reward_cells.iter().map(|&rc| ("reward", rc)));
-    for (label, (r, c)) in marks {
-        chart.draw_series(std::iter::once(Text::new(
-            label,
-            (c as f64 + 0.05, (rows - r) as f64 - 0.2),
-            ("sans-serif", 12)
-                .into_font()
-                .color(&RGBColor(120, 120, 120)),
-        )))?;
-    }
+    let (r, c) = spec.start;
+    chart.draw_series(std::iter::once(Text::new(
+        "start",
+        (c as f64 + 0.06, (rows - r) as f64 - 0.06),
+        ("sans-serif", 15)
+            .into_font()
+            .color(&if shares[r * cols + c] / peak > 0.6 {
+                WHITE
+            } else {
+                RGBColor(90, 90, 90)
+            }),
+    )))?;
     let wall = BLACK.stroke_width(5);
     let (w, h) = (cols as f64, rows as f64);
     chart.draw_series(std::iter::once(PathElement::new(
@@ -588,5 +712,67 @@ fn draw_grid_panel(
         };
         PathElement::new(points, wall)
     }))?;
+    Ok(())
+}
+
+/// Figure 2's colour bar: the scale from 0 to `peak` (percent ticks), the
+/// target share 1/`n` marked across it.
+fn draw_colour_bar(
+    area: &Area<'_>,
+    peak: f64,
+    target: f64,
+    n: usize,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut bar = ChartBuilder::on(area)
+        .caption("share of trials", ("sans-serif", 17))
+        .margin_top(14)
+        .margin_bottom(28)
+        .margin_left(62)
+        .margin_right(4)
+        .set_label_area_size(LabelAreaPosition::Right, 54)
+        .build_cartesian_2d(0f64..1f64, 0f64..peak)?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .label_style(("sans-serif", 16))
+        .y_labels(8)
+        .y_label_formatter(&|v| format!("{:.0}%", 100.0 * v))
+        .draw()?;
+    let steps = 100;
+    bar.draw_series((0..steps).map(|k| {
+        let a = peak * k as f64 / steps as f64;
+        let b = peak * (k + 1) as f64 / steps as f64;
+        Rectangle::new(
+            [(0.0, a), (1.0, b)],
+            share_colour((a + b) / 2.0, peak).filled(),
+        )
+    }))?;
+    bar.draw_series(std::iter::once(Rectangle::new(
+        [(0.0, 0.0), (1.0, peak)],
+        RGBColor(120, 120, 120).stroke_width(1),
+    )))?;
+    // the target: every cell at 1/n would be this colour
+    bar.draw_series(std::iter::once(PathElement::new(
+        vec![(-0.25, target), (1.0, target)],
+        BLACK.stroke_width(2),
+    )))?;
+    // backend pixels, made relative to the bar's area
+    let (px, py) = bar.backend_coord(&(-0.3, target));
+    let (ox, oy) = area.get_base_pixel();
+    let (px, py) = (px - ox, py - oy);
+    let style = ("sans-serif", 15)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Right, VPos::Center));
+    area.draw(&Text::new(
+        format!("target 1/{n}"),
+        (px, py - 9),
+        style.clone(),
+    ))?;
+    area.draw(&Text::new(
+        format!("= {:.1}%", 100.0 * target),
+        (px, py + 9),
+        style,
+    ))?;
     Ok(())
 }

@@ -22,16 +22,27 @@ pub struct Overlay {
     pub reward: f64,
 }
 
-/// The largest side of the picture, in pixels.
+/// The largest side of the drawing, in pixels.
 const SIDE: f64 = 760.0;
+/// Left of the drawing: the y axis, its ticks and its label.
+const LEFT: f64 = 66.0;
+const RIGHT: f64 = 24.0;
+/// Above the drawing: the title and the subtitle.
+const TOP: f64 = 70.0;
+/// Below the drawing: the x axis, its ticks and its label.
+const AXIS: f64 = 48.0;
+/// One row of the legend.
+const ROW: f64 = 20.0;
+/// The x of the title, the subtitle and the legend.
 const MARGIN: f64 = 30.0;
-const CAPTION: f64 = 46.0;
 
-/// Maps world metres to SVG pixels (y up in the world, down in SVG).
+/// Maps world coordinates to SVG pixels (y up in the world, down in SVG).
 struct View {
     min: [f64; 2],
     max: [f64; 2],
     scale: f64,
+    /// Rows of the legend under the x axis.
+    legend_rows: usize,
 }
 
 impl View {
@@ -42,22 +53,27 @@ impl View {
             min,
             max,
             scale: SIDE / w.max(h),
+            legend_rows: 1,
         }
     }
     fn x(&self, x: f64) -> f64 {
-        MARGIN + (x - self.min[0]) * self.scale
+        LEFT + (x - self.min[0]) * self.scale
     }
     fn y(&self, y: f64) -> f64 {
-        CAPTION + MARGIN + (self.max[1] - y) * self.scale
+        TOP + (self.max[1] - y) * self.scale
     }
     fn len(&self, l: f64) -> f64 {
         l * self.scale
     }
     fn width(&self) -> f64 {
-        2.0 * MARGIN + (self.max[0] - self.min[0]) * self.scale
+        LEFT + RIGHT + (self.max[0] - self.min[0]) * self.scale
+    }
+    /// The bottom of the drawing (the x axis).
+    fn bottom(&self) -> f64 {
+        self.y(self.min[1])
     }
     fn height(&self) -> f64 {
-        CAPTION + 2.0 * MARGIN + (self.max[1] - self.min[1]) * self.scale
+        self.bottom() + AXIS + ROW * self.legend_rows as f64 + 6.0
     }
     fn pt(&self, p: (f64, f64)) -> String {
         format!("{:.2},{:.2}", self.x(p.0), self.y(p.1))
@@ -132,7 +148,7 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
         let y1 = g.max[1] - r as f64 * ch;
         let _ = writeln!(
             out,
-            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="#7fd17f" fill-opacity="0.55"/>"##,
+            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{REWARD}" fill-opacity="{REWARD_OPACITY}"/>"##,
             v.x(x0),
             v.y(y1),
             v.len(cw),
@@ -145,7 +161,7 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
         let y1 = g.max[1] - r as f64 * ch;
         let _ = writeln!(
             out,
-            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="#ff9f1c" fill-opacity="0.25" stroke="#e07000" stroke-width="2.5"/>"##,
+            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="{PATH}" stroke-width="3" stroke-dasharray="7,3"/>"##,
             v.x(x0),
             v.y(y1),
             v.len(cw),
@@ -192,6 +208,17 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
     }
 }
 
+/// The colour of a command's path, its ends and its terminal cell.
+const PATH: &str = "#e07000";
+/// The fill of a reward cell, and its opacity (the legend's swatch is the same).
+const REWARD: &str = "#7fd17f";
+const REWARD_OPACITY: f64 = 0.55;
+/// The tracked point.
+const TRACKED: &str = "#d62728";
+/// The mirror line of a symmetry.
+const MIRROR: &str = "#7b68ee";
+const MIRROR_DASH: &str = "8,4,2,4";
+
 fn path_layer(out: &mut String, v: &View, overlay: Option<&Overlay>) {
     let Some(o) = overlay else { return };
     if o.points.is_empty() {
@@ -200,28 +227,112 @@ fn path_layer(out: &mut String, v: &View, overlay: Option<&Overlay>) {
     let pts: Vec<String> = o.points.iter().map(|p| v.pt((p[0], p[1]))).collect();
     let _ = writeln!(
         out,
-        r##"<polyline points="{}" fill="none" stroke="#e07000" stroke-width="2.2" stroke-linejoin="round" stroke-linecap="round"/>"##,
+        r##"<polyline points="{}" fill="none" stroke="{PATH}" stroke-width="2.2" stroke-linejoin="round" stroke-linecap="round"/>"##,
         pts.join(" ")
     );
     let s = o.points[0];
     let e = o.points[o.points.len() - 1];
+    // the start: a ring around the tracked point, which stays visible in it
     let _ = writeln!(
         out,
-        r##"<circle cx="{:.2}" cy="{:.2}" r="4" fill="#ffffff" stroke="#e07000" stroke-width="2"/>"##,
+        r##"<circle cx="{:.2}" cy="{:.2}" r="7" fill="none" stroke="{PATH}" stroke-width="2"><title>start of the path</title></circle>"##,
         v.x(s[0]),
         v.y(s[1])
     );
     let _ = writeln!(
         out,
-        r##"<circle cx="{:.2}" cy="{:.2}" r="5" fill="#e07000"/>"##,
+        r##"<circle cx="{:.2}" cy="{:.2}" r="5" fill="{PATH}"><title>end of the path</title></circle>"##,
         v.x(e[0]),
         v.y(e[1])
     );
 }
 
+/// A step of 1, 2 or 5 times a power of ten giving about 5 to 10 ticks
+/// over `span`.
+fn tick_step(span: f64) -> f64 {
+    let raw = span.max(1e-9) / 8.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|k| k * mag)
+        .find(|&s| s >= raw)
+        .unwrap_or(10.0 * mag)
+}
+
+/// The ticks of `[lo, hi]` at multiples of `step`.
+fn ticks(lo: f64, hi: f64, step: f64) -> Vec<f64> {
+    let first = (lo / step - 1e-9).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
+}
+
+/// A tick's label with the decimals its step needs (never `-0`).
+fn tick_label(t: f64, step: f64) -> String {
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    let t = if t.abs() < step * 1e-6 { 0.0 } else { t };
+    format!("{t:.decimals$}")
+}
+
+/// The x axis under the drawing and the y axis left of it, with ticks in
+/// world units (`unit`: "m", or "cells" on a grid).
+fn axes(out: &mut String, v: &View, unit: &str) {
+    let span = (v.max[0] - v.min[0]).max(v.max[1] - v.min[1]);
+    let step = tick_step(span);
+    let (x0, x1) = (v.x(v.min[0]), v.x(v.max[0]));
+    let (y0, y1) = (v.bottom(), v.y(v.max[1]));
+    let _ = writeln!(
+        out,
+        r##"<g class="axes" stroke="#333" stroke-width="1"><path d="M{x0:.2},{y0:.2}H{x1:.2}M{x0:.2},{y0:.2}V{y1:.2}" fill="none"/></g>"##
+    );
+    let mut d = String::new();
+    let mut labels = String::new();
+    for t in ticks(v.min[0], v.max[0], step) {
+        let x = v.x(t);
+        let _ = write!(d, "M{x:.2},{y0:.2}v5");
+        let _ = write!(
+            labels,
+            r##"<text x="{x:.2}" y="{:.2}" text-anchor="middle">{}</text>"##,
+            y0 + 18.0,
+            tick_label(t, step)
+        );
+    }
+    for t in ticks(v.min[1], v.max[1], step) {
+        let y = v.y(t);
+        let _ = write!(d, "M{x0:.2},{y:.2}h-5");
+        let _ = write!(
+            labels,
+            r##"<text x="{:.2}" y="{:.2}" text-anchor="end">{}</text>"##,
+            x0 - 8.0,
+            y + 4.0,
+            tick_label(t, step)
+        );
+    }
+    let _ = writeln!(
+        out,
+        r##"<path class="ticks" d="{d}" stroke="#333" stroke-width="1"/><g class="tick-labels" font-size="12" fill="#333">{labels}</g>"##
+    );
+    let _ = writeln!(
+        out,
+        r##"<text x="{:.2}" y="{:.2}" font-size="13" fill="#333" text-anchor="middle">x ({unit})</text><text x="{:.2}" y="{:.2}" font-size="13" fill="#333" text-anchor="middle" transform="rotate(-90 {:.2} {:.2})">y ({unit})</text>"##,
+        (x0 + x1) / 2.0,
+        y0 + 36.0,
+        LEFT - 48.0,
+        (y0 + y1) / 2.0,
+        LEFT - 48.0,
+        (y0 + y1) / 2.0,
+    );
+}
+
 fn grid_svg(scene: &Scene, g: &GridSpec, overlay: Option<&Overlay>) -> String {
     let eg = g.effect_grid();
-    let v = View::new(eg.min, eg.max);
+    let mut v = View::new(eg.min, eg.max);
+    let mut keys = vec![Key(Swatch::Letter("#1f4e9c", 'S'), "start cell")];
+    keys.extend(reward_keys(scene));
+    keys.push(Key(Swatch::Line("#333", None), "wall"));
+    if overlay.is_some() {
+        path_keys(&mut keys, None);
+    }
+    v.legend_rows = legend_rows(&keys, v.width());
     let mut out = String::new();
     header(&mut out, &v, scene, overlay);
     effect_layer(&mut out, &v, scene, overlay);
@@ -261,34 +372,135 @@ fn grid_svg(scene: &Scene, g: &GridSpec, overlay: Option<&Overlay>) -> String {
         v.len(0.25)
     );
     path_layer(&mut out, &v, overlay);
+    axes(&mut out, &v, "cells");
+    legend(&mut out, &v, &keys);
     out.push_str("</svg>\n");
     out
 }
 
-/// A one-line key at the bottom right.
-fn legend(out: &mut String, v: &View, with_path: bool) {
-    let mut items = vec![
-        ("#6fa8dc", "start pose"),
-        ("#7fd17f", "reward cell"),
-        ("#d62728", "tracked point"),
-    ];
-    if with_path {
-        items.insert(1, ("#f4b183", "end pose"));
-        items.push(("#e07000", "path, terminal cell"));
+/// How a legend entry shows what it names: as it is drawn in the picture.
+enum Swatch {
+    /// A filled square: fill, stroke, opacity.
+    Fill(&'static str, &'static str, f64),
+    /// An outlined square (the terminal cell), dashed.
+    Outline(&'static str),
+    /// A dashed outline (a reward region).
+    Region,
+    /// A line, dashed with the given pattern or solid.
+    Line(&'static str, Option<&'static str>),
+    /// A dot of the given colour.
+    Dot(&'static str),
+    /// A ring (the start of the path) around a dot (the tracked point).
+    Ring(Option<&'static str>),
+    /// A letter (the start cell of a grid).
+    Letter(&'static str, char),
+    /// A joint's hinge: on the ground (filled) or between two bodies.
+    Hinge(bool),
+}
+
+/// One entry of the legend.
+struct Key(Swatch, &'static str);
+
+/// The width in pixels of an entry (11 px text, a 14 px swatch).
+fn key_width(k: &Key) -> f64 {
+    14.0 + 6.0 + 6.3 * k.1.chars().count() as f64 + 18.0
+}
+
+/// How many rows `keys` take across the picture.
+fn legend_rows(keys: &[Key], width: f64) -> usize {
+    let mut rows = 1;
+    let mut x = 0.0;
+    for k in keys {
+        let w = key_width(k);
+        if x > 0.0 && x + w > width - 2.0 * MARGIN {
+            rows += 1;
+            x = 0.0;
+        }
+        x += w;
     }
-    let mut x = v.width() - MARGIN;
-    let y = v.height() - 10.0;
-    for (colour, label) in items.iter().rev() {
-        x -= 6.8 * label.len() as f64 + 22.0;
+    rows
+}
+
+/// The legend under the x axis, left to right, in as many rows as needed.
+fn legend(out: &mut String, v: &View, keys: &[Key]) {
+    let _ = writeln!(out, r##"<g class="legend" font-size="11" fill="#333">"##);
+    let mut x = MARGIN;
+    let mut y = v.bottom() + AXIS + 12.0;
+    for k in keys {
+        let w = key_width(k);
+        if x > MARGIN && x + w > v.width() - MARGIN {
+            x = MARGIN;
+            y += ROW;
+        }
+        let (cx, cy) = (x + 7.0, y - 4.0);
+        let swatch = match &k.0 {
+            Swatch::Fill(fill, stroke, op) => format!(
+                r#"<rect x="{x:.1}" y="{:.1}" width="14" height="11" fill="{fill}" fill-opacity="{op}" stroke="{stroke}" stroke-opacity="{op}" stroke-width="1"/>"#,
+                y - 9.5
+            ),
+            Swatch::Outline(colour) => format!(
+                r#"<rect x="{:.1}" y="{:.1}" width="12" height="10" fill="none" stroke="{colour}" stroke-width="2.5" stroke-dasharray="4,2"/>"#,
+                x + 1.0,
+                y - 9.0
+            ),
+            Swatch::Region => format!(
+                r##"<rect x="{:.1}" y="{:.1}" width="12" height="10" fill="none" stroke="#2e8b57" stroke-width="1.5" stroke-dasharray="3,2"/>"##,
+                x + 1.0,
+                y - 9.0
+            ),
+            Swatch::Line(colour, dash) => format!(
+                r#"<path d="M{x:.1},{cy:.1}h14" stroke="{colour}" stroke-width="2"{}/>"#,
+                dash.map_or(String::new(), |d| format!(r#" stroke-dasharray="{d}""#))
+            ),
+            Swatch::Dot(colour) => {
+                format!(r#"<circle cx="{cx:.1}" cy="{cy:.1}" r="3.5" fill="{colour}"/>"#)
+            }
+            Swatch::Ring(inner) => format!(
+                r#"<circle cx="{cx:.1}" cy="{cy:.1}" r="6" fill="none" stroke="{PATH}" stroke-width="2"/>{}"#,
+                inner.map_or(String::new(), |c| format!(
+                    r#"<circle cx="{cx:.1}" cy="{cy:.1}" r="3" fill="{c}"/>"#
+                ))
+            ),
+            Swatch::Hinge(ground) => format!(
+                r##"<circle cx="{cx:.1}" cy="{cy:.1}" r="4" fill="{}" stroke="#2e323b" stroke-width="1.5"/>"##,
+                if *ground { "#2e323b" } else { "#ffffff" }
+            ),
+            Swatch::Letter(colour, c) => format!(
+                r#"<text x="{cx:.1}" y="{:.1}" font-size="13" font-weight="bold" text-anchor="middle" fill="{colour}">{c}</text>"#,
+                y + 0.5
+            ),
+        };
         let _ = writeln!(
             out,
-            r##"<rect x="{:.1}" y="{:.1}" width="11" height="11" fill="{colour}" stroke="#555" stroke-width="0.5"/><text x="{:.1}" y="{:.1}" font-size="11" fill="#333">{label}</text>"##,
-            x,
-            y - 9.0,
-            x + 15.0,
-            y
+            r#"<g class="key">{swatch}<text x="{:.1}" y="{y:.1}">{}</text></g>"#,
+            x + 20.0,
+            esc(k.1)
         );
+        x += w;
     }
+    out.push_str("</g>\n");
+}
+
+/// The legend entries of what the picture of `scene` shows.
+fn reward_keys(scene: &Scene) -> Vec<Key> {
+    let mut keys = Vec::new();
+    if scene.reward_table().iter().any(|&r| r != 0.0) {
+        keys.push(Key(
+            Swatch::Fill(REWARD, "none", REWARD_OPACITY),
+            "reward cell",
+        ));
+    }
+    if !scene.reward.regions.is_empty() {
+        keys.push(Key(Swatch::Region, "reward region"));
+    }
+    keys
+}
+
+fn path_keys(keys: &mut Vec<Key>, tracked: Option<&'static str>) {
+    keys.push(Key(Swatch::Line(PATH, None), "path"));
+    keys.push(Key(Swatch::Ring(tracked), "start of the path"));
+    keys.push(Key(Swatch::Dot(PATH), "end of the path"));
+    keys.push(Key(Swatch::Outline(PATH), "terminal cell"));
 }
 
 /// The outline points of a shape at a pose (for bounds).
@@ -390,6 +602,10 @@ fn body_svg(
     }
 }
 
+/// The fill and stroke of the bodies at their end pose.
+const END_FILL: &str = "#f4b183";
+const END_STROKE: &str = "#a0522d";
+
 fn colours(kind: BodyKind) -> (&'static str, &'static str) {
     match kind {
         BodyKind::Fixed => ("#5b6170", "#2e323b"),
@@ -416,7 +632,48 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
         }
     }
     let pad = 0.02 * (max[0] - min[0]).max(max[1] - min[1]);
-    let v = View::new([min[0] - pad, min[1] - pad], [max[0] + pad, max[1] + pad]);
+    let mut v = View::new([min[0] - pad, min[1] - pad], [max[0] + pad, max[1] + pad]);
+    let end_pose = overlay.and_then(|o| o.poses.as_ref()).is_some();
+    // bodies at their start pose, faded when a terminal pose is drawn too
+    let start_opacity = if end_pose { 0.35 } else { 0.9 };
+    let (dyn_fill, dyn_stroke) = colours(BodyKind::Dynamic);
+    let mut keys = Vec::new();
+    if p.bodies.iter().any(|b| b.kind == BodyKind::Fixed) {
+        let (f, st) = colours(BodyKind::Fixed);
+        keys.push(Key(Swatch::Fill(f, st, 0.95), "fixed body"));
+    }
+    if p.bodies.iter().any(|b| b.kind == BodyKind::Kinematic) {
+        let (f, st) = colours(BodyKind::Kinematic);
+        keys.push(Key(Swatch::Fill(f, st, start_opacity), "kinematic body"));
+    }
+    keys.push(Key(
+        Swatch::Fill(dyn_fill, dyn_stroke, start_opacity),
+        "start pose",
+    ));
+    if end_pose {
+        keys.push(Key(Swatch::Fill(END_FILL, END_STROKE, 0.9), "end pose"));
+    }
+    if p.joints.iter().any(|j| j.parent == GROUND) {
+        keys.push(Key(Swatch::Hinge(true), "hinge on the ground"));
+    }
+    if p.joints.iter().any(|j| j.parent != GROUND) {
+        keys.push(Key(Swatch::Hinge(false), "joint"));
+    }
+    keys.push(Key(Swatch::Dot(TRACKED), "tracked point"));
+    keys.extend(reward_keys(scene));
+    if overlay.is_some() {
+        path_keys(&mut keys, Some(TRACKED));
+    }
+    if let Some(sym) = p.symmetry {
+        keys.push(Key(
+            Swatch::Line(MIRROR, Some(MIRROR_DASH)),
+            match sym {
+                Symmetry::FlipY => "mirror line (FlipY)",
+                Symmetry::FlipX => "mirror line (FlipX)",
+            },
+        ));
+    }
+    v.legend_rows = legend_rows(&keys, v.width());
     let mut out = String::new();
     header(&mut out, &v, scene, overlay);
     effect_layer(&mut out, &v, scene, overlay);
@@ -428,19 +685,13 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
         };
         let _ = writeln!(
             out,
-            r##"<g><title>mirror line ({sym:?}): one command of each mirror pair is simulated</title><line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="#7b68ee" stroke-width="1" stroke-dasharray="8,4,2,4"/></g>"##,
+            r##"<g><title>mirror line ({sym:?}): one command of each mirror pair is simulated</title><line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{MIRROR}" stroke-width="1.2" stroke-dasharray="{MIRROR_DASH}"/></g>"##,
             v.x(a.0),
             v.y(a.1),
             v.x(b.0),
             v.y(b.1)
         );
     }
-    // bodies at their start pose (faded when a terminal pose is drawn too)
-    let start_opacity = if overlay.and_then(|o| o.poses.as_ref()).is_some() {
-        0.35
-    } else {
-        0.9
-    };
     for b in &p.bodies {
         let (fill, stroke) = colours(b.kind);
         let op = if b.kind == BodyKind::Fixed {
@@ -471,7 +722,7 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
                 &b.shape,
                 (pose.position[0], pose.position[1]),
                 pose.angle,
-                Paint("#f4b183", "#a0522d", 0.9),
+                Paint(END_FILL, END_STROKE, 0.9),
             );
             out.push_str("</g>\n");
         }
@@ -498,39 +749,19 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
             esc(&j.name)
         );
     }
-    // the tracked point at the start
+    path_layer(&mut out, &v, overlay);
+    // the tracked point at the start, over the path (inside its start ring)
     if let Some(b) = p.body(&p.effect.body) {
         let t = to_world(b.position, b.angle, p.effect.point);
         let _ = writeln!(
             out,
-            r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="#d62728"><title>tracked point</title></circle>"##,
+            r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="{TRACKED}"><title>tracked point</title></circle>"##,
             v.x(t.0),
             v.y(t.1)
         );
     }
-    path_layer(&mut out, &v, overlay);
-    // a 1 m scale bar
-    let y = v.height() - 10.0;
-    let _ = writeln!(
-        out,
-        r##"<path d="M{:.2},{y:.2}h{:.2}" stroke="#333" stroke-width="2"/><text x="{:.2}" y="{:.2}" font-size="11" fill="#333">{}</text>"##,
-        MARGIN,
-        v.len(scale_bar(max[0] - min[0])),
-        MARGIN + v.len(scale_bar(max[0] - min[0])) + 6.0,
-        y + 4.0,
-        format_args!("{} m", scale_bar(max[0] - min[0]))
-    );
-    legend(&mut out, &v, overlay.is_some());
+    axes(&mut out, &v, "m");
+    legend(&mut out, &v, &keys);
     out.push_str("</svg>\n");
     out
-}
-
-fn scale_bar(width: f64) -> f64 {
-    if width > 4.0 {
-        1.0
-    } else if width > 1.5 {
-        0.5
-    } else {
-        0.1
-    }
 }

@@ -160,22 +160,23 @@ pub fn plot(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
     };
     let (mi, lo, hi) = (col("mean"), col("ci_low"), col("ci_high"));
     let num = |s: &str| s.parse::<f64>().ok();
-    let mut title = format!("{} vs {}", spec.metric, spec.x);
-    if let Some(y) = &spec.y {
-        title = format!("{}: mean over ({}, {})", spec.metric, spec.x, y);
-    }
+    let metric = metric_label(&spec.metric);
+    let mut title = match &spec.y {
+        None => format!("{} against {}", capitalise(&metric), spec.x),
+        Some(y) => format!("{}: mean over {} and {y}", capitalise(&metric), spec.x),
+    };
     if !spec.filters.is_empty() {
         let f: Vec<String> = spec
             .filters
             .iter()
-            .map(|(k, v)| format!("{k}={v}"))
+            .map(|(k, v)| filter_label(k, v))
             .collect();
-        title.push_str(&format!("  [{}]", f.join(", ")));
+        title.push_str(&format!(" ({})", f.join(", ")));
     }
     match yi {
         None => {
             let series = line_series(&rows, xi, mi, lo, hi, &num)?;
-            draw_lines(&title, &spec.x, &spec.metric, &series)
+            draw_lines(&title, &spec.x, &metric, &series)
         }
         Some(yi) => {
             // one cell per (x, y): the other columns must be fixed
@@ -285,12 +286,12 @@ fn line_series(
                         "learner" | "scene" => r[c].clone(),
                         "use_reward" => {
                             if r[c] == "true" {
-                                "reward".into()
+                                "with reward".into()
                             } else {
-                                "no reward".into()
+                                "without reward".into()
                             }
                         }
-                        name => format!("{name}={}", short(num(&r[c]).unwrap_or(f64::NAN))),
+                        name => format!("{name} {}", short(num(&r[c]).unwrap_or(f64::NAN))),
                     })
                     .collect::<Vec<_>>()
                     .join(", ");
@@ -331,6 +332,193 @@ fn short(v: f64) -> String {
         return format!("{v:.2e}");
     }
     let decimals = (3 - mag).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A metric's name as a reader says it (`cumulative_reward_at_5000`:
+/// "cumulative reward at trial 5000"); an unknown name with its
+/// underscores as spaces.
+pub fn metric_label(metric: &str) -> String {
+    match metric {
+        "normalized_entropy" => "normalised entropy".into(),
+        "normalized_entropy_last_1000" => "normalised entropy of the last 1000 trials".into(),
+        "kl_to_target" => "KL divergence to the target (nats)".into(),
+        "distinct_effects" => "distinct effects reached".into(),
+        "first_reward_trial" => "trial of the first reward".into(),
+        m => match m.strip_prefix("cumulative_reward_at_") {
+            Some(t) => format!("cumulative reward at trial {t}"),
+            None => m.replace('_', " "),
+        },
+    }
+}
+
+/// A parameter's name with what it is (`beta (inverse temperature)`).
+pub fn param_label(param: &str) -> String {
+    let what = match param {
+        "alpha" => "learning rate",
+        "beta" => "inverse temperature",
+        "lambda" => "reward weight",
+        "eta" => "rate of the effect histogram",
+        "epsilon" => "exploration rate",
+        _ => return param.replace('_', " "),
+    };
+    format!("{param} ({what})")
+}
+
+/// A `--where` filter in words: `use_reward=true` is "with reward".
+fn filter_label(column: &str, value: &str) -> String {
+    match (column, value) {
+        ("use_reward", "true") => "with reward".into(),
+        ("use_reward", "false") => "without reward".into(),
+        ("learner" | "scene", v) => v.to_string(),
+        (c, v) => format!("{c} {v}"),
+    }
+}
+
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_uppercase().chain(c).collect(),
+        None => String::new(),
+    }
+}
+
+/// The ticks of a log axis over `[lo, hi]` (values, not logarithms): the
+/// decades, with 2 and 5 between them when fewer than three decades fall
+/// inside (1-2-5), and if even that gives fewer than two, the ends.
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let (a, b) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let inside = |v: f64| v >= lo * (1.0 - 1e-9) && v <= hi * (1.0 + 1e-9);
+    let decades: Vec<f64> = (a..=b)
+        .map(|k| 10f64.powi(k))
+        .filter(|&v| inside(v))
+        .collect();
+    if decades.len() >= 3 {
+        return decades;
+    }
+    let mut t: Vec<f64> = (a..=b)
+        .flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)))
+        .filter(|&v| inside(v))
+        .collect();
+    if t.len() < 2 {
+        t = vec![lo, hi];
+    }
+    t
+}
+
+/// Round ticks of a linear axis over `[lo, hi]`: steps of 1, 2 or 5 times
+/// a power of ten, about 5 to 10 of them.
+fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let raw = (hi - lo).max(1e-12) / 8.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|k| k * mag)
+        .find(|&s| s >= raw)
+        .unwrap_or(10.0 * mag);
+    let first = (lo / step - 1e-9).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
+    (first..=last)
+        .map(|k| {
+            let v = k as f64 * step;
+            // 0.30000000000000004 is written 0.3
+            format!("{v:.12}").parse().unwrap_or(v)
+        })
+        .collect()
+}
+
+/// How series `i` is drawn: a colour, a marker and a dash pattern, so that
+/// past the 10 colours the series still differ (marker, then dashes).
+#[derive(Clone, Copy)]
+struct Style {
+    colour: RGBColor,
+    marker: Marker,
+    dashed: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Marker {
+    Circle,
+    Square,
+    Triangle,
+    Diamond,
+}
+
+fn style(i: usize) -> Style {
+    let markers = [
+        Marker::Circle,
+        Marker::Square,
+        Marker::Triangle,
+        Marker::Diamond,
+    ];
+    Style {
+        colour: PALETTE[i % PALETTE.len()],
+        marker: markers[(i / PALETTE.len()) % markers.len()],
+        dashed: (i / PALETTE.len()) % 2 == 1,
+    }
+}
+
+/// A marker of `style` at `(x, y)` pixels of `area`.
+fn draw_marker<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    (x, y): (i32, i32),
+    st: Style,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let c = st.colour.filled();
+    match st.marker {
+        Marker::Circle => area.draw(&Circle::new((x, y), 4, c)),
+        Marker::Square => area.draw(&Rectangle::new([(x - 4, y - 4), (x + 4, y + 4)], c)),
+        Marker::Triangle => area.draw(&Polygon::new(
+            vec![(x, y - 5), (x + 5, y + 4), (x - 5, y + 4)],
+            c,
+        )),
+        Marker::Diamond => area.draw(&Polygon::new(
+            vec![(x, y - 5), (x + 5, y), (x, y + 5), (x - 5, y)],
+            c,
+        )),
+    }
+}
+
+/// A heat map's axis: one column (or row) per swept value, evenly spaced
+/// whatever the values; the label says when they are log-spaced (a
+/// constant ratio) or neither evenly nor log-spaced.
+fn heat_axis_label(param: &str, values: &[f64]) -> String {
+    let label = param_label(param);
+    if values.len() < 3 {
+        return label;
+    }
+    let even = |v: &[f64]| {
+        let d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
+        d.iter()
+            .all(|x| (x - d[0]).abs() <= 1e-6 * d[0].abs().max(1e-12))
+    };
+    if even(values) {
+        label
+    } else if values.iter().all(|&v| v > 0.0)
+        && even(&values.iter().map(|v| v.ln()).collect::<Vec<_>>())
+    {
+        format!("{label}, log-spaced values")
+    } else {
+        format!("{label}, swept values (not to scale)")
+    }
+}
+
+/// A number in 3 significant digits, without trailing zeros (the labels of
+/// a heat map's columns: 3.16, 31.6).
+fn short3(v: f64) -> String {
+    if !v.is_finite() || v == 0.0 {
+        return short(v);
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if !(-4..6).contains(&mag) {
+        return format!("{v:.2e}");
+    }
+    let decimals = (2 - mag).max(0) as usize;
     let s = format!("{v:.decimals$}");
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -402,21 +590,34 @@ fn draw_lines(
     let pad = 0.06 * (y1 - y0);
     let (y0, y1) = (y0 - pad, y1 + pad);
 
-    let (w, h) = (1100u32, 600u32);
-    let legend_w = 330u32;
+    // the legend under the plot, in as many columns as fit
+    let w = 1000u32;
+    let char_w = 7.4;
+    let longest = series
+        .iter()
+        .map(|s| s.label.chars().count())
+        .max()
+        .unwrap_or(0);
+    let col_w = (48.0 + char_w * longest as f64).ceil() as u32;
+    let cols = ((w - 100) / col_w).clamp(1, series.len().max(1) as u32);
+    let rows = (series.len() as u32).div_ceil(cols);
+    let legend_h = 16 + 24 * rows;
+    let h = 580 + legend_h;
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(draw_err)?;
-        let (left, right) = root.split_horizontally(w - legend_w);
-        // ticks on x at the values of the sweep
-        let mut ticks: Vec<f64> = xs.iter().map(|&x| tx(x)).collect();
-        ticks.sort_by(f64::total_cmp);
-        ticks.dedup();
-        let mut chart = ChartBuilder::on(&left)
-            .caption(title, (FONT, 20))
+        let (top, bottom) = root.split_vertically(h - legend_h);
+        let ticks: Vec<f64> = if log {
+            log_ticks(xmin, xmax).into_iter().map(f64::log10).collect()
+        } else {
+            linear_ticks(x0, x1)
+        };
+        let mut chart = ChartBuilder::on(&top)
+            .caption(title, (FONT, 24))
             .margin(15)
-            .x_label_area_size(50)
+            .margin_right(25)
+            .x_label_area_size(62)
             .y_label_area_size(80)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(draw_err)?;
@@ -425,13 +626,13 @@ fn draw_lines(
         chart
             .configure_mesh()
             .x_desc(if log {
-                format!("{x_name} (log scale)")
+                format!("{}, log scale", param_label(x_name))
             } else {
-                x_name.to_string()
+                param_label(x_name)
             })
-            .y_desc(format!("{metric} (mean, 95% interval)"))
-            .axis_desc_style((FONT, 16))
-            .label_style((FONT, 14))
+            .y_desc(format!("{metric}: mean, 95% CI of the mean"))
+            .axis_desc_style((FONT, 19))
+            .label_style((FONT, 17))
             .y_label_formatter(&y_fmt)
             .x_labels(0)
             .disable_x_mesh()
@@ -439,8 +640,25 @@ fn draw_lines(
             .bold_line_style(RGBColor(215, 215, 215))
             .draw()
             .map_err(draw_err)?;
-        // the x ticks: at the values of the sweep, drawn by hand (plotters
-        // would pick round numbers, between the swept values on a log axis)
+        // a log axis: light lines at 2..9 times each decade
+        if log {
+            let (a, b) = (x0.floor() as i32, x1.ceil() as i32);
+            for k in a..=b {
+                for m in 2..=9 {
+                    let t = (m as f64 * 10f64.powi(k)).log10();
+                    if t > x0 && t < x1 && !ticks.iter().any(|u| (u - t).abs() < 1e-9) {
+                        chart
+                            .draw_series(std::iter::once(PathElement::new(
+                                vec![(t, y0), (t, y1)],
+                                RGBColor(242, 242, 242),
+                            )))
+                            .map_err(draw_err)?;
+                    }
+                }
+            }
+        }
+        // the x ticks, drawn by hand: decades (or 1-2-5) on a log axis,
+        // round numbers on a linear one; the swept values are the markers
         for &t in &ticks {
             chart
                 .draw_series(std::iter::once(PathElement::new(
@@ -449,16 +667,17 @@ fn draw_lines(
                 )))
                 .map_err(draw_err)?;
             let (px, py) = chart.backend_coord(&(t, y0));
-            left.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
+            top.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
                 .map_err(draw_err)?;
-            let style = TextStyle::from((FONT, 14).into_font())
+            let style = TextStyle::from((FONT, 17).into_font())
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Center, VPos::Top));
-            left.draw(&Text::new(x_fmt(t), (px, py + 8), style))
+            top.draw(&Text::new(x_fmt(t), (px, py + 8), style))
                 .map_err(draw_err)?;
         }
         for (i, s) in series.iter().enumerate() {
-            let c = PALETTE[i % PALETTE.len()];
+            let st = style(i);
+            let c = st.colour;
             let pts: Vec<_> = s.points.iter().filter(|p| !p.0.is_nan()).collect();
             if pts.is_empty() {
                 // a learner that does not use x: a dashed line across
@@ -474,7 +693,7 @@ fn draw_lines(
                 chart
                     .draw_series(DashedLineSeries::new(
                         vec![(x0, p.1), (x1, p.1)],
-                        10,
+                        12,
                         6,
                         c.stroke_width(2),
                     ))
@@ -499,54 +718,58 @@ fn draw_lines(
                     )))
                     .map_err(draw_err)?;
             }
-            chart
-                .draw_series(LineSeries::new(
-                    pts.iter().map(|p| (tx(p.0), p.1)),
-                    c.stroke_width(2),
-                ))
-                .map_err(draw_err)?;
-            chart
-                .draw_series(
-                    pts.iter()
-                        .map(|p| Circle::new((tx(p.0), p.1), 4, c.filled())),
-                )
-                .map_err(draw_err)?;
-        }
-        // the legend, beside the plot
-        let lh = 24;
-        let top = 60;
-        right
-            .draw(&Text::new(
-                "legend",
-                (10, top - 30),
-                (FONT, 15).into_font().color(&BLACK),
-            ))
-            .map_err(draw_err)?;
-        for (i, s) in series.iter().enumerate() {
-            let c = PALETTE[i % PALETTE.len()];
-            let y = top + i as i32 * lh;
-            let dashed = s.points.iter().all(|p| p.0.is_nan());
-            if dashed {
-                right
-                    .draw(&PathElement::new(vec![(10, y), (18, y)], c.stroke_width(3)))
-                    .map_err(draw_err)?;
-                right
-                    .draw(&PathElement::new(vec![(24, y), (34, y)], c.stroke_width(3)))
+            let line: Vec<(f64, f64)> = pts.iter().map(|p| (tx(p.0), p.1)).collect();
+            if st.dashed {
+                chart
+                    .draw_series(DashedLineSeries::new(line, 5, 4, c.stroke_width(2)))
                     .map_err(draw_err)?;
             } else {
-                right
-                    .draw(&PathElement::new(vec![(10, y), (34, y)], c.stroke_width(3)))
-                    .map_err(draw_err)?;
-                right
-                    .draw(&Circle::new((22, y), 4, c.filled()))
+                chart
+                    .draw_series(LineSeries::new(line, c.stroke_width(2)))
                     .map_err(draw_err)?;
             }
-            right
-                .draw(&Text::new(
-                    s.label.clone(),
-                    (42, y - 7),
-                    (FONT, 14).into_font().color(&BLACK),
-                ))
+            for p in &pts {
+                let at = chart.backend_coord(&(tx(p.0), p.1));
+                draw_marker(&top, at, st).map_err(draw_err)?;
+            }
+        }
+        // the legend: as each series is drawn (a dashed line alone for a
+        // learner that does not use x)
+        for (i, s) in series.iter().enumerate() {
+            let st = style(i);
+            let c = st.colour;
+            let (col, row) = (i as u32 % cols, i as u32 / cols);
+            let x = 50 + (col * col_w) as i32;
+            let y = 10 + 24 * row as i32;
+            let flat = s.points.iter().all(|p| p.0.is_nan());
+            if flat {
+                for (a, b) in [(x, x + 12), (x + 18, x + 30)] {
+                    bottom
+                        .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(3)))
+                        .map_err(draw_err)?;
+                }
+            } else {
+                if st.dashed {
+                    for (a, b) in [(x, x + 6), (x + 12, x + 18), (x + 24, x + 30)] {
+                        bottom
+                            .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(2)))
+                            .map_err(draw_err)?;
+                    }
+                } else {
+                    bottom
+                        .draw(&PathElement::new(
+                            vec![(x, y), (x + 30, y)],
+                            c.stroke_width(2),
+                        ))
+                        .map_err(draw_err)?;
+                }
+                draw_marker(&bottom, (x + 15, y), st).map_err(draw_err)?;
+            }
+            let style = TextStyle::from((FONT, 16).into_font())
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Left, VPos::Center));
+            bottom
+                .draw(&Text::new(s.label.clone(), (x + 38, y), style))
                 .map_err(draw_err)?;
         }
         root.present().map_err(draw_err)?;
@@ -627,9 +850,9 @@ fn draw_heat(
         let (left, right) = root.split_horizontally(w - 130);
         let (nx, ny) = (xv.len(), yv.len());
         let mut chart = ChartBuilder::on(&left)
-            .caption(title, (FONT, 20))
+            .caption(title, (FONT, 22))
             .margin(15)
-            .x_label_area_size(50)
+            .x_label_area_size(56)
             .y_label_area_size(80)
             .build_cartesian_2d(0f64..nx as f64, 0f64..ny as f64)
             .map_err(draw_err)?;
@@ -638,9 +861,9 @@ fn draw_heat(
             .disable_mesh()
             .x_labels(0)
             .y_labels(0)
-            .x_desc(x_name)
-            .y_desc(y_name)
-            .axis_desc_style((FONT, 16))
+            .x_desc(heat_axis_label(x_name, &xv))
+            .y_desc(heat_axis_label(y_name, &yv))
+            .axis_desc_style((FONT, 19))
             .draw()
             .map_err(draw_err)?;
         for (i, col) in grid.iter().enumerate() {
@@ -659,7 +882,7 @@ fn draw_heat(
                     .map_err(draw_err)?;
                 let label = v.map(short).unwrap_or_else(|| "-".into());
                 let color = if t.unwrap_or(1.0) < 0.6 { WHITE } else { BLACK };
-                let style = TextStyle::from((FONT, 15).into_font())
+                let style = TextStyle::from((FONT, 18).into_font())
                     .color(&color)
                     .pos(Pos::new(HPos::Center, VPos::Center));
                 chart
@@ -670,18 +893,18 @@ fn draw_heat(
         // tick labels at the centres of the cells, drawn by hand
         for (i, v) in xv.iter().enumerate() {
             let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
-            let style = TextStyle::from((FONT, 14).into_font())
+            let style = TextStyle::from((FONT, 17).into_font())
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Center, VPos::Top));
-            left.draw(&Text::new(short(*v), (px, py + 6), style))
+            left.draw(&Text::new(short3(*v), (px, py + 6), style))
                 .map_err(draw_err)?;
         }
         for (j, v) in yv.iter().enumerate() {
             let (px, py) = chart.backend_coord(&(0.0, j as f64 + 0.5));
-            let style = TextStyle::from((FONT, 14).into_font())
+            let style = TextStyle::from((FONT, 17).into_font())
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Right, VPos::Center));
-            left.draw(&Text::new(short(*v), (px - 6, py), style))
+            left.draw(&Text::new(short3(*v), (px - 6, py), style))
                 .map_err(draw_err)?;
         }
         // the colour bar
@@ -689,7 +912,7 @@ fn draw_heat(
             .draw(&Text::new(
                 "mean",
                 (12, 22),
-                (FONT, 15).into_font().color(&BLACK),
+                (FONT, 18).into_font().color(&BLACK),
             ))
             .map_err(draw_err)?;
         let mut bar = ChartBuilder::on(&right)
@@ -702,7 +925,7 @@ fn draw_heat(
         bar.configure_mesh()
             .disable_mesh()
             .disable_x_axis()
-            .label_style((FONT, 13))
+            .label_style((FONT, 16))
             .y_label_formatter(&|v: &f64| short(*v))
             .draw()
             .map_err(draw_err)?;
@@ -724,6 +947,57 @@ fn draw_heat(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn log_axes_tick_at_decades_or_1_2_5() {
+        assert_eq!(log_ticks(1.0, 1000.0), vec![1.0, 10.0, 100.0, 1000.0]);
+        assert_eq!(log_ticks(0.003, 0.1), vec![0.005, 0.01, 0.02, 0.05, 0.1]);
+        assert_eq!(log_ticks(3.0, 70.0), vec![5.0, 10.0, 20.0, 50.0]);
+        // never the swept values 3.162, 31.62
+        assert!(!log_ticks(1.0, 1000.0)
+            .iter()
+            .any(|t| short(*t).contains("3.162")));
+        assert_eq!(linear_ticks(0.0, 1.0), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]);
+        assert_eq!(linear_ticks(0.07, 0.33), vec![0.1, 0.15, 0.2, 0.25, 0.3]);
+    }
+
+    #[test]
+    fn labels_are_words() {
+        assert_eq!(metric_label("normalized_entropy"), "normalised entropy");
+        assert_eq!(
+            metric_label("cumulative_reward_at_5000"),
+            "cumulative reward at trial 5000"
+        );
+        assert_eq!(metric_label("some_new_metric"), "some new metric");
+        assert_eq!(param_label("beta"), "beta (inverse temperature)");
+        assert_eq!(filter_label("use_reward", "true"), "with reward");
+        assert_eq!(
+            heat_axis_label("beta", &[1.0, 3.16227766017, 10.0, 31.6227766017, 100.0]),
+            "beta (inverse temperature), log-spaced values"
+        );
+        assert_eq!(
+            heat_axis_label("eta", &[0.01, 0.02, 0.03]),
+            "eta (rate of the effect histogram)"
+        );
+        assert_eq!(short3(3.16227766017), "3.16");
+        assert_eq!(short3(31.6227766017), "31.6");
+        assert_eq!(short3(1000.0), "1000");
+    }
+
+    #[test]
+    fn styles_differ_past_the_ten_colours() {
+        let all: Vec<(RGBColor, Marker, bool)> = (0..40)
+            .map(|i| {
+                let s = style(i);
+                (s.colour, s.marker, s.dashed)
+            })
+            .collect();
+        for i in 0..40 {
+            for j in 0..i {
+                assert!(all[i] != all[j], "series {i} and {j} look the same");
+            }
+        }
+    }
 
     #[test]
     fn short_numbers() {
