@@ -28,7 +28,10 @@
 //! - [`effect`]: binning ([`EffectGrid`]), the running histogram
 //!   ([`EffectModel`]) and the target ([`Target`]);
 //! - [`learner`]: the [`Learner`] trait, [`E3d`], [`UniformPolicy`],
-//!   [`EpsilonGreedy`];
+//!   [`EpsilonGreedy`], and drives beyond the paper
+//!   ([`RelaxedE3d`](learner::RelaxedE3d), an E3D that cannot lock;
+//!   [`CountBonus`](learner::CountBonus);
+//!   [`StateMarginalMatching`](learner::StateMarginalMatching));
 //! - [`rng`]: the [`SessionRng`] every session draws from, fixed by its
 //!   seed;
 //! - [`session`]: the trial loop ([`run_session`], or [`run_session_into`]

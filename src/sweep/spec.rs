@@ -392,7 +392,14 @@ pub struct SweepSpec {
 }
 
 /// The built-in learners' names, in the order of [`LearnerKind::ALL`].
-const BUILTIN_LEARNERS: &[&str] = &["e3d", "uniform", "egreedy"];
+const BUILTIN_LEARNERS: &[&str] = &["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm"];
+
+#[cfg(test)]
+#[test]
+fn builtin_learners_are_every_learner_kind() {
+    let names: Vec<&str> = crate::LearnerKind::ALL.iter().map(|k| k.as_str()).collect();
+    assert_eq!(names, BUILTIN_LEARNERS);
+}
 
 thread_local! {
     /// The learner names a sweep file being parsed may use (`None`: the
