@@ -29,10 +29,7 @@ fn every_scene_with_every_learner_gives_effects_in_range_and_repeats() {
             };
             let rec = run();
             assert_eq!(rec.effects.len(), 25);
-            assert!(rec
-                .effects
-                .iter()
-                .all(|&e| (e as usize) < scene.num_effects()));
+            assert!(rec.effects.iter().all(|&e| e < scene.num_effects()));
             assert_eq!(rec, run(), "{name} with {kind} does not repeat");
         }
     }

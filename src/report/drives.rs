@@ -46,6 +46,10 @@ pub fn drives_sweep(sessions: usize, trials: usize, scenes: &[&str]) -> Result<S
     Sweep::parse(&text, "drives.ron (built in)", None)
 }
 
+/// A panel of the figure: its title, the top of its axis, and the value
+/// and spread of a row.
+type Panel<'a> = (&'static str, f64, &'a dyn Fn(&DriveRow) -> (f64, f64));
+
 /// One scene and learner.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DriveRow {
@@ -233,7 +237,7 @@ impl DriveComparison {
         let group = pw / scenes.len().max(1) as f64;
         let bar = group * 0.8 / learners.len().max(1) as f64;
         let trials = self.trials.max(1) as f64;
-        let panels: [(&str, f64, &dyn Fn(&DriveRow) -> (f64, f64)); 2] = [
+        let panels: [Panel; 2] = [
             (
                 "task 1: normalised entropy of the terminal cells (mean ± sd)",
                 1.0,

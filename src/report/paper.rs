@@ -289,7 +289,7 @@ impl PaperResults {
                     room_b_share: get(&|r, _| {
                         r.effects
                             .iter()
-                            .filter(|&&e| e as usize % cols >= ROOM_B_FIRST_COL)
+                            .filter(|&&e| e % cols >= ROOM_B_FIRST_COL)
                             .count() as f64
                             / r.trials() as f64
                     }),

@@ -337,7 +337,7 @@ impl ExecutionPlan {
             plan.why = if matches!(on_disk, OnDisk::Full { .. }) {
                 "the whole table is on disk".into()
             } else if table_seconds < CHEAP_TABLE {
-                format!("{n} commands: a table costs next to nothing")
+                "a table costs next to nothing".to_string()
             } else {
                 format!(
                     "the table (about {}) costs less than the {} trials {} (about {})",
@@ -482,6 +482,10 @@ impl<'s> Executor<'s> {
         work: &Workload,
         options: &ExecOptions,
     ) -> Result<Executor<'s>, WorldError> {
+        // a scene edited in code is checked here, not left to panic in build()
+        scene
+            .validate()
+            .map_err(|e| WorldError::Other(e.to_string()))?;
         let memo_cap = options.memo_cap;
         let space = scene.command_space();
         let path = options

@@ -512,6 +512,9 @@ const HEADER: usize = 32;
 
 /// What a table file of a scene holds (see [`OutcomeTable::read_file`]).
 #[derive(Debug, Clone)]
+// a file is read once per run: the size of the whole table's variant costs
+// nothing worth a box
+#[allow(clippy::large_enum_variant)]
 pub enum CachedOutcomes {
     /// Every command's outcome: a whole table.
     Full(OutcomeTable),
