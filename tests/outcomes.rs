@@ -382,3 +382,34 @@ fn e3d_run_gives_the_entropy_over_the_reachable_cells_when_a_table_knows_them() 
     let (stdout, _) = e3d(&["run", "two_rooms", "--no-reward", "--trials", "500"]);
     assert!(!stdout.contains("reachable cells"), "{stdout}");
 }
+
+#[test]
+fn an_executor_building_a_table_reports_every_simulated_command() {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    for name in ["two_rooms", "pendulum3"] {
+        let scene = Scene::builtin(name).unwrap();
+        let (done, total) = (AtomicU64::new(0), AtomicU64::new(0));
+        let exec = Executor::with_progress(
+            &scene,
+            &Workload {
+                trials: 1000,
+                sessions: 1,
+                threads: 2,
+            },
+            &ExecOptions {
+                force: Some(Strategy::Table),
+                ..ExecOptions::default()
+            },
+            &|k, t| {
+                done.fetch_add(k, Ordering::Relaxed);
+                total.store(t, Ordering::Relaxed);
+            },
+        )
+        .unwrap();
+        let n = scene.command_space().num_commands().unwrap();
+        let simulated = exec.plan().simulated.unwrap_or(n);
+        assert!(exec.table().is_some());
+        assert_eq!(done.load(Ordering::Relaxed), simulated, "{name}");
+        assert_eq!(total.load(Ordering::Relaxed), simulated, "{name}");
+    }
+}

@@ -327,8 +327,16 @@ pub fn run(a: RunArgs) -> CliResult {
         sessions,
         threads: rayon::current_num_threads(),
     };
-    let exec = Executor::new(&scene, &work, &a.memo.options(a.table_cache.as_deref()))
-        .map_err(CliError::simulation)?;
+    // an outcome table built first shows its own progress (off a
+    // terminal, a line every few seconds)
+    let options = a.memo.options(a.table_cache.as_deref());
+    let exec = super::progress::track(&format!("table {}", scene.name), "commands", 0, |p| {
+        Executor::with_progress(&scene, &work, &options, &|k, total| {
+            p.set_total(total);
+            p.add(k);
+        })
+    })
+    .map_err(CliError::simulation)?;
     eprintln!("outcomes: {}", exec.plan());
     let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
     let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {

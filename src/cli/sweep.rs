@@ -50,7 +50,7 @@ pub(crate) fn sweep_error(e: SweepError) -> CliError {
         SweepError::Input(_) => CliError::input(e),
         SweepError::World(_) => CliError::simulation(e),
         SweepError::Io { .. } | SweepError::Output(_) => CliError::output(e),
-        SweepError::Other(_) => CliError::simulation(e),
+        _ => CliError::simulation(e),
     }
 }
 

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 /// Why a sweep could not be loaded, run, resumed or merged.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SweepError {
     /// A mistake in the sweep file (or in a scene it names), with file, line
     /// and column.
@@ -26,8 +27,19 @@ pub enum SweepError {
     /// sweep, is incomplete, ...).
     #[error("{0}")]
     Output(String),
-    /// Anything else that stops a sweep (a learner refusing its parameters,
-    /// a thread pool that cannot start, ...).
+    /// A learner could not be made for a cell (its factory refused the
+    /// parameters, the space or the target); the factory's error is the
+    /// source.
+    #[error("{source}")]
+    Learner {
+        /// The learner's name in the sweep.
+        learner: String,
+        /// The factory's error ([`LearnerError`](crate::LearnerError) for
+        /// the built-in learners).
+        source: crate::sweep::BoxError,
+    },
+    /// Anything else that stops a sweep (a world of another command space
+    /// than its scene's, a thread pool that cannot start, ...).
     #[error("{0}")]
     Other(String),
 }

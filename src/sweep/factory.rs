@@ -166,7 +166,7 @@ impl SweepScene for Scene {
         work: &Workload,
         options: &ExecOptions,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-        let e = Executor::new(self, work, options).map_err(|e| SweepError::Other(e.to_string()))?;
+        let e = Executor::new(self, work, options)?;
         Ok(Box::new(e))
     }
     fn scene(&self) -> Option<&Scene> {

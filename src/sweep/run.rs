@@ -106,7 +106,10 @@ impl Sweep {
                 world.num_effects(),
                 &Target::Uniform,
             )
-            .map_err(|e| SweepError::Other(e.to_string()))
+            .map_err(|source| SweepError::Learner {
+                learner: cell.learner.clone(),
+                source,
+            })
     }
 
     fn config(&self, session: &SessionSpec) -> SessionConfig {

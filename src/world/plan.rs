@@ -482,6 +482,20 @@ impl<'s> Executor<'s> {
         work: &Workload,
         options: &ExecOptions,
     ) -> Result<Executor<'s>, WorldError> {
+        Self::with_progress(scene, work, options, &|_, _| {})
+    }
+
+    /// [`new`](Self::new), calling `progress(k, total)` from the workers
+    /// while a table is built: `k` more commands simulated, of about
+    /// `total` to simulate (the commands a partial file lacks, or the
+    /// simulated half under a mirror symmetry). Nothing is called when no
+    /// table is built. The executor is the same.
+    pub fn with_progress(
+        scene: &'s Scene,
+        work: &Workload,
+        options: &ExecOptions,
+        progress: &(dyn Fn(u64, u64) + Sync),
+    ) -> Result<Executor<'s>, WorldError> {
         // a scene edited in code is checked here, not left to panic in build()
         scene
             .validate()
@@ -560,8 +574,8 @@ impl<'s> Executor<'s> {
                     Ok(t)
                 }
                 // what a partial file holds is not simulated again
-                Some(CachedOutcomes::Partial(ref known)) => exec.build_table(known),
-                None => exec.build_table(&[]),
+                Some(CachedOutcomes::Partial(ref known)) => exec.build_table(known, progress),
+                None => exec.build_table(&[], progress),
             };
             match built {
                 Ok(t) => exec.table = Some(t),
@@ -588,11 +602,22 @@ impl<'s> Executor<'s> {
 
     /// The table of the scene from the outcomes `known`, kept in the table
     /// folder if there is one (a failure to write is said in the plan).
-    fn build_table(&mut self, known: &[(u64, Outcome)]) -> Result<OutcomeTable, WorldError> {
+    fn build_table(
+        &mut self,
+        known: &[(u64, Outcome)],
+        progress: &(dyn Fn(u64, u64) + Sync),
+    ) -> Result<OutcomeTable, WorldError> {
+        let n = self.plan.commands.unwrap_or(0);
+        let total = self
+            .plan
+            .simulated
+            .unwrap_or(n)
+            .saturating_sub(known.len() as u64);
+        let each = |k: u64| progress(k, total);
         let t = if known.is_empty() {
-            OutcomeTable::build_scene(self.scene)?
+            OutcomeTable::build_scene_with_progress(self.scene, &each)?
         } else {
-            OutcomeTable::complete(self.scene, known)?
+            OutcomeTable::complete_with_progress(self.scene, known, &each)?
         };
         if let Some(p) = &self.cache {
             if let Err(e) = t.write_file(p, self.scene) {

@@ -280,10 +280,22 @@ impl OutcomeTable {
     /// is the same, bit for bit, as [`build_scene`](Self::build_scene)'s
     /// when `known` holds the world's own outcomes.
     pub fn complete(scene: &Scene, known: &[(u64, Outcome)]) -> Result<OutcomeTable, WorldError> {
+        Self::complete_with_progress(scene, known, &|_| {})
+    }
+
+    /// [`complete`](Self::complete), calling `progress` from the workers
+    /// with the number of commands of each simulated batch (as
+    /// [`build_scene_with_progress`](Self::build_scene_with_progress)
+    /// does). The table is the same, bit for bit.
+    pub fn complete_with_progress(
+        scene: &Scene,
+        known: &[(u64, Outcome)],
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<OutcomeTable, WorldError> {
         match &scene.world {
-            WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, &|_| {}),
+            WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, progress),
             // a grid's table costs microseconds
-            WorldSpec::Grid(_) => Self::build_scene(scene),
+            WorldSpec::Grid(_) => Self::build_scene_with_progress(scene, progress),
         }
     }
 
