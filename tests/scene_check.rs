@@ -9,7 +9,11 @@ fn check(args: &[&str]) -> (String, String) {
         .args(args)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     (
         String::from_utf8(out.stdout).unwrap(),
         String::from_utf8(out.stderr).unwrap(),
@@ -39,7 +43,10 @@ fn a_sane_scene_gets_no_warning_and_exact_counts_when_small() {
     let (out, err) = check(&["arm4_gravity"]);
     assert!(out.contains("reach: all 81 commands executed ("), "{out}");
     assert!(out.contains("): 30 of 100 cells reached"), "{out}");
-    assert!(out.contains("reward cells reached by 1 of 81 commands (1.235%)"), "{out}");
+    assert!(
+        out.contains("reward cells reached by 1 of 81 commands (1.235%)"),
+        "{out}"
+    );
     assert_eq!(err, "", "a sane scene gets no warning");
 }
 
@@ -50,14 +57,36 @@ fn a_sampled_scene_reports_the_reward_probability() {
     assert_ne!(text, builtin("two_rooms"));
     let f = write("common.ron", &text);
     let (out, err) = check(&[&f, "--samples", "300", "--seed", "3"]);
-    assert!(out.contains("reach (estimate): 300 random commands of 16384 (seed 3, "), "{out}");
-    let line = out.lines().find(|l| l.starts_with("reward cells: estimated probability")).unwrap();
-    let hits: u64 = line.split('(').nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
-    assert!(hits > 0 && line.ends_with(&format!("({hits} of 300 sampled commands)")), "{line}");
+    assert!(
+        out.contains("reach (estimate): 300 random commands of 16384 (seed 3, "),
+        "{out}"
+    );
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("reward cells: estimated probability"))
+        .unwrap();
+    let hits: u64 = line
+        .split('(')
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        hits > 0 && line.ends_with(&format!("({hits} of 300 sampled commands)")),
+        "{line}"
+    );
     assert_eq!(err, "");
     // the same seed gives the same sample
     let (again, _) = check(&[&f, "--samples", "300", "--seed", "3"]);
-    let strip = |s: &str| s.lines().filter(|l| !l.starts_with("reach")).collect::<Vec<_>>().join("\n");
+    let strip = |s: &str| {
+        s.lines()
+            .filter(|l| !l.starts_with("reach"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
     assert_eq!(strip(&out), strip(&again));
 }
 
@@ -67,7 +96,10 @@ fn an_unreachable_reward_cell_is_warned_about() {
     let text = builtin("arm4_gravity").replace("cells: [(3, 2)]", "cells: [(0, 0)]");
     let f = write("corner.ron", &text);
     let (out, err) = check(&[&f]);
-    assert!(out.contains("reward cells reached by 0 of 81 commands (0.000%)"), "{out}");
+    assert!(
+        out.contains("reward cells reached by 0 of 81 commands (0.000%)"),
+        "{out}"
+    );
     assert!(
         err.contains("warning: scene arm4_gravity: no command reaches a reward cell [(0, 0)] (every command executed)"),
         "{err}"
@@ -75,13 +107,22 @@ fn an_unreachable_reward_cell_is_warned_about() {
     // sampled: three_rooms' reward moved behind a closed wall (a room with no door)
     let text = builtin("three_rooms")
         .replace("position: (6.0, 2.5)", "position: (6.0, 2.0)")
-        .replace("height: 1.0),\n             position: (6.0, 2.0)", "height: 2.0),\n             position: (6.0, 2.0)")
+        .replace(
+            "height: 1.0),\n             position: (6.0, 2.0)",
+            "height: 2.0),\n             position: (6.0, 2.0)",
+        )
         .replace("cells: [(2, 8)]", "cells: [(0, 8)]");
     assert!(text.contains("Cuboid(width: 0.1, height: 2.0),\n             position: (6.0, 2.0)"));
     let f = write("closed.ron", &text);
     let (out, err) = check(&[&f, "--samples", "64"]);
-    assert!(out.contains("reach (estimate): 64 random commands of 262144 (seed 0, "), "{out}");
-    assert!(out.contains("reward cells: estimated probability 0.000% (0 of 64 sampled commands)"), "{out}");
+    assert!(
+        out.contains("reach (estimate): 64 random commands of 262144 (seed 0, "),
+        "{out}"
+    );
+    assert!(
+        out.contains("reward cells: estimated probability 0.000% (0 of 64 sampled commands)"),
+        "{out}"
+    );
     assert!(
         err.contains("warning: scene three_rooms: no sampled command reached a reward cell [(0, 8)]: it may be unreachable, or rarer than about 4.69% (95% bound); a full check (`e3d scene reward-cell three_rooms`) simulates 262144 commands: about "),
         "{err}"
@@ -93,7 +134,10 @@ fn an_unreachable_reward_cell_is_warned_about() {
 fn a_wall_outside_the_grid_and_a_start_outside_it_are_warned_about() {
     let text = builtin("three_rooms")
         .replace("position: (4.5, -0.05)", "position: (4.5, -5.05)")
-        .replace("position: (0.5, 2.5),\n                linear_damping", "position: (10.5, 2.5),\n                linear_damping")
+        .replace(
+            "position: (0.5, 2.5),\n                linear_damping",
+            "position: (10.5, 2.5),\n                linear_damping",
+        )
         .replace("position: (9.05, 1.5)", "position: (11.05, 1.5)");
     let f = write("misplaced.ron", &text);
     let (_, err) = check(&[&f, "--samples", "0"]);
@@ -113,5 +157,8 @@ fn a_wall_through_the_puck_is_refused() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
-    assert!(err.contains("body `puck`: a start pose where it does not overlap `ab_high`"), "{err}");
+    assert!(
+        err.contains("body `puck`: a start pose where it does not overlap `ab_high`"),
+        "{err}"
+    );
 }

