@@ -162,3 +162,24 @@ fn a_wall_through_the_puck_is_refused() {
         "{err}"
     );
 }
+
+#[test]
+fn sample_reach_is_exact_on_a_small_space_and_repeats_by_seed() {
+    use e3d::world::sample_reach;
+    use e3d::{OutcomeTable, Scene};
+    let arm = Scene::builtin("arm4_gravity").unwrap();
+    let s = sample_reach(&arm, 200, 0).unwrap();
+    assert!(s.exhaustive);
+    assert_eq!(s.samples, 81);
+    let table = OutcomeTable::build(&mut arm.build()).unwrap();
+    assert_eq!(s.counts, table.effect_counts());
+    assert_eq!(s.reached_cells(), 30);
+    assert_eq!(s.hits(&[3 * 10 + 2]), 1);
+    let grid = Scene::builtin("two_rooms").unwrap();
+    let a = sample_reach(&grid, 500, 9).unwrap();
+    let b = sample_reach(&grid, 500, 9).unwrap();
+    assert!(!a.exhaustive);
+    assert_eq!((a.samples, a.counts.iter().sum::<u64>()), (500, 500));
+    assert_eq!(a.counts, b.counts);
+    assert_ne!(a.counts, sample_reach(&grid, 500, 10).unwrap().counts);
+}
