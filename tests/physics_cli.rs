@@ -285,11 +285,24 @@ fn scene_check_warns_about_a_body_outside_the_effect_grid() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(
         err.trim(),
-        "warning: scene blowup: dynamic body `puck` starts at (0, 3), outside the effect grid"
+        "warning: scene blowup: dynamic body `puck` starts at (0, 3), outside the effect grid\n\
+         warning: scene blowup: reach: scene `blowup`, command `0K`: the simulation blew up: a body moves at 400.0 m/s, above the scene's max_speed 100 m/s"
     );
-    // the shipped scenes have nothing to warn about
-    for s in ["puck_rooms", "arm7", "pendulum3", "maze3"] {
-        let o = e3d().args(["scene", "check", s]).output().unwrap();
+    // the shipped scenes' geometry has nothing to warn about (their
+    // reward cells are rare by design: the sampled estimate warns on
+    // several, see tests/scene_check.rs)
+    for s in [
+        "puck_rooms",
+        "arm7",
+        "pendulum3",
+        "maze3",
+        "three_rooms",
+        "arm4_gravity",
+    ] {
+        let o = e3d()
+            .args(["scene", "check", s, "--samples", "0"])
+            .output()
+            .unwrap();
         assert!(o.status.success());
         assert_eq!(String::from_utf8_lossy(&o.stderr), "", "{s}");
     }

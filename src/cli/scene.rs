@@ -24,10 +24,20 @@ pub struct SceneArgs {
 /// The sub-commands of `e3d scene`.
 #[derive(Subcommand, Debug)]
 pub enum SceneCmd {
-    /// Validate a scene and print a summary of it.
+    /// Validate a scene, print a summary of it, warn about suspicious
+    /// geometry, and estimate what its commands reach from a seeded
+    /// random sample of them.
     Check {
         /// A scene file, or the name of a built-in scene.
         scene: String,
+        /// How many random commands to execute for the reachability
+        /// estimate (0: none). A space of at most this many commands is
+        /// executed whole, and the counts are exact.
+        #[arg(long, value_name = "N", default_value_t = 200)]
+        samples: u64,
+        /// The seed of the sample.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
     },
     /// Draw a scene as SVG, with the path of one command if given.
     Render {
@@ -106,7 +116,15 @@ fn parse_point(s: &str) -> Result<[f64; 2], String> {
 /// Runs `e3d scene ...`.
 pub fn run(a: SceneArgs) -> CliResult {
     match a.command {
-        SceneCmd::Check { scene } => check(&load_scene(&scene)?),
+        SceneCmd::Check {
+            scene,
+            samples,
+            seed,
+        } => {
+            let scene = load_scene(&scene)?;
+            check(&scene)?;
+            check_reach(&scene, samples, seed)
+        }
         SceneCmd::Render {
             scene,
             command,
@@ -263,6 +281,120 @@ fn check(scene: &Scene) -> CliResult {
         );
     }
     Ok(())
+}
+
+/// The reachability estimate of `scene check`: `samples` seeded random
+/// commands executed, the cells they reach, the reward cells' share, and a
+/// warning (stderr) when no sampled command reached a reward cell, with
+/// what the full check costs.
+fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
+    if samples == 0 {
+        return Ok(());
+    }
+    let s = match e3d::world::sample_reach(scene, samples, seed) {
+        Ok(s) => s,
+        // the scene is valid; a command that blows up is a finding of the
+        // check, not a failure of it
+        Err(e) => {
+            eprintln!("warning: scene {}: reach: {e}", scene.name);
+            return Ok(());
+        }
+    };
+    let grid = scene.effect_grid();
+    let n = scene.command_space().num_commands_text();
+    if s.exhaustive {
+        println!(
+            "reach: all {} commands executed ({:.2} s): {} of {} cells reached",
+            s.samples,
+            s.seconds,
+            s.reached_cells(),
+            grid.num_cells()
+        );
+    } else {
+        println!(
+            "reach (estimate): {} random commands of {n} (seed {seed}, {:.2} s): {} of {} cells reached",
+            s.samples,
+            s.seconds,
+            s.reached_cells(),
+            grid.num_cells()
+        );
+    }
+    let cells = rewarded_cells(scene);
+    if cells.is_empty() {
+        return Ok(());
+    }
+    let effects: Vec<usize> = cells.iter().map(|&(r, c)| r * grid.cols + c).collect();
+    let hits = s.hits(&effects);
+    let share = hits as f64 / s.samples as f64;
+    if s.exhaustive {
+        println!(
+            "reward cells reached by {hits} of {} commands ({:.3}%)",
+            s.samples,
+            100.0 * share
+        );
+        if hits == 0 {
+            eprintln!(
+                "warning: scene {}: no command reaches a reward cell {cells:?} (every command executed)",
+                scene.name
+            );
+        }
+        return Ok(());
+    }
+    println!(
+        "reward cells: estimated probability {:.3}% ({hits} of {} sampled commands)",
+        100.0 * share,
+        s.samples
+    );
+    if hits == 0 {
+        // the rule of three: with no hit in k draws, p < 3/k at 95%
+        let bound = 100.0 * 3.0 / s.samples as f64;
+        eprintln!(
+            "warning: scene {}: no sampled command reached a reward cell {cells:?}: it may be unreachable, or rarer than about {bound:.2}% (95% bound); {}",
+            scene.name,
+            full_check_cost(scene)
+        );
+    }
+    Ok(())
+}
+
+/// What `scene reward-cell` (every command executed) would cost: the
+/// commands it simulates and the cost model's estimate (src/world/plan.rs).
+fn full_check_cost(scene: &Scene) -> String {
+    let threads = rayon::current_num_threads();
+    let plan = e3d::world::ExecutionPlan::choose(
+        scene,
+        &e3d::world::Workload {
+            trials: 0,
+            sessions: 1,
+            threads,
+        },
+        None,
+        0,
+    );
+    match (plan.simulated, plan.table_seconds) {
+        (Some(k), Some(t)) => format!(
+            "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model",
+            scene.name,
+            seconds_text(t)
+        ),
+        _ => format!(
+            "a full check is not possible: {} commands are too many for `e3d scene reward-cell` (at most {}); sample more with `--samples N`",
+            scene.command_space().num_commands_text(),
+            e3d::world::MAX_TABLE_COMMANDS
+        ),
+    }
+}
+
+fn seconds_text(t: f64) -> String {
+    if t < 1.0 {
+        format!("{t:.2} s")
+    } else if t < 120.0 {
+        format!("{t:.0} s")
+    } else if t < 7200.0 {
+        format!("{:.0} min", t / 60.0)
+    } else {
+        format!("{:.1} h", t / 3600.0)
+    }
 }
 
 /// The cells the scene rewards: those it lists and those of its regions,

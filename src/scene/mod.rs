@@ -205,6 +205,11 @@ pub const BUILTIN: &[(&str, &str)] = &[
         include_str!("../../scenes/puck_rooms14.ron"),
     ),
     ("arm7x5", include_str!("../../scenes/arm7x5.ron")),
+    ("three_rooms", include_str!("../../scenes/three_rooms.ron")),
+    (
+        "arm4_gravity",
+        include_str!("../../scenes/arm4_gravity.ron"),
+    ),
 ];
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.

@@ -90,3 +90,13 @@ pub fn first_overlap(spec: &PhysicsSpec) -> Option<(usize, usize, f64)> {
     }
     found
 }
+
+/// The axis-aligned box of a body's shape at its start pose, in metres:
+/// `(min, max)`.
+pub fn start_aabb(b: &BodySpec) -> ([f64; 2], [f64; 2]) {
+    let a = shape(b).compute_aabb(&Pose::new(v(b.position), b.angle as f32));
+    (
+        [a.mins.x as f64, a.mins.y as f64],
+        [a.maxs.x as f64, a.maxs.y as f64],
+    )
+}

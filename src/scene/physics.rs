@@ -1085,7 +1085,10 @@ impl PhysicsSpec {
 
     /// What is possible but suspicious, for `e3d scene check`: a tracked
     /// point that starts outside the effect grid (it is binned in the
-    /// nearest border cell), a dynamic body outside it.
+    /// nearest border cell), a dynamic body outside it, a fixed body (a
+    /// wall) that neither lies in nor touches it. (Bodies overlapping at
+    /// the start are not a warning: [`Scene::validate`](crate::Scene::validate)
+    /// refuses them.)
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
         let g = &self.effect.grid;
@@ -1108,6 +1111,27 @@ impl PhysicsSpec {
                     b.name,
                     show(b.position.0),
                     show(b.position.1)
+                ));
+            }
+        }
+        // a fixed body that neither lies in nor touches the effect grid
+        // bounds no motion there: most likely a misplaced wall
+        let tol = super::overlap::OVERLAP_TOLERANCE;
+        for b in &self.bodies {
+            if b.kind != BodyKind::Fixed || !b.collide {
+                continue;
+            }
+            let (lo, hi) = super::overlap::start_aabb(b);
+            if lo[0] > g.max[0] + tol
+                || hi[0] < g.min[0] - tol
+                || lo[1] > g.max[1] + tol
+                || hi[1] < g.min[1] - tol
+            {
+                out.push(format!(
+                    "fixed body `{}` spans [{}, {}] x [{}, {}], wholly outside the effect grid [{}, {}] x [{}, {}]: it bounds no motion on the grid (a misplaced wall?)",
+                    b.name,
+                    show(lo[0]), show(hi[0]), show(lo[1]), show(hi[1]),
+                    g.min[0], g.max[0], g.min[1], g.max[1]
                 ));
             }
         }

@@ -70,3 +70,98 @@ pub fn farthest_reached_cell(
     }
     best
 }
+
+/// What a sample of commands reaches: the cheap estimate of
+/// `e3d scene check` (see [`sample_reach`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReachSample {
+    /// The commands executed (with repeats, unless `exhaustive`).
+    pub samples: u64,
+    /// Whether every command of the space was executed once (the space
+    /// holds no more commands than were asked for): the counts are exact.
+    pub exhaustive: bool,
+    /// Per effect, how many of the executed commands ended in it.
+    pub counts: Vec<u64>,
+    /// Seconds the executions took (one thread).
+    pub seconds: f64,
+}
+
+impl ReachSample {
+    /// How many cells at least one executed command reached.
+    pub fn reached_cells(&self) -> usize {
+        self.counts.iter().filter(|&&c| c > 0).count()
+    }
+
+    /// How many executed commands ended in one of `effects`.
+    pub fn hits(&self, effects: &[usize]) -> u64 {
+        effects.iter().filter_map(|&e| self.counts.get(e)).sum()
+    }
+}
+
+/// Executes `samples` commands of `scene` drawn uniformly at random (each
+/// slot's symbol independently, so commands may repeat; seeded by `seed`
+/// with [`SessionRng`](crate::SessionRng)) and counts the cells they end
+/// in. A space of at most `samples` commands is executed whole instead,
+/// each command once, and the counts are exact. Commands are executed in
+/// batches of 32 (the [`World::execute_batch`](crate::World::execute_batch)
+/// of the scene's world), on this thread.
+///
+/// ```
+/// use e3d::world::sample_reach;
+/// use e3d::Scene;
+/// let scene = Scene::builtin("two_rooms").unwrap();
+/// let s = sample_reach(&scene, 200, 0).unwrap();
+/// assert_eq!((s.samples, s.exhaustive), (200, false));
+/// assert_eq!(s.counts.iter().sum::<u64>(), 200);
+/// assert!(s.reached_cells() > 1 && s.reached_cells() <= 18);
+/// ```
+pub fn sample_reach(
+    scene: &crate::Scene,
+    samples: u64,
+    seed: u64,
+) -> Result<ReachSample, crate::WorldError> {
+    use rand::{RngExt, SeedableRng};
+    let space = scene.command_space();
+    let exhaustive = space.num_commands().is_some_and(|n| n <= samples);
+    let total = if exhaustive {
+        space.num_commands().unwrap_or(0)
+    } else {
+        samples
+    };
+    let mut world = scene.build();
+    let mut counts = vec![0u64; scene.num_effects()];
+    let mut rng = crate::SessionRng::seed_from_u64(seed);
+    let sizes: Vec<usize> = space.sizes().collect();
+    let start = std::time::Instant::now();
+    let mut batch = Vec::with_capacity(32);
+    let mut out = Vec::with_capacity(32);
+    let mut done = 0u64;
+    while done < total {
+        batch.clear();
+        while batch.len() < 32 && done + (batch.len() as u64) < total {
+            let c = if exhaustive {
+                space.command_at(done + batch.len() as u64)
+            } else {
+                crate::Command::new(
+                    sizes
+                        .iter()
+                        .map(|&k| rng.random_range(0..k) as u8)
+                        .collect(),
+                )
+            };
+            batch.push(c);
+        }
+        out.clear();
+        world.execute_batch(&batch, &mut out);
+        for r in out.drain(..) {
+            counts[r?.effect] += 1;
+        }
+        done += batch.len() as u64;
+    }
+    Ok(ReachSample {
+        samples: total,
+        exhaustive,
+        counts,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}

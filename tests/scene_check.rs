@@ -1,0 +1,185 @@
+//! `e3d scene check`: the sampled reachability estimate and the geometric
+//! warnings, asserted on their messages.
+
+use std::process::Command;
+
+fn check(args: &[&str]) -> (String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args(["scene", "check"])
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+fn builtin(name: &str) -> String {
+    e3d::scene::BUILTIN
+        .iter()
+        .find(|(n, _)| *n == name)
+        .unwrap()
+        .1
+        .to_string()
+}
+
+fn write(name: &str, text: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("e3d-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+#[test]
+fn a_sane_scene_gets_no_warning_and_exact_counts_when_small() {
+    // 81 commands <= 200 samples: executed whole
+    let (out, err) = check(&["arm4_gravity"]);
+    assert!(out.contains("reach: all 81 commands executed ("), "{out}");
+    assert!(out.contains("): 30 of 100 cells reached"), "{out}");
+    assert!(
+        out.contains("reward cells reached by 1 of 81 commands (1.235%)"),
+        "{out}"
+    );
+    assert_eq!(err, "", "a sane scene gets no warning");
+}
+
+#[test]
+fn a_sampled_scene_reports_the_reward_probability() {
+    // two_rooms rewarding its start cell: a common cell
+    let text = builtin("two_rooms").replace("reward: (cells: [(2, 5)]", "reward: (cells: [(0, 0)]");
+    assert_ne!(text, builtin("two_rooms"));
+    let f = write("common.ron", &text);
+    let (out, err) = check(&[&f, "--samples", "300", "--seed", "3"]);
+    assert!(
+        out.contains("reach (estimate): 300 random commands of 16384 (seed 3, "),
+        "{out}"
+    );
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("reward cells: estimated probability"))
+        .unwrap();
+    let hits: u64 = line
+        .split('(')
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        hits > 0 && line.ends_with(&format!("({hits} of 300 sampled commands)")),
+        "{line}"
+    );
+    assert_eq!(err, "");
+    // the same seed gives the same sample
+    let (again, _) = check(&[&f, "--samples", "300", "--seed", "3"]);
+    let strip = |s: &str| {
+        s.lines()
+            .filter(|l| !l.starts_with("reach"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(strip(&out), strip(&again));
+}
+
+#[test]
+fn an_unreachable_reward_cell_is_warned_about() {
+    // arm4_gravity's tip never reaches the top-left corner: all 81 commands say so
+    let text = builtin("arm4_gravity").replace("cells: [(3, 2)]", "cells: [(0, 0)]");
+    let f = write("corner.ron", &text);
+    let (out, err) = check(&[&f]);
+    assert!(
+        out.contains("reward cells reached by 0 of 81 commands (0.000%)"),
+        "{out}"
+    );
+    assert!(
+        err.contains("warning: scene arm4_gravity: no command reaches a reward cell [(0, 0)] (every command executed)"),
+        "{err}"
+    );
+    // sampled: three_rooms' reward moved behind a closed wall (a room with no door)
+    let text = builtin("three_rooms")
+        .replace("position: (6.0, 2.5)", "position: (6.0, 2.0)")
+        .replace(
+            "height: 1.0),\n             position: (6.0, 2.0)",
+            "height: 2.0),\n             position: (6.0, 2.0)",
+        )
+        .replace("cells: [(2, 8)]", "cells: [(0, 8)]");
+    assert!(text.contains("Cuboid(width: 0.1, height: 2.0),\n             position: (6.0, 2.0)"));
+    let f = write("closed.ron", &text);
+    let (out, err) = check(&[&f, "--samples", "64"]);
+    assert!(
+        out.contains("reach (estimate): 64 random commands of 262144 (seed 0, "),
+        "{out}"
+    );
+    assert!(
+        out.contains("reward cells: estimated probability 0.000% (0 of 64 sampled commands)"),
+        "{out}"
+    );
+    assert!(
+        err.contains("warning: scene three_rooms: no sampled command reached a reward cell [(0, 8)]: it may be unreachable, or rarer than about 4.69% (95% bound); a full check (`e3d scene reward-cell three_rooms`) simulates 262144 commands: about "),
+        "{err}"
+    );
+    assert!(err.contains(" by the cost model"), "{err}");
+}
+
+#[test]
+fn a_wall_outside_the_grid_and_a_start_outside_it_are_warned_about() {
+    let text = builtin("three_rooms")
+        .replace("position: (4.5, -0.05)", "position: (4.5, -5.05)")
+        .replace(
+            "position: (0.5, 2.5),\n                linear_damping",
+            "position: (10.5, 2.5),\n                linear_damping",
+        )
+        .replace("position: (9.05, 1.5)", "position: (11.05, 1.5)");
+    let f = write("misplaced.ron", &text);
+    let (_, err) = check(&[&f, "--samples", "0"]);
+    assert!(err.contains("warning: scene three_rooms: fixed body `wall_south` spans [-0.1, 9.1] x [-5.1, -5], wholly outside the effect grid [0, 9] x [0, 3]: it bounds no motion on the grid (a misplaced wall?)"), "{err}");
+    assert!(err.contains("warning: scene three_rooms: the tracked point starts at (10.5, 2.5), outside the effect grid [0, 9] x [0, 3]"), "{err}");
+    assert!(err.contains("warning: scene three_rooms: dynamic body `puck` starts at (10.5, 2.5), outside the effect grid"), "{err}");
+    assert_eq!(err.lines().count(), 4, "{err}");
+}
+
+#[test]
+fn a_wall_through_the_puck_is_refused() {
+    let text = builtin("three_rooms").replace("position: (3.0, 2.5)", "position: (0.5, 2.5)");
+    let f = write("through.ron", &text);
+    let out = Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args(["scene", "check", &f])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("body `puck`: a start pose where it does not overlap `ab_high`"),
+        "{err}"
+    );
+}
+
+#[test]
+fn sample_reach_is_exact_on_a_small_space_and_repeats_by_seed() {
+    use e3d::world::sample_reach;
+    use e3d::{OutcomeTable, Scene};
+    let arm = Scene::builtin("arm4_gravity").unwrap();
+    let s = sample_reach(&arm, 200, 0).unwrap();
+    assert!(s.exhaustive);
+    assert_eq!(s.samples, 81);
+    let table = OutcomeTable::build(&mut arm.build()).unwrap();
+    assert_eq!(s.counts, table.effect_counts());
+    assert_eq!(s.reached_cells(), 30);
+    assert_eq!(s.hits(&[3 * 10 + 2]), 1);
+    let grid = Scene::builtin("two_rooms").unwrap();
+    let a = sample_reach(&grid, 500, 9).unwrap();
+    let b = sample_reach(&grid, 500, 9).unwrap();
+    assert!(!a.exhaustive);
+    assert_eq!((a.samples, a.counts.iter().sum::<u64>()), (500, 500));
+    assert_eq!(a.counts, b.counts);
+    assert_ne!(a.counts, sample_reach(&grid, 500, 10).unwrap().counts);
+}
