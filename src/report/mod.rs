@@ -13,6 +13,7 @@
 //! `plots` (on by default); `scene_svg` writes its SVG itself.
 
 pub mod drives;
+pub mod html;
 pub mod motion_svg;
 #[cfg(feature = "plots")]
 pub mod paper;
