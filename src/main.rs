@@ -33,6 +33,8 @@ enum Cmd {
     Plot(cli::plot::PlotArgs),
     /// Check, draw or execute a scene: `check`, `render`, `exec`, `table`, `reward-cell`, `stats`.
     Scene(cli::scene::SceneArgs),
+    /// One HTML page for a run folder: effects early and late, reward, policy per slot.
+    Report(cli::report::ReportArgs),
 }
 
 /// Lets a closed pipe end the program quietly, as it does other Unix tools
@@ -115,6 +117,7 @@ fn main() -> ExitCode {
         Cmd::Merge(a) => cli::sweep::merge(a),
         Cmd::Plot(a) => cli::plot::run(a),
         Cmd::Scene(a) => cli::scene::run(a),
+        Cmd::Report(a) => cli::report::run(a),
     };
     // what is still buffered: a failed flush is a failed write too
     let flushed = {

@@ -5,6 +5,7 @@ pub mod compare;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod report;
 pub mod reproduce;
 pub mod run;
 pub mod scene;

@@ -39,14 +39,20 @@ pub enum SceneCmd {
         #[arg(long, default_value_t = 0)]
         seed: u64,
     },
-    /// Draw a scene as SVG, with the path of one command if given.
+    /// Draw a scene as SVG, with the path of one command if given; with
+    /// `--animate`, that command's rollout as an animated SVG or HTML page.
     Render {
         /// A scene file, or the name of a built-in scene.
         scene: String,
         /// A command (its symbols, one per slot) whose path to draw.
         #[arg(long, allow_hyphen_values = true)]
         command: Option<String>,
-        /// The SVG file to write.
+        /// Animate the command's motion (physics scenes; needs `--command`):
+        /// every moving body, the tracked point and the time, looping; an
+        /// `.html` FILE gets a page holding the SVG.
+        #[arg(long, requires = "command")]
+        animate: bool,
+        /// The SVG (or, with `--animate`, HTML) file to write.
         #[arg(long, value_name = "FILE.svg")]
         out: PathBuf,
     },
@@ -128,6 +134,13 @@ pub fn run(a: SceneArgs) -> CliResult {
         SceneCmd::Render {
             scene,
             command,
+            animate: true,
+            out,
+        } => animate(&load_scene(&scene)?, command.as_deref().unwrap_or(""), &out),
+        SceneCmd::Render {
+            scene,
+            command,
+            animate: false,
             out,
         } => render(&load_scene(&scene)?, command.as_deref(), &out),
         SceneCmd::Exec {
@@ -422,6 +435,38 @@ fn render(scene: &Scene, command: Option<&str>, out: &std::path::Path) -> CliRes
     let svg = scene_svg(scene, overlay.as_ref());
     write_file(out, svg.as_bytes())?;
     println!("wrote {}", out.display());
+    Ok(())
+}
+
+/// `e3d scene render --animate`: the command's rollout, animated (SVG, or
+/// an HTML page when `out` ends in `.html`).
+fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliResult {
+    let space = scene.command_space();
+    let c = space.parse(text).map_err(CliError::input)?;
+    let mut w = scene.physics_world().ok_or_else(|| {
+        CliError::input(e3d::report::motion_svg::AnimateError::Grid(scene.name.clone()).to_string())
+    })?;
+    let motion = w.motion(&c).map_err(world_error)?;
+    let cmd = space.format(&c);
+    let svg = e3d::report::motion_svg::motion_svg(scene, &cmd, &motion)
+        .map_err(|e| CliError::input(e.to_string()))?;
+    let html = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
+    let text = if html {
+        e3d::report::motion_svg::html_page(&format!("{}: command {cmd}", scene.name), &svg)
+    } else {
+        svg
+    };
+    write_file(out, text.as_bytes())?;
+    println!(
+        "wrote {} ({} of {} frames, {:.3} s)",
+        out.display(),
+        e3d::report::motion_svg::thin(motion.frames.len(), e3d::report::motion_svg::MAX_FRAMES)
+            .len(),
+        motion.frames.len(),
+        motion.frames.last().map_or(0.0, |f| f.time)
+    );
     Ok(())
 }
 

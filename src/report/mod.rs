@@ -4,6 +4,7 @@
 //! - [`paper`]: Figures 2 and 3 of Daucé (2020) on `two_rooms`, run as
 //!   sessions and summarised (what `e3d reproduce` prints and draws);
 //! - [`scene_svg`]: pictures of scenes, with a command's path;
+//! - [`motion_svg`]: a command's rollout as an animated SVG or HTML page;
 //! - [`sweep_plot`]: line plots and heat maps of a sweep's summary;
 //! - [`drives`]: every drive on the canonical scenes, as a table and a
 //!   figure (what `e3d compare` writes).
@@ -12,6 +13,8 @@
 //! `plots` (on by default); `scene_svg` writes its SVG itself.
 
 pub mod drives;
+pub mod html;
+pub mod motion_svg;
 #[cfg(feature = "plots")]
 pub mod paper;
 pub mod scene_svg;

@@ -37,7 +37,7 @@ const ROW: f64 = 20.0;
 const MARGIN: f64 = 30.0;
 
 /// Maps world coordinates to SVG pixels (y up in the world, down in SVG).
-struct View {
+pub(super) struct View {
     min: [f64; 2],
     max: [f64; 2],
     scale: f64,
@@ -56,13 +56,13 @@ impl View {
             legend_rows: 1,
         }
     }
-    fn x(&self, x: f64) -> f64 {
+    pub(super) fn x(&self, x: f64) -> f64 {
         LEFT + (x - self.min[0]) * self.scale
     }
-    fn y(&self, y: f64) -> f64 {
+    pub(super) fn y(&self, y: f64) -> f64 {
         TOP + (self.max[1] - y) * self.scale
     }
-    fn len(&self, l: f64) -> f64 {
+    pub(super) fn len(&self, l: f64) -> f64 {
         l * self.scale
     }
     fn width(&self) -> f64 {
@@ -75,12 +75,16 @@ impl View {
     fn height(&self) -> f64 {
         self.bottom() + AXIS + ROW * self.legend_rows as f64 + 6.0
     }
-    fn pt(&self, p: (f64, f64)) -> String {
+    /// The top right corner of the drawing, in world coordinates.
+    pub(super) fn max_world(&self) -> [f64; 2] {
+        self.max
+    }
+    pub(super) fn pt(&self, p: (f64, f64)) -> String {
         format!("{:.2},{:.2}", self.x(p.0), self.y(p.1))
     }
 }
 
-fn esc(s: &str) -> String {
+pub(super) fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
@@ -214,7 +218,7 @@ const PATH: &str = "#e07000";
 const REWARD: &str = "#7fd17f";
 const REWARD_OPACITY: f64 = 0.55;
 /// The tracked point.
-const TRACKED: &str = "#d62728";
+pub(super) const TRACKED: &str = "#d62728";
 /// The mirror line of a symmetry.
 const MIRROR: &str = "#7b68ee";
 const MIRROR_DASH: &str = "8,4,2,4";
@@ -531,9 +535,9 @@ fn shape_points(shape: &ShapeSpec, pos: (f64, f64), angle: f64) -> Vec<(f64, f64
 }
 
 /// Fill colour, stroke colour and opacity of a body.
-struct Paint<'a>(&'a str, &'a str, f64);
+pub(super) struct Paint<'a>(pub(super) &'a str, pub(super) &'a str, pub(super) f64);
 
-fn body_svg(
+pub(super) fn body_svg(
     out: &mut String,
     v: &View,
     shape: &ShapeSpec,
@@ -603,10 +607,10 @@ fn body_svg(
 }
 
 /// The fill and stroke of the bodies at their end pose.
-const END_FILL: &str = "#f4b183";
-const END_STROKE: &str = "#a0522d";
+pub(super) const END_FILL: &str = "#f4b183";
+pub(super) const END_STROKE: &str = "#a0522d";
 
-fn colours(kind: BodyKind) -> (&'static str, &'static str) {
+pub(super) fn colours(kind: BodyKind) -> (&'static str, &'static str) {
     match kind {
         BodyKind::Fixed => ("#5b6170", "#2e323b"),
         BodyKind::Kinematic => ("#9c7bd1", "#5a3d8f"),
@@ -615,6 +619,21 @@ fn colours(kind: BodyKind) -> (&'static str, &'static str) {
 }
 
 fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> String {
+    physics_picture(scene, p, overlay, None)
+}
+
+/// Draws the moving parts of an animation over the picture (see
+/// [`physics_picture`]).
+pub(super) type Layer<'a> = &'a mut dyn FnMut(&mut String, &View);
+
+/// The picture of a physics scene; with `animated`, the bodies at their
+/// start pose are faint and `animated` draws, after the path, what moves.
+pub(super) fn physics_picture(
+    scene: &Scene,
+    p: &PhysicsSpec,
+    overlay: Option<&Overlay>,
+    mut animated: Option<Layer>,
+) -> String {
     let g = scene.effect_grid();
     let (mut min, mut max) = (g.min, g.max);
     let mut grow = |q: (f64, f64)| {
@@ -635,7 +654,13 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
     let mut v = View::new([min[0] - pad, min[1] - pad], [max[0] + pad, max[1] + pad]);
     let end_pose = overlay.and_then(|o| o.poses.as_ref()).is_some();
     // bodies at their start pose, faded when a terminal pose is drawn too
-    let start_opacity = if end_pose { 0.35 } else { 0.9 };
+    let start_opacity = if animated.is_some() {
+        0.2
+    } else if end_pose {
+        0.35
+    } else {
+        0.9
+    };
     let (dyn_fill, dyn_stroke) = colours(BodyKind::Dynamic);
     let mut keys = Vec::new();
     if p.bodies.iter().any(|b| b.kind == BodyKind::Fixed) {
@@ -650,7 +675,12 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
         Swatch::Fill(dyn_fill, dyn_stroke, start_opacity),
         "start pose",
     ));
-    if end_pose {
+    if animated.is_some() {
+        keys.push(Key(
+            Swatch::Fill(END_FILL, END_STROKE, 0.9),
+            "moving bodies",
+        ));
+    } else if end_pose {
         keys.push(Key(Swatch::Fill(END_FILL, END_STROKE, 0.9), "end pose"));
     }
     if p.joints.iter().any(|j| j.parent == GROUND) {
@@ -710,7 +740,10 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
         );
         out.push_str("</g>\n");
     }
-    if let Some(poses) = overlay.and_then(|o| o.poses.as_ref()) {
+    if let Some(poses) = overlay
+        .and_then(|o| o.poses.as_ref())
+        .filter(|_| animated.is_none())
+    {
         for (b, pose) in p.bodies.iter().zip(poses) {
             if b.kind == BodyKind::Fixed {
                 continue;
@@ -750,6 +783,9 @@ fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> Str
         );
     }
     path_layer(&mut out, &v, overlay);
+    if let Some(draw) = animated.as_mut() {
+        draw(&mut out, &v);
+    }
     // the tracked point at the start, over the path (inside its start ring)
     if let Some(b) = p.body(&p.effect.body) {
         let t = to_world(b.position, b.angle, p.effect.point);

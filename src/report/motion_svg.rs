@@ -1,0 +1,273 @@
+//! Motions you can watch: one command's rollout as a self-contained
+//! animated SVG (SMIL `<animateTransform>`, no script), or an HTML page
+//! holding it.
+//!
+//! The picture is [`scene_svg`](super::scene_svg)'s, with the bodies at
+//! their start pose faint, the tracked point's whole path, and over them
+//! every moving body (with the joints it carries), the tracked point and a
+//! time readout, animated along the frames of
+//! [`PhysicsWorld::motion`](crate::world::PhysicsWorld::motion), thinned
+//! to at most [`MAX_FRAMES`] frames. The animation loops.
+
+use super::scene_svg::{body_svg, colours, esc, physics_picture, Overlay, Paint, View};
+use super::scene_svg::{END_FILL, END_STROKE, TRACKED};
+use crate::scene::physics::{to_world, BodyKind, GROUND};
+use crate::scene::{Scene, WorldSpec};
+use crate::world::Motion;
+use std::fmt::Write;
+
+/// The most frames an animation keeps (every k-th step, the last always).
+pub const MAX_FRAMES: usize = 150;
+
+/// The indices of the frames kept: every `k`-th of `n`, so that at most
+/// `max` remain, the first and the last always.
+///
+/// ```
+/// use e3d::report::motion_svg::thin;
+/// assert_eq!(thin(10, 4), vec![0, 3, 6, 9]);
+/// assert_eq!(thin(3, 150), vec![0, 1, 2]);
+/// ```
+pub fn thin(n: usize, max: usize) -> Vec<usize> {
+    if n == 0 {
+        return Vec::new();
+    }
+    let max = max.max(2);
+    let k = (n - 1).div_ceil(max - 1).max(1);
+    let mut idx: Vec<usize> = (0..n).step_by(k).collect();
+    if idx.last() != Some(&(n - 1)) {
+        idx.push(n - 1);
+    }
+    idx
+}
+
+/// Why a motion cannot be animated.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnimateError {
+    /// The scene is a grid: it has no bodies that move.
+    #[error("scene `{0}` is a grid: it has no motion to animate (`e3d scene render --command` draws a command's cell path)")]
+    Grid(String),
+    /// The motion has no frame, or not the scene's bodies.
+    #[error("the motion does not match scene `{0}` (its bodies or its frames)")]
+    Mismatch(String),
+}
+
+/// The animated SVG of `motion`, the rollout of `command` on `scene`.
+///
+/// ```
+/// use e3d::report::motion_svg::motion_svg;
+/// use e3d::Scene;
+/// let scene = Scene::builtin("arm7").unwrap();
+/// let mut w = scene.physics_world().unwrap();
+/// let c = scene.command_space().parse("+0-+0-+").unwrap();
+/// let m = w.motion(&c).unwrap();
+/// let svg = motion_svg(&scene, "+0-+0-+", &m).unwrap();
+/// assert!(svg.contains("<animateTransform") && svg.contains("t = "));
+/// ```
+pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<String, AnimateError> {
+    let WorldSpec::Physics(p) = &scene.world else {
+        return Err(AnimateError::Grid(scene.name.clone()));
+    };
+    if motion.frames.is_empty()
+        || motion.bodies.len() != p.bodies.len()
+        || motion
+            .frames
+            .iter()
+            .any(|f| f.poses.len() != p.bodies.len())
+    {
+        return Err(AnimateError::Mismatch(scene.name.clone()));
+    }
+    let keep = thin(motion.frames.len(), MAX_FRAMES);
+    let tracked = p
+        .bodies
+        .iter()
+        .position(|b| b.name == p.effect.body)
+        .ok_or_else(|| AnimateError::Mismatch(scene.name.clone()))?;
+    let point_at = |f: usize| {
+        let pose = &motion.frames[f].poses[tracked];
+        to_world(
+            (pose.position[0], pose.position[1]),
+            pose.angle,
+            p.effect.point,
+        )
+    };
+    let overlay = Overlay {
+        command: command.to_string(),
+        points: (0..motion.frames.len())
+            .map(|f| {
+                let q = point_at(f);
+                [q.0, q.1]
+            })
+            .collect(),
+        poses: None,
+        effect: motion.outcome.effect,
+        reward: motion.outcome.reward,
+    };
+    let end = motion.frames.last().map_or(0.0, |f| f.time);
+    // a motion shorter than a second plays over a second
+    let dur = end.max(1.0);
+    let key_times: String = keep
+        .iter()
+        .map(|&f| format!("{:.4}", (motion.frames[f].time / dur).min(1.0)))
+        .collect::<Vec<_>>()
+        .join(";");
+    let anim = |attr: &str, kind: Option<&str>, values: String| -> String {
+        match kind {
+            Some(t) => format!(
+                r#"<animateTransform attributeName="{attr}" type="{t}" values="{values}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite" additive="sum"/>"#
+            ),
+            None => format!(
+                r#"<animate attributeName="{attr}" values="{values}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite"/>"#
+            ),
+        }
+    };
+    let mut draw = |out: &mut String, v: &View| {
+        let _ = writeln!(out, r#"<g class="motion">"#);
+        for (i, b) in p.bodies.iter().enumerate() {
+            if b.kind == BodyKind::Fixed {
+                continue;
+            }
+            let start = &motion.frames[0].poses[i];
+            let c0 = (v.x(start.position[0]), v.y(start.position[1]));
+            // the rigid motion from the start pose: rotate about the start
+            // position, then translate to the current one
+            let moves: Vec<String> = keep
+                .iter()
+                .map(|&f| {
+                    let q = &motion.frames[f].poses[i];
+                    format!(
+                        "{:.2},{:.2}",
+                        v.x(q.position[0]) - c0.0,
+                        v.y(q.position[1]) - c0.1
+                    )
+                })
+                .collect();
+            let turns: Vec<String> = keep
+                .iter()
+                .map(|&f| {
+                    let q = &motion.frames[f].poses[i];
+                    format!(
+                        "{:.2} {:.2} {:.2}",
+                        -(q.angle - start.angle).to_degrees(),
+                        c0.0,
+                        c0.1
+                    )
+                })
+                .collect();
+            let (fill, stroke) = if b.kind == BodyKind::Kinematic {
+                colours(b.kind)
+            } else {
+                (END_FILL, END_STROKE)
+            };
+            let _ = writeln!(
+                out,
+                r#"<g class="body" data-body="{}"><title>{}</title>"#,
+                esc(&b.name),
+                esc(&b.name)
+            );
+            out.push_str(&anim("transform", Some("translate"), moves.join(";")));
+            out.push('\n');
+            out.push_str(&anim("transform", Some("rotate"), turns.join(";")));
+            out.push('\n');
+            body_svg(
+                out,
+                v,
+                &b.shape,
+                (start.position[0], start.position[1]),
+                start.angle,
+                Paint(fill, stroke, 0.9),
+            );
+            // the joints this body carries as a parent ride with it
+            for j in p.joints.iter().filter(|j| j.parent == b.name) {
+                let at = to_world(
+                    (start.position[0], start.position[1]),
+                    start.angle,
+                    j.parent_anchor,
+                );
+                let _ = writeln!(
+                    out,
+                    r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="#ffffff" stroke="#2e323b" stroke-width="1.3"><title>{}</title></circle>"##,
+                    v.x(at.0),
+                    v.y(at.1),
+                    esc(&j.name)
+                );
+            }
+            out.push_str("</g>\n");
+        }
+        // ground hinges do not move: drawn once, over the bodies
+        for j in p.joints.iter().filter(|j| j.parent == GROUND) {
+            let _ = writeln!(
+                out,
+                r##"<circle cx="{:.2}" cy="{:.2}" r="4" fill="#2e323b"><title>{}</title></circle>"##,
+                v.x(j.parent_anchor.0),
+                v.y(j.parent_anchor.1),
+                esc(&j.name)
+            );
+        }
+        let xs: Vec<String> = keep
+            .iter()
+            .map(|&f| format!("{:.2}", v.x(point_at(f).0)))
+            .collect();
+        let ys: Vec<String> = keep
+            .iter()
+            .map(|&f| format!("{:.2}", v.y(point_at(f).1)))
+            .collect();
+        let p0 = point_at(0);
+        let _ = writeln!(
+            out,
+            r##"<circle class="tracked" cx="{:.2}" cy="{:.2}" r="4.5" fill="{TRACKED}" stroke="#ffffff" stroke-width="1"><title>tracked point</title>{}{}</circle>"##,
+            v.x(p0.0),
+            v.y(p0.1),
+            anim("cx", None, xs.join(";")),
+            anim("cy", None, ys.join(";")),
+        );
+        // the time readout: one text per kept frame, shown in its turn
+        let _ = writeln!(
+            out,
+            r##"<g class="time" font-size="14" fill="#222" font-family="monospace">"##
+        );
+        let n = keep.len();
+        for (k, &f) in keep.iter().enumerate() {
+            let t = motion.frames[f].time;
+            let on = (t / dur).min(1.0);
+            let off = if k + 1 < n {
+                (motion.frames[keep[k + 1]].time / dur).min(1.0)
+            } else {
+                1.0
+            };
+            let (values, times) = if k == 0 {
+                ("1;0".to_string(), format!("0;{off:.4}"))
+            } else if k + 1 == n {
+                ("0;1".to_string(), format!("0;{on:.4}"))
+            } else {
+                ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
+            };
+            let _ = writeln!(
+                out,
+                r#"<text class="frame" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">t = {t:.3} s / {end:.3} s<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
+                v.x(v_right(v)) - 4.0,
+                v.y(v_top(v)) + 16.0,
+                if k == 0 { 1 } else { 0 },
+            );
+        }
+        out.push_str("</g>\n</g>\n");
+    };
+    Ok(physics_picture(scene, p, Some(&overlay), Some(&mut draw)))
+}
+
+fn v_right(v: &View) -> f64 {
+    v.max_world()[0]
+}
+
+fn v_top(v: &View) -> f64 {
+    v.max_world()[1]
+}
+
+/// `svg` in a self-contained HTML page (no script, no network).
+pub fn html_page(title: &str, svg: &str) -> String {
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}svg{{max-width:100%;height:auto;background:#fff}}</style>\n</head>\n<body>\n<h1>{}</h1>\n{svg}</body>\n</html>\n",
+        esc(title),
+        esc(title)
+    )
+}

@@ -1,0 +1,82 @@
+//! The animated SVG page and the report page in headless Chromium: a
+//! screenshot that is not empty and no console error. SKIPPED, with a
+//! notice, when no `chromium` (or `chromium-browser`, `google-chrome`) is
+//! on the PATH: CI machines do not install it.
+
+use e3d::report::html::{parse_trials, run_page};
+use e3d::report::motion_svg::{html_page, motion_svg};
+use e3d::Scene;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn chromium() -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    ["chromium", "chromium-browser", "google-chrome"]
+        .iter()
+        .flat_map(|name| std::env::split_paths(&path).map(move |d| d.join(name)))
+        .find(|p| p.is_file())
+}
+
+fn check(browser: &Path, page: &Path) {
+    let shot = page.with_extension("png");
+    let out = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--window-size=1000,900",
+            "--enable-logging=stderr",
+            "--v=0",
+        ])
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg(format!("file://{}", page.display()))
+        .output()
+        .expect("chromium runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let console: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.contains("CONSOLE") || l.contains("Uncaught"))
+        .collect();
+    assert!(console.is_empty(), "console output: {console:?}");
+    let size = std::fs::metadata(&shot).map(|m| m.len()).unwrap_or(0);
+    assert!(
+        size > 5_000,
+        "screenshot {} is {size} bytes: {stderr}",
+        shot.display()
+    );
+}
+
+#[test]
+fn pages_render_in_headless_chromium() {
+    let Some(browser) = chromium() else {
+        eprintln!(
+            "SKIPPED: no chromium on the PATH (sudo apt-get install -y chromium to run this check)"
+        );
+        return;
+    };
+    let dir = std::env::temp_dir().join(format!("e3d-chromium-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = Scene::builtin("arm7").unwrap();
+    let mut w = scene.physics_world().unwrap();
+    let c = scene.command_space().parse("+0-+0-+").unwrap();
+    let m = w.motion(&c).unwrap();
+    let anim = dir.join("arm7.html");
+    std::fs::write(
+        &anim,
+        html_page("arm7", &motion_svg(&scene, "+0-+0-+", &m).unwrap()),
+    )
+    .unwrap();
+    check(&browser, &anim);
+    let mut csv = String::from("trial,command,effect,reward\n");
+    for t in 1..=200 {
+        csv.push_str(&format!("{t},NE,{},{}\n", t % 7, t % 2));
+    }
+    let page = dir.join("report.html");
+    std::fs::write(
+        &page,
+        run_page("t", "{}", &parse_trials(&csv).unwrap(), 2, 4),
+    )
+    .unwrap();
+    check(&browser, &page);
+    let _ = std::fs::remove_dir_all(&dir);
+}
