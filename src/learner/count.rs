@@ -40,9 +40,6 @@ use crate::world::Outcome;
 pub struct CountBonus {
     slots: SoftmaxSlots,
     counts: Vec<u64>,
-    decay: f64,
-    alpha_lambda: f64,
-    alpha_over_beta: f64,
 }
 
 impl CountBonus {
@@ -50,11 +47,8 @@ impl CountBonus {
     /// and `lambda`.
     pub fn new(space: &CommandSpace, num_effects: usize, params: &Params) -> Self {
         CountBonus {
-            slots: SoftmaxSlots::new(space, params.beta),
+            slots: SoftmaxSlots::new(space, params),
             counts: vec![0; num_effects],
-            decay: 1.0 - params.alpha * params.lambda,
-            alpha_lambda: params.alpha * params.lambda,
-            alpha_over_beta: params.alpha / params.beta,
         }
     }
 
@@ -82,8 +76,7 @@ impl Learner for CountBonus {
         let n = &mut self.counts[outcome.effect];
         *n += 1;
         let bonus = 1.0 / (*n as f64).sqrt();
-        let gain = self.alpha_lambda * outcome.reward + self.alpha_over_beta * bonus;
-        self.slots.update_chosen(command, self.decay, gain);
+        self.slots.update_chosen(command, outcome.reward, bonus);
     }
 
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {

@@ -55,9 +55,6 @@ pub struct RelaxedE3d {
     slots: SoftmaxSlots,
     model: EffectModel,
     log_target: Vec<f64>,
-    decay: f64,
-    alpha_lambda: f64,
-    alpha_over_beta: f64,
     /// `1 - rho alpha lambda`.
     relax: f64,
 }
@@ -76,12 +73,9 @@ impl RelaxedE3d {
     ) -> Result<Self, LearnerError> {
         params.validate()?;
         Ok(RelaxedE3d {
-            slots: SoftmaxSlots::new(space, params.beta),
+            slots: SoftmaxSlots::new(space, params),
             model: EffectModel::new(num_effects, params.eta)?,
             log_target: target.log_probs(num_effects)?,
-            decay: 1.0 - params.alpha * params.lambda,
-            alpha_lambda: params.alpha * params.lambda,
-            alpha_over_beta: params.alpha / params.beta,
             relax: 1.0 - Self::RELAX * params.alpha * params.lambda,
         })
     }
@@ -89,7 +83,7 @@ impl RelaxedE3d {
     /// The same learner with another rate `rho` (0 gives the paper's E3D,
     /// in plain code); `rho` must be in `[0, 1 / (alpha lambda)]`.
     pub fn with_relax(mut self, rho: f64) -> Result<Self, ParamError> {
-        let relax = 1.0 - rho * self.alpha_lambda;
+        let relax = 1.0 - rho * self.slots.alpha_lambda;
         if !(rho >= 0.0 && (0.0..=1.0).contains(&relax)) {
             return Err(ParamError {
                 name: "rho",
@@ -119,15 +113,12 @@ impl Learner for RelaxedE3d {
     fn learn(&mut self, command: &Command, outcome: &Outcome) {
         let e = outcome.effect;
         let pe = self.model.observe(e);
-        let push = -self.alpha_over_beta * (log_floored(pe) - self.log_target[e]);
+        // E3D's drive, log p*(e) - log p(e)
+        let drive = self.log_target[e] - log_floored(pe);
         for q in &mut self.slots.q {
             *q *= self.relax;
         }
-        self.slots.update_chosen(
-            command,
-            self.decay,
-            self.alpha_lambda * outcome.reward + push,
-        );
+        self.slots.update_chosen(command, outcome.reward, drive);
     }
 
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {

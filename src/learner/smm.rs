@@ -46,9 +46,6 @@ pub struct StateMarginalMatching {
     counts: Vec<u64>,
     trials: u64,
     log_target: Vec<f64>,
-    decay: f64,
-    alpha_lambda: f64,
-    alpha_over_beta: f64,
     /// Earlier copies of `Q`, oldest first.
     snapshots: Vec<Vec<f64>>,
     /// The trials between two copies.
@@ -71,13 +68,10 @@ impl StateMarginalMatching {
     ) -> Result<Self, LearnerError> {
         params.validate()?;
         Ok(StateMarginalMatching {
-            slots: SoftmaxSlots::new(space, params.beta),
+            slots: SoftmaxSlots::new(space, params),
             counts: vec![0; num_effects],
             trials: 0,
             log_target: target.log_probs(num_effects)?,
-            decay: 1.0 - params.alpha * params.lambda,
-            alpha_lambda: params.alpha * params.lambda,
-            alpha_over_beta: params.alpha / params.beta,
             snapshots: Vec::new(),
             every: Self::SNAPSHOT_EVERY,
         })
@@ -112,8 +106,7 @@ impl Learner for StateMarginalMatching {
         self.trials += 1;
         let rho = (self.counts[e] + 1) as f64 / (self.trials + self.counts.len() as u64) as f64;
         let drive = self.log_target[e] - rho.ln();
-        let gain = self.alpha_lambda * outcome.reward + self.alpha_over_beta * drive;
-        self.slots.update_chosen(command, self.decay, gain);
+        self.slots.update_chosen(command, outcome.reward, drive);
         if self.trials % self.every == 0 {
             self.snapshots.push(self.slots.q.clone());
             if self.snapshots.len() > Self::MAX_SNAPSHOTS {

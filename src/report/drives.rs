@@ -19,7 +19,7 @@
 //! ```
 
 use super::{describe, median, Stats};
-use crate::sweep::{SessionResult, Sweep, SweepError, PARAM_NAMES};
+use crate::sweep::{SessionResult, Sweep, SweepError, SweepSpec, PARAM_NAMES};
 use std::fmt::Write;
 
 /// The sweep file of the comparison, as shipped.
@@ -33,17 +33,13 @@ const TASK2_BETA: f64 = 100.0;
 /// The comparison's sweep with `sessions` per cell and `trials` per
 /// session, on `scenes` (built-in names; empty: the shipped four).
 pub fn drives_sweep(sessions: usize, trials: usize, scenes: &[&str]) -> Result<Sweep, SweepError> {
-    let mut text = DRIVES_SWEEP
-        .replace("    sessions: 20,", &format!("    sessions: {sessions},"))
-        .replace("    trials: 5000,", &format!("    trials: {trials},"));
+    let mut spec = SweepSpec::parse(DRIVES_SWEEP, "drives.ron (built in)")?;
+    spec.sessions = sessions;
+    spec.trials = trials;
     if !scenes.is_empty() {
-        let list: Vec<String> = scenes.iter().map(|s| format!("{s:?}")).collect();
-        text = text.replace(
-            r#"scenes: ["two_rooms", "puck_rooms", "arm7", "maze3"],"#,
-            &format!("scenes: [{}],", list.join(", ")),
-        );
+        spec.scenes = scenes.iter().map(|s| s.to_string()).collect();
     }
-    Sweep::parse(&text, "drives.ron (built in)", None)
+    Sweep::new(spec)
 }
 
 /// A panel of the figure: its title, the top of its axis, and the value
