@@ -4,6 +4,11 @@
 //! each slot accepts (its *alphabet*). A [`Command`] is one symbol index per
 //! slot. Commands print as their symbols, one character per slot
 //! (`"ESSEENE"` on the grid, `"+0-0+00"` on the arm).
+//!
+//! A *continuous* command (the paper's first "future work") takes a value
+//! per slot instead of a symbol: a [`ValueSpace`] gives each slot its range
+//! `[min, max]`, and a command is one `f64` per slot, written as numbers
+//! separated by commas (`"1.8, -0.3, 0, 0.75, 0, 0, 0.06"`).
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -59,6 +64,41 @@ pub enum CommandError {
     /// The space itself is malformed.
     #[error("{0}")]
     Space(String),
+    /// A continuous command has a different number of values than the
+    /// space has slots.
+    #[error("command `{text}` has {found} values, expected {expected} (one per slot)")]
+    WrongCount {
+        /// The command as given.
+        text: String,
+        /// Its number of values.
+        found: usize,
+        /// The number of slots.
+        expected: usize,
+    },
+    /// A value of a continuous command is not a number.
+    #[error("command `{text}`: `{part}` at slot {slot} is not a number")]
+    NotANumber {
+        /// The command as given.
+        text: String,
+        /// The part that is not a number.
+        part: String,
+        /// Its slot (0-based).
+        slot: usize,
+    },
+    /// A value of a continuous command is outside its slot's range.
+    #[error("command `{text}`: value {value} at slot {slot} is outside its range [{min}, {max}]")]
+    OutOfRange {
+        /// The command as given.
+        text: String,
+        /// The value.
+        value: f64,
+        /// Its slot (0-based).
+        slot: usize,
+        /// The slot's smallest value.
+        min: f64,
+        /// The slot's largest value.
+        max: f64,
+    },
 }
 
 /// The command space: `n` slots, each with its alphabet of symbols.
@@ -282,6 +322,143 @@ impl fmt::Display for Command {
     }
 }
 
+/// The command space of a scene whose slots take values: slot `i` takes a
+/// number in `[min_i, max_i]` (a torque in N·m, a target angle, an impulse
+/// direction: the scene says which).
+///
+/// ```
+/// use e3d::ValueSpace;
+/// let space = ValueSpace::new(vec![(-1.8, 1.8), (0.0, 3.0)]).unwrap();
+/// let v = space.parse("1.5, 0.25").unwrap();
+/// assert_eq!(v, [1.5, 0.25]);
+/// assert_eq!(space.format(&v), "1.5,0.25");
+/// let e = space.parse("1.5, 4").unwrap_err();
+/// assert_eq!(e.to_string(), "command `1.5, 4`: value 4 at slot 1 is outside its range [0, 3]");
+/// // the unit cube [-1, 1]^n maps onto the ranges
+/// assert_eq!(space.from_unit(0, 1.0), 1.8);
+/// assert_eq!(space.from_unit(1, -1.0), 0.0);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ValueSpace {
+    ranges: Vec<(f64, f64)>,
+}
+
+impl ValueSpace {
+    /// A space whose slot `i` takes a value in `ranges[i] = (min, max)`,
+    /// finite with `min < max`.
+    pub fn new(ranges: Vec<(f64, f64)>) -> Result<Self, CommandError> {
+        if ranges.is_empty() {
+            return Err(CommandError::Space(
+                "a command needs at least one slot".into(),
+            ));
+        }
+        if ranges.len() > MAX_SLOTS {
+            return Err(CommandError::Space(format!(
+                "{} slots: at most {MAX_SLOTS} are supported",
+                ranges.len()
+            )));
+        }
+        for (i, &(lo, hi)) in ranges.iter().enumerate() {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(CommandError::Space(format!(
+                    "slot {i}: the range [{lo}, {hi}] needs finite bounds with min < max"
+                )));
+            }
+        }
+        Ok(ValueSpace { ranges })
+    }
+
+    /// The number of slots `n`.
+    pub fn num_slots(&self) -> usize {
+        self.ranges.len()
+    }
+
+    /// The range `(min, max)` of slot `slot`.
+    pub fn range(&self, slot: usize) -> (f64, f64) {
+        self.ranges[slot]
+    }
+
+    /// Every slot's range.
+    pub fn ranges(&self) -> &[(f64, f64)] {
+        &self.ranges
+    }
+
+    /// The value of slot `slot` at `u` in `[-1, 1]` (`-1` is the slot's
+    /// min, `1` its max, linearly between; `u` outside is clamped).
+    pub fn from_unit(&self, slot: usize, u: f64) -> f64 {
+        let (lo, hi) = self.ranges[slot];
+        let u = u.clamp(-1.0, 1.0);
+        if u == 1.0 {
+            return hi;
+        }
+        lo + (u + 1.0) * 0.5 * (hi - lo)
+    }
+
+    /// `Ok` if `values` has one value per slot, each finite and within
+    /// its slot's range.
+    pub fn check(&self, values: &[f64]) -> Result<(), CommandError> {
+        let text = || echo(&self.format(values));
+        if values.len() != self.num_slots() {
+            return Err(CommandError::WrongCount {
+                text: text(),
+                found: values.len(),
+                expected: self.num_slots(),
+            });
+        }
+        for (slot, (&v, &(lo, hi))) in values.iter().zip(&self.ranges).enumerate() {
+            if !(v >= lo && v <= hi) {
+                return Err(CommandError::OutOfRange {
+                    text: text(),
+                    value: v,
+                    slot,
+                    min: lo,
+                    max: hi,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The values written as numbers separated by commas, each in the
+    /// shortest form that reads back to the same `f64`.
+    pub fn format(&self, values: &[f64]) -> String {
+        let parts: Vec<String> = values.iter().map(|v| format!("{v}")).collect();
+        parts.join(",")
+    }
+
+    /// Parses numbers separated by commas (spaces allowed), one per slot,
+    /// each within its slot's range.
+    pub fn parse(&self, text: &str) -> Result<Vec<f64>, CommandError> {
+        let parts: Vec<&str> = text.trim().split(',').map(str::trim).collect();
+        if parts.len() != self.num_slots() {
+            return Err(CommandError::WrongCount {
+                text: echo(text.trim()),
+                found: parts.len(),
+                expected: self.num_slots(),
+            });
+        }
+        let mut values = Vec::with_capacity(parts.len());
+        for (slot, (part, &(lo, hi))) in parts.iter().zip(&self.ranges).enumerate() {
+            let v: f64 = part.parse().map_err(|_| CommandError::NotANumber {
+                text: echo(text.trim()),
+                part: echo(part),
+                slot,
+            })?;
+            if !(v >= lo && v <= hi) {
+                return Err(CommandError::OutOfRange {
+                    text: echo(text.trim()),
+                    value: v,
+                    slot,
+                    min: lo,
+                    max: hi,
+                });
+            }
+            values.push(v);
+        }
+        Ok(values)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -341,7 +518,7 @@ mod tests {
         );
         assert!(matches!(
             s.parse("ES"),
-            Err(CommandError::WrongLength { found: 2, .. })
+            Err(CommandError::WrongCount { found: 2, .. })
         ));
     }
 

@@ -93,19 +93,21 @@ pub struct OutcomesDoctests;
 /// rand to pin in its own manifest.
 pub use rand;
 
-pub use command::{Command, CommandError, CommandSpace};
+pub use command::{Command, CommandError, CommandSpace, ValueSpace};
 pub use effect::{EffectError, EffectGrid, EffectModel, Target, TargetError};
 pub use learner::{
-    E3d, EpsilonGreedy, Learner, LearnerError, LearnerKind, ParamError, Params, UniformPolicy,
+    ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner, LearnerError, LearnerKind,
+    ParamError, Params, UniformPolicy, UniformValues,
 };
 pub use rng::SessionRng;
 pub use scene::{Scene, SceneError, SceneErrorKind};
 pub use session::{
     policy_effect_distribution, run_lockstep, run_lockstep_into, run_session, run_session_into,
-    run_session_with, Metrics, Recorder, RunningMetrics, SessionConfig, SessionRecord,
+    run_session_with, run_value_session, run_value_sessions, Metrics, Recorder, RunningMetrics,
+    SessionConfig, SessionRecord, ValueSessionRecord,
 };
 pub use sweep::{Sweep, SweepError};
 pub use world::{
-    ExecutionPlan, Executor, GridWorld, Memoized, Outcome, OutcomeMemo, OutcomeTable, PhysicsWorld,
-    Strategy, World, WorldError,
+    ContinuousWorld, ExecutionPlan, Executor, GridWorld, Memoized, Outcome, OutcomeMemo,
+    OutcomeTable, PhysicsWorld, Strategy, World, WorldError,
 };

@@ -42,6 +42,7 @@ fn alphabet(s: &mut Scene, slot: usize) -> &mut Vec<e3d::scene::SymbolSpec> {
     match &mut s.command {
         CommandSpec::Repeat { alphabet, .. } => alphabet,
         CommandSpec::Slots(slots) => &mut slots[slot].alphabet,
+        CommandSpec::Continuous(_) => panic!("{} has continuous slots", s.name),
     }
 }
 
@@ -493,6 +494,7 @@ proptest! {
                 3 => match &mut scene.command {
                     CommandSpec::Repeat { slots, .. } => *slots = j % 70,
                     CommandSpec::Slots(s) => s.truncate(j % (s.len() + 1)),
+                    CommandSpec::Continuous(s) => s.truncate(j % (s.len() + 1)),
                 },
                 _ => {
                     if let CommandSpec::Slots(s) = &mut scene.command {

@@ -256,11 +256,14 @@ struct PyScene {
 }
 
 impl PyScene {
-    fn new(scene: e3d::Scene) -> PyScene {
-        PyScene {
+    /// The scene, if its slots take symbols: continuous scenes are not
+    /// wrapped yet (they run from the CLI and the Rust library).
+    fn new(scene: e3d::Scene) -> Result<PyScene, e3d::SceneError> {
+        scene.require_symbols("the Python package (continuous commands run from the CLI and the Rust library)")?;
+        Ok(PyScene {
             space: scene.command_space(),
             inner: Arc::new(scene),
-        }
+        })
     }
 }
 
@@ -270,18 +273,21 @@ impl PyScene {
     /// `file:line:col: message`, the CLI's text.
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<PyScene> {
-        e3d::Scene::load(&path).map(PyScene::new).map_err(scene_err)
+        e3d::Scene::load(&path)
+            .and_then(PyScene::new)
+            .map_err(scene_err)
     }
 
     /// A scene shipped with e3d, by name (see `Scene.builtins()`).
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<PyScene> {
-        e3d::Scene::builtin(name).map(PyScene::new).ok_or_else(|| {
+        let scene = e3d::Scene::builtin(name).ok_or_else(|| {
             SceneError::new_err(format!(
                 "{name}: no built-in scene of that name; expected one of: {}",
                 builtin_names().join(", ")
             ))
-        })
+        })?;
+        PyScene::new(scene).map_err(scene_err)
     }
 
     /// A scene by path, or by the name of a built-in scene when no such
@@ -289,7 +295,7 @@ impl PyScene {
     #[staticmethod]
     fn resolve(path_or_name: &str) -> PyResult<PyScene> {
         e3d::Scene::resolve(path_or_name)
-            .map(PyScene::new)
+            .and_then(PyScene::new)
             .map_err(scene_err)
     }
 
@@ -298,7 +304,7 @@ impl PyScene {
     #[pyo3(signature = (text, file = "<string>"))]
     fn from_text(text: &str, file: &str) -> PyResult<PyScene> {
         e3d::Scene::parse(text, file)
-            .map(PyScene::new)
+            .and_then(PyScene::new)
             .map_err(scene_err)
     }
 
@@ -458,8 +464,13 @@ impl PyScene {
     }
 }
 
+/// The built-in scenes of symbols (continuous ones are not wrapped yet).
 fn builtin_names() -> Vec<&'static str> {
-    e3d::scene::BUILTIN.iter().map(|(n, _)| *n).collect()
+    e3d::scene::BUILTIN
+        .iter()
+        .map(|(n, _)| *n)
+        .filter(|n| e3d::Scene::builtin(n).is_some_and(|s| !s.is_continuous()))
+        .collect()
 }
 
 // ---------------------------------------------------------------------------

@@ -244,7 +244,7 @@ impl Recorder for TrialsCsv {
 }
 
 /// The temporary file of a final file `path`.
-fn temp_of(path: &Path, tag: &str) -> PathBuf {
+pub(super) fn temp_of(path: &Path, tag: &str) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy())
@@ -254,7 +254,7 @@ fn temp_of(path: &Path, tag: &str) -> PathBuf {
 
 /// Joins the temporary trial files into `path` under one header, then
 /// renames it into place: the final file is whole or absent.
-fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
+pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
     use std::io::Write;
     let tmp = temp_of(path, "tmp");
     let result = (|| -> std::io::Result<()> {
@@ -277,7 +277,7 @@ fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
 
 /// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order
 /// of a sweep's columns; nothing for the uniform policy, which uses none.
-fn used_params(learner: LearnerKind, p: &Params) -> String {
+pub(super) fn used_params(learner: LearnerKind, p: &Params) -> String {
     let values = [p.alpha, p.beta, p.lambda, p.eta, p.epsilon];
     let used: Vec<String> = e3d::sweep::PARAM_NAMES
         .iter()
@@ -292,13 +292,51 @@ fn used_params(learner: LearnerKind, p: &Params) -> String {
     }
 }
 
+/// The metrics of each session (`seeds[i]` names session `i` when there
+/// are several) and, for several, their mean.
+pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usize) {
+    let sessions = metrics.len();
+    for (i, m) in metrics.iter().enumerate() {
+        let who = if sessions > 1 {
+            format!("seed {}: ", seeds[i])
+        } else {
+            String::new()
+        };
+        println!(
+            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
+            m.normalized_entropy,
+            m.normalized_entropy_last_1000,
+            m.kl_to_target,
+            m.distinct_effects,
+            num_effects
+        );
+        if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
+            println!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
+        }
+        println!(
+            "{who}cumulative reward {} | first reward at trial {}",
+            m.cumulative_reward,
+            m.first_reward_trial
+                .map_or("-".to_string(), |t| t.to_string())
+        );
+    }
+    if sessions > 1 {
+        let mean =
+            |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
+        println!(
+            "mean of {sessions} sessions: normalised entropy {:.4} | cumulative reward {:.1}",
+            mean(&|m| m.normalized_entropy),
+            mean(&|m| m.cumulative_reward)
+        );
+    }
+}
+
 pub fn run(a: RunArgs) -> CliResult {
     let params = a.params.params()?;
     let scene = load_scene(&a.scene)?;
     if let Some(dir) = &a.out {
         prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
     }
-    let sessions = a.sessions as usize;
     let seeds: Vec<u64> = (0..a.sessions)
         .map(|i| a.seed.checked_add(i))
         .collect::<Option<_>>()
@@ -308,6 +346,10 @@ pub fn run(a: RunArgs) -> CliResult {
                 a.seed, a.sessions
             ))
         })?;
+    if scene.is_continuous() {
+        return super::continuous::run(&a, &scene, params, &seeds);
+    }
+    let sessions = a.sessions as usize;
     let space = scene.command_space();
     let num_effects = scene.num_effects();
     let target = Target::Uniform;
@@ -439,39 +481,7 @@ pub fn run(a: RunArgs) -> CliResult {
         used_params(a.learner, &params),
         if a.no_reward { " | no reward" } else { "" }
     );
-    for (i, m) in metrics.iter().enumerate() {
-        let who = if sessions > 1 {
-            format!("seed {}: ", seeds[i])
-        } else {
-            String::new()
-        };
-        println!(
-            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
-            m.normalized_entropy,
-            m.normalized_entropy_last_1000,
-            m.kl_to_target,
-            m.distinct_effects,
-            num_effects
-        );
-        if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
-            println!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
-        }
-        println!(
-            "{who}cumulative reward {} | first reward at trial {}",
-            m.cumulative_reward,
-            m.first_reward_trial
-                .map_or("-".to_string(), |t| t.to_string())
-        );
-    }
-    if sessions > 1 {
-        let mean =
-            |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
-        println!(
-            "mean of {sessions} sessions: normalised entropy {:.4} | cumulative reward {:.1}",
-            mean(&|m| m.normalized_entropy),
-            mean(&|m| m.cumulative_reward)
-        );
-    }
+    print_metrics(&metrics, &seeds, num_effects);
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
         println!("exact effect distribution of the final policy: normalised entropy {h:.4}");

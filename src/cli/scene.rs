@@ -121,6 +121,9 @@ fn parse_point(s: &str) -> Result<[f64; 2], String> {
 
 /// Runs `e3d scene ...`.
 pub fn run(a: SceneArgs) -> CliResult {
+    if let Some(r) = super::continuous::scene(&a.command) {
+        return r;
+    }
     match a.command {
         SceneCmd::Check {
             scene,
@@ -169,7 +172,6 @@ fn world_error(e: WorldError) -> CliError {
 }
 
 fn check(scene: &Scene) -> CliResult {
-    let space = scene.command_space();
     let grid = scene.effect_grid();
     println!("scene {}: valid", scene.name);
     if !scene.description.is_empty() {
@@ -195,7 +197,7 @@ fn check(scene: &Scene) -> CliResult {
                 p.gravity.0,
                 p.gravity.1,
                 p.dt,
-                p.schedule.total_steps(p.dt, space.num_slots()),
+                p.schedule.total_steps(p.dt, scene.num_slots()),
                 if together {
                     format!("all slots push {phase} steps, then settle {settle}")
                 } else {
@@ -235,7 +237,7 @@ fn check(scene: &Scene) -> CliResult {
                 p.effect.point.0, p.effect.point.1, p.effect.body
             );
             if let Some(sym) = p.symmetry {
-                let n = space.num_commands_text();
+                let n = scene.command_space().num_commands_text();
                 match OutcomeTable::simulated_commands(scene) {
                     Some(k) => println!(
                         "symmetry: {sym:?} (checked): {k} of {n} commands simulated, the others reflected"
@@ -245,12 +247,32 @@ fn check(scene: &Scene) -> CliResult {
             }
         }
     }
-    println!("slots ({}):", space.num_slots());
-    for (i, alphabet) in scene.slots().enumerate() {
-        let syms: String = alphabet.iter().map(|s| s.symbol).collect();
-        println!("  {i}: {syms}");
+    println!("slots ({}):", scene.num_slots());
+    if let e3d::scene::CommandSpec::Continuous(slots) = &scene.command {
+        for (i, slot) in slots.iter().enumerate() {
+            println!(
+                "  {i}: a value in [{}, {}]{}: {:?}",
+                slot.range.0,
+                slot.range.1,
+                slot.name
+                    .as_deref()
+                    .map_or(String::new(), |n| format!(" ({n})")),
+                slot.action
+            );
+        }
+        println!(
+            "distinct commands: infinitely many (continuous: live physics only, no table or memo)"
+        );
+    } else {
+        for (i, alphabet) in scene.slots().enumerate() {
+            let syms: String = alphabet.iter().map(|s| s.symbol).collect();
+            println!("  {i}: {syms}");
+        }
+        println!(
+            "distinct commands: {}",
+            scene.command_space().num_commands_text()
+        );
     }
-    println!("distinct commands: {}", space.num_commands_text());
     println!(
         "effects: {} ({} x {} cells over [{}, {}] x [{}, {}])",
         grid.num_cells(),
@@ -314,7 +336,10 @@ fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
         }
     };
     let grid = scene.effect_grid();
-    let n = scene.command_space().num_commands_text();
+    let n = match scene.value_space() {
+        Some(_) => "infinitely many, drawn uniformly in their ranges".to_string(),
+        None => scene.command_space().num_commands_text(),
+    };
     if s.exhaustive {
         println!(
             "reach: all {} commands executed ({:.2} s): {} of {} cells reached",
@@ -373,6 +398,9 @@ fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
 /// What `scene reward-cell` (every command executed) would cost: the
 /// commands it simulates and the cost model's estimate (src/world/plan.rs).
 fn full_check_cost(scene: &Scene) -> String {
+    if scene.is_continuous() {
+        return "a full check is not possible: continuous commands cannot be enumerated; sample more with `--samples N`".to_string();
+    }
     let threads = rayon::current_num_threads();
     let plan = e3d::world::ExecutionPlan::choose(
         scene,

@@ -12,12 +12,20 @@
 //! - [`StateMarginalMatching`]: the density ratio `log p*(e) - log rho(e)`
 //!   over every trial so far, with historical averaging of the policy.
 //!
-//! Implement [`Learner`] to plug in your own.
+//! Continuous commands (a value per slot, [`ValueSpace`]) have learners of
+//! their own, behind [`ContinuousLearner`]:
+//!
+//! - [`GaussianE3d`]: E3D with a Gaussian policy per slot, updated by the
+//!   same intrinsic reward through the score function;
+//! - [`UniformValues`]: every value uniform in its slot's range.
+//!
+//! Implement [`Learner`] (or [`ContinuousLearner`]) to plug in your own.
 
 mod count;
 mod e3d;
 mod egreedy;
 mod exp;
+pub mod gaussian;
 mod relaxed;
 mod smm;
 mod softmax;
@@ -26,11 +34,12 @@ mod uniform;
 pub use count::CountBonus;
 pub use e3d::E3d;
 pub use egreedy::EpsilonGreedy;
+pub use gaussian::{GaussianE3d, UniformValues};
 pub use relaxed::RelaxedE3d;
 pub use smm::StateMarginalMatching;
 pub use uniform::UniformPolicy;
 
-use crate::command::{Command, CommandSpace};
+use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::{EffectError, Target, TargetError};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
@@ -80,6 +89,43 @@ impl<L: Learner + ?Sized> Learner for Box<L> {
     }
 }
 
+/// A learner of continuous commands (one value per slot, in the slot's
+/// range: [`ValueSpace`]).
+///
+/// A session calls [`propose`](ContinuousLearner::propose), executes the
+/// values ([`PhysicsWorld::execute_values`](crate::world::PhysicsWorld::execute_values)),
+/// then calls [`learn`](ContinuousLearner::learn) with the outcome.
+pub trait ContinuousLearner {
+    /// A short name (`"e3d"`, `"uniform"`).
+    fn name(&self) -> &str;
+
+    /// Draws the next command into `values` (cleared first; one value per
+    /// slot, each within its slot's range), every random draw from `rng`.
+    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>);
+
+    /// Learns from the outcome of `values`.
+    fn learn(&mut self, values: &[f64], outcome: &Outcome);
+
+    /// The mean and standard deviation of slot `slot`'s policy now, in the
+    /// slot's unit (before the clamping to its range).
+    fn slot_gaussian(&self, slot: usize) -> (f64, f64);
+}
+
+impl<L: ContinuousLearner + ?Sized> ContinuousLearner for Box<L> {
+    fn name(&self) -> &str {
+        (**self).name()
+    }
+    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
+        (**self).propose(rng, values)
+    }
+    fn learn(&mut self, values: &[f64], outcome: &Outcome) {
+        (**self).learn(values, outcome)
+    }
+    fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
+        (**self).slot_gaussian(slot)
+    }
+}
+
 /// A hyper-parameter out of its range.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{name} = {value}: expected {expected}")]
@@ -117,6 +163,12 @@ pub enum LearnerError {
     /// The target does not fit the effects.
     #[error(transparent)]
     Target(#[from] TargetError),
+    /// The learner has no continuous version ([`LearnerKind::make_continuous`]).
+    #[error("learner `{learner}` takes symbols; continuous commands take one of: {}", LearnerKind::CONTINUOUS.map(LearnerKind::as_str).join(", "))]
+    NotContinuous {
+        /// The learner's name.
+        learner: &'static str,
+    },
 }
 
 /// The hyper-parameters of the shipped learners. Defaults: the paper's task
@@ -274,6 +326,43 @@ impl LearnerKind {
                 params,
                 target,
             )?),
+        })
+    }
+}
+
+impl LearnerKind {
+    /// The kinds with a learner of continuous commands
+    /// ([`make_continuous`](Self::make_continuous)).
+    pub const CONTINUOUS: [LearnerKind; 2] = [LearnerKind::E3d, LearnerKind::Uniform];
+
+    /// Makes a fresh learner of continuous commands of this kind for
+    /// `space`: [`GaussianE3d`] for `e3d`, [`UniformValues`] for `uniform`;
+    /// the other kinds are [`LearnerError::NotContinuous`].
+    ///
+    /// ```
+    /// use e3d::{LearnerError, LearnerKind, Params, Target, ValueSpace};
+    /// let space = ValueSpace::new(vec![(-1.0, 1.0); 3]).unwrap();
+    /// let l = LearnerKind::E3d.make_continuous(&Params::TASK1, &space, 9, &Target::Uniform).unwrap();
+    /// assert_eq!(l.name(), "e3d");
+    /// let e = LearnerKind::Egreedy.make_continuous(&Params::TASK1, &space, 9, &Target::Uniform);
+    /// assert!(matches!(e.err().unwrap(), LearnerError::NotContinuous { learner: "egreedy" }));
+    /// ```
+    pub fn make_continuous(
+        self,
+        params: &Params,
+        space: &ValueSpace,
+        num_effects: usize,
+        target: &Target,
+    ) -> Result<Box<dyn ContinuousLearner + Send>, LearnerError> {
+        params.validate()?;
+        Ok(match self {
+            LearnerKind::E3d => Box::new(GaussianE3d::new(space, num_effects, params, target)?),
+            LearnerKind::Uniform => Box::new(UniformValues::new(space)),
+            other => {
+                return Err(LearnerError::NotContinuous {
+                    learner: other.as_str(),
+                })
+            }
         })
     }
 }

@@ -38,7 +38,7 @@ pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
 pub use symmetry::Symmetry;
 
-use crate::command::{CommandSpace, MAX_ALPHABET, MAX_SLOTS};
+use crate::command::{CommandSpace, ValueSpace, MAX_ALPHABET, MAX_SLOTS};
 use crate::effect::EffectGrid;
 use crate::world::{GridSpec, GridWorld, PhysicsWorld, World};
 use serde::{Deserialize, Serialize};
@@ -87,6 +87,104 @@ pub enum CommandSpec {
     /// One entry per slot, each with its own alphabet (the arm: slot k drives
     /// joint k).
     Slots(Vec<SlotSpec>),
+    /// Continuous commands (physics scenes): one entry per slot, each a
+    /// range of values and what a value does, instead of an alphabet. Such
+    /// a scene runs on live physics only ([`PhysicsWorld::execute_values`]):
+    /// outcome tables, the memo and the symbol learners do not apply.
+    Continuous(Vec<ValueSlotSpec>),
+}
+
+/// One slot of a [`CommandSpec::Continuous`] schema: a value in `range`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ValueSlotSpec {
+    /// An optional name, for pictures and errors.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The values the slot accepts, `(min, max)` with `min < max`, in the
+    /// unit of the action (N·m, rad, N·s, N).
+    pub range: (f64, f64),
+    /// What the slot's value does.
+    pub action: ValueAction,
+}
+
+/// What the value `v` of a continuous slot does: the [`Action`] of
+/// [`at`](ValueAction::at)`(v)`.
+///
+/// ```
+/// use e3d::scene::{Action, ValueAction};
+/// let kick = ValueAction::Heading { body: "puck".into(), impulse: 2.0 };
+/// assert_eq!(kick.at(0.0), Action::Impulse { body: "puck".into(), impulse: (2.0, 0.0) });
+/// let t = ValueAction::Torque { joint: "j1".into() };
+/// assert_eq!(t.at(-0.5), Action::Torque { joint: "j1".into(), torque: -0.5 });
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum ValueAction {
+    /// A torque of `v` N·m on a revolute joint, held during the slot's
+    /// phase (as [`Action::Torque`]).
+    Torque {
+        /// The joint's name.
+        joint: String,
+    },
+    /// A set point of `v` radians for a joint's position motor (as
+    /// [`Action::Target`]; the joint needs a `motor`).
+    Target {
+        /// The joint's name.
+        joint: String,
+    },
+    /// An impulse of `v * direction` N·s on a body, once at the start of
+    /// the slot's phase (as [`Action::Impulse`]).
+    Impulse {
+        /// The body's name.
+        body: String,
+        /// The impulse of the value 1, `(x, y)` in N·s.
+        direction: (f64, f64),
+    },
+    /// A force of `v * direction` N on a body, held during the slot's
+    /// phase (as [`Action::Force`]).
+    Force {
+        /// The body's name.
+        body: String,
+        /// The force of the value 1, `(x, y)` in N.
+        direction: (f64, f64),
+    },
+    /// An impulse of `impulse` N·s on a body in the direction `v`, in
+    /// radians counter-clockwise from +x (a range of `(-3.14159, 3.14159)`
+    /// covers every direction).
+    Heading {
+        /// The body's name.
+        body: String,
+        /// The impulse's magnitude in N·s.
+        impulse: f64,
+    },
+}
+
+impl ValueAction {
+    /// The action of the value `v`.
+    pub fn at(&self, v: f64) -> Action {
+        match self {
+            ValueAction::Torque { joint } => Action::Torque {
+                joint: joint.clone(),
+                torque: v,
+            },
+            ValueAction::Target { joint } => Action::Target {
+                joint: joint.clone(),
+                angle: v,
+            },
+            ValueAction::Impulse { body, direction } => Action::Impulse {
+                body: body.clone(),
+                impulse: (v * direction.0, v * direction.1),
+            },
+            ValueAction::Force { body, direction } => Action::Force {
+                body: body.clone(),
+                force: (v * direction.0, v * direction.1),
+            },
+            ValueAction::Heading { body, impulse } => Action::Impulse {
+                body: body.clone(),
+                impulse: (impulse * v.cos(), impulse * v.sin()),
+            },
+        }
+    }
 }
 
 /// One slot of a [`CommandSpec::Slots`] schema.
@@ -210,6 +308,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "arm4_gravity",
         include_str!("../../scenes/arm4_gravity.ron"),
     ),
+    (
+        "arm7_continuous",
+        include_str!("../../scenes/arm7_continuous.ron"),
+    ),
 ];
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
@@ -267,7 +369,9 @@ impl Scene {
     ///
     /// # Panics
     /// On a scene without slots, or with an empty, too large or repeating
-    /// alphabet ([`validate`](Self::validate) refuses them).
+    /// alphabet ([`validate`](Self::validate) refuses them), and on a
+    /// continuous scene (see [`value_space`](Self::value_space) and
+    /// [`require_symbols`](Self::require_symbols)).
     pub fn command_space(&self) -> CommandSpace {
         CommandSpace::new(
             self.slots()
@@ -277,16 +381,64 @@ impl Scene {
         .expect("validated scene")
     }
 
-    /// The alphabets, slot by slot.
+    /// The alphabets, slot by slot (empty for the slots of a
+    /// [`CommandSpec::Continuous`] schema, which take values).
     pub fn slots(&self) -> impl Iterator<Item = &[SymbolSpec]> + '_ {
-        let n = match &self.command {
-            CommandSpec::Repeat { slots, .. } => *slots,
-            CommandSpec::Slots(s) => s.len(),
-        };
-        (0..n).map(move |i| match &self.command {
+        (0..self.num_slots()).map(move |i| match &self.command {
             CommandSpec::Repeat { alphabet, .. } => alphabet.as_slice(),
             CommandSpec::Slots(s) => s[i].alphabet.as_slice(),
+            CommandSpec::Continuous(_) => &[],
         })
+    }
+
+    /// The number of slots of a command.
+    pub fn num_slots(&self) -> usize {
+        match &self.command {
+            CommandSpec::Repeat { slots, .. } => *slots,
+            CommandSpec::Slots(s) => s.len(),
+            CommandSpec::Continuous(s) => s.len(),
+        }
+    }
+
+    /// Whether the scene's slots take values in ranges
+    /// ([`CommandSpec::Continuous`]) rather than symbols.
+    pub fn is_continuous(&self) -> bool {
+        matches!(self.command, CommandSpec::Continuous(_))
+    }
+
+    /// The command space of a continuous scene (`None` for a scene of
+    /// symbols, whose space is [`command_space`](Self::command_space)).
+    ///
+    /// # Panics
+    /// On a continuous scene with an empty or invalid range
+    /// ([`validate`](Self::validate) refuses it).
+    pub fn value_space(&self) -> Option<ValueSpace> {
+        match &self.command {
+            CommandSpec::Continuous(s) => {
+                Some(ValueSpace::new(s.iter().map(|v| v.range).collect()).expect("validated scene"))
+            }
+            _ => None,
+        }
+    }
+
+    /// `Ok` for a scene of symbols; for a continuous scene, the error that
+    /// `what` (a tool: `"an outcome table"`, `"e3d sweep"`) cannot take it,
+    /// naming the scene.
+    pub fn require_symbols(&self, what: &str) -> Result<(), SceneError> {
+        if !self.is_continuous() {
+            return Ok(());
+        }
+        Err(SceneError::invalid(
+            &format!("<scene {}>", self.name),
+            Invalid::at(
+                "command",
+                None,
+                &format!(
+                    "symbols in every slot for {what}, but this scene's slots take values (`Continuous`): it runs on live physics with `e3d run` or `e3d scene exec` (docs/scenes.md, \"Continuous commands\")"
+                ),
+            ),
+            None,
+        ))
     }
 
     /// The grid effects are binned on.
@@ -368,8 +520,9 @@ impl Scene {
     /// # Panics
     /// On a scene that [`validate`](Self::validate) refuses (one edited in
     /// code: a NaN, a torque that breaks its symmetry, no slots), with the
-    /// validation's message; [`try_build`](Self::try_build) returns the
-    /// error instead.
+    /// validation's message, and on a continuous scene (whose world is
+    /// [`physics_world`](Self::physics_world)); [`try_build`](Self::try_build)
+    /// returns the error instead.
     pub fn build(&self) -> Box<dyn World + Send> {
         self.try_build().unwrap_or_else(|e| panic!("{e}"))
     }
@@ -394,6 +547,9 @@ impl Scene {
     /// ```
     pub fn try_build(&self) -> Result<Box<dyn World + Send>, SceneError> {
         self.validate()?;
+        self.require_symbols(
+            "a world of symbols (`Scene::build`; `Scene::physics_world` runs continuous commands)",
+        )?;
         Ok(match &self.world {
             WorldSpec::Grid(g) => Box::new(GridWorld::from_scene(self, g)),
             WorldSpec::Physics(p) => Box::new(PhysicsWorld::from_scene(self, p)),
@@ -478,7 +634,32 @@ impl Scene {
         let mut written: std::collections::HashMap<char, usize> = Default::default();
         let repeat = matches!(self.command, CommandSpec::Repeat { .. });
         let mut written_symbols = 0;
+        if let CommandSpec::Continuous(slots) = &self.command {
+            if matches!(self.world, WorldSpec::Grid(_)) {
+                return Err(Invalid::at(
+                    "Continuous",
+                    None,
+                    "symbols in a Grid world (one-cell moves); continuous slots need a Physics world",
+                ));
+            }
+            for (i, slot) in slots.iter().enumerate() {
+                let (lo, hi) = slot.range;
+                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                    return Err(Invalid::at(
+                        "range",
+                        None,
+                        &format!(
+                            "slot {i}: a range (min, max) of finite numbers with min < max, found ({lo}, {hi})"
+                        ),
+                    )
+                    .nth(i));
+                }
+            }
+        }
         for (i, alphabet) in self.slots().enumerate() {
+            if self.is_continuous() {
+                break;
+            }
             if repeat && i > 0 {
                 break;
             }

@@ -228,11 +228,20 @@ fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, FactoryError>
         Some(b) if p.is_relative() => b.join(p),
         _ => p.to_path_buf(),
     };
+    // sweeps run commands of symbols (tables, memo, lockstep): a
+    // continuous scene is refused before anything runs
+    let symbols = |s: Scene| {
+        s.require_symbols("a sweep")
+            .map_err(|e| FactoryError::Failed(SweepError::Input(e)))?;
+        Ok(s)
+    };
     if path.exists() {
-        return Scene::load(&path).map_err(|e| FactoryError::Failed(SweepError::Input(e)));
+        return Scene::load(&path)
+            .map_err(|e| FactoryError::Failed(SweepError::Input(e)))
+            .and_then(symbols);
     }
     if let Some(s) = Scene::builtin(name) {
-        return Ok(s);
+        return symbols(s);
     }
     let names: Vec<&str> = crate::scene::BUILTIN.iter().map(|(n, _)| *n).collect();
     Err(FactoryError::Unknown(format!(

@@ -29,7 +29,7 @@ pub use plan::{lockstep_groups, ExecOptions, ExecutionPlan, Executor, OnDisk, St
 pub use reach::{farthest_reached_cell, sample_reach, FarthestCell, ReachSample};
 pub use table::{CachedOutcomes, OutcomeTable, MAX_TABLE_COMMANDS, TABLE_COPIES};
 
-use crate::command::{Command, CommandSpace};
+use crate::command::{Command, CommandSpace, ValueSpace};
 use serde::{Deserialize, Serialize};
 
 /// What the learner reads after a command: the terminal state, binned.
@@ -168,6 +168,56 @@ pub trait World {
     /// The default leaves it unchanged.
     fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
         outcome
+    }
+}
+
+/// A world whose commands are values (one per slot, in its range: a
+/// [`ValueSpace`]) rather than symbols: continuous commands.
+/// [`PhysicsWorld`] of a scene with `Continuous` slots is one; implement
+/// it to plug in your own simulator.
+pub trait ContinuousWorld {
+    /// The ranges of the slots.
+    fn value_space(&self) -> &ValueSpace;
+
+    /// The number of effects: every outcome's effect is below it.
+    fn num_effects(&self) -> usize;
+
+    /// Executes `values` open loop from the start state and returns the
+    /// terminal outcome (a [`WorldError::BadCommand`] for values that do
+    /// not fit the space).
+    fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError>;
+
+    /// Executes several commands, each from the start state, appending
+    /// their outcomes to `out` in order; the default runs them one by one.
+    fn execute_values_batch(
+        &mut self,
+        commands: &[Vec<f64>],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+    ) {
+        for v in commands {
+            out.push(self.execute_values(v));
+        }
+    }
+}
+
+impl ContinuousWorld for PhysicsWorld {
+    /// # Panics
+    /// On a world of symbols (see [`PhysicsWorld::value_space`]).
+    fn value_space(&self) -> &ValueSpace {
+        PhysicsWorld::value_space(self).expect("a scene with continuous slots")
+    }
+    fn num_effects(&self) -> usize {
+        World::num_effects(self)
+    }
+    fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
+        PhysicsWorld::execute_values(self, values)
+    }
+    fn execute_values_batch(
+        &mut self,
+        commands: &[Vec<f64>],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+    ) {
+        PhysicsWorld::execute_values_batch(self, commands, out)
     }
 }
 

@@ -21,10 +21,10 @@
 //! it as [`WorldError::Diverged`] rather than a silent effect.
 
 use super::{Outcome, World, WorldError};
-use crate::command::{Command, CommandSpace};
+use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::EffectGrid;
 use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec, GROUND};
-use crate::scene::{Action, Scene, Symmetry};
+use crate::scene::{Action, CommandSpec, Scene, Symmetry, ValueAction};
 use rapier2d::math::{Pose, Real, Vector};
 use rapier2d::prelude::{
     BroadPhaseBvh, CCDSolver, ColliderBuilder, ColliderSet, Group, ImpulseJointSet,
@@ -92,6 +92,65 @@ enum Act {
         stiffness: Real,
         damping: Real,
     },
+}
+
+/// What the value of a continuous slot does, resolved to handles: the act
+/// of the value 1, scaled, or an impulse whose direction is the value.
+#[derive(Debug, Clone, Copy)]
+enum ValueAct {
+    Scaled(Act),
+    Heading { body: RigidBodyHandle, impulse: f64 },
+}
+
+impl ValueAct {
+    /// The act of the value `v`.
+    fn at(self, v: f64) -> Act {
+        let k = v as Real;
+        match self {
+            ValueAct::Scaled(act) => match act {
+                Act::Idle => Act::Idle,
+                Act::Torque {
+                    child,
+                    parent,
+                    torque,
+                } => Act::Torque {
+                    child,
+                    parent,
+                    torque: torque * k,
+                },
+                Act::Impulse { body, impulse } => Act::Impulse {
+                    body,
+                    impulse: impulse * k,
+                },
+                Act::Force { body, force } => Act::Force {
+                    body,
+                    force: force * k,
+                },
+                Act::Target {
+                    child,
+                    angle,
+                    stiffness,
+                    damping,
+                } => Act::Target {
+                    child,
+                    angle: angle * k,
+                    stiffness,
+                    damping,
+                },
+            },
+            ValueAct::Heading { body, impulse } => Act::Impulse {
+                body,
+                impulse: v2((impulse * v.cos(), impulse * v.sin())),
+            },
+        }
+    }
+}
+
+/// One command a copy runs: symbols, or the values of a continuous scene.
+#[derive(Debug, Clone, Copy)]
+enum Cmd<'a> {
+    Symbols(&'a Command),
+    Values(&'a [f64]),
 }
 
 /// The pose of one body, for pictures.
@@ -246,6 +305,8 @@ struct JointInfo {
 pub struct PhysicsWorld {
     scene: String,
     space: CommandSpace,
+    /// The ranges of a continuous scene's slots.
+    values: Option<ValueSpace>,
     grid: EffectGrid,
     reward: Vec<f64>,
     gravity: Vector,
@@ -300,6 +361,8 @@ struct Replica {
     tracked: RigidBodyHandle,
     /// `acts[offset[slot] + symbol]`.
     acts: Vec<Act>,
+    /// Per slot of a continuous scene, what its value does.
+    value_acts: Vec<ValueAct>,
     joints: Vec<JointInfo>,
 }
 
@@ -470,50 +533,67 @@ fn build_copy(
         mb.damping_mut()[aid] = j.damping as Real;
     }
 
+    let resolve = |action: &Action| -> Act {
+        match action {
+            Action::Idle | Action::Move { .. } => Act::Idle,
+            Action::Torque { joint, torque } => {
+                let j = spec.joint(joint).expect("validated: known joint");
+                Act::Torque {
+                    child: handle_of(&j.child).expect("validated"),
+                    parent: if j.parent == GROUND {
+                        None
+                    } else {
+                        handle_of(&j.parent)
+                    },
+                    torque: *torque as Real,
+                }
+            }
+            Action::Impulse { body, impulse } => Act::Impulse {
+                body: handle_of(body).expect("validated: known body"),
+                impulse: v2(*impulse),
+            },
+            Action::Force { body, force } => Act::Force {
+                body: handle_of(body).expect("validated: known body"),
+                force: v2(*force),
+            },
+            Action::Target { joint, angle } => {
+                let j = spec.joint(joint).expect("validated: known joint");
+                let m = j.motor.expect("validated: a Target's joint has a motor");
+                Act::Target {
+                    child: handle_of(&j.child).expect("validated"),
+                    angle: *angle as Real,
+                    stiffness: m.stiffness as Real,
+                    damping: m.damping as Real,
+                }
+            }
+        }
+    };
     let mut acts = Vec::new();
     for alphabet in scene.slots() {
         for sym in alphabet {
-            acts.push(match &sym.action {
-                Action::Idle | Action::Move { .. } => Act::Idle,
-                Action::Torque { joint, torque } => {
-                    let j = spec.joint(joint).expect("validated: known joint");
-                    Act::Torque {
-                        child: handle_of(&j.child).expect("validated"),
-                        parent: if j.parent == GROUND {
-                            None
-                        } else {
-                            handle_of(&j.parent)
-                        },
-                        torque: *torque as Real,
-                    }
-                }
-                Action::Impulse { body, impulse } => Act::Impulse {
-                    body: handle_of(body).expect("validated: known body"),
-                    impulse: v2(*impulse),
-                },
-                Action::Force { body, force } => Act::Force {
-                    body: handle_of(body).expect("validated: known body"),
-                    force: v2(*force),
-                },
-                Action::Target { joint, angle } => {
-                    let j = spec.joint(joint).expect("validated: known joint");
-                    let m = j.motor.expect("validated: a Target's joint has a motor");
-                    Act::Target {
-                        child: handle_of(&j.child).expect("validated"),
-                        angle: *angle as Real,
-                        stiffness: m.stiffness as Real,
-                        damping: m.damping as Real,
-                    }
-                }
-            });
+            acts.push(resolve(&sym.action));
         }
     }
+    let value_acts = match &scene.command {
+        CommandSpec::Continuous(slots) => slots
+            .iter()
+            .map(|slot| match &slot.action {
+                ValueAction::Heading { body, impulse } => ValueAct::Heading {
+                    body: handle_of(body).expect("validated: known body"),
+                    impulse: *impulse,
+                },
+                a => ValueAct::Scaled(resolve(&a.at(1.0))),
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
     let tracked_index = body_index(&spec.effect.body).expect("validated: tracked body");
     Replica {
         tracked: handles[tracked_index],
         handles,
         dynamic,
         acts,
+        value_acts,
         joints,
     }
 }
@@ -575,7 +655,13 @@ impl PhysicsWorld {
                 r
             })
             .collect();
-        let space = scene.command_space();
+        // a continuous scene's command space of symbols is a placeholder
+        // (one symbol per slot) that no command passes (`check_command`)
+        let values = scene.value_space();
+        let space = match &values {
+            Some(v) => CommandSpace::repeat(v.num_slots(), &['~']).expect("validated scene"),
+            None => scene.command_space(),
+        };
         let mut offset = Vec::new();
         let mut n = 0;
         for alphabet in scene.slots() {
@@ -593,6 +679,7 @@ impl PhysicsWorld {
         PhysicsWorld {
             scene: scene.name.clone(),
             space,
+            values,
             grid: spec.effect_grid(),
             reward: scene.reward_table(),
             gravity: v2(spec.gravity),
@@ -679,17 +766,7 @@ impl PhysicsWorld {
     pub fn trace(&mut self, command: &Command) -> Result<Trace, WorldError> {
         let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
         let outcome = self.run(command, false, |w| points.push(w.tracked_position()))?;
-        let mut poses: Vec<BodyPose> = self.copies[0]
-            .handles
-            .iter()
-            .map(|&h| {
-                let p = self.sets.bodies[h].position();
-                BodyPose {
-                    position: [p.translation.x as f64, p.translation.y as f64],
-                    angle: p.rotation.angle() as f64,
-                }
-            })
-            .collect();
+        let mut poses = self.terminal_poses();
         if let (Some((sym, _)), Some(_)) = (&self.mirror, self.twin(command)) {
             for p in &mut points[1..] {
                 *p = sym.reflect(*p);
@@ -866,16 +943,52 @@ impl PhysicsWorld {
         self.tracked_position_in(&self.sets, 0)
     }
 
-    fn diverged(&self, command: &Command, reason: String) -> WorldError {
+    fn diverged(&self, command: Cmd<'_>, reason: String) -> WorldError {
         WorldError::Diverged {
             scene: self.scene.clone(),
-            command: self.space.format(command),
+            command: self.describe(command),
             reason,
         }
     }
 
+    /// A command as written: its symbols, or its values.
+    fn describe(&self, command: Cmd<'_>) -> String {
+        match (command, &self.values) {
+            (Cmd::Symbols(c), _) => self.space.format(c),
+            (Cmd::Values(v), Some(space)) => space.format(v),
+            (Cmd::Values(v), None) => format!("{v:?}"),
+        }
+    }
+
     fn check_command(&self, command: &Command) -> Result<(), WorldError> {
+        if self.values.is_some() {
+            return Err(WorldError::BadCommand {
+                command: command.to_string(),
+                reason: format!(
+                    "scene `{}` takes values, not symbols: its slots are continuous (execute_values)",
+                    self.scene
+                ),
+            });
+        }
         super::check_command(&self.space, command)
+    }
+
+    /// `Ok` if `command` fits this world.
+    fn check(&self, command: Cmd<'_>) -> Result<(), WorldError> {
+        match (command, &self.values) {
+            (Cmd::Symbols(c), _) => self.check_command(c),
+            (Cmd::Values(v), Some(space)) => space.check(v).map_err(|e| WorldError::BadCommand {
+                command: space.format(v),
+                reason: e.to_string(),
+            }),
+            (Cmd::Values(v), None) => Err(WorldError::BadCommand {
+                command: format!("{v:?}"),
+                reason: format!(
+                    "scene `{}` takes symbols, not values: its slots are not continuous",
+                    self.scene
+                ),
+            }),
+        }
     }
 
     /// Starts the actions of one slot.
@@ -916,9 +1029,12 @@ impl PhysicsWorld {
     }
 
     /// Starts the actions of slot `slot` of `command` on copy `copy`.
-    fn apply_slot(&mut self, copy: usize, command: &Command, slot: usize) {
-        let s = command.symbols[slot] as usize;
-        self.apply(self.copies[copy].acts[self.offset[slot] + s]);
+    fn apply_slot(&mut self, copy: usize, command: Cmd<'_>, slot: usize) {
+        let act = match command {
+            Cmd::Symbols(c) => self.copies[copy].acts[self.offset[slot] + c.symbols[slot] as usize],
+            Cmd::Values(v) => self.copies[copy].value_acts[slot].at(v[slot]),
+        };
+        self.apply(act);
     }
 
     /// Removes every held force and torque (of every copy).
@@ -1122,13 +1238,13 @@ impl PhysicsWorld {
     /// One step, then the checks of the copies still running (`failed[c]`
     /// is `None`); a copy that blows up gets its error in `failed`.
     /// Returns whether some copy is still running.
-    fn step(&mut self, commands: &[Command], failed: &mut [Option<WorldError>]) -> bool {
+    fn step(&mut self, commands: &[Cmd<'_>], failed: &mut [Option<WorldError>]) -> bool {
         self.pipeline_step();
         if let Some(q) = self.quarantined() {
             for (c, &(bodies, colliders)) in q.iter().enumerate().take(commands.len()) {
                 if failed[c].is_none() && bodies + colliders > 0 {
                     failed[c] = Some(self.diverged(
-                        &commands[c],
+                        commands[c],
                         format!(
                             "Rapier quarantined {bodies} bod(ies) and {colliders} collider(s) whose state became non-finite"
                         ),
@@ -1140,7 +1256,7 @@ impl PhysicsWorld {
         for c in 0..commands.len() {
             if failed[c].is_none() {
                 match self.blown_up(c) {
-                    Some(reason) => failed[c] = Some(self.diverged(&commands[c], reason)),
+                    Some(reason) => failed[c] = Some(self.diverged(commands[c], reason)),
                     None => running = true,
                 }
             }
@@ -1161,7 +1277,7 @@ impl PhysicsWorld {
     /// sees each step once.
     fn run_copies(
         &mut self,
-        commands: &[Command],
+        commands: &[Cmd<'_>],
         out: &mut Vec<Result<Outcome, WorldError>>,
         gated: bool,
         each_step: impl FnMut(&Self),
@@ -1182,16 +1298,14 @@ impl PhysicsWorld {
     /// [`run_copies`](Self::run_copies) once, with the gating as set.
     fn run_copies_once(
         &mut self,
-        commands: &[Command],
+        commands: &[Cmd<'_>],
         out: &mut Vec<Result<Outcome, WorldError>>,
         mut each_step: impl FnMut(&Self),
     ) {
         let n = commands.len();
         assert!(n <= self.copies.len(), "more commands than copies");
-        let mut failed: Vec<Option<WorldError>> = commands
-            .iter()
-            .map(|c| self.check_command(c).err())
-            .collect();
+        let mut failed: Vec<Option<WorldError>> =
+            commands.iter().map(|&c| self.check(c).err()).collect();
         self.sets.restore(&self.pristine);
         let slots = self.space.num_slots();
         let mut running = failed.iter().any(Option::is_none);
@@ -1203,7 +1317,7 @@ impl PhysicsWorld {
             (slots, 1)
         };
         for phase in 0..phases {
-            for (c, command) in commands.iter().enumerate() {
+            for (c, &command) in commands.iter().enumerate() {
                 if failed[c].is_none() {
                     for slot in phase * width..(phase + 1) * width {
                         self.apply_slot(c, command, slot);
@@ -1255,8 +1369,8 @@ impl PhysicsWorld {
     ) -> Result<Outcome, WorldError> {
         let mut out = Vec::with_capacity(1);
         let twin = self.twin(command);
-        let run = twin.as_ref().unwrap_or(command);
-        self.run_copies(std::slice::from_ref(run), &mut out, gated, each_step);
+        let run = Cmd::Symbols(twin.as_ref().unwrap_or(command));
+        self.run_copies(&[run], &mut out, gated, each_step);
         let result = out.pop().expect("one result per command");
         match twin {
             None => result,
@@ -1284,6 +1398,106 @@ impl PhysicsWorld {
             }),
             Err(e) => Err(e),
         }
+    }
+
+    /// Runs the values of a continuous command on copy 0 from the pristine
+    /// state, calling `each_step` after every step.
+    fn run_values(
+        &mut self,
+        values: &[f64],
+        gated: bool,
+        each_step: impl FnMut(&Self),
+    ) -> Result<Outcome, WorldError> {
+        let mut out = Vec::with_capacity(1);
+        self.run_copies(&[Cmd::Values(values)], &mut out, gated, each_step);
+        out.pop().expect("one result per command")
+    }
+
+    /// The ranges of a continuous scene's slots (`None` for a scene of
+    /// symbols).
+    pub fn value_space(&self) -> Option<&ValueSpace> {
+        self.values.as_ref()
+    }
+
+    /// Executes a continuous command open loop from the start state: slot
+    /// `i` acts with the value `values[i]` (see
+    /// [`ValueAction`](crate::scene::ValueAction)), on the scene's
+    /// schedule. The same values always give the same bits. A scene of
+    /// symbols, a wrong number of values or a value outside its range is a
+    /// [`WorldError::BadCommand`].
+    ///
+    /// ```
+    /// use e3d::Scene;
+    /// let scene = Scene::builtin("arm7_continuous").unwrap();
+    /// let mut world = scene.physics_world().unwrap();
+    /// let space = world.value_space().unwrap().clone();
+    /// let v = space.parse("1.8, -1.2, 0.75, 0, 0, 0, 0").unwrap();
+    /// let a = world.execute_values(&v).unwrap();
+    /// assert_eq!(world.execute_values(&v).unwrap(), a);
+    /// assert!(world.execute_values(&[2.0; 7]).is_err()); // 2 > 1.8 on slot 0
+    /// ```
+    pub fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
+        self.run_values(values, true, |_| {})
+    }
+
+    /// Executes continuous commands (any number), up to
+    /// [`num_copies`](Self::num_copies) at once, and appends one result per
+    /// command to `out`, in order: each the one
+    /// [`execute_values`](Self::execute_values) gives on a world of one
+    /// copy (up to the copies' contact order, as for
+    /// [`execute_batch`](Self::execute_batch)).
+    pub fn execute_values_batch(
+        &mut self,
+        commands: &[Vec<f64>],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+    ) {
+        out.reserve(commands.len());
+        for batch in commands.chunks(self.copies.len()) {
+            let batch: Vec<Cmd<'_>> = batch.iter().map(|v| Cmd::Values(v)).collect();
+            self.run_copies(&batch, out, true, |_| {});
+        }
+    }
+
+    /// [`trace`](Self::trace) of a continuous command.
+    pub fn trace_values(&mut self, values: &[f64]) -> Result<Trace, WorldError> {
+        let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
+        let outcome = self.run_values(values, false, |w| points.push(w.tracked_position()))?;
+        Ok(Trace {
+            points,
+            poses: self.terminal_poses(),
+            outcome,
+        })
+    }
+
+    /// [`motion`](Self::motion) of a continuous command.
+    pub fn motion_values(&mut self, values: &[f64]) -> Result<Motion, WorldError> {
+        let dt = self.dt;
+        let mut frames = vec![self.frame_of(&self.pristine, 0.0)];
+        let outcome = self.run_values(values, false, |w| {
+            let t = frames.len() as f64 * dt;
+            frames.push(w.frame_of(&w.sets, t));
+        })?;
+        Ok(Motion {
+            bodies: self.body_names.clone(),
+            joints: self.joint_names.clone(),
+            frames,
+            outcome,
+        })
+    }
+
+    /// The pose of every body of copy 0 now.
+    fn terminal_poses(&self) -> Vec<BodyPose> {
+        self.copies[0]
+            .handles
+            .iter()
+            .map(|&h| {
+                let p = self.sets.bodies[h].position();
+                BodyPose {
+                    position: [p.translation.x as f64, p.translation.y as f64],
+                    angle: p.rotation.angle() as f64,
+                }
+            })
+            .collect()
     }
 
     /// Restores every Rapier set to the pristine state, as before each
@@ -1322,7 +1536,8 @@ impl PhysicsWorld {
             commands.into()
         };
         for batch in runs.chunks(self.copies.len()) {
-            self.run_copies(batch, out, true, |_| {});
+            let batch: Vec<Cmd<'_>> = batch.iter().map(Cmd::Symbols).collect();
+            self.run_copies(&batch, out, true, |_| {});
         }
         for (k, (c, t)) in commands.iter().zip(&twins).enumerate() {
             if let Some(t) = t {

@@ -499,6 +499,7 @@ impl<'s> Executor<'s> {
         // a scene edited in code is checked here, not left to panic in build()
         scene
             .validate()
+            .and_then(|()| scene.require_symbols("an executor (table, memo or lockstep)"))
             .map_err(|e| WorldError::Other(e.to_string()))?;
         let memo_cap = options.memo_cap;
         let space = scene.command_space();

@@ -121,6 +121,9 @@ pub fn sample_reach(
     seed: u64,
 ) -> Result<ReachSample, crate::WorldError> {
     use rand::{RngExt, SeedableRng};
+    if let Some(values) = scene.value_space() {
+        return sample_reach_values(scene, &values, samples, seed);
+    }
     let space = scene.command_space();
     let exhaustive = space.num_commands().is_some_and(|n| n <= samples);
     let total = if exhaustive {
@@ -161,6 +164,37 @@ pub fn sample_reach(
     Ok(ReachSample {
         samples: total,
         exhaustive,
+        counts,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// [`sample_reach`] of a continuous scene: `samples` commands drawn by
+/// the uniform sampler ([`UniformValues`](crate::UniformValues)) seeded
+/// `seed`, on live physics.
+fn sample_reach_values(
+    scene: &crate::Scene,
+    values: &crate::ValueSpace,
+    samples: u64,
+    seed: u64,
+) -> Result<ReachSample, crate::WorldError> {
+    use crate::ContinuousLearner;
+    use rand::SeedableRng;
+    let mut world = scene
+        .physics_world()
+        .expect("continuous scenes are physics scenes");
+    let mut sampler = crate::UniformValues::new(values);
+    let mut rng = crate::SessionRng::seed_from_u64(seed);
+    let mut counts = vec![0u64; scene.num_effects()];
+    let start = std::time::Instant::now();
+    let mut v = Vec::new();
+    for _ in 0..samples {
+        sampler.propose(&mut rng, &mut v);
+        counts[world.execute_values(&v)?.effect] += 1;
+    }
+    Ok(ReachSample {
+        samples,
+        exhaustive: false,
         counts,
         seconds: start.elapsed().as_secs_f64(),
     })

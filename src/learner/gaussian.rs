@@ -1,0 +1,240 @@
+//! Learners of continuous commands: a Gaussian E3D and the uniform sampler.
+
+use super::{ContinuousLearner, LearnerError, Params};
+use crate::command::ValueSpace;
+use crate::effect::{log_floored, EffectModel, Target};
+use crate::rng::SessionRng;
+use crate::world::Outcome;
+use rand::RngExt;
+
+/// The standard deviation a [`GaussianE3d`] slot starts with, in the unit
+/// coordinates of its range (`[-1, 1]`): `1 / sqrt(3)`, the uniform
+/// sampler's.
+pub const START_SD: f64 = 0.577_350_269_189_625_8;
+
+/// The smallest and largest standard deviation of a slot, in unit
+/// coordinates: a policy neither collapses onto one value (from which the
+/// score would blow up) nor spreads far beyond its range.
+pub const SD_RANGE: (f64, f64) = (0.02, 2.0);
+
+/// How far outside its range a slot's mean may go, in unit coordinates
+/// (`[-MEAN_BOUND, MEAN_BOUND]`): beyond the range, draws are clamped to its
+/// ends, so a mean past 1.5 only makes the end value surer.
+pub const MEAN_BOUND: f64 = 1.5;
+
+/// The rate of the running baseline of the drive.
+pub const BASELINE_RATE: f64 = 0.05;
+
+/// The step of the policy is `POLICY_STEP x alpha` (a mean moves by at most
+/// this times the advantage times the draw's distance from it).
+pub const POLICY_STEP: f64 = 0.3;
+
+/// One standard normal draw (Marsaglia's polar method: two uniforms, a
+/// square root and a logarithm per pair; the second of the pair is dropped
+/// so that each draw consumes the generator the same way whatever came
+/// before).
+fn normal(rng: &mut SessionRng) -> f64 {
+    loop {
+        let u = 2.0 * rng.random::<f64>() - 1.0;
+        let v = 2.0 * rng.random::<f64>() - 1.0;
+        let s = u * u + v * v;
+        if s > 0.0 && s < 1.0 {
+            return u * (-2.0 * s.ln() / s).sqrt();
+        }
+    }
+}
+
+/// E3D over continuous slots: a Gaussian policy per slot, updated by the
+/// paper's intrinsic reward through the score function.
+///
+/// Each slot `i` works in the unit coordinates of its range (`-1` its min,
+/// `1` its max). It draws `x_i ~ N(mu_i, sigma_i^2)` and sends the value at
+/// `clamp(x_i, -1, 1)`; the slots are independent. After a trial with
+/// effect `e` and reward `r`, the running histogram is updated first, `p
+/// <- (1 - eta) p + eta onehot(e)`, then the drive is E3D's
+///
+/// ```text
+/// G = lambda r - (1 / beta) (log p(e) - log p*(e))
+/// ```
+///
+/// and with the advantage `A = G - b` over a running baseline `b <- b +
+/// 0.05 (G - b)` (taken before it moves), each slot takes a natural-gradient
+/// step of REINFORCE on `(mu_i, log sigma_i)`:
+///
+/// ```text
+/// mu_i      <- mu_i      + 0.3 alpha A (x_i - mu_i)
+/// log sig_i <- log sig_i + 0.3 alpha A ((x_i - mu_i)^2 / sig_i^2 - 1) / 2
+/// ```
+///
+/// (the score `d log N / d mu = (x - mu) / sigma^2` times the inverse Fisher
+/// information `sigma^2`, and `d log N / d log sigma = (x - mu)^2 / sigma^2 - 1`
+/// times `1/2`). Means stay in `[-1.5, 1.5]`, deviations in `[0.02, 2]`.
+/// A rare effect (`p(e) < p*(e)`) gives `A > 0`: the means move towards the
+/// draw that reached it, and a draw far from the mean widens the policy.
+/// Every slot starts at `mu = 0`, `sigma = 1 / sqrt(3)` (the uniform
+/// sampler's spread). `docs/algorithms.md` ("Continuous commands") derives
+/// it.
+///
+/// `learn` uses the draws of the last `propose` when `values` are what it
+/// proposed; for other values (a command from elsewhere), their unit
+/// coordinates.
+///
+/// ```
+/// use e3d::{ContinuousLearner, GaussianE3d, Outcome, Params, SessionRng, Target, ValueSpace};
+/// use rand::SeedableRng;
+/// let space = ValueSpace::new(vec![(-1.8, 1.8); 2]).unwrap();
+/// let mut l = GaussianE3d::new(&space, 4, &Params::TASK1, &Target::Uniform).unwrap();
+/// let mut rng = SessionRng::seed_from_u64(1);
+/// let mut v = Vec::new();
+/// l.propose(&mut rng, &mut v);
+/// assert!(v.iter().all(|x| (-1.8..=1.8).contains(x)));
+/// assert_eq!(l.slot_gaussian(0), (0.0, 1.8 / 3f64.sqrt()));
+/// l.learn(&v, &Outcome { effect: 1, reward: 0.0, point: [0.0, 0.0] });
+/// ```
+#[derive(Debug, Clone)]
+pub struct GaussianE3d {
+    space: ValueSpace,
+    mean: Vec<f64>,
+    log_sd: Vec<f64>,
+    /// The unclamped draws of the last proposal, and the values sent.
+    draws: Vec<f64>,
+    sent: Vec<f64>,
+    model: EffectModel,
+    log_target: Vec<f64>,
+    baseline: f64,
+    step: f64,
+    lambda: f64,
+    inv_beta: f64,
+}
+
+impl GaussianE3d {
+    /// A fresh learner for `space`, `num_effects` effects, the
+    /// hyper-parameters `params` (alpha, beta, lambda, eta) and the target
+    /// `p*`.
+    pub fn new(
+        space: &ValueSpace,
+        num_effects: usize,
+        params: &Params,
+        target: &Target,
+    ) -> Result<Self, LearnerError> {
+        params.validate()?;
+        let n = space.num_slots();
+        Ok(GaussianE3d {
+            space: space.clone(),
+            mean: vec![0.0; n],
+            log_sd: vec![START_SD.ln(); n],
+            draws: Vec::with_capacity(n),
+            sent: Vec::with_capacity(n),
+            model: EffectModel::new(num_effects, params.eta)?,
+            log_target: target.log_probs(num_effects)?,
+            baseline: 0.0,
+            step: POLICY_STEP * params.alpha,
+            lambda: params.lambda,
+            inv_beta: 1.0 / params.beta,
+        })
+    }
+
+    /// The running baseline `b` of the drive.
+    pub fn baseline(&self) -> f64 {
+        self.baseline
+    }
+}
+
+impl ContinuousLearner for GaussianE3d {
+    fn name(&self) -> &str {
+        "e3d"
+    }
+
+    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
+        self.draws.clear();
+        values.clear();
+        for slot in 0..self.mean.len() {
+            let x = self.mean[slot] + self.log_sd[slot].exp() * normal(rng);
+            self.draws.push(x);
+            values.push(self.space.from_unit(slot, x));
+        }
+        self.sent.clone_from(values);
+    }
+
+    fn learn(&mut self, values: &[f64], outcome: &Outcome) {
+        if values != self.sent.as_slice() {
+            // a command this learner did not propose: its unit coordinates
+            self.draws.clear();
+            for (slot, &v) in values.iter().enumerate() {
+                let (lo, hi) = self.space.range(slot);
+                self.draws.push(2.0 * (v - lo) / (hi - lo) - 1.0);
+            }
+        }
+        let e = outcome.effect;
+        let p = self.model.observe(e);
+        let drive =
+            self.lambda * outcome.reward - self.inv_beta * (log_floored(p) - self.log_target[e]);
+        let advantage = drive - self.baseline;
+        self.baseline += BASELINE_RATE * (drive - self.baseline);
+        let k = self.step * advantage;
+        let (lo, hi) = (SD_RANGE.0.ln(), SD_RANGE.1.ln());
+        for slot in 0..self.mean.len() {
+            let sd = self.log_sd[slot].exp();
+            let d = self.draws[slot] - self.mean[slot];
+            let z2 = d * d / (sd * sd);
+            self.mean[slot] = (self.mean[slot] + k * d).clamp(-MEAN_BOUND, MEAN_BOUND);
+            self.log_sd[slot] = (self.log_sd[slot] + k * (z2 - 1.0) / 2.0).clamp(lo, hi);
+        }
+    }
+
+    fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
+        let (lo, hi) = self.space.range(slot);
+        let half = (hi - lo) / 2.0;
+        (
+            lo + (self.mean[slot] + 1.0) * half,
+            self.log_sd[slot].exp() * half,
+        )
+    }
+}
+
+/// The uniform baseline of continuous commands: every slot's value drawn
+/// uniformly in its range, independently; learns nothing.
+///
+/// ```
+/// use e3d::{ContinuousLearner, SessionRng, UniformValues, ValueSpace};
+/// use rand::SeedableRng;
+/// let space = ValueSpace::new(vec![(0.0, 2.0), (-1.0, 1.0)]).unwrap();
+/// let mut l = UniformValues::new(&space);
+/// let mut v = Vec::new();
+/// l.propose(&mut SessionRng::seed_from_u64(0), &mut v);
+/// assert!((0.0..2.0).contains(&v[0]) && (-1.0..1.0).contains(&v[1]));
+/// assert_eq!(l.slot_gaussian(0), (1.0, 2.0 / 12f64.sqrt())); // its mean and sd
+/// ```
+#[derive(Debug, Clone)]
+pub struct UniformValues {
+    space: ValueSpace,
+}
+
+impl UniformValues {
+    /// The sampler of `space`.
+    pub fn new(space: &ValueSpace) -> Self {
+        UniformValues {
+            space: space.clone(),
+        }
+    }
+}
+
+impl ContinuousLearner for UniformValues {
+    fn name(&self) -> &str {
+        "uniform"
+    }
+
+    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
+        values.clear();
+        for &(lo, hi) in self.space.ranges() {
+            values.push(lo + (hi - lo) * rng.random::<f64>());
+        }
+    }
+
+    fn learn(&mut self, _values: &[f64], _outcome: &Outcome) {}
+
+    fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
+        let (lo, hi) = self.space.range(slot);
+        ((lo + hi) / 2.0, (hi - lo) / 12f64.sqrt())
+    }
+}
