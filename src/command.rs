@@ -518,7 +518,7 @@ mod tests {
         );
         assert!(matches!(
             s.parse("ES"),
-            Err(CommandError::WrongCount { found: 2, .. })
+            Err(CommandError::WrongLength { found: 2, .. })
         ));
     }
 

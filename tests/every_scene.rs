@@ -7,6 +7,10 @@ use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};
 fn every_scene_with_every_learner_gives_effects_in_range_and_repeats() {
     for (name, _) in BUILTIN {
         let scene = Scene::builtin(name).unwrap();
+        if scene.is_continuous() {
+            // its own learners, on live physics (tests/continuous.rs)
+            continue;
+        }
         let space = scene.command_space();
         for kind in LearnerKind::ALL {
             let run = || {

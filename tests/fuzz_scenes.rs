@@ -74,6 +74,18 @@ fn check(text: &str) {
                 Err(e) => panic!("to_ron does not load back: {e}"),
             }
             // and can be built and executed
+            if let Some(space) = scene.value_space() {
+                let mut w = scene
+                    .physics_world()
+                    .expect("continuous scenes are physics");
+                let lows: Vec<f64> = space.ranges().iter().map(|r| r.0).collect();
+                let _ = w.execute_values(&lows);
+                assert!(
+                    scene.try_build().is_err(),
+                    "a continuous scene has no world of symbols"
+                );
+                return;
+            }
             let mut w = scene.build();
             let c = w.command_space().first();
             let _ = w.execute(&c);

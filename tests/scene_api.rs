@@ -390,17 +390,32 @@ const VALUES: &[&str] = &[
 /// loader (of `to_ron`'s text) agree, and none panics.
 fn agree(scene: &Scene) -> Result<(), TestCaseError> {
     let verdict = scene.validate();
-    let built = catch_unwind(AssertUnwindSafe(|| scene.try_build()));
+    // a world of symbols, or for a continuous scene its physics world: a
+    // closure that executes one command
+    type Run<'a> = Box<dyn FnMut() -> Result<(), e3d::WorldError> + 'a>;
+    let built = catch_unwind(AssertUnwindSafe(|| -> Result<Run<'_>, e3d::SceneError> {
+        if !scene.is_continuous() {
+            let mut world = scene.try_build()?;
+            let c = world.command_space().first();
+            Ok(Box::new(move || world.execute(&c).map(drop)))
+        } else {
+            {
+                let mut world = scene.try_physics_world()?.expect("a physics scene");
+                let space = scene.value_space().expect("validated");
+                let lows: Vec<f64> = space.ranges().iter().map(|r| r.0).collect();
+                Ok(Box::new(move || world.execute_values(&lows).map(drop)))
+            }
+        }
+    }));
     let Ok(built) = built else {
         return Err(TestCaseError::fail("try_build panicked"));
     };
     let loaded = Scene::parse(&scene.to_ron(), "edited.ron");
     match (&verdict, built, loaded) {
-        (Ok(()), Ok(mut world), Ok(back)) => {
+        (Ok(()), Ok(mut run), Ok(back)) => {
             prop_assert_eq!(&back, scene);
-            let c = world.command_space().first();
             // a valid scene executes (or reports a blow-up) without a panic
-            let ran = catch_unwind(AssertUnwindSafe(|| world.execute(&c).map(drop)));
+            let ran = catch_unwind(AssertUnwindSafe(|| run()));
             prop_assert!(ran.is_ok(), "execute panicked");
         }
         (Err(v), Err(b), Err(l)) => {
@@ -461,7 +476,7 @@ proptest! {
         let mut scene = scene.clone();
         for (kind, i, j, x) in edits {
             let n = scene.slots().count();
-            if n == 0 && kind < 3 {
+            if (n == 0 || scene.is_continuous()) && kind < 3 {
                 continue;
             }
             match kind {

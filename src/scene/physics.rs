@@ -966,13 +966,22 @@ impl PhysicsSpec {
                         .name
                         .as_deref()
                         .map_or(String::new(), |n| format!(" ({n})"));
-                    let bad_at = |_field: &str, what: String| Invalid {
-                        nth: i,
-                        ..Invalid::at(
-                            "range",
-                            None,
-                            &format!("slot {i}{name} at {}: {what}", show(v)),
-                        )
+                    // what is wrong with the action itself (a name, a
+                    // motor) is placed there; a number out of bounds at an
+                    // end of the range, at the range
+                    let bad_at = |field: &str, what: String| match field {
+                        "action" => Invalid {
+                            nth: i,
+                            ..Invalid::at("action", None, &format!("slot {i}{name}: {what}"))
+                        },
+                        _ => Invalid {
+                            nth: i,
+                            ..Invalid::at(
+                                "range",
+                                None,
+                                &format!("slot {i}{name} at {}: {what}", show(v)),
+                            )
+                        },
                     };
                     self.check_action(&slot.action.at(v), &position, &bad_at)?;
                 }

@@ -231,8 +231,11 @@ fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, FactoryError>
     // sweeps run commands of symbols (tables, memo, lockstep): a
     // continuous scene is refused before anything runs
     let symbols = |s: Scene| {
-        s.require_symbols("a sweep")
-            .map_err(|e| FactoryError::Failed(SweepError::Input(e)))?;
+        if s.is_continuous() {
+            return Err(FactoryError::Unknown(format!(
+                "a scene of symbols (a sweep runs tables, the memo and lockstep sessions), found `{name}`, whose slots take values (`Continuous`): run it with `e3d run {name} --sessions N`"
+            )));
+        }
         Ok(s)
     };
     if path.exists() {
@@ -243,7 +246,11 @@ fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, FactoryError>
     if let Some(s) = Scene::builtin(name) {
         return symbols(s);
     }
-    let names: Vec<&str> = crate::scene::BUILTIN.iter().map(|(n, _)| *n).collect();
+    let names: Vec<&str> = crate::scene::BUILTIN
+        .iter()
+        .map(|(n, _)| *n)
+        .filter(|n| Scene::builtin(n).is_some_and(|s| !s.is_continuous()))
+        .collect();
     Err(FactoryError::Unknown(format!(
         "a scene file (relative to the sweep file) or a built-in scene ({}), found `{name}`: no file {}{}",
         names.join(", "),
