@@ -1,6 +1,8 @@
 //! The physics scenes: one rollout of each shipped physics scene (one
 //! command per world and many copies per world), the reset alone, and a
-//! 5000-trial E3D session on each scene's outcome table.
+//! 5000-trial E3D session on each scene's outcome table; and a trial of
+//! continuous commands on arm7_continuous (one Gaussian E3D trial on live
+//! physics).
 //!
 //! `cargo bench --bench physics`; criterion prints each rate (elements/s
 //! are rollouts/s or trials/s). The figures are in docs/benchmarks.md.
@@ -93,5 +95,38 @@ fn physics(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, physics);
+/// A trial of continuous commands: the Gaussian E3D proposes, arm7 runs
+/// the values live, the learner learns (what `e3d run arm7_continuous`
+/// repeats on every core).
+fn continuous(c: &mut Criterion) {
+    use e3d::{ContinuousLearner, SessionRng};
+    use rand::SeedableRng;
+    let scene = Scene::builtin("arm7_continuous").unwrap();
+    let space = scene.value_space().unwrap();
+    let mut world = scene.physics_world().unwrap();
+    let mut l = LearnerKind::E3d
+        .make_continuous(
+            &Params::TASK1,
+            &space,
+            scene.num_effects(),
+            &Target::Uniform,
+        )
+        .unwrap();
+    let mut rng = SessionRng::seed_from_u64(0);
+    let mut v = Vec::new();
+    let mut g = c.benchmark_group("arm7_continuous");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("gaussian e3d trial (live rollout)", |b| {
+        b.iter(|| {
+            l.propose(&mut rng, &mut v);
+            let o = world.execute_values(&v).unwrap();
+            l.learn(&v, &o);
+            black_box(o.effect)
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, physics, continuous);
 criterion_main!(benches);
