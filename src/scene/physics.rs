@@ -17,6 +17,7 @@
 //! ),
 //! ```
 
+use super::shorthand::{ChainSpec, WallSpec};
 use super::symmetry::Symmetry;
 use super::{Action, Invalid, Scene};
 use crate::effect::EffectGrid;
@@ -185,7 +186,10 @@ pub struct PhysicsSpec {
     /// the command is reported as a blown-up simulation (default 100).
     #[serde(default = "default_max_speed")]
     pub max_speed: f64,
-    /// The bodies, in the order they are built.
+    /// The bodies, in the order they are built (default none: a scene
+    /// of shorthands only). After the shorthands' expansion, the walls'
+    /// boxes and the chains' links come first (see [`shorthand`](super::shorthand)).
+    #[serde(default)]
     pub bodies: Vec<BodySpec>,
     /// Revolute joints between bodies (or a body and `ground`). They must
     /// form trees: every body is the `child` of at most one joint.
@@ -195,6 +199,15 @@ pub struct PhysicsSpec {
     pub schedule: Schedule,
     /// The tracked point and the grid its terminal position is binned on.
     pub effect: EffectSpec,
+    /// Serial chains of box links (default none): a shorthand for their
+    /// bodies and joints, expanded at load (see [`ChainSpec`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub chains: Vec<ChainSpec>,
+    /// Fixed walls along polylines or around rooms, with doors (default
+    /// none): a shorthand for their boxes, expanded at load (see
+    /// [`WallSpec`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub walls: Vec<WallSpec>,
     /// A reflection that leaves the scene unchanged (default none): then
     /// of each pair of mirror-image commands only one is simulated, the
     /// other's outcome is its reflection (see [`Symmetry`]). Exact in real
@@ -537,6 +550,13 @@ impl PhysicsSpec {
             .filter(|b| b.kind != BodyKind::Fixed && b.collide)
             .count()
             <= 1
+    }
+
+    /// Whether the world still holds shorthands (`chains`, `walls`) to
+    /// expand ([`Scene::expand`](crate::Scene::expand)); never for a
+    /// loaded scene.
+    pub fn has_shorthands(&self) -> bool {
+        !(self.chains.is_empty() && self.walls.is_empty())
     }
 
     /// The effect grid.
