@@ -38,3 +38,13 @@ fn arm7_expands_to_the_scene_it_replaced() {
 fn puck_rooms_expands_to_the_scene_it_replaced() {
     same_as_before("puck_rooms");
 }
+
+#[test]
+fn arm4_gravity_expands_to_the_scene_it_replaced() {
+    same_as_before("arm4_gravity");
+}
+
+#[test]
+fn pendulum3_expands_to_the_scene_it_replaced() {
+    same_as_before("pendulum3");
+}
