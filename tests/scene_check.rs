@@ -144,7 +144,9 @@ fn a_wall_outside_the_grid_and_a_start_outside_it_are_warned_about() {
     assert!(err.contains("warning: scene three_rooms: fixed body `wall_south` spans [-0.1, 9.1] x [-5.1, -5], wholly outside the effect grid [0, 9] x [0, 3]: it bounds no motion on the grid (a misplaced wall?)"), "{err}");
     assert!(err.contains("warning: scene three_rooms: the tracked point starts at (10.5, 2.5), outside the effect grid [0, 9] x [0, 3]"), "{err}");
     assert!(err.contains("warning: scene three_rooms: dynamic body `puck` starts at (10.5, 2.5), outside the effect grid"), "{err}");
-    assert_eq!(err.lines().count(), 4, "{err}");
+    // the puck, moved past the old east wall, is no longer in a room
+    assert!(err.contains("warning: scene three_rooms: the walls do not enclose the tracked body `puck`: from its start (10.5, 2.5) it may leave them near"), "{err}");
+    assert_eq!(err.lines().count(), 5, "{err}");
 }
 
 #[test]
@@ -182,4 +184,48 @@ fn sample_reach_is_exact_on_a_small_space_and_repeats_by_seed() {
     assert_eq!((a.samples, a.counts.iter().sum::<u64>()), (500, 500));
     assert_eq!(a.counts, b.counts);
     assert_ne!(a.counts, sample_reach(&grid, 500, 10).unwrap().counts);
+}
+
+/// The closed-room warning: puck_rooms' walls enclose the puck; a gap in
+/// them is named by a point near it.
+#[test]
+fn walls_with_a_gap_are_warned_about_with_a_point_near_it() {
+    let (_, err) = check(&["--samples", "0", "puck_rooms"]);
+    assert!(!err.contains("do not enclose"), "{err}");
+    // the east wall cut by a door y in [0.2, 0.8] (wider than the puck's 0.4 m)
+    let text = builtin("puck_rooms").replace(
+        "placement: Outside,",
+        "placement: Outside, doors: [((6.0, 0.2), (6.0, 0.8))],",
+    );
+    let (_, err) = check(&["--samples", "0", &write("east_gap.ron", &text)]);
+    let line = err
+        .lines()
+        .find(|l| l.contains("do not enclose"))
+        .unwrap_or_else(|| panic!("no warning: {err}"));
+    assert!(
+        line.contains("the walls do not enclose the tracked body `puck`: from its start (0.5, 2.5) it may leave them near (6."),
+        "{line}"
+    );
+    // the point: at the gap, x just past the wall's line, y within the gap
+    let near = line.split("near (").nth(1).unwrap();
+    let (x, rest) = near.split_once(", ").unwrap();
+    let y: f64 = rest.split(')').next().unwrap().parse().unwrap();
+    let x: f64 = x.parse().unwrap();
+    assert!((6.0..=6.2).contains(&x) && (0.2..=0.8).contains(&y), "{line}");
+    // a gap narrower than the puck's radius is no way out
+    let text = builtin("puck_rooms").replace(
+        "placement: Outside,",
+        "placement: Outside, doors: [((6.0, 0.4), (6.0, 0.55))],",
+    );
+    let (_, err) = check(&["--samples", "0", &write("narrow_gap.ron", &text)]);
+    assert!(!err.contains("do not enclose"), "{err}");
+    // no wall at all on the north side: the puck leaves through the top
+    let text = std::fs::read_to_string("tests/scenes/puck_rooms_expanded.ron")
+        .unwrap()
+        .replace("position: (3.0, 3.05)", "position: (3.0, 13.05)");
+    let (_, err) = check(&["--samples", "0", &write("no_north.ron", &text)]);
+    assert!(
+        err.contains("from its start (0.5, 2.5) it may leave them near (0.52, 3.07)"),
+        "{err}"
+    );
 }

@@ -27,6 +27,7 @@
 //! panics; [`Scene::to_ron`] writes it as text that loads back equal.
 //! `docs/scenes.md` documents every field.
 
+pub mod enclosure;
 mod error;
 pub mod overlap;
 pub mod physics;

@@ -1134,6 +1134,18 @@ impl PhysicsSpec {
                 ));
             }
         }
+        // walls that do not enclose a free tracked body
+        if let Some(l) = super::enclosure::leak(self) {
+            out.push(format!(
+                "the walls do not enclose the tracked body `{}`: from its start ({}, {}) it may leave them near ({:.2}, {:.2}) (fixed bodies rasterised on {} m cells; a gap of 1.5 times its radius or more counts)",
+                self.effect.body,
+                show(self.effect_start().0),
+                show(self.effect_start().1),
+                l.point.0,
+                l.point.1,
+                show(l.cell)
+            ));
+        }
         // a fixed body that neither lies in nor touches the effect grid
         // bounds no motion there: most likely a misplaced wall
         let tol = super::overlap::OVERLAP_TOLERANCE;
@@ -1156,6 +1168,10 @@ impl PhysicsSpec {
             }
         }
         out
+    }
+
+    fn effect_start(&self) -> (f64, f64) {
+        self.body(&self.effect.body).map_or((0.0, 0.0), |b| b.position)
     }
 
     fn body_names(&self) -> String {
