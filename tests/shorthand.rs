@@ -48,3 +48,66 @@ fn arm4_gravity_expands_to_the_scene_it_replaced() {
 fn pendulum3_expands_to_the_scene_it_replaced() {
     same_as_before("pendulum3");
 }
+
+/// A scene with a free puck inside the closed wall `wall`.
+fn puck_in(wall: &str) -> String {
+    format!(
+        r#"Scene(
+    name: "closed",
+    world: Physics(
+        walls: [{wall}],
+        bodies: [(name: "puck", shape: Ball(radius: 0.2), mass: 1.0, position: (1.0, 1.0), lock_rotation: true)],
+        schedule: Sequential(phase: 1.0, settle: 1.0),
+        effect: (body: "puck", grid: (rows: 3, cols: 3, min: (-1.0, -1.0), max: (3.0, 3.0))),
+    ),
+    command: Repeat(slots: 1, alphabet: [(symbol: 'E', action: Impulse(body: "puck", impulse: (1.0, 0.0)))]),
+)"#
+    )
+}
+
+fn leaks(text: &str) -> Option<(f64, f64)> {
+    let s = Scene::parse(text, "closed.ron").unwrap_or_else(|e| panic!("{e}"));
+    let WorldSpec::Physics(p) = &s.world else {
+        panic!()
+    };
+    e3d::scene::enclosure::leak(p).map(|l| l.point)
+}
+
+/// A closed wall is closed at every corner, whatever its placement and its
+/// corners' angles (a triangle, a pentagon, either way round, a room); a
+/// door wider than the puck opens it, and the way out is named near the door.
+#[test]
+fn closed_walls_enclose_their_inside_except_at_doors() {
+    let shapes = [
+        "points: [(-0.5, -0.5), (2.8, 0.2), (0.6, 2.9)]",
+        "points: [(0.6, 2.9), (2.8, 0.2), (-0.5, -0.5)]",
+        "points: [(1.0, -0.6), (2.6, 0.5), (2.0, 2.4), (0.0, 2.4), (-0.6, 0.5)]",
+        "room: ((-0.5, -0.5), (2.5, 2.5))",
+    ];
+    for shape in shapes {
+        for placement in ["Centred", "Outside", "Inside"] {
+            let closed = if shape.starts_with("room") { "" } else { "closed: true, " };
+            let wall = format!("(name: \"w\", {shape}, {closed}thickness: 0.05, placement: {placement})");
+            assert_eq!(leaks(&puck_in(&wall)), None, "{wall}");
+            // an open polyline is open between its ends
+            if !shape.starts_with("room") {
+                let open = wall.replace("closed: true, ", "");
+                assert!(leaks(&puck_in(&open)).is_some(), "{open}");
+            }
+        }
+    }
+    // a door of 0.8 m in the room's east side, x = 2.5, y in [0.6, 1.4]
+    let wall = "(name: \"w\", room: ((-0.5, -0.5), (2.5, 2.5)), thickness: 0.05, doors: [((2.5, 0.6), (2.5, 1.4))])";
+    let (x, y) = leaks(&puck_in(wall)).expect("a door wider than the puck");
+    assert!((2.4..2.6).contains(&x) && (0.6..1.4).contains(&y), "({x}, {y})");
+    // its generated boxes: the east side in two, named in order
+    let s = Scene::parse(&puck_in(wall), "door.ron").unwrap();
+    let WorldSpec::Physics(p) = &s.world else {
+        panic!()
+    };
+    let names: Vec<&str> = p.bodies.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["w_south", "w_north", "w_west", "w_east1", "w_east2", "puck"]
+    );
+}
