@@ -111,3 +111,49 @@ fn closed_walls_enclose_their_inside_except_at_doors() {
         ["w_south", "w_north", "w_west", "w_east1", "w_east2", "puck"]
     );
 }
+
+/// The example of docs/scenes.md ("Walls (shorthand)") loads, and generates
+/// what the page says.
+#[test]
+fn the_docs_example_generates_what_the_docs_say() {
+    let doc = std::fs::read_to_string("docs/scenes.md").unwrap();
+    let block = doc
+        .split("<!-- example: shorthands -->\n```ron\n")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("the example in docs/scenes.md");
+    let s = Scene::parse(block, "docs/scenes.md").unwrap_or_else(|e| panic!("{e}"));
+    let WorldSpec::Physics(p) = &s.world else {
+        panic!()
+    };
+    let names: Vec<&str> = p.bodies.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["room_south", "room_north", "room_west", "room_east", "split1", "split2", "arm1", "arm2"]
+    );
+    let joints: Vec<(&str, &str, &str)> = p
+        .joints
+        .iter()
+        .map(|j| (j.name.as_str(), j.parent.as_str(), j.child.as_str()))
+        .collect();
+    assert_eq!(joints, [("hinge1", "ground", "arm1"), ("hinge2", "arm1", "arm2")]);
+    assert_eq!(p.joints[0].parent_anchor, (0.5, 1.0));
+    assert_eq!(p.joints[1].damping, 0.1);
+    assert_eq!(p.bodies[6].position, (0.65, 1.0));
+    assert_eq!(p.bodies[7].position, (0.95, 1.0));
+    assert_eq!(p.bodies[4].position, (2.0, 0.25));
+    assert_eq!(p.bodies[5].position, (2.0, 1.75));
+    // and it runs
+    let mut w = s.build();
+    let c = s.command_space().parse("+").unwrap();
+    w.execute(&c).unwrap();
+    // the walls' section's example is puck_rooms' own
+    let walls = doc
+        .split("```ron\nwalls: [\n")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .unwrap();
+    let puck = std::fs::read_to_string("scenes/puck_rooms.ron").unwrap();
+    let flat = |t: &str| t.split_whitespace().collect::<String>();
+    assert!(flat(&puck).contains(&flat(walls)), "{walls}");
+}
