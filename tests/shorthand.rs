@@ -157,3 +157,9 @@ fn the_docs_example_generates_what_the_docs_say() {
     let flat = |t: &str| t.split_whitespace().collect::<String>();
     assert!(flat(&puck).contains(&flat(walls)), "{walls}");
 }
+
+#[test]
+fn puck_rooms14_and_arm7x5_expand_to_the_scenes_they_replaced() {
+    same_as_before("puck_rooms14");
+    same_as_before("arm7x5");
+}

@@ -111,7 +111,7 @@ pub fn leak(spec: &PhysicsSpec) -> Option<Leak> {
                 }
                 let p = centre(i, j);
                 let d = s.distance_to_point(&pose, v(p), true) as f64;
-                if d < clearance {
+                if d <= clearance {
                     blocked[j * nx + i] = true;
                 }
             }

@@ -452,10 +452,14 @@ fn locate_within(text: &str, list: &str, k: usize, field: &str) -> Option<(usize
     let code = blank_comments(text);
     let b = code.as_bytes();
     let is_word = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    // on bytes: `i` need not be a character boundary (text in strings)
     let name_at = |i: usize, name: &str| {
-        code[i..].starts_with(name)
+        b[i..].starts_with(name.as_bytes())
             && (i == 0 || !is_word(b[i - 1]))
-            && code[i + name.len()..].trim_start().starts_with(':')
+            && b[i + name.len()..]
+                .iter()
+                .find(|c| !c.is_ascii_whitespace())
+                == Some(&b':')
     };
     let mut in_str = false;
     let mut start = None;

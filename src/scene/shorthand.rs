@@ -42,6 +42,10 @@ pub enum Each<T> {
 
 impl<T: Clone> Each<T> {
     /// The value of item `i` (0-based); a list too short gives its last.
+    ///
+    /// # Panics
+    /// On an empty list (the loader refuses a list that is not one value
+    /// per item).
     pub fn get(&self, i: usize) -> T {
         match self {
             Each::All(v) => v.clone(),
