@@ -473,7 +473,10 @@ fn scene_check_expanded_prints_a_scene_that_loads_back_equal() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let text = String::from_utf8(o.stdout).unwrap();
         assert!(text.starts_with("Scene(\n"), "{text}");
-        assert!(!text.contains("chains:") && !text.contains("walls:"), "{text}");
+        assert!(
+            !text.contains("chains:") && !text.contains("walls:"),
+            "{text}"
+        );
         let file = tmp(&format!("expanded_{name}.ron"));
         std::fs::write(&file, &text).unwrap();
         let back = e3d::Scene::load(&file).unwrap();

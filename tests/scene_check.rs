@@ -211,7 +211,10 @@ fn walls_with_a_gap_are_warned_about_with_a_point_near_it() {
     let (x, rest) = near.split_once(", ").unwrap();
     let y: f64 = rest.split(')').next().unwrap().parse().unwrap();
     let x: f64 = x.parse().unwrap();
-    assert!((6.0..=6.2).contains(&x) && (0.2..=0.8).contains(&y), "{line}");
+    assert!(
+        (6.0..=6.2).contains(&x) && (0.2..=0.8).contains(&y),
+        "{line}"
+    );
     // a gap narrower than the puck's radius is no way out
     let text = builtin("puck_rooms").replace(
         "placement: Outside,",

@@ -86,8 +86,13 @@ fn closed_walls_enclose_their_inside_except_at_doors() {
     ];
     for shape in shapes {
         for placement in ["Centred", "Outside", "Inside"] {
-            let closed = if shape.starts_with("room") { "" } else { "closed: true, " };
-            let wall = format!("(name: \"w\", {shape}, {closed}thickness: 0.05, placement: {placement})");
+            let closed = if shape.starts_with("room") {
+                ""
+            } else {
+                "closed: true, "
+            };
+            let wall =
+                format!("(name: \"w\", {shape}, {closed}thickness: 0.05, placement: {placement})");
             assert_eq!(leaks(&puck_in(&wall)), None, "{wall}");
             // an open polyline is open between its ends
             if !shape.starts_with("room") {
@@ -99,7 +104,10 @@ fn closed_walls_enclose_their_inside_except_at_doors() {
     // a door of 0.8 m in the room's east side, x = 2.5, y in [0.6, 1.4]
     let wall = "(name: \"w\", room: ((-0.5, -0.5), (2.5, 2.5)), thickness: 0.05, doors: [((2.5, 0.6), (2.5, 1.4))])";
     let (x, y) = leaks(&puck_in(wall)).expect("a door wider than the puck");
-    assert!((2.4..2.6).contains(&x) && (0.6..1.4).contains(&y), "({x}, {y})");
+    assert!(
+        (2.4..2.6).contains(&x) && (0.6..1.4).contains(&y),
+        "({x}, {y})"
+    );
     // its generated boxes: the east side in two, named in order
     let s = Scene::parse(&puck_in(wall), "door.ron").unwrap();
     let WorldSpec::Physics(p) = &s.world else {
@@ -129,14 +137,26 @@ fn the_docs_example_generates_what_the_docs_say() {
     let names: Vec<&str> = p.bodies.iter().map(|b| b.name.as_str()).collect();
     assert_eq!(
         names,
-        ["room_south", "room_north", "room_west", "room_east", "split1", "split2", "arm1", "arm2"]
+        [
+            "room_south",
+            "room_north",
+            "room_west",
+            "room_east",
+            "split1",
+            "split2",
+            "arm1",
+            "arm2"
+        ]
     );
     let joints: Vec<(&str, &str, &str)> = p
         .joints
         .iter()
         .map(|j| (j.name.as_str(), j.parent.as_str(), j.child.as_str()))
         .collect();
-    assert_eq!(joints, [("hinge1", "ground", "arm1"), ("hinge2", "arm1", "arm2")]);
+    assert_eq!(
+        joints,
+        [("hinge1", "ground", "arm1"), ("hinge2", "arm1", "arm2")]
+    );
     assert_eq!(p.joints[0].parent_anchor, (0.5, 1.0));
     assert_eq!(p.joints[1].damping, 0.1);
     assert_eq!(p.bodies[6].position, (0.65, 1.0));

@@ -117,13 +117,14 @@ pub fn leak(spec: &PhysicsSpec) -> Option<Leak> {
             }
         }
     }
-    let outside = |p: (f64, f64)| {
-        p.0 < wlo[0] || p.0 > whi[0] || p.1 < wlo[1] || p.1 > whi[1]
-    };
+    let outside = |p: (f64, f64)| p.0 < wlo[0] || p.0 > whi[0] || p.1 < wlo[1] || p.1 > whi[1];
     let si = (((start.0 - lo[0]) / h) as usize).min(nx - 1);
     let sj = (((start.1 - lo[1]) / h) as usize).min(ny - 1);
     if outside(start) {
-        return Some(Leak { point: start, cell: h });
+        return Some(Leak {
+            point: start,
+            cell: h,
+        });
     }
     if blocked[sj * nx + si] {
         return None;

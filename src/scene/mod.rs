@@ -66,6 +66,10 @@ pub struct Scene {
 }
 
 /// The kind of world a scene describes.
+// A physics world is larger than a grid (its shorthand lists added the
+// last 48 bytes); a scene is built once per run, and boxing it would change
+// every `WorldSpec::Physics(p)` pattern of the API.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum WorldSpec {
     /// A grid of cells with walls between some neighbours; every symbol is a

@@ -1171,7 +1171,8 @@ impl PhysicsSpec {
     }
 
     fn effect_start(&self) -> (f64, f64) {
-        self.body(&self.effect.body).map_or((0.0, 0.0), |b| b.position)
+        self.body(&self.effect.body)
+            .map_or((0.0, 0.0), |b| b.position)
     }
 
     fn body_names(&self) -> String {

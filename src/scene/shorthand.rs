@@ -393,7 +393,11 @@ fn chain(
         ("length", c.length.len(), "lengths"),
         ("width", c.width.len(), "widths"),
         ("mass", c.mass.as_ref().and_then(Each::len), "masses"),
-        ("density", c.density.as_ref().and_then(Each::len), "densities"),
+        (
+            "density",
+            c.density.as_ref().and_then(Each::len),
+            "densities",
+        ),
         ("damping", c.damping.len(), "dampings"),
         ("motor", c.motor.as_ref().and_then(Each::len), "motors"),
         (
@@ -403,7 +407,10 @@ fn chain(
         ),
     ];
     let joint_names = (!c.joint_names.is_empty()).then_some(c.joint_names.len());
-    for (field, len, what) in counts.into_iter().chain([("joint_names", joint_names, "names")]) {
+    for (field, len, what) in counts
+        .into_iter()
+        .chain([("joint_names", joint_names, "names")])
+    {
         if let Some(m) = len {
             if m != n {
                 return Err(bad(
@@ -527,22 +534,15 @@ fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
     }
     let t = w.thickness;
     if !(t.is_finite() && t > 0.0) {
-        return Err(bad(
-            "thickness",
-            format!("a thickness > 0 m, found {t}"),
-        ));
+        return Err(bad("thickness", format!("a thickness > 0 m, found {t}")));
     }
     let pieces: Vec<Piece> = match (&w.room, w.points.is_empty()) {
-        (Some(_), false) => {
-            return Err(bad(
-                "room",
-                "`points` or `room`, not both".into(),
-            ))
-        }
+        (Some(_), false) => return Err(bad("room", "`points` or `room`, not both".into())),
         (None, true) => {
             return Err(bad(
                 "points",
-                "a line: `points: [(x, y), ...]` or `room: ((min_x, min_y), (max_x, max_y))`".into(),
+                "a line: `points: [(x, y), ...]` or `room: ((min_x, min_y), (max_x, max_y))`"
+                    .into(),
             ))
         }
         (Some((lo, hi)), true) => {
@@ -644,10 +644,7 @@ fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
         if !(finite(p) && finite(q)) || p == q {
             return Err(bad("doors", format!("{door}: two distinct finite points")));
         }
-        let Some(i) = pieces
-            .iter()
-            .position(|s| on_piece(s, p) && on_piece(s, q))
-        else {
+        let Some(i) = pieces.iter().position(|s| on_piece(s, p) && on_piece(s, q)) else {
             return Err(
                 match [p, q]
                     .into_iter()
@@ -680,7 +677,10 @@ fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
             if pair[1].0 < pair[0].1 {
                 return Err(bad(
                     "doors",
-                    format!("doors that do not overlap, but doors {} and {} do", pair[0].2, pair[1].2),
+                    format!(
+                        "doors that do not overlap, but doors {} and {} do",
+                        pair[0].2, pair[1].2
+                    ),
                 ));
             }
         }
@@ -715,12 +715,27 @@ fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
                 tidy(s.a.1 + s.u.1 * mid + s.out.1 * off),
             );
             let (shape, angle) = if s.u.1 == 0.0 {
-                (ShapeSpec::Cuboid { width: tidy(len), height: tidy(t) }, 0.0)
+                (
+                    ShapeSpec::Cuboid {
+                        width: tidy(len),
+                        height: tidy(t),
+                    },
+                    0.0,
+                )
             } else if s.u.0 == 0.0 {
-                (ShapeSpec::Cuboid { width: tidy(t), height: tidy(len) }, 0.0)
+                (
+                    ShapeSpec::Cuboid {
+                        width: tidy(t),
+                        height: tidy(len),
+                    },
+                    0.0,
+                )
             } else {
                 (
-                    ShapeSpec::Cuboid { width: tidy(len), height: tidy(t) },
+                    ShapeSpec::Cuboid {
+                        width: tidy(len),
+                        height: tidy(t),
+                    },
                     s.u.1.atan2(s.u.0),
                 )
             };
@@ -744,7 +759,11 @@ fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
         if let Some(stem) = &s.stem {
             let one = here.len() == 1;
             for (m, b) in here.iter_mut().enumerate() {
-                b.name = if one { stem.clone() } else { format!("{stem}{}", m + 1) };
+                b.name = if one {
+                    stem.clone()
+                } else {
+                    format!("{stem}{}", m + 1)
+                };
             }
         }
         boxes.extend(here);
@@ -766,7 +785,11 @@ fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
     } else if w.room.is_none() {
         let one = boxes.len() == 1;
         for (m, b) in boxes.iter_mut().enumerate() {
-            b.name = if one { w.name.clone() } else { format!("{}{}", w.name, m + 1) };
+            b.name = if one {
+                w.name.clone()
+            } else {
+                format!("{}{}", w.name, m + 1)
+            };
         }
     }
     Ok(boxes)
