@@ -132,8 +132,12 @@ pub fn run(a: SceneArgs) -> CliResult {
             expanded: true,
             ..
         } => {
-            print!("{}", load_scene(&scene)?.to_ron());
-            Ok(())
+            let text = load_scene(&scene)?.to_ron();
+            let mut stdout = std::io::stdout().lock();
+            stdout
+                .write_all(text.as_bytes())
+                .and_then(|()| stdout.flush())
+                .map_err(|e| CliError::output(format!("standard output: {e}")))
         }
         SceneCmd::Check {
             scene,

@@ -476,6 +476,12 @@ impl Scene {
     /// (numbers are written in Rust's shortest form that reads back the
     /// same bits). An invalid scene is written too, and refused when read.
     ///
+    /// A scene of [`load`](Self::load) or [`parse`](Self::parse) holds no
+    /// shorthands (they are expanded at load), so its text is the expanded
+    /// form (what `e3d scene check --expanded` prints); a scene built in
+    /// code with `chains` or `walls` is written with them, and reads back
+    /// expanded.
+    ///
     /// Plain `ron::to_string` does not read back through [`parse`](Self::parse):
     /// it writes `world: Grid((rows: ...))` and `limits: Some((-1.0, 1.0))`,
     /// which the scene dialect (newtype variants without their inner
