@@ -2,13 +2,14 @@
 //! links joined end to end) and `walls` (fixed boxes along a polyline or
 //! around a rectangular room, with door gaps).
 //!
-//! [`expand`] turns them into plain [`BodySpec`]s and [`JointSpec`]s
+//! The loader expands them into plain [`BodySpec`]s and [`JointSpec`]s
 //! before any other check runs, so every check of bodies and joints
-//! applies to generated items too. The loader expands at load:
-//! a loaded scene holds only plain bodies and joints (its `chains` and
-//! `walls` are empty), which every consumer reads as before, and
-//! [`Scene::to_ron`](super::Scene::to_ron) writes that expanded form (what
-//! `e3d scene check --expanded` prints).
+//! applies to generated items too: a loaded scene holds only plain bodies
+//! and joints (its `chains` and `walls` are empty), which every consumer
+//! reads as before, and [`Scene::to_ron`](super::Scene::to_ron) writes
+//! that expanded form (what `e3d scene check --expanded` prints). A scene
+//! built in code with shorthands is expanded by
+//! [`Scene::expand`](super::Scene::expand).
 //!
 //! The expanded `bodies` are, in this order: every wall's boxes (walls in
 //! their order, each wall's boxes in the order described at [`WallSpec`]),
