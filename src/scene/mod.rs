@@ -267,8 +267,11 @@ impl Scene {
     ///     joint_prefix: "k".into(), ..e3d::scene::ChainSpec::new(3, 0.2, 0.04) });
     /// arm.expand().unwrap();
     /// let WorldSpec::Physics(p) = &arm.world else { unreachable!() };
+    /// // a chain's links come before the bodies written in `bodies`
+    /// let names: Vec<&str> = p.bodies.iter().map(|b| b.name.as_str()).collect();
+    /// assert_eq!(names[..4], ["b1", "b2", "b3", "link1"]);
     /// assert_eq!(p.bodies.len(), 10);
-    /// assert_eq!(p.bodies[9].name, "b3");
+    /// assert_eq!(p.joints[3].name, "j1");
     /// ```
     pub fn expand(&mut self) -> Result<(), SceneError> {
         let name = self.name.clone();
