@@ -462,3 +462,29 @@ fn plot_help_names_the_file_it_reads() {
     assert!(help.contains("summary.csv names it"), "{help}");
     assert!(!help.contains("results.csv"), "{help}");
 }
+
+/// `scene check --expanded` prints the scene with its shorthands expanded:
+/// RON that loads back as the same scene (and as the file it replaced).
+#[test]
+fn scene_check_expanded_prints_a_scene_that_loads_back_equal() {
+    for name in ["arm7", "puck_rooms"] {
+        let path = format!("scenes/{name}.ron");
+        let o = e3d(&["scene", "check", "--expanded", &path]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = String::from_utf8(o.stdout).unwrap();
+        assert!(text.starts_with("Scene(\n"), "{text}");
+        assert!(
+            !text.contains("chains:") && !text.contains("walls:"),
+            "{text}"
+        );
+        let file = tmp(&format!("expanded_{name}.ron"));
+        std::fs::write(&file, &text).unwrap();
+        let back = e3d::Scene::load(&file).unwrap();
+        assert_eq!(back, e3d::Scene::load(&path).unwrap(), "{name}");
+        let before = e3d::Scene::load(format!("tests/scenes/{name}_expanded.ron")).unwrap();
+        assert_eq!(back, before, "{name}");
+        // the built-in scene of that name too
+        let o = e3d(&["scene", "check", "--expanded", name]);
+        assert_eq!(String::from_utf8(o.stdout).unwrap(), text);
+    }
+}

@@ -58,6 +58,13 @@ const TOKENS: &[&str] = &[
     "cells",
     "walls",
     "start",
+    // the shorthands
+    "chains",
+    "links",
+    "doors",
+    "room",
+    "closed",
+    "Outside",
     "//",
     "/*",
     "\n",
@@ -72,6 +79,10 @@ fn check(text: &str) {
             match Scene::parse(&scene.to_ron(), "fuzz.ron") {
                 Ok(back) => assert_eq!(back, scene),
                 Err(e) => panic!("to_ron does not load back: {e}"),
+            }
+            // its warnings (the closed-room check among them) never panic
+            if let e3d::scene::WorldSpec::Physics(p) = &scene.world {
+                let _ = p.warnings();
             }
             // and can be built and executed
             if let Some(space) = scene.value_space() {

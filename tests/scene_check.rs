@@ -20,6 +20,12 @@ fn check(args: &[&str]) -> (String, String) {
     )
 }
 
+/// three_rooms as it was written body by body (scenes/three_rooms.ron now
+/// writes its walls as a shorthand), for edits of single walls.
+fn three_rooms_bodies() -> String {
+    std::fs::read_to_string("tests/scenes/three_rooms_expanded.ron").unwrap()
+}
+
 fn builtin(name: &str) -> String {
     e3d::scene::BUILTIN
         .iter()
@@ -105,7 +111,7 @@ fn an_unreachable_reward_cell_is_warned_about() {
         "{err}"
     );
     // sampled: three_rooms' reward moved behind a closed wall (a room with no door)
-    let text = builtin("three_rooms")
+    let text = three_rooms_bodies()
         .replace("position: (6.0, 2.5)", "position: (6.0, 2.0)")
         .replace(
             "height: 1.0),\n             position: (6.0, 2.0)",
@@ -132,7 +138,7 @@ fn an_unreachable_reward_cell_is_warned_about() {
 
 #[test]
 fn a_wall_outside_the_grid_and_a_start_outside_it_are_warned_about() {
-    let text = builtin("three_rooms")
+    let text = three_rooms_bodies()
         .replace("position: (4.5, -0.05)", "position: (4.5, -5.05)")
         .replace(
             "position: (0.5, 2.5),\n                linear_damping",
@@ -144,12 +150,14 @@ fn a_wall_outside_the_grid_and_a_start_outside_it_are_warned_about() {
     assert!(err.contains("warning: scene three_rooms: fixed body `wall_south` spans [-0.1, 9.1] x [-5.1, -5], wholly outside the effect grid [0, 9] x [0, 3]: it bounds no motion on the grid (a misplaced wall?)"), "{err}");
     assert!(err.contains("warning: scene three_rooms: the tracked point starts at (10.5, 2.5), outside the effect grid [0, 9] x [0, 3]"), "{err}");
     assert!(err.contains("warning: scene three_rooms: dynamic body `puck` starts at (10.5, 2.5), outside the effect grid"), "{err}");
-    assert_eq!(err.lines().count(), 4, "{err}");
+    // the puck, moved past the old east wall, is no longer in a room
+    assert!(err.contains("warning: scene three_rooms: the walls do not enclose the tracked body `puck`: from its start (10.5, 2.5) it may leave them near"), "{err}");
+    assert_eq!(err.lines().count(), 5, "{err}");
 }
 
 #[test]
 fn a_wall_through_the_puck_is_refused() {
-    let text = builtin("three_rooms").replace("position: (3.0, 2.5)", "position: (0.5, 2.5)");
+    let text = three_rooms_bodies().replace("position: (3.0, 2.5)", "position: (0.5, 2.5)");
     let f = write("through.ron", &text);
     let out = Command::new(env!("CARGO_BIN_EXE_e3d"))
         .args(["scene", "check", &f])
@@ -182,4 +190,51 @@ fn sample_reach_is_exact_on_a_small_space_and_repeats_by_seed() {
     assert_eq!((a.samples, a.counts.iter().sum::<u64>()), (500, 500));
     assert_eq!(a.counts, b.counts);
     assert_ne!(a.counts, sample_reach(&grid, 500, 10).unwrap().counts);
+}
+
+/// The closed-room warning: puck_rooms' walls enclose the puck; a gap in
+/// them is named by a point near it.
+#[test]
+fn walls_with_a_gap_are_warned_about_with_a_point_near_it() {
+    let (_, err) = check(&["--samples", "0", "puck_rooms"]);
+    assert!(!err.contains("do not enclose"), "{err}");
+    // the east wall cut by a door y in [0.2, 0.8] (wider than the puck's 0.4 m)
+    let text = builtin("puck_rooms").replace(
+        "placement: Outside,",
+        "placement: Outside, doors: [((6.0, 0.2), (6.0, 0.8))],",
+    );
+    let (_, err) = check(&["--samples", "0", &write("east_gap.ron", &text)]);
+    let line = err
+        .lines()
+        .find(|l| l.contains("do not enclose"))
+        .unwrap_or_else(|| panic!("no warning: {err}"));
+    assert!(
+        line.contains("the walls do not enclose the tracked body `puck`: from its start (0.5, 2.5) it may leave them near (6."),
+        "{line}"
+    );
+    // the point: at the gap, x just past the wall's line, y within the gap
+    let near = line.split("near (").nth(1).unwrap();
+    let (x, rest) = near.split_once(", ").unwrap();
+    let y: f64 = rest.split(')').next().unwrap().parse().unwrap();
+    let x: f64 = x.parse().unwrap();
+    assert!(
+        (6.0..=6.2).contains(&x) && (0.2..=0.8).contains(&y),
+        "{line}"
+    );
+    // a gap narrower than the puck's radius is no way out
+    let text = builtin("puck_rooms").replace(
+        "placement: Outside,",
+        "placement: Outside, doors: [((6.0, 0.4), (6.0, 0.55))],",
+    );
+    let (_, err) = check(&["--samples", "0", &write("narrow_gap.ron", &text)]);
+    assert!(!err.contains("do not enclose"), "{err}");
+    // no wall at all on the north side: the puck leaves through the top
+    let text = std::fs::read_to_string("tests/scenes/puck_rooms_expanded.ron")
+        .unwrap()
+        .replace("position: (3.0, 3.05)", "position: (3.0, 13.05)");
+    let (_, err) = check(&["--samples", "0", &write("no_north.ron", &text)]);
+    assert!(
+        err.contains("from its start (0.5, 2.5) it may leave them near (0.52, 3.07)"),
+        "{err}"
+    );
 }

@@ -38,6 +38,11 @@ pub enum SceneCmd {
         /// The seed of the sample.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Print only the scene as RON with its shorthands (`chains`,
+        /// `walls`) expanded into plain bodies and joints, every field
+        /// written: text that loads back as the same scene.
+        #[arg(long)]
+        expanded: bool,
     },
     /// Draw a scene as SVG, with the path of one command if given; with
     /// `--animate`, that command's rollout as an animated SVG or HTML page.
@@ -127,8 +132,21 @@ pub fn run(a: SceneArgs) -> CliResult {
     match a.command {
         SceneCmd::Check {
             scene,
+            expanded: true,
+            ..
+        } => {
+            let text = load_scene(&scene)?.to_ron();
+            let mut stdout = std::io::stdout().lock();
+            stdout
+                .write_all(text.as_bytes())
+                .and_then(|()| stdout.flush())
+                .map_err(|e| CliError::output(format!("standard output: {e}")))
+        }
+        SceneCmd::Check {
+            scene,
             samples,
             seed,
+            expanded: false,
         } => {
             let scene = load_scene(&scene)?;
             check(&scene)?;

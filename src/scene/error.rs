@@ -292,7 +292,10 @@ impl SceneError {
     /// A validation failure placed in the file's `text`: the field it
     /// names, found there.
     pub(crate) fn from_validation(file: &str, text: &str, v: Invalid) -> Self {
-        let position = locate(text, &v.field, v.anchor.as_deref(), v.nth);
+        let position = match v.within {
+            Some((list, k)) => locate_within(text, list, k, &v.field),
+            None => locate(text, &v.field, v.anchor.as_deref(), v.nth),
+        };
         SceneError::invalid(file, v, position)
     }
 
@@ -440,6 +443,82 @@ fn locate(text: &str, field: &str, anchor: Option<&str>, nth: usize) -> Option<(
         None => at,
     };
     Some(position_at(text, at))
+}
+
+/// Where a failure in entry `k` of the list field `list` (`chains: [...]`)
+/// sits: its field `field` if written in that entry, else the entry's
+/// start; the list field itself when the entry is not found.
+fn locate_within(text: &str, list: &str, k: usize, field: &str) -> Option<(usize, usize)> {
+    let code = blank_comments(text);
+    let b = code.as_bytes();
+    let is_word = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    // on bytes: `i` need not be a character boundary (text in strings)
+    let name_at = |i: usize, name: &str| {
+        b[i..].starts_with(name.as_bytes())
+            && (i == 0 || !is_word(b[i - 1]))
+            && b[i + name.len()..]
+                .iter()
+                .find(|c| !c.is_ascii_whitespace())
+                == Some(&b':')
+    };
+    let mut in_str = false;
+    let mut start = None;
+    for i in 0..b.len() {
+        match b[i] {
+            b'"' if i == 0 || b[i - 1] != b'\\' => in_str = !in_str,
+            _ if !in_str && name_at(i, list) => {
+                start = Some(i);
+                break;
+            }
+            _ => {}
+        }
+    }
+    let start = start?;
+    let open = start + code[start..].find('[')?;
+    // the entries: the groups at depth 1 inside the brackets
+    let (mut depth, mut in_str, mut n) = (0usize, false, 0usize);
+    let mut i = open + 1;
+    while i < b.len() {
+        match b[i] {
+            b'\\' if in_str => i += 1,
+            b'"' => in_str = !in_str,
+            b'(' | b'[' if !in_str => {
+                if depth == 0 {
+                    if n == k {
+                        let end = closing_paren(&code, i + 1);
+                        let mut depth_in = 0usize;
+                        let mut in_s = false;
+                        let mut j = i + 1;
+                        while j < end {
+                            match b[j] {
+                                b'\\' if in_s => j += 1,
+                                b'"' => in_s = !in_s,
+                                b'(' | b'[' if !in_s => depth_in += 1,
+                                b')' | b']' if !in_s => depth_in = depth_in.saturating_sub(1),
+                                _ if !in_s && depth_in == 0 && name_at(j, field) => {
+                                    return Some(position_at(text, j));
+                                }
+                                _ => {}
+                            }
+                            j += 1;
+                        }
+                        return Some(position_at(text, i));
+                    }
+                    n += 1;
+                }
+                depth += 1;
+            }
+            b')' | b']' if !in_str => {
+                if depth == 0 {
+                    break;
+                }
+                depth -= 1;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    Some(position_at(text, start))
 }
 
 /// The byte offset of the `)` that closes the parentheses around `at` (the

@@ -27,15 +27,18 @@
 //! panics; [`Scene::to_ron`] writes it as text that loads back equal.
 //! `docs/scenes.md` documents every field.
 
+pub mod enclosure;
 mod error;
 pub mod overlap;
 pub mod physics;
 mod region;
+pub mod shorthand;
 pub mod symmetry;
 
 pub use error::{did_you_mean, SceneError, SceneErrorKind};
 pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
+pub use shorthand::{ChainSpec, Each, Placement, WallSpec};
 pub use symmetry::Symmetry;
 
 use crate::command::{CommandSpace, ValueSpace, MAX_ALPHABET, MAX_SLOTS};
@@ -63,6 +66,10 @@ pub struct Scene {
 }
 
 /// The kind of world a scene describes.
+// A physics world is larger than a grid (its shorthand lists added the
+// last 48 bytes); a scene is built once per run, and boxing it would change
+// every `WorldSpec::Physics(p)` pattern of the API.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum WorldSpec {
     /// A grid of cells with walls between some neighbours; every symbol is a
@@ -331,14 +338,52 @@ impl Scene {
         if text.trim().is_empty() {
             return Err(SceneError::empty(file, "scene"));
         }
-        let scene: Scene = ron_options()
+        let mut scene: Scene = ron_options()
             .from_str(text)
             .map_err(|e| SceneError::from_ron(file, text, e))?;
-        // the checks of `validate`, the failure placed in the text
+        // the checks of `validate` (on the expanded shorthands), the
+        // failure placed in the text
         scene
             .check()
             .map_err(|v| SceneError::from_validation(file, text, v))?;
+        // a loaded scene holds plain bodies and joints only
+        scene.expand()?;
         Ok(scene)
+    }
+
+    /// Replaces the shorthands of a physics scene (`chains`, `walls`: see
+    /// [`shorthand`]) by the plain bodies and joints they stand for, in
+    /// the documented order; nothing to do for a scene without them (every
+    /// loaded scene: [`load`](Self::load) and [`parse`](Self::parse)
+    /// expand). [`validate`](Self::validate) and [`try_build`](Self::try_build)
+    /// accept a scene built in code with shorthands; other consumers
+    /// (pictures, warnings) read `bodies` and `joints` as they are, so
+    /// expand such a scene first.
+    ///
+    /// ```
+    /// use e3d::scene::{Scene, WorldSpec};
+    /// let mut arm = Scene::builtin("arm7").unwrap();
+    /// let WorldSpec::Physics(p) = &mut arm.world else { unreachable!() };
+    /// assert_eq!(p.bodies.len(), 7); // expanded at load
+    /// p.chains.push(e3d::scene::ChainSpec { base: (0.0, 1.0), prefix: "b".into(),
+    ///     joint_prefix: "k".into(), ..e3d::scene::ChainSpec::new(3, 0.2, 0.04) });
+    /// arm.expand().unwrap();
+    /// let WorldSpec::Physics(p) = &arm.world else { unreachable!() };
+    /// // a chain's links come before the bodies written in `bodies`
+    /// let names: Vec<&str> = p.bodies.iter().map(|b| b.name.as_str()).collect();
+    /// assert_eq!(names[..4], ["b1", "b2", "b3", "link1"]);
+    /// assert_eq!(p.bodies.len(), 10);
+    /// assert_eq!(p.joints[3].name, "j1");
+    /// ```
+    pub fn expand(&mut self) -> Result<(), SceneError> {
+        let name = self.name.clone();
+        if let WorldSpec::Physics(p) = &mut self.world {
+            if p.has_shorthands() {
+                shorthand::expand(p)
+                    .map_err(|v| SceneError::invalid(&format!("<scene {name}>"), v, None))?;
+            }
+        }
+        Ok(())
     }
 
     /// A scene shipped with e3d, by name (see [`BUILTIN`]).
@@ -590,6 +635,12 @@ impl Scene {
     /// (numbers are written in Rust's shortest form that reads back the
     /// same bits). An invalid scene is written too, and refused when read.
     ///
+    /// A scene of [`load`](Self::load) or [`parse`](Self::parse) holds no
+    /// shorthands (they are expanded at load), so its text is the expanded
+    /// form (what `e3d scene check --expanded` prints); a scene built in
+    /// code with `chains` or `walls` is written with them, and reads back
+    /// expanded.
+    ///
     /// Plain `ron::to_string` does not read back through [`parse`](Self::parse):
     /// it writes `world: Grid((rows: ...))` and `limits: Some((-1.0, 1.0))`,
     /// which the scene dialect (newtype variants without their inner
@@ -713,6 +764,13 @@ impl Scene {
         }
         match &self.world {
             WorldSpec::Grid(g) => g.validate(self)?,
+            WorldSpec::Physics(p) if p.has_shorthands() => {
+                // every check on the generated items, an error on one of
+                // them placed at the shorthand that generated it
+                let mut e = p.clone();
+                let origins = shorthand::expand(&mut e)?;
+                e.validate(self).map_err(|v| v.attributed(&origins))?
+            }
             WorldSpec::Physics(p) => p.validate(self)?,
         }
         let grid = self.effect_grid();
@@ -831,6 +889,9 @@ pub(crate) struct Invalid {
     pub nth: usize,
     /// What was expected (and what was found).
     pub expected: String,
+    /// An entry of a list of shorthands (`("chains", 2)`): the field is
+    /// looked for inside that entry (at its start if not written there).
+    pub within: Option<(&'static str, usize)>,
 }
 
 impl Invalid {
@@ -840,7 +901,21 @@ impl Invalid {
             anchor: anchor.map(str::to_string),
             nth: 0,
             expected: expected.to_string(),
+            within: None,
         }
+    }
+
+    /// An error on a generated body or joint placed at the shorthand that
+    /// generated it (by the name it is anchored on).
+    fn attributed(mut self, origins: &shorthand::Origins) -> Invalid {
+        if self.within.is_none() {
+            let name = self.anchor.as_deref().map(|a| a.trim_matches('"'));
+            if let Some(&(list, k)) = name.and_then(|n| origins.get(n)) {
+                self.within = Some((list, k));
+                self.expected = format!("{} (generated by {list}[{k}])", self.expected);
+            }
+        }
+        self
     }
 
     fn nth(mut self, n: usize) -> Invalid {

@@ -10,11 +10,11 @@ use parry2d::shape::{Ball, Capsule, Cuboid, Polyline, Segment, Shape};
 /// (resting on a floor, a link against its neighbour) is fine.
 pub const OVERLAP_TOLERANCE: f64 = 1e-3;
 
-fn v(p: (f64, f64)) -> Vector {
+pub(crate) fn v(p: (f64, f64)) -> Vector {
     Vector::new(p.0 as f32, p.1 as f32)
 }
 
-fn shape(b: &BodySpec) -> Box<dyn Shape> {
+pub(crate) fn shape(b: &BodySpec) -> Box<dyn Shape> {
     match &b.shape {
         ShapeSpec::Ball { radius } => Box::new(Ball::new(*radius as f32)),
         ShapeSpec::Cuboid { width, height } => Box::new(Cuboid::new(Vector::new(

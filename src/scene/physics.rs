@@ -17,6 +17,7 @@
 //! ),
 //! ```
 
+use super::shorthand::{ChainSpec, WallSpec};
 use super::symmetry::Symmetry;
 use super::{Action, Invalid, Scene};
 use crate::effect::EffectGrid;
@@ -185,7 +186,10 @@ pub struct PhysicsSpec {
     /// the command is reported as a blown-up simulation (default 100).
     #[serde(default = "default_max_speed")]
     pub max_speed: f64,
-    /// The bodies, in the order they are built.
+    /// The bodies, in the order they are built (default none: a scene
+    /// of shorthands only). After the shorthands' expansion, the walls'
+    /// boxes and the chains' links come first (see [`shorthand`](super::shorthand)).
+    #[serde(default)]
     pub bodies: Vec<BodySpec>,
     /// Revolute joints between bodies (or a body and `ground`). They must
     /// form trees: every body is the `child` of at most one joint.
@@ -195,6 +199,15 @@ pub struct PhysicsSpec {
     pub schedule: Schedule,
     /// The tracked point and the grid its terminal position is binned on.
     pub effect: EffectSpec,
+    /// Serial chains of box links (default none): a shorthand for their
+    /// bodies and joints, expanded at load (see [`ChainSpec`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub chains: Vec<ChainSpec>,
+    /// Fixed walls along polylines or around rooms, with doors (default
+    /// none): a shorthand for their boxes, expanded at load (see
+    /// [`WallSpec`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub walls: Vec<WallSpec>,
     /// A reflection that leaves the scene unchanged (default none): then
     /// of each pair of mirror-image commands only one is simulated, the
     /// other's outcome is its reflection (see [`Symmetry`]). Exact in real
@@ -537,6 +550,13 @@ impl PhysicsSpec {
             .filter(|b| b.kind != BodyKind::Fixed && b.collide)
             .count()
             <= 1
+    }
+
+    /// Whether the world still holds shorthands (`chains`, `walls`) to
+    /// expand ([`Scene::expand`](crate::Scene::expand)); never for a
+    /// loaded scene.
+    pub fn has_shorthands(&self) -> bool {
+        !(self.chains.is_empty() && self.walls.is_empty())
     }
 
     /// The effect grid.
@@ -1042,6 +1062,18 @@ impl PhysicsSpec {
                 ));
             }
         }
+        // walls that do not enclose a free tracked body
+        if let Some(l) = super::enclosure::leak(self) {
+            out.push(format!(
+                "the walls do not enclose the tracked body `{}`: from its start ({}, {}) it may leave them near ({:.2}, {:.2}) (fixed bodies rasterised on {} m cells; a gap of 1.5 times its radius or more counts)",
+                self.effect.body,
+                show(self.effect_start().0),
+                show(self.effect_start().1),
+                l.point.0,
+                l.point.1,
+                show(l.cell)
+            ));
+        }
         // a fixed body that neither lies in nor touches the effect grid
         // bounds no motion there: most likely a misplaced wall
         let tol = super::overlap::OVERLAP_TOLERANCE;
@@ -1064,6 +1096,11 @@ impl PhysicsSpec {
             }
         }
         out
+    }
+
+    fn effect_start(&self) -> (f64, f64) {
+        self.body(&self.effect.body)
+            .map_or((0.0, 0.0), |b| b.position)
     }
 
     fn body_names(&self) -> String {

@@ -630,6 +630,14 @@ impl PhysicsWorld {
             (1..=MAX_COPIES).contains(&copies),
             "between 1 and {MAX_COPIES} copies, not {copies}"
         );
+        if spec.has_shorthands() {
+            // a scene built in code with shorthands: build what they stand for
+            let mut plain = spec.clone();
+            if crate::scene::shorthand::expand(&mut plain).is_err() {
+                panic!("shorthands that do not expand (validate the scene first)");
+            }
+            return Self::with_copies(scene, &plain, copies);
+        }
         let mut s = Sets::default();
         let mut fixed = vec![None; spec.bodies.len()];
         let mut copy_of_body = Vec::new();

@@ -1,0 +1,158 @@
+//! Whether the fixed bodies (the walls) enclose the tracked body: a
+//! warning of `e3d scene check`, not an error (a scene may leave its
+//! tracked body free on purpose).
+//!
+//! The fixed shapes are rasterised around the effect grid, on square cells
+//! a quarter of the tracked body's radius wide: a cell is open when its
+//! centre lies at least `radius - cell` from every fixed shape (where the
+//! body's centre could be, give or take a cell). A flood fill from the
+//! body's start that reaches an open cell outside the walls' bounding box
+//! means the body may leave the walls: every gap at least `2 * (radius -
+//! cell)` = 1.5 radii wide is found (gaps between 1.5 and 2 radii wide
+//! are reported though the body may just not fit).
+
+use super::overlap::{shape, start_aabb, v};
+use super::physics::{BodyKind, PhysicsSpec, ShapeSpec};
+use parry2d::math::Pose;
+use std::collections::VecDeque;
+
+/// The most cells rasterised: beyond, the cells grow.
+const MAX_CELLS: f64 = 4e6;
+
+/// Where the tracked body may leave the walls: the last open point inside
+/// the walls' bounding box on a path out, and the cell size used.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Leak {
+    /// A point near the gap, metres.
+    pub point: (f64, f64),
+    /// The rasterisation's cell, metres.
+    pub cell: f64,
+}
+
+/// `Some(leak)` when the scene has colliding fixed bodies, a free tracked
+/// body (dynamic, colliding, in no joint, a ball, box or capsule) and a
+/// path for that body's centre from its start to outside the bounding box
+/// of the fixed bodies near the effect grid; `None` otherwise (enclosed, or
+/// nothing to check).
+pub fn leak(spec: &PhysicsSpec) -> Option<Leak> {
+    let t = spec.body(&spec.effect.body)?;
+    if t.kind != BodyKind::Dynamic
+        || !t.collide
+        || spec
+            .joints
+            .iter()
+            .any(|j| j.parent == t.name || j.child == t.name)
+    {
+        return None;
+    }
+    let r = match t.shape {
+        ShapeSpec::Ball { radius } | ShapeSpec::Capsule { radius, .. } => radius,
+        ShapeSpec::Cuboid { width, height } => width.min(height) / 2.0,
+        _ => return None,
+    };
+    let g = &spec.effect.grid;
+    let start = t.position;
+    // the grid's box, with the start
+    let (mut lo, mut hi) = (
+        [g.min[0].min(start.0), g.min[1].min(start.1)],
+        [g.max[0].max(start.0), g.max[1].max(start.1)],
+    );
+    let cell_w = ((g.max[0] - g.min[0]) / g.cols as f64).max((g.max[1] - g.min[1]) / g.rows as f64);
+    let near = |a: &([f64; 2], [f64; 2])| {
+        a.0[0] <= hi[0] + cell_w
+            && a.1[0] >= lo[0] - cell_w
+            && a.0[1] <= hi[1] + cell_w
+            && a.1[1] >= lo[1] - cell_w
+    };
+    let walls: Vec<_> = spec
+        .bodies
+        .iter()
+        .filter(|b| b.kind == BodyKind::Fixed && b.collide)
+        .map(|b| (b, start_aabb(b)))
+        .filter(|(_, a)| near(a))
+        .collect();
+    if walls.is_empty() {
+        return None;
+    }
+    let (mut wlo, mut whi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for (_, (a, b)) in &walls {
+        for k in 0..2 {
+            wlo[k] = wlo[k].min(a[k]);
+            whi[k] = whi[k].max(b[k]);
+        }
+    }
+    let mut h = r / 4.0;
+    let margin = 2.0 * r + 2.0 * h;
+    for k in 0..2 {
+        lo[k] = lo[k].min(wlo[k]) - margin;
+        hi[k] = hi[k].max(whi[k]) + margin;
+    }
+    let area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+    if area / (h * h) > MAX_CELLS {
+        h = (area / MAX_CELLS).sqrt();
+    }
+    let nx = ((hi[0] - lo[0]) / h).ceil() as usize + 1;
+    let ny = ((hi[1] - lo[1]) / h).ceil() as usize + 1;
+    let centre = |i: usize, j: usize| (lo[0] + (i as f64 + 0.5) * h, lo[1] + (j as f64 + 0.5) * h);
+    let clearance = (r - h).max(0.0);
+    let mut blocked = vec![false; nx * ny];
+    for (b, (a0, a1)) in &walls {
+        let s = shape(b);
+        let pose = Pose::new(v(b.position), b.angle as f32);
+        let reach = clearance + h;
+        let i0 = (((a0[0] - reach - lo[0]) / h).floor().max(0.0) as usize).min(nx - 1);
+        let i1 = (((a1[0] + reach - lo[0]) / h).ceil().max(0.0) as usize).min(nx - 1);
+        let j0 = (((a0[1] - reach - lo[1]) / h).floor().max(0.0) as usize).min(ny - 1);
+        let j1 = (((a1[1] + reach - lo[1]) / h).ceil().max(0.0) as usize).min(ny - 1);
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                if blocked[j * nx + i] {
+                    continue;
+                }
+                let p = centre(i, j);
+                let d = s.distance_to_point(&pose, v(p), true) as f64;
+                if d <= clearance {
+                    blocked[j * nx + i] = true;
+                }
+            }
+        }
+    }
+    let outside = |p: (f64, f64)| p.0 < wlo[0] || p.0 > whi[0] || p.1 < wlo[1] || p.1 > whi[1];
+    let si = (((start.0 - lo[0]) / h) as usize).min(nx - 1);
+    let sj = (((start.1 - lo[1]) / h) as usize).min(ny - 1);
+    if outside(start) {
+        return Some(Leak {
+            point: start,
+            cell: h,
+        });
+    }
+    if blocked[sj * nx + si] {
+        return None;
+    }
+    let mut from = vec![usize::MAX; nx * ny];
+    let s0 = sj * nx + si;
+    from[s0] = s0;
+    let mut queue = VecDeque::from([s0]);
+    while let Some(c) = queue.pop_front() {
+        let (i, j) = (c % nx, c / nx);
+        if outside(centre(i, j)) || i == 0 || j == 0 || i + 1 == nx || j + 1 == ny {
+            // the cell it came from is the last inside the walls' box
+            // (the border of the raster lies outside that box)
+            return Some(Leak {
+                point: centre(from[c] % nx, from[c] / nx),
+                cell: h,
+            });
+        }
+        let mut next = |n: usize| {
+            if !blocked[n] && from[n] == usize::MAX {
+                from[n] = c;
+                queue.push_back(n);
+            }
+        };
+        next(c - 1);
+        next(c + 1);
+        next(c - nx);
+        next(c + nx);
+    }
+    None
+}
