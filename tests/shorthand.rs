@@ -179,10 +179,11 @@ fn the_docs_example_generates_what_the_docs_say() {
 }
 
 #[test]
-fn puck_rooms14_arm7x5_and_three_rooms_expand_to_the_scenes_they_replaced() {
+fn puck_rooms14_arm7x5_three_rooms_and_arm7_continuous_expand_to_the_scenes_they_replaced() {
     same_as_before("puck_rooms14");
     same_as_before("arm7x5");
     same_as_before("three_rooms");
+    same_as_before("arm7_continuous");
 }
 
 /// A scene built in code with a chain: `validate` checks what it
