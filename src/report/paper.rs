@@ -445,63 +445,34 @@ impl PaperResults {
             .filter(|r| r.task == 1)
             .map(|r| format!("{} {:.3}", r.label, r.normalized_entropy.mean))
             .collect();
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, (1100, 530)).into_drawing_area();
-            root.fill(&WHITE).map_err(|e| e.to_string())?;
-            let (title_area, body) = root.split_vertically(118);
-            let c = &self.config;
-            let text = |t: &str, at: (i32, i32), size: f64, colour: &RGBColor| {
-                title_area.draw(&Text::new(
-                    t.to_string(),
-                    at,
-                    ("sans-serif", size).into_font().color(colour),
-                ))
-            };
-            text(
-                &format!(
-                    "two_rooms, task 1: where the trials end, {} sessions x {} trials pooled",
-                    c.sessions, c.trials
-                ),
-                (25, 12),
-                26.0,
-                &BLACK,
-            )
-            .map_err(|e| e.to_string())?;
-            let grey = RGBColor(70, 70, 70);
-            let lines = [
-                format!(
-                    "Each cell: its share of all {} trials of the {} sessions, on one colour scale for both panels (the bar: target 1/{n}).",
-                    c.sessions * c.trials,
-                    c.sessions
-                ),
-                format!(
-                    "H/log {n} here: of the pooled shares. The table gives the mean of the sessions' own ({}),",
-                    means.join(", ")
-                ),
-                "lower: each session is uneven in different cells, and pooling evens that out.".to_string(),
-            ];
-            for (k, line) in lines.iter().enumerate() {
-                text(line, (25, 48 + 21 * k as i32), 17.0, &grey).map_err(|e| e.to_string())?;
-            }
-            let (panels_area, bar_area) = body.split_horizontally(940);
-            let panels = panels_area.split_evenly((1, 2));
-            for (panel, arm) in panels.iter().zip(arms) {
-                let shares = arm.effect_shares();
+        let c = &self.config;
+        let title = format!(
+            "two_rooms, task 1: where the trials end, {} sessions x {} trials pooled",
+            c.sessions, c.trials
+        );
+        let lines = [
+            format!(
+                "Each cell: its share of all {} trials of the {} sessions, on one colour scale for both panels (the bar: target 1/{n}).",
+                c.sessions * c.trials,
+                c.sessions
+            ),
+            format!(
+                "H/log {n} here: of the pooled shares. The table gives the mean of the sessions' own ({}),",
+                means.join(", ")
+            ),
+            "lower: each session is uneven in different cells, and pooling evens that out.".to_string(),
+        ];
+        let panels: Vec<(String, Vec<f64>)> = arms
+            .iter()
+            .map(|arm| {
                 let h = self.pooled_entropy(arm);
-                draw_grid_panel(
-                    panel,
-                    &format!("{}: H/log {n} = {h:.3} (pooled)", arm.arm.label),
-                    &self.spec,
-                    &shares,
-                    peak,
+                (
+                    format!("{}: H/log {n} = {h:.3} (pooled)", arm.arm.label),
+                    arm.effect_shares(),
                 )
-                .map_err(|e| e.to_string())?;
-            }
-            draw_colour_bar(&bar_area, peak, target, n).map_err(|e| e.to_string())?;
-            root.present().map_err(|e| e.to_string())?;
-        }
-        Ok(svg)
+            })
+            .collect();
+        effect_panels_svg(&title, &lines, &self.spec, &panels, peak, target)
     }
 
     /// Figure 3 as SVG: cumulative reward against trials for each task-2
@@ -644,12 +615,66 @@ fn share_colour(share: f64, peak: f64) -> RGBColor {
 
 /// A heat map of `shares` over a grid world on the scale 0..`peak`, with
 /// its walls and start (no reward: this is task 1).
+/// Two (or more) effect grids side by side on one colour scale, with a
+/// colour bar marking `target`: Figure 2's layout, for any scene's grid
+/// (`spec` gives the rows, columns, start cell and walls; a grid of more
+/// than 60 cells has no percentages written in its cells). `panels` are
+/// `(caption, share of each effect)`; `peak` tops the scale.
+///
+/// ```
+/// use e3d::report::paper::effect_panels_svg;
+/// use e3d::world::GridSpec;
+/// let spec = GridSpec { rows: 2, cols: 2, start: (0, 0), walls: vec![] };
+/// let panels = vec![("a".to_string(), vec![0.25; 4]), ("b".to_string(), vec![0.7, 0.1, 0.1, 0.1])];
+/// let svg = effect_panels_svg("title", &[], &spec, &panels, 0.7, 0.25).unwrap();
+/// assert!(svg.starts_with("<svg") && svg.contains("title") && svg.contains("70.0%"));
+/// ```
+pub fn effect_panels_svg(
+    title: &str,
+    lines: &[String],
+    spec: &GridSpec,
+    panels: &[(String, Vec<f64>)],
+    peak: f64,
+    target: f64,
+) -> Result<String, String> {
+    let n = spec.rows * spec.cols;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1100, 530)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let (title_area, body) = root.split_vertically(118);
+        let text = |t: &str, at: (i32, i32), size: f64, colour: &RGBColor| {
+            title_area.draw(&Text::new(
+                t.to_string(),
+                at,
+                ("sans-serif", size).into_font().color(colour),
+            ))
+        };
+        text(title, (25, 12), 26.0, &BLACK).map_err(|e| e.to_string())?;
+        let grey = RGBColor(70, 70, 70);
+        for (k, line) in lines.iter().enumerate() {
+            text(line, (25, 48 + 21 * k as i32), 17.0, &grey).map_err(|e| e.to_string())?;
+        }
+        let (panels_area, bar_area) = body.split_horizontally(940);
+        let areas = panels_area.split_evenly((1, panels.len().max(1)));
+        for (area, (caption, shares)) in areas.iter().zip(panels) {
+            draw_grid_panel(area, caption, spec, shares, peak, n <= 60)
+                .map_err(|e| e.to_string())?;
+        }
+        let marks = (1.0 / target).round() as usize;
+        draw_colour_bar(&bar_area, peak, target, marks).map_err(|e| e.to_string())?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(svg)
+}
+
 fn draw_grid_panel(
     area: &Area<'_>,
     title: &str,
     spec: &GridSpec,
     shares: &[f64],
     peak: f64,
+    labels: bool,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let (rows, cols) = (spec.rows, spec.cols);
     let mut chart = ChartBuilder::on(area)
@@ -670,6 +695,9 @@ fn draw_grid_panel(
                 [(x0, y1 - 1.0), (x0 + 1.0, y1)],
                 RGBColor(200, 200, 200).stroke_width(1),
             )))?;
+            if !labels {
+                continue;
+            }
             let text_colour = if s / peak > 0.6 { WHITE } else { BLACK };
             chart.draw_series(std::iter::once(Text::new(
                 format!("{:.1}%", 100.0 * s),
