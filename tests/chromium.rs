@@ -1,4 +1,4 @@
-//! The animated SVG page and the report page in headless Chromium: a
+//! The animated SVG page and the report pages (run, sweep) in headless Chromium: a
 //! screenshot that is not empty and no console error. SKIPPED, with a
 //! notice, when no `chromium` (or `chromium-browser`, `google-chrome`) is
 //! on the PATH: CI machines do not install it.
@@ -75,6 +75,21 @@ fn pages_render_in_headless_chromium() {
     std::fs::write(
         &page,
         run_page("t", "{}", &parse_trials(&csv).unwrap(), 2, 4),
+    )
+    .unwrap();
+    check(&browser, &page);
+    let summary = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n\
+                   g,e3d,false,0.3,1,0.03,0.01,,3,0.9,0.01,0.88,0.92\n\
+                   g,e3d,false,0.3,10,0.03,0.01,,3,0.8,0.01,0.78,0.82\n";
+    let page = dir.join("sweep.html");
+    std::fs::write(
+        &page,
+        e3d::report::html::sweep_page(
+            "s",
+            &e3d::report::sweep_plot::Summary::parse(summary).unwrap(),
+            "",
+            &[],
+        ),
     )
     .unwrap();
     check(&browser, &page);
