@@ -47,9 +47,10 @@ pub enum SceneCmd {
         /// A command (its symbols, one per slot) whose path to draw.
         #[arg(long, allow_hyphen_values = true)]
         command: Option<String>,
-        /// Animate the command's motion (physics scenes; needs `--command`):
-        /// every moving body, the tracked point and the time, looping; an
-        /// `.html` FILE gets a page holding the SVG.
+        /// Animate the command (needs `--command`): on a physics scene every
+        /// moving body, the tracked point and the time; on a grid the
+        /// agent's cell path, a keyframe per slot; looping. An `.html` FILE
+        /// gets a page holding the SVG.
         #[arg(long, requires = "command")]
         animate: bool,
         /// The SVG (or, with `--animate`, HTML) file to write.
@@ -441,32 +442,47 @@ fn render(scene: &Scene, command: Option<&str>, out: &std::path::Path) -> CliRes
 /// `e3d scene render --animate`: the command's rollout, animated (SVG, or
 /// an HTML page when `out` ends in `.html`).
 fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliResult {
+    use e3d::report::motion_svg::{grid_motion_svg, html_page, motion_svg, thin, MAX_FRAMES};
     let space = scene.command_space();
     let c = space.parse(text).map_err(CliError::input)?;
-    let mut w = scene.physics_world().ok_or_else(|| {
-        CliError::input(e3d::report::motion_svg::AnimateError::Grid(scene.name.clone()).to_string())
-    })?;
-    let motion = w.motion(&c).map_err(world_error)?;
     let cmd = space.format(&c);
-    let svg = e3d::report::motion_svg::motion_svg(scene, &cmd, &motion)
-        .map_err(|e| CliError::input(e.to_string()))?;
+    let (svg, what) = match scene.physics_world() {
+        None => {
+            let svg = grid_motion_svg(scene, &c).map_err(|e| CliError::input(e.to_string()))?;
+            let keyframes = space.num_slots() + 1;
+            (
+                svg,
+                format!(
+                    "{keyframes} keyframes: the start and a cell per slot, {:.1} s",
+                    keyframes as f64 * e3d::report::motion_svg::GRID_KEYFRAME_SECONDS
+                ),
+            )
+        }
+        Some(mut w) => {
+            let motion = w.motion(&c).map_err(world_error)?;
+            let svg =
+                motion_svg(scene, &cmd, &motion).map_err(|e| CliError::input(e.to_string()))?;
+            (
+                svg,
+                format!(
+                    "{} of {} frames, {:.3} s",
+                    thin(motion.frames.len(), MAX_FRAMES).len(),
+                    motion.frames.len(),
+                    motion.frames.last().map_or(0.0, |f| f.time)
+                ),
+            )
+        }
+    };
     let html = out
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
     let text = if html {
-        e3d::report::motion_svg::html_page(&format!("{}: command {cmd}", scene.name), &svg)
+        html_page(&format!("{}: command {cmd}", scene.name), &svg)
     } else {
         svg
     };
     write_file(out, text.as_bytes())?;
-    println!(
-        "wrote {} ({} of {} frames, {:.3} s)",
-        out.display(),
-        e3d::report::motion_svg::thin(motion.frames.len(), e3d::report::motion_svg::MAX_FRAMES)
-            .len(),
-        motion.frames.len(),
-        motion.frames.last().map_or(0.0, |f| f.time)
-    );
+    println!("wrote {} ({what})", out.display());
     Ok(())
 }
 
