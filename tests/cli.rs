@@ -654,3 +654,108 @@ fn scene_render_animate_writes_smil_for_physics_and_grids() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--command"));
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `e3d` with the global rayon pool of `threads` threads and `stdin`.
+fn e3d_threads(args: &[&str], threads: usize, stdin: Option<&str>) -> Output {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args(args)
+        .env("RAYON_NUM_THREADS", threads.to_string())
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut input = child.stdin.take().unwrap();
+    if let Some(text) = stdin {
+        input.write_all(text.as_bytes()).unwrap();
+    }
+    drop(input);
+    child.wait_with_output().unwrap()
+}
+
+/// The long scene tools say what they will cost before they start (the
+/// progress lines that follow come every 5 s off a terminal: not checked);
+/// the short ones stay quiet.
+#[test]
+fn long_scene_tools_print_their_estimated_cost_first() {
+    // every command: always said, with the steps and the threads
+    let (_, err) = ok(&e3d_threads(&["scene", "table", "pendulum3"], 2, None));
+    let first = err.lines().next().unwrap();
+    assert!(
+        first.starts_with("scene pendulum3: simulating 125 commands on 2 thread(s) (")
+            && first.contains(" steps each): about ")
+            && first.ends_with(" by the cost model"),
+        "{err}"
+    );
+    // a large sample: 600 arm7 rollouts of 120 steps on one thread
+    let (_, err) = ok(&e3d_threads(
+        &["scene", "check", "arm7", "--samples", "600"],
+        2,
+        None,
+    ));
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("scene check arm7: "))
+        .unwrap_or_else(|| panic!("no cost line: {err}"));
+    assert!(
+        line.starts_with(
+            "scene check arm7: 600 command(s) (120 steps each) on 1 thread(s): about "
+        ) && line.ends_with(" s by the cost model"),
+        "{line}"
+    );
+    // scene exec of 400 commands on one thread: said before
+    let many: Vec<&str> = std::iter::repeat_n("+0-+0-+", 400).collect();
+    let mut args = vec!["scene", "exec", "arm7"];
+    args.extend(&many);
+    let (out, err) = ok(&e3d_threads(&args, 1, None));
+    assert_eq!(out.lines().count(), 401);
+    assert!(
+        err.lines()
+            .next()
+            .unwrap_or_default()
+            .starts_with("scene exec arm7: 400 command(s) (120 steps each) on 1 thread(s): about "),
+        "{err}"
+    );
+    // the same on stdin: said once those read so far reach it
+    let (out, err) = ok(&e3d_threads(
+        &["scene", "exec", "arm7", "-"],
+        1,
+        Some(&(many.join("\n") + "\n")),
+    ));
+    assert_eq!(out.lines().count(), 401);
+    let said: Vec<&str> = err.lines().filter(|l| l.contains("so far")).collect();
+    assert_eq!(said.len(), 1, "{err}");
+    assert!(
+        said[0].starts_with("scene exec arm7: ")
+            && said[0].contains(" commands so far (120 steps each), about ")
+            && said[0]
+                .ends_with(" each on 1 thread(s) by the cost model; more as stdin gives them"),
+        "{err}"
+    );
+    // short ones: nothing on stderr
+    let (_, err) = ok(&e3d_threads(
+        &["scene", "exec", "arm7", "+0-+0-+", "0000000"],
+        1,
+        None,
+    ));
+    assert_eq!(err, "");
+    let d = tmp("quiet-animate");
+    std::fs::create_dir_all(&d).unwrap();
+    let f = d.join("a.svg");
+    let (_, err) = ok(&e3d_threads(
+        &[
+            "scene",
+            "render",
+            "arm7",
+            "--command=+0-+0-+",
+            "--animate",
+            "--out",
+            f.to_str().unwrap(),
+        ],
+        1,
+        None,
+    ));
+    assert_eq!(err, "");
+    let _ = std::fs::remove_dir_all(&d);
+}

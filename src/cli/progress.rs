@@ -1,5 +1,6 @@
 //! The progress of a long computation, on standard error, for every long
-//! command (`run`, `sweep`, `reproduce`, `scene table|stats|reward-cell|exec`):
+//! command (`run`, `sweep` and its table builds, `reproduce`, `scene
+//! table|stats|reward-cell|exec|check --samples`):
 //! an estimate of its time once a sample has been measured, then a bar
 //! with ETA on a terminal, or a line every few seconds otherwise, so that a
 //! batch log (Slurm, `2> log`, a pipe) shows that work goes on. Nothing
@@ -17,6 +18,12 @@ const SAMPLE: Duration = Duration::from_secs(1);
 /// How often a line is printed when standard error is not a terminal.
 pub const EVERY: Duration = Duration::from_secs(5);
 
+/// Seconds from which a scene tool's estimated cost is said before it
+/// starts (`scene check --samples`, `scene exec`, `scene render
+/// --animate`); a shorter one stays quiet. The tools that simulate every
+/// command (`scene table|stats|reward-cell`) always say it.
+pub const LONG: f64 = 1.0;
+
 /// The count of a tracked computation, moved on by the work from any
 /// thread and read by the reporter.
 pub struct Progress {
@@ -32,6 +39,8 @@ pub struct Progress {
     total: AtomicU64,
     /// Shown after the count, for example `3/40 sessions`.
     note: Mutex<String>,
+    /// Lines to print once, above the bar on a terminal ([`Progress::say`]).
+    said: Mutex<Vec<String>>,
 }
 
 impl Progress {
@@ -42,7 +51,21 @@ impl Progress {
             floor: AtomicU64::new(0),
             total: AtomicU64::new(total),
             note: Mutex::new(String::new()),
+            said: Mutex::new(Vec::new()),
         }
+    }
+
+    /// Prints `line` on standard error at the reporter's next look (within
+    /// 0.1 s, and at the end at the latest), above the bar on a terminal.
+    pub fn say(&self, line: impl Into<String>) {
+        self.said
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(line.into());
+    }
+
+    fn take_said(&self) -> Vec<String> {
+        std::mem::take(&mut *self.said.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     /// `k` more units done.
@@ -132,12 +155,18 @@ fn track_as<T>(
             r.stream = stream;
             loop {
                 std::thread::park_timeout(Duration::from_millis(100));
+                for line in progress.take_said() {
+                    r.print(line);
+                }
                 if finished.load(Ordering::Acquire) {
                     break;
                 }
                 r.show(&progress, Instant::now());
             }
             r.finish();
+            for line in progress.take_said() {
+                eprintln!("{line}");
+            }
         });
         // set even if `work` panics, or the scope would wait for the reporter
         let _stop = Stop {

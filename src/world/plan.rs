@@ -260,6 +260,26 @@ impl Costs {
     }
 }
 
+/// The cost model's seconds for one rollout of a command of `scene` in a
+/// single-copy world on one thread (a grid's moves: nanoseconds). What the
+/// long scene tools say they will cost before they start (`e3d scene check
+/// --samples`, `scene exec`, `scene render --animate`), from the same
+/// model that chooses between a table, a memo and live execution: fitted
+/// to the development machine (`docs/benchmarks.md`), so an estimate, not
+/// a promise.
+///
+/// ```
+/// use e3d::world::rollout_seconds;
+/// use e3d::Scene;
+/// let arm = rollout_seconds(&Scene::builtin("arm7").unwrap());
+/// let puck = rollout_seconds(&Scene::builtin("puck_rooms").unwrap());
+/// let grid = rollout_seconds(&Scene::builtin("two_rooms").unwrap());
+/// assert!(arm > puck && puck > 1000.0 * grid);
+/// ```
+pub fn rollout_seconds(scene: &Scene) -> f64 {
+    Costs::of(scene).rollout
+}
+
 /// The number of lockstep groups for `sessions` sessions on `threads`
 /// threads, each stepping at most `copies` commands together: enough
 /// groups to keep every thread busy, as few as that allows.
