@@ -172,7 +172,13 @@ pub struct Sweep {
     pub(super) exec: ExecOptions,
     pub(super) notices: Option<Notices>,
     pub(super) trials_done: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
+    pub(super) table_progress: Option<TableProgress>,
 }
+
+/// Where a sweep tells the building of its scenes' outcome tables:
+/// `(scene, k more commands, of total)`.
+#[derive(Clone)]
+pub(super) struct TableProgress(pub(super) std::sync::Arc<dyn Fn(&str, u64, u64) + Send + Sync>);
 
 /// Where a sweep tells how it obtains outcomes (one line each).
 #[derive(Clone)]
@@ -409,6 +415,7 @@ impl Sweep {
             exec: ExecOptions::default(),
             notices: None,
             trials_done: None,
+            table_progress: None,
         })
     }
 
@@ -454,6 +461,21 @@ impl Sweep {
         counter: std::sync::Arc<std::sync::atomic::AtomicU64>,
     ) -> Self {
         self.trials_done = Some(counter);
+        self
+    }
+
+    /// Calls `f(scene, k, total)` from the worker threads while the
+    /// outcome table of `scene` is built before its sessions run: `k` more
+    /// commands simulated, of about `total` ([`SweepScene::prepare_with_progress`]);
+    /// then, once the building has ended (the table built, or given up
+    /// for the memo), `f(scene, 0, 0)` once. Nothing is called for a
+    /// scene whose table is read whole or not built. The results are the
+    /// same bytes with or without it.
+    pub fn with_table_progress(
+        mut self,
+        f: impl Fn(&str, u64, u64) + Send + Sync + 'static,
+    ) -> Self {
+        self.table_progress = Some(TableProgress(std::sync::Arc::new(f)));
         self
     }
 
