@@ -96,7 +96,8 @@ pub use rand;
 pub use command::{Command, CommandError, CommandSpace};
 pub use effect::{EffectError, EffectGrid, EffectModel, Target, TargetError};
 pub use learner::{
-    E3d, EpsilonGreedy, Learner, LearnerError, LearnerKind, ParamError, Params, UniformPolicy,
+    E3d, EpsilonGreedy, Learner, LearnerError, LearnerKind, ParamError, Params, ParseLearnerError,
+    UniformPolicy,
 };
 pub use rng::SessionRng;
 pub use scene::{Scene, SceneError, SceneErrorKind};
@@ -106,6 +107,6 @@ pub use session::{
 };
 pub use sweep::{Sweep, SweepError};
 pub use world::{
-    ExecutionPlan, Executor, GridWorld, Memoized, Outcome, OutcomeMemo, OutcomeTable, PhysicsWorld,
-    Strategy, World, WorldError,
+    ExecutionPlan, Executor, GridWorld, Memoized, Outcome, OutcomeMemo, OutcomeTable,
+    ParseStrategyError, PhysicsWorld, Strategy, World, WorldError,
 };

@@ -138,11 +138,36 @@ impl fmt::Display for Shard {
     }
 }
 
+/// A text that is not a shard `K/N` with `1 <= K <= N`: what
+/// [`Shard::from_str`](std::str::FromStr::from_str) refuses.
+///
+/// ```
+/// use e3d::sweep::{ParseShardError, Shard};
+/// let e: ParseShardError = "0/3".parse::<Shard>().unwrap_err();
+/// assert_eq!(e.to_string(), "`0/3`: expected K/N with 1 <= K <= N, for example 2/8");
+/// assert_eq!(e.input(), "0/3");
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+#[error("`{input}`: expected K/N with 1 <= K <= N, for example 2/8")]
+pub struct ParseShardError {
+    input: String,
+}
+
+impl ParseShardError {
+    /// The text that was refused.
+    pub fn input(&self) -> &str {
+        &self.input
+    }
+}
+
 impl FromStr for Shard {
-    type Err = String;
+    type Err = ParseShardError;
     /// `"K/N"` with `1 <= K <= N`.
-    fn from_str(s: &str) -> Result<Shard, String> {
-        let bad = || format!("`{s}`: expected K/N with 1 <= K <= N, for example 2/8");
+    fn from_str(s: &str) -> Result<Shard, ParseShardError> {
+        let bad = || ParseShardError {
+            input: s.to_string(),
+        };
         let (k, n) = s.split_once('/').ok_or_else(bad)?;
         let k: usize = k.trim().parse().map_err(|_| bad())?;
         let n: usize = n.trim().parse().map_err(|_| bad())?;

@@ -56,14 +56,39 @@ pub enum Strategy {
     Live,
 }
 
+/// A name that is not a [`Strategy`]'s (`table`, `memo` or `live`): what
+/// [`Strategy::from_str`](std::str::FromStr::from_str) refuses.
+///
+/// ```
+/// use e3d::{ParseStrategyError, Strategy};
+/// let e: ParseStrategyError = "tables".parse::<Strategy>().unwrap_err();
+/// assert_eq!(e.to_string(), "`tables`: expected table, memo or live");
+/// assert_eq!(e.input(), "tables");
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+#[error("`{input}`: expected table, memo or live")]
+pub struct ParseStrategyError {
+    input: String,
+}
+
+impl ParseStrategyError {
+    /// The name that was refused.
+    pub fn input(&self) -> &str {
+        &self.input
+    }
+}
+
 impl std::str::FromStr for Strategy {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Strategy, String> {
+    type Err = ParseStrategyError;
+    fn from_str(s: &str) -> Result<Strategy, ParseStrategyError> {
         match s {
             "table" => Ok(Strategy::Table),
             "memo" => Ok(Strategy::Memo),
             "live" => Ok(Strategy::Live),
-            _ => Err(format!("`{s}`: expected table, memo or live")),
+            _ => Err(ParseStrategyError {
+                input: s.to_string(),
+            }),
         }
     }
 }
