@@ -203,7 +203,10 @@ pub struct Sweep {
 /// Where a sweep tells the building of its scenes' outcome tables:
 /// `(scene, k more commands, of total)`.
 #[derive(Clone)]
-pub(super) struct TableProgress(pub(super) std::sync::Arc<dyn Fn(&str, u64, u64) + Send + Sync>);
+pub(super) struct TableProgress(pub(super) std::sync::Arc<TableProgressFn>);
+
+/// The callback of [`Sweep::with_table_progress`].
+type TableProgressFn = dyn Fn(&str, u64, u64) + Send + Sync;
 
 /// Where a sweep tells how it obtains outcomes (one line each).
 #[derive(Clone)]
