@@ -1,7 +1,8 @@
-//! The animated SVG page and the report pages (run, sweep) in headless Chromium: a
-//! screenshot that is not empty and no console error. SKIPPED, with a
-//! notice, when no `chromium` (or `chromium-browser`, `google-chrome`) is
-//! on the PATH: CI machines do not install it.
+//! The animated SVG pages (physics, grid) and the report pages (run,
+//! sweep) in headless Chromium: a screenshot that is not empty and no
+//! console error. SKIPPED, with a notice, when no `chromium` (or
+//! `chromium-browser`, `google-chrome`) is on the PATH: CI machines do not
+//! install it.
 
 use e3d::report::html::{parse_trials, run_page};
 use e3d::report::motion_svg::{html_page, motion_svg};
@@ -64,6 +65,18 @@ fn pages_render_in_headless_chromium() {
     std::fs::write(
         &anim,
         html_page("arm7", &motion_svg(&scene, "+0-+0-+", &m).unwrap()),
+    )
+    .unwrap();
+    check(&browser, &anim);
+    let grid = Scene::builtin("two_rooms").unwrap();
+    let c = grid.command_space().parse("EEESSEE").unwrap();
+    let anim = dir.join("two_rooms.html");
+    std::fs::write(
+        &anim,
+        html_page(
+            "two_rooms",
+            &e3d::report::motion_svg::grid_motion_svg(&grid, &c).unwrap(),
+        ),
     )
     .unwrap();
     check(&browser, &anim);
