@@ -319,7 +319,7 @@ pub fn sweep_page(
             fixed_text.join("; ")
         );
     }
-    body.push_str("<h2>Summary</h2>\n<table class=\"summary\">\n<tr>");
+    body.push_str("<h2>Summary</h2>\n<div class=\"scroll\">\n<table class=\"summary\">\n<tr>");
     for &c in &varying {
         let _ = write!(body, "<th>{}</th>", esc(&summary.columns[c]));
     }
@@ -372,7 +372,7 @@ pub fn sweep_page(
         }
         body.push_str("</tr>\n");
     }
-    body.push_str("</table>\n");
+    body.push_str("</table>\n</div>\n");
     if !failures.is_empty() {
         let _ = writeln!(
             body,
@@ -424,7 +424,7 @@ pub fn sweep_page(
         }
     }
     format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}table{{border-collapse:collapse;background:#fff}}td,th{{border:1px solid #ddd;padding:2px 6px;font-size:13px}}td.n{{text-align:right;font-variant-numeric:tabular-nums}}figure{{margin:0.5em}}svg{{max-width:100%;height:auto;background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:30em}}.note{{color:#666}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n{body}<h2>sweep.ron</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}table{{border-collapse:collapse;background:#fff}}td,th{{border:1px solid #ddd;padding:2px 6px;font-size:13px}}td.n{{text-align:right;font-variant-numeric:tabular-nums}}figure{{margin:0.5em}}svg{{max-width:100%;height:auto;background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:30em}}.note{{color:#666}}.scroll{{overflow-x:auto}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n{body}<h2>sweep.ron</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
         esc(sweep_ron),
         t = esc(title)
     )
