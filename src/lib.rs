@@ -97,7 +97,7 @@ pub use command::{Command, CommandError, CommandSpace, ValueSpace};
 pub use effect::{EffectError, EffectGrid, EffectModel, Target, TargetError};
 pub use learner::{
     ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner, LearnerError, LearnerKind,
-    ParamError, Params, UniformPolicy, UniformValues,
+    ParamError, Params, ParseLearnerError, UniformPolicy, UniformValues,
 };
 pub use rng::SessionRng;
 pub use scene::{Scene, SceneError, SceneErrorKind};
@@ -109,5 +109,5 @@ pub use session::{
 pub use sweep::{Sweep, SweepError};
 pub use world::{
     ContinuousWorld, ExecutionPlan, Executor, GridWorld, Memoized, Outcome, OutcomeMemo,
-    OutcomeTable, PhysicsWorld, Strategy, World, WorldError,
+    OutcomeTable, ParseStrategyError, PhysicsWorld, Strategy, World, WorldError,
 };

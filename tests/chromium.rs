@@ -1,7 +1,8 @@
-//! The animated SVG page and the report page in headless Chromium: a
-//! screenshot that is not empty and no console error. SKIPPED, with a
-//! notice, when no `chromium` (or `chromium-browser`, `google-chrome`) is
-//! on the PATH: CI machines do not install it.
+//! The animated SVG pages (physics, grid) and the report pages (run,
+//! sweep) in headless Chromium: a screenshot that is not empty and no
+//! console error. SKIPPED, with a notice, when no `chromium` (or
+//! `chromium-browser`, `google-chrome`) is on the PATH: CI machines do not
+//! install it.
 
 use e3d::report::html::{parse_trials, run_page};
 use e3d::report::motion_svg::{html_page, motion_svg};
@@ -67,6 +68,18 @@ fn pages_render_in_headless_chromium() {
     )
     .unwrap();
     check(&browser, &anim);
+    let grid = Scene::builtin("two_rooms").unwrap();
+    let c = grid.command_space().parse("EEESSEE").unwrap();
+    let anim = dir.join("two_rooms.html");
+    std::fs::write(
+        &anim,
+        html_page(
+            "two_rooms",
+            &e3d::report::motion_svg::grid_motion_svg(&grid, &c).unwrap(),
+        ),
+    )
+    .unwrap();
+    check(&browser, &anim);
     let mut csv = String::from("trial,command,effect,reward\n");
     for t in 1..=200 {
         csv.push_str(&format!("{t},NE,{},{}\n", t % 7, t % 2));
@@ -75,6 +88,21 @@ fn pages_render_in_headless_chromium() {
     std::fs::write(
         &page,
         run_page("t", "{}", &parse_trials(&csv).unwrap(), 2, 4),
+    )
+    .unwrap();
+    check(&browser, &page);
+    let summary = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n\
+                   g,e3d,false,0.3,1,0.03,0.01,,3,0.9,0.01,0.88,0.92\n\
+                   g,e3d,false,0.3,10,0.03,0.01,,3,0.8,0.01,0.78,0.82\n";
+    let page = dir.join("sweep.html");
+    std::fs::write(
+        &page,
+        e3d::report::html::sweep_page(
+            "s",
+            &e3d::report::sweep_plot::Summary::parse(summary).unwrap(),
+            "",
+            &[],
+        ),
     )
     .unwrap();
     check(&browser, &page);

@@ -488,3 +488,300 @@ fn scene_check_expanded_prints_a_scene_that_loads_back_equal() {
         assert_eq!(String::from_utf8(o.stdout).unwrap(), text);
     }
 }
+
+fn ok(o: &Output) -> (String, String) {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn report_writes_a_run_folders_page_and_says_where() {
+    let d = tmp("report-run");
+    let ds = d.to_str().unwrap();
+    ok(&e3d(&["run", "two_rooms", "--trials", "500", "--out", ds]));
+    let (out, _) = ok(&e3d(&["report", ds]));
+    let page_path = d.join("report.html");
+    assert_eq!(out, format!("wrote {} (run report)\n", page_path.display()));
+    let page = String::from_utf8(read(&page_path)).unwrap();
+    assert!(page.starts_with("<!DOCTYPE html>"));
+    assert!(page.contains("<title>e3d run: two_rooms</title>"));
+    assert!(page.contains("<p>500 trials</p>"));
+    // two heat maps of the 3 x 6 cells of two_rooms, a chart per slot
+    assert_eq!(page.matches(r#"class="cell""#).count(), 36);
+    assert!(page.contains("slot 6:") && !page.contains("slot 7:"));
+    assert!(!page.contains("<script"));
+    // --out elsewhere
+    let other = d.join("elsewhere.html");
+    let (out, _) = ok(&e3d(&["report", ds, "--out", other.to_str().unwrap()]));
+    assert!(out.contains(&other.display().to_string()));
+    assert_eq!(read(&other), read(&page_path));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn report_writes_a_sweep_folders_page_with_its_summary() {
+    let d = tmp("report-sweep");
+    std::fs::create_dir_all(&d).unwrap();
+    let file = d.join("s.ron");
+    std::fs::write(
+        &file,
+        r#"Sweep(
+    name: "tiny",
+    scenes: ["two_rooms"],
+    learners: [e3d, uniform],
+    params: (beta: [1, 100], eta: [0.003, 0.03]),
+    sessions: 2,
+    trials: 200,
+    seed: 1,
+    metrics: [normalized_entropy, distinct_effects],
+)
+"#,
+    )
+    .unwrap();
+    let out = d.join("out");
+    let os = out.to_str().unwrap();
+    ok(&e3d(&["sweep", file.to_str().unwrap(), "--out", os]));
+    let (stdout, _) = ok(&e3d(&["report", os]));
+    assert!(stdout.contains("(sweep report)"), "{stdout}");
+    let page = String::from_utf8(read(&out.join("report.html"))).unwrap();
+    assert!(page.contains("<title>e3d sweep: tiny</title>"));
+    let summary = String::from_utf8(read(&out.join("summary.csv"))).unwrap();
+    let header: Vec<&str> = summary.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    // every cell's exact mean and sd are on the page
+    for line in summary.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        for m in ["normalized_entropy", "distinct_effects"] {
+            let (mean, sd) = (f[col(&format!("{m}_mean"))], f[col(&format!("{m}_sd"))]);
+            assert!(
+                page.contains(&format!("mean {mean}, sd {sd},")),
+                "{m} {mean}"
+            );
+        }
+    }
+    assert_eq!(page.matches("<tr>").count(), summary.lines().count());
+    for p in ["beta", "eta", "learner"] {
+        assert!(page.contains(&format!("<th>{p}</th>")), "{p}");
+    }
+    assert!(page.contains("<h2>Against beta</h2>") && page.contains("<h2>Against eta</h2>"));
+    assert!(page.contains("normalized_entropy against beta"));
+    assert!(page.contains("name: &quot;tiny&quot;") || page.contains("name: \"tiny\""));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn report_refuses_a_missing_folder_and_one_without_results_naming_it() {
+    let d = tmp("report-bad");
+    let missing = d.join("nothing-here");
+    let o = e3d(&["report", missing.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains(&format!("{}: no such folder", missing.display())),
+        "{err}"
+    );
+    std::fs::create_dir_all(&d).unwrap();
+    let o = e3d(&["report", d.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains(&format!("{}: no results to report", d.display())),
+        "{err}"
+    );
+    // a shard: results.csv without summary.csv
+    std::fs::write(d.join("results.csv"), "scene\n").unwrap();
+    let o = e3d(&["report", d.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("e3d merge"), "{err}");
+    assert!(!d.join("report.html").exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn scene_render_animate_writes_smil_for_physics_and_grids() {
+    let d = tmp("animate");
+    std::fs::create_dir_all(&d).unwrap();
+    // physics: an SVG and a page
+    let svg = d.join("arm7.svg");
+    let (out, _) = ok(&e3d(&[
+        "scene",
+        "render",
+        "arm7",
+        "--command=+0-+0-+",
+        "--animate",
+        "--out",
+        svg.to_str().unwrap(),
+    ]));
+    assert!(
+        out.starts_with(&format!("wrote {} (", svg.display())),
+        "{out}"
+    );
+    assert!(out.contains("frames"), "{out}");
+    let text = String::from_utf8(read(&svg)).unwrap();
+    assert!(text.starts_with("<svg") && text.contains("<animateTransform"));
+    assert!(text.contains(r#"repeatCount="indefinite""#) && text.contains("t = "));
+    let html = d.join("arm7.html");
+    ok(&e3d(&[
+        "scene",
+        "render",
+        "arm7",
+        "--command=+0-+0-+",
+        "--animate",
+        "--out",
+        html.to_str().unwrap(),
+    ]));
+    let page = String::from_utf8(read(&html)).unwrap();
+    assert!(page.starts_with("<!DOCTYPE html>") && page.contains("<animateTransform"));
+    // a grid: the cell path, a keyframe per slot and the start
+    let grid = d.join("two_rooms.svg");
+    let (out, _) = ok(&e3d(&[
+        "scene",
+        "render",
+        "two_rooms",
+        "--command",
+        "EEESSEE",
+        "--animate",
+        "--out",
+        grid.to_str().unwrap(),
+    ]));
+    assert!(out.contains("8 keyframes"), "{out}");
+    let text = String::from_utf8(read(&grid)).unwrap();
+    assert!(text.contains(r#"<circle class="agent""#));
+    assert!(text.contains(r#"<animate attributeName="cx" calcMode="discrete""#));
+    assert_eq!(text.matches(r#"class="keyframe""#).count(), 8);
+    assert!(text.contains("slot 7/7: E → cell (2, 2)"));
+    // a bad command: exit 2, naming the slot, no file
+    for (scene, cmd, want) in [
+        ("two_rooms", "EEESXEE", "symbol 'X' at slot 4"),
+        ("arm7", "+0-+0-x", "at slot 6"),
+    ] {
+        let bad = d.join(format!("bad-{scene}.svg"));
+        let o = e3d(&[
+            "scene",
+            "render",
+            scene,
+            &format!("--command={cmd}"),
+            "--animate",
+            "--out",
+            bad.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{scene}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(want), "{scene}: {err}");
+        assert!(!bad.exists());
+    }
+    // --animate without --command is refused by the parser
+    let o = e3d(&["scene", "render", "arm7", "--animate", "--out", "x.svg"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--command"));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `e3d` with the global rayon pool of `threads` threads and `stdin`.
+fn e3d_threads(args: &[&str], threads: usize, stdin: Option<&str>) -> Output {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_e3d"))
+        .args(args)
+        .env("RAYON_NUM_THREADS", threads.to_string())
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut input = child.stdin.take().unwrap();
+    if let Some(text) = stdin {
+        input.write_all(text.as_bytes()).unwrap();
+    }
+    drop(input);
+    child.wait_with_output().unwrap()
+}
+
+/// The long scene tools say what they will cost before they start (the
+/// progress lines that follow come every 5 s off a terminal: not checked);
+/// the short ones stay quiet.
+#[test]
+fn long_scene_tools_print_their_estimated_cost_first() {
+    // every command: always said, with the steps and the threads
+    let (_, err) = ok(&e3d_threads(&["scene", "table", "pendulum3"], 2, None));
+    let first = err.lines().next().unwrap();
+    assert!(
+        first.starts_with("scene pendulum3: simulating 125 commands on 2 thread(s) (")
+            && first.contains(" steps each): about ")
+            && first.ends_with(" by the cost model"),
+        "{err}"
+    );
+    // a large sample: 600 arm7 rollouts of 120 steps on one thread
+    let (_, err) = ok(&e3d_threads(
+        &["scene", "check", "arm7", "--samples", "600"],
+        2,
+        None,
+    ));
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("scene check arm7: "))
+        .unwrap_or_else(|| panic!("no cost line: {err}"));
+    assert!(
+        line.starts_with(
+            "scene check arm7: 600 command(s) (120 steps each) on 1 thread(s): about "
+        ) && line.ends_with(" s by the cost model"),
+        "{line}"
+    );
+    // scene exec of 400 commands on one thread: said before
+    let many: Vec<&str> = std::iter::repeat_n("+0-+0-+", 400).collect();
+    let mut args = vec!["scene", "exec", "arm7"];
+    args.extend(&many);
+    let (out, err) = ok(&e3d_threads(&args, 1, None));
+    assert_eq!(out.lines().count(), 401);
+    assert!(
+        err.lines()
+            .next()
+            .unwrap_or_default()
+            .starts_with("scene exec arm7: 400 command(s) (120 steps each) on 1 thread(s): about "),
+        "{err}"
+    );
+    // the same on stdin: said once those read so far reach it
+    let (out, err) = ok(&e3d_threads(
+        &["scene", "exec", "arm7", "-"],
+        1,
+        Some(&(many.join("\n") + "\n")),
+    ));
+    assert_eq!(out.lines().count(), 401);
+    let said: Vec<&str> = err.lines().filter(|l| l.contains("so far")).collect();
+    assert_eq!(said.len(), 1, "{err}");
+    assert!(
+        said[0].starts_with("scene exec arm7: ")
+            && said[0].contains(" commands so far (120 steps each), about ")
+            && said[0]
+                .ends_with(" each on 1 thread(s) by the cost model; more as stdin gives them"),
+        "{err}"
+    );
+    // short ones: nothing on stderr
+    let (_, err) = ok(&e3d_threads(
+        &["scene", "exec", "arm7", "+0-+0-+", "0000000"],
+        1,
+        None,
+    ));
+    assert_eq!(err, "");
+    let d = tmp("quiet-animate");
+    std::fs::create_dir_all(&d).unwrap();
+    let f = d.join("a.svg");
+    let (_, err) = ok(&e3d_threads(
+        &[
+            "scene",
+            "render",
+            "arm7",
+            "--command=+0-+0-+",
+            "--animate",
+            "--out",
+            f.to_str().unwrap(),
+        ],
+        1,
+        None,
+    ));
+    assert_eq!(err, "");
+    let _ = std::fs::remove_dir_all(&d);
+}

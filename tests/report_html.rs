@@ -47,3 +47,65 @@ fn the_page_has_both_heat_maps_the_reward_and_a_chart_per_slot() {
     assert!(page.contains("slot 0:") && page.contains("slot 1:") && !page.contains("slot 2:"));
     assert!(!page.contains("<script"));
 }
+
+#[cfg(feature = "plots")]
+mod sweep {
+    use e3d::report::html::sweep_page;
+    use e3d::report::sweep_plot::Summary;
+
+    const CSV: &str = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,failed,normalized_entropy_mean,normalized_entropy_sd,normalized_entropy_ci_low,normalized_entropy_ci_high,first_reward_trial_mean,first_reward_trial_sd,first_reward_trial_ci_low,first_reward_trial_ci_high\n\
+two_rooms,e3d,false,0.3,1,0.03,0.003,,2,0,0.8302690281245326,0.02721434585793402,0.585757831635245,1.0747802246138203,,,,\n\
+two_rooms,e3d,false,0.3,100,0.03,0.003,,2,1,0.8082385520182234,0.013186851440952906,0.6897593925122136,0.9267177115242331,12.5,3.5,1,40\n\
+two_rooms,e3d,false,0.3,1,0.03,0.03,,2,0,0.8271039914527295,0.0019987706445061012,0.8091457497096758,0.8450622331957832,,,,\n\
+two_rooms,e3d,false,0.3,100,0.03,0.03,,2,0,0.81,0.01,0.8,0.82,,,,\n\
+two_rooms,uniform,false,,,,,,2,0,0.7,0.02,0.6,0.8,,,,\n";
+
+    fn page() -> String {
+        sweep_page(
+            "e3d sweep: t",
+            &Summary::parse(CSV).unwrap(),
+            "Sweep(name: \"t\")",
+            &["the simulation blew up".to_string()],
+        )
+    }
+
+    #[test]
+    fn the_table_holds_every_cell_and_its_exact_numbers() {
+        let page = page();
+        assert!(page.starts_with("<!DOCTYPE html>"));
+        assert!(!page.contains("<script"));
+        // one row per cell, plus the header
+        assert_eq!(page.matches("<tr>").count(), 6);
+        // the columns that vary are named; those that do not are said once
+        for h in ["learner", "alpha", "beta", "eta", "sessions", "failed"] {
+            assert!(page.contains(&format!("<th>{h}</th>")), "{h}");
+        }
+        assert!(!page.contains("<th>scene</th>") && !page.contains("<th>epsilon</th>"));
+        assert!(page.contains("the same in every cell: scene two_rooms; use_reward false"));
+        assert!(page.contains("<th>normalized_entropy<br>mean ± sd</th>"));
+        // the exact values, in the tooltip, and the rounded ones shown
+        assert!(page.contains("mean 0.8302690281245326, sd 0.02721434585793402, 95% interval [0.585757831635245, 1.0747802246138203]"));
+        assert!(page.contains(">0.8303 ± 0.02721</td>"));
+        assert!(page.contains("5 cells, 10 sessions (1 failed), 2 metrics"));
+        assert!(page.contains("<li>the simulation blew up</li>"));
+        assert!(page.contains("<pre>Sweep(name: \"t\")</pre>"));
+    }
+
+    #[test]
+    fn each_varied_parameter_gets_a_plot_per_metric() {
+        let page = page();
+        assert!(page.contains("<h2>Against beta</h2>") && page.contains("<h2>Against eta</h2>"));
+        // alpha takes one value where it is used: no plot against it
+        assert!(!page.contains("<h2>Against alpha</h2>"));
+        assert!(page.contains("<h3>normalized_entropy against beta</h3>"));
+        // 2 parameters x 2 metrics (first_reward_trial has one value)
+        assert_eq!(page.matches("<figure class=\"plot\"><svg").count(), 4);
+        // a metric with no value where the parameter is used is not drawn
+        let csv = CSV.replace(",12.5,3.5,1,40", ",,,,");
+        let page = sweep_page("t", &Summary::parse(&csv).unwrap(), "", &[]);
+        assert_eq!(page.matches("<figure class=\"plot\"><svg").count(), 2);
+        assert!(page
+            .contains("not drawn: no cell with a value of eta has a value of first_reward_trial"));
+        assert!(!page.contains("<h2>Failures</h2>"));
+    }
+}

@@ -854,3 +854,72 @@ fn a_scene_edited_between_shards_or_before_resume_is_refused() {
         "--resume",
     ]));
 }
+
+/// A table built for a sweep is told as it goes (every simulated command,
+/// then the end), and the results are the same as without it; a table
+/// read whole is not told.
+#[test]
+fn table_progress_tells_every_simulated_command_and_changes_nothing() {
+    use std::sync::{Arc, Mutex};
+    let d = temp("table-progress");
+    let file = d.0.join("p.ron");
+    std::fs::write(
+        &file,
+        r#"Sweep(
+    scenes: ["pendulum3", "two_rooms"],
+    learners: [e3d],
+    params: (beta: [1, 100]),
+    sessions: 2,
+    trials: 200,
+    seed: 5,
+    metrics: [normalized_entropy, distinct_effects],
+)
+"#,
+    )
+    .unwrap();
+    let table = Some(e3d::world::Strategy::Table);
+    let calls: Arc<Mutex<Vec<(String, u64, u64)>>> = Arc::default();
+    let seen = calls.clone();
+    let cache = d.0.join("tables");
+    let told = e3d::Sweep::load(&file)
+        .unwrap()
+        .with_strategy(table)
+        .with_table_cache(&cache)
+        .with_table_progress(move |scene, k, total| {
+            seen.lock().unwrap().push((scene.to_string(), k, total))
+        });
+    let with = told.run(2).unwrap();
+    let calls = calls.lock().unwrap().clone();
+    for scene in ["pendulum3", "two_rooms"] {
+        let mine: Vec<&(String, u64, u64)> = calls.iter().filter(|c| c.0 == scene).collect();
+        assert!(mine.len() >= 2, "{scene}: {calls:?}");
+        // the end, once, last
+        assert_eq!(mine.last().map(|c| (c.1, c.2)), Some((0, 0)), "{scene}");
+        assert_eq!(mine.iter().filter(|c| c.2 == 0).count(), 1, "{scene}");
+        let total = mine[0].2;
+        assert!(mine[..mine.len() - 1].iter().all(|c| c.2 == total));
+        let simulated: u64 = mine.iter().map(|c| c.1).sum();
+        assert_eq!(simulated, total, "{scene}");
+    }
+    let pendulum_total = calls.iter().find(|c| c.0 == "pendulum3").unwrap().2;
+    assert_eq!(pendulum_total, 125);
+    // without progress, and with the tables read whole from the cache
+    // (nothing to tell): the same results
+    let again: Arc<Mutex<u64>> = Arc::default();
+    let count = again.clone();
+    let without = e3d::Sweep::load(&file)
+        .unwrap()
+        .with_strategy(table)
+        .with_table_cache(&cache)
+        .with_table_progress(move |_, _, _| *count.lock().unwrap() += 1)
+        .run(2)
+        .unwrap();
+    assert_eq!(*again.lock().unwrap(), 0);
+    let plain = e3d::Sweep::load(&file).unwrap().run(1).unwrap();
+    let rows = |rs: &[e3d::sweep::SessionResult]| {
+        let s = e3d::Sweep::load(&file).unwrap();
+        rs.iter().map(|r| s.result_row(r)).collect::<Vec<_>>()
+    };
+    assert_eq!(rows(&with), rows(&without));
+    assert_eq!(rows(&with), rows(&plain));
+}

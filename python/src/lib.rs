@@ -1185,7 +1185,7 @@ fn builtin_kind(learner: Option<&Bound<'_, PyAny>>) -> PyResult<Option<LearnerKi
         Some(l) if l.is_instance_of::<PyString>() => Some(
             l.extract::<String>()?
                 .parse::<LearnerKind>()
-                .map_err(PyValueError::new_err)?,
+                .map_err(|e| PyValueError::new_err(e.to_string()))?,
         ),
         Some(_) => None,
     })

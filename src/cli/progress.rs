@@ -1,5 +1,6 @@
 //! The progress of a long computation, on standard error, for every long
-//! command (`run`, `sweep`, `reproduce`, `scene table|stats|reward-cell|exec`):
+//! command (`run`, `sweep` and its table builds, `reproduce`, `scene
+//! table|stats|reward-cell|exec|check --samples`):
 //! an estimate of its time once a sample has been measured, then a bar
 //! with ETA on a terminal, or a line every few seconds otherwise, so that a
 //! batch log (Slurm, `2> log`, a pipe) shows that work goes on. Nothing
@@ -17,6 +18,12 @@ const SAMPLE: Duration = Duration::from_secs(1);
 /// How often a line is printed when standard error is not a terminal.
 pub const EVERY: Duration = Duration::from_secs(5);
 
+/// Seconds from which a scene tool's estimated cost is said before it
+/// starts (`scene check --samples`, `scene exec`, `scene render
+/// --animate`); a shorter one stays quiet. The tools that simulate every
+/// command (`scene table|stats|reward-cell`) always say it.
+pub const LONG: f64 = 1.0;
+
 /// The count of a tracked computation, moved on by the work from any
 /// thread and read by the reporter.
 pub struct Progress {
@@ -32,6 +39,66 @@ pub struct Progress {
     total: AtomicU64,
     /// Shown after the count, for example `3/40 sessions`.
     note: Mutex<String>,
+    /// Lines to print once, above the bar on a terminal ([`Progress::say`]).
+    said: Mutex<Vec<String>>,
+    /// A phase shown instead of the count while it runs.
+    phase: Arc<Phase>,
+}
+
+/// A part of a tracked computation with a count of its own (a sweep's
+/// outcome table, built before any trial runs), shown instead of the
+/// computation's count while it runs: its own bar with ETA on a terminal,
+/// its own lines otherwise (`sweep: table of arm7: 300/1094 commands
+/// (27%), 5 s elapsed, about 13 s left`). Moved on from any thread.
+#[derive(Default)]
+pub struct Phase {
+    /// The label and unit of the phase running, if one is.
+    current: Mutex<Option<(String, String)>>,
+    /// Bumped at each new phase, so that the reporter starts afresh.
+    serial: AtomicU64,
+    done: AtomicU64,
+    total: AtomicU64,
+}
+
+impl Phase {
+    /// Starts the phase `label` of `total` units unless it is the one
+    /// running (one look, so that threads that all report a phase's first
+    /// units start it once).
+    pub fn enter(&self, label: &str, unit: &str, total: u64) {
+        let mut current = self.current.lock().unwrap_or_else(|e| e.into_inner());
+        if current.as_ref().is_some_and(|(l, _)| l == label) {
+            return;
+        }
+        self.done.store(0, Ordering::Relaxed);
+        self.total.store(total, Ordering::Relaxed);
+        self.serial.fetch_add(1, Ordering::Relaxed);
+        *current = Some((label.to_string(), unit.to_string()));
+    }
+
+    /// `k` more units of the phase done.
+    pub fn add(&self, k: u64) {
+        self.done.fetch_add(k, Ordering::Relaxed);
+    }
+
+    /// Ends the phase running: the computation's count shows again.
+    pub fn end(&self) {
+        *self.current.lock().unwrap_or_else(|e| e.into_inner()) = None;
+    }
+
+    /// (serial, label, unit, done, total) of the phase running.
+    fn read(&self) -> Option<(u64, String, String, u64, u64)> {
+        let current = self.current.lock().unwrap_or_else(|e| e.into_inner());
+        let (label, unit) = current.as_ref()?;
+        let total = self.total.load(Ordering::Relaxed);
+        let done = self.done.load(Ordering::Relaxed).min(total);
+        Some((
+            self.serial.load(Ordering::Relaxed),
+            label.clone(),
+            unit.clone(),
+            done,
+            total,
+        ))
+    }
 }
 
 impl Progress {
@@ -42,7 +109,28 @@ impl Progress {
             floor: AtomicU64::new(0),
             total: AtomicU64::new(total),
             note: Mutex::new(String::new()),
+            said: Mutex::new(Vec::new()),
+            phase: Arc::new(Phase::default()),
         }
+    }
+
+    /// The phase of this computation, to hand to code that reports a part
+    /// of it on its own (`Sweep::with_table_progress`).
+    pub fn phase(&self) -> Arc<Phase> {
+        self.phase.clone()
+    }
+
+    /// Prints `line` on standard error at the reporter's next look (within
+    /// 0.1 s, and at the end at the latest), above the bar on a terminal.
+    pub fn say(&self, line: impl Into<String>) {
+        self.said
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(line.into());
+    }
+
+    fn take_said(&self) -> Vec<String> {
+        std::mem::take(&mut *self.said.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     /// `k` more units done.
@@ -130,14 +218,52 @@ fn track_as<T>(
             let mut r = Reporter::new(label, unit, terminal);
             r.bar_allowed = bar;
             r.stream = stream;
+            // the phase being shown: its serial and its reporter
+            let mut sub: Option<(u64, Reporter)> = None;
             loop {
                 std::thread::park_timeout(Duration::from_millis(100));
+                for line in progress.take_said() {
+                    match &sub {
+                        Some((_, s)) => s.print(line),
+                        None => r.print(line),
+                    }
+                }
                 if finished.load(Ordering::Acquire) {
                     break;
                 }
-                r.show(&progress, Instant::now());
+                let now = Instant::now();
+                match progress.phase.read() {
+                    Some((serial, label, unit, done, total)) if r.bar_allowed || !terminal => {
+                        if sub.as_ref().is_none_or(|(k, _)| *k != serial) {
+                            if let Some((_, mut old)) = sub.take() {
+                                old.finish();
+                            }
+                            r.hide();
+                            let mut s = Reporter::new(&label, &unit, terminal);
+                            // lines at the pace of the computation's
+                            s.last_line = r.last_line;
+                            sub = Some((serial, s));
+                        }
+                        if let Some((_, s)) = sub.as_mut() {
+                            s.show_counts((done, done, total), "", now);
+                            r.last_line = s.last_line;
+                        }
+                    }
+                    _ => {
+                        if let Some((_, mut old)) = sub.take() {
+                            old.finish();
+                        }
+                        r.show(&progress, now);
+                    }
+                }
+            }
+            if let Some((_, mut old)) = sub.take() {
+                old.finish();
             }
             r.finish();
+            for line in progress.take_said() {
+                eprintln!("{line}");
+            }
         });
         // set even if `work` panics, or the scope would wait for the reporter
         let _stop = Stop {
@@ -162,9 +288,9 @@ impl Drop for Stop<'_> {
 }
 
 /// What the reporter thread keeps between two looks at the count.
-struct Reporter<'a> {
-    label: &'a str,
-    unit: &'a str,
+struct Reporter {
+    label: String,
+    unit: String,
     terminal: bool,
     /// On a terminal: draw a bar (or a spinner), or nothing at all.
     bar_allowed: bool,
@@ -196,12 +322,12 @@ impl Rate {
     }
 }
 
-impl<'a> Reporter<'a> {
-    fn new(label: &'a str, unit: &'a str, terminal: bool) -> Self {
+impl Reporter {
+    fn new(label: &str, unit: &str, terminal: bool) -> Self {
         let start = Instant::now();
         Reporter {
-            label,
-            unit,
+            label: label.to_string(),
+            unit: unit.to_string(),
             terminal,
             bar_allowed: true,
             stream: false,
@@ -215,16 +341,26 @@ impl<'a> Reporter<'a> {
     }
 
     fn show(&mut self, p: &Progress, now: Instant) {
-        let (pos, ran, total) = p.read();
+        self.show_counts(p.read(), &p.note_text(), now);
+    }
+
+    /// Removes the bar (a phase shows its own meanwhile); it comes back,
+    /// its ETA anew, at the next [`show`](Self::show).
+    fn hide(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
+
+    fn show_counts(&mut self, (pos, ran, total): (u64, u64, u64), note: &str, now: Instant) {
         if total == 0 && !self.stream {
             return;
         }
-        let note = p.note_text();
         if self.terminal {
             if !self.bar_allowed {
                 return;
             }
-            self.draw_bar(pos, total, &note);
+            self.draw_bar(pos, total, note);
         }
         // the rate is measured from the first count, not from the start:
         // building an outcome table first does not count as slow trials
@@ -237,7 +373,7 @@ impl<'a> Reporter<'a> {
         };
         if !self.estimated && total > 0 && rate.units > 0 && rate.time >= SAMPLE {
             self.estimated = true;
-            let line = estimate_line(self.label, self.unit, pos, total, now - self.start, rate);
+            let line = estimate_line(&self.label, &self.unit, pos, total, now - self.start, rate);
             self.print(line);
         }
         // without a total (a stream), a line only when the count moved:
@@ -245,10 +381,10 @@ impl<'a> Reporter<'a> {
         let due = now - self.last_line >= EVERY;
         if !self.terminal && due && (total > 0 || pos != self.last_pos) {
             self.print(status_line(
-                self.label,
-                self.unit,
+                &self.label,
+                &self.unit,
                 (pos, total),
-                &note,
+                note,
                 now - self.start,
                 rate,
             ));
@@ -258,7 +394,7 @@ impl<'a> Reporter<'a> {
     }
 
     fn draw_bar(&mut self, pos: u64, total: u64, note: &str) {
-        let unit = self.unit;
+        let unit = &self.unit;
         let bar = self.bar.get_or_insert_with(|| {
             let (bar, template) = if total > 0 {
                 (
@@ -285,7 +421,7 @@ impl<'a> Reporter<'a> {
             bar.set_length(total);
         }
         bar.set_message(if note.is_empty() {
-            self.label.to_string()
+            self.label.clone()
         } else {
             format!("{} ({note})", self.label)
         });
@@ -414,6 +550,33 @@ mod tests {
             ),
             "sweep: about 16 s in all (100 trials in 1.0 s)"
         );
+    }
+
+    #[test]
+    fn a_phase_is_entered_once_counts_its_own_units_and_ends() {
+        let p = Progress::new(100);
+        let phase = p.phase();
+        assert!(phase.read().is_none());
+        phase.enter("sweep: table of arm7", "commands", 1094);
+        phase.add(24);
+        // a second thread's first units do not start it again
+        phase.enter("sweep: table of arm7", "commands", 1094);
+        phase.add(24);
+        let (serial, label, unit, done, total) = phase.read().unwrap();
+        assert_eq!(
+            (label.as_str(), unit.as_str(), done, total),
+            ("sweep: table of arm7", "commands", 48, 1094)
+        );
+        // the next scene's table: a new phase, counted from 0
+        phase.enter("sweep: table of maze3", "commands", 10);
+        phase.add(50);
+        let (next, _, _, done, total) = phase.read().unwrap();
+        assert!(next > serial);
+        assert_eq!((done, total), (10, 10));
+        phase.end();
+        assert!(phase.read().is_none());
+        // the computation's own count is untouched
+        assert_eq!(p.read(), (0, 0, 100));
     }
 
     #[test]

@@ -52,9 +52,10 @@ pub enum SceneCmd {
         /// A command (its symbols, one per slot) whose path to draw.
         #[arg(long, allow_hyphen_values = true)]
         command: Option<String>,
-        /// Animate the command's motion (physics scenes; needs `--command`):
-        /// every moving body, the tracked point and the time, looping; an
-        /// `.html` FILE gets a page holding the SVG.
+        /// Animate the command (needs `--command`): on a physics scene every
+        /// moving body, the tracked point and the time; on a grid the
+        /// agent's cell path, a keyframe per slot; looping. An `.html` FILE
+        /// gets a page holding the SVG.
         #[arg(long, requires = "command")]
         animate: bool,
         /// The SVG (or, with `--animate`, HTML) file to write.
@@ -344,7 +345,16 @@ fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
     if samples == 0 {
         return Ok(());
     }
-    let s = match e3d::world::sample_reach(scene, samples, seed) {
+    let total = scene
+        .command_space()
+        .num_commands()
+        .map_or(samples, |n| n.min(samples));
+    let label = format!("scene check {}", scene.name);
+    say_cost(&label, scene, total, 1);
+    let sampled = progress::track(&label, "commands", total, |p| {
+        e3d::world::sample_reach_with_progress(scene, samples, seed, &|k| p.add(k))
+    });
+    let s = match sampled {
         Ok(s) => s,
         // the scene is valid; a command that blows up is a finding of the
         // check, not a failure of it
@@ -445,7 +455,9 @@ fn full_check_cost(scene: &Scene) -> String {
 }
 
 fn seconds_text(t: f64) -> String {
-    if t < 1.0 {
+    if t < 0.01 {
+        format!("{:.2} ms", t * 1e3)
+    } else if t < 1.0 {
         format!("{t:.2} s")
     } else if t < 120.0 {
         format!("{t:.0} s")
@@ -487,32 +499,48 @@ fn render(scene: &Scene, command: Option<&str>, out: &std::path::Path) -> CliRes
 /// `e3d scene render --animate`: the command's rollout, animated (SVG, or
 /// an HTML page when `out` ends in `.html`).
 fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliResult {
+    use e3d::report::motion_svg::{grid_motion_svg, html_page, motion_svg, thin, MAX_FRAMES};
     let space = scene.command_space();
     let c = space.parse(text).map_err(CliError::input)?;
-    let mut w = scene.physics_world().ok_or_else(|| {
-        CliError::input(e3d::report::motion_svg::AnimateError::Grid(scene.name.clone()).to_string())
-    })?;
-    let motion = w.motion(&c).map_err(world_error)?;
     let cmd = space.format(&c);
-    let svg = e3d::report::motion_svg::motion_svg(scene, &cmd, &motion)
-        .map_err(|e| CliError::input(e.to_string()))?;
+    say_cost(&format!("scene render {}", scene.name), scene, 1, 1);
+    let (svg, what) = match scene.physics_world() {
+        None => {
+            let svg = grid_motion_svg(scene, &c).map_err(|e| CliError::input(e.to_string()))?;
+            let keyframes = space.num_slots() + 1;
+            (
+                svg,
+                format!(
+                    "{keyframes} keyframes: the start and a cell per slot, {:.1} s",
+                    keyframes as f64 * e3d::report::motion_svg::GRID_KEYFRAME_SECONDS
+                ),
+            )
+        }
+        Some(mut w) => {
+            let motion = w.motion(&c).map_err(world_error)?;
+            let svg =
+                motion_svg(scene, &cmd, &motion).map_err(|e| CliError::input(e.to_string()))?;
+            (
+                svg,
+                format!(
+                    "{} of {} frames, {:.3} s",
+                    thin(motion.frames.len(), MAX_FRAMES).len(),
+                    motion.frames.len(),
+                    motion.frames.last().map_or(0.0, |f| f.time)
+                ),
+            )
+        }
+    };
     let html = out
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
     let text = if html {
-        e3d::report::motion_svg::html_page(&format!("{}: command {cmd}", scene.name), &svg)
+        html_page(&format!("{}: command {cmd}", scene.name), &svg)
     } else {
         svg
     };
     write_file(out, text.as_bytes())?;
-    println!(
-        "wrote {} ({} of {} frames, {:.3} s)",
-        out.display(),
-        e3d::report::motion_svg::thin(motion.frames.len(), e3d::report::motion_svg::MAX_FRAMES)
-            .len(),
-        motion.frames.len(),
-        motion.frames.last().map_or(0.0, |f| f.time)
-    );
+    println!("wrote {} ({what})", out.display());
     Ok(())
 }
 
@@ -596,6 +624,8 @@ fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
         )));
     };
     let space = scene.command_space();
+    // whether stdin is read, and how many commands otherwise
+    let commands_known = (commands.iter().any(|c| c == "-"), commands.len() as u64);
     let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(64);
     let reader_space = space.clone();
     std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
@@ -611,7 +641,14 @@ fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
         let mut stdout = std::io::stdout().lock();
         let mut first = true;
         let label = format!("scene exec {}", scene.name);
+        let known = (!commands_known.0).then_some(commands_known.1);
+        if let Some(n) = known {
+            say_cost(&label, scene, n, 1);
+        }
         progress::track_stream(&label, "commands", |p| -> CliResult {
+            if let Some(n) = known {
+                p.set_total(n);
+            }
             for r in rx {
                 let c = r?;
                 let m = world.motion(&c).map_err(world_error)?;
@@ -785,6 +822,15 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
         Some(d) => exec_cache(scene, d),
         None => (None, None),
     };
+    let label = format!("scene exec {}", scene.name);
+    // what the commands cost, said before when their number is known, or
+    // once those read so far reach it (stdin); a table looks them up
+    let threads = rayon::current_num_threads();
+    let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
+    let per_command = e3d::world::rollout_seconds(scene);
+    let mut cost_said =
+        table.is_some() || known.is_some_and(|n| say_cost(&label, scene, n, threads));
+    let mut executed = 0u64;
     let mut executor = ExecPool::new(scene, table);
     let limit = chunk_limit();
     let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(2 * limit);
@@ -802,8 +848,10 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
     let mut header_written = false;
     let (mut chunk, mut results, mut text) = (Vec::new(), Vec::new(), String::new());
     let mut end: Option<CliError> = None;
-    let label = format!("scene exec {}", scene.name);
     progress::track_stream(&label, "commands", |p| -> CliResult {
+        if let Some(n) = known {
+            p.set_total(n);
+        }
         while end.is_none() {
             chunk.clear();
             let Ok(mut next) = rx.recv() else {
@@ -828,6 +876,15 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
             results.clear();
             executor.run(&chunk, memo.as_ref(), &mut results);
             p.add(chunk.len() as u64);
+            executed += chunk.len() as u64;
+            if !cost_said && executed as f64 * per_command / threads as f64 >= progress::LONG {
+                cost_said = true;
+                p.say(format!(
+                    "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model; more as stdin gives them",
+                    steps_text(scene),
+                    seconds_text(per_command)
+                ));
+            }
             text.clear();
             for (c, r) in chunk.iter().zip(results.drain(..)) {
                 match r {
@@ -980,7 +1037,9 @@ fn stats(scene: &Scene) -> CliResult {
         )));
     }
     let start = std::time::Instant::now();
-    let all: Vec<e3d::world::RunStats> = simulate_all(scene, n, |progress| {
+    let threads = rayon::current_num_threads();
+    let secs = n as f64 * e3d::world::rollout_seconds(scene) / threads as f64;
+    let all: Vec<e3d::world::RunStats> = simulate_all(scene, n, secs, |progress| {
         (0..n)
             .into_par_iter()
             .map_init(
@@ -1092,11 +1151,13 @@ fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
 }
 
 /// Says on stderr how many commands of `scene` are about to be simulated
-/// (`simulated`: fewer than all with a symmetry), then runs `work` with
-/// its progress shown there (see [`progress::track`]).
+/// (`simulated`: fewer than all with a symmetry) and what that costs by
+/// the cost model (`seconds`), then runs `work` with its progress shown
+/// there (see [`progress::track`]).
 fn simulate_all<T>(
     scene: &Scene,
     simulated: u64,
+    seconds: f64,
     work: impl FnOnce(&(dyn Fn(u64) + Sync)) -> T,
 ) -> T {
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
@@ -1106,9 +1167,11 @@ fn simulate_all<T>(
         format!("{simulated} commands")
     };
     eprintln!(
-        "scene {}: simulating {what} on {} thread(s)",
+        "scene {}: simulating {what} on {} thread(s){}: about {} by the cost model",
         scene.name,
-        rayon::current_num_threads()
+        rayon::current_num_threads(),
+        steps_text(scene),
+        seconds_text(seconds)
     );
     progress::track(
         &format!("scene {}", scene.name),
@@ -1122,10 +1185,56 @@ fn simulate_all<T>(
 fn build_table(scene: &Scene) -> Result<OutcomeTable, CliError> {
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
     let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
-    simulate_all(scene, simulated, |progress| {
+    simulate_all(scene, simulated, table_seconds(scene), |progress| {
         OutcomeTable::build_scene_with_progress(scene, progress)
     })
     .map_err(world_error)
+}
+
+/// The cost model's seconds for building the whole table of `scene` on
+/// the current threads (0 when no table is possible).
+fn table_seconds(scene: &Scene) -> f64 {
+    e3d::world::ExecutionPlan::choose(
+        scene,
+        &e3d::world::Workload {
+            trials: 0,
+            sessions: 1,
+            threads: rayon::current_num_threads(),
+        },
+        None,
+        0,
+    )
+    .table_seconds
+    .unwrap_or(0.0)
+}
+
+/// ` (120 steps each)` for a physics scene (nothing for a grid).
+fn steps_text(scene: &Scene) -> String {
+    match &scene.world {
+        WorldSpec::Physics(p) => format!(
+            " ({} steps each)",
+            p.schedule
+                .total_steps(p.dt, scene.command_space().num_slots())
+        ),
+        WorldSpec::Grid(_) => String::new(),
+    }
+}
+
+/// The cost model's estimate for `commands` rollouts of `scene` on
+/// `threads` threads, said on stderr (`LABEL: N commands, S steps each,
+/// on T thread(s): about X by the cost model`) when it reaches
+/// [`progress::LONG`]; whether it was said.
+fn say_cost(label: &str, scene: &Scene, commands: u64, threads: usize) -> bool {
+    let secs = commands as f64 * e3d::world::rollout_seconds(scene) / threads.max(1) as f64;
+    if secs < progress::LONG {
+        return false;
+    }
+    eprintln!(
+        "{label}: {commands} command(s){} on {threads} thread(s): about {} by the cost model",
+        steps_text(scene),
+        seconds_text(secs)
+    );
+    true
 }
 
 /// The table of `scene` as [`OutcomeTable::cached`] gives it, with the
@@ -1144,7 +1253,16 @@ fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, bool), CliEr
                 known.len(),
                 path.display()
             );
-            OutcomeTable::complete(scene, &known).map_err(world_error)?
+            let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+            let simulated = OutcomeTable::simulated_commands(scene)
+                .unwrap_or(n)
+                .saturating_sub(known.len() as u64);
+            let whole = OutcomeTable::simulated_commands(scene).unwrap_or(n).max(1);
+            let secs = table_seconds(scene) * simulated as f64 / whole as f64;
+            simulate_all(scene, simulated, secs, |progress| {
+                OutcomeTable::complete_with_progress(scene, &known, progress)
+            })
+            .map_err(world_error)?
         }
         Err(_) => build_table(scene)?,
     };

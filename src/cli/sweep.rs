@@ -92,7 +92,19 @@ pub fn run(a: SweepArgs) -> CliResult {
     // progress counts trials, so that sessions in lockstep, which all end
     // together, still move it; its total is known once the folder is read
     let report = progress::track("sweep", "trials", 0, |p| {
-        let sweep = sweep.with_trial_counter(p.counter());
+        // a table built before the trials shows its own count and ETA
+        let phase = p.phase();
+        let sweep =
+            sweep
+                .with_trial_counter(p.counter())
+                .with_table_progress(move |scene, k, total| {
+                    if total == 0 {
+                        phase.end();
+                    } else {
+                        phase.enter(&format!("sweep: table of {scene}"), "commands", total);
+                        phase.add(k);
+                    }
+                });
         let mut planned = false;
         sweep.run_to_dir(
             &a.out,

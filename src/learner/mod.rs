@@ -373,18 +373,38 @@ impl fmt::Display for LearnerKind {
     }
 }
 
+/// A name that is not one of [`LearnerKind::ALL`]'s (what
+/// [`LearnerKind::from_str`](std::str::FromStr::from_str) refuses); its
+/// message names the built-in learners.
+///
+/// ```
+/// use e3d::{LearnerKind, ParseLearnerError};
+/// let e: ParseLearnerError = "e3d-relax".parse::<LearnerKind>().unwrap_err();
+/// assert_eq!(e.input(), "e3d-relax");
+/// assert!(e.to_string().starts_with("unknown learner `e3d-relax`; expected one of: e3d, "));
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+#[error("unknown learner `{input}`; expected one of: {}", LearnerKind::ALL.map(|k| k.as_str()).join(", "))]
+pub struct ParseLearnerError {
+    input: String,
+}
+
+impl ParseLearnerError {
+    /// The name that was refused.
+    pub fn input(&self) -> &str {
+        &self.input
+    }
+}
+
 impl FromStr for LearnerKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ParseLearnerError;
+    fn from_str(s: &str) -> Result<Self, ParseLearnerError> {
         LearnerKind::ALL
             .into_iter()
             .find(|k| k.as_str() == s)
-            .ok_or_else(|| {
-                let names: Vec<&str> = LearnerKind::ALL.iter().map(|k| k.as_str()).collect();
-                format!(
-                    "unknown learner `{s}`; expected one of: {}",
-                    names.join(", ")
-                )
+            .ok_or_else(|| ParseLearnerError {
+                input: s.to_string(),
             })
     }
 }

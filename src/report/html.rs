@@ -5,6 +5,10 @@
 //! of trials) and late (the last 10%) as two heat maps, the cumulative
 //! reward over trials, and the policy per slot over trials: the share of
 //! each symbol in each slot, in windows of trials, from `trials.csv`.
+//!
+//! For a sweep folder (written by `e3d sweep` or `e3d merge`), [`sweep_page`]
+//! (feature `plots`) shows its summary as a table and each metric against
+//! each parameter the sweep varies.
 
 use std::fmt::Write;
 
@@ -240,6 +244,188 @@ pub fn run_page(
     format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}figure{{display:inline-block;margin:0.5em}}svg{{background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:20em}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n<p>{n} trials</p>\n{body}<h2>summary.json</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
         esc(summary),
+        t = esc(title)
+    )
+}
+
+/// The HTML page for a sweep folder (written by `e3d sweep` or `e3d
+/// merge`): `summary` (its `summary.csv`) as a table, one row per cell, the
+/// cell columns that vary and, per metric, the mean +- sd (the exact
+/// values and the 95% interval in each cell's tooltip); then, for each
+/// parameter that takes two or more values, the line plot of each metric
+/// against it ([`sweep_plot::plot`](super::sweep_plot::plot), inline SVG);
+/// then `sweep_ron` (the copy of the sweep file) as is. `failures` are the
+/// sessions' failure messages (`results.csv`), listed when there are any.
+///
+/// ```
+/// use e3d::report::html::sweep_page;
+/// use e3d::report::sweep_plot::Summary;
+/// let csv = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n\
+///            g,e3d,false,0.3,1,0.03,0.01,,3,0.9,0.01,0.88,0.92\n\
+///            g,e3d,false,0.3,10,0.03,0.01,,3,0.8,0.01,0.78,0.82\n";
+/// let page = sweep_page("s", &Summary::parse(csv).unwrap(), "Sweep(...)", &[]);
+/// assert!(page.contains("<th>beta</th>") && page.contains("h against beta"));
+/// assert!(!page.contains("<script"));
+/// ```
+#[cfg(feature = "plots")]
+pub fn sweep_page(
+    title: &str,
+    summary: &super::sweep_plot::Summary,
+    sweep_ron: &str,
+    failures: &[String],
+) -> String {
+    use super::sweep_plot::{plot, short, PlotSpec};
+    use crate::sweep::{CELL_COLUMNS, PARAM_NAMES};
+    let rows = &summary.rows;
+    let col = |name: &str| summary.columns.iter().position(|c| c == name);
+    let values = |c: usize| {
+        let mut v: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    // the cell columns that vary are the table's keys; the others are said once
+    let (varying, fixed): (Vec<usize>, Vec<usize>) =
+        (0..CELL_COLUMNS).partition(|&c| values(c).len() > 1);
+    let metrics = summary.metrics();
+    let mut body = String::new();
+    let sessions: usize = col("sessions")
+        .map(|c| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum())
+        .unwrap_or(0);
+    let failed: usize = col("failed")
+        .map(|c| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum())
+        .unwrap_or(0);
+    let _ = writeln!(
+        body,
+        "<p>{} cells, {sessions} sessions ({failed} failed), {} metrics</p>",
+        rows.len(),
+        metrics.len()
+    );
+    let fixed_text: Vec<String> = fixed
+        .iter()
+        .map(|&c| {
+            let v = rows.first().map_or("", |r| r[c].as_str());
+            format!(
+                "{} {}",
+                esc(&summary.columns[c]),
+                if v.is_empty() { "(unused)" } else { v }
+            )
+        })
+        .collect();
+    if !fixed_text.is_empty() {
+        let _ = writeln!(
+            body,
+            "<p>the same in every cell: {}</p>",
+            fixed_text.join("; ")
+        );
+    }
+    body.push_str("<h2>Summary</h2>\n<div class=\"scroll\">\n<table class=\"summary\">\n<tr>");
+    for &c in &varying {
+        let _ = write!(body, "<th>{}</th>", esc(&summary.columns[c]));
+    }
+    body.push_str("<th>sessions</th>");
+    if col("failed").is_some() {
+        body.push_str("<th>failed</th>");
+    }
+    for m in &metrics {
+        let _ = write!(body, "<th>{}<br>mean ± sd</th>", esc(m));
+    }
+    body.push_str("</tr>\n");
+    let num = |s: &str| s.parse::<f64>().ok();
+    for r in rows {
+        body.push_str("<tr>");
+        for &c in &varying {
+            let _ = write!(body, "<td>{}</td>", esc(&r[c]));
+        }
+        for name in ["sessions", "failed"] {
+            if let Some(c) = col(name) {
+                let _ = write!(body, "<td class=\"n\">{}</td>", esc(&r[c]));
+            }
+        }
+        for m in &metrics {
+            let field = |suffix: &str| {
+                col(&format!("{m}_{suffix}"))
+                    .map(|c| r[c].as_str())
+                    .unwrap_or("")
+            };
+            let (mean, sd, lo, hi) = (
+                field("mean"),
+                field("sd"),
+                field("ci_low"),
+                field("ci_high"),
+            );
+            match num(mean) {
+                None => body.push_str("<td class=\"n\">-</td>"),
+                Some(v) => {
+                    let sd_text = num(sd).map_or(String::new(), |s| format!(" ± {}", short(s)));
+                    let _ = write!(
+                        body,
+                        "<td class=\"n\" title=\"mean {}, sd {}, 95% interval [{}, {}]\">{}{sd_text}</td>",
+                        esc(mean),
+                        esc(sd),
+                        esc(lo),
+                        esc(hi),
+                        short(v)
+                    );
+                }
+            }
+        }
+        body.push_str("</tr>\n");
+    }
+    body.push_str("</table>\n</div>\n");
+    if !failures.is_empty() {
+        let _ = writeln!(
+            body,
+            "<h2>Failures</h2>\n<p>{} sessions failed:</p>\n<ul>",
+            failures.len()
+        );
+        for f in failures.iter().take(20) {
+            let _ = writeln!(body, "<li>{}</li>", esc(f));
+        }
+        if failures.len() > 20 {
+            let _ = writeln!(body, "<li>... and {} more</li>", failures.len() - 20);
+        }
+        body.push_str("</ul>\n");
+    }
+    for param in PARAM_NAMES {
+        let Some(c) = col(param) else { continue };
+        if values(c).iter().filter(|v| !v.is_empty()).count() < 2 {
+            continue;
+        }
+        let _ = writeln!(body, "<h2>Against {param}</h2>");
+        for m in &metrics {
+            let spec = PlotSpec {
+                x: param.to_string(),
+                y: None,
+                metric: m.to_string(),
+                filters: vec![],
+            };
+            let _ = writeln!(body, "<h3>{} against {param}</h3>", esc(m));
+            let mean = col(&format!("{m}_mean"));
+            let drawable = rows
+                .iter()
+                .any(|r| !r[c].is_empty() && mean.is_some_and(|k| num(&r[k]).is_some()));
+            if !drawable {
+                let _ = writeln!(
+                    body,
+                    "<p class=\"note\">not drawn: no cell with a value of {param} has a value of {}</p>",
+                    esc(m)
+                );
+                continue;
+            }
+            match plot(summary, &spec) {
+                Ok(svg) => {
+                    let _ = writeln!(body, "<figure class=\"plot\">{svg}</figure>");
+                }
+                Err(e) => {
+                    let _ = writeln!(body, "<p class=\"note\">not drawn: {}</p>", esc(&e.0));
+                }
+            }
+        }
+    }
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}table{{border-collapse:collapse;background:#fff}}td,th{{border:1px solid #ddd;padding:2px 6px;font-size:13px}}td.n{{text-align:right;font-variant-numeric:tabular-nums}}figure{{margin:0.5em}}svg{{max-width:100%;height:auto;background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:30em}}.note{{color:#666}}.scroll{{overflow-x:auto}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n{body}<h2>sweep.ron</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
+        esc(sweep_ron),
         t = esc(title)
     )
 }

@@ -8,12 +8,20 @@
 //! time readout, animated along the frames of
 //! [`PhysicsWorld::motion`](crate::world::PhysicsWorld::motion), thinned
 //! to at most [`MAX_FRAMES`] frames. The animation loops.
+//!
+//! A grid scene has no bodies: [`grid_motion_svg`] animates the agent's
+//! cell path instead, one keyframe per cell (the start, then the cell after
+//! each slot), over the still picture of the grid with its walls and the
+//! whole path.
 
-use super::scene_svg::{body_svg, colours, esc, physics_picture, Overlay, Paint, View};
+use super::scene_svg::{
+    body_svg, colours, esc, grid_picture, physics_picture, Overlay, Paint, View,
+};
 use super::scene_svg::{END_FILL, END_STROKE, TRACKED};
 use crate::scene::physics::{to_world, BodyKind, GROUND};
 use crate::scene::{Scene, WorldSpec};
-use crate::world::Motion;
+use crate::world::{GridWorld, Motion};
+use crate::{Command, World};
 use std::fmt::Write;
 
 /// The most frames an animation keeps (every k-th step, the last always).
@@ -44,12 +52,131 @@ pub fn thin(n: usize, max: usize) -> Vec<usize> {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum AnimateError {
-    /// The scene is a grid: it has no bodies that move.
-    #[error("scene `{0}` is a grid: it has no motion to animate (`e3d scene render --command` draws a command's cell path)")]
+    /// The scene is a grid: it has no bodies that move (animate its cell
+    /// path with [`grid_motion_svg`]).
+    #[error("scene `{0}` is a grid: it has no physics motion to animate (its cell path is animated by grid_motion_svg)")]
     Grid(String),
     /// The motion has no frame, or not the scene's bodies.
     #[error("the motion does not match scene `{0}` (its bodies or its frames)")]
     Mismatch(String),
+    /// [`grid_motion_svg`] was given a physics scene (animate its motion
+    /// with [`motion_svg`]).
+    #[error(
+        "scene `{0}` is a physics scene: its motion is animated by motion_svg, not as a cell path"
+    )]
+    NotGrid(String),
+    /// The command is not one of the scene's (its message says why).
+    #[error("{0}")]
+    Command(String),
+}
+
+/// How long each keyframe of a grid animation shows, in seconds.
+pub const GRID_KEYFRAME_SECONDS: f64 = 0.6;
+
+/// The animated SVG of `command` on a grid scene: the still picture of the
+/// grid ([`scene_svg`](super::scene_svg::scene_svg) with the command's
+/// path: walls, start, reward cells, terminal cell) and over it the agent
+/// moving from cell to cell, one keyframe per cell visited (the start, then
+/// the cell after each slot: slots + 1 keyframes, each shown
+/// [`GRID_KEYFRAME_SECONDS`]), with a readout of the slot, its symbol and
+/// the cell. The animation loops.
+///
+/// ```
+/// use e3d::report::motion_svg::grid_motion_svg;
+/// use e3d::Scene;
+/// let scene = Scene::builtin("two_rooms").unwrap();
+/// let c = scene.command_space().parse("EEESSEE").unwrap();
+/// let svg = grid_motion_svg(&scene, &c).unwrap();
+/// assert!(svg.contains(r#"class="agent""#) && svg.contains("slot 7/7: E"));
+/// ```
+pub fn grid_motion_svg(scene: &Scene, command: &Command) -> Result<String, AnimateError> {
+    let WorldSpec::Grid(g) = &scene.world else {
+        return Err(AnimateError::NotGrid(scene.name.clone()));
+    };
+    let mut world = GridWorld::from_scene(scene, g);
+    let outcome = world
+        .execute(command)
+        .map_err(|e| AnimateError::Command(e.to_string()))?;
+    let space = scene.command_space();
+    let text = space.format(command);
+    let cells = world.path(command);
+    let grid = world.grid().clone();
+    let centre = |cell: usize| grid.center(cell / g.cols, cell % g.cols);
+    let overlay = Overlay {
+        command: text.clone(),
+        points: cells.iter().map(|&c| centre(c)).collect(),
+        poses: None,
+        effect: outcome.effect,
+        reward: outcome.reward,
+    };
+    let n = cells.len();
+    let dur = GRID_KEYFRAME_SECONDS * n as f64;
+    let key_times: String = (0..n)
+        .map(|k| format!("{:.4}", k as f64 / n as f64))
+        .collect::<Vec<_>>()
+        .join(";");
+    let symbols: Vec<char> = text.chars().collect();
+    let mut draw = |out: &mut String, v: &View| {
+        let _ = writeln!(out, r#"<g class="motion">"#);
+        let xs: Vec<String> = cells
+            .iter()
+            .map(|&c| format!("{:.2}", v.x(centre(c)[0])))
+            .collect();
+        let ys: Vec<String> = cells
+            .iter()
+            .map(|&c| format!("{:.2}", v.y(centre(c)[1])))
+            .collect();
+        let anim = |attr: &str, values: &[String]| {
+            format!(
+                r#"<animate attributeName="{attr}" calcMode="discrete" values="{}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite"/>"#,
+                values.join(";")
+            )
+        };
+        let _ = writeln!(
+            out,
+            r##"<circle class="agent" cx="{}" cy="{}" r="{:.2}" fill="{TRACKED}" stroke="#ffffff" stroke-width="1.5"><title>agent</title>{}{}</circle>"##,
+            xs[0],
+            ys[0],
+            v.len(0.12).clamp(4.0, 14.0),
+            anim("cx", &xs),
+            anim("cy", &ys),
+        );
+        // the readout: one text per keyframe, shown in its turn
+        let _ = writeln!(
+            out,
+            r##"<g class="step" font-size="14" fill="#222" font-family="monospace">"##
+        );
+        let top = grid.max;
+        for (k, &cell) in cells.iter().enumerate() {
+            let (r, c) = (cell / g.cols, cell % g.cols);
+            let label = if k == 0 {
+                format!("start: cell ({r}, {c})")
+            } else {
+                format!(
+                    "slot {k}/{}: {} → cell ({r}, {c})",
+                    n - 1,
+                    esc(&symbols.get(k - 1).map_or(String::new(), |s| s.to_string()))
+                )
+            };
+            let (on, off) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
+            let (values, times) = if k == 0 {
+                ("1;0".to_string(), format!("0;{off:.4}"))
+            } else if k + 1 == n {
+                ("0;1".to_string(), format!("0;{on:.4}"))
+            } else {
+                ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
+            };
+            let _ = writeln!(
+                out,
+                r#"<text class="keyframe" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
+                v.x(top[0]) - 4.0,
+                v.y(top[1]) - 8.0,
+                if k == 0 { 1 } else { 0 },
+            );
+        }
+        out.push_str("</g>\n</g>\n");
+    };
+    Ok(grid_picture(scene, g, Some(&overlay), Some(&mut draw)))
 }
 
 /// The animated SVG of `motion`, the rollout of `command` on `scene`.

@@ -328,6 +328,18 @@ fn axes(out: &mut String, v: &View, unit: &str) {
 }
 
 fn grid_svg(scene: &Scene, g: &GridSpec, overlay: Option<&Overlay>) -> String {
+    grid_picture(scene, g, overlay, None)
+}
+
+/// The picture of a grid scene; with `animated`, what moves is drawn by
+/// it after the path (the agent, see
+/// [`grid_motion_svg`](super::motion_svg::grid_motion_svg)).
+pub(super) fn grid_picture(
+    scene: &Scene,
+    g: &GridSpec,
+    overlay: Option<&Overlay>,
+    mut animated: Option<Layer>,
+) -> String {
     let eg = g.effect_grid();
     let mut v = View::new(eg.min, eg.max);
     let mut keys = vec![Key(Swatch::Letter("#1f4e9c", 'S'), "start cell")];
@@ -335,6 +347,9 @@ fn grid_svg(scene: &Scene, g: &GridSpec, overlay: Option<&Overlay>) -> String {
     keys.push(Key(Swatch::Line("#333", None), "wall"));
     if overlay.is_some() {
         path_keys(&mut keys, None);
+    }
+    if animated.is_some() {
+        keys.push(Key(Swatch::Dot(TRACKED), "agent"));
     }
     v.legend_rows = legend_rows(&keys, v.width());
     let mut out = String::new();
@@ -376,6 +391,9 @@ fn grid_svg(scene: &Scene, g: &GridSpec, overlay: Option<&Overlay>) -> String {
         v.len(0.25)
     );
     path_layer(&mut out, &v, overlay);
+    if let Some(draw) = animated.as_mut() {
+        draw(&mut out, &v);
+    }
     axes(&mut out, &v, "cells");
     legend(&mut out, &v, &keys);
     out.push_str("</svg>\n");

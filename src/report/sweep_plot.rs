@@ -320,7 +320,7 @@ fn line_series(
 }
 
 /// A number in 4 significant digits, without trailing zeros.
-fn short(v: f64) -> String {
+pub(crate) fn short(v: f64) -> String {
     if !v.is_finite() {
         return format!("{v}");
     }

@@ -93,6 +93,21 @@ pub trait SweepScene: Send + Sync {
         options: &ExecOptions,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError>;
 
+    /// [`prepare`](Self::prepare), calling `progress(k, total)` (from any
+    /// thread) while outcomes are simulated ahead of the sessions: `k` more
+    /// commands done, of about `total`. The default calls `prepare` and
+    /// tells nothing; a [`Scene`] tells the building of its outcome table
+    /// ([`Executor::with_progress`]). What is prepared must be the same.
+    fn prepare_with_progress<'a>(
+        &'a self,
+        work: &Workload,
+        options: &ExecOptions,
+        progress: &(dyn Fn(u64, u64) + Sync),
+    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
+        let _ = progress;
+        self.prepare(work, options)
+    }
+
     /// The scene file behind this scene, if it has one.
     fn scene(&self) -> Option<&Scene> {
         None
@@ -167,6 +182,16 @@ impl SweepScene for Scene {
         options: &ExecOptions,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
         let e = Executor::new(self, work, options)?;
+        Ok(Box::new(e))
+    }
+    /// [`Executor::with_progress`]: the table's building is told.
+    fn prepare_with_progress<'a>(
+        &'a self,
+        work: &Workload,
+        options: &ExecOptions,
+        progress: &(dyn Fn(u64, u64) + Sync),
+    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
+        let e = Executor::with_progress(self, work, options, progress)?;
         Ok(Box::new(e))
     }
     fn scene(&self) -> Option<&Scene> {

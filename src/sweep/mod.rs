@@ -99,7 +99,8 @@ pub use factory::{
     SweepScene, WorldFactory, Worlds,
 };
 pub use plan::{
-    fnv1a64, format_number, session_seed, splitmix64, uses_param, Cell, SessionSpec, Shard, Sweep,
+    fnv1a64, format_number, session_seed, splitmix64, uses_param, Cell, ParseShardError,
+    SessionSpec, Shard, Sweep,
 };
 pub use results::{
     merge, DirReport, SessionResult, CELL_COLUMNS, FAILURE_COLUMN, JOURNAL, KEY_COLUMNS, RESULTS,

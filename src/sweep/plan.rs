@@ -138,11 +138,36 @@ impl fmt::Display for Shard {
     }
 }
 
+/// A text that is not a shard `K/N` with `1 <= K <= N`: what
+/// [`Shard::from_str`](std::str::FromStr::from_str) refuses.
+///
+/// ```
+/// use e3d::sweep::{ParseShardError, Shard};
+/// let e: ParseShardError = "0/3".parse::<Shard>().unwrap_err();
+/// assert_eq!(e.to_string(), "`0/3`: expected K/N with 1 <= K <= N, for example 2/8");
+/// assert_eq!(e.input(), "0/3");
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+#[error("`{input}`: expected K/N with 1 <= K <= N, for example 2/8")]
+pub struct ParseShardError {
+    input: String,
+}
+
+impl ParseShardError {
+    /// The text that was refused.
+    pub fn input(&self) -> &str {
+        &self.input
+    }
+}
+
 impl FromStr for Shard {
-    type Err = String;
+    type Err = ParseShardError;
     /// `"K/N"` with `1 <= K <= N`.
-    fn from_str(s: &str) -> Result<Shard, String> {
-        let bad = || format!("`{s}`: expected K/N with 1 <= K <= N, for example 2/8");
+    fn from_str(s: &str) -> Result<Shard, ParseShardError> {
+        let bad = || ParseShardError {
+            input: s.to_string(),
+        };
         let (k, n) = s.split_once('/').ok_or_else(bad)?;
         let k: usize = k.trim().parse().map_err(|_| bad())?;
         let n: usize = n.trim().parse().map_err(|_| bad())?;
@@ -172,7 +197,16 @@ pub struct Sweep {
     pub(super) exec: ExecOptions,
     pub(super) notices: Option<Notices>,
     pub(super) trials_done: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
+    pub(super) table_progress: Option<TableProgress>,
 }
+
+/// Where a sweep tells the building of its scenes' outcome tables:
+/// `(scene, k more commands, of total)`.
+#[derive(Clone)]
+pub(super) struct TableProgress(pub(super) std::sync::Arc<TableProgressFn>);
+
+/// The callback of [`Sweep::with_table_progress`].
+type TableProgressFn = dyn Fn(&str, u64, u64) + Send + Sync;
 
 /// Where a sweep tells how it obtains outcomes (one line each).
 #[derive(Clone)]
@@ -409,6 +443,7 @@ impl Sweep {
             exec: ExecOptions::default(),
             notices: None,
             trials_done: None,
+            table_progress: None,
         })
     }
 
@@ -454,6 +489,21 @@ impl Sweep {
         counter: std::sync::Arc<std::sync::atomic::AtomicU64>,
     ) -> Self {
         self.trials_done = Some(counter);
+        self
+    }
+
+    /// Calls `f(scene, k, total)` from the worker threads while the
+    /// outcome table of `scene` is built before its sessions run: `k` more
+    /// commands simulated, of about `total` ([`SweepScene::prepare_with_progress`]);
+    /// then, once the building has ended (the table built, or given up
+    /// for the memo), `f(scene, 0, 0)` once. Nothing is called for a
+    /// scene whose table is read whole or not built. The results are the
+    /// same bytes with or without it.
+    pub fn with_table_progress(
+        mut self,
+        f: impl Fn(&str, u64, u64) + Send + Sync + 'static,
+    ) -> Self {
+        self.table_progress = Some(TableProgress(std::sync::Arc::new(f)));
         self
     }
 

@@ -200,7 +200,22 @@ impl Sweep {
                     if w.sessions == 0 {
                         return Ok(None);
                     }
-                    let e = scene.prepare(w, &self.exec)?;
+                    let e = match &self.table_progress {
+                        Some(f) => {
+                            let name = scene.name();
+                            let told = std::sync::atomic::AtomicBool::new(false);
+                            let e = scene.prepare_with_progress(w, &self.exec, &|k, total| {
+                                told.store(true, std::sync::atomic::Ordering::Relaxed);
+                                (f.0)(name, k, total)
+                            });
+                            // the end of what was told, built or not
+                            if told.load(std::sync::atomic::Ordering::Relaxed) {
+                                (f.0)(name, 0, 0);
+                            }
+                            e?
+                        }
+                        None => scene.prepare(w, &self.exec)?,
+                    };
                     if let Some(line) = e.describe() {
                         self.notice(&line);
                     }

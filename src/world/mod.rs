@@ -25,8 +25,13 @@ mod table;
 pub use grid::{GridSpec, GridWorld};
 pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
 pub use physics::{BodyPose, Frame, Motion, PhysicsWorld, RunStats, Trace, MAX_COPIES};
-pub use plan::{lockstep_groups, ExecOptions, ExecutionPlan, Executor, OnDisk, Strategy, Workload};
-pub use reach::{farthest_reached_cell, sample_reach, FarthestCell, ReachSample};
+pub use plan::{
+    lockstep_groups, rollout_seconds, ExecOptions, ExecutionPlan, Executor, OnDisk,
+    ParseStrategyError, Strategy, Workload,
+};
+pub use reach::{
+    farthest_reached_cell, sample_reach, sample_reach_with_progress, FarthestCell, ReachSample,
+};
 pub use table::{CachedOutcomes, OutcomeTable, MAX_TABLE_COMMANDS, TABLE_COPIES};
 
 use crate::command::{Command, CommandSpace, ValueSpace};

@@ -56,14 +56,39 @@ pub enum Strategy {
     Live,
 }
 
+/// A name that is not a [`Strategy`]'s (`table`, `memo` or `live`): what
+/// [`Strategy::from_str`](std::str::FromStr::from_str) refuses.
+///
+/// ```
+/// use e3d::{ParseStrategyError, Strategy};
+/// let e: ParseStrategyError = "tables".parse::<Strategy>().unwrap_err();
+/// assert_eq!(e.to_string(), "`tables`: expected table, memo or live");
+/// assert_eq!(e.input(), "tables");
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+#[error("`{input}`: expected table, memo or live")]
+pub struct ParseStrategyError {
+    input: String,
+}
+
+impl ParseStrategyError {
+    /// The name that was refused.
+    pub fn input(&self) -> &str {
+        &self.input
+    }
+}
+
 impl std::str::FromStr for Strategy {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Strategy, String> {
+    type Err = ParseStrategyError;
+    fn from_str(s: &str) -> Result<Strategy, ParseStrategyError> {
         match s {
             "table" => Ok(Strategy::Table),
             "memo" => Ok(Strategy::Memo),
             "live" => Ok(Strategy::Live),
-            _ => Err(format!("`{s}`: expected table, memo or live")),
+            _ => Err(ParseStrategyError {
+                input: s.to_string(),
+            }),
         }
     }
 }
@@ -258,6 +283,26 @@ impl Costs {
         }
         self.shared / k as f64 + (self.rollout - self.shared)
     }
+}
+
+/// The cost model's seconds for one rollout of a command of `scene` in a
+/// single-copy world on one thread (a grid's moves: nanoseconds). What the
+/// long scene tools say they will cost before they start (`e3d scene check
+/// --samples`, `scene exec`, `scene render --animate`), from the same
+/// model that chooses between a table, a memo and live execution: fitted
+/// to the development machine (`docs/benchmarks.md`), so an estimate, not
+/// a promise.
+///
+/// ```
+/// use e3d::world::rollout_seconds;
+/// use e3d::Scene;
+/// let arm = rollout_seconds(&Scene::builtin("arm7").unwrap());
+/// let puck = rollout_seconds(&Scene::builtin("puck_rooms").unwrap());
+/// let grid = rollout_seconds(&Scene::builtin("two_rooms").unwrap());
+/// assert!(arm > puck && puck > 1000.0 * grid);
+/// ```
+pub fn rollout_seconds(scene: &Scene) -> f64 {
+    Costs::of(scene).rollout
 }
 
 /// The number of lockstep groups for `sessions` sessions on `threads`

@@ -120,6 +120,18 @@ pub fn sample_reach(
     samples: u64,
     seed: u64,
 ) -> Result<ReachSample, crate::WorldError> {
+    sample_reach_with_progress(scene, samples, seed, &|_| {})
+}
+
+/// [`sample_reach`], calling `progress(k)` after each batch: `k` more
+/// commands executed (of [`ReachSample::samples`] in all: `samples`, or
+/// the size of a space that holds no more). The sample is the same.
+pub fn sample_reach_with_progress(
+    scene: &crate::Scene,
+    samples: u64,
+    seed: u64,
+    progress: &dyn Fn(u64),
+) -> Result<ReachSample, crate::WorldError> {
     use rand::{RngExt, SeedableRng};
     if let Some(values) = scene.value_space() {
         return sample_reach_values(scene, &values, samples, seed);
@@ -160,6 +172,7 @@ pub fn sample_reach(
             counts[r?.effect] += 1;
         }
         done += batch.len() as u64;
+        progress(batch.len() as u64);
     }
     Ok(ReachSample {
         samples: total,
