@@ -53,7 +53,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (LearnerKind::E3d, "Gaussian E3D"),
     ] {
         let records = run(kind)?;
-        let ms: Vec<_> = records.iter().map(|r| r.metrics(&Target::Uniform)).collect();
+        let ms: Vec<_> = records
+            .iter()
+            .map(|r| r.metrics(&Target::Uniform))
+            .collect();
         let h = e3d::report::describe(&ms.iter().map(|m| m.normalized_entropy).collect::<Vec<_>>());
         let cells: Vec<f64> = ms.iter().map(|m| m.distinct_effects as f64).collect();
         let c = e3d::report::describe(&cells);
@@ -77,10 +80,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             c.max,
             shares.iter().filter(|&&s| s > 0.0).count()
         );
-        panels.push((
-            format!("{label}: H/log {n} = {hp:.3} (pooled)"),
-            shares,
-        ));
+        panels.push((format!("{label}: H/log {n} = {hp:.3} (pooled)"), shares));
     }
     if let Some(path) = out {
         let peak = panels

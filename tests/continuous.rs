@@ -371,6 +371,53 @@ fn the_cli_runs_execs_and_refuses_continuous_scenes() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 
+    // scene check lists the ranges and samples the reach uniformly
+    let out = e3d(&["scene", "check", "arm7_continuous", "--samples", "60"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("  0: a value in [-1.8, 1.8] (j1): Torque { joint: \"j1\" }"),
+        "{text}"
+    );
+    assert!(
+        text.contains("distinct commands: infinitely many"),
+        "{text}"
+    );
+    assert!(
+        text.contains("reach (estimate): 60 random commands of infinitely many, drawn uniformly in their ranges"),
+        "{text}"
+    );
+    // render and animate one command of values
+    let svg = std::env::temp_dir().join(format!("e3d-continuous-{}.svg", std::process::id()));
+    for animate in [false, true] {
+        let mut args = vec![
+            "scene",
+            "render",
+            "arm7_continuous",
+            "--command",
+            "1.8,-1.2,0,0,0,0,0",
+            "--out",
+        ];
+        args.push(svg.to_str().unwrap());
+        if animate {
+            args.push("--animate");
+        }
+        let out = e3d(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let page = std::fs::read_to_string(&svg).unwrap();
+        assert!(page.contains("1.8,-1.2,0,0,0,0,0"), "the command is shown");
+        assert_eq!(page.contains("<animate"), animate);
+    }
+    let _ = std::fs::remove_file(&svg);
+
     // what cannot apply says so, naming the scene
     for (args, says) in [
         (

@@ -345,10 +345,13 @@ fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
     if samples == 0 {
         return Ok(());
     }
-    let total = scene
-        .command_space()
-        .num_commands()
-        .map_or(samples, |n| n.min(samples));
+    let total = match scene.is_continuous() {
+        true => samples,
+        false => scene
+            .command_space()
+            .num_commands()
+            .map_or(samples, |n| n.min(samples)),
+    };
     let label = format!("scene check {}", scene.name);
     say_cost(&label, scene, total, 1);
     let sampled = progress::track(&label, "commands", total, |p| {

@@ -245,7 +245,7 @@ impl Costs {
     fn of(scene: &Scene) -> Costs {
         match &scene.world {
             WorldSpec::Grid(_) => Costs {
-                rollout: 2e-9 * scene.command_space().num_slots() as f64 + 1e-9,
+                rollout: 2e-9 * scene.num_slots() as f64 + 1e-9,
                 shared: 0.0,
                 exact: false,
                 grid: true,
@@ -262,10 +262,7 @@ impl Costs {
                 // joints (fitted to puck_rooms and arm7: 1.9 and 24 us)
                 let shared = 1.6e-6;
                 let own = 0.3e-6 * moving + 0.4e-6 * joints * joints;
-                let steps = p
-                    .schedule
-                    .total_steps(p.dt, scene.command_space().num_slots())
-                    as f64;
+                let steps = p.schedule.total_steps(p.dt, scene.num_slots()) as f64;
                 Costs {
                     rollout: steps * (shared + own),
                     shared: steps * shared,
