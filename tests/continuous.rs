@@ -369,6 +369,20 @@ fn the_cli_runs_execs_and_refuses_continuous_scenes() {
             .len(),
         7
     );
+    // e3d report reads the quoted values: heat maps, and per slot the
+    // spread of its values
+    let out = e3d(&["report", dir.join("one").to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let page = std::fs::read_to_string(dir.join("one/report.html")).unwrap();
+    assert!(page.contains("<p>90 trials</p>"), "90 trials in 3 sessions");
+    for s in 0..7 {
+        assert!(page.contains(&format!("slot {s}: sd of the values and mean |value|")));
+    }
+    assert!(page.contains("early: trials 1..9"));
     let _ = std::fs::remove_dir_all(&dir);
 
     // scene check lists the ranges and samples the reach uniformly

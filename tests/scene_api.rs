@@ -415,7 +415,7 @@ fn agree(scene: &Scene) -> Result<(), TestCaseError> {
         (Ok(()), Ok(mut run), Ok(back)) => {
             prop_assert_eq!(&back, scene);
             // a valid scene executes (or reports a blow-up) without a panic
-            let ran = catch_unwind(AssertUnwindSafe(|| run()));
+            let ran = catch_unwind(AssertUnwindSafe(&mut run));
             prop_assert!(ran.is_ok(), "execute panicked");
         }
         (Err(v), Err(b), Err(l)) => {

@@ -21,6 +21,9 @@ pub struct TrialRow {
     pub effect: usize,
     /// The reward received.
     pub reward: f64,
+    /// The values of a continuous command, one per slot (empty for a
+    /// command of symbols, whose `command` is then empty).
+    pub values: Vec<f64>,
 }
 
 /// Reads `trials.csv` (with or without a leading `session` column).
@@ -37,16 +40,39 @@ pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, String> {
             .position(|h| h.trim() == name)
             .ok_or(format!("trials.csv has no `{name}` column"))
     };
-    let (c, e, r) = (col("command")?, col("effect")?, col("reward")?);
+    // a run of continuous commands writes a quoted `values` column
+    let continuous = header.iter().any(|h| h.trim() == "values");
+    let (c, e, r) = (
+        col(if continuous { "values" } else { "command" })?,
+        col("effect")?,
+        col("reward")?,
+    );
     let mut rows = Vec::new();
     for (k, line) in lines.enumerate() {
         if line.trim().is_empty() {
             continue;
         }
-        let f: Vec<&str> = line.split(',').collect();
         let bad = || format!("trials.csv line {}: `{line}`", k + 2);
+        // the quoted values (which hold commas) stand as one field
+        let (plain, values) = match continuous {
+            false => (line.to_string(), Vec::new()),
+            true => {
+                let (pre, rest) = line.split_once('"').ok_or_else(bad)?;
+                let (quoted, post) = rest.split_once('"').ok_or_else(bad)?;
+                let values = quoted
+                    .split(',')
+                    .map(|v| v.trim().parse::<f64>().map_err(|_| bad()))
+                    .collect::<Result<Vec<f64>, String>>()?;
+                (format!("{pre}V{post}"), values)
+            }
+        };
+        let f: Vec<&str> = plain.split(',').collect();
         rows.push(TrialRow {
-            command: f.get(c).ok_or_else(bad)?.to_string(),
+            command: match continuous {
+                false => f.get(c).ok_or_else(bad)?.to_string(),
+                true => String::new(),
+            },
+            values,
             effect: f
                 .get(e)
                 .ok_or_else(bad)?
@@ -201,13 +227,34 @@ pub fn run_page(
         &[("reward", "#2ca02c", cum)],
     );
     body.push_str("<h2>Policy per slot</h2>\n");
+    let windows = 50.min(n.max(1));
+    let size = n.div_ceil(windows).max(1);
+    let value_slots = trials.iter().map(|t| t.values.len()).max().unwrap_or(0);
+    for s in 0..value_slots {
+        // continuous commands: the spread of each slot's values and their
+        // mean magnitude, in windows of trials
+        let stat = |w: &[TrialRow], f: &dyn Fn(&[f64]) -> f64| {
+            let v: Vec<f64> = w.iter().filter_map(|t| t.values.get(s).copied()).collect();
+            f(&v)
+        };
+        let sd = |v: &[f64]| {
+            let m = v.iter().sum::<f64>() / v.len().max(1) as f64;
+            (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / v.len().max(1) as f64).sqrt()
+        };
+        let magnitude = |v: &[f64]| v.iter().map(|x| x.abs()).sum::<f64>() / v.len().max(1) as f64;
+        let sds: Vec<f64> = trials.chunks(size).map(|w| stat(w, &sd)).collect();
+        let mags: Vec<f64> = trials.chunks(size).map(|w| stat(w, &magnitude)).collect();
+        line_chart(
+            &mut body,
+            &format!("slot {s}: sd of the values and mean |value|, windows of {size} trials"),
+            &[("sd", PALETTE[0], sds), ("mean |value|", PALETTE[1], mags)],
+        );
+    }
     let slots = trials
         .iter()
         .map(|t| t.command.chars().count())
         .max()
         .unwrap_or(0);
-    let windows = 50.min(n.max(1));
-    let size = n.div_ceil(windows).max(1);
     for s in 0..slots {
         let mut symbols: Vec<char> = trials
             .iter()
