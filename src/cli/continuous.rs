@@ -2,7 +2,7 @@
 //! per session, sessions in parallel on every core.
 
 use super::output::write_file;
-use super::run::{join_trials, print_metrics, temp_of, used_params, RunArgs};
+use super::run::{join_trials, print_header, print_metrics, temp_of, RunArgs};
 use super::{CliError, CliResult};
 use e3d::{run_value_sessions, Metrics, Params, Scene, SessionConfig, Target, ValueSessionRecord};
 use serde::Serialize;
@@ -91,24 +91,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     })
     .map_err(CliError::simulation)?;
     let metrics: Vec<Metrics> = records.iter().map(|r| r.metrics(&target)).collect();
-    println!(
-        "scene {} | learner {} (continuous) | {} trials{} | seed {}{}{}",
-        scene.name,
-        a.learner,
-        a.trials,
-        if sessions > 1 {
-            format!(" x {sessions} sessions")
-        } else {
-            String::new()
-        },
-        if sessions > 1 {
-            format!("{}..={}", seeds[0], seeds[sessions - 1])
-        } else {
-            seeds[0].to_string()
-        },
-        used_params(a.learner, &params),
-        if a.no_reward { " | no reward" } else { "" }
-    );
+    print_header(a, &scene.name, " (continuous)", &params, seeds);
     print_metrics(&metrics, seeds, num_effects);
     if let Some(dir) = &a.out {
         write_out(dir, a, scene, params, seeds, &records, &metrics, &space)?;

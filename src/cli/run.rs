@@ -292,6 +292,30 @@ pub(super) fn used_params(learner: LearnerKind, p: &Params) -> String {
     }
 }
 
+/// The first line of a run's summary: scene, learner (`kind` after its
+/// name: `" (continuous)"` or nothing), trials, sessions and seeds, the
+/// parameters the learner reads.
+pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params, seeds: &[u64]) {
+    let sessions = seeds.len();
+    println!(
+        "scene {scene} | learner {}{kind} | {} trials{} | seed {}{}{}",
+        a.learner,
+        a.trials,
+        if sessions > 1 {
+            format!(" x {sessions} sessions")
+        } else {
+            String::new()
+        },
+        if sessions > 1 {
+            format!("{}..={}", seeds[0], seeds[sessions - 1])
+        } else {
+            seeds[0].to_string()
+        },
+        used_params(a.learner, params),
+        if a.no_reward { " | no reward" } else { "" }
+    );
+}
+
 /// The metrics of each session (`seeds[i]` names session `i` when there
 /// are several) and, for several, their mean.
 pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usize) {
@@ -463,24 +487,7 @@ pub fn run(a: RunArgs) -> CliResult {
         _ => None,
     };
 
-    println!(
-        "scene {} | learner {} | {} trials{} | seed {}{}{}",
-        scene.name,
-        a.learner,
-        a.trials,
-        if sessions > 1 {
-            format!(" x {sessions} sessions")
-        } else {
-            String::new()
-        },
-        if sessions > 1 {
-            format!("{}..={}", seeds[0], seeds[sessions - 1])
-        } else {
-            a.seed.to_string()
-        },
-        used_params(a.learner, &params),
-        if a.no_reward { " | no reward" } else { "" }
-    );
+    print_header(&a, &scene.name, "", &params, &seeds);
     print_metrics(&metrics, &seeds, num_effects);
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
