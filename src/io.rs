@@ -29,6 +29,22 @@ fn create_temp(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
     Err(last.unwrap_or_else(|| io::Error::other("no free temporary name")))
 }
 
+/// Creates a new temporary file beside `path` (in its folder, named
+/// `.NAME.tmp-PID-N-T` after its file name): created exclusively, so that
+/// it is never an existing file nor the target of a symbolic link planted
+/// under that name. The caller writes it, then renames it over `path` or
+/// removes it.
+pub fn create_temp_beside(path: &Path) -> io::Result<(PathBuf, File)> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
+    create_temp(dir, &name.to_string_lossy())
+}
+
 /// Whether `name` is the name of a temporary file of [`write_atomic`]
 /// (`.NAME.tmp-...`), left behind by a process killed while writing.
 pub fn is_temporary(name: &str) -> bool {
@@ -42,14 +58,7 @@ pub fn is_temporary(name: &str) -> bool {
 /// file or the new one, never half of one. If `path` is a symbolic link,
 /// the link itself is replaced, not the file it points to.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
-    let (tmp, mut f) = create_temp(dir, &name.to_string_lossy())?;
+    let (tmp, mut f) = create_temp_beside(path)?;
     let result = (|| {
         f.write_all(bytes)?;
         f.sync_all()?;

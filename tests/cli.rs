@@ -785,3 +785,83 @@ fn long_scene_tools_print_their_estimated_cost_first() {
     assert_eq!(err, "");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Every file e3d writes in its own folders is created through `e3d::io`
+/// (exclusive temporary files, renamed into place): a `File::create` or
+/// `fs::write` elsewhere is how a planted symbolic link got written
+/// through (the streamed `trials.csv` of `run --out`).
+#[test]
+fn output_files_are_created_only_through_e3d_io() {
+    fn visit(dir: &Path, found: &mut Vec<String>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let p = entry.unwrap().path();
+            if p.is_dir() {
+                visit(&p, found);
+            } else if p.extension().is_some_and(|e| e == "rs") && !p.ends_with("src/io.rs") {
+                let text = std::fs::read_to_string(&p).unwrap();
+                // a file's own unit tests may write what they like
+                let code = text.split("#[cfg(test)]").next().unwrap_or("");
+                for (i, line) in code.lines().enumerate() {
+                    let l = line.trim_start();
+                    if l.starts_with("//") {
+                        continue;
+                    }
+                    if ["File::create", "fs::write(", "OpenOptions::new()"]
+                        .iter()
+                        .any(|w| l.contains(w))
+                    {
+                        found.push(format!("{}:{}: {l}", p.display(), i + 1));
+                    }
+                }
+            }
+        }
+    }
+    let mut found = Vec::new();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    visit(&root.join("src"), &mut found);
+    visit(&root.join("python/src"), &mut found);
+    assert!(
+        found.is_empty(),
+        "files created outside e3d::io:\n{}",
+        found.join("\n")
+    );
+}
+
+/// `run --out` leaves its folder with exactly its two files: the streamed
+/// trials go to an exclusive temporary file that is renamed into place.
+#[test]
+fn run_out_leaves_only_its_files_and_writes_through_no_planted_link() {
+    let dir = tmp("run-planted-link");
+    std::fs::create_dir_all(&dir).unwrap();
+    let victim = dir.with_extension("victim");
+    std::fs::write(&victim, "keep me").unwrap();
+    // the former fixed temporary names, for the next few process ids
+    #[cfg(unix)]
+    for pid in 0..4u32 {
+        let me = std::process::id() + pid;
+        let _ = std::os::unix::fs::symlink(&victim, dir.join(format!(".trials.csv.session0-{me}")));
+    }
+    let out = e3d(&[
+        "run",
+        "two_rooms",
+        "--trials",
+        "200",
+        "--out",
+        dir.to_str().unwrap(),
+        "--force",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me");
+    let trials = std::fs::read_to_string(dir.join("trials.csv")).unwrap();
+    assert_eq!(trials.lines().count(), 201, "a header and 200 trials");
+    assert!(!std::fs::symlink_metadata(dir.join("trials.csv"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    std::fs::remove_dir_all(&dir).unwrap();
+    let _ = std::fs::remove_file(&victim);
+}

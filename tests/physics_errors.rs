@@ -544,12 +544,10 @@ fn many_bodies(n: usize) -> String {
 #[test]
 fn body_names_are_checked_in_linear_time_and_bodies_are_capped() {
     // 40,000 bodies took 21.6 s to validate (every name against every
-    // earlier one); 10,000 take milliseconds now
+    // earlier one); the time of 10,000 is a benchmark (benches/physics.rs,
+    // `scene_parse/10000_bodies`), not a test: CI machines are loaded
     let text = many_bodies(10_000 - 3);
-    let t = std::time::Instant::now();
     Scene::parse(&text, "s.ron").unwrap();
-    let secs = t.elapsed().as_secs_f64();
-    assert!(secs < 0.5, "10,000 bodies took {secs} s");
     let e = Scene::parse(&many_bodies(10_000 - 2), "s.ron")
         .unwrap_err()
         .to_string();

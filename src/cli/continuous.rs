@@ -2,7 +2,7 @@
 //! per session, sessions in parallel on every core.
 
 use super::output::write_file;
-use super::run::{join_trials, print_header, print_metrics, temp_of, RunArgs};
+use super::run::{join_trials, print_header, print_metrics, RunArgs};
 use super::{CliError, CliResult};
 use e3d::{run_value_sessions, Metrics, Params, Scene, SessionConfig, Target, ValueSessionRecord};
 use serde::Serialize;
@@ -113,9 +113,10 @@ fn write_out(
 ) -> CliResult {
     let several = records.len() > 1;
     let csv = dir.join("trials.csv");
-    let part = temp_of(&csv, "values");
+    let (part, file) = e3d::io::create_temp_beside(&csv)
+        .map_err(|e| CliError::output(format!("{}: cannot write: {e}", csv.display())))?;
     let written = (|| -> std::io::Result<()> {
-        let mut out = std::io::BufWriter::new(std::fs::File::create(&part)?);
+        let mut out = std::io::BufWriter::new(file);
         for (i, r) in records.iter().enumerate() {
             r.write_trials_csv(space, several.then_some(i), false, &mut out)?;
         }
@@ -247,8 +248,7 @@ fn exec(scene: &Scene, commands: &[String], trace: Option<&std::path::Path>) -> 
     let mut stdout = std::io::stdout().lock();
     let mut file = match trace {
         Some(p) => {
-            let tmp = temp_of(p, "tmp");
-            let f = std::fs::File::create(&tmp)
+            let (tmp, f) = e3d::io::create_temp_beside(p)
                 .map_err(|e| CliError::output(format!("{}: cannot write: {e}", p.display())))?;
             Some((p, tmp, std::io::BufWriter::new(f)))
         }

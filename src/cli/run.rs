@@ -187,13 +187,15 @@ struct TrialsCsv {
 }
 
 impl TrialsCsv {
+    /// A new temporary file beside the final file `target` (created
+    /// exclusively: never through a link planted under its name).
     fn create(
-        path: PathBuf,
+        target: &Path,
         space: &CommandSpace,
         session: Option<usize>,
     ) -> Result<Self, CliError> {
-        let f = std::fs::File::create(&path)
-            .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))?;
+        let (path, f) = e3d::io::create_temp_beside(target)
+            .map_err(|e| CliError::output(format!("{}: cannot write: {e}", target.display())))?;
         Ok(TrialsCsv {
             out: std::io::BufWriter::with_capacity(1 << 16, f),
             path,
@@ -243,22 +245,14 @@ impl Recorder for TrialsCsv {
     }
 }
 
-/// The temporary file of a final file `path`.
-pub(super) fn temp_of(path: &Path, tag: &str) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.{tag}-{}", std::process::id()))
-}
-
 /// Joins the temporary trial files into `path` under one header, then
 /// renames it into place: the final file is whole or absent.
 pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
     use std::io::Write;
-    let tmp = temp_of(path, "tmp");
+    let (tmp, file) = e3d::io::create_temp_beside(path)
+        .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))?;
     let result = (|| -> std::io::Result<()> {
-        let mut out = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
+        let mut out = std::io::BufWriter::new(file);
         writeln!(out, "{header}")?;
         for p in parts {
             std::io::copy(&mut std::fs::File::open(p)?, &mut out)?;
@@ -408,10 +402,7 @@ pub fn run(a: RunArgs) -> CliResult {
     let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {
         csv_path
             .as_ref()
-            .map(|p| {
-                let tag = format!("session{i}");
-                TrialsCsv::create(temp_of(p, &tag), &space, (sessions > 1).then_some(i))
-            })
+            .map(|p| TrialsCsv::create(p, &space, (sessions > 1).then_some(i)))
             .transpose()
     };
     let mut learners = Vec::with_capacity(sessions);

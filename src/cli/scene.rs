@@ -632,14 +632,11 @@ fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
     let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(64);
     let reader_space = space.clone();
     std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_string())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
     let out_err =
         |e: std::io::Error| CliError::output(format!("{}: cannot write: {e}", path.display()));
-    let mut file = std::io::BufWriter::new(std::fs::File::create(&tmp).map_err(out_err)?);
+    // created exclusively: never through a link planted under its name
+    let (tmp, f) = e3d::io::create_temp_beside(path).map_err(out_err)?;
+    let mut file = std::io::BufWriter::new(f);
     let result = (|| -> CliResult {
         let mut stdout = std::io::stdout().lock();
         let mut first = true;
