@@ -36,7 +36,7 @@
 //! assert!(sweep.result_row(&results[0]).starts_with("count_b,uniform,true,"));
 //! ```
 
-use super::plan::fnv1a64;
+use crate::hash::fnv1a64;
 use super::SweepError;
 #[cfg(doc)]
 use super::SweepSpec;

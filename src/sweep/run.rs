@@ -3,7 +3,8 @@
 
 use super::factory::{describe_space, SceneRun};
 use super::journal::{self, Journal, JournalHeader};
-use super::plan::{fnv1a64, SessionSpec, Shard, Sweep};
+use super::plan::{SessionSpec, Shard, Sweep};
+use crate::hash::fnv1a64;
 use super::results::{
     version_line, write_final, DirReport, SessionResult, JOURNAL, SWEEP_COPY, VERSION, VERSION_FILE,
 };
