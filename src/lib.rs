@@ -27,6 +27,8 @@
 //!   them by cost;
 //! - [`effect`]: binning ([`EffectGrid`]), the running histogram
 //!   ([`EffectModel`]) and the target ([`Target`]);
+//! - [`hash`]: the FNV-1a hash that keys outcome tables and the rule that
+//!   derives a session's seed from its identity;
 //! - [`learner`]: the [`Learner`] trait, [`E3d`], [`UniformPolicy`],
 //!   [`EpsilonGreedy`], and drives beyond the paper
 //!   ([`RelaxedE3d`](learner::RelaxedE3d), an E3D that cannot lock;
@@ -68,6 +70,7 @@
 
 pub mod command;
 pub mod effect;
+pub mod hash;
 pub mod io;
 pub mod learner;
 pub mod report;

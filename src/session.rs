@@ -412,7 +412,7 @@ pub struct Metrics {
     pub reachable_effects: Option<usize>,
     /// The entropy of the terminal effects over all trials divided by
     /// `log(reachable_effects)`: 1 = uniform over what can be reached
-    /// (see [`normalized_entropy_over`](crate::effect::normalized_entropy_over)).
+    /// (see [`crate::effect::normalized_entropy_over`]).
     /// `None` when the reachable effects are not known.
     pub normalized_entropy_reachable: Option<f64>,
 }

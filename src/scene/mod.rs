@@ -29,6 +29,7 @@
 
 pub mod enclosure;
 mod error;
+mod grid;
 pub mod overlap;
 pub mod physics;
 mod region;
@@ -36,6 +37,7 @@ pub mod shorthand;
 pub mod symmetry;
 
 pub use error::{did_you_mean, SceneError, SceneErrorKind};
+pub use grid::GridSpec;
 pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
 pub use shorthand::{ChainSpec, Each, Placement, WallSpec};
@@ -43,7 +45,6 @@ pub use symmetry::Symmetry;
 
 use crate::command::{CommandSpace, ValueSpace, MAX_ALPHABET, MAX_SLOTS};
 use crate::effect::EffectGrid;
-use crate::world::{GridSpec, GridWorld, PhysicsWorld, World};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -96,7 +97,7 @@ pub enum CommandSpec {
     Slots(Vec<SlotSpec>),
     /// Continuous commands (physics scenes): one entry per slot, each a
     /// range of values and what a value does, instead of an alphabet. Such
-    /// a scene runs on live physics only ([`PhysicsWorld::execute_values`]):
+    /// a scene runs on live physics only ([`PhysicsWorld::execute_values`](crate::world::PhysicsWorld::execute_values)):
     /// outcome tables, the memo and the symbol learners do not apply.
     Continuous(Vec<ValueSlotSpec>),
 }
@@ -523,82 +524,6 @@ impl Scene {
                 Some(p.schedule.total_steps(p.dt, self.slots().count()) as usize)
             }
         }
-    }
-
-    /// The scene's Rapier world itself, for what only a physics world
-    /// gives ([`PhysicsWorld::motion`](crate::world::PhysicsWorld::motion),
-    /// [`trace`](crate::world::PhysicsWorld::trace),
-    /// [`inspect`](crate::world::PhysicsWorld::inspect)); `None` for a grid
-    /// scene.
-    ///
-    /// # Panics
-    /// On a scene that [`validate`](Self::validate) refuses (one edited in
-    /// code), with its message; [`try_physics_world`](Self::try_physics_world)
-    /// returns the error instead.
-    pub fn physics_world(&self) -> Option<PhysicsWorld> {
-        self.try_physics_world().unwrap_or_else(|e| panic!("{e}"))
-    }
-
-    /// [`physics_world`](Self::physics_world), validated first: an invalid
-    /// scene is an error, never a panic.
-    ///
-    /// ```
-    /// use e3d::Scene;
-    /// let arm = Scene::builtin("arm7").unwrap();
-    /// assert!(arm.try_physics_world().unwrap().is_some());
-    /// let grid = Scene::builtin("two_rooms").unwrap();
-    /// assert!(grid.try_physics_world().unwrap().is_none());
-    /// ```
-    pub fn try_physics_world(&self) -> Result<Option<PhysicsWorld>, SceneError> {
-        self.validate()?;
-        Ok(match &self.world {
-            WorldSpec::Physics(p) => Some(PhysicsWorld::from_scene(self, p)),
-            WorldSpec::Grid(_) => None,
-        })
-    }
-
-    /// Builds the world that executes this scene's commands.
-    ///
-    /// A convenience for scenes known to be valid (those of [`load`](Self::load),
-    /// [`parse`](Self::parse), [`builtin`](Self::builtin), [`resolve`](Self::resolve)).
-    ///
-    /// # Panics
-    /// On a scene that [`validate`](Self::validate) refuses (one edited in
-    /// code: a NaN, a torque that breaks its symmetry, no slots), with the
-    /// validation's message, and on a continuous scene (whose world is
-    /// [`physics_world`](Self::physics_world)); [`try_build`](Self::try_build)
-    /// returns the error instead.
-    pub fn build(&self) -> Box<dyn World + Send> {
-        self.try_build().unwrap_or_else(|e| panic!("{e}"))
-    }
-
-    /// Validates the scene ([`validate`](Self::validate)), then builds the
-    /// world that executes its commands: an edited scene that cannot be
-    /// simulated is an error, never a panic.
-    ///
-    /// ```
-    /// use e3d::scene::{Action, CommandSpec, Scene, SceneErrorKind};
-    ///
-    /// let mut arm = Scene::builtin("arm7").unwrap();
-    /// assert!(arm.try_build().is_ok());
-    /// // arm7 declares `symmetry: FlipY`: a torque whose mirror image is
-    /// // not in its slot breaks it (`build` would panic)
-    /// if let CommandSpec::Slots(slots) = &mut arm.command {
-    ///     slots[0].alphabet[2].action = Action::Torque { joint: "j1".into(), torque: 2.0 };
-    /// }
-    /// let err = arm.try_build().err().unwrap();
-    /// assert!(matches!(err.kind(), SceneErrorKind::Invalid { field, .. } if field == "action"));
-    /// assert!(err.to_string().starts_with("<scene arm7>: field `action`: expected symmetry FlipY"));
-    /// ```
-    pub fn try_build(&self) -> Result<Box<dyn World + Send>, SceneError> {
-        self.validate()?;
-        self.require_symbols(
-            "a world of symbols (`Scene::build`; `Scene::physics_world` runs continuous commands)",
-        )?;
-        Ok(match &self.world {
-            WorldSpec::Grid(g) => Box::new(GridWorld::from_scene(self, g)),
-            WorldSpec::Physics(p) => Box::new(PhysicsWorld::from_scene(self, p)),
-        })
     }
 
     /// Runs every check [`load`](Self::load) and [`parse`](Self::parse)

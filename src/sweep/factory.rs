@@ -36,13 +36,13 @@
 //! assert!(sweep.result_row(&results[0]).starts_with("count_b,uniform,true,"));
 //! ```
 
-use super::plan::fnv1a64;
 use super::SweepError;
 #[cfg(doc)]
 use super::SweepSpec;
 use super::PARAM_NAMES;
 use crate::command::CommandSpace;
 use crate::effect::Target;
+use crate::hash::fnv1a64;
 use crate::learner::{Learner, LearnerKind, Params};
 use crate::scene::Scene;
 use crate::world::{ExecOptions, Executor, OutcomeTable, Workload, World};

@@ -17,7 +17,8 @@
 //! is torn (no line break) or fails its checksum are ignored, and
 //! appending starts there again.
 
-use super::{fnv1a64, io_err, Shard, SweepError};
+use super::{io_err, Shard, SweepError};
+use crate::hash::fnv1a64;
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::Write;

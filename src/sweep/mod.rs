@@ -92,16 +92,14 @@ mod results;
 mod run;
 mod spec;
 
+pub use crate::hash::{fnv1a64, session_seed, splitmix64};
 pub(crate) use error::io_err;
 pub use error::SweepError;
 pub use factory::{
     BoxError, FactoryError, LearnerFactory, Learners, LiveScene, MakeLearner, SceneFiles, SceneRun,
     SweepScene, WorldFactory, Worlds,
 };
-pub use plan::{
-    fnv1a64, format_number, session_seed, splitmix64, uses_param, Cell, ParseShardError,
-    SessionSpec, Shard, Sweep,
-};
+pub use plan::{format_number, uses_param, Cell, ParseShardError, SessionSpec, Shard, Sweep};
 pub use results::{
     merge, DirReport, SessionResult, CELL_COLUMNS, FAILURE_COLUMN, JOURNAL, KEY_COLUMNS, RESULTS,
     SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,

@@ -6,6 +6,7 @@ use super::factory::{
 };
 use super::spec::{invalid, param_of, set_param, MetricSpec, SweepSpec, CODE_FILE, PARAM_NAMES};
 use super::{SweepError, MAX_SESSIONS};
+use crate::hash::session_seed;
 use crate::learner::{LearnerKind, Params};
 use crate::world::{ExecOptions, Strategy, Workload};
 #[cfg(doc)]
@@ -26,41 +27,6 @@ use std::sync::Arc;
 /// ```
 pub fn uses_param(learner: LearnerKind, param: &str) -> bool {
     learner.params().contains(&param)
-}
-
-/// 64-bit FNV-1a of `bytes` (offset basis `0xcbf29ce484222325`, prime
-/// `0x100000001b3`).
-///
-/// ```
-/// assert_eq!(e3d::sweep::fnv1a64(b""), 0xcbf29ce484222325);
-/// assert_eq!(e3d::sweep::fnv1a64(b"a"), 0xaf63dc4c8601ec8c);
-/// ```
-pub fn fnv1a64(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
-
-/// The SplitMix64 finaliser of `x + 0x9e3779b97f4a7c15` (Steele, Lea and
-/// Flood 2014): one step of the SplitMix64 generator seeded with `x`.
-///
-/// ```
-/// assert_eq!(e3d::sweep::splitmix64(0), 0xe220a8397b1dcdaf);
-/// ```
-pub fn splitmix64(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-/// The seed of a session: `splitmix64(splitmix64(base) ^ fnv1a64(identity))`,
-/// where `identity` is the session's canonical text (see the module docs).
-pub fn session_seed(base: u64, identity: &str) -> u64 {
-    splitmix64(splitmix64(base) ^ fnv1a64(identity.as_bytes()))
 }
 
 /// A number as written in results and identities: Rust's shortest
@@ -636,14 +602,5 @@ mod tests {
         assert_eq!(last.count(usize::MAX), 1);
         assert_eq!(Shard { k: 3, n: 3 }.count(2), 0);
         assert!("4/3".parse::<Shard>().is_err());
-    }
-
-    #[test]
-    fn seeds_are_fixed_by_identity() {
-        // a documented, portable rule: these numbers must never change
-        assert_eq!(splitmix64(1), 0x910a2dec89025cc1);
-        let id = "scene=two_rooms;learner=e3d;use_reward=true;alpha=0.3;beta=100;lambda=0.03;eta=0.01;epsilon=-;session=0";
-        assert_eq!(session_seed(0, id), session_seed(0, id));
-        assert_ne!(session_seed(0, id), session_seed(1, id));
     }
 }

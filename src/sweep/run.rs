@@ -3,13 +3,14 @@
 
 use super::factory::{describe_space, SceneRun};
 use super::journal::{self, Journal, JournalHeader};
-use super::plan::{fnv1a64, SessionSpec, Shard, Sweep};
+use super::plan::{SessionSpec, Shard, Sweep};
 use super::results::{
     version_line, write_final, DirReport, SessionResult, JOURNAL, SWEEP_COPY, VERSION, VERSION_FILE,
 };
 use super::spec::MetricSpec;
 use super::{io_err, SweepError};
 use crate::effect::Target;
+use crate::hash::fnv1a64;
 use crate::session::{run_lockstep_into, run_session_into, RunningMetrics, SessionConfig};
 #[cfg(doc)]
 use crate::world::Executor;

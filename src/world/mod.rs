@@ -15,6 +15,7 @@
 //!
 //! Implement [`World`] to plug in your own simulator or robot.
 
+mod from_scene;
 mod grid;
 mod memo;
 mod physics;
@@ -22,7 +23,8 @@ mod plan;
 mod reach;
 mod table;
 
-pub use grid::{GridSpec, GridWorld};
+pub use crate::scene::GridSpec;
+pub use grid::GridWorld;
 pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
 pub use physics::{BodyPose, Frame, Motion, PhysicsWorld, RunStats, Trace, MAX_COPIES};
 pub use plan::{

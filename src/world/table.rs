@@ -565,7 +565,7 @@ impl OutcomeTable {
     /// the e3d version, which changes whenever a simulation might.
     pub fn key(scene: &Scene) -> u64 {
         let canonical = ron::to_string(scene).unwrap_or_default();
-        crate::sweep::fnv1a64(format!("e3d {} {canonical}", env!("CARGO_PKG_VERSION")).as_bytes())
+        crate::hash::fnv1a64(format!("e3d {} {canonical}", env!("CARGO_PKG_VERSION")).as_bytes())
     }
 
     /// The file of a scene's table in the folder `dir`:
@@ -701,7 +701,7 @@ impl OutcomeTable {
             return Err(bad("truncated or of the wrong length"));
         }
         let body = bytes.len() - 8;
-        if u64_at(body) != crate::sweep::fnv1a64(&bytes[..body]) {
+        if u64_at(body) != crate::hash::fnv1a64(&bytes[..body]) {
             return Err(bad("damaged (its checksum does not match)"));
         }
         let record = |at: usize| -> io::Result<Outcome> {
@@ -781,7 +781,7 @@ fn push_record(b: &mut Vec<u8>, o: &Outcome) {
 
 /// Appends the checksum of everything before it.
 fn seal(b: &mut Vec<u8>) {
-    let sum = crate::sweep::fnv1a64(b);
+    let sum = crate::hash::fnv1a64(b);
     b.extend_from_slice(&sum.to_le_bytes());
 }
 

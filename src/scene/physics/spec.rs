@@ -201,7 +201,7 @@ pub struct JointSpec {
     /// the multibody solver.
     #[serde(default)]
     pub damping: f64,
-    /// A position motor for [`Action::Target`]: `(stiffness: N·m/rad,
+    /// A position motor for [`Action::Target`](crate::scene::Action::Target): `(stiffness: N·m/rad,
     /// damping: N·m·s/rad)`. It holds angle 0 (the start pose) until a
     /// `Target` moves its set point; default none.
     #[serde(default)]
