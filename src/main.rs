@@ -16,7 +16,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Cmd {
     /// Run one learning session on a scene and print a summary.
-    Run(cli::run::RunArgs),
+    Run(cli::session::RunArgs),
     /// Reproduce the paper's Figures 2 and 3 on two_rooms (SVG, CSV, summary.md).
     Reproduce(cli::reproduce::ReproduceArgs),
     /// Measure what a scene costs: rollouts/s, steps/s, E3D trials/s (CSV; each

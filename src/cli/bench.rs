@@ -1,6 +1,6 @@
 //! `e3d bench`: what a scene costs.
 
-use super::run::load_scene;
+use super::load_scene;
 use super::{CliError, CliResult};
 use clap::Args;
 use e3d::scene::WorldSpec;

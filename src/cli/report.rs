@@ -72,7 +72,7 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
     let scene_name = serde_json::from_str::<serde_json::Value>(&summary)
         .ok()
         .and_then(|v| v.get("scene").and_then(|s| s.as_str()).map(String::from));
-    let (rows, cols) = match scene_name.as_deref().map(super::run::load_scene) {
+    let (rows, cols) = match scene_name.as_deref().map(super::load_scene) {
         Some(Ok(s)) => {
             let g = s.effect_grid();
             (g.rows, g.cols)

@@ -30,7 +30,7 @@ pub struct SweepArgs {
     #[arg(long, value_name = "DIR")]
     pub table_cache: Option<PathBuf>,
     #[command(flatten)]
-    pub memo: super::run::MemoArgs,
+    pub memo: super::session::MemoArgs,
 }
 
 /// Arguments of `e3d merge`.

@@ -7,9 +7,9 @@ mod reward_cell;
 mod simulate;
 mod stats;
 mod table;
+mod values;
 
-use super::run::load_scene;
-use super::{CliError, CliResult};
+use super::{load_scene, CliError, CliResult};
 use check::{check, check_reach};
 use clap::{Args, Subcommand};
 use exec::{exec, exec_trace};
@@ -120,6 +120,47 @@ pub enum SceneCmd {
     },
 }
 
+/// `e3d scene ...` on a continuous scene: the sub-commands that differ
+/// (`exec`, `render --command`) and those that cannot apply (`table`,
+/// `reward-cell`, `stats`, which enumerate the commands); `None` for the
+/// others, and for scenes of symbols or that do not load (the plain path
+/// then reports them).
+fn continuous(cmd: &SceneCmd) -> Option<CliResult> {
+    use SceneCmd as C;
+    let name = match cmd {
+        C::Exec { scene, .. }
+        | C::Render { scene, .. }
+        | C::RewardCell { scene, .. }
+        | C::Table { scene, .. }
+        | C::Stats { scene, .. } => scene,
+        _ => return None,
+    };
+    let scene = e3d::Scene::resolve(name)
+        .ok()
+        .filter(e3d::Scene::is_continuous)?;
+    let refuse = |what: &str| Some(scene.require_symbols(what).map_err(CliError::input));
+    match cmd {
+        C::Exec {
+            commands,
+            table_cache: None,
+            trace,
+            ..
+        } => Some(values::exec(&scene, commands, trace.as_deref())),
+        C::Exec { .. } => refuse("`e3d scene exec --table-cache` (an outcome table)"),
+        C::Render {
+            command: Some(text),
+            animate,
+            out,
+            ..
+        } => Some(values::render(&scene, text, *animate, out)),
+        C::Render { .. } => None,
+        C::RewardCell { .. } => refuse("`e3d scene reward-cell` (which executes every command)"),
+        C::Table { .. } => refuse("`e3d scene table` (an outcome table)"),
+        C::Stats { .. } => refuse("`e3d scene stats` (which executes every command)"),
+        _ => None,
+    }
+}
+
 fn parse_point(s: &str) -> Result<[f64; 2], String> {
     let v: Vec<f64> = s
         .split(',')
@@ -133,7 +174,7 @@ fn parse_point(s: &str) -> Result<[f64; 2], String> {
 
 /// Runs `e3d scene ...`.
 pub fn run(a: SceneArgs) -> CliResult {
-    if let Some(r) = super::continuous::scene(&a.command) {
+    if let Some(r) = continuous(&a.command) {
         return r;
     }
     match a.command {
