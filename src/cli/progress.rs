@@ -138,11 +138,6 @@ impl Progress {
         self.done.fetch_add(k, Ordering::Relaxed);
     }
 
-    /// `d` units done by this run in all.
-    pub fn set(&self, d: u64) {
-        self.done.store(d, Ordering::Relaxed);
-    }
-
     /// The counter of the units done by this run, to hand to code that
     /// counts on its own (`Sweep::with_trial_counter`).
     pub fn counter(&self) -> Arc<AtomicU64> {

@@ -5,8 +5,8 @@ use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCs
 use super::{load_scene, CliError, CliResult};
 use e3d::world::{Executor, Workload};
 use e3d::{
-    policy_effect_distribution, run_lockstep_into, run_session_into, ExecutionPlan, Metrics,
-    Params, RunningMetrics, SessionConfig, Target,
+    policy_effect_distribution, run_sessions, ExecutionPlan, Metrics, Params, RunningMetrics,
+    SessionConfig, Target,
 };
 use serde::Serialize;
 
@@ -116,41 +116,11 @@ pub fn run(a: RunArgs) -> CliResult {
     }
     // a bar on a terminal, a line every few seconds otherwise
     let label = format!("run {}", scene.name);
+    let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
     let status = super::progress::track(&label, "trials", work.trials, |p| {
-        if sessions == 1 {
-            let mut world = exec.world(1);
-            let tick = |t: usize| p.set(t as u64);
-            vec![run_session_into(
-                &mut *world,
-                &mut learners[0],
-                &cfg(seeds[0]),
-                &mut recorders[0],
-                tick,
-            )]
-        } else {
-            // lockstep groups (one session per group on a table), in parallel
-            use rayon::prelude::*;
-            let groups = if exec.table().is_some() {
-                sessions
-            } else {
-                exec.plan().groups.max(1)
-            };
-            let size = sessions.div_ceil(groups);
-            let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
-            let parts: Vec<Vec<Result<(), e3d::WorldError>>> = learners
-                .par_chunks_mut(size)
-                .zip(recorders.par_chunks_mut(size))
-                .zip(configs.par_chunks(size))
-                .map(|((l, r), c)| {
-                    let mut world = exec.world(l.len());
-                    run_lockstep_into(&mut *world, l, c, r, |t| p.add(t))
-                })
-                .collect();
-            parts
-                .into_iter()
-                .flatten()
-                .collect::<Vec<Result<(), e3d::WorldError>>>()
-        }
+        run_sessions(&exec, &mut learners, &configs, &mut recorders, &|t| {
+            p.add(t)
+        })
     });
     if let Some(line) = exec.finish() {
         eprintln!("outcomes: {line}");
