@@ -4,6 +4,7 @@
 use super::output::write_file;
 use super::session::{join_trials, print_header, print_metrics, RunArgs};
 use super::{CliError, CliResult};
+use crate::cli::console::{errln, outln};
 use e3d::{run_value_sessions, Metrics, Params, Scene, SessionConfig, Target, ValueSessionRecord};
 use serde::Serialize;
 
@@ -73,7 +74,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         .collect();
     let sessions = seeds.len();
     let steps = scene.steps_per_command().unwrap_or(0) as u64;
-    eprintln!(
+    errln!(
         "outcomes: live: continuous commands, {} trials x {sessions} session(s) x {steps} steps, on {} thread(s)",
         a.trials,
         rayon::current_num_threads()
@@ -161,7 +162,7 @@ fn write_out(
     let mut json = serde_json::to_vec_pretty(&summary).map_err(CliError::output)?;
     json.push(b'\n');
     write_file(&dir.join("summary.json"), &json)?;
-    println!(
+    outln!(
         "wrote {} and {}",
         csv.display(),
         dir.join("summary.json").display()

@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod compare;
+pub mod console;
 pub mod continuous;
 pub mod output;
 pub mod plot;

@@ -7,6 +7,7 @@
 //! goes to standard output, and a command that ends within the first
 //! seconds prints nothing.
 
+use crate::cli::console::errln;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -257,7 +258,7 @@ fn track_as<T>(
             }
             r.finish();
             for line in progress.take_said() {
-                eprintln!("{line}");
+                errln!("{line}");
             }
         });
         // set even if `work` panics, or the scope would wait for the reporter
@@ -426,7 +427,7 @@ impl Reporter {
     fn print(&self, line: String) {
         match &self.bar {
             Some(bar) => bar.println(line),
-            None => eprintln!("{line}"),
+            None => errln!("{line}"),
         }
     }
 

@@ -2,6 +2,7 @@
 
 use super::output::write_file;
 use super::{CliError, CliResult};
+use crate::cli::console::outln;
 use clap::Args;
 use e3d::report::html::{parse_trials, run_page, sweep_page};
 use e3d::report::sweep_plot::Summary;
@@ -52,7 +53,7 @@ pub fn run(a: ReportArgs) -> CliResult {
     };
     let out = a.out.unwrap_or_else(|| dir.join("report.html"));
     write_file(&out, page.as_bytes())?;
-    println!("wrote {} ({what} report)", out.display());
+    outln!("wrote {} ({what} report)", out.display());
     Ok(())
 }
 

@@ -3,6 +3,7 @@
 use super::output::{prepare_out, write_file};
 use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCsv};
 use super::{load_scene, CliError, CliResult};
+use crate::cli::console::{errln, outln};
 use e3d::world::{Executor, Workload};
 use e3d::{
     policy_effect_distribution, run_sessions, ExecutionPlan, Metrics, Params, RunningMetrics,
@@ -100,7 +101,7 @@ pub fn run(a: RunArgs) -> CliResult {
         })
     })
     .map_err(CliError::simulation)?;
-    eprintln!("outcomes: {}", exec.plan());
+    errln!("outcomes: {}", exec.plan());
     let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
     let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {
         csv_path
@@ -123,7 +124,7 @@ pub fn run(a: RunArgs) -> CliResult {
         })
     });
     if let Some(line) = exec.finish() {
-        eprintln!("outcomes: {line}");
+        errln!("outcomes: {line}");
     }
     // the first failing session fails the run, naming its command
     let mut files = Vec::new();
@@ -155,7 +156,7 @@ pub fn run(a: RunArgs) -> CliResult {
     print_metrics(&metrics, &seeds, num_effects);
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
-        println!("exact effect distribution of the final policy: normalised entropy {h:.4}");
+        outln!("exact effect distribution of the final policy: normalised entropy {h:.4}");
     }
 
     if let Some(dir) = &a.out {
@@ -201,7 +202,7 @@ pub fn run(a: RunArgs) -> CliResult {
         };
         join_trials(&dir.join("trials.csv"), header, &files)?;
         write_file(&dir.join("summary.json"), &json)?;
-        println!(
+        outln!(
             "wrote {} and {}",
             dir.join("trials.csv").display(),
             dir.join("summary.json").display()

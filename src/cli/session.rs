@@ -3,6 +3,7 @@
 //! they print, and the streamed `trials.csv`.
 
 use super::{CliError, CliResult};
+use crate::cli::console::outln;
 use clap::Args;
 use e3d::world::{ExecOptions, Strategy};
 use e3d::{Command, CommandSpace, LearnerKind, Metrics, Outcome, Params, Recorder};
@@ -240,7 +241,7 @@ pub(super) fn used_params(learner: LearnerKind, p: &Params) -> String {
 /// parameters the learner reads.
 pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params, seeds: &[u64]) {
     let sessions = seeds.len();
-    println!(
+    outln!(
         "scene {scene} | learner {}{kind} | {} trials{} | seed {}{}{}",
         a.learner,
         a.trials,
@@ -269,7 +270,7 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
         } else {
             String::new()
         };
-        println!(
+        outln!(
             "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
             m.normalized_entropy,
             m.normalized_entropy_last_1000,
@@ -278,9 +279,9 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
             num_effects
         );
         if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
-            println!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
+            outln!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
         }
-        println!(
+        outln!(
             "{who}cumulative reward {} | first reward at trial {}",
             m.cumulative_reward,
             m.first_reward_trial
@@ -290,7 +291,7 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
     if sessions > 1 {
         let mean =
             |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
-        println!(
+        outln!(
             "mean of {sessions} sessions: normalised entropy {:.4} | cumulative reward {:.1}",
             mean(&|m| m.normalized_entropy),
             mean(&|m| m.cumulative_reward)

@@ -2,19 +2,20 @@
 //! commands.
 
 use super::simulate::{say_cost, seconds_text};
+use crate::cli::console::{errln, outln};
 use crate::cli::{progress, CliResult};
 use e3d::scene::{physics::BodyKind, Scene, WorldSpec};
 use e3d::OutcomeTable;
 
 pub(super) fn check(scene: &Scene) -> CliResult {
     let grid = scene.effect_grid();
-    println!("scene {}: valid", scene.name);
+    outln!("scene {}: valid", scene.name);
     if !scene.description.is_empty() {
-        println!("  {}", scene.description);
+        outln!("  {}", scene.description);
     }
     match &scene.world {
         WorldSpec::Grid(g) => {
-            println!(
+            outln!(
                 "world: Grid, {} x {} cells, start {:?}, {} wall(s)",
                 g.rows,
                 g.cols,
@@ -24,10 +25,10 @@ pub(super) fn check(scene: &Scene) -> CliResult {
         }
         WorldSpec::Physics(p) => {
             for w in p.warnings() {
-                eprintln!("warning: scene {}: {w}", scene.name);
+                errln!("warning: scene {}: {w}", scene.name);
             }
             let (phase, settle, together) = p.schedule.steps(p.dt);
-            println!(
+            outln!(
                 "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",
                 p.gravity.0,
                 p.gravity.1,
@@ -39,21 +40,26 @@ pub(super) fn check(scene: &Scene) -> CliResult {
                     format!("{phase} steps per slot, then settle {settle}")
                 }
             );
-            println!("bodies ({}):", p.bodies.len());
+            outln!("bodies ({}):", p.bodies.len());
             for b in &p.bodies {
                 let mass = if b.kind == BodyKind::Dynamic {
                     format!(", {:.4} kg", b.mass_kg())
                 } else {
                     String::new()
                 };
-                println!(
+                outln!(
                     "  {:<12} {:?}, {:?}{mass}, at ({}, {}), angle {}",
-                    b.name, b.kind, b.shape, b.position.0, b.position.1, b.angle
+                    b.name,
+                    b.kind,
+                    b.shape,
+                    b.position.0,
+                    b.position.1,
+                    b.angle
                 );
             }
-            println!("joints ({}):", p.joints.len());
+            outln!("joints ({}):", p.joints.len());
             for j in &p.joints {
-                println!(
+                outln!(
                     "  {:<12} {} -> {}, limits {}, damping {} N·m·s/rad{}",
                     j.name,
                     j.parent,
@@ -67,25 +73,27 @@ pub(super) fn check(scene: &Scene) -> CliResult {
                     ))
                 );
             }
-            println!(
+            outln!(
                 "tracked point: ({}, {}) on `{}`",
-                p.effect.point.0, p.effect.point.1, p.effect.body
+                p.effect.point.0,
+                p.effect.point.1,
+                p.effect.body
             );
             if let Some(sym) = p.symmetry {
                 let n = scene.command_space().num_commands_text();
                 match OutcomeTable::simulated_commands(scene) {
-                    Some(k) => println!(
+                    Some(k) => outln!(
                         "symmetry: {sym:?} (checked): {k} of {n} commands simulated, the others reflected"
                     ),
-                    None => println!("symmetry: {sym:?} (checked)"),
+                    None => outln!("symmetry: {sym:?} (checked)"),
                 }
             }
         }
     }
-    println!("slots ({}):", scene.num_slots());
+    outln!("slots ({}):", scene.num_slots());
     if let e3d::scene::CommandSpec::Continuous(slots) = &scene.command {
         for (i, slot) in slots.iter().enumerate() {
-            println!(
+            outln!(
                 "  {i}: a value in [{}, {}]{}: {:?}",
                 slot.range.0,
                 slot.range.1,
@@ -95,20 +103,20 @@ pub(super) fn check(scene: &Scene) -> CliResult {
                 slot.action
             );
         }
-        println!(
+        outln!(
             "distinct commands: infinitely many (continuous: live physics only, no table or memo)"
         );
     } else {
         for (i, alphabet) in scene.slots().enumerate() {
             let syms: String = alphabet.iter().map(|s| s.symbol).collect();
-            println!("  {i}: {syms}");
+            outln!("  {i}: {syms}");
         }
-        println!(
+        outln!(
             "distinct commands: {}",
             scene.command_space().num_commands_text()
         );
     }
-    println!(
+    outln!(
         "effects: {} ({} x {} cells over [{}, {}] x [{}, {}])",
         grid.num_cells(),
         grid.rows,
@@ -119,7 +127,7 @@ pub(super) fn check(scene: &Scene) -> CliResult {
         grid.max[1]
     );
     for r in &scene.reward.regions {
-        println!(
+        outln!(
             "reward region `{}`: [{}, {}] x [{}, {}], cells {:?}",
             r.name,
             r.min.0,
@@ -132,7 +140,7 @@ pub(super) fn check(scene: &Scene) -> CliResult {
     // every rewarded cell, listed or in a region: one answer
     let cells = rewarded_cells(scene);
     if cells.is_empty() {
-        println!("reward cells: none (the scene declares no reward cell or region)");
+        outln!("reward cells: none (the scene declares no reward cell or region)");
     } else {
         let from = match (scene.reward.cells.is_empty(), scene.reward.regions.len()) {
             (true, 1) => " (from the region above)".to_string(),
@@ -140,7 +148,7 @@ pub(super) fn check(scene: &Scene) -> CliResult {
             (false, 0) => String::new(),
             (false, _) => " (listed and from the regions above)".to_string(),
         };
-        println!(
+        outln!(
             "reward cells: {cells:?}{from}, value {}{}",
             scene.reward.value,
             if scene.reward.note.is_empty() {
@@ -178,7 +186,7 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
         // the scene is valid; a command that blows up is a finding of the
         // check, not a failure of it
         Err(e) => {
-            eprintln!("warning: scene {}: reach: {e}", scene.name);
+            errln!("warning: scene {}: reach: {e}", scene.name);
             return Ok(());
         }
     };
@@ -188,7 +196,7 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
         None => scene.command_space().num_commands_text(),
     };
     if s.exhaustive {
-        println!(
+        outln!(
             "reach: all {} commands executed ({:.2} s): {} of {} cells reached",
             s.samples,
             s.seconds,
@@ -196,7 +204,7 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
             grid.num_cells()
         );
     } else {
-        println!(
+        outln!(
             "reach (estimate): {} random commands of {n} (seed {seed}, {:.2} s): {} of {} cells reached",
             s.samples,
             s.seconds,
@@ -212,20 +220,20 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
     let hits = s.hits(&effects);
     let share = hits as f64 / s.samples as f64;
     if s.exhaustive {
-        println!(
+        outln!(
             "reward cells reached by {hits} of {} commands ({:.3}%)",
             s.samples,
             100.0 * share
         );
         if hits == 0 {
-            eprintln!(
+            errln!(
                 "warning: scene {}: no command reaches a reward cell {cells:?} (every command executed)",
                 scene.name
             );
         }
         return Ok(());
     }
-    println!(
+    outln!(
         "reward cells: estimated probability {:.3}% ({hits} of {} sampled commands)",
         100.0 * share,
         s.samples
@@ -233,7 +241,7 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
     if hits == 0 {
         // the rule of three: with no hit in k draws, p < 3/k at 95%
         let bound = 100.0 * 3.0 / s.samples as f64;
-        eprintln!(
+        errln!(
             "warning: scene {}: no sampled command reached a reward cell {cells:?}: it may be unreachable, or rarer than about {bound:.2}% (95% bound); {}",
             scene.name,
             full_check_cost(scene)

@@ -1,6 +1,7 @@
 //! `e3d scene exec`: commands executed as they come, their outcomes as CSV.
 
 use super::simulate::{say_cost, seconds_text, steps_text, world_error};
+use crate::cli::console::errln;
 use crate::cli::{progress, CliError, CliResult};
 use e3d::scene::{PhysicsSpec, Scene, WorldSpec};
 use e3d::world::PhysicsWorld;
@@ -237,7 +238,7 @@ pub(super) fn exec_cache(
             } else {
                 format!("cannot use the outcome table {shown}: {e}")
             };
-            eprintln!("note: {why}; simulating the commands, keeping their outcomes there");
+            errln!("note: {why}; simulating the commands, keeping their outcomes there");
             (None, memo().ok())
         }
     }
@@ -351,7 +352,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     if let (Some(m), Some(dir)) = (memo.as_ref().filter(|m| !m.is_empty()), table_cache) {
         let path = OutcomeTable::cache_path(scene, dir);
         if let Err(e) = m.save(&path, scene) {
-            eprintln!(
+            errln!(
                 "note: could not keep the outcomes in {}: {e}",
                 path.display()
             );

@@ -2,6 +2,7 @@
 //! animated rollout.
 
 use super::simulate::{say_cost, world_error};
+use crate::cli::console::outln;
 use crate::cli::output::write_file;
 use crate::cli::{CliError, CliResult};
 use e3d::report::scene_svg::{scene_svg, Overlay};
@@ -20,7 +21,7 @@ pub(super) fn render(scene: &Scene, command: Option<&str>, out: &std::path::Path
     };
     let svg = scene_svg(scene, overlay.as_ref());
     write_file(out, svg.as_bytes())?;
-    println!("wrote {}", out.display());
+    outln!("wrote {}", out.display());
     Ok(())
 }
 
@@ -68,7 +69,7 @@ pub(super) fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliRe
         svg
     };
     write_file(out, text.as_bytes())?;
-    println!("wrote {} ({what})", out.display());
+    outln!("wrote {} ({what})", out.display());
     Ok(())
 }
 

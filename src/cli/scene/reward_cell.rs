@@ -3,6 +3,7 @@
 
 use super::check::rewarded_cells;
 use super::simulate::build_table;
+use crate::cli::console::outln;
 use crate::cli::{CliError, CliResult};
 use e3d::scene::{Scene, WorldSpec};
 use e3d::world::farthest_reached_cell;
@@ -39,7 +40,7 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         .map(|(e, &c)| (c, e))
         .collect();
     sorted.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-    println!(
+    outln!(
         "scene {}: executed {} commands in {:.2} s ({:.0} commands/s on {} thread(s))",
         scene.name,
         table.len(),
@@ -47,7 +48,7 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         table.len() as f64 / secs,
         rayon::current_num_threads()
     );
-    println!(
+    outln!(
         "reached cells: {} of {}",
         cell.reached_cells,
         grid.num_cells()
@@ -65,9 +66,9 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
             )
         })
         .collect();
-    println!("most common cells: {}", top.join(", "));
+    outln!("most common cells: {}", top.join(", "));
     let center = grid.center(cell.row, cell.col);
-    println!(
+    outln!(
         "rule: farthest reached cell from ({:.4}, {:.4}): ({}, {}) = effect {}, centre ({}, {}), {:.4} m away, reached by {} command(s)",
         // 4 decimals, as the distance: pendulum3's start, cos(-pi/2) * 0.9,
         // prints as 0.0000, not 0.000000000000000006123233995736766
@@ -81,17 +82,17 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         .take(10)
         .map(|(i, _)| space.format(&space.command_at(i as u64)))
         .collect();
-    println!("commands reaching it: {}", reaching.join(" "));
+    outln!("commands reaching it: {}", reaching.join(" "));
     let declared = rewarded_cells(scene);
     let rule = (cell.row, cell.col);
     if declared.is_empty() {
-        println!(
+        outln!(
             "the scene declares no reward cell; by the rule it would be {rule:?}: `reward: (cells: [{rule:?}])`"
         );
     } else if declared == [rule] {
-        println!("the scene's reward cells {declared:?} match the rule's cell");
+        outln!("the scene's reward cells {declared:?} match the rule's cell");
     } else {
-        println!("the scene's reward cells {declared:?} do NOT match the rule's cell {rule:?}");
+        outln!("the scene's reward cells {declared:?} do NOT match the rule's cell {rule:?}");
     }
     Ok(())
 }

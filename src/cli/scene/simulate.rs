@@ -1,6 +1,7 @@
 //! What the scene tools share: a world's error as the CLI's, and the
 //! cost model's estimates said before a long simulation, with its progress.
 
+use crate::cli::console::errln;
 use crate::cli::{progress, CliError};
 use e3d::scene::{Scene, WorldSpec};
 use e3d::{OutcomeTable, WorldError};
@@ -42,7 +43,7 @@ pub(super) fn simulate_all<T>(
     } else {
         format!("{simulated} commands")
     };
-    eprintln!(
+    errln!(
         "scene {}: simulating {what} on {} thread(s){}: about {} by the cost model",
         scene.name,
         rayon::current_num_threads(),
@@ -105,7 +106,7 @@ pub(super) fn say_cost(label: &str, scene: &Scene, commands: u64, threads: usize
     if secs < progress::LONG {
         return false;
     }
-    eprintln!(
+    errln!(
         "{label}: {commands} command(s){} on {threads} thread(s): about {} by the cost model",
         steps_text(scene),
         seconds_text(secs)

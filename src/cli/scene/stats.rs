@@ -2,6 +2,7 @@
 //! runs.
 
 use super::simulate::{simulate_all, world_error};
+use crate::cli::console::outln;
 use crate::cli::{CliError, CliResult};
 use e3d::scene::{Scene, WorldSpec};
 use e3d::world::PhysicsWorld;
@@ -50,7 +51,7 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
     for s in &all {
         cells[s.outcome.effect] += 1;
     }
-    println!(
+    outln!(
         "scene {}: {} commands in {:.2} s ({:.0} rollouts/s on {} thread(s))",
         scene.name,
         all.len(),
@@ -58,20 +59,20 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
         all.len() as f64 / secs,
         rayon::current_num_threads()
     );
-    println!(
+    outln!(
         "reached cells: {} of {}",
         cells.iter().filter(|&&c| c > 0).count(),
         cells.len()
     );
-    println!(
+    outln!(
         "commands bringing two moving bodies into contact: {contacts} ({:.1}%)",
         pct(contacts)
     );
-    println!(
+    outln!(
         "commands pressing a joint against a limit (within 0.01 rad): {limits} ({:.1}%)",
         pct(limits)
     );
-    println!(
+    outln!(
         "top linear speed {max_speed:.3} m/s (max_speed {} m/s); top angular speed {max_spin:.2} rad/s (Rapier's cap: {:.2} rad/s)",
         spec.max_speed,
         std::f64::consts::FRAC_PI_4 / spec.dt

@@ -2,6 +2,7 @@
 //! from its cache.
 
 use super::simulate::{build_table, simulate_all, table_seconds, world_error};
+use crate::cli::console::{errln, outln};
 use crate::cli::{CliError, CliResult};
 use e3d::scene::{PhysicsSpec, Scene, WorldSpec};
 use e3d::OutcomeTable;
@@ -37,7 +38,7 @@ pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult
         let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
         how = format!("{how}; {sym:?} symmetry: {simulated} simulated, the others reflected");
     }
-    println!(
+    outln!(
         "scene {}: {} commands in {:.3} s ({:.0} commands/s, {} thread(s), {how})",
         scene.name,
         table.len(),
@@ -49,17 +50,17 @@ pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult
         Some(dir) => {
             let path = OutcomeTable::cache_path(scene, dir);
             if existed {
-                println!("read from {}", path.display());
+                outln!("read from {}", path.display());
             } else if path.exists() {
-                println!("written to {}", path.display());
+                outln!("written to {}", path.display());
             } else {
-                println!(
+                outln!(
                     "could not write {} (the table was computed)",
                     path.display()
                 );
             }
         }
-        None => println!("not written (give --cache DIR to keep it)"),
+        None => outln!("not written (give --cache DIR to keep it)"),
     }
     Ok(())
 }
@@ -74,7 +75,7 @@ pub(super) fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, b
         Ok(CachedOutcomes::Full(t)) => return Ok((t, true)),
         // what the partial file holds is not simulated again
         Ok(CachedOutcomes::Partial(known)) => {
-            eprintln!(
+            errln!(
                 "scene {}: {} outcomes read from {}; simulating the others",
                 scene.name,
                 known.len(),

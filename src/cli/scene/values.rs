@@ -1,6 +1,7 @@
 //! The scene tools on a scene of continuous commands: `exec` and
 //! `render --command` of values.
 
+use crate::cli::console::outln;
 use crate::cli::output::write_file;
 use crate::cli::{CliError, CliResult};
 use e3d::Scene;
@@ -143,6 +144,6 @@ pub(super) fn render(scene: &Scene, text: &str, animate: bool, out: &std::path::
         e3d::report::scene_svg::scene_svg(scene, Some(&overlay))
     };
     write_file(out, page.as_bytes())?;
-    println!("wrote {}", out.display());
+    outln!("wrote {}", out.display());
     Ok(())
 }
