@@ -10,6 +10,7 @@ use e3d::{
     SessionConfig, Target,
 };
 use serde::Serialize;
+use std::path::{Path, PathBuf};
 
 /// What `summary.json` holds (one session).
 #[derive(Serialize)]
@@ -59,15 +60,7 @@ pub fn run(a: RunArgs) -> CliResult {
     if let Some(dir) = &a.out {
         prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
     }
-    let seeds: Vec<u64> = (0..a.sessions)
-        .map(|i| a.seed.checked_add(i))
-        .collect::<Option<_>>()
-        .ok_or_else(|| {
-            CliError::input(format!(
-                "--seed {} with --sessions {}: the seeds seed..seed+N-1 pass 2^64 - 1",
-                a.seed, a.sessions
-            ))
-        })?;
+    let seeds = seeds(&a)?;
     if scene.is_continuous() {
         return super::continuous::run(&a, &scene, params, &seeds);
     }
@@ -160,53 +153,100 @@ pub fn run(a: RunArgs) -> CliResult {
     }
 
     if let Some(dir) = &a.out {
-        let mut json = if sessions == 1 {
-            serde_json::to_vec_pretty(&Summary {
-                e3d_version: env!("CARGO_PKG_VERSION"),
-                scene: &scene.name,
-                learner: a.learner.as_str(),
-                params,
-                seed: a.seed,
-                use_reward: !a.no_reward,
-                metrics: &metrics[0],
-                policy_effect_distribution: exact,
-                effect_counts: recorders[0].0.effect_counts(),
-                execution: exec.plan(),
-            })
-        } else {
-            serde_json::to_vec_pretty(&SessionsSummary {
-                e3d_version: env!("CARGO_PKG_VERSION"),
-                scene: &scene.name,
-                learner: a.learner.as_str(),
-                params,
-                use_reward: !a.no_reward,
-                sessions: metrics
-                    .iter()
-                    .zip(&recorders)
-                    .zip(&seeds)
-                    .map(|((m, r), &seed)| OneSession {
-                        seed,
-                        metrics: m,
-                        effect_counts: r.0.effect_counts(),
-                    })
-                    .collect(),
-                execution: exec.plan(),
-            })
-        }
-        .map_err(CliError::output)?;
-        json.push(b'\n');
-        let header = if sessions > 1 {
-            "session,trial,command,effect,reward"
-        } else {
-            "trial,command,effect,reward"
+        let done = Finished {
+            seeds: &seeds,
+            metrics: &metrics,
+            counts: recorders.iter().map(|r| r.0.effect_counts()).collect(),
+            exact,
+            plan: exec.plan(),
         };
-        join_trials(&dir.join("trials.csv"), header, &files)?;
-        write_file(&dir.join("summary.json"), &json)?;
-        outln!(
-            "wrote {} and {}",
-            dir.join("trials.csv").display(),
-            dir.join("summary.json").display()
-        );
+        write_out(dir, &a, &scene.name, params, done, &files)?;
     }
+    Ok(())
+}
+
+/// The sessions' seeds: `--seed`, `--seed + 1`, ..., one per session.
+fn seeds(a: &RunArgs) -> Result<Vec<u64>, CliError> {
+    (0..a.sessions)
+        .map(|i| a.seed.checked_add(i))
+        .collect::<Option<_>>()
+        .ok_or_else(|| {
+            CliError::input(format!(
+                "--seed {} with --sessions {}: the seeds seed..seed+N-1 pass 2^64 - 1",
+                a.seed, a.sessions
+            ))
+        })
+}
+
+/// What the sessions of a run ended with, for `summary.json`.
+struct Finished<'a> {
+    seeds: &'a [u64],
+    metrics: &'a [Metrics],
+    /// Per session, its effect counts.
+    counts: Vec<Vec<f64>>,
+    /// The final policy's exact effect distribution (one session on a table).
+    exact: Option<Vec<f64>>,
+    plan: &'a ExecutionPlan,
+}
+
+/// Writes DIR/trials.csv (the sessions' streamed `files` joined) and
+/// DIR/summary.json.
+fn write_out(
+    dir: &Path,
+    a: &RunArgs,
+    scene: &str,
+    params: Params,
+    done: Finished<'_>,
+    files: &[PathBuf],
+) -> CliResult {
+    let sessions = done.seeds.len();
+    let mut json = if sessions == 1 {
+        serde_json::to_vec_pretty(&Summary {
+            e3d_version: env!("CARGO_PKG_VERSION"),
+            scene,
+            learner: a.learner.as_str(),
+            params,
+            seed: a.seed,
+            use_reward: !a.no_reward,
+            metrics: &done.metrics[0],
+            policy_effect_distribution: done.exact,
+            effect_counts: done.counts.into_iter().next().unwrap_or_default(),
+            execution: done.plan,
+        })
+    } else {
+        serde_json::to_vec_pretty(&SessionsSummary {
+            e3d_version: env!("CARGO_PKG_VERSION"),
+            scene,
+            learner: a.learner.as_str(),
+            params,
+            use_reward: !a.no_reward,
+            sessions: done
+                .metrics
+                .iter()
+                .zip(done.counts)
+                .zip(done.seeds)
+                .map(|((m, effect_counts), &seed)| OneSession {
+                    seed,
+                    metrics: m,
+                    effect_counts,
+                })
+                .collect(),
+            execution: done.plan,
+        })
+    }
+    .map_err(CliError::output)?;
+    json.push(b'\n');
+    let header = if sessions > 1 {
+        "session,trial,command,effect,reward"
+    } else {
+        "trial,command,effect,reward"
+    };
+    join_trials(&dir.join("trials.csv"), header, files)?;
+    write_file(&dir.join("summary.json"), &json)?;
+    outln!(
+        "wrote {} and {}",
+        dir.join("trials.csv").display(),
+        dir.join("summary.json").display()
+    );
     Ok(())
 }

@@ -13,83 +13,7 @@ pub(super) fn check(scene: &Scene) -> CliResult {
     if !scene.description.is_empty() {
         outln!("  {}", scene.description);
     }
-    match &scene.world {
-        WorldSpec::Grid(g) => {
-            outln!(
-                "world: Grid, {} x {} cells, start {:?}, {} wall(s)",
-                g.rows,
-                g.cols,
-                g.start,
-                g.walls.len()
-            );
-        }
-        WorldSpec::Physics(p) => {
-            for w in p.warnings() {
-                errln!("warning: scene {}: {w}", scene.name);
-            }
-            let (phase, settle, together) = p.schedule.steps(p.dt);
-            outln!(
-                "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",
-                p.gravity.0,
-                p.gravity.1,
-                p.dt,
-                p.schedule.total_steps(p.dt, scene.num_slots()),
-                if together {
-                    format!("all slots push {phase} steps, then settle {settle}")
-                } else {
-                    format!("{phase} steps per slot, then settle {settle}")
-                }
-            );
-            outln!("bodies ({}):", p.bodies.len());
-            for b in &p.bodies {
-                let mass = if b.kind == BodyKind::Dynamic {
-                    format!(", {:.4} kg", b.mass_kg())
-                } else {
-                    String::new()
-                };
-                outln!(
-                    "  {:<12} {:?}, {:?}{mass}, at ({}, {}), angle {}",
-                    b.name,
-                    b.kind,
-                    b.shape,
-                    b.position.0,
-                    b.position.1,
-                    b.angle
-                );
-            }
-            outln!("joints ({}):", p.joints.len());
-            for j in &p.joints {
-                outln!(
-                    "  {:<12} {} -> {}, limits {}, damping {} N·m·s/rad{}",
-                    j.name,
-                    j.parent,
-                    j.child,
-                    j.limits
-                        .map_or("none".to_string(), |(a, b)| format!("[{a}, {b}] rad")),
-                    j.damping,
-                    j.motor.map_or(String::new(), |m| format!(
-                        ", motor {} N·m/rad, {} N·m·s/rad",
-                        m.stiffness, m.damping
-                    ))
-                );
-            }
-            outln!(
-                "tracked point: ({}, {}) on `{}`",
-                p.effect.point.0,
-                p.effect.point.1,
-                p.effect.body
-            );
-            if let Some(sym) = p.symmetry {
-                let n = scene.command_space().num_commands_text();
-                match OutcomeTable::simulated_commands(scene) {
-                    Some(k) => outln!(
-                        "symmetry: {sym:?} (checked): {k} of {n} commands simulated, the others reflected"
-                    ),
-                    None => outln!("symmetry: {sym:?} (checked)"),
-                }
-            }
-        }
-    }
+    print_world(scene);
     outln!("slots ({}):", scene.num_slots());
     if let e3d::scene::CommandSpec::Continuous(slots) = &scene.command {
         for (i, slot) in slots.iter().enumerate() {
@@ -126,38 +50,7 @@ pub(super) fn check(scene: &Scene) -> CliResult {
         grid.min[1],
         grid.max[1]
     );
-    for r in &scene.reward.regions {
-        outln!(
-            "reward region `{}`: [{}, {}] x [{}, {}], cells {:?}",
-            r.name,
-            r.min.0,
-            r.max.0,
-            r.min.1,
-            r.max.1,
-            r.cells(&grid)
-        );
-    }
-    // every rewarded cell, listed or in a region: one answer
-    let cells = rewarded_cells(scene);
-    if cells.is_empty() {
-        outln!("reward cells: none (the scene declares no reward cell or region)");
-    } else {
-        let from = match (scene.reward.cells.is_empty(), scene.reward.regions.len()) {
-            (true, 1) => " (from the region above)".to_string(),
-            (true, _) => " (from the regions above)".to_string(),
-            (false, 0) => String::new(),
-            (false, _) => " (listed and from the regions above)".to_string(),
-        };
-        outln!(
-            "reward cells: {cells:?}{from}, value {}{}",
-            scene.reward.value,
-            if scene.reward.note.is_empty() {
-                String::new()
-            } else {
-                format!(" ({})", scene.reward.note)
-            }
-        );
-    }
+    print_rewards(scene, &grid);
     Ok(())
 }
 
@@ -292,4 +185,122 @@ pub(super) fn rewarded_cells(scene: &Scene) -> Vec<(usize, usize)> {
     cells.sort_unstable();
     cells.dedup();
     cells
+}
+
+/// The world's part of `scene check`: a grid's size, or a physics
+/// scene's schedule, bodies, joints, tracked point and symmetry.
+fn print_world(scene: &Scene) {
+    match &scene.world {
+        WorldSpec::Grid(g) => {
+            outln!(
+                "world: Grid, {} x {} cells, start {:?}, {} wall(s)",
+                g.rows,
+                g.cols,
+                g.start,
+                g.walls.len()
+            );
+        }
+        WorldSpec::Physics(p) => {
+            for w in p.warnings() {
+                errln!("warning: scene {}: {w}", scene.name);
+            }
+            let (phase, settle, together) = p.schedule.steps(p.dt);
+            outln!(
+                "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",
+                p.gravity.0,
+                p.gravity.1,
+                p.dt,
+                p.schedule.total_steps(p.dt, scene.num_slots()),
+                if together {
+                    format!("all slots push {phase} steps, then settle {settle}")
+                } else {
+                    format!("{phase} steps per slot, then settle {settle}")
+                }
+            );
+            outln!("bodies ({}):", p.bodies.len());
+            for b in &p.bodies {
+                let mass = if b.kind == BodyKind::Dynamic {
+                    format!(", {:.4} kg", b.mass_kg())
+                } else {
+                    String::new()
+                };
+                outln!(
+                    "  {:<12} {:?}, {:?}{mass}, at ({}, {}), angle {}",
+                    b.name,
+                    b.kind,
+                    b.shape,
+                    b.position.0,
+                    b.position.1,
+                    b.angle
+                );
+            }
+            outln!("joints ({}):", p.joints.len());
+            for j in &p.joints {
+                outln!(
+                    "  {:<12} {} -> {}, limits {}, damping {} N·m·s/rad{}",
+                    j.name,
+                    j.parent,
+                    j.child,
+                    j.limits
+                        .map_or("none".to_string(), |(a, b)| format!("[{a}, {b}] rad")),
+                    j.damping,
+                    j.motor.map_or(String::new(), |m| format!(
+                        ", motor {} N·m/rad, {} N·m·s/rad",
+                        m.stiffness, m.damping
+                    ))
+                );
+            }
+            outln!(
+                "tracked point: ({}, {}) on `{}`",
+                p.effect.point.0,
+                p.effect.point.1,
+                p.effect.body
+            );
+            if let Some(sym) = p.symmetry {
+                let n = scene.command_space().num_commands_text();
+                match OutcomeTable::simulated_commands(scene) {
+                    Some(k) => outln!(
+                        "symmetry: {sym:?} (checked): {k} of {n} commands simulated, the others reflected"
+                    ),
+                    None => outln!("symmetry: {sym:?} (checked)"),
+                }
+            }
+        }
+    }
+}
+
+/// The reward's part of `scene check`: its regions and every rewarded cell.
+fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
+    for r in &scene.reward.regions {
+        outln!(
+            "reward region `{}`: [{}, {}] x [{}, {}], cells {:?}",
+            r.name,
+            r.min.0,
+            r.max.0,
+            r.min.1,
+            r.max.1,
+            r.cells(&grid)
+        );
+    }
+    // every rewarded cell, listed or in a region: one answer
+    let cells = rewarded_cells(scene);
+    if cells.is_empty() {
+        outln!("reward cells: none (the scene declares no reward cell or region)");
+    } else {
+        let from = match (scene.reward.cells.is_empty(), scene.reward.regions.len()) {
+            (true, 1) => " (from the region above)".to_string(),
+            (true, _) => " (from the regions above)".to_string(),
+            (false, 0) => String::new(),
+            (false, _) => " (listed and from the regions above)".to_string(),
+        };
+        outln!(
+            "reward cells: {cells:?}{from}, value {}{}",
+            scene.reward.value,
+            if scene.reward.note.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", scene.reward.note)
+            }
+        );
+    }
 }
