@@ -279,7 +279,7 @@ fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
             r.max.0,
             r.min.1,
             r.max.1,
-            r.cells(&grid)
+            r.cells(grid)
         );
     }
     // every rewarded cell, listed or in a region: one answer
