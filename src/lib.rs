@@ -38,7 +38,9 @@
 //!   seed;
 //! - [`session`]: the trial loop ([`run_session`], or [`run_session_into`]
 //!   a [`Recorder`] such as [`RunningMetrics`], in constant memory),
-//!   sessions in lockstep ([`run_lockstep`]) and their [`Metrics`];
+//!   sessions in lockstep ([`run_lockstep`]), sessions run the way an
+//!   [`Executor`] plans them, in parallel ([`run_sessions`]), and their
+//!   [`Metrics`];
 //! - [`sweep`]: grids of sessions over scenes, learners and parameters
 //!   ([`Sweep`], from a file or a [`SweepSpec`](sweep::SweepSpec) built in
 //!   code), run in parallel, resumable, in shards; your own worlds and
@@ -105,9 +107,10 @@ pub use learner::{
 pub use rng::SessionRng;
 pub use scene::{Scene, SceneError, SceneErrorKind};
 pub use session::{
-    policy_effect_distribution, run_lockstep, run_lockstep_into, run_session, run_session_into,
-    run_session_with, run_value_session, run_value_sessions, Metrics, Recorder, RunningMetrics,
-    SessionConfig, SessionRecord, ValueSessionRecord,
+    policy_effect_distribution, run_group, run_lockstep, run_lockstep_into, run_session,
+    run_session_into, run_session_with, run_sessions, run_sessions_until, run_value_session,
+    run_value_sessions, Metrics, Recorder, RunningMetrics, SessionConfig, SessionRecord,
+    ValueSessionRecord,
 };
 pub use sweep::{Sweep, SweepError};
 pub use world::{

@@ -16,7 +16,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Cmd {
     /// Run one learning session on a scene and print a summary.
-    Run(cli::run::RunArgs),
+    Run(cli::session::RunArgs),
     /// Reproduce the paper's Figures 2 and 3 on two_rooms (SVG, CSV, summary.md).
     Reproduce(cli::reproduce::ReproduceArgs),
     /// Measure what a scene costs: rollouts/s, steps/s, E3D trials/s (CSV; each
@@ -76,35 +76,10 @@ fn stdout_was_closed() -> bool {
     false
 }
 
-/// Output that cannot be written (`> /dev/full`, a disk full, a closed
-/// descriptor) ends e3d with exit code 3 and a message, as
-/// docs/robustness.md promises, instead of a panic (code 101): `println!`
-/// panics with "failed printing to stdout", which this hook turns into
-/// the exit. Other panics keep the default report.
-fn output_errors_exit_3() {
-    let default = std::panic::take_hook();
-    std::panic::set_hook(Box::new(move |info| {
-        let msg = info
-            .payload()
-            .downcast_ref::<String>()
-            .map(String::as_str)
-            .or_else(|| info.payload().downcast_ref::<&str>().copied())
-            .unwrap_or("");
-        if let Some(rest) = msg.strip_prefix("failed printing to ") {
-            // stderr may be the one that fails: then nothing can be said
-            use std::io::Write;
-            let _ = writeln!(std::io::stderr(), "error: cannot write to {rest}");
-            std::process::exit(i32::from(cli::exit::OUTPUT));
-        }
-        default(info);
-    }));
-}
-
 fn main() -> ExitCode {
     default_sigpipe();
-    output_errors_exit_3();
     if stdout_was_closed() {
-        eprintln!("error: standard output is closed; e3d writes its results there (redirect it to a file or to /dev/null)");
+        cli::console::errln!("error: standard output is closed; e3d writes its results there (redirect it to a file or to /dev/null)");
         return ExitCode::from(cli::exit::OUTPUT);
     }
     let cli = Cli::parse();

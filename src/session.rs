@@ -7,7 +7,7 @@
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::{entropy, kl_divergence, normalized_entropy_over, Target};
 use crate::learner::{ContinuousLearner, Learner};
-use crate::world::{ContinuousWorld, Outcome, OutcomeTable, World, WorldError};
+use crate::world::{ContinuousWorld, Executor, Outcome, OutcomeTable, World, WorldError};
 use rand::SeedableRng;
 use serde::{Deserialize, Serialize};
 use std::io::{self, Write};
@@ -385,6 +385,173 @@ where
     }
     progress(since);
     status
+}
+
+/// Runs sessions that share one world: a session alone by
+/// [`run_session_into`], several in lockstep by [`run_lockstep_into`] (the
+/// same records either way). `progress(trials)` is called with the trials
+/// done since its last call, summed over the sessions. Returns each
+/// session's status.
+pub fn run_group<W, L, R>(
+    world: &mut W,
+    learners: &mut [L],
+    configs: &[SessionConfig],
+    recorders: &mut [R],
+    mut progress: impl FnMut(u64),
+) -> Vec<Result<(), WorldError>>
+where
+    W: World + ?Sized,
+    L: Learner,
+    R: Recorder,
+{
+    match (learners, recorders, configs) {
+        ([learner], [recorder], [config]) => {
+            let mut done = 0usize;
+            vec![run_session_into(world, learner, config, recorder, |t| {
+                progress(t.saturating_sub(done) as u64);
+                done = done.max(t);
+            })]
+        }
+        (learners, recorders, configs) => {
+            run_lockstep_into(world, learners, configs, recorders, progress)
+        }
+    }
+}
+
+/// Runs sessions of one scene the way `exec` plans them, on every core of
+/// the current rayon pool: session `i` is `learners[i]` with `configs[i]`,
+/// its trials handed to `recorders[i]`. The sessions are cut into
+/// [`Executor::session_groups`] (alone on a table, else in lockstep
+/// groups that step together on one world of [`Executor::world`]), and
+/// the groups run in parallel. The records are those of running each
+/// session alone with [`run_session_into`], whatever the threads.
+///
+/// `progress(trials)` is called from the workers with the trials done
+/// since the group's last call. Returns each session's status, in order:
+/// a session whose command fails stops there with the error (its recorder
+/// keeps the trials before it), the others go on. Call
+/// [`Executor::finish`] afterwards to keep a memo's outcomes.
+///
+/// ```
+/// use e3d::world::{ExecOptions, Executor, Workload};
+/// use e3d::{run_session, run_sessions, LearnerKind, Params, Scene, SessionConfig,
+///           SessionRecord, Target};
+/// let scene = Scene::builtin("puck_rooms").unwrap();
+/// let make = || LearnerKind::E3d
+///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+///     .unwrap();
+/// let configs: Vec<SessionConfig> = (0..4)
+///     .map(|seed| SessionConfig { trials: 100, seed, use_reward: true })
+///     .collect();
+/// let work = Workload { trials: 400, sessions: 4, threads: 2 };
+/// let exec = Executor::new(&scene, &work, &ExecOptions::default()).unwrap();
+/// let mut learners: Vec<_> = configs.iter().map(|_| make()).collect();
+/// let mut records: Vec<SessionRecord> =
+///     configs.iter().map(|c| SessionRecord::new(&*exec.world(1), c.trials)).collect();
+/// let status = run_sessions(&exec, &mut learners, &configs, &mut records, &|_| {});
+/// assert!(status.iter().all(Result::is_ok));
+/// // the same as each session alone on a world of its own
+/// let alone = run_session(&mut scene.build(), &mut make(), &configs[2]).unwrap();
+/// assert_eq!(records[2], alone);
+/// ```
+pub fn run_sessions<L, R>(
+    exec: &Executor<'_>,
+    learners: &mut [L],
+    configs: &[SessionConfig],
+    recorders: &mut [R],
+    progress: &(dyn Fn(u64) + Sync),
+) -> Vec<Result<(), WorldError>>
+where
+    L: Learner + Send,
+    R: Recorder + Send,
+{
+    run_sessions_until(exec, learners, configs, recorders, progress, &|| false)
+}
+
+/// [`run_sessions`] that can be stopped: once `stop()` returns `true`
+/// (asked before every execution), the sessions still running end with
+/// [`WorldError::Other`]`("stopped")`. A Ctrl-C, a cancelled call.
+pub fn run_sessions_until<L, R>(
+    exec: &Executor<'_>,
+    learners: &mut [L],
+    configs: &[SessionConfig],
+    recorders: &mut [R],
+    progress: &(dyn Fn(u64) + Sync),
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Vec<Result<(), WorldError>>
+where
+    L: Learner + Send,
+    R: Recorder + Send,
+{
+    use rayon::prelude::*;
+    assert_eq!(learners.len(), configs.len(), "one config per learner");
+    assert_eq!(recorders.len(), configs.len(), "one recorder per session");
+    // the groups, cut off the slices in order
+    let mut parts = Vec::new();
+    let (mut l, mut r, mut c) = (learners, recorders, configs);
+    for g in exec.session_groups(c.len()) {
+        let (l0, l1) = l.split_at_mut(g.len());
+        let (r0, r1) = r.split_at_mut(g.len());
+        let (c0, c1) = c.split_at(g.len());
+        parts.push((l0, r0, c0));
+        (l, r, c) = (l1, r1, c1);
+    }
+    parts
+        .into_par_iter()
+        .map(|(l, r, c)| {
+            let mut world = exec.world(l.len());
+            let mut world = Stoppable {
+                world: &mut *world,
+                stop,
+            };
+            run_group(&mut world, l, c, r, progress)
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .flatten()
+        .collect()
+}
+
+/// A world whose executions fail once `stop()` says so.
+struct Stoppable<'a, W: ?Sized> {
+    world: &'a mut W,
+    stop: &'a (dyn Fn() -> bool + Sync),
+}
+
+/// The error of an execution asked after `stop()`.
+fn stopped() -> WorldError {
+    WorldError::Other("stopped".into())
+}
+
+impl<W: World + ?Sized> World for Stoppable<'_, W> {
+    fn command_space(&self) -> &CommandSpace {
+        self.world.command_space()
+    }
+    fn num_effects(&self) -> usize {
+        self.world.num_effects()
+    }
+    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
+        if (self.stop)() {
+            return Err(stopped());
+        }
+        self.world.execute(command)
+    }
+    fn is_deterministic(&self) -> bool {
+        self.world.is_deterministic()
+    }
+    fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
+        if (self.stop)() {
+            out.extend(commands.iter().map(|_| Err(stopped())));
+        } else {
+            self.world.execute_batch(commands, out)
+        }
+    }
+    fn mirror_of(&self, command: &Command) -> Option<Command> {
+        self.world.mirror_of(command)
+    }
+    fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
+        self.world.mirror_outcome(outcome)
+    }
 }
 
 /// The numbers that summarise a session.

@@ -10,7 +10,6 @@ use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{Params, SessionConfig, SessionRecord, Target, WorldError};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use rayon::prelude::*;
 use std::cell::RefCell;
 use std::path::PathBuf;
 
@@ -313,30 +312,15 @@ pub(crate) fn run_sessions(
                     .map(|c| SessionRecord::new(&*probe, c.trials))
                     .collect()
             };
-            // lockstep groups (one session a group on a table), in
-            // parallel, as `e3d run --sessions N` forms them
-            let groups = if exec.table().is_some() {
-                n
-            } else {
-                exec.plan().groups.max(1)
-            };
-            let size = n.div_ceil(groups);
-            let status: Vec<Result<(), WorldError>> = learners
-                .par_chunks_mut(size)
-                .zip(records.par_chunks_mut(size))
-                .zip(configs.par_chunks(size))
-                .map(|((l, r), c)| {
-                    let mut world = exec.world(l.len());
-                    let mut guarded = Guarded {
-                        world: &mut *world,
-                        stop: || watch.cancelled(),
-                    };
-                    e3d::run_lockstep_into(&mut guarded, l, c, r, |t| watch.add(t))
-                })
-                .collect::<Vec<_>>()
-                .into_iter()
-                .flatten()
-                .collect();
+            // the sessions as `e3d run --sessions N` runs them
+            let status = e3d::run_sessions_until(
+                &exec,
+                &mut learners,
+                &configs,
+                &mut records,
+                &|t| watch.add(t),
+                &|| watch.cancelled(),
+            );
             first_failure(status)?;
             Ok::<_, Fail>((records, execution_text(exec)))
         })??;

@@ -1,7 +1,8 @@
 //! `e3d bench`: what a scene costs.
 
-use super::run::load_scene;
+use super::load_scene;
 use super::{CliError, CliResult};
+use crate::cli::console::outln;
 use clap::Args;
 use e3d::scene::WorldSpec;
 use e3d::{
@@ -75,7 +76,7 @@ fn rate(budget: Duration, mut f: impl FnMut() -> usize) -> Rate {
 
 /// Prints one line of the output.
 fn line(scene: &str, measure: &str, r: Rate, unit: &str) {
-    println!("{scene},{measure},{:.1},{:.1},{unit}", r.median, r.best);
+    outln!("{scene},{measure},{:.1},{:.1},{unit}", r.median, r.best);
 }
 
 pub fn run(a: BenchArgs) -> CliResult {
@@ -86,7 +87,7 @@ pub fn run(a: BenchArgs) -> CliResult {
         )));
     }
     let budget = Duration::from_secs_f64(a.seconds);
-    println!("scene,measure,rate,best,unit");
+    outln!("scene,measure,rate,best,unit");
     for name in &a.scenes {
         let scene = load_scene(name)?;
         let mut world = scene.build();
@@ -155,7 +156,7 @@ pub fn run(a: BenchArgs) -> CliResult {
             let secs = t0.elapsed().as_secs_f64();
             let simulated = OutcomeTable::simulated_commands(&scene).unwrap_or(n_commands);
             let threads = rayon::current_num_threads();
-            println!(
+            outln!(
                 "{},outcome table build ({} commands; {simulated} simulated; {threads} thread(s)),{secs:.3},{secs:.3},s",
                 scene.name,
                 table.len(),

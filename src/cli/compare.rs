@@ -5,6 +5,7 @@ use super::output::{prepare_out, write_file};
 use super::progress;
 use super::sweep::sweep_error;
 use super::CliResult;
+use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::report::drives::{drives_sweep, DriveComparison};
 use std::path::PathBuf;
@@ -40,13 +41,13 @@ pub fn run(a: CompareArgs) -> CliResult {
     prepare_out(&a.out, &files, a.force)?;
     let sweep = drives_sweep(a.sessions as usize, a.trials as usize, &names)
         .map_err(sweep_error)?
-        .with_notices(|line| eprintln!("outcomes: {line}"));
+        .with_notices(|line| errln!("outcomes: {line}"));
     let threads = a
         .threads
         .map(usize::from)
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let total = sweep.num_sessions() as u64 * a.trials;
-    eprintln!(
+    errln!(
         "compare: {} learners on {} scenes, tasks 1 and 2: {} cells x {} sessions of {} trials, {threads} thread{}",
         sweep.spec.learners.len(),
         sweep.scenes().len(),
@@ -78,8 +79,8 @@ pub fn run(a: CompareArgs) -> CliResult {
     ] {
         write_file(&a.out.join(name), bytes)?;
     }
-    println!("{md}");
-    println!(
+    outln!("{md}");
+    outln!(
         "wrote drives.md, drives.csv, drives.svg and results.csv in {} ({:.1} s)",
         a.out.display(),
         start.elapsed().as_secs_f64()

@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod compare;
+pub mod console;
 pub mod continuous;
 pub mod output;
 pub mod plot;
@@ -10,6 +11,7 @@ pub mod report;
 pub mod reproduce;
 pub mod run;
 pub mod scene;
+pub mod session;
 pub mod sweep;
 
 use std::process::ExitCode;
@@ -61,6 +63,11 @@ impl std::fmt::Display for CliError {
 impl std::error::Error for CliError {}
 
 pub type CliResult = Result<(), CliError>;
+
+/// Loads a scene by path or built-in name, as a CLI error.
+pub fn load_scene(name: &str) -> Result<e3d::Scene, CliError> {
+    e3d::Scene::resolve(name).map_err(CliError::input)
+}
 
 /// Prints the error and returns its exit code.
 pub fn report_error(e: &CliError) -> ExitCode {

@@ -2,6 +2,7 @@
 
 use super::output::{prepare_out, write_file};
 use super::{CliError, CliResult};
+use crate::cli::console::outln;
 use clap::Args;
 use e3d::report::sweep_plot::{plot, PlotSpec, Summary};
 use std::path::PathBuf;
@@ -81,6 +82,6 @@ pub fn run(a: PlotArgs) -> CliResult {
         .unwrap_or("plot.svg");
     prepare_out(dir, &[name], a.force)?;
     write_file(&a.out, svg.as_bytes())?;
-    println!("wrote {}", a.out.display());
+    outln!("wrote {}", a.out.display());
     Ok(())
 }

@@ -7,6 +7,7 @@
 //! goes to standard output, and a command that ends within the first
 //! seconds prints nothing.
 
+use crate::cli::console::errln;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -138,11 +139,6 @@ impl Progress {
         self.done.fetch_add(k, Ordering::Relaxed);
     }
 
-    /// `d` units done by this run in all.
-    pub fn set(&self, d: u64) {
-        self.done.store(d, Ordering::Relaxed);
-    }
-
     /// The counter of the units done by this run, to hand to code that
     /// counts on its own (`Sweep::with_trial_counter`).
     pub fn counter(&self) -> Arc<AtomicU64> {
@@ -262,7 +258,7 @@ fn track_as<T>(
             }
             r.finish();
             for line in progress.take_said() {
-                eprintln!("{line}");
+                errln!("{line}");
             }
         });
         // set even if `work` panics, or the scope would wait for the reporter
@@ -431,7 +427,7 @@ impl Reporter {
     fn print(&self, line: String) {
         match &self.bar {
             Some(bar) => bar.println(line),
-            None => eprintln!("{line}"),
+            None => errln!("{line}"),
         }
     }
 

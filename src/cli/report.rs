@@ -2,6 +2,7 @@
 
 use super::output::write_file;
 use super::{CliError, CliResult};
+use crate::cli::console::outln;
 use clap::Args;
 use e3d::report::html::{parse_trials, run_page, sweep_page};
 use e3d::report::sweep_plot::Summary;
@@ -52,7 +53,7 @@ pub fn run(a: ReportArgs) -> CliResult {
     };
     let out = a.out.unwrap_or_else(|| dir.join("report.html"));
     write_file(&out, page.as_bytes())?;
-    println!("wrote {} ({what} report)", out.display());
+    outln!("wrote {} ({what} report)", out.display());
     Ok(())
 }
 
@@ -72,7 +73,7 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
     let scene_name = serde_json::from_str::<serde_json::Value>(&summary)
         .ok()
         .and_then(|v| v.get("scene").and_then(|s| s.as_str()).map(String::from));
-    let (rows, cols) = match scene_name.as_deref().map(super::run::load_scene) {
+    let (rows, cols) = match scene_name.as_deref().map(super::load_scene) {
         Some(Ok(s)) => {
             let g = s.effect_grid();
             (g.rows, g.cols)

@@ -2,6 +2,7 @@
 
 use super::output::{prepare_out, write_file};
 use super::{CliError, CliResult};
+use crate::cli::console::outln;
 use clap::Args;
 use e3d::report::paper::{run_paper, PaperConfig, ARMS};
 use std::path::PathBuf;
@@ -71,8 +72,8 @@ pub fn run(a: ReproduceArgs) -> CliResult {
     for (name, bytes) in FILES.into_iter().zip(bytes) {
         write_file(&a.out.join(name), bytes)?;
     }
-    println!("{summary}");
-    println!(
+    outln!("{summary}");
+    outln!(
         "wrote fig2.svg, fig2.csv, fig3.svg, fig3.csv and summary.md in {} ({:.1} s)",
         a.out.display(),
         start.elapsed().as_secs_f64()

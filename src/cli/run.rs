@@ -1,92 +1,16 @@
 //! `e3d run`: one session on a scene.
 
 use super::output::{prepare_out, write_file};
-use super::{CliError, CliResult};
-use clap::Args;
-use e3d::world::{ExecOptions, Executor, Strategy, Workload};
+use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCsv};
+use super::{load_scene, CliError, CliResult};
+use crate::cli::console::{errln, outln};
+use e3d::world::{Executor, Workload};
 use e3d::{
-    policy_effect_distribution, run_lockstep_into, run_session_into, Command, CommandSpace,
-    ExecutionPlan, LearnerKind, Metrics, Outcome, Params, Recorder, RunningMetrics, Scene,
+    policy_effect_distribution, run_sessions, ExecutionPlan, Metrics, Params, RunningMetrics,
     SessionConfig, Target,
 };
 use serde::Serialize;
 use std::path::{Path, PathBuf};
-
-/// Arguments of `e3d run`.
-#[derive(Args, Debug)]
-pub struct RunArgs {
-    /// A scene file, or the name of a built-in scene.
-    #[arg(default_value = e3d::scene::DEFAULT_SCENE)]
-    pub scene: String,
-    /// The learner: e3d, uniform or egreedy (the paper's), or e3d_relax,
-    /// count or smm (docs/algorithms.md).
-    #[arg(long, default_value = "e3d")]
-    pub learner: LearnerKind,
-    /// The number of trials.
-    #[arg(long, default_value_t = 5000, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
-    pub trials: u64,
-    /// The session's seed.
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
-    #[command(flatten)]
-    pub params: ParamArgs,
-    /// Ignore the scene's reward (the paper's task 1).
-    #[arg(long)]
-    pub no_reward: bool,
-    /// Write DIR/trials.csv and DIR/summary.json.
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Overwrite the files of an earlier run in --out.
-    #[arg(long)]
-    pub force: bool,
-    /// Keep the scene's outcomes in DIR and reuse them: a whole table, or
-    /// the commands executed so far (the file grows from run to run); keyed
-    /// by the scene's content and the e3d version.
-    #[arg(long, value_name = "DIR")]
-    pub table_cache: Option<PathBuf>,
-    /// Run N sessions, seeded --seed, --seed + 1, ..., in lockstep: each
-    /// trial's new commands of all sessions are simulated together.
-    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
-    pub sessions: u64,
-    #[command(flatten)]
-    pub memo: MemoArgs,
-}
-
-/// The learners' hyper-parameters on the command line (defaults: task 1).
-#[derive(Args, Debug, Clone)]
-pub struct ParamArgs {
-    /// Learning rate alpha (> 0).
-    #[arg(long, default_value_t = Params::TASK1.alpha)]
-    pub alpha: f64,
-    /// Inverse temperature beta (> 0).
-    #[arg(long, default_value_t = Params::TASK1.beta)]
-    pub beta: f64,
-    /// Reward weight lambda (>= 0).
-    #[arg(long, default_value_t = Params::TASK1.lambda)]
-    pub lambda: f64,
-    /// Rate eta of the effect histogram, in (0, 1].
-    #[arg(long, default_value_t = Params::TASK1.eta)]
-    pub eta: f64,
-    /// Exploration rate epsilon of egreedy, in [0, 1].
-    #[arg(long, default_value_t = Params::TASK1.epsilon)]
-    pub epsilon: f64,
-}
-
-impl ParamArgs {
-    /// The checked parameters.
-    pub fn params(&self) -> Result<Params, CliError> {
-        let p = Params {
-            alpha: self.alpha,
-            beta: self.beta,
-            lambda: self.lambda,
-            eta: self.eta,
-            epsilon: self.epsilon,
-        };
-        p.validate()
-            .map_err(|e| CliError::input(format!("--{e}")))?;
-        Ok(p)
-    }
-}
 
 /// What `summary.json` holds (one session).
 #[derive(Serialize)]
@@ -130,240 +54,13 @@ struct OneSession<'a> {
     effect_counts: Vec<f64>,
 }
 
-/// Loads a scene by path or built-in name, as a CLI error.
-pub fn load_scene(name: &str) -> Result<Scene, CliError> {
-    Scene::resolve(name).map_err(CliError::input)
-}
-
-/// The outcome memo's options, shared by `run` and `sweep`.
-#[derive(Args, Debug, Clone)]
-pub struct MemoArgs {
-    /// The most command outcomes kept in memory by the outcome memo (each
-    /// command simulated once; about 50-100 bytes an entry); 0 turns it off.
-    #[arg(long, value_name = "N", default_value_t = e3d::world::DEFAULT_MEMO_CAP)]
-    pub memo_cap: usize,
-    /// How outcomes are obtained: auto (the cheapest by the cost rule),
-    /// table (every command once, up front), memo (each proposed command
-    /// once) or live (every proposal simulated). The results are the same.
-    #[arg(long, value_name = "HOW", default_value = "auto", value_parser = parse_outcomes)]
-    pub outcomes: Outcomes,
-}
-
-/// `--outcomes`: `auto` or a strategy.
-#[derive(Debug, Clone, Copy)]
-pub struct Outcomes(pub Option<Strategy>);
-
-fn parse_outcomes(s: &str) -> Result<Outcomes, String> {
-    match s {
-        "auto" => Ok(Outcomes(None)),
-        _ => s
-            .parse::<Strategy>()
-            .map(|st| Outcomes(Some(st)))
-            .map_err(|_| format!("`{s}`: expected auto, table, memo or live")),
-    }
-}
-
-impl MemoArgs {
-    /// The options of an [`Executor`] with the table folder `cache`.
-    pub fn options(&self, cache: Option<&Path>) -> ExecOptions {
-        ExecOptions {
-            cache: cache.map(Path::to_path_buf),
-            memo_cap: self.memo_cap,
-            force: self.outcomes.0,
-        }
-    }
-}
-
-/// Streams `trial,command,effect,reward` rows (with a leading `session`
-/// column for several sessions) into a temporary file beside the final
-/// one: a session of any length never holds its trials in memory.
-struct TrialsCsv {
-    out: std::io::BufWriter<std::fs::File>,
-    path: PathBuf,
-    space: CommandSpace,
-    session: Option<usize>,
-    trial: usize,
-    error: Option<std::io::Error>,
-}
-
-impl TrialsCsv {
-    /// A new temporary file beside the final file `target` (created
-    /// exclusively: never through a link planted under its name).
-    fn create(
-        target: &Path,
-        space: &CommandSpace,
-        session: Option<usize>,
-    ) -> Result<Self, CliError> {
-        let (path, f) = e3d::io::create_temp_beside(target)
-            .map_err(|e| CliError::output(format!("{}: cannot write: {e}", target.display())))?;
-        Ok(TrialsCsv {
-            out: std::io::BufWriter::with_capacity(1 << 16, f),
-            path,
-            space: space.clone(),
-            session,
-            trial: 0,
-            error: None,
-        })
-    }
-
-    /// Flushes; the file's path, or why it could not be written.
-    fn finish(mut self) -> Result<PathBuf, CliError> {
-        use std::io::Write;
-        let r = match self.error.take() {
-            Some(e) => Err(e),
-            None => self.out.flush(),
-        };
-        r.map_err(|e| CliError::output(format!("{}: cannot write: {e}", self.path.display())))?;
-        Ok(self.path)
-    }
-}
-
-impl Recorder for TrialsCsv {
-    fn record(&mut self, command: &Command, outcome: &Outcome) {
-        use std::io::Write;
-        self.trial += 1;
-        if self.error.is_some() {
-            return;
-        }
-        let r = match self.session {
-            Some(s) => write!(self.out, "{s},"),
-            None => Ok(()),
-        }
-        .and_then(|()| {
-            writeln!(
-                self.out,
-                "{},{},{},{}",
-                self.trial,
-                self.space.format(command),
-                outcome.effect,
-                outcome.reward
-            )
-        });
-        if let Err(e) = r {
-            self.error = Some(e);
-        }
-    }
-}
-
-/// Joins the temporary trial files into `path` under one header, then
-/// renames it into place: the final file is whole or absent.
-pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
-    use std::io::Write;
-    let (tmp, file) = e3d::io::create_temp_beside(path)
-        .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))?;
-    let result = (|| -> std::io::Result<()> {
-        let mut out = std::io::BufWriter::new(file);
-        writeln!(out, "{header}")?;
-        for p in parts {
-            std::io::copy(&mut std::fs::File::open(p)?, &mut out)?;
-        }
-        out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    for p in parts {
-        let _ = std::fs::remove_file(p);
-    }
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
-}
-
-/// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order
-/// of a sweep's columns; nothing for the uniform policy, which uses none.
-pub(super) fn used_params(learner: LearnerKind, p: &Params) -> String {
-    let values = [p.alpha, p.beta, p.lambda, p.eta, p.epsilon];
-    let used: Vec<String> = e3d::sweep::PARAM_NAMES
-        .iter()
-        .zip(values)
-        .filter(|(name, _)| e3d::sweep::uses_param(learner, name))
-        .map(|(name, v)| format!("{name} {v}"))
-        .collect();
-    if used.is_empty() {
-        String::new()
-    } else {
-        format!(" | {}", used.join(" "))
-    }
-}
-
-/// The first line of a run's summary: scene, learner (`kind` after its
-/// name: `" (continuous)"` or nothing), trials, sessions and seeds, the
-/// parameters the learner reads.
-pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params, seeds: &[u64]) {
-    let sessions = seeds.len();
-    println!(
-        "scene {scene} | learner {}{kind} | {} trials{} | seed {}{}{}",
-        a.learner,
-        a.trials,
-        if sessions > 1 {
-            format!(" x {sessions} sessions")
-        } else {
-            String::new()
-        },
-        if sessions > 1 {
-            format!("{}..={}", seeds[0], seeds[sessions - 1])
-        } else {
-            seeds[0].to_string()
-        },
-        used_params(a.learner, params),
-        if a.no_reward { " | no reward" } else { "" }
-    );
-}
-
-/// The metrics of each session (`seeds[i]` names session `i` when there
-/// are several) and, for several, their mean.
-pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usize) {
-    let sessions = metrics.len();
-    for (i, m) in metrics.iter().enumerate() {
-        let who = if sessions > 1 {
-            format!("seed {}: ", seeds[i])
-        } else {
-            String::new()
-        };
-        println!(
-            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
-            m.normalized_entropy,
-            m.normalized_entropy_last_1000,
-            m.kl_to_target,
-            m.distinct_effects,
-            num_effects
-        );
-        if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
-            println!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
-        }
-        println!(
-            "{who}cumulative reward {} | first reward at trial {}",
-            m.cumulative_reward,
-            m.first_reward_trial
-                .map_or("-".to_string(), |t| t.to_string())
-        );
-    }
-    if sessions > 1 {
-        let mean =
-            |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
-        println!(
-            "mean of {sessions} sessions: normalised entropy {:.4} | cumulative reward {:.1}",
-            mean(&|m| m.normalized_entropy),
-            mean(&|m| m.cumulative_reward)
-        );
-    }
-}
-
 pub fn run(a: RunArgs) -> CliResult {
     let params = a.params.params()?;
     let scene = load_scene(&a.scene)?;
     if let Some(dir) = &a.out {
         prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
     }
-    let seeds: Vec<u64> = (0..a.sessions)
-        .map(|i| a.seed.checked_add(i))
-        .collect::<Option<_>>()
-        .ok_or_else(|| {
-            CliError::input(format!(
-                "--seed {} with --sessions {}: the seeds seed..seed+N-1 pass 2^64 - 1",
-                a.seed, a.sessions
-            ))
-        })?;
+    let seeds = seeds(&a)?;
     if scene.is_continuous() {
         return super::continuous::run(&a, &scene, params, &seeds);
     }
@@ -397,7 +94,7 @@ pub fn run(a: RunArgs) -> CliResult {
         })
     })
     .map_err(CliError::simulation)?;
-    eprintln!("outcomes: {}", exec.plan());
+    errln!("outcomes: {}", exec.plan());
     let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
     let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {
         csv_path
@@ -413,44 +110,14 @@ pub fn run(a: RunArgs) -> CliResult {
     }
     // a bar on a terminal, a line every few seconds otherwise
     let label = format!("run {}", scene.name);
+    let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
     let status = super::progress::track(&label, "trials", work.trials, |p| {
-        if sessions == 1 {
-            let mut world = exec.world(1);
-            let tick = |t: usize| p.set(t as u64);
-            vec![run_session_into(
-                &mut *world,
-                &mut learners[0],
-                &cfg(seeds[0]),
-                &mut recorders[0],
-                tick,
-            )]
-        } else {
-            // lockstep groups (one session per group on a table), in parallel
-            use rayon::prelude::*;
-            let groups = if exec.table().is_some() {
-                sessions
-            } else {
-                exec.plan().groups.max(1)
-            };
-            let size = sessions.div_ceil(groups);
-            let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
-            let parts: Vec<Vec<Result<(), e3d::WorldError>>> = learners
-                .par_chunks_mut(size)
-                .zip(recorders.par_chunks_mut(size))
-                .zip(configs.par_chunks(size))
-                .map(|((l, r), c)| {
-                    let mut world = exec.world(l.len());
-                    run_lockstep_into(&mut *world, l, c, r, |t| p.add(t))
-                })
-                .collect();
-            parts
-                .into_iter()
-                .flatten()
-                .collect::<Vec<Result<(), e3d::WorldError>>>()
-        }
+        run_sessions(&exec, &mut learners, &configs, &mut recorders, &|t| {
+            p.add(t)
+        })
     });
     if let Some(line) = exec.finish() {
-        eprintln!("outcomes: {line}");
+        errln!("outcomes: {line}");
     }
     // the first failing session fails the run, naming its command
     let mut files = Vec::new();
@@ -482,57 +149,104 @@ pub fn run(a: RunArgs) -> CliResult {
     print_metrics(&metrics, &seeds, num_effects);
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
-        println!("exact effect distribution of the final policy: normalised entropy {h:.4}");
+        outln!("exact effect distribution of the final policy: normalised entropy {h:.4}");
     }
 
     if let Some(dir) = &a.out {
-        let mut json = if sessions == 1 {
-            serde_json::to_vec_pretty(&Summary {
-                e3d_version: env!("CARGO_PKG_VERSION"),
-                scene: &scene.name,
-                learner: a.learner.as_str(),
-                params,
-                seed: a.seed,
-                use_reward: !a.no_reward,
-                metrics: &metrics[0],
-                policy_effect_distribution: exact,
-                effect_counts: recorders[0].0.effect_counts(),
-                execution: exec.plan(),
-            })
-        } else {
-            serde_json::to_vec_pretty(&SessionsSummary {
-                e3d_version: env!("CARGO_PKG_VERSION"),
-                scene: &scene.name,
-                learner: a.learner.as_str(),
-                params,
-                use_reward: !a.no_reward,
-                sessions: metrics
-                    .iter()
-                    .zip(&recorders)
-                    .zip(&seeds)
-                    .map(|((m, r), &seed)| OneSession {
-                        seed,
-                        metrics: m,
-                        effect_counts: r.0.effect_counts(),
-                    })
-                    .collect(),
-                execution: exec.plan(),
-            })
-        }
-        .map_err(CliError::output)?;
-        json.push(b'\n');
-        let header = if sessions > 1 {
-            "session,trial,command,effect,reward"
-        } else {
-            "trial,command,effect,reward"
+        let done = Finished {
+            seeds: &seeds,
+            metrics: &metrics,
+            counts: recorders.iter().map(|r| r.0.effect_counts()).collect(),
+            exact,
+            plan: exec.plan(),
         };
-        join_trials(&dir.join("trials.csv"), header, &files)?;
-        write_file(&dir.join("summary.json"), &json)?;
-        println!(
-            "wrote {} and {}",
-            dir.join("trials.csv").display(),
-            dir.join("summary.json").display()
-        );
+        write_out(dir, &a, &scene.name, params, done, &files)?;
     }
+    Ok(())
+}
+
+/// The sessions' seeds: `--seed`, `--seed + 1`, ..., one per session.
+fn seeds(a: &RunArgs) -> Result<Vec<u64>, CliError> {
+    (0..a.sessions)
+        .map(|i| a.seed.checked_add(i))
+        .collect::<Option<_>>()
+        .ok_or_else(|| {
+            CliError::input(format!(
+                "--seed {} with --sessions {}: the seeds seed..seed+N-1 pass 2^64 - 1",
+                a.seed, a.sessions
+            ))
+        })
+}
+
+/// What the sessions of a run ended with, for `summary.json`.
+struct Finished<'a> {
+    seeds: &'a [u64],
+    metrics: &'a [Metrics],
+    /// Per session, its effect counts.
+    counts: Vec<Vec<f64>>,
+    /// The final policy's exact effect distribution (one session on a table).
+    exact: Option<Vec<f64>>,
+    plan: &'a ExecutionPlan,
+}
+
+/// Writes DIR/trials.csv (the sessions' streamed `files` joined) and
+/// DIR/summary.json.
+fn write_out(
+    dir: &Path,
+    a: &RunArgs,
+    scene: &str,
+    params: Params,
+    done: Finished<'_>,
+    files: &[PathBuf],
+) -> CliResult {
+    let sessions = done.seeds.len();
+    let mut json = if sessions == 1 {
+        serde_json::to_vec_pretty(&Summary {
+            e3d_version: env!("CARGO_PKG_VERSION"),
+            scene,
+            learner: a.learner.as_str(),
+            params,
+            seed: a.seed,
+            use_reward: !a.no_reward,
+            metrics: &done.metrics[0],
+            policy_effect_distribution: done.exact,
+            effect_counts: done.counts.into_iter().next().unwrap_or_default(),
+            execution: done.plan,
+        })
+    } else {
+        serde_json::to_vec_pretty(&SessionsSummary {
+            e3d_version: env!("CARGO_PKG_VERSION"),
+            scene,
+            learner: a.learner.as_str(),
+            params,
+            use_reward: !a.no_reward,
+            sessions: done
+                .metrics
+                .iter()
+                .zip(done.counts)
+                .zip(done.seeds)
+                .map(|((m, effect_counts), &seed)| OneSession {
+                    seed,
+                    metrics: m,
+                    effect_counts,
+                })
+                .collect(),
+            execution: done.plan,
+        })
+    }
+    .map_err(CliError::output)?;
+    json.push(b'\n');
+    let header = if sessions > 1 {
+        "session,trial,command,effect,reward"
+    } else {
+        "trial,command,effect,reward"
+    };
+    join_trials(&dir.join("trials.csv"), header, files)?;
+    write_file(&dir.join("summary.json"), &json)?;
+    outln!(
+        "wrote {} and {}",
+        dir.join("trials.csv").display(),
+        dir.join("summary.json").display()
+    );
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! `e3d sweep` and `e3d merge`: grids of sessions, resumable, in shards.
 
 use super::{progress, CliError, CliResult};
+use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::sweep::{self, DirOptions, Shard, Sweep, SweepError};
 use std::path::PathBuf;
@@ -30,7 +31,7 @@ pub struct SweepArgs {
     #[arg(long, value_name = "DIR")]
     pub table_cache: Option<PathBuf>,
     #[command(flatten)]
-    pub memo: super::run::MemoArgs,
+    pub memo: super::session::MemoArgs,
 }
 
 /// Arguments of `e3d merge`.
@@ -62,7 +63,7 @@ pub fn run(a: SweepArgs) -> CliResult {
     sweep = sweep
         .with_memo_cap(a.memo.memo_cap)
         .with_strategy(a.memo.outcomes.0)
-        .with_notices(|line| eprintln!("outcomes: {line}"));
+        .with_notices(|line| errln!("outcomes: {line}"));
     let threads = a.threads.map(usize::from).unwrap_or_else(|| {
         std::thread::available_parallelism()
             .map(|n| n.get())
@@ -119,9 +120,9 @@ pub fn run(a: SweepArgs) -> CliResult {
                 if !planned {
                     planned = true;
                     if done > 0 {
-                        eprintln!("{plan}; {done} of the {total} done by an earlier run");
+                        errln!("{plan}; {done} of the {total} done by an earlier run");
                     } else {
-                        eprintln!("{plan}");
+                        errln!("{plan}");
                     }
                     p.set_base(done as u64 * per_session);
                     p.set_total(total as u64 * per_session);
@@ -134,7 +135,7 @@ pub fn run(a: SweepArgs) -> CliResult {
     .map_err(sweep_error);
     let report = report?;
     let secs = start.elapsed().as_secs_f64();
-    eprintln!(
+    errln!(
         "done: {} sessions ({} from an earlier run, {} now) in {:.2} s{}",
         report.sessions,
         report.resumed,
@@ -150,7 +151,7 @@ pub fn run(a: SweepArgs) -> CliResult {
     if shard.n == 1 {
         wrote.push(a.out.join(sweep::SUMMARY));
     }
-    println!(
+    outln!(
         "wrote {}",
         wrote
             .iter()
@@ -175,7 +176,7 @@ fn lock_out(dir: &std::path::Path) -> Result<Option<e3d::io::DirLock>, CliError>
     match e3d::io::DirLock::acquire(dir) {
         Ok(lock) => {
             if let Some(old) = &lock.previous {
-                eprintln!(
+                errln!(
                     "warning: {}: took over the lock of a run that ended without releasing it ({old})",
                     dir.display()
                 );
@@ -196,7 +197,7 @@ fn lock_out(dir: &std::path::Path) -> Result<Option<e3d::io::DirLock>, CliError>
 
 pub fn merge(a: MergeArgs) -> CliResult {
     let report = sweep::merge(&a.dirs, &a.out).map_err(sweep_error)?;
-    println!(
+    outln!(
         "merged {} shards, {} sessions: wrote {} and {}",
         a.dirs.len(),
         report.sessions,

@@ -116,10 +116,12 @@ pub trait SweepScene: Send + Sync {
 
 /// The worlds of one scene during one run (see [`SweepScene::prepare`]).
 pub trait SceneRun: Send + Sync {
-    /// How the scene's sessions are run: `None`, each alone on a world of
-    /// its own; `Some(g)`, in `g` lockstep groups, the new commands of a
-    /// group executed together ([`World::execute_batch`]).
-    fn lockstep_groups(&self) -> Option<usize>;
+    /// How `sessions` sessions of the scene are run: the groups that step
+    /// together on one world ([`world`](Self::world)), as ranges of
+    /// session indices in order; a group of one runs alone, a larger one
+    /// in lockstep, the new commands of a group executed together
+    /// ([`World::execute_batch`]).
+    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>>;
 
     /// A fresh world for `width` sessions stepping together (1 for a
     /// session alone). Its outcomes must not depend on the width.
@@ -200,13 +202,10 @@ impl SweepScene for Scene {
 }
 
 impl SceneRun for Executor<'_> {
-    /// One at a time on the table; in the plan's groups otherwise.
-    fn lockstep_groups(&self) -> Option<usize> {
-        if self.table().is_some() {
-            None
-        } else {
-            Some(self.plan().groups.max(1))
-        }
+    /// [`Executor::session_groups`]: one at a time on the table; in the
+    /// plan's groups otherwise.
+    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
+        Executor::session_groups(self, sessions)
     }
     fn world(&self, width: usize) -> Box<dyn World + Send + '_> {
         Executor::world(self, width)
@@ -383,8 +382,9 @@ where
     F: Fn() -> W + Send + Sync,
     W: World + Send + 'static,
 {
-    fn lockstep_groups(&self) -> Option<usize> {
-        None
+    /// Each session alone.
+    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
+        (0..sessions).map(|i| i..i + 1).collect()
     }
     fn world(&self, _width: usize) -> Box<dyn World + Send + '_> {
         Box::new((self.0.make)())

@@ -11,7 +11,7 @@ use super::spec::MetricSpec;
 use super::{io_err, SweepError};
 use crate::effect::Target;
 use crate::hash::fnv1a64;
-use crate::session::{run_lockstep_into, run_session_into, RunningMetrics, SessionConfig};
+use crate::session::{run_group, run_session_into, RunningMetrics, SessionConfig};
 #[cfg(doc)]
 use crate::world::Executor;
 use crate::world::{World, WorldError};
@@ -54,9 +54,10 @@ impl Sweep {
         Ok(self.result(session, status, &metrics))
     }
 
-    /// Runs `sessions` (all of one scene) in lockstep on `world`: at each
-    /// trial the new commands of all of them are executed together. The
-    /// results are those of [`run_session`](Self::run_session), in order.
+    /// Runs `sessions` (all of one scene) together on `world`
+    /// ([`run_group`]): at each trial the new commands of all of them are
+    /// executed together; a session alone runs by itself. The results are
+    /// those of [`run_session`](Self::run_session), in order.
     pub fn run_sessions_lockstep(
         &self,
         sessions: &[SessionSpec],
@@ -69,7 +70,7 @@ impl Sweep {
         let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
         let mut recorders: Vec<RunningMetrics> =
             sessions.iter().map(|_| self.recorder(world)).collect();
-        let status = run_lockstep_into(world, &mut learners, &configs, &mut recorders, |t| {
+        let status = run_group(world, &mut learners, &configs, &mut recorders, |t| {
             self.count_trials(t)
         });
         Ok(sessions
@@ -233,13 +234,11 @@ impl Sweep {
                 .filter(|s| self.cells[s.cell].scene == si)
                 .copied()
                 .collect();
-            match exec.lockstep_groups() {
-                None => units.extend(mine.into_iter().map(|s| vec![s])),
-                Some(groups) => {
-                    let size = mine.len().div_ceil(groups.max(1));
-                    units.extend(mine.chunks(size.max(1)).map(<[SessionSpec]>::to_vec));
-                }
-            }
+            units.extend(
+                exec.session_groups(mine.len())
+                    .into_iter()
+                    .map(|g| mine[g].to_vec()),
+            );
         }
         let (executors, units) = (&executors, &units);
         let outcome = std::thread::scope(|scope| {
@@ -254,11 +253,7 @@ impl Sweep {
                         // sessions, recorded so, not the whole sweep
                         let run = std::panic::AssertUnwindSafe(|| {
                             let mut world = exec.world(unit.len());
-                            if unit.len() == 1 {
-                                self.run_session(&unit[0], &mut *world).map(|r| vec![r])
-                            } else {
-                                self.run_sessions_lockstep(unit, &mut *world)
-                            }
+                            self.run_sessions_lockstep(unit, &mut *world)
                         });
                         let results = std::panic::catch_unwind(run).unwrap_or_else(|p| {
                             let why = p

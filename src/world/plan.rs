@@ -688,6 +688,45 @@ impl<'s> Executor<'s> {
         self.memo.as_ref()
     }
 
+    /// How `sessions` sessions of this scene run: the groups of sessions
+    /// that step together on one world ([`world`](Self::world)), as ranges
+    /// of session indices, in order. On a table each session runs alone (a
+    /// look-up gains nothing from company); otherwise the sessions are cut
+    /// into the plan's [`groups`](ExecutionPlan::groups), as even as can
+    /// be. This is the one rule for every caller:
+    /// [`run_sessions`](crate::run_sessions) (`e3d run --sessions N`,
+    /// Python's `run_sessions`) and the sweeps.
+    ///
+    /// ```
+    /// use e3d::world::{ExecOptions, Executor, Strategy, Workload};
+    /// use e3d::Scene;
+    /// let scene = Scene::builtin("arm7").unwrap();
+    /// let work = Workload { trials: 800, sessions: 4, threads: 2 };
+    /// let memo = ExecOptions { force: Some(Strategy::Memo), ..ExecOptions::default() };
+    /// let exec = Executor::new(&scene, &work, &memo).unwrap();
+    /// // arm7's copies are not bit-identical: a world each, 4 groups
+    /// assert_eq!(exec.plan().groups, 4);
+    /// assert_eq!(exec.session_groups(4), vec![0..1, 1..2, 2..3, 3..4]);
+    /// assert_eq!(exec.session_groups(6), vec![0..2, 2..4, 4..6]);
+    /// assert_eq!(exec.session_groups(3), vec![0..1, 1..2, 2..3]);
+    /// let table = ExecOptions { force: Some(Strategy::Table), ..ExecOptions::default() };
+    /// let rooms = Scene::builtin("two_rooms").unwrap();
+    /// let exec = Executor::new(&rooms, &work, &table).unwrap();
+    /// assert_eq!(exec.session_groups(3), vec![0..1, 1..2, 2..3]);
+    /// ```
+    pub fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
+        let groups = if self.table.is_some() {
+            sessions
+        } else {
+            self.plan.groups.max(1)
+        };
+        let size = sessions.div_ceil(groups.max(1)).max(1);
+        (0..sessions)
+            .step_by(size)
+            .map(|start| start..(start + size).min(sessions))
+            .collect()
+    }
+
     /// A world for a group of sessions stepping `width` commands together:
     /// the shared table, or a world of `min(width, plan copies)` copies
     /// (through the memo under [`Strategy::Memo`]). Its outcomes are the

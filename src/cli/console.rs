@@ -1,0 +1,57 @@
+//! The command line's standard output and standard error, written through
+//! [`outln!`] and [`errln!`]: every write is checked where it is made.
+//!
+//! A write that fails ends e3d at once: with exit code 3 and
+//! `error: cannot write to stdout: ...` on standard error (when it can
+//! still take it) for a full device or disk (`> /dev/full`), quietly for a
+//! reader that has gone (a broken pipe, `e3d scene exec ... | head`; on
+//! Unix a closed pipe already ends e3d by SIGPIPE, as other tools).
+
+use std::io::Write;
+
+/// Writes `args` to standard output, or ends e3d ([`fail`]).
+pub fn out(args: std::fmt::Arguments<'_>) {
+    if let Err(e) = std::io::stdout().lock().write_fmt(args) {
+        fail("stdout", &e)
+    }
+}
+
+/// Writes `args` to standard error, or ends e3d ([`fail`]).
+pub fn err(args: std::fmt::Arguments<'_>) {
+    if let Err(e) = std::io::stderr().lock().write_fmt(args) {
+        fail("stderr", &e)
+    }
+}
+
+/// Ends e3d after the write to `stream` failed with `e`: quietly for a
+/// broken pipe, else with `error: cannot write to STREAM: E`; exit code 3
+/// ([`exit::OUTPUT`](super::exit::OUTPUT)) either way.
+pub fn fail(stream: &str, e: &std::io::Error) -> ! {
+    if e.kind() != std::io::ErrorKind::BrokenPipe {
+        // standard error may be the one that fails: then nothing can be said
+        let _ = writeln!(std::io::stderr(), "error: cannot write to {stream}: {e}");
+    }
+    std::process::exit(i32::from(super::exit::OUTPUT))
+}
+
+/// [`println!`] whose write is checked ([`out`]).
+macro_rules! outln {
+    () => {
+        $crate::cli::console::out(format_args!("\n"))
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::console::out(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+/// [`eprintln!`] whose write is checked ([`err`]).
+macro_rules! errln {
+    () => {
+        $crate::cli::console::err(format_args!("\n"))
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::console::err(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+pub(crate) use {errln, outln};

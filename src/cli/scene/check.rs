@@ -1,0 +1,306 @@
+//! `e3d scene check`: a scene's summary and the reach of a sample of its
+//! commands.
+
+use super::simulate::{say_cost, seconds_text};
+use crate::cli::console::{errln, outln};
+use crate::cli::{progress, CliResult};
+use e3d::scene::{physics::BodyKind, Scene, WorldSpec};
+use e3d::OutcomeTable;
+
+pub(super) fn check(scene: &Scene) -> CliResult {
+    let grid = scene.effect_grid();
+    outln!("scene {}: valid", scene.name);
+    if !scene.description.is_empty() {
+        outln!("  {}", scene.description);
+    }
+    print_world(scene);
+    outln!("slots ({}):", scene.num_slots());
+    if let e3d::scene::CommandSpec::Continuous(slots) = &scene.command {
+        for (i, slot) in slots.iter().enumerate() {
+            outln!(
+                "  {i}: a value in [{}, {}]{}: {:?}",
+                slot.range.0,
+                slot.range.1,
+                slot.name
+                    .as_deref()
+                    .map_or(String::new(), |n| format!(" ({n})")),
+                slot.action
+            );
+        }
+        outln!(
+            "distinct commands: infinitely many (continuous: live physics only, no table or memo)"
+        );
+    } else {
+        for (i, alphabet) in scene.slots().enumerate() {
+            let syms: String = alphabet.iter().map(|s| s.symbol).collect();
+            outln!("  {i}: {syms}");
+        }
+        outln!(
+            "distinct commands: {}",
+            scene.command_space().num_commands_text()
+        );
+    }
+    outln!(
+        "effects: {} ({} x {} cells over [{}, {}] x [{}, {}])",
+        grid.num_cells(),
+        grid.rows,
+        grid.cols,
+        grid.min[0],
+        grid.max[0],
+        grid.min[1],
+        grid.max[1]
+    );
+    print_rewards(scene, &grid);
+    Ok(())
+}
+
+/// The reachability estimate of `scene check`: `samples` seeded random
+/// commands executed, the cells they reach, the reward cells' share, and a
+/// warning (stderr) when no sampled command reached a reward cell, with
+/// what the full check costs.
+pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
+    if samples == 0 {
+        return Ok(());
+    }
+    let total = match scene.is_continuous() {
+        true => samples,
+        false => scene
+            .command_space()
+            .num_commands()
+            .map_or(samples, |n| n.min(samples)),
+    };
+    let label = format!("scene check {}", scene.name);
+    say_cost(&label, scene, total, 1);
+    let sampled = progress::track(&label, "commands", total, |p| {
+        e3d::world::sample_reach_with_progress(scene, samples, seed, &|k| p.add(k))
+    });
+    let s = match sampled {
+        Ok(s) => s,
+        // the scene is valid; a command that blows up is a finding of the
+        // check, not a failure of it
+        Err(e) => {
+            errln!("warning: scene {}: reach: {e}", scene.name);
+            return Ok(());
+        }
+    };
+    let grid = scene.effect_grid();
+    let n = match scene.value_space() {
+        Some(_) => "infinitely many, drawn uniformly in their ranges".to_string(),
+        None => scene.command_space().num_commands_text(),
+    };
+    if s.exhaustive {
+        outln!(
+            "reach: all {} commands executed ({:.2} s): {} of {} cells reached",
+            s.samples,
+            s.seconds,
+            s.reached_cells(),
+            grid.num_cells()
+        );
+    } else {
+        outln!(
+            "reach (estimate): {} random commands of {n} (seed {seed}, {:.2} s): {} of {} cells reached",
+            s.samples,
+            s.seconds,
+            s.reached_cells(),
+            grid.num_cells()
+        );
+    }
+    let cells = rewarded_cells(scene);
+    if cells.is_empty() {
+        return Ok(());
+    }
+    let effects: Vec<usize> = cells.iter().map(|&(r, c)| r * grid.cols + c).collect();
+    let hits = s.hits(&effects);
+    let share = hits as f64 / s.samples as f64;
+    if s.exhaustive {
+        outln!(
+            "reward cells reached by {hits} of {} commands ({:.3}%)",
+            s.samples,
+            100.0 * share
+        );
+        if hits == 0 {
+            errln!(
+                "warning: scene {}: no command reaches a reward cell {cells:?} (every command executed)",
+                scene.name
+            );
+        }
+        return Ok(());
+    }
+    outln!(
+        "reward cells: estimated probability {:.3}% ({hits} of {} sampled commands)",
+        100.0 * share,
+        s.samples
+    );
+    if hits == 0 {
+        // the rule of three: with no hit in k draws, p < 3/k at 95%
+        let bound = 100.0 * 3.0 / s.samples as f64;
+        errln!(
+            "warning: scene {}: no sampled command reached a reward cell {cells:?}: it may be unreachable, or rarer than about {bound:.2}% (95% bound); {}",
+            scene.name,
+            full_check_cost(scene)
+        );
+    }
+    Ok(())
+}
+
+/// What `scene reward-cell` (every command executed) would cost: the
+/// commands it simulates and the cost model's estimate (src/world/plan.rs).
+pub(super) fn full_check_cost(scene: &Scene) -> String {
+    if scene.is_continuous() {
+        return "a full check is not possible: continuous commands cannot be enumerated; sample more with `--samples N`".to_string();
+    }
+    let threads = rayon::current_num_threads();
+    let plan = e3d::world::ExecutionPlan::choose(
+        scene,
+        &e3d::world::Workload {
+            trials: 0,
+            sessions: 1,
+            threads,
+        },
+        None,
+        0,
+    );
+    match (plan.simulated, plan.table_seconds) {
+        (Some(k), Some(t)) => format!(
+            "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model",
+            scene.name,
+            seconds_text(t)
+        ),
+        _ => format!(
+            "a full check is not possible: {} commands are too many for `e3d scene reward-cell` (at most {}); sample more with `--samples N`",
+            scene.command_space().num_commands_text(),
+            e3d::world::MAX_TABLE_COMMANDS
+        ),
+    }
+}
+
+/// The cells the scene rewards: those it lists and those of its regions,
+/// in order, once each.
+pub(super) fn rewarded_cells(scene: &Scene) -> Vec<(usize, usize)> {
+    let grid = scene.effect_grid();
+    let mut cells: Vec<(usize, usize)> = scene.reward.cells.clone();
+    for r in &scene.reward.regions {
+        cells.extend(r.cells(&grid));
+    }
+    cells.sort_unstable();
+    cells.dedup();
+    cells
+}
+
+/// The world's part of `scene check`: a grid's size, or a physics
+/// scene's schedule, bodies, joints, tracked point and symmetry.
+fn print_world(scene: &Scene) {
+    match &scene.world {
+        WorldSpec::Grid(g) => {
+            outln!(
+                "world: Grid, {} x {} cells, start {:?}, {} wall(s)",
+                g.rows,
+                g.cols,
+                g.start,
+                g.walls.len()
+            );
+        }
+        WorldSpec::Physics(p) => {
+            for w in p.warnings() {
+                errln!("warning: scene {}: {w}", scene.name);
+            }
+            let (phase, settle, together) = p.schedule.steps(p.dt);
+            outln!(
+                "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",
+                p.gravity.0,
+                p.gravity.1,
+                p.dt,
+                p.schedule.total_steps(p.dt, scene.num_slots()),
+                if together {
+                    format!("all slots push {phase} steps, then settle {settle}")
+                } else {
+                    format!("{phase} steps per slot, then settle {settle}")
+                }
+            );
+            outln!("bodies ({}):", p.bodies.len());
+            for b in &p.bodies {
+                let mass = if b.kind == BodyKind::Dynamic {
+                    format!(", {:.4} kg", b.mass_kg())
+                } else {
+                    String::new()
+                };
+                outln!(
+                    "  {:<12} {:?}, {:?}{mass}, at ({}, {}), angle {}",
+                    b.name,
+                    b.kind,
+                    b.shape,
+                    b.position.0,
+                    b.position.1,
+                    b.angle
+                );
+            }
+            outln!("joints ({}):", p.joints.len());
+            for j in &p.joints {
+                outln!(
+                    "  {:<12} {} -> {}, limits {}, damping {} N·m·s/rad{}",
+                    j.name,
+                    j.parent,
+                    j.child,
+                    j.limits
+                        .map_or("none".to_string(), |(a, b)| format!("[{a}, {b}] rad")),
+                    j.damping,
+                    j.motor.map_or(String::new(), |m| format!(
+                        ", motor {} N·m/rad, {} N·m·s/rad",
+                        m.stiffness, m.damping
+                    ))
+                );
+            }
+            outln!(
+                "tracked point: ({}, {}) on `{}`",
+                p.effect.point.0,
+                p.effect.point.1,
+                p.effect.body
+            );
+            if let Some(sym) = p.symmetry {
+                let n = scene.command_space().num_commands_text();
+                match OutcomeTable::simulated_commands(scene) {
+                    Some(k) => outln!(
+                        "symmetry: {sym:?} (checked): {k} of {n} commands simulated, the others reflected"
+                    ),
+                    None => outln!("symmetry: {sym:?} (checked)"),
+                }
+            }
+        }
+    }
+}
+
+/// The reward's part of `scene check`: its regions and every rewarded cell.
+fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
+    for r in &scene.reward.regions {
+        outln!(
+            "reward region `{}`: [{}, {}] x [{}, {}], cells {:?}",
+            r.name,
+            r.min.0,
+            r.max.0,
+            r.min.1,
+            r.max.1,
+            r.cells(grid)
+        );
+    }
+    // every rewarded cell, listed or in a region: one answer
+    let cells = rewarded_cells(scene);
+    if cells.is_empty() {
+        outln!("reward cells: none (the scene declares no reward cell or region)");
+    } else {
+        let from = match (scene.reward.cells.is_empty(), scene.reward.regions.len()) {
+            (true, 1) => " (from the region above)".to_string(),
+            (true, _) => " (from the regions above)".to_string(),
+            (false, 0) => String::new(),
+            (false, _) => " (listed and from the regions above)".to_string(),
+        };
+        outln!(
+            "reward cells: {cells:?}{from}, value {}{}",
+            scene.reward.value,
+            if scene.reward.note.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", scene.reward.note)
+            }
+        );
+    }
+}

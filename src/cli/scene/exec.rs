@@ -1,0 +1,366 @@
+//! `e3d scene exec`: commands executed as they come, their outcomes as CSV.
+
+use super::simulate::{say_cost, seconds_text, steps_text, world_error};
+use crate::cli::console::errln;
+use crate::cli::{progress, CliError, CliResult};
+use e3d::scene::{PhysicsSpec, Scene, WorldSpec};
+use e3d::world::PhysicsWorld;
+use e3d::{Command, CommandSpace, OutcomeTable, World, WorldError};
+use std::fmt::Write as _;
+use std::io::{BufRead, Write as _};
+use std::path::Path;
+use std::sync::mpsc::SyncSender;
+use std::sync::Mutex;
+
+/// A command read by [`read_commands`], or why the input ends there.
+pub(super) type Read = Result<Command, CliError>;
+
+/// Parses the `commands` of `e3d scene exec` in order (`-`: every
+/// non-blank line of stdin, as it comes) and sends them to `tx`, up to the
+/// first that does not parse (sent as an error naming its stdin line) or
+/// until the receiver is gone.
+pub(super) fn read_commands(space: &CommandSpace, commands: &[String], tx: &SyncSender<Read>) {
+    let send = |r: Read| {
+        let stop = r.is_err();
+        tx.send(r).is_ok() && !stop
+    };
+    for arg in commands {
+        if arg != "-" {
+            if !send(space.parse(arg).map_err(CliError::input)) {
+                return;
+            }
+            continue;
+        }
+        for (k, line) in std::io::stdin().lock().lines().enumerate() {
+            let r = match line {
+                Err(e) => Err(CliError::input(format!("stdin line {}: {e}", k + 1))),
+                Ok(l) if l.trim().is_empty() => continue,
+                Ok(l) => space
+                    .parse(l.trim())
+                    .map_err(|e| CliError::input(format!("stdin line {}: {e}", k + 1))),
+            };
+            if !send(r) {
+                return;
+            }
+        }
+    }
+}
+
+/// `e3d scene exec --trace FILE`: each command's motion, one after the
+/// other on one world, its CSV row printed as it is done and its frames
+/// streamed into a temporary file renamed to FILE at the end (whole or not
+/// at all).
+pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
+    let Some(mut world) = scene.physics_world() else {
+        return Err(CliError::input(format!(
+            "scene `{}` is a grid: it has no motion to trace (`e3d scene render --command` draws a command's path)",
+            scene.name
+        )));
+    };
+    let space = scene.command_space();
+    // whether stdin is read, and how many commands otherwise
+    let commands_known = (commands.iter().any(|c| c == "-"), commands.len() as u64);
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(64);
+    let reader_space = space.clone();
+    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let out_err =
+        |e: std::io::Error| CliError::output(format!("{}: cannot write: {e}", path.display()));
+    // created exclusively: never through a link planted under its name
+    let (tmp, f) = e3d::io::create_temp_beside(path).map_err(out_err)?;
+    let mut file = std::io::BufWriter::new(f);
+    let result = (|| -> CliResult {
+        let mut stdout = std::io::stdout().lock();
+        let mut first = true;
+        let label = format!("scene exec {}", scene.name);
+        let known = (!commands_known.0).then_some(commands_known.1);
+        if let Some(n) = known {
+            say_cost(&label, scene, n, 1);
+        }
+        progress::track_stream(&label, "commands", |p| -> CliResult {
+            if let Some(n) = known {
+                p.set_total(n);
+            }
+            for r in rx {
+                let c = r?;
+                let m = world.motion(&c).map_err(world_error)?;
+                p.add(1);
+                let text = space.format(&c);
+                m.write_csv(&mut file, Some(&text), first)
+                    .map_err(out_err)?;
+                let o = m.outcome;
+                let mut row = String::new();
+                if first {
+                    row.push_str("command,effect,reward,x,y\n");
+                }
+                let _ = writeln!(
+                    row,
+                    "{text},{},{},{},{}",
+                    o.effect, o.reward, o.point[0], o.point[1]
+                );
+                stdout
+                    .write_all(row.as_bytes())
+                    .and_then(|()| stdout.flush())
+                    .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+                first = false;
+            }
+            Ok(())
+        })?;
+        use std::io::Write as _;
+        file.flush().map_err(out_err)?;
+        std::fs::rename(&tmp, path).map_err(out_err)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// How `e3d scene exec` executes a chunk of commands; it keeps its worlds
+/// from one chunk to the next (building a physics world costs).
+pub(super) enum ExecPool<'a> {
+    /// One world, one command after another: a grid, or a table look-up
+    /// (microseconds a command).
+    Direct(Box<dyn World + 'a>),
+    /// A physics scene on every core: each piece of a chunk takes an idle
+    /// world of `copies` copies (or builds one) and executes as a batch.
+    Parallel {
+        scene: &'a Scene,
+        spec: &'a PhysicsSpec,
+        copies: usize,
+        idle: Mutex<Vec<PhysicsWorld>>,
+    },
+}
+
+impl<'a> ExecPool<'a> {
+    fn new(scene: &'a Scene, table: Option<OutcomeTable>) -> ExecPool<'a> {
+        match (table, &scene.world) {
+            (Some(t), _) => ExecPool::Direct(Box::new(t)),
+            (None, WorldSpec::Grid(_)) => ExecPool::Direct(scene.build()),
+            (None, WorldSpec::Physics(spec)) => ExecPool::Parallel {
+                scene,
+                spec,
+                // as the outcome table: bit-identical to one copy per world
+                copies: if spec.copies_are_exact() {
+                    e3d::world::TABLE_COPIES
+                } else {
+                    1
+                },
+                idle: Mutex::new(Vec::new()),
+            },
+        }
+    }
+
+    /// Appends the result of each of `commands` to `out`, in order: those
+    /// of [`World::execute`], bit for bit.
+    /// With `memo`, the physics worlds' commands go through it
+    /// ([`Memoized`](e3d::Memoized)): those kept are looked up, the others
+    /// simulated once and kept.
+    fn run(
+        &mut self,
+        commands: &[Command],
+        memo: Option<&e3d::OutcomeMemo>,
+        out: &mut Vec<Result<e3d::Outcome, WorldError>>,
+    ) {
+        use rayon::prelude::*;
+        match self {
+            // a grid's move or a table's look-up costs less than the memo's
+            ExecPool::Direct(world) => world.execute_batch(commands, out),
+            ExecPool::Parallel {
+                scene,
+                spec,
+                copies,
+                idle,
+            } => {
+                // shared by the workers
+                let idle: &Mutex<_> = idle;
+                // every thread gets a piece, of at most one batch
+                let piece = commands
+                    .len()
+                    .div_ceil(rayon::current_num_threads())
+                    .clamp(1, *copies);
+                let take = || idle.lock().unwrap_or_else(|e| e.into_inner()).pop();
+                let pieces: Vec<Vec<_>> = commands
+                    .par_chunks(piece)
+                    .map(|part| {
+                        let mut world = take()
+                            .unwrap_or_else(|| PhysicsWorld::with_copies(scene, spec, *copies));
+                        let mut results = Vec::with_capacity(part.len());
+                        if let Some(m) = memo {
+                            let mut through = e3d::Memoized::new(world, m);
+                            through.execute_batch(part, &mut results);
+                            world = through.into_inner();
+                        } else {
+                            world.execute_batch(part, &mut results);
+                        }
+                        idle.lock().unwrap_or_else(|e| e.into_inner()).push(world);
+                        results
+                    })
+                    .collect();
+                out.extend(pieces.into_iter().flatten());
+            }
+        }
+    }
+}
+
+/// The most commands `e3d scene exec` executes at once: two batches of
+/// [`TABLE_COPIES`](e3d::world::TABLE_COPIES) per thread.
+pub(super) fn chunk_limit() -> usize {
+    2 * rayon::current_num_threads() * e3d::world::TABLE_COPIES
+}
+
+/// What the folder `dir` holds for `scene`: a whole table (looked up), or
+/// a memo of the commands executed so far (partial file, or empty when the
+/// file is missing or cannot be used, having said why on stderr). The
+/// memo's new outcomes are written back at the end (`OutcomeMemo::save`).
+pub(super) fn exec_cache(
+    scene: &Scene,
+    dir: &Path,
+) -> (Option<OutcomeTable>, Option<e3d::OutcomeMemo>) {
+    use e3d::world::CachedOutcomes;
+    let path = OutcomeTable::cache_path(scene, dir);
+    let space = scene.command_space();
+    let memo = || e3d::OutcomeMemo::new(&space, scene.num_effects(), e3d::world::DEFAULT_MEMO_CAP);
+    match OutcomeTable::read_file(&path, scene) {
+        Ok(CachedOutcomes::Full(t)) => (Some(t), None),
+        Ok(CachedOutcomes::Partial(entries)) => {
+            let m = memo().ok();
+            if let Some(m) = &m {
+                m.extend(entries);
+            }
+            (None, m)
+        }
+        Err(e) => {
+            let shown = path.display().to_string();
+            let why = if e.kind() == std::io::ErrorKind::NotFound {
+                format!("no outcome table {shown} yet")
+            } else if e.to_string().contains(&shown) {
+                format!("cannot use the outcome table {e}")
+            } else {
+                format!("cannot use the outcome table {shown}: {e}")
+            };
+            errln!("note: {why}; simulating the commands, keeping their outcomes there");
+            (None, memo().ok())
+        }
+    }
+}
+
+/// `e3d scene exec`: a reader thread parses the commands as they come; the
+/// main thread waits for one, takes what else is queued (up to
+/// [`chunk_limit`]), executes that chunk on every core and prints its rows
+/// in input order, flushed, before the next chunk. The first command that
+/// does not parse or that blows up ends the output, after the rows before
+/// it, with its error.
+pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
+    let space = scene.command_space();
+    let (table, memo) = match table_cache {
+        Some(d) => exec_cache(scene, d),
+        None => (None, None),
+    };
+    let label = format!("scene exec {}", scene.name);
+    // what the commands cost, said before when their number is known, or
+    // once those read so far reach it (stdin); a table looks them up
+    let threads = rayon::current_num_threads();
+    let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
+    let per_command = e3d::world::rollout_seconds(scene);
+    let mut cost_said =
+        table.is_some() || known.is_some_and(|n| say_cost(&label, scene, n, threads));
+    let mut executed = 0u64;
+    let mut executor = ExecPool::new(scene, table);
+    let limit = chunk_limit();
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(2 * limit);
+    let reader_space = space.clone();
+    // not joined: it may wait on stdin when the output ends with an error
+    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let mut stdout = std::io::stdout().lock();
+    let mut write = |text: &str| {
+        stdout
+            .write_all(text.as_bytes())
+            .and_then(|()| stdout.flush())
+            .map_err(|e| CliError::output(format!("standard output: {e}")))
+    };
+    let header = "command,effect,reward,x,y\n";
+    let mut header_written = false;
+    let (mut chunk, mut results, mut text) = (Vec::new(), Vec::new(), String::new());
+    let mut end: Option<CliError> = None;
+    progress::track_stream(&label, "commands", |p| -> CliResult {
+        if let Some(n) = known {
+            p.set_total(n);
+        }
+        while end.is_none() {
+            chunk.clear();
+            let Ok(mut next) = rx.recv() else {
+                break;
+            };
+            loop {
+                match next {
+                    Ok(c) => chunk.push(c),
+                    Err(e) => {
+                        end = Some(e);
+                        break;
+                    }
+                }
+                if chunk.len() == limit {
+                    break;
+                }
+                match rx.try_recv() {
+                    Ok(r) => next = r,
+                    Err(_) => break,
+                }
+            }
+            results.clear();
+            executor.run(&chunk, memo.as_ref(), &mut results);
+            p.add(chunk.len() as u64);
+            executed += chunk.len() as u64;
+            if !cost_said && executed as f64 * per_command / threads as f64 >= progress::LONG {
+                cost_said = true;
+                p.say(format!(
+                    "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model; more as stdin gives them",
+                    steps_text(scene),
+                    seconds_text(per_command)
+                ));
+            }
+            text.clear();
+            for (c, r) in chunk.iter().zip(results.drain(..)) {
+                match r {
+                    Ok(o) => {
+                        let _ = writeln!(
+                            text,
+                            "{},{},{},{},{}",
+                            space.format(c),
+                            o.effect,
+                            o.reward,
+                            o.point[0],
+                            o.point[1]
+                        );
+                    }
+                    Err(e) => {
+                        end = Some(world_error(e));
+                        break;
+                    }
+                }
+            }
+            if !text.is_empty() {
+                if !header_written {
+                    text.insert_str(0, header);
+                    header_written = true;
+                }
+                write(&text)?;
+            }
+        }
+        Ok(())
+    })?;
+    if let (Some(m), Some(dir)) = (memo.as_ref().filter(|m| !m.is_empty()), table_cache) {
+        let path = OutcomeTable::cache_path(scene, dir);
+        if let Err(e) = m.save(&path, scene) {
+            errln!(
+                "note: could not keep the outcomes in {}: {e}",
+                path.display()
+            );
+        }
+    }
+    match end {
+        Some(e) => Err(e),
+        None if header_written => Ok(()),
+        None => write(header),
+    }
+}

@@ -1,0 +1,231 @@
+//! `e3d scene`: check, draw and execute scene files.
+
+mod check;
+mod exec;
+mod render;
+mod reward_cell;
+mod simulate;
+mod stats;
+mod table;
+mod values;
+
+use super::{load_scene, CliError, CliResult};
+use check::{check, check_reach};
+use clap::{Args, Subcommand};
+use exec::{exec, exec_trace};
+use render::{animate, render};
+use reward_cell::reward_cell;
+use stats::stats;
+use std::io::Write as _;
+use std::path::PathBuf;
+use table::table;
+
+/// Arguments of `e3d scene`.
+#[derive(Args, Debug)]
+pub struct SceneArgs {
+    #[command(subcommand)]
+    pub command: SceneCmd,
+}
+
+/// The sub-commands of `e3d scene`.
+#[derive(Subcommand, Debug)]
+pub enum SceneCmd {
+    /// Validate a scene, print a summary of it, warn about suspicious
+    /// geometry, and estimate what its commands reach from a seeded
+    /// random sample of them.
+    Check {
+        /// A scene file, or the name of a built-in scene.
+        scene: String,
+        /// How many random commands to execute for the reachability
+        /// estimate (0: none). A space of at most this many commands is
+        /// executed whole, and the counts are exact.
+        #[arg(long, value_name = "N", default_value_t = 200)]
+        samples: u64,
+        /// The seed of the sample.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Print only the scene as RON with its shorthands (`chains`,
+        /// `walls`) expanded into plain bodies and joints, every field
+        /// written: text that loads back as the same scene.
+        #[arg(long)]
+        expanded: bool,
+    },
+    /// Draw a scene as SVG, with the path of one command if given; with
+    /// `--animate`, that command's rollout as an animated SVG or HTML page.
+    Render {
+        /// A scene file, or the name of a built-in scene.
+        scene: String,
+        /// A command (its symbols, one per slot) whose path to draw.
+        #[arg(long, allow_hyphen_values = true)]
+        command: Option<String>,
+        /// Animate the command (needs `--command`): on a physics scene every
+        /// moving body, the tracked point and the time; on a grid the
+        /// agent's cell path, a keyframe per slot; looping. An `.html` FILE
+        /// gets a page holding the SVG.
+        #[arg(long, requires = "command")]
+        animate: bool,
+        /// The SVG (or, with `--animate`, HTML) file to write.
+        #[arg(long, value_name = "FILE.svg")]
+        out: PathBuf,
+    },
+    /// Execute commands and print `command,effect,reward,x,y` CSV, in
+    /// input order, as they are done: stdin is read as it comes, and what
+    /// has arrived runs in parallel on every core (physics scenes: many
+    /// commands at once per Rapier world where that is exact).
+    Exec {
+        /// A scene file, or the name of a built-in scene.
+        scene: String,
+        /// Commands (symbols, one per slot); `-` reads one per line from stdin.
+        #[arg(required = true, allow_hyphen_values = true)]
+        commands: Vec<String>,
+        /// Look the commands up in the scene's outcome table in this folder
+        /// (written by `e3d scene table --cache DIR`) instead of simulating
+        /// them; without a usable table there, say why and simulate.
+        #[arg(long, value_name = "DIR")]
+        table_cache: Option<PathBuf>,
+        /// Also write each command's whole motion to FILE.csv: per step, the
+        /// time, every body's pose and velocity, every joint's angle and
+        /// velocity (physics scenes; one command at a time).
+        #[arg(long, value_name = "FILE.csv", conflicts_with = "table_cache")]
+        trace: Option<PathBuf>,
+    },
+    /// Execute every command once and apply the rule of docs/canonical-scenes.md for a
+    /// hard-to-reach reward cell: among the reached cells, the farthest
+    /// from the tracked point's start; ties to the fewest commands, then
+    /// the lowest index.
+    RewardCell {
+        /// A scene file, or the name of a built-in scene.
+        scene: String,
+        /// Measure distances from this point `X,Y` instead of the tracked
+        /// point's start.
+        #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+        from: Option<[f64; 2]>,
+    },
+    /// Compute a scene's whole outcome table ahead of time, in parallel on
+    /// every core (physics scenes: many commands at once per Rapier world
+    /// where that is exact), and report its size, time and rollouts/s.
+    Table {
+        /// A scene file, or the name of a built-in scene.
+        scene: String,
+        /// The folder of the table cache (read if the table is there,
+        /// written otherwise); without it the table is computed and not kept.
+        #[arg(long, value_name = "DIR")]
+        cache: Option<PathBuf>,
+    },
+    /// Execute every command of a physics scene and report what happens:
+    /// contacts between moving bodies, joints at their limits, top speeds.
+    Stats {
+        /// A scene file, or the name of a built-in scene.
+        scene: String,
+    },
+}
+
+/// `e3d scene ...` on a continuous scene: the sub-commands that differ
+/// (`exec`, `render --command`) and those that cannot apply (`table`,
+/// `reward-cell`, `stats`, which enumerate the commands); `None` for the
+/// others, and for scenes of symbols or that do not load (the plain path
+/// then reports them).
+fn continuous(cmd: &SceneCmd) -> Option<CliResult> {
+    use SceneCmd as C;
+    let name = match cmd {
+        C::Exec { scene, .. }
+        | C::Render { scene, .. }
+        | C::RewardCell { scene, .. }
+        | C::Table { scene, .. }
+        | C::Stats { scene, .. } => scene,
+        _ => return None,
+    };
+    let scene = e3d::Scene::resolve(name)
+        .ok()
+        .filter(e3d::Scene::is_continuous)?;
+    let refuse = |what: &str| Some(scene.require_symbols(what).map_err(CliError::input));
+    match cmd {
+        C::Exec {
+            commands,
+            table_cache: None,
+            trace,
+            ..
+        } => Some(values::exec(&scene, commands, trace.as_deref())),
+        C::Exec { .. } => refuse("`e3d scene exec --table-cache` (an outcome table)"),
+        C::Render {
+            command: Some(text),
+            animate,
+            out,
+            ..
+        } => Some(values::render(&scene, text, *animate, out)),
+        C::Render { .. } => None,
+        C::RewardCell { .. } => refuse("`e3d scene reward-cell` (which executes every command)"),
+        C::Table { .. } => refuse("`e3d scene table` (an outcome table)"),
+        C::Stats { .. } => refuse("`e3d scene stats` (which executes every command)"),
+        _ => None,
+    }
+}
+
+fn parse_point(s: &str) -> Result<[f64; 2], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().map_err(|e| format!("`{t}`: {e}")))
+        .collect::<Result<_, _>>()?;
+    match v.as_slice() {
+        [x, y] if x.is_finite() && y.is_finite() => Ok([*x, *y]),
+        _ => Err(format!("expected two finite numbers `X,Y`, found `{s}`")),
+    }
+}
+
+/// Runs `e3d scene ...`.
+pub fn run(a: SceneArgs) -> CliResult {
+    if let Some(r) = continuous(&a.command) {
+        return r;
+    }
+    match a.command {
+        SceneCmd::Check {
+            scene,
+            expanded: true,
+            ..
+        } => {
+            let text = load_scene(&scene)?.to_ron();
+            let mut stdout = std::io::stdout().lock();
+            stdout
+                .write_all(text.as_bytes())
+                .and_then(|()| stdout.flush())
+                .map_err(|e| CliError::output(format!("standard output: {e}")))
+        }
+        SceneCmd::Check {
+            scene,
+            samples,
+            seed,
+            expanded: false,
+        } => {
+            let scene = load_scene(&scene)?;
+            check(&scene)?;
+            check_reach(&scene, samples, seed)
+        }
+        SceneCmd::Render {
+            scene,
+            command,
+            animate: true,
+            out,
+        } => animate(&load_scene(&scene)?, command.as_deref().unwrap_or(""), &out),
+        SceneCmd::Render {
+            scene,
+            command,
+            animate: false,
+            out,
+        } => render(&load_scene(&scene)?, command.as_deref(), &out),
+        SceneCmd::Exec {
+            scene,
+            commands,
+            trace: Some(path),
+            ..
+        } => exec_trace(&load_scene(&scene)?, commands, &path),
+        SceneCmd::Exec {
+            scene,
+            commands,
+            table_cache,
+            trace: None,
+        } => exec(&load_scene(&scene)?, commands, table_cache.as_deref()),
+        SceneCmd::RewardCell { scene, from } => reward_cell(&load_scene(&scene)?, from),
+        SceneCmd::Stats { scene } => stats(&load_scene(&scene)?),
+        SceneCmd::Table { scene, cache } => table(&load_scene(&scene)?, cache.as_deref()),
+    }
+}

@@ -1,0 +1,98 @@
+//! `e3d scene reward-cell`: every command executed, and the rule for a
+//! hard-to-reach reward cell.
+
+use super::check::rewarded_cells;
+use super::simulate::build_table;
+use crate::cli::console::outln;
+use crate::cli::{CliError, CliResult};
+use e3d::scene::{Scene, WorldSpec};
+use e3d::world::farthest_reached_cell;
+
+pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
+    let from = match (from, &scene.world) {
+        (Some(p), _) => p,
+        (None, WorldSpec::Physics(p)) => {
+            let b = p.body(&p.effect.body).expect("validated: tracked body");
+            let t = e3d::scene::physics::to_world_point(b.position, b.angle, p.effect.point);
+            [t.0, t.1]
+        }
+        (None, WorldSpec::Grid(g)) => scene.effect_grid().center(g.start.0, g.start.1),
+    };
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    if n > e3d::world::MAX_TABLE_COMMANDS {
+        return Err(CliError::input(format!(
+            "{} commands: too many to execute them all (at most {})",
+            scene.command_space().num_commands_text(),
+            e3d::world::MAX_TABLE_COMMANDS
+        )));
+    }
+    let start = std::time::Instant::now();
+    let table = build_table(scene)?;
+    let secs = start.elapsed().as_secs_f64();
+    let grid = scene.effect_grid();
+    let cell = farthest_reached_cell(&table, &grid, from)
+        .ok_or_else(|| CliError::input("no command to execute"))?;
+    let counts = table.effect_counts();
+    let mut sorted: Vec<(u64, usize)> = counts
+        .iter()
+        .enumerate()
+        .filter(|(_, &c)| c > 0)
+        .map(|(e, &c)| (c, e))
+        .collect();
+    sorted.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+    outln!(
+        "scene {}: executed {} commands in {:.2} s ({:.0} commands/s on {} thread(s))",
+        scene.name,
+        table.len(),
+        secs,
+        table.len() as f64 / secs,
+        rayon::current_num_threads()
+    );
+    outln!(
+        "reached cells: {} of {}",
+        cell.reached_cells,
+        grid.num_cells()
+    );
+    let top: Vec<String> = sorted
+        .iter()
+        .take(5)
+        .map(|(c, e)| {
+            format!(
+                "({}, {}) {} ({:.1}%)",
+                e / grid.cols,
+                e % grid.cols,
+                c,
+                100.0 * *c as f64 / table.len() as f64
+            )
+        })
+        .collect();
+    outln!("most common cells: {}", top.join(", "));
+    let center = grid.center(cell.row, cell.col);
+    outln!(
+        "rule: farthest reached cell from ({:.4}, {:.4}): ({}, {}) = effect {}, centre ({}, {}), {:.4} m away, reached by {} command(s)",
+        // 4 decimals, as the distance: pendulum3's start, cos(-pi/2) * 0.9,
+        // prints as 0.0000, not 0.000000000000000006123233995736766
+        from[0], from[1], cell.row, cell.col, cell.effect, center[0], center[1], cell.distance, cell.commands
+    );
+    let space = scene.command_space();
+    let reaching: Vec<String> = table
+        .outcomes()
+        .enumerate()
+        .filter(|(_, o)| o.effect == cell.effect)
+        .take(10)
+        .map(|(i, _)| space.format(&space.command_at(i as u64)))
+        .collect();
+    outln!("commands reaching it: {}", reaching.join(" "));
+    let declared = rewarded_cells(scene);
+    let rule = (cell.row, cell.col);
+    if declared.is_empty() {
+        outln!(
+            "the scene declares no reward cell; by the rule it would be {rule:?}: `reward: (cells: [{rule:?}])`"
+        );
+    } else if declared == [rule] {
+        outln!("the scene's reward cells {declared:?} match the rule's cell");
+    } else {
+        outln!("the scene's reward cells {declared:?} do NOT match the rule's cell {rule:?}");
+    }
+    Ok(())
+}

@@ -1,0 +1,115 @@
+//! What the scene tools share: a world's error as the CLI's, and the
+//! cost model's estimates said before a long simulation, with its progress.
+
+use crate::cli::console::errln;
+use crate::cli::{progress, CliError};
+use e3d::scene::{Scene, WorldSpec};
+use e3d::{OutcomeTable, WorldError};
+
+pub(super) fn world_error(e: WorldError) -> CliError {
+    match e {
+        WorldError::BadCommand { .. } => CliError::input(e),
+        _ => CliError::simulation(e),
+    }
+}
+
+pub(super) fn seconds_text(t: f64) -> String {
+    if t < 0.01 {
+        format!("{:.2} ms", t * 1e3)
+    } else if t < 1.0 {
+        format!("{t:.2} s")
+    } else if t < 120.0 {
+        format!("{t:.0} s")
+    } else if t < 7200.0 {
+        format!("{:.0} min", t / 60.0)
+    } else {
+        format!("{:.1} h", t / 3600.0)
+    }
+}
+
+/// Says on stderr how many commands of `scene` are about to be simulated
+/// (`simulated`: fewer than all with a symmetry) and what that costs by
+/// the cost model (`seconds`), then runs `work` with its progress shown
+/// there (see [`progress::track`]).
+pub(super) fn simulate_all<T>(
+    scene: &Scene,
+    simulated: u64,
+    seconds: f64,
+    work: impl FnOnce(&(dyn Fn(u64) + Sync)) -> T,
+) -> T {
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    let what = if simulated < n {
+        format!("{simulated} of {n} commands (the others are mirror images)")
+    } else {
+        format!("{simulated} commands")
+    };
+    errln!(
+        "scene {}: simulating {what} on {} thread(s){}: about {} by the cost model",
+        scene.name,
+        rayon::current_num_threads(),
+        steps_text(scene),
+        seconds_text(seconds)
+    );
+    progress::track(
+        &format!("scene {}", scene.name),
+        "commands",
+        simulated,
+        |p| work(&|k| p.add(k)),
+    )
+}
+
+/// [`OutcomeTable::build_scene`], its cost and progress on stderr.
+pub(super) fn build_table(scene: &Scene) -> Result<OutcomeTable, CliError> {
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
+    simulate_all(scene, simulated, table_seconds(scene), |progress| {
+        OutcomeTable::build_scene_with_progress(scene, progress)
+    })
+    .map_err(world_error)
+}
+
+/// The cost model's seconds for building the whole table of `scene` on
+/// the current threads (0 when no table is possible).
+pub(super) fn table_seconds(scene: &Scene) -> f64 {
+    e3d::world::ExecutionPlan::choose(
+        scene,
+        &e3d::world::Workload {
+            trials: 0,
+            sessions: 1,
+            threads: rayon::current_num_threads(),
+        },
+        None,
+        0,
+    )
+    .table_seconds
+    .unwrap_or(0.0)
+}
+
+/// ` (120 steps each)` for a physics scene (nothing for a grid).
+pub(super) fn steps_text(scene: &Scene) -> String {
+    match &scene.world {
+        WorldSpec::Physics(p) => format!(
+            " ({} steps each)",
+            p.schedule
+                .total_steps(p.dt, scene.command_space().num_slots())
+        ),
+        WorldSpec::Grid(_) => String::new(),
+    }
+}
+
+/// The cost model's estimate for `commands` rollouts of `scene` on
+/// `threads` threads, said on stderr (`LABEL: N commands, S steps each,
+/// on T thread(s): about X by the cost model`) when it reaches
+/// [`progress::LONG`]; whether it was said.
+pub(super) fn say_cost(label: &str, scene: &Scene, commands: u64, threads: usize) -> bool {
+    let secs = commands as f64 * e3d::world::rollout_seconds(scene) / threads.max(1) as f64;
+    if secs < progress::LONG {
+        return false;
+    }
+    errln!(
+        "{label}: {commands} command(s){} on {threads} thread(s): about {} by the cost model",
+        steps_text(scene),
+        seconds_text(secs)
+    );
+    true
+}

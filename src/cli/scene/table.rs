@@ -1,0 +1,100 @@
+//! `e3d scene table`: a scene's whole outcome table, computed or read
+//! from its cache.
+
+use super::simulate::{build_table, simulate_all, table_seconds, world_error};
+use crate::cli::console::{errln, outln};
+use crate::cli::{CliError, CliResult};
+use e3d::scene::{PhysicsSpec, Scene, WorldSpec};
+use e3d::OutcomeTable;
+use std::path::Path;
+
+pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    if n > e3d::world::MAX_TABLE_COMMANDS {
+        return Err(CliError::input(format!(
+            "{} commands: too many for an outcome table (at most {})",
+            scene.command_space().num_commands_text(),
+            e3d::world::MAX_TABLE_COMMANDS
+        )));
+    }
+    let start = std::time::Instant::now();
+    let (table, existed) = match cache {
+        Some(dir) => cached_table(scene, dir)?,
+        None => (build_table(scene)?, false),
+    };
+    let secs = start.elapsed().as_secs_f64();
+    let mut how = match &scene.world {
+        WorldSpec::Physics(p) if p.copies_are_exact() => {
+            format!("{} copies per Rapier world", e3d::world::TABLE_COPIES)
+        }
+        WorldSpec::Physics(_) => "one command per Rapier world".to_string(),
+        WorldSpec::Grid(_) => "grid".to_string(),
+    };
+    if let WorldSpec::Physics(PhysicsSpec {
+        symmetry: Some(sym),
+        ..
+    }) = &scene.world
+    {
+        let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
+        how = format!("{how}; {sym:?} symmetry: {simulated} simulated, the others reflected");
+    }
+    outln!(
+        "scene {}: {} commands in {:.3} s ({:.0} commands/s, {} thread(s), {how})",
+        scene.name,
+        table.len(),
+        secs,
+        table.len() as f64 / secs,
+        rayon::current_num_threads()
+    );
+    match cache {
+        Some(dir) => {
+            let path = OutcomeTable::cache_path(scene, dir);
+            if existed {
+                outln!("read from {}", path.display());
+            } else if path.exists() {
+                outln!("written to {}", path.display());
+            } else {
+                outln!(
+                    "could not write {} (the table was computed)",
+                    path.display()
+                );
+            }
+        }
+        None => outln!("not written (give --cache DIR to keep it)"),
+    }
+    Ok(())
+}
+
+/// The table of `scene` as [`OutcomeTable::cached`] gives it, with the
+/// progress of its building shown ([`build_table`]), and whether it was
+/// read from `dir`.
+pub(super) fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, bool), CliError> {
+    use e3d::world::CachedOutcomes;
+    let path = OutcomeTable::cache_path(scene, dir);
+    let table = match OutcomeTable::read_file(&path, scene) {
+        Ok(CachedOutcomes::Full(t)) => return Ok((t, true)),
+        // what the partial file holds is not simulated again
+        Ok(CachedOutcomes::Partial(known)) => {
+            errln!(
+                "scene {}: {} outcomes read from {}; simulating the others",
+                scene.name,
+                known.len(),
+                path.display()
+            );
+            let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+            let simulated = OutcomeTable::simulated_commands(scene)
+                .unwrap_or(n)
+                .saturating_sub(known.len() as u64);
+            let whole = OutcomeTable::simulated_commands(scene).unwrap_or(n).max(1);
+            let secs = table_seconds(scene) * simulated as f64 / whole as f64;
+            simulate_all(scene, simulated, secs, |progress| {
+                OutcomeTable::complete_with_progress(scene, &known, progress)
+            })
+            .map_err(world_error)?
+        }
+        Err(_) => build_table(scene)?,
+    };
+    // a cache that cannot be written is not an error: it costs time only
+    let _ = table.write_file(&path, scene);
+    Ok((table, false))
+}

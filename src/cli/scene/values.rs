@@ -1,0 +1,149 @@
+//! The scene tools on a scene of continuous commands: `exec` and
+//! `render --command` of values.
+
+use crate::cli::console::outln;
+use crate::cli::output::write_file;
+use crate::cli::{CliError, CliResult};
+use e3d::Scene;
+
+/// The commands of `scene exec` (`-`: every non-blank line of stdin), each
+/// parsed when it is reached; an error names its stdin line.
+fn read_values<'a>(
+    space: &'a e3d::ValueSpace,
+    commands: &'a [String],
+) -> impl Iterator<Item = Result<Vec<f64>, CliError>> + 'a {
+    use std::io::BufRead;
+    commands
+        .iter()
+        .flat_map(move |arg| -> Box<dyn Iterator<Item = _>> {
+            if arg != "-" {
+                return Box::new(std::iter::once(space.parse(arg).map_err(CliError::input)));
+            }
+            Box::new(
+                std::io::stdin()
+                    .lock()
+                    .lines()
+                    .enumerate()
+                    .filter(|(_, l)| l.as_ref().map_or(true, |l| !l.trim().is_empty()))
+                    .map(move |(k, l)| {
+                        let at = |e: &dyn std::fmt::Display| {
+                            CliError::input(format!("stdin line {}: {e}", k + 1))
+                        };
+                        l.map_err(|e| at(&e))
+                            .and_then(|l| space.parse(&l).map_err(|e| at(&e)))
+                    }),
+            )
+        })
+}
+
+/// `e3d scene exec` of continuous commands: `"values",effect,reward,x,y`
+/// rows as each command is done; with `trace`, every command's motion in
+/// that file (whole or absent).
+pub(super) fn exec(
+    scene: &Scene,
+    commands: &[String],
+    trace: Option<&std::path::Path>,
+) -> CliResult {
+    use std::io::Write;
+    let space = scene.value_space().expect("a continuous scene");
+    let mut world = scene.physics_world().expect("a physics scene");
+    let mut stdout = std::io::stdout().lock();
+    let mut file = match trace {
+        Some(p) => {
+            let (tmp, f) = e3d::io::create_temp_beside(p)
+                .map_err(|e| CliError::output(format!("{}: cannot write: {e}", p.display())))?;
+            Some((p, tmp, std::io::BufWriter::new(f)))
+        }
+        None => None,
+    };
+    let result = (|| -> CliResult {
+        let mut first = true;
+        for v in read_values(&space, commands) {
+            let v = v?;
+            let text = space.format(&v);
+            let o = match &mut file {
+                None => world.execute_values(&v),
+                Some((p, _, f)) => world.motion_values(&v).and_then(|m| {
+                    m.write_csv(&mut *f, Some(&format!("\"{text}\"")), first)
+                        .map_err(|e| {
+                            e3d::WorldError::Other(format!("{}: cannot write: {e}", p.display()))
+                        })?;
+                    Ok(m.outcome)
+                }),
+            }
+            .map_err(|e| match e {
+                e3d::WorldError::BadCommand { .. } => CliError::input(e),
+                e3d::WorldError::Other(_) => CliError::output(e),
+                _ => CliError::simulation(e),
+            })?;
+            let mut row = String::new();
+            if first {
+                row.push_str("values,effect,reward,x,y\n");
+                first = false;
+            }
+            row.push_str(&format!(
+                "\"{text}\",{},{},{},{}\n",
+                o.effect, o.reward, o.point[0], o.point[1]
+            ));
+            stdout
+                .write_all(row.as_bytes())
+                .and_then(|()| stdout.flush())
+                .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+        }
+        if first {
+            stdout
+                .write_all(b"values,effect,reward,x,y\n")
+                .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+        }
+        if let Some((p, tmp, f)) = &mut file {
+            let p: &std::path::Path = p;
+            f.flush()
+                .and_then(|()| std::fs::rename(&*tmp, p))
+                .map_err(|e| CliError::output(format!("{}: cannot write: {e}", p.display())))?;
+        }
+        Ok(())
+    })();
+    if let (Err(_), Some((_, tmp, _))) = (&result, &file) {
+        let _ = std::fs::remove_file(tmp);
+    }
+    result
+}
+
+/// `e3d scene render --command VALUES [--animate]` of a continuous scene.
+pub(super) fn render(scene: &Scene, text: &str, animate: bool, out: &std::path::Path) -> CliResult {
+    use e3d::report::motion_svg;
+    let space = scene.value_space().expect("a continuous scene");
+    let v = space.parse(text).map_err(CliError::input)?;
+    let cmd = space.format(&v);
+    let mut world = scene.physics_world().expect("a physics scene");
+    let bad = |e: e3d::WorldError| match e {
+        e3d::WorldError::BadCommand { .. } => CliError::input(e),
+        _ => CliError::simulation(e),
+    };
+    let page = if animate {
+        let motion = world.motion_values(&v).map_err(bad)?;
+        let svg = motion_svg::motion_svg(scene, &cmd, &motion)
+            .map_err(|e| CliError::input(e.to_string()))?;
+        let html = out
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
+        if html {
+            motion_svg::html_page(&format!("{}: command {cmd}", scene.name), &svg)
+        } else {
+            svg
+        }
+    } else {
+        let t = world.trace_values(&v).map_err(bad)?;
+        let overlay = e3d::report::scene_svg::Overlay {
+            command: cmd,
+            points: t.points,
+            poses: Some(t.poses),
+            effect: t.outcome.effect,
+            reward: t.outcome.reward,
+        };
+        e3d::report::scene_svg::scene_svg(scene, Some(&overlay))
+    };
+    write_file(out, page.as_bytes())?;
+    outln!("wrote {}", out.display());
+    Ok(())
+}

@@ -1,0 +1,300 @@
+//! What the commands that run sessions share (`e3d run` on commands of
+//! symbols and of values, `e3d sweep`): their arguments, the summary lines
+//! they print, and the streamed `trials.csv`.
+
+use super::{CliError, CliResult};
+use crate::cli::console::outln;
+use clap::Args;
+use e3d::world::{ExecOptions, Strategy};
+use e3d::{Command, CommandSpace, LearnerKind, Metrics, Outcome, Params, Recorder};
+use std::path::{Path, PathBuf};
+
+/// Arguments of `e3d run`.
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    /// A scene file, or the name of a built-in scene.
+    #[arg(default_value = e3d::scene::DEFAULT_SCENE)]
+    pub scene: String,
+    /// The learner: e3d, uniform or egreedy (the paper's), or e3d_relax,
+    /// count or smm (docs/algorithms.md).
+    #[arg(long, default_value = "e3d")]
+    pub learner: LearnerKind,
+    /// The number of trials.
+    #[arg(long, default_value_t = 5000, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+    pub trials: u64,
+    /// The session's seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Ignore the scene's reward (the paper's task 1).
+    #[arg(long)]
+    pub no_reward: bool,
+    /// Write DIR/trials.csv and DIR/summary.json.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Overwrite the files of an earlier run in --out.
+    #[arg(long)]
+    pub force: bool,
+    /// Keep the scene's outcomes in DIR and reuse them: a whole table, or
+    /// the commands executed so far (the file grows from run to run); keyed
+    /// by the scene's content and the e3d version.
+    #[arg(long, value_name = "DIR")]
+    pub table_cache: Option<PathBuf>,
+    /// Run N sessions, seeded --seed, --seed + 1, ..., in lockstep: each
+    /// trial's new commands of all sessions are simulated together.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    pub sessions: u64,
+    #[command(flatten)]
+    pub memo: MemoArgs,
+}
+
+/// The learners' hyper-parameters on the command line (defaults: task 1).
+#[derive(Args, Debug, Clone)]
+pub struct ParamArgs {
+    /// Learning rate alpha (> 0).
+    #[arg(long, default_value_t = Params::TASK1.alpha)]
+    pub alpha: f64,
+    /// Inverse temperature beta (> 0).
+    #[arg(long, default_value_t = Params::TASK1.beta)]
+    pub beta: f64,
+    /// Reward weight lambda (>= 0).
+    #[arg(long, default_value_t = Params::TASK1.lambda)]
+    pub lambda: f64,
+    /// Rate eta of the effect histogram, in (0, 1].
+    #[arg(long, default_value_t = Params::TASK1.eta)]
+    pub eta: f64,
+    /// Exploration rate epsilon of egreedy, in [0, 1].
+    #[arg(long, default_value_t = Params::TASK1.epsilon)]
+    pub epsilon: f64,
+}
+
+impl ParamArgs {
+    /// The checked parameters.
+    pub fn params(&self) -> Result<Params, CliError> {
+        let p = Params {
+            alpha: self.alpha,
+            beta: self.beta,
+            lambda: self.lambda,
+            eta: self.eta,
+            epsilon: self.epsilon,
+        };
+        p.validate()
+            .map_err(|e| CliError::input(format!("--{e}")))?;
+        Ok(p)
+    }
+}
+
+/// The outcome memo's options, shared by `run` and `sweep`.
+#[derive(Args, Debug, Clone)]
+pub struct MemoArgs {
+    /// The most command outcomes kept in memory by the outcome memo (each
+    /// command simulated once; about 50-100 bytes an entry); 0 turns it off.
+    #[arg(long, value_name = "N", default_value_t = e3d::world::DEFAULT_MEMO_CAP)]
+    pub memo_cap: usize,
+    /// How outcomes are obtained: auto (the cheapest by the cost rule),
+    /// table (every command once, up front), memo (each proposed command
+    /// once) or live (every proposal simulated). The results are the same.
+    #[arg(long, value_name = "HOW", default_value = "auto", value_parser = parse_outcomes)]
+    pub outcomes: Outcomes,
+}
+
+/// `--outcomes`: `auto` or a strategy.
+#[derive(Debug, Clone, Copy)]
+pub struct Outcomes(pub Option<Strategy>);
+
+fn parse_outcomes(s: &str) -> Result<Outcomes, String> {
+    match s {
+        "auto" => Ok(Outcomes(None)),
+        _ => s
+            .parse::<Strategy>()
+            .map(|st| Outcomes(Some(st)))
+            .map_err(|_| format!("`{s}`: expected auto, table, memo or live")),
+    }
+}
+
+impl MemoArgs {
+    /// The options of an [`Executor`] with the table folder `cache`.
+    pub fn options(&self, cache: Option<&Path>) -> ExecOptions {
+        ExecOptions {
+            cache: cache.map(Path::to_path_buf),
+            memo_cap: self.memo_cap,
+            force: self.outcomes.0,
+        }
+    }
+}
+
+/// Streams `trial,command,effect,reward` rows (with a leading `session`
+/// column for several sessions) into a temporary file beside the final
+/// one: a session of any length never holds its trials in memory.
+pub(super) struct TrialsCsv {
+    out: std::io::BufWriter<std::fs::File>,
+    path: PathBuf,
+    space: CommandSpace,
+    session: Option<usize>,
+    trial: usize,
+    error: Option<std::io::Error>,
+}
+
+impl TrialsCsv {
+    /// A new temporary file beside the final file `target` (created
+    /// exclusively: never through a link planted under its name).
+    pub(super) fn create(
+        target: &Path,
+        space: &CommandSpace,
+        session: Option<usize>,
+    ) -> Result<Self, CliError> {
+        let (path, f) = e3d::io::create_temp_beside(target)
+            .map_err(|e| CliError::output(format!("{}: cannot write: {e}", target.display())))?;
+        Ok(TrialsCsv {
+            out: std::io::BufWriter::with_capacity(1 << 16, f),
+            path,
+            space: space.clone(),
+            session,
+            trial: 0,
+            error: None,
+        })
+    }
+
+    /// Flushes; the file's path, or why it could not be written.
+    pub(super) fn finish(mut self) -> Result<PathBuf, CliError> {
+        use std::io::Write;
+        let r = match self.error.take() {
+            Some(e) => Err(e),
+            None => self.out.flush(),
+        };
+        r.map_err(|e| CliError::output(format!("{}: cannot write: {e}", self.path.display())))?;
+        Ok(self.path)
+    }
+}
+
+impl Recorder for TrialsCsv {
+    fn record(&mut self, command: &Command, outcome: &Outcome) {
+        use std::io::Write;
+        self.trial += 1;
+        if self.error.is_some() {
+            return;
+        }
+        let r = match self.session {
+            Some(s) => write!(self.out, "{s},"),
+            None => Ok(()),
+        }
+        .and_then(|()| {
+            writeln!(
+                self.out,
+                "{},{},{},{}",
+                self.trial,
+                self.space.format(command),
+                outcome.effect,
+                outcome.reward
+            )
+        });
+        if let Err(e) = r {
+            self.error = Some(e);
+        }
+    }
+}
+
+/// Joins the temporary trial files into `path` under one header, then
+/// renames it into place: the final file is whole or absent.
+pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
+    use std::io::Write;
+    let (tmp, file) = e3d::io::create_temp_beside(path)
+        .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))?;
+    let result = (|| -> std::io::Result<()> {
+        let mut out = std::io::BufWriter::new(file);
+        writeln!(out, "{header}")?;
+        for p in parts {
+            std::io::copy(&mut std::fs::File::open(p)?, &mut out)?;
+        }
+        out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    for p in parts {
+        let _ = std::fs::remove_file(p);
+    }
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
+}
+
+/// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order
+/// of a sweep's columns; nothing for the uniform policy, which uses none.
+pub(super) fn used_params(learner: LearnerKind, p: &Params) -> String {
+    let values = [p.alpha, p.beta, p.lambda, p.eta, p.epsilon];
+    let used: Vec<String> = e3d::sweep::PARAM_NAMES
+        .iter()
+        .zip(values)
+        .filter(|(name, _)| e3d::sweep::uses_param(learner, name))
+        .map(|(name, v)| format!("{name} {v}"))
+        .collect();
+    if used.is_empty() {
+        String::new()
+    } else {
+        format!(" | {}", used.join(" "))
+    }
+}
+
+/// The first line of a run's summary: scene, learner (`kind` after its
+/// name: `" (continuous)"` or nothing), trials, sessions and seeds, the
+/// parameters the learner reads.
+pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params, seeds: &[u64]) {
+    let sessions = seeds.len();
+    outln!(
+        "scene {scene} | learner {}{kind} | {} trials{} | seed {}{}{}",
+        a.learner,
+        a.trials,
+        if sessions > 1 {
+            format!(" x {sessions} sessions")
+        } else {
+            String::new()
+        },
+        if sessions > 1 {
+            format!("{}..={}", seeds[0], seeds[sessions - 1])
+        } else {
+            seeds[0].to_string()
+        },
+        used_params(a.learner, params),
+        if a.no_reward { " | no reward" } else { "" }
+    );
+}
+
+/// The metrics of each session (`seeds[i]` names session `i` when there
+/// are several) and, for several, their mean.
+pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usize) {
+    let sessions = metrics.len();
+    for (i, m) in metrics.iter().enumerate() {
+        let who = if sessions > 1 {
+            format!("seed {}: ", seeds[i])
+        } else {
+            String::new()
+        };
+        outln!(
+            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
+            m.normalized_entropy,
+            m.normalized_entropy_last_1000,
+            m.kl_to_target,
+            m.distinct_effects,
+            num_effects
+        );
+        if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
+            outln!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
+        }
+        outln!(
+            "{who}cumulative reward {} | first reward at trial {}",
+            m.cumulative_reward,
+            m.first_reward_trial
+                .map_or("-".to_string(), |t| t.to_string())
+        );
+    }
+    if sessions > 1 {
+        let mean =
+            |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
+        outln!(
+            "mean of {sessions} sessions: normalised entropy {:.4} | cumulative reward {:.1}",
+            mean(&|m| m.normalized_entropy),
+            mean(&|m| m.cumulative_reward)
+        );
+    }
+}
