@@ -53,7 +53,13 @@ fn a_sane_scene_gets_no_warning_and_exact_counts_when_small() {
         out.contains("reward cells reached by 1 of 81 commands (1.235%)"),
         "{out}"
     );
-    assert_eq!(err, "", "a sane scene gets no warning");
+    // no warning; on a slow machine the estimated cost comes first (its
+    // time is the machine's, so it is not asserted on)
+    let warnings: Vec<&str> = err
+        .lines()
+        .filter(|l| !l.starts_with("scene check arm4_gravity: about "))
+        .collect();
+    assert!(warnings.is_empty(), "a sane scene gets no warning: {err}");
 }
 
 #[test]
