@@ -2,7 +2,8 @@
 //! command per world and many copies per world), the reset alone, and a
 //! 5000-trial E3D session on each scene's outcome table; and a trial of
 //! continuous commands on arm7_continuous (one Gaussian E3D trial on live
-//! physics).
+//! physics); and the loader on a scene of 10,000 bodies (the most it
+//! takes), whose names are checked in linear time.
 //!
 //! `cargo bench --bench physics`; criterion prints each rate (elements/s
 //! are rollouts/s or trials/s). The figures are in docs/benchmarks.md.
@@ -128,5 +129,59 @@ fn continuous(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, physics, continuous);
+/// A two-link arm's scene with `n` more fixed balls, in `bodies` (the
+/// scene of tests/physics/scene_errors.rs's body cap).
+fn many_bodies(n: usize) -> String {
+    const BASE: &str = r#"Scene(
+    name: "base",
+    world: Physics(
+        bodies: [
+            (name: "wall", kind: Fixed, shape: Cuboid(width: 4.0, height: 0.1), position: (0.0, -1.0)),
+            (name: "upper", shape: Cuboid(width: 0.5, height: 0.05), mass: 0.2, position: (0.25, 0.0)),
+            (name: "lower", shape: Cuboid(width: 0.5, height: 0.05), mass: 0.2, position: (0.75, 0.0)),
+        ],
+        joints: [
+            (name: "shoulder", parent: "ground", child: "upper", child_anchor: (-0.25, 0.0)),
+            (name: "elbow", parent: "upper", child: "lower",
+             parent_anchor: (0.25, 0.0), child_anchor: (-0.25, 0.0), motor: (stiffness: 5.0)),
+        ],
+        schedule: Simultaneous(push: 0.25, settle: 0.5),
+        effect: (body: "lower", point: (0.25, 0.0),
+                 grid: (rows: 4, cols: 4, min: (-1.0, -1.0), max: (1.0, 1.0))),
+    ),
+    command: Slots([
+        (alphabet: [(symbol: '-', action: Torque(joint: "shoulder", torque: -1.0)),
+                    (symbol: '+', action: Torque(joint: "shoulder", torque: 1.0))]),
+        (alphabet: [(symbol: '0', action: Idle),
+                    (symbol: 't', action: Target(joint: "elbow", angle: 0.5))]),
+    ]),
+)"#;
+    let bodies: String = (0..n)
+        .map(|i| {
+            format!(
+                "(name: \"b{i}\", kind: Fixed, shape: Ball(radius: 0.1), position: ({}.0, 5.0)),\n",
+                i % 1000
+            )
+        })
+        .collect();
+    BASE.replacen(
+        "        bodies: [\n",
+        &format!("        bodies: [\n{bodies}"),
+        1,
+    )
+}
+
+/// Loading (parsing and validating) a scene of 10,000 bodies, the most a
+/// scene may hold.
+fn scene_parse(c: &mut Criterion) {
+    let text = many_bodies(10_000 - 3);
+    let mut g = c.benchmark_group("scene_parse");
+    g.sample_size(10);
+    g.bench_function("10000_bodies", |b| {
+        b.iter(|| black_box(Scene::parse(&text, "s.ron").unwrap()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, physics, continuous, scene_parse);
 criterion_main!(benches);

@@ -1,6 +1,7 @@
 //! Research-scale command spaces: what the outcome memo costs per trial,
 //! and sessions in lockstep on a space no table fits (`puck_rooms` with 14
-//! slots, 4^14 commands).
+//! slots, 4^14 commands); and the refusal of a sweep too large to plan
+//! (10^8 cells), which costs its size check.
 //!
 //! `cargo bench --bench scale`; criterion prints each rate (elements/s are
 //! trials/s, summed over sessions). The end-to-end targets (a whole sweep,
@@ -103,5 +104,21 @@ fn scale(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, scale);
+/// `Sweep::parse` of a sweep of 100000 x 1000 values (10^8 cells, over
+/// the 10^7 sessions a plan may hold): refused from the counts of values,
+/// before the ranges are expanded (tests/library/outcomes.rs checks the
+/// message).
+fn sweep_refusal(c: &mut Criterion) {
+    let text = r#"Sweep(scenes: ["two_rooms"], learners: [e3d], use_reward: [false],
+        params: (beta: (scale: Log, from: 1, to: 1000, steps: 100000),
+                 eta: (scale: Linear, from: 0.001, to: 0.1, steps: 1000)),
+        sessions: 1, trials: 10, seed: 1)"#;
+    let mut g = c.benchmark_group("sweep_parse");
+    g.bench_function("refused_1e8_cells", |b| {
+        b.iter(|| black_box(e3d::sweep::Sweep::parse(text, "huge.ron", None).unwrap_err()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, scale, sweep_refusal);
 criterion_main!(benches);

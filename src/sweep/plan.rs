@@ -4,7 +4,9 @@
 use super::factory::{
     is_identifier, FactoryError, LearnerFactory, Learners, SceneFiles, SweepScene, WorldFactory,
 };
-use super::spec::{invalid, param_of, set_param, MetricSpec, SweepSpec, CODE_FILE, PARAM_NAMES};
+use super::spec::{
+    invalid, param_of, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS, PARAM_NAMES,
+};
 use super::{SweepError, MAX_SESSIONS};
 use crate::hash::session_seed;
 use crate::learner::{LearnerKind, Params};
@@ -298,6 +300,17 @@ impl Sweep {
         let bad = |field: &str, anchor: Option<&str>, expected: &str| {
             invalid(file, located, field, anchor, expected)
         };
+        // the size first, from the counts of values alone: a sweep too
+        // large to plan is refused before its ranges are expanded and
+        // checked value by value (which takes seconds for 100000 steps)
+        if let Some(counts) = value_counts(&spec) {
+            let uses: Vec<[bool; 5]> = spec
+                .learners
+                .iter()
+                .filter_map(|l| learners.uses(l))
+                .collect();
+            check_size(&spec, cells_of(&counts, &uses, &spec), &bad)?;
+        }
         let checked = spec.check_in(file, located)?;
         let (axes, metrics) = (checked.axes, checked.metrics);
         // the learners: known, and names that fit a CSV field and a file
@@ -348,25 +361,10 @@ impl Sweep {
             }
             scenes.push(scene);
         }
-        // the size, before making the cells
-        let mut num_cells: usize = 0;
-        for used in &uses {
-            let per: usize = (0..5)
-                .filter(|&i| used[i])
-                .fold(1usize, |acc, i| acc.saturating_mul(axes[i].len()));
-            num_cells = num_cells.saturating_add(per.saturating_mul(spec.use_reward.len()));
-        }
-        let num_cells = num_cells.saturating_mul(scenes.len());
-        if num_cells.saturating_mul(spec.sessions) > MAX_SESSIONS {
-            return Err(bad(
-                "sessions",
-                None,
-                &format!(
-                    "at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {}",
-                    spec.sessions
-                ),
-            ));
-        }
+        // the size, before making the cells (checked above already when
+        // the counts of values were known before expanding them)
+        let counts: [usize; 5] = std::array::from_fn(|i| axes[i].len());
+        let num_cells = check_size(&spec, cells_of(&counts, &uses, &spec), &bad)?;
         // cells
         let mut cells = Vec::with_capacity(num_cells);
         for (si, _) in scenes.iter().enumerate() {
@@ -571,6 +569,59 @@ impl Sweep {
         }
         work
     }
+}
+
+/// The number of values of each of [`PARAM_NAMES`] in `spec` without
+/// making them (a range's `steps`); `None` when one of them is a count
+/// that [`SweepSpec::check_in`] refuses (no values, too many steps), so
+/// that its own message comes first.
+fn value_counts(spec: &SweepSpec) -> Option<[usize; 5]> {
+    let mut counts = [1; 5];
+    for (i, name) in PARAM_NAMES.iter().enumerate() {
+        counts[i] = match spec.params.get(name) {
+            None => 1,
+            Some(Values::List(v)) => v.len(),
+            Some(Values::Range { steps, .. }) if *steps > MAX_STEPS => return None,
+            Some(Values::Range { steps, .. }) => *steps,
+        };
+        if counts[i] == 0 {
+            return None;
+        }
+    }
+    Some(counts)
+}
+
+/// The number of cells of `spec` whose parameters have `counts` values
+/// and whose learners use the parameters `uses`.
+fn cells_of(counts: &[usize; 5], uses: &[[bool; 5]], spec: &SweepSpec) -> usize {
+    let mut num_cells: usize = 0;
+    for used in uses {
+        let per: usize = (0..5)
+            .filter(|&i| used[i])
+            .fold(1usize, |acc, i| acc.saturating_mul(counts[i]));
+        num_cells = num_cells.saturating_add(per.saturating_mul(spec.use_reward.len()));
+    }
+    num_cells.saturating_mul(spec.scenes.len())
+}
+
+/// `num_cells`, or the refusal of a sweep of more than [`MAX_SESSIONS`]
+/// sessions.
+fn check_size(
+    spec: &SweepSpec,
+    num_cells: usize,
+    bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
+) -> Result<usize, SweepError> {
+    if num_cells.saturating_mul(spec.sessions) > MAX_SESSIONS {
+        return Err(bad(
+            "sessions",
+            None,
+            &format!(
+                "at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {}",
+                spec.sessions
+            ),
+        ));
+    }
+    Ok(num_cells)
 }
 
 #[cfg(test)]

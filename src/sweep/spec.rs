@@ -261,7 +261,7 @@ pub struct ParamValues {
 }
 
 impl ParamValues {
-    fn get(&self, name: &str) -> Option<&Values> {
+    pub(super) fn get(&self, name: &str) -> Option<&Values> {
         match name {
             "alpha" => self.alpha.as_ref(),
             "beta" => self.beta.as_ref(),
@@ -714,8 +714,11 @@ impl SweepSpec {
                     if values.is_empty() {
                         return Err(bad(name, None, "at least one value, found an empty list"));
                     }
-                    for (j, x) in values.iter().enumerate() {
-                        if values[..j].contains(x) {
+                    // distinct: equal floats have equal bits once -0 is +0
+                    // (NaN equals nothing, and the check below refuses it)
+                    let mut seen = std::collections::HashSet::with_capacity(values.len());
+                    for x in &values {
+                        if !x.is_nan() && !seen.insert((x + 0.0).to_bits()) {
                             return Err(bad(
                                 name,
                                 None,

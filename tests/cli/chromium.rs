@@ -4,6 +4,7 @@
 //! `chromium-browser`, `google-chrome`) is on the PATH: CI machines do not
 //! install it.
 
+use crate::common::temp_path;
 use e3d::report::html::{parse_trials, run_page};
 use e3d::report::motion_svg::{html_page, motion_svg};
 use e3d::Scene;
@@ -55,7 +56,7 @@ fn pages_render_in_headless_chromium() {
         );
         return;
     };
-    let dir = std::env::temp_dir().join(format!("e3d-chromium-{}", std::process::id()));
+    let dir = temp_path("chromium");
     std::fs::create_dir_all(&dir).unwrap();
     let scene = Scene::builtin("arm7").unwrap();
     let mut w = scene.physics_world().unwrap();

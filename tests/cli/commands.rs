@@ -1,20 +1,8 @@
 //! The command line: outputs, refusals and exit codes.
 
+use crate::common::{e3d, e3d_command, fresh_path, temp_path};
 use std::path::Path;
 use std::process::{Command, Output};
-
-fn e3d(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_e3d"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn tmp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("e3d-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
 
 fn read(p: &Path) -> Vec<u8> {
     std::fs::read(p).unwrap()
@@ -22,7 +10,7 @@ fn read(p: &Path) -> Vec<u8> {
 
 #[test]
 fn run_writes_trials_and_summary_and_the_same_seed_gives_the_same_bytes() {
-    let (a, b) = (tmp("run-a"), tmp("run-b"));
+    let (a, b) = (fresh_path("cli-run-a"), fresh_path("cli-run-b"));
     for d in [&a, &b] {
         let o = e3d(&[
             "run",
@@ -80,7 +68,7 @@ fn run_writes_trials_and_summary_and_the_same_seed_gives_the_same_bytes() {
 
 #[test]
 fn run_refuses_to_overwrite_without_force() {
-    let d = tmp("overwrite");
+    let d = fresh_path("cli-overwrite");
     let out = d.to_str().unwrap();
     assert!(e3d(&["run", "--trials", "10", "--out", out])
         .status
@@ -120,8 +108,8 @@ fn reproduce_writes_the_same_bytes_whatever_the_number_of_threads() {
     let outs: Vec<_> = ["1", "2"]
         .iter()
         .map(|threads| {
-            let d = tmp(&format!("repro-{threads}"));
-            let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+            let d = fresh_path(&format!("cli-repro-{threads}"));
+            let o = e3d_command()
                 .args([
                     "reproduce",
                     "--sessions",
@@ -150,7 +138,7 @@ fn reproduce_writes_the_same_bytes_whatever_the_number_of_threads() {
 
 #[test]
 fn an_unwritable_output_folder_is_a_clear_error() {
-    let d = tmp("unwritable");
+    let d = fresh_path("cli-unwritable");
     std::fs::create_dir_all(&d).unwrap();
     let file = d.join("a-file");
     std::fs::write(&file, b"x").unwrap();
@@ -180,7 +168,7 @@ fn an_unwritable_output_folder_is_a_clear_error() {
 #[cfg(unix)]
 #[test]
 fn a_closed_stdout_ends_quietly() {
-    let dir = std::env::temp_dir().join(format!("e3d-pipe-{}", std::process::id()));
+    let dir = temp_path("pipe");
     std::fs::create_dir_all(&dir).unwrap();
     let commands = dir.join("commands.txt");
     std::fs::write(&commands, "SEEEEES\n".repeat(200_000)).unwrap();
@@ -227,7 +215,7 @@ fn unwritable_or_closed_output_is_exit_code_3() {
     let (code, err) = sh(format!("'{bin}' scene check two_rooms > /dev/null"));
     assert_eq!(code, Some(0), "{err}");
     // stderr full: the progress line of a sweep cannot be written
-    let dir = std::env::temp_dir().join(format!("e3d-full-{}", std::process::id()));
+    let dir = temp_path("full");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(
@@ -331,7 +319,7 @@ fn a_reproduce_seed_that_would_wrap_is_refused() {
 #[test]
 fn a_command_written_minus_is_given_on_stdin() {
     use std::io::Write;
-    let dir = std::env::temp_dir().join(format!("e3d-minus-{}", std::process::id()));
+    let dir = temp_path("minus");
     std::fs::create_dir_all(&dir).unwrap();
     let scene = dir.join("minus.ron");
     std::fs::write(
@@ -340,7 +328,7 @@ fn a_command_written_minus_is_given_on_stdin() {
     command: Repeat(slots: 1, alphabet: [(symbol: '-', action: Move(drow: 0, dcol: 1)), (symbol: '0', action: Idle)]))"#,
     )
     .unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let mut child = e3d_command()
         .args(["scene", "exec", scene.to_str().unwrap(), "-"])
         .stdin(std::process::Stdio::piped())
         .stdout(std::process::Stdio::piped())
@@ -364,16 +352,12 @@ fn a_command_written_minus_is_given_on_stdin() {
 /// refusal names `--force` and touches nothing.
 #[test]
 fn reproduce_refuses_to_replace_an_earlier_reproduction_without_force() {
-    let d = tmp("repro-force");
+    let d = fresh_path("cli-repro-force");
     std::fs::create_dir_all(&d).unwrap();
     let run = |extra: &[&str]| {
         let mut args = vec!["reproduce", "--sessions", "1", "--trials", "50"];
         args.extend_from_slice(extra);
-        Command::new(env!("CARGO_BIN_EXE_e3d"))
-            .args(&args)
-            .current_dir(&d)
-            .output()
-            .unwrap()
+        e3d_command().args(&args).current_dir(&d).output().unwrap()
     };
     // no out/ yet: the README's `cargo run --release -- reproduce`
     let o = run(&[]);
@@ -477,7 +461,7 @@ fn scene_check_expanded_prints_a_scene_that_loads_back_equal() {
             !text.contains("chains:") && !text.contains("walls:"),
             "{text}"
         );
-        let file = tmp(&format!("expanded_{name}.ron"));
+        let file = fresh_path(&format!("cli-expanded_{name}.ron"));
         std::fs::write(&file, &text).unwrap();
         let back = e3d::Scene::load(&file).unwrap();
         assert_eq!(back, e3d::Scene::load(&path).unwrap(), "{name}");
@@ -499,7 +483,7 @@ fn ok(o: &Output) -> (String, String) {
 
 #[test]
 fn report_writes_a_run_folders_page_and_says_where() {
-    let d = tmp("report-run");
+    let d = fresh_path("cli-report-run");
     let ds = d.to_str().unwrap();
     ok(&e3d(&["run", "two_rooms", "--trials", "500", "--out", ds]));
     let (out, _) = ok(&e3d(&["report", ds]));
@@ -523,7 +507,7 @@ fn report_writes_a_run_folders_page_and_says_where() {
 
 #[test]
 fn report_writes_a_sweep_folders_page_with_its_summary() {
-    let d = tmp("report-sweep");
+    let d = fresh_path("cli-report-sweep");
     std::fs::create_dir_all(&d).unwrap();
     let file = d.join("s.ron");
     std::fs::write(
@@ -574,7 +558,7 @@ fn report_writes_a_sweep_folders_page_with_its_summary() {
 
 #[test]
 fn report_refuses_a_missing_folder_and_one_without_results_naming_it() {
-    let d = tmp("report-bad");
+    let d = fresh_path("cli-report-bad");
     let missing = d.join("nothing-here");
     let o = e3d(&["report", missing.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
@@ -603,7 +587,7 @@ fn report_refuses_a_missing_folder_and_one_without_results_naming_it() {
 
 #[test]
 fn scene_render_animate_writes_smil_for_physics_and_grids() {
-    let d = tmp("animate");
+    let d = fresh_path("cli-animate");
     std::fs::create_dir_all(&d).unwrap();
     // physics: an SVG and a page
     let svg = d.join("arm7.svg");
@@ -684,7 +668,7 @@ fn scene_render_animate_writes_smil_for_physics_and_grids() {
 /// `e3d` with the global rayon pool of `threads` threads and `stdin`.
 fn e3d_threads(args: &[&str], threads: usize, stdin: Option<&str>) -> Output {
     use std::io::Write;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let mut child = e3d_command()
         .args(args)
         .env("RAYON_NUM_THREADS", threads.to_string())
         .stdin(std::process::Stdio::piped())
@@ -766,7 +750,7 @@ fn long_scene_tools_print_their_estimated_cost_first() {
         None,
     ));
     assert_eq!(err, "");
-    let d = tmp("quiet-animate");
+    let d = fresh_path("cli-quiet-animate");
     std::fs::create_dir_all(&d).unwrap();
     let f = d.join("a.svg");
     let (_, err) = ok(&e3d_threads(
@@ -831,7 +815,7 @@ fn output_files_are_created_only_through_e3d_io() {
 /// trials go to an exclusive temporary file that is renamed into place.
 #[test]
 fn run_out_leaves_only_its_files_and_writes_through_no_planted_link() {
-    let dir = tmp("run-planted-link");
+    let dir = fresh_path("cli-run-planted-link");
     std::fs::create_dir_all(&dir).unwrap();
     let victim = dir.with_extension("victim");
     std::fs::write(&victim, "keep me").unwrap();

@@ -1,10 +1,10 @@
 //! `e3d compare`: every drive on chosen scenes, a table, a figure and the
 //! sessions' rows, the same whatever the threads.
 
-use std::process::Command;
+use crate::common::{e3d_command, temp_path};
 
 fn compare(out: &std::path::Path, threads: &str) -> String {
-    let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let o = e3d_command()
         .args([
             "compare",
             "--scenes",
@@ -24,7 +24,7 @@ fn compare(out: &std::path::Path, threads: &str) -> String {
 
 #[test]
 fn compare_writes_the_table_the_figure_and_the_rows() {
-    let dir = std::env::temp_dir().join(format!("e3d-compare-{}", std::process::id()));
+    let dir = temp_path("compare");
     let _ = std::fs::remove_dir_all(&dir);
     let stdout = compare(&dir.join("a"), "1");
     let md = std::fs::read_to_string(dir.join("a/drives.md")).unwrap();
@@ -71,7 +71,7 @@ fn compare_writes_the_table_the_figure_and_the_rows() {
         );
     }
     // an earlier comparison is not overwritten without --force
-    let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let o = e3d_command()
         .args([
             "compare",
             "--scenes",

@@ -2,6 +2,9 @@
 //! the scene tools, sweeps and the pages in a browser. One test binary;
 //! each module is one topic.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod chromium;
 mod commands;
 mod compare;

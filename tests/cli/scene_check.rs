@@ -1,10 +1,10 @@
 //! `e3d scene check`: the sampled reachability estimate and the geometric
 //! warnings, asserted on their messages.
 
-use std::process::Command;
+use crate::common::{e3d_command, temp_path};
 
 fn check(args: &[&str]) -> (String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let out = e3d_command()
         .args(["scene", "check"])
         .args(args)
         .output()
@@ -36,7 +36,7 @@ fn builtin(name: &str) -> String {
 }
 
 fn write(name: &str, text: &str) -> String {
-    let dir = std::env::temp_dir().join(format!("e3d-check-{}", std::process::id()));
+    let dir = temp_path("check");
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
@@ -53,7 +53,13 @@ fn a_sane_scene_gets_no_warning_and_exact_counts_when_small() {
         out.contains("reward cells reached by 1 of 81 commands (1.235%)"),
         "{out}"
     );
-    assert_eq!(err, "", "a sane scene gets no warning");
+    // no warning; on a slow machine the estimated cost comes first (its
+    // time is the machine's, so it is not asserted on)
+    let warnings: Vec<&str> = err
+        .lines()
+        .filter(|l| !l.starts_with("scene check arm4_gravity: about "))
+        .collect();
+    assert!(warnings.is_empty(), "a sane scene gets no warning: {err}");
 }
 
 #[test]
@@ -159,10 +165,7 @@ fn a_wall_outside_the_grid_and_a_start_outside_it_are_warned_about() {
 fn a_wall_through_the_puck_is_refused() {
     let text = three_rooms_bodies().replace("position: (3.0, 2.5)", "position: (0.5, 2.5)");
     let f = write("through.ron", &text);
-    let out = Command::new(env!("CARGO_BIN_EXE_e3d"))
-        .args(["scene", "check", &f])
-        .output()
-        .unwrap();
+    let out = e3d_command().args(["scene", "check", &f]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(

@@ -1,8 +1,8 @@
 //! Blown-up simulations are reported, never turned into an effect; the
 //! `e3d scene` commands and their exit codes.
 
+use crate::common::{e3d_command, stdout_of, temp_path};
 use e3d::{Scene, World, WorldError};
-use std::process::Command as Proc;
 
 /// A rod on a pivot (no gravity) and a free puck; slot 0 drives the rod
 /// with `torque`, slot 1 kicks the puck with `kick` N*s.
@@ -69,21 +69,6 @@ fn a_body_at_the_angular_cap_is_a_divergence_unless_allowed() {
     assert!(run(&scene(100.0, 1.0, true), "T0").is_ok());
 }
 
-fn e3d() -> Proc {
-    Proc::new(env!("CARGO_BIN_EXE_e3d"))
-}
-
-/// The standard output of `e3d ARGS`, which must succeed.
-fn stdout_of(args: &[&str]) -> String {
-    let out = e3d().args(args).output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
 /// Asserts that `text` contains each of `wants`.
 fn assert_contains_all(text: &str, wants: &[&str]) {
     for want in wants {
@@ -110,7 +95,7 @@ fn scene_check_summarises_arm7() {
 
 #[test]
 fn scene_exec_prints_csv_and_reads_stdin() {
-    let out = e3d()
+    let out = e3d_command()
         .args(["scene", "exec", "arm7", "0000000", "-++++--"])
         .output()
         .unwrap();
@@ -126,7 +111,7 @@ fn scene_exec_prints_csv_and_reads_stdin() {
     assert!(lines[2].starts_with("-++++--,95,1,"), "{}", lines[2]);
 
     use std::io::Write;
-    let mut child = e3d()
+    let mut child = e3d_command()
         .args(["scene", "exec", "scenes/puck_rooms.ron", "-"])
         .stdin(std::process::Stdio::piped())
         .stdout(std::process::Stdio::piped())
@@ -149,13 +134,13 @@ fn scene_exec_prints_csv_and_reads_stdin() {
 #[test]
 fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
     // a command that does not fit: bad input (2)
-    let out = e3d()
+    let out = e3d_command()
         .args(["scene", "exec", "arm7", "00"])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     // a scene mistake: bad input (2), with file:line:col of the field
-    let dir = std::env::temp_dir().join(format!("e3d-physics-cli-{}", std::process::id()));
+    let dir = temp_path("physics-cli");
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.ron");
     std::fs::write(
@@ -166,7 +151,11 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
         ),
     )
     .unwrap();
-    let out = e3d().args(["scene", "check"]).arg(&bad).output().unwrap();
+    let out = e3d_command()
+        .args(["scene", "check"])
+        .arg(&bad)
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(
@@ -176,7 +165,7 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
     // a blown-up simulation: 4, after the rows of the commands before it
     let blow = dir.join("blowup.ron");
     std::fs::write(&blow, scene(1.0, 1e4, false)).unwrap();
-    let out = e3d()
+    let out = e3d_command()
         .args(["scene", "exec"])
         .arg(&blow)
         .args(["T0", "0K", "00"])
@@ -193,7 +182,7 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
     assert!(rows.lines().nth(1).unwrap().starts_with("T0,"), "{rows}");
     // render writes an SVG with the path
     let svg = dir.join("arm7.svg");
-    let out = e3d()
+    let out = e3d_command()
         .args(["scene", "render", "arm7", "--command", "-++++--", "--out"])
         .arg(&svg)
         .output()
@@ -208,10 +197,10 @@ fn exit_codes_tell_bad_input_from_a_blown_up_simulation() {
 
 #[test]
 fn scene_table_computes_writes_then_reads_the_table() {
-    let dir = std::env::temp_dir().join(format!("e3d-scene-table-{}", std::process::id()));
+    let dir = temp_path("scene-table");
     let _ = std::fs::remove_dir_all(&dir);
     let run = || {
-        let out = e3d()
+        let out = e3d_command()
             .args(["scene", "table", "puck_rooms", "--cache"])
             .arg(&dir)
             .output()
@@ -264,7 +253,7 @@ fn scene_stats_reports_a_physics_scene_and_refuses_a_grid() {
             "top linear speed 8.729 m/s (max_speed 100 m/s); top angular speed 22.59 rad/s",
         ],
     );
-    let out = e3d()
+    let out = e3d_command()
         .args(["scene", "stats", "two_rooms"])
         .output()
         .unwrap();
@@ -277,7 +266,7 @@ fn scene_stats_reports_a_physics_scene_and_refuses_a_grid() {
 /// suspicious: here a dynamic body that starts outside the effect grid.
 #[test]
 fn scene_check_warns_about_a_body_outside_the_effect_grid() {
-    let o = e3d()
+    let o = e3d_command()
         .args(["scene", "check", "tests/scenes/blowup.ron"])
         .output()
         .unwrap();
@@ -299,7 +288,7 @@ fn scene_check_warns_about_a_body_outside_the_effect_grid() {
         "three_rooms",
         "arm4_gravity",
     ] {
-        let o = e3d()
+        let o = e3d_command()
             .args(["scene", "check", s, "--samples", "0"])
             .output()
             .unwrap();

@@ -3,15 +3,12 @@
 //! look-ups in a cached outcome table. And the progress of `scene table`
 //! stays on stderr.
 
+use crate::common::{e3d_command, temp_path};
 use e3d::{OutcomeTable, Scene, World};
 use std::io::{BufRead, BufReader, Write};
-use std::process::{Command as Proc, Stdio};
+use std::process::Stdio;
 use std::sync::mpsc;
 use std::time::Duration;
-
-fn e3d() -> Proc {
-    Proc::new(env!("CARGO_BIN_EXE_e3d"))
-}
 
 /// `count` commands of `scene` spread over its space (with repeats when
 /// the space is smaller), as text.
@@ -47,7 +44,7 @@ fn expected_csv(scene: &Scene, texts: &[String]) -> Vec<String> {
 /// Runs `e3d scene exec ARGS -` with `input` on stdin (written from
 /// another thread, so that a large output cannot block it).
 fn exec_stdin(args: &[&str], input: String) -> std::process::Output {
-    let mut child = e3d()
+    let mut child = e3d_command()
         .args(["scene", "exec"])
         .args(args)
         .arg("-")
@@ -103,7 +100,7 @@ fn exec_rows_equal_single_executes_line_for_line() {
 #[test]
 fn exec_answers_each_line_before_stdin_ends() {
     for (name, command) in [("two_rooms", "EEEEEEE"), ("puck_rooms", "SEEEEES")] {
-        let mut child = e3d()
+        let mut child = e3d_command()
             .args(["scene", "exec", name, "-"])
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
@@ -147,7 +144,7 @@ fn exec_answers_each_line_before_stdin_ends() {
 #[test]
 fn exec_with_a_table_cache_gives_the_same_rows() {
     use e3d::world::CachedOutcomes;
-    let dir = std::env::temp_dir().join(format!("e3d-exec-cache-{}", std::process::id()));
+    let dir = temp_path("exec-cache");
     let _ = std::fs::remove_dir_all(&dir);
     let scene = Scene::builtin("pendulum3").unwrap();
     let texts = commands(&scene, 125);
@@ -188,7 +185,7 @@ fn exec_with_a_table_cache_gives_the_same_rows() {
         Ok(CachedOutcomes::Full(_))
     ));
     // the whole table, as `scene table --cache` also reads it
-    let out = e3d()
+    let out = e3d_command()
         .args(["scene", "table", "pendulum3", "--cache"])
         .arg(&dir)
         .output()
@@ -232,7 +229,7 @@ fn a_bad_line_is_an_error_after_the_rows_before_it() {
 /// two lines of result.
 #[test]
 fn scene_table_says_its_cost_on_stderr_only() {
-    let out = e3d()
+    let out = e3d_command()
         .args(["scene", "table", "pendulum3"])
         .output()
         .unwrap();

@@ -2,17 +2,17 @@
 //! it, as drawn: the tracked point above the path's start, the reward
 //! cell's fill unchanged under the terminal cell, the mirror line, the axes.
 
-use std::process::Command;
+use crate::common::{e3d_command, temp_path};
 
 fn render(scene: &str, command: Option<&str>) -> String {
-    let dir = std::env::temp_dir().join(format!("e3d-pictures-{}", std::process::id()));
+    let dir = temp_path("pictures");
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join(format!("{scene}-{}.svg", command.unwrap_or("none")));
     let mut args = vec!["scene".to_string(), "render".into(), scene.into()];
     if let Some(c) = command {
         args.push(format!("--command={c}"));
     }
-    let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let o = e3d_command()
         .args(&args)
         .arg("--out")
         .arg(&out)

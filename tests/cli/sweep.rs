@@ -1,37 +1,9 @@
 //! `e3d sweep` and `e3d merge`: byte-identical results with any number of
 //! threads, after a kill and a resume, and from shards.
 
+use crate::common::{e3d, e3d_command, ok, temp_dir};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::time::{Duration, Instant};
-
-const E3D: &str = env!("CARGO_BIN_EXE_e3d");
-
-/// A fresh, empty temporary folder for one test, removed at the end unless
-/// the test fails (to look into).
-struct TempDir(PathBuf);
-
-impl std::ops::Deref for TempDir {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        if !std::thread::panicking() {
-            let _ = std::fs::remove_dir_all(&self.0);
-        }
-    }
-}
-
-fn temp(name: &str) -> TempDir {
-    let d = std::env::temp_dir().join(format!("e3d-test-sweep-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    TempDir(d)
-}
 
 /// A small sweep on two_rooms: 2 x 3 e3d cells, 2 egreedy cells, 1 uniform,
 /// with and without reward.
@@ -59,20 +31,6 @@ Sweep(
     p
 }
 
-fn e3d(args: &[&str]) -> Output {
-    Command::new(E3D).args(args).output().unwrap()
-}
-
-fn ok(out: Output) -> Output {
-    assert!(
-        out.status.success(),
-        "e3d failed: {}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
-}
-
 const FINAL_FILES: [&str; 4] = ["results.csv", "summary.csv", "sweep.ron", "version.txt"];
 
 fn assert_same_files(a: &Path, b: &Path, files: &[&str]) {
@@ -96,7 +54,7 @@ fn journal_rows(dir: &Path) -> usize {
 
 #[test]
 fn one_thread_and_two_threads_give_the_same_bytes() {
-    let d = temp("threads");
+    let d = temp_dir("sweep-threads");
     let file = small_sweep(&d, 3, 400);
     let f = file.to_str().unwrap();
     let (a, b) = (d.join("a"), d.join("b"));
@@ -158,7 +116,7 @@ fn one_thread_and_two_threads_give_the_same_bytes() {
 
 #[test]
 fn the_library_gives_the_rows_the_command_line_writes() {
-    let d = temp("library");
+    let d = temp_dir("sweep-library");
     let file = small_sweep(&d, 2, 300);
     let out = d.join("out");
     ok(e3d(&[
@@ -183,7 +141,7 @@ fn the_library_gives_the_rows_the_command_line_writes() {
 
 #[test]
 fn a_killed_sweep_resumes_to_the_same_bytes() {
-    let d = temp("kill");
+    let d = temp_dir("sweep-kill");
     let file = small_sweep(&d, 25, 2000);
     let f = file.to_str().unwrap();
     let whole = d.join("whole");
@@ -205,7 +163,7 @@ fn a_killed_sweep_resumes_to_the_same_bytes() {
         if round > 0 {
             args.push("--resume");
         }
-        let mut child = Command::new(E3D)
+        let mut child = e3d_command()
             .args(&args)
             .stderr(std::process::Stdio::null())
             .spawn()
@@ -258,7 +216,7 @@ fn a_killed_sweep_resumes_to_the_same_bytes() {
 /// a start.
 #[test]
 fn a_refused_folder_prints_no_plan() {
-    let d = temp("refuse-first");
+    let d = temp_dir("sweep-refuse-first");
     let a = small_sweep(&d, 1, 50);
     let out = d.join("out");
     let o = out.to_str().unwrap();
@@ -287,7 +245,7 @@ fn a_refused_folder_prints_no_plan() {
 
 #[test]
 fn resume_refuses_a_folder_of_another_sweep() {
-    let d = temp("other");
+    let d = temp_dir("sweep-other");
     let a = small_sweep(&d, 1, 100);
     let out = d.join("out");
     ok(e3d(&[
@@ -317,7 +275,7 @@ fn resume_refuses_a_folder_of_another_sweep() {
 
 #[test]
 fn three_shards_merge_to_the_one_process_bytes() {
-    let d = temp("shards");
+    let d = temp_dir("sweep-shards");
     let file = small_sweep(&d, 4, 300);
     let f = file.to_str().unwrap();
     let whole = d.join("whole");
@@ -325,7 +283,7 @@ fn three_shards_merge_to_the_one_process_bytes() {
     // three separate processes at once
     let children: Vec<_> = (1..=3)
         .map(|k| {
-            Command::new(E3D)
+            e3d_command()
                 .args([
                     "sweep",
                     f,
@@ -408,7 +366,7 @@ fn bad_sweep_files_are_refused_with_their_place() {
         ("range_without_scale.ron", "range_without_scale.ron:6:46: missing field `scale` in a range; expected `scale: Linear` or `scale: Log`"),
         ("bad_metric.ron", "bad_metric.ron:7:29: field `metrics`: expected cumulative_reward(T) with T in 1..=100 (the trials), found 500"),
     ];
-    let out = temp("bad");
+    let out = temp_dir("sweep-bad");
     for (file, expected) in cases {
         let path = dir.join(file);
         let r = e3d(&[
@@ -471,7 +429,7 @@ fn shipped_sweeps_parse() {
 
 #[test]
 fn plots_are_drawn_from_the_summary() {
-    let d = temp("plot");
+    let d = temp_dir("sweep-plot");
     let file = small_sweep(&d, 2, 200);
     let out = d.join("out");
     let o = out.to_str().unwrap();
@@ -649,7 +607,7 @@ fn the_sweep_shows_the_beta_threshold_of_task_2() {
 
 #[test]
 fn resume_refuses_a_folder_that_holds_no_sweep() {
-    let d = temp("foreign");
+    let d = temp_dir("sweep-foreign");
     let file = small_sweep(&d, 1, 100);
     let out = d.join("out");
     std::fs::create_dir_all(&out).unwrap();
@@ -672,7 +630,7 @@ fn resume_refuses_a_folder_that_holds_no_sweep() {
 #[cfg(unix)]
 #[test]
 fn a_journal_that_is_a_symbolic_link_is_refused() {
-    let dir = temp("symlink");
+    let dir = temp_dir("sweep-symlink");
     let file = small_sweep(&dir, 1, 20);
     let out = dir.join("out");
     let f = file.to_str().unwrap();
@@ -698,7 +656,7 @@ fn a_journal_that_is_a_symbolic_link_is_refused() {
 /// count overflowed into 0 sessions, and the sweep never completed).
 #[test]
 fn a_shard_of_the_largest_n_holds_its_sessions() {
-    let dir = temp("hugeshard");
+    let dir = temp_dir("sweep-hugeshard");
     let file = small_sweep(&dir, 1, 5);
     let out = dir.join("out");
     let o = ok(e3d(&[
@@ -723,7 +681,7 @@ fn a_shard_of_the_largest_n_holds_its_sessions() {
 /// (they refused it: not empty, and no sweep.ron to resume).
 #[test]
 fn a_folder_left_by_a_kill_during_the_first_copy_is_accepted() {
-    let dir = temp("killcopy");
+    let dir = temp_dir("sweep-killcopy");
     let file = small_sweep(&dir, 1, 5);
     let f = file.to_str().unwrap();
     for resume in [false, true] {
@@ -746,7 +704,7 @@ fn a_folder_left_by_a_kill_during_the_first_copy_is_accepted() {
 #[cfg(unix)]
 #[test]
 fn a_second_sweep_into_a_locked_folder_is_refused() {
-    let dir = temp("lock");
+    let dir = temp_dir("sweep-lock");
     let file = small_sweep(&dir, 1, 5);
     let out = dir.join("out");
     std::fs::create_dir_all(&out).unwrap();
@@ -781,7 +739,7 @@ fn a_second_sweep_into_a_locked_folder_is_refused() {
 /// versions of it in one results file: both are refused, naming the scene.
 #[test]
 fn a_scene_edited_between_shards_or_before_resume_is_refused() {
-    let dir = temp("edited");
+    let dir = temp_dir("sweep-edited");
     let scene = dir.join("rooms.ron");
     let original = std::fs::read_to_string("scenes/two_rooms.ron").unwrap();
     std::fs::write(&scene, &original).unwrap();
@@ -861,8 +819,8 @@ fn a_scene_edited_between_shards_or_before_resume_is_refused() {
 #[test]
 fn table_progress_tells_every_simulated_command_and_changes_nothing() {
     use std::sync::{Arc, Mutex};
-    let d = temp("table-progress");
-    let file = d.0.join("p.ron");
+    let d = temp_dir("sweep-table-progress");
+    let file = d.join("p.ron");
     std::fs::write(
         &file,
         r#"Sweep(
@@ -880,7 +838,7 @@ fn table_progress_tells_every_simulated_command_and_changes_nothing() {
     let table = Some(e3d::world::Strategy::Table);
     let calls: Arc<Mutex<Vec<(String, u64, u64)>>> = Arc::default();
     let seen = calls.clone();
-    let cache = d.0.join("tables");
+    let cache = d.join("tables");
     let told = e3d::Sweep::load(&file)
         .unwrap()
         .with_strategy(table)

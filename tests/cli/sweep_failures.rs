@@ -1,7 +1,7 @@
 //! A session whose simulation blows up is recorded as failed, with the
 //! command that blew up, and the sweep goes on.
 
-use std::process::Command;
+use crate::common::{e3d_command, temp_path};
 
 const BLOWUP: &str = include_str!("../scenes/blowup.ron");
 
@@ -16,13 +16,13 @@ const SWEEP: &str = r#"Sweep(
 
 #[test]
 fn a_blown_up_session_is_recorded_and_the_sweep_goes_on() {
-    let dir = std::env::temp_dir().join(format!("e3d-sweep-fail-{}", std::process::id()));
+    let dir = temp_path("sweep-fail");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("blowup.ron"), BLOWUP).unwrap();
     std::fs::write(dir.join("sweep.ron"), SWEEP).unwrap();
     let out = dir.join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let o = e3d_command()
         .args([
             "sweep",
             dir.join("sweep.ron").to_str().unwrap(),
@@ -54,7 +54,7 @@ fn a_blown_up_session_is_recorded_and_the_sweep_goes_on() {
     assert_eq!(at("failed"), failed.len().to_string());
 
     // e3d run on the same scene stops with exit code 4 and names the command
-    let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let o = e3d_command()
         .args([
             "run",
             dir.join("blowup.ron").to_str().unwrap(),
@@ -73,7 +73,7 @@ fn a_blown_up_session_is_recorded_and_the_sweep_goes_on() {
 
 #[test]
 fn a_sweep_naming_a_scene_rapier_would_panic_on_is_refused_before_any_work() {
-    let dir = std::env::temp_dir().join(format!("e3d-sweep-overflow-{}", std::process::id()));
+    let dir = temp_path("sweep-overflow");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let scene = std::fs::read_to_string("tests/bad_inputs/motor_torque_overflow.ron").unwrap();
@@ -84,7 +84,7 @@ fn a_sweep_naming_a_scene_rapier_would_panic_on_is_refused_before_any_work() {
     )
     .unwrap();
     let out = dir.join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let o = e3d_command()
         .args([
             "sweep",
             dir.join("sweep.ron").to_str().unwrap(),

@@ -2,6 +2,7 @@
 //! says `// expect: TEXT`, a text the error must contain. The error must
 //! also start with the file's path.
 
+use crate::common::{e3d_command, temp_path};
 use e3d::Scene;
 use std::path::Path;
 
@@ -71,7 +72,7 @@ fn a_directory_or_a_missing_file_is_a_clear_error() {
 
 #[test]
 fn the_cli_exits_with_code_2_and_prints_the_place() {
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let o = e3d_command()
         .args(["run", "tests/bad_inputs/unknown_field.ron"])
         .output()
         .unwrap();
@@ -92,7 +93,7 @@ fn a_device_a_fifo_or_a_huge_file_is_refused_not_read() {
         e,
         "/dev/zero: this is not a regular file (a pipe, a device or a socket); expected a scene file (.ron)"
     );
-    let dir = std::env::temp_dir().join(format!("e3d-bad-files-{}", std::process::id()));
+    let dir = temp_path("bad-files");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     // a FIFO without writer would block for ever
@@ -120,7 +121,7 @@ fn a_device_a_fifo_or_a_huge_file_is_refused_not_read() {
 #[test]
 fn too_many_commands_are_counted_exactly() {
     // 4^64 commands printed as 18446744073709551615 (u64::MAX)
-    let dir = std::env::temp_dir().join(format!("e3d-big-{}", std::process::id()));
+    let dir = temp_path("big");
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join("big.ron");
     std::fs::write(
@@ -130,7 +131,7 @@ fn too_many_commands_are_counted_exactly() {
         (symbol: 'W', action: Idle), (symbol: 'S', action: Idle), (symbol: 'N', action: Idle)]))"#,
     )
     .unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_e3d"))
+    let o = e3d_command()
         .args(["scene", "table", p.to_str().unwrap()])
         .output()
         .unwrap();

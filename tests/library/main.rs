@@ -2,6 +2,9 @@
 //! code, the scene and sweep loaders, and the report pages. One test
 //! binary; each module is one topic.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod bad_scenes;
 mod consistency;
 mod drives;

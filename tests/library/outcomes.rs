@@ -1,6 +1,7 @@
 //! Table, memo or live: the same results, bit for bit, whatever the cost
 //! rule chooses, the threads, the lockstep groups and the table folder.
 
+use crate::common::{e3d, fresh_path, ok};
 use e3d::sweep::{SessionResult, Sweep};
 use e3d::world::{
     CachedOutcomes, ExecOptions, ExecutionPlan, Executor, OnDisk, Strategy, Workload,
@@ -27,12 +28,6 @@ fn builtin_text(name: &str) -> String {
         .find(|(n, _)| *n == name)
         .unwrap();
     text.to_string()
-}
-
-fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("e3d-outcomes-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
 }
 
 #[test]
@@ -115,7 +110,7 @@ fn the_cost_rule_takes_the_cheaper_way() {
 
 #[test]
 fn the_memo_grows_its_file_and_a_damaged_file_is_replaced() {
-    let dir = temp("memo");
+    let dir = fresh_path("outcomes-memo");
     let puck = Scene::builtin("puck_rooms").unwrap();
     let base = run(sweep("puck_rooms", 2, 20), Some(Strategy::Live), 2);
     let cached = |strategy| {
@@ -180,24 +175,20 @@ fn the_memo_grows_its_file_and_a_damaged_file_is_replaced() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Runs the binary; its stdout and stderr.
-fn e3d(args: &[&str]) -> (String, String) {
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_e3d"))
-        .args(args)
-        .output()
-        .unwrap();
+/// Runs the binary, which must succeed; its stdout and stderr.
+fn e3d_outputs(args: &[&str]) -> (String, String) {
+    let o = ok(e3d(args));
     let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert!(o.status.success(), "{args:?}: {err}");
     (String::from_utf8_lossy(&o.stdout).to_string(), err)
 }
 
 #[test]
 fn e3d_run_says_how_and_gives_the_same_trials_every_way() {
-    let root = temp("run");
+    let root = fresh_path("outcomes-run");
     let out = |s: &str| root.join(s).to_str().unwrap().to_string();
     let mut csv = Vec::new();
     for how in ["live", "memo", "table", "auto"] {
-        let (_, err) = e3d(&[
+        let (_, err) = e3d_outputs(&[
             "run",
             "puck_rooms",
             "--trials",
@@ -219,7 +210,7 @@ fn e3d_run_says_how_and_gives_the_same_trials_every_way() {
     assert!(csv.iter().all(|c| *c == csv[0]));
     // three sessions in lockstep: session 0 is the single run of seed 0,
     // session 2 that of seed 2
-    let (stdout, _) = e3d(&[
+    let (stdout, _) = e3d_outputs(&[
         "run",
         "puck_rooms",
         "--trials",
@@ -248,7 +239,7 @@ fn e3d_run_says_how_and_gives_the_same_trials_every_way() {
     };
     let single: Vec<String> = csv[0].lines().skip(1).map(str::to_string).collect();
     assert_eq!(session("0,"), single);
-    e3d(&[
+    e3d_outputs(&[
         "run",
         "puck_rooms",
         "--trials",
@@ -338,7 +329,7 @@ fn a_table_completed_from_a_partial_file_equals_the_built_one() {
         assert_eq!(a, b, "{name}");
     }
     // a run asked for a table over a partial file completes and keeps it
-    let dir = temp("complete");
+    let dir = fresh_path("outcomes-complete");
     let scene = Scene::builtin("pendulum3").unwrap();
     let built = OutcomeTable::build_scene(&scene).unwrap();
     let part: Vec<_> = (0..40u64).map(|i| (i, *built.get(i))).collect();
@@ -365,7 +356,7 @@ fn a_table_completed_from_a_partial_file_equals_the_built_one() {
 #[test]
 fn e3d_run_gives_the_entropy_over_the_reachable_cells_when_a_table_knows_them() {
     // the README's "0.93 over its 68 reachable cells" next to 0.7250 over 225
-    let (stdout, err) = e3d(&["run", "arm7", "--no-reward"]);
+    let (stdout, err) = e3d_outputs(&["run", "arm7", "--no-reward"]);
     assert!(
         err.contains("outcomes: arm7: outcome table of 2187 commands"),
         "{err}"
@@ -377,7 +368,7 @@ fn e3d_run_gives_the_entropy_over_the_reachable_cells_when_a_table_knows_them() 
         "{stdout}"
     );
     // two_rooms reaches every cell: no second figure
-    let (stdout, _) = e3d(&["run", "two_rooms", "--no-reward", "--trials", "500"]);
+    let (stdout, _) = e3d_outputs(&["run", "two_rooms", "--no-reward", "--trials", "500"]);
     assert!(!stdout.contains("reachable cells"), "{stdout}");
 }
 

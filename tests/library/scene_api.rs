@@ -2,6 +2,7 @@
 //! `validate` and `try_build` with the loader's own message, never a panic;
 //! every scene error has a kind a program can match.
 
+use crate::common::temp_path;
 use e3d::scene::{
     ron_options, Action, CommandSpec, Scene, SceneError, SceneErrorKind, Symmetry, WorldSpec,
     BUILTIN,
@@ -554,7 +555,7 @@ fn every_mistake_has_a_kind() {
     assert!(matches!(e.kind(), SceneErrorKind::NoSuchScene), "{e:?}");
     assert_eq!(e.file(), "no_such_scene");
 
-    let dir = std::env::temp_dir().join(format!("e3d-scene-api-{}", std::process::id()));
+    let dir = temp_path("scene-api");
     std::fs::create_dir_all(&dir).unwrap();
     let big = dir.join("big.ron");
     std::fs::File::create(&big)

@@ -2,6 +2,7 @@
 //! and learners through factories, with the seeds, resume and shards of
 //! `e3d sweep`.
 
+use crate::common::temp_path;
 use e3d::sweep::{
     DirOptions, LearnerFactory, Learners, LiveScene, MetricSpec, ParamValues, Scale, Shard, Sweep,
     SweepSpec, Values, Worlds,
@@ -281,7 +282,7 @@ fn a_world_of_another_space_is_refused_naming_both() {
 
 #[test]
 fn custom_sweeps_resume_and_refuse_a_changed_world() {
-    let tmp = std::env::temp_dir().join(format!("e3d-sweep-open-{}", std::process::id()));
+    let tmp = temp_path("sweep-open");
     let _ = std::fs::remove_dir_all(&tmp);
     let spec = SweepSpec::new(["count_b"], ["blind", "uniform"], 4, 30).with_params(ParamValues {
         epsilon: Some(Values::linear(0.0, 0.3, 4)),

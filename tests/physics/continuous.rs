@@ -1,6 +1,7 @@
 //! Continuous commands: the scene format, the values, their execution on
 //! live physics, the Gaussian E3D against the uniform sampler, and the CLI.
 
+use crate::common::{e3d, e3d_command, temp_path};
 use e3d::scene::{Symmetry, WorldSpec};
 use e3d::{
     run_value_session, run_value_sessions, ContinuousLearner, GaussianE3d, LearnerKind, Outcome,
@@ -8,13 +9,6 @@ use e3d::{
 };
 use rand::SeedableRng;
 use std::path::Path;
-use std::process::{Command, Output};
-
-const E3D: &str = env!("CARGO_BIN_EXE_e3d");
-
-fn e3d(args: &[&str]) -> Output {
-    Command::new(E3D).args(args).output().unwrap()
-}
 
 fn continuous() -> Scene {
     Scene::builtin("arm7_continuous").unwrap()
@@ -316,11 +310,11 @@ fn the_cli_runs_execs_and_refuses_continuous_scenes() {
     assert!(String::from_utf8_lossy(&bad.stderr).contains("has 3 values, expected 7"));
 
     // e3d run: the files, the same bytes on 1 and 2 threads
-    let dir = std::env::temp_dir().join(format!("e3d-continuous-{}", std::process::id()));
+    let dir = temp_path("continuous");
     let _ = std::fs::remove_dir_all(&dir);
     let run = |threads: &str, sub: &str| {
         let d = dir.join(sub);
-        let out = Command::new(E3D)
+        let out = e3d_command()
             .env("RAYON_NUM_THREADS", threads)
             .args([
                 "run",
@@ -406,7 +400,7 @@ fn the_cli_runs_execs_and_refuses_continuous_scenes() {
         "{text}"
     );
     // render and animate one command of values
-    let svg = std::env::temp_dir().join(format!("e3d-continuous-{}.svg", std::process::id()));
+    let svg = temp_path("continuous").with_extension("svg");
     for animate in [false, true] {
         let mut args = vec![
             "scene",

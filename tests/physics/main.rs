@@ -2,6 +2,9 @@
 //! symmetry, lockstep, whole motions, continuous commands, and the physics
 //! scene loader's errors. One test binary; each module is one topic.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod arm7;
 mod continuous;
 mod copies;

@@ -1,6 +1,7 @@
 //! Whole motions: every body's pose and velocity, every joint's angle and
 //! velocity, per step, from the library and from `scene exec --trace`.
 
+use crate::common::{e3d_command, temp_path};
 use e3d::{Scene, World};
 
 #[test]
@@ -48,16 +49,11 @@ fn a_motion_ends_where_the_command_does_and_mirrors_exactly() {
 
 #[test]
 fn scene_exec_trace_writes_every_frame_of_every_command() {
-    let dir = std::env::temp_dir().join(format!("e3d-motion-{}", std::process::id()));
+    let dir = temp_path("motion");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("motion.csv");
-    let e3d = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_e3d"))
-            .args(args)
-            .output()
-            .unwrap()
-    };
+    let e3d = |args: &[&str]| e3d_command().args(args).output().unwrap();
     let cmds = ["SEEEEES", "NNNNNNN"];
     let traced = e3d(&[
         "scene",
