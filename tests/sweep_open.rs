@@ -431,6 +431,7 @@ fn spec() -> impl Strategy<Value = SweepSpec> {
                         lambda: p.2.clone(),
                         eta: p.3.clone(),
                         epsilon: p.4.clone(),
+                        ..Default::default()
                     },
                     sessions,
                     trials,

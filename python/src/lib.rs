@@ -1154,6 +1154,7 @@ fn session_args(
         lambda: lambda_,
         eta,
         epsilon,
+        ..Params::TASK1
     };
     params
         .validate()
