@@ -137,7 +137,7 @@ impl<G: Genome> Core<G> {
 /// ```
 ///
 /// `rarity` is [`Params::rarity`] (default 0.5, Go-Explore's
-/// `1/sqrt(n + 1)` weight), `k` is [`Params::k`] (default 1). Its draws:
+/// `1/sqrt(n + 1)` weight), `k` is [`Params::k`] (default 2). Its draws:
 /// one `f64` per trial to pick a cell (one integer when `rarity` is 0),
 /// then two integers per mutated slot ([`mutate_symbols`](super::mutation::mutate_symbols)).
 ///

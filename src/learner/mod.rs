@@ -187,7 +187,7 @@ pub enum LearnerError {
 
 /// The hyper-parameters of the shipped learners. Defaults: the paper's task
 /// 1 (alpha 0.3, beta 1, lambda 0.03, eta 0.01), epsilon 0.1, and for the
-/// learners that mutate kept commands k 1, sigma 0.1, rarity 0.5 and
+/// learners that mutate kept commands k 2, sigma 0.1, rarity 0.5 and
 /// goal_progress 0.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -247,7 +247,7 @@ impl Params {
         lambda: 0.03,
         eta: 0.01,
         epsilon: 0.1,
-        k: 1,
+        k: 2,
         sigma: 0.1,
         rarity: 0.5,
         goal_progress: 0.0,

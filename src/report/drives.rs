@@ -234,7 +234,8 @@ impl DriveComparison {
     /// 1 entropy, the highest coverage, the fewest mean trials to 50% and
     /// to 90% of the reachable cells (among the learners whose every
     /// session got there), the highest task 2 reward and the earliest
-    /// median first reward. One line per scene.
+    /// median first reward (learners tied on a measure are all named).
+    /// One line per scene.
     pub fn winners(&self) -> Vec<(String, Vec<(&'static str, String)>)> {
         let mut out: Vec<(String, Vec<(&'static str, String)>)> = Vec::new();
         for (scene, _, _) in &self.coverage_cells {
@@ -242,20 +243,25 @@ impl DriveComparison {
             if rows.is_empty() {
                 continue;
             }
+            // the best value, and every learner that has it (ties listed)
             let best = |key: &dyn Fn(&DriveRow) -> Option<f64>, high: bool| -> String {
-                let mut b: Option<(&DriveRow, f64)> = None;
+                let mut b: Option<f64> = None;
                 for r in &rows {
                     if let Some(v) = key(r) {
-                        let better = match b {
-                            None => true,
-                            Some((_, w)) => (high && v > w) || (!high && v < w),
-                        };
-                        if better {
-                            b = Some((r, v));
+                        if b.is_none_or(|w| (high && v > w) || (!high && v < w)) {
+                            b = Some(v);
                         }
                     }
                 }
-                b.map_or("-".to_string(), |(r, _)| r.learner.clone())
+                let Some(b) = b else {
+                    return "-".to_string();
+                };
+                let names: Vec<&str> = rows
+                    .iter()
+                    .filter(|r| key(r) == Some(b))
+                    .map(|r| r.learner.as_str())
+                    .collect();
+                names.join(", ")
             };
             let all = |r: &DriveRow, n: usize| n == r.task1_sessions && n > 0;
             out.push((
