@@ -82,7 +82,10 @@ fn gaussian_mutation_has_the_spread_of_sigma() {
 fn the_archive_keeps_exactly_one_command_per_reached_cell() {
     let (scene, table) = two_rooms();
     let space = scene.command_space();
-    let params = Params { k: 2, ..Params::TASK1 };
+    let params = Params {
+        k: 2,
+        ..Params::TASK1
+    };
     let mut archive = Archive::new(&space, scene.num_effects(), &params);
     let mut rng = SessionRng::seed_from_u64(11);
     let mut world = &table;
@@ -302,7 +305,11 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
         let rec = run_session(&mut &table, &mut l, &cfg).unwrap();
         let m = rec.metrics(&Target::Uniform);
         // more even than the uniform policy's 0.80 on two_rooms
-        assert!(m.normalized_entropy > 0.84, "{name}: {}", m.normalized_entropy);
+        assert!(
+            m.normalized_entropy > 0.84,
+            "{name}: {}",
+            m.normalized_entropy
+        );
         assert!(m.distinct_effects >= 16, "{name}: {}", m.distinct_effects);
         assert!(l.slot_policy(0).is_none());
     }
@@ -319,7 +326,8 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
             seed: 3,
             use_reward: false,
         };
-        let rec = run_value_session(&mut arm.physics_world().unwrap(), &mut l, &cfg, |_| {}).unwrap();
+        let rec =
+            run_value_session(&mut arm.physics_world().unwrap(), &mut l, &cfg, |_| {}).unwrap();
         assert_eq!(rec.values.len(), 40 * 7);
         assert!(space.check(rec.values_of(39)).is_ok());
         // after the first, every command is a mutation of a kept one:
@@ -351,7 +359,10 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
     )"#;
     let sweep = Sweep::parse(text, "baselines.ron", None).unwrap();
     assert_eq!(sweep.cells().len(), 2);
-    assert!(sweep.cells().iter().all(|c| c.params.k == 2 && c.params.sigma == 0.2));
+    assert!(sweep
+        .cells()
+        .iter()
+        .all(|c| c.params.k == 2 && c.params.sigma == 0.2));
     assert!(sweep.spec.to_ron().contains("k: 2,\n        sigma: 0.2,"));
     let cols = sweep.metric_columns();
     assert_eq!(
@@ -371,7 +382,10 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
     )
     .unwrap_err()
     .to_string();
-    assert!(bad.contains("`k`: expected a whole number >= 1, found 0"), "{bad}");
+    assert!(
+        bad.contains("`k`: expected a whole number >= 1, found 0"),
+        "{bad}"
+    );
 }
 
 #[test]

@@ -360,9 +360,17 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
         println!(
             "{who}coverage {:.4} of {} {}{} cells | 50% by trial {} | 90% by trial {}",
             m.coverage,
-            if m.reachable_effects.is_some() { "the" } else { "all" },
+            if m.reachable_effects.is_some() {
+                "the"
+            } else {
+                "all"
+            },
             m.coverage_cells,
-            if m.reachable_effects.is_some() { " reachable" } else { "" },
+            if m.reachable_effects.is_some() {
+                " reachable"
+            } else {
+                ""
+            },
             at(m.trials_to_50_percent),
             at(m.trials_to_90_percent)
         );

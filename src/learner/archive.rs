@@ -107,7 +107,10 @@ impl<G: Genome> Core<G> {
     }
 
     fn command_of(&self, effect: usize) -> Option<&[G::Elem]> {
-        self.cells.get(effect)?.as_ref().map(|c| c.command.as_slice())
+        self.cells
+            .get(effect)?
+            .as_ref()
+            .map(|c| c.command.as_slice())
     }
 
     fn times_chosen(&self, effect: usize) -> u64 {

@@ -197,9 +197,9 @@ impl<G: Genome> Core<G> {
                 self.known.push(e);
             }
         }
-        for a in 0..2 {
-            self.lo[a] = self.lo[a].min(p[a]);
-            self.hi[a] = self.hi[a].max(p[a]);
+        for (a, &x) in p.iter().enumerate() {
+            self.lo[a] = self.lo[a].min(x);
+            self.hi[a] = self.hi[a].max(x);
         }
     }
 }
@@ -273,7 +273,11 @@ impl GoalBabbling {
 
     /// The command kept for cell `effect` (the last that reached it).
     pub fn command_of(&self, effect: usize) -> Option<&[u8]> {
-        self.core.cells.get(effect)?.as_ref().map(|k| k.command.as_slice())
+        self.core
+            .cells
+            .get(effect)?
+            .as_ref()
+            .map(|k| k.command.as_slice())
     }
 
     /// The goal of the last proposal (`None` until a cell is known, and
@@ -338,7 +342,11 @@ impl GoalBabblingValues {
 
     /// The values kept for cell `effect`.
     pub fn command_of(&self, effect: usize) -> Option<&[f64]> {
-        self.core.cells.get(effect)?.as_ref().map(|k| k.command.as_slice())
+        self.core
+            .cells
+            .get(effect)?
+            .as_ref()
+            .map(|k| k.command.as_slice())
     }
 
     /// The cell whose command the last proposal mutated.

@@ -48,7 +48,9 @@ pub use count::CountBonus;
 pub use e3d::E3d;
 pub use egreedy::EpsilonGreedy;
 pub use gaussian::{GaussianE3d, UniformValues};
-pub use goal_babbling::{GoalBabbling, GoalBabblingValues, GOAL_MARGIN, PROGRESS_BINS, PROGRESS_WINDOW};
+pub use goal_babbling::{
+    GoalBabbling, GoalBabblingValues, GOAL_MARGIN, PROGRESS_BINS, PROGRESS_WINDOW,
+};
 pub use relaxed::RelaxedE3d;
 pub use smm::StateMarginalMatching;
 pub use uniform::UniformPolicy;

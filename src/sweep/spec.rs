@@ -822,7 +822,11 @@ impl SweepSpec {
         }
         // the parameters fixed for every cell
         if let Err(e) = spec.params.fixed(Params::TASK1).validate() {
-            return Err(bad(e.name, None, &format!("{}, found {}", e.expected, e.value)));
+            return Err(bad(
+                e.name,
+                None,
+                &format!("{}, found {}", e.expected, e.value),
+            ));
         }
         // metrics
         let metrics = spec
