@@ -149,8 +149,9 @@ fn a_rewarded_command_replaces_the_kept_one() {
 #[test]
 fn the_archive_favours_rarely_chosen_cells() {
     // cell 0 is picked 200 times alone, then cell 1 joins: over the next
-    // 200 picks, cell 0's chance is (1 + n1)^r / ((1 + n1)^r + 201^r):
-    // expected picks of cell 0 about 100 (r = 0), 78 (r = 0.5), 62 (r = 1)
+    // 200 picks, cell 0's chance is (1 + n0)^-r / ((1 + n0)^-r + (1 + n1)^-r):
+    // picks of cell 0 about 100 (r = 0, sd 7.2), 67 (r = 0.5, sd 5.6) and
+    // 50 (r = 1, sd 4.9) (4000 simulated runs)
     let space = e3d::CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
     let o = |e| Outcome {
         effect: e,
@@ -178,10 +179,10 @@ fn the_archive_favours_rarely_chosen_cells() {
         assert_eq!(a.times_chosen(0) + a.times_chosen(1), 400);
         picks.push(a.times_chosen(0) - 200);
     }
-    // sd about 7 each
-    assert!((80..=120).contains(&picks[0]), "{picks:?}");
-    assert!((60..=96).contains(&picks[1]), "{picks:?}");
-    assert!((44..=80).contains(&picks[2]), "{picks:?}");
+    // within 3 sd
+    assert!((79..=121).contains(&picks[0]), "{picks:?}");
+    assert!((50..=84).contains(&picks[1]), "{picks:?}");
+    assert!((36..=64).contains(&picks[2]), "{picks:?}");
     assert!(picks[0] > picks[2], "{picks:?}");
 }
 
