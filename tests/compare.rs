@@ -31,6 +31,9 @@ fn compare_writes_the_table_the_figure_and_the_rows() {
     assert!(stdout.contains(&md));
     // one row per learner, in the sweep's order
     let rows: Vec<&str> = md
+        .split("\nBest per scene")
+        .next()
+        .unwrap()
         .lines()
         .filter(|l| l.starts_with("| two_rooms |"))
         .collect();
