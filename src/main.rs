@@ -22,8 +22,8 @@ enum Cmd {
     /// Measure what a scene costs: rollouts/s, steps/s, E3D trials/s (CSV; each
     /// figure the median and the best of 5 slices of its time).
     Bench(cli::bench::BenchArgs),
-    /// Compare every drive (e3d, e3d_relax, count, smm, uniform, egreedy) on
-    /// the canonical scenes: a table and a figure.
+    /// Compare every drive (e3d, e3d_relax, count, smm, uniform, egreedy,
+    /// goal_babbling, archive) on the canonical scenes: a table and a figure.
     Compare(cli::compare::CompareArgs),
     /// Run a sweep file: every (cell, seed) session, in parallel, resumably.
     Sweep(cli::sweep::SweepArgs),

@@ -191,6 +191,8 @@ pub struct RunningMetrics {
     trials: usize,
     cumulative: f64,
     first_reward: Option<usize>,
+    /// The 1-based trial at which each effect was first reached, in order.
+    discoveries: Vec<usize>,
     /// Trials (1-based, increasing) at which the cumulative reward is kept.
     checkpoints: Vec<usize>,
     at_checkpoints: Vec<f64>,
@@ -214,6 +216,7 @@ impl RunningMetrics {
             trials: 0,
             cumulative: 0.0,
             first_reward: None,
+            discoveries: Vec::new(),
             at_checkpoints: Vec::with_capacity(checkpoints.len()),
             checkpoints,
         }
@@ -257,6 +260,7 @@ impl RunningMetrics {
             &last,
             self.cumulative,
             self.first_reward,
+            &self.discoveries,
             self.trials,
             target,
             reachable,
@@ -266,6 +270,9 @@ impl RunningMetrics {
 
 impl Recorder for RunningMetrics {
     fn record(&mut self, _command: &Command, outcome: &Outcome) {
+        if self.counts[outcome.effect] == 0 {
+            self.discoveries.push(self.trials + 1);
+        }
         self.counts[outcome.effect] += 1;
         if self.last.len() < LAST {
             self.last.push(outcome.effect as u32);
@@ -582,17 +589,36 @@ pub struct Metrics {
     /// (see [`crate::effect::normalized_entropy_over`]).
     /// `None` when the reachable effects are not known.
     pub normalized_entropy_reachable: Option<f64>,
+    /// The cells the coverage measures count against: the reachable
+    /// effects when they are known ([`reachable_effects`](Self::reachable_effects)),
+    /// else every effect.
+    pub coverage_cells: usize,
+    /// The fraction of [`coverage_cells`](Self::coverage_cells) reached by
+    /// the last trial: `distinct_effects / coverage_cells`.
+    pub coverage: f64,
+    /// The 1-based trial by which 50% of the coverage cells were reached
+    /// (`ceil(0.5 coverage_cells)` distinct effects), if they were.
+    pub trials_to_50_percent: Option<usize>,
+    /// The same for 90% (`ceil(0.9 coverage_cells)` distinct effects).
+    pub trials_to_90_percent: Option<usize>,
+    /// The 1-based trial at which each distinct effect was first reached,
+    /// in order: the fraction of the coverage cells found by trial `t` is
+    /// the number of these `<= t` over [`coverage_cells`](Self::coverage_cells)
+    /// ([`coverage_at`](Self::coverage_at)).
+    pub discovery_trials: Vec<usize>,
 }
 
 impl Metrics {
     /// The metrics from the effect counts over all trials and over the last
     /// 1000, the sum of the rewards, the first rewarded trial and the
     /// number of trials.
+    #[allow(clippy::too_many_arguments)]
     fn from_counts(
         all: &[f64],
         last: &[f64],
         cumulative_reward: f64,
         first_reward_trial: Option<usize>,
+        discoveries: &[usize],
         trials: usize,
         target: &Target,
         reachable: Option<usize>,
@@ -613,8 +639,76 @@ impl Metrics {
             trials,
             reachable_effects: reachable,
             normalized_entropy_reachable: reachable.map(|k| normalized_entropy_over(all, k)),
+            coverage_cells: coverage_cells(reachable, num_effects),
+            coverage: all.iter().filter(|&&c| c > 0.0).count() as f64
+                / coverage_cells(reachable, num_effects) as f64,
+            trials_to_50_percent: trials_to_fraction(
+                discoveries,
+                coverage_cells(reachable, num_effects),
+                0.5,
+            ),
+            trials_to_90_percent: trials_to_fraction(
+                discoveries,
+                coverage_cells(reachable, num_effects),
+                0.9,
+            ),
+            discovery_trials: discoveries.to_vec(),
         }
     }
+
+    /// The fraction of the coverage cells reached by trial `t` (1-based;
+    /// 0 before the first trial).
+    ///
+    /// ```
+    /// use e3d::{Command, Outcome, Recorder, RunningMetrics, Target};
+    /// let mut m = RunningMetrics::new(4);
+    /// for e in [0, 0, 1, 0, 3] {
+    ///     m.record(&Command::new(vec![0]), &Outcome { effect: e, reward: 0.0, point: [0.0; 2] });
+    /// }
+    /// let m = m.metrics(&Target::Uniform);
+    /// assert_eq!(m.discovery_trials, [1, 3, 5]);
+    /// assert_eq!((m.coverage_at(2), m.coverage_at(3), m.coverage), (0.25, 0.5, 0.75));
+    /// assert_eq!((m.trials_to_50_percent, m.trials_to_90_percent), (Some(3), None));
+    /// ```
+    pub fn coverage_at(&self, t: usize) -> f64 {
+        let found = self.discovery_trials.partition_point(|&d| d <= t);
+        found as f64 / self.coverage_cells.max(1) as f64
+    }
+}
+
+/// The cells coverage counts against: `reachable` if known, else all.
+fn coverage_cells(reachable: Option<usize>, num_effects: usize) -> usize {
+    reachable.unwrap_or(num_effects).max(1)
+}
+
+/// The trial by which `ceil(fraction x cells)` distinct effects were
+/// reached, given the trials of the discoveries (in order); `None` if
+/// they were not.
+///
+/// ```
+/// use e3d::session::trials_to_fraction;
+/// assert_eq!(trials_to_fraction(&[1, 4, 9, 30], 4, 0.5), Some(4));
+/// assert_eq!(trials_to_fraction(&[1, 4, 9, 30], 4, 0.9), Some(30));
+/// assert_eq!(trials_to_fraction(&[1, 4, 9], 4, 0.9), None);
+/// // ceil: 50% of 5 cells is 3 of them
+/// assert_eq!(trials_to_fraction(&[1, 4, 9], 5, 0.5), Some(9));
+/// ```
+pub fn trials_to_fraction(discoveries: &[usize], cells: usize, fraction: f64) -> Option<usize> {
+    let need = ((fraction * cells as f64) - 1e-9).ceil().max(1.0) as usize;
+    discoveries.get(need - 1).copied()
+}
+
+/// The 1-based trial at which each distinct effect of `effects` was first
+/// reached, in order.
+pub fn discovery_trials(effects: &[usize], num_effects: usize) -> Vec<usize> {
+    let mut seen = vec![false; num_effects];
+    let mut out = Vec::new();
+    for (t, &e) in effects.iter().enumerate() {
+        if !std::mem::replace(&mut seen[e], true) {
+            out.push(t + 1);
+        }
+    }
+    out
 }
 
 impl SessionRecord {
@@ -697,6 +791,7 @@ impl SessionRecord {
             &last,
             self.rewards.iter().fold(0.0, |a, r| a + r),
             self.rewards.iter().position(|&r| r > 0.0).map(|i| i + 1),
+            &discovery_trials(&self.effects, self.num_effects),
             t,
             target,
             reachable,
@@ -799,6 +894,7 @@ impl ValueSessionRecord {
             &self.effect_counts(t.saturating_sub(LAST)..t),
             self.rewards.iter().fold(0.0, |a, r| a + r),
             self.rewards.iter().position(|&r| r > 0.0).map(|i| i + 1),
+            &discovery_trials(&self.effects, self.num_effects),
             t,
             target,
             None,

@@ -54,6 +54,7 @@ pub(crate) fn session_args(
         lambda: lambda_,
         eta,
         epsilon,
+        ..Params::TASK1
     };
     params
         .validate()

@@ -7,7 +7,7 @@ use super::sweep::sweep_error;
 use super::CliResult;
 use crate::cli::console::{errln, outln};
 use clap::Args;
-use e3d::report::drives::{drives_sweep, DriveComparison};
+use e3d::report::drives::{drives_sweep, with_reachable_cells, DriveComparison};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -46,6 +46,14 @@ pub fn run(a: CompareArgs) -> CliResult {
         .threads
         .map(usize::from)
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    // the reachable cells of each scene, from its outcome table: the
+    // reference of the coverage measures
+    let sweep = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| super::CliError::input(format!("cannot start the threads: {e}")))?
+        .install(|| with_reachable_cells(sweep, None))
+        .map_err(sweep_error)?;
     let total = sweep.num_sessions() as u64 * a.trials;
     errln!(
         "compare: {} learners on {} scenes, tasks 1 and 2: {} cells x {} sessions of {} trials, {threads} thread{}",

@@ -16,7 +16,7 @@ pub struct RunArgs {
     #[arg(default_value = e3d::scene::DEFAULT_SCENE)]
     pub scene: String,
     /// The learner: e3d, uniform or egreedy (the paper's), or e3d_relax,
-    /// count or smm (docs/algorithms.md).
+    /// count, smm, goal_babbling or archive (docs/algorithms.md).
     #[arg(long, default_value = "e3d")]
     pub learner: LearnerKind,
     /// The number of trials.
@@ -67,6 +67,18 @@ pub struct ParamArgs {
     /// Exploration rate epsilon of egreedy, in [0, 1].
     #[arg(long, default_value_t = Params::TASK1.epsilon)]
     pub epsilon: f64,
+    /// Slots a mutation resamples (goal_babbling, archive), >= 1.
+    #[arg(long, default_value_t = Params::TASK1.k)]
+    pub k: usize,
+    /// Noise of a mutation of continuous values, in unit coordinates (> 0).
+    #[arg(long, default_value_t = Params::TASK1.sigma)]
+    pub sigma: f64,
+    /// How strongly the archive favours rarely chosen cells (>= 0; 0: uniform).
+    #[arg(long, default_value_t = Params::TASK1.rarity)]
+    pub rarity: f64,
+    /// Share of goal babbling's goals chosen by learning progress, in [0, 1].
+    #[arg(long, default_value_t = Params::TASK1.goal_progress)]
+    pub goal_progress: f64,
 }
 
 impl ParamArgs {
@@ -78,6 +90,10 @@ impl ParamArgs {
             lambda: self.lambda,
             eta: self.eta,
             epsilon: self.epsilon,
+            k: self.k,
+            sigma: self.sigma,
+            rarity: self.rarity,
+            goal_progress: self.goal_progress,
         };
         p.validate()
             .map_err(|e| CliError::input(format!("--{e}")))?;
@@ -222,10 +238,19 @@ pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliRe
 /// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order
 /// of a sweep's columns; nothing for the uniform policy, which uses none.
 pub(super) fn used_params(learner: LearnerKind, p: &Params) -> String {
-    let values = [p.alpha, p.beta, p.lambda, p.eta, p.epsilon];
-    let used: Vec<String> = e3d::sweep::PARAM_NAMES
-        .iter()
-        .zip(values)
+    let values = [
+        ("alpha", p.alpha),
+        ("beta", p.beta),
+        ("lambda", p.lambda),
+        ("eta", p.eta),
+        ("epsilon", p.epsilon),
+        ("k", p.k as f64),
+        ("sigma", p.sigma),
+        ("rarity", p.rarity),
+        ("goal_progress", p.goal_progress),
+    ];
+    let used: Vec<String> = values
+        .into_iter()
         .filter(|(name, _)| e3d::sweep::uses_param(learner, name))
         .map(|(name, v)| format!("{name} {v}"))
         .collect();
@@ -281,6 +306,24 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
         if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
             outln!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
         }
+        let at = |t: Option<usize>| t.map_or("-".to_string(), |t| t.to_string());
+        outln!(
+            "{who}coverage {:.4} of {} {}{} cells | 50% by trial {} | 90% by trial {}",
+            m.coverage,
+            if m.reachable_effects.is_some() {
+                "the"
+            } else {
+                "all"
+            },
+            m.coverage_cells,
+            if m.reachable_effects.is_some() {
+                " reachable"
+            } else {
+                ""
+            },
+            at(m.trials_to_50_percent),
+            at(m.trials_to_90_percent)
+        );
         outln!(
             "{who}cumulative reward {} | first reward at trial {}",
             m.cumulative_reward,
@@ -292,8 +335,9 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
         let mean =
             |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
         outln!(
-            "mean of {sessions} sessions: normalised entropy {:.4} | cumulative reward {:.1}",
+            "mean of {sessions} sessions: normalised entropy {:.4} | coverage {:.4} | cumulative reward {:.1}",
             mean(&|m| m.normalized_entropy),
+            mean(&|m| m.coverage),
             mean(&|m| m.cumulative_reward)
         );
     }

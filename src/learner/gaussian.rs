@@ -33,7 +33,7 @@ pub const POLICY_STEP: f64 = 0.3;
 /// square root and a logarithm per pair; the second of the pair is dropped
 /// so that each draw consumes the generator the same way whatever came
 /// before).
-fn normal(rng: &mut SessionRng) -> f64 {
+pub(crate) fn normal(rng: &mut SessionRng) -> f64 {
     loop {
         let u = 2.0 * rng.random::<f64>() - 1.0;
         let v = 2.0 * rng.random::<f64>() - 1.0;

@@ -12,29 +12,45 @@
 //! - [`StateMarginalMatching`]: the density ratio `log p*(e) - log rho(e)`
 //!   over every trial so far, with historical averaging of the policy.
 //!
+//! and two baselines that keep commands and vary them:
+//!
+//! - [`GoalBabbling`]: sample a goal effect, mutate the known command
+//!   whose outcome is nearest to it (a nearest-neighbour inverse model);
+//! - [`Archive`]: one command per reached cell, Go-Explore style; pick a
+//!   cell, mutate its command.
+//!
 //! Continuous commands (a value per slot, [`ValueSpace`]) have learners of
 //! their own, behind [`ContinuousLearner`]:
 //!
 //! - [`GaussianE3d`]: E3D with a Gaussian policy per slot, updated by the
 //!   same intrinsic reward through the score function;
-//! - [`UniformValues`]: every value uniform in its slot's range.
+//! - [`UniformValues`]: every value uniform in its slot's range;
+//! - [`GoalBabblingValues`] and [`ArchiveValues`]: the two baselines,
+//!   mutating values by Gaussian noise.
 //!
 //! Implement [`Learner`] (or [`ContinuousLearner`]) to plug in your own.
 
+mod archive;
 mod count;
 mod e3d;
 mod egreedy;
 mod exp;
 pub mod gaussian;
+mod goal_babbling;
+pub mod mutation;
 mod relaxed;
 mod smm;
 mod softmax;
 mod uniform;
 
+pub use archive::{Archive, ArchiveValues};
 pub use count::CountBonus;
 pub use e3d::E3d;
 pub use egreedy::EpsilonGreedy;
 pub use gaussian::{GaussianE3d, UniformValues};
+pub use goal_babbling::{
+    GoalBabbling, GoalBabblingValues, GOAL_MARGIN, PROGRESS_BINS, PROGRESS_WINDOW,
+};
 pub use relaxed::RelaxedE3d;
 pub use smm::StateMarginalMatching;
 pub use uniform::UniformPolicy;
@@ -172,7 +188,9 @@ pub enum LearnerError {
 }
 
 /// The hyper-parameters of the shipped learners. Defaults: the paper's task
-/// 1 (alpha 0.3, beta 1, lambda 0.03, eta 0.01) and epsilon 0.1.
+/// 1 (alpha 0.3, beta 1, lambda 0.03, eta 0.01), epsilon 0.1, and for the
+/// learners that mutate kept commands k 2, sigma 0.1, rarity 0.5 and
+/// goal_progress 0.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Params {
@@ -186,6 +204,35 @@ pub struct Params {
     pub eta: f64,
     /// Exploration rate of epsilon-greedy, in [0, 1].
     pub epsilon: f64,
+    /// Slots a mutation resamples (goal babbling and the archive on
+    /// symbols), >= 1; capped at the slots of more than one symbol.
+    #[serde(default = "default_k")]
+    pub k: usize,
+    /// Standard deviation of a mutation of continuous values, in the unit
+    /// coordinates of each range (`[-1, 1]`: 0.1 is 5% of the range), > 0.
+    #[serde(default = "default_sigma")]
+    pub sigma: f64,
+    /// How strongly the archive favours rarely chosen cells: a cell is
+    /// picked with weight `(1 + times chosen)^(-rarity)`; 0 is uniform, 0.5
+    /// Go-Explore's `1 / sqrt(n + 1)`. >= 0.
+    #[serde(default = "default_rarity")]
+    pub rarity: f64,
+    /// The share of goal babbling's goals chosen by learning progress
+    /// rather than uniformly, in [0, 1].
+    #[serde(default)]
+    pub goal_progress: f64,
+}
+
+fn default_k() -> usize {
+    Params::TASK1.k
+}
+
+fn default_sigma() -> f64 {
+    Params::TASK1.sigma
+}
+
+fn default_rarity() -> f64 {
+    Params::TASK1.rarity
 }
 
 impl Default for Params {
@@ -202,6 +249,10 @@ impl Params {
         lambda: 0.03,
         eta: 0.01,
         epsilon: 0.1,
+        k: 2,
+        sigma: 0.1,
+        rarity: 0.5,
+        goal_progress: 0.0,
     };
     /// The paper's task 2 (sparse reward): beta = 100.
     pub const TASK2: Params = Params {
@@ -210,7 +261,8 @@ impl Params {
     };
 
     /// Checks every range: alpha > 0, beta > 0, lambda >= 0,
-    /// 0 < eta <= 1, 0 <= epsilon <= 1, all finite.
+    /// 0 < eta <= 1, 0 <= epsilon <= 1, k >= 1, sigma > 0, rarity >= 0,
+    /// 0 <= goal_progress <= 1, all finite.
     pub fn validate(&self) -> Result<(), ParamError> {
         let check = |name, value: f64, ok: bool, expected| {
             if ok && value.is_finite() {
@@ -242,6 +294,20 @@ impl Params {
             self.epsilon,
             (0.0..=1.0).contains(&self.epsilon),
             "a number in [0, 1]",
+        )?;
+        check("k", self.k as f64, self.k >= 1, "a whole number >= 1")?;
+        check("sigma", self.sigma, self.sigma > 0.0, "a finite number > 0")?;
+        check(
+            "rarity",
+            self.rarity,
+            self.rarity >= 0.0,
+            "a finite number >= 0",
+        )?;
+        check(
+            "goal_progress",
+            self.goal_progress,
+            (0.0..=1.0).contains(&self.goal_progress),
+            "a number in [0, 1]",
         )
     }
 }
@@ -262,17 +328,24 @@ pub enum LearnerKind {
     Count,
     /// [`StateMarginalMatching`] (`smm`).
     Smm,
+    /// [`GoalBabbling`] (`goal_babbling`).
+    GoalBabbling,
+    /// [`Archive`] (`archive`).
+    Archive,
 }
 
 impl LearnerKind {
-    /// Every kind: the paper's three, then the drives beyond it.
-    pub const ALL: [LearnerKind; 6] = [
+    /// Every kind: the paper's three, the drives beyond it, then the two
+    /// baselines that mutate kept commands.
+    pub const ALL: [LearnerKind; 8] = [
         LearnerKind::E3d,
         LearnerKind::Uniform,
         LearnerKind::Egreedy,
         LearnerKind::E3dRelax,
         LearnerKind::Count,
         LearnerKind::Smm,
+        LearnerKind::GoalBabbling,
+        LearnerKind::Archive,
     ];
 
     /// The name used on the command line and in results.
@@ -284,11 +357,14 @@ impl LearnerKind {
             LearnerKind::E3dRelax => "e3d_relax",
             LearnerKind::Count => "count",
             LearnerKind::Smm => "smm",
+            LearnerKind::GoalBabbling => "goal_babbling",
+            LearnerKind::Archive => "archive",
         }
     }
 
     /// The parameters of [`Params`] this kind reads (`alpha`, `beta`,
-    /// `lambda`, `eta`, `epsilon`); the others it ignores.
+    /// `lambda`, `eta`, `epsilon`, `k`, `sigma`, `rarity`,
+    /// `goal_progress`); the others it ignores.
     ///
     /// ```
     /// use e3d::LearnerKind;
@@ -301,6 +377,8 @@ impl LearnerKind {
             LearnerKind::Count | LearnerKind::Smm => &["alpha", "beta", "lambda"],
             LearnerKind::Egreedy => &["alpha", "epsilon"],
             LearnerKind::Uniform => &[],
+            LearnerKind::GoalBabbling => &["k", "sigma", "goal_progress"],
+            LearnerKind::Archive => &["k", "sigma", "rarity"],
         }
     }
 
@@ -326,6 +404,8 @@ impl LearnerKind {
                 params,
                 target,
             )?),
+            LearnerKind::GoalBabbling => Box::new(GoalBabbling::new(space, num_effects, params)),
+            LearnerKind::Archive => Box::new(Archive::new(space, num_effects, params)),
         })
     }
 }
@@ -333,11 +413,17 @@ impl LearnerKind {
 impl LearnerKind {
     /// The kinds with a learner of continuous commands
     /// ([`make_continuous`](Self::make_continuous)).
-    pub const CONTINUOUS: [LearnerKind; 2] = [LearnerKind::E3d, LearnerKind::Uniform];
+    pub const CONTINUOUS: [LearnerKind; 4] = [
+        LearnerKind::E3d,
+        LearnerKind::Uniform,
+        LearnerKind::GoalBabbling,
+        LearnerKind::Archive,
+    ];
 
     /// Makes a fresh learner of continuous commands of this kind for
-    /// `space`: [`GaussianE3d`] for `e3d`, [`UniformValues`] for `uniform`;
-    /// the other kinds are [`LearnerError::NotContinuous`].
+    /// `space`: [`GaussianE3d`] for `e3d`, [`UniformValues`] for `uniform`,
+    /// [`GoalBabblingValues`] and [`ArchiveValues`]; the other kinds are
+    /// [`LearnerError::NotContinuous`].
     ///
     /// ```
     /// use e3d::{LearnerError, LearnerKind, Params, Target, ValueSpace};
@@ -358,6 +444,10 @@ impl LearnerKind {
         Ok(match self {
             LearnerKind::E3d => Box::new(GaussianE3d::new(space, num_effects, params, target)?),
             LearnerKind::Uniform => Box::new(UniformValues::new(space)),
+            LearnerKind::GoalBabbling => {
+                Box::new(GoalBabblingValues::new(space, num_effects, params))
+            }
+            LearnerKind::Archive => Box::new(ArchiveValues::new(space, num_effects, params)),
             other => {
                 return Err(LearnerError::NotContinuous {
                     learner: other.as_str(),

@@ -1,8 +1,9 @@
 //! Every drive on the canonical scenes: the sweep `scenes/sweeps/drives.ron`
-//! summarised per scene and learner (task 1's entropy, task 2's reward,
-//! first reward and the share of sessions that never reached the reward),
-//! as a table (Markdown, CSV) and a figure (SVG). What `e3d compare`
-//! writes, and docs/reproducing.md shows.
+//! summarised per scene and learner (task 1's entropy and coverage of the
+//! reachable cells, task 2's reward, first reward and the share of
+//! sessions that never reached the reward), as a table (Markdown, CSV)
+//! and a figure (SVG). What `e3d compare` writes, and docs/reproducing.md
+//! shows.
 //!
 //! ```
 //! use e3d::report::drives::{drives_sweep, DriveComparison};
@@ -10,7 +11,7 @@
 //! let sweep = drives_sweep(3, 500, &["two_rooms"]).unwrap();
 //! let results = sweep.run(1).unwrap();
 //! let cmp = DriveComparison::new(&sweep, &results);
-//! assert_eq!(cmp.rows.len(), 6); // one per learner
+//! assert_eq!(cmp.rows.len(), 8); // one per learner
 //! let e3d = cmp.row("two_rooms", "e3d").unwrap();
 //! let uniform = cmp.row("two_rooms", "uniform").unwrap();
 //! assert!(e3d.task1_entropy.mean > uniform.task1_entropy.mean);
@@ -20,6 +21,7 @@
 
 use super::{describe, median, Stats};
 use crate::sweep::{SessionResult, Sweep, SweepError, SweepSpec, PARAM_NAMES};
+use crate::world::{ExecOptions, Executor, Strategy, Workload, MAX_TABLE_COMMANDS};
 use std::fmt::Write;
 
 /// The sweep file of the comparison, as shipped.
@@ -40,6 +42,45 @@ pub fn drives_sweep(sessions: usize, trials: usize, scenes: &[&str]) -> Result<S
         spec.scenes = scenes.iter().map(|s| s.to_string()).collect();
     }
     Sweep::new(spec)
+}
+
+/// `sweep`, told the reachable cells of each of its scenes
+/// ([`Sweep::with_reachable_effects`]) from the scene's outcome table
+/// (built on the current rayon pool, or read from `cache`, a table
+/// folder), for scenes of at most [`MAX_TABLE_COMMANDS`] commands; the
+/// others keep every cell as the reference of coverage.
+pub fn with_reachable_cells(
+    sweep: Sweep,
+    cache: Option<&std::path::Path>,
+) -> Result<Sweep, SweepError> {
+    let mut reachable = Vec::new();
+    for s in sweep.scenes() {
+        let k = match s.scene() {
+            Some(scene)
+                if scene
+                    .command_space()
+                    .num_commands()
+                    .is_some_and(|n| n <= MAX_TABLE_COMMANDS) =>
+            {
+                let options = ExecOptions {
+                    cache: cache.map(std::path::Path::to_path_buf),
+                    force: Some(Strategy::Table),
+                    ..ExecOptions::default()
+                };
+                let work = Workload {
+                    trials: 1,
+                    sessions: 1,
+                    threads: rayon::current_num_threads(),
+                };
+                let exec = Executor::new(scene, &work, &options)
+                    .map_err(|e| SweepError::Other(format!("scene `{}`: {e}", s.name())))?;
+                exec.table().map(|t| t.reachable_effects())
+            }
+            _ => None,
+        };
+        reachable.push(k);
+    }
+    Ok(sweep.with_reachable_effects(reachable))
 }
 
 /// A panel of the figure: its title, the top of its axis, and the value
@@ -66,6 +107,23 @@ pub struct DriveRow {
     pub task2_never_rewarded: f64,
     /// Task 2's sessions.
     pub task2_sessions: usize,
+    /// Task 1: the fraction of the reachable cells reached by the last
+    /// trial, over the sessions.
+    pub task1_coverage: Stats,
+    /// Task 1: the trials to reach 50% of the reachable cells, over the
+    /// sessions that reached them ([`task1_reached_50`](Self::task1_reached_50)).
+    pub task1_trials_to_50: Stats,
+    /// Task 1: the sessions that reached 50% of the reachable cells.
+    pub task1_reached_50: usize,
+    /// Task 1: the trials to reach 90%, over the sessions that did.
+    pub task1_trials_to_90: Stats,
+    /// Task 1: the sessions that reached 90% of the reachable cells.
+    pub task1_reached_90: usize,
+    /// Task 1's sessions.
+    pub task1_sessions: usize,
+    /// Task 2: the first rewarded trial over the sessions that were
+    /// rewarded (mean and sd).
+    pub task2_first_reward_stats: Stats,
 }
 
 /// The comparison: one row per scene and learner, in the sweep's order.
@@ -77,6 +135,10 @@ pub struct DriveComparison {
     pub sessions: usize,
     /// Trials per session.
     pub trials: usize,
+    /// Per scene (in order), its name and the cells coverage counts
+    /// against: the reachable ones when the sweep knew them
+    /// ([`with_reachable_cells`]), else all (`false`).
+    pub coverage_cells: Vec<(String, usize, bool)>,
 }
 
 impl DriveComparison {
@@ -93,6 +155,9 @@ impl DriveComparison {
             .iter()
             .position(|c| c.starts_with("cumulative_reward_at_"));
         let first = col("first_reward_trial");
+        let coverage = col("coverage");
+        let to50 = col("trials_to_50_percent");
+        let to90 = col("trials_to_90_percent");
         let cells = sweep.cells();
         let beta = PARAM_NAMES.iter().position(|&p| p == "beta").unwrap_or(1);
         let mut rows = Vec::new();
@@ -123,7 +188,17 @@ impl DriveComparison {
                 let rew: Vec<f64> = values(&t2, reward).into_iter().flatten().collect();
                 let firsts = values(&t2, first);
                 let rewarded: Vec<f64> = firsts.iter().flatten().copied().collect();
+                let cov: Vec<f64> = values(&t1, coverage).into_iter().flatten().collect();
+                let r50: Vec<f64> = values(&t1, to50).into_iter().flatten().collect();
+                let r90: Vec<f64> = values(&t1, to90).into_iter().flatten().collect();
                 rows.push(DriveRow {
+                    task1_coverage: describe(&cov),
+                    task1_trials_to_50: describe(&r50),
+                    task1_reached_50: r50.len(),
+                    task1_trials_to_90: describe(&r90),
+                    task1_reached_90: r90.len(),
+                    task1_sessions: t1.len(),
+                    task2_first_reward_stats: describe(&rewarded),
                     scene: scene.name().to_string(),
                     learner: kind.clone(),
                     task1_entropy: describe(&h),
@@ -138,11 +213,82 @@ impl DriveComparison {
                 });
             }
         }
+        let coverage_cells = sweep
+            .scenes()
+            .iter()
+            .enumerate()
+            .map(|(i, s)| match sweep.reachable_effects(i) {
+                Some(k) => (s.name().to_string(), k, true),
+                None => (s.name().to_string(), s.num_effects(), false),
+            })
+            .collect();
         DriveComparison {
             rows,
             sessions: sweep.spec.sessions,
             trials: sweep.spec.trials,
+            coverage_cells,
         }
+    }
+
+    /// Per scene, which learner is best on each measure: the highest task
+    /// 1 entropy, the highest coverage, the fewest mean trials to 50% and
+    /// to 90% of the reachable cells (among the learners whose every
+    /// session got there), the highest task 2 reward and the earliest
+    /// median first reward (learners tied on a measure are all named).
+    /// One line per scene.
+    pub fn winners(&self) -> Vec<(String, Vec<(&'static str, String)>)> {
+        let mut out: Vec<(String, Vec<(&'static str, String)>)> = Vec::new();
+        for (scene, _, _) in &self.coverage_cells {
+            let rows: Vec<&DriveRow> = self.rows.iter().filter(|r| &r.scene == scene).collect();
+            if rows.is_empty() {
+                continue;
+            }
+            // the best value, and every learner that has it (ties listed)
+            let best = |key: &dyn Fn(&DriveRow) -> Option<f64>, high: bool| -> String {
+                let mut b: Option<f64> = None;
+                for r in &rows {
+                    if let Some(v) = key(r) {
+                        if b.is_none_or(|w| (high && v > w) || (!high && v < w)) {
+                            b = Some(v);
+                        }
+                    }
+                }
+                let Some(b) = b else {
+                    return "-".to_string();
+                };
+                let names: Vec<&str> = rows
+                    .iter()
+                    .filter(|r| key(r) == Some(b))
+                    .map(|r| r.learner.as_str())
+                    .collect();
+                names.join(", ")
+            };
+            let all = |r: &DriveRow, n: usize| n == r.task1_sessions && n > 0;
+            out.push((
+                scene.clone(),
+                vec![
+                    ("entropy", best(&|r| Some(r.task1_entropy.mean), true)),
+                    ("coverage", best(&|r| Some(r.task1_coverage.mean), true)),
+                    (
+                        "trials to 50%",
+                        best(
+                            &|r| all(r, r.task1_reached_50).then_some(r.task1_trials_to_50.mean),
+                            false,
+                        ),
+                    ),
+                    (
+                        "trials to 90%",
+                        best(
+                            &|r| all(r, r.task1_reached_90).then_some(r.task1_trials_to_90.mean),
+                            false,
+                        ),
+                    ),
+                    ("task 2 reward", best(&|r| Some(r.task2_reward.mean), true)),
+                    ("first reward", best(&|r| r.task2_first_reward, false)),
+                ],
+            ));
+        }
+        out
     }
 
     /// The row of `scene` and `learner`.
@@ -154,23 +300,49 @@ impl DriveComparison {
 
     /// The table in Markdown, with a line saying what was run.
     pub fn markdown(&self) -> String {
+        let cells: Vec<String> = self
+            .coverage_cells
+            .iter()
+            .map(|(scene, k, reachable)| {
+                format!("{scene} {k}{}", if *reachable { "" } else { " (all)" })
+            })
+            .collect();
         let mut s = format!(
             "{} sessions per learner and task, {} trials each. Task 1: no reward, beta 1; \
-             entropy of the terminal cells normalised by log(all cells), mean ± sd. \
-             Task 2: reward, beta 100; cumulative reward at trial {}, median first \
-             rewarded trial, share of sessions never rewarded.\n\n",
-            self.sessions, self.trials, self.trials
+             entropy of the terminal cells normalised by log(all cells); coverage: the \
+             fraction of the reachable cells ({}) reached by the last trial; trials to \
+             reach 50% and 90% of them (over the sessions that did, with their number \
+             when not all); mean ± sd. Task 2: reward, beta 100; cumulative reward at \
+             trial {}, median first rewarded trial, share of sessions never rewarded.\n\n",
+            self.sessions,
+            self.trials,
+            cells.join(", "),
+            self.trials
         );
-        s.push_str("| scene | learner | task 1 entropy | task 2 reward | first reward (median) | never rewarded |\n");
-        s.push_str("|---|---|---|---|---|---|\n");
+        s.push_str("| scene | learner | task 1 entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward (median) | never rewarded |\n");
+        s.push_str("|---|---|---|---|---|---|---|---|---|\n");
+        let reach = |st: &Stats, n: usize, of: usize| -> String {
+            if n == 0 {
+                return "never".to_string();
+            }
+            let mut t = format!("{:.0} ± {:.0}", st.mean, st.sd);
+            if n < of {
+                let _ = write!(t, " ({n}/{of})");
+            }
+            t
+        };
         for r in &self.rows {
             let _ = writeln!(
                 s,
-                "| {} | {} | {:.3} ± {:.3} | {:.0} ± {:.0} | {} | {:.1}% |",
+                "| {} | {} | {:.3} ± {:.3} | {:.3} ± {:.3} | {} | {} | {:.0} ± {:.0} | {} | {:.1}% |",
                 r.scene,
                 r.learner,
                 r.task1_entropy.mean,
                 r.task1_entropy.sd,
+                r.task1_coverage.mean,
+                r.task1_coverage.sd,
+                reach(&r.task1_trials_to_50, r.task1_reached_50, r.task1_sessions),
+                reach(&r.task1_trials_to_90, r.task1_reached_90, r.task1_sessions),
                 r.task2_reward.mean,
                 r.task2_reward.sd,
                 r.task2_first_reward
@@ -178,18 +350,25 @@ impl DriveComparison {
                 100.0 * r.task2_never_rewarded
             );
         }
+        s.push_str("\nBest per scene (highest entropy, coverage and reward; fewest mean trials to 50% and 90% among the learners whose every session got there; earliest median first reward):\n\n");
+        s.push_str("| scene | entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward |\n");
+        s.push_str("|---|---|---|---|---|---|---|\n");
+        for (scene, best) in self.winners() {
+            let names: Vec<&str> = best.iter().map(|(_, l)| l.as_str()).collect();
+            let _ = writeln!(s, "| {scene} | {} |", names.join(" | "));
+        }
         s
     }
 
     /// The table as CSV, one row per scene and learner.
     pub fn csv(&self) -> String {
         let mut s = String::from(
-            "scene,learner,task1_entropy_mean,task1_entropy_sd,task2_reward_mean,task2_reward_sd,task2_first_reward_median,task2_never_rewarded,task2_sessions\n",
+            "scene,learner,task1_entropy_mean,task1_entropy_sd,task2_reward_mean,task2_reward_sd,task2_first_reward_median,task2_never_rewarded,task2_sessions,task1_coverage_mean,task1_coverage_sd,task1_trials_to_50_mean,task1_trials_to_50_sd,task1_reached_50,task1_trials_to_90_mean,task1_trials_to_90_sd,task1_reached_90,task1_sessions,task2_first_reward_mean,task2_first_reward_sd\n",
         );
         for r in &self.rows {
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 r.scene,
                 r.learner,
                 r.task1_entropy.mean,
@@ -199,7 +378,18 @@ impl DriveComparison {
                 r.task2_first_reward
                     .map_or(String::new(), |t| t.to_string()),
                 r.task2_never_rewarded,
-                r.task2_sessions
+                r.task2_sessions,
+                r.task1_coverage.mean,
+                r.task1_coverage.sd,
+                r.task1_trials_to_50.mean,
+                r.task1_trials_to_50.sd,
+                r.task1_reached_50,
+                r.task1_trials_to_90.mean,
+                r.task1_trials_to_90.sd,
+                r.task1_reached_90,
+                r.task1_sessions,
+                r.task2_first_reward_stats.mean,
+                r.task2_first_reward_stats.sd
             );
         }
         s

@@ -350,6 +350,9 @@ pub fn metric_label(metric: &str) -> String {
         "kl_to_target" => "KL divergence to the target (nats)".into(),
         "distinct_effects" => "distinct effects reached".into(),
         "first_reward_trial" => "trial of the first reward".into(),
+        "coverage" => "fraction of the reachable cells reached".into(),
+        "trials_to_50_percent" => "trials to reach 50% of the reachable cells".into(),
+        "trials_to_90_percent" => "trials to reach 90% of the reachable cells".into(),
         m => match m.strip_prefix("cumulative_reward_at_") {
             Some(t) => format!("cumulative reward at trial {t}"),
             None => m.replace('_', " "),

@@ -106,6 +106,6 @@ pub use results::{
 };
 pub use run::DirOptions;
 pub use spec::{
-    MetricSpec, ParamValues, Scale, SweepSpec, Values, MAX_SESSIONS, MAX_STEPS, MAX_TRIALS,
-    PARAM_NAMES,
+    MetricSpec, ParamValues, Scale, SweepSpec, Values, FIXED_PARAM_NAMES, MAX_SESSIONS, MAX_STEPS,
+    MAX_TRIALS, PARAM_NAMES,
 };

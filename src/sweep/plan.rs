@@ -166,6 +166,9 @@ pub struct Sweep {
     pub(super) notices: Option<Notices>,
     pub(super) trials_done: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
     pub(super) table_progress: Option<TableProgress>,
+    /// Per scene, the effects some command reaches, when told
+    /// ([`with_reachable_effects`](Self::with_reachable_effects)).
+    pub(super) reachable: Vec<Option<usize>>,
 }
 
 /// Where a sweep tells the building of its scenes' outcome tables:
@@ -375,7 +378,7 @@ impl Sweep {
                 let count: usize = dims.iter().product();
                 for &use_reward in &spec.use_reward {
                     for mut k in 0..count {
-                        let mut params = Params::TASK1;
+                        let mut params = spec.params.fixed(Params::TASK1);
                         let mut pick = [0usize; 5];
                         for i in (0..5).rev() {
                             pick[i] = k % dims[i];
@@ -408,6 +411,7 @@ impl Sweep {
             notices: None,
             trials_done: None,
             table_progress: None,
+            reachable: Vec::new(),
         })
     }
 
@@ -434,6 +438,23 @@ impl Sweep {
     pub fn with_strategy(mut self, strategy: Option<Strategy>) -> Self {
         self.exec.force = strategy;
         self
+    }
+
+    /// Tells the sweep how many effects some command of each scene
+    /// reaches (`reachable[i]` for its `i`-th scene, `None`: unknown), for
+    /// the coverage measures ([`MetricSpec::Coverage`] and the trials to
+    /// 50% and 90%) and the entropy over the reachable cells. Without it,
+    /// coverage counts against every effect of the scene. `e3d compare`
+    /// gives the counts of the scenes' outcome tables.
+    pub fn with_reachable_effects(mut self, reachable: Vec<Option<usize>>) -> Self {
+        self.reachable = reachable;
+        self
+    }
+
+    /// The effects some command of scene `scene` (its index) reaches, if
+    /// the sweep was told ([`with_reachable_effects`](Self::with_reachable_effects)).
+    pub fn reachable_effects(&self, scene: usize) -> Option<usize> {
+        self.reachable.get(scene).copied().flatten()
     }
 
     /// Calls `f` with one line for each scene saying how its outcomes are

@@ -149,7 +149,10 @@ impl Sweep {
                 failure: Some(e.to_string()),
             };
         }
-        let m = running.metrics(&Target::Uniform);
+        let m = match self.reachable_effects(self.cells[session.cell].scene) {
+            Some(k) => running.metrics_over_reachable(&Target::Uniform, k),
+            None => running.metrics(&Target::Uniform),
+        };
         let values = self
             .metrics
             .iter()
@@ -160,6 +163,9 @@ impl Sweep {
                 MetricSpec::DistinctEffects => Some(m.distinct_effects as f64),
                 MetricSpec::CumulativeReward(t) => running.cumulative_reward_at(t),
                 MetricSpec::FirstRewardTrial => m.first_reward_trial.map(|t| t as f64),
+                MetricSpec::Coverage => Some(m.coverage),
+                MetricSpec::TrialsTo50Percent => m.trials_to_50_percent.map(|t| t as f64),
+                MetricSpec::TrialsTo90Percent => m.trials_to_90_percent.map(|t| t as f64),
             })
             .collect();
         SessionResult {

@@ -258,9 +258,56 @@ pub struct ParamValues {
     /// Exploration rate of epsilon-greedy.
     #[serde(default)]
     pub epsilon: Option<Values>,
+    /// Slots a mutation resamples (goal babbling, archive). One value for
+    /// the whole sweep, not a grid axis: `results.csv` has no column for
+    /// it and the sessions' seeds do not depend on it.
+    #[serde(default)]
+    pub k: Option<usize>,
+    /// Noise of a mutation of continuous values (one value, as `k`).
+    #[serde(default)]
+    pub sigma: Option<f64>,
+    /// The archive's preference for rarely chosen cells (one value, as `k`).
+    #[serde(default)]
+    pub rarity: Option<f64>,
+    /// Goal babbling's share of goals by learning progress (one value, as `k`).
+    #[serde(default)]
+    pub goal_progress: Option<f64>,
 }
 
+/// The names of the parameters a sweep fixes for all its cells (not grid
+/// axes), in the order a sweep file is written.
+pub const FIXED_PARAM_NAMES: [&str; 4] = ["k", "sigma", "rarity", "goal_progress"];
+
 impl ParamValues {
+    /// `base` with the fixed parameters (`k`, `sigma`, `rarity`,
+    /// `goal_progress`) that are given set.
+    pub fn fixed(&self, base: Params) -> Params {
+        Params {
+            k: self.k.unwrap_or(base.k),
+            sigma: self.sigma.unwrap_or(base.sigma),
+            rarity: self.rarity.unwrap_or(base.rarity),
+            goal_progress: self.goal_progress.unwrap_or(base.goal_progress),
+            ..base
+        }
+    }
+
+    fn fixed_text(&self) -> Vec<(&'static str, String)> {
+        let mut out = Vec::new();
+        if let Some(k) = self.k {
+            out.push(("k", k.to_string()));
+        }
+        for (name, v) in [
+            ("sigma", self.sigma),
+            ("rarity", self.rarity),
+            ("goal_progress", self.goal_progress),
+        ] {
+            if let Some(v) = v {
+                out.push((name, format!("{v:?}")));
+            }
+        }
+        out
+    }
+
     pub(super) fn get(&self, name: &str) -> Option<&Values> {
         match name {
             "alpha" => self.alpha.as_ref(),
@@ -304,6 +351,18 @@ pub enum MetricSpec {
     CumulativeReward(usize),
     /// The 1-based trial of the first reward (empty when none).
     FirstRewardTrial,
+    /// The fraction of the reachable cells reached by the last trial
+    /// ([`Metrics::coverage`](crate::Metrics::coverage); the reachable
+    /// cells when the sweep knows them, [`Sweep::with_reachable_effects`],
+    /// else every cell).
+    Coverage,
+    /// The trial by which 50% of those cells were reached (empty when
+    /// never; column `trials_to_50_percent`).
+    #[serde(rename = "trials_to_50_percent")]
+    TrialsTo50Percent,
+    /// The same for 90% (column `trials_to_90_percent`).
+    #[serde(rename = "trials_to_90_percent")]
+    TrialsTo90Percent,
 }
 
 impl MetricSpec {
@@ -316,11 +375,27 @@ impl MetricSpec {
             MetricSpec::DistinctEffects => "distinct_effects".into(),
             MetricSpec::CumulativeReward(t) => format!("cumulative_reward_at_{t}"),
             MetricSpec::FirstRewardTrial => "first_reward_trial".into(),
+            MetricSpec::Coverage => "coverage".into(),
+            MetricSpec::TrialsTo50Percent => "trials_to_50_percent".into(),
+            MetricSpec::TrialsTo90Percent => "trials_to_90_percent".into(),
         }
     }
 
+    /// Whether a session may have no value (no first reward, a share of
+    /// the cells never reached): `summary.csv` then counts the sessions
+    /// that have one (`m_n`).
+    pub fn may_be_empty(&self) -> bool {
+        matches!(
+            self,
+            MetricSpec::FirstRewardTrial
+                | MetricSpec::TrialsTo50Percent
+                | MetricSpec::TrialsTo90Percent
+        )
+    }
+
     /// The metrics kept when a sweep names none: all of them, with the
-    /// cumulative reward at the last trial.
+    /// cumulative reward at the last trial (the coverage measures last,
+    /// so that the columns before them are those of earlier versions).
     pub fn defaults(trials: usize) -> Vec<MetricSpec> {
         vec![
             MetricSpec::NormalizedEntropy,
@@ -329,6 +404,9 @@ impl MetricSpec {
             MetricSpec::DistinctEffects,
             MetricSpec::CumulativeReward(trials),
             MetricSpec::FirstRewardTrial,
+            MetricSpec::Coverage,
+            MetricSpec::TrialsTo50Percent,
+            MetricSpec::TrialsTo90Percent,
         ]
     }
 }
@@ -392,7 +470,16 @@ pub struct SweepSpec {
 }
 
 /// The built-in learners' names, in the order of [`LearnerKind::ALL`].
-const BUILTIN_LEARNERS: &[&str] = &["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm"];
+const BUILTIN_LEARNERS: &[&str] = &[
+    "e3d",
+    "uniform",
+    "egreedy",
+    "e3d_relax",
+    "count",
+    "smm",
+    "goal_babbling",
+    "archive",
+];
 
 #[cfg(test)]
 #[test]
@@ -624,7 +711,7 @@ impl SweepSpec {
             return Err(bad(
                 "learners",
                 None,
-                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm), found none",
+                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive), found none",
             ));
         }
         for (i, l) in spec.learners.iter().enumerate() {
@@ -736,6 +823,14 @@ impl SweepSpec {
             };
             axes.push(values);
         }
+        // the parameters fixed for every cell
+        if let Err(e) = spec.params.fixed(Params::TASK1).validate() {
+            return Err(bad(
+                e.name,
+                None,
+                &format!("{}, found {}", e.expected, e.value),
+            ));
+        }
         // metrics
         let metrics = spec
             .metrics
@@ -789,13 +884,19 @@ impl SweepSpec {
         out.push_str(&format!("    learners: [{}],\n", self.learners.join(", ")));
         let use_reward: Vec<String> = self.use_reward.iter().map(bool::to_string).collect();
         out.push_str(&format!("    use_reward: [{}],\n", use_reward.join(", ")));
-        let params: Vec<String> = PARAM_NAMES
+        let mut params: Vec<String> = PARAM_NAMES
             .iter()
             .filter_map(|name| {
                 let v = self.params.get(name)?;
                 Some(format!("        {name}: {},\n", v.to_ron()))
             })
             .collect();
+        params.extend(
+            self.params
+                .fixed_text()
+                .into_iter()
+                .map(|(name, v)| format!("        {name}: {v},\n")),
+        );
         if !params.is_empty() {
             out.push_str(&format!("    params: (\n{}    ),\n", params.concat()));
         }

@@ -6,7 +6,8 @@
 //! `m_ci_low` and `m_ci_high`: the 95% confidence interval of the mean,
 //! `mean -/+ t(0.975, n - 1) sd / sqrt(n)` (Student). With one session the
 //! sd and the interval are empty. Empty values (a session that never got a
-//! reward has no `first_reward_trial`) are left out; a metric with empty
+//! reward has no `first_reward_trial`, one that never reached 90% of the
+//! cells no `trials_to_90_percent`) are left out; a metric with empty
 //! values also gets `m_n`, the number of sessions that have one. Failed
 //! sessions (a non-empty `failure` in `results.csv`) count in `failed` and
 //! give no value.
@@ -143,7 +144,15 @@ pub fn summarize<'a>(
         }
     }
     // which metrics may be empty (get an `_n` column)
-    let has_n: Vec<bool> = metrics.iter().map(|m| *m == "first_reward_trial").collect();
+    let has_n: Vec<bool> = metrics
+        .iter()
+        .map(|m| {
+            matches!(
+                *m,
+                "first_reward_trial" | "trials_to_50_percent" | "trials_to_90_percent"
+            )
+        })
+        .collect();
     let mut out = String::new();
     let mut header: Vec<String> = KEY_COLUMNS[..CELL_COLUMNS]
         .iter()

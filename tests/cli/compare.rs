@@ -31,6 +31,9 @@ fn compare_writes_the_table_the_figure_and_the_rows() {
     assert!(stdout.contains(&md));
     // one row per learner, in the sweep's order
     let rows: Vec<&str> = md
+        .split("\nBest per scene")
+        .next()
+        .unwrap()
         .lines()
         .filter(|l| l.starts_with("| two_rooms |"))
         .collect();
@@ -40,7 +43,16 @@ fn compare_writes_the_table_the_figure_and_the_rows() {
         .collect();
     assert_eq!(
         learners,
-        ["e3d", "e3d_relax", "count", "smm", "uniform", "egreedy"]
+        [
+            "e3d",
+            "e3d_relax",
+            "count",
+            "smm",
+            "uniform",
+            "egreedy",
+            "goal_babbling",
+            "archive"
+        ]
     );
     let csv = std::fs::read_to_string(dir.join("a/drives.csv")).unwrap();
     let value = |learner: &str, col: usize| -> f64 {
@@ -58,9 +70,9 @@ fn compare_writes_the_table_the_figure_and_the_rows() {
     assert_eq!(value("e3d", 8), 4.0);
     let svg = std::fs::read_to_string(dir.join("a/drives.svg")).unwrap();
     assert!(svg.contains("task 1: normalised entropy") && svg.contains(">smm</text>"));
-    // results.csv: a header and 20 cells (4 learners x 2 betas x 2 tasks, and 2 x 2 tasks) x 4 sessions
+    // results.csv: a header and 24 cells (4 learners x 2 betas x 2 tasks, and 4 x 2 tasks) x 4 sessions
     let results = std::fs::read_to_string(dir.join("a/results.csv")).unwrap();
-    assert_eq!(results.lines().count(), 1 + 20 * 4);
+    assert_eq!(results.lines().count(), 1 + 24 * 4);
     // the same bytes on two threads
     compare(&dir.join("b"), "2");
     for f in ["drives.md", "drives.csv", "drives.svg", "results.csv"] {

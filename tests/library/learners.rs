@@ -23,6 +23,7 @@ fn e3d_updates_p_first_then_q_with_the_fresh_p() {
         lambda: 0.5,
         eta: 0.1,
         epsilon: 0.0,
+        ..Params::TASK1
     };
     let mut l = E3d::new(&space, 4, &params, &Target::Uniform).unwrap();
 

@@ -1,0 +1,382 @@
+//! Goal babbling with a nearest-neighbour inverse model (after Forestier,
+//! Mollard and Oudeyer 2017, "Intrinsically Motivated Goal Exploration
+//! Processes with Automatic Curriculum Learning", arXiv 1708.02190, and
+//! explauto): sample a goal effect, take the known command whose outcome
+//! is nearest to it, mutate it, execute it, remember what it reached.
+
+use super::archive::spread;
+use super::mutation::{Genome, SymbolGenome, ValueGenome};
+use super::{ContinuousLearner, Learner, Params};
+use crate::command::{Command, CommandSpace, ValueSpace};
+use crate::rng::SessionRng;
+use crate::world::Outcome;
+use rand::RngExt;
+use std::collections::VecDeque;
+
+/// Goals are drawn in the box of the known outcomes widened by this share
+/// of its size on each side, so that some goals lie beyond what was
+/// reached and pull the search outwards.
+pub const GOAL_MARGIN: f64 = 0.1;
+
+/// Learning-progress goal selection splits the goal box into
+/// `PROGRESS_BINS x PROGRESS_BINS` regions.
+pub const PROGRESS_BINS: usize = 4;
+
+/// The competences a region keeps for its learning progress (the older
+/// half against the newer half).
+pub const PROGRESS_WINDOW: usize = 20;
+
+/// A reached cell: where its command ended, and the command.
+#[derive(Debug, Clone)]
+struct Known<T> {
+    point: [f64; 2],
+    command: Vec<T>,
+}
+
+/// Goal babbling, for either kind of command.
+#[derive(Debug, Clone)]
+struct Core<G: Genome> {
+    genome: G,
+    cells: Vec<Option<Known<G::Elem>>>,
+    /// The reached cells, in the order they were first reached.
+    known: Vec<usize>,
+    lo: [f64; 2],
+    hi: [f64; 2],
+    goal_progress: f64,
+    /// Per region, the last competences `-|goal - reached|`.
+    competence: Vec<VecDeque<f64>>,
+    last_goal: Option<[f64; 2]>,
+    last_region: usize,
+    last_parent: Option<usize>,
+}
+
+impl<G: Genome> Core<G> {
+    fn new(genome: G, num_effects: usize, goal_progress: f64) -> Self {
+        Core {
+            genome,
+            cells: vec![None; num_effects],
+            known: Vec::new(),
+            lo: [f64::INFINITY; 2],
+            hi: [f64::NEG_INFINITY; 2],
+            goal_progress,
+            competence: vec![VecDeque::new(); PROGRESS_BINS * PROGRESS_BINS],
+            last_goal: None,
+            last_region: 0,
+            last_parent: None,
+        }
+    }
+
+    /// The goal box: the known outcomes' box widened by [`GOAL_MARGIN`].
+    fn goal_box(&self) -> ([f64; 2], [f64; 2]) {
+        let mut lo = self.lo;
+        let mut hi = self.hi;
+        for a in 0..2 {
+            let m = GOAL_MARGIN * (hi[a] - lo[a]);
+            lo[a] -= m;
+            hi[a] += m;
+        }
+        (lo, hi)
+    }
+
+    fn region_of(&self, p: [f64; 2], lo: [f64; 2], hi: [f64; 2]) -> usize {
+        let bin = |a: usize| {
+            let w = hi[a] - lo[a];
+            if w > 0.0 {
+                (((p[a] - lo[a]) / w * PROGRESS_BINS as f64) as usize).min(PROGRESS_BINS - 1)
+            } else {
+                0
+            }
+        };
+        bin(1) * PROGRESS_BINS + bin(0)
+    }
+
+    /// A region's learning progress: `|mean of the newer half - mean of
+    /// the older half|` of its last [`PROGRESS_WINDOW`] competences (0
+    /// with fewer than 2).
+    fn progress(&self, region: usize) -> f64 {
+        let c = &self.competence[region];
+        if c.len() < 2 {
+            return 0.0;
+        }
+        let half = c.len() / 2;
+        let old: f64 = c.iter().take(half).sum::<f64>() / half as f64;
+        let new: f64 = c.iter().skip(half).sum::<f64>() / (c.len() - half) as f64;
+        (new - old).abs()
+    }
+
+    fn sample_goal(&mut self, rng: &mut SessionRng) -> [f64; 2] {
+        let (lo, hi) = self.goal_box();
+        let (mut glo, mut ghi) = (lo, hi);
+        if self.goal_progress > 0.0 && rng.random::<f64>() < self.goal_progress {
+            let lp: Vec<f64> = (0..self.competence.len())
+                .map(|r| self.progress(r))
+                .collect();
+            let total: f64 = lp.iter().sum();
+            let region = if total > 0.0 {
+                let u = rng.random::<f64>() * total;
+                let mut acc = 0.0;
+                lp.iter()
+                    .position(|&w| {
+                        acc += w;
+                        u < acc
+                    })
+                    .unwrap_or(lp.len() - 1)
+            } else {
+                rng.random_range(0..lp.len())
+            };
+            let (bx, by) = (region % PROGRESS_BINS, region / PROGRESS_BINS);
+            for (a, b) in [bx, by].into_iter().enumerate() {
+                let w = (hi[a] - lo[a]) / PROGRESS_BINS as f64;
+                glo[a] = lo[a] + b as f64 * w;
+                ghi[a] = glo[a] + w;
+            }
+        }
+        let gx = glo[0] + (ghi[0] - glo[0]) * rng.random::<f64>();
+        let gy = glo[1] + (ghi[1] - glo[1]) * rng.random::<f64>();
+        let goal = [gx, gy];
+        self.last_region = self.region_of(goal, lo, hi);
+        goal
+    }
+
+    /// The reached cell whose known outcome is nearest to `goal`
+    /// (Euclidean; ties: the first reached).
+    fn nearest(&self, goal: [f64; 2]) -> Option<usize> {
+        let mut best = None;
+        let mut best_d = f64::INFINITY;
+        for &e in &self.known {
+            let p = self.cells[e].as_ref().expect("a known cell").point;
+            let d = (p[0] - goal[0]).powi(2) + (p[1] - goal[1]).powi(2);
+            if d < best_d {
+                best_d = d;
+                best = Some(e);
+            }
+        }
+        best
+    }
+
+    fn propose(&mut self, rng: &mut SessionRng, out: &mut Vec<G::Elem>) {
+        if self.known.is_empty() {
+            self.last_goal = None;
+            self.last_parent = None;
+            self.genome.random(rng, out);
+            return;
+        }
+        let goal = self.sample_goal(rng);
+        let parent = self.nearest(goal).expect("a known cell");
+        self.last_goal = Some(goal);
+        self.last_parent = Some(parent);
+        out.clear();
+        out.extend_from_slice(&self.cells[parent].as_ref().expect("known").command);
+        self.genome.mutate(rng, out);
+    }
+
+    fn learn(&mut self, command: &[G::Elem], outcome: &Outcome) {
+        let p = outcome.point;
+        if let Some(goal) = self.last_goal.take() {
+            if self.goal_progress > 0.0 {
+                let d = ((p[0] - goal[0]).powi(2) + (p[1] - goal[1]).powi(2)).sqrt();
+                let c = &mut self.competence[self.last_region];
+                if c.len() == PROGRESS_WINDOW {
+                    c.pop_front();
+                }
+                c.push_back(-d);
+            }
+        }
+        let e = outcome.effect;
+        match &mut self.cells[e] {
+            Some(k) => {
+                k.point = p;
+                k.command.clear();
+                k.command.extend_from_slice(command);
+            }
+            slot @ None => {
+                *slot = Some(Known {
+                    point: p,
+                    command: command.to_vec(),
+                });
+                self.known.push(e);
+            }
+        }
+        for (a, &x) in p.iter().enumerate() {
+            self.lo[a] = self.lo[a].min(x);
+            self.hi[a] = self.hi[a].max(x);
+        }
+    }
+}
+
+/// Goal babbling with a nearest-neighbour inverse model, over commands of
+/// symbols.
+///
+/// The effect space is the plane of the terminal point: a cell's known
+/// outcome is where the command kept for it ended (on a grid, the cell's
+/// centre). Each trial:
+///
+/// ```text
+/// if no cell is known: a uniform command
+/// else:
+///     box <- the box of the known outcomes, widened by 10% of its size on each side
+///     goal g ~ uniform(box)        (or by learning progress, below)
+///     c <- the known cell whose outcome is nearest to g (ties: the first reached)
+///     propose the command of c with k slots resampled (Params::k)
+/// after the trial, ending in cell e at point x:
+///     cell e's command <- this command, its outcome <- x (the most recent one)
+/// ```
+///
+/// **Learning-progress goals** (explauto's "discretized progress"), with
+/// probability [`Params::goal_progress`] (default 0: every goal uniform):
+/// the goal box is split into 4 x 4 regions; each keeps the competences
+/// `-|g - x|` of the last 20 goals drawn in it, and its progress is the
+/// absolute difference between the means of the newer and the older half.
+/// A region is drawn with probability proportional to its progress
+/// (uniformly while all are 0) and the goal uniformly in it.
+///
+/// Its draws: two `f64` per goal (one more, and one for the region, when
+/// `goal_progress > 0`), then two integers per mutated slot.
+///
+/// ```
+/// use e3d::learner::GoalBabbling;
+/// use e3d::rand::SeedableRng;
+/// use e3d::{Command, CommandSpace, Learner, Outcome, Params, SessionRng};
+/// let space = CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
+/// let mut g = GoalBabbling::new(&space, 4, &Params::TASK1);
+/// g.learn(&Command::new(vec![0, 0, 0]), &Outcome { effect: 1, reward: 0.0, point: [0.0, 0.0] });
+/// g.learn(&Command::new(vec![2, 2, 2]), &Outcome { effect: 3, reward: 0.0, point: [4.0, 0.0] });
+/// assert_eq!(g.nearest([1.0, 0.0]), Some(1));
+/// assert_eq!(g.nearest([3.0, 1.0]), Some(3));
+/// let mut c = space.first();
+/// g.propose(&mut SessionRng::seed_from_u64(1), &mut c);
+/// let parent = g.last_parent().unwrap();
+/// assert_eq!(g.nearest(g.last_goal().unwrap()), Some(parent));
+/// ```
+#[derive(Debug, Clone)]
+pub struct GoalBabbling {
+    core: Core<SymbolGenome>,
+}
+
+impl GoalBabbling {
+    /// A learner that knows nothing yet, for `space` and `num_effects`
+    /// cells, mutating `params.k` slots, with `params.goal_progress`.
+    pub fn new(space: &CommandSpace, num_effects: usize, params: &Params) -> Self {
+        GoalBabbling {
+            core: Core::new(
+                SymbolGenome::new(space.sizes().collect(), params.k),
+                num_effects,
+                params.goal_progress,
+            ),
+        }
+    }
+
+    /// The known cell whose outcome is nearest to `goal`.
+    pub fn nearest(&self, goal: [f64; 2]) -> Option<usize> {
+        self.core.nearest(goal)
+    }
+
+    /// The command kept for cell `effect` (the last that reached it).
+    pub fn command_of(&self, effect: usize) -> Option<&[u8]> {
+        self.core
+            .cells
+            .get(effect)?
+            .as_ref()
+            .map(|k| k.command.as_slice())
+    }
+
+    /// The goal of the last proposal (`None` until a cell is known, and
+    /// after [`learn`](Learner::learn)).
+    pub fn last_goal(&self) -> Option<[f64; 2]> {
+        self.core.last_goal
+    }
+
+    /// The cell whose command the last proposal mutated.
+    pub fn last_parent(&self) -> Option<usize> {
+        self.core.last_parent
+    }
+
+    /// The reached cells, in the order they were first reached.
+    pub fn known(&self) -> &[usize] {
+        &self.core.known
+    }
+}
+
+impl Learner for GoalBabbling {
+    fn name(&self) -> &str {
+        "goal_babbling"
+    }
+
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
+        self.core.propose(rng, &mut command.symbols);
+    }
+
+    fn learn(&mut self, command: &Command, outcome: &Outcome) {
+        self.core.learn(&command.symbols, outcome);
+    }
+}
+
+/// [`GoalBabbling`] over continuous commands: a mutation adds `N(0,
+/// sigma^2)` to every value in the unit coordinates of its range
+/// ([`Params::sigma`], default 0.1).
+#[derive(Debug, Clone)]
+pub struct GoalBabblingValues {
+    core: Core<ValueGenome>,
+}
+
+impl GoalBabblingValues {
+    /// A learner that knows nothing yet, for `space` and `num_effects`
+    /// cells, with `params.sigma` and `params.goal_progress`.
+    pub fn new(space: &ValueSpace, num_effects: usize, params: &Params) -> Self {
+        GoalBabblingValues {
+            core: Core::new(
+                ValueGenome {
+                    space: space.clone(),
+                    sigma: params.sigma,
+                },
+                num_effects,
+                params.goal_progress,
+            ),
+        }
+    }
+
+    /// The known cell whose outcome is nearest to `goal`.
+    pub fn nearest(&self, goal: [f64; 2]) -> Option<usize> {
+        self.core.nearest(goal)
+    }
+
+    /// The values kept for cell `effect`.
+    pub fn command_of(&self, effect: usize) -> Option<&[f64]> {
+        self.core
+            .cells
+            .get(effect)?
+            .as_ref()
+            .map(|k| k.command.as_slice())
+    }
+
+    /// The cell whose command the last proposal mutated.
+    pub fn last_parent(&self) -> Option<usize> {
+        self.core.last_parent
+    }
+}
+
+impl ContinuousLearner for GoalBabblingValues {
+    fn name(&self) -> &str {
+        "goal_babbling"
+    }
+
+    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
+        self.core.propose(rng, values);
+    }
+
+    fn learn(&mut self, values: &[f64], outcome: &Outcome) {
+        self.core.learn(values, outcome);
+    }
+
+    /// No Gaussian: the mean and standard deviation of the slot's values
+    /// over the known cells' commands.
+    fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
+        spread(
+            self.core
+                .known
+                .iter()
+                .filter_map(|&e| self.core.cells[e].as_ref().map(|k| k.command[slot])),
+            self.core.genome.space.range(slot),
+        )
+    }
+}
