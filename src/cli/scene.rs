@@ -1213,8 +1213,7 @@ fn steps_text(scene: &Scene) -> String {
     match &scene.world {
         WorldSpec::Physics(p) => format!(
             " ({} steps each)",
-            p.schedule
-                .total_steps(p.dt, scene.command_space().num_slots())
+            p.schedule.total_steps(p.dt, scene.num_slots())
         ),
         WorldSpec::Grid(_) => String::new(),
     }
