@@ -445,9 +445,9 @@ fn full_check_cost(scene: &Scene) -> String {
     );
     match (plan.simulated, plan.table_seconds) {
         (Some(k), Some(t)) => format!(
-            "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model",
+            "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model, calibrated here",
             scene.name,
-            seconds_text(t)
+            seconds_text(t * calibration(scene))
         ),
         _ => format!(
             "a full check is not possible: {} commands are too many for `e3d scene reward-cell` (at most {}); sample more with `--samples N`",
@@ -827,9 +827,17 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
     // once those read so far reach it (stdin); a table looks them up
     let threads = rayon::current_num_threads();
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
-    let per_command = e3d::world::rollout_seconds(scene);
-    let mut cost_said =
-        table.is_some() || known.is_some_and(|n| say_cost(&label, scene, n, threads));
+    let copies = match &scene.world {
+        WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
+        _ => 1,
+    };
+    let mut cost_said = table.is_some()
+        || known.is_some_and(|n| say_cost_copies(&label, scene, n, threads, copies));
+    let per_command = if cost_said {
+        0.0
+    } else {
+        e3d::world::batch_rollout_seconds(scene, copies) * calibration(scene)
+    };
     let mut executed = 0u64;
     let mut executor = ExecPool::new(scene, table);
     let limit = chunk_limit();
@@ -880,7 +888,7 @@ fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> Cli
             if !cost_said && executed as f64 * per_command / threads as f64 >= progress::LONG {
                 cost_said = true;
                 p.say(format!(
-                    "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model; more as stdin gives them",
+                    "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model, calibrated here; more as stdin gives them",
                     steps_text(scene),
                     seconds_text(per_command)
                 ));
@@ -1038,7 +1046,7 @@ fn stats(scene: &Scene) -> CliResult {
     }
     let start = std::time::Instant::now();
     let threads = rayon::current_num_threads();
-    let secs = n as f64 * e3d::world::rollout_seconds(scene) / threads as f64;
+    let secs = n as f64 * e3d::world::rollout_seconds(scene) * calibration(scene) / threads as f64;
     let all: Vec<e3d::world::RunStats> = simulate_all(scene, n, secs, |progress| {
         (0..n)
             .into_par_iter()
@@ -1167,7 +1175,7 @@ fn simulate_all<T>(
         format!("{simulated} commands")
     };
     eprintln!(
-        "scene {}: simulating {what} on {} thread(s){}: about {} by the cost model",
+        "scene {}: simulating {what} on {} thread(s){}: about {} by the cost model (calibrated on timed rollouts here)",
         scene.name,
         rayon::current_num_threads(),
         steps_text(scene),
@@ -1206,6 +1214,7 @@ fn table_seconds(scene: &Scene) -> f64 {
     )
     .table_seconds
     .unwrap_or(0.0)
+        * calibration(scene)
 }
 
 /// ` (120 steps each)` for a physics scene (nothing for a grid).
@@ -1224,16 +1233,59 @@ fn steps_text(scene: &Scene) -> String {
 /// on T thread(s): about X by the cost model`) when it reaches
 /// [`progress::LONG`]; whether it was said.
 fn say_cost(label: &str, scene: &Scene, commands: u64, threads: usize) -> bool {
-    let secs = commands as f64 * e3d::world::rollout_seconds(scene) / threads.max(1) as f64;
+    say_cost_copies(label, scene, commands, threads, 1)
+}
+
+/// [`say_cost`] for commands run `copies` to a world (as `scene exec`
+/// does on scenes whose copies are exact).
+fn say_cost_copies(
+    label: &str,
+    scene: &Scene,
+    commands: u64,
+    threads: usize,
+    copies: usize,
+) -> bool {
+    let model =
+        commands as f64 * e3d::world::batch_rollout_seconds(scene, copies) / threads.max(1) as f64;
+    // one rollout is timed by doing it: no calibration for a command or two
+    // that the model puts far below a second
+    if commands <= 2 && model < 0.05 * progress::LONG {
+        return false;
+    }
+    let secs = model * calibration(scene);
     if secs < progress::LONG {
         return false;
     }
     eprintln!(
-        "{label}: {commands} command(s){} on {threads} thread(s): about {} by the cost model",
+        "{label}: {commands} command(s){} on {threads} thread(s): about {} (the cost model, calibrated on {} timed rollouts here)",
         steps_text(scene),
-        seconds_text(secs)
+        seconds_text(secs),
+        calibration_rollouts(scene)
     );
     true
+}
+
+/// The cost model's factor for this machine as loaded now
+/// ([`e3d::world::calibration`]: a few rollouts of `scene` timed), measured
+/// once per scene and process.
+fn calibration(scene: &Scene) -> f64 {
+    static CACHE: Mutex<Vec<(String, f64)>> = Mutex::new(Vec::new());
+    let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, f)) = cache.iter().find(|(n, _)| *n == scene.name) {
+        return *f;
+    }
+    let f = e3d::world::calibration(scene);
+    cache.push((scene.name.clone(), f));
+    f
+}
+
+/// How many rollouts [`calibration`] timed ("a few" for a grid, which is
+/// not timed).
+fn calibration_rollouts(scene: &Scene) -> String {
+    match scene.world {
+        WorldSpec::Grid(_) => "no".into(),
+        WorldSpec::Physics(_) => format!("at least {}", e3d::world::CALIBRATION_ROLLOUTS),
+    }
 }
 
 /// The table of `scene` as [`OutcomeTable::cached`] gives it, with the
