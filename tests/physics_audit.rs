@@ -142,7 +142,7 @@ fn damping_acts_or_is_refused_on_every_kind_of_body() {
                     let push = if name == "linear_damping" {
                         format!("Impulse(body: \"{body}\", impulse: (0.5, 0.2))")
                     } else {
-                        format!("Torque(joint: \"jf2\", torque: 0.3)")
+                        "Torque(joint: \"jf2\", torque: 0.3)".to_string()
                     };
                     let push = if body == "puck" && name == "angular_damping" {
                         "Force(body: \"puck\", force: (0.0, 0.0))".to_string()
@@ -292,4 +292,48 @@ fn torques_act_on_hinges_and_are_refused_on_sliders() {
         msg.contains("is a slider") && msg.contains("Force(body: \"f2\""),
         "{msg}"
     );
+}
+
+/// `e3d scene check --samples N` on every shipped scene, for several N
+/// (continuous scenes included): no panic, exit code 0.
+#[test]
+fn scene_check_samples_never_panics() {
+    let scenes = [
+        "two_rooms",
+        "puck_rooms",
+        "arm7",
+        "pendulum3",
+        "maze3",
+        "puck_rooms14",
+        "arm7x5",
+        "three_rooms",
+        "arm4_gravity",
+        "arm7_continuous",
+    ];
+    for scene in scenes {
+        for n in ["0", "1", "2", "7"] {
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_e3d"))
+                .args(["scene", "check", "--samples", n, scene])
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(out.status.success(), "{scene} --samples {n}: {err}");
+            assert!(!err.contains("panicked"), "{scene} --samples {n}: {err}");
+        }
+    }
+}
+
+/// The slider example of docs/scenes.md loads and its cart slides.
+#[test]
+fn the_slider_example_of_the_docs_loads() {
+    let doc = include_str!("../docs/scenes.md");
+    let start = doc.find("<!-- example: slider -->").expect("the example");
+    let text = &doc[start..];
+    let text = &text[text.find("```ron").unwrap() + 6..];
+    let text = &text[..text.find("```").unwrap()];
+    let s = Scene::parse(text, "docs/scenes.md").unwrap_or_else(|e| panic!("{e}"));
+    let mut w = s.physics_world().unwrap();
+    let m = w.motion(&s.command_space().parse("+").unwrap()).unwrap();
+    let q = m.frames.last().unwrap().joint_angles[0];
+    assert!(q > 0.1, "the cart moved {q} m");
 }

@@ -57,17 +57,6 @@ fn momentum(m: &Motion, mass: &[(f64, f64)], k: usize) -> [f64; 2] {
     p
 }
 
-/// Total angular momentum (N·m·s) of frame `k` about `o`.
-fn angular_momentum(m: &Motion, mass: &[(f64, f64)], k: usize, o: [f64; 2]) -> f64 {
-    let f = &m.frames[k];
-    let mut l = 0.0;
-    for ((pose, v), (mi, ii)) in f.poses.iter().zip(&f.velocities).zip(mass) {
-        let r = [pose.position[0] - o[0], pose.position[1] - o[1]];
-        l += mi * (r[0] * v[1] - r[1] * v[0]) + ii * v[2];
-    }
-    l
-}
-
 /// Centre of mass of frame `k`.
 fn centre_of_mass(m: &Motion, mass: &[(f64, f64)], k: usize) -> [f64; 2] {
     let f = &m.frames[k];

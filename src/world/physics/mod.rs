@@ -334,7 +334,7 @@ impl World for PhysicsWorld {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::WorldSpec;
+    use crate::scene::{Scene, WorldSpec};
 
     /// Leaving far limits out of a step changes no bit: arm7 (whose joints
     /// reach their limits on many commands) and pendulum3, on commands
