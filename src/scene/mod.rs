@@ -254,13 +254,16 @@ pub enum Action {
         /// The force `(x, y)` in N.
         force: (f64, f64),
     },
-    /// Physics scenes: a new set point, in radians from the start pose, for
-    /// the position motor of a joint (which needs a `motor`); it holds
-    /// until another `Target` on that joint.
+    /// Physics scenes: a new set point, from the start pose, for the
+    /// position motor of a joint (which needs a `motor`): an angle in
+    /// radians for a hinge, a position in metres along the axis for a
+    /// slider; it holds until another `Target` on that joint.
     Target {
         /// The joint's name.
         joint: String,
-        /// The target angle in radians.
+        /// The target: radians for a hinge, metres for a slider (also
+        /// written `position: p`).
+        #[serde(alias = "position")]
         angle: f64,
     },
 }

@@ -508,6 +508,7 @@ fn chain(
             limits: c.limits,
             damping: c.damping.get(i),
             motor: c.motor.as_ref().map(|m| m.get(i)),
+            kind: Default::default(),
             contacts: c.contacts,
         });
     }

@@ -302,6 +302,87 @@ pub fn rollout_seconds(scene: &Scene) -> f64 {
     Costs::of(scene).rollout
 }
 
+/// The seconds of one rollout of `scene` measured on this machine, now:
+/// a few commands of the scene itself executed on this thread (at least
+/// [`CALIBRATION_ROLLOUTS`], and until [`CALIBRATION_SECONDS`] have passed,
+/// at most [`CALIBRATION_MAX_ROLLOUTS`]), in a single-copy world, spread
+/// over the command space (for a continuous scene: values spread over the
+/// ranges). A grid scene is not timed: its cost model is kept.
+///
+/// This is what the scene tools' cost lines scale the cost model by (see
+/// [`calibration`]): the model gives the ratios (copies per world,
+/// threads), the measure the speed of this machine as it is loaded now.
+pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
+    let WorldSpec::Physics(spec) = &scene.world else {
+        return rollout_seconds(scene);
+    };
+    if scene.validate().is_err() {
+        return rollout_seconds(scene);
+    }
+    let mut world = PhysicsWorld::from_scene(scene, spec);
+    let start = std::time::Instant::now();
+    let mut done = 0u32;
+    let values = scene.value_space();
+    let space = values.is_none().then(|| scene.command_space());
+    while done < CALIBRATION_MAX_ROLLOUTS
+        && (done < CALIBRATION_ROLLOUTS || start.elapsed().as_secs_f64() < CALIBRATION_SECONDS)
+    {
+        let k = u64::from(done);
+        // the outcome does not matter (a command that blows up is timed
+        // too: it ends early, as it would in the tool)
+        let _ = match (&values, &space) {
+            (Some(v), _) => {
+                let x: Vec<f64> = (0..v.num_slots())
+                    .map(|i| {
+                        let (lo, hi) = v.range(i);
+                        // a fraction of the range that differs per slot
+                        // and per rollout
+                        let f = ((k * 7 + i as u64 * 3) % 11) as f64 / 10.0;
+                        lo + f * (hi - lo)
+                    })
+                    .collect();
+                world.execute_values(&x)
+            }
+            (None, Some(space)) => {
+                let n = space.num_commands().unwrap_or(u64::MAX);
+                let c = space.command_at(k.wrapping_mul(0x9E37_79B9_7F4A_7C15) % n);
+                world.execute(&c)
+            }
+            (None, None) => unreachable!("a scene of symbols has a command space"),
+        };
+        done += 1;
+    }
+    start.elapsed().as_secs_f64() / f64::from(done)
+}
+
+/// Rollouts [`timed_rollout_seconds`] times at least.
+pub const CALIBRATION_ROLLOUTS: u32 = 3;
+/// Rollouts [`timed_rollout_seconds`] times at most.
+pub const CALIBRATION_MAX_ROLLOUTS: u32 = 200;
+/// Seconds [`timed_rollout_seconds`] keeps timing (after its first
+/// [`CALIBRATION_ROLLOUTS`]).
+pub const CALIBRATION_SECONDS: f64 = 0.02;
+
+/// What the cost model's seconds of `scene` are multiplied by to give this
+/// machine's: [`timed_rollout_seconds`] over [`rollout_seconds`] (1 for a
+/// grid scene). The scene tools' cost lines (`e3d scene check --samples`,
+/// `exec`, `table`, `reward-cell`, `stats`) say the model's estimate times
+/// this factor.
+pub fn calibration(scene: &Scene) -> f64 {
+    match scene.world {
+        WorldSpec::Grid(_) => 1.0,
+        WorldSpec::Physics(_) => timed_rollout_seconds(scene) / rollout_seconds(scene),
+    }
+}
+
+/// The cost model's seconds per command of `scene` when `copies` commands
+/// step together in one world (one thread): a single rollout
+/// ([`rollout_seconds`]) for one copy, or for a scene whose copies are not
+/// exact (it runs one command per world whatever `copies` asks).
+pub fn batch_rollout_seconds(scene: &Scene, copies: usize) -> f64 {
+    Costs::of(scene).per_command(copies)
+}
+
 /// The number of lockstep groups for `sessions` sessions on `threads`
 /// threads, each stepping at most `copies` commands together: enough
 /// groups to keep every thread busy, as few as that allows.

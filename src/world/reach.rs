@@ -134,7 +134,7 @@ pub fn sample_reach_with_progress(
 ) -> Result<ReachSample, crate::WorldError> {
     use rand::{RngExt, SeedableRng};
     if let Some(values) = scene.value_space() {
-        return sample_reach_values(scene, &values, samples, seed);
+        return sample_reach_values(scene, &values, samples, seed, progress);
     }
     let space = scene.command_space();
     let exhaustive = space.num_commands().is_some_and(|n| n <= samples);
@@ -190,6 +190,7 @@ fn sample_reach_values(
     values: &crate::ValueSpace,
     samples: u64,
     seed: u64,
+    progress: &dyn Fn(u64),
 ) -> Result<ReachSample, crate::WorldError> {
     use crate::ContinuousLearner;
     use rand::SeedableRng;
@@ -204,6 +205,7 @@ fn sample_reach_values(
     for _ in 0..samples {
         sampler.propose(&mut rng, &mut v);
         counts[world.execute_values(&v)?.effect] += 1;
+        progress(1);
     }
     Ok(ReachSample {
         samples,

@@ -162,9 +162,9 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
     );
     match (plan.simulated, plan.table_seconds) {
         (Some(k), Some(t)) => format!(
-            "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model",
+            "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model, calibrated here",
             scene.name,
-            seconds_text(t)
+            seconds_text(t * super::simulate::calibration(scene))
         ),
         _ => format!(
             "a full check is not possible: {} commands are too many for `e3d scene reward-cell` (at most {}); sample more with `--samples N`",

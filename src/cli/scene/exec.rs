@@ -1,6 +1,8 @@
 //! `e3d scene exec`: commands executed as they come, their outcomes as CSV.
 
-use super::simulate::{say_cost, seconds_text, steps_text, world_error};
+use super::simulate::{
+    calibration, say_cost, say_cost_copies, seconds_text, steps_text, world_error,
+};
 use crate::cli::console::errln;
 use crate::cli::{progress, CliError, CliResult};
 use e3d::scene::{PhysicsSpec, Scene, WorldSpec};
@@ -261,9 +263,17 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     // once those read so far reach it (stdin); a table looks them up
     let threads = rayon::current_num_threads();
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
-    let per_command = e3d::world::rollout_seconds(scene);
-    let mut cost_said =
-        table.is_some() || known.is_some_and(|n| say_cost(&label, scene, n, threads));
+    let copies = match &scene.world {
+        WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
+        _ => 1,
+    };
+    let mut cost_said = table.is_some()
+        || known.is_some_and(|n| say_cost_copies(&label, scene, n, threads, copies));
+    let per_command = if cost_said {
+        0.0
+    } else {
+        e3d::world::batch_rollout_seconds(scene, copies) * calibration(scene)
+    };
     let mut executed = 0u64;
     let mut executor = ExecPool::new(scene, table);
     let limit = chunk_limit();
@@ -314,7 +324,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
             if !cost_said && executed as f64 * per_command / threads as f64 >= progress::LONG {
                 cost_said = true;
                 p.say(format!(
-                    "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model; more as stdin gives them",
+                    "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model, calibrated here; more as stdin gives them",
                     steps_text(scene),
                     seconds_text(per_command)
                 ));

@@ -44,7 +44,7 @@ pub(super) fn simulate_all<T>(
         format!("{simulated} commands")
     };
     errln!(
-        "scene {}: simulating {what} on {} thread(s){}: about {} by the cost model",
+        "scene {}: simulating {what} on {} thread(s){}: about {} by the cost model (calibrated on timed rollouts here)",
         scene.name,
         rayon::current_num_threads(),
         steps_text(scene),
@@ -83,6 +83,7 @@ pub(super) fn table_seconds(scene: &Scene) -> f64 {
     )
     .table_seconds
     .unwrap_or(0.0)
+        * calibration(scene)
 }
 
 /// ` (120 steps each)` for a physics scene (nothing for a grid).
@@ -90,8 +91,7 @@ pub(super) fn steps_text(scene: &Scene) -> String {
     match &scene.world {
         WorldSpec::Physics(p) => format!(
             " ({} steps each)",
-            p.schedule
-                .total_steps(p.dt, scene.command_space().num_slots())
+            p.schedule.total_steps(p.dt, scene.num_slots())
         ),
         WorldSpec::Grid(_) => String::new(),
     }
@@ -102,14 +102,57 @@ pub(super) fn steps_text(scene: &Scene) -> String {
 /// on T thread(s): about X by the cost model`) when it reaches
 /// [`progress::LONG`]; whether it was said.
 pub(super) fn say_cost(label: &str, scene: &Scene, commands: u64, threads: usize) -> bool {
-    let secs = commands as f64 * e3d::world::rollout_seconds(scene) / threads.max(1) as f64;
+    say_cost_copies(label, scene, commands, threads, 1)
+}
+
+/// [`say_cost`] for commands run `copies` to a world (as `scene exec`
+/// does on scenes whose copies are exact).
+pub(super) fn say_cost_copies(
+    label: &str,
+    scene: &Scene,
+    commands: u64,
+    threads: usize,
+    copies: usize,
+) -> bool {
+    let model =
+        commands as f64 * e3d::world::batch_rollout_seconds(scene, copies) / threads.max(1) as f64;
+    // one rollout is timed by doing it: no calibration for a command or two
+    // that the model puts far below a second
+    if commands <= 2 && model < 0.05 * progress::LONG {
+        return false;
+    }
+    let secs = model * calibration(scene);
     if secs < progress::LONG {
         return false;
     }
     errln!(
-        "{label}: {commands} command(s){} on {threads} thread(s): about {} by the cost model",
+        "{label}: {commands} command(s){} on {threads} thread(s): about {} (the cost model, calibrated on {} timed rollouts here)",
         steps_text(scene),
-        seconds_text(secs)
+        seconds_text(secs),
+        calibration_rollouts(scene)
     );
     true
+}
+
+/// The cost model's factor for this machine as loaded now
+/// ([`e3d::world::calibration`]: a few rollouts of `scene` timed), measured
+/// once per scene and process.
+pub(super) fn calibration(scene: &Scene) -> f64 {
+    static CACHE: std::sync::Mutex<Vec<(String, f64)>> = std::sync::Mutex::new(Vec::new());
+    let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, f)) = cache.iter().find(|(n, _)| *n == scene.name) {
+        return *f;
+    }
+    let f = e3d::world::calibration(scene);
+    cache.push((scene.name.clone(), f));
+    f
+}
+
+/// How many rollouts [`calibration`] timed ("no" for a grid, which is
+/// not timed).
+fn calibration_rollouts(scene: &Scene) -> String {
+    match scene.world {
+        WorldSpec::Grid(_) => "no".into(),
+        WorldSpec::Physics(_) => format!("at least {}", e3d::world::CALIBRATION_ROLLOUTS),
+    }
 }

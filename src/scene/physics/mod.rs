@@ -28,8 +28,8 @@ mod warnings;
 
 pub(crate) use spec::to_world;
 pub use spec::{
-    steps_of, to_world_point, BodyKind, BodySpec, EffectSpec, JointSpec, MotorSpec, PhysicsSpec,
-    Schedule, ShapeSpec,
+    steps_of, to_world_point, BodyKind, BodySpec, EffectSpec, JointKind, JointSpec, MotorSpec,
+    PhysicsSpec, Schedule, ShapeSpec,
 };
 
 /// The name that stands for the fixed world frame in joints (`parent:

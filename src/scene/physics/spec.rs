@@ -210,6 +210,59 @@ pub struct JointSpec {
     /// Bodies not joined directly always collide (unless `collide: false`).
     #[serde(default)]
     pub contacts: bool,
+    /// What the joint allows: a rotation (`Revolute`, the default) or a
+    /// translation along an axis (`Prismatic(axis: (x, y))`, a slider).
+    /// For a slider, `limits` are positions in m, `damping` is in N·s/m,
+    /// the motor's gains are in N/m and N·s/m, and a `Target` is a
+    /// position in m along the axis, 0 at the start pose.
+    #[serde(default, skip_serializing_if = "JointKind::is_revolute")]
+    pub kind: JointKind,
+}
+
+/// What a joint lets its child do relative to its parent.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum JointKind {
+    /// A hinge: rotation about the anchor (the default).
+    #[default]
+    Revolute,
+    /// A slider: translation along `axis` (in the parent's local frame,
+    /// world coordinates for `ground`; any non-zero length, normalised),
+    /// no relative rotation.
+    Prismatic {
+        /// The direction of travel `(x, y)`.
+        axis: (f64, f64),
+    },
+}
+
+impl JointKind {
+    /// Whether this is the default, a hinge.
+    pub fn is_revolute(&self) -> bool {
+        matches!(self, JointKind::Revolute)
+    }
+
+    /// The unit of the joint's coordinate: `rad` for a hinge, `m` for a
+    /// slider.
+    pub fn unit(&self) -> &'static str {
+        match self {
+            JointKind::Revolute => "rad",
+            JointKind::Prismatic { .. } => "m",
+        }
+    }
+}
+
+impl JointSpec {
+    /// The joint's unit axis in its parent's frame (a slider's), `None`
+    /// for a hinge.
+    pub fn axis(&self) -> Option<(f64, f64)> {
+        match self.kind {
+            JointKind::Revolute => None,
+            JointKind::Prismatic { axis } => {
+                let n = axis.0.hypot(axis.1);
+                Some((axis.0 / n, axis.1 / n))
+            }
+        }
+    }
 }
 
 /// A position motor's gains.
@@ -364,6 +417,24 @@ impl PhysicsSpec {
     /// The joint named `name`, if any.
     pub fn joint(&self, name: &str) -> Option<&JointSpec> {
         self.joints.iter().find(|j| j.name == name)
+    }
+
+    /// Whether body `name` hangs, through its chain of joints, from
+    /// `ground`: such a tree is simulated as one Rapier multibody (reduced
+    /// coordinates), and its links are not free rigid bodies (see
+    /// `docs/physics.md`). A tree whose root is a dynamic body (a
+    /// free-floating chain) is simulated with impulse joints instead, and
+    /// a body without joints is a free body: both `false`.
+    pub fn hangs_from_ground(&self, name: &str) -> bool {
+        let mut at = name;
+        for _ in 0..=self.joints.len() {
+            match self.joints.iter().find(|j| j.child == at) {
+                None => return false,
+                Some(j) if j.parent == super::GROUND => return true,
+                Some(j) => at = &j.parent,
+            }
+        }
+        false
     }
 
     /// Whether copies of this world in one Rapier world (see

@@ -5,13 +5,13 @@ use super::{
     v2, Act, JointInfo, PhysicsWorld, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
 };
 use crate::command::CommandSpace;
-use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec, GROUND};
+use crate::scene::physics::{BodyKind, JointKind, PhysicsSpec, ShapeSpec, GROUND};
 use crate::scene::{Action, CommandSpec, Scene, ValueAction};
 use rapier2d::math::{Pose, Real};
 use rapier2d::prelude::{
     ColliderBuilder, Group, IntegrationParameters, InteractionGroups, InteractionTestMode,
-    MotorModel, PhysicsPipeline, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle,
-    RigidBodyType,
+    JointAxis, MotorModel, PhysicsPipeline, PrismaticJointBuilder, RevoluteJointBuilder,
+    RigidBodyBuilder, RigidBodyHandle, RigidBodyType, Vector,
 };
 
 /// Builds one copy of the scene's non-fixed bodies, their joints and the
@@ -110,49 +110,97 @@ fn build_copy(
         }
     };
     let mut joints = Vec::new();
+    // per joint: its impulse joint, for a free-floating tree (None: a
+    // multibody link, for a tree hung on ground)
+    let mut impulse_of = Vec::new();
     for j in &spec.joints {
         let parent_angle = body_index(&j.parent).map_or(0.0, |i| spec.bodies[i].angle);
         let child = &spec.bodies[body_index(&j.child).expect("validated: known child")];
-        let mut rj = RevoluteJointBuilder::new()
-            .local_anchor1(v2(j.parent_anchor))
-            .local_anchor2(v2(j.child_anchor))
-            .contacts_enabled(j.contacts);
-        if let Some((lo, hi)) = j.limits {
-            rj = rj.limits([lo as Real, hi as Real]);
-        }
-        if let Some(m) = j.motor {
-            rj = rj.motor_model(MotorModel::ForceBased).motor_position(
-                0.0,
-                m.stiffness as Real,
-                m.damping as Real,
-            );
-        }
-        let mut data = rj.build().data;
         // angle 0 is the start pose, whatever the bodies' start angles
-        data.set_local_frame1(Pose::new(
-            v2(j.parent_anchor),
-            (child.angle - parent_angle) as Real,
-        ));
+        let offset = child.angle - parent_angle;
+        // a tree hung on ground is a multibody (reduced coordinates); a
+        // free-floating one is built of impulse joints, because Rapier's
+        // multibody with a dynamic root does not conserve momentum (see
+        // docs/physics.md)
+        let multibody = spec.hangs_from_ground(&j.child);
+        let (axis, slider) = match j.kind {
+            JointKind::Revolute => (JointAxis::AngX, None),
+            JointKind::Prismatic { .. } => {
+                let (x, y) = j.axis().expect("a slider's axis");
+                let a = Vector::new(x as Real, y as Real);
+                (
+                    JointAxis::LinX,
+                    Some((a, v2(j.parent_anchor), v2(j.child_anchor))),
+                )
+            }
+        };
+        let mut data = match slider {
+            None => {
+                let mut rj = RevoluteJointBuilder::new()
+                    .local_anchor1(v2(j.parent_anchor))
+                    .local_anchor2(v2(j.child_anchor))
+                    .contacts_enabled(j.contacts);
+                if let Some((lo, hi)) = j.limits {
+                    rj = rj.limits([lo as Real, hi as Real]);
+                }
+                let mut data = rj.build().data;
+                data.set_local_frame1(Pose::new(v2(j.parent_anchor), offset as Real));
+                data
+            }
+            Some((a, _, _)) => {
+                // the axis in the child's frame: the parent's, turned back
+                // by the child's start angle relative to the parent
+                let (sn, cs) = (-offset).sin_cos();
+                let a2 = Vector::new(
+                    (cs * a.x as f64 - sn * a.y as f64) as Real,
+                    (sn * a.x as f64 + cs * a.y as f64) as Real,
+                );
+                let mut pj = PrismaticJointBuilder::new(a)
+                    .local_axis2(a2)
+                    .local_anchor1(v2(j.parent_anchor))
+                    .local_anchor2(v2(j.child_anchor))
+                    .contacts_enabled(j.contacts);
+                if let Some((lo, hi)) = j.limits {
+                    pj = pj.limits([lo as Real, hi as Real]);
+                }
+                pj.build().data
+            }
+        };
+        // an impulse joint's damping is a velocity motor (a force-based
+        // motor's damping term, -c v): joint damping plus a motor's own
+        let extra = if multibody { 0.0 } else { j.damping };
+        if let Some(m) = j.motor {
+            data.set_motor_model(axis, MotorModel::ForceBased);
+            data.set_motor_position(axis, 0.0, m.stiffness as Real, (m.damping + extra) as Real);
+        } else if extra > 0.0 {
+            data.set_motor_model(axis, MotorModel::ForceBased);
+            data.set_motor_velocity(axis, 0.0, extra as Real);
+        }
         let p = handle_of(&j.parent).expect("validated: known parent");
         let c = handle_of(&j.child).expect("validated: known child");
         joints.push(JointInfo {
             child: c,
             parent: (j.parent != GROUND).then_some(p),
-            offset: child.angle - parent_angle,
+            offset,
             limits: j.limits,
+            slider,
         });
-        s.multibody_joints
-            .insert(p, c, data, true)
-            .expect("validated: joints form trees");
+        if multibody {
+            s.multibody_joints
+                .insert(p, c, data, true)
+                .expect("validated: joints form trees");
+            impulse_of.push(None);
+        } else {
+            impulse_of.push(Some(s.impulse_joints.insert(p, c, data, true)));
+        }
     }
     // joint damping: the multibody's per-DoF damping, indexed by the
     // link's assembly id (valid at any time, also before the first step)
     for j in &spec.joints {
         let c = handle_of(&j.child).expect("validated");
-        let link = *s
-            .multibody_joints
-            .rigid_body_link(c)
-            .expect("a jointed body");
+        let Some(link) = s.multibody_joints.rigid_body_link(c).copied() else {
+            continue;
+        };
         let mb = s
             .multibody_joints
             .get_multibody_mut(link.multibody)
@@ -185,13 +233,26 @@ fn build_copy(
                 force: v2(*force),
             },
             Action::Target { joint, angle } => {
-                let j = spec.joint(joint).expect("validated: known joint");
+                let k = spec
+                    .joints
+                    .iter()
+                    .position(|j| j.name == *joint)
+                    .expect("validated: known joint");
+                let j = &spec.joints[k];
                 let m = j.motor.expect("validated: a Target's joint has a motor");
+                let impulse = impulse_of[k];
                 Act::Target {
                     child: handle_of(&j.child).expect("validated"),
+                    impulse,
+                    axis: if j.kind.is_revolute() {
+                        JointAxis::AngX
+                    } else {
+                        JointAxis::LinX
+                    },
                     angle: *angle as Real,
                     stiffness: m.stiffness as Real,
-                    damping: m.damping as Real,
+                    // an impulse joint's damping rides on its motor
+                    damping: (m.damping + if impulse.is_some() { j.damping } else { 0.0 }) as Real,
                 }
             }
         }

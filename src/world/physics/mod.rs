@@ -38,8 +38,9 @@ use crate::effect::EffectGrid;
 use crate::scene::Symmetry;
 use rapier2d::math::{Real, Vector};
 use rapier2d::prelude::{
-    BroadPhaseBvh, CCDSolver, ColliderSet, ImpulseJointSet, IntegrationParameters, IslandManager,
-    MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyHandle, RigidBodySet, SoftBodySet,
+    BroadPhaseBvh, CCDSolver, ColliderSet, ImpulseJointHandle, ImpulseJointSet,
+    IntegrationParameters, IslandManager, JointAxis, MultibodyJointSet, NarrowPhase,
+    PhysicsPipeline, RigidBodyHandle, RigidBodySet, SoftBodySet,
 };
 
 /// Rapier's per-step rotation cap (45°) for bodies without fast rotation.
@@ -97,6 +98,11 @@ enum Act {
     },
     Target {
         child: RigidBodyHandle,
+        /// The joint, when it is an impulse joint (a free-floating tree);
+        /// else the child's multibody link holds it.
+        impulse: Option<ImpulseJointHandle>,
+        /// `AngX` for a hinge, `LinX` for a slider.
+        axis: JointAxis,
         angle: Real,
         stiffness: Real,
         damping: Real,
@@ -125,6 +131,39 @@ struct JointInfo {
     parent: Option<RigidBodyHandle>,
     offset: f64,
     limits: Option<(f64, f64)>,
+    /// A slider's unit axis in the parent's frame (world for `ground`)
+    /// and its anchors (parent's, child's), for its position; `None` for
+    /// a hinge.
+    slider: Option<(Vector, Vector, Vector)>,
+}
+
+impl JointInfo {
+    /// The joint's coordinate now: a hinge's angle (the child's rotation
+    /// relative to the parent, 0 at the start pose, in `(-pi, pi]`), a
+    /// slider's position along its axis (m, 0 at the start pose); and its
+    /// rate (rad/s or m/s).
+    fn coordinate(&self, bodies: &RigidBodySet) -> (f64, f64) {
+        let c = &bodies[self.child];
+        let parent = self.parent.map(|p| &bodies[p]);
+        if let Some((axis, a1, a2)) = self.slider {
+            let (p1, v1, axis) = match parent {
+                Some(p) => {
+                    let w = p.position().transform_point(a1);
+                    (w, p.velocity_at_point(w), p.position().rotation * axis)
+                }
+                None => (a1, Vector::ZERO, axis),
+            };
+            let p2 = c.position().transform_point(a2);
+            let v2 = c.velocity_at_point(p2);
+            return ((p2 - p1).dot(axis) as f64, (v2 - v1).dot(axis) as f64);
+        }
+        let (pa, pw) = parent.map_or((0.0, 0.0), |p| {
+            (p.rotation().angle() as f64, p.angvel() as f64)
+        });
+        let a = c.rotation().angle() as f64 - pa - self.offset;
+        let a = (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+        (a, c.angvel() as f64 - pw)
+    }
 }
 
 /// A scene's rigid-body world, simulated by Rapier.

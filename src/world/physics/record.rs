@@ -219,18 +219,9 @@ impl PhysicsWorld {
         }
         let (mut joint_angles, mut joint_velocities) = (Vec::new(), Vec::new());
         for j in &self.copies[0].joints {
-            let (pa, pw) = j.parent.map_or((0.0, 0.0), |p| {
-                (
-                    bodies[p].rotation().angle() as f64,
-                    bodies[p].angvel() as f64,
-                )
-            });
-            let c = &bodies[j.child];
-            let a = c.rotation().angle() as f64 - pa - j.offset;
-            let a =
-                (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+            let (a, w) = j.coordinate(bodies);
             joint_angles.push(a);
-            joint_velocities.push(c.angvel() as f64 - pw);
+            joint_velocities.push(w);
         }
         Frame {
             time,
@@ -284,12 +275,7 @@ impl PhysicsWorld {
                     let Some((lo, hi)) = j.limits else {
                         return false;
                     };
-                    let pa = j
-                        .parent
-                        .map_or(0.0, |p| bodies[p].rotation().angle() as f64);
-                    let mut a = bodies[j.child].rotation().angle() as f64 - pa - j.offset;
-                    a = (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                        - std::f64::consts::PI;
+                    let (a, _) = j.coordinate(bodies);
                     a <= lo + 0.01 || a >= hi - 0.01
                 });
                 if at_limit {

@@ -6,7 +6,7 @@ use super::{v2, Act, Cmd, PhysicsWorld, Sets, ValueAct, MAX_ROTATION_PER_STEP};
 use crate::command::Command;
 use crate::world::{Outcome, WorldError};
 use rapier2d::math::Real;
-use rapier2d::prelude::{JointAxesMask, JointAxis, RigidBodyHandle};
+use rapier2d::prelude::{JointAxesMask, RigidBodyHandle};
 
 impl ValueAct {
     /// The act of the value `v`.
@@ -34,11 +34,15 @@ impl ValueAct {
                 },
                 Act::Target {
                     child,
+                    impulse,
+                    axis,
                     angle,
                     stiffness,
                     damping,
                 } => Act::Target {
                     child,
+                    impulse,
+                    axis,
                     angle: angle * k,
                     stiffness,
                     damping,
@@ -126,7 +130,21 @@ impl PhysicsWorld {
             Act::Impulse { body, impulse } => bodies[body].apply_impulse(impulse, true),
             Act::Force { body, force } => bodies[body].add_force(force, true),
             Act::Target {
+                impulse: Some(h),
+                axis,
+                angle,
+                stiffness,
+                damping,
+                ..
+            } => {
+                if let Some(j) = self.sets.impulse_joints.get_mut(h, true) {
+                    j.data.set_motor_position(axis, angle, stiffness, damping);
+                }
+            }
+            Act::Target {
                 child,
+                impulse: None,
+                axis,
                 angle,
                 stiffness,
                 damping,
@@ -139,7 +157,7 @@ impl PhysicsWorld {
                 {
                     l.joint
                         .data
-                        .set_motor_position(JointAxis::AngX, angle, stiffness, damping);
+                        .set_motor_position(axis, angle, stiffness, damping);
                 }
             }
         }
@@ -196,6 +214,9 @@ impl PhysicsWorld {
         for (j, gated) in joints.zip(&mut self.gated_angles) {
             *gated = f64::NAN;
             let Some((lo, hi)) = j.limits else { continue };
+            if j.slider.is_some() {
+                continue;
+            }
             let Some(link) = mbs.rigid_body_link(j.child).copied() else {
                 continue;
             };

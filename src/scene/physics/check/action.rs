@@ -128,6 +128,12 @@ impl PhysicsSpec {
         bad_number: &dyn Fn(String) -> Invalid,
     ) -> Result<(), Invalid> {
         let j = self.known_joint(joint, bad)?;
+        if !j.kind.is_revolute() {
+            return Err(bad(format!(
+                "a Torque on a hinge, but joint `{joint}` is a slider (Prismatic): push its child with `Force(body: \"{}\", force: (x, y))` (the part along the axis moves it) or move its motor with `Target`",
+                j.child
+            )));
+        }
         if !torque.is_finite() {
             return Err(bad_number(format!(
                 "a finite torque in N·m, found {torque}"
@@ -177,15 +183,20 @@ impl PhysicsSpec {
                 "a Target on a joint with a `motor: (stiffness: ..., damping: ...)`, but joint `{joint}` has none"
             )));
         }
+        let (what, unit, bound) = if j.kind.is_revolute() {
+            ("angle", "rad", MAX_ANGLE)
+        } else {
+            ("position", "m", MAX_LENGTH)
+        };
         if !angle.is_finite() {
             return Err(bad_number(format!(
-                "a finite angle in radians, found {angle}"
+                "a finite {what} in {unit}, found {angle}"
             )));
         }
-        if !in_range(*angle, 0.0, MAX_ANGLE, true) {
+        if !in_range(*angle, 0.0, bound, true) {
             return Err(bad_number(format!(
-                "a target angle {}, found {}",
-                bounds(0.0, MAX_ANGLE, true, "rad"),
+                "a target {what} {}, found {}",
+                bounds(0.0, bound, true, unit),
                 show(*angle)
             )));
         }
@@ -222,6 +233,11 @@ impl PhysicsSpec {
         };
         if b.kind != BodyKind::Dynamic {
             return Err(bad(format!("a dynamic body, but `{body}` is {:?}", b.kind)));
+        }
+        if matches!(action, Action::Impulse { .. }) && self.hangs_from_ground(body) {
+            return Err(bad(format!(
+                "an Impulse on a free body or on a link of a free-floating chain, but `{body}` is a link of a chain hung on `ground` (a Rapier multibody link: an impulse on it would be lost at the next step); push it with `Force(body: \"{body}\", force: (x, y))` held over the phase (an impulse J over a phase of T s is the force J / T), or turn its joint with `Torque`"
+            )));
         }
         if !finite2(*v) {
             return Err(bad_number("finite components".into()));

@@ -37,6 +37,49 @@ impl PhysicsSpec {
         self.check_pose_and_material(b, &at, &who)
     }
 
+    /// Refuses a body field that would do nothing on this kind of body
+    /// (the audit of `docs/physics.md`): a link of a chain hung on
+    /// `ground` is a multibody link, integrated from its joints'
+    /// coordinates, so its own `linear_damping`, `angular_damping` and
+    /// `lock_rotation` would be ignored; a fixed or kinematic body does not
+    /// move, so its damping and `lock_rotation` would do nothing.
+    pub(super) fn check_body_kind(&self, b: &BodySpec) -> Result<(), Invalid> {
+        let at = quoted(&b.name);
+        let (kind, instead) = if b.kind != BodyKind::Dynamic {
+            (
+                format!("`{}` is {:?}: it never moves", b.name, b.kind),
+                "remove the field (or make the body Dynamic)",
+            )
+        } else if self.hangs_from_ground(&b.name) {
+            (
+                format!(
+                    "`{}` is a link of a chain hung on `ground` (a Rapier multibody link, which ignores a body's own damping and rotation lock)",
+                    b.name
+                ),
+                "damp its joint instead (`damping` on the joint, per degree of freedom; for `lock_rotation`: hold the joint with `limits` or a `motor`), or hang the chain on a dynamic body (a free-floating chain, whose links take this field)",
+            )
+        } else {
+            return Ok(());
+        };
+        for (field, set) in [
+            ("linear_damping", b.linear_damping != 0.0),
+            ("angular_damping", b.angular_damping != 0.0),
+            ("lock_rotation", b.lock_rotation),
+        ] {
+            if set {
+                return Err(Invalid::at(
+                    field,
+                    Some(&at),
+                    &format!(
+                        "body `{}`: no `{field}` here, because {kind}; {instead}",
+                        b.name
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// A body's shape: finite, sizes > 0 within [`MIN_SIZE`] and
     /// [`MAX_LENGTH`], coordinates within [`MAX_LENGTH`].
     fn check_shape(&self, b: &BodySpec, at: &str, who: &str) -> Result<(), Invalid> {

@@ -3,7 +3,7 @@
 
 use super::{finite2, quoted};
 use crate::scene::physics::limits::*;
-use crate::scene::physics::{to_world, BodyKind, JointSpec, PhysicsSpec, GROUND};
+use crate::scene::physics::{to_world, BodyKind, JointKind, JointSpec, PhysicsSpec, GROUND};
 use crate::scene::Invalid;
 use std::collections::HashSet;
 
@@ -171,13 +171,38 @@ impl PhysicsSpec {
                 )?;
             }
         }
+        if let JointKind::Prismatic { axis } = j.kind {
+            let ok = finite2(axis)
+                && axis.0.hypot(axis.1) >= MIN_SIZE
+                && axis.0.abs() <= MAX_LENGTH
+                && axis.1.abs() <= MAX_LENGTH;
+            if !ok {
+                return Err(Invalid::at(
+                    "axis",
+                    Some(at),
+                    &format!(
+                        "joint `{}`: a slider's axis (x, y), finite, of length at least {} and components at most {} (any such length: it is normalised), found ({}, {})",
+                        j.name,
+                        show(MIN_SIZE),
+                        show(MAX_LENGTH),
+                        show(axis.0),
+                        show(axis.1)
+                    ),
+                ));
+            }
+        }
+        let (coordinate, unit, bound) = if j.kind.is_revolute() {
+            ("angle", "rad", MAX_ANGLE)
+        } else {
+            ("position", "m", MAX_LENGTH)
+        };
         if let Some((lo, hi)) = j.limits {
             if !(lo.is_finite() && hi.is_finite() && lo <= 0.0 && 0.0 <= hi && lo < hi) {
                 return Err(Invalid::at(
                     "limits",
                     Some(at),
                     &format!(
-                        "joint `{}`: finite limits (min, max) with min <= 0 <= max and min < max (angle 0 is the start pose), found ({lo}, {hi})",
+                        "joint `{}`: finite limits (min, max) with min <= 0 <= max and min < max ({coordinate} 0 is the start pose), found ({lo}, {hi})",
                         j.name
                     ),
                 ));
@@ -189,9 +214,9 @@ impl PhysicsSpec {
                     &who,
                     "limits",
                     v,
-                    (0.0, MAX_ANGLE),
+                    (0.0, bound),
                     true,
-                    "rad",
+                    unit,
                 )?;
             }
         }
@@ -201,12 +226,17 @@ impl PhysicsSpec {
     /// A joint's damping and motor.
     fn check_joint_drive(&self, j: &JointSpec, at: &str) -> Result<(), Invalid> {
         let who = format!("joint `{}`", j.name);
+        let (damping_unit, stiffness_unit) = if j.kind.is_revolute() {
+            ("N·m·s/rad", "N·m/rad")
+        } else {
+            ("N·s/m", "N/m")
+        };
         if !(j.damping.is_finite() && j.damping >= 0.0) {
             return Err(Invalid::at(
                 "damping",
                 Some(at),
                 &format!(
-                    "joint `{}`: a damping >= 0 in N·m·s/rad, found {}",
+                    "joint `{}`: a damping >= 0 in {damping_unit}, found {}",
                     j.name, j.damping
                 ),
             ));
@@ -219,7 +249,7 @@ impl PhysicsSpec {
             j.damping,
             (0.0, MAX_COEFFICIENT),
             false,
-            "N·m·s/rad",
+            damping_unit,
         )?;
         let Some(m) = j.motor else {
             return Ok(());
@@ -246,7 +276,7 @@ impl PhysicsSpec {
             m.stiffness,
             (MIN_MAGNITUDE, MAX_COEFFICIENT),
             false,
-            "N·m/rad",
+            stiffness_unit,
         )?;
         number(
             "motor",
@@ -256,7 +286,7 @@ impl PhysicsSpec {
             m.damping,
             (0.0, MAX_COEFFICIENT),
             false,
-            "N·m·s/rad",
+            damping_unit,
         )
     }
 

@@ -33,6 +33,10 @@ impl PhysicsSpec {
         let index = self.check_bodies()?;
         let position = |name: &str| index.get(name).copied();
         self.check_joints(&position)?;
+        // fields that Rapier would silently ignore on some kinds of body
+        for b in &self.bodies {
+            self.check_body_kind(b)?;
+        }
         self.check_schedule(scene)?;
         self.check_effect()?;
         self.check_symbol_actions(scene, &position)?;
