@@ -340,6 +340,8 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "arm7_continuous",
         include_str!("../../scenes/arm7_continuous.ron"),
     ),
+    ("arm_push", include_str!("../../scenes/arm_push.ron")),
+    ("swimmer", include_str!("../../scenes/swimmer.ron")),
 ];
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
@@ -740,6 +742,13 @@ impl Scene {
             return Err(Invalid::at("command", None, "at least one slot"));
         }
         if let Some(slots) = template::expand(&self.command)? {
+            if let WorldSpec::Physics(p) = &self.world {
+                let mut e = p.clone();
+                shorthand::expand(&mut e)?;
+                let joints: Vec<&str> = e.joints.iter().map(|j| j.name.as_str()).collect();
+                let bodies: Vec<&str> = e.bodies.iter().map(|b| b.name.as_str()).collect();
+                template::check_names(&self.command, &joints, &bodies)?;
+            }
             // every check on the slots the template stands for
             return Scene {
                 command: slots,

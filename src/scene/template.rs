@@ -49,6 +49,45 @@ fn filled(a: &Action, name: &str) -> Action {
     a
 }
 
+/// Checks that every entry of a template's `cycle` names what the
+/// alphabet's `"*"` stands for: a joint (in `Torque`, `Target`) among
+/// `joints`, a body (in `Impulse`, `Force`) among `bodies`; `Err` is
+/// placed at the entry.
+pub(crate) fn check_names(
+    command: &CommandSpec,
+    joints: &[&str],
+    bodies: &[&str],
+) -> Result<(), Invalid> {
+    let CommandSpec::Template {
+        alphabet, cycle, ..
+    } = command
+    else {
+        return Ok(());
+    };
+    let uses = |joint: bool| {
+        alphabet.iter().any(|s| {
+            name_of(&s.action) == Some(PLACEHOLDER)
+                && matches!(s.action, Action::Torque { .. } | Action::Target { .. }) == joint
+        })
+    };
+    for (i, c) in cycle.iter().enumerate() {
+        for (joint, known, what) in [(true, joints, "joint"), (false, bodies, "body")] {
+            if uses(joint) && !known.contains(&c.as_str()) {
+                return Err(Invalid::at(
+                    "cycle",
+                    Some(&format!("\"{c}\"")),
+                    &format!(
+                        "cycle[{i}]: a {what} (the alphabet's `*` names a {what}), but there is no {what} `{c}`{}; {what}s: {}",
+                        super::did_you_mean(c, known),
+                        known.join(", ")
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The `Slots` a `Template` stands for (`None` for any other schema);
 /// `Err` names the template's field at fault.
 pub(crate) fn expand(command: &CommandSpec) -> Result<Option<CommandSpec>, Invalid> {
