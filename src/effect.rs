@@ -264,13 +264,11 @@ impl Feature {
     pub fn axis(&self) -> Axis {
         match self {
             Feature::Point { grid, .. } => Axis::Plane(grid.clone()),
-            Feature::Joint { bins, range, .. } | Feature::Angle { bins, range, .. } => {
-                Axis::Line {
-                    bins: *bins,
-                    min: range.0,
-                    max: range.1,
-                }
-            }
+            Feature::Joint { bins, range, .. } | Feature::Angle { bins, range, .. } => Axis::Line {
+                bins: *bins,
+                min: range.0,
+                max: range.1,
+            },
         }
     }
 }
@@ -369,10 +367,7 @@ impl Binning {
         if axes.is_empty() {
             return Err(EffectError::NoEffects);
         }
-        let grids = axes
-            .iter()
-            .map(Axis::grid)
-            .collect::<Result<Vec<_>, _>>()?;
+        let grids = axes.iter().map(Axis::grid).collect::<Result<Vec<_>, _>>()?;
         let lines = axes.iter().all(|a| matches!(a, Axis::Line { .. }));
         let (layout, shape) = if grids.len() == 1 {
             (grids[0].clone(), Shape::Single)
@@ -474,10 +469,7 @@ impl Binning {
                     row = row * g.rows + r;
                     col = col * g.cols + c;
                 }
-                (
-                    self.layout.center(row, col),
-                    row * self.layout.cols + col,
-                )
+                (self.layout.center(row, col), row * self.layout.cols + col)
             }
         }
     }
@@ -795,7 +787,11 @@ mod tests {
         // a strip after a point: one row of 3 per cell
         let s = Binning::new(vec![
             Axis::Plane(EffectGrid::new(2, 2, [0.0, 0.0], [2.0, 2.0]).unwrap()),
-            Axis::Line { bins: 3, min: 0.0, max: 3.0 },
+            Axis::Line {
+                bins: 3,
+                min: 0.0,
+                max: 3.0,
+            },
         ])
         .unwrap();
         assert_eq!((s.layout().rows, s.layout().cols), (2, 6));
@@ -805,14 +801,29 @@ mod tests {
 
     #[test]
     fn lines_bin_with_clamping() {
-        let b = Binning::new(vec![Axis::Line { bins: 4, min: -1.0, max: 1.0 }]).unwrap();
+        let b = Binning::new(vec![Axis::Line {
+            bins: 4,
+            min: -1.0,
+            max: 1.0,
+        }])
+        .unwrap();
         let e: Vec<usize> = [-5.0, -0.99, -0.4, 0.1, 0.6, 1.0, 9.0, f64::NAN]
             .iter()
             .map(|&v| b.locate(&[v]).1)
             .collect();
         assert_eq!(e, [0, 0, 1, 2, 3, 3, 3, 0]);
-        assert!(Binning::new(vec![Axis::Line { bins: 0, min: 0.0, max: 1.0 }]).is_err());
-        assert!(Binning::new(vec![Axis::Line { bins: 2, min: 1.0, max: 1.0 }]).is_err());
+        assert!(Binning::new(vec![Axis::Line {
+            bins: 0,
+            min: 0.0,
+            max: 1.0
+        }])
+        .is_err());
+        assert!(Binning::new(vec![Axis::Line {
+            bins: 2,
+            min: 1.0,
+            max: 1.0
+        }])
+        .is_err());
         assert_eq!(wrap_angle(std::f64::consts::PI), -std::f64::consts::PI);
         assert!((wrap_angle(7.0) - (7.0 - std::f64::consts::TAU)).abs() < 1e-12);
     }

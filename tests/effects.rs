@@ -40,7 +40,10 @@ fn a_pole_angle_by_a_cart_position_is_a_grid_of_the_two() {
     ])
     .unwrap();
     let g = b.layout();
-    assert_eq!((g.rows, g.cols, g.min, g.max), (9, 7, [-1.4, -0.9], [1.4, 0.9]));
+    assert_eq!(
+        (g.rows, g.cols, g.min, g.max),
+        (9, 7, [-1.4, -0.9], [1.4, 0.9])
+    );
     // the angle down the rows, its largest value in row 0; the position across
     assert_eq!(b.locate(&[0.0, 0.0]).1, 4 * 7 + 3);
     assert_eq!(b.locate(&[0.89, 1.39]).1, 6);
@@ -50,7 +53,10 @@ fn a_pole_angle_by_a_cart_position_is_a_grid_of_the_two() {
     assert_eq!(b.locate(&[-5.0, 5.0]).1, 62);
     // reward cells and regions read the layout as a grid, in the features' units
     let c = g.center(0, 0);
-    assert!((c[0] + 1.2).abs() < 1e-12 && (c[1] - 0.8).abs() < 1e-12, "{c:?}");
+    assert!(
+        (c[0] + 1.2).abs() < 1e-12 && (c[1] - 0.8).abs() < 1e-12,
+        "{c:?}"
+    );
 }
 
 #[test]
@@ -87,8 +93,16 @@ fn the_objects_cell_by_the_hands_cell_nests_blocks() {
             let ph = hand.center(h / 2, h % 2);
             let (p, e) = b.locate(&[po[0], po[1], ph[0], ph[1]]);
             let (row, col) = (e / 6, e % 6);
-            assert_eq!((row / 2, col / 2), (o / 3, o % 3), "the object's cell is the block");
-            assert_eq!((row % 2, col % 2), (h / 2, h % 2), "the hand's cell within it");
+            assert_eq!(
+                (row / 2, col / 2),
+                (o / 3, o % 3),
+                "the object's cell is the block"
+            );
+            assert_eq!(
+                (row % 2, col % 2),
+                (h / 2, h % 2),
+                "the hand's cell within it"
+            );
             assert_eq!(p, g.center(row, col));
             seen[e] += 1;
         }

@@ -90,5 +90,8 @@ fn the_swimmer_is_free_floating_and_reorients_itself() {
         )
     };
     let (a, b) = (com(&m.frames[0]), com(m.frames.last().unwrap()));
-    assert!((a.0 - b.0).abs() < 1e-3 && (a.1 - b.1).abs() < 1e-3, "{a:?} {b:?}");
+    assert!(
+        (a.0 - b.0).abs() < 1e-3 && (a.1 - b.1).abs() < 1e-3,
+        "{a:?} {b:?}"
+    );
 }

@@ -35,7 +35,10 @@ fn written_out() -> String {
         ])"#
         )
     };
-    let slots: Vec<String> = ["j1", "j2", "j1", "j2", "j1"].iter().map(|j| slot(j)).collect();
+    let slots: Vec<String> = ["j1", "j2", "j1", "j2", "j1"]
+        .iter()
+        .map(|j| slot(j))
+        .collect();
     let start = TEMPLATE.find("    command: Template(").unwrap();
     format!(
         "{}    command: Slots([\n{}\n    ]),\n)",
@@ -169,7 +172,10 @@ fn template_mistakes_are_refused_with_their_place() {
     // a cycle that nothing uses
     let unused = TEMPLATE.replace("joint: \"*\"", "joint: \"j1\"");
     let e = refused(&unused);
-    assert!(e.starts_with("t.ron:17:9: field `cycle`: expected an action naming `*`"), "{e}");
+    assert!(
+        e.starts_with("t.ron:17:9: field `cycle`: expected an action naming `*`"),
+        "{e}"
+    );
     // a cycle naming a joint that does not exist: placed at the name
     let unknown = TEMPLATE.replace("[\"j1\", \"j2\"]", "[\"j1\", \"j7\"]");
     let e = refused(&unknown);
@@ -179,7 +185,11 @@ fn template_mistakes_are_refused_with_their_place() {
     );
     // no slots, too many
     let zero = TEMPLATE.replace("slots: 5", "slots: 0");
-    assert!(refused(&zero).contains("at least one slot"), "{}", refused(&zero));
+    assert!(
+        refused(&zero).contains("at least one slot"),
+        "{}",
+        refused(&zero)
+    );
     let many = TEMPLATE
         .replacen("    slots: 5,\n", "", 1)
         .replace("slots: 5", "slots: 65");

@@ -725,9 +725,7 @@ impl Scene {
                         ("Template", format!("`Template` has `slots: {n}`"))
                     }
                     CommandSpec::Slots(_) => ("Slots", format!("`Slots` lists {n}")),
-                    CommandSpec::Continuous(_) => {
-                        ("Continuous", format!("`Continuous` lists {n}"))
-                    }
+                    CommandSpec::Continuous(_) => ("Continuous", format!("`Continuous` lists {n}")),
                 };
                 return Err(Invalid::at(
                     variant,
