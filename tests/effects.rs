@@ -86,7 +86,7 @@ fn the_objects_cell_by_the_hands_cell_nests_blocks() {
     assert!(!b.has_units());
     assert_eq!(b.arity(), 4);
     // every pair of cells is one effect, and every effect one pair
-    let mut seen = vec![0; 36];
+    let mut seen = [0; 36];
     for o in 0..9 {
         for h in 0..4 {
             let po = object.center(o / 3, o % 3);
