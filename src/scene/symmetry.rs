@@ -13,7 +13,7 @@
 //! floating-point sums, contact ordering and contact features are not
 //! mirror-symmetric. Measured on arm7 (all 2187 commands): against Rapier's
 //! own outcome of every command, the table with the symmetry has 1896
-//! outcomes bit-identical and 2185 effects equal (`tests/physics_symmetry.rs`,
+//! outcomes bit-identical and 2185 effects equal (`tests/physics/symmetry.rs`,
 //! docs/benchmarks.md). A scene opts in knowingly.
 
 use super::physics::{PhysicsSpec, ShapeSpec, GROUND};

@@ -3,7 +3,7 @@
 
 use std::process::Command;
 
-const BLOWUP: &str = include_str!("scenes/blowup.ron");
+const BLOWUP: &str = include_str!("../scenes/blowup.ron");
 
 const SWEEP: &str = r#"Sweep(
     scenes: ["blowup.ron"],

@@ -3,7 +3,7 @@
 //! an error that names the file.
 //!
 //! A short run is part of the test suite (256 cases per property). A long
-//! run: `PROPTEST_CASES=100000 cargo test --release --test fuzz_sweeps`
+//! run: `PROPTEST_CASES=100000 cargo test --release --test library fuzz_sweeps::`
 //! (see docs/robustness.md for the figures).
 
 use e3d::sweep::Sweep;

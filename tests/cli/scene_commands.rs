@@ -290,7 +290,7 @@ fn scene_check_warns_about_a_body_outside_the_effect_grid() {
     );
     // the shipped scenes' geometry has nothing to warn about (their
     // reward cells are rare by design: the sampled estimate warns on
-    // several, see tests/scene_check.rs)
+    // several, see tests/cli/scene_check.rs)
     for s in [
         "puck_rooms",
         "arm7",

@@ -91,7 +91,7 @@ fn pendulum3_and_maze3_copies_are_bit_identical() {
 
 #[test]
 fn a_blown_up_copy_fails_alone() {
-    let text = include_str!("scenes/blowup.ron");
+    let text = include_str!("../scenes/blowup.ron");
     let scene = Scene::parse(text, "blowup.ron").unwrap();
     let space = scene.command_space();
     let cmds: Vec<Command> = ["T0", "0K", "00", "TK", "T0"]
@@ -124,7 +124,7 @@ fn a_blown_up_copy_fails_alone() {
 
 /// arm7 in copies is not bit-identical; how many effects still agree
 /// (docs/benchmarks.md). Slow in a debug build:
-/// `cargo test --release --test physics_copies -- --ignored --nocapture`.
+/// `cargo test --release --test physics copies:: -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn arm7_copies_effects_agree_with_one_world_per_command() {

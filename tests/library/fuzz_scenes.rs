@@ -2,7 +2,7 @@
 //! give either a scene or an error that names the file.
 //!
 //! A short run is part of the test suite (256 cases per property). A long
-//! run: `PROPTEST_CASES=200000 cargo test --release --test fuzz_scenes`
+//! run: `PROPTEST_CASES=200000 cargo test --release --test library fuzz_scenes::`
 //! (see docs/robustness.md for the figures).
 
 use e3d::Scene;

@@ -8,7 +8,7 @@ fn every_scene_with_every_learner_gives_effects_in_range_and_repeats() {
     for (name, _) in BUILTIN {
         let scene = Scene::builtin(name).unwrap();
         if scene.is_continuous() {
-            // its own learners, on live physics (tests/continuous.rs)
+            // its own learners, on live physics (tests/physics/continuous.rs)
             continue;
         }
         let space = scene.command_space();

@@ -1,0 +1,133 @@
+//! Commands in: strings, lists or numpy arrays, checked against a
+//! scene's command space.
+
+use e3d::{Command, CommandSpace};
+use numpy::ndarray::{Array2, ArrayView2};
+use numpy::{
+    PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
+};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyList, PyString, PyTuple};
+
+/// Checks one row of symbols against the space.
+pub(crate) fn check_row(space: &CommandSpace, row: usize, symbols: &[i64]) -> PyResult<Command> {
+    let mut out = Vec::with_capacity(symbols.len());
+    for (slot, (&s, k)) in symbols.iter().zip(space.sizes()).enumerate() {
+        if s < 0 || s as usize >= k {
+            let alphabet: String = space.alphabet(slot).iter().collect();
+            return Err(PyValueError::new_err(format!(
+                "row {row}: symbol {s} at slot {slot} is out of range: slot {slot} has {k} symbols ({alphabet}), indices 0 to {}",
+                k - 1
+            )));
+        }
+        out.push(s as u8);
+    }
+    Ok(Command::new(out))
+}
+
+pub(crate) fn check_view(space: &CommandSpace, view: ArrayView2<'_, u8>) -> PyResult<Vec<Command>> {
+    let sizes: Vec<usize> = space.sizes().collect();
+    let mut out = Vec::with_capacity(view.nrows());
+    for (i, row) in view.rows().into_iter().enumerate() {
+        let symbols: Vec<u8> = row.iter().copied().collect();
+        if symbols.iter().zip(&sizes).any(|(&s, &k)| s as usize >= k) {
+            // the message names the first symbol out of range
+            let wide: Vec<i64> = symbols.iter().map(|&s| s as i64).collect();
+            check_row(space, i, &wide)?;
+        }
+        out.push(Command::new(symbols));
+    }
+    Ok(out)
+}
+
+/// Commands from a Python object: a command string, a list of command
+/// strings, or an integer array (numpy, or anything `numpy.asarray` takes)
+/// of shape `[slots]` (`ndim == 1`) or `[N, slots]` (`ndim == 2`).
+pub(crate) fn commands_from(
+    py: Python<'_>,
+    space: &CommandSpace,
+    obj: &Bound<'_, PyAny>,
+    ndim: usize,
+) -> PyResult<Vec<Command>> {
+    let parse = |text: &str| {
+        space
+            .parse(text)
+            .map_err(|e| PyValueError::new_err(e.to_string()))
+    };
+    if let Ok(s) = obj.cast::<PyString>() {
+        return Ok(vec![parse(&s.to_cow()?)?]);
+    }
+    if ndim == 2 && (obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>()) {
+        let items: Vec<Bound<'_, PyAny>> = obj.try_iter()?.collect::<PyResult<_>>()?;
+        if !items.is_empty() && items.iter().all(|i| i.is_instance_of::<PyString>()) {
+            return items
+                .iter()
+                .map(|i| parse(&i.cast::<PyString>()?.to_cow()?))
+                .collect();
+        }
+    }
+    let array: Bound<'_, PyUntypedArray> = match obj.cast::<PyUntypedArray>() {
+        Ok(a) => a.clone(),
+        Err(_) => {
+            let np = py.import("numpy")?;
+            let a = np.call_method1("asarray", (obj,)).map_err(|e| {
+                PyValueError::new_err(format!(
+                    "expected commands as an integer array, a command string or a list of them: {e}"
+                ))
+            })?;
+            a.cast_into::<PyUntypedArray>()
+                .map_err(|e| PyValueError::new_err(e.to_string()))?
+        }
+    };
+    let shape = array.shape().to_vec();
+    let what = if ndim == 1 {
+        format!("one command, an array of shape [{}]", space.num_slots())
+    } else {
+        format!(
+            "an array of shape [N, {}] (one command per row)",
+            space.num_slots()
+        )
+    };
+    if array.ndim() != ndim {
+        return Err(PyValueError::new_err(format!(
+            "expected {what}, found an array of {} dimension(s), shape {shape:?}",
+            array.ndim()
+        )));
+    }
+    if shape[ndim - 1] != space.num_slots() {
+        return Err(PyValueError::new_err(format!(
+            "expected {what}, found shape {shape:?}: the scene's commands have {} slots",
+            space.num_slots()
+        )));
+    }
+    let dtype = array.dtype();
+    let kind = dtype.kind();
+    if kind != b'u' && kind != b'i' {
+        return Err(PyValueError::new_err(format!(
+            "expected an integer array of symbol indices (dtype uint8, as Scene.parse returns), found dtype {}",
+            dtype.str()?
+        )));
+    }
+    let rows = if ndim == 1 { 1 } else { shape[0] };
+    if dtype.is_equiv_to(&numpy::dtype::<u8>(py)) {
+        let a = array.cast::<PyArrayDyn<u8>>()?.readonly();
+        let view = a.as_array();
+        if let Ok(v) = view.view().into_shape_with_order((rows, space.num_slots())) {
+            return check_view(space, v);
+        }
+        // a layout that is not C-contiguous (a transposed or reversed
+        // view): copied in logical order
+        let flat: Vec<u8> = view.iter().copied().collect();
+        let owned = Array2::from_shape_vec((rows, space.num_slots()), flat).expect("same size");
+        return check_view(space, owned.view());
+    }
+    let wide = array.call_method1("astype", ("int64",))?;
+    let a = wide.cast::<PyArrayDyn<i64>>()?.readonly();
+    let flat: Vec<i64> = a.as_array().iter().copied().collect();
+    flat.chunks(space.num_slots().max(1))
+        .take(rows)
+        .enumerate()
+        .map(|(i, r)| check_row(space, i, r))
+        .collect()
+}

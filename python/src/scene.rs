@@ -1,0 +1,259 @@
+//! `Scene`: a parsed and validated scene, its command schema and effects.
+
+use crate::commands::commands_from;
+use crate::errors::{scene_err, SceneError};
+use crate::world::PyWorld;
+use e3d::scene::WorldSpec;
+use e3d::CommandSpace;
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyUntypedArray, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyString;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// A scene given as a `Scene` or as a path / built-in name.
+pub(crate) fn scene_of(obj: &Bound<'_, PyAny>) -> PyResult<PyScene> {
+    if let Ok(s) = obj.cast::<PyScene>() {
+        return Ok(s.get().clone());
+    }
+    if let Ok(p) = obj.extract::<PathBuf>() {
+        return PyScene::resolve(&p.to_string_lossy());
+    }
+    Err(PyTypeError::new_err(
+        "expected a Scene, or a scene file's path or a built-in scene's name",
+    ))
+}
+
+/// A parsed and validated scene: a world, a command schema (slots and
+/// their alphabets), effects (cells of a grid) and a reward.
+///
+/// Make one with `Scene.load(path)`, `Scene.builtin(name)`,
+/// `Scene.resolve(path_or_name)` or `Scene.from_text(text)`.
+#[pyclass(module = "e3d", name = "Scene", frozen)]
+#[derive(Clone)]
+pub(crate) struct PyScene {
+    pub(crate) inner: Arc<e3d::Scene>,
+    pub(crate) space: CommandSpace,
+}
+
+impl PyScene {
+    /// The scene, if its slots take symbols: continuous scenes are not
+    /// wrapped yet (they run from the CLI and the Rust library).
+    fn new(scene: e3d::Scene) -> Result<PyScene, e3d::SceneError> {
+        scene.require_symbols(
+            "the Python package (continuous commands run from the CLI and the Rust library)",
+        )?;
+        Ok(PyScene {
+            space: scene.command_space(),
+            inner: Arc::new(scene),
+        })
+    }
+}
+
+#[pymethods]
+impl PyScene {
+    /// Loads and validates a scene file (`.ron`). Raises `SceneError` with
+    /// `file:line:col: message`, the CLI's text.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<PyScene> {
+        e3d::Scene::load(&path)
+            .and_then(PyScene::new)
+            .map_err(scene_err)
+    }
+
+    /// A scene shipped with e3d, by name (see `Scene.builtins()`).
+    #[staticmethod]
+    fn builtin(name: &str) -> PyResult<PyScene> {
+        let scene = e3d::Scene::builtin(name).ok_or_else(|| {
+            SceneError::new_err(format!(
+                "{name}: no built-in scene of that name; expected one of: {}",
+                builtin_names().join(", ")
+            ))
+        })?;
+        PyScene::new(scene).map_err(scene_err)
+    }
+
+    /// A scene by path, or by the name of a built-in scene when no such
+    /// file exists (what the CLI's SCENE arguments accept).
+    #[staticmethod]
+    fn resolve(path_or_name: &str) -> PyResult<PyScene> {
+        e3d::Scene::resolve(path_or_name)
+            .and_then(PyScene::new)
+            .map_err(scene_err)
+    }
+
+    /// Parses and validates scene text; `file` names it in errors.
+    #[staticmethod]
+    #[pyo3(signature = (text, file = "<string>"))]
+    fn from_text(text: &str, file: &str) -> PyResult<PyScene> {
+        e3d::Scene::parse(text, file)
+            .and_then(PyScene::new)
+            .map_err(scene_err)
+    }
+
+    /// The names of the built-in scenes.
+    #[staticmethod]
+    fn builtins() -> Vec<&'static str> {
+        builtin_names()
+    }
+
+    /// The scene's name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.inner.name
+    }
+
+    /// The scene's description.
+    #[getter]
+    fn description(&self) -> &str {
+        &self.inner.description
+    }
+
+    /// `"grid"` or `"physics"`.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        match self.inner.world {
+            WorldSpec::Grid(_) => "grid",
+            WorldSpec::Physics(_) => "physics",
+        }
+    }
+
+    /// The number of slots of a command.
+    #[getter]
+    fn num_slots(&self) -> usize {
+        self.space.num_slots()
+    }
+
+    /// The alphabet size of each slot.
+    #[getter]
+    fn alphabet_sizes(&self) -> Vec<usize> {
+        self.space.sizes().collect()
+    }
+
+    /// The alphabet of each slot, as a string of its symbols.
+    #[getter]
+    fn alphabets(&self) -> Vec<String> {
+        (0..self.space.num_slots())
+            .map(|s| self.space.alphabet(s).iter().collect())
+            .collect()
+    }
+
+    /// The number of effects (cells of the effect grid).
+    #[getter]
+    fn num_effects(&self) -> usize {
+        self.inner.num_effects()
+    }
+
+    /// The effect grid: `(rows, cols, (xmin, ymin), (xmax, ymax))`.
+    #[getter]
+    fn effect_grid(&self) -> (usize, usize, (f64, f64), (f64, f64)) {
+        let g = self.inner.effect_grid();
+        (g.rows, g.cols, (g.min[0], g.min[1]), (g.max[0], g.max[1]))
+    }
+
+    /// The number of distinct commands, or `None` beyond 2^64.
+    #[getter]
+    fn num_commands(&self) -> Option<u64> {
+        self.space.num_commands()
+    }
+
+    /// The effect of the start state: the cell of the tracked point (or of
+    /// the agent) before any command.
+    #[getter]
+    fn start_effect(&self) -> usize {
+        let g = self.inner.effect_grid();
+        match &self.inner.world {
+            WorldSpec::Grid(spec) => g.effect_of(g.center(spec.start.0, spec.start.1)),
+            WorldSpec::Physics(p) => {
+                let b = p.body(&p.effect.body).expect("validated: tracked body");
+                let t = e3d::scene::physics::to_world_point(b.position, b.angle, p.effect.point);
+                g.effect_of([t.0, t.1])
+            }
+        }
+    }
+
+    /// The reward of each effect, a float64 array of `num_effects`.
+    fn reward_table<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.inner.reward_table().into_pyarray(py)
+    }
+
+    /// Commands written as symbols (a string, or a list of strings) as a
+    /// uint8 array of shape `[N, num_slots]` of symbol indices.
+    fn parse<'py>(
+        &self,
+        py: Python<'py>,
+        commands: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<u8>>> {
+        let texts: Vec<String> = if let Ok(s) = commands.cast::<PyString>() {
+            vec![s.to_cow()?.into_owned()]
+        } else {
+            commands.extract().map_err(|_| {
+                PyTypeError::new_err("expected a command string or a list of command strings")
+            })?
+        };
+        let n = self.space.num_slots();
+        let mut flat = Vec::with_capacity(texts.len() * n);
+        for t in &texts {
+            let c = self
+                .space
+                .parse(t)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            flat.extend_from_slice(&c.symbols);
+        }
+        let a = Array2::from_shape_vec((texts.len(), n), flat).expect("n symbols a row");
+        Ok(a.into_pyarray(py))
+    }
+
+    /// Commands (an array `[N, slots]` or `[slots]` of symbol indices) as
+    /// strings: a list for a 2-D array, one string for a 1-D one.
+    fn format(&self, py: Python<'_>, commands: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+        let one = commands
+            .cast::<PyUntypedArray>()
+            .map(|a| a.ndim() == 1)
+            .unwrap_or(false)
+            || commands
+                .extract::<Vec<i64>>()
+                .map(|_| true)
+                .unwrap_or(false);
+        let cs = commands_from(py, &self.space, commands, if one { 1 } else { 2 })?;
+        let texts: Vec<String> = cs.iter().map(|c| self.space.format(c)).collect();
+        if one {
+            Ok(texts[0].clone().into_pyobject(py)?.into_any().unbind())
+        } else {
+            Ok(texts.into_pyobject(py)?.into_any().unbind())
+        }
+    }
+
+    /// A world that executes this scene's commands (see `World`).
+    fn world(&self) -> PyWorld {
+        PyWorld::new(self.clone())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene({:?}: {}, {} slots, {} effects)",
+            self.inner.name,
+            self.kind(),
+            self.space.num_slots(),
+            self.inner.num_effects()
+        )
+    }
+
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        other
+            .cast::<PyScene>()
+            .map(|o| *o.get().inner == *self.inner)
+            .unwrap_or(false)
+    }
+}
+
+/// The built-in scenes of symbols (continuous ones are not wrapped yet).
+pub(crate) fn builtin_names() -> Vec<&'static str> {
+    e3d::scene::BUILTIN
+        .iter()
+        .map(|(n, _)| *n)
+        .filter(|n| e3d::Scene::builtin(n).is_some_and(|s| !s.is_continuous()))
+        .collect()
+}

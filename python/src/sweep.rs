@@ -1,0 +1,184 @@
+//! `run_sweep`: sweeps, their `results.csv` as columns, and `--out`
+//! folders.
+
+use crate::errors::{Fail, STOPPED};
+use crate::progress::{watched, Watch};
+use e3d::sweep::{DirOptions, Shard};
+use e3d::{Sweep, SweepError};
+use numpy::IntoPyArray;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+
+/// `results.csv`'s rows (`header` and one line a session) as a dict of
+/// columns (see `run_sweep`).
+pub(crate) fn columns_of<'py>(
+    py: Python<'py>,
+    header: &str,
+    rows: &[&str],
+) -> PyResult<Bound<'py, PyDict>> {
+    let header: Vec<&str> = header.split(',').collect();
+    let rows: Vec<Vec<&str>> = rows.iter().map(|r| r.split(',').collect()).collect();
+    let out = PyDict::new(py);
+    for (j, name) in header.iter().enumerate() {
+        let col = rows.iter().map(|r| r.get(j).copied().unwrap_or(""));
+        match *name {
+            "scene" | "learner" | "failure" => {
+                let v: Vec<&str> = col.collect();
+                out.set_item(name, v)?;
+            }
+            "use_reward" => {
+                let v: Vec<bool> = col.map(|s| s == "true").collect();
+                out.set_item(name, v.into_pyarray(py))?;
+            }
+            "session" => {
+                let v: Vec<i64> = col.map(|s| s.parse().unwrap_or(-1)).collect();
+                out.set_item(name, v.into_pyarray(py))?;
+            }
+            "seed" => {
+                let v: Vec<u64> = col.map(|s| s.parse().unwrap_or(0)).collect();
+                out.set_item(name, v.into_pyarray(py))?;
+            }
+            _ => {
+                let v: Vec<f64> = col.map(|s| s.parse().unwrap_or(f64::NAN)).collect();
+                out.set_item(name, v.into_pyarray(py))?;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The marker a cancelled `run_to_dir` unwinds with (its progress callback
+/// cannot return an error). The journal is written to survive a kill at
+/// any moment, so an unwind leaves a folder that `resume=True` completes.
+pub(crate) struct Interrupted;
+
+/// Takes the lock of the output folder as `e3d sweep` does (creating the
+/// folder), or refuses with the CLI's text.
+pub(crate) fn lock_out(dir: &Path) -> PyResult<Option<e3d::io::DirLock>> {
+    if (dir.exists() && !dir.is_dir()) || std::fs::create_dir_all(dir).is_err() {
+        return Ok(None);
+    }
+    match e3d::io::DirLock::acquire(dir) {
+        Ok(lock) => Ok(Some(lock)),
+        Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => Err(pyo3::exceptions::PyOSError::new_err(format!(
+            "{}: in use by {e}, which is running a sweep into it; wait for it to end or choose another --out",
+            dir.display()
+        ))),
+        Err(e) => Err(pyo3::exceptions::PyOSError::new_err(format!(
+            "{}: cannot take the lock {}: {e}",
+            dir.display(),
+            dir.join(e3d::io::LOCK_FILE).display()
+        ))),
+    }
+}
+
+/// Runs a sweep (the native part of `e3d.run_sweep`, which also takes a
+/// dict) and returns its `results.csv` as a dict of columns, in the
+/// file's order: `scene`, `learner`, `failure` (lists of str),
+/// `use_reward` (bool array), `session` (int64), `seed` (uint64), and
+/// float64 arrays for the parameters and the metrics (NaN where the CSV
+/// cell is empty: a parameter the learner does not use, no first reward,
+/// a failed session). The same values as `e3d sweep FILE --out DIR`.
+///
+/// `sweep`: a path to a sweep file (scene paths relative to its folder),
+/// or the text of one (scene paths relative to the current folder).
+/// `threads`: default every core. `out`: a folder to write what
+/// `e3d sweep --out DIR` writes, byte for byte (`results.csv`,
+/// `summary.csv`, `sweep.ron`, `version.txt`, `journal.txt`); `resume`:
+/// complete the sweep that `out` holds (`--resume`). `progress`: called
+/// as `progress(trials_done, trials_of_all_sessions)`. Ctrl-C raises
+/// `KeyboardInterrupt` once the sessions running have finished (with
+/// `out`, `resume=True` completes the folder later).
+#[pyfunction]
+#[pyo3(signature = (sweep, threads = None, table_cache = None, out = None, resume = false,
+    progress = None))]
+pub(crate) fn run_sweep<'py>(
+    py: Python<'py>,
+    sweep: &Bound<'py, PyAny>,
+    threads: Option<usize>,
+    table_cache: Option<PathBuf>,
+    out: Option<PathBuf>,
+    resume: bool,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let text_or_path: PathBuf = sweep.extract()?;
+    let s = text_or_path.to_string_lossy().to_string();
+    let is_text = !Path::new(&s).exists() && s.contains('(');
+    let mut sw = if is_text {
+        Sweep::parse(&s, "<string>", None)
+    } else {
+        Sweep::load(&text_or_path)
+    }
+    .map_err(|e| PyErr::from(Fail::from(e)))?;
+    if let Some(dir) = table_cache {
+        sw = sw.with_table_cache(dir);
+    }
+    if threads == Some(0) {
+        return Err(PyValueError::new_err("threads = 0: expected at least 1"));
+    }
+    let threads = threads.unwrap_or_else(|| {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    });
+    let watch = Watch::new();
+    let sw = sw.with_trial_counter(watch.done.clone());
+    let per_session = sw.spec.trials as u64;
+    let total = sw.num_sessions() as u64 * per_session;
+    let header = sw.results_header();
+    let Some(dir) = out else {
+        let rows: Vec<String> = watched(py, progress, total, &watch, |watch| {
+            let sessions = sw.sessions();
+            let mut rows: Vec<Option<String>> = vec![None; sessions.len()];
+            sw.run_with(&sessions, threads, |r| {
+                if watch.cancelled() {
+                    return Err(SweepError::Other(STOPPED.into()));
+                }
+                rows[r.session.index] = Some(sw.result_row(&r));
+                Ok(())
+            })?;
+            Ok::<_, Fail>(rows.into_iter().flatten().collect())
+        })??;
+        let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
+        return columns_of(py, &header, &rows);
+    };
+    let _lock = lock_out(&dir)?;
+    let options = DirOptions {
+        threads,
+        resume,
+        shard: Shard::ALL,
+    };
+    watched(py, progress, total, &watch, |watch| {
+        let mut first = true;
+        let run = std::panic::AssertUnwindSafe(|| {
+            sw.run_to_dir(&dir, &options, |done, _| {
+                if first {
+                    // the sessions of an earlier run count as done
+                    watch
+                        .base
+                        .store(done as u64 * per_session, Ordering::Relaxed);
+                    first = false;
+                }
+                if watch.cancelled() {
+                    std::panic::resume_unwind(Box::new(Interrupted));
+                }
+            })
+        });
+        match std::panic::catch_unwind(run) {
+            Ok(r) => r.map(|_| ()).map_err(Fail::from),
+            Err(p) if p.is::<Interrupted>() => Err(Fail::Runtime(STOPPED.into())),
+            Err(p) => std::panic::resume_unwind(p),
+        }
+    })??;
+    let path = dir.join(e3d::sweep::RESULTS);
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        pyo3::exceptions::PyOSError::new_err(format!("{}: cannot read: {e}", path.display()))
+    })?;
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default();
+    let rows: Vec<&str> = lines.collect();
+    columns_of(py, header, &rows)
+}

@@ -1,0 +1,302 @@
+//! `World`: executes a scene's commands, one or a batch, through an
+//! outcome memo; `Outcome` and `BatchOutcome`.
+
+use crate::commands::commands_from;
+use crate::errors::{Fail, STOPPED};
+use crate::motion::{motion_to_py, PyMotion};
+use crate::progress::{watched, Watch};
+use crate::scene::PyScene;
+use e3d::scene::WorldSpec;
+use e3d::world::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP, TABLE_COPIES};
+use e3d::{Command, CommandSpace, Outcome, PhysicsWorld, World, WorldError};
+use numpy::{IntoPyArray, PyArray1, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::sync::atomic::Ordering;
+use std::sync::Mutex;
+
+/// The outcome of one command: `effect` (int), `reward` (float) and the
+/// terminal point `x`, `y` (metres).
+#[pyclass(module = "e3d", name = "Outcome", frozen, get_all)]
+#[derive(Clone)]
+pub(crate) struct PyOutcome {
+    pub(crate) effect: usize,
+    pub(crate) reward: f64,
+    pub(crate) x: f64,
+    pub(crate) y: f64,
+}
+
+#[pymethods]
+impl PyOutcome {
+    fn __repr__(&self) -> String {
+        format!(
+            "Outcome(effect={}, reward={:?}, x={:?}, y={:?})",
+            self.effect, self.reward, self.x, self.y
+        )
+    }
+    fn __eq__(&self, o: &Self) -> bool {
+        (self.effect, self.reward, self.x, self.y) == (o.effect, o.reward, o.x, o.y)
+    }
+}
+
+/// The outcomes of a batch of commands, one entry per row, as numpy
+/// arrays: `effect` (int64), `reward`, `x`, `y` (float64).
+#[pyclass(module = "e3d", name = "BatchOutcome", frozen, get_all)]
+pub(crate) struct PyBatch {
+    effect: Py<PyArray1<i64>>,
+    reward: Py<PyArray1<f64>>,
+    x: Py<PyArray1<f64>>,
+    y: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PyBatch {
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.effect.bind(py).len()
+    }
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("BatchOutcome({} commands)", self.effect.bind(py).len())
+    }
+}
+
+/// Executes a scene's commands open loop from its start state; made by
+/// `Scene.world()`.
+///
+/// Each world object keeps the outcome of every command it executed (an
+/// outcome memo), so no command is simulated twice; `execute_batch` runs
+/// the new commands of a batch in parallel on every core, many at once
+/// per Rapier world where that is exact, without the GIL. The outcomes
+/// are those of `e3d scene exec`, bit for bit.
+#[pyclass(module = "e3d", name = "World", frozen)]
+pub(crate) struct PyWorld {
+    scene: PyScene,
+    memo: OutcomeMemo,
+    copies: usize,
+    idle: Mutex<Vec<Box<dyn World + Send>>>,
+    /// A single-copy Rapier world for `trace`, built on its first use.
+    tracer: Mutex<Option<PhysicsWorld>>,
+}
+
+impl PyWorld {
+    pub(crate) fn new(scene: PyScene) -> PyWorld {
+        let copies = match &scene.inner.world {
+            WorldSpec::Physics(p) if p.copies_are_exact() => TABLE_COPIES,
+            _ => 1,
+        };
+        // a space of more than 2^64 commands cannot be indexed: its memo
+        // is refused, and such a world keeps nothing (cap 0 never fills)
+        let memo = OutcomeMemo::new(&scene.space, scene.inner.num_effects(), DEFAULT_MEMO_CAP)
+            .unwrap_or_else(|_| {
+                let tiny = CommandSpace::repeat(1, &['0']).expect("valid");
+                OutcomeMemo::new(&tiny, 1, 0).expect("small")
+            });
+        PyWorld {
+            scene,
+            memo,
+            copies,
+            idle: Mutex::new(Vec::new()),
+            tracer: Mutex::new(None),
+        }
+    }
+
+    fn take(&self) -> Box<dyn World + Send> {
+        let kept = self.idle.lock().unwrap_or_else(|e| e.into_inner()).pop();
+        kept.unwrap_or_else(|| match &self.scene.inner.world {
+            WorldSpec::Physics(p) if self.copies > 1 => {
+                Box::new(PhysicsWorld::with_copies(&self.scene.inner, p, self.copies))
+            }
+            _ => self.scene.inner.build(),
+        })
+    }
+
+    fn give(&self, w: Box<dyn World + Send>) {
+        self.idle.lock().unwrap_or_else(|e| e.into_inner()).push(w);
+    }
+
+    fn memoised(&self) -> bool {
+        self.scene.space.num_commands().is_some()
+    }
+
+    /// The outcome of each command, in order (the first failure, in input
+    /// order, instead): each distinct command (a mirror-image pair counts
+    /// once) looked up or simulated once, the new ones in parallel.
+    ///
+    /// With a `watch`, each piece adds its commands to `watch.done` (a
+    /// repeated command counts as done at once), and once the watch is
+    /// cancelled the pieces not yet started are skipped (the call fails).
+    fn run(&self, commands: &[Command], watch: Option<&Watch>) -> Result<Vec<Outcome>, WorldError> {
+        let space = &self.scene.space;
+        let keyer = self.take();
+        // (index of the distinct command, whether it is the mirror image)
+        let mut slot: Vec<(usize, bool)> = Vec::with_capacity(commands.len());
+        let mut unique: Vec<Command> = Vec::new();
+        if self.memoised() {
+            let mut first: HashMap<u64, usize> = HashMap::new();
+            for c in commands {
+                let own = space.index_of(c);
+                let key = keyer.mirror_of(c).map_or(own, |m| space.index_of(&m));
+                let k = *first.entry(key).or_insert_with(|| {
+                    unique.push(c.clone());
+                    unique.len() - 1
+                });
+                slot.push((k, space.index_of(&unique[k]) != own));
+            }
+        } else {
+            unique = commands.to_vec();
+            slot.extend((0..commands.len()).map(|k| (k, false)));
+        }
+        if let Some(w) = watch {
+            w.base
+                .store((commands.len() - unique.len()) as u64, Ordering::Relaxed);
+        }
+        let piece = unique
+            .len()
+            .div_ceil(rayon::current_num_threads())
+            .clamp(1, self.copies);
+        let parts: Vec<Vec<Result<Outcome, WorldError>>> = unique
+            .par_chunks(piece)
+            .map(|part| {
+                if watch.is_some_and(Watch::cancelled) {
+                    return vec![Err(WorldError::Other(STOPPED.into())); part.len()];
+                }
+                let mut out = Vec::with_capacity(part.len());
+                if self.memoised() {
+                    let mut w = Memoized::new(self.take(), &self.memo);
+                    w.execute_batch(part, &mut out);
+                    self.give(w.into_inner());
+                } else {
+                    let mut w = self.take();
+                    w.execute_batch(part, &mut out);
+                    self.give(w);
+                }
+                if let Some(w) = watch {
+                    w.add(part.len() as u64);
+                }
+                out
+            })
+            .collect();
+        let results: Vec<Result<Outcome, WorldError>> = parts.into_iter().flatten().collect();
+        let mut out = Vec::with_capacity(commands.len());
+        for (c, &(k, mirrored)) in commands.iter().zip(&slot) {
+            match &results[k] {
+                Ok(o) if mirrored => out.push(keyer.mirror_outcome(*o)),
+                Ok(o) => out.push(*o),
+                // the error as the world words it for this very command
+                Err(e) if mirrored => {
+                    let mut w = self.take();
+                    let r = w.execute(c);
+                    self.give(w);
+                    return Err(r.err().unwrap_or_else(|| e.clone()));
+                }
+                Err(e) => return Err(e.clone()),
+            }
+        }
+        self.give(keyer);
+        Ok(out)
+    }
+}
+
+#[pymethods]
+impl PyWorld {
+    /// The scene.
+    #[getter]
+    fn scene(&self) -> PyScene {
+        self.scene.clone()
+    }
+
+    /// Executes one command (a string of symbols, or an array of `slots`
+    /// symbol indices) and returns its `Outcome`.
+    fn execute(&self, py: Python<'_>, command: &Bound<'_, PyAny>) -> PyResult<PyOutcome> {
+        let cs = commands_from(py, &self.scene.space, command, 1)?;
+        let out = py.detach(|| self.run(&cs, None)).map_err(Fail::from)?;
+        let o = out[0];
+        Ok(PyOutcome {
+            effect: o.effect,
+            reward: o.reward,
+            x: o.point[0],
+            y: o.point[1],
+        })
+    }
+
+    /// Executes a batch of commands, an integer array `[N, slots]` of
+    /// symbol indices (uint8, as `Scene.parse` returns; other integer
+    /// dtypes are converted) or a list of command strings, and returns a
+    /// `BatchOutcome` of numpy arrays, one entry per row. Releases the GIL.
+    /// `progress`: a callable, called as `progress(commands_done, N)` at
+    /// most ten times a second and once at the end. Ctrl-C stops the batch
+    /// and raises `KeyboardInterrupt` (the outcomes simulated so far are
+    /// kept).
+    #[pyo3(signature = (commands, progress = None))]
+    fn execute_batch(
+        &self,
+        py: Python<'_>,
+        commands: &Bound<'_, PyAny>,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<PyBatch> {
+        let cs = commands_from(py, &self.scene.space, commands, 2)?;
+        // a small batch is not worth a thread of its own (a memo hit costs
+        // less than starting one)
+        let out = if progress.is_none() && cs.len() <= 256 {
+            py.detach(|| self.run(&cs, None))
+        } else {
+            let watch = Watch::new();
+            watched(py, progress, cs.len() as u64, &watch, |w| {
+                self.run(&cs, Some(w))
+            })?
+        }
+        .map_err(Fail::from)?;
+        let effect: Vec<i64> = out.iter().map(|o| o.effect as i64).collect();
+        let reward: Vec<f64> = out.iter().map(|o| o.reward).collect();
+        let x: Vec<f64> = out.iter().map(|o| o.point[0]).collect();
+        let y: Vec<f64> = out.iter().map(|o| o.point[1]).collect();
+        Ok(PyBatch {
+            effect: effect.into_pyarray(py).unbind(),
+            reward: reward.into_pyarray(py).unbind(),
+            x: x.into_pyarray(py).unbind(),
+            y: y.into_pyarray(py).unbind(),
+        })
+    }
+
+    /// The whole motion of one command (a string, or an array of `slots`
+    /// symbol indices) on a physics scene, as a `Motion`: the time, every
+    /// body's pose and velocity, every joint's angle and angular velocity,
+    /// at the start and after every step. The numbers of
+    /// `e3d scene exec SCENE COMMAND --trace FILE.csv`. A grid scene raises
+    /// `ValueError` (it has no motion).
+    fn trace(&self, py: Python<'_>, command: &Bound<'_, PyAny>) -> PyResult<PyMotion> {
+        let inner = &self.scene.inner;
+        if matches!(inner.world, WorldSpec::Grid(_)) {
+            return Err(PyValueError::new_err(format!(
+                "scene `{}` is a grid: it has no motion to trace (`e3d scene render --command` draws a command's path)",
+                inner.name
+            )));
+        }
+        let cs = commands_from(py, &self.scene.space, command, 1)?;
+        let text = self.scene.space.format(&cs[0]);
+        let motion = py
+            .detach(|| {
+                let mut slot = self.tracer.lock().unwrap_or_else(|e| e.into_inner());
+                let world =
+                    slot.get_or_insert_with(|| inner.physics_world().expect("a physics scene"));
+                world.motion(&cs[0])
+            })
+            .map_err(Fail::from)?;
+        motion_to_py(py, text, motion)
+    }
+
+    /// How many commands' outcomes this world keeps (each simulated once).
+    #[getter]
+    fn memo_len(&self) -> usize {
+        self.memo.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "World({:?}, {} outcomes kept)",
+            self.scene.inner.name,
+            self.memo.len()
+        )
+    }
+}

@@ -1,0 +1,395 @@
+//! The types of the physics part of the scene format, and what they
+//! compute without checking (masses, areas, steps, world positions).
+
+use super::super::shorthand::{ChainSpec, WallSpec};
+use super::super::symmetry::Symmetry;
+use crate::effect::EffectGrid;
+use serde::{Deserialize, Serialize};
+
+/// A rigid-body world simulated by Rapier (see [`PhysicsWorld`](crate::world::PhysicsWorld)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysicsSpec {
+    /// Gravity `(x, y)` in m/s² (default `(0, 0)`: a table seen from above;
+    /// `(0, -9.81)` for a vertical plane).
+    #[serde(default)]
+    pub gravity: (f64, f64),
+    /// The time step in seconds (default 1/60).
+    #[serde(default = "default_dt")]
+    pub dt: f64,
+    /// Solver iterations per step (default: Rapier's, 4).
+    #[serde(default)]
+    pub solver_iterations: Option<usize>,
+    /// The largest linear speed, in m/s, a dynamic body may reach before
+    /// the command is reported as a blown-up simulation (default 100).
+    #[serde(default = "default_max_speed")]
+    pub max_speed: f64,
+    /// The bodies, in the order they are built (default none: a scene
+    /// of shorthands only). After the shorthands' expansion, the walls'
+    /// boxes and the chains' links come first (see [`shorthand`](crate::scene::shorthand)).
+    #[serde(default)]
+    pub bodies: Vec<BodySpec>,
+    /// Revolute joints between bodies (or a body and `ground`). They must
+    /// form trees: every body is the `child` of at most one joint.
+    #[serde(default)]
+    pub joints: Vec<JointSpec>,
+    /// When the slots act, and how long the world runs.
+    pub schedule: Schedule,
+    /// The tracked point and the grid its terminal position is binned on.
+    pub effect: EffectSpec,
+    /// Serial chains of box links (default none): a shorthand for their
+    /// bodies and joints, expanded at load (see [`ChainSpec`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub chains: Vec<ChainSpec>,
+    /// Fixed walls along polylines or around rooms, with doors (default
+    /// none): a shorthand for their boxes, expanded at load (see
+    /// [`WallSpec`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub walls: Vec<WallSpec>,
+    /// A reflection that leaves the scene unchanged (default none): then
+    /// of each pair of mirror-image commands only one is simulated, the
+    /// other's outcome is its reflection (see [`Symmetry`]). Exact in real
+    /// arithmetic, not bit for bit in Rapier.
+    #[serde(default)]
+    pub symmetry: Option<Symmetry>,
+}
+
+fn default_dt() -> f64 {
+    1.0 / 60.0
+}
+
+fn default_max_speed() -> f64 {
+    100.0
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// How a body moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum BodyKind {
+    /// Moved by forces, contacts and joints (the default).
+    #[default]
+    Dynamic,
+    /// Moved only by its own velocity (zero here: it stays where it is, but
+    /// unlike a fixed body it may be the root of a chain that can be moved by
+    /// code).
+    Kinematic,
+    /// Never moves: walls, floors, bases.
+    Fixed,
+}
+
+/// A collision shape, in the body's local frame (x along the body's angle).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// A disc centred on the body.
+    Ball {
+        /// Radius in metres.
+        radius: f64,
+    },
+    /// A rectangle centred on the body: full `width` along the local x axis
+    /// and full `height` along y (not half extents).
+    Cuboid {
+        /// Full width in metres.
+        width: f64,
+        /// Full height in metres.
+        height: f64,
+    },
+    /// A rounded segment from `a` to `b` with the given `radius`.
+    Capsule {
+        /// One end, local coordinates.
+        a: (f64, f64),
+        /// The other end.
+        b: (f64, f64),
+        /// Radius in metres.
+        radius: f64,
+    },
+    /// A segment from `a` to `b` (no thickness: use on fixed bodies).
+    Segment {
+        /// One end, local coordinates.
+        a: (f64, f64),
+        /// The other end.
+        b: (f64, f64),
+    },
+    /// An open chain of segments through `points` (no thickness: use on
+    /// fixed bodies, for walls).
+    Polyline {
+        /// At least two points, local coordinates.
+        points: Vec<(f64, f64)>,
+    },
+}
+
+/// A rigid body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// A unique name (not `ground`).
+    pub name: String,
+    /// Dynamic (default), Kinematic or Fixed.
+    #[serde(default)]
+    pub kind: BodyKind,
+    /// The collision shape.
+    pub shape: ShapeSpec,
+    /// Mass in kg. Give `mass` or `density`, not both; default: density 1.
+    #[serde(default)]
+    pub mass: Option<f64>,
+    /// Surface density in kg/m² (the mass is density x area).
+    #[serde(default)]
+    pub density: Option<f64>,
+    /// Start position `(x, y)` of the body's origin, metres (default (0, 0)).
+    #[serde(default)]
+    pub position: (f64, f64),
+    /// Start angle in radians, counter-clockwise (default 0).
+    #[serde(default)]
+    pub angle: f64,
+    /// Linear damping in 1/s (default 0): the speed decays as
+    /// `v / (1 + dt * damping)` per step.
+    #[serde(default)]
+    pub linear_damping: f64,
+    /// Angular damping in 1/s (default 0).
+    #[serde(default)]
+    pub angular_damping: f64,
+    /// Contact friction coefficient (default 0.5; pairs take the mean).
+    #[serde(default = "half")]
+    pub friction: f64,
+    /// Restitution in [0, 1] (default 0; pairs take the mean).
+    #[serde(default)]
+    pub restitution: f64,
+    /// Keep the body from rotating (default false).
+    #[serde(default)]
+    pub lock_rotation: bool,
+    /// Whether the body has contacts at all (default true). A body with
+    /// `collide: false` passes through everything.
+    #[serde(default = "yes")]
+    pub collide: bool,
+    /// Let the body spin faster than Rapier's cap of 45° per step (default
+    /// false). Without it, a body reaching the cap makes the command fail
+    /// as diverged rather than silently slowing it down.
+    #[serde(default)]
+    pub fast_rotation: bool,
+}
+
+fn half() -> f64 {
+    0.5
+}
+
+/// A revolute joint (a hinge) between `parent` and `child`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    /// A unique name (actions refer to joints by name).
+    pub name: String,
+    /// The parent body, or `ground` (the fixed world frame).
+    pub parent: String,
+    /// The child body: dynamic, and the child of no other joint.
+    pub child: String,
+    /// The hinge in the parent's local frame (in world coordinates when the
+    /// parent is `ground`), metres (default (0, 0)).
+    #[serde(default)]
+    pub parent_anchor: (f64, f64),
+    /// The hinge in the child's local frame, metres (default (0, 0)). At
+    /// the start pose both anchors must be the same point.
+    #[serde(default)]
+    pub child_anchor: (f64, f64),
+    /// Joint limits `(min, max)` in radians, relative to the start pose
+    /// (angle 0); default none.
+    #[serde(default)]
+    pub limits: Option<(f64, f64)>,
+    /// Viscous damping in N·m·s/rad (default 0), integrated implicitly by
+    /// the multibody solver.
+    #[serde(default)]
+    pub damping: f64,
+    /// A position motor for [`Action::Target`]: `(stiffness: N·m/rad,
+    /// damping: N·m·s/rad)`. It holds angle 0 (the start pose) until a
+    /// `Target` moves its set point; default none.
+    #[serde(default)]
+    pub motor: Option<MotorSpec>,
+    /// Whether parent and child collide with each other (default false).
+    /// Bodies not joined directly always collide (unless `collide: false`).
+    #[serde(default)]
+    pub contacts: bool,
+}
+
+/// A position motor's gains.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotorSpec {
+    /// Stiffness in N·m/rad (> 0).
+    pub stiffness: f64,
+    /// Damping in N·m·s/rad (>= 0).
+    #[serde(default)]
+    pub damping: f64,
+}
+
+/// When the slots act. Durations in seconds; steps = round(seconds / dt).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Schedule {
+    /// Slot `i` acts at the start of phase `i`, then the world runs `phase`
+    /// seconds (forces and torques held during the phase), then `settle`.
+    Sequential {
+        /// Duration of each slot's phase, seconds.
+        phase: f64,
+        /// Time the world runs after the last phase, seconds.
+        settle: f64,
+    },
+    /// Every slot acts together during `push` seconds, then the world runs
+    /// `settle` seconds with no input.
+    Simultaneous {
+        /// Duration of the push phase, seconds.
+        push: f64,
+        /// Time the world runs after the push, seconds.
+        settle: f64,
+    },
+}
+
+/// The tracked point and its binning.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EffectSpec {
+    /// The tracked body.
+    pub body: String,
+    /// The tracked point in the body's local frame (default (0, 0), its origin).
+    #[serde(default)]
+    pub point: (f64, f64),
+    /// The grid the terminal position is binned on (row 0 at the top);
+    /// points outside it count in the nearest border cell.
+    pub grid: EffectGrid,
+}
+
+/// The number of steps of a duration, `round(seconds / dt)`.
+pub fn steps_of(seconds: f64, dt: f64) -> u64 {
+    (seconds / dt).round() as u64
+}
+
+impl Schedule {
+    /// `(steps of one phase, settle steps)` for `dt`, and whether all slots
+    /// act together.
+    pub fn steps(&self, dt: f64) -> (u64, u64, bool) {
+        match *self {
+            Schedule::Sequential { phase, settle } => {
+                (steps_of(phase, dt), steps_of(settle, dt), false)
+            }
+            Schedule::Simultaneous { push, settle } => {
+                (steps_of(push, dt), steps_of(settle, dt), true)
+            }
+        }
+    }
+
+    /// The total number of steps of a command of `slots` slots.
+    pub fn total_steps(&self, dt: f64, slots: usize) -> u64 {
+        let (phase, settle, together) = self.steps(dt);
+        if together {
+            phase + settle
+        } else {
+            phase * slots as u64 + settle
+        }
+    }
+}
+
+impl BodySpec {
+    /// The body's mass in kg, from `mass` or `density` x area.
+    pub fn mass_kg(&self) -> f64 {
+        match (self.mass, self.density) {
+            (Some(m), _) => m,
+            (None, d) => d.unwrap_or(1.0) * self.shape.area(),
+        }
+    }
+}
+
+impl BodySpec {
+    /// The body's moment of inertia about its centre of mass, kg·m², or a
+    /// lower bound of it (a capsule counts as its disc of `radius`); `None`
+    /// for a body that does not turn (not dynamic, or `lock_rotation`).
+    pub fn min_inertia(&self) -> Option<f64> {
+        if self.kind != BodyKind::Dynamic || self.lock_rotation {
+            return None;
+        }
+        let m = self.mass_kg();
+        match self.shape {
+            ShapeSpec::Ball { radius } | ShapeSpec::Capsule { radius, .. } => {
+                Some(0.5 * m * radius * radius)
+            }
+            ShapeSpec::Cuboid { width, height } => {
+                Some(m * (width * width + height * height) / 12.0)
+            }
+            ShapeSpec::Segment { .. } | ShapeSpec::Polyline { .. } => None,
+        }
+    }
+}
+
+impl ShapeSpec {
+    /// The area in m² (0 for segments and polylines).
+    pub fn area(&self) -> f64 {
+        match self {
+            ShapeSpec::Ball { radius } => std::f64::consts::PI * radius * radius,
+            ShapeSpec::Cuboid { width, height } => width * height,
+            ShapeSpec::Capsule { a, b, radius } => {
+                let l = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+                std::f64::consts::PI * radius * radius + 2.0 * radius * l
+            }
+            ShapeSpec::Segment { .. } | ShapeSpec::Polyline { .. } => 0.0,
+        }
+    }
+
+    pub(super) fn numbers(&self) -> Vec<f64> {
+        match self {
+            ShapeSpec::Ball { radius } => vec![*radius],
+            ShapeSpec::Cuboid { width, height } => vec![*width, *height],
+            ShapeSpec::Capsule { a, b, radius } => vec![a.0, a.1, b.0, b.1, *radius],
+            ShapeSpec::Segment { a, b } => vec![a.0, a.1, b.0, b.1],
+            ShapeSpec::Polyline { points } => points.iter().flat_map(|p| [p.0, p.1]).collect(),
+        }
+    }
+}
+
+/// The world position of local point `p` on a body at `pos`, `angle`.
+pub fn to_world_point(pos: (f64, f64), angle: f64, p: (f64, f64)) -> (f64, f64) {
+    to_world(pos, angle, p)
+}
+
+pub(crate) fn to_world(pos: (f64, f64), angle: f64, p: (f64, f64)) -> (f64, f64) {
+    let (s, c) = angle.sin_cos();
+    (pos.0 + c * p.0 - s * p.1, pos.1 + s * p.0 + c * p.1)
+}
+
+impl PhysicsSpec {
+    /// The body named `name`, if any.
+    pub fn body(&self, name: &str) -> Option<&BodySpec> {
+        self.bodies.iter().find(|b| b.name == name)
+    }
+
+    /// The joint named `name`, if any.
+    pub fn joint(&self, name: &str) -> Option<&JointSpec> {
+        self.joints.iter().find(|j| j.name == name)
+    }
+
+    /// Whether copies of this world in one Rapier world (see
+    /// [`PhysicsWorld::with_copies`](crate::world::PhysicsWorld::with_copies))
+    /// give exactly, bit for bit, the outcomes of one world per command:
+    /// when at most one non-fixed body has contacts. With several (arm7's
+    /// links touching each other), Rapier's contact ordering differs
+    /// between the worlds and the last bits of the terminal points do
+    /// too (measured: about 1e-5 m on arm7).
+    pub fn copies_are_exact(&self) -> bool {
+        self.bodies
+            .iter()
+            .filter(|b| b.kind != BodyKind::Fixed && b.collide)
+            .count()
+            <= 1
+    }
+
+    /// Whether the world still holds shorthands (`chains`, `walls`) to
+    /// expand ([`Scene::expand`](crate::Scene::expand)); never for a
+    /// loaded scene.
+    pub fn has_shorthands(&self) -> bool {
+        !(self.chains.is_empty() && self.walls.is_empty())
+    }
+
+    /// The effect grid.
+    pub fn effect_grid(&self) -> EffectGrid {
+        self.effect.grid.clone()
+    }
+}

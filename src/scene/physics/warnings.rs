@@ -1,0 +1,80 @@
+//! What is possible but suspicious in a physics world, for `e3d scene
+//! check`.
+
+use super::limits::show;
+use super::spec::to_world;
+use super::{BodyKind, PhysicsSpec};
+
+impl PhysicsSpec {
+    /// What is possible but suspicious, for `e3d scene check`: a tracked
+    /// point that starts outside the effect grid (it is binned in the
+    /// nearest border cell), a dynamic body outside it, a fixed body (a
+    /// wall) that neither lies in nor touches it. (Bodies overlapping at
+    /// the start are not a warning: [`Scene::validate`](crate::Scene::validate)
+    /// refuses them.)
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let g = &self.effect.grid;
+        let inside = |p: (f64, f64)| {
+            p.0 >= g.min[0] && p.0 <= g.max[0] && p.1 >= g.min[1] && p.1 <= g.max[1]
+        };
+        if let Some(b) = self.body(&self.effect.body) {
+            let p = to_world(b.position, b.angle, self.effect.point);
+            if !inside(p) {
+                out.push(format!(
+                    "the tracked point starts at ({}, {}), outside the effect grid [{}, {}] x [{}, {}]: it counts in the nearest border cell",
+                    show(p.0), show(p.1), g.min[0], g.max[0], g.min[1], g.max[1]
+                ));
+            }
+        }
+        for b in &self.bodies {
+            if b.kind == BodyKind::Dynamic && !inside(b.position) {
+                out.push(format!(
+                    "dynamic body `{}` starts at ({}, {}), outside the effect grid",
+                    b.name,
+                    show(b.position.0),
+                    show(b.position.1)
+                ));
+            }
+        }
+        // walls that do not enclose a free tracked body
+        if let Some(l) = crate::scene::enclosure::leak(self) {
+            out.push(format!(
+                "the walls do not enclose the tracked body `{}`: from its start ({}, {}) it may leave them near ({:.2}, {:.2}) (fixed bodies rasterised on {} m cells; a gap of 1.5 times its radius or more counts)",
+                self.effect.body,
+                show(self.effect_start().0),
+                show(self.effect_start().1),
+                l.point.0,
+                l.point.1,
+                show(l.cell)
+            ));
+        }
+        // a fixed body that neither lies in nor touches the effect grid
+        // bounds no motion there: most likely a misplaced wall
+        let tol = crate::scene::overlap::OVERLAP_TOLERANCE;
+        for b in &self.bodies {
+            if b.kind != BodyKind::Fixed || !b.collide {
+                continue;
+            }
+            let (lo, hi) = crate::scene::overlap::start_aabb(b);
+            if lo[0] > g.max[0] + tol
+                || hi[0] < g.min[0] - tol
+                || lo[1] > g.max[1] + tol
+                || hi[1] < g.min[1] - tol
+            {
+                out.push(format!(
+                    "fixed body `{}` spans [{}, {}] x [{}, {}], wholly outside the effect grid [{}, {}] x [{}, {}]: it bounds no motion on the grid (a misplaced wall?)",
+                    b.name,
+                    show(lo[0]), show(hi[0]), show(lo[1]), show(hi[1]),
+                    g.min[0], g.max[0], g.min[1], g.max[1]
+                ));
+            }
+        }
+        out
+    }
+
+    fn effect_start(&self) -> (f64, f64) {
+        self.body(&self.effect.body)
+            .map_or((0.0, 0.0), |b| b.position)
+    }
+}

@@ -1,0 +1,348 @@
+//! Building a scene's Rapier sets: bodies, colliders, joints and the
+//! actions of every symbol, once per copy.
+
+use super::{
+    v2, Act, JointInfo, PhysicsWorld, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
+};
+use crate::command::CommandSpace;
+use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec, GROUND};
+use crate::scene::{Action, CommandSpec, Scene, ValueAction};
+use rapier2d::math::{Pose, Real};
+use rapier2d::prelude::{
+    ColliderBuilder, Group, IntegrationParameters, InteractionGroups, InteractionTestMode,
+    MotorModel, PhysicsPipeline, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle,
+    RigidBodyType,
+};
+
+/// Builds one copy of the scene's non-fixed bodies, their joints and the
+/// actions on them into `s`. Fixed bodies are built by the first copy
+/// (into `fixed`, by scene index) and shared by the others. `groups` keeps
+/// this copy's colliders apart from the other copies' while they still
+/// touch the fixed bodies.
+fn build_copy(
+    s: &mut Sets,
+    scene: &Scene,
+    spec: &PhysicsSpec,
+    groups: InteractionGroups,
+    fixed: &mut [Option<RigidBodyHandle>],
+) -> Replica {
+    let mut handles = Vec::new();
+    let mut dynamic = Vec::new();
+    for (i, b) in spec.bodies.iter().enumerate() {
+        if let Some(h) = fixed[i] {
+            handles.push(h);
+            continue;
+        }
+        let kind = match b.kind {
+            BodyKind::Dynamic => RigidBodyType::Dynamic,
+            BodyKind::Kinematic => RigidBodyType::KinematicVelocityBased,
+            BodyKind::Fixed => RigidBodyType::Fixed,
+        };
+        let mut rb = RigidBodyBuilder::new(kind)
+            .translation(v2(b.position))
+            .rotation(b.angle as Real)
+            .linear_damping(b.linear_damping as Real)
+            .angular_damping(b.angular_damping as Real)
+            // a sleeping body stops short: the effect would depend on
+            // the sleep thresholds
+            .can_sleep(false)
+            .allow_fast_rotation(b.fast_rotation);
+        if b.lock_rotation {
+            rb = rb.lock_rotations();
+        }
+        let area = b.shape.area();
+        if area <= 0.0 && b.kind == BodyKind::Dynamic {
+            // segments and polylines have no area: the mass is the body's own
+            rb = rb.additional_mass(b.mass_kg() as Real);
+        }
+        let h = s.bodies.insert(rb);
+        let mut co = match &b.shape {
+            ShapeSpec::Ball { radius } => ColliderBuilder::ball(*radius as Real),
+            ShapeSpec::Cuboid { width, height } => {
+                ColliderBuilder::cuboid((width / 2.0) as Real, (height / 2.0) as Real)
+            }
+            ShapeSpec::Capsule { a, b, radius } => {
+                ColliderBuilder::capsule_from_endpoints(v2(*a), v2(*b), *radius as Real)
+            }
+            ShapeSpec::Segment { a, b } => ColliderBuilder::segment(v2(*a), v2(*b)),
+            ShapeSpec::Polyline { points } => {
+                ColliderBuilder::polyline(points.iter().map(|p| v2(*p)).collect(), None)
+            }
+        }
+        .friction(b.friction as Real)
+        .restitution(b.restitution as Real);
+        co = if area <= 0.0 {
+            co.density(0.0)
+        } else if let Some(m) = b.mass {
+            co.mass(m as Real)
+        } else {
+            co.density(b.density.unwrap_or(1.0) as Real)
+        };
+        co = if !b.collide {
+            co.collision_groups(InteractionGroups::none())
+        } else if b.kind == BodyKind::Fixed {
+            co.collision_groups(InteractionGroups::all())
+        } else {
+            co.collision_groups(groups)
+        };
+        s.colliders.insert_with_parent(co, h, &mut s.bodies);
+        handles.push(h);
+        if b.kind == BodyKind::Dynamic {
+            dynamic.push((h, b.fast_rotation));
+        }
+        if b.kind == BodyKind::Fixed {
+            fixed[i] = Some(h);
+        }
+    }
+    // one ground per copy: a multibody rooted at a shared ground would join
+    // the copies into one multibody
+    let ground = if spec.joints.iter().any(|j| j.parent == GROUND) {
+        Some(s.bodies.insert(RigidBodyBuilder::fixed()))
+    } else {
+        None
+    };
+    let body_index = |name: &str| spec.bodies.iter().position(|b| b.name == name);
+    let handle_of = |name: &str| -> Option<RigidBodyHandle> {
+        if name == GROUND {
+            ground
+        } else {
+            body_index(name).map(|i| handles[i])
+        }
+    };
+    let mut joints = Vec::new();
+    for j in &spec.joints {
+        let parent_angle = body_index(&j.parent).map_or(0.0, |i| spec.bodies[i].angle);
+        let child = &spec.bodies[body_index(&j.child).expect("validated: known child")];
+        let mut rj = RevoluteJointBuilder::new()
+            .local_anchor1(v2(j.parent_anchor))
+            .local_anchor2(v2(j.child_anchor))
+            .contacts_enabled(j.contacts);
+        if let Some((lo, hi)) = j.limits {
+            rj = rj.limits([lo as Real, hi as Real]);
+        }
+        if let Some(m) = j.motor {
+            rj = rj.motor_model(MotorModel::ForceBased).motor_position(
+                0.0,
+                m.stiffness as Real,
+                m.damping as Real,
+            );
+        }
+        let mut data = rj.build().data;
+        // angle 0 is the start pose, whatever the bodies' start angles
+        data.set_local_frame1(Pose::new(
+            v2(j.parent_anchor),
+            (child.angle - parent_angle) as Real,
+        ));
+        let p = handle_of(&j.parent).expect("validated: known parent");
+        let c = handle_of(&j.child).expect("validated: known child");
+        joints.push(JointInfo {
+            child: c,
+            parent: (j.parent != GROUND).then_some(p),
+            offset: child.angle - parent_angle,
+            limits: j.limits,
+        });
+        s.multibody_joints
+            .insert(p, c, data, true)
+            .expect("validated: joints form trees");
+    }
+    // joint damping: the multibody's per-DoF damping, indexed by the
+    // link's assembly id (valid at any time, also before the first step)
+    for j in &spec.joints {
+        let c = handle_of(&j.child).expect("validated");
+        let link = *s
+            .multibody_joints
+            .rigid_body_link(c)
+            .expect("a jointed body");
+        let mb = s
+            .multibody_joints
+            .get_multibody_mut(link.multibody)
+            .expect("a live multibody");
+        let aid = mb.link(link.id).expect("a live link").assembly_id();
+        mb.damping_mut()[aid] = j.damping as Real;
+    }
+
+    let resolve = |action: &Action| -> Act {
+        match action {
+            Action::Idle | Action::Move { .. } => Act::Idle,
+            Action::Torque { joint, torque } => {
+                let j = spec.joint(joint).expect("validated: known joint");
+                Act::Torque {
+                    child: handle_of(&j.child).expect("validated"),
+                    parent: if j.parent == GROUND {
+                        None
+                    } else {
+                        handle_of(&j.parent)
+                    },
+                    torque: *torque as Real,
+                }
+            }
+            Action::Impulse { body, impulse } => Act::Impulse {
+                body: handle_of(body).expect("validated: known body"),
+                impulse: v2(*impulse),
+            },
+            Action::Force { body, force } => Act::Force {
+                body: handle_of(body).expect("validated: known body"),
+                force: v2(*force),
+            },
+            Action::Target { joint, angle } => {
+                let j = spec.joint(joint).expect("validated: known joint");
+                let m = j.motor.expect("validated: a Target's joint has a motor");
+                Act::Target {
+                    child: handle_of(&j.child).expect("validated"),
+                    angle: *angle as Real,
+                    stiffness: m.stiffness as Real,
+                    damping: m.damping as Real,
+                }
+            }
+        }
+    };
+    let mut acts = Vec::new();
+    for alphabet in scene.slots() {
+        for sym in alphabet {
+            acts.push(resolve(&sym.action));
+        }
+    }
+    let value_acts = match &scene.command {
+        CommandSpec::Continuous(slots) => slots
+            .iter()
+            .map(|slot| match &slot.action {
+                ValueAction::Heading { body, impulse } => ValueAct::Heading {
+                    body: handle_of(body).expect("validated: known body"),
+                    impulse: *impulse,
+                },
+                a => ValueAct::Scaled(resolve(&a.at(1.0))),
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    let tracked_index = body_index(&spec.effect.body).expect("validated: tracked body");
+    Replica {
+        tracked: handles[tracked_index],
+        handles,
+        dynamic,
+        acts,
+        value_acts,
+        joints,
+    }
+}
+
+impl PhysicsWorld {
+    /// Builds the world of a validated scene whose world is `spec`.
+    ///
+    /// # Panics
+    /// Only on a scene that did not pass validation (for example a joint
+    /// loop, which Rapier's multibodies cannot hold); [`Scene::load`] and
+    /// [`Scene::parse`] validate, and so does [`Scene::try_physics_world`]
+    /// (check a scene edited in code with [`Scene::validate`]).
+    pub fn from_scene(scene: &Scene, spec: &PhysicsSpec) -> PhysicsWorld {
+        Self::with_copies(scene, spec, 1)
+    }
+
+    /// Builds a world holding `copies` independent copies of the scene's
+    /// non-fixed bodies and joints (fixed bodies are built once and
+    /// shared), for [`execute_batch`](Self::execute_batch): up to `copies`
+    /// commands at once in one Rapier world, which amortises Rapier's
+    /// per-step overhead over the copies. Each copy has its own collision
+    /// group: the copies touch the fixed bodies and, within a copy, the
+    /// scene's own collision rules hold, but no two copies touch.
+    ///
+    /// Each copy's outcome is the one a single-copy world gives, bit for
+    /// bit, on the shipped scenes (tested); a scene whose copies would
+    /// differ should be executed one command per world.
+    ///
+    /// # Panics
+    /// If `copies` is 0 or above [`MAX_COPIES`], or on a scene that did not
+    /// pass validation.
+    pub fn with_copies(scene: &Scene, spec: &PhysicsSpec, copies: usize) -> PhysicsWorld {
+        assert!(
+            (1..=MAX_COPIES).contains(&copies),
+            "between 1 and {MAX_COPIES} copies, not {copies}"
+        );
+        if spec.has_shorthands() {
+            // a scene built in code with shorthands: build what they stand for
+            let mut plain = spec.clone();
+            if crate::scene::shorthand::expand(&mut plain).is_err() {
+                panic!("shorthands that do not expand (validate the scene first)");
+            }
+            return Self::with_copies(scene, &plain, copies);
+        }
+        let mut s = Sets::default();
+        let mut fixed = vec![None; spec.bodies.len()];
+        let mut copy_of_body = Vec::new();
+        let replicas: Vec<Replica> = (0..copies)
+            .map(|c| {
+                let groups = if copies == 1 {
+                    InteractionGroups::all()
+                } else {
+                    let bit = Group::from_bits_truncate(1 << c);
+                    InteractionGroups::new(bit, bit, InteractionTestMode::And)
+                };
+                let before = s.bodies.len();
+                let r = build_copy(&mut s, scene, spec, groups, &mut fixed);
+                for (h, _) in s.bodies.iter().skip(before) {
+                    let i = h.into_raw_parts().0 as usize;
+                    if copy_of_body.len() <= i {
+                        copy_of_body.resize(i + 1, u32::MAX);
+                    }
+                    if !fixed.contains(&Some(h)) {
+                        copy_of_body[i] = c as u32;
+                    }
+                }
+                r
+            })
+            .collect();
+        // a continuous scene's command space of symbols is a placeholder
+        // (one symbol per slot) that no command passes (`check_command`)
+        let values = scene.value_space();
+        let space = match &values {
+            Some(v) => CommandSpace::repeat(v.num_slots(), &['~']).expect("validated scene"),
+            None => scene.command_space(),
+        };
+        let mut offset = Vec::new();
+        let mut n = 0;
+        for alphabet in scene.slots() {
+            offset.push(n);
+            n += alphabet.len();
+        }
+        let mut params = IntegrationParameters {
+            dt: spec.dt as Real,
+            ..IntegrationParameters::default()
+        };
+        if let Some(n) = spec.solver_iterations {
+            params.num_solver_iterations = n;
+        }
+        let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
+        PhysicsWorld {
+            scene: scene.name.clone(),
+            space,
+            values,
+            grid: spec.effect_grid(),
+            reward: scene.reward_table(),
+            gravity: v2(spec.gravity),
+            params,
+            pipeline: PhysicsPipeline::new(),
+            sets: s.clone(),
+            pristine: s,
+            copies: replicas,
+            copy_of_body,
+            tracked_point: v2(spec.effect.point),
+            offset,
+            phase_steps,
+            settle_steps,
+            together,
+            max_speed: spec.max_speed,
+            gate_limits: true,
+            gated_angles: Vec::new(),
+            gate_margin: LIMIT_GATE_MARGIN,
+            gate_speed_steps: 4.0,
+            gate_missed: false,
+            mirror: spec.symmetry.map(|sym| {
+                let maps = sym.symbol_maps(scene).expect("validated scene");
+                (sym, maps)
+            }),
+            dt: spec.dt,
+            body_names: spec.bodies.iter().map(|b| b.name.clone()).collect(),
+            joint_names: spec.joints.iter().map(|j| j.name.clone()).collect(),
+        }
+    }
+}

@@ -1,0 +1,358 @@
+//! The physics world: a scene's bodies and joints simulated by Rapier.
+//!
+//! [`PhysicsWorld`] builds the Rapier world once, keeps a pristine copy of
+//! every set, and restores it (`clone_from`) before each command: every
+//! command starts from the same bits, so the same command always gives the
+//! same terminal state, whatever ran before it. Jointed bodies are
+//! [multibodies](rapier2d::dynamics::MultibodyJointSet) (reduced
+//! coordinates: chains do not stretch); joint damping is the multibody's
+//! implicit per-DoF damping.
+//!
+//! A command runs open loop. Per slot, per the scene's schedule:
+//! impulses are applied once at the start of the phase, forces and torques
+//! are held during the phase and removed at its end, joint targets move the
+//! set point of the joint's position motor and hold. After the last phase
+//! the world settles. The effect is the cell of the tracked point at the
+//! end (moving or not).
+//!
+//! After every step the world checks for a blown-up simulation (Rapier's
+//! quarantine, non-finite poses or velocities, a body faster than the
+//! scene's `max_speed`, a body at Rapier's angular speed cap) and reports
+//! it as [`WorldError::Diverged`] rather than a silent effect.
+//!
+//! The module is in four parts: `build` makes the Rapier sets of a scene,
+//! `step` applies commands, steps and guards against blow-ups, `record`
+//! records traces and motions, and `mirror` runs a command as its mirror
+//! image under the scene's symmetry.
+
+mod build;
+mod mirror;
+mod record;
+mod step;
+
+pub use record::{BodyPose, Frame, Motion, RunStats, Trace};
+
+use super::{Outcome, World, WorldError};
+use crate::command::{Command, CommandSpace, ValueSpace};
+use crate::effect::EffectGrid;
+use crate::scene::Symmetry;
+use rapier2d::math::{Real, Vector};
+use rapier2d::prelude::{
+    BroadPhaseBvh, CCDSolver, ColliderSet, ImpulseJointSet, IntegrationParameters, IslandManager,
+    MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyHandle, RigidBodySet, SoftBodySet,
+};
+
+/// Rapier's per-step rotation cap (45°) for bodies without fast rotation.
+const MAX_ROTATION_PER_STEP: f64 = std::f64::consts::FRAC_PI_4;
+
+/// How far (rad) from both of its limits a joint must be, besides four
+/// steps of its current speed, for its limit to be left out of a step (see
+/// `PhysicsWorld::gate_limits`).
+const LIMIT_GATE_MARGIN: f64 = 0.5;
+
+/// Everything Rapier keeps between steps: restored whole before a command.
+#[derive(Clone, Default)]
+struct Sets {
+    islands: IslandManager,
+    broad_phase: BroadPhaseBvh,
+    narrow_phase: NarrowPhase,
+    bodies: RigidBodySet,
+    colliders: ColliderSet,
+    impulse_joints: ImpulseJointSet,
+    multibody_joints: MultibodyJointSet,
+    soft_bodies: SoftBodySet,
+    ccd: CCDSolver,
+}
+
+impl Sets {
+    fn restore(&mut self, from: &Sets) {
+        self.islands.clone_from(&from.islands);
+        self.broad_phase.clone_from(&from.broad_phase);
+        self.narrow_phase.clone_from(&from.narrow_phase);
+        self.bodies.clone_from(&from.bodies);
+        self.colliders.clone_from(&from.colliders);
+        self.impulse_joints.clone_from(&from.impulse_joints);
+        self.multibody_joints.clone_from(&from.multibody_joints);
+        self.soft_bodies.clone_from(&from.soft_bodies);
+        self.ccd.clone_from(&from.ccd);
+    }
+}
+
+/// One symbol's action, resolved to handles.
+#[derive(Debug, Clone, Copy)]
+enum Act {
+    Idle,
+    Torque {
+        child: RigidBodyHandle,
+        parent: Option<RigidBodyHandle>,
+        torque: Real,
+    },
+    Impulse {
+        body: RigidBodyHandle,
+        impulse: Vector,
+    },
+    Force {
+        body: RigidBodyHandle,
+        force: Vector,
+    },
+    Target {
+        child: RigidBodyHandle,
+        angle: Real,
+        stiffness: Real,
+        damping: Real,
+    },
+}
+
+/// What the value of a continuous slot does, resolved to handles: the act
+/// of the value 1, scaled, or an impulse whose direction is the value.
+#[derive(Debug, Clone, Copy)]
+enum ValueAct {
+    Scaled(Act),
+    Heading { body: RigidBodyHandle, impulse: f64 },
+}
+
+/// One command a copy runs: symbols, or the values of a continuous scene.
+#[derive(Debug, Clone, Copy)]
+enum Cmd<'a> {
+    Symbols(&'a Command),
+    Values(&'a [f64]),
+}
+
+/// A joint, for diagnostics: child, parent, angle offset, limits.
+#[derive(Debug, Clone, Copy)]
+struct JointInfo {
+    child: RigidBodyHandle,
+    parent: Option<RigidBodyHandle>,
+    offset: f64,
+    limits: Option<(f64, f64)>,
+}
+
+/// A scene's rigid-body world, simulated by Rapier.
+///
+/// Built once per scene; before each command every Rapier set is restored
+/// from a pristine copy, so the same command always gives the same bits.
+/// Jointed bodies are multibodies; joint damping is their implicit per-DoF
+/// damping. Impulses act once at the start of a slot's phase, forces and
+/// torques are held during it, joint targets hold until changed; then the
+/// world settles and the effect is the cell of the tracked point. A
+/// blown-up state (quarantine, non-finite values, `max_speed`, Rapier's
+/// angular cap) is a [`WorldError::Diverged`], never an effect.
+///
+/// ```
+/// use e3d::{Scene, World};
+/// let scene = Scene::builtin("puck_rooms").unwrap();
+/// let mut world = scene.build();
+/// let c = world.command_space().parse("SEEEEES").unwrap();
+/// let a = world.execute(&c).unwrap();
+/// // the same command, the same bits
+/// assert_eq!(world.execute(&c).unwrap(), a);
+/// ```
+pub struct PhysicsWorld {
+    scene: String,
+    space: CommandSpace,
+    /// The ranges of a continuous scene's slots.
+    values: Option<ValueSpace>,
+    grid: EffectGrid,
+    reward: Vec<f64>,
+    gravity: Vector,
+    params: IntegrationParameters,
+    pipeline: PhysicsPipeline,
+    pristine: Sets,
+    sets: Sets,
+    /// The copies of the scene's moving bodies (one unless built by
+    /// [`with_copies`](PhysicsWorld::with_copies)); copy 0 is the one
+    /// [`World::execute`] uses.
+    copies: Vec<Replica>,
+    /// The copy owning each body, by the body handle's index (`u32::MAX`
+    /// for shared fixed bodies): attributes Rapier's quarantine.
+    copy_of_body: Vec<u32>,
+    tracked_point: Vector,
+    offset: Vec<usize>,
+    phase_steps: u64,
+    settle_steps: u64,
+    together: bool,
+    max_speed: f64,
+    /// Whether limits far from their joints are left out of a step (see
+    /// [`gate_limits`](Self::gate_limits); on for `execute` and
+    /// `execute_batch`, off for traces and in the test that compares).
+    gate_limits: bool,
+    /// Per joint (copies one after another): its angle when its limit was
+    /// left out of the current step, NaN when the limit is on.
+    gated_angles: Vec<f64>,
+    /// The margin of the gating ([`LIMIT_GATE_MARGIN`]) and the number of
+    /// steps of speed added to it (4); smaller in a test.
+    gate_margin: f64,
+    gate_speed_steps: f64,
+    /// Whether a joint whose limit was off moved further in one step than
+    /// the gating assumes (then the command is run again, limits on).
+    gate_missed: bool,
+    /// The scene's declared symmetry and, per slot, each symbol's mirror
+    /// image (see [`twin`](Self::twin)).
+    mirror: Option<(Symmetry, Vec<Vec<u8>>)>,
+    /// The scene's time step, seconds (Rapier holds it as f32).
+    dt: f64,
+    /// The scene's body and joint names, in its order (for motions).
+    body_names: Vec<String>,
+    joint_names: Vec<String>,
+}
+
+/// One copy of a scene's non-fixed bodies and joints, resolved to handles.
+#[derive(Debug, Clone)]
+struct Replica {
+    /// The scene's bodies, in order (fixed bodies are shared by the copies).
+    handles: Vec<RigidBodyHandle>,
+    /// Dynamic bodies, and whether each may spin fast.
+    dynamic: Vec<(RigidBodyHandle, bool)>,
+    tracked: RigidBodyHandle,
+    /// `acts[offset[slot] + symbol]`.
+    acts: Vec<Act>,
+    /// Per slot of a continuous scene, what its value does.
+    value_acts: Vec<ValueAct>,
+    joints: Vec<JointInfo>,
+}
+
+impl std::fmt::Debug for PhysicsWorld {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PhysicsWorld")
+            .field("scene", &self.scene)
+            .field("bodies", &self.copies[0].handles.len())
+            .field("copies", &self.copies.len())
+            .field("phase_steps", &self.phase_steps)
+            .field("settle_steps", &self.settle_steps)
+            .finish()
+    }
+}
+
+fn v2(p: (f64, f64)) -> Vector {
+    Vector::new(p.0 as Real, p.1 as Real)
+}
+
+/// The largest number of copies one world holds: each copy has its own
+/// collision group bit, and Rapier has 32.
+pub const MAX_COPIES: usize = 32;
+
+impl PhysicsWorld {
+    /// The effect grid.
+    pub fn grid(&self) -> &EffectGrid {
+        &self.grid
+    }
+
+    /// The number of steps one command takes.
+    pub fn steps_per_command(&self) -> u64 {
+        if self.together {
+            self.phase_steps + self.settle_steps
+        } else {
+            self.phase_steps * self.space.num_slots() as u64 + self.settle_steps
+        }
+    }
+
+    /// The ranges of a continuous scene's slots (`None` for a scene of
+    /// symbols).
+    pub fn value_space(&self) -> Option<&ValueSpace> {
+        self.values.as_ref()
+    }
+
+    /// Restores every Rapier set to the pristine state, as before each
+    /// command (exposed to measure its cost; commands do it themselves).
+    pub fn reset(&mut self) {
+        self.sets.restore(&self.pristine);
+    }
+
+    /// The number of copies this world holds (see
+    /// [`with_copies`](Self::with_copies)).
+    pub fn num_copies(&self) -> usize {
+        self.copies.len()
+    }
+}
+
+impl World for PhysicsWorld {
+    fn command_space(&self) -> &CommandSpace {
+        &self.space
+    }
+
+    fn num_effects(&self) -> usize {
+        self.grid.num_cells()
+    }
+
+    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
+        self.run(command, true, |_| {})
+    }
+
+    fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
+        // the inherent method: up to `num_copies` commands stepped together
+        PhysicsWorld::execute_batch(self, commands, out)
+    }
+
+    fn mirror_of(&self, command: &Command) -> Option<Command> {
+        self.twin(command)
+    }
+
+    fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
+        self.reflect_outcome(outcome)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::WorldSpec;
+
+    /// Leaving far limits out of a step changes no bit: arm7 (whose joints
+    /// reach their limits on many commands) and pendulum3, on commands
+    /// spread over their spaces, give the same terminal points with and
+    /// without the gating.
+    #[test]
+    fn limit_gating_changes_no_bit() {
+        for name in ["arm7", "pendulum3"] {
+            let scene = Scene::builtin(name).unwrap();
+            let WorldSpec::Physics(spec) = &scene.world else {
+                unreachable!("a physics scene")
+            };
+            let space = scene.command_space();
+            let n = space.num_commands().unwrap();
+            let mut gated = PhysicsWorld::from_scene(&scene, spec);
+            let mut plain = PhysicsWorld::from_scene(&scene, spec);
+            plain.gate_limits = false;
+            let mut c = space.first();
+            for k in 0..60u64 {
+                space.write_command_at(k * 7919 % n, &mut c);
+                let a = gated.execute(&c).unwrap();
+                let b = plain.execute(&c).unwrap();
+                assert_eq!(
+                    a.point.map(f64::to_bits),
+                    b.point.map(f64::to_bits),
+                    "{name} {k}"
+                );
+                assert_eq!(a.effect, b.effect);
+            }
+        }
+    }
+
+    /// When a joint moves further in a step than the gating assumes, the
+    /// command is run again with every limit on: with a margin far too
+    /// small (joints reach their limits while those are off), the results
+    /// are still those of the ungated world, and the rerun happened.
+    #[test]
+    fn a_missed_gate_reruns_the_command_with_every_limit() {
+        let scene = Scene::builtin("arm7").unwrap();
+        let WorldSpec::Physics(spec) = &scene.world else {
+            unreachable!("a physics scene")
+        };
+        let space = scene.command_space();
+        let mut careless = PhysicsWorld::from_scene(&scene, spec);
+        careless.gate_margin = 1e-6;
+        careless.gate_speed_steps = 0.0;
+        let mut plain = PhysicsWorld::from_scene(&scene, spec);
+        plain.gate_limits = false;
+        let mut reruns = 0;
+        let mut c = space.first();
+        for k in 0..20u64 {
+            space.write_command_at(k * 7919 % 2187, &mut c);
+            let a = careless.execute(&c).unwrap();
+            reruns += usize::from(careless.gate_missed);
+            let b = plain.execute(&c).unwrap();
+            assert_eq!(a.point.map(f64::to_bits), b.point.map(f64::to_bits), "{k}");
+        }
+        assert!(reruns >= 15, "only {reruns} of 20 commands were rerun");
+    }
+}

@@ -1,0 +1,349 @@
+//! Recording what a command does: the tracked point's path, every body's
+//! pose and velocity and every joint's angle step by step, and statistics
+//! for diagnostics.
+
+use super::{PhysicsWorld, Sets};
+use crate::command::Command;
+use crate::world::{Outcome, WorldError};
+
+/// The pose of one body, for pictures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyPose {
+    /// The position of the body's origin `(x, y)`, metres.
+    pub position: [f64; 2],
+    /// The angle in radians.
+    pub angle: f64,
+}
+
+/// What [`PhysicsWorld::trace`] records.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trace {
+    /// The tracked point at the start and after every step.
+    pub points: Vec<[f64; 2]>,
+    /// The terminal pose of every body of the scene, in the scene's order.
+    pub poses: Vec<BodyPose>,
+    /// The outcome (as [`World::execute`](crate::World::execute) returns it).
+    pub outcome: Outcome,
+}
+
+/// The whole motion of one command, step by step (see
+/// [`PhysicsWorld::motion`]): every body's pose and velocity and every
+/// joint's angle and angular velocity, at the start and after each step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Motion {
+    /// The scene's bodies, in its order (fixed ones included).
+    pub bodies: Vec<String>,
+    /// The scene's joints, in its order.
+    pub joints: Vec<String>,
+    /// The start (time 0) and every step after it.
+    pub frames: Vec<Frame>,
+    /// The outcome (as [`World::execute`](crate::World::execute) returns it).
+    pub outcome: Outcome,
+}
+
+/// One instant of a [`Motion`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Seconds since the start of the command.
+    pub time: f64,
+    /// The pose of each body, in [`Motion::bodies`]' order.
+    pub poses: Vec<BodyPose>,
+    /// Each body's velocity: `(vx, vy)` m/s and the angular velocity rad/s.
+    pub velocities: Vec<[f64; 3]>,
+    /// Each joint's angle (the child's rotation relative to the parent,
+    /// 0 at the start pose, radians in `(-pi, pi]`), in
+    /// [`Motion::joints`]' order.
+    pub joint_angles: Vec<f64>,
+    /// Each joint's angular velocity (child's minus parent's), rad/s.
+    pub joint_velocities: Vec<f64>,
+}
+
+impl Motion {
+    /// Writes the motion as CSV, one row per frame: `step,time`, then per
+    /// body `NAME.x,NAME.y,NAME.angle,NAME.vx,NAME.vy,NAME.omega`, then per
+    /// joint `NAME.angle,NAME.velocity`; with `command`, a leading
+    /// `command` column holding it (and `header` false: rows only, for
+    /// several commands in one file).
+    pub fn write_csv(
+        &self,
+        mut out: impl std::io::Write,
+        command: Option<&str>,
+        header: bool,
+    ) -> std::io::Result<()> {
+        if header {
+            let mut cols: Vec<String> = Vec::new();
+            if command.is_some() {
+                cols.push("command".into());
+            }
+            cols.extend(["step".into(), "time".into()]);
+            for b in &self.bodies {
+                for f in ["x", "y", "angle", "vx", "vy", "omega"] {
+                    cols.push(format!("{b}.{f}"));
+                }
+            }
+            for j in &self.joints {
+                cols.push(format!("{j}.angle"));
+                cols.push(format!("{j}.velocity"));
+            }
+            writeln!(out, "{}", cols.join(","))?;
+        }
+        for (k, f) in self.frames.iter().enumerate() {
+            let mut row = String::new();
+            if let Some(c) = command {
+                row.push_str(c);
+                row.push(',');
+            }
+            row.push_str(&format!("{k},{}", f.time));
+            for (p, v) in f.poses.iter().zip(&f.velocities) {
+                for x in [p.position[0], p.position[1], p.angle, v[0], v[1], v[2]] {
+                    row.push_str(&format!(",{x}"));
+                }
+            }
+            for (a, w) in f.joint_angles.iter().zip(&f.joint_velocities) {
+                row.push_str(&format!(",{a},{w}"));
+            }
+            writeln!(out, "{row}")?;
+        }
+        Ok(())
+    }
+}
+
+/// What happened during one command, for diagnostics (see
+/// [`PhysicsWorld::inspect`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunStats {
+    /// The outcome (as [`World::execute`](crate::World::execute) returns it).
+    pub outcome: Outcome,
+    /// The largest linear speed of a dynamic body, m/s.
+    pub max_speed: f64,
+    /// The largest angular speed of a dynamic body, rad/s.
+    pub max_spin: f64,
+    /// Steps during which two dynamic bodies touch (jointed neighbours
+    /// never do unless their joint has `contacts: true`).
+    pub contact_steps: u64,
+    /// Steps during which some joint is within 0.01 rad of a limit (or
+    /// beyond it: limits are slightly compliant).
+    pub limit_steps: u64,
+}
+
+impl PhysicsWorld {
+    pub(super) fn tracked_position(&self) -> [f64; 2] {
+        self.tracked_position_in(&self.sets, 0)
+    }
+
+    /// Executes `command` and records the tracked point after every step
+    /// and the terminal pose of every body (for pictures).
+    ///
+    /// With a [`Symmetry`](crate::scene::Symmetry), a command whose [`twin`](Self::twin) is
+    /// simulated in its place gets the twin's trace, reflected.
+    pub fn trace(&mut self, command: &Command) -> Result<Trace, WorldError> {
+        let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
+        let outcome = self.run(command, false, |w| points.push(w.tracked_position()))?;
+        let mut poses = self.terminal_poses();
+        if let (Some((sym, _)), Some(_)) = (&self.mirror, self.twin(command)) {
+            for p in &mut points[1..] {
+                *p = sym.reflect(*p);
+            }
+            for pose in &mut poses {
+                pose.position = sym.reflect(pose.position);
+                pose.angle = sym.reflect_angle(pose.angle);
+            }
+        }
+        Ok(Trace {
+            points,
+            poses,
+            outcome,
+        })
+    }
+
+    /// Executes `command` and records its whole motion ([`Motion`]): every
+    /// body's pose and velocity, every joint's angle and angular velocity,
+    /// with the time, at the start and after every step. The outcome is
+    /// [`World::execute`](crate::World::execute)'s; with a [`Symmetry`](crate::scene::Symmetry), a command whose
+    /// [`twin`](Self::twin) is simulated in its place gets the twin's
+    /// motion, reflected.
+    ///
+    /// ```
+    /// use e3d::Scene;
+    /// let scene = Scene::builtin("arm7").unwrap();
+    /// let mut world = scene.physics_world().unwrap();
+    /// let c = scene.command_space().parse("+0-0+0-").unwrap();
+    /// let m = world.motion(&c).unwrap();
+    /// assert_eq!(m.frames.len(), 121); // the start and 120 steps
+    /// assert_eq!(m.joints.len(), 7);
+    /// assert!(m.frames[15].joint_angles[0] > 0.0); // joint 1 pushed by +t
+    /// ```
+    pub fn motion(&mut self, command: &Command) -> Result<Motion, WorldError> {
+        let dt = self.dt;
+        let mut frames = vec![self.frame_of(&self.pristine, 0.0)];
+        let outcome = self.run(command, false, |w| {
+            let t = frames.len() as f64 * dt;
+            frames.push(w.frame_of(&w.sets, t));
+        })?;
+        if let (Some((sym, _)), Some(_)) = (&self.mirror, self.twin(command)) {
+            let sym = *sym;
+            for f in &mut frames {
+                for (p, v) in f.poses.iter_mut().zip(&mut f.velocities) {
+                    p.position = sym.reflect(p.position);
+                    p.angle = sym.reflect_angle(p.angle);
+                    let [vx, vy] = sym.reflect([v[0], v[1]]);
+                    *v = [vx, vy, -v[2]];
+                }
+                // a mirror turns every relative rotation the other way
+                for a in f.joint_angles.iter_mut().chain(&mut f.joint_velocities) {
+                    *a = -*a;
+                }
+            }
+        }
+        Ok(Motion {
+            bodies: self.body_names.clone(),
+            joints: self.joint_names.clone(),
+            frames,
+            outcome,
+        })
+    }
+
+    /// The state of copy 0 in `sets`, at time `time`.
+    pub(super) fn frame_of(&self, sets: &Sets, time: f64) -> Frame {
+        let bodies = &sets.bodies;
+        let (mut poses, mut velocities) = (Vec::new(), Vec::new());
+        for &h in &self.copies[0].handles {
+            let b = &bodies[h];
+            let p = b.position();
+            poses.push(BodyPose {
+                position: [p.translation.x as f64, p.translation.y as f64],
+                angle: p.rotation.angle() as f64,
+            });
+            let v = b.linvel();
+            velocities.push([v.x as f64, v.y as f64, b.angvel() as f64]);
+        }
+        let (mut joint_angles, mut joint_velocities) = (Vec::new(), Vec::new());
+        for j in &self.copies[0].joints {
+            let (pa, pw) = j.parent.map_or((0.0, 0.0), |p| {
+                (
+                    bodies[p].rotation().angle() as f64,
+                    bodies[p].angvel() as f64,
+                )
+            });
+            let c = &bodies[j.child];
+            let a = c.rotation().angle() as f64 - pa - j.offset;
+            let a =
+                (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+            joint_angles.push(a);
+            joint_velocities.push(c.angvel() as f64 - pw);
+        }
+        Frame {
+            time,
+            poses,
+            velocities,
+            joint_angles,
+            joint_velocities,
+        }
+    }
+
+    /// The total kinetic energy (J) of the dynamic bodies at the end of
+    /// each step of `command` (for tests of energy conservation).
+    pub fn kinetic_energy_trace(&mut self, command: &Command) -> Result<Vec<f64>, WorldError> {
+        let mut e = Vec::new();
+        self.run(command, false, |w| {
+            e.push(
+                w.copies[0]
+                    .dynamic
+                    .iter()
+                    .map(|(h, _)| w.sets.bodies[*h].kinetic_energy() as f64)
+                    .sum(),
+            )
+        })?;
+        Ok(e)
+    }
+
+    /// Executes `command` and reports speeds, contacts between dynamic
+    /// bodies and joints at their limits (for diagnostics and docs).
+    pub fn inspect(&mut self, command: &Command) -> Result<RunStats, WorldError> {
+        let (mut max_speed, mut max_spin) = (0.0f64, 0.0f64);
+        let (mut contact_steps, mut limit_steps) = (0u64, 0u64);
+        let outcome =
+            self.run(command, false, |w| {
+                let bodies = &w.sets.bodies;
+                for (h, _) in &w.copies[0].dynamic {
+                    let b = &bodies[*h];
+                    max_speed = max_speed.max((b.linvel().length()) as f64);
+                    max_spin = max_spin.max((b.angvel() as f64).abs());
+                }
+                let dynamic = |c: rapier2d::prelude::ColliderHandle| {
+                    w.sets.colliders[c]
+                        .parent()
+                        .is_some_and(|h| bodies[h].is_dynamic())
+                };
+                if w.sets.narrow_phase.contact_pairs().any(|p| {
+                    p.has_any_active_contact() && dynamic(p.collider1) && dynamic(p.collider2)
+                }) {
+                    contact_steps += 1;
+                }
+                let at_limit = w.copies[0].joints.iter().any(|j| {
+                    let Some((lo, hi)) = j.limits else {
+                        return false;
+                    };
+                    let pa = j
+                        .parent
+                        .map_or(0.0, |p| bodies[p].rotation().angle() as f64);
+                    let mut a = bodies[j.child].rotation().angle() as f64 - pa - j.offset;
+                    a = (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI;
+                    a <= lo + 0.01 || a >= hi - 0.01
+                });
+                if at_limit {
+                    limit_steps += 1;
+                }
+            })?;
+        Ok(RunStats {
+            outcome,
+            max_speed,
+            max_spin,
+            contact_steps,
+            limit_steps,
+        })
+    }
+
+    /// [`trace`](Self::trace) of a continuous command.
+    pub fn trace_values(&mut self, values: &[f64]) -> Result<Trace, WorldError> {
+        let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
+        let outcome = self.run_values(values, false, |w| points.push(w.tracked_position()))?;
+        Ok(Trace {
+            points,
+            poses: self.terminal_poses(),
+            outcome,
+        })
+    }
+
+    /// [`motion`](Self::motion) of a continuous command.
+    pub fn motion_values(&mut self, values: &[f64]) -> Result<Motion, WorldError> {
+        let dt = self.dt;
+        let mut frames = vec![self.frame_of(&self.pristine, 0.0)];
+        let outcome = self.run_values(values, false, |w| {
+            let t = frames.len() as f64 * dt;
+            frames.push(w.frame_of(&w.sets, t));
+        })?;
+        Ok(Motion {
+            bodies: self.body_names.clone(),
+            joints: self.joint_names.clone(),
+            frames,
+            outcome,
+        })
+    }
+
+    /// The pose of every body of copy 0 now.
+    pub(super) fn terminal_poses(&self) -> Vec<BodyPose> {
+        self.copies[0]
+            .handles
+            .iter()
+            .map(|&h| {
+                let p = self.sets.bodies[h].position();
+                BodyPose {
+                    position: [p.translation.x as f64, p.translation.y as f64],
+                    angle: p.rotation.angle() as f64,
+                }
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,585 @@
+//! Running commands: applying the actions of each slot, stepping Rapier
+//! (with the gating of far joint limits), and the guards that report a
+//! blown-up simulation as [`WorldError::Diverged`].
+
+use super::{v2, Act, Cmd, PhysicsWorld, Sets, ValueAct, MAX_ROTATION_PER_STEP};
+use crate::command::Command;
+use crate::world::{Outcome, WorldError};
+use rapier2d::math::Real;
+use rapier2d::prelude::{JointAxesMask, JointAxis, RigidBodyHandle};
+
+impl ValueAct {
+    /// The act of the value `v`.
+    fn at(self, v: f64) -> Act {
+        let k = v as Real;
+        match self {
+            ValueAct::Scaled(act) => match act {
+                Act::Idle => Act::Idle,
+                Act::Torque {
+                    child,
+                    parent,
+                    torque,
+                } => Act::Torque {
+                    child,
+                    parent,
+                    torque: torque * k,
+                },
+                Act::Impulse { body, impulse } => Act::Impulse {
+                    body,
+                    impulse: impulse * k,
+                },
+                Act::Force { body, force } => Act::Force {
+                    body,
+                    force: force * k,
+                },
+                Act::Target {
+                    child,
+                    angle,
+                    stiffness,
+                    damping,
+                } => Act::Target {
+                    child,
+                    angle: angle * k,
+                    stiffness,
+                    damping,
+                },
+            },
+            ValueAct::Heading { body, impulse } => Act::Impulse {
+                body,
+                impulse: v2((impulse * v.cos(), impulse * v.sin())),
+            },
+        }
+    }
+}
+
+impl PhysicsWorld {
+    pub(super) fn tracked_position_in(&self, sets: &Sets, copy: usize) -> [f64; 2] {
+        let p = sets.bodies[self.copies[copy].tracked]
+            .position()
+            .transform_point(self.tracked_point);
+        [p.x as f64, p.y as f64]
+    }
+
+    pub(super) fn diverged(&self, command: Cmd<'_>, reason: String) -> WorldError {
+        WorldError::Diverged {
+            scene: self.scene.clone(),
+            command: self.describe(command),
+            reason,
+        }
+    }
+
+    /// A command as written: its symbols, or its values.
+    pub(super) fn describe(&self, command: Cmd<'_>) -> String {
+        match (command, &self.values) {
+            (Cmd::Symbols(c), _) => self.space.format(c),
+            (Cmd::Values(v), Some(space)) => space.format(v),
+            (Cmd::Values(v), None) => format!("{v:?}"),
+        }
+    }
+
+    pub(super) fn check_command(&self, command: &Command) -> Result<(), WorldError> {
+        if self.values.is_some() {
+            return Err(WorldError::BadCommand {
+                command: command.to_string(),
+                reason: format!(
+                    "scene `{}` takes values, not symbols: its slots are continuous (execute_values)",
+                    self.scene
+                ),
+            });
+        }
+        crate::world::check_command(&self.space, command)
+    }
+
+    /// `Ok` if `command` fits this world.
+    fn check(&self, command: Cmd<'_>) -> Result<(), WorldError> {
+        match (command, &self.values) {
+            (Cmd::Symbols(c), _) => self.check_command(c),
+            (Cmd::Values(v), Some(space)) => space.check(v).map_err(|e| WorldError::BadCommand {
+                command: space.format(v),
+                reason: e.to_string(),
+            }),
+            (Cmd::Values(v), None) => Err(WorldError::BadCommand {
+                command: format!("{v:?}"),
+                reason: format!(
+                    "scene `{}` takes symbols, not values: its slots are not continuous",
+                    self.scene
+                ),
+            }),
+        }
+    }
+
+    /// Starts the actions of one slot.
+    fn apply(&mut self, act: Act) {
+        let bodies = &mut self.sets.bodies;
+        match act {
+            Act::Idle => {}
+            Act::Torque {
+                child,
+                parent,
+                torque,
+            } => {
+                bodies[child].add_torque(torque, true);
+                if let Some(p) = parent {
+                    bodies[p].add_torque(-torque, true);
+                }
+            }
+            Act::Impulse { body, impulse } => bodies[body].apply_impulse(impulse, true),
+            Act::Force { body, force } => bodies[body].add_force(force, true),
+            Act::Target {
+                child,
+                angle,
+                stiffness,
+                damping,
+            } => {
+                let mbj = &mut self.sets.multibody_joints;
+                let link = *mbj.rigid_body_link(child).expect("a jointed body");
+                if let Some(l) = mbj
+                    .get_multibody_mut(link.multibody)
+                    .and_then(|mb| mb.link_mut(link.id))
+                {
+                    l.joint
+                        .data
+                        .set_motor_position(JointAxis::AngX, angle, stiffness, damping);
+                }
+            }
+        }
+    }
+
+    /// Starts the actions of slot `slot` of `command` on copy `copy`.
+    fn apply_slot(&mut self, copy: usize, command: Cmd<'_>, slot: usize) {
+        let act = match command {
+            Cmd::Symbols(c) => self.copies[copy].acts[self.offset[slot] + c.symbols[slot] as usize],
+            Cmd::Values(v) => self.copies[copy].value_acts[slot].at(v[slot]),
+        };
+        self.apply(act);
+    }
+
+    /// Removes every held force and torque (of every copy).
+    fn release(&mut self) {
+        for r in &self.copies {
+            for (h, _) in &r.dynamic {
+                let b = &mut self.sets.bodies[*h];
+                b.reset_forces(false);
+                b.reset_torques(false);
+            }
+        }
+    }
+
+    /// Switches off, for the coming step, the limits of the joints that
+    /// cannot reach them during it, and on again those of the others.
+    ///
+    /// Why this changes no result: Rapier rebuilds a multibody joint's
+    /// limit constraint at every substep whatever the joint's position, and
+    /// one whose joint is inside its limits has impulse bounds `[0, 0]`, so
+    /// it never changes a velocity (`v + 0 = v`). It still costs a solve
+    /// with the multibody's LU factorisation at every substep, about 14% of
+    /// an arm7 rollout. A joint further than [`LIMIT_GATE_MARGIN`] plus four
+    /// steps of its current speed from both limits keeps its limit off for
+    /// one step. Joints with a motor are left alone (Rapier's motor
+    /// constraint reads the limits too).
+    ///
+    /// The margin is an assumption about how far a joint can move within
+    /// one step, so it is checked: after the step, a joint whose limit was
+    /// off and which moved more than half the margin sets `gate_missed`,
+    /// and the command is run again with every limit on
+    /// ([`run_copies`](Self::run_copies)). Every table of the shipped
+    /// scenes is byte-identical with and without the gating.
+    fn gate_limits(&mut self) {
+        if !self.gate_limits {
+            return;
+        }
+        let dt = self.params.dt as f64;
+        let total: usize = self.copies.iter().map(|c| c.joints.len()).sum();
+        self.gated_angles.resize(total, f64::NAN);
+        let mbs = &mut self.sets.multibody_joints;
+        let joints = self.copies.iter().flat_map(|c| &c.joints);
+        for (j, gated) in joints.zip(&mut self.gated_angles) {
+            *gated = f64::NAN;
+            let Some((lo, hi)) = j.limits else { continue };
+            let Some(link) = mbs.rigid_body_link(j.child).copied() else {
+                continue;
+            };
+            let Some(mb) = mbs.get_multibody_mut(link.multibody) else {
+                continue;
+            };
+            let Some(l) = mb.link(link.id) else { continue };
+            if !l.joint().data.motor_axes.is_empty() {
+                continue;
+            }
+            // a revolute joint's angle is its angular coordinate
+            let q = l.joint().coords()[2] as f64;
+            let w = mb.generalized_velocity()[l.assembly_id()] as f64;
+            let margin = self.gate_margin + self.gate_speed_steps * w.abs() * dt;
+            let near = q - lo < margin || hi - q < margin;
+            let Some(l) = mb.link_mut(link.id) else {
+                continue;
+            };
+            let axes = &mut l.joint.data.limit_axes;
+            if near {
+                axes.insert(JointAxesMask::ANG_X);
+            } else {
+                axes.remove(JointAxesMask::ANG_X);
+                *gated = q;
+            }
+        }
+    }
+
+    /// After a step: whether a joint whose limit was off moved more than
+    /// half of [`LIMIT_GATE_MARGIN`] (see [`gate_limits`](Self::gate_limits)).
+    fn check_gated(&mut self) {
+        if !self.gate_limits || self.gate_missed {
+            return;
+        }
+        let mbs = &self.sets.multibody_joints;
+        let joints = self.copies.iter().flat_map(|c| &c.joints);
+        for (j, &q0) in joints.zip(&self.gated_angles) {
+            if q0.is_nan() {
+                continue;
+            }
+            let moved = mbs
+                .rigid_body_link(j.child)
+                .and_then(|link| mbs.get_multibody(link.multibody)?.link(link.id))
+                .map(|l| (l.joint().coords()[2] as f64 - q0).abs());
+            if !moved.is_some_and(|m| m <= 0.5 * self.gate_margin) {
+                self.gate_missed = true;
+                return;
+            }
+        }
+    }
+
+    /// One Rapier step of the whole world.
+    fn pipeline_step(&mut self) {
+        self.gate_limits();
+        self.step_rapier();
+        self.check_gated();
+    }
+
+    /// Rapier's step, nothing else.
+    pub(super) fn step_rapier(&mut self) {
+        let s = &mut self.sets;
+        self.pipeline.step(
+            self.gravity,
+            &self.params,
+            &mut s.islands,
+            &mut s.broad_phase,
+            &mut s.narrow_phase,
+            &mut s.bodies,
+            &mut s.colliders,
+            &mut s.impulse_joints,
+            &mut s.multibody_joints,
+            &mut s.soft_bodies,
+            &mut s.ccd,
+            &(),
+            &(),
+        );
+    }
+
+    /// The copies Rapier quarantined during the last step, with the number
+    /// of bodies and colliders of each (`None`: nothing quarantined).
+    fn quarantined(&self) -> Option<Vec<(usize, usize)>> {
+        let q = self.pipeline.quarantine();
+        if q.bodies().is_empty() && q.colliders().is_empty() {
+            return None;
+        }
+        let mut per_copy = vec![(0usize, 0usize); self.copies.len()];
+        let copy_of = |h: RigidBodyHandle| -> Option<usize> {
+            let c = *self.copy_of_body.get(h.into_raw_parts().0 as usize)?;
+            (c != u32::MAX).then_some(c as usize)
+        };
+        // a body or collider of no known copy counts against every copy
+        let mut charge = |c: Option<usize>, body: bool| match c {
+            Some(c) => {
+                if body {
+                    per_copy[c].0 += 1
+                } else {
+                    per_copy[c].1 += 1
+                }
+            }
+            None => per_copy
+                .iter_mut()
+                .for_each(|p| if body { p.0 += 1 } else { p.1 += 1 }),
+        };
+        for &h in q.bodies() {
+            charge(copy_of(h), true);
+        }
+        for &c in q.colliders() {
+            charge(
+                self.sets
+                    .colliders
+                    .get(c)
+                    .and_then(|c| c.parent())
+                    .and_then(copy_of),
+                false,
+            );
+        }
+        Some(per_copy)
+    }
+
+    /// Why copy `copy` counts as blown up after a step, if it does.
+    fn blown_up(&self, copy: usize) -> Option<String> {
+        let dt = self.params.dt as f64;
+        for &(h, fast) in &self.copies[copy].dynamic {
+            let b = &self.sets.bodies[h];
+            let t = b.translation();
+            let v = b.linvel();
+            let w = b.angvel() as f64;
+            if !(t.x.is_finite()
+                && t.y.is_finite()
+                && v.x.is_finite()
+                && v.y.is_finite()
+                && w.is_finite())
+            {
+                return Some("a body's pose or velocity is not finite".into());
+            }
+            // squared speeds first: `hypot` at every step of every body
+            // costs a few per cent of a puck's rollout
+            let (vx, vy) = (v.x as f64, v.y as f64);
+            if vx * vx + vy * vy > self.max_speed * self.max_speed && vx.hypot(vy) > self.max_speed
+            {
+                let speed = vx.hypot(vy);
+                return Some(format!(
+                    "a body moves at {speed:.1} m/s, above the scene's max_speed {} m/s",
+                    self.max_speed
+                ));
+            }
+            if !fast && w.abs() * dt >= 0.99 * MAX_ROTATION_PER_STEP {
+                return Some(format!(
+                    "a body spins at {:.1} rad/s, Rapier's cap of 45° per step: its rotation would be silently clamped (give it `fast_rotation: true` or a smaller dt)",
+                    w.abs()
+                ));
+            }
+        }
+        None
+    }
+
+    /// One step, then the checks of the copies still running (`failed[c]`
+    /// is `None`); a copy that blows up gets its error in `failed`.
+    /// Returns whether some copy is still running.
+    fn step(&mut self, commands: &[Cmd<'_>], failed: &mut [Option<WorldError>]) -> bool {
+        self.pipeline_step();
+        if let Some(q) = self.quarantined() {
+            for (c, &(bodies, colliders)) in q.iter().enumerate().take(commands.len()) {
+                if failed[c].is_none() && bodies + colliders > 0 {
+                    failed[c] = Some(self.diverged(
+                        commands[c],
+                        format!(
+                            "Rapier quarantined {bodies} bod(ies) and {colliders} collider(s) whose state became non-finite"
+                        ),
+                    ));
+                }
+            }
+        }
+        let mut running = false;
+        for c in 0..commands.len() {
+            if failed[c].is_none() {
+                match self.blown_up(c) {
+                    Some(reason) => failed[c] = Some(self.diverged(commands[c], reason)),
+                    None => running = true,
+                }
+            }
+        }
+        running
+    }
+
+    /// Runs `commands` (at most one per copy; copy `c` runs `commands[c]`,
+    /// copies without a command stay idle) from the pristine state, calling
+    /// `each_step` after every step, and appends one result per command to
+    /// `out`.
+    ///
+    /// With `gated`, limits far from their joints are left out of steps
+    /// ([`gate_limits`](Self::gate_limits)); if a joint then moves further
+    /// than the gating assumes, the commands are run again with every limit
+    /// on, so the results are always those of Rapier with every limit.
+    /// Traces run with every limit on (`gated` false), so that `each_step`
+    /// sees each step once.
+    fn run_copies(
+        &mut self,
+        commands: &[Cmd<'_>],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+        gated: bool,
+        each_step: impl FnMut(&Self),
+    ) {
+        let configured = self.gate_limits;
+        self.gate_limits = configured && gated;
+        self.gate_missed = false;
+        let start = out.len();
+        self.run_copies_once(commands, out, each_step);
+        if self.gate_missed {
+            out.truncate(start);
+            self.gate_limits = false;
+            self.run_copies_once(commands, out, |_| {});
+        }
+        self.gate_limits = configured;
+    }
+
+    /// [`run_copies`](Self::run_copies) once, with the gating as set.
+    fn run_copies_once(
+        &mut self,
+        commands: &[Cmd<'_>],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+        mut each_step: impl FnMut(&Self),
+    ) {
+        let n = commands.len();
+        assert!(n <= self.copies.len(), "more commands than copies");
+        let mut failed: Vec<Option<WorldError>> =
+            commands.iter().map(|&c| self.check(c).err()).collect();
+        self.sets.restore(&self.pristine);
+        let slots = self.space.num_slots();
+        let mut running = failed.iter().any(Option::is_none);
+        // one phase with every slot (simultaneous) or one phase per slot
+        // (sequential): apply the phase's slots, step, release
+        let (phases, width) = if self.together {
+            (1, slots)
+        } else {
+            (slots, 1)
+        };
+        for phase in 0..phases {
+            for (c, &command) in commands.iter().enumerate() {
+                if failed[c].is_none() {
+                    for slot in phase * width..(phase + 1) * width {
+                        self.apply_slot(c, command, slot);
+                    }
+                }
+            }
+            for _ in 0..self.phase_steps {
+                if !running {
+                    break;
+                }
+                running = self.step(commands, &mut failed);
+                each_step(self);
+            }
+            self.release();
+        }
+        for _ in 0..self.settle_steps {
+            if !running {
+                break;
+            }
+            running = self.step(commands, &mut failed);
+            each_step(self);
+        }
+        for (c, f) in failed.into_iter().enumerate() {
+            out.push(match f {
+                Some(e) => Err(e),
+                None => {
+                    let point = self.tracked_position_in(&self.sets, c);
+                    let effect = self.grid.effect_of(point);
+                    Ok(Outcome {
+                        effect,
+                        reward: self.reward[effect],
+                        point,
+                    })
+                }
+            });
+        }
+    }
+
+    /// Runs `command` on copy 0 from the pristine state, calling
+    /// `each_step` after every step; returns the outcome.
+    ///
+    /// A command with a [`twin`](Self::twin) runs its twin instead, and
+    /// gets the reflected outcome (`each_step` sees the twin's steps).
+    pub(super) fn run(
+        &mut self,
+        command: &Command,
+        gated: bool,
+        each_step: impl FnMut(&Self),
+    ) -> Result<Outcome, WorldError> {
+        let mut out = Vec::with_capacity(1);
+        let twin = self.twin(command);
+        let run = Cmd::Symbols(twin.as_ref().unwrap_or(command));
+        self.run_copies(&[run], &mut out, gated, each_step);
+        let result = out.pop().expect("one result per command");
+        match twin {
+            None => result,
+            Some(t) => self.mirrored_result(command, &t, result),
+        }
+    }
+
+    /// Runs the values of a continuous command on copy 0 from the pristine
+    /// state, calling `each_step` after every step.
+    pub(super) fn run_values(
+        &mut self,
+        values: &[f64],
+        gated: bool,
+        each_step: impl FnMut(&Self),
+    ) -> Result<Outcome, WorldError> {
+        let mut out = Vec::with_capacity(1);
+        self.run_copies(&[Cmd::Values(values)], &mut out, gated, each_step);
+        out.pop().expect("one result per command")
+    }
+
+    /// Executes a continuous command open loop from the start state: slot
+    /// `i` acts with the value `values[i]` (see
+    /// [`ValueAction`](crate::scene::ValueAction)), on the scene's
+    /// schedule. The same values always give the same bits. A scene of
+    /// symbols, a wrong number of values or a value outside its range is a
+    /// [`WorldError::BadCommand`].
+    ///
+    /// ```
+    /// use e3d::Scene;
+    /// let scene = Scene::builtin("arm7_continuous").unwrap();
+    /// let mut world = scene.physics_world().unwrap();
+    /// let space = world.value_space().unwrap().clone();
+    /// let v = space.parse("1.8, -1.2, 0.75, 0, 0, 0, 0").unwrap();
+    /// let a = world.execute_values(&v).unwrap();
+    /// assert_eq!(world.execute_values(&v).unwrap(), a);
+    /// assert!(world.execute_values(&[2.0; 7]).is_err()); // 2 > 1.8 on slot 0
+    /// ```
+    pub fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
+        self.run_values(values, true, |_| {})
+    }
+
+    /// Executes continuous commands (any number), up to
+    /// [`num_copies`](Self::num_copies) at once, and appends one result per
+    /// command to `out`, in order: each the one
+    /// [`execute_values`](Self::execute_values) gives on a world of one
+    /// copy (up to the copies' contact order, as for
+    /// [`execute_batch`](Self::execute_batch)).
+    pub fn execute_values_batch(
+        &mut self,
+        commands: &[Vec<f64>],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+    ) {
+        out.reserve(commands.len());
+        for batch in commands.chunks(self.copies.len()) {
+            let batch: Vec<Cmd<'_>> = batch.iter().map(|v| Cmd::Values(v)).collect();
+            self.run_copies(&batch, out, true, |_| {});
+        }
+    }
+
+    /// Executes `commands` (any number), up to [`num_copies`](Self::num_copies)
+    /// at once, and appends one result per command to `out`, in order. Each
+    /// result is the one [`World::execute`](crate::World::execute) gives for that command; a
+    /// command that blows up fails alone, the others of its batch go on.
+    /// With a [`Symmetry`](crate::scene::Symmetry), a command with a [`twin`](Self::twin) runs as
+    /// its twin.
+    pub fn execute_batch(
+        &mut self,
+        commands: &[Command],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+    ) {
+        out.reserve(commands.len());
+        let start = out.len();
+        let twins: Vec<Option<Command>> = match self.mirror {
+            Some(_) => commands.iter().map(|c| self.twin(c)).collect(),
+            None => Vec::new(),
+        };
+        let runs: std::borrow::Cow<'_, [Command]> = if twins.iter().any(Option::is_some) {
+            let runs = commands.iter().zip(&twins);
+            runs.map(|(c, t)| t.as_ref().unwrap_or(c).clone()).collect()
+        } else {
+            commands.into()
+        };
+        for batch in runs.chunks(self.copies.len()) {
+            let batch: Vec<Cmd<'_>> = batch.iter().map(Cmd::Symbols).collect();
+            self.run_copies(&batch, out, true, |_| {});
+        }
+        for (k, (c, t)) in commands.iter().zip(&twins).enumerate() {
+            if let Some(t) = t {
+                let r =
+                    std::mem::replace(&mut out[start + k], Err(WorldError::Other(String::new())));
+                out[start + k] = self.mirrored_result(c, t, r);
+            }
+        }
+    }
+}

@@ -1,0 +1,14 @@
+//! The `e3d` command line, run as a program: outputs, refusals, exit codes,
+//! the scene tools, sweeps and the pages in a browser. One test binary;
+//! each module is one topic.
+
+mod chromium;
+mod commands;
+mod compare;
+mod scene_check;
+mod scene_commands;
+mod scene_exec;
+mod scene_pictures;
+mod sweep;
+mod sweep_failures;
+mod table_cache;

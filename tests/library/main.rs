@@ -1,0 +1,21 @@
+//! The library: learners, sessions, outcome tables, scenes and sweeps in
+//! code, the scene and sweep loaders, and the report pages. One test
+//! binary; each module is one topic.
+
+mod bad_scenes;
+mod consistency;
+mod drives;
+mod edge_cases;
+mod every_scene;
+mod fuzz_scenes;
+mod fuzz_sweeps;
+mod grid;
+mod learners;
+mod motion_svg;
+mod outcomes;
+mod paper;
+mod reference;
+mod report_html;
+mod scene_api;
+mod shorthand;
+mod sweep_open;

@@ -1,0 +1,14 @@
+//! The Rapier worlds: closed forms, the canonical physics scenes, copies,
+//! symmetry, lockstep, whole motions, continuous commands, and the physics
+//! scene loader's errors. One test binary; each module is one topic.
+
+mod arm7;
+mod continuous;
+mod copies;
+mod larger_scenes;
+mod lockstep;
+mod motion;
+mod pendulum;
+mod puck;
+mod scene_errors;
+mod symmetry;
