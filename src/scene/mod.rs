@@ -35,12 +35,13 @@ pub mod physics;
 mod region;
 pub mod shorthand;
 pub mod symmetry;
+pub mod template;
 
 pub use error::{did_you_mean, SceneError, SceneErrorKind};
 pub use grid::GridSpec;
 pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
-pub use shorthand::{ChainSpec, Each, Placement, WallSpec};
+pub use shorthand::{ChainSpec, Each, LinkShape, Placement, WallSpec};
 pub use symmetry::Symmetry;
 
 use crate::command::{CommandSpace, ValueSpace, MAX_ALPHABET, MAX_SLOTS};
@@ -59,6 +60,11 @@ pub struct Scene {
     pub description: String,
     /// What kind of world executes the commands.
     pub world: WorldSpec,
+    /// The number of slots the command must have (default: not declared).
+    /// A declared count is checked: a `Slots` list of another length is
+    /// refused at load.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slots: Option<usize>,
     /// The command schema: slots, their symbols and what each symbol does.
     pub command: CommandSpec,
     /// The reward (task 2). Without it, every reward is 0.
@@ -95,6 +101,21 @@ pub enum CommandSpec {
     /// One entry per slot, each with its own alphabet (the arm: slot k drives
     /// joint k).
     Slots(Vec<SlotSpec>),
+    /// `slots` slots sharing one alphabet whose actions may name the joint
+    /// or body `"*"`: in slot `k` it stands for `cycle[k mod m]` ("slot k
+    /// drives joint k mod m"). Expanded at load into the equivalent
+    /// [`Slots`](CommandSpec::Slots) (see [`template`]).
+    Template {
+        /// The number of slots `n`.
+        slots: usize,
+        /// The symbols every slot accepts; `"*"` as a joint or body name
+        /// stands for the slot's entry of `cycle`.
+        alphabet: Vec<SymbolSpec>,
+        /// The joints or bodies the slots take in turn (default none: then
+        /// no action may name `"*"`).
+        #[serde(default)]
+        cycle: Vec<String>,
+    },
     /// Continuous commands (physics scenes): one entry per slot, each a
     /// range of values and what a value does, instead of an alphabet. Such
     /// a scene runs on live physics only ([`PhysicsWorld::execute_values`](crate::world::PhysicsWorld::execute_values)):
@@ -323,6 +344,8 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "arm7_continuous",
         include_str!("../../scenes/arm7_continuous.ron"),
     ),
+    ("arm_push", include_str!("../../scenes/arm_push.ron")),
+    ("swimmer", include_str!("../../scenes/swimmer.ron")),
 ];
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
@@ -381,6 +404,11 @@ impl Scene {
     /// ```
     pub fn expand(&mut self) -> Result<(), SceneError> {
         let name = self.name.clone();
+        if let Some(slots) = template::expand(&self.command)
+            .map_err(|v| SceneError::invalid(&format!("<scene {name}>"), v, None))?
+        {
+            self.command = slots;
+        }
         if let WorldSpec::Physics(p) = &mut self.world {
             if p.has_shorthands() {
                 shorthand::expand(p)
@@ -434,7 +462,9 @@ impl Scene {
     /// [`CommandSpec::Continuous`] schema, which take values).
     pub fn slots(&self) -> impl Iterator<Item = &[SymbolSpec]> + '_ {
         (0..self.num_slots()).map(move |i| match &self.command {
-            CommandSpec::Repeat { alphabet, .. } => alphabet.as_slice(),
+            CommandSpec::Repeat { alphabet, .. } | CommandSpec::Template { alphabet, .. } => {
+                alphabet.as_slice()
+            }
             CommandSpec::Slots(s) => s[i].alphabet.as_slice(),
             CommandSpec::Continuous(_) => &[],
         })
@@ -443,7 +473,7 @@ impl Scene {
     /// The number of slots of a command.
     pub fn num_slots(&self) -> usize {
         match &self.command {
-            CommandSpec::Repeat { slots, .. } => *slots,
+            CommandSpec::Repeat { slots, .. } | CommandSpec::Template { slots, .. } => *slots,
             CommandSpec::Slots(s) => s.len(),
             CommandSpec::Continuous(s) => s.len(),
         }
@@ -591,6 +621,17 @@ impl Scene {
         format!("Scene{body}\n")
     }
 
+    /// A copy of a scene with a [`CommandSpec::Template`] whose command is
+    /// the `Slots` it stands for (`None` without a template, or with one
+    /// that does not expand: [`validate`](Self::validate) refuses it).
+    pub(crate) fn with_template_expanded(&self) -> Option<Scene> {
+        let slots = template::expand(&self.command).ok()??;
+        Some(Scene {
+            command: slots,
+            ..self.clone()
+        })
+    }
+
     /// Checks everything that parsing alone cannot (the checks of
     /// [`validate`](Self::validate), before they are placed in a file).
     fn check(&self) -> Result<(), Invalid> {
@@ -598,8 +639,43 @@ impl Scene {
             return Err(Invalid::at("name", None, "a non-empty name"));
         }
         let n = self.slots().count();
+        if let Some(declared) = self.slots {
+            if declared != n {
+                let (variant, how) = match &self.command {
+                    CommandSpec::Repeat { .. } => ("Repeat", format!("`Repeat` has `slots: {n}`")),
+                    CommandSpec::Template { .. } => {
+                        ("Template", format!("`Template` has `slots: {n}`"))
+                    }
+                    CommandSpec::Slots(_) => ("Slots", format!("`Slots` lists {n}")),
+                    CommandSpec::Continuous(_) => ("Continuous", format!("`Continuous` lists {n}")),
+                };
+                return Err(Invalid::at(
+                    variant,
+                    None,
+                    &format!(
+                        "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: {how}"
+                    ),
+                ));
+            }
+        }
         if n == 0 {
             return Err(Invalid::at("command", None, "at least one slot"));
+        }
+        if let Some(slots) = template::expand(&self.command)? {
+            if let WorldSpec::Physics(p) = &self.world {
+                let mut e = p.clone();
+                shorthand::expand(&mut e)?;
+                let joints: Vec<&str> = e.joints.iter().map(|j| j.name.as_str()).collect();
+                let bodies: Vec<&str> = e.bodies.iter().map(|b| b.name.as_str()).collect();
+                template::check_names(&self.command, &joints, &bodies)?;
+            }
+            // every check on the slots the template stands for
+            return Scene {
+                command: slots,
+                slots: None,
+                ..self.clone()
+            }
+            .check();
         }
         if n > MAX_SLOTS {
             return Err(Invalid::at(

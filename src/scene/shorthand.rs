@@ -106,19 +106,26 @@ impl<'de, T: Deserialize<'de>> Deserialize<'de> for Each<T> {
     }
 }
 
-/// A serial chain of `links` box links joined end to end by revolute
-/// joints: link 1 hangs on `parent` (default `ground`) at `base`, link k on
-/// the far end of link k-1. At rest the chain is straight, pointing along
-/// `angle`.
+/// A serial chain of `links` box (or capsule) links joined end to end by
+/// revolute joints: link 1 hangs on `parent` (default `ground`) at `base`,
+/// link k on the far end of link k-1. At rest the chain is straight,
+/// pointing along `angle`.
 ///
 /// Link k (1-based) is a dynamic `Cuboid(width: length_k, height:
-/// width_k)` named `{prefix}{k}` (or `names[k-1]`), at angle `angle`,
+/// width_k)` (with `shape: Capsule`, a `Capsule(a: (-length_k / 2, 0), b:
+/// (length_k / 2, 0), radius: width_k / 2)`: rounded ends centred on the
+/// hinges) named `{prefix}{k}` (or `names[k-1]`), at angle `angle`,
 /// centred `length_1 + ... + length_(k-1) + length_k / 2` metres from
 /// `base` along `angle`. Joint k is named `{joint_prefix}{k}` (or
 /// `joint_names[k-1]`); its parent is `parent` (joint 1, anchored at
 /// `base`: world coordinates for `ground`, else converted to the parent's
 /// frame) or link k-1 (anchored at `(length_(k-1) / 2, 0)`), its child
 /// link k, anchored at `(-length_k / 2, 0)`.
+///
+/// A `free` chain has no joint 1: link 1 is a free body (a free-floating
+/// base, its near end at `base`), and the chain has `links - 1` joints,
+/// joint k joining link k + 1 to link k (named `{joint_prefix}{k}`, `k`
+/// from 1).
 ///
 /// ```ron
 /// chains: [(links: 7, length: 0.25, width: 0.04, mass: 0.1, limits: (-2.5, 2.5),
@@ -188,6 +195,31 @@ pub struct ChainSpec {
     /// Every link's restitution (default 0).
     #[serde(default)]
     pub restitution: f64,
+    /// The links' shape: `Cuboid` (default) or `Capsule`.
+    #[serde(default, skip_serializing_if = "LinkShape::is_cuboid")]
+    pub shape: LinkShape,
+    /// A free-floating chain (default false): link 1 is not joined to
+    /// anything (no joint 1, no `parent`), the chain has `links - 1`
+    /// joints.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub free: bool,
+}
+
+/// The shape of a chain's links.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum LinkShape {
+    /// A rectangle `length` x `width` (the default).
+    #[default]
+    Cuboid,
+    /// A capsule: a segment of `length` between the hinges, with radius
+    /// `width / 2` (rounded ends centred on the hinges).
+    Capsule,
+}
+
+impl LinkShape {
+    fn is_cuboid(&self) -> bool {
+        *self == LinkShape::Cuboid
+    }
 }
 
 impl ChainSpec {
@@ -216,6 +248,8 @@ impl ChainSpec {
             angular_damping: 0.0,
             friction: half(),
             restitution: 0.0,
+            shape: LinkShape::Cuboid,
+            free: false,
         }
     }
 }
@@ -408,21 +442,41 @@ fn chain(
         ),
     ];
     let joint_names = (!c.joint_names.is_empty()).then_some(c.joint_names.len());
+    // a free chain has no joint 1
+    let nj = n - usize::from(c.free);
     for (field, len, what) in counts
         .into_iter()
         .chain([("joint_names", joint_names, "names")])
     {
+        let per_joint = matches!(field, "damping" | "motor" | "joint_names");
+        let want = if per_joint { nj } else { n };
         if let Some(m) = len {
-            if m != n {
+            if m != want {
+                let of = if per_joint && c.free {
+                    format!("{nj} joints (a free chain of {n} links)")
+                } else if per_joint {
+                    format!("{n} joints")
+                } else {
+                    format!("{n} links")
+                };
                 return Err(bad(
                     field,
                     format!(
-                        "one value for all {n} links or a list of {n} {what} (one per {}), found a list of {m}",
-                        if matches!(field, "damping" | "motor" | "joint_names") { "joint" } else { "link" }
+                        "one value for all {of} or a list of {want} {what} (one per {}), found a list of {m}",
+                        if per_joint { "joint" } else { "link" }
                     ),
                 ));
             }
         }
+    }
+    if c.free && c.parent != GROUND {
+        return Err(bad(
+            "parent",
+            format!(
+                "no `parent` for a free chain (`free: true`: link 1 is joined to nothing), found `{}`",
+                c.parent
+            ),
+        ));
     }
     for (field, each) in [("length", &c.length), ("width", &c.width)] {
         for i in 0..n {
@@ -475,9 +529,16 @@ fn chain(
         bodies.push(BodySpec {
             name: link_name(i),
             kind: BodyKind::Dynamic,
-            shape: ShapeSpec::Cuboid {
-                width: tidy(l),
-                height: tidy(c.width.get(i)),
+            shape: match c.shape {
+                LinkShape::Cuboid => ShapeSpec::Cuboid {
+                    width: tidy(l),
+                    height: tidy(c.width.get(i)),
+                },
+                LinkShape::Capsule => ShapeSpec::Capsule {
+                    a: (tidy(-l / 2.0), 0.0),
+                    b: (tidy(l / 2.0), 0.0),
+                    radius: tidy(c.width.get(i) / 2.0),
+                },
             },
             mass: c.mass.as_ref().map(|m| m.get(i)),
             density: c.density.as_ref().map(|d| d.get(i)),
@@ -491,8 +552,13 @@ fn chain(
             collide: true,
             fast_rotation: false,
         });
+        if c.free && i == 0 {
+            continue;
+        }
+        // joint j (0-based) of a free chain joins link j + 2 to link j + 1
+        let j = i - usize::from(c.free);
         joints.push(JointSpec {
-            name: joint_name(i),
+            name: joint_name(j),
             parent: if i == 0 {
                 c.parent.clone()
             } else {
@@ -506,8 +572,8 @@ fn chain(
             },
             child_anchor: (tidy(-l / 2.0), 0.0),
             limits: c.limits,
-            damping: c.damping.get(i),
-            motor: c.motor.as_ref().map(|m| m.get(i)),
+            damping: c.damping.get(j),
+            motor: c.motor.as_ref().map(|m| m.get(j)),
             kind: Default::default(),
             contacts: c.contacts,
         });

@@ -33,6 +33,9 @@ impl Scene {
     /// ```
     pub fn try_physics_world(&self) -> Result<Option<PhysicsWorld>, SceneError> {
         self.validate()?;
+        if let Some(s) = self.with_template_expanded() {
+            return s.try_physics_world();
+        }
         Ok(match &self.world {
             WorldSpec::Physics(p) => Some(PhysicsWorld::from_scene(self, p)),
             WorldSpec::Grid(_) => None,
@@ -74,6 +77,9 @@ impl Scene {
     /// ```
     pub fn try_build(&self) -> Result<Box<dyn World + Send>, SceneError> {
         self.validate()?;
+        if let Some(s) = self.with_template_expanded() {
+            return s.try_build();
+        }
         self.require_symbols(
             "a world of symbols (`Scene::build`; `Scene::physics_world` runs continuous commands)",
         )?;

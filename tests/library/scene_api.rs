@@ -41,7 +41,7 @@ fn physics(s: &mut Scene) -> &mut e3d::scene::PhysicsSpec {
 
 fn alphabet(s: &mut Scene, slot: usize) -> &mut Vec<e3d::scene::SymbolSpec> {
     match &mut s.command {
-        CommandSpec::Repeat { alphabet, .. } => alphabet,
+        CommandSpec::Repeat { alphabet, .. } | CommandSpec::Template { alphabet, .. } => alphabet,
         CommandSpec::Slots(slots) => &mut slots[slot].alphabet,
         CommandSpec::Continuous(_) => panic!("{} has continuous slots", s.name),
     }
@@ -508,7 +508,9 @@ proptest! {
                     }
                 }
                 3 => match &mut scene.command {
-                    CommandSpec::Repeat { slots, .. } => *slots = j % 70,
+                    CommandSpec::Repeat { slots, .. } | CommandSpec::Template { slots, .. } => {
+                        *slots = j % 70
+                    }
                     CommandSpec::Slots(s) => s.truncate(j % (s.len() + 1)),
                     CommandSpec::Continuous(s) => s.truncate(j % (s.len() + 1)),
                 },
