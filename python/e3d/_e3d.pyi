@@ -10,7 +10,16 @@ __version__: str
 E3D_VERSION: str
 
 class SceneError(ValueError):
-    """A scene or sweep that cannot be used: ``file:line:col: message``, the CLI's text."""
+    """A scene or sweep that cannot be used: ``file:line:col: message``, the CLI's text.
+
+    Its parts as attributes, None where the error has none: ``file``,
+    ``line`` and ``column`` (1-based), ``field`` (the field at fault, for a
+    value the scene cannot hold)."""
+
+    file: Optional[str]
+    line: Optional[int]
+    column: Optional[int]
+    field: Optional[str]
 
 class SimulationError(RuntimeError):
     """A command whose simulation failed (a physics blow-up), naming scene and command."""
@@ -157,7 +166,8 @@ class World:
 
 @final
 class SessionRng:
-    """The session's generator, valid during ``propose(rng)`` only."""
+    """The session's generator, valid during ``propose(rng)`` only (used
+    after it, it raises ``RuntimeError``)."""
 
     def random(self) -> float: ...
     def integers(self, n: int) -> int: ...

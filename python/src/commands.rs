@@ -89,6 +89,12 @@ pub(crate) fn commands_from(
             space.num_slots()
         )
     };
+    if ndim == 2 && array.len() == 0 {
+        // `[]` and an array of shape (0, slots) alike
+        return Err(PyValueError::new_err(format!(
+            "commands: an empty batch (shape {shape:?}); expected at least one command, {what}"
+        )));
+    }
     if array.ndim() != ndim {
         return Err(PyValueError::new_err(format!(
             "expected {what}, found an array of {} dimension(s), shape {shape:?}",

@@ -1,7 +1,7 @@
 //! `Scene`: a parsed and validated scene, its command schema and effects.
 
 use crate::commands::commands_from;
-use crate::errors::{scene_err, SceneError};
+use crate::errors::{scene_err, scene_error};
 use crate::world::PyWorld;
 use e3d::scene::WorldSpec;
 use e3d::CommandSpace;
@@ -67,10 +67,16 @@ impl PyScene {
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<PyScene> {
         let scene = e3d::Scene::builtin(name).ok_or_else(|| {
-            SceneError::new_err(format!(
-                "{name}: no built-in scene of that name; expected one of: {}",
-                builtin_names().join(", ")
-            ))
+            scene_error(
+                format!(
+                    "{name}: no built-in scene of that name; expected one of: {}",
+                    builtin_names().join(", ")
+                ),
+                Some(name),
+                None,
+                None,
+                None,
+            )
         })?;
         PyScene::new(scene).map_err(scene_err)
     }

@@ -1,7 +1,7 @@
 //! `run_session` and `run_sessions`: sessions of built-in or Python
 //! learners on the world an [`Executor`] chooses.
 
-use crate::errors::Fail;
+use crate::errors::{learner_names, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyLearner};
 use crate::progress::{watched, Throttle, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord};
@@ -111,8 +111,8 @@ pub(crate) fn run_session(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     learner: Option<&Bound<'_, PyAny>>,
-    trials: usize,
-    seed: u64,
+    #[pyo3(from_py_with = trials_arg)] trials: usize,
+    #[pyo3(from_py_with = seed_arg)] seed: u64,
     use_reward: bool,
     alpha: f64,
     beta: f64,
@@ -220,10 +220,10 @@ pub(crate) fn run_sessions(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     learner: Option<&Bound<'_, PyAny>>,
-    trials: usize,
-    seeds: Option<Vec<u64>>,
-    sessions: Option<usize>,
-    seed: u64,
+    #[pyo3(from_py_with = trials_arg)] trials: usize,
+    #[pyo3(from_py_with = seeds_arg)] seeds: Option<Vec<u64>>,
+    #[pyo3(from_py_with = sessions_arg)] sessions: Option<usize>,
+    #[pyo3(from_py_with = seed_arg)] seed: u64,
     use_reward: bool,
     alpha: f64,
     beta: f64,
@@ -356,7 +356,7 @@ pub(crate) fn run_sessions(
         .try_iter()
         .map_err(|_| {
             PyTypeError::new_err(
-                "learner: expected \"e3d\", \"uniform\", \"egreedy\" or a sequence of Python learners, one per seed",
+                format!("learner: expected one of {} or a sequence of Python learners, one per seed", learner_names()),
             )
         })?
         .collect::<PyResult<_>>()?;
