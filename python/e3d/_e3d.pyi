@@ -24,7 +24,7 @@ class SceneError(ValueError):
 class SimulationError(RuntimeError):
     """A command whose simulation failed (a physics blow-up), naming scene and command."""
 
-from e3d._types import CommandsLike, Progress, PythonLearner
+from e3d._types import CommandsLike, Progress, PythonLearner, TargetLike
 
 __all__ = [
     "BatchOutcome",
@@ -67,6 +67,12 @@ class Scene:
         """``"grid"`` or ``"physics"``."""
     @property
     def num_slots(self) -> int: ...
+    @property
+    def is_continuous(self) -> bool:
+        """Whether the slots take values in ``value_ranges`` rather than symbols."""
+    @property
+    def value_ranges(self) -> list[tuple[float, float]]:
+        """Each slot's ``(low, high)`` on a continuous scene; empty otherwise."""
     @property
     def alphabet_sizes(self) -> list[int]: ...
     @property
@@ -184,7 +190,8 @@ class SessionRecord:
     @property
     def trials(self) -> int: ...
     @property
-    def commands(self) -> npt.NDArray[np.uint8]: ...
+    def commands(self) -> npt.NDArray[Any]:
+        """``[trials, num_slots]``: uint8 symbol indices, or float64 values on a continuous scene."""
     @property
     def effects(self) -> npt.NDArray[np.int64]: ...
     @property
@@ -196,6 +203,15 @@ class SessionRecord:
         reward), trials."""
     @property
     def execution(self) -> str: ...
+    @property
+    def effect_counts(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def final_policy(self) -> Union[list[npt.NDArray[np.float64]], npt.NDArray[np.float64], None]:
+        """Per slot the symbols' probabilities (a list of arrays), or ``[slots, 2]`` (mean, sd)
+        on a continuous scene; None for a Python learner."""
+    @property
+    def policy_effect_distribution(self) -> Optional[npt.NDArray[np.float64]]:
+        """The exact effect distribution of the final policy (outcomes from a table), else None."""
 
 def run_session(
     scene: Union[Scene, str, PathLike[str]],
@@ -211,6 +227,7 @@ def run_session(
     outcomes: Optional[str] = None,
     table_cache: Union[str, PathLike[str], None] = None,
     progress: Optional[Progress] = None,
+    target: Optional[TargetLike] = None,
 ) -> SessionRecord: ...
 
 @final
@@ -226,8 +243,8 @@ class SessionBatch:
     @property
     def trials(self) -> int: ...
     @property
-    def commands(self) -> npt.NDArray[np.uint8]:
-        """``[sessions, trials, num_slots]``."""
+    def commands(self) -> npt.NDArray[Any]:
+        """``[sessions, trials, num_slots]``: uint8, or float64 on a continuous scene."""
     @property
     def effects(self) -> npt.NDArray[np.int64]:
         """``[sessions, trials]``."""
@@ -236,7 +253,8 @@ class SessionBatch:
         """``[sessions, trials]``."""
     @property
     def metrics(self) -> dict[str, npt.NDArray[Any]]:
-        """One array ``[sessions]`` a metric; ``first_reward_trial`` is NaN where none."""
+        """One array ``[sessions]`` a metric; ``first_reward_trial``, ``reachable_effects`` and
+        ``normalized_entropy_reachable`` are NaN where none."""
     @property
     def execution(self) -> str: ...
     def __len__(self) -> int: ...
@@ -258,6 +276,7 @@ def run_sessions(
     outcomes: Optional[str] = None,
     table_cache: Union[str, PathLike[str], None] = None,
     progress: Optional[Progress] = None,
+    target: Optional[TargetLike] = None,
 ) -> SessionBatch: ...
 def run_sweep(
     sweep: Union[str, PathLike[str]],

@@ -7,6 +7,12 @@ returns its effect (``observation_space = Discrete(num_effects)``), its
 reward and ``terminated=True``. The observation after ``reset()`` is the
 effect of the start state (``Scene.start_effect``).
 
+On a continuous scene (``Scene.is_continuous``) the action is a float32
+``Box(-1, 1, (num_slots,))``: each slot's position in its range, -1 its
+low end and 1 its high end (the library's ``ValueSpace::from_unit``;
+values outside are clamped), and ``info["values"]`` holds the values
+executed.
+
 The world is deterministic: the same action always gives the same effect
 and reward, whatever the seed; ``reset(seed=...)`` seeds ``self.np_random``
 as Gymnasium asks, for agents that sample from it. Outcomes are kept (each
@@ -69,9 +75,15 @@ class E3dEnv(gym.Env):
         self.scene = scene if isinstance(scene, Scene) else Scene.resolve(str(scene))
         self.world = self.scene.world()
         self.use_reward = bool(use_reward)
-        self.action_space = spaces.MultiDiscrete(
-            np.array(self.scene.alphabet_sizes, dtype=np.int64)
-        )
+        self.action_space: spaces.Space[Any]
+        if self.scene.is_continuous:
+            ranges = np.array(self.scene.value_ranges, dtype=np.float64)
+            self._low, self._high = ranges[:, 0], ranges[:, 1]
+            self.action_space = spaces.Box(-1.0, 1.0, (self.scene.num_slots,), np.float32)
+        else:
+            self.action_space = spaces.MultiDiscrete(
+                np.array(self.scene.alphabet_sizes, dtype=np.int64)
+            )
         self.observation_space = spaces.Discrete(self.scene.num_effects)
         self._start = np.int64(self.scene.start_effect)
 
@@ -81,11 +93,24 @@ class E3dEnv(gym.Env):
         super().reset(seed=seed)
         return self._start, {}
 
+    def values_of(self, action: Any) -> np.ndarray:
+        """A continuous scene's values for an action in ``[-1, 1]`` per slot
+        (clamped): ``low + (u + 1) / 2 * (high - low)``, ``high`` at 1."""
+        u = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
+        v = self._low + (u + 1.0) * 0.5 * (self._high - self._low)
+        return np.where(u == 1.0, self._high, v)
+
     def step(self, action) -> tuple[np.int64, float, bool, bool, dict[str, Any]]:
-        symbols = np.asarray(action)
-        out = self.world.execute(symbols)
+        info: dict[str, Any]
+        if self.scene.is_continuous:
+            values = self.values_of(action)
+            out = self.world.execute(values)
+            info = {"x": out.x, "y": out.y, "values": values}
+        else:
+            symbols = np.asarray(action)
+            out = self.world.execute(symbols)
+            info = {"x": out.x, "y": out.y, "command": self.scene.format(symbols)}
         reward = float(out.reward) if self.use_reward else 0.0
-        info = {"x": out.x, "y": out.y, "command": self.scene.format(symbols)}
         return np.int64(out.effect), reward, True, False, info
 
     def render(self) -> None:

@@ -134,9 +134,8 @@ pub(crate) fn int_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<
 /// `int_arg` as `usize`.
 pub(crate) fn usize_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<usize> {
     let v = int_arg(obj, name, min)?;
-    usize::try_from(v).map_err(|_| {
-        PyValueError::new_err(format!("{name} = {v}: too large for this machine"))
-    })
+    usize::try_from(v)
+        .map_err(|_| PyValueError::new_err(format!("{name} = {v}: too large for this machine")))
 }
 
 /// `seed`: an integer in [0, 2^64 - 1].
@@ -174,7 +173,10 @@ pub(crate) fn seeds_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
     let items = obj.try_iter().map_err(|_| {
         PyTypeError::new_err(format!(
             "seeds: expected a sequence of integers, found {}",
-            obj.get_type().name().map(|n| n.to_string()).unwrap_or_default()
+            obj.get_type()
+                .name()
+                .map(|n| n.to_string())
+                .unwrap_or_default()
         ))
     })?;
     let mut out = Vec::new();

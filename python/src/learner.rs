@@ -4,7 +4,10 @@
 use crate::commands::commands_from;
 use crate::errors::{learner_names, STOPPED};
 use crate::rng::PyRng;
-use e3d::{Command, CommandSpace, Learner, LearnerKind, Outcome, SessionRng, World, WorldError};
+use e3d::{
+    Command, CommandSpace, ContinuousWorld, Learner, LearnerKind, Outcome, SessionRng, ValueSpace,
+    World, WorldError,
+};
 use numpy::PyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -57,7 +60,9 @@ impl Learner for PyLearner<'_, '_> {
         // the session's generator back, even if another thread holds the
         // object now (then the session stops with that error)
         let back = PyRng::swap(&self.rng, rng, false);
-        let r = back.and(r).and_then(|v| commands_from(self.py, &self.space, &v, 1));
+        let r = back
+            .and(r)
+            .and_then(|v| commands_from(self.py, &self.space, &v, 1));
         match r {
             Ok(mut cs) => *command = cs.remove(0),
             Err(e) => *self.error.borrow_mut() = Some(e),
@@ -152,4 +157,19 @@ pub(crate) fn python_learner_name(obj: &Bound<'_, PyAny>) -> PyResult<String> {
         .getattr("name")
         .and_then(|n| n.extract())
         .unwrap_or_else(|_| "python".to_string()))
+}
+
+impl<W: ContinuousWorld + ?Sized, S: Fn() -> bool> ContinuousWorld for Guarded<'_, W, S> {
+    fn value_space(&self) -> &ValueSpace {
+        self.world.value_space()
+    }
+    fn num_effects(&self) -> usize {
+        self.world.num_effects()
+    }
+    fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
+        if (self.stop)() {
+            return Err(WorldError::Other(STOPPED.into()));
+        }
+        self.world.execute_values(values)
+    }
 }
