@@ -95,6 +95,8 @@ class Scene:
     @overload
     def format(self, commands: npt.ArrayLike) -> Union[str, list[str]]: ...
     def world(self) -> World: ...
+    def to_ron(self) -> str:
+        """RON text that ``Scene.from_text`` reads back as an equal scene."""
 
 @final
 class Outcome:
@@ -212,6 +214,12 @@ class SessionRecord:
     @property
     def policy_effect_distribution(self) -> Optional[npt.NDArray[np.float64]]:
         """The exact effect distribution of the final policy (outcomes from a table), else None."""
+    @property
+    def q(self) -> Optional[list[npt.NDArray[np.float64]]]:
+        """E3D's final Q, one array a slot (``run_session(learner="e3d")`` only)."""
+    @property
+    def effect_model(self) -> Optional[npt.NDArray[np.float64]]:
+        """E3D's running effect histogram p at the end (``run_session(learner="e3d")`` only)."""
 
 def run_session(
     scene: Union[Scene, str, PathLike[str]],

@@ -15,7 +15,10 @@ use pyo3::types::{PyDict, PyList};
 /// array of each symbol's probability, or `(mean, sd)` on a continuous
 /// scene; None for a Python learner), `policy_effect_distribution` (the
 /// exact effect distribution of the final policy, where the outcomes come
-/// from a table, else None) and how outcomes were obtained (`execution`).
+/// from a table, else None), E3D's final `q` (per slot a float64 array of
+/// `Q`) and `effect_model` (its running effect histogram `p`, float64
+/// `[num_effects]`), both from `run_session` with `learner="e3d"` only
+/// (else None), and how outcomes were obtained (`execution`).
 #[pyclass(module = "e3d", name = "SessionRecord", frozen, get_all)]
 pub(crate) struct PyRecord {
     scene: String,
@@ -29,6 +32,8 @@ pub(crate) struct PyRecord {
     effect_counts: Py<PyArray1<f64>>,
     final_policy: Option<Py<PyAny>>,
     policy_effect_distribution: Option<Py<PyArray1<f64>>>,
+    q: Option<Py<PyAny>>,
+    effect_model: Option<Py<PyArray1<f64>>>,
     execution: String,
 }
 
@@ -42,6 +47,9 @@ pub(crate) struct Rows {
     effect_counts: Vec<f64>,
     policy: Option<Py<PyAny>>,
     exact: Option<Vec<f64>>,
+    /// E3D's final `Q` (per slot) and running effect histogram `p`.
+    pub(crate) q: Option<Vec<Vec<f64>>>,
+    pub(crate) effect_model: Option<Vec<f64>>,
 }
 
 impl Rows {
@@ -69,6 +77,8 @@ impl Rows {
             effect_counts,
             policy,
             exact,
+            q: None,
+            effect_model: None,
         })
     }
 
@@ -87,6 +97,8 @@ impl Rows {
             effect_counts,
             policy: Some(policy.into_pyarray(py).into_any().unbind()),
             exact: None,
+            q: None,
+            effect_model: None,
         }
     }
 }
@@ -160,6 +172,14 @@ pub(crate) fn record_to_py(
         effect_counts: rows.effect_counts.into_pyarray(py).unbind(),
         final_policy: rows.policy,
         policy_effect_distribution: rows.exact.map(|d| d.into_pyarray(py).unbind()),
+        q: match rows.q {
+            Some(q) => {
+                let arrays: Vec<_> = q.into_iter().map(|s| s.into_pyarray(py)).collect();
+                Some(PyList::new(py, arrays)?.into_any().unbind())
+            }
+            None => None,
+        },
+        effect_model: rows.effect_model.map(|p| p.into_pyarray(py).unbind()),
         execution,
     })
 }
@@ -230,6 +250,8 @@ impl PyBatchRecord {
             effect_counts: self.counts[k].clone_ref(py),
             final_policy: self.policies[k].as_ref().map(|p| p.clone_ref(py)),
             policy_effect_distribution: None,
+            q: None,
+            effect_model: None,
             execution: self.execution.clone(),
         })
     }

@@ -297,6 +297,21 @@ impl PyScene {
         )
     }
 
+    /// The scene as RON text that `Scene.from_text` reads back as an equal
+    /// scene (the library's `Scene::to_ron`).
+    fn to_ron(&self) -> String {
+        self.inner.to_ron()
+    }
+
+    /// Pickling: the scene's RON text, read back by `Scene.from_text`.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (String, String))> {
+        let from_text = py.get_type::<PyScene>().getattr("from_text")?;
+        Ok((
+            from_text,
+            (self.inner.to_ron(), format!("<scene {}>", self.inner.name)),
+        ))
+    }
+
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
         other
             .cast::<PyScene>()

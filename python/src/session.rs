@@ -8,7 +8,8 @@ use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
 use crate::scene::{scene_of, PyScene};
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
-    LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target, ValueSpace, WorldError,
+    E3d, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target, ValueSpace,
+    WorldError,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -325,9 +326,24 @@ pub(crate) fn run_session(
     let space = scene.space.clone();
     let n_eff = scene.inner.num_effects();
     if let Some(kind) = builtin_kind(learner)? {
-        let mut made = kind
-            .make(&a.params, &space, n_eff, &a.target)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
+        // E3D as its own type, so that its Q and effect model can be read
+        let mut e3d_made = match kind {
+            LearnerKind::E3d => Some(E3d::new(&space, n_eff, &a.params, &a.target).map_err(bad)?),
+            _ => None,
+        };
+        let mut boxed = match kind {
+            LearnerKind::E3d => None,
+            _ => Some(
+                kind.make(&a.params, &space, n_eff, &a.target)
+                    .map_err(bad)?,
+            ),
+        };
+        let made: &mut (dyn Learner + Send) = match (&mut e3d_made, &mut boxed) {
+            (Some(e), _) => e,
+            (None, Some(b)) => &mut **b,
+            (None, None) => return Err(PyTypeError::new_err("no learner made")),
+        };
         let inner = scene.inner.clone();
         let watch = Watch::new();
         let (rec, metrics, exact, execution) =
@@ -339,7 +355,7 @@ pub(crate) fn run_session(
                     stop: || watch.cancelled(),
                 };
                 let mut rec = SessionRecord::new(&guarded, trials);
-                e3d::run_session_into(&mut guarded, &mut made, &cfg, &mut rec, |t| {
+                e3d::run_session_into(&mut guarded, &mut *made, &cfg, &mut rec, |t| {
                     watch.set(t as u64)
                 })?;
                 drop(world);
@@ -349,7 +365,11 @@ pub(crate) fn run_session(
                     .and_then(|t| e3d::policy_effect_distribution(t, &*made));
                 Ok::<_, Fail>((rec, metrics, exact, execution_text(exec)))
             })??;
-        let rows = Rows::of_symbols(py, rec, metrics, Some(&*made), exact)?;
+        let mut rows = Rows::of_symbols(py, rec, metrics, Some(&*made), exact)?;
+        if let Some(e) = &e3d_made {
+            rows.q = Some((0..space.num_slots()).map(|s| e.q(s).to_vec()).collect());
+            rows.effect_model = Some(e.effect_model().probs());
+        }
         return record_to_py(py, &scene, kind.as_str(), seed, rows, execution);
     }
     let obj = learner.expect("an object").clone();

@@ -415,6 +415,13 @@ impl PyWorld {
         motion_to_py(py, text, motion)
     }
 
+    /// Pickling: the scene's world (`scene.world()`); the outcomes kept
+    /// are not carried (they are simulated again when asked).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, ())> {
+        let scene = Bound::new(py, self.scene.clone())?;
+        Ok((scene.getattr("world")?, ()))
+    }
+
     /// How many commands' outcomes this world keeps (each simulated once).
     #[getter]
     fn memo_len(&self) -> usize {

@@ -56,3 +56,23 @@ def test_target_as_array_or_cells():
         e3d.run_session(scene, trials=10, target={(9, 9): 1.0})
     with pytest.raises(ValueError, match=r"target: "):
         e3d.run_session(scene, trials=10, target=np.zeros(scene.num_effects))
+
+
+def test_q_and_effect_model_of_e3d():
+    beta, eta = 5.0, 0.01
+    rec = e3d.run_session("two_rooms", trials=2000, seed=7, beta=beta, eta=eta)
+    assert len(rec.q) == 7 and all(q.shape == (4,) and q.dtype == np.float64 for q in rec.q)
+    # the policy is softmax(beta Q), slot by slot
+    for q, p in zip(rec.q, rec.final_policy):
+        z = np.exp(beta * (q - q.max()))
+        assert np.allclose(z / z.sum(), p, rtol=0, atol=1e-12)
+    # the effect model is the running histogram p <- (1 - eta) p + eta onehot(e)
+    n = e3d.Scene.builtin("two_rooms").num_effects
+    p = np.full(n, 1.0 / n)
+    for e in rec.effects:
+        p *= 1 - eta
+        p[e] += eta
+    assert rec.effect_model.shape == (n,)
+    assert np.allclose(rec.effect_model, p, rtol=0, atol=1e-9)
+    assert e3d.run_session("two_rooms", learner="uniform", trials=10).q is None
+    assert e3d.run_sessions("two_rooms", trials=10, sessions=1)[0].q is None
