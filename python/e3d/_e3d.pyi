@@ -95,6 +95,9 @@ class Scene:
     @overload
     def format(self, commands: npt.ArrayLike) -> Union[str, list[str]]: ...
     def world(self) -> World: ...
+    def svg(self, command: Optional[CommandsLike] = None) -> str:
+        """The scene as SVG, with a command's path if given (``e3d scene render``)."""
+    def _repr_svg_(self) -> str: ...
     def to_ron(self) -> str:
         """RON text that ``Scene.from_text`` reads back as an equal scene."""
 

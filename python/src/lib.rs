@@ -12,6 +12,7 @@ mod commands;
 mod errors;
 mod learner;
 mod motion;
+mod picture;
 mod progress;
 mod record;
 mod rng;

@@ -297,6 +297,20 @@ impl PyScene {
         )
     }
 
+    /// The scene drawn as SVG (bodies, joints, walls, the effect grid and
+    /// the reward cells), with the path of `command` and its terminal cell
+    /// when given (symbols, or values on a continuous scene): what
+    /// `e3d scene render SCENE [--command C]` writes.
+    #[pyo3(signature = (command = None))]
+    fn svg(&self, py: Python<'_>, command: Option<&Bound<'_, PyAny>>) -> PyResult<String> {
+        crate::picture::svg(py, self, command)
+    }
+
+    /// The SVG picture, for notebooks (Jupyter shows it).
+    fn _repr_svg_(&self, py: Python<'_>) -> PyResult<String> {
+        crate::picture::svg(py, self, None)
+    }
+
     /// The scene as RON text that `Scene.from_text` reads back as an equal
     /// scene (the library's `Scene::to_ron`).
     fn to_ron(&self) -> String {
