@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
 # The Python package's tests: builds the e3d CLI (the tests compare with
-# it), installs ./python with pip into a virtual environment (a new one in
-# a temporary folder, or $E3D_VENV, created if missing and reused), with
-# pytest, gymnasium, numpy, mypy and maturin; checks the type stubs against
-# the built module (mypy's stubtest) and the source distribution (maturin
-# sdist: what it holds, and that cargo resolves the e3d crate inside it),
-# then runs python/tests.
+# it), creates a virtual environment (a new one in a temporary folder, or
+# $E3D_VENV, created if missing and reused) with pytest, gymnasium, numpy,
+# mypy and maturin, builds the package's abi3 wheel with `maturin build
+# --release` (cargo's target folder: $E3D_PY_TARGET, default
+# target/python under the repository's root, beside the CLI's build and
+# ignored by git like it), installs that wheel, checks the type stubs
+# against the installed module (mypy's stubtest) and the source
+# distribution (maturin sdist: what it holds, and that cargo resolves the
+# e3d crate inside it), then runs python/tests against the installed
+# wheel.
 #
 #   scripts/test-python.sh                 # cold: a fresh venv, a fresh build
 #   E3D_VENV=/tmp/e3d-venv scripts/test-python.sh   # keeps the venv for next time
@@ -29,10 +33,23 @@ start=$SECONDS
 echo "== cargo build --release (the CLI the tests compare with)"
 cargo build --release --quiet --bin e3d
 
-echo "== pip install ./python pytest gymnasium numpy mypy maturin (into $venv)"
+echo "== pip install pytest gymnasium numpy mypy maturin (into $venv)"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
-"$venv/bin/python" -m pip install --quiet ./python pytest gymnasium numpy mypy 'maturin>=1.7,<2'
-"$venv/bin/python" -c 'import e3d; print("e3d", e3d.__version__, "installed")'
+"$venv/bin/python" -m pip install --quiet pytest gymnasium numpy mypy 'maturin>=1.7,<2'
+
+pytarget="${E3D_PY_TARGET:-$root/target/python}"
+echo "== maturin build --release (an abi3 wheel; cargo's target folder: $pytarget)"
+(cd python && CARGO_TARGET_DIR="$pytarget" "$venv/bin/maturin" build --release \
+  --interpreter "$venv/bin/python" --out "$tmp/wheels")
+wheel=("$tmp"/wheels/e3d-*.whl)
+if [[ ${#wheel[@]} -ne 1 || "${wheel[0]}" != *-abi3-* ]]; then
+  echo "test-python.sh: expected one abi3 wheel, found: ${wheel[*]}" >&2
+  exit 1
+fi
+echo "== pip install $(basename "${wheel[0]}")"
+"$venv/bin/python" -m pip install --quiet --force-reinstall --no-deps "${wheel[0]}"
+# the tests import the installed wheel, not ./python/e3d
+(cd "$tmp" && "$venv/bin/python" -c 'import e3d, sys; f = e3d.__file__; assert "site-packages" in f, f; print("e3d", e3d.__version__, "installed from the wheel:", f)')
 
 echo "== stubtest e3d (the stubs against the built module)"
 (cd "$venv" && "$venv/bin/python" -m mypy.stubtest --concise e3d)

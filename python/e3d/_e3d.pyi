@@ -10,12 +10,21 @@ __version__: str
 E3D_VERSION: str
 
 class SceneError(ValueError):
-    """A scene or sweep that cannot be used: ``file:line:col: message``, the CLI's text."""
+    """A scene or sweep that cannot be used: ``file:line:col: message``, the CLI's text.
+
+    Its parts as attributes, None where the error has none: ``file``,
+    ``line`` and ``column`` (1-based), ``field`` (the field at fault, for a
+    value the scene cannot hold)."""
+
+    file: Optional[str]
+    line: Optional[int]
+    column: Optional[int]
+    field: Optional[str]
 
 class SimulationError(RuntimeError):
     """A command whose simulation failed (a physics blow-up), naming scene and command."""
 
-from e3d._types import CommandsLike, Progress, PythonLearner
+from e3d._types import CommandsLike, Progress, PythonLearner, TargetLike
 
 __all__ = [
     "BatchOutcome",
@@ -59,6 +68,12 @@ class Scene:
     @property
     def num_slots(self) -> int: ...
     @property
+    def is_continuous(self) -> bool:
+        """Whether the slots take values in ``value_ranges`` rather than symbols."""
+    @property
+    def value_ranges(self) -> list[tuple[float, float]]:
+        """Each slot's ``(low, high)`` on a continuous scene; empty otherwise."""
+    @property
     def alphabet_sizes(self) -> list[int]: ...
     @property
     def alphabets(self) -> list[str]: ...
@@ -80,6 +95,11 @@ class Scene:
     @overload
     def format(self, commands: npt.ArrayLike) -> Union[str, list[str]]: ...
     def world(self) -> World: ...
+    def svg(self, command: Optional[CommandsLike] = None) -> str:
+        """The scene as SVG, with a command's path if given (``e3d scene render``)."""
+    def _repr_svg_(self) -> str: ...
+    def to_ron(self) -> str:
+        """RON text that ``Scene.from_text`` reads back as an equal scene."""
 
 @final
 class Outcome:
@@ -157,7 +177,8 @@ class World:
 
 @final
 class SessionRng:
-    """The session's generator, valid during ``propose(rng)`` only."""
+    """The session's generator, valid during ``propose(rng)`` only (used
+    after it, it raises ``RuntimeError``)."""
 
     def random(self) -> float: ...
     def integers(self, n: int) -> int: ...
@@ -174,7 +195,8 @@ class SessionRecord:
     @property
     def trials(self) -> int: ...
     @property
-    def commands(self) -> npt.NDArray[np.uint8]: ...
+    def commands(self) -> npt.NDArray[Any]:
+        """``[trials, num_slots]``: uint8 symbol indices, or float64 values on a continuous scene."""
     @property
     def effects(self) -> npt.NDArray[np.int64]: ...
     @property
@@ -186,6 +208,21 @@ class SessionRecord:
         reward), trials."""
     @property
     def execution(self) -> str: ...
+    @property
+    def effect_counts(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def final_policy(self) -> Union[list[npt.NDArray[np.float64]], npt.NDArray[np.float64], None]:
+        """Per slot the symbols' probabilities (a list of arrays), or ``[slots, 2]`` (mean, sd)
+        on a continuous scene; None for a Python learner."""
+    @property
+    def policy_effect_distribution(self) -> Optional[npt.NDArray[np.float64]]:
+        """The exact effect distribution of the final policy (outcomes from a table), else None."""
+    @property
+    def q(self) -> Optional[list[npt.NDArray[np.float64]]]:
+        """E3D's final Q, one array a slot (``run_session(learner="e3d")`` only)."""
+    @property
+    def effect_model(self) -> Optional[npt.NDArray[np.float64]]:
+        """E3D's running effect histogram p at the end (``run_session(learner="e3d")`` only)."""
 
 def run_session(
     scene: Union[Scene, str, PathLike[str]],
@@ -201,6 +238,7 @@ def run_session(
     outcomes: Optional[str] = None,
     table_cache: Union[str, PathLike[str], None] = None,
     progress: Optional[Progress] = None,
+    target: Optional[TargetLike] = None,
 ) -> SessionRecord: ...
 
 @final
@@ -216,8 +254,8 @@ class SessionBatch:
     @property
     def trials(self) -> int: ...
     @property
-    def commands(self) -> npt.NDArray[np.uint8]:
-        """``[sessions, trials, num_slots]``."""
+    def commands(self) -> npt.NDArray[Any]:
+        """``[sessions, trials, num_slots]``: uint8, or float64 on a continuous scene."""
     @property
     def effects(self) -> npt.NDArray[np.int64]:
         """``[sessions, trials]``."""
@@ -226,7 +264,8 @@ class SessionBatch:
         """``[sessions, trials]``."""
     @property
     def metrics(self) -> dict[str, npt.NDArray[Any]]:
-        """One array ``[sessions]`` a metric; ``first_reward_trial`` is NaN where none."""
+        """One array ``[sessions]`` a metric; ``first_reward_trial``, ``reachable_effects`` and
+        ``normalized_entropy_reachable`` are NaN where none."""
     @property
     def execution(self) -> str: ...
     def __len__(self) -> int: ...
@@ -248,6 +287,7 @@ def run_sessions(
     outcomes: Optional[str] = None,
     table_cache: Union[str, PathLike[str], None] = None,
     progress: Optional[Progress] = None,
+    target: Optional[TargetLike] = None,
 ) -> SessionBatch: ...
 def run_sweep(
     sweep: Union[str, PathLike[str]],

@@ -7,7 +7,11 @@ import numpy as np
 import numpy.typing as npt
 
 CommandsLike = Union[str, Sequence[str], npt.ArrayLike]
-"""Commands: a string of symbols, a list of them, or an integer array of symbol indices."""
+"""Commands: a string of symbols, a list of them, or an integer array of symbol indices; on a
+continuous scene a string of values (``"1.8, -1.2, ..."``), a list of them, or a float array."""
+
+TargetLike = Union[npt.ArrayLike, "dict[Any, float]"]
+"""The target ``p*``: one weight per effect, or ``{effect or (row, col): weight}``."""
 
 Progress = Callable[[int, int], object]
 """``progress(done, total)``: called at most ten times a second and once at the end."""

@@ -7,6 +7,12 @@ returns its effect (``observation_space = Discrete(num_effects)``), its
 reward and ``terminated=True``. The observation after ``reset()`` is the
 effect of the start state (``Scene.start_effect``).
 
+On a continuous scene (``Scene.is_continuous``) the action is a float32
+``Box(-1, 1, (num_slots,))``: each slot's position in its range, -1 its
+low end and 1 its high end (the library's ``ValueSpace::from_unit``;
+values outside are clamped), and ``info["values"]`` holds the values
+executed.
+
 The world is deterministic: the same action always gives the same effect
 and reward, whatever the seed; ``reset(seed=...)`` seeds ``self.np_random``
 as Gymnasium asks, for agents that sample from it. Outcomes are kept (each
@@ -24,10 +30,12 @@ from typing import Any, Optional, Union
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
 
 from . import Scene
 
-__all__ = ["E3dEnv", "ENV_ID"]
+__all__ = ["E3dEnv", "E3dVectorEnv", "ENV_ID"]
 
 ENV_ID = "e3d/E3d-v0"
 """The id under which ``gymnasium.make`` finds ``E3dEnv``."""
@@ -69,9 +77,15 @@ class E3dEnv(gym.Env):
         self.scene = scene if isinstance(scene, Scene) else Scene.resolve(str(scene))
         self.world = self.scene.world()
         self.use_reward = bool(use_reward)
-        self.action_space = spaces.MultiDiscrete(
-            np.array(self.scene.alphabet_sizes, dtype=np.int64)
-        )
+        self.action_space: spaces.Space[Any]
+        if self.scene.is_continuous:
+            ranges = np.array(self.scene.value_ranges, dtype=np.float64)
+            self._low, self._high = ranges[:, 0], ranges[:, 1]
+            self.action_space = spaces.Box(-1.0, 1.0, (self.scene.num_slots,), np.float32)
+        else:
+            self.action_space = spaces.MultiDiscrete(
+                np.array(self.scene.alphabet_sizes, dtype=np.int64)
+            )
         self.observation_space = spaces.Discrete(self.scene.num_effects)
         self._start = np.int64(self.scene.start_effect)
 
@@ -81,16 +95,89 @@ class E3dEnv(gym.Env):
         super().reset(seed=seed)
         return self._start, {}
 
+    def values_of(self, action: Any) -> np.ndarray:
+        """A continuous scene's values for an action in ``[-1, 1]`` per slot
+        (clamped): ``low + (u + 1) / 2 * (high - low)``, ``high`` at 1."""
+        u = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
+        v = self._low + (u + 1.0) * 0.5 * (self._high - self._low)
+        return np.where(u == 1.0, self._high, v)
+
     def step(self, action) -> tuple[np.int64, float, bool, bool, dict[str, Any]]:
-        symbols = np.asarray(action)
-        out = self.world.execute(symbols)
+        info: dict[str, Any]
+        if self.scene.is_continuous:
+            values = self.values_of(action)
+            out = self.world.execute(values)
+            info = {"x": out.x, "y": out.y, "values": values}
+        else:
+            symbols = np.asarray(action)
+            out = self.world.execute(symbols)
+            info = {"x": out.x, "y": out.y, "command": self.scene.format(symbols)}
         reward = float(out.reward) if self.use_reward else 0.0
-        info = {"x": out.x, "y": out.y, "command": self.scene.format(symbols)}
         return np.int64(out.effect), reward, True, False, info
 
     def render(self) -> None:
         """Nothing to draw (``render_mode`` is ``None``): returns ``None``."""
         return None
+
+
+class E3dVectorEnv(VectorEnv):
+    """``num_envs`` copies of ``E3dEnv`` stepped together by one
+    ``World.execute_batch`` call (the commands run in parallel, without
+    the GIL, 32 at once per Rapier world where that is exact; one outcome
+    memo for all copies).
+
+    Autoreset is ``SAME_STEP`` (``metadata["autoreset_mode"]``): every
+    episode is one command, so every ``step`` terminates every copy and
+    resets it within the same call. The observations returned are
+    therefore the reset ones (the start effect); the terminal effects are
+    in ``infos["final_obs"]`` (int64 ``[num_envs]``, with the mask
+    ``infos["_final_obs"]``), and ``infos["final_info"]`` holds ``x`` and
+    ``y``, as ``SyncVectorEnv(..., autoreset_mode=SAME_STEP)`` gives them.
+    Rewards are those of the commands of this very step: repeating a
+    rewarded command is rewarded every step (gymnasium's default
+    ``NEXT_STEP`` mode would spend every other step on the reset, rewards
+    1, 0, 1, 0).
+    """
+
+    metadata: dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.SAME_STEP}
+
+    def __init__(self, scene: Union[Scene, str], num_envs: int, use_reward: bool = True):
+        super().__init__()
+        if int(num_envs) < 1:
+            raise ValueError(f"num_envs = {num_envs}: expected an integer from 1")
+        self.env = E3dEnv(scene, use_reward=use_reward)
+        self.scene, self.world = self.env.scene, self.env.world
+        self.num_envs = int(num_envs)
+        self.single_action_space = self.env.action_space
+        self.single_observation_space = self.env.observation_space
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self._start = np.full(self.num_envs, self.scene.start_effect, dtype=np.int64)
+
+    def reset(
+        self, *, seed: Optional[Union[int, list[Optional[int]]]] = None, options: Optional[dict] = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        if isinstance(seed, list):
+            seed = seed[0]
+        super().reset(seed=seed)
+        if seed is not None:
+            self.action_space.seed(seed)
+        return self._start.copy(), {}
+
+    def step(self, actions) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        a = np.asarray(actions)
+        if self.scene.is_continuous:
+            a = self.env.values_of(a)
+        out = self.world.execute_batch(a)
+        reward = out.reward if self.env.use_reward else np.zeros(self.num_envs)
+        done = np.ones(self.num_envs, dtype=np.bool_)
+        infos = {
+            "final_obs": out.effect,
+            "_final_obs": done,
+            "final_info": {"x": out.x, "_x": done, "y": out.y, "_y": done},
+            "_final_info": done,
+        }
+        return self._start.copy(), np.asarray(reward, dtype=np.float64), done, ~done, infos
 
 
 if ENV_ID not in gym.registry:

@@ -1,7 +1,7 @@
 //! Commands in: strings, lists or numpy arrays, checked against a
 //! scene's command space.
 
-use e3d::{Command, CommandSpace};
+use e3d::{Command, CommandSpace, ValueSpace};
 use numpy::ndarray::{Array2, ArrayView2};
 use numpy::{
     PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
@@ -89,6 +89,12 @@ pub(crate) fn commands_from(
             space.num_slots()
         )
     };
+    if ndim == 2 && array.len() == 0 {
+        // `[]` and an array of shape (0, slots) alike
+        return Err(PyValueError::new_err(format!(
+            "commands: an empty batch (shape {shape:?}); expected at least one command, {what}"
+        )));
+    }
     if array.ndim() != ndim {
         return Err(PyValueError::new_err(format!(
             "expected {what}, found an array of {} dimension(s), shape {shape:?}",
@@ -129,5 +135,83 @@ pub(crate) fn commands_from(
         .take(rows)
         .enumerate()
         .map(|(i, r)| check_row(space, i, r))
+        .collect()
+}
+
+/// Continuous commands from a Python object: a string of values
+/// (`"1.8, -1.2, 0, ..."`, as `e3d scene exec` takes them), a list of such
+/// strings, or a float array (anything `numpy.asarray` takes) of shape
+/// `[slots]` (`ndim == 1`) or `[N, slots]` (`ndim == 2`). Each row is
+/// checked against the slots' ranges (`ValueError` naming the row).
+pub(crate) fn values_from(
+    py: Python<'_>,
+    space: &ValueSpace,
+    obj: &Bound<'_, PyAny>,
+    ndim: usize,
+) -> PyResult<Vec<Vec<f64>>> {
+    let parse = |text: &str| {
+        space
+            .parse(text)
+            .map_err(|e| PyValueError::new_err(e.to_string()))
+    };
+    if let Ok(s) = obj.cast::<PyString>() {
+        return Ok(vec![parse(&s.to_cow()?)?]);
+    }
+    if ndim == 2 && (obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>()) {
+        let items: Vec<Bound<'_, PyAny>> = obj.try_iter()?.collect::<PyResult<_>>()?;
+        if !items.is_empty() && items.iter().all(|i| i.is_instance_of::<PyString>()) {
+            return items
+                .iter()
+                .map(|i| parse(&i.cast::<PyString>()?.to_cow()?))
+                .collect();
+        }
+    }
+    let n = space.num_slots();
+    let np = py.import("numpy")?;
+    let array = np
+        .call_method1("asarray", (obj, "float64"))
+        .map_err(|e| {
+            PyValueError::new_err(format!(
+                "expected continuous commands as a float array, a string of values or a list of them: {e}"
+            ))
+        })?
+        .cast_into::<PyUntypedArray>()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let shape = array.shape().to_vec();
+    let what = if ndim == 1 {
+        format!("one command, an array of shape [{n}] (one value per slot)")
+    } else {
+        format!("an array of shape [N, {n}] (one command of values per row)")
+    };
+    if ndim == 2 && array.len() == 0 {
+        return Err(PyValueError::new_err(format!(
+            "commands: an empty batch (shape {shape:?}); expected at least one command, {what}"
+        )));
+    }
+    if array.ndim() != ndim {
+        return Err(PyValueError::new_err(format!(
+            "expected {what}, found an array of {} dimension(s), shape {shape:?}",
+            array.ndim()
+        )));
+    }
+    if shape[ndim - 1] != n {
+        return Err(PyValueError::new_err(format!(
+            "expected {what}, found shape {shape:?}: the scene's commands have {n} slots"
+        )));
+    }
+    let a = array.cast::<PyArrayDyn<f64>>()?.readonly();
+    let flat: Vec<f64> = a.as_array().iter().copied().collect();
+    flat.chunks(n)
+        .enumerate()
+        .map(|(row, values)| {
+            space.check(values).map_err(|e| {
+                PyValueError::new_err(if ndim == 2 {
+                    format!("row {row}: {e}")
+                } else {
+                    e.to_string()
+                })
+            })?;
+            Ok(values.to_vec())
+        })
         .collect()
 }

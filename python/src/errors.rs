@@ -1,16 +1,16 @@
 //! Errors: the package's exceptions, and the library's errors made Python
 //! exceptions with the CLI's text.
 
-use e3d::{SweepError, WorldError};
+use e3d::{LearnerKind, SceneErrorKind, SweepError, WorldError};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 create_exception!(
     e3d,
     SceneError,
     PyValueError,
-    "A scene or sweep file (or text) that cannot be used; the message names the file, line and column, as the CLI does."
+    "A scene or sweep file (or text) that cannot be used; the message names the file, line and column, as the CLI does, and the attributes `file`, `line`, `column` (1-based) and `field` (the field at fault, for a value out of range) hold them, each None where the error has none."
 );
 create_exception!(
     e3d,
@@ -23,7 +23,7 @@ create_exception!(
 /// exception once the GIL is back.
 pub(crate) enum Fail {
     Value(String),
-    Scene(String),
+    Scene(e3d::SceneError),
     Simulation(String),
     Runtime(String),
     Os(String),
@@ -33,7 +33,7 @@ impl From<Fail> for PyErr {
     fn from(f: Fail) -> PyErr {
         match f {
             Fail::Value(m) => PyValueError::new_err(m),
-            Fail::Scene(m) => SceneError::new_err(m),
+            Fail::Scene(e) => scene_err(e),
             Fail::Simulation(m) => SimulationError::new_err(m),
             Fail::Runtime(m) => PyRuntimeError::new_err(m),
             Fail::Os(m) => pyo3::exceptions::PyOSError::new_err(m),
@@ -53,7 +53,7 @@ impl From<WorldError> for Fail {
 impl From<SweepError> for Fail {
     fn from(e: SweepError) -> Fail {
         match e {
-            SweepError::Input(_) => Fail::Scene(e.to_string()),
+            SweepError::Input(s) => Fail::Scene(s),
             SweepError::World(w) => w.into(),
             SweepError::Io { .. } | SweepError::Output(_) => Fail::Os(e.to_string()),
             _ => Fail::Runtime(e.to_string()),
@@ -61,8 +61,129 @@ impl From<SweepError> for Fail {
     }
 }
 
+/// The library's scene error as a `SceneError` whose attributes hold its
+/// parts: `file`, `line`, `column`, `field`.
 pub(crate) fn scene_err(e: e3d::SceneError) -> PyErr {
-    SceneError::new_err(e.to_string())
+    let (line, column) = e.position().unzip();
+    let field = match e.kind() {
+        SceneErrorKind::Invalid { field, .. } => Some(field.clone()),
+        _ => None,
+    };
+    scene_error(e.to_string(), Some(e.file()), line, column, field)
+}
+
+/// A `SceneError` with its attributes set (None where not known).
+pub(crate) fn scene_error(
+    message: String,
+    file: Option<&str>,
+    line: Option<usize>,
+    column: Option<usize>,
+    field: Option<String>,
+) -> PyErr {
+    Python::attach(|py| {
+        let err = SceneError::new_err(message);
+        let v = err.value(py);
+        // setting attributes on a fresh exception object cannot fail but
+        // for memory; the message alone is still right then
+        let _ = v.setattr("file", file);
+        let _ = v.setattr("line", line);
+        let _ = v.setattr("column", column);
+        let _ = v.setattr("field", field);
+        err
+    })
+}
+
+/// Sets the class attributes of `SceneError` (None), so that an error
+/// raised by Python code has them too.
+pub(crate) fn scene_error_defaults(py: Python<'_>) -> PyResult<()> {
+    let t = py.get_type::<SceneError>();
+    for name in ["file", "line", "column", "field"] {
+        t.setattr(name, py.None())?;
+    }
+    Ok(())
+}
+
+/// The built-in learners' names, the library's list, joined for messages:
+/// `"e3d", "uniform", ...`.
+pub(crate) fn learner_names() -> String {
+    LearnerKind::ALL
+        .map(|k| format!("\"{}\"", k.as_str()))
+        .join(", ")
+}
+
+/// An integer argument `name` of at least `min`: a Python int (or numpy
+/// integer) in `[min, 2^64 - 1]`; a negative or too large one raises
+/// `ValueError` naming the argument, a non-integer `TypeError`.
+pub(crate) fn int_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<u64> {
+    let is_int = obj.hasattr("__index__")? && !obj.is_instance_of::<pyo3::types::PyFloat>();
+    if !is_int {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected an integer, found {}",
+            obj.get_type().name()?
+        )));
+    }
+    match obj.extract::<u64>() {
+        Ok(v) if v >= min => Ok(v),
+        _ => Err(PyValueError::new_err(format!(
+            "{name} = {}: expected an integer from {min} to 2^64 - 1",
+            obj.str()?
+        ))),
+    }
+}
+
+/// `int_arg` as `usize`.
+pub(crate) fn usize_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<usize> {
+    let v = int_arg(obj, name, min)?;
+    usize::try_from(v)
+        .map_err(|_| PyValueError::new_err(format!("{name} = {v}: too large for this machine")))
+}
+
+/// `seed`: an integer in [0, 2^64 - 1].
+pub(crate) fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
+    int_arg(obj, "seed", 0)
+}
+
+/// `trials`: an integer >= 1.
+pub(crate) fn trials_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    usize_arg(obj, "trials", 1)
+}
+
+/// `sessions`: None, or an integer >= 1.
+pub(crate) fn sessions_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
+    if obj.is_none() {
+        return Ok(None);
+    }
+    usize_arg(obj, "sessions", 1).map(Some)
+}
+
+/// `threads`: None (every core), or an integer >= 1.
+pub(crate) fn threads_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
+    if obj.is_none() {
+        return Ok(None);
+    }
+    usize_arg(obj, "threads", 1).map(Some)
+}
+
+/// `seeds`: None, or an iterable of seeds, each an integer in
+/// [0, 2^64 - 1] (`seeds[i]` named in the error).
+pub(crate) fn seeds_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
+    if obj.is_none() {
+        return Ok(None);
+    }
+    let items = obj.try_iter().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "seeds: expected a sequence of integers, found {}",
+            obj.get_type()
+                .name()
+                .map(|n| n.to_string())
+                .unwrap_or_default()
+        ))
+    })?;
+    let mut out = Vec::new();
+    for (i, item) in items.enumerate() {
+        out.push(int_arg(&item?, &format!("seeds[{i}]"), 0)?);
+    }
+    Ok(Some(out))
 }
 
 /// The error text of work stopped on request (Ctrl-C, a failed callback).

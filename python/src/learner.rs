@@ -2,9 +2,12 @@
 //! [`e3d::Learner`]s, and the world guard that stops their sessions.
 
 use crate::commands::commands_from;
-use crate::errors::STOPPED;
+use crate::errors::{learner_names, STOPPED};
 use crate::rng::PyRng;
-use e3d::{Command, CommandSpace, Learner, LearnerKind, Outcome, SessionRng, World, WorldError};
+use e3d::{
+    Command, CommandSpace, ContinuousWorld, Learner, LearnerKind, Outcome, SessionRng, ValueSpace,
+    World, WorldError,
+};
 use numpy::PyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -29,12 +32,7 @@ impl<'py, 'a> PyLearner<'py, 'a> {
         space: &CommandSpace,
         error: &'a RefCell<Option<PyErr>>,
     ) -> PyResult<Self> {
-        let rng = Bound::new(
-            py,
-            PyRng {
-                inner: rand::SeedableRng::seed_from_u64(0),
-            },
-        )?;
+        let rng = Bound::new(py, PyRng::idle())?;
         Ok(PyLearner {
             py,
             obj,
@@ -54,10 +52,17 @@ impl Learner for PyLearner<'_, '_> {
         if self.error.borrow().is_some() {
             return;
         }
-        std::mem::swap(&mut self.rng.borrow_mut().inner, rng);
+        if let Err(e) = PyRng::swap(&self.rng, rng, true) {
+            *self.error.borrow_mut() = Some(e);
+            return;
+        }
         let r = self.obj.call_method1("propose", (self.rng.clone(),));
-        std::mem::swap(&mut self.rng.borrow_mut().inner, rng);
-        let r = r.and_then(|v| commands_from(self.py, &self.space, &v, 1));
+        // the session's generator back, even if another thread holds the
+        // object now (then the session stops with that error)
+        let back = PyRng::swap(&self.rng, rng, false);
+        let r = back
+            .and(r)
+            .and_then(|v| commands_from(self.py, &self.space, &v, 1));
         match r {
             Ok(mut cs) => *command = cs.remove(0),
             Err(e) => *self.error.borrow_mut() = Some(e),
@@ -143,7 +148,8 @@ pub(crate) fn python_learner_name(obj: &Bound<'_, PyAny>) -> PyResult<String> {
     for m in ["propose", "learn"] {
         if !obj.hasattr(m)? {
             return Err(PyTypeError::new_err(format!(
-                "learner: expected \"e3d\", \"uniform\", \"egreedy\" or an object with propose(rng) and learn(command, effect, reward); this one has no `{m}`"
+                "learner: expected one of {} or an object with propose(rng) and learn(command, effect, reward); this one has no `{m}`",
+                learner_names()
             )));
         }
     }
@@ -151,4 +157,19 @@ pub(crate) fn python_learner_name(obj: &Bound<'_, PyAny>) -> PyResult<String> {
         .getattr("name")
         .and_then(|n| n.extract())
         .unwrap_or_else(|_| "python".to_string()))
+}
+
+impl<W: ContinuousWorld + ?Sized, S: Fn() -> bool> ContinuousWorld for Guarded<'_, W, S> {
+    fn value_space(&self) -> &ValueSpace {
+        self.world.value_space()
+    }
+    fn num_effects(&self) -> usize {
+        self.world.num_effects()
+    }
+    fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
+        if (self.stop)() {
+            return Err(WorldError::Other(STOPPED.into()));
+        }
+        self.world.execute_values(values)
+    }
 }

@@ -12,6 +12,7 @@ mod commands;
 mod errors;
 mod learner;
 mod motion;
+mod picture;
 mod progress;
 mod record;
 mod rng;
@@ -43,6 +44,7 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRng>()?;
     m.add_class::<PyBatchRecord>()?;
     m.add_class::<PyMotion>()?;
+    errors::scene_error_defaults(m.py())?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
     m.add_function(wrap_pyfunction!(run_session, m)?)?;

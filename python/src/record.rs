@@ -1,26 +1,123 @@
 //! What sessions recorded: `SessionRecord` and `SessionBatch`.
 
 use crate::scene::PyScene;
-use e3d::{Metrics, SessionConfig, SessionRecord, Target};
+use e3d::{Learner, Metrics, SessionRecord, ValueSessionRecord};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
-/// What a session recorded: `commands` (uint8 `[T, slots]`), `effects`
-/// (int64 `[T]`), `rewards` (float64 `[T]`, 0 when the reward is not
-/// used), `metrics` (a dict), and how outcomes were obtained (`execution`).
+/// What a session recorded: `commands` (`[T, slots]`: uint8 symbol indices,
+/// or float64 values on a continuous scene), `effects` (int64 `[T]`),
+/// `rewards` (float64 `[T]`, 0 when the reward is not used), `metrics` (a
+/// dict, `summary.json`'s names), `effect_counts` (float64
+/// `[num_effects]`), `final_policy` (per slot the final policy: a float64
+/// array of each symbol's probability, or `(mean, sd)` on a continuous
+/// scene; None for a Python learner), `policy_effect_distribution` (the
+/// exact effect distribution of the final policy, where the outcomes come
+/// from a table, else None), E3D's final `q` (per slot a float64 array of
+/// `Q`) and `effect_model` (its running effect histogram `p`, float64
+/// `[num_effects]`), both from `run_session` with `learner="e3d"` only
+/// (else None), and how outcomes were obtained (`execution`).
 #[pyclass(module = "e3d", name = "SessionRecord", frozen, get_all)]
 pub(crate) struct PyRecord {
     scene: String,
     learner: String,
     seed: u64,
     trials: usize,
-    commands: Py<numpy::PyArray2<u8>>,
+    commands: Py<PyAny>,
     effects: Py<PyArray1<i64>>,
     rewards: Py<PyArray1<f64>>,
     metrics: Py<PyDict>,
+    effect_counts: Py<PyArray1<f64>>,
+    final_policy: Option<Py<PyAny>>,
+    policy_effect_distribution: Option<Py<PyArray1<f64>>>,
+    q: Option<Py<PyAny>>,
+    effect_model: Option<Py<PyArray1<f64>>>,
     execution: String,
+}
+
+/// One session's results, whatever its commands, ready for Python.
+pub(crate) struct Rows {
+    /// `[T, slots]`, uint8 or float64.
+    commands: Py<PyAny>,
+    effects: Vec<usize>,
+    rewards: Vec<f64>,
+    metrics: Metrics,
+    effect_counts: Vec<f64>,
+    policy: Option<Py<PyAny>>,
+    exact: Option<Vec<f64>>,
+    /// E3D's final `Q` (per slot) and running effect histogram `p`.
+    pub(crate) q: Option<Vec<Vec<f64>>>,
+    pub(crate) effect_model: Option<Vec<f64>>,
+}
+
+impl Rows {
+    /// A session of symbols; `learner` for its final policy (None: a
+    /// Python learner), `exact` the exact effect distribution of it.
+    pub(crate) fn of_symbols(
+        py: Python<'_>,
+        rec: SessionRecord,
+        metrics: Metrics,
+        learner: Option<&dyn Learner>,
+        exact: Option<Vec<f64>>,
+    ) -> PyResult<Rows> {
+        let t = rec.trials();
+        let effect_counts = rec.effect_counts(0..t);
+        let policy = match learner {
+            Some(l) => slot_policies(py, l, rec.num_slots)?,
+            None => None,
+        };
+        let commands = Array2::from_shape_vec((t, rec.num_slots), rec.commands).expect("T x slots");
+        Ok(Rows {
+            commands: commands.into_pyarray(py).into_any().unbind(),
+            effects: rec.effects,
+            rewards: rec.rewards,
+            metrics,
+            effect_counts,
+            policy,
+            exact,
+            q: None,
+            effect_model: None,
+        })
+    }
+
+    /// A session of continuous commands.
+    pub(crate) fn of_values(py: Python<'_>, rec: ValueSessionRecord, metrics: Metrics) -> Rows {
+        let t = rec.trials();
+        let effect_counts = rec.effect_counts(0..t);
+        let flat: Vec<f64> = rec.final_policy.iter().flat_map(|&(m, s)| [m, s]).collect();
+        let policy = Array2::from_shape_vec((rec.num_slots, 2), flat).expect("slots x 2");
+        let commands = Array2::from_shape_vec((t, rec.num_slots), rec.values).expect("T x slots");
+        Rows {
+            commands: commands.into_pyarray(py).into_any().unbind(),
+            effects: rec.effects,
+            rewards: rec.rewards,
+            metrics,
+            effect_counts,
+            policy: Some(policy.into_pyarray(py).into_any().unbind()),
+            exact: None,
+            q: None,
+            effect_model: None,
+        }
+    }
+}
+
+/// Each slot's symbol probabilities under `learner`'s policy, as a list of
+/// float64 arrays (None if it does not draw slots independently).
+pub(crate) fn slot_policies(
+    py: Python<'_>,
+    learner: &dyn Learner,
+    slots: usize,
+) -> PyResult<Option<Py<PyAny>>> {
+    let mut out = Vec::with_capacity(slots);
+    for s in 0..slots {
+        match learner.slot_policy(s) {
+            Some(p) => out.push(p.into_pyarray(py)),
+            None => return Ok(None),
+        }
+    }
+    Ok(Some(PyList::new(py, out)?.into_any().unbind()))
 }
 
 #[pymethods]
@@ -46,6 +143,11 @@ pub(crate) fn metrics_dict<'py>(py: Python<'py>, m: &Metrics) -> PyResult<Bound<
     metrics.set_item("cumulative_reward", m.cumulative_reward)?;
     metrics.set_item("first_reward_trial", m.first_reward_trial)?;
     metrics.set_item("trials", m.trials)?;
+    metrics.set_item("reachable_effects", m.reachable_effects)?;
+    metrics.set_item(
+        "normalized_entropy_reachable",
+        m.normalized_entropy_reachable,
+    )?;
     Ok(metrics)
 }
 
@@ -53,23 +155,31 @@ pub(crate) fn record_to_py(
     py: Python<'_>,
     scene: &PyScene,
     learner: &str,
-    cfg: &SessionConfig,
-    rec: SessionRecord,
+    seed: u64,
+    rows: Rows,
     execution: String,
 ) -> PyResult<PyRecord> {
-    let metrics = metrics_dict(py, &rec.metrics(&Target::Uniform))?;
-    let t = rec.trials();
-    let commands = Array2::from_shape_vec((t, rec.num_slots), rec.commands).expect("T x slots");
-    let effects: Vec<i64> = rec.effects.iter().map(|&e| e as i64).collect();
+    let effects: Vec<i64> = rows.effects.iter().map(|&e| e as i64).collect();
     Ok(PyRecord {
         scene: scene.inner.name.clone(),
         learner: learner.to_string(),
-        seed: cfg.seed,
-        trials: t,
-        commands: commands.into_pyarray(py).unbind(),
+        seed,
+        trials: effects.len(),
+        commands: rows.commands,
         effects: effects.into_pyarray(py).unbind(),
-        rewards: rec.rewards.into_pyarray(py).unbind(),
-        metrics: metrics.unbind(),
+        rewards: rows.rewards.into_pyarray(py).unbind(),
+        metrics: metrics_dict(py, &rows.metrics)?.unbind(),
+        effect_counts: rows.effect_counts.into_pyarray(py).unbind(),
+        final_policy: rows.policy,
+        policy_effect_distribution: rows.exact.map(|d| d.into_pyarray(py).unbind()),
+        q: match rows.q {
+            Some(q) => {
+                let arrays: Vec<_> = q.into_iter().map(|s| s.into_pyarray(py)).collect();
+                Some(PyList::new(py, arrays)?.into_any().unbind())
+            }
+            None => None,
+        },
+        effect_model: rows.effect_model.map(|p| p.into_pyarray(py).unbind()),
         execution,
     })
 }
@@ -79,7 +189,9 @@ pub(crate) fn record_to_py(
 /// `seeds` (uint64 `[S]`), `commands` (uint8 `[S, T, slots]`), `effects`
 /// (int64 `[S, T]`), `rewards` (float64 `[S, T]`), `metrics` (a dict of
 /// arrays `[S]`: float64, `distinct_effects` and `trials` int64,
-/// `first_reward_trial` float64 with NaN for none, as in `run_sweep`).
+/// `first_reward_trial`, `reachable_effects` and
+/// `normalized_entropy_reachable` float64 with NaN for none, as in
+/// `run_sweep`).
 /// `batch[i]` is session `i`'s `SessionRecord`.
 #[pyclass(module = "e3d", name = "SessionBatch", frozen)]
 pub(crate) struct PyBatchRecord {
@@ -92,7 +204,7 @@ pub(crate) struct PyBatchRecord {
     #[pyo3(get)]
     trials: usize,
     #[pyo3(get)]
-    commands: Py<numpy::PyArray3<u8>>,
+    commands: Py<PyAny>,
     #[pyo3(get)]
     effects: Py<numpy::PyArray2<i64>>,
     #[pyo3(get)]
@@ -103,6 +215,9 @@ pub(crate) struct PyBatchRecord {
     execution: String,
     /// Each session's metrics, as `SessionRecord.metrics`.
     per_session: Vec<Py<PyDict>>,
+    /// Each session's effect counts and final policy.
+    counts: Vec<Py<PyArray1<f64>>>,
+    policies: Vec<Option<Py<PyAny>>>,
 }
 
 #[pymethods]
@@ -128,10 +243,15 @@ impl PyBatchRecord {
             learner: self.learner.clone(),
             seed,
             trials: self.trials,
-            commands: self.commands.bind(py).get_item(k)?.cast_into()?.unbind(),
+            commands: self.commands.bind(py).get_item(k)?.unbind(),
             effects: self.effects.bind(py).get_item(k)?.cast_into()?.unbind(),
             rewards: self.rewards.bind(py).get_item(k)?.cast_into()?.unbind(),
             metrics: self.per_session[k].bind(py).copy()?.unbind(),
+            effect_counts: self.counts[k].clone_ref(py),
+            final_policy: self.policies[k].as_ref().map(|p| p.clone_ref(py)),
+            policy_effect_distribution: None,
+            q: None,
+            effect_model: None,
             execution: self.execution.clone(),
         })
     }
@@ -156,16 +276,17 @@ pub(crate) fn batch_to_py(
     learner: &str,
     seeds: &[u64],
     trials: usize,
-    records: Vec<SessionRecord>,
+    rows: Vec<Rows>,
     execution: String,
 ) -> PyResult<PyBatchRecord> {
-    let s = records.len();
-    let slots = scene.space.num_slots();
-    let mut commands = Vec::with_capacity(s * trials * slots);
+    let s = rows.len();
     let mut effects = Vec::with_capacity(s * trials);
     let mut rewards = Vec::with_capacity(s * trials);
     let mut per_session = Vec::with_capacity(s);
-    let cols: [&str; 7] = [
+    let mut counts = Vec::with_capacity(s);
+    let mut policies = Vec::with_capacity(s);
+    let mut commands = Vec::with_capacity(s);
+    let cols: [&str; 9] = [
         "normalized_entropy",
         "normalized_entropy_last_1000",
         "kl_to_target",
@@ -173,11 +294,13 @@ pub(crate) fn batch_to_py(
         "cumulative_reward",
         "first_reward_trial",
         "trials",
+        "reachable_effects",
+        "normalized_entropy_reachable",
     ];
     let mut floats: Vec<Vec<f64>> = vec![Vec::with_capacity(s); cols.len()];
-    for rec in &records {
-        let m = rec.metrics(&Target::Uniform);
-        per_session.push(metrics_dict(py, &m)?.unbind());
+    for r in rows {
+        let m = &r.metrics;
+        per_session.push(metrics_dict(py, m)?.unbind());
         let row = [
             m.normalized_entropy,
             m.normalized_entropy_last_1000,
@@ -186,13 +309,17 @@ pub(crate) fn batch_to_py(
             m.cumulative_reward,
             m.first_reward_trial.map_or(f64::NAN, |t| t as f64),
             m.trials as f64,
+            m.reachable_effects.map_or(f64::NAN, |k| k as f64),
+            m.normalized_entropy_reachable.unwrap_or(f64::NAN),
         ];
         for (c, v) in floats.iter_mut().zip(row) {
             c.push(v);
         }
-        commands.extend_from_slice(&rec.commands);
-        effects.extend(rec.effects.iter().map(|&e| e as i64));
-        rewards.extend_from_slice(&rec.rewards);
+        commands.push(r.commands);
+        effects.extend(r.effects.iter().map(|&e| e as i64));
+        rewards.extend_from_slice(&r.rewards);
+        counts.push(r.effect_counts.into_pyarray(py).unbind());
+        policies.push(r.policy);
     }
     let metrics = PyDict::new(py);
     for (name, v) in cols.iter().zip(floats) {
@@ -203,8 +330,10 @@ pub(crate) fn batch_to_py(
             metrics.set_item(name, v.into_pyarray(py))?;
         }
     }
-    let commands = numpy::ndarray::Array3::from_shape_vec((s, trials, slots), commands)
-        .expect("S x T x slots");
+    let commands = py
+        .import("numpy")?
+        .call_method1("stack", (PyList::new(py, commands)?,))?
+        .unbind();
     let effects = Array2::from_shape_vec((s, trials), effects).expect("S x T");
     let rewards = Array2::from_shape_vec((s, trials), rewards).expect("S x T");
     Ok(PyBatchRecord {
@@ -212,11 +341,13 @@ pub(crate) fn batch_to_py(
         learner: learner.to_string(),
         seeds: seeds.to_vec().into_pyarray(py).unbind(),
         trials,
-        commands: commands.into_pyarray(py).unbind(),
+        commands,
         effects: effects.into_pyarray(py).unbind(),
         rewards: rewards.into_pyarray(py).unbind(),
         metrics: metrics.unbind(),
         execution,
         per_session,
+        counts,
+        policies,
     })
 }

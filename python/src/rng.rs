@@ -1,34 +1,69 @@
 //! `SessionRng`: the session's generator, lent to a Python learner.
 
+use crate::errors::usize_arg;
 use e3d::SessionRng;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 /// The session's random generator, handed to a Python learner's
 /// `propose(rng)`: the very generator the session was seeded with (PCG
-/// 64-bit MCG), valid only during that call.
-#[pyclass(module = "e3d", name = "SessionRng", unsendable)]
+/// 64-bit MCG), valid only during that call: used after it (kept by the
+/// learner, or from another thread once `propose` has returned), it raises
+/// `RuntimeError`.
+#[pyclass(module = "e3d", name = "SessionRng")]
 pub(crate) struct PyRng {
     pub(crate) inner: SessionRng,
+    /// Whether a `propose(rng)` call holds the session's generator.
+    pub(crate) active: bool,
+}
+
+impl PyRng {
+    /// A generator not lent yet.
+    pub(crate) fn idle() -> PyRng {
+        PyRng {
+            inner: rand::SeedableRng::seed_from_u64(0),
+            active: false,
+        }
+    }
+
+    /// The generator, if a `propose(rng)` call holds it.
+    fn lent(&mut self) -> PyResult<&mut SessionRng> {
+        if !self.active {
+            return Err(PyRuntimeError::new_err(
+                "SessionRng used outside the propose(rng) call it was given to: it is the session's generator only during that call",
+            ));
+        }
+        Ok(&mut self.inner)
+    }
+
+    /// Swaps the session's generator in (or back out), marking the
+    /// object active (or not); fails if another thread is using it.
+    pub(crate) fn swap(obj: &Bound<'_, PyRng>, rng: &mut SessionRng, active: bool) -> PyResult<()> {
+        let mut me = obj.try_borrow_mut().map_err(|_| {
+            PyRuntimeError::new_err(
+                "SessionRng in use by another thread when propose(rng) returned: use it only within the call",
+            )
+        })?;
+        std::mem::swap(&mut me.inner, rng);
+        me.active = active;
+        Ok(())
+    }
 }
 
 #[pymethods]
 impl PyRng {
     /// A float uniform in [0, 1).
-    fn random(&mut self) -> f64 {
+    fn random(&mut self) -> PyResult<f64> {
         use rand::RngExt;
-        self.inner.random::<f64>()
+        Ok(self.lent()?.random::<f64>())
     }
 
     /// An integer uniform in [0, n): the draw of the library's uniform
     /// policy for a slot of `n` symbols (rand's `random_range(0..n)` on
     /// `usize`).
-    fn integers(&mut self, n: usize) -> PyResult<usize> {
+    fn integers(&mut self, #[pyo3(from_py_with = n_arg)] n: usize) -> PyResult<usize> {
         use rand::RngExt;
-        if n == 0 {
-            return Err(PyValueError::new_err("integers(n): n must be at least 1"));
-        }
-        Ok(self.inner.random_range(0..n))
+        Ok(self.lent()?.random_range(0..n))
     }
 
     /// An index drawn with probability proportional to `weights` (>= 0,
@@ -45,7 +80,7 @@ impl PyRng {
                 "choice(weights): expected finite weights >= 0, not all 0",
             ));
         }
-        let u = self.inner.random::<f64>() * total;
+        let u = self.lent()?.random::<f64>() * total;
         let mut acc = 0.0;
         for (i, w) in weights.iter().enumerate() {
             acc += w;
@@ -55,4 +90,9 @@ impl PyRng {
         }
         Ok(weights.iter().rposition(|w| *w > 0.0).unwrap_or(0))
     }
+}
+
+/// `integers(n)`'s `n`: an integer >= 1.
+fn n_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    usize_arg(obj, "n", 1)
 }

@@ -1,10 +1,10 @@
 //! `Scene`: a parsed and validated scene, its command schema and effects.
 
 use crate::commands::commands_from;
-use crate::errors::{scene_err, SceneError};
+use crate::errors::{scene_err, scene_error};
 use crate::world::PyWorld;
 use e3d::scene::WorldSpec;
-use e3d::CommandSpace;
+use e3d::{CommandSpace, ValueSpace};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -36,19 +36,37 @@ pub(crate) fn scene_of(obj: &Bound<'_, PyAny>) -> PyResult<PyScene> {
 pub(crate) struct PyScene {
     pub(crate) inner: Arc<e3d::Scene>,
     pub(crate) space: CommandSpace,
+    /// The value ranges of a continuous scene.
+    pub(crate) values: Option<ValueSpace>,
 }
 
 impl PyScene {
-    /// The scene, if its slots take symbols: continuous scenes are not
-    /// wrapped yet (they run from the CLI and the Rust library).
+    /// The scene, with its command space: symbols per slot, or values in
+    /// ranges for a continuous scene (`values`; `space` is then a stand-in
+    /// of one slot that no symbol path uses).
     fn new(scene: e3d::Scene) -> Result<PyScene, e3d::SceneError> {
-        scene.require_symbols(
-            "the Python package (continuous commands run from the CLI and the Rust library)",
-        )?;
+        let values = scene.value_space();
+        let space = match values {
+            Some(_) => CommandSpace::repeat(1, &['0']).expect("one symbol"),
+            None => scene.command_space(),
+        };
         Ok(PyScene {
-            space: scene.command_space(),
+            space,
+            values,
             inner: Arc::new(scene),
         })
+    }
+
+    /// `Ok` for a scene of symbols; for a continuous one, `ValueError`
+    /// saying that `what` takes symbols.
+    pub(crate) fn require_symbols(&self, what: &str) -> PyResult<()> {
+        if self.values.is_some() {
+            return Err(PyValueError::new_err(format!(
+                "{what}: scene `{}` takes continuous values (value_ranges), not symbols",
+                self.inner.name
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -67,10 +85,16 @@ impl PyScene {
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<PyScene> {
         let scene = e3d::Scene::builtin(name).ok_or_else(|| {
-            SceneError::new_err(format!(
-                "{name}: no built-in scene of that name; expected one of: {}",
-                builtin_names().join(", ")
-            ))
+            scene_error(
+                format!(
+                    "{name}: no built-in scene of that name; expected one of: {}",
+                    builtin_names().join(", ")
+                ),
+                Some(name),
+                None,
+                None,
+                None,
+            )
         })?;
         PyScene::new(scene).map_err(scene_err)
     }
@@ -123,18 +147,40 @@ impl PyScene {
     /// The number of slots of a command.
     #[getter]
     fn num_slots(&self) -> usize {
-        self.space.num_slots()
+        self.inner.num_slots()
+    }
+
+    /// Whether the scene's slots take continuous values (`value_ranges`)
+    /// rather than symbols.
+    #[getter]
+    fn is_continuous(&self) -> bool {
+        self.values.is_some()
+    }
+
+    /// The `(low, high)` range of each slot of a continuous scene (empty
+    /// for a scene of symbols).
+    #[getter]
+    fn value_ranges(&self) -> Vec<(f64, f64)> {
+        self.values
+            .as_ref()
+            .map_or_else(Vec::new, |v| v.ranges().to_vec())
     }
 
     /// The alphabet size of each slot.
     #[getter]
     fn alphabet_sizes(&self) -> Vec<usize> {
+        if self.values.is_some() {
+            return Vec::new();
+        }
         self.space.sizes().collect()
     }
 
     /// The alphabet of each slot, as a string of its symbols.
     #[getter]
     fn alphabets(&self) -> Vec<String> {
+        if self.values.is_some() {
+            return Vec::new();
+        }
         (0..self.space.num_slots())
             .map(|s| self.space.alphabet(s).iter().collect())
             .collect()
@@ -156,6 +202,9 @@ impl PyScene {
     /// The number of distinct commands, or `None` beyond 2^64.
     #[getter]
     fn num_commands(&self) -> Option<u64> {
+        if self.values.is_some() {
+            return None;
+        }
         self.space.num_commands()
     }
 
@@ -186,6 +235,7 @@ impl PyScene {
         py: Python<'py>,
         commands: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, numpy::PyArray2<u8>>> {
+        self.require_symbols("Scene.parse")?;
         let texts: Vec<String> = if let Ok(s) = commands.cast::<PyString>() {
             vec![s.to_cow()?.into_owned()]
         } else {
@@ -209,6 +259,7 @@ impl PyScene {
     /// Commands (an array `[N, slots]` or `[slots]` of symbol indices) as
     /// strings: a list for a 2-D array, one string for a 1-D one.
     fn format(&self, py: Python<'_>, commands: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+        self.require_symbols("Scene.format")?;
         let one = commands
             .cast::<PyUntypedArray>()
             .map(|a| a.ndim() == 1)
@@ -233,12 +284,46 @@ impl PyScene {
 
     fn __repr__(&self) -> String {
         format!(
-            "Scene({:?}: {}, {} slots, {} effects)",
+            "Scene({:?}: {}, {} {}slots, {} effects)",
             self.inner.name,
             self.kind(),
-            self.space.num_slots(),
+            self.inner.num_slots(),
+            if self.values.is_some() {
+                "continuous "
+            } else {
+                ""
+            },
             self.inner.num_effects()
         )
+    }
+
+    /// The scene drawn as SVG (bodies, joints, walls, the effect grid and
+    /// the reward cells), with the path of `command` and its terminal cell
+    /// when given (symbols, or values on a continuous scene): what
+    /// `e3d scene render SCENE [--command C]` writes.
+    #[pyo3(signature = (command = None))]
+    fn svg(&self, py: Python<'_>, command: Option<&Bound<'_, PyAny>>) -> PyResult<String> {
+        crate::picture::svg(py, self, command)
+    }
+
+    /// The SVG picture, for notebooks (Jupyter shows it).
+    fn _repr_svg_(&self, py: Python<'_>) -> PyResult<String> {
+        crate::picture::svg(py, self, None)
+    }
+
+    /// The scene as RON text that `Scene.from_text` reads back as an equal
+    /// scene (the library's `Scene::to_ron`).
+    fn to_ron(&self) -> String {
+        self.inner.to_ron()
+    }
+
+    /// Pickling: the scene's RON text, read back by `Scene.from_text`.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (String, String))> {
+        let from_text = py.get_type::<PyScene>().getattr("from_text")?;
+        Ok((
+            from_text,
+            (self.inner.to_ron(), format!("<scene {}>", self.inner.name)),
+        ))
     }
 
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
@@ -249,11 +334,7 @@ impl PyScene {
     }
 }
 
-/// The built-in scenes of symbols (continuous ones are not wrapped yet).
+/// The built-in scenes.
 pub(crate) fn builtin_names() -> Vec<&'static str> {
-    e3d::scene::BUILTIN
-        .iter()
-        .map(|(n, _)| *n)
-        .filter(|n| e3d::Scene::builtin(n).is_some_and(|s| !s.is_continuous()))
-        .collect()
+    e3d::scene::BUILTIN.iter().map(|(n, _)| *n).collect()
 }

@@ -1,13 +1,16 @@
 //! `run_session` and `run_sessions`: sessions of built-in or Python
 //! learners on the world an [`Executor`] chooses.
 
-use crate::errors::Fail;
+use crate::errors::{learner_names, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyLearner};
 use crate::progress::{watched, Throttle, Watch};
-use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord};
-use crate::scene::scene_of;
+use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
+use crate::scene::{scene_of, PyScene};
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
-use e3d::{Params, SessionConfig, SessionRecord, Target, WorldError};
+use e3d::{
+    E3d, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target, ValueSpace,
+    WorldError,
+};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use std::cell::RefCell;
@@ -31,6 +34,64 @@ pub(crate) struct SessionArgs {
     params: Params,
     options: ExecOptions,
     use_reward: bool,
+    /// The target `p*` (E3D's, and the metrics' `kl_to_target`).
+    target: Target,
+}
+
+/// `target`: None (uniform), an array of one weight per effect, or a dict
+/// `{effect: weight}` / `{(row, col): weight}` (the cells not named weigh
+/// 0); checked as the library checks a target.
+fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> PyResult<Target> {
+    let Some(obj) = target.filter(|t| !t.is_none()) else {
+        return Ok(Target::Uniform);
+    };
+    let n = scene.inner.num_effects();
+    let weights: Vec<f64> = if let Ok(d) = obj.cast::<pyo3::types::PyDict>() {
+        let g = scene.inner.effect_grid();
+        let mut w = vec![0.0; n];
+        for (k, v) in d.iter() {
+            let cell = if let Ok((r, c)) = k.extract::<(usize, usize)>() {
+                (r < g.rows && c < g.cols).then_some(r * g.cols + c)
+            } else {
+                k.extract::<usize>().ok().filter(|&e| e < n)
+            };
+            let Some(e) = cell else {
+                return Err(PyValueError::new_err(format!(
+                    "target: key {} is not an effect: expected an int in [0, {n}) or a (row, col) cell of the {}x{} grid",
+                    k.repr()?,
+                    g.rows,
+                    g.cols
+                )));
+            };
+            w[e] = v.extract::<f64>().map_err(|_| {
+                PyValueError::new_err(format!(
+                    "target[{}]: expected a number",
+                    k.repr().map(|r| r.to_string()).unwrap_or_default()
+                ))
+            })?;
+        }
+        w
+    } else {
+        let np = obj.py().import("numpy")?;
+        let a = np.call_method1("asarray", (obj, "float64")).map_err(|e| {
+            PyValueError::new_err(format!(
+                "target: expected None, {n} weights (one per effect) or a dict {{effect: weight}}: {e}"
+            ))
+        })?;
+        let flat = a.call_method0("ravel")?;
+        if a.getattr("ndim")?.extract::<usize>()? != 1 {
+            return Err(PyValueError::new_err(format!(
+                "target: expected a 1-D array of {n} weights (one per effect), found shape {}",
+                a.getattr("shape")?.repr()?
+            )));
+        }
+        flat.extract()?
+    };
+    let target = Target::Weights(weights);
+    target
+        .log_probs(n)
+        .map_err(|e| PyValueError::new_err(format!("target: {e}")))?;
+    Ok(target)
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -44,6 +105,7 @@ pub(crate) fn session_args(
     epsilon: f64,
     outcomes: Option<&str>,
     table_cache: Option<PathBuf>,
+    target: Target,
 ) -> PyResult<SessionArgs> {
     if trials == 0 {
         return Err(PyValueError::new_err("trials = 0: expected at least 1"));
@@ -75,7 +137,110 @@ pub(crate) fn session_args(
             force,
         },
         use_reward,
+        target,
     })
+}
+
+/// The metrics of a session of symbols as the CLI's `summary.json` gives
+/// them: over the reachable cells too when a table knows them (and they
+/// are fewer than all).
+fn symbol_metrics(exec: &Executor<'_>, rec: &SessionRecord, target: &Target) -> Metrics {
+    let n = rec.num_effects;
+    match exec
+        .table()
+        .map(|t| t.reachable_effects())
+        .filter(|&r| r < n)
+    {
+        Some(k) => rec.metrics_over_reachable(target, k),
+        None => rec.metrics(target),
+    }
+}
+
+/// Runs sessions of a continuous scene, one per seed, in parallel without
+/// the GIL, each on a physics world of its own (`e3d run` on a continuous
+/// scene): the Gaussian E3D (`"e3d"`) or uniform values (`"uniform"`).
+#[allow(clippy::too_many_arguments)]
+fn run_continuous(
+    py: Python<'_>,
+    scene: &PyScene,
+    space: &ValueSpace,
+    learner: Option<&Bound<'_, PyAny>>,
+    a: &SessionArgs,
+    seeds: &[u64],
+    trials: usize,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(LearnerKind, Vec<Rows>, String)> {
+    let name = &scene.inner.name;
+    let Some(kind) = builtin_kind(learner)? else {
+        return Err(PyTypeError::new_err(format!(
+            "learner: scene `{name}` takes continuous commands: expected one of {}",
+            LearnerKind::CONTINUOUS
+                .map(|k| format!("\"{}\"", k.as_str()))
+                .join(", ")
+        )));
+    };
+    if a.options.cache.is_some() {
+        return Err(PyValueError::new_err(format!(
+            "table_cache: scene `{name}` takes continuous commands, which have no outcome table (every trial is simulated)"
+        )));
+    }
+    if matches!(a.options.force, Some(s) if s != Strategy::Live) {
+        return Err(PyValueError::new_err(format!(
+            "outcomes: scene `{name}` takes continuous commands, which run live only (no table, no memo)"
+        )));
+    }
+    let n_eff = scene.inner.num_effects();
+    let make = || kind.make_continuous(&a.params, space, n_eff, &a.target);
+    make().map_err(|e| PyValueError::new_err(e.to_string()))?;
+    if scene.inner.physics_world().is_none() {
+        return Err(PyValueError::new_err(format!(
+            "scene `{name}`: continuous commands need a physics world"
+        )));
+    }
+    let configs: Vec<SessionConfig> = seeds
+        .iter()
+        .map(|&seed| SessionConfig {
+            trials,
+            seed,
+            use_reward: a.use_reward,
+        })
+        .collect();
+    let inner = scene.inner.clone();
+    let total = (trials as u64).saturating_mul(seeds.len() as u64);
+    let watch = Watch::new();
+    let records = watched(py, progress, total, &watch, |watch| {
+        configs
+            .par_iter()
+            .map(|cfg| {
+                let mut world = inner.physics_world().ok_or_else(|| {
+                    WorldError::Other("continuous commands need a physics world".into())
+                })?;
+                let mut guarded = Guarded {
+                    world: &mut world,
+                    stop: || watch.cancelled(),
+                };
+                let mut learner = make().map_err(|e| WorldError::Other(e.to_string()))?;
+                let mut done = 0;
+                e3d::run_value_session(&mut guarded, &mut learner, cfg, |t| {
+                    watch.add((t - done) as u64);
+                    done = t;
+                })
+            })
+            .collect::<Result<Vec<_>, WorldError>>()
+    })?
+    .map_err(Fail::from)?;
+    let rows = records
+        .into_iter()
+        .map(|r| {
+            let m = r.metrics(&a.target);
+            Rows::of_values(py, r, m)
+        })
+        .collect();
+    Ok((
+        kind,
+        rows,
+        "live: continuous commands (no table, no memo)".into(),
+    ))
 }
 
 /// The plan, and what the memo simulated and kept, as `execution` says it.
@@ -92,7 +257,9 @@ pub(crate) fn execution_text(exec: Executor<'_>) -> String {
 /// the scene's world executes it, the learner learns from its effect and
 /// reward. The same numbers as `e3d run SCENE --trials T --seed S`.
 ///
-/// `learner`: `"e3d"`, `"uniform"`, `"egreedy"`, or a Python object with
+/// `learner`: a built-in learner's name (`"e3d"`, `"uniform"`, `"egreedy"`,
+/// `"e3d_relax"`, `"count"`, `"smm"`; on a continuous scene `"e3d"`, the
+/// Gaussian E3D, or `"uniform"`), or a Python object with
 /// `propose(rng) -> symbols` and `learn(command, effect, reward)` (see
 /// `docs/python.md`). `use_reward=False` is the CLI's `--no-reward`.
 /// `outcomes`: `None` (the cheapest of table, memo or live, as the CLI
@@ -100,19 +267,21 @@ pub(crate) fn execution_text(exec: Executor<'_>) -> String {
 /// folder to keep outcomes in (the CLI's `--table-cache`).
 /// `progress`: a callable, called as `progress(trials_done, trials)` at
 /// most ten times a second and once at the end. Ctrl-C stops the session
-/// and raises `KeyboardInterrupt`.
+/// and raises `KeyboardInterrupt`. `target`: E3D's `p*` (None: uniform; an
+/// array of one weight per effect, or a dict `{effect or (row, col):
+/// weight}`), also the metrics' target.
 #[pyfunction]
 #[pyo3(signature = (scene, learner = None, trials = 5000, seed = 0, use_reward = true,
     alpha = 0.3, beta = 1.0, lambda_ = 0.03,
     eta = 0.01, epsilon = 0.1, outcomes = None, table_cache = None,
-    progress = None))]
+    progress = None, target = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_session(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     learner: Option<&Bound<'_, PyAny>>,
-    trials: usize,
-    seed: u64,
+    #[pyo3(from_py_with = trials_arg)] trials: usize,
+    #[pyo3(from_py_with = seed_arg)] seed: u64,
     use_reward: bool,
     alpha: f64,
     beta: f64,
@@ -122,8 +291,10 @@ pub(crate) fn run_session(
     outcomes: Option<&str>,
     table_cache: Option<PathBuf>,
     progress: Option<&Bound<'_, PyAny>>,
+    target: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyRecord> {
     let scene = scene_of(scene)?;
+    let target = target_arg(&scene, target)?;
     let a = session_args(
         trials,
         use_reward,
@@ -134,6 +305,7 @@ pub(crate) fn run_session(
         epsilon,
         outcomes,
         table_cache,
+        target,
     )?;
     let work = Workload {
         trials: trials as u64,
@@ -145,29 +317,60 @@ pub(crate) fn run_session(
         seed,
         use_reward: a.use_reward,
     };
+    if let Some(space) = scene.values.clone() {
+        let (kind, mut rows, execution) =
+            run_continuous(py, &scene, &space, learner, &a, &[seed], trials, progress)?;
+        let rows = rows.remove(0);
+        return record_to_py(py, &scene, kind.as_str(), seed, rows, execution);
+    }
     let space = scene.space.clone();
     let n_eff = scene.inner.num_effects();
     if let Some(kind) = builtin_kind(learner)? {
-        let mut made = kind
-            .make(&a.params, &space, n_eff, &Target::Uniform)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
+        // E3D as its own type, so that its Q and effect model can be read
+        let mut e3d_made = match kind {
+            LearnerKind::E3d => Some(E3d::new(&space, n_eff, &a.params, &a.target).map_err(bad)?),
+            _ => None,
+        };
+        let mut boxed = match kind {
+            LearnerKind::E3d => None,
+            _ => Some(
+                kind.make(&a.params, &space, n_eff, &a.target)
+                    .map_err(bad)?,
+            ),
+        };
+        let made: &mut (dyn Learner + Send) = match (&mut e3d_made, &mut boxed) {
+            (Some(e), _) => e,
+            (None, Some(b)) => &mut **b,
+            (None, None) => return Err(PyTypeError::new_err("no learner made")),
+        };
         let inner = scene.inner.clone();
         let watch = Watch::new();
-        let (rec, execution) = watched(py, progress, trials as u64, &watch, |watch| {
-            let exec = Executor::new(&inner, &work, &a.options)?;
-            let mut world = exec.world(1);
-            let mut guarded = Guarded {
-                world: &mut *world,
-                stop: || watch.cancelled(),
-            };
-            let mut rec = SessionRecord::new(&guarded, trials);
-            e3d::run_session_into(&mut guarded, &mut made, &cfg, &mut rec, |t| {
-                watch.set(t as u64)
-            })?;
-            drop(world);
-            Ok::<_, Fail>((rec, execution_text(exec)))
-        })??;
-        return record_to_py(py, &scene, kind.as_str(), &cfg, rec, execution);
+        let (rec, metrics, exact, execution) =
+            watched(py, progress, trials as u64, &watch, |watch| {
+                let exec = Executor::new(&inner, &work, &a.options)?;
+                let mut world = exec.world(1);
+                let mut guarded = Guarded {
+                    world: &mut *world,
+                    stop: || watch.cancelled(),
+                };
+                let mut rec = SessionRecord::new(&guarded, trials);
+                e3d::run_session_into(&mut guarded, &mut *made, &cfg, &mut rec, |t| {
+                    watch.set(t as u64)
+                })?;
+                drop(world);
+                let metrics = symbol_metrics(&exec, &rec, &a.target);
+                let exact = exec
+                    .table()
+                    .and_then(|t| e3d::policy_effect_distribution(t, &*made));
+                Ok::<_, Fail>((rec, metrics, exact, execution_text(exec)))
+            })??;
+        let mut rows = Rows::of_symbols(py, rec, metrics, Some(&*made), exact)?;
+        if let Some(e) = &e3d_made {
+            rows.q = Some((0..space.num_slots()).map(|s| e.q(s).to_vec()).collect());
+            rows.effect_model = Some(e.effect_model().probs());
+        }
+        return record_to_py(py, &scene, kind.as_str(), seed, rows, execution);
     }
     let obj = learner.expect("an object").clone();
     let name = python_learner_name(&obj)?;
@@ -193,7 +396,9 @@ pub(crate) fn run_session(
         return Err(e);
     }
     status.map_err(Fail::from)?;
-    record_to_py(py, &scene, &name, &cfg, rec, execution_text(exec))
+    let metrics = symbol_metrics(&exec, &rec, &a.target);
+    let rows = Rows::of_symbols(py, rec, metrics, None, None)?;
+    record_to_py(py, &scene, &name, seed, rows, execution_text(exec))
 }
 
 /// Runs several sessions of one scene together, in lockstep: at every
@@ -214,16 +419,16 @@ pub(crate) fn run_session(
 #[pyo3(signature = (scene, learner = None, trials = 5000, seeds = None, sessions = None, seed = 0,
     use_reward = true, alpha = 0.3, beta = 1.0,
     lambda_ = 0.03, eta = 0.01, epsilon = 0.1,
-    outcomes = None, table_cache = None, progress = None))]
+    outcomes = None, table_cache = None, progress = None, target = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_sessions(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     learner: Option<&Bound<'_, PyAny>>,
-    trials: usize,
-    seeds: Option<Vec<u64>>,
-    sessions: Option<usize>,
-    seed: u64,
+    #[pyo3(from_py_with = trials_arg)] trials: usize,
+    #[pyo3(from_py_with = seeds_arg)] seeds: Option<Vec<u64>>,
+    #[pyo3(from_py_with = sessions_arg)] sessions: Option<usize>,
+    #[pyo3(from_py_with = seed_arg)] seed: u64,
     use_reward: bool,
     alpha: f64,
     beta: f64,
@@ -233,8 +438,10 @@ pub(crate) fn run_sessions(
     outcomes: Option<&str>,
     table_cache: Option<PathBuf>,
     progress: Option<&Bound<'_, PyAny>>,
+    target: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyBatchRecord> {
     let scene = scene_of(scene)?;
+    let target = target_arg(&scene, target)?;
     let seeds: Vec<u64> = match (seeds, sessions) {
         (Some(_), Some(_)) => {
             return Err(PyValueError::new_err(
@@ -271,6 +478,7 @@ pub(crate) fn run_sessions(
         epsilon,
         outcomes,
         table_cache,
+        target,
     )?;
     let n = seeds.len();
     let work = Workload {
@@ -286,6 +494,11 @@ pub(crate) fn run_sessions(
             use_reward: a.use_reward,
         })
         .collect();
+    if let Some(space) = scene.values.clone() {
+        let (kind, rows, execution) =
+            run_continuous(py, &scene, &space, learner, &a, &seeds, trials, progress)?;
+        return batch_to_py(py, &scene, kind.as_str(), &seeds, trials, rows, execution);
+    }
     let space = scene.space.clone();
     let n_eff = scene.inner.num_effects();
     let total = work.trials;
@@ -298,13 +511,13 @@ pub(crate) fn run_sessions(
         let mut learners = Vec::with_capacity(n);
         for _ in 0..n {
             learners.push(
-                kind.make(&a.params, &space, n_eff, &Target::Uniform)
+                kind.make(&a.params, &space, n_eff, &a.target)
                     .map_err(|e| PyValueError::new_err(e.to_string()))?,
             );
         }
         let inner = scene.inner.clone();
         let watch = Watch::new();
-        let (records, execution) = watched(py, progress, total, &watch, |watch| {
+        let (records, metrics, execution) = watched(py, progress, total, &watch, |watch| {
             let exec = Executor::new(&inner, &work, &a.options)?;
             let mut records: Vec<SessionRecord> = {
                 let probe = exec.world(1);
@@ -323,26 +536,29 @@ pub(crate) fn run_sessions(
                 &|| watch.cancelled(),
             );
             first_failure(status)?;
-            Ok::<_, Fail>((records, execution_text(exec)))
+            let metrics: Vec<Metrics> = records
+                .iter()
+                .map(|r| symbol_metrics(&exec, r, &a.target))
+                .collect();
+            Ok::<_, Fail>((records, metrics, execution_text(exec)))
         })??;
-        return batch_to_py(
-            py,
-            &scene,
-            kind.as_str(),
-            &seeds,
-            trials,
-            records,
-            execution,
-        );
+        let rows = records
+            .into_iter()
+            .zip(metrics)
+            .zip(&learners)
+            .map(|((r, m), l)| Rows::of_symbols(py, r, m, Some(&**l), None))
+            .collect::<PyResult<_>>()?;
+        return batch_to_py(py, &scene, kind.as_str(), &seeds, trials, rows, execution);
     }
     // Python learners: one per seed, in one lockstep group on this thread
     let objs: Vec<Bound<'_, PyAny>> = learner
         .expect("an object")
         .try_iter()
         .map_err(|_| {
-            PyTypeError::new_err(
-                "learner: expected \"e3d\", \"uniform\", \"egreedy\" or a sequence of Python learners, one per seed",
-            )
+            PyTypeError::new_err(format!(
+                "learner: expected one of {} or a sequence of Python learners, one per seed",
+                learner_names()
+            ))
         })?
         .collect::<PyResult<_>>()?;
     if objs.len() != n {
@@ -386,6 +602,13 @@ pub(crate) fn run_sessions(
         return Err(e);
     }
     first_failure(status)?;
+    let rows = records
+        .into_iter()
+        .map(|r| {
+            let m = symbol_metrics(&exec, &r, &a.target);
+            Rows::of_symbols(py, r, m, None, None)
+        })
+        .collect::<PyResult<_>>()?;
     let name = if names.iter().all(|m| *m == names[0]) {
         names[0].clone()
     } else {
@@ -397,7 +620,7 @@ pub(crate) fn run_sessions(
         &name,
         &seeds,
         trials,
-        records,
+        rows,
         execution_text(exec),
     )
 }

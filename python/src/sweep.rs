@@ -1,7 +1,7 @@
 //! `run_sweep`: sweeps, their `results.csv` as columns, and `--out`
 //! folders.
 
-use crate::errors::{Fail, STOPPED};
+use crate::errors::{threads_arg, Fail, STOPPED};
 use crate::progress::{watched, Watch};
 use e3d::sweep::{DirOptions, Shard};
 use e3d::{Sweep, SweepError};
@@ -98,7 +98,7 @@ pub(crate) fn lock_out(dir: &Path) -> PyResult<Option<e3d::io::DirLock>> {
 pub(crate) fn run_sweep<'py>(
     py: Python<'py>,
     sweep: &Bound<'py, PyAny>,
-    threads: Option<usize>,
+    #[pyo3(from_py_with = threads_arg)] threads: Option<usize>,
     table_cache: Option<PathBuf>,
     out: Option<PathBuf>,
     resume: bool,

@@ -1,7 +1,7 @@
 //! `World`: executes a scene's commands, one or a batch, through an
 //! outcome memo; `Outcome` and `BatchOutcome`.
 
-use crate::commands::commands_from;
+use crate::commands::{commands_from, values_from};
 use crate::errors::{Fail, STOPPED};
 use crate::motion::{motion_to_py, PyMotion};
 use crate::progress::{watched, Watch};
@@ -77,6 +77,11 @@ pub(crate) struct PyWorld {
     idle: Mutex<Vec<Box<dyn World + Send>>>,
     /// A single-copy Rapier world for `trace`, built on its first use.
     tracer: Mutex<Option<PhysicsWorld>>,
+    /// A world of one copy for `execute` (one command: a world of many
+    /// copies would step them all), built on its first use.
+    single: Mutex<Option<Box<dyn World + Send>>>,
+    /// Physics worlds of `copies` copies for a continuous scene's batches.
+    valued: Mutex<Vec<PhysicsWorld>>,
 }
 
 impl PyWorld {
@@ -98,6 +103,8 @@ impl PyWorld {
             copies,
             idle: Mutex::new(Vec::new()),
             tracer: Mutex::new(None),
+            single: Mutex::new(None),
+            valued: Mutex::new(Vec::new()),
         }
     }
 
@@ -113,6 +120,96 @@ impl PyWorld {
 
     fn give(&self, w: Box<dyn World + Send>) {
         self.idle.lock().unwrap_or_else(|e| e.into_inner()).push(w);
+    }
+
+    /// The outcome of one command, on a world of one copy (through the
+    /// memo): the same outcome as in a batch, without stepping the copies
+    /// a batch fills.
+    fn run_one(&self, command: &Command) -> Result<Outcome, WorldError> {
+        let mut slot = self.single.lock().unwrap_or_else(|e| e.into_inner());
+        let world = slot.take().unwrap_or_else(|| self.scene.inner.build());
+        let (world, result) = if self.memoised() {
+            let mut w = Memoized::new(world, &self.memo);
+            let r = w.execute(command);
+            (w.into_inner(), r)
+        } else {
+            let mut w = world;
+            let r = w.execute(command);
+            (w, r)
+        };
+        *slot = Some(world);
+        result
+    }
+
+    /// A physics world of `copies` copies for a continuous scene.
+    fn take_valued(&self) -> Result<PhysicsWorld, WorldError> {
+        let kept = self.valued.lock().unwrap_or_else(|e| e.into_inner()).pop();
+        match (kept, &self.scene.inner.world) {
+            (Some(w), _) => Ok(w),
+            (None, WorldSpec::Physics(p)) => {
+                Ok(PhysicsWorld::with_copies(&self.scene.inner, p, self.copies))
+            }
+            (None, _) => Err(WorldError::Other(format!(
+                "scene `{}`: continuous commands need a physics world",
+                self.scene.inner.name
+            ))),
+        }
+    }
+
+    /// The outcomes of continuous commands, in order (the first failure
+    /// instead): in parallel pieces of at most `copies` commands, each
+    /// stepped together on one world (as `e3d scene exec` does); one
+    /// command runs on a world of one copy.
+    fn run_values(
+        &self,
+        commands: &[Vec<f64>],
+        watch: Option<&Watch>,
+    ) -> Result<Vec<Outcome>, WorldError> {
+        if let [one] = commands {
+            let mut slot = self.tracer.lock().unwrap_or_else(|e| e.into_inner());
+            if slot.is_none() {
+                *slot = self.scene.inner.physics_world();
+            }
+            let world = slot.as_mut().ok_or_else(|| {
+                WorldError::Other(format!(
+                    "scene `{}`: continuous commands need a physics world",
+                    self.scene.inner.name
+                ))
+            })?;
+            let r = world.execute_values(one);
+            if let Some(w) = watch {
+                w.add(1);
+            }
+            return r.map(|o| vec![o]);
+        }
+        let piece = commands
+            .len()
+            .div_ceil(rayon::current_num_threads())
+            .clamp(1, self.copies);
+        let parts: Vec<Vec<Result<Outcome, WorldError>>> = commands
+            .par_chunks(piece)
+            .map(|part| {
+                if watch.is_some_and(Watch::cancelled) {
+                    return vec![Err(WorldError::Other(STOPPED.into())); part.len()];
+                }
+                let mut out = Vec::with_capacity(part.len());
+                match self.take_valued() {
+                    Ok(mut w) => {
+                        w.execute_values_batch(part, &mut out);
+                        self.valued
+                            .lock()
+                            .unwrap_or_else(|e| e.into_inner())
+                            .push(w);
+                    }
+                    Err(e) => out.extend(part.iter().map(|_| Err(e.clone()))),
+                }
+                if let Some(w) = watch {
+                    w.add(part.len() as u64);
+                }
+                out
+            })
+            .collect();
+        parts.into_iter().flatten().collect()
     }
 
     fn memoised(&self) -> bool {
@@ -209,9 +306,17 @@ impl PyWorld {
     /// Executes one command (a string of symbols, or an array of `slots`
     /// symbol indices) and returns its `Outcome`.
     fn execute(&self, py: Python<'_>, command: &Bound<'_, PyAny>) -> PyResult<PyOutcome> {
-        let cs = commands_from(py, &self.scene.space, command, 1)?;
-        let out = py.detach(|| self.run(&cs, None)).map_err(Fail::from)?;
-        let o = out[0];
+        let o = match &self.scene.values {
+            Some(space) => {
+                let vs = values_from(py, space, command, 1)?;
+                py.detach(|| self.run_values(&vs, None))
+                    .map_err(Fail::from)?[0]
+            }
+            None => {
+                let cs = commands_from(py, &self.scene.space, command, 1)?;
+                py.detach(|| self.run_one(&cs[0])).map_err(Fail::from)?
+            }
+        };
         Ok(PyOutcome {
             effect: o.effect,
             reward: o.reward,
@@ -235,6 +340,15 @@ impl PyWorld {
         commands: &Bound<'_, PyAny>,
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyBatch> {
+        if let Some(space) = &self.scene.values {
+            let vs = values_from(py, space, commands, 2)?;
+            let watch = Watch::new();
+            let out = watched(py, progress, vs.len() as u64, &watch, |w| {
+                self.run_values(&vs, Some(w))
+            })?
+            .map_err(Fail::from)?;
+            return Ok(batch_to_py(py, &out));
+        }
         let cs = commands_from(py, &self.scene.space, commands, 2)?;
         // a small batch is not worth a thread of its own (a memo hit costs
         // less than starting one)
@@ -247,16 +361,7 @@ impl PyWorld {
             })?
         }
         .map_err(Fail::from)?;
-        let effect: Vec<i64> = out.iter().map(|o| o.effect as i64).collect();
-        let reward: Vec<f64> = out.iter().map(|o| o.reward).collect();
-        let x: Vec<f64> = out.iter().map(|o| o.point[0]).collect();
-        let y: Vec<f64> = out.iter().map(|o| o.point[1]).collect();
-        Ok(PyBatch {
-            effect: effect.into_pyarray(py).unbind(),
-            reward: reward.into_pyarray(py).unbind(),
-            x: x.into_pyarray(py).unbind(),
-            y: y.into_pyarray(py).unbind(),
-        })
+        Ok(batch_to_py(py, &out))
     }
 
     /// The whole motion of one command (a string, or an array of `slots`
@@ -273,17 +378,48 @@ impl PyWorld {
                 inner.name
             )));
         }
-        let cs = commands_from(py, &self.scene.space, command, 1)?;
-        let text = self.scene.space.format(&cs[0]);
+        enum One {
+            Symbols(Command),
+            Values(Vec<f64>),
+        }
+        let (one, text) = match &self.scene.values {
+            Some(space) => {
+                let v = values_from(py, space, command, 1)?.remove(0);
+                let text = space.format(&v);
+                (One::Values(v), text)
+            }
+            None => {
+                let c = commands_from(py, &self.scene.space, command, 1)?.remove(0);
+                let text = self.scene.space.format(&c);
+                (One::Symbols(c), text)
+            }
+        };
         let motion = py
             .detach(|| {
                 let mut slot = self.tracer.lock().unwrap_or_else(|e| e.into_inner());
-                let world =
-                    slot.get_or_insert_with(|| inner.physics_world().expect("a physics scene"));
-                world.motion(&cs[0])
+                if slot.is_none() {
+                    *slot = inner.physics_world();
+                }
+                let Some(world) = slot.as_mut() else {
+                    return Err(WorldError::Other(format!(
+                        "scene `{}`: no physics world",
+                        inner.name
+                    )));
+                };
+                match &one {
+                    One::Symbols(c) => world.motion(c),
+                    One::Values(v) => world.motion_values(v),
+                }
             })
             .map_err(Fail::from)?;
         motion_to_py(py, text, motion)
+    }
+
+    /// Pickling: the scene's world (`scene.world()`); the outcomes kept
+    /// are not carried (they are simulated again when asked).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, ())> {
+        let scene = Bound::new(py, self.scene.clone())?;
+        Ok((scene.getattr("world")?, ()))
     }
 
     /// How many commands' outcomes this world keeps (each simulated once).
@@ -298,5 +434,19 @@ impl PyWorld {
             self.scene.inner.name,
             self.memo.len()
         )
+    }
+}
+
+/// Outcomes as a `BatchOutcome` of numpy arrays.
+fn batch_to_py(py: Python<'_>, out: &[Outcome]) -> PyBatch {
+    let effect: Vec<i64> = out.iter().map(|o| o.effect as i64).collect();
+    let reward: Vec<f64> = out.iter().map(|o| o.reward).collect();
+    let x: Vec<f64> = out.iter().map(|o| o.point[0]).collect();
+    let y: Vec<f64> = out.iter().map(|o| o.point[1]).collect();
+    PyBatch {
+        effect: effect.into_pyarray(py).unbind(),
+        reward: reward.into_pyarray(py).unbind(),
+        x: x.into_pyarray(py).unbind(),
+        y: y.into_pyarray(py).unbind(),
     }
 }

@@ -31,8 +31,30 @@ def test_check_env_passes_on_every_shipped_scene(name):
         check_env(made.unwrapped)
         made.reset(seed=0)
         made.step(made.action_space.sample())
-    assert env.action_space.nvec.tolist() == env.scene.alphabet_sizes
+    if env.scene.is_continuous:
+        assert env.action_space.shape == (env.scene.num_slots,)
+        assert (env.action_space.low.tolist(), env.action_space.high.tolist()) == (
+            [-1.0] * env.scene.num_slots, [1.0] * env.scene.num_slots)
+    else:
+        assert env.action_space.nvec.tolist() == env.scene.alphabet_sizes
     assert env.observation_space.n == env.scene.num_effects
+
+
+def test_box_actions_on_a_continuous_scene():
+    env = E3dEnv("arm7_continuous")
+    env.reset(seed=0)
+    lo = np.array([r[0] for r in env.scene.value_ranges])
+    hi = np.array([r[1] for r in env.scene.value_ranges])
+    assert env.values_of(np.full(7, -1.0)).tolist() == lo.tolist()
+    assert env.values_of(np.full(7, 1.0)).tolist() == hi.tolist()
+    assert env.values_of(np.full(7, 5.0)).tolist() == hi.tolist()
+    assert env.values_of(np.zeros(7)).tolist() == ((lo + hi) / 2).tolist()
+    action = np.array([1.0, -1.0, 0.5, 0, 0, 0, 0], dtype=np.float32)
+    obs, reward, terminated, truncated, info = env.step(action)
+    want = env.world.execute(info["values"])
+    assert (int(obs), info["x"], info["y"]) == (want.effect, want.x, want.y)
+    assert info["values"][:3].tolist() == [1.8, -1.2, lo[2] + 1.5 * 0.5 * (hi[2] - lo[2])]
+    assert terminated and not truncated
 
 
 def test_one_episode_is_one_command():

@@ -54,6 +54,7 @@ def test_record_shapes_and_types():
     assert set(rec.metrics) == {
         "normalized_entropy", "normalized_entropy_last_1000", "kl_to_target",
         "distinct_effects", "cumulative_reward", "first_reward_trial", "trials",
+        "reachable_effects", "normalized_entropy_reachable",
     }
     assert rec.metrics["cumulative_reward"] == rec.rewards.sum()
     assert "two_rooms: outcome table" in rec.execution

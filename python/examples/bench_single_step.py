@@ -1,0 +1,83 @@
+"""One command at a time from Python: `World.execute` (and `E3dEnv.step`)
+on puck_rooms against the pure-Python pymunk loop of
+benches/pymunk/puck_rooms.py, on the same distinct commands, in one run
+(pymunk reads the scene as `Scene.to_ron()` writes it: the walls written
+out in full).
+
+    python python/examples/bench_single_step.py [N] [RUNS]
+
+pymunk executes N random distinct commands (its --seed 1), one rollout at
+a time, and writes them; e3d then executes the same N commands one
+`World.execute` call at a time on a new World (every call a simulation:
+no command repeats, so the outcome memo never answers), then the same
+with `execute_batch` of one command at a time (the world of 32 copies
+that batches use), then with `E3dEnv.step` on a new environment. Runs alternate; medians are
+printed, on one core (RAYON_NUM_THREADS=1 is set: a single command never
+uses more than one anyway).
+"""
+
+import os
+import pathlib
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+os.environ.setdefault("RAYON_NUM_THREADS", "1")
+
+import e3d  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def main():
+    n = int(sys.argv[1]) if len(sys.argv) > 1 else 2000
+    runs = int(sys.argv[2]) if len(sys.argv) > 2 else 3
+    scene = e3d.Scene.builtin("puck_rooms")
+    rates = {"pymunk": [], "World.execute": [], "batch of one": [], "E3dEnv.step": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        cmds_path = pathlib.Path(tmp) / "commands.txt"
+        # the scene as pymunk's reader wants it: written out in full
+        # (Scene.to_ron expands the shorthand walls of scenes/puck_rooms.ron)
+        scene_path = pathlib.Path(tmp) / "puck_rooms.ron"
+        scene_path.write_text(scene.to_ron())
+        for _ in range(runs):
+            r = subprocess.run(
+                [sys.executable, str(ROOT / "benches/pymunk/puck_rooms.py"), str(n), "--seed", "1",
+                 "--scene", str(scene_path), "--commands-out", str(cmds_path)],
+                capture_output=True, text=True, check=True)
+            line = [x for x in r.stdout.splitlines() if x.startswith("pymunk,")][-1]
+            rates["pymunk"].append(float(line.split(",")[4]))
+            cmds = scene.parse(cmds_path.read_text().split())
+            w = scene.world()
+            s = time.perf_counter()
+            for c in cmds:
+                w.execute(c)
+            rates["World.execute"].append(n / (time.perf_counter() - s))
+            # a batch of one command: the world of 32 copies that batches
+            # use (what World.execute ran on before it had a world of one)
+            w = scene.world()
+            s = time.perf_counter()
+            for i in range(n):
+                w.execute_batch(cmds[i:i + 1])
+            rates["batch of one"].append(n / (time.perf_counter() - s))
+            try:
+                from e3d.gym import E3dEnv
+            except ImportError:
+                continue
+            env = E3dEnv(scene)
+            env.reset(seed=0)
+            s = time.perf_counter()
+            for c in cmds:
+                env.step(c)
+            rates["E3dEnv.step"].append(n / (time.perf_counter() - s))
+    for k, v in rates.items():
+        if v:
+            print(f"{k:<14} rollouts/s: median {statistics.median(v):.0f}, range {min(v):.0f}-{max(v):.0f} ({len(v)} runs)")
+    e, p = statistics.median(rates["World.execute"]), statistics.median(rates["pymunk"])
+    print(f"World.execute / pymunk: {e / p:.2f}x")
+
+
+if __name__ == "__main__":
+    main()

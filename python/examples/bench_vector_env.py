@@ -1,0 +1,49 @@
+"""E3dVectorEnv (one execute_batch a step) against gymnasium's
+SyncVectorEnv over E3dEnv, at 64 environments on puck_rooms, the same
+random actions (action_space.seed(0)) for both, new environments (empty
+outcome memos) each run.
+
+    python python/examples/bench_vector_env.py [STEPS] [RUNS]
+
+Prints the environment steps per second (vector steps x 64) of each, and
+their ratio.
+"""
+
+import statistics
+import sys
+import time
+
+from gymnasium.vector import AutoresetMode, SyncVectorEnv
+
+from e3d.gym import E3dEnv, E3dVectorEnv
+
+N = 64
+
+
+def rate(env, actions):
+    env.reset(seed=0)
+    s = time.perf_counter()
+    for a in actions:
+        env.step(a)
+    return len(actions) * N / (time.perf_counter() - s)
+
+
+def main():
+    steps = int(sys.argv[1]) if len(sys.argv) > 1 else 40
+    runs = int(sys.argv[2]) if len(sys.argv) > 2 else 3
+    probe = E3dVectorEnv("puck_rooms", N)
+    probe.action_space.seed(0)
+    actions = [probe.action_space.sample() for _ in range(steps)]
+    vec, sync = [], []
+    for _ in range(runs):
+        vec.append(rate(E3dVectorEnv("puck_rooms", N), actions))
+        sync.append(rate(SyncVectorEnv([lambda: E3dEnv("puck_rooms") for _ in range(N)],
+                                       autoreset_mode=AutoresetMode.SAME_STEP), actions))
+    v, s = statistics.median(vec), statistics.median(sync)
+    print(f"E3dVectorEnv  steps/s: median {v:.0f}, range {min(vec):.0f}-{max(vec):.0f} ({runs} runs)")
+    print(f"SyncVectorEnv steps/s: median {s:.0f}, range {min(sync):.0f}-{max(sync):.0f} ({runs} runs)")
+    print(f"ratio: {v / s:.1f}x")
+
+
+if __name__ == "__main__":
+    main()

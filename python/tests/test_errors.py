@@ -1,0 +1,201 @@
+"""Errors as Python users expect them: ValueError naming the argument,
+every built-in learner listed, SceneError's parts as attributes, and no
+Rust panic reaching Python."""
+
+import threading
+
+import numpy as np
+import pytest
+
+import e3d
+
+# the library's LearnerKind::ALL, in its order
+LEARNERS = ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm"]
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({"seed": -1}, r"^seed = -1: expected an integer from 0 to 2\^64 - 1$"),
+    ({"seed": 2**64}, r"^seed = 18446744073709551616: expected an integer from 0"),
+    ({"trials": -5}, r"^trials = -5: expected an integer from 1"),
+    ({"trials": 0}, r"^trials = 0: expected an integer from 1"),
+])
+def test_run_session_integer_arguments_raise_value_error_naming_them(kw, match):
+    with pytest.raises(ValueError, match=match):
+        e3d.run_session("two_rooms", trials=kw.pop("trials", 10), **kw)
+
+
+def test_integer_arguments_of_the_wrong_type_raise_type_error():
+    with pytest.raises(TypeError, match="seed: expected an integer, found str"):
+        e3d.run_session("two_rooms", trials=10, seed="1")
+    with pytest.raises(TypeError, match="trials: expected an integer, found float"):
+        e3d.run_session("two_rooms", trials=10.0)
+    # numpy integers are integers
+    rec = e3d.run_session("two_rooms", trials=np.int64(10), seed=np.uint64(3))
+    assert (rec.trials, rec.seed) == (10, 3)
+
+
+def test_run_sessions_integer_arguments():
+    with pytest.raises(ValueError, match=r"^seeds\[1\] = -2: expected an integer from 0"):
+        e3d.run_sessions("two_rooms", trials=10, seeds=[0, -2])
+    with pytest.raises(ValueError, match=r"^sessions = -2: expected an integer from 1"):
+        e3d.run_sessions("two_rooms", trials=10, sessions=-2)
+    with pytest.raises(ValueError, match=r"^seed = -1: "):
+        e3d.run_sessions("two_rooms", trials=10, sessions=2, seed=-1)
+    with pytest.raises(TypeError, match="seeds: expected a sequence of integers, found int"):
+        e3d.run_sessions("two_rooms", trials=10, seeds=3)
+
+
+def test_run_sweep_threads():
+    with pytest.raises(ValueError, match=r"^threads = -1: expected an integer from 1"):
+        e3d.run_sweep({"scenes": ["two_rooms"], "learners": ["e3d"], "sessions": 1, "trials": 10},
+                      threads=-1)
+
+
+def test_empty_batches_are_refused_alike():
+    world = e3d.Scene.builtin("two_rooms").world()
+    msgs = []
+    for empty in ([], np.zeros((0, 7), dtype=np.uint8), np.zeros((0, 7), dtype=np.int64), ()):
+        with pytest.raises(ValueError, match="commands: an empty batch") as err:
+            world.execute_batch(empty)
+        msgs.append(str(err.value))
+    assert "expected at least one command" in msgs[0]
+    assert world.memo_len == 0
+
+
+def test_rng_integers_argument():
+    class L:
+        def __init__(self, n):
+            self.n = n
+
+        def propose(self, rng):
+            rng.integers(self.n)
+            return [0] * 7
+
+        def learn(self, *a):
+            pass
+
+    with pytest.raises(ValueError, match=r"^n = -3: expected an integer from 1"):
+        e3d.run_session("two_rooms", learner=L(-3), trials=3)
+    with pytest.raises(ValueError, match=r"^n = 0: "):
+        e3d.run_session("two_rooms", learner=L(0), trials=3)
+
+
+def test_unknown_learner_lists_every_builtin_learner():
+    with pytest.raises(ValueError) as err:
+        e3d.run_session("two_rooms", learner="nope", trials=10)
+    msg = str(err.value)
+    assert msg.startswith("unknown learner `nope`; expected one of: ")
+    assert msg.split(": ", 1)[1].split(", ") == LEARNERS
+    with pytest.raises(TypeError) as err:
+        e3d.run_session("two_rooms", learner=object(), trials=10)
+    listed = ", ".join(f'"{n}"' for n in LEARNERS)
+    assert f"learner: expected one of {listed} or an object with propose" in str(err.value)
+    with pytest.raises(TypeError) as err:
+        e3d.run_sessions("two_rooms", learner=3, trials=10, sessions=2)
+    assert f"expected one of {listed} or a sequence of Python learners" in str(err.value)
+    # every listed learner runs
+    for name in LEARNERS:
+        assert e3d.run_session("two_rooms", learner=name, trials=20).learner == name
+
+
+def test_scene_error_attributes_of_a_syntax_error():
+    with pytest.raises(e3d.SceneError) as err:
+        e3d.Scene.from_text('Scene(name: "x", wrold: Grid(rows: 1))', "x.ron")
+    e = err.value
+    assert (e.file, e.line, e.column, e.field) == ("x.ron", 1, 18, None)
+    assert str(e).startswith("x.ron:1:18: unknown field `wrold`")
+
+
+def test_scene_error_attributes_of_an_invalid_value(tmp_path):
+    bad = tmp_path / "bad.ron"
+    bad.write_text('Scene(\n    name: "x",\n    world: Grid(rows: 3, cols: 6, start: (0, 0), walls: []),\n'
+                   '    command: Repeat(slots: 7, alphabet: [(symbol: \'E\', action: Move(drow: 0, dcol: 1)),'
+                   ' (symbol: \'E\', action: Idle)]),\n)\n')
+    with pytest.raises(e3d.SceneError) as err:
+        e3d.Scene.load(bad)
+    e = err.value
+    assert e.file == str(bad)
+    assert e.line == 4 and isinstance(e.column, int) and e.column > 1
+    assert isinstance(e.field, str) and e.field
+    assert str(e).startswith(f"{bad}:4:{e.column}: ")
+
+
+def test_scene_error_attributes_without_position():
+    with pytest.raises(e3d.SceneError) as err:
+        e3d.Scene.builtin("nope")
+    assert (err.value.file, err.value.line, err.value.column, err.value.field) == ("nope", None, None, None)
+    with pytest.raises(e3d.SceneError) as err:
+        e3d.Scene.from_text("  ", "blank.ron")
+    assert (err.value.file, err.value.line) == ("blank.ron", None)
+    # raised from Python, the attributes exist too
+    e = e3d.SceneError("mine")
+    assert (e.file, e.line, e.column, e.field) == (None, None, None, None)
+
+
+def test_sweep_error_attributes():
+    with pytest.raises(e3d.SceneError) as err:
+        e3d.run_sweep('Sweep(\n    scenes: ["two_rooms"],\n    learners: [e3d, nope],\n    sessions: 1,\n    trials: 10,\n)\n')
+    assert (err.value.file, err.value.line) == ("<string>", 3)
+    assert err.value.column >= 20
+
+
+def test_session_rng_kept_after_propose_raises_runtime_error():
+    kept = []
+
+    class Keeper:
+        def propose(self, rng):
+            kept.append(rng)
+            return [rng.integers(4) for _ in range(7)]
+
+        def learn(self, *a):
+            pass
+
+    e3d.run_session("two_rooms", learner=Keeper(), trials=3)
+    with pytest.raises(RuntimeError, match="SessionRng used outside the propose"):
+        kept[0].random()
+
+
+def test_session_rng_from_another_thread_is_no_panic():
+    errors = []
+
+    class Threaded:
+        def propose(self, rng):
+            out = []
+            t = threading.Thread(target=lambda: out.append(rng.integers(4)))
+            t.start()
+            t.join()
+            return [out[0]] + [0] * 6
+
+        def learn(self, *a):
+            pass
+
+    class Late:
+        """Hands the generator to a thread that uses it after propose returned."""
+        def propose(self, rng):
+            def late():
+                try:
+                    rng.random()
+                except RuntimeError as e:
+                    errors.append(e)
+            self.t = threading.Thread(target=late)
+            return [0] * 7
+
+        def learn(self, *a):
+            self.t.start()
+            self.t.join()
+
+    class SameThread:
+        def propose(self, rng):
+            return [rng.integers(4)] + [0] * 6
+
+        def learn(self, *a):
+            pass
+
+    # within the call, another thread may draw: the same draws as on this one
+    rec = e3d.run_session("two_rooms", learner=Threaded(), trials=50, seed=4)
+    same = e3d.run_session("two_rooms", learner=SameThread(), trials=50, seed=4)
+    assert rec.commands.tolist() == same.commands.tolist()
+    assert len(set(rec.commands[:, 0].tolist())) == 4
+    assert rec.trials == 50
+    e3d.run_session("two_rooms", learner=Late(), trials=3)
+    assert len(errors) == 3 and all("outside the propose" in str(e) for e in errors)
