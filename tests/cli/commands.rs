@@ -695,7 +695,7 @@ fn long_scene_tools_print_their_estimated_cost_first() {
     assert!(
         first.starts_with("scene pendulum3: simulating 125 commands on 2 thread(s) (")
             && first.contains(" steps each): about ")
-            && first.ends_with(" by the cost model"),
+            && first.ends_with(" by the cost model (calibrated on timed rollouts here)"),
         "{err}"
     );
     // a large sample: 600 arm7 rollouts of 120 steps on one thread
@@ -711,7 +711,7 @@ fn long_scene_tools_print_their_estimated_cost_first() {
     assert!(
         line.starts_with(
             "scene check arm7: 600 command(s) (120 steps each) on 1 thread(s): about "
-        ) && line.ends_with(" s by the cost model"),
+        ) && line.ends_with(" s (the cost model, calibrated on at least 3 timed rollouts here)"),
         "{line}"
     );
     // scene exec of 400 commands on one thread: said before
@@ -739,8 +739,9 @@ fn long_scene_tools_print_their_estimated_cost_first() {
     assert!(
         said[0].starts_with("scene exec arm7: ")
             && said[0].contains(" commands so far (120 steps each), about ")
-            && said[0]
-                .ends_with(" each on 1 thread(s) by the cost model; more as stdin gives them"),
+            && said[0].ends_with(
+                " each on 1 thread(s) by the cost model, calibrated here; more as stdin gives them"
+            ),
         "{err}"
     );
     // short ones: nothing on stderr
