@@ -13,6 +13,7 @@ use e3d::{
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use rayon::prelude::*;
 use std::cell::RefCell;
 use std::path::PathBuf;
 
