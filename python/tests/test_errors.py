@@ -10,7 +10,7 @@ import pytest
 import e3d
 
 # the library's LearnerKind::ALL, in its order
-LEARNERS = ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm"]
+LEARNERS = ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm", "goal_babbling", "archive"]
 
 
 @pytest.mark.parametrize("kw, match", [
