@@ -847,6 +847,14 @@ fn run_out_leaves_only_its_files_and_writes_through_no_planted_link() {
         .unwrap()
         .file_type()
         .is_symlink());
+    // nothing left behind but the two files and the planted links
+    let mut left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with(".trials.csv.session0-"))
+        .collect();
+    left.sort();
+    assert_eq!(left, ["summary.json", "trials.csv"]);
     std::fs::remove_dir_all(&dir).unwrap();
     let _ = std::fs::remove_file(&victim);
 }
