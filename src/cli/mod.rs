@@ -73,6 +73,11 @@ pub fn load_scene(name: &str) -> Result<e3d::Scene, CliError> {
 pub fn report_error(e: &CliError) -> ExitCode {
     use std::io::Write;
     // a standard error that cannot be written does not change the code
-    let _ = writeln!(std::io::stderr(), "error: {}", e.message);
+    // a name or a command with ESC or BEL in it must not drive the terminal
+    let _ = writeln!(
+        std::io::stderr(),
+        "error: {}",
+        e3d::text::escape_controls(&e.message)
+    );
     ExitCode::from(e.code)
 }

@@ -101,7 +101,8 @@ pub use factory::{
 };
 pub use plan::{format_number, uses_param, Cell, ParseShardError, SessionSpec, Shard, Sweep};
 pub use results::{
-    merge, DirReport, SessionResult, CELL_COLUMNS, FAILURE_COLUMN, JOURNAL, KEY_COLUMNS, RESULTS,
+    merge, DirReport, SessionResult, CELL_COLUMNS, FAILURE_COLUMN, JOURNAL, KEY_COLUMNS,
+    MAX_RESULTS_BYTES, PHYSICS_FINGERPRINT, RESULTS,
     SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,
 };
 pub use run::DirOptions;

@@ -380,6 +380,10 @@ impl Sweep {
             for t in temporaries {
                 let _ = std::fs::remove_file(t);
             }
+        } else {
+            // those of a run killed while writing its results (a process
+            // that still runs keeps its own)
+            crate::io::remove_stale_temps(dir);
         }
         if non_empty && !options.resume {
             return Err(SweepError::Output(format!(
@@ -400,7 +404,7 @@ impl Sweep {
             (VERSION_FILE, version_line().into_bytes()),
         ] {
             let p = dir.join(name);
-            match std::fs::read(&p) {
+            match crate::text::read_own_bytes(&p, crate::scene::MAX_FILE_BYTES, name) {
                 Ok(old) if old == bytes => {}
                 Ok(_) => {
                     return Err(SweepError::Output(format!(
@@ -409,10 +413,10 @@ impl Sweep {
                         if name == SWEEP_COPY { self.file.clone() } else { format!("e3d {VERSION}") }
                     )))
                 }
-                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                Err(e) if e.is_not_found() => {
                     crate::io::write_atomic(&p, &bytes).map_err(io_err(&p))?
                 }
-                Err(e) => return Err(io_err(&p)(e)),
+                Err(e) => return Err(SweepError::Output(format!("{e}; choose another --out"))),
             }
         }
         let (mut journal, mut done) = if journal_path.exists() {
