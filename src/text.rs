@@ -95,6 +95,19 @@ pub fn echo(s: &str) -> String {
     out
 }
 
+/// `s` cut after `max` characters with `…` and its whole length in
+/// characters; as is when shorter.
+pub fn cut(s: &str, max: usize) -> Cow<'_, str> {
+    match s.char_indices().nth(max) {
+        None => Cow::Borrowed(s),
+        Some((i, _)) => Cow::Owned(format!(
+            "{}… ({} characters)",
+            &s[..i],
+            s.chars().count()
+        )),
+    }
+}
+
 /// `s` safe in XML text and attribute values (SVG, HTML): `&`, `<`, `>`,
 /// `"` and `'` as entities; the control characters XML 1.0 does not allow
 /// (all of C0 but tab, line feed and carriage return) written as `\xHH`,
@@ -125,6 +138,25 @@ pub fn xml_escape(s: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
+/// `xml` (a whole SVG or HTML document) with the characters XML 1.0
+/// forbids written as `\xHH` text: for documents drawn by a library that
+/// escapes `<` and `&` but passes control characters through (plotters),
+/// which would make the document ill-formed.
+pub fn xml_forbidden_escaped(xml: String) -> String {
+    if !xml.chars().any(xml_forbidden) {
+        return xml;
+    }
+    let mut out = String::with_capacity(xml.len() + 16);
+    for c in xml.chars() {
+        if xml_forbidden(c) {
+            push_code(&mut out, c);
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 /// Characters XML 1.0 forbids in a document (C0 controls but tab, line
 /// feed and carriage return; the two non-characters U+FFFE and U+FFFF).
 fn xml_forbidden(c: char) -> bool {
@@ -147,6 +179,31 @@ pub fn csv_field(s: &str) -> Cow<'_, str> {
     } else {
         Cow::Borrowed(s)
     }
+}
+
+/// The most characters a scene, body or joint name may hold.
+pub const MAX_NAME_CHARS: usize = 200;
+
+/// Checks a name (of a scene, a body, a joint): no control character
+/// (ESC, BEL, a line break: names are printed to terminals and written
+/// into files), no `,` or `"` (a scene's name is a CSV field of a sweep's
+/// results), at most [`MAX_NAME_CHARS`] characters. The error says what
+/// is expected and what was found (escaped, cut).
+pub fn check_name(name: &str) -> Result<(), String> {
+    if let Some(c) = name.chars().find(|&c| c.is_control() || c == ',' || c == '"') {
+        return Err(format!(
+            "a name without control characters, ',' or '\"' (it is printed and written into CSV files), found U+{:04X} in `{}`",
+            u32::from(c),
+            echo(name)
+        ));
+    }
+    let n = name.chars().count();
+    if n > MAX_NAME_CHARS {
+        return Err(format!(
+            "a name of at most {MAX_NAME_CHARS} characters, found {n}"
+        ));
+    }
+    Ok(())
 }
 
 /// Why one of e3d's own files could not be read (see [`read_own_file`]).
@@ -284,6 +341,10 @@ pub fn read_own_file(path: &Path, max: u64, what: &str) -> Result<String, ReadEr
     })
 }
 
+/// The longest line e3d reads from standard input (`scene exec -`): 64
+/// KiB, far more than a command of 64 slots.
+pub const MAX_LINE_BYTES: usize = 64 << 10;
+
 /// What [`read_line_bounded`] read.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Line {
@@ -341,6 +402,28 @@ pub fn read_line_bounded(input: &mut impl BufRead, max: usize) -> io::Result<Lin
         Line::TooLong(text, total)
     } else {
         Line::Line(text)
+    })
+}
+
+/// The lines of `input` (without line feeds), each read by
+/// [`read_line_bounded`]: a line longer than `max` bytes is an error of
+/// kind `InvalidData` that says its length and start; the lines after it
+/// are still read.
+pub fn bounded_lines<R: BufRead>(
+    mut input: R,
+    max: usize,
+) -> impl Iterator<Item = io::Result<String>> {
+    std::iter::from_fn(move || match read_line_bounded(&mut input, max) {
+        Ok(Line::End) => None,
+        Ok(Line::Line(l)) => Some(Ok(l)),
+        Ok(Line::TooLong(start, n)) => Some(Err(io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!(
+                "a line of {n} bytes; expected at most {max}, found `{}`",
+                echo(&start)
+            ),
+        ))),
+        Err(e) => Some(Err(e)),
     })
 }
 

@@ -2,7 +2,7 @@
 
 use super::output::write_file;
 use super::{CliError, CliResult};
-use crate::cli::console::outln;
+use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::report::html::{parse_trials, run_page_with_note, sweep_page, MAX_TRIALS_CSV_BYTES};
 use e3d::report::run_scene::{SceneRecord, MAX_SUMMARY_JSON_BYTES};
@@ -39,9 +39,9 @@ pub fn run(a: ReportArgs) -> CliResult {
             }
         )));
     }
-    let (page, what) = if dir.join("trials.csv").is_file() {
+    let (page, what) = if dir.join("trials.csv").exists() {
         (run_report(dir)?, "run")
-    } else if dir.join(SUMMARY).is_file() {
+    } else if dir.join(SUMMARY).exists() {
         (sweep_report(dir)?, "sweep")
     } else if dir.join(RESULTS).is_file() {
         return Err(CliError::input(format!(
@@ -128,7 +128,7 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
                 "summary.json: {why}; the effects are drawn on a plain {} x {cols} grid in index order, not on the scene's grid",
                 n.div_ceil(cols)
             );
-            eprintln!("warning: {}: {note}", dir.display());
+            errln!("warning: {}: {note}", dir.display());
             (n.div_ceil(cols), cols, note)
         }
     };

@@ -120,6 +120,12 @@ pub struct PlotSpec {
 /// more. Heat map (`y` given): the mean of the metric in each (x, y) cell;
 /// the other columns must not vary (select with `filters`).
 pub fn plot(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
+    // plotters escapes `<` and `&` but not control characters, which a
+    // hand-edited summary may hold
+    draw(summary, spec).map(crate::text::xml_forbidden_escaped)
+}
+
+fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
     let metrics = summary.metrics();
     if !metrics.contains(&spec.metric.as_str()) {
         return err(format!(

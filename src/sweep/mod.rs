@@ -105,7 +105,7 @@ pub use results::{
     MAX_RESULTS_BYTES, PHYSICS_FINGERPRINT, RESULTS,
     SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,
 };
-pub use run::DirOptions;
+pub use run::{cap_threads, max_threads, DirOptions, THREADS_PER_CORE};
 pub use spec::{
     MetricSpec, ParamValues, Scale, SweepSpec, Values, FIXED_PARAM_NAMES, MAX_SESSIONS, MAX_STEPS,
     MAX_TRIALS, PARAM_NAMES,
