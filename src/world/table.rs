@@ -592,6 +592,7 @@ impl OutcomeTable {
     /// there (whole or not at all). The result is identical either way.
     pub fn cached(scene: &Scene, dir: &Path) -> Result<OutcomeTable, WorldError> {
         let path = Self::cache_path(scene, dir);
+        crate::io::remove_stale_temps(dir);
         if let Ok(CachedOutcomes::Full(t)) = Self::read_file(&path, scene) {
             return Ok(t);
         }

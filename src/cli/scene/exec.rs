@@ -42,8 +42,8 @@ pub(super) fn read_commands(space: &CommandSpace, commands: &[String], tx: &Sync
             let r = match read_line_bounded(&mut stdin, MAX_LINE_BYTES) {
                 Ok(Line::End) => break,
                 Err(e) => Err(CliError::input(format!("stdin line {}: {e}", k + 1))),
-                Ok(Line::TooLong(start, n)) => Err(CliError::input(format!(
-                    "stdin line {}: a line of {n} bytes; expected a command (at most {MAX_LINE_BYTES} bytes), found `{}`",
+                Ok(Line::TooLong(start, _)) => Err(CliError::input(format!(
+                    "stdin line {}: a line of more than {MAX_LINE_BYTES} bytes; expected a command, found `{}`",
                     k + 1,
                     e3d::text::echo(&start)
                 ))),
