@@ -543,7 +543,7 @@ mod tests {
             .collect();
         assert_eq!(
             f,
-            vec![("a\"b,c".into(), 1), ("d".into(), 11), ("x".into(), 13)]
+            vec![("a\"b,c".into(), 1), ("d".into(), 10), ("x".into(), 12)]
         );
         assert_eq!(csv_fields("").len(), 1);
         assert_eq!(csv_fields("a,,b").len(), 3);
