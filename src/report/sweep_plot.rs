@@ -178,12 +178,17 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
             ));
         }
     }
+    // a summary written by e3d has the four; an edited one may not
     let col = |suffix: &str| {
-        summary
-            .col(&format!("{}_{suffix}", spec.metric))
-            .expect("the four columns of a metric")
+        let name = format!("{}_{suffix}", spec.metric);
+        summary.col(&name).ok_or_else(|| {
+            PlotError(format!(
+                "the summary has `{}_mean` but no `{name}` column; expected the columns e3d writes",
+                spec.metric
+            ))
+        })
     };
-    let (mi, lo, hi) = (col("mean"), col("ci_low"), col("ci_high"));
+    let (mi, lo, hi) = (col("mean")?, col("ci_low")?, col("ci_high")?);
     let num = |s: &str| s.parse::<f64>().ok();
     let metric = metric_label(&spec.metric);
     let mut title = match &spec.y {
