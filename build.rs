@@ -71,7 +71,10 @@ fn main() {
             if let Some(n) = line.strip_prefix("name = ") {
                 name = n;
             } else if let Some(v) = line.strip_prefix("version = ") {
-                if matches!(name, "\"rapier2d\"" | "\"parry2d\"" | "\"nalgebra\"" | "\"glam\"") {
+                if matches!(
+                    name,
+                    "\"rapier2d\"" | "\"parry2d\"" | "\"nalgebra\"" | "\"glam\""
+                ) {
                     parts.push(fnv1a64(
                         format!("{name}{v}").into_bytes(),
                         0xcbf29ce484222325,
@@ -80,9 +83,9 @@ fn main() {
             }
         }
     }
-    let h = parts.iter().fold(0xcbf29ce484222325, |h, p| {
-        fnv1a64(p.to_le_bytes(), h)
-    });
+    let h = parts
+        .iter()
+        .fold(0xcbf29ce484222325, |h, p| fnv1a64(p.to_le_bytes(), h));
     println!("cargo:rustc-env=E3D_PHYSICS_FINGERPRINT={:08x}", h >> 32);
     println!("cargo:rerun-if-changed=src/world");
     println!("cargo:rerun-if-changed=src/scene");

@@ -106,10 +106,7 @@ pub fn forget_temp(path: &Path) {
 /// touched.
 pub fn remove_temps() -> usize {
     let paths = std::mem::take(&mut *TEMPS.lock().unwrap_or_else(|e| e.into_inner()));
-    paths
-        .iter()
-        .filter(|p| fs::remove_file(p).is_ok())
-        .count()
+    paths.iter().filter(|p| fs::remove_file(p).is_ok()).count()
 }
 
 /// On SIGINT (Ctrl-C) and SIGTERM, removes this process's temporary files
@@ -165,7 +162,10 @@ pub fn remove_temps_on_signals() {
         for sig in [libc::SIGINT, libc::SIGTERM] {
             // SAFETY: installs a handler that only calls write(2)
             unsafe {
-                libc::signal(sig, on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t);
+                libc::signal(
+                    sig,
+                    on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t,
+                );
             }
         }
     }

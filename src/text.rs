@@ -44,7 +44,10 @@ fn is_terminal_control(c: char) -> bool {
 /// assert_eq!(escape_controls("two\nlines"), "two\nlines");
 /// ```
 pub fn escape_controls(s: &str) -> Cow<'_, str> {
-    if !s.chars().any(|c| is_terminal_control(c) && c != '\n' && c != '\t') {
+    if !s
+        .chars()
+        .any(|c| is_terminal_control(c) && c != '\n' && c != '\t')
+    {
         return Cow::Borrowed(s);
     }
     let mut out = String::with_capacity(s.len() + 8);
@@ -79,8 +82,7 @@ fn push_code(out: &mut String, c: char) {
 /// ```
 pub fn echo(s: &str) -> String {
     let mut out = String::new();
-    let mut shown = 0;
-    for c in s.chars() {
+    for (shown, c) in s.chars().enumerate() {
         if shown == MAX_ECHO_CHARS {
             let _ = write!(out, "… ({} characters)", s.chars().count());
             return out;
@@ -90,7 +92,6 @@ pub fn echo(s: &str) -> String {
         } else {
             out.push(c);
         }
-        shown += 1;
     }
     out
 }
@@ -100,11 +101,7 @@ pub fn echo(s: &str) -> String {
 pub fn cut(s: &str, max: usize) -> Cow<'_, str> {
     match s.char_indices().nth(max) {
         None => Cow::Borrowed(s),
-        Some((i, _)) => Cow::Owned(format!(
-            "{}… ({} characters)",
-            &s[..i],
-            s.chars().count()
-        )),
+        Some((i, _)) => Cow::Owned(format!("{}… ({} characters)", &s[..i], s.chars().count())),
     }
 }
 
@@ -190,7 +187,10 @@ pub const MAX_NAME_CHARS: usize = 200;
 /// results), at most [`MAX_NAME_CHARS`] characters. The error says what
 /// is expected and what was found (escaped, cut).
 pub fn check_name(name: &str) -> Result<(), String> {
-    if let Some(c) = name.chars().find(|&c| c.is_control() || c == ',' || c == '"') {
+    if let Some(c) = name
+        .chars()
+        .find(|&c| c.is_control() || c == ',' || c == '"')
+    {
         return Err(format!(
             "a name without control characters, ',' or '\"' (it is printed and written into CSV files), found U+{:04X} in `{}`",
             u32::from(c),
@@ -327,10 +327,7 @@ pub fn read_own_file(path: &Path, max: u64, what: &str) -> Result<String, ReadEr
     String::from_utf8(bytes).map_err(|e| {
         let upto = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         let line = upto.iter().filter(|&&b| b == b'\n').count() + 1;
-        let start = upto
-            .iter()
-            .rposition(|&b| b == b'\n')
-            .map_or(0, |i| i + 1);
+        let start = upto.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
         let col = String::from_utf8_lossy(&upto[start..]).chars().count() + 1;
         ReadError::NotUtf8 {
             file: path.display().to_string(),
@@ -392,7 +389,10 @@ pub fn read_line_bounded(input: &mut impl BufRead, max: usize) -> io::Result<Lin
         }
         if total > max as u64 + 1 {
             // past the cap (and a possible CR): stop in mid-line
-            return Ok(Line::TooLong(String::from_utf8_lossy(&kept).into_owned(), total));
+            return Ok(Line::TooLong(
+                String::from_utf8_lossy(&kept).into_owned(),
+                total,
+            ));
         }
     }
     if !any {
@@ -559,10 +559,22 @@ mod tests {
             l => panic!("{l:?}"),
         }
         let mut r = io::BufReader::new(&b"ab\r\ncd\n\nef"[..]);
-        assert_eq!(read_line_bounded(&mut r, 10).unwrap(), Line::Line("ab".into()));
-        assert_eq!(read_line_bounded(&mut r, 10).unwrap(), Line::Line("cd".into()));
-        assert_eq!(read_line_bounded(&mut r, 10).unwrap(), Line::Line("".into()));
-        assert_eq!(read_line_bounded(&mut r, 10).unwrap(), Line::Line("ef".into()));
+        assert_eq!(
+            read_line_bounded(&mut r, 10).unwrap(),
+            Line::Line("ab".into())
+        );
+        assert_eq!(
+            read_line_bounded(&mut r, 10).unwrap(),
+            Line::Line("cd".into())
+        );
+        assert_eq!(
+            read_line_bounded(&mut r, 10).unwrap(),
+            Line::Line("".into())
+        );
+        assert_eq!(
+            read_line_bounded(&mut r, 10).unwrap(),
+            Line::Line("ef".into())
+        );
         assert_eq!(read_line_bounded(&mut r, 10).unwrap(), Line::End);
     }
 }

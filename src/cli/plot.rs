@@ -63,8 +63,8 @@ pub fn run(a: PlotArgs) -> CliResult {
             "{e}; expected the --out folder of a finished `e3d sweep` or `e3d merge`"
         ))
     })?;
-    let summary = Summary::parse(&text)
-        .map_err(|e| CliError::input(format!("{}/{e}", a.dir.display())))?;
+    let summary =
+        Summary::parse(&text).map_err(|e| CliError::input(format!("{}/{e}", a.dir.display())))?;
     let svg = plot(
         &summary,
         &PlotSpec {

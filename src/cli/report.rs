@@ -6,9 +6,9 @@ use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::report::html::{parse_trials, run_page_with_note, sweep_page, MAX_TRIALS_CSV_BYTES};
 use e3d::report::run_scene::{SceneRecord, MAX_SUMMARY_JSON_BYTES};
+use e3d::report::sweep_plot::Summary;
 use e3d::report::sweep_plot::MAX_SUMMARY_CSV_BYTES;
 use e3d::sweep::MAX_RESULTS_BYTES;
-use e3d::report::sweep_plot::Summary;
 use e3d::sweep::{RESULTS, SUMMARY, SWEEP_COPY};
 use std::path::{Path, PathBuf};
 

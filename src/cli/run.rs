@@ -4,12 +4,12 @@ use super::output::{prepare_out, write_file};
 use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCsv};
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
+use e3d::report::run_scene::SceneRecord;
 use e3d::world::{Executor, Workload};
 use e3d::{
     policy_effect_distribution, run_sessions, ExecutionPlan, Metrics, Params, RunningMetrics,
     Scene, SessionConfig, Target,
 };
-use e3d::report::run_scene::SceneRecord;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 

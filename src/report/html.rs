@@ -301,7 +301,10 @@ pub fn run_page_with_note(
     let symbols_of: Vec<Vec<char>> = trials.iter().map(|t| t.command.chars().collect()).collect();
     let slots = symbols_of.iter().map(Vec::len).max().unwrap_or(0);
     for s in 0..slots {
-        let mut symbols: Vec<char> = symbols_of.iter().filter_map(|c| c.get(s).copied()).collect();
+        let mut symbols: Vec<char> = symbols_of
+            .iter()
+            .filter_map(|c| c.get(s).copied())
+            .collect();
         symbols.sort_unstable();
         symbols.dedup();
         let mut ys = vec![Vec::new(); symbols.len()];

@@ -16,9 +16,9 @@
 pub mod drives;
 pub mod html;
 pub mod motion_svg;
-pub mod run_scene;
 #[cfg(feature = "plots")]
 pub mod paper;
+pub mod run_scene;
 pub mod scene_svg;
 #[cfg(feature = "plots")]
 pub mod sweep_plot;

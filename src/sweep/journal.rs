@@ -244,7 +244,11 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
         for (j, v) in row.split(',').enumerate() {
             if metrics.contains(&j) && !v.is_empty() {
                 crate::text::parse_finite(v, &path.display().to_string(), n, col, names[j])
-                    .map_err(|e| SweepError::Output(format!("{e}; the journal was edited: choose another --out")))?;
+                    .map_err(|e| {
+                        SweepError::Output(format!(
+                            "{e}; the journal was edited: choose another --out"
+                        ))
+                    })?;
             }
             col += v.chars().count() + 1;
         }

@@ -102,8 +102,7 @@ pub use factory::{
 pub use plan::{format_number, uses_param, Cell, ParseShardError, SessionSpec, Shard, Sweep};
 pub use results::{
     merge, DirReport, SessionResult, CELL_COLUMNS, FAILURE_COLUMN, JOURNAL, KEY_COLUMNS,
-    MAX_RESULTS_BYTES, PHYSICS_FINGERPRINT, RESULTS,
-    SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,
+    MAX_RESULTS_BYTES, PHYSICS_FINGERPRINT, RESULTS, SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,
 };
 pub use run::{cap_threads, max_threads, DirOptions, THREADS_PER_CORE};
 pub use spec::{

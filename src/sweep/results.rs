@@ -261,6 +261,8 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
             h0.shard.n
         )));
     }
+    // what a killed merge left (`.summary.csv.tmp-*`) does not count
+    crate::io::remove_stale_temps(out);
     if out.exists()
         && (!out.is_dir()
             || std::fs::read_dir(out)

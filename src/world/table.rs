@@ -688,12 +688,11 @@ impl OutcomeTable {
             .min(MAX_TABLE_COMMANDS)
             .saturating_mul((RECORD + 8) as u64)
             .saturating_add((HEADER + 8) as u64);
-        let bytes = crate::text::read_own_bytes(path, most, "e3d table file").map_err(|e| {
-            match e {
+        let bytes =
+            crate::text::read_own_bytes(path, most, "e3d table file").map_err(|e| match e {
                 crate::text::ReadError::Io { error, .. } => error,
                 other => io::Error::new(io::ErrorKind::InvalidData, other.to_string()),
-            }
-        })?;
+            })?;
         let rewards = scene.reward_table();
         let bad = |m: &str| {
             io::Error::new(

@@ -67,7 +67,10 @@ fn trials_csv_values_are_bounded_and_finite_with_their_place() {
     // a 100,000-character command: refused, and the echo cut
     let long = "N".repeat(100_000);
     let e = parse_trials(&format!("trial,command,effect,reward\n1,{long},3,0\n")).unwrap_err();
-    assert!(e.starts_with("trials.csv:2:3: column `command`: expected at most 64 symbols"), "{e}");
+    assert!(
+        e.starts_with("trials.csv:2:3: column `command`: expected at most 64 symbols"),
+        "{e}"
+    );
     assert!(e.len() < 400, "{}", e.len());
 }
 
@@ -81,7 +84,11 @@ fn report_refuses_a_huge_effect_instead_of_allocating_it() {
     .unwrap();
     let o = run(&["report", d.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("trials.csv:2:6: column `effect`"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("trials.csv:2:6: column `effect`"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 const SUMMARY_HEAD: &str = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n";
@@ -97,7 +104,10 @@ fn summary_csv_refuses_non_finite_numbers_with_their_place() {
         "summary.csv:3:17: column `beta`: expected a finite number, found `inf`"
     );
     let csv = format!("{SUMMARY_HEAD}g,e3d,false,0.3,1,0.03,0.01,,3,NaN,0.01,0.88,0.92\n");
-    assert!(Summary::parse(&csv).unwrap_err().0.contains("column `h_mean`"));
+    assert!(Summary::parse(&csv)
+        .unwrap_err()
+        .0
+        .contains("column `h_mean`"));
 }
 
 #[test]
@@ -134,7 +144,10 @@ fn a_reward_that_would_make_a_metric_infinite_is_refused_at_load() {
         .replace("value: 1.0", "value: 1e308");
     assert!(text.contains("1e308"));
     let e = Scene::parse(&text, "big.ron").unwrap_err().to_string();
-    assert!(e.contains("field `value`") && e.contains("at most 1e12"), "{e}");
+    assert!(
+        e.contains("field `value`") && e.contains("at most 1e12"),
+        "{e}"
+    );
 }
 
 /// A two-session sweep into `dir`; returns the sweep file.
@@ -166,7 +179,10 @@ fn resume_refuses_a_resealed_journal_line_holding_inf() {
     let n = fields.len();
     fields[n - 3] = "inf";
     let payload = fields.join(",");
-    lines.push(format!("{:016x} {payload}", e3d::sweep::fnv1a64(payload.as_bytes())));
+    lines.push(format!(
+        "{:016x} {payload}",
+        e3d::sweep::fnv1a64(payload.as_bytes())
+    ));
     std::fs::write(&j, lines.join("\n") + "\n").unwrap();
     std::fs::remove_file(out.join("summary.csv")).unwrap();
     std::fs::remove_file(out.join("results.csv")).unwrap();
@@ -180,7 +196,9 @@ fn resume_refuses_a_resealed_journal_line_holding_inf() {
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(
-        e.contains("journal.txt:5:") && e.contains("column `normalized_entropy`") && e.contains("`inf`"),
+        e.contains("journal.txt:5:")
+            && e.contains("column `normalized_entropy`")
+            && e.contains("`inf`"),
         "{e}"
     );
     assert!(!out.join("summary.csv").exists());
@@ -235,7 +253,11 @@ fn report_without_a_scene_record_says_so() {
     std::fs::write(d.join("summary.json"), "{\"scene\": \"two_rooms\"}\n").unwrap();
     let o = run(&["report", d.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).contains("records no scene grid"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("records no scene grid"),
+        "{}",
+        stderr(&o)
+    );
     let page = std::fs::read_to_string(d.join("report.html")).unwrap();
     assert!(page.contains("not on the scene&#39;s grid"), "{page}");
     // not the built-in's 3 x 6 grid: 6 effects on a 2 x 3 grid
@@ -267,7 +289,10 @@ fn a_stdin_line_without_end_is_cut_at_the_cap() {
     writer.join().unwrap();
     assert_eq!(o.status.code(), Some(2));
     let e = stderr(&o);
-    assert!(e.contains("stdin line 1: a line of more than 65536 bytes"), "{e}");
+    assert!(
+        e.contains("stdin line 1: a line of more than 65536 bytes"),
+        "{e}"
+    );
     assert!(e.len() < 400, "{}", e.len());
 }
 
@@ -299,7 +324,11 @@ fn threads_are_capped_with_a_warning() {
         "4096",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).contains("warning: --threads 4096: capped at"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: --threads 4096: capped at"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]
@@ -355,9 +384,11 @@ fn a_fifo_where_e3d_reads_its_own_files_is_refused() {
     // a sweep's sweep.ron and journal.txt on --resume
     let f = small_sweep(&d);
     let out = d.join("out");
-    assert!(run(&["sweep", f.to_str().unwrap(), "--out", out.to_str().unwrap()])
-        .status
-        .success());
+    assert!(
+        run(&["sweep", f.to_str().unwrap(), "--out", out.to_str().unwrap()])
+            .status
+            .success()
+    );
     for name in ["journal.txt", "sweep.ron"] {
         let backup = std::fs::read(out.join(name)).unwrap();
         std::fs::remove_file(out.join(name)).unwrap();
@@ -371,7 +402,11 @@ fn a_fifo_where_e3d_reads_its_own_files_is_refused() {
             "--resume",
         ]);
         assert_eq!(o.status.code(), Some(3), "{name}: {}", stderr(&o));
-        assert!(stderr(&o).contains("not a regular file"), "{name}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("not a regular file"),
+            "{name}: {}",
+            stderr(&o)
+        );
         std::fs::remove_file(out.join(name)).unwrap();
         std::fs::write(out.join(name), backup).unwrap();
     }
@@ -410,7 +445,14 @@ fn the_next_run_removes_temporary_files_left_by_a_dead_one() {
     // one of a process that runs (this test) is kept
     let alive = d.join(format!(".trials.csv.tmp-{}-0-1", std::process::id()));
     std::fs::write(&alive, "mine").unwrap();
-    let o = run(&["run", "two_rooms", "--trials", "50", "--out", d.to_str().unwrap()]);
+    let o = run(&[
+        "run",
+        "two_rooms",
+        "--trials",
+        "50",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     for s in &stale {
         assert!(!s.exists(), "{}", s.display());
@@ -469,9 +511,12 @@ fn control_characters_in_a_command_are_escaped_on_stderr() {
 #[test]
 fn names_with_control_characters_and_the_symbol_quote_are_refused() {
     let base = Scene::builtin("two_rooms").unwrap().to_ron();
-    let e = Scene::parse(&base.replace("name: \"two_rooms\"", "name: \"a\\u{1b}b\""), "x.ron")
-        .unwrap_err()
-        .to_string();
+    let e = Scene::parse(
+        &base.replace("name: \"two_rooms\"", "name: \"a\\u{1b}b\""),
+        "x.ron",
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("field `name`") && e.contains("U+001B"), "{e}");
     let e = Scene::parse(&base.replace("symbol: 'N'", "symbol: '\"'"), "x.ron")
         .unwrap_err()
@@ -524,9 +569,8 @@ fn the_table_key_holds_the_physics_fingerprint() {
     );
     let scene = Scene::builtin("two_rooms").unwrap();
     let canonical = ron::to_string(&scene).unwrap();
-    let version_only = e3d::sweep::fnv1a64(
-        format!("e3d {} {canonical}", env!("CARGO_PKG_VERSION")).as_bytes(),
-    );
+    let version_only =
+        e3d::sweep::fnv1a64(format!("e3d {} {canonical}", env!("CARGO_PKG_VERSION")).as_bytes());
     assert_ne!(OutcomeTable::key(&scene), version_only);
 }
 

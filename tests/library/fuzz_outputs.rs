@@ -18,12 +18,29 @@ use e3d::{OutcomeTable, Scene};
 use proptest::prelude::*;
 
 const TOKENS: &[&str] = &[
-    "inf", "-inf", "NaN", "1e308", "-1", "4000000000", "18446744073709551616", "\"", ",", "\n",
-    "\r", "\x1b", "\x07", "", "0", "0.5", "e3d", "beta",
+    "inf",
+    "-inf",
+    "NaN",
+    "1e308",
+    "-1",
+    "4000000000",
+    "18446744073709551616",
+    "\"",
+    ",",
+    "\n",
+    "\r",
+    "\x1b",
+    "\x07",
+    "",
+    "0",
+    "0.5",
+    "e3d",
+    "beta",
 ];
 
 const TRIALS: &str = "trial,command,effect,reward\n1,NESWNES,3,0\n2,EEEEEEE,17,1\n3,SSSSSSS,12,0\n";
-const VALUES: &str = "trial,values,effect,reward,x,y\n1,\"0.5,-1.2\",3,0,0.1,0.2\n2,\"1,2\",4,1,0.3,0.4\n";
+const VALUES: &str =
+    "trial,values,effect,reward,x,y\n1,\"0.5,-1.2\",3,0,0.1,0.2\n2,\"1,2\",4,1,0.3,0.4\n";
 const SUMMARY: &str = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n\
 g,e3d,false,0.3,1,0.03,0.01,,3,0.9,0.01,0.88,0.92\n\
 g,e3d,false,0.3,10,0.03,0.01,,3,0.8,0.01,0.78,0.82\n\

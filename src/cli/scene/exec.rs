@@ -107,12 +107,8 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
                 let m = world
                     .motion_each(&c, &mut |k, f| {
                         if written.is_ok() {
-                            written = e3d::world::Motion::write_csv_row(
-                                &mut file,
-                                Some(&text),
-                                k,
-                                &f,
-                            );
+                            written =
+                                e3d::world::Motion::write_csv_row(&mut file, Some(&text), k, &f);
                         }
                     })
                     .map_err(world_error)?;
