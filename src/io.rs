@@ -276,6 +276,30 @@ impl FileLock {
     }
 }
 
+/// Opens `path` for reading only if it is a regular file (a symbolic
+/// link is followed; what it leads to must be one), without blocking: a
+/// FIFO with no writer would block `open` for ever, and `/dev/zero` never
+/// ends. Anything else is an error of kind `InvalidInput`. Checked before
+/// and after opening (the file may be swapped between the two).
+pub fn open_regular(path: &Path) -> io::Result<File> {
+    let not_regular = || io::Error::new(io::ErrorKind::InvalidInput, "not a regular file");
+    if !fs::metadata(path)?.is_file() {
+        return Err(not_regular());
+    }
+    let mut o = OpenOptions::new();
+    o.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        o.custom_flags(libc::O_NONBLOCK);
+    }
+    let f = o.open(path)?;
+    if !f.metadata()?.is_file() {
+        return Err(not_regular());
+    }
+    Ok(f)
+}
+
 /// Opens an existing file for appending without following a symbolic link
 /// (`O_NOFOLLOW` on unix): a link in its place is an error, so that a
 /// planted link cannot make e3d append to, or truncate, another file.

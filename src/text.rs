@@ -258,37 +258,20 @@ impl ReadError {
     }
 }
 
-/// Opens `path` for reading without blocking (a FIFO with no writer
-/// would block `open` for ever), and only if it is a regular file.
+/// Opens `path` for reading if it is a regular file
+/// ([`io::open_regular`](crate::io::open_regular)), as a [`ReadError`].
 fn open_regular(path: &Path, what: &str) -> Result<std::fs::File, ReadError> {
     let file = path.display().to_string();
-    let io_err = |error: io::Error| ReadError::Io {
-        file: file.clone(),
-        error,
-    };
-    let not_regular = || ReadError::NotRegularFile {
-        file: file.clone(),
-        what: what.to_string(),
-    };
-    // a symbolic link is followed here (a table cache folder may be a link
-    // farm); what it leads to must be a regular file
-    let meta = std::fs::metadata(path).map_err(io_err)?;
-    if !meta.is_file() {
-        return Err(not_regular());
+    match crate::io::open_regular(path) {
+        Ok(f) => Ok(f),
+        Err(error) if error.kind() == io::ErrorKind::InvalidInput => {
+            Err(ReadError::NotRegularFile {
+                file,
+                what: what.to_string(),
+            })
+        }
+        Err(error) => Err(ReadError::Io { file, error }),
     }
-    let mut o = std::fs::OpenOptions::new();
-    o.read(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        o.custom_flags(libc::O_NONBLOCK);
-    }
-    let f = o.open(path).map_err(io_err)?;
-    // the file may have been swapped between the two looks
-    if !f.metadata().map_err(io_err)?.is_file() {
-        return Err(not_regular());
-    }
-    Ok(f)
 }
 
 /// Reads one of e3d's own files whole, as bytes: a regular file only
