@@ -6,19 +6,34 @@
 //! still take it) for a full device or disk (`> /dev/full`), quietly for a
 //! reader that has gone (a broken pipe, `e3d scene exec ... | head`; on
 //! Unix a closed pipe already ends e3d by SIGPIPE, as other tools).
+//!
+//! Both escape control characters (all but the line feed and the tab, as
+//! [`escape_controls`](e3d::text::escape_controls) does): a path, a name
+//! or a command echoed in a message cannot drive the terminal (ESC, BEL,
+//! a carriage return), whatever the message.
 
 use std::io::Write;
 
-/// Writes `args` to standard output, or ends e3d ([`fail`]).
+/// `args` written out, with its control characters escaped.
+fn escaped(args: std::fmt::Arguments<'_>) -> String {
+    match args.as_str() {
+        Some(s) => e3d::text::escape_controls(s).into_owned(),
+        None => e3d::text::escape_controls(&args.to_string()).into_owned(),
+    }
+}
+
+/// Writes `args` to standard output (control characters escaped), or
+/// ends e3d ([`fail`]).
 pub fn out(args: std::fmt::Arguments<'_>) {
-    if let Err(e) = std::io::stdout().lock().write_fmt(args) {
+    if let Err(e) = std::io::stdout().lock().write_all(escaped(args).as_bytes()) {
         fail("stdout", &e)
     }
 }
 
-/// Writes `args` to standard error, or ends e3d ([`fail`]).
+/// Writes `args` to standard error (control characters escaped), or ends
+/// e3d ([`fail`]).
 pub fn err(args: std::fmt::Arguments<'_>) {
-    if let Err(e) = std::io::stderr().lock().write_fmt(args) {
+    if let Err(e) = std::io::stderr().lock().write_all(escaped(args).as_bytes()) {
         fail("stderr", &e)
     }
 }

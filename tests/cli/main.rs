@@ -8,6 +8,7 @@ mod common;
 mod chromium;
 mod commands;
 mod compare;
+mod console_escapes;
 mod robustness_round3;
 mod scene_check;
 mod scene_commands;
