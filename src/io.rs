@@ -77,7 +77,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
 
 /// The temporary files this process made and may not have renamed or
 /// removed yet: removed by [`remove_temps`] (at the end of the command
-/// line, whatever its outcome) and on SIGINT or SIGTERM
+/// line, whatever its outcome) and on the signals that end a process
 /// ([`remove_temps_on_signals`]).
 static TEMPS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
 
@@ -109,9 +109,33 @@ pub fn remove_temps() -> usize {
     paths.iter().filter(|p| fs::remove_file(p).is_ok()).count()
 }
 
-/// On SIGINT (Ctrl-C) and SIGTERM, removes this process's temporary files
-/// ([`remove_temps`]) and then dies of the signal as it would have (the
-/// exit status says which). Unix only; a no-op elsewhere. The signal
+/// The signals on which [`remove_temps_on_signals`] removes the
+/// temporary files: every signal whose default action ends the process
+/// and that can be caught. SIGINT (Ctrl-C), SIGTERM (`kill`), SIGHUP (the
+/// terminal closed), SIGQUIT (Ctrl-\\), SIGPIPE (a closed pipe, `e3d ... |
+/// head`), SIGXFSZ (`ulimit -f`), SIGXCPU (`ulimit -t`), SIGALRM, SIGUSR1
+/// and SIGUSR2. SIGKILL cannot be caught: the next run in the folder
+/// removes what it left ([`remove_stale_temps`]).
+#[cfg(unix)]
+pub const CLEANUP_SIGNALS: [libc::c_int; 10] = [
+    libc::SIGINT,
+    libc::SIGTERM,
+    libc::SIGHUP,
+    libc::SIGQUIT,
+    libc::SIGPIPE,
+    libc::SIGXFSZ,
+    libc::SIGXCPU,
+    libc::SIGALRM,
+    libc::SIGUSR1,
+    libc::SIGUSR2,
+];
+
+/// On the signals that end a process ([`CLEANUP_SIGNALS`]: Ctrl-C,
+/// SIGTERM, a closed terminal or pipe, a file size limit, ...), removes
+/// this process's temporary files ([`remove_temps`]) and then dies of the
+/// signal as it would have (the exit status says which). A signal
+/// ignored when this is called (`nohup` ignores SIGHUP) stays ignored.
+/// Unix only; a no-op elsewhere. The signal
 /// handler only writes to a pipe (what is safe in a handler); a thread
 /// does the rest. Call once, early (the `e3d` binary does).
 pub fn remove_temps_on_signals() {
@@ -159,13 +183,17 @@ pub fn remove_temps_on_signals() {
         if spawned.is_err() {
             return;
         }
-        for sig in [libc::SIGINT, libc::SIGTERM] {
-            // SAFETY: installs a handler that only calls write(2)
+        for sig in CLEANUP_SIGNALS {
+            // SAFETY: installs a handler that only calls write(2); a
+            // signal found ignored is set back to ignored at once
             unsafe {
-                libc::signal(
+                let before = libc::signal(
                     sig,
                     on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t,
                 );
+                if before == libc::SIG_IGN {
+                    libc::signal(sig, libc::SIG_IGN);
+                }
             }
         }
     }

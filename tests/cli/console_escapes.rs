@@ -53,5 +53,8 @@ fn warnings_on_stderr_are_escaped() {
     ]));
     let stderr = String::from_utf8(o.stderr).unwrap();
     assert!(stderr.contains("cache\\x1b[2J\\x07"), "{stderr}");
-    assert!(!stderr.contains('\u{1b}') && !stderr.contains('\u{7}'), "{stderr}");
+    assert!(
+        !stderr.contains('\u{1b}') && !stderr.contains('\u{7}'),
+        "{stderr}"
+    );
 }

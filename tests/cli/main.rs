@@ -17,3 +17,4 @@ mod scene_pictures;
 mod sweep;
 mod sweep_failures;
 mod table_cache;
+mod temporary_files;
