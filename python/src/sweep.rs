@@ -174,9 +174,9 @@ pub(crate) fn run_sweep<'py>(
         }
     })??;
     let path = dir.join(e3d::sweep::RESULTS);
-    let text = std::fs::read_to_string(&path).map_err(|e| {
-        pyo3::exceptions::PyOSError::new_err(format!("{}: cannot read: {e}", path.display()))
-    })?;
+    // as the command line reads it: a regular file of bounded size
+    let text = e3d::text::read_own_file(&path, e3d::sweep::MAX_RESULTS_BYTES, e3d::sweep::RESULTS)
+        .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
     let mut lines = text.lines();
     let header = lines.next().unwrap_or_default();
     let rows: Vec<&str> = lines.collect();
