@@ -17,7 +17,7 @@
 //! docs/benchmarks.md). A scene opts in knowingly.
 
 use super::physics::{PhysicsSpec, ShapeSpec, GROUND};
-use super::{Action, Invalid, Scene};
+use super::{Action, Invalid, SceneSpec};
 use serde::{Deserialize, Serialize};
 
 /// A reflection that leaves a physics scene unchanged.
@@ -95,7 +95,7 @@ impl Symmetry {
 
     /// Per slot, the index of each symbol's mirror image in the same slot
     /// (`maps[slot][symbol]`), or where an alphabet lacks one.
-    pub(crate) fn symbol_maps(self, scene: &Scene) -> Result<Vec<Vec<u8>>, Invalid> {
+    pub(crate) fn symbol_maps(self, scene: &SceneSpec) -> Result<Vec<Vec<u8>>, Invalid> {
         // the symbols of the slots before, to place an error on the right
         // occurrence of a symbol that several slots use
         let mut seen: Vec<char> = Vec::new();
@@ -129,7 +129,7 @@ impl Symmetry {
 
     /// Checks that the reflection leaves `spec` (and its command) unchanged,
     /// each body being its own mirror image.
-    pub(crate) fn validate(self, spec: &PhysicsSpec, scene: &Scene) -> Result<(), Invalid> {
+    pub(crate) fn validate(self, spec: &PhysicsSpec, scene: &SceneSpec) -> Result<(), Invalid> {
         let k = self.axis();
         let coord = ["x", "y"][k];
         let across = |p: (f64, f64)| [p.0, p.1][k];

@@ -24,6 +24,7 @@ mod reach;
 mod table;
 
 pub use crate::scene::GridSpec;
+pub use from_scene::PhysicsScene;
 pub use grid::GridWorld;
 pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
 pub use physics::{BodyPose, Frame, Motion, PhysicsWorld, RunStats, Trace, MAX_COPIES};

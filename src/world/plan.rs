@@ -316,10 +316,7 @@ pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
     let WorldSpec::Physics(spec) = &scene.world else {
         return rollout_seconds(scene);
     };
-    if scene.validate().is_err() {
-        return rollout_seconds(scene);
-    }
-    let mut world = PhysicsWorld::from_scene(scene, spec);
+    let mut world = PhysicsWorld::of(scene, spec, 1);
     let start = std::time::Instant::now();
     let mut done = 0u32;
     let values = scene.value_space();
@@ -619,10 +616,8 @@ impl<'s> Executor<'s> {
         options: &ExecOptions,
         progress: &(dyn Fn(u64, u64) + Sync),
     ) -> Result<Executor<'s>, WorldError> {
-        // a scene edited in code is checked here, not left to panic in build()
         scene
-            .validate()
-            .and_then(|()| scene.require_symbols("an executor (table, memo or lockstep)"))
+            .require_symbols("an executor (table, memo or lockstep)")
             .map_err(|e| WorldError::Other(e.to_string()))?;
         let memo_cap = options.memo_cap;
         let space = scene.command_space();
@@ -819,7 +814,7 @@ impl<'s> Executor<'s> {
         let copies = width.clamp(1, self.plan.copies.max(1));
         let inner: Box<dyn World + Send> = match &self.scene.world {
             WorldSpec::Physics(p) if copies > 1 => {
-                Box::new(PhysicsWorld::with_copies(self.scene, p, copies))
+                Box::new(PhysicsWorld::of(self.scene, p, copies))
             }
             _ => self.scene.build(),
         };

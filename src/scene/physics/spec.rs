@@ -438,7 +438,7 @@ impl PhysicsSpec {
     }
 
     /// Whether copies of this world in one Rapier world (see
-    /// [`PhysicsWorld::with_copies`](crate::world::PhysicsWorld::with_copies))
+    /// [`PhysicsScene::world`](crate::world::PhysicsScene::world))
     /// give exactly, bit for bit, the outcomes of one world per command:
     /// when at most one non-fixed body has contacts. With several (arm7's
     /// links touching each other), Rapier's contact ordering differs
