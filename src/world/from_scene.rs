@@ -49,7 +49,7 @@ impl Scene {
     /// let rooms = Scene::builtin("two_rooms").unwrap();
     /// let mut world = rooms.build();
     /// let c = rooms.command_space().parse("EEEEESS").unwrap();
-    /// assert_eq!(world.execute(&c).unwrap().effect, 17);
+    /// assert_eq!(world.execute(&c).unwrap().effect, 14);
     /// ```
     pub fn build(&self) -> Box<dyn World + Send> {
         match &self.world {
