@@ -1,7 +1,7 @@
 //! The sweep file: hyper-parameter values, metrics and the [`SweepSpec`]
 //! as written, built in code, parsed, checked and written back.
 
-use super::factory::{LearnerFactory, Learners};
+use super::factory::{LearnerFactory, Learners, PARAM_NAMES};
 #[cfg(doc)]
 use super::Sweep;
 use super::SweepError;
@@ -12,9 +12,6 @@ use crate::scene::{ron_options, Invalid, SceneError};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
-
-/// The names of the hyper-parameters, in the order of the cells and columns.
-pub const PARAM_NAMES: [&str; 5] = ["alpha", "beta", "lambda", "eta", "epsilon"];
 
 /// The largest number of sessions a sweep may hold: its plan keeps every
 /// cell and session in memory (about 150 bytes each, so at most about

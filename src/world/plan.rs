@@ -854,3 +854,20 @@ impl<'s> Executor<'s> {
         Some(line)
     }
 }
+
+impl OutcomeTable {
+    /// Whether a session or sweep running `trials` trials on `scene` should
+    /// run on an outcome table: [`ExecutionPlan::choose`]
+    /// picks [`Strategy::Table`] for it, with no
+    /// table file at hand, one thread and one session.
+    pub fn worthwhile(scene: &Scene, world: &dyn World, trials: u64) -> bool {
+        let work = Workload {
+            trials,
+            sessions: 1,
+            threads: 1,
+        };
+        world.is_deterministic()
+            && ExecutionPlan::choose(scene, &work, None, DEFAULT_MEMO_CAP).strategy
+                == Strategy::Table
+    }
+}

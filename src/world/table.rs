@@ -536,21 +536,6 @@ pub enum CachedOutcomes {
 }
 
 impl OutcomeTable {
-    /// Whether a session or sweep running `trials` trials on `scene` should
-    /// run on an outcome table: [`ExecutionPlan::choose`](super::ExecutionPlan::choose)
-    /// picks [`Strategy::Table`](super::Strategy::Table) for it, with no
-    /// table file at hand, one thread and one session.
-    pub fn worthwhile(scene: &Scene, world: &dyn World, trials: u64) -> bool {
-        let work = super::Workload {
-            trials,
-            sessions: 1,
-            threads: 1,
-        };
-        world.is_deterministic()
-            && super::ExecutionPlan::choose(scene, &work, None, super::DEFAULT_MEMO_CAP).strategy
-                == super::Strategy::Table
-    }
-
     /// The table of `scene`: from the folder `cache` if given (see
     /// [`cached`](Self::cached)), else built in parallel.
     pub fn for_scene(scene: &Scene, cache: Option<&Path>) -> Result<OutcomeTable, WorldError> {

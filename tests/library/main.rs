@@ -13,6 +13,7 @@ mod every_scene;
 mod fuzz_scenes;
 mod fuzz_sweeps;
 mod grid;
+mod imports;
 mod learners;
 mod motion_svg;
 mod outcomes;

@@ -5,6 +5,7 @@
 mod action;
 mod body;
 mod joint;
+mod symmetry;
 
 use super::limits::*;
 use super::{PhysicsSpec, Schedule, MAX_STEPS};
