@@ -7,7 +7,7 @@ use crate::scene::PyScene;
 use e3d::report::scene_svg::{scene_svg, Overlay};
 use e3d::scene::WorldSpec;
 use e3d::world::GridWorld;
-use e3d::{PhysicsWorld, World};
+use e3d::World;
 use pyo3::prelude::*;
 
 /// The SVG of `scene`, with the path of `command` (symbols, or values on
@@ -22,10 +22,9 @@ pub(crate) fn svg(
     let Some(command) = command.filter(|c| !c.is_none()) else {
         return Ok(scene_svg(inner, None));
     };
-    let overlay = match (&inner.world, &scene.values) {
-        (WorldSpec::Physics(p), Some(space)) => {
+    let overlay = match (inner.physics_world(), &scene.values) {
+        (Some(mut w), Some(space)) => {
             let v = values_from(py, space, command, 1)?.remove(0);
-            let mut w = PhysicsWorld::from_scene(inner, p);
             let t = py.detach(|| w.trace_values(&v)).map_err(Fail::from)?;
             Overlay {
                 command: space.format(&v),
@@ -35,9 +34,8 @@ pub(crate) fn svg(
                 reward: t.outcome.reward,
             }
         }
-        (WorldSpec::Physics(p), None) => {
+        (Some(mut w), None) => {
             let c = commands_from(py, &scene.space, command, 1)?.remove(0);
-            let mut w = PhysicsWorld::from_scene(inner, p);
             let t = py.detach(|| w.trace(&c)).map_err(Fail::from)?;
             Overlay {
                 command: scene.space.format(&c),
@@ -47,10 +45,14 @@ pub(crate) fn svg(
                 reward: t.outcome.reward,
             }
         }
-        (WorldSpec::Grid(g), _) => {
+        (None, _) => {
             scene.require_symbols("Scene.svg")?;
             let c = commands_from(py, &scene.space, command, 1)?.remove(0);
-            let mut w = GridWorld::from_scene(inner, g);
+            // a scene is a grid when it is not physics
+            let (Some(mut w), WorldSpec::Grid(g)) = (GridWorld::from_scene(inner), &inner.world)
+            else {
+                return Ok(scene_svg(inner, None));
+            };
             let o = w.execute(&c).map_err(Fail::from)?;
             let points = w
                 .path(&c)
