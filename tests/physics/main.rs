@@ -6,6 +6,7 @@
 mod common;
 
 mod arm7;
+mod arm_copies;
 mod continuous;
 mod copies;
 mod larger_scenes;
