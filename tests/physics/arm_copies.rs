@@ -72,5 +72,8 @@ fn an_arm_copy_beside_idle_copies_is_bit_identical_and_beside_busy_ones_is_not()
         "arm7, 120 commands: beside 7 idle copies {alone} bit-identical, beside 7 busy copies {together}"
     );
     assert_eq!(alone, cmds.len(), "idle copies changed a copy's bits");
-    assert!(together < cmds.len(), "busy copies are bit-identical after all");
+    assert!(
+        together < cmds.len(),
+        "busy copies are bit-identical after all"
+    );
 }
