@@ -74,6 +74,7 @@ fn an_arm_copy_beside_idle_copies_is_bit_identical_and_beside_busy_ones_is_not()
     assert_eq!(alone, cmds.len(), "idle copies changed a copy's bits");
     assert!(
         together < cmds.len(),
-        "busy copies are bit-identical after all"
+        "busy copies are bit-identical: Rapier may now order multibody contacts per copy (update \
+         PhysicsSpec::copies_are_exact and docs/benchmarks.md)"
     );
 }
