@@ -7,6 +7,7 @@
 mod common;
 
 mod arm7;
+mod arm_copies;
 mod audit;
 mod continuous;
 mod copies;
