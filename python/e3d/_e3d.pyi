@@ -101,6 +101,19 @@ class Scene:
     def _repr_svg_(self) -> str: ...
     def to_ron(self) -> str:
         """RON text that ``Scene.from_text`` reads back as an equal scene."""
+    def render(
+        self, command: Optional[CommandsLike] = None, scale: float = 1.0
+    ) -> npt.NDArray[np.uint8]:
+        """The SVG rasterised: uint8 ``(H, W, 3)``, without text."""
+    def geometry(self) -> dict[str, Any]:
+        """Bodies, shapes, joints, walls, the effect grid and the reward cells as data."""
+    def to_dict(self) -> dict[str, Any]:
+        """The scene's fields (the RON text's structure) as Python data."""
+    @staticmethod
+    def from_dict(data: dict[str, Any]) -> Scene:
+        """A scene from ``to_dict``'s form; ``SceneError`` names the path at fault."""
+    def with_(self, overrides: dict[str, Any]) -> Scene:
+        """A copy with ``{path: value}`` overrides (``"bodies.puck.linear_damping"``)."""
 
 @final
 class Outcome:

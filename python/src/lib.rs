@@ -17,6 +17,7 @@ mod progress;
 mod record;
 mod rng;
 mod scene;
+mod scene_dict;
 mod session;
 mod state;
 mod sweep;
