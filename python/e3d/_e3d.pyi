@@ -242,6 +242,8 @@ class SessionRng:
 
 @final
 class SessionRecord:
+    def _repr_svg_(self) -> str:
+        """The effect grid shaded by the session's effect counts (notebooks)."""
     @property
     def scene(self) -> str: ...
     @property

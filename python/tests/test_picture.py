@@ -64,3 +64,22 @@ def test_geometry_is_the_scenes():
     assert len(arm["joints"]) == 7 and arm["joints"][0]["parent"] == "ground"
     grid = e3d.Scene.builtin("two_rooms").geometry()
     assert grid["kind"] == "grid" and grid["start"] == (0, 0) and grid["walls"][0] == ((0, 2), (0, 3))
+
+
+def test_session_record_draws_its_effect_counts():
+    rec = e3d.run_session("two_rooms", trials=500, seed=1)
+    svg = rec._repr_svg_()
+    assert svg.startswith("<svg") and svg.endswith("</svg>")
+    assert "two_rooms: e3d, seed 1, 500 trials" in svg
+    # one cell a rect (18 cells), each with its count; the rewarded cell (2, 5) outlined in green
+    import re
+    cells = re.findall(r"<title>cell \((\d+), (\d+)\): ([\d.]+) trials", svg)
+    assert len(cells) == 18
+    counts = {(int(r), int(c)): float(n) for r, c, n in cells}
+    assert [counts[(e // 6, e % 6)] for e in range(18)] == rec.effect_counts.tolist()
+    assert svg.count('stroke="#2e8b57"') == 1
+    # the darkest cell is the most visited
+    top = max(counts, key=counts.get)
+    assert f"<title>cell ({top[0]}, {top[1]})" in svg.split('fill="rgb(31,78,156)"')[1][:200]
+    batch = e3d.run_sessions("two_rooms", trials=500, seeds=[1, 2])
+    assert batch[0]._repr_svg_() == svg
