@@ -150,3 +150,18 @@ def test_with_overrides_by_path():
         scene.with_({"bodies.puck.lin": 2.0})
     with pytest.raises(e3d.SceneError, match=r"found -1"):
         scene.with_({"bodies.puck.linear_damping": -1.0})
+
+
+def test_from_dict_expands_shorthand_walls():
+    scene = e3d.Scene.builtin("puck_rooms")
+    d = scene.to_dict()
+    p = d["world"]["Physics"]
+    p["bodies"] = [b for b in p["bodies"] if b["name"] == "puck"]
+    p["walls"] = [
+        {"name": "wall", "room": [[0.0, 0.0], [6.0, 3.0]], "placement": "Outside", "thickness": 0.1,
+         "friction": 0.0, "restitution": 0.5},
+        {"name": "inner", "points": [[3.0, 0.0], [3.0, 3.0]], "doors": [[[3.0, 1.0], [3.0, 2.0]]],
+         "names": ["inner_low", "inner_high"], "thickness": 0.1, "friction": 0.0, "restitution": 0.5},
+    ]
+    # the walls of scenes/puck_rooms.ron, written as a dict: the same scene
+    assert e3d.Scene.from_dict(d) == scene
