@@ -10,7 +10,7 @@ use e3d::report::scene_svg::{scene_svg, Overlay};
 use e3d::scene::physics::ShapeSpec;
 use e3d::scene::WorldSpec;
 use e3d::world::GridWorld;
-use e3d::{PhysicsWorld, World};
+use e3d::World;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};

@@ -138,7 +138,7 @@ pub(crate) fn from_dict(obj: &Bound<'_, PyAny>) -> PyResult<e3d::Scene> {
         paths: Vec::new(),
     };
     w.value("", "", obj, "")?;
-    let mut scene: e3d::Scene = serde_json::from_str(&w.text).map_err(|e| {
+    let spec: e3d::scene::SceneSpec = serde_json::from_str(&w.text).map_err(|e| {
         let line = e.line();
         let path = w
             .paths
@@ -160,9 +160,7 @@ pub(crate) fn from_dict(obj: &Bound<'_, PyAny>) -> PyResult<e3d::Scene> {
             Some(path),
         )
     })?;
-    scene.validate().map_err(scene_err)?;
-    scene.expand().map_err(scene_err)?;
-    Ok(scene)
+    spec.validate().map_err(scene_err)
 }
 
 /// `data` (a scene's dict) with `value` at `path`: dot-separated keys;
