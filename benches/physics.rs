@@ -9,12 +9,8 @@
 //! are rollouts/s or trials/s). The figures are in docs/benchmarks.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use e3d::scene::WorldSpec;
 use e3d::world::TABLE_COPIES;
-use e3d::{
-    run_session, LearnerKind, OutcomeTable, Params, PhysicsWorld, Scene, SessionConfig, Target,
-    World,
-};
+use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target, World};
 use std::hint::black_box;
 
 const SCENES: [&str; 4] = ["puck_rooms", "maze3", "pendulum3", "arm7"];
@@ -22,9 +18,7 @@ const SCENES: [&str; 4] = ["puck_rooms", "maze3", "pendulum3", "arm7"];
 fn physics(c: &mut Criterion) {
     for name in SCENES {
         let scene = Scene::builtin(name).unwrap();
-        let WorldSpec::Physics(spec) = &scene.world else {
-            unreachable!("a physics scene")
-        };
+        let physics = scene.as_physics().expect("a physics scene");
         let space = scene.command_space();
         let n = space.num_commands().unwrap();
         // commands spread over the space, cycled through
@@ -38,7 +32,7 @@ fn physics(c: &mut Criterion) {
         let mut g = c.benchmark_group(name);
         g.sample_size(10);
         g.throughput(Throughput::Elements(1));
-        let mut world = PhysicsWorld::from_scene(&scene, spec);
+        let mut world = physics.world(1);
         let mut i = 0;
         g.bench_function("rollout (one copy)", |b| {
             b.iter(|| {
@@ -46,7 +40,7 @@ fn physics(c: &mut Criterion) {
                 black_box(world.execute(&cmds[i]).unwrap().effect)
             })
         });
-        let mut fresh = PhysicsWorld::from_scene(&scene, spec);
+        let mut fresh = physics.world(1);
         g.bench_function("reset (restore the pristine sets)", |b| {
             b.iter(|| {
                 fresh.reset();
@@ -54,7 +48,7 @@ fn physics(c: &mut Criterion) {
             })
         });
         g.throughput(Throughput::Elements(TABLE_COPIES as u64));
-        let mut multi = PhysicsWorld::with_copies(&scene, spec, TABLE_COPIES);
+        let mut multi = physics.world(TABLE_COPIES);
         let mut out = Vec::with_capacity(TABLE_COPIES);
         let mut k = 0;
         g.bench_function(format!("rollouts ({TABLE_COPIES} copies per world)"), |b| {

@@ -56,7 +56,9 @@ echo "speed-up on 2 threads: $(ratio "$sweep_1" "$sweep_2") (target >= 1.8)"
 
 echo "# 3. e3d scene exec puck_rooms - on 3000 distinct commands (and 4. pymunk on the same)"
 if [ -n "${PYTHON:-}" ]; then
-    pm=$("$PYTHON" benches/pymunk/puck_rooms.py 3000 --commands-out "$TMP/cmds.txt" 2>/dev/null \
+    # pymunk's reader wants the walls written out in full
+    "$E3D" scene check --expanded puck_rooms > "$TMP/puck_rooms.ron"
+    pm=$("$PYTHON" benches/pymunk/puck_rooms.py 3000 --scene "$TMP/puck_rooms.ron" --commands-out "$TMP/cmds.txt" 2>/dev/null \
         | awk -F, '/^pymunk,/ {print $5}')
 else
     python3 scripts/random-commands.py ESWN 7 3000 1 > "$TMP/cmds.txt"

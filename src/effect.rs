@@ -84,6 +84,10 @@ pub enum EffectError {
     /// An effect model's rate outside (0, 1].
     #[error("eta must be in (0, 1], found {0}")]
     Eta(f64),
+    /// Probabilities that are not weights >= 0 summing to 1
+    /// ([`EffectModel::from_probs`]): their sum.
+    #[error("finite weights >= 0 summing to 1, found a sum of {0}")]
+    Probs(f64),
 }
 
 /// A [`Target`] that does not fit the effects.
@@ -583,6 +587,42 @@ impl EffectModel {
     /// The number of effects.
     pub fn num_effects(&self) -> usize {
         self.q.len()
+    }
+
+    /// A histogram equal to `probs` (weights >= 0 summing to 1 within
+    /// 1e-9, one per effect) with rate `eta`.
+    ///
+    /// ```
+    /// use e3d::EffectModel;
+    /// let p = EffectModel::from_probs(&[0.25, 0.75], 0.1).unwrap();
+    /// assert_eq!(p.probs(), [0.25, 0.75]);
+    /// assert!(EffectModel::from_probs(&[0.5, 0.6], 0.1).is_err());
+    /// ```
+    pub fn from_probs(probs: &[f64], eta: f64) -> Result<Self, EffectError> {
+        let mut m = EffectModel::new(probs.len(), eta)?;
+        let total: f64 = probs.iter().sum();
+        if probs.iter().any(|p| !(p.is_finite() && *p >= 0.0)) || (total - 1.0).abs() > 1e-9 {
+            return Err(EffectError::Probs(total));
+        }
+        m.q.copy_from_slice(probs);
+        Ok(m)
+    }
+
+    /// The raw state `(q, scale, eta)`, `p = scale * q` (for saving a
+    /// learner bit for bit).
+    pub(crate) fn raw(&self) -> (&[f64], f64, f64) {
+        (&self.q, self.scale, self.eta)
+    }
+
+    /// A histogram from [`raw`](Self::raw)'s state, checked.
+    pub(crate) fn from_raw(q: Vec<f64>, scale: f64, eta: f64) -> Result<Self, EffectError> {
+        let mut m = EffectModel::new(q.len(), eta)?;
+        if !(scale > 0.0 && scale <= 1.0) || q.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+            return Err(EffectError::Probs(q.iter().sum::<f64>() * scale));
+        }
+        m.q = q;
+        m.scale = scale;
+        Ok(m)
     }
 
     /// The rate `eta`.

@@ -15,10 +15,11 @@
 //! Learner::learn(&Command, &Outcome)
 //! ```
 //!
-//! - [`scene`]: the RON scene format, parsed and checked ([`Scene`]); a
-//!   scene edited in code is checked again by [`Scene::validate`] and
-//!   [`Scene::try_build`], and written back by [`Scene::to_ron`]; every
-//!   mistake is a [`SceneError`] of some [`SceneErrorKind`];
+//! - [`scene`]: the RON scene format, parsed and checked into a [`Scene`]
+//!   (valid by construction: building its world cannot fail); a scene
+//!   built or edited in code is a [`SceneSpec`], turned into a [`Scene`] by
+//!   [`SceneSpec::validate`] and written back by [`SceneSpec::to_ron`];
+//!   every mistake is a [`SceneError`] of some [`SceneErrorKind`];
 //! - [`command`]: [`CommandSpace`] (slots and alphabets) and [`Command`];
 //! - [`world`]: the [`World`] trait, the [`GridWorld`], the Rapier-based
 //!   [`PhysicsWorld`], the [`OutcomeTable`] (every command once, up
@@ -106,7 +107,7 @@ pub use learner::{
     ParamError, Params, ParseLearnerError, UniformPolicy, UniformValues,
 };
 pub use rng::SessionRng;
-pub use scene::{Scene, SceneError, SceneErrorKind};
+pub use scene::{Scene, SceneError, SceneErrorKind, SceneSpec};
 pub use session::{
     policy_effect_distribution, run_group, run_lockstep, run_lockstep_into, run_session,
     run_session_into, run_session_with, run_sessions, run_sessions_until, run_value_session,

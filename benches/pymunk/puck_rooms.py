@@ -8,7 +8,8 @@ one rollout at a time, rebuilding the space for every rollout (a fresh
 space, as e3d restores a pristine world before every command).
 
 Every number is read from the RON file (a tiny ad-hoc parser for the few
-fields needed, below), not hard-coded: `dt`, the `Fixed` walls (`Cuboid`
+fields needed, below; a file with shorthand `walls` is first expanded into
+plain bodies by e3d itself, see `expanded_text`), not hard-coded: `dt`, the `Fixed` walls (`Cuboid`
 width, height, position, friction, restitution), the puck (`Ball` radius,
 `mass`, `position`, `linear_damping`, friction, restitution), the
 `Sequential(phase, settle)` schedule, `slots`, the `alphabet`'s impulses
@@ -97,8 +98,39 @@ def body_entries(text):
         i += 1
 
 
+def expanded_text(path):
+    """The scene's text with its shorthands (`walls`, `chains`) expanded
+    into plain bodies, by e3d itself: the Python package if it is
+    installed (`Scene.load(path).to_ron()`), else the CLI (`$E3D_BIN`,
+    the repository's target/release/e3d, or `e3d` on the PATH) as `e3d
+    scene check FILE --expanded`. The same text either way."""
+    try:
+        import e3d
+
+        return e3d.Scene.load(str(path)).to_ron()
+    except ImportError:
+        pass
+    import os
+    import shutil
+    import subprocess
+
+    root = Path(__file__).resolve().parents[2]
+    for exe in (os.environ.get("E3D_BIN"), root / "target" / "release" / "e3d", shutil.which("e3d")):
+        if exe and Path(exe).is_file():
+            return subprocess.run(
+                [str(exe), "scene", "check", str(path), "--expanded"],
+                check=True, capture_output=True, text=True,
+            ).stdout
+    sys.exit(
+        f"{path} has shorthand walls: install the e3d Python package or build the CLI "
+        "(cargo build --release) so that they can be expanded"
+    )
+
+
 def parse_scene(path):
     text = strip_comments(Path(path).read_text())
+    if re.search(r"\b(walls|chains)\s*:\s*\[", text):
+        text = strip_comments(expanded_text(path))
     s = {"dt": field(text, "dt", default=1.0 / 60.0)}
     s["walls"], s["puck"] = [], None
     for e in body_entries(text):

@@ -29,6 +29,7 @@ from . import _e3d
 from ._e3d import (
     E3D_VERSION,
     BatchOutcome,
+    E3dLearner,
     Motion,
     Outcome,
     Scene,
@@ -81,6 +82,7 @@ def run_sweep(
 __all__ = [
     "E3D_VERSION",
     "BatchOutcome",
+    "E3dLearner",
     "Motion",
     "Outcome",
     "PythonLearner",

@@ -1,7 +1,7 @@
 """Type stubs of e3d's native module (``e3d._e3d``), re-exported by ``e3d``."""
 
 from os import PathLike
-from typing import Any, Optional, Sequence, Union, final, overload
+from typing import Any, Callable, Optional, Sequence, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -29,6 +29,7 @@ from e3d._types import CommandsLike, Progress, PythonLearner, TargetLike
 __all__ = [
     "BatchOutcome",
     "E3D_VERSION",
+    "E3dLearner",
     "Motion",
     "Outcome",
     "Scene",
@@ -100,6 +101,19 @@ class Scene:
     def _repr_svg_(self) -> str: ...
     def to_ron(self) -> str:
         """RON text that ``Scene.from_text`` reads back as an equal scene."""
+    def render(
+        self, command: Optional[CommandsLike] = None, scale: float = 1.0
+    ) -> npt.NDArray[np.uint8]:
+        """The SVG rasterised: uint8 ``(H, W, 3)``, without text."""
+    def geometry(self) -> dict[str, Any]:
+        """Bodies, shapes, joints, walls, the effect grid and the reward cells as data."""
+    def to_dict(self) -> dict[str, Any]:
+        """The scene's fields (the RON text's structure) as Python data."""
+    @staticmethod
+    def from_dict(data: dict[str, Any]) -> Scene:
+        """A scene from ``to_dict``'s form; ``SceneError`` names the path at fault."""
+    def with_(self, overrides: dict[str, Any]) -> Scene:
+        """A copy with ``{path: value}`` overrides (``"bodies.puck.linear_damping"``)."""
 
 @final
 class Outcome:
@@ -176,6 +190,48 @@ class World:
     def trace(self, command: CommandsLike) -> Motion: ...
 
 @final
+class E3dLearner:
+    """An E3D learner's state: Q, the policy and the effect model, read and
+    written; saved as bytes bit for bit (``to_bytes``, ``from_bytes``,
+    pickling); ``run_session(scene, learner=l)`` continues from it."""
+
+    def __new__(
+        cls,
+        scene: Union[Scene, str, PathLike[str]],
+        alpha: float = 0.3,
+        beta: float = 1.0,
+        lambda_: float = 0.03,
+        eta: float = 0.01,
+        target: Optional[TargetLike] = None,
+    ) -> E3dLearner: ...
+    @property
+    def alphabet_sizes(self) -> list[int]: ...
+    @property
+    def num_effects(self) -> int: ...
+    @property
+    def beta(self) -> float: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def q(self) -> list[npt.NDArray[np.float64]]: ...
+    @q.setter
+    def q(self, value: Sequence[Sequence[float]]) -> None: ...
+    def set_q(self, slot: int, q: Sequence[float]) -> None: ...
+    @property
+    def policy(self) -> list[npt.NDArray[np.float64]]: ...
+    def set_policy(self, slot: int, probs: Sequence[float]) -> None: ...
+    @property
+    def effect_model(self) -> npt.NDArray[np.float64]: ...
+    @effect_model.setter
+    def effect_model(self, value: Sequence[float]) -> None: ...
+    def to_bytes(self) -> bytes: ...
+    @staticmethod
+    def from_bytes(data: bytes) -> E3dLearner: ...
+    def propose(self, rng: SessionRng) -> npt.NDArray[np.uint8]: ...
+    def learn(self, command: Sequence[int], effect: int, reward: float) -> None: ...
+    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
+
+@final
 class SessionRng:
     """The session's generator, valid during ``propose(rng)`` only (used
     after it, it raises ``RuntimeError``)."""
@@ -186,6 +242,8 @@ class SessionRng:
 
 @final
 class SessionRecord:
+    def _repr_svg_(self) -> str:
+        """The effect grid shaded by the session's effect counts (notebooks)."""
     @property
     def scene(self) -> str: ...
     @property
@@ -226,7 +284,7 @@ class SessionRecord:
 
 def run_session(
     scene: Union[Scene, str, PathLike[str]],
-    learner: Union[str, PythonLearner, None] = None,
+    learner: Union[str, PythonLearner, E3dLearner, None] = None,
     trials: int = 5000,
     seed: int = 0,
     use_reward: bool = True,
@@ -239,6 +297,10 @@ def run_session(
     table_cache: Union[str, PathLike[str], None] = None,
     progress: Optional[Progress] = None,
     target: Optional[TargetLike] = None,
+    on_trials: Optional[
+        Callable[[int, npt.NDArray[np.uint8], npt.NDArray[np.int64], npt.NDArray[np.float64]], object]
+    ] = None,
+    every: int = 1000,
 ) -> SessionRecord: ...
 
 @final

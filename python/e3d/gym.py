@@ -51,15 +51,15 @@ class E3dEnv(gym.Env):
     use_reward:
         ``False`` gives reward 0 always (the paper's task 1).
     render_mode:
-        ``None``, the only mode (``metadata["render_modes"]`` is empty:
-        ``e3d scene render`` draws a command's path as SVG, and
-        ``World.trace`` gives its whole motion).
+        ``None``, or ``"rgb_array"``: ``render()`` returns the scene's
+        picture (``Scene.render``, uint8 ``(H, W, 3)``) with the path of
+        the last step's command (the bare scene before any step).
 
     ``info`` holds ``x``, ``y`` (the terminal point, metres) and ``command``
     (the command as its symbols) after ``step``.
     """
 
-    metadata: dict[str, Any] = {"render_modes": []}
+    metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": 1}
 
     def __init__(
         self,
@@ -68,12 +68,10 @@ class E3dEnv(gym.Env):
         render_mode: Optional[str] = None,
     ):
         super().__init__()
-        if render_mode is not None:
-            raise ValueError(
-                f"render_mode = {render_mode!r}: E3dEnv does not render (render_modes is empty); "
-                "`e3d scene render --command` draws a command's path, World.trace gives its motion"
-            )
-        self.render_mode = None
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"render_mode = {render_mode!r}: expected None or 'rgb_array'")
+        self.render_mode = render_mode
+        self._last: Any = None
         self.scene = scene if isinstance(scene, Scene) else Scene.resolve(str(scene))
         self.world = self.scene.world()
         self.use_reward = bool(use_reward)
@@ -93,6 +91,7 @@ class E3dEnv(gym.Env):
         self, *, seed: Optional[int] = None, options: Optional[dict] = None
     ) -> tuple[np.int64, dict[str, Any]]:
         super().reset(seed=seed)
+        self._last = None
         return self._start, {}
 
     def values_of(self, action: Any) -> np.ndarray:
@@ -107,17 +106,22 @@ class E3dEnv(gym.Env):
         if self.scene.is_continuous:
             values = self.values_of(action)
             out = self.world.execute(values)
+            self._last = values
             info = {"x": out.x, "y": out.y, "values": values}
         else:
             symbols = np.asarray(action)
             out = self.world.execute(symbols)
+            self._last = symbols
             info = {"x": out.x, "y": out.y, "command": self.scene.format(symbols)}
         reward = float(out.reward) if self.use_reward else 0.0
         return np.int64(out.effect), reward, True, False, info
 
-    def render(self) -> None:
-        """Nothing to draw (``render_mode`` is ``None``): returns ``None``."""
-        return None
+    def render(self) -> Optional[np.ndarray]:
+        """With ``render_mode="rgb_array"``: the scene's picture with the
+        path of the last step's command, uint8 ``(H, W, 3)``; else ``None``."""
+        if self.render_mode != "rgb_array":
+            return None
+        return self.scene.render(self._last)
 
 
 class E3dVectorEnv(VectorEnv):
@@ -137,15 +141,31 @@ class E3dVectorEnv(VectorEnv):
     rewarded command is rewarded every step (gymnasium's default
     ``NEXT_STEP`` mode would spend every other step on the reset, rewards
     1, 0, 1, 0).
+
+    ``render_mode="rgb_array"``: ``render()`` returns a tuple of
+    ``num_envs`` pictures (``Scene.render``), each with the path of its
+    copy's last command.
     """
 
-    metadata: dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.SAME_STEP}
+    metadata: dict[str, Any] = {
+        "render_modes": ["rgb_array"],
+        "render_fps": 1,
+        "autoreset_mode": AutoresetMode.SAME_STEP,
+    }
 
-    def __init__(self, scene: Union[Scene, str], num_envs: int, use_reward: bool = True):
+    def __init__(
+        self,
+        scene: Union[Scene, str],
+        num_envs: int,
+        use_reward: bool = True,
+        render_mode: Optional[str] = None,
+    ):
         super().__init__()
         if int(num_envs) < 1:
             raise ValueError(f"num_envs = {num_envs}: expected an integer from 1")
-        self.env = E3dEnv(scene, use_reward=use_reward)
+        self.env = E3dEnv(scene, use_reward=use_reward, render_mode=render_mode)
+        self.render_mode = render_mode
+        self._last: Optional[np.ndarray] = None
         self.scene, self.world = self.env.scene, self.env.world
         self.num_envs = int(num_envs)
         self.single_action_space = self.env.action_space
@@ -169,6 +189,7 @@ class E3dVectorEnv(VectorEnv):
         if self.scene.is_continuous:
             a = self.env.values_of(a)
         out = self.world.execute_batch(a)
+        self._last = a
         reward = out.reward if self.env.use_reward else np.zeros(self.num_envs)
         done = np.ones(self.num_envs, dtype=np.bool_)
         infos = {
@@ -178,6 +199,15 @@ class E3dVectorEnv(VectorEnv):
             "_final_info": done,
         }
         return self._start.copy(), np.asarray(reward, dtype=np.float64), done, ~done, infos
+
+    def render(self) -> Optional[tuple[np.ndarray, ...]]:
+        """With ``render_mode="rgb_array"``: one picture per copy, with the
+        path of its last command; else ``None``."""
+        if self.render_mode != "rgb_array":
+            return None
+        if self._last is None:
+            return tuple(self.scene.render() for _ in range(self.num_envs))
+        return tuple(self.scene.render(c) for c in self._last)
 
 
 if ENV_ID not in gym.registry:

@@ -173,3 +173,99 @@ impl<W: ContinuousWorld + ?Sized, S: Fn() -> bool> ContinuousWorld for Guarded<'
         self.world.execute_values(values)
     }
 }
+
+/// A learner whose trials are also handed to a Python callable,
+/// `on_trials(first, commands, effects, rewards)`, `every` trials at a
+/// time (arrays: one call per batch, not per trial). Its first exception
+/// goes to `error`, which stops the session.
+pub(crate) struct Tap<'py, 'a, L: ?Sized> {
+    py: Python<'py>,
+    inner: &'a mut L,
+    callback: Option<Bound<'py, PyAny>>,
+    every: usize,
+    slots: usize,
+    first: usize,
+    symbols: Vec<u8>,
+    effects: Vec<usize>,
+    rewards: Vec<f64>,
+    error: &'a RefCell<Option<PyErr>>,
+}
+
+impl<'py, 'a, L: Learner + ?Sized> Tap<'py, 'a, L> {
+    pub(crate) fn new(
+        py: Python<'py>,
+        inner: &'a mut L,
+        callback: Option<&Bound<'py, PyAny>>,
+        every: usize,
+        slots: usize,
+        error: &'a RefCell<Option<PyErr>>,
+    ) -> Self {
+        let cap = if callback.is_some() {
+            every.min(1 << 20)
+        } else {
+            0
+        };
+        Tap {
+            py,
+            inner,
+            callback: callback.cloned(),
+            every,
+            slots,
+            first: 0,
+            symbols: Vec::with_capacity(cap * slots),
+            effects: Vec::with_capacity(cap),
+            rewards: Vec::with_capacity(cap),
+            error,
+        }
+    }
+
+    /// Hands the trials kept so far to the callable.
+    pub(crate) fn flush(&mut self) {
+        let Some(cb) = &self.callback else { return };
+        let n = self.effects.len();
+        if n == 0 || self.error.borrow().is_some() {
+            return;
+        }
+        let commands = numpy::ndarray::Array2::from_shape_vec(
+            (n, self.slots),
+            std::mem::take(&mut self.symbols),
+        )
+        .expect("n x slots");
+        let effects = PyArray1::from_iter(self.py, self.effects.drain(..).map(|e| e as i64));
+        let rewards = PyArray1::from_slice(self.py, &self.rewards);
+        self.rewards.clear();
+        let r = cb.call1((
+            self.first,
+            numpy::IntoPyArray::into_pyarray(commands, self.py),
+            effects,
+            rewards,
+        ));
+        self.first += n;
+        if let Err(e) = r {
+            *self.error.borrow_mut() = Some(e);
+        }
+    }
+}
+
+impl<L: Learner + ?Sized> Learner for Tap<'_, '_, L> {
+    fn name(&self) -> &str {
+        self.inner.name()
+    }
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
+        self.inner.propose(rng, command)
+    }
+    fn learn(&mut self, command: &Command, outcome: &Outcome) {
+        self.inner.learn(command, outcome);
+        if self.callback.is_some() {
+            self.symbols.extend_from_slice(&command.symbols);
+            self.effects.push(outcome.effect);
+            self.rewards.push(outcome.reward);
+            if self.effects.len() >= self.every {
+                self.flush();
+            }
+        }
+    }
+    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
+        self.inner.slot_policy(slot)
+    }
+}

@@ -17,7 +17,9 @@ mod progress;
 mod record;
 mod rng;
 mod scene;
+mod scene_dict;
 mod session;
+mod state;
 mod sweep;
 mod world;
 
@@ -28,6 +30,7 @@ use record::{PyBatchRecord, PyRecord};
 use rng::PyRng;
 use scene::PyScene;
 use session::{run_session, run_sessions};
+use state::PyE3dLearner;
 use sweep::run_sweep;
 use world::{PyBatch, PyOutcome, PyWorld};
 
@@ -44,6 +47,7 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRng>()?;
     m.add_class::<PyBatchRecord>()?;
     m.add_class::<PyMotion>()?;
+    m.add_class::<PyE3dLearner>()?;
     errors::scene_error_defaults(m.py())?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;

@@ -19,22 +19,105 @@ use pyo3::types::{PyDict, PyList};
 /// `Q`) and `effect_model` (its running effect histogram `p`, float64
 /// `[num_effects]`), both from `run_session` with `learner="e3d"` only
 /// (else None), and how outcomes were obtained (`execution`).
-#[pyclass(module = "e3d", name = "SessionRecord", frozen, get_all)]
+#[pyclass(module = "e3d", name = "SessionRecord", frozen)]
 pub(crate) struct PyRecord {
+    #[pyo3(get)]
     scene: String,
+    #[pyo3(get)]
     learner: String,
+    #[pyo3(get)]
     seed: u64,
+    #[pyo3(get)]
     trials: usize,
+    #[pyo3(get)]
     commands: Py<PyAny>,
+    #[pyo3(get)]
     effects: Py<PyArray1<i64>>,
+    #[pyo3(get)]
     rewards: Py<PyArray1<f64>>,
+    #[pyo3(get)]
     metrics: Py<PyDict>,
+    #[pyo3(get)]
     effect_counts: Py<PyArray1<f64>>,
+    #[pyo3(get)]
     final_policy: Option<Py<PyAny>>,
+    #[pyo3(get)]
     policy_effect_distribution: Option<Py<PyArray1<f64>>>,
+    #[pyo3(get)]
     q: Option<Py<PyAny>>,
+    #[pyo3(get)]
     effect_model: Option<Py<PyArray1<f64>>>,
+    #[pyo3(get)]
     execution: String,
+    /// The effect grid's rows, columns and rewarded cells (for the picture).
+    grid: Grid,
+}
+
+/// The effect grid of a session's scene: rows, columns, and whether each
+/// cell is rewarded.
+#[derive(Clone)]
+pub(crate) struct Grid {
+    rows: usize,
+    cols: usize,
+    rewarded: Vec<bool>,
+}
+
+impl Grid {
+    fn of(scene: &PyScene) -> Grid {
+        let g = scene.inner.effect_grid();
+        Grid {
+            rows: g.rows,
+            cols: g.cols,
+            rewarded: scene
+                .inner
+                .reward_table()
+                .iter()
+                .map(|&r| r != 0.0)
+                .collect(),
+        }
+    }
+
+    /// An SVG of the grid, each cell shaded by its share of `counts` (its
+    /// count over the largest, white to dark blue) and labelled with it,
+    /// the rewarded cells outlined in green; row 0 at the bottom, as the
+    /// scene's picture has it.
+    fn svg(&self, counts: &[f64], title: &str) -> String {
+        use std::fmt::Write;
+        let cell = (480.0 / self.cols.max(self.rows) as f64).clamp(4.0, 60.0);
+        let (w, h) = (self.cols as f64 * cell, self.rows as f64 * cell);
+        let top = counts.iter().copied().fold(0.0, f64::max).max(1.0);
+        let total: f64 = counts.iter().sum::<f64>().max(1.0);
+        let mut out = format!(
+            r##"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {:.0} {:.0}" font-family="Helvetica, Arial, sans-serif"><rect width="100%" height="100%" fill="#ffffff"/><text x="10" y="20" font-size="14" fill="#222">{}</text>"##,
+            w + 20.0,
+            h + 40.0,
+            w + 20.0,
+            h + 40.0,
+            title.replace('&', "&amp;").replace('<', "&lt;")
+        );
+        for (e, &c) in counts.iter().enumerate() {
+            let (r, col) = (e / self.cols, e % self.cols);
+            let (x, y) = (
+                10.0 + col as f64 * cell,
+                30.0 + (self.rows - 1 - r) as f64 * cell,
+            );
+            let f = c / top;
+            let shade = |lo: f64, hi: f64| (hi + (lo - hi) * f).round() as u8;
+            let (cr, cg, cb) = (shade(31.0, 255.0), shade(78.0, 255.0), shade(156.0, 255.0));
+            let stroke = if self.rewarded.get(e).copied().unwrap_or(false) {
+                r##"stroke="#2e8b57" stroke-width="3""##
+            } else {
+                r##"stroke="#b8c4d6" stroke-width="0.8""##
+            };
+            let _ = write!(
+                out,
+                r#"<rect x="{x:.1}" y="{y:.1}" width="{cell:.1}" height="{cell:.1}" fill="rgb({cr},{cg},{cb})" {stroke}><title>cell ({r}, {col}): {c} trials ({:.1}%)</title></rect>"#,
+                100.0 * c / total
+            );
+        }
+        out.push_str("</svg>");
+        out
+    }
 }
 
 /// One session's results, whatever its commands, ready for Python.
@@ -122,6 +205,18 @@ pub(crate) fn slot_policies(
 
 #[pymethods]
 impl PyRecord {
+    /// The session as a picture, for notebooks: the effect grid with each
+    /// cell shaded by its share of the trials (`effect_counts`), the
+    /// rewarded cells outlined.
+    fn _repr_svg_(&self, py: Python<'_>) -> PyResult<String> {
+        let counts = self.effect_counts.bind(py).readonly().as_slice()?.to_vec();
+        let title = format!(
+            "{}: {}, seed {}, {} trials",
+            self.scene, self.learner, self.seed, self.trials
+        );
+        Ok(self.grid.svg(&counts, &title))
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "SessionRecord(scene={:?}, learner={:?}, seed={}, trials={})",
@@ -181,6 +276,7 @@ pub(crate) fn record_to_py(
         },
         effect_model: rows.effect_model.map(|p| p.into_pyarray(py).unbind()),
         execution,
+        grid: Grid::of(scene),
     })
 }
 
@@ -213,6 +309,8 @@ pub(crate) struct PyBatchRecord {
     metrics: Py<PyDict>,
     #[pyo3(get)]
     execution: String,
+    /// The effect grid (for each session's picture).
+    grid: Grid,
     /// Each session's metrics, as `SessionRecord.metrics`.
     per_session: Vec<Py<PyDict>>,
     /// Each session's effect counts and final policy.
@@ -253,6 +351,7 @@ impl PyBatchRecord {
             q: None,
             effect_model: None,
             execution: self.execution.clone(),
+            grid: self.grid.clone(),
         })
     }
 
@@ -346,6 +445,7 @@ pub(crate) fn batch_to_py(
         rewards: rewards.into_pyarray(py).unbind(),
         metrics: metrics.unbind(),
         execution,
+        grid: Grid::of(scene),
         per_session,
         counts,
         policies,

@@ -27,7 +27,7 @@ impl PyRng {
     }
 
     /// The generator, if a `propose(rng)` call holds it.
-    fn lent(&mut self) -> PyResult<&mut SessionRng> {
+    pub(crate) fn lent(&mut self) -> PyResult<&mut SessionRng> {
         if !self.active {
             return Err(PyRuntimeError::new_err(
                 "SessionRng used outside the propose(rng) call it was given to: it is the session's generator only during that call",

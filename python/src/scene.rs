@@ -311,6 +311,76 @@ impl PyScene {
         crate::picture::svg(py, self, None)
     }
 
+    /// The SVG picture rasterised: a uint8 array `(height, width, 3)`
+    /// (RGB), `scale` pixels per pixel of `svg()` (whose largest side
+    /// is about 850), with the path of `command` when given. Text (the
+    /// title, axis labels and legend) is left out: it would need fonts.
+    #[pyo3(signature = (command = None, scale = 1.0))]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        command: Option<&Bound<'py, PyAny>>,
+        scale: f32,
+    ) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+        let svg = crate::picture::svg(py, self, command)?;
+        let (h, w, rgb) = py.detach(|| crate::picture::rasterise(&svg, scale))?;
+        let a = numpy::ndarray::Array3::from_shape_vec((h, w, 3), rgb).expect("h x w x 3");
+        Ok(a.into_pyarray(py))
+    }
+
+    /// What the picture draws, as plain data for matplotlib and the like
+    /// (metres, world frame, y up): `kind`; `effect_grid` (`rows`, `cols`,
+    /// `min`, `max`); `reward_cells` (`(row, col)` of every rewarded
+    /// cell); on a grid `start` and `walls` (pairs of cells); on a physics
+    /// scene `bodies` (each `name`, `kind`, `shape`, `position`, `angle`,
+    /// `radius` and `points`: a ball's centre, a cuboid's closed outline,
+    /// a capsule's or segment's two ends, a polyline's points), `joints`
+    /// (`name`, `parent`, `child`, `position`), `tracked_body` and
+    /// `tracked_point`.
+    fn geometry<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        crate::picture::geometry(py, &self.inner)
+    }
+
+    /// The scene's fields as Python data: the RON text's structure (a
+    /// struct a dict, an enum variant with data a one-key dict such as
+    /// `{"Physics": {...}}`, a variant without data its name, a tuple a
+    /// list), which `Scene.from_dict` reads back as an equal scene.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::scene_dict::to_dict(py, &self.inner)
+    }
+
+    /// A scene from Python data of `to_dict`'s form, checked as a scene
+    /// file is: `SceneError` naming the path of the value at fault
+    /// (`<dict>: world.Physics.bodies[0].shape: unknown variant ...`,
+    /// `.field` the path), or the validation's message and field.
+    #[staticmethod]
+    fn from_dict(data: &Bound<'_, PyAny>) -> PyResult<PyScene> {
+        let scene = crate::scene_dict::from_dict(data)?;
+        PyScene::new(scene).map_err(scene_err)
+    }
+
+    /// A copy of the scene with overrides: `{path: value}`, paths of
+    /// dot-separated fields of `to_dict()`'s form, a list's item by index
+    /// or by name, enum variants stepped through, and paths that do not
+    /// start with a field of the scene (`name`, `description`, `world`,
+    /// `command`, `reward`, ...) starting in the world:
+    /// `scene.with_({"bodies.puck.linear_damping": 2.0})`. The result is
+    /// checked as `from_dict` checks.
+    fn with_(
+        &self,
+        py: Python<'_>,
+        overrides: &Bound<'_, pyo3::types::PyDict>,
+    ) -> PyResult<PyScene> {
+        let d = crate::scene_dict::to_dict(py, &self.inner)?;
+        for (k, v) in overrides.iter() {
+            let path: String = k
+                .extract()
+                .map_err(|_| PyTypeError::new_err("with_: keys must be paths (str)"))?;
+            crate::scene_dict::set_path(&d, &path, &v)?;
+        }
+        PyScene::from_dict(&d)
+    }
+
     /// The scene as RON text that `Scene.from_text` reads back as an equal
     /// scene (the library's `Scene::to_ron`).
     fn to_ron(&self) -> String {

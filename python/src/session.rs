@@ -2,10 +2,11 @@
 //! learners on the world an [`Executor`] chooses.
 
 use crate::errors::{learner_names, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail};
-use crate::learner::{builtin_kind, python_learner_name, Guarded, PyLearner};
+use crate::learner::{builtin_kind, python_learner_name, Guarded, PyLearner, Tap};
 use crate::progress::{watched, Throttle, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
 use crate::scene::{scene_of, PyScene};
+use crate::state::PyE3dLearner;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
     E3d, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target, ValueSpace,
@@ -42,7 +43,7 @@ pub(crate) struct SessionArgs {
 /// `target`: None (uniform), an array of one weight per effect, or a dict
 /// `{effect: weight}` / `{(row, col): weight}` (the cells not named weigh
 /// 0); checked as the library checks a target.
-fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> PyResult<Target> {
+pub(crate) fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> PyResult<Target> {
     let Some(obj) = target.filter(|t| !t.is_none()) else {
         return Ok(Target::Uniform);
     };
@@ -271,11 +272,20 @@ pub(crate) fn execution_text(exec: Executor<'_>) -> String {
 /// and raises `KeyboardInterrupt`. `target`: E3D's `p*` (None: uniform; an
 /// array of one weight per effect, or a dict `{effect or (row, col):
 /// weight}`), also the metrics' target.
+///
+/// `learner` may also be an `E3dLearner`: the session starts from its
+/// state (its own alpha, beta, lambda, eta and target; those given here
+/// only set the metrics' target) and leaves it in the state it ends in.
+/// `on_trials`: a callable, called as `on_trials(first, commands,
+/// effects, rewards)` with the arrays of every `every` trials (the last
+/// call may hold fewer), `first` the index of their first trial; it runs
+/// the session on this thread (with the GIL), and an exception from it
+/// stops the session and is raised.
 #[pyfunction]
 #[pyo3(signature = (scene, learner = None, trials = 5000, seed = 0, use_reward = true,
     alpha = 0.3, beta = 1.0, lambda_ = 0.03,
     eta = 0.01, epsilon = 0.1, outcomes = None, table_cache = None,
-    progress = None, target = None))]
+    progress = None, target = None, on_trials = None, every = 1000))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_session(
     py: Python<'_>,
@@ -293,8 +303,14 @@ pub(crate) fn run_session(
     table_cache: Option<PathBuf>,
     progress: Option<&Bound<'_, PyAny>>,
     target: Option<&Bound<'_, PyAny>>,
+    on_trials: Option<&Bound<'_, PyAny>>,
+    every: usize,
 ) -> PyResult<PyRecord> {
     let scene = scene_of(scene)?;
+    let on_trials = on_trials.filter(|c| !c.is_none());
+    if every == 0 {
+        return Err(PyValueError::new_err("every = 0: expected at least 1"));
+    }
     let target = target_arg(&scene, target)?;
     let a = session_args(
         trials,
@@ -326,11 +342,23 @@ pub(crate) fn run_session(
     }
     let space = scene.space.clone();
     let n_eff = scene.inner.num_effects();
-    if let Some(kind) = builtin_kind(learner)? {
+    // an E3dLearner: E3D from its state, written back at the end
+    let state = learner.and_then(|l| l.cast::<PyE3dLearner>().ok().cloned());
+    let kind = match &state {
+        Some(_) => Some(LearnerKind::E3d),
+        None => builtin_kind(learner)?,
+    };
+    if let Some(kind) = kind {
         let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
         // E3D as its own type, so that its Q and effect model can be read
-        let mut e3d_made = match kind {
-            LearnerKind::E3d => Some(E3d::new(&space, n_eff, &a.params, &a.target).map_err(bad)?),
+        let mut e3d_made = match (kind, &state) {
+            (LearnerKind::E3d, Some(st)) => {
+                st.borrow().check_fits(&scene)?;
+                Some(st.borrow().inner.clone())
+            }
+            (LearnerKind::E3d, None) => {
+                Some(E3d::new(&space, n_eff, &a.params, &a.target).map_err(bad)?)
+            }
             _ => None,
         };
         let mut boxed = match kind {
@@ -345,9 +373,28 @@ pub(crate) fn run_session(
             (None, Some(b)) => &mut **b,
             (None, None) => return Err(PyTypeError::new_err("no learner made")),
         };
-        let inner = scene.inner.clone();
-        let watch = Watch::new();
-        let (rec, metrics, exact, execution) =
+        let (rec, metrics, exact, execution) = if let Some(cb) = on_trials {
+            let error = RefCell::new(None);
+            let (rec, exec) = run_here(
+                py,
+                &scene,
+                &work,
+                &a,
+                &cfg,
+                made,
+                &error,
+                progress,
+                Some(cb),
+                every,
+            )?;
+            let metrics = symbol_metrics(&exec, &rec, &a.target);
+            let exact = exec
+                .table()
+                .and_then(|t| e3d::policy_effect_distribution(t, &*made));
+            (rec, metrics, exact, execution_text(exec))
+        } else {
+            let inner = scene.inner.clone();
+            let watch = Watch::new();
             watched(py, progress, trials as u64, &watch, |watch| {
                 let exec = Executor::new(&inner, &work, &a.options)?;
                 let mut world = exec.world(1);
@@ -365,11 +412,15 @@ pub(crate) fn run_session(
                     .table()
                     .and_then(|t| e3d::policy_effect_distribution(t, &*made));
                 Ok::<_, Fail>((rec, metrics, exact, execution_text(exec)))
-            })??;
+            })??
+        };
         let mut rows = Rows::of_symbols(py, rec, metrics, Some(&*made), exact)?;
         if let Some(e) = &e3d_made {
             rows.q = Some((0..space.num_slots()).map(|s| e.q(s).to_vec()).collect());
             rows.effect_model = Some(e.effect_model().probs());
+            if let Some(st) = &state {
+                st.borrow_mut().inner = e.clone();
+            }
         }
         return record_to_py(py, &scene, kind.as_str(), seed, rows, execution);
     }
@@ -377,7 +428,33 @@ pub(crate) fn run_session(
     let name = python_learner_name(&obj)?;
     let error = RefCell::new(None);
     let mut pl = PyLearner::new(py, obj, &space, &error)?;
-    let exec = Executor::new(&scene.inner, &work, &a.options).map_err(Fail::from)?;
+    let (rec, exec) = run_here(
+        py, &scene, &work, &a, &cfg, &mut pl, &error, progress, on_trials, every,
+    )?;
+    let metrics = symbol_metrics(&exec, &rec, &a.target);
+    let rows = Rows::of_symbols(py, rec, metrics, None, None)?;
+    record_to_py(py, &scene, &name, seed, rows, execution_text(exec))
+}
+
+/// Runs a session of symbols on this thread, with the GIL (a Python
+/// learner, or a learner whose trials go to `on_trials`): the world the
+/// executor chooses, stopped at the first error put in `error` (by the
+/// learner, `progress` or `on_trials`), which is then raised.
+#[allow(clippy::too_many_arguments)]
+fn run_here<'s, L: Learner + ?Sized>(
+    py: Python<'_>,
+    scene: &'s PyScene,
+    work: &Workload,
+    a: &SessionArgs,
+    cfg: &SessionConfig,
+    learner: &mut L,
+    error: &RefCell<Option<PyErr>>,
+    progress: Option<&Bound<'_, PyAny>>,
+    on_trials: Option<&Bound<'_, PyAny>>,
+    every: usize,
+) -> PyResult<(SessionRecord, Executor<'s>)> {
+    let trials = cfg.trials;
+    let exec = Executor::new(&scene.inner, work, &a.options).map_err(Fail::from)?;
     let mut world = exec.world(1);
     let mut guarded = Guarded {
         world: &mut *world,
@@ -385,21 +462,28 @@ pub(crate) fn run_session(
     };
     let mut rec = SessionRecord::new(&guarded, trials);
     let mut throttle = Throttle::new(py, progress, trials as u64)?;
-    let status = e3d::run_session_into(&mut guarded, &mut pl, &cfg, &mut rec, |t| {
+    let mut tap = Tap::new(
+        py,
+        learner,
+        on_trials,
+        every,
+        scene.space.num_slots(),
+        error,
+    );
+    let status = e3d::run_session_into(&mut guarded, &mut tap, cfg, &mut rec, |t| {
         if error.borrow().is_none() {
             if let Err(e) = throttle.tick(t as u64, t == trials) {
                 *error.borrow_mut() = Some(e);
             }
         }
     });
+    tap.flush();
     drop(world);
-    if let Some(e) = error.into_inner() {
+    if let Some(e) = error.take() {
         return Err(e);
     }
     status.map_err(Fail::from)?;
-    let metrics = symbol_metrics(&exec, &rec, &a.target);
-    let rows = Rows::of_symbols(py, rec, metrics, None, None)?;
-    record_to_py(py, &scene, &name, seed, rows, execution_text(exec))
+    Ok((rec, exec))
 }
 
 /// Runs several sessions of one scene together, in lockstep: at every

@@ -110,10 +110,8 @@ impl PyWorld {
 
     fn take(&self) -> Box<dyn World + Send> {
         let kept = self.idle.lock().unwrap_or_else(|e| e.into_inner()).pop();
-        kept.unwrap_or_else(|| match &self.scene.inner.world {
-            WorldSpec::Physics(p) if self.copies > 1 => {
-                Box::new(PhysicsWorld::with_copies(&self.scene.inner, p, self.copies))
-            }
+        kept.unwrap_or_else(|| match self.scene.inner.as_physics() {
+            Some(p) if self.copies > 1 => Box::new(p.world(self.copies)),
             _ => self.scene.inner.build(),
         })
     }
@@ -144,11 +142,9 @@ impl PyWorld {
     /// A physics world of `copies` copies for a continuous scene.
     fn take_valued(&self) -> Result<PhysicsWorld, WorldError> {
         let kept = self.valued.lock().unwrap_or_else(|e| e.into_inner()).pop();
-        match (kept, &self.scene.inner.world) {
+        match (kept, self.scene.inner.as_physics()) {
             (Some(w), _) => Ok(w),
-            (None, WorldSpec::Physics(p)) => {
-                Ok(PhysicsWorld::with_copies(&self.scene.inner, p, self.copies))
-            }
+            (None, Some(p)) => Ok(p.world(self.copies)),
             (None, _) => Err(WorldError::Other(format!(
                 "scene `{}`: continuous commands need a physics world",
                 self.scene.inner.name

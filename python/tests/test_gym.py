@@ -99,9 +99,27 @@ def test_bad_actions_raise_value_error():
         env.step([9] * 7)
 
 
-def test_render_mode_is_none_only():
+def test_render_modes_are_none_and_rgb_array():
     env = E3dEnv("two_rooms", render_mode=None)
-    assert env.render_mode is None and env.metadata["render_modes"] == []
+    assert env.render_mode is None and env.metadata["render_modes"] == ["rgb_array"]
     assert env.render() is None
-    with pytest.raises(ValueError, match="render_mode = 'rgb_array'"):
-        E3dEnv("two_rooms", render_mode="rgb_array")
+    assert E3dEnv("two_rooms", render_mode="rgb_array").render().shape[2] == 3
+
+
+def test_rgb_array_render():
+    from e3d.gym import E3dEnv, E3dVectorEnv
+    env = E3dEnv("puck_rooms", render_mode="rgb_array")
+    env.reset(seed=0)
+    bare = env.render()
+    env.step(env.scene.parse("SEEEEES")[0])
+    drawn = env.render()
+    assert bare.shape[2] == 3 and drawn.dtype == np.uint8
+    assert drawn.tolist() == env.scene.render("SEEEEES").tolist()
+    assert E3dEnv("puck_rooms").render() is None and bare.shape == env.scene.render().shape
+    with pytest.raises(ValueError, match="render_mode = 'human'"):
+        E3dEnv("puck_rooms", render_mode="human")
+    venv = E3dVectorEnv("puck_rooms", 2, render_mode="rgb_array")
+    venv.reset(seed=0)
+    venv.step(venv.scene.parse(["SEEEEES", "EEEEEEE"]))
+    pics = venv.render()
+    assert len(pics) == 2 and pics[0].tolist() == drawn.tolist()

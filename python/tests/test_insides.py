@@ -2,6 +2,7 @@
 summary.json fields with the CLI's names."""
 
 import json
+import pickle
 
 import numpy as np
 import pytest
@@ -76,3 +77,109 @@ def test_q_and_effect_model_of_e3d():
     assert np.allclose(rec.effect_model, p, rtol=0, atol=1e-9)
     assert e3d.run_session("two_rooms", learner="uniform", trials=10).q is None
     assert e3d.run_sessions("two_rooms", trials=10, sessions=1)[0].q is None
+
+
+def test_e3d_learner_state_reads_and_writes():
+    l = e3d.E3dLearner("two_rooms", beta=5.0)
+    assert l.alphabet_sizes == [4] * 7 and l.num_effects == 18 and l.beta == 5.0
+    assert [q.tolist() for q in l.q] == [[0.0] * 4] * 7
+    assert l.policy[3].tolist() == [0.25] * 4
+    # a session from the learner is the built-in E3D's, and leaves the learner where it ends
+    rec = e3d.run_session("two_rooms", learner=l, trials=2000, seed=7)
+    ref = e3d.run_session("two_rooms", trials=2000, seed=7, beta=5.0)
+    assert rec.effects.tolist() == ref.effects.tolist()
+    assert [q.tolist() for q in l.q] == [q.tolist() for q in ref.q]
+    assert l.effect_model.tolist() == ref.effect_model.tolist()
+    # write Q: the policy is its softmax
+    l.set_q(0, [1.0, 0.0, 0.0, 0.0])
+    z = np.exp(5.0 * np.array([1.0, 0.0, 0.0, 0.0]))
+    assert np.allclose(l.policy[0], z / z.sum(), rtol=0, atol=1e-15)
+    l.set_policy(1, [0.7, 0.1, 0.1, 0.1])
+    assert np.allclose(l.policy[1], [0.7, 0.1, 0.1, 0.1], rtol=0, atol=1e-12)
+    l.q = [[0.0] * 4] * 7
+    assert l.policy[0].tolist() == [0.25] * 4
+    p = np.zeros(18)
+    p[4] = 1.0
+    l.effect_model = p
+    assert l.effect_model.tolist() == p.tolist()
+    # a written policy drives the session: slot 0 always symbol 2
+    l.set_policy(0, [1e-12, 1e-12, 1 - 2e-12 - 1e-12, 1e-12])
+    rec = e3d.run_session("two_rooms", learner=l, trials=50, seed=1, use_reward=False)
+    assert (rec.commands[:, 0] == 2).mean() > 0.95
+    with pytest.raises(ValueError, match=r"Q of slot 0: 3 values given, the slot has 4 symbols"):
+        l.set_q(0, [0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"slot 9: the learner has 7 slots"):
+        l.set_q(9, [0.0] * 4)
+    with pytest.raises(ValueError, match=r"not a finite number"):
+        l.set_q(0, [float("nan"), 0, 0, 0])
+    with pytest.raises(ValueError, match=r"effect_model: 3 probabilities given, the learner has 18 effects"):
+        l.effect_model = [1.0, 0.0, 0.0]
+    with pytest.raises(ValueError, match=r"summing to 1"):
+        l.effect_model = np.full(18, 0.5)
+    with pytest.raises(ValueError, match=r"policy of slot 1: expected probabilities > 0 summing to 1"):
+        l.set_policy(1, [1.0, 0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"this E3dLearner has alphabet sizes \[4, 4, 4, 4, 4, 4, 4\] and 18 effects"):
+        e3d.run_session("arm7", learner=l, trials=10)
+
+
+def test_e3d_learner_saves_and_loads_bit_for_bit():
+    l = e3d.E3dLearner("two_rooms", alpha=0.2, beta=3.0, eta=0.02)
+    e3d.run_session("two_rooms", learner=l, trials=3000, seed=4)
+    saved = l.to_bytes()
+    back = e3d.E3dLearner.from_bytes(saved)
+    unpickled = pickle.loads(pickle.dumps(l))
+    assert back.to_bytes() == saved and unpickled.to_bytes() == saved and back == l
+    # the loaded learners go on exactly as the original
+    runs = [e3d.run_session("two_rooms", learner=x, trials=2000, seed=9) for x in (l, back, unpickled)]
+    assert runs[0].effects.tolist() == runs[1].effects.tolist() == runs[2].effects.tolist()
+    assert l.to_bytes() == back.to_bytes() == unpickled.to_bytes() != saved
+    # as a Python learner (propose / learn) it is the same E3D
+    py = e3d.E3dLearner.from_bytes(saved)
+    native = e3d.E3dLearner.from_bytes(saved)
+    a = e3d.run_session("two_rooms", learner=py.__class__.from_bytes(saved), trials=300, seed=2)
+    b = e3d.run_session("two_rooms", learner=_AsPython(py), trials=300, seed=2)
+    assert a.effects.tolist() == b.effects.tolist()
+    e3d.run_session("two_rooms", learner=native, trials=300, seed=2)
+    assert py.to_bytes() == native.to_bytes()
+    for broken, msg in [(b"", "no E3D state header"), (saved[:-5], "the bytes end early"),
+                        (saved + b"x", "1 bytes after the state")]:
+        with pytest.raises(ValueError, match=msg):
+            e3d.E3dLearner.from_bytes(broken)
+
+
+class _AsPython:
+    """An E3dLearner driven through the Python learner interface."""
+
+    def __init__(self, inner):
+        self.inner = inner
+
+    def propose(self, rng):
+        return self.inner.propose(rng)
+
+    def learn(self, command, effect, reward):
+        self.inner.learn(command.tolist(), effect, reward)
+
+
+def test_on_trials_hands_every_trial_in_batches():
+    seen = []
+    rec = e3d.run_session("two_rooms", trials=2500, seed=3, every=1000,
+                          on_trials=lambda first, c, e, r: seen.append((first, c.copy(), e.copy(), r.copy())))
+    assert [s[0] for s in seen] == [0, 1000, 2000] and [len(s[2]) for s in seen] == [1000, 1000, 500]
+    assert np.concatenate([s[1] for s in seen]).tolist() == rec.commands.tolist()
+    assert np.concatenate([s[2] for s in seen]).tolist() == rec.effects.tolist()
+    assert np.concatenate([s[3] for s in seen]).tolist() == rec.rewards.tolist()
+    # the same session as without the callback
+    assert rec.effects.tolist() == e3d.run_session("two_rooms", trials=2500, seed=3).effects.tolist()
+    # a Python learner too; an exception stops the session and is raised
+    calls = []
+
+    def stop(first, c, e, r):
+        calls.append(first)
+        if first >= 200:
+            raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        e3d.run_session("two_rooms", trials=5000, every=100, on_trials=stop)
+    assert calls == [0, 100, 200]
+    with pytest.raises(ValueError, match="every = 0"):
+        e3d.run_session("two_rooms", trials=10, every=0, on_trials=stop)

@@ -97,3 +97,71 @@ def test_from_text_names_the_file():
         e3d.Scene.from_text("Scene(name: 3)", "mine.ron")
     with pytest.raises(e3d.SceneError, match="the file is empty"):
         e3d.Scene.from_text("  ")
+
+
+@pytest.mark.parametrize("name", e3d.Scene.builtins())
+def test_dict_form_reads_back_equal(name):
+    scene = e3d.Scene.builtin(name)
+    d = scene.to_dict()
+    assert set(d) >= {"name", "world", "command"}
+    assert e3d.Scene.from_dict(d) == scene
+    assert e3d.Scene.from_text(scene.to_ron()) == scene
+
+
+def test_from_dict_errors_name_the_path():
+    d = e3d.Scene.builtin("puck_rooms").to_dict()
+    d["world"]["Physics"]["bodies"][6]["linear_damping"] = "x"
+    with pytest.raises(e3d.SceneError, match=r"^<dict>: world\.Physics\.bodies\[6\]\.linear_damping: invalid type: string \"x\", expected f64") as e:
+        e3d.Scene.from_dict(d)
+    assert e.value.field == "world.Physics.bodies[6].linear_damping" and e.value.file == "<dict>"
+    d = e3d.Scene.builtin("puck_rooms").to_dict()
+    d["world"]["Physics"]["bodies"][1]["shape"] = {"Blob": {}}
+    with pytest.raises(e3d.SceneError, match=r"bodies\[1\]\.shape\.Blob: unknown variant `Blob`, expected one of `Ball`"):
+        e3d.Scene.from_dict(d)
+    d = e3d.Scene.builtin("puck_rooms").to_dict()
+    d["wrold"] = d.pop("world")
+    with pytest.raises(e3d.SceneError, match=r"unknown field `wrold`"):
+        e3d.Scene.from_dict(d)
+    # the validation's messages and field, as for a file
+    d = e3d.Scene.builtin("puck_rooms").to_dict()
+    d["world"]["Physics"]["bodies"][6]["linear_damping"] = -1.0
+    with pytest.raises(e3d.SceneError, match=r"linear_damping.*a finite number >= 0, found -1") as e:
+        e3d.Scene.from_dict(d)
+    assert e.value.field == "linear_damping"
+    with pytest.raises(TypeError, match="expected a dict"):
+        e3d.Scene.from_dict([1, 2])
+
+
+def test_with_overrides_by_path():
+    scene = e3d.Scene.builtin("puck_rooms")
+    heavy = scene.with_({"bodies.puck.linear_damping": 2.0, "name": "damped"})
+    assert heavy.name == "damped" and heavy != scene
+    puck = [b for b in heavy.to_dict()["world"]["Physics"]["bodies"] if b["name"] == "puck"][0]
+    assert puck["linear_damping"] == 2.0
+    # the same with the full path, and an index instead of the name
+    assert scene.with_({"world.Physics.bodies.6.linear_damping": 2.0, "name": "damped"}) == heavy
+    # the damping changes what the commands do
+    cmds = scene.parse(["SEEEEES", "EEEEEEE", "SSEEENN"])
+    assert scene.world().execute_batch(cmds).x.tolist() != heavy.world().execute_batch(cmds).x.tolist()
+    assert e3d.Scene.builtin("two_rooms").with_({"rows": 4}).num_effects == 24
+    with pytest.raises(e3d.SceneError, match=r"no item named `puckx`; the names: wall_south"):
+        scene.with_({"bodies.puckx.linear_damping": 2.0})
+    with pytest.raises(e3d.SceneError, match=r"no field `lin` here; its fields: name, kind, shape"):
+        scene.with_({"bodies.puck.lin": 2.0})
+    with pytest.raises(e3d.SceneError, match=r"found -1"):
+        scene.with_({"bodies.puck.linear_damping": -1.0})
+
+
+def test_from_dict_expands_shorthand_walls():
+    scene = e3d.Scene.builtin("puck_rooms")
+    d = scene.to_dict()
+    p = d["world"]["Physics"]
+    p["bodies"] = [b for b in p["bodies"] if b["name"] == "puck"]
+    p["walls"] = [
+        {"name": "wall", "room": [[0.0, 0.0], [6.0, 3.0]], "placement": "Outside", "thickness": 0.1,
+         "friction": 0.0, "restitution": 0.5},
+        {"name": "inner", "points": [[3.0, 0.0], [3.0, 3.0]], "doors": [[[3.0, 1.0], [3.0, 2.0]]],
+         "names": ["inner_low", "inner_high"], "thickness": 0.1, "friction": 0.0, "restitution": 0.5},
+    ]
+    # the walls of scenes/puck_rooms.ron, written as a dict: the same scene
+    assert e3d.Scene.from_dict(d) == scene

@@ -4,10 +4,7 @@ use super::load_scene;
 use super::{CliError, CliResult};
 use crate::cli::console::outln;
 use clap::Args;
-use e3d::scene::WorldSpec;
-use e3d::{
-    run_session, LearnerKind, OutcomeTable, Params, PhysicsWorld, SessionConfig, Target, World,
-};
+use e3d::{run_session, LearnerKind, OutcomeTable, Params, SessionConfig, Target, World};
 use std::time::{Duration, Instant};
 
 /// Arguments of `e3d bench`.
@@ -114,10 +111,10 @@ pub fn run(a: BenchArgs) -> CliResult {
         if let Some(steps) = scene.steps_per_command() {
             line(&scene.name, "steps", rollouts.times(steps as f64), "1/s");
         }
-        if let WorldSpec::Physics(p) = &scene.world {
+        if let Some(physics) = scene.as_physics() {
             // many commands at once in one Rapier world (one thread)
             let copies = e3d::world::TABLE_COPIES;
-            let mut multi = PhysicsWorld::with_copies(&scene, p, copies);
+            let mut multi = physics.world(copies);
             let mut cmds = vec![space.first(); copies];
             let mut out = Vec::with_capacity(copies);
             let mut i = 0u64;
@@ -130,7 +127,7 @@ pub fn run(a: BenchArgs) -> CliResult {
                 multi.execute_batch(&cmds, &mut out);
                 copies
             });
-            let exact = if p.copies_are_exact() {
+            let exact = if physics.spec().copies_are_exact() {
                 "bit-identical"
             } else {
                 "not bit-identical: tables use one copy"

@@ -65,7 +65,6 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             .map_err(CliError::input)
     };
     make()?;
-    scene.try_physics_world().map_err(CliError::input)?;
     let configs: Vec<SessionConfig> = seeds
         .iter()
         .map(|&seed| SessionConfig {

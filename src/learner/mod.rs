@@ -185,6 +185,10 @@ pub enum LearnerError {
         /// The learner's name.
         learner: &'static str,
     },
+    /// A learner's state that cannot be set or read back (a Q of the
+    /// wrong length, bytes that are not a saved state): what is wrong.
+    #[error("{0}")]
+    State(String),
 }
 
 /// The hyper-parameters of the shipped learners. Defaults: the paper's task

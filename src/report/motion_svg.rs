@@ -93,7 +93,7 @@ pub fn grid_motion_svg(scene: &Scene, command: &Command) -> Result<String, Anima
     let WorldSpec::Grid(g) = &scene.world else {
         return Err(AnimateError::NotGrid(scene.name.clone()));
     };
-    let mut world = GridWorld::from_scene(scene, g);
+    let mut world = GridWorld::of(scene, g);
     let outcome = world
         .execute(command)
         .map_err(|e| AnimateError::Command(e.to_string()))?;

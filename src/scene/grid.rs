@@ -1,7 +1,7 @@
 //! The grid part of the scene format: `world: Grid(...)`, the paper's
 //! degenerate kinematic scene (its world is [`GridWorld`](crate::world::GridWorld)).
 
-use super::{Action, Invalid, Scene};
+use super::{Action, Invalid, SceneSpec};
 use crate::effect::EffectGrid;
 use serde::{Deserialize, Serialize};
 
@@ -35,7 +35,7 @@ impl GridSpec {
         }
     }
 
-    pub(crate) fn validate(&self, scene: &Scene) -> Result<(), Invalid> {
+    pub(crate) fn validate(&self, scene: &SceneSpec) -> Result<(), Invalid> {
         self.effect_grid().validate().map_err(|e| {
             let field = if self.rows == 0 { "rows" } else { "cols" };
             Invalid::at(field, None, &e.to_string())

@@ -21,12 +21,15 @@
 //! [`SceneErrorKind::Io`], a RON mistake [`SceneErrorKind::Syntax`]).
 //! [`Scene::build`] turns a scene into a world ([`crate::World`]).
 //!
-//! A scene's fields are public: one built or edited in code is checked by
-//! [`Scene::validate`] (the loader's own checks) and built by
-//! [`Scene::try_build`], which refuse an invalid scene where `build`
-//! panics; [`Scene::to_ron`] writes it as text that loads back equal.
+//! Parse, don't validate: a [`Scene`] is expanded, immutable and known to
+//! be valid (its fields are read through [`SceneSpec`], which it derefs
+//! to), so building its world cannot fail. A scene built or edited in
+//! code is a [`SceneSpec`], with public fields: [`SceneSpec::validate`]
+//! (the loader's own checks) turns it into a [`Scene`], and
+//! [`SceneSpec::to_ron`] writes it as text that loads back equal.
 //! `docs/scenes.md` documents every field.
 
+mod check;
 pub mod enclosure;
 mod error;
 mod grid;
@@ -36,6 +39,7 @@ mod region;
 pub mod shorthand;
 pub mod symmetry;
 pub mod template;
+pub(crate) mod valid;
 
 pub use error::{did_you_mean, SceneError, SceneErrorKind};
 pub use grid::GridSpec;
@@ -43,16 +47,21 @@ pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
 pub use shorthand::{ChainSpec, Each, LinkShape, Placement, WallSpec};
 pub use symmetry::Symmetry;
+pub use valid::Scene;
 
-use crate::command::{CommandSpace, ValueSpace, MAX_ALPHABET, MAX_SLOTS};
 use crate::effect::EffectGrid;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// A parsed and validated scene.
+/// An editable scene: the fields of a scene file, public, with serde.
+///
+/// Build one in code (or take one of a loaded [`Scene`] with
+/// [`Scene::to_spec`]), edit its fields, and [`validate`](Self::validate)
+/// it into a [`Scene`], the only thing worlds are built from; write it as
+/// scene text with [`to_ron`](Self::to_ron).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Scene {
+#[serde(deny_unknown_fields, rename = "Scene")]
+pub struct SceneSpec {
     /// The scene's name (used in errors, pictures and results).
     pub name: String,
     /// A sentence or two for people.
@@ -351,45 +360,17 @@ pub const BUILTIN: &[(&str, &str)] = &[
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
 pub const DEFAULT_SCENE: &str = "two_rooms";
 
-impl Scene {
-    /// Loads and validates a scene file.
-    pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
-        let path = path.as_ref();
-        let text = read_text(path, "scene")?;
-        Scene::parse(&text, &path.display().to_string())
-    }
-
-    /// Parses and validates scene text; `file` names it in errors.
-    pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
-        let text = prepare_text(text, file, "scene")?;
-        if text.trim().is_empty() {
-            return Err(SceneError::empty(file, "scene"));
-        }
-        let mut scene: Scene = ron_options()
-            .from_str(text)
-            .map_err(|e| SceneError::from_ron(file, text, e))?;
-        // the checks of `validate` (on the expanded shorthands), the
-        // failure placed in the text
-        scene
-            .check()
-            .map_err(|v| SceneError::from_validation(file, text, v))?;
-        // a loaded scene holds plain bodies and joints only
-        scene.expand()?;
-        Ok(scene)
-    }
-
+impl SceneSpec {
     /// Replaces the shorthands of a physics scene (`chains`, `walls`: see
-    /// [`shorthand`]) by the plain bodies and joints they stand for, in
-    /// the documented order; nothing to do for a scene without them (every
-    /// loaded scene: [`load`](Self::load) and [`parse`](Self::parse)
-    /// expand). [`validate`](Self::validate) and [`try_build`](Self::try_build)
-    /// accept a scene built in code with shorthands; other consumers
-    /// (pictures, warnings) read `bodies` and `joints` as they are, so
-    /// expand such a scene first.
+    /// [`shorthand`]) and a [`CommandSpec::Template`] by the plain bodies,
+    /// joints and slots they stand for, in the documented order; nothing
+    /// to do without them. [`validate`](Self::validate) expands (a
+    /// [`Scene`] holds no shorthands); this shows a spec's expansion
+    /// without validating it.
     ///
     /// ```
     /// use e3d::scene::{Scene, WorldSpec};
-    /// let mut arm = Scene::builtin("arm7").unwrap();
+    /// let mut arm = Scene::builtin("arm7").unwrap().to_spec();
     /// let WorldSpec::Physics(p) = &mut arm.world else { unreachable!() };
     /// assert_eq!(p.bodies.len(), 7); // expanded at load
     /// p.chains.push(e3d::scene::ChainSpec { base: (0.0, 1.0), prefix: "b".into(),
@@ -418,46 +399,6 @@ impl Scene {
         Ok(())
     }
 
-    /// A scene shipped with e3d, by name (see [`BUILTIN`]).
-    pub fn builtin(name: &str) -> Option<Scene> {
-        BUILTIN.iter().find(|(n, _)| *n == name).map(|(n, text)| {
-            Scene::parse(text, &format!("<builtin {n}>")).expect("shipped scenes are valid")
-        })
-    }
-
-    /// A scene by path, or by the name of a built-in scene when no such
-    /// file exists.
-    pub fn resolve(path_or_name: &str) -> Result<Scene, SceneError> {
-        let p = Path::new(path_or_name);
-        if !p.exists() {
-            if let Some(s) = Scene::builtin(path_or_name) {
-                return Ok(s);
-            }
-            return Err(SceneError::new(
-                path_or_name,
-                "scene",
-                SceneErrorKind::NoSuchScene,
-            ));
-        }
-        Scene::load(p)
-    }
-
-    /// The command space of this scene.
-    ///
-    /// # Panics
-    /// On a scene without slots, or with an empty, too large or repeating
-    /// alphabet ([`validate`](Self::validate) refuses them), and on a
-    /// continuous scene (see [`value_space`](Self::value_space) and
-    /// [`require_symbols`](Self::require_symbols)).
-    pub fn command_space(&self) -> CommandSpace {
-        CommandSpace::new(
-            self.slots()
-                .map(|a| a.iter().map(|s| s.symbol).collect())
-                .collect(),
-        )
-        .expect("validated scene")
-    }
-
     /// The alphabets, slot by slot (empty for the slots of a
     /// [`CommandSpec::Continuous`] schema, which take values).
     pub fn slots(&self) -> impl Iterator<Item = &[SymbolSpec]> + '_ {
@@ -483,21 +424,6 @@ impl Scene {
     /// ([`CommandSpec::Continuous`]) rather than symbols.
     pub fn is_continuous(&self) -> bool {
         matches!(self.command, CommandSpec::Continuous(_))
-    }
-
-    /// The command space of a continuous scene (`None` for a scene of
-    /// symbols, whose space is [`command_space`](Self::command_space)).
-    ///
-    /// # Panics
-    /// On a continuous scene with an empty or invalid range
-    /// ([`validate`](Self::validate) refuses it).
-    pub fn value_space(&self) -> Option<ValueSpace> {
-        match &self.command {
-            CommandSpec::Continuous(s) => {
-                Some(ValueSpace::new(s.iter().map(|v| v.range).collect()).expect("validated scene"))
-            }
-            _ => None,
-        }
     }
 
     /// `Ok` for a scene of symbols; for a continuous scene, the error that
@@ -559,12 +485,12 @@ impl Scene {
         }
     }
 
-    /// Runs every check [`load`](Self::load) and [`parse`](Self::parse)
+    /// Checks the spec and returns the [`Scene`] it describes, expanded
+    /// (shorthands and templates replaced by what they stand for) and
+    /// known to be valid: the checks [`Scene::load`] and [`Scene::parse`]
     /// run after reading the RON (the same function): ranges, names,
     /// joints that form trees, a declared symmetry the scene keeps, bodies
-    /// that do not overlap, reward cells inside the grid, ... A scene
-    /// whose public fields were edited in code should pass it before it is
-    /// built ([`try_build`](Self::try_build) does).
+    /// that do not overlap, reward cells inside the grid, ...
     ///
     /// The error is [`SceneErrorKind::Invalid`], with the message loading
     /// would give but no position (there is no text), and
@@ -573,7 +499,7 @@ impl Scene {
     /// ```
     /// use e3d::scene::{Scene, SceneErrorKind, WorldSpec};
     ///
-    /// let mut puck = Scene::builtin("puck_rooms").unwrap();
+    /// let mut puck = Scene::builtin("puck_rooms").unwrap().to_spec();
     /// assert!(puck.validate().is_ok());
     /// if let WorldSpec::Physics(p) = &mut puck.world {
     ///     p.bodies.last_mut().unwrap().mass = Some(f64::NAN);
@@ -582,24 +508,27 @@ impl Scene {
     /// assert!(matches!(err.kind(), SceneErrorKind::Invalid { field, .. } if field == "mass"));
     /// assert_eq!(err.to_string(), "<scene puck_rooms>: field `mass`: expected body `puck`: a mass > 0 in kg, found NaN");
     /// ```
-    pub fn validate(&self) -> Result<(), SceneError> {
-        self.check()
-            .map_err(|v| SceneError::invalid(&format!("<scene {}>", self.name), v, None))
+    pub fn validate(&self) -> Result<Scene, SceneError> {
+        let invalid = |v| SceneError::invalid(&format!("<scene {}>", self.name), v, None);
+        self.check().map_err(invalid)?;
+        let mut spec = self.clone();
+        spec.expand()?;
+        Scene::of_checked(spec).map_err(invalid)
     }
 
     /// The scene as RON text in the scene files' dialect, every field
-    /// written (defaults included): [`parse`](Self::parse) reads it back
+    /// written (defaults included): [`Scene::parse`] reads it back
     /// equal, `Scene::parse(&s.to_ron(), f) == Ok(s)` for a valid scene
     /// (numbers are written in Rust's shortest form that reads back the
     /// same bits). An invalid scene is written too, and refused when read.
     ///
-    /// A scene of [`load`](Self::load) or [`parse`](Self::parse) holds no
-    /// shorthands (they are expanded at load), so its text is the expanded
-    /// form (what `e3d scene check --expanded` prints); a scene built in
-    /// code with `chains` or `walls` is written with them, and reads back
+    /// A [`Scene`] holds no shorthands (they are expanded by
+    /// [`validate`](Self::validate)), so its text is the expanded form
+    /// (what `e3d scene check --expanded` prints); a spec built in code
+    /// with `chains` or `walls` is written with them, and reads back
     /// expanded.
     ///
-    /// Plain `ron::to_string` does not read back through [`parse`](Self::parse):
+    /// Plain `ron::to_string` does not read back through [`Scene::parse`]:
     /// it writes `world: Grid((rows: ...))` and `limits: Some((-1.0, 1.0))`,
     /// which the scene dialect (newtype variants without their inner
     /// parentheses, options without `Some`, [`ron_options`]) refuses.
@@ -619,192 +548,6 @@ impl Scene {
         // ron writes structs without their names: name the outer one, as
         // scene files do
         format!("Scene{body}\n")
-    }
-
-    /// A copy of a scene with a [`CommandSpec::Template`] whose command is
-    /// the `Slots` it stands for (`None` without a template, or with one
-    /// that does not expand: [`validate`](Self::validate) refuses it).
-    pub(crate) fn with_template_expanded(&self) -> Option<Scene> {
-        let slots = template::expand(&self.command).ok()??;
-        Some(Scene {
-            command: slots,
-            ..self.clone()
-        })
-    }
-
-    /// Checks everything that parsing alone cannot (the checks of
-    /// [`validate`](Self::validate), before they are placed in a file).
-    fn check(&self) -> Result<(), Invalid> {
-        if self.name.trim().is_empty() {
-            return Err(Invalid::at("name", None, "a non-empty name"));
-        }
-        crate::text::check_name(&self.name).map_err(|e| Invalid::at("name", None, &e))?;
-        let n = self.slots().count();
-        if let Some(declared) = self.slots {
-            if declared != n {
-                let (variant, how) = match &self.command {
-                    CommandSpec::Repeat { .. } => ("Repeat", format!("`Repeat` has `slots: {n}`")),
-                    CommandSpec::Template { .. } => {
-                        ("Template", format!("`Template` has `slots: {n}`"))
-                    }
-                    CommandSpec::Slots(_) => ("Slots", format!("`Slots` lists {n}")),
-                    CommandSpec::Continuous(_) => ("Continuous", format!("`Continuous` lists {n}")),
-                };
-                return Err(Invalid::at(
-                    variant,
-                    None,
-                    &format!(
-                        "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: {how}"
-                    ),
-                ));
-            }
-        }
-        if n == 0 {
-            return Err(Invalid::at("command", None, "at least one slot"));
-        }
-        if let Some(slots) = template::expand(&self.command)? {
-            if let WorldSpec::Physics(p) = &self.world {
-                let mut e = p.clone();
-                shorthand::expand(&mut e)?;
-                let joints: Vec<&str> = e.joints.iter().map(|j| j.name.as_str()).collect();
-                let bodies: Vec<&str> = e.bodies.iter().map(|b| b.name.as_str()).collect();
-                template::check_names(&self.command, &joints, &bodies)?;
-            }
-            // every check on the slots the template stands for
-            return Scene {
-                command: slots,
-                slots: None,
-                ..self.clone()
-            }
-            .check();
-        }
-        if n > MAX_SLOTS {
-            return Err(Invalid::at(
-                "slots",
-                None,
-                &format!("at most {MAX_SLOTS} slots, found {n}"),
-            ));
-        }
-        // how often each symbol was written in the alphabets before this
-        // slot's (a Repeat schema writes its alphabet once)
-        let mut written: std::collections::HashMap<char, usize> = Default::default();
-        let repeat = matches!(self.command, CommandSpec::Repeat { .. });
-        let mut written_symbols = 0;
-        if let CommandSpec::Continuous(slots) = &self.command {
-            if matches!(self.world, WorldSpec::Grid(_)) {
-                return Err(Invalid::at(
-                    "Continuous",
-                    None,
-                    "symbols in a Grid world (one-cell moves); continuous slots need a Physics world",
-                ));
-            }
-            for (i, slot) in slots.iter().enumerate() {
-                let (lo, hi) = slot.range;
-                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                    return Err(Invalid::at(
-                        "range",
-                        None,
-                        &format!(
-                            "slot {i}: a range (min, max) of finite numbers with min < max, found ({lo}, {hi})"
-                        ),
-                    )
-                    .nth(i));
-                }
-            }
-        }
-        for (i, alphabet) in self.slots().enumerate() {
-            if self.is_continuous() {
-                break;
-            }
-            if repeat && i > 0 {
-                break;
-            }
-            let mut here: std::collections::HashSet<char> = Default::default();
-            if alphabet.is_empty() {
-                return Err(Invalid::at(
-                    "alphabet",
-                    None,
-                    &format!("slot {i}: at least one symbol in the alphabet, found none"),
-                ));
-            }
-            if alphabet.len() > MAX_ALPHABET {
-                return Err(Invalid::at(
-                    "alphabet",
-                    None,
-                    &format!(
-                        "slot {i}: at most {MAX_ALPHABET} symbols, found {}",
-                        alphabet.len()
-                    ),
-                ));
-            }
-            for s in alphabet {
-                if !here.insert(s.symbol) {
-                    let before = written.get(&s.symbol).copied().unwrap_or(0);
-                    return Err(Invalid::at(
-                        "symbol",
-                        Some(&format!("'{}'", s.symbol)),
-                        &format!(
-                            "slot {i}: distinct symbols, but '{}' appears twice",
-                            s.symbol
-                        ),
-                    )
-                    .nth(before + 1));
-                }
-                if !printable_symbol(s.symbol) {
-                    return Err(Invalid::at(
-                        "symbol",
-                        None,
-                        &format!(
-                            "a printable symbol other than ',' and '\"' (commands are written as strings and CSV fields): not whitespace, a control, format (zero-width) or combining character, found U+{:04X}",
-                            u32::from(s.symbol)
-                        ),
-                    )
-                    .nth(written_symbols));
-                }
-                written_symbols += 1;
-            }
-            for c in here {
-                *written.entry(c).or_insert(0) += 1;
-            }
-        }
-        match &self.world {
-            WorldSpec::Grid(g) => g.validate(self)?,
-            WorldSpec::Physics(p) if p.has_shorthands() => {
-                // every check on the generated items, an error on one of
-                // them placed at the shorthand that generated it
-                let mut e = p.clone();
-                let origins = shorthand::expand(&mut e)?;
-                e.validate(self).map_err(|v| v.attributed(&origins))?
-            }
-            WorldSpec::Physics(p) => p.validate(self)?,
-        }
-        let grid = self.effect_grid();
-        if !(self.reward.value.is_finite() && self.reward.value.abs() <= MAX_REWARD) {
-            return Err(Invalid::at(
-                "value",
-                None,
-                &format!(
-                    "a finite reward value of at most {MAX_REWARD:e} in magnitude (a cumulative reward over 10^8 trials stays finite), found {}",
-                    self.reward.value
-                ),
-            ));
-        }
-        for &(r, c) in &self.reward.cells {
-            if r >= grid.rows || c >= grid.cols {
-                return Err(Invalid::at(
-                    "cells",
-                    None,
-                    &format!(
-                        "reward cells inside the {} x {} effect grid, found ({r}, {c})",
-                        grid.rows, grid.cols
-                    ),
-                ));
-            }
-        }
-        for region in &self.reward.regions {
-            region.validate(&grid)?;
-        }
-        Ok(())
     }
 }
 

@@ -16,8 +16,7 @@
 //! outcomes bit-identical and 2185 effects equal (`tests/physics/symmetry.rs`,
 //! docs/benchmarks.md). A scene opts in knowingly.
 
-use super::physics::{PhysicsSpec, ShapeSpec, GROUND};
-use super::{Action, Invalid, Scene};
+use super::{Action, Invalid, SceneSpec};
 use serde::{Deserialize, Serialize};
 
 /// A reflection that leaves a physics scene unchanged.
@@ -29,12 +28,9 @@ pub enum Symmetry {
     FlipX,
 }
 
-/// How far an angle may be from the mirror line and still lie on it.
-const ANGLE_TOLERANCE: f64 = 1e-9;
-
 impl Symmetry {
     /// The coordinate the reflection negates (0: x, 1: y).
-    fn axis(self) -> usize {
+    pub(crate) fn axis(self) -> usize {
         match self {
             Symmetry::FlipY => 1,
             Symmetry::FlipX => 0,
@@ -95,7 +91,7 @@ impl Symmetry {
 
     /// Per slot, the index of each symbol's mirror image in the same slot
     /// (`maps[slot][symbol]`), or where an alphabet lacks one.
-    pub(crate) fn symbol_maps(self, scene: &Scene) -> Result<Vec<Vec<u8>>, Invalid> {
+    pub(crate) fn symbol_maps(self, scene: &SceneSpec) -> Result<Vec<Vec<u8>>, Invalid> {
         // the symbols of the slots before, to place an error on the right
         // occurrence of a symbol that several slots use
         let mut seen: Vec<char> = Vec::new();
@@ -125,134 +121,6 @@ impl Symmetry {
             maps.push(map);
         }
         Ok(maps)
-    }
-
-    /// Checks that the reflection leaves `spec` (and its command) unchanged,
-    /// each body being its own mirror image.
-    pub(crate) fn validate(self, spec: &PhysicsSpec, scene: &Scene) -> Result<(), Invalid> {
-        let k = self.axis();
-        let coord = ["x", "y"][k];
-        let across = |p: (f64, f64)| [p.0, p.1][k];
-        let fail = |field: &str, anchor: Option<&str>, what: String| {
-            Err(Invalid::at(
-                field,
-                anchor,
-                &format!("symmetry {self:?}: {what}"),
-            ))
-        };
-        if across(spec.gravity) != 0.0 {
-            return fail(
-                "gravity",
-                None,
-                format!(
-                    "gravity along the mirror line ({coord} = 0), found {:?}",
-                    spec.gravity
-                ),
-            );
-        }
-        // a body's local x axis must lie along the mirror line, so that the
-        // reflection acts on its frame as local y -> -y
-        let along = |angle: f64| match self {
-            Symmetry::FlipY => angle.sin().abs() < ANGLE_TOLERANCE,
-            Symmetry::FlipX => angle.cos().abs() < ANGLE_TOLERANCE,
-        };
-        let on_line = match self {
-            Symmetry::FlipY => "0 or pi",
-            Symmetry::FlipX => "pi/2 or -pi/2",
-        };
-        for b in &spec.bodies {
-            let at = format!("\"{}\"", b.name);
-            if across(b.position) != 0.0 {
-                return fail(
-                    "position",
-                    Some(&at),
-                    format!(
-                        "every body its own mirror image, on the mirror line ({coord} = 0), but `{}` is at {:?}",
-                        b.name, b.position
-                    ),
-                );
-            }
-            if !along(b.angle) {
-                return fail(
-                    "angle",
-                    Some(&at),
-                    format!(
-                        "every body along the mirror line (angle {on_line}), but `{}` has angle {}",
-                        b.name, b.angle
-                    ),
-                );
-            }
-            let symmetric = match &b.shape {
-                ShapeSpec::Ball { .. } | ShapeSpec::Cuboid { .. } => true,
-                ShapeSpec::Capsule { a, b, .. } | ShapeSpec::Segment { a, b } => {
-                    a.1 == 0.0 && b.1 == 0.0
-                }
-                ShapeSpec::Polyline { points } => points.iter().all(|p| p.1 == 0.0),
-            };
-            if !symmetric {
-                return fail(
-                    "shape",
-                    Some(&at),
-                    format!(
-                        "shapes symmetric about the body's local x axis (local y = 0 for every point), but `{}`'s is not",
-                        b.name
-                    ),
-                );
-            }
-        }
-        for j in &spec.joints {
-            let at = format!("\"{}\"", j.name);
-            // an anchor on `ground` is in world coordinates, others local
-            let parent_off = if j.parent == GROUND {
-                across(j.parent_anchor)
-            } else {
-                j.parent_anchor.1
-            };
-            if parent_off != 0.0 || j.child_anchor.1 != 0.0 {
-                return fail(
-                    "parent_anchor",
-                    Some(&at),
-                    format!(
-                        "hinges on the mirror line (local y = 0; {coord} = 0 on `ground`), but joint `{}` has {:?} and {:?}",
-                        j.name, j.parent_anchor, j.child_anchor
-                    ),
-                );
-            }
-            if let Some((lo, hi)) = j.limits {
-                if lo != -hi {
-                    return fail(
-                        "limits",
-                        Some(&at),
-                        format!(
-                            "limits symmetric about 0, (-m, m), but joint `{}` has ({lo}, {hi})",
-                            j.name
-                        ),
-                    );
-                }
-            }
-        }
-        if spec.effect.point.1 != 0.0 {
-            return fail(
-                "point",
-                None,
-                format!(
-                    "a tracked point on its body's local x axis (y = 0), found {:?}",
-                    spec.effect.point
-                ),
-            );
-        }
-        let g = &spec.effect.grid;
-        if g.min[k] != -g.max[k] {
-            return fail(
-                "grid",
-                None,
-                format!(
-                    "an effect grid symmetric about the mirror line (min {coord} = -max {coord}), found min {:?}, max {:?}",
-                    g.min, g.max
-                ),
-            );
-        }
-        self.symbol_maps(scene).map(drop)
     }
 }
 

@@ -4,6 +4,9 @@ use crate::scene::SceneError;
 use crate::world::WorldError;
 use std::path::{Path, PathBuf};
 
+/// An error a factory returns: any error type, sent across threads.
+pub type BoxError = Box<dyn std::error::Error + Send + Sync>;
+
 /// Why a sweep could not be loaded, run, resumed or merged.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -36,7 +39,7 @@ pub enum SweepError {
         learner: String,
         /// The factory's error ([`LearnerError`](crate::LearnerError) for
         /// the built-in learners).
-        source: crate::sweep::BoxError,
+        source: BoxError,
     },
     /// Anything else that stops a sweep (a world of another command space
     /// than its scene's, a thread pool that cannot start, ...).

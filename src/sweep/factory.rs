@@ -36,10 +36,9 @@
 //! assert!(sweep.result_row(&results[0]).starts_with("count_b,uniform,true,"));
 //! ```
 
-use super::SweepError;
 #[cfg(doc)]
 use super::SweepSpec;
-use super::PARAM_NAMES;
+use super::{BoxError, SweepError};
 use crate::command::CommandSpace;
 use crate::effect::Target;
 use crate::hash::fnv1a64;
@@ -50,8 +49,21 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// An error a factory returns: any error type, sent across threads.
-pub type BoxError = Box<dyn std::error::Error + Send + Sync>;
+/// The names of the hyper-parameters, in the order of the cells and columns.
+pub const PARAM_NAMES: [&str; 5] = ["alpha", "beta", "lambda", "eta", "epsilon"];
+
+/// Whether `learner` uses the hyper-parameter `param` (one of
+/// [`PARAM_NAMES`]).
+///
+/// ```
+/// use e3d::{sweep::uses_param, LearnerKind};
+/// assert!(uses_param(LearnerKind::E3d, "eta"));
+/// assert!(!uses_param(LearnerKind::Egreedy, "beta"));
+/// assert!(!uses_param(LearnerKind::Uniform, "alpha"));
+/// ```
+pub fn uses_param(learner: LearnerKind, param: &str) -> bool {
+    learner.params().contains(&param)
+}
 
 // ---------------------------------------------------------------------------
 // Worlds
@@ -169,7 +181,7 @@ impl SweepScene for Scene {
         Scene::command_space(self)
     }
     fn num_effects(&self) -> usize {
-        Scene::num_effects(self)
+        crate::scene::SceneSpec::num_effects(self)
     }
     /// [`OutcomeTable::key`]: the scene's canonical form and the e3d
     /// version.
@@ -549,7 +561,7 @@ impl Learners {
 
     /// The built-in learners, `e3d sweep`'s: `e3d`, `uniform`, `egreedy`
     /// ([`LearnerKind::make`], using the parameters of
-    /// [`uses_param`](super::uses_param)).
+    /// [`uses_param`]).
     pub fn builtin() -> Learners {
         Learners {
             entries: LearnerKind::ALL
@@ -617,7 +629,7 @@ impl LearnerFactory for Learners {
 
     fn uses(&self, name: &str) -> Option<[bool; 5]> {
         Some(match self.entry(name)? {
-            Entry::Builtin(k) => std::array::from_fn(|i| super::uses_param(*k, PARAM_NAMES[i])),
+            Entry::Builtin(k) => std::array::from_fn(|i| uses_param(*k, PARAM_NAMES[i])),
             Entry::Custom(used, _) => *used,
         })
     }

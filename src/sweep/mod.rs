@@ -94,18 +94,19 @@ mod spec;
 
 pub use crate::hash::{fnv1a64, session_seed, splitmix64};
 pub(crate) use error::io_err;
-pub use error::SweepError;
+pub use error::{BoxError, SweepError};
 pub use factory::{
-    BoxError, FactoryError, LearnerFactory, Learners, LiveScene, MakeLearner, SceneFiles, SceneRun,
-    SweepScene, WorldFactory, Worlds,
+    uses_param, FactoryError, LearnerFactory, Learners, LiveScene, MakeLearner, SceneFiles,
+    SceneRun, SweepScene, WorldFactory, Worlds, PARAM_NAMES,
 };
-pub use plan::{format_number, uses_param, Cell, ParseShardError, SessionSpec, Shard, Sweep};
+pub use plan::{format_number, Cell, ParseShardError, SessionSpec, Shard, Sweep};
 pub use results::{
-    merge, DirReport, SessionResult, CELL_COLUMNS, FAILURE_COLUMN, JOURNAL, KEY_COLUMNS,
-    MAX_RESULTS_BYTES, PHYSICS_FINGERPRINT, RESULTS, SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,
+    merge, DirReport, SessionResult, JOURNAL, MAX_RESULTS_BYTES, PHYSICS_FINGERPRINT, RESULTS,
+    SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,
 };
 pub use run::{cap_threads, max_threads, DirOptions, THREADS_PER_CORE};
 pub use spec::{
     MetricSpec, ParamValues, Scale, SweepSpec, Values, FIXED_PARAM_NAMES, MAX_SESSIONS, MAX_STEPS,
-    MAX_TRIALS, PARAM_NAMES,
+    MAX_TRIALS,
 };
+pub use summary::{CELL_COLUMNS, FAILURE_COLUMN, KEY_COLUMNS};

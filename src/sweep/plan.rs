@@ -3,13 +3,14 @@
 
 use super::factory::{
     is_identifier, FactoryError, LearnerFactory, Learners, SceneFiles, SweepScene, WorldFactory,
+    PARAM_NAMES,
 };
 use super::spec::{
-    invalid, param_of, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS, PARAM_NAMES,
+    invalid, param_of, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS,
 };
 use super::{SweepError, MAX_SESSIONS};
 use crate::hash::session_seed;
-use crate::learner::{LearnerKind, Params};
+use crate::learner::Params;
 use crate::world::{ExecOptions, Strategy, Workload};
 #[cfg(doc)]
 use crate::world::{ExecutionPlan, OutcomeTable, DEFAULT_MEMO_CAP};
@@ -17,19 +18,6 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::Arc;
-
-/// Whether `learner` uses the hyper-parameter `param` (one of
-/// [`PARAM_NAMES`]).
-///
-/// ```
-/// use e3d::{sweep::uses_param, LearnerKind};
-/// assert!(uses_param(LearnerKind::E3d, "eta"));
-/// assert!(!uses_param(LearnerKind::Egreedy, "beta"));
-/// assert!(!uses_param(LearnerKind::Uniform, "alpha"));
-/// ```
-pub fn uses_param(learner: LearnerKind, param: &str) -> bool {
-    learner.params().contains(&param)
-}
 
 /// A number as written in results and identities: Rust's shortest
 /// round-trip decimal form (`0.3`, `100`, `0.001`).

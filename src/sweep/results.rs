@@ -4,30 +4,10 @@
 use super::journal::{self, JournalHeader};
 use super::plan::{format_number, SessionSpec, Shard, Sweep};
 use super::spec::MetricSpec;
-use super::{io_err, summary, SweepError};
+use super::summary::{self, FAILURE_COLUMN, KEY_COLUMNS};
+use super::{io_err, SweepError};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-/// The columns of `results.csv` before the metrics.
-pub const KEY_COLUMNS: [&str; 10] = [
-    "scene",
-    "learner",
-    "use_reward",
-    "alpha",
-    "beta",
-    "lambda",
-    "eta",
-    "epsilon",
-    "session",
-    "seed",
-];
-
-/// The last column of `results.csv`: empty, or why the session failed.
-pub const FAILURE_COLUMN: &str = "failure";
-
-/// The number of leading [`KEY_COLUMNS`] that identify a cell (all but
-/// `session` and `seed`).
-pub const CELL_COLUMNS: usize = 8;
 
 /// The result of one session: its identity and the kept metrics.
 #[derive(Debug, Clone, PartialEq)]

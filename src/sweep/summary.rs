@@ -12,7 +12,28 @@
 //! sessions (a non-empty `failure` in `results.csv`) count in `failed` and
 //! give no value.
 
-use super::{SweepError, CELL_COLUMNS, FAILURE_COLUMN, KEY_COLUMNS};
+use super::SweepError;
+
+/// The columns of `results.csv` before the metrics.
+pub const KEY_COLUMNS: [&str; 10] = [
+    "scene",
+    "learner",
+    "use_reward",
+    "alpha",
+    "beta",
+    "lambda",
+    "eta",
+    "epsilon",
+    "session",
+    "seed",
+];
+
+/// The last column of `results.csv`: empty, or why the session failed.
+pub const FAILURE_COLUMN: &str = "failure";
+
+/// The number of leading [`KEY_COLUMNS`] that identify a cell (all but
+/// `session` and `seed`).
+pub const CELL_COLUMNS: usize = 8;
 
 /// The 97.5% quantile of Student's t with `df` degrees of freedom (exact
 /// to 9 digits up to 30, then the Cornish-Fisher expansion to 1/df^4, within 1e-7).

@@ -3,7 +3,7 @@
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
 use crate::effect::EffectGrid;
-use crate::scene::{Action, GridSpec, Scene};
+use crate::scene::{Action, GridSpec, Scene, WorldSpec};
 
 /// A grid world built from a scene: precomputed transitions, so executing a
 /// command is `n` table look-ups.
@@ -25,10 +25,17 @@ pub struct GridWorld {
 const MOVES: [(i32, i32); 5] = [(0, 0), (0, 1), (1, 0), (0, -1), (-1, 0)];
 
 impl GridWorld {
-    /// Builds the world of a validated scene whose world is `spec`
-    /// ([`Scene::validate`]; [`Scene::try_build`] validates, then builds).
+    /// The world of a grid scene (`None` for a physics scene).
     /// Memory: 5 transitions per cell, whatever the number of slots.
-    pub fn from_scene(scene: &Scene, spec: &GridSpec) -> GridWorld {
+    pub fn from_scene(scene: &Scene) -> Option<GridWorld> {
+        match &scene.world {
+            WorldSpec::Grid(g) => Some(Self::of(scene, g)),
+            WorldSpec::Physics(_) => None,
+        }
+    }
+
+    /// The world of `scene`, whose world is the grid `spec`.
+    pub(crate) fn of(scene: &Scene, spec: &GridSpec) -> GridWorld {
         let space = scene.command_space();
         let cells = spec.rows * spec.cols;
         let mut walls: Vec<(usize, usize)> = spec

@@ -15,6 +15,7 @@
 //!
 //! Implement [`World`] to plug in your own simulator or robot.
 
+mod executor;
 mod from_scene;
 mod grid;
 mod memo;
@@ -24,12 +25,14 @@ mod reach;
 mod table;
 
 pub use crate::scene::GridSpec;
+pub use executor::Executor;
+pub use from_scene::PhysicsScene;
 pub use grid::GridWorld;
 pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
 pub use physics::{BodyPose, Frame, Motion, PhysicsWorld, RunStats, Trace, MAX_COPIES};
 pub use plan::{
     batch_rollout_seconds, calibration, lockstep_groups, rollout_seconds, timed_rollout_seconds,
-    ExecOptions, ExecutionPlan, Executor, OnDisk, ParseStrategyError, Strategy, Workload,
+    ExecOptions, ExecutionPlan, OnDisk, ParseStrategyError, Strategy, Workload,
     CALIBRATION_MAX_ROLLOUTS, CALIBRATION_ROLLOUTS, CALIBRATION_SECONDS,
 };
 pub use reach::{

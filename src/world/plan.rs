@@ -34,12 +34,10 @@
 //! ```
 
 use super::{
-    Memoized, Outcome, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError,
-    DEFAULT_MEMO_CAP, MAX_TABLE_COMMANDS, TABLE_COPIES,
+    OutcomeTable, PhysicsWorld, World, DEFAULT_MEMO_CAP, MAX_TABLE_COMMANDS, TABLE_COPIES,
 };
 use crate::scene::physics::BodyKind;
 use crate::scene::{Scene, WorldSpec};
-use crate::world::table::CachedOutcomes;
 use serde::Serialize;
 use std::fmt;
 use std::path::PathBuf;
@@ -316,10 +314,7 @@ pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
     let WorldSpec::Physics(spec) = &scene.world else {
         return rollout_seconds(scene);
     };
-    if scene.validate().is_err() {
-        return rollout_seconds(scene);
-    }
-    let mut world = PhysicsWorld::from_scene(scene, spec);
+    let mut world = PhysicsWorld::of(scene, spec, 1);
     let start = std::time::Instant::now();
     let mut done = 0u32;
     let values = scene.value_space();
@@ -568,294 +563,19 @@ impl fmt::Display for ExecutionPlan {
     }
 }
 
-/// Carries out an [`ExecutionPlan`] for one scene: holds its table or its
-/// memo, makes the worlds sessions run on, and keeps the outcomes in the
-/// table folder at the end.
-///
-/// ```
-/// use e3d::world::{ExecOptions, Executor, Strategy, Workload};
-/// use e3d::{Scene, World};
-/// let scene = Scene::builtin("puck_rooms").unwrap();
-/// let work = Workload { trials: 100, sessions: 1, threads: 1 };
-/// let exec = Executor::new(&scene, &work, &ExecOptions::default()).unwrap();
-/// assert_eq!(exec.plan().strategy, Strategy::Memo);
-/// let mut world = exec.world(1);
-/// let c = world.command_space().parse("SEEEEES").unwrap();
-/// assert_eq!(world.execute(&c).unwrap(), scene.build().execute(&c).unwrap());
-/// ```
-pub struct Executor<'s> {
-    scene: &'s Scene,
-    plan: ExecutionPlan,
-    table: Option<OutcomeTable>,
-    memo: Option<OutcomeMemo>,
-    cache: Option<PathBuf>,
-    /// Entries the memo held when read from disk.
-    read: usize,
-}
-
-impl<'s> Executor<'s> {
-    /// Reads the table folder of `options` if given, chooses the plan
-    /// (or takes the one forced) and prepares it: the table is read or
-    /// built (in parallel, on the current rayon pool), the memo filled
-    /// from a partial file. A table that cannot be built (some command
-    /// blows up) falls back to the memo or live execution, so that only
-    /// the sessions that meet the failing command fail.
-    pub fn new(
-        scene: &'s Scene,
-        work: &Workload,
-        options: &ExecOptions,
-    ) -> Result<Executor<'s>, WorldError> {
-        Self::with_progress(scene, work, options, &|_, _| {})
-    }
-
-    /// [`new`](Self::new), calling `progress(k, total)` from the workers
-    /// while a table is built: `k` more commands simulated, of about
-    /// `total` to simulate (the commands a partial file lacks, or the
-    /// simulated half under a mirror symmetry). Nothing is called when no
-    /// table is built. The executor is the same.
-    pub fn with_progress(
-        scene: &'s Scene,
-        work: &Workload,
-        options: &ExecOptions,
-        progress: &(dyn Fn(u64, u64) + Sync),
-    ) -> Result<Executor<'s>, WorldError> {
-        // a scene edited in code is checked here, not left to panic in build()
-        scene
-            .validate()
-            .and_then(|()| scene.require_symbols("an executor (table, memo or lockstep)"))
-            .map_err(|e| WorldError::Other(e.to_string()))?;
-        let memo_cap = options.memo_cap;
-        let space = scene.command_space();
-        let path = options
-            .cache
-            .as_deref()
-            .map(|dir| OutcomeTable::cache_path(scene, dir));
-        let mut file = None;
-        let on_disk = match (&path, space.num_commands()) {
-            (None, _) => OnDisk::NoCache,
-            (Some(_), None) => OnDisk::TooLarge,
-            (Some(p), Some(_)) => match OutcomeTable::read_file(p, scene) {
-                Ok(CachedOutcomes::Full(t)) => {
-                    file = Some(CachedOutcomes::Full(t));
-                    OnDisk::Full { path: p.clone() }
-                }
-                Ok(CachedOutcomes::Partial(e)) => {
-                    let entries = e.len() as u64;
-                    file = Some(CachedOutcomes::Partial(e));
-                    OnDisk::Partial {
-                        path: p.clone(),
-                        entries,
-                    }
-                }
-                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                    OnDisk::Missing { path: p.clone() }
-                }
-                Err(e) => OnDisk::Unusable {
-                    path: p.clone(),
-                    reason: e.to_string().rsplit(": ").next().unwrap_or("").to_string(),
-                },
-            },
+impl OutcomeTable {
+    /// Whether a session or sweep running `trials` trials on `scene` should
+    /// run on an outcome table: [`ExecutionPlan::choose`]
+    /// picks [`Strategy::Table`] for it, with no
+    /// table file at hand, one thread and one session.
+    pub fn worthwhile(scene: &Scene, world: &dyn World, trials: u64) -> bool {
+        let work = Workload {
+            trials,
+            sessions: 1,
+            threads: 1,
         };
-        let deterministic = scene.build().is_deterministic();
-        let mut plan = ExecutionPlan::choose(scene, work, Some(&on_disk), memo_cap);
-        if let Some(force) = options.force {
-            let possible = match force {
-                Strategy::Table => plan.simulated.is_some(),
-                Strategy::Memo => plan.commands.is_some() && memo_cap > 0,
-                Strategy::Live => true,
-            };
-            if possible && force != plan.strategy {
-                plan.why = format!("asked for (the cost rule chose {})", plan.strategy);
-                plan.strategy = force;
-                if force == Strategy::Table {
-                    plan.copies = if matches!(&scene.world, WorldSpec::Physics(p) if p.copies_are_exact())
-                    {
-                        TABLE_COPIES
-                    } else {
-                        1
-                    };
-                }
-            } else if !possible {
-                plan.why = format!("{force} was asked for but cannot be used: {}", plan.why);
-            }
-        }
-        if !deterministic {
-            plan.strategy = Strategy::Live;
-            plan.why = "the world is not deterministic".into();
-        }
-        let mut exec = Executor {
-            scene,
-            table: None,
-            memo: None,
-            cache: path,
-            read: 0,
-            plan,
-        };
-        if exec.plan.strategy == Strategy::Table {
-            let built = match file {
-                Some(CachedOutcomes::Full(t)) => {
-                    file = None;
-                    Ok(t)
-                }
-                // what a partial file holds is not simulated again
-                Some(CachedOutcomes::Partial(ref known)) => exec.build_table(known, progress),
-                None => exec.build_table(&[], progress),
-            };
-            match built {
-                Ok(t) => exec.table = Some(t),
-                Err(e) => {
-                    exec.plan.strategy = if memo_cap > 0 {
-                        Strategy::Memo
-                    } else {
-                        Strategy::Live
-                    };
-                    exec.plan.why = format!("no table: {e}");
-                }
-            }
-        }
-        if exec.plan.strategy == Strategy::Memo {
-            let memo = OutcomeMemo::new(&space, scene.num_effects(), memo_cap)?;
-            if let Some(CachedOutcomes::Partial(entries)) = file {
-                memo.extend(entries);
-            }
-            exec.read = memo.len();
-            exec.memo = Some(memo);
-        }
-        Ok(exec)
-    }
-
-    /// The table of the scene from the outcomes `known`, kept in the table
-    /// folder if there is one (a failure to write is said in the plan).
-    fn build_table(
-        &mut self,
-        known: &[(u64, Outcome)],
-        progress: &(dyn Fn(u64, u64) + Sync),
-    ) -> Result<OutcomeTable, WorldError> {
-        let n = self.plan.commands.unwrap_or(0);
-        let total = self
-            .plan
-            .simulated
-            .unwrap_or(n)
-            .saturating_sub(known.len() as u64);
-        let each = |k: u64| progress(k, total);
-        let t = if known.is_empty() {
-            OutcomeTable::build_scene_with_progress(self.scene, &each)?
-        } else {
-            OutcomeTable::complete_with_progress(self.scene, known, &each)?
-        };
-        if let Some(p) = &self.cache {
-            if let Err(e) = t.write_file(p, self.scene) {
-                self.plan.why.push_str(&format!(
-                    "; the table could not be kept in {}: {e}",
-                    p.display()
-                ));
-            }
-        }
-        Ok(t)
-    }
-
-    /// The plan being carried out.
-    pub fn plan(&self) -> &ExecutionPlan {
-        &self.plan
-    }
-
-    /// The table, under [`Strategy::Table`].
-    pub fn table(&self) -> Option<&OutcomeTable> {
-        self.table.as_ref()
-    }
-
-    /// The memo, under [`Strategy::Memo`].
-    pub fn memo(&self) -> Option<&OutcomeMemo> {
-        self.memo.as_ref()
-    }
-
-    /// How `sessions` sessions of this scene run: the groups of sessions
-    /// that step together on one world ([`world`](Self::world)), as ranges
-    /// of session indices, in order. On a table each session runs alone (a
-    /// look-up gains nothing from company); otherwise the sessions are cut
-    /// into the plan's [`groups`](ExecutionPlan::groups), as even as can
-    /// be. This is the one rule for every caller:
-    /// [`run_sessions`](crate::run_sessions) (`e3d run --sessions N`,
-    /// Python's `run_sessions`) and the sweeps.
-    ///
-    /// ```
-    /// use e3d::world::{ExecOptions, Executor, Strategy, Workload};
-    /// use e3d::Scene;
-    /// let scene = Scene::builtin("arm7").unwrap();
-    /// let work = Workload { trials: 800, sessions: 4, threads: 2 };
-    /// let memo = ExecOptions { force: Some(Strategy::Memo), ..ExecOptions::default() };
-    /// let exec = Executor::new(&scene, &work, &memo).unwrap();
-    /// // arm7's copies are not bit-identical: a world each, 4 groups
-    /// assert_eq!(exec.plan().groups, 4);
-    /// assert_eq!(exec.session_groups(4), vec![0..1, 1..2, 2..3, 3..4]);
-    /// assert_eq!(exec.session_groups(6), vec![0..2, 2..4, 4..6]);
-    /// assert_eq!(exec.session_groups(3), vec![0..1, 1..2, 2..3]);
-    /// let table = ExecOptions { force: Some(Strategy::Table), ..ExecOptions::default() };
-    /// let rooms = Scene::builtin("two_rooms").unwrap();
-    /// let exec = Executor::new(&rooms, &work, &table).unwrap();
-    /// assert_eq!(exec.session_groups(3), vec![0..1, 1..2, 2..3]);
-    /// ```
-    pub fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
-        let groups = if self.table.is_some() {
-            sessions
-        } else {
-            self.plan.groups.max(1)
-        };
-        let size = sessions.div_ceil(groups.max(1)).max(1);
-        (0..sessions)
-            .step_by(size)
-            .map(|start| start..(start + size).min(sessions))
-            .collect()
-    }
-
-    /// A world for a group of sessions stepping `width` commands together:
-    /// the shared table, or a world of `min(width, plan copies)` copies
-    /// (through the memo under [`Strategy::Memo`]). Its outcomes are the
-    /// same, bit for bit, whatever the width.
-    pub fn world(&self, width: usize) -> Box<dyn World + Send + '_> {
-        if let Some(t) = &self.table {
-            return Box::new(t);
-        }
-        let copies = width.clamp(1, self.plan.copies.max(1));
-        let inner: Box<dyn World + Send> = match &self.scene.world {
-            WorldSpec::Physics(p) if copies > 1 => {
-                Box::new(PhysicsWorld::with_copies(self.scene, p, copies))
-            }
-            _ => self.scene.build(),
-        };
-        match &self.memo {
-            Some(m) => Box::new(Memoized::new(inner, m)),
-            None => inner,
-        }
-    }
-
-    /// Keeps the memo's outcomes in the table folder (merged with what
-    /// the file holds now, written whole or not at all) and returns one
-    /// line saying what was simulated and kept; `None` without a memo.
-    pub fn finish(&self) -> Option<String> {
-        let memo = self.memo.as_ref()?;
-        let mut line = format!(
-            "{}: {} commands simulated, {} looked up in the memo ({} kept{})",
-            self.scene.name,
-            memo.misses(),
-            memo.hits(),
-            memo.len(),
-            if memo.is_full() {
-                "; the memo is full: raise --memo-cap to keep more"
-            } else {
-                ""
-            }
-        );
-        let Some(path) = &self.cache else {
-            return Some(line);
-        };
-        if memo.len() == self.read {
-            return Some(line);
-        }
-        match memo.save(path, self.scene) {
-            Ok(n) => line.push_str(&format!("; {n} outcomes kept in {}", path.display())),
-            Err(e) => line.push_str(&format!("; could not write {}: {e}", path.display())),
-        }
-        Some(line)
+        world.is_deterministic()
+            && ExecutionPlan::choose(scene, &work, None, DEFAULT_MEMO_CAP).strategy
+                == Strategy::Table
     }
 }

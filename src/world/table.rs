@@ -313,7 +313,7 @@ impl OutcomeTable {
         for &(i, o) in known.iter().filter(|e| e.0 < n) {
             outcomes[i as usize] = Some(o);
         }
-        let probe = PhysicsWorld::from_scene(scene, spec);
+        let probe = PhysicsWorld::of(scene, spec, 1);
         let twins = match spec.symmetry {
             Some(_) => twin_indices(&probe, &space, n),
             None => Vec::new(),
@@ -358,7 +358,7 @@ impl OutcomeTable {
         let n = Self::check_size(&space).ok()?;
         match &scene.world {
             WorldSpec::Physics(p) if p.symmetry.is_some() => {
-                let probe = PhysicsWorld::from_scene(scene, p);
+                let probe = PhysicsWorld::of(scene, p, 1);
                 let twins = twin_indices(&probe, &space, n);
                 Some(twins.iter().filter(|t| t.is_none()).count() as u64)
             }
@@ -382,7 +382,7 @@ impl OutcomeTable {
             .map_init(
                 || {
                     (
-                        PhysicsWorld::with_copies(scene, spec, copies),
+                        PhysicsWorld::of(scene, spec, copies),
                         Vec::new(),
                         Vec::new(),
                     )
@@ -536,21 +536,6 @@ pub enum CachedOutcomes {
 }
 
 impl OutcomeTable {
-    /// Whether a session or sweep running `trials` trials on `scene` should
-    /// run on an outcome table: [`ExecutionPlan::choose`](super::ExecutionPlan::choose)
-    /// picks [`Strategy::Table`](super::Strategy::Table) for it, with no
-    /// table file at hand, one thread and one session.
-    pub fn worthwhile(scene: &Scene, world: &dyn World, trials: u64) -> bool {
-        let work = super::Workload {
-            trials,
-            sessions: 1,
-            threads: 1,
-        };
-        world.is_deterministic()
-            && super::ExecutionPlan::choose(scene, &work, None, super::DEFAULT_MEMO_CAP).strategy
-                == super::Strategy::Table
-    }
-
     /// The table of `scene`: from the folder `cache` if given (see
     /// [`cached`](Self::cached)), else built in parallel.
     pub fn for_scene(scene: &Scene, cache: Option<&Path>) -> Result<OutcomeTable, WorldError> {
@@ -866,8 +851,9 @@ mod tests {
             read.outcomes,
             OutcomeTable::build(&mut scene.build()).unwrap().outcomes
         );
-        let mut other = scene.clone();
+        let mut other = scene.to_spec();
         other.reward.value = 2.0;
+        let other = other.validate().unwrap();
         assert_ne!(OutcomeTable::key(&other), OutcomeTable::key(&scene));
         assert!(OutcomeTable::load(&path, &other).is_err());
         std::fs::write(&path, b"garbage").unwrap();

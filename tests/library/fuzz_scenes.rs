@@ -91,9 +91,10 @@ fn check(text: &str) {
                     .expect("continuous scenes are physics");
                 let lows: Vec<f64> = space.ranges().iter().map(|r| r.0).collect();
                 let _ = w.execute_values(&lows);
+                let c = scene.command_space().first();
                 assert!(
-                    scene.try_build().is_err(),
-                    "a continuous scene has no world of symbols"
+                    scene.build().execute(&c).is_err(),
+                    "a continuous scene's world refuses commands of symbols"
                 );
                 return;
             }

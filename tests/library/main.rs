@@ -1,19 +1,23 @@
 //! The library: learners, sessions, outcome tables, scenes and sweeps in
-//! code, the scene and sweep loaders, and the report pages. One test
+//! code, the scene and sweep loaders, slot templates, effect binnings,
+//! the baselines, import circles, and the report pages. One test
 //! binary; each module is one topic.
 
 #[path = "../common/mod.rs"]
 mod common;
 
 mod bad_scenes;
+mod baselines;
 mod consistency;
 mod drives;
 mod edge_cases;
+mod effects;
 mod every_scene;
 mod fuzz_outputs;
 mod fuzz_scenes;
 mod fuzz_sweeps;
 mod grid;
+mod imports;
 mod learners;
 mod motion_svg;
 mod outcomes;
@@ -22,4 +26,5 @@ mod reference;
 mod report_html;
 mod scene_api;
 mod shorthand;
+mod slot_templates;
 mod sweep_open;

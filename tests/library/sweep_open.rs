@@ -335,8 +335,9 @@ fn custom_sweeps_resume_and_refuse_a_changed_world() {
 fn a_scene_edited_in_code_runs_through_the_executor() {
     // the edited scene gets a table like any scene file: the same rows as
     // the file it was made from, under its new name
-    let mut scene = Scene::builtin("two_rooms").unwrap();
-    scene.name = "rooms_from_code".into();
+    let mut spec = Scene::builtin("two_rooms").unwrap().to_spec();
+    spec.name = "rooms_from_code".into();
+    let scene = spec.validate().unwrap();
     let notices = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
     let seen = notices.clone();
     let worlds = Worlds::new().with_scene(scene);

@@ -1,7 +1,6 @@
 //! arm7 (docs/canonical-scenes.md, section 3): rest, replay, energy, the reward-cell rule,
 //! and arm7 as a learning problem.
 
-use e3d::scene::WorldSpec;
 use e3d::world::farthest_reached_cell;
 use e3d::{
     run_session, LearnerKind, OutcomeTable, Params, PhysicsWorld, Scene, SessionConfig, Target,
@@ -14,10 +13,7 @@ fn scene() -> Scene {
 }
 
 fn physics(scene: &Scene) -> PhysicsWorld {
-    match &scene.world {
-        WorldSpec::Physics(p) => PhysicsWorld::from_scene(scene, p),
-        _ => unreachable!("arm7 is a physics scene"),
-    }
+    scene.physics_world().expect("arm7 is a physics scene")
 }
 
 /// All 2187 commands, executed once (in parallel) for the whole file.

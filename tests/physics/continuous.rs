@@ -20,12 +20,13 @@ const T: [f64; 7] = [1.8, 1.2, 0.75, 0.45, 0.24, 0.12, 0.06];
 #[test]
 fn the_values_minus_t_zero_plus_t_give_arm7s_outcomes_bit_for_bit() {
     // arm7 without its symmetry: Rapier's own outcome of every command
-    let mut arm = Scene::builtin("arm7").unwrap();
+    let mut arm = Scene::builtin("arm7").unwrap().to_spec();
     if let WorldSpec::Physics(p) = &mut arm.world {
         assert_eq!(p.symmetry, Some(Symmetry::FlipY));
         p.symmetry = None;
     }
-    let mut symbols = arm.try_build().unwrap();
+    let arm = arm.validate().unwrap();
+    let mut symbols = arm.build();
     let space = arm.command_space();
     let mut values = continuous().physics_world().unwrap();
     for i in (0..2187).step_by(97) {
@@ -112,7 +113,10 @@ fn bad_continuous_scenes_name_the_place_and_what_was_expected() {
 #[test]
 fn tools_of_symbols_refuse_a_continuous_scene_by_name() {
     let scene = continuous();
-    let e = scene.try_build().err().unwrap().to_string();
+    let e = scene
+        .require_symbols("a world of symbols")
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("but this scene's slots take values (`Continuous`)"),
         "{e}"

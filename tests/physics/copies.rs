@@ -6,10 +6,7 @@ use e3d::scene::WorldSpec;
 use e3d::{Command, Outcome, OutcomeTable, PhysicsWorld, Scene, World, WorldError};
 
 fn world(scene: &Scene, copies: usize) -> PhysicsWorld {
-    match &scene.world {
-        WorldSpec::Physics(p) => PhysicsWorld::with_copies(scene, p, copies),
-        _ => unreachable!("a physics scene"),
-    }
+    scene.as_physics().expect("a physics scene").world(copies)
 }
 
 /// `n` commands spread over the command space (a fixed stride).
@@ -65,7 +62,7 @@ fn copies_are_exact_only_with_one_moving_body_with_contacts() {
     // Rapier orders the contacts differently and the last bits of some
     // terminal points differ (for example `--+++--`, by about 1e-5 m), so
     // its table is built one command per world
-    let exact = |name: &str| match Scene::builtin(name).unwrap().world {
+    let exact = |name: &str| match &Scene::builtin(name).unwrap().world {
         WorldSpec::Physics(p) => p.copies_are_exact(),
         _ => unreachable!(),
     };

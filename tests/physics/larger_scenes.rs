@@ -4,7 +4,7 @@
 //! effects of a few commands (measured with `e3d scene exec`, pinned here).
 
 use e3d::scene::{Action, CommandSpec, Symmetry, WorldSpec};
-use e3d::{OutcomeTable, PhysicsWorld, Scene, World};
+use e3d::{OutcomeTable, Scene, World};
 
 fn scene(name: &str) -> Scene {
     let s = Scene::builtin(name).unwrap_or_else(|| panic!("{name} is a built-in scene"));
@@ -141,7 +141,7 @@ fn arm7x5s_mirror_image_of_every_symbol_is_in_its_slot() {
     // 78125 = 1 command that is its own mirror image (0000000) + 2 x 39062:
     // one of each pair is simulated (what `e3d scene check` prints)
     assert_eq!(OutcomeTable::simulated_commands(&s), Some(39_063));
-    let w = PhysicsWorld::from_scene(&s, spec);
+    let w = s.physics_world().unwrap();
     let space = s.command_space();
     let twin = w.twin(&space.parse("+---m+-").unwrap()).unwrap();
     assert_eq!(space.format(&twin), "-+++p-+");

@@ -1,9 +1,6 @@
 //! Sessions in lockstep give the records of sessions run one by one.
 
-use e3d::scene::WorldSpec;
-use e3d::{
-    run_lockstep, run_session, LearnerKind, Params, PhysicsWorld, Scene, SessionConfig, Target,
-};
+use e3d::{run_lockstep, run_session, LearnerKind, Params, Scene, SessionConfig, Target};
 
 #[test]
 fn lockstep_sessions_equal_independent_sessions() {
@@ -46,9 +43,6 @@ fn lockstep_sessions_equal_independent_sessions() {
 #[test]
 fn lockstep_on_a_multi_copy_world_equals_independent_sessions() {
     let scene = Scene::builtin("puck_rooms").unwrap();
-    let WorldSpec::Physics(spec) = &scene.world else {
-        panic!("puck_rooms is a physics scene")
-    };
     let space = scene.command_space();
     let make = || {
         LearnerKind::E3d
@@ -64,7 +58,7 @@ fn lockstep_on_a_multi_copy_world_equals_independent_sessions() {
         .collect();
     let mut learners: Vec<_> = configs.iter().map(|_| make()).collect();
     // 4 copies for 6 sessions: batches of 4 and 2 each trial
-    let mut world = PhysicsWorld::with_copies(&scene, spec, 4);
+    let mut world = scene.as_physics().unwrap().world(4);
     let together = run_lockstep(&mut world, &mut learners, &configs);
     for (cfg, rec) in configs.iter().zip(together) {
         let alone = run_session(&mut scene.build(), &mut make(), cfg).unwrap();

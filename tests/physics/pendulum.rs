@@ -1,6 +1,5 @@
 //! Pendulums: the small-oscillation period, and joint position targets.
 
-use e3d::scene::WorldSpec;
 use e3d::{PhysicsWorld, Scene, World};
 
 /// A rod of length 1 m, width 0.02 m and 1 kg hanging from the ground at
@@ -27,10 +26,7 @@ fn pendulum(theta0: f64) -> Scene {
 }
 
 fn world(scene: &Scene) -> PhysicsWorld {
-    match &scene.world {
-        WorldSpec::Physics(p) => PhysicsWorld::from_scene(scene, p),
-        _ => unreachable!(),
-    }
+    scene.physics_world().expect("a physics scene")
 }
 
 #[test]

@@ -71,10 +71,7 @@ fn a_free_puck_glides_impulse_over_damping() {
 #[test]
 fn the_kinetic_energy_of_a_free_puck_never_grows() {
     let scene = free_puck(3.0, 1.0 / 60.0);
-    let Some(e3d::scene::WorldSpec::Physics(p)) = Some(&scene.world) else {
-        unreachable!()
-    };
-    let mut w = e3d::PhysicsWorld::from_scene(&scene, p);
+    let mut w = scene.physics_world().unwrap();
     let e = w
         .kinetic_energy_trace(&w.command_space().parse("E").unwrap())
         .unwrap();

@@ -5,12 +5,12 @@
 //! commands (2185 of 2187 measured).
 
 use e3d::scene::{PhysicsSpec, Symmetry, WorldSpec};
-use e3d::{OutcomeTable, PhysicsWorld, Scene, World};
+use e3d::{OutcomeTable, Scene, World};
 
 /// arm7 as shipped (with its symmetry) or without it (Rapier's own outcome
 /// of every command).
 fn arm7(symmetric: bool) -> Scene {
-    let mut s = Scene::builtin("arm7").unwrap();
+    let mut s = Scene::builtin("arm7").unwrap().to_spec();
     let WorldSpec::Physics(p) = &mut s.world else {
         panic!("arm7 is a physics scene")
     };
@@ -18,7 +18,7 @@ fn arm7(symmetric: bool) -> Scene {
     if !symmetric {
         p.symmetry = None;
     }
-    s
+    s.validate().unwrap()
 }
 
 fn spec(s: &Scene) -> &PhysicsSpec {
@@ -39,7 +39,7 @@ fn equal_effects(a: &OutcomeTable, b: &OutcomeTable) -> usize {
 #[test]
 fn arm7_simulates_one_command_of_each_mirror_pair() {
     let scene = arm7(true);
-    let w = PhysicsWorld::from_scene(&scene, spec(&scene));
+    let w = scene.physics_world().unwrap();
     let space = scene.command_space();
     let twins: Vec<_> = space
         .iter()
@@ -56,15 +56,15 @@ fn arm7_simulates_one_command_of_each_mirror_pair() {
     assert!(w.twin(&space.parse("0000000").unwrap()).is_none());
     // without the symmetry, every command is simulated
     let plain = arm7(false);
-    let w = PhysicsWorld::from_scene(&plain, spec(&plain));
+    let w = plain.physics_world().unwrap();
     assert!(space.iter().all(|c| w.twin(&c).is_none()));
 }
 
 #[test]
 fn a_mirrored_outcome_is_the_reflection_of_its_simulated_twin() {
     let (sym, plain) = (arm7(true), arm7(false));
-    let mut ws = PhysicsWorld::from_scene(&sym, spec(&sym));
-    let mut wp = PhysicsWorld::from_scene(&plain, spec(&plain));
+    let mut ws = sym.physics_world().unwrap();
+    let mut wp = plain.physics_world().unwrap();
     let space = sym.command_space();
     let grid = sym.effect_grid();
     for text in ["+--0+-+", "+++++++", "0+-0000", "+----+-", "00000+0"] {
@@ -119,7 +119,7 @@ fn the_mirrored_table_is_the_world_and_keeps_99_percent_of_rapiers_effects() {
         );
     }
     // the simulated half is Rapier's own result
-    let probe = PhysicsWorld::from_scene(&sym, spec(&sym));
+    let probe = sym.physics_world().unwrap();
     let simulated = (0..2187u64).filter(|&i| probe.twin(&space.command_at(i)).is_none());
     for i in simulated {
         assert_eq!(mirrored.get(i), rapier.get(i), "{i}");
@@ -162,7 +162,7 @@ fn pendulum3_has_the_symmetry_flip_x_and_it_keeps_its_effects() {
     println!("pendulum3 with FlipX: {equal} of 125 effects equal to Rapier's");
     assert!(equal * 100 >= 125 * 99, "{equal} of 125 effects equal");
     // a reflected trace: the hand's pose is the mirror image of its twin's
-    let mut w = PhysicsWorld::from_scene(&sym, spec(&sym));
+    let mut w = sym.physics_world().unwrap();
     let space = sym.command_space();
     let c = space.parse("ddc").unwrap();
     let t = w.twin(&c).expect("ddc is answered by its mirror image bbc");

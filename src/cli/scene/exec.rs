@@ -5,8 +5,8 @@ use super::simulate::{
 };
 use crate::cli::console::errln;
 use crate::cli::{progress, CliError, CliResult};
-use e3d::scene::{PhysicsSpec, Scene, WorldSpec};
-use e3d::world::PhysicsWorld;
+use e3d::scene::{Scene, WorldSpec};
+use e3d::world::{PhysicsScene, PhysicsWorld};
 use e3d::{Command, CommandSpace, OutcomeTable, World, WorldError};
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -172,8 +172,7 @@ pub(super) enum ExecPool<'a> {
     /// A physics scene on every core: each piece of a chunk takes an idle
     /// world of `copies` copies (or builds one) and executes as a batch.
     Parallel {
-        scene: &'a Scene,
-        spec: &'a PhysicsSpec,
+        scene: PhysicsScene<'a>,
         copies: usize,
         idle: Mutex<Vec<PhysicsWorld>>,
     },
@@ -181,14 +180,13 @@ pub(super) enum ExecPool<'a> {
 
 impl<'a> ExecPool<'a> {
     fn new(scene: &'a Scene, table: Option<OutcomeTable>) -> ExecPool<'a> {
-        match (table, &scene.world) {
+        match (table, scene.as_physics()) {
             (Some(t), _) => ExecPool::Direct(Box::new(t)),
-            (None, WorldSpec::Grid(_)) => ExecPool::Direct(scene.build()),
-            (None, WorldSpec::Physics(spec)) => ExecPool::Parallel {
-                scene,
-                spec,
+            (None, None) => ExecPool::Direct(scene.build()),
+            (None, Some(physics)) => ExecPool::Parallel {
+                scene: physics,
                 // as the outcome table: bit-identical to one copy per world
-                copies: if spec.copies_are_exact() {
+                copies: if physics.spec().copies_are_exact() {
                     e3d::world::TABLE_COPIES
                 } else {
                     1
@@ -215,7 +213,6 @@ impl<'a> ExecPool<'a> {
             ExecPool::Direct(world) => world.execute_batch(commands, out),
             ExecPool::Parallel {
                 scene,
-                spec,
                 copies,
                 idle,
             } => {
@@ -230,8 +227,7 @@ impl<'a> ExecPool<'a> {
                 let pieces: Vec<Vec<_>> = commands
                     .par_chunks(piece)
                     .map(|part| {
-                        let mut world = take()
-                            .unwrap_or_else(|| PhysicsWorld::with_copies(scene, spec, *copies));
+                        let mut world = take().unwrap_or_else(|| scene.world(*copies));
                         let mut results = Vec::with_capacity(part.len());
                         if let Some(m) = memo {
                             let mut through = e3d::Memoized::new(world, m);
@@ -310,7 +306,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let threads = rayon::current_num_threads();
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
     let copies = match &scene.world {
-        WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
+        e3d::scene::WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
         _ => 1,
     };
     let mut cost_said = table.is_some()

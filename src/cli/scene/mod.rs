@@ -137,7 +137,7 @@ fn continuous(cmd: &SceneCmd) -> Option<CliResult> {
     };
     let scene = e3d::Scene::resolve(name)
         .ok()
-        .filter(e3d::Scene::is_continuous)?;
+        .filter(|s| s.is_continuous())?;
     let refuse = |what: &str| Some(scene.require_symbols(what).map_err(CliError::input));
     match cmd {
         C::Exec {

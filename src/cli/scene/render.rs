@@ -7,7 +7,7 @@ use crate::cli::output::write_file;
 use crate::cli::{CliError, CliResult};
 use e3d::report::scene_svg::{scene_svg, Overlay};
 use e3d::scene::{Scene, WorldSpec};
-use e3d::world::{GridSpec, PhysicsWorld};
+use e3d::world::GridSpec;
 use e3d::{Command, GridWorld, World};
 
 pub(super) fn render(scene: &Scene, command: Option<&str>, out: &std::path::Path) -> CliResult {
@@ -84,9 +84,12 @@ pub(super) fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliRe
 }
 
 pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overlay, CliError> {
-    match &scene.world {
-        WorldSpec::Grid(g) => {
-            let mut w = GridWorld::from_scene(scene, g);
+    match (
+        &scene.world,
+        GridWorld::from_scene(scene),
+        scene.physics_world(),
+    ) {
+        (WorldSpec::Grid(g), Some(mut w), _) => {
             let o = w.execute(c).map_err(world_error)?;
             Ok(Overlay {
                 command: text.to_string(),
@@ -96,8 +99,7 @@ pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overl
                 reward: o.reward,
             })
         }
-        WorldSpec::Physics(p) => {
-            let mut w = PhysicsWorld::from_scene(scene, p);
+        (_, _, Some(mut w)) => {
             let t = w.trace(c).map_err(world_error)?;
             Ok(Overlay {
                 command: text.to_string(),
@@ -107,6 +109,10 @@ pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overl
                 reward: t.outcome.reward,
             })
         }
+        _ => Err(CliError::input(format!(
+            "scene {}: neither a grid nor a physics world",
+            scene.name
+        ))),
     }
 }
 

@@ -4,12 +4,11 @@
 use super::simulate::{simulate_all, world_error};
 use crate::cli::console::outln;
 use crate::cli::{CliError, CliResult};
-use e3d::scene::{Scene, WorldSpec};
-use e3d::world::PhysicsWorld;
+use e3d::scene::Scene;
 
 pub(super) fn stats(scene: &Scene) -> CliResult {
     use rayon::prelude::*;
-    let WorldSpec::Physics(spec) = &scene.world else {
+    let Some(physics) = scene.as_physics() else {
         return Err(CliError::input(
             "`e3d scene stats` is for physics scenes; this is a grid scene",
         ));
@@ -31,7 +30,7 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
         (0..n)
             .into_par_iter()
             .map_init(
-                || PhysicsWorld::from_scene(scene, spec),
+                || physics.world(1),
                 |w, i| {
                     let stats = w.inspect(&space.command_at(i));
                     progress(1);
@@ -75,8 +74,8 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
     );
     outln!(
         "top linear speed {max_speed:.3} m/s (max_speed {} m/s); top angular speed {max_spin:.2} rad/s (Rapier's cap: {:.2} rad/s)",
-        spec.max_speed,
-        std::f64::consts::FRAC_PI_4 / spec.dt
+        physics.spec().max_speed,
+        std::f64::consts::FRAC_PI_4 / physics.spec().dt
     );
     Ok(())
 }

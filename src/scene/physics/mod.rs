@@ -17,19 +17,21 @@
 //! ),
 //! ```
 //!
-//! The module is in parts: `spec` holds the types of the format, `limits`
+//! The module is in parts: `spec` holds the types of the format (`joint`
+//! those of its joints), `limits`
 //! the bounds of its numbers, `check` the validation of a whole world, and
 //! `warnings` what is possible but suspicious.
 
 mod check;
+mod joint;
 pub mod limits;
 mod spec;
 mod warnings;
 
+pub use joint::{JointKind, JointSpec, MotorSpec};
 pub(crate) use spec::to_world;
 pub use spec::{
-    steps_of, to_world_point, BodyKind, BodySpec, EffectSpec, JointKind, JointSpec, MotorSpec,
-    PhysicsSpec, Schedule, ShapeSpec,
+    steps_of, to_world_point, BodyKind, BodySpec, EffectSpec, PhysicsSpec, Schedule, ShapeSpec,
 };
 
 /// The name that stands for the fixed world frame in joints (`parent:

@@ -4,9 +4,9 @@
 use super::{
     v2, Act, JointInfo, PhysicsWorld, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
 };
-use crate::command::CommandSpace;
-use crate::scene::physics::{BodyKind, JointKind, PhysicsSpec, ShapeSpec, GROUND};
-use crate::scene::{Action, CommandSpec, Scene, ValueAction};
+use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec};
+use crate::scene::valid::{Resolved, ResolvedValue};
+use crate::scene::Scene;
 use rapier2d::math::{Pose, Real};
 use rapier2d::prelude::{
     ColliderBuilder, Group, IntegrationParameters, InteractionGroups, InteractionTestMode,
@@ -96,37 +96,29 @@ fn build_copy(
     }
     // one ground per copy: a multibody rooted at a shared ground would join
     // the copies into one multibody
-    let ground = if spec.joints.iter().any(|j| j.parent == GROUND) {
-        Some(s.bodies.insert(RigidBodyBuilder::fixed()))
+    let links = scene.links();
+    let ground = if links.joints.iter().any(|&(parent, _)| parent.is_none()) {
+        s.bodies.insert(RigidBodyBuilder::fixed())
     } else {
-        None
+        RigidBodyHandle::invalid()
     };
-    let body_index = |name: &str| spec.bodies.iter().position(|b| b.name == name);
-    let handle_of = |name: &str| -> Option<RigidBodyHandle> {
-        if name == GROUND {
-            ground
-        } else {
-            body_index(name).map(|i| handles[i])
-        }
-    };
+    let handle_of = |body: Option<usize>| body.map_or(ground, |i| handles[i]);
     let mut joints = Vec::new();
     // per joint: its impulse joint, for a free-floating tree (None: a
     // multibody link, for a tree hung on ground)
     let mut impulse_of = Vec::new();
-    for j in &spec.joints {
-        let parent_angle = body_index(&j.parent).map_or(0.0, |i| spec.bodies[i].angle);
-        let child = &spec.bodies[body_index(&j.child).expect("validated: known child")];
+    for (j, &(parent, child)) in spec.joints.iter().zip(&links.joints) {
+        let parent_angle = parent.map_or(0.0, |i| spec.bodies[i].angle);
         // angle 0 is the start pose, whatever the bodies' start angles
-        let offset = child.angle - parent_angle;
+        let offset = spec.bodies[child].angle - parent_angle;
         // a tree hung on ground is a multibody (reduced coordinates); a
         // free-floating one is built of impulse joints, because Rapier's
         // multibody with a dynamic root does not conserve momentum (see
         // docs/physics.md)
         let multibody = spec.hangs_from_ground(&j.child);
-        let (axis, slider) = match j.kind {
-            JointKind::Revolute => (JointAxis::AngX, None),
-            JointKind::Prismatic { .. } => {
-                let (x, y) = j.axis().expect("a slider's axis");
+        let (axis, slider) = match j.axis() {
+            None => (JointAxis::AngX, None),
+            Some((x, y)) => {
                 let a = Vector::new(x as Real, y as Real);
                 (
                     JointAxis::LinX,
@@ -176,19 +168,20 @@ fn build_copy(
             data.set_motor_model(axis, MotorModel::ForceBased);
             data.set_motor_velocity(axis, 0.0, extra as Real);
         }
-        let p = handle_of(&j.parent).expect("validated: known parent");
-        let c = handle_of(&j.child).expect("validated: known child");
+        let (p, c) = (handle_of(parent), handles[child]);
         joints.push(JointInfo {
             child: c,
-            parent: (j.parent != GROUND).then_some(p),
+            parent: parent.map(|_| p),
             offset,
             limits: j.limits,
             slider,
         });
         if multibody {
+            // validation refused joints that do not form trees, the only
+            // joints Rapier's multibodies refuse
             s.multibody_joints
                 .insert(p, c, data, true)
-                .expect("validated: joints form trees");
+                .expect("joints that form trees");
             impulse_of.push(None);
         } else {
             impulse_of.push(Some(s.impulse_joints.insert(p, c, data, true)));
@@ -196,60 +189,53 @@ fn build_copy(
     }
     // joint damping: the multibody's per-DoF damping, indexed by the
     // link's assembly id (valid at any time, also before the first step)
-    for j in &spec.joints {
-        let c = handle_of(&j.child).expect("validated");
-        let Some(link) = s.multibody_joints.rigid_body_link(c).copied() else {
+    for (j, &(_, child)) in spec.joints.iter().zip(&links.joints) {
+        let Some(link) = s.multibody_joints.rigid_body_link(handles[child]).copied() else {
             continue;
         };
-        let mb = s
-            .multibody_joints
-            .get_multibody_mut(link.multibody)
-            .expect("a live multibody");
-        let aid = mb.link(link.id).expect("a live link").assembly_id();
-        mb.damping_mut()[aid] = j.damping as Real;
+        if let Some(mb) = s.multibody_joints.get_multibody_mut(link.multibody) {
+            if let Some(l) = mb.link(link.id) {
+                let aid = l.assembly_id();
+                mb.damping_mut()[aid] = j.damping as Real;
+            }
+        }
     }
 
-    let resolve = |action: &Action| -> Act {
-        match action {
-            Action::Idle | Action::Move { .. } => Act::Idle,
-            Action::Torque { joint, torque } => {
-                let j = spec.joint(joint).expect("validated: known joint");
+    let resolve = |action: &Resolved| -> Act {
+        match *action {
+            Resolved::Idle => Act::Idle,
+            Resolved::Torque { joint, torque } => {
+                let (parent, child) = links.joints[joint];
                 Act::Torque {
-                    child: handle_of(&j.child).expect("validated"),
-                    parent: if j.parent == GROUND {
-                        None
-                    } else {
-                        handle_of(&j.parent)
-                    },
-                    torque: *torque as Real,
+                    child: handles[child],
+                    parent: parent.map(|i| handles[i]),
+                    torque: torque as Real,
                 }
             }
-            Action::Impulse { body, impulse } => Act::Impulse {
-                body: handle_of(body).expect("validated: known body"),
-                impulse: v2(*impulse),
+            Resolved::Impulse { body, impulse } => Act::Impulse {
+                body: handles[body],
+                impulse: v2(impulse),
             },
-            Action::Force { body, force } => Act::Force {
-                body: handle_of(body).expect("validated: known body"),
-                force: v2(*force),
+            Resolved::Force { body, force } => Act::Force {
+                body: handles[body],
+                force: v2(force),
             },
-            Action::Target { joint, angle } => {
-                let k = spec
-                    .joints
-                    .iter()
-                    .position(|j| j.name == *joint)
-                    .expect("validated: known joint");
+            Resolved::Target {
+                joint: k,
+                angle,
+                motor: m,
+            } => {
                 let j = &spec.joints[k];
-                let m = j.motor.expect("validated: a Target's joint has a motor");
                 let impulse = impulse_of[k];
                 Act::Target {
-                    child: handle_of(&j.child).expect("validated"),
+                    child: handles[links.joints[k].1],
                     impulse,
                     axis: if j.kind.is_revolute() {
                         JointAxis::AngX
                     } else {
                         JointAxis::LinX
                     },
-                    angle: *angle as Real,
+                    angle: angle as Real,
                     stiffness: m.stiffness as Real,
                     // an impulse joint's damping rides on its motor
                     damping: (m.damping + if impulse.is_some() { j.damping } else { 0.0 }) as Real,
@@ -257,28 +243,20 @@ fn build_copy(
             }
         }
     };
-    let mut acts = Vec::new();
-    for alphabet in scene.slots() {
-        for sym in alphabet {
-            acts.push(resolve(&sym.action));
-        }
-    }
-    let value_acts = match &scene.command {
-        CommandSpec::Continuous(slots) => slots
-            .iter()
-            .map(|slot| match &slot.action {
-                ValueAction::Heading { body, impulse } => ValueAct::Heading {
-                    body: handle_of(body).expect("validated: known body"),
-                    impulse: *impulse,
-                },
-                a => ValueAct::Scaled(resolve(&a.at(1.0))),
-            })
-            .collect(),
-        _ => Vec::new(),
-    };
-    let tracked_index = body_index(&spec.effect.body).expect("validated: tracked body");
+    let acts = links.symbols.iter().map(resolve).collect();
+    let value_acts = links
+        .values
+        .iter()
+        .map(|v| match v {
+            ResolvedValue::Heading { body, impulse } => ValueAct::Heading {
+                body: handles[*body],
+                impulse: *impulse,
+            },
+            ResolvedValue::Scaled(a) => ValueAct::Scaled(resolve(a)),
+        })
+        .collect();
     Replica {
-        tracked: handles[tracked_index],
+        tracked: handles[links.tracked],
         handles,
         dynamic,
         acts,
@@ -288,45 +266,12 @@ fn build_copy(
 }
 
 impl PhysicsWorld {
-    /// Builds the world of a validated scene whose world is `spec`.
-    ///
-    /// # Panics
-    /// Only on a scene that did not pass validation (for example a joint
-    /// loop, which Rapier's multibodies cannot hold); [`Scene::load`] and
-    /// [`Scene::parse`] validate, and so does [`Scene::try_physics_world`]
-    /// (check a scene edited in code with [`Scene::validate`]).
-    pub fn from_scene(scene: &Scene, spec: &PhysicsSpec) -> PhysicsWorld {
-        Self::with_copies(scene, spec, 1)
-    }
-
-    /// Builds a world holding `copies` independent copies of the scene's
-    /// non-fixed bodies and joints (fixed bodies are built once and
-    /// shared), for [`execute_batch`](Self::execute_batch): up to `copies`
-    /// commands at once in one Rapier world, which amortises Rapier's
-    /// per-step overhead over the copies. Each copy has its own collision
-    /// group: the copies touch the fixed bodies and, within a copy, the
-    /// scene's own collision rules hold, but no two copies touch.
-    ///
-    /// Each copy's outcome is the one a single-copy world gives, bit for
-    /// bit, on the shipped scenes (tested); a scene whose copies would
-    /// differ should be executed one command per world.
-    ///
-    /// # Panics
-    /// If `copies` is 0 or above [`MAX_COPIES`], or on a scene that did not
-    /// pass validation.
-    pub fn with_copies(scene: &Scene, spec: &PhysicsSpec, copies: usize) -> PhysicsWorld {
+    /// The world of `copies` copies of `scene`, whose world is `spec`.
+    pub(crate) fn of(scene: &Scene, spec: &PhysicsSpec, copies: usize) -> PhysicsWorld {
         assert!(
             (1..=MAX_COPIES).contains(&copies),
             "between 1 and {MAX_COPIES} copies, not {copies}"
         );
-        if spec.has_shorthands() {
-            // a scene built in code with shorthands: build what they stand for
-            let mut plain = spec.clone();
-            if crate::scene::shorthand::expand(&mut plain).is_err() {
-                panic!("shorthands that do not expand (validate the scene first)");
-            }
-            return Self::with_copies(scene, &plain, copies);
-        }
         let mut s = Sets::default();
         let mut fixed = vec![None; spec.bodies.len()];
         let mut copy_of_body = Vec::new();
@@ -355,10 +300,7 @@ impl PhysicsWorld {
         // a continuous scene's command space of symbols is a placeholder
         // (one symbol per slot) that no command passes (`check_command`)
         let values = scene.value_space();
-        let space = match &values {
-            Some(v) => CommandSpace::repeat(v.num_slots(), &['~']).expect("validated scene"),
-            None => scene.command_space(),
-        };
+        let space = scene.command_space();
         let mut offset = Vec::new();
         let mut n = 0;
         for alphabet in scene.slots() {
@@ -397,10 +339,7 @@ impl PhysicsWorld {
             gate_margin: LIMIT_GATE_MARGIN,
             gate_speed_steps: 4.0,
             gate_missed: false,
-            mirror: spec.symmetry.map(|sym| {
-                let maps = sym.symbol_maps(scene).expect("validated scene");
-                (sym, maps)
-            }),
+            mirror: scene.mirror().cloned(),
             dt: spec.dt,
             body_names: spec.bodies.iter().map(|b| b.name.clone()).collect(),
             joint_names: spec.joints.iter().map(|j| j.name.clone()).collect(),

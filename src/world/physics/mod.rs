@@ -199,7 +199,7 @@ pub struct PhysicsWorld {
     pristine: Sets,
     sets: Sets,
     /// The copies of the scene's moving bodies (one unless built by
-    /// [`with_copies`](PhysicsWorld::with_copies)); copy 0 is the one
+    /// [`PhysicsScene::world`](crate::world::PhysicsScene::world)); copy 0 is the one
     /// [`World::execute`] uses.
     copies: Vec<Replica>,
     /// The copy owning each body, by the body handle's index (`u32::MAX`
@@ -298,7 +298,7 @@ impl PhysicsWorld {
     }
 
     /// The number of copies this world holds (see
-    /// [`with_copies`](Self::with_copies)).
+    /// [`PhysicsScene::world`](crate::world::PhysicsScene::world)).
     pub fn num_copies(&self) -> usize {
         self.copies.len()
     }
@@ -349,8 +349,8 @@ mod tests {
             };
             let space = scene.command_space();
             let n = space.num_commands().unwrap();
-            let mut gated = PhysicsWorld::from_scene(&scene, spec);
-            let mut plain = PhysicsWorld::from_scene(&scene, spec);
+            let mut gated = PhysicsWorld::of(&scene, spec, 1);
+            let mut plain = PhysicsWorld::of(&scene, spec, 1);
             plain.gate_limits = false;
             let mut c = space.first();
             for k in 0..60u64 {
@@ -378,10 +378,10 @@ mod tests {
             unreachable!("a physics scene")
         };
         let space = scene.command_space();
-        let mut careless = PhysicsWorld::from_scene(&scene, spec);
+        let mut careless = PhysicsWorld::of(&scene, spec, 1);
         careless.gate_margin = 1e-6;
         careless.gate_speed_steps = 0.0;
-        let mut plain = PhysicsWorld::from_scene(&scene, spec);
+        let mut plain = PhysicsWorld::of(&scene, spec, 1);
         plain.gate_limits = false;
         let mut reruns = 0;
         let mut c = space.first();

@@ -4,14 +4,14 @@
 use super::finite2;
 use crate::scene::physics::limits::*;
 use crate::scene::physics::{BodyKind, PhysicsSpec};
-use crate::scene::{Action, CommandSpec, Invalid, Scene, ValueAction};
+use crate::scene::{Action, CommandSpec, Invalid, SceneSpec, ValueAction};
 use std::collections::HashMap;
 
 impl PhysicsSpec {
     /// The action of every symbol of every slot.
     pub(super) fn check_symbol_actions(
         &self,
-        scene: &Scene,
+        scene: &SceneSpec,
         position: &dyn Fn(&str) -> Option<usize>,
     ) -> Result<(), Invalid> {
         let mut seen: HashMap<char, usize> = HashMap::new();
@@ -36,7 +36,7 @@ impl PhysicsSpec {
     /// symmetry with them.
     pub(super) fn check_value_actions(
         &self,
-        scene: &Scene,
+        scene: &SceneSpec,
         position: &dyn Fn(&str) -> Option<usize>,
     ) -> Result<(), Invalid> {
         let CommandSpec::Continuous(slots) = &scene.command else {

@@ -5,11 +5,12 @@
 mod action;
 mod body;
 mod joint;
+mod symmetry;
 
 use super::limits::*;
 use super::{PhysicsSpec, Schedule, MAX_STEPS};
 use crate::scene::overlap::{first_overlap, OVERLAP_TOLERANCE};
-use crate::scene::{Invalid, Scene};
+use crate::scene::{Invalid, SceneSpec};
 use std::collections::HashMap;
 
 /// `"name"`, the text that anchors an error on a named item.
@@ -26,7 +27,7 @@ impl PhysicsSpec {
     /// fault is reported): the world's own numbers, the bodies, the joints,
     /// the schedule, the effect, the symbols' actions, the continuous
     /// slots' actions, the symmetry, and bodies overlapping at the start.
-    pub(crate) fn validate(&self, scene: &Scene) -> Result<(), Invalid> {
+    pub(crate) fn validate(&self, scene: &SceneSpec) -> Result<(), Invalid> {
         self.check_world_numbers()?;
         self.check_counts()?;
         // names to indices: linear in the number of bodies and joints
@@ -130,7 +131,7 @@ impl PhysicsSpec {
 
     /// The schedule's durations: finite, whole numbers of steps, at least
     /// one step of action, at most [`MAX_STEPS`] steps per command.
-    fn check_schedule(&self, scene: &Scene) -> Result<(), Invalid> {
+    fn check_schedule(&self, scene: &SceneSpec) -> Result<(), Invalid> {
         let (field, values) = match self.schedule {
             Schedule::Sequential { phase, settle } => ("phase", [phase, settle]),
             Schedule::Simultaneous { push, settle } => ("push", [push, settle]),

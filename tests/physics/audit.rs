@@ -326,7 +326,7 @@ fn scene_check_samples_never_panics() {
 /// The slider example of docs/scenes.md loads and its cart slides.
 #[test]
 fn the_slider_example_of_the_docs_loads() {
-    let doc = include_str!("../docs/scenes.md");
+    let doc = include_str!("../../docs/scenes.md");
     let start = doc.find("<!-- example: slider -->").expect("the example");
     let text = &doc[start..];
     let text = &text[text.find("```ron").unwrap() + 6..];

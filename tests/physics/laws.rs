@@ -157,7 +157,7 @@ fn a_free_chain_keeps_its_momentum_through_self_contact() {
 /// One body or link hit by `Impulse(impulse: J)` at the start: the whole
 /// system's momentum changes by exactly J in one step (no gravity, no
 /// other body to push against). An impulse on a link of a chain hung on
-/// `ground` is refused at load (tests/physics_audit.rs).
+/// `ground` is refused at load (tests/physics/audit.rs).
 fn impulse_scene(kind: &str) -> (String, &'static str) {
     let (bodies, joints, target) = match kind {
         // a free body

@@ -1,0 +1,103 @@
+"""A Stable-Baselines3 ``VecEnv`` over e3d's batched execution.
+
+``E3dSB3VecEnv(scene, num_envs)`` steps ``num_envs`` copies of the
+one-command episode of ``e3d.gym.E3dEnv`` with one
+``World.execute_batch`` call, as ``E3dVectorEnv`` does, and speaks SB3's
+``VecEnv`` protocol: ``reset() -> obs``, ``step(actions) -> (obs,
+rewards, dones, infos)`` with every copy done at every step and reset in
+the same call (the returned observations are the start effect; each
+info's ``terminal_observation`` is the command's terminal effect, as
+SB3's own ``DummyVecEnv`` gives it), ``infos[i]["x"]``, ``["y"]``.
+
+    from stable_baselines3 import PPO
+    from e3d.sb3 import E3dSB3VecEnv
+    model = PPO("MlpPolicy", E3dSB3VecEnv("two_rooms", 16), n_steps=64, batch_size=256)
+    model.learn(10_000)
+
+Importing this module imports stable_baselines3 (and so torch) when it
+is installed; without it, the class stands on a minimal base of the same
+methods (what the tests without SB3 step).
+"""
+
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+
+class _StandIn:
+    """Without SB3: the part of its ``VecEnv`` the adapter uses (its
+    attributes, and ``step`` as ``step_async`` then ``step_wait``)."""
+
+    def __init__(self, num_envs: int, observation_space: Any, action_space: Any):
+        self.num_envs = num_envs
+        self.observation_space = observation_space
+        self.action_space = action_space
+
+    def step(self, actions: np.ndarray) -> Any:
+        self.step_async(actions)  # type: ignore[attr-defined]
+        return self.step_wait()  # type: ignore[attr-defined]
+
+
+_Base: Any
+try:
+    from stable_baselines3.common.vec_env import VecEnv as _Base  # type: ignore[import-not-found, no-redef, unused-ignore]
+except ImportError:
+    _Base = _StandIn
+
+from ._e3d import Scene
+from .gym import E3dVectorEnv
+
+
+class E3dSB3VecEnv(_Base):  # type: ignore[misc, unused-ignore]
+    """``num_envs`` one-command episodes stepped together (see the module)."""
+
+    def __init__(self, scene: Union[Scene, str], num_envs: int, use_reward: bool = True):
+        self.venv = E3dVectorEnv(scene, num_envs, use_reward=use_reward)
+        super().__init__(self.venv.num_envs, self.venv.single_observation_space, self.venv.single_action_space)
+        self._actions: Optional[np.ndarray] = None
+
+    def reset(self) -> np.ndarray:
+        seeds = getattr(self, "_seeds", [None])
+        seed = seeds[0] if seeds else None
+        obs, _ = self.venv.reset(seed=seed)
+        if hasattr(self, "_reset_seeds"):
+            self._reset_seeds()
+        return obs
+
+    def step_async(self, actions: np.ndarray) -> None:
+        self._actions = np.asarray(actions)
+
+    def step_wait(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
+        assert self._actions is not None, "step_async first"
+        obs, rewards, terminated, _, infos = self.venv.step(self._actions)
+        final = infos["final_obs"]
+        x, y = infos["final_info"]["x"], infos["final_info"]["y"]
+        out = [
+            {"terminal_observation": final[i], "TimeLimit.truncated": False, "x": float(x[i]), "y": float(y[i])}
+            for i in range(self.num_envs)
+        ]
+        return obs, rewards.astype(np.float32), terminated.copy(), out
+
+    def close(self) -> None:
+        pass
+
+    def _indices(self, indices: Union[None, int, Sequence[int]]) -> list[int]:
+        if indices is None:
+            return list(range(self.num_envs))
+        if isinstance(indices, int):
+            return [indices]
+        return list(indices)
+
+    def get_attr(self, attr_name: str, indices: Union[None, int, Sequence[int]] = None) -> list[Any]:
+        return [getattr(self.venv.env, attr_name) for _ in self._indices(indices)]
+
+    def set_attr(self, attr_name: str, value: Any, indices: Union[None, int, Sequence[int]] = None) -> None:
+        # the copies share one environment: set once
+        setattr(self.venv.env, attr_name, value)
+
+    def env_method(
+        self, method_name: str, *method_args: Any, indices: Union[None, int, Sequence[int]] = None, **method_kwargs: Any
+    ) -> list[Any]:
+        return [getattr(self.venv.env, method_name)(*method_args, **method_kwargs) for _ in self._indices(indices)]
+
+    def env_is_wrapped(self, wrapper_class: type, indices: Union[None, int, Sequence[int]] = None) -> list[bool]:
+        return [False for _ in self._indices(indices)]

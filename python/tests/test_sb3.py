@@ -1,0 +1,57 @@
+"""The Stable-Baselines3 adapter (e3d.sb3): its stepping against
+E3dVectorEnv always; against SB3's DummyVecEnv and with PPO when
+stable_baselines3 is installed (it needs torch), skipped otherwise."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("gymnasium")
+
+import e3d  # noqa: E402
+from e3d.gym import E3dEnv, E3dVectorEnv  # noqa: E402
+from e3d.sb3 import E3dSB3VecEnv  # noqa: E402
+
+
+def test_sb3_protocol_steps_the_vector_env():
+    venv = E3dSB3VecEnv("puck_rooms", 3)
+    ref = E3dVectorEnv("puck_rooms", 3)
+    a = venv.venv.scene.parse(["SEEEEES", "EEEEEEE", "SSEEENN"])
+    assert venv.num_envs == 3 and venv.action_space == ref.single_action_space
+    assert venv.reset().tolist() == ref.reset(seed=0)[0].tolist()
+    obs, rew, done, infos = venv.step(a)
+    obs2, rew2, term2, _, infos2 = ref.step(a)
+    assert obs.tolist() == obs2.tolist() and rew.dtype == np.float32
+    assert rew.tolist() == rew2.astype(np.float32).tolist() and done.tolist() == [True] * 3
+    assert [i["terminal_observation"] for i in infos] == infos2["final_obs"].tolist()
+    assert [i["x"] for i in infos] == infos2["final_info"]["x"].tolist()
+    assert all(i["TimeLimit.truncated"] is False for i in infos)
+    assert venv.get_attr("use_reward") == [True] * 3 and venv.env_is_wrapped(object) == [False] * 3
+
+
+def _sb3():
+    return pytest.importorskip("stable_baselines3")
+
+
+def test_sb3_vec_env_steps_as_dummy_vec_env():
+    _sb3()
+    from stable_baselines3.common.vec_env import DummyVecEnv
+    venv = E3dSB3VecEnv("two_rooms", 4)
+    dummy = DummyVecEnv([lambda: E3dEnv("two_rooms") for _ in range(4)])
+    scene = e3d.Scene.builtin("two_rooms")
+    a = scene.parse(["EEEEEES", "SSEEEEE", "NNNNNNN", "EESSEES"]).astype(np.int64)
+    o1, o2 = venv.reset(), dummy.reset()
+    assert o1.tolist() == o2.tolist()
+    for _ in range(2):
+        obs, rew, done, infos = venv.step(a)
+        obs2, rew2, done2, infos2 = dummy.step(a)
+        assert obs.tolist() == obs2.tolist() and rew.tolist() == rew2.tolist()
+        assert done.tolist() == done2.tolist() == [True] * 4
+        assert [i["terminal_observation"] for i in infos] == [i["terminal_observation"] for i in infos2]
+
+
+def test_ppo_learns_a_few_steps():
+    _sb3()
+    from stable_baselines3 import PPO
+    model = PPO("MlpPolicy", E3dSB3VecEnv("two_rooms", 8), n_steps=16, batch_size=64, seed=0, device="cpu")
+    model.learn(256)
+    assert model.num_timesteps >= 256

@@ -1,0 +1,213 @@
+//! The heat map of a sweep: one metric over two parameters.
+
+use super::*;
+
+/// A heat map's axis: one column (or row) per swept value, evenly spaced
+/// whatever the values; the label says when they are log-spaced (a
+/// constant ratio) or neither evenly nor log-spaced.
+pub(super) fn heat_axis_label(param: &str, values: &[f64]) -> String {
+    let label = param_label(param);
+    if values.len() < 3 {
+        return label;
+    }
+    let even = |v: &[f64]| {
+        let d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
+        d.iter()
+            .all(|x| (x - d[0]).abs() <= 1e-6 * d[0].abs().max(1e-12))
+    };
+    if even(values) {
+        label
+    } else if values.iter().all(|&v| v > 0.0)
+        && even(&values.iter().map(|v| v.ln()).collect::<Vec<_>>())
+    {
+        format!("{label}, log-spaced values")
+    } else {
+        format!("{label}, swept values (not to scale)")
+    }
+}
+
+/// A number in 3 significant digits, without trailing zeros (the labels of
+/// a heat map's columns: 3.16, 31.6).
+pub(super) fn short3(v: f64) -> String {
+    if !v.is_finite() || v == 0.0 {
+        return short(v);
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if !(-4..6).contains(&mag) {
+        return format!("{v:.2e}");
+    }
+    let decimals = (2 - mag).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// Viridis, by linear interpolation between five of its colours.
+pub(super) fn viridis(t: f64) -> RGBColor {
+    const C: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    } * 4.0;
+    let i = (t.floor() as usize).min(3);
+    let f = t - i as f64;
+    let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
+    RGBColor(
+        mix(C[i].0, C[i + 1].0),
+        mix(C[i].1, C[i + 1].1),
+        mix(C[i].2, C[i + 1].2),
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(super) fn draw_heat(
+    title: &str,
+    x_name: &str,
+    y_name: &str,
+    rows: Vec<&Vec<String>>,
+    xi: usize,
+    yi: usize,
+    mi: usize,
+    num: &dyn Fn(&str) -> Option<f64>,
+) -> Result<String, PlotError> {
+    let axis = |c: usize| -> Result<Vec<f64>, PlotError> {
+        let mut v: Vec<f64> = Vec::new();
+        for r in &rows {
+            let Some(x) = num(&r[c]) else {
+                return err(format!("{} = `{}` is not a number", KEY_COLUMNS[c], r[c]));
+            };
+            if !v.contains(&x) {
+                v.push(x);
+            }
+        }
+        v.sort_by(f64::total_cmp);
+        Ok(v)
+    };
+    let (xv, yv) = (axis(xi)?, axis(yi)?);
+    let mut grid: Vec<Vec<Option<f64>>> = vec![vec![None; yv.len()]; xv.len()];
+    for r in &rows {
+        let i = xv.iter().position(|&x| Some(x) == num(&r[xi])).unwrap_or(0);
+        let j = yv.iter().position(|&y| Some(y) == num(&r[yi])).unwrap_or(0);
+        grid[i][j] = num(&r[mi]);
+    }
+    let vals: Vec<f64> = grid.iter().flatten().flatten().copied().collect();
+    let (vmin, vmax) = vals
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if vals.is_empty() {
+        return err("no value to draw");
+    }
+    let span = if vmax - vmin > 0.0 { vmax - vmin } else { 1.0 };
+    let (w, h) = (900u32, 650u32);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (left, right) = root.split_horizontally(w - 130);
+        let (nx, ny) = (xv.len(), yv.len());
+        let mut chart = ChartBuilder::on(&left)
+            .caption(title, (FONT, 22))
+            .margin(15)
+            .x_label_area_size(56)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0f64..nx as f64, 0f64..ny as f64)
+            .map_err(draw_err)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(0)
+            .y_labels(0)
+            .x_desc(heat_axis_label(x_name, &xv))
+            .y_desc(heat_axis_label(y_name, &yv))
+            .axis_desc_style((FONT, 19))
+            .draw()
+            .map_err(draw_err)?;
+        for (i, col) in grid.iter().enumerate() {
+            for (j, v) in col.iter().enumerate() {
+                let (x, y) = (i as f64, j as f64);
+                let t = v.map(|v| (v - vmin) / span);
+                let fill = match t {
+                    Some(t) => viridis(t).filled(),
+                    None => RGBColor(230, 230, 230).filled(),
+                };
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(x, y), (x + 1.0, y + 1.0)],
+                        fill,
+                    )))
+                    .map_err(draw_err)?;
+                let label = v.map(short).unwrap_or_else(|| "-".into());
+                let color = if t.unwrap_or(1.0) < 0.6 { WHITE } else { BLACK };
+                let style = TextStyle::from((FONT, 18).into_font())
+                    .color(&color)
+                    .pos(Pos::new(HPos::Center, VPos::Center));
+                chart
+                    .draw_series(std::iter::once(Text::new(label, (x + 0.5, y + 0.5), style)))
+                    .map_err(draw_err)?;
+            }
+        }
+        // tick labels at the centres of the cells, drawn by hand
+        for (i, v) in xv.iter().enumerate() {
+            let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
+            let style = TextStyle::from((FONT, 17).into_font())
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top));
+            left.draw(&Text::new(short3(*v), (px, py + 6), style))
+                .map_err(draw_err)?;
+        }
+        for (j, v) in yv.iter().enumerate() {
+            let (px, py) = chart.backend_coord(&(0.0, j as f64 + 0.5));
+            let style = TextStyle::from((FONT, 17).into_font())
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Right, VPos::Center));
+            left.draw(&Text::new(short3(*v), (px - 6, py), style))
+                .map_err(draw_err)?;
+        }
+        // the colour bar
+        right
+            .draw(&Text::new(
+                "mean",
+                (12, 22),
+                (FONT, 18).into_font().color(&BLACK),
+            ))
+            .map_err(draw_err)?;
+        let mut bar = ChartBuilder::on(&right)
+            .margin_top(50)
+            .margin_bottom(65)
+            .margin_right(10)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0f64..1f64, vmin..vmin + span)
+            .map_err(draw_err)?;
+        bar.configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .label_style((FONT, 16))
+            .y_label_formatter(&|v: &f64| short(*v))
+            .draw()
+            .map_err(draw_err)?;
+        let steps = 100;
+        bar.draw_series((0..steps).map(|k| {
+            let a = vmin + span * k as f64 / steps as f64;
+            let b = vmin + span * (k + 1) as f64 / steps as f64;
+            Rectangle::new(
+                [(0.0, a), (1.0, b)],
+                viridis(k as f64 / (steps - 1) as f64).filled(),
+            )
+        }))
+        .map_err(draw_err)?;
+        root.present().map_err(draw_err)?;
+    }
+    Ok(svg)
+}

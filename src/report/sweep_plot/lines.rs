@@ -1,0 +1,332 @@
+//! The line plot of a sweep: one line per learner (and filter) against one
+//! parameter, with 95% intervals.
+
+use super::*;
+
+/// One line of a line plot.
+pub(super) struct Series {
+    label: String,
+    /// (x, mean, ci_low, ci_high); a single point with x = NaN is a
+    /// horizontal line (a learner that does not use x).
+    points: Vec<(f64, f64, Option<f64>, Option<f64>)>,
+}
+
+pub(super) fn line_series(
+    rows: &[&Vec<String>],
+    xi: usize,
+    mi: usize,
+    lo: usize,
+    hi: usize,
+    num: &dyn Fn(&str) -> Option<f64>,
+) -> Result<Vec<Series>, PlotError> {
+    // the cell columns that vary (besides x) name the series
+    let varying: Vec<usize> = (0..CELL_COLUMNS)
+        .filter(|&c| c != xi)
+        .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
+        .collect();
+    // the columns named in labels: those with two or more distinct
+    // non-empty values (a parameter only some learners use is not named)
+    let mut named: Vec<usize> = varying
+        .iter()
+        .copied()
+        .filter(|&c| {
+            let mut v: Vec<&str> = rows
+                .iter()
+                .map(|r| r[c].as_str())
+                .filter(|s| !s.is_empty())
+                .collect();
+            v.sort();
+            v.dedup();
+            v.len() >= 2
+        })
+        .collect();
+    if named.is_empty() {
+        named.push(1); // the learner
+    }
+    let mut series: Vec<Series> = Vec::new();
+    let mut keys: Vec<String> = Vec::new();
+    for r in rows {
+        let key: Vec<&str> = varying.iter().map(|&c| r[c].as_str()).collect();
+        let key = key.join(",");
+        let Some(mean) = num(&r[mi]) else { continue };
+        let x = if r[xi].is_empty() {
+            f64::NAN
+        } else {
+            match num(&r[xi]) {
+                Some(x) => x,
+                None => return err(format!("{} = `{}` is not a number", KEY_COLUMNS[xi], r[xi])),
+            }
+        };
+        let p = (x, mean, num(&r[lo]), num(&r[hi]));
+        match keys.iter().position(|k| *k == key) {
+            Some(i) => series[i].points.push(p),
+            None => {
+                let label = named
+                    .iter()
+                    .filter(|&&c| !r[c].is_empty())
+                    .map(|&c| match KEY_COLUMNS[c] {
+                        "learner" | "scene" => r[c].clone(),
+                        "use_reward" => {
+                            if r[c] == "true" {
+                                "with reward".into()
+                            } else {
+                                "without reward".into()
+                            }
+                        }
+                        name => format!("{name} {}", short(num(&r[c]).unwrap_or(f64::NAN))),
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                keys.push(key);
+                series.push(Series {
+                    label: if label.is_empty() {
+                        "all".into()
+                    } else {
+                        label
+                    },
+                    points: vec![p],
+                });
+            }
+        }
+    }
+    for s in &mut series {
+        s.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    if series.iter().all(|s| s.points.iter().all(|p| p.0.is_nan())) {
+        return err(format!(
+            "no cell has a value of {} (no learner in the selection uses it)",
+            KEY_COLUMNS[xi]
+        ));
+    }
+    Ok(series)
+}
+
+pub(super) fn draw_lines(
+    title: &str,
+    x_name: &str,
+    metric: &str,
+    series: &[Series],
+) -> Result<String, PlotError> {
+    let xs: Vec<f64> = series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.0))
+        .filter(|x| !x.is_nan())
+        .collect();
+    let (xmin, xmax) = xs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    let log = xmin > 0.0 && xmax / xmin >= 20.0;
+    let tx = |x: f64| if log { x.log10() } else { x };
+    let (mut x0, mut x1) = (tx(xmin), tx(xmax));
+    if x1 - x0 < 1e-12 {
+        x0 -= 0.5;
+        x1 += 0.5;
+    }
+    let pad = 0.04 * (x1 - x0);
+    let (x0, x1) = (x0 - pad, x1 + pad);
+    let ys: Vec<f64> = series
+        .iter()
+        .flat_map(|s| s.points.iter().flat_map(|p| [Some(p.1), p.2, p.3]))
+        .flatten()
+        .filter(|y| y.is_finite())
+        .collect();
+    let (mut y0, mut y1) = ys
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
+            (a.min(y), b.max(y))
+        });
+    if y1 - y0 < 1e-12 {
+        y0 -= 0.5;
+        y1 += 0.5;
+    }
+    let pad = 0.06 * (y1 - y0);
+    let (y0, y1) = (y0 - pad, y1 + pad);
+
+    // the legend under the plot, in as many columns as fit
+    let w = 1000u32;
+    let char_w = 7.4;
+    let longest = series
+        .iter()
+        .map(|s| s.label.chars().count())
+        .max()
+        .unwrap_or(0);
+    let col_w = (48.0 + char_w * longest as f64).ceil() as u32;
+    let cols = ((w - 100) / col_w).clamp(1, series.len().max(1) as u32);
+    let rows = (series.len() as u32).div_ceil(cols);
+    let legend_h = 16 + 24 * rows;
+    let h = 580 + legend_h;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (top, bottom) = root.split_vertically(h - legend_h);
+        let ticks: Vec<f64> = if log {
+            log_ticks(xmin, xmax).into_iter().map(f64::log10).collect()
+        } else {
+            linear_ticks(x0, x1)
+        };
+        let mut chart = ChartBuilder::on(&top)
+            .caption(title, (FONT, 24))
+            .margin(15)
+            .margin_right(25)
+            .x_label_area_size(62)
+            .y_label_area_size(80)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(draw_err)?;
+        let x_fmt = |v: f64| if log { short(10f64.powf(v)) } else { short(v) };
+        let y_fmt = |v: &f64| short(*v);
+        chart
+            .configure_mesh()
+            .x_desc(if log {
+                format!("{}, log scale", param_label(x_name))
+            } else {
+                param_label(x_name)
+            })
+            .y_desc(format!("{metric}: mean, 95% CI of the mean"))
+            .axis_desc_style((FONT, 19))
+            .label_style((FONT, 17))
+            .y_label_formatter(&y_fmt)
+            .x_labels(0)
+            .disable_x_mesh()
+            .light_line_style(RGBColor(240, 240, 240))
+            .bold_line_style(RGBColor(215, 215, 215))
+            .draw()
+            .map_err(draw_err)?;
+        // a log axis: light lines at 2..9 times each decade
+        if log {
+            let (a, b) = (x0.floor() as i32, x1.ceil() as i32);
+            for k in a..=b {
+                for m in 2..=9 {
+                    let t = (m as f64 * 10f64.powi(k)).log10();
+                    if t > x0 && t < x1 && !ticks.iter().any(|u| (u - t).abs() < 1e-9) {
+                        chart
+                            .draw_series(std::iter::once(PathElement::new(
+                                vec![(t, y0), (t, y1)],
+                                RGBColor(242, 242, 242),
+                            )))
+                            .map_err(draw_err)?;
+                    }
+                }
+            }
+        }
+        // the x ticks, drawn by hand: decades (or 1-2-5) on a log axis,
+        // round numbers on a linear one; the swept values are the markers
+        for &t in &ticks {
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![(t, y0), (t, y1)],
+                    RGBColor(215, 215, 215),
+                )))
+                .map_err(draw_err)?;
+            let (px, py) = chart.backend_coord(&(t, y0));
+            top.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
+                .map_err(draw_err)?;
+            let style = TextStyle::from((FONT, 17).into_font())
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top));
+            top.draw(&Text::new(x_fmt(t), (px, py + 8), style))
+                .map_err(draw_err)?;
+        }
+        for (i, s) in series.iter().enumerate() {
+            let st = style(i);
+            let c = st.colour;
+            let pts: Vec<_> = s.points.iter().filter(|p| !p.0.is_nan()).collect();
+            if pts.is_empty() {
+                // a learner that does not use x: a dashed line across
+                let p = s.points[0];
+                if let (Some(l), Some(u)) = (p.2, p.3) {
+                    chart
+                        .draw_series(std::iter::once(Rectangle::new(
+                            [(x0, l), (x1, u)],
+                            c.mix(0.12).filled(),
+                        )))
+                        .map_err(draw_err)?;
+                }
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        vec![(x0, p.1), (x1, p.1)],
+                        12,
+                        6,
+                        c.stroke_width(2),
+                    ))
+                    .map_err(draw_err)?;
+                continue;
+            }
+            let band: Vec<(f64, f64, f64)> = pts
+                .iter()
+                .filter_map(|p| Some((tx(p.0), p.2?, p.3?)))
+                .collect();
+            if band.len() >= 2 {
+                let mut poly: Vec<(f64, f64)> = band.iter().map(|b| (b.0, b.1)).collect();
+                poly.extend(band.iter().rev().map(|b| (b.0, b.2)));
+                chart
+                    .draw_series(std::iter::once(Polygon::new(poly, c.mix(0.15).filled())))
+                    .map_err(draw_err)?;
+            } else if let Some(&(x, l, u)) = band.first() {
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        vec![(x, l), (x, u)],
+                        c.stroke_width(2),
+                    )))
+                    .map_err(draw_err)?;
+            }
+            let line: Vec<(f64, f64)> = pts.iter().map(|p| (tx(p.0), p.1)).collect();
+            if st.dashed {
+                chart
+                    .draw_series(DashedLineSeries::new(line, 5, 4, c.stroke_width(2)))
+                    .map_err(draw_err)?;
+            } else {
+                chart
+                    .draw_series(LineSeries::new(line, c.stroke_width(2)))
+                    .map_err(draw_err)?;
+            }
+            for p in &pts {
+                let at = chart.backend_coord(&(tx(p.0), p.1));
+                draw_marker(&top, at, st).map_err(draw_err)?;
+            }
+        }
+        // the legend: as each series is drawn (a dashed line alone for a
+        // learner that does not use x)
+        for (i, s) in series.iter().enumerate() {
+            let st = style(i);
+            let c = st.colour;
+            let (col, row) = (i as u32 % cols, i as u32 / cols);
+            let x = 50 + (col * col_w) as i32;
+            let y = 10 + 24 * row as i32;
+            let flat = s.points.iter().all(|p| p.0.is_nan());
+            if flat {
+                for (a, b) in [(x, x + 12), (x + 18, x + 30)] {
+                    bottom
+                        .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(3)))
+                        .map_err(draw_err)?;
+                }
+            } else {
+                if st.dashed {
+                    for (a, b) in [(x, x + 6), (x + 12, x + 18), (x + 24, x + 30)] {
+                        bottom
+                            .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(2)))
+                            .map_err(draw_err)?;
+                    }
+                } else {
+                    bottom
+                        .draw(&PathElement::new(
+                            vec![(x, y), (x + 30, y)],
+                            c.stroke_width(2),
+                        ))
+                        .map_err(draw_err)?;
+                }
+                draw_marker(&bottom, (x + 15, y), st).map_err(draw_err)?;
+            }
+            let style = TextStyle::from((FONT, 16).into_font())
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Left, VPos::Center));
+            bottom
+                .draw(&Text::new(s.label.clone(), (x + 38, y), style))
+                .map_err(draw_err)?;
+        }
+        root.present().map_err(draw_err)?;
+    }
+    Ok(svg)
+}

@@ -1,0 +1,520 @@
+//! Figures of a sweep, from its `summary.csv`: a line plot with 95%
+//! intervals against one parameter, or a heat map over two.
+//!
+//! ```
+//! use e3d::report::sweep_plot::{plot, PlotSpec, Summary};
+//! let csv = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n\
+//!            g,e3d,false,0.3,1,0.03,0.01,,3,0.9,0.01,0.88,0.92\n\
+//!            g,e3d,false,0.3,10,0.03,0.01,,3,0.8,0.01,0.78,0.82\n\
+//!            g,uniform,false,,,,,,3,0.7,0.01,0.68,0.72\n";
+//! let summary = Summary::parse(csv).unwrap();
+//! let spec = PlotSpec { x: "beta".into(), y: None, metric: "h".into(), filters: vec![] };
+//! let svg = plot(&summary, &spec).unwrap();
+//! assert!(svg.starts_with("<svg") && svg.contains("uniform"));
+//! ```
+
+use crate::scene::did_you_mean;
+use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS, PARAM_NAMES};
+use plotters::prelude::*;
+
+mod heat;
+mod lines;
+
+use heat::draw_heat;
+use lines::{draw_lines, line_series};
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// A figure that cannot be drawn: why, and what was expected.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct PlotError(pub String);
+
+fn err<T>(m: impl Into<String>) -> Result<T, PlotError> {
+    Err(PlotError(m.into()))
+}
+
+/// The largest `summary.csv` `e3d plot` and `e3d report` read (64 MiB;
+/// one row per cell, a few hundred bytes each).
+pub const MAX_SUMMARY_CSV_BYTES: u64 = 64 << 20;
+
+/// A sweep's `summary.csv`, parsed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// The column names.
+    pub columns: Vec<String>,
+    /// The rows, one field per column.
+    pub rows: Vec<Vec<String>>,
+}
+
+impl Summary {
+    /// Parses the text of a `summary.csv`.
+    ///
+    /// The parameters and every column after the cell's (sessions,
+    /// failures, the metrics' means, sds and intervals) must be empty or a
+    /// finite number: `inf`, `NaN` or a word is refused with
+    /// `summary.csv:LINE:COL` and the column, since one infinite value
+    /// would stretch a figure's axis without end. Linear in the text.
+    pub fn parse(text: &str) -> Result<Summary, PlotError> {
+        const FILE: &str = "summary.csv";
+        let mut lines = text.lines();
+        let columns: Vec<String> = match lines.next() {
+            Some(h) => h.split(',').map(str::to_string).collect(),
+            None => return err("the summary is empty"),
+        };
+        if columns.len() < CELL_COLUMNS + 1
+            || columns[..CELL_COLUMNS] != KEY_COLUMNS[..CELL_COLUMNS]
+        {
+            return err("not a sweep summary: expected the columns scene, learner, use_reward, alpha, beta, lambda, eta, epsilon, sessions, ...");
+        }
+        let mut rows = Vec::new();
+        for (i, l) in lines.enumerate() {
+            let f: Vec<String> = l.split(',').map(str::to_string).collect();
+            if f.len() != columns.len() {
+                return err(format!(
+                    "{FILE}:{}:1: {} fields, expected {}",
+                    i + 2,
+                    f.len(),
+                    columns.len()
+                ));
+            }
+            let mut col = 1;
+            for (k, v) in f.iter().enumerate() {
+                if k >= CELL_COLUMNS - PARAM_NAMES.len() && !v.is_empty() {
+                    crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
+                        .map_err(PlotError)?;
+                }
+                col += v.chars().count() + 1;
+            }
+            rows.push(f);
+        }
+        Ok(Summary { columns, rows })
+    }
+
+    /// The metrics summarised (the names `m` with an `m_mean` column).
+    pub fn metrics(&self) -> Vec<&str> {
+        self.columns
+            .iter()
+            .filter_map(|c| c.strip_suffix("_mean"))
+            .collect()
+    }
+
+    fn col(&self, name: &str) -> Option<usize> {
+        self.columns.iter().position(|c| c == name)
+    }
+}
+
+/// What to draw.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlotSpec {
+    /// The parameter on the x axis.
+    pub x: String,
+    /// A second parameter: draw a heat map over (x, y).
+    pub y: Option<String>,
+    /// The metric (a column `METRIC_mean` of the summary).
+    pub metric: String,
+    /// Keep only the cells whose column `.0` reads `.1`.
+    pub filters: Vec<(String, String)>,
+}
+
+/// Draws the figure `spec` asks for and returns it as SVG text.
+///
+/// Line plot (no `y`): one line per combination of the cell columns other
+/// than `x` that vary, with its 95% interval as a band; a learner that
+/// does not use `x` (an empty `x` column, the uniform policy for example)
+/// is drawn as a dashed horizontal line with its band. The x axis is
+/// logarithmic when every x is positive and they span a factor 20 or
+/// more. Heat map (`y` given): the mean of the metric in each (x, y) cell;
+/// the other columns must not vary (select with `filters`).
+pub fn plot(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
+    // plotters escapes `<` and `&` but not control characters, which a
+    // hand-edited summary may hold
+    draw(summary, spec).map(crate::text::xml_forbidden_escaped)
+}
+
+fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
+    let metrics = summary.metrics();
+    if !metrics.contains(&spec.metric.as_str()) {
+        return err(format!(
+            "no metric `{}` in the summary{}; expected one of: {}",
+            spec.metric,
+            did_you_mean(&spec.metric, &metrics),
+            metrics.join(", ")
+        ));
+    }
+    let check_param = |p: &str| -> Result<usize, PlotError> {
+        if PARAM_NAMES.contains(&p) {
+            Ok(summary.col(p).expect("cell columns are checked"))
+        } else {
+            err(format!(
+                "`{p}` is not a parameter{}; expected one of: {}",
+                did_you_mean(p, &PARAM_NAMES),
+                PARAM_NAMES.join(", ")
+            ))
+        }
+    };
+    let xi = check_param(&spec.x)?;
+    let yi = spec.y.as_deref().map(check_param).transpose()?;
+    if yi == Some(xi) {
+        return err("--x and --y name the same parameter");
+    }
+    let cell_cols: Vec<&str> = KEY_COLUMNS[..CELL_COLUMNS].to_vec();
+    let mut rows: Vec<&Vec<String>> = summary.rows.iter().collect();
+    for (k, v) in &spec.filters {
+        let Some(ci) = summary.col(k).filter(|&i| i < CELL_COLUMNS) else {
+            return err(format!(
+                "--where {k}={v}: `{k}` is not a cell column{}; expected one of: {}",
+                did_you_mean(k, &cell_cols),
+                cell_cols.join(", ")
+            ));
+        };
+        let before = rows.clone();
+        // a parameter a learner does not use (empty) passes any filter on it
+        let is_param = PARAM_NAMES.contains(&k.as_str());
+        rows.retain(|r| r[ci] == *v || (is_param && r[ci].is_empty()));
+        if rows.is_empty() {
+            let mut seen: Vec<&str> = before.iter().map(|r| r[ci].as_str()).collect();
+            seen.sort();
+            seen.dedup();
+            return err(format!(
+                "--where {k}={v}: no cell left; `{k}` takes the values: {}",
+                seen.iter()
+                    .map(|s| if s.is_empty() { "(empty)" } else { s })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+    }
+    // a summary written by e3d has the four; an edited one may not
+    let col = |suffix: &str| {
+        let name = format!("{}_{suffix}", spec.metric);
+        summary.col(&name).ok_or_else(|| {
+            PlotError(format!(
+                "the summary has `{}_mean` but no `{name}` column; expected the columns e3d writes",
+                spec.metric
+            ))
+        })
+    };
+    let (mi, lo, hi) = (col("mean")?, col("ci_low")?, col("ci_high")?);
+    let num = |s: &str| s.parse::<f64>().ok();
+    let metric = metric_label(&spec.metric);
+    let mut title = match &spec.y {
+        None => format!("{} against {}", capitalise(&metric), spec.x),
+        Some(y) => format!("{}: mean over {} and {y}", capitalise(&metric), spec.x),
+    };
+    if !spec.filters.is_empty() {
+        let f: Vec<String> = spec
+            .filters
+            .iter()
+            .map(|(k, v)| filter_label(k, v))
+            .collect();
+        title.push_str(&format!(" ({})", f.join(", ")));
+    }
+    match yi {
+        None => {
+            let series = line_series(&rows, xi, mi, lo, hi, &num)?;
+            draw_lines(&title, &spec.x, &metric, &series)
+        }
+        Some(yi) => {
+            // one cell per (x, y): the other columns must be fixed
+            let rows: Vec<&Vec<String>> = rows
+                .into_iter()
+                .filter(|r| !r[xi].is_empty() && !r[yi].is_empty())
+                .collect();
+            if rows.is_empty() {
+                return err(format!(
+                    "no cell has both {} and {} (no learner uses both)",
+                    spec.x,
+                    spec.y.as_deref().unwrap_or_default()
+                ));
+            }
+            let varying: Vec<String> = (0..CELL_COLUMNS)
+                .filter(|&c| c != xi && c != yi)
+                .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
+                .map(|c| {
+                    let mut vals: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
+                    vals.sort();
+                    vals.dedup();
+                    format!("{} ({})", KEY_COLUMNS[c], vals.join(", "))
+                })
+                .collect();
+            if !varying.is_empty() {
+                return err(format!(
+                    "a heat map shows one setting, but these columns vary: {}; choose with --where COLUMN=VALUE",
+                    varying.join("; ")
+                ));
+            }
+            draw_heat(
+                &title,
+                &spec.x,
+                spec.y.as_deref().unwrap_or_default(),
+                rows,
+                xi,
+                yi,
+                mi,
+                &num,
+            )
+        }
+    }
+}
+
+/// A number in 4 significant digits, without trailing zeros.
+pub(crate) fn short(v: f64) -> String {
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if !(-4..6).contains(&mag) {
+        return format!("{v:.2e}");
+    }
+    let decimals = (3 - mag).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A metric's name as a reader says it (`cumulative_reward_at_5000`:
+/// "cumulative reward at trial 5000"); an unknown name with its
+/// underscores as spaces.
+pub fn metric_label(metric: &str) -> String {
+    match metric {
+        "normalized_entropy" => "normalised entropy".into(),
+        "normalized_entropy_last_1000" => "normalised entropy of the last 1000 trials".into(),
+        "kl_to_target" => "KL divergence to the target (nats)".into(),
+        "distinct_effects" => "distinct effects reached".into(),
+        "first_reward_trial" => "trial of the first reward".into(),
+        "coverage" => "fraction of the reachable cells reached".into(),
+        "trials_to_50_percent" => "trials to reach 50% of the reachable cells".into(),
+        "trials_to_90_percent" => "trials to reach 90% of the reachable cells".into(),
+        m => match m.strip_prefix("cumulative_reward_at_") {
+            Some(t) => format!("cumulative reward at trial {t}"),
+            None => m.replace('_', " "),
+        },
+    }
+}
+
+/// A parameter's name with what it is (`beta (inverse temperature)`).
+pub fn param_label(param: &str) -> String {
+    let what = match param {
+        "alpha" => "learning rate",
+        "beta" => "inverse temperature",
+        "lambda" => "reward weight",
+        "eta" => "rate of the effect histogram",
+        "epsilon" => "exploration rate",
+        _ => return param.replace('_', " "),
+    };
+    format!("{param} ({what})")
+}
+
+/// A `--where` filter in words: `use_reward=true` is "with reward".
+fn filter_label(column: &str, value: &str) -> String {
+    match (column, value) {
+        ("use_reward", "true") => "with reward".into(),
+        ("use_reward", "false") => "without reward".into(),
+        ("learner" | "scene", v) => v.to_string(),
+        (c, v) => format!("{c} {v}"),
+    }
+}
+
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_uppercase().chain(c).collect(),
+        None => String::new(),
+    }
+}
+
+/// The ticks of a log axis over `[lo, hi]` (values, not logarithms): the
+/// decades, with 2 and 5 between them when fewer than three decades fall
+/// inside (1-2-5), and if even that gives fewer than two, the ends.
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let (a, b) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    if !(lo > 0.0 && hi.is_finite()) || b.saturating_sub(a) > 700 {
+        return vec![lo, hi];
+    }
+    let inside = |v: f64| v >= lo * (1.0 - 1e-9) && v <= hi * (1.0 + 1e-9);
+    let decades: Vec<f64> = (a..=b)
+        .map(|k| 10f64.powi(k))
+        .filter(|&v| inside(v))
+        .collect();
+    if decades.len() >= 3 {
+        return decades;
+    }
+    let mut t: Vec<f64> = (a..=b)
+        .flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)))
+        .filter(|&v| inside(v))
+        .collect();
+    if t.len() < 2 {
+        t = vec![lo, hi];
+    }
+    t
+}
+
+/// Round ticks of a linear axis over `[lo, hi]`: steps of 1, 2 or 5 times
+/// a power of ten, about 5 to 10 of them.
+fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let raw = (hi - lo).max(1e-12) / 8.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|k| k * mag)
+        .find(|&s| s >= raw)
+        .unwrap_or(10.0 * mag);
+    let first = (lo / step - 1e-9).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
+    // a range that f64 cannot step through (ends too far apart, or too
+    // close for their size) gets its two ends
+    if !step.is_finite() || step <= 0.0 || last.saturating_sub(first) > 100 {
+        return vec![lo, hi];
+    }
+    (first..=last)
+        .map(|k| {
+            let v = k as f64 * step;
+            // 0.30000000000000004 is written 0.3
+            format!("{v:.12}").parse().unwrap_or(v)
+        })
+        .collect()
+}
+
+/// How series `i` is drawn: a colour, a marker and a dash pattern, so that
+/// past the 10 colours the series still differ (marker, then dashes).
+#[derive(Clone, Copy)]
+struct Style {
+    colour: RGBColor,
+    marker: Marker,
+    dashed: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Marker {
+    Circle,
+    Square,
+    Triangle,
+    Diamond,
+}
+
+fn style(i: usize) -> Style {
+    let markers = [
+        Marker::Circle,
+        Marker::Square,
+        Marker::Triangle,
+        Marker::Diamond,
+    ];
+    Style {
+        colour: PALETTE[i % PALETTE.len()],
+        marker: markers[(i / PALETTE.len()) % markers.len()],
+        dashed: (i / PALETTE.len()) % 2 == 1,
+    }
+}
+
+/// A marker of `style` at `(x, y)` pixels of `area`.
+fn draw_marker<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    (x, y): (i32, i32),
+    st: Style,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let c = st.colour.filled();
+    match st.marker {
+        Marker::Circle => area.draw(&Circle::new((x, y), 4, c)),
+        Marker::Square => area.draw(&Rectangle::new([(x - 4, y - 4), (x + 4, y + 4)], c)),
+        Marker::Triangle => area.draw(&Polygon::new(
+            vec![(x, y - 5), (x + 5, y + 4), (x - 5, y + 4)],
+            c,
+        )),
+        Marker::Diamond => area.draw(&Polygon::new(
+            vec![(x, y - 5), (x + 5, y), (x, y + 5), (x - 5, y)],
+            c,
+        )),
+    }
+}
+
+/// Tableau's ten colours.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+const FONT: &str = "sans-serif";
+
+fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> PlotError {
+    PlotError(format!("cannot draw: {e}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::heat::{heat_axis_label, short3};
+    use super::*;
+
+    #[test]
+    fn log_axes_tick_at_decades_or_1_2_5() {
+        assert_eq!(log_ticks(1.0, 1000.0), vec![1.0, 10.0, 100.0, 1000.0]);
+        assert_eq!(log_ticks(0.003, 0.1), vec![0.005, 0.01, 0.02, 0.05, 0.1]);
+        assert_eq!(log_ticks(3.0, 70.0), vec![5.0, 10.0, 20.0, 50.0]);
+        // never the swept values 3.162, 31.62
+        assert!(!log_ticks(1.0, 1000.0)
+            .iter()
+            .any(|t| short(*t).contains("3.162")));
+        assert_eq!(linear_ticks(0.0, 1.0), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]);
+        assert_eq!(linear_ticks(0.07, 0.33), vec![0.1, 0.15, 0.2, 0.25, 0.3]);
+    }
+
+    #[test]
+    fn labels_are_words() {
+        assert_eq!(metric_label("normalized_entropy"), "normalised entropy");
+        assert_eq!(
+            metric_label("cumulative_reward_at_5000"),
+            "cumulative reward at trial 5000"
+        );
+        assert_eq!(metric_label("some_new_metric"), "some new metric");
+        assert_eq!(param_label("beta"), "beta (inverse temperature)");
+        assert_eq!(filter_label("use_reward", "true"), "with reward");
+        assert_eq!(
+            heat_axis_label("beta", &[1.0, 3.16227766017, 10.0, 31.6227766017, 100.0]),
+            "beta (inverse temperature), log-spaced values"
+        );
+        assert_eq!(
+            heat_axis_label("eta", &[0.01, 0.02, 0.03]),
+            "eta (rate of the effect histogram)"
+        );
+        assert_eq!(short3(3.16227766017), "3.16");
+        assert_eq!(short3(31.6227766017), "31.6");
+        assert_eq!(short3(1000.0), "1000");
+    }
+
+    #[test]
+    fn styles_differ_past_the_ten_colours() {
+        let all: Vec<(RGBColor, Marker, bool)> = (0..40)
+            .map(|i| {
+                let s = style(i);
+                (s.colour, s.marker, s.dashed)
+            })
+            .collect();
+        for i in 0..40 {
+            for j in 0..i {
+                assert!(all[i] != all[j], "series {i} and {j} look the same");
+            }
+        }
+    }
+
+    #[test]
+    fn short_numbers() {
+        assert_eq!(short(3.16227766017), "3.162");
+        assert_eq!(short(316.227766017), "316.2");
+        assert_eq!(short(0.003), "0.003");
+        assert_eq!(short(1000.0), "1000");
+        assert_eq!(short(0.0), "0");
+    }
+}

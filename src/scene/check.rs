@@ -1,0 +1,185 @@
+//! The checks of a scene spec: everything parsing alone cannot check,
+//! before the failure is placed in a file ([`SceneSpec::validate`],
+//! [`Scene::parse`](super::Scene::parse)).
+
+use super::{
+    printable_symbol, shorthand, template, CommandSpec, Invalid, SceneSpec, WorldSpec, MAX_REWARD,
+};
+use crate::command::{MAX_ALPHABET, MAX_SLOTS};
+
+impl SceneSpec {
+    /// Checks everything that parsing alone cannot (the checks of
+    /// [`validate`](SceneSpec::validate), before they are placed in a file).
+    pub(super) fn check(&self) -> Result<(), Invalid> {
+        if self.name.trim().is_empty() {
+            return Err(Invalid::at("name", None, "a non-empty name"));
+        }
+        crate::text::check_name(&self.name).map_err(|e| Invalid::at("name", None, &e))?;
+        let n = self.slots().count();
+        if let Some(declared) = self.slots {
+            if declared != n {
+                let (variant, how) = match &self.command {
+                    CommandSpec::Repeat { .. } => ("Repeat", format!("`Repeat` has `slots: {n}`")),
+                    CommandSpec::Template { .. } => {
+                        ("Template", format!("`Template` has `slots: {n}`"))
+                    }
+                    CommandSpec::Slots(_) => ("Slots", format!("`Slots` lists {n}")),
+                    CommandSpec::Continuous(_) => ("Continuous", format!("`Continuous` lists {n}")),
+                };
+                return Err(Invalid::at(
+                    variant,
+                    None,
+                    &format!(
+                        "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: {how}"
+                    ),
+                ));
+            }
+        }
+        if n == 0 {
+            return Err(Invalid::at("command", None, "at least one slot"));
+        }
+        if let Some(slots) = template::expand(&self.command)? {
+            if let WorldSpec::Physics(p) = &self.world {
+                let mut e = p.clone();
+                shorthand::expand(&mut e)?;
+                let joints: Vec<&str> = e.joints.iter().map(|j| j.name.as_str()).collect();
+                let bodies: Vec<&str> = e.bodies.iter().map(|b| b.name.as_str()).collect();
+                template::check_names(&self.command, &joints, &bodies)?;
+            }
+            // every check on the slots the template stands for
+            return SceneSpec {
+                command: slots,
+                slots: None,
+                ..self.clone()
+            }
+            .check();
+        }
+        if n > MAX_SLOTS {
+            return Err(Invalid::at(
+                "slots",
+                None,
+                &format!("at most {MAX_SLOTS} slots, found {n}"),
+            ));
+        }
+        // how often each symbol was written in the alphabets before this
+        // slot's (a Repeat schema writes its alphabet once)
+        let mut written: std::collections::HashMap<char, usize> = Default::default();
+        let repeat = matches!(self.command, CommandSpec::Repeat { .. });
+        let mut written_symbols = 0;
+        if let CommandSpec::Continuous(slots) = &self.command {
+            if matches!(self.world, WorldSpec::Grid(_)) {
+                return Err(Invalid::at(
+                    "Continuous",
+                    None,
+                    "symbols in a Grid world (one-cell moves); continuous slots need a Physics world",
+                ));
+            }
+            for (i, slot) in slots.iter().enumerate() {
+                let (lo, hi) = slot.range;
+                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                    return Err(Invalid::at(
+                        "range",
+                        None,
+                        &format!(
+                            "slot {i}: a range (min, max) of finite numbers with min < max, found ({lo}, {hi})"
+                        ),
+                    )
+                    .nth(i));
+                }
+            }
+        }
+        for (i, alphabet) in self.slots().enumerate() {
+            if self.is_continuous() {
+                break;
+            }
+            if repeat && i > 0 {
+                break;
+            }
+            let mut here: std::collections::HashSet<char> = Default::default();
+            if alphabet.is_empty() {
+                return Err(Invalid::at(
+                    "alphabet",
+                    None,
+                    &format!("slot {i}: at least one symbol in the alphabet, found none"),
+                ));
+            }
+            if alphabet.len() > MAX_ALPHABET {
+                return Err(Invalid::at(
+                    "alphabet",
+                    None,
+                    &format!(
+                        "slot {i}: at most {MAX_ALPHABET} symbols, found {}",
+                        alphabet.len()
+                    ),
+                ));
+            }
+            for s in alphabet {
+                if !here.insert(s.symbol) {
+                    let before = written.get(&s.symbol).copied().unwrap_or(0);
+                    return Err(Invalid::at(
+                        "symbol",
+                        Some(&format!("'{}'", s.symbol)),
+                        &format!(
+                            "slot {i}: distinct symbols, but '{}' appears twice",
+                            s.symbol
+                        ),
+                    )
+                    .nth(before + 1));
+                }
+                if !printable_symbol(s.symbol) {
+                    return Err(Invalid::at(
+                        "symbol",
+                        None,
+                        &format!(
+                            "a printable symbol other than ',' and '\"' (commands are written as strings and CSV fields): not whitespace, a control, format (zero-width) or combining character, found U+{:04X}",
+                            u32::from(s.symbol)
+                        ),
+                    )
+                    .nth(written_symbols));
+                }
+                written_symbols += 1;
+            }
+            for c in here {
+                *written.entry(c).or_insert(0) += 1;
+            }
+        }
+        match &self.world {
+            WorldSpec::Grid(g) => g.validate(self)?,
+            WorldSpec::Physics(p) if p.has_shorthands() => {
+                // every check on the generated items, an error on one of
+                // them placed at the shorthand that generated it
+                let mut e = p.clone();
+                let origins = shorthand::expand(&mut e)?;
+                e.validate(self).map_err(|v| v.attributed(&origins))?
+            }
+            WorldSpec::Physics(p) => p.validate(self)?,
+        }
+        let grid = self.effect_grid();
+        if !(self.reward.value.is_finite() && self.reward.value.abs() <= MAX_REWARD) {
+            return Err(Invalid::at(
+                "value",
+                None,
+                &format!(
+                    "a finite reward value of at most {MAX_REWARD:e} in magnitude (a cumulative reward over 10^8 trials stays finite), found {}",
+                    self.reward.value
+                ),
+            ));
+        }
+        for &(r, c) in &self.reward.cells {
+            if r >= grid.rows || c >= grid.cols {
+                return Err(Invalid::at(
+                    "cells",
+                    None,
+                    &format!(
+                        "reward cells inside the {} x {} effect grid, found ({r}, {c})",
+                        grid.rows, grid.cols
+                    ),
+                ));
+            }
+        }
+        for region in &self.reward.regions {
+            region.validate(&grid)?;
+        }
+        Ok(())
+    }
+}

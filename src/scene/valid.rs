@@ -1,0 +1,320 @@
+//! A valid scene: what [`SceneSpec::validate`] and the loaders return,
+//! expanded, immutable and known to be valid, with what its worlds are
+//! built from (its command space, a physics scene's names resolved to
+//! indices, a symmetry's symbol maps) computed once, at validation.
+
+use super::physics::{MotorSpec, PhysicsSpec, GROUND};
+use super::symmetry::Symmetry;
+use super::{
+    prepare_text, read_text, ron_options, Action, CommandSpec, Invalid, SceneError, SceneErrorKind,
+    SceneSpec, ValueAction, WorldSpec, BUILTIN,
+};
+use crate::command::{CommandSpace, ValueSpace};
+use std::path::Path;
+
+/// A scene known to be valid: made only by [`Scene::load`],
+/// [`Scene::parse`], [`Scene::builtin`], [`Scene::resolve`] and
+/// [`SceneSpec::validate`], expanded (no shorthands, no templates) and
+/// immutable.
+///
+/// Its fields are read through the [`SceneSpec`] it derefs to
+/// (`scene.name`, `scene.world`, `scene.num_slots()`); to edit a scene,
+/// take its spec ([`to_spec`](Self::to_spec)), edit it and validate it
+/// again. Building its world ([`build`](Self::build),
+/// [`physics_world`](Self::physics_world)) cannot fail.
+///
+/// ```
+/// use e3d::scene::{Scene, WorldSpec};
+/// let arm = Scene::builtin("arm7").unwrap();
+/// assert_eq!(arm.name, "arm7");
+/// let mut spec = arm.to_spec();
+/// spec.name = "arm7b".into();
+/// let edited = spec.validate().unwrap();
+/// assert_eq!(edited.name, "arm7b");
+/// assert_eq!(edited.command_space(), arm.command_space());
+/// ```
+#[derive(Debug, Clone)]
+pub struct Scene {
+    spec: SceneSpec,
+    space: CommandSpace,
+    values: Option<ValueSpace>,
+    mirror: Option<(Symmetry, Vec<Vec<u8>>)>,
+    links: Links,
+}
+
+/// A physics scene's names resolved to indices into its bodies and
+/// joints, once, at validation (the worlds are built from these); empty
+/// for a grid scene.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Links {
+    /// Per joint: its parent body (`None`: ground) and its child body.
+    pub joints: Vec<(Option<usize>, usize)>,
+    /// The tracked body.
+    pub tracked: usize,
+    /// What each symbol does, slot by slot, in alphabet order.
+    pub symbols: Vec<Resolved>,
+    /// What each continuous slot's value does.
+    pub values: Vec<ResolvedValue>,
+}
+
+/// An [`Action`] with its joint or body as an index.
+#[derive(Debug, Clone)]
+pub(crate) enum Resolved {
+    /// Nothing (also a grid move, which a physics world ignores).
+    Idle,
+    /// A torque on joint `joint`.
+    Torque { joint: usize, torque: f64 },
+    /// An impulse on body `body`.
+    Impulse { body: usize, impulse: (f64, f64) },
+    /// A force on body `body`.
+    Force { body: usize, force: (f64, f64) },
+    /// A set point for joint `joint`'s motor.
+    Target {
+        joint: usize,
+        angle: f64,
+        motor: MotorSpec,
+    },
+}
+
+/// A [`ValueAction`] with its joint or body as an index.
+#[derive(Debug, Clone)]
+pub(crate) enum ResolvedValue {
+    /// An impulse of a fixed magnitude in the direction of the value.
+    Heading { body: usize, impulse: f64 },
+    /// The action of the value 1, scaled by the value.
+    Scaled(Resolved),
+}
+
+impl PartialEq for Scene {
+    /// Two scenes are equal when their specs are (everything else is
+    /// computed from the spec).
+    fn eq(&self, other: &Scene) -> bool {
+        self.spec == other.spec
+    }
+}
+
+impl std::ops::Deref for Scene {
+    type Target = SceneSpec;
+    fn deref(&self) -> &SceneSpec {
+        &self.spec
+    }
+}
+
+impl serde::Serialize for Scene {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.spec.serialize(s)
+    }
+}
+
+impl Scene {
+    /// Loads and validates a scene file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let text = read_text(path, "scene")?;
+        Scene::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses and validates scene text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
+        let text = prepare_text(text, file, "scene")?;
+        if text.trim().is_empty() {
+            return Err(SceneError::empty(file, "scene"));
+        }
+        let mut spec: SceneSpec = ron_options()
+            .from_str(text)
+            .map_err(|e| SceneError::from_ron(file, text, e))?;
+        // the checks of `validate` (on the expanded shorthands), the
+        // failure placed in the text
+        spec.check()
+            .map_err(|v| SceneError::from_validation(file, text, v))?;
+        // a scene holds plain bodies, joints and slots only
+        spec.expand()?;
+        Scene::of_checked(spec).map_err(|v| SceneError::from_validation(file, text, v))
+    }
+
+    /// A scene shipped with e3d, by name (see [`BUILTIN`]).
+    pub fn builtin(name: &str) -> Option<Scene> {
+        BUILTIN.iter().find(|(n, _)| *n == name).map(|(n, text)| {
+            Scene::parse(text, &format!("<builtin {n}>")).expect("shipped scenes are valid")
+        })
+    }
+
+    /// A scene by path, or by the name of a built-in scene when no such
+    /// file exists.
+    pub fn resolve(path_or_name: &str) -> Result<Scene, SceneError> {
+        let p = Path::new(path_or_name);
+        if !p.exists() {
+            if let Some(s) = Scene::builtin(path_or_name) {
+                return Ok(s);
+            }
+            return Err(SceneError::new(
+                path_or_name,
+                "scene",
+                SceneErrorKind::NoSuchScene,
+            ));
+        }
+        Scene::load(p)
+    }
+
+    /// The scene's spec (also reached through `Deref`: `scene.name`).
+    pub fn spec(&self) -> &SceneSpec {
+        &self.spec
+    }
+
+    /// A copy of the scene's spec, to edit and validate again.
+    pub fn to_spec(&self) -> SceneSpec {
+        self.spec.clone()
+    }
+
+    /// The scene's spec, to edit and validate again.
+    pub fn into_spec(self) -> SceneSpec {
+        self.spec
+    }
+
+    /// The command space of this scene. A continuous scene's is a
+    /// placeholder of one symbol, `~`, per slot (its commands are values:
+    /// see [`value_space`](Self::value_space)).
+    pub fn command_space(&self) -> CommandSpace {
+        self.space.clone()
+    }
+
+    /// The command space of a continuous scene (`None` for a scene of
+    /// symbols, whose space is [`command_space`](Self::command_space)).
+    pub fn value_space(&self) -> Option<ValueSpace> {
+        self.values.clone()
+    }
+
+    /// A physics scene's names resolved to indices (empty for a grid).
+    pub(crate) fn links(&self) -> &Links {
+        &self.links
+    }
+
+    /// A physics scene's declared symmetry with its symbol maps (see
+    /// [`Symmetry`]).
+    pub(crate) fn mirror(&self) -> Option<&(Symmetry, Vec<Vec<u8>>)> {
+        self.mirror.as_ref()
+    }
+
+    /// The scene of a spec that passed [`SceneSpec::check`] and was
+    /// expanded: its command space, links and symbol maps. Their errors
+    /// are those the checks already refused (kept as errors, not panics).
+    pub(super) fn of_checked(spec: SceneSpec) -> Result<Scene, Invalid> {
+        let invalid = |e: &dyn std::fmt::Display| Invalid::at("command", None, &e.to_string());
+        let values = match &spec.command {
+            CommandSpec::Continuous(s) => Some(
+                ValueSpace::new(s.iter().map(|v| v.range).collect()).map_err(|e| invalid(&e))?,
+            ),
+            _ => None,
+        };
+        let space = match &values {
+            // a placeholder (one symbol per slot) that no command of
+            // symbols passes (`check_command`)
+            Some(v) => CommandSpace::repeat(v.num_slots(), &['~']),
+            None => CommandSpace::new(
+                spec.slots()
+                    .map(|a| a.iter().map(|s| s.symbol).collect())
+                    .collect(),
+            ),
+        }
+        .map_err(|e| invalid(&e))?;
+        let (links, mirror) = match &spec.world {
+            WorldSpec::Physics(p) => (
+                Links::of(&spec, p)?,
+                match p.symmetry {
+                    Some(sym) => Some((sym, sym.symbol_maps(&spec)?)),
+                    None => None,
+                },
+            ),
+            WorldSpec::Grid(_) => (Links::default(), None),
+        };
+        Ok(Scene {
+            spec,
+            space,
+            values,
+            mirror,
+            links,
+        })
+    }
+}
+
+impl Links {
+    fn of(scene: &SceneSpec, p: &PhysicsSpec) -> Result<Links, Invalid> {
+        let body = |name: &str| {
+            p.bodies
+                .iter()
+                .position(|b| b.name == name)
+                .ok_or_else(|| Invalid::at("body", None, &format!("a known body, found `{name}`")))
+        };
+        let joint = |name: &str| {
+            p.joints.iter().position(|j| j.name == name).ok_or_else(|| {
+                Invalid::at("joint", None, &format!("a known joint, found `{name}`"))
+            })
+        };
+        let joints = p
+            .joints
+            .iter()
+            .map(|j| {
+                let parent = if j.parent == GROUND {
+                    None
+                } else {
+                    Some(body(&j.parent)?)
+                };
+                Ok((parent, body(&j.child)?))
+            })
+            .collect::<Result<_, Invalid>>()?;
+        let resolve = |action: &Action| -> Result<Resolved, Invalid> {
+            Ok(match action {
+                Action::Idle | Action::Move { .. } => Resolved::Idle,
+                Action::Torque { joint: j, torque } => Resolved::Torque {
+                    joint: joint(j)?,
+                    torque: *torque,
+                },
+                Action::Impulse { body: b, impulse } => Resolved::Impulse {
+                    body: body(b)?,
+                    impulse: *impulse,
+                },
+                Action::Force { body: b, force } => Resolved::Force {
+                    body: body(b)?,
+                    force: *force,
+                },
+                Action::Target { joint: j, angle } => {
+                    let k = joint(j)?;
+                    let motor = p.joints[k].motor.ok_or_else(|| {
+                        Invalid::at("joint", None, &format!("joint `{j}` with a motor"))
+                    })?;
+                    Resolved::Target {
+                        joint: k,
+                        angle: *angle,
+                        motor,
+                    }
+                }
+            })
+        };
+        let symbols = scene
+            .slots()
+            .flatten()
+            .map(|s| resolve(&s.action))
+            .collect::<Result<_, Invalid>>()?;
+        let values = match &scene.command {
+            CommandSpec::Continuous(slots) => slots
+                .iter()
+                .map(|slot| {
+                    Ok(match &slot.action {
+                        ValueAction::Heading { body: b, impulse } => ResolvedValue::Heading {
+                            body: body(b)?,
+                            impulse: *impulse,
+                        },
+                        a => ResolvedValue::Scaled(resolve(&a.at(1.0))?),
+                    })
+                })
+                .collect::<Result<_, Invalid>>()?,
+            _ => Vec::new(),
+        };
+        Ok(Links {
+            joints,
+            tracked: body(&p.effect.body)?,
+            symbols,
+            values,
+        })
+    }
+}

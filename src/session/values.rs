@@ -1,0 +1,194 @@
+//! Sessions of continuous commands: the trial loop with values in place
+//! of symbols, and what it records.
+
+use super::metrics::{discovery_trials, Metrics, LAST};
+use super::SessionConfig;
+use crate::command::ValueSpace;
+use crate::effect::Target;
+use crate::learner::ContinuousLearner;
+use crate::rng::SessionRng;
+use crate::world::{ContinuousWorld, WorldError};
+use rand::SeedableRng;
+use serde::{Deserialize, Serialize};
+use std::io::{self, Write};
+
+/// What a session of continuous commands recorded, trial by trial (the
+/// twin of [`SessionRecord`], with values in place of symbols).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ValueSessionRecord {
+    /// The number of slots of each command.
+    pub num_slots: usize,
+    /// The number of effects of the world.
+    pub num_effects: usize,
+    /// The commands, `num_slots` values per trial, one after another.
+    pub values: Vec<f64>,
+    /// The effect of each trial.
+    pub effects: Vec<usize>,
+    /// The reward the learner received at each trial.
+    pub rewards: Vec<f64>,
+    /// The terminal point `(x, y)` of each trial.
+    pub points: Vec<[f64; 2]>,
+    /// Per slot, the mean and standard deviation of the learner's policy
+    /// at the end ([`ContinuousLearner::slot_gaussian`]).
+    pub final_policy: Vec<(f64, f64)>,
+}
+
+impl ValueSessionRecord {
+    /// The number of trials.
+    pub fn trials(&self) -> usize {
+        self.effects.len()
+    }
+
+    /// The values of trial `t` (0-based).
+    pub fn values_of(&self, t: usize) -> &[f64] {
+        &self.values[t * self.num_slots..(t + 1) * self.num_slots]
+    }
+
+    /// How many trials in `range` ended in each effect.
+    pub fn effect_counts(&self, range: std::ops::Range<usize>) -> Vec<f64> {
+        let mut counts = vec![0.0; self.num_effects];
+        for &e in &self.effects[range] {
+            counts[e] += 1.0;
+        }
+        counts
+    }
+
+    /// The session's metrics against the target `p*` (as
+    /// [`SessionRecord::metrics`]).
+    pub fn metrics(&self, target: &Target) -> Metrics {
+        let t = self.trials();
+        Metrics::from_counts(
+            &self.effect_counts(0..t),
+            &self.effect_counts(t.saturating_sub(LAST)..t),
+            self.rewards.iter().fold(0.0, |a, r| a + r),
+            self.rewards.iter().position(|&r| r > 0.0).map(|i| i + 1),
+            &discovery_trials(&self.effects, self.num_effects),
+            t,
+            target,
+            None,
+        )
+    }
+
+    /// Writes `trial,values,effect,reward,x,y` CSV, one row per trial
+    /// (trial 1-based; the values as [`ValueSpace::format`] writes them,
+    /// quoted, for they hold commas), with a first `session` column when
+    /// `session` is given.
+    pub fn write_trials_csv(
+        &self,
+        space: &ValueSpace,
+        session: Option<usize>,
+        header: bool,
+        mut out: impl Write,
+    ) -> io::Result<()> {
+        let lead = |s: Option<usize>| s.map_or(String::new(), |s| format!("{s},"));
+        if header {
+            let h = if session.is_some() { "session," } else { "" };
+            writeln!(out, "{h}trial,values,effect,reward,x,y")?;
+        }
+        for t in 0..self.trials() {
+            let [x, y] = self.points[t];
+            writeln!(
+                out,
+                "{}{},\"{}\",{},{},{},{}",
+                lead(session),
+                t + 1,
+                space.format(self.values_of(t)),
+                self.effects[t],
+                self.rewards[t],
+                x,
+                y
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Runs `config.trials` trials of a learner of continuous commands on a
+/// continuous world, calling `progress(t)` with the trials done every 64
+/// trials and at the end.
+///
+/// ```
+/// use e3d::{run_value_session, LearnerKind, Params, Scene, SessionConfig, Target};
+/// let scene = Scene::builtin("arm7_continuous").unwrap();
+/// let mut world = scene.physics_world().unwrap();
+/// let space = scene.value_space().unwrap();
+/// let mut l = LearnerKind::E3d
+///     .make_continuous(&Params::TASK1, &space, scene.num_effects(), &Target::Uniform)
+///     .unwrap();
+/// let cfg = SessionConfig { trials: 20, seed: 1, use_reward: false };
+/// let rec = run_value_session(&mut world, &mut l, &cfg, |_| {}).unwrap();
+/// assert_eq!(rec.trials(), 20);
+/// assert_eq!(rec.values.len(), 20 * 7);
+/// ```
+pub fn run_value_session<W, L>(
+    world: &mut W,
+    learner: &mut L,
+    config: &SessionConfig,
+    mut progress: impl FnMut(usize),
+) -> Result<ValueSessionRecord, WorldError>
+where
+    W: ContinuousWorld + ?Sized,
+    L: ContinuousLearner + ?Sized,
+{
+    let n = world.value_space().num_slots();
+    let trials = config.trials;
+    let mut rec = ValueSessionRecord {
+        num_slots: n,
+        num_effects: world.num_effects(),
+        values: Vec::with_capacity(trials.saturating_mul(n)),
+        effects: Vec::with_capacity(trials),
+        rewards: Vec::with_capacity(trials),
+        points: Vec::with_capacity(trials),
+        final_policy: Vec::new(),
+    };
+    let mut rng = SessionRng::seed_from_u64(config.seed);
+    let mut values = Vec::with_capacity(n);
+    for t in 0..trials {
+        learner.propose(&mut rng, &mut values);
+        let mut outcome = world.execute_values(&values)?;
+        if !config.use_reward {
+            outcome.reward = 0.0;
+        }
+        learner.learn(&values, &outcome);
+        rec.values.extend_from_slice(&values);
+        rec.effects.push(outcome.effect);
+        rec.rewards.push(outcome.reward);
+        rec.points.push(outcome.point);
+        if (t + 1) % 64 == 0 {
+            progress(t + 1);
+        }
+    }
+    progress(trials);
+    rec.final_policy = (0..n).map(|s| learner.slot_gaussian(s)).collect();
+    Ok(rec)
+}
+
+/// Runs one session of continuous commands per config, in parallel on
+/// every core (rayon), each on its own world from `make_world` and its own
+/// learner from `make_learner`: the records, in the order of `configs`,
+/// are those of [`run_value_session`] alone, whatever the number of
+/// threads. `progress(k)` is called with each batch of `k` trials done.
+pub fn run_value_sessions<W, L>(
+    make_world: impl Fn() -> W + Sync,
+    make_learner: impl Fn() -> L + Sync,
+    configs: &[SessionConfig],
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<ValueSessionRecord>, WorldError>
+where
+    W: ContinuousWorld,
+    L: ContinuousLearner,
+{
+    use rayon::prelude::*;
+    configs
+        .par_iter()
+        .map(|cfg| {
+            let mut world = make_world();
+            let mut learner = make_learner();
+            let mut done = 0;
+            run_value_session(&mut world, &mut learner, cfg, |t| {
+                progress((t - done) as u64);
+                done = t;
+            })
+        })
+        .collect()
+}
