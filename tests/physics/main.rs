@@ -7,6 +7,7 @@ mod common;
 
 mod arm7;
 mod continuous;
+mod effect_kinds;
 mod copies;
 mod larger_scenes;
 mod lockstep;

@@ -2,9 +2,10 @@
 //! actions of every symbol, once per copy.
 
 use super::{
-    v2, Act, JointInfo, PhysicsWorld, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
+    v2, Act, JointInfo, PhysicsWorld, Probe, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
 };
 use crate::command::CommandSpace;
+use crate::effect::Feature;
 use crate::scene::physics::{BodyKind, JointKind, PhysicsSpec, ShapeSpec, GROUND};
 use crate::scene::{Action, CommandSpec, Scene, ValueAction};
 use rapier2d::math::{Pose, Real};
@@ -276,9 +277,39 @@ fn build_copy(
             .collect(),
         _ => Vec::new(),
     };
-    let tracked_index = body_index(&spec.effect.body).expect("validated: tracked body");
+    let (drawn, _) = spec
+        .effect
+        .drawn_point(|j| spec.child_of(j))
+        .expect("validated: an effect");
+    let tracked_index = body_index(drawn).expect("validated: tracked body");
+    let probes = spec
+        .effect
+        .features()
+        .iter()
+        .map(|f| match f {
+            Feature::Point {
+                body, point, frame, ..
+            } => Probe::Point {
+                body: handle_of(body).expect("validated: known body"),
+                point: v2(*point),
+                frame: frame
+                    .as_ref()
+                    .map(|f| handle_of(f).expect("validated: known body")),
+            },
+            Feature::Joint { joint, .. } => Probe::Joint(
+                spec.joints
+                    .iter()
+                    .position(|j| j.name == *joint)
+                    .expect("validated: known joint"),
+            ),
+            Feature::Angle { body, .. } => {
+                Probe::Angle(handle_of(body).expect("validated: known body"))
+            }
+        })
+        .collect();
     Replica {
         tracked: handles[tracked_index],
+        probes,
         handles,
         dynamic,
         acts,
@@ -386,7 +417,12 @@ impl PhysicsWorld {
             pristine: s,
             copies: replicas,
             copy_of_body,
-            tracked_point: v2(spec.effect.point),
+            tracked_point: v2(spec
+                .effect
+                .drawn_point(|j| spec.child_of(j))
+                .expect("validated: an effect")
+                .1),
+            binning: spec.effect.binning().expect("validated: an effect"),
             offset,
             phase_steps,
             settle_steps,
