@@ -56,7 +56,8 @@ fn error(effect: &str) -> String {
 
 const HINGE: &str = r#"Joint(joint: "hinge", bins: 4, range: (-1.0, 1.0))"#;
 const RAIL: &str = r#"Joint(joint: "rail", bins: 5, range: (-1.0, 1.0))"#;
-const SPUN: &str = r#"Angle(body: "spun", bins: 8, range: (-3.141592653589793, 3.141592653589793))"#;
+const SPUN: &str =
+    r#"Angle(body: "spun", bins: 8, range: (-3.141592653589793, 3.141592653589793))"#;
 const SEEN: &str = r#"Point(body: "puck", frame: "hand", grid: (rows: 4, cols: 4, min: (-2.0, -2.0), max: (2.0, 2.0)))"#;
 
 #[test]
@@ -126,7 +127,8 @@ fn other_products_are_nested_blocks() {
 
 #[test]
 fn a_single_world_point_feature_is_the_short_form() {
-    let long = r#"Point(body: "puck", grid: (rows: 4, cols: 4, min: (-2.0, -2.0), max: (2.0, 2.0)))"#;
+    let long =
+        r#"Point(body: "puck", grid: (rows: 4, cols: 4, min: (-2.0, -2.0), max: (2.0, 2.0)))"#;
     // (0.5, 2.5): column floor(2.5 / 1) = 2, row 0 (above the grid)
     let (e, p, n) = outcome(long);
     assert_eq!((e, n), (2, 16));
@@ -144,7 +146,11 @@ fn a_single_world_point_feature_is_the_short_form() {
 
 #[test]
 fn ill_formed_features_are_refused_with_line_and_column() {
-    let line = tiny("").lines().position(|l| l.contains("effect:")).unwrap() + 1;
+    let line = tiny("")
+        .lines()
+        .position(|l| l.contains("effect:"))
+        .unwrap()
+        + 1;
     let cases = [
         (
             r#"Joint(joint: "elbow", bins: 4, range: (-1.0, 1.0))"#,
@@ -189,7 +195,10 @@ fn ill_formed_features_are_refused_with_line_and_column() {
     }
     // an unknown feature field is a syntax error at its place
     let e = error(r#"Joint(joint: "hinge", bins: 3, range: (-1.0, 1.0), unit: "rad")"#);
-    assert!(e.starts_with(&format!("tiny.ron:{line}:")) && e.contains("unit"), "{e}");
+    assert!(
+        e.starts_with(&format!("tiny.ron:{line}:")) && e.contains("unit"),
+        "{e}"
+    );
     // both forms, or neither
     let both = tiny(HINGE).replace("effect: (features:", r#"effect: (body: "puck", features:"#);
     let e = Scene::parse(&both, "tiny.ron").unwrap_err().to_string();

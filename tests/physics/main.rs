@@ -7,8 +7,8 @@ mod common;
 
 mod arm7;
 mod continuous;
-mod effect_kinds;
 mod copies;
+mod effect_kinds;
 mod larger_scenes;
 mod lockstep;
 mod motion;

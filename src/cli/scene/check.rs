@@ -164,7 +164,7 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
         (Some(k), Some(t)) => format!(
             "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model, calibrated here",
             scene.name,
-            seconds_text(t * super::simulate::calibration(scene))
+            seconds_text(t * super::simulate::calibration(scene, threads, plan.copies))
         ),
         _ => format!(
             "a full check is not possible: {} commands are too many for `e3d scene reward-cell` (at most {}); sample more with `--samples N`",
@@ -262,10 +262,7 @@ fn print_world(scene: &Scene) {
                 Some((body, point, _)) => {
                     outln!("tracked point: ({}, {}) on `{}`", point.0, point.1, body)
                 }
-                None => outln!(
-                    "effect: {}",
-                    e3d::report::scene_svg::describe_effect(p)
-                ),
+                None => outln!("effect: {}", e3d::report::scene_svg::describe_effect(p)),
             }
             if let Some(sym) = p.symmetry {
                 let n = scene.command_space().num_commands_text();

@@ -18,9 +18,7 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
                 [t.0, t.1]
             }
             // the features' start, on the effect's layout
-            None => scene
-                .physics_world()
-                .map_or([0.0, 0.0], |w| w.start().0),
+            None => scene.physics_world().map_or([0.0, 0.0], |w| w.start().0),
         },
         (None, WorldSpec::Grid(g)) => scene.effect_grid().center(g.start.0, g.start.1),
     };

@@ -78,7 +78,6 @@ impl PhysicsSpec {
     }
 
     fn effect_start(&self, tracked: &str) -> (f64, f64) {
-        self.body(tracked)
-            .map_or((0.0, 0.0), |b| b.position)
+        self.body(tracked).map_or((0.0, 0.0), |b| b.position)
     }
 }

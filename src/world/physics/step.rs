@@ -3,8 +3,8 @@
 //! blown-up simulation as [`WorldError::Diverged`].
 
 use super::{v2, Act, Cmd, PhysicsWorld, Probe, Sets, ValueAct, MAX_ROTATION_PER_STEP};
-use crate::effect::wrap_angle;
 use crate::command::Command;
+use crate::effect::wrap_angle;
 use crate::world::{Outcome, WorldError};
 use rapier2d::math::Real;
 use rapier2d::prelude::{JointAxesMask, RigidBodyHandle};

@@ -8,8 +8,8 @@ mod joint;
 
 use super::limits::*;
 use super::{PhysicsSpec, Schedule, MAX_STEPS};
-use crate::scene::overlap::{first_overlap, OVERLAP_TOLERANCE};
 use crate::effect::{Binning, EffectGrid, Feature};
+use crate::scene::overlap::{first_overlap, OVERLAP_TOLERANCE};
 use crate::scene::{Invalid, Scene};
 use std::collections::HashMap;
 
@@ -254,7 +254,11 @@ impl PhysicsSpec {
                 }
                 if let Some(fr) = frame {
                     if self.body(fr).is_none() {
-                        return Err(self.unknown_body("frame", fr, "the frame of the effect's point"));
+                        return Err(self.unknown_body(
+                            "frame",
+                            fr,
+                            "the frame of the effect's point",
+                        ));
                     }
                     if fr == body {
                         return Err(within(Invalid::at(
