@@ -10,6 +10,7 @@ mod consistency;
 mod drives;
 mod edge_cases;
 mod every_scene;
+mod fuzz_outputs;
 mod fuzz_scenes;
 mod fuzz_sweeps;
 mod grid;
