@@ -222,6 +222,7 @@ impl EffectGrid {
 /// ]),
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Feature {
     /// A point of a body, binned on a grid: in world coordinates, or in
     /// the frame of another body (`frame`): the object's position seen

@@ -215,11 +215,19 @@ impl PyScene {
         let g = self.inner.effect_grid();
         match &self.inner.world {
             WorldSpec::Grid(spec) => g.effect_of(g.center(spec.start.0, spec.start.1)),
-            WorldSpec::Physics(p) => {
-                let b = p.body(&p.effect.body).expect("validated: tracked body");
-                let t = e3d::scene::physics::to_world_point(b.position, b.angle, p.effect.point);
-                g.effect_of([t.0, t.1])
-            }
+            WorldSpec::Physics(p) => match p.effect.world_point() {
+                Some((body, point, _)) => {
+                    let b = p.body(body).expect("validated: tracked body");
+                    let t = e3d::scene::physics::to_world_point(b.position, b.angle, point);
+                    g.effect_of([t.0, t.1])
+                }
+                // the features' start state, binned
+                None => self
+                    .inner
+                    .physics_world()
+                    .map(|w| w.start().1)
+                    .unwrap_or(0),
+            },
         }
     }
 

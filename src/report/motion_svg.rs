@@ -205,17 +205,21 @@ pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<Strin
         return Err(AnimateError::Mismatch(scene.name.clone()));
     }
     let keep = thin(motion.frames.len(), MAX_FRAMES);
+    let (drawn, drawn_point) = p
+        .effect
+        .drawn_point(|j| p.child_of(j))
+        .ok_or_else(|| AnimateError::Mismatch(scene.name.clone()))?;
     let tracked = p
         .bodies
         .iter()
-        .position(|b| b.name == p.effect.body)
+        .position(|b| b.name == drawn)
         .ok_or_else(|| AnimateError::Mismatch(scene.name.clone()))?;
     let point_at = |f: usize| {
         let pose = &motion.frames[f].poses[tracked];
         to_world(
             (pose.position[0], pose.position[1]),
             pose.angle,
-            p.effect.point,
+            drawn_point,
         )
     };
     let overlay = Overlay {

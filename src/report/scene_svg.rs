@@ -649,8 +649,16 @@ pub(super) fn physics_picture(
     overlay: Option<&Overlay>,
     mut animated: Option<Layer>,
 ) -> String {
-    let g = scene.effect_grid();
-    let (mut min, mut max) = (g.min, g.max);
+    // an effect that is not one point's world cell (a joint's
+    // coordinate, an angle, a product) has no cells over the world: the
+    // picture says so instead of drawing them
+    let world_cells = p.effect.world_point().is_some();
+    let (mut min, mut max) = if world_cells {
+        let g = scene.effect_grid();
+        (g.min, g.max)
+    } else {
+        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2])
+    };
     let mut grow = |q: (f64, f64)| {
         min = [min[0].min(q.0), min[1].min(q.1)];
         max = [max[0].max(q.0), max[1].max(q.1)];
@@ -721,7 +729,21 @@ pub(super) fn physics_picture(
     v.legend_rows = legend_rows(&keys, v.width());
     let mut out = String::new();
     header(&mut out, &v, scene, overlay);
-    effect_layer(&mut out, &v, scene, overlay);
+    if world_cells {
+        effect_layer(&mut out, &v, scene, overlay);
+    } else {
+        let g = scene.effect_grid();
+        let _ = writeln!(
+            out,
+            r##"<text x="{MARGIN}" y="60" font-size="12" fill="#555">{}</text>"##,
+            esc(&format!(
+                "effect: {} ({} x {} cells, not drawn over the world; the dot and path are the first feature's body)",
+                describe_effect(p),
+                g.rows,
+                g.cols
+            ))
+        );
+    }
     // the mirror line of a declared symmetry, across the whole picture
     if let Some(sym) = p.symmetry {
         let (a, b) = match sym {
@@ -802,8 +824,9 @@ pub(super) fn physics_picture(
         draw(&mut out, &v);
     }
     // the tracked point at the start, over the path (inside its start ring)
-    if let Some(b) = p.body(&p.effect.body) {
-        let t = to_world(b.position, b.angle, p.effect.point);
+    let drawn = p.effect.drawn_point(|j| p.child_of(j));
+    if let Some((b, point)) = drawn.and_then(|(b, q)| Some((p.body(b)?, q))) {
+        let t = to_world(b.position, b.angle, point);
         let _ = writeln!(
             out,
             r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="{TRACKED}"><title>tracked point</title></circle>"##,
@@ -815,4 +838,47 @@ pub(super) fn physics_picture(
     legend(&mut out, &v, &keys);
     out.push_str("</svg>\n");
     out
+}
+
+/// The effect's features in words: `joint \`pivot\` (9 bins over [-0.9, 0.9]) x ...`.
+pub fn describe_effect(p: &PhysicsSpec) -> String {
+    use crate::effect::Feature;
+    let parts: Vec<String> = p
+        .effect
+        .features()
+        .iter()
+        .map(|f| match f {
+            Feature::Point {
+                body,
+                point,
+                frame,
+                grid,
+            } => format!(
+                "point ({}, {}) of `{body}`{} ({} x {} cells over [{}, {}] x [{}, {}] m)",
+                point.0,
+                point.1,
+                frame
+                    .as_ref()
+                    .map_or(String::new(), |f| format!(" in the frame of `{f}`")),
+                grid.rows,
+                grid.cols,
+                grid.min[0],
+                grid.max[0],
+                grid.min[1],
+                grid.max[1]
+            ),
+            Feature::Joint { joint, bins, range } => {
+                let unit = p.joint(joint).map_or("", |j| j.kind.unit());
+                format!(
+                    "joint `{joint}` ({bins} bins over [{}, {}] {unit})",
+                    range.0, range.1
+                )
+            }
+            Feature::Angle { body, bins, range } => format!(
+                "angle of `{body}` ({bins} bins over [{}, {}] rad)",
+                range.0, range.1
+            ),
+        })
+        .collect();
+    parts.join(" x ")
 }

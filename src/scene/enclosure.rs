@@ -35,7 +35,8 @@ pub struct Leak {
 /// of the fixed bodies near the effect grid; `None` otherwise (enclosed, or
 /// nothing to check).
 pub fn leak(spec: &PhysicsSpec) -> Option<Leak> {
-    let t = spec.body(&spec.effect.body)?;
+    let (tracked, _, g) = spec.effect.world_point()?;
+    let t = spec.body(tracked)?;
     if t.kind != BodyKind::Dynamic
         || !t.collide
         || spec
@@ -50,7 +51,6 @@ pub fn leak(spec: &PhysicsSpec) -> Option<Leak> {
         ShapeSpec::Cuboid { width, height } => width.min(height) / 2.0,
         _ => return None,
     };
-    let g = &spec.effect.grid;
     let start = t.position;
     // the grid's box, with the start
     let (mut lo, mut hi) = (

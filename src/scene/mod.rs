@@ -355,6 +355,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ),
     ("arm_push", include_str!("../../scenes/arm_push.ron")),
     ("swimmer", include_str!("../../scenes/swimmer.ron")),
+    ("cart_pole", include_str!("../../scenes/cart_pole.ron")),
 ];
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.

@@ -10,6 +10,7 @@ use super::{
     SceneSpec, ValueAction, WorldSpec, BUILTIN,
 };
 use crate::command::{CommandSpace, ValueSpace};
+use crate::effect::Feature;
 use std::path::Path;
 
 /// A scene known to be valid: made only by [`Scene::load`],
@@ -49,12 +50,32 @@ pub struct Scene {
 pub(crate) struct Links {
     /// Per joint: its parent body (`None`: ground) and its child body.
     pub joints: Vec<(Option<usize>, usize)>,
-    /// The tracked body.
+    /// The tracked body (the body whose point the pictures draw).
     pub tracked: usize,
+    /// What each feature of the effect reads, in the effect's order.
+    pub probes: Vec<ResolvedProbe>,
     /// What each symbol does, slot by slot, in alphabet order.
     pub symbols: Vec<Resolved>,
     /// What each continuous slot's value does.
     pub values: Vec<ResolvedValue>,
+}
+
+/// A feature of the effect with its body or joint as an index.
+#[derive(Debug, Clone)]
+pub(crate) enum ResolvedProbe {
+    /// A point of `body`, in the world or in `frame`'s body frame.
+    Point {
+        /// The body.
+        body: usize,
+        /// The point, in the body's frame.
+        point: (f64, f64),
+        /// The body whose frame the point is read in (`None`: the world).
+        frame: Option<usize>,
+    },
+    /// A joint's coordinate.
+    Joint(usize),
+    /// A body's angle.
+    Angle(usize),
 }
 
 /// An [`Action`] with its joint or body as an index.
@@ -310,9 +331,35 @@ impl Links {
                 .collect::<Result<_, Invalid>>()?,
             _ => Vec::new(),
         };
+        let (drawn, _) = p
+            .effect
+            .drawn_point(|j| p.child_of(j))
+            .ok_or_else(|| Invalid::at("effect", None, "an effect with at least one feature"))?;
+        let probes = p
+            .effect
+            .features()
+            .iter()
+            .map(|f| {
+                Ok(match f {
+                    Feature::Point {
+                        body: b,
+                        point,
+                        frame,
+                        ..
+                    } => ResolvedProbe::Point {
+                        body: body(b)?,
+                        point: *point,
+                        frame: frame.as_deref().map(body).transpose()?,
+                    },
+                    Feature::Joint { joint: j, .. } => ResolvedProbe::Joint(joint(j)?),
+                    Feature::Angle { body: b, .. } => ResolvedProbe::Angle(body(b)?),
+                })
+            })
+            .collect::<Result<_, Invalid>>()?;
         Ok(Links {
             joints,
-            tracked: body(&p.effect.body)?,
+            tracked: body(drawn)?,
+            probes,
             symbols,
             values,
         })

@@ -31,9 +31,9 @@ pub use grid::GridWorld;
 pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
 pub use physics::{BodyPose, Frame, Motion, PhysicsWorld, RunStats, Trace, MAX_COPIES};
 pub use plan::{
-    batch_rollout_seconds, calibration, lockstep_groups, rollout_seconds, timed_rollout_seconds,
-    ExecOptions, ExecutionPlan, OnDisk, ParseStrategyError, Strategy, Workload,
-    CALIBRATION_MAX_ROLLOUTS, CALIBRATION_ROLLOUTS, CALIBRATION_SECONDS,
+    batch_rollout_seconds, calibration, calibration_on, lockstep_groups, rollout_seconds,
+    timed_rollout_seconds, ExecOptions, ExecutionPlan, OnDisk, ParseStrategyError, Strategy,
+    Workload, CALIBRATION_MAX_ROLLOUTS, CALIBRATION_ROLLOUTS, CALIBRATION_SECONDS,
 };
 pub use reach::{
     farthest_reached_cell, sample_reach, sample_reach_with_progress, FarthestCell, ReachSample,

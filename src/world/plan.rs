@@ -350,13 +350,70 @@ pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
     start.elapsed().as_secs_f64() / f64::from(done)
 }
 
+/// What the cost model's seconds per command of `scene`, run `copies` to
+/// a world on `threads` threads, are multiplied by to give this machine's
+/// as it is loaded now: rollouts of the scene itself timed the way the
+/// tools run them, on `threads` threads at once (each its own world of
+/// `copies` copies stepping batches of commands spread over the space),
+/// for at least [`CALIBRATION_ROLLOUTS`] batches per thread and
+/// [`CALIBRATION_SECONDS`]. Wall time x threads / commands, over
+/// [`batch_rollout_seconds`]: threads that do not get a core each (a
+/// shared machine) count as slower, as they will in the tool. 1 for a
+/// grid scene.
+pub fn calibration_on(scene: &Scene, threads: usize, copies: usize) -> f64 {
+    use rayon::prelude::*;
+    let WorldSpec::Physics(spec) = &scene.world else {
+        return 1.0;
+    };
+    if scene.is_continuous() {
+        // a continuous scene runs one value vector at a time
+        return timed_rollout_seconds(scene) / rollout_seconds(scene);
+    }
+    let space = scene.command_space();
+    let n = space.num_commands().unwrap_or(u64::MAX);
+    let threads = threads.max(1);
+    let copies = if spec.copies_are_exact() {
+        copies.clamp(1, super::MAX_COPIES)
+    } else {
+        1
+    };
+    let start = std::time::Instant::now();
+    let done: u64 = (0..threads)
+        .into_par_iter()
+        .map(|t| {
+            let mut world = PhysicsWorld::of(scene, spec, copies);
+            let mut out = Vec::with_capacity(copies);
+            let mut done = 0u64;
+            let mut batches = 0u32;
+            while batches < CALIBRATION_MAX_ROLLOUTS
+                && (batches < CALIBRATION_ROLLOUTS
+                    || start.elapsed().as_secs_f64() < CALIBRATION_SECONDS)
+            {
+                let batch: Vec<_> = (0..copies as u64)
+                    .map(|i| {
+                        let k = (done + i) * threads as u64 + t as u64;
+                        space.command_at(k.wrapping_mul(0x9E37_79B9_7F4A_7C15) % n)
+                    })
+                    .collect();
+                out.clear();
+                world.execute_batch(&batch, &mut out);
+                done += copies as u64;
+                batches += 1;
+            }
+            done
+        })
+        .sum();
+    let per_command = start.elapsed().as_secs_f64() * threads as f64 / done.max(1) as f64;
+    per_command / batch_rollout_seconds(scene, copies)
+}
+
 /// Rollouts [`timed_rollout_seconds`] times at least.
 pub const CALIBRATION_ROLLOUTS: u32 = 3;
 /// Rollouts [`timed_rollout_seconds`] times at most.
 pub const CALIBRATION_MAX_ROLLOUTS: u32 = 200;
 /// Seconds [`timed_rollout_seconds`] keeps timing (after its first
 /// [`CALIBRATION_ROLLOUTS`]).
-pub const CALIBRATION_SECONDS: f64 = 0.02;
+pub const CALIBRATION_SECONDS: f64 = 0.1;
 
 /// What the cost model's seconds of `scene` are multiplied by to give this
 /// machine's: [`timed_rollout_seconds`] over [`rollout_seconds`] (1 for a

@@ -258,7 +258,7 @@ fn bad_edits() -> Vec<(&'static str, &'static str, Edit, &'static str, &'static 
         (
             "arm7",
             "an effect grid of no rows",
-            |s| physics(s).effect.grid.rows = 0,
+            |s| physics(s).effect.grid.as_mut().unwrap().rows = 0,
             "grid",
             "a valid grid: at least one cell",
         ),

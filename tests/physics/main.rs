@@ -11,6 +11,7 @@ mod arm_copies;
 mod audit;
 mod continuous;
 mod copies;
+mod effect_kinds;
 mod larger_scenes;
 mod laws;
 mod lockstep;

@@ -164,7 +164,7 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
         (Some(k), Some(t)) => format!(
             "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model, calibrated here",
             scene.name,
-            seconds_text(t * super::simulate::calibration(scene))
+            seconds_text(t * super::simulate::calibration(scene, threads, plan.copies))
         ),
         _ => format!(
             "a full check is not possible: {} commands are too many for `e3d scene reward-cell` (at most {}); sample more with `--samples N`",
@@ -236,26 +236,34 @@ fn print_world(scene: &Scene) {
             }
             outln!("joints ({}):", p.joints.len());
             for j in &p.joints {
+                // a slider's numbers are in m, N/m and N·s/m (its kind is
+                // named; a hinge's line is as it always was)
+                let (kind, unit, force) = match j.kind {
+                    e3d::scene::physics::JointKind::Revolute => (String::new(), "rad", "N·m"),
+                    e3d::scene::physics::JointKind::Prismatic { axis } => {
+                        (format!(", slider along ({}, {})", axis.0, axis.1), "m", "N")
+                    }
+                };
                 outln!(
-                    "  {:<12} {} -> {}, limits {}, damping {} N·m·s/rad{}",
+                    "  {:<12} {} -> {}{kind}, limits {}, damping {} {force}·s/{unit}{}",
                     j.name,
                     j.parent,
                     j.child,
                     j.limits
-                        .map_or("none".to_string(), |(a, b)| format!("[{a}, {b}] rad")),
+                        .map_or("none".to_string(), |(a, b)| format!("[{a}, {b}] {unit}")),
                     j.damping,
                     j.motor.map_or(String::new(), |m| format!(
-                        ", motor {} N·m/rad, {} N·m·s/rad",
+                        ", motor {} {force}/{unit}, {} {force}·s/{unit}",
                         m.stiffness, m.damping
                     ))
                 );
             }
-            outln!(
-                "tracked point: ({}, {}) on `{}`",
-                p.effect.point.0,
-                p.effect.point.1,
-                p.effect.body
-            );
+            match p.effect.world_point() {
+                Some((body, point, _)) => {
+                    outln!("tracked point: ({}, {}) on `{}`", point.0, point.1, body)
+                }
+                None => outln!("effect: {}", e3d::report::scene_svg::describe_effect(p)),
+            }
             if let Some(sym) = p.symmetry {
                 let n = scene.command_space().num_commands_text();
                 match OutcomeTable::simulated_commands(scene) {

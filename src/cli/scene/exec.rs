@@ -314,7 +314,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let per_command = if cost_said {
         0.0
     } else {
-        e3d::world::batch_rollout_seconds(scene, copies) * calibration(scene)
+        e3d::world::batch_rollout_seconds(scene, copies) * calibration(scene, threads, copies)
     };
     let mut executed = 0u64;
     let mut executor = ExecPool::new(scene, table);

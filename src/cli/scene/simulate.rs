@@ -71,19 +71,18 @@ pub(super) fn build_table(scene: &Scene) -> Result<OutcomeTable, CliError> {
 /// The cost model's seconds for building the whole table of `scene` on
 /// the current threads (0 when no table is possible).
 pub(super) fn table_seconds(scene: &Scene) -> f64 {
-    e3d::world::ExecutionPlan::choose(
+    let threads = rayon::current_num_threads();
+    let plan = e3d::world::ExecutionPlan::choose(
         scene,
         &e3d::world::Workload {
             trials: 0,
             sessions: 1,
-            threads: rayon::current_num_threads(),
+            threads,
         },
         None,
         0,
-    )
-    .table_seconds
-    .unwrap_or(0.0)
-        * calibration(scene)
+    );
+    plan.table_seconds.unwrap_or(0.0) * calibration(scene, threads, plan.copies)
 }
 
 /// ` (120 steps each)` for a physics scene (nothing for a grid).
@@ -121,7 +120,7 @@ pub(super) fn say_cost_copies(
     if commands <= 2 && model < 0.05 * progress::LONG {
         return false;
     }
-    let secs = model * calibration(scene);
+    let secs = model * calibration(scene, threads, copies);
     if secs < progress::LONG {
         return false;
     }
@@ -134,17 +133,20 @@ pub(super) fn say_cost_copies(
     true
 }
 
-/// The cost model's factor for this machine as loaded now
-/// ([`e3d::world::calibration`]: a few rollouts of `scene` timed), measured
-/// once per scene and process.
-pub(super) fn calibration(scene: &Scene) -> f64 {
-    static CACHE: std::sync::Mutex<Vec<(String, f64)>> = std::sync::Mutex::new(Vec::new());
+/// The cost model's factor for this machine as loaded now, for commands
+/// run `copies` to a world on `threads` threads
+/// ([`e3d::world::calibration_on`]: rollouts of `scene` timed that way),
+/// measured once per scene, threads and copies, and process.
+pub(super) fn calibration(scene: &Scene, threads: usize, copies: usize) -> f64 {
+    type Key = (String, usize, usize);
+    static CACHE: std::sync::Mutex<Vec<(Key, f64)>> = std::sync::Mutex::new(Vec::new());
+    let key = (scene.name.clone(), threads, copies);
     let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some((_, f)) = cache.iter().find(|(n, _)| *n == scene.name) {
+    if let Some((_, f)) = cache.iter().find(|(k, _)| *k == key) {
         return *f;
     }
-    let f = e3d::world::calibration(scene);
-    cache.push((scene.name.clone(), f));
+    let f = e3d::world::calibration_on(scene, threads, copies);
+    cache.push((key, f));
     f
 }
 

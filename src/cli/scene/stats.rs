@@ -24,7 +24,9 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
     }
     let start = std::time::Instant::now();
     let threads = rayon::current_num_threads();
-    let secs = n as f64 * e3d::world::rollout_seconds(scene) * super::simulate::calibration(scene)
+    let secs = n as f64
+        * e3d::world::rollout_seconds(scene)
+        * super::simulate::calibration(scene, threads, 1)
         / threads as f64;
     let all: Vec<e3d::world::RunStats> = simulate_all(scene, n, secs, |progress| {
         (0..n)

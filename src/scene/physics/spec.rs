@@ -4,7 +4,7 @@
 use super::super::shorthand::{ChainSpec, WallSpec};
 use super::super::symmetry::Symmetry;
 use super::joint::JointSpec;
-use crate::effect::EffectGrid;
+use crate::effect::{Binning, EffectGrid, Feature};
 use serde::{Deserialize, Serialize};
 
 /// A rigid-body world simulated by Rapier (see [`PhysicsWorld`](crate::world::PhysicsWorld)).
@@ -198,18 +198,127 @@ pub enum Schedule {
     },
 }
 
-/// The tracked point and its binning.
+/// What the effect is made of: one tracked point binned on a grid (the
+/// short form, `body`, `point`, `grid`), or a list of binned `features`
+/// whose product is the effect (see [`Feature`]). Give one form or the
+/// other.
+///
+/// ```ron
+/// effect: (body: "puck", grid: (rows: 3, cols: 6, min: (0.0, 0.0), max: (6.0, 3.0))),
+/// effect: (features: [
+///     Joint(joint: "pivot", bins: 9, range: (-0.9, 0.9)),
+///     Joint(joint: "rail", bins: 7, range: (-1.4, 1.4)),
+/// ]),
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EffectSpec {
-    /// The tracked body.
+    /// The tracked body (the short form; empty with `features`).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub body: String,
     /// The tracked point in the body's local frame (default (0, 0), its origin).
     #[serde(default)]
     pub point: (f64, f64),
     /// The grid the terminal position is binned on (row 0 at the top);
-    /// points outside it count in the nearest border cell.
-    pub grid: EffectGrid,
+    /// points outside it count in the nearest border cell. The short
+    /// form; `None` with `features`.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "grid_as_written"
+    )]
+    pub grid: Option<EffectGrid>,
+    /// The binned features whose product is the effect (default none:
+    /// the short form's one point).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub features: Vec<Feature>,
+}
+
+/// A grid written as scene files write it, without `Some(...)`: a scene
+/// of the short form serialises (and hashes) as before `features` existed.
+fn grid_as_written<S: serde::Serializer>(
+    grid: &Option<EffectGrid>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    match grid {
+        Some(g) => g.serialize(s),
+        None => s.serialize_none(),
+    }
+}
+
+impl EffectSpec {
+    /// The short form: one point of `body` binned on `grid`.
+    pub fn tracking(body: &str, point: (f64, f64), grid: EffectGrid) -> EffectSpec {
+        EffectSpec {
+            body: body.to_string(),
+            point,
+            grid: Some(grid),
+            features: Vec::new(),
+        }
+    }
+
+    /// The effect's features, in order: the short form is one
+    /// [`Feature::Point`] in world coordinates.
+    pub fn features(&self) -> Vec<Feature> {
+        if !self.features.is_empty() {
+            return self.features.clone();
+        }
+        match &self.grid {
+            Some(g) => vec![Feature::Point {
+                body: self.body.clone(),
+                point: self.point,
+                frame: None,
+                grid: g.clone(),
+            }],
+            None => Vec::new(),
+        }
+    }
+
+    /// The point whose cell in the world is the effect, when there is
+    /// one: the short form, or a single [`Feature::Point`] without a
+    /// `frame`. Its body, its local point and its grid (in metres, over
+    /// the world). `None` for effects of other kinds (a joint's
+    /// coordinate, an angle, a point in another body's frame, a product).
+    pub fn world_point(&self) -> Option<(&str, (f64, f64), &EffectGrid)> {
+        match (self.features.as_slice(), &self.grid) {
+            ([], Some(g)) => Some((self.body.as_str(), self.point, g)),
+            (
+                [Feature::Point {
+                    body,
+                    point,
+                    frame: None,
+                    grid,
+                }],
+                None,
+            ) => Some((body.as_str(), *point, grid)),
+            _ => None,
+        }
+    }
+
+    /// The body and local point drawn as the effect's tracked point in
+    /// figures and traces: the [`world_point`](Self::world_point) if
+    /// any, else the first feature's point or body origin (a joint's
+    /// child, via `child_of`).
+    pub fn drawn_point<'a>(
+        &'a self,
+        child_of: impl Fn(&str) -> Option<&'a str>,
+    ) -> Option<(&'a str, (f64, f64))> {
+        if let Some((b, p, _)) = self.world_point() {
+            return Some((b, p));
+        }
+        match self.features.first()? {
+            Feature::Point { body, point, .. } => Some((body.as_str(), *point)),
+            Feature::Angle { body, .. } => Some((body.as_str(), (0.0, 0.0))),
+            Feature::Joint { joint, .. } => Some((child_of(joint)?, (0.0, 0.0))),
+        }
+    }
+
+    /// How the features are binned; `None` for an effect that does not
+    /// validate.
+    pub fn binning(&self) -> Option<Binning> {
+        let axes: Vec<_> = self.features().iter().map(Feature::axis).collect();
+        Binning::new(axes).ok()
+    }
 }
 
 /// The number of steps of a duration, `round(seconds / dt)`.
@@ -359,8 +468,24 @@ impl PhysicsSpec {
         !(self.chains.is_empty() && self.walls.is_empty())
     }
 
-    /// The effect grid.
+    /// The effect grid: the tracked point's grid, or the layout of the
+    /// features' product (see [`Binning`]).
+    ///
+    /// # Panics
+    /// On an effect that does not validate (a loaded scene's always does).
     pub fn effect_grid(&self) -> EffectGrid {
-        self.effect.grid.clone()
+        if let Some((_, _, g)) = self.effect.world_point() {
+            return g.clone();
+        }
+        self.effect
+            .binning()
+            .expect("validated effect")
+            .layout()
+            .clone()
+    }
+
+    /// The body a joint moves (its child), if the joint exists.
+    pub fn child_of(&self, joint: &str) -> Option<&str> {
+        self.joint(joint).map(|j| j.child.as_str())
     }
 }

@@ -11,15 +11,19 @@ impl PhysicsSpec {
     /// nearest border cell), a dynamic body outside it, a fixed body (a
     /// wall) that neither lies in nor touches it. (Bodies overlapping at
     /// the start are not a warning: [`Scene::validate`](crate::Scene::validate)
-    /// refuses them.)
+    /// refuses them.) An effect other than one point's world cell (a
+    /// joint's coordinate, an angle, a product) has no grid over the
+    /// world: none of these apply to it.
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
-        let g = &self.effect.grid;
+        let Some((tracked, point, g)) = self.effect.world_point() else {
+            return out;
+        };
         let inside = |p: (f64, f64)| {
             p.0 >= g.min[0] && p.0 <= g.max[0] && p.1 >= g.min[1] && p.1 <= g.max[1]
         };
-        if let Some(b) = self.body(&self.effect.body) {
-            let p = to_world(b.position, b.angle, self.effect.point);
+        if let Some(b) = self.body(tracked) {
+            let p = to_world(b.position, b.angle, point);
             if !inside(p) {
                 out.push(format!(
                     "the tracked point starts at ({}, {}), outside the effect grid [{}, {}] x [{}, {}]: it counts in the nearest border cell",
@@ -41,9 +45,9 @@ impl PhysicsSpec {
         if let Some(l) = crate::scene::enclosure::leak(self) {
             out.push(format!(
                 "the walls do not enclose the tracked body `{}`: from its start ({}, {}) it may leave them near ({:.2}, {:.2}) (fixed bodies rasterised on {} m cells; a gap of 1.5 times its radius or more counts)",
-                self.effect.body,
-                show(self.effect_start().0),
-                show(self.effect_start().1),
+                tracked,
+                show(self.effect_start(tracked).0),
+                show(self.effect_start(tracked).1),
                 l.point.0,
                 l.point.1,
                 show(l.cell)
@@ -73,8 +77,7 @@ impl PhysicsSpec {
         out
     }
 
-    fn effect_start(&self) -> (f64, f64) {
-        self.body(&self.effect.body)
-            .map_or((0.0, 0.0), |b| b.position)
+    fn effect_start(&self, tracked: &str) -> (f64, f64) {
+        self.body(tracked).map_or((0.0, 0.0), |b| b.position)
     }
 }

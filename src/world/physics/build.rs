@@ -2,10 +2,10 @@
 //! actions of every symbol, once per copy.
 
 use super::{
-    v2, Act, JointInfo, PhysicsWorld, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
+    v2, Act, JointInfo, PhysicsWorld, Probe, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
 };
 use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec};
-use crate::scene::valid::{Resolved, ResolvedValue};
+use crate::scene::valid::{Resolved, ResolvedProbe, ResolvedValue};
 use crate::scene::Scene;
 use rapier2d::math::{Pose, Real};
 use rapier2d::prelude::{
@@ -255,8 +255,22 @@ fn build_copy(
             ResolvedValue::Scaled(a) => ValueAct::Scaled(resolve(a)),
         })
         .collect();
+    let probes = links
+        .probes
+        .iter()
+        .map(|p| match p {
+            ResolvedProbe::Point { body, point, frame } => Probe::Point {
+                body: handles[*body],
+                point: v2(*point),
+                frame: frame.map(|f| handles[f]),
+            },
+            ResolvedProbe::Joint(j) => Probe::Joint(*j),
+            ResolvedProbe::Angle(b) => Probe::Angle(handles[*b]),
+        })
+        .collect();
     Replica {
         tracked: handles[links.tracked],
+        probes,
         handles,
         dynamic,
         acts,
@@ -328,7 +342,12 @@ impl PhysicsWorld {
             pristine: s,
             copies: replicas,
             copy_of_body,
-            tracked_point: v2(spec.effect.point),
+            tracked_point: v2(spec
+                .effect
+                .drawn_point(|j| spec.child_of(j))
+                .expect("validated: an effect")
+                .1),
+            binning: spec.effect.binning().expect("validated: an effect"),
             offset,
             phase_steps,
             settle_steps,

@@ -34,7 +34,7 @@ pub use record::{BodyPose, Frame, Motion, RunStats, Trace};
 
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace, ValueSpace};
-use crate::effect::EffectGrid;
+use crate::effect::{Binning, EffectGrid};
 use crate::scene::Symmetry;
 use rapier2d::math::{Real, Vector};
 use rapier2d::prelude::{
@@ -166,6 +166,21 @@ impl JointInfo {
     }
 }
 
+/// One feature of the effect, resolved to handles.
+#[derive(Debug, Clone, Copy)]
+enum Probe {
+    /// A point of `body`, in world coordinates or in `frame`'s.
+    Point {
+        body: RigidBodyHandle,
+        point: Vector,
+        frame: Option<RigidBodyHandle>,
+    },
+    /// A joint's coordinate, by its index in the replica's joints.
+    Joint(usize),
+    /// A body's angle in the world.
+    Angle(RigidBodyHandle),
+}
+
 /// A scene's rigid-body world, simulated by Rapier.
 ///
 /// Built once per scene; before each command every Rapier set is restored
@@ -206,6 +221,8 @@ pub struct PhysicsWorld {
     /// for shared fixed bodies): attributes Rapier's quarantine.
     copy_of_body: Vec<u32>,
     tracked_point: Vector,
+    /// How the features the probes read make the effect.
+    binning: Binning,
     offset: Vec<usize>,
     phase_steps: u64,
     settle_steps: u64,
@@ -243,6 +260,8 @@ struct Replica {
     /// Dynamic bodies, and whether each may spin fast.
     dynamic: Vec<(RigidBodyHandle, bool)>,
     tracked: RigidBodyHandle,
+    /// What the effect reads, one probe per feature.
+    probes: Vec<Probe>,
     /// `acts[offset[slot] + symbol]`.
     acts: Vec<Act>,
     /// Per slot of a continuous scene, what its value does.
@@ -274,6 +293,12 @@ impl PhysicsWorld {
     /// The effect grid.
     pub fn grid(&self) -> &EffectGrid {
         &self.grid
+    }
+
+    /// The layout point and the effect of the start state, before any
+    /// command: where the effect's features are binned at rest.
+    pub fn start(&self) -> ([f64; 2], usize) {
+        self.located_in(&self.pristine, 0)
     }
 
     /// The number of steps one command takes.

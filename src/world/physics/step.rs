@@ -2,8 +2,9 @@
 //! (with the gating of far joint limits), and the guards that report a
 //! blown-up simulation as [`WorldError::Diverged`].
 
-use super::{v2, Act, Cmd, PhysicsWorld, Sets, ValueAct, MAX_ROTATION_PER_STEP};
+use super::{v2, Act, Cmd, PhysicsWorld, Probe, Sets, ValueAct, MAX_ROTATION_PER_STEP};
 use crate::command::Command;
+use crate::effect::wrap_angle;
 use crate::world::{Outcome, WorldError};
 use rapier2d::math::Real;
 use rapier2d::prelude::{JointAxesMask, RigidBodyHandle};
@@ -62,6 +63,54 @@ impl PhysicsWorld {
             .position()
             .transform_point(self.tracked_point);
         [p.x as f64, p.y as f64]
+    }
+
+    /// The layout point and effect of copy `copy` in `sets` now: the
+    /// features the probes read, binned (see [`Binning::locate`](crate::effect::Binning::locate)).
+    pub(super) fn located_in(&self, sets: &Sets, copy: usize) -> ([f64; 2], usize) {
+        let replica = &self.copies[copy];
+        let mut values = [0.0f64; 16];
+        let mut many = Vec::new();
+        let n = self.binning.arity();
+        let out: &mut [f64] = if n <= values.len() {
+            &mut values[..n]
+        } else {
+            many.resize(n, 0.0);
+            &mut many
+        };
+        let mut at = 0;
+        for probe in &replica.probes {
+            match *probe {
+                Probe::Point { body, point, frame } => {
+                    let mut p = sets.bodies[body].position().transform_point(point);
+                    if let Some(f) = frame {
+                        p = sets.bodies[f].position().inverse_transform_point(p);
+                    }
+                    out[at] = p.x as f64;
+                    out[at + 1] = p.y as f64;
+                    at += 2;
+                }
+                Probe::Joint(k) => {
+                    out[at] = replica.joints[k].coordinate(&sets.bodies).0;
+                    at += 1;
+                }
+                Probe::Angle(b) => {
+                    out[at] = wrap_angle(sets.bodies[b].rotation().angle() as f64);
+                    at += 1;
+                }
+            }
+        }
+        self.binning.locate(out)
+    }
+
+    /// The outcome of copy `copy` in `sets` now.
+    pub(super) fn outcome_in(&self, sets: &Sets, copy: usize) -> Outcome {
+        let (point, effect) = self.located_in(sets, copy);
+        Outcome {
+            effect,
+            reward: self.reward[effect],
+            point,
+        }
     }
 
     pub(super) fn diverged(&self, command: Cmd<'_>, reason: String) -> WorldError {
@@ -481,15 +530,7 @@ impl PhysicsWorld {
         for (c, f) in failed.into_iter().enumerate() {
             out.push(match f {
                 Some(e) => Err(e),
-                None => {
-                    let point = self.tracked_position_in(&self.sets, c);
-                    let effect = self.grid.effect_of(point);
-                    Ok(Outcome {
-                        effect,
-                        reward: self.reward[effect],
-                        point,
-                    })
-                }
+                None => Ok(self.outcome_in(&self.sets, c)),
             });
         }
     }

@@ -9,6 +9,7 @@ mod symmetry;
 
 use super::limits::*;
 use super::{PhysicsSpec, Schedule, MAX_STEPS};
+use crate::effect::{Binning, EffectGrid, Feature};
 use crate::scene::overlap::{first_overlap, OVERLAP_TOLERANCE};
 use crate::scene::{Invalid, SceneSpec};
 use std::collections::HashMap;
@@ -186,50 +187,114 @@ impl PhysicsSpec {
         Ok(())
     }
 
-    /// The effect: a known tracked body, a finite tracked point, a valid
-    /// grid within [`MAX_LENGTH`].
+    /// The effect: the short form (a known tracked body, a finite
+    /// tracked point, a valid grid within [`MAX_LENGTH`]) or a list of
+    /// features, each checked in turn (known bodies and joints, finite
+    /// points, at least one bin, finite bounds with `min < max`), whose
+    /// product has at most [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS)
+    /// effects.
     fn check_effect(&self) -> Result<(), Invalid> {
-        if self.body(&self.effect.body).is_none() {
-            return Err(self.unknown_body("body", &self.effect.body, "the effect's tracked point"));
+        let e = &self.effect;
+        if e.features.is_empty() {
+            let Some(grid) = &e.grid else {
+                return Err(Invalid::at(
+                    "effect",
+                    None,
+                    "an effect: `body` and `grid` (one tracked point), or `features: [...]` (see docs/scenes.md, \"Effects\")",
+                ));
+            };
+            if e.body.is_empty() {
+                return Err(Invalid::at(
+                    "grid",
+                    None,
+                    "the effect's tracked body beside its grid: `body: \"NAME\"`",
+                ));
+            }
+            if self.body(&e.body).is_none() {
+                return Err(self.unknown_body("body", &e.body, "the effect's tracked point"));
+            }
+            check_point(e.point, None)?;
+            return check_grid(grid, None);
         }
-        if !finite2(self.effect.point) {
+        if !e.body.is_empty() || e.grid.is_some() || e.point != (0.0, 0.0) {
             return Err(Invalid::at(
-                "point",
+                "features",
                 None,
-                "a tracked point with finite coordinates",
+                "either `features` or the short form (`body`, `point`, `grid`) in the effect, not both: move the tracked point into the list as `Point(body: ..., point: ..., grid: ...)`",
             ));
         }
-        for c in [self.effect.point.0, self.effect.point.1] {
-            number(
-                "point",
-                None,
-                "the tracked point",
-                "coordinates",
-                c,
-                (0.0, MAX_LENGTH),
-                true,
-                "m",
-            )?;
+        for (k, f) in e.features.iter().enumerate() {
+            self.check_feature(k, f)?;
         }
-        self.effect
-            .grid
-            .validate()
-            .map_err(|e| Invalid::at("grid", None, &format!("a valid grid: {e}")))?;
-        for &c in self.effect.grid.min.iter().chain(&self.effect.grid.max) {
-            number(
-                "grid",
+        let axes: Vec<_> = e.features.iter().map(Feature::axis).collect();
+        Binning::new(axes).map_err(|err| {
+            Invalid::at(
+                "features",
                 None,
-                "the effect grid",
-                "corners",
-                c,
-                (0.0, MAX_LENGTH),
-                true,
-                "m",
-            )?;
-        }
+                &format!("features whose product has a valid number of effects: {err}"),
+            )
+        })?;
         Ok(())
     }
 
+    /// Feature `k` of the effect's list.
+    fn check_feature(&self, k: usize, f: &Feature) -> Result<(), Invalid> {
+        let within = |v: Invalid| Invalid {
+            within: Some(("features", k)),
+            ..v
+        };
+        match f {
+            Feature::Point {
+                body,
+                point,
+                frame,
+                grid,
+            } => {
+                if self.body(body).is_none() {
+                    return Err(self.unknown_body("body", body, "the effect's point"));
+                }
+                if let Some(fr) = frame {
+                    if self.body(fr).is_none() {
+                        return Err(self.unknown_body(
+                            "frame",
+                            fr,
+                            "the frame of the effect's point",
+                        ));
+                    }
+                    if fr == body {
+                        return Err(within(Invalid::at(
+                            "frame",
+                            None,
+                            &format!("a frame other than the point's own body `{body}` (a point does not move in its own frame)"),
+                        )));
+                    }
+                }
+                check_point(*point, Some(k))?;
+                check_grid(grid, Some(k))
+            }
+            Feature::Joint { joint, bins, range } => {
+                let Some(j) = self.joint(joint) else {
+                    let names: Vec<&str> = self.joints.iter().map(|j| j.name.as_str()).collect();
+                    return Err(Invalid::at(
+                        "joint",
+                        Some(&quoted(joint)),
+                        &format!(
+                            "the effect's joint: a known joint, but there is no joint `{joint}`{}; joints: {}",
+                            crate::scene::error::did_you_mean(joint, &names),
+                            if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                        ),
+                    ));
+                };
+                check_line(*bins, *range, j.kind.unit(), k)
+            }
+            Feature::Angle { body, bins, range } => {
+                if self.body(body).is_none() {
+                    return Err(self.unknown_body("body", body, "the effect's angle"));
+                }
+                check_line(*bins, *range, "rad", k)
+            }
+        }
+    }
     /// No two bodies in one another at the start: Rapier would push them
     /// apart explosively before the first command.
     fn check_overlap(&self) -> Result<(), Invalid> {
@@ -274,4 +339,90 @@ impl PhysicsSpec {
             ),
         )
     }
+}
+
+/// A tracked point: finite, within [`MAX_LENGTH`]; in feature `k` of the
+/// effect's list, if given.
+fn check_point(p: (f64, f64), k: Option<usize>) -> Result<(), Invalid> {
+    let place = |v: Invalid| Invalid {
+        within: k.map(|k| ("features", k)),
+        ..v
+    };
+    if !finite2(p) {
+        return Err(place(Invalid::at(
+            "point",
+            None,
+            "a tracked point with finite coordinates",
+        )));
+    }
+    for c in [p.0, p.1] {
+        number(
+            "point",
+            None,
+            "the tracked point",
+            "coordinates",
+            c,
+            (0.0, MAX_LENGTH),
+            true,
+            "m",
+        )
+        .map_err(place)?;
+    }
+    Ok(())
+}
+
+/// An effect grid: valid, its corners within [`MAX_LENGTH`].
+fn check_grid(grid: &EffectGrid, k: Option<usize>) -> Result<(), Invalid> {
+    let place = |v: Invalid| Invalid {
+        within: k.map(|k| ("features", k)),
+        ..v
+    };
+    grid.validate()
+        .map_err(|e| place(Invalid::at("grid", None, &format!("a valid grid: {e}"))))?;
+    for &c in grid.min.iter().chain(&grid.max) {
+        number(
+            "grid",
+            None,
+            "the effect grid",
+            "corners",
+            c,
+            (0.0, MAX_LENGTH),
+            true,
+            "m",
+        )
+        .map_err(place)?;
+    }
+    Ok(())
+}
+
+/// A number's binning in feature `k`: at least one bin (and at most
+/// [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS)), a finite `range` with
+/// `min < max`.
+fn check_line(bins: usize, (lo, hi): (f64, f64), unit: &str, k: usize) -> Result<(), Invalid> {
+    let place = |v: Invalid| Invalid {
+        within: Some(("features", k)),
+        ..v
+    };
+    if bins == 0 || bins > crate::effect::MAX_EFFECTS {
+        return Err(place(Invalid::at(
+            "bins",
+            None,
+            &format!(
+                "between 1 and {} bins, found {bins}",
+                crate::effect::MAX_EFFECTS
+            ),
+        )));
+    }
+    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+        return Err(place(Invalid::at(
+            "range",
+            None,
+            &format!(
+                "a range (min, max) of finite numbers with min < max, in {unit}, found ({}, {})",
+                show(lo),
+                show(hi)
+            ),
+        )));
+    }
+    Ok(())
 }

@@ -22,6 +22,16 @@ impl Symmetry {
                 &format!("symmetry {self:?}: {what}"),
             ))
         };
+        // only a point's world cell reflects as a point: a joint's
+        // coordinate, an angle, a point in another body's frame or a
+        // product would need their own reflections
+        let Some((_, point, g)) = spec.effect.world_point() else {
+            return fail(
+                "symmetry",
+                None,
+                "no symmetry with this effect: a symmetry reflects the effect's point in the world, and this effect is not one point's world cell (a joint's coordinate, an angle, a point in another body's frame or a product); remove `symmetry`".to_string(),
+            );
+        };
         if across(spec.gravity) != 0.0 {
             return fail(
                 "gravity",
@@ -113,17 +123,16 @@ impl Symmetry {
                 }
             }
         }
-        if spec.effect.point.1 != 0.0 {
+        if point.1 != 0.0 {
             return fail(
                 "point",
                 None,
                 format!(
                     "a tracked point on its body's local x axis (y = 0), found {:?}",
-                    spec.effect.point
+                    point
                 ),
             );
         }
-        let g = &spec.effect.grid;
         if g.min[k] != -g.max[k] {
             return fail(
                 "grid",
