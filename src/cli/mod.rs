@@ -1,6 +1,7 @@
 //! Sub-commands of the `e3d` binary.
 
 pub mod bench;
+pub mod closed_loop;
 pub mod compare;
 pub mod console;
 pub mod continuous;

@@ -38,7 +38,7 @@ pub mod symmetry;
 pub mod template;
 
 pub use error::{did_you_mean, SceneError, SceneErrorKind};
-pub use grid::GridSpec;
+pub use grid::{GridSpec, StartCells};
 pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
 pub use shorthand::{ChainSpec, Each, LinkShape, Placement, WallSpec};
@@ -346,6 +346,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ),
     ("arm_push", include_str!("../../scenes/arm_push.ron")),
     ("swimmer", include_str!("../../scenes/swimmer.ron")),
+    ("four_rooms", include_str!("../../scenes/four_rooms.ron")),
 ];
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.

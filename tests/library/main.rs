@@ -7,6 +7,7 @@ mod common;
 
 mod bad_scenes;
 mod consistency;
+mod contexts;
 mod drives;
 mod edge_cases;
 mod every_scene;
