@@ -106,9 +106,7 @@ impl EpisodeRecord {
 
     /// The first episode (1-based) with a reward > 0.
     pub fn first_reward_episode(&self) -> Option<usize> {
-        self.episode_rewards()
-            .position(|r| r > 0.0)
-            .map(|i| i + 1)
+        self.episode_rewards().position(|r| r > 0.0).map(|i| i + 1)
     }
 
     /// The normalised entropy (over all `num_effects` effects) of the

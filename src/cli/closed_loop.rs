@@ -87,7 +87,8 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
                 "{},{},{},{},{}\n",
                 s.arm,
                 s.seed,
-                s.first_reward_episode.map_or(String::new(), |e| e.to_string()),
+                s.first_reward_episode
+                    .map_or(String::new(), |e| e.to_string()),
                 s.cumulative_reward,
                 s.late_reward
             ));

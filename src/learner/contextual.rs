@@ -138,7 +138,13 @@ impl<L: Learner> ContextualLearner for PerContext<L> {
     fn propose(&mut self, context: usize, rng: &mut SessionRng, command: &mut Command) {
         self.learners[context].propose(rng, command)
     }
-    fn learn(&mut self, context: usize, command: &Command, outcome: &Outcome, _next: Option<usize>) {
+    fn learn(
+        &mut self,
+        context: usize,
+        command: &Command,
+        outcome: &Outcome,
+        _next: Option<usize>,
+    ) {
         self.learners[context].learn(command, outcome)
     }
     fn slot_policy(&self, context: usize, slot: usize) -> Option<Vec<f64>> {
@@ -160,11 +166,13 @@ struct ActionValues {
 
 impl ActionValues {
     fn new(space: &CommandSpace, num_contexts: usize) -> Result<Self, LearnerError> {
-        let too_many = || LearnerError::Contexts {
+        let too_many = || {
+            LearnerError::Contexts {
             reason: format!(
                 "a table of action-values over {num_contexts} contexts x {} commands: at most {MAX_ACTION_VALUES} entries",
                 space.num_commands_text()
             ),
+        }
         };
         let commands = space.num_commands().ok_or_else(too_many)?;
         if num_contexts == 0 {
@@ -302,14 +310,9 @@ impl ContextualLearner for ClosedLoopE3d {
     }
     fn learn(&mut self, context: usize, command: &Command, outcome: &Outcome, next: Option<usize>) {
         let index = self.space.index_of(command) as usize;
-        let y = self.reference.update(
-            context,
-            index,
-            outcome.reward,
-            next,
-            self.alpha,
-            self.gamma,
-        );
+        let y = self
+            .reference
+            .update(context, index, outcome.reward, next, self.alpha, self.gamma);
         let driven = Outcome {
             reward: y,
             ..*outcome
@@ -393,14 +396,8 @@ impl ContextualLearner for QLearning {
     }
     fn learn(&mut self, context: usize, command: &Command, outcome: &Outcome, next: Option<usize>) {
         let index = self.space.index_of(command) as usize;
-        self.values.update(
-            context,
-            index,
-            outcome.reward,
-            next,
-            self.alpha,
-            self.gamma,
-        );
+        self.values
+            .update(context, index, outcome.reward, next, self.alpha, self.gamma);
     }
 }
 

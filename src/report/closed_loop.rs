@@ -77,7 +77,7 @@ pub struct ArmSession {
 }
 
 /// Why a comparison cannot run.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum ClosedLoopError {
     /// Not a grid scene of repeated one-alphabet slots.
     #[error("scene `{0}`: a closed-loop comparison takes a Grid scene whose command is `Repeat`")]
@@ -199,7 +199,11 @@ pub fn run_comparison(
 /// The table of a comparison, one row per arm: sessions rewarded, the
 /// median first rewarded episode and its moves, the mean (sd) reward over
 /// all episodes and over the last 1000.
-pub fn markdown(sessions: &[ArmSession], cfg: &ClosedLoopConfig, moves_per_episode: usize) -> String {
+pub fn markdown(
+    sessions: &[ArmSession],
+    cfg: &ClosedLoopConfig,
+    moves_per_episode: usize,
+) -> String {
     let mut out = format!(
         "| arm | sessions rewarded | median first reward: episode (moves) | reward, all {} episodes: mean (sd) | reward, last 1000: mean (sd) |\n|---|---|---|---|---|\n",
         cfg.episodes

@@ -110,7 +110,10 @@ impl GridSpec {
                 return Err(Invalid::at(
                     "contexts",
                     None,
-                    &format!("a distinct, non-empty name for every context, found `{}`", c.name),
+                    &format!(
+                        "a distinct, non-empty name for every context, found `{}`",
+                        c.name
+                    ),
                 ));
             }
         }

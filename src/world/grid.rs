@@ -1,11 +1,11 @@
 //! The grid world: the paper's degenerate kinematic scene.
 
 use super::{Outcome, World, WorldError, WorldState};
-use crate::rng::SessionRng;
-use rand::RngExt;
 use crate::command::{Command, CommandSpace};
 use crate::effect::EffectGrid;
+use crate::rng::SessionRng;
 use crate::scene::{Action, GridSpec, Scene};
+use rand::RngExt;
 
 /// A grid world built from a scene: precomputed transitions, so executing a
 /// command is `n` table look-ups.
