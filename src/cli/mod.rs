@@ -5,6 +5,7 @@ pub mod closed_loop;
 pub mod compare;
 pub mod console;
 pub mod continuous;
+pub mod episodes;
 pub mod output;
 pub mod plot;
 pub mod progress;

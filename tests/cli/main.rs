@@ -8,6 +8,7 @@ mod common;
 mod chromium;
 mod commands;
 mod compare;
+mod contexts;
 mod scene_check;
 mod scene_commands;
 mod scene_exec;
