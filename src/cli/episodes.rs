@@ -71,7 +71,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     let contexts = cfg(0).num_contexts(&world);
     let shared = ContextTargets::Shared(Target::Uniform);
     let make = || -> Result<Box<dyn ContextualLearner + Send>, CliError> {
-        Ok(match (a.closed_loop, a.learner) {
+        match (a.closed_loop, a.learner) {
             (false, kind) => kind.make_contextual(&params, &space, num_effects, contexts, &shared),
             (true, LearnerKind::E3d) => ClosedLoopE3d::new(
                 &space,
@@ -90,7 +90,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
                 )))
             }
         }
-        .map_err(CliError::input)?)
+        .map_err(CliError::input)
     };
     let name = make()?.name().to_string();
     errln!(
