@@ -120,3 +120,28 @@ fn the_closed_loop_comparison_prints_every_arm() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("Grid scene"));
 }
+
+#[test]
+fn scene_check_lists_the_contexts_and_exec_runs_each_command_from_each() {
+    let dir = temp_dir("contexts-exec");
+    std::fs::create_dir_all(&*dir).unwrap();
+    let scene = dir.join("ctx.ron");
+    std::fs::write(&scene, CONTEXTS).unwrap();
+    let s = stdout_of(&["scene", "check", scene.to_str().unwrap()]);
+    assert!(s.contains("start contexts (2): a (0, 0), b (2, 5)"), "{s}");
+    let s = stdout_of(&[
+        "scene",
+        "exec",
+        scene.to_str().unwrap(),
+        "EEEEESS",
+        "SSSSWWW",
+    ]);
+    assert_eq!(
+        s,
+        "context,start_row,start_col,command,effect,reward,x,y\n\
+         a,0,0,EEEEESS,14,0,2.5,0.5\n\
+         b,2,5,EEEEESS,17,0,5.5,0.5\n\
+         a,0,0,SSSSWWW,12,0,0.5,0.5\n\
+         b,2,5,SSSSWWW,15,0,3.5,0.5\n"
+    );
+}
