@@ -27,6 +27,9 @@ pub enum Observe {
     /// The bin of the current state ([`World::bin_state`]: on a grid, the
     /// cell): a learner of [`World::num_effects`] contexts.
     State,
+    /// Nothing: context 0 always, a learner of one context (the
+    /// context-blind baseline).
+    Blind,
 }
 
 /// How to run a session of episodes.
@@ -51,6 +54,7 @@ impl EpisodeConfig {
         match self.observe {
             Observe::StartContext => world.num_contexts(),
             Observe::State => world.num_effects(),
+            Observe::Blind => 1,
         }
     }
 }
@@ -191,6 +195,7 @@ where
         let mut context = match config.observe {
             Observe::StartContext => start,
             Observe::State => world.bin_state(&state)?,
+            Observe::Blind => 0,
         };
         rec.starts.push(start);
         for i in 0..k {
@@ -203,6 +208,7 @@ where
             let next = match config.observe {
                 Observe::StartContext => start,
                 Observe::State => outcome.effect,
+                Observe::Blind => 0,
             };
             learner.learn(context, &command, &outcome, (!last).then_some(next));
             rec.contexts.push(context);

@@ -55,6 +55,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     let observe = match a.observe {
         Some(ObserveArg::Start) => Observe::StartContext,
         Some(ObserveArg::State) => Observe::State,
+        Some(ObserveArg::Blind) => Observe::Blind,
         None if a.commands > 1 || a.closed_loop => Observe::State,
         None => Observe::StartContext,
     };
@@ -100,7 +101,11 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         a.commands,
         if a.commands == 1 { "" } else { "s" },
         contexts,
-        if observe == Observe::State { "the current cell" } else { "the start context" }
+        match observe {
+            Observe::State => "the current cell",
+            Observe::StartContext => "the start context",
+            Observe::Blind => "nothing (one policy)",
+        }
     );
     let records: Vec<EpisodeRecord> = seeds
         .par_iter()

@@ -53,9 +53,10 @@ pub struct RunArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=64))]
     pub commands: u64,
     /// What the learner reads before each command: `start` (the index of
-    /// the episode's start context) or `state` (the current cell); default
+    /// the episode's start context), `state` (the current cell) or `blind`
+    /// (nothing: one policy for every context); default
     /// `state` with --commands above 1 or --closed-loop, else `start`.
-    #[arg(long, value_name = "start|state")]
+    #[arg(long, value_name = "start|state|blind")]
     pub observe: Option<ObserveArg>,
     /// The closed-loop learner of --learner: e3d becomes closed-loop E3D
     /// (Q_ref and the Bellman target), egreedy becomes epsilon-greedy
@@ -74,6 +75,8 @@ pub enum ObserveArg {
     Start,
     /// The bin of the current state (on a grid, the cell).
     State,
+    /// Nothing: one policy for every context.
+    Blind,
 }
 
 /// The learners' hyper-parameters on the command line (defaults: task 1).
