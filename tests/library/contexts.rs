@@ -536,3 +536,38 @@ fn contextual_e3d_spreads_every_context_where_blind_e3d_cannot() {
         }
     }
 }
+
+#[test]
+fn states_outside_the_world_and_worlds_without_states_are_errors() {
+    let scene = Scene::builtin("four_rooms").unwrap();
+    let mut world = scene.build();
+    let c = scene.command_space().first();
+    let e = world.execute_from(&WorldState::Cell(36), &c).unwrap_err();
+    assert_eq!(e.to_string(), "cell 36 is outside this 36-cell grid");
+    assert!(world.bin_state(&WorldState::Cell(99)).is_err());
+    assert!(world
+        .execute_from(&WorldState::Cell(0), &Command::new(vec![0; 4]))
+        .is_err());
+    // a table has no states: run_episodes says so instead of panicking
+    let table = e3d::OutcomeTable::build(&mut scene.build()).unwrap();
+    let cfg = EpisodeConfig {
+        episodes: 3,
+        commands: 2,
+        seed: 0,
+        use_reward: true,
+        observe: Observe::StartContext,
+    };
+    let mut l = LearnerKind::Uniform
+        .make_contextual(
+            &Params::TASK1,
+            &scene.command_space(),
+            36,
+            1,
+            &ContextTargets::Shared(Target::Uniform),
+        )
+        .unwrap();
+    let e = run_episodes(&mut &table, &mut l, &cfg).unwrap_err();
+    assert!(e.to_string().contains("no states to start from"), "{e}");
+    let zero = EpisodeConfig { commands: 0, ..cfg };
+    assert!(run_episodes(&mut scene.build(), &mut l, &zero).is_err());
+}
