@@ -639,6 +639,7 @@ impl Scene {
         if self.name.trim().is_empty() {
             return Err(Invalid::at("name", None, "a non-empty name"));
         }
+        crate::text::check_name(&self.name).map_err(|e| Invalid::at("name", None, &e))?;
         let n = self.slots().count();
         if let Some(declared) = self.slots {
             if declared != n {
@@ -755,7 +756,7 @@ impl Scene {
                         "symbol",
                         None,
                         &format!(
-                            "a printable symbol other than ',' (commands are written as strings): not whitespace, a control, format (zero-width) or combining character, found U+{:04X}",
+                            "a printable symbol other than ',' and '\"' (commands are written as strings and CSV fields): not whitespace, a control, format (zero-width) or combining character, found U+{:04X}",
                             u32::from(s.symbol)
                         ),
                     )
@@ -779,8 +780,15 @@ impl Scene {
             WorldSpec::Physics(p) => p.validate(self)?,
         }
         let grid = self.effect_grid();
-        if !self.reward.value.is_finite() {
-            return Err(Invalid::at("value", None, "a finite reward value"));
+        if !(self.reward.value.is_finite() && self.reward.value.abs() <= MAX_REWARD) {
+            return Err(Invalid::at(
+                "value",
+                None,
+                &format!(
+                    "a finite reward value of at most {MAX_REWARD:e} in magnitude (a cumulative reward over 10^8 trials stays finite), found {}",
+                    self.reward.value
+                ),
+            ));
         }
         for &(r, c) in &self.reward.cells {
             if r >= grid.rows || c >= grid.cols {
@@ -817,14 +825,21 @@ pub(crate) fn prepare_text<'a>(
 }
 
 /// Whether `c` can stand for a symbol in a written command: it shows as
-/// one visible character. Refused: whitespace, `,`, control characters
+/// one visible character. Refused: whitespace, `,` and `"` (commands are
+/// CSV fields, written unquoted), control characters
 /// (BEL), and what has no width of its own, format characters (U+200B, a
 /// zero-width space) and combining marks (U+0301), which would join the
 /// symbol before them.
 pub fn printable_symbol(c: char) -> bool {
     use unicode_width::UnicodeWidthChar;
-    !(c.is_whitespace() || c.is_control() || c == ',') && c.width().is_some_and(|w| w > 0)
+    !(c.is_whitespace() || c.is_control() || c == ',' || c == '"')
+        && c.width().is_some_and(|w| w > 0)
 }
+
+/// The largest reward value a scene may give, in magnitude (1e12): a
+/// cumulative reward over the most trials a run or sweep allows (10^8)
+/// stays far from overflowing, so no metric is infinite.
+pub const MAX_REWARD: f64 = 1e12;
 
 /// The largest scene or sweep file read, in bytes (16 MiB): the shipped
 /// scenes hold a few kB; anything larger is a wrong path.

@@ -11,6 +11,7 @@ mod contexts;
 mod drives;
 mod edge_cases;
 mod every_scene;
+mod fuzz_outputs;
 mod fuzz_scenes;
 mod fuzz_sweeps;
 mod grid;
