@@ -93,6 +93,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             cols: 15,
             start: (7, 14),
             walls: vec![],
+            contexts: vec![],
         };
         let lines = [
             format!(

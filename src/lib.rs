@@ -73,6 +73,7 @@
 
 pub mod command;
 pub mod effect;
+pub mod episode;
 pub mod hash;
 pub mod io;
 pub mod learner;
@@ -117,5 +118,5 @@ pub use session::{
 pub use sweep::{Sweep, SweepError};
 pub use world::{
     ContinuousWorld, ExecutionPlan, Executor, GridWorld, Memoized, Outcome, OutcomeMemo,
-    OutcomeTable, ParseStrategyError, PhysicsWorld, Strategy, World, WorldError,
+    OutcomeTable, ParseStrategyError, PhysicsWorld, Strategy, World, WorldError, WorldState,
 };

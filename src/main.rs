@@ -25,6 +25,10 @@ enum Cmd {
     /// Compare every drive (e3d, e3d_relax, count, smm, uniform, egreedy,
     /// goal_babbling, archive) on the canonical scenes: a table and a figure.
     Compare(cli::compare::CompareArgs),
+    /// Closed loop against open loop on equal budgets of moves: closed-loop
+    /// E3D (K commands), open-loop E3D (one command of K times the moves),
+    /// Q-learning and uniform on a grid scene (default four_rooms).
+    ClosedLoop(cli::closed_loop::ClosedLoopArgs),
     /// Run a sweep file: every (cell, seed) session, in parallel, resumably.
     Sweep(cli::sweep::SweepArgs),
     /// Join the output folders of the shards of one sweep.
@@ -92,6 +96,7 @@ fn main() -> ExitCode {
         Cmd::Bench(a) => cli::bench::run(a),
         Cmd::Sweep(a) => cli::sweep::run(a),
         Cmd::Compare(a) => cli::compare::run(a),
+        Cmd::ClosedLoop(a) => cli::closed_loop::run(a),
         Cmd::Merge(a) => cli::sweep::merge(a),
         Cmd::Plot(a) => cli::plot::run(a),
         Cmd::Scene(a) => cli::scene::run(a),

@@ -1,9 +1,11 @@
 //! Sub-commands of the `e3d` binary.
 
 pub mod bench;
+pub mod closed_loop;
 pub mod compare;
 pub mod console;
 pub mod continuous;
+pub mod episodes;
 pub mod output;
 pub mod plot;
 pub mod progress;

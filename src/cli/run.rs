@@ -68,6 +68,9 @@ pub fn run(a: RunArgs) -> CliResult {
     if scene.is_continuous() {
         return super::continuous::run(&a, &scene, params, &seeds);
     }
+    if super::episodes::wanted(&a, &scene) {
+        return super::episodes::run(&a, &scene, params, &seeds);
+    }
     let sessions = a.sessions as usize;
     let space = scene.command_space();
     let num_effects = scene.num_effects();

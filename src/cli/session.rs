@@ -47,6 +47,36 @@ pub struct RunArgs {
     pub sessions: u64,
     #[command(flatten)]
     pub memo: MemoArgs,
+    /// Commands per episode (K): each trial is an episode of K commands,
+    /// each starting where the last one ended (grid scenes; see
+    /// docs/algorithms.md, "Contexts and closed loop").
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=64))]
+    pub commands: u64,
+    /// What the learner reads before each command: `start` (the index of
+    /// the episode's start context), `state` (the current cell) or `blind`
+    /// (nothing: one policy for every context); default
+    /// `state` with --commands above 1 or --closed-loop, else `start`.
+    #[arg(long, value_name = "start|state|blind")]
+    pub observe: Option<ObserveArg>,
+    /// The closed-loop learner of --learner: e3d becomes closed-loop E3D
+    /// (Q_ref and the Bellman target), egreedy becomes epsilon-greedy
+    /// Q-learning over whole commands.
+    #[arg(long)]
+    pub closed_loop: bool,
+    /// Discount of closed-loop E3D's Q_ref and of Q-learning, in [0, 1].
+    #[arg(long, default_value_t = e3d::learner::ClosedLoopE3d::GAMMA)]
+    pub gamma: f64,
+}
+
+/// `--observe`: what a contextual learner reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ObserveArg {
+    /// The index of the episode's start context.
+    Start,
+    /// The bin of the current state (on a grid, the cell).
+    State,
+    /// Nothing: one policy for every context.
+    Blind,
 }
 
 /// The learners' hyper-parameters on the command line (defaults: task 1).

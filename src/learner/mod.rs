@@ -31,6 +31,7 @@
 //! Implement [`Learner`] (or [`ContinuousLearner`]) to plug in your own.
 
 mod archive;
+pub mod contextual;
 mod count;
 mod e3d;
 mod egreedy;
@@ -44,6 +45,7 @@ mod softmax;
 mod uniform;
 
 pub use archive::{Archive, ArchiveValues};
+pub use contextual::{ClosedLoopE3d, ContextTargets, ContextualLearner, PerContext, QLearning};
 pub use count::CountBonus;
 pub use e3d::E3d;
 pub use egreedy::EpsilonGreedy;
@@ -179,6 +181,13 @@ pub enum LearnerError {
     /// The target does not fit the effects.
     #[error(transparent)]
     Target(#[from] TargetError),
+    /// Contexts that do not fit (a target per context of the wrong
+    /// length, no context, a table of action-values too large).
+    #[error("contexts: {reason}")]
+    Contexts {
+        /// What is wrong.
+        reason: String,
+    },
     /// The learner has no continuous version ([`LearnerKind::make_continuous`]).
     #[error("learner `{learner}` takes symbols; continuous commands take one of: {}", LearnerKind::CONTINUOUS.map(LearnerKind::as_str).join(", "))]
     NotContinuous {

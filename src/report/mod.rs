@@ -13,6 +13,7 @@
 //! `paper` and `sweep_plot` draw with plotters and need the feature
 //! `plots` (on by default); `scene_svg` writes its SVG itself.
 
+pub mod closed_loop;
 pub mod drives;
 pub mod html;
 pub mod motion_svg;

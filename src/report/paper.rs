@@ -624,7 +624,7 @@ fn share_colour(share: f64, peak: f64) -> RGBColor {
 /// ```
 /// use e3d::report::paper::effect_panels_svg;
 /// use e3d::world::GridSpec;
-/// let spec = GridSpec { rows: 2, cols: 2, start: (0, 0), walls: vec![] };
+/// let spec = GridSpec { rows: 2, cols: 2, start: (0, 0), walls: vec![], contexts: vec![] };
 /// let panels = vec![("a".to_string(), vec![0.25; 4]), ("b".to_string(), vec![0.7, 0.1, 0.1, 0.1])];
 /// let svg = effect_panels_svg("title", &[], &spec, &panels, 0.7, 0.25).unwrap();
 /// assert!(svg.starts_with("<svg") && svg.contains("title") && svg.contains("70.0%"));

@@ -22,6 +22,43 @@ pub struct GridSpec {
     /// The outer border is always a wall.
     #[serde(default)]
     pub walls: Vec<((usize, usize), (usize, usize))>,
+    /// Start contexts: when given, each trial (or episode) starts from one
+    /// of them, drawn with the session's generator, instead of `start`;
+    /// what the learner observes is the context's index (see
+    /// [`num_contexts`](Self::num_contexts)). Empty (the default): one
+    /// context, `start`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub contexts: Vec<StartCells>,
+}
+
+/// One start context of a grid: a named cell, or a named rectangle of
+/// cells from which the start is drawn uniformly (a seeded range).
+///
+/// ```ron
+/// contexts: [(name: "left", cell: (1, 0)), (name: "room_b", cell: (0, 3), to: (2, 5))]
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StartCells {
+    /// The context's name (results and pictures).
+    pub name: String,
+    /// The start cell `(row, col)`; with `to`, a corner of the rectangle.
+    pub cell: (usize, usize),
+    /// The opposite corner of a rectangle of start cells (inclusive): each
+    /// start draws a row, then a column, uniformly in it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub to: Option<(usize, usize)>,
+}
+
+impl StartCells {
+    /// The rows and the columns of the context's cells (inclusive ranges).
+    pub fn bounds(&self) -> ((usize, usize), (usize, usize)) {
+        let to = self.to.unwrap_or(self.cell);
+        (
+            (self.cell.0.min(to.0), self.cell.0.max(to.0)),
+            (self.cell.1.min(to.1), self.cell.1.max(to.1)),
+        )
+    }
 }
 
 impl GridSpec {
@@ -33,6 +70,11 @@ impl GridSpec {
             min: [0.0, 0.0],
             max: [self.cols as f64, self.rows as f64],
         }
+    }
+
+    /// The number of start contexts: the declared ones, or 1 (`start`).
+    pub fn num_contexts(&self) -> usize {
+        self.contexts.len().max(1)
     }
 
     pub(crate) fn validate(&self, scene: &SceneSpec) -> Result<(), Invalid> {
@@ -50,6 +92,30 @@ impl GridSpec {
                     self.rows, self.cols, self.start
                 ),
             ));
+        }
+        for (i, c) in self.contexts.iter().enumerate() {
+            for cell in [Some(c.cell), c.to].into_iter().flatten() {
+                if !inside(cell) {
+                    return Err(Invalid::at(
+                        "contexts",
+                        None,
+                        &format!(
+                            "context `{}`: cells inside the {} x {} grid, found {cell:?}",
+                            c.name, self.rows, self.cols
+                        ),
+                    ));
+                }
+            }
+            if c.name.trim().is_empty() || self.contexts[..i].iter().any(|o| o.name == c.name) {
+                return Err(Invalid::at(
+                    "contexts",
+                    None,
+                    &format!(
+                        "a distinct, non-empty name for every context, found `{}`",
+                        c.name
+                    ),
+                ));
+            }
         }
         for &(a, b) in &self.walls {
             if !inside(a) || !inside(b) {

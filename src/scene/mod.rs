@@ -42,7 +42,7 @@ pub mod template;
 pub(crate) mod valid;
 
 pub use error::{did_you_mean, SceneError, SceneErrorKind};
-pub use grid::GridSpec;
+pub use grid::{GridSpec, StartCells};
 pub use physics::PhysicsSpec;
 pub use region::RegionSpec;
 pub use shorthand::{ChainSpec, Each, LinkShape, Placement, WallSpec};
@@ -356,6 +356,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("arm_push", include_str!("../../scenes/arm_push.ron")),
     ("swimmer", include_str!("../../scenes/swimmer.ron")),
     ("cart_pole", include_str!("../../scenes/cart_pole.ron")),
+    ("four_rooms", include_str!("../../scenes/four_rooms.ron")),
 ];
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.

@@ -1,9 +1,11 @@
 //! The grid world: the paper's degenerate kinematic scene.
 
-use super::{Outcome, World, WorldError};
+use super::{Outcome, World, WorldError, WorldState};
 use crate::command::{Command, CommandSpace};
 use crate::effect::EffectGrid;
+use crate::rng::SessionRng;
 use crate::scene::{Action, GridSpec, Scene, WorldSpec};
+use rand::RngExt;
 
 /// A grid world built from a scene: precomputed transitions, so executing a
 /// command is `n` table look-ups.
@@ -19,6 +21,8 @@ pub struct GridWorld {
     kind: Vec<u8>,
     slot_offset: Vec<usize>,
     reward: Vec<f64>,
+    /// The start contexts: rows and columns (inclusive) of each.
+    contexts: Vec<((usize, usize), (usize, usize))>,
 }
 
 /// The one-cell moves `(drow, dcol)` a grid knows: stay, E, S, W, N.
@@ -83,6 +87,11 @@ impl GridWorld {
             kind,
             slot_offset,
             reward: scene.reward_table(),
+            contexts: if spec.contexts.is_empty() {
+                vec![((spec.start.0, spec.start.0), (spec.start.1, spec.start.1))]
+            } else {
+                spec.contexts.iter().map(|c| c.bounds()).collect()
+            },
         }
     }
 
@@ -95,6 +104,24 @@ impl GridWorld {
     /// The cell grid.
     pub fn grid(&self) -> &EffectGrid {
         &self.grid
+    }
+
+    /// The outcome of ending in `cell`.
+    fn outcome(&self, cell: usize) -> Outcome {
+        let (r, c) = (cell / self.grid.cols, cell % self.grid.cols);
+        Outcome {
+            effect: cell,
+            reward: self.reward[cell],
+            point: self.grid.center(r, c),
+        }
+    }
+
+    /// The terminal cell of `command` from `cell` (a command that fits).
+    fn run_from(&self, mut cell: usize, command: &Command) -> usize {
+        for (slot, &s) in command.symbols.iter().enumerate() {
+            cell = self.step(cell, slot, s);
+        }
+        cell
     }
 
     /// The cells visited by a command, start included (for pictures).
@@ -121,15 +148,49 @@ impl World for GridWorld {
     #[inline]
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
         super::check_command(&self.space, command)?;
-        let mut cell = self.start;
-        for (slot, &s) in command.symbols.iter().enumerate() {
-            cell = self.step(cell, slot, s);
+        Ok(self.outcome(self.run_from(self.start, command)))
+    }
+
+    fn num_contexts(&self) -> usize {
+        self.contexts.len()
+    }
+
+    /// The context's cell, or for a rectangle a row then a column drawn
+    /// uniformly (two integers of `rng`); no draw for a single cell.
+    fn draw_start(&self, context: usize, rng: &mut SessionRng) -> Result<WorldState, WorldError> {
+        let &((r0, r1), (c0, c1)) = self.contexts.get(context).ok_or_else(|| {
+            WorldError::Other(format!(
+                "context {context}: this grid has {} start contexts",
+                self.contexts.len()
+            ))
+        })?;
+        let (r, c) = if (r0, c0) == (r1, c1) {
+            (r0, c0)
+        } else {
+            (rng.random_range(r0..=r1), rng.random_range(c0..=c1))
+        };
+        Ok(WorldState::Cell(r * self.grid.cols + c))
+    }
+
+    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
+        let &WorldState::Cell(cell) = state;
+        if cell >= self.grid.num_cells() {
+            return Err(WorldError::Other(format!(
+                "cell {cell} is outside this {}-cell grid",
+                self.grid.num_cells()
+            )));
         }
-        let (r, c) = (cell / self.grid.cols, cell % self.grid.cols);
-        Ok(Outcome {
-            effect: cell,
-            reward: self.reward[cell],
-            point: self.grid.center(r, c),
-        })
+        Ok(cell)
+    }
+
+    fn execute_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<(Outcome, WorldState), WorldError> {
+        super::check_command(&self.space, command)?;
+        let cell = self.bin_state(from)?;
+        let end = self.run_from(cell, command);
+        Ok((self.outcome(end), WorldState::Cell(end)))
     }
 }

@@ -56,6 +56,16 @@ pub struct Outcome {
     pub point: [f64; 2],
 }
 
+/// A state of a world from which a command can start
+/// ([`World::execute_from`]), and the state a command leaves: what a
+/// closed loop carries from one command to the next.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub enum WorldState {
+    /// A grid cell, `row * cols + col`.
+    Cell(usize),
+}
+
 /// A failure while executing a command.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum WorldError {
@@ -165,6 +175,49 @@ pub trait World {
         }
     }
 
+    /// The number of start contexts (1 unless the scene declares several;
+    /// see [`draw_start`](World::draw_start)).
+    fn num_contexts(&self) -> usize {
+        1
+    }
+
+    /// The start state of context `context` (`< num_contexts()`), drawn
+    /// with `rng` when the context is a range of states. The default, for
+    /// worlds that do not expose their states, is an error.
+    fn draw_start(
+        &self,
+        _context: usize,
+        _rng: &mut crate::rng::SessionRng,
+    ) -> Result<WorldState, WorldError> {
+        Err(WorldError::Other(
+            "this world has no states to start from (World::draw_start)".into(),
+        ))
+    }
+
+    /// The bin of a state (the effect a command ending there has): what a
+    /// closed loop observes between commands. The default is an error.
+    fn bin_state(&self, _state: &WorldState) -> Result<usize, WorldError> {
+        Err(WorldError::Other(
+            "this world cannot bin a state (World::bin_state)".into(),
+        ))
+    }
+
+    /// Executes `command` open loop from the state `from` and returns its
+    /// outcome and the terminal state, from which the next command of a
+    /// closed loop continues exactly: executing `c1` from `s`, then `c2`
+    /// from the state it left, gives the terminal state of one continued
+    /// execution of `c1` then `c2`. The default, for worlds that do not
+    /// expose their states, is an error.
+    fn execute_from(
+        &mut self,
+        _from: &WorldState,
+        _command: &Command,
+    ) -> Result<(Outcome, WorldState), WorldError> {
+        Err(WorldError::Other(
+            "this world cannot execute from a given state (World::execute_from)".into(),
+        ))
+    }
+
     /// Under a mirror symmetry: the command whose outcome, through
     /// [`mirror_outcome`](World::mirror_outcome), is `command`'s (its
     /// mirror image), when the world simulates that one in its place.
@@ -253,5 +306,25 @@ impl<W: World + ?Sized> World for Box<W> {
     }
     fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
         (**self).mirror_outcome(outcome)
+    }
+    fn num_contexts(&self) -> usize {
+        (**self).num_contexts()
+    }
+    fn draw_start(
+        &self,
+        context: usize,
+        rng: &mut crate::rng::SessionRng,
+    ) -> Result<WorldState, WorldError> {
+        (**self).draw_start(context, rng)
+    }
+    fn execute_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<(Outcome, WorldState), WorldError> {
+        (**self).execute_from(from, command)
+    }
+    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
+        (**self).bin_state(state)
     }
 }

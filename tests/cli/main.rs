@@ -10,6 +10,7 @@ mod chromium;
 mod commands;
 mod compare;
 mod console_escapes;
+mod contexts;
 mod robustness_round3;
 mod scene_check;
 mod scene_commands;

@@ -9,6 +9,7 @@ mod common;
 mod bad_scenes;
 mod baselines;
 mod consistency;
+mod contexts;
 mod drives;
 mod edge_cases;
 mod effects;

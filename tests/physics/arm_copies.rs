@@ -12,10 +12,7 @@ use e3d::scene::WorldSpec;
 use e3d::{Command, Outcome, PhysicsWorld, Scene, World};
 
 fn world(scene: &Scene, copies: usize) -> PhysicsWorld {
-    match &scene.world {
-        WorldSpec::Physics(p) => PhysicsWorld::with_copies(scene, p, copies),
-        _ => unreachable!("a physics scene"),
-    }
+    scene.as_physics().expect("a physics scene").world(copies)
 }
 
 fn same_bits(a: &Outcome, b: &Outcome) -> bool {
@@ -24,11 +21,11 @@ fn same_bits(a: &Outcome, b: &Outcome) -> bool {
 
 /// arm7 without its mirror symmetry: every command simulated as given.
 fn arm7() -> Scene {
-    let mut scene = Scene::builtin("arm7").unwrap();
-    if let WorldSpec::Physics(p) = &mut scene.world {
+    let mut spec = Scene::builtin("arm7").unwrap().into_spec();
+    if let WorldSpec::Physics(p) = &mut spec.world {
         p.symmetry = None;
     }
-    scene
+    spec.validate().unwrap()
 }
 
 /// `n` arm7 commands spread over the space (a fixed odd stride).

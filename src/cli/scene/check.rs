@@ -199,6 +199,17 @@ fn print_world(scene: &Scene) {
                 g.start,
                 g.walls.len()
             );
+            if !g.contexts.is_empty() {
+                let list: Vec<String> = g
+                    .contexts
+                    .iter()
+                    .map(|c| match c.to {
+                        Some(to) => format!("{} {:?}..={to:?}", c.name, c.cell),
+                        None => format!("{} {:?}", c.name, c.cell),
+                    })
+                    .collect();
+                outln!("start contexts ({}): {}", g.contexts.len(), list.join(", "));
+            }
         }
         WorldSpec::Physics(p) => {
             for w in p.warnings() {

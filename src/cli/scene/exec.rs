@@ -294,7 +294,52 @@ pub(super) fn exec_cache(
 /// in input order, flushed, before the next chunk. The first command that
 /// does not parse or that blows up ends the output, after the rows before
 /// it, with its error.
+/// `scene exec` on a grid with start contexts: every command from every
+/// start cell of every context, one row each, with the context's name and
+/// the start cell (a rectangle's every cell, in row order).
+fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<String>) -> CliResult {
+    let space = scene.command_space();
+    let mut world = scene.build();
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(1024);
+    let reader_space = space.clone();
+    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let mut out = String::from("context,start_row,start_col,command,effect,reward,x,y\n");
+    let mut stdout = std::io::stdout().lock();
+    for read in rx {
+        let c = read?;
+        for ctx in &grid.contexts {
+            let ((r0, r1), (c0, c1)) = ctx.bounds();
+            for r in r0..=r1 {
+                for col in c0..=c1 {
+                    let from = e3d::WorldState::Cell(r * grid.cols + col);
+                    let (o, _) = world.execute_from(&from, &c).map_err(world_error)?;
+                    let _ = writeln!(
+                        out,
+                        "{},{r},{col},{},{},{},{},{}",
+                        ctx.name,
+                        space.format(&c),
+                        o.effect,
+                        o.reward,
+                        o.point[0],
+                        o.point[1]
+                    );
+                }
+            }
+        }
+        stdout
+            .write_all(out.as_bytes())
+            .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+        out.clear();
+    }
+    Ok(())
+}
+
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
+    if let WorldSpec::Grid(g) = &scene.world {
+        if !g.contexts.is_empty() {
+            return exec_contexts(scene, g, commands);
+        }
+    }
     let space = scene.command_space();
     let (table, memo) = match table_cache {
         Some(d) => exec_cache(scene, d),

@@ -1,0 +1,101 @@
+//! `e3d closed-loop`: closed-loop E3D against open-loop E3D, Q-learning and
+//! the uniform policy on equal budgets of moves
+//! ([`e3d::report::closed_loop`]).
+
+use super::output::{prepare_out, write_file};
+use super::{load_scene, CliError, CliResult};
+use crate::cli::console::{errln, outln};
+use clap::Args;
+use e3d::report::closed_loop::{markdown, run_comparison, ClosedLoopConfig};
+use e3d::Params;
+use std::path::PathBuf;
+
+/// Arguments of `e3d closed-loop`.
+#[derive(Args, Debug)]
+pub struct ClosedLoopArgs {
+    /// A grid scene whose command is `Repeat` (path or built-in name).
+    #[arg(default_value = "four_rooms")]
+    pub scene: String,
+    /// Episodes per session.
+    #[arg(long, default_value_t = 5000, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub episodes: u64,
+    /// Sessions per arm (seeds 0..N).
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    pub seeds: u64,
+    /// Commands per episode of the closed-loop arms (K); the open-loop arms
+    /// take one command of K times the scene's moves.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=64))]
+    pub commands: u64,
+    /// Inverse temperature of the E3D arms.
+    #[arg(long, default_value_t = Params::TASK2.beta)]
+    pub beta: f64,
+    /// Discount of Q_ref and of Q-learning, in [0, 1].
+    #[arg(long, default_value_t = e3d::learner::ClosedLoopE3d::GAMMA)]
+    pub gamma: f64,
+    /// Threads (default: every core).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=4096))]
+    pub threads: Option<u16>,
+    /// Also write closed_loop.md and sessions.csv in this folder.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Replace the files of an earlier comparison in --out.
+    #[arg(long)]
+    pub force: bool,
+}
+
+pub fn run(a: ClosedLoopArgs) -> CliResult {
+    let scene = load_scene(&a.scene)?;
+    let params = Params {
+        beta: a.beta,
+        ..Params::TASK2
+    };
+    params.validate().map_err(CliError::input)?;
+    let cfg = ClosedLoopConfig {
+        episodes: a.episodes as usize,
+        seeds: a.seeds,
+        commands: a.commands as usize,
+        params,
+        gamma: a.gamma,
+    };
+    if let Some(out) = &a.out {
+        prepare_out(out, &["closed_loop.md", "sessions.csv"], a.force)?;
+    }
+    let threads = a
+        .threads
+        .map(usize::from)
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let moves = scene.num_slots() * cfg.commands;
+    errln!(
+        "closed-loop: {} on {}, {} sessions per arm of {} episodes of {moves} moves, {threads} thread{}",
+        scene.name,
+        if cfg.commands == 1 { "1 command".to_string() } else { format!("{} commands", cfg.commands) },
+        cfg.seeds,
+        cfg.episodes,
+        if threads == 1 { "" } else { "s" }
+    );
+    let sessions = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| CliError::input(format!("cannot start the threads: {e}")))?
+        .install(|| run_comparison(&scene, &cfg))
+        .map_err(CliError::input)?;
+    let md = markdown(&sessions, &cfg, moves);
+    if let Some(out) = &a.out {
+        let mut csv = String::from("arm,seed,first_reward_episode,cumulative_reward,late_reward\n");
+        for s in &sessions {
+            csv.push_str(&format!(
+                "{},{},{},{},{}\n",
+                s.arm,
+                s.seed,
+                s.first_reward_episode
+                    .map_or(String::new(), |e| e.to_string()),
+                s.cumulative_reward,
+                s.late_reward
+            ));
+        }
+        write_file(&out.join("closed_loop.md"), md.as_bytes())?;
+        write_file(&out.join("sessions.csv"), csv.as_bytes())?;
+    }
+    outln!("{md}");
+    Ok(())
+}

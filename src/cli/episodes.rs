@@ -1,0 +1,203 @@
+//! `e3d run` on episodes: a scene with start contexts, or `--commands K`
+//! commands per episode (closed loop), with a contextual learner.
+
+use super::output::write_file;
+use super::session::{ObserveArg, RunArgs};
+use super::{CliError, CliResult};
+use crate::cli::console::{errln, outln};
+use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
+use e3d::learner::{ClosedLoopE3d, ContextTargets, ContextualLearner, QLearning};
+use e3d::scene::WorldSpec;
+use e3d::{LearnerKind, Params, Scene, Target};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Whether `e3d run` runs episodes: start contexts, several commands per
+/// episode, or a closed-loop learner.
+pub fn wanted(a: &RunArgs, scene: &Scene) -> bool {
+    let contexts = matches!(&scene.world, WorldSpec::Grid(g) if !g.contexts.is_empty());
+    contexts || a.commands > 1 || a.closed_loop || a.observe.is_some()
+}
+
+#[derive(Serialize)]
+struct OneSession {
+    seed: u64,
+    episodes: usize,
+    first_reward_episode: Option<usize>,
+    cumulative_reward: f64,
+    /// Per start context, the normalised entropy of the episodes' terminal
+    /// cells.
+    entropy_per_start: Vec<f64>,
+}
+
+#[derive(Serialize)]
+struct Summary<'a> {
+    e3d_version: &'static str,
+    scene: &'a str,
+    learner: &'a str,
+    #[serde(flatten)]
+    params: Params,
+    use_reward: bool,
+    commands_per_episode: usize,
+    observe: &'static str,
+    gamma: Option<f64>,
+    start_contexts: Vec<String>,
+    sessions: Vec<OneSession>,
+}
+
+pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
+    let WorldSpec::Grid(grid) = &scene.world else {
+        return Err(CliError::input(format!(
+            "scene `{}`: start contexts and --commands, --observe, --closed-loop run on grid scenes only",
+            scene.name
+        )));
+    };
+    let observe = match a.observe {
+        Some(ObserveArg::Start) => Observe::StartContext,
+        Some(ObserveArg::State) => Observe::State,
+        Some(ObserveArg::Blind) => Observe::Blind,
+        None if a.commands > 1 || a.closed_loop => Observe::State,
+        None => Observe::StartContext,
+    };
+    let space = scene.command_space();
+    let num_effects = scene.num_effects();
+    let world = scene.build();
+    let cfg = |seed| EpisodeConfig {
+        episodes: a.trials as usize,
+        commands: a.commands as usize,
+        seed,
+        use_reward: !a.no_reward,
+        observe,
+    };
+    let contexts = cfg(0).num_contexts(&world);
+    let shared = ContextTargets::Shared(Target::Uniform);
+    let make = || -> Result<Box<dyn ContextualLearner + Send>, CliError> {
+        match (a.closed_loop, a.learner) {
+            (false, kind) => kind.make_contextual(&params, &space, num_effects, contexts, &shared),
+            (true, LearnerKind::E3d) => ClosedLoopE3d::new(
+                &space,
+                num_effects,
+                contexts,
+                &params,
+                &shared,
+                a.gamma,
+            )
+            .map(|l| Box::new(l) as _),
+            (true, LearnerKind::Egreedy) => QLearning::new(&space, contexts, &params, a.gamma)
+                .map(|l| Box::new(l) as _),
+            (true, other) => {
+                return Err(CliError::input(format!(
+                    "--closed-loop takes --learner e3d (closed-loop E3D) or egreedy (Q-learning), not {other}"
+                )))
+            }
+        }
+        .map_err(CliError::input)
+    };
+    let name = make()?.name().to_string();
+    errln!(
+        "episodes: {} sessions of {} episodes of {} command{}, learner {name}, {} contexts observed as {}",
+        seeds.len(),
+        a.trials,
+        a.commands,
+        if a.commands == 1 { "" } else { "s" },
+        contexts,
+        match observe {
+            Observe::State => "the current cell",
+            Observe::StartContext => "the start context",
+            Observe::Blind => "nothing (one policy)",
+        }
+    );
+    let records: Vec<EpisodeRecord> = seeds
+        .par_iter()
+        .map(|&seed| {
+            let mut world = scene.build();
+            let mut learner = make()?;
+            run_episodes(&mut world, &mut learner, &cfg(seed)).map_err(CliError::simulation)
+        })
+        .collect::<Result<_, _>>()?;
+    let starts = grid.num_contexts();
+    let names: Vec<String> = if grid.contexts.is_empty() {
+        vec!["start".into()]
+    } else {
+        grid.contexts.iter().map(|c| c.name.clone()).collect()
+    };
+    let sessions: Vec<OneSession> = records
+        .iter()
+        .zip(seeds)
+        .map(|(r, &seed)| OneSession {
+            seed,
+            episodes: r.episodes(),
+            first_reward_episode: r.first_reward_episode(),
+            cumulative_reward: r.cumulative_reward(),
+            entropy_per_start: r.entropy_per_start(starts),
+        })
+        .collect();
+    outln!(
+        "scene {}, learner {name}, {} episodes of {} command(s), seeds {}..={}",
+        scene.name,
+        a.trials,
+        a.commands,
+        seeds[0],
+        seeds[seeds.len() - 1]
+    );
+    for s in &sessions {
+        let ent: Vec<String> = names
+            .iter()
+            .zip(&s.entropy_per_start)
+            .map(|(n, h)| format!("{n} {h:.4}"))
+            .collect();
+        outln!(
+            "seed {}: first reward at episode {}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
+            s.seed,
+            s.first_reward_episode.map_or("never".to_string(), |e| e.to_string()),
+            s.cumulative_reward,
+            ent.join(", ")
+        );
+    }
+    if let Some(dir) = &a.out {
+        let mut csv = String::from("session,episode,command,context,start,symbols,effect,reward\n");
+        for (i, r) in records.iter().enumerate() {
+            let k = r.commands_per_episode;
+            let n = space.num_slots();
+            for j in 0..r.effects.len() {
+                let c = e3d::Command::new(r.commands[j * n..(j + 1) * n].to_vec());
+                csv.push_str(&format!(
+                    "{i},{},{},{},{},{},{},{}\n",
+                    j / k + 1,
+                    j % k + 1,
+                    r.contexts[j],
+                    names[r.starts[j / k]],
+                    space.format(&c),
+                    r.effects[j],
+                    r.rewards[j]
+                ));
+            }
+        }
+        let summary = Summary {
+            e3d_version: env!("CARGO_PKG_VERSION"),
+            scene: &scene.name,
+            learner: &name,
+            params,
+            use_reward: !a.no_reward,
+            commands_per_episode: a.commands as usize,
+            observe: if observe == Observe::State {
+                "state"
+            } else {
+                "start"
+            },
+            gamma: a.closed_loop.then_some(a.gamma),
+            start_contexts: names,
+            sessions,
+        };
+        let mut json = serde_json::to_vec_pretty(&summary).map_err(CliError::output)?;
+        json.push(b'\n');
+        write_file(&dir.join("trials.csv"), csv.as_bytes())?;
+        write_file(&dir.join("summary.json"), &json)?;
+        outln!(
+            "wrote {} and {}",
+            dir.join("trials.csv").display(),
+            dir.join("summary.json").display()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,223 @@
+//! Episodes: start contexts and closed loops.
+//!
+//! An episode starts from a start context of the world (drawn with the
+//! session's generator when the world has several) and executes `K`
+//! commands one after another: the terminal state of command `k` is the
+//! start of command `k + 1`, continued exactly, with no reset
+//! ([`World::execute_from`]). Before each command the learner reads its
+//! context ([`Observe`]); there is no feedback within a command. With
+//! `K = 1` an episode is one trial of an open-loop session started from a
+//! context.
+
+use crate::command::Command;
+use crate::effect::normalized_entropy_over;
+use crate::learner::ContextualLearner;
+use crate::rng::SessionRng;
+use crate::world::{World, WorldError};
+use rand::{RngExt, SeedableRng};
+use serde::{Deserialize, Serialize};
+
+/// What the learner observes as its context before each command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Observe {
+    /// The index of the episode's start context (the same for every
+    /// command of the episode); a learner of [`World::num_contexts`]
+    /// contexts.
+    StartContext,
+    /// The bin of the current state ([`World::bin_state`]: on a grid, the
+    /// cell): a learner of [`World::num_effects`] contexts.
+    State,
+    /// Nothing: context 0 always, a learner of one context (the
+    /// context-blind baseline).
+    Blind,
+}
+
+/// How to run a session of episodes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeConfig {
+    /// The number of episodes.
+    pub episodes: usize,
+    /// The commands of an episode, `K >= 1`.
+    pub commands: usize,
+    /// The seed of the session's generator.
+    pub seed: u64,
+    /// Whether the learner sees the scene's reward (else 0 always).
+    pub use_reward: bool,
+    /// What the learner reads before each command.
+    pub observe: Observe,
+}
+
+impl EpisodeConfig {
+    /// The number of contexts a learner needs for `world` under this
+    /// configuration.
+    pub fn num_contexts<W: World + ?Sized>(&self, world: &W) -> usize {
+        match self.observe {
+            Observe::StartContext => world.num_contexts(),
+            Observe::State => world.num_effects(),
+            Observe::Blind => 1,
+        }
+    }
+}
+
+/// What a session of episodes recorded, command by command (`K` entries
+/// per episode).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeRecord {
+    /// The commands of an episode, `K`.
+    pub commands_per_episode: usize,
+    /// The number of effects of the world.
+    pub num_effects: usize,
+    /// The start context of each episode.
+    pub starts: Vec<usize>,
+    /// The context the learner observed before each command.
+    pub contexts: Vec<usize>,
+    /// The commands, one after another (their slots' symbol indices).
+    pub commands: Vec<u8>,
+    /// The effect of each command's terminal state.
+    pub effects: Vec<usize>,
+    /// The reward of each command: the scene's reward of the episode's
+    /// terminal state after its last command, 0 after the others (and 0
+    /// always without reward).
+    pub rewards: Vec<f64>,
+}
+
+impl EpisodeRecord {
+    /// The number of episodes recorded.
+    pub fn episodes(&self) -> usize {
+        self.starts.len()
+    }
+
+    /// The terminal effect of each episode (its last command's).
+    pub fn terminal_effects(&self) -> impl Iterator<Item = usize> + '_ {
+        self.effects
+            .iter()
+            .skip(self.commands_per_episode - 1)
+            .step_by(self.commands_per_episode)
+            .copied()
+    }
+
+    /// The reward of each episode.
+    pub fn episode_rewards(&self) -> impl Iterator<Item = f64> + '_ {
+        self.rewards
+            .chunks(self.commands_per_episode)
+            .map(|c| c.iter().sum())
+    }
+
+    /// The total reward.
+    pub fn cumulative_reward(&self) -> f64 {
+        self.episode_rewards().sum()
+    }
+
+    /// The first episode (1-based) with a reward > 0.
+    pub fn first_reward_episode(&self) -> Option<usize> {
+        self.episode_rewards().position(|r| r > 0.0).map(|i| i + 1)
+    }
+
+    /// The normalised entropy (over all `num_effects` effects) of the
+    /// terminal effects of the episodes started in each start context,
+    /// context by context (`num_contexts` entries; 0 for a context never
+    /// drawn).
+    pub fn entropy_per_start(&self, num_contexts: usize) -> Vec<f64> {
+        let mut counts = vec![vec![0.0; self.num_effects]; num_contexts];
+        for (&s, e) in self.starts.iter().zip(self.terminal_effects()) {
+            counts[s][e] += 1.0;
+        }
+        counts
+            .iter()
+            .map(|c| normalized_entropy_over(c, self.num_effects))
+            .collect()
+    }
+}
+
+/// Runs `config.episodes` episodes of `learner` on `world`.
+///
+/// Draws, in order, per episode: the start context (one integer of the
+/// session's generator, only when the world has more than one), the
+/// start state in it ([`World::draw_start`]), then each command's draws
+/// by the learner. A world of one context and `K = 1` with
+/// [`Observe::StartContext`] draws exactly what
+/// [`run_session`](crate::run_session) draws.
+///
+/// ```
+/// use e3d::episode::{run_episodes, EpisodeConfig, Observe};
+/// use e3d::learner::{ClosedLoopE3d, ContextTargets};
+/// use e3d::{Params, Scene, Target};
+/// let scene = Scene::builtin("two_rooms").unwrap();
+/// let mut world = scene.build();
+/// let cfg = EpisodeConfig { episodes: 200, commands: 2, seed: 1, use_reward: true,
+///                           observe: Observe::State };
+/// let mut l = ClosedLoopE3d::new(&scene.command_space(), 18, cfg.num_contexts(&world),
+///     &Params::TASK2, &ContextTargets::Shared(Target::Uniform), 0.9).unwrap();
+/// let rec = run_episodes(&mut world, &mut l, &cfg).unwrap();
+/// assert_eq!((rec.episodes(), rec.effects.len()), (200, 400));
+/// ```
+pub fn run_episodes<W, L>(
+    world: &mut W,
+    learner: &mut L,
+    config: &EpisodeConfig,
+) -> Result<EpisodeRecord, WorldError>
+where
+    W: World + ?Sized,
+    L: ContextualLearner + ?Sized,
+{
+    let k = config.commands;
+    if k == 0 {
+        return Err(WorldError::Other(
+            "an episode needs at least one command".into(),
+        ));
+    }
+    let needed = config.num_contexts(world);
+    if learner.num_contexts() < needed {
+        return Err(WorldError::Other(format!(
+            "the learner keeps {} contexts; this world and observation need {needed}",
+            learner.num_contexts()
+        )));
+    }
+    let num_starts = world.num_contexts();
+    let mut rec = EpisodeRecord {
+        commands_per_episode: k,
+        num_effects: world.num_effects(),
+        starts: Vec::with_capacity(config.episodes),
+        contexts: Vec::with_capacity(config.episodes * k),
+        commands: Vec::new(),
+        effects: Vec::with_capacity(config.episodes * k),
+        rewards: Vec::with_capacity(config.episodes * k),
+    };
+    let mut rng = SessionRng::seed_from_u64(config.seed);
+    let mut command: Command = world.command_space().first();
+    for _ in 0..config.episodes {
+        let start = if num_starts > 1 {
+            rng.random_range(0..num_starts)
+        } else {
+            0
+        };
+        let mut state = world.draw_start(start, &mut rng)?;
+        let mut context = match config.observe {
+            Observe::StartContext => start,
+            Observe::State => world.bin_state(&state)?,
+            Observe::Blind => 0,
+        };
+        rec.starts.push(start);
+        for i in 0..k {
+            learner.propose(context, &mut rng, &mut command);
+            let (mut outcome, next_state) = world.execute_from(&state, &command)?;
+            let last = i + 1 == k;
+            if !last || !config.use_reward {
+                outcome.reward = 0.0;
+            }
+            let next = match config.observe {
+                Observe::StartContext => start,
+                Observe::State => outcome.effect,
+                Observe::Blind => 0,
+            };
+            learner.learn(context, &command, &outcome, (!last).then_some(next));
+            rec.contexts.push(context);
+            rec.commands.extend_from_slice(&command.symbols);
+            rec.effects.push(outcome.effect);
+            rec.rewards.push(outcome.reward);
+            state = next_state;
+            context = next;
+        }
+    }
+    Ok(rec)
+}
