@@ -21,7 +21,10 @@ fn create_temp(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
             .map_or(0, |d| d.subsec_nanos());
         let tmp = dir.join(format!(".{name}.tmp-{}-{n}-{t:x}", std::process::id()));
         match OpenOptions::new().write(true).create_new(true).open(&tmp) {
-            Ok(f) => return Ok((tmp, f)),
+            Ok(f) => {
+                register_temp(&tmp);
+                return Ok((tmp, f));
+            }
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last = Some(e),
             Err(e) => return Err(e),
         }
@@ -68,7 +71,261 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     if result.is_err() {
         let _ = fs::remove_file(&tmp);
     }
+    forget_temp(&tmp);
     result
+}
+
+/// The temporary files this process made and may not have renamed or
+/// removed yet: removed by [`remove_temps`] (at the end of the command
+/// line, whatever its outcome) and on the signals that end a process
+/// ([`remove_temps_on_signals`]).
+static TEMPS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn register_temp(path: &Path) {
+    let abs = if path.is_absolute() {
+        path.to_path_buf()
+    } else {
+        std::env::current_dir().map_or_else(|_| path.to_path_buf(), |d| d.join(path))
+    };
+    TEMPS.lock().unwrap_or_else(|e| e.into_inner()).push(abs);
+}
+
+/// Says that the temporary file `path` (of [`create_temp_beside`]) was
+/// renamed into place or removed: [`remove_temps`] leaves it alone.
+pub fn forget_temp(path: &Path) {
+    let mut t = TEMPS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(i) = t.iter().rposition(|p| p.ends_with(path)) {
+        t.swap_remove(i);
+    }
+}
+
+/// Removes every temporary file this process made with
+/// [`create_temp_beside`] and still holds (not renamed into place, not
+/// forgotten); returns how many it removed. A file already renamed is
+/// gone under its temporary name, which is unique: nothing else is
+/// touched.
+pub fn remove_temps() -> usize {
+    let paths = std::mem::take(&mut *TEMPS.lock().unwrap_or_else(|e| e.into_inner()));
+    paths.iter().filter(|p| fs::remove_file(p).is_ok()).count()
+}
+
+/// The signals on which [`remove_temps_on_signals`] removes the
+/// temporary files: every signal whose default action ends the process
+/// and that can be caught. SIGINT (Ctrl-C), SIGTERM (`kill`), SIGHUP (the
+/// terminal closed), SIGQUIT (Ctrl-\\), SIGPIPE (a closed pipe, `e3d ... |
+/// head`), SIGXFSZ (`ulimit -f`), SIGXCPU (`ulimit -t`), SIGALRM, SIGUSR1
+/// and SIGUSR2. SIGKILL cannot be caught: the next run in the folder
+/// removes what it left ([`remove_stale_temps`]).
+#[cfg(unix)]
+pub const CLEANUP_SIGNALS: [libc::c_int; 10] = [
+    libc::SIGINT,
+    libc::SIGTERM,
+    libc::SIGHUP,
+    libc::SIGQUIT,
+    libc::SIGPIPE,
+    libc::SIGXFSZ,
+    libc::SIGXCPU,
+    libc::SIGALRM,
+    libc::SIGUSR1,
+    libc::SIGUSR2,
+];
+
+/// On the signals that end a process ([`CLEANUP_SIGNALS`]: Ctrl-C,
+/// SIGTERM, a closed terminal or pipe, a file size limit, ...), removes
+/// this process's temporary files ([`remove_temps`]) and then dies of the
+/// signal as it would have (the exit status says which). A signal
+/// ignored when this is called (`nohup` ignores SIGHUP) stays ignored.
+/// Unix only; a no-op elsewhere. The signal
+/// handler only writes to a pipe (what is safe in a handler); a thread
+/// does the rest. Call once, early (the `e3d` binary does).
+pub fn remove_temps_on_signals() {
+    #[cfg(unix)]
+    {
+        use std::sync::atomic::AtomicI32;
+        static PIPE_WRITE: AtomicI32 = AtomicI32::new(-1);
+        extern "C" fn on_signal(sig: libc::c_int) {
+            let fd = PIPE_WRITE.load(Ordering::Relaxed);
+            let b = sig as u8;
+            // SAFETY: write(2) is async-signal-safe; the byte is on the stack
+            unsafe {
+                libc::write(fd, (&b as *const u8).cast(), 1);
+            }
+        }
+        if PIPE_WRITE.load(Ordering::Relaxed) >= 0 {
+            return;
+        }
+        let mut fds = [0 as libc::c_int; 2];
+        // SAFETY: pipe fills the two descriptors of a valid array
+        if unsafe { libc::pipe(fds.as_mut_ptr()) } != 0 {
+            return;
+        }
+        PIPE_WRITE.store(fds[1], Ordering::Relaxed);
+        let read_fd = fds[0];
+        let spawned = std::thread::Builder::new()
+            .name("e3d-signals".into())
+            .spawn(move || loop {
+                let mut b = 0u8;
+                // SAFETY: reads one byte into a valid buffer
+                let n = unsafe { libc::read(read_fd, (&mut b as *mut u8).cast(), 1) };
+                if n == 1 {
+                    remove_temps();
+                    let sig = libc::c_int::from(b);
+                    // SAFETY: restores the default action and raises the
+                    // signal again, so that the process ends of it
+                    unsafe {
+                        libc::signal(sig, libc::SIG_DFL);
+                        libc::raise(sig);
+                    }
+                } else if n == 0 {
+                    return;
+                }
+            });
+        if spawned.is_err() {
+            return;
+        }
+        for sig in CLEANUP_SIGNALS {
+            // SAFETY: installs a handler that only calls write(2); a
+            // signal found ignored is set back to ignored at once
+            unsafe {
+                let before = libc::signal(
+                    sig,
+                    on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t,
+                );
+                if before == libc::SIG_IGN {
+                    libc::signal(sig, libc::SIG_IGN);
+                }
+            }
+        }
+    }
+}
+
+/// Removes the temporary files (`.NAME.tmp-PID-...`) in `dir` left by an
+/// e3d process that no longer runs (killed, or out of disk), and returns
+/// them. A file of a process that still runs (checked by its PID, on this
+/// machine) is kept: it may be writing into the same folder. Errors are
+/// ignored (a folder that cannot be listed holds nothing to clean).
+pub fn remove_stale_temps(dir: &Path) -> Vec<PathBuf> {
+    let mut removed = Vec::new();
+    let Ok(entries) = fs::read_dir(dir) else {
+        return removed;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if !is_temporary(&name) {
+            continue;
+        }
+        let pid = name
+            .rsplit_once(".tmp-")
+            .and_then(|(_, rest)| rest.split('-').next())
+            .and_then(|p| p.parse::<u32>().ok());
+        let Some(pid) = pid else { continue };
+        if pid == std::process::id() || process_alive(pid) {
+            continue;
+        }
+        // only a regular file or a link: never a folder
+        if e.file_type().is_ok_and(|t| !t.is_dir()) && fs::remove_file(e.path()).is_ok() {
+            removed.push(e.path());
+        }
+    }
+    removed
+}
+
+/// Whether process `pid` runs on this machine (unix: `kill(pid, 0)`;
+/// elsewhere assumed).
+fn process_alive(pid: u32) -> bool {
+    #[cfg(unix)]
+    {
+        let Ok(p) = libc::pid_t::try_from(pid) else {
+            return false;
+        };
+        // SAFETY: signal 0 only checks that the process exists
+        let r = unsafe { libc::kill(p, 0) };
+        r == 0 || io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = pid;
+        true
+    }
+}
+
+/// An exclusive lock tied to a file: `flock` on `.NAME.lock` beside it
+/// (created if needed, never through a symbolic link), held until
+/// dropped. Writers that read a file, add to it and write it back
+/// (outcome memos saved into a shared table folder) take it so that none
+/// loses another's additions. The lock file stays (removing it would let
+/// two processes lock two different files).
+#[derive(Debug)]
+pub struct FileLock {
+    #[allow(dead_code)]
+    file: File,
+}
+
+impl FileLock {
+    /// Waits for and takes the lock of `path`.
+    pub fn exclusive(path: &Path) -> io::Result<FileLock> {
+        let dir = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let name = path
+            .file_name()
+            .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
+        let lock = dir.join(format!(".{}.lock", name.to_string_lossy()));
+        let mut o = OpenOptions::new();
+        o.read(true).write(true).create(true).truncate(false);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt;
+            o.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+        }
+        let file = o.open(&lock)?;
+        if !file.metadata()?.is_file() {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("{}: not a regular file", lock.display()),
+            ));
+        }
+        #[cfg(unix)]
+        {
+            use std::os::unix::io::AsRawFd;
+            loop {
+                // SAFETY: flock on a descriptor we own
+                if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX) } == 0 {
+                    break;
+                }
+                let e = io::Error::last_os_error();
+                if e.kind() != io::ErrorKind::Interrupted {
+                    return Err(e);
+                }
+            }
+        }
+        Ok(FileLock { file })
+    }
+}
+
+/// Opens `path` for reading only if it is a regular file (a symbolic
+/// link is followed; what it leads to must be one), without blocking: a
+/// FIFO with no writer would block `open` for ever, and `/dev/zero` never
+/// ends. Anything else is an error of kind `InvalidInput`. Checked before
+/// and after opening (the file may be swapped between the two).
+pub fn open_regular(path: &Path) -> io::Result<File> {
+    let not_regular = || io::Error::new(io::ErrorKind::InvalidInput, "not a regular file");
+    if !fs::metadata(path)?.is_file() {
+        return Err(not_regular());
+    }
+    let mut o = OpenOptions::new();
+    o.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        o.custom_flags(libc::O_NONBLOCK);
+    }
+    let f = o.open(path)?;
+    if !f.metadata()?.is_file() {
+        return Err(not_regular());
+    }
+    Ok(f)
 }
 
 /// Opens an existing file for appending without following a symbolic link

@@ -81,6 +81,7 @@ pub mod rng;
 pub mod scene;
 pub mod session;
 pub mod sweep;
+pub mod text;
 pub mod world;
 
 /// The README's examples, compiled and run as doctests.

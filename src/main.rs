@@ -82,6 +82,9 @@ fn main() -> ExitCode {
         cli::console::errln!("error: standard output is closed; e3d writes its results there (redirect it to a file or to /dev/null)");
         return ExitCode::from(cli::exit::OUTPUT);
     }
+    // temporary files go on Ctrl-C and SIGTERM, and at the end whatever
+    // the outcome (an error half-way leaves none)
+    e3d::io::remove_temps_on_signals();
     let cli = Cli::parse();
     let result = match cli.command {
         Cmd::Run(a) => cli::run::run(a),
@@ -94,6 +97,7 @@ fn main() -> ExitCode {
         Cmd::Scene(a) => cli::scene::run(a),
         Cmd::Report(a) => cli::report::run(a),
     };
+    e3d::io::remove_temps();
     // what is still buffered: a failed flush is a failed write too
     let flushed = {
         use std::io::Write;

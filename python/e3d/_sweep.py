@@ -36,8 +36,25 @@ def _number(v: Any, where: str) -> str:
 def _string(v: Any, where: str) -> str:
     if not isinstance(v, str):
         v = str(v)  # a pathlib.Path
-    escaped = v.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
+    # every character RON would read otherwise is escaped: the backslash,
+    # the quote and every control character (a line feed, ESC, ...)
+    escaped = "".join(
+        "\\\\" if c == "\\"
+        else '\\"' if c == '"'
+        else f"\\u{{{ord(c):04x}}}" if ord(c) < 0x20 or 0x7F <= ord(c) < 0xA0
+        else c
+        for c in v
+    )
     return f'"{escaped}"'
+
+
+def _key(k: Any, where: str) -> str:
+    """A dict key written as a RON field name: an identifier, or refused
+    (a key such as ``"trials: 5, seed"`` would otherwise write fields of
+    its own into the text)."""
+    if isinstance(k, str) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", k):
+        return k
+    raise ValueError(f"{where}: expected a field name such as trials or beta, found the key {k!r}")
 
 
 def _identifier(v: Any, where: str) -> str:
@@ -61,7 +78,7 @@ def _values(v: Any, where: str) -> str:
             elif k == "steps":
                 fields.append(f"steps: {int(x)}")
             else:
-                fields.append(f"{k}: {_number(x, where + '.' + str(k))}")
+                fields.append(f"{_key(k, where)}: {_number(x, where + '.' + str(k))}")
         return "(" + ", ".join(fields) + ")"
     if isinstance(v, (list, tuple)) or hasattr(v, "tolist"):
         items = v.tolist() if hasattr(v, "tolist") else v
@@ -101,7 +118,7 @@ def sweep_text(sweep: Mapping[str, Any]) -> str:
         raise TypeError(f"expected a dict of a sweep's fields, found {type(sweep).__name__}")
     fields = []
     for key, v in sweep.items():
-        k = str(key)
+        k = _key(key, "sweep")
         if k in ("name", "description"):
             text = _string(v, k)
         elif k == "scenes":
@@ -113,7 +130,7 @@ def sweep_text(sweep: Mapping[str, Any]) -> str:
         elif k == "params":
             if not isinstance(v, Mapping):
                 raise TypeError(f"params: expected a dict of parameters, found {v!r}")
-            text = "(" + ", ".join(f"{p}: {_values(x, 'params.' + str(p))}" for p, x in v.items()) + ")"
+            text = "(" + ", ".join(f"{_key(p, 'params')}: {_values(x, 'params.' + str(p))}" for p, x in v.items()) + ")"
         elif k in ("sessions", "trials", "seed"):
             if isinstance(v, bool) or int(v) != v:
                 raise TypeError(f"{k}: expected an integer, found {v!r}")

@@ -178,3 +178,19 @@ def test_columns_are_those_of_docs_analysis(root, monkeypatch):
         "coverage", "trials_to_50_percent", "trials_to_90_percent", "failure"]
     n = len(cols["scene"])
     assert n == 32 and all(len(v) == n for v in cols.values())
+
+
+def test_dict_keys_are_field_names_and_strings_are_escaped():
+    d = {"scenes": ["two_rooms"], "learners": ["e3d"], "trials": 50}
+    # a key cannot write fields of its own into the text
+    for bad in (
+        {"trials: 5, seed": 1},
+        {"params": {"beta: 1), alpha: (": 1}},
+        {"params": {"beta": {"from: 1, to": 2}}},
+        {3: 1},
+    ):
+        with pytest.raises(ValueError, match="expected a field name"):
+            e3d.sweep_text({**d, **bad})
+    # quotes, backslashes and control characters of a string are escaped
+    text = e3d.sweep_text({**d, "name": 'a"b\\c\n\x1bz'})
+    assert '    name: "a\\"b\\\\c\\u{000a}\\u{001b}z",' in text.splitlines()

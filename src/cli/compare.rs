@@ -46,6 +46,10 @@ pub fn run(a: CompareArgs) -> CliResult {
         .threads
         .map(usize::from)
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let (threads, capped) = e3d::sweep::cap_threads(threads);
+    if let Some(w) = capped {
+        errln!("warning: {w}");
+    }
     // the reachable cells of each scene, from its outcome table: the
     // reference of the coverage measures
     let sweep = rayon::ThreadPoolBuilder::new()

@@ -1,24 +1,40 @@
 //! The command line's standard output and standard error, written through
 //! [`outln!`] and [`errln!`]: every write is checked where it is made.
 //!
-//! A write that fails ends e3d at once: with exit code 3 and
+//! A write that fails ends e3d at once, after removing the temporary
+//! files of unfinished outputs: with exit code 3 and
 //! `error: cannot write to stdout: ...` on standard error (when it can
 //! still take it) for a full device or disk (`> /dev/full`), quietly for a
 //! reader that has gone (a broken pipe, `e3d scene exec ... | head`; on
-//! Unix a closed pipe already ends e3d by SIGPIPE, as other tools).
+//! Unix e3d then ends by SIGPIPE, as other tools).
+//!
+//! Both escape control characters (all but the line feed and the tab, as
+//! [`escape_controls`](e3d::text::escape_controls) does): a path, a name
+//! or a command echoed in a message cannot drive the terminal (ESC, BEL,
+//! a carriage return), whatever the message.
 
 use std::io::Write;
 
-/// Writes `args` to standard output, or ends e3d ([`fail`]).
+/// `args` written out, with its control characters escaped.
+fn escaped(args: std::fmt::Arguments<'_>) -> String {
+    match args.as_str() {
+        Some(s) => e3d::text::escape_controls(s).into_owned(),
+        None => e3d::text::escape_controls(&args.to_string()).into_owned(),
+    }
+}
+
+/// Writes `args` to standard output (control characters escaped), or
+/// ends e3d ([`fail`]).
 pub fn out(args: std::fmt::Arguments<'_>) {
-    if let Err(e) = std::io::stdout().lock().write_fmt(args) {
+    if let Err(e) = std::io::stdout().lock().write_all(escaped(args).as_bytes()) {
         fail("stdout", &e)
     }
 }
 
-/// Writes `args` to standard error, or ends e3d ([`fail`]).
+/// Writes `args` to standard error (control characters escaped), or ends
+/// e3d ([`fail`]).
 pub fn err(args: std::fmt::Arguments<'_>) {
-    if let Err(e) = std::io::stderr().lock().write_fmt(args) {
+    if let Err(e) = std::io::stderr().lock().write_all(escaped(args).as_bytes()) {
         fail("stderr", &e)
     }
 }
@@ -27,7 +43,18 @@ pub fn err(args: std::fmt::Arguments<'_>) {
 /// broken pipe, else with `error: cannot write to STREAM: E`; exit code 3
 /// ([`exit::OUTPUT`](super::exit::OUTPUT)) either way.
 pub fn fail(stream: &str, e: &std::io::Error) -> ! {
-    if e.kind() != std::io::ErrorKind::BrokenPipe {
+    // the temporary files of unfinished outputs go first (`> /dev/full`
+    // used to leave a hidden `.trials.csv.tmp-*` in `run --out`'s folder)
+    e3d::io::remove_temps();
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        // end of the closed pipe's signal, as other Unix tools do
+        #[cfg(unix)]
+        // SAFETY: restores SIGPIPE's default action and raises it
+        unsafe {
+            libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+            libc::raise(libc::SIGPIPE);
+        }
+    } else {
         // standard error may be the one that fails: then nothing can be said
         let _ = writeln!(std::io::stderr(), "error: cannot write to {stream}: {e}");
     }

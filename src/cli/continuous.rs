@@ -13,6 +13,8 @@ use serde::Serialize;
 struct Summary<'a> {
     e3d_version: &'static str,
     scene: &'a str,
+    /// The scene's file, content hash and effect grid (what `report` draws on).
+    scene_record: e3d::report::run_scene::SceneRecord,
     learner: &'static str,
     #[serde(flatten)]
     params: Params,
@@ -138,6 +140,7 @@ fn write_out(
     let summary = Summary {
         e3d_version: env!("CARGO_PKG_VERSION"),
         scene: &scene.name,
+        scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
         learner: a.learner.as_str(),
         params,
         use_reward: !a.no_reward,

@@ -69,10 +69,19 @@ pub fn load_scene(name: &str) -> Result<e3d::Scene, CliError> {
     e3d::Scene::resolve(name).map_err(CliError::input)
 }
 
-/// Prints the error and returns its exit code.
+/// The most characters of an error message printed; the rest is cut,
+/// with its length said (a message echoing a huge input stays readable).
+const MAX_MESSAGE_CHARS: usize = 4096;
+
+/// Prints `e` to standard error and gives its exit code.
 pub fn report_error(e: &CliError) -> ExitCode {
     use std::io::Write;
     // a standard error that cannot be written does not change the code
-    let _ = writeln!(std::io::stderr(), "error: {}", e.message);
+    // a name or a command with ESC or BEL in it must not drive the terminal
+    let _ = writeln!(
+        std::io::stderr(),
+        "error: {}",
+        e3d::text::escape_controls(&e3d::text::cut(&e.message, MAX_MESSAGE_CHARS))
+    );
     ExitCode::from(e.code)
 }

@@ -20,8 +20,12 @@ pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
             )));
         }
     }
-    std::fs::create_dir_all(dir)
-        .map_err(|e| CliError::output(format!("{}: cannot create the folder: {e}", dir.display())))
+    std::fs::create_dir_all(dir).map_err(|e| {
+        CliError::output(format!("{}: cannot create the folder: {e}", dir.display()))
+    })?;
+    // what a run killed while writing here left (a full disk, SIGKILL)
+    e3d::io::remove_stale_temps(dir);
+    Ok(())
 }
 
 /// Writes a file whole or not at all, as a CLI error.

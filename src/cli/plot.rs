@@ -52,14 +52,19 @@ pub fn run(a: PlotArgs) -> CliResult {
         })
         .collect::<Result<Vec<_>, _>>()?;
     let path = a.dir.join(e3d::sweep::SUMMARY);
-    let text = std::fs::read_to_string(&path).map_err(|e| {
+    // a regular file of bounded size: a FIFO or a link to /dev/zero is refused
+    let text = e3d::text::read_own_file(
+        &path,
+        e3d::report::sweep_plot::MAX_SUMMARY_CSV_BYTES,
+        "summary.csv",
+    )
+    .map_err(|e| {
         CliError::input(format!(
-            "{}: cannot read: {e}; expected the --out folder of a finished `e3d sweep` or `e3d merge`",
-            path.display()
+            "{e}; expected the --out folder of a finished `e3d sweep` or `e3d merge`"
         ))
     })?;
     let summary =
-        Summary::parse(&text).map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
+        Summary::parse(&text).map_err(|e| CliError::input(format!("{}/{e}", a.dir.display())))?;
     let svg = plot(
         &summary,
         &PlotSpec {

@@ -2,10 +2,13 @@
 
 use super::output::write_file;
 use super::{CliError, CliResult};
-use crate::cli::console::outln;
+use crate::cli::console::{errln, outln};
 use clap::Args;
-use e3d::report::html::{parse_trials, run_page, sweep_page};
+use e3d::report::html::{parse_trials, run_page_with_note, sweep_page, MAX_TRIALS_CSV_BYTES};
+use e3d::report::run_scene::{SceneRecord, MAX_SUMMARY_JSON_BYTES};
 use e3d::report::sweep_plot::Summary;
+use e3d::report::sweep_plot::MAX_SUMMARY_CSV_BYTES;
+use e3d::sweep::MAX_RESULTS_BYTES;
 use e3d::sweep::{RESULTS, SUMMARY, SWEEP_COPY};
 use std::path::{Path, PathBuf};
 
@@ -36,9 +39,9 @@ pub fn run(a: ReportArgs) -> CliResult {
             }
         )));
     }
-    let (page, what) = if dir.join("trials.csv").is_file() {
+    let (page, what) = if dir.join("trials.csv").exists() {
         (run_report(dir)?, "run")
-    } else if dir.join(SUMMARY).is_file() {
+    } else if dir.join(SUMMARY).exists() {
         (sweep_report(dir)?, "sweep")
     } else if dir.join(RESULTS).is_file() {
         return Err(CliError::input(format!(
@@ -57,49 +60,100 @@ pub fn run(a: ReportArgs) -> CliResult {
     Ok(())
 }
 
-fn read(dir: &Path, name: &str) -> Result<String, CliError> {
-    let p = dir.join(name);
-    std::fs::read_to_string(&p).map_err(|e| CliError::input(format!("{}: {e}", p.display())))
+/// Reads one of the folder's files: a regular file of at most `max`
+/// bytes (a FIFO or a link to /dev/zero is refused, never read).
+fn read(dir: &Path, name: &str, max: u64) -> Result<String, CliError> {
+    e3d::text::read_own_file(&dir.join(name), max, name).map_err(CliError::input)
 }
 
-/// The page of a run folder.
+/// The page of a run folder. The effects are drawn on the grid that
+/// summary.json records (`scene_record`), never on a grid looked up by
+/// the scene's name; without a record, on a plain grid, which the page and
+/// standard error say.
 fn run_report(dir: &Path) -> Result<String, CliError> {
-    let at = |e: String| CliError::input(format!("{}: {e}", dir.display()));
-    let trials = parse_trials(&read(dir, "trials.csv")?).map_err(at)?;
+    let trials = parse_trials(&read(dir, "trials.csv", MAX_TRIALS_CSV_BYTES)?)
+        .map_err(|e| CliError::input(format!("{}/{e}", dir.display())))?;
     if trials.is_empty() {
-        return Err(at("trials.csv has no trial".into()));
+        return Err(CliError::input(format!(
+            "{}: trials.csv has no trial",
+            dir.display()
+        )));
     }
-    let summary = read(dir, "summary.json").unwrap_or_default();
-    let scene_name = serde_json::from_str::<serde_json::Value>(&summary)
-        .ok()
+    let summary = match read(dir, "summary.json", MAX_SUMMARY_JSON_BYTES) {
+        Ok(s) => s,
+        Err(_) if !dir.join("summary.json").exists() => String::new(),
+        Err(e) => return Err(e),
+    };
+    let json = serde_json::from_str::<serde_json::Value>(&summary).ok();
+    let scene_name = json
+        .as_ref()
         .and_then(|v| v.get("scene").and_then(|s| s.as_str()).map(String::from));
-    let (rows, cols) = match scene_name.as_deref().map(super::load_scene) {
-        Some(Ok(s)) => {
-            let g = s.effect_grid();
-            (g.rows, g.cols)
+    let record = json.as_ref().and_then(|v| v.get("scene_record")).map(|r| {
+        serde_json::from_value::<SceneRecord>(r.clone())
+            .map_err(|e| e.to_string())
+            .and_then(|r| r.check().map(|()| r))
+    });
+    let max_effect = trials.iter().map(|t| t.effect).max().unwrap_or(0);
+    let (rows, cols, note) = match record {
+        Some(Ok(r)) => {
+            let g = &r.effect_grid;
+            if max_effect >= g.num_cells() {
+                let (k, t) = trials
+                    .iter()
+                    .enumerate()
+                    .find(|(_, t)| t.effect >= g.num_cells())
+                    .expect("the largest effect");
+                return Err(CliError::input(format!(
+                    "{}/trials.csv: trial {}: effect {} is outside the {} x {} effect grid of scene `{}` ({}) that summary.json records; the folder mixes two runs",
+                    dir.display(),
+                    k + 1,
+                    t.effect,
+                    g.rows,
+                    g.cols,
+                    e3d::text::echo(&r.name),
+                    e3d::text::echo(&r.path)
+                )));
+            }
+            (g.rows, g.cols, String::new())
         }
-        _ => (1, trials.iter().map(|t| t.effect).max().unwrap_or(0) + 1),
+        other => {
+            let why = match other {
+                Some(Err(e)) => format!("its scene record is damaged ({})", e3d::text::echo(&e)),
+                _ => "it records no scene grid (written by an older e3d, or missing)".to_string(),
+            };
+            // the effects seen, on a near-square grid
+            let n = max_effect + 1;
+            let cols = (n as f64).sqrt().ceil().max(1.0) as usize;
+            let note = format!(
+                "summary.json: {why}; the effects are drawn on a plain {} x {cols} grid in index order, not on the scene's grid",
+                n.div_ceil(cols)
+            );
+            errln!("warning: {}: {note}", dir.display());
+            (n.div_ceil(cols), cols, note)
+        }
     };
     let title = format!(
         "e3d run: {}",
         scene_name.unwrap_or_else(|| dir.display().to_string())
     );
-    Ok(run_page(&title, &summary, &trials, rows, cols))
+    Ok(run_page_with_note(
+        &title, &note, &summary, &trials, rows, cols,
+    ))
 }
 
 /// The page of a sweep folder: summary.csv, the failures of results.csv
 /// (if it is there), sweep.ron.
 fn sweep_report(dir: &Path) -> Result<String, CliError> {
     let path = dir.join(SUMMARY);
-    let summary = Summary::parse(&read(dir, SUMMARY)?)
-        .map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
+    let summary = Summary::parse(&read(dir, SUMMARY, MAX_SUMMARY_CSV_BYTES)?)
+        .map_err(|e| CliError::input(format!("{}/{e}", dir.display())))?;
     if summary.rows.is_empty() {
         return Err(CliError::input(format!(
             "{}: no cell to report",
             path.display()
         )));
     }
-    let failures: Vec<String> = std::fs::read_to_string(dir.join(RESULTS))
+    let failures: Vec<String> = read(dir, RESULTS, MAX_RESULTS_BYTES)
         .map(|text| {
             text.lines()
                 .skip(1)
@@ -109,7 +163,7 @@ fn sweep_report(dir: &Path) -> Result<String, CliError> {
                 .collect()
         })
         .unwrap_or_default();
-    let ron = read(dir, SWEEP_COPY).unwrap_or_default();
+    let ron = read(dir, SWEEP_COPY, e3d::scene::MAX_FILE_BYTES).unwrap_or_default();
     let name = e3d::sweep::SweepSpec::parse(&ron, SWEEP_COPY)
         .ok()
         .map(|s| s.name)

@@ -4,10 +4,11 @@ use super::output::{prepare_out, write_file};
 use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCsv};
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
+use e3d::report::run_scene::SceneRecord;
 use e3d::world::{Executor, Workload};
 use e3d::{
     policy_effect_distribution, run_sessions, ExecutionPlan, Metrics, Params, RunningMetrics,
-    SessionConfig, Target,
+    Scene, SessionConfig, Target,
 };
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -17,6 +18,8 @@ use std::path::{Path, PathBuf};
 struct Summary<'a> {
     e3d_version: &'static str,
     scene: &'a str,
+    /// The scene's file, content hash and effect grid (what `report` draws on).
+    scene_record: SceneRecord,
     learner: &'static str,
     #[serde(flatten)]
     params: Params,
@@ -37,6 +40,7 @@ struct Summary<'a> {
 struct SessionsSummary<'a> {
     e3d_version: &'static str,
     scene: &'a str,
+    scene_record: SceneRecord,
     learner: &'static str,
     #[serde(flatten)]
     params: Params,
@@ -160,7 +164,7 @@ pub fn run(a: RunArgs) -> CliResult {
             exact,
             plan: exec.plan(),
         };
-        write_out(dir, &a, &scene.name, params, done, &files)?;
+        write_out(dir, &a, &scene, params, done, &files)?;
     }
     Ok(())
 }
@@ -194,7 +198,7 @@ struct Finished<'a> {
 fn write_out(
     dir: &Path,
     a: &RunArgs,
-    scene: &str,
+    scene: &Scene,
     params: Params,
     done: Finished<'_>,
     files: &[PathBuf],
@@ -203,7 +207,8 @@ fn write_out(
     let mut json = if sessions == 1 {
         serde_json::to_vec_pretty(&Summary {
             e3d_version: env!("CARGO_PKG_VERSION"),
-            scene,
+            scene: &scene.name,
+            scene_record: SceneRecord::new(scene, &a.scene),
             learner: a.learner.as_str(),
             params,
             seed: a.seed,
@@ -216,7 +221,8 @@ fn write_out(
     } else {
         serde_json::to_vec_pretty(&SessionsSummary {
             e3d_version: env!("CARGO_PKG_VERSION"),
-            scene,
+            scene: &scene.name,
+            scene_record: SceneRecord::new(scene, &a.scene),
             learner: a.learner.as_str(),
             params,
             use_reward: !a.no_reward,

@@ -69,6 +69,10 @@ pub fn run(a: SweepArgs) -> CliResult {
             .map(|n| n.get())
             .unwrap_or(1)
     });
+    let (threads, capped) = e3d::sweep::cap_threads(threads);
+    if let Some(w) = capped {
+        errln!("warning: {w}");
+    }
     let shard = a.shard.unwrap_or(Shard::ALL);
     let total = sweep.num_sessions();
     let plan = format!(

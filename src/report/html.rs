@@ -26,22 +26,36 @@ pub struct TrialRow {
     pub values: Vec<f64>,
 }
 
+/// The largest `trials.csv` [`parse_trials`] is given by `e3d report`
+/// (256 MiB, some 8 million trials): the page keeps every trial in memory.
+pub const MAX_TRIALS_CSV_BYTES: u64 = 256 << 20;
+
 /// Reads `trials.csv` (with or without a leading `session` column).
+///
+/// Every value is checked, and a bad one is refused with
+/// `trials.csv:LINE:COL`, its column and what was expected: an effect is
+/// a whole number below [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS), a
+/// reward and a command's values finite numbers, a command at most
+/// [`MAX_SLOTS`](crate::command::MAX_SLOTS) symbols (or values). Linear
+/// in the length of the text; nothing is sized by a value read.
 pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, String> {
+    use crate::command::MAX_SLOTS;
+    use crate::effect::MAX_EFFECTS;
+    use crate::text::{csv_fields, echo, parse_finite};
+    const FILE: &str = "trials.csv";
     let mut lines = csv.lines();
-    let header: Vec<&str> = lines
-        .next()
-        .ok_or("trials.csv is empty")?
-        .split(',')
+    let header: Vec<String> = csv_fields(lines.next().ok_or("trials.csv is empty")?)
+        .into_iter()
+        .map(|(f, _)| f.trim().to_string())
         .collect();
     let col = |name: &str| {
         header
             .iter()
-            .position(|h| h.trim() == name)
+            .position(|h| h == name)
             .ok_or(format!("trials.csv has no `{name}` column"))
     };
     // a run of continuous commands writes a quoted `values` column
-    let continuous = header.iter().any(|h| h.trim() == "values");
+    let continuous = header.iter().any(|h| h == "values");
     let (c, e, r) = (
         col(if continuous { "values" } else { "command" })?,
         col("effect")?,
@@ -52,48 +66,64 @@ pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, String> {
         if line.trim().is_empty() {
             continue;
         }
-        let bad = || format!("trials.csv line {}: `{line}`", k + 2);
-        // the quoted values (which hold commas) stand as one field
-        let (plain, values) = match continuous {
-            false => (line.to_string(), Vec::new()),
-            true => {
-                let (pre, rest) = line.split_once('"').ok_or_else(bad)?;
-                let (quoted, post) = rest.split_once('"').ok_or_else(bad)?;
-                let values = quoted
-                    .split(',')
-                    .map(|v| v.trim().parse::<f64>().map_err(|_| bad()))
-                    .collect::<Result<Vec<f64>, String>>()?;
-                (format!("{pre}V{post}"), values)
+        let n = k + 2;
+        let f = csv_fields(line);
+        if f.len() != header.len() {
+            return Err(format!(
+                "{FILE}:{n}:1: {} fields, expected {} ({}): `{}`",
+                f.len(),
+                header.len(),
+                header.join(","),
+                echo(line)
+            ));
+        }
+        let (command, at) = (&f[c].0, f[c].1);
+        let (values, command) = if continuous {
+            let mut values = Vec::new();
+            for v in command.split(',') {
+                if values.len() == MAX_SLOTS {
+                    return Err(format!(
+                        "{FILE}:{n}:{at}: column `values`: expected at most {MAX_SLOTS} values"
+                    ));
+                }
+                values.push(parse_finite(v, FILE, n, at, "values")?);
             }
+            (values, String::new())
+        } else {
+            if command.chars().nth(MAX_SLOTS).is_some() {
+                return Err(format!(
+                    "{FILE}:{n}:{at}: column `command`: expected at most {MAX_SLOTS} symbols, found `{}`",
+                    echo(command)
+                ));
+            }
+            (Vec::new(), command.to_string())
         };
-        let f: Vec<&str> = plain.split(',').collect();
+        let effect = f[e]
+            .0
+            .trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|&v| v < MAX_EFFECTS)
+            .ok_or_else(|| {
+                format!(
+                    "{FILE}:{n}:{}: column `effect`: expected a whole number below {MAX_EFFECTS}, found `{}`",
+                    f[e].1,
+                    echo(&f[e].0)
+                )
+            })?;
+        let reward = parse_finite(&f[r].0, FILE, n, f[r].1, "reward")?;
         rows.push(TrialRow {
-            command: match continuous {
-                false => f.get(c).ok_or_else(bad)?.to_string(),
-                true => String::new(),
-            },
+            command,
             values,
-            effect: f
-                .get(e)
-                .ok_or_else(bad)?
-                .trim()
-                .parse()
-                .map_err(|_| bad())?,
-            reward: f
-                .get(r)
-                .ok_or_else(bad)?
-                .trim()
-                .parse()
-                .map_err(|_| bad())?,
+            effect,
+            reward,
         });
     }
     Ok(rows)
 }
 
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
+fn esc(s: &str) -> std::borrow::Cow<'_, str> {
+    crate::text::xml_escape(s)
 }
 
 /// A heat map of the share of `trials` ending in each of `rows x cols`
@@ -194,7 +224,23 @@ pub fn run_page(
     rows: usize,
     cols: usize,
 ) -> String {
+    run_page_with_note(title, "", summary, trials, rows, cols)
+}
+
+/// [`run_page`] with `note` shown under the title (empty: none), for
+/// example why the effects are not drawn on the scene's grid.
+pub fn run_page_with_note(
+    title: &str,
+    note: &str,
+    summary: &str,
+    trials: &[TrialRow],
+    rows: usize,
+    cols: usize,
+) -> String {
     let mut body = String::new();
+    if !note.is_empty() {
+        let _ = writeln!(body, "<p class=\"note\"><strong>{}</strong></p>", esc(note));
+    }
     let n = trials.len();
     let tenth = (n / 10).max(1).min(n);
     body.push_str("<h2>Effects</h2>\n<div class=\"row\">\n");
@@ -250,37 +296,35 @@ pub fn run_page(
             &[("sd", PALETTE[0], sds), ("mean |value|", PALETTE[1], mags)],
         );
     }
-    let slots = trials
-        .iter()
-        .map(|t| t.command.chars().count())
-        .max()
-        .unwrap_or(0);
+    // each command's symbols once (a command holds at most 64), then per
+    // slot one pass over the trials: linear in the trials
+    let symbols_of: Vec<Vec<char>> = trials.iter().map(|t| t.command.chars().collect()).collect();
+    let slots = symbols_of.iter().map(Vec::len).max().unwrap_or(0);
     for s in 0..slots {
-        let mut symbols: Vec<char> = trials
+        let mut symbols: Vec<char> = symbols_of
             .iter()
-            .filter_map(|t| t.command.chars().nth(s))
+            .filter_map(|c| c.get(s).copied())
             .collect();
         symbols.sort_unstable();
         symbols.dedup();
-        let series: Vec<(String, &str, Vec<f64>)> = symbols
+        let mut ys = vec![Vec::new(); symbols.len()];
+        for w in symbols_of.chunks(size) {
+            let mut counts = vec![0usize; symbols.len()];
+            for c in w {
+                if let Some(k) = c.get(s).and_then(|x| symbols.binary_search(x).ok()) {
+                    counts[k] += 1;
+                }
+            }
+            for (y, c) in ys.iter_mut().zip(counts) {
+                y.push(c as f64 / w.len() as f64);
+            }
+        }
+        let names: Vec<String> = symbols.iter().map(char::to_string).collect();
+        let refs: Vec<(&str, &str, Vec<f64>)> = names
             .iter()
+            .zip(ys)
             .enumerate()
-            .map(|(k, &sym)| {
-                let ys = trials
-                    .chunks(size)
-                    .map(|w| {
-                        w.iter()
-                            .filter(|t| t.command.chars().nth(s) == Some(sym))
-                            .count() as f64
-                            / w.len() as f64
-                    })
-                    .collect();
-                (sym.to_string(), PALETTE[k % PALETTE.len()], ys)
-            })
-            .collect();
-        let refs: Vec<(&str, &str, Vec<f64>)> = series
-            .iter()
-            .map(|(a, b, c)| (a.as_str(), *b, c.clone()))
+            .map(|(k, (a, ys))| (a.as_str(), PALETTE[k % PALETTE.len()], ys))
             .collect();
         line_chart(
             &mut body,

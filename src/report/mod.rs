@@ -5,6 +5,7 @@
 //!   sessions and summarised (what `e3d reproduce` prints and draws);
 //! - [`scene_svg`]: pictures of scenes, with a command's path;
 //! - [`motion_svg`]: a command's rollout as an animated SVG or HTML page;
+//! - [`run_scene`]: what a run folder records about its scene (its grid);
 //! - [`sweep_plot`]: line plots and heat maps of a sweep's summary;
 //! - [`drives`]: every drive on the canonical scenes, as a table and a
 //!   figure (what `e3d compare` writes).
@@ -17,6 +18,7 @@ pub mod html;
 pub mod motion_svg;
 #[cfg(feature = "plots")]
 pub mod paper;
+pub mod run_scene;
 pub mod scene_svg;
 #[cfg(feature = "plots")]
 pub mod sweep_plot;

@@ -2,7 +2,9 @@
 //! before the failure is placed in a file ([`SceneSpec::validate`],
 //! [`Scene::parse`](super::Scene::parse)).
 
-use super::{printable_symbol, shorthand, template, CommandSpec, Invalid, SceneSpec, WorldSpec};
+use super::{
+    printable_symbol, shorthand, template, CommandSpec, Invalid, SceneSpec, WorldSpec, MAX_REWARD,
+};
 use crate::command::{MAX_ALPHABET, MAX_SLOTS};
 
 impl SceneSpec {
@@ -12,6 +14,7 @@ impl SceneSpec {
         if self.name.trim().is_empty() {
             return Err(Invalid::at("name", None, "a non-empty name"));
         }
+        crate::text::check_name(&self.name).map_err(|e| Invalid::at("name", None, &e))?;
         let n = self.slots().count();
         if let Some(declared) = self.slots {
             if declared != n {
@@ -128,7 +131,7 @@ impl SceneSpec {
                         "symbol",
                         None,
                         &format!(
-                            "a printable symbol other than ',' (commands are written as strings): not whitespace, a control, format (zero-width) or combining character, found U+{:04X}",
+                            "a printable symbol other than ',' and '\"' (commands are written as strings and CSV fields): not whitespace, a control, format (zero-width) or combining character, found U+{:04X}",
                             u32::from(s.symbol)
                         ),
                     )
@@ -152,8 +155,15 @@ impl SceneSpec {
             WorldSpec::Physics(p) => p.validate(self)?,
         }
         let grid = self.effect_grid();
-        if !self.reward.value.is_finite() {
-            return Err(Invalid::at("value", None, "a finite reward value"));
+        if !(self.reward.value.is_finite() && self.reward.value.abs() <= MAX_REWARD) {
+            return Err(Invalid::at(
+                "value",
+                None,
+                &format!(
+                    "a finite reward value of at most {MAX_REWARD:e} in magnitude (a cumulative reward over 10^8 trials stays finite), found {}",
+                    self.reward.value
+                ),
+            ));
         }
         for &(r, c) in &self.reward.cells {
             if r >= grid.rows || c >= grid.cols {

@@ -315,8 +315,16 @@ impl SceneError {
 
 /// A known name close to `found`, as `" (did you mean `x`?)"`, or "".
 pub fn did_you_mean(found: &str, known: &[&str]) -> String {
+    // a suggestion is within a few edits; names past 64 characters get
+    // none, so that the edit distance (quadratic) stays cheap on a
+    // 200,000-character name
+    const LONGEST: usize = 64;
+    if found.chars().nth(LONGEST).is_some() {
+        return String::new();
+    }
     let best = known
         .iter()
+        .filter(|k| k.chars().nth(LONGEST).is_none())
         .map(|k| (edit_distance(&found.to_lowercase(), &k.to_lowercase()), *k))
         .min();
     match best {

@@ -567,14 +567,21 @@ pub(crate) fn prepare_text<'a>(
 }
 
 /// Whether `c` can stand for a symbol in a written command: it shows as
-/// one visible character. Refused: whitespace, `,`, control characters
+/// one visible character. Refused: whitespace, `,` and `"` (commands are
+/// CSV fields, written unquoted), control characters
 /// (BEL), and what has no width of its own, format characters (U+200B, a
 /// zero-width space) and combining marks (U+0301), which would join the
 /// symbol before them.
 pub fn printable_symbol(c: char) -> bool {
     use unicode_width::UnicodeWidthChar;
-    !(c.is_whitespace() || c.is_control() || c == ',') && c.width().is_some_and(|w| w > 0)
+    !(c.is_whitespace() || c.is_control() || c == ',' || c == '"')
+        && c.width().is_some_and(|w| w > 0)
 }
+
+/// The largest reward value a scene may give, in magnitude (1e12): a
+/// cumulative reward over the most trials a run or sweep allows (10^8)
+/// stays far from overflowing, so no metric is infinite.
+pub const MAX_REWARD: f64 = 1e12;
 
 /// The largest scene or sweep file read, in bytes (16 MiB): the shipped
 /// scenes hold a few kB; anything larger is a wrong path.

@@ -27,6 +27,11 @@ use std::time::{Duration, Instant};
 
 const MAGIC: &str = "# e3d sweep journal v1";
 
+/// The largest journal read (4 GiB): a line per session, a few hundred
+/// bytes each, and a sweep holds at most
+/// [`MAX_SESSIONS`](super::MAX_SESSIONS) sessions.
+pub const MAX_JOURNAL_BYTES: u64 = 4 << 30;
+
 /// The first lines of a journal: which sweep and which shard it belongs to.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct JournalHeader {
@@ -165,7 +170,8 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
             path.display()
         )));
     }
-    let bytes = std::fs::read(path).map_err(io_err(path))?;
+    let bytes = crate::text::read_own_bytes(path, MAX_JOURNAL_BYTES, "sweep journal")
+        .map_err(|e| SweepError::Output(format!("{e}; choose another --out")))?;
     let mut lines = bytes.split_inclusive(|&b| b == b'\n');
     let mut header_line = |n: usize| -> Result<String, SweepError> {
         match lines.next() {
@@ -215,9 +221,37 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
     };
     let mut valid_len = header_len;
     let mut rows = BTreeMap::new();
-    for line in lines {
+    let width = header.columns.split(',').count();
+    let metrics = super::KEY_COLUMNS.len()..width.saturating_sub(1);
+    let names: Vec<&str> = header.columns.split(',').collect();
+    for (k, line) in lines.enumerate() {
         let Some(entry) = parse_line(line) else { break };
         let (index, row) = entry;
+        // a line that passes its checksum was written whole; its values
+        // must still be what e3d writes (a resealed line with `inf` would
+        // end as an infinite summary)
+        let n = k + 4;
+        let fields = row.split(',').count();
+        if fields != width {
+            return Err(corrupt(
+                path,
+                &format!("line {n}: {fields} fields, expected {width} (`# columns=`)"),
+            ));
+        }
+        // the column of the row's first field in the line: checksum,
+        // space, index, comma
+        let mut col = 16 + 1 + index.to_string().len() + 1 + 1;
+        for (j, v) in row.split(',').enumerate() {
+            if metrics.contains(&j) && !v.is_empty() {
+                crate::text::parse_finite(v, &path.display().to_string(), n, col, names[j])
+                    .map_err(|e| {
+                        SweepError::Output(format!(
+                            "{e}; the journal was edited: choose another --out"
+                        ))
+                    })?;
+            }
+            col += v.chars().count() + 1;
+        }
         if let Some(old) = rows.get(&index) {
             if *old != row {
                 return Err(corrupt(

@@ -101,9 +101,10 @@ pub use factory::{
 };
 pub use plan::{format_number, Cell, ParseShardError, SessionSpec, Shard, Sweep};
 pub use results::{
-    merge, DirReport, SessionResult, JOURNAL, RESULTS, SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,
+    merge, DirReport, SessionResult, JOURNAL, MAX_RESULTS_BYTES, PHYSICS_FINGERPRINT, RESULTS,
+    SUMMARY, SWEEP_COPY, VERSION, VERSION_FILE,
 };
-pub use run::DirOptions;
+pub use run::{cap_threads, max_threads, DirOptions, THREADS_PER_CORE};
 pub use spec::{
     MetricSpec, ParamValues, Scale, SweepSpec, Values, FIXED_PARAM_NAMES, MAX_SESSIONS, MAX_STEPS,
     MAX_TRIALS,

@@ -70,8 +70,22 @@ pub struct DirReport {
     pub ran: usize,
 }
 
-/// The e3d version written into output folders.
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+/// The e3d version written into output folders and into every outcome
+/// table's key: the crate's version and [`PHYSICS_FINGERPRINT`]
+/// (`0.1.0+physics.1a2b3c4d`), so that a sweep folder or a table cache
+/// made by a build whose physics differs is not reused.
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    "+physics.",
+    env!("E3D_PHYSICS_FINGERPRINT")
+);
+
+/// A hash (8 hex digits) of the code that decides what a command does,
+/// computed when e3d is built (`build.rs`): the physics and grid worlds,
+/// the physics scene checks and shorthands, the effect binning (their text
+/// without whitespace), and the versions of Rapier, parry, nalgebra and
+/// glam in Cargo.lock. Any change to them changes it.
+pub const PHYSICS_FINGERPRINT: &str = env!("E3D_PHYSICS_FINGERPRINT");
 /// The journal's file name in an output folder.
 pub const JOURNAL: &str = "journal.txt";
 /// The copy of the sweep file in an output folder.
@@ -80,6 +94,10 @@ pub const SWEEP_COPY: &str = "sweep.ron";
 pub const VERSION_FILE: &str = "version.txt";
 /// The per-session results in an output folder.
 pub const RESULTS: &str = "results.csv";
+/// The largest `results.csv` `e3d report` reads (1 GiB: a few hundred
+/// bytes a session, and a sweep holds at most
+/// [`MAX_SESSIONS`](super::MAX_SESSIONS)).
+pub const MAX_RESULTS_BYTES: u64 = 1 << 30;
 /// The per-cell summary in an output folder.
 pub const SUMMARY: &str = "summary.csv";
 
@@ -143,10 +161,12 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
             )));
         }
         let read = journal::read(&jp)?;
-        let sweep_copy =
-            std::fs::read(dir.join(SWEEP_COPY)).map_err(io_err(&dir.join(SWEEP_COPY)))?;
-        let version =
-            std::fs::read(dir.join(VERSION_FILE)).map_err(io_err(&dir.join(VERSION_FILE)))?;
+        let own = |name: &str| {
+            crate::text::read_own_bytes(&dir.join(name), crate::scene::MAX_FILE_BYTES, name)
+                .map_err(|e| SweepError::Output(e.to_string()))
+        };
+        let sweep_copy = own(SWEEP_COPY)?;
+        let version = own(VERSION_FILE)?;
         let h = &read.header;
         match &first {
             None => first = Some((h.clone(), sweep_copy, version)),
@@ -221,6 +241,8 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
             h0.shard.n
         )));
     }
+    // what a killed merge left (`.summary.csv.tmp-*`) does not count
+    crate::io::remove_stale_temps(out);
     if out.exists()
         && (!out.is_dir()
             || std::fs::read_dir(out)

@@ -193,8 +193,14 @@ impl OutcomeMemo {
     /// Writes the kept outcomes as `scene`'s partial table file at `path`
     /// (whole or not at all), first taking in what the file holds now (so
     /// that runs sharing a folder add to each other's outcomes); returns
-    /// the number of outcomes written.
+    /// the number of outcomes written. Runs saving into the same file
+    /// take turns ([`FileLock`](crate::io::FileLock) on it), so that none
+    /// loses what another added between its read and its write.
     pub fn save(&self, path: &std::path::Path, scene: &crate::Scene) -> std::io::Result<usize> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)?;
+        }
+        let _turn = crate::io::FileLock::exclusive(path)?;
         if let Ok(super::CachedOutcomes::Partial(e)) = super::OutcomeTable::read_file(path, scene) {
             self.extend(e);
         }

@@ -13,6 +13,7 @@ mod drives;
 mod edge_cases;
 mod effects;
 mod every_scene;
+mod fuzz_outputs;
 mod fuzz_scenes;
 mod fuzz_sweeps;
 mod grid;

@@ -88,7 +88,7 @@ two_rooms,uniform,false,,,,,,2,0,0.7,0.02,0.6,0.8,,,,\n";
         assert!(page.contains(">0.8303 ± 0.02721</td>"));
         assert!(page.contains("5 cells, 10 sessions (1 failed), 2 metrics"));
         assert!(page.contains("<li>the simulation blew up</li>"));
-        assert!(page.contains("<pre>Sweep(name: \"t\")</pre>"));
+        assert!(page.contains("<pre>Sweep(name: &quot;t&quot;)</pre>"));
     }
 
     #[test]

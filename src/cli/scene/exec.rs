@@ -5,11 +5,11 @@ use super::simulate::{
 };
 use crate::cli::console::errln;
 use crate::cli::{progress, CliError, CliResult};
-use e3d::scene::Scene;
+use e3d::scene::{Scene, WorldSpec};
 use e3d::world::{PhysicsScene, PhysicsWorld};
 use e3d::{Command, CommandSpace, OutcomeTable, World, WorldError};
 use std::fmt::Write as _;
-use std::io::{BufRead, Write as _};
+use std::io::Write as _;
 use std::path::Path;
 use std::sync::mpsc::SyncSender;
 use std::sync::Mutex;
@@ -33,11 +33,22 @@ pub(super) fn read_commands(space: &CommandSpace, commands: &[String], tx: &Sync
             }
             continue;
         }
-        for (k, line) in std::io::stdin().lock().lines().enumerate() {
-            let r = match line {
+        // one line at a time, each at most MAX_LINE_BYTES in memory
+        // (standard input without a line feed, such as /dev/zero, is never
+        // read whole)
+        let mut stdin = std::io::stdin().lock();
+        for k in 0.. {
+            use e3d::text::{read_line_bounded, Line, MAX_LINE_BYTES};
+            let r = match read_line_bounded(&mut stdin, MAX_LINE_BYTES) {
+                Ok(Line::End) => break,
                 Err(e) => Err(CliError::input(format!("stdin line {}: {e}", k + 1))),
-                Ok(l) if l.trim().is_empty() => continue,
-                Ok(l) => space
+                Ok(Line::TooLong(start, _)) => Err(CliError::input(format!(
+                    "stdin line {}: a line of more than {MAX_LINE_BYTES} bytes; expected a command, found `{}`",
+                    k + 1,
+                    e3d::text::echo(&start)
+                ))),
+                Ok(Line::Line(l)) if l.trim().is_empty() => continue,
+                Ok(Line::Line(l)) => space
                     .parse(l.trim())
                     .map_err(|e| CliError::input(format!("stdin line {}: {e}", k + 1))),
             };
@@ -84,11 +95,25 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
             }
             for r in rx {
                 let c = r?;
-                let m = world.motion(&c).map_err(world_error)?;
-                p.add(1);
                 let text = space.format(&c);
-                m.write_csv(&mut file, Some(&text), first)
-                    .map_err(out_err)?;
+                // frames go to the file as they are computed (a long
+                // command's motion is never held whole)
+                if first {
+                    header_only(scene)
+                        .write_csv(&mut file, Some(&text), true)
+                        .map_err(out_err)?;
+                }
+                let mut written = Ok(());
+                let m = world
+                    .motion_each(&c, &mut |k, f| {
+                        if written.is_ok() {
+                            written =
+                                e3d::world::Motion::write_csv_row(&mut file, Some(&text), k, &f);
+                        }
+                    })
+                    .map_err(world_error)?;
+                written.map_err(out_err)?;
+                p.add(1);
                 let o = m.outcome;
                 let mut row = String::new();
                 if first {
@@ -115,6 +140,27 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// A motion of `scene` without frames: what writes the trace's header.
+fn header_only(scene: &Scene) -> e3d::world::Motion {
+    let (bodies, joints) = match &scene.world {
+        WorldSpec::Physics(p) => (
+            p.bodies.iter().map(|b| b.name.clone()).collect(),
+            p.joints.iter().map(|j| j.name.clone()).collect(),
+        ),
+        WorldSpec::Grid(_) => (Vec::new(), Vec::new()),
+    };
+    e3d::world::Motion {
+        bodies,
+        joints,
+        frames: Vec::new(),
+        outcome: e3d::Outcome {
+            effect: 0,
+            reward: 0.0,
+            point: [0.0; 2],
+        },
+    }
 }
 
 /// How `e3d scene exec` executes a chunk of commands; it keeps its worlds
@@ -260,7 +306,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let threads = rayon::current_num_threads();
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
     let copies = match &scene.world {
-        e3d::scene::WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
+        WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
         _ => 1,
     };
     let mut cost_said = table.is_some()

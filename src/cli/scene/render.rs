@@ -46,14 +46,24 @@ pub(super) fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliRe
             )
         }
         Some(mut w) => {
-            let motion = w.motion(&c).map_err(world_error)?;
+            // only the frames drawn are kept, as they are computed
+            let total = scene.steps_per_command().unwrap_or(0) + 1;
+            let keep = thin(total, MAX_FRAMES);
+            let mut frames = Vec::with_capacity(keep.len());
+            let mut motion = w
+                .motion_each(&c, &mut |k, f| {
+                    if keep.binary_search(&k).is_ok() {
+                        frames.push(f);
+                    }
+                })
+                .map_err(world_error)?;
+            motion.frames = frames;
             let svg =
                 motion_svg(scene, &cmd, &motion).map_err(|e| CliError::input(e.to_string()))?;
             (
                 svg,
                 format!(
-                    "{} of {} frames, {:.3} s",
-                    thin(motion.frames.len(), MAX_FRAMES).len(),
+                    "{} of {total} frames, {:.3} s",
                     motion.frames.len(),
                     motion.frames.last().map_or(0.0, |f| f.time)
                 ),

@@ -12,7 +12,6 @@ fn read_values<'a>(
     space: &'a e3d::ValueSpace,
     commands: &'a [String],
 ) -> impl Iterator<Item = Result<Vec<f64>, CliError>> + 'a {
-    use std::io::BufRead;
     commands
         .iter()
         .flat_map(move |arg| -> Box<dyn Iterator<Item = _>> {
@@ -20,9 +19,7 @@ fn read_values<'a>(
                 return Box::new(std::iter::once(space.parse(arg).map_err(CliError::input)));
             }
             Box::new(
-                std::io::stdin()
-                    .lock()
-                    .lines()
+                e3d::text::bounded_lines(std::io::stdin().lock(), e3d::text::MAX_LINE_BYTES)
                     .enumerate()
                     .filter(|(_, l)| l.as_ref().map_or(true, |l| !l.trim().is_empty()))
                     .map(move |(k, l)| {

@@ -97,10 +97,7 @@ impl View {
 }
 
 pub(super) fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
+    crate::text::xml_escape(s).into_owned()
 }
 
 /// Draws `scene` as SVG, with `overlay` (a command's path) if given.

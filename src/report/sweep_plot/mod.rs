@@ -33,6 +33,10 @@ fn err<T>(m: impl Into<String>) -> Result<T, PlotError> {
     Err(PlotError(m.into()))
 }
 
+/// The largest `summary.csv` `e3d plot` and `e3d report` read (64 MiB;
+/// one row per cell, a few hundred bytes each).
+pub const MAX_SUMMARY_CSV_BYTES: u64 = 64 << 20;
+
 /// A sweep's `summary.csv`, parsed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Summary {
@@ -44,7 +48,14 @@ pub struct Summary {
 
 impl Summary {
     /// Parses the text of a `summary.csv`.
+    ///
+    /// The parameters and every column after the cell's (sessions,
+    /// failures, the metrics' means, sds and intervals) must be empty or a
+    /// finite number: `inf`, `NaN` or a word is refused with
+    /// `summary.csv:LINE:COL` and the column, since one infinite value
+    /// would stretch a figure's axis without end. Linear in the text.
     pub fn parse(text: &str) -> Result<Summary, PlotError> {
+        const FILE: &str = "summary.csv";
         let mut lines = text.lines();
         let columns: Vec<String> = match lines.next() {
             Some(h) => h.split(',').map(str::to_string).collect(),
@@ -60,11 +71,19 @@ impl Summary {
             let f: Vec<String> = l.split(',').map(str::to_string).collect();
             if f.len() != columns.len() {
                 return err(format!(
-                    "line {}: {} fields, expected {}",
+                    "{FILE}:{}:1: {} fields, expected {}",
                     i + 2,
                     f.len(),
                     columns.len()
                 ));
+            }
+            let mut col = 1;
+            for (k, v) in f.iter().enumerate() {
+                if k >= CELL_COLUMNS - PARAM_NAMES.len() && !v.is_empty() {
+                    crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
+                        .map_err(PlotError)?;
+                }
+                col += v.chars().count() + 1;
             }
             rows.push(f);
         }
@@ -107,6 +126,12 @@ pub struct PlotSpec {
 /// more. Heat map (`y` given): the mean of the metric in each (x, y) cell;
 /// the other columns must not vary (select with `filters`).
 pub fn plot(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
+    // plotters escapes `<` and `&` but not control characters, which a
+    // hand-edited summary may hold
+    draw(summary, spec).map(crate::text::xml_forbidden_escaped)
+}
+
+fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
     let metrics = summary.metrics();
     if !metrics.contains(&spec.metric.as_str()) {
         return err(format!(
@@ -159,12 +184,17 @@ pub fn plot(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
             ));
         }
     }
+    // a summary written by e3d has the four; an edited one may not
     let col = |suffix: &str| {
-        summary
-            .col(&format!("{}_{suffix}", spec.metric))
-            .expect("the four columns of a metric")
+        let name = format!("{}_{suffix}", spec.metric);
+        summary.col(&name).ok_or_else(|| {
+            PlotError(format!(
+                "the summary has `{}_mean` but no `{name}` column; expected the columns e3d writes",
+                spec.metric
+            ))
+        })
     };
-    let (mi, lo, hi) = (col("mean"), col("ci_low"), col("ci_high"));
+    let (mi, lo, hi) = (col("mean")?, col("ci_low")?, col("ci_high")?);
     let num = |s: &str| s.parse::<f64>().ok();
     let metric = metric_label(&spec.metric);
     let mut title = match &spec.y {
@@ -304,6 +334,9 @@ fn capitalise(s: &str) -> String {
 /// inside (1-2-5), and if even that gives fewer than two, the ends.
 fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     let (a, b) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    if !(lo > 0.0 && hi.is_finite()) || b.saturating_sub(a) > 700 {
+        return vec![lo, hi];
+    }
     let inside = |v: f64| v >= lo * (1.0 - 1e-9) && v <= hi * (1.0 + 1e-9);
     let decades: Vec<f64> = (a..=b)
         .map(|k| 10f64.powi(k))
@@ -334,6 +367,11 @@ fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
         .unwrap_or(10.0 * mag);
     let first = (lo / step - 1e-9).ceil() as i64;
     let last = (hi / step + 1e-9).floor() as i64;
+    // a range that f64 cannot step through (ends too far apart, or too
+    // close for their size) gets its two ends
+    if !step.is_finite() || step <= 0.0 || last.saturating_sub(first) > 100 {
+        return vec![lo, hi];
+    }
     (first..=last)
         .map(|k| {
             let v = k as f64 * step;

@@ -88,23 +88,33 @@ impl Motion {
             writeln!(out, "{}", cols.join(","))?;
         }
         for (k, f) in self.frames.iter().enumerate() {
-            let mut row = String::new();
-            if let Some(c) = command {
-                row.push_str(c);
-                row.push(',');
-            }
-            row.push_str(&format!("{k},{}", f.time));
-            for (p, v) in f.poses.iter().zip(&f.velocities) {
-                for x in [p.position[0], p.position[1], p.angle, v[0], v[1], v[2]] {
-                    row.push_str(&format!(",{x}"));
-                }
-            }
-            for (a, w) in f.joint_angles.iter().zip(&f.joint_velocities) {
-                row.push_str(&format!(",{a},{w}"));
-            }
-            writeln!(out, "{row}")?;
+            Self::write_csv_row(&mut out, command, k, f)?;
         }
         Ok(())
+    }
+
+    /// One row of [`write_csv`](Self::write_csv): frame `k`.
+    pub fn write_csv_row(
+        mut out: impl std::io::Write,
+        command: Option<&str>,
+        k: usize,
+        f: &Frame,
+    ) -> std::io::Result<()> {
+        let mut row = String::new();
+        if let Some(c) = command {
+            row.push_str(c);
+            row.push(',');
+        }
+        row.push_str(&format!("{k},{}", f.time));
+        for (p, v) in f.poses.iter().zip(&f.velocities) {
+            for x in [p.position[0], p.position[1], p.angle, v[0], v[1], v[2]] {
+                row.push_str(&format!(",{x}"));
+            }
+        }
+        for (a, w) in f.joint_angles.iter().zip(&f.joint_velocities) {
+            row.push_str(&format!(",{a},{w}"));
+        }
+        writeln!(out, "{row}")
     }
 }
 
@@ -174,15 +184,29 @@ impl PhysicsWorld {
     /// assert!(m.frames[15].joint_angles[0] > 0.0); // joint 1 pushed by +t
     /// ```
     pub fn motion(&mut self, command: &Command) -> Result<Motion, WorldError> {
+        let mut frames = Vec::new();
+        let mut m = self.motion_each(command, &mut |_, f| frames.push(f))?;
+        m.frames = frames;
+        Ok(m)
+    }
+
+    /// [`motion`](Self::motion) frame by frame, in memory that does not
+    /// grow with the steps: `each(k, frame)` gets frame `k` (0: the
+    /// start) as soon as it is computed, and the [`Motion`] returned holds
+    /// no frame. `e3d scene exec --trace` streams frames this way, and
+    /// `e3d scene render --animate` keeps only those it draws.
+    pub fn motion_each(
+        &mut self,
+        command: &Command,
+        each: &mut dyn FnMut(usize, Frame),
+    ) -> Result<Motion, WorldError> {
         let dt = self.dt;
-        let mut frames = vec![self.frame_of(&self.pristine, 0.0)];
-        let outcome = self.run(command, false, |w| {
-            let t = frames.len() as f64 * dt;
-            frames.push(w.frame_of(&w.sets, t));
-        })?;
-        if let (Some((sym, _)), Some(_)) = (&self.mirror, self.twin(command)) {
-            let sym = *sym;
-            for f in &mut frames {
+        let mirror = match (&self.mirror, self.twin(command)) {
+            (Some((sym, _)), Some(_)) => Some(*sym),
+            _ => None,
+        };
+        let reflect = move |mut f: Frame| {
+            if let Some(sym) = mirror {
                 for (p, v) in f.poses.iter_mut().zip(&mut f.velocities) {
                     p.position = sym.reflect(p.position);
                     p.angle = sym.reflect_angle(p.angle);
@@ -194,11 +218,18 @@ impl PhysicsWorld {
                     *a = -*a;
                 }
             }
-        }
+            f
+        };
+        each(0, reflect(self.frame_of(&self.pristine, 0.0)));
+        let mut k = 0;
+        let outcome = self.run(command, false, |w| {
+            k += 1;
+            each(k, reflect(w.frame_of(&w.sets, k as f64 * dt)));
+        })?;
         Ok(Motion {
             bodies: self.body_names.clone(),
             joints: self.joint_names.clone(),
-            frames,
+            frames: Vec::new(),
             outcome,
         })
     }

@@ -41,10 +41,12 @@ impl OutcomeTable {
 
     /// The key of a scene's table: a hash of the scene's content (its
     /// canonical RON form, so comments and layout do not matter) and of
-    /// the e3d version, which changes whenever a simulation might.
+    /// [`sweep::VERSION`](crate::sweep::VERSION), the crate's version with
+    /// the fingerprint of the physics code it was built with, which
+    /// changes whenever a simulation might.
     pub fn key(scene: &Scene) -> u64 {
         let canonical = ron::to_string(scene).unwrap_or_default();
-        crate::hash::fnv1a64(format!("e3d {} {canonical}", env!("CARGO_PKG_VERSION")).as_bytes())
+        crate::hash::fnv1a64(format!("e3d {} {canonical}", crate::sweep::VERSION).as_bytes())
     }
 
     /// The file of a scene's table in the folder `dir`:
@@ -69,6 +71,7 @@ impl OutcomeTable {
     /// there (whole or not at all). The result is identical either way.
     pub fn cached(scene: &Scene, dir: &Path) -> Result<OutcomeTable, WorldError> {
         let path = Self::cache_path(scene, dir);
+        crate::io::remove_stale_temps(dir);
         if let Ok(CachedOutcomes::Full(t)) = Self::read_file(&path, scene) {
             return Ok(t);
         }
@@ -149,8 +152,27 @@ impl OutcomeTable {
     /// Reads a table file (whole or partial) written for `scene`. The error
     /// says why a file cannot be used: missing, of an older format, of
     /// another scene or e3d version, damaged (its checksum), truncated.
+    ///
+    /// The file must be a regular file (a FIFO or a link to `/dev/zero` is
+    /// refused, never read) no larger than the scene's whole table with
+    /// indices; every outcome must agree with the scene: its effect inside
+    /// the grid, its reward the scene's reward for that effect (bit for
+    /// bit), its point finite. A file resealed after an edit (the checksum
+    /// is easy to recompute) is refused as not matching the scene.
     pub fn read_file(path: &Path, scene: &Scene) -> io::Result<CachedOutcomes> {
-        let bytes = std::fs::read(path)?;
+        let most = scene
+            .command_space()
+            .num_commands()
+            .unwrap_or(u64::MAX)
+            .min(MAX_TABLE_COMMANDS)
+            .saturating_mul((RECORD + 8) as u64)
+            .saturating_add((HEADER + 8) as u64);
+        let bytes =
+            crate::text::read_own_bytes(path, most, "e3d table file").map_err(|e| match e {
+                crate::text::ReadError::Io { error, .. } => error,
+                other => io::Error::new(io::ErrorKind::InvalidData, other.to_string()),
+            })?;
+        let rewards = scene.reward_table();
         let bad = |m: &str| {
             io::Error::new(
                 io::ErrorKind::InvalidData,
@@ -190,10 +212,20 @@ impl OutcomeTable {
                 return Err(bad("an effect out of range"));
             }
             let f = |i: usize| f64::from_le_bytes(bytes[i..i + 8].try_into().expect("8 bytes"));
+            let (reward, point) = (f(at + 4), [f(at + 12), f(at + 20)]);
+            if reward.to_bits() != rewards[effect].to_bits() {
+                return Err(bad(&format!(
+                    "a reward that is not the scene's: {reward} for effect {effect}, where the scene gives {}",
+                    rewards[effect]
+                )));
+            }
+            if !point.iter().all(|v| v.is_finite()) {
+                return Err(bad("a terminal point that is not finite"));
+            }
             Ok(Outcome {
                 effect,
-                reward: f(at + 4),
-                point: [f(at + 12), f(at + 20)],
+                reward,
+                point,
             })
         };
         if full {

@@ -14,6 +14,8 @@ impl PhysicsSpec {
         if b.name.trim().is_empty() {
             return Err(Invalid::at("name", None, "a non-empty body name"));
         }
+        crate::text::check_name(&b.name)
+            .map_err(|e| Invalid::at("name", Some(&at), &format!("body: {e}")))?;
         if b.name == GROUND {
             return Err(Invalid::at(
                 "name",

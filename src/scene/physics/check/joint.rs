@@ -21,6 +21,8 @@ impl PhysicsSpec {
             if j.name.trim().is_empty() {
                 return Err(Invalid::at("name", None, "a non-empty joint name"));
             }
+            crate::text::check_name(&j.name)
+                .map_err(|e| Invalid::at("name", Some(&at), &format!("joint: {e}")))?;
             if !joint_names.insert(j.name.as_str()) {
                 return Err(Invalid {
                     nth: 1,

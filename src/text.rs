@@ -1,0 +1,563 @@
+//! Text that crosses a boundary: what e3d prints to a terminal, writes
+//! into SVG, HTML and CSV, and reads back from its own output files.
+//!
+//! - [`escape_controls`] and [`echo`]: control characters (ESC, BEL, ...)
+//!   shown as `\x1b`, so that a name or a command in a message cannot
+//!   drive the terminal; [`echo`] also cuts what it shows to
+//!   [`MAX_ECHO_CHARS`] characters.
+//! - [`xml_escape`]: the five XML-unsafe characters as entities, and the
+//!   control characters XML 1.0 forbids as `\x1b`, so that an SVG or an
+//!   HTML page stays well-formed whatever a name holds.
+//! - [`csv_field`]: a field quoted (RFC 4180) when it holds a comma, a
+//!   quote or a line break.
+//! - [`read_own_file`]: reads one of e3d's own output files (a table
+//!   cache, `journal.txt`, `sweep.ron`, `summary.csv`, `trials.csv`):
+//!   regular files only (a FIFO would block, `/dev/zero` never ends), at
+//!   most a given size, never blocking on open.
+//! - [`read_line_bounded`]: one line of a stream, at most a given length,
+//!   in memory bounded by that length whatever the stream holds.
+//! - [`parse_finite`]: a number of such a file, refused with its
+//!   `FILE:LINE:COL` when it is not a finite number.
+
+use std::borrow::Cow;
+use std::fmt::Write as _;
+use std::io::{self, BufRead, Read};
+use std::path::Path;
+
+/// The most characters of a name, a command or a line an error message
+/// shows; the rest is cut and its length said.
+pub const MAX_ECHO_CHARS: usize = 80;
+
+/// Whether `c` is a control character a terminal may act on: C0 (ESC,
+/// BEL, CR, ...), DEL and C1.
+fn is_terminal_control(c: char) -> bool {
+    c.is_control()
+}
+
+/// `s` with every control character except the line feed and the tab
+/// written as `\xHH` (or `\u{HHHH}` past 0xFF): a message printed to a
+/// terminal cannot run an escape sequence or ring its bell.
+///
+/// ```
+/// use e3d::text::escape_controls;
+/// assert_eq!(escape_controls("arm\x1b[31m\x07"), "arm\\x1b[31m\\x07");
+/// assert_eq!(escape_controls("two\nlines"), "two\nlines");
+/// ```
+pub fn escape_controls(s: &str) -> Cow<'_, str> {
+    if !s
+        .chars()
+        .any(|c| is_terminal_control(c) && c != '\n' && c != '\t')
+    {
+        return Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if is_terminal_control(c) && c != '\n' && c != '\t' {
+            push_code(&mut out, c);
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
+fn push_code(out: &mut String, c: char) {
+    let u = u32::from(c);
+    if u <= 0xff {
+        let _ = write!(out, "\\x{u:02x}");
+    } else {
+        let _ = write!(out, "\\u{{{u:04x}}}");
+    }
+}
+
+/// `s` as an error message shows it: its control characters (line breaks
+/// and tabs included) escaped as by [`escape_controls`], cut after
+/// [`MAX_ECHO_CHARS`] characters with `…` and the whole length.
+///
+/// ```
+/// use e3d::text::echo;
+/// assert_eq!(echo("a\x1bb"), "a\\x1bb");
+/// let long = "x".repeat(100_000);
+/// assert_eq!(echo(&long), format!("{}… (100000 characters)", "x".repeat(80)));
+/// ```
+pub fn echo(s: &str) -> String {
+    let mut out = String::new();
+    for (shown, c) in s.chars().enumerate() {
+        if shown == MAX_ECHO_CHARS {
+            let _ = write!(out, "… ({} characters)", s.chars().count());
+            return out;
+        }
+        if c.is_control() {
+            push_code(&mut out, c);
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// `s` cut after `max` characters with `…` and its whole length in
+/// characters; as is when shorter.
+pub fn cut(s: &str, max: usize) -> Cow<'_, str> {
+    match s.char_indices().nth(max) {
+        None => Cow::Borrowed(s),
+        Some((i, _)) => Cow::Owned(format!("{}… ({} characters)", &s[..i], s.chars().count())),
+    }
+}
+
+/// `s` safe in XML text and attribute values (SVG, HTML): `&`, `<`, `>`,
+/// `"` and `'` as entities; the control characters XML 1.0 does not allow
+/// (all of C0 but tab, line feed and carriage return) written as `\xHH`,
+/// since not even an entity may stand for them.
+///
+/// ```
+/// use e3d::text::xml_escape;
+/// assert_eq!(xml_escape("a<b & \"c\"\x1b"), "a&lt;b &amp; &quot;c&quot;\\x1b");
+/// ```
+pub fn xml_escape(s: &str) -> Cow<'_, str> {
+    let unsafe_char =
+        |c: char| matches!(c, '&' | '<' | '>' | '"' | '\'') || xml_forbidden(c) || c == '\u{7f}';
+    if !s.chars().any(unsafe_char) {
+        return Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 16);
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c if xml_forbidden(c) || c == '\u{7f}' => push_code(&mut out, c),
+            c => out.push(c),
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// `xml` (a whole SVG or HTML document) with the characters XML 1.0
+/// forbids written as `\xHH` text: for documents drawn by a library that
+/// escapes `<` and `&` but passes control characters through (plotters),
+/// which would make the document ill-formed.
+pub fn xml_forbidden_escaped(xml: String) -> String {
+    if !xml.chars().any(xml_forbidden) {
+        return xml;
+    }
+    let mut out = String::with_capacity(xml.len() + 16);
+    for c in xml.chars() {
+        if xml_forbidden(c) {
+            push_code(&mut out, c);
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// Characters XML 1.0 forbids in a document (C0 controls but tab, line
+/// feed and carriage return; the two non-characters U+FFFE and U+FFFF).
+fn xml_forbidden(c: char) -> bool {
+    (c < ' ' && !matches!(c, '\t' | '\n' | '\r')) || c == '\u{fffe}' || c == '\u{ffff}'
+}
+
+/// `s` as one CSV field (RFC 4180): as is, or between double quotes with
+/// its quotes doubled when it holds a comma, a double quote, a line feed
+/// or a carriage return.
+///
+/// ```
+/// use e3d::text::csv_field;
+/// assert_eq!(csv_field("ab"), "ab");
+/// assert_eq!(csv_field("a\"b"), "\"a\"\"b\"");
+/// assert_eq!(csv_field("a,b"), "\"a,b\"");
+/// ```
+pub fn csv_field(s: &str) -> Cow<'_, str> {
+    if s.contains([',', '"', '\n', '\r']) {
+        Cow::Owned(format!("\"{}\"", s.replace('"', "\"\"")))
+    } else {
+        Cow::Borrowed(s)
+    }
+}
+
+/// The most characters a scene, body or joint name may hold.
+pub const MAX_NAME_CHARS: usize = 200;
+
+/// Checks a name (of a scene, a body, a joint): no control character
+/// (ESC, BEL, a line break: names are printed to terminals and written
+/// into files), no `,` or `"` (a scene's name is a CSV field of a sweep's
+/// results), at most [`MAX_NAME_CHARS`] characters. The error says what
+/// is expected and what was found (escaped, cut).
+pub fn check_name(name: &str) -> Result<(), String> {
+    if let Some(c) = name
+        .chars()
+        .find(|&c| c.is_control() || c == ',' || c == '"')
+    {
+        return Err(format!(
+            "a name without control characters, ',' or '\"' (it is printed and written into CSV files), found U+{:04X} in `{}`",
+            u32::from(c),
+            echo(name)
+        ));
+    }
+    let n = name.chars().count();
+    if n > MAX_NAME_CHARS {
+        return Err(format!(
+            "a name of at most {MAX_NAME_CHARS} characters, found {n}"
+        ));
+    }
+    Ok(())
+}
+
+/// Why one of e3d's own files could not be read (see [`read_own_file`]).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReadError {
+    /// Missing, unreadable, a failed read.
+    #[error("{file}: {error}")]
+    Io {
+        /// The file.
+        file: String,
+        /// What the system said.
+        #[source]
+        error: io::Error,
+    },
+    /// A pipe, a device, a socket, a folder.
+    #[error("{file}: this is not a regular file (a folder, a pipe, a device or a socket); expected the {what} e3d wrote")]
+    NotRegularFile {
+        /// The file.
+        file: String,
+        /// What was expected there (`sweep journal`, `summary.csv`, ...).
+        what: String,
+    },
+    /// Larger than the cap.
+    #[error("{file}: holds more than {max} bytes, the most a {what} may hold here; expected the {what} e3d wrote")]
+    TooLarge {
+        /// The file.
+        file: String,
+        /// What was expected there.
+        what: String,
+        /// The cap.
+        max: u64,
+    },
+    /// Bytes that are not UTF-8 text.
+    #[error("{file}:{line}:{col}: not UTF-8 text; expected the {what} e3d wrote")]
+    NotUtf8 {
+        /// The file.
+        file: String,
+        /// What was expected there.
+        what: String,
+        /// 1-based line of the first bad byte.
+        line: usize,
+        /// 1-based column (in characters) of the first bad byte.
+        col: usize,
+    },
+}
+
+impl ReadError {
+    /// Whether the file does not exist.
+    pub fn is_not_found(&self) -> bool {
+        matches!(self, ReadError::Io { error, .. } if error.kind() == io::ErrorKind::NotFound)
+    }
+}
+
+/// Opens `path` for reading if it is a regular file
+/// ([`io::open_regular`](crate::io::open_regular)), as a [`ReadError`].
+fn open_regular(path: &Path, what: &str) -> Result<std::fs::File, ReadError> {
+    let file = path.display().to_string();
+    match crate::io::open_regular(path) {
+        Ok(f) => Ok(f),
+        Err(error) if error.kind() == io::ErrorKind::InvalidInput => {
+            Err(ReadError::NotRegularFile {
+                file,
+                what: what.to_string(),
+            })
+        }
+        Err(error) => Err(ReadError::Io { file, error }),
+    }
+}
+
+/// Reads one of e3d's own files whole, as bytes: a regular file only
+/// (never a FIFO, a device or a folder; a symbolic link to one is refused
+/// too), of at most `max` bytes (read up to `max + 1` even if it grows
+/// meanwhile). `what` names what was expected, for the messages.
+pub fn read_own_bytes(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, ReadError> {
+    let f = open_regular(path, what)?;
+    let file = path.display().to_string();
+    let too_large = || ReadError::TooLarge {
+        file: file.clone(),
+        what: what.to_string(),
+        max,
+    };
+    let len = f.metadata().map(|m| m.len()).unwrap_or(0);
+    if len > max {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::with_capacity(len as usize);
+    f.take(max.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|error| ReadError::Io {
+            file: file.clone(),
+            error,
+        })?;
+    if bytes.len() as u64 > max {
+        return Err(too_large());
+    }
+    Ok(bytes)
+}
+
+/// [`read_own_bytes`] as UTF-8 text; bytes that are not are refused with
+/// the line and column where they start.
+pub fn read_own_file(path: &Path, max: u64, what: &str) -> Result<String, ReadError> {
+    let bytes = read_own_bytes(path, max, what)?;
+    String::from_utf8(bytes).map_err(|e| {
+        let upto = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        let line = upto.iter().filter(|&&b| b == b'\n').count() + 1;
+        let start = upto.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        let col = String::from_utf8_lossy(&upto[start..]).chars().count() + 1;
+        ReadError::NotUtf8 {
+            file: path.display().to_string(),
+            what: what.to_string(),
+            line,
+            col,
+        }
+    })
+}
+
+/// The longest line e3d reads from standard input (`scene exec -`): 64
+/// KiB, far more than a command of 64 slots.
+pub const MAX_LINE_BYTES: usize = 64 << 10;
+
+/// What [`read_line_bounded`] read.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Line {
+    /// A line (without its line feed), at most the cap long.
+    Line(String),
+    /// A line longer than the cap: its first bytes (up to the cap). The
+    /// reading stopped there, in the middle of the line (a stream like
+    /// `/dev/zero` has no end to wait for); `.1` is how many bytes of it
+    /// were read (more than the cap).
+    TooLong(String, u64),
+    /// The end of the stream.
+    End,
+}
+
+/// Reads one line of `input` holding at most `max` bytes of memory,
+/// whatever the stream holds (standard input without a line feed, for
+/// example `/dev/zero`, used to be read whole). A longer line is
+/// [`Line::TooLong`], with its start, as soon as the cap is passed; bytes
+/// that are not UTF-8 are replaced by U+FFFD.
+pub fn read_line_bounded(input: &mut impl BufRead, max: usize) -> io::Result<Line> {
+    let mut kept: Vec<u8> = Vec::new();
+    let mut total: u64 = 0;
+    let mut any = false;
+    loop {
+        let buf = match input.fill_buf() {
+            Ok(b) => b,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if buf.is_empty() {
+            break;
+        }
+        any = true;
+        let (chunk, done) = match buf.iter().position(|&b| b == b'\n') {
+            Some(i) => (&buf[..i], Some(i + 1)),
+            None => (buf, None),
+        };
+        let room = max.saturating_sub(kept.len());
+        kept.extend_from_slice(&chunk[..chunk.len().min(room)]);
+        total += chunk.len() as u64;
+        let used = done.unwrap_or(buf.len());
+        input.consume(used);
+        if done.is_some() {
+            break;
+        }
+        if total > max as u64 + 1 {
+            // past the cap (and a possible CR): stop in mid-line
+            return Ok(Line::TooLong(
+                String::from_utf8_lossy(&kept).into_owned(),
+                total,
+            ));
+        }
+    }
+    if !any {
+        return Ok(Line::End);
+    }
+    if kept.last() == Some(&b'\r') && total as usize == kept.len() {
+        kept.pop();
+        total -= 1;
+    }
+    let text = String::from_utf8_lossy(&kept).into_owned();
+    Ok(if total > max as u64 {
+        Line::TooLong(text, total)
+    } else {
+        Line::Line(text)
+    })
+}
+
+/// The lines of `input` (without line feeds), each read by
+/// [`read_line_bounded`]: a line longer than `max` bytes is an error of
+/// kind `InvalidData` that says its start, and ends the lines.
+pub fn bounded_lines<R: BufRead>(
+    mut input: R,
+    max: usize,
+) -> impl Iterator<Item = io::Result<String>> {
+    let mut over = false;
+    std::iter::from_fn(move || {
+        if over {
+            return None;
+        }
+        match read_line_bounded(&mut input, max) {
+            Ok(Line::End) => None,
+            Ok(Line::Line(l)) => Some(Ok(l)),
+            Ok(Line::TooLong(start, _)) => {
+                over = true;
+                Some(Err(io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    format!(
+                        "a line of more than {max} bytes; expected a command, found `{}`",
+                        echo(&start)
+                    ),
+                )))
+            }
+            Err(e) => Some(Err(e)),
+        }
+    })
+}
+
+/// A number read from one of e3d's own files at `file:line:col`, which
+/// must be a finite number: `inf`, `NaN` and what does not parse are
+/// refused with the place, the text (cut by [`echo`]) and `what` was
+/// expected.
+///
+/// ```
+/// use e3d::text::parse_finite;
+/// assert_eq!(parse_finite("0.5", "s.csv", 2, 7, "beta"), Ok(0.5));
+/// let e = parse_finite("inf", "s.csv", 2, 7, "beta").unwrap_err();
+/// assert_eq!(e, "s.csv:2:7: column `beta`: expected a finite number, found `inf`");
+/// ```
+pub fn parse_finite(
+    text: &str,
+    file: &str,
+    line: usize,
+    col: usize,
+    what: &str,
+) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!(
+            "{file}:{line}:{col}: column `{what}`: expected a finite number, found `{}`",
+            echo(text)
+        )),
+    }
+}
+
+/// The fields of a CSV line with the 1-based column (in characters) each
+/// starts at; fields between double quotes may hold commas and doubled
+/// quotes (RFC 4180; a line break inside quotes is not supported: e3d
+/// never writes one). Linear in the line's length.
+pub fn csv_fields(line: &str) -> Vec<(Cow<'_, str>, usize)> {
+    let mut out = Vec::new();
+    let mut col = 1;
+    let mut rest = line;
+    loop {
+        let start = col;
+        if let Some(q) = rest.strip_prefix('"') {
+            // a quoted field: up to the closing quote not doubled
+            let mut value = String::new();
+            let mut chars = q.char_indices().peekable();
+            let mut end = q.len();
+            let mut used = 1;
+            while let Some((i, c)) = chars.next() {
+                used += 1;
+                if c == '"' {
+                    if chars.peek().map(|&(_, n)| n) == Some('"') {
+                        chars.next();
+                        used += 1;
+                        value.push('"');
+                        continue;
+                    }
+                    end = i + 1;
+                    break;
+                }
+                value.push(c);
+            }
+            rest = &q[end.min(q.len())..];
+            col += used;
+            // anything up to the next comma belongs to the field
+            let (tail, next) = match rest.find(',') {
+                Some(i) => (&rest[..i], Some(i)),
+                None => (rest, None),
+            };
+            value.push_str(tail);
+            col += tail.chars().count();
+            out.push((Cow::Owned(value), start));
+            match next {
+                Some(i) => {
+                    rest = &rest[i + 1..];
+                    col += 1;
+                }
+                None => return out,
+            }
+        } else {
+            match rest.find(',') {
+                Some(i) => {
+                    out.push((Cow::Borrowed(&rest[..i]), start));
+                    col += rest[..i].chars().count() + 1;
+                    rest = &rest[i + 1..];
+                }
+                None => {
+                    out.push((Cow::Borrowed(rest), start));
+                    return out;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_fields_round_trip_quoted_fields() {
+        let line = format!("{},{},x", csv_field("a\"b,c"), csv_field("d"));
+        let f: Vec<(String, usize)> = csv_fields(&line)
+            .into_iter()
+            .map(|(s, c)| (s.into_owned(), c))
+            .collect();
+        assert_eq!(
+            f,
+            vec![("a\"b,c".into(), 1), ("d".into(), 10), ("x".into(), 12)]
+        );
+        assert_eq!(csv_fields("").len(), 1);
+        assert_eq!(csv_fields("a,,b").len(), 3);
+    }
+
+    #[test]
+    fn bounded_lines_keep_at_most_the_cap() {
+        let data = vec![b'x'; 100_000];
+        let mut r = io::BufReader::with_capacity(64, &data[..]);
+        match read_line_bounded(&mut r, 10).unwrap() {
+            // stopped within a buffer of the cap
+            Line::TooLong(s, n) => assert!(s.len() == 10 && n > 11 && n <= 11 + 64, "{n}"),
+            l => panic!("{l:?}"),
+        }
+        let mut r = io::BufReader::new(&b"ab\r\ncd\n\nef"[..]);
+        assert_eq!(
+            read_line_bounded(&mut r, 10).unwrap(),
+            Line::Line("ab".into())
+        );
+        assert_eq!(
+            read_line_bounded(&mut r, 10).unwrap(),
+            Line::Line("cd".into())
+        );
+        assert_eq!(
+            read_line_bounded(&mut r, 10).unwrap(),
+            Line::Line("".into())
+        );
+        assert_eq!(
+            read_line_bounded(&mut r, 10).unwrap(),
+            Line::Line("ef".into())
+        );
+        assert_eq!(read_line_bounded(&mut r, 10).unwrap(), Line::End);
+    }
+}
