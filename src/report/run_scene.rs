@@ -37,7 +37,7 @@ pub struct SceneRecord {
 }
 
 /// The hash of a scene's content: FNV-1a (64 bits) of its canonical RON
-/// text ([`Scene::to_ron`]), so that comments and layout do not count.
+/// text ([`SceneSpec::to_ron`](crate::scene::SceneSpec::to_ron)), so that comments and layout do not count.
 pub fn content_hash(scene: &Scene) -> u64 {
     crate::sweep::fnv1a64(scene.to_ron().as_bytes())
 }

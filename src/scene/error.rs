@@ -32,7 +32,7 @@ pub struct SceneError {
 }
 
 /// What is wrong with a scene or sweep file, or with a scene built or
-/// edited in code ([`Scene::validate`](super::Scene::validate)).
+/// edited in code ([`SceneSpec::validate`](super::SceneSpec::validate)).
 ///
 /// Positions are 1-based `(line, column)` in the file's text.
 #[derive(Debug)]

@@ -14,7 +14,7 @@ pub(super) const LAST: usize = 1000;
 
 /// The metrics of a session, kept as it runs, in constant memory: effect
 /// counts, the last 1000 effects, the reward so far and at chosen trials.
-/// Its [`metrics`](Self::metrics) equal [`SessionRecord::metrics`] bit for
+/// Its [`metrics`](Self::metrics) equal [`SessionRecord::metrics`](super::SessionRecord::metrics) bit for
 /// bit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunningMetrics {
@@ -78,7 +78,7 @@ impl RunningMetrics {
     }
 
     /// The same, with the entropy over the `reachable_effects` effects
-    /// some command reaches (see [`SessionRecord::metrics_over_reachable`]).
+    /// some command reaches (see [`SessionRecord::metrics_over_reachable`](super::SessionRecord::metrics_over_reachable)).
     pub fn metrics_over_reachable(&self, target: &Target, reachable_effects: usize) -> Metrics {
         self.metrics_given(target, Some(reachable_effects))
     }
@@ -143,7 +143,7 @@ pub struct Metrics {
     pub trials: usize,
     /// The number of effects some command reaches, when it is known (an
     /// [`OutcomeTable`] knows it: [`OutcomeTable::reachable_effects`]) and
-    /// given to [`SessionRecord::metrics_over_reachable`] or
+    /// given to [`SessionRecord::metrics_over_reachable`](super::SessionRecord::metrics_over_reachable) or
     /// [`RunningMetrics::metrics_over_reachable`]; `None` otherwise.
     pub reachable_effects: Option<usize>,
     /// The entropy of the terminal effects over all trials divided by

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use std::io::{self, Write};
 
 /// What a session of continuous commands recorded, trial by trial (the
-/// twin of [`SessionRecord`], with values in place of symbols).
+/// twin of [`SessionRecord`](super::SessionRecord), with values in place of symbols).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ValueSessionRecord {
     /// The number of slots of each command.
@@ -54,7 +54,7 @@ impl ValueSessionRecord {
     }
 
     /// The session's metrics against the target `p*` (as
-    /// [`SessionRecord::metrics`]).
+    /// [`SessionRecord::metrics`](super::SessionRecord::metrics)).
     pub fn metrics(&self, target: &Target) -> Metrics {
         let t = self.trials();
         Metrics::from_counts(

@@ -351,7 +351,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let threads = rayon::current_num_threads();
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
     let copies = match &scene.world {
-        e3d::scene::WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
+        WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
         _ => 1,
     };
     let mut cost_said = table.is_some()

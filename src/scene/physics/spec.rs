@@ -462,7 +462,7 @@ impl PhysicsSpec {
     }
 
     /// Whether the world still holds shorthands (`chains`, `walls`) to
-    /// expand ([`Scene::expand`](crate::Scene::expand)); never for a
+    /// expand ([`SceneSpec::expand`](crate::SceneSpec::expand)); never for a
     /// loaded scene.
     pub fn has_shorthands(&self) -> bool {
         !(self.chains.is_empty() && self.walls.is_empty())

@@ -10,7 +10,7 @@ impl PhysicsSpec {
     /// point that starts outside the effect grid (it is binned in the
     /// nearest border cell), a dynamic body outside it, a fixed body (a
     /// wall) that neither lies in nor touches it. (Bodies overlapping at
-    /// the start are not a warning: [`Scene::validate`](crate::Scene::validate)
+    /// the start are not a warning: [`SceneSpec::validate`](crate::SceneSpec::validate)
     /// refuses them.) An effect other than one point's world cell (a
     /// joint's coordinate, an angle, a product) has no grid over the
     /// world: none of these apply to it.

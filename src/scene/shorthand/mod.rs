@@ -2,14 +2,14 @@
 //! links joined end to end) and `walls` (fixed boxes along a polyline or
 //! around a rectangular room, with door gaps).
 //!
-//! The loader expands them into plain [`BodySpec`]s and [`JointSpec`]s
+//! The loader expands them into plain [`BodySpec`](super::physics::BodySpec)s and [`JointSpec`](super::physics::JointSpec)s
 //! before any other check runs, so every check of bodies and joints
 //! applies to generated items too: a loaded scene holds only plain bodies
 //! and joints (its `chains` and `walls` are empty), which every consumer
-//! reads as before, and [`Scene::to_ron`](super::Scene::to_ron) writes
+//! reads as before, and [`Scene::to_ron`](super::SceneSpec::to_ron) writes
 //! that expanded form (what `e3d scene check --expanded` prints). A scene
 //! built in code with shorthands is expanded by
-//! [`Scene::expand`](super::Scene::expand).
+//! [`Scene::expand`](super::SceneSpec::expand).
 //!
 //! The expanded `bodies` are, in this order: every wall's boxes (walls in
 //! their order, each wall's boxes in the order described at [`WallSpec`]),

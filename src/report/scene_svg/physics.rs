@@ -1,0 +1,365 @@
+//! The picture of a physics scene: its bodies, joints, effect grid and
+//! reward.
+
+use super::*;
+
+/// The outline points of a shape at a pose (for bounds).
+pub(super) fn shape_points(shape: &ShapeSpec, pos: (f64, f64), angle: f64) -> Vec<(f64, f64)> {
+    let local: Vec<(f64, f64)> = match shape {
+        ShapeSpec::Ball { radius } => {
+            vec![
+                (-radius, -radius),
+                (*radius, *radius),
+                (-radius, *radius),
+                (*radius, -radius),
+            ]
+        }
+        ShapeSpec::Cuboid { width, height } => {
+            let (w, h) = (width / 2.0, height / 2.0);
+            vec![(-w, -h), (w, -h), (w, h), (-w, h)]
+        }
+        ShapeSpec::Capsule { a, b, radius } => vec![
+            (a.0 - radius, a.1 - radius),
+            (a.0 + radius, a.1 + radius),
+            (b.0 - radius, b.1 - radius),
+            (b.0 + radius, b.1 + radius),
+        ],
+        ShapeSpec::Segment { a, b } => vec![*a, *b],
+        ShapeSpec::Polyline { points } => points.clone(),
+    };
+    local.into_iter().map(|p| to_world(pos, angle, p)).collect()
+}
+
+/// Fill colour, stroke colour and opacity of a body.
+pub(in crate::report) struct Paint<'a>(
+    pub(in crate::report) &'a str,
+    pub(in crate::report) &'a str,
+    pub(in crate::report) f64,
+);
+
+pub(in crate::report) fn body_svg(
+    out: &mut String,
+    v: &View,
+    shape: &ShapeSpec,
+    pos: (f64, f64),
+    angle: f64,
+    paint: Paint,
+) {
+    let Paint(fill, stroke, opacity) = paint;
+    let style = format!(
+        r#"fill="{fill}" fill-opacity="{opacity}" stroke="{stroke}" stroke-opacity="{opacity}" stroke-width="1.5""#
+    );
+    match shape {
+        ShapeSpec::Ball { radius } => {
+            let _ = writeln!(
+                out,
+                r#"<circle cx="{:.2}" cy="{:.2}" r="{:.2}" {style}/>"#,
+                v.x(pos.0),
+                v.y(pos.1),
+                v.len(*radius)
+            );
+            // a tick shows the rotation
+            let t = to_world(pos, angle, (*radius, 0.0));
+            let _ = writeln!(
+                out,
+                r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{stroke}" stroke-opacity="{opacity}" stroke-width="1.2"/>"#,
+                v.x(pos.0),
+                v.y(pos.1),
+                v.x(t.0),
+                v.y(t.1)
+            );
+        }
+        ShapeSpec::Cuboid { .. } => {
+            let pts: Vec<String> = shape_points(shape, pos, angle)
+                .into_iter()
+                .map(|p| v.pt(p))
+                .collect();
+            let _ = writeln!(out, r#"<polygon points="{}" {style}/>"#, pts.join(" "));
+        }
+        ShapeSpec::Capsule { a, b, radius } => {
+            let (a, b) = (to_world(pos, angle, *a), to_world(pos, angle, *b));
+            let w = v.len(2.0 * radius);
+            // a round-capped line of the outline colour, then a narrower one
+            // of the fill colour on it
+            for (colour, width) in [(stroke, w + 3.0), (fill, w)] {
+                let _ = writeln!(
+                    out,
+                    r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{colour}" stroke-opacity="{opacity}" stroke-width="{width:.2}" stroke-linecap="round"/>"#,
+                    v.x(a.0),
+                    v.y(a.1),
+                    v.x(b.0),
+                    v.y(b.1),
+                );
+            }
+        }
+        ShapeSpec::Segment { .. } | ShapeSpec::Polyline { .. } => {
+            let pts: Vec<String> = shape_points(shape, pos, angle)
+                .into_iter()
+                .map(|p| v.pt(p))
+                .collect();
+            let _ = writeln!(
+                out,
+                r#"<polyline points="{}" fill="none" stroke="{stroke}" stroke-opacity="{opacity}" stroke-width="4" stroke-linecap="round" stroke-linejoin="round"/>"#,
+                pts.join(" ")
+            );
+        }
+    }
+}
+
+/// The fill and stroke of the bodies at their end pose.
+pub(in crate::report) const END_FILL: &str = "#f4b183";
+pub(in crate::report) const END_STROKE: &str = "#a0522d";
+
+pub(in crate::report) fn colours(kind: BodyKind) -> (&'static str, &'static str) {
+    match kind {
+        BodyKind::Fixed => ("#5b6170", "#2e323b"),
+        BodyKind::Kinematic => ("#9c7bd1", "#5a3d8f"),
+        BodyKind::Dynamic => ("#6fa8dc", "#1f4e9c"),
+    }
+}
+
+pub(super) fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> String {
+    physics_picture(scene, p, overlay, None)
+}
+
+/// The picture of a physics scene; with `animated`, the bodies at their
+/// start pose are faint and `animated` draws, after the path, what moves.
+pub(in crate::report) fn physics_picture(
+    scene: &Scene,
+    p: &PhysicsSpec,
+    overlay: Option<&Overlay>,
+    mut animated: Option<Layer>,
+) -> String {
+    // an effect that is not one point's world cell (a joint's
+    // coordinate, an angle, a product) has no cells over the world: the
+    // picture says so instead of drawing them
+    let world_cells = p.effect.world_point().is_some();
+    let (mut min, mut max) = if world_cells {
+        let g = scene.effect_grid();
+        (g.min, g.max)
+    } else {
+        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2])
+    };
+    let mut grow = |q: (f64, f64)| {
+        min = [min[0].min(q.0), min[1].min(q.1)];
+        max = [max[0].max(q.0), max[1].max(q.1)];
+    };
+    for b in &p.bodies {
+        for q in shape_points(&b.shape, b.position, b.angle) {
+            grow(q);
+        }
+    }
+    if let Some(o) = overlay {
+        for q in &o.points {
+            grow((q[0], q[1]));
+        }
+    }
+    let pad = 0.02 * (max[0] - min[0]).max(max[1] - min[1]);
+    let mut v = View::new([min[0] - pad, min[1] - pad], [max[0] + pad, max[1] + pad]);
+    let end_pose = overlay.and_then(|o| o.poses.as_ref()).is_some();
+    // bodies at their start pose, faded when a terminal pose is drawn too
+    let start_opacity = if animated.is_some() {
+        0.2
+    } else if end_pose {
+        0.35
+    } else {
+        0.9
+    };
+    let (dyn_fill, dyn_stroke) = colours(BodyKind::Dynamic);
+    let mut keys = Vec::new();
+    if p.bodies.iter().any(|b| b.kind == BodyKind::Fixed) {
+        let (f, st) = colours(BodyKind::Fixed);
+        keys.push(Key(Swatch::Fill(f, st, 0.95), "fixed body"));
+    }
+    if p.bodies.iter().any(|b| b.kind == BodyKind::Kinematic) {
+        let (f, st) = colours(BodyKind::Kinematic);
+        keys.push(Key(Swatch::Fill(f, st, start_opacity), "kinematic body"));
+    }
+    keys.push(Key(
+        Swatch::Fill(dyn_fill, dyn_stroke, start_opacity),
+        "start pose",
+    ));
+    if animated.is_some() {
+        keys.push(Key(
+            Swatch::Fill(END_FILL, END_STROKE, 0.9),
+            "moving bodies",
+        ));
+    } else if end_pose {
+        keys.push(Key(Swatch::Fill(END_FILL, END_STROKE, 0.9), "end pose"));
+    }
+    if p.joints.iter().any(|j| j.parent == GROUND) {
+        keys.push(Key(Swatch::Hinge(true), "hinge on the ground"));
+    }
+    if p.joints.iter().any(|j| j.parent != GROUND) {
+        keys.push(Key(Swatch::Hinge(false), "joint"));
+    }
+    keys.push(Key(Swatch::Dot(TRACKED), "tracked point"));
+    keys.extend(reward_keys(scene));
+    if overlay.is_some() {
+        path_keys(&mut keys, Some(TRACKED));
+    }
+    if let Some(sym) = p.symmetry {
+        keys.push(Key(
+            Swatch::Line(MIRROR, Some(MIRROR_DASH)),
+            match sym {
+                Symmetry::FlipY => "mirror line (FlipY)",
+                Symmetry::FlipX => "mirror line (FlipX)",
+            },
+        ));
+    }
+    v.legend_rows = legend_rows(&keys, v.width());
+    let mut out = String::new();
+    header(&mut out, &v, scene, overlay);
+    if world_cells {
+        effect_layer(&mut out, &v, scene, overlay);
+    } else {
+        let g = scene.effect_grid();
+        let _ = writeln!(
+            out,
+            r##"<text x="{MARGIN}" y="60" font-size="12" fill="#555">{}</text>"##,
+            esc(&format!(
+                "effect: {} ({} x {} cells, not drawn over the world; the dot and path are the first feature's body)",
+                describe_effect(p),
+                g.rows,
+                g.cols
+            ))
+        );
+    }
+    // the mirror line of a declared symmetry, across the whole picture
+    if let Some(sym) = p.symmetry {
+        let (a, b) = match sym {
+            Symmetry::FlipY => ((v.min[0], 0.0), (v.max[0], 0.0)),
+            Symmetry::FlipX => ((0.0, v.min[1]), (0.0, v.max[1])),
+        };
+        let _ = writeln!(
+            out,
+            r##"<g><title>mirror line ({sym:?}): one command of each mirror pair is simulated</title><line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{MIRROR}" stroke-width="1.2" stroke-dasharray="{MIRROR_DASH}"/></g>"##,
+            v.x(a.0),
+            v.y(a.1),
+            v.x(b.0),
+            v.y(b.1)
+        );
+    }
+    for b in &p.bodies {
+        let (fill, stroke) = colours(b.kind);
+        let op = if b.kind == BodyKind::Fixed {
+            0.95
+        } else {
+            start_opacity
+        };
+        let _ = writeln!(out, "<g><title>{}</title>", esc(&b.name));
+        body_svg(
+            &mut out,
+            &v,
+            &b.shape,
+            b.position,
+            b.angle,
+            Paint(fill, stroke, op),
+        );
+        out.push_str("</g>\n");
+    }
+    if let Some(poses) = overlay
+        .and_then(|o| o.poses.as_ref())
+        .filter(|_| animated.is_none())
+    {
+        for (b, pose) in p.bodies.iter().zip(poses) {
+            if b.kind == BodyKind::Fixed {
+                continue;
+            }
+            let _ = writeln!(out, "<g><title>{} (end)</title>", esc(&b.name));
+            body_svg(
+                &mut out,
+                &v,
+                &b.shape,
+                (pose.position[0], pose.position[1]),
+                pose.angle,
+                Paint(END_FILL, END_STROKE, 0.9),
+            );
+            out.push_str("</g>\n");
+        }
+    }
+    // joints at their start pose: a ring at the hinge; ground hinges filled
+    for j in &p.joints {
+        let at = if j.parent == GROUND {
+            j.parent_anchor
+        } else if let Some(b) = p.body(&j.parent) {
+            to_world(b.position, b.angle, j.parent_anchor)
+        } else {
+            continue;
+        };
+        let fill = if j.parent == GROUND {
+            "#2e323b"
+        } else {
+            "#ffffff"
+        };
+        let _ = writeln!(
+            out,
+            r##"<circle cx="{:.2}" cy="{:.2}" r="4" fill="{fill}" stroke="#2e323b" stroke-width="1.5"><title>{}</title></circle>"##,
+            v.x(at.0),
+            v.y(at.1),
+            esc(&j.name)
+        );
+    }
+    path_layer(&mut out, &v, overlay);
+    if let Some(draw) = animated.as_mut() {
+        draw(&mut out, &v);
+    }
+    // the tracked point at the start, over the path (inside its start ring)
+    let drawn = p.effect.drawn_point(|j| p.child_of(j));
+    if let Some((b, point)) = drawn.and_then(|(b, q)| Some((p.body(b)?, q))) {
+        let t = to_world(b.position, b.angle, point);
+        let _ = writeln!(
+            out,
+            r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="{TRACKED}"><title>tracked point</title></circle>"##,
+            v.x(t.0),
+            v.y(t.1)
+        );
+    }
+    axes(&mut out, &v, "m");
+    legend(&mut out, &v, &keys);
+    out.push_str("</svg>\n");
+    out
+}
+
+/// The effect's features in words: `joint \`pivot\` (9 bins over [-0.9, 0.9]) x ...`.
+pub fn describe_effect(p: &PhysicsSpec) -> String {
+    use crate::effect::Feature;
+    let parts: Vec<String> = p
+        .effect
+        .features()
+        .iter()
+        .map(|f| match f {
+            Feature::Point {
+                body,
+                point,
+                frame,
+                grid,
+            } => format!(
+                "point ({}, {}) of `{body}`{} ({} x {} cells over [{}, {}] x [{}, {}] m)",
+                point.0,
+                point.1,
+                frame
+                    .as_ref()
+                    .map_or(String::new(), |f| format!(" in the frame of `{f}`")),
+                grid.rows,
+                grid.cols,
+                grid.min[0],
+                grid.max[0],
+                grid.min[1],
+                grid.max[1]
+            ),
+            Feature::Joint { joint, bins, range } => {
+                let unit = p.joint(joint).map_or("", |j| j.kind.unit());
+                format!(
+                    "joint `{joint}` ({bins} bins over [{}, {}] {unit})",
+                    range.0, range.1
+                )
+            }
+            Feature::Angle { body, bins, range } => format!(
+                "angle of `{body}` ({bins} bins over [{}, {}] rad)",
+                range.0, range.1
+            ),
+        })
+        .collect();
+    parts.join(" x ")
+}
