@@ -80,10 +80,13 @@ fn exec_rows_equal_single_executes_line_for_line() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
+        // nothing on stderr but the cost line, which a loaded machine's
+        // slower calibration may bring out: no warning, no error
+        let err = String::from_utf8_lossy(&out.stderr);
         assert!(
-            out.stderr.is_empty(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+            err.lines()
+                .all(|l| l.contains(" commands so far") && l.contains("by the cost model")),
+            "{err}"
         );
         let got = String::from_utf8(out.stdout).unwrap();
         let got: Vec<&str> = got.lines().collect();
