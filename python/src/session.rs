@@ -112,6 +112,14 @@ pub(crate) fn session_args(
     if trials == 0 {
         return Err(PyValueError::new_err("trials = 0: expected at least 1"));
     }
+    // the cap of the command line and of sweeps: a session's record holds
+    // every trial, so 10^12 would exhaust memory and abort the interpreter
+    if trials > e3d::sweep::MAX_TRIALS {
+        return Err(PyValueError::new_err(format!(
+            "trials = {trials}: expected at most {} (the command line's cap)",
+            e3d::sweep::MAX_TRIALS
+        )));
+    }
     let params = Params {
         alpha,
         beta,

@@ -199,3 +199,13 @@ def test_session_rng_from_another_thread_is_no_panic():
     assert rec.trials == 50
     e3d.run_session("two_rooms", learner=Late(), trials=3)
     assert len(errors) == 3 and all("outside the propose" in str(e) for e in errors)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: e3d.run_session("two_rooms", trials=10**12),
+    lambda: e3d.run_sessions("two_rooms", trials=10**12, seeds=range(2)),
+])
+def test_trials_are_capped_as_on_the_command_line(call):
+    # 10**12 trials once aborted the interpreter (a record of every trial)
+    with pytest.raises(ValueError, match=r"^trials = 1000000000000: expected at most 100000000"):
+        call()
