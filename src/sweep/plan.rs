@@ -219,8 +219,9 @@ impl Sweep {
     /// use e3d::sweep::{Learners, Sweep, Worlds};
     /// use e3d::{LearnerKind, Scene};
     /// // the uniform policy under another name, on a scene edited in code
-    /// let mut scene = Scene::builtin("two_rooms").unwrap();
-    /// scene.name = "rooms".into();
+    /// let mut spec = Scene::builtin("two_rooms").unwrap().into_spec();
+    /// spec.name = "rooms".into();
+    /// let scene = spec.validate().unwrap();
     /// let learners = Learners::new().with("blind", &[], |p, space, n, target| {
     ///     Ok(LearnerKind::Uniform.make(p, space, n, target)?)
     /// });
