@@ -222,11 +222,7 @@ impl PyScene {
                     g.effect_of([t.0, t.1])
                 }
                 // the features' start state, binned
-                None => self
-                    .inner
-                    .physics_world()
-                    .map(|w| w.start().1)
-                    .unwrap_or(0),
+                None => self.inner.physics_world().map(|w| w.start().1).unwrap_or(0),
             },
         }
     }
