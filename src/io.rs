@@ -38,6 +38,12 @@ fn create_temp(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
 /// under that name. The caller writes it, then renames it over `path` or
 /// removes it.
 pub fn create_temp_beside(path: &Path) -> io::Result<(PathBuf, File)> {
+    let (dir, name) = folder_and_name(path)?;
+    create_temp(dir, &name)
+}
+
+/// The folder `path` sits in (`.` for a bare name) and its file name.
+fn folder_and_name(path: &Path) -> io::Result<(&Path, String)> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -45,7 +51,7 @@ pub fn create_temp_beside(path: &Path) -> io::Result<(PathBuf, File)> {
     let name = path
         .file_name()
         .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
-    create_temp(dir, &name.to_string_lossy())
+    Ok((dir, name.to_string_lossy().into_owned()))
 }
 
 /// Whether `name` is the name of a temporary file of [`write_atomic`]
@@ -264,14 +270,8 @@ pub struct FileLock {
 impl FileLock {
     /// Waits for and takes the lock of `path`.
     pub fn exclusive(path: &Path) -> io::Result<FileLock> {
-        let dir = path
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        let name = path
-            .file_name()
-            .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
-        let lock = dir.join(format!(".{}.lock", name.to_string_lossy()));
+        let (dir, name) = folder_and_name(path)?;
+        let lock = dir.join(format!(".{name}.lock"));
         let mut o = OpenOptions::new();
         o.read(true).write(true).create(true).truncate(false);
         #[cfg(unix)]
