@@ -12,6 +12,7 @@ mod commands;
 mod errors;
 mod learner;
 mod motion;
+mod outcome;
 mod picture;
 mod progress;
 mod record;
@@ -25,6 +26,7 @@ mod world;
 
 use errors::{SceneError, SimulationError};
 use motion::PyMotion;
+use outcome::{PyBatch, PyOutcome};
 use pyo3::prelude::*;
 use record::{PyBatchRecord, PyRecord};
 use rng::PyRng;
@@ -32,7 +34,7 @@ use scene::PyScene;
 use session::{run_session, run_sessions};
 use state::PyE3dLearner;
 use sweep::run_sweep;
-use world::{PyBatch, PyOutcome, PyWorld};
+use world::PyWorld;
 
 /// e3d's native module (import `e3d`, which re-exports it).
 #[pymodule]

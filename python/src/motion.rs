@@ -1,6 +1,6 @@
 //! `Motion`: the whole motion of one command (`World.trace`).
 
-use crate::world::PyOutcome;
+use crate::outcome::PyOutcome;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;

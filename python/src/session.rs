@@ -5,7 +5,7 @@ use crate::errors::{learner_names, seed_arg, seeds_arg, sessions_arg, trials_arg
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyLearner, Tap};
 use crate::progress::{watched, Throttle, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
-use crate::scene::{scene_of, PyScene};
+use crate::scene::{scene_of, target_arg, PyScene};
 use crate::state::PyE3dLearner;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
@@ -38,62 +38,6 @@ pub(crate) struct SessionArgs {
     use_reward: bool,
     /// The target `p*` (E3D's, and the metrics' `kl_to_target`).
     target: Target,
-}
-
-/// `target`: None (uniform), an array of one weight per effect, or a dict
-/// `{effect: weight}` / `{(row, col): weight}` (the cells not named weigh
-/// 0); checked as the library checks a target.
-pub(crate) fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> PyResult<Target> {
-    let Some(obj) = target.filter(|t| !t.is_none()) else {
-        return Ok(Target::Uniform);
-    };
-    let n = scene.inner.num_effects();
-    let weights: Vec<f64> = if let Ok(d) = obj.cast::<pyo3::types::PyDict>() {
-        let g = scene.inner.effect_grid();
-        let mut w = vec![0.0; n];
-        for (k, v) in d.iter() {
-            let cell = if let Ok((r, c)) = k.extract::<(usize, usize)>() {
-                (r < g.rows && c < g.cols).then_some(r * g.cols + c)
-            } else {
-                k.extract::<usize>().ok().filter(|&e| e < n)
-            };
-            let Some(e) = cell else {
-                return Err(PyValueError::new_err(format!(
-                    "target: key {} is not an effect: expected an int in [0, {n}) or a (row, col) cell of the {}x{} grid",
-                    k.repr()?,
-                    g.rows,
-                    g.cols
-                )));
-            };
-            w[e] = v.extract::<f64>().map_err(|_| {
-                PyValueError::new_err(format!(
-                    "target[{}]: expected a number",
-                    k.repr().map(|r| r.to_string()).unwrap_or_default()
-                ))
-            })?;
-        }
-        w
-    } else {
-        let np = obj.py().import("numpy")?;
-        let a = np.call_method1("asarray", (obj, "float64")).map_err(|e| {
-            PyValueError::new_err(format!(
-                "target: expected None, {n} weights (one per effect) or a dict {{effect: weight}}: {e}"
-            ))
-        })?;
-        let flat = a.call_method0("ravel")?;
-        if a.getattr("ndim")?.extract::<usize>()? != 1 {
-            return Err(PyValueError::new_err(format!(
-                "target: expected a 1-D array of {n} weights (one per effect), found shape {}",
-                a.getattr("shape")?.repr()?
-            )));
-        }
-        flat.extract()?
-    };
-    let target = Target::Weights(weights);
-    target
-        .log_probs(n)
-        .map_err(|e| PyValueError::new_err(format!("target: {e}")))?;
-    Ok(target)
 }
 
 #[allow(clippy::too_many_arguments)]

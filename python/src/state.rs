@@ -2,8 +2,7 @@
 //! the policy, the effect model), saved and loaded bit for bit, pickled,
 //! and run by `run_session(learner=...)`, which continues from it.
 
-use crate::scene::{scene_of, PyScene};
-use crate::session::target_arg;
+use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::{E3d, Learner, Params};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::PyValueError;

@@ -1,65 +1,22 @@
 //! `World`: executes a scene's commands, one or a batch, through an
-//! outcome memo; `Outcome` and `BatchOutcome`.
+//! outcome memo.
 
 use crate::commands::{commands_from, values_from};
 use crate::errors::{Fail, STOPPED};
 use crate::motion::{motion_to_py, PyMotion};
+use crate::outcome::{PyBatch, PyOutcome};
 use crate::progress::{watched, Watch};
 use crate::scene::PyScene;
 use e3d::scene::WorldSpec;
 use e3d::world::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP, TABLE_COPIES};
 use e3d::{Command, CommandSpace, Outcome, PhysicsWorld, World, WorldError};
-use numpy::{IntoPyArray, PyArray1, PyUntypedArrayMethods};
+use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::atomic::Ordering;
 use std::sync::Mutex;
-
-/// The outcome of one command: `effect` (int), `reward` (float) and the
-/// terminal point `x`, `y` (metres).
-#[pyclass(module = "e3d", name = "Outcome", frozen, get_all)]
-#[derive(Clone)]
-pub(crate) struct PyOutcome {
-    pub(crate) effect: usize,
-    pub(crate) reward: f64,
-    pub(crate) x: f64,
-    pub(crate) y: f64,
-}
-
-#[pymethods]
-impl PyOutcome {
-    fn __repr__(&self) -> String {
-        format!(
-            "Outcome(effect={}, reward={:?}, x={:?}, y={:?})",
-            self.effect, self.reward, self.x, self.y
-        )
-    }
-    fn __eq__(&self, o: &Self) -> bool {
-        (self.effect, self.reward, self.x, self.y) == (o.effect, o.reward, o.x, o.y)
-    }
-}
-
-/// The outcomes of a batch of commands, one entry per row, as numpy
-/// arrays: `effect` (int64), `reward`, `x`, `y` (float64).
-#[pyclass(module = "e3d", name = "BatchOutcome", frozen, get_all)]
-pub(crate) struct PyBatch {
-    effect: Py<PyArray1<i64>>,
-    reward: Py<PyArray1<f64>>,
-    x: Py<PyArray1<f64>>,
-    y: Py<PyArray1<f64>>,
-}
-
-#[pymethods]
-impl PyBatch {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        self.effect.bind(py).len()
-    }
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!("BatchOutcome({} commands)", self.effect.bind(py).len())
-    }
-}
 
 /// Executes a scene's commands open loop from its start state; made by
 /// `Scene.world()`.

@@ -1,74 +1,17 @@
-//! `Scene`: a parsed and validated scene, its command schema and effects.
+//! `Scene`'s Python methods: loading, the command schema, parsing and
+//! formatting commands, its world, pictures and dict / RON forms.
 
+use super::{builtin_names, PyScene};
 use crate::commands::commands_from;
 use crate::errors::{scene_err, scene_error};
 use crate::world::PyWorld;
 use e3d::scene::WorldSpec;
-use e3d::{CommandSpace, ValueSpace};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 use std::path::PathBuf;
-use std::sync::Arc;
-
-/// A scene given as a `Scene` or as a path / built-in name.
-pub(crate) fn scene_of(obj: &Bound<'_, PyAny>) -> PyResult<PyScene> {
-    if let Ok(s) = obj.cast::<PyScene>() {
-        return Ok(s.get().clone());
-    }
-    if let Ok(p) = obj.extract::<PathBuf>() {
-        return PyScene::resolve(&p.to_string_lossy());
-    }
-    Err(PyTypeError::new_err(
-        "expected a Scene, or a scene file's path or a built-in scene's name",
-    ))
-}
-
-/// A parsed and validated scene: a world, a command schema (slots and
-/// their alphabets), effects (cells of a grid) and a reward.
-///
-/// Make one with `Scene.load(path)`, `Scene.builtin(name)`,
-/// `Scene.resolve(path_or_name)` or `Scene.from_text(text)`.
-#[pyclass(module = "e3d", name = "Scene", frozen)]
-#[derive(Clone)]
-pub(crate) struct PyScene {
-    pub(crate) inner: Arc<e3d::Scene>,
-    pub(crate) space: CommandSpace,
-    /// The value ranges of a continuous scene.
-    pub(crate) values: Option<ValueSpace>,
-}
-
-impl PyScene {
-    /// The scene, with its command space: symbols per slot, or values in
-    /// ranges for a continuous scene (`values`; `space` is then a stand-in
-    /// of one slot that no symbol path uses).
-    fn new(scene: e3d::Scene) -> Result<PyScene, e3d::SceneError> {
-        let values = scene.value_space();
-        let space = match values {
-            Some(_) => CommandSpace::repeat(1, &['0']).expect("one symbol"),
-            None => scene.command_space(),
-        };
-        Ok(PyScene {
-            space,
-            values,
-            inner: Arc::new(scene),
-        })
-    }
-
-    /// `Ok` for a scene of symbols; for a continuous one, `ValueError`
-    /// saying that `what` takes symbols.
-    pub(crate) fn require_symbols(&self, what: &str) -> PyResult<()> {
-        if self.values.is_some() {
-            return Err(PyValueError::new_err(format!(
-                "{what}: scene `{}` takes continuous values (value_ranges), not symbols",
-                self.inner.name
-            )));
-        }
-        Ok(())
-    }
-}
 
 #[pymethods]
 impl PyScene {
@@ -103,9 +46,7 @@ impl PyScene {
     /// file exists (what the CLI's SCENE arguments accept).
     #[staticmethod]
     fn resolve(path_or_name: &str) -> PyResult<PyScene> {
-        e3d::Scene::resolve(path_or_name)
-            .and_then(PyScene::new)
-            .map_err(scene_err)
+        PyScene::resolved(path_or_name)
     }
 
     /// Parses and validates scene text; `file` names it in errors.
@@ -406,9 +347,4 @@ impl PyScene {
             .map(|o| *o.get().inner == *self.inner)
             .unwrap_or(false)
     }
-}
-
-/// The built-in scenes.
-pub(crate) fn builtin_names() -> Vec<&'static str> {
-    e3d::scene::BUILTIN.iter().map(|(n, _)| *n).collect()
 }

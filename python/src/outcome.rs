@@ -1,0 +1,49 @@
+//! `Outcome` and `BatchOutcome`: what executing one command, or a batch,
+//! gives back.
+
+use numpy::{PyArray1, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+/// The outcome of one command: `effect` (int), `reward` (float) and the
+/// terminal point `x`, `y` (metres).
+#[pyclass(module = "e3d", name = "Outcome", frozen, get_all)]
+#[derive(Clone)]
+pub(crate) struct PyOutcome {
+    pub(crate) effect: usize,
+    pub(crate) reward: f64,
+    pub(crate) x: f64,
+    pub(crate) y: f64,
+}
+
+#[pymethods]
+impl PyOutcome {
+    fn __repr__(&self) -> String {
+        format!(
+            "Outcome(effect={}, reward={:?}, x={:?}, y={:?})",
+            self.effect, self.reward, self.x, self.y
+        )
+    }
+    fn __eq__(&self, o: &Self) -> bool {
+        (self.effect, self.reward, self.x, self.y) == (o.effect, o.reward, o.x, o.y)
+    }
+}
+
+/// The outcomes of a batch of commands, one entry per row, as numpy
+/// arrays: `effect` (int64), `reward`, `x`, `y` (float64).
+#[pyclass(module = "e3d", name = "BatchOutcome", frozen, get_all)]
+pub(crate) struct PyBatch {
+    pub(crate) effect: Py<PyArray1<i64>>,
+    pub(crate) reward: Py<PyArray1<f64>>,
+    pub(crate) x: Py<PyArray1<f64>>,
+    pub(crate) y: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PyBatch {
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.effect.bind(py).len()
+    }
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("BatchOutcome({} commands)", self.effect.bind(py).len())
+    }
+}
