@@ -32,6 +32,19 @@ pub enum Observe {
     Blind,
 }
 
+impl Observe {
+    /// What `e3d run` observes when not told: the current state with
+    /// several commands per episode or a closed-loop learner, else the
+    /// start context.
+    pub fn default_for(commands: usize, closed_loop: bool) -> Observe {
+        if commands > 1 || closed_loop {
+            Observe::State
+        } else {
+            Observe::StartContext
+        }
+    }
+}
+
 /// How to run a session of episodes.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct EpisodeConfig {

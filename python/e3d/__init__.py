@@ -30,6 +30,8 @@ from ._e3d import (
     E3D_VERSION,
     BatchOutcome,
     E3dLearner,
+    EpisodeRecord,
+    EpisodeWorld,
     Motion,
     Outcome,
     Scene,
@@ -40,6 +42,7 @@ from ._e3d import (
     SimulationError,
     World,
     __version__,
+    run_episodes,
     run_session,
     run_sessions,
 )

@@ -30,6 +30,8 @@ __all__ = [
     "BatchOutcome",
     "E3D_VERSION",
     "E3dLearner",
+    "EpisodeRecord",
+    "EpisodeWorld",
     "Motion",
     "Outcome",
     "Scene",
@@ -40,6 +42,7 @@ __all__ = [
     "SimulationError",
     "World",
     "__version__",
+    "run_episodes",
     "run_session",
     "run_sessions",
     "run_sweep",
@@ -351,6 +354,104 @@ def run_sessions(
     progress: Optional[Progress] = None,
     target: Optional[TargetLike] = None,
 ) -> SessionBatch: ...
+@final
+class EpisodeRecord:
+    """A session of episodes (``run_episodes``): one entry per command, or per episode (``starts``)."""
+
+    @property
+    def seed(self) -> int: ...
+    @property
+    def learner(self) -> str: ...
+    @property
+    def commands_per_episode(self) -> int: ...
+    @property
+    def num_effects(self) -> int: ...
+    @property
+    def episodes(self) -> int: ...
+    @property
+    def starts(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def contexts(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def commands(self) -> npt.NDArray[np.uint8]: ...
+    @property
+    def effects(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def rewards(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def first_reward_episode(self) -> Optional[int]: ...
+    @property
+    def cumulative_reward(self) -> float: ...
+    @property
+    def entropy_per_start(self) -> list[float]: ...
+
+@overload
+def run_episodes(
+    scene: Union[Scene, str, PathLike[str]],
+    episodes: Optional[int] = None,
+    commands: Optional[int] = None,
+    seed: Optional[int] = None,
+    seeds: None = None,
+    learner: str = "e3d",
+    closed_loop: bool = False,
+    observe: Optional[str] = None,
+    use_reward: bool = True,
+    gamma: float = 0.9,
+    alpha: float = 0.3,
+    beta: float = 1.0,
+    lambda_: float = 0.03,
+    eta: float = 0.01,
+    epsilon: float = 0.1,
+) -> EpisodeRecord: ...
+@overload
+def run_episodes(
+    scene: Union[Scene, str, PathLike[str]],
+    episodes: Optional[int] = None,
+    commands: Optional[int] = None,
+    seed: Optional[int] = None,
+    *,
+    seeds: Sequence[int],
+    learner: str = "e3d",
+    closed_loop: bool = False,
+    observe: Optional[str] = None,
+    use_reward: bool = True,
+    gamma: float = 0.9,
+    alpha: float = 0.3,
+    beta: float = 1.0,
+    lambda_: float = 0.03,
+    eta: float = 0.01,
+    epsilon: float = 0.1,
+) -> list[EpisodeRecord]: ...
+
+@final
+class EpisodeWorld:
+    """One episode at a time, command by command (what ``run_episodes`` runs)."""
+
+    def __new__(
+        cls,
+        scene: Union[Scene, str, PathLike[str]],
+        commands: Optional[int] = None,
+        observe: Optional[str] = None,
+        use_reward: bool = True,
+        closed_loop: bool = False,
+    ) -> EpisodeWorld: ...
+    @property
+    def commands(self) -> int: ...
+    @property
+    def use_reward(self) -> bool: ...
+    @property
+    def observe(self) -> str: ...
+    @property
+    def num_contexts(self) -> int: ...
+    @property
+    def num_starts(self) -> int: ...
+    @property
+    def start(self) -> int: ...
+    @property
+    def scene(self) -> Scene: ...
+    def reset(self, seed: Optional[int] = None, start: Optional[int] = None) -> int: ...
+    def step(self, command: CommandsLike) -> tuple[int, Outcome, bool]: ...
+
 def run_sweep(
     sweep: Union[str, PathLike[str]],
     threads: Optional[int] = None,

@@ -13,7 +13,23 @@ low end and 1 its high end (the library's ``ValueSpace::from_unit``;
 values outside are clamped), and ``info["values"]`` holds the values
 executed.
 
-The world is deterministic: the same action always gives the same effect
+**Episodes of several commands.** On a scene with start contexts (a grid's
+``contexts``, e.g. ``four_rooms``, ``scenes/two_rooms_contexts.ron``), or
+with ``commands=K > 1`` or ``observe`` given, the environment is a true
+multi-step one (an ``EpisodeWorld``, what ``run_episodes`` runs): ``reset()``
+draws the episode's start context and start state, the observation is the
+context (``observe="state"``: the current cell, ``Discrete(num_effects)``,
+the default with ``K > 1``; ``"start"``: the start context's index,
+``Discrete(number of start contexts)``, the default with ``K = 1``;
+``"blind"``: 0), and each ``step`` executes one command from where the
+last one ended; the episode terminates after ``K`` commands, with the
+scene's reward after the last one (0 after the others).
+``reset(seed=s)`` seeds the draws of the start contexts (the library's
+``SessionRng``; a ``reset()`` without seed continues them), and
+``reset(options={"start": i})`` picks start context ``i``. ``info`` holds
+``start`` too.
+
+Else the world is deterministic: the same action always gives the same effect
 and reward, whatever the seed; ``reset(seed=...)`` seeds ``self.np_random``
 as Gymnasium asks, for agents that sample from it. Outcomes are kept (each
 command is simulated once per environment).
@@ -33,7 +49,7 @@ from gymnasium import spaces
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from . import Scene
+from . import EpisodeWorld, Scene
 
 __all__ = ["E3dEnv", "E3dVectorEnv", "ENV_ID"]
 
@@ -42,7 +58,8 @@ ENV_ID = "e3d/E3d-v0"
 
 
 class E3dEnv(gym.Env):
-    """One command per episode on an e3d scene.
+    """One command per episode on an e3d scene, or episodes of ``commands``
+    commands on a scene with start contexts (see the module's text).
 
     Parameters
     ----------
@@ -54,6 +71,11 @@ class E3dEnv(gym.Env):
         ``None``, or ``"rgb_array"``: ``render()`` returns the scene's
         picture (``Scene.render``, uint8 ``(H, W, 3)``) with the path of
         the last step's command (the bare scene before any step).
+    commands:
+        The commands of an episode, ``K`` (1 to 64).
+    observe:
+        ``None``, ``"start"``, ``"state"`` or ``"blind"``: what the
+        observation is on episodes (see the module's text).
 
     ``info`` holds ``x``, ``y`` (the terminal point, metres) and ``command``
     (the command as its symbols) after ``step``.
@@ -66,6 +88,8 @@ class E3dEnv(gym.Env):
         scene: Union[Scene, str],
         use_reward: bool = True,
         render_mode: Optional[str] = None,
+        commands: int = 1,
+        observe: Optional[str] = None,
     ):
         super().__init__()
         if render_mode not in (None, "rgb_array"):
@@ -86,13 +110,31 @@ class E3dEnv(gym.Env):
             )
         self.observation_space = spaces.Discrete(self.scene.num_effects)
         self._start = np.int64(self.scene.start_effect)
+        self.episodes: Optional[EpisodeWorld] = None
+        if not self.scene.is_continuous:
+            ep = EpisodeWorld(self.scene, commands, observe, self.use_reward)
+            if ep.commands > 1 or observe is not None or ep.num_starts > 1:
+                self.episodes = ep
+                self.observation_space = spaces.Discrete(ep.num_contexts)
+        elif int(commands) != 1 or observe is not None:
+            raise ValueError(
+                f"scene `{self.scene.name}` takes continuous values: its episodes are one command"
+            )
+        self._seeded = False
 
     def reset(
         self, *, seed: Optional[int] = None, options: Optional[dict] = None
     ) -> tuple[np.int64, dict[str, Any]]:
         super().reset(seed=seed)
         self._last = None
-        return self._start, {}
+        if self.episodes is None:
+            return self._start, {}
+        if seed is None and not self._seeded:
+            seed = int(self.np_random.integers(2**63))
+        self._seeded = True
+        start = (options or {}).get("start")
+        context = self.episodes.reset(seed, start)
+        return np.int64(context), {"start": self.episodes.start}
 
     def values_of(self, action: Any) -> np.ndarray:
         """A continuous scene's values for an action in ``[-1, 1]`` per slot
@@ -103,6 +145,17 @@ class E3dEnv(gym.Env):
 
     def step(self, action) -> tuple[np.int64, float, bool, bool, dict[str, Any]]:
         info: dict[str, Any]
+        if self.episodes is not None:
+            symbols = np.asarray(action)
+            context, out, done = self.episodes.step(symbols)
+            self._last = symbols
+            info = {
+                "x": out.x,
+                "y": out.y,
+                "command": self.scene.format(symbols),
+                "start": self.episodes.start,
+            }
+            return np.int64(context), float(out.reward), done, False, info
         if self.scene.is_continuous:
             values = self.values_of(action)
             out = self.world.execute(values)
@@ -164,6 +217,11 @@ class E3dVectorEnv(VectorEnv):
         if int(num_envs) < 1:
             raise ValueError(f"num_envs = {num_envs}: expected an integer from 1")
         self.env = E3dEnv(scene, use_reward=use_reward, render_mode=render_mode)
+        if self.env.episodes is not None:
+            raise ValueError(
+                f"E3dVectorEnv: scene `{self.env.scene.name}` has start contexts; its episodes "
+                "start apart: use gymnasium.vector.SyncVectorEnv over E3dEnv"
+            )
         self.render_mode = render_mode
         self._last: Optional[np.ndarray] = None
         self.scene, self.world = self.env.scene, self.env.world

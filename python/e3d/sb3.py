@@ -19,6 +19,7 @@ is installed; without it, the class stands on a minimal base of the same
 methods (what the tests without SB3 step).
 """
 
+import abc
 from typing import Any, Optional, Sequence, Union
 
 import numpy as np
@@ -47,7 +48,7 @@ from ._e3d import Scene
 from .gym import E3dVectorEnv
 
 
-class E3dSB3VecEnv(_Base):  # type: ignore[misc, unused-ignore]
+class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-ignore]
     """``num_envs`` one-command episodes stepped together (see the module)."""
 
     def __init__(self, scene: Union[Scene, str], num_envs: int, use_reward: bool = True):

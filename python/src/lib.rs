@@ -9,6 +9,7 @@
 //! the CLI's text.
 
 mod commands;
+mod episode;
 mod errors;
 mod learner;
 mod motion;
@@ -24,6 +25,7 @@ mod state;
 mod sweep;
 mod world;
 
+use episode::{run_episodes, PyEpisodeRecord, PyEpisodeWorld};
 use errors::{SceneError, SimulationError};
 use motion::PyMotion;
 use outcome::{PyBatch, PyOutcome};
@@ -50,11 +52,14 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyBatchRecord>()?;
     m.add_class::<PyMotion>()?;
     m.add_class::<PyE3dLearner>()?;
+    m.add_class::<PyEpisodeRecord>()?;
+    m.add_class::<PyEpisodeWorld>()?;
     errors::scene_error_defaults(m.py())?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
     m.add_function(wrap_pyfunction!(run_session, m)?)?;
     m.add_function(wrap_pyfunction!(run_sessions, m)?)?;
     m.add_function(wrap_pyfunction!(run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(run_episodes, m)?)?;
     Ok(())
 }

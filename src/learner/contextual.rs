@@ -431,4 +431,49 @@ impl LearnerKind {
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Box::new(PerContext::new(learners)))
     }
+
+    /// The learner of a session of episodes: with `closed_loop`, closed-loop
+    /// E3D for [`LearnerKind::E3d`] ([`ClosedLoopE3d`], discount `gamma`)
+    /// and Q-learning for [`LearnerKind::Egreedy`] ([`QLearning`]); without
+    /// it, [`make_contextual`](Self::make_contextual). What `e3d run
+    /// --commands K [--closed-loop]` and Python's `run_episodes` run.
+    ///
+    /// ```
+    /// use e3d::learner::{ContextTargets, ContextualLearner};
+    /// use e3d::{CommandSpace, LearnerKind, Params, Target};
+    /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
+    /// let shared = ContextTargets::Shared(Target::Uniform);
+    /// let l = LearnerKind::Egreedy
+    ///     .make_episodic(true, &Params::TASK1, &space, 4, 4, &shared, 0.9)
+    ///     .unwrap();
+    /// assert_eq!(l.name(), "qlearning");
+    /// assert!(LearnerKind::Count.make_episodic(true, &Params::TASK1, &space, 4, 4, &shared, 0.9).is_err());
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn make_episodic(
+        self,
+        closed_loop: bool,
+        params: &Params,
+        space: &CommandSpace,
+        num_effects: usize,
+        num_contexts: usize,
+        targets: &ContextTargets,
+        gamma: f64,
+    ) -> Result<Box<dyn ContextualLearner + Send>, LearnerError> {
+        match (closed_loop, self) {
+            (false, kind) => kind.make_contextual(params, space, num_effects, num_contexts, targets),
+            (true, LearnerKind::E3d) => {
+                ClosedLoopE3d::new(space, num_effects, num_contexts, params, targets, gamma)
+                    .map(|l| Box::new(l) as _)
+            }
+            (true, LearnerKind::Egreedy) => {
+                QLearning::new(space, num_contexts, params, gamma).map(|l| Box::new(l) as _)
+            }
+            (true, other) => Err(LearnerError::Contexts {
+                reason: format!(
+                    "the closed loop takes learner e3d (closed-loop E3D) or egreedy (Q-learning), not {other}"
+                ),
+            }),
+        }
+    }
 }

@@ -1,0 +1,440 @@
+//! Episodes: `run_episodes` (sessions of episodes of a contextual or
+//! closed-loop learner, the library's [`e3d::episode::run_episodes`], what
+//! `e3d run --commands K [--closed-loop]` runs) and `EpisodeWorld` (one
+//! episode stepped command by command, for the Gymnasium environment).
+
+use crate::commands::commands_from;
+use crate::errors::{seed_arg, seeds_arg, usize_arg, Fail};
+use crate::outcome::PyOutcome;
+use crate::scene::{scene_of, PyScene};
+use e3d::episode::{EpisodeConfig, EpisodeRecord, Observe};
+use e3d::learner::{ClosedLoopE3d, ContextTargets};
+use e3d::world::WorldState;
+use e3d::{LearnerKind, Params, SessionRng, Target, World};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use rand::{RngExt, SeedableRng};
+use rayon::prelude::*;
+use std::sync::Mutex;
+
+/// The commands of an episode: 1 to 64, the command line's range.
+fn commands_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let k = usize_arg(obj, "commands", 1)?;
+    if k > 64 {
+        return Err(PyValueError::new_err(format!(
+            "commands = {k}: expected at most 64 (the command line's cap)"
+        )));
+    }
+    Ok(k)
+}
+
+/// `observe`: None (the command line's default for `commands` and
+/// `closed_loop`), `"start"`, `"state"` or `"blind"`.
+fn observe_arg(observe: Option<&str>, commands: usize, closed_loop: bool) -> PyResult<Observe> {
+    match observe {
+        None => Ok(Observe::default_for(commands, closed_loop)),
+        Some("start") => Ok(Observe::StartContext),
+        Some("state") => Ok(Observe::State),
+        Some("blind") => Ok(Observe::Blind),
+        Some(o) => Err(PyValueError::new_err(format!(
+            "observe = `{o}`: expected None, \"start\", \"state\" or \"blind\""
+        ))),
+    }
+}
+
+fn observe_name(o: Observe) -> &'static str {
+    match o {
+        Observe::StartContext => "start",
+        Observe::State => "state",
+        Observe::Blind => "blind",
+    }
+}
+
+/// A session of episodes, as numpy arrays, one entry per command
+/// (`commands_per_episode` per episode) or per episode (`starts`), and the
+/// command line's summary figures.
+#[pyclass(module = "e3d", name = "EpisodeRecord", frozen, get_all)]
+pub(crate) struct PyEpisodeRecord {
+    /// The session's seed.
+    seed: u64,
+    /// The learner's name (`"e3d"`, `"e3d_closed_loop"`, `"qlearning"`, ...).
+    learner: String,
+    commands_per_episode: usize,
+    num_effects: usize,
+    episodes: usize,
+    /// The start context of each episode (int64).
+    starts: Py<PyArray1<i64>>,
+    /// The context observed before each command (int64).
+    contexts: Py<PyArray1<i64>>,
+    /// The commands, one row per command, one symbol index per slot (uint8).
+    commands: Py<PyArray2<u8>>,
+    /// The effect of each command (int64).
+    effects: Py<PyArray1<i64>>,
+    /// The reward of each command: the scene's after an episode's last
+    /// command, 0 after the others (float64).
+    rewards: Py<PyArray1<f64>>,
+    /// The first episode (1-based) with a reward, or None.
+    first_reward_episode: Option<usize>,
+    cumulative_reward: f64,
+    /// Per start context, the normalised entropy of the episodes'
+    /// terminal cells (the command line's `entropy_per_start`).
+    entropy_per_start: Vec<f64>,
+}
+
+#[pymethods]
+impl PyEpisodeRecord {
+    fn __repr__(&self) -> String {
+        format!(
+            "EpisodeRecord(seed={}, learner={:?}, episodes={}, commands_per_episode={}, cumulative_reward={:?})",
+            self.seed, self.learner, self.episodes, self.commands_per_episode, self.cumulative_reward
+        )
+    }
+}
+
+fn record_to_py(
+    py: Python<'_>,
+    rec: EpisodeRecord,
+    seed: u64,
+    learner: &str,
+    slots: usize,
+    starts: usize,
+) -> PyResult<PyEpisodeRecord> {
+    let ints = |v: &[usize]| v.iter().map(|&x| x as i64).collect::<Vec<_>>();
+    let rows = rec.effects.len();
+    let commands = Array2::from_shape_vec((rows, slots), rec.commands.clone())
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok(PyEpisodeRecord {
+        seed,
+        learner: learner.to_string(),
+        commands_per_episode: rec.commands_per_episode,
+        num_effects: rec.num_effects,
+        episodes: rec.episodes(),
+        first_reward_episode: rec.first_reward_episode(),
+        cumulative_reward: rec.cumulative_reward(),
+        entropy_per_start: rec.entropy_per_start(starts),
+        starts: ints(&rec.starts).into_pyarray(py).unbind(),
+        contexts: ints(&rec.contexts).into_pyarray(py).unbind(),
+        commands: commands.into_pyarray(py).unbind(),
+        effects: ints(&rec.effects).into_pyarray(py).unbind(),
+        rewards: rec.rewards.into_pyarray(py).unbind(),
+    })
+}
+
+/// Sessions of episodes on a scene with start contexts, or of `commands`
+/// commands per episode (closed loop): `e3d run SCENE --trials EPISODES
+/// --commands K [--closed-loop] [--observe ...]`, bit for bit.
+///
+/// `learner`: a built-in learner's name, one per observed context; with
+/// `closed_loop=True`, `"e3d"` is closed-loop E3D (Q_ref, discount
+/// `gamma`) and `"egreedy"` epsilon-greedy Q-learning. `observe`: what the
+/// learner reads before each command, `"start"` (the episode's start
+/// context), `"state"` (the current cell) or `"blind"`; None: `"state"`
+/// with `commands > 1` or `closed_loop`, else `"start"`. Returns an
+/// `EpisodeRecord` for `seed`, or with `seeds` a list of them (run in
+/// parallel, the same whatever the threads).
+#[pyfunction]
+#[pyo3(signature = (scene, episodes = None, commands = None, seed = None, seeds = None,
+    learner = "e3d", closed_loop = false, observe = None, use_reward = true, gamma = 0.9,
+    alpha = 0.3, beta = 1.0, lambda_ = 0.03, eta = 0.01, epsilon = 0.1))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_episodes(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    episodes: Option<&Bound<'_, PyAny>>,
+    commands: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
+    seeds: Option<&Bound<'_, PyAny>>,
+    learner: &str,
+    closed_loop: bool,
+    observe: Option<&str>,
+    use_reward: bool,
+    gamma: f64,
+    alpha: f64,
+    beta: f64,
+    lambda_: f64,
+    eta: f64,
+    epsilon: f64,
+) -> PyResult<Py<PyAny>> {
+    const _: () = assert!(ClosedLoopE3d::GAMMA == 0.9);
+    let scene = scene_of(scene)?;
+    scene.require_symbols("run_episodes")?;
+    let episodes = match episodes {
+        Some(e) => usize_arg(e, "episodes", 1)?,
+        None => 1000,
+    };
+    if episodes > e3d::sweep::MAX_TRIALS {
+        return Err(PyValueError::new_err(format!(
+            "episodes = {episodes}: expected at most {} (the command line's cap)",
+            e3d::sweep::MAX_TRIALS
+        )));
+    }
+    let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
+    let kind: LearnerKind = learner
+        .parse()
+        .map_err(|e: e3d::ParseLearnerError| PyValueError::new_err(e.to_string()))?;
+    let params = Params {
+        alpha,
+        beta,
+        lambda: lambda_,
+        eta,
+        epsilon,
+        ..Params::TASK1
+    };
+    params
+        .validate()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let observe = observe_arg(observe, k, closed_loop)?;
+    let one = seeds.is_none_or(|s| s.is_none());
+    let seeds = match seeds_arg_opt(seeds)? {
+        Some(s) => s,
+        None => vec![seed.map(seed_arg).transpose()?.unwrap_or(0)],
+    };
+    let inner = scene.inner.clone();
+    let space = inner.command_space();
+    let num_effects = inner.num_effects();
+    let cfg = |seed| EpisodeConfig {
+        episodes,
+        commands: k,
+        seed,
+        use_reward,
+        observe,
+    };
+    let probe = inner.build();
+    let contexts = cfg(0).num_contexts(&probe);
+    let starts = probe.num_contexts();
+    let shared = ContextTargets::Shared(Target::Uniform);
+    let make = || {
+        kind.make_episodic(
+            closed_loop,
+            &params,
+            &space,
+            num_effects,
+            contexts,
+            &shared,
+            gamma,
+        )
+        .map_err(|e| Fail::Value(e.to_string()))
+    };
+    let name = make()?.name().to_string();
+    let records = py.detach(|| {
+        seeds
+            .par_iter()
+            .map(|&seed| {
+                let mut world = inner.build();
+                let mut learner = make()?;
+                e3d::episode::run_episodes(&mut world, &mut learner, &cfg(seed)).map_err(Fail::from)
+            })
+            .collect::<Result<Vec<_>, Fail>>()
+    })?;
+    let slots = space.num_slots();
+    let mut out = Vec::with_capacity(records.len());
+    for (rec, &seed) in records.into_iter().zip(&seeds) {
+        out.push(Py::new(
+            py,
+            record_to_py(py, rec, seed, &name, slots, starts)?,
+        )?);
+    }
+    if one {
+        return Ok(out.remove(0).into_any());
+    }
+    Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind())
+}
+
+fn seeds_arg_opt(seeds: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<u64>>> {
+    match seeds {
+        None => Ok(None),
+        Some(s) => seeds_arg(s),
+    }
+}
+
+/// One episode at a time, command by command: what a closed loop runs
+/// (`run_episodes`'s draws and executions), stepped from Python. Made by
+/// `EpisodeWorld(scene, commands=K, observe=None, use_reward=True)`.
+///
+/// `reset(seed=None, start=None)` draws the episode's start context (one
+/// integer of the generator, when the scene has several; `start` picks it
+/// instead) and its start state, and returns the observed context;
+/// `step(command)` executes the command from the current state and
+/// returns `(context, outcome, done)`, the reward 0 but after the
+/// episode's last command. `seed` reseeds the generator (the library's
+/// `SessionRng`); without it the draws continue.
+#[pyclass(module = "e3d", name = "EpisodeWorld")]
+pub(crate) struct PyEpisodeWorld {
+    scene: PyScene,
+    world: Mutex<Box<dyn World + Send>>,
+    rng: SessionRng,
+    state: Option<WorldState>,
+    /// Commands executed in this episode.
+    done: usize,
+    start: usize,
+    #[pyo3(get)]
+    commands: usize,
+    observe: Observe,
+    #[pyo3(get)]
+    use_reward: bool,
+    command: e3d::Command,
+}
+
+impl PyEpisodeWorld {
+    fn world(&self) -> std::sync::MutexGuard<'_, Box<dyn World + Send>> {
+        self.world.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    fn observed(&self, start: usize, effect: usize) -> usize {
+        match self.observe {
+            Observe::StartContext => start,
+            Observe::State => effect,
+            Observe::Blind => 0,
+        }
+    }
+}
+
+#[pymethods]
+impl PyEpisodeWorld {
+    #[new]
+    #[pyo3(signature = (scene, commands = None, observe = None, use_reward = true, closed_loop = false))]
+    fn new(
+        scene: &Bound<'_, PyAny>,
+        commands: Option<&Bound<'_, PyAny>>,
+        observe: Option<&str>,
+        use_reward: bool,
+        closed_loop: bool,
+    ) -> PyResult<Self> {
+        let scene = scene_of(scene)?;
+        scene.require_symbols("EpisodeWorld")?;
+        let commands = commands.map(commands_arg).transpose()?.unwrap_or(1);
+        let observe = observe_arg(observe, commands, closed_loop)?;
+        let world = scene.inner.build();
+        let command = world.command_space().first();
+        Ok(PyEpisodeWorld {
+            scene,
+            world: Mutex::new(world),
+            rng: SessionRng::seed_from_u64(0),
+            state: None,
+            done: 0,
+            start: 0,
+            commands,
+            observe,
+            use_reward,
+            command,
+        })
+    }
+
+    /// What the learner observes: `"start"`, `"state"` or `"blind"`.
+    #[getter]
+    fn observe(&self) -> &'static str {
+        observe_name(self.observe)
+    }
+
+    /// The number of contexts observed (`Discrete(num_contexts)`): the
+    /// start contexts, the effects, or 1.
+    #[getter]
+    fn num_contexts(&self) -> usize {
+        match self.observe {
+            Observe::StartContext => self.world().num_contexts(),
+            Observe::State => self.world().num_effects(),
+            Observe::Blind => 1,
+        }
+    }
+
+    /// The scene's start contexts (1 when it declares none).
+    #[getter]
+    fn num_starts(&self) -> usize {
+        self.world().num_contexts()
+    }
+
+    /// The current episode's start context.
+    #[getter]
+    fn start(&self) -> usize {
+        self.start
+    }
+
+    #[getter]
+    fn scene(&self) -> PyScene {
+        self.scene.clone()
+    }
+
+    #[pyo3(signature = (seed = None, start = None))]
+    fn reset(
+        &mut self,
+        seed: Option<&Bound<'_, PyAny>>,
+        start: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        if let Some(s) = seed.filter(|s| !s.is_none()) {
+            self.rng = SessionRng::seed_from_u64(seed_arg(s)?);
+        }
+        let n = self.world().num_contexts();
+        let start = match start.filter(|s| !s.is_none()) {
+            Some(s) => {
+                let s = usize_arg(s, "start", 0)?;
+                if s >= n {
+                    return Err(PyValueError::new_err(format!(
+                        "start = {s}: expected a start context in [0, {n})"
+                    )));
+                }
+                s
+            }
+            None if n > 1 => self.rng.random_range(0..n),
+            None => 0,
+        };
+        let world = self.world.get_mut().unwrap_or_else(|p| p.into_inner());
+        let state = world.draw_start(start, &mut self.rng).map_err(Fail::from)?;
+        let effect = match self.observe {
+            Observe::State => world.bin_state(&state).map_err(Fail::from)?,
+            _ => 0,
+        };
+        self.state = Some(state);
+        self.start = start;
+        self.done = 0;
+        Ok(self.observed(start, effect))
+    }
+
+    /// Executes `command` (symbols or text) from the current state:
+    /// `(context, outcome, done)`.
+    fn step(&mut self, command: &Bound<'_, PyAny>) -> PyResult<(usize, PyOutcome, bool)> {
+        let Some(state) = self.state.as_ref() else {
+            return Err(PyRuntimeError::new_err(
+                "EpisodeWorld.step: the episode is over (or never started); call reset() first",
+            ));
+        };
+        let parsed = commands_from(command.py(), &self.scene.space, command, 1)?;
+        if parsed.len() != 1 {
+            return Err(PyValueError::new_err(format!(
+                "EpisodeWorld.step: expected one command, found {}",
+                parsed.len()
+            )));
+        }
+        self.command.symbols.clone_from(&parsed[0].symbols);
+        let (mut out, next) = self
+            .world()
+            .execute_from(state, &self.command)
+            .map_err(Fail::from)?;
+        self.done += 1;
+        let last = self.done == self.commands;
+        if !last || !self.use_reward {
+            out.reward = 0.0;
+        }
+        self.state = (!last).then_some(next);
+        Ok((
+            self.observed(self.start, out.effect),
+            PyOutcome {
+                effect: out.effect,
+                reward: out.reward,
+                x: out.point[0],
+                y: out.point[1],
+            },
+            last,
+        ))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "EpisodeWorld({}, commands={}, observe={:?})",
+            self.scene.inner.name,
+            self.commands,
+            observe_name(self.observe)
+        )
+    }
+}

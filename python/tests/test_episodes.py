@@ -1,0 +1,181 @@
+"""Episodes from Python: scenes with start contexts and closed loops
+(``run_episodes``, ``EpisodeWorld``, the Gymnasium environment on them),
+against the CLI's ``e3d run --commands K [--closed-loop]``."""
+
+import json
+
+import numpy as np
+import pytest
+
+import e3d
+from conftest import read_csv
+
+
+def _check_against_cli(cli, tmp_path, rec, args):
+    out = tmp_path / "cli"
+    cli("run", *args, "--out", out)
+    rows = read_csv((out / "trials.csv").read_text())
+    summary = json.loads((out / "summary.json").read_text())
+    scene = e3d.Scene.resolve(str(args[0]))
+    k = rec.commands_per_episode
+    assert len(rows) == len(rec.effects) == rec.episodes * k
+    names = summary["start_contexts"]
+    for j, row in enumerate(rows):
+        assert int(row["episode"]) == j // k + 1 and int(row["command"]) == j % k + 1
+        assert int(row["context"]) == rec.contexts[j]
+        assert row["start"] == names[rec.starts[j // k]]
+        assert row["symbols"] == scene.format(rec.commands[j])
+        assert int(row["effect"]) == rec.effects[j]
+        assert float(row["reward"]) == rec.rewards[j]
+    (s,) = summary["sessions"]
+    assert s["seed"] == rec.seed and s["episodes"] == rec.episodes
+    assert s["first_reward_episode"] == rec.first_reward_episode
+    assert s["cumulative_reward"] == rec.cumulative_reward
+    assert s["entropy_per_start"] == rec.entropy_per_start
+    assert summary["learner"] == rec.learner
+    return summary
+
+
+def test_start_contexts_equal_the_cli_bit_for_bit(cli, root, tmp_path):
+    path = root / "scenes" / "two_rooms_contexts.ron"
+    rec = e3d.run_episodes(path, episodes=400, seed=3)
+    assert (rec.learner, rec.commands_per_episode, rec.episodes) == ("e3d", 1, 400)
+    # both start contexts drawn, the observation being the start context
+    assert set(rec.starts.tolist()) == {0, 1}
+    assert rec.contexts.tolist() == rec.starts.tolist()
+    summary = _check_against_cli(cli, tmp_path, rec, [path, "--trials", 400, "--seed", 3])
+    assert summary["start_contexts"] == ["room_a", "room_b"]
+    assert len(rec.entropy_per_start) == 2 and min(rec.entropy_per_start) > 0.5
+
+
+@pytest.mark.parametrize("learner,name", [("e3d", "e3d_closed_loop"), ("egreedy", "qlearning")])
+def test_closed_loop_equals_the_cli_bit_for_bit(cli, tmp_path, learner, name):
+    rec = e3d.run_episodes("four_rooms", episodes=300, commands=3, seed=5,
+                           learner=learner, closed_loop=True)
+    assert (rec.learner, rec.commands_per_episode) == (name, 3)
+    assert rec.commands.shape == (900, 5) and rec.commands.dtype == np.uint8
+    # the observation is the current cell: each command after the first
+    # starts where the last one ended
+    eff = rec.effects.reshape(300, 3)
+    ctx = rec.contexts.reshape(300, 3)
+    assert (ctx[:, 1:] == eff[:, :-1]).all()
+    assert (ctx[:, 0] == 0).all()  # the start cell (0, 0)
+    # rewards only after an episode's last command
+    assert (rec.rewards.reshape(300, 3)[:, :2] == 0).all()
+    _check_against_cli(cli, tmp_path, rec, ["four_rooms", "--trials", 300, "--commands", 3,
+                                            "--closed-loop", "--learner", learner, "--seed", 5])
+
+
+def test_seeds_run_in_parallel_equal_one_by_one():
+    many = e3d.run_episodes("four_rooms", episodes=100, commands=2, seeds=[7, 8, 9])
+    assert [r.seed for r in many] == [7, 8, 9]
+    for r in many:
+        one = e3d.run_episodes("four_rooms", episodes=100, commands=2, seed=r.seed)
+        assert one.effects.tolist() == r.effects.tolist()
+        assert one.commands.tolist() == r.commands.tolist()
+    assert many[0].commands.tolist() != many[1].commands.tolist()
+
+
+def test_episode_world_replays_run_episodes(root):
+    path = root / "scenes" / "two_rooms_contexts.ron"
+    rec = e3d.run_episodes(path, episodes=50, commands=2, seed=1)
+    ew = e3d.EpisodeWorld(path, commands=2)
+    assert (ew.observe, ew.num_contexts, ew.num_starts) == ("state", 18, 2)
+    k = 2
+    for i in range(rec.episodes):
+        context = ew.reset(start=int(rec.starts[i]))
+        assert ew.start == rec.starts[i]
+        for j in range(k):
+            assert context == rec.contexts[i * k + j]
+            context, out, done = ew.step(rec.commands[i * k + j])
+            assert out.effect == rec.effects[i * k + j]
+            assert out.reward == rec.rewards[i * k + j]
+            assert done == (j == k - 1)
+    with pytest.raises(RuntimeError, match="call reset"):
+        ew.step(rec.commands[0])
+
+
+def test_three_commands_reach_the_far_room():
+    ew = e3d.EpisodeWorld("four_rooms", commands=3)
+    assert ew.reset(seed=0) == 0
+    c1, o1, d1 = ew.step("SEEEE")
+    assert (c1, o1.reward, d1) == (1 * 12 + 4, 0.0, False)
+    c2, o2, d2 = ew.step("EEEEE")
+    assert (c2, o2.reward, d2) == (1 * 12 + 9, 0.0, False)
+    c3, o3, d3 = ew.step("EESEE")
+    assert (c3, o3.reward, d3) == (2 * 12 + 11, 1.0, True)
+    # the same cell in the middle of an episode is not rewarded
+    ew = e3d.EpisodeWorld("four_rooms", commands=4)
+    ew.reset()
+    for c in ["SEEEE", "EEEEE", "EESEE"]:
+        assert ew.step(c)[1].reward == 0.0
+    assert ew.step("NNNNN")[1].reward == 0.0
+
+
+def test_bad_episode_arguments_name_what_was_expected(root):
+    with pytest.raises(ValueError, match=r"observe = `cell`: expected None, \"start\""):
+        e3d.run_episodes("four_rooms", observe="cell")
+    with pytest.raises(ValueError, match="commands = 65: expected at most 64"):
+        e3d.run_episodes("four_rooms", commands=65)
+    with pytest.raises(ValueError, match="commands = 0"):
+        e3d.EpisodeWorld("four_rooms", commands=0)
+    with pytest.raises(ValueError, match="episodes = 0"):
+        e3d.run_episodes("four_rooms", episodes=0)
+    with pytest.raises(ValueError, match="closed loop takes learner e3d .* or egreedy .*, not count"):
+        e3d.run_episodes("four_rooms", commands=3, closed_loop=True, learner="count")
+    with pytest.raises(ValueError, match="start = 2: expected a start context in \\[0, 2\\)"):
+        e3d.EpisodeWorld(root / "scenes" / "two_rooms_contexts.ron").reset(start=2)
+    with pytest.raises(ValueError, match="takes continuous values"):
+        e3d.run_episodes("arm7_continuous", commands=2)
+
+
+gym = pytest.importorskip("gymnasium")
+
+
+def test_gym_env_on_start_contexts_and_closed_loops(root):
+    import warnings
+
+    from gymnasium.utils.env_checker import check_env
+
+    from e3d.gym import E3dEnv
+
+    contexts = E3dEnv(root / "scenes" / "two_rooms_contexts.ron")
+    assert contexts.observation_space.n == 2  # the start context
+    multi = E3dEnv("four_rooms", commands=3)
+    assert multi.observation_space.n == 36  # the current cell
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(contexts, skip_render_check=True)
+        check_env(multi, skip_render_check=True)
+        check_env(gym.make("e3d/E3d-v0", scene="four_rooms", commands=3).unwrapped)
+
+    # an episode is K steps, rewarded after the last
+    obs, info = multi.reset(seed=0)
+    assert (obs, info["start"]) == (0, 0)
+    steps = [multi.step(multi.scene.parse(c)[0]) for c in ["SEEEE", "EEEEE", "EESEE"]]
+    assert [s[0] for s in steps] == [16, 21, 35]
+    assert [s[1] for s in steps] == [0.0, 0.0, 1.0]
+    assert [s[2] for s in steps] == [False, False, True]
+    assert steps[2][4]["command"] == "EESEE"
+
+    # the start contexts follow the seed: the same seed, the same starts
+    def starts(seed, n=40):
+        contexts.reset(seed=seed)
+        out = []
+        for _ in range(n):
+            obs, info = contexts.reset()
+            assert obs == info["start"]
+            out.append(obs)
+        return out
+
+    a = starts(11)
+    assert a == starts(11) and set(a) == {0, 1}
+    assert a != starts(12)
+    assert contexts.reset(options={"start": 1})[0] == 1
+
+
+def test_vector_env_refuses_episodes(root):
+    from e3d.gym import E3dVectorEnv
+
+    with pytest.raises(ValueError, match="has start contexts.*SyncVectorEnv"):
+        E3dVectorEnv(root / "scenes" / "two_rooms_contexts.ron", 4)
