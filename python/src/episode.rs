@@ -277,6 +277,16 @@ pub(crate) struct PyEpisodeWorld {
     command: e3d::Command,
 }
 
+/// What `EpisodeWorld` pickles besides its constructor's arguments: the
+/// generator and where the episode stands.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Progress {
+    rng: SessionRng,
+    state: Option<WorldState>,
+    done: usize,
+    start: usize,
+}
+
 impl PyEpisodeWorld {
     fn world(&self) -> std::sync::MutexGuard<'_, Box<dyn World + Send>> {
         self.world.lock().unwrap_or_else(|p| p.into_inner())
@@ -427,6 +437,48 @@ impl PyEpisodeWorld {
             },
             last,
         ))
+    }
+
+    /// Pickles as its scene, arguments, generator and the episode's state:
+    /// a copy goes on with the same draws and outcomes.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(
+        Bound<'py, PyAny>,
+        (PyScene, usize, &'static str, bool),
+        String,
+    )> {
+        let me = slf.borrow();
+        let progress = Progress {
+            rng: me.rng.clone(),
+            state: me.state.clone(),
+            done: me.done,
+            start: me.start,
+        };
+        let state =
+            serde_json::to_string(&progress).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        Ok((
+            slf.get_type().into_any(),
+            (
+                me.scene.clone(),
+                me.commands,
+                observe_name(me.observe),
+                me.use_reward,
+            ),
+            state,
+        ))
+    }
+
+    fn __setstate__(&mut self, state: &str) -> PyResult<()> {
+        let p: Progress = serde_json::from_str(state).map_err(|e| {
+            PyValueError::new_err(format!("EpisodeWorld: not a pickled state: {e}"))
+        })?;
+        self.rng = p.rng;
+        self.state = p.state;
+        self.done = p.done;
+        self.start = p.start;
+        Ok(())
     }
 
     fn __repr__(&self) -> String {

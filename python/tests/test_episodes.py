@@ -112,6 +112,23 @@ def test_three_commands_reach_the_far_room():
     assert ew.step("NNNNN")[1].reward == 0.0
 
 
+def test_episode_world_pickles_mid_episode(root):
+    import pickle
+
+    ew = e3d.EpisodeWorld(root / "scenes" / "two_rooms_contexts.ron", commands=3)
+    ew.reset(seed=4)
+    ew.step("EEEEEEE")
+    back = pickle.loads(pickle.dumps(ew))
+    assert (back.commands, back.observe, back.start) == (3, "state", ew.start)
+    for c in ["SSSSSSS", "WWWWWWW"]:
+        a, b = ew.step(c), back.step(c)
+        assert (a[0], a[1], a[2]) == (b[0], b[1], b[2])
+    # the generator goes on with the same draws
+    assert [ew.reset() for _ in range(30)] == [back.reset() for _ in range(30)]
+    with pytest.raises(ValueError, match="EpisodeWorld: not a pickled state"):
+        back.__setstate__("{}")
+
+
 def test_bad_episode_arguments_name_what_was_expected(root):
     with pytest.raises(ValueError, match=r"observe = `cell`: expected None, \"start\""):
         e3d.run_episodes("four_rooms", observe="cell")
@@ -172,6 +189,15 @@ def test_gym_env_on_start_contexts_and_closed_loops(root):
     assert a == starts(11) and set(a) == {0, 1}
     assert a != starts(12)
     assert contexts.reset(options={"start": 1})[0] == 1
+
+    # an environment on episodes pickles with its episode
+    import pickle
+
+    multi.reset(seed=2)
+    multi.step(multi.scene.parse("SEEEE")[0])
+    back = pickle.loads(pickle.dumps(multi))
+    a = multi.scene.parse("EEEEE")[0]
+    assert back.step(a)[:4] == multi.step(a)[:4]
 
 
 def test_vector_env_refuses_episodes(root):
