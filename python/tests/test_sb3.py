@@ -52,6 +52,25 @@ def test_sb3_vec_env_steps_as_dummy_vec_env():
 def test_ppo_learns_a_few_steps():
     _sb3()
     from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    seen = []
+
+    class Watch(BaseCallback):
+        def _on_step(self):
+            seen.append((np.array(self.locals["actions"]), self.locals["infos"],
+                         np.array(self.locals["rewards"])))
+            return True
+
     model = PPO("MlpPolicy", E3dSB3VecEnv("two_rooms", 8), n_steps=16, batch_size=64, seed=0, device="cpu")
-    model.learn(256)
-    assert model.num_timesteps >= 256
+    model.learn(256, callback=Watch())
+    assert model.num_timesteps >= 256 and len(seen) == 32
+    # what PPO was told of each step is what its commands did
+    world = e3d.Scene.builtin("two_rooms").world()
+    for actions, infos, rewards in seen:
+        assert actions.shape == (8, 7)
+        out = world.execute_batch(actions.astype(np.int64))
+        assert [i["terminal_observation"] for i in infos] == out.effect.tolist()
+        assert rewards.tolist() == out.reward.astype(np.float32).tolist()
+    effects = {e for _, infos, _ in seen for e in (i["terminal_observation"] for i in infos)}
+    assert len(effects) > 3
