@@ -30,6 +30,18 @@ fn commands_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
     Ok(k)
 }
 
+/// The episodes of a session: 1 to the command line's cap on trials.
+fn episodes_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let n = usize_arg(obj, "episodes", 1)?;
+    if n > e3d::sweep::MAX_TRIALS {
+        return Err(PyValueError::new_err(format!(
+            "episodes = {n}: expected at most {} (the command line's cap)",
+            e3d::sweep::MAX_TRIALS
+        )));
+    }
+    Ok(n)
+}
+
 /// `observe`: None (the command line's default for `commands` and
 /// `closed_loop`), `"start"`, `"state"` or `"blind"`.
 fn observe_arg(observe: Option<&str>, commands: usize, closed_loop: bool) -> PyResult<Observe> {
@@ -160,16 +172,7 @@ pub(crate) fn run_episodes(
     const _: () = assert!(ClosedLoopE3d::GAMMA == 0.9);
     let scene = scene_of(scene)?;
     scene.require_symbols("run_episodes")?;
-    let episodes = match episodes {
-        Some(e) => usize_arg(e, "episodes", 1)?,
-        None => 1000,
-    };
-    if episodes > e3d::sweep::MAX_TRIALS {
-        return Err(PyValueError::new_err(format!(
-            "episodes = {episodes}: expected at most {} (the command line's cap)",
-            e3d::sweep::MAX_TRIALS
-        )));
-    }
+    let episodes = episodes.map(episodes_arg).transpose()?.unwrap_or(1000);
     let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
     let kind: LearnerKind = learner
         .parse()
@@ -186,11 +189,7 @@ pub(crate) fn run_episodes(
         .validate()
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let observe = observe_arg(observe, k, closed_loop)?;
-    let one = seeds.is_none_or(|s| s.is_none());
-    let seeds = match seeds_arg_opt(seeds)? {
-        Some(s) => s,
-        None => vec![seed.map(seed_arg).transpose()?.unwrap_or(0)],
-    };
+    let (one, seeds) = seed_list(seed, seeds)?;
     let inner = scene.inner.clone();
     let space = inner.command_space();
     let num_effects = inner.num_effects();
@@ -242,10 +241,15 @@ pub(crate) fn run_episodes(
     Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind())
 }
 
-fn seeds_arg_opt(seeds: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<u64>>> {
-    match seeds {
-        None => Ok(None),
-        Some(s) => seeds_arg(s),
+/// The seeds of `run_episodes`: `seeds` (false), else `[seed]` (true: one
+/// record is returned).
+fn seed_list(
+    seed: Option<&Bound<'_, PyAny>>,
+    seeds: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(bool, Vec<u64>)> {
+    match seeds.map(seeds_arg).transpose()?.flatten() {
+        Some(s) => Ok((false, s)),
+        None => Ok((true, vec![seed.map(seed_arg).transpose()?.unwrap_or(0)])),
     }
 }
 

@@ -48,11 +48,18 @@ def test_start_contexts_equal_the_cli_bit_for_bit(cli, root, tmp_path):
     assert len(rec.entropy_per_start) == 2 and min(rec.entropy_per_start) > 0.5
 
 
-@pytest.mark.parametrize("learner,name", [("e3d", "e3d_closed_loop"), ("egreedy", "qlearning")])
-def test_closed_loop_equals_the_cli_bit_for_bit(cli, tmp_path, learner, name):
-    rec = e3d.run_episodes("four_rooms", episodes=300, commands=3, seed=5,
+@pytest.mark.parametrize("learner,name,first,total", [("e3d", "e3d_closed_loop", 65, 4.0),
+                                                      ("egreedy", "qlearning", 128, 111.0)])
+def test_closed_loop_equals_the_cli_bit_for_bit(cli, root, tmp_path, learner, name, first, total):
+    # four_rooms with its reward cell moved to (2, 4), 6 moves from the
+    # start, so that 300 episodes find it
+    text = (root / "scenes" / "four_rooms.ron").read_text()
+    near = tmp_path / "four_rooms_near.ron"
+    near.write_text(text.replace("reward: (cells: [(2, 11)]", "reward: (cells: [(2, 4)]"))
+    rec = e3d.run_episodes(near, episodes=300, commands=3, seed=5,
                            learner=learner, closed_loop=True)
     assert (rec.learner, rec.commands_per_episode) == (name, 3)
+    assert (rec.first_reward_episode, rec.cumulative_reward) == (first, total)
     assert rec.commands.shape == (900, 5) and rec.commands.dtype == np.uint8
     # the observation is the current cell: each command after the first
     # starts where the last one ended
@@ -62,7 +69,7 @@ def test_closed_loop_equals_the_cli_bit_for_bit(cli, tmp_path, learner, name):
     assert (ctx[:, 0] == 0).all()  # the start cell (0, 0)
     # rewards only after an episode's last command
     assert (rec.rewards.reshape(300, 3)[:, :2] == 0).all()
-    _check_against_cli(cli, tmp_path, rec, ["four_rooms", "--trials", 300, "--commands", 3,
+    _check_against_cli(cli, tmp_path, rec, [near, "--trials", 300, "--commands", 3,
                                             "--closed-loop", "--learner", learner, "--seed", 5])
 
 
@@ -138,6 +145,10 @@ def test_bad_episode_arguments_name_what_was_expected(root):
         e3d.EpisodeWorld("four_rooms", commands=0)
     with pytest.raises(ValueError, match="episodes = 0"):
         e3d.run_episodes("four_rooms", episodes=0)
+    with pytest.raises(ValueError, match="episodes = 1000000000: expected at most 100000000"):
+        e3d.run_episodes("four_rooms", episodes=10**9)
+    with pytest.raises(ValueError, match="seed"):
+        e3d.run_episodes("four_rooms", seed=-1)
     with pytest.raises(ValueError, match="closed loop takes learner e3d .* or egreedy .*, not count"):
         e3d.run_episodes("four_rooms", commands=3, closed_loop=True, learner="count")
     with pytest.raises(ValueError, match="start = 2: expected a start context in \\[0, 2\\)"):
