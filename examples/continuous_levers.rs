@@ -60,7 +60,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut single = scene.physics_world().ok_or("not physics")?;
     let (mut bits, mut cells) = (0, 0);
     for (v, o) in values.iter().zip(&out) {
-        let (want, got) = (single.execute_values(v)?, o.as_ref().map_err(|e| e.to_string())?);
+        let (want, got) = (
+            single.execute_values(v)?,
+            o.as_ref().map_err(|e| e.to_string())?,
+        );
         bits += usize::from(want.point.map(f64::to_bits) == got.point.map(f64::to_bits));
         cells += usize::from(want.effect == got.effect);
     }
