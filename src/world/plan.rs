@@ -192,7 +192,9 @@ pub struct ExecutionPlan {
     /// The commands of the space (`None`: more than 2^64, or continuous).
     pub commands: Option<u64>,
     /// Whether the scene's commands are continuous (values, not symbols):
-    /// always live, one trial one rollout.
+    /// always live, one trial one rollout. Written in JSON only when
+    /// `true` (the summaries of scenes of symbols keep their bytes).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub continuous: bool,
     /// The commands a table simulates (one of each mirror-image pair under
     /// a symmetry), when a table is possible.
