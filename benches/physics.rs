@@ -2,7 +2,8 @@
 //! command per world and many copies per world), the reset alone, and a
 //! 5000-trial E3D session on each scene's outcome table; and a trial of
 //! continuous commands on arm7_continuous (one Gaussian E3D trial on live
-//! physics); and the loader on a scene of 10,000 bodies (the most it
+//! physics); 32 sessions of continuous commands on a puck, in lockstep
+//! and a world each; and the loader on a scene of 10,000 bodies (the most it
 //! takes), whose names are checked in linear time.
 //!
 //! `cargo bench --bench physics`; criterion prints each rate (elements/s
@@ -123,6 +124,90 @@ fn continuous(c: &mut Criterion) {
     g.finish();
 }
 
+/// puck_rooms's rooms and puck with 3 continuous slots, each an impulse
+/// of 1.6 N*s in any heading (the scene of tests/physics/continuous.rs):
+/// one moving body, so its copies in one world are exact.
+const PUCK_HEADINGS: &str = r#"Scene(
+    name: "puck_headings",
+    world: Physics(
+        gravity: (0.0, 0.0),
+        dt: 0.016666666666666666,
+        walls: [
+            (name: "wall", room: ((0.0, 0.0), (6.0, 3.0)), placement: Outside,
+             thickness: 0.1, friction: 0.0, restitution: 0.5),
+            (name: "inner", points: [(3.0, 0.0), (3.0, 3.0)], doors: [((3.0, 1.0), (3.0, 2.0))],
+             names: ["inner_low", "inner_high"], thickness: 0.1, friction: 0.0, restitution: 0.5),
+        ],
+        bodies: [
+            (name: "puck", shape: Ball(radius: 0.2), mass: 1.0, position: (0.5, 2.5),
+             linear_damping: 1.5, friction: 0.0, restitution: 0.5, lock_rotation: true),
+        ],
+        schedule: Sequential(phase: 0.5, settle: 1.0),
+        effect: (body: "puck", grid: (rows: 3, cols: 6, min: (0.0, 0.0), max: (6.0, 3.0))),
+    ),
+    command: Continuous([
+        (name: "h1", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
+        (name: "h2", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
+        (name: "h3", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
+    ]),
+)
+"#;
+
+/// 32 sessions of 8 Gaussian E3D trials of continuous commands on one
+/// thread: in lockstep on one world of 32 copies (`run_value_sessions`,
+/// what `e3d run --sessions 32` does), and one world per session.
+fn continuous_lockstep(c: &mut Criterion) {
+    use e3d::world::{Executor, Workload};
+    use e3d::{run_value_session, run_value_sessions};
+    let scene = Scene::parse(PUCK_HEADINGS, "puck_headings.ron").unwrap();
+    let space = scene.value_space().unwrap();
+    let configs: Vec<SessionConfig> = (0..32)
+        .map(|seed| SessionConfig {
+            trials: 8,
+            seed,
+            use_reward: false,
+        })
+        .collect();
+    let learner = || {
+        LearnerKind::E3d
+            .make_continuous(
+                &Params::TASK1,
+                &space,
+                scene.num_effects(),
+                &Target::Uniform,
+            )
+            .unwrap()
+    };
+    let work = Workload {
+        trials: 32 * 8,
+        sessions: 32,
+        threads: 1,
+    };
+    let exec = Executor::for_values(&scene, &work).unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let mut g = c.benchmark_group("continuous_lockstep");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(32 * 8));
+    g.bench_function("32 sessions in lockstep, 32 copies", |b| {
+        b.iter(|| pool.install(|| run_value_sessions(&exec, learner, &configs, &|_| {}).unwrap()))
+    });
+    g.bench_function("32 sessions, a world each", |b| {
+        b.iter(|| {
+            configs
+                .iter()
+                .map(|cfg| {
+                    let mut world = scene.physics_world().unwrap();
+                    run_value_session(&mut world, &mut learner(), cfg, |_| {}).unwrap()
+                })
+                .collect::<Vec<_>>()
+        })
+    });
+    g.finish();
+}
+
 /// A two-link arm's scene with `n` more fixed balls, in `bodies` (the
 /// scene of tests/physics/scene_errors.rs's body cap).
 fn many_bodies(n: usize) -> String {
@@ -177,5 +262,11 @@ fn scene_parse(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, physics, continuous, scene_parse);
+criterion_group!(
+    benches,
+    physics,
+    continuous,
+    continuous_lockstep,
+    scene_parse
+);
 criterion_main!(benches);

@@ -35,8 +35,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let run = |kind: LearnerKind| -> Result<Vec<ValueSessionRecord>, e3d::WorldError> {
         eprintln!("{kind}: {sessions} sessions x {trials} trials, live physics ...");
+        let work = e3d::world::Workload {
+            trials: trials as u64 * sessions,
+            sessions: configs.len(),
+            threads: rayon::current_num_threads(),
+        };
+        let exec = e3d::Executor::for_values(&scene, &work)?;
         run_value_sessions(
-            || scene.physics_world().expect("a physics scene"),
+            &exec,
             || {
                 kind.make_continuous(&Params::TASK1, &space, n, &Target::Uniform)
                     .expect("task-1 parameters")

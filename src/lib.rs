@@ -111,9 +111,9 @@ pub use rng::SessionRng;
 pub use scene::{Scene, SceneError, SceneErrorKind, SceneSpec};
 pub use session::{
     policy_effect_distribution, run_group, run_lockstep, run_lockstep_into, run_session,
-    run_session_into, run_session_with, run_sessions, run_sessions_until, run_value_session,
-    run_value_sessions, Metrics, Recorder, RunningMetrics, SessionConfig, SessionRecord,
-    ValueSessionRecord,
+    run_session_into, run_session_with, run_sessions, run_sessions_until, run_value_lockstep,
+    run_value_session, run_value_sessions, Metrics, Recorder, RunningMetrics, SessionConfig,
+    SessionRecord, ValueSessionRecord,
 };
 pub use sweep::{Sweep, SweepError};
 pub use world::{

@@ -1,5 +1,6 @@
-//! `e3d run` on a scene of continuous commands: live physics, one world
-//! per session, sessions in parallel on every core.
+//! `e3d run` on a scene of continuous commands: live physics, the
+//! sessions in lockstep groups of [`e3d::Executor::for_values`], the groups
+//! in parallel on every core.
 
 use super::output::write_file;
 use super::session::{join_trials, print_header, print_metrics, RunArgs};
@@ -75,21 +76,26 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         .collect();
     let sessions = seeds.len();
     let steps = scene.steps_per_command().unwrap_or(0) as u64;
+    let threads = rayon::current_num_threads();
+    let work = e3d::world::Workload {
+        trials: a.trials.saturating_mul(sessions as u64),
+        sessions,
+        threads,
+    };
+    let exec = e3d::Executor::for_values(scene, &work).map_err(CliError::input)?;
     errln!(
-        "outcomes: live: continuous commands, {} trials x {sessions} session(s) x {steps} steps, on {} thread(s)",
+        "outcomes: live: continuous commands, {} trials x {sessions} session(s) x {steps} steps, on {threads} thread(s){}",
         a.trials,
-        rayon::current_num_threads()
+        match exec.plan().copies {
+            1 => String::new(),
+            k => format!(", in lockstep up to {k} sessions per world"),
+        }
     );
     let label = format!("run {}", scene.name);
     let total = a.trials.saturating_mul(sessions as u64);
     let records = super::progress::track(&label, "trials", total, |p| {
         let add = |k: u64| p.add(k);
-        run_value_sessions(
-            || scene.physics_world().expect("validated above"),
-            || make().expect("checked above"),
-            &configs,
-            &add,
-        )
+        run_value_sessions(&exec, || make().expect("checked above"), &configs, &add)
     })
     .map_err(CliError::simulation)?;
     let metrics: Vec<Metrics> = records.iter().map(|r| r.metrics(&target)).collect();

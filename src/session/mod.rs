@@ -21,7 +21,7 @@ use metrics::LAST;
 pub use metrics::{
     discovery_trials, policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics,
 };
-pub use values::{run_value_session, run_value_sessions, ValueSessionRecord};
+pub use values::{run_value_lockstep, run_value_session, run_value_sessions, ValueSessionRecord};
 
 /// How to run a session.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

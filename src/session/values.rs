@@ -7,7 +7,7 @@ use crate::command::ValueSpace;
 use crate::effect::Target;
 use crate::learner::ContinuousLearner;
 use crate::rng::SessionRng;
-use crate::world::{ContinuousWorld, WorldError};
+use crate::world::{ContinuousWorld, Executor, Outcome, WorldError};
 use rand::SeedableRng;
 use serde::{Deserialize, Serialize};
 use std::io::{self, Write};
@@ -34,6 +34,27 @@ pub struct ValueSessionRecord {
 }
 
 impl ValueSessionRecord {
+    /// A record of no trials yet, with room for `trials`.
+    fn empty(num_slots: usize, num_effects: usize, trials: usize) -> ValueSessionRecord {
+        ValueSessionRecord {
+            num_slots,
+            num_effects,
+            values: Vec::with_capacity(trials.saturating_mul(num_slots)),
+            effects: Vec::with_capacity(trials),
+            rewards: Vec::with_capacity(trials),
+            points: Vec::with_capacity(trials),
+            final_policy: Vec::new(),
+        }
+    }
+
+    /// Records one trial: its values and outcome.
+    fn push(&mut self, values: &[f64], outcome: &Outcome) {
+        self.values.extend_from_slice(values);
+        self.effects.push(outcome.effect);
+        self.rewards.push(outcome.reward);
+        self.points.push(outcome.point);
+    }
+
     /// The number of trials.
     pub fn trials(&self) -> usize {
         self.effects.len()
@@ -132,15 +153,7 @@ where
 {
     let n = world.value_space().num_slots();
     let trials = config.trials;
-    let mut rec = ValueSessionRecord {
-        num_slots: n,
-        num_effects: world.num_effects(),
-        values: Vec::with_capacity(trials.saturating_mul(n)),
-        effects: Vec::with_capacity(trials),
-        rewards: Vec::with_capacity(trials),
-        points: Vec::with_capacity(trials),
-        final_policy: Vec::new(),
-    };
+    let mut rec = ValueSessionRecord::empty(n, world.num_effects(), trials);
     let mut rng = SessionRng::seed_from_u64(config.seed);
     let mut values = Vec::with_capacity(n);
     for t in 0..trials {
@@ -150,10 +163,7 @@ where
             outcome.reward = 0.0;
         }
         learner.learn(&values, &outcome);
-        rec.values.extend_from_slice(&values);
-        rec.effects.push(outcome.effect);
-        rec.rewards.push(outcome.reward);
-        rec.points.push(outcome.point);
+        rec.push(&values, &outcome);
         if (t + 1) % 64 == 0 {
             progress(t + 1);
         }
@@ -163,32 +173,147 @@ where
     Ok(rec)
 }
 
-/// Runs one session of continuous commands per config, in parallel on
-/// every core (rayon), each on its own world from `make_world` and its own
-/// learner from `make_learner`: the records, in the order of `configs`,
-/// are those of [`run_value_session`] alone, whatever the number of
-/// threads. `progress(k)` is called with each batch of `k` trials done.
-pub fn run_value_sessions<W, L>(
-    make_world: impl Fn() -> W + Sync,
+/// Runs several sessions of continuous commands on one world in
+/// lockstep: at every trial each session proposes its values, the world
+/// executes them all in one
+/// [`execute_values_batch`](ContinuousWorld::execute_values_batch)
+/// (several copies of a physics scene stepped together), then each
+/// session learns from its own outcome.
+///
+/// Every session follows its algorithm exactly as [`run_value_session`]
+/// would, trial by trial, with its own generator: on a world whose batches
+/// give each command's single-world outcome (copies that are exact), the
+/// records are those of the sessions run alone (tested). All sessions run
+/// the trials of the longest; a session with fewer trials stops proposing
+/// at its end. A session whose values fail gets the error; the others go
+/// on. `progress(k)` is called with the `k` trials done, summed over the
+/// sessions, every 64 lockstep trials and at the end.
+pub fn run_value_lockstep<W, L>(
+    world: &mut W,
+    learners: &mut [L],
+    configs: &[SessionConfig],
+    mut progress: impl FnMut(u64),
+) -> Vec<Result<ValueSessionRecord, WorldError>>
+where
+    W: ContinuousWorld + ?Sized,
+    L: ContinuousLearner,
+{
+    assert_eq!(learners.len(), configs.len(), "one config per learner");
+    let n = world.value_space().num_slots();
+    let mut records: Vec<Result<ValueSessionRecord, WorldError>> = configs
+        .iter()
+        .map(|c| Ok(ValueSessionRecord::empty(n, world.num_effects(), c.trials)))
+        .collect();
+    let mut rngs: Vec<SessionRng> = configs
+        .iter()
+        .map(|c| SessionRng::seed_from_u64(c.seed))
+        .collect();
+    let mut batch: Vec<Vec<f64>> = configs.iter().map(|_| Vec::with_capacity(n)).collect();
+    let mut active: Vec<usize> = Vec::with_capacity(configs.len());
+    let mut outcomes = Vec::with_capacity(configs.len());
+    let longest = configs.iter().map(|c| c.trials).max().unwrap_or(0);
+    let mut since = 0u64;
+    for t in 0..longest {
+        active.clear();
+        for (i, c) in configs.iter().enumerate() {
+            if t < c.trials && records[i].is_ok() {
+                learners[i].propose(&mut rngs[i], &mut batch[active.len()]);
+                active.push(i);
+            }
+        }
+        if active.is_empty() {
+            break;
+        }
+        outcomes.clear();
+        world.execute_values_batch(&batch[..active.len()], &mut outcomes);
+        for ((&i, values), result) in active.iter().zip(&batch).zip(outcomes.drain(..)) {
+            let Ok(rec) = &mut records[i] else {
+                continue;
+            };
+            match result {
+                Ok(mut outcome) => {
+                    if !configs[i].use_reward {
+                        outcome.reward = 0.0;
+                    }
+                    learners[i].learn(values, &outcome);
+                    rec.push(values, &outcome);
+                }
+                Err(e) => records[i] = Err(e),
+            }
+        }
+        since += active.len() as u64;
+        if (t + 1) % 64 == 0 {
+            progress(since);
+            since = 0;
+        }
+    }
+    progress(since);
+    for (rec, l) in records.iter_mut().zip(learners.iter()) {
+        if let Ok(rec) = rec {
+            rec.final_policy = (0..n).map(|s| l.slot_gaussian(s)).collect();
+        }
+    }
+    records
+}
+
+/// Runs one session of continuous commands per config the way `exec`
+/// plans them ([`Executor::for_values`]), on every core of the current
+/// rayon pool: session `i` is a learner from `make_learner` with
+/// `configs[i]`. The sessions are cut into
+/// [`Executor::session_groups`], each group stepping together on one
+/// world of [`Executor::value_world`] ([`run_value_lockstep`]; a group of
+/// one is [`run_value_session`]), and the groups run in parallel. The
+/// records, in the order of `configs`, are those of [`run_value_session`]
+/// alone, whatever the threads. `progress(k)` is called with each batch
+/// of `k` trials done. The first session to fail gives the error.
+///
+/// ```
+/// use e3d::world::{Executor, Workload};
+/// use e3d::{run_value_session, run_value_sessions, LearnerKind, Params, Scene, SessionConfig, Target};
+/// let scene = Scene::builtin("arm7_continuous").unwrap();
+/// let space = scene.value_space().unwrap();
+/// let learner = || {
+///     LearnerKind::E3d
+///         .make_continuous(&Params::TASK1, &space, scene.num_effects(), &Target::Uniform)
+///         .unwrap()
+/// };
+/// let configs: Vec<SessionConfig> =
+///     (0..2).map(|seed| SessionConfig { trials: 10, seed, use_reward: false }).collect();
+/// let work = Workload { trials: 10, sessions: 2, threads: 2 };
+/// let exec = Executor::for_values(&scene, &work).unwrap();
+/// let recs = run_value_sessions(&exec, learner, &configs, &|_| {}).unwrap();
+/// let mut world = scene.physics_world().unwrap();
+/// let alone = run_value_session(&mut world, &mut learner(), &configs[1], |_| {}).unwrap();
+/// assert_eq!(recs[1], alone);
+/// ```
+pub fn run_value_sessions<L>(
+    exec: &Executor<'_>,
     make_learner: impl Fn() -> L + Sync,
     configs: &[SessionConfig],
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<ValueSessionRecord>, WorldError>
 where
-    W: ContinuousWorld,
     L: ContinuousLearner,
 {
     use rayon::prelude::*;
-    configs
-        .par_iter()
-        .map(|cfg| {
-            let mut world = make_world();
-            let mut learner = make_learner();
-            let mut done = 0;
-            run_value_session(&mut world, &mut learner, cfg, |t| {
-                progress((t - done) as u64);
-                done = t;
-            })
+    exec.session_groups(configs.len())
+        .into_par_iter()
+        .map(|g| {
+            let configs = &configs[g];
+            let mut world = exec.value_world(configs.len());
+            if let [cfg] = configs {
+                let mut done = 0;
+                let rec = run_value_session(&mut world, &mut make_learner(), cfg, |t| {
+                    progress((t - done) as u64);
+                    done = t;
+                });
+                return vec![rec];
+            }
+            let mut learners: Vec<L> = configs.iter().map(|_| make_learner()).collect();
+            run_value_lockstep(&mut world, &mut learners, configs, progress)
         })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .flatten()
         .collect()
 }

@@ -163,6 +163,59 @@ impl<'s> Executor<'s> {
         Ok(exec)
     }
 
+    /// The executor of a scene of continuous commands (its slots take
+    /// values): always live, since values cannot be tabled or memoised;
+    /// the sessions step together in lockstep groups, `plan().copies`
+    /// commands to a world, where the scene's copies are bit-identical to
+    /// one world ([`PhysicsSpec::copies_are_exact`](crate::scene::physics::PhysicsSpec::copies_are_exact)),
+    /// else one copy per world and a group per session. Sessions run on
+    /// [`value_world`](Self::value_world) by
+    /// [`run_value_sessions`](crate::run_value_sessions). A scene of
+    /// symbols is an error (its executor is [`new`](Self::new)).
+    ///
+    /// ```
+    /// use e3d::world::{Executor, Strategy, Workload};
+    /// use e3d::Scene;
+    /// let scene = Scene::builtin("arm7_continuous").unwrap();
+    /// let work = Workload { trials: 5000, sessions: 4, threads: 2 };
+    /// let exec = Executor::for_values(&scene, &work).unwrap();
+    /// assert_eq!(exec.plan().strategy, Strategy::Live);
+    /// // arm7's copies are not bit-identical: one session per world
+    /// assert_eq!(exec.plan().copies, 1);
+    /// assert_eq!(exec.session_groups(4), vec![0..1, 1..2, 2..3, 3..4]);
+    /// let arm7 = Scene::builtin("arm7").unwrap();
+    /// assert!(Executor::for_values(&arm7, &work).is_err());
+    /// ```
+    pub fn for_values(scene: &'s Scene, work: &Workload) -> Result<Executor<'s>, WorldError> {
+        if !scene.is_continuous() || !matches!(scene.world, WorldSpec::Physics(_)) {
+            return Err(WorldError::Other(format!(
+                "scene `{}` takes symbols: its sessions run on Executor::new, not on an executor of continuous commands",
+                scene.name
+            )));
+        }
+        Ok(Executor {
+            scene,
+            plan: ExecutionPlan::choose(scene, work, None, 0),
+            table: None,
+            memo: None,
+            cache: None,
+            read: 0,
+        })
+    }
+
+    /// The world a group of sessions of continuous commands steps on
+    /// together, `width` of them: a world of `min(width, plan copies)`
+    /// copies. Its outcomes are the same, bit for bit, whatever the width.
+    ///
+    /// # Panics
+    /// On an executor of a grid scene (continuous scenes are physics).
+    pub fn value_world(&self, width: usize) -> PhysicsWorld {
+        let WorldSpec::Physics(p) = &self.scene.world else {
+            panic!("continuous commands on a grid scene")
+        };
+        PhysicsWorld::of(self.scene, p, width.clamp(1, self.plan.copies.max(1)))
+    }
+
     /// The table of the scene from the outcomes `known`, kept in the table
     /// folder if there is one (a failure to write is said in the plan).
     fn build_table(

@@ -189,8 +189,13 @@ pub struct ExecutionPlan {
     pub strategy: Strategy,
     /// The scene.
     pub scene: String,
-    /// The commands of the space (`None`: more than 2^64).
+    /// The commands of the space (`None`: more than 2^64, or continuous).
     pub commands: Option<u64>,
+    /// Whether the scene's commands are continuous (values, not symbols):
+    /// always live, one trial one rollout. Written in JSON only when
+    /// `true` (the summaries of scenes of symbols keep their bytes).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub continuous: bool,
     /// The commands a table simulates (one of each mirror-image pair under
     /// a symmetry), when a table is possible.
     pub simulated: Option<u64>,
@@ -455,7 +460,8 @@ impl ExecutionPlan {
         memo_cap: usize,
     ) -> ExecutionPlan {
         let space = scene.command_space();
-        let n = space.num_commands();
+        // continuous commands cannot be enumerated: no table, no memo
+        let n = space.num_commands().filter(|_| !scene.is_continuous());
         let costs = Costs::of(scene);
         let threads = work.threads.max(1);
         let copies = if costs.exact { TABLE_COPIES } else { 1 };
@@ -468,6 +474,7 @@ impl ExecutionPlan {
             strategy: Strategy::Live,
             scene: scene.name.clone(),
             commands: n,
+            continuous: scene.is_continuous(),
             simulated: None,
             copies: width,
             groups,
@@ -478,6 +485,10 @@ impl ExecutionPlan {
             sessions_seconds: trials * costs.per_command(width) / parallel,
             why: String::new(),
         };
+        if scene.is_continuous() {
+            plan.why = "continuous commands: every trial is simulated (no table or memo)".into();
+            return plan;
+        }
         let Some(n) = n else {
             plan.why = "more than 2^64 commands: no table or memo can index them".into();
             return plan;
@@ -578,6 +589,7 @@ impl fmt::Display for ExecutionPlan {
                     },
                     match self.commands {
                         Some(n) => format!("{n} commands"),
+                        None if self.continuous => "continuous commands".into(),
                         None => "more than 2^64 commands".into(),
                     }
                 )?;

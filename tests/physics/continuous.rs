@@ -3,6 +3,7 @@
 
 use crate::common::{e3d, e3d_command, temp_path};
 use e3d::scene::{Symmetry, WorldSpec};
+use e3d::world::{Executor, Workload};
 use e3d::{
     run_value_session, run_value_sessions, ContinuousLearner, GaussianE3d, LearnerKind, Outcome,
     Params, Scene, SessionConfig, SessionRng, Target, UniformValues, ValueSpace, World,
@@ -12,6 +13,15 @@ use std::path::Path;
 
 fn continuous() -> Scene {
     Scene::builtin("arm7_continuous").unwrap()
+}
+
+/// The workload of `configs` on the current rayon pool.
+fn work(configs: &[SessionConfig]) -> Workload {
+    Workload {
+        trials: configs.iter().map(|c| c.trials as u64).sum(),
+        sessions: configs.len(),
+        threads: rayon::current_num_threads(),
+    }
 }
 
 /// The torque bounds of arm7's joints, as its scene file gives them.
@@ -152,8 +162,9 @@ fn sessions(kind: LearnerKind) -> Vec<e3d::ValueSessionRecord> {
             use_reward: false,
         })
         .collect();
+    let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
     run_value_sessions(
-        || scene.physics_world().unwrap(),
+        &exec,
         || {
             kind.make_continuous(
                 &Params::TASK1,
@@ -213,8 +224,9 @@ fn sessions_are_the_same_whatever_the_threads() {
             .build()
             .unwrap();
         pool.install(|| {
+            let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
             run_value_sessions(
-                || scene.physics_world().unwrap(),
+                &exec,
                 || GaussianE3d::new(&space, 225, &Params::TASK1, &Target::Uniform).unwrap(),
                 &configs,
                 &|_| {},
@@ -456,5 +468,139 @@ fn the_cli_runs_execs_and_refuses_continuous_scenes() {
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(says), "{args:?}: {err}");
+    }
+}
+
+/// puck_rooms's rooms and puck with continuous commands: 3 slots, each an
+/// impulse of 1.6 N*s in any heading. One moving body: its copies in one
+/// world are exact, so its sessions step together.
+const PUCK_HEADINGS: &str = r#"Scene(
+    name: "puck_headings",
+    world: Physics(
+        gravity: (0.0, 0.0),
+        dt: 0.016666666666666666,
+        walls: [
+            (name: "wall", room: ((0.0, 0.0), (6.0, 3.0)), placement: Outside,
+             thickness: 0.1, friction: 0.0, restitution: 0.5),
+            (name: "inner", points: [(3.0, 0.0), (3.0, 3.0)], doors: [((3.0, 1.0), (3.0, 2.0))],
+             names: ["inner_low", "inner_high"], thickness: 0.1, friction: 0.0, restitution: 0.5),
+        ],
+        bodies: [
+            (name: "puck", shape: Ball(radius: 0.2), mass: 1.0, position: (0.5, 2.5),
+             linear_damping: 1.5, friction: 0.0, restitution: 0.5, lock_rotation: true),
+        ],
+        schedule: Sequential(phase: 0.5, settle: 1.0),
+        effect: (body: "puck", grid: (rows: 3, cols: 6, min: (0.0, 0.0), max: (6.0, 3.0))),
+    ),
+    command: Continuous([
+        (name: "h1", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
+        (name: "h2", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
+        (name: "h3", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
+    ]),
+)
+"#;
+
+/// The trials of a record as CSV bytes, without a session column.
+fn csv_of(rec: &e3d::ValueSessionRecord, space: &ValueSpace) -> Vec<u8> {
+    let mut out = Vec::new();
+    rec.write_trials_csv(space, None, false, &mut out).unwrap();
+    out
+}
+
+#[test]
+fn sessions_of_exact_copies_step_together_and_give_the_bytes_of_each_alone() {
+    let scene = Scene::parse(PUCK_HEADINGS, "puck_headings.ron").unwrap();
+    let space = scene.value_space().unwrap();
+    // sessions of unequal lengths: the shorter ones stop proposing first
+    let configs: Vec<SessionConfig> = [60, 45, 60, 1, 30]
+        .iter()
+        .enumerate()
+        .map(|(i, &trials)| SessionConfig {
+            trials,
+            seed: 20 + i as u64,
+            use_reward: false,
+        })
+        .collect();
+    let learner = || GaussianE3d::new(&space, 18, &Params::TASK1, &Target::Uniform).unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let (groups, copies, together) = pool.install(|| {
+        let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
+        let recs = run_value_sessions(&exec, learner, &configs, &|_| {}).unwrap();
+        (exec.session_groups(configs.len()), exec.plan().copies, recs)
+    });
+    // one thread: the five sessions are one group, on a world of 5 copies
+    assert_eq!(groups, vec![0..5]);
+    assert_eq!(copies, 5, "copies per world");
+    for (cfg, rec) in configs.iter().zip(&together) {
+        let mut world = scene.physics_world().unwrap();
+        let alone = run_value_session(&mut world, &mut learner(), cfg, |_| {}).unwrap();
+        assert_eq!(rec.trials(), cfg.trials);
+        assert_eq!(
+            csv_of(rec, &space),
+            csv_of(&alone, &space),
+            "seed {}",
+            cfg.seed
+        );
+        assert_eq!(rec.final_policy, alone.final_policy);
+    }
+    // the puck goes somewhere: not every trial in the start cell
+    let cells: std::collections::BTreeSet<usize> =
+        together.iter().flat_map(|r| r.effects.clone()).collect();
+    assert!(cells.len() >= 4, "cells reached: {cells:?}");
+
+    // arm7_continuous's copies are not exact: one session per world
+    let arm = continuous();
+    let exec = Executor::for_values(&arm, &work(&configs)).unwrap();
+    assert_eq!(exec.plan().copies, 1);
+    assert_eq!(exec.session_groups(5).len(), 5);
+}
+
+#[test]
+fn run_sessions_of_a_continuous_scene_in_lockstep_write_the_bytes_of_runs_alone() {
+    let dir = temp_path("continuous_lockstep");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("puck_headings.ron");
+    std::fs::write(&file, PUCK_HEADINGS).unwrap();
+    let run = |extra: &[&str], sub: &str| {
+        let d = dir.join(sub);
+        let out = e3d_command()
+            .env("RAYON_NUM_THREADS", "1")
+            .arg("run")
+            .arg(&file)
+            .args(["--trials", "40"])
+            .args(extra)
+            .arg("--out")
+            .arg(&d)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let csv = std::fs::read_to_string(d.join("trials.csv")).unwrap();
+        (csv, String::from_utf8(out.stderr).unwrap())
+    };
+    let (together, said) = run(&["--sessions", "4", "--seed", "7"], "together");
+    assert!(
+        said.contains("in lockstep up to 4 sessions per world"),
+        "{said}"
+    );
+    for i in 0..4 {
+        let seed = (7 + i).to_string();
+        let (alone, _) = run(&["--seed", &seed], &format!("alone{i}"));
+        // the rows of session i, without their session column
+        let rows: Vec<&str> = together
+            .lines()
+            .skip(1)
+            .filter_map(|l| l.strip_prefix(&format!("{i},")))
+            .collect();
+        let want: Vec<&str> = alone.lines().skip(1).collect();
+        assert_eq!(rows.len(), 40);
+        assert_eq!(rows, want, "session {i}");
     }
 }
