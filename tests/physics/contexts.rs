@@ -209,7 +209,7 @@ fn the_context_memo_changes_no_result() {
 /// docs/reproducing.md, "Start contexts on puck_contexts", on 3 of its 20
 /// seeds: contextual E3D spreads each room's terminal cells evenly, the
 /// context-blind E3D cannot (measured on the 20 seeds: 0.957..0.990
-/// against 0.786..0.813).
+/// against 0.783..0.815).
 #[test]
 fn contextual_e3d_spreads_every_room_of_the_puck_where_blind_e3d_cannot() {
     let scene = puck_contexts();
