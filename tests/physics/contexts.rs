@@ -37,7 +37,9 @@ fn edited(name: &str, edits: &[(&str, &str)]) -> Scene {
 /// joint targets hold from `c1` into `c2`.
 #[test]
 fn a_command_continues_exactly_from_the_state_the_last_one_left() {
-    let cases: [(&str, &[(&str, &str)], &str, &str, &str); 2] = [
+    /// A scene, the edits that double its slots, its settle, `c1`, `c2`.
+    type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a str, &'a str, &'a str);
+    let cases: [Case<'_>; 2] = [
         (
             "puck_contexts",
             &[("slots: 7", "slots: 14")],
