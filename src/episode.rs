@@ -213,8 +213,15 @@ where
         rec.starts.push(start);
         for i in 0..k {
             learner.propose(context, &mut rng, &mut command);
-            let (mut outcome, next_state) = world.execute_from(&state, &command)?;
             let last = i + 1 == k;
+            // the last command's terminal state is not needed: its outcome
+            // may be looked up (a memo keyed by context and command)
+            let (mut outcome, next_state) = if last {
+                (world.execute_outcome_from(&state, &command)?, None)
+            } else {
+                let (o, s) = world.execute_from(&state, &command)?;
+                (o, Some(s))
+            };
             if !last || !config.use_reward {
                 outcome.reward = 0.0;
             }
@@ -228,7 +235,9 @@ where
             rec.commands.extend_from_slice(&command.symbols);
             rec.effects.push(outcome.effect);
             rec.rewards.push(outcome.reward);
-            state = next_state;
+            if let Some(s) = next_state {
+                state = s;
+            }
             context = next;
         }
     }

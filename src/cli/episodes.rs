@@ -8,6 +8,8 @@ use crate::cli::console::{errln, outln};
 use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
 use e3d::learner::{ContextTargets, ContextualLearner};
 use e3d::scene::WorldSpec;
+use e3d::world::{ContextMemoized, OutcomeMemo};
+use e3d::World;
 use e3d::{LearnerKind, Params, Scene, Target};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -15,8 +17,18 @@ use serde::Serialize;
 /// Whether `e3d run` runs episodes: start contexts, several commands per
 /// episode, or a closed-loop learner.
 pub fn wanted(a: &RunArgs, scene: &Scene) -> bool {
-    let contexts = matches!(&scene.world, WorldSpec::Grid(g) if !g.contexts.is_empty());
-    contexts || a.commands > 1 || a.closed_loop || a.observe.is_some()
+    start_names(scene).len() > 1 || a.commands > 1 || a.closed_loop || a.observe.is_some()
+}
+
+/// The names of the scene's start contexts (`["start"]` without any).
+fn start_names(scene: &Scene) -> Vec<String> {
+    match &scene.world {
+        WorldSpec::Grid(g) if !g.contexts.is_empty() => {
+            g.contexts.iter().map(|c| c.name.clone()).collect()
+        }
+        WorldSpec::Grid(_) => vec!["start".into()],
+        WorldSpec::Physics(p) => p.context_names(),
+    }
 }
 
 #[derive(Serialize)]
@@ -46,12 +58,12 @@ struct Summary<'a> {
 }
 
 pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
-    let WorldSpec::Grid(grid) = &scene.world else {
+    if scene.value_space().is_some() {
         return Err(CliError::input(format!(
-            "scene `{}`: start contexts and --commands, --observe, --closed-loop run on grid scenes only",
+            "scene `{}`: its slots take values (`Continuous`); start contexts and --commands, --observe, --closed-loop run on scenes of symbols",
             scene.name
         )));
-    };
+    }
     let observe = match a.observe {
         Some(ObserveArg::Start) => Observe::StartContext,
         Some(ObserveArg::State) => Observe::State,
@@ -98,25 +110,31 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         if a.commands == 1 { "" } else { "s" },
         contexts,
         match observe {
-            Observe::State => "the current cell",
+            Observe::State => "the current effect cell",
             Observe::StartContext => "the start context",
             Observe::Blind => "nothing (one policy)",
         }
     );
+    // commands from a named start context are simulated once, whatever
+    // the session (sampled starts and later commands run live)
+    let memos: Vec<OutcomeMemo> = if a.memo.memo_cap > 0 {
+        (0..world.num_contexts())
+            .map(|_| OutcomeMemo::new(&space, num_effects, a.memo.memo_cap))
+            .collect::<Result<_, _>>()
+            .map_err(CliError::input)?
+    } else {
+        Vec::new()
+    };
     let records: Vec<EpisodeRecord> = seeds
         .par_iter()
         .map(|&seed| {
-            let mut world = scene.build();
+            let mut world = ContextMemoized::new(scene.build(), &memos);
             let mut learner = make()?;
             run_episodes(&mut world, &mut learner, &cfg(seed)).map_err(CliError::simulation)
         })
         .collect::<Result<_, _>>()?;
-    let starts = grid.num_contexts();
-    let names: Vec<String> = if grid.contexts.is_empty() {
-        vec!["start".into()]
-    } else {
-        grid.contexts.iter().map(|c| c.name.clone()).collect()
-    };
+    let names = start_names(scene);
+    let starts = names.len();
     let sessions: Vec<OneSession> = records
         .iter()
         .zip(seeds)

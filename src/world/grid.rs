@@ -173,7 +173,11 @@ impl World for GridWorld {
     }
 
     fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
-        let &WorldState::Cell(cell) = state;
+        let &WorldState::Cell(cell) = state else {
+            return Err(WorldError::Other(format!(
+                "a grid starts from a cell, not from {state:?}"
+            )));
+        };
         if cell >= self.grid.num_cells() {
             return Err(WorldError::Other(format!(
                 "cell {cell} is outside this {}-cell grid",

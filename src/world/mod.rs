@@ -15,6 +15,7 @@
 //!
 //! Implement [`World`] to plug in your own simulator or robot.
 
+mod context_memo;
 mod executor;
 mod from_scene;
 mod grid;
@@ -25,11 +26,14 @@ mod reach;
 mod table;
 
 pub use crate::scene::GridSpec;
+pub use context_memo::ContextMemoized;
 pub use executor::Executor;
 pub use from_scene::PhysicsScene;
 pub use grid::GridWorld;
 pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
-pub use physics::{BodyPose, Frame, Motion, PhysicsWorld, RunStats, Trace, MAX_COPIES};
+pub use physics::{
+    BodyPose, Frame, Motion, PhysicsState, PhysicsWorld, RunStats, Trace, MAX_COPIES,
+};
 pub use plan::{
     batch_rollout_seconds, calibration, calibration_on, lockstep_groups, rollout_seconds,
     timed_rollout_seconds, ExecOptions, ExecutionPlan, OnDisk, ParseStrategyError, Strategy,
@@ -64,6 +68,22 @@ pub struct Outcome {
 pub enum WorldState {
     /// A grid cell, `row * cols + col`.
     Cell(usize),
+    /// A state of a physics world: poses, velocities, joint coordinates
+    /// and the snapshot of the Rapier sets it continues from.
+    Physics(PhysicsState),
+}
+
+impl WorldState {
+    /// The named start context this state is the start of, if any: the
+    /// outcome of a command from it depends only on `(context, command)`
+    /// (see [`ContextMemoized`]). `None` for a grid cell, a drawn start and
+    /// the state a command left.
+    pub fn context(&self) -> Option<usize> {
+        match self {
+            WorldState::Cell(_) => None,
+            WorldState::Physics(s) => s.context,
+        }
+    }
 }
 
 /// A failure while executing a command.
@@ -218,6 +238,17 @@ pub trait World {
         ))
     }
 
+    /// The outcome of [`execute_from`](World::execute_from) without the
+    /// terminal state, when no command follows (the last of an episode):
+    /// wrappers that keep outcomes ([`ContextMemoized`]) look it up.
+    fn execute_outcome_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<Outcome, WorldError> {
+        self.execute_from(from, command).map(|(o, _)| o)
+    }
+
     /// Under a mirror symmetry: the command whose outcome, through
     /// [`mirror_outcome`](World::mirror_outcome), is `command`'s (its
     /// mirror image), when the world simulates that one in its place.
@@ -326,5 +357,12 @@ impl<W: World + ?Sized> World for Box<W> {
     }
     fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
         (**self).bin_state(state)
+    }
+    fn execute_outcome_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<Outcome, WorldError> {
+        (**self).execute_outcome_from(from, command)
     }
 }

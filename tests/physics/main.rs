@@ -9,6 +9,7 @@ mod common;
 mod arm7;
 mod arm_copies;
 mod audit;
+mod contexts;
 mod continuous;
 mod copies;
 mod effect_kinds;

@@ -212,6 +212,18 @@ fn print_world(scene: &Scene) {
             }
         }
         WorldSpec::Physics(p) => {
+            if !p.contexts.is_empty() {
+                let list: Vec<String> = p
+                    .contexts
+                    .iter()
+                    .map(|c| {
+                        let kind = if c.is_sampled() { "drawn" } else { "named" };
+                        let bodies: Vec<&str> = c.bodies.iter().map(|b| b.body.as_str()).collect();
+                        format!("{} ({kind}: {})", c.name, bodies.join(" "))
+                    })
+                    .collect();
+                outln!("start contexts ({}): {}", p.contexts.len(), list.join(", "));
+            }
             for w in p.warnings() {
                 errln!("warning: scene {}: {w}", scene.name);
             }

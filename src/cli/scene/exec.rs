@@ -334,11 +334,45 @@ fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<Strin
     Ok(())
 }
 
+/// `scene exec` on a physics scene with start contexts: every command from
+/// every context's start, one row each, with the context's name; a drawn
+/// context's start is drawn with seed 0 (the same start on every row).
+fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>) -> CliResult {
+    use rand::SeedableRng;
+    let space = scene.command_space();
+    let mut world = scene.build();
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(1024);
+    let reader_space = space.clone();
+    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let mut out = String::from("context,command,effect,reward,x,y\n");
+    let mut stdout = std::io::stdout().lock();
+    for read in rx {
+        let c = read?;
+        for (k, name) in names.iter().enumerate() {
+            let mut rng = e3d::SessionRng::seed_from_u64(0);
+            let from = world.draw_start(k, &mut rng).map_err(world_error)?;
+            let o = world.execute_outcome_from(&from, &c).map_err(world_error)?;
+            let [x, y] = o.point;
+            let command = space.format(&c);
+            let _ = writeln!(out, "{name},{command},{},{},{x},{y}", o.effect, o.reward);
+        }
+        stdout
+            .write_all(out.as_bytes())
+            .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+        out.clear();
+    }
+    Ok(())
+}
+
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
-    if let WorldSpec::Grid(g) = &scene.world {
-        if !g.contexts.is_empty() {
+    match &scene.world {
+        WorldSpec::Grid(g) if !g.contexts.is_empty() => {
             return exec_contexts(scene, g, commands);
         }
+        WorldSpec::Physics(p) if !p.contexts.is_empty() && scene.value_space().is_none() => {
+            return exec_physics_contexts(scene, &p.context_names(), commands);
+        }
+        _ => {}
     }
     let space = scene.command_space();
     let (table, memo) = match table_cache {

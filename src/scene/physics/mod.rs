@@ -23,11 +23,13 @@
 //! `warnings` what is possible but suspicious.
 
 mod check;
+mod context;
 mod joint;
 pub mod limits;
 mod spec;
 mod warnings;
 
+pub use context::{BodyStart, StartState};
 pub use joint::{JointKind, JointSpec, MotorSpec};
 pub(crate) use spec::to_world;
 pub use spec::{

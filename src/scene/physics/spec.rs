@@ -53,6 +53,11 @@ pub struct PhysicsSpec {
     /// arithmetic, not bit for bit in Rapier.
     #[serde(default)]
     pub symmetry: Option<Symmetry>,
+    /// Start contexts (default none: one start, the bodies as listed):
+    /// each trial or episode starts from one of them, drawn with the
+    /// session's generator (see [`StartState`](super::StartState)).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub contexts: Vec<super::StartState>,
 }
 
 fn default_dt() -> f64 {

@@ -329,6 +329,7 @@ impl PhysicsWorld {
             params.num_solver_iterations = n;
         }
         let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
+        let contexts = PhysicsWorld::context_starts(spec, &replicas[0].handles, &s);
         PhysicsWorld {
             scene: scene.name.clone(),
             space,
@@ -362,6 +363,7 @@ impl PhysicsWorld {
             dt: spec.dt,
             body_names: spec.bodies.iter().map(|b| b.name.clone()).collect(),
             joint_names: spec.joints.iter().map(|j| j.name.clone()).collect(),
+            contexts,
         }
     }
 }

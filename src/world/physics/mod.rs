@@ -26,13 +26,15 @@
 //! image under the scene's symmetry.
 
 mod build;
+mod context;
 mod mirror;
 mod record;
 mod step;
 
+pub use context::PhysicsState;
 pub use record::{BodyPose, Frame, Motion, RunStats, Trace};
 
-use super::{Outcome, World, WorldError};
+use super::{Outcome, World, WorldError, WorldState};
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::{Binning, EffectGrid};
 use crate::scene::Symmetry;
@@ -250,6 +252,9 @@ pub struct PhysicsWorld {
     /// The scene's body and joint names, in its order (for motions).
     body_names: Vec<String>,
     joint_names: Vec<String>,
+    /// The start contexts (one, the pristine start, for a scene without
+    /// contexts).
+    contexts: Vec<context::ContextStart>,
 }
 
 /// One copy of a scene's non-fixed bodies and joints, resolved to handles.
@@ -353,6 +358,35 @@ impl World for PhysicsWorld {
 
     fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
         self.reflect_outcome(outcome)
+    }
+
+    fn num_contexts(&self) -> usize {
+        self.contexts.len()
+    }
+
+    /// The context's start state: a named context's is fixed, a sampled
+    /// one draws two floats (x, then y) per ranged body.
+    fn draw_start(
+        &self,
+        context: usize,
+        rng: &mut crate::rng::SessionRng,
+    ) -> Result<WorldState, WorldError> {
+        self.start_of(context, rng).map(WorldState::Physics)
+    }
+
+    /// The effect's bin of the state (the effect a command ending there has).
+    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
+        self.bin_of(state)
+    }
+
+    /// Continues exactly: the state holds a snapshot of every Rapier set
+    /// (see [`PhysicsState`]).
+    fn execute_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<(Outcome, WorldState), WorldError> {
+        self.run_from(from, command)
     }
 }
 

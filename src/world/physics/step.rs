@@ -462,7 +462,7 @@ impl PhysicsWorld {
     /// on, so the results are always those of Rapier with every limit.
     /// Traces run with every limit on (`gated` false), so that `each_step`
     /// sees each step once.
-    fn run_copies(
+    pub(super) fn run_copies(
         &mut self,
         commands: &[Cmd<'_>],
         out: &mut Vec<Result<Outcome, WorldError>>,

@@ -46,6 +46,7 @@ impl PhysicsSpec {
         if let Some(sym) = self.symmetry {
             sym.validate(self, scene)?;
         }
+        self.check_contexts()?;
         self.check_overlap()
     }
 

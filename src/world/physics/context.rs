@@ -1,0 +1,241 @@
+//! Start contexts and states of a physics world: where a command starts
+//! from, and the state it leaves, continued exactly by the next command.
+//!
+//! A [`PhysicsState`] carries a snapshot of every Rapier set (bodies,
+//! colliders, joints and their motors' set points, the island manager,
+//! the broad phase, the narrow phase with its contact manifolds and the
+//! solver's warm-start impulses, the CCD solver): the next command starts
+//! from those very bits, so executing `c1` then `c2` from the state `c1`
+//! left is one continued rollout of `c1` then `c2`. Poses and velocities
+//! alone would not be: a body resting against a wall restarts with no
+//! contact manifold and no warm-start impulse, and its first step differs
+//! in the last bits (and multibody links are set by their joints'
+//! coordinates, not by their poses). The poses, velocities and joint
+//! coordinates are also kept in the open, to compare and serialise.
+
+use super::{PhysicsWorld, Sets};
+use crate::rng::SessionRng;
+use crate::scene::physics::{BodyStart, PhysicsSpec};
+use crate::world::{WorldError, WorldState};
+use rand::RngExt;
+use rapier2d::math::{Real, Rotation, Vector};
+use rapier2d::prelude::RigidBodyHandle;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// A state of a physics world (its copy 0): every body's pose and
+/// velocity and every joint's coordinate, and the snapshot of the Rapier
+/// sets from which a command continues exactly.
+///
+/// Two states are equal when their poses, velocities and joint
+/// coordinates are equal bit for bit. A state read back from a file has
+/// no snapshot: it can be compared, not executed from.
+#[derive(Clone, Serialize, Deserialize)]
+pub struct PhysicsState {
+    /// Per body of the scene, in its order: `[x, y, angle]` (m, rad).
+    pub poses: Vec<[f64; 3]>,
+    /// Per body: `[vx, vy, angular velocity]` (m/s, rad/s).
+    pub velocities: Vec<[f64; 3]>,
+    /// Per joint of the scene, in its order: `[coordinate, rate]` (a
+    /// hinge's angle from its start pose in rad and rad/s, a slider's
+    /// position in m and m/s).
+    pub joints: Vec<[f64; 2]>,
+    /// The named start context this state is the start of (`None` for a
+    /// drawn start or the state a command left): commands from it may be
+    /// looked up by `(context, command)`.
+    pub context: Option<usize>,
+    #[serde(skip)]
+    snapshot: Option<Arc<Sets>>,
+}
+
+impl PhysicsState {
+    /// The state's numbers as little-endian bytes (poses, velocities,
+    /// joints, in order): equal bytes, equal states.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let p = self.poses.iter().chain(&self.velocities).flatten();
+        let j = self.joints.iter().flatten();
+        p.chain(j).flat_map(|v| v.to_le_bytes()).collect()
+    }
+
+    /// Whether the state holds the snapshot commands continue from.
+    pub fn is_executable(&self) -> bool {
+        self.snapshot.is_some()
+    }
+}
+
+impl PartialEq for PhysicsState {
+    fn eq(&self, other: &Self) -> bool {
+        self.context == other.context && self.to_bytes() == other.to_bytes()
+    }
+}
+
+impl std::fmt::Debug for PhysicsState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PhysicsState")
+            .field("poses", &self.poses)
+            .field("velocities", &self.velocities)
+            .field("joints", &self.joints)
+            .field("context", &self.context)
+            .finish()
+    }
+}
+
+/// How a start context of a world starts.
+#[derive(Clone)]
+pub(super) enum ContextStart {
+    /// The scene's start (a scene without contexts).
+    Pristine,
+    /// A named state: the pristine sets with the context's bodies set.
+    Named(Arc<Sets>),
+    /// A drawn state: the bodies to set, ranges drawn at each start.
+    Sampled(Vec<(RigidBodyHandle, BodyStart)>),
+}
+
+/// Sets the start of the bodies of `starts` in `sets`, drawing each
+/// range's x then y with `rng` (`None`: the ranges' first corner).
+fn place(sets: &mut Sets, starts: &[(RigidBodyHandle, BodyStart)], rng: Option<&mut SessionRng>) {
+    let mut rng = rng;
+    for (h, s) in starts {
+        let b = &mut sets.bodies[*h];
+        if let Some(p) = s.position {
+            let (x, y) = match (s.to, rng.as_deref_mut()) {
+                (Some(to), Some(r)) => (
+                    r.random_range(p.0.min(to.0)..=p.0.max(to.0)),
+                    r.random_range(p.1.min(to.1)..=p.1.max(to.1)),
+                ),
+                _ => p,
+            };
+            b.set_translation(Vector::new(x as Real, y as Real), true);
+        }
+        if let Some(a) = s.angle {
+            b.set_rotation(Rotation::new(a as Real), true);
+        }
+        let v = s.velocity.unwrap_or((0.0, 0.0));
+        b.set_linvel(Vector::new(v.0 as Real, v.1 as Real), true);
+        b.set_angvel(s.angular_velocity.unwrap_or(0.0) as Real, true);
+    }
+}
+
+impl PhysicsWorld {
+    /// The start contexts of `spec`, on copy 0 of `pristine`.
+    pub(super) fn context_starts(
+        spec: &PhysicsSpec,
+        handles: &[RigidBodyHandle],
+        pristine: &Sets,
+    ) -> Vec<ContextStart> {
+        if spec.contexts.is_empty() {
+            return vec![ContextStart::Pristine];
+        }
+        let index = |name: &str| spec.bodies.iter().position(|b| b.name == name);
+        spec.contexts
+            .iter()
+            .map(|c| {
+                let starts: Vec<(RigidBodyHandle, BodyStart)> = c
+                    .bodies
+                    .iter()
+                    .map(|b| (handles[index(&b.body).expect("validated body")], b.clone()))
+                    .collect();
+                if c.is_sampled() {
+                    ContextStart::Sampled(starts)
+                } else {
+                    let mut sets = pristine.clone();
+                    place(&mut sets, &starts, None);
+                    ContextStart::Named(Arc::new(sets))
+                }
+            })
+            .collect()
+    }
+
+    /// The state of copy 0 in `sets`, holding `snapshot` (those sets).
+    pub(super) fn state_of(&self, snapshot: Arc<Sets>, context: Option<usize>) -> PhysicsState {
+        let f = self.frame_of(&snapshot, 0.0);
+        PhysicsState {
+            poses: f
+                .poses
+                .iter()
+                .map(|p| [p.position[0], p.position[1], p.angle])
+                .collect(),
+            velocities: f.velocities,
+            joints: f
+                .joint_angles
+                .iter()
+                .zip(&f.joint_velocities)
+                .map(|(&a, &w)| [a, w])
+                .collect(),
+            context,
+            snapshot: Some(snapshot),
+        }
+    }
+
+    /// The start state of context `context`, drawn with `rng` for a
+    /// sampled context (two floats per ranged body: x, then y).
+    pub(super) fn start_of(
+        &self,
+        context: usize,
+        rng: &mut SessionRng,
+    ) -> Result<PhysicsState, WorldError> {
+        let start = self.contexts.get(context).ok_or_else(|| {
+            WorldError::Other(format!(
+                "context {context}: scene `{}` has {} start contexts",
+                self.scene,
+                self.contexts.len()
+            ))
+        })?;
+        Ok(match start {
+            ContextStart::Pristine => self.state_of(Arc::new(self.pristine.clone()), Some(0)),
+            ContextStart::Named(sets) => self.state_of(sets.clone(), Some(context)),
+            ContextStart::Sampled(starts) => {
+                let mut sets = self.pristine.clone();
+                place(&mut sets, starts, Some(rng));
+                self.state_of(Arc::new(sets), None)
+            }
+        })
+    }
+
+    /// Executes `command` from `from` on copy 0 (no mirror twin: the
+    /// symmetry holds about the scene's start only) and returns its
+    /// outcome and the state it leaves.
+    pub(super) fn run_from(
+        &mut self,
+        from: &WorldState,
+        command: &crate::Command,
+    ) -> Result<(crate::Outcome, WorldState), WorldError> {
+        let snapshot = match from {
+            WorldState::Physics(PhysicsState {
+                snapshot: Some(s), ..
+            }) if s.bodies.len() == self.pristine.bodies.len() => s.clone(),
+            WorldState::Physics(_) => {
+                return Err(WorldError::Other(
+                    "this physics state has no snapshot of this world (read back from a file, or another scene's): it cannot be continued exactly".into(),
+                ))
+            }
+            other => {
+                return Err(WorldError::Other(format!(
+                    "scene `{}` is a physics world; it cannot start from {other:?}",
+                    self.scene
+                )))
+            }
+        };
+        // the run restores `pristine` first: put the state's sets there
+        let saved = std::mem::replace(&mut self.pristine, Sets::clone(&snapshot));
+        let mut out = Vec::with_capacity(1);
+        self.run_copies(&[super::Cmd::Symbols(command)], &mut out, true, |_| {});
+        self.pristine = saved;
+        let outcome = out.pop().expect("one result per command")?;
+        let end = self.state_of(Arc::new(self.sets.clone()), None);
+        Ok((outcome, WorldState::Physics(end)))
+    }
+
+    /// The effect bin of a state: where the effect's features fall.
+    pub(super) fn bin_of(&self, state: &WorldState) -> Result<usize, WorldError> {
+        match state {
+            WorldState::Physics(PhysicsState {
+                snapshot: Some(s), ..
+            }) if s.bodies.len() == self.pristine.bodies.len() => Ok(self.located_in(s, 0).1),
+            _ => Err(WorldError::Other(format!(
+                "scene `{}`: a state of this physics world, with its snapshot, found {state:?}",
+                self.scene
+            ))),
+        }
+    }
+}
