@@ -6,7 +6,7 @@ use super::session::{ObserveArg, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
-use e3d::learner::{ClosedLoopE3d, ContextTargets, ContextualLearner, QLearning};
+use e3d::learner::{ContextTargets, ContextualLearner};
 use e3d::scene::WorldSpec;
 use e3d::{LearnerKind, Params, Scene, Target};
 use rayon::prelude::*;
@@ -72,26 +72,23 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     let contexts = cfg(0).num_contexts(&world);
     let shared = ContextTargets::Shared(Target::Uniform);
     let make = || -> Result<Box<dyn ContextualLearner + Send>, CliError> {
-        match (a.closed_loop, a.learner) {
-            (false, kind) => kind.make_contextual(&params, &space, num_effects, contexts, &shared),
-            (true, LearnerKind::E3d) => ClosedLoopE3d::new(
+        if a.closed_loop && !matches!(a.learner, LearnerKind::E3d | LearnerKind::Egreedy) {
+            return Err(CliError::input(format!(
+                "--closed-loop takes --learner e3d (closed-loop E3D) or egreedy (Q-learning), not {}",
+                a.learner
+            )));
+        }
+        a.learner
+            .make_episodic(
+                &params,
                 &space,
                 num_effects,
                 contexts,
-                &params,
                 &shared,
+                a.closed_loop,
                 a.gamma,
             )
-            .map(|l| Box::new(l) as _),
-            (true, LearnerKind::Egreedy) => QLearning::new(&space, contexts, &params, a.gamma)
-                .map(|l| Box::new(l) as _),
-            (true, other) => {
-                return Err(CliError::input(format!(
-                    "--closed-loop takes --learner e3d (closed-loop E3D) or egreedy (Q-learning), not {other}"
-                )))
-            }
-        }
-        .map_err(CliError::input)
+            .map_err(CliError::input)
     };
     let name = make()?.name().to_string();
     errln!(

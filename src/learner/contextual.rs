@@ -431,4 +431,49 @@ impl LearnerKind {
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Box::new(PerContext::new(learners)))
     }
+
+    /// The learner of this kind for episodes: with `closed_loop`, E3D is
+    /// closed-loop E3D ([`ClosedLoopE3d`], discount `gamma`) and
+    /// epsilon-greedy is Q-learning ([`QLearning`]); every other kind, and
+    /// every kind without `closed_loop`, is its contextual form
+    /// ([`make_contextual`](Self::make_contextual)).
+    ///
+    /// ```
+    /// use e3d::learner::{ContextTargets, ContextualLearner};
+    /// use e3d::{CommandSpace, LearnerKind, Params, Target};
+    /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
+    /// let shared = ContextTargets::Shared(Target::Uniform);
+    /// let q = LearnerKind::Egreedy.make_episodic(&Params::TASK1, &space, 4, 3, &shared, true, 0.9).unwrap();
+    /// let u = LearnerKind::Uniform.make_episodic(&Params::TASK1, &space, 4, 3, &shared, true, 0.9).unwrap();
+    /// assert_eq!((q.name(), u.name()), ("qlearning", "uniform"));
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn make_episodic(
+        self,
+        params: &Params,
+        space: &CommandSpace,
+        num_effects: usize,
+        num_contexts: usize,
+        targets: &ContextTargets,
+        closed_loop: bool,
+        gamma: f64,
+    ) -> Result<Box<dyn ContextualLearner + Send>, LearnerError> {
+        match (closed_loop, self) {
+            (true, LearnerKind::E3d) => Ok(Box::new(ClosedLoopE3d::new(
+                space,
+                num_effects,
+                num_contexts,
+                params,
+                targets,
+                gamma,
+            )?)),
+            (true, LearnerKind::Egreedy) => Ok(Box::new(QLearning::new(
+                space,
+                num_contexts,
+                params,
+                gamma,
+            )?)),
+            _ => self.make_contextual(params, space, num_effects, num_contexts, targets),
+        }
+    }
 }

@@ -86,6 +86,7 @@ pub mod summary;
 
 pub mod factory;
 
+mod episodes;
 mod error;
 mod plan;
 mod results;
@@ -106,7 +107,7 @@ pub use results::{
 };
 pub use run::{cap_threads, max_threads, DirOptions, THREADS_PER_CORE};
 pub use spec::{
-    MetricSpec, ParamValues, Scale, SweepSpec, Values, FIXED_PARAM_NAMES, MAX_SESSIONS, MAX_STEPS,
-    MAX_TRIALS,
+    MetricSpec, ParamValues, Scale, SweepSpec, Values, FIXED_PARAM_NAMES, MAX_COMMANDS,
+    MAX_SESSIONS, MAX_STEPS, MAX_TRIALS,
 };
 pub use summary::{CELL_COLUMNS, FAILURE_COLUMN, KEY_COLUMNS};
