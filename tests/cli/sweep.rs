@@ -365,6 +365,9 @@ fn bad_sweep_files_are_refused_with_their_place() {
         ("unknown_learner.ron", "unknown_learner.ron:3:25: unknown variant `e3b` for `LearnerKind` (did you mean `e3d`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive"),
         ("range_without_scale.ron", "range_without_scale.ron:6:46: missing field `scale` in a range; expected `scale: Linear` or `scale: Log`"),
         ("bad_metric.ron", "bad_metric.ron:7:29: field `metrics`: expected cumulative_reward(T) with T in 1..=100 (the trials), found 500"),
+        ("zero_commands.ron", "zero_commands.ron:6:5: field `commands`: expected 1 to 64 commands per episode, found 0"),
+        ("gamma_without_closed_loop.ron", "gamma_without_closed_loop.ron:7:5: field `gamma`: expected closed_loop: true with a gamma (the discount of Q_ref and of Q-learning)"),
+        ("context_metric_out_of_range.ron", "context_metric_out_of_range.ron:8:35: field `metrics`: expected normalized_entropy_context(I) with I below 1 (the most start contexts of the sweep's scenes), found 1"),
     ];
     let out = temp_dir("sweep-bad");
     for (file, expected) in cases {

@@ -537,7 +537,7 @@ impl SweepSpec {
                 return Err(bad(
                     "gamma",
                     None,
-                    "gamma only with closed_loop: true (it is the discount of Q_ref and of Q-learning)",
+                    "closed_loop: true with a gamma (the discount of Q_ref and of Q-learning)",
                 ));
             }
             if !(0.0..=1.0).contains(&g) {
