@@ -886,8 +886,8 @@ fn table_progress_tells_every_simulated_command_and_changes_nothing() {
 }
 
 /// A closed-loop sweep on a scene with start contexts and one without:
-/// 2 scenes x (e3d, egreedy, uniform) x 4 sessions of 300 episodes of 3
-/// commands.
+/// 2 scenes x (e3d at 2 beta, egreedy, uniform) x 4 sessions of 300
+/// episodes of 3 commands.
 fn closed_loop_sweep(dir: &Path) -> PathBuf {
     let scene = dir.join("contexts.ron");
     std::fs::copy(
@@ -901,6 +901,7 @@ fn closed_loop_sweep(dir: &Path) -> PathBuf {
         r#"Sweep(
     scenes: ["four_rooms", "contexts.ron"],
     learners: [e3d, egreedy, uniform],
+    params: (beta: [1, 100]),
     sessions: 4,
     trials: 300,
     seed: 11,
@@ -970,14 +971,14 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
         "--threads",
         "2",
     ]));
-    assert!(String::from_utf8_lossy(&resumed.stderr).contains("(14 from an earlier run, 10 now)"));
+    assert!(String::from_utf8_lossy(&resumed.stderr).contains("(22 from an earlier run, 10 now)"));
     assert_same_files(Path::new(&one), Path::new(&two), &FINAL_FILES);
 
     // the per-context columns, and the numbers of run_episodes
     let results = std::fs::read_to_string(d.join("one/results.csv")).unwrap();
     let rows: Vec<Vec<&str>> = results.lines().map(|l| l.split(',').collect()).collect();
     let header = &rows[0];
-    assert_eq!(rows.len(), 1 + 2 * 3 * 4);
+    assert_eq!(rows.len(), 1 + 2 * 4 * 4);
     let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
     let (c0, c1) = (
         col("normalized_entropy_context_0"),
@@ -1005,7 +1006,10 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
         };
         let mut learner = kind
             .make_episodic(
-                &e3d::Params::TASK1,
+                &e3d::Params {
+                    beta: row[4].parse().unwrap_or(1.0),
+                    ..e3d::Params::TASK1
+                },
                 &scene.command_space(),
                 scene.num_effects(),
                 cfg.num_contexts(&*world),
@@ -1033,7 +1037,7 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
         );
         checked += 1;
     }
-    assert_eq!(checked, 12);
+    assert_eq!(checked, 16);
     // the summary: per cell, the per-context means and their counts
     let summary = std::fs::read_to_string(d.join("one/summary.csv")).unwrap();
     let srows: Vec<Vec<&str>> = summary.lines().map(|l| l.split(',').collect()).collect();
@@ -1042,7 +1046,7 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
         scol("normalized_entropy_context_1_n"),
         scol("normalized_entropy_context_1_mean"),
     );
-    assert_eq!(srows.len(), 1 + 6);
+    assert_eq!(srows.len(), 1 + 8);
     for r in &srows[1..] {
         if r[0] == "four_rooms" {
             assert_eq!((r[n1], r[m1]), ("0", ""));
@@ -1052,4 +1056,26 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
             assert!(m > 0.5 && m <= 1.0, "{r:?}");
         }
     }
+    // the page and a plot of a per-context column
+    ok(e3d(&["report", &one]));
+    let page = std::fs::read_to_string(d.join("one/report.html")).unwrap();
+    assert!(page.contains("<th>normalized_entropy_context_1<br>mean ± sd</th>"));
+    let svg = d.join("h1.svg");
+    ok(e3d(&[
+        "plot",
+        &one,
+        "--x",
+        "beta",
+        "--metric",
+        "normalized_entropy_context_1",
+        "--where",
+        "scene=two_rooms_contexts",
+        "--out",
+        svg.to_str().unwrap(),
+    ]));
+    let svg = std::fs::read_to_string(svg).unwrap();
+    assert!(
+        svg.contains("Normalized entropy context 1 against beta (two_rooms_contexts)"),
+        "{svg}"
+    );
 }
