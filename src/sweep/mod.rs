@@ -42,7 +42,12 @@
 //! - the run: [`Sweep::run_session`], [`Sweep::run_with`], [`Sweep::run`],
 //!   [`Sweep::run_to_dir`];
 //! - the results: [`SessionResult`], the rows of `results.csv`, the files
-//!   of an output folder ([`DirReport`]) and [`merge`].
+//!   of an output folder ([`DirReport`]) and [`merge`];
+//! - episodes: a scene with start contexts, or a spec that sets
+//!   [`SweepSpec::commands`], [`SweepSpec::observe`] or
+//!   [`SweepSpec::closed_loop`], runs sessions of episodes
+//!   ([`Sweep::runs_episodes`], [`Sweep::run_episode_session`]), with the
+//!   metric [`MetricSpec::NormalizedEntropyContext`] per start context.
 //!
 //! # Cells
 //!
