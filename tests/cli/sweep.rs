@@ -418,6 +418,17 @@ fn shipped_sweeps_parse() {
     // e3d: 2 rewards x 7 beta x 4 eta; uniform and egreedy: 2 rewards each
     assert_eq!(paper.cells().len(), 56 + 2 + 2);
     assert_eq!(paper.num_sessions(), 1200);
+    // closed_loop.ron: 2 scenes x (e3d at 2 beta, egreedy, uniform), episodes
+    let cl = e3d::Sweep::load(root.join("scenes/sweeps/closed_loop.ron")).unwrap();
+    assert_eq!((cl.cells().len(), cl.num_sessions()), (8, 160));
+    assert!(cl.runs_episodes(0) && cl.runs_episodes(1));
+    assert_eq!((cl.start_contexts(0), cl.start_contexts(1)), (1, 2));
+    assert_eq!(cl.observe(), e3d::episode::Observe::State);
+    let columns: Vec<String> = cl.metrics().iter().map(|m| m.column()).collect();
+    assert!(columns.ends_with(&[
+        "normalized_entropy_context_0".to_string(),
+        "normalized_entropy_context_1".to_string()
+    ]));
     // arm7.ron names scenes/arm7.ron, which the physics scenes bring
     if root.join("scenes/arm7.ron").exists() {
         let arm = e3d::Sweep::load(root.join("scenes/sweeps/arm7.ron")).unwrap();
