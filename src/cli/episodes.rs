@@ -55,6 +55,8 @@ struct Summary<'a> {
     gamma: Option<f64>,
     start_contexts: Vec<String>,
     sessions: Vec<OneSession>,
+    /// The scene's grid, for `e3d report`.
+    scene_record: e3d::report::run_scene::SceneRecord,
 }
 
 pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
@@ -202,6 +204,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             gamma: a.closed_loop.then_some(a.gamma),
             start_contexts: names,
             sessions,
+            scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
         };
         let mut json = serde_json::to_vec_pretty(&summary).map_err(CliError::output)?;
         json.push(b'\n');

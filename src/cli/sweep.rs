@@ -76,12 +76,26 @@ pub fn run(a: SweepArgs) -> CliResult {
     let shard = a.shard.unwrap_or(Shard::ALL);
     let total = sweep.num_sessions();
     let plan = format!(
-        "sweep {}: {} cells x {} sessions = {} sessions of {} trials{}, {} thread{}",
+        "sweep {}: {} cells x {} sessions = {} sessions of {} trials{}{}, {} thread{}",
         a.file.display(),
         sweep.cells().len(),
         sweep.spec.sessions,
         total,
         sweep.spec.trials,
+        if sweep.spec.runs_episodes() {
+            format!(
+                " (episodes of {} command{}{})",
+                sweep.spec.commands,
+                if sweep.spec.commands == 1 { "" } else { "s" },
+                if sweep.spec.closed_loop {
+                    ", closed loop"
+                } else {
+                    ""
+                }
+            )
+        } else {
+            String::new()
+        },
         if shard.n > 1 {
             format!(", shard {shard} ({} sessions)", shard.count(total))
         } else {

@@ -24,6 +24,13 @@ pub struct TrialRow {
     /// The values of a continuous command, one per slot (empty for a
     /// command of symbols, whose `command` is then empty).
     pub values: Vec<f64>,
+    /// The start context of the trial's episode, for a run of episodes
+    /// (`e3d run` on a scene with start contexts, or `--commands K`):
+    /// its `start` column; empty otherwise.
+    pub start: String,
+    /// The 1-based command of the trial in its episode (the `command`
+    /// column of a run of episodes); 1 otherwise.
+    pub step: usize,
 }
 
 /// The largest `trials.csv` [`parse_trials`] is given by `e3d report`
@@ -31,6 +38,10 @@ pub struct TrialRow {
 pub const MAX_TRIALS_CSV_BYTES: u64 = 256 << 20;
 
 /// Reads `trials.csv` (with or without a leading `session` column).
+/// That of a run of episodes (`session,episode,command,context,start,
+/// symbols,effect,reward`) gives the command's symbols from `symbols`,
+/// its place in the episode from `command` and the start context from
+/// `start`.
 ///
 /// Every value is checked, and a bad one is refused with
 /// `trials.csv:LINE:COL`, its column and what was expected: an effect is
@@ -56,8 +67,21 @@ pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, String> {
     };
     // a run of continuous commands writes a quoted `values` column
     let continuous = header.iter().any(|h| h == "values");
+    // a run of episodes: `command` is the command's place in its episode
+    let episodes = header.iter().any(|h| h == "episode");
+    let (step_col, start_col) = if episodes {
+        (Some(col("command")?), Some(col("start")?))
+    } else {
+        (None, None)
+    };
     let (c, e, r) = (
-        col(if continuous { "values" } else { "command" })?,
+        col(if continuous {
+            "values"
+        } else if episodes {
+            "symbols"
+        } else {
+            "command"
+        })?,
         col("effect")?,
         col("reward")?,
     );
@@ -112,11 +136,31 @@ pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, String> {
                 )
             })?;
         let reward = parse_finite(&f[r].0, FILE, n, f[r].1, "reward")?;
+        let step = match step_col {
+            None => 1,
+            Some(k) => f[k]
+                .0
+                .trim()
+                .parse::<usize>()
+                .ok()
+                .filter(|&v| (1..=crate::sweep::MAX_COMMANDS).contains(&v))
+                .ok_or_else(|| {
+                    format!(
+                        "{FILE}:{n}:{}: column `command`: expected the command's place in its episode, 1 to {}, found `{}`",
+                        f[k].1,
+                        crate::sweep::MAX_COMMANDS,
+                        echo(&f[k].0)
+                    )
+                })?,
+        };
+        let start = start_col.map_or(String::new(), |k| f[k].0.trim().to_string());
         rows.push(TrialRow {
             command,
             values,
             effect,
             reward,
+            start,
+            step,
         });
     }
     Ok(rows)
@@ -126,18 +170,18 @@ fn esc(s: &str) -> std::borrow::Cow<'_, str> {
     crate::text::xml_escape(s)
 }
 
-/// A heat map of the share of `trials` ending in each of `rows x cols`
+/// A heat map of the share of `effects` in each of `rows x cols`
 /// cells (effect `row * cols + col`), darker for more.
-fn heat_map(out: &mut String, title: &str, trials: &[TrialRow], rows: usize, cols: usize) {
+fn heat_map(out: &mut String, title: &str, effects: &[usize], rows: usize, cols: usize) {
     let px = (360.0 / cols.max(rows) as f64).clamp(4.0, 40.0);
     let mut counts = vec![0usize; rows * cols];
-    for t in trials {
-        if let Some(c) = counts.get_mut(t.effect) {
+    for &e in effects {
+        if let Some(c) = counts.get_mut(e) {
             *c += 1;
         }
     }
     let max = counts.iter().copied().max().unwrap_or(0).max(1) as f64;
-    let n = trials.len().max(1) as f64;
+    let n = effects.len().max(1) as f64;
     let (w, h) = (cols as f64 * px, rows as f64 * px + 24.0);
     let _ = writeln!(
         out,
@@ -242,23 +286,19 @@ pub fn run_page_with_note(
         let _ = writeln!(body, "<p class=\"note\"><strong>{}</strong></p>", esc(note));
     }
     let n = trials.len();
-    let tenth = (n / 10).max(1).min(n);
+    // the terminal effects: of every trial, or of each episode's last command
+    let k = trials.iter().map(|t| t.step).max().unwrap_or(1);
+    let terminal: Vec<usize> = trials
+        .iter()
+        .filter(|t| t.step == k)
+        .map(|t| t.effect)
+        .collect();
+    let what = if k > 1 { "episodes" } else { "trials" };
     body.push_str("<h2>Effects</h2>\n<div class=\"row\">\n");
-    heat_map(
-        &mut body,
-        &format!("early: trials 1..{tenth}"),
-        &trials[..tenth],
-        rows,
-        cols,
-    );
-    heat_map(
-        &mut body,
-        &format!("late: trials {}..{n}", n - tenth + 1),
-        &trials[n - tenth..],
-        rows,
-        cols,
-    );
-    body.push_str("</div>\n<h2>Reward</h2>\n");
+    early_and_late(&mut body, "", what, &terminal, rows, cols);
+    body.push_str("</div>\n");
+    per_start_context(&mut body, trials, k, rows, cols);
+    body.push_str("<h2>Reward</h2>\n");
     let mut acc = 0.0;
     let cum: Vec<f64> = trials
         .iter()
@@ -337,6 +377,79 @@ pub fn run_page_with_note(
         esc(summary),
         t = esc(title)
     )
+}
+
+/// The heat maps of the first and the last 10% of `effects`.
+fn early_and_late(
+    out: &mut String,
+    prefix: &str,
+    what: &str,
+    effects: &[usize],
+    rows: usize,
+    cols: usize,
+) {
+    let n = effects.len();
+    let tenth = (n / 10).max(1).min(n);
+    let early = format!("{prefix}early: {what} 1..{tenth}");
+    heat_map(out, &early, &effects[..tenth], rows, cols);
+    let late = format!("{prefix}late: {what} {}..{n}", n - tenth + 1);
+    heat_map(out, &late, &effects[n - tenth..], rows, cols);
+}
+
+/// For a run of episodes from start contexts: per start context (in the
+/// order first met), the normalised entropy of its episodes' terminal
+/// effects over the `rows x cols` cells, their cumulative reward and the
+/// heat maps of the first and last 10% of them.
+fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usize, cols: usize) {
+    let mut starts: Vec<&str> = Vec::new();
+    for t in trials {
+        if !t.start.is_empty() && !starts.contains(&t.start.as_str()) {
+            starts.push(&t.start);
+        }
+    }
+    if starts.is_empty() {
+        return;
+    }
+    out.push_str("<h2>Per start context</h2>\n<table class=\"contexts\">\n<tr><th>start context</th><th>episodes</th><th>normalised entropy of the terminal cells</th><th>cumulative reward</th><th>first rewarded episode (of its own)</th></tr>\n");
+    let mut maps = String::new();
+    for s in &starts {
+        let mine = trials.iter().filter(|t| t.start == *s);
+        let effects: Vec<usize> = mine
+            .clone()
+            .filter(|t| t.step == k)
+            .map(|t| t.effect)
+            .collect();
+        let mut counts = vec![0.0; rows * cols];
+        for &e in &effects {
+            if let Some(c) = counts.get_mut(e) {
+                *c += 1.0;
+            }
+        }
+        let h = crate::effect::normalized_entropy_over(&counts, rows * cols);
+        let reward: f64 = mine.clone().map(|t| t.reward).sum();
+        let first = mine
+            .filter(|t| t.step == k)
+            .position(|t| t.reward > 0.0)
+            .map_or("never".to_string(), |i| (i + 1).to_string());
+        let _ = writeln!(
+            out,
+            "<tr><td>{}</td><td class=\"n\">{}</td><td class=\"n\">{h:.4}</td><td class=\"n\">{reward}</td><td class=\"n\">{first}</td></tr>",
+            esc(s),
+            effects.len()
+        );
+        maps.push_str("<div class=\"row\">\n");
+        early_and_late(
+            &mut maps,
+            &format!("{s}, "),
+            "episodes",
+            &effects,
+            rows,
+            cols,
+        );
+        maps.push_str("</div>\n");
+    }
+    out.push_str("</table>\n");
+    out.push_str(&maps);
 }
 
 /// The HTML page for a sweep folder (written by `e3d sweep` or `e3d

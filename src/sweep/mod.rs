@@ -42,7 +42,12 @@
 //! - the run: [`Sweep::run_session`], [`Sweep::run_with`], [`Sweep::run`],
 //!   [`Sweep::run_to_dir`];
 //! - the results: [`SessionResult`], the rows of `results.csv`, the files
-//!   of an output folder ([`DirReport`]) and [`merge`].
+//!   of an output folder ([`DirReport`]) and [`merge`];
+//! - episodes: a scene with start contexts, or a spec that sets
+//!   [`SweepSpec::commands`], [`SweepSpec::observe`] or
+//!   [`SweepSpec::closed_loop`], runs sessions of episodes
+//!   ([`Sweep::runs_episodes`], [`Sweep::run_episode_session`]), with the
+//!   metric [`MetricSpec::NormalizedEntropyContext`] per start context.
 //!
 //! # Cells
 //!
@@ -86,6 +91,7 @@ pub mod summary;
 
 pub mod factory;
 
+mod episodes;
 mod error;
 mod plan;
 mod results;
@@ -106,7 +112,7 @@ pub use results::{
 };
 pub use run::{cap_threads, max_threads, DirOptions, THREADS_PER_CORE};
 pub use spec::{
-    MetricSpec, ParamValues, Scale, SweepSpec, Values, FIXED_PARAM_NAMES, MAX_SESSIONS, MAX_STEPS,
-    MAX_TRIALS,
+    MetricSpec, ParamValues, Scale, SweepSpec, Values, FIXED_PARAM_NAMES, MAX_COMMANDS,
+    MAX_SESSIONS, MAX_STEPS, MAX_TRIALS,
 };
 pub use summary::{CELL_COLUMNS, FAILURE_COLUMN, KEY_COLUMNS};

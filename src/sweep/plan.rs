@@ -157,6 +157,8 @@ pub struct Sweep {
     /// Per scene, the effects some command reaches, when told
     /// ([`with_reachable_effects`](Self::with_reachable_effects)).
     pub(super) reachable: Vec<Option<usize>>,
+    /// Per scene, its start contexts.
+    pub(super) contexts: Vec<usize>,
 }
 
 /// Where a sweep tells the building of its scenes' outcome tables:
@@ -353,6 +355,9 @@ impl Sweep {
             }
             scenes.push(scene);
         }
+        let contexts = super::episodes::start_contexts(&scenes);
+        let mut metrics = metrics;
+        super::episodes::check(&spec, &contexts, &mut metrics, &bad)?;
         // the size, before making the cells (checked above already when
         // the counts of values were known before expanding them)
         let counts: [usize; 5] = std::array::from_fn(|i| axes[i].len());
@@ -401,6 +406,7 @@ impl Sweep {
             trials_done: None,
             table_progress: None,
             reachable: Vec::new(),
+            contexts,
         })
     }
 

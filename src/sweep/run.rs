@@ -1,6 +1,7 @@
 //! Running a sweep: one session, sessions in lockstep, all of them on a
 //! thread pool, and resumably into a folder.
 
+use super::episodes::EpisodeWorlds;
 use super::factory::{describe_space, SceneRun};
 use super::journal::{self, Journal, JournalHeader};
 use super::plan::{SessionSpec, Shard, Sweep};
@@ -124,7 +125,7 @@ impl Sweep {
 
     /// The running metrics a session keeps: the cumulative reward at the
     /// trials the metrics name.
-    fn recorder(&self, world: &dyn World) -> RunningMetrics {
+    pub(super) fn recorder(&self, world: &dyn World) -> RunningMetrics {
         let checkpoints: Vec<usize> = self
             .metrics
             .iter()
@@ -136,7 +137,7 @@ impl Sweep {
         RunningMetrics::with_checkpoints(world.num_effects(), &checkpoints)
     }
 
-    fn result(
+    pub(super) fn result(
         &self,
         session: &SessionSpec,
         status: Result<(), WorldError>,
@@ -166,6 +167,8 @@ impl Sweep {
                 MetricSpec::Coverage => Some(m.coverage),
                 MetricSpec::TrialsTo50Percent => m.trials_to_50_percent.map(|t| t as f64),
                 MetricSpec::TrialsTo90Percent => m.trials_to_90_percent.map(|t| t as f64),
+                // set by run_episode_session
+                MetricSpec::NormalizedEntropyContext(_) => None,
             })
             .collect();
         SessionResult {
@@ -204,9 +207,21 @@ impl Sweep {
             self.scenes
                 .iter()
                 .zip(&work)
-                .map(|(scene, w)| {
+                .enumerate()
+                .map(|(si, (scene, w))| {
                     if w.sessions == 0 {
                         return Ok(None);
+                    }
+                    if let (true, Some(file)) = (self.runs_episodes(si), scene.scene()) {
+                        let e: Box<dyn SceneRun> = Box::new(EpisodeWorlds {
+                            scene: file,
+                            commands: self.spec.commands,
+                            contexts: self.start_contexts(si),
+                        });
+                        if let Some(line) = e.describe() {
+                            self.notice(&line);
+                        }
+                        return Ok(Some(e));
                     }
                     let e = match &self.table_progress {
                         Some(f) => {
@@ -258,6 +273,12 @@ impl Sweep {
                         // a panic inside the engine fails this unit's
                         // sessions, recorded so, not the whole sweep
                         let run = std::panic::AssertUnwindSafe(|| {
+                            if self.runs_episodes(scene) {
+                                return unit
+                                    .iter()
+                                    .map(|s| self.run_episode_session(s, &mut *exec.world(1)))
+                                    .collect();
+                            }
                             let mut world = exec.world(unit.len());
                             self.run_sessions_lockstep(unit, &mut *world)
                         });

@@ -171,7 +171,7 @@ pub fn summarize<'a>(
             matches!(
                 *m,
                 "first_reward_trial" | "trials_to_50_percent" | "trials_to_90_percent"
-            )
+            ) || m.starts_with("normalized_entropy_context_")
         })
         .collect();
     let mut out = String::new();

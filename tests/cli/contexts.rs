@@ -67,6 +67,37 @@ fn run_on_start_contexts_spreads_each_context_and_writes_a_context_column() {
         json.contains("\"start_contexts\": [\n    \"a\",\n    \"b\"\n  ]"),
         "{json}"
     );
+    // the report: the scene's grid (recorded), and per start context its
+    // episodes, the entropy the run printed, and early and late heat maps
+    let r = ok(e3d(&["report", out.to_str().unwrap()]));
+    assert!(
+        r.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(page.contains("<h2>Per start context</h2>"));
+    let rows: Vec<&str> = page
+        .lines()
+        .filter(|l| l.starts_with("<tr><td>") && l.contains("class=\"n\""))
+        .collect();
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    let episodes: usize = csv.lines().skip(1).filter(|l| l.contains(",a,")).count();
+    for (row, (name, h)) in rows.iter().zip([("a", e3d_h[0]), ("b", e3d_h[1])]) {
+        let a_count = if name == "a" {
+            episodes
+        } else {
+            4000 - episodes
+        };
+        assert!(
+            row.starts_with(&format!(
+                "<tr><td>{name}</td><td class=\"n\">{a_count}</td><td class=\"n\">{h:.4}</td>"
+            )),
+            "{row}"
+        );
+    }
+    assert_eq!(page.matches("<svg class=\"heat\"").count(), 2 + 2 * 2);
+    assert!(page.contains("a, late: episodes "));
 }
 
 #[test]

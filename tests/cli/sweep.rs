@@ -365,6 +365,9 @@ fn bad_sweep_files_are_refused_with_their_place() {
         ("unknown_learner.ron", "unknown_learner.ron:3:25: unknown variant `e3b` for `LearnerKind` (did you mean `e3d`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive"),
         ("range_without_scale.ron", "range_without_scale.ron:6:46: missing field `scale` in a range; expected `scale: Linear` or `scale: Log`"),
         ("bad_metric.ron", "bad_metric.ron:7:29: field `metrics`: expected cumulative_reward(T) with T in 1..=100 (the trials), found 500"),
+        ("zero_commands.ron", "zero_commands.ron:6:5: field `commands`: expected 1 to 64 commands per episode, found 0"),
+        ("gamma_without_closed_loop.ron", "gamma_without_closed_loop.ron:7:5: field `gamma`: expected closed_loop: true with a gamma (the discount of Q_ref and of Q-learning)"),
+        ("context_metric_out_of_range.ron", "context_metric_out_of_range.ron:8:35: field `metrics`: expected normalized_entropy_context(I) with I below 1 (the most start contexts of the sweep's scenes), found 1"),
     ];
     let out = temp_dir("sweep-bad");
     for (file, expected) in cases {
@@ -415,6 +418,17 @@ fn shipped_sweeps_parse() {
     // e3d: 2 rewards x 7 beta x 4 eta; uniform and egreedy: 2 rewards each
     assert_eq!(paper.cells().len(), 56 + 2 + 2);
     assert_eq!(paper.num_sessions(), 1200);
+    // closed_loop.ron: 2 scenes x (e3d at 2 beta, egreedy, uniform), episodes
+    let cl = e3d::Sweep::load(root.join("scenes/sweeps/closed_loop.ron")).unwrap();
+    assert_eq!((cl.cells().len(), cl.num_sessions()), (8, 160));
+    assert!(cl.runs_episodes(0) && cl.runs_episodes(1));
+    assert_eq!((cl.start_contexts(0), cl.start_contexts(1)), (1, 2));
+    assert_eq!(cl.observe(), e3d::episode::Observe::State);
+    let columns: Vec<String> = cl.metrics().iter().map(|m| m.column()).collect();
+    assert!(columns.ends_with(&[
+        "normalized_entropy_context_0".to_string(),
+        "normalized_entropy_context_1".to_string()
+    ]));
     // arm7.ron names scenes/arm7.ron, which the physics scenes bring
     if root.join("scenes/arm7.ron").exists() {
         let arm = e3d::Sweep::load(root.join("scenes/sweeps/arm7.ron")).unwrap();
@@ -880,4 +894,200 @@ fn table_progress_tells_every_simulated_command_and_changes_nothing() {
     };
     assert_eq!(rows(&with), rows(&without));
     assert_eq!(rows(&with), rows(&plain));
+}
+
+/// A closed-loop sweep on a scene with start contexts and one without:
+/// 2 scenes x (e3d at 2 beta, egreedy, uniform) x 4 sessions of 300
+/// episodes of 3 commands.
+fn closed_loop_sweep(dir: &Path) -> PathBuf {
+    let scene = dir.join("contexts.ron");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/two_rooms_contexts.ron"),
+        &scene,
+    )
+    .unwrap();
+    let p = dir.join("closed.ron");
+    std::fs::write(
+        &p,
+        r#"Sweep(
+    scenes: ["four_rooms", "contexts.ron"],
+    learners: [e3d, egreedy, uniform],
+    params: (beta: [1, 100]),
+    sessions: 4,
+    trials: 300,
+    seed: 11,
+    commands: 3,
+    closed_loop: true,
+    gamma: 0.8,
+)
+"#,
+    )
+    .unwrap();
+    p
+}
+
+#[test]
+fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_shards_and_resumes()
+{
+    let d = temp_dir("sweep-closed-loop");
+    let file = closed_loop_sweep(&d);
+    let f = file.to_str().unwrap();
+    let out = |name: &str| d.join(name).to_str().unwrap().to_string();
+    let (one, two) = (out("one"), out("two"));
+    let plan = ok(e3d(&["sweep", f, "--out", &one, "--threads", "1"]));
+    let told = String::from_utf8_lossy(&plan.stderr);
+    assert!(
+        told.contains("contexts: episodes of 3 commands from 2 start contexts"),
+        "{told}"
+    );
+    ok(e3d(&["sweep", f, "--out", &two, "--threads", "2"]));
+    assert_same_files(Path::new(&one), Path::new(&two), &FINAL_FILES);
+    // two shards, merged
+    for k in 1..=2 {
+        let shard = out(&format!("shard{k}"));
+        ok(e3d(&[
+            "sweep",
+            f,
+            "--shard",
+            &format!("{k}/2"),
+            "--out",
+            &shard,
+        ]));
+    }
+    let merged = out("merged");
+    ok(e3d(&[
+        "merge",
+        &out("shard2"),
+        &out("shard1"),
+        "--out",
+        &merged,
+    ]));
+    assert_same_files(Path::new(&one), Path::new(&merged), &FINAL_FILES);
+    // a run cut short (the last 10 sessions missing from its journal)
+    // resumes to the same bytes
+    let journal = d.join("two/journal.txt");
+    let text = std::fs::read_to_string(&journal).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let kept = lines[..lines.len() - 10].join("\n") + "\n";
+    std::fs::write(&journal, kept).unwrap();
+    for f in ["results.csv", "summary.csv"] {
+        std::fs::remove_file(d.join("two").join(f)).unwrap();
+    }
+    let resumed = ok(e3d(&[
+        "sweep",
+        f,
+        "--out",
+        &two,
+        "--resume",
+        "--threads",
+        "2",
+    ]));
+    assert!(String::from_utf8_lossy(&resumed.stderr).contains("(22 from an earlier run, 10 now)"));
+    assert_same_files(Path::new(&one), Path::new(&two), &FINAL_FILES);
+
+    // the per-context columns, and the numbers of run_episodes
+    let results = std::fs::read_to_string(d.join("one/results.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = results.lines().map(|l| l.split(',').collect()).collect();
+    let header = &rows[0];
+    assert_eq!(rows.len(), 1 + 2 * 4 * 4);
+    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let (c0, c1) = (
+        col("normalized_entropy_context_0"),
+        col("normalized_entropy_context_1"),
+    );
+    let (reward, first) = (col("cumulative_reward_at_300"), col("first_reward_trial"));
+    for row in &rows[1..] {
+        assert_eq!(row[c1].is_empty(), row[0] == "four_rooms", "{row:?}");
+        assert!(row.last().unwrap().is_empty(), "a failed session: {row:?}");
+    }
+    use e3d::episode::{run_episodes, EpisodeConfig, Observe};
+    use e3d::learner::{ContextTargets, ContextualLearner};
+    let scene = e3d::Scene::load(d.join("contexts.ron")).unwrap();
+    let mut checked = 0;
+    for row in rows[1..].iter().filter(|r| r[0] == "two_rooms_contexts") {
+        let kind: e3d::LearnerKind = row[1].parse().unwrap();
+        let seed: u64 = row[9].parse().unwrap();
+        let mut world = scene.build();
+        let cfg = EpisodeConfig {
+            episodes: 300,
+            commands: 3,
+            seed,
+            use_reward: true,
+            observe: Observe::State,
+        };
+        let closed = matches!(kind, e3d::LearnerKind::E3d | e3d::LearnerKind::Egreedy);
+        let mut learner = kind
+            .make_episodic(
+                closed,
+                &e3d::Params {
+                    beta: row[4].parse().unwrap_or(1.0),
+                    ..e3d::Params::TASK1
+                },
+                &scene.command_space(),
+                scene.num_effects(),
+                cfg.num_contexts(&*world),
+                &ContextTargets::Shared(e3d::Target::Uniform),
+                0.8,
+            )
+            .unwrap();
+        assert_eq!(learner.num_contexts(), 18);
+        let rec = run_episodes(&mut *world, &mut *learner, &cfg).unwrap();
+        let per_start = rec.entropy_per_start(2);
+        assert_eq!(row[c0], e3d::sweep::format_number(per_start[0]), "{row:?}");
+        assert_eq!(row[c1], e3d::sweep::format_number(per_start[1]), "{row:?}");
+        assert_eq!(
+            row[reward],
+            e3d::sweep::format_number(rec.cumulative_reward())
+        );
+        let first_episode = rec
+            .first_reward_episode()
+            .map_or(String::new(), |e| e.to_string());
+        assert_eq!(row[first], first_episode);
+        assert!(
+            per_start.iter().all(|h| *h > 0.5 && *h <= 1.0),
+            "{per_start:?}"
+        );
+        checked += 1;
+    }
+    assert_eq!(checked, 16);
+    // the summary: per cell, the per-context means and their counts
+    let summary = std::fs::read_to_string(d.join("one/summary.csv")).unwrap();
+    let srows: Vec<Vec<&str>> = summary.lines().map(|l| l.split(',').collect()).collect();
+    let scol = |name: &str| srows[0].iter().position(|c| *c == name).unwrap();
+    let (n1, m1) = (
+        scol("normalized_entropy_context_1_n"),
+        scol("normalized_entropy_context_1_mean"),
+    );
+    assert_eq!(srows.len(), 1 + 8);
+    for r in &srows[1..] {
+        if r[0] == "four_rooms" {
+            assert_eq!((r[n1], r[m1]), ("0", ""));
+        } else {
+            assert_eq!(r[n1], "4");
+            let m: f64 = r[m1].parse().unwrap();
+            assert!(m > 0.5 && m <= 1.0, "{r:?}");
+        }
+    }
+    // the page and a plot of a per-context column
+    ok(e3d(&["report", &one]));
+    let page = std::fs::read_to_string(d.join("one/report.html")).unwrap();
+    assert!(page.contains("<th>normalized_entropy_context_1<br>mean ± sd</th>"));
+    let svg = d.join("h1.svg");
+    ok(e3d(&[
+        "plot",
+        &one,
+        "--x",
+        "beta",
+        "--metric",
+        "normalized_entropy_context_1",
+        "--where",
+        "scene=two_rooms_contexts",
+        "--out",
+        svg.to_str().unwrap(),
+    ]));
+    let svg = std::fs::read_to_string(svg).unwrap();
+    assert!(
+        svg.contains("Normalized entropy context 1 against beta (two_rooms_contexts)"),
+        "{svg}"
+    );
 }

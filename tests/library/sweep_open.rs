@@ -3,6 +3,7 @@
 //! `e3d sweep`.
 
 use crate::common::temp_path;
+use e3d::episode::Observe;
 use e3d::sweep::{
     DirOptions, LearnerFactory, Learners, LiveScene, MetricSpec, ParamValues, Scale, Shard, Sweep,
     SweepSpec, Values, Worlds,
@@ -439,6 +440,17 @@ fn spec() -> impl Strategy<Value = SweepSpec> {
                     trials,
                     seed,
                     metrics,
+                    // the episode fields, drawn from bits of the seed
+                    commands: 1 + (seed % 3) as usize,
+                    observe: [
+                        None,
+                        Some(Observe::State),
+                        Some(Observe::StartContext),
+                        Some(Observe::Blind),
+                    ][(seed >> 3) as usize % 4],
+                    closed_loop: seed & 4 != 0,
+                    gamma: (seed & 4 != 0 && seed & 32 != 0)
+                        .then_some(((seed >> 6) % 101) as f64 / 100.0),
                 })
             },
         )

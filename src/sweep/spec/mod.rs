@@ -6,8 +6,13 @@ use super::factory::{LearnerFactory, Learners, PARAM_NAMES};
 use super::Sweep;
 use super::SweepError;
 #[cfg(doc)]
+use crate::episode::run_episodes;
+use crate::episode::Observe;
+#[cfg(doc)]
 use crate::learner::LearnerKind;
 use crate::learner::Params;
+#[cfg(doc)]
+use crate::learner::{ClosedLoopE3d, QLearning};
 use crate::scene::{ron_options, Invalid, SceneError};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
@@ -60,6 +65,11 @@ pub enum MetricSpec {
     /// The same for 90% (column `trials_to_90_percent`).
     #[serde(rename = "trials_to_90_percent")]
     TrialsTo90Percent,
+    /// The normalised entropy (over every effect) of the terminal effects
+    /// of the episodes started in start context `i`, 0-based in the
+    /// scene's order (column `normalized_entropy_context_I`; empty for a
+    /// scene of fewer contexts).
+    NormalizedEntropyContext(usize),
 }
 
 impl MetricSpec {
@@ -75,6 +85,7 @@ impl MetricSpec {
             MetricSpec::Coverage => "coverage".into(),
             MetricSpec::TrialsTo50Percent => "trials_to_50_percent".into(),
             MetricSpec::TrialsTo90Percent => "trials_to_90_percent".into(),
+            MetricSpec::NormalizedEntropyContext(i) => format!("normalized_entropy_context_{i}"),
         }
     }
 
@@ -87,6 +98,7 @@ impl MetricSpec {
             MetricSpec::FirstRewardTrial
                 | MetricSpec::TrialsTo50Percent
                 | MetricSpec::TrialsTo90Percent
+                | MetricSpec::NormalizedEntropyContext(_)
         )
     }
 
@@ -161,10 +173,40 @@ pub struct SweepSpec {
     /// The base seed every session's seed is derived from.
     #[serde(default)]
     pub seed: u64,
-    /// The metrics to keep (default: [`MetricSpec::defaults`]).
+    /// The metrics to keep (default: [`MetricSpec::defaults`], and on
+    /// scenes with start contexts the normalised entropy per context).
     #[serde(default)]
     pub metrics: Option<Vec<MetricSpec>>,
+    /// The commands of an episode, `K` in `1..=64` (default 1): above 1,
+    /// every session runs episodes of `K` commands, each starting where
+    /// the last one left the world ([`run_episodes`]), and a trial of the
+    /// metrics is an episode.
+    #[serde(default = "default_commands")]
+    pub commands: usize,
+    /// What the learners observe before each command (default: the
+    /// current state with several commands per episode or a closed loop,
+    /// else the start context). Set, every session runs episodes.
+    #[serde(default)]
+    pub observe: Option<Observe>,
+    /// Whether `e3d` is closed-loop E3D ([`ClosedLoopE3d`]: the policy
+    /// guided by `Q_ref`) and `egreedy` Q-learning ([`QLearning`]); the
+    /// other learners run their contextual form. True, every session runs
+    /// episodes.
+    #[serde(default)]
+    pub closed_loop: bool,
+    /// The discount of `Q_ref` and of Q-learning, in `[0, 1]` (default
+    /// [`ClosedLoopE3d::GAMMA`]); only with `closed_loop`.
+    #[serde(default)]
+    pub gamma: Option<f64>,
 }
+
+fn default_commands() -> usize {
+    1
+}
+
+/// The most commands an episode of a sweep may have (as `e3d
+/// closed-loop --commands`).
+pub const MAX_COMMANDS: usize = 64;
 
 /// The built-in learners' names, in the order of [`LearnerKind::ALL`].
 const BUILTIN_LEARNERS: &[&str] = &[
@@ -319,6 +361,10 @@ impl SweepSpec {
             trials,
             seed: 0,
             metrics: None,
+            commands: 1,
+            observe: None,
+            closed_loop: false,
+            gamma: None,
         }
     }
 
@@ -350,6 +396,30 @@ impl SweepSpec {
     pub fn with_seed(mut self, seed: u64) -> SweepSpec {
         self.seed = seed;
         self
+    }
+
+    /// Sets the episodes: `commands` commands each, what the learners
+    /// observe (`None`: the default), and whether closed loop with the
+    /// discount `gamma` (`None`: [`ClosedLoopE3d::GAMMA`]).
+    pub fn with_episodes(
+        mut self,
+        commands: usize,
+        observe: Option<Observe>,
+        closed_loop: bool,
+        gamma: Option<f64>,
+    ) -> SweepSpec {
+        self.commands = commands;
+        self.observe = observe;
+        self.closed_loop = closed_loop;
+        self.gamma = gamma;
+        self
+    }
+
+    /// Whether every session runs episodes, whatever its scene: several
+    /// commands per episode, an observation or a closed loop set. (A
+    /// scene with start contexts runs episodes anyway.)
+    pub fn runs_episodes(&self) -> bool {
+        self.commands > 1 || self.observe.is_some() || self.closed_loop
     }
 
     /// Sets the metrics kept, in order.
@@ -451,6 +521,32 @@ impl SweepSpec {
                     MAX_TRIALS, spec.trials
                 ),
             ));
+        }
+        if !(1..=MAX_COMMANDS).contains(&spec.commands) {
+            return Err(bad(
+                "commands",
+                None,
+                &format!(
+                    "1 to {MAX_COMMANDS} commands per episode, found {}",
+                    spec.commands
+                ),
+            ));
+        }
+        if let Some(g) = spec.gamma {
+            if !spec.closed_loop {
+                return Err(bad(
+                    "gamma",
+                    None,
+                    "closed_loop: true with a gamma (the discount of Q_ref and of Q-learning)",
+                ));
+            }
+            if !(0.0..=1.0).contains(&g) {
+                return Err(bad(
+                    "gamma",
+                    None,
+                    &format!("a discount in [0, 1], found {g}"),
+                ));
+            }
         }
         // the hyper-parameters
         let mut axes: Vec<Vec<f64>> = Vec::with_capacity(5);
@@ -606,6 +702,18 @@ impl SweepSpec {
                 .map(|m| ron::to_string(m).unwrap_or_default())
                 .collect();
             out.push_str(&format!("    metrics: [{}],\n", m.join(", ")));
+        }
+        if self.commands != 1 {
+            out.push_str(&format!("    commands: {},\n", self.commands));
+        }
+        if let Some(o) = self.observe {
+            out.push_str(&format!("    observe: {o:?},\n"));
+        }
+        if self.closed_loop {
+            out.push_str("    closed_loop: true,\n");
+        }
+        if let Some(g) = self.gamma {
+            out.push_str(&format!("    gamma: {g:?},\n"));
         }
         out.push_str(")\n");
         out

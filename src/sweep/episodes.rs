@@ -1,0 +1,204 @@
+//! Sweeps of episodes: scenes with start contexts, several commands per
+//! episode ([`SweepSpec::commands`]), an observation
+//! ([`SweepSpec::observe`]) or a closed loop ([`SweepSpec::closed_loop`]).
+//!
+//! A session of such a sweep runs [`run_episodes`] with the contextual
+//! form of its learner ([`LearnerKind::make_episodic`]) on a live world of
+//! its own; a trial of the metrics is an episode, its effect the
+//! episode's terminal effect and its reward the episode's. The metric
+//! [`MetricSpec::NormalizedEntropyContext`] gives the normalised entropy
+//! of the terminal effects per start context.
+
+use super::factory::SceneRun;
+use super::plan::{SessionSpec, Sweep};
+use super::results::SessionResult;
+use super::spec::{MetricSpec, SweepSpec};
+use super::{SweepError, SweepScene};
+use crate::effect::Target;
+use crate::episode::{run_episodes, EpisodeConfig, Observe};
+use crate::learner::{ClosedLoopE3d, ContextTargets, LearnerKind};
+use crate::scene::Scene;
+use crate::session::Recorder;
+use crate::world::{Outcome, World};
+use std::sync::Arc;
+
+/// The start contexts of each scene: those of a world of its scene file,
+/// 1 for a scene made by code.
+pub(super) fn start_contexts(scenes: &[Arc<dyn SweepScene>]) -> Vec<usize> {
+    scenes
+        .iter()
+        .map(|s| s.scene().map_or(1, |scene| scene.build().num_contexts()))
+        .collect()
+}
+
+/// Checks what a sweep of episodes needs, and adds the per-context
+/// entropies to the default metrics when a scene has several start
+/// contexts.
+pub(super) fn check(
+    spec: &SweepSpec,
+    contexts: &[usize],
+    metrics: &mut Vec<MetricSpec>,
+    bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
+) -> Result<(), SweepError> {
+    let most = contexts.iter().copied().max().unwrap_or(1);
+    let episodes = spec.runs_episodes() || most > 1;
+    if !episodes {
+        if metrics
+            .iter()
+            .any(|m| matches!(m, MetricSpec::NormalizedEntropyContext(_)))
+        {
+            return Err(bad(
+                "metrics",
+                Some("normalized_entropy_context"),
+                "normalized_entropy_context(I) only in a sweep of episodes (a scene with start contexts, or commands, observe or closed_loop set)",
+            ));
+        }
+        return Ok(());
+    }
+    for name in &spec.learners {
+        if name.parse::<LearnerKind>().is_err() {
+            return Err(bad(
+                "learners",
+                None,
+                &format!("built-in learners in a sweep of episodes (a scene with start contexts, or commands, observe or closed_loop set), found `{name}`"),
+            ));
+        }
+    }
+    if spec.metrics.is_none() && most > 1 {
+        metrics.extend((0..most).map(MetricSpec::NormalizedEntropyContext));
+    }
+    for m in metrics.iter() {
+        if let MetricSpec::NormalizedEntropyContext(i) = *m {
+            if i >= most {
+                return Err(bad(
+                    "metrics",
+                    Some("normalized_entropy_context"),
+                    &format!("normalized_entropy_context(I) with I below {most} (the most start contexts of the sweep's scenes), found {i}"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+impl Sweep {
+    /// Whether the sessions of scene `scene` (its index in
+    /// [`scenes`](Self::scenes)) run episodes: the sweep sets
+    /// [`SweepSpec::runs_episodes`], or the scene has several start
+    /// contexts.
+    pub fn runs_episodes(&self, scene: usize) -> bool {
+        self.spec.runs_episodes() || self.start_contexts(scene) > 1
+    }
+
+    /// The number of start contexts of scene `scene` (1 for a scene made
+    /// by code).
+    pub fn start_contexts(&self, scene: usize) -> usize {
+        self.contexts[scene]
+    }
+
+    /// What the learners of a sweep of episodes observe: the spec's
+    /// choice, else the current state with several commands per episode
+    /// or a closed loop, and the start context otherwise.
+    pub fn observe(&self) -> Observe {
+        match self.spec.observe {
+            Some(o) => o,
+            None if self.spec.commands > 1 || self.spec.closed_loop => Observe::State,
+            None => Observe::StartContext,
+        }
+    }
+
+    /// Runs one session of a scene that runs episodes
+    /// ([`runs_episodes`](Self::runs_episodes)) on `world`, which must
+    /// execute from given states ([`World::execute_from`]); a world that
+    /// cannot gives a failed session.
+    pub fn run_episode_session(
+        &self,
+        session: &SessionSpec,
+        world: &mut dyn World,
+    ) -> Result<SessionResult, SweepError> {
+        let cell = &self.cells[session.cell];
+        let as_learner_error = |source: crate::learner::LearnerError| SweepError::Learner {
+            learner: cell.learner.clone(),
+            source: Box::new(source),
+        };
+        let kind: LearnerKind = cell.learner.parse().map_err(|_| {
+            SweepError::Other(format!(
+                "learner `{}`: a sweep of episodes runs built-in learners only",
+                cell.learner
+            ))
+        })?;
+        let config = EpisodeConfig {
+            episodes: self.spec.trials,
+            commands: self.spec.commands,
+            seed: session.seed,
+            use_reward: cell.use_reward,
+            observe: self.observe(),
+        };
+        // a closed-loop sweep runs closed-loop E3D and Q-learning, and the
+        // contextual form of every other learner beside them
+        let closed =
+            self.spec.closed_loop && matches!(kind, LearnerKind::E3d | LearnerKind::Egreedy);
+        let mut learner = kind
+            .make_episodic(
+                closed,
+                &cell.params,
+                world.command_space(),
+                world.num_effects(),
+                config.num_contexts(world),
+                &ContextTargets::Shared(Target::Uniform),
+                self.spec.gamma.unwrap_or(ClosedLoopE3d::GAMMA),
+            )
+            .map_err(as_learner_error)?;
+        let mut running = self.recorder(world);
+        let record = match run_episodes(world, &mut *learner, &config) {
+            Ok(r) => r,
+            Err(e) => return Ok(self.result(session, Err(e), &running)),
+        };
+        self.count_trials(record.episodes() as u64);
+        let any = world.command_space().first();
+        for (effect, reward) in record.terminal_effects().zip(record.episode_rewards()) {
+            let outcome = Outcome {
+                effect,
+                reward,
+                point: [0.0; 2],
+            };
+            running.record(&any, &outcome);
+        }
+        let mut result = self.result(session, Ok(()), &running);
+        let per_start = record.entropy_per_start(self.start_contexts(cell.scene));
+        for (value, metric) in result.values.iter_mut().zip(&self.metrics) {
+            if let MetricSpec::NormalizedEntropyContext(i) = *metric {
+                *value = per_start.get(i).copied();
+            }
+        }
+        Ok(result)
+    }
+}
+
+/// The worlds of a scene file whose sessions run episodes: each session
+/// alone on a live world of its own (episodes start from drawn states,
+/// which no outcome table or memo keeps).
+pub(super) struct EpisodeWorlds<'a> {
+    pub(super) scene: &'a Scene,
+    pub(super) commands: usize,
+    pub(super) contexts: usize,
+}
+
+impl SceneRun for EpisodeWorlds<'_> {
+    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
+        (0..sessions).map(|i| i..i + 1).collect()
+    }
+    fn world(&self, _width: usize) -> Box<dyn World + Send + '_> {
+        self.scene.build()
+    }
+    fn describe(&self) -> Option<String> {
+        Some(format!(
+            "{}: episodes of {} command{} from {} start context{}: each session on a live world of its own",
+            self.scene.name,
+            self.commands,
+            if self.commands == 1 { "" } else { "s" },
+            self.contexts,
+            if self.contexts == 1 { "" } else { "s" },
+        ))
+    }
+}
