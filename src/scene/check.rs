@@ -154,7 +154,14 @@ impl SceneSpec {
             }
             WorldSpec::Physics(p) => p.validate(self)?,
         }
-        let grid = self.effect_grid();
+        // the world's checks above refuse an effect that does not validate
+        let Some(grid) = self.effect_grid() else {
+            return Err(Invalid::at(
+                "effect",
+                None,
+                "an effect that bins terminal states",
+            ));
+        };
         if !(self.reward.value.is_finite() && self.reward.value.abs() <= MAX_REWARD) {
             return Err(Invalid::at(
                 "value",

@@ -448,28 +448,24 @@ impl SceneSpec {
         ))
     }
 
-    /// The grid effects are binned on.
-    pub fn effect_grid(&self) -> EffectGrid {
+    /// The grid effects are binned on; `None` for an effect that does not
+    /// validate (a valid [`Scene`]'s is [`Scene::effect_grid`]).
+    pub fn effect_grid(&self) -> Option<EffectGrid> {
         match &self.world {
-            WorldSpec::Grid(g) => g.effect_grid(),
+            WorldSpec::Grid(g) => Some(g.effect_grid()),
             WorldSpec::Physics(p) => p.effect_grid(),
         }
     }
 
-    /// The number of effects.
-    pub fn num_effects(&self) -> usize {
-        self.effect_grid().num_cells()
-    }
-
-    /// The reward of each effect (`value` on reward cells, 0 elsewhere).
-    pub fn reward_table(&self) -> Vec<f64> {
-        let g = self.effect_grid();
+    /// The reward of each effect of `grid` (`value` on reward cells, 0
+    /// elsewhere).
+    pub(crate) fn reward_table_on(&self, g: &EffectGrid) -> Vec<f64> {
         let mut r = vec![0.0; g.num_cells()];
         for &(row, col) in &self.reward.cells {
             r[row * g.cols + col] = self.reward.value;
         }
         for region in &self.reward.regions {
-            for (row, col) in region.cells(&g) {
+            for (row, col) in region.cells(g) {
                 r[row * g.cols + col] = self.reward.value;
             }
         }

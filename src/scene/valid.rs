@@ -10,7 +10,7 @@ use super::{
     SceneSpec, ValueAction, WorldSpec, BUILTIN,
 };
 use crate::command::{CommandSpace, ValueSpace};
-use crate::effect::Feature;
+use crate::effect::{Binning, EffectGrid, Feature};
 use std::path::Path;
 
 /// A scene known to be valid: made only by [`Scene::load`],
@@ -41,6 +41,7 @@ pub struct Scene {
     values: Option<ValueSpace>,
     mirror: Option<(Symmetry, Vec<Vec<u8>>)>,
     links: Links,
+    binning: Binning,
 }
 
 /// A physics scene's names resolved to indices into its bodies and
@@ -52,6 +53,8 @@ pub(crate) struct Links {
     pub joints: Vec<(Option<usize>, usize)>,
     /// The tracked body (the body whose point the pictures draw).
     pub tracked: usize,
+    /// The tracked point, in the tracked body's frame.
+    pub tracked_point: (f64, f64),
     /// What each feature of the effect reads, in the effect's order.
     pub probes: Vec<ResolvedProbe>,
     /// What each symbol does, slot by slot, in alphabet order.
@@ -205,6 +208,28 @@ impl Scene {
         self.values.clone()
     }
 
+    /// How the scene's terminal states are binned into effects (a grid
+    /// scene's: its cells).
+    pub fn binning(&self) -> &Binning {
+        &self.binning
+    }
+
+    /// The grid effects are binned on: the tracked point's grid, or the
+    /// layout of the features' product (see [`Binning`]).
+    pub fn effect_grid(&self) -> EffectGrid {
+        self.binning.layout().clone()
+    }
+
+    /// The number of effects.
+    pub fn num_effects(&self) -> usize {
+        self.binning.num_effects()
+    }
+
+    /// The reward of each effect (`value` on reward cells, 0 elsewhere).
+    pub fn reward_table(&self) -> Vec<f64> {
+        self.spec.reward_table_on(&self.effect_grid())
+    }
+
     /// A physics scene's names resolved to indices (empty for a grid).
     pub(crate) fn links(&self) -> &Links {
         &self.links
@@ -248,12 +273,20 @@ impl Scene {
             ),
             WorldSpec::Grid(_) => (Links::default(), None),
         };
+        let binning = match &spec.world {
+            WorldSpec::Grid(g) => Binning::point(g.effect_grid()),
+            WorldSpec::Physics(p) => {
+                Binning::new(p.effect.features().iter().map(Feature::axis).collect())
+            }
+        }
+        .map_err(|e| Invalid::at("effect", None, &e.to_string()))?;
         Ok(Scene {
             spec,
             space,
             values,
             mirror,
             links,
+            binning,
         })
     }
 }
@@ -331,7 +364,7 @@ impl Links {
                 .collect::<Result<_, Invalid>>()?,
             _ => Vec::new(),
         };
-        let (drawn, _) = p
+        let (drawn, tracked_point) = p
             .effect
             .drawn_point(|j| p.child_of(j))
             .ok_or_else(|| Invalid::at("effect", None, "an effect with at least one feature"))?;
@@ -359,6 +392,7 @@ impl Links {
         Ok(Links {
             joints,
             tracked: body(drawn)?,
+            tracked_point,
             probes,
             symbols,
             values,

@@ -181,7 +181,7 @@ impl SweepScene for Scene {
         Scene::command_space(self)
     }
     fn num_effects(&self) -> usize {
-        crate::scene::SceneSpec::num_effects(self)
+        Scene::num_effects(self)
     }
     /// [`OutcomeTable::key`]: the scene's canonical form and the e3d
     /// version.

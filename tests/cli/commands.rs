@@ -714,17 +714,18 @@ fn long_scene_tools_print_their_estimated_cost_first() {
         ) && line.ends_with(" s (the cost model, calibrated on at least 3 timed rollouts here)"),
         "{line}"
     );
-    // scene exec of 400 commands on one thread: said before
-    let many: Vec<&str> = std::iter::repeat_n("+0-+0-+", 400).collect();
+    // scene exec of 1200 commands on one thread (the model says about
+    // 3 s, three times the threshold, so a loaded machine's calibration
+    // keeps it above): said before
+    let many: Vec<&str> = std::iter::repeat_n("+0-+0-+", 1200).collect();
     let mut args = vec!["scene", "exec", "arm7"];
     args.extend(&many);
     let (out, err) = ok(&e3d_threads(&args, 1, None));
-    assert_eq!(out.lines().count(), 401);
+    assert_eq!(out.lines().count(), 1201);
     assert!(
-        err.lines()
-            .next()
-            .unwrap_or_default()
-            .starts_with("scene exec arm7: 400 command(s) (120 steps each) on 1 thread(s): about "),
+        err.lines().next().unwrap_or_default().starts_with(
+            "scene exec arm7: 1200 command(s) (120 steps each) on 1 thread(s): about "
+        ),
         "{err}"
     );
     // the same on stdin: said once those read so far reach it
@@ -733,7 +734,7 @@ fn long_scene_tools_print_their_estimated_cost_first() {
         1,
         Some(&(many.join("\n") + "\n")),
     ));
-    assert_eq!(out.lines().count(), 401);
+    assert_eq!(out.lines().count(), 1201);
     let said: Vec<&str> = err.lines().filter(|l| l.contains("so far")).collect();
     assert_eq!(said.len(), 1, "{err}");
     assert!(

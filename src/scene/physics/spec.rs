@@ -474,19 +474,13 @@ impl PhysicsSpec {
     }
 
     /// The effect grid: the tracked point's grid, or the layout of the
-    /// features' product (see [`Binning`]).
-    ///
-    /// # Panics
-    /// On an effect that does not validate (a loaded scene's always does).
-    pub fn effect_grid(&self) -> EffectGrid {
+    /// features' product (see [`Binning`]); `None` for an effect that does
+    /// not validate.
+    pub fn effect_grid(&self) -> Option<EffectGrid> {
         if let Some((_, _, g)) = self.effect.world_point() {
-            return g.clone();
+            return Some(g.clone());
         }
-        self.effect
-            .binning()
-            .expect("validated effect")
-            .layout()
-            .clone()
+        Some(self.effect.binning()?.layout().clone())
     }
 
     /// The body a joint moves (its child), if the joint exists.

@@ -334,7 +334,7 @@ impl PhysicsWorld {
             scene: scene.name.clone(),
             space,
             values,
-            grid: spec.effect_grid(),
+            grid: scene.effect_grid(),
             reward: scene.reward_table(),
             gravity: v2(spec.gravity),
             params,
@@ -343,12 +343,8 @@ impl PhysicsWorld {
             pristine: s,
             copies: replicas,
             copy_of_body,
-            tracked_point: v2(spec
-                .effect
-                .drawn_point(|j| spec.child_of(j))
-                .expect("validated: an effect")
-                .1),
-            binning: spec.effect.binning().expect("validated: an effect"),
+            tracked_point: v2(scene.links().tracked_point),
+            binning: scene.binning().clone(),
             offset,
             phase_steps,
             settle_steps,
