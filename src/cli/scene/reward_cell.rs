@@ -11,9 +11,15 @@ use e3d::world::farthest_reached_cell;
 pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
     let from = match (from, &scene.world) {
         (Some(p), _) => p,
-        // the features' start, on the effect's layout (a world point's
-        // start, for a point effect)
-        (None, WorldSpec::Physics(_)) => scene.physics_world().map_or([0.0, 0.0], |w| w.start().0),
+        (None, WorldSpec::Physics(p)) => match p.effect.world_point() {
+            // the tracked point where the scene places it
+            Some((body, point, _)) if let Some(b) = p.body(body) => {
+                let t = e3d::scene::physics::to_world_point(b.position, b.angle, point);
+                [t.0, t.1]
+            }
+            // the features' start, on the effect's layout
+            _ => scene.physics_world().map_or([0.0, 0.0], |w| w.start().0),
+        },
         (None, WorldSpec::Grid(g)) => scene.effect_grid().center(g.start.0, g.start.1),
     };
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
