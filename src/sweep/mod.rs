@@ -91,6 +91,7 @@ pub mod summary;
 
 pub mod factory;
 
+mod contexts;
 mod episodes;
 mod error;
 mod plan;

@@ -355,9 +355,9 @@ impl Sweep {
             }
             scenes.push(scene);
         }
-        let contexts = super::episodes::start_contexts(&scenes);
+        let contexts = super::contexts::start_contexts(&scenes);
         let mut metrics = metrics;
-        super::episodes::check(&spec, &contexts, &mut metrics, &bad)?;
+        super::contexts::check(&spec, &contexts, &mut metrics, &bad)?;
         // the size, before making the cells (checked above already when
         // the counts of values were known before expanding them)
         let counts: [usize; 5] = std::array::from_fn(|i| axes[i].len());

@@ -4,6 +4,7 @@
 
 mod action;
 mod body;
+mod contexts;
 mod joint;
 mod symmetry;
 
