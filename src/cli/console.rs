@@ -39,6 +39,15 @@ pub fn err(args: std::fmt::Arguments<'_>) {
     }
 }
 
+/// The error of a failed write to standard output: a closed pipe ends e3d
+/// quietly ([`fail`]), anything else is an output error.
+pub fn stdout_error(e: std::io::Error) -> super::CliError {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        fail("stdout", &e)
+    }
+    super::CliError::output(format!("standard output: {e}"))
+}
+
 /// Ends e3d after the write to `stream` failed with `e`: quietly for a
 /// broken pipe, else with `error: cannot write to STREAM: E`; exit code 3
 /// ([`exit::OUTPUT`](super::exit::OUTPUT)) either way.

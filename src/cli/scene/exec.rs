@@ -127,7 +127,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
                 stdout
                     .write_all(row.as_bytes())
                     .and_then(|()| stdout.flush())
-                    .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+                    .map_err(crate::cli::console::stdout_error)?;
                 first = false;
             }
             Ok(())
@@ -328,7 +328,7 @@ fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<Strin
         }
         stdout
             .write_all(out.as_bytes())
-            .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+            .map_err(crate::cli::console::stdout_error)?;
         out.clear();
     }
     Ok(())
@@ -358,7 +358,7 @@ fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>)
         }
         stdout
             .write_all(out.as_bytes())
-            .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+            .map_err(crate::cli::console::stdout_error)?;
         out.clear();
     }
     Ok(())
@@ -407,7 +407,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
         stdout
             .write_all(text.as_bytes())
             .and_then(|()| stdout.flush())
-            .map_err(|e| CliError::output(format!("standard output: {e}")))
+            .map_err(crate::cli::console::stdout_error)
     };
     let header = "command,effect,reward,x,y\n";
     let mut header_written = false;

@@ -188,7 +188,7 @@ pub fn run(a: SceneArgs) -> CliResult {
             stdout
                 .write_all(text.as_bytes())
                 .and_then(|()| stdout.flush())
-                .map_err(|e| CliError::output(format!("standard output: {e}")))
+                .map_err(crate::cli::console::stdout_error)
         }
         SceneCmd::Check {
             scene,

@@ -85,12 +85,12 @@ pub(super) fn exec(
             stdout
                 .write_all(row.as_bytes())
                 .and_then(|()| stdout.flush())
-                .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+                .map_err(crate::cli::console::stdout_error)?;
         }
         if first {
             stdout
                 .write_all(b"values,effect,reward,x,y\n")
-                .map_err(|e| CliError::output(format!("standard output: {e}")))?;
+                .map_err(crate::cli::console::stdout_error)?;
         }
         if let Some((p, tmp, f)) = &mut file {
             let p: &std::path::Path = p;
