@@ -4,13 +4,13 @@
 //! episode stepped command by command, for the Gymnasium environment).
 
 use crate::commands::commands_from;
-use crate::errors::{seed_arg, seeds_arg, usize_arg, Fail};
+use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
 use crate::outcome::PyOutcome;
 use crate::scene::{scene_of, PyScene};
 use e3d::episode::{EpisodeConfig, EpisodeRecord, Observe};
 use e3d::learner::{ClosedLoopE3d, ContextTargets};
 use e3d::world::WorldState;
-use e3d::{LearnerKind, Params, SessionRng, Target, World};
+use e3d::{LearnerKind, SessionRng, Target, World};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -177,17 +177,7 @@ pub(crate) fn run_episodes(
     let kind: LearnerKind = learner
         .parse()
         .map_err(|e: e3d::ParseLearnerError| PyValueError::new_err(e.to_string()))?;
-    let params = Params {
-        alpha,
-        beta,
-        lambda: lambda_,
-        eta,
-        epsilon,
-        ..Params::TASK1
-    };
-    params
-        .validate()
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
     let observe = observe_arg(observe, k, closed_loop)?;
     let (one, seeds) = seed_list(seed, seeds)?;
     let inner = scene.inner.clone();

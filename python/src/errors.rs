@@ -188,3 +188,26 @@ pub(crate) fn seeds_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
 
 /// The error text of work stopped on request (Ctrl-C, a failed callback).
 pub(crate) const STOPPED: &str = "stopped";
+
+/// The learning parameters of a session (the paper's task 1 beside the
+/// given ones), checked: a `ValueError` names the one out of range.
+pub(crate) fn params_arg(
+    alpha: f64,
+    beta: f64,
+    lambda: f64,
+    eta: f64,
+    epsilon: f64,
+) -> PyResult<e3d::Params> {
+    let params = e3d::Params {
+        alpha,
+        beta,
+        lambda,
+        eta,
+        epsilon,
+        ..e3d::Params::TASK1
+    };
+    params
+        .validate()
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    Ok(params)
+}

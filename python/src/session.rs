@@ -1,7 +1,9 @@
 //! `run_session` and `run_sessions`: sessions of built-in or Python
 //! learners on the world an [`Executor`] chooses.
 
-use crate::errors::{learner_names, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail};
+use crate::errors::{
+    learner_names, params_arg, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail,
+};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyLearner, Tap};
 use crate::progress::{watched, Throttle, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
@@ -64,17 +66,7 @@ pub(crate) fn session_args(
             e3d::sweep::MAX_TRIALS
         )));
     }
-    let params = Params {
-        alpha,
-        beta,
-        lambda: lambda_,
-        eta,
-        epsilon,
-        ..Params::TASK1
-    };
-    params
-        .validate()
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
     let force = match outcomes {
         None | Some("auto") => None,
         Some(s) => Some(s.parse::<Strategy>().map_err(|_| {
