@@ -98,6 +98,7 @@ mod plan;
 mod results;
 mod run;
 mod spec;
+mod values;
 
 pub use crate::hash::{fnv1a64, session_seed, splitmix64};
 pub(crate) use error::io_err;
