@@ -34,13 +34,17 @@ pub(super) fn prepare<'a>(
     options: &ExecOptions,
 ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
     if let Some(s @ (Strategy::Table | Strategy::Memo)) = options.force {
-        return Err(SweepError::Other(format!(
-            "scene `{}` takes continuous commands, which run live only (no table, no memo), but the sweep forces {s}",
-            scene.name
-        )));
+        return Err(forced_error(&scene.name, s));
     }
     let exec = Executor::for_values(scene, work)?;
     Ok(Box::new(ValueRun(exec)))
+}
+
+/// The refusal of a table or memo forced on the continuous scene `scene`.
+pub(super) fn forced_error(scene: &str, forced: Strategy) -> SweepError {
+    SweepError::Other(format!(
+        "scene `{scene}` takes continuous commands, which run live only (no table, no memo), but the sweep forces {forced}"
+    ))
 }
 
 /// The worlds of a continuous scene during one run.

@@ -856,6 +856,7 @@ fn table_progress_tells_every_simulated_command_and_changes_nothing() {
     let told = e3d::Sweep::load(&file)
         .unwrap()
         .with_strategy(table)
+        .unwrap()
         .with_table_cache(&cache)
         .with_table_progress(move |scene, k, total| {
             seen.lock().unwrap().push((scene.to_string(), k, total))
@@ -882,6 +883,7 @@ fn table_progress_tells_every_simulated_command_and_changes_nothing() {
     let without = e3d::Sweep::load(&file)
         .unwrap()
         .with_strategy(table)
+        .unwrap()
         .with_table_cache(&cache)
         .with_table_progress(move |_, _, _| *count.lock().unwrap() += 1)
         .run(2)

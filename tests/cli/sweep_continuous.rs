@@ -156,3 +156,43 @@ fn a_continuous_scene_with_a_learner_of_symbols_or_in_episodes_is_refused_with_i
         assert!(!d.join("out").exists(), "{name}: nothing runs");
     }
 }
+
+#[test]
+fn a_table_or_memo_forced_on_a_continuous_sweep_is_refused_before_its_folder_exists() {
+    let d = temp_dir("sweep-continuous-forced");
+    let file = d.join("arm.ron");
+    std::fs::write(
+        &file,
+        "Sweep(scenes: [\"two_rooms\", \"arm7_continuous\"], learners: [e3d], sessions: 2, trials: 10)\n",
+    )
+    .unwrap();
+    for forced in ["table", "memo"] {
+        let out = d.join(format!("out-{forced}"));
+        let r = e3d(&[
+            "sweep",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--outcomes",
+            forced,
+        ]);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{forced}: {err}");
+        assert!(
+            err.contains(&format!("--outcomes: scene `arm7_continuous` takes continuous commands, which run live only (no table, no memo), but the sweep forces {forced}")),
+            "{forced}: {err}"
+        );
+        assert!(!out.exists(), "{forced}: no folder made");
+    }
+    // live is what such a scene runs anyway
+    let out = d.join("out-live");
+    ok(e3d(&[
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--outcomes",
+        "live",
+    ]));
+    assert!(out.join("summary.csv").is_file());
+}
