@@ -1,4 +1,5 @@
 use super::softmax::SoftmaxSlots;
+use super::state::{LearnerState, StateField, StateReader, StateWriter};
 use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
@@ -118,4 +119,48 @@ impl Learner for StateMarginalMatching {
             }
         }
     }
+}
+
+impl StateField for StateMarginalMatching {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.slots).put(&self.counts).put(&self.trials);
+        w.put(&self.log_target)
+            .put(&self.snapshots)
+            .put(&self.every);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let l = StateMarginalMatching {
+            slots: r.get()?,
+            counts: r.get()?,
+            trials: r.get()?,
+            log_target: r.get()?,
+            snapshots: r.get()?,
+            every: r.get()?,
+        };
+        let n = l.slots.q.len();
+        r.check(
+            !l.counts.is_empty() && l.counts.len() == l.log_target.len(),
+            || {
+                format!(
+                    "{} counts for a target of {} effects",
+                    l.counts.len(),
+                    l.log_target.len()
+                )
+            },
+        )?;
+        r.check(
+            l.every > 0 && l.snapshots.iter().all(|s| s.len() == n),
+            || {
+                format!(
+                    "policies kept every {} trials, of sizes other than {n}",
+                    l.every
+                )
+            },
+        )?;
+        Ok(l)
+    }
+}
+
+impl LearnerState for StateMarginalMatching {
+    const KIND: &'static str = "smm";
 }
