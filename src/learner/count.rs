@@ -1,5 +1,5 @@
 use super::softmax::SoftmaxSlots;
-use super::state::{LearnerState, StateField, StateReader, StateWriter};
+use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
@@ -104,4 +104,7 @@ impl StateField for CountBonus {
 
 impl LearnerState for CountBonus {
     const KIND: &'static str = "count";
+    fn shape(&self) -> StateShape {
+        StateShape::of(sizes_of(&self.slots.offsets), Some(self.counts.len()))
+    }
 }

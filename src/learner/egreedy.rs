@@ -1,5 +1,5 @@
 use super::softmax::check_offsets;
-use super::state::{LearnerState, StateField, StateReader, StateWriter};
+use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{slot_offsets, Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
@@ -113,4 +113,7 @@ impl StateField for EpsilonGreedy {
 
 impl LearnerState for EpsilonGreedy {
     const KIND: &'static str = "egreedy";
+    fn shape(&self) -> StateShape {
+        StateShape::of(sizes_of(&self.offsets), None)
+    }
 }

@@ -1,6 +1,6 @@
 //! Learners of continuous commands: a Gaussian E3D and the uniform sampler.
 
-use super::state::{check_target, LearnerState, StateField, StateReader, StateWriter};
+use super::state::{check_target, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{ContinuousLearner, LearnerError, Params};
 use crate::command::ValueSpace;
 use crate::effect::{log_floored, EffectModel, Target};
@@ -274,6 +274,12 @@ impl StateField for GaussianE3d {
 
 impl LearnerState for GaussianE3d {
     const KIND: &'static str = "gaussian_e3d";
+    fn shape(&self) -> StateShape {
+        StateShape::of(
+            vec![0; self.space.num_slots()],
+            Some(self.model.num_effects()),
+        )
+    }
 }
 
 impl StateField for UniformValues {
@@ -287,4 +293,7 @@ impl StateField for UniformValues {
 
 impl LearnerState for UniformValues {
     const KIND: &'static str = "uniform_values";
+    fn shape(&self) -> StateShape {
+        StateShape::of(vec![0; self.space.num_slots()], None)
+    }
 }

@@ -1,5 +1,7 @@
 use super::softmax::SoftmaxSlots;
-use super::state::{check_target, LearnerState, StateField, StateReader, StateWriter};
+use super::state::{
+    check_target, sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter,
+};
 use super::{Learner, LearnerError, ParamError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::{log_floored, EffectModel, Target};
@@ -149,4 +151,10 @@ impl StateField for RelaxedE3d {
 
 impl LearnerState for RelaxedE3d {
     const KIND: &'static str = "e3d_relax";
+    fn shape(&self) -> StateShape {
+        StateShape::of(
+            sizes_of(&self.slots.offsets),
+            Some(self.model.num_effects()),
+        )
+    }
 }

@@ -1,5 +1,5 @@
 use super::softmax::SoftmaxSlots;
-use super::state::{LearnerState, StateField, StateReader, StateWriter};
+use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
@@ -163,4 +163,7 @@ impl StateField for StateMarginalMatching {
 
 impl LearnerState for StateMarginalMatching {
     const KIND: &'static str = "smm";
+    fn shape(&self) -> StateShape {
+        StateShape::of(sizes_of(&self.slots.offsets), Some(self.counts.len()))
+    }
 }

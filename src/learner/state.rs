@@ -129,6 +129,10 @@ pub trait LearnerState: StateField {
     /// The learner's kind, written in its state (`"e3d"`, `"count"`, ...).
     const KIND: &'static str;
 
+    /// What the learner was made for: check it before running a loaded
+    /// learner on a scene ([`StateShape::fits`]).
+    fn shape(&self) -> StateShape;
+
     /// The learner's whole state as bytes.
     fn to_bytes(&self) -> Vec<u8> {
         let mut w = StateWriter::default();
@@ -161,6 +165,63 @@ pub trait LearnerState: StateField {
         })?;
         Ok(l)
     }
+}
+
+/// What a learner was made for: its slots, its effects and its contexts.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StateShape {
+    /// The alphabet size of each slot (0 for a slot of continuous values).
+    pub sizes: Vec<usize>,
+    /// The number of effects, if the learner keeps a table over them.
+    pub effects: Option<usize>,
+    /// The number of contexts, if the learner is contextual.
+    pub contexts: Option<usize>,
+}
+
+impl StateShape {
+    /// Whether a learner of this shape can run on slots of alphabet sizes
+    /// `sizes` (0 for values) with `effects` effects and `contexts`
+    /// contexts (`None`: not contextual); `Err` says why not.
+    pub fn fits(
+        &self,
+        sizes: &[usize],
+        effects: usize,
+        contexts: Option<usize>,
+    ) -> Result<(), String> {
+        if self.sizes != sizes {
+            return Err(format!(
+                "the learner's slots have alphabet sizes {:?} (0: values), the scene's {sizes:?}",
+                self.sizes
+            ));
+        }
+        if let Some(e) = self.effects.filter(|&e| e != effects) {
+            return Err(format!("the learner has {e} effects, the scene {effects}"));
+        }
+        if self.contexts != contexts {
+            let says =
+                |c: Option<usize>| c.map_or("no contexts".into(), |c| format!("{c} contexts"));
+            return Err(format!(
+                "the learner has {}, the run {}",
+                says(self.contexts),
+                says(contexts)
+            ));
+        }
+        Ok(())
+    }
+
+    /// A context-free learner's shape: `sizes`, `effects`.
+    pub(crate) fn of(sizes: Vec<usize>, effects: Option<usize>) -> StateShape {
+        StateShape {
+            sizes,
+            effects,
+            contexts: None,
+        }
+    }
+}
+
+/// The alphabet sizes of slots laid out at `offsets`.
+pub(crate) fn sizes_of(offsets: &[usize]) -> Vec<usize> {
+    offsets.windows(2).map(|w| w[1] - w[0]).collect()
 }
 
 /// The kind of learner whose state `bytes` hold (`"e3d"`, `"count"`, ...),

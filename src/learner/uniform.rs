@@ -1,4 +1,4 @@
-use super::state::{LearnerState, StateField, StateReader, StateWriter};
+use super::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{Learner, LearnerError};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
@@ -57,4 +57,7 @@ impl StateField for UniformPolicy {
 
 impl LearnerState for UniformPolicy {
     const KIND: &'static str = "uniform";
+    fn shape(&self) -> StateShape {
+        StateShape::of(self.sizes.clone(), None)
+    }
 }

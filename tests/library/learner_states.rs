@@ -81,6 +81,7 @@ where
         L::KIND
     );
     assert_eq!(rng, rng2);
+    assert_eq!(back.shape(), l.shape());
     // cut short, one byte more, or another kind's bytes: refused
     for n in [0, 20, saved.len() / 2, saved.len() - 1] {
         assert!(L::from_bytes(&saved[..n]).is_err(), "{}: {n}", L::KIND);
@@ -100,6 +101,15 @@ fn every_symbol_learner_continues_bit_for_bit_after_a_save() {
     continues_bit_for_bit(RelaxedE3d::new(&s, EFFECTS, &p, &t).unwrap(), run);
     continues_bit_for_bit(CountBonus::new(&s, EFFECTS, &p), run);
     continues_bit_for_bit(EpsilonGreedy::new(&s, &p), run);
+    let shape = CountBonus::new(&s, EFFECTS, &p).shape();
+    assert_eq!(shape.sizes, [3, 2, 4]);
+    assert_eq!(shape.effects, Some(EFFECTS));
+    assert!(shape.fits(&[3, 2, 4], EFFECTS, None).is_ok());
+    let e = shape.fits(&[3, 2, 4], 9, None).unwrap_err();
+    assert_eq!(e, "the learner has 7 effects, the scene 9");
+    assert!(shape.fits(&[3, 2], EFFECTS, None).is_err());
+    assert!(shape.fits(&[3, 2, 4], EFFECTS, Some(1)).is_err());
+    assert_eq!(UniformPolicy::new(&s).shape().effects, None);
     // SMM keeps a copy of its policy every 50 trials
     let n = continues_bit_for_bit(
         StateMarginalMatching::new(&s, EFFECTS, &p, &t).unwrap(),
@@ -145,6 +155,7 @@ fn continuous_learners_continue_bit_for_bit_after_a_save() {
     continues_bit_for_bit(g, |l, r, n| run(l, r, n));
     let u = UniformValues::new(&space);
     let back = UniformValues::from_bytes(&u.to_bytes()).unwrap();
+    assert_eq!(back.shape().sizes, [0, 0]);
     assert_eq!(back.slot_gaussian(1), u.slot_gaussian(1));
 }
 
@@ -175,6 +186,12 @@ fn contextual_learners_continue_bit_for_bit_after_a_save() {
     continues_bit_for_bit(QLearning::new(&s, 3, &p, 0.9).unwrap(), run_contexts);
     let per = |n| PerContext::new((0..n).map(|_| CountBonus::new(&s, EFFECTS, &p)).collect());
     continues_bit_for_bit(per(3), run_contexts);
+    let shape = QLearning::new(&s, 3, &p, 0.9).unwrap().shape();
+    assert_eq!(
+        (shape.sizes, shape.effects, shape.contexts),
+        (vec![3, 2, 4], None, Some(3))
+    );
+    assert_eq!(per(2).shape().contexts, Some(2));
     // a learner per context of another kind, or Q-learning's bytes: refused
     let saved = per(3).to_bytes();
     let e = PerContext::<E3d>::from_bytes(&saved)

@@ -3,7 +3,7 @@
 
 use super::{ActionValues, ClosedLoopE3d, PerContext, QLearning};
 use crate::command::CommandSpace;
-use crate::learner::state::{LearnerState, StateField, StateReader, StateWriter};
+use crate::learner::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
 use crate::learner::{Learner, LearnerError};
 
 /// The learners of every context, after the kind of each.
@@ -27,6 +27,12 @@ impl<L: LearnerState + Learner> StateField for PerContext<L> {
 
 impl<L: LearnerState + Learner> LearnerState for PerContext<L> {
     const KIND: &'static str = "per_context";
+    fn shape(&self) -> StateShape {
+        StateShape {
+            contexts: Some(self.learners.len()),
+            ..self.learners[0].shape()
+        }
+    }
 }
 
 impl StateField for ActionValues {
@@ -88,6 +94,9 @@ impl StateField for ClosedLoopE3d {
 
 impl LearnerState for ClosedLoopE3d {
     const KIND: &'static str = "e3d_closed_loop";
+    fn shape(&self) -> StateShape {
+        self.policy.shape()
+    }
 }
 
 impl StateField for QLearning {
@@ -110,4 +119,11 @@ impl StateField for QLearning {
 
 impl LearnerState for QLearning {
     const KIND: &'static str = "qlearning";
+    fn shape(&self) -> StateShape {
+        StateShape {
+            sizes: self.space.sizes().collect(),
+            effects: None,
+            contexts: Some(self.values.q.len() / self.values.commands),
+        }
+    }
 }

@@ -4,7 +4,9 @@
 
 use super::{has_avx2, E3d, Slot, SlotTables, Tables};
 use crate::effect::EffectModel;
-use crate::learner::state::{check_target, LearnerState, StateField, StateReader, StateWriter};
+use crate::learner::state::{
+    check_target, LearnerState, StateField, StateReader, StateShape, StateWriter,
+};
 use crate::learner::LearnerError;
 
 impl E3d {
@@ -129,6 +131,9 @@ impl<const W: usize> SlotTables<W> {
 /// ```
 impl LearnerState for E3d {
     const KIND: &'static str = "e3d";
+    fn shape(&self) -> StateShape {
+        StateShape::of(self.sizes.clone(), Some(self.model.num_effects()))
+    }
 }
 
 impl StateField for E3d {
