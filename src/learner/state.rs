@@ -53,7 +53,7 @@ pub struct StateWriter {
 
 impl StateWriter {
     /// Writes `value`.
-    pub fn put<T: StateField + ?Sized>(&mut self, value: &T) -> &mut Self {
+    pub fn put<T: StateField>(&mut self, value: &T) -> &mut Self {
         value.put(self);
         self
     }
