@@ -86,7 +86,7 @@ impl Held {
     /// The learner from the bytes of [`LearnerState::to_bytes`], whatever
     /// its kind.
     fn from_bytes(data: &[u8]) -> Result<Held, LearnerError> {
-        let kind = state_kind(data).unwrap_or_default();
+        let kind = state_kind(data)?;
         Ok(match kind.as_str() {
             "e3d" => Held::E3d(E3d::from_bytes(data)?),
             "e3d_relax" => Held::Relaxed(RelaxedE3d::from_bytes(data)?),
@@ -96,12 +96,6 @@ impl Held {
             "uniform" => Held::Uniform(UniformPolicy::from_bytes(data)?),
             "gaussian_e3d" => Held::Gaussian(GaussianE3d::from_bytes(data)?),
             "uniform_values" => Held::UniformValues(UniformValues::from_bytes(data)?),
-            // no header, or cut before the kind: the reader says which
-            "" => {
-                return Err(UniformPolicy::from_bytes(data)
-                    .err()
-                    .unwrap_or_else(|| LearnerError::State("not a learner's state".into())))
-            }
             _ => {
                 return Err(LearnerError::State(format!(
                     "the state of a `{kind}` learner, which e3d.Learner does not hold"

@@ -70,7 +70,8 @@ def test_bad_states_and_scenes_that_do_not_fit_are_refused():
     l = e3d.Learner("two_rooms", "smm")
     saved = l.to_bytes()
     for broken, msg in [(b"", "not a learner's state"), (saved[:-5], "the bytes end early"),
-                        (saved + b"x", "1 bytes after the state")]:
+                        (saved + b"x", "1 bytes after the state"),
+                        (saved[:22], "a learner's state cut before its kind")]:
         with pytest.raises(ValueError, match=msg):
             e3d.Learner.from_bytes(broken)
     with pytest.raises(ValueError, match=r"learner: scene `arm7`: the learner's slots have alphabet sizes \[4, 4, 4, 4, 4, 4, 4\] \(0: values\), the scene's \[3, 3, 3, 3, 3, 3, 3\]"):

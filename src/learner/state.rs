@@ -145,12 +145,7 @@ pub trait LearnerState: StateField {
     /// A learner from the bytes of [`to_bytes`](Self::to_bytes); an error
     /// saying what is wrong if they are not such bytes.
     fn from_bytes(bytes: &[u8]) -> Result<Self, LearnerError> {
-        let rest = bytes.strip_prefix(STATE_HEADER).ok_or_else(|| {
-            LearnerError::State(format!(
-                "not a learner's state (it does not start with {:?})",
-                String::from_utf8_lossy(STATE_HEADER)
-            ))
-        })?;
+        let rest = bytes.strip_prefix(STATE_HEADER).ok_or_else(no_header)?;
         let mut r = StateReader {
             rest,
             kind: Self::KIND,
@@ -224,12 +219,21 @@ pub(crate) fn sizes_of(offsets: &[usize]) -> Vec<usize> {
     offsets.windows(2).map(|w| w[1] - w[0]).collect()
 }
 
+/// The error of bytes that do not start with [`STATE_HEADER`].
+fn no_header() -> LearnerError {
+    LearnerError::State(format!(
+        "not a learner's state (it does not start with {:?})",
+        String::from_utf8_lossy(STATE_HEADER)
+    ))
+}
+
 /// The kind of learner whose state `bytes` hold (`"e3d"`, `"count"`, ...),
-/// if they are a learner's state.
-pub fn state_kind(bytes: &[u8]) -> Option<String> {
-    let rest = bytes.strip_prefix(STATE_HEADER)?;
+/// or why they are not a learner's state.
+pub fn state_kind(bytes: &[u8]) -> Result<String, LearnerError> {
+    let rest = bytes.strip_prefix(STATE_HEADER).ok_or_else(no_header)?;
     let mut r = StateReader { rest, kind: "?" };
-    r.get().ok()
+    r.get()
+        .map_err(|_| LearnerError::State("a learner's state cut before its kind".into()))
 }
 
 impl StateField for f64 {

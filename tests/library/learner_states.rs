@@ -66,10 +66,9 @@ where
     let saved = l.to_bytes();
     let mut back = L::from_bytes(&saved).unwrap();
     assert_eq!(back.to_bytes(), saved, "{}", L::KIND);
-    assert_eq!(
-        e3d::learner::state::state_kind(&saved).as_deref(),
-        Some(L::KIND)
-    );
+    assert_eq!(e3d::learner::state::state_kind(&saved).unwrap(), L::KIND);
+    let e = e3d::learner::state::state_kind(&saved[..22]).unwrap_err();
+    assert_eq!(e.to_string(), "a learner's state cut before its kind");
     let mut rng2 = rng.clone();
     run(&mut l, &mut rng, 500);
     run(&mut back, &mut rng2, 500);
