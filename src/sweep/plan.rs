@@ -355,6 +355,13 @@ impl Sweep {
             }
             scenes.push(scene);
         }
+        super::values::check(
+            &scenes,
+            &*learners,
+            &spec.learners,
+            spec.runs_episodes(),
+            &bad,
+        )?;
         let contexts = super::contexts::start_contexts(&scenes);
         let mut metrics = metrics;
         super::contexts::check(&spec, &contexts, &mut metrics, &bad)?;
