@@ -77,3 +77,179 @@ fn a_journal_is_streamed_in_bounded_memory() {
     // the zeros were cut off: the journal is what the first run wrote
     assert_eq!(std::fs::read(&j).unwrap(), whole);
 }
+
+// ---- every `scene` subcommand on continuous scenes --------------------------
+
+/// The invocations of each `scene` subcommand tried on a continuous scene
+/// (`OUT` is replaced by a file in a fresh folder; a command of 7 values
+/// fits arm7_continuous, other scenes refuse it with a message).
+const SCENE_INVOCATIONS: &[(&str, &[&str])] = &[
+    ("check", &[]),
+    ("check", &["--samples", "0"]),
+    (
+        "check",
+        &["--samples", "3", "--seed", "18446744073709551615"],
+    ),
+    ("check", &["--expanded"]),
+    ("render", &["--out", "OUT.svg"]),
+    (
+        "render",
+        &["--out", "OUT.svg", "--command", "0,0,0,0,0,0,0"],
+    ),
+    ("render", &["--out", "OUT.svg", "--command", "+-0+-0+"]),
+    (
+        "render",
+        &[
+            "--out",
+            "OUT.html",
+            "--animate",
+            "--command",
+            "-1.8,1.2,0,0,0,0,0.06",
+        ],
+    ),
+    (
+        "render",
+        &[
+            "--out",
+            "OUT.svg",
+            "--animate",
+            "--command",
+            "1e-320,0,0,0,0,0,-0",
+        ],
+    ),
+    (
+        "exec",
+        &["0,0,0,0,0,0,0", "1.8,-1.2,0.75,0.45,0.24,0.12,-0.06"],
+    ),
+    ("exec", &["--trace", "OUT.csv", "0.5,0,0,0,0,0,0"]),
+    ("exec", &["--table-cache", "OUT", "0,0,0,0,0,0,0"]),
+    ("exec", &["nan,0,0,0,0,0,0"]),
+    ("exec", &["inf,0,0,0,0,0,0"]),
+    ("exec", &["9,0,0,0,0,0,0"]),
+    ("exec", &["0,0,0"]),
+    ("exec", &["1.8,,0,0,0,0,0"]),
+    ("exec", &["+-0+-0+"]),
+    ("exec", &["-"]),
+    ("reward-cell", &[]),
+    ("reward-cell", &["--from", "0,0"]),
+    ("table", &[]),
+    ("table", &["--cache", "OUT"]),
+    ("stats", &[]),
+];
+
+/// The subcommands `e3d scene --help` lists (but `help`).
+fn scene_subcommands() -> Vec<String> {
+    let help = String::from_utf8(ok(e3d(&["scene", "--help"])).stdout).unwrap();
+    help.lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .map(String::from)
+        .collect()
+}
+
+/// Runs every invocation of [`SCENE_INVOCATIONS`] on `scene`, standard
+/// input holding two good commands and a bad one; returns, for each, the
+/// exit code and standard error. Fails on a panic or a signal.
+fn run_every_scene_subcommand(scene: &Path, dir: &Path) -> Vec<(String, Option<i32>, String)> {
+    let mut seen = Vec::new();
+    for (k, (sub, args)) in SCENE_INVOCATIONS.iter().enumerate() {
+        let out = dir.join(format!("out{k}"));
+        let args: Vec<String> = args
+            .iter()
+            .map(|a| a.replace("OUT", out.to_str().unwrap()))
+            .collect();
+        let mut c = e3d_command();
+        c.arg("scene").arg(sub).arg(scene).args(&args);
+        c.stdin(std::process::Stdio::piped());
+        c.stdout(std::process::Stdio::piped());
+        c.stderr(std::process::Stdio::piped());
+        let mut child = c.spawn().unwrap();
+        {
+            use std::io::Write;
+            let mut stdin = child.stdin.take().unwrap();
+            let _ = stdin.write_all(b"0,0,0,0,0,0,0\n\n-1.8,0,0,0,0,0,0\n1,2\n");
+        }
+        let o = child.wait_with_output().unwrap();
+        let what = format!("e3d scene {sub} {} {}", scene.display(), args.join(" "));
+        let err = stderr(&o);
+        assert!(
+            o.status.code().is_some() && o.status.code() != Some(101) && !err.contains("panicked"),
+            "{what}: {}\n{err}",
+            o.status
+        );
+        if !o.status.success() {
+            assert_eq!(o.status.code(), Some(2), "{what}:\n{err}");
+            let last = err.lines().last().unwrap_or("");
+            assert!(
+                last.starts_with("error: ") && last.len() > 40,
+                "{what}: not a clear error:\n{err}"
+            );
+        }
+        seen.push((what, o.status.code(), err));
+    }
+    seen
+}
+
+/// Every `scene` subcommand on every continuous scene of `scenes/`, and on
+/// every bad continuous scene of `tests/bad_inputs/continuous`: no panic
+/// (exit code 101, "panicked"), no signal, and where refused, exit code 2
+/// with an `error:` line. The bad scenes are refused with their file,
+/// line and column; the valid scene's refusals say why (`Continuous`).
+#[test]
+fn every_scene_subcommand_on_continuous_scenes_ends_cleanly() {
+    let listed = scene_subcommands();
+    for sub in &listed {
+        assert!(
+            SCENE_INVOCATIONS.iter().any(|(s, _)| s == sub),
+            "`e3d scene {sub}` is not tried on continuous scenes: add it to SCENE_INVOCATIONS"
+        );
+    }
+    assert!(listed.len() >= 6, "{listed:?}");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let d = temp_dir("round4-continuous-subcommands");
+    let mut good = Vec::new();
+    for e in std::fs::read_dir(root.join("scenes")).unwrap() {
+        let p = e.unwrap().path();
+        let is_continuous = p.extension().is_some_and(|x| x == "ron")
+            && std::fs::read_to_string(&p).unwrap().contains("Continuous(");
+        if is_continuous {
+            good.push(p);
+        }
+    }
+    good.sort();
+    assert!(!good.is_empty());
+    for scene in &good {
+        let seen = run_every_scene_subcommand(scene, &d);
+        let ran = seen.iter().filter(|s| s.1 == Some(0)).count();
+        assert!(
+            ran >= 8,
+            "{}: only {ran} invocations succeeded",
+            scene.display()
+        );
+        for (what, code, err) in &seen {
+            let enumerates = ["reward-cell", "table", "stats", "--table-cache"]
+                .iter()
+                .any(|w| what.contains(w));
+            if enumerates {
+                assert_eq!(*code, Some(2), "{what}");
+                assert!(err.contains("`Continuous`"), "{what}: {err}");
+            }
+        }
+    }
+    let mut bad: Vec<PathBuf> = std::fs::read_dir(root.join("tests/bad_inputs/continuous"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    bad.sort();
+    assert!(bad.len() >= 6);
+    for scene in &bad {
+        let name = scene.file_name().unwrap().to_str().unwrap().to_string();
+        for (what, code, err) in run_every_scene_subcommand(scene, &d) {
+            assert_eq!(code, Some(2), "{what}");
+            assert!(err.contains(&format!("{name}:")), "{what}: {err}");
+        }
+    }
+}
