@@ -253,3 +253,56 @@ fn every_scene_subcommand_on_continuous_scenes_ends_cleanly() {
         }
     }
 }
+
+// ---- a new hostile round ----------------------------------------------------
+
+/// A valid scene with a 1024 x 1024 effect grid (2^20 cells, the most a
+/// scene may have): a 100-trial run's report draws its reached cells over
+/// one background, not a rectangle per cell: the page holds little more
+/// than the summary.json it shows (9.5 MB; it held 396 MB, and took 21 s
+/// and 820 MB of memory).
+#[test]
+fn a_report_on_a_million_cell_grid_draws_only_the_reached_cells() {
+    let d = temp_dir("round4-million-cells");
+    let text =
+        String::from_utf8(ok(e3d(&["scene", "check", "puck_rooms", "--expanded"])).stdout).unwrap();
+    let at = text.find("grid: (").unwrap();
+    let end = at + text[at..].find("min:").unwrap();
+    let grid = text[at..end]
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with("rows:") {
+                "rows: 1024,"
+            } else if l.trim_start().starts_with("cols:") {
+                "cols: 1024,"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let scene = d.join("big_grid.ron");
+    std::fs::write(&scene, format!("{}{grid}{}", &text[..at], &text[end..])).unwrap();
+    let out = d.join("run");
+    let (s, o) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    ok(e3d(&[
+        "run", s, "--trials", "100", "--seed", "3", "--out", o,
+    ]));
+    ok(e3d(&["report", o]));
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    // the page holds summary.json (5 bytes an effect count) and little else
+    let summary = std::fs::metadata(out.join("summary.json")).unwrap().len() as usize;
+    assert!(
+        page.len() < summary + 1_000_000,
+        "{} bytes, summary.json {summary}",
+        page.len()
+    );
+    assert!(page.contains("1048576 cells; those never reached are not drawn one by one"));
+    // each heat map draws the cells reached, at most one per trial
+    let cells = page.matches(r#"<rect class="cell""#).count();
+    let maps = page.matches("1048576 cells;").count();
+    assert!(
+        maps >= 1 && cells >= maps && cells <= 100 * maps,
+        "{cells} cells, {maps} maps"
+    );
+}
