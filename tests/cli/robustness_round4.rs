@@ -306,3 +306,46 @@ fn a_report_on_a_million_cell_grid_draws_only_the_reached_cells() {
         "{cells} cells, {maps} maps"
     );
 }
+
+/// A command refused after it prepared its `--out` folder leaves no
+/// empty folder behind (`compare` with an unknown scene, `run` with a
+/// learner that does not fit the scene left one); a folder that existed
+/// before is kept.
+#[test]
+fn a_refused_command_leaves_no_out_folder_it_created() {
+    let d = temp_dir("round4-out-folders");
+    let fresh = d.join("a/b/c");
+    let f = fresh.to_str().unwrap();
+    for args in [
+        vec!["compare", "--scenes", "nope", "--out", f],
+        vec![
+            "run",
+            "arm7_continuous",
+            "--learner",
+            "count",
+            "--trials",
+            "5",
+            "--out",
+            f,
+        ],
+    ] {
+        let o = e3d(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(
+            !d.join("a").exists(),
+            "{args:?} left {}",
+            d.join("a").display()
+        );
+    }
+    let kept = d.join("kept");
+    std::fs::create_dir(&kept).unwrap();
+    let o = e3d(&[
+        "compare",
+        "--scenes",
+        "nope",
+        "--out",
+        kept.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(kept.is_dir());
+}

@@ -237,7 +237,7 @@ impl OutcomeTable {
 
     /// [`build_scene_with_progress`](Self::build_scene_with_progress) that
     /// can be stopped: `stop()` is asked before each chunk of commands,
-    /// and once it returns `true` the build ends with [`stopped`] (a
+    /// and once it returns `true` the build ends with `WorldError::Other("stopped")` (a
     /// Ctrl-C in Python: a build of a minute ends within a chunk's time).
     pub fn build_scene_until(
         scene: &Scene,
