@@ -357,7 +357,8 @@ pub(crate) fn run_session(
             let watch = Watch::new();
             watched(py, progress, trials as u64, &watch, |watch| {
                 let stop = || watch.cancelled();
-                let exec = Executor::with_progress_until(&inner, &work, &a.options, &|_, _| {}, &stop)?;
+                let exec =
+                    Executor::with_progress_until(&inner, &work, &a.options, &|_, _| {}, &stop)?;
                 let mut world = exec.world(1);
                 let mut guarded = Guarded {
                     world: &mut *world,
