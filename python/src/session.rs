@@ -88,6 +88,22 @@ pub(crate) fn session_args(
     })
 }
 
+/// The executor of `scene` for work that then runs with the GIL (a Python
+/// learner): its table, if it builds one, is built without the GIL, and
+/// Ctrl-C stops it (`KeyboardInterrupt`) within a chunk of commands.
+fn executor<'s>(
+    py: Python<'_>,
+    scene: &'s e3d::Scene,
+    work: &Workload,
+    options: &ExecOptions,
+) -> PyResult<Executor<'s>> {
+    let watch = Watch::new();
+    let exec = watched(py, None, 0, &watch, |w| {
+        Executor::with_progress_until(scene, work, options, &|_, _| {}, &|| w.cancelled())
+    })?;
+    Ok(exec.map_err(Fail::from)?)
+}
+
 /// The metrics of a session of symbols as the CLI's `summary.json` gives
 /// them: over the reachable cells too when a table knows them (and they
 /// are fewer than all).
@@ -365,7 +381,9 @@ pub(crate) fn run_session(
             let inner = scene.inner.clone();
             let watch = Watch::new();
             watched(py, progress, trials as u64, &watch, |watch| {
-                let exec = Executor::new(&inner, &work, &a.options)?;
+                let stop = || watch.cancelled();
+                let exec =
+                    Executor::with_progress_until(&inner, &work, &a.options, &|_, _| {}, &stop)?;
                 let mut world = exec.world(1);
                 let mut guarded = Guarded {
                     world: &mut *world,
@@ -429,7 +447,7 @@ fn run_here<'s, L: Learner + ?Sized>(
     every: usize,
 ) -> PyResult<(SessionRecord, Executor<'s>)> {
     let trials = cfg.trials;
-    let exec = Executor::new(&scene.inner, work, &a.options).map_err(Fail::from)?;
+    let exec = executor(py, &scene.inner, work, &a.options)?;
     let mut world = exec.world(1);
     let mut guarded = Guarded {
         world: &mut *world,
@@ -578,7 +596,8 @@ pub(crate) fn run_sessions(
         let inner = scene.inner.clone();
         let watch = Watch::new();
         let (records, metrics, execution) = watched(py, progress, total, &watch, |watch| {
-            let exec = Executor::new(&inner, &work, &a.options)?;
+            let stop = || watch.cancelled();
+            let exec = Executor::with_progress_until(&inner, &work, &a.options, &|_, _| {}, &stop)?;
             let mut records: Vec<SessionRecord> = {
                 let probe = exec.world(1);
                 configs
@@ -636,7 +655,7 @@ pub(crate) fn run_sessions(
         .into_iter()
         .map(|o| PyLearner::new(py, o, &space, &error))
         .collect::<PyResult<_>>()?;
-    let exec = Executor::new(&scene.inner, &work, &a.options).map_err(Fail::from)?;
+    let exec = executor(py, &scene.inner, &work, &a.options)?;
     let mut world = exec.world(n);
     let mut guarded = Guarded {
         world: &mut *world,
