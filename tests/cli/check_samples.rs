@@ -36,3 +36,20 @@ fn scene_check_samples_never_panics_on_a_shipped_scene() {
         }
     }
 }
+
+#[test]
+fn scene_check_samples_are_capped_as_run_trials_are() {
+    let out = e3d(&[
+        "scene",
+        "check",
+        "arm7_continuous",
+        "--samples",
+        "100000000000",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--samples") && stderr.contains("0..=100000000"),
+        "{stderr}"
+    );
+}

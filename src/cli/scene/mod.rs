@@ -38,8 +38,9 @@ pub enum SceneCmd {
         scene: String,
         /// How many random commands to execute for the reachability
         /// estimate (0: none). A space of at most this many commands is
-        /// executed whole, and the counts are exact.
-        #[arg(long, value_name = "N", default_value_t = 200)]
+        /// executed whole, and the counts are exact. At most 100000000,
+        /// as `run --trials`.
+        #[arg(long, value_name = "N", default_value_t = 200, value_parser = clap::value_parser!(u64).range(0..=100_000_000))]
         samples: u64,
         /// The seed of the sample.
         #[arg(long, default_value_t = 0)]
