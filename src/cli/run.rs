@@ -65,8 +65,8 @@ pub fn run(a: RunArgs) -> CliResult {
         prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
     }
     let seeds = seeds(&a)?;
-    if scene.is_continuous() {
-        return super::continuous::run(&a, &scene, params, &seeds);
+    if let Some(continuous) = scene.as_continuous() {
+        return super::continuous::run(&a, continuous, params, &seeds);
     }
     if super::episodes::wanted(&a, &scene) {
         return super::episodes::run(&a, &scene, params, &seeds);

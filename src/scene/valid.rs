@@ -208,6 +208,11 @@ impl Scene {
         self.values.clone()
     }
 
+    /// The value space of a continuous scene, borrowed.
+    pub(crate) fn values(&self) -> Option<&ValueSpace> {
+        self.values.as_ref()
+    }
+
     /// How the scene's terminal states are binned into effects (a grid
     /// scene's: its cells).
     pub fn binning(&self) -> &Binning {

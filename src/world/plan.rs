@@ -322,16 +322,16 @@ pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
     let mut world = PhysicsWorld::of(scene, spec, 1);
     let start = std::time::Instant::now();
     let mut done = 0u32;
-    let values = scene.value_space();
-    let space = values.is_none().then(|| scene.command_space());
+    let values = scene.values();
+    let space = scene.command_space();
     while done < CALIBRATION_MAX_ROLLOUTS
         && (done < CALIBRATION_ROLLOUTS || start.elapsed().as_secs_f64() < CALIBRATION_SECONDS)
     {
         let k = u64::from(done);
         // the outcome does not matter (a command that blows up is timed
         // too: it ends early, as it would in the tool)
-        let _ = match (&values, &space) {
-            (Some(v), _) => {
+        let _ = match values {
+            Some(v) => {
                 let x: Vec<f64> = (0..v.num_slots())
                     .map(|i| {
                         let (lo, hi) = v.range(i);
@@ -343,12 +343,11 @@ pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
                     .collect();
                 world.execute_values(&x)
             }
-            (None, Some(space)) => {
+            None => {
                 let n = space.num_commands().unwrap_or(u64::MAX);
                 let c = space.command_at(k.wrapping_mul(0x9E37_79B9_7F4A_7C15) % n);
                 world.execute(&c)
             }
-            (None, None) => unreachable!("a scene of symbols has a command space"),
         };
         done += 1;
     }

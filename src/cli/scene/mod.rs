@@ -135,9 +135,8 @@ fn continuous(cmd: &SceneCmd) -> Option<CliResult> {
         | C::Stats { scene, .. } => scene,
         _ => return None,
     };
-    let scene = e3d::Scene::resolve(name)
-        .ok()
-        .filter(|s| s.is_continuous())?;
+    let scene = e3d::Scene::resolve(name).ok()?;
+    let continuous = scene.as_continuous()?;
     let refuse = |what: &str| Some(scene.require_symbols(what).map_err(CliError::input));
     match cmd {
         C::Exec {
@@ -145,14 +144,14 @@ fn continuous(cmd: &SceneCmd) -> Option<CliResult> {
             table_cache: None,
             trace,
             ..
-        } => Some(values::exec(&scene, commands, trace.as_deref())),
+        } => Some(values::exec(continuous, commands, trace.as_deref())),
         C::Exec { .. } => refuse("`e3d scene exec --table-cache` (an outcome table)"),
         C::Render {
             command: Some(text),
             animate,
             out,
             ..
-        } => Some(values::render(&scene, text, *animate, out)),
+        } => Some(values::render(continuous, text, *animate, out)),
         C::Render { .. } => None,
         C::RewardCell { .. } => refuse("`e3d scene reward-cell` (which executes every command)"),
         C::Table { .. } => refuse("`e3d scene table` (an outcome table)"),
