@@ -116,7 +116,7 @@ fn run_continuous(
     trials: usize,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(LearnerKind, Vec<Rows>, String)> {
-    let name = &scene.inner.name;
+    let name = &scene.inner.spec().name;
     let Some(kind) = builtin_kind(learner)? else {
         return Err(PyTypeError::new_err(format!(
             "learner: scene `{name}` takes continuous commands: expected one of {}",

@@ -50,13 +50,13 @@ pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u6
     if a.table_cache.is_some() {
         return Err(CliError::input(format!(
             "--table-cache: scene `{}` takes continuous commands, which have no outcome table (every trial is simulated)",
-            scene.name
+            scene.spec().name
         )));
     }
     if matches!(a.memo.outcomes.0, Some(s) if s != e3d::Strategy::Live) {
         return Err(CliError::input(format!(
             "--outcomes: scene `{}` takes continuous commands, which run live only (no table, no memo)",
-            scene.name
+            scene.spec().name
         )));
     }
     let space = continuous.values();
@@ -79,7 +79,7 @@ pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u6
         })
         .collect::<Result<_, CliError>>()?;
     let num_sessions = seeds.len();
-    let steps = scene.steps_per_command().unwrap_or(0) as u64;
+    let steps = scene.spec().steps_per_command().unwrap_or(0) as u64;
     let threads = rayon::current_num_threads();
     let work = e3d::world::Workload {
         trials: a.trials.saturating_mul(num_sessions as u64),
@@ -95,7 +95,7 @@ pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u6
             k => format!(", in lockstep up to {k} sessions per world"),
         }
     );
-    let label = format!("run {}", scene.name);
+    let label = format!("run {}", scene.spec().name);
     let total = a.trials.saturating_mul(num_sessions as u64);
     let records = super::progress::track(&label, "trials", total, |p| {
         let add = |k: u64| p.add(k);
@@ -103,7 +103,7 @@ pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u6
     })
     .map_err(CliError::simulation)?;
     let metrics: Vec<Metrics> = records.iter().map(|r| r.metrics(&target)).collect();
-    print_header(a, &scene.name, " (continuous)", &params, seeds);
+    print_header(a, &scene.spec().name, " (continuous)", &params, seeds);
     print_metrics(&metrics, seeds, num_effects);
     if let Some(dir) = &a.out {
         write_out(dir, a, scene, params, seeds, &records, &metrics, space)?;
@@ -149,7 +149,7 @@ fn write_out(
     join_trials(&csv, header, &[part])?;
     let summary = Summary {
         e3d_version: env!("CARGO_PKG_VERSION"),
-        scene: &scene.name,
+        scene: &scene.spec().name,
         scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
         learner: a.learner.as_str(),
         params,

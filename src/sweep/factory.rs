@@ -175,7 +175,7 @@ pub trait WorldFactory {
 
 impl SweepScene for Scene {
     fn name(&self) -> &str {
-        &self.name
+        &self.spec().name
     }
     fn command_space(&self) -> CommandSpace {
         Scene::command_space(self)
@@ -267,7 +267,7 @@ fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, FactoryError>
     // sweeps run commands of symbols (tables, memo, lockstep): a
     // continuous scene is refused before anything runs
     let symbols = |s: Scene| {
-        if s.is_continuous() {
+        if s.spec().is_continuous() {
             return Err(FactoryError::Unknown(format!(
                 "a scene of symbols (a sweep runs tables, the memo and lockstep sessions), found `{name}`, whose slots take values (`Continuous`): run it with `e3d run {name} --sessions N`"
             )));
@@ -285,7 +285,7 @@ fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, FactoryError>
     let names: Vec<&str> = crate::scene::BUILTIN
         .iter()
         .map(|(n, _)| *n)
-        .filter(|n| Scene::builtin(n).is_some_and(|s| !s.is_continuous()))
+        .filter(|n| Scene::builtin(n).is_some_and(|s| !s.spec().is_continuous()))
         .collect();
     Err(FactoryError::Unknown(format!(
         "a scene file (relative to the sweep file) or a built-in scene ({}), found `{name}`: no file {}{}",

@@ -62,6 +62,7 @@ impl<'s> Executor<'s> {
         progress: &(dyn Fn(u64, u64) + Sync),
     ) -> Result<Executor<'s>, WorldError> {
         scene
+            .spec()
             .require_symbols("an executor (table, memo or lockstep)")
             .map_err(|e| WorldError::Other(e.to_string()))?;
         let memo_cap = options.memo_cap;
@@ -108,7 +109,7 @@ impl<'s> Executor<'s> {
                 plan.why = format!("asked for (the cost rule chose {})", plan.strategy);
                 plan.strategy = force;
                 if force == Strategy::Table {
-                    plan.copies = if matches!(&scene.world, WorldSpec::Physics(p) if p.copies_are_exact())
+                    plan.copies = if matches!(&scene.spec().world, WorldSpec::Physics(p) if p.copies_are_exact())
                     {
                         TABLE_COPIES
                     } else {
@@ -192,7 +193,7 @@ impl<'s> Executor<'s> {
         if scene.as_continuous().is_none() {
             return Err(WorldError::Other(format!(
                 "scene `{}` takes symbols: its sessions run on Executor::new, not on an executor of continuous commands",
-                scene.name
+                scene.spec().name
             )));
         }
         Ok(Executor {
@@ -312,7 +313,7 @@ impl<'s> Executor<'s> {
             return Box::new(t);
         }
         let copies = self.copies_for(width);
-        let inner: Box<dyn World + Send> = match &self.scene.world {
+        let inner: Box<dyn World + Send> = match &self.scene.spec().world {
             WorldSpec::Physics(p) if copies > 1 => {
                 Box::new(PhysicsWorld::of(self.scene, p, copies))
             }
@@ -331,7 +332,7 @@ impl<'s> Executor<'s> {
         let memo = self.memo.as_ref()?;
         let mut line = format!(
             "{}: {} commands simulated, {} looked up in the memo ({} kept{})",
-            self.scene.name,
+            self.scene.spec().name,
             memo.misses(),
             memo.hits(),
             memo.len(),

@@ -31,7 +31,7 @@ impl Scene {
     /// The scene as a physics scene, whose worlds of many copies can be
     /// built ([`PhysicsScene::world`]); `None` for a grid scene.
     pub fn as_physics(&self) -> Option<PhysicsScene<'_>> {
-        match &self.world {
+        match &self.spec().world {
             WorldSpec::Physics(spec) => Some(PhysicsScene { scene: self, spec }),
             WorldSpec::Grid(_) => None,
         }
@@ -74,7 +74,7 @@ impl Scene {
     /// assert_eq!(world.execute(&c).unwrap().effect, 14);
     /// ```
     pub fn build(&self) -> Box<dyn World + Send> {
-        match &self.world {
+        match &self.spec().world {
             WorldSpec::Grid(g) => Box::new(GridWorld::of(self, g)),
             WorldSpec::Physics(p) => Box::new(PhysicsWorld::of(self, p, 1)),
         }

@@ -246,9 +246,9 @@ const CHEAP_TABLE: f64 = 0.05;
 
 impl Costs {
     fn of(scene: &Scene) -> Costs {
-        match &scene.world {
+        match &scene.spec().world {
             WorldSpec::Grid(_) => Costs {
-                rollout: 2e-9 * scene.num_slots() as f64 + 1e-9,
+                rollout: 2e-9 * scene.spec().num_slots() as f64 + 1e-9,
                 shared: 0.0,
                 exact: false,
                 grid: true,
@@ -265,7 +265,7 @@ impl Costs {
                 // joints (fitted to puck_rooms and arm7: 1.9 and 24 us)
                 let shared = 1.6e-6;
                 let own = 0.3e-6 * moving + 0.4e-6 * joints * joints;
-                let steps = p.schedule.total_steps(p.dt, scene.num_slots()) as f64;
+                let steps = p.schedule.total_steps(p.dt, scene.spec().num_slots()) as f64;
                 Costs {
                     rollout: steps * (shared + own),
                     shared: steps * shared,
@@ -316,7 +316,7 @@ pub fn rollout_seconds(scene: &Scene) -> f64 {
 /// [`calibration`]): the model gives the ratios (copies per world,
 /// threads), the measure the speed of this machine as it is loaded now.
 pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
-    let WorldSpec::Physics(spec) = &scene.world else {
+    let WorldSpec::Physics(spec) = &scene.spec().world else {
         return rollout_seconds(scene);
     };
     let mut world = PhysicsWorld::of(scene, spec, 1);
@@ -366,10 +366,10 @@ pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
 /// grid scene.
 pub fn calibration_on(scene: &Scene, threads: usize, copies: usize) -> f64 {
     use rayon::prelude::*;
-    let WorldSpec::Physics(spec) = &scene.world else {
+    let WorldSpec::Physics(spec) = &scene.spec().world else {
         return 1.0;
     };
-    if scene.is_continuous() {
+    if scene.spec().is_continuous() {
         // a continuous scene runs one value vector at a time
         return timed_rollout_seconds(scene) / rollout_seconds(scene);
     }
@@ -425,7 +425,7 @@ pub const CALIBRATION_SECONDS: f64 = 0.1;
 /// `exec`, `table`, `reward-cell`, `stats`) say the model's estimate times
 /// this factor.
 pub fn calibration(scene: &Scene) -> f64 {
-    match scene.world {
+    match scene.spec().world {
         WorldSpec::Grid(_) => 1.0,
         WorldSpec::Physics(_) => timed_rollout_seconds(scene) / rollout_seconds(scene),
     }
@@ -460,7 +460,9 @@ impl ExecutionPlan {
     ) -> ExecutionPlan {
         let space = scene.command_space();
         // continuous commands cannot be enumerated: no table, no memo
-        let n = space.num_commands().filter(|_| !scene.is_continuous());
+        let n = space
+            .num_commands()
+            .filter(|_| !scene.spec().is_continuous());
         let costs = Costs::of(scene);
         let threads = work.threads.max(1);
         let copies = if costs.exact { TABLE_COPIES } else { 1 };
@@ -471,9 +473,9 @@ impl ExecutionPlan {
         let on_disk = on_disk.cloned().unwrap_or(OnDisk::NoCache);
         let mut plan = ExecutionPlan {
             strategy: Strategy::Live,
-            scene: scene.name.clone(),
+            scene: scene.spec().name.clone(),
             commands: n,
-            continuous: scene.is_continuous(),
+            continuous: scene.spec().is_continuous(),
             simulated: None,
             copies: width,
             groups,
@@ -484,7 +486,7 @@ impl ExecutionPlan {
             sessions_seconds: trials * costs.per_command(width) / parallel,
             why: String::new(),
         };
-        if scene.is_continuous() {
+        if scene.spec().is_continuous() {
             plan.why = "continuous commands: every trial is simulated (no table or memo)".into();
             return plan;
         }

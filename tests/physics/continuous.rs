@@ -124,6 +124,7 @@ fn bad_continuous_scenes_name_the_place_and_what_was_expected() {
 fn tools_of_symbols_refuse_a_continuous_scene_by_name() {
     let scene = continuous();
     let e = scene
+        .spec()
         .require_symbols("a world of symbols")
         .unwrap_err()
         .to_string();
@@ -147,8 +148,11 @@ fn tools_of_symbols_refuse_a_continuous_scene_by_name() {
         e.contains("for an executor (table, memo or lockstep)"),
         "{e}"
     );
-    assert!(scene.to_ron().contains("Continuous(["));
-    assert_eq!(Scene::parse(&scene.to_ron(), "back.ron").unwrap(), scene);
+    assert!(scene.spec().to_ron().contains("Continuous(["));
+    assert_eq!(
+        Scene::parse(&scene.spec().to_ron(), "back.ron").unwrap(),
+        scene
+    );
 }
 
 /// Sessions of `kind` on arm7_continuous, seeds 0 and 1, 1500 trials.

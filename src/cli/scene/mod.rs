@@ -137,7 +137,7 @@ fn continuous(cmd: &SceneCmd) -> Option<CliResult> {
     };
     let scene = e3d::Scene::resolve(name).ok()?;
     let continuous = scene.as_continuous()?;
-    let refuse = |what: &str| Some(scene.require_symbols(what).map_err(CliError::input));
+    let refuse = |what: &str| Some(scene.spec().require_symbols(what).map_err(CliError::input));
     match cmd {
         C::Exec {
             commands,
@@ -182,7 +182,7 @@ pub fn run(a: SceneArgs) -> CliResult {
             expanded: true,
             ..
         } => {
-            let text = load_scene(&scene)?.to_ron();
+            let text = load_scene(&scene)?.spec().to_ron();
             let mut stdout = std::io::stdout().lock();
             stdout
                 .write_all(text.as_bytes())

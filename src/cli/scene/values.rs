@@ -130,7 +130,10 @@ pub(super) fn render(
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
         if html {
-            motion_svg::html_page(&format!("{}: command {cmd}", scene.scene().name), &svg)
+            motion_svg::html_page(
+                &format!("{}: command {cmd}", scene.scene().spec().name),
+                &svg,
+            )
         } else {
             svg
         }

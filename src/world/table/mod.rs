@@ -221,7 +221,7 @@ impl OutcomeTable {
         scene: &Scene,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<OutcomeTable, WorldError> {
-        match &scene.world {
+        match &scene.spec().world {
             WorldSpec::Physics(p) if p.symmetry.is_some() => {
                 Self::build_mirrored(scene, p, progress)
             }
@@ -296,7 +296,7 @@ impl OutcomeTable {
         known: &[(u64, Outcome)],
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<OutcomeTable, WorldError> {
-        match &scene.world {
+        match &scene.spec().world {
             WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, progress),
             // a grid's table costs microseconds
             WorldSpec::Grid(_) => Self::build_scene_with_progress(scene, progress),
@@ -360,7 +360,7 @@ impl OutcomeTable {
     pub fn simulated_commands(scene: &Scene) -> Option<u64> {
         let space = scene.command_space();
         let n = Self::check_size(&space).ok()?;
-        match &scene.world {
+        match &scene.spec().world {
             WorldSpec::Physics(p) if p.symmetry.is_some() => {
                 let probe = PhysicsWorld::of(scene, p, 1);
                 let twins = twin_indices(&probe, &space, n);
