@@ -131,7 +131,7 @@ impl ValueSessionRecord {
 /// ```
 /// use e3d::{run_value_session, LearnerKind, Params, Scene, SessionConfig, Target};
 /// let scene = Scene::builtin("arm7_continuous").unwrap();
-/// let mut world = scene.physics_world().unwrap();
+/// let mut world = scene.as_continuous().unwrap().world(1);
 /// let space = scene.value_space().unwrap();
 /// let mut l = LearnerKind::E3d
 ///     .make_continuous(&Params::TASK1, &space, scene.num_effects(), &Target::Uniform)

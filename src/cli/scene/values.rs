@@ -55,7 +55,7 @@ pub(super) fn exec(
     };
     let result = (|| -> CliResult {
         let mut first = true;
-        for v in read_values(&space, commands) {
+        for v in read_values(space, commands) {
             let v = v?;
             let text = space.format(&v);
             let o = match &mut file {
