@@ -113,6 +113,9 @@ fn main() -> ExitCode {
         (Ok(()), Err(e)) => cli::report_error(&cli::CliError::output(format!(
             "cannot write to standard output: {e}"
         ))),
-        (Err(e), _) => cli::report_error(&e),
+        (Err(e), _) => {
+            cli::output::remove_created_if_empty();
+            cli::report_error(&e)
+        }
     }
 }

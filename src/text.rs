@@ -279,28 +279,41 @@ fn open_regular(path: &Path, what: &str) -> Result<std::fs::File, ReadError> {
 /// too), of at most `max` bytes (read up to `max + 1` even if it grows
 /// meanwhile). `what` names what was expected, for the messages.
 pub fn read_own_bytes(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, ReadError> {
-    let f = open_regular(path, what)?;
-    let file = path.display().to_string();
-    let too_large = || ReadError::TooLarge {
-        file: file.clone(),
-        what: what.to_string(),
-        max,
-    };
-    let len = f.metadata().map(|m| m.len()).unwrap_or(0);
-    if len > max {
-        return Err(too_large());
-    }
+    let (f, len) = open_own(path, max, what)?;
     let mut bytes = Vec::with_capacity(len as usize);
     f.take(max.saturating_add(1))
         .read_to_end(&mut bytes)
         .map_err(|error| ReadError::Io {
-            file: file.clone(),
+            file: path.display().to_string(),
             error,
         })?;
     if bytes.len() as u64 > max {
-        return Err(too_large());
+        return Err(too_large(path, max, what));
     }
     Ok(bytes)
+}
+
+/// Opens one of e3d's own files for a streamed read, with the checks of
+/// [`read_own_bytes`] that come before reading: a regular file only, of at
+/// most `max` bytes now. Returns the file and its length; the reader
+/// must still stop after `max + 1` bytes (the file may grow) and refuse
+/// with [`too_large`] if it gets them.
+pub fn open_own(path: &Path, max: u64, what: &str) -> Result<(std::fs::File, u64), ReadError> {
+    let f = open_regular(path, what)?;
+    let len = f.metadata().map(|m| m.len()).unwrap_or(0);
+    if len > max {
+        return Err(too_large(path, max, what));
+    }
+    Ok((f, len))
+}
+
+/// The [`ReadError::TooLarge`] of `path`.
+pub fn too_large(path: &Path, max: u64, what: &str) -> ReadError {
+    ReadError::TooLarge {
+        file: path.display().to_string(),
+        what: what.to_string(),
+        max,
+    }
 }
 
 /// [`read_own_bytes`] as UTF-8 text; bytes that are not are refused with

@@ -164,3 +164,22 @@ def test_ctrl_c_stops_a_sweep_into_a_folder_and_resume_completes_it(tmp_path, cl
     cli("sweep", sweep, "--out", tmp_path / "cli")
     for f in ["results.csv", "summary.csv"]:
         assert (out / f).read_bytes() == (tmp_path / "cli" / f).read_bytes(), f
+
+
+@pytest.mark.parametrize("learner", ["e3d", "python"])
+def test_ctrl_c_stops_a_table_build_and_leaves_no_table(tmp_path, learner):
+    # arm7x5's table simulates 39063 commands (about a minute on two
+    # cores): Ctrl-C half a second in stops the build itself, not the
+    # session after it, so no table file is written into the cache (the
+    # build ran to its end, wrote the table, then raised)
+    cache = tmp_path / "cache"
+    chosen = "e3d" if learner == "e3d" else Uniform()
+    t = interrupt_after(0.5)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            e3d.run_session("arm7x5", learner=chosen, trials=10, outcomes="table",
+                            table_cache=cache)
+    finally:
+        t.cancel()
+    left = sorted(p.name for p in cache.iterdir()) if cache.exists() else []
+    assert not [n for n in left if n.endswith(".e3dtable") or ".tmp-" in n], left

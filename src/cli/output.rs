@@ -2,7 +2,23 @@
 //! `--force`, and files written whole or not at all.
 
 use super::{CliError, CliResult};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The folders [`prepare_out`] created, deepest first.
+static CREATED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes the folders [`prepare_out`] created that are still empty: a
+/// command refused after it prepared its `--out` (a bad scene name for
+/// `compare`, a learner that does not fit the scene for `run`) leaves no
+/// empty folder behind. A folder that existed before is never removed.
+pub fn remove_created_if_empty() {
+    let created = std::mem::take(&mut *CREATED.lock().unwrap_or_else(|e| e.into_inner()));
+    for dir in created {
+        // fails, as it should, on a folder that holds anything
+        let _ = std::fs::remove_dir(dir);
+    }
+}
 
 /// Refuses to overwrite the given files in `dir` unless `force`; creates `dir`.
 pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
@@ -20,9 +36,18 @@ pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
             )));
         }
     }
+    let missing: Vec<PathBuf> = dir
+        .ancestors()
+        .take_while(|d| !d.as_os_str().is_empty() && std::fs::symlink_metadata(d).is_err())
+        .map(Path::to_path_buf)
+        .collect();
     std::fs::create_dir_all(dir).map_err(|e| {
         CliError::output(format!("{}: cannot create the folder: {e}", dir.display()))
     })?;
+    CREATED
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .extend(missing);
     // what a run killed while writing here left (a full disk, SIGKILL)
     e3d::io::remove_stale_temps(dir);
     Ok(())

@@ -21,7 +21,7 @@ use super::{io_err, Shard, SweepError};
 use crate::hash::fnv1a64;
 use std::collections::BTreeMap;
 use std::fs::File;
-use std::io::Write;
+use std::io::{BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -140,8 +140,6 @@ fn parse_scenes(v: &str) -> Option<Vec<(String, u64)>> {
         .collect()
 }
 
-impl JournalHeader {}
-
 /// A journal read back.
 #[derive(Debug, Clone)]
 pub struct JournalRead {
@@ -161,8 +159,34 @@ fn corrupt(path: &Path, what: &str) -> SweepError {
     ))
 }
 
+/// The longest journal line read: 64 MiB. A session's line holds a
+/// checksum, numbers and names of at most 200 characters, and the header's
+/// scene list is bounded by the sweep file (16 MiB, names encoded at most
+/// threefold). A longer data line is not one e3d wrote: it ends the valid
+/// part, as a line that fails its checksum does (a tail of zeros left by
+/// a crash is one), without being read further.
+pub const MAX_LINE_BYTES: usize = 64 << 20;
+
+/// Reads the next line of a journal into `buf`, its line feed kept (a
+/// line without one is torn), holding at most [`MAX_LINE_BYTES`] + 1
+/// bytes: the bytes read, or `None` at the end. A line longer than the cap
+/// comes back cut, without its line feed, as a torn line does.
+fn next_line(
+    input: &mut impl BufRead,
+    buf: &mut Vec<u8>,
+    path: &Path,
+) -> Result<Option<usize>, SweepError> {
+    buf.clear();
+    let got = (&mut *input)
+        .take(MAX_LINE_BYTES as u64 + 1)
+        .read_until(b'\n', buf)
+        .map_err(io_err(path))?;
+    Ok((got > 0).then_some(got))
+}
+
 /// Reads a journal, keeping the whole, correct lines before the first bad
-/// one.
+/// one. The file is streamed, a line at a time: memory holds one line and
+/// the rows kept, and the work is linear in the file's length.
 pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
     if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
         return Err(SweepError::Output(format!(
@@ -170,13 +194,70 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
             path.display()
         )));
     }
-    let bytes = crate::text::read_own_bytes(path, MAX_JOURNAL_BYTES, "sweep journal")
-        .map_err(|e| SweepError::Output(format!("{e}; choose another --out")))?;
-    let mut lines = bytes.split_inclusive(|&b| b == b'\n');
+    let own_err =
+        |e: crate::text::ReadError| SweepError::Output(format!("{e}; choose another --out"));
+    let (file, _) =
+        crate::text::open_own(path, MAX_JOURNAL_BYTES, "sweep journal").map_err(own_err)?;
+    let mut input = BufReader::new(file.take(MAX_JOURNAL_BYTES + 1));
+    let mut buf = Vec::new();
+    let (header, header_len) = read_header(&mut input, &mut buf, path)?;
+    let mut valid_len = header_len;
+    let mut rows = BTreeMap::new();
+    let check = RowCheck::new(&header);
+    let mut n = 3;
+    let mut total = header_len;
+    loop {
+        n += 1;
+        let Some(got) = next_line(&mut input, &mut buf, path)? else {
+            break;
+        };
+        total += got as u64;
+        let Some((index, row)) = parse_line(&buf) else {
+            break;
+        };
+        check.row(path, n, index, &row)?;
+        if let Some(old) = rows.get(&index) {
+            if *old != row {
+                return Err(corrupt(
+                    path,
+                    &format!("session {index} appears twice with different results"),
+                ));
+            }
+        }
+        rows.insert(index, row);
+        valid_len += got as u64;
+    }
+    // the file's length was checked when it was opened; one that grew past
+    // the cap while it was read is refused (what follows a bad line is not
+    // read)
+    if total > MAX_JOURNAL_BYTES {
+        return Err(own_err(crate::text::too_large(
+            path,
+            MAX_JOURNAL_BYTES,
+            "sweep journal",
+        )));
+    }
+    Ok(JournalRead {
+        header,
+        rows,
+        valid_len,
+    })
+}
+
+/// The three header lines of a journal and their length in bytes.
+fn read_header(
+    input: &mut impl BufRead,
+    buf: &mut Vec<u8>,
+    path: &Path,
+) -> Result<(JournalHeader, u64), SweepError> {
+    let mut len = 0u64;
     let mut header_line = |n: usize| -> Result<String, SweepError> {
-        match lines.next() {
-            Some(l) if l.ends_with(b"\n") => String::from_utf8(l[..l.len() - 1].to_vec())
-                .map_err(|_| corrupt(path, &format!("line {n} is not UTF-8"))),
+        match next_line(input, buf, path)? {
+            Some(got) if buf.ends_with(b"\n") => {
+                len += got as u64;
+                String::from_utf8(buf[..got - 1].to_vec())
+                    .map_err(|_| corrupt(path, &format!("line {n} is not UTF-8")))
+            }
             _ => Err(corrupt(path, "its header is incomplete")),
         }
     };
@@ -186,7 +267,6 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
     }
     let meta = header_line(2)?;
     let columns = header_line(3)?;
-    let header_len = (magic.len() + meta.len() + columns.len() + 3) as u64;
     let columns = columns
         .strip_prefix("# columns=")
         .ok_or_else(|| corrupt(path, "line 3 lacks `# columns=`"))?
@@ -219,18 +299,28 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
         version: get("version")?.to_string(),
         columns,
     };
-    let mut valid_len = header_len;
-    let mut rows = BTreeMap::new();
-    let width = header.columns.split(',').count();
-    let metrics = super::KEY_COLUMNS.len()..width.saturating_sub(1);
-    let names: Vec<&str> = header.columns.split(',').collect();
-    for (k, line) in lines.enumerate() {
-        let Some(entry) = parse_line(line) else { break };
-        let (index, row) = entry;
-        // a line that passes its checksum was written whole; its values
-        // must still be what e3d writes (a resealed line with `inf` would
-        // end as an infinite summary)
-        let n = k + 4;
+    Ok((header, len))
+}
+
+/// What a session's row must hold: as many fields as the header's
+/// columns, its metrics finite numbers or empty.
+struct RowCheck<'h> {
+    names: Vec<&'h str>,
+    metrics: std::ops::Range<usize>,
+}
+
+impl<'h> RowCheck<'h> {
+    fn new(header: &'h JournalHeader) -> Self {
+        let names: Vec<&str> = header.columns.split(',').collect();
+        let metrics = super::KEY_COLUMNS.len()..names.len().saturating_sub(1);
+        RowCheck { names, metrics }
+    }
+
+    /// Checks the row of line `n`. A line that passes its checksum was
+    /// written whole; its values must still be what e3d writes (a resealed
+    /// line with `inf` would end as an infinite summary).
+    fn row(&self, path: &Path, n: usize, index: usize, row: &str) -> Result<(), SweepError> {
+        let width = self.names.len();
         let fields = row.split(',').count();
         if fields != width {
             return Err(corrupt(
@@ -242,8 +332,8 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
         // space, index, comma
         let mut col = 16 + 1 + index.to_string().len() + 1 + 1;
         for (j, v) in row.split(',').enumerate() {
-            if metrics.contains(&j) && !v.is_empty() {
-                crate::text::parse_finite(v, &path.display().to_string(), n, col, names[j])
+            if self.metrics.contains(&j) && !v.is_empty() {
+                crate::text::parse_finite(v, &path.display().to_string(), n, col, self.names[j])
                     .map_err(|e| {
                         SweepError::Output(format!(
                             "{e}; the journal was edited: choose another --out"
@@ -252,22 +342,8 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
             }
             col += v.chars().count() + 1;
         }
-        if let Some(old) = rows.get(&index) {
-            if *old != row {
-                return Err(corrupt(
-                    path,
-                    &format!("session {index} appears twice with different results"),
-                ));
-            }
-        }
-        rows.insert(index, row);
-        valid_len += line.len() as u64;
+        Ok(())
     }
-    Ok(JournalRead {
-        header,
-        rows,
-        valid_len,
-    })
 }
 
 /// `CHECKSUM INDEX,ROW\n` -> `(INDEX, ROW)`, or `None` if torn or wrong.

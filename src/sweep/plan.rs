@@ -336,14 +336,14 @@ impl Sweep {
                 FactoryError::Unknown(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
                 FactoryError::Failed(e) => e,
             })?;
-            if scene.name().contains([',', '"', '\n', '\r']) {
+            // a scene made in code (a LiveScene, your own SweepScene) gets
+            // the checks of a scene file's name: it is printed, and written
+            // into CSV files and the journal
+            if let Err(e) = crate::text::check_name(scene.name()) {
                 return Err(bad(
                     "scenes",
                     Some(&format!("\"{name}\"")),
-                    &format!(
-                        "scenes whose name has no comma, quote or line break (for CSV), found `{}`",
-                        scene.name()
-                    ),
+                    &format!("scenes whose name is {e}"),
                 ));
             }
             if scenes.iter().any(|s| s.name() == scene.name()) {

@@ -61,6 +61,21 @@ impl<'s> Executor<'s> {
         options: &ExecOptions,
         progress: &(dyn Fn(u64, u64) + Sync),
     ) -> Result<Executor<'s>, WorldError> {
+        Self::with_progress_until(scene, work, options, progress, &|| false)
+    }
+
+    /// [`with_progress`](Self::with_progress) whose table building can be
+    /// stopped: `stop()` is asked before each chunk of commands, and once
+    /// it returns `true` the executor is not made: the error is
+    /// `WorldError::Other("stopped")` (a Ctrl-C in Python ends a build of a
+    /// minute within a chunk's time, instead of after the whole table).
+    pub fn with_progress_until(
+        scene: &'s Scene,
+        work: &Workload,
+        options: &ExecOptions,
+        progress: &(dyn Fn(u64, u64) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Executor<'s>, WorldError> {
         scene
             .spec()
             .require_symbols("an executor (table, memo or lockstep)")
@@ -139,11 +154,13 @@ impl<'s> Executor<'s> {
                     Ok(t)
                 }
                 // what a partial file holds is not simulated again
-                Some(CachedOutcomes::Partial(ref known)) => exec.build_table(known, progress),
-                None => exec.build_table(&[], progress),
+                Some(CachedOutcomes::Partial(ref known)) => exec.build_table(known, progress, stop),
+                None => exec.build_table(&[], progress, stop),
             };
             match built {
                 Ok(t) => exec.table = Some(t),
+                // stopped: no fallback to a memo or live execution
+                Err(e) if stop() => return Err(e),
                 Err(e) => {
                     exec.plan.strategy = if memo_cap > 0 {
                         Strategy::Memo
@@ -226,6 +243,7 @@ impl<'s> Executor<'s> {
         &mut self,
         known: &[(u64, Outcome)],
         progress: &(dyn Fn(u64, u64) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<OutcomeTable, WorldError> {
         let n = self.plan.commands.unwrap_or(0);
         let total = self
@@ -235,9 +253,9 @@ impl<'s> Executor<'s> {
             .saturating_sub(known.len() as u64);
         let each = |k: u64| progress(k, total);
         let t = if known.is_empty() {
-            OutcomeTable::build_scene_with_progress(self.scene, &each)?
+            OutcomeTable::build_scene_until(self.scene, &each, stop)?
         } else {
-            OutcomeTable::complete_with_progress(self.scene, known, &each)?
+            OutcomeTable::complete_until(self.scene, known, &each, stop)?
         };
         if let Some(p) = &self.cache {
             if let Err(e) = t.write_file(p, self.scene) {

@@ -12,6 +12,7 @@ mod compare;
 mod console_escapes;
 mod contexts;
 mod robustness_round3;
+mod robustness_round4;
 mod scene_check;
 mod scene_commands;
 mod scene_exec;

@@ -403,3 +403,70 @@ fn an_executor_building_a_table_reports_every_simulated_command() {
         assert_eq!(total.load(Ordering::Relaxed), simulated, "{name}");
     }
 }
+
+/// A table build that its caller stops (a Ctrl-C in Python) ends within a
+/// chunk of commands with `stopped`, without falling back to a memo and
+/// without writing a table file; it ran to the end of the table before.
+#[test]
+fn a_stopped_table_build_ends_early_and_keeps_nothing() {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    for name in ["puck_rooms", "arm7", "two_rooms"] {
+        let scene = Scene::builtin(name).unwrap();
+        let total = OutcomeTable::simulated_commands(&scene).unwrap();
+        let done = AtomicU64::new(0);
+        let progress = |k: u64| {
+            done.fetch_add(k, Ordering::Relaxed);
+        };
+        // stop once some commands are simulated
+        let stop = || done.load(Ordering::Relaxed) > 0;
+        let e = OutcomeTable::build_scene_until(&scene, &progress, &stop).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            e3d::WorldError::Other("stopped".into()).to_string()
+        );
+        let simulated = done.load(Ordering::Relaxed);
+        // at most a chunk of commands per worker after the first
+        let threads = rayon::current_num_threads() as u64;
+        assert!(
+            simulated < total && simulated <= 2 * 64 * (threads + 1),
+            "{name}: {simulated} of {total}"
+        );
+        // an executor asked for a table: stopped, no memo, no file
+        let dir = fresh_path(&format!("stopped-table-{name}"));
+        let options = ExecOptions {
+            cache: Some(dir.clone()),
+            force: Some(Strategy::Table),
+            ..ExecOptions::default()
+        };
+        let work = Workload {
+            trials: 10,
+            sessions: 1,
+            threads: 1,
+        };
+        let r = Executor::with_progress_until(&scene, &work, &options, &|_, _| {}, &|| true);
+        assert!(
+            matches!(r, Err(ref e) if e.to_string().contains("stopped")),
+            "{name}"
+        );
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .map(|d| d.map(|e| e.unwrap().file_name()).collect())
+            .unwrap_or_default();
+        assert!(
+            !left
+                .iter()
+                .any(|n| n.to_string_lossy().ends_with(".e3dtable")),
+            "{left:?}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    // never stopped: the same table as before
+    for name in ["two_rooms", "pendulum3"] {
+        let scene = Scene::builtin(name).unwrap();
+        assert_eq!(
+            OutcomeTable::build_scene_until(&scene, &|_| {}, &|| false)
+                .unwrap()
+                .to_bytes(0),
+            OutcomeTable::build_scene(&scene).unwrap().to_bytes(0)
+        );
+    }
+}

@@ -466,3 +466,52 @@ proptest! {
         prop_assert_eq!(back.unwrap(), spec, "{}", text);
     }
 }
+
+/// A scene made in code becomes a CSV field, a journal entry and terminal
+/// text by its name: a name with a control character (ESC, BEL, a tab,
+/// NUL), a comma, a quote, or of more than 200 characters is refused as a
+/// scene file's name is, with the character's code point; it only
+/// refused commas, quotes and line breaks (ESC reached results.csv).
+#[test]
+fn scenes_made_in_code_with_control_characters_in_their_names_are_refused() {
+    let long = "n".repeat(201);
+    for (name, found) in [
+        ("a\u{1b}]0;t\u{7}b", "U+001B"),
+        ("a\u{7}b", "U+0007"),
+        ("a\tb", "U+0009"),
+        ("a\0b", "U+0000"),
+        ("a\u{9b}b", "U+009B"),
+        ("a,b", "U+002C"),
+        ("a\"b", "U+0022"),
+        ("a\nb", "U+000A"),
+        (long.as_str(), "found 201"),
+    ] {
+        let worlds = Worlds::new().with_world(name, count_b(0));
+        let spec = SweepSpec::new([name], ["blind"], 1, 5);
+        let e = Sweep::with_factories(spec, &worlds, blind())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("field `scenes`") && e.contains(found),
+            "{name:?}: {e}"
+        );
+        assert!(!e.contains(['\u{1b}', '\u{7}', '\0', '\u{9b}']), "{e:?}");
+    }
+    // a name and description of the sweep (text for people) go to RON
+    // escaped, and read back the same
+    let odd = "a\u{1b}[31m\u{7}\"\\\n\r\tb";
+    let spec = SweepSpec::new(["count_b"], ["blind"], 1, 5)
+        .with_name(odd)
+        .with_description(odd);
+    let text = spec.to_ron();
+    assert!(!text.contains(['\u{1b}', '\u{7}', '\r']), "{text}");
+    let back = Sweep::parse_with(
+        &text,
+        "s.ron",
+        &Worlds::new().with_world("count_b", count_b(0)),
+        blind(),
+    )
+    .unwrap();
+    assert_eq!(back.spec.name, odd);
+    assert_eq!(back.spec.description, odd);
+}

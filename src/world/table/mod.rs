@@ -107,6 +107,13 @@ fn twin_indices(world: &PhysicsWorld, space: &CommandSpace, n: u64) -> Vec<Optio
 }
 
 /// The place value of each slot in [`CommandSpace::index_of`].
+/// The error of a table build stopped by its caller
+/// ([`OutcomeTable::build_scene_until`]): [`WorldError::Other`]`("stopped")`,
+/// as a stopped session's.
+pub(crate) fn stopped() -> WorldError {
+    WorldError::Other("stopped".into())
+}
+
 fn places(space: &CommandSpace) -> Places {
     let mut each: Vec<u64> = space
         .sizes()
@@ -154,7 +161,7 @@ impl OutcomeTable {
         W: World,
         F: Fn() -> W + Sync,
     {
-        Self::build_parallel_with_progress(make_world, &|_| {})
+        Self::build_parallel_with_progress(make_world, &|_| {}, &|| false)
     }
 
     /// [`build_parallel`](Self::build_parallel), calling `progress` with
@@ -162,6 +169,7 @@ impl OutcomeTable {
     fn build_parallel_with_progress<W, F>(
         make_world: F,
         progress: &(dyn Fn(u64) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<OutcomeTable, WorldError>
     where
         W: World,
@@ -178,6 +186,9 @@ impl OutcomeTable {
             .map_init(
                 || (make_world(), space.first()),
                 |(world, c), k| {
+                    if stop() {
+                        return Err(stopped());
+                    }
                     let range = k * chunk..((k + 1) * chunk).min(n);
                     let done = range.end - range.start;
                     let outcomes = range
@@ -221,14 +232,26 @@ impl OutcomeTable {
         scene: &Scene,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<OutcomeTable, WorldError> {
+        Self::build_scene_until(scene, progress, &|| false)
+    }
+
+    /// [`build_scene_with_progress`](Self::build_scene_with_progress) that
+    /// can be stopped: `stop()` is asked before each chunk of commands,
+    /// and once it returns `true` the build ends with `WorldError::Other("stopped")` (a
+    /// Ctrl-C in Python: a build of a minute ends within a chunk's time).
+    pub fn build_scene_until(
+        scene: &Scene,
+        progress: &(dyn Fn(u64) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<OutcomeTable, WorldError> {
         match &scene.spec().world {
             WorldSpec::Physics(p) if p.symmetry.is_some() => {
-                Self::build_mirrored(scene, p, progress)
+                Self::complete_physics(scene, p, &[], progress, stop)
             }
             WorldSpec::Physics(p) if p.copies_are_exact() => {
-                Self::build_batched_with_progress(scene, p, TABLE_COPIES, progress)
+                Self::build_batched_with_progress(scene, p, TABLE_COPIES, progress, stop)
             }
-            _ => Self::build_parallel_with_progress(|| scene.build(), progress),
+            _ => Self::build_parallel_with_progress(|| scene.build(), progress, stop),
         }
     }
 
@@ -241,7 +264,7 @@ impl OutcomeTable {
         spec: &PhysicsSpec,
         copies: usize,
     ) -> Result<OutcomeTable, WorldError> {
-        Self::build_batched_with_progress(scene, spec, copies, &|_| {})
+        Self::build_batched_with_progress(scene, spec, copies, &|_| {}, &|| false)
     }
 
     /// [`build_batched`](Self::build_batched), calling `progress` with the
@@ -251,30 +274,18 @@ impl OutcomeTable {
         spec: &PhysicsSpec,
         copies: usize,
         progress: &(dyn Fn(u64) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<OutcomeTable, WorldError> {
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
         let all: Vec<u64> = (0..n).collect();
-        let outcomes = Self::execute_indices(scene, spec, copies, &all, progress)?;
+        let outcomes = Self::execute_indices(scene, spec, copies, &all, progress, stop)?;
         Ok(OutcomeTable {
             places: places(&space),
             num_effects: scene.num_effects(),
             space,
             outcomes,
         })
-    }
-
-    /// The table of a physics scene with a symmetry: the commands without a
-    /// [`twin`](PhysicsWorld::twin) are simulated (in parallel, batched
-    /// where copies are exact), the others take their twin's outcome,
-    /// reflected. `progress` is called with the number of commands of each
-    /// simulated batch.
-    fn build_mirrored(
-        scene: &Scene,
-        spec: &PhysicsSpec,
-        progress: &(dyn Fn(u64) + Sync),
-    ) -> Result<OutcomeTable, WorldError> {
-        Self::complete_physics(scene, spec, &[], progress)
     }
 
     /// The table of `scene` from the outcomes `known` (command index and
@@ -296,10 +307,21 @@ impl OutcomeTable {
         known: &[(u64, Outcome)],
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<OutcomeTable, WorldError> {
+        Self::complete_until(scene, known, progress, &|| false)
+    }
+
+    /// [`complete_with_progress`](Self::complete_with_progress) that can be
+    /// stopped, as [`build_scene_until`](Self::build_scene_until).
+    pub fn complete_until(
+        scene: &Scene,
+        known: &[(u64, Outcome)],
+        progress: &(dyn Fn(u64) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<OutcomeTable, WorldError> {
         match &scene.spec().world {
-            WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, progress),
+            WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, progress, stop),
             // a grid's table costs microseconds
-            WorldSpec::Grid(_) => Self::build_scene_with_progress(scene, progress),
+            WorldSpec::Grid(_) => Self::build_scene_until(scene, progress, stop),
         }
     }
 
@@ -310,6 +332,7 @@ impl OutcomeTable {
         spec: &PhysicsSpec,
         known: &[(u64, Outcome)],
         progress: &(dyn Fn(u64) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<OutcomeTable, WorldError> {
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
@@ -331,7 +354,7 @@ impl OutcomeTable {
         } else {
             1
         };
-        let results = Self::execute_indices(scene, spec, copies, &missing, progress)?;
+        let results = Self::execute_indices(scene, spec, copies, &missing, progress, stop)?;
         for (&i, o) in missing.iter().zip(results) {
             outcomes[i as usize] = Some(o);
         }
@@ -379,6 +402,7 @@ impl OutcomeTable {
         copies: usize,
         indices: &[u64],
         progress: &(dyn Fn(u64) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Vec<Outcome>, WorldError> {
         let space = scene.command_space();
         let chunks: Vec<Vec<Outcome>> = indices
@@ -392,6 +416,9 @@ impl OutcomeTable {
                     )
                 },
                 |(world, cmds, out), batch| {
+                    if stop() {
+                        return Err(stopped());
+                    }
                     cmds.clear();
                     out.clear();
                     cmds.extend(batch.iter().map(|&i| space.command_at(i)));
