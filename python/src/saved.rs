@@ -277,7 +277,7 @@ pub(crate) fn run_values_from(
     cfg: &e3d::SessionConfig,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<e3d::ValueSessionRecord> {
-    let Some(mut world) = scene.inner.physics_world() else {
+    let Some(mut world) = scene.inner.as_continuous().map(|c| c.world(1)) else {
         return Err(PyValueError::new_err(format!(
             "scene `{}`: continuous commands need a physics world",
             scene.inner.spec().name
