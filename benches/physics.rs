@@ -192,14 +192,19 @@ fn continuous_lockstep(c: &mut Criterion) {
     g.sample_size(10);
     g.throughput(Throughput::Elements(32 * 8));
     g.bench_function("32 sessions in lockstep, 32 copies", |b| {
-        b.iter(|| pool.install(|| run_value_sessions(&exec, learner, &configs, &|_| {}).unwrap()))
+        b.iter(|| {
+            pool.install(|| {
+                let sessions = configs.iter().map(|&c| (c, learner())).collect();
+                run_value_sessions(&exec, sessions, &|_| {}).unwrap()
+            })
+        })
     });
     g.bench_function("32 sessions, a world each", |b| {
         b.iter(|| {
             configs
                 .iter()
                 .map(|cfg| {
-                    let mut world = scene.physics_world().unwrap();
+                    let mut world = scene.as_continuous().unwrap().world(1);
                     run_value_session(&mut world, &mut learner(), cfg, |_| {}).unwrap()
                 })
                 .collect::<Vec<_>>()

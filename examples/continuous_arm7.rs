@@ -33,7 +33,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             use_reward: false,
         })
         .collect();
-    let run = |kind: LearnerKind| -> Result<Vec<ValueSessionRecord>, e3d::WorldError> {
+    let run = |kind: LearnerKind| -> Result<Vec<ValueSessionRecord>, Box<dyn std::error::Error>> {
         eprintln!("{kind}: {sessions} sessions x {trials} trials, live physics ...");
         let work = e3d::world::Workload {
             trials: trials as u64 * sessions,
@@ -41,15 +41,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             threads: rayon::current_num_threads(),
         };
         let exec = e3d::Executor::for_values(&scene, &work)?;
-        run_value_sessions(
-            &exec,
-            || {
-                kind.make_continuous(&Params::TASK1, &space, n, &Target::Uniform)
-                    .expect("task-1 parameters")
-            },
-            &configs,
-            &|_| {},
-        )
+        let sessions = configs
+            .iter()
+            .map(|&c| {
+                Ok((
+                    c,
+                    kind.make_continuous(&Params::TASK1, &space, n, &Target::Uniform)?,
+                ))
+            })
+            .collect::<Result<_, e3d::LearnerError>>()?;
+        Ok(run_value_sessions(&exec, sessions, &|_| {})?)
     };
     let mut panels = Vec::new();
     println!("| {sessions} sessions x {trials} trials | normalised entropy (mean ± sd, min-max) | cells reached (mean, min-max) | pooled entropy |");

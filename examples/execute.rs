@@ -13,7 +13,7 @@ fn run(scene: &str, commands: &[String]) -> Result<Vec<Outcome>, Box<dyn std::er
     let space = world.command_space().clone();
     println!(
         "{}: {} slots, {} commands, {} effects",
-        scene.name,
+        scene.spec().name,
         space.num_slots(),
         space
             .num_commands()

@@ -118,5 +118,6 @@ pub use session::{
 pub use sweep::{Sweep, SweepError};
 pub use world::{
     ContinuousWorld, ExecutionPlan, Executor, GridWorld, Memoized, Outcome, OutcomeMemo,
-    OutcomeTable, ParseStrategyError, PhysicsWorld, Strategy, World, WorldError, WorldState,
+    OutcomeTable, ParseStrategyError, PhysicsWorld, Strategy, ValueWorld, World, WorldError,
+    WorldState,
 };

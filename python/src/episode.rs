@@ -567,7 +567,7 @@ impl PyEpisodeWorld {
     fn __repr__(&self) -> String {
         format!(
             "EpisodeWorld({}, commands={}, observe={:?})",
-            self.scene.inner.name,
+            self.scene.inner.spec().name,
             self.commands,
             observe_name(self.observe)
         )

@@ -54,7 +54,8 @@ pub(crate) fn svg(
             scene.require_symbols("Scene.svg")?;
             let c = commands_from(py, &scene.space, command, 1)?.remove(0);
             // a scene is a grid when it is not physics
-            let (Some(mut w), WorldSpec::Grid(g)) = (GridWorld::from_scene(inner), &inner.world)
+            let (Some(mut w), WorldSpec::Grid(g)) =
+                (GridWorld::from_scene(inner), &inner.spec().world)
             else {
                 return Ok(scene_svg(inner, None));
             };
@@ -129,7 +130,7 @@ pub(crate) fn geometry<'py>(py: Python<'py>, scene: &e3d::Scene) -> PyResult<Bou
         .map(|(e, _)| (e / g.cols, e % g.cols))
         .collect();
     d.set_item("reward_cells", rewarded)?;
-    match &scene.world {
+    match &scene.spec().world {
         WorldSpec::Grid(spec) => {
             d.set_item("kind", "grid")?;
             d.set_item("start", spec.start)?;

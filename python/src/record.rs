@@ -256,7 +256,7 @@ pub(crate) fn record_to_py(
 ) -> PyResult<PyRecord> {
     let effects: Vec<i64> = rows.effects.iter().map(|&e| e as i64).collect();
     Ok(PyRecord {
-        scene: scene.inner.name.clone(),
+        scene: scene.inner.spec().name.clone(),
         learner: learner.to_string(),
         seed,
         trials: effects.len(),
@@ -436,7 +436,7 @@ pub(crate) fn batch_to_py(
     let effects = Array2::from_shape_vec((s, trials), effects).expect("S x T");
     let rewards = Array2::from_shape_vec((s, trials), rewards).expect("S x T");
     Ok(PyBatchRecord {
-        scene: scene.inner.name.clone(),
+        scene: scene.inner.spec().name.clone(),
         learner: learner.to_string(),
         seeds: seeds.to_vec().into_pyarray(py).unbind(),
         trials,

@@ -166,7 +166,7 @@ impl PyLearnerState {
         shape
             .fits(&sizes, scene.inner.num_effects(), None)
             .map_err(|e| {
-                PyValueError::new_err(format!("learner: scene `{}`: {e}", scene.inner.name))
+                PyValueError::new_err(format!("learner: scene `{}`: {e}", scene.inner.spec().name))
             })
     }
 }
@@ -277,10 +277,10 @@ pub(crate) fn run_values_from(
     cfg: &e3d::SessionConfig,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<e3d::ValueSessionRecord> {
-    let Some(mut world) = scene.inner.physics_world() else {
+    let Some(mut world) = scene.inner.as_continuous().map(|c| c.world(1)) else {
         return Err(PyValueError::new_err(format!(
             "scene `{}`: continuous commands need a physics world",
-            scene.inner.name
+            scene.inner.spec().name
         )));
     };
     let watch = crate::progress::Watch::new();

@@ -133,7 +133,7 @@ fn run_continuous(
     trials: usize,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(LearnerKind, Vec<Rows>, String)> {
-    let name = &scene.inner.name;
+    let name = &scene.inner.spec().name;
     let Some(kind) = builtin_kind(learner)? else {
         return Err(PyTypeError::new_err(format!(
             "learner: scene `{name}` takes continuous commands: expected one of {}",
@@ -155,7 +155,7 @@ fn run_continuous(
     let n_eff = scene.inner.num_effects();
     let make = || kind.make_continuous(&a.params, space, n_eff, &a.target);
     make().map_err(|e| PyValueError::new_err(e.to_string()))?;
-    if scene.inner.physics_world().is_none() {
+    if scene.inner.as_continuous().is_none() {
         return Err(PyValueError::new_err(format!(
             "scene `{name}`: continuous commands need a physics world"
         )));
@@ -175,7 +175,7 @@ fn run_continuous(
         configs
             .par_iter()
             .map(|cfg| {
-                let mut world = inner.physics_world().ok_or_else(|| {
+                let mut world = inner.as_continuous().map(|c| c.world(1)).ok_or_else(|| {
                     WorldError::Other("continuous commands need a physics world".into())
                 })?;
                 let mut guarded = Guarded {

@@ -49,7 +49,7 @@ impl PyE3dLearner {
                 "learner: this E3dLearner has alphabet sizes {:?} and {} effects; scene `{}` has {:?} and {}",
                 self.sizes,
                 self.num_effects,
-                scene.inner.name,
+                scene.inner.spec().name,
                 sizes,
                 scene.inner.num_effects()
             )));

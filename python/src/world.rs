@@ -43,7 +43,7 @@ pub(crate) struct PyWorld {
 
 impl PyWorld {
     pub(crate) fn new(scene: PyScene) -> PyWorld {
-        let copies = match &scene.inner.world {
+        let copies = match &scene.inner.spec().world {
             WorldSpec::Physics(p) if p.copies_are_exact() => TABLE_COPIES,
             _ => 1,
         };
@@ -104,7 +104,7 @@ impl PyWorld {
             (None, Some(p)) => Ok(p.world(self.copies)),
             (None, _) => Err(WorldError::Other(format!(
                 "scene `{}`: continuous commands need a physics world",
-                self.scene.inner.name
+                self.scene.inner.spec().name
             ))),
         }
     }
@@ -126,7 +126,7 @@ impl PyWorld {
             let world = slot.as_mut().ok_or_else(|| {
                 WorldError::Other(format!(
                     "scene `{}`: continuous commands need a physics world",
-                    self.scene.inner.name
+                    self.scene.inner.spec().name
                 ))
             })?;
             let r = world.execute_values(one);
@@ -325,10 +325,10 @@ impl PyWorld {
     /// `ValueError` (it has no motion).
     fn trace(&self, py: Python<'_>, command: &Bound<'_, PyAny>) -> PyResult<PyMotion> {
         let inner = &self.scene.inner;
-        if matches!(inner.world, WorldSpec::Grid(_)) {
+        if matches!(inner.spec().world, WorldSpec::Grid(_)) {
             return Err(PyValueError::new_err(format!(
                 "scene `{}` is a grid: it has no motion to trace (`e3d scene render --command` draws a command's path)",
-                inner.name
+                inner.spec().name
             )));
         }
         enum One {
@@ -356,7 +356,7 @@ impl PyWorld {
                 let Some(world) = slot.as_mut() else {
                     return Err(WorldError::Other(format!(
                         "scene `{}`: no physics world",
-                        inner.name
+                        inner.spec().name
                     )));
                 };
                 match &one {
@@ -384,7 +384,7 @@ impl PyWorld {
     fn __repr__(&self) -> String {
         format!(
             "World({:?}, {} outcomes kept)",
-            self.scene.inner.name,
+            self.scene.inner.spec().name,
             self.memo.len()
         )
     }

@@ -107,9 +107,14 @@ pub fn run(a: BenchArgs) -> CliResult {
         if let Some(e) = failure {
             return Err(CliError::simulation(e));
         }
-        line(&scene.name, "rollouts", rollouts, "1/s");
-        if let Some(steps) = scene.steps_per_command() {
-            line(&scene.name, "steps", rollouts.times(steps as f64), "1/s");
+        line(&scene.spec().name, "rollouts", rollouts, "1/s");
+        if let Some(steps) = scene.spec().steps_per_command() {
+            line(
+                &scene.spec().name,
+                "steps",
+                rollouts.times(steps as f64),
+                "1/s",
+            );
         }
         if let Some(physics) = scene.as_physics() {
             // many commands at once in one Rapier world (one thread)
@@ -133,7 +138,7 @@ pub fn run(a: BenchArgs) -> CliResult {
                 "not bit-identical: tables use one copy"
             };
             let measure = format!("rollouts ({copies} copies per world; {exact})");
-            line(&scene.name, &measure, r, "1/s");
+            line(&scene.spec().name, &measure, r, "1/s");
         }
         let n_effects = world.num_effects();
         let make = || {
@@ -155,12 +160,12 @@ pub fn run(a: BenchArgs) -> CliResult {
             let threads = rayon::current_num_threads();
             outln!(
                 "{},outcome table build ({} commands; {simulated} simulated; {threads} thread(s)),{secs:.3},{secs:.3},s",
-                scene.name,
+                scene.spec().name,
                 table.len(),
             );
             let measure = format!("outcome table commands ({threads} thread(s))");
             line(
-                &scene.name,
+                &scene.spec().name,
                 &measure,
                 Rate::once(table.len() as f64 / secs),
                 "1/s",
@@ -178,12 +183,12 @@ pub fn run(a: BenchArgs) -> CliResult {
             if let Some(e) = err {
                 return Err(CliError::simulation(e));
             }
-            line(&scene.name, "e3d trials (outcome table)", r, "1/s");
+            line(&scene.spec().name, "e3d trials (outcome table)", r, "1/s");
             let ns = Rate {
                 median: 1e9 / r.median,
                 best: 1e9 / r.best,
             };
-            line(&scene.name, "e3d trial (outcome table)", ns, "ns");
+            line(&scene.spec().name, "e3d trial (outcome table)", ns, "ns");
         } else {
             let short = SessionConfig {
                 trials: 200,
@@ -194,7 +199,7 @@ pub fn run(a: BenchArgs) -> CliResult {
             let mut l = make()?;
             run_session(&mut world, &mut l, &short).map_err(CliError::simulation)?;
             let r = Rate::once(200.0 / t0.elapsed().as_secs_f64());
-            line(&scene.name, "e3d trials (simulated)", r, "1/s");
+            line(&scene.spec().name, "e3d trials (simulated)", r, "1/s");
         }
     }
     Ok(())

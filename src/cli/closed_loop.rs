@@ -64,10 +64,10 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
         .threads
         .map(usize::from)
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let moves = scene.num_slots() * cfg.commands;
+    let moves = scene.spec().num_slots() * cfg.commands;
     errln!(
         "closed-loop: {} on {}, {} sessions per arm of {} episodes of {moves} moves, {threads} thread{}",
-        scene.name,
+        scene.spec().name,
         if cfg.commands == 1 { "1 command".to_string() } else { format!("{} commands", cfg.commands) },
         cfg.seeds,
         cfg.episodes,

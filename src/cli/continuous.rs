@@ -6,6 +6,7 @@ use super::output::write_file;
 use super::session::{join_trials, print_header, print_metrics, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
+use e3d::world::ContinuousScene;
 use e3d::{run_value_sessions, Metrics, Params, Scene, SessionConfig, Target, ValueSessionRecord};
 use serde::Serialize;
 
@@ -44,65 +45,68 @@ struct SlotPolicy {
 }
 
 /// Runs `a`'s sessions of continuous commands on `scene`.
-pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
+pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u64]) -> CliResult {
+    let scene = continuous.scene();
     if a.table_cache.is_some() {
         return Err(CliError::input(format!(
             "--table-cache: scene `{}` takes continuous commands, which have no outcome table (every trial is simulated)",
-            scene.name
+            scene.spec().name
         )));
     }
     if matches!(a.memo.outcomes.0, Some(s) if s != e3d::Strategy::Live) {
         return Err(CliError::input(format!(
             "--outcomes: scene `{}` takes continuous commands, which run live only (no table, no memo)",
-            scene.name
+            scene.spec().name
         )));
     }
-    let space = scene.value_space().expect("a continuous scene");
+    let space = continuous.values();
     let num_effects = scene.num_effects();
     let target = Target::Uniform;
     let make = || {
         a.learner
-            .make_continuous(&params, &space, num_effects, &target)
+            .make_continuous(&params, space, num_effects, &target)
             .map_err(CliError::input)
     };
-    make()?;
-    let configs: Vec<SessionConfig> = seeds
+    let sessions: Vec<_> = seeds
         .iter()
-        .map(|&seed| SessionConfig {
-            trials: a.trials as usize,
-            seed,
-            use_reward: !a.no_reward,
+        .map(|&seed| {
+            let config = SessionConfig {
+                trials: a.trials as usize,
+                seed,
+                use_reward: !a.no_reward,
+            };
+            Ok((config, make()?))
         })
-        .collect();
-    let sessions = seeds.len();
-    let steps = scene.steps_per_command().unwrap_or(0) as u64;
+        .collect::<Result<_, CliError>>()?;
+    let num_sessions = seeds.len();
+    let steps = scene.spec().steps_per_command().unwrap_or(0) as u64;
     let threads = rayon::current_num_threads();
     let work = e3d::world::Workload {
-        trials: a.trials.saturating_mul(sessions as u64),
-        sessions,
+        trials: a.trials.saturating_mul(num_sessions as u64),
+        sessions: num_sessions,
         threads,
     };
     let exec = e3d::Executor::for_values(scene, &work).map_err(CliError::input)?;
     errln!(
-        "outcomes: live: continuous commands, {} trials x {sessions} session(s) x {steps} steps, on {threads} thread(s){}",
+        "outcomes: live: continuous commands, {} trials x {num_sessions} session(s) x {steps} steps, on {threads} thread(s){}",
         a.trials,
         match exec.plan().copies {
             1 => String::new(),
             k => format!(", in lockstep up to {k} sessions per world"),
         }
     );
-    let label = format!("run {}", scene.name);
-    let total = a.trials.saturating_mul(sessions as u64);
+    let label = format!("run {}", scene.spec().name);
+    let total = a.trials.saturating_mul(num_sessions as u64);
     let records = super::progress::track(&label, "trials", total, |p| {
         let add = |k: u64| p.add(k);
-        run_value_sessions(&exec, || make().expect("checked above"), &configs, &add)
+        run_value_sessions(&exec, sessions, &add)
     })
     .map_err(CliError::simulation)?;
     let metrics: Vec<Metrics> = records.iter().map(|r| r.metrics(&target)).collect();
-    print_header(a, &scene.name, " (continuous)", &params, seeds);
+    print_header(a, &scene.spec().name, " (continuous)", &params, seeds);
     print_metrics(&metrics, seeds, num_effects);
     if let Some(dir) = &a.out {
-        write_out(dir, a, scene, params, seeds, &records, &metrics, &space)?;
+        write_out(dir, a, scene, params, seeds, &records, &metrics, space)?;
     }
     Ok(())
 }
@@ -145,7 +149,7 @@ fn write_out(
     join_trials(&csv, header, &[part])?;
     let summary = Summary {
         e3d_version: env!("CARGO_PKG_VERSION"),
-        scene: &scene.name,
+        scene: &scene.spec().name,
         scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
         learner: a.learner.as_str(),
         params,

@@ -22,7 +22,7 @@ pub fn wanted(a: &RunArgs, scene: &Scene) -> bool {
 
 /// The names of the scene's start contexts (`["start"]` without any).
 fn start_names(scene: &Scene) -> Vec<String> {
-    match &scene.world {
+    match &scene.spec().world {
         WorldSpec::Grid(g) if !g.contexts.is_empty() => {
             g.contexts.iter().map(|c| c.name.clone()).collect()
         }
@@ -63,7 +63,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     if scene.value_space().is_some() {
         return Err(CliError::input(format!(
             "scene `{}`: its slots take values (`Continuous`); start contexts and --commands, --observe, --closed-loop run on scenes of symbols",
-            scene.name
+            scene.spec().name
         )));
     }
     let observe = match a.observe {
@@ -150,7 +150,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         .collect();
     outln!(
         "scene {}, learner {name}, {} episodes of {} command(s), seeds {}..={}",
-        scene.name,
+        scene.spec().name,
         a.trials,
         a.commands,
         seeds[0],
@@ -191,7 +191,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         }
         let summary = Summary {
             e3d_version: env!("CARGO_PKG_VERSION"),
-            scene: &scene.name,
+            scene: &scene.spec().name,
             learner: &name,
             params,
             use_reward: !a.no_reward,

@@ -65,8 +65,8 @@ pub fn run(a: RunArgs) -> CliResult {
         prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
     }
     let seeds = seeds(&a)?;
-    if scene.is_continuous() {
-        return super::continuous::run(&a, &scene, params, &seeds);
+    if let Some(continuous) = scene.as_continuous() {
+        return super::continuous::run(&a, continuous, params, &seeds);
     }
     if super::episodes::wanted(&a, &scene) {
         return super::episodes::run(&a, &scene, params, &seeds);
@@ -94,12 +94,17 @@ pub fn run(a: RunArgs) -> CliResult {
     // an outcome table built first shows its own progress (off a
     // terminal, a line every few seconds)
     let options = a.memo.options(a.table_cache.as_deref());
-    let exec = super::progress::track(&format!("table {}", scene.name), "commands", 0, |p| {
-        Executor::with_progress(&scene, &work, &options, &|k, total| {
-            p.set_total(total);
-            p.add(k);
-        })
-    })
+    let exec = super::progress::track(
+        &format!("table {}", scene.spec().name),
+        "commands",
+        0,
+        |p| {
+            Executor::with_progress(&scene, &work, &options, &|k, total| {
+                p.set_total(total);
+                p.add(k);
+            })
+        },
+    )
     .map_err(CliError::simulation)?;
     errln!("outcomes: {}", exec.plan());
     let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
@@ -116,7 +121,7 @@ pub fn run(a: RunArgs) -> CliResult {
         recorders.push((RunningMetrics::new(num_effects), csv(i)?));
     }
     // a bar on a terminal, a line every few seconds otherwise
-    let label = format!("run {}", scene.name);
+    let label = format!("run {}", scene.spec().name);
     let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
     let status = super::progress::track(&label, "trials", work.trials, |p| {
         run_sessions(&exec, &mut learners, &configs, &mut recorders, &|t| {
@@ -152,7 +157,7 @@ pub fn run(a: RunArgs) -> CliResult {
         _ => None,
     };
 
-    print_header(&a, &scene.name, "", &params, &seeds);
+    print_header(&a, &scene.spec().name, "", &params, &seeds);
     print_metrics(&metrics, &seeds, num_effects);
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
@@ -210,7 +215,7 @@ fn write_out(
     let mut json = if sessions == 1 {
         serde_json::to_vec_pretty(&Summary {
             e3d_version: env!("CARGO_PKG_VERSION"),
-            scene: &scene.name,
+            scene: &scene.spec().name,
             scene_record: SceneRecord::new(scene, &a.scene),
             learner: a.learner.as_str(),
             params,
@@ -224,7 +229,7 @@ fn write_out(
     } else {
         serde_json::to_vec_pretty(&SessionsSummary {
             e3d_version: env!("CARGO_PKG_VERSION"),
-            scene: &scene.name,
+            scene: &scene.spec().name,
             scene_record: SceneRecord::new(scene, &a.scene),
             learner: a.learner.as_str(),
             params,

@@ -98,7 +98,7 @@ fn with_slots(scene: &Scene, n: usize) -> Result<Scene, ClosedLoopError> {
     let mut long = scene.to_spec();
     match &mut long.command {
         CommandSpec::Repeat { slots, .. } => *slots = n,
-        _ => return Err(ClosedLoopError::Scene(scene.name.clone())),
+        _ => return Err(ClosedLoopError::Scene(scene.spec().name.clone())),
     }
     long.slots = None;
     Ok(long.validate()?)
@@ -111,10 +111,10 @@ pub fn run_arm(
     seed: u64,
     cfg: &ClosedLoopConfig,
 ) -> Result<ArmSession, ClosedLoopError> {
-    if !matches!(scene.world, WorldSpec::Grid(_)) {
-        return Err(ClosedLoopError::Scene(scene.name.clone()));
+    if !matches!(scene.spec().world, WorldSpec::Grid(_)) {
+        return Err(ClosedLoopError::Scene(scene.spec().name.clone()));
     }
-    let n = scene.num_slots();
+    let n = scene.spec().num_slots();
     let shared = ContextTargets::Shared(Target::Uniform);
     let closed = EpisodeConfig {
         episodes: cfg.episodes,

@@ -90,8 +90,8 @@ pub const GRID_KEYFRAME_SECONDS: f64 = 0.6;
 /// assert!(svg.contains(r#"class="agent""#) && svg.contains("slot 7/7: E"));
 /// ```
 pub fn grid_motion_svg(scene: &Scene, command: &Command) -> Result<String, AnimateError> {
-    let WorldSpec::Grid(g) = &scene.world else {
-        return Err(AnimateError::NotGrid(scene.name.clone()));
+    let WorldSpec::Grid(g) = &scene.spec().world else {
+        return Err(AnimateError::NotGrid(scene.spec().name.clone()));
     };
     let mut world = GridWorld::of(scene, g);
     let outcome = world
@@ -192,8 +192,8 @@ pub fn grid_motion_svg(scene: &Scene, command: &Command) -> Result<String, Anima
 /// assert!(svg.contains("<animateTransform") && svg.contains("t = "));
 /// ```
 pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<String, AnimateError> {
-    let WorldSpec::Physics(p) = &scene.world else {
-        return Err(AnimateError::Grid(scene.name.clone()));
+    let WorldSpec::Physics(p) = &scene.spec().world else {
+        return Err(AnimateError::Grid(scene.spec().name.clone()));
     };
     if motion.frames.is_empty()
         || motion.bodies.len() != p.bodies.len()
@@ -202,18 +202,18 @@ pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<Strin
             .iter()
             .any(|f| f.poses.len() != p.bodies.len())
     {
-        return Err(AnimateError::Mismatch(scene.name.clone()));
+        return Err(AnimateError::Mismatch(scene.spec().name.clone()));
     }
     let keep = thin(motion.frames.len(), MAX_FRAMES);
     let (drawn, drawn_point) = p
         .effect
         .drawn_point(|j| p.child_of(j))
-        .ok_or_else(|| AnimateError::Mismatch(scene.name.clone()))?;
+        .ok_or_else(|| AnimateError::Mismatch(scene.spec().name.clone()))?;
     let tracked = p
         .bodies
         .iter()
         .position(|b| b.name == drawn)
-        .ok_or_else(|| AnimateError::Mismatch(scene.name.clone()))?;
+        .ok_or_else(|| AnimateError::Mismatch(scene.spec().name.clone()))?;
     let point_at = |f: usize| {
         let pose = &motion.frames[f].poses[tracked];
         to_world(

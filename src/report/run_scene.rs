@@ -39,7 +39,7 @@ pub struct SceneRecord {
 /// The hash of a scene's content: FNV-1a (64 bits) of its canonical RON
 /// text ([`SceneSpec::to_ron`](crate::scene::SceneSpec::to_ron)), so that comments and layout do not count.
 pub fn content_hash(scene: &Scene) -> u64 {
-    crate::sweep::fnv1a64(scene.to_ron().as_bytes())
+    crate::sweep::fnv1a64(scene.spec().to_ron().as_bytes())
 }
 
 impl SceneRecord {
@@ -56,7 +56,7 @@ impl SceneRecord {
             format!("builtin:{given}")
         };
         SceneRecord {
-            name: scene.name.clone(),
+            name: scene.spec().name.clone(),
             path,
             content_hash: format!("{:016x}", content_hash(scene)),
             effect_grid: scene.effect_grid(),

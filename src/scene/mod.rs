@@ -534,7 +534,7 @@ impl SceneSpec {
     /// ```
     /// use e3d::Scene;
     /// let arm = Scene::builtin("arm7").unwrap();
-    /// let text = arm.to_ron();
+    /// let text = arm.spec().to_ron();
     /// assert!(text.starts_with("Scene(\n    name: \"arm7\","));
     /// assert_eq!(Scene::parse(&text, "arm7.ron").unwrap(), arm);
     /// ```

@@ -18,20 +18,21 @@ use std::path::Path;
 /// [`SceneSpec::validate`], expanded (no shorthands, no templates) and
 /// immutable.
 ///
-/// Its fields are read through the [`SceneSpec`] it derefs to
-/// (`scene.name`, `scene.world`, `scene.num_slots()`); to edit a scene,
-/// take its spec ([`to_spec`](Self::to_spec)), edit it and validate it
-/// again. Building its world ([`build`](Self::build),
+/// Its fields are read through its [`SceneSpec`], [`spec`](Self::spec)
+/// (`scene.spec().name`, `scene.spec().world`); a `Scene` does not
+/// deref to its spec, so a valid scene cannot be validated again. To edit
+/// a scene, take its spec ([`to_spec`](Self::to_spec)), edit it and
+/// validate it again. Building its world ([`build`](Self::build),
 /// [`physics_world`](Self::physics_world)) cannot fail.
 ///
 /// ```
 /// use e3d::scene::{Scene, WorldSpec};
 /// let arm = Scene::builtin("arm7").unwrap();
-/// assert_eq!(arm.name, "arm7");
+/// assert_eq!(arm.spec().name, "arm7");
 /// let mut spec = arm.to_spec();
 /// spec.name = "arm7b".into();
 /// let edited = spec.validate().unwrap();
-/// assert_eq!(edited.name, "arm7b");
+/// assert_eq!(edited.spec().name, "arm7b");
 /// assert_eq!(edited.command_space(), arm.command_space());
 /// ```
 #[derive(Debug, Clone)]
@@ -117,13 +118,6 @@ impl PartialEq for Scene {
     }
 }
 
-impl std::ops::Deref for Scene {
-    type Target = SceneSpec;
-    fn deref(&self) -> &SceneSpec {
-        &self.spec
-    }
-}
-
 impl serde::Serialize for Scene {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         self.spec.serialize(s)
@@ -180,7 +174,7 @@ impl Scene {
         Scene::load(p)
     }
 
-    /// The scene's spec (also reached through `Deref`: `scene.name`).
+    /// The scene's spec, to read (`scene.spec().name`).
     pub fn spec(&self) -> &SceneSpec {
         &self.spec
     }
@@ -206,6 +200,11 @@ impl Scene {
     /// symbols, whose space is [`command_space`](Self::command_space)).
     pub fn value_space(&self) -> Option<ValueSpace> {
         self.values.clone()
+    }
+
+    /// The value space of a continuous scene, borrowed.
+    pub(crate) fn values(&self) -> Option<&ValueSpace> {
+        self.values.as_ref()
     }
 
     /// How the scene's terminal states are binned into effects (a grid

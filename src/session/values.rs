@@ -131,7 +131,7 @@ impl ValueSessionRecord {
 /// ```
 /// use e3d::{run_value_session, LearnerKind, Params, Scene, SessionConfig, Target};
 /// let scene = Scene::builtin("arm7_continuous").unwrap();
-/// let mut world = scene.physics_world().unwrap();
+/// let mut world = scene.as_continuous().unwrap().world(1);
 /// let space = scene.value_space().unwrap();
 /// let mut l = LearnerKind::E3d
 ///     .make_continuous(&Params::TASK1, &space, scene.num_effects(), &Target::Uniform)
@@ -256,16 +256,17 @@ where
     records
 }
 
-/// Runs one session of continuous commands per config the way `exec`
-/// plans them ([`Executor::for_values`]), on every core of the current
-/// rayon pool: session `i` is a learner from `make_learner` with
-/// `configs[i]`. The sessions are cut into
+/// Runs each session of continuous commands, a config and its learner,
+/// the way `exec` plans them ([`Executor::for_values`]), on every core of
+/// the current rayon pool. The sessions are cut into
 /// [`Executor::session_groups`], each group stepping together on one
-/// world of [`Executor::value_world`] ([`run_value_lockstep`]; a group of
-/// one is [`run_value_session`]), and the groups run in parallel. The
-/// records, in the order of `configs`, are those of [`run_value_session`]
-/// alone, whatever the threads. `progress(k)` is called with each batch
-/// of `k` trials done. The first session to fail gives the error.
+/// world of [`Executor::copies_for`] copies of [`Executor::continuous`]
+/// ([`run_value_lockstep`]; a group of one is [`run_value_session`]), and
+/// the groups run in parallel. The records, in the order of `sessions`,
+/// are those of [`run_value_session`] alone, whatever the threads.
+/// `progress(k)` is called with each batch of `k` trials done. The first
+/// session to fail gives the error; an executor of a scene of symbols is
+/// an error.
 ///
 /// ```
 /// use e3d::world::{Executor, Workload};
@@ -281,36 +282,46 @@ where
 ///     (0..2).map(|seed| SessionConfig { trials: 10, seed, use_reward: false }).collect();
 /// let work = Workload { trials: 10, sessions: 2, threads: 2 };
 /// let exec = Executor::for_values(&scene, &work).unwrap();
-/// let recs = run_value_sessions(&exec, learner, &configs, &|_| {}).unwrap();
-/// let mut world = scene.physics_world().unwrap();
+/// let sessions = configs.iter().map(|&c| (c, learner())).collect();
+/// let recs = run_value_sessions(&exec, sessions, &|_| {}).unwrap();
+/// let mut world = scene.as_continuous().unwrap().world(1);
 /// let alone = run_value_session(&mut world, &mut learner(), &configs[1], |_| {}).unwrap();
 /// assert_eq!(recs[1], alone);
 /// ```
 pub fn run_value_sessions<L>(
     exec: &Executor<'_>,
-    make_learner: impl Fn() -> L + Sync,
-    configs: &[SessionConfig],
+    sessions: Vec<(SessionConfig, L)>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<ValueSessionRecord>, WorldError>
 where
-    L: ContinuousLearner,
+    L: ContinuousLearner + Send,
 {
     use rayon::prelude::*;
-    exec.session_groups(configs.len())
+    let scene = exec.continuous().ok_or_else(|| {
+        WorldError::Other(
+            "sessions of continuous commands need an executor of a continuous scene (Executor::for_values)"
+                .into(),
+        )
+    })?;
+    let mut rest = sessions.into_iter();
+    let groups: Vec<(Vec<SessionConfig>, Vec<L>)> = exec
+        .session_groups(rest.len())
+        .into_iter()
+        .map(|g| rest.by_ref().take(g.len()).unzip())
+        .collect();
+    groups
         .into_par_iter()
-        .map(|g| {
-            let configs = &configs[g];
-            let mut world = exec.value_world(configs.len());
-            if let [cfg] = configs {
+        .map(|(configs, mut learners)| {
+            let mut world = scene.world(exec.copies_for(configs.len()));
+            if let ([cfg], [learner]) = (&configs[..], &mut learners[..]) {
                 let mut done = 0;
-                let rec = run_value_session(&mut world, &mut make_learner(), cfg, |t| {
+                let rec = run_value_session(&mut world, learner, cfg, |t| {
                     progress((t - done) as u64);
                     done = t;
                 });
                 return vec![rec];
             }
-            let mut learners: Vec<L> = configs.iter().map(|_| make_learner()).collect();
-            run_value_lockstep(&mut world, &mut learners, configs, progress)
+            run_value_lockstep(&mut world, &mut learners, &configs, progress)
         })
         .collect::<Vec<_>>()
         .into_iter()

@@ -136,7 +136,7 @@ impl SceneRun for EpisodeWorlds<'_> {
     fn describe(&self) -> Option<String> {
         Some(format!(
             "{}: episodes of {} command{} from {} start context{}: each session on a live world of its own",
-            self.scene.name,
+            self.scene.spec().name,
             self.commands,
             if self.commands == 1 { "" } else { "s" },
             self.contexts,

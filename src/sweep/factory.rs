@@ -184,7 +184,7 @@ pub trait WorldFactory {
 
 impl SweepScene for Scene {
     fn name(&self) -> &str {
-        &self.name
+        &self.spec().name
     }
     fn command_space(&self) -> CommandSpace {
         Scene::command_space(self)
@@ -205,7 +205,7 @@ impl SweepScene for Scene {
         work: &Workload,
         options: &ExecOptions,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-        if self.is_continuous() {
+        if self.spec().is_continuous() {
             return super::values::prepare(self, work, options);
         }
         let e = Executor::new(self, work, options)?;
@@ -218,7 +218,7 @@ impl SweepScene for Scene {
         options: &ExecOptions,
         progress: &(dyn Fn(u64, u64) + Sync),
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-        if self.is_continuous() {
+        if self.spec().is_continuous() {
             return super::values::prepare(self, work, options);
         }
         let e = Executor::with_progress(self, work, options, progress)?;

@@ -34,7 +34,7 @@ pub(super) fn prepare<'a>(
     options: &ExecOptions,
 ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
     if let Some(s @ (Strategy::Table | Strategy::Memo)) = options.force {
-        return Err(forced_error(&scene.name, s));
+        return Err(forced_error(&scene.spec().name, s));
     }
     let exec = Executor::for_values(scene, work)?;
     Ok(Box::new(ValueRun(exec)))
@@ -60,7 +60,8 @@ impl SceneRun for ValueRun<'_> {
         self.0.world(width)
     }
     fn value_world(&self, width: usize) -> Option<Box<dyn ContinuousWorld + Send + '_>> {
-        Some(Box::new(self.0.value_world(width)))
+        let world = self.0.continuous()?.world(self.0.copies_for(width));
+        Some(Box::new(world))
     }
     fn describe(&self) -> Option<String> {
         Some(self.0.plan().to_string())

@@ -3,7 +3,8 @@
 
 use super::plan::{ExecOptions, ExecutionPlan, OnDisk, Strategy, Workload};
 use super::{
-    Memoized, Outcome, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError, TABLE_COPIES,
+    ContinuousScene, Memoized, Outcome, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError,
+    TABLE_COPIES,
 };
 use crate::scene::{Scene, WorldSpec};
 use crate::world::table::CachedOutcomes;
@@ -76,6 +77,7 @@ impl<'s> Executor<'s> {
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Executor<'s>, WorldError> {
         scene
+            .spec()
             .require_symbols("an executor (table, memo or lockstep)")
             .map_err(|e| WorldError::Other(e.to_string()))?;
         let memo_cap = options.memo_cap;
@@ -122,7 +124,7 @@ impl<'s> Executor<'s> {
                 plan.why = format!("asked for (the cost rule chose {})", plan.strategy);
                 plan.strategy = force;
                 if force == Strategy::Table {
-                    plan.copies = if matches!(&scene.world, WorldSpec::Physics(p) if p.copies_are_exact())
+                    plan.copies = if matches!(&scene.spec().world, WorldSpec::Physics(p) if p.copies_are_exact())
                     {
                         TABLE_COPIES
                     } else {
@@ -186,7 +188,8 @@ impl<'s> Executor<'s> {
     /// commands to a world, where the scene's copies are bit-identical to
     /// one world ([`PhysicsSpec::copies_are_exact`](crate::scene::physics::PhysicsSpec::copies_are_exact)),
     /// else one copy per world and a group per session. Sessions run on
-    /// [`value_world`](Self::value_world) by
+    /// worlds of [`copies_for`](Self::copies_for) copies of its
+    /// [`continuous`](Self::continuous) scene, by
     /// [`run_value_sessions`](crate::run_value_sessions). A scene of
     /// symbols is an error (its executor is [`new`](Self::new)).
     ///
@@ -204,10 +207,10 @@ impl<'s> Executor<'s> {
     /// assert!(Executor::for_values(&arm7, &work).is_err());
     /// ```
     pub fn for_values(scene: &'s Scene, work: &Workload) -> Result<Executor<'s>, WorldError> {
-        if !scene.is_continuous() || !matches!(scene.world, WorldSpec::Physics(_)) {
+        if scene.as_continuous().is_none() {
             return Err(WorldError::Other(format!(
                 "scene `{}` takes symbols: its sessions run on Executor::new, not on an executor of continuous commands",
-                scene.name
+                scene.spec().name
             )));
         }
         Ok(Executor {
@@ -220,17 +223,18 @@ impl<'s> Executor<'s> {
         })
     }
 
-    /// The world a group of sessions of continuous commands steps on
-    /// together, `width` of them: a world of `min(width, plan copies)`
-    /// copies. Its outcomes are the same, bit for bit, whatever the width.
-    ///
-    /// # Panics
-    /// On an executor of a grid scene (continuous scenes are physics).
-    pub fn value_world(&self, width: usize) -> PhysicsWorld {
-        let WorldSpec::Physics(p) = &self.scene.world else {
-            panic!("continuous commands on a grid scene")
-        };
-        PhysicsWorld::of(self.scene, p, width.clamp(1, self.plan.copies.max(1)))
+    /// The executor's scene as a continuous scene (its slots take
+    /// values); `None` for a scene of symbols, whose executor is
+    /// [`new`](Self::new).
+    pub fn continuous(&self) -> Option<ContinuousScene<'s>> {
+        self.scene.as_continuous()
+    }
+
+    /// The copies of the world a group of `width` sessions steps on
+    /// together: `min(width, plan copies)`, at least 1. The outcomes are
+    /// the same, bit for bit, whatever the copies.
+    pub fn copies_for(&self, width: usize) -> usize {
+        width.clamp(1, self.plan.copies.max(1))
     }
 
     /// The table of the scene from the outcomes `known`, kept in the table
@@ -326,8 +330,8 @@ impl<'s> Executor<'s> {
         if let Some(t) = &self.table {
             return Box::new(t);
         }
-        let copies = width.clamp(1, self.plan.copies.max(1));
-        let inner: Box<dyn World + Send> = match &self.scene.world {
+        let copies = self.copies_for(width);
+        let inner: Box<dyn World + Send> = match &self.scene.spec().world {
             WorldSpec::Physics(p) if copies > 1 => {
                 Box::new(PhysicsWorld::of(self.scene, p, copies))
             }
@@ -346,7 +350,7 @@ impl<'s> Executor<'s> {
         let memo = self.memo.as_ref()?;
         let mut line = format!(
             "{}: {} commands simulated, {} looked up in the memo ({} kept{})",
-            self.scene.name,
+            self.scene.spec().name,
             memo.misses(),
             memo.hits(),
             memo.len(),

@@ -4,7 +4,8 @@
 //! [`Scene`]. A [`Scene`] is valid by construction, so building cannot
 //! fail.
 
-use super::{GridWorld, PhysicsWorld, World};
+use super::{ContinuousWorld, GridWorld, Outcome, PhysicsWorld, World, WorldError};
+use crate::command::ValueSpace;
 use crate::scene::physics::PhysicsSpec;
 use crate::scene::{Scene, WorldSpec};
 
@@ -30,10 +31,31 @@ impl Scene {
     /// The scene as a physics scene, whose worlds of many copies can be
     /// built ([`PhysicsScene::world`]); `None` for a grid scene.
     pub fn as_physics(&self) -> Option<PhysicsScene<'_>> {
-        match &self.world {
+        match &self.spec().world {
             WorldSpec::Physics(spec) => Some(PhysicsScene { scene: self, spec }),
             WorldSpec::Grid(_) => None,
         }
+    }
+
+    /// The scene as a continuous scene (its slots take values), with its
+    /// physics and its value space together; `None` for a scene of
+    /// symbols. A continuous scene is a physics scene (validation refuses
+    /// values on a grid), so this is `Some` exactly when
+    /// [`is_continuous`](crate::scene::SceneSpec::is_continuous) is true.
+    ///
+    /// ```
+    /// use e3d::{ContinuousWorld, Scene};
+    /// let arm = Scene::builtin("arm7_continuous").unwrap();
+    /// let c = arm.as_continuous().unwrap();
+    /// assert_eq!(c.values().num_slots(), 7);
+    /// assert_eq!(c.world(1).value_space().num_slots(), 7);
+    /// assert!(Scene::builtin("arm7").unwrap().as_continuous().is_none());
+    /// ```
+    pub fn as_continuous(&self) -> Option<ContinuousScene<'_>> {
+        Some(ContinuousScene {
+            physics: self.as_physics()?,
+            values: self.values()?,
+        })
     }
 
     /// Builds the world that executes this scene's commands.
@@ -52,7 +74,7 @@ impl Scene {
     /// assert_eq!(world.execute(&c).unwrap().effect, 14);
     /// ```
     pub fn build(&self) -> Box<dyn World + Send> {
-        match &self.world {
+        match &self.spec().world {
             WorldSpec::Grid(g) => Box::new(GridWorld::of(self, g)),
             WorldSpec::Physics(p) => Box::new(PhysicsWorld::of(self, p, 1)),
         }
@@ -105,5 +127,87 @@ impl<'a> PhysicsScene<'a> {
     /// ```
     pub fn world(&self, copies: usize) -> PhysicsWorld {
         PhysicsWorld::of(self.scene, self.spec, copies)
+    }
+}
+
+/// A [`Scene`] whose slots take values ([`Scene::as_continuous`]): a
+/// physics scene and its value space, together.
+#[derive(Debug, Clone, Copy)]
+pub struct ContinuousScene<'a> {
+    physics: PhysicsScene<'a>,
+    values: &'a ValueSpace,
+}
+
+impl<'a> ContinuousScene<'a> {
+    /// The scene.
+    pub fn scene(&self) -> &'a Scene {
+        self.physics.scene
+    }
+
+    /// The scene as a physics scene.
+    pub fn physics(&self) -> PhysicsScene<'a> {
+        self.physics
+    }
+
+    /// The ranges of its slots.
+    pub fn values(&self) -> &'a ValueSpace {
+        self.values
+    }
+
+    /// Builds a world of `copies` copies ([`PhysicsScene::world`]) that
+    /// executes values.
+    ///
+    /// # Panics
+    /// If `copies` is 0 or above [`MAX_COPIES`](crate::world::MAX_COPIES).
+    pub fn world(&self, copies: usize) -> ValueWorld {
+        ValueWorld {
+            world: self.physics.world(copies),
+            values: self.values.clone(),
+        }
+    }
+}
+
+/// The physics world of a continuous scene, known to take values: what
+/// [`run_value_session`](crate::run_value_session) steps on (a
+/// [`ContinuousWorld`]). Made by [`ContinuousScene::world`].
+#[derive(Debug)]
+pub struct ValueWorld {
+    world: PhysicsWorld,
+    values: ValueSpace,
+}
+
+impl ValueWorld {
+    /// The Rapier world itself (motions, traces, batches).
+    pub fn physics(&self) -> &PhysicsWorld {
+        &self.world
+    }
+
+    /// The Rapier world itself, to execute on.
+    pub fn physics_mut(&mut self) -> &mut PhysicsWorld {
+        &mut self.world
+    }
+
+    /// The Rapier world, without its value space.
+    pub fn into_physics(self) -> PhysicsWorld {
+        self.world
+    }
+}
+
+impl ContinuousWorld for ValueWorld {
+    fn value_space(&self) -> &ValueSpace {
+        &self.values
+    }
+    fn num_effects(&self) -> usize {
+        World::num_effects(&self.world)
+    }
+    fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
+        self.world.execute_values(values)
+    }
+    fn execute_values_batch(
+        &mut self,
+        commands: &[Vec<f64>],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+    ) {
+        self.world.execute_values_batch(commands, out)
     }
 }

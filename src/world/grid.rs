@@ -32,7 +32,7 @@ impl GridWorld {
     /// The world of a grid scene (`None` for a physics scene).
     /// Memory: 5 transitions per cell, whatever the number of slots.
     pub fn from_scene(scene: &Scene) -> Option<GridWorld> {
-        match &scene.world {
+        match &scene.spec().world {
             WorldSpec::Grid(g) => Some(Self::of(scene, g)),
             WorldSpec::Physics(_) => None,
         }
@@ -68,7 +68,7 @@ impl GridWorld {
         }
         let mut kind = Vec::new();
         let mut slot_offset = Vec::new();
-        for alphabet in scene.slots() {
+        for alphabet in scene.spec().slots() {
             slot_offset.push(kind.len());
             for sym in alphabet {
                 let mv = match sym.action {

@@ -28,7 +28,7 @@ mod table;
 pub use crate::scene::GridSpec;
 pub use context_memo::ContextMemoized;
 pub use executor::Executor;
-pub use from_scene::PhysicsScene;
+pub use from_scene::{ContinuousScene, PhysicsScene, ValueWorld};
 pub use grid::GridWorld;
 pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
 pub use physics::{
@@ -292,27 +292,6 @@ pub trait ContinuousWorld {
         for v in commands {
             out.push(self.execute_values(v));
         }
-    }
-}
-
-impl ContinuousWorld for PhysicsWorld {
-    /// # Panics
-    /// On a world of symbols (see [`PhysicsWorld::value_space`]).
-    fn value_space(&self) -> &ValueSpace {
-        PhysicsWorld::value_space(self).expect("a scene with continuous slots")
-    }
-    fn num_effects(&self) -> usize {
-        World::num_effects(self)
-    }
-    fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
-        PhysicsWorld::execute_values(self, values)
-    }
-    fn execute_values_batch(
-        &mut self,
-        commands: &[Vec<f64>],
-        out: &mut Vec<Result<Outcome, WorldError>>,
-    ) {
-        PhysicsWorld::execute_values_batch(self, commands, out)
     }
 }
 

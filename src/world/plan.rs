@@ -246,9 +246,9 @@ const CHEAP_TABLE: f64 = 0.05;
 
 impl Costs {
     fn of(scene: &Scene) -> Costs {
-        match &scene.world {
+        match &scene.spec().world {
             WorldSpec::Grid(_) => Costs {
-                rollout: 2e-9 * scene.num_slots() as f64 + 1e-9,
+                rollout: 2e-9 * scene.spec().num_slots() as f64 + 1e-9,
                 shared: 0.0,
                 exact: false,
                 grid: true,
@@ -265,7 +265,7 @@ impl Costs {
                 // joints (fitted to puck_rooms and arm7: 1.9 and 24 us)
                 let shared = 1.6e-6;
                 let own = 0.3e-6 * moving + 0.4e-6 * joints * joints;
-                let steps = p.schedule.total_steps(p.dt, scene.num_slots()) as f64;
+                let steps = p.schedule.total_steps(p.dt, scene.spec().num_slots()) as f64;
                 Costs {
                     rollout: steps * (shared + own),
                     shared: steps * shared,
@@ -316,22 +316,22 @@ pub fn rollout_seconds(scene: &Scene) -> f64 {
 /// [`calibration`]): the model gives the ratios (copies per world,
 /// threads), the measure the speed of this machine as it is loaded now.
 pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
-    let WorldSpec::Physics(spec) = &scene.world else {
+    let WorldSpec::Physics(spec) = &scene.spec().world else {
         return rollout_seconds(scene);
     };
     let mut world = PhysicsWorld::of(scene, spec, 1);
     let start = std::time::Instant::now();
     let mut done = 0u32;
-    let values = scene.value_space();
-    let space = values.is_none().then(|| scene.command_space());
+    let values = scene.values();
+    let space = scene.command_space();
     while done < CALIBRATION_MAX_ROLLOUTS
         && (done < CALIBRATION_ROLLOUTS || start.elapsed().as_secs_f64() < CALIBRATION_SECONDS)
     {
         let k = u64::from(done);
         // the outcome does not matter (a command that blows up is timed
         // too: it ends early, as it would in the tool)
-        let _ = match (&values, &space) {
-            (Some(v), _) => {
+        let _ = match values {
+            Some(v) => {
                 let x: Vec<f64> = (0..v.num_slots())
                     .map(|i| {
                         let (lo, hi) = v.range(i);
@@ -343,12 +343,11 @@ pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
                     .collect();
                 world.execute_values(&x)
             }
-            (None, Some(space)) => {
+            None => {
                 let n = space.num_commands().unwrap_or(u64::MAX);
                 let c = space.command_at(k.wrapping_mul(0x9E37_79B9_7F4A_7C15) % n);
                 world.execute(&c)
             }
-            (None, None) => unreachable!("a scene of symbols has a command space"),
         };
         done += 1;
     }
@@ -367,10 +366,10 @@ pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
 /// grid scene.
 pub fn calibration_on(scene: &Scene, threads: usize, copies: usize) -> f64 {
     use rayon::prelude::*;
-    let WorldSpec::Physics(spec) = &scene.world else {
+    let WorldSpec::Physics(spec) = &scene.spec().world else {
         return 1.0;
     };
-    if scene.is_continuous() {
+    if scene.spec().is_continuous() {
         // a continuous scene runs one value vector at a time
         return timed_rollout_seconds(scene) / rollout_seconds(scene);
     }
@@ -426,7 +425,7 @@ pub const CALIBRATION_SECONDS: f64 = 0.1;
 /// `exec`, `table`, `reward-cell`, `stats`) say the model's estimate times
 /// this factor.
 pub fn calibration(scene: &Scene) -> f64 {
-    match scene.world {
+    match scene.spec().world {
         WorldSpec::Grid(_) => 1.0,
         WorldSpec::Physics(_) => timed_rollout_seconds(scene) / rollout_seconds(scene),
     }
@@ -461,7 +460,9 @@ impl ExecutionPlan {
     ) -> ExecutionPlan {
         let space = scene.command_space();
         // continuous commands cannot be enumerated: no table, no memo
-        let n = space.num_commands().filter(|_| !scene.is_continuous());
+        let n = space
+            .num_commands()
+            .filter(|_| !scene.spec().is_continuous());
         let costs = Costs::of(scene);
         let threads = work.threads.max(1);
         let copies = if costs.exact { TABLE_COPIES } else { 1 };
@@ -472,9 +473,9 @@ impl ExecutionPlan {
         let on_disk = on_disk.cloned().unwrap_or(OnDisk::NoCache);
         let mut plan = ExecutionPlan {
             strategy: Strategy::Live,
-            scene: scene.name.clone(),
+            scene: scene.spec().name.clone(),
             commands: n,
-            continuous: scene.is_continuous(),
+            continuous: scene.spec().is_continuous(),
             simulated: None,
             copies: width,
             groups,
@@ -485,7 +486,7 @@ impl ExecutionPlan {
             sessions_seconds: trials * costs.per_command(width) / parallel,
             why: String::new(),
         };
-        if scene.is_continuous() {
+        if scene.spec().is_continuous() {
             plan.why = "continuous commands: every trial is simulated (no table or memo)".into();
             return plan;
         }

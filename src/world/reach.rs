@@ -133,8 +133,8 @@ pub fn sample_reach_with_progress(
     progress: &dyn Fn(u64),
 ) -> Result<ReachSample, crate::WorldError> {
     use rand::{RngExt, SeedableRng};
-    if let Some(values) = scene.value_space() {
-        return sample_reach_values(scene, &values, samples, seed, progress);
+    if let Some(continuous) = scene.as_continuous() {
+        return sample_reach_values(continuous, samples, seed, progress);
     }
     let space = scene.command_space();
     let exhaustive = space.num_commands().is_some_and(|n| n <= samples);
@@ -186,20 +186,17 @@ pub fn sample_reach_with_progress(
 /// the uniform sampler ([`UniformValues`](crate::UniformValues)) seeded
 /// `seed`, on live physics.
 fn sample_reach_values(
-    scene: &crate::Scene,
-    values: &crate::ValueSpace,
+    scene: super::ContinuousScene,
     samples: u64,
     seed: u64,
     progress: &dyn Fn(u64),
 ) -> Result<ReachSample, crate::WorldError> {
     use crate::ContinuousLearner;
     use rand::SeedableRng;
-    let mut world = scene
-        .physics_world()
-        .expect("continuous scenes are physics scenes");
-    let mut sampler = crate::UniformValues::new(values);
+    let mut world = scene.physics().world(1);
+    let mut sampler = crate::UniformValues::new(scene.values());
     let mut rng = crate::SessionRng::seed_from_u64(seed);
-    let mut counts = vec![0u64; scene.num_effects()];
+    let mut counts = vec![0u64; scene.scene().num_effects()];
     let start = std::time::Instant::now();
     let mut v = Vec::new();
     for _ in 0..samples {

@@ -140,6 +140,7 @@ fn plot_refuses_an_infinite_beta() {
 fn a_reward_that_would_make_a_metric_infinite_is_refused_at_load() {
     let text = Scene::builtin("two_rooms")
         .unwrap()
+        .spec()
         .to_ron()
         .replace("value: 1.0", "value: 1e308");
     assert!(text.contains("1e308"));
@@ -212,6 +213,7 @@ fn report_draws_on_the_recorded_grid_not_a_builtin_of_the_same_name() {
     // a user's scene named like the built-in one, on a 10 x 10 grid
     let text = Scene::builtin("two_rooms")
         .unwrap()
+        .spec()
         .to_ron()
         .replace("rows: 3", "rows: 10")
         .replace("cols: 6", "cols: 10")
@@ -510,7 +512,7 @@ fn control_characters_in_a_command_are_escaped_on_stderr() {
 
 #[test]
 fn names_with_control_characters_and_the_symbol_quote_are_refused() {
-    let base = Scene::builtin("two_rooms").unwrap().to_ron();
+    let base = Scene::builtin("two_rooms").unwrap().spec().to_ron();
     let e = Scene::parse(
         &base.replace("name: \"two_rooms\"", "name: \"a\\u{1b}b\""),
         "x.ron",
@@ -522,7 +524,7 @@ fn names_with_control_characters_and_the_symbol_quote_are_refused() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("field `symbol`") && e.contains("U+0022"), "{e}");
-    let arm = Scene::builtin("arm7").unwrap().to_ron();
+    let arm = Scene::builtin("arm7").unwrap().spec().to_ron();
     let e = Scene::parse(&arm.replace("\"link7\"", "\"link\\u{7}7\""), "x.ron")
         .unwrap_err()
         .to_string();

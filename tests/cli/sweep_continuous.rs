@@ -99,14 +99,14 @@ fn a_continuous_sweep_gives_each_session_alone_whatever_the_threads_and_shards()
     for (s, row) in sessions.iter().zip(&rows) {
         let cell = &sweep.cells()[s.cell];
         let scene = if cell.scene == 0 { &puck } else { &arm };
-        assert_eq!(row[0], scene.name);
+        assert_eq!(row[0], scene.spec().name);
         assert_eq!(row[9], s.seed.to_string());
         let space = scene.value_space().unwrap();
         let kind: LearnerKind = cell.learner.parse().unwrap();
         let mut learner = kind
             .make_continuous(&cell.params, &space, scene.num_effects(), &Target::Uniform)
             .unwrap();
-        let mut world = scene.physics_world().unwrap();
+        let mut world = scene.as_continuous().unwrap().world(1);
         let config = SessionConfig {
             trials: 40,
             seed: s.seed,

@@ -37,11 +37,14 @@ fn with_slots(scene: &Scene, n: usize) -> Scene {
 #[test]
 fn grid_start_contexts_load_draw_and_refuse_bad_cells() {
     let scene = Scene::parse(TWO_ROOMS_CONTEXTS, "t.ron").unwrap();
-    let WorldSpec::Grid(g) = &scene.world else {
+    let WorldSpec::Grid(g) = &scene.spec().world else {
         panic!()
     };
     assert_eq!(g.num_contexts(), 3);
-    assert_eq!(Scene::parse(&scene.to_ron(), "again.ron").unwrap(), scene);
+    assert_eq!(
+        Scene::parse(&scene.spec().to_ron(), "again.ron").unwrap(),
+        scene
+    );
     let world = scene.build();
     assert_eq!(world.num_contexts(), 3);
     let mut rng = SessionRng::seed_from_u64(1);

@@ -7,7 +7,7 @@ use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};
 fn every_scene_with_every_learner_gives_effects_in_range_and_repeats() {
     for (name, _) in BUILTIN {
         let scene = Scene::builtin(name).unwrap();
-        if scene.is_continuous() {
+        if scene.spec().is_continuous() {
             // its own learners, on live physics (tests/physics/continuous.rs)
             continue;
         }

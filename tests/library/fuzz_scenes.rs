@@ -76,12 +76,12 @@ fn check(text: &str) {
     match Scene::parse(text, "fuzz.ron") {
         Ok(scene) => {
             // a scene that loads is written back as text that loads equal
-            match Scene::parse(&scene.to_ron(), "fuzz.ron") {
+            match Scene::parse(&scene.spec().to_ron(), "fuzz.ron") {
                 Ok(back) => assert_eq!(back, scene),
                 Err(e) => panic!("to_ron does not load back: {e}"),
             }
             // its warnings (the closed-room check among them) never panic
-            if let e3d::scene::WorldSpec::Physics(p) = &scene.world {
+            if let e3d::scene::WorldSpec::Physics(p) = &scene.spec().world {
                 let _ = p.warnings();
             }
             // and can be built and executed

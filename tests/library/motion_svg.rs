@@ -21,7 +21,7 @@ fn animated(name: &str, command: &str) -> (Scene, e3d::world::Motion, String) {
 #[test]
 fn arm7_has_a_body_per_moving_body_frames_and_a_time_readout() {
     let (scene, m, svg) = animated("arm7", "+0-+0-+");
-    let WorldSpec::Physics(p) = &scene.world else {
+    let WorldSpec::Physics(p) = &scene.spec().world else {
         panic!("arm7 is physics")
     };
     let moving: Vec<_> = p
@@ -140,7 +140,7 @@ fn a_grid_animates_the_cell_path_a_keyframe_per_slot() {
         assert_eq!(ys[k] == ys[k - 1], cells[k].0 == cells[k - 1].0, "y {k}");
     }
     // the still picture is there: the walls and the whole path
-    let walls = match &scene.world {
+    let walls = match &scene.spec().world {
         WorldSpec::Grid(g) => g.walls.len(),
         _ => unreachable!(),
     };

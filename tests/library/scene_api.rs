@@ -53,11 +53,11 @@ fn every_shipped_scene_reads_back_equal_from_to_ron() {
     let scenes = every_scene();
     assert!(scenes.len() >= 2 * BUILTIN.len(), "{}", scenes.len());
     for (from, scene) in scenes {
-        let text = scene.to_ron();
+        let text = scene.spec().to_ron();
         let back = Scene::parse(&text, "to_ron.ron").unwrap_or_else(|e| panic!("{from}: {e}"));
         assert_eq!(back, scene, "{from}");
         // the text is a fixed point
-        assert_eq!(back.to_ron(), text, "{from}");
+        assert_eq!(back.spec().to_ron(), text, "{from}");
         // and a file like the others
         assert!(text.starts_with("Scene(\n"), "{from}");
     }
@@ -76,7 +76,7 @@ fn plain_ron_is_not_the_scene_dialect() {
     assert!(matches!(e.kind(), SceneErrorKind::Syntax { .. }), "{e}");
     assert!(e.to_string().contains("expected identifier"), "{e}");
     // plain RON reads it back, but that is not what a scene file is
-    assert_eq!(ron::from_str::<SceneSpec>(&plain).unwrap(), *grid);
+    assert_eq!(ron::from_str::<SceneSpec>(&plain).unwrap(), *grid.spec());
 
     // with the newtype unwrapped by hand, `Some((..))` of a tuple is
     // refused too: the dialect reads options without `Some`
@@ -430,7 +430,7 @@ proptest! {
     fn an_edited_number_is_refused_or_builds(which in any::<usize>(), at in any::<usize>(), value in 0..VALUES.len()) {
         let scenes = every_scene();
         let (_, scene) = &scenes[which % scenes.len()];
-        let text = scene.to_ron();
+        let text = scene.spec().to_ron();
         let spots = numbers(&text);
         let (a, b) = spots[at % spots.len()];
         let edited_text = format!("{}{}{}", &text[..a], VALUES[value], &text[b..]);

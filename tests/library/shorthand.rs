@@ -14,7 +14,8 @@ fn same_as_before(name: &str) {
         text.contains("chains:") || text.contains("walls:"),
         "{name} uses no shorthand"
     );
-    let (WorldSpec::Physics(n), WorldSpec::Physics(o)) = (&new.world, &old.world) else {
+    let (WorldSpec::Physics(n), WorldSpec::Physics(o)) = (&new.spec().world, &old.spec().world)
+    else {
         panic!("{name}: not physics")
     };
     assert_eq!(n.bodies.len(), o.bodies.len(), "{name}");
@@ -26,7 +27,7 @@ fn same_as_before(name: &str) {
     assert_eq!(n.joints, o.joints, "{name}");
     assert!(n.chains.is_empty() && n.walls.is_empty());
     assert_eq!(new, old, "{name}");
-    assert_eq!(new.to_ron(), old.to_ron(), "{name}");
+    assert_eq!(new.spec().to_ron(), old.spec().to_ron(), "{name}");
 }
 
 #[test]
@@ -67,7 +68,7 @@ fn puck_in(wall: &str) -> String {
 
 fn leaks(text: &str) -> Option<(f64, f64)> {
     let s = Scene::parse(text, "closed.ron").unwrap_or_else(|e| panic!("{e}"));
-    let WorldSpec::Physics(p) = &s.world else {
+    let WorldSpec::Physics(p) = &s.spec().world else {
         panic!()
     };
     e3d::scene::enclosure::leak(p).map(|l| l.point)
@@ -110,7 +111,7 @@ fn closed_walls_enclose_their_inside_except_at_doors() {
     );
     // its generated boxes: the east side in two, named in order
     let s = Scene::parse(&puck_in(wall), "door.ron").unwrap();
-    let WorldSpec::Physics(p) = &s.world else {
+    let WorldSpec::Physics(p) = &s.spec().world else {
         panic!()
     };
     let names: Vec<&str> = p.bodies.iter().map(|b| b.name.as_str()).collect();
@@ -131,7 +132,7 @@ fn the_docs_example_generates_what_the_docs_say() {
         .and_then(|b| b.split("```").next())
         .expect("the example in docs/scenes.md");
     let s = Scene::parse(block, "docs/scenes.md").unwrap_or_else(|e| panic!("{e}"));
-    let WorldSpec::Physics(p) = &s.world else {
+    let WorldSpec::Physics(p) = &s.spec().world else {
         panic!()
     };
     let names: Vec<&str> = p.bodies.iter().map(|b| b.name.as_str()).collect();
@@ -211,7 +212,7 @@ fn a_scene_built_in_code_with_shorthands_validates_builds_and_writes() {
     assert_eq!(Scene::parse(&text, "short.ron").unwrap(), arm);
     let mut expanded = short.clone();
     expanded.expand().unwrap();
-    assert_eq!(expanded, *arm);
+    assert_eq!(expanded, *arm.spec());
     let c = arm.command_space().parse("-++++--").unwrap();
     let a = arm.build().execute(&c).unwrap();
     let b = short.validate().unwrap().build().execute(&c).unwrap();

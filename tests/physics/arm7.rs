@@ -119,7 +119,7 @@ fn the_reward_cell_is_the_one_the_rule_picks() {
     let s = scene();
     let cell = farthest_reached_cell(table(), &s.effect_grid(), [1.75, 0.0]).unwrap();
     eprintln!("{cell:?}");
-    assert_eq!(s.reward.cells, vec![(cell.row, cell.col)]);
+    assert_eq!(s.spec().reward.cells, vec![(cell.row, cell.col)]);
     // measured here: (6, 5), centre (-0.5, 0.25), behind the base, reached
     // by 5 commands, out of 68 reached cells
     assert_eq!((cell.row, cell.col), (6, 5));

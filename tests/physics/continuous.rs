@@ -124,6 +124,7 @@ fn bad_continuous_scenes_name_the_place_and_what_was_expected() {
 fn tools_of_symbols_refuse_a_continuous_scene_by_name() {
     let scene = continuous();
     let e = scene
+        .spec()
         .require_symbols("a world of symbols")
         .unwrap_err()
         .to_string();
@@ -147,8 +148,11 @@ fn tools_of_symbols_refuse_a_continuous_scene_by_name() {
         e.contains("for an executor (table, memo or lockstep)"),
         "{e}"
     );
-    assert!(scene.to_ron().contains("Continuous(["));
-    assert_eq!(Scene::parse(&scene.to_ron(), "back.ron").unwrap(), scene);
+    assert!(scene.spec().to_ron().contains("Continuous(["));
+    assert_eq!(
+        Scene::parse(&scene.spec().to_ron(), "back.ron").unwrap(),
+        scene
+    );
 }
 
 /// Sessions of `kind` on arm7_continuous, seeds 0 and 1, 1500 trials.
@@ -163,21 +167,17 @@ fn sessions(kind: LearnerKind) -> Vec<e3d::ValueSessionRecord> {
         })
         .collect();
     let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
-    run_value_sessions(
-        &exec,
-        || {
-            kind.make_continuous(
-                &Params::TASK1,
-                &space,
-                scene.num_effects(),
-                &Target::Uniform,
-            )
-            .unwrap()
-        },
-        &configs,
-        &|_| {},
-    )
-    .unwrap()
+    let learner = || {
+        kind.make_continuous(
+            &Params::TASK1,
+            &space,
+            scene.num_effects(),
+            &Target::Uniform,
+        )
+        .unwrap()
+    };
+    let sessions = configs.iter().map(|&c| (c, learner())).collect();
+    run_value_sessions(&exec, sessions, &|_| {}).unwrap()
 }
 
 #[test]
@@ -225,19 +225,16 @@ fn sessions_are_the_same_whatever_the_threads() {
             .unwrap();
         pool.install(|| {
             let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
-            run_value_sessions(
-                &exec,
-                || GaussianE3d::new(&space, 225, &Params::TASK1, &Target::Uniform).unwrap(),
-                &configs,
-                &|_| {},
-            )
-            .unwrap()
+            let learner =
+                || GaussianE3d::new(&space, 225, &Params::TASK1, &Target::Uniform).unwrap();
+            let sessions = configs.iter().map(|&c| (c, learner())).collect();
+            run_value_sessions(&exec, sessions, &|_| {}).unwrap()
         })
     };
     let one = run(1);
     assert_eq!(one, run(2));
     // and each is the session run alone
-    let mut w = scene.physics_world().unwrap();
+    let mut w = scene.as_continuous().unwrap().world(1);
     let mut l = GaussianE3d::new(&space, 225, &Params::TASK1, &Target::Uniform).unwrap();
     assert_eq!(
         run_value_session(&mut w, &mut l, &configs[1], |_| {}).unwrap(),
@@ -499,14 +496,15 @@ fn sessions_of_exact_copies_step_together_and_give_the_bytes_of_each_alone() {
         .unwrap();
     let (groups, copies, together) = pool.install(|| {
         let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
-        let recs = run_value_sessions(&exec, learner, &configs, &|_| {}).unwrap();
+        let sessions = configs.iter().map(|&c| (c, learner())).collect();
+        let recs = run_value_sessions(&exec, sessions, &|_| {}).unwrap();
         (exec.session_groups(configs.len()), exec.plan().copies, recs)
     });
     // one thread: the five sessions are one group, on a world of 5 copies
     assert_eq!(groups, vec![0..5]);
     assert_eq!(copies, 5, "copies per world");
     for (cfg, rec) in configs.iter().zip(&together) {
-        let mut world = scene.physics_world().unwrap();
+        let mut world = scene.as_continuous().unwrap().world(1);
         let alone = run_value_session(&mut world, &mut learner(), cfg, |_| {}).unwrap();
         assert_eq!(rec.trials(), cfg.trials);
         assert_eq!(

@@ -62,7 +62,7 @@ fn copies_are_exact_only_with_one_moving_body_with_contacts() {
     // Rapier orders the contacts differently and the last bits of some
     // terminal points differ (for example `--+++--`, by about 1e-5 m), so
     // its table is built one command per world
-    let exact = |name: &str| match &Scene::builtin(name).unwrap().world {
+    let exact = |name: &str| match &Scene::builtin(name).unwrap().spec().world {
         WorldSpec::Physics(p) => p.copies_are_exact(),
         _ => unreachable!(),
     };

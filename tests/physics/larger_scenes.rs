@@ -27,7 +27,7 @@ fn check_outcomes(scene: &Scene, expected: &[(&str, usize, f64, f64)]) {
             o.effect,
             effect,
             "{} {text}: cell ({}, {}), expected ({}, {})",
-            scene.name,
+            scene.spec().name,
             o.effect / cols,
             o.effect % cols,
             effect / cols,
@@ -36,7 +36,7 @@ fn check_outcomes(scene: &Scene, expected: &[(&str, usize, f64, f64)]) {
         assert!(
             (o.point[0] - x).abs() < 1e-4 && (o.point[1] - y).abs() < 1e-4,
             "{} {text}: {:?}, expected ({x}, {y})",
-            scene.name,
+            scene.spec().name,
             o.point
         );
         assert_eq!(o.reward, rewarded[effect]);
@@ -48,18 +48,18 @@ fn both_load_with_their_sizes() {
     let p = scene("puck_rooms14");
     assert_eq!(p.command_space().num_slots(), 14);
     assert_eq!(p.command_space().num_commands(), Some(268_435_456)); // 4^14
-    assert_eq!(p.steps_per_command(), Some(960)); // 14 x 60 + 120
+    assert_eq!(p.spec().steps_per_command(), Some(960)); // 14 x 60 + 120
     assert_eq!(p.num_effects(), 18);
-    assert_eq!(p.reward.cells, [(2, 5)]);
+    assert_eq!(p.spec().reward.cells, [(2, 5)]);
 
     let a = scene("arm7x5");
     assert_eq!(a.command_space().num_slots(), 7);
     assert_eq!(a.command_space().num_commands(), Some(78_125)); // 5^7
-    assert_eq!(a.steps_per_command(), Some(120)); // 15 + 105
+    assert_eq!(a.spec().steps_per_command(), Some(120)); // 15 + 105
     assert_eq!(a.num_effects(), 225);
     // the rule's cell, from `e3d scene reward-cell scenes/arm7x5.ron`
     // (all 78125 commands; a few minutes, so not rerun here)
-    assert_eq!(a.reward.cells, [(5, 5)]);
+    assert_eq!(a.spec().reward.cells, [(5, 5)]);
     assert_eq!(a.reward_table().iter().filter(|&&r| r > 0.0).count(), 1);
 }
 
@@ -67,9 +67,9 @@ fn both_load_with_their_sizes() {
 fn puck_rooms14_is_puck_rooms_with_14_slots() {
     let big = scene("puck_rooms14");
     let small = scene("puck_rooms");
-    assert_eq!(big.world, small.world);
-    assert_eq!(big.reward, small.reward);
-    match (&big.command, &small.command) {
+    assert_eq!(big.spec().world, small.spec().world);
+    assert_eq!(big.spec().reward, small.spec().reward);
+    match (&big.spec().command, &small.spec().command) {
         (
             CommandSpec::Repeat {
                 slots: 14,
@@ -91,8 +91,8 @@ fn puck_rooms14_is_puck_rooms_with_14_slots() {
 fn arm7x5_is_arm7_with_half_torques_added() {
     let big = scene("arm7x5");
     let small = scene("arm7");
-    assert_eq!(big.world, small.world);
-    for (k, (a, b)) in big.slots().zip(small.slots()).enumerate() {
+    assert_eq!(big.spec().world, small.spec().world);
+    for (k, (a, b)) in big.spec().slots().zip(small.spec().slots()).enumerate() {
         let symbols: String = a.iter().map(|s| s.symbol).collect();
         assert_eq!(symbols, "-m0p+", "slot {k}");
         // '-', '0', '+' are arm7's symbols, with arm7's actions
@@ -115,11 +115,11 @@ fn arm7x5_is_arm7_with_half_torques_added() {
 #[test]
 fn arm7x5s_mirror_image_of_every_symbol_is_in_its_slot() {
     let s = scene("arm7x5");
-    let WorldSpec::Physics(spec) = &s.world else {
+    let WorldSpec::Physics(spec) = &s.spec().world else {
         panic!("a physics scene")
     };
     assert_eq!(spec.symmetry, Some(Symmetry::FlipY));
-    for (k, alphabet) in s.slots().enumerate() {
+    for (k, alphabet) in s.spec().slots().enumerate() {
         for sym in alphabet {
             let m = Symmetry::FlipY.mirror_action(&sym.action);
             let image: Vec<char> = alphabet

@@ -24,7 +24,7 @@ fn motion(scene: &Scene, command: &str) -> Motion {
 /// Mass and moment of inertia (about the centre) of every body, in the
 /// scene's order (fixed bodies: 0).
 fn inertia(scene: &Scene) -> Vec<(f64, f64)> {
-    let e3d::scene::WorldSpec::Physics(p) = &scene.world else {
+    let e3d::scene::WorldSpec::Physics(p) = &scene.spec().world else {
         panic!("a physics scene")
     };
     p.bodies

@@ -22,9 +22,9 @@ fn reach(scene: &Scene, target: (usize, usize)) -> (Vec<String>, usize) {
 }
 
 fn template_of_three_joints(scene: &Scene) {
-    assert_eq!(scene.slots, Some(6));
-    let CommandSpec::Slots(slots) = &scene.command else {
-        panic!("{}: a template loads as Slots", scene.name)
+    assert_eq!(scene.spec().slots, Some(6));
+    let CommandSpec::Slots(slots) = &scene.spec().command else {
+        panic!("{}: a template loads as Slots", scene.spec().name)
     };
     let names: Vec<&str> = slots.iter().map(|s| s.name.as_deref().unwrap()).collect();
     assert_eq!(names, ["j1", "j2", "j3", "j1", "j2", "j3"]);
@@ -36,14 +36,14 @@ fn arm_push_moves_the_puck_to_its_reward_cell_rarely() {
     let s = Scene::builtin("arm_push").unwrap();
     assert_eq!(s, Scene::load("scenes/arm_push.ron").unwrap());
     template_of_three_joints(&s);
-    let WorldSpec::Physics(p) = &s.world else {
+    let WorldSpec::Physics(p) = &s.spec().world else {
         panic!("physics")
     };
     assert_eq!(p.effect.body, "puck");
     assert_eq!(p.joints.len(), 3);
     assert_eq!(s.num_effects(), 144);
-    assert_eq!(s.steps_per_command(), Some(240));
-    assert_eq!(s.reward.cells, [(2, 3)]);
+    assert_eq!(s.spec().steps_per_command(), Some(240));
+    assert_eq!(s.spec().reward.cells, [(2, 3)]);
     // the puck starts in (4, 8); untouched by `------`
     let mut w = s.build();
     let c = s.command_space().parse("------").unwrap();
@@ -61,7 +61,7 @@ fn the_swimmer_is_free_floating_and_reorients_itself() {
     let s = Scene::builtin("swimmer").unwrap();
     assert_eq!(s, Scene::load("scenes/swimmer.ron").unwrap());
     template_of_three_joints(&s);
-    let WorldSpec::Physics(p) = &s.world else {
+    let WorldSpec::Physics(p) = &s.spec().world else {
         panic!("physics")
     };
     // four capsule links, three joints between them, none on the ground
@@ -73,7 +73,7 @@ fn the_swimmer_is_free_floating_and_reorients_itself() {
     assert_eq!(p.joints.len(), 3);
     assert!(p.joints.iter().all(|j| j.parent != "ground"));
     assert_eq!(s.num_effects(), 144);
-    assert_eq!(s.steps_per_command(), Some(300));
+    assert_eq!(s.spec().steps_per_command(), Some(300));
     // a free chain keeps its momentum (built of impulse joints): its end
     // reaches 7 cells, the farthest (4, 7) by 13 commands
     let (hits, reached) = reach(&s, (4, 7));

@@ -22,7 +22,7 @@ fn arm7(symmetric: bool) -> Scene {
 }
 
 fn spec(s: &Scene) -> &PhysicsSpec {
-    match &s.world {
+    match &s.spec().world {
         WorldSpec::Physics(p) => p,
         _ => unreachable!(),
     }

@@ -67,19 +67,19 @@ impl PyScene {
     /// The scene's name.
     #[getter]
     fn name(&self) -> &str {
-        &self.inner.name
+        &self.inner.spec().name
     }
 
     /// The scene's description.
     #[getter]
     fn description(&self) -> &str {
-        &self.inner.description
+        &self.inner.spec().description
     }
 
     /// `"grid"` or `"physics"`.
     #[getter]
     fn kind(&self) -> &'static str {
-        match self.inner.world {
+        match self.inner.spec().world {
             WorldSpec::Grid(_) => "grid",
             WorldSpec::Physics(_) => "physics",
         }
@@ -88,7 +88,7 @@ impl PyScene {
     /// The number of slots of a command.
     #[getter]
     fn num_slots(&self) -> usize {
-        self.inner.num_slots()
+        self.inner.spec().num_slots()
     }
 
     /// Whether the scene's slots take continuous values (`value_ranges`)
@@ -154,7 +154,7 @@ impl PyScene {
     #[getter]
     fn start_effect(&self) -> usize {
         let g = self.inner.effect_grid();
-        match &self.inner.world {
+        match &self.inner.spec().world {
             WorldSpec::Grid(spec) => g.effect_of(g.center(spec.start.0, spec.start.1)),
             WorldSpec::Physics(p) => match p.effect.world_point() {
                 Some((body, point, _)) => {
@@ -230,9 +230,9 @@ impl PyScene {
     fn __repr__(&self) -> String {
         format!(
             "Scene({:?}: {}, {} {}slots, {} effects)",
-            self.inner.name,
+            self.inner.spec().name,
             self.kind(),
-            self.inner.num_slots(),
+            self.inner.spec().num_slots(),
             if self.values.is_some() {
                 "continuous "
             } else {
@@ -329,7 +329,7 @@ impl PyScene {
     /// The scene as RON text that `Scene.from_text` reads back as an equal
     /// scene (the library's `Scene::to_ron`).
     fn to_ron(&self) -> String {
-        self.inner.to_ron()
+        self.inner.spec().to_ron()
     }
 
     /// Pickling: the scene's RON text, read back by `Scene.from_text`.
@@ -337,7 +337,10 @@ impl PyScene {
         let from_text = py.get_type::<PyScene>().getattr("from_text")?;
         Ok((
             from_text,
-            (self.inner.to_ron(), format!("<scene {}>", self.inner.name)),
+            (
+                self.inner.spec().to_ron(),
+                format!("<scene {}>", self.inner.spec().name),
+            ),
         ))
     }
 

@@ -66,7 +66,7 @@ impl PyScene {
         if self.values.is_some() {
             return Err(PyValueError::new_err(format!(
                 "{what}: scene `{}` takes continuous values (value_ranges), not symbols",
-                self.inner.name
+                self.inner.spec().name
             )));
         }
         Ok(())

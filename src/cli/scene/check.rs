@@ -9,13 +9,13 @@ use e3d::OutcomeTable;
 
 pub(super) fn check(scene: &Scene) -> CliResult {
     let grid = scene.effect_grid();
-    outln!("scene {}: valid", scene.name);
-    if !scene.description.is_empty() {
-        outln!("  {}", scene.description);
+    outln!("scene {}: valid", scene.spec().name);
+    if !scene.spec().description.is_empty() {
+        outln!("  {}", scene.spec().description);
     }
     print_world(scene);
-    outln!("slots ({}):", scene.num_slots());
-    if let e3d::scene::CommandSpec::Continuous(slots) = &scene.command {
+    outln!("slots ({}):", scene.spec().num_slots());
+    if let e3d::scene::CommandSpec::Continuous(slots) = &scene.spec().command {
         for (i, slot) in slots.iter().enumerate() {
             outln!(
                 "  {i}: a value in [{}, {}]{}: {:?}",
@@ -31,7 +31,7 @@ pub(super) fn check(scene: &Scene) -> CliResult {
             "distinct commands: infinitely many (continuous: live physics only, no table or memo)"
         );
     } else {
-        for (i, alphabet) in scene.slots().enumerate() {
+        for (i, alphabet) in scene.spec().slots().enumerate() {
             let syms: String = alphabet.iter().map(|s| s.symbol).collect();
             outln!("  {i}: {syms}");
         }
@@ -62,14 +62,14 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
     if samples == 0 {
         return Ok(());
     }
-    let total = match scene.is_continuous() {
+    let total = match scene.spec().is_continuous() {
         true => samples,
         false => scene
             .command_space()
             .num_commands()
             .map_or(samples, |n| n.min(samples)),
     };
-    let label = format!("scene check {}", scene.name);
+    let label = format!("scene check {}", scene.spec().name);
     say_cost(&label, scene, total, 1);
     let sampled = progress::track(&label, "commands", total, |p| {
         e3d::world::sample_reach_with_progress(scene, samples, seed, &|k| p.add(k))
@@ -79,7 +79,7 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
         // the scene is valid; a command that blows up is a finding of the
         // check, not a failure of it
         Err(e) => {
-            errln!("warning: scene {}: reach: {e}", scene.name);
+            errln!("warning: scene {}: reach: {e}", scene.spec().name);
             return Ok(());
         }
     };
@@ -121,7 +121,7 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
         if hits == 0 {
             errln!(
                 "warning: scene {}: no command reaches a reward cell {cells:?} (every command executed)",
-                scene.name
+                scene.spec().name
             );
         }
         return Ok(());
@@ -136,7 +136,7 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
         let bound = 100.0 * 3.0 / s.samples as f64;
         errln!(
             "warning: scene {}: no sampled command reached a reward cell {cells:?}: it may be unreachable, or rarer than about {bound:.2}% (95% bound); {}",
-            scene.name,
+            scene.spec().name,
             full_check_cost(scene)
         );
     }
@@ -146,7 +146,7 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
 /// What `scene reward-cell` (every command executed) would cost: the
 /// commands it simulates and the cost model's estimate (src/world/plan.rs).
 pub(super) fn full_check_cost(scene: &Scene) -> String {
-    if scene.is_continuous() {
+    if scene.spec().is_continuous() {
         return "a full check is not possible: continuous commands cannot be enumerated; sample more with `--samples N`".to_string();
     }
     let threads = rayon::current_num_threads();
@@ -163,7 +163,7 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
     match (plan.simulated, plan.table_seconds) {
         (Some(k), Some(t)) => format!(
             "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model, calibrated here",
-            scene.name,
+            scene.spec().name,
             seconds_text(t * super::simulate::calibration(scene, threads, plan.copies))
         ),
         _ => format!(
@@ -178,8 +178,8 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
 /// in order, once each.
 pub(super) fn rewarded_cells(scene: &Scene) -> Vec<(usize, usize)> {
     let grid = scene.effect_grid();
-    let mut cells: Vec<(usize, usize)> = scene.reward.cells.clone();
-    for r in &scene.reward.regions {
+    let mut cells: Vec<(usize, usize)> = scene.spec().reward.cells.clone();
+    for r in &scene.spec().reward.regions {
         cells.extend(r.cells(&grid));
     }
     cells.sort_unstable();
@@ -190,7 +190,7 @@ pub(super) fn rewarded_cells(scene: &Scene) -> Vec<(usize, usize)> {
 /// The world's part of `scene check`: a grid's size, or a physics
 /// scene's schedule, bodies, joints, tracked point and symmetry.
 fn print_world(scene: &Scene) {
-    match &scene.world {
+    match &scene.spec().world {
         WorldSpec::Grid(g) => {
             outln!(
                 "world: Grid, {} x {} cells, start {:?}, {} wall(s)",
@@ -225,7 +225,7 @@ fn print_world(scene: &Scene) {
                 outln!("start contexts ({}): {}", p.contexts.len(), list.join(", "));
             }
             for w in p.warnings() {
-                errln!("warning: scene {}: {w}", scene.name);
+                errln!("warning: scene {}: {w}", scene.spec().name);
             }
             let (phase, settle, together) = p.schedule.steps(p.dt);
             outln!(
@@ -233,7 +233,7 @@ fn print_world(scene: &Scene) {
                 p.gravity.0,
                 p.gravity.1,
                 p.dt,
-                p.schedule.total_steps(p.dt, scene.num_slots()),
+                p.schedule.total_steps(p.dt, scene.spec().num_slots()),
                 if together {
                     format!("all slots push {phase} steps, then settle {settle}")
                 } else {
@@ -302,7 +302,7 @@ fn print_world(scene: &Scene) {
 
 /// The reward's part of `scene check`: its regions and every rewarded cell.
 fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
-    for r in &scene.reward.regions {
+    for r in &scene.spec().reward.regions {
         outln!(
             "reward region `{}`: [{}, {}] x [{}, {}], cells {:?}",
             r.name,
@@ -318,7 +318,10 @@ fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
     if cells.is_empty() {
         outln!("reward cells: none (the scene declares no reward cell or region)");
     } else {
-        let from = match (scene.reward.cells.is_empty(), scene.reward.regions.len()) {
+        let from = match (
+            scene.spec().reward.cells.is_empty(),
+            scene.spec().reward.regions.len(),
+        ) {
             (true, 1) => " (from the region above)".to_string(),
             (true, _) => " (from the regions above)".to_string(),
             (false, 0) => String::new(),
@@ -326,11 +329,11 @@ fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
         };
         outln!(
             "reward cells: {cells:?}{from}, value {}{}",
-            scene.reward.value,
-            if scene.reward.note.is_empty() {
+            scene.spec().reward.value,
+            if scene.spec().reward.note.is_empty() {
                 String::new()
             } else {
-                format!(" ({})", scene.reward.note)
+                format!(" ({})", scene.spec().reward.note)
             }
         );
     }

@@ -67,7 +67,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     let Some(mut world) = scene.physics_world() else {
         return Err(CliError::input(format!(
             "scene `{}` is a grid: it has no motion to trace (`e3d scene render --command` draws a command's path)",
-            scene.name
+            scene.spec().name
         )));
     };
     let space = scene.command_space();
@@ -84,7 +84,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     let result = (|| -> CliResult {
         let mut stdout = std::io::stdout().lock();
         let mut first = true;
-        let label = format!("scene exec {}", scene.name);
+        let label = format!("scene exec {}", scene.spec().name);
         let known = (!commands_known.0).then_some(commands_known.1);
         if let Some(n) = known {
             say_cost(&label, scene, n, 1);
@@ -144,7 +144,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
 
 /// A motion of `scene` without frames: what writes the trace's header.
 fn header_only(scene: &Scene) -> e3d::world::Motion {
-    let (bodies, joints) = match &scene.world {
+    let (bodies, joints) = match &scene.spec().world {
         WorldSpec::Physics(p) => (
             p.bodies.iter().map(|b| b.name.clone()).collect(),
             p.joints.iter().map(|j| j.name.clone()).collect(),
@@ -365,7 +365,7 @@ fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>)
 }
 
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
-    match &scene.world {
+    match &scene.spec().world {
         WorldSpec::Grid(g) if !g.contexts.is_empty() => {
             return exec_contexts(scene, g, commands);
         }
@@ -379,12 +379,12 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
         Some(d) => exec_cache(scene, d),
         None => (None, None),
     };
-    let label = format!("scene exec {}", scene.name);
+    let label = format!("scene exec {}", scene.spec().name);
     // what the commands cost, said before when their number is known, or
     // once those read so far reach it (stdin); a table looks them up
     let threads = rayon::current_num_threads();
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
-    let copies = match &scene.world {
+    let copies = match &scene.spec().world {
         WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
         _ => 1,
     };

@@ -136,24 +136,23 @@ fn continuous(cmd: &SceneCmd) -> Option<CliResult> {
         | C::Stats { scene, .. } => scene,
         _ => return None,
     };
-    let scene = e3d::Scene::resolve(name)
-        .ok()
-        .filter(|s| s.is_continuous())?;
-    let refuse = |what: &str| Some(scene.require_symbols(what).map_err(CliError::input));
+    let scene = e3d::Scene::resolve(name).ok()?;
+    let continuous = scene.as_continuous()?;
+    let refuse = |what: &str| Some(scene.spec().require_symbols(what).map_err(CliError::input));
     match cmd {
         C::Exec {
             commands,
             table_cache: None,
             trace,
             ..
-        } => Some(values::exec(&scene, commands, trace.as_deref())),
+        } => Some(values::exec(continuous, commands, trace.as_deref())),
         C::Exec { .. } => refuse("`e3d scene exec --table-cache` (an outcome table)"),
         C::Render {
             command: Some(text),
             animate,
             out,
             ..
-        } => Some(values::render(&scene, text, *animate, out)),
+        } => Some(values::render(continuous, text, *animate, out)),
         C::Render { .. } => None,
         C::RewardCell { .. } => refuse("`e3d scene reward-cell` (which executes every command)"),
         C::Table { .. } => refuse("`e3d scene table` (an outcome table)"),
@@ -184,7 +183,7 @@ pub fn run(a: SceneArgs) -> CliResult {
             expanded: true,
             ..
         } => {
-            let text = load_scene(&scene)?.to_ron();
+            let text = load_scene(&scene)?.spec().to_ron();
             let mut stdout = std::io::stdout().lock();
             stdout
                 .write_all(text.as_bytes())

@@ -32,7 +32,7 @@ pub(super) fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliRe
     let space = scene.command_space();
     let c = space.parse(text).map_err(CliError::input)?;
     let cmd = space.format(&c);
-    say_cost(&format!("scene render {}", scene.name), scene, 1, 1);
+    say_cost(&format!("scene render {}", scene.spec().name), scene, 1, 1);
     let (svg, what) = match scene.physics_world() {
         None => {
             let svg = grid_motion_svg(scene, &c).map_err(|e| CliError::input(e.to_string()))?;
@@ -47,7 +47,7 @@ pub(super) fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliRe
         }
         Some(mut w) => {
             // only the frames drawn are kept, as they are computed
-            let total = scene.steps_per_command().unwrap_or(0) + 1;
+            let total = scene.spec().steps_per_command().unwrap_or(0) + 1;
             let keep = thin(total, MAX_FRAMES);
             let mut frames = Vec::with_capacity(keep.len());
             let mut motion = w
@@ -74,7 +74,7 @@ pub(super) fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliRe
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
     let text = if html {
-        html_page(&format!("{}: command {cmd}", scene.name), &svg)
+        html_page(&format!("{}: command {cmd}", scene.spec().name), &svg)
     } else {
         svg
     };
@@ -85,7 +85,7 @@ pub(super) fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliRe
 
 pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overlay, CliError> {
     match (
-        &scene.world,
+        &scene.spec().world,
         GridWorld::from_scene(scene),
         scene.physics_world(),
     ) {
@@ -111,7 +111,7 @@ pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overl
         }
         _ => Err(CliError::input(format!(
             "scene {}: neither a grid nor a physics world",
-            scene.name
+            scene.spec().name
         ))),
     }
 }

@@ -9,7 +9,7 @@ use e3d::scene::{Scene, WorldSpec};
 use e3d::world::farthest_reached_cell;
 
 pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
-    let from = match (from, &scene.world) {
+    let from = match (from, &scene.spec().world) {
         (Some(p), _) => p,
         (None, WorldSpec::Physics(p)) => match p.effect.world_point() {
             // the tracked point where the scene places it
@@ -46,7 +46,7 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
     sorted.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
     outln!(
         "scene {}: executed {} commands in {:.2} s ({:.0} commands/s on {} thread(s))",
-        scene.name,
+        scene.spec().name,
         table.len(),
         secs,
         table.len() as f64 / secs,

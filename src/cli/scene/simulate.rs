@@ -45,13 +45,13 @@ pub(super) fn simulate_all<T>(
     };
     errln!(
         "scene {}: simulating {what} on {} thread(s){}: about {} by the cost model (calibrated on timed rollouts here)",
-        scene.name,
+        scene.spec().name,
         rayon::current_num_threads(),
         steps_text(scene),
         seconds_text(seconds)
     );
     progress::track(
-        &format!("scene {}", scene.name),
+        &format!("scene {}", scene.spec().name),
         "commands",
         simulated,
         |p| work(&|k| p.add(k)),
@@ -87,10 +87,10 @@ pub(super) fn table_seconds(scene: &Scene) -> f64 {
 
 /// ` (120 steps each)` for a physics scene (nothing for a grid).
 pub(super) fn steps_text(scene: &Scene) -> String {
-    match &scene.world {
+    match &scene.spec().world {
         WorldSpec::Physics(p) => format!(
             " ({} steps each)",
-            p.schedule.total_steps(p.dt, scene.num_slots())
+            p.schedule.total_steps(p.dt, scene.spec().num_slots())
         ),
         WorldSpec::Grid(_) => String::new(),
     }
@@ -140,7 +140,7 @@ pub(super) fn say_cost_copies(
 pub(super) fn calibration(scene: &Scene, threads: usize, copies: usize) -> f64 {
     type Key = (String, usize, usize);
     static CACHE: std::sync::Mutex<Vec<(Key, f64)>> = std::sync::Mutex::new(Vec::new());
-    let key = (scene.name.clone(), threads, copies);
+    let key = (scene.spec().name.clone(), threads, copies);
     let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
     if let Some((_, f)) = cache.iter().find(|(k, _)| *k == key) {
         return *f;
@@ -153,7 +153,7 @@ pub(super) fn calibration(scene: &Scene, threads: usize, copies: usize) -> f64 {
 /// How many rollouts [`calibration`] timed ("no" for a grid, which is
 /// not timed).
 fn calibration_rollouts(scene: &Scene) -> String {
-    match scene.world {
+    match scene.spec().world {
         WorldSpec::Grid(_) => "no".into(),
         WorldSpec::Physics(_) => format!("at least {}", e3d::world::CALIBRATION_ROLLOUTS),
     }

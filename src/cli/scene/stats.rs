@@ -55,7 +55,7 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
     }
     outln!(
         "scene {}: {} commands in {:.2} s ({:.0} rollouts/s on {} thread(s))",
-        scene.name,
+        scene.spec().name,
         all.len(),
         secs,
         all.len() as f64 / secs,

@@ -23,7 +23,7 @@ pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult
         None => (build_table(scene)?, false),
     };
     let secs = start.elapsed().as_secs_f64();
-    let mut how = match &scene.world {
+    let mut how = match &scene.spec().world {
         WorldSpec::Physics(p) if p.copies_are_exact() => {
             format!("{} copies per Rapier world", e3d::world::TABLE_COPIES)
         }
@@ -33,14 +33,14 @@ pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult
     if let WorldSpec::Physics(PhysicsSpec {
         symmetry: Some(sym),
         ..
-    }) = &scene.world
+    }) = &scene.spec().world
     {
         let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
         how = format!("{how}; {sym:?} symmetry: {simulated} simulated, the others reflected");
     }
     outln!(
         "scene {}: {} commands in {:.3} s ({:.0} commands/s, {} thread(s), {how})",
-        scene.name,
+        scene.spec().name,
         table.len(),
         secs,
         table.len() as f64 / secs,
@@ -77,7 +77,7 @@ pub(super) fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, b
         Ok(CachedOutcomes::Partial(known)) => {
             errln!(
                 "scene {}: {} outcomes read from {}; simulating the others",
-                scene.name,
+                scene.spec().name,
                 known.len(),
                 path.display()
             );

@@ -4,7 +4,7 @@
 use crate::cli::console::outln;
 use crate::cli::output::write_file;
 use crate::cli::{CliError, CliResult};
-use e3d::Scene;
+use e3d::world::ContinuousScene;
 
 /// The commands of `scene exec` (`-`: every non-blank line of stdin), each
 /// parsed when it is reached; an error names its stdin line.
@@ -37,13 +37,13 @@ fn read_values<'a>(
 /// rows as each command is done; with `trace`, every command's motion in
 /// that file (whole or absent).
 pub(super) fn exec(
-    scene: &Scene,
+    scene: ContinuousScene,
     commands: &[String],
     trace: Option<&std::path::Path>,
 ) -> CliResult {
     use std::io::Write;
-    let space = scene.value_space().expect("a continuous scene");
-    let mut world = scene.physics_world().expect("a physics scene");
+    let space = scene.values();
+    let mut world = scene.physics().world(1);
     let mut stdout = std::io::stdout().lock();
     let mut file = match trace {
         Some(p) => {
@@ -55,7 +55,7 @@ pub(super) fn exec(
     };
     let result = (|| -> CliResult {
         let mut first = true;
-        for v in read_values(&space, commands) {
+        for v in read_values(space, commands) {
             let v = v?;
             let text = space.format(&v);
             let o = match &mut file {
@@ -107,25 +107,33 @@ pub(super) fn exec(
 }
 
 /// `e3d scene render --command VALUES [--animate]` of a continuous scene.
-pub(super) fn render(scene: &Scene, text: &str, animate: bool, out: &std::path::Path) -> CliResult {
+pub(super) fn render(
+    scene: ContinuousScene,
+    text: &str,
+    animate: bool,
+    out: &std::path::Path,
+) -> CliResult {
     use e3d::report::motion_svg;
-    let space = scene.value_space().expect("a continuous scene");
+    let space = scene.values();
     let v = space.parse(text).map_err(CliError::input)?;
     let cmd = space.format(&v);
-    let mut world = scene.physics_world().expect("a physics scene");
+    let mut world = scene.physics().world(1);
     let bad = |e: e3d::WorldError| match e {
         e3d::WorldError::BadCommand { .. } => CliError::input(e),
         _ => CliError::simulation(e),
     };
     let page = if animate {
         let motion = world.motion_values(&v).map_err(bad)?;
-        let svg = motion_svg::motion_svg(scene, &cmd, &motion)
+        let svg = motion_svg::motion_svg(scene.scene(), &cmd, &motion)
             .map_err(|e| CliError::input(e.to_string()))?;
         let html = out
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
         if html {
-            motion_svg::html_page(&format!("{}: command {cmd}", scene.name), &svg)
+            motion_svg::html_page(
+                &format!("{}: command {cmd}", scene.scene().spec().name),
+                &svg,
+            )
         } else {
             svg
         }
@@ -138,7 +146,7 @@ pub(super) fn render(scene: &Scene, text: &str, animate: bool, out: &std::path::
             effect: t.outcome.effect,
             reward: t.outcome.reward,
         };
-        e3d::report::scene_svg::scene_svg(scene, Some(&overlay))
+        e3d::report::scene_svg::scene_svg(scene.scene(), Some(&overlay))
     };
     write_file(out, page.as_bytes())?;
     outln!("wrote {}", out.display());

@@ -184,12 +184,12 @@ pub fn run_paper(config: PaperConfig, progress: &(dyn Fn(u64) + Sync)) -> PaperR
     PaperResults {
         config,
         grid: scene.effect_grid(),
-        spec: match &scene.world {
+        spec: match &scene.spec().world {
             WorldSpec::Grid(g) => g.clone(),
             #[allow(unreachable_patterns)]
             _ => unreachable!("two_rooms is a grid"),
         },
-        reward_cells: scene.reward.cells.clone(),
+        reward_cells: scene.spec().reward.cells.clone(),
         uniform_exact: policy_effect_distribution(&table, &*uniform).expect("uniform"),
         arms,
     }

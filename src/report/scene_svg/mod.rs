@@ -110,7 +110,7 @@ pub(super) fn esc(s: &str) -> String {
 /// assert!(svg.starts_with("<svg") && svg.contains("link7"));
 /// ```
 pub fn scene_svg(scene: &Scene, overlay: Option<&Overlay>) -> String {
-    match &scene.world {
+    match &scene.spec().world {
         WorldSpec::Grid(g) => grid_svg(scene, g, overlay),
         WorldSpec::Physics(p) => physics_svg(scene, p, overlay),
     }
@@ -129,7 +129,7 @@ fn header(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Overlay>) 
     let _ = writeln!(
         out,
         r##"<text x="{MARGIN}" y="24" font-size="18" font-weight="bold" fill="#222">{}</text>"##,
-        esc(&scene.name)
+        esc(&scene.spec().name)
     );
     let sub = match overlay {
         Some(o) => format!(
@@ -140,7 +140,7 @@ fn header(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Overlay>) 
             o.points.last().map_or(0.0, |p| p[1]),
             o.reward
         ),
-        None => scene.description.clone(),
+        None => scene.spec().description.clone(),
     };
     let _ = writeln!(
         out,
@@ -207,7 +207,7 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
         out,
         r##"<path d="{d}" stroke="#b8c4d6" stroke-width="0.8" fill="none"/>"##
     );
-    for region in &scene.reward.regions {
+    for region in &scene.spec().reward.regions {
         let _ = writeln!(
             out,
             r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="#2e8b57" stroke-width="1.5" stroke-dasharray="5,3"/><text x="{:.2}" y="{:.2}" font-size="11" fill="#2e8b57">{}</text>"##,
@@ -449,7 +449,7 @@ fn reward_keys(scene: &Scene) -> Vec<Key> {
             "reward cell",
         ));
     }
-    if !scene.reward.regions.is_empty() {
+    if !scene.spec().reward.regions.is_empty() {
         keys.push(Key(Swatch::Region, "reward region"));
     }
     keys

@@ -317,7 +317,7 @@ impl PhysicsWorld {
         let space = scene.command_space();
         let mut offset = Vec::new();
         let mut n = 0;
-        for alphabet in scene.slots() {
+        for alphabet in scene.spec().slots() {
             offset.push(n);
             n += alphabet.len();
         }
@@ -331,7 +331,7 @@ impl PhysicsWorld {
         let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
         let contexts = PhysicsWorld::context_starts(spec, &replicas[0].handles, &s);
         PhysicsWorld {
-            scene: scene.name.clone(),
+            scene: scene.spec().name.clone(),
             space,
             values,
             grid: scene.effect_grid(),

@@ -403,7 +403,7 @@ mod tests {
     fn limit_gating_changes_no_bit() {
         for name in ["arm7", "pendulum3"] {
             let scene = Scene::builtin(name).unwrap();
-            let WorldSpec::Physics(spec) = &scene.world else {
+            let WorldSpec::Physics(spec) = &scene.spec().world else {
                 unreachable!("a physics scene")
             };
             let space = scene.command_space();
@@ -433,7 +433,7 @@ mod tests {
     #[test]
     fn a_missed_gate_reruns_the_command_with_every_limit() {
         let scene = Scene::builtin("arm7").unwrap();
-        let WorldSpec::Physics(spec) = &scene.world else {
+        let WorldSpec::Physics(spec) = &scene.spec().world else {
             unreachable!("a physics scene")
         };
         let space = scene.command_space();

@@ -53,6 +53,7 @@ impl OutcomeTable {
     /// `NAME-KEY.e3dtable`.
     pub fn cache_path(scene: &Scene, dir: &Path) -> PathBuf {
         let safe: String = scene
+            .spec()
             .name
             .chars()
             .map(|c| {

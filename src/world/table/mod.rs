@@ -244,7 +244,7 @@ impl OutcomeTable {
         progress: &(dyn Fn(u64) + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<OutcomeTable, WorldError> {
-        match &scene.world {
+        match &scene.spec().world {
             WorldSpec::Physics(p) if p.symmetry.is_some() => {
                 Self::complete_physics(scene, p, &[], progress, stop)
             }
@@ -318,7 +318,7 @@ impl OutcomeTable {
         progress: &(dyn Fn(u64) + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<OutcomeTable, WorldError> {
-        match &scene.world {
+        match &scene.spec().world {
             WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, progress, stop),
             // a grid's table costs microseconds
             WorldSpec::Grid(_) => Self::build_scene_until(scene, progress, stop),
@@ -383,7 +383,7 @@ impl OutcomeTable {
     pub fn simulated_commands(scene: &Scene) -> Option<u64> {
         let space = scene.command_space();
         let n = Self::check_size(&space).ok()?;
-        match &scene.world {
+        match &scene.spec().world {
             WorldSpec::Physics(p) if p.symmetry.is_some() => {
                 let probe = PhysicsWorld::of(scene, p, 1);
                 let twins = twin_indices(&probe, &space, n);
