@@ -382,6 +382,7 @@ fn closed_loop_learners_follow_their_plain_transcription() {
     let mut rng = SessionRng::seed_from_u64(8);
     let mut rng_q = SessionRng::seed_from_u64(8);
     let mut rng_plain = SessionRng::seed_from_u64(8);
+    let mut rng_q_plain = SessionRng::seed_from_u64(8);
     let mut c = space.first();
     let (mut rewarded, mut same) = (0, 0);
     for _ in 0..3000 {
@@ -396,9 +397,25 @@ fn closed_loop_learners_follow_their_plain_transcription() {
             // both learn from the plain command (a draw rounded the other
             // way does not fork the runs)
             let c = Command::new(cp);
-            // Q-learning's draws, transcribed
+            // Q-learning's draws, transcribed: epsilon-greedy over the
+            // commands, a uniform command or one of the best, drawn in
+            // index order
             let mut cq = space.first();
             ql.propose(s, &mut rng_q, &mut cq);
+            let plain_q = if rng_q_plain.random::<f64>() < params.epsilon {
+                space
+                    .sizes()
+                    .map(|k| rng_q_plain.random_range(0..k) as u8)
+                    .collect()
+            } else {
+                let top = best(&qq[s]);
+                let ties: Vec<usize> = (0..commands).filter(|&i| qq[s][i] == top).collect();
+                let mut d = space.first();
+                space
+                    .write_command_at(ties[rng_q_plain.random_range(0..ties.len())] as u64, &mut d);
+                d.symbols
+            };
+            assert_eq!(cq.symbols, plain_q, "Q-learning's command");
             let (o, next_state) = world.execute_from(&state, &c).unwrap();
             let last = k == 2;
             let r = if last { o.reward } else { 0.0 };
