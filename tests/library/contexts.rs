@@ -588,3 +588,56 @@ fn states_outside_the_world_and_worlds_without_states_are_errors() {
     let zero = EpisodeConfig { commands: 0, ..cfg };
     assert!(run_episodes(&mut scene.build(), &mut l, &zero).is_err());
 }
+
+/// The reward per start context (the sweeps' `cumulative_reward_context_I`
+/// and `first_reward_trial_context_I`): on TWO_ROOMS_CONTEXTS, whose reward
+/// cell (2, 5) is context b's start and 7 moves from a's, uniform episodes
+/// of 2 commands (6 moves) are rewarded from b and anywhere_b, never from
+/// a; the sums and first episodes are those of a plain count over the
+/// record, and add up to the session's.
+#[test]
+fn rewards_are_counted_per_start_context() {
+    let scene = Scene::parse(TWO_ROOMS_CONTEXTS, "t.ron").unwrap();
+    let mut world = scene.build();
+    let cfg = EpisodeConfig {
+        episodes: 600,
+        commands: 2,
+        seed: 4,
+        use_reward: true,
+        observe: Observe::StartContext,
+    };
+    let mut learner = LearnerKind::Uniform
+        .make_contextual(
+            &Params::TASK2,
+            &scene.command_space(),
+            18,
+            3,
+            &ContextTargets::Shared(Target::Uniform),
+        )
+        .unwrap();
+    let rec = run_episodes(&mut *world, &mut learner, &cfg).unwrap();
+    let (mut sums, mut firsts) = (vec![0.0; 3], vec![None; 3]);
+    for (i, &s) in rec.starts.iter().enumerate() {
+        let r = rec.rewards[2 * i] + rec.rewards[2 * i + 1];
+        sums[s] += r;
+        if r > 0.0 && firsts[s].is_none() {
+            firsts[s] = Some(i + 1);
+        }
+    }
+    assert_eq!(rec.reward_per_start(3), sums);
+    assert_eq!(rec.first_reward_per_start(3), firsts);
+    assert!(
+        firsts[0].is_none() && firsts[1].is_some() && firsts[2].is_some(),
+        "{firsts:?}"
+    );
+    // from b (on the reward cell) more often than from anywhere in b's room
+    assert!(
+        sums[0] == 0.0 && sums[1] > sums[2] && sums[2] > 0.0,
+        "{sums:?}"
+    );
+    assert_eq!(sums.iter().sum::<f64>(), rec.cumulative_reward());
+    assert_eq!(
+        firsts.iter().flatten().min().copied(),
+        rec.first_reward_episode()
+    );
+}
