@@ -105,7 +105,7 @@ pub use command::{Command, CommandError, CommandSpace, ValueSpace};
 pub use effect::{EffectError, EffectGrid, EffectModel, Target, TargetError};
 pub use learner::{
     ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner, LearnerError, LearnerKind,
-    ParamError, Params, ParseLearnerError, UniformPolicy, UniformValues,
+    LearnerState, ParamError, Params, ParseLearnerError, UniformPolicy, UniformValues,
 };
 pub use rng::SessionRng;
 pub use scene::{Scene, SceneError, SceneErrorKind, SceneSpec};

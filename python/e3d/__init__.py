@@ -32,6 +32,7 @@ from ._e3d import (
     E3dLearner,
     EpisodeRecord,
     EpisodeWorld,
+    Learner,
     Motion,
     Outcome,
     Scene,
@@ -47,7 +48,7 @@ from ._e3d import (
     run_sessions,
 )
 from ._sweep import sweep_text
-from ._types import PythonLearner
+from ._types import PythonContextualLearner, PythonLearner
 
 
 def run_sweep(
@@ -86,8 +87,10 @@ __all__ = [
     "E3D_VERSION",
     "BatchOutcome",
     "E3dLearner",
+    "Learner",
     "Motion",
     "Outcome",
+    "PythonContextualLearner",
     "PythonLearner",
     "Scene",
     "SceneError",

@@ -24,7 +24,7 @@ class SceneError(ValueError):
 class SimulationError(RuntimeError):
     """A command whose simulation failed (a physics blow-up), naming scene and command."""
 
-from e3d._types import CommandsLike, Progress, PythonLearner, TargetLike
+from e3d._types import CommandsLike, Progress, PythonContextualLearner, PythonLearner, TargetLike
 
 __all__ = [
     "BatchOutcome",
@@ -32,6 +32,7 @@ __all__ = [
     "E3dLearner",
     "EpisodeRecord",
     "EpisodeWorld",
+    "Learner",
     "Motion",
     "Outcome",
     "Scene",
@@ -235,6 +236,34 @@ class E3dLearner:
     def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
 
 @final
+class Learner:
+    """A built-in learner's state (``"e3d"``, ``"e3d_relax"``, ``"count"``,
+    ``"smm"``, ``"egreedy"``, ``"uniform"``; on a continuous scene the
+    Gaussian ``"e3d"`` or ``"uniform"`` values): saved as bytes bit for bit
+    (``to_bytes``, ``from_bytes``, pickling); ``run_session(scene,
+    learner=l)`` continues from it."""
+
+    def __new__(
+        cls,
+        scene: Union[Scene, str, PathLike[str]],
+        learner: str = "e3d",
+        alpha: float = 0.3,
+        beta: float = 1.0,
+        lambda_: float = 0.03,
+        eta: float = 0.01,
+        epsilon: float = 0.1,
+        target: Optional[TargetLike] = None,
+    ) -> Learner: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def kind(self) -> str: ...
+    def to_bytes(self) -> bytes: ...
+    @staticmethod
+    def from_bytes(data: bytes) -> Learner: ...
+    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
+
+@final
 class SessionRng:
     """The session's generator, valid during ``propose(rng)`` only (used
     after it, it raises ``RuntimeError``)."""
@@ -287,7 +316,7 @@ class SessionRecord:
 
 def run_session(
     scene: Union[Scene, str, PathLike[str]],
-    learner: Union[str, PythonLearner, E3dLearner, None] = None,
+    learner: Union[str, PythonLearner, E3dLearner, Learner, None] = None,
     trials: int = 5000,
     seed: int = 0,
     use_reward: bool = True,
@@ -392,7 +421,7 @@ def run_episodes(
     commands: Optional[int] = None,
     seed: Optional[int] = None,
     seeds: None = None,
-    learner: str = "e3d",
+    learner: Union[str, PythonContextualLearner, None] = None,
     closed_loop: bool = False,
     observe: Optional[str] = None,
     use_reward: bool = True,
@@ -402,6 +431,8 @@ def run_episodes(
     lambda_: float = 0.03,
     eta: float = 0.01,
     epsilon: float = 0.1,
+    target: Optional[TargetLike] = None,
+    targets: Optional[Sequence[Optional[TargetLike]]] = None,
 ) -> EpisodeRecord: ...
 @overload
 def run_episodes(
@@ -411,7 +442,7 @@ def run_episodes(
     seed: Optional[int] = None,
     *,
     seeds: Sequence[int],
-    learner: str = "e3d",
+    learner: Union[str, Sequence[PythonContextualLearner], None] = None,
     closed_loop: bool = False,
     observe: Optional[str] = None,
     use_reward: bool = True,
@@ -421,6 +452,8 @@ def run_episodes(
     lambda_: float = 0.03,
     eta: float = 0.01,
     epsilon: float = 0.1,
+    target: Optional[TargetLike] = None,
+    targets: Optional[Sequence[Optional[TargetLike]]] = None,
 ) -> list[EpisodeRecord]: ...
 
 @final

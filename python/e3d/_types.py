@@ -1,7 +1,7 @@
 """Type aliases and protocols of e3d's API, for annotations (the stubs of
 ``e3d._e3d`` use them; ``e3d`` re-exports ``PythonLearner``)."""
 
-from typing import Any, Callable, Protocol, Sequence, Union
+from typing import Any, Callable, Optional, Protocol, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -26,4 +26,18 @@ class PythonLearner(Protocol):
 
     def learn(self, command: "npt.NDArray[np.uint8]", effect: int, reward: float) -> Any:
         """Learns from the command's outcome."""
+        ...
+
+
+class PythonContextualLearner(Protocol):
+    """A contextual learner written in Python, for ``run_episodes``."""
+
+    def propose(self, context: int, rng: Any) -> Union[str, npt.ArrayLike]:
+        """The next command in ``context`` (symbol indices, or a string), drawn from ``rng``."""
+        ...
+
+    def learn(self, context: int, command: "npt.NDArray[np.uint8]", effect: int, reward: float,
+              next: Optional[int]) -> Any:
+        """Learns from the command's outcome; ``next`` is the context it led to (None at the
+        episode's end)."""
         ...

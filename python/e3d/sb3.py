@@ -9,6 +9,17 @@ the same call (the returned observations are the start effect; each
 info's ``terminal_observation`` is the command's terminal effect, as
 SB3's own ``DummyVecEnv`` gives it), ``infos[i]["x"]``, ``["y"]``.
 
+``discrete=True`` flattens the ``MultiDiscrete`` command into one
+``Discrete(num_commands)`` action, for the algorithms that take only a
+``Discrete`` one (DQN): action ``i`` is the command of index ``i`` in the
+library's order (``CommandSpace::index_of``: slot 0 most significant, as
+``numpy.unravel_index`` over the alphabet sizes), and ``commands(actions)``
+gives the commands of such actions.
+
+    from stable_baselines3 import DQN
+    model = DQN("MlpPolicy", E3dSB3VecEnv("two_rooms", 4, discrete=True), learning_starts=64)
+    model.learn(1_000)
+
     from stable_baselines3 import PPO
     from e3d.sb3 import E3dSB3VecEnv
     model = PPO("MlpPolicy", E3dSB3VecEnv("two_rooms", 16), n_steps=64, batch_size=256)
@@ -51,10 +62,38 @@ from .gym import E3dVectorEnv
 class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-ignore]
     """``num_envs`` one-command episodes stepped together (see the module)."""
 
-    def __init__(self, scene: Union[Scene, str], num_envs: int, use_reward: bool = True):
+    #: the most commands ``discrete=True`` flattens (one output of DQN's
+    #: network per command)
+    MAX_DISCRETE = 1 << 20
+
+    def __init__(self, scene: Union[Scene, str], num_envs: int, use_reward: bool = True, discrete: bool = False):
         self.venv = E3dVectorEnv(scene, num_envs, use_reward=use_reward)
-        super().__init__(self.venv.num_envs, self.venv.single_observation_space, self.venv.single_action_space)
+        action_space = self.venv.single_action_space
+        self.discrete = discrete
+        self._sizes: tuple[int, ...] = ()
+        if discrete:
+            scene = self.venv.scene
+            n = scene.num_commands
+            if scene.is_continuous or n is None or n > self.MAX_DISCRETE:
+                raise ValueError(
+                    f"discrete=True: scene `{scene.name}` has "
+                    + ("continuous commands" if scene.is_continuous else f"{n} commands")
+                    + f"; expected symbols, at most {self.MAX_DISCRETE} commands"
+                )
+            from gymnasium import spaces
+
+            self._sizes = tuple(scene.alphabet_sizes)
+            action_space = spaces.Discrete(n)
+        super().__init__(self.venv.num_envs, self.venv.single_observation_space, action_space)
         self._actions: Optional[np.ndarray] = None
+
+    def commands(self, actions: np.ndarray) -> np.ndarray:
+        """The commands (symbol indices, ``(n, num_slots)``) of flattened
+        ``discrete=True`` actions (command indices); other actions as given."""
+        a = np.asarray(actions)
+        if not self.discrete:
+            return a
+        return np.stack(np.unravel_index(a.reshape(-1).astype(np.int64), self._sizes), axis=1)
 
     def reset(self) -> np.ndarray:
         seeds = getattr(self, "_seeds", [None])
@@ -65,7 +104,7 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
         return obs
 
     def step_async(self, actions: np.ndarray) -> None:
-        self._actions = np.asarray(actions)
+        self._actions = self.commands(actions)
 
     def step_wait(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
         assert self._actions is not None, "step_async first"

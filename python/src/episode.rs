@@ -5,18 +5,20 @@
 
 use crate::commands::commands_from;
 use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
+use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
 use crate::outcome::PyOutcome;
-use crate::scene::{scene_of, PyScene};
+use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::episode::{EpisodeConfig, EpisodeRecord, Observe};
 use e3d::learner::{ClosedLoopE3d, ContextTargets};
 use e3d::world::WorldState;
-use e3d::{LearnerKind, SessionRng, Target, World};
+use e3d::{SessionRng, Target, World};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
+use std::cell::RefCell;
 use std::sync::Mutex;
 
 /// The commands of an episode: 1 to 64, the command line's range.
@@ -138,9 +140,14 @@ fn record_to_py(
 /// commands per episode (closed loop): `e3d run SCENE --trials EPISODES
 /// --commands K [--closed-loop] [--observe ...]`, bit for bit.
 ///
-/// `learner`: a built-in learner's name, one per observed context; with
-/// `closed_loop=True`, `"e3d"` is closed-loop E3D (Q_ref, discount
-/// `gamma`) and `"egreedy"` epsilon-greedy Q-learning. `observe`: what the
+/// `learner`: a built-in learner's name (None: `"e3d"`), one per observed
+/// context; with `closed_loop=True`, `"e3d"` is closed-loop E3D (Q_ref,
+/// discount `gamma`) and `"egreedy"` epsilon-greedy Q-learning. Or a
+/// Python learner (with `seeds`, a sequence of them, one per seed) with
+/// `propose(context, rng)` and `learn(context, command, effect, reward,
+/// next)`, run on this thread; its first exception stops the run and is
+/// raised. `target`: the target `p*` of every context; `targets`: one per
+/// context (`p*(e|s)`), in context order. `observe`: what the
 /// learner reads before each command, `"start"` (the episode's start
 /// context), `"state"` (the current cell) or `"blind"`; None: `"state"`
 /// with `commands > 1` or `closed_loop`, else `"start"`. Returns an
@@ -148,8 +155,9 @@ fn record_to_py(
 /// parallel, the same whatever the threads).
 #[pyfunction]
 #[pyo3(signature = (scene, episodes = None, commands = None, seed = None, seeds = None,
-    learner = "e3d", closed_loop = false, observe = None, use_reward = true, gamma = 0.9,
-    alpha = 0.3, beta = 1.0, lambda_ = 0.03, eta = 0.01, epsilon = 0.1))]
+    learner = None, closed_loop = false, observe = None, use_reward = true, gamma = 0.9,
+    alpha = 0.3, beta = 1.0, lambda_ = 0.03, eta = 0.01, epsilon = 0.1, target = None,
+    targets = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_episodes(
     py: Python<'_>,
@@ -158,7 +166,7 @@ pub(crate) fn run_episodes(
     commands: Option<&Bound<'_, PyAny>>,
     seed: Option<&Bound<'_, PyAny>>,
     seeds: Option<&Bound<'_, PyAny>>,
-    learner: &str,
+    learner: Option<&Bound<'_, PyAny>>,
     closed_loop: bool,
     observe: Option<&str>,
     use_reward: bool,
@@ -168,15 +176,16 @@ pub(crate) fn run_episodes(
     lambda_: f64,
     eta: f64,
     epsilon: f64,
+    target: Option<&Bound<'_, PyAny>>,
+    targets: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     const _: () = assert!(ClosedLoopE3d::GAMMA == 0.9);
     let scene = scene_of(scene)?;
     scene.require_symbols("run_episodes")?;
     let episodes = episodes.map(episodes_arg).transpose()?.unwrap_or(1000);
     let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
-    let kind: LearnerKind = learner
-        .parse()
-        .map_err(|e: e3d::ParseLearnerError| PyValueError::new_err(e.to_string()))?;
+    let kind = builtin_kind(learner)?;
+    let targets = context_targets(&scene, target, targets)?;
     let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
     let observe = observe_arg(observe, k, closed_loop)?;
     let (one, seeds) = seed_list(seed, seeds)?;
@@ -193,7 +202,35 @@ pub(crate) fn run_episodes(
     let probe = inner.build();
     let contexts = cfg(0).num_contexts(&probe);
     let starts = probe.num_contexts();
-    let shared = ContextTargets::Shared(Target::Uniform);
+    let Some(kind) = kind else {
+        let objs = python_learners(learner.expect("an object"), one, seeds.len())?;
+        let mut out = Vec::with_capacity(seeds.len());
+        for (obj, &seed) in objs.into_iter().zip(&seeds) {
+            let name = python_learner_name(&obj)?;
+            let error = RefCell::new(None);
+            let mut l = PyContextual(PyLearner::new(py, obj, &space, &error)?, contexts);
+            let mut world = inner.build();
+            let mut guarded = Guarded {
+                world: &mut *world,
+                stop: || error.borrow().is_some(),
+            };
+            let rec = e3d::episode::run_episodes(&mut guarded, &mut l, &cfg(seed));
+            drop(l);
+            if let Some(e) = error.take() {
+                return Err(e);
+            }
+            let rec = rec.map_err(Fail::from)?;
+            let slots = space.num_slots();
+            out.push(Py::new(
+                py,
+                record_to_py(py, rec, seed, &name, slots, starts)?,
+            )?);
+        }
+        if one {
+            return Ok(out.remove(0).into_any());
+        }
+        return Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind());
+    };
     let make = || {
         kind.make_episodic(
             closed_loop,
@@ -201,7 +238,7 @@ pub(crate) fn run_episodes(
             &space,
             num_effects,
             contexts,
-            &shared,
+            &targets,
             gamma,
         )
         .map_err(|e| Fail::Value(e.to_string()))
@@ -229,6 +266,58 @@ pub(crate) fn run_episodes(
         return Ok(out.remove(0).into_any());
     }
     Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind())
+}
+
+/// The targets of `run_episodes`: `targets`, one per context, else
+/// `target` (None: uniform) for every context.
+fn context_targets(
+    scene: &PyScene,
+    target: Option<&Bound<'_, PyAny>>,
+    targets: Option<&Bound<'_, PyAny>>,
+) -> PyResult<ContextTargets> {
+    let Some(ts) = targets.filter(|t| !t.is_none()) else {
+        return Ok(ContextTargets::Shared(target_arg(scene, target)?));
+    };
+    if target.is_some_and(|t| !t.is_none()) {
+        return Err(PyValueError::new_err(
+            "targets: give either target (every context) or targets (one per context)",
+        ));
+    }
+    let list = ts
+        .try_iter()
+        .map_err(|_| {
+            PyTypeError::new_err("targets: expected a sequence of targets, one per context")
+        })?
+        .map(|t| target_arg(scene, Some(&t?)))
+        .collect::<PyResult<Vec<Target>>>()?;
+    Ok(ContextTargets::PerContext(list))
+}
+
+/// The Python learners of `run_episodes`: `learner` itself for one seed,
+/// else a sequence of `n`, one per seed.
+fn python_learners<'py>(
+    learner: &Bound<'py, PyAny>,
+    one: bool,
+    n: usize,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    if one {
+        return Ok(vec![learner.clone()]);
+    }
+    let objs: Vec<Bound<'py, PyAny>> = learner
+        .try_iter()
+        .and_then(|it| it.collect::<PyResult<Vec<_>>>())
+        .map_err(|_| {
+            PyTypeError::new_err(format!(
+                "learner: with seeds, expected a built-in learner's name or a sequence of {n} Python learners, one per seed"
+            ))
+        })?;
+    if objs.len() != n {
+        return Err(PyValueError::new_err(format!(
+            "learner: {} Python learners for {n} seeds: expected one learner per seed",
+            objs.len()
+        )));
+    }
+    Ok(objs)
 }
 
 /// The seeds of `run_episodes`: `seeds` (false), else `[seed]` (true: one

@@ -4,6 +4,8 @@
 use crate::commands::commands_from;
 use crate::errors::{learner_names, STOPPED};
 use crate::rng::PyRng;
+use e3d::learner::ContextualLearner;
+use e3d::world::WorldState;
 use e3d::{
     Command, CommandSpace, ContinuousWorld, Learner, LearnerKind, Outcome, SessionRng, ValueSpace,
     World, WorldError,
@@ -43,12 +45,10 @@ impl<'py, 'a> PyLearner<'py, 'a> {
     }
 }
 
-impl Learner for PyLearner<'_, '_> {
-    fn name(&self) -> &str {
-        "python"
-    }
-
-    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
+impl<'py> PyLearner<'py, '_> {
+    /// Calls `propose(*context, rng)` with the session's generator lent,
+    /// and reads the command it returns (the first error stops the session).
+    fn propose_in(&mut self, context: Option<usize>, rng: &mut SessionRng, command: &mut Command) {
         if self.error.borrow().is_some() {
             return;
         }
@@ -56,7 +56,10 @@ impl Learner for PyLearner<'_, '_> {
             *self.error.borrow_mut() = Some(e);
             return;
         }
-        let r = self.obj.call_method1("propose", (self.rng.clone(),));
+        let r = match context {
+            None => self.obj.call_method1("propose", (self.rng.clone(),)),
+            Some(c) => self.obj.call_method1("propose", (c, self.rng.clone())),
+        };
         // the session's generator back, even if another thread holds the
         // object now (then the session stops with that error)
         let back = PyRng::swap(&self.rng, rng, false);
@@ -69,17 +72,61 @@ impl Learner for PyLearner<'_, '_> {
         }
     }
 
-    fn learn(&mut self, command: &Command, outcome: &Outcome) {
+    /// Calls `learn(command, effect, reward)`, or with a context
+    /// `learn(context, command, effect, reward, next)`.
+    fn learn_in(
+        &mut self,
+        context: Option<(usize, Option<usize>)>,
+        command: &Command,
+        outcome: &Outcome,
+    ) {
         if self.error.borrow().is_some() {
             return;
         }
         let symbols = PyArray1::from_slice(self.py, &command.symbols);
-        if let Err(e) = self
-            .obj
-            .call_method1("learn", (symbols, outcome.effect, outcome.reward))
-        {
+        let (e, r) = (outcome.effect, outcome.reward);
+        let done = match context {
+            None => self.obj.call_method1("learn", (symbols, e, r)),
+            Some((c, next)) => self.obj.call_method1("learn", (c, symbols, e, r, next)),
+        };
+        if let Err(e) = done {
             *self.error.borrow_mut() = Some(e);
         }
+    }
+}
+
+impl Learner for PyLearner<'_, '_> {
+    fn name(&self) -> &str {
+        "python"
+    }
+
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
+        self.propose_in(None, rng, command)
+    }
+
+    fn learn(&mut self, command: &Command, outcome: &Outcome) {
+        self.learn_in(None, command, outcome)
+    }
+}
+
+/// A contextual learner written in Python, for `run_episodes`: an object
+/// with `propose(context, rng)` and `learn(context, command, effect,
+/// reward, next)` (`next`: the context the command led to, None at the
+/// episode's end), over `.1` contexts.
+pub(crate) struct PyContextual<'py, 'a>(pub(crate) PyLearner<'py, 'a>, pub(crate) usize);
+
+impl ContextualLearner for PyContextual<'_, '_> {
+    fn name(&self) -> &str {
+        "python"
+    }
+    fn num_contexts(&self) -> usize {
+        self.1
+    }
+    fn propose(&mut self, context: usize, rng: &mut SessionRng, command: &mut Command) {
+        self.0.propose_in(Some(context), rng, command)
+    }
+    fn learn(&mut self, context: usize, command: &Command, outcome: &Outcome, next: Option<usize>) {
+        self.0.learn_in(Some((context, next)), command, outcome)
     }
 }
 
@@ -125,6 +172,35 @@ impl<W: World + ?Sized, S: Fn() -> bool> World for Guarded<'_, W, S> {
     }
     fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
         self.world.mirror_outcome(outcome)
+    }
+    fn num_contexts(&self) -> usize {
+        self.world.num_contexts()
+    }
+    fn draw_start(&self, context: usize, rng: &mut SessionRng) -> Result<WorldState, WorldError> {
+        self.world.draw_start(context, rng)
+    }
+    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
+        self.world.bin_state(state)
+    }
+    fn execute_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<(Outcome, WorldState), WorldError> {
+        if (self.stop)() {
+            return Err(WorldError::Other(STOPPED.into()));
+        }
+        self.world.execute_from(from, command)
+    }
+    fn execute_outcome_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<Outcome, WorldError> {
+        if (self.stop)() {
+            return Err(WorldError::Other(STOPPED.into()));
+        }
+        self.world.execute_outcome_from(from, command)
     }
 }
 

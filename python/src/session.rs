@@ -7,6 +7,7 @@ use crate::errors::{
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyLearner, Tap};
 use crate::progress::{watched, Throttle, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
+use crate::saved::{run_values_from, Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg, PyScene};
 use crate::state::PyE3dLearner;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
@@ -278,6 +279,26 @@ pub(crate) fn run_session(
         seed,
         use_reward: a.use_reward,
     };
+    // a Learner: its state, checked against the scene, written back at the end
+    let saved = learner.and_then(|l| l.cast::<PyLearnerState>().ok().cloned());
+    if let Some(st) = &saved {
+        st.borrow().check_fits(&scene)?;
+    }
+    let mut held = saved.as_ref().map(|s| s.borrow().held.clone());
+    if let (Some(_), Some(h)) = (&scene.values, &mut held) {
+        let name = h.kind().as_str();
+        let l = h
+            .values()
+            .ok_or_else(|| PyTypeError::new_err("learner: not of values"))?;
+        let rec = run_values_from(py, &scene, l, &cfg, progress)?;
+        let metrics = rec.metrics(&a.target);
+        let rows = Rows::of_values(py, rec, metrics);
+        if let (Some(st), Some(h)) = (&saved, held) {
+            st.borrow_mut().held = h;
+        }
+        let execution = "live: continuous commands (no table, no memo)".to_string();
+        return record_to_py(py, &scene, name, seed, rows, execution);
+    }
     if let Some(space) = scene.values.clone() {
         let (kind, mut rows, execution) =
             run_continuous(py, &scene, &space, learner, &a, &[seed], trials, progress)?;
@@ -288,34 +309,38 @@ pub(crate) fn run_session(
     let n_eff = scene.inner.num_effects();
     // an E3dLearner: E3D from its state, written back at the end
     let state = learner.and_then(|l| l.cast::<PyE3dLearner>().ok().cloned());
-    let kind = match &state {
-        Some(_) => Some(LearnerKind::E3d),
-        None => builtin_kind(learner)?,
+    let kind = match (&state, &held) {
+        (Some(_), _) => Some(LearnerKind::E3d),
+        (None, Some(h)) => Some(h.kind()),
+        (None, None) => builtin_kind(learner)?,
     };
     if let Some(kind) = kind {
         let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
         // E3D as its own type, so that its Q and effect model can be read
-        let mut e3d_made = match (kind, &state) {
-            (LearnerKind::E3d, Some(st)) => {
+        let mut e3d_made = match (kind, &state, &held) {
+            (LearnerKind::E3d, Some(st), _) => {
                 st.borrow().check_fits(&scene)?;
                 Some(st.borrow().inner.clone())
             }
-            (LearnerKind::E3d, None) => {
+            (_, None, Some(Held::E3d(e))) => Some(e.clone()),
+            (LearnerKind::E3d, None, None) => {
                 Some(E3d::new(&space, n_eff, &a.params, &a.target).map_err(bad)?)
             }
             _ => None,
         };
-        let mut boxed = match kind {
-            LearnerKind::E3d => None,
+        let mut boxed = match (kind, &held) {
+            (LearnerKind::E3d, _) | (_, Some(_)) => None,
             _ => Some(
                 kind.make(&a.params, &space, n_eff, &a.target)
                     .map_err(bad)?,
             ),
         };
-        let made: &mut (dyn Learner + Send) = match (&mut e3d_made, &mut boxed) {
-            (Some(e), _) => e,
-            (None, Some(b)) => &mut **b,
-            (None, None) => return Err(PyTypeError::new_err("no learner made")),
+        let from_held = held.as_mut().and_then(Held::symbols);
+        let made: &mut (dyn Learner + Send) = match (&mut e3d_made, &mut boxed, from_held) {
+            (Some(e), _, _) => e,
+            (None, Some(b), _) => &mut **b,
+            (None, None, Some(h)) => h,
+            (None, None, None) => return Err(PyTypeError::new_err("no learner made")),
         };
         let (rec, metrics, exact, execution) = if let Some(cb) = on_trials {
             let error = RefCell::new(None);
@@ -365,6 +390,12 @@ pub(crate) fn run_session(
             if let Some(st) = &state {
                 st.borrow_mut().inner = e.clone();
             }
+            if let Some(Held::E3d(h)) = &mut held {
+                *h = e.clone();
+            }
+        }
+        if let (Some(st), Some(h)) = (&saved, held) {
+            st.borrow_mut().held = h;
         }
         return record_to_py(py, &scene, kind.as_str(), seed, rows, execution);
     }

@@ -3,7 +3,7 @@
 //! and run by `run_session(learner=...)`, which continues from it.
 
 use crate::scene::{scene_of, target_arg, PyScene};
-use e3d::{E3d, Learner, Params};
+use e3d::{E3d, Learner, LearnerState, Params};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

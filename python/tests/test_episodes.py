@@ -216,3 +216,58 @@ def test_vector_env_refuses_episodes(root):
 
     with pytest.raises(ValueError, match="has start contexts.*SyncVectorEnv"):
         E3dVectorEnv(root / "scenes" / "two_rooms_contexts.ron", 4)
+
+
+class _PerContextE3d:
+    """A contextual learner in Python: an E3dLearner per context."""
+
+    name = "py_per_context"
+
+    def __init__(self, scene, targets):
+        self.ls = [e3d.E3dLearner(scene, target=t) for t in targets]
+        self.seen = []
+
+    def propose(self, context, rng):
+        return self.ls[context].propose(rng)
+
+    def learn(self, context, command, effect, reward, nxt):
+        self.seen.append((context, nxt))
+        self.ls[context].learn(command, effect, reward)
+
+
+def test_python_contextual_learners_and_a_target_per_context(root):
+    path = root / "scenes" / "two_rooms_contexts.ron"
+    targets = [{(0, 0): 1.0, (1, 1): 1.0}, None]
+    built_in = e3d.run_episodes(path, episodes=300, seed=3, targets=targets)
+    shared = e3d.run_episodes(path, episodes=300, seed=3)
+    py = _PerContextE3d(path, targets)
+    rec = e3d.run_episodes(path, episodes=300, seed=3, learner=py)
+    # the Python learner is the built-in one, bit for bit, with p*(e|s)
+    assert rec.learner == "py_per_context"
+    assert rec.effects.tolist() == built_in.effects.tolist()
+    assert rec.commands.tolist() == built_in.commands.tolist()
+    assert built_in.effects.tolist() != shared.effects.tolist()
+    assert {c for c, _ in py.seen} == {0, 1} and all(n is None for _, n in py.seen)
+    # one learner per seed
+    many = e3d.run_episodes(path, episodes=50, seeds=[1, 2], learner=[_PerContextE3d(path, [None, None]) for _ in range(2)])
+    assert [r.seed for r in many] == [1, 2]
+    assert many[0].effects.tolist() == e3d.run_episodes(path, episodes=50, seed=1).effects.tolist()
+
+
+def test_python_contextual_learner_errors(root):
+    path = root / "scenes" / "two_rooms_contexts.ron"
+
+    class Boom(_PerContextE3d):
+        def learn(self, context, command, effect, reward, nxt):
+            if len(self.seen) == 5:
+                raise RuntimeError("boom at 5")
+            super().learn(context, command, effect, reward, nxt)
+
+    with pytest.raises(RuntimeError, match="boom at 5"):
+        e3d.run_episodes(path, episodes=100, seed=1, learner=Boom(path, [None, None]))
+    with pytest.raises(ValueError, match="1 targets for 2 contexts"):
+        e3d.run_episodes(path, episodes=10, seed=1, targets=[None])
+    with pytest.raises(ValueError, match="either target"):
+        e3d.run_episodes(path, episodes=10, seed=1, target={0: 1.0}, targets=[None, None])
+    with pytest.raises(ValueError, match="1 Python learners for 2 seeds"):
+        e3d.run_episodes(path, episodes=10, seeds=[1, 2], learner=[_PerContextE3d(path, [None, None])])

@@ -141,7 +141,7 @@ def test_e3d_learner_saves_and_loads_bit_for_bit():
     assert a.effects.tolist() == b.effects.tolist()
     e3d.run_session("two_rooms", learner=native, trials=300, seed=2)
     assert py.to_bytes() == native.to_bytes()
-    for broken, msg in [(b"", "no E3D state header"), (saved[:-5], "the bytes end early"),
+    for broken, msg in [(b"", "not a learner.s state"), (saved[:-5], "the bytes end early"),
                         (saved + b"x", "1 bytes after the state")]:
         with pytest.raises(ValueError, match=msg):
             e3d.E3dLearner.from_bytes(broken)

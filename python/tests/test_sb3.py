@@ -74,3 +74,47 @@ def test_ppo_learns_a_few_steps():
         assert rewards.tolist() == out.reward.astype(np.float32).tolist()
     effects = {e for _, infos, _ in seen for e in (i["terminal_observation"] for i in infos)}
     assert len(effects) > 3
+
+
+def test_discrete_actions_are_command_indices():
+    venv = E3dSB3VecEnv("two_rooms", 3, discrete=True)
+    scene = e3d.Scene.builtin("two_rooms")
+    assert venv.action_space.n == scene.num_commands == 4**7
+    # index i is the command of index i: slot 0 most significant
+    cmds = venv.commands(np.array([0, 1, 4**7 - 1]))
+    assert cmds.tolist() == [[0] * 7, [0] * 6 + [1], [3] * 7]
+    venv.reset()
+    a = np.array([5, 4**6 * 2 + 3, 12345])
+    obs, rew, done, infos = venv.step(a)
+    out = scene.world().execute_batch(venv.commands(a))
+    assert [i["terminal_observation"] for i in infos] == out.effect.tolist()
+    assert rew.tolist() == out.reward.astype(np.float32).tolist()
+    with pytest.raises(ValueError, match="discrete=True: scene `arm7_continuous` has continuous commands"):
+        E3dSB3VecEnv("arm7_continuous", 2, discrete=True)
+
+
+def test_dqn_learns_a_few_steps_on_discrete_actions():
+    _sb3()
+    from stable_baselines3 import DQN
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    seen = []
+
+    class Watch(BaseCallback):
+        def _on_step(self):
+            seen.append((np.array(self.locals["actions"]), self.locals["infos"],
+                         np.array(self.locals["rewards"])))
+            return True
+
+    venv = E3dSB3VecEnv("two_rooms", 4, discrete=True)
+    model = DQN("MlpPolicy", venv, learning_starts=32, buffer_size=2000, batch_size=32,
+                train_freq=1, seed=0, device="cpu")
+    model.learn(256, callback=Watch())
+    assert model.num_timesteps >= 256 and len(seen) == 64
+    world = e3d.Scene.builtin("two_rooms").world()
+    for actions, infos, rewards in seen:
+        assert actions.shape == (4,)
+        out = world.execute_batch(venv.commands(actions))
+        assert [i["terminal_observation"] for i in infos] == out.effect.tolist()
+        assert rewards.tolist() == out.reward.astype(np.float32).tolist()
+    assert len({int(a) for actions, _, _ in seen for a in actions}) > 50

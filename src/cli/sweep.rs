@@ -63,6 +63,7 @@ pub fn run(a: SweepArgs) -> CliResult {
     sweep = sweep
         .with_memo_cap(a.memo.memo_cap)
         .with_strategy(a.memo.outcomes.0)
+        .map_err(|e| CliError::input(format!("--outcomes: {e}")))?
         .with_notices(|line| errln!("outcomes: {line}"));
     let threads = a.threads.map(usize::from).unwrap_or_else(|| {
         std::thread::available_parallelism()

@@ -24,6 +24,8 @@ use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
 
+mod state;
+
 /// A learner whose policy and models depend on a context, an index in
 /// `0..num_contexts()`.
 pub trait ContextualLearner {

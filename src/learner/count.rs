@@ -1,5 +1,6 @@
 use super::softmax::SoftmaxSlots;
-use super::{Learner, Params};
+use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
+use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
@@ -84,5 +85,26 @@ impl Learner for CountBonus {
             self.slots.beta,
             self.slots.slot(slot),
         ))
+    }
+}
+
+impl StateField for CountBonus {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.slots).put(&self.counts);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let l = CountBonus {
+            slots: r.get()?,
+            counts: r.get()?,
+        };
+        r.check(!l.counts.is_empty(), || "no effect counted".into())?;
+        Ok(l)
+    }
+}
+
+impl LearnerState for CountBonus {
+    const KIND: &'static str = "count";
+    fn shape(&self) -> StateShape {
+        StateShape::of(sizes_of(&self.slots.offsets), Some(self.counts.len()))
     }
 }

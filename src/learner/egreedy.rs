@@ -1,4 +1,6 @@
-use super::{slot_offsets, Learner, Params};
+use super::softmax::check_offsets;
+use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
+use super::{slot_offsets, Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
@@ -89,5 +91,29 @@ impl Learner for EpsilonGreedy {
                 })
                 .collect(),
         )
+    }
+}
+
+impl StateField for EpsilonGreedy {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.q).put(&self.offsets).put(&self.alpha);
+        w.put(&self.epsilon);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let l = EpsilonGreedy {
+            q: r.get()?,
+            offsets: r.get()?,
+            alpha: r.get()?,
+            epsilon: r.get()?,
+        };
+        check_offsets(r, &l.offsets, l.q.len())?;
+        Ok(l)
+    }
+}
+
+impl LearnerState for EpsilonGreedy {
+    const KIND: &'static str = "egreedy";
+    fn shape(&self) -> StateShape {
+        StateShape::of(sizes_of(&self.offsets), None)
     }
 }

@@ -1,5 +1,6 @@
 //! Learners of continuous commands: a Gaussian E3D and the uniform sampler.
 
+use super::state::{check_target, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{ContinuousLearner, LearnerError, Params};
 use crate::command::ValueSpace;
 use crate::effect::{log_floored, EffectModel, Target};
@@ -236,5 +237,63 @@ impl ContinuousLearner for UniformValues {
     fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
         let (lo, hi) = self.space.range(slot);
         ((lo + hi) / 2.0, (hi - lo) / 12f64.sqrt())
+    }
+}
+
+impl StateField for GaussianE3d {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.space).put(&self.mean).put(&self.log_sd);
+        w.put(&self.draws).put(&self.sent).put(&self.model);
+        w.put(&self.log_target).put(&self.baseline).put(&self.step);
+        w.put(&self.lambda).put(&self.inv_beta);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let l = GaussianE3d {
+            space: r.get()?,
+            mean: r.get()?,
+            log_sd: r.get()?,
+            draws: r.get()?,
+            sent: r.get()?,
+            model: r.get()?,
+            log_target: r.get()?,
+            baseline: r.get()?,
+            step: r.get()?,
+            lambda: r.get()?,
+            inv_beta: r.get()?,
+        };
+        let n = l.space.num_slots();
+        let fits = |v: &[f64]| v.is_empty() || v.len() == n;
+        r.check(
+            l.mean.len() == n && l.log_sd.len() == n && fits(&l.draws) && fits(&l.sent),
+            || format!("a policy of other than {n} slots"),
+        )?;
+        check_target(r, &l.log_target, &l.model)?;
+        Ok(l)
+    }
+}
+
+impl LearnerState for GaussianE3d {
+    const KIND: &'static str = "gaussian_e3d";
+    fn shape(&self) -> StateShape {
+        StateShape::of(
+            vec![0; self.space.num_slots()],
+            Some(self.model.num_effects()),
+        )
+    }
+}
+
+impl StateField for UniformValues {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.space);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(UniformValues { space: r.get()? })
+    }
+}
+
+impl LearnerState for UniformValues {
+    const KIND: &'static str = "uniform_values";
+    fn shape(&self) -> StateShape {
+        StateShape::of(vec![0; self.space.num_slots()], None)
     }
 }

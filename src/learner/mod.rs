@@ -42,6 +42,7 @@ pub mod mutation;
 mod relaxed;
 mod smm;
 mod softmax;
+pub mod state;
 mod uniform;
 
 pub use archive::{Archive, ArchiveValues};
@@ -55,6 +56,7 @@ pub use goal_babbling::{
 };
 pub use relaxed::RelaxedE3d;
 pub use smm::StateMarginalMatching;
+pub use state::LearnerState;
 pub use uniform::UniformPolicy;
 
 use crate::command::{Command, CommandSpace, ValueSpace};

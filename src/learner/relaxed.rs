@@ -1,4 +1,7 @@
 use super::softmax::SoftmaxSlots;
+use super::state::{
+    check_target, sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter,
+};
 use super::{Learner, LearnerError, ParamError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::{log_floored, EffectModel, Target};
@@ -126,5 +129,32 @@ impl Learner for RelaxedE3d {
             self.slots.beta,
             self.slots.slot(slot),
         ))
+    }
+}
+
+impl StateField for RelaxedE3d {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.slots).put(&self.model).put(&self.log_target);
+        w.put(&self.relax);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let l = RelaxedE3d {
+            slots: r.get()?,
+            model: r.get()?,
+            log_target: r.get()?,
+            relax: r.get()?,
+        };
+        check_target(r, &l.log_target, &l.model)?;
+        Ok(l)
+    }
+}
+
+impl LearnerState for RelaxedE3d {
+    const KIND: &'static str = "e3d_relax";
+    fn shape(&self) -> StateShape {
+        StateShape::of(
+            sizes_of(&self.slots.offsets),
+            Some(self.model.num_effects()),
+        )
     }
 }

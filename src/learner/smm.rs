@@ -1,4 +1,5 @@
 use super::softmax::SoftmaxSlots;
+use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
@@ -117,5 +118,52 @@ impl Learner for StateMarginalMatching {
                 self.every *= 2;
             }
         }
+    }
+}
+
+impl StateField for StateMarginalMatching {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.slots).put(&self.counts).put(&self.trials);
+        w.put(&self.log_target)
+            .put(&self.snapshots)
+            .put(&self.every);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let l = StateMarginalMatching {
+            slots: r.get()?,
+            counts: r.get()?,
+            trials: r.get()?,
+            log_target: r.get()?,
+            snapshots: r.get()?,
+            every: r.get()?,
+        };
+        let n = l.slots.q.len();
+        r.check(
+            !l.counts.is_empty() && l.counts.len() == l.log_target.len(),
+            || {
+                format!(
+                    "{} counts for a target of {} effects",
+                    l.counts.len(),
+                    l.log_target.len()
+                )
+            },
+        )?;
+        r.check(
+            l.every > 0 && l.snapshots.iter().all(|s| s.len() == n),
+            || {
+                format!(
+                    "policies kept every {} trials, of sizes other than {n}",
+                    l.every
+                )
+            },
+        )?;
+        Ok(l)
+    }
+}
+
+impl LearnerState for StateMarginalMatching {
+    const KIND: &'static str = "smm";
+    fn shape(&self) -> StateShape {
+        StateShape::of(sizes_of(&self.slots.offsets), Some(self.counts.len()))
     }
 }

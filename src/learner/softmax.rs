@@ -7,7 +7,8 @@
 //! for comparing drives, and cost about half a microsecond a trial on 7
 //! slots of 4 symbols (E3D: 0.13 µs). [`E3d`](super::E3d) keeps its own, incremental tables.
 
-use super::{slot_offsets, Params};
+use super::state::{StateField, StateReader, StateWriter};
+use super::{slot_offsets, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
 use rand::RngExt;
@@ -93,6 +94,44 @@ impl SoftmaxSlots {
             *q = self.decay * *q + gain;
         }
     }
+}
+
+impl StateField for SoftmaxSlots {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.q).put(&self.offsets).put(&self.beta);
+        w.put(&self.decay).put(&self.alpha_lambda);
+        w.put(&self.alpha_over_beta);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let s = SoftmaxSlots {
+            q: r.get()?,
+            offsets: r.get()?,
+            beta: r.get()?,
+            decay: r.get()?,
+            alpha_lambda: r.get()?,
+            alpha_over_beta: r.get()?,
+        };
+        check_offsets(r, &s.offsets, s.q.len())?;
+        Ok(s)
+    }
+}
+
+/// Checks offsets of slots read from a state: from 0 to `len`, each slot
+/// 1 to 256 symbols.
+pub(crate) fn check_offsets(
+    r: &StateReader<'_>,
+    offsets: &[usize],
+    len: usize,
+) -> Result<(), LearnerError> {
+    let ok = offsets.len() >= 2
+        && offsets[0] == 0
+        && offsets.last() == Some(&len)
+        && offsets
+            .windows(2)
+            .all(|w| w[0] < w[1] && w[1] - w[0] <= 256);
+    r.check(ok, || {
+        format!("slot offsets {offsets:?} for a table of {len} values")
+    })
 }
 
 #[cfg(test)]

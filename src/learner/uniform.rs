@@ -1,4 +1,5 @@
-use super::Learner;
+use super::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
+use super::{Learner, LearnerError};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
@@ -37,5 +38,26 @@ impl Learner for UniformPolicy {
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
         let k = self.sizes[slot];
         Some(vec![1.0 / k as f64; k])
+    }
+}
+
+impl StateField for UniformPolicy {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.sizes);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let sizes: Vec<usize> = r.get()?;
+        r.check(
+            !sizes.is_empty() && sizes.iter().all(|k| (1..=256).contains(k)),
+            || format!("alphabet sizes {sizes:?}"),
+        )?;
+        Ok(UniformPolicy { sizes })
+    }
+}
+
+impl LearnerState for UniformPolicy {
+    const KIND: &'static str = "uniform";
+    fn shape(&self) -> StateShape {
+        StateShape::of(self.sizes.clone(), None)
     }
 }

@@ -16,6 +16,8 @@ use super::factory::SceneRun;
 use super::plan::{SessionSpec, Sweep};
 use super::results::SessionResult;
 use super::spec::MetricSpec;
+#[cfg(doc)]
+use super::spec::SweepSpec;
 use super::SweepError;
 use crate::effect::Target;
 use crate::episode::{run_episodes, EpisodeConfig, Observe};

@@ -39,12 +39,12 @@
 #[cfg(doc)]
 use super::SweepSpec;
 use super::{BoxError, SweepError};
-use crate::command::CommandSpace;
+use crate::command::{CommandSpace, ValueSpace};
 use crate::effect::Target;
 use crate::hash::fnv1a64;
-use crate::learner::{Learner, LearnerKind, Params};
+use crate::learner::{ContinuousLearner, Learner, LearnerKind, Params};
 use crate::scene::Scene;
-use crate::world::{ExecOptions, Executor, OutcomeTable, Workload, World};
+use crate::world::{ContinuousWorld, ExecOptions, Executor, OutcomeTable, Workload, World};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -139,6 +139,15 @@ pub trait SceneRun: Send + Sync {
     /// session alone). Its outcomes must not depend on the width.
     fn world(&self, width: usize) -> Box<dyn World + Send + '_>;
 
+    /// For a scene of continuous commands, a fresh world for `width`
+    /// sessions stepping together, as [`world`](Self::world) (its outcomes
+    /// must not depend on the width); `None` (the default) for a scene of
+    /// symbols, whose sessions run on [`world`](Self::world).
+    fn value_world(&self, width: usize) -> Option<Box<dyn ContinuousWorld + Send + '_>> {
+        let _ = width;
+        None
+    }
+
     /// One line saying how outcomes are obtained, told to the sweep's
     /// notices before any session runs (`None`: nothing to say).
     fn describe(&self) -> Option<String> {
@@ -189,12 +198,16 @@ impl SweepScene for Scene {
         OutcomeTable::key(self)
     }
     /// An [`Executor`]: the cheapest of an outcome table, a memo and live
-    /// execution, for `work`.
+    /// execution, for `work`; for a scene of continuous commands,
+    /// [`Executor::for_values`] (live, in lockstep where copies are exact).
     fn prepare<'a>(
         &'a self,
         work: &Workload,
         options: &ExecOptions,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
+        if self.is_continuous() {
+            return super::values::prepare(self, work, options);
+        }
         let e = Executor::new(self, work, options)?;
         Ok(Box::new(e))
     }
@@ -205,6 +218,9 @@ impl SweepScene for Scene {
         options: &ExecOptions,
         progress: &(dyn Fn(u64, u64) + Sync),
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
+        if self.is_continuous() {
+            return super::values::prepare(self, work, options);
+        }
         let e = Executor::with_progress(self, work, options, progress)?;
         Ok(Box::new(e))
     }
@@ -264,29 +280,13 @@ fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, FactoryError>
         Some(b) if p.is_relative() => b.join(p),
         _ => p.to_path_buf(),
     };
-    // sweeps run commands of symbols (tables, memo, lockstep): a
-    // continuous scene is refused before anything runs
-    let symbols = |s: Scene| {
-        if s.is_continuous() {
-            return Err(FactoryError::Unknown(format!(
-                "a scene of symbols (a sweep runs tables, the memo and lockstep sessions), found `{name}`, whose slots take values (`Continuous`): run it with `e3d run {name} --sessions N`"
-            )));
-        }
-        Ok(s)
-    };
     if path.exists() {
-        return Scene::load(&path)
-            .map_err(|e| FactoryError::Failed(SweepError::Input(e)))
-            .and_then(symbols);
+        return Scene::load(&path).map_err(|e| FactoryError::Failed(SweepError::Input(e)));
     }
     if let Some(s) = Scene::builtin(name) {
-        return symbols(s);
+        return Ok(s);
     }
-    let names: Vec<&str> = crate::scene::BUILTIN
-        .iter()
-        .map(|(n, _)| *n)
-        .filter(|n| Scene::builtin(n).is_some_and(|s| !s.is_continuous()))
-        .collect();
+    let names: Vec<&str> = crate::scene::BUILTIN.iter().map(|(n, _)| *n).collect();
     Err(FactoryError::Unknown(format!(
         "a scene file (relative to the sweep file) or a built-in scene ({}), found `{name}`: no file {}{}",
         names.join(", "),
@@ -518,6 +518,21 @@ pub trait LearnerFactory: Send + Sync {
         num_effects: usize,
         target: &Target,
     ) -> Result<Box<dyn Learner + Send>, BoxError>;
+
+    /// A fresh learner `name` of continuous commands (for a scene whose
+    /// slots take values), as [`make`](Self::make) with the value space
+    /// `space`. The default refuses: a learner of symbols only.
+    fn make_continuous(
+        &self,
+        name: &str,
+        params: &Params,
+        space: &ValueSpace,
+        num_effects: usize,
+        target: &Target,
+    ) -> Result<Box<dyn ContinuousLearner + Send>, BoxError> {
+        let _ = (params, space, num_effects, target);
+        Err(format!("learner `{name}` takes symbols only, not continuous commands").into())
+    }
 }
 
 /// How a custom learner is made: from its parameters, the command space,
@@ -645,6 +660,27 @@ impl LearnerFactory for Learners {
         match self.entry(name) {
             Some(Entry::Builtin(k)) => Ok(k.make(params, space, num_effects, target)?),
             Some(Entry::Custom(_, make)) => make(params, space, num_effects, target),
+            None => Err(format!("no learner `{name}` in this factory").into()),
+        }
+    }
+
+    /// [`LearnerKind::make_continuous`] for a built-in learner (e3d,
+    /// uniform, goal_babbling, archive take values); a learner registered
+    /// with [`with`](Learners::with) takes symbols only.
+    fn make_continuous(
+        &self,
+        name: &str,
+        params: &Params,
+        space: &ValueSpace,
+        num_effects: usize,
+        target: &Target,
+    ) -> Result<Box<dyn ContinuousLearner + Send>, BoxError> {
+        match self.entry(name) {
+            Some(Entry::Builtin(k)) => Ok(k.make_continuous(params, space, num_effects, target)?),
+            Some(Entry::Custom(..)) => Err(format!(
+                "learner `{name}` (registered in code) takes symbols only, not continuous commands"
+            )
+            .into()),
             None => Err(format!("no learner `{name}` in this factory").into()),
         }
     }

@@ -47,7 +47,11 @@
 //!   [`SweepSpec::commands`], [`SweepSpec::observe`] or
 //!   [`SweepSpec::closed_loop`], runs sessions of episodes
 //!   ([`Sweep::runs_episodes`], [`Sweep::run_episode_session`]), with the
-//!   metric [`MetricSpec::NormalizedEntropyContext`] per start context.
+//!   metric [`MetricSpec::NormalizedEntropyContext`] per start context;
+//! - continuous commands: a scene whose slots take values runs its sessions
+//!   live, in the lockstep groups of `e3d run --sessions N`
+//!   ([`Sweep::run_value_sessions_lockstep`], [`SceneRun::value_world`],
+//!   [`LearnerFactory::make_continuous`]).
 //!
 //! # Cells
 //!
@@ -98,6 +102,7 @@ mod plan;
 mod results;
 mod run;
 mod spec;
+mod values;
 
 pub use crate::hash::{fnv1a64, session_seed, splitmix64};
 pub(crate) use error::io_err;

@@ -355,6 +355,13 @@ impl Sweep {
             }
             scenes.push(scene);
         }
+        super::values::check(
+            &scenes,
+            &*learners,
+            &spec.learners,
+            spec.runs_episodes(),
+            &bad,
+        )?;
         let contexts = super::contexts::start_contexts(&scenes);
         let mut metrics = metrics;
         super::contexts::check(&spec, &contexts, &mut metrics, &bad)?;
@@ -430,9 +437,24 @@ impl Sweep {
     /// Uses `strategy` for every scene where it can be used, whatever it
     /// costs (`None`: the cheapest, the default). The results are the same
     /// bytes whatever the strategy.
-    pub fn with_strategy(mut self, strategy: Option<Strategy>) -> Self {
+    ///
+    /// # Errors
+    ///
+    /// A table or a memo forced on a sweep with a scene of continuous
+    /// commands (which run live only) is refused here, before anything is
+    /// written.
+    pub fn with_strategy(mut self, strategy: Option<Strategy>) -> Result<Self, SweepError> {
+        if let Some(s @ (Strategy::Table | Strategy::Memo)) = strategy {
+            let continuous = self
+                .scenes
+                .iter()
+                .find(|sc| sc.scene().and_then(crate::Scene::value_space).is_some());
+            if let Some(scene) = continuous {
+                return Err(super::values::forced_error(scene.name(), s));
+            }
+        }
         self.exec.force = strategy;
-        self
+        Ok(self)
     }
 
     /// Tells the sweep how many effects some command of each scene

@@ -115,7 +115,7 @@ impl Sweep {
             })
     }
 
-    fn config(&self, session: &SessionSpec) -> SessionConfig {
+    pub(super) fn config(&self, session: &SessionSpec) -> SessionConfig {
         SessionConfig {
             trials: self.spec.trials,
             seed: session.seed,
@@ -126,6 +126,11 @@ impl Sweep {
     /// The running metrics a session keeps: the cumulative reward at the
     /// trials the metrics name.
     pub(super) fn recorder(&self, world: &dyn World) -> RunningMetrics {
+        self.recorder_of(world.num_effects())
+    }
+
+    /// The same for a world of `num_effects` effects.
+    pub(super) fn recorder_of(&self, num_effects: usize) -> RunningMetrics {
         let checkpoints: Vec<usize> = self
             .metrics
             .iter()
@@ -134,7 +139,7 @@ impl Sweep {
                 _ => None,
             })
             .collect();
-        RunningMetrics::with_checkpoints(world.num_effects(), &checkpoints)
+        RunningMetrics::with_checkpoints(num_effects, &checkpoints)
     }
 
     pub(super) fn result(
@@ -280,6 +285,9 @@ impl Sweep {
                                     .iter()
                                     .map(|s| self.run_episode_session(s, &mut *exec.world(1)))
                                     .collect();
+                            }
+                            if let Some(mut world) = exec.value_world(unit.len()) {
+                                return self.run_value_sessions_lockstep(unit, &mut *world);
                             }
                             let mut world = exec.world(unit.len());
                             self.run_sessions_lockstep(unit, &mut *world)

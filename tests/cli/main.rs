@@ -17,6 +17,7 @@ mod scene_commands;
 mod scene_exec;
 mod scene_pictures;
 mod sweep;
+mod sweep_continuous;
 mod sweep_failures;
 mod table_cache;
 mod temporary_files;

@@ -19,6 +19,7 @@ mod fuzz_scenes;
 mod fuzz_sweeps;
 mod grid;
 mod imports;
+mod learner_states;
 mod learners;
 mod motion_svg;
 mod outcomes;

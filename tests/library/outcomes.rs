@@ -19,7 +19,7 @@ fn sweep(scene: &str, sessions: usize, trials: usize) -> Sweep {
 }
 
 fn run(s: Sweep, strategy: Option<Strategy>, threads: usize) -> Vec<SessionResult> {
-    s.with_strategy(strategy).run(threads).unwrap()
+    s.with_strategy(strategy).unwrap().run(threads).unwrap()
 }
 
 fn builtin_text(name: &str) -> String {
@@ -117,6 +117,7 @@ fn the_memo_grows_its_file_and_a_damaged_file_is_replaced() {
         sweep("puck_rooms", 2, 20)
             .with_table_cache(&dir)
             .with_strategy(strategy)
+            .unwrap()
             .run(2)
             .unwrap()
     };

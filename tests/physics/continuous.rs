@@ -1,7 +1,7 @@
 //! Continuous commands: the scene format, the values, their execution on
 //! live physics, the Gaussian E3D against the uniform sampler, and the CLI.
 
-use crate::common::{e3d, e3d_command, temp_path};
+use crate::common::{e3d, e3d_command, temp_path, PUCK_HEADINGS};
 use e3d::scene::{Symmetry, WorldSpec};
 use e3d::world::{Executor, Workload};
 use e3d::{
@@ -470,35 +470,6 @@ fn the_cli_runs_execs_and_refuses_continuous_scenes() {
         assert!(err.contains(says), "{args:?}: {err}");
     }
 }
-
-/// puck_rooms's rooms and puck with continuous commands: 3 slots, each an
-/// impulse of 1.6 N*s in any heading. One moving body: its copies in one
-/// world are exact, so its sessions step together.
-const PUCK_HEADINGS: &str = r#"Scene(
-    name: "puck_headings",
-    world: Physics(
-        gravity: (0.0, 0.0),
-        dt: 0.016666666666666666,
-        walls: [
-            (name: "wall", room: ((0.0, 0.0), (6.0, 3.0)), placement: Outside,
-             thickness: 0.1, friction: 0.0, restitution: 0.5),
-            (name: "inner", points: [(3.0, 0.0), (3.0, 3.0)], doors: [((3.0, 1.0), (3.0, 2.0))],
-             names: ["inner_low", "inner_high"], thickness: 0.1, friction: 0.0, restitution: 0.5),
-        ],
-        bodies: [
-            (name: "puck", shape: Ball(radius: 0.2), mass: 1.0, position: (0.5, 2.5),
-             linear_damping: 1.5, friction: 0.0, restitution: 0.5, lock_rotation: true),
-        ],
-        schedule: Sequential(phase: 0.5, settle: 1.0),
-        effect: (body: "puck", grid: (rows: 3, cols: 6, min: (0.0, 0.0), max: (6.0, 3.0))),
-    ),
-    command: Continuous([
-        (name: "h1", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
-        (name: "h2", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
-        (name: "h3", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
-    ]),
-)
-"#;
 
 /// The trials of a record as CSV bytes, without a session column.
 fn csv_of(rec: &e3d::ValueSessionRecord, space: &ValueSpace) -> Vec<u8> {

@@ -89,9 +89,6 @@ struct SlotTables<const W: usize> {
     slots: Vec<Slot<W>>,
 }
 
-/// The first bytes of [`E3d::to_bytes`] (the format's version is the last).
-const STATE_MAGIC: &[u8] = b"E3D-STATE-1\n";
-
 /// A slot's weights are re-shifted when their total leaves this range.
 const TOTAL_RANGE: std::ops::RangeInclusive<f64> = 1e-100..=1e100;
 
@@ -510,6 +507,7 @@ mod state;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::learner::LearnerState;
     use rand::SeedableRng;
 
     /// Runs a session of `trials` on a made-up world and returns Q's bits.

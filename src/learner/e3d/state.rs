@@ -1,8 +1,12 @@
 //! E3D's state from outside: reading and writing Q, the policy and the
-//! effect model, and saving and loading the whole learner bit for bit.
+//! effect model, and saving and loading the whole learner bit for bit
+//! ([`LearnerState`]).
 
-use super::{has_avx2, E3d, Slot, SlotTables, Tables, STATE_MAGIC};
+use super::{has_avx2, E3d, Slot, SlotTables, Tables};
 use crate::effect::EffectModel;
+use crate::learner::state::{
+    check_target, LearnerState, StateField, StateReader, StateShape, StateWriter,
+};
 use crate::learner::LearnerError;
 
 impl E3d {
@@ -79,128 +83,92 @@ impl E3d {
             .map_err(|e| LearnerError::State(format!("effect model: {e}")))?;
         Ok(())
     }
+}
 
-    /// The learner's whole state as bytes: every table entry, the effect
-    /// histogram, the target and the rates, bit for bit.
-    /// [`from_bytes`](Self::from_bytes) reads it back as a learner that
-    /// proposes and learns exactly as this one would (the same draws from
-    /// the same generator, the same bits of Q).
-    pub fn to_bytes(&self) -> Vec<u8> {
-        let mut out = Vec::new();
-        out.extend_from_slice(STATE_MAGIC);
-        let put_u32 =
-            |out: &mut Vec<u8>, v: usize| out.extend_from_slice(&(v as u32).to_le_bytes());
-        let put_f64s = |out: &mut Vec<u8>, vs: &[f64]| {
-            for v in vs {
-                out.extend_from_slice(&v.to_bits().to_le_bytes());
+impl<const W: usize> SlotTables<W> {
+    fn put(&self, w: &mut StateWriter) {
+        for s in &self.slots {
+            for v in s.q.iter().chain(&s.weights).chain(&s.cumulative) {
+                w.put(v);
             }
-        };
-        put_f64s(
-            &mut out,
-            &[
-                self.alpha_lambda,
-                self.decay,
-                self.alpha_over_beta,
-                self.beta,
-            ],
-        );
-        put_u32(&mut out, self.sizes.len());
-        for &k in &self.sizes {
-            put_u32(&mut out, k);
+            w.put(&s.shift);
         }
-        let width = with_tables!(&self.slots, t => t.width());
-        put_u32(&mut out, width);
-        with_tables!(&self.slots, t => {
-            for s in &t.slots {
-                put_f64s(&mut out, &s.q);
-                put_f64s(&mut out, &s.weights);
-                put_f64s(&mut out, &s.cumulative);
-                put_f64s(&mut out, &[s.shift]);
-            }
-        });
-        let (q, scale, eta) = self.model.raw();
-        put_u32(&mut out, q.len());
-        put_f64s(&mut out, &[scale, eta]);
-        put_f64s(&mut out, q);
-        put_f64s(&mut out, &self.log_target);
-        out
     }
 
-    /// A learner from the bytes of [`to_bytes`](Self::to_bytes); an error
-    /// saying what is wrong if they are not such bytes.
-    pub fn from_bytes(bytes: &[u8]) -> Result<E3d, LearnerError> {
-        let bad = |what: &str| LearnerError::State(format!("E3D state: {what}"));
-        let mut r = bytes
-            .strip_prefix(STATE_MAGIC)
-            .ok_or_else(|| bad("not an E3D learner's state (no E3D state header)"))?;
-        let mut take = |n: usize| -> Result<&[u8], LearnerError> {
-            if r.len() < n {
-                return Err(bad("the bytes end early"));
+    fn get(r: &mut StateReader<'_>, slots: usize) -> Result<Self, LearnerError> {
+        let array = |r: &mut StateReader<'_>| -> Result<[f64; W], LearnerError> {
+            let mut a = [0.0; W];
+            for v in &mut a {
+                *v = r.get()?;
             }
-            let (a, b) = r.split_at(n);
-            r = b;
             Ok(a)
         };
-        fn u32_of(b: &[u8]) -> usize {
-            u32::from_le_bytes(b.try_into().expect("4 bytes")) as usize
-        }
-        fn f64s_of(b: &[u8]) -> Vec<f64> {
-            b.chunks_exact(8)
-                .map(|c| f64::from_bits(u64::from_le_bytes(c.try_into().expect("8 bytes"))))
-                .collect()
-        }
-        let rates = f64s_of(take(32)?);
-        let slots = u32_of(take(4)?);
-        if slots == 0 || slots > 4096 {
-            return Err(bad(&format!("{slots} slots")));
-        }
-        let mut sizes = Vec::with_capacity(slots);
+        let mut out = Vec::with_capacity(slots.min(4096));
         for _ in 0..slots {
-            sizes.push(u32_of(take(4)?));
+            out.push(Slot {
+                q: array(r)?,
+                weights: array(r)?,
+                cumulative: array(r)?,
+                shift: r.get()?,
+            });
         }
-        let width = u32_of(take(4)?);
-        if !matches!(width, 4 | 8 | 16 | 64) || sizes.iter().any(|&k| k == 0 || k > width) {
-            return Err(bad(&format!(
-                "alphabet sizes {sizes:?} in tables of width {width}"
-            )));
-        }
-        let mut raw = Vec::with_capacity(slots);
-        for _ in 0..slots {
-            raw.push(f64s_of(take((3 * width + 1) * 8)?));
-        }
-        fn fill<const W: usize>(raw: &[Vec<f64>]) -> SlotTables<W> {
-            SlotTables {
-                slots: raw
-                    .iter()
-                    .map(|v| Slot {
-                        q: v[..W].try_into().expect("W values"),
-                        weights: v[W..2 * W].try_into().expect("W values"),
-                        cumulative: v[2 * W..3 * W].try_into().expect("W values"),
-                        shift: v[3 * W],
-                    })
-                    .collect(),
-            }
-        }
-        let tables = match width {
-            4 => Tables::W4(fill(&raw)),
-            8 => Tables::W8(fill(&raw)),
-            16 => Tables::W16(fill(&raw)),
-            _ => Tables::W64(fill(&raw)),
+        Ok(SlotTables { slots: out })
+    }
+}
+
+/// The whole state, every table entry, the effect histogram, the target
+/// and the rates, bit for bit: a learner read back proposes and learns
+/// exactly as this one would (the same draws from the same generator, the
+/// same bits of Q).
+///
+/// ```
+/// use e3d::{CommandSpace, E3d, LearnerState, Params, Target};
+/// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
+/// let l = E3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
+/// let saved = l.to_bytes();
+/// assert_eq!(E3d::from_bytes(&saved).unwrap().to_bytes(), saved);
+/// assert!(E3d::from_bytes(&saved[..saved.len() - 1]).is_err());
+/// ```
+impl LearnerState for E3d {
+    const KIND: &'static str = "e3d";
+    fn shape(&self) -> StateShape {
+        StateShape::of(self.sizes.clone(), Some(self.model.num_effects()))
+    }
+}
+
+impl StateField for E3d {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.alpha_lambda).put(&self.decay);
+        w.put(&self.alpha_over_beta).put(&self.beta);
+        w.put(&self.sizes);
+        let width = with_tables!(&self.slots, t => t.width());
+        w.put(&width);
+        with_tables!(&self.slots, t => t.put(w));
+        w.put(&self.model).put(&self.log_target);
+    }
+
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let rates: [f64; 4] = [r.get()?, r.get()?, r.get()?, r.get()?];
+        let sizes: Vec<usize> = r.get()?;
+        let width: usize = r.get()?;
+        r.check(
+            !sizes.is_empty()
+                && matches!(width, 4 | 8 | 16 | 64)
+                && sizes.iter().all(|&k| k > 0 && k <= width),
+            || format!("alphabet sizes {sizes:?} in tables of width {width}"),
+        )?;
+        let n = sizes.len();
+        let slots = match width {
+            4 => Tables::W4(SlotTables::get(r, n)?),
+            8 => Tables::W8(SlotTables::get(r, n)?),
+            16 => Tables::W16(SlotTables::get(r, n)?),
+            _ => Tables::W64(SlotTables::get(r, n)?),
         };
-        let n = u32_of(take(4)?);
-        if n == 0 || n > (1 << 24) {
-            return Err(bad(&format!("{n} effects")));
-        }
-        let model = f64s_of(take(16)?);
-        let q = f64s_of(take(n * 8)?);
-        let log_target = f64s_of(take(n * 8)?);
-        if !r.is_empty() {
-            return Err(bad(&format!("{} bytes after the state", r.len())));
-        }
-        let model = EffectModel::from_raw(q, model[0], model[1])
-            .map_err(|e| bad(&format!("effect model: {e}")))?;
+        let model: EffectModel = r.get()?;
+        let log_target: Vec<f64> = r.get()?;
+        check_target(r, &log_target, &model)?;
         Ok(E3d {
-            slots: tables,
+            slots,
             sizes,
             model,
             log_target,

@@ -1,0 +1,364 @@
+//! Saving and loading a learner's whole state, bit for bit: one format
+//! shared by every learner.
+//!
+//! A learner that implements [`LearnerState`] writes its fields, in a fixed
+//! order, through a [`StateWriter`], and reads them back through a
+//! [`StateReader`]; [`LearnerState::to_bytes`] and
+//! [`LearnerState::from_bytes`] frame them. The bytes are:
+//!
+//! - the header `E3D-LEARNER-STATE 1\n` (the number is the format's version);
+//! - the learner's kind ([`LearnerState::KIND`], e.g. `"e3d"`, `"count"`),
+//!   as a string;
+//! - its fields ([`StateField`]): a float is the 8 little-endian bytes of
+//!   its bits (so every value, NaN payloads included, comes back exact), an
+//!   integer 8 little-endian bytes (`u64`), a character its code point
+//!   (4 bytes), a string or a sequence its length (8 bytes) then its items.
+//!
+//! A learner read back proposes and learns exactly as the saved one would:
+//! given the same generator, the same draws and the same bits of every
+//! table. Bytes of another kind, cut short, with bytes left over or whose
+//! tables do not fit together are refused with a [`LearnerError::State`]
+//! saying what is wrong (never a panic).
+//!
+//! ```
+//! use e3d::learner::CountBonus;
+//! use e3d::{CommandSpace, Learner, LearnerState, Outcome, Params, SessionRng};
+//! use rand::SeedableRng;
+//! let space = CommandSpace::repeat(3, &['a', 'b']).unwrap();
+//! let mut l = CountBonus::new(&space, 4, &Params::TASK1);
+//! let mut rng = SessionRng::seed_from_u64(1);
+//! let mut c = space.first();
+//! let o = Outcome { effect: 2, reward: 0.0, point: [0.0, 0.0] };
+//! l.propose(&mut rng, &mut c);
+//! l.learn(&c, &o);
+//! let saved = l.to_bytes();
+//! let back = CountBonus::from_bytes(&saved).unwrap();
+//! assert_eq!(back.to_bytes(), saved);
+//! assert!(e3d::E3d::from_bytes(&saved).is_err()); // a count learner's state
+//! ```
+
+use super::LearnerError;
+use crate::command::{CommandSpace, ValueSpace};
+use crate::effect::EffectModel;
+
+/// The first bytes of every learner's saved state (the format's version
+/// is the number).
+pub const STATE_HEADER: &[u8] = b"E3D-LEARNER-STATE 1\n";
+
+/// The bytes of a state being written.
+#[derive(Debug, Default)]
+pub struct StateWriter {
+    out: Vec<u8>,
+}
+
+impl StateWriter {
+    /// Writes `value`.
+    pub fn put<T: StateField>(&mut self, value: &T) -> &mut Self {
+        value.put(self);
+        self
+    }
+
+    /// Writes raw bytes (the fields' own encodings use this).
+    pub fn bytes(&mut self, b: &[u8]) {
+        self.out.extend_from_slice(b);
+    }
+}
+
+/// The bytes of a state being read, with the kind of learner they are for
+/// (to name it in errors).
+#[derive(Debug)]
+pub struct StateReader<'a> {
+    rest: &'a [u8],
+    kind: &'static str,
+}
+
+impl<'a> StateReader<'a> {
+    /// Reads a `T`.
+    pub fn get<T: StateField>(&mut self) -> Result<T, LearnerError> {
+        T::get(self)
+    }
+
+    /// The next `n` raw bytes, or an error if the state ends before.
+    pub fn take(&mut self, n: usize) -> Result<&'a [u8], LearnerError> {
+        if self.rest.len() < n {
+            return Err(self.error("the bytes end early"));
+        }
+        let (a, b) = self.rest.split_at(n);
+        self.rest = b;
+        Ok(a)
+    }
+
+    /// A length of a sequence whose items take at least `min_item` bytes
+    /// each, checked against the bytes left (so that bad bytes cannot ask
+    /// for a huge allocation).
+    pub fn len(&mut self, min_item: usize) -> Result<usize, LearnerError> {
+        let n: u64 = self.get()?;
+        if n.saturating_mul(min_item as u64) > self.rest.len() as u64 {
+            return Err(self.error(&format!("a sequence of {n} items: the bytes end early")));
+        }
+        Ok(n as usize)
+    }
+
+    /// A [`LearnerError::State`] saying that this kind's state is wrong
+    /// and why.
+    pub fn error(&self, what: &str) -> LearnerError {
+        LearnerError::State(format!("state of a `{}` learner: {what}", self.kind))
+    }
+
+    /// Checks `ok`, else the error [`error`](Self::error)`(what)`.
+    pub fn check(&self, ok: bool, what: impl FnOnce() -> String) -> Result<(), LearnerError> {
+        if ok {
+            Ok(())
+        } else {
+            Err(self.error(&what()))
+        }
+    }
+}
+
+/// A value in a learner's saved state: how it is written and read back.
+pub trait StateField: Sized {
+    /// Writes the value.
+    fn put(&self, w: &mut StateWriter);
+    /// Reads a value written by [`put`](Self::put), checked.
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError>;
+}
+
+/// A learner whose whole state can be saved as bytes and read back bit for
+/// bit (see [the module](self) for the format).
+pub trait LearnerState: StateField {
+    /// The learner's kind, written in its state (`"e3d"`, `"count"`, ...).
+    const KIND: &'static str;
+
+    /// What the learner was made for: check it before running a loaded
+    /// learner on a scene ([`StateShape::fits`]).
+    fn shape(&self) -> StateShape;
+
+    /// The learner's whole state as bytes.
+    fn to_bytes(&self) -> Vec<u8> {
+        let mut w = StateWriter::default();
+        w.bytes(STATE_HEADER);
+        w.put(&Self::KIND.to_string());
+        self.put(&mut w);
+        w.out
+    }
+
+    /// A learner from the bytes of [`to_bytes`](Self::to_bytes); an error
+    /// saying what is wrong if they are not such bytes.
+    fn from_bytes(bytes: &[u8]) -> Result<Self, LearnerError> {
+        let rest = bytes.strip_prefix(STATE_HEADER).ok_or_else(no_header)?;
+        let mut r = StateReader {
+            rest,
+            kind: Self::KIND,
+        };
+        let kind: String = r.get()?;
+        r.check(kind == Self::KIND, || {
+            format!("the bytes hold the state of a `{kind}` learner")
+        })?;
+        let l = Self::get(&mut r)?;
+        r.check(r.rest.is_empty(), || {
+            format!("{} bytes after the state", r.rest.len())
+        })?;
+        Ok(l)
+    }
+}
+
+/// What a learner was made for: its slots, its effects and its contexts.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StateShape {
+    /// The alphabet size of each slot (0 for a slot of continuous values).
+    pub sizes: Vec<usize>,
+    /// The number of effects, if the learner keeps a table over them.
+    pub effects: Option<usize>,
+    /// The number of contexts, if the learner is contextual.
+    pub contexts: Option<usize>,
+}
+
+impl StateShape {
+    /// Whether a learner of this shape can run on slots of alphabet sizes
+    /// `sizes` (0 for values) with `effects` effects and `contexts`
+    /// contexts (`None`: not contextual); `Err` says why not.
+    pub fn fits(
+        &self,
+        sizes: &[usize],
+        effects: usize,
+        contexts: Option<usize>,
+    ) -> Result<(), String> {
+        if self.sizes != sizes {
+            return Err(format!(
+                "the learner's slots have alphabet sizes {:?} (0: values), the scene's {sizes:?}",
+                self.sizes
+            ));
+        }
+        if let Some(e) = self.effects.filter(|&e| e != effects) {
+            return Err(format!("the learner has {e} effects, the scene {effects}"));
+        }
+        if self.contexts != contexts {
+            let says =
+                |c: Option<usize>| c.map_or("no contexts".into(), |c| format!("{c} contexts"));
+            return Err(format!(
+                "the learner has {}, the run {}",
+                says(self.contexts),
+                says(contexts)
+            ));
+        }
+        Ok(())
+    }
+
+    /// A context-free learner's shape: `sizes`, `effects`.
+    pub(crate) fn of(sizes: Vec<usize>, effects: Option<usize>) -> StateShape {
+        StateShape {
+            sizes,
+            effects,
+            contexts: None,
+        }
+    }
+}
+
+/// The alphabet sizes of slots laid out at `offsets`.
+pub(crate) fn sizes_of(offsets: &[usize]) -> Vec<usize> {
+    offsets.windows(2).map(|w| w[1] - w[0]).collect()
+}
+
+/// The error of bytes that do not start with [`STATE_HEADER`].
+fn no_header() -> LearnerError {
+    LearnerError::State(format!(
+        "not a learner's state (it does not start with {:?})",
+        String::from_utf8_lossy(STATE_HEADER)
+    ))
+}
+
+/// The kind of learner whose state `bytes` hold (`"e3d"`, `"count"`, ...),
+/// or why they are not a learner's state.
+pub fn state_kind(bytes: &[u8]) -> Result<String, LearnerError> {
+    let rest = bytes.strip_prefix(STATE_HEADER).ok_or_else(no_header)?;
+    let mut r = StateReader { rest, kind: "?" };
+    r.get()
+        .map_err(|_| LearnerError::State("a learner's state cut before its kind".into()))
+}
+
+impl StateField for f64 {
+    fn put(&self, w: &mut StateWriter) {
+        w.bytes(&self.to_bits().to_le_bytes());
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let b = r.take(8)?;
+        Ok(f64::from_bits(u64::from_le_bytes(
+            b.try_into().expect("8 bytes"),
+        )))
+    }
+}
+
+impl StateField for u64 {
+    fn put(&self, w: &mut StateWriter) {
+        w.bytes(&self.to_le_bytes());
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let b = r.take(8)?;
+        Ok(u64::from_le_bytes(b.try_into().expect("8 bytes")))
+    }
+}
+
+impl StateField for usize {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&(*self as u64));
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let v: u64 = r.get()?;
+        usize::try_from(v).map_err(|_| r.error(&format!("{v} does not fit a usize")))
+    }
+}
+
+impl StateField for char {
+    fn put(&self, w: &mut StateWriter) {
+        w.bytes(&u32::from(*self).to_le_bytes());
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let v = u32::from_le_bytes(r.take(4)?.try_into().expect("4 bytes"));
+        char::from_u32(v).ok_or_else(|| r.error(&format!("{v:#x} is not a character")))
+    }
+}
+
+impl StateField for String {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.len());
+        w.bytes(self.as_bytes());
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let n = r.len(1)?;
+        let b = r.take(n)?;
+        String::from_utf8(b.to_vec()).map_err(|_| r.error("a string that is not UTF-8"))
+    }
+}
+
+impl<T: StateField> StateField for Vec<T> {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.len());
+        for v in self {
+            v.put(w);
+        }
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let n = r.len(4)?;
+        (0..n).map(|_| T::get(r)).collect()
+    }
+}
+
+impl<A: StateField, B: StateField> StateField for (A, B) {
+    fn put(&self, w: &mut StateWriter) {
+        self.0.put(w);
+        self.1.put(w);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok((A::get(r)?, B::get(r)?))
+    }
+}
+
+impl StateField for EffectModel {
+    fn put(&self, w: &mut StateWriter) {
+        let (q, scale, eta) = self.raw();
+        w.put(&q.to_vec()).put(&scale).put(&eta);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let (q, scale, eta) = (r.get()?, r.get()?, r.get()?);
+        EffectModel::from_raw(q, scale, eta).map_err(|e| r.error(&format!("effect model: {e}")))
+    }
+}
+
+impl StateField for CommandSpace {
+    fn put(&self, w: &mut StateWriter) {
+        let alphabets: Vec<Vec<char>> = (0..self.num_slots())
+            .map(|s| self.alphabet(s).to_vec())
+            .collect();
+        w.put(&alphabets);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let alphabets: Vec<Vec<char>> = r.get()?;
+        CommandSpace::new(alphabets).map_err(|e| r.error(&format!("command space: {e}")))
+    }
+}
+
+impl StateField for ValueSpace {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.ranges().to_vec());
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let ranges: Vec<(f64, f64)> = r.get()?;
+        ValueSpace::new(ranges).map_err(|e| r.error(&format!("value space: {e}")))
+    }
+}
+
+/// Checks that `log_target` (read from a state) has one value per effect
+/// of `model`.
+pub(crate) fn check_target(
+    r: &StateReader<'_>,
+    log_target: &[f64],
+    model: &EffectModel,
+) -> Result<(), LearnerError> {
+    r.check(log_target.len() == model.num_effects(), || {
+        format!(
+            "a target of {} effects for an effect model of {}",
+            log_target.len(),
+            model.num_effects()
+        )
+    })
+}

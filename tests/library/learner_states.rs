@@ -1,0 +1,218 @@
+//! Every learner's state saved mid-session and loaded back continues with
+//! the same bytes as the learner never stopped; bad bytes are refused with
+//! a reason.
+
+use e3d::learner::contextual::{ContextTargets, ContextualLearner, PerContext};
+use e3d::learner::{ClosedLoopE3d, CountBonus, QLearning, RelaxedE3d, StateMarginalMatching};
+use e3d::{
+    Command, CommandSpace, ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner,
+    LearnerState, Outcome, Params, SessionRng, Target, UniformPolicy, UniformValues, ValueSpace,
+};
+use rand::SeedableRng;
+
+const EFFECTS: usize = 7;
+
+/// A made-up world: the effect and reward of a command (and the context
+/// it leads to, out of 3).
+fn outcome(c: &Command) -> (Outcome, usize) {
+    let sum: usize = c
+        .symbols
+        .iter()
+        .enumerate()
+        .map(|(i, &s)| (i + 2) * s as usize)
+        .sum();
+    let o = Outcome {
+        effect: sum % EFFECTS,
+        reward: if sum % 5 == 0 { 1.0 } else { 0.0 },
+        point: [0.0, 0.0],
+    };
+    (o, sum % 3)
+}
+
+fn space() -> CommandSpace {
+    CommandSpace::new(vec![
+        vec!['a', 'b', 'c'],
+        vec!['x', 'y'],
+        vec!['a', 'b', 'c', 'd'],
+    ])
+    .unwrap()
+}
+
+fn params() -> Params {
+    Params {
+        epsilon: 0.2,
+        ..Params::TASK1
+    }
+}
+
+/// Runs `n` trials of `l` from `rng`.
+fn run<L: Learner>(l: &mut L, rng: &mut SessionRng, n: usize) {
+    let mut c = space().first();
+    for _ in 0..n {
+        l.propose(rng, &mut c);
+        l.learn(&c, &outcome(&c).0);
+    }
+}
+
+/// Saves `l` after 700 trials, loads it, and runs both 500 more trials
+/// from the same generator: the same bytes, the same generator after.
+fn continues_bit_for_bit<L, F>(mut l: L, run: F) -> usize
+where
+    L: LearnerState,
+    F: Fn(&mut L, &mut SessionRng, usize),
+{
+    let mut rng = SessionRng::seed_from_u64(11);
+    run(&mut l, &mut rng, 700);
+    let saved = l.to_bytes();
+    let mut back = L::from_bytes(&saved).unwrap();
+    assert_eq!(back.to_bytes(), saved, "{}", L::KIND);
+    assert_eq!(e3d::learner::state::state_kind(&saved).unwrap(), L::KIND);
+    let e = e3d::learner::state::state_kind(&saved[..22]).unwrap_err();
+    assert_eq!(e.to_string(), "a learner's state cut before its kind");
+    let mut rng2 = rng.clone();
+    run(&mut l, &mut rng, 500);
+    run(&mut back, &mut rng2, 500);
+    assert_eq!(back.to_bytes(), l.to_bytes(), "{}", L::KIND);
+    assert_ne!(
+        l.to_bytes(),
+        saved,
+        "{}: 500 trials changed nothing",
+        L::KIND
+    );
+    assert_eq!(rng, rng2);
+    assert_eq!(back.shape(), l.shape());
+    // cut short, one byte more, or another kind's bytes: refused
+    for n in [0, 20, saved.len() / 2, saved.len() - 1] {
+        assert!(L::from_bytes(&saved[..n]).is_err(), "{}: {n}", L::KIND);
+    }
+    let mut long = saved.clone();
+    long.push(0);
+    let e = L::from_bytes(&long).err().unwrap().to_string();
+    assert!(e.contains("1 bytes after the state"), "{e}");
+    saved.len()
+}
+
+#[test]
+fn every_symbol_learner_continues_bit_for_bit_after_a_save() {
+    let (s, p) = (space(), params());
+    let t = Target::Weights(vec![1.0, 2.0, 3.0, 4.0, 1.0, 1.0, 1.0]);
+    continues_bit_for_bit(E3d::new(&s, EFFECTS, &p, &t).unwrap(), run);
+    continues_bit_for_bit(RelaxedE3d::new(&s, EFFECTS, &p, &t).unwrap(), run);
+    continues_bit_for_bit(CountBonus::new(&s, EFFECTS, &p), run);
+    continues_bit_for_bit(EpsilonGreedy::new(&s, &p), run);
+    let shape = CountBonus::new(&s, EFFECTS, &p).shape();
+    assert_eq!(shape.sizes, [3, 2, 4]);
+    assert_eq!(shape.effects, Some(EFFECTS));
+    assert!(shape.fits(&[3, 2, 4], EFFECTS, None).is_ok());
+    let e = shape.fits(&[3, 2, 4], 9, None).unwrap_err();
+    assert_eq!(e, "the learner has 7 effects, the scene 9");
+    assert!(shape.fits(&[3, 2], EFFECTS, None).is_err());
+    assert!(shape.fits(&[3, 2, 4], EFFECTS, Some(1)).is_err());
+    assert_eq!(UniformPolicy::new(&s).shape().effects, None);
+    // SMM keeps a copy of its policy every 50 trials
+    let n = continues_bit_for_bit(
+        StateMarginalMatching::new(&s, EFFECTS, &p, &t).unwrap(),
+        run,
+    );
+    assert!(n > 14 * 9 * 8, "{n} bytes: the policies kept are saved");
+    // the uniform policy learns nothing: its bytes stay, the generator moves
+    let u = UniformPolicy::new(&s);
+    let saved = u.to_bytes();
+    let mut back = UniformPolicy::from_bytes(&saved).unwrap();
+    let (mut r1, mut r2) = (SessionRng::seed_from_u64(1), SessionRng::seed_from_u64(1));
+    let (mut c1, mut c2) = (s.first(), s.first());
+    for _ in 0..50 {
+        back.propose(&mut r1, &mut c1);
+        UniformPolicy::new(&s).propose(&mut r2, &mut c2);
+        assert_eq!(c1, c2);
+    }
+    assert!(E3d::from_bytes(&saved)
+        .err()
+        .unwrap()
+        .to_string()
+        .contains("the state of a `uniform` learner"));
+    assert!(E3d::from_bytes(b"E3D-STATE-1\n").is_err());
+}
+
+#[test]
+fn continuous_learners_continue_bit_for_bit_after_a_save() {
+    let space = ValueSpace::new(vec![(-1.0, 1.0), (0.0, 3.0)]).unwrap();
+    let run = |l: &mut dyn ContinuousLearner, rng: &mut SessionRng, n: usize| {
+        let mut v = Vec::new();
+        for _ in 0..n {
+            l.propose(rng, &mut v);
+            let cell = ((v[0] + 1.0) * 2.0) as usize + 4 * (v[1] as usize);
+            let o = Outcome {
+                effect: cell.min(15),
+                reward: 0.0,
+                point: [v[0], v[1]],
+            };
+            l.learn(&v, &o);
+        }
+    };
+    let g = GaussianE3d::new(&space, 16, &params(), &Target::Uniform).unwrap();
+    continues_bit_for_bit(g, |l, r, n| run(l, r, n));
+    let u = UniformValues::new(&space);
+    let back = UniformValues::from_bytes(&u.to_bytes()).unwrap();
+    assert_eq!(back.shape().sizes, [0, 0]);
+    assert_eq!(back.slot_gaussian(1), u.slot_gaussian(1));
+}
+
+/// Runs `n` trials of a contextual learner, each in the context the
+/// previous one led to, episodes of 4 commands.
+fn run_contexts<L: ContextualLearner>(l: &mut L, rng: &mut SessionRng, n: usize) {
+    let mut c = space().first();
+    let mut context = 0;
+    for t in 0..n {
+        l.propose(context, rng, &mut c);
+        let (o, next) = outcome(&c);
+        let next = (t % 4 != 3).then_some(next);
+        l.learn(context, &c, &o, next);
+        context = next.unwrap_or(0);
+    }
+}
+
+#[test]
+fn contextual_learners_continue_bit_for_bit_after_a_save() {
+    let (s, p) = (space(), params());
+    let targets = ContextTargets::PerContext(vec![
+        Target::Uniform,
+        Target::Weights(vec![5.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]),
+        Target::Uniform,
+    ]);
+    let closed = ClosedLoopE3d::new(&s, EFFECTS, 3, &p, &targets, 0.9).unwrap();
+    continues_bit_for_bit(closed, run_contexts);
+    continues_bit_for_bit(QLearning::new(&s, 3, &p, 0.9).unwrap(), run_contexts);
+    let per = |n| PerContext::new((0..n).map(|_| CountBonus::new(&s, EFFECTS, &p)).collect());
+    continues_bit_for_bit(per(3), run_contexts);
+    let shape = QLearning::new(&s, 3, &p, 0.9).unwrap().shape();
+    assert_eq!(
+        (shape.sizes, shape.effects, shape.contexts),
+        (vec![3, 2, 4], None, Some(3))
+    );
+    assert_eq!(per(2).shape().contexts, Some(2));
+    // a learner per context of another kind, or Q-learning's bytes: refused
+    let saved = per(3).to_bytes();
+    let e = PerContext::<E3d>::from_bytes(&saved)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("learners of kind `count`, expected `e3d`"),
+        "{e}"
+    );
+    let q = QLearning::new(&s, 2, &p, 0.5).unwrap().to_bytes();
+    assert!(ClosedLoopE3d::from_bytes(&q).is_err());
+    // a command space whose slot repeats a symbol: refused (its bytes end
+    // with the space's last slot, `a` then `b`, then alpha, epsilon, gamma)
+    let other = CommandSpace::repeat(3, &['a', 'b']).unwrap();
+    let mut bytes = QLearning::new(&other, 2, &p, 0.5).unwrap().to_bytes();
+    let b = bytes.len() - 3 * 8 - 4;
+    assert_eq!(bytes[b], b'b');
+    bytes[b] = b'a';
+    let e = QLearning::from_bytes(&bytes).err().unwrap().to_string();
+    assert!(
+        e.starts_with("state of a `qlearning` learner: command space"),
+        "{e}"
+    );
+}
