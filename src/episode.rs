@@ -126,6 +126,30 @@ impl EpisodeRecord {
         self.episode_rewards().position(|r| r > 0.0).map(|i| i + 1)
     }
 
+    /// The total reward of the episodes started in each start context,
+    /// context by context (`num_contexts` entries; 0 for a context never
+    /// drawn).
+    pub fn reward_per_start(&self, num_contexts: usize) -> Vec<f64> {
+        let mut sums = vec![0.0; num_contexts];
+        for (&s, r) in self.starts.iter().zip(self.episode_rewards()) {
+            sums[s] += r;
+        }
+        sums
+    }
+
+    /// Per start context, the first episode (1-based, counted over all the
+    /// session's episodes, as [`first_reward_episode`](Self::first_reward_episode))
+    /// started in it with a reward > 0 (`None`: none).
+    pub fn first_reward_per_start(&self, num_contexts: usize) -> Vec<Option<usize>> {
+        let mut first = vec![None; num_contexts];
+        for (i, (&s, r)) in self.starts.iter().zip(self.episode_rewards()).enumerate() {
+            if r > 0.0 && first[s].is_none() {
+                first[s] = Some(i + 1);
+            }
+        }
+        first
+    }
+
     /// The normalised entropy (over all `num_effects` effects) of the
     /// terminal effects of the episodes started in each start context,
     /// context by context (`num_contexts` entries; 0 for a context never

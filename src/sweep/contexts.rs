@@ -18,8 +18,8 @@ pub(super) fn start_contexts(scenes: &[Arc<dyn SweepScene>]) -> Vec<usize> {
 }
 
 /// Checks what a sweep of episodes needs, and adds the per-context
-/// entropies to the default metrics when a scene has several start
-/// contexts.
+/// entropies, cumulative rewards and first rewarded episodes to the
+/// default metrics when a scene has several start contexts.
 pub(super) fn check(
     spec: &SweepSpec,
     contexts: &[usize],
@@ -29,14 +29,15 @@ pub(super) fn check(
     let most = contexts.iter().copied().max().unwrap_or(1);
     let episodes = spec.runs_episodes() || most > 1;
     if !episodes {
-        if metrics
-            .iter()
-            .any(|m| matches!(m, MetricSpec::NormalizedEntropyContext(_)))
-        {
+        if let Some(m) = metrics.iter().find(|m| m.context().is_some()) {
+            let name = m.column();
+            let name = name
+                .trim_end_matches(|c: char| c.is_ascii_digit())
+                .trim_end_matches('_');
             return Err(bad(
                 "metrics",
-                Some("normalized_entropy_context"),
-                "normalized_entropy_context(I) only in a sweep of episodes (a scene with start contexts, or commands, observe or closed_loop set)",
+                Some(name),
+                &format!("{name}(I) only in a sweep of episodes (a scene with start contexts, or commands, observe or closed_loop set)"),
             ));
         }
         return Ok(());
@@ -52,16 +53,20 @@ pub(super) fn check(
     }
     if spec.metrics.is_none() && most > 1 {
         metrics.extend((0..most).map(MetricSpec::NormalizedEntropyContext));
+        metrics.extend((0..most).map(MetricSpec::CumulativeRewardContext));
+        metrics.extend((0..most).map(MetricSpec::FirstRewardTrialContext));
     }
     for m in metrics.iter() {
-        if let MetricSpec::NormalizedEntropyContext(i) = *m {
-            if i >= most {
-                return Err(bad(
-                    "metrics",
-                    Some("normalized_entropy_context"),
-                    &format!("normalized_entropy_context(I) with I below {most} (the most start contexts of the sweep's scenes), found {i}"),
-                ));
-            }
+        if let Some(i) = m.context().filter(|&i| i >= most) {
+            let name = m.column();
+            let name = name
+                .trim_end_matches(|c: char| c.is_ascii_digit())
+                .trim_end_matches('_');
+            return Err(bad(
+                "metrics",
+                Some(name),
+                &format!("{name}(I) with I below {most} (the most start contexts of the sweep's scenes), found {i}"),
+            ));
         }
     }
     Ok(())

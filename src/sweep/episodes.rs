@@ -7,7 +7,10 @@
 //! its own; a trial of the metrics is an episode, its effect the
 //! episode's terminal effect and its reward the episode's. The metric
 //! [`MetricSpec::NormalizedEntropyContext`] gives the normalised entropy
-//! of the terminal effects per start context.
+//! of the terminal effects per start context,
+//! [`MetricSpec::CumulativeRewardContext`] and
+//! [`MetricSpec::FirstRewardTrialContext`] the reward collected from each
+//! start context and the first episode rewarded there.
 
 use super::factory::SceneRun;
 use super::plan::{SessionSpec, Sweep};
@@ -107,10 +110,18 @@ impl Sweep {
             running.record(&any, &outcome);
         }
         let mut result = self.result(session, Ok(()), &running);
-        let per_start = record.entropy_per_start(self.start_contexts(cell.scene));
+        let starts = self.start_contexts(cell.scene);
+        let entropy = record.entropy_per_start(starts);
+        let reward = record.reward_per_start(starts);
+        let first = record.first_reward_per_start(starts);
         for (value, metric) in result.values.iter_mut().zip(&self.metrics) {
-            if let MetricSpec::NormalizedEntropyContext(i) = *metric {
-                *value = per_start.get(i).copied();
+            match *metric {
+                MetricSpec::NormalizedEntropyContext(i) => *value = entropy.get(i).copied(),
+                MetricSpec::CumulativeRewardContext(i) => *value = reward.get(i).copied(),
+                MetricSpec::FirstRewardTrialContext(i) => {
+                    *value = first.get(i).copied().flatten().map(|t| t as f64)
+                }
+                _ => {}
             }
         }
         Ok(result)

@@ -173,7 +173,9 @@ impl Sweep {
                 MetricSpec::TrialsTo50Percent => m.trials_to_50_percent.map(|t| t as f64),
                 MetricSpec::TrialsTo90Percent => m.trials_to_90_percent.map(|t| t as f64),
                 // set by run_episode_session
-                MetricSpec::NormalizedEntropyContext(_) => None,
+                MetricSpec::NormalizedEntropyContext(_)
+                | MetricSpec::CumulativeRewardContext(_)
+                | MetricSpec::FirstRewardTrialContext(_) => None,
             })
             .collect();
         SessionResult {

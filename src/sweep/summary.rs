@@ -172,6 +172,8 @@ pub fn summarize<'a>(
                 *m,
                 "first_reward_trial" | "trials_to_50_percent" | "trials_to_90_percent"
             ) || m.starts_with("normalized_entropy_context_")
+                || m.starts_with("cumulative_reward_context_")
+                || m.starts_with("first_reward_trial_context_")
         })
         .collect();
     let mut out = String::new();

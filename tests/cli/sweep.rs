@@ -425,10 +425,15 @@ fn shipped_sweeps_parse() {
     assert_eq!((cl.start_contexts(0), cl.start_contexts(1)), (1, 2));
     assert_eq!(cl.observe(), e3d::episode::Observe::State);
     let columns: Vec<String> = cl.metrics().iter().map(|m| m.column()).collect();
-    assert!(columns.ends_with(&[
-        "normalized_entropy_context_0".to_string(),
-        "normalized_entropy_context_1".to_string()
-    ]));
+    let tail: Vec<String> = [
+        "normalized_entropy_context_",
+        "cumulative_reward_context_",
+        "first_reward_trial_context_",
+    ]
+    .iter()
+    .flat_map(|m| [format!("{m}0"), format!("{m}1")])
+    .collect();
+    assert!(columns.ends_with(&tail), "{columns:?}");
     // arm7.ron names scenes/arm7.ron, which the physics scenes bring
     if root.join("scenes/arm7.ron").exists() {
         let arm = e3d::Sweep::load(root.join("scenes/sweeps/arm7.ron")).unwrap();
@@ -998,8 +1003,16 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
         col("normalized_entropy_context_1"),
     );
     let (reward, first) = (col("cumulative_reward_at_300"), col("first_reward_trial"));
+    let (r0, f0) = (
+        col("cumulative_reward_context_0"),
+        col("first_reward_trial_context_0"),
+    );
     for row in &rows[1..] {
         assert_eq!(row[c1].is_empty(), row[0] == "four_rooms", "{row:?}");
+        if row[0] == "four_rooms" {
+            // one start context: its reward is the session's
+            assert_eq!((row[r0], row[f0]), (row[reward], row[first]), "{row:?}");
+        }
         assert!(row.last().unwrap().is_empty(), "a failed session: {row:?}");
     }
     use e3d::episode::{run_episodes, EpisodeConfig, Observe};
@@ -1045,6 +1058,24 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
             .first_reward_episode()
             .map_or(String::new(), |e| e.to_string());
         assert_eq!(row[first], first_episode);
+        // the reward per start context: the sums add up to the session's,
+        // the first rewarded episode is the earliest of the contexts'
+        let (rewards, firsts) = (rec.reward_per_start(2), rec.first_reward_per_start(2));
+        for i in 0..2 {
+            assert_eq!(
+                row[col(&format!("cumulative_reward_context_{i}"))],
+                e3d::sweep::format_number(rewards[i])
+            );
+            assert_eq!(
+                row[col(&format!("first_reward_trial_context_{i}"))],
+                firsts[i].map_or(String::new(), |e| e.to_string())
+            );
+        }
+        assert_eq!(rewards[0] + rewards[1], rec.cumulative_reward());
+        assert_eq!(
+            firsts.iter().flatten().min(),
+            rec.first_reward_episode().as_ref()
+        );
         assert!(
             per_start.iter().all(|h| *h > 0.5 && *h <= 1.0),
             "{per_start:?}"
@@ -1052,6 +1083,8 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
         checked += 1;
     }
     assert_eq!(checked, 16);
+    // (no session reaches a reward in 300 episodes here: the per-context
+    // sums are checked on rewards in tests/library/contexts.rs)
     // the summary: per cell, the per-context means and their counts
     let summary = std::fs::read_to_string(d.join("one/summary.csv")).unwrap();
     let srows: Vec<Vec<&str>> = summary.lines().map(|l| l.split(',').collect()).collect();
@@ -1061,11 +1094,17 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
         scol("normalized_entropy_context_1_mean"),
     );
     assert_eq!(srows.len(), 1 + 8);
+    let (rn1, rm1) = (
+        scol("cumulative_reward_context_1_n"),
+        scol("cumulative_reward_context_1_mean"),
+    );
     for r in &srows[1..] {
         if r[0] == "four_rooms" {
             assert_eq!((r[n1], r[m1]), ("0", ""));
+            assert_eq!((r[rn1], r[rm1]), ("0", ""));
         } else {
-            assert_eq!(r[n1], "4");
+            assert_eq!((r[n1], r[rn1]), ("4", "4"));
+            assert!(r[rm1].parse::<f64>().unwrap() >= 0.0);
             let m: f64 = r[m1].parse().unwrap();
             assert!(m > 0.5 && m <= 1.0, "{r:?}");
         }

@@ -385,6 +385,7 @@ fn closed_loop_learners_follow_their_plain_transcription() {
     let mut rng = SessionRng::seed_from_u64(8);
     let mut rng_q = SessionRng::seed_from_u64(8);
     let mut rng_plain = SessionRng::seed_from_u64(8);
+    let mut rng_q_plain = SessionRng::seed_from_u64(8);
     let mut c = space.first();
     let (mut rewarded, mut same) = (0, 0);
     for _ in 0..3000 {
@@ -399,9 +400,25 @@ fn closed_loop_learners_follow_their_plain_transcription() {
             // both learn from the plain command (a draw rounded the other
             // way does not fork the runs)
             let c = Command::new(cp);
-            // Q-learning's draws, transcribed
+            // Q-learning's draws, transcribed: epsilon-greedy over the
+            // commands, a uniform command or one of the best, drawn in
+            // index order
             let mut cq = space.first();
             ql.propose(s, &mut rng_q, &mut cq);
+            let plain_q = if rng_q_plain.random::<f64>() < params.epsilon {
+                space
+                    .sizes()
+                    .map(|k| rng_q_plain.random_range(0..k) as u8)
+                    .collect()
+            } else {
+                let top = best(&qq[s]);
+                let ties: Vec<usize> = (0..commands).filter(|&i| qq[s][i] == top).collect();
+                let mut d = space.first();
+                space
+                    .write_command_at(ties[rng_q_plain.random_range(0..ties.len())] as u64, &mut d);
+                d.symbols
+            };
+            assert_eq!(cq.symbols, plain_q, "Q-learning's command");
             let (o, next_state) = world.execute_from(&state, &c).unwrap();
             let last = k == 2;
             let r = if last { o.reward } else { 0.0 };
@@ -573,4 +590,57 @@ fn states_outside_the_world_and_worlds_without_states_are_errors() {
     assert!(e.to_string().contains("no states to start from"), "{e}");
     let zero = EpisodeConfig { commands: 0, ..cfg };
     assert!(run_episodes(&mut scene.build(), &mut l, &zero).is_err());
+}
+
+/// The reward per start context (the sweeps' `cumulative_reward_context_I`
+/// and `first_reward_trial_context_I`): on TWO_ROOMS_CONTEXTS, whose reward
+/// cell (2, 5) is context b's start and 7 moves from a's, uniform episodes
+/// of 2 commands (6 moves) are rewarded from b and anywhere_b, never from
+/// a; the sums and first episodes are those of a plain count over the
+/// record, and add up to the session's.
+#[test]
+fn rewards_are_counted_per_start_context() {
+    let scene = Scene::parse(TWO_ROOMS_CONTEXTS, "t.ron").unwrap();
+    let mut world = scene.build();
+    let cfg = EpisodeConfig {
+        episodes: 600,
+        commands: 2,
+        seed: 4,
+        use_reward: true,
+        observe: Observe::StartContext,
+    };
+    let mut learner = LearnerKind::Uniform
+        .make_contextual(
+            &Params::TASK2,
+            &scene.command_space(),
+            18,
+            3,
+            &ContextTargets::Shared(Target::Uniform),
+        )
+        .unwrap();
+    let rec = run_episodes(&mut *world, &mut learner, &cfg).unwrap();
+    let (mut sums, mut firsts) = (vec![0.0; 3], vec![None; 3]);
+    for (i, &s) in rec.starts.iter().enumerate() {
+        let r = rec.rewards[2 * i] + rec.rewards[2 * i + 1];
+        sums[s] += r;
+        if r > 0.0 && firsts[s].is_none() {
+            firsts[s] = Some(i + 1);
+        }
+    }
+    assert_eq!(rec.reward_per_start(3), sums);
+    assert_eq!(rec.first_reward_per_start(3), firsts);
+    assert!(
+        firsts[0].is_none() && firsts[1].is_some() && firsts[2].is_some(),
+        "{firsts:?}"
+    );
+    // from b (on the reward cell) more often than from anywhere in b's room
+    assert!(
+        sums[0] == 0.0 && sums[1] > sums[2] && sums[2] > 0.0,
+        "{sums:?}"
+    );
+    assert_eq!(sums.iter().sum::<f64>(), rec.cumulative_reward());
+    assert_eq!(
+        firsts.iter().flatten().min().copied(),
+        rec.first_reward_episode()
+    );
 }

@@ -252,3 +252,210 @@ fn contextual_e3d_spreads_every_room_of_the_puck_where_blind_e3d_cannot() {
         }
     }
 }
+
+/// The world spec of a physics scene (its shorthands expanded).
+fn spec_of(scene: &Scene) -> &e3d::scene::physics::PhysicsSpec {
+    match &scene.spec().world {
+        e3d::scene::WorldSpec::Physics(p) => p,
+        _ => panic!("a physics scene"),
+    }
+}
+
+/// Whether every hinge of `scene` holds in `state`: its anchors on the
+/// parent (or ground) and on the child at the same world point.
+fn hinges_hold(scene: &Scene, state: &WorldState) -> f64 {
+    let spec = spec_of(scene);
+    let st = physics(state);
+    let world = |body: &str, p: (f64, f64)| -> (f64, f64) {
+        match spec.bodies.iter().position(|b| b.name == body) {
+            None => p, // ground
+            Some(i) => {
+                let [x, y, a] = st.poses[i];
+                (
+                    x + a.cos() * p.0 - a.sin() * p.1,
+                    y + a.sin() * p.0 + a.cos() * p.1,
+                )
+            }
+        }
+    };
+    spec.joints
+        .iter()
+        .map(|j| {
+            let (p, c) = (
+                world(&j.parent, j.parent_anchor),
+                world(&j.child, j.child_anchor),
+            );
+            (p.0 - c.0).hypot(p.1 - c.1)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// A context may turn joints and set them turning: on arm_push (a
+/// multibody hung on ground) and on the swimmer (a free-floating tree of
+/// impulse joints), the start has the joints' coordinates and rates the
+/// context gives, the unlisted joints at 0, every hinge holding, and the
+/// unlisted bodies where the scene puts them.
+#[test]
+fn joint_contexts_start_in_the_pose_they_give() {
+    let contexts = "        schedule:";
+    let arm = edited(
+        "arm_push",
+        &[(
+            contexts,
+            "        contexts: [(name: \"bent\", joints: [(joint: \"j1\", angle: 0.6), (joint: \"j2\", angle: -0.4, velocity: 0.5)])],\n        schedule:",
+        )],
+    );
+    let swimmer = edited(
+        "swimmer",
+        &[(
+            contexts,
+            "        contexts: [(name: \"curled\", joints: [(joint: \"j2\", angle: 0.8, velocity: -0.3)])],\n        schedule:",
+        )],
+    );
+    let cases = [
+        (arm, "arm_push", vec![(0.6, 0.0), (-0.4, 0.5), (0.0, 0.0)]),
+        (
+            swimmer,
+            "swimmer",
+            vec![(0.0, 0.0), (0.8, -0.3), (0.0, 0.0)],
+        ),
+    ];
+    for (scene, name, want) in cases {
+        let w = scene.build();
+        let plain = Scene::builtin(name).unwrap();
+        let pristine = plain
+            .build()
+            .draw_start(0, &mut SessionRng::seed_from_u64(0))
+            .unwrap();
+        let s = w.draw_start(0, &mut SessionRng::seed_from_u64(0)).unwrap();
+        assert_eq!(s.context(), Some(0), "{name}");
+        let st = physics(&s);
+        for (k, (q, w)) in want.iter().enumerate() {
+            let [a, r] = st.joints[k];
+            assert!(
+                (a - q).abs() < 1e-5 && (r - w).abs() < 1e-4,
+                "{name} joint {k}: {a} {r}, want {q} {w}"
+            );
+        }
+        assert!(
+            hinges_hold(&scene, &s) < 1e-5,
+            "{name}: {}",
+            hinges_hold(&scene, &s)
+        );
+        assert!(hinges_hold(&plain, &pristine) < 1e-5, "{name}");
+        // the last link turned by the sum of the joints' angles
+        let last = spec_of(&scene)
+            .bodies
+            .iter()
+            .rposition(|b| b.name.starts_with("link"))
+            .unwrap();
+        let turned = st.poses[last][2] - physics(&pristine).poses[last][2];
+        let sum: f64 = want.iter().map(|(q, _)| q).sum();
+        assert!((turned - sum).abs() < 1e-5, "{name}: {turned} {sum}");
+    }
+    // arm_push's puck, no joint's body, starts where the scene puts it
+    let arm = edited("arm_push", &[(contexts, "        contexts: [(name: \"bent\", joints: [(joint: \"j3\", angle: 1.0)])],\n        schedule:")]);
+    let s = arm
+        .build()
+        .draw_start(0, &mut SessionRng::seed_from_u64(0))
+        .unwrap();
+    assert_eq!(
+        physics(&s).poses.last().unwrap()[..2],
+        [0.7f32 as f64, 0.3f32 as f64]
+    );
+}
+
+/// A drawn joint angle is seeded and inside its range, and an episode of
+/// K = 3 commands from a joint context on arm_push ends in the very bytes
+/// of one continued rollout of the three commands.
+#[test]
+fn joint_contexts_continue_exactly_over_three_commands() {
+    let context = "        contexts: [(name: \"bent\", joints: [(joint: \"j1\", angle: 0.6, velocity: -0.5), (joint: \"j2\", angle: -0.4)])],\n        schedule:";
+    let short = edited(
+        "arm_push",
+        &[
+            ("        schedule:", context),
+            ("settle: 1.0", "settle: 0.0"),
+        ],
+    );
+    let long = edited(
+        "arm_push",
+        &[
+            ("        schedule:", context),
+            ("settle: 1.0", "settle: 0.0"),
+            ("    slots: 6,\n    world", "    slots: 18,\n    world"),
+            ("        slots: 6,", "        slots: 18,"),
+        ],
+    );
+    let mut w = short.build();
+    let s = w.draw_start(0, &mut SessionRng::seed_from_u64(0)).unwrap();
+    let space = short.command_space();
+    let cs = ["+-0+0-", "-++0-0", "0+-+-+"].map(|c| space.parse(c).unwrap());
+    let mut at = s.clone();
+    let mut last = None;
+    for c in &cs {
+        let (o, next) = w.execute_from(&at, c).unwrap();
+        last = Some(o);
+        at = next;
+    }
+    let all: Vec<u8> = cs.iter().flat_map(|c| c.symbols.clone()).collect();
+    let (o, t) = long
+        .build()
+        .execute_from(&s, &e3d::Command::new(all))
+        .unwrap();
+    assert_eq!(physics(&at).to_bytes(), physics(&t).to_bytes());
+    assert_eq!(
+        last.unwrap().point.map(f64::to_bits),
+        o.point.map(f64::to_bits)
+    );
+    // the joint context is not the scene's start: the first command ends elsewhere
+    let plain = edited("arm_push", &[("settle: 1.0", "settle: 0.0")]);
+    let p0 = plain
+        .build()
+        .draw_start(0, &mut SessionRng::seed_from_u64(0))
+        .unwrap();
+    let (from_bent, _) = w.execute_from(&s, &cs[0]).unwrap();
+    let (from_plain, _) = plain.build().execute_from(&p0, &cs[0]).unwrap();
+    assert_ne!(from_bent.point, from_plain.point);
+    // a joint's rate alone moves the arm: the multibody's generalized
+    // velocity is set, not only its bodies' velocities
+    let spun = edited(
+        "arm_push",
+        &[
+            ("settle: 1.0", "settle: 0.0"),
+            ("        schedule:", "        contexts: [(name: \"spun\", joints: [(joint: \"j1\", velocity: -2.0)])],\n        schedule:"),
+        ],
+    );
+    let mut ws = spun.build();
+    let s0 = ws.draw_start(0, &mut SessionRng::seed_from_u64(0)).unwrap();
+    let idle = space.parse("000000").unwrap();
+    let (_, after) = ws.execute_from(&s0, &idle).unwrap();
+    let (_, still) = plain.build().execute_from(&p0, &idle).unwrap();
+    // (the motors pull j1 back to its set point 0 within the 3 s; at rest
+    // the arm does not move at all)
+    let (moved, rest) = (physics(&after).joints[0][0], physics(&still).joints[0][0]);
+    assert!(moved.abs() > 1e-6 && rest.abs() < 1e-9, "{moved} {rest}");
+    // a drawn angle: seeded, inside its range
+    let drawn = edited(
+        "arm_push",
+        &[("        schedule:", "        contexts: [(name: \"any\", joints: [(joint: \"j2\", angle: -0.5, to: 0.5)])],\n        schedule:")],
+    );
+    let w = drawn.build();
+    let mut qs = Vec::new();
+    for seed in 0..10 {
+        let a = w
+            .draw_start(0, &mut SessionRng::seed_from_u64(seed))
+            .unwrap();
+        let b = w
+            .draw_start(0, &mut SessionRng::seed_from_u64(seed))
+            .unwrap();
+        assert_eq!(a, b);
+        assert_eq!(a.context(), None);
+        let q = physics(&a).joints[1][0];
+        assert!((-0.5 - 1e-5..=0.5 + 1e-5).contains(&q), "{q}");
+        assert!(hinges_hold(&drawn, &a) < 1e-5);
+        qs.push(q);
+    }
+    qs.sort_by(f64::total_cmp);
+    assert!(qs[9] - qs[0] > 0.4, "{qs:?}");
+}

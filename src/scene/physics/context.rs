@@ -1,16 +1,17 @@
 //! Start contexts of a physics world: named start states, each the
-//! scene's start state with some free bodies placed or set moving, fixed
-//! or drawn from a seeded range.
+//! scene's start state with some free bodies placed or set moving and some
+//! joints turned or set turning, fixed or drawn from a seeded range.
 
 use serde::{Deserialize, Serialize};
 
-/// One start context of a physics world: a name and the bodies whose
-/// start differs from the scene's.
+/// One start context of a physics world: a name, and the bodies and
+/// joints whose start differs from the scene's.
 ///
 /// ```ron
 /// contexts: [
 ///     (name: "room_a", bodies: [(body: "puck", position: (0.5, 2.5))]),
 ///     (name: "room_b", bodies: [(body: "puck", position: (3.5, 0.5), to: (5.5, 2.5))]),
+///     (name: "bent", joints: [(joint: "shoulder", angle: 0.6), (joint: "elbow", angle: -0.3, to: 0.3)]),
 /// ]
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -22,6 +23,32 @@ pub struct StartState {
     /// says).
     #[serde(default)]
     pub bodies: Vec<BodyStart>,
+    /// The joints turned or set turning (the others keep their start
+    /// coordinate, 0, and rate, 0). The bodies a joint carries follow it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<JointStart>,
+}
+
+/// A joint's coordinate and rate in a context: a hinge's angle from the
+/// scene's start pose (rad) and its rate (rad/s), a slider's position along
+/// its axis from the start pose (m) and its rate (m/s). A field left out
+/// keeps the start's value, 0.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointStart {
+    /// The joint, by name.
+    pub joint: String,
+    /// Its coordinate (rad for a hinge, m for a slider); with `to`, one
+    /// end of a range.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angle: Option<f64>,
+    /// The other end of a range of coordinates: each start draws the
+    /// coordinate uniformly in it (a seeded range; needs `angle`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub to: Option<f64>,
+    /// Its rate (rad/s for a hinge, m/s for a slider).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<f64>,
 }
 
 /// Where one free body starts in a context, and how it moves. A field left
@@ -50,9 +77,9 @@ pub struct BodyStart {
 }
 
 impl StartState {
-    /// Whether a start is drawn (some body has a range `to`): such a
-    /// context runs live, never from a table or the memo.
+    /// Whether a start is drawn (some body or joint has a range `to`):
+    /// such a context runs live, never from a table or the memo.
     pub fn is_sampled(&self) -> bool {
-        self.bodies.iter().any(|b| b.to.is_some())
+        self.bodies.iter().any(|b| b.to.is_some()) || self.joints.iter().any(|j| j.to.is_some())
     }
 }

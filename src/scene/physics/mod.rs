@@ -29,7 +29,7 @@ pub mod limits;
 mod spec;
 mod warnings;
 
-pub use context::{BodyStart, StartState};
+pub use context::{BodyStart, JointStart, StartState};
 pub use joint::{JointKind, JointSpec, MotorSpec};
 pub(crate) use spec::to_world;
 pub use spec::{

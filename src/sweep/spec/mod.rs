@@ -70,9 +70,28 @@ pub enum MetricSpec {
     /// scene's order (column `normalized_entropy_context_I`; empty for a
     /// scene of fewer contexts).
     NormalizedEntropyContext(usize),
+    /// The total reward of the episodes started in start context `i`
+    /// (column `cumulative_reward_context_I`; empty for a scene of fewer
+    /// contexts).
+    CumulativeRewardContext(usize),
+    /// The first episode (1-based, over all the session's episodes) started
+    /// in start context `i` with a reward (column
+    /// `first_reward_trial_context_I`; empty when none, or for a scene of
+    /// fewer contexts).
+    FirstRewardTrialContext(usize),
 }
 
 impl MetricSpec {
+    /// The start context of a per-context metric.
+    pub fn context(&self) -> Option<usize> {
+        match *self {
+            MetricSpec::NormalizedEntropyContext(i)
+            | MetricSpec::CumulativeRewardContext(i)
+            | MetricSpec::FirstRewardTrialContext(i) => Some(i),
+            _ => None,
+        }
+    }
+
     /// The column name.
     pub fn column(&self) -> String {
         match self {
@@ -86,6 +105,8 @@ impl MetricSpec {
             MetricSpec::TrialsTo50Percent => "trials_to_50_percent".into(),
             MetricSpec::TrialsTo90Percent => "trials_to_90_percent".into(),
             MetricSpec::NormalizedEntropyContext(i) => format!("normalized_entropy_context_{i}"),
+            MetricSpec::CumulativeRewardContext(i) => format!("cumulative_reward_context_{i}"),
+            MetricSpec::FirstRewardTrialContext(i) => format!("first_reward_trial_context_{i}"),
         }
     }
 
@@ -99,6 +120,8 @@ impl MetricSpec {
                 | MetricSpec::TrialsTo50Percent
                 | MetricSpec::TrialsTo90Percent
                 | MetricSpec::NormalizedEntropyContext(_)
+                | MetricSpec::CumulativeRewardContext(_)
+                | MetricSpec::FirstRewardTrialContext(_)
         )
     }
 

@@ -329,7 +329,7 @@ impl PhysicsWorld {
             params.num_solver_iterations = n;
         }
         let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
-        let contexts = PhysicsWorld::context_starts(spec, &replicas[0].handles, &s);
+        let (contexts, joint_geometry) = PhysicsWorld::context_starts(spec, &replicas[0], &s);
         PhysicsWorld {
             scene: scene.spec().name.clone(),
             space,
@@ -360,6 +360,7 @@ impl PhysicsWorld {
             body_names: spec.bodies.iter().map(|b| b.name.clone()).collect(),
             joint_names: spec.joints.iter().map(|j| j.name.clone()).collect(),
             contexts,
+            joint_geometry,
         }
     }
 }

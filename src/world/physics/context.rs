@@ -13,9 +13,10 @@
 //! coordinates, not by their poses). The poses, velocities and joint
 //! coordinates are also kept in the open, to compare and serialise.
 
-use super::{PhysicsWorld, Sets};
+use super::joint_start::{set_joints, JointGeometry};
+use super::{v2, JointInfo, PhysicsWorld, Replica, Sets};
 use crate::rng::SessionRng;
-use crate::scene::physics::{BodyStart, PhysicsSpec};
+use crate::scene::physics::{BodyStart, JointStart, PhysicsSpec};
 use crate::world::{WorldError, WorldState};
 use rand::RngExt;
 use rapier2d::math::{Real, Rotation, Vector};
@@ -85,17 +86,42 @@ impl std::fmt::Debug for PhysicsState {
 pub(super) enum ContextStart {
     /// The scene's start (a scene without contexts).
     Pristine,
-    /// A named state: the pristine sets with the context's bodies set.
+    /// A named state: the pristine sets with the context's bodies and
+    /// joints set.
     Named(Arc<Sets>),
-    /// A drawn state: the bodies to set, ranges drawn at each start.
-    Sampled(Vec<(RigidBodyHandle, BodyStart)>),
+    /// A drawn state: the bodies and joints to set, ranges drawn at each
+    /// start.
+    Sampled(Placement),
 }
 
-/// Sets the start of the bodies of `starts` in `sets`, drawing each
-/// range's x then y with `rng` (`None`: the ranges' first corner).
-fn place(sets: &mut Sets, starts: &[(RigidBodyHandle, BodyStart)], rng: Option<&mut SessionRng>) {
+/// What a context sets: bodies (by handle), joints (by index), and
+/// whether the joints must be set at all (some joint is listed, or a
+/// listed body carries a joint).
+#[derive(Clone)]
+pub(super) struct Placement {
+    bodies: Vec<(RigidBodyHandle, BodyStart)>,
+    joints: Vec<(usize, JointStart)>,
+    carry: bool,
+}
+
+/// Sets the start of the bodies then the joints of `starts` in `sets`,
+/// drawing each body range's x then y, then each joint range's coordinate,
+/// with `rng` (`None`: the ranges' first ends).
+fn place(
+    sets: &mut Sets,
+    starts: &Placement,
+    infos: &[JointInfo],
+    geometry: &JointGeometry,
+    rng: Option<&mut SessionRng>,
+) {
     let mut rng = rng;
-    for (h, s) in starts {
+    // the joints' coordinates before the bodies move: the unlisted ones keep them
+    let mut target: Vec<(f64, f64)> = if starts.carry {
+        infos.iter().map(|j| j.coordinate(&sets.bodies)).collect()
+    } else {
+        Vec::new()
+    };
+    for (h, s) in &starts.bodies {
         let b = &mut sets.bodies[*h];
         if let Some(p) = s.position {
             let (x, y) = match (s.to, rng.as_deref_mut()) {
@@ -114,36 +140,82 @@ fn place(sets: &mut Sets, starts: &[(RigidBodyHandle, BodyStart)], rng: Option<&
         b.set_linvel(Vector::new(v.0 as Real, v.1 as Real), true);
         b.set_angvel(s.angular_velocity.unwrap_or(0.0) as Real, true);
     }
+    if !starts.carry {
+        return;
+    }
+    for (k, s) in &starts.joints {
+        if let Some(a) = s.angle {
+            target[*k].0 = match (s.to, rng.as_deref_mut()) {
+                (Some(to), Some(r)) => r.random_range(a.min(to)..=a.max(to)),
+                _ => a,
+            };
+        }
+        if let Some(w) = s.velocity {
+            target[*k].1 = w;
+        }
+    }
+    let listed: Vec<usize> = starts.joints.iter().map(|(k, _)| *k).collect();
+    set_joints(sets, infos, geometry, &target, &listed);
 }
 
 impl PhysicsWorld {
-    /// The start contexts of `spec`, on copy 0 of `pristine`.
+    /// The start contexts of `spec`, on `copy` (copy 0) of `pristine`,
+    /// and the geometry of its joints they set.
     pub(super) fn context_starts(
         spec: &PhysicsSpec,
-        handles: &[RigidBodyHandle],
+        copy: &Replica,
         pristine: &Sets,
-    ) -> Vec<ContextStart> {
+    ) -> (Vec<ContextStart>, JointGeometry) {
+        let anchors = spec
+            .joints
+            .iter()
+            .map(|j| (v2(j.parent_anchor), v2(j.child_anchor)))
+            .collect();
+        let geometry = JointGeometry::of(&copy.joints, anchors, pristine);
         if spec.contexts.is_empty() {
-            return vec![ContextStart::Pristine];
+            return (vec![ContextStart::Pristine], geometry);
         }
         let index = |name: &str| spec.bodies.iter().position(|b| b.name == name);
-        spec.contexts
+        let joint = |name: &str| spec.joints.iter().position(|j| j.name == name);
+        let starts = spec
+            .contexts
             .iter()
             .map(|c| {
-                let starts: Vec<(RigidBodyHandle, BodyStart)> = c
+                let bodies: Vec<(RigidBodyHandle, BodyStart)> = c
                     .bodies
                     .iter()
-                    .map(|b| (handles[index(&b.body).expect("validated body")], b.clone()))
+                    .map(|b| {
+                        (
+                            copy.handles[index(&b.body).expect("validated body")],
+                            b.clone(),
+                        )
+                    })
                     .collect();
+                let joints: Vec<(usize, JointStart)> = c
+                    .joints
+                    .iter()
+                    .filter_map(|s| joint(&s.joint).map(|k| (k, s.clone())))
+                    .collect();
+                let carry = !joints.is_empty()
+                    || spec
+                        .joints
+                        .iter()
+                        .any(|j| c.bodies.iter().any(|b| b.body == j.parent));
+                let starts = Placement {
+                    bodies,
+                    joints,
+                    carry,
+                };
                 if c.is_sampled() {
                     ContextStart::Sampled(starts)
                 } else {
                     let mut sets = pristine.clone();
-                    place(&mut sets, &starts, None);
+                    place(&mut sets, &starts, &copy.joints, &geometry, None);
                     ContextStart::Named(Arc::new(sets))
                 }
             })
-            .collect()
+            .collect();
+        (starts, geometry)
     }
 
     /// The state of copy 0 in `sets`, holding `snapshot` (those sets).
@@ -168,7 +240,8 @@ impl PhysicsWorld {
     }
 
     /// The start state of context `context`, drawn with `rng` for a
-    /// sampled context (two floats per ranged body: x, then y).
+    /// sampled context (two floats per ranged body: x, then y; then one
+    /// per ranged joint).
     pub(super) fn start_of(
         &self,
         context: usize,
@@ -186,7 +259,8 @@ impl PhysicsWorld {
             ContextStart::Named(sets) => self.state_of(sets.clone(), Some(context)),
             ContextStart::Sampled(starts) => {
                 let mut sets = self.pristine.clone();
-                place(&mut sets, starts, Some(rng));
+                let infos = &self.copies[0].joints;
+                place(&mut sets, starts, infos, &self.joint_geometry, Some(rng));
                 self.state_of(Arc::new(sets), None)
             }
         })

@@ -27,6 +27,7 @@
 
 mod build;
 mod context;
+mod joint_start;
 mod mirror;
 mod record;
 mod step;
@@ -255,6 +256,8 @@ pub struct PhysicsWorld {
     /// The start contexts (one, the pristine start, for a scene without
     /// contexts).
     contexts: Vec<context::ContextStart>,
+    /// The joints' anchors and order, for the contexts that set them.
+    joint_geometry: joint_start::JointGeometry,
 }
 
 /// One copy of a scene's non-fixed bodies and joints, resolved to handles.

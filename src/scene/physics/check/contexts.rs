@@ -1,7 +1,7 @@
 //! A physics scene's start contexts, as the scene reads them: their
 //! number, names, and the checks of their fields.
 
-use super::super::context::BodyStart;
+use super::super::context::{BodyStart, JointStart};
 use super::super::{BodyKind, PhysicsSpec};
 use crate::scene::Invalid;
 
@@ -21,8 +21,10 @@ impl PhysicsSpec {
     }
 
     /// Checks the contexts: distinct non-empty names, known free bodies
-    /// (dynamic, no joint's child: joint angles are not context fields),
-    /// finite numbers, speeds under `max_speed`, `to` only with `position`.
+    /// (dynamic, no joint's child: a jointed body is set by its joints),
+    /// known joints, finite numbers, joint coordinates within the joints'
+    /// limits, speeds under `max_speed`, `to` only with `position` or
+    /// `angle`.
     pub(crate) fn check_contexts(&self) -> Result<(), Invalid> {
         for (k, c) in self.contexts.iter().enumerate() {
             let here = |field: &str, expected: String| Invalid {
@@ -49,13 +51,83 @@ impl PhysicsSpec {
                     return Err(here(
                         "body",
                         format!(
-                            "a free dynamic body (no joint's child), found `{}` (joint angles are not context fields)",
+                            "a free dynamic body (no joint's child), found `{}` (set a jointed body by its joint: `joints: [(joint: \"...\", angle: ...)]`)",
                             b.body
                         ),
                     ));
                 }
                 self.check_body_start(b, &here)?;
             }
+            for (j, s) in c.joints.iter().enumerate() {
+                if c.joints[..j].iter().any(|o| o.joint == s.joint) {
+                    return Err(here("joint", format!("joint `{}` listed once", s.joint)));
+                }
+                self.check_joint_start(s, &here)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The numbers of one joint's start in a context: a known joint, a
+    /// finite coordinate (and range end) within its limits, a finite rate.
+    fn check_joint_start(
+        &self,
+        s: &JointStart,
+        here: &dyn Fn(&str, String) -> Invalid,
+    ) -> Result<(), Invalid> {
+        let Some(spec) = self.joints.iter().find(|j| j.name == s.joint) else {
+            let names: Vec<&str> = self.joints.iter().map(|j| j.name.as_str()).collect();
+            return Err(here(
+                "joint",
+                format!(
+                    "a joint of the scene, found `{}` (joints: {})",
+                    s.joint,
+                    if names.is_empty() {
+                        "none".into()
+                    } else {
+                        names.join(", ")
+                    }
+                ),
+            ));
+        };
+        let unit = if spec.kind.is_revolute() { "rad" } else { "m" };
+        for (field, v) in [("angle", s.angle), ("to", s.to)] {
+            let Some(v) = v else { continue };
+            if !v.is_finite() || v.abs() > 1e3 {
+                return Err(here(
+                    field,
+                    format!(
+                        "joint `{}`: a finite coordinate within 1000 {unit}, found {v}",
+                        s.joint
+                    ),
+                ));
+            }
+            if let Some((lo, hi)) = spec.limits {
+                if v < lo || v > hi {
+                    return Err(here(
+                        field,
+                        format!(
+                            "joint `{}`: a coordinate within its limits [{lo}, {hi}] {unit}, found {v}",
+                            s.joint
+                        ),
+                    ));
+                }
+            }
+        }
+        if s.to.is_some() && s.angle.is_none() {
+            return Err(here(
+                "to",
+                format!(
+                    "joint `{}`: `to` with an `angle` (the range's other end)",
+                    s.joint
+                ),
+            ));
+        }
+        if s.velocity.is_some_and(|w| !w.is_finite() || w.abs() > 1e3) {
+            return Err(here(
+                "velocity",
+                format!("joint `{}`: a finite rate within 1000 {unit}/s", s.joint),
+            ));
         }
         Ok(())
     }
