@@ -44,7 +44,9 @@ use crate::effect::Target;
 use crate::hash::fnv1a64;
 use crate::learner::{ContinuousLearner, Learner, LearnerKind, Params};
 use crate::scene::Scene;
-use crate::world::{ContinuousWorld, ExecOptions, Executor, OutcomeTable, Workload, World};
+use crate::world::{
+    ContinuousWorld, ExecOptions, Executor, OutcomeTable, Strategy, Workload, World,
+};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -206,7 +208,7 @@ impl SweepScene for Scene {
         options: &ExecOptions,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
         if self.spec().is_continuous() {
-            return super::values::prepare(self, work, options);
+            return prepare_values(self, work, options);
         }
         let e = Executor::new(self, work, options)?;
         Ok(Box::new(e))
@@ -219,7 +221,7 @@ impl SweepScene for Scene {
         progress: &(dyn Fn(u64, u64) + Sync),
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
         if self.spec().is_continuous() {
-            return super::values::prepare(self, work, options);
+            return prepare_values(self, work, options);
         }
         let e = Executor::with_progress(self, work, options, progress)?;
         Ok(Box::new(e))
@@ -714,5 +716,48 @@ pub(crate) fn describe_space(space: &CommandSpace) -> String {
                 .collect::<Vec<_>>()
                 .join(", ")
         ))
+    }
+}
+
+/// The executor of a continuous scene's sessions in a sweep: live, in the
+/// lockstep groups of [`Executor::for_values`]. A forced table or memo is
+/// refused (values cannot be tabled or memoised).
+fn prepare_values<'a>(
+    scene: &'a Scene,
+    work: &Workload,
+    options: &ExecOptions,
+) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
+    if let Some(s @ (Strategy::Table | Strategy::Memo)) = options.force {
+        return Err(forced_error(&scene.spec().name, s));
+    }
+    let exec = Executor::for_values(scene, work)?;
+    Ok(Box::new(ValueRun(exec)))
+}
+
+/// The refusal of a table or memo forced on the continuous scene `scene`.
+pub(super) fn forced_error(scene: &str, forced: Strategy) -> SweepError {
+    SweepError::Other(format!(
+        "scene `{scene}` takes continuous commands, which run live only (no table, no memo), but the sweep forces {forced}"
+    ))
+}
+
+/// The worlds of a continuous scene during one run.
+struct ValueRun<'a>(Executor<'a>);
+
+impl SceneRun for ValueRun<'_> {
+    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
+        self.0.session_groups(sessions)
+    }
+    /// The scene's world of symbols, whose placeholder space refuses every
+    /// command (the sessions run on [`value_world`](Self::value_world)).
+    fn world(&self, width: usize) -> Box<dyn World + Send + '_> {
+        self.0.world(width)
+    }
+    fn value_world(&self, width: usize) -> Option<Box<dyn ContinuousWorld + Send + '_>> {
+        let world = self.0.continuous()?.world(self.0.copies_for(width));
+        Some(Box::new(world))
+    }
+    fn describe(&self) -> Option<String> {
+        Some(self.0.plan().to_string())
     }
 }

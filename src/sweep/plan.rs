@@ -355,7 +355,7 @@ impl Sweep {
             }
             scenes.push(scene);
         }
-        super::values::check(
+        check_values(
             &scenes,
             &*learners,
             &spec.learners,
@@ -450,7 +450,7 @@ impl Sweep {
                 .iter()
                 .find(|sc| sc.scene().and_then(crate::Scene::value_space).is_some());
             if let Some(scene) = continuous {
-                return Err(super::values::forced_error(scene.name(), s));
+                return Err(super::factory::forced_error(scene.name(), s));
             }
         }
         self.exec.force = strategy;
@@ -692,4 +692,50 @@ mod tests {
         assert_eq!(Shard { k: 3, n: 3 }.count(2), 0);
         assert!("4/3".parse::<Shard>().is_err());
     }
+}
+
+/// Checks, while the sweep is planned, that every learner of the sweep
+/// takes continuous commands on each continuous scene (a learner of
+/// symbols only is refused with its reason) and that no continuous scene
+/// runs episodes. `bad(field, anchor, expected)` places the error.
+fn check_values(
+    scenes: &[Arc<dyn SweepScene>],
+    learners: &dyn LearnerFactory,
+    names: &[String],
+    episodes: bool,
+    bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
+) -> Result<(), SweepError> {
+    for s in scenes {
+        let Some(space) = s.scene().and_then(crate::Scene::value_space) else {
+            continue;
+        };
+        let anchor = format!("\"{}\"", s.name());
+        if episodes {
+            return Err(bad(
+                "scenes",
+                Some(&anchor),
+                &format!("scenes of symbols in a sweep of episodes (commands, observe or closed_loop set), found `{}`, whose slots take values (`Continuous`)", s.name()),
+            ));
+        }
+        for name in names {
+            let made = learners.make_continuous(
+                name,
+                &Params::TASK1,
+                &space,
+                s.num_effects(),
+                &crate::effect::Target::Uniform,
+            );
+            if let Err(e) = made {
+                return Err(bad(
+                    "learners",
+                    None,
+                    &format!(
+                        "learners that take continuous commands on scene `{}`, found `{name}`: {e}",
+                        s.name()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
