@@ -662,38 +662,6 @@ fn check_size(
     Ok(num_cells)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn shards_partition_the_sessions() {
-        let total = 17;
-        let shards: Vec<Shard> = (1..=3).map(|k| Shard { k, n: 3 }).collect();
-        for i in 0..total {
-            assert_eq!(shards.iter().filter(|s| s.contains(i)).count(), 1);
-        }
-        let counts: usize = shards.iter().map(|s| s.count(total)).sum();
-        assert_eq!(counts, total);
-        assert_eq!(shards[0].count(total), 6);
-        assert_eq!(shards[2].count(total), 5);
-        assert_eq!("2/3".parse::<Shard>().unwrap(), shards[1]);
-        assert!("0/3".parse::<Shard>().is_err());
-        // no overflow with the largest N
-        let huge: Shard = "1/18446744073709551615".parse().unwrap();
-        assert_eq!(huge.count(total), 1);
-        assert_eq!(huge.count(0), 0);
-        let last = Shard {
-            k: usize::MAX,
-            n: usize::MAX,
-        };
-        assert_eq!(last.count(total), 0);
-        assert_eq!(last.count(usize::MAX), 1);
-        assert_eq!(Shard { k: 3, n: 3 }.count(2), 0);
-        assert!("4/3".parse::<Shard>().is_err());
-    }
-}
-
 /// Checks, while the sweep is planned, that every learner of the sweep
 /// takes continuous commands on each continuous scene (a learner of
 /// symbols only is refused with its reason) and that no continuous scene
@@ -738,4 +706,36 @@ fn check_values(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_partition_the_sessions() {
+        let total = 17;
+        let shards: Vec<Shard> = (1..=3).map(|k| Shard { k, n: 3 }).collect();
+        for i in 0..total {
+            assert_eq!(shards.iter().filter(|s| s.contains(i)).count(), 1);
+        }
+        let counts: usize = shards.iter().map(|s| s.count(total)).sum();
+        assert_eq!(counts, total);
+        assert_eq!(shards[0].count(total), 6);
+        assert_eq!(shards[2].count(total), 5);
+        assert_eq!("2/3".parse::<Shard>().unwrap(), shards[1]);
+        assert!("0/3".parse::<Shard>().is_err());
+        // no overflow with the largest N
+        let huge: Shard = "1/18446744073709551615".parse().unwrap();
+        assert_eq!(huge.count(total), 1);
+        assert_eq!(huge.count(0), 0);
+        let last = Shard {
+            k: usize::MAX,
+            n: usize::MAX,
+        };
+        assert_eq!(last.count(total), 0);
+        assert_eq!(last.count(usize::MAX), 1);
+        assert_eq!(Shard { k: 3, n: 3 }.count(2), 0);
+        assert!("4/3".parse::<Shard>().is_err());
+    }
 }
