@@ -293,7 +293,8 @@ fn every_contextual_learner_follows_its_plain_transcription() {
 }
 
 /// SMM per context: each context's learner is a fresh SMM fed only that
-/// context's trials (SMM's own transcription test is its unit test).
+/// context's trials (SMM itself follows its plain transcription:
+/// `drives::smm_follows_its_plain_transcription`).
 #[test]
 fn smm_per_context_is_one_smm_per_context() {
     let scene = Scene::parse(TWO_ROOMS_CONTEXTS, "t.ron").unwrap();

@@ -173,3 +173,122 @@ fn every_learner_is_named_on_the_command_line() {
     );
     assert_eq!(e.input(), "e3d-relax");
 }
+
+/// State marginal matching as docs/algorithms.md writes it, line by line:
+/// `N(e)`, `t`, `rho(e) = (N(e) + 1) / (t + |E|)`, the update of every
+/// chosen symbol with the drive `log p*(e) - log rho(e)`, a copy of `Q`
+/// kept every 50 trials (past 256 copies, the later of each pair kept and
+/// the interval doubled), and proposals from a copy drawn uniformly among
+/// the kept ones and the current `Q`.
+struct PlainSmm {
+    q: Vec<Vec<f64>>,
+    n: Vec<f64>,
+    t: f64,
+    copies: Vec<Vec<Vec<f64>>>,
+    every: u64,
+    p: Params,
+}
+
+impl PlainSmm {
+    fn propose(&self, rng: &mut e3d::SessionRng) -> Vec<u8> {
+        use rand::RngExt;
+        let k = rng.random_range(0..=self.copies.len());
+        let q = self.copies.get(k).unwrap_or(&self.q);
+        q.iter()
+            .map(|qs| {
+                let w: Vec<f64> = qs.iter().map(|v| (self.p.beta * v).exp()).collect();
+                let z: f64 = w.iter().sum();
+                let u: f64 = rng.random();
+                let mut cum = 0.0;
+                for (a, wa) in w.iter().enumerate() {
+                    cum += wa / z;
+                    if u < cum {
+                        return a as u8;
+                    }
+                }
+                (qs.len() - 1) as u8
+            })
+            .collect()
+    }
+
+    fn learn(&mut self, c: &[u8], e: usize, r: f64) {
+        let Params {
+            alpha,
+            beta,
+            lambda,
+            ..
+        } = self.p;
+        let effects = self.n.len() as f64;
+        self.n[e] += 1.0;
+        self.t += 1.0;
+        let rho = (self.n[e] + 1.0) / (self.t + effects);
+        let drive = (1.0 / effects).ln() - rho.ln();
+        for (slot, &a) in c.iter().enumerate() {
+            let q = &mut self.q[slot][a as usize];
+            *q = (1.0 - alpha * lambda) * *q + alpha * lambda * r + alpha / beta * drive;
+        }
+        if self.t as u64 % self.every == 0 {
+            self.copies.push(self.q.clone());
+            if self.copies.len() > 256 {
+                self.copies = std::mem::take(&mut self.copies)
+                    .into_iter()
+                    .enumerate()
+                    .filter(|(i, _)| i % 2 == 1)
+                    .map(|(_, q)| q)
+                    .collect();
+                self.every *= 2;
+            }
+        }
+    }
+}
+
+#[test]
+fn smm_follows_its_plain_transcription() {
+    use rand::SeedableRng;
+    let (scene, table) = two_rooms();
+    let space = scene.command_space();
+    // small Q values (beta 1) keep the softmax weights unscaled in the plain
+    // form; 14000 trials pass the 256 copies, so the thinning runs once
+    let p = Params {
+        beta: 1.0,
+        ..Params::TASK2
+    };
+    let effects = scene.num_effects();
+    let mut fast = StateMarginalMatching::new(&space, effects, &p, &Target::Uniform).unwrap();
+    let mut plain = PlainSmm {
+        q: vec![vec![0.0; 4]; 7],
+        n: vec![0.0; effects],
+        t: 0.0,
+        copies: Vec::new(),
+        every: 50,
+        p,
+    };
+    let (mut ra, mut rb) = (
+        e3d::SessionRng::seed_from_u64(11),
+        e3d::SessionRng::seed_from_u64(11),
+    );
+    let mut c = space.first();
+    let (trials, mut same, mut rewarded) = (14_000, 0, 0);
+    for _ in 0..trials {
+        fast.propose(&mut ra, &mut c);
+        let cp = Command::new(plain.propose(&mut rb));
+        same += usize::from(c == cp);
+        // both learn the plain form's command, so that a draw rounded the
+        // other way does not part them
+        let o = table.lookup(&cp).unwrap();
+        rewarded += usize::from(o.reward > 0.0);
+        fast.learn(&cp, o);
+        plain.learn(&cp.symbols, o.effect, o.reward);
+    }
+    assert!(same >= trials - 10, "{same} of {trials} commands equal");
+    assert!(rewarded > 0, "the reward term was exercised");
+    // 257 copies at trial 12850, thinned to 128, then one every 100 trials
+    // from 12900 to 14000
+    assert_eq!(fast.num_snapshots(), 128 + 12);
+    assert_eq!(fast.num_snapshots(), plain.copies.len());
+    for (slot, want) in plain.q.iter().enumerate() {
+        for (a, b) in fast.q(slot).iter().zip(want) {
+            assert!((a - b).abs() < 1e-9, "slot {slot}: {a} vs {b}");
+        }
+    }
+}
