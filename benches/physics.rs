@@ -125,33 +125,9 @@ fn continuous(c: &mut Criterion) {
 }
 
 /// puck_rooms's rooms and puck with 3 continuous slots, each an impulse
-/// of 1.6 N*s in any heading (the scene of tests/physics/continuous.rs):
+/// of 1.6 N*s in any heading (tests/scenes/puck_headings.ron, the tests' too):
 /// one moving body, so its copies in one world are exact.
-const PUCK_HEADINGS: &str = r#"Scene(
-    name: "puck_headings",
-    world: Physics(
-        gravity: (0.0, 0.0),
-        dt: 0.016666666666666666,
-        walls: [
-            (name: "wall", room: ((0.0, 0.0), (6.0, 3.0)), placement: Outside,
-             thickness: 0.1, friction: 0.0, restitution: 0.5),
-            (name: "inner", points: [(3.0, 0.0), (3.0, 3.0)], doors: [((3.0, 1.0), (3.0, 2.0))],
-             names: ["inner_low", "inner_high"], thickness: 0.1, friction: 0.0, restitution: 0.5),
-        ],
-        bodies: [
-            (name: "puck", shape: Ball(radius: 0.2), mass: 1.0, position: (0.5, 2.5),
-             linear_damping: 1.5, friction: 0.0, restitution: 0.5, lock_rotation: true),
-        ],
-        schedule: Sequential(phase: 0.5, settle: 1.0),
-        effect: (body: "puck", grid: (rows: 3, cols: 6, min: (0.0, 0.0), max: (6.0, 3.0))),
-    ),
-    command: Continuous([
-        (name: "h1", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
-        (name: "h2", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
-        (name: "h3", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
-    ]),
-)
-"#;
+const PUCK_HEADINGS: &str = include_str!("../tests/scenes/puck_headings.ron");
 
 /// 32 sessions of 8 Gaussian E3D trials of continuous commands on one
 /// thread: in lockstep on one world of 32 copies (`run_value_sessions`,

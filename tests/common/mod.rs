@@ -87,28 +87,45 @@ pub fn temp_dir(name: &str) -> TempDir {
 /// A puck that takes continuous commands: puck_rooms's rooms and puck,
 /// 3 slots of a 1.6 N*s impulse in any heading. Its copies in one world are
 /// exact, so its sessions step together in lockstep.
-pub const PUCK_HEADINGS: &str = r#"Scene(
-    name: "puck_headings",
-    world: Physics(
-        gravity: (0.0, 0.0),
-        dt: 0.016666666666666666,
-        walls: [
-            (name: "wall", room: ((0.0, 0.0), (6.0, 3.0)), placement: Outside,
-             thickness: 0.1, friction: 0.0, restitution: 0.5),
-            (name: "inner", points: [(3.0, 0.0), (3.0, 3.0)], doors: [((3.0, 1.0), (3.0, 2.0))],
-             names: ["inner_low", "inner_high"], thickness: 0.1, friction: 0.0, restitution: 0.5),
-        ],
-        bodies: [
-            (name: "puck", shape: Ball(radius: 0.2), mass: 1.0, position: (0.5, 2.5),
-             linear_damping: 1.5, friction: 0.0, restitution: 0.5, lock_rotation: true),
-        ],
-        schedule: Sequential(phase: 0.5, settle: 1.0),
-        effect: (body: "puck", grid: (rows: 3, cols: 6, min: (0.0, 0.0), max: (6.0, 3.0))),
-    ),
-    command: Continuous([
-        (name: "h1", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
-        (name: "h2", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
-        (name: "h3", range: (-3.14159, 3.14159), action: Heading(body: "puck", impulse: 1.6)),
-    ]),
-)
-"#;
+pub const PUCK_HEADINGS: &str = include_str!("../scenes/puck_headings.ron");
+
+/// The normalised entropy of the terminal cells per start context (of
+/// `contexts`) after 5000 one-command episodes of contextual E3D (task 1)
+/// on the world `world()` makes: first observing its start context, then
+/// blind to it.
+pub fn seen_and_blind_entropy<W: e3d::World + ?Sized>(
+    space: &e3d::CommandSpace,
+    num_effects: usize,
+    contexts: usize,
+    seed: u64,
+    mut world: impl FnMut() -> Box<W>,
+) -> Vec<Vec<f64>> {
+    use e3d::episode::{run_episodes, EpisodeConfig, Observe};
+    use e3d::learner::ContextTargets;
+    use e3d::{LearnerKind, Params, Target};
+    [Observe::StartContext, Observe::Blind]
+        .into_iter()
+        .map(|observe| {
+            let mut w = world();
+            let cfg = EpisodeConfig {
+                episodes: 5000,
+                commands: 1,
+                seed,
+                use_reward: false,
+                observe,
+            };
+            let mut l = LearnerKind::E3d
+                .make_contextual(
+                    &Params::TASK1,
+                    space,
+                    num_effects,
+                    cfg.num_contexts(&*w),
+                    &ContextTargets::Shared(Target::Uniform),
+                )
+                .unwrap();
+            run_episodes(&mut *w, &mut l, &cfg)
+                .unwrap()
+                .entropy_per_start(contexts)
+        })
+        .collect()
+}

@@ -524,33 +524,8 @@ fn closed_loop_e3d_exploits_where_contextual_e3d_cannot() {
 fn contextual_e3d_spreads_every_context_where_blind_e3d_cannot() {
     let scene = Scene::load("scenes/two_rooms_contexts.ron").unwrap();
     let space = scene.command_space();
-    let shared = ContextTargets::Shared(Target::Uniform);
     for seed in 0..4 {
-        let mut h = Vec::new();
-        for observe in [Observe::StartContext, Observe::Blind] {
-            let mut world = scene.build();
-            let cfg = EpisodeConfig {
-                episodes: 5000,
-                commands: 1,
-                seed,
-                use_reward: false,
-                observe,
-            };
-            let mut l = LearnerKind::E3d
-                .make_contextual(
-                    &Params::TASK1,
-                    &space,
-                    18,
-                    cfg.num_contexts(&world),
-                    &shared,
-                )
-                .unwrap();
-            h.push(
-                run_episodes(&mut world, &mut l, &cfg)
-                    .unwrap()
-                    .entropy_per_start(2),
-            );
-        }
+        let h = crate::common::seen_and_blind_entropy(&space, 18, 2, seed, || scene.build());
         for s in 0..2 {
             assert!(h[0][s] > 0.93, "seed {seed}: {h:?}");
             assert!(h[1][s] < 0.84, "seed {seed}: {h:?}");

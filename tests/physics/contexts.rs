@@ -216,36 +216,13 @@ fn the_context_memo_changes_no_result() {
 fn contextual_e3d_spreads_every_room_of_the_puck_where_blind_e3d_cannot() {
     let scene = puck_contexts();
     let space = scene.command_space();
-    let shared = ContextTargets::Shared(Target::Uniform);
     let memos: Vec<OutcomeMemo> = (0..2)
         .map(|_| OutcomeMemo::new(&space, 18, 1 << 20).unwrap())
         .collect();
     for seed in 0..3 {
-        let mut h = Vec::new();
-        for observe in [Observe::StartContext, Observe::Blind] {
-            let mut world = ContextMemoized::new(scene.build(), &memos);
-            let cfg = EpisodeConfig {
-                episodes: 5000,
-                commands: 1,
-                seed,
-                use_reward: false,
-                observe,
-            };
-            let mut l = LearnerKind::E3d
-                .make_contextual(
-                    &Params::TASK1,
-                    &space,
-                    18,
-                    cfg.num_contexts(&world),
-                    &shared,
-                )
-                .unwrap();
-            h.push(
-                run_episodes(&mut world, &mut l, &cfg)
-                    .unwrap()
-                    .entropy_per_start(2),
-            );
-        }
+        let h = crate::common::seen_and_blind_entropy(&space, 18, 2, seed, || {
+            Box::new(ContextMemoized::new(scene.build(), &memos))
+        });
         for s in 0..2 {
             assert!(h[0][s] > 0.94, "seed {seed}: {h:?}");
             assert!(h[1][s] < 0.84, "seed {seed}: {h:?}");
