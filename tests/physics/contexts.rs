@@ -136,6 +136,20 @@ fn named_contexts_start_where_they_say() {
 /// A context with a range draws the start with the session's generator:
 /// inside the rectangle, the same seed the same start, and such starts are
 /// never looked up by context.
+/// The start drawn in `context` with seed `seed`: the same twice, and a
+/// drawn state (no listed context).
+fn seeded_draw(w: &dyn World, context: usize, seed: u64) -> WorldState {
+    let s = w
+        .draw_start(context, &mut SessionRng::seed_from_u64(seed))
+        .unwrap();
+    let again = w
+        .draw_start(context, &mut SessionRng::seed_from_u64(seed))
+        .unwrap();
+    assert_eq!(s, again);
+    assert_eq!(s.context(), None);
+    s
+}
+
 #[test]
 fn drawn_contexts_are_seeded_and_inside_their_range() {
     let scene = edited(
@@ -148,14 +162,7 @@ fn drawn_contexts_are_seeded_and_inside_their_range() {
     let w = scene.build();
     let mut xs = Vec::new();
     for seed in 0..20 {
-        let s = w
-            .draw_start(1, &mut SessionRng::seed_from_u64(seed))
-            .unwrap();
-        let again = w
-            .draw_start(1, &mut SessionRng::seed_from_u64(seed))
-            .unwrap();
-        assert_eq!(s, again);
-        assert_eq!(s.context(), None);
+        let s = seeded_draw(&*w, 1, seed);
         let st = physics(&s);
         let p = st.poses.last().unwrap();
         assert!(
@@ -420,14 +427,7 @@ fn joint_contexts_continue_exactly_over_three_commands() {
     let w = drawn.build();
     let mut qs = Vec::new();
     for seed in 0..10 {
-        let a = w
-            .draw_start(0, &mut SessionRng::seed_from_u64(seed))
-            .unwrap();
-        let b = w
-            .draw_start(0, &mut SessionRng::seed_from_u64(seed))
-            .unwrap();
-        assert_eq!(a, b);
-        assert_eq!(a.context(), None);
+        let a = seeded_draw(&*w, 0, seed);
         let q = physics(&a).joints[1][0];
         assert!((-0.5 - 1e-5..=0.5 + 1e-5).contains(&q), "{q}");
         assert!(hinges_hold(&drawn, &a) < 1e-5);
