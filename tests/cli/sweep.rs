@@ -31,9 +31,10 @@ Sweep(
     p
 }
 
-const FINAL_FILES: [&str; 4] = ["results.csv", "summary.csv", "sweep.ron", "version.txt"];
+pub(crate) const FINAL_FILES: [&str; 4] =
+    ["results.csv", "summary.csv", "sweep.ron", "version.txt"];
 
-fn assert_same_files(a: &Path, b: &Path, files: &[&str]) {
+pub(crate) fn assert_same_files(a: &Path, b: &Path, files: &[&str]) {
     for f in files {
         let x = std::fs::read(a.join(f)).unwrap_or_else(|e| panic!("{}: {e}", a.join(f).display()));
         let y = std::fs::read(b.join(f)).unwrap_or_else(|e| panic!("{}: {e}", b.join(f).display()));

@@ -3,10 +3,8 @@
 //! session run alone, whatever the threads and the shards.
 
 use crate::common::{e3d, ok, temp_dir, PUCK_HEADINGS};
+use crate::sweep::{assert_same_files, FINAL_FILES};
 use e3d::{run_value_session, LearnerKind, Scene, SessionConfig, Target};
-use std::path::Path;
-
-const FINAL_FILES: [&str; 4] = ["results.csv", "summary.csv", "sweep.ron", "version.txt"];
 
 /// A puck of continuous commands (exact copies: its sessions step
 /// together) and arm7_continuous (a world per session), 2 learners, 2
@@ -21,21 +19,6 @@ const SWEEP: &str = r#"Sweep(
     metrics: [normalized_entropy, kl_to_target, distinct_effects, cumulative_reward(40), first_reward_trial],
 )
 "#;
-
-fn same_files(a: &Path, b: &Path) {
-    for f in FINAL_FILES {
-        let (x, y) = (
-            std::fs::read(a.join(f)).unwrap(),
-            std::fs::read(b.join(f)).unwrap(),
-        );
-        assert!(
-            x == y,
-            "{f} differs between {} and {}",
-            a.display(),
-            b.display()
-        );
-    }
-}
 
 #[test]
 fn a_continuous_sweep_gives_each_session_alone_whatever_the_threads_and_shards() {
@@ -58,7 +41,7 @@ fn a_continuous_sweep_gives_each_session_alone_whatever_the_threads_and_shards()
         "{told}"
     );
     ok(e3d(&["sweep", f, "--out", &out("two"), "--threads", "2"]));
-    same_files(&d.join("one"), &d.join("two"));
+    assert_same_files(&d.join("one"), &d.join("two"), &FINAL_FILES);
     for k in 1..=2 {
         let shard = out(&format!("shard{k}"));
         ok(e3d(&[
@@ -79,7 +62,7 @@ fn a_continuous_sweep_gives_each_session_alone_whatever_the_threads_and_shards()
         "--out",
         &out("merged"),
     ]));
-    same_files(&d.join("one"), &d.join("merged"));
+    assert_same_files(&d.join("one"), &d.join("merged"), &FINAL_FILES);
 
     // every row holds the metrics of the session run alone, on a world of
     // one copy, with its seed and its cell's parameters
