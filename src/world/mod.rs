@@ -42,7 +42,10 @@ pub use plan::{
 pub use reach::{
     farthest_reached_cell, sample_reach, sample_reach_with_progress, FarthestCell, ReachSample,
 };
-pub use table::{CachedOutcomes, OutcomeTable, MAX_TABLE_COMMANDS, TABLE_COPIES};
+pub use table::{
+    seed0_start, start_contexts, CachedOutcomes, ContextTables, OutcomeTable, StartContext,
+    TabledContexts, MAX_TABLE_COMMANDS, TABLE_COPIES,
+};
 
 use crate::command::{Command, CommandSpace, ValueSpace};
 use serde::{Deserialize, Serialize};

@@ -9,6 +9,9 @@ use e3d::OutcomeTable;
 use std::path::Path;
 
 pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
+    if !e3d::world::start_contexts(scene).is_empty() {
+        return context_table(scene, cache);
+    }
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
     if n > e3d::world::MAX_TABLE_COMMANDS {
         return Err(CliError::input(format!(
@@ -97,4 +100,72 @@ pub(super) fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, b
     // a cache that cannot be written is not an error: it costs time only
     let _ = table.write_file(&path, scene);
     Ok((table, false))
+}
+
+/// `e3d scene table` on a scene with start contexts: one table per named
+/// context (every command from its start), the table keyed by
+/// `(context, command)`; a drawn context is refused, named.
+fn context_table(scene: &Scene, cache: Option<&Path>) -> CliResult {
+    use e3d::world::{ContextTables, TabledContexts};
+    let contexts = TabledContexts::of(scene).map_err(|e| CliError::input(e.to_string()))?;
+    let simulated = contexts.simulated_commands();
+    let secs = e3d::world::rollout_seconds(scene) * simulated as f64
+        * super::simulate::calibration(scene, rayon::current_num_threads(), 1)
+        / rayon::current_num_threads() as f64;
+    let start = std::time::Instant::now();
+    let (tables, existed) = match cache {
+        Some(dir) => {
+            let mut read = true;
+            let t = simulate_all(scene, simulated, secs, |progress| {
+                ContextTables::cached(contexts, dir, progress).map(|(t, r)| {
+                    read = r;
+                    t
+                })
+            })
+            .map_err(world_error)?;
+            (t, read)
+        }
+        None => (
+            simulate_all(scene, simulated, secs, |progress| {
+                ContextTables::build_with_progress(contexts, progress)
+            })
+            .map_err(world_error)?,
+            false,
+        ),
+    };
+    let secs = start.elapsed().as_secs_f64();
+    let total: usize = tables.tables().iter().map(|t| t.len()).sum();
+    outln!(
+        "scene {}: {} start contexts x {} commands = {total} outcomes in {:.3} s ({:.0} commands/s, {} thread(s), one command per world, from each context's start)",
+        scene.spec().name,
+        tables.len(),
+        tables.table(0).len(),
+        secs,
+        total as f64 / secs,
+        rayon::current_num_threads()
+    );
+    for (k, (name, t)) in tables.names().iter().zip(tables.tables()).enumerate() {
+        let rewarded = t.outcomes().filter(|o| o.reward > 0.0).count();
+        let mut line = format!(
+            "context {name}: reached effects {} of {}, rewarded commands {rewarded}",
+            t.reachable_effects(),
+            scene.num_effects()
+        );
+        if let Some(dir) = cache {
+            let path = ContextTables::cache_path(scene, dir, k);
+            let how = if existed {
+                "read from"
+            } else if path.exists() {
+                "written to"
+            } else {
+                "could not write"
+            };
+            line = format!("{line}; {how} {}", path.display());
+        }
+        outln!("{line}");
+    }
+    if cache.is_none() {
+        outln!("not written (give --cache DIR to keep it)");
+    }
+    Ok(())
 }

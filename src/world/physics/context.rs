@@ -266,6 +266,55 @@ impl PhysicsWorld {
         })
     }
 
+    /// The snapshot of `from`, a state of this world that can be
+    /// continued.
+    fn snapshot_of(&self, from: &WorldState) -> Result<Arc<Sets>, WorldError> {
+        match from {
+            WorldState::Physics(PhysicsState {
+                snapshot: Some(s), ..
+            }) if s.bodies.len() == self.pristine.bodies.len() => Ok(s.clone()),
+            WorldState::Physics(_) => Err(WorldError::Other(
+                "this physics state has no snapshot of this world (read back from a file, or another scene's): it cannot be continued exactly".into(),
+            )),
+            other => Err(WorldError::Other(format!(
+                "scene `{}` is a physics world; it cannot start from {other:?}",
+                self.scene
+            ))),
+        }
+    }
+
+    /// Runs `f` with `from` as the world's start (no mirror twin: the
+    /// symmetry holds about the scene's start only), then puts the
+    /// scene's start and symmetry back: what [`trace`](Self::trace),
+    /// [`inspect`](Self::inspect) and the like do from the scene's start,
+    /// `f` does from `from`.
+    ///
+    /// ```
+    /// use e3d::{Scene, World};
+    /// let scene = Scene::load("scenes/puck_contexts.ron").unwrap();
+    /// let mut world = scene.physics_world().unwrap();
+    /// let c = scene.command_space().parse("EEEEEEE").unwrap();
+    /// let mut rng = <e3d::rng::SessionRng as rand::SeedableRng>::seed_from_u64(0);
+    /// let from = world.draw_start(1, &mut rng).unwrap();
+    /// let trace = world.from_start(&from, |w| w.trace(&c)).unwrap().unwrap();
+    /// let (o, _) = world.execute_from(&from, &c).unwrap();
+    /// assert_eq!(trace.outcome, o);
+    /// ```
+    pub fn from_start<R>(
+        &mut self,
+        from: &WorldState,
+        f: impl FnOnce(&mut Self) -> R,
+    ) -> Result<R, WorldError> {
+        let snapshot = self.snapshot_of(from)?;
+        // a run restores `pristine` first: put the state's sets there
+        let saved = std::mem::replace(&mut self.pristine, Sets::clone(&snapshot));
+        let mirror = self.mirror.take();
+        let r = f(self);
+        self.pristine = saved;
+        self.mirror = mirror;
+        Ok(r)
+    }
+
     /// Executes `command` from `from` on copy 0 (no mirror twin: the
     /// symmetry holds about the scene's start only) and returns its
     /// outcome and the state it leaves.
@@ -274,22 +323,7 @@ impl PhysicsWorld {
         from: &WorldState,
         command: &crate::Command,
     ) -> Result<(crate::Outcome, WorldState), WorldError> {
-        let snapshot = match from {
-            WorldState::Physics(PhysicsState {
-                snapshot: Some(s), ..
-            }) if s.bodies.len() == self.pristine.bodies.len() => s.clone(),
-            WorldState::Physics(_) => {
-                return Err(WorldError::Other(
-                    "this physics state has no snapshot of this world (read back from a file, or another scene's): it cannot be continued exactly".into(),
-                ))
-            }
-            other => {
-                return Err(WorldError::Other(format!(
-                    "scene `{}` is a physics world; it cannot start from {other:?}",
-                    self.scene
-                )))
-            }
-        };
+        let snapshot = self.snapshot_of(from)?;
         // the run restores `pristine` first: put the state's sets there
         let saved = std::mem::replace(&mut self.pristine, Sets::clone(&snapshot));
         let mut out = Vec::with_capacity(1);

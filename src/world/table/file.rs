@@ -52,20 +52,13 @@ impl OutcomeTable {
     /// The file of a scene's table in the folder `dir`:
     /// `NAME-KEY.e3dtable`.
     pub fn cache_path(scene: &Scene, dir: &Path) -> PathBuf {
-        let safe: String = scene
-            .spec()
-            .name
-            .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect();
-        dir.join(format!("{safe}-{:016x}.e3dtable", Self::key(scene)))
+        dir.join(format!(
+            "{}-{:016x}.e3dtable",
+            file_safe(&scene.spec().name),
+            Self::key(scene)
+        ))
     }
+
 
     /// The table of `scene`: read from `dir` if a whole table with the
     /// scene's key is there, otherwise computed in parallel and written
@@ -85,10 +78,15 @@ impl OutcomeTable {
     /// Writes the table as the table file of `scene` at `path` (whole or
     /// not at all), creating its folder.
     pub fn write_file(&self, path: &Path, scene: &Scene) -> io::Result<()> {
+        self.write_file_keyed(path, Self::key(scene))
+    }
+
+    /// [`write_file`](Self::write_file) with the key `key` in its header.
+    pub(super) fn write_file_keyed(&self, path: &Path, key: u64) -> io::Result<()> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir)?;
         }
-        crate::io::write_atomic(path, &self.to_bytes(Self::key(scene)))
+        crate::io::write_atomic(path, &self.to_bytes(key))
     }
 
     /// Writes `entries` (command index and outcome, in increasing index
@@ -161,6 +159,15 @@ impl OutcomeTable {
     /// bit), its point finite. A file resealed after an edit (the checksum
     /// is easy to recompute) is refused as not matching the scene.
     pub fn read_file(path: &Path, scene: &Scene) -> io::Result<CachedOutcomes> {
+        Self::read_file_keyed(path, scene, Self::key(scene))
+    }
+
+    /// [`read_file`](Self::read_file) of a file whose header holds `key`.
+    pub(super) fn read_file_keyed(
+        path: &Path,
+        scene: &Scene,
+        key: u64,
+    ) -> io::Result<CachedOutcomes> {
         let most = scene
             .command_space()
             .num_commands()
@@ -193,7 +200,7 @@ impl OutcomeTable {
             }));
         }
         let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().expect("8 bytes"));
-        if u64_at(8) != Self::key(scene) || u64_at(16) != n {
+        if u64_at(8) != key || u64_at(16) != n {
             return Err(bad("the table belongs to another scene or e3d version"));
         }
         let entries = u64_at(24);
@@ -295,4 +302,18 @@ fn push_record(b: &mut Vec<u8>, o: &Outcome) {
 fn seal(b: &mut Vec<u8>) {
     let sum = crate::hash::fnv1a64(b);
     b.extend_from_slice(&sum.to_le_bytes());
+}
+
+/// `name` with every character but ASCII letters, digits, `_` and `-`
+/// made `_` (a file name's part).
+pub(super) fn file_safe(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
 }

@@ -9,8 +9,10 @@ use rayon::prelude::*;
 use std::io;
 use std::path::{Path, PathBuf};
 
+mod contexts;
 mod file;
 
+pub use contexts::{seed0_start, start_contexts, ContextTables, StartContext, TabledContexts};
 pub use file::CachedOutcomes;
 
 /// The largest command space an [`OutcomeTable`] will enumerate.
