@@ -22,6 +22,10 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
             e3d::world::MAX_TABLE_COMMANDS
         )));
     }
+    let contexts = e3d::world::start_contexts(scene);
+    if !contexts.is_empty() {
+        return context_stats(scene, &contexts, n);
+    }
     let start = std::time::Instant::now();
     let threads = rayon::current_num_threads();
     let secs = n as f64
@@ -80,4 +84,103 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
         std::f64::consts::FRAC_PI_4 / physics.spec().dt
     );
     Ok(())
+}
+
+/// `e3d scene stats` on a physics scene with start contexts: per context
+/// (a drawn one from its seed-0 draw, as `scene exec`), every command run
+/// from its start, with its contacts, limits and speeds, the effects it
+/// reaches and how evenly (the normalised entropy of the terminal
+/// effects); then the union of the contexts' reached effects.
+fn context_stats(scene: &Scene, contexts: &[e3d::world::StartContext], n: u64) -> CliResult {
+    use rayon::prelude::*;
+    let physics = scene.as_physics().expect("checked by the caller");
+    let space = scene.command_space();
+    let probe = scene.build();
+    let starts: Vec<e3d::WorldState> = (0..contexts.len())
+        .map(|k| e3d::world::seed0_start(&probe, k))
+        .collect::<Result<_, _>>()
+        .map_err(world_error)?;
+    let threads = rayon::current_num_threads();
+    let total = n * contexts.len() as u64;
+    let secs = total as f64
+        * e3d::world::rollout_seconds(scene)
+        * super::simulate::calibration(scene, threads, 1)
+        / threads as f64;
+    let start = std::time::Instant::now();
+    let all: Vec<Vec<e3d::world::RunStats>> = simulate_all(scene, total, secs, |progress| {
+        starts
+            .iter()
+            .map(|from| {
+                (0..n)
+                    .into_par_iter()
+                    .map_init(
+                        || physics.world(1),
+                        |w, i| {
+                            let c = space.command_at(i);
+                            let stats = w.from_start(from, |w| w.inspect(&c)).and_then(|r| r);
+                            progress(1);
+                            stats
+                        },
+                    )
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .collect::<Result<_, _>>()
+    })
+    .map_err(world_error)?;
+    let secs = start.elapsed().as_secs_f64();
+    outln!(
+        "scene {}: {} commands from each of {} start contexts in {:.2} s ({:.0} rollouts/s on {threads} thread(s))",
+        scene.spec().name,
+        n,
+        contexts.len(),
+        secs,
+        total as f64 / secs,
+    );
+    let mut union = vec![0u64; scene.num_effects()];
+    for (ctx, runs) in contexts.iter().zip(&all) {
+        let mut cells = vec![0u64; scene.num_effects()];
+        for s in runs {
+            cells[s.outcome.effect] += 1;
+            union[s.outcome.effect] += 1;
+        }
+        let pct = |k: usize| 100.0 * k as f64 / runs.len() as f64;
+        let contacts = runs.iter().filter(|s| s.contact_steps > 0).count();
+        let limits = runs.iter().filter(|s| s.limit_steps > 0).count();
+        let max_speed = runs.iter().map(|s| s.max_speed).fold(0.0, f64::max);
+        outln!(
+            "context {}{}: reached cells {} of {}, normalised entropy of the terminal cells {:.3}; contacts {contacts} ({:.1}%), at a limit {limits} ({:.1}%), top speed {max_speed:.3} m/s",
+            ctx.name,
+            if ctx.drawn { " (drawn: its seed-0 start)" } else { "" },
+            cells.iter().filter(|&&c| c > 0).count(),
+            cells.len(),
+            entropy(&cells),
+            pct(contacts),
+            pct(limits)
+        );
+        outln!("  commands per cell: {}", counts_text(&cells));
+    }
+    outln!(
+        "all contexts: reached cells {} of {} (the union), normalised entropy {:.3}",
+        union.iter().filter(|&&c| c > 0).count(),
+        union.len(),
+        entropy(&union)
+    );
+    Ok(())
+}
+
+/// Counts as `cell:count` pairs of the non-zero ones, space-separated.
+fn counts_text(cells: &[u64]) -> String {
+    let pairs: Vec<String> = cells
+        .iter()
+        .enumerate()
+        .filter(|(_, &c)| c > 0)
+        .map(|(i, c)| format!("{i}:{c}"))
+        .collect();
+    pairs.join(" ")
+}
+
+/// The normalised entropy of `counts` over all their cells.
+fn entropy(counts: &[u64]) -> f64 {
+    let w: Vec<f64> = counts.iter().map(|&c| c as f64).collect();
+    e3d::effect::normalized_entropy_over(&w, w.len())
 }

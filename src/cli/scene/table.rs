@@ -109,7 +109,8 @@ fn context_table(scene: &Scene, cache: Option<&Path>) -> CliResult {
     use e3d::world::{ContextTables, TabledContexts};
     let contexts = TabledContexts::of(scene).map_err(|e| CliError::input(e.to_string()))?;
     let simulated = contexts.simulated_commands();
-    let secs = e3d::world::rollout_seconds(scene) * simulated as f64
+    let secs = e3d::world::rollout_seconds(scene)
+        * simulated as f64
         * super::simulate::calibration(scene, rayon::current_num_threads(), 1)
         / rayon::current_num_threads() as f64;
     let start = std::time::Instant::now();

@@ -59,7 +59,6 @@ impl OutcomeTable {
         ))
     }
 
-
     /// The table of `scene`: read from `dir` if a whole table with the
     /// scene's key is there, otherwise computed in parallel and written
     /// there (whole or not at all). The result is identical either way.
