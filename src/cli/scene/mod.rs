@@ -59,6 +59,12 @@ pub enum SceneCmd {
         /// A command (its symbols, one per slot) whose path to draw.
         #[arg(long, allow_hyphen_values = true)]
         command: Option<String>,
+        /// On a scene with start contexts: draw only the context NAME's
+        /// start (and the command's path from it). Without it, every
+        /// context gets a panel, stacked, titled with its name; a drawn
+        /// context (a range) shows its seed-0 draw, as `scene exec` runs it.
+        #[arg(long, value_name = "NAME", conflicts_with = "animate")]
+        context: Option<String>,
         /// Animate the command (needs `--command`): on a physics scene every
         /// moving body, the tracked point and the time; on a grid the
         /// agent's cell path, a keyframe per slot; looping. An `.html` FILE
@@ -205,13 +211,20 @@ pub fn run(a: SceneArgs) -> CliResult {
             command,
             animate: true,
             out,
+            ..
         } => animate(&load_scene(&scene)?, command.as_deref().unwrap_or(""), &out),
         SceneCmd::Render {
             scene,
             command,
+            context,
             animate: false,
             out,
-        } => render(&load_scene(&scene)?, command.as_deref(), &out),
+        } => render(
+            &load_scene(&scene)?,
+            command.as_deref(),
+            context.as_deref(),
+            &out,
+        ),
         SceneCmd::Exec {
             scene,
             commands,

@@ -2,15 +2,30 @@
 //! animated rollout.
 
 use super::simulate::{say_cost, world_error};
-use crate::cli::console::outln;
+use crate::cli::console::{errln, outln};
 use crate::cli::output::write_file;
 use crate::cli::{CliError, CliResult};
-use e3d::report::scene_svg::{scene_svg, Overlay};
+use e3d::report::scene_svg::{posed_svg, scene_svg, Overlay};
 use e3d::scene::{Scene, WorldSpec};
 use e3d::world::GridSpec;
 use e3d::{Command, GridWorld, World};
 
-pub(super) fn render(scene: &Scene, command: Option<&str>, out: &std::path::Path) -> CliResult {
+pub(super) fn render(
+    scene: &Scene,
+    command: Option<&str>,
+    context: Option<&str>,
+    out: &std::path::Path,
+) -> CliResult {
+    let contexts = e3d::world::start_contexts(scene);
+    if !contexts.is_empty() {
+        return render_contexts(scene, &contexts, command, context, out);
+    }
+    if let Some(name) = context {
+        return Err(CliError::input(format!(
+            "scene {} has no start contexts (`--context {name}`): it has one start, drawn without `--context`",
+            scene.spec().name
+        )));
+    }
     let overlay = match command {
         None => None,
         Some(text) => {
@@ -23,6 +38,165 @@ pub(super) fn render(scene: &Scene, command: Option<&str>, out: &std::path::Path
     write_file(out, svg.as_bytes())?;
     outln!("wrote {}", out.display());
     Ok(())
+}
+
+/// The index of the context `name` of `contexts`, or an error naming
+/// them.
+pub(super) fn context_index(
+    scene: &Scene,
+    contexts: &[e3d::world::StartContext],
+    name: &str,
+) -> Result<usize, CliError> {
+    contexts.iter().position(|c| c.name == name).ok_or_else(|| {
+        let names: Vec<&str> = contexts.iter().map(|c| c.name.as_str()).collect();
+        CliError::input(format!(
+            "scene {}: no start context `{name}` (its contexts: {})",
+            scene.spec().name,
+            names.join(", ")
+        ))
+    })
+}
+
+/// `e3d scene render` on a scene with start contexts: one panel per
+/// context (only `context`'s when given), stacked, each titled with the
+/// context's name and drawn from its start (a drawn context: its seed-0
+/// draw, said on stderr and in the title), with `command`'s path from
+/// there if given.
+fn render_contexts(
+    scene: &Scene,
+    contexts: &[e3d::world::StartContext],
+    command: Option<&str>,
+    context: Option<&str>,
+    out: &std::path::Path,
+) -> CliResult {
+    let chosen: Vec<usize> = match context {
+        Some(name) => vec![context_index(scene, contexts, name)?],
+        None => (0..contexts.len()).collect(),
+    };
+    let space = scene.command_space();
+    let command = match command {
+        Some(text) => Some(space.parse(text).map_err(CliError::input)?),
+        None => None,
+    };
+    let world = scene.build();
+    let mut panels = Vec::new();
+    for k in chosen {
+        let ctx = &contexts[k];
+        let from = e3d::world::seed0_start(&world, k).map_err(world_error)?;
+        if ctx.drawn {
+            errln!(
+                "scene {}: context {} is drawn from a range; the picture shows its seed-0 draw (as `e3d scene exec` runs it)",
+                scene.spec().name,
+                ctx.name
+            );
+        }
+        let label = format!(
+            "{}: context {}{}",
+            scene.spec().name,
+            ctx.name,
+            if ctx.drawn {
+                " (drawn: its seed-0 start)"
+            } else {
+                ""
+            }
+        );
+        panels.push(context_panel(scene, &label, &from, command.as_ref())?);
+    }
+    let count = panels.len();
+    write_file(out, stack_svgs(&panels).as_bytes())?;
+    outln!(
+        "wrote {} ({count} start context{})",
+        out.display(),
+        if count == 1 { "" } else { "s" }
+    );
+    Ok(())
+}
+
+/// The picture of `scene` from the start `from`, titled `label`, with
+/// `command`'s path from there if given.
+fn context_panel(
+    scene: &Scene,
+    label: &str,
+    from: &e3d::WorldState,
+    command: Option<&Command>,
+) -> Result<String, CliError> {
+    let space = scene.command_space();
+    let mut spec = scene.to_spec();
+    spec.name = label.to_string();
+    match (from, &mut spec.world) {
+        (e3d::WorldState::Cell(cell), WorldSpec::Grid(g)) => {
+            g.start = (cell / g.cols, cell % g.cols);
+            let titled = spec.validate().map_err(CliError::input)?;
+            let overlay = match command {
+                Some(c) => Some(overlay_of(&titled, c, &space.format(c))?),
+                None => None,
+            };
+            Ok(scene_svg(&titled, overlay.as_ref()))
+        }
+        (e3d::WorldState::Physics(state), WorldSpec::Physics(_)) => {
+            let titled = spec.validate().map_err(CliError::input)?;
+            let overlay = match command {
+                Some(c) => {
+                    let mut w = scene.physics_world().expect("a physics scene");
+                    let t = w.from_start(from, |w| w.trace(c)).and_then(|t| t);
+                    let t = t.map_err(world_error)?;
+                    Some(Overlay {
+                        command: space.format(c),
+                        points: t.points,
+                        poses: Some(t.poses),
+                        effect: t.outcome.effect,
+                        reward: t.outcome.reward,
+                    })
+                }
+                None => None,
+            };
+            let start: Vec<e3d::world::BodyPose> = state
+                .poses
+                .iter()
+                .map(|p| e3d::world::BodyPose {
+                    position: [p[0], p[1]],
+                    angle: p[2],
+                })
+                .collect();
+            Ok(posed_svg(&titled, &start, overlay.as_ref()))
+        }
+        _ => Err(CliError::input(format!(
+            "scene {}: a start this picture cannot draw",
+            scene.spec().name
+        ))),
+    }
+}
+
+/// SVG pictures stacked top to bottom in one SVG (each keeps its own
+/// size; the whole is as wide as the widest).
+pub(super) fn stack_svgs(panels: &[String]) -> String {
+    if let [one] = panels {
+        return one.clone();
+    }
+    let size = |svg: &str, what: &str| -> f64 {
+        let key = format!(" {what}=\"");
+        svg.find(&key)
+            .and_then(|i| {
+                let rest = &svg[i + key.len()..];
+                rest[..rest.find('"')?].parse().ok()
+            })
+            .unwrap_or(0.0)
+    };
+    let width = panels.iter().map(|p| size(p, "width")).fold(0.0, f64::max);
+    let height: f64 = panels.iter().map(|p| size(p, "height")).sum();
+    let mut out = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width:.0}\" height=\"{height:.0}\" viewBox=\"0 0 {width:.0} {height:.0}\">\n"
+    );
+    let mut y = 0.0;
+    for p in panels {
+        out.push_str(&p.replacen("<svg ", &format!("<svg x=\"0\" y=\"{y:.0}\" "), 1));
+        if !out.ends_with('\n') {
+            out.push('\n');
+        }
+        y += size(p, "height");
+    }
+    out.push_str("</svg>\n");
+    out
 }
 
 /// `e3d scene render --animate`: the command's rollout, animated (SVG, or

@@ -116,6 +116,34 @@ pub fn scene_svg(scene: &Scene, overlay: Option<&Overlay>) -> String {
     }
 }
 
+/// Draws a physics scene as SVG with its bodies at `start` (one pose per
+/// body, in the scene's order: a start context's start, as
+/// [`PhysicsState::poses`](crate::world::PhysicsState) gives it) instead
+/// of the poses the scene lists, and `overlay` (a command's path from that
+/// start) if given; a grid scene is drawn as [`scene_svg`] draws it.
+///
+/// ```
+/// use e3d::report::scene_svg::{posed_svg, scene_svg};
+/// use e3d::world::BodyPose;
+/// use e3d::Scene;
+/// let scene = Scene::load("scenes/puck_contexts.ron").unwrap();
+/// let moved = [BodyPose { position: [5.5, 0.5], angle: 0.0 }];
+/// assert_ne!(posed_svg(&scene, &moved, None), scene_svg(&scene, None));
+/// ```
+pub fn posed_svg(scene: &Scene, start: &[BodyPose], overlay: Option<&Overlay>) -> String {
+    match &scene.spec().world {
+        WorldSpec::Grid(g) => grid_svg(scene, g, overlay),
+        WorldSpec::Physics(p) => {
+            let mut posed = p.clone();
+            for (b, pose) in posed.bodies.iter_mut().zip(start) {
+                b.position = (pose.position[0], pose.position[1]);
+                b.angle = pose.angle;
+            }
+            physics_svg(scene, &posed, overlay)
+        }
+    }
+}
+
 fn header(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Overlay>) {
     let (w, h) = (v.width(), v.height());
     let _ = writeln!(
