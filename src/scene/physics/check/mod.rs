@@ -4,6 +4,7 @@
 
 mod action;
 mod body;
+mod context_poses;
 mod contexts;
 mod joint;
 mod symmetry;
@@ -48,7 +49,8 @@ impl PhysicsSpec {
             sym.validate(self, scene)?;
         }
         self.check_contexts()?;
-        self.check_overlap()
+        self.check_overlap()?;
+        self.check_context_overlaps()
     }
 
     /// Gravity, `dt`, `solver_iterations` and `max_speed`.

@@ -1,0 +1,241 @@
+//! Where a start context puts the scene's bodies, computed from the scene
+//! file alone (forward kinematics of the listed joints, free bodies placed
+//! with the trees they carry), and the refusal of a context whose start
+//! puts two bodies into one another, as the scene's own start is refused.
+
+use super::super::context::StartState;
+use super::super::{to_world, PhysicsSpec, GROUND};
+use crate::scene::overlap::{first_overlap, OVERLAP_TOLERANCE};
+use crate::scene::Invalid;
+
+/// The most ranged coordinates (a ranged body's x and y count two, a
+/// ranged joint one) whose every corner is checked; beyond, only the two
+/// corners where every range is at its first end, or every range at its
+/// `to` end.
+pub const MAX_CHECKED_RANGES: usize = 8;
+
+impl PhysicsSpec {
+    /// Every body's start pose `(x, y, angle)` in context `k` (`<
+    /// contexts.len()`), in the scene's order: the free bodies it lists
+    /// placed (the trees they carry moved with them), then its joints
+    /// turned (or slid) from the root outwards, each carrying the bodies
+    /// beyond it. A ranged field is at its first end (`position`,
+    /// `angle`); the world's own start of a named context has these poses
+    /// to within Rapier's single precision.
+    ///
+    /// ```
+    /// use e3d::Scene;
+    /// let scene = Scene::load("scenes/arm7_contexts.ron").unwrap();
+    /// let p = scene.as_physics().unwrap().spec();
+    /// let straight = p.context_poses(0);
+    /// let bent = p.context_poses(1);
+    /// assert_eq!(straight[0], bent[0]); // the base does not move
+    /// assert_ne!(straight[7], bent[7]); // the last link does
+    /// ```
+    pub fn context_poses(&self, k: usize) -> Vec<(f64, f64, f64)> {
+        self.poses_at_corner(&self.contexts[k], 0)
+    }
+
+    /// [`context_poses`](Self::context_poses) of `c` with its ranged
+    /// coordinates at the ends picked by the bits of `corner` (bit `i`
+    /// set: the `i`-th ranged coordinate, bodies' x then y in order, then
+    /// joints, at its `to` end).
+    fn poses_at_corner(&self, c: &StartState, corner: u64) -> Vec<(f64, f64, f64)> {
+        let mut poses: Vec<(f64, f64, f64)> = self
+            .bodies
+            .iter()
+            .map(|b| (b.position.0, b.position.1, b.angle))
+            .collect();
+        let index = |name: &str| self.bodies.iter().position(|b| b.name == name);
+        let mut bit = 0;
+        let mut end = |first: f64, to: Option<f64>| match to {
+            None => first,
+            Some(t) => {
+                bit += 1;
+                if at_to(corner, bit - 1) {
+                    t
+                } else {
+                    first
+                }
+            }
+        };
+        for b in &c.bodies {
+            let Some(i) = index(&b.body) else { continue };
+            let (x0, y0, a0) = poses[i];
+            let (x, y) = match b.position {
+                Some((x, y)) => (end(x, b.to.map(|t| t.0)), end(y, b.to.map(|t| t.1))),
+                None => (x0, y0),
+            };
+            let a = b.angle.unwrap_or(a0);
+            // the body and what it carries: rotate about its origin, then move it
+            for j in self.carried_by(i) {
+                let (px, py, pa) = poses[j];
+                let (dx, dy) = (px - x0, py - y0);
+                let (s, co) = (a - a0).sin_cos();
+                poses[j] = (x + co * dx - s * dy, y + s * dx + co * dy, pa + a - a0);
+            }
+        }
+        let mut order: Vec<usize> = (0..self.joints.len()).collect();
+        order.sort_by_key(|&j| (self.joint_depth(j), j));
+        for j in order {
+            let spec = &self.joints[j];
+            let q = c
+                .joints
+                .iter()
+                .find(|s| s.joint == spec.name)
+                .and_then(|s| s.angle.map(|a| end(a, s.to)))
+                .unwrap_or(0.0);
+            if q == 0.0 {
+                continue;
+            }
+            let Some(child) = index(&spec.child) else {
+                continue;
+            };
+            let parent = index(&spec.parent).map(|p| poses[p]);
+            let (ax, ay) = match parent {
+                Some((x, y, a)) => to_world((x, y), a, spec.parent_anchor),
+                None => spec.parent_anchor,
+            };
+            let move_by: Box<dyn Fn((f64, f64, f64)) -> (f64, f64, f64)> = match spec.axis() {
+                None => {
+                    let (s, co) = q.sin_cos();
+                    Box::new(move |(x, y, a)| {
+                        let (dx, dy) = (x - ax, y - ay);
+                        (ax + co * dx - s * dy, ay + s * dx + co * dy, a + q)
+                    })
+                }
+                Some(axis) => {
+                    let pa = parent.map_or(0.0, |p| p.2);
+                    let (wx, wy) = to_world((0.0, 0.0), pa, axis);
+                    Box::new(move |(x, y, a)| (x + q * wx, y + q * wy, a))
+                }
+            };
+            for b in self.carried_by(child) {
+                poses[b] = move_by(poses[b]);
+            }
+        }
+        poses
+    }
+
+    /// Body `i` and every body its joints carry (children, their
+    /// children, ...).
+    fn carried_by(&self, i: usize) -> Vec<usize> {
+        let mut out = vec![i];
+        let mut k = 0;
+        while k < out.len() && out.len() <= self.bodies.len() {
+            let name = &self.bodies[out[k]].name;
+            for j in self.joints.iter().filter(|j| &j.parent == name) {
+                if let Some(c) = self.bodies.iter().position(|b| b.name == j.child) {
+                    if !out.contains(&c) {
+                        out.push(c);
+                    }
+                }
+            }
+            k += 1;
+        }
+        out
+    }
+
+    /// How many joints lie between joint `j`'s parent and the ground or a
+    /// free body.
+    fn joint_depth(&self, j: usize) -> usize {
+        let mut depth = 0;
+        let mut at = &self.joints[j].parent;
+        while at != GROUND && depth <= self.joints.len() {
+            match self.joints.iter().find(|o| &o.child == at) {
+                Some(o) => {
+                    depth += 1;
+                    at = &o.parent;
+                }
+                None => break,
+            }
+        }
+        depth
+    }
+
+    /// No context starts two bodies in one another (as
+    /// [`first_overlap`] refuses for the scene's start): a named
+    /// context's start, and every corner of a drawn context's ranges (at
+    /// most [`MAX_CHECKED_RANGES`] ranged coordinates; beyond, the two
+    /// corners with every range at one end). Starts inside the ranges are
+    /// not checked.
+    pub(crate) fn check_context_overlaps(&self) -> Result<(), Invalid> {
+        for (k, c) in self.contexts.iter().enumerate() {
+            let ranged = c.bodies.iter().filter(|b| b.to.is_some()).count() * 2
+                + c.joints.iter().filter(|j| j.to.is_some()).count();
+            let corners: Vec<u64> = if ranged <= MAX_CHECKED_RANGES {
+                (0..1u64 << ranged).collect()
+            } else {
+                vec![0, u64::MAX]
+            };
+            for corner in corners {
+                let mut posed = self.clone();
+                for (b, p) in posed.bodies.iter_mut().zip(self.poses_at_corner(c, corner)) {
+                    b.position = (p.0, p.1);
+                    b.angle = p.2;
+                }
+                let Some((i, j, depth)) = first_overlap(&posed) else {
+                    continue;
+                };
+                let where_ = if ranged == 0 {
+                    String::new()
+                } else {
+                    format!(" (at a corner of its ranges: {})", corner_text(c, corner))
+                };
+                let field = if c.joints.is_empty() {
+                    "bodies"
+                } else {
+                    "joints"
+                };
+                return Err(Invalid {
+                    within: Some(("contexts", k)),
+                    ..Invalid::at(
+                        field,
+                        None,
+                        &format!(
+                            "context `{}`: a start where no two bodies overlap, but `{}` and `{}` overlap by {:.4} m there{where_} (at most {} m, touching, is allowed)",
+                            c.name,
+                            self.bodies[i].name,
+                            self.bodies[j].name,
+                            depth,
+                            OVERLAP_TOLERANCE
+                        ),
+                    )
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The ranged fields of `c` at `corner`, as `body.x=…, joint=…`.
+fn corner_text(c: &StartState, corner: u64) -> String {
+    let mut parts = Vec::new();
+    let mut bit = 0;
+    let mut pick = |first: f64, to: f64| {
+        bit += 1;
+        if at_to(corner, bit - 1) {
+            to
+        } else {
+            first
+        }
+    };
+    for b in &c.bodies {
+        if let (Some(p), Some(t)) = (b.position, b.to) {
+            let (x, y) = (pick(p.0, t.0), pick(p.1, t.1));
+            parts.push(format!("`{}` at ({x}, {y})", b.body));
+        }
+    }
+    for j in &c.joints {
+        if let (Some(a), Some(t)) = (j.angle, j.to) {
+            parts.push(format!("`{}` at {}", j.joint, pick(a, t)));
+        }
+    }
+    parts.join(", ")
+}
+
+/// Whether the `i`-th ranged coordinate is at its `to` end at `corner`
+/// (`u64::MAX`: every one).
+fn at_to(corner: u64, i: usize) -> bool {
+    corner == u64::MAX || (i < 64 && corner >> i & 1 == 1)
+}
