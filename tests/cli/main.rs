@@ -10,6 +10,7 @@ mod chromium;
 mod commands;
 mod compare;
 mod console_escapes;
+mod context_tools;
 mod contexts;
 mod robustness_round3;
 mod robustness_round4;
