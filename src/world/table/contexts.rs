@@ -66,15 +66,16 @@ pub fn seed0_start(world: &dyn World, k: usize) -> Result<WorldState, WorldError
 /// ```
 /// use e3d::world::ContextTables;
 /// use e3d::{Scene, World};
-/// let scene = Scene::load("scenes/puck_contexts.ron").unwrap();
+/// let scene = Scene::load("scenes/two_rooms_contexts.ron").unwrap();
 /// let tables = ContextTables::build(&scene).unwrap();
-/// assert_eq!(tables.len(), 2);
-/// let c = scene.command_space().parse("WWWWWWW").unwrap();
+/// assert_eq!(tables.names(), ["room_a", "room_b"]);
+/// let c = scene.command_space().parse("EEEEESS").unwrap();
 /// let mut world = scene.build();
 /// let mut rng = <e3d::rng::SessionRng as rand::SeedableRng>::seed_from_u64(0);
 /// let from = world.draw_start(1, &mut rng).unwrap();
 /// let o = world.execute_outcome_from(&from, &c).unwrap();
 /// assert_eq!(tables.table(1).lookup(&c).unwrap(), &o);
+/// assert_ne!(tables.table(0).lookup(&c).unwrap(), &o);
 /// ```
 #[derive(Debug, Clone)]
 pub struct ContextTables {

@@ -75,46 +75,53 @@ impl PhysicsSpec {
                 poses[j] = (x + co * dx - s * dy, y + s * dx + co * dy, pa + a - a0);
             }
         }
-        let mut order: Vec<usize> = (0..self.joints.len()).collect();
-        order.sort_by_key(|&j| (self.joint_depth(j), j));
-        for j in order {
-            let spec = &self.joints[j];
-            let q = c
-                .joints
-                .iter()
-                .find(|s| s.joint == spec.name)
-                .and_then(|s| s.angle.map(|a| end(a, s.to)))
-                .unwrap_or(0.0);
-            if q == 0.0 {
-                continue;
-            }
-            let Some(child) = index(&spec.child) else {
-                continue;
-            };
-            let parent = index(&spec.parent).map(|p| poses[p]);
-            let (ax, ay) = match parent {
-                Some((x, y, a)) => to_world((x, y), a, spec.parent_anchor),
-                None => spec.parent_anchor,
-            };
-            let move_by: Box<dyn Fn((f64, f64, f64)) -> (f64, f64, f64)> = match spec.axis() {
-                None => {
-                    let (s, co) = q.sin_cos();
-                    Box::new(move |(x, y, a)| {
-                        let (dx, dy) = (x - ax, y - ay);
-                        (ax + co * dx - s * dy, ay + s * dx + co * dy, a + q)
-                    })
-                }
-                Some(axis) => {
-                    let pa = parent.map_or(0.0, |p| p.2);
-                    let (wx, wy) = to_world((0.0, 0.0), pa, axis);
-                    Box::new(move |(x, y, a)| (x + q * wx, y + q * wy, a))
-                }
-            };
-            for b in self.carried_by(child) {
-                poses[b] = move_by(poses[b]);
+        // the coordinates in the order listed (the corner's bits), then
+        // the joints turned from the root outwards
+        let mut q = vec![0.0; self.joints.len()];
+        for s in &c.joints {
+            if let (Some(j), Some(a)) =
+                (self.joints.iter().position(|j| j.name == s.joint), s.angle)
+            {
+                q[j] = end(a, s.to);
             }
         }
+        let mut order: Vec<usize> = (0..self.joints.len()).collect();
+        order.sort_by_key(|&j| (self.joint_depth(j), j));
+        for j in order.into_iter().filter(|&j| q[j] != 0.0) {
+            self.turn_joint(&mut poses, j, q[j]);
+        }
         poses
+    }
+
+    /// Turns (or slides) joint `j` by `q` in `poses`: its child and every
+    /// body beyond it rotate about the joint's anchor (a hinge) or move
+    /// along its axis (a slider).
+    fn turn_joint(&self, poses: &mut [(f64, f64, f64)], j: usize, q: f64) {
+        let spec = &self.joints[j];
+        let index = |name: &str| self.bodies.iter().position(|b| b.name == name);
+        let Some(child) = index(&spec.child) else {
+            return;
+        };
+        let parent = index(&spec.parent).map(|p| poses[p]);
+        let (ax, ay) = match parent {
+            Some((x, y, a)) => to_world((x, y), a, spec.parent_anchor),
+            None => spec.parent_anchor,
+        };
+        let (s, co) = q.sin_cos();
+        let slide = spec.axis().map(|axis| {
+            let pa = parent.map_or(0.0, |p| p.2);
+            to_world((0.0, 0.0), pa, axis)
+        });
+        for b in self.carried_by(child) {
+            let (x, y, a) = poses[b];
+            poses[b] = match slide {
+                None => {
+                    let (dx, dy) = (x - ax, y - ay);
+                    (ax + co * dx - s * dy, ay + s * dx + co * dy, a + q)
+                }
+                Some((wx, wy)) => (x + q * wx, y + q * wy, a),
+            };
+        }
     }
 
     /// Body `i` and every body its joints carry (children, their
