@@ -62,6 +62,60 @@ pub(crate) struct Links {
     pub symbols: Vec<Resolved>,
     /// What each continuous slot's value does.
     pub values: Vec<ResolvedValue>,
+    /// The joints, known to form a forest.
+    pub forest: Forest,
+    /// Per start context, in the spec's order: the indices of its bodies
+    /// and of its joints, in the context's order.
+    pub contexts: Vec<(Vec<usize>, Vec<usize>)>,
+}
+
+/// A physics scene's joints, known to form a forest: every body is the
+/// child of one joint at most, and no joint closes a loop (the only
+/// joints Rapier's multibodies refuse). Made only by [`Forest::of`].
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Forest {
+    /// Per joint: whether its tree hangs from ground.
+    hung: Vec<bool>,
+}
+
+impl Forest {
+    /// The forest of `joints` (per joint: its parent body, `None` for
+    /// ground, and its child body) on `bodies` bodies; an error when they
+    /// do not form one (which [`SceneSpec::check`] refused already).
+    fn of(joints: &[(Option<usize>, usize)], bodies: usize) -> Result<Forest, Invalid> {
+        let not_trees = || Invalid::at("joint", None, "joints that form trees");
+        let mut parent_of = vec![None; bodies];
+        for (k, &(_, child)) in joints.iter().enumerate() {
+            if parent_of[child].replace(k).is_some() {
+                return Err(not_trees());
+            }
+        }
+        let hung = joints
+            .iter()
+            .map(|&(parent, child)| {
+                // walk up from the parent: ground, a root body, or a loop
+                let mut up = parent;
+                for _ in 0..=bodies {
+                    match up {
+                        None => return Ok(true),
+                        Some(b) if b == child => return Err(not_trees()),
+                        Some(b) => match parent_of[b] {
+                            None => return Ok(false),
+                            Some(k) => up = joints[k].0,
+                        },
+                    }
+                }
+                Err(not_trees())
+            })
+            .collect::<Result<_, Invalid>>()?;
+        Ok(Forest { hung })
+    }
+
+    /// Whether joint `joint`'s tree hangs from ground: such a tree is one
+    /// Rapier multibody (see [`PhysicsSpec::hangs_from_ground`]).
+    pub fn hangs_from_ground(&self, joint: usize) -> bool {
+        self.hung[joint]
+    }
 }
 
 /// A feature of the effect with its body or joint as an index.
@@ -303,7 +357,7 @@ impl Links {
                 Invalid::at("joint", None, &format!("a known joint, found `{name}`"))
             })
         };
-        let joints = p
+        let joints: Vec<(Option<usize>, usize)> = p
             .joints
             .iter()
             .map(|j| {
@@ -313,6 +367,19 @@ impl Links {
                     Some(body(&j.parent)?)
                 };
                 Ok((parent, body(&j.child)?))
+            })
+            .collect::<Result<_, Invalid>>()?;
+        let forest = Forest::of(&joints, p.bodies.len())?;
+        let contexts = p
+            .contexts
+            .iter()
+            .map(|c| {
+                let bodies = c.bodies.iter().map(|b| body(&b.body));
+                let joints = c.joints.iter().map(|j| joint(&j.joint));
+                Ok((
+                    bodies.collect::<Result<_, _>>()?,
+                    joints.collect::<Result<_, _>>()?,
+                ))
             })
             .collect::<Result<_, Invalid>>()?;
         let resolve = |action: &Action| -> Result<Resolved, Invalid> {
@@ -395,6 +462,8 @@ impl Links {
             probes,
             symbols,
             values,
+            forest,
+            contexts,
         })
     }
 }

@@ -107,7 +107,7 @@ fn build_copy(
     // per joint: its impulse joint, for a free-floating tree (None: a
     // multibody link, for a tree hung on ground)
     let mut impulse_of = Vec::new();
-    for (j, &(parent, child)) in spec.joints.iter().zip(&links.joints) {
+    for (k, (j, &(parent, child))) in spec.joints.iter().zip(&links.joints).enumerate() {
         let parent_angle = parent.map_or(0.0, |i| spec.bodies[i].angle);
         // angle 0 is the start pose, whatever the bodies' start angles
         let offset = spec.bodies[child].angle - parent_angle;
@@ -115,7 +115,7 @@ fn build_copy(
         // free-floating one is built of impulse joints, because Rapier's
         // multibody with a dynamic root does not conserve momentum (see
         // docs/physics.md)
-        let multibody = spec.hangs_from_ground(&j.child);
+        let multibody = links.forest.hangs_from_ground(k);
         let (axis, slider) = match j.axis() {
             None => (JointAxis::AngX, None),
             Some((x, y)) => {
@@ -177,11 +177,11 @@ fn build_copy(
             slider,
         });
         if multibody {
-            // validation refused joints that do not form trees, the only
-            // joints Rapier's multibodies refuse
+            // the joints form a forest (`Forest`): Rapier's multibodies
+            // refuse only a second parent or a loop
             s.multibody_joints
                 .insert(p, c, data, true)
-                .expect("joints that form trees");
+                .expect("a Forest has no second parent and no loop");
             impulse_of.push(None);
         } else {
             impulse_of.push(Some(s.impulse_joints.insert(p, c, data, true)));
@@ -329,7 +329,7 @@ impl PhysicsWorld {
             params.num_solver_iterations = n;
         }
         let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
-        let (contexts, joint_geometry) = PhysicsWorld::context_starts(spec, &replicas[0], &s);
+        let (contexts, joint_geometry) = PhysicsWorld::context_starts(spec, scene.links(), &replicas[0], &s);
         PhysicsWorld {
             scene: scene.spec().name.clone(),
             space,
