@@ -115,6 +115,9 @@ fn free_radius(spec: &PhysicsSpec, t: &BodySpec) -> Option<f64> {
     }
 }
 
+/// A box: its lower and upper corners.
+type Aabb = ([f64; 2], [f64; 2]);
+
 /// Square cells `h` wide, `nx` by `ny`, from `lo`.
 struct Raster {
     lo: [f64; 2],
@@ -134,7 +137,7 @@ impl Raster {
 
     /// Per cell (row by row): whether its centre lies within `clearance`
     /// of one of the `walls` (each with its start box).
-    fn blocked(&self, walls: &[(&BodySpec, ([f64; 2], [f64; 2]))], clearance: f64) -> Vec<bool> {
+    fn blocked(&self, walls: &[(&BodySpec, Aabb)], clearance: f64) -> Vec<bool> {
         let (lo, h, nx, ny) = (self.lo, self.h, self.nx, self.ny);
         let mut blocked = vec![false; nx * ny];
         for (b, (a0, a1)) in walls {

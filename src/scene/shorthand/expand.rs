@@ -340,6 +340,10 @@ fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
     Ok(boxes)
 }
 
+/// A door's cut along a piece: where it starts and ends along it, and
+/// the door's index.
+type Cut = (f64, f64, usize);
+
 /// A wall whose boxes are being made, entry `k` of `walls`; `who` names
 /// it in errors.
 struct Wall<'a> {
@@ -467,8 +471,8 @@ impl Wall<'_> {
 
     /// The doors: per piece, the intervals along it that doors cut
     /// (start, end, door index), in the doors' order.
-    fn door_cuts(&self, pieces: &[Piece]) -> Result<Vec<Vec<(f64, f64, usize)>>, Invalid> {
-        let mut cuts: Vec<Vec<(f64, f64, usize)>> = vec![Vec::new(); pieces.len()];
+    fn door_cuts(&self, pieces: &[Piece]) -> Result<Vec<Vec<Cut>>, Invalid> {
+        let mut cuts: Vec<Vec<Cut>> = vec![Vec::new(); pieces.len()];
         for (d, &(p, q)) in self.w.doors.iter().enumerate() {
             let door = format!("door {d} (({}, {}), ({}, {}))", p.0, p.1, q.0, q.1);
             if !(finite(p) && finite(q)) || p == q {
@@ -505,11 +509,7 @@ impl Wall<'_> {
 
     /// The boxes of piece `s`: one per solid interval between the doors
     /// `c` that cut it, named after the piece's stem if it has one.
-    fn piece_boxes(
-        &self,
-        s: &Piece,
-        mut c: Vec<(f64, f64, usize)>,
-    ) -> Result<Vec<BodySpec>, Invalid> {
+    fn piece_boxes(&self, s: &Piece, mut c: Vec<Cut>) -> Result<Vec<BodySpec>, Invalid> {
         c.sort_by(|a, b| a.0.total_cmp(&b.0));
         for pair in c.windows(2) {
             if pair[1].0 < pair[0].1 {
