@@ -29,8 +29,10 @@ impl PhysicsSpec {
     /// let p = scene.as_physics().unwrap().spec();
     /// let straight = p.context_poses(0);
     /// let bent = p.context_poses(1);
-    /// assert_eq!(straight[0], bent[0]); // the base does not move
-    /// assert_ne!(straight[7], bent[7]); // the last link does
+    /// assert_eq!(straight.len(), 7); // link1..link7
+    /// assert!((bent[0].2 - 1.2).abs() < 1e-12); // link1 turned by j1
+    /// assert!(bent[6].2.abs() < 1e-12); // j4 turns links 4..7 back
+    /// assert_ne!(straight[6], bent[6]);
     /// ```
     pub fn context_poses(&self, k: usize) -> Vec<(f64, f64, f64)> {
         self.poses_at_corner(&self.contexts[k], 0)
