@@ -72,6 +72,7 @@
 #![warn(missing_docs)]
 
 pub mod command;
+pub mod csv;
 pub mod effect;
 pub mod episode;
 pub mod hash;

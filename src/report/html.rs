@@ -10,161 +10,8 @@
 //! (feature `plots`) shows its summary as a table and each metric against
 //! each parameter the sweep varies.
 
+use crate::csv::TrialRow;
 use std::fmt::Write;
-
-/// One row of `trials.csv`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TrialRow {
-    /// The command, one character per slot.
-    pub command: String,
-    /// The terminal effect.
-    pub effect: usize,
-    /// The reward received.
-    pub reward: f64,
-    /// The values of a continuous command, one per slot (empty for a
-    /// command of symbols, whose `command` is then empty).
-    pub values: Vec<f64>,
-    /// The start context of the trial's episode, for a run of episodes
-    /// (`e3d run` on a scene with start contexts, or `--commands K`):
-    /// its `start` column; empty otherwise.
-    pub start: String,
-    /// The 1-based command of the trial in its episode (the `command`
-    /// column of a run of episodes); 1 otherwise.
-    pub step: usize,
-}
-
-/// The largest `trials.csv` [`parse_trials`] is given by `e3d report`
-/// (256 MiB, some 8 million trials): the page keeps every trial in memory.
-pub const MAX_TRIALS_CSV_BYTES: u64 = 256 << 20;
-
-/// Reads `trials.csv` (with or without a leading `session` column).
-/// That of a run of episodes (`session,episode,command,context,start,
-/// symbols,effect,reward`) gives the command's symbols from `symbols`,
-/// its place in the episode from `command` and the start context from
-/// `start`.
-///
-/// Every value is checked, and a bad one is refused with
-/// `trials.csv:LINE:COL`, its column and what was expected: an effect is
-/// a whole number below [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS), a
-/// reward and a command's values finite numbers, a command at most
-/// [`MAX_SLOTS`](crate::command::MAX_SLOTS) symbols (or values). Linear
-/// in the length of the text; nothing is sized by a value read.
-pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, String> {
-    use crate::command::MAX_SLOTS;
-    use crate::effect::MAX_EFFECTS;
-    use crate::text::{csv_fields, echo, parse_finite};
-    const FILE: &str = "trials.csv";
-    let mut lines = csv.lines();
-    let header: Vec<String> = csv_fields(lines.next().ok_or("trials.csv is empty")?)
-        .into_iter()
-        .map(|(f, _)| f.trim().to_string())
-        .collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .ok_or(format!("trials.csv has no `{name}` column"))
-    };
-    // a run of continuous commands writes a quoted `values` column
-    let continuous = header.iter().any(|h| h == "values");
-    // a run of episodes: `command` is the command's place in its episode
-    let episodes = header.iter().any(|h| h == "episode");
-    let (step_col, start_col) = if episodes {
-        (Some(col("command")?), Some(col("start")?))
-    } else {
-        (None, None)
-    };
-    let (c, e, r) = (
-        col(if continuous {
-            "values"
-        } else if episodes {
-            "symbols"
-        } else {
-            "command"
-        })?,
-        col("effect")?,
-        col("reward")?,
-    );
-    let mut rows = Vec::new();
-    for (k, line) in lines.enumerate() {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let n = k + 2;
-        let f = csv_fields(line);
-        if f.len() != header.len() {
-            return Err(format!(
-                "{FILE}:{n}:1: {} fields, expected {} ({}): `{}`",
-                f.len(),
-                header.len(),
-                header.join(","),
-                echo(line)
-            ));
-        }
-        let (command, at) = (&f[c].0, f[c].1);
-        let (values, command) = if continuous {
-            let mut values = Vec::new();
-            for v in command.split(',') {
-                if values.len() == MAX_SLOTS {
-                    return Err(format!(
-                        "{FILE}:{n}:{at}: column `values`: expected at most {MAX_SLOTS} values"
-                    ));
-                }
-                values.push(parse_finite(v, FILE, n, at, "values")?);
-            }
-            (values, String::new())
-        } else {
-            if command.chars().nth(MAX_SLOTS).is_some() {
-                return Err(format!(
-                    "{FILE}:{n}:{at}: column `command`: expected at most {MAX_SLOTS} symbols, found `{}`",
-                    echo(command)
-                ));
-            }
-            (Vec::new(), command.to_string())
-        };
-        let effect = f[e]
-            .0
-            .trim()
-            .parse::<usize>()
-            .ok()
-            .filter(|&v| v < MAX_EFFECTS)
-            .ok_or_else(|| {
-                format!(
-                    "{FILE}:{n}:{}: column `effect`: expected a whole number below {MAX_EFFECTS}, found `{}`",
-                    f[e].1,
-                    echo(&f[e].0)
-                )
-            })?;
-        let reward = parse_finite(&f[r].0, FILE, n, f[r].1, "reward")?;
-        let step = match step_col {
-            None => 1,
-            Some(k) => f[k]
-                .0
-                .trim()
-                .parse::<usize>()
-                .ok()
-                .filter(|&v| (1..=crate::sweep::MAX_COMMANDS).contains(&v))
-                .ok_or_else(|| {
-                    format!(
-                        "{FILE}:{n}:{}: column `command`: expected the command's place in its episode, 1 to {}, found `{}`",
-                        f[k].1,
-                        crate::sweep::MAX_COMMANDS,
-                        echo(&f[k].0)
-                    )
-                })?,
-        };
-        let start = start_col.map_or(String::new(), |k| f[k].0.trim().to_string());
-        rows.push(TrialRow {
-            command,
-            values,
-            effect,
-            reward,
-            start,
-            step,
-        });
-    }
-    Ok(rows)
-}
 
 fn esc(s: &str) -> std::borrow::Cow<'_, str> {
     crate::text::xml_escape(s)
@@ -481,7 +328,7 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
 ///
 /// ```
 /// use e3d::report::html::sweep_page;
-/// use e3d::report::sweep_plot::Summary;
+/// use e3d::csv::Summary;
 /// let csv = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n\
 ///            g,e3d,false,0.3,1,0.03,0.01,,3,0.9,0.01,0.88,0.92\n\
 ///            g,e3d,false,0.3,10,0.03,0.01,,3,0.8,0.01,0.78,0.82\n";
@@ -492,7 +339,7 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
 #[cfg(feature = "plots")]
 pub fn sweep_page(
     title: &str,
-    summary: &super::sweep_plot::Summary,
+    summary: &crate::csv::Summary,
     sweep_ron: &str,
     failures: &[String],
 ) -> String {

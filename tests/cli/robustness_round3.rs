@@ -3,8 +3,8 @@
 //! folders (non-regular files, temporary files), terminals and formats,
 //! caches to trust. Each test fails on the code before these fixes.
 
-use e3d::report::html::parse_trials;
-use e3d::report::sweep_plot::Summary;
+use e3d::csv::parse_trials;
+use e3d::csv::Summary;
 use e3d::{OutcomeTable, Scene};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

@@ -1,7 +1,8 @@
 //! `e3d report DIR`'s page: heat map cells early and late, the reward
 //! curve, one chart per slot, no script.
 
-use e3d::report::html::{parse_trials, run_page};
+use e3d::csv::parse_trials;
+use e3d::report::html::run_page;
 
 fn csv() -> String {
     let mut s = String::from("trial,command,effect,reward\n");
@@ -50,8 +51,8 @@ fn the_page_has_both_heat_maps_the_reward_and_a_chart_per_slot() {
 
 #[cfg(feature = "plots")]
 mod sweep {
+    use e3d::csv::Summary;
     use e3d::report::html::sweep_page;
-    use e3d::report::sweep_plot::Summary;
 
     const CSV: &str = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,failed,normalized_entropy_mean,normalized_entropy_sd,normalized_entropy_ci_low,normalized_entropy_ci_high,first_reward_trial_mean,first_reward_trial_sd,first_reward_trial_ci_low,first_reward_trial_ci_high\n\
 two_rooms,e3d,false,0.3,1,0.03,0.003,,2,0,0.8302690281245326,0.02721434585793402,0.585757831635245,1.0747802246138203,,,,\n\

@@ -2,7 +2,8 @@
 //! intervals against one parameter, or a heat map over two.
 //!
 //! ```
-//! use e3d::report::sweep_plot::{plot, PlotSpec, Summary};
+//! use e3d::csv::Summary;
+//! use e3d::report::sweep_plot::{plot, PlotSpec};
 //! let csv = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n\
 //!            g,e3d,false,0.3,1,0.03,0.01,,3,0.9,0.01,0.88,0.92\n\
 //!            g,e3d,false,0.3,10,0.03,0.01,,3,0.8,0.01,0.78,0.82\n\
@@ -13,6 +14,7 @@
 //! assert!(svg.starts_with("<svg") && svg.contains("uniform"));
 //! ```
 
+use crate::csv::Summary;
 use crate::scene::did_you_mean;
 use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS, PARAM_NAMES};
 use plotters::prelude::*;
@@ -31,76 +33,6 @@ pub struct PlotError(pub String);
 
 fn err<T>(m: impl Into<String>) -> Result<T, PlotError> {
     Err(PlotError(m.into()))
-}
-
-/// The largest `summary.csv` `e3d plot` and `e3d report` read (64 MiB;
-/// one row per cell, a few hundred bytes each).
-pub const MAX_SUMMARY_CSV_BYTES: u64 = 64 << 20;
-
-/// A sweep's `summary.csv`, parsed.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Summary {
-    /// The column names.
-    pub columns: Vec<String>,
-    /// The rows, one field per column.
-    pub rows: Vec<Vec<String>>,
-}
-
-impl Summary {
-    /// Parses the text of a `summary.csv`.
-    ///
-    /// The parameters and every column after the cell's (sessions,
-    /// failures, the metrics' means, sds and intervals) must be empty or a
-    /// finite number: `inf`, `NaN` or a word is refused with
-    /// `summary.csv:LINE:COL` and the column, since one infinite value
-    /// would stretch a figure's axis without end. Linear in the text.
-    pub fn parse(text: &str) -> Result<Summary, PlotError> {
-        const FILE: &str = "summary.csv";
-        let mut lines = text.lines();
-        let columns: Vec<String> = match lines.next() {
-            Some(h) => h.split(',').map(str::to_string).collect(),
-            None => return err("the summary is empty"),
-        };
-        if columns.len() < CELL_COLUMNS + 1
-            || columns[..CELL_COLUMNS] != KEY_COLUMNS[..CELL_COLUMNS]
-        {
-            return err("not a sweep summary: expected the columns scene, learner, use_reward, alpha, beta, lambda, eta, epsilon, sessions, ...");
-        }
-        let mut rows = Vec::new();
-        for (i, l) in lines.enumerate() {
-            let f: Vec<String> = l.split(',').map(str::to_string).collect();
-            if f.len() != columns.len() {
-                return err(format!(
-                    "{FILE}:{}:1: {} fields, expected {}",
-                    i + 2,
-                    f.len(),
-                    columns.len()
-                ));
-            }
-            let mut col = 1;
-            for (k, v) in f.iter().enumerate() {
-                if k >= CELL_COLUMNS - PARAM_NAMES.len() && !v.is_empty() {
-                    crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
-                        .map_err(PlotError)?;
-                }
-                col += v.chars().count() + 1;
-            }
-            rows.push(f);
-        }
-        Ok(Summary { columns, rows })
-    }
-
-    /// The metrics summarised (the names `m` with an `m_mean` column).
-    pub fn metrics(&self) -> Vec<&str> {
-        self.columns
-            .iter()
-            .filter_map(|c| c.strip_suffix("_mean"))
-            .collect()
-    }
-
-    fn col(&self, name: &str) -> Option<usize> {
-        self.columns.iter().position(|c| c == name)
-    }
 }
 
 /// What to draw.
