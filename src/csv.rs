@@ -130,7 +130,11 @@ pub const MAX_TRIALS_CSV_BYTES: u64 = 256 << 20;
 /// reward and a command's values finite numbers, a command at most
 /// [`MAX_SLOTS`](crate::command::MAX_SLOTS) symbols (or values). Linear
 /// in the length of the text; nothing is sized by a value read.
-pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, String> {
+pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, CsvError> {
+    parse_trial_rows(csv).map_err(CsvError)
+}
+
+fn parse_trial_rows(csv: &str) -> Result<Vec<TrialRow>, String> {
     use crate::command::MAX_SLOTS;
     use crate::effect::MAX_EFFECTS;
     use crate::text::{csv_fields, echo, parse_finite};

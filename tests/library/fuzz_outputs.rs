@@ -82,7 +82,7 @@ proptest! {
                 prop_assert!(r.values.iter().all(|v| v.is_finite()));
                 prop_assert!(r.command.chars().count() <= 64 && r.values.len() <= 64);
             },
-            Err(m) => prop_assert!(m.starts_with("trials.csv"), "{}", m),
+            Err(m) => prop_assert!(m.0.starts_with("trials.csv"), "{}", m),
         }
     }
 

@@ -30,6 +30,7 @@ fn parses_with_and_without_a_session_column() {
     );
     assert!(parse_trials("trial,effect\n1,2\n")
         .unwrap_err()
+        .0
         .contains("command"));
 }
 
@@ -60,6 +61,32 @@ two_rooms,e3d,false,0.3,100,0.03,0.003,,2,1,0.8082385520182234,0.013186851440952
 two_rooms,e3d,false,0.3,1,0.03,0.03,,2,0,0.8271039914527295,0.0019987706445061012,0.8091457497096758,0.8450622331957832,,,,\n\
 two_rooms,e3d,false,0.3,100,0.03,0.03,,2,0,0.81,0.01,0.8,0.82,,,,\n\
 two_rooms,uniform,false,,,,,,2,0,0.7,0.02,0.6,0.8,,,,\n";
+
+    /// A summary built in code, not read: a missing parameter column or a
+    /// short row is refused by the plot, not a panic.
+    #[test]
+    fn a_summary_built_in_code_without_its_columns_is_refused() {
+        use e3d::report::sweep_plot::{plot, PlotSpec};
+        let spec = PlotSpec {
+            x: "beta".into(),
+            y: None,
+            metric: "normalized_entropy".into(),
+            filters: vec![],
+        };
+        let mut s = Summary::parse(CSV).unwrap();
+        let beta = s.col("beta").unwrap();
+        s.columns[beta] = "b".into();
+        assert_eq!(
+            plot(&s, &spec).unwrap_err().0,
+            "the summary has no `beta` column; expected the columns e3d writes"
+        );
+        let mut s = Summary::parse(CSV).unwrap();
+        s.rows[2].truncate(3);
+        assert_eq!(
+            plot(&s, &spec).unwrap_err().0,
+            "row 3 of the summary has 3 fields, expected 18 (one per column)"
+        );
+    }
 
     fn page() -> String {
         sweep_page(

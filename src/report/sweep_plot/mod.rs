@@ -73,16 +73,31 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
             metrics.join(", ")
         ));
     }
+    // a summary read by `Summary::parse` has every parameter's column and
+    // rows of the header's length; one built in code may not
+    if let Some((i, r)) =
+        (summary.rows.iter().enumerate()).find(|(_, r)| r.len() != summary.columns.len())
+    {
+        return err(format!(
+            "row {} of the summary has {} fields, expected {} (one per column)",
+            i + 1,
+            r.len(),
+            summary.columns.len()
+        ));
+    }
     let check_param = |p: &str| -> Result<usize, PlotError> {
-        if PARAM_NAMES.contains(&p) {
-            Ok(summary.col(p).expect("cell columns are checked"))
-        } else {
-            err(format!(
+        if !PARAM_NAMES.contains(&p) {
+            return err(format!(
                 "`{p}` is not a parameter{}; expected one of: {}",
                 did_you_mean(p, &PARAM_NAMES),
                 PARAM_NAMES.join(", ")
-            ))
+            ));
         }
+        summary.col(p).ok_or_else(|| {
+            PlotError(format!(
+                "the summary has no `{p}` column; expected the columns e3d writes"
+            ))
+        })
     };
     let xi = check_param(&spec.x)?;
     let yi = spec.y.as_deref().map(check_param).transpose()?;
