@@ -180,6 +180,18 @@ pub fn run_page_with_note(
     body.push_str("<h2>Policy per slot</h2>\n");
     let windows = 50.min(n.max(1));
     let size = n.div_ceil(windows).max(1);
+    value_charts(&mut body, trials, size);
+    symbol_charts(&mut body, trials, size);
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}figure{{display:inline-block;margin:0.5em}}svg{{background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:20em}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n<p>{n} trials</p>\n{body}<h2>summary.json</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
+        esc(summary),
+        t = esc(title)
+    )
+}
+
+/// Per slot of a continuous command: the spread of its values and their
+/// mean magnitude, in windows of `size` trials.
+fn value_charts(body: &mut String, trials: &[TrialRow], size: usize) {
     let value_slots = trials.iter().map(|t| t.values.len()).max().unwrap_or(0);
     for s in 0..value_slots {
         // continuous commands: the spread of each slot's values and their
@@ -196,11 +208,16 @@ pub fn run_page_with_note(
         let sds: Vec<f64> = trials.chunks(size).map(|w| stat(w, &sd)).collect();
         let mags: Vec<f64> = trials.chunks(size).map(|w| stat(w, &magnitude)).collect();
         line_chart(
-            &mut body,
+            body,
             &format!("slot {s}: sd of the values and mean |value|, windows of {size} trials"),
             &[("sd", PALETTE[0], sds), ("mean |value|", PALETTE[1], mags)],
         );
     }
+}
+
+/// Per slot of a command of symbols: the share of each symbol, in windows
+/// of `size` trials.
+fn symbol_charts(body: &mut String, trials: &[TrialRow], size: usize) {
     // each command's symbols once (a command holds at most 64), then per
     // slot one pass over the trials: linear in the trials
     let symbols_of: Vec<Vec<char>> = trials.iter().map(|t| t.command.chars().collect()).collect();
@@ -232,16 +249,11 @@ pub fn run_page_with_note(
             .map(|(k, (a, ys))| (a.as_str(), PALETTE[k % PALETTE.len()], ys))
             .collect();
         line_chart(
-            &mut body,
+            body,
             &format!("slot {s}: share of each symbol, windows of {size} trials"),
             &refs,
         );
     }
-    format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}figure{{display:inline-block;margin:0.5em}}svg{{background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:20em}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n<p>{n} trials</p>\n{body}<h2>summary.json</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
-        esc(summary),
-        t = esc(title)
-    )
 }
 
 /// The heat maps of the first and the last 10% of `effects`.
@@ -343,16 +355,10 @@ pub fn sweep_page(
     sweep_ron: &str,
     failures: &[String],
 ) -> String {
-    use super::sweep_plot::{plot, short, PlotSpec};
-    use crate::sweep::{CELL_COLUMNS, PARAM_NAMES};
+    use crate::sweep::CELL_COLUMNS;
     let rows = &summary.rows;
     let col = |name: &str| summary.columns.iter().position(|c| c == name);
-    let values = |c: usize| {
-        let mut v: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
+    let values = |c: usize| distinct(rows, c);
     // the cell columns that vary are the table's keys; the others are said once
     let (varying, fixed): (Vec<usize>, Vec<usize>) =
         (0..CELL_COLUMNS).partition(|&c| values(c).len() > 1);
@@ -388,8 +394,33 @@ pub fn sweep_page(
             fixed_text.join("; ")
         );
     }
+    summary_table(&mut body, summary, &varying);
+    failures_list(&mut body, failures);
+    plots_against_params(&mut body, summary);
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}table{{border-collapse:collapse;background:#fff}}td,th{{border:1px solid #ddd;padding:2px 6px;font-size:13px}}td.n{{text-align:right;font-variant-numeric:tabular-nums}}figure{{margin:0.5em}}svg{{max-width:100%;height:auto;background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:30em}}.note{{color:#666}}.scroll{{overflow-x:auto}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n{body}<h2>sweep.ron</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
+        esc(sweep_ron),
+        t = esc(title)
+    )
+}
+
+/// The distinct values of column `c` of `rows`, sorted.
+fn distinct(rows: &[Vec<String>], c: usize) -> Vec<&str> {
+    let mut v: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+/// The summary as a table: the cell columns that vary, the sessions (and
+/// failures), each metric's mean ± sd (its interval in the tooltip).
+fn summary_table(body: &mut String, summary: &crate::csv::Summary, varying: &[usize]) {
+    use super::sweep_plot::short;
+    let rows = &summary.rows;
+    let col = |name: &str| summary.col(name);
+    let metrics = summary.metrics();
     body.push_str("<h2>Summary</h2>\n<div class=\"scroll\">\n<table class=\"summary\">\n<tr>");
-    for &c in &varying {
+    for &c in varying {
         let _ = write!(body, "<th>{}</th>", esc(&summary.columns[c]));
     }
     body.push_str("<th>sessions</th>");
@@ -403,7 +434,7 @@ pub fn sweep_page(
     let num = |s: &str| s.parse::<f64>().ok();
     for r in rows {
         body.push_str("<tr>");
-        for &c in &varying {
+        for &c in varying {
             let _ = write!(body, "<td>{}</td>", esc(&r[c]));
         }
         for name in ["sessions", "failed"] {
@@ -428,20 +459,24 @@ pub fn sweep_page(
                 Some(v) => {
                     let sd_text = num(sd).map_or(String::new(), |s| format!(" ± {}", short(s)));
                     let _ = write!(
-                        body,
-                        "<td class=\"n\" title=\"mean {}, sd {}, 95% interval [{}, {}]\">{}{sd_text}</td>",
-                        esc(mean),
-                        esc(sd),
-                        esc(lo),
-                        esc(hi),
-                        short(v)
-                    );
+                    body,
+                    "<td class=\"n\" title=\"mean {}, sd {}, 95% interval [{}, {}]\">{}{sd_text}</td>",
+                    esc(mean),
+                    esc(sd),
+                    esc(lo),
+                    esc(hi),
+                    short(v)
+                );
                 }
             }
         }
         body.push_str("</tr>\n");
     }
     body.push_str("</table>\n</div>\n");
+}
+
+/// The first 20 failure messages, and how many more there are.
+fn failures_list(body: &mut String, failures: &[String]) {
     if !failures.is_empty() {
         let _ = writeln!(
             body,
@@ -456,6 +491,18 @@ pub fn sweep_page(
         }
         body.push_str("</ul>\n");
     }
+}
+
+/// Each metric against each parameter that takes two values or more, as
+/// a line plot, or a note saying why it is not drawn.
+fn plots_against_params(body: &mut String, summary: &crate::csv::Summary) {
+    use super::sweep_plot::{plot, PlotSpec};
+    use crate::sweep::PARAM_NAMES;
+    let rows = &summary.rows;
+    let col = |name: &str| summary.col(name);
+    let values = |c: usize| distinct(rows, c);
+    let num = |s: &str| s.parse::<f64>().ok();
+    let metrics = summary.metrics();
     for param in PARAM_NAMES {
         let Some(c) = col(param) else { continue };
         if values(c).iter().filter(|v| !v.is_empty()).count() < 2 {
@@ -476,10 +523,10 @@ pub fn sweep_page(
                 .any(|r| !r[c].is_empty() && mean.is_some_and(|k| num(&r[k]).is_some()));
             if !drawable {
                 let _ = writeln!(
-                    body,
-                    "<p class=\"note\">not drawn: no cell with a value of {param} has a value of {}</p>",
-                    esc(m)
-                );
+                body,
+                "<p class=\"note\">not drawn: no cell with a value of {param} has a value of {}</p>",
+                esc(m)
+            );
                 continue;
             }
             match plot(summary, &spec) {
@@ -492,9 +539,4 @@ pub fn sweep_page(
             }
         }
     }
-    format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}table{{border-collapse:collapse;background:#fff}}td,th{{border:1px solid #ddd;padding:2px 6px;font-size:13px}}td.n{{text-align:right;font-variant-numeric:tabular-nums}}figure{{margin:0.5em}}svg{{max-width:100%;height:auto;background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:30em}}.note{{color:#666}}.scroll{{overflow-x:auto}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n{body}<h2>sweep.ron</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
-        esc(sweep_ron),
-        t = esc(title)
-    )
 }
