@@ -11,7 +11,10 @@
 //! [`MAX_SUMMARY_CSV_BYTES`], [`MAX_TRIALS_CSV_BYTES`] and
 //! [`MAX_RESULTS_BYTES`](crate::sweep::MAX_RESULTS_BYTES).
 
+use crate::command::MAX_SLOTS;
+use crate::effect::MAX_EFFECTS;
 use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS, PARAM_NAMES};
+use crate::text::{csv_fields, echo, parse_finite};
 
 /// A file that cannot be read as what it should be: where and why.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -135,47 +138,92 @@ pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, CsvError> {
 }
 
 fn parse_trial_rows(csv: &str) -> Result<Vec<TrialRow>, String> {
-    use crate::command::MAX_SLOTS;
-    use crate::effect::MAX_EFFECTS;
-    use crate::text::{csv_fields, echo, parse_finite};
-    const FILE: &str = "trials.csv";
     let mut lines = csv.lines();
-    let header: Vec<String> = csv_fields(lines.next().ok_or("trials.csv is empty")?)
-        .into_iter()
-        .map(|(f, _)| f.trim().to_string())
-        .collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .ok_or(format!("trials.csv has no `{name}` column"))
-    };
-    // a run of continuous commands writes a quoted `values` column
-    let continuous = header.iter().any(|h| h == "values");
-    // a run of episodes: `command` is the command's place in its episode
-    let episodes = header.iter().any(|h| h == "episode");
-    let (step_col, start_col) = if episodes {
-        (Some(col("command")?), Some(col("start")?))
-    } else {
-        (None, None)
-    };
-    let (c, e, r) = (
-        col(if continuous {
-            "values"
-        } else if episodes {
-            "symbols"
-        } else {
-            "command"
-        })?,
-        col("effect")?,
-        col("reward")?,
-    );
+    let columns = TrialColumns::new(lines.next().ok_or("trials.csv is empty")?)?;
     let mut rows = Vec::new();
     for (k, line) in lines.enumerate() {
         if line.trim().is_empty() {
             continue;
         }
-        let n = k + 2;
+        rows.push(columns.row(k + 2, line)?);
+    }
+    Ok(rows)
+}
+
+/// Where a `trials.csv`'s header puts what a [`TrialRow`] holds.
+struct TrialColumns {
+    header: Vec<String>,
+    /// A run of continuous commands: a quoted `values` column.
+    continuous: bool,
+    /// The command's symbols (or values).
+    c: usize,
+    /// The effect.
+    e: usize,
+    /// The reward.
+    r: usize,
+    /// A run of episodes: the command's place in its episode.
+    step_col: Option<usize>,
+    /// A run of episodes: the start context.
+    start_col: Option<usize>,
+}
+
+impl TrialColumns {
+    fn new(first_line: &str) -> Result<TrialColumns, String> {
+        let header: Vec<String> = csv_fields(first_line)
+            .into_iter()
+            .map(|(f, _)| f.trim().to_string())
+            .collect();
+        let col = |name: &str| {
+            header
+                .iter()
+                .position(|h| h == name)
+                .ok_or(format!("trials.csv has no `{name}` column"))
+        };
+        // a run of continuous commands writes a quoted `values` column
+        let continuous = header.iter().any(|h| h == "values");
+        // a run of episodes: `command` is the command's place in its episode
+        let episodes = header.iter().any(|h| h == "episode");
+        let (step_col, start_col) = if episodes {
+            (Some(col("command")?), Some(col("start")?))
+        } else {
+            (None, None)
+        };
+        let (c, e, r) = (
+            col(if continuous {
+                "values"
+            } else if episodes {
+                "symbols"
+            } else {
+                "command"
+            })?,
+            col("effect")?,
+            col("reward")?,
+        );
+        Ok(TrialColumns {
+            header,
+            continuous,
+            c,
+            e,
+            r,
+            step_col,
+            start_col,
+        })
+    }
+
+    /// Line `n` (1-based), `line`, as a row.
+    fn row(&self, n: usize, line: &str) -> Result<TrialRow, String> {
+        let TrialColumns {
+            header,
+            continuous,
+            c,
+            e,
+            r,
+            step_col,
+            start_col,
+        } = self;
+        const FILE: &str = "trials.csv";
+        let (continuous, c, e, r) = (*continuous, *c, *e, *r);
+        let (step_col, start_col) = (*step_col, *start_col);
         let f = csv_fields(line);
         if f.len() != header.len() {
             return Err(format!(
@@ -187,26 +235,7 @@ fn parse_trial_rows(csv: &str) -> Result<Vec<TrialRow>, String> {
             ));
         }
         let (command, at) = (&f[c].0, f[c].1);
-        let (values, command) = if continuous {
-            let mut values = Vec::new();
-            for v in command.split(',') {
-                if values.len() == MAX_SLOTS {
-                    return Err(format!(
-                        "{FILE}:{n}:{at}: column `values`: expected at most {MAX_SLOTS} values"
-                    ));
-                }
-                values.push(parse_finite(v, FILE, n, at, "values")?);
-            }
-            (values, String::new())
-        } else {
-            if command.chars().nth(MAX_SLOTS).is_some() {
-                return Err(format!(
-                    "{FILE}:{n}:{at}: column `command`: expected at most {MAX_SLOTS} symbols, found `{}`",
-                    echo(command)
-                ));
-            }
-            (Vec::new(), command.to_string())
-        };
+        let (values, command) = command_field(command, n, at, continuous)?;
         let effect = f[e]
             .0
             .trim()
@@ -239,16 +268,47 @@ fn parse_trial_rows(csv: &str) -> Result<Vec<TrialRow>, String> {
                 })?,
         };
         let start = start_col.map_or(String::new(), |k| f[k].0.trim().to_string());
-        rows.push(TrialRow {
+        Ok(TrialRow {
             command,
             values,
             effect,
             reward,
             start,
             step,
-        });
+        })
     }
-    Ok(rows)
+}
+
+/// The `command` (or `values`) field of line `n`, starting at column `at`:
+/// a command's values (at most [`MAX_SLOTS`], finite) and no symbols, or
+/// its symbols (at most [`MAX_SLOTS`]) and no values.
+fn command_field(
+    command: &str,
+    n: usize,
+    at: usize,
+    continuous: bool,
+) -> Result<(Vec<f64>, String), String> {
+    const FILE: &str = "trials.csv";
+    Ok(if continuous {
+        let mut values = Vec::new();
+        for v in command.split(',') {
+            if values.len() == MAX_SLOTS {
+                return Err(format!(
+                    "{FILE}:{n}:{at}: column `values`: expected at most {MAX_SLOTS} values"
+                ));
+            }
+            values.push(parse_finite(v, FILE, n, at, "values")?);
+        }
+        (values, String::new())
+    } else {
+        if command.chars().nth(MAX_SLOTS).is_some() {
+            return Err(format!(
+                "{FILE}:{n}:{at}: column `command`: expected at most {MAX_SLOTS} symbols, found `{}`",
+                echo(command)
+            ));
+        }
+        (Vec::new(), command.to_string())
+    })
 }
 
 /// The failure messages of a sweep's `results.csv` (its text): the last
