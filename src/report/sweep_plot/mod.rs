@@ -75,14 +75,18 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
     }
     // a summary read by `Summary::parse` has every parameter's column and
     // rows of the header's length; one built in code may not
-    if let Some((i, r)) =
-        (summary.rows.iter().enumerate()).find(|(_, r)| r.len() != summary.columns.len())
+    let columns = summary.columns.len();
+    if let Some((i, r)) = summary
+        .rows
+        .iter()
+        .enumerate()
+        .find(|(_, r)| r.len() != columns)
     {
         return err(format!(
             "row {} of the summary has {} fields, expected {} (one per column)",
             i + 1,
             r.len(),
-            summary.columns.len()
+            columns
         ));
     }
     let check_param = |p: &str| -> Result<usize, PlotError> {
@@ -104,9 +108,52 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
     if yi == Some(xi) {
         return err("--x and --y name the same parameter");
     }
+    let rows = filtered_rows(summary, &spec.filters)?;
+    // a summary written by e3d has the four; an edited one may not
+    let col = |suffix: &str| {
+        let name = format!("{}_{suffix}", spec.metric);
+        summary.col(&name).ok_or_else(|| {
+            PlotError(format!(
+                "the summary has `{}_mean` but no `{name}` column; expected the columns e3d writes",
+                spec.metric
+            ))
+        })
+    };
+    let (mi, lo, hi) = (col("mean")?, col("ci_low")?, col("ci_high")?);
+    let num = |s: &str| s.parse::<f64>().ok();
+    let metric = metric_label(&spec.metric);
+    let title = plot_title(spec, &metric);
+    match yi {
+        None => {
+            let series = line_series(&rows, xi, mi, lo, hi, &num)?;
+            draw_lines(&title, &spec.x, &metric, &series)
+        }
+        Some(yi) => {
+            let rows = one_setting(rows, xi, yi, spec)?;
+            draw_heat(
+                &title,
+                &spec.x,
+                spec.y.as_deref().unwrap_or_default(),
+                rows,
+                xi,
+                yi,
+                mi,
+                &num,
+            )
+        }
+    }
+}
+
+/// The rows of `summary` that pass every filter (a parameter a learner
+/// does not use, empty, passes any filter on it); an unknown column or no
+/// row left is an error naming what there is.
+fn filtered_rows<'a>(
+    summary: &'a Summary,
+    filters: &[(String, String)],
+) -> Result<Vec<&'a Vec<String>>, PlotError> {
     let cell_cols: Vec<&str> = KEY_COLUMNS[..CELL_COLUMNS].to_vec();
     let mut rows: Vec<&Vec<String>> = summary.rows.iter().collect();
-    for (k, v) in &spec.filters {
+    for (k, v) in filters {
         let Some(ci) = summary.col(k).filter(|&i| i < CELL_COLUMNS) else {
             return err(format!(
                 "--where {k}={v}: `{k}` is not a cell column{}; expected one of: {}",
@@ -131,22 +178,14 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
             ));
         }
     }
-    // a summary written by e3d has the four; an edited one may not
-    let col = |suffix: &str| {
-        let name = format!("{}_{suffix}", spec.metric);
-        summary.col(&name).ok_or_else(|| {
-            PlotError(format!(
-                "the summary has `{}_mean` but no `{name}` column; expected the columns e3d writes",
-                spec.metric
-            ))
-        })
-    };
-    let (mi, lo, hi) = (col("mean")?, col("ci_low")?, col("ci_high")?);
-    let num = |s: &str| s.parse::<f64>().ok();
-    let metric = metric_label(&spec.metric);
+    Ok(rows)
+}
+
+/// The title: the metric against x (or over x and y), with the filters.
+fn plot_title(spec: &PlotSpec, metric: &str) -> String {
     let mut title = match &spec.y {
-        None => format!("{} against {}", capitalise(&metric), spec.x),
-        Some(y) => format!("{}: mean over {} and {y}", capitalise(&metric), spec.x),
+        None => format!("{} against {}", capitalise(metric), spec.x),
+        Some(y) => format!("{}: mean over {} and {y}", capitalise(metric), spec.x),
     };
     if !spec.filters.is_empty() {
         let f: Vec<String> = spec
@@ -156,52 +195,46 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
             .collect();
         title.push_str(&format!(" ({})", f.join(", ")));
     }
-    match yi {
-        None => {
-            let series = line_series(&rows, xi, mi, lo, hi, &num)?;
-            draw_lines(&title, &spec.x, &metric, &series)
-        }
-        Some(yi) => {
-            // one cell per (x, y): the other columns must be fixed
-            let rows: Vec<&Vec<String>> = rows
-                .into_iter()
-                .filter(|r| !r[xi].is_empty() && !r[yi].is_empty())
-                .collect();
-            if rows.is_empty() {
-                return err(format!(
-                    "no cell has both {} and {} (no learner uses both)",
-                    spec.x,
-                    spec.y.as_deref().unwrap_or_default()
-                ));
-            }
-            let varying: Vec<String> = (0..CELL_COLUMNS)
-                .filter(|&c| c != xi && c != yi)
-                .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
-                .map(|c| {
-                    let mut vals: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
-                    vals.sort();
-                    vals.dedup();
-                    format!("{} ({})", KEY_COLUMNS[c], vals.join(", "))
-                })
-                .collect();
-            if !varying.is_empty() {
-                return err(format!(
-                    "a heat map shows one setting, but these columns vary: {}; choose with --where COLUMN=VALUE",
-                    varying.join("; ")
-                ));
-            }
-            draw_heat(
-                &title,
-                &spec.x,
-                spec.y.as_deref().unwrap_or_default(),
-                rows,
-                xi,
-                yi,
-                mi,
-                &num,
-            )
-        }
+    title
+}
+
+/// The rows of a heat map: those with both x and y, in which no other
+/// cell column varies.
+fn one_setting<'a>(
+    rows: Vec<&'a Vec<String>>,
+    xi: usize,
+    yi: usize,
+    spec: &PlotSpec,
+) -> Result<Vec<&'a Vec<String>>, PlotError> {
+    // one cell per (x, y): the other columns must be fixed
+    let rows: Vec<&Vec<String>> = rows
+        .into_iter()
+        .filter(|r| !r[xi].is_empty() && !r[yi].is_empty())
+        .collect();
+    if rows.is_empty() {
+        return err(format!(
+            "no cell has both {} and {} (no learner uses both)",
+            spec.x,
+            spec.y.as_deref().unwrap_or_default()
+        ));
     }
+    let varying: Vec<String> = (0..CELL_COLUMNS)
+        .filter(|&c| c != xi && c != yi)
+        .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
+        .map(|c| {
+            let mut vals: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
+            vals.sort();
+            vals.dedup();
+            format!("{} ({})", KEY_COLUMNS[c], vals.join(", "))
+        })
+        .collect();
+    if !varying.is_empty() {
+        return err(format!(
+        "a heat map shows one setting, but these columns vary: {}; choose with --where COLUMN=VALUE",
+        varying.join("; ")
+    ));
+    }
+    Ok(rows)
 }
 
 /// A number in 4 significant digits, without trailing zeros.
