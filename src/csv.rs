@@ -129,9 +129,9 @@ pub const MAX_TRIALS_CSV_BYTES: u64 = 256 << 20;
 ///
 /// Every value is checked, and a bad one is refused with
 /// `trials.csv:LINE:COL`, its column and what was expected: an effect is
-/// a whole number below [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS), a
+/// a whole number below [`MAX_EFFECTS`], a
 /// reward and a command's values finite numbers, a command at most
-/// [`MAX_SLOTS`](crate::command::MAX_SLOTS) symbols (or values). Linear
+/// [`MAX_SLOTS`] symbols (or values). Linear
 /// in the length of the text; nothing is sized by a value read.
 pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, CsvError> {
     parse_trial_rows(csv).map_err(CsvError)

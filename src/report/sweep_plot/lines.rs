@@ -348,7 +348,7 @@ fn draw_series(
         }
         for p in &pts {
             let at = chart.backend_coord(&(tx(p.0), p.1));
-            draw_marker(&top, at, st).map_err(draw_err)?;
+            draw_marker(top, at, st).map_err(draw_err)?;
         }
     }
     Ok(())
@@ -391,7 +391,7 @@ fn draw_legend(
                     ))
                     .map_err(draw_err)?;
             }
-            draw_marker(&bottom, (x + 15, y), st).map_err(draw_err)?;
+            draw_marker(bottom, (x + 15, y), st).map_err(draw_err)?;
         }
         let style = TextStyle::from((FONT, 16).into_font())
             .color(&BLACK)
