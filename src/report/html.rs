@@ -405,6 +405,7 @@ pub fn sweep_page(
 }
 
 /// The distinct values of column `c` of `rows`, sorted.
+#[cfg(feature = "plots")]
 fn distinct(rows: &[Vec<String>], c: usize) -> Vec<&str> {
     let mut v: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
     v.sort_unstable();
@@ -414,6 +415,7 @@ fn distinct(rows: &[Vec<String>], c: usize) -> Vec<&str> {
 
 /// The summary as a table: the cell columns that vary, the sessions (and
 /// failures), each metric's mean ± sd (its interval in the tooltip).
+#[cfg(feature = "plots")]
 fn summary_table(body: &mut String, summary: &crate::csv::Summary, varying: &[usize]) {
     use super::sweep_plot::short;
     let rows = &summary.rows;
@@ -476,6 +478,7 @@ fn summary_table(body: &mut String, summary: &crate::csv::Summary, varying: &[us
 }
 
 /// The first 20 failure messages, and how many more there are.
+#[cfg(feature = "plots")]
 fn failures_list(body: &mut String, failures: &[String]) {
     if !failures.is_empty() {
         let _ = writeln!(
@@ -495,6 +498,7 @@ fn failures_list(body: &mut String, failures: &[String]) {
 
 /// Each metric against each parameter that takes two values or more, as
 /// a line plot, or a note saying why it is not drawn.
+#[cfg(feature = "plots")]
 fn plots_against_params(body: &mut String, summary: &crate::csv::Summary) {
     use super::sweep_plot::{plot, PlotSpec};
     use crate::sweep::PARAM_NAMES;
