@@ -288,6 +288,25 @@ pub(super) fn exec_cache(
     }
 }
 
+/// Without a table cache, a scene with a mirror symmetry still simulates
+/// one command of each mirror pair: a memo in memory (never written)
+/// hands the other its reflected outcome, which is what the world gives
+/// that command anyway (the world simulates the pair's lower-index
+/// command and reflects it), so the rows are the same bytes in half the
+/// rollouts. Other scenes need no memo: each command is simulated once
+/// per appearance, as before.
+fn mirror_memo(scene: &Scene) -> Option<e3d::OutcomeMemo> {
+    match &scene.spec().world {
+        WorldSpec::Physics(p) if p.symmetry.is_some() => e3d::OutcomeMemo::new(
+            &scene.command_space(),
+            scene.num_effects(),
+            e3d::world::DEFAULT_MEMO_CAP,
+        )
+        .ok(),
+        _ => None,
+    }
+}
+
 /// `e3d scene exec`: a reader thread parses the commands as they come; the
 /// main thread waits for one, takes what else is queued (up to
 /// [`chunk_limit`]), executes that chunk on every core and prints its rows
@@ -377,7 +396,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let space = scene.command_space();
     let (table, memo) = match table_cache {
         Some(d) => exec_cache(scene, d),
-        None => (None, None),
+        None => (None, mirror_memo(scene)),
     };
     let label = format!("scene exec {}", scene.spec().name);
     // what the commands cost, said before when their number is known, or
