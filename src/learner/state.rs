@@ -333,7 +333,58 @@ impl<T: StateField> StateField for Vec<T> {
         }
     }
     fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let n = r.len(4)?;
+        let n = r.len(1)?;
+        (0..n).map(|_| T::get(r)).collect()
+    }
+}
+
+impl StateField for u8 {
+    fn put(&self, w: &mut StateWriter) {
+        w.bytes(&[*self]);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(r.take(1)?[0])
+    }
+}
+
+/// `None` is the byte 0; `Some(v)` the byte 1, then `v`.
+impl<T: StateField> StateField for Option<T> {
+    fn put(&self, w: &mut StateWriter) {
+        match self {
+            None => w.bytes(&[0]),
+            Some(v) => {
+                w.bytes(&[1]);
+                v.put(w);
+            }
+        }
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        match r.take(1)?[0] {
+            0 => Ok(None),
+            1 => Ok(Some(T::get(r)?)),
+            b => Err(r.error(&format!("an option tagged {b} (expected 0 or 1)"))),
+        }
+    }
+}
+
+impl StateField for [f64; 2] {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self[0]).put(&self[1]);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok([r.get()?, r.get()?])
+    }
+}
+
+impl<T: StateField> StateField for std::collections::VecDeque<T> {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.len());
+        for v in self {
+            v.put(w);
+        }
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let n = r.len(1)?;
         (0..n).map(|_| T::get(r)).collect()
     }
 }

@@ -3,7 +3,10 @@
 //! a reason.
 
 use e3d::learner::contextual::{ContextTargets, ContextualLearner, PerContext};
-use e3d::learner::{ClosedLoopE3d, CountBonus, QLearning, RelaxedE3d, StateMarginalMatching};
+use e3d::learner::{
+    Archive, ArchiveValues, ClosedLoopE3d, CountBonus, GoalBabbling, GoalBabblingValues, QLearning,
+    RelaxedE3d, StateMarginalMatching,
+};
 use e3d::{
     Command, CommandSpace, ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner,
     LearnerState, Outcome, Params, SessionRng, Target, UniformPolicy, UniformValues, ValueSpace,
@@ -100,6 +103,16 @@ fn every_symbol_learner_continues_bit_for_bit_after_a_save() {
     continues_bit_for_bit(RelaxedE3d::new(&s, EFFECTS, &p, &t).unwrap(), run);
     continues_bit_for_bit(CountBonus::new(&s, EFFECTS, &p), run);
     continues_bit_for_bit(EpsilonGreedy::new(&s, &p), run);
+    // the learners of kept commands: every cell's command, the choices made
+    let n = continues_bit_for_bit(Archive::new(&s, EFFECTS, &p), run);
+    assert!(n > 7 * 3, "{n} bytes: the kept commands are saved");
+    continues_bit_for_bit(GoalBabbling::new(&s, EFFECTS, &p), run);
+    let saved = GoalBabbling::new(&s, EFFECTS, &p).to_bytes();
+    let e = Archive::from_bytes(&saved).err().unwrap().to_string();
+    assert!(
+        e.contains("the bytes hold the state of a `goal_babbling` learner"),
+        "{e}"
+    );
     let shape = CountBonus::new(&s, EFFECTS, &p).shape();
     assert_eq!(shape.sizes, [3, 2, 4]);
     assert_eq!(shape.effects, Some(EFFECTS));
@@ -152,6 +165,11 @@ fn continuous_learners_continue_bit_for_bit_after_a_save() {
     };
     let g = GaussianE3d::new(&space, 16, &params(), &Target::Uniform).unwrap();
     continues_bit_for_bit(g, |l, r, n| run(l, r, n));
+    let a = ArchiveValues::new(&space, 16, &params());
+    continues_bit_for_bit(a, |l, r, n| run(l, r, n));
+    let gb = GoalBabblingValues::new(&space, 16, &params());
+    assert_eq!(gb.shape().sizes, [0, 0]);
+    continues_bit_for_bit(gb, |l, r, n| run(l, r, n));
     let u = UniformValues::new(&space);
     let back = UniformValues::from_bytes(&u.to_bytes()).unwrap();
     assert_eq!(back.shape().sizes, [0, 0]);
