@@ -197,7 +197,7 @@ class World:
 @disjoint_base
 class Learner:
     """A built-in learner's state (``"e3d"``, ``"e3d_relax"``, ``"count"``,
-    ``"smm"``, ``"egreedy"``, ``"uniform"``; on a continuous scene the
+    ``"smm"``, ``"egreedy"``, ``"uniform"``, ``"goal_babbling"``, ``"archive"``; on a continuous scene the
     Gaussian ``"e3d"`` or ``"uniform"`` values; with contexts, from
     ``Learner.contextual``): its tables by name (``l["q"]``, ``l["p"] =
     ...``), stepped by ``propose`` / ``learn``, saved as bytes bit for bit

@@ -319,6 +319,11 @@ pub(crate) fn contextual_held(
         (true, other) => Err(PyValueError::new_err(format!(
             "learner `{other}`: the closed loop takes e3d (closed-loop E3D) or egreedy (Q-learning)"
         ))),
+        (false, LearnerKind::GoalBabbling | LearnerKind::Archive) => {
+            Err(PyValueError::new_err(format!(
+                "learner `{kind}`: no saved state per context (kept for e3d, e3d_relax, count, smm, egreedy and uniform)"
+            )))
+        }
         (false, kind) => {
             let per: Vec<Target> = match ctx_targets {
                 ContextTargets::Shared(t) => vec![t; contexts],

@@ -7,8 +7,8 @@ use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::{per_context_kind, state_kind, StateShape};
 use e3d::learner::{
-    ClosedLoopE3d, ContextualLearner, CountBonus, PerContext, QLearning, RelaxedE3d,
-    StateMarginalMatching,
+    Archive, ArchiveValues, ClosedLoopE3d, ContextualLearner, CountBonus, GoalBabbling,
+    GoalBabblingValues, PerContext, QLearning, RelaxedE3d, StateMarginalMatching,
 };
 use e3d::{
     ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner, LearnerError, LearnerKind,
@@ -31,6 +31,10 @@ pub(crate) enum Held {
     Uniform(UniformPolicy),
     Gaussian(GaussianE3d),
     UniformValues(UniformValues),
+    GoalBabbling(GoalBabbling),
+    GoalBabblingValues(GoalBabblingValues),
+    Archive(Archive),
+    ArchiveValues(ArchiveValues),
     /// Contextual: a learner per context, closed-loop E3D, Q-learning.
     PerE3d(PerContext<E3d>),
     PerRelaxed(PerContext<RelaxedE3d>),
@@ -54,6 +58,10 @@ macro_rules! with_held {
             Held::Uniform($l) => $f,
             Held::Gaussian($l) => $f,
             Held::UniformValues($l) => $f,
+            Held::GoalBabbling($l) => $f,
+            Held::GoalBabblingValues($l) => $f,
+            Held::Archive($l) => $f,
+            Held::ArchiveValues($l) => $f,
             Held::PerE3d($l) => $f,
             Held::PerRelaxed($l) => $f,
             Held::PerCount($l) => $f,
@@ -84,8 +92,10 @@ impl Held {
             return match kind {
                 LearnerKind::E3d => GaussianE3d::new(values, n, params, target).map(Held::Gaussian),
                 LearnerKind::Uniform => Ok(Held::UniformValues(UniformValues::new(values))),
+                LearnerKind::GoalBabbling => Ok(Held::GoalBabblingValues(GoalBabblingValues::new(values, n, params))),
+                LearnerKind::Archive => Ok(Held::ArchiveValues(ArchiveValues::new(values, n, params))),
                 other => Err(LearnerError::State(format!(
-                    "learner `{other}`: a saved state of continuous commands is kept for \"e3d\" and \"uniform\""
+                    "learner `{other}`: a saved state of continuous commands is kept for \"e3d\", \"uniform\", \"goal_babbling\" and \"archive\""
                 ))),
             }
             .map_err(bad);
@@ -93,16 +103,17 @@ impl Held {
         let s = &scene.space;
         Ok(match kind {
             LearnerKind::E3d => Held::E3d(E3d::new(s, n, params, target).map_err(bad)?),
-            LearnerKind::E3dRelax => Held::Relaxed(RelaxedE3d::new(s, n, params, target).map_err(bad)?),
+            LearnerKind::E3dRelax => {
+                Held::Relaxed(RelaxedE3d::new(s, n, params, target).map_err(bad)?)
+            }
             LearnerKind::Count => Held::Count(CountBonus::new(s, n, params)),
-            LearnerKind::Smm => Held::Smm(StateMarginalMatching::new(s, n, params, target).map_err(bad)?),
+            LearnerKind::Smm => {
+                Held::Smm(StateMarginalMatching::new(s, n, params, target).map_err(bad)?)
+            }
             LearnerKind::Egreedy => Held::Egreedy(EpsilonGreedy::new(s, params)),
             LearnerKind::Uniform => Held::Uniform(UniformPolicy::new(s)),
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "learner `{other}`: no saved state (kept for e3d, e3d_relax, count, smm, egreedy and uniform)"
-                )))
-            }
+            LearnerKind::GoalBabbling => Held::GoalBabbling(GoalBabbling::new(s, n, params)),
+            LearnerKind::Archive => Held::Archive(Archive::new(s, n, params)),
         })
     }
 
@@ -119,6 +130,12 @@ impl Held {
             "uniform" => Held::Uniform(UniformPolicy::from_bytes(data)?),
             "gaussian_e3d" => Held::Gaussian(GaussianE3d::from_bytes(data)?),
             "uniform_values" => Held::UniformValues(UniformValues::from_bytes(data)?),
+            "goal_babbling" => Held::GoalBabbling(GoalBabbling::from_bytes(data)?),
+            "goal_babbling_values" => {
+                Held::GoalBabblingValues(GoalBabblingValues::from_bytes(data)?)
+            }
+            "archive" => Held::Archive(Archive::from_bytes(data)?),
+            "archive_values" => Held::ArchiveValues(ArchiveValues::from_bytes(data)?),
             "e3d_closed_loop" => Held::ClosedLoop(ClosedLoopE3d::from_bytes(data)?),
             "qlearning" => Held::QLearning(QLearning::from_bytes(data)?),
             "per_context" => match per_context_kind(data)?.as_str() {
@@ -128,9 +145,11 @@ impl Held {
                 "smm" => Held::PerSmm(PerContext::from_bytes(data)?),
                 "egreedy" => Held::PerEgreedy(PerContext::from_bytes(data)?),
                 "uniform" => Held::PerUniform(PerContext::from_bytes(data)?),
-                inner => return Err(LearnerError::State(format!(
+                inner => {
+                    return Err(LearnerError::State(format!(
                     "the state of `{inner}` learners per context, which e3d.Learner does not hold"
-                ))),
+                )))
+                }
             },
             _ => {
                 return Err(LearnerError::State(format!(
@@ -171,6 +190,8 @@ impl Held {
             Held::Smm(l) => l,
             Held::Egreedy(l) => l,
             Held::Uniform(l) => l,
+            Held::GoalBabbling(l) => l,
+            Held::Archive(l) => l,
             _ => return None,
         })
     }
@@ -232,6 +253,8 @@ impl Held {
         match self {
             Held::Gaussian(l) => Some(l),
             Held::UniformValues(l) => Some(l),
+            Held::GoalBabblingValues(l) => Some(l),
+            Held::ArchiveValues(l) => Some(l),
             _ => None,
         }
     }
@@ -251,16 +274,22 @@ impl Held {
             Held::PerSmm(_) => LearnerKind::Smm,
             Held::PerEgreedy(_) | Held::QLearning(_) => LearnerKind::Egreedy,
             Held::PerUniform(_) => LearnerKind::Uniform,
+            Held::GoalBabbling(_) | Held::GoalBabblingValues(_) => LearnerKind::GoalBabbling,
+            Held::Archive(_) | Held::ArchiveValues(_) => LearnerKind::Archive,
         }
     }
 }
 
 /// A built-in learner (`"e3d"`, `"e3d_relax"`, `"count"`, `"smm"`,
-/// `"egreedy"`, `"uniform"`; on a continuous scene the Gaussian `"e3d"` or
-/// `"uniform"` values) as a state: saved as bytes bit for bit (`to_bytes`,
+/// `"egreedy"`, `"uniform"`, `"goal_babbling"`, `"archive"`; on a
+/// continuous scene the Gaussian `"e3d"`, `"uniform"`, `"goal_babbling"` or
+/// `"archive"` values; with contexts, from `Learner.contextual`) as a
+/// state: its tables by name (`l["q"]`, `l["target"] = ...`), stepped by
+/// `propose` / `learn`, saved as bytes bit for bit (`to_bytes`,
 /// `Learner.from_bytes`, pickling) and read back as a learner that goes
-/// on exactly as this one would. `run_session(scene, learner=l)` runs a
-/// session from `l`'s state and leaves `l` in the state it ends in.
+/// on exactly as this one would. `run_session(scene, learner=l)` (with
+/// contexts `run_episodes`) runs from `l`'s state and leaves `l` in the
+/// state it ends in.
 #[pyclass(module = "e3d", name = "Learner", subclass)]
 #[derive(Clone)]
 pub(crate) struct PyLearnerState {

@@ -10,7 +10,7 @@ import pytest
 
 import e3d
 
-SYMBOL_KINDS = ["e3d", "e3d_relax", "count", "smm", "egreedy", "uniform"]
+SYMBOL_KINDS = ["e3d", "e3d_relax", "count", "smm", "egreedy", "uniform", "goal_babbling", "archive"]
 
 
 @pytest.mark.parametrize("kind", SYMBOL_KINDS)
@@ -41,7 +41,8 @@ def test_a_learner_state_goes_on_where_the_session_left_it():
 
 
 def test_the_gaussian_e3d_and_uniform_values_save_and_load():
-    for kind, saved_kind in [("e3d", "gaussian_e3d"), ("uniform", "uniform_values")]:
+    for kind, saved_kind in [("e3d", "gaussian_e3d"), ("uniform", "uniform_values"),
+                             ("goal_babbling", "goal_babbling_values"), ("archive", "archive_values")]:
         l = e3d.Learner("arm7_continuous", kind)
         assert l.kind == saved_kind and l.name == kind
         e3d.run_session("arm7_continuous", learner=l, trials=40, seed=3)
@@ -80,8 +81,10 @@ def test_bad_states_and_scenes_that_do_not_fit_are_refused():
         e3d.run_session("arm7", learner=l, trials=5)
     with pytest.raises(ValueError, match="the learner's slots have alphabet sizes"):
         e3d.run_session("arm7_continuous", learner=l, trials=5)
-    with pytest.raises(ValueError, match="no saved state"):
-        e3d.Learner("two_rooms", "archive")
+    with pytest.raises(ValueError, match="learner `archive`: no saved state per context"):
+        e3d.Learner.contextual("two_rooms", "archive")
+    with pytest.raises(ValueError, match="the bytes hold the state of a `goal_babbling` learner"):
+        e3d.E3dLearner.from_bytes(e3d.Learner("two_rooms", "goal_babbling").to_bytes())
     with pytest.raises(ValueError, match="learner: "):
         e3d.Learner("two_rooms", "nope")
     with pytest.raises(ValueError, match="eta = 2"):
@@ -160,7 +163,7 @@ def test_every_kind_shows_its_tables():
     shown = {k: e3d.Learner("two_rooms", k).keys() for k in SYMBOL_KINDS}
     assert shown == {"e3d": ["q", "policy", "p", "target"], "e3d_relax": ["q", "policy", "p", "target"],
                      "count": ["q", "policy", "counts"], "smm": ["q", "policy", "counts", "target"],
-                     "egreedy": ["q", "policy"], "uniform": []}
+                     "egreedy": ["q", "policy"], "uniform": [], "goal_babbling": [], "archive": []}
     c = e3d.Learner("two_rooms", "count")
     rec = e3d.run_session("two_rooms", learner=c, trials=300, seed=2)
     assert c["counts"].tolist() == np.bincount(rec.effects, minlength=18).tolist()
