@@ -25,7 +25,15 @@ class SceneError(ValueError):
 class SimulationError(RuntimeError):
     """A command whose simulation failed (a physics blow-up), naming scene and command."""
 
-from e3d._types import CommandsLike, Progress, PythonContextualLearner, PythonLearner, TargetLike
+from e3d._types import (
+    CommandsLike,
+    PathLike_,
+    Progress,
+    PythonContextualLearner,
+    PythonLearner,
+    SceneLike,
+    TargetLike,
+)
 
 __all__ = [
     "BatchOutcome",
@@ -206,7 +214,7 @@ class Learner:
 
     def __new__(
         cls,
-        scene: Union[Scene, str, PathLike[str]],
+        scene: SceneLike,
         learner: str = "e3d",
         alpha: float = 0.3,
         beta: float = 1.0,
@@ -217,7 +225,7 @@ class Learner:
     ) -> Learner: ...
     @staticmethod
     def contextual(
-        scene: Union[Scene, str, PathLike[str]],
+        scene: SceneLike,
         learner: str = "e3d",
         commands: Optional[int] = None,
         closed_loop: bool = False,
@@ -265,7 +273,7 @@ class E3dLearner(Learner):
 
     def __new__(
         cls,
-        scene: Union[Scene, str, PathLike[str]],
+        scene: SceneLike,
         alpha: float = 0.3,
         beta: float = 1.0,
         lambda_: float = 0.03,
@@ -348,7 +356,7 @@ class SessionRecord:
         """E3D's running effect histogram p at the end (``run_session(learner="e3d")`` only)."""
 
 def run_session(
-    scene: Union[Scene, str, PathLike[str]],
+    scene: SceneLike,
     learner: Union[str, PythonLearner, Learner, None] = None,
     trials: int = 5000,
     seed: int = 0,
@@ -359,7 +367,7 @@ def run_session(
     eta: float = 0.01,
     epsilon: float = 0.1,
     outcomes: Optional[str] = None,
-    table_cache: Union[str, PathLike[str], None] = None,
+    table_cache: Optional[PathLike_] = None,
     progress: Optional[Progress] = None,
     target: Optional[TargetLike] = None,
     on_trials: Optional[
@@ -399,7 +407,7 @@ class SessionBatch:
     def __getitem__(self, i: int, /) -> SessionRecord: ...
 
 def run_sessions(
-    scene: Union[Scene, str, PathLike[str]],
+    scene: SceneLike,
     learner: Union[str, Sequence[PythonLearner], None] = None,
     trials: int = 5000,
     seeds: Optional[Sequence[int]] = None,
@@ -412,7 +420,7 @@ def run_sessions(
     eta: float = 0.01,
     epsilon: float = 0.1,
     outcomes: Optional[str] = None,
-    table_cache: Union[str, PathLike[str], None] = None,
+    table_cache: Optional[PathLike_] = None,
     progress: Optional[Progress] = None,
     target: Optional[TargetLike] = None,
 ) -> SessionBatch: ...
@@ -449,7 +457,7 @@ class EpisodeRecord:
 
 @overload
 def run_episodes(
-    scene: Union[Scene, str, PathLike[str]],
+    scene: SceneLike,
     episodes: Optional[int] = None,
     commands: Optional[int] = None,
     seed: Optional[int] = None,
@@ -469,7 +477,7 @@ def run_episodes(
 ) -> EpisodeRecord: ...
 @overload
 def run_episodes(
-    scene: Union[Scene, str, PathLike[str]],
+    scene: SceneLike,
     episodes: Optional[int] = None,
     commands: Optional[int] = None,
     seed: Optional[int] = None,
@@ -495,7 +503,7 @@ class EpisodeWorld:
 
     def __new__(
         cls,
-        scene: Union[Scene, str, PathLike[str]],
+        scene: SceneLike,
         commands: Optional[int] = None,
         observe: Optional[str] = None,
         use_reward: bool = True,
@@ -523,8 +531,8 @@ class EpisodeWorld:
 def run_sweep(
     sweep: Union[str, PathLike[str]],
     threads: Optional[int] = None,
-    table_cache: Union[str, PathLike[str], None] = None,
-    out: Union[str, PathLike[str], None] = None,
+    table_cache: Optional[PathLike_] = None,
+    out: Optional[PathLike_] = None,
     resume: bool = False,
     progress: Optional[Progress] = None,
 ) -> dict[str, Union[npt.NDArray[Any], list[str]]]: ...
