@@ -4,7 +4,8 @@ use super::load_scene;
 use super::{CliError, CliResult};
 use crate::cli::console::outln;
 use clap::Args;
-use e3d::{run_session, LearnerKind, OutcomeTable, Params, SessionConfig, Target, World};
+use e3d::world::PhysicsScene;
+use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target, World};
 use std::time::{Duration, Instant};
 
 /// Arguments of `e3d bench`.
@@ -88,119 +89,141 @@ pub fn run(a: BenchArgs) -> CliResult {
     for name in &a.scenes {
         let scene = load_scene(name)?;
         let mut world = scene.build();
-        let space = world.command_space().clone();
-        let n_commands = space.num_commands().unwrap_or(u64::MAX);
-        // rollouts: every command in index order, cycling (no table)
-        let mut i = 0u64;
-        let mut cmd = space.first();
-        let mut failure = None;
-        let rollouts = rate(budget, || {
-            for _ in 0..16 {
-                space.write_command_at(i % n_commands, &mut cmd);
-                if let Err(e) = world.execute(&cmd) {
-                    failure.get_or_insert(e);
-                }
-                i += 1;
-            }
-            16
-        });
-        if let Some(e) = failure {
-            return Err(CliError::simulation(e));
-        }
-        line(&scene.spec().name, "rollouts", rollouts, "1/s");
-        if let Some(steps) = scene.spec().steps_per_command() {
-            line(
-                &scene.spec().name,
-                "steps",
-                rollouts.times(steps as f64),
-                "1/s",
-            );
-        }
+        bench_rollouts(&scene, &mut *world, budget)?;
         if let Some(physics) = scene.as_physics() {
-            // many commands at once in one Rapier world (one thread)
-            let copies = e3d::world::TABLE_COPIES;
-            let mut multi = physics.world(copies);
-            let mut cmds = vec![space.first(); copies];
-            let mut out = Vec::with_capacity(copies);
-            let mut i = 0u64;
-            let r = rate(budget, || {
-                for c in cmds.iter_mut() {
-                    space.write_command_at(i % n_commands, c);
-                    i += 1;
-                }
-                out.clear();
-                multi.execute_batch(&cmds, &mut out);
-                copies
-            });
-            let exact = if physics.spec().copies_are_exact() {
-                "bit-identical"
-            } else {
-                "not bit-identical: tables use one copy"
-            };
-            let measure = format!("rollouts ({copies} copies per world; {exact})");
-            line(&scene.spec().name, &measure, r, "1/s");
+            bench_copies(&scene, &physics, budget);
         }
-        let n_effects = world.num_effects();
-        let make = || {
-            LearnerKind::E3d
-                .make(&Params::TASK1, &space, n_effects, &Target::Uniform)
-                .map_err(CliError::input)
-        };
-        let trials = 5000;
-        let cfg = |seed| SessionConfig {
-            trials,
-            seed,
+        bench_trials(&scene, &mut *world, budget)?;
+    }
+    Ok(())
+}
+
+/// Rollouts (and steps) per second: every command in index order,
+/// cycling (no table).
+fn bench_rollouts(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliResult {
+    let space = world.command_space().clone();
+    let n_commands = space.num_commands().unwrap_or(u64::MAX);
+    let mut i = 0u64;
+    let mut cmd = space.first();
+    let mut failure = None;
+    let rollouts = rate(budget, || {
+        for _ in 0..16 {
+            space.write_command_at(i % n_commands, &mut cmd);
+            if let Err(e) = world.execute(&cmd) {
+                failure.get_or_insert(e);
+            }
+            i += 1;
+        }
+        16
+    });
+    if let Some(e) = failure {
+        return Err(CliError::simulation(e));
+    }
+    line(&scene.spec().name, "rollouts", rollouts, "1/s");
+    if let Some(steps) = scene.spec().steps_per_command() {
+        line(
+            &scene.spec().name,
+            "steps",
+            rollouts.times(steps as f64),
+            "1/s",
+        );
+    }
+    Ok(())
+}
+
+/// Rollouts per second of many commands at once in one Rapier world (one
+/// thread).
+fn bench_copies(scene: &Scene, physics: &PhysicsScene, budget: Duration) {
+    let space = scene.command_space();
+    let n_commands = space.num_commands().unwrap_or(u64::MAX);
+    let copies = e3d::world::TABLE_COPIES;
+    let mut multi = physics.world(copies);
+    let mut cmds = vec![space.first(); copies];
+    let mut out = Vec::with_capacity(copies);
+    let mut i = 0u64;
+    let r = rate(budget, || {
+        for c in cmds.iter_mut() {
+            space.write_command_at(i % n_commands, c);
+            i += 1;
+        }
+        out.clear();
+        multi.execute_batch(&cmds, &mut out);
+        copies
+    });
+    let exact = if physics.spec().copies_are_exact() {
+        "bit-identical"
+    } else {
+        "not bit-identical: tables use one copy"
+    };
+    let measure = format!("rollouts ({copies} copies per world; {exact})");
+    line(&scene.spec().name, &measure, r, "1/s");
+}
+
+/// E3D trials per second: on the scene's outcome table (and the table's
+/// build) when one is worthwhile, else 200 simulated trials.
+fn bench_trials(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliResult {
+    let space = world.command_space().clone();
+    let n_commands = space.num_commands().unwrap_or(u64::MAX);
+    let n_effects = world.num_effects();
+    let make = || {
+        LearnerKind::E3d
+            .make(&Params::TASK1, &space, n_effects, &Target::Uniform)
+            .map_err(CliError::input)
+    };
+    let trials = 5000;
+    let cfg = |seed| SessionConfig {
+        trials,
+        seed,
+        use_reward: true,
+    };
+    if !OutcomeTable::worthwhile(scene, &*world, trials as u64) {
+        let short = SessionConfig {
+            trials: 200,
+            seed: 1,
             use_reward: true,
         };
-        if OutcomeTable::worthwhile(&scene, &*world, trials as u64) {
-            let t0 = Instant::now();
-            let table = OutcomeTable::build_scene(&scene).map_err(CliError::simulation)?;
-            let secs = t0.elapsed().as_secs_f64();
-            let simulated = OutcomeTable::simulated_commands(&scene).unwrap_or(n_commands);
-            let threads = rayon::current_num_threads();
-            outln!(
-                "{},outcome table build ({} commands; {simulated} simulated; {threads} thread(s)),{secs:.3},{secs:.3},s",
-                scene.spec().name,
-                table.len(),
-            );
-            let measure = format!("outcome table commands ({threads} thread(s))");
-            line(
-                &scene.spec().name,
-                &measure,
-                Rate::once(table.len() as f64 / secs),
-                "1/s",
-            );
-            let mut seed = 0;
-            let mut err = None;
-            let r = rate(budget, || {
-                seed += 1;
-                let mut l = make().expect("valid parameters");
-                if let Err(e) = run_session(&mut &table, &mut l, &cfg(seed)) {
-                    err.get_or_insert(e);
-                }
-                trials
-            });
-            if let Some(e) = err {
-                return Err(CliError::simulation(e));
-            }
-            line(&scene.spec().name, "e3d trials (outcome table)", r, "1/s");
-            let ns = Rate {
-                median: 1e9 / r.median,
-                best: 1e9 / r.best,
-            };
-            line(&scene.spec().name, "e3d trial (outcome table)", ns, "ns");
-        } else {
-            let short = SessionConfig {
-                trials: 200,
-                seed: 1,
-                use_reward: true,
-            };
-            let t0 = Instant::now();
-            let mut l = make()?;
-            run_session(&mut world, &mut l, &short).map_err(CliError::simulation)?;
-            let r = Rate::once(200.0 / t0.elapsed().as_secs_f64());
-            line(&scene.spec().name, "e3d trials (simulated)", r, "1/s");
-        }
+        let t0 = Instant::now();
+        let mut l = make()?;
+        run_session(world, &mut l, &short).map_err(CliError::simulation)?;
+        let r = Rate::once(200.0 / t0.elapsed().as_secs_f64());
+        line(&scene.spec().name, "e3d trials (simulated)", r, "1/s");
+        return Ok(());
     }
+    let t0 = Instant::now();
+    let table = OutcomeTable::build_scene(scene).map_err(CliError::simulation)?;
+    let secs = t0.elapsed().as_secs_f64();
+    let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n_commands);
+    let threads = rayon::current_num_threads();
+    outln!(
+        "{},outcome table build ({} commands; {simulated} simulated; {threads} thread(s)),{secs:.3},{secs:.3},s",
+        scene.spec().name,
+        table.len(),
+    );
+    let measure = format!("outcome table commands ({threads} thread(s))");
+    line(
+        &scene.spec().name,
+        &measure,
+        Rate::once(table.len() as f64 / secs),
+        "1/s",
+    );
+    let mut seed = 0;
+    let mut err = None;
+    let r = rate(budget, || {
+        seed += 1;
+        let mut l = make().expect("valid parameters");
+        if let Err(e) = run_session(&mut &table, &mut l, &cfg(seed)) {
+            err.get_or_insert(e);
+        }
+        trials
+    });
+    if let Some(e) = err {
+        return Err(CliError::simulation(e));
+    }
+    line(&scene.spec().name, "e3d trials (outcome table)", r, "1/s");
+    let ns = Rate {
+        median: 1e9 / r.median,
+        best: 1e9 / r.best,
+    };
+    line(&scene.spec().name, "e3d trial (outcome table)", ns, "ns");
     Ok(())
 }

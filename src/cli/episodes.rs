@@ -9,10 +9,12 @@ use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
 use e3d::learner::{ContextTargets, ContextualLearner};
 use e3d::scene::WorldSpec;
 use e3d::world::{ContextMemoized, OutcomeMemo};
+use e3d::CommandSpace;
 use e3d::World;
 use e3d::{LearnerKind, Params, Scene, Target};
 use rayon::prelude::*;
 use serde::Serialize;
+use std::path::Path;
 
 /// Whether `e3d run` runs episodes: start contexts, several commands per
 /// episode, or a closed-loop learner.
@@ -66,12 +68,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             scene.spec().name
         )));
     }
-    let observe = match a.observe {
-        Some(ObserveArg::Start) => Observe::StartContext,
-        Some(ObserveArg::State) => Observe::State,
-        Some(ObserveArg::Blind) => Observe::Blind,
-        None => Observe::default_for(a.commands as usize, a.closed_loop),
-    };
+    let observe = observe_of(a);
     let space = scene.command_space();
     let num_effects = scene.num_effects();
     let world = scene.build();
@@ -104,29 +101,8 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             .map_err(CliError::input)
     };
     let name = make()?.name().to_string();
-    errln!(
-        "episodes: {} sessions of {} episodes of {} command{}, learner {name}, {} contexts observed as {}",
-        seeds.len(),
-        a.trials,
-        a.commands,
-        if a.commands == 1 { "" } else { "s" },
-        contexts,
-        match observe {
-            Observe::State => "the current effect cell",
-            Observe::StartContext => "the start context",
-            Observe::Blind => "nothing (one policy)",
-        }
-    );
-    // commands from a named start context are simulated once, whatever
-    // the session (sampled starts and later commands run live)
-    let memos: Vec<OutcomeMemo> = if a.memo.memo_cap > 0 {
-        (0..world.num_contexts())
-            .map(|_| OutcomeMemo::new(&space, num_effects, a.memo.memo_cap))
-            .collect::<Result<_, _>>()
-            .map_err(CliError::input)?
-    } else {
-        Vec::new()
-    };
+    describe(a, seeds.len(), &name, contexts, observe);
+    let memos = memos(a, world.num_contexts(), &space, num_effects)?;
     let records: Vec<EpisodeRecord> = seeds
         .par_iter()
         .map(|&seed| {
@@ -136,59 +112,10 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         })
         .collect::<Result<_, _>>()?;
     let names = start_names(scene);
-    let starts = names.len();
-    let sessions: Vec<OneSession> = records
-        .iter()
-        .zip(seeds)
-        .map(|(r, &seed)| OneSession {
-            seed,
-            episodes: r.episodes(),
-            first_reward_episode: r.first_reward_episode(),
-            cumulative_reward: r.cumulative_reward(),
-            entropy_per_start: r.entropy_per_start(starts),
-        })
-        .collect();
-    outln!(
-        "scene {}, learner {name}, {} episodes of {} command(s), seeds {}..={}",
-        scene.spec().name,
-        a.trials,
-        a.commands,
-        seeds[0],
-        seeds[seeds.len() - 1]
-    );
-    for s in &sessions {
-        let ent: Vec<String> = names
-            .iter()
-            .zip(&s.entropy_per_start)
-            .map(|(n, h)| format!("{n} {h:.4}"))
-            .collect();
-        outln!(
-            "seed {}: first reward at episode {}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
-            s.seed,
-            s.first_reward_episode.map_or("never".to_string(), |e| e.to_string()),
-            s.cumulative_reward,
-            ent.join(", ")
-        );
-    }
+    let sessions = sessions_of(&records, seeds, names.len());
+    print_sessions(a, scene, &name, &names, &sessions, seeds);
     if let Some(dir) = &a.out {
-        let mut csv = String::from("session,episode,command,context,start,symbols,effect,reward\n");
-        for (i, r) in records.iter().enumerate() {
-            let k = r.commands_per_episode;
-            let n = space.num_slots();
-            for j in 0..r.effects.len() {
-                let c = e3d::Command::new(r.commands[j * n..(j + 1) * n].to_vec());
-                csv.push_str(&format!(
-                    "{i},{},{},{},{},{},{},{}\n",
-                    j / k + 1,
-                    j % k + 1,
-                    r.contexts[j],
-                    names[r.starts[j / k]],
-                    space.format(&c),
-                    r.effects[j],
-                    r.rewards[j]
-                ));
-            }
-        }
+        let csv = trials_csv(&records, &space, &names);
         let summary = Summary {
             e3d_version: env!("CARGO_PKG_VERSION"),
             scene: &scene.spec().name,
@@ -206,15 +133,142 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             sessions,
             scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
         };
-        let mut json = serde_json::to_vec_pretty(&summary).map_err(CliError::output)?;
-        json.push(b'\n');
-        write_file(&dir.join("trials.csv"), csv.as_bytes())?;
-        write_file(&dir.join("summary.json"), &json)?;
+        write_outputs(dir, &csv, &summary)?;
+    }
+    Ok(())
+}
+
+/// What each session (of seed `seeds[i]`) found, on `starts` start
+/// contexts.
+fn sessions_of(records: &[EpisodeRecord], seeds: &[u64], starts: usize) -> Vec<OneSession> {
+    records
+        .iter()
+        .zip(seeds)
+        .map(|(r, &seed)| OneSession {
+            seed,
+            episodes: r.episodes(),
+            first_reward_episode: r.first_reward_episode(),
+            cumulative_reward: r.cumulative_reward(),
+            entropy_per_start: r.entropy_per_start(starts),
+        })
+        .collect()
+}
+
+/// Tells (on stderr) what runs: sessions, episodes, learner, contexts
+/// and what the learner observes.
+fn describe(a: &RunArgs, sessions: usize, name: &str, contexts: usize, observe: Observe) {
+    errln!(
+        "episodes: {} sessions of {} episodes of {} command{}, learner {name}, {} contexts observed as {}",
+        sessions,
+        a.trials,
+        a.commands,
+        if a.commands == 1 { "" } else { "s" },
+        contexts,
+        match observe {
+            Observe::State => "the current effect cell",
+            Observe::StartContext => "the start context",
+            Observe::Blind => "nothing (one policy)",
+        }
+    );
+}
+
+/// One memo per start context (none without `--memo-cap`): commands
+/// from a named start context are simulated once, whatever the session
+/// (sampled starts and later commands run live).
+fn memos(
+    a: &RunArgs,
+    contexts: usize,
+    space: &CommandSpace,
+    num_effects: usize,
+) -> Result<Vec<OutcomeMemo>, CliError> {
+    if a.memo.memo_cap > 0 {
+        (0..contexts)
+            .map(|_| OutcomeMemo::new(space, num_effects, a.memo.memo_cap))
+            .collect::<Result<_, _>>()
+            .map_err(CliError::input)
+    } else {
+        Ok(Vec::new())
+    }
+}
+
+/// What the learner observes: `--observe`, else the default for the
+/// commands per episode and the loop.
+fn observe_of(a: &RunArgs) -> Observe {
+    match a.observe {
+        Some(ObserveArg::Start) => Observe::StartContext,
+        Some(ObserveArg::State) => Observe::State,
+        Some(ObserveArg::Blind) => Observe::Blind,
+        None => Observe::default_for(a.commands as usize, a.closed_loop),
+    }
+}
+
+/// Prints the run's heading and a line per session: its first reward,
+/// cumulative reward and entropy per start context (`names`).
+fn print_sessions(
+    a: &RunArgs,
+    scene: &Scene,
+    name: &str,
+    names: &[String],
+    sessions: &[OneSession],
+    seeds: &[u64],
+) {
+    outln!(
+        "scene {}, learner {name}, {} episodes of {} command(s), seeds {}..={}",
+        scene.spec().name,
+        a.trials,
+        a.commands,
+        seeds[0],
+        seeds[seeds.len() - 1]
+    );
+    for s in sessions {
+        let ent: Vec<String> = names
+            .iter()
+            .zip(&s.entropy_per_start)
+            .map(|(n, h)| format!("{n} {h:.4}"))
+            .collect();
         outln!(
-            "wrote {} and {}",
-            dir.join("trials.csv").display(),
-            dir.join("summary.json").display()
+            "seed {}: first reward at episode {}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
+            s.seed,
+            s.first_reward_episode.map_or("never".to_string(), |e| e.to_string()),
+            s.cumulative_reward,
+            ent.join(", ")
         );
     }
+}
+
+/// `trials.csv`: a row per command of every episode of every session.
+fn trials_csv(records: &[EpisodeRecord], space: &CommandSpace, names: &[String]) -> String {
+    let mut csv = String::from("session,episode,command,context,start,symbols,effect,reward\n");
+    for (i, r) in records.iter().enumerate() {
+        let k = r.commands_per_episode;
+        let n = space.num_slots();
+        for j in 0..r.effects.len() {
+            let c = e3d::Command::new(r.commands[j * n..(j + 1) * n].to_vec());
+            csv.push_str(&format!(
+                "{i},{},{},{},{},{},{},{}\n",
+                j / k + 1,
+                j % k + 1,
+                r.contexts[j],
+                names[r.starts[j / k]],
+                space.format(&c),
+                r.effects[j],
+                r.rewards[j]
+            ));
+        }
+    }
+    csv
+}
+
+/// Writes `trials.csv` and `summary.json` into `dir`.
+fn write_outputs(dir: &Path, csv: &str, summary: &Summary) -> CliResult {
+    let mut json = serde_json::to_vec_pretty(summary).map_err(CliError::output)?;
+    json.push(b'\n');
+    write_file(&dir.join("trials.csv"), csv.as_bytes())?;
+    write_file(&dir.join("summary.json"), &json)?;
+    outln!(
+        "wrote {} and {}",
+        dir.join("trials.csv").display(),
+        dir.join("summary.json").display()
+    );
     Ok(())
 }

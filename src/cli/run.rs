@@ -5,10 +5,10 @@ use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCs
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::report::run_scene::SceneRecord;
-use e3d::world::{Executor, Workload};
+use e3d::world::{Executor, Workload, WorldError};
 use e3d::{
-    policy_effect_distribution, run_sessions, ExecutionPlan, Metrics, Params, RunningMetrics,
-    Scene, SessionConfig, Target,
+    policy_effect_distribution, run_sessions, CommandSpace, ExecutionPlan, Metrics, Params,
+    RunningMetrics, Scene, SessionConfig, Target,
 };
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -91,35 +91,11 @@ pub fn run(a: RunArgs) -> CliResult {
         sessions,
         threads: rayon::current_num_threads(),
     };
-    // an outcome table built first shows its own progress (off a
-    // terminal, a line every few seconds)
-    let options = a.memo.options(a.table_cache.as_deref());
-    let exec = super::progress::track(
-        &format!("table {}", scene.spec().name),
-        "commands",
-        0,
-        |p| {
-            Executor::with_progress(&scene, &work, &options, &|k, total| {
-                p.set_total(total);
-                p.add(k);
-            })
-        },
-    )
-    .map_err(CliError::simulation)?;
-    errln!("outcomes: {}", exec.plan());
-    let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
-    let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {
-        csv_path
-            .as_ref()
-            .map(|p| TrialsCsv::create(p, &space, (sessions > 1).then_some(i)))
-            .transpose()
-    };
-    let mut learners = Vec::with_capacity(sessions);
-    let mut recorders = Vec::with_capacity(sessions);
-    for i in 0..sessions {
-        learners.push(make()?);
-        recorders.push((RunningMetrics::new(num_effects), csv(i)?));
-    }
+    let exec = executor(&a, &scene, &work)?;
+    let mut learners = (0..sessions)
+        .map(|_| make())
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut recorders = recorders(&a, &space, num_effects)?;
     // a bar on a terminal, a line every few seconds otherwise
     let label = format!("run {}", scene.spec().name);
     let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
@@ -131,27 +107,8 @@ pub fn run(a: RunArgs) -> CliResult {
     if let Some(line) = exec.finish() {
         errln!("outcomes: {line}");
     }
-    // the first failing session fails the run, naming its command
-    let mut files = Vec::new();
-    for (st, (_, csv)) in status.into_iter().zip(recorders.iter_mut()) {
-        st.map_err(CliError::simulation)?;
-        if let Some(c) = csv.take() {
-            files.push(c.finish()?);
-        }
-    }
-    // with a table, the reachable cells are known (when fewer than all):
-    // the metrics then hold the entropy over them too
-    let reachable = exec
-        .table()
-        .map(|t| t.reachable_effects())
-        .filter(|&r| r < num_effects);
-    let metrics: Vec<Metrics> = recorders
-        .iter()
-        .map(|r| match reachable {
-            Some(k) => r.0.metrics_over_reachable(&target, k),
-            None => r.0.metrics(&target),
-        })
-        .collect();
+    let files = finish_files(status, &mut recorders)?;
+    let metrics = session_metrics(&exec, &recorders, &target, num_effects);
     let exact = match (exec.table(), sessions) {
         (Some(t), 1) => policy_effect_distribution(t, &*learners[0]),
         _ => None,
@@ -175,6 +132,84 @@ pub fn run(a: RunArgs) -> CliResult {
         write_out(dir, &a, &scene, params, done, &files)?;
     }
     Ok(())
+}
+
+/// The executor of `scene` for `work`: an outcome table built first
+/// shows its own progress (off a terminal, a line every few seconds); its
+/// plan is told.
+fn executor<'s>(a: &RunArgs, scene: &'s Scene, work: &Workload) -> Result<Executor<'s>, CliError> {
+    let options = a.memo.options(a.table_cache.as_deref());
+    let exec = super::progress::track(
+        &format!("table {}", scene.spec().name),
+        "commands",
+        0,
+        |p| {
+            Executor::with_progress(scene, work, &options, &|k, total| {
+                p.set_total(total);
+                p.add(k);
+            })
+        },
+    )
+    .map_err(CliError::simulation)?;
+    errln!("outcomes: {}", exec.plan());
+    Ok(exec)
+}
+
+/// Per session, its metrics and (with `--out`) its trials file.
+fn recorders(
+    a: &RunArgs,
+    space: &CommandSpace,
+    num_effects: usize,
+) -> Result<Vec<(RunningMetrics, Option<TrialsCsv>)>, CliError> {
+    let sessions = a.sessions as usize;
+    let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
+    let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {
+        csv_path
+            .as_ref()
+            .map(|p| TrialsCsv::create(p, space, (sessions > 1).then_some(i)))
+            .transpose()
+    };
+    (0..sessions)
+        .map(|i| Ok((RunningMetrics::new(num_effects), csv(i)?)))
+        .collect()
+}
+
+/// The trials files of the sessions, finished; the first failing
+/// session (its `status`) fails the run, naming its command.
+fn finish_files(
+    status: Vec<Result<(), WorldError>>,
+    recorders: &mut [(RunningMetrics, Option<TrialsCsv>)],
+) -> Result<Vec<PathBuf>, CliError> {
+    let mut files = Vec::new();
+    for (st, (_, csv)) in status.into_iter().zip(recorders.iter_mut()) {
+        st.map_err(CliError::simulation)?;
+        if let Some(c) = csv.take() {
+            files.push(c.finish()?);
+        }
+    }
+    Ok(files)
+}
+
+/// Each session's metrics; with a table, the reachable cells are known
+/// (when fewer than all): the metrics then hold the entropy over them
+/// too.
+fn session_metrics(
+    exec: &Executor,
+    recorders: &[(RunningMetrics, Option<TrialsCsv>)],
+    target: &Target,
+    num_effects: usize,
+) -> Vec<Metrics> {
+    let reachable = exec
+        .table()
+        .map(|t| t.reachable_effects())
+        .filter(|&r| r < num_effects);
+    recorders
+        .iter()
+        .map(|r| match reachable {
+            Some(k) => r.0.metrics_over_reachable(target, k),
+            None => r.0.metrics(target),
+        })
+        .collect()
 }
 
 /// The sessions' seeds: `--seed`, `--seed + 1`, ..., one per session.

@@ -3,7 +3,7 @@
 use super::{progress, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
-use e3d::sweep::{self, DirOptions, Shard, Sweep, SweepError};
+use e3d::sweep::{self, DirOptions, DirReport, Shard, Sweep, SweepError};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -56,55 +56,10 @@ pub(crate) fn sweep_error(e: SweepError) -> CliError {
 }
 
 pub fn run(a: SweepArgs) -> CliResult {
-    let mut sweep = Sweep::load(&a.file).map_err(sweep_error)?;
-    if let Some(dir) = &a.table_cache {
-        sweep = sweep.with_table_cache(dir);
-    }
-    sweep = sweep
-        .with_memo_cap(a.memo.memo_cap)
-        .with_strategy(a.memo.outcomes.0)
-        .map_err(|e| CliError::input(format!("--outcomes: {e}")))?
-        .with_notices(|line| errln!("outcomes: {line}"));
-    let threads = a.threads.map(usize::from).unwrap_or_else(|| {
-        std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(1)
-    });
-    let (threads, capped) = e3d::sweep::cap_threads(threads);
-    if let Some(w) = capped {
-        errln!("warning: {w}");
-    }
+    let sweep = configured(&a)?;
+    let threads = threads(&a);
     let shard = a.shard.unwrap_or(Shard::ALL);
-    let total = sweep.num_sessions();
-    let plan = format!(
-        "sweep {}: {} cells x {} sessions = {} sessions of {} trials{}{}, {} thread{}",
-        a.file.display(),
-        sweep.cells().len(),
-        sweep.spec.sessions,
-        total,
-        sweep.spec.trials,
-        if sweep.spec.runs_episodes() {
-            format!(
-                " (episodes of {} command{}{})",
-                sweep.spec.commands,
-                if sweep.spec.commands == 1 { "" } else { "s" },
-                if sweep.spec.closed_loop {
-                    ", closed loop"
-                } else {
-                    ""
-                }
-            )
-        } else {
-            String::new()
-        },
-        if shard.n > 1 {
-            format!(", shard {shard} ({} sessions)", shard.count(total))
-        } else {
-            String::new()
-        },
-        threads,
-        if threads == 1 { "" } else { "s" }
-    );
+    let plan = plan_line(&a, &sweep, shard, threads);
     // one run at a time in a folder: two would both do all the work
     let _lock = lock_out(&a.out)?;
     let start = Instant::now();
@@ -154,6 +109,79 @@ pub fn run(a: SweepArgs) -> CliResult {
     .map_err(sweep_error);
     let report = report?;
     let secs = start.elapsed().as_secs_f64();
+    tell_done(&report, secs);
+    tell_written(&a, shard);
+    Ok(())
+}
+
+/// The sweep of `a.file`, with the table cache, memo cap, outcome
+/// strategy and notices the arguments ask for.
+fn configured(a: &SweepArgs) -> Result<Sweep, CliError> {
+    let mut sweep = Sweep::load(&a.file).map_err(sweep_error)?;
+    if let Some(dir) = &a.table_cache {
+        sweep = sweep.with_table_cache(dir);
+    }
+    sweep = sweep
+        .with_memo_cap(a.memo.memo_cap)
+        .with_strategy(a.memo.outcomes.0)
+        .map_err(|e| CliError::input(format!("--outcomes: {e}")))?
+        .with_notices(|line| errln!("outcomes: {line}"));
+    Ok(sweep)
+}
+
+/// The threads to run on: `--threads` or the cores, capped (with a
+/// warning) at [`e3d::sweep::max_threads`].
+fn threads(a: &SweepArgs) -> usize {
+    let threads = a.threads.map(usize::from).unwrap_or_else(|| {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    });
+    let (threads, capped) = e3d::sweep::cap_threads(threads);
+    if let Some(w) = capped {
+        errln!("warning: {w}");
+    }
+    threads
+}
+
+/// The line that tells the plan: cells, sessions, trials, episodes,
+/// shard and threads.
+fn plan_line(a: &SweepArgs, sweep: &Sweep, shard: Shard, threads: usize) -> String {
+    let total = sweep.num_sessions();
+    format!(
+        "sweep {}: {} cells x {} sessions = {} sessions of {} trials{}{}, {} thread{}",
+        a.file.display(),
+        sweep.cells().len(),
+        sweep.spec.sessions,
+        total,
+        sweep.spec.trials,
+        if sweep.spec.runs_episodes() {
+            format!(
+                " (episodes of {} command{}{})",
+                sweep.spec.commands,
+                if sweep.spec.commands == 1 { "" } else { "s" },
+                if sweep.spec.closed_loop {
+                    ", closed loop"
+                } else {
+                    ""
+                }
+            )
+        } else {
+            String::new()
+        },
+        if shard.n > 1 {
+            format!(", shard {shard} ({} sessions)", shard.count(total))
+        } else {
+            String::new()
+        },
+        threads,
+        if threads == 1 { "" } else { "s" }
+    )
+}
+
+/// Tells how many sessions ran, how many an earlier run did, and how
+/// fast.
+fn tell_done(report: &DirReport, secs: f64) {
     errln!(
         "done: {} sessions ({} from an earlier run, {} now) in {:.2} s{}",
         report.sessions,
@@ -166,6 +194,11 @@ pub fn run(a: SweepArgs) -> CliResult {
             String::new()
         }
     );
+}
+
+/// Tells the files written: the results, and for a whole sweep the
+/// summary.
+fn tell_written(a: &SweepArgs, shard: Shard) {
     let mut wrote = vec![a.out.join(sweep::RESULTS)];
     if shard.n == 1 {
         wrote.push(a.out.join(sweep::SUMMARY));
@@ -178,7 +211,6 @@ pub fn run(a: SweepArgs) -> CliResult {
             .collect::<Vec<_>>()
             .join(" and ")
     );
-    Ok(())
 }
 
 /// Takes the lock of the output folder (creating it), or refuses with who

@@ -16,28 +16,7 @@ impl SceneSpec {
         }
         crate::text::check_name(&self.name).map_err(|e| Invalid::at("name", None, &e))?;
         let n = self.slots().count();
-        if let Some(declared) = self.slots {
-            if declared != n {
-                let (variant, how) = match &self.command {
-                    CommandSpec::Repeat { .. } => ("Repeat", format!("`Repeat` has `slots: {n}`")),
-                    CommandSpec::Template { .. } => {
-                        ("Template", format!("`Template` has `slots: {n}`"))
-                    }
-                    CommandSpec::Slots(_) => ("Slots", format!("`Slots` lists {n}")),
-                    CommandSpec::Continuous(_) => ("Continuous", format!("`Continuous` lists {n}")),
-                };
-                return Err(Invalid::at(
-                    variant,
-                    None,
-                    &format!(
-                        "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: {how}"
-                    ),
-                ));
-            }
-        }
-        if n == 0 {
-            return Err(Invalid::at("command", None, "at least one slot"));
-        }
+        self.check_slot_count(n)?;
         if let Some(slots) = template::expand(&self.command)? {
             if let WorldSpec::Physics(p) = &self.world {
                 let mut e = p.clone();
@@ -61,33 +40,78 @@ impl SceneSpec {
                 &format!("at most {MAX_SLOTS} slots, found {n}"),
             ));
         }
+        self.check_ranges()?;
+        self.check_alphabets()?;
+        self.check_world()?;
+        self.check_reward()
+    }
+
+    /// The `n` slots the command lists: as many as the scene's `slots`
+    /// declares, if it does, and at least one.
+    fn check_slot_count(&self, n: usize) -> Result<(), Invalid> {
+        if let Some(declared) = self.slots {
+            if declared != n {
+                let (variant, how) = match &self.command {
+                    CommandSpec::Repeat { .. } => ("Repeat", format!("`Repeat` has `slots: {n}`")),
+                    CommandSpec::Template { .. } => {
+                        ("Template", format!("`Template` has `slots: {n}`"))
+                    }
+                    CommandSpec::Slots(_) => ("Slots", format!("`Slots` lists {n}")),
+                    CommandSpec::Continuous(_) => ("Continuous", format!("`Continuous` lists {n}")),
+                };
+                return Err(Invalid::at(
+                    variant,
+                    None,
+                    &format!(
+                        "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: {how}"
+                    ),
+                ));
+            }
+        }
+        if n == 0 {
+            return Err(Invalid::at("command", None, "at least one slot"));
+        }
+        Ok(())
+    }
+
+    /// Continuous slots: in a physics world, each range finite and
+    /// increasing.
+    fn check_ranges(&self) -> Result<(), Invalid> {
+        let CommandSpec::Continuous(slots) = &self.command else {
+            return Ok(());
+        };
+        if matches!(self.world, WorldSpec::Grid(_)) {
+            return Err(Invalid::at(
+                "Continuous",
+                None,
+                "symbols in a Grid world (one-cell moves); continuous slots need a Physics world",
+            ));
+        }
+        for (i, slot) in slots.iter().enumerate() {
+            let (lo, hi) = slot.range;
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(Invalid::at(
+                    "range",
+                    None,
+                    &format!(
+                        "slot {i}: a range (min, max) of finite numbers with min < max, found ({lo}, {hi})"
+                    ),
+                )
+                .nth(i));
+            }
+        }
+        Ok(())
+    }
+
+    /// The slots' alphabets (a `Repeat` schema's once; none for
+    /// continuous slots): 1 to [`MAX_ALPHABET`] distinct printable
+    /// symbols each.
+    fn check_alphabets(&self) -> Result<(), Invalid> {
         // how often each symbol was written in the alphabets before this
         // slot's (a Repeat schema writes its alphabet once)
         let mut written: std::collections::HashMap<char, usize> = Default::default();
         let repeat = matches!(self.command, CommandSpec::Repeat { .. });
         let mut written_symbols = 0;
-        if let CommandSpec::Continuous(slots) = &self.command {
-            if matches!(self.world, WorldSpec::Grid(_)) {
-                return Err(Invalid::at(
-                    "Continuous",
-                    None,
-                    "symbols in a Grid world (one-cell moves); continuous slots need a Physics world",
-                ));
-            }
-            for (i, slot) in slots.iter().enumerate() {
-                let (lo, hi) = slot.range;
-                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                    return Err(Invalid::at(
-                        "range",
-                        None,
-                        &format!(
-                            "slot {i}: a range (min, max) of finite numbers with min < max, found ({lo}, {hi})"
-                        ),
-                    )
-                    .nth(i));
-                }
-            }
-        }
         for (i, alphabet) in self.slots().enumerate() {
             if self.is_continuous() {
                 break;
@@ -143,6 +167,12 @@ impl SceneSpec {
                 *written.entry(c).or_insert(0) += 1;
             }
         }
+        Ok(())
+    }
+
+    /// The world's checks (a physics world's on its expanded shorthands,
+    /// an error placed at the shorthand that generated the item).
+    fn check_world(&self) -> Result<(), Invalid> {
         match &self.world {
             WorldSpec::Grid(g) => g.validate(self)?,
             WorldSpec::Physics(p) if p.has_shorthands() => {
@@ -154,6 +184,12 @@ impl SceneSpec {
             }
             WorldSpec::Physics(p) => p.validate(self)?,
         }
+        Ok(())
+    }
+
+    /// The reward: a finite value, cells and regions inside the effect
+    /// grid (after [`check_world`](Self::check_world)).
+    fn check_reward(&self) -> Result<(), Invalid> {
         // the world's checks above refuse an effect that does not validate
         let Some(grid) = self.effect_grid() else {
             return Err(Invalid::at(

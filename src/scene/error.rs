@@ -253,30 +253,7 @@ impl SceneError {
                     .unwrap_or_default();
                 format!("field `{field}` given twice{within}")
             }
-            other => {
-                let mut m = other.to_string();
-                if let Some(c) = m.get(..1) {
-                    m.replace_range(..1, &c.to_lowercase());
-                }
-                // a value of the wrong type: name the field it was given to
-                let about_a_value = m.starts_with("expected")
-                    || ["integer", "digit", "out of bounds", "float"]
-                        .iter()
-                        .any(|w| m.contains(w));
-                if m.contains("out of bounds") {
-                    // say what was written, and what a count takes
-                    let token = token_at(text, e.span.start.line, e.span.start.col);
-                    if token.starts_with('-') {
-                        m = format!("{m}: expected a whole number >= 0, found {token}");
-                    } else if !token.is_empty() {
-                        m = format!("{m}: {token} is too large for this field");
-                    }
-                }
-                match field_before(text, e.span.start.line, e.span.start.col) {
-                    Some(f) if about_a_value => format!("field `{f}`: {m}"),
-                    _ => m,
-                }
-            }
+            other => other_message(other, text, &e),
         };
         SceneError::new(
             file,
@@ -310,6 +287,34 @@ impl SceneError {
                 position,
             },
         )
+    }
+}
+
+/// The message of a RON error `other` than an unknown or missing field or
+/// variant: std's, lowercased, naming the field a value of the wrong type
+/// was given to (and what was written, for a count out of bounds).
+fn other_message(other: &ron::error::Error, text: &str, e: &ron::error::SpannedError) -> String {
+    let mut m = other.to_string();
+    if let Some(c) = m.get(..1) {
+        m.replace_range(..1, &c.to_lowercase());
+    }
+    // a value of the wrong type: name the field it was given to
+    let about_a_value = m.starts_with("expected")
+        || ["integer", "digit", "out of bounds", "float"]
+            .iter()
+            .any(|w| m.contains(w));
+    if m.contains("out of bounds") {
+        // say what was written, and what a count takes
+        let token = token_at(text, e.span.start.line, e.span.start.col);
+        if token.starts_with('-') {
+            m = format!("{m}: expected a whole number >= 0, found {token}");
+        } else if !token.is_empty() {
+            m = format!("{m}: {token} is too large for this field");
+        }
+    }
+    match field_before(text, e.span.start.line, e.span.start.col) {
+        Some(f) if about_a_value => format!("field `{f}`: {m}"),
+        _ => m,
     }
 }
 

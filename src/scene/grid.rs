@@ -77,6 +77,8 @@ impl GridSpec {
         self.contexts.len().max(1)
     }
 
+    /// Checks the grid world of `scene`: its size, start, contexts, walls
+    /// and the symbols' actions.
     pub(crate) fn validate(&self, scene: &SceneSpec) -> Result<(), Invalid> {
         self.effect_grid().validate().map_err(|e| {
             let field = if self.rows == 0 { "rows" } else { "cols" };
@@ -93,6 +95,15 @@ impl GridSpec {
                 ),
             ));
         }
+        self.check_contexts_and_walls()?;
+        check_actions(scene)?;
+        Ok(())
+    }
+
+    /// The start contexts (cells inside the grid, distinct non-empty
+    /// names) and the walls (between neighbouring cells inside the grid).
+    fn check_contexts_and_walls(&self) -> Result<(), Invalid> {
+        let inside = |(r, c): (usize, usize)| r < self.rows && c < self.cols;
         for (i, c) in self.contexts.iter().enumerate() {
             for cell in [Some(c.cell), c.to].into_iter().flatten() {
                 if !inside(cell) {
@@ -133,35 +144,41 @@ impl GridSpec {
                 ));
             }
         }
-        for alphabet in scene.slots() {
-            for s in alphabet {
-                match s.action {
-                    Action::Idle => {}
-                    Action::Move { drow, dcol } if drow.abs() + dcol.abs() <= 1 => {}
-                    Action::Move { .. } => {
-                        return Err(Invalid::at(
-                            "action",
-                            Some("Move"),
-                            &format!(
-                                "symbol '{}': a one-cell move (|drow| + |dcol| <= 1)",
-                                s.symbol
-                            ),
-                        ))
-                    }
-                    #[allow(unreachable_patterns)]
-                    _ => {
-                        return Err(Invalid::at(
-                            "action",
-                            Some(&format!("'{}'", s.symbol)),
-                            &format!(
-                                "symbol '{}': a Grid world takes Move or Idle actions only",
-                                s.symbol
-                            ),
-                        ))
-                    }
+        Ok(())
+    }
+}
+
+/// The symbols' actions: one-cell moves or idle, the only actions of a
+/// grid world.
+fn check_actions(scene: &SceneSpec) -> Result<(), Invalid> {
+    for alphabet in scene.slots() {
+        for s in alphabet {
+            match s.action {
+                Action::Idle => {}
+                Action::Move { drow, dcol } if drow.abs() + dcol.abs() <= 1 => {}
+                Action::Move { .. } => {
+                    return Err(Invalid::at(
+                        "action",
+                        Some("Move"),
+                        &format!(
+                            "symbol '{}': a one-cell move (|drow| + |dcol| <= 1)",
+                            s.symbol
+                        ),
+                    ))
+                }
+                #[allow(unreachable_patterns)]
+                _ => {
+                    return Err(Invalid::at(
+                        "action",
+                        Some(&format!("'{}'", s.symbol)),
+                        &format!(
+                            "symbol '{}': a Grid world takes Move or Idle actions only",
+                            s.symbol
+                        ),
+                    ))
                 }
             }
         }
-        Ok(())
     }
+    Ok(())
 }

@@ -62,6 +62,60 @@ pub(crate) struct Links {
     pub symbols: Vec<Resolved>,
     /// What each continuous slot's value does.
     pub values: Vec<ResolvedValue>,
+    /// The joints, known to form a forest.
+    pub forest: Forest,
+    /// Per start context, in the spec's order: the indices of its bodies
+    /// and of its joints, in the context's order.
+    pub contexts: Vec<(Vec<usize>, Vec<usize>)>,
+}
+
+/// A physics scene's joints, known to form a forest: every body is the
+/// child of one joint at most, and no joint closes a loop (the only
+/// joints Rapier's multibodies refuse). Made only by [`Forest::of`].
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Forest {
+    /// Per joint: whether its tree hangs from ground.
+    hung: Vec<bool>,
+}
+
+impl Forest {
+    /// The forest of `joints` (per joint: its parent body, `None` for
+    /// ground, and its child body) on `bodies` bodies; an error when they
+    /// do not form one (which [`SceneSpec::check`] refused already).
+    fn of(joints: &[(Option<usize>, usize)], bodies: usize) -> Result<Forest, Invalid> {
+        let not_trees = || Invalid::at("joint", None, "joints that form trees");
+        let mut parent_of = vec![None; bodies];
+        for (k, &(_, child)) in joints.iter().enumerate() {
+            if parent_of[child].replace(k).is_some() {
+                return Err(not_trees());
+            }
+        }
+        let hung = joints
+            .iter()
+            .map(|&(parent, child)| {
+                // walk up from the parent: ground, a root body, or a loop
+                let mut up = parent;
+                for _ in 0..=bodies {
+                    match up {
+                        None => return Ok(true),
+                        Some(b) if b == child => return Err(not_trees()),
+                        Some(b) => match parent_of[b] {
+                            None => return Ok(false),
+                            Some(k) => up = joints[k].0,
+                        },
+                    }
+                }
+                Err(not_trees())
+            })
+            .collect::<Result<_, Invalid>>()?;
+        Ok(Forest { hung })
+    }
+
+    /// Whether joint `joint`'s tree hangs from ground: such a tree is one
+    /// Rapier multibody (see [`PhysicsSpec::hangs_from_ground`]).
+    pub fn hangs_from_ground(&self, joint: usize) -> bool {
+        self.hung[joint]
+    }
 }
 
 /// A feature of the effect with its body or joint as an index.
@@ -291,62 +345,39 @@ impl Scene {
 }
 
 impl Links {
+    /// The links of `scene`, whose world is `p`; an error names a body or
+    /// joint not found (which [`SceneSpec::check`] refused already).
     fn of(scene: &SceneSpec, p: &PhysicsSpec) -> Result<Links, Invalid> {
-        let body = |name: &str| {
-            p.bodies
-                .iter()
-                .position(|b| b.name == name)
-                .ok_or_else(|| Invalid::at("body", None, &format!("a known body, found `{name}`")))
-        };
-        let joint = |name: &str| {
-            p.joints.iter().position(|j| j.name == name).ok_or_else(|| {
-                Invalid::at("joint", None, &format!("a known joint, found `{name}`"))
-            })
-        };
-        let joints = p
+        let names = Names(p);
+        let joints: Vec<(Option<usize>, usize)> = p
             .joints
             .iter()
             .map(|j| {
                 let parent = if j.parent == GROUND {
                     None
                 } else {
-                    Some(body(&j.parent)?)
+                    Some(names.body(&j.parent)?)
                 };
-                Ok((parent, body(&j.child)?))
+                Ok((parent, names.body(&j.child)?))
             })
             .collect::<Result<_, Invalid>>()?;
-        let resolve = |action: &Action| -> Result<Resolved, Invalid> {
-            Ok(match action {
-                Action::Idle | Action::Move { .. } => Resolved::Idle,
-                Action::Torque { joint: j, torque } => Resolved::Torque {
-                    joint: joint(j)?,
-                    torque: *torque,
-                },
-                Action::Impulse { body: b, impulse } => Resolved::Impulse {
-                    body: body(b)?,
-                    impulse: *impulse,
-                },
-                Action::Force { body: b, force } => Resolved::Force {
-                    body: body(b)?,
-                    force: *force,
-                },
-                Action::Target { joint: j, angle } => {
-                    let k = joint(j)?;
-                    let motor = p.joints[k].motor.ok_or_else(|| {
-                        Invalid::at("joint", None, &format!("joint `{j}` with a motor"))
-                    })?;
-                    Resolved::Target {
-                        joint: k,
-                        angle: *angle,
-                        motor,
-                    }
-                }
+        let forest = Forest::of(&joints, p.bodies.len())?;
+        let contexts = p
+            .contexts
+            .iter()
+            .map(|c| {
+                let bodies = c.bodies.iter().map(|b| names.body(&b.body));
+                let joints = c.joints.iter().map(|j| names.joint(&j.joint));
+                Ok((
+                    bodies.collect::<Result<_, _>>()?,
+                    joints.collect::<Result<_, _>>()?,
+                ))
             })
-        };
+            .collect::<Result<_, Invalid>>()?;
         let symbols = scene
             .slots()
             .flatten()
-            .map(|s| resolve(&s.action))
+            .map(|s| names.action(&s.action))
             .collect::<Result<_, Invalid>>()?;
         let values = match &scene.command {
             CommandSpec::Continuous(slots) => slots
@@ -354,10 +385,10 @@ impl Links {
                 .map(|slot| {
                     Ok(match &slot.action {
                         ValueAction::Heading { body: b, impulse } => ResolvedValue::Heading {
-                            body: body(b)?,
+                            body: names.body(b)?,
                             impulse: *impulse,
                         },
-                        a => ResolvedValue::Scaled(resolve(&a.at(1.0))?),
+                        a => ResolvedValue::Scaled(names.action(&a.at(1.0))?),
                     })
                 })
                 .collect::<Result<_, Invalid>>()?,
@@ -367,7 +398,76 @@ impl Links {
             .effect
             .drawn_point(|j| p.child_of(j))
             .ok_or_else(|| Invalid::at("effect", None, "an effect with at least one feature"))?;
-        let probes = p
+        let probes = names.probes()?;
+        Ok(Links {
+            joints,
+            tracked: names.body(drawn)?,
+            tracked_point,
+            probes,
+            symbols,
+            values,
+            forest,
+            contexts,
+        })
+    }
+}
+
+/// A physics world's names of bodies and joints, to resolve to indices.
+struct Names<'a>(&'a PhysicsSpec);
+
+impl Names<'_> {
+    /// The index of body `name`.
+    fn body(&self, name: &str) -> Result<usize, Invalid> {
+        self.0
+            .bodies
+            .iter()
+            .position(|b| b.name == name)
+            .ok_or_else(|| Invalid::at("body", None, &format!("a known body, found `{name}`")))
+    }
+
+    /// The index of joint `name`.
+    fn joint(&self, name: &str) -> Result<usize, Invalid> {
+        self.0
+            .joints
+            .iter()
+            .position(|j| j.name == name)
+            .ok_or_else(|| Invalid::at("joint", None, &format!("a known joint, found `{name}`")))
+    }
+
+    /// `action` with its joint or body as an index (a target's joint with
+    /// its motor).
+    fn action(&self, action: &Action) -> Result<Resolved, Invalid> {
+        Ok(match action {
+            Action::Idle | Action::Move { .. } => Resolved::Idle,
+            Action::Torque { joint: j, torque } => Resolved::Torque {
+                joint: self.joint(j)?,
+                torque: *torque,
+            },
+            Action::Impulse { body: b, impulse } => Resolved::Impulse {
+                body: self.body(b)?,
+                impulse: *impulse,
+            },
+            Action::Force { body: b, force } => Resolved::Force {
+                body: self.body(b)?,
+                force: *force,
+            },
+            Action::Target { joint: j, angle } => {
+                let k = self.joint(j)?;
+                let motor = self.0.joints[k].motor.ok_or_else(|| {
+                    Invalid::at("joint", None, &format!("joint `{j}` with a motor"))
+                })?;
+                Resolved::Target {
+                    joint: k,
+                    angle: *angle,
+                    motor,
+                }
+            }
+        })
+    }
+
+    /// What each feature of the effect reads, in the effect's order.
+    fn probes(&self) -> Result<Vec<ResolvedProbe>, Invalid> {
+        self.0
             .effect
             .features()
             .iter()
@@ -379,22 +479,14 @@ impl Links {
                         frame,
                         ..
                     } => ResolvedProbe::Point {
-                        body: body(b)?,
+                        body: self.body(b)?,
                         point: *point,
-                        frame: frame.as_deref().map(body).transpose()?,
+                        frame: frame.as_deref().map(|f| self.body(f)).transpose()?,
                     },
-                    Feature::Joint { joint: j, .. } => ResolvedProbe::Joint(joint(j)?),
-                    Feature::Angle { body: b, .. } => ResolvedProbe::Angle(body(b)?),
+                    Feature::Joint { joint: j, .. } => ResolvedProbe::Joint(self.joint(j)?),
+                    Feature::Angle { body: b, .. } => ResolvedProbe::Angle(self.body(b)?),
                 })
             })
-            .collect::<Result<_, Invalid>>()?;
-        Ok(Links {
-            joints,
-            tracked: body(drawn)?,
-            tracked_point,
-            probes,
-            symbols,
-            values,
-        })
+            .collect()
     }
 }

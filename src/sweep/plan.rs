@@ -307,54 +307,8 @@ impl Sweep {
         }
         let checked = spec.check_in(file, located)?;
         let (axes, metrics) = (checked.axes, checked.metrics);
-        // the learners: known, and names that fit a CSV field and a file
-        let mut uses: Vec<[bool; 5]> = Vec::with_capacity(spec.learners.len());
-        for name in &spec.learners {
-            let Some(used) = learners.uses(name) else {
-                return Err(bad(
-                    "learners",
-                    None,
-                    &format!(
-                        "one of the learners ({}), found `{name}`",
-                        learners.names().join(", ")
-                    ),
-                ));
-            };
-            if !is_identifier(name) {
-                return Err(bad(
-                    "learners",
-                    None,
-                    &format!("learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `{name}`"),
-                ));
-            }
-            uses.push(used);
-        }
-        // scenes
-        let mut scenes: Vec<Arc<dyn SweepScene>> = Vec::new();
-        for name in &spec.scenes {
-            let scene = worlds.scene(name).map_err(|e| match e {
-                FactoryError::Unknown(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
-                FactoryError::Failed(e) => e,
-            })?;
-            // a scene made in code (a LiveScene, your own SweepScene) gets
-            // the checks of a scene file's name: it is printed, and written
-            // into CSV files and the journal
-            if let Err(e) = crate::text::check_name(scene.name()) {
-                return Err(bad(
-                    "scenes",
-                    Some(&format!("\"{name}\"")),
-                    &format!("scenes whose name is {e}"),
-                ));
-            }
-            if scenes.iter().any(|s| s.name() == scene.name()) {
-                return Err(bad(
-                    "scenes",
-                    Some(&format!("\"{name}\"")),
-                    &format!("each scene once, but `{}` appears twice", scene.name()),
-                ));
-            }
-            scenes.push(scene);
-        }
+        let uses = learner_uses(&spec, &*learners, &bad)?;
+        let scenes = make_scenes(&spec, worlds, &bad)?;
         check_values(
             &scenes,
             &*learners,
@@ -369,37 +323,7 @@ impl Sweep {
         // the counts of values were known before expanding them)
         let counts: [usize; 5] = std::array::from_fn(|i| axes[i].len());
         let num_cells = check_size(&spec, cells_of(&counts, &uses, &spec), &bad)?;
-        // cells
-        let mut cells = Vec::with_capacity(num_cells);
-        for (si, _) in scenes.iter().enumerate() {
-            for (learner, &used) in spec.learners.iter().zip(&uses) {
-                let dims: Vec<usize> = (0..5)
-                    .map(|i| if used[i] { axes[i].len() } else { 1 })
-                    .collect();
-                let count: usize = dims.iter().product();
-                for &use_reward in &spec.use_reward {
-                    for mut k in 0..count {
-                        let mut params = spec.params.fixed(Params::TASK1);
-                        let mut pick = [0usize; 5];
-                        for i in (0..5).rev() {
-                            pick[i] = k % dims[i];
-                            k /= dims[i];
-                        }
-                        for i in 0..5 {
-                            set_param(&mut params, i, axes[i][pick[i]]);
-                        }
-                        cells.push(Cell {
-                            index: cells.len(),
-                            scene: si,
-                            learner: learner.clone(),
-                            use_reward,
-                            params,
-                            used,
-                        });
-                    }
-                }
-            }
-        }
+        let cells = make_cells(&spec, scenes.len(), &uses, &axes, num_cells);
         Ok(Sweep {
             spec,
             text,
@@ -607,6 +531,116 @@ impl Sweep {
         }
         work
     }
+}
+
+/// What each learner of `spec` uses of the five parameters; an error
+/// for a learner `learners` does not know, or whose name does not fit a
+/// CSV field and a file.
+fn learner_uses(
+    spec: &SweepSpec,
+    learners: &dyn LearnerFactory,
+    bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
+) -> Result<Vec<[bool; 5]>, SweepError> {
+    let mut uses: Vec<[bool; 5]> = Vec::with_capacity(spec.learners.len());
+    for name in &spec.learners {
+        let Some(used) = learners.uses(name) else {
+            return Err(bad(
+                "learners",
+                None,
+                &format!(
+                    "one of the learners ({}), found `{name}`",
+                    learners.names().join(", ")
+                ),
+            ));
+        };
+        if !is_identifier(name) {
+            return Err(bad(
+                "learners",
+                None,
+                &format!("learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `{name}`"),
+            ));
+        }
+        uses.push(used);
+    }
+    Ok(uses)
+}
+
+/// The scenes of `spec`, made by `worlds`: each named as a scene file
+/// must be, each once.
+fn make_scenes(
+    spec: &SweepSpec,
+    worlds: &dyn WorldFactory,
+    bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
+) -> Result<Vec<Arc<dyn SweepScene>>, SweepError> {
+    let mut scenes: Vec<Arc<dyn SweepScene>> = Vec::new();
+    for name in &spec.scenes {
+        let scene = worlds.scene(name).map_err(|e| match e {
+            FactoryError::Unknown(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
+            FactoryError::Failed(e) => e,
+        })?;
+        // a scene made in code (a LiveScene, your own SweepScene) gets
+        // the checks of a scene file's name: it is printed, and written
+        // into CSV files and the journal
+        if let Err(e) = crate::text::check_name(scene.name()) {
+            return Err(bad(
+                "scenes",
+                Some(&format!("\"{name}\"")),
+                &format!("scenes whose name is {e}"),
+            ));
+        }
+        if scenes.iter().any(|s| s.name() == scene.name()) {
+            return Err(bad(
+                "scenes",
+                Some(&format!("\"{name}\"")),
+                &format!("each scene once, but `{}` appears twice", scene.name()),
+            ));
+        }
+        scenes.push(scene);
+    }
+    Ok(scenes)
+}
+
+/// The cells of `spec` on `scenes` scenes, in canonical order: per scene,
+/// learner (using `uses` of the parameters) and reward, every
+/// combination of the parameters' values `axes` (`num_cells` in all).
+fn make_cells(
+    spec: &SweepSpec,
+    scenes: usize,
+    uses: &[[bool; 5]],
+    axes: &[Vec<f64>],
+    num_cells: usize,
+) -> Vec<Cell> {
+    let mut cells = Vec::with_capacity(num_cells);
+    for si in 0..scenes {
+        for (learner, &used) in spec.learners.iter().zip(uses) {
+            let dims: Vec<usize> = (0..5)
+                .map(|i| if used[i] { axes[i].len() } else { 1 })
+                .collect();
+            let count: usize = dims.iter().product();
+            for &use_reward in &spec.use_reward {
+                for mut k in 0..count {
+                    let mut params = spec.params.fixed(Params::TASK1);
+                    let mut pick = [0usize; 5];
+                    for i in (0..5).rev() {
+                        pick[i] = k % dims[i];
+                        k /= dims[i];
+                    }
+                    for i in 0..5 {
+                        set_param(&mut params, i, axes[i][pick[i]]);
+                    }
+                    cells.push(Cell {
+                        index: cells.len(),
+                        scene: si,
+                        learner: learner.clone(),
+                        use_reward,
+                        params,
+                        used,
+                    });
+                }
+            }
+        }
+    }
+    cells
 }
 
 /// The number of values of each of [`PARAM_NAMES`] in `spec` without

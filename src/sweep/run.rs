@@ -2,7 +2,7 @@
 //! thread pool, and resumably into a folder.
 
 use super::episodes::EpisodeWorlds;
-use super::factory::{describe_space, SceneRun};
+use super::factory::{describe_space, SceneRun, SweepScene};
 use super::journal::{self, Journal, JournalHeader};
 use super::plan::{SessionSpec, Shard, Sweep};
 use super::results::{
@@ -15,7 +15,7 @@ use crate::hash::fnv1a64;
 use crate::session::{run_group, run_session_into, RunningMetrics, SessionConfig};
 #[cfg(doc)]
 use crate::world::Executor;
-use crate::world::{World, WorldError};
+use crate::world::{Workload, World, WorldError};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -215,59 +215,10 @@ impl Sweep {
                 .iter()
                 .zip(&work)
                 .enumerate()
-                .map(|(si, (scene, w))| {
-                    if w.sessions == 0 {
-                        return Ok(None);
-                    }
-                    if let (true, Some(file)) = (self.runs_episodes(si), scene.scene()) {
-                        let e: Box<dyn SceneRun> = Box::new(EpisodeWorlds {
-                            scene: file,
-                            commands: self.spec.commands,
-                            contexts: self.start_contexts(si),
-                        });
-                        if let Some(line) = e.describe() {
-                            self.notice(&line);
-                        }
-                        return Ok(Some(e));
-                    }
-                    let e = match &self.table_progress {
-                        Some(f) => {
-                            let name = scene.name();
-                            let told = std::sync::atomic::AtomicBool::new(false);
-                            let e = scene.prepare_with_progress(w, &self.exec, &|k, total| {
-                                told.store(true, std::sync::atomic::Ordering::Relaxed);
-                                (f.0)(name, k, total)
-                            });
-                            // the end of what was told, built or not
-                            if told.load(std::sync::atomic::Ordering::Relaxed) {
-                                (f.0)(name, 0, 0);
-                            }
-                            e?
-                        }
-                        None => scene.prepare(w, &self.exec)?,
-                    };
-                    if let Some(line) = e.describe() {
-                        self.notice(&line);
-                    }
-                    Ok(Some(e))
-                })
+                .map(|(si, (scene, w))| self.scene_run(si, &**scene, w))
                 .collect::<Result<_, SweepError>>()
         })?;
-        // the units of work: one session on a table, or a lockstep group
-        let mut units: Vec<Vec<SessionSpec>> = Vec::new();
-        for (si, exec) in executors.iter().enumerate() {
-            let Some(exec) = exec else { continue };
-            let mine: Vec<SessionSpec> = sessions
-                .iter()
-                .filter(|s| self.cells[s.cell].scene == si)
-                .copied()
-                .collect();
-            units.extend(
-                exec.session_groups(mine.len())
-                    .into_iter()
-                    .map(|g| mine[g].to_vec()),
-            );
-        }
+        let units = self.units(&executors, sessions);
         let (executors, units) = (&executors, &units);
         let outcome = std::thread::scope(|scope| {
             let (tx, rx) = std::sync::mpsc::channel::<Result<SessionResult, SweepError>>();
@@ -277,36 +228,7 @@ impl Sweep {
                     let _ = units.par_iter().try_for_each_with(tx, |tx, unit| {
                         let scene = self.cells[unit[0].cell].scene;
                         let exec = executors[scene].as_ref().expect("a scene with work");
-                        // a panic inside the engine fails this unit's
-                        // sessions, recorded so, not the whole sweep
-                        let run = std::panic::AssertUnwindSafe(|| {
-                            if self.runs_episodes(scene) {
-                                return unit
-                                    .iter()
-                                    .map(|s| self.run_episode_session(s, &mut *exec.world(1)))
-                                    .collect();
-                            }
-                            if let Some(mut world) = exec.value_world(unit.len()) {
-                                return self.run_value_sessions_lockstep(unit, &mut *world);
-                            }
-                            let mut world = exec.world(unit.len());
-                            self.run_sessions_lockstep(unit, &mut *world)
-                        });
-                        let results = std::panic::catch_unwind(run).unwrap_or_else(|p| {
-                            let why = p
-                                .downcast_ref::<String>()
-                                .cloned()
-                                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                                .unwrap_or_else(|| "no message".into());
-                            Ok(unit
-                                .iter()
-                                .map(|s| SessionResult {
-                                    session: *s,
-                                    values: vec![None; self.metrics.len()],
-                                    failure: Some(format!("the simulation panicked: {why}")),
-                                })
-                                .collect())
-                        });
+                        let results = self.run_unit(&**exec, unit);
                         match results {
                             Ok(rs) => rs.into_iter().try_for_each(|r| tx.send(Ok(r))),
                             Err(e) => tx.send(Err(e)),
@@ -331,6 +253,115 @@ impl Sweep {
             }
         }
         outcome
+    }
+
+    /// How scene `si` (`scene`, with workload `w`) runs: none without
+    /// sessions, its episode worlds, or the cheapest of a table, a memo or
+    /// live execution (told to the notice callback, its table's building
+    /// to the table progress).
+    fn scene_run<'a>(
+        &'a self,
+        si: usize,
+        scene: &'a dyn SweepScene,
+        w: &Workload,
+    ) -> Result<Option<Box<dyn SceneRun + 'a>>, SweepError> {
+        if w.sessions == 0 {
+            return Ok(None);
+        }
+        if let (true, Some(file)) = (self.runs_episodes(si), scene.scene()) {
+            let e: Box<dyn SceneRun> = Box::new(EpisodeWorlds {
+                scene: file,
+                commands: self.spec.commands,
+                contexts: self.start_contexts(si),
+            });
+            if let Some(line) = e.describe() {
+                self.notice(&line);
+            }
+            return Ok(Some(e));
+        }
+        let e = match &self.table_progress {
+            Some(f) => {
+                let name = scene.name();
+                let told = std::sync::atomic::AtomicBool::new(false);
+                let e = scene.prepare_with_progress(w, &self.exec, &|k, total| {
+                    told.store(true, std::sync::atomic::Ordering::Relaxed);
+                    (f.0)(name, k, total)
+                });
+                // the end of what was told, built or not
+                if told.load(std::sync::atomic::Ordering::Relaxed) {
+                    (f.0)(name, 0, 0);
+                }
+                e?
+            }
+            None => scene.prepare(w, &self.exec)?,
+        };
+        if let Some(line) = e.describe() {
+            self.notice(&line);
+        }
+        Ok(Some(e))
+    }
+
+    /// The units of work: one session on a table, or a lockstep group,
+    /// scene by scene (`executors`, by scene).
+    fn units(
+        &self,
+        executors: &[Option<Box<dyn SceneRun + '_>>],
+        sessions: &[SessionSpec],
+    ) -> Vec<Vec<SessionSpec>> {
+        let mut units: Vec<Vec<SessionSpec>> = Vec::new();
+        for (si, exec) in executors.iter().enumerate() {
+            let Some(exec) = exec else { continue };
+            let mine: Vec<SessionSpec> = sessions
+                .iter()
+                .filter(|s| self.cells[s.cell].scene == si)
+                .copied()
+                .collect();
+            units.extend(
+                exec.session_groups(mine.len())
+                    .into_iter()
+                    .map(|g| mine[g].to_vec()),
+            );
+        }
+        units
+    }
+
+    /// Runs one unit of work on `exec`: its sessions' results; a panic
+    /// inside the engine fails this unit's sessions, recorded so, not the
+    /// whole sweep.
+    fn run_unit(
+        &self,
+        exec: &dyn SceneRun,
+        unit: &[SessionSpec],
+    ) -> Result<Vec<SessionResult>, SweepError> {
+        let scene = self.cells[unit[0].cell].scene;
+        let run = std::panic::AssertUnwindSafe(|| {
+            if self.runs_episodes(scene) {
+                return unit
+                    .iter()
+                    .map(|s| self.run_episode_session(s, &mut *exec.world(1)))
+                    .collect();
+            }
+            if let Some(mut world) = exec.value_world(unit.len()) {
+                return self.run_value_sessions_lockstep(unit, &mut *world);
+            }
+            let mut world = exec.world(unit.len());
+            self.run_sessions_lockstep(unit, &mut *world)
+        });
+        std::panic::catch_unwind(run).unwrap_or_else(|p| {
+            let why = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "no message".into());
+            Ok(unit
+                .iter()
+                .map(|s| SessionResult {
+                    session: *s,
+                    values: vec![None; self.metrics.len()],
+                    failure: Some(format!("the simulation panicked: {why}")),
+                })
+                .collect())
+        })
     }
 
     /// Runs every session on `threads` threads and returns the results in
@@ -369,7 +400,46 @@ impl Sweep {
     ) -> Result<DirReport, SweepError> {
         let shard = options.shard;
         let journal_path = dir.join(JOURNAL);
-        let header = JournalHeader {
+        let header = self.journal_header(shard);
+        Self::prepare_dir(dir, options.resume)?;
+        self.copy_sweep_and_version(dir)?;
+        let (mut journal, mut done) = open_journal(&journal_path, &header)?;
+        let all = self.sessions();
+        let mine: Vec<SessionSpec> = all
+            .into_iter()
+            .filter(|s| shard.contains(s.index))
+            .collect();
+        done.retain(|i, _| shard.contains(*i) && *i < header.total);
+        let resumed = done.len();
+        let todo: Vec<SessionSpec> = mine
+            .iter()
+            .filter(|s| !done.contains_key(&s.index))
+            .copied()
+            .collect();
+        let total = mine.len();
+        progress(done.len(), total);
+        let mut count = done.len();
+        self.run_with(&todo, options.threads, |r| {
+            let row = self.result_row(&r);
+            journal.push(r.session.index, &row)?;
+            done.insert(r.session.index, row);
+            count += 1;
+            progress(count, total);
+            Ok(())
+        })?;
+        journal.sync()?;
+        drop(journal);
+        write_final(dir, &header, &done)?;
+        Ok(DirReport {
+            sessions: total,
+            resumed,
+            ran: todo.len(),
+        })
+    }
+
+    /// The journal's header for `shard` of this sweep.
+    fn journal_header(&self, shard: Shard) -> JournalHeader {
+        JournalHeader {
             sweep_hash: fnv1a64(self.text.as_bytes()),
             shard,
             total: self.num_sessions(),
@@ -381,7 +451,12 @@ impl Sweep {
                 .collect(),
             version: VERSION.to_string(),
             columns: self.results_header(),
-        };
+        }
+    }
+
+    /// Makes `dir`: a new or empty folder (temporary files of a killed
+    /// copy removed), or with `resume` one that holds a sweep to complete.
+    fn prepare_dir(dir: &Path, resume: bool) -> Result<(), SweepError> {
         if dir.exists() && !dir.is_dir() {
             return Err(SweepError::Output(format!(
                 "{}: exists and is not a folder",
@@ -416,7 +491,7 @@ impl Sweep {
             // that still runs keeps its own)
             crate::io::remove_stale_temps(dir);
         }
-        if non_empty && !options.resume {
+        if non_empty && !resume {
             return Err(SweepError::Output(format!(
                 "{} exists and is not empty; pass --resume to complete the sweep it holds, or choose another --out",
                 dir.display()
@@ -429,6 +504,12 @@ impl Sweep {
             )));
         }
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        Ok(())
+    }
+
+    /// Writes the copy of the sweep and the version into `dir`, or checks
+    /// that those it holds are the same.
+    fn copy_sweep_and_version(&self, dir: &Path) -> Result<(), SweepError> {
         // the copy of the sweep and the version: the same, or refused
         for (name, bytes) in [
             (SWEEP_COPY, self.text.as_bytes().to_vec()),
@@ -450,63 +531,42 @@ impl Sweep {
                 Err(e) => return Err(SweepError::Output(format!("{e}; choose another --out"))),
             }
         }
-        let (mut journal, mut done) = if journal_path.exists() {
-            let read = journal::read(&journal_path)?;
-            if let Some((name, now, then)) = header.changed_scene(&read.header) {
-                if read.header.sweep_hash == header.sweep_hash {
-                    return Err(SweepError::Output(format!(
-                        "{}: scene `{name}` changed since this folder's sessions ran (content {then:016x}, now {now:016x}); one results file cannot mix two versions of a scene: restore it, or choose another --out",
-                        journal_path.display()
-                    )));
-                }
-            }
-            if read.header != header {
+        Ok(())
+    }
+}
+
+/// The journal at `journal_path`: a new one for `header`, or the existing
+/// one (written by the same run: same sweep, scenes, version and shard)
+/// reopened for appending, with the rows it holds.
+fn open_journal(
+    journal_path: &Path,
+    header: &JournalHeader,
+) -> Result<(Journal, BTreeMap<usize, String>), SweepError> {
+    Ok(if journal_path.exists() {
+        let read = journal::read(journal_path)?;
+        if let Some((name, now, then)) = header.changed_scene(&read.header) {
+            if read.header.sweep_hash == header.sweep_hash {
                 return Err(SweepError::Output(format!(
-                    "{}: written by another run ({}); this run is shard {} of sweep {:016x} with {} sessions; choose another --out",
-                    journal_path.display(),
-                    read.header.describe(),
-                    shard,
-                    header.sweep_hash,
-                    header.total
+                    "{}: scene `{name}` changed since this folder's sessions ran (content {then:016x}, now {now:016x}); one results file cannot mix two versions of a scene: restore it, or choose another --out",
+                    journal_path.display()
                 )));
             }
-            let j = Journal::append(&journal_path, read.valid_len)?;
-            (j, read.rows)
-        } else {
-            (Journal::create(&journal_path, &header)?, BTreeMap::new())
-        };
-        let all = self.sessions();
-        let mine: Vec<SessionSpec> = all
-            .into_iter()
-            .filter(|s| shard.contains(s.index))
-            .collect();
-        done.retain(|i, _| shard.contains(*i) && *i < header.total);
-        let resumed = done.len();
-        let todo: Vec<SessionSpec> = mine
-            .iter()
-            .filter(|s| !done.contains_key(&s.index))
-            .copied()
-            .collect();
-        let total = mine.len();
-        progress(done.len(), total);
-        let mut count = done.len();
-        self.run_with(&todo, options.threads, |r| {
-            let row = self.result_row(&r);
-            journal.push(r.session.index, &row)?;
-            done.insert(r.session.index, row);
-            count += 1;
-            progress(count, total);
-            Ok(())
-        })?;
-        journal.sync()?;
-        drop(journal);
-        write_final(dir, &header, &done)?;
-        Ok(DirReport {
-            sessions: total,
-            resumed,
-            ran: todo.len(),
-        })
-    }
+        }
+        if read.header != *header {
+            return Err(SweepError::Output(format!(
+                "{}: written by another run ({}); this run is shard {} of sweep {:016x} with {} sessions; choose another --out",
+                journal_path.display(),
+                read.header.describe(),
+                header.shard,
+                header.sweep_hash,
+                header.total
+            )));
+        }
+        let j = Journal::append(journal_path, read.valid_len)?;
+        (j, read.rows)
+    } else {
+        (Journal::create(journal_path, header)?, BTreeMap::new())
+    })
 }
 
 /// How [`Sweep::run_to_dir`] runs.

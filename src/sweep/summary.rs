@@ -113,6 +113,10 @@ fn num(v: Option<f64>) -> String {
     v.map(super::format_number).unwrap_or_default()
 }
 
+/// A cell's key, each session's values, and how many of its sessions
+/// failed.
+type Group = (String, Vec<Vec<Option<f64>>>, usize);
+
 /// The summary of `results.csv` rows (without header, in canonical order,
 /// so that the sessions of a cell are consecutive) whose header line is
 /// `columns`.
@@ -128,42 +132,7 @@ pub fn summarize<'a>(
     }
     let with_failure = cols.last() == Some(&FAILURE_COLUMN);
     let metrics = &cols[KEY_COLUMNS.len()..cols.len() - usize::from(with_failure)];
-    // group consecutive rows by their cell columns
-    // per cell: its key, each session's values, and how many failed
-    type Group = (String, Vec<Vec<Option<f64>>>, usize);
-    let mut groups: Vec<Group> = Vec::new();
-    for row in rows {
-        let f: Vec<&str> = row.split(',').collect();
-        if f.len() != cols.len() {
-            return Err(SweepError::Output(format!(
-                "a results row has {} fields, expected {}: `{row}`",
-                f.len(),
-                cols.len()
-            )));
-        }
-        let key = f[..CELL_COLUMNS].join(",");
-        let failed = with_failure && !f[f.len() - 1].is_empty();
-        let values = f[KEY_COLUMNS.len()..KEY_COLUMNS.len() + metrics.len()]
-            .iter()
-            .map(|v| {
-                if v.is_empty() {
-                    Ok(None)
-                } else {
-                    v.parse::<f64>().map(Some).map_err(|_| {
-                        SweepError::Output(format!("a results value is not a number: `{v}`"))
-                    })
-                }
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let failed = usize::from(failed);
-        match groups.last_mut() {
-            Some((k, v, n)) if *k == key => {
-                v.push(values);
-                *n += failed;
-            }
-            _ => groups.push((key, vec![values], failed)),
-        }
-    }
+    let groups = group_cells(&cols, metrics.len(), with_failure, rows)?;
     // which metrics may be empty (get an `_n` column)
     let has_n: Vec<bool> = metrics
         .iter()
@@ -177,22 +146,7 @@ pub fn summarize<'a>(
         })
         .collect();
     let mut out = String::new();
-    let mut header: Vec<String> = KEY_COLUMNS[..CELL_COLUMNS]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    header.push("sessions".into());
-    if with_failure {
-        header.push("failed".into());
-    }
-    for (m, &n) in metrics.iter().zip(&has_n) {
-        for suffix in ["mean", "sd", "ci_low", "ci_high"] {
-            header.push(format!("{m}_{suffix}"));
-        }
-        if n {
-            header.push(format!("{m}_n"));
-        }
-    }
+    let header = summary_header(metrics, &has_n, with_failure);
     out.push_str(&header.join(","));
     out.push('\n');
     for (key, sessions, failed) in &groups {
@@ -215,6 +169,74 @@ pub fn summarize<'a>(
         out.push('\n');
     }
     Ok(out)
+}
+
+/// Per cell: its key, each session's values of the `metrics` metrics,
+/// and how many of its sessions failed; the `rows` grouped by their cell
+/// columns (consecutive), checked against the columns `cols`.
+fn group_cells<'a>(
+    cols: &[&str],
+    metrics: usize,
+    with_failure: bool,
+    rows: impl Iterator<Item = &'a str>,
+) -> Result<Vec<Group>, SweepError> {
+    let mut groups: Vec<Group> = Vec::new();
+    for row in rows {
+        let f: Vec<&str> = row.split(',').collect();
+        if f.len() != cols.len() {
+            return Err(SweepError::Output(format!(
+                "a results row has {} fields, expected {}: `{row}`",
+                f.len(),
+                cols.len()
+            )));
+        }
+        let key = f[..CELL_COLUMNS].join(",");
+        let failed = with_failure && !f[f.len() - 1].is_empty();
+        let values = f[KEY_COLUMNS.len()..KEY_COLUMNS.len() + metrics]
+            .iter()
+            .map(|v| {
+                if v.is_empty() {
+                    Ok(None)
+                } else {
+                    v.parse::<f64>().map(Some).map_err(|_| {
+                        SweepError::Output(format!("a results value is not a number: `{v}`"))
+                    })
+                }
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let failed = usize::from(failed);
+        match groups.last_mut() {
+            Some((k, v, n)) if *k == key => {
+                v.push(values);
+                *n += failed;
+            }
+            _ => groups.push((key, vec![values], failed)),
+        }
+    }
+    Ok(groups)
+}
+
+/// The summary's header: the cell columns, `sessions`, `failed` (when
+/// the results have failures), and per metric its mean, sd, interval and
+/// (for `has_n`) count.
+fn summary_header(metrics: &[&str], has_n: &[bool], with_failure: bool) -> Vec<String> {
+    let mut header: Vec<String> = KEY_COLUMNS[..CELL_COLUMNS]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    header.push("sessions".into());
+    if with_failure {
+        header.push("failed".into());
+    }
+    for (m, &n) in metrics.iter().zip(has_n) {
+        for suffix in ["mean", "sd", "ci_low", "ci_high"] {
+            header.push(format!("{m}_{suffix}"));
+        }
+        if n {
+            header.push(format!("{m}_n"));
+        }
+    }
+    header
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@ use super::{
 };
 use crate::scene::{Scene, WorldSpec};
 use crate::world::table::CachedOutcomes;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Carries out an [`ExecutionPlan`] for one scene: holds its table or its
 /// memo, makes the worlds sessions run on, and keeps the outcomes in the
@@ -86,54 +86,11 @@ impl<'s> Executor<'s> {
             .cache
             .as_deref()
             .map(|dir| OutcomeTable::cache_path(scene, dir));
-        let mut file = None;
-        let on_disk = match (&path, space.num_commands()) {
-            (None, _) => OnDisk::NoCache,
-            (Some(_), None) => OnDisk::TooLarge,
-            (Some(p), Some(_)) => match OutcomeTable::read_file(p, scene) {
-                Ok(CachedOutcomes::Full(t)) => {
-                    file = Some(CachedOutcomes::Full(t));
-                    OnDisk::Full { path: p.clone() }
-                }
-                Ok(CachedOutcomes::Partial(e)) => {
-                    let entries = e.len() as u64;
-                    file = Some(CachedOutcomes::Partial(e));
-                    OnDisk::Partial {
-                        path: p.clone(),
-                        entries,
-                    }
-                }
-                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                    OnDisk::Missing { path: p.clone() }
-                }
-                Err(e) => OnDisk::Unusable {
-                    path: p.clone(),
-                    reason: e.to_string().rsplit(": ").next().unwrap_or("").to_string(),
-                },
-            },
-        };
+        let (on_disk, mut file) = read_cache(path.as_deref(), scene);
         let deterministic = scene.build().is_deterministic();
         let mut plan = ExecutionPlan::choose(scene, work, Some(&on_disk), memo_cap);
         if let Some(force) = options.force {
-            let possible = match force {
-                Strategy::Table => plan.simulated.is_some(),
-                Strategy::Memo => plan.commands.is_some() && memo_cap > 0,
-                Strategy::Live => true,
-            };
-            if possible && force != plan.strategy {
-                plan.why = format!("asked for (the cost rule chose {})", plan.strategy);
-                plan.strategy = force;
-                if force == Strategy::Table {
-                    plan.copies = if matches!(&scene.spec().world, WorldSpec::Physics(p) if p.copies_are_exact())
-                    {
-                        TABLE_COPIES
-                    } else {
-                        1
-                    };
-                }
-            } else if !possible {
-                plan.why = format!("{force} was asked for but cannot be used: {}", plan.why);
-            }
+            force_strategy(&mut plan, force, scene, memo_cap);
         }
         if !deterministic {
             plan.strategy = Strategy::Live;
@@ -371,5 +328,63 @@ impl<'s> Executor<'s> {
             Err(e) => line.push_str(&format!("; could not write {}: {e}", path.display())),
         }
         Some(line)
+    }
+}
+
+/// What the cache file at `path` (none: no cache) holds for `scene`: its
+/// state for the plan, and the outcomes read.
+fn read_cache(path: Option<&Path>, scene: &Scene) -> (OnDisk, Option<CachedOutcomes>) {
+    let mut file = None;
+    let on_disk = match (path, scene.command_space().num_commands()) {
+        (None, _) => OnDisk::NoCache,
+        (Some(_), None) => OnDisk::TooLarge,
+        (Some(p), Some(_)) => match OutcomeTable::read_file(p, scene) {
+            Ok(CachedOutcomes::Full(t)) => {
+                file = Some(CachedOutcomes::Full(t));
+                OnDisk::Full {
+                    path: p.to_path_buf(),
+                }
+            }
+            Ok(CachedOutcomes::Partial(e)) => {
+                let entries = e.len() as u64;
+                file = Some(CachedOutcomes::Partial(e));
+                OnDisk::Partial {
+                    path: p.to_path_buf(),
+                    entries,
+                }
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => OnDisk::Missing {
+                path: p.to_path_buf(),
+            },
+            Err(e) => OnDisk::Unusable {
+                path: p.to_path_buf(),
+                reason: e.to_string().rsplit(": ").next().unwrap_or("").to_string(),
+            },
+        },
+    };
+    (on_disk, file)
+}
+
+/// Forces `plan` to the strategy `force` when it can be used (a table
+/// then of as many copies as the scene's are exact), else tells why not.
+fn force_strategy(plan: &mut ExecutionPlan, force: Strategy, scene: &Scene, memo_cap: usize) {
+    let possible = match force {
+        Strategy::Table => plan.simulated.is_some(),
+        Strategy::Memo => plan.commands.is_some() && memo_cap > 0,
+        Strategy::Live => true,
+    };
+    if possible && force != plan.strategy {
+        plan.why = format!("asked for (the cost rule chose {})", plan.strategy);
+        plan.strategy = force;
+        if force == Strategy::Table {
+            plan.copies = if matches!(&scene.spec().world, WorldSpec::Physics(p) if p.copies_are_exact())
+            {
+                TABLE_COPIES
+            } else {
+                1
+            };
+        }
+    } else if !possible {
+        plan.why = format!("{force} was asked for but cannot be used: {}", plan.why);
     }
 }

@@ -458,20 +458,50 @@ impl ExecutionPlan {
         on_disk: Option<&OnDisk>,
         memo_cap: usize,
     ) -> ExecutionPlan {
+        let costs = Costs::of(scene);
+        let on_disk = on_disk.cloned().unwrap_or(OnDisk::NoCache);
+        let mut plan = ExecutionPlan::live(scene, work, on_disk, memo_cap, &costs);
+        if scene.spec().is_continuous() {
+            plan.why = "continuous commands: every trial is simulated (no table or memo)".into();
+            return plan;
+        }
+        let Some(n) = plan.commands else {
+            plan.why = "more than 2^64 commands: no table or memo can index them".into();
+            return plan;
+        };
+        let use_memo = plan.consider_memo(work, n, &costs);
+        if n > MAX_TABLE_COMMANDS {
+            plan.why = format!("{n} commands: too many for a table (at most {MAX_TABLE_COMMANDS})");
+            return plan;
+        }
+        plan.consider_table(scene, work, n, &costs, use_memo);
+        if costs.grid && plan.strategy == Strategy::Live && plan.why.is_empty() {
+            plan.why = "a grid move costs less than a look-up".into();
+        }
+        plan
+    }
+
+    /// The plan that simulates every trial: sessions in lockstep groups
+    /// of as many copies as the scene's are exact, and its cost.
+    fn live(
+        scene: &Scene,
+        work: &Workload,
+        on_disk: OnDisk,
+        memo_cap: usize,
+        costs: &Costs,
+    ) -> ExecutionPlan {
         let space = scene.command_space();
         // continuous commands cannot be enumerated: no table, no memo
         let n = space
             .num_commands()
             .filter(|_| !scene.spec().is_continuous());
-        let costs = Costs::of(scene);
         let threads = work.threads.max(1);
         let copies = if costs.exact { TABLE_COPIES } else { 1 };
         let groups = lockstep_groups(work.sessions, threads, copies);
         let width = work.sessions.div_ceil(groups).clamp(1, copies);
         let parallel = groups.min(threads) as f64;
         let trials = work.trials as f64;
-        let on_disk = on_disk.cloned().unwrap_or(OnDisk::NoCache);
-        let mut plan = ExecutionPlan {
+        ExecutionPlan {
             strategy: Strategy::Live,
             scene: scene.spec().name.clone(),
             commands: n,
@@ -480,48 +510,60 @@ impl ExecutionPlan {
             copies: width,
             groups,
             exact_copies: costs.exact,
-            on_disk: on_disk.clone(),
+            on_disk,
             memo_cap,
             table_seconds: None,
             sessions_seconds: trials * costs.per_command(width) / parallel,
             why: String::new(),
-        };
-        if scene.spec().is_continuous() {
-            plan.why = "continuous commands: every trial is simulated (no table or memo)".into();
-            return plan;
         }
-        let Some(n) = n else {
-            plan.why = "more than 2^64 commands: no table or memo can index them".into();
-            return plan;
-        };
-        let known = on_disk.entries(n);
-        // the memo: at most one execution per distinct command, and a
-        // look-up per trial; how often commands repeat is not known ahead,
-        // so it is worth it wherever a look-up costs less than a rollout
+    }
+
+    /// The memo, for `n` commands: at most one execution per distinct
+    /// command, and a look-up per trial; how often commands repeat is not
+    /// known ahead, so it is worth it wherever a look-up costs less than a
+    /// rollout. Whether it replaces live execution.
+    fn consider_memo(&mut self, work: &Workload, n: u64, costs: &Costs) -> bool {
+        let (width, trials) = (self.copies, work.trials as f64);
+        let parallel = self.groups.min(work.threads.max(1)) as f64;
+        let known = self.on_disk.entries(n);
         let misses = work.trials.min(n - known.min(n)) as f64;
         let memo_seconds = misses * costs.per_command(width) / parallel + trials * MEMO_LOOKUP;
-        let use_memo = memo_cap > 0 && costs.per_command(width) > 2.0 * MEMO_LOOKUP;
+        let use_memo = self.memo_cap > 0 && costs.per_command(width) > 2.0 * MEMO_LOOKUP;
         if use_memo {
-            plan.strategy = Strategy::Memo;
-            plan.sessions_seconds = memo_seconds;
+            self.strategy = Strategy::Memo;
+            self.sessions_seconds = memo_seconds;
         }
-        if n > MAX_TABLE_COMMANDS {
-            plan.why = format!("{n} commands: too many for a table (at most {MAX_TABLE_COMMANDS})");
-            return plan;
-        }
+        use_memo
+    }
+
+    /// The table of `n` commands (read whole from disk, or built on the
+    /// threads), when it costs less than the trials otherwise
+    /// (`use_memo`: memoised, else live) or next to nothing; why.
+    fn consider_table(
+        &mut self,
+        scene: &Scene,
+        work: &Workload,
+        n: u64,
+        costs: &Costs,
+        use_memo: bool,
+    ) {
+        let threads = work.threads.max(1);
+        let copies = if costs.exact { TABLE_COPIES } else { 1 };
+        let trials = work.trials as f64;
         let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
-        plan.simulated = Some(simulated);
-        let table_seconds = if matches!(on_disk, OnDisk::Full { .. }) {
+        self.simulated = Some(simulated);
+        let full = matches!(self.on_disk, OnDisk::Full { .. });
+        let table_seconds = if full {
             n as f64 * TABLE_READ
         } else {
             simulated as f64 * costs.per_command(copies) / threads as f64 + n as f64 * TABLE_ENTRY
         } + trials * TABLE_LOOKUP;
-        plan.table_seconds = Some(table_seconds);
-        let alternative = plan.sessions_seconds;
+        self.table_seconds = Some(table_seconds);
+        let alternative = self.sessions_seconds;
         if table_seconds <= alternative || table_seconds < CHEAP_TABLE {
-            plan.strategy = Strategy::Table;
-            plan.copies = copies;
-            plan.why = if matches!(on_disk, OnDisk::Full { .. }) {
+            self.strategy = Strategy::Table;
+            self.copies = copies;
+            self.why = if full {
                 "the whole table is on disk".into()
             } else if table_seconds < CHEAP_TABLE {
                 "a table costs next to nothing".to_string()
@@ -535,7 +577,7 @@ impl ExecutionPlan {
                 )
             };
         } else {
-            plan.why = format!(
+            self.why = format!(
                 "{} trials {} (about {}) cost less than the table of {n} commands (about {})",
                 work.trials,
                 if use_memo { "memoised" } else { "live" },
@@ -543,10 +585,6 @@ impl ExecutionPlan {
                 seconds(table_seconds)
             );
         }
-        if costs.grid && plan.strategy == Strategy::Live && plan.why.is_empty() {
-            plan.why = "a grid move costs less than a look-up".into();
-        }
-        plan
     }
 }
 

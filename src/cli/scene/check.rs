@@ -4,7 +4,9 @@
 use super::simulate::{say_cost, seconds_text};
 use crate::cli::console::{errln, outln};
 use crate::cli::{progress, CliResult};
-use e3d::scene::{physics::BodyKind, Scene, WorldSpec};
+use e3d::scene::physics::{BodyKind, PhysicsSpec};
+use e3d::scene::{GridSpec, Scene, WorldSpec};
+use e3d::world::ReachSample;
 use e3d::OutcomeTable;
 
 pub(super) fn check(scene: &Scene) -> CliResult {
@@ -105,9 +107,17 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
             grid.num_cells()
         );
     }
+    print_reward_reach(scene, &s);
+    Ok(())
+}
+
+/// How often the sampled (or all) commands `s` reach the scene's reward
+/// cells, with a warning (stderr) when none does.
+fn print_reward_reach(scene: &Scene, s: &ReachSample) {
+    let grid = scene.effect_grid();
     let cells = rewarded_cells(scene);
     if cells.is_empty() {
-        return Ok(());
+        return;
     }
     let effects: Vec<usize> = cells.iter().map(|&(r, c)| r * grid.cols + c).collect();
     let hits = s.hits(&effects);
@@ -124,7 +134,7 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
                 scene.spec().name
             );
         }
-        return Ok(());
+        return;
     }
     outln!(
         "reward cells: estimated probability {:.3}% ({hits} of {} sampled commands)",
@@ -140,7 +150,6 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
             full_check_cost(scene)
         );
     }
-    Ok(())
 }
 
 /// What `scene reward-cell` (every command executed) would cost: the
@@ -191,112 +200,129 @@ pub(super) fn rewarded_cells(scene: &Scene) -> Vec<(usize, usize)> {
 /// scene's schedule, bodies, joints, tracked point and symmetry.
 fn print_world(scene: &Scene) {
     match &scene.spec().world {
-        WorldSpec::Grid(g) => {
-            outln!(
-                "world: Grid, {} x {} cells, start {:?}, {} wall(s)",
-                g.rows,
-                g.cols,
-                g.start,
-                g.walls.len()
-            );
-            if !g.contexts.is_empty() {
-                let list: Vec<String> = g
-                    .contexts
-                    .iter()
-                    .map(|c| match c.to {
-                        Some(to) => format!("{} {:?}..={to:?}", c.name, c.cell),
-                        None => format!("{} {:?}", c.name, c.cell),
-                    })
-                    .collect();
-                outln!("start contexts ({}): {}", g.contexts.len(), list.join(", "));
-            }
+        WorldSpec::Grid(g) => print_grid(g),
+        WorldSpec::Physics(p) => print_physics(scene, p),
+    }
+}
+
+/// A grid world: its size, start, walls and start contexts.
+fn print_grid(g: &GridSpec) {
+    outln!(
+        "world: Grid, {} x {} cells, start {:?}, {} wall(s)",
+        g.rows,
+        g.cols,
+        g.start,
+        g.walls.len()
+    );
+    if !g.contexts.is_empty() {
+        let list: Vec<String> = g
+            .contexts
+            .iter()
+            .map(|c| match c.to {
+                Some(to) => format!("{} {:?}..={to:?}", c.name, c.cell),
+                None => format!("{} {:?}", c.name, c.cell),
+            })
+            .collect();
+        outln!("start contexts ({}): {}", g.contexts.len(), list.join(", "));
+    }
+}
+
+/// A physics world: its start contexts (and warnings, on stderr), its
+/// schedule, bodies, joints, effect and symmetry.
+fn print_physics(scene: &Scene, p: &PhysicsSpec) {
+    if !p.contexts.is_empty() {
+        let list: Vec<String> = p
+            .contexts
+            .iter()
+            .map(|c| {
+                let kind = if c.is_sampled() { "drawn" } else { "named" };
+                let bodies: Vec<&str> = c.bodies.iter().map(|b| b.body.as_str()).collect();
+                format!("{} ({kind}: {})", c.name, bodies.join(" "))
+            })
+            .collect();
+        outln!("start contexts ({}): {}", p.contexts.len(), list.join(", "));
+    }
+    for w in p.warnings() {
+        errln!("warning: scene {}: {w}", scene.spec().name);
+    }
+    let (phase, settle, together) = p.schedule.steps(p.dt);
+    outln!(
+        "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",
+        p.gravity.0,
+        p.gravity.1,
+        p.dt,
+        p.schedule.total_steps(p.dt, scene.spec().num_slots()),
+        if together {
+            format!("all slots push {phase} steps, then settle {settle}")
+        } else {
+            format!("{phase} steps per slot, then settle {settle}")
         }
-        WorldSpec::Physics(p) => {
-            if !p.contexts.is_empty() {
-                let list: Vec<String> = p
-                    .contexts
-                    .iter()
-                    .map(|c| {
-                        let kind = if c.is_sampled() { "drawn" } else { "named" };
-                        let bodies: Vec<&str> = c.bodies.iter().map(|b| b.body.as_str()).collect();
-                        format!("{} ({kind}: {})", c.name, bodies.join(" "))
-                    })
-                    .collect();
-                outln!("start contexts ({}): {}", p.contexts.len(), list.join(", "));
-            }
-            for w in p.warnings() {
-                errln!("warning: scene {}: {w}", scene.spec().name);
-            }
-            let (phase, settle, together) = p.schedule.steps(p.dt);
-            outln!(
-                "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",
-                p.gravity.0,
-                p.gravity.1,
-                p.dt,
-                p.schedule.total_steps(p.dt, scene.spec().num_slots()),
-                if together {
-                    format!("all slots push {phase} steps, then settle {settle}")
-                } else {
-                    format!("{phase} steps per slot, then settle {settle}")
-                }
-            );
-            outln!("bodies ({}):", p.bodies.len());
-            for b in &p.bodies {
-                let mass = if b.kind == BodyKind::Dynamic {
-                    format!(", {:.4} kg", b.mass_kg())
-                } else {
-                    String::new()
-                };
-                outln!(
-                    "  {:<12} {:?}, {:?}{mass}, at ({}, {}), angle {}",
-                    b.name,
-                    b.kind,
-                    b.shape,
-                    b.position.0,
-                    b.position.1,
-                    b.angle
-                );
-            }
-            outln!("joints ({}):", p.joints.len());
-            for j in &p.joints {
-                // a slider's numbers are in m, N/m and N·s/m (its kind is
-                // named; a hinge's line is as it always was)
-                let (kind, unit, force) = match j.kind {
-                    e3d::scene::physics::JointKind::Revolute => (String::new(), "rad", "N·m"),
-                    e3d::scene::physics::JointKind::Prismatic { axis } => {
-                        (format!(", slider along ({}, {})", axis.0, axis.1), "m", "N")
-                    }
-                };
-                outln!(
-                    "  {:<12} {} -> {}{kind}, limits {}, damping {} {force}·s/{unit}{}",
-                    j.name,
-                    j.parent,
-                    j.child,
-                    j.limits
-                        .map_or("none".to_string(), |(a, b)| format!("[{a}, {b}] {unit}")),
-                    j.damping,
-                    j.motor.map_or(String::new(), |m| format!(
-                        ", motor {} {force}/{unit}, {} {force}·s/{unit}",
-                        m.stiffness, m.damping
-                    ))
-                );
-            }
-            match p.effect.world_point() {
-                Some((body, point, _)) => {
-                    outln!("tracked point: ({}, {}) on `{}`", point.0, point.1, body)
-                }
-                None => outln!("effect: {}", e3d::report::scene_svg::describe_effect(p)),
-            }
-            if let Some(sym) = p.symmetry {
-                let n = scene.command_space().num_commands_text();
-                match OutcomeTable::simulated_commands(scene) {
-                    Some(k) => outln!(
-                        "symmetry: {sym:?} (checked): {k} of {n} commands simulated, the others reflected"
-                    ),
-                    None => outln!("symmetry: {sym:?} (checked)"),
-                }
-            }
+    );
+    print_bodies(p);
+    print_joints(p);
+    match p.effect.world_point() {
+        Some((body, point, _)) => {
+            outln!("tracked point: ({}, {}) on `{}`", point.0, point.1, body)
         }
+        None => outln!("effect: {}", e3d::report::scene_svg::describe_effect(p)),
+    }
+    if let Some(sym) = p.symmetry {
+        let n = scene.command_space().num_commands_text();
+        match OutcomeTable::simulated_commands(scene) {
+            Some(k) => outln!(
+                "symmetry: {sym:?} (checked): {k} of {n} commands simulated, the others reflected"
+            ),
+            None => outln!("symmetry: {sym:?} (checked)"),
+        }
+    }
+}
+
+/// The bodies, one line each.
+fn print_bodies(p: &PhysicsSpec) {
+    outln!("bodies ({}):", p.bodies.len());
+    for b in &p.bodies {
+        let mass = if b.kind == BodyKind::Dynamic {
+            format!(", {:.4} kg", b.mass_kg())
+        } else {
+            String::new()
+        };
+        outln!(
+            "  {:<12} {:?}, {:?}{mass}, at ({}, {}), angle {}",
+            b.name,
+            b.kind,
+            b.shape,
+            b.position.0,
+            b.position.1,
+            b.angle
+        );
+    }
+}
+
+/// The joints, one line each.
+fn print_joints(p: &PhysicsSpec) {
+    outln!("joints ({}):", p.joints.len());
+    for j in &p.joints {
+        // a slider's numbers are in m, N/m and N·s/m (its kind is
+        // named; a hinge's line is as it always was)
+        let (kind, unit, force) = match j.kind {
+            e3d::scene::physics::JointKind::Revolute => (String::new(), "rad", "N·m"),
+            e3d::scene::physics::JointKind::Prismatic { axis } => {
+                (format!(", slider along ({}, {})", axis.0, axis.1), "m", "N")
+            }
+        };
+        outln!(
+            "  {:<12} {} -> {}{kind}, limits {}, damping {} {force}·s/{unit}{}",
+            j.name,
+            j.parent,
+            j.child,
+            j.limits
+                .map_or("none".to_string(), |(a, b)| format!("[{a}, {b}] {unit}")),
+            j.damping,
+            j.motor.map_or(String::new(), |m| format!(
+                ", motor {} {force}/{unit}, {} {force}·s/{unit}",
+                m.stiffness, m.damping
+            ))
+        );
     }
 }
 

@@ -5,23 +5,13 @@ use super::check::rewarded_cells;
 use super::simulate::build_table;
 use crate::cli::console::outln;
 use crate::cli::{CliError, CliResult};
+use e3d::effect::EffectGrid;
 use e3d::scene::{Scene, WorldSpec};
 use e3d::world::farthest_reached_cell;
+use e3d::OutcomeTable;
 
 pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
-    let from = match (from, &scene.spec().world) {
-        (Some(p), _) => p,
-        (None, WorldSpec::Physics(p)) => match p.effect.world_point() {
-            // the tracked point where the scene places it
-            Some((body, point, _)) if let Some(b) = p.body(body) => {
-                let t = e3d::scene::physics::to_world_point(b.position, b.angle, point);
-                [t.0, t.1]
-            }
-            // the features' start, on the effect's layout
-            _ => scene.physics_world().map_or([0.0, 0.0], |w| w.start().0),
-        },
-        (None, WorldSpec::Grid(g)) => scene.effect_grid().center(g.start.0, g.start.1),
-    };
+    let from = from.unwrap_or_else(|| start_point(scene));
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
     if n > e3d::world::MAX_TABLE_COMMANDS {
         return Err(CliError::input(format!(
@@ -36,14 +26,6 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
     let grid = scene.effect_grid();
     let cell = farthest_reached_cell(&table, &grid, from)
         .ok_or_else(|| CliError::input("no command to execute"))?;
-    let counts = table.effect_counts();
-    let mut sorted: Vec<(u64, usize)> = counts
-        .iter()
-        .enumerate()
-        .filter(|(_, &c)| c > 0)
-        .map(|(e, &c)| (c, e))
-        .collect();
-    sorted.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
     outln!(
         "scene {}: executed {} commands in {:.2} s ({:.0} commands/s on {} thread(s))",
         scene.spec().name,
@@ -57,20 +39,7 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         cell.reached_cells,
         grid.num_cells()
     );
-    let top: Vec<String> = sorted
-        .iter()
-        .take(5)
-        .map(|(c, e)| {
-            format!(
-                "({}, {}) {} ({:.1}%)",
-                e / grid.cols,
-                e % grid.cols,
-                c,
-                100.0 * *c as f64 / table.len() as f64
-            )
-        })
-        .collect();
-    outln!("most common cells: {}", top.join(", "));
+    outln!("most common cells: {}", most_common_cells(&table, &grid));
     let center = grid.center(cell.row, cell.col);
     outln!(
         "rule: farthest reached cell from ({:.4}, {:.4}): ({}, {}) = effect {}, centre ({}, {}), {:.4} m away, reached by {} command(s)",
@@ -87,8 +56,58 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         .map(|(i, _)| space.format(&space.command_at(i as u64)))
         .collect();
     outln!("commands reaching it: {}", reaching.join(" "));
+    print_rule_match(scene, (cell.row, cell.col));
+    Ok(())
+}
+
+/// Where the distance of the rule is measured from by default: a grid's
+/// start cell's centre, the tracked point where the scene places it, or
+/// the features' start on the effect's layout.
+fn start_point(scene: &Scene) -> [f64; 2] {
+    match &scene.spec().world {
+        WorldSpec::Physics(p) => match p.effect.world_point() {
+            // the tracked point where the scene places it
+            Some((body, point, _)) if let Some(b) = p.body(body) => {
+                let t = e3d::scene::physics::to_world_point(b.position, b.angle, point);
+                [t.0, t.1]
+            }
+            // the features' start, on the effect's layout
+            _ => scene.physics_world().map_or([0.0, 0.0], |w| w.start().0),
+        },
+        WorldSpec::Grid(g) => scene.effect_grid().center(g.start.0, g.start.1),
+    }
+}
+
+/// The five cells most commands of `table` reach, with their counts and
+/// shares.
+fn most_common_cells(table: &OutcomeTable, grid: &EffectGrid) -> String {
+    let counts = table.effect_counts();
+    let mut sorted: Vec<(u64, usize)> = counts
+        .iter()
+        .enumerate()
+        .filter(|(_, &c)| c > 0)
+        .map(|(e, &c)| (c, e))
+        .collect();
+    sorted.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+    let top: Vec<String> = sorted
+        .iter()
+        .take(5)
+        .map(|(c, e)| {
+            format!(
+                "({}, {}) {} ({:.1}%)",
+                e / grid.cols,
+                e % grid.cols,
+                c,
+                100.0 * *c as f64 / table.len() as f64
+            )
+        })
+        .collect();
+    top.join(", ")
+}
+
+/// Whether the scene's reward cells are the rule's cell `rule`.
+fn print_rule_match(scene: &Scene, rule: (usize, usize)) {
     let declared = rewarded_cells(scene);
-    let rule = (cell.row, cell.col);
     if declared.is_empty() {
         outln!(
             "the scene declares no reward cell; by the rule it would be {rule:?}: `reward: (cells: [{rule:?}])`"
@@ -98,5 +117,4 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
     } else {
         outln!("the scene's reward cells {declared:?} do NOT match the rule's cell {rule:?}");
     }
-    Ok(())
 }

@@ -81,90 +81,143 @@ fn chain(
     k: usize,
     pose: impl Fn(&str) -> Option<((f64, f64), f64)>,
 ) -> Result<(Vec<BodySpec>, Vec<JointSpec>), Invalid> {
-    let bad = |field: &str, msg: String| bad("chains", k, field, format!("chains[{k}]: {msg}"));
+    let chain = Chain { c, k };
+    chain.check_counts()?;
+    chain.check_numbers()?;
+    let anchor0 = chain.anchor0(pose)?;
     let n = c.links;
-    if n == 0 || n > MAX_BODIES {
-        return Err(bad(
-            "links",
-            format!("between 1 and {MAX_BODIES} links, found {n}"),
-        ));
-    }
-    let counts: [(&str, Option<usize>, &str); 7] = [
-        ("length", c.length.len(), "lengths"),
-        ("width", c.width.len(), "widths"),
-        ("mass", c.mass.as_ref().and_then(Each::len), "masses"),
-        (
-            "density",
-            c.density.as_ref().and_then(Each::len),
-            "densities",
-        ),
-        ("damping", c.damping.len(), "dampings"),
-        ("motor", c.motor.as_ref().and_then(Each::len), "motors"),
-        (
-            "names",
-            (!c.names.is_empty()).then_some(c.names.len()),
-            "names",
-        ),
-    ];
-    let joint_names = (!c.joint_names.is_empty()).then_some(c.joint_names.len());
-    // a free chain has no joint 1
-    let nj = n - usize::from(c.free);
-    for (field, len, what) in counts
-        .into_iter()
-        .chain([("joint_names", joint_names, "names")])
-    {
-        let per_joint = matches!(field, "damping" | "motor" | "joint_names");
-        let want = if per_joint { nj } else { n };
-        if let Some(m) = len {
-            if m != want {
-                let of = if per_joint && c.free {
-                    format!("{nj} joints (a free chain of {n} links)")
-                } else if per_joint {
-                    format!("{n} joints")
-                } else {
-                    format!("{n} links")
-                };
-                return Err(bad(
-                    field,
-                    format!(
-                        "one value for all {of} or a list of {want} {what} (one per {}), found a list of {m}",
-                        if per_joint { "joint" } else { "link" }
-                    ),
-                ));
-            }
+    let (mut bodies, mut joints) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    let mut along = 0.0;
+    for i in 0..n {
+        let l = c.length.get(i);
+        let centre = along + l / 2.0;
+        along += l;
+        bodies.push(chain.link(i, centre));
+        if c.free && i == 0 {
+            continue;
         }
+        joints.push(chain.joint(i, anchor0));
     }
-    if c.free && c.parent != GROUND {
-        return Err(bad(
-            "parent",
-            format!(
-                "no `parent` for a free chain (`free: true`: link 1 is joined to nothing), found `{}`",
-                c.parent
+    Ok((bodies, joints))
+}
+
+/// A chain being expanded, entry `k` of `chains`.
+struct Chain<'a> {
+    c: &'a ChainSpec,
+    k: usize,
+}
+
+impl Chain<'_> {
+    /// The error at the chain's `field`.
+    fn bad(&self, field: &str, msg: String) -> Invalid {
+        let k = self.k;
+        bad("chains", k, field, format!("chains[{k}]: {msg}"))
+    }
+
+    /// The number of links, and one value per link (per joint) or a list
+    /// of as many for each field that takes a list.
+    fn check_counts(&self) -> Result<(), Invalid> {
+        let c = self.c;
+        let n = c.links;
+        if n == 0 || n > MAX_BODIES {
+            return Err(self.bad(
+                "links",
+                format!("between 1 and {MAX_BODIES} links, found {n}"),
+            ));
+        }
+        let counts: [(&str, Option<usize>, &str); 7] = [
+            ("length", c.length.len(), "lengths"),
+            ("width", c.width.len(), "widths"),
+            ("mass", c.mass.as_ref().and_then(Each::len), "masses"),
+            (
+                "density",
+                c.density.as_ref().and_then(Each::len),
+                "densities",
             ),
-        ));
-    }
-    for (field, each) in [("length", &c.length), ("width", &c.width)] {
-        for i in 0..n {
-            let v = each.get(i);
-            if !(v.is_finite() && v > 0.0) {
-                return Err(bad(
-                    field,
-                    format!("a {field} > 0 m for every link, found {v} (link {})", i + 1),
-                ));
+            ("damping", c.damping.len(), "dampings"),
+            ("motor", c.motor.as_ref().and_then(Each::len), "motors"),
+            (
+                "names",
+                (!c.names.is_empty()).then_some(c.names.len()),
+                "names",
+            ),
+        ];
+        let joint_names = (!c.joint_names.is_empty()).then_some(c.joint_names.len());
+        // a free chain has no joint 1
+        let nj = n - usize::from(c.free);
+        for (field, len, what) in counts
+            .into_iter()
+            .chain([("joint_names", joint_names, "names")])
+        {
+            let per_joint = matches!(field, "damping" | "motor" | "joint_names");
+            let want = if per_joint { nj } else { n };
+            if let Some(m) = len {
+                if m != want {
+                    let of = if per_joint && c.free {
+                        format!("{nj} joints (a free chain of {n} links)")
+                    } else if per_joint {
+                        format!("{n} joints")
+                    } else {
+                        format!("{n} links")
+                    };
+                    return Err(self.bad(
+                        field,
+                        format!(
+                            "one value for all {of} or a list of {want} {what} (one per {}), found a list of {m}",
+                            if per_joint { "joint" } else { "link" }
+                        ),
+                    ));
+                }
             }
         }
+        Ok(())
     }
-    if !finite(c.base) || !c.angle.is_finite() {
-        return Err(bad(
-            if finite(c.base) { "angle" } else { "base" },
-            "a finite base and angle".into(),
-        ));
+
+    /// No parent for a free chain, lengths and widths > 0, a finite base
+    /// and angle.
+    fn check_numbers(&self) -> Result<(), Invalid> {
+        let c = self.c;
+        if c.free && c.parent != GROUND {
+            return Err(self.bad(
+                "parent",
+                format!(
+                    "no `parent` for a free chain (`free: true`: link 1 is joined to nothing), found `{}`",
+                    c.parent
+                ),
+            ));
+        }
+        for (field, each) in [("length", &c.length), ("width", &c.width)] {
+            for i in 0..c.links {
+                let v = each.get(i);
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(self.bad(
+                        field,
+                        format!("a {field} > 0 m for every link, found {v} (link {})", i + 1),
+                    ));
+                }
+            }
+        }
+        if !finite(c.base) || !c.angle.is_finite() {
+            return Err(self.bad(
+                if finite(c.base) { "angle" } else { "base" },
+                "a finite base and angle".into(),
+            ));
+        }
+        Ok(())
     }
-    let anchor0 = if c.parent == GROUND {
-        (tidy(c.base.0), tidy(c.base.1))
-    } else {
+
+    /// Joint 1's anchor on its parent: the base on ground, or the base in
+    /// the parent body's frame (its start pose found by `pose`).
+    fn anchor0(
+        &self,
+        pose: impl Fn(&str) -> Option<((f64, f64), f64)>,
+    ) -> Result<(f64, f64), Invalid> {
+        let c = self.c;
+        if c.parent == GROUND {
+            return Ok((tidy(c.base.0), tidy(c.base.1)));
+        }
         let Some((p, a)) = pose(&c.parent) else {
-            return Err(bad(
+            return Err(self.bad(
                 "parent",
                 format!(
                     "`ground` or a body written before the chain (a wall's box, an earlier chain's link, or one of `bodies`), found `{}`",
@@ -174,25 +227,24 @@ fn chain(
         };
         let (s, co) = a.sin_cos();
         let (dx, dy) = (c.base.0 - p.0, c.base.1 - p.1);
-        (tidy(co * dx + s * dy), tidy(-s * dx + co * dy))
-    };
-    let link_name = |i: usize| match c.names.get(i) {
-        Some(s) => s.clone(),
-        None => format!("{}{}", c.prefix, i + 1),
-    };
-    let joint_name = |i: usize| match c.joint_names.get(i) {
-        Some(s) => s.clone(),
-        None => format!("{}{}", c.joint_prefix, i + 1),
-    };
-    let (s, co) = c.angle.sin_cos();
-    let (mut bodies, mut joints) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    let mut along = 0.0;
-    for i in 0..n {
+        Ok((tidy(co * dx + s * dy), tidy(-s * dx + co * dy)))
+    }
+
+    /// Link `i`'s name.
+    fn link_name(&self, i: usize) -> String {
+        match self.c.names.get(i) {
+            Some(s) => s.clone(),
+            None => format!("{}{}", self.c.prefix, i + 1),
+        }
+    }
+
+    /// Link `i` (0-based), its centre `centre` metres along the chain.
+    fn link(&self, i: usize, centre: f64) -> BodySpec {
+        let c = self.c;
         let l = c.length.get(i);
-        let centre = along + l / 2.0;
-        along += l;
-        bodies.push(BodySpec {
-            name: link_name(i),
+        let (s, co) = c.angle.sin_cos();
+        BodySpec {
+            name: self.link_name(i),
             kind: BodyKind::Dynamic,
             shape: match c.shape {
                 LinkShape::Cuboid => ShapeSpec::Cuboid {
@@ -216,34 +268,40 @@ fn chain(
             lock_rotation: false,
             collide: true,
             fast_rotation: false,
-        });
-        if c.free && i == 0 {
-            continue;
         }
+    }
+
+    /// The joint that joins link `i` (0-based, not link 0 of a free
+    /// chain) to the link before it, or link 0 to the parent at
+    /// `anchor0`.
+    fn joint(&self, i: usize, anchor0: (f64, f64)) -> JointSpec {
+        let c = self.c;
         // joint j (0-based) of a free chain joins link j + 2 to link j + 1
         let j = i - usize::from(c.free);
-        joints.push(JointSpec {
-            name: joint_name(j),
+        JointSpec {
+            name: match c.joint_names.get(j) {
+                Some(s) => s.clone(),
+                None => format!("{}{}", c.joint_prefix, j + 1),
+            },
             parent: if i == 0 {
                 c.parent.clone()
             } else {
-                link_name(i - 1)
+                self.link_name(i - 1)
             },
-            child: link_name(i),
+            child: self.link_name(i),
             parent_anchor: if i == 0 {
                 anchor0
             } else {
                 (tidy(c.length.get(i - 1) / 2.0), 0.0)
             },
-            child_anchor: (tidy(-l / 2.0), 0.0),
+            child_anchor: (tidy(-c.length.get(i) / 2.0), 0.0),
             limits: c.limits,
             damping: c.damping.get(j),
             motor: c.motor.as_ref().map(|m| m.get(j)),
             kind: Default::default(),
             contacts: c.contacts,
-        });
+        }
     }
-    Ok((bodies, joints))
 }
 
 /// One straight piece of a wall's line: from `a` along unit `u` for
@@ -260,155 +318,202 @@ struct Piece {
 
 /// The fixed boxes of wall `w` (entry `k`), in order.
 fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
-    let who = format!("wall `{}`", w.name);
-    let bad = |field: &str, msg: String| bad("walls", k, field, format!("{who}: {msg}"));
+    let wall = Wall {
+        w,
+        k,
+        who: format!("wall `{}`", w.name),
+    };
     if w.name.trim().is_empty() {
-        return Err(bad("name", "a non-empty name".into()));
+        return Err(wall.bad("name", "a non-empty name".into()));
     }
     let t = w.thickness;
     if !(t.is_finite() && t > 0.0) {
-        return Err(bad("thickness", format!("a thickness > 0 m, found {t}")));
+        return Err(wall.bad("thickness", format!("a thickness > 0 m, found {t}")));
     }
-    let pieces: Vec<Piece> = match (&w.room, w.points.is_empty()) {
-        (Some(_), false) => return Err(bad("room", "`points` or `room`, not both".into())),
-        (None, true) => {
-            return Err(bad(
+    let pieces = wall.pieces()?;
+    let cuts = wall.door_cuts(&pieces)?;
+    let mut boxes = Vec::new();
+    for (s, c) in pieces.iter().zip(cuts) {
+        boxes.extend(wall.piece_boxes(s, c)?);
+    }
+    wall.name_boxes(&mut boxes)?;
+    Ok(boxes)
+}
+
+/// A door's cut along a piece: where it starts and ends along it, and
+/// the door's index.
+type Cut = (f64, f64, usize);
+
+/// A wall whose boxes are being made, entry `k` of `walls`; `who` names
+/// it in errors.
+struct Wall<'a> {
+    w: &'a WallSpec,
+    k: usize,
+    who: String,
+}
+
+impl Wall<'_> {
+    /// The error at the wall's `field`.
+    fn bad(&self, field: &str, msg: String) -> Invalid {
+        bad("walls", self.k, field, format!("{}: {msg}", self.who))
+    }
+
+    /// The straight pieces of the wall's line: a room's four sides, or a
+    /// line's segments.
+    fn pieces(&self) -> Result<Vec<Piece>, Invalid> {
+        let w = self.w;
+        match (&w.room, w.points.is_empty()) {
+            (Some(_), false) => Err(self.bad("room", "`points` or `room`, not both".into())),
+            (None, true) => Err(self.bad(
                 "points",
                 "a line: `points: [(x, y), ...]` or `room: ((min_x, min_y), (max_x, max_y))`"
                     .into(),
-            ))
+            )),
+            (Some((lo, hi)), true) => self.room_pieces(*lo, *hi),
+            (None, false) => self.line_pieces(),
         }
-        (Some((lo, hi)), true) => {
-            if !(finite(*lo) && finite(*hi) && lo.0 < hi.0 && lo.1 < hi.1) {
-                return Err(bad(
-                    "room",
+    }
+
+    /// The four sides of a room from `lo` to `hi`: south, north, west,
+    /// east, each joined at both ends.
+    fn room_pieces(&self, lo: (f64, f64), hi: (f64, f64)) -> Result<Vec<Piece>, Invalid> {
+        if !(finite(lo) && finite(hi) && lo.0 < hi.0 && lo.1 < hi.1) {
+            return Err(self.bad(
+                "room",
+                format!(
+                    "a room ((min_x, min_y), (max_x, max_y)) with min < max, found (({}, {}), ({}, {}))",
+                    lo.0, lo.1, hi.0, hi.1
+                ),
+            ));
+        }
+        let (dx, dy) = (hi.0 - lo.0, hi.1 - lo.1);
+        let side = |a, u, len, out, stem: &str| Piece {
+            a,
+            u,
+            len,
+            out,
+            joined: (true, true),
+            stem: Some(format!("{}_{stem}", self.w.name)),
+        };
+        Ok(vec![
+            side(lo, (1.0, 0.0), dx, (0.0, -1.0), "south"),
+            side((lo.0, hi.1), (1.0, 0.0), dx, (0.0, 1.0), "north"),
+            side(lo, (0.0, 1.0), dy, (-1.0, 0.0), "west"),
+            side((hi.0, lo.1), (0.0, 1.0), dy, (1.0, 0.0), "east"),
+        ])
+    }
+
+    /// The segments of the wall's `points`, open or closed, with their
+    /// outside normals.
+    fn line_pieces(&self) -> Result<Vec<Piece>, Invalid> {
+        let w = self.w;
+        let p = &w.points;
+        if p.len() > MAX_POINTS {
+            return Err(self.bad(
+                "points",
+                format!("at most {MAX_POINTS} points, found {}", p.len()),
+            ));
+        }
+        if p.len() < 2 + usize::from(w.closed) {
+            return Err(self.bad(
+                "points",
+                format!(
+                    "at least {} points for {} wall, found {}",
+                    2 + usize::from(w.closed),
+                    if w.closed { "a closed" } else { "an open" },
+                    p.len()
+                ),
+            ));
+        }
+        if let Some(q) = p.iter().find(|q| !finite(**q)) {
+            return Err(self.bad("points", format!("finite points, found ({}, {})", q.0, q.1)));
+        }
+        let n = p.len();
+        let segs = if w.closed { n } else { n - 1 };
+        // the enclosed area's orientation: its outside is on the right
+        // of a counter-clockwise line
+        let area: f64 = (0..n)
+            .map(|i| {
+                let (a, b) = (p[i], p[(i + 1) % n]);
+                a.0 * b.1 - b.0 * a.1
+            })
+            .sum();
+        let flip = if w.closed && area < 0.0 { -1.0 } else { 1.0 };
+        let mut out = Vec::with_capacity(segs);
+        for i in 0..segs {
+            let (a, b) = (p[i], p[(i + 1) % n]);
+            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+            let len = dx.hypot(dy);
+            if len <= 0.0 {
+                return Err(self.bad(
+                    "points",
                     format!(
-                        "a room ((min_x, min_y), (max_x, max_y)) with min < max, found (({}, {}), ({}, {}))",
-                        lo.0, lo.1, hi.0, hi.1
+                        "distinct consecutive points{}, but point {} ({}, {}) repeats the one before",
+                        if w.closed { " (a closed wall lists each corner once)" } else { "" },
+                        (i + 1) % n,
+                        b.0,
+                        b.1
                     ),
                 ));
             }
-            let (dx, dy) = (hi.0 - lo.0, hi.1 - lo.1);
-            let side = |a, u, len, out, stem: &str| Piece {
+            let u = (dx / len, dy / len);
+            out.push(Piece {
                 a,
                 u,
                 len,
-                out,
-                joined: (true, true),
-                stem: Some(format!("{}_{stem}", w.name)),
-            };
-            vec![
-                side(*lo, (1.0, 0.0), dx, (0.0, -1.0), "south"),
-                side((lo.0, hi.1), (1.0, 0.0), dx, (0.0, 1.0), "north"),
-                side(*lo, (0.0, 1.0), dy, (-1.0, 0.0), "west"),
-                side((hi.0, lo.1), (0.0, 1.0), dy, (1.0, 0.0), "east"),
-            ]
+                out: (flip * u.1, -flip * u.0),
+                joined: (w.closed || i > 0, w.closed || i + 1 < segs),
+                stem: None,
+            });
         }
-        (None, false) => {
-            let p = &w.points;
-            if p.len() > MAX_POINTS {
-                return Err(bad(
-                    "points",
-                    format!("at most {MAX_POINTS} points, found {}", p.len()),
-                ));
-            }
-            if p.len() < 2 + usize::from(w.closed) {
-                return Err(bad(
-                    "points",
-                    format!(
-                        "at least {} points for {} wall, found {}",
-                        2 + usize::from(w.closed),
-                        if w.closed { "a closed" } else { "an open" },
-                        p.len()
-                    ),
-                ));
-            }
-            if let Some(q) = p.iter().find(|q| !finite(**q)) {
-                return Err(bad(
-                    "points",
-                    format!("finite points, found ({}, {})", q.0, q.1),
-                ));
-            }
-            let n = p.len();
-            let segs = if w.closed { n } else { n - 1 };
-            // the enclosed area's orientation: its outside is on the right
-            // of a counter-clockwise line
-            let area: f64 = (0..n)
-                .map(|i| {
-                    let (a, b) = (p[i], p[(i + 1) % n]);
-                    a.0 * b.1 - b.0 * a.1
-                })
-                .sum();
-            let flip = if w.closed && area < 0.0 { -1.0 } else { 1.0 };
-            let mut out = Vec::with_capacity(segs);
-            for i in 0..segs {
-                let (a, b) = (p[i], p[(i + 1) % n]);
-                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-                let len = dx.hypot(dy);
-                if len <= 0.0 {
-                    return Err(bad(
-                        "points",
-                        format!(
-                            "distinct consecutive points{}, but point {} ({}, {}) repeats the one before",
-                            if w.closed { " (a closed wall lists each corner once)" } else { "" },
-                            (i + 1) % n,
-                            b.0,
-                            b.1
-                        ),
-                    ));
-                }
-                let u = (dx / len, dy / len);
-                out.push(Piece {
-                    a,
-                    u,
-                    len,
-                    out: (flip * u.1, -flip * u.0),
-                    joined: (w.closed || i > 0, w.closed || i + 1 < segs),
-                    stem: None,
-                });
-            }
-            out
-        }
-    };
-    // the doors: an interval along one piece each
-    let mut cuts: Vec<Vec<(f64, f64, usize)>> = vec![Vec::new(); pieces.len()];
-    for (d, &(p, q)) in w.doors.iter().enumerate() {
-        let door = format!("door {d} (({}, {}), ({}, {}))", p.0, p.1, q.0, q.1);
-        if !(finite(p) && finite(q)) || p == q {
-            return Err(bad("doors", format!("{door}: two distinct finite points")));
-        }
-        let Some(i) = pieces.iter().position(|s| on_piece(s, p) && on_piece(s, q)) else {
-            return Err(
-                match [p, q]
-                    .into_iter()
-                    .find(|x| !pieces.iter().any(|s| on_piece(s, *x)))
-                {
-                    Some(x) => bad(
-                        "doors",
-                        format!(
-                            "{door}: ends on the wall's line, but ({}, {}) is not on it",
-                            x.0, x.1
-                        ),
-                    ),
-                    None => bad(
-                        "doors",
-                        format!("{door}: both ends on one straight piece of the wall"),
-                    ),
-                },
-            );
-        };
-        let s = &pieces[i];
-        let at = |x: (f64, f64)| ((x.0 - s.a.0) * s.u.0 + (x.1 - s.a.1) * s.u.1).clamp(0.0, s.len);
-        let (s0, s1) = (at(p).min(at(q)), at(p).max(at(q)));
-        cuts[i].push((s0, s1, d));
+        Ok(out)
     }
-    let mut boxes = Vec::new();
-    for (i, s) in pieces.iter().enumerate() {
-        let mut c = cuts[i].clone();
+
+    /// The doors: per piece, the intervals along it that doors cut
+    /// (start, end, door index), in the doors' order.
+    fn door_cuts(&self, pieces: &[Piece]) -> Result<Vec<Vec<Cut>>, Invalid> {
+        let mut cuts: Vec<Vec<Cut>> = vec![Vec::new(); pieces.len()];
+        for (d, &(p, q)) in self.w.doors.iter().enumerate() {
+            let door = format!("door {d} (({}, {}), ({}, {}))", p.0, p.1, q.0, q.1);
+            if !(finite(p) && finite(q)) || p == q {
+                return Err(self.bad("doors", format!("{door}: two distinct finite points")));
+            }
+            let Some(i) = pieces.iter().position(|s| on_piece(s, p) && on_piece(s, q)) else {
+                return Err(
+                    match [p, q]
+                        .into_iter()
+                        .find(|x| !pieces.iter().any(|s| on_piece(s, *x)))
+                    {
+                        Some(x) => self.bad(
+                            "doors",
+                            format!(
+                                "{door}: ends on the wall's line, but ({}, {}) is not on it",
+                                x.0, x.1
+                            ),
+                        ),
+                        None => self.bad(
+                            "doors",
+                            format!("{door}: both ends on one straight piece of the wall"),
+                        ),
+                    },
+                );
+            };
+            let s = &pieces[i];
+            let at =
+                |x: (f64, f64)| ((x.0 - s.a.0) * s.u.0 + (x.1 - s.a.1) * s.u.1).clamp(0.0, s.len);
+            let (s0, s1) = (at(p).min(at(q)), at(p).max(at(q)));
+            cuts[i].push((s0, s1, d));
+        }
+        Ok(cuts)
+    }
+
+    /// The boxes of piece `s`: one per solid interval between the doors
+    /// `c` that cut it, named after the piece's stem if it has one.
+    fn piece_boxes(&self, s: &Piece, mut c: Vec<Cut>) -> Result<Vec<BodySpec>, Invalid> {
         c.sort_by(|a, b| a.0.total_cmp(&b.0));
         for pair in c.windows(2) {
             if pair[1].0 < pair[0].1 {
-                return Err(bad(
+                return Err(self.bad(
                     "doors",
                     format!(
                         "doors that do not overlap, but doors {} and {} do",
@@ -425,70 +530,11 @@ fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
             from = (d1, false);
         }
         spans.push((from, (s.len, s.joined.1)));
-        let ext = match w.placement {
-            Placement::Outside => t,
-            Placement::Centred => t / 2.0,
-            Placement::Inside => 0.0,
-        };
-        let off = match w.placement {
-            Placement::Outside => t / 2.0,
-            Placement::Centred => 0.0,
-            Placement::Inside => -t / 2.0,
-        };
-        let mut here = Vec::new();
-        for ((s0, j0), (s1, j1)) in spans {
-            if s1 - s0 <= 1e-12 {
-                continue;
-            }
-            let (e0, e1) = (if j0 { ext } else { 0.0 }, if j1 { ext } else { 0.0 });
-            let len = s1 - s0 + e0 + e1;
-            let mid = (s0 + s1) / 2.0 + (e1 - e0) / 2.0;
-            let position = (
-                tidy(s.a.0 + s.u.0 * mid + s.out.0 * off),
-                tidy(s.a.1 + s.u.1 * mid + s.out.1 * off),
-            );
-            let (shape, angle) = if s.u.1 == 0.0 {
-                (
-                    ShapeSpec::Cuboid {
-                        width: tidy(len),
-                        height: tidy(t),
-                    },
-                    0.0,
-                )
-            } else if s.u.0 == 0.0 {
-                (
-                    ShapeSpec::Cuboid {
-                        width: tidy(t),
-                        height: tidy(len),
-                    },
-                    0.0,
-                )
-            } else {
-                (
-                    ShapeSpec::Cuboid {
-                        width: tidy(len),
-                        height: tidy(t),
-                    },
-                    s.u.1.atan2(s.u.0),
-                )
-            };
-            here.push(BodySpec {
-                name: String::new(),
-                kind: BodyKind::Fixed,
-                shape,
-                mass: None,
-                density: None,
-                position,
-                angle,
-                linear_damping: 0.0,
-                angular_damping: 0.0,
-                friction: w.friction,
-                restitution: w.restitution,
-                lock_rotation: false,
-                collide: true,
-                fast_rotation: false,
-            });
-        }
+        let mut here: Vec<BodySpec> = spans
+            .into_iter()
+            .filter(|((s0, _), (s1, _))| s1 - s0 > 1e-12)
+            .map(|(from, to)| self.span_box(s, from, to))
+            .collect();
         if let Some(stem) = &s.stem {
             let one = here.len() == 1;
             for (m, b) in here.iter_mut().enumerate() {
@@ -499,33 +545,104 @@ fn wall_boxes(w: &WallSpec, k: usize) -> Result<Vec<BodySpec>, Invalid> {
                 };
             }
         }
-        boxes.extend(here);
+        Ok(here)
     }
-    if !w.names.is_empty() {
-        if w.names.len() != boxes.len() {
-            return Err(bad(
-                "names",
-                format!(
-                    "one name per box: the wall gives {} box(es), found {} name(s)",
-                    boxes.len(),
-                    w.names.len()
-                ),
-            ));
-        }
-        for (b, n) in boxes.iter_mut().zip(&w.names) {
-            b.name = n.clone();
-        }
-    } else if w.room.is_none() {
-        let one = boxes.len() == 1;
-        for (m, b) in boxes.iter_mut().enumerate() {
-            b.name = if one {
-                w.name.clone()
-            } else {
-                format!("{}{}", w.name, m + 1)
-            };
+
+    /// The (unnamed) box of piece `s` from `s0` to `s1` along it, each
+    /// end extended over the corner when it meets another piece (`j0`,
+    /// `j1`).
+    fn span_box(&self, s: &Piece, (s0, j0): (f64, bool), (s1, j1): (f64, bool)) -> BodySpec {
+        let (w, t) = (self.w, self.w.thickness);
+        let ext = match w.placement {
+            Placement::Outside => t,
+            Placement::Centred => t / 2.0,
+            Placement::Inside => 0.0,
+        };
+        let off = match w.placement {
+            Placement::Outside => t / 2.0,
+            Placement::Centred => 0.0,
+            Placement::Inside => -t / 2.0,
+        };
+        let (e0, e1) = (if j0 { ext } else { 0.0 }, if j1 { ext } else { 0.0 });
+        let len = s1 - s0 + e0 + e1;
+        let mid = (s0 + s1) / 2.0 + (e1 - e0) / 2.0;
+        let position = (
+            tidy(s.a.0 + s.u.0 * mid + s.out.0 * off),
+            tidy(s.a.1 + s.u.1 * mid + s.out.1 * off),
+        );
+        let (shape, angle) = if s.u.1 == 0.0 {
+            (
+                ShapeSpec::Cuboid {
+                    width: tidy(len),
+                    height: tidy(t),
+                },
+                0.0,
+            )
+        } else if s.u.0 == 0.0 {
+            (
+                ShapeSpec::Cuboid {
+                    width: tidy(t),
+                    height: tidy(len),
+                },
+                0.0,
+            )
+        } else {
+            (
+                ShapeSpec::Cuboid {
+                    width: tidy(len),
+                    height: tidy(t),
+                },
+                s.u.1.atan2(s.u.0),
+            )
+        };
+        BodySpec {
+            name: String::new(),
+            kind: BodyKind::Fixed,
+            shape,
+            mass: None,
+            density: None,
+            position,
+            angle,
+            linear_damping: 0.0,
+            angular_damping: 0.0,
+            friction: w.friction,
+            restitution: w.restitution,
+            lock_rotation: false,
+            collide: true,
+            fast_rotation: false,
         }
     }
-    Ok(boxes)
+
+    /// Names the wall's boxes: by its `names`, else (a line's) after the
+    /// wall, numbered when there are several.
+    fn name_boxes(&self, boxes: &mut [BodySpec]) -> Result<(), Invalid> {
+        let w = self.w;
+        if !w.names.is_empty() {
+            if w.names.len() != boxes.len() {
+                return Err(self.bad(
+                    "names",
+                    format!(
+                        "one name per box: the wall gives {} box(es), found {} name(s)",
+                        boxes.len(),
+                        w.names.len()
+                    ),
+                ));
+            }
+            for (b, n) in boxes.iter_mut().zip(&w.names) {
+                b.name = n.clone();
+            }
+        } else if w.room.is_none() {
+            let one = boxes.len() == 1;
+            for (m, b) in boxes.iter_mut().enumerate() {
+                b.name = if one {
+                    w.name.clone()
+                } else {
+                    format!("{}{}", w.name, m + 1)
+                };
+            }
+        }
+        Ok(())
+    }
 }
 
 fn on_piece(s: &Piece, x: (f64, f64)) -> bool {

@@ -13,13 +13,15 @@ use crate::learner::LearnerKind;
 use crate::learner::Params;
 #[cfg(doc)]
 use crate::learner::{ClosedLoopE3d, QLearning};
-use crate::scene::{ron_options, Invalid, SceneError};
+use crate::scene::{ron_options, SceneError};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
+mod check;
 mod values;
 
+pub(super) use check::invalid;
 pub(crate) use values::{param_of, set_param};
 pub use values::{ParamValues, Scale, Values, FIXED_PARAM_NAMES};
 
@@ -339,13 +341,6 @@ fn learner_names<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<String>, D::Erro
 /// The file name errors give a sweep built in code.
 pub(super) const CODE_FILE: &str = "<SweepSpec>";
 
-/// What checking a spec finds: the values of each parameter and the
-/// metrics kept.
-pub(super) struct Checked {
-    pub(super) axes: Vec<Vec<f64>>,
-    pub(super) metrics: Vec<MetricSpec>,
-}
-
 impl SweepSpec {
     /// A spec of the `scenes` x `learners` grid, `sessions` sessions of
     /// `trials` trials per cell, with the defaults of a sweep file: no name
@@ -487,198 +482,6 @@ impl SweepSpec {
         Ok((spec, text))
     }
 
-    /// Checks everything that does not depend on the scenes, placing
-    /// mistakes in `text` (`""`: nowhere).
-    pub(super) fn check_in(&self, file: &str, text: &str) -> Result<Checked, SweepError> {
-        let spec = self;
-        let bad = |field: &str, anchor: Option<&str>, expected: &str| {
-            invalid(file, text, field, anchor, expected)
-        };
-        if spec.scenes.is_empty() {
-            return Err(bad("scenes", None, "at least one scene, found none"));
-        }
-        if spec.learners.is_empty() {
-            return Err(bad(
-                "learners",
-                None,
-                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive), found none",
-            ));
-        }
-        for (i, l) in spec.learners.iter().enumerate() {
-            if spec.learners[..i].contains(l) {
-                return Err(bad(
-                    "learners",
-                    None,
-                    &format!("each learner once, but `{l}` appears twice"),
-                ));
-            }
-        }
-        if spec.use_reward.is_empty() {
-            return Err(bad(
-                "use_reward",
-                None,
-                "[true], [false] or [false, true], found []",
-            ));
-        }
-        if spec.use_reward.len() > 2
-            || (spec.use_reward.len() == 2 && spec.use_reward[0] == spec.use_reward[1])
-        {
-            return Err(bad("use_reward", None, "each of true and false once"));
-        }
-        if spec.sessions == 0 {
-            return Err(bad(
-                "sessions",
-                None,
-                "at least 1 session per cell, found 0",
-            ));
-        }
-        if spec.trials == 0 {
-            return Err(bad("trials", None, "at least 1 trial per session, found 0"));
-        }
-        if spec.trials > MAX_TRIALS {
-            return Err(bad(
-                "trials",
-                None,
-                &format!(
-                    "at most {} trials per session (as `e3d run --trials`), found {}",
-                    MAX_TRIALS, spec.trials
-                ),
-            ));
-        }
-        if !(1..=MAX_COMMANDS).contains(&spec.commands) {
-            return Err(bad(
-                "commands",
-                None,
-                &format!(
-                    "1 to {MAX_COMMANDS} commands per episode, found {}",
-                    spec.commands
-                ),
-            ));
-        }
-        if let Some(g) = spec.gamma {
-            if !spec.closed_loop {
-                return Err(bad(
-                    "gamma",
-                    None,
-                    "closed_loop: true with a gamma (the discount of Q_ref and of Q-learning)",
-                ));
-            }
-            if !(0.0..=1.0).contains(&g) {
-                return Err(bad(
-                    "gamma",
-                    None,
-                    &format!("a discount in [0, 1], found {g}"),
-                ));
-            }
-        }
-        // the hyper-parameters
-        let mut axes: Vec<Vec<f64>> = Vec::with_capacity(5);
-        for (i, name) in PARAM_NAMES.iter().enumerate() {
-            let values = match spec.params.get(name) {
-                None => vec![param_of(&Params::TASK1, i)],
-                Some(v) => {
-                    if let Values::Range {
-                        scale,
-                        from,
-                        to,
-                        steps,
-                    } = *v
-                    {
-                        if steps == 0 {
-                            return Err(bad(
-                                name,
-                                None,
-                                "a range of at least 1 step, found steps: 0",
-                            ));
-                        }
-                        if steps > MAX_STEPS {
-                            return Err(bad(
-                                name,
-                                None,
-                                &format!(
-                                    "a range of at most {MAX_STEPS} steps, found steps: {steps}"
-                                ),
-                            ));
-                        }
-                        if !(from.is_finite() && to.is_finite()) {
-                            return Err(bad(name, None, "finite bounds `from` and `to`"));
-                        }
-                        if scale == Scale::Log && (from <= 0.0 || to <= 0.0) {
-                            return Err(bad(
-                                name,
-                                None,
-                                &format!(
-                                    "a log range between two numbers > 0, found from: {from}, to: {to} (a log range cannot reach or cross zero)"
-                                ),
-                            ));
-                        }
-                    }
-                    let values = v.values();
-                    if values.is_empty() {
-                        return Err(bad(name, None, "at least one value, found an empty list"));
-                    }
-                    // distinct: equal floats have equal bits once -0 is +0
-                    // (NaN equals nothing, and the check below refuses it)
-                    let mut seen = std::collections::HashSet::with_capacity(values.len());
-                    for x in &values {
-                        if !x.is_nan() && !seen.insert((x + 0.0).to_bits()) {
-                            return Err(bad(
-                                name,
-                                None,
-                                &format!("distinct values, but {x} appears twice"),
-                            ));
-                        }
-                        let mut p = Params::TASK1;
-                        set_param(&mut p, i, *x);
-                        if let Err(e) = p.validate() {
-                            return Err(bad(name, None, &format!("{}, found {x}", e.expected)));
-                        }
-                    }
-                    values
-                }
-            };
-            axes.push(values);
-        }
-        // the parameters fixed for every cell
-        if let Err(e) = spec.params.fixed(Params::TASK1).validate() {
-            return Err(bad(
-                e.name,
-                None,
-                &format!("{}, found {}", e.expected, e.value),
-            ));
-        }
-        // metrics
-        let metrics = spec
-            .metrics
-            .clone()
-            .unwrap_or_else(|| MetricSpec::defaults(spec.trials));
-        if metrics.is_empty() {
-            return Err(bad("metrics", None, "at least one metric, found none"));
-        }
-        for (i, m) in metrics.iter().enumerate() {
-            if let MetricSpec::CumulativeReward(t) = *m {
-                if t == 0 || t > spec.trials {
-                    return Err(bad(
-                        "metrics",
-                        Some("cumulative_reward"),
-                        &format!(
-                            "cumulative_reward(T) with T in 1..={} (the trials), found {t}",
-                            spec.trials
-                        ),
-                    ));
-                }
-            }
-            if metrics[..i].contains(m) {
-                return Err(bad(
-                    "metrics",
-                    None,
-                    &format!("each metric once, but `{}` appears twice", m.column()),
-                ));
-            }
-        }
-        Ok(Checked { axes, metrics })
-    }
-
     /// The spec as a sweep file: RON that [`parse`](Self::parse) (or
     /// [`parse_with`](Self::parse_with) for custom learners) reads back
     /// to an equal spec. Empty names, descriptions and parameters left
@@ -741,20 +544,6 @@ impl SweepSpec {
         out.push_str(")\n");
         out
     }
-}
-
-pub(super) fn invalid(
-    file: &str,
-    text: &str,
-    field: &str,
-    anchor: Option<&str>,
-    expected: &str,
-) -> SweepError {
-    SweepError::Input(SceneError::from_validation(
-        file,
-        text,
-        Invalid::at(field, anchor, expected),
-    ))
 }
 
 #[cfg(test)]

@@ -4,14 +4,15 @@
 use super::{
     v2, Act, JointInfo, PhysicsWorld, Probe, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
 };
-use crate::scene::physics::{BodyKind, PhysicsSpec, ShapeSpec};
-use crate::scene::valid::{Resolved, ResolvedProbe, ResolvedValue};
+use crate::scene::physics::{BodyKind, BodySpec, JointSpec, PhysicsSpec, ShapeSpec};
+use crate::scene::valid::{Links, Resolved, ResolvedProbe, ResolvedValue};
 use crate::scene::Scene;
 use rapier2d::math::{Pose, Real};
 use rapier2d::prelude::{
-    ColliderBuilder, Group, IntegrationParameters, InteractionGroups, InteractionTestMode,
-    JointAxis, MotorModel, PhysicsPipeline, PrismaticJointBuilder, RevoluteJointBuilder,
-    RigidBodyBuilder, RigidBodyHandle, RigidBodyType, Vector,
+    ColliderBuilder, GenericJoint, Group, ImpulseJointHandle, IntegrationParameters,
+    InteractionGroups, InteractionTestMode, JointAxis, MotorModel, PhysicsPipeline,
+    PrismaticJointBuilder, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
+    Vector,
 };
 
 /// Builds one copy of the scene's non-fixed bodies, their joints and the
@@ -33,59 +34,7 @@ fn build_copy(
             handles.push(h);
             continue;
         }
-        let kind = match b.kind {
-            BodyKind::Dynamic => RigidBodyType::Dynamic,
-            BodyKind::Kinematic => RigidBodyType::KinematicVelocityBased,
-            BodyKind::Fixed => RigidBodyType::Fixed,
-        };
-        let mut rb = RigidBodyBuilder::new(kind)
-            .translation(v2(b.position))
-            .rotation(b.angle as Real)
-            .linear_damping(b.linear_damping as Real)
-            .angular_damping(b.angular_damping as Real)
-            // a sleeping body stops short: the effect would depend on
-            // the sleep thresholds
-            .can_sleep(false)
-            .allow_fast_rotation(b.fast_rotation);
-        if b.lock_rotation {
-            rb = rb.lock_rotations();
-        }
-        let area = b.shape.area();
-        if area <= 0.0 && b.kind == BodyKind::Dynamic {
-            // segments and polylines have no area: the mass is the body's own
-            rb = rb.additional_mass(b.mass_kg() as Real);
-        }
-        let h = s.bodies.insert(rb);
-        let mut co = match &b.shape {
-            ShapeSpec::Ball { radius } => ColliderBuilder::ball(*radius as Real),
-            ShapeSpec::Cuboid { width, height } => {
-                ColliderBuilder::cuboid((width / 2.0) as Real, (height / 2.0) as Real)
-            }
-            ShapeSpec::Capsule { a, b, radius } => {
-                ColliderBuilder::capsule_from_endpoints(v2(*a), v2(*b), *radius as Real)
-            }
-            ShapeSpec::Segment { a, b } => ColliderBuilder::segment(v2(*a), v2(*b)),
-            ShapeSpec::Polyline { points } => {
-                ColliderBuilder::polyline(points.iter().map(|p| v2(*p)).collect(), None)
-            }
-        }
-        .friction(b.friction as Real)
-        .restitution(b.restitution as Real);
-        co = if area <= 0.0 {
-            co.density(0.0)
-        } else if let Some(m) = b.mass {
-            co.mass(m as Real)
-        } else {
-            co.density(b.density.unwrap_or(1.0) as Real)
-        };
-        co = if !b.collide {
-            co.collision_groups(InteractionGroups::none())
-        } else if b.kind == BodyKind::Fixed {
-            co.collision_groups(InteractionGroups::all())
-        } else {
-            co.collision_groups(groups)
-        };
-        s.colliders.insert_with_parent(co, h, &mut s.bodies);
+        let h = insert_body(s, b, groups);
         handles.push(h);
         if b.kind == BodyKind::Dynamic {
             dynamic.push((h, b.fast_rotation));
@@ -94,9 +43,120 @@ fn build_copy(
             fixed[i] = Some(h);
         }
     }
+    let links = scene.links();
+    let (joints, impulse_of) = insert_joints(s, spec, links, &handles);
+    set_multibody_damping(s, spec, links, &handles);
+    let acts = Acts {
+        spec,
+        links,
+        handles: &handles,
+        impulse_of: &impulse_of,
+    };
+    let value_acts = links
+        .values
+        .iter()
+        .map(|v| match v {
+            ResolvedValue::Heading { body, impulse } => ValueAct::Heading {
+                body: handles[*body],
+                impulse: *impulse,
+            },
+            ResolvedValue::Scaled(a) => ValueAct::Scaled(acts.of(a)),
+        })
+        .collect();
+    let probes = links
+        .probes
+        .iter()
+        .map(|p| match p {
+            ResolvedProbe::Point { body, point, frame } => Probe::Point {
+                body: handles[*body],
+                point: v2(*point),
+                frame: frame.map(|f| handles[f]),
+            },
+            ResolvedProbe::Joint(j) => Probe::Joint(*j),
+            ResolvedProbe::Angle(b) => Probe::Angle(handles[*b]),
+        })
+        .collect();
+    Replica {
+        tracked: handles[links.tracked],
+        probes,
+        acts: links.symbols.iter().map(|a| acts.of(a)).collect(),
+        handles,
+        dynamic,
+        value_acts,
+        joints,
+    }
+}
+
+/// Inserts body `b` and its collider into `s`; its collider in `groups`
+/// (unless it collides with nothing, or is fixed: then with everything).
+fn insert_body(s: &mut Sets, b: &BodySpec, groups: InteractionGroups) -> RigidBodyHandle {
+    let kind = match b.kind {
+        BodyKind::Dynamic => RigidBodyType::Dynamic,
+        BodyKind::Kinematic => RigidBodyType::KinematicVelocityBased,
+        BodyKind::Fixed => RigidBodyType::Fixed,
+    };
+    let mut rb = RigidBodyBuilder::new(kind)
+        .translation(v2(b.position))
+        .rotation(b.angle as Real)
+        .linear_damping(b.linear_damping as Real)
+        .angular_damping(b.angular_damping as Real)
+        // a sleeping body stops short: the effect would depend on
+        // the sleep thresholds
+        .can_sleep(false)
+        .allow_fast_rotation(b.fast_rotation);
+    if b.lock_rotation {
+        rb = rb.lock_rotations();
+    }
+    let area = b.shape.area();
+    if area <= 0.0 && b.kind == BodyKind::Dynamic {
+        // segments and polylines have no area: the mass is the body's own
+        rb = rb.additional_mass(b.mass_kg() as Real);
+    }
+    let h = s.bodies.insert(rb);
+    let mut co = match &b.shape {
+        ShapeSpec::Ball { radius } => ColliderBuilder::ball(*radius as Real),
+        ShapeSpec::Cuboid { width, height } => {
+            ColliderBuilder::cuboid((width / 2.0) as Real, (height / 2.0) as Real)
+        }
+        ShapeSpec::Capsule { a, b, radius } => {
+            ColliderBuilder::capsule_from_endpoints(v2(*a), v2(*b), *radius as Real)
+        }
+        ShapeSpec::Segment { a, b } => ColliderBuilder::segment(v2(*a), v2(*b)),
+        ShapeSpec::Polyline { points } => {
+            ColliderBuilder::polyline(points.iter().map(|p| v2(*p)).collect(), None)
+        }
+    }
+    .friction(b.friction as Real)
+    .restitution(b.restitution as Real);
+    co = if area <= 0.0 {
+        co.density(0.0)
+    } else if let Some(m) = b.mass {
+        co.mass(m as Real)
+    } else {
+        co.density(b.density.unwrap_or(1.0) as Real)
+    };
+    co = if !b.collide {
+        co.collision_groups(InteractionGroups::none())
+    } else if b.kind == BodyKind::Fixed {
+        co.collision_groups(InteractionGroups::all())
+    } else {
+        co.collision_groups(groups)
+    };
+    s.colliders.insert_with_parent(co, h, &mut s.bodies);
+    h
+}
+
+/// Inserts the joints of one copy (its bodies `handles`) into `s`: per
+/// joint, its [`JointInfo`] and its impulse joint, for a free-floating
+/// tree (`None`: a multibody link, for a tree hung on ground).
+fn insert_joints(
+    s: &mut Sets,
+    spec: &PhysicsSpec,
+    links: &Links,
+    handles: &[RigidBodyHandle],
+) -> (Vec<JointInfo>, Vec<Option<ImpulseJointHandle>>) {
     // one ground per copy: a multibody rooted at a shared ground would join
     // the copies into one multibody
-    let links = scene.links();
     let ground = if links.joints.iter().any(|&(parent, _)| parent.is_none()) {
         s.bodies.insert(RigidBodyBuilder::fixed())
     } else {
@@ -104,10 +164,8 @@ fn build_copy(
     };
     let handle_of = |body: Option<usize>| body.map_or(ground, |i| handles[i]);
     let mut joints = Vec::new();
-    // per joint: its impulse joint, for a free-floating tree (None: a
-    // multibody link, for a tree hung on ground)
     let mut impulse_of = Vec::new();
-    for (j, &(parent, child)) in spec.joints.iter().zip(&links.joints) {
+    for (k, (j, &(parent, child))) in spec.joints.iter().zip(&links.joints).enumerate() {
         let parent_angle = parent.map_or(0.0, |i| spec.bodies[i].angle);
         // angle 0 is the start pose, whatever the bodies' start angles
         let offset = spec.bodies[child].angle - parent_angle;
@@ -115,59 +173,8 @@ fn build_copy(
         // free-floating one is built of impulse joints, because Rapier's
         // multibody with a dynamic root does not conserve momentum (see
         // docs/physics.md)
-        let multibody = spec.hangs_from_ground(&j.child);
-        let (axis, slider) = match j.axis() {
-            None => (JointAxis::AngX, None),
-            Some((x, y)) => {
-                let a = Vector::new(x as Real, y as Real);
-                (
-                    JointAxis::LinX,
-                    Some((a, v2(j.parent_anchor), v2(j.child_anchor))),
-                )
-            }
-        };
-        let mut data = match slider {
-            None => {
-                let mut rj = RevoluteJointBuilder::new()
-                    .local_anchor1(v2(j.parent_anchor))
-                    .local_anchor2(v2(j.child_anchor))
-                    .contacts_enabled(j.contacts);
-                if let Some((lo, hi)) = j.limits {
-                    rj = rj.limits([lo as Real, hi as Real]);
-                }
-                let mut data = rj.build().data;
-                data.set_local_frame1(Pose::new(v2(j.parent_anchor), offset as Real));
-                data
-            }
-            Some((a, _, _)) => {
-                // the axis in the child's frame: the parent's, turned back
-                // by the child's start angle relative to the parent
-                let (sn, cs) = (-offset).sin_cos();
-                let a2 = Vector::new(
-                    (cs * a.x as f64 - sn * a.y as f64) as Real,
-                    (sn * a.x as f64 + cs * a.y as f64) as Real,
-                );
-                let mut pj = PrismaticJointBuilder::new(a)
-                    .local_axis2(a2)
-                    .local_anchor1(v2(j.parent_anchor))
-                    .local_anchor2(v2(j.child_anchor))
-                    .contacts_enabled(j.contacts);
-                if let Some((lo, hi)) = j.limits {
-                    pj = pj.limits([lo as Real, hi as Real]);
-                }
-                pj.build().data
-            }
-        };
-        // an impulse joint's damping is a velocity motor (a force-based
-        // motor's damping term, -c v): joint damping plus a motor's own
-        let extra = if multibody { 0.0 } else { j.damping };
-        if let Some(m) = j.motor {
-            data.set_motor_model(axis, MotorModel::ForceBased);
-            data.set_motor_position(axis, 0.0, m.stiffness as Real, (m.damping + extra) as Real);
-        } else if extra > 0.0 {
-            data.set_motor_model(axis, MotorModel::ForceBased);
-            data.set_motor_velocity(axis, 0.0, extra as Real);
-        }
+        let multibody = links.forest.hangs_from_ground(k);
+        let (data, slider) = joint_data(j, offset, multibody);
         let (p, c) = (handle_of(parent), handles[child]);
         joints.push(JointInfo {
             child: c,
@@ -177,18 +184,90 @@ fn build_copy(
             slider,
         });
         if multibody {
-            // validation refused joints that do not form trees, the only
-            // joints Rapier's multibodies refuse
+            // the joints form a forest (`Forest`): Rapier's multibodies
+            // refuse only a second parent or a loop
             s.multibody_joints
                 .insert(p, c, data, true)
-                .expect("joints that form trees");
+                .expect("a Forest has no second parent and no loop");
             impulse_of.push(None);
         } else {
             impulse_of.push(Some(s.impulse_joints.insert(p, c, data, true)));
         }
     }
-    // joint damping: the multibody's per-DoF damping, indexed by the
-    // link's assembly id (valid at any time, also before the first step)
+    (joints, impulse_of)
+}
+
+/// The Rapier joint of `j` (its child's start angle `offset` from its
+/// parent's; a `multibody` link or an impulse joint) and, for a slider,
+/// its axis and anchors (see [`JointInfo`]).
+fn joint_data(
+    j: &JointSpec,
+    offset: f64,
+    multibody: bool,
+) -> (GenericJoint, Option<(Vector, Vector, Vector)>) {
+    let (axis, slider) = match j.axis() {
+        None => (JointAxis::AngX, None),
+        Some((x, y)) => {
+            let a = Vector::new(x as Real, y as Real);
+            (
+                JointAxis::LinX,
+                Some((a, v2(j.parent_anchor), v2(j.child_anchor))),
+            )
+        }
+    };
+    let mut data = match slider {
+        None => {
+            let mut rj = RevoluteJointBuilder::new()
+                .local_anchor1(v2(j.parent_anchor))
+                .local_anchor2(v2(j.child_anchor))
+                .contacts_enabled(j.contacts);
+            if let Some((lo, hi)) = j.limits {
+                rj = rj.limits([lo as Real, hi as Real]);
+            }
+            let mut data = rj.build().data;
+            data.set_local_frame1(Pose::new(v2(j.parent_anchor), offset as Real));
+            data
+        }
+        Some((a, _, _)) => {
+            // the axis in the child's frame: the parent's, turned back
+            // by the child's start angle relative to the parent
+            let (sn, cs) = (-offset).sin_cos();
+            let a2 = Vector::new(
+                (cs * a.x as f64 - sn * a.y as f64) as Real,
+                (sn * a.x as f64 + cs * a.y as f64) as Real,
+            );
+            let mut pj = PrismaticJointBuilder::new(a)
+                .local_axis2(a2)
+                .local_anchor1(v2(j.parent_anchor))
+                .local_anchor2(v2(j.child_anchor))
+                .contacts_enabled(j.contacts);
+            if let Some((lo, hi)) = j.limits {
+                pj = pj.limits([lo as Real, hi as Real]);
+            }
+            pj.build().data
+        }
+    };
+    // an impulse joint's damping is a velocity motor (a force-based
+    // motor's damping term, -c v): joint damping plus a motor's own
+    let extra = if multibody { 0.0 } else { j.damping };
+    if let Some(m) = j.motor {
+        data.set_motor_model(axis, MotorModel::ForceBased);
+        data.set_motor_position(axis, 0.0, m.stiffness as Real, (m.damping + extra) as Real);
+    } else if extra > 0.0 {
+        data.set_motor_model(axis, MotorModel::ForceBased);
+        data.set_motor_velocity(axis, 0.0, extra as Real);
+    }
+    (data, slider)
+}
+
+/// Joint damping: the multibody's per-DoF damping, indexed by the link's
+/// assembly id (valid at any time, also before the first step).
+fn set_multibody_damping(
+    s: &mut Sets,
+    spec: &PhysicsSpec,
+    links: &Links,
+    handles: &[RigidBodyHandle],
+) {
     for (j, &(_, child)) in spec.joints.iter().zip(&links.joints) {
         let Some(link) = s.multibody_joints.rigid_body_link(handles[child]).copied() else {
             continue;
@@ -200,8 +279,21 @@ fn build_copy(
             }
         }
     }
+}
 
-    let resolve = |action: &Resolved| -> Act {
+/// What the actions of one copy act on: its bodies `handles` and its
+/// joints' impulse joints `impulse_of` (see [`insert_joints`]).
+struct Acts<'a> {
+    spec: &'a PhysicsSpec,
+    links: &'a Links,
+    handles: &'a [RigidBodyHandle],
+    impulse_of: &'a [Option<ImpulseJointHandle>],
+}
+
+impl Acts<'_> {
+    /// The act of `action` on this copy.
+    fn of(&self, action: &Resolved) -> Act {
+        let (spec, links, handles) = (self.spec, self.links, self.handles);
         match *action {
             Resolved::Idle => Act::Idle,
             Resolved::Torque { joint, torque } => {
@@ -226,7 +318,7 @@ fn build_copy(
                 motor: m,
             } => {
                 let j = &spec.joints[k];
-                let impulse = impulse_of[k];
+                let impulse = self.impulse_of[k];
                 Act::Target {
                     child: handles[links.joints[k].1],
                     impulse,
@@ -242,41 +334,43 @@ fn build_copy(
                 }
             }
         }
-    };
-    let acts = links.symbols.iter().map(resolve).collect();
-    let value_acts = links
-        .values
-        .iter()
-        .map(|v| match v {
-            ResolvedValue::Heading { body, impulse } => ValueAct::Heading {
-                body: handles[*body],
-                impulse: *impulse,
-            },
-            ResolvedValue::Scaled(a) => ValueAct::Scaled(resolve(a)),
-        })
-        .collect();
-    let probes = links
-        .probes
-        .iter()
-        .map(|p| match p {
-            ResolvedProbe::Point { body, point, frame } => Probe::Point {
-                body: handles[*body],
-                point: v2(*point),
-                frame: frame.map(|f| handles[f]),
-            },
-            ResolvedProbe::Joint(j) => Probe::Joint(*j),
-            ResolvedProbe::Angle(b) => Probe::Angle(handles[*b]),
-        })
-        .collect();
-    Replica {
-        tracked: handles[links.tracked],
-        probes,
-        handles,
-        dynamic,
-        acts,
-        value_acts,
-        joints,
     }
+}
+
+/// The sets of `copies` copies of `scene` (whose world is `spec`), each
+/// copy's replica, and the copy of each body by its raw index
+/// (`u32::MAX`: a fixed body, shared).
+fn build_copies(
+    scene: &Scene,
+    spec: &PhysicsSpec,
+    copies: usize,
+) -> (Sets, Vec<Replica>, Vec<u32>) {
+    let mut s = Sets::default();
+    let mut fixed = vec![None; spec.bodies.len()];
+    let mut copy_of_body = Vec::new();
+    let replicas: Vec<Replica> = (0..copies)
+        .map(|c| {
+            let groups = if copies == 1 {
+                InteractionGroups::all()
+            } else {
+                let bit = Group::from_bits_truncate(1 << c);
+                InteractionGroups::new(bit, bit, InteractionTestMode::And)
+            };
+            let before = s.bodies.len();
+            let r = build_copy(&mut s, scene, spec, groups, &mut fixed);
+            for (h, _) in s.bodies.iter().skip(before) {
+                let i = h.into_raw_parts().0 as usize;
+                if copy_of_body.len() <= i {
+                    copy_of_body.resize(i + 1, u32::MAX);
+                }
+                if !fixed.contains(&Some(h)) {
+                    copy_of_body[i] = c as u32;
+                }
+            }
+            r
+        })
+        .collect();
+    (s, replicas, copy_of_body)
 }
 
 impl PhysicsWorld {
@@ -286,31 +380,7 @@ impl PhysicsWorld {
             (1..=MAX_COPIES).contains(&copies),
             "between 1 and {MAX_COPIES} copies, not {copies}"
         );
-        let mut s = Sets::default();
-        let mut fixed = vec![None; spec.bodies.len()];
-        let mut copy_of_body = Vec::new();
-        let replicas: Vec<Replica> = (0..copies)
-            .map(|c| {
-                let groups = if copies == 1 {
-                    InteractionGroups::all()
-                } else {
-                    let bit = Group::from_bits_truncate(1 << c);
-                    InteractionGroups::new(bit, bit, InteractionTestMode::And)
-                };
-                let before = s.bodies.len();
-                let r = build_copy(&mut s, scene, spec, groups, &mut fixed);
-                for (h, _) in s.bodies.iter().skip(before) {
-                    let i = h.into_raw_parts().0 as usize;
-                    if copy_of_body.len() <= i {
-                        copy_of_body.resize(i + 1, u32::MAX);
-                    }
-                    if !fixed.contains(&Some(h)) {
-                        copy_of_body[i] = c as u32;
-                    }
-                }
-                r
-            })
-            .collect();
+        let (s, replicas, copy_of_body) = build_copies(scene, spec, copies);
         // a continuous scene's command space of symbols is a placeholder
         // (one symbol per slot) that no command passes (`check_command`)
         let values = scene.value_space();
@@ -329,7 +399,8 @@ impl PhysicsWorld {
             params.num_solver_iterations = n;
         }
         let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
-        let (contexts, joint_geometry) = PhysicsWorld::context_starts(spec, &replicas[0], &s);
+        let (contexts, joint_geometry) =
+            PhysicsWorld::context_starts(spec, scene.links(), &replicas[0], &s);
         PhysicsWorld {
             scene: scene.spec().name.clone(),
             space,

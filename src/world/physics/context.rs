@@ -17,6 +17,7 @@ use super::joint_start::{set_joints, JointGeometry};
 use super::{v2, JointInfo, PhysicsWorld, Replica, Sets};
 use crate::rng::SessionRng;
 use crate::scene::physics::{BodyStart, JointStart, PhysicsSpec};
+use crate::scene::valid::Links;
 use crate::world::{WorldError, WorldState};
 use rand::RngExt;
 use rapier2d::math::{Real, Rotation, Vector};
@@ -159,10 +160,12 @@ fn place(
 }
 
 impl PhysicsWorld {
-    /// The start contexts of `spec`, on `copy` (copy 0) of `pristine`,
-    /// and the geometry of its joints they set.
+    /// The start contexts of `spec` (its names resolved in `links`), on
+    /// `copy` (copy 0) of `pristine`, and the geometry of its joints they
+    /// set.
     pub(super) fn context_starts(
         spec: &PhysicsSpec,
+        links: &Links,
         copy: &Replica,
         pristine: &Sets,
     ) -> (Vec<ContextStart>, JointGeometry) {
@@ -175,26 +178,22 @@ impl PhysicsWorld {
         if spec.contexts.is_empty() {
             return (vec![ContextStart::Pristine], geometry);
         }
-        let index = |name: &str| spec.bodies.iter().position(|b| b.name == name);
-        let joint = |name: &str| spec.joints.iter().position(|j| j.name == name);
         let starts = spec
             .contexts
             .iter()
-            .map(|c| {
+            .zip(&links.contexts)
+            .map(|(c, (body_index, joint_index))| {
                 let bodies: Vec<(RigidBodyHandle, BodyStart)> = c
                     .bodies
                     .iter()
-                    .map(|b| {
-                        (
-                            copy.handles[index(&b.body).expect("validated body")],
-                            b.clone(),
-                        )
-                    })
+                    .zip(body_index)
+                    .map(|(b, &i)| (copy.handles[i], b.clone()))
                     .collect();
                 let joints: Vec<(usize, JointStart)> = c
                     .joints
                     .iter()
-                    .filter_map(|s| joint(&s.joint).map(|k| (k, s.clone())))
+                    .zip(joint_index)
+                    .map(|(s, &k)| (k, s.clone()))
                     .collect();
                 let carry = !joints.is_empty()
                     || spec

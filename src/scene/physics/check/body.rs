@@ -207,38 +207,7 @@ impl PhysicsSpec {
             )?;
         }
         if b.kind == BodyKind::Dynamic {
-            if b.shape.area() <= 0.0 && b.mass.is_none() {
-                return Err(Invalid::at(
-                    "mass",
-                    Some(at),
-                    &format!("{who}: a `mass` (a dynamic segment or polyline has no area, so no mass from its density)"),
-                ));
-            }
-            if b.mass_kg().is_nan() || b.mass_kg() <= 0.0 {
-                return Err(Invalid::at("mass", Some(at), &format!("{who}: a mass > 0")));
-            }
-            let field = if b.density.is_some() {
-                "density"
-            } else {
-                "shape"
-            };
-            number(
-                field,
-                Some(at),
-                who,
-                "a mass (density x area)",
-                b.mass_kg(),
-                (MIN_MASS, MAX_MASS),
-                false,
-                "kg",
-            )?;
-            if b.shape.area() <= 0.0 && !b.lock_rotation {
-                return Err(Invalid::at(
-                    "shape",
-                    Some(at),
-                    &format!("{who}: a shape with an area (Ball, Cuboid, Capsule) for a dynamic body that rotates"),
-                ));
-            }
+            check_dynamic_mass(b, at, who)?;
         }
         Ok(())
     }
@@ -297,4 +266,42 @@ impl PhysicsSpec {
         }
         Ok(())
     }
+}
+
+/// A dynamic body's mass (its own, or density x area): > 0, within
+/// bounds, and a shape with an area unless it does not rotate.
+fn check_dynamic_mass(b: &BodySpec, at: &str, who: &str) -> Result<(), Invalid> {
+    if b.shape.area() <= 0.0 && b.mass.is_none() {
+        return Err(Invalid::at(
+            "mass",
+            Some(at),
+            &format!("{who}: a `mass` (a dynamic segment or polyline has no area, so no mass from its density)"),
+        ));
+    }
+    if b.mass_kg().is_nan() || b.mass_kg() <= 0.0 {
+        return Err(Invalid::at("mass", Some(at), &format!("{who}: a mass > 0")));
+    }
+    let field = if b.density.is_some() {
+        "density"
+    } else {
+        "shape"
+    };
+    number(
+        field,
+        Some(at),
+        who,
+        "a mass (density x area)",
+        b.mass_kg(),
+        (MIN_MASS, MAX_MASS),
+        false,
+        "kg",
+    )?;
+    if b.shape.area() <= 0.0 && !b.lock_rotation {
+        return Err(Invalid::at(
+            "shape",
+            Some(at),
+            &format!("{who}: a shape with an area (Ball, Cuboid, Capsule) for a dynamic body that rotates"),
+        ));
+    }
+    Ok(())
 }

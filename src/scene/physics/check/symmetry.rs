@@ -15,25 +15,18 @@ impl Symmetry {
         let k = self.axis();
         let coord = ["x", "y"][k];
         let across = |p: (f64, f64)| [p.0, p.1][k];
-        let fail = |field: &str, anchor: Option<&str>, what: String| {
-            Err(Invalid::at(
-                field,
-                anchor,
-                &format!("symmetry {self:?}: {what}"),
-            ))
-        };
         // only a point's world cell reflects as a point: a joint's
         // coordinate, an angle, a point in another body's frame or a
         // product would need their own reflections
         let Some((_, point, g)) = spec.effect.world_point() else {
-            return fail(
+            return self.fail(
                 "symmetry",
                 None,
                 "no symmetry with this effect: a symmetry reflects the effect's point in the world, and this effect is not one point's world cell (a joint's coordinate, an angle, a point in another body's frame or a product); remove `symmetry`".to_string(),
             );
         };
         if across(spec.gravity) != 0.0 {
-            return fail(
+            return self.fail(
                 "gravity",
                 None,
                 format!(
@@ -42,6 +35,47 @@ impl Symmetry {
                 ),
             );
         }
+        self.check_bodies(spec)?;
+        self.check_joints(spec)?;
+        if point.1 != 0.0 {
+            return self.fail(
+                "point",
+                None,
+                format!(
+                    "a tracked point on its body's local x axis (y = 0), found {:?}",
+                    point
+                ),
+            );
+        }
+        if g.min[k] != -g.max[k] {
+            return self.fail(
+                "grid",
+                None,
+                format!(
+                    "an effect grid symmetric about the mirror line (min {coord} = -max {coord}), found min {:?}, max {:?}",
+                    g.min, g.max
+                ),
+            );
+        }
+        self.symbol_maps(scene).map(drop)
+    }
+
+    /// The error at `field` (and `anchor` in it): what the symmetry
+    /// needs.
+    fn fail<T>(self, field: &str, anchor: Option<&str>, what: String) -> Result<T, Invalid> {
+        Err(Invalid::at(
+            field,
+            anchor,
+            &format!("symmetry {self:?}: {what}"),
+        ))
+    }
+
+    /// Every body its own mirror image: on the mirror line, along it, its
+    /// shape symmetric about its local x axis.
+    fn check_bodies(self, spec: &PhysicsSpec) -> Result<(), Invalid> {
+        let k = self.axis();
+        let coord = ["x", "y"][k];
+        let across = |p: (f64, f64)| [p.0, p.1][k];
         // a body's local x axis must lie along the mirror line, so that the
         // reflection acts on its frame as local y -> -y
         let along = |angle: f64| match self {
@@ -55,7 +89,7 @@ impl Symmetry {
         for b in &spec.bodies {
             let at = format!("\"{}\"", b.name);
             if across(b.position) != 0.0 {
-                return fail(
+                return self.fail(
                     "position",
                     Some(&at),
                     format!(
@@ -65,7 +99,7 @@ impl Symmetry {
                 );
             }
             if !along(b.angle) {
-                return fail(
+                return self.fail(
                     "angle",
                     Some(&at),
                     format!(
@@ -82,7 +116,7 @@ impl Symmetry {
                 ShapeSpec::Polyline { points } => points.iter().all(|p| p.1 == 0.0),
             };
             if !symmetric {
-                return fail(
+                return self.fail(
                     "shape",
                     Some(&at),
                     format!(
@@ -92,6 +126,14 @@ impl Symmetry {
                 );
             }
         }
+        Ok(())
+    }
+
+    /// Every joint's hinge on the mirror line, its limits symmetric about
+    /// 0.
+    fn check_joints(self, spec: &PhysicsSpec) -> Result<(), Invalid> {
+        let coord = ["x", "y"][self.axis()];
+        let across = |p: (f64, f64)| [p.0, p.1][self.axis()];
         for j in &spec.joints {
             let at = format!("\"{}\"", j.name);
             // an anchor on `ground` is in world coordinates, others local
@@ -101,7 +143,7 @@ impl Symmetry {
                 j.parent_anchor.1
             };
             if parent_off != 0.0 || j.child_anchor.1 != 0.0 {
-                return fail(
+                return self.fail(
                     "parent_anchor",
                     Some(&at),
                     format!(
@@ -112,7 +154,7 @@ impl Symmetry {
             }
             if let Some((lo, hi)) = j.limits {
                 if lo != -hi {
-                    return fail(
+                    return self.fail(
                         "limits",
                         Some(&at),
                         format!(
@@ -123,26 +165,6 @@ impl Symmetry {
                 }
             }
         }
-        if point.1 != 0.0 {
-            return fail(
-                "point",
-                None,
-                format!(
-                    "a tracked point on its body's local x axis (y = 0), found {:?}",
-                    point
-                ),
-            );
-        }
-        if g.min[k] != -g.max[k] {
-            return fail(
-                "grid",
-                None,
-                format!(
-                    "an effect grid symmetric about the mirror line (min {coord} = -max {coord}), found min {:?}, max {:?}",
-                    g.min, g.max
-                ),
-            );
-        }
-        self.symbol_maps(scene).map(drop)
+        Ok(())
     }
 }

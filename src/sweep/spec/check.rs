@@ -1,0 +1,261 @@
+//! Checking a sweep spec: everything that does not depend on the scenes,
+//! each mistake placed in the sweep's text.
+
+use super::{
+    param_of, set_param, MetricSpec, Scale, SweepSpec, Values, MAX_COMMANDS, MAX_STEPS, MAX_TRIALS,
+};
+use crate::learner::Params;
+use crate::scene::{Invalid, SceneError};
+use crate::sweep::factory::PARAM_NAMES;
+use crate::sweep::SweepError;
+
+/// What checking a spec finds: the values of each parameter and the
+/// metrics kept.
+pub(in crate::sweep) struct Checked {
+    pub(in crate::sweep) axes: Vec<Vec<f64>>,
+    pub(in crate::sweep) metrics: Vec<MetricSpec>,
+}
+
+/// The error at a field (and an anchor in it) of the sweep's text: what
+/// was expected.
+type Bad<'a> = dyn Fn(&str, Option<&str>, &str) -> SweepError + 'a;
+
+impl SweepSpec {
+    /// Checks everything that does not depend on the scenes, placing
+    /// mistakes in `text` (`""`: nowhere).
+    pub(in crate::sweep) fn check_in(&self, file: &str, text: &str) -> Result<Checked, SweepError> {
+        let bad = |field: &str, anchor: Option<&str>, expected: &str| {
+            invalid(file, text, field, anchor, expected)
+        };
+        self.check_lists(&bad)?;
+        self.check_budget(&bad)?;
+        let axes = self.param_axes(&bad)?;
+        let metrics = self.checked_metrics(&bad)?;
+        Ok(Checked { axes, metrics })
+    }
+
+    /// Scenes and learners (each learner once), and each of true and
+    /// false once in `use_reward`.
+    fn check_lists(&self, bad: &Bad) -> Result<(), SweepError> {
+        let spec = self;
+        if spec.scenes.is_empty() {
+            return Err(bad("scenes", None, "at least one scene, found none"));
+        }
+        if spec.learners.is_empty() {
+            return Err(bad(
+                "learners",
+                None,
+                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive), found none",
+            ));
+        }
+        for (i, l) in spec.learners.iter().enumerate() {
+            if spec.learners[..i].contains(l) {
+                return Err(bad(
+                    "learners",
+                    None,
+                    &format!("each learner once, but `{l}` appears twice"),
+                ));
+            }
+        }
+        if spec.use_reward.is_empty() {
+            return Err(bad(
+                "use_reward",
+                None,
+                "[true], [false] or [false, true], found []",
+            ));
+        }
+        if spec.use_reward.len() > 2
+            || (spec.use_reward.len() == 2 && spec.use_reward[0] == spec.use_reward[1])
+        {
+            return Err(bad("use_reward", None, "each of true and false once"));
+        }
+        Ok(())
+    }
+
+    /// Sessions, trials and commands within their bounds; a gamma only
+    /// in closed loop, in [0, 1].
+    fn check_budget(&self, bad: &Bad) -> Result<(), SweepError> {
+        let spec = self;
+        if spec.sessions == 0 {
+            return Err(bad(
+                "sessions",
+                None,
+                "at least 1 session per cell, found 0",
+            ));
+        }
+        if spec.trials == 0 {
+            return Err(bad("trials", None, "at least 1 trial per session, found 0"));
+        }
+        if spec.trials > MAX_TRIALS {
+            return Err(bad(
+                "trials",
+                None,
+                &format!(
+                    "at most {} trials per session (as `e3d run --trials`), found {}",
+                    MAX_TRIALS, spec.trials
+                ),
+            ));
+        }
+        if !(1..=MAX_COMMANDS).contains(&spec.commands) {
+            return Err(bad(
+                "commands",
+                None,
+                &format!(
+                    "1 to {MAX_COMMANDS} commands per episode, found {}",
+                    spec.commands
+                ),
+            ));
+        }
+        if let Some(g) = spec.gamma {
+            if !spec.closed_loop {
+                return Err(bad(
+                    "gamma",
+                    None,
+                    "closed_loop: true with a gamma (the discount of Q_ref and of Q-learning)",
+                ));
+            }
+            if !(0.0..=1.0).contains(&g) {
+                return Err(bad(
+                    "gamma",
+                    None,
+                    &format!("a discount in [0, 1], found {g}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The values of each hyper-parameter (task 1's where not swept),
+    /// after checking the parameters fixed for every cell.
+    fn param_axes(&self, bad: &Bad) -> Result<Vec<Vec<f64>>, SweepError> {
+        let mut axes: Vec<Vec<f64>> = Vec::with_capacity(5);
+        for (i, name) in PARAM_NAMES.iter().enumerate() {
+            let values = match self.params.get(name) {
+                None => vec![param_of(&Params::TASK1, i)],
+                Some(v) => param_axis(name, i, v, bad)?,
+            };
+            axes.push(values);
+        }
+        // the parameters fixed for every cell
+        if let Err(e) = self.params.fixed(Params::TASK1).validate() {
+            return Err(bad(
+                e.name,
+                None,
+                &format!("{}, found {}", e.expected, e.value),
+            ));
+        }
+        Ok(axes)
+    }
+
+    /// The metrics (the defaults if none are listed): at least one, each
+    /// once, a cumulative reward within the trials.
+    fn checked_metrics(&self, bad: &Bad) -> Result<Vec<MetricSpec>, SweepError> {
+        let metrics = self
+            .metrics
+            .clone()
+            .unwrap_or_else(|| MetricSpec::defaults(self.trials));
+        if metrics.is_empty() {
+            return Err(bad("metrics", None, "at least one metric, found none"));
+        }
+        for (i, m) in metrics.iter().enumerate() {
+            if let MetricSpec::CumulativeReward(t) = *m {
+                if t == 0 || t > self.trials {
+                    return Err(bad(
+                        "metrics",
+                        Some("cumulative_reward"),
+                        &format!(
+                            "cumulative_reward(T) with T in 1..={} (the trials), found {t}",
+                            self.trials
+                        ),
+                    ));
+                }
+            }
+            if metrics[..i].contains(m) {
+                return Err(bad(
+                    "metrics",
+                    None,
+                    &format!("each metric once, but `{}` appears twice", m.column()),
+                ));
+            }
+        }
+        Ok(metrics)
+    }
+}
+
+/// The values `v` of parameter `name` (the `i`th): a range of 1 to
+/// [`MAX_STEPS`] steps between finite bounds (> 0 on a log scale), at
+/// least one value, distinct, each a valid value of the parameter.
+fn param_axis(name: &str, i: usize, v: &Values, bad: &Bad) -> Result<Vec<f64>, SweepError> {
+    if let Values::Range {
+        scale,
+        from,
+        to,
+        steps,
+    } = *v
+    {
+        if steps == 0 {
+            return Err(bad(
+                name,
+                None,
+                "a range of at least 1 step, found steps: 0",
+            ));
+        }
+        if steps > MAX_STEPS {
+            return Err(bad(
+                name,
+                None,
+                &format!("a range of at most {MAX_STEPS} steps, found steps: {steps}"),
+            ));
+        }
+        if !(from.is_finite() && to.is_finite()) {
+            return Err(bad(name, None, "finite bounds `from` and `to`"));
+        }
+        if scale == Scale::Log && (from <= 0.0 || to <= 0.0) {
+            return Err(bad(
+                name,
+                None,
+                &format!(
+                    "a log range between two numbers > 0, found from: {from}, to: {to} (a log range cannot reach or cross zero)"
+                ),
+            ));
+        }
+    }
+    let values = v.values();
+    if values.is_empty() {
+        return Err(bad(name, None, "at least one value, found an empty list"));
+    }
+    // distinct: equal floats have equal bits once -0 is +0
+    // (NaN equals nothing, and the check below refuses it)
+    let mut seen = std::collections::HashSet::with_capacity(values.len());
+    for x in &values {
+        if !x.is_nan() && !seen.insert((x + 0.0).to_bits()) {
+            return Err(bad(
+                name,
+                None,
+                &format!("distinct values, but {x} appears twice"),
+            ));
+        }
+        let mut p = Params::TASK1;
+        set_param(&mut p, i, *x);
+        if let Err(e) = p.validate() {
+            return Err(bad(name, None, &format!("{}, found {x}", e.expected)));
+        }
+    }
+    Ok(values)
+}
+
+/// The error at `field` (and `anchor` in it) of sweep `file`, whose text
+/// is `text`: what was `expected`.
+pub(in crate::sweep) fn invalid(
+    file: &str,
+    text: &str,
+    field: &str,
+    anchor: Option<&str>,
+    expected: &str,
+) -> SweepError {
+    SweepError::Input(SceneError::from_validation(
+        file,
+        text,
+        Invalid::at(field, anchor, expected),
+    ))
+}
