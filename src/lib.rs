@@ -45,7 +45,13 @@
 //! - [`sweep`]: grids of sessions over scenes, learners and parameters
 //!   ([`Sweep`], from a file or a [`SweepSpec`](sweep::SweepSpec) built in
 //!   code), run in parallel, resumable, in shards; your own worlds and
-//!   learners go in through [`sweep::Worlds`] and [`sweep::Learners`].
+//!   learners go in through [`sweep::Worlds`] and [`sweep::Learners`];
+//! - [`experiment`]: the experiments behind `e3d reproduce` (the paper's
+//!   figures), `e3d compare` (every drive) and `e3d closed-loop`, run;
+//! - [`report`]: what runs, sweeps and experiments produced, drawn
+//!   (tables, SVG figures, HTML pages); it runs no session;
+//! - [`csv`]: e3d's own `summary.csv`, `results.csv` and `trials.csv`,
+//!   read back (by `e3d report` and `e3d plot`).
 //!
 //! ```
 //! use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};
@@ -72,8 +78,10 @@
 #![warn(missing_docs)]
 
 pub mod command;
+pub mod csv;
 pub mod effect;
 pub mod episode;
+pub mod experiment;
 pub mod hash;
 pub mod io;
 pub mod learner;

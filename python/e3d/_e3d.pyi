@@ -5,6 +5,7 @@ from typing import Any, Callable, Optional, Sequence, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import disjoint_base
 
 __version__: str
 E3D_VERSION: str
@@ -24,7 +25,15 @@ class SceneError(ValueError):
 class SimulationError(RuntimeError):
     """A command whose simulation failed (a physics blow-up), naming scene and command."""
 
-from e3d._types import CommandsLike, Progress, PythonContextualLearner, PythonLearner, TargetLike
+from e3d._types import (
+    CommandsLike,
+    PathLike_,
+    Progress,
+    PythonContextualLearner,
+    PythonLearner,
+    SceneLike,
+    TargetLike,
+)
 
 __all__ = [
     "BatchOutcome",
@@ -193,15 +202,78 @@ class World:
     ) -> BatchOutcome: ...
     def trace(self, command: CommandsLike) -> Motion: ...
 
-@final
-class E3dLearner:
-    """An E3D learner's state: Q, the policy and the effect model, read and
-    written; saved as bytes bit for bit (``to_bytes``, ``from_bytes``,
-    pickling); ``run_session(scene, learner=l)`` continues from it."""
+@disjoint_base
+class Learner:
+    """A built-in learner's state (``"e3d"``, ``"e3d_relax"``, ``"count"``,
+    ``"smm"``, ``"egreedy"``, ``"uniform"``, ``"goal_babbling"``, ``"archive"``; on a continuous scene the
+    Gaussian ``"e3d"`` or ``"uniform"`` values; with contexts, from
+    ``Learner.contextual``): its tables by name (``l["q"]``, ``l["p"] =
+    ...``), stepped by ``propose`` / ``learn``, saved as bytes bit for bit
+    (``to_bytes``, ``from_bytes``, pickling); ``run_session(scene,
+    learner=l)`` (``run_episodes`` with contexts) continues from it."""
 
     def __new__(
         cls,
-        scene: Union[Scene, str, PathLike[str]],
+        scene: SceneLike,
+        learner: str = "e3d",
+        alpha: float = 0.3,
+        beta: float = 1.0,
+        lambda_: float = 0.03,
+        eta: float = 0.01,
+        epsilon: float = 0.1,
+        target: Optional[TargetLike] = None,
+    ) -> Learner: ...
+    @staticmethod
+    def contextual(
+        scene: SceneLike,
+        learner: str = "e3d",
+        commands: Optional[int] = None,
+        closed_loop: bool = False,
+        observe: Optional[str] = None,
+        gamma: float = 0.9,
+        alpha: float = 0.3,
+        beta: float = 1.0,
+        lambda_: float = 0.03,
+        eta: float = 0.01,
+        epsilon: float = 0.1,
+        target: Optional[TargetLike] = None,
+        targets: Optional[Sequence[Optional[TargetLike]]] = None,
+    ) -> Learner:
+        """One learner per context, closed-loop E3D or Q-learning, for ``run_episodes``."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def kind(self) -> str: ...
+    def keys(self) -> list[str]:
+        """The names of the learner's tables (``"q"``, ``"policy"``, ``"p"``, ``"target"``, ...)."""
+    @property
+    def writable(self) -> list[str]: ...
+    def __getitem__(self, name: str, /) -> npt.NDArray[np.float64]: ...
+    def __setitem__(self, name: str, value: npt.ArrayLike, /) -> None: ...
+    @overload
+    def propose(self, rng: SessionRng, /) -> npt.NDArray[Any]: ...
+    @overload
+    def propose(self, context: int, rng: SessionRng, /) -> npt.NDArray[Any]: ...
+    @overload
+    def learn(self, command: npt.ArrayLike, effect: int, reward: float, /) -> None: ...
+    @overload
+    def learn(
+        self, context: int, command: npt.ArrayLike, effect: int, reward: float,
+        next: Optional[int] = None, /,
+    ) -> None: ...
+    def to_bytes(self) -> bytes: ...
+    @staticmethod
+    def from_bytes(data: bytes) -> Learner: ...
+    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
+
+@final
+class E3dLearner(Learner):
+    """An E3D learner (a ``Learner`` of kind ``"e3d"``) whose Q table,
+    policy and effect model also read and write per slot."""
+
+    def __new__(
+        cls,
+        scene: SceneLike,
         alpha: float = 0.3,
         beta: float = 1.0,
         lambda_: float = 0.03,
@@ -215,8 +287,6 @@ class E3dLearner:
     @property
     def beta(self) -> float: ...
     @property
-    def name(self) -> str: ...
-    @property
     def q(self) -> list[npt.NDArray[np.float64]]: ...
     @q.setter
     def q(self, value: Sequence[Sequence[float]]) -> None: ...
@@ -228,45 +298,16 @@ class E3dLearner:
     def effect_model(self) -> npt.NDArray[np.float64]: ...
     @effect_model.setter
     def effect_model(self, value: Sequence[float]) -> None: ...
-    def to_bytes(self) -> bytes: ...
     @staticmethod
     def from_bytes(data: bytes) -> E3dLearner: ...
-    def propose(self, rng: SessionRng) -> npt.NDArray[np.uint8]: ...
-    def learn(self, command: Sequence[int], effect: int, reward: float) -> None: ...
-    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
-
-@final
-class Learner:
-    """A built-in learner's state (``"e3d"``, ``"e3d_relax"``, ``"count"``,
-    ``"smm"``, ``"egreedy"``, ``"uniform"``; on a continuous scene the
-    Gaussian ``"e3d"`` or ``"uniform"`` values): saved as bytes bit for bit
-    (``to_bytes``, ``from_bytes``, pickling); ``run_session(scene,
-    learner=l)`` continues from it."""
-
-    def __new__(
-        cls,
-        scene: Union[Scene, str, PathLike[str]],
-        learner: str = "e3d",
-        alpha: float = 0.3,
-        beta: float = 1.0,
-        lambda_: float = 0.03,
-        eta: float = 0.01,
-        epsilon: float = 0.1,
-        target: Optional[TargetLike] = None,
-    ) -> Learner: ...
-    @property
-    def name(self) -> str: ...
-    @property
-    def kind(self) -> str: ...
-    def to_bytes(self) -> bytes: ...
-    @staticmethod
-    def from_bytes(data: bytes) -> Learner: ...
-    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
 
 @final
 class SessionRng:
     """The session's generator, valid during ``propose(rng)`` only (used
-    after it, it raises ``RuntimeError``)."""
+    after it, it raises ``RuntimeError``); ``SessionRng(seed)``: one of
+    one's own, seeded as ``run_session(seed=seed)`` seeds its own."""
+
+    def __new__(cls, seed: int) -> SessionRng: ...
 
     def random(self) -> float: ...
     def integers(self, n: int) -> int: ...
@@ -315,8 +356,8 @@ class SessionRecord:
         """E3D's running effect histogram p at the end (``run_session(learner="e3d")`` only)."""
 
 def run_session(
-    scene: Union[Scene, str, PathLike[str]],
-    learner: Union[str, PythonLearner, E3dLearner, Learner, None] = None,
+    scene: SceneLike,
+    learner: Union[str, PythonLearner, Learner, None] = None,
     trials: int = 5000,
     seed: int = 0,
     use_reward: bool = True,
@@ -326,7 +367,7 @@ def run_session(
     eta: float = 0.01,
     epsilon: float = 0.1,
     outcomes: Optional[str] = None,
-    table_cache: Union[str, PathLike[str], None] = None,
+    table_cache: Optional[PathLike_] = None,
     progress: Optional[Progress] = None,
     target: Optional[TargetLike] = None,
     on_trials: Optional[
@@ -366,7 +407,7 @@ class SessionBatch:
     def __getitem__(self, i: int, /) -> SessionRecord: ...
 
 def run_sessions(
-    scene: Union[Scene, str, PathLike[str]],
+    scene: SceneLike,
     learner: Union[str, Sequence[PythonLearner], None] = None,
     trials: int = 5000,
     seeds: Optional[Sequence[int]] = None,
@@ -379,7 +420,7 @@ def run_sessions(
     eta: float = 0.01,
     epsilon: float = 0.1,
     outcomes: Optional[str] = None,
-    table_cache: Union[str, PathLike[str], None] = None,
+    table_cache: Optional[PathLike_] = None,
     progress: Optional[Progress] = None,
     target: Optional[TargetLike] = None,
 ) -> SessionBatch: ...
@@ -416,12 +457,12 @@ class EpisodeRecord:
 
 @overload
 def run_episodes(
-    scene: Union[Scene, str, PathLike[str]],
+    scene: SceneLike,
     episodes: Optional[int] = None,
     commands: Optional[int] = None,
     seed: Optional[int] = None,
     seeds: None = None,
-    learner: Union[str, PythonContextualLearner, None] = None,
+    learner: Union[str, PythonContextualLearner, Learner, None] = None,
     closed_loop: bool = False,
     observe: Optional[str] = None,
     use_reward: bool = True,
@@ -436,7 +477,7 @@ def run_episodes(
 ) -> EpisodeRecord: ...
 @overload
 def run_episodes(
-    scene: Union[Scene, str, PathLike[str]],
+    scene: SceneLike,
     episodes: Optional[int] = None,
     commands: Optional[int] = None,
     seed: Optional[int] = None,
@@ -462,7 +503,7 @@ class EpisodeWorld:
 
     def __new__(
         cls,
-        scene: Union[Scene, str, PathLike[str]],
+        scene: SceneLike,
         commands: Optional[int] = None,
         observe: Optional[str] = None,
         use_reward: bool = True,
@@ -490,8 +531,8 @@ class EpisodeWorld:
 def run_sweep(
     sweep: Union[str, PathLike[str]],
     threads: Optional[int] = None,
-    table_cache: Union[str, PathLike[str], None] = None,
-    out: Union[str, PathLike[str], None] = None,
+    table_cache: Optional[PathLike_] = None,
+    out: Optional[PathLike_] = None,
     resume: bool = False,
     progress: Optional[Progress] = None,
 ) -> dict[str, Union[npt.NDArray[Any], list[str]]]: ...

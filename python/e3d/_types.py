@@ -1,10 +1,20 @@
 """Type aliases and protocols of e3d's API, for annotations (the stubs of
 ``e3d._e3d`` use them; ``e3d`` re-exports ``PythonLearner``)."""
 
-from typing import Any, Callable, Optional, Protocol, Sequence, Union
+import os
+from typing import TYPE_CHECKING, Any, Callable, Optional, Protocol, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
+
+if TYPE_CHECKING:
+    from e3d._e3d import Scene
+
+SceneLike = Union["Scene", str, "os.PathLike[str]"]
+"""A scene: a ``Scene``, a path to a RON file or a built-in scene's name."""
+
+PathLike_ = Union[str, "os.PathLike[str]"]
+"""A path: a string or an ``os.PathLike``."""
 
 CommandsLike = Union[str, Sequence[str], npt.ArrayLike]
 """Commands: a string of symbols, a list of them, or an integer array of symbol indices; on a

@@ -7,10 +7,12 @@ use crate::commands::commands_from;
 use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
 use crate::outcome::PyOutcome;
+use crate::saved::{Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::episode::{EpisodeConfig, EpisodeRecord, Observe};
-use e3d::learner::{ClosedLoopE3d, ContextTargets};
+use e3d::learner::{ClosedLoopE3d, ContextTargets, QLearning};
 use e3d::world::WorldState;
+use e3d::{LearnerKind, Params};
 use e3d::{SessionRng, Target, World};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
@@ -202,6 +204,14 @@ pub(crate) fn run_episodes(
     let probe = inner.build();
     let contexts = cfg(0).num_contexts(&probe);
     let starts = probe.num_contexts();
+    if let Some(st) = learner.and_then(|l| l.cast::<PyLearnerState>().ok()) {
+        if !one {
+            return Err(PyValueError::new_err(
+                "learner: an e3d.Learner runs one seed (give seed, not seeds)",
+            ));
+        }
+        return run_from_state(py, &scene, st, &cfg(seeds[0]), contexts);
+    }
     let Some(kind) = kind else {
         let objs = python_learners(learner.expect("an object"), one, seeds.len())?;
         let mut out = Vec::with_capacity(seeds.len());
@@ -266,6 +276,101 @@ pub(crate) fn run_episodes(
         return Ok(out.remove(0).into_any());
     }
     Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind())
+}
+
+/// A contextual built-in learner, as `run_episodes` would make it for
+/// `scene`, `commands` per episode, `closed_loop` and `observe`
+/// (`Learner.contextual`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn contextual_held(
+    scene: &PyScene,
+    kind: LearnerKind,
+    commands: &Bound<'_, PyAny>,
+    closed_loop: bool,
+    observe: Option<&str>,
+    gamma: f64,
+    params: &Params,
+    target: Option<&Bound<'_, PyAny>>,
+    targets: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Held> {
+    scene.require_symbols("Learner.contextual")?;
+    let k = commands_arg(commands)?;
+    let ctx_targets = context_targets(scene, target, targets)?;
+    let cfg = EpisodeConfig {
+        episodes: 1,
+        commands: k,
+        seed: 0,
+        use_reward: true,
+        observe: observe_arg(observe, k, closed_loop)?,
+    };
+    let contexts = cfg.num_contexts(&scene.inner.build());
+    let (space, n) = (&scene.space, scene.inner.num_effects());
+    let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
+    params.validate().map_err(|e| bad(e.into()))?;
+    match (closed_loop, kind) {
+        (true, LearnerKind::E3d) => {
+            ClosedLoopE3d::new(space, n, contexts, params, &ctx_targets, gamma)
+                .map(Held::ClosedLoop)
+                .map_err(bad)
+        }
+        (true, LearnerKind::Egreedy) => QLearning::new(space, contexts, params, gamma)
+            .map(Held::QLearning)
+            .map_err(bad),
+        (true, other) => Err(PyValueError::new_err(format!(
+            "learner `{other}`: the closed loop takes e3d (closed-loop E3D) or egreedy (Q-learning)"
+        ))),
+        (false, LearnerKind::GoalBabbling | LearnerKind::Archive) => {
+            Err(PyValueError::new_err(format!(
+                "learner `{kind}`: no saved state per context (kept for e3d, e3d_relax, count, smm, egreedy and uniform)"
+            )))
+        }
+        (false, kind) => {
+            let per: Vec<Target> = match ctx_targets {
+                ContextTargets::Shared(t) => vec![t; contexts],
+                ContextTargets::PerContext(v) if v.len() == contexts => v,
+                ContextTargets::PerContext(v) => {
+                    return Err(PyValueError::new_err(format!(
+                        "targets: {} targets for {contexts} contexts: give one per context",
+                        v.len()
+                    )))
+                }
+            };
+            let learners = per
+                .iter()
+                .map(|t| Held::new(scene, kind, params, t))
+                .collect::<PyResult<Vec<Held>>>()?;
+            Ok(Held::per_context(learners))
+        }
+    }
+}
+
+/// Runs episodes from the contextual `e3d.Learner` `st` (one seed) and
+/// leaves it in the state they end in.
+fn run_from_state(
+    py: Python<'_>,
+    scene: &PyScene,
+    st: &Bound<'_, PyLearnerState>,
+    cfg: &EpisodeConfig,
+    contexts: usize,
+) -> PyResult<Py<PyAny>> {
+    let mut held = st.borrow().held.clone();
+    let sizes: Vec<usize> = scene.space.sizes().collect();
+    held.shape()
+        .fits(&sizes, scene.inner.num_effects(), Some(contexts))
+        .map_err(|e| {
+            PyValueError::new_err(format!("learner: scene `{}`: {e}", scene.inner.spec().name))
+        })?;
+    let l = held.contextual().expect("a learner with contexts");
+    let name = l.name().to_string();
+    let inner = scene.inner.clone();
+    let rec = py.detach(|| {
+        let mut world = inner.build();
+        e3d::episode::run_episodes(&mut world, l, cfg).map_err(Fail::from)
+    })?;
+    st.borrow_mut().held = held;
+    let starts = scene.inner.build().num_contexts();
+    let slots = scene.space.num_slots();
+    Ok(Py::new(py, record_to_py(py, rec, cfg.seed, &name, slots, starts)?)?.into_any())
 }
 
 /// The targets of `run_episodes`: `targets`, one per context, else

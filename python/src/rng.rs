@@ -9,7 +9,8 @@ use pyo3::prelude::*;
 /// `propose(rng)`: the very generator the session was seeded with (PCG
 /// 64-bit MCG), valid only during that call: used after it (kept by the
 /// learner, or from another thread once `propose` has returned), it raises
-/// `RuntimeError`.
+/// `RuntimeError`. `SessionRng(seed)` makes one of one's own, valid
+/// always.
 #[pyclass(module = "e3d", name = "SessionRng")]
 pub(crate) struct PyRng {
     pub(crate) inner: SessionRng,
@@ -52,6 +53,17 @@ impl PyRng {
 
 #[pymethods]
 impl PyRng {
+    /// A generator of one's own, seeded as a session of seed `seed` seeds
+    /// its generator: with it, `Learner.propose` and `learn` in a loop of
+    /// one's own draw what `run_session(seed=seed)` draws.
+    #[new]
+    fn new(#[pyo3(from_py_with = crate::errors::seed_arg)] seed: u64) -> PyRng {
+        PyRng {
+            inner: rand::SeedableRng::seed_from_u64(seed),
+            active: true,
+        }
+    }
+
     /// A float uniform in [0, 1).
     fn random(&mut self) -> PyResult<f64> {
         use rand::RngExt;

@@ -4,15 +4,21 @@
 //! continues from it.
 
 use crate::scene::{scene_of, target_arg, PyScene};
-use e3d::learner::state::state_kind;
-use e3d::learner::{CountBonus, RelaxedE3d, StateMarginalMatching};
+use e3d::learner::state::tables::StateTable;
+use e3d::learner::state::{per_context_kind, state_kind, StateShape};
+use e3d::learner::{
+    Archive, ArchiveValues, ClosedLoopE3d, ContextualLearner, CountBonus, GoalBabbling,
+    GoalBabblingValues, PerContext, QLearning, RelaxedE3d, StateMarginalMatching,
+};
 use e3d::{
     ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner, LearnerError, LearnerKind,
     LearnerState, Params, UniformPolicy, UniformValues,
 };
-use pyo3::exceptions::PyValueError;
+use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
+use pyo3::types::PyTuple;
 
 /// A built-in learner of either kind of command, as its concrete type.
 #[derive(Clone)]
@@ -25,6 +31,19 @@ pub(crate) enum Held {
     Uniform(UniformPolicy),
     Gaussian(GaussianE3d),
     UniformValues(UniformValues),
+    GoalBabbling(GoalBabbling),
+    GoalBabblingValues(GoalBabblingValues),
+    Archive(Archive),
+    ArchiveValues(ArchiveValues),
+    /// Contextual: a learner per context, closed-loop E3D, Q-learning.
+    PerE3d(PerContext<E3d>),
+    PerRelaxed(PerContext<RelaxedE3d>),
+    PerCount(PerContext<CountBonus>),
+    PerSmm(PerContext<StateMarginalMatching>),
+    PerEgreedy(PerContext<EpsilonGreedy>),
+    PerUniform(PerContext<UniformPolicy>),
+    ClosedLoop(ClosedLoopE3d),
+    QLearning(QLearning),
 }
 
 /// Applies `$f` to the concrete learner of `$held`.
@@ -39,6 +58,18 @@ macro_rules! with_held {
             Held::Uniform($l) => $f,
             Held::Gaussian($l) => $f,
             Held::UniformValues($l) => $f,
+            Held::GoalBabbling($l) => $f,
+            Held::GoalBabblingValues($l) => $f,
+            Held::Archive($l) => $f,
+            Held::ArchiveValues($l) => $f,
+            Held::PerE3d($l) => $f,
+            Held::PerRelaxed($l) => $f,
+            Held::PerCount($l) => $f,
+            Held::PerSmm($l) => $f,
+            Held::PerEgreedy($l) => $f,
+            Held::PerUniform($l) => $f,
+            Held::ClosedLoop($l) => $f,
+            Held::QLearning($l) => $f,
         }
     };
 }
@@ -49,7 +80,7 @@ fn bad(e: LearnerError) -> PyErr {
 
 impl Held {
     /// A fresh learner of `kind` for `scene`.
-    fn new(
+    pub(crate) fn new(
         scene: &PyScene,
         kind: LearnerKind,
         params: &Params,
@@ -61,8 +92,10 @@ impl Held {
             return match kind {
                 LearnerKind::E3d => GaussianE3d::new(values, n, params, target).map(Held::Gaussian),
                 LearnerKind::Uniform => Ok(Held::UniformValues(UniformValues::new(values))),
+                LearnerKind::GoalBabbling => Ok(Held::GoalBabblingValues(GoalBabblingValues::new(values, n, params))),
+                LearnerKind::Archive => Ok(Held::ArchiveValues(ArchiveValues::new(values, n, params))),
                 other => Err(LearnerError::State(format!(
-                    "learner `{other}`: a saved state of continuous commands is kept for \"e3d\" and \"uniform\""
+                    "learner `{other}`: a saved state of continuous commands is kept for \"e3d\", \"uniform\", \"goal_babbling\" and \"archive\""
                 ))),
             }
             .map_err(bad);
@@ -70,16 +103,17 @@ impl Held {
         let s = &scene.space;
         Ok(match kind {
             LearnerKind::E3d => Held::E3d(E3d::new(s, n, params, target).map_err(bad)?),
-            LearnerKind::E3dRelax => Held::Relaxed(RelaxedE3d::new(s, n, params, target).map_err(bad)?),
+            LearnerKind::E3dRelax => {
+                Held::Relaxed(RelaxedE3d::new(s, n, params, target).map_err(bad)?)
+            }
             LearnerKind::Count => Held::Count(CountBonus::new(s, n, params)),
-            LearnerKind::Smm => Held::Smm(StateMarginalMatching::new(s, n, params, target).map_err(bad)?),
+            LearnerKind::Smm => {
+                Held::Smm(StateMarginalMatching::new(s, n, params, target).map_err(bad)?)
+            }
             LearnerKind::Egreedy => Held::Egreedy(EpsilonGreedy::new(s, params)),
             LearnerKind::Uniform => Held::Uniform(UniformPolicy::new(s)),
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "learner `{other}`: no saved state (kept for e3d, e3d_relax, count, smm, egreedy and uniform)"
-                )))
-            }
+            LearnerKind::GoalBabbling => Held::GoalBabbling(GoalBabbling::new(s, n, params)),
+            LearnerKind::Archive => Held::Archive(Archive::new(s, n, params)),
         })
     }
 
@@ -96,6 +130,27 @@ impl Held {
             "uniform" => Held::Uniform(UniformPolicy::from_bytes(data)?),
             "gaussian_e3d" => Held::Gaussian(GaussianE3d::from_bytes(data)?),
             "uniform_values" => Held::UniformValues(UniformValues::from_bytes(data)?),
+            "goal_babbling" => Held::GoalBabbling(GoalBabbling::from_bytes(data)?),
+            "goal_babbling_values" => {
+                Held::GoalBabblingValues(GoalBabblingValues::from_bytes(data)?)
+            }
+            "archive" => Held::Archive(Archive::from_bytes(data)?),
+            "archive_values" => Held::ArchiveValues(ArchiveValues::from_bytes(data)?),
+            "e3d_closed_loop" => Held::ClosedLoop(ClosedLoopE3d::from_bytes(data)?),
+            "qlearning" => Held::QLearning(QLearning::from_bytes(data)?),
+            "per_context" => match per_context_kind(data)?.as_str() {
+                "e3d" => Held::PerE3d(PerContext::from_bytes(data)?),
+                "e3d_relax" => Held::PerRelaxed(PerContext::from_bytes(data)?),
+                "count" => Held::PerCount(PerContext::from_bytes(data)?),
+                "smm" => Held::PerSmm(PerContext::from_bytes(data)?),
+                "egreedy" => Held::PerEgreedy(PerContext::from_bytes(data)?),
+                "uniform" => Held::PerUniform(PerContext::from_bytes(data)?),
+                inner => {
+                    return Err(LearnerError::State(format!(
+                    "the state of `{inner}` learners per context, which e3d.Learner does not hold"
+                )))
+                }
+            },
             _ => {
                 return Err(LearnerError::State(format!(
                     "the state of a `{kind}` learner, which e3d.Learner does not hold"
@@ -108,6 +163,24 @@ impl Held {
         with_held!(self, l => l.to_bytes())
     }
 
+    /// What the learner was made for (slots, effects, contexts).
+    pub(crate) fn shape(&self) -> StateShape {
+        with_held!(self, l => l.shape())
+    }
+
+    /// The learner's tables by name ([`LearnerState::tables`]).
+    pub(crate) fn tables(&self) -> Vec<StateTable> {
+        with_held!(self, l => l.tables())
+    }
+
+    /// The E3D learner, if it is one.
+    pub(crate) fn e3d(&mut self) -> Option<&mut E3d> {
+        match self {
+            Held::E3d(l) => Some(l),
+            _ => None,
+        }
+    }
+
     /// The learner as a learner of symbols, if it is one.
     pub(crate) fn symbols(&mut self) -> Option<&mut (dyn Learner + Send)> {
         Some(match self {
@@ -117,8 +190,62 @@ impl Held {
             Held::Smm(l) => l,
             Held::Egreedy(l) => l,
             Held::Uniform(l) => l,
-            Held::Gaussian(_) | Held::UniformValues(_) => return None,
+            Held::GoalBabbling(l) => l,
+            Held::Archive(l) => l,
+            _ => return None,
         })
+    }
+
+    /// The learner as a contextual learner, if it is one.
+    pub(crate) fn contextual(&mut self) -> Option<&mut (dyn ContextualLearner + Send)> {
+        Some(match self {
+            Held::PerE3d(l) => l,
+            Held::PerRelaxed(l) => l,
+            Held::PerCount(l) => l,
+            Held::PerSmm(l) => l,
+            Held::PerEgreedy(l) => l,
+            Held::PerUniform(l) => l,
+            Held::ClosedLoop(l) => l,
+            Held::QLearning(l) => l,
+            _ => return None,
+        })
+    }
+
+    /// A learner per context from one learner per context (all of one
+    /// kind, as [`Held::new`] makes them).
+    pub(crate) fn per_context(learners: Vec<Held>) -> Held {
+        fn all<L>(v: Vec<Held>, f: impl Fn(Held) -> Option<L>) -> PerContext<L>
+        where
+            L: Learner,
+        {
+            PerContext::new(v.into_iter().map(|h| f(h).expect("one kind")).collect())
+        }
+        match &learners[0] {
+            Held::E3d(_) => Held::PerE3d(all(learners, |h| match h {
+                Held::E3d(l) => Some(l),
+                _ => None,
+            })),
+            Held::Relaxed(_) => Held::PerRelaxed(all(learners, |h| match h {
+                Held::Relaxed(l) => Some(l),
+                _ => None,
+            })),
+            Held::Count(_) => Held::PerCount(all(learners, |h| match h {
+                Held::Count(l) => Some(l),
+                _ => None,
+            })),
+            Held::Smm(_) => Held::PerSmm(all(learners, |h| match h {
+                Held::Smm(l) => Some(l),
+                _ => None,
+            })),
+            Held::Egreedy(_) => Held::PerEgreedy(all(learners, |h| match h {
+                Held::Egreedy(l) => Some(l),
+                _ => None,
+            })),
+            _ => Held::PerUniform(all(learners, |h| match h {
+                Held::Uniform(l) => Some(l),
+                _ => None,
+            })),
+        }
     }
 
     /// The learner as a learner of values, if it is one.
@@ -126,6 +253,8 @@ impl Held {
         match self {
             Held::Gaussian(l) => Some(l),
             Held::UniformValues(l) => Some(l),
+            Held::GoalBabblingValues(l) => Some(l),
+            Held::ArchiveValues(l) => Some(l),
             _ => None,
         }
     }
@@ -139,17 +268,29 @@ impl Held {
             Held::Smm(_) => LearnerKind::Smm,
             Held::Egreedy(_) => LearnerKind::Egreedy,
             Held::Uniform(_) | Held::UniformValues(_) => LearnerKind::Uniform,
+            Held::PerE3d(_) | Held::ClosedLoop(_) => LearnerKind::E3d,
+            Held::PerRelaxed(_) => LearnerKind::E3dRelax,
+            Held::PerCount(_) => LearnerKind::Count,
+            Held::PerSmm(_) => LearnerKind::Smm,
+            Held::PerEgreedy(_) | Held::QLearning(_) => LearnerKind::Egreedy,
+            Held::PerUniform(_) => LearnerKind::Uniform,
+            Held::GoalBabbling(_) | Held::GoalBabblingValues(_) => LearnerKind::GoalBabbling,
+            Held::Archive(_) | Held::ArchiveValues(_) => LearnerKind::Archive,
         }
     }
 }
 
 /// A built-in learner (`"e3d"`, `"e3d_relax"`, `"count"`, `"smm"`,
-/// `"egreedy"`, `"uniform"`; on a continuous scene the Gaussian `"e3d"` or
-/// `"uniform"` values) as a state: saved as bytes bit for bit (`to_bytes`,
+/// `"egreedy"`, `"uniform"`, `"goal_babbling"`, `"archive"`; on a
+/// continuous scene the Gaussian `"e3d"`, `"uniform"`, `"goal_babbling"` or
+/// `"archive"` values; with contexts, from `Learner.contextual`) as a
+/// state: its tables by name (`l["q"]`, `l["target"] = ...`), stepped by
+/// `propose` / `learn`, saved as bytes bit for bit (`to_bytes`,
 /// `Learner.from_bytes`, pickling) and read back as a learner that goes
-/// on exactly as this one would. `run_session(scene, learner=l)` runs a
-/// session from `l`'s state and leaves `l` in the state it ends in.
-#[pyclass(module = "e3d", name = "Learner")]
+/// on exactly as this one would. `run_session(scene, learner=l)` (with
+/// contexts `run_episodes`) runs from `l`'s state and leaves `l` in the
+/// state it ends in.
+#[pyclass(module = "e3d", name = "Learner", subclass)]
 #[derive(Clone)]
 pub(crate) struct PyLearnerState {
     pub(crate) held: Held,
@@ -208,10 +349,70 @@ impl PyLearnerState {
         })
     }
 
+    /// A contextual built-in learner for sessions of episodes on `scene`
+    /// (`run_episodes(scene, learner=l, ...)` runs from its state and
+    /// leaves it in the state they end in): one `learner` per context
+    /// (`"e3d"`, `"e3d_relax"`, `"count"`, `"smm"`, `"egreedy"`,
+    /// `"uniform"`), or with `closed_loop` closed-loop E3D (`"e3d"`) or
+    /// Q-learning (`"egreedy"`); the contexts are those `run_episodes`
+    /// would observe with `commands`, `closed_loop` and `observe`.
+    #[staticmethod]
+    #[pyo3(signature = (scene, learner = "e3d", commands = None, closed_loop = false,
+        observe = None, gamma = 0.9, alpha = 0.3, beta = 1.0, lambda_ = 0.03, eta = 0.01,
+        epsilon = 0.1, target = None, targets = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn contextual(
+        py: Python<'_>,
+        scene: &Bound<'_, PyAny>,
+        learner: &str,
+        commands: Option<&Bound<'_, PyAny>>,
+        closed_loop: bool,
+        observe: Option<&str>,
+        gamma: f64,
+        alpha: f64,
+        beta: f64,
+        lambda_: f64,
+        eta: f64,
+        epsilon: f64,
+        target: Option<&Bound<'_, PyAny>>,
+        targets: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<PyLearnerState> {
+        let scene = scene_of(scene)?;
+        let kind: LearnerKind = learner
+            .parse()
+            .map_err(|e: e3d::ParseLearnerError| PyValueError::new_err(format!("learner: {e}")))?;
+        let params = Params {
+            alpha,
+            beta,
+            lambda: lambda_,
+            eta,
+            epsilon,
+            ..Params::TASK1
+        };
+        let one = 1usize.into_pyobject(py)?.into_any();
+        let held = crate::episode::contextual_held(
+            &scene,
+            kind,
+            commands.unwrap_or(&one),
+            closed_loop,
+            observe,
+            gamma,
+            &params,
+            target,
+            targets,
+        )?;
+        Ok(PyLearnerState { held })
+    }
+
     /// The name a session record gives this learner (`"e3d"`, `"count"`, ...).
+    /// A contextual learner's is its run's (`"e3d"`, `"e3d_closed_loop"`,
+    /// `"qlearning"`, ...).
     #[getter]
-    fn name(&self) -> &'static str {
-        self.held.kind().as_str()
+    fn name(&mut self) -> String {
+        match self.held.contextual() {
+            Some(l) => l.name().to_string(),
+            None => self.held.kind().as_str().to_string(),
+        }
     }
 
     /// The kind written in the saved state (`"e3d"`, `"gaussian_e3d"`,
@@ -235,20 +436,155 @@ impl PyLearnerState {
         })
     }
 
-    /// Pickling: the bytes of `to_bytes`, read back by `from_bytes`.
+    /// Pickling: the bytes of `to_bytes`, read back by the class's
+    /// `from_bytes` (an `E3dLearner` comes back as one).
     fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyBytes>,))> {
-        let f = py.get_type::<PyLearnerState>().getattr("from_bytes")?;
-        Ok((f, (self.to_bytes(py),)))
+        let f = slf.get_type().getattr("from_bytes")?;
+        Ok((f, (slf.borrow().to_bytes(slf.py()),)))
     }
 
+    /// Equal: learners whose saved bytes are equal.
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
         other
             .cast::<PyLearnerState>()
             .map(|o| o.borrow().held.to_bytes() == self.held.to_bytes())
             .unwrap_or(false)
+    }
+
+    /// The names of the learner's tables (`"q"`, `"policy"`, `"p"`,
+    /// `"target"`, `"counts"`, ... as it has them), in order.
+    fn keys(&self) -> Vec<&'static str> {
+        self.held.tables().iter().map(|t| t.name).collect()
+    }
+
+    /// The names of the tables that `learner[name] = array` can write.
+    #[getter]
+    fn writable(&self) -> Vec<&'static str> {
+        let t = self.held.tables();
+        t.iter().filter(|t| t.writable).map(|t| t.name).collect()
+    }
+
+    /// The table `name` as a float64 array (a copy), e.g. `l["q"]`
+    /// `(slots, k)`, `l["p"]` `(effects,)`; `KeyError` naming the tables
+    /// there are if it has none of that name.
+    fn __getitem__<'py>(
+        &self,
+        py: Python<'py>,
+        name: &str,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let t = self.table(name)?;
+        numpy::ndarray::ArrayD::from_shape_vec(t.shape, t.values)
+            .map(|a| a.into_pyarray(py))
+            .map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    /// Replaces the table `name` by `value` (an array of its shape):
+    /// `ValueError` naming the table if the shape, a value or the table's
+    /// rules do not fit (the learner is then unchanged).
+    fn __setitem__(&mut self, name: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        let t = self.table(name)?;
+        let py = value.py();
+        let array = py
+            .import("numpy")?
+            .call_method1("asarray", (value, "float64"))
+            .and_then(|a| Ok(a.cast_into::<PyArrayDyn<f64>>()?))
+            .map_err(|_| {
+                PyValueError::new_err(format!("learner['{name}']: expected an array of numbers"))
+            })?;
+        if array.shape() != t.shape.as_slice() {
+            return Err(PyValueError::new_err(format!(
+                "learner['{name}']: expected an array of shape {}, found {}",
+                shape_text(&t.shape),
+                shape_text(array.shape())
+            )));
+        }
+        let values = array.to_vec().or_else(|_| {
+            Ok::<_, PyErr>(array.to_owned_array().iter().copied().collect::<Vec<f64>>())
+        })?;
+        with_held!(&mut self.held, l => l.set_table(name, &values))
+            .map_err(|e| PyValueError::new_err(format!("learner['{name}']: {e}")))
+    }
+
+    /// Draws the next command with `rng` (a `SessionRng`): uint8 symbol
+    /// indices, or float64 values on a continuous scene; a contextual
+    /// learner's `propose(context, rng)`. With `learn`, a loop of one's own
+    /// that executes each command in between runs the session
+    /// `run_session` (or `run_episodes`) runs (tested bit for bit).
+    #[pyo3(signature = (*args))]
+    fn propose<'py>(
+        &mut self,
+        py: Python<'py>,
+        args: &Bound<'py, PyTuple>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let shape = self.held.shape();
+        let (context, rng) = match (shape.contexts, args.len()) {
+            (None, 1) => (None, args.get_item(0)?),
+            (Some(n), 2) => (Some(context_arg(&args.get_item(0)?, n)?), args.get_item(1)?),
+            (None, _) => return Err(PyTypeError::new_err("propose(rng): one argument")),
+            (Some(_), _) => {
+                return Err(PyTypeError::new_err(
+                    "propose(context, rng): a contextual learner takes the context first",
+                ))
+            }
+        };
+        let rng = rng.cast::<crate::rng::PyRng>()?;
+        let mut r = rng.try_borrow_mut()?;
+        let rng = r.lent()?;
+        let mut c = e3d::Command::new(vec![0; shape.sizes.len()]);
+        if let (Some(context), Some(l)) = (context, self.held.contextual()) {
+            l.propose(context, rng, &mut c);
+            return Ok(c.symbols.into_pyarray(py).into_any());
+        }
+        if let Some(l) = self.held.symbols() {
+            l.propose(rng, &mut c);
+            return Ok(c.symbols.into_pyarray(py).into_any());
+        }
+        let l = self.held.values().expect("a learner of symbols or values");
+        let mut v = Vec::with_capacity(shape.sizes.len());
+        l.propose(rng, &mut v);
+        Ok(v.into_pyarray(py).into_any())
+    }
+
+    /// Learns from the outcome of `command` (symbol indices, or values on
+    /// a continuous scene): `learn(command, effect, reward)`; a contextual
+    /// learner's `learn(context, command, effect, reward, next=None)`
+    /// (`next`: the context the command led to, None after an episode's
+    /// last command).
+    #[pyo3(signature = (*args))]
+    fn learn(&mut self, args: &Bound<'_, PyTuple>) -> PyResult<()> {
+        let shape = self.held.shape();
+        let Some(n) = shape.contexts else {
+            let (command, effect, reward) = args.extract().map_err(|_| {
+                PyTypeError::new_err("learn(command, effect, reward): three arguments")
+            })?;
+            return self.learn_free(&command, effect, reward, &shape);
+        };
+        let usage = "learn(context, command, effect, reward, next=None): a contextual learner";
+        let (context, command, effect, reward, next): (
+            Bound<'_, PyAny>,
+            Bound<'_, PyAny>,
+            usize,
+            f64,
+            Option<Bound<'_, PyAny>>,
+        ) = match args.len() {
+            4 => {
+                let (c, a, e, r) = args.extract()?;
+                (c, a, e, r, None)
+            }
+            5 => args.extract()?,
+            _ => return Err(PyTypeError::new_err(usage)),
+        };
+        let context = context_arg(&context, n)?;
+        let next = next
+            .filter(|x| !x.is_none())
+            .map(|x| context_arg(&x, n))
+            .transpose()?;
+        let (command, o) = outcome_of(&command, effect, reward, &shape)?;
+        let l = self.held.contextual().expect("a contextual learner");
+        l.learn(context, &e3d::Command::new(command), &o, next);
+        Ok(())
     }
 
     fn __repr__(&self) -> String {
@@ -259,6 +595,116 @@ impl PyLearnerState {
             shape.sizes,
             shape.effects.map_or("-".to_string(), |e| e.to_string())
         )
+    }
+}
+
+impl PyLearnerState {
+    /// `learn(command, effect, reward)` of a learner without contexts.
+    fn learn_free(
+        &mut self,
+        command: &Bound<'_, PyAny>,
+        effect: usize,
+        reward: f64,
+        shape: &StateShape,
+    ) -> PyResult<()> {
+        if self.held.symbols().is_some() {
+            let (symbols, o) = outcome_of(command, effect, reward, shape)?;
+            let l = self.held.symbols().expect("symbols");
+            l.learn(&e3d::Command::new(symbols), &o);
+            return Ok(());
+        }
+        let o = check_effect(effect, reward, shape)?;
+        let values: Vec<f64> = command.extract().map_err(|_| bad_command(shape))?;
+        if values.len() != shape.sizes.len() || values.iter().any(|v| !v.is_finite()) {
+            return Err(bad_command(shape));
+        }
+        self.held.values().expect("values").learn(&values, &o);
+        Ok(())
+    }
+
+    /// The table `name`, or a `KeyError` naming the learner's tables.
+    fn table(&self, name: &str) -> PyResult<StateTable> {
+        let mut tables = self.held.tables();
+        match tables.iter().position(|t| t.name == name) {
+            Some(i) => Ok(tables.swap_remove(i)),
+            None => {
+                let names: Vec<String> = tables.iter().map(|t| format!("'{}'", t.name)).collect();
+                Err(PyKeyError::new_err(format!(
+                    "a `{}` learner has no table '{name}' (its tables: [{}])",
+                    self.kind(),
+                    names.join(", ")
+                )))
+            }
+        }
+    }
+}
+
+/// A context in `[0, n)`.
+fn context_arg(obj: &Bound<'_, PyAny>, n: usize) -> PyResult<usize> {
+    let c: usize = obj
+        .extract()
+        .map_err(|_| PyValueError::new_err(format!("context: expected an integer in [0, {n})")))?;
+    if c >= n {
+        return Err(PyValueError::new_err(format!(
+            "context {c}: expected a context in [0, {n})"
+        )));
+    }
+    Ok(c)
+}
+
+/// The outcome of `effect` and `reward`, the effect checked.
+fn check_effect(effect: usize, reward: f64, shape: &StateShape) -> PyResult<e3d::Outcome> {
+    if let Some(n) = shape.effects.filter(|&n| effect >= n) {
+        return Err(PyValueError::new_err(format!(
+            "effect {effect}: expected an effect in [0, {n})"
+        )));
+    }
+    Ok(e3d::Outcome {
+        effect,
+        reward,
+        point: [0.0, 0.0],
+    })
+}
+
+fn bad_command(shape: &StateShape) -> PyErr {
+    PyValueError::new_err(format!(
+        "command: expected one symbol index per slot, within the alphabet sizes {:?} (0: a value)",
+        shape.sizes
+    ))
+}
+
+/// A command of symbol indices and its outcome, checked against `shape`.
+fn outcome_of(
+    command: &Bound<'_, PyAny>,
+    effect: usize,
+    reward: f64,
+    shape: &StateShape,
+) -> PyResult<(Vec<u8>, e3d::Outcome)> {
+    let o = check_effect(effect, reward, shape)?;
+    let symbols: Vec<u8> = command.extract().map_err(|_| bad_command(shape))?;
+    let fits = symbols.len() == shape.sizes.len()
+        && symbols
+            .iter()
+            .zip(&shape.sizes)
+            .all(|(&a, &k)| usize::from(a) < k);
+    if !fits {
+        return Err(bad_command(shape));
+    }
+    Ok((symbols, o))
+}
+
+/// A shape as Python writes it: `(7, 4)`, `(18,)`, `()`.
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(|n| n.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
     }
 }
 

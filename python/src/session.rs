@@ -9,7 +9,6 @@ use crate::progress::{watched, Throttle, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
 use crate::saved::{run_values_from, Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg, PyScene};
-use crate::state::PyE3dLearner;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
     E3d, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target, ValueSpace,
@@ -234,8 +233,8 @@ pub(crate) fn execution_text(exec: Executor<'_>) -> String {
 /// array of one weight per effect, or a dict `{effect or (row, col):
 /// weight}`), also the metrics' target.
 ///
-/// `learner` may also be an `E3dLearner`: the session starts from its
-/// state (its own alpha, beta, lambda, eta and target; those given here
+/// `learner` may also be an `e3d.Learner` (or `E3dLearner`): the session
+/// starts from its state (its own alpha, beta, lambda, eta and target; those given here
 /// only set the metrics' target) and leaves it in the state it ends in.
 /// `on_trials`: a callable, called as `on_trials(first, commands,
 /// effects, rewards)` with the arrays of every `every` trials (the last
@@ -323,23 +322,16 @@ pub(crate) fn run_session(
     }
     let space = scene.space.clone();
     let n_eff = scene.inner.num_effects();
-    // an E3dLearner: E3D from its state, written back at the end
-    let state = learner.and_then(|l| l.cast::<PyE3dLearner>().ok().cloned());
-    let kind = match (&state, &held) {
-        (Some(_), _) => Some(LearnerKind::E3d),
-        (None, Some(h)) => Some(h.kind()),
-        (None, None) => builtin_kind(learner)?,
+    let kind = match &held {
+        Some(h) => Some(h.kind()),
+        None => builtin_kind(learner)?,
     };
     if let Some(kind) = kind {
         let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
         // E3D as its own type, so that its Q and effect model can be read
-        let mut e3d_made = match (kind, &state, &held) {
-            (LearnerKind::E3d, Some(st), _) => {
-                st.borrow().check_fits(&scene)?;
-                Some(st.borrow().inner.clone())
-            }
-            (_, None, Some(Held::E3d(e))) => Some(e.clone()),
-            (LearnerKind::E3d, None, None) => {
+        let mut e3d_made = match (kind, &held) {
+            (_, Some(Held::E3d(e))) => Some(e.clone()),
+            (LearnerKind::E3d, None) => {
                 Some(E3d::new(&space, n_eff, &a.params, &a.target).map_err(bad)?)
             }
             _ => None,
@@ -405,9 +397,6 @@ pub(crate) fn run_session(
         if let Some(e) = &e3d_made {
             rows.q = Some((0..space.num_slots()).map(|s| e.q(s).to_vec()).collect());
             rows.effect_model = Some(e.effect_model().probs());
-            if let Some(st) = &state {
-                st.borrow_mut().inner = e.clone();
-            }
             if let Some(Held::E3d(h)) = &mut held {
                 *h = e.clone();
             }

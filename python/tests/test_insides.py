@@ -118,7 +118,7 @@ def test_e3d_learner_state_reads_and_writes():
         l.effect_model = np.full(18, 0.5)
     with pytest.raises(ValueError, match=r"policy of slot 1: expected probabilities > 0 summing to 1"):
         l.set_policy(1, [1.0, 0.0, 0.0, 0.0])
-    with pytest.raises(ValueError, match=r"this E3dLearner has alphabet sizes \[4, 4, 4, 4, 4, 4, 4\] and 18 effects"):
+    with pytest.raises(ValueError, match=r"learner: scene `arm7`: the learner's slots have alphabet sizes \[4, 4, 4, 4, 4, 4, 4\] \(0: values\), the scene's \[3, 3, 3, 3, 3, 3, 3\]"):
         e3d.run_session("arm7", learner=l, trials=10)
 
 

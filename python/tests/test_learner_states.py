@@ -4,11 +4,13 @@ learner that never stopped."""
 
 import pickle
 
+import numpy as np
+
 import pytest
 
 import e3d
 
-SYMBOL_KINDS = ["e3d", "e3d_relax", "count", "smm", "egreedy", "uniform"]
+SYMBOL_KINDS = ["e3d", "e3d_relax", "count", "smm", "egreedy", "uniform", "goal_babbling", "archive"]
 
 
 @pytest.mark.parametrize("kind", SYMBOL_KINDS)
@@ -39,7 +41,8 @@ def test_a_learner_state_goes_on_where_the_session_left_it():
 
 
 def test_the_gaussian_e3d_and_uniform_values_save_and_load():
-    for kind, saved_kind in [("e3d", "gaussian_e3d"), ("uniform", "uniform_values")]:
+    for kind, saved_kind in [("e3d", "gaussian_e3d"), ("uniform", "uniform_values"),
+                             ("goal_babbling", "goal_babbling_values"), ("archive", "archive_values")]:
         l = e3d.Learner("arm7_continuous", kind)
         assert l.kind == saved_kind and l.name == kind
         e3d.run_session("arm7_continuous", learner=l, trials=40, seed=3)
@@ -78,9 +81,229 @@ def test_bad_states_and_scenes_that_do_not_fit_are_refused():
         e3d.run_session("arm7", learner=l, trials=5)
     with pytest.raises(ValueError, match="the learner's slots have alphabet sizes"):
         e3d.run_session("arm7_continuous", learner=l, trials=5)
-    with pytest.raises(ValueError, match="no saved state"):
-        e3d.Learner("two_rooms", "archive")
+    with pytest.raises(ValueError, match="learner `archive`: no saved state per context"):
+        e3d.Learner.contextual("two_rooms", "archive")
+    with pytest.raises(ValueError, match="the bytes hold the state of a `goal_babbling` learner"):
+        e3d.E3dLearner.from_bytes(e3d.Learner("two_rooms", "goal_babbling").to_bytes())
     with pytest.raises(ValueError, match="learner: "):
         e3d.Learner("two_rooms", "nope")
     with pytest.raises(ValueError, match="eta = 2"):
         e3d.Learner("two_rooms", "e3d", eta=2.0)
+
+
+def _hand_loop(scene, learner, trials, seed):
+    """propose / execute / learn in a loop of one's own."""
+    world = e3d.Scene.resolve(scene).world() if isinstance(scene, str) else scene.world()
+    rng = e3d.SessionRng(seed)
+    commands, effects, rewards = [], [], []
+    for _ in range(trials):
+        c = learner.propose(rng)
+        o = world.execute(c)
+        learner.learn(c, o.effect, o.reward)
+        commands.append(c)
+        effects.append(o.effect)
+        rewards.append(o.reward)
+    return np.array(commands), effects, rewards
+
+
+@pytest.mark.parametrize("kind", ["e3d", "egreedy", "count", "smm"])
+def test_a_hand_loop_is_run_session_bit_for_bit(kind):
+    by_hand = e3d.Learner("two_rooms", kind, epsilon=0.2)
+    e3d.run_session("two_rooms", learner=by_hand, trials=300, seed=1)  # not a fresh state
+    session = e3d.Learner.from_bytes(by_hand.to_bytes())
+    commands, effects, rewards = _hand_loop("two_rooms", by_hand, 700, seed=5)
+    rec = e3d.run_session("two_rooms", learner=session, trials=700, seed=5)
+    assert commands.tolist() == rec.commands.tolist()
+    assert effects == rec.effects.tolist() and rewards == rec.rewards.tolist()
+    assert sum(r > 0 for r in rewards) > 0  # the goal was reached: rewards were learned from
+    assert by_hand.to_bytes() == session.to_bytes()
+
+
+def test_tables_by_name_read_and_write():
+    l = e3d.Learner("two_rooms", "e3d", beta=2.0)
+    assert l.keys() == ["q", "policy", "p", "target"] and l.writable == l.keys()
+    assert l["q"].shape == (7, 4) and l["p"].shape == (18,) and l["policy"][0].tolist() == [0.25] * 4
+    e3d.run_session("two_rooms", learner=l, trials=500, seed=3)
+    e = e3d.E3dLearner.from_bytes(l.to_bytes())
+    assert np.array_equal(l["q"], np.array([q for q in e.q]))
+    assert np.array_equal(l["p"], e.effect_model)
+    # p*: set as weights, normalised; the drive follows it
+    t = np.zeros(18)
+    t[4] = 3.0
+    t[5] = 1.0
+    l["target"] = t
+    assert l["target"][4] == 0.75 and l["target"][5] == 0.25
+    assert l["target"][0] < 1e-10  # a weight 0 is floored, not -inf
+    # the policy written: Q = log(p) / beta, and the policy read back
+    pol = np.full((7, 4), 0.1)
+    pol[:, 2] = 0.7
+    l["policy"] = pol
+    assert np.allclose(l["policy"], pol, rtol=0, atol=1e-12)
+    assert np.allclose(l["q"][0], np.log(pol[0]) / 2.0, rtol=0, atol=1e-12)
+    rng = e3d.SessionRng(1)
+    drawn = np.array([l.propose(rng) for _ in range(400)])  # propose alone learns nothing
+    assert 0.65 < (drawn == 2).mean() < 0.75  # 2800 draws of p = 0.7: sd 0.009
+    before = l.to_bytes()
+    for name, value, msg in [
+        ("q", np.zeros(4), r"learner\['q'\]: expected an array of shape \(7, 4\), found \(4,\)"),
+        ("q", np.full((7, 4), np.nan), r"learner\['q'\]: table `q`, slot 0: NaN is not a finite number"),
+        ("policy", np.full((7, 4), 0.3), r"learner\['policy'\]: table `policy`, slot 0: expected probabilities > 0 summing to 1"),
+        ("p", np.full(18, 0.5), r"learner\['p'\]: table `p`: "),
+        ("target", -np.ones(18), r"learner\['target'\]: table `target`: "),
+        ("p", "abc", r"learner\['p'\]: expected an array of numbers"),
+    ]:
+        with pytest.raises(ValueError, match=msg):
+            l[name] = value
+    assert l.to_bytes() == before  # nothing written
+    with pytest.raises(KeyError, match=r"a `e3d` learner has no table 'counts' \(its tables: \['q', 'policy', 'p', 'target'\]\)"):
+        l["counts"]
+
+
+def test_every_kind_shows_its_tables():
+    shown = {k: e3d.Learner("two_rooms", k).keys() for k in SYMBOL_KINDS}
+    assert shown == {"e3d": ["q", "policy", "p", "target"], "e3d_relax": ["q", "policy", "p", "target"],
+                     "count": ["q", "policy", "counts"], "smm": ["q", "policy", "counts", "target"],
+                     "egreedy": ["q", "policy"], "uniform": [], "goal_babbling": [], "archive": []}
+    c = e3d.Learner("two_rooms", "count")
+    rec = e3d.run_session("two_rooms", learner=c, trials=300, seed=2)
+    assert c["counts"].tolist() == np.bincount(rec.effects, minlength=18).tolist()
+    c["counts"] = np.zeros(18)
+    assert c["counts"].sum() == 0
+    with pytest.raises(ValueError, match=r"table `counts`: 0.5 is not an integer >= 0"):
+        c["counts"] = np.full(18, 0.5)
+    s = e3d.Learner("two_rooms", "smm")
+    with pytest.raises(ValueError, match=r"learner\['counts'\]: table `counts` of a `smm` learner is read-only"):
+        s["counts"] = np.zeros(18)
+    g = e3d.Learner("two_rooms", "egreedy")
+    g["q"] = np.eye(7, 4)
+    assert g["policy"][0].tolist() == [0.1 / 4 + 0.9, 0.1 / 4, 0.1 / 4, 0.1 / 4]
+    with pytest.raises(ValueError, match=r"read-only"):
+        g["policy"] = g["policy"]
+    # the Gaussian E3D: mean and sd per slot (unit coordinates), p, target, baseline
+    v = e3d.Learner("arm7_continuous")
+    assert v.keys() == ["mean", "sd", "p", "target", "baseline"] and v["baseline"].shape == ()
+    v["mean"] = np.full(7, 0.5)
+    v["sd"] = np.full(7, 1e-9)
+    rng = e3d.SessionRng(1)
+    values = v.propose(rng)
+    assert values.dtype == np.float64 and values.shape == (7,)
+    # unit coordinate 0.5 of each slot's range [-t, t]: half of arm7's torques
+    assert np.allclose(values, [0.9, 0.6, 0.375, 0.225, 0.12, 0.06, 0.03], rtol=0, atol=1e-6)
+    with pytest.raises(ValueError, match=r"table `sd`: 0 is not a finite number > 0"):
+        v["sd"] = np.zeros(7)
+
+
+def test_propose_and_learn_refuse_what_does_not_fit():
+    l = e3d.Learner("two_rooms", "count")
+    with pytest.raises(ValueError, match=r"effect 18: expected an effect in \[0, 18\)"):
+        l.learn([0] * 7, 18, 0.0)
+    with pytest.raises(ValueError, match=r"command: expected one symbol index per slot, within the alphabet sizes \[4, 4, 4, 4, 4, 4, 4\]"):
+        l.learn([0] * 6, 0, 0.0)
+    with pytest.raises(ValueError, match=r"command: expected one symbol index per slot"):
+        l.learn([4] * 7, 0, 0.0)
+    with pytest.raises(ValueError, match=r"seed = -1"):
+        e3d.SessionRng(-1)
+
+
+CONTEXTS = "scenes/two_rooms_contexts.ron"  # two start contexts, no reward
+
+
+def _episodes_of(root, closed_loop):
+    """The scene and commands per episode of a test: two start contexts, or
+    for the closed loop two_rooms' reward, 2 commands per episode."""
+    return (root / CONTEXTS, 1) if not closed_loop else ("two_rooms", 2)
+
+
+def _contextual(root, kind, closed_loop):
+    scene, k = _episodes_of(root, closed_loop)
+    return e3d.Learner.contextual(scene, kind, commands=k, closed_loop=closed_loop, epsilon=0.2)
+
+
+@pytest.mark.parametrize("kind,closed_loop,name", [
+    ("e3d", False, "e3d"), ("count", False, "count"), ("smm", False, "smm"),
+    ("e3d", True, "e3d_closed_loop"), ("egreedy", True, "qlearning")])
+def test_contextual_states_save_load_and_continue(root, kind, closed_loop, name):
+    scene, k = _episodes_of(root, closed_loop)
+    l = _contextual(root, kind, closed_loop)
+    assert l.name == name
+    # from a fresh state: the numbers of the built-in learner
+    first = e3d.run_episodes(scene, episodes=300, commands=k, seed=1, learner=l,
+                             closed_loop=closed_loop, epsilon=0.2)
+    ref = e3d.run_episodes(scene, episodes=300, commands=k, seed=1, learner=kind,
+                           closed_loop=closed_loop, epsilon=0.2)
+    assert first.learner == ref.learner == name
+    assert first.commands.tolist() == ref.commands.tolist() and first.effects.tolist() == ref.effects.tolist()
+    if closed_loop:
+        assert first.cumulative_reward > 0  # something to learn from
+    saved = l.to_bytes()
+    back, unpickled = e3d.Learner.from_bytes(saved), pickle.loads(pickle.dumps(l))
+    assert back == l == unpickled
+    runs = [e3d.run_episodes(scene, episodes=200, commands=k, seed=2, learner=x,
+                             closed_loop=closed_loop) for x in (l, back, unpickled)]
+    assert runs[0].commands.tolist() == runs[1].commands.tolist() == runs[2].commands.tolist()
+    assert runs[0].effects.tolist() == runs[1].effects.tolist() == runs[2].effects.tolist()
+    assert l.to_bytes() == back.to_bytes() == unpickled.to_bytes() != saved
+    # going on is not starting afresh
+    fresh = e3d.run_episodes(scene, episodes=200, commands=k, seed=2, learner=kind,
+                             closed_loop=closed_loop, epsilon=0.2)
+    assert fresh.commands.tolist() != runs[0].commands.tolist()
+
+
+def test_a_hand_loop_of_episodes_is_run_episodes_bit_for_bit():
+    # closed-loop E3D on two_rooms, 2 commands per episode, the cell
+    # observed; one start (no draw for it), then each command from the last
+    l = e3d.Learner.contextual("two_rooms", "e3d", commands=2, closed_loop=True)
+    session = e3d.Learner.from_bytes(l.to_bytes())
+    ew = e3d.EpisodeWorld("two_rooms", commands=2, closed_loop=True)
+    assert ew.num_starts == 1
+    rng = e3d.SessionRng(4)
+    commands, effects, rewards = [], [], []
+    for _ in range(400):
+        context = ew.reset(start=0)
+        done = False
+        while not done:
+            c = l.propose(context, rng)
+            nxt, o, done = ew.step(c)
+            l.learn(context, c, o.effect, o.reward, None if done else nxt)
+            commands.append(c)
+            effects.append(o.effect)
+            rewards.append(o.reward)
+            context = nxt
+    rec = e3d.run_episodes("two_rooms", episodes=400, commands=2, seed=4, learner=session,
+                           closed_loop=True)
+    assert np.array(commands).tolist() == rec.commands.tolist()
+    assert effects == rec.effects.tolist() and rewards == rec.rewards.tolist()
+    assert sum(rewards) > 0
+    assert l.to_bytes() == session.to_bytes()
+
+
+def test_contextual_tables_and_misfits(root):
+    l = e3d.Learner.contextual(root / CONTEXTS, "e3d", commands=2, closed_loop=True)
+    assert l.keys() == ["q", "policy", "p", "target", "reference"]
+    assert l["q"].shape == (18, 7, 4) and l["p"].shape == (18, 18) and l["reference"].shape == (18, 4 ** 7)
+    t = np.ones((18, 18))
+    t[3] = 0.0
+    t[3, 5] = 1.0
+    l["target"] = t  # p*(e|s): one row per context
+    assert l["target"][3, 5] == 1.0 and abs(l["target"][0, 0] - 1 / 18) < 1e-15
+    with pytest.raises(ValueError, match=r"learner\['target'\]: context 2: table `target`: "):
+        bad = np.ones((18, 18))
+        bad[2] = -1.0
+        l["target"] = bad
+    assert abs(l["target"][2, 0] - 1 / 18) < 1e-15  # all or nothing
+    q = e3d.Learner.contextual(root / CONTEXTS, "egreedy", commands=2, closed_loop=True)
+    assert q.keys() == ["q"] and q["q"].shape == (18, 4 ** 7)
+    open_loop = e3d.Learner.contextual(root / CONTEXTS, "count")  # one command: the start context observed
+    assert open_loop["counts"].shape == (2, 18)
+    with pytest.raises(ValueError, match=r"learner: scene `two_rooms_contexts`: the learner has 2 contexts, the run 18 contexts"):
+        e3d.run_episodes(root / CONTEXTS, episodes=5, commands=2, seed=1, learner=open_loop)
+    with pytest.raises(ValueError, match=r"the learner has 2 contexts, the run no contexts"):
+        e3d.run_session(root / CONTEXTS, learner=open_loop, trials=5)
+    with pytest.raises(ValueError, match=r"an e3d.Learner runs one seed"):
+        e3d.run_episodes(root / CONTEXTS, episodes=5, seeds=[1, 2], learner=open_loop)
+    with pytest.raises(ValueError, match=r"learner `count`: the closed loop takes e3d"):
+        e3d.Learner.contextual(root / CONTEXTS, "count", closed_loop=True)
+    with pytest.raises(TypeError, match=r"propose\(context, rng\)"):
+        open_loop.propose(e3d.SessionRng(1))
+    with pytest.raises(ValueError, match=r"context 2: expected a context in \[0, 2\)"):
+        open_loop.learn(2, [0] * 7, 0, 0.0)

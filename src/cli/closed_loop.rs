@@ -1,12 +1,14 @@
 //! `e3d closed-loop`: closed-loop E3D against open-loop E3D, Q-learning and
 //! the uniform policy on equal budgets of moves
-//! ([`e3d::report::closed_loop`]).
+//! ([`e3d::experiment::closed_loop`], its table
+//! [`e3d::report::closed_loop::markdown`]).
 
 use super::output::{prepare_out, write_file};
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
-use e3d::report::closed_loop::{markdown, run_comparison, ClosedLoopConfig};
+use e3d::experiment::closed_loop::{run_comparison, ClosedLoopConfig};
+use e3d::report::closed_loop::markdown;
 use e3d::Params;
 use std::path::PathBuf;
 

@@ -7,7 +7,8 @@ use super::sweep::sweep_error;
 use super::CliResult;
 use crate::cli::console::{errln, outln};
 use clap::Args;
-use e3d::report::drives::{drives_sweep, with_reachable_cells, DriveComparison};
+use e3d::experiment::drives::{drives_sweep, with_reachable_cells};
+use e3d::report::drives::DriveComparison;
 use std::path::PathBuf;
 use std::time::Instant;
 

@@ -4,7 +4,8 @@ use super::output::{prepare_out, write_file};
 use super::{CliError, CliResult};
 use crate::cli::console::outln;
 use clap::Args;
-use e3d::report::sweep_plot::{plot, PlotSpec, Summary};
+use e3d::csv::Summary;
+use e3d::report::sweep_plot::{plot, PlotSpec};
 use std::path::PathBuf;
 
 /// Arguments of `e3d plot`.
@@ -53,16 +54,12 @@ pub fn run(a: PlotArgs) -> CliResult {
         .collect::<Result<Vec<_>, _>>()?;
     let path = a.dir.join(e3d::sweep::SUMMARY);
     // a regular file of bounded size: a FIFO or a link to /dev/zero is refused
-    let text = e3d::text::read_own_file(
-        &path,
-        e3d::report::sweep_plot::MAX_SUMMARY_CSV_BYTES,
-        "summary.csv",
-    )
-    .map_err(|e| {
-        CliError::input(format!(
-            "{e}; expected the --out folder of a finished `e3d sweep` or `e3d merge`"
-        ))
-    })?;
+    let text = e3d::text::read_own_file(&path, e3d::csv::MAX_SUMMARY_CSV_BYTES, "summary.csv")
+        .map_err(|e| {
+            CliError::input(format!(
+                "{e}; expected the --out folder of a finished `e3d sweep` or `e3d merge`"
+            ))
+        })?;
     let summary =
         Summary::parse(&text).map_err(|e| CliError::input(format!("{}/{e}", a.dir.display())))?;
     let svg = plot(

@@ -4,10 +4,9 @@ use super::output::write_file;
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
-use e3d::report::html::{parse_trials, run_page_with_note, sweep_page, MAX_TRIALS_CSV_BYTES};
+use e3d::csv::{failures, parse_trials, Summary, MAX_SUMMARY_CSV_BYTES, MAX_TRIALS_CSV_BYTES};
+use e3d::report::html::{run_page_with_note, sweep_page};
 use e3d::report::run_scene::{SceneRecord, MAX_SUMMARY_JSON_BYTES};
-use e3d::report::sweep_plot::Summary;
-use e3d::report::sweep_plot::MAX_SUMMARY_CSV_BYTES;
 use e3d::sweep::MAX_RESULTS_BYTES;
 use e3d::sweep::{RESULTS, SUMMARY, SWEEP_COPY};
 use std::path::{Path, PathBuf};
@@ -154,14 +153,7 @@ fn sweep_report(dir: &Path) -> Result<String, CliError> {
         )));
     }
     let failures: Vec<String> = read(dir, RESULTS, MAX_RESULTS_BYTES)
-        .map(|text| {
-            text.lines()
-                .skip(1)
-                .filter_map(|l| l.rsplit(',').next())
-                .filter(|f| !f.trim().is_empty())
-                .map(str::to_string)
-                .collect()
-        })
+        .map(|text| failures(&text))
         .unwrap_or_default();
     let ron = read(dir, SWEEP_COPY, e3d::scene::MAX_FILE_BYTES).unwrap_or_default();
     let name = e3d::sweep::SweepSpec::parse(&ron, SWEEP_COPY)

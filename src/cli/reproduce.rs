@@ -4,7 +4,7 @@ use super::output::{prepare_out, write_file};
 use super::{CliError, CliResult};
 use crate::cli::console::outln;
 use clap::Args;
-use e3d::report::paper::{run_paper, PaperConfig, ARMS};
+use e3d::experiment::paper::{run_paper, PaperConfig, ARMS};
 use std::path::PathBuf;
 use std::time::Instant;
 

@@ -3,7 +3,9 @@
 //! arXiv 1901.10995): one command per reached cell; pick a cell, mutate
 //! its command, execute it.
 
-use super::mutation::{Genome, SymbolGenome, ValueGenome};
+use super::mutation::{Genome, Slots, SymbolGenome, ValueGenome};
+use super::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
+use super::LearnerError;
 use super::{ContinuousLearner, Learner, Params};
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::rng::SessionRng;
@@ -289,4 +291,92 @@ pub(crate) fn spread(xs: impl Iterator<Item = f64>, range: (f64, f64)) -> (f64, 
     }
     let mean = sum / n;
     (mean, (sq / n - mean * mean).max(0.0).sqrt())
+}
+
+impl<T: StateField> StateField for Entry<T> {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.command).put(&self.reward);
+        w.put(&self.chosen).put(&self.weight);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(Entry {
+            command: r.get()?,
+            reward: r.get()?,
+            chosen: r.get()?,
+            weight: r.get()?,
+        })
+    }
+}
+
+/// The genome, every cell's entry, the order they were reached in, the
+/// rarity and the last cell chosen.
+impl<G: Genome + StateField + Slots> StateField for Core<G>
+where
+    G::Elem: StateField,
+{
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.genome).put(&self.cells).put(&self.reached);
+        w.put(&self.rarity).put(&self.last_cell);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let c = Core {
+            genome: G::get(r)?,
+            cells: r.get()?,
+            reached: r.get()?,
+            rarity: r.get()?,
+            last_cell: r.get()?,
+        };
+        let n = c.genome.slots();
+        r.check(!c.cells.is_empty(), || "no cell".into())?;
+        let kept = c.cells.iter().flatten().all(|e| e.command.len() == n);
+        let reached = c
+            .reached
+            .iter()
+            .all(|&e| c.cells.get(e).is_some_and(Option::is_some))
+            && c.reached.len() == c.cells.iter().flatten().count()
+            && c.last_cell
+                .is_none_or(|e| c.cells.get(e).is_some_and(Option::is_some));
+        r.check(kept && reached, || {
+            format!(
+                "an archive whose commands or reached cells do not fit {} cells of {n} slots",
+                c.cells.len()
+            )
+        })?;
+        Ok(c)
+    }
+}
+
+impl StateField for Archive {
+    fn put(&self, w: &mut StateWriter) {
+        self.core.put(w)
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(Archive { core: r.get()? })
+    }
+}
+
+impl LearnerState for Archive {
+    const KIND: &'static str = "archive";
+    fn shape(&self) -> StateShape {
+        StateShape::of(self.core.genome.sizes.clone(), Some(self.core.cells.len()))
+    }
+}
+
+impl StateField for ArchiveValues {
+    fn put(&self, w: &mut StateWriter) {
+        self.core.put(w)
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(ArchiveValues { core: r.get()? })
+    }
+}
+
+impl LearnerState for ArchiveValues {
+    const KIND: &'static str = "archive_values";
+    fn shape(&self) -> StateShape {
+        StateShape::of(
+            vec![0; self.core.genome.slots()],
+            Some(self.core.cells.len()),
+        )
+    }
 }

@@ -1,4 +1,5 @@
 use super::softmax::SoftmaxSlots;
+use super::state::tables::{counts_of, no_table, StateTable};
 use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
@@ -106,5 +107,20 @@ impl LearnerState for CountBonus {
     const KIND: &'static str = "count";
     fn shape(&self) -> StateShape {
         StateShape::of(sizes_of(&self.slots.offsets), Some(self.counts.len()))
+    }
+    /// `q`, `policy` and `counts` (`N(e)`, integers), all writable.
+    fn tables(&self) -> Vec<StateTable> {
+        let mut t = self.slots.tables();
+        let counts = self.counts.iter().map(|&n| n as f64).collect();
+        t.push(StateTable::vector("counts", true, counts));
+        t
+    }
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        match name {
+            "counts" => self.counts = counts_of(values, self.counts.len())?,
+            _ if self.slots.set_table(name, values)? => {}
+            _ => return Err(no_table(Self::KIND, name, &self.tables())),
+        }
+        Ok(())
     }
 }

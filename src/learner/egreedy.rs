@@ -1,4 +1,5 @@
 use super::softmax::check_offsets;
+use super::state::tables::{no_table, slot_rows, StateTable};
 use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{slot_offsets, Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
@@ -115,5 +116,27 @@ impl LearnerState for EpsilonGreedy {
     const KIND: &'static str = "egreedy";
     fn shape(&self) -> StateShape {
         StateShape::of(sizes_of(&self.offsets), None)
+    }
+    /// `q` (writable) and the `policy` it implies (read-only: the
+    /// probability of each symbol, epsilon spread over the slot).
+    fn tables(&self) -> Vec<StateTable> {
+        let sizes = sizes_of(&self.offsets);
+        vec![
+            StateTable::slots("q", true, &sizes, |s| self.q(s).to_vec()),
+            StateTable::slots("policy", false, &sizes, |s| {
+                self.slot_policy(s).unwrap_or_default()
+            }),
+        ]
+    }
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        if name != "q" {
+            return Err(no_table(Self::KIND, name, &self.tables()));
+        }
+        let rows: Vec<Vec<f64>> = slot_rows(name, values, &sizes_of(&self.offsets), false)?
+            .into_iter()
+            .map(<[f64]>::to_vec)
+            .collect();
+        self.q = rows.concat();
+        Ok(())
     }
 }

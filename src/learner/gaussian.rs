@@ -1,5 +1,6 @@
 //! Learners of continuous commands: a Gaussian E3D and the uniform sampler.
 
+use super::state::tables::{check_len, log_target_of, model_of, no_table, target_of, StateTable};
 use super::state::{check_target, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{ContinuousLearner, LearnerError, Params};
 use crate::command::ValueSpace;
@@ -279,6 +280,56 @@ impl LearnerState for GaussianE3d {
             vec![0; self.space.num_slots()],
             Some(self.model.num_effects()),
         )
+    }
+    /// The policy's `mean` and standard deviation `sd` per slot (in the
+    /// slot's unit coordinates, `[-1, 1]` mapped onto its range, as the
+    /// policy draws them), `p` and `target`, writable; the drive's running `baseline` (shape `()`),
+    /// read-only.
+    fn tables(&self) -> Vec<StateTable> {
+        let sd = self.log_sd.iter().map(|v| v.exp()).collect();
+        vec![
+            StateTable::vector("mean", true, self.mean.clone()),
+            StateTable::vector("sd", true, sd),
+            StateTable::vector("p", true, self.model.probs()),
+            StateTable::vector("target", true, target_of(&self.log_target)),
+            StateTable {
+                name: "baseline",
+                shape: vec![],
+                values: vec![self.baseline],
+                writable: false,
+            },
+        ]
+    }
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        let n = self.space.num_slots();
+        match name {
+            "mean" | "sd" => {
+                check_len(name, values, n)?;
+                let positive = name == "sd";
+                if let Some(v) = values
+                    .iter()
+                    .find(|v| !v.is_finite() || (positive && **v <= 0.0))
+                {
+                    let expected = if positive {
+                        "a finite number > 0"
+                    } else {
+                        "a finite number"
+                    };
+                    return Err(LearnerError::State(format!(
+                        "table `{name}`: {v} is not {expected}"
+                    )));
+                }
+                if positive {
+                    self.log_sd = values.iter().map(|v| v.ln()).collect();
+                } else {
+                    self.mean = values.to_vec();
+                }
+            }
+            "p" => self.model = model_of(values, &self.model)?,
+            "target" => self.log_target = log_target_of(values, self.model.num_effects())?,
+            _ => return Err(no_table(Self::KIND, name, &self.tables())),
+        }
+        Ok(())
     }
 }
 

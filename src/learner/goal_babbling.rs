@@ -5,7 +5,9 @@
 //! is nearest to it, mutate it, execute it, remember what it reached.
 
 use super::archive::spread;
-use super::mutation::{Genome, SymbolGenome, ValueGenome};
+use super::mutation::{Genome, Slots, SymbolGenome, ValueGenome};
+use super::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
+use super::LearnerError;
 use super::{ContinuousLearner, Learner, Params};
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::rng::SessionRng;
@@ -377,6 +379,97 @@ impl ContinuousLearner for GoalBabblingValues {
                 .iter()
                 .filter_map(|&e| self.core.cells[e].as_ref().map(|k| k.command[slot])),
             self.core.genome.space.range(slot),
+        )
+    }
+}
+
+impl<T: StateField> StateField for Known<T> {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.point).put(&self.command);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(Known {
+            point: r.get()?,
+            command: r.get()?,
+        })
+    }
+}
+
+/// The genome, every known cell, the goal box, the regions'
+/// competences and what the last proposal chose.
+impl<G: Genome + StateField + Slots> StateField for Core<G>
+where
+    G::Elem: StateField,
+{
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.genome).put(&self.cells).put(&self.known);
+        w.put(&self.lo).put(&self.hi).put(&self.goal_progress);
+        w.put(&self.competence).put(&self.last_goal);
+        w.put(&self.last_region).put(&self.last_parent);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let c = Core {
+            genome: G::get(r)?,
+            cells: r.get()?,
+            known: r.get()?,
+            lo: r.get()?,
+            hi: r.get()?,
+            goal_progress: r.get()?,
+            competence: r.get()?,
+            last_goal: r.get()?,
+            last_region: r.get()?,
+            last_parent: r.get()?,
+        };
+        let n = c.genome.slots();
+        let known = |e: &usize| c.cells.get(*e).is_some_and(Option::is_some);
+        let fits = !c.cells.is_empty()
+            && c.cells.iter().flatten().all(|k| k.command.len() == n)
+            && c.known.iter().all(known)
+            && c.known.len() == c.cells.iter().flatten().count()
+            && c.last_parent.as_ref().is_none_or(known)
+            && c.competence.len() == PROGRESS_BINS * PROGRESS_BINS
+            && c.last_region < c.competence.len();
+        r.check(fits, || {
+            format!(
+                "goal babbling whose cells, commands or regions do not fit {} cells of {n} slots",
+                c.cells.len()
+            )
+        })?;
+        Ok(c)
+    }
+}
+
+impl StateField for GoalBabbling {
+    fn put(&self, w: &mut StateWriter) {
+        self.core.put(w)
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(GoalBabbling { core: r.get()? })
+    }
+}
+
+impl LearnerState for GoalBabbling {
+    const KIND: &'static str = "goal_babbling";
+    fn shape(&self) -> StateShape {
+        StateShape::of(self.core.genome.sizes.clone(), Some(self.core.cells.len()))
+    }
+}
+
+impl StateField for GoalBabblingValues {
+    fn put(&self, w: &mut StateWriter) {
+        self.core.put(w)
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(GoalBabblingValues { core: r.get()? })
+    }
+}
+
+impl LearnerState for GoalBabblingValues {
+    const KIND: &'static str = "goal_babbling_values";
+    fn shape(&self) -> StateShape {
+        StateShape::of(
+            vec![0; self.core.genome.slots()],
+            Some(self.core.cells.len()),
         )
     }
 }

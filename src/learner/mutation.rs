@@ -10,6 +10,8 @@
 //!   clamps to the range.
 
 use super::gaussian::normal;
+use super::state::{StateField, StateReader, StateWriter};
+use super::LearnerError;
 use crate::command::ValueSpace;
 use crate::rng::SessionRng;
 use rand::RngExt;
@@ -155,5 +157,49 @@ impl Genome for ValueGenome {
     }
     fn mutate(&mut self, rng: &mut SessionRng, cmd: &mut [f64]) {
         mutate_values(&self.space, self.sigma, rng, cmd)
+    }
+}
+
+impl StateField for SymbolGenome {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.sizes).put(&self.k);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let (sizes, k): (Vec<usize>, usize) = (r.get()?, r.get()?);
+        r.check(
+            !sizes.is_empty() && sizes.iter().all(|&n| (1..=256).contains(&n)),
+            || format!("slots of alphabet sizes {sizes:?}"),
+        )?;
+        Ok(SymbolGenome::new(sizes, k))
+    }
+}
+
+impl StateField for ValueGenome {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.space).put(&self.sigma);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(ValueGenome {
+            space: r.get()?,
+            sigma: r.get()?,
+        })
+    }
+}
+
+/// The number of slots of a genome's commands, to check kept commands
+/// read from a state.
+pub(crate) trait Slots {
+    fn slots(&self) -> usize;
+}
+
+impl Slots for SymbolGenome {
+    fn slots(&self) -> usize {
+        self.sizes.len()
+    }
+}
+
+impl Slots for ValueGenome {
+    fn slots(&self) -> usize {
+        self.space.num_slots()
     }
 }

@@ -1,4 +1,5 @@
 use super::softmax::SoftmaxSlots;
+use super::state::tables::{log_target_of, model_of, no_table, target_of, StateTable};
 use super::state::{
     check_target, sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter,
 };
@@ -156,5 +157,25 @@ impl LearnerState for RelaxedE3d {
             sizes_of(&self.slots.offsets),
             Some(self.model.num_effects()),
         )
+    }
+    /// `q`, `policy`, `p` and `target`, all writable.
+    fn tables(&self) -> Vec<StateTable> {
+        let mut t = self.slots.tables();
+        t.push(StateTable::vector("p", true, self.model.probs()));
+        t.push(StateTable::vector(
+            "target",
+            true,
+            target_of(&self.log_target),
+        ));
+        t
+    }
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        match name {
+            "p" => self.model = model_of(values, &self.model)?,
+            "target" => self.log_target = log_target_of(values, self.model.num_effects())?,
+            _ if self.slots.set_table(name, values)? => {}
+            _ => return Err(no_table(Self::KIND, name, &self.tables())),
+        }
+        Ok(())
     }
 }

@@ -1,4 +1,5 @@
 use super::softmax::SoftmaxSlots;
+use super::state::tables::{log_target_of, no_table, target_of, StateTable};
 use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
 use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
@@ -165,5 +166,27 @@ impl LearnerState for StateMarginalMatching {
     const KIND: &'static str = "smm";
     fn shape(&self) -> StateShape {
         StateShape::of(sizes_of(&self.slots.offsets), Some(self.counts.len()))
+    }
+    /// `q` and `policy` (of the current policy) and `target`, writable;
+    /// `counts` (the effects' visits, which the kept copies' schedule
+    /// follows) read-only.
+    fn tables(&self) -> Vec<StateTable> {
+        let mut t = self.slots.tables();
+        let counts = self.counts.iter().map(|&n| n as f64).collect();
+        t.push(StateTable::vector("counts", false, counts));
+        t.push(StateTable::vector(
+            "target",
+            true,
+            target_of(&self.log_target),
+        ));
+        t
+    }
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        match name {
+            "target" => self.log_target = log_target_of(values, self.counts.len())?,
+            _ if self.slots.set_table(name, values)? => {}
+            _ => return Err(no_table(Self::KIND, name, &self.tables())),
+        }
+        Ok(())
     }
 }

@@ -7,7 +7,8 @@
 //! for comparing drives, and cost about half a microsecond a trial on 7
 //! slots of 4 symbols (E3D: 0.13 µs). [`E3d`](super::E3d) keeps its own, incremental tables.
 
-use super::state::{StateField, StateReader, StateWriter};
+use super::state::tables::{q_of_policy, slot_rows, StateTable};
+use super::state::{sizes_of, StateField, StateReader, StateWriter};
 use super::{slot_offsets, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
@@ -93,6 +94,40 @@ impl SoftmaxSlots {
             let q = &mut self.q[self.offsets[slot] + a as usize];
             *q = self.decay * *q + gain;
         }
+    }
+}
+
+impl SoftmaxSlots {
+    /// The tables `q` and `policy` (both writable).
+    pub fn tables(&self) -> Vec<StateTable> {
+        let sizes = sizes_of(&self.offsets);
+        vec![
+            StateTable::slots("q", true, &sizes, |s| self.slot(s).to_vec()),
+            StateTable::slots("policy", true, &sizes, |s| {
+                Self::probs_of(self.beta, self.slot(s))
+            }),
+        ]
+    }
+
+    /// Writes the table `q` or `policy` (Q becomes `log(policy) / beta`);
+    /// `Ok(false)` if `name` is neither.
+    pub fn set_table(&mut self, name: &str, values: &[f64]) -> Result<bool, LearnerError> {
+        let sizes = sizes_of(&self.offsets);
+        let rows: Vec<Vec<f64>> = match name {
+            "q" => slot_rows(name, values, &sizes, false)?
+                .into_iter()
+                .map(<[f64]>::to_vec)
+                .collect(),
+            "policy" => slot_rows(name, values, &sizes, true)?
+                .into_iter()
+                .map(|r| q_of_policy(r, self.beta))
+                .collect(),
+            _ => return Ok(false),
+        };
+        for (s, r) in rows.iter().enumerate() {
+            self.q[self.offsets[s]..self.offsets[s + 1]].copy_from_slice(r);
+        }
+        Ok(true)
     }
 }
 

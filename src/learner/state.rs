@@ -40,6 +40,9 @@
 use super::LearnerError;
 use crate::command::{CommandSpace, ValueSpace};
 use crate::effect::EffectModel;
+use tables::{no_table, StateTable};
+
+pub mod tables;
 
 /// The first bytes of every learner's saved state (the format's version
 /// is the number).
@@ -132,6 +135,22 @@ pub trait LearnerState: StateField {
     /// What the learner was made for: check it before running a loaded
     /// learner on a scene ([`StateShape::fits`]).
     fn shape(&self) -> StateShape;
+
+    /// The learner's tables by name (Q, the policy, the effect model,
+    /// the target, counts, ... as the learner has them; see
+    /// [`tables`](mod@tables) for their shapes): none by default.
+    fn tables(&self) -> Vec<StateTable> {
+        Vec::new()
+    }
+
+    /// Replaces the table `name` by `values` (row-major, of the shape
+    /// [`tables`](Self::tables) gives it), checked: an error says what is
+    /// wrong and leaves the learner unchanged. By default no table can be
+    /// written.
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        let _ = values;
+        Err(no_table(Self::KIND, name, &self.tables()))
+    }
 
     /// The learner's whole state as bytes.
     fn to_bytes(&self) -> Vec<u8> {
@@ -236,6 +255,22 @@ pub fn state_kind(bytes: &[u8]) -> Result<String, LearnerError> {
         .map_err(|_| LearnerError::State("a learner's state cut before its kind".into()))
 }
 
+/// The kind of the learners of a `per_context` state (`"e3d"`,
+/// `"count"`, ...: the kind written after `"per_context"`), or why
+/// `bytes` are not such a state.
+pub fn per_context_kind(bytes: &[u8]) -> Result<String, LearnerError> {
+    let rest = bytes.strip_prefix(STATE_HEADER).ok_or_else(no_header)?;
+    let mut r = StateReader {
+        rest,
+        kind: "per_context",
+    };
+    let kind: String = r.get()?;
+    r.check(kind == "per_context", || {
+        format!("the bytes hold the state of a `{kind}` learner")
+    })?;
+    r.get()
+}
+
 impl StateField for f64 {
     fn put(&self, w: &mut StateWriter) {
         w.bytes(&self.to_bits().to_le_bytes());
@@ -298,7 +333,58 @@ impl<T: StateField> StateField for Vec<T> {
         }
     }
     fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let n = r.len(4)?;
+        let n = r.len(1)?;
+        (0..n).map(|_| T::get(r)).collect()
+    }
+}
+
+impl StateField for u8 {
+    fn put(&self, w: &mut StateWriter) {
+        w.bytes(&[*self]);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok(r.take(1)?[0])
+    }
+}
+
+/// `None` is the byte 0; `Some(v)` the byte 1, then `v`.
+impl<T: StateField> StateField for Option<T> {
+    fn put(&self, w: &mut StateWriter) {
+        match self {
+            None => w.bytes(&[0]),
+            Some(v) => {
+                w.bytes(&[1]);
+                v.put(w);
+            }
+        }
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        match r.take(1)?[0] {
+            0 => Ok(None),
+            1 => Ok(Some(T::get(r)?)),
+            b => Err(r.error(&format!("an option tagged {b} (expected 0 or 1)"))),
+        }
+    }
+}
+
+impl StateField for [f64; 2] {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self[0]).put(&self[1]);
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        Ok([r.get()?, r.get()?])
+    }
+}
+
+impl<T: StateField> StateField for std::collections::VecDeque<T> {
+    fn put(&self, w: &mut StateWriter) {
+        w.put(&self.len());
+        for v in self {
+            v.put(w);
+        }
+    }
+    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
+        let n = r.len(1)?;
         (0..n).map(|_| T::get(r)).collect()
     }
 }

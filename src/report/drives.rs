@@ -6,7 +6,8 @@
 //! shows.
 //!
 //! ```
-//! use e3d::report::drives::{drives_sweep, DriveComparison};
+//! use e3d::experiment::drives::drives_sweep;
+//! use e3d::report::drives::DriveComparison;
 //! // a small version of the comparison: two_rooms only, 3 sessions of 500 trials
 //! let sweep = drives_sweep(3, 500, &["two_rooms"]).unwrap();
 //! let results = sweep.run(1).unwrap();
@@ -20,68 +21,13 @@
 //! ```
 
 use super::{describe, median, Stats};
-use crate::sweep::{SessionResult, Sweep, SweepError, SweepSpec, PARAM_NAMES};
-use crate::world::{ExecOptions, Executor, Strategy, Workload, MAX_TABLE_COMMANDS};
+use crate::sweep::{SessionResult, Sweep, PARAM_NAMES};
 use std::fmt::Write;
-
-/// The sweep file of the comparison, as shipped.
-pub const DRIVES_SWEEP: &str = include_str!("../../scenes/sweeps/drives.ron");
 
 /// Task 1 is read at this inverse temperature, task 2 at the other.
 const TASK1_BETA: f64 = 1.0;
 /// Task 2's inverse temperature (the paper's).
 const TASK2_BETA: f64 = 100.0;
-
-/// The comparison's sweep with `sessions` per cell and `trials` per
-/// session, on `scenes` (built-in names; empty: the shipped four).
-pub fn drives_sweep(sessions: usize, trials: usize, scenes: &[&str]) -> Result<Sweep, SweepError> {
-    let mut spec = SweepSpec::parse(DRIVES_SWEEP, "drives.ron (built in)")?;
-    spec.sessions = sessions;
-    spec.trials = trials;
-    if !scenes.is_empty() {
-        spec.scenes = scenes.iter().map(|s| s.to_string()).collect();
-    }
-    Sweep::new(spec)
-}
-
-/// `sweep`, told the reachable cells of each of its scenes
-/// ([`Sweep::with_reachable_effects`]) from the scene's outcome table
-/// (built on the current rayon pool, or read from `cache`, a table
-/// folder), for scenes of at most [`MAX_TABLE_COMMANDS`] commands; the
-/// others keep every cell as the reference of coverage.
-pub fn with_reachable_cells(
-    sweep: Sweep,
-    cache: Option<&std::path::Path>,
-) -> Result<Sweep, SweepError> {
-    let mut reachable = Vec::new();
-    for s in sweep.scenes() {
-        let k = match s.scene() {
-            Some(scene)
-                if scene
-                    .command_space()
-                    .num_commands()
-                    .is_some_and(|n| n <= MAX_TABLE_COMMANDS) =>
-            {
-                let options = ExecOptions {
-                    cache: cache.map(std::path::Path::to_path_buf),
-                    force: Some(Strategy::Table),
-                    ..ExecOptions::default()
-                };
-                let work = Workload {
-                    trials: 1,
-                    sessions: 1,
-                    threads: rayon::current_num_threads(),
-                };
-                let exec = Executor::new(scene, &work, &options)
-                    .map_err(|e| SweepError::Other(format!("scene `{}`: {e}", s.name())))?;
-                exec.table().map(|t| t.reachable_effects())
-            }
-            _ => None,
-        };
-        reachable.push(k);
-    }
-    Ok(sweep.with_reachable_effects(reachable))
-}
 
 /// A panel of the figure: its title, the top of its axis, and the value
 /// and spread of a row.
@@ -137,7 +83,8 @@ pub struct DriveComparison {
     pub trials: usize,
     /// Per scene (in order), its name and the cells coverage counts
     /// against: the reachable ones when the sweep knew them
-    /// ([`with_reachable_cells`]), else all (`false`).
+    /// ([`with_reachable_cells`](crate::experiment::drives::with_reachable_cells)),
+    /// else all (`false`).
     pub coverage_cells: Vec<(String, usize, bool)>,
 }
 

@@ -10,161 +10,8 @@
 //! (feature `plots`) shows its summary as a table and each metric against
 //! each parameter the sweep varies.
 
+use crate::csv::TrialRow;
 use std::fmt::Write;
-
-/// One row of `trials.csv`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TrialRow {
-    /// The command, one character per slot.
-    pub command: String,
-    /// The terminal effect.
-    pub effect: usize,
-    /// The reward received.
-    pub reward: f64,
-    /// The values of a continuous command, one per slot (empty for a
-    /// command of symbols, whose `command` is then empty).
-    pub values: Vec<f64>,
-    /// The start context of the trial's episode, for a run of episodes
-    /// (`e3d run` on a scene with start contexts, or `--commands K`):
-    /// its `start` column; empty otherwise.
-    pub start: String,
-    /// The 1-based command of the trial in its episode (the `command`
-    /// column of a run of episodes); 1 otherwise.
-    pub step: usize,
-}
-
-/// The largest `trials.csv` [`parse_trials`] is given by `e3d report`
-/// (256 MiB, some 8 million trials): the page keeps every trial in memory.
-pub const MAX_TRIALS_CSV_BYTES: u64 = 256 << 20;
-
-/// Reads `trials.csv` (with or without a leading `session` column).
-/// That of a run of episodes (`session,episode,command,context,start,
-/// symbols,effect,reward`) gives the command's symbols from `symbols`,
-/// its place in the episode from `command` and the start context from
-/// `start`.
-///
-/// Every value is checked, and a bad one is refused with
-/// `trials.csv:LINE:COL`, its column and what was expected: an effect is
-/// a whole number below [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS), a
-/// reward and a command's values finite numbers, a command at most
-/// [`MAX_SLOTS`](crate::command::MAX_SLOTS) symbols (or values). Linear
-/// in the length of the text; nothing is sized by a value read.
-pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, String> {
-    use crate::command::MAX_SLOTS;
-    use crate::effect::MAX_EFFECTS;
-    use crate::text::{csv_fields, echo, parse_finite};
-    const FILE: &str = "trials.csv";
-    let mut lines = csv.lines();
-    let header: Vec<String> = csv_fields(lines.next().ok_or("trials.csv is empty")?)
-        .into_iter()
-        .map(|(f, _)| f.trim().to_string())
-        .collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .ok_or(format!("trials.csv has no `{name}` column"))
-    };
-    // a run of continuous commands writes a quoted `values` column
-    let continuous = header.iter().any(|h| h == "values");
-    // a run of episodes: `command` is the command's place in its episode
-    let episodes = header.iter().any(|h| h == "episode");
-    let (step_col, start_col) = if episodes {
-        (Some(col("command")?), Some(col("start")?))
-    } else {
-        (None, None)
-    };
-    let (c, e, r) = (
-        col(if continuous {
-            "values"
-        } else if episodes {
-            "symbols"
-        } else {
-            "command"
-        })?,
-        col("effect")?,
-        col("reward")?,
-    );
-    let mut rows = Vec::new();
-    for (k, line) in lines.enumerate() {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let n = k + 2;
-        let f = csv_fields(line);
-        if f.len() != header.len() {
-            return Err(format!(
-                "{FILE}:{n}:1: {} fields, expected {} ({}): `{}`",
-                f.len(),
-                header.len(),
-                header.join(","),
-                echo(line)
-            ));
-        }
-        let (command, at) = (&f[c].0, f[c].1);
-        let (values, command) = if continuous {
-            let mut values = Vec::new();
-            for v in command.split(',') {
-                if values.len() == MAX_SLOTS {
-                    return Err(format!(
-                        "{FILE}:{n}:{at}: column `values`: expected at most {MAX_SLOTS} values"
-                    ));
-                }
-                values.push(parse_finite(v, FILE, n, at, "values")?);
-            }
-            (values, String::new())
-        } else {
-            if command.chars().nth(MAX_SLOTS).is_some() {
-                return Err(format!(
-                    "{FILE}:{n}:{at}: column `command`: expected at most {MAX_SLOTS} symbols, found `{}`",
-                    echo(command)
-                ));
-            }
-            (Vec::new(), command.to_string())
-        };
-        let effect = f[e]
-            .0
-            .trim()
-            .parse::<usize>()
-            .ok()
-            .filter(|&v| v < MAX_EFFECTS)
-            .ok_or_else(|| {
-                format!(
-                    "{FILE}:{n}:{}: column `effect`: expected a whole number below {MAX_EFFECTS}, found `{}`",
-                    f[e].1,
-                    echo(&f[e].0)
-                )
-            })?;
-        let reward = parse_finite(&f[r].0, FILE, n, f[r].1, "reward")?;
-        let step = match step_col {
-            None => 1,
-            Some(k) => f[k]
-                .0
-                .trim()
-                .parse::<usize>()
-                .ok()
-                .filter(|&v| (1..=crate::sweep::MAX_COMMANDS).contains(&v))
-                .ok_or_else(|| {
-                    format!(
-                        "{FILE}:{n}:{}: column `command`: expected the command's place in its episode, 1 to {}, found `{}`",
-                        f[k].1,
-                        crate::sweep::MAX_COMMANDS,
-                        echo(&f[k].0)
-                    )
-                })?,
-        };
-        let start = start_col.map_or(String::new(), |k| f[k].0.trim().to_string());
-        rows.push(TrialRow {
-            command,
-            values,
-            effect,
-            reward,
-            start,
-            step,
-        });
-    }
-    Ok(rows)
-}
 
 fn esc(s: &str) -> std::borrow::Cow<'_, str> {
     crate::text::xml_escape(s)
@@ -333,6 +180,18 @@ pub fn run_page_with_note(
     body.push_str("<h2>Policy per slot</h2>\n");
     let windows = 50.min(n.max(1));
     let size = n.div_ceil(windows).max(1);
+    value_charts(&mut body, trials, size);
+    symbol_charts(&mut body, trials, size);
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}figure{{display:inline-block;margin:0.5em}}svg{{background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:20em}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n<p>{n} trials</p>\n{body}<h2>summary.json</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
+        esc(summary),
+        t = esc(title)
+    )
+}
+
+/// Per slot of a continuous command: the spread of its values and their
+/// mean magnitude, in windows of `size` trials.
+fn value_charts(body: &mut String, trials: &[TrialRow], size: usize) {
     let value_slots = trials.iter().map(|t| t.values.len()).max().unwrap_or(0);
     for s in 0..value_slots {
         // continuous commands: the spread of each slot's values and their
@@ -349,11 +208,16 @@ pub fn run_page_with_note(
         let sds: Vec<f64> = trials.chunks(size).map(|w| stat(w, &sd)).collect();
         let mags: Vec<f64> = trials.chunks(size).map(|w| stat(w, &magnitude)).collect();
         line_chart(
-            &mut body,
+            body,
             &format!("slot {s}: sd of the values and mean |value|, windows of {size} trials"),
             &[("sd", PALETTE[0], sds), ("mean |value|", PALETTE[1], mags)],
         );
     }
+}
+
+/// Per slot of a command of symbols: the share of each symbol, in windows
+/// of `size` trials.
+fn symbol_charts(body: &mut String, trials: &[TrialRow], size: usize) {
     // each command's symbols once (a command holds at most 64), then per
     // slot one pass over the trials: linear in the trials
     let symbols_of: Vec<Vec<char>> = trials.iter().map(|t| t.command.chars().collect()).collect();
@@ -385,16 +249,11 @@ pub fn run_page_with_note(
             .map(|(k, (a, ys))| (a.as_str(), PALETTE[k % PALETTE.len()], ys))
             .collect();
         line_chart(
-            &mut body,
+            body,
             &format!("slot {s}: share of each symbol, windows of {size} trials"),
             &refs,
         );
     }
-    format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}figure{{display:inline-block;margin:0.5em}}svg{{background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:20em}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n<p>{n} trials</p>\n{body}<h2>summary.json</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
-        esc(summary),
-        t = esc(title)
-    )
 }
 
 /// The heat maps of the first and the last 10% of `effects`.
@@ -481,7 +340,7 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
 ///
 /// ```
 /// use e3d::report::html::sweep_page;
-/// use e3d::report::sweep_plot::Summary;
+/// use e3d::csv::Summary;
 /// let csv = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n\
 ///            g,e3d,false,0.3,1,0.03,0.01,,3,0.9,0.01,0.88,0.92\n\
 ///            g,e3d,false,0.3,10,0.03,0.01,,3,0.8,0.01,0.78,0.82\n";
@@ -492,20 +351,14 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
 #[cfg(feature = "plots")]
 pub fn sweep_page(
     title: &str,
-    summary: &super::sweep_plot::Summary,
+    summary: &crate::csv::Summary,
     sweep_ron: &str,
     failures: &[String],
 ) -> String {
-    use super::sweep_plot::{plot, short, PlotSpec};
-    use crate::sweep::{CELL_COLUMNS, PARAM_NAMES};
+    use crate::sweep::CELL_COLUMNS;
     let rows = &summary.rows;
     let col = |name: &str| summary.columns.iter().position(|c| c == name);
-    let values = |c: usize| {
-        let mut v: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
+    let values = |c: usize| distinct(rows, c);
     // the cell columns that vary are the table's keys; the others are said once
     let (varying, fixed): (Vec<usize>, Vec<usize>) =
         (0..CELL_COLUMNS).partition(|&c| values(c).len() > 1);
@@ -541,8 +394,35 @@ pub fn sweep_page(
             fixed_text.join("; ")
         );
     }
+    summary_table(&mut body, summary, &varying);
+    failures_list(&mut body, failures);
+    plots_against_params(&mut body, summary);
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}table{{border-collapse:collapse;background:#fff}}td,th{{border:1px solid #ddd;padding:2px 6px;font-size:13px}}td.n{{text-align:right;font-variant-numeric:tabular-nums}}figure{{margin:0.5em}}svg{{max-width:100%;height:auto;background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:30em}}.note{{color:#666}}.scroll{{overflow-x:auto}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n{body}<h2>sweep.ron</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
+        esc(sweep_ron),
+        t = esc(title)
+    )
+}
+
+/// The distinct values of column `c` of `rows`, sorted.
+#[cfg(feature = "plots")]
+fn distinct(rows: &[Vec<String>], c: usize) -> Vec<&str> {
+    let mut v: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+/// The summary as a table: the cell columns that vary, the sessions (and
+/// failures), each metric's mean ± sd (its interval in the tooltip).
+#[cfg(feature = "plots")]
+fn summary_table(body: &mut String, summary: &crate::csv::Summary, varying: &[usize]) {
+    use super::sweep_plot::short;
+    let rows = &summary.rows;
+    let col = |name: &str| summary.col(name);
+    let metrics = summary.metrics();
     body.push_str("<h2>Summary</h2>\n<div class=\"scroll\">\n<table class=\"summary\">\n<tr>");
-    for &c in &varying {
+    for &c in varying {
         let _ = write!(body, "<th>{}</th>", esc(&summary.columns[c]));
     }
     body.push_str("<th>sessions</th>");
@@ -556,7 +436,7 @@ pub fn sweep_page(
     let num = |s: &str| s.parse::<f64>().ok();
     for r in rows {
         body.push_str("<tr>");
-        for &c in &varying {
+        for &c in varying {
             let _ = write!(body, "<td>{}</td>", esc(&r[c]));
         }
         for name in ["sessions", "failed"] {
@@ -581,20 +461,25 @@ pub fn sweep_page(
                 Some(v) => {
                     let sd_text = num(sd).map_or(String::new(), |s| format!(" ± {}", short(s)));
                     let _ = write!(
-                        body,
-                        "<td class=\"n\" title=\"mean {}, sd {}, 95% interval [{}, {}]\">{}{sd_text}</td>",
-                        esc(mean),
-                        esc(sd),
-                        esc(lo),
-                        esc(hi),
-                        short(v)
-                    );
+                    body,
+                    "<td class=\"n\" title=\"mean {}, sd {}, 95% interval [{}, {}]\">{}{sd_text}</td>",
+                    esc(mean),
+                    esc(sd),
+                    esc(lo),
+                    esc(hi),
+                    short(v)
+                );
                 }
             }
         }
         body.push_str("</tr>\n");
     }
     body.push_str("</table>\n</div>\n");
+}
+
+/// The first 20 failure messages, and how many more there are.
+#[cfg(feature = "plots")]
+fn failures_list(body: &mut String, failures: &[String]) {
     if !failures.is_empty() {
         let _ = writeln!(
             body,
@@ -609,6 +494,19 @@ pub fn sweep_page(
         }
         body.push_str("</ul>\n");
     }
+}
+
+/// Each metric against each parameter that takes two values or more, as
+/// a line plot, or a note saying why it is not drawn.
+#[cfg(feature = "plots")]
+fn plots_against_params(body: &mut String, summary: &crate::csv::Summary) {
+    use super::sweep_plot::{plot, PlotSpec};
+    use crate::sweep::PARAM_NAMES;
+    let rows = &summary.rows;
+    let col = |name: &str| summary.col(name);
+    let values = |c: usize| distinct(rows, c);
+    let num = |s: &str| s.parse::<f64>().ok();
+    let metrics = summary.metrics();
     for param in PARAM_NAMES {
         let Some(c) = col(param) else { continue };
         if values(c).iter().filter(|v| !v.is_empty()).count() < 2 {
@@ -629,10 +527,10 @@ pub fn sweep_page(
                 .any(|r| !r[c].is_empty() && mean.is_some_and(|k| num(&r[k]).is_some()));
             if !drawable {
                 let _ = writeln!(
-                    body,
-                    "<p class=\"note\">not drawn: no cell with a value of {param} has a value of {}</p>",
-                    esc(m)
-                );
+                body,
+                "<p class=\"note\">not drawn: no cell with a value of {param} has a value of {}</p>",
+                esc(m)
+            );
                 continue;
             }
             match plot(summary, &spec) {
@@ -645,9 +543,4 @@ pub fn sweep_page(
             }
         }
     }
-    format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}table{{border-collapse:collapse;background:#fff}}td,th{{border:1px solid #ddd;padding:2px 6px;font-size:13px}}td.n{{text-align:right;font-variant-numeric:tabular-nums}}figure{{margin:0.5em}}svg{{max-width:100%;height:auto;background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:30em}}.note{{color:#666}}.scroll{{overflow-x:auto}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n{body}<h2>sweep.ron</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
-        esc(sweep_ron),
-        t = esc(title)
-    )
 }

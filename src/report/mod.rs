@@ -1,14 +1,25 @@
-//! Reports: the paper's experiment, the figures and tables drawn from it,
-//! pictures of scenes and the plots of sweeps.
+//! Reports: what the experiments and runs produced, drawn. Nothing here
+//! runs a session: the experiments behind `e3d reproduce`, `e3d compare`
+//! and `e3d closed-loop` run in [`experiment`](crate::experiment), and the
+//! CSV files of runs and sweeps are read back by [`csv`](crate::csv).
 //!
-//! - [`paper`]: Figures 2 and 3 of Daucé (2020) on `two_rooms`, run as
-//!   sessions and summarised (what `e3d reproduce` prints and draws);
+//! - [`paper`]: the tables and Figures 2 and 3 of Daucé (2020) on
+//!   `two_rooms`, from [`experiment::paper`](crate::experiment::paper)
+//!   (what `e3d reproduce` prints and draws);
+//! - [`drives`]: every drive on the canonical scenes, as a table and a
+//!   figure, from the sweep of
+//!   [`experiment::drives`](crate::experiment::drives) (what `e3d compare`
+//!   writes);
+//! - [`closed_loop`]: the table of
+//!   [`experiment::closed_loop`](crate::experiment::closed_loop) (what
+//!   `e3d closed-loop` prints);
+//! - [`html`]: the HTML page of a run folder or a sweep folder (`e3d
+//!   report`);
 //! - [`scene_svg`]: pictures of scenes, with a command's path;
 //! - [`motion_svg`]: a command's rollout as an animated SVG or HTML page;
 //! - [`run_scene`]: what a run folder records about its scene (its grid);
 //! - [`sweep_plot`]: line plots and heat maps of a sweep's summary;
-//! - [`drives`]: every drive on the canonical scenes, as a table and a
-//!   figure (what `e3d compare` writes).
+//! - [`describe`], [`median`], [`Stats`]: the statistics they print.
 //!
 //! `paper` and `sweep_plot` draw with plotters and need the feature
 //! `plots` (on by default); `scene_svg` writes its SVG itself.

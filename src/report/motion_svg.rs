@@ -18,7 +18,7 @@ use super::scene_svg::{
     body_svg, colours, esc, grid_picture, physics_picture, Overlay, Paint, View,
 };
 use super::scene_svg::{END_FILL, END_STROKE, TRACKED};
-use crate::scene::physics::{to_world, BodyKind, GROUND};
+use crate::scene::physics::{to_world, BodyKind, PhysicsSpec, GROUND};
 use crate::scene::{Scene, WorldSpec};
 use crate::world::{GridWorld, Motion};
 use crate::{Command, World};
@@ -204,7 +204,6 @@ pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<Strin
     {
         return Err(AnimateError::Mismatch(scene.spec().name.clone()));
     }
-    let keep = thin(motion.frames.len(), MAX_FRAMES);
     let (drawn, drawn_point) = p
         .effect
         .drawn_point(|j| p.child_of(j))
@@ -234,97 +233,10 @@ pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<Strin
         effect: motion.outcome.effect,
         reward: motion.outcome.reward,
     };
-    let end = motion.frames.last().map_or(0.0, |f| f.time);
-    // a motion shorter than a second plays over a second
-    let dur = end.max(1.0);
-    let key_times: String = keep
-        .iter()
-        .map(|&f| format!("{:.4}", (motion.frames[f].time / dur).min(1.0)))
-        .collect::<Vec<_>>()
-        .join(";");
-    let anim = |attr: &str, kind: Option<&str>, values: String| -> String {
-        match kind {
-            Some(t) => format!(
-                r#"<animateTransform attributeName="{attr}" type="{t}" values="{values}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite" additive="sum"/>"#
-            ),
-            None => format!(
-                r#"<animate attributeName="{attr}" values="{values}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite"/>"#
-            ),
-        }
-    };
+    let tl = Timeline::new(motion, thin(motion.frames.len(), MAX_FRAMES));
     let mut draw = |out: &mut String, v: &View| {
         let _ = writeln!(out, r#"<g class="motion">"#);
-        for (i, b) in p.bodies.iter().enumerate() {
-            if b.kind == BodyKind::Fixed {
-                continue;
-            }
-            let start = &motion.frames[0].poses[i];
-            let c0 = (v.x(start.position[0]), v.y(start.position[1]));
-            // the rigid motion from the start pose: rotate about the start
-            // position, then translate to the current one
-            let moves: Vec<String> = keep
-                .iter()
-                .map(|&f| {
-                    let q = &motion.frames[f].poses[i];
-                    format!(
-                        "{:.2},{:.2}",
-                        v.x(q.position[0]) - c0.0,
-                        v.y(q.position[1]) - c0.1
-                    )
-                })
-                .collect();
-            let turns: Vec<String> = keep
-                .iter()
-                .map(|&f| {
-                    let q = &motion.frames[f].poses[i];
-                    format!(
-                        "{:.2} {:.2} {:.2}",
-                        -(q.angle - start.angle).to_degrees(),
-                        c0.0,
-                        c0.1
-                    )
-                })
-                .collect();
-            let (fill, stroke) = if b.kind == BodyKind::Kinematic {
-                colours(b.kind)
-            } else {
-                (END_FILL, END_STROKE)
-            };
-            let _ = writeln!(
-                out,
-                r#"<g class="body" data-body="{}"><title>{}</title>"#,
-                esc(&b.name),
-                esc(&b.name)
-            );
-            out.push_str(&anim("transform", Some("translate"), moves.join(";")));
-            out.push('\n');
-            out.push_str(&anim("transform", Some("rotate"), turns.join(";")));
-            out.push('\n');
-            body_svg(
-                out,
-                v,
-                &b.shape,
-                (start.position[0], start.position[1]),
-                start.angle,
-                Paint(fill, stroke, 0.9),
-            );
-            // the joints this body carries as a parent ride with it
-            for j in p.joints.iter().filter(|j| j.parent == b.name) {
-                let at = to_world(
-                    (start.position[0], start.position[1]),
-                    start.angle,
-                    j.parent_anchor,
-                );
-                let _ = writeln!(
-                    out,
-                    r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="#ffffff" stroke="#2e323b" stroke-width="1.3"><title>{}</title></circle>"##,
-                    v.x(at.0),
-                    v.y(at.1),
-                    esc(&j.name)
-                );
-            }
-            out.push_str("</g>\n");
-        }
+        moving_bodies_svg(out, v, p, motion, &tl);
         // ground hinges do not move: drawn once, over the bodies
         for j in p.joints.iter().filter(|j| j.parent == GROUND) {
             let _ = writeln!(
@@ -335,11 +247,13 @@ pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<Strin
                 esc(&j.name)
             );
         }
-        let xs: Vec<String> = keep
+        let xs: Vec<String> = tl
+            .keep
             .iter()
             .map(|&f| format!("{:.2}", v.x(point_at(f).0)))
             .collect();
-        let ys: Vec<String> = keep
+        let ys: Vec<String> = tl
+            .keep
             .iter()
             .map(|&f| format!("{:.2}", v.y(point_at(f).1)))
             .collect();
@@ -349,41 +263,170 @@ pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<Strin
             r##"<circle class="tracked" cx="{:.2}" cy="{:.2}" r="4.5" fill="{TRACKED}" stroke="#ffffff" stroke-width="1"><title>tracked point</title>{}{}</circle>"##,
             v.x(p0.0),
             v.y(p0.1),
-            anim("cx", None, xs.join(";")),
-            anim("cy", None, ys.join(";")),
+            tl.anim("cx", None, xs.join(";")),
+            tl.anim("cy", None, ys.join(";")),
         );
-        // the time readout: one text per kept frame, shown in its turn
-        let _ = writeln!(
-            out,
-            r##"<g class="time" font-size="14" fill="#222" font-family="monospace">"##
-        );
-        let n = keep.len();
-        for (k, &f) in keep.iter().enumerate() {
-            let t = motion.frames[f].time;
-            let on = (t / dur).min(1.0);
-            let off = if k + 1 < n {
-                (motion.frames[keep[k + 1]].time / dur).min(1.0)
-            } else {
-                1.0
-            };
-            let (values, times) = if k == 0 {
-                ("1;0".to_string(), format!("0;{off:.4}"))
-            } else if k + 1 == n {
-                ("0;1".to_string(), format!("0;{on:.4}"))
-            } else {
-                ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
-            };
-            let _ = writeln!(
-                out,
-                r#"<text class="frame" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">t = {t:.3} s / {end:.3} s<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
-                v.x(v_right(v)) - 4.0,
-                v.y(v_top(v)) + 16.0,
-                if k == 0 { 1 } else { 0 },
-            );
-        }
+        time_readout_svg(out, v, motion, &tl);
         out.push_str("</g>\n</g>\n");
     };
     Ok(physics_picture(scene, p, Some(&overlay), Some(&mut draw)))
+}
+
+/// Every moving body, with the joints it carries as a parent, at its start
+/// pose and animated by the rigid motion from it.
+fn moving_bodies_svg(out: &mut String, v: &View, p: &PhysicsSpec, motion: &Motion, tl: &Timeline) {
+    for (i, b) in p.bodies.iter().enumerate() {
+        if b.kind == BodyKind::Fixed {
+            continue;
+        }
+        let start = &motion.frames[0].poses[i];
+        let c0 = (v.x(start.position[0]), v.y(start.position[1]));
+        // the rigid motion from the start pose: rotate about the start
+        // position, then translate to the current one
+        let moves: Vec<String> = tl
+            .keep
+            .iter()
+            .map(|&f| {
+                let q = &motion.frames[f].poses[i];
+                format!(
+                    "{:.2},{:.2}",
+                    v.x(q.position[0]) - c0.0,
+                    v.y(q.position[1]) - c0.1
+                )
+            })
+            .collect();
+        let turns: Vec<String> = tl
+            .keep
+            .iter()
+            .map(|&f| {
+                let q = &motion.frames[f].poses[i];
+                format!(
+                    "{:.2} {:.2} {:.2}",
+                    -(q.angle - start.angle).to_degrees(),
+                    c0.0,
+                    c0.1
+                )
+            })
+            .collect();
+        let (fill, stroke) = if b.kind == BodyKind::Kinematic {
+            colours(b.kind)
+        } else {
+            (END_FILL, END_STROKE)
+        };
+        let _ = writeln!(
+            out,
+            r#"<g class="body" data-body="{}"><title>{}</title>"#,
+            esc(&b.name),
+            esc(&b.name)
+        );
+        out.push_str(&tl.anim("transform", Some("translate"), moves.join(";")));
+        out.push('\n');
+        out.push_str(&tl.anim("transform", Some("rotate"), turns.join(";")));
+        out.push('\n');
+        body_svg(
+            out,
+            v,
+            &b.shape,
+            (start.position[0], start.position[1]),
+            start.angle,
+            Paint(fill, stroke, 0.9),
+        );
+        // the joints this body carries as a parent ride with it
+        for j in p.joints.iter().filter(|j| j.parent == b.name) {
+            let at = to_world(
+                (start.position[0], start.position[1]),
+                start.angle,
+                j.parent_anchor,
+            );
+            let _ = writeln!(
+                out,
+                r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="#ffffff" stroke="#2e323b" stroke-width="1.3"><title>{}</title></circle>"##,
+                v.x(at.0),
+                v.y(at.1),
+                esc(&j.name)
+            );
+        }
+        out.push_str("</g>\n");
+    }
+}
+
+/// The time readout: one text per kept frame, shown in its turn.
+fn time_readout_svg(out: &mut String, v: &View, motion: &Motion, tl: &Timeline) {
+    let (keep, dur, end) = (&tl.keep, tl.dur, tl.end);
+    let _ = writeln!(
+        out,
+        r##"<g class="time" font-size="14" fill="#222" font-family="monospace">"##
+    );
+    let n = keep.len();
+    for (k, &f) in keep.iter().enumerate() {
+        let t = motion.frames[f].time;
+        let on = (t / dur).min(1.0);
+        let off = if k + 1 < n {
+            (motion.frames[keep[k + 1]].time / dur).min(1.0)
+        } else {
+            1.0
+        };
+        let (values, times) = if k == 0 {
+            ("1;0".to_string(), format!("0;{off:.4}"))
+        } else if k + 1 == n {
+            ("0;1".to_string(), format!("0;{on:.4}"))
+        } else {
+            ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
+        };
+        let _ = writeln!(
+            out,
+            r#"<text class="frame" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">t = {t:.3} s / {end:.3} s<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
+            v.x(v_right(v)) - 4.0,
+            v.y(v_top(v)) + 16.0,
+            if k == 0 { 1 } else { 0 },
+        );
+    }
+}
+
+/// The kept frames of a motion and the timing every animation of its
+/// picture shares: `dur` seconds (at least one), looping.
+struct Timeline {
+    /// The indices of the frames kept ([`thin`]).
+    keep: Vec<usize>,
+    /// The time of the last frame.
+    end: f64,
+    /// The duration of the animation.
+    dur: f64,
+    /// The kept frames' times as fractions of `dur`.
+    key_times: String,
+}
+
+impl Timeline {
+    fn new(motion: &Motion, keep: Vec<usize>) -> Timeline {
+        let end = motion.frames.last().map_or(0.0, |f| f.time);
+        // a motion shorter than a second plays over a second
+        let dur = end.max(1.0);
+        let key_times: String = keep
+            .iter()
+            .map(|&f| format!("{:.4}", (motion.frames[f].time / dur).min(1.0)))
+            .collect::<Vec<_>>()
+            .join(";");
+        Timeline {
+            keep,
+            end,
+            dur,
+            key_times,
+        }
+    }
+
+    /// An `<animateTransform>` of `kind` (or, without one, an `<animate>`)
+    /// of `attr` through `values`, one per kept frame.
+    fn anim(&self, attr: &str, kind: Option<&str>, values: String) -> String {
+        let (key_times, dur) = (&self.key_times, self.dur);
+        match kind {
+            Some(t) => format!(
+                r#"<animateTransform attributeName="{attr}" type="{t}" values="{values}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite" additive="sum"/>"#
+            ),
+            None => format!(
+                r#"<animate attributeName="{attr}" values="{values}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite"/>"#
+            ),
+        }
+    }
 }
 
 fn v_right(v: &View) -> f64 {

@@ -171,36 +171,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
         match &first {
             None => first = Some((h.clone(), sweep_copy, version)),
             Some((h0, s0, v0)) => {
-                if let Some((name, here, there)) = h.changed_scene(h0) {
-                    return Err(SweepError::Output(format!(
-                        "{}: ran scene `{name}` with other content ({here:016x}) than {} ({there:016x}); the scene was edited between the shards, which cannot be merged: rerun them with one version",
-                        dir.display(),
-                        inputs[0].display()
-                    )));
-                }
-                if h.sweep_hash != h0.sweep_hash
-                    || h.shard.n != h0.shard.n
-                    || h.total != h0.total
-                    || h.columns != h0.columns
-                    || &sweep_copy != s0
-                {
-                    return Err(SweepError::Output(format!(
-                        "{}: holds {}, but {} holds {}; shards of different sweeps cannot be merged",
-                        dir.display(),
-                        h.describe(),
-                        inputs[0].display(),
-                        h0.describe()
-                    )));
-                }
-                if &version != v0 || h.version != h0.version {
-                    return Err(SweepError::Output(format!(
-                        "{}: made by e3d {}, but {} by e3d {}; rerun the shards with one version",
-                        dir.display(),
-                        h.version,
-                        inputs[0].display(),
-                        h0.version
-                    )));
-                }
+                check_same_sweep(dir, &inputs[0], (h, &sweep_copy, &version), (h0, s0, v0))?
             }
         }
         if let Some(other) = seen.insert(h.shard.k, dir.clone()) {
@@ -241,20 +212,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
             h0.shard.n
         )));
     }
-    // what a killed merge left (`.summary.csv.tmp-*`) does not count
-    crate::io::remove_stale_temps(out);
-    if out.exists()
-        && (!out.is_dir()
-            || std::fs::read_dir(out)
-                .map_err(io_err(out))?
-                .next()
-                .is_some())
-    {
-        return Err(SweepError::Output(format!(
-            "{} exists and is not empty; choose another --out",
-            out.display()
-        )));
-    }
+    check_out_empty(out)?;
     std::fs::create_dir_all(out).map_err(io_err(out))?;
     let header = JournalHeader {
         shard: Shard::ALL,
@@ -271,4 +229,67 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
         resumed: rows.len(),
         ran: 0,
     })
+}
+
+/// A shard's folder `dir` against the first one (`first_dir`): the same
+/// sweep (scenes' content, sweep file, shard count, sessions, columns)
+/// run by the same e3d version, else why they cannot be merged.
+fn check_same_sweep(
+    dir: &Path,
+    first_dir: &Path,
+    (h, sweep_copy, version): (&JournalHeader, &[u8], &[u8]),
+    (h0, s0, v0): (&JournalHeader, &[u8], &[u8]),
+) -> Result<(), SweepError> {
+    if let Some((name, here, there)) = h.changed_scene(h0) {
+        return Err(SweepError::Output(format!(
+            "{}: ran scene `{name}` with other content ({here:016x}) than {} ({there:016x}); the scene was edited between the shards, which cannot be merged: rerun them with one version",
+            dir.display(),
+            first_dir.display()
+        )));
+    }
+    if h.sweep_hash != h0.sweep_hash
+        || h.shard.n != h0.shard.n
+        || h.total != h0.total
+        || h.columns != h0.columns
+        || sweep_copy != s0
+    {
+        return Err(SweepError::Output(format!(
+            "{}: holds {}, but {} holds {}; shards of different sweeps cannot be merged",
+            dir.display(),
+            h.describe(),
+            first_dir.display(),
+            h0.describe()
+        )));
+    }
+    if version != v0 || h.version != h0.version {
+        return Err(SweepError::Output(format!(
+            "{}: made by e3d {}, but {} by e3d {}; rerun the shards with one version",
+            dir.display(),
+            h.version,
+            first_dir.display(),
+            h0.version
+        )));
+    }
+    Ok(())
+}
+
+/// `out` must not exist or be empty (what a killed merge left,
+/// `.summary.csv.tmp-*`, does not count, and is removed).
+fn check_out_empty(out: &Path) -> Result<(), SweepError> {
+    // what a killed merge left (`.summary.csv.tmp-*`) does not count
+    crate::io::remove_stale_temps(out);
+    if out.exists()
+        && (!out.is_dir()
+            || std::fs::read_dir(out)
+                .map_err(io_err(out))?
+                .next()
+                .is_some())
+    {
+        Err(SweepError::Output(format!(
+            "{} exists and is not empty; choose another --out",
+            out.display()
+        )))
+    } else {
+        Ok(())
+    }
 }

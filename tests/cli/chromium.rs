@@ -5,7 +5,8 @@
 //! install it.
 
 use crate::common::temp_path;
-use e3d::report::html::{parse_trials, run_page};
+use e3d::csv::parse_trials;
+use e3d::report::html::run_page;
 use e3d::report::motion_svg::{html_page, motion_svg};
 use e3d::Scene;
 use std::path::{Path, PathBuf};
@@ -98,12 +99,7 @@ fn pages_render_in_headless_chromium() {
     let page = dir.join("sweep.html");
     std::fs::write(
         &page,
-        e3d::report::html::sweep_page(
-            "s",
-            &e3d::report::sweep_plot::Summary::parse(summary).unwrap(),
-            "",
-            &[],
-        ),
+        e3d::report::html::sweep_page("s", &e3d::csv::Summary::parse(summary).unwrap(), "", &[]),
     )
     .unwrap();
     check(&browser, &page);

@@ -237,3 +237,16 @@ fn physics_start_contexts_check_exec_and_run() {
         .all(|l| l.contains(",room_a,") || l.contains(",room_b,")));
     assert_eq!(csv.lines().count(), 601);
 }
+
+/// `scene check` lists what each start context sets, joints as well as
+/// bodies (arm7_poses' contexts set only joints: the list was empty).
+#[test]
+fn check_lists_the_joints_a_context_sets() {
+    let check = stdout_of(&["scene", "check", "scenes/arm7_poses.ron"]);
+    assert!(
+        check.contains(
+            "start contexts (3): straight (named: j1), raised (named: j1), curled (named: j2 j4)"
+        ),
+        "{check}"
+    );
+}

@@ -3,8 +3,8 @@
 //! folders (non-regular files, temporary files), terminals and formats,
 //! caches to trust. Each test fails on the code before these fixes.
 
-use e3d::report::html::parse_trials;
-use e3d::report::sweep_plot::Summary;
+use e3d::csv::parse_trials;
+use e3d::csv::Summary;
 use e3d::{OutcomeTable, Scene};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -52,21 +52,29 @@ fn feed(p: &Path, bytes: &'static [u8]) {
 
 #[test]
 fn trials_csv_values_are_bounded_and_finite_with_their_place() {
-    let e = parse_trials("trial,command,effect,reward\n1,NE,4000000000,0\n").unwrap_err();
+    let e = parse_trials("trial,command,effect,reward\n1,NE,4000000000,0\n")
+        .unwrap_err()
+        .0;
     assert_eq!(
         e,
         "trials.csv:2:6: column `effect`: expected a whole number below 1048576, found `4000000000`"
     );
-    let e = parse_trials("trial,command,effect,reward\n1,NE,3,inf\n").unwrap_err();
+    let e = parse_trials("trial,command,effect,reward\n1,NE,3,inf\n")
+        .unwrap_err()
+        .0;
     assert_eq!(
         e,
         "trials.csv:2:8: column `reward`: expected a finite number, found `inf`"
     );
-    let e = parse_trials("trial,values,effect,reward\n1,\"0.5,NaN\",3,0\n").unwrap_err();
+    let e = parse_trials("trial,values,effect,reward\n1,\"0.5,NaN\",3,0\n")
+        .unwrap_err()
+        .0;
     assert!(e.starts_with("trials.csv:2:3: column `values`"), "{e}");
     // a 100,000-character command: refused, and the echo cut
     let long = "N".repeat(100_000);
-    let e = parse_trials(&format!("trial,command,effect,reward\n1,{long},3,0\n")).unwrap_err();
+    let e = parse_trials(&format!("trial,command,effect,reward\n1,{long},3,0\n"))
+        .unwrap_err()
+        .0;
     assert!(
         e.starts_with("trials.csv:2:3: column `command`: expected at most 64 symbols"),
         "{e}"

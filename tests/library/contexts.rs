@@ -489,7 +489,7 @@ fn closed_loop_e3d_with_one_command_is_contextual_e3d() {
 /// reward it found; without Q_ref's bootstrap (gamma 0) it does not.
 #[test]
 fn closed_loop_e3d_exploits_where_contextual_e3d_cannot() {
-    use e3d::report::closed_loop::{run_arm, ClosedLoopConfig};
+    use e3d::experiment::closed_loop::{run_arm, ClosedLoopConfig};
     let scene = Scene::builtin("four_rooms").unwrap();
     let cfg = ClosedLoopConfig {
         params: Params {

@@ -10,8 +10,9 @@
 //! A short run is part of the test suite (256 cases per property). A long
 //! run: `PROPTEST_CASES=20000 cargo test --release --test library fuzz_outputs::`.
 
-use e3d::report::html::parse_trials;
-use e3d::report::sweep_plot::{plot, PlotSpec, Summary};
+use e3d::csv::parse_trials;
+use e3d::csv::Summary;
+use e3d::report::sweep_plot::{plot, PlotSpec};
 use e3d::sweep::journal;
 use e3d::text::{read_line_bounded, Line};
 use e3d::{OutcomeTable, Scene};
@@ -81,7 +82,7 @@ proptest! {
                 prop_assert!(r.values.iter().all(|v| v.is_finite()));
                 prop_assert!(r.command.chars().count() <= 64 && r.values.len() <= 64);
             },
-            Err(m) => prop_assert!(m.starts_with("trials.csv"), "{}", m),
+            Err(m) => prop_assert!(m.0.starts_with("trials.csv"), "{}", m),
         }
     }
 

@@ -3,7 +3,10 @@
 //! a reason.
 
 use e3d::learner::contextual::{ContextTargets, ContextualLearner, PerContext};
-use e3d::learner::{ClosedLoopE3d, CountBonus, QLearning, RelaxedE3d, StateMarginalMatching};
+use e3d::learner::{
+    Archive, ArchiveValues, ClosedLoopE3d, CountBonus, GoalBabbling, GoalBabblingValues, QLearning,
+    RelaxedE3d, StateMarginalMatching,
+};
 use e3d::{
     Command, CommandSpace, ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner,
     LearnerState, Outcome, Params, SessionRng, Target, UniformPolicy, UniformValues, ValueSpace,
@@ -100,6 +103,16 @@ fn every_symbol_learner_continues_bit_for_bit_after_a_save() {
     continues_bit_for_bit(RelaxedE3d::new(&s, EFFECTS, &p, &t).unwrap(), run);
     continues_bit_for_bit(CountBonus::new(&s, EFFECTS, &p), run);
     continues_bit_for_bit(EpsilonGreedy::new(&s, &p), run);
+    // the learners of kept commands: every cell's command, the choices made
+    let n = continues_bit_for_bit(Archive::new(&s, EFFECTS, &p), run);
+    assert!(n > 7 * 3, "{n} bytes: the kept commands are saved");
+    continues_bit_for_bit(GoalBabbling::new(&s, EFFECTS, &p), run);
+    let saved = GoalBabbling::new(&s, EFFECTS, &p).to_bytes();
+    let e = Archive::from_bytes(&saved).err().unwrap().to_string();
+    assert!(
+        e.contains("the bytes hold the state of a `goal_babbling` learner"),
+        "{e}"
+    );
     let shape = CountBonus::new(&s, EFFECTS, &p).shape();
     assert_eq!(shape.sizes, [3, 2, 4]);
     assert_eq!(shape.effects, Some(EFFECTS));
@@ -152,6 +165,11 @@ fn continuous_learners_continue_bit_for_bit_after_a_save() {
     };
     let g = GaussianE3d::new(&space, 16, &params(), &Target::Uniform).unwrap();
     continues_bit_for_bit(g, |l, r, n| run(l, r, n));
+    let a = ArchiveValues::new(&space, 16, &params());
+    continues_bit_for_bit(a, |l, r, n| run(l, r, n));
+    let gb = GoalBabblingValues::new(&space, 16, &params());
+    assert_eq!(gb.shape().sizes, [0, 0]);
+    continues_bit_for_bit(gb, |l, r, n| run(l, r, n));
     let u = UniformValues::new(&space);
     let back = UniformValues::from_bytes(&u.to_bytes()).unwrap();
     assert_eq!(back.shape().sizes, [0, 0]);
@@ -215,4 +233,81 @@ fn contextual_learners_continue_bit_for_bit_after_a_save() {
         e.starts_with("state of a `qlearning` learner: command space"),
         "{e}"
     );
+}
+
+/// The table `name` of `l`.
+fn table<L: LearnerState>(l: &L, name: &str) -> e3d::learner::state::tables::StateTable {
+    l.tables().into_iter().find(|t| t.name == name).unwrap()
+}
+
+#[test]
+fn tables_by_name_read_write_and_refuse() {
+    let (s, p) = (space(), params());
+    let mut l = E3d::new(&s, EFFECTS, &p, &Target::Uniform).unwrap();
+    run(&mut l, &mut SessionRng::seed_from_u64(3), 300);
+    // slots of 3, 2 and 4 symbols: rows of 4, NaN past a slot's alphabet
+    let q = table(&l, "q");
+    assert_eq!(q.shape, [3, 4]);
+    assert_eq!(q.values[..3], *l.q(0));
+    assert!(q.values[3].is_nan() && q.values[6].is_nan() && q.values[7].is_nan());
+    assert_eq!(q.values[8..], *l.q(2));
+    assert_eq!(table(&l, "p").values, l.effect_model().probs());
+    // written: the padding ignored; the policy is Q's softmax
+    let mut rows = vec![
+        0.5,
+        0.0,
+        0.0,
+        f64::NAN,
+        1.0,
+        0.0,
+        7.0,
+        7.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+    ];
+    l.set_table("q", &rows).unwrap();
+    assert_eq!(l.q(1), [1.0, 0.0]);
+    let policy = table(&l, "policy");
+    assert!((policy.values[4] - 1f64.exp() / (1f64.exp() + 1.0)).abs() < 1e-15);
+    // refused, and nothing written: a NaN inside an alphabet, a short table
+    let before = l.to_bytes();
+    rows[5] = f64::NAN;
+    let e = l.set_table("q", &rows).unwrap_err().to_string();
+    assert!(
+        e.contains("table `q`, slot 1: NaN is not a finite number"),
+        "{e}"
+    );
+    let e = l.set_table("p", &[1.0]).unwrap_err().to_string();
+    assert!(e.contains("table `p`: 1 values given, expected 7"), "{e}");
+    let e = l.set_table("counts", &[]).unwrap_err().to_string();
+    assert!(
+        e.contains("a `e3d` learner has no table `counts` (its tables: q, policy, p, target)"),
+        "{e}"
+    );
+    assert_eq!(l.to_bytes(), before);
+    // contexts: a first axis; written all or nothing
+    let targets = ContextTargets::Shared(Target::Uniform);
+    let mut closed = ClosedLoopE3d::new(&s, EFFECTS, 3, &p, &targets, 0.9).unwrap();
+    run_contexts(&mut closed, &mut SessionRng::seed_from_u64(4), 200);
+    assert_eq!(table(&closed, "q").shape, [3, 3, 4]);
+    assert_eq!(table(&closed, "p").shape, [3, EFFECTS]);
+    let reference = table(&closed, "reference");
+    assert_eq!(reference.shape, [3, 24]);
+    assert_eq!(reference.values[24..48], *closed.reference(1));
+    let p1 = table(&closed, "p").values[EFFECTS..2 * EFFECTS].to_vec();
+    assert_eq!(p1, closed.context_learner(1).effect_model().probs());
+    let before = closed.to_bytes();
+    let mut t = vec![1.0; 3 * EFFECTS];
+    t[2 * EFFECTS] = -1.0; // context 2's target
+    let e = closed.set_table("target", &t).unwrap_err().to_string();
+    assert!(e.contains("context 2: table `target`"), "{e}");
+    assert_eq!(closed.to_bytes(), before);
+    t[2 * EFFECTS] = 6.0;
+    closed.set_table("target", &t).unwrap();
+    assert_eq!(table(&closed, "target").values[2 * EFFECTS], 0.5);
+    let ql = QLearning::new(&s, 3, &p, 0.9).unwrap();
+    assert_eq!(table(&ql, "q").shape, [3, 24]);
+    assert!(UniformPolicy::new(&s).tables().is_empty());
 }

@@ -1,7 +1,7 @@
 //! The paper's claims on two_rooms, with fixed seeds (the figures behind
 //! the thresholds are in docs/reproducing.md).
 
-use e3d::report::paper::{run_paper, PaperConfig};
+use e3d::experiment::paper::{run_paper, PaperConfig};
 use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target};
 
 #[test]

@@ -1,7 +1,8 @@
 //! `e3d report DIR`'s page: heat map cells early and late, the reward
 //! curve, one chart per slot, no script.
 
-use e3d::report::html::{parse_trials, run_page};
+use e3d::csv::parse_trials;
+use e3d::report::html::run_page;
 
 fn csv() -> String {
     let mut s = String::from("trial,command,effect,reward\n");
@@ -29,6 +30,7 @@ fn parses_with_and_without_a_session_column() {
     );
     assert!(parse_trials("trial,effect\n1,2\n")
         .unwrap_err()
+        .0
         .contains("command"));
 }
 
@@ -50,8 +52,8 @@ fn the_page_has_both_heat_maps_the_reward_and_a_chart_per_slot() {
 
 #[cfg(feature = "plots")]
 mod sweep {
+    use e3d::csv::Summary;
     use e3d::report::html::sweep_page;
-    use e3d::report::sweep_plot::Summary;
 
     const CSV: &str = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,failed,normalized_entropy_mean,normalized_entropy_sd,normalized_entropy_ci_low,normalized_entropy_ci_high,first_reward_trial_mean,first_reward_trial_sd,first_reward_trial_ci_low,first_reward_trial_ci_high\n\
 two_rooms,e3d,false,0.3,1,0.03,0.003,,2,0,0.8302690281245326,0.02721434585793402,0.585757831635245,1.0747802246138203,,,,\n\
@@ -59,6 +61,32 @@ two_rooms,e3d,false,0.3,100,0.03,0.003,,2,1,0.8082385520182234,0.013186851440952
 two_rooms,e3d,false,0.3,1,0.03,0.03,,2,0,0.8271039914527295,0.0019987706445061012,0.8091457497096758,0.8450622331957832,,,,\n\
 two_rooms,e3d,false,0.3,100,0.03,0.03,,2,0,0.81,0.01,0.8,0.82,,,,\n\
 two_rooms,uniform,false,,,,,,2,0,0.7,0.02,0.6,0.8,,,,\n";
+
+    /// A summary built in code, not read: a missing parameter column or a
+    /// short row is refused by the plot, not a panic.
+    #[test]
+    fn a_summary_built_in_code_without_its_columns_is_refused() {
+        use e3d::report::sweep_plot::{plot, PlotSpec};
+        let spec = PlotSpec {
+            x: "beta".into(),
+            y: None,
+            metric: "normalized_entropy".into(),
+            filters: vec![],
+        };
+        let mut s = Summary::parse(CSV).unwrap();
+        let beta = s.col("beta").unwrap();
+        s.columns[beta] = "b".into();
+        assert_eq!(
+            plot(&s, &spec).unwrap_err().0,
+            "the summary has no `beta` column; expected the columns e3d writes"
+        );
+        let mut s = Summary::parse(CSV).unwrap();
+        s.rows[2].truncate(3);
+        assert_eq!(
+            plot(&s, &spec).unwrap_err().0,
+            "row 3 of the summary has 3 fields, expected 18 (one per column)"
+        );
+    }
 
     fn page() -> String {
         sweep_page(

@@ -439,7 +439,7 @@ fn joint_contexts_continue_exactly_over_three_commands() {
 
 /// The start poses a scene file gives its contexts (forward kinematics of
 /// the file, what the load-time overlap check tests) are the world's own
-/// starts, to within Rapier's single precision: on arm7_contexts (a
+/// starts, to within Rapier's single precision: on arm7_poses (a
 /// multibody hung on ground, three poses), on the swimmer (a free-floating
 /// tree, its root moved and turned, a joint turned) and on arm_push (a
 /// turned joint and the puck left where the scene puts it).
@@ -459,7 +459,7 @@ fn a_scene_file_gives_each_context_the_world_s_start_poses() {
             "        contexts: [(name: \"bent\", joints: [(joint: \"j1\", angle: 0.6), (joint: \"j3\", angle: 0.9)])],\n        schedule:",
         )],
     );
-    let arm7 = Scene::load("scenes/arm7_contexts.ron").unwrap();
+    let arm7 = Scene::load("scenes/arm7_poses.ron").unwrap();
     let mut checked = 0;
     for scene in [&arm7, &swimmer, &arm_push] {
         let spec = spec_of(scene);
@@ -494,8 +494,8 @@ fn a_scene_file_gives_each_context_the_world_s_start_poses() {
 /// through a link is (tests/bad_inputs/context_*_in_wall.ron).
 #[test]
 fn a_context_folding_the_arm_onto_itself_is_refused() {
-    let text = std::fs::read_to_string("scenes/arm7_contexts.ron").unwrap();
-    let folded = "(joint: \"j3\", angle: 1.3)";
+    let text = std::fs::read_to_string("scenes/arm7_poses.ron").unwrap();
+    let folded = "(joint: \"j4\", angle: 1.5)";
     assert_eq!(text.matches(folded).count(), 1);
     let bad = text.replace(
         folded,
@@ -505,8 +505,8 @@ fn a_context_folding_the_arm_onto_itself_is_refused() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.starts_with("arm7_folded.ron:27:")
-            && e.contains("field `joints`: expected context `folded`: a start where no two bodies overlap, but `link"),
+        e.starts_with("arm7_folded.ron:33:")
+            && e.contains("field `joints`: expected context `curled`: a start where no two bodies overlap, but `link"),
         "{e}"
     );
 }

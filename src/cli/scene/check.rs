@@ -236,8 +236,11 @@ fn print_physics(scene: &Scene, p: &PhysicsSpec) {
             .iter()
             .map(|c| {
                 let kind = if c.is_sampled() { "drawn" } else { "named" };
-                let bodies: Vec<&str> = c.bodies.iter().map(|b| b.body.as_str()).collect();
-                format!("{} ({kind}: {})", c.name, bodies.join(" "))
+                // what the context sets: its bodies and its joints, by name
+                let set: Vec<&str> = (c.bodies.iter().map(|b| b.body.as_str()))
+                    .chain(c.joints.iter().map(|j| j.joint.as_str()))
+                    .collect();
+                format!("{} ({kind}: {})", c.name, set.join(" "))
             })
             .collect();
         outln!("start contexts ({}): {}", p.contexts.len(), list.join(", "));

@@ -3,11 +3,12 @@
 
 use super::{ActionValues, ClosedLoopE3d, PerContext, QLearning};
 use crate::command::CommandSpace;
+use crate::learner::state::tables::{check_len, no_table, StateTable};
 use crate::learner::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
 use crate::learner::{Learner, LearnerError};
 
 /// The learners of every context, after the kind of each.
-impl<L: LearnerState + Learner> StateField for PerContext<L> {
+impl<L: LearnerState + Learner + Clone> StateField for PerContext<L> {
     fn put(&self, w: &mut StateWriter) {
         w.put(&L::KIND.to_string())
             .put(&self.name)
@@ -25,13 +26,33 @@ impl<L: LearnerState + Learner> StateField for PerContext<L> {
     }
 }
 
-impl<L: LearnerState + Learner> LearnerState for PerContext<L> {
+impl<L: LearnerState + Learner + Clone> LearnerState for PerContext<L> {
     const KIND: &'static str = "per_context";
     fn shape(&self) -> StateShape {
         StateShape {
             contexts: Some(self.learners.len()),
             ..self.learners[0].shape()
         }
+    }
+    /// The tables of each context's learner, the context as first axis.
+    fn tables(&self) -> Vec<StateTable> {
+        StateTable::stack(self.learners.iter().map(|l| l.tables()).collect())
+    }
+    /// Writes each context's part of the table (all or none).
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        let tables = self.tables();
+        let Some(t) = tables.iter().find(|t| t.name == name && t.writable) else {
+            return Err(no_table(L::KIND, name, &tables));
+        };
+        check_len(name, values, t.values.len())?;
+        let per = t.values.len() / self.learners.len();
+        let mut next = self.learners.clone();
+        for (c, l) in next.iter_mut().enumerate() {
+            l.set_table(name, &values[c * per..(c + 1) * per])
+                .map_err(|e| LearnerError::State(format!("context {c}: {e}")))?;
+        }
+        self.learners = next;
+        Ok(())
     }
 }
 
@@ -92,10 +113,48 @@ impl StateField for ClosedLoopE3d {
     }
 }
 
+impl ActionValues {
+    /// The table `name` of shape `(contexts, commands)`.
+    fn table(&self, name: &'static str) -> StateTable {
+        StateTable {
+            name,
+            shape: vec![self.q.len() / self.commands, self.commands],
+            values: self.q.clone(),
+            writable: true,
+        }
+    }
+
+    /// Replaces the values by `values` (as many, finite).
+    fn set(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        check_len(name, values, self.q.len())?;
+        if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+            return Err(LearnerError::State(format!(
+                "table `{name}`: {v} is not a finite number"
+            )));
+        }
+        self.q.copy_from_slice(values);
+        Ok(())
+    }
+}
+
 impl LearnerState for ClosedLoopE3d {
     const KIND: &'static str = "e3d_closed_loop";
     fn shape(&self) -> StateShape {
         self.policy.shape()
+    }
+    /// The tables of each context's E3D (`q`, `policy`, `p`, `target`,
+    /// the context first) and the `reference` action-values `Q_ref(s, a)`
+    /// (`(contexts, commands)`), all writable.
+    fn tables(&self) -> Vec<StateTable> {
+        let mut t = self.policy.tables();
+        t.push(self.reference.table("reference"));
+        t
+    }
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        match name {
+            "reference" => self.reference.set(name, values),
+            _ => self.policy.set_table(name, values),
+        }
     }
 }
 
@@ -124,6 +183,16 @@ impl LearnerState for QLearning {
             sizes: self.space.sizes().collect(),
             effects: None,
             contexts: Some(self.values.q.len() / self.values.commands),
+        }
+    }
+    /// The action-values `q`, `(contexts, commands)`, writable.
+    fn tables(&self) -> Vec<StateTable> {
+        vec![self.values.table("q")]
+    }
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        match name {
+            "q" => self.values.set(name, values),
+            _ => Err(no_table(Self::KIND, name, &self.tables())),
         }
     }
 }

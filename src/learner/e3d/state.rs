@@ -4,6 +4,9 @@
 
 use super::{has_avx2, E3d, Slot, SlotTables, Tables};
 use crate::effect::EffectModel;
+use crate::learner::state::tables::{
+    log_target_of, model_of, no_table, q_of_policy, slot_rows, target_of, StateTable,
+};
 use crate::learner::state::{
     check_target, LearnerState, StateField, StateReader, StateShape, StateWriter,
 };
@@ -133,6 +136,41 @@ impl LearnerState for E3d {
     const KIND: &'static str = "e3d";
     fn shape(&self) -> StateShape {
         StateShape::of(self.sizes.clone(), Some(self.model.num_effects()))
+    }
+    /// `q`, `policy` (writing it sets Q to `log(policy) / beta`), `p` and
+    /// `target`, all writable.
+    fn tables(&self) -> Vec<StateTable> {
+        vec![
+            StateTable::slots("q", true, &self.sizes, |s| self.q(s).to_vec()),
+            StateTable::slots("policy", true, &self.sizes, |s| self.policy(s)),
+            StateTable::vector("p", true, self.model.probs()),
+            StateTable::vector("target", true, target_of(&self.log_target)),
+        ]
+    }
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        let rows: Vec<Vec<f64>> = match name {
+            "p" => {
+                self.model = model_of(values, &self.model)?;
+                return Ok(());
+            }
+            "target" => {
+                self.log_target = log_target_of(values, self.model.num_effects())?;
+                return Ok(());
+            }
+            "q" => slot_rows(name, values, &self.sizes, false)?
+                .into_iter()
+                .map(<[f64]>::to_vec)
+                .collect(),
+            "policy" => slot_rows(name, values, &self.sizes, true)?
+                .into_iter()
+                .map(|r| q_of_policy(r, self.beta))
+                .collect(),
+            _ => return Err(no_table(Self::KIND, name, &self.tables())),
+        };
+        for (s, r) in rows.iter().enumerate() {
+            self.set_q(s, r)?;
+        }
+        Ok(())
     }
 }
 

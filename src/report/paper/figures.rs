@@ -3,6 +3,7 @@
 //! (Figure 3).
 
 use super::*;
+use crate::world::GridSpec;
 
 impl PaperResults {
     /// Figure 2 as SVG: the share of the terminal cells of all trials of

@@ -2,6 +2,10 @@
 //! parameter, with 95% intervals.
 
 use super::*;
+use plotters::coord::types::RangedCoordf64;
+
+/// The chart of a line plot, in SVG.
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// One line of a line plot.
 pub(super) struct Series {
@@ -107,42 +111,14 @@ pub(super) fn draw_lines(
     metric: &str,
     series: &[Series],
 ) -> Result<String, PlotError> {
-    let xs: Vec<f64> = series
-        .iter()
-        .flat_map(|s| s.points.iter().map(|p| p.0))
-        .filter(|x| !x.is_nan())
-        .collect();
-    let (xmin, xmax) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        });
-    let log = xmin > 0.0 && xmax / xmin >= 20.0;
+    let Extents {
+        log,
+        xmin,
+        xmax,
+        x: (x0, x1),
+        y: (y0, y1),
+    } = extents(series);
     let tx = |x: f64| if log { x.log10() } else { x };
-    let (mut x0, mut x1) = (tx(xmin), tx(xmax));
-    if x1 - x0 < 1e-12 {
-        x0 -= 0.5;
-        x1 += 0.5;
-    }
-    let pad = 0.04 * (x1 - x0);
-    let (x0, x1) = (x0 - pad, x1 + pad);
-    let ys: Vec<f64> = series
-        .iter()
-        .flat_map(|s| s.points.iter().flat_map(|p| [Some(p.1), p.2, p.3]))
-        .flatten()
-        .filter(|y| y.is_finite())
-        .collect();
-    let (mut y0, mut y1) = ys
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
-            (a.min(y), b.max(y))
-        });
-    if y1 - y0 < 1e-12 {
-        y0 -= 0.5;
-        y1 += 0.5;
-    }
-    let pad = 0.06 * (y1 - y0);
-    let (y0, y1) = (y0 - pad, y1 + pad);
 
     // the legend under the plot, in as many columns as fit
     let w = 1000u32;
@@ -194,139 +170,235 @@ pub(super) fn draw_lines(
             .bold_line_style(RGBColor(215, 215, 215))
             .draw()
             .map_err(draw_err)?;
-        // a log axis: light lines at 2..9 times each decade
-        if log {
-            let (a, b) = (x0.floor() as i32, x1.ceil() as i32);
-            for k in a..=b {
-                for m in 2..=9 {
-                    let t = (m as f64 * 10f64.powi(k)).log10();
-                    if t > x0 && t < x1 && !ticks.iter().any(|u| (u - t).abs() < 1e-9) {
-                        chart
-                            .draw_series(std::iter::once(PathElement::new(
-                                vec![(t, y0), (t, y1)],
-                                RGBColor(242, 242, 242),
-                            )))
-                            .map_err(draw_err)?;
-                    }
-                }
-            }
-        }
-        // the x ticks, drawn by hand: decades (or 1-2-5) on a log axis,
-        // round numbers on a linear one; the swept values are the markers
-        for &t in &ticks {
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    vec![(t, y0), (t, y1)],
-                    RGBColor(215, 215, 215),
-                )))
-                .map_err(draw_err)?;
-            let (px, py) = chart.backend_coord(&(t, y0));
-            top.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
-                .map_err(draw_err)?;
-            let style = TextStyle::from((FONT, 17).into_font())
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Center, VPos::Top));
-            top.draw(&Text::new(x_fmt(t), (px, py + 8), style))
-                .map_err(draw_err)?;
-        }
-        for (i, s) in series.iter().enumerate() {
-            let st = style(i);
-            let c = st.colour;
-            let pts: Vec<_> = s.points.iter().filter(|p| !p.0.is_nan()).collect();
-            if pts.is_empty() {
-                // a learner that does not use x: a dashed line across
-                let p = s.points[0];
-                if let (Some(l), Some(u)) = (p.2, p.3) {
-                    chart
-                        .draw_series(std::iter::once(Rectangle::new(
-                            [(x0, l), (x1, u)],
-                            c.mix(0.12).filled(),
-                        )))
-                        .map_err(draw_err)?;
-                }
-                chart
-                    .draw_series(DashedLineSeries::new(
-                        vec![(x0, p.1), (x1, p.1)],
-                        12,
-                        6,
-                        c.stroke_width(2),
-                    ))
-                    .map_err(draw_err)?;
-                continue;
-            }
-            let band: Vec<(f64, f64, f64)> = pts
-                .iter()
-                .filter_map(|p| Some((tx(p.0), p.2?, p.3?)))
-                .collect();
-            if band.len() >= 2 {
-                let mut poly: Vec<(f64, f64)> = band.iter().map(|b| (b.0, b.1)).collect();
-                poly.extend(band.iter().rev().map(|b| (b.0, b.2)));
-                chart
-                    .draw_series(std::iter::once(Polygon::new(poly, c.mix(0.15).filled())))
-                    .map_err(draw_err)?;
-            } else if let Some(&(x, l, u)) = band.first() {
-                chart
-                    .draw_series(std::iter::once(PathElement::new(
-                        vec![(x, l), (x, u)],
-                        c.stroke_width(2),
-                    )))
-                    .map_err(draw_err)?;
-            }
-            let line: Vec<(f64, f64)> = pts.iter().map(|p| (tx(p.0), p.1)).collect();
-            if st.dashed {
-                chart
-                    .draw_series(DashedLineSeries::new(line, 5, 4, c.stroke_width(2)))
-                    .map_err(draw_err)?;
-            } else {
-                chart
-                    .draw_series(LineSeries::new(line, c.stroke_width(2)))
-                    .map_err(draw_err)?;
-            }
-            for p in &pts {
-                let at = chart.backend_coord(&(tx(p.0), p.1));
-                draw_marker(&top, at, st).map_err(draw_err)?;
-            }
-        }
-        // the legend: as each series is drawn (a dashed line alone for a
-        // learner that does not use x)
-        for (i, s) in series.iter().enumerate() {
-            let st = style(i);
-            let c = st.colour;
-            let (col, row) = (i as u32 % cols, i as u32 / cols);
-            let x = 50 + (col * col_w) as i32;
-            let y = 10 + 24 * row as i32;
-            let flat = s.points.iter().all(|p| p.0.is_nan());
-            if flat {
-                for (a, b) in [(x, x + 12), (x + 18, x + 30)] {
-                    bottom
-                        .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(3)))
-                        .map_err(draw_err)?;
-                }
-            } else {
-                if st.dashed {
-                    for (a, b) in [(x, x + 6), (x + 12, x + 18), (x + 24, x + 30)] {
-                        bottom
-                            .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(2)))
-                            .map_err(draw_err)?;
-                    }
-                } else {
-                    bottom
-                        .draw(&PathElement::new(
-                            vec![(x, y), (x + 30, y)],
-                            c.stroke_width(2),
-                        ))
-                        .map_err(draw_err)?;
-                }
-                draw_marker(&bottom, (x + 15, y), st).map_err(draw_err)?;
-            }
-            let style = TextStyle::from((FONT, 16).into_font())
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Left, VPos::Center));
-            bottom
-                .draw(&Text::new(s.label.clone(), (x + 38, y), style))
-                .map_err(draw_err)?;
-        }
+        draw_x_ticks(&mut chart, &top, &ticks, log, (x0, x1), (y0, y1), &x_fmt)?;
+        draw_series(&mut chart, &top, series, &tx, (x0, x1))?;
+        draw_legend(&bottom, series, cols, col_w)?;
         root.present().map_err(draw_err)?;
     }
     Ok(svg)
+}
+
+/// The axes of a line plot: a log x axis when every x is positive and
+/// they span a factor 20 or more, each range padded.
+struct Extents {
+    log: bool,
+    xmin: f64,
+    xmax: f64,
+    /// The x range drawn, in axis units (log10 on a log axis).
+    x: (f64, f64),
+    y: (f64, f64),
+}
+
+fn extents(series: &[Series]) -> Extents {
+    let xs: Vec<f64> = series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.0))
+        .filter(|x| !x.is_nan())
+        .collect();
+    let (xmin, xmax) = xs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    let log = xmin > 0.0 && xmax / xmin >= 20.0;
+    let tx = |x: f64| if log { x.log10() } else { x };
+    let (mut x0, mut x1) = (tx(xmin), tx(xmax));
+    if x1 - x0 < 1e-12 {
+        x0 -= 0.5;
+        x1 += 0.5;
+    }
+    let pad = 0.04 * (x1 - x0);
+    let (x0, x1) = (x0 - pad, x1 + pad);
+    let ys: Vec<f64> = series
+        .iter()
+        .flat_map(|s| s.points.iter().flat_map(|p| [Some(p.1), p.2, p.3]))
+        .flatten()
+        .filter(|y| y.is_finite())
+        .collect();
+    let (mut y0, mut y1) = ys
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
+            (a.min(y), b.max(y))
+        });
+    if y1 - y0 < 1e-12 {
+        y0 -= 0.5;
+        y1 += 0.5;
+    }
+    let pad = 0.06 * (y1 - y0);
+    let (y0, y1) = (y0 - pad, y1 + pad);
+    Extents {
+        log,
+        xmin,
+        xmax,
+        x: (x0, x1),
+        y: (y0, y1),
+    }
+}
+
+/// The x axis, drawn by hand: on a log axis light lines at 2..9 times
+/// each decade, then a line, a mark and a label at each tick.
+fn draw_x_ticks(
+    chart: &mut Chart<'_, '_>,
+    top: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    ticks: &[f64],
+    log: bool,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    x_fmt: &dyn Fn(f64) -> String,
+) -> Result<(), PlotError> {
+    // a log axis: light lines at 2..9 times each decade
+    if log {
+        let (a, b) = (x0.floor() as i32, x1.ceil() as i32);
+        for k in a..=b {
+            for m in 2..=9 {
+                let t = (m as f64 * 10f64.powi(k)).log10();
+                if t > x0 && t < x1 && !ticks.iter().any(|u| (u - t).abs() < 1e-9) {
+                    chart
+                        .draw_series(std::iter::once(PathElement::new(
+                            vec![(t, y0), (t, y1)],
+                            RGBColor(242, 242, 242),
+                        )))
+                        .map_err(draw_err)?;
+                }
+            }
+        }
+    }
+    // the x ticks, drawn by hand: decades (or 1-2-5) on a log axis,
+    // round numbers on a linear one; the swept values are the markers
+    for &t in ticks {
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(t, y0), (t, y1)],
+                RGBColor(215, 215, 215),
+            )))
+            .map_err(draw_err)?;
+        let (px, py) = chart.backend_coord(&(t, y0));
+        top.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
+            .map_err(draw_err)?;
+        let style = TextStyle::from((FONT, 17).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Top));
+        top.draw(&Text::new(x_fmt(t), (px, py + 8), style))
+            .map_err(draw_err)?;
+    }
+    Ok(())
+}
+
+/// Each series: its band (the 95% interval), its line and its markers; a
+/// learner that does not use x as a dashed line across with its band.
+fn draw_series(
+    chart: &mut Chart<'_, '_>,
+    top: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    series: &[Series],
+    tx: &dyn Fn(f64) -> f64,
+    (x0, x1): (f64, f64),
+) -> Result<(), PlotError> {
+    for (i, s) in series.iter().enumerate() {
+        let st = style(i);
+        let c = st.colour;
+        let pts: Vec<_> = s.points.iter().filter(|p| !p.0.is_nan()).collect();
+        if pts.is_empty() {
+            // a learner that does not use x: a dashed line across
+            let p = s.points[0];
+            if let (Some(l), Some(u)) = (p.2, p.3) {
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(x0, l), (x1, u)],
+                        c.mix(0.12).filled(),
+                    )))
+                    .map_err(draw_err)?;
+            }
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(x0, p.1), (x1, p.1)],
+                    12,
+                    6,
+                    c.stroke_width(2),
+                ))
+                .map_err(draw_err)?;
+            continue;
+        }
+        let band: Vec<(f64, f64, f64)> = pts
+            .iter()
+            .filter_map(|p| Some((tx(p.0), p.2?, p.3?)))
+            .collect();
+        if band.len() >= 2 {
+            let mut poly: Vec<(f64, f64)> = band.iter().map(|b| (b.0, b.1)).collect();
+            poly.extend(band.iter().rev().map(|b| (b.0, b.2)));
+            chart
+                .draw_series(std::iter::once(Polygon::new(poly, c.mix(0.15).filled())))
+                .map_err(draw_err)?;
+        } else if let Some(&(x, l, u)) = band.first() {
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![(x, l), (x, u)],
+                    c.stroke_width(2),
+                )))
+                .map_err(draw_err)?;
+        }
+        let line: Vec<(f64, f64)> = pts.iter().map(|p| (tx(p.0), p.1)).collect();
+        if st.dashed {
+            chart
+                .draw_series(DashedLineSeries::new(line, 5, 4, c.stroke_width(2)))
+                .map_err(draw_err)?;
+        } else {
+            chart
+                .draw_series(LineSeries::new(line, c.stroke_width(2)))
+                .map_err(draw_err)?;
+        }
+        for p in &pts {
+            let at = chart.backend_coord(&(tx(p.0), p.1));
+            draw_marker(top, at, st).map_err(draw_err)?;
+        }
+    }
+    Ok(())
+}
+
+/// The legend under the plot, `cols` columns of `col_w` pixels.
+fn draw_legend(
+    bottom: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    series: &[Series],
+    cols: u32,
+    col_w: u32,
+) -> Result<(), PlotError> {
+    // the legend: as each series is drawn (a dashed line alone for a
+    // learner that does not use x)
+    for (i, s) in series.iter().enumerate() {
+        let st = style(i);
+        let c = st.colour;
+        let (col, row) = (i as u32 % cols, i as u32 / cols);
+        let x = 50 + (col * col_w) as i32;
+        let y = 10 + 24 * row as i32;
+        let flat = s.points.iter().all(|p| p.0.is_nan());
+        if flat {
+            for (a, b) in [(x, x + 12), (x + 18, x + 30)] {
+                bottom
+                    .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(3)))
+                    .map_err(draw_err)?;
+            }
+        } else {
+            if st.dashed {
+                for (a, b) in [(x, x + 6), (x + 12, x + 18), (x + 24, x + 30)] {
+                    bottom
+                        .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(2)))
+                        .map_err(draw_err)?;
+                }
+            } else {
+                bottom
+                    .draw(&PathElement::new(
+                        vec![(x, y), (x + 30, y)],
+                        c.stroke_width(2),
+                    ))
+                    .map_err(draw_err)?;
+            }
+            draw_marker(bottom, (x + 15, y), st).map_err(draw_err)?;
+        }
+        let style = TextStyle::from((FONT, 16).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Left, VPos::Center));
+        bottom
+            .draw(&Text::new(s.label.clone(), (x + 38, y), style))
+            .map_err(draw_err)?;
+    }
+    Ok(())
 }

@@ -2,7 +2,8 @@
 //! intervals against one parameter, or a heat map over two.
 //!
 //! ```
-//! use e3d::report::sweep_plot::{plot, PlotSpec, Summary};
+//! use e3d::csv::Summary;
+//! use e3d::report::sweep_plot::{plot, PlotSpec};
 //! let csv = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions,h_mean,h_sd,h_ci_low,h_ci_high\n\
 //!            g,e3d,false,0.3,1,0.03,0.01,,3,0.9,0.01,0.88,0.92\n\
 //!            g,e3d,false,0.3,10,0.03,0.01,,3,0.8,0.01,0.78,0.82\n\
@@ -13,6 +14,7 @@
 //! assert!(svg.starts_with("<svg") && svg.contains("uniform"));
 //! ```
 
+use crate::csv::Summary;
 use crate::scene::did_you_mean;
 use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS, PARAM_NAMES};
 use plotters::prelude::*;
@@ -31,76 +33,6 @@ pub struct PlotError(pub String);
 
 fn err<T>(m: impl Into<String>) -> Result<T, PlotError> {
     Err(PlotError(m.into()))
-}
-
-/// The largest `summary.csv` `e3d plot` and `e3d report` read (64 MiB;
-/// one row per cell, a few hundred bytes each).
-pub const MAX_SUMMARY_CSV_BYTES: u64 = 64 << 20;
-
-/// A sweep's `summary.csv`, parsed.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Summary {
-    /// The column names.
-    pub columns: Vec<String>,
-    /// The rows, one field per column.
-    pub rows: Vec<Vec<String>>,
-}
-
-impl Summary {
-    /// Parses the text of a `summary.csv`.
-    ///
-    /// The parameters and every column after the cell's (sessions,
-    /// failures, the metrics' means, sds and intervals) must be empty or a
-    /// finite number: `inf`, `NaN` or a word is refused with
-    /// `summary.csv:LINE:COL` and the column, since one infinite value
-    /// would stretch a figure's axis without end. Linear in the text.
-    pub fn parse(text: &str) -> Result<Summary, PlotError> {
-        const FILE: &str = "summary.csv";
-        let mut lines = text.lines();
-        let columns: Vec<String> = match lines.next() {
-            Some(h) => h.split(',').map(str::to_string).collect(),
-            None => return err("the summary is empty"),
-        };
-        if columns.len() < CELL_COLUMNS + 1
-            || columns[..CELL_COLUMNS] != KEY_COLUMNS[..CELL_COLUMNS]
-        {
-            return err("not a sweep summary: expected the columns scene, learner, use_reward, alpha, beta, lambda, eta, epsilon, sessions, ...");
-        }
-        let mut rows = Vec::new();
-        for (i, l) in lines.enumerate() {
-            let f: Vec<String> = l.split(',').map(str::to_string).collect();
-            if f.len() != columns.len() {
-                return err(format!(
-                    "{FILE}:{}:1: {} fields, expected {}",
-                    i + 2,
-                    f.len(),
-                    columns.len()
-                ));
-            }
-            let mut col = 1;
-            for (k, v) in f.iter().enumerate() {
-                if k >= CELL_COLUMNS - PARAM_NAMES.len() && !v.is_empty() {
-                    crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
-                        .map_err(PlotError)?;
-                }
-                col += v.chars().count() + 1;
-            }
-            rows.push(f);
-        }
-        Ok(Summary { columns, rows })
-    }
-
-    /// The metrics summarised (the names `m` with an `m_mean` column).
-    pub fn metrics(&self) -> Vec<&str> {
-        self.columns
-            .iter()
-            .filter_map(|c| c.strip_suffix("_mean"))
-            .collect()
-    }
-
-    fn col(&self, name: &str) -> Option<usize> {
-        self.columns.iter().position(|c| c == name)
-    }
 }
 
 /// What to draw.
@@ -141,25 +73,87 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
             metrics.join(", ")
         ));
     }
+    // a summary read by `Summary::parse` has every parameter's column and
+    // rows of the header's length; one built in code may not
+    let columns = summary.columns.len();
+    if let Some((i, r)) = summary
+        .rows
+        .iter()
+        .enumerate()
+        .find(|(_, r)| r.len() != columns)
+    {
+        return err(format!(
+            "row {} of the summary has {} fields, expected {} (one per column)",
+            i + 1,
+            r.len(),
+            columns
+        ));
+    }
     let check_param = |p: &str| -> Result<usize, PlotError> {
-        if PARAM_NAMES.contains(&p) {
-            Ok(summary.col(p).expect("cell columns are checked"))
-        } else {
-            err(format!(
+        if !PARAM_NAMES.contains(&p) {
+            return err(format!(
                 "`{p}` is not a parameter{}; expected one of: {}",
                 did_you_mean(p, &PARAM_NAMES),
                 PARAM_NAMES.join(", ")
-            ))
+            ));
         }
+        summary.col(p).ok_or_else(|| {
+            PlotError(format!(
+                "the summary has no `{p}` column; expected the columns e3d writes"
+            ))
+        })
     };
     let xi = check_param(&spec.x)?;
     let yi = spec.y.as_deref().map(check_param).transpose()?;
     if yi == Some(xi) {
         return err("--x and --y name the same parameter");
     }
+    let rows = filtered_rows(summary, &spec.filters)?;
+    // a summary written by e3d has the four; an edited one may not
+    let col = |suffix: &str| {
+        let name = format!("{}_{suffix}", spec.metric);
+        summary.col(&name).ok_or_else(|| {
+            PlotError(format!(
+                "the summary has `{}_mean` but no `{name}` column; expected the columns e3d writes",
+                spec.metric
+            ))
+        })
+    };
+    let (mi, lo, hi) = (col("mean")?, col("ci_low")?, col("ci_high")?);
+    let num = |s: &str| s.parse::<f64>().ok();
+    let metric = metric_label(&spec.metric);
+    let title = plot_title(spec, &metric);
+    match yi {
+        None => {
+            let series = line_series(&rows, xi, mi, lo, hi, &num)?;
+            draw_lines(&title, &spec.x, &metric, &series)
+        }
+        Some(yi) => {
+            let rows = one_setting(rows, xi, yi, spec)?;
+            draw_heat(
+                &title,
+                &spec.x,
+                spec.y.as_deref().unwrap_or_default(),
+                rows,
+                xi,
+                yi,
+                mi,
+                &num,
+            )
+        }
+    }
+}
+
+/// The rows of `summary` that pass every filter (a parameter a learner
+/// does not use, empty, passes any filter on it); an unknown column or no
+/// row left is an error naming what there is.
+fn filtered_rows<'a>(
+    summary: &'a Summary,
+    filters: &[(String, String)],
+) -> Result<Vec<&'a Vec<String>>, PlotError> {
     let cell_cols: Vec<&str> = KEY_COLUMNS[..CELL_COLUMNS].to_vec();
     let mut rows: Vec<&Vec<String>> = summary.rows.iter().collect();
-    for (k, v) in &spec.filters {
+    for (k, v) in filters {
         let Some(ci) = summary.col(k).filter(|&i| i < CELL_COLUMNS) else {
             return err(format!(
                 "--where {k}={v}: `{k}` is not a cell column{}; expected one of: {}",
@@ -184,22 +178,14 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
             ));
         }
     }
-    // a summary written by e3d has the four; an edited one may not
-    let col = |suffix: &str| {
-        let name = format!("{}_{suffix}", spec.metric);
-        summary.col(&name).ok_or_else(|| {
-            PlotError(format!(
-                "the summary has `{}_mean` but no `{name}` column; expected the columns e3d writes",
-                spec.metric
-            ))
-        })
-    };
-    let (mi, lo, hi) = (col("mean")?, col("ci_low")?, col("ci_high")?);
-    let num = |s: &str| s.parse::<f64>().ok();
-    let metric = metric_label(&spec.metric);
+    Ok(rows)
+}
+
+/// The title: the metric against x (or over x and y), with the filters.
+fn plot_title(spec: &PlotSpec, metric: &str) -> String {
     let mut title = match &spec.y {
-        None => format!("{} against {}", capitalise(&metric), spec.x),
-        Some(y) => format!("{}: mean over {} and {y}", capitalise(&metric), spec.x),
+        None => format!("{} against {}", capitalise(metric), spec.x),
+        Some(y) => format!("{}: mean over {} and {y}", capitalise(metric), spec.x),
     };
     if !spec.filters.is_empty() {
         let f: Vec<String> = spec
@@ -209,52 +195,46 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
             .collect();
         title.push_str(&format!(" ({})", f.join(", ")));
     }
-    match yi {
-        None => {
-            let series = line_series(&rows, xi, mi, lo, hi, &num)?;
-            draw_lines(&title, &spec.x, &metric, &series)
-        }
-        Some(yi) => {
-            // one cell per (x, y): the other columns must be fixed
-            let rows: Vec<&Vec<String>> = rows
-                .into_iter()
-                .filter(|r| !r[xi].is_empty() && !r[yi].is_empty())
-                .collect();
-            if rows.is_empty() {
-                return err(format!(
-                    "no cell has both {} and {} (no learner uses both)",
-                    spec.x,
-                    spec.y.as_deref().unwrap_or_default()
-                ));
-            }
-            let varying: Vec<String> = (0..CELL_COLUMNS)
-                .filter(|&c| c != xi && c != yi)
-                .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
-                .map(|c| {
-                    let mut vals: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
-                    vals.sort();
-                    vals.dedup();
-                    format!("{} ({})", KEY_COLUMNS[c], vals.join(", "))
-                })
-                .collect();
-            if !varying.is_empty() {
-                return err(format!(
-                    "a heat map shows one setting, but these columns vary: {}; choose with --where COLUMN=VALUE",
-                    varying.join("; ")
-                ));
-            }
-            draw_heat(
-                &title,
-                &spec.x,
-                spec.y.as_deref().unwrap_or_default(),
-                rows,
-                xi,
-                yi,
-                mi,
-                &num,
-            )
-        }
+    title
+}
+
+/// The rows of a heat map: those with both x and y, in which no other
+/// cell column varies.
+fn one_setting<'a>(
+    rows: Vec<&'a Vec<String>>,
+    xi: usize,
+    yi: usize,
+    spec: &PlotSpec,
+) -> Result<Vec<&'a Vec<String>>, PlotError> {
+    // one cell per (x, y): the other columns must be fixed
+    let rows: Vec<&Vec<String>> = rows
+        .into_iter()
+        .filter(|r| !r[xi].is_empty() && !r[yi].is_empty())
+        .collect();
+    if rows.is_empty() {
+        return err(format!(
+            "no cell has both {} and {} (no learner uses both)",
+            spec.x,
+            spec.y.as_deref().unwrap_or_default()
+        ));
     }
+    let varying: Vec<String> = (0..CELL_COLUMNS)
+        .filter(|&c| c != xi && c != yi)
+        .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
+        .map(|c| {
+            let mut vals: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
+            vals.sort();
+            vals.dedup();
+            format!("{} ({})", KEY_COLUMNS[c], vals.join(", "))
+        })
+        .collect();
+    if !varying.is_empty() {
+        return err(format!(
+        "a heat map shows one setting, but these columns vary: {}; choose with --where COLUMN=VALUE",
+        varying.join("; ")
+    ));
+    }
+    Ok(rows)
 }
 
 /// A number in 4 significant digits, without trailing zeros.

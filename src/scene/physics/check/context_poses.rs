@@ -25,14 +25,14 @@ impl PhysicsSpec {
     ///
     /// ```
     /// use e3d::Scene;
-    /// let scene = Scene::load("scenes/arm7_contexts.ron").unwrap();
+    /// let scene = Scene::load("scenes/arm7_poses.ron").unwrap();
     /// let p = scene.as_physics().unwrap().spec();
     /// let straight = p.context_poses(0);
-    /// let bent = p.context_poses(1);
+    /// let raised = p.context_poses(1);
     /// assert_eq!(straight.len(), 7); // link1..link7
-    /// assert!((bent[0].2 - 1.2).abs() < 1e-12); // link1 turned by j1
-    /// assert!(bent[6].2.abs() < 1e-12); // j4 turns links 4..7 back
-    /// assert_ne!(straight[6], bent[6]);
+    /// assert!((raised[0].2 - 1.2).abs() < 1e-12); // link1 turned by j1
+    /// assert!((raised[6].2 - 1.2).abs() < 1e-12); // and every link it carries
+    /// assert_ne!(straight[6], raised[6]);
     /// ```
     pub fn context_poses(&self, k: usize) -> Vec<(f64, f64, f64)> {
         self.poses_at_corner(&self.contexts[k], 0)

@@ -1,0 +1,324 @@
+//! e3d's own CSV files, read back: a sweep's `summary.csv` ([`Summary`]),
+//! the failures its `results.csv` records ([`failures`]) and a run's
+//! `trials.csv` ([`parse_trials`], [`TrialRow`]). `e3d report` and
+//! `e3d plot` read them here, and only here.
+//!
+//! These files may have been edited by hand, cut short or replaced: every
+//! reader is linear in the text, sizes nothing by a value it reads, and
+//! refuses a bad value with `FILE:LINE:COL`, its column and what was
+//! expected. The callers read the files with
+//! [`read_own_file`](crate::text::read_own_file), capped at
+//! [`MAX_SUMMARY_CSV_BYTES`], [`MAX_TRIALS_CSV_BYTES`] and
+//! [`MAX_RESULTS_BYTES`](crate::sweep::MAX_RESULTS_BYTES).
+
+use crate::command::MAX_SLOTS;
+use crate::effect::MAX_EFFECTS;
+use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS, PARAM_NAMES};
+use crate::text::{csv_fields, echo, parse_finite};
+
+/// A file that cannot be read as what it should be: where and why.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct CsvError(pub String);
+
+fn err<T>(m: impl Into<String>) -> Result<T, CsvError> {
+    Err(CsvError(m.into()))
+}
+
+/// The largest `summary.csv` `e3d plot` and `e3d report` read (64 MiB;
+/// one row per cell, a few hundred bytes each).
+pub const MAX_SUMMARY_CSV_BYTES: u64 = 64 << 20;
+
+/// A sweep's `summary.csv`, parsed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// The column names.
+    pub columns: Vec<String>,
+    /// The rows, one field per column.
+    pub rows: Vec<Vec<String>>,
+}
+
+impl Summary {
+    /// Parses the text of a `summary.csv`.
+    ///
+    /// The parameters and every column after the cell's (sessions,
+    /// failures, the metrics' means, sds and intervals) must be empty or a
+    /// finite number: `inf`, `NaN` or a word is refused with
+    /// `summary.csv:LINE:COL` and the column, since one infinite value
+    /// would stretch a figure's axis without end. Linear in the text.
+    pub fn parse(text: &str) -> Result<Summary, CsvError> {
+        const FILE: &str = "summary.csv";
+        let mut lines = text.lines();
+        let columns: Vec<String> = match lines.next() {
+            Some(h) => h.split(',').map(str::to_string).collect(),
+            None => return err("the summary is empty"),
+        };
+        if columns.len() < CELL_COLUMNS + 1
+            || columns[..CELL_COLUMNS] != KEY_COLUMNS[..CELL_COLUMNS]
+        {
+            return err("not a sweep summary: expected the columns scene, learner, use_reward, alpha, beta, lambda, eta, epsilon, sessions, ...");
+        }
+        let mut rows = Vec::new();
+        for (i, l) in lines.enumerate() {
+            let f: Vec<String> = l.split(',').map(str::to_string).collect();
+            if f.len() != columns.len() {
+                return err(format!(
+                    "{FILE}:{}:1: {} fields, expected {}",
+                    i + 2,
+                    f.len(),
+                    columns.len()
+                ));
+            }
+            let mut col = 1;
+            for (k, v) in f.iter().enumerate() {
+                if k >= CELL_COLUMNS - PARAM_NAMES.len() && !v.is_empty() {
+                    crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
+                        .map_err(CsvError)?;
+                }
+                col += v.chars().count() + 1;
+            }
+            rows.push(f);
+        }
+        Ok(Summary { columns, rows })
+    }
+
+    /// The metrics summarised (the names `m` with an `m_mean` column).
+    pub fn metrics(&self) -> Vec<&str> {
+        self.columns
+            .iter()
+            .filter_map(|c| c.strip_suffix("_mean"))
+            .collect()
+    }
+
+    /// The index of the column `name`, if the summary has one.
+    pub fn col(&self, name: &str) -> Option<usize> {
+        self.columns.iter().position(|c| c == name)
+    }
+}
+
+/// One row of `trials.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrialRow {
+    /// The command, one character per slot.
+    pub command: String,
+    /// The terminal effect.
+    pub effect: usize,
+    /// The reward received.
+    pub reward: f64,
+    /// The values of a continuous command, one per slot (empty for a
+    /// command of symbols, whose `command` is then empty).
+    pub values: Vec<f64>,
+    /// The start context of the trial's episode, for a run of episodes
+    /// (`e3d run` on a scene with start contexts, or `--commands K`):
+    /// its `start` column; empty otherwise.
+    pub start: String,
+    /// The 1-based command of the trial in its episode (the `command`
+    /// column of a run of episodes); 1 otherwise.
+    pub step: usize,
+}
+
+/// The largest `trials.csv` [`parse_trials`] is given by `e3d report`
+/// (256 MiB, some 8 million trials): the page keeps every trial in memory.
+pub const MAX_TRIALS_CSV_BYTES: u64 = 256 << 20;
+
+/// Reads `trials.csv` (with or without a leading `session` column).
+/// That of a run of episodes (`session,episode,command,context,start,
+/// symbols,effect,reward`) gives the command's symbols from `symbols`,
+/// its place in the episode from `command` and the start context from
+/// `start`.
+///
+/// Every value is checked, and a bad one is refused with
+/// `trials.csv:LINE:COL`, its column and what was expected: an effect is
+/// a whole number below [`MAX_EFFECTS`], a
+/// reward and a command's values finite numbers, a command at most
+/// [`MAX_SLOTS`] symbols (or values). Linear
+/// in the length of the text; nothing is sized by a value read.
+pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, CsvError> {
+    parse_trial_rows(csv).map_err(CsvError)
+}
+
+fn parse_trial_rows(csv: &str) -> Result<Vec<TrialRow>, String> {
+    let mut lines = csv.lines();
+    let columns = TrialColumns::new(lines.next().ok_or("trials.csv is empty")?)?;
+    let mut rows = Vec::new();
+    for (k, line) in lines.enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        rows.push(columns.row(k + 2, line)?);
+    }
+    Ok(rows)
+}
+
+/// Where a `trials.csv`'s header puts what a [`TrialRow`] holds.
+struct TrialColumns {
+    header: Vec<String>,
+    /// A run of continuous commands: a quoted `values` column.
+    continuous: bool,
+    /// The command's symbols (or values).
+    c: usize,
+    /// The effect.
+    e: usize,
+    /// The reward.
+    r: usize,
+    /// A run of episodes: the command's place in its episode.
+    step_col: Option<usize>,
+    /// A run of episodes: the start context.
+    start_col: Option<usize>,
+}
+
+impl TrialColumns {
+    fn new(first_line: &str) -> Result<TrialColumns, String> {
+        let header: Vec<String> = csv_fields(first_line)
+            .into_iter()
+            .map(|(f, _)| f.trim().to_string())
+            .collect();
+        let col = |name: &str| {
+            header
+                .iter()
+                .position(|h| h == name)
+                .ok_or(format!("trials.csv has no `{name}` column"))
+        };
+        // a run of continuous commands writes a quoted `values` column
+        let continuous = header.iter().any(|h| h == "values");
+        // a run of episodes: `command` is the command's place in its episode
+        let episodes = header.iter().any(|h| h == "episode");
+        let (step_col, start_col) = if episodes {
+            (Some(col("command")?), Some(col("start")?))
+        } else {
+            (None, None)
+        };
+        let (c, e, r) = (
+            col(if continuous {
+                "values"
+            } else if episodes {
+                "symbols"
+            } else {
+                "command"
+            })?,
+            col("effect")?,
+            col("reward")?,
+        );
+        Ok(TrialColumns {
+            header,
+            continuous,
+            c,
+            e,
+            r,
+            step_col,
+            start_col,
+        })
+    }
+
+    /// Line `n` (1-based), `line`, as a row.
+    fn row(&self, n: usize, line: &str) -> Result<TrialRow, String> {
+        let TrialColumns {
+            header,
+            continuous,
+            c,
+            e,
+            r,
+            step_col,
+            start_col,
+        } = self;
+        const FILE: &str = "trials.csv";
+        let (continuous, c, e, r) = (*continuous, *c, *e, *r);
+        let (step_col, start_col) = (*step_col, *start_col);
+        let f = csv_fields(line);
+        if f.len() != header.len() {
+            return Err(format!(
+                "{FILE}:{n}:1: {} fields, expected {} ({}): `{}`",
+                f.len(),
+                header.len(),
+                header.join(","),
+                echo(line)
+            ));
+        }
+        let (command, at) = (&f[c].0, f[c].1);
+        let (values, command) = command_field(command, n, at, continuous)?;
+        let effect = f[e]
+            .0
+            .trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|&v| v < MAX_EFFECTS)
+            .ok_or_else(|| {
+                format!(
+                    "{FILE}:{n}:{}: column `effect`: expected a whole number below {MAX_EFFECTS}, found `{}`",
+                    f[e].1,
+                    echo(&f[e].0)
+                )
+            })?;
+        let reward = parse_finite(&f[r].0, FILE, n, f[r].1, "reward")?;
+        let step = match step_col {
+            None => 1,
+            Some(k) => f[k]
+                .0
+                .trim()
+                .parse::<usize>()
+                .ok()
+                .filter(|&v| (1..=crate::sweep::MAX_COMMANDS).contains(&v))
+                .ok_or_else(|| {
+                    format!(
+                        "{FILE}:{n}:{}: column `command`: expected the command's place in its episode, 1 to {}, found `{}`",
+                        f[k].1,
+                        crate::sweep::MAX_COMMANDS,
+                        echo(&f[k].0)
+                    )
+                })?,
+        };
+        let start = start_col.map_or(String::new(), |k| f[k].0.trim().to_string());
+        Ok(TrialRow {
+            command,
+            values,
+            effect,
+            reward,
+            start,
+            step,
+        })
+    }
+}
+
+/// The `command` (or `values`) field of line `n`, starting at column `at`:
+/// a command's values (at most [`MAX_SLOTS`], finite) and no symbols, or
+/// its symbols (at most [`MAX_SLOTS`]) and no values.
+fn command_field(
+    command: &str,
+    n: usize,
+    at: usize,
+    continuous: bool,
+) -> Result<(Vec<f64>, String), String> {
+    const FILE: &str = "trials.csv";
+    Ok(if continuous {
+        let mut values = Vec::new();
+        for v in command.split(',') {
+            if values.len() == MAX_SLOTS {
+                return Err(format!(
+                    "{FILE}:{n}:{at}: column `values`: expected at most {MAX_SLOTS} values"
+                ));
+            }
+            values.push(parse_finite(v, FILE, n, at, "values")?);
+        }
+        (values, String::new())
+    } else {
+        if command.chars().nth(MAX_SLOTS).is_some() {
+            return Err(format!(
+                "{FILE}:{n}:{at}: column `command`: expected at most {MAX_SLOTS} symbols, found `{}`",
+                echo(command)
+            ));
+        }
+        (Vec::new(), command.to_string())
+    })
+}
+
+/// The failure messages of a sweep's `results.csv` (its text): the last
+/// field of every row after the header that is not empty.
+pub fn failures(results_csv: &str) -> Vec<String> {
+    results_csv
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.rsplit(',').next())
+        .filter(|f| !f.trim().is_empty())
+        .map(str::to_string)
+        .collect()
+}

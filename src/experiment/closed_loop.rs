@@ -1,0 +1,196 @@
+//! Closed loop against open loop on equal budgets of moves (what
+//! `e3d closed-loop` prints): on a grid scene whose command has `n`
+//! moves, episodes of `K` commands of `n` moves against one command of
+//! `K n` moves.
+//!
+//! The arms, every one `K n` moves per episode and the reward of the
+//! episode's terminal cell:
+//!
+//! - `e3d_closed_loop`: [`ClosedLoopE3d`], `K` commands, the context the
+//!   current cell;
+//! - `e3d_contextual`: the same with `gamma = 0` (no bootstrap from
+//!   `Q_ref`: contextual E3D on the episode's reward);
+//! - `e3d_open_loop`: E3D with one command of `K n` moves (the paper's
+//!   learner on the longer command);
+//! - `qlearning`: [`QLearning`], `K` commands, the context the current cell;
+//! - `uniform`: `K n` uniform moves.
+
+use crate::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
+use crate::learner::{
+    ClosedLoopE3d, ContextTargets, ContextualLearner, LearnerError, LearnerKind, Params, QLearning,
+};
+use crate::scene::{CommandSpec, Scene, WorldSpec};
+use crate::Target;
+use rayon::prelude::*;
+
+/// The arms, in the order of the table.
+pub const ARMS: [&str; 5] = [
+    "e3d_closed_loop",
+    "e3d_contextual",
+    "e3d_open_loop",
+    "qlearning",
+    "uniform",
+];
+
+/// The settings of a comparison.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClosedLoopConfig {
+    /// Episodes per session.
+    pub episodes: usize,
+    /// Sessions (seeds `0..seeds`) per arm.
+    pub seeds: u64,
+    /// Commands per episode of the closed-loop arms, `K`.
+    pub commands: usize,
+    /// The parameters of the E3D arms (`alpha`, `beta`, `lambda`, `eta`)
+    /// and of Q-learning (`alpha`, `epsilon`).
+    pub params: Params,
+    /// The discount of `Q_ref` and of Q-learning.
+    pub gamma: f64,
+}
+
+impl Default for ClosedLoopConfig {
+    /// 5000 episodes, 20 seeds, `K = 3`, the paper's task 2, `gamma = 0.9`.
+    fn default() -> Self {
+        ClosedLoopConfig {
+            episodes: 5000,
+            seeds: 20,
+            commands: 3,
+            params: Params::TASK2,
+            gamma: ClosedLoopE3d::GAMMA,
+        }
+    }
+}
+
+/// One session's figures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArmSession {
+    /// The arm (one of [`ARMS`]).
+    pub arm: &'static str,
+    /// The seed.
+    pub seed: u64,
+    /// The first rewarded episode (1-based).
+    pub first_reward_episode: Option<usize>,
+    /// The reward collected over all episodes.
+    pub cumulative_reward: f64,
+    /// The reward collected over the last 1000 episodes (or all, if fewer).
+    pub late_reward: f64,
+}
+
+/// Why a comparison cannot run.
+#[derive(Debug, thiserror::Error)]
+pub enum ClosedLoopError {
+    /// Not a grid scene of repeated one-alphabet slots.
+    #[error("scene `{0}`: a closed-loop comparison takes a Grid scene whose command is `Repeat`")]
+    Scene(String),
+    /// A learner could not be made.
+    #[error(transparent)]
+    Learner(#[from] LearnerError),
+    /// A session failed.
+    #[error(transparent)]
+    World(#[from] crate::WorldError),
+    /// The scene of the long command is invalid.
+    #[error(transparent)]
+    Long(#[from] crate::SceneError),
+}
+
+/// The scene with `n` moves per command instead of its own.
+fn with_slots(scene: &Scene, n: usize) -> Result<Scene, ClosedLoopError> {
+    let mut long = scene.to_spec();
+    match &mut long.command {
+        CommandSpec::Repeat { slots, .. } => *slots = n,
+        _ => return Err(ClosedLoopError::Scene(scene.spec().name.clone())),
+    }
+    long.slots = None;
+    Ok(long.validate()?)
+}
+
+/// Runs one session of `arm`.
+pub fn run_arm(
+    scene: &Scene,
+    arm: &'static str,
+    seed: u64,
+    cfg: &ClosedLoopConfig,
+) -> Result<ArmSession, ClosedLoopError> {
+    if !matches!(scene.spec().world, WorldSpec::Grid(_)) {
+        return Err(ClosedLoopError::Scene(scene.spec().name.clone()));
+    }
+    let n = scene.spec().num_slots();
+    let shared = ContextTargets::Shared(Target::Uniform);
+    let closed = EpisodeConfig {
+        episodes: cfg.episodes,
+        commands: cfg.commands,
+        seed,
+        use_reward: true,
+        observe: Observe::State,
+    };
+    let rec: EpisodeRecord = match arm {
+        "e3d_closed_loop" | "e3d_contextual" | "qlearning" => {
+            let mut world = scene.build();
+            let space = scene.command_space();
+            let contexts = closed.num_contexts(&world);
+            let mut learner: Box<dyn ContextualLearner> = match arm {
+                "qlearning" => Box::new(QLearning::new(&space, contexts, &cfg.params, cfg.gamma)?),
+                _ => Box::new(ClosedLoopE3d::new(
+                    &space,
+                    scene.num_effects(),
+                    contexts,
+                    &cfg.params,
+                    &shared,
+                    if arm == "e3d_contextual" {
+                        0.0
+                    } else {
+                        cfg.gamma
+                    },
+                )?),
+            };
+            run_episodes(&mut world, &mut learner, &closed)?
+        }
+        "e3d_open_loop" | "uniform" => {
+            let long = with_slots(scene, n * cfg.commands)?;
+            let mut world = long.build();
+            let kind = if arm == "uniform" {
+                LearnerKind::Uniform
+            } else {
+                LearnerKind::E3d
+            };
+            let mut learner = kind.make_contextual(
+                &cfg.params,
+                &long.command_space(),
+                long.num_effects(),
+                1,
+                &shared,
+            )?;
+            let open = EpisodeConfig {
+                commands: 1,
+                observe: Observe::StartContext,
+                ..closed
+            };
+            run_episodes(&mut world, &mut learner, &open)?
+        }
+        _ => return Err(ClosedLoopError::Scene(format!("unknown arm {arm}"))),
+    };
+    let rewards: Vec<f64> = rec.episode_rewards().collect();
+    let late = rewards.len().saturating_sub(1000);
+    Ok(ArmSession {
+        arm,
+        seed,
+        first_reward_episode: rec.first_reward_episode(),
+        cumulative_reward: rewards.iter().sum(),
+        late_reward: rewards[late..].iter().sum(),
+    })
+}
+
+/// Every arm on every seed, in parallel (the results do not depend on the
+/// threads: each session has its own generator), in the order arm, seed.
+pub fn run_comparison(
+    scene: &Scene,
+    cfg: &ClosedLoopConfig,
+) -> Result<Vec<ArmSession>, ClosedLoopError> {
+    let jobs: Vec<(&'static str, u64)> = ARMS
+        .iter()
+        .flat_map(|&a| (0..cfg.seeds).map(move |s| (a, s)))
+        .collect();
+    jobs.par_iter()
+        .map(|&(arm, seed)| run_arm(scene, arm, seed, cfg))
+        .collect()
+}
