@@ -24,7 +24,7 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
     }
     let contexts = e3d::world::start_contexts(scene);
     if !contexts.is_empty() {
-        return context_stats(scene, &contexts, n);
+        return context_stats(scene, physics, &contexts, n);
     }
     let start = std::time::Instant::now();
     let threads = rayon::current_num_threads();
@@ -91,9 +91,13 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
 /// from its start, with its contacts, limits and speeds, the effects it
 /// reaches and how evenly (the normalised entropy of the terminal
 /// effects); then the union of the contexts' reached effects.
-fn context_stats(scene: &Scene, contexts: &[e3d::world::StartContext], n: u64) -> CliResult {
+fn context_stats(
+    scene: &Scene,
+    physics: e3d::world::PhysicsScene<'_>,
+    contexts: &[e3d::world::StartContext],
+    n: u64,
+) -> CliResult {
     use rayon::prelude::*;
-    let physics = scene.as_physics().expect("checked by the caller");
     let space = scene.command_space();
     let probe = scene.build();
     let starts: Vec<e3d::WorldState> = (0..contexts.len())
