@@ -134,6 +134,55 @@ pub(in crate::report) fn physics_picture(
     // coordinate, an angle, a product) has no cells over the world: the
     // picture says so instead of drawing them
     let world_cells = p.effect.world_point().is_some();
+    let mut v = picture_view(scene, p, overlay, world_cells);
+    let end_pose = overlay.and_then(|o| o.poses.as_ref()).is_some();
+    // bodies at their start pose, faded when a terminal pose is drawn too
+    let start_opacity = if animated.is_some() {
+        0.2
+    } else if end_pose {
+        0.35
+    } else {
+        0.9
+    };
+    let keys = picture_keys(scene, p, overlay, animated.is_some(), start_opacity);
+    v.legend_rows = legend_rows(&keys, v.width());
+    let mut out = String::new();
+    header(&mut out, &v, scene, overlay);
+    if world_cells {
+        effect_layer(&mut out, &v, scene, overlay);
+    } else {
+        effect_note(&mut out, scene, p);
+    }
+    if let Some(sym) = p.symmetry {
+        mirror_line(&mut out, &v, sym);
+    }
+    bodies_layer(&mut out, &v, p, start_opacity);
+    if let Some(poses) = overlay
+        .and_then(|o| o.poses.as_ref())
+        .filter(|_| animated.is_none())
+    {
+        end_poses_layer(&mut out, &v, p, poses);
+    }
+    joints_layer(&mut out, &v, p);
+    path_layer(&mut out, &v, overlay);
+    if let Some(draw) = animated.as_mut() {
+        draw(&mut out, &v);
+    }
+    tracked_start(&mut out, &v, p);
+    axes(&mut out, &v, "m");
+    legend(&mut out, &v, &keys);
+    out.push_str("</svg>\n");
+    out
+}
+
+/// The picture's extent: the effect grid (when its cells are over the
+/// world), every body at its start pose and the overlay's points, padded.
+fn picture_view(
+    scene: &Scene,
+    p: &PhysicsSpec,
+    overlay: Option<&Overlay>,
+    world_cells: bool,
+) -> View {
     let (mut min, mut max) = if world_cells {
         let g = scene.effect_grid();
         (g.min, g.max)
@@ -155,16 +204,18 @@ pub(in crate::report) fn physics_picture(
         }
     }
     let pad = 0.02 * (max[0] - min[0]).max(max[1] - min[1]);
-    let mut v = View::new([min[0] - pad, min[1] - pad], [max[0] + pad, max[1] + pad]);
+    View::new([min[0] - pad, min[1] - pad], [max[0] + pad, max[1] + pad])
+}
+
+/// The legend's entries, in the order they are drawn.
+fn picture_keys(
+    scene: &Scene,
+    p: &PhysicsSpec,
+    overlay: Option<&Overlay>,
+    animated: bool,
+    start_opacity: f64,
+) -> Vec<Key> {
     let end_pose = overlay.and_then(|o| o.poses.as_ref()).is_some();
-    // bodies at their start pose, faded when a terminal pose is drawn too
-    let start_opacity = if animated.is_some() {
-        0.2
-    } else if end_pose {
-        0.35
-    } else {
-        0.9
-    };
     let (dyn_fill, dyn_stroke) = colours(BodyKind::Dynamic);
     let mut keys = Vec::new();
     if p.bodies.iter().any(|b| b.kind == BodyKind::Fixed) {
@@ -179,7 +230,7 @@ pub(in crate::report) fn physics_picture(
         Swatch::Fill(dyn_fill, dyn_stroke, start_opacity),
         "start pose",
     ));
-    if animated.is_some() {
+    if animated {
         keys.push(Key(
             Swatch::Fill(END_FILL, END_STROKE, 0.9),
             "moving bodies",
@@ -207,39 +258,42 @@ pub(in crate::report) fn physics_picture(
             },
         ));
     }
-    v.legend_rows = legend_rows(&keys, v.width());
-    let mut out = String::new();
-    header(&mut out, &v, scene, overlay);
-    if world_cells {
-        effect_layer(&mut out, &v, scene, overlay);
-    } else {
-        let g = scene.effect_grid();
-        let _ = writeln!(
-            out,
-            r##"<text x="{MARGIN}" y="60" font-size="12" fill="#555">{}</text>"##,
-            esc(&format!(
-                "effect: {} ({} x {} cells, not drawn over the world; the dot and path are the first feature's body)",
-                describe_effect(p),
-                g.rows,
-                g.cols
-            ))
-        );
-    }
-    // the mirror line of a declared symmetry, across the whole picture
-    if let Some(sym) = p.symmetry {
-        let (a, b) = match sym {
-            Symmetry::FlipY => ((v.min[0], 0.0), (v.max[0], 0.0)),
-            Symmetry::FlipX => ((0.0, v.min[1]), (0.0, v.max[1])),
-        };
-        let _ = writeln!(
-            out,
-            r##"<g><title>mirror line ({sym:?}): one command of each mirror pair is simulated</title><line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{MIRROR}" stroke-width="1.2" stroke-dasharray="{MIRROR_DASH}"/></g>"##,
-            v.x(a.0),
-            v.y(a.1),
-            v.x(b.0),
-            v.y(b.1)
-        );
-    }
+    keys
+}
+
+/// An effect whose cells are not over the world, said in words.
+fn effect_note(out: &mut String, scene: &Scene, p: &PhysicsSpec) {
+    let g = scene.effect_grid();
+    let _ = writeln!(
+        out,
+        r##"<text x="{MARGIN}" y="60" font-size="12" fill="#555">{}</text>"##,
+        esc(&format!(
+            "effect: {} ({} x {} cells, not drawn over the world; the dot and path are the first feature's body)",
+            describe_effect(p),
+            g.rows,
+            g.cols
+        ))
+    );
+}
+
+/// The mirror line of a declared symmetry, across the whole picture.
+fn mirror_line(out: &mut String, v: &View, sym: Symmetry) {
+    let (a, b) = match sym {
+        Symmetry::FlipY => ((v.min[0], 0.0), (v.max[0], 0.0)),
+        Symmetry::FlipX => ((0.0, v.min[1]), (0.0, v.max[1])),
+    };
+    let _ = writeln!(
+        out,
+        r##"<g><title>mirror line ({sym:?}): one command of each mirror pair is simulated</title><line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{MIRROR}" stroke-width="1.2" stroke-dasharray="{MIRROR_DASH}"/></g>"##,
+        v.x(a.0),
+        v.y(a.1),
+        v.x(b.0),
+        v.y(b.1)
+    );
+}
+
+/// Every body at its start pose (fixed bodies opaque).
+fn bodies_layer(out: &mut String, v: &View, p: &PhysicsSpec, start_opacity: f64) {
     for b in &p.bodies {
         let (fill, stroke) = colours(b.kind);
         let op = if b.kind == BodyKind::Fixed {
@@ -249,8 +303,8 @@ pub(in crate::report) fn physics_picture(
         };
         let _ = writeln!(out, "<g><title>{}</title>", esc(&b.name));
         body_svg(
-            &mut out,
-            &v,
+            out,
+            v,
             &b.shape,
             b.position,
             b.angle,
@@ -258,27 +312,29 @@ pub(in crate::report) fn physics_picture(
         );
         out.push_str("</g>\n");
     }
-    if let Some(poses) = overlay
-        .and_then(|o| o.poses.as_ref())
-        .filter(|_| animated.is_none())
-    {
-        for (b, pose) in p.bodies.iter().zip(poses) {
-            if b.kind == BodyKind::Fixed {
-                continue;
-            }
-            let _ = writeln!(out, "<g><title>{} (end)</title>", esc(&b.name));
-            body_svg(
-                &mut out,
-                &v,
-                &b.shape,
-                (pose.position[0], pose.position[1]),
-                pose.angle,
-                Paint(END_FILL, END_STROKE, 0.9),
-            );
-            out.push_str("</g>\n");
+}
+
+/// The bodies that move, at the terminal poses `poses` (one per body).
+fn end_poses_layer(out: &mut String, v: &View, p: &PhysicsSpec, poses: &[BodyPose]) {
+    for (b, pose) in p.bodies.iter().zip(poses) {
+        if b.kind == BodyKind::Fixed {
+            continue;
         }
+        let _ = writeln!(out, "<g><title>{} (end)</title>", esc(&b.name));
+        body_svg(
+            out,
+            v,
+            &b.shape,
+            (pose.position[0], pose.position[1]),
+            pose.angle,
+            Paint(END_FILL, END_STROKE, 0.9),
+        );
+        out.push_str("</g>\n");
     }
-    // joints at their start pose: a ring at the hinge; ground hinges filled
+}
+
+/// Joints at their start pose: a ring at the hinge; ground hinges filled.
+fn joints_layer(out: &mut String, v: &View, p: &PhysicsSpec) {
     for j in &p.joints {
         let at = if j.parent == GROUND {
             j.parent_anchor
@@ -300,11 +356,10 @@ pub(in crate::report) fn physics_picture(
             esc(&j.name)
         );
     }
-    path_layer(&mut out, &v, overlay);
-    if let Some(draw) = animated.as_mut() {
-        draw(&mut out, &v);
-    }
-    // the tracked point at the start, over the path (inside its start ring)
+}
+
+/// The tracked point at the start, over the path (inside its start ring).
+fn tracked_start(out: &mut String, v: &View, p: &PhysicsSpec) {
     let drawn = p.effect.drawn_point(|j| p.child_of(j));
     if let Some((b, point)) = drawn.and_then(|(b, q)| Some((p.body(b)?, q))) {
         let t = to_world(b.position, b.angle, point);
@@ -315,10 +370,6 @@ pub(in crate::report) fn physics_picture(
             v.y(t.1)
         );
     }
-    axes(&mut out, &v, "m");
-    legend(&mut out, &v, &keys);
-    out.push_str("</svg>\n");
-    out
 }
 
 /// The effect's features in words: `joint \`pivot\` (9 bins over [-0.9, 0.9]) x ...`.
