@@ -103,6 +103,9 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     let name = make()?.name().to_string();
     describe(a, seeds.len(), &name, contexts, observe);
     let memos = memos(a, world.num_contexts(), &space, num_effects)?;
+    if let Some(dir) = &a.table_cache {
+        preload_context_tables(&a.scene, scene, dir, &memos);
+    }
     let records: Vec<EpisodeRecord> = seeds
         .par_iter()
         .map(|&seed| {
@@ -188,6 +191,44 @@ fn memos(
             .map_err(CliError::input)
     } else {
         Ok(Vec::new())
+    }
+}
+
+/// With `--table-cache DIR`: the outcome tables of the scene's named
+/// contexts that DIR holds (`e3d scene table SCENE --cache DIR`) fill the
+/// contexts' memos, so their commands are looked up, not simulated (the
+/// same outcomes, bit for bit). Said on stderr; a context without its
+/// table there runs as without the option.
+fn preload_context_tables(
+    given: &str,
+    scene: &Scene,
+    dir: &std::path::Path,
+    memos: &[OutcomeMemo],
+) {
+    if memos.is_empty() {
+        return; // --memo-cap 0: nothing is kept
+    }
+    let tables = e3d::world::ContextTables::read_cached(scene, dir);
+    let names = start_names(scene);
+    let mut read = Vec::new();
+    for ((table, memo), name) in tables.iter().zip(memos).zip(&names) {
+        if let Some(t) = table {
+            memo.extend(t.outcomes().enumerate().map(|(i, o)| (i as u64, *o)));
+            read.push(name.as_str());
+        }
+    }
+    if read.is_empty() {
+        errln!(
+            "note: no outcome table of a start context in {}; simulating the commands (`e3d scene table {given} --cache {}` writes them)",
+            dir.display(),
+            dir.display()
+        );
+    } else {
+        errln!(
+            "outcomes: the tables of start contexts {} read from {}",
+            read.join(", "),
+            dir.display()
+        );
     }
 }
 

@@ -227,3 +227,37 @@ fn scene_render_draws_each_context_from_its_start() {
     assert!(String::from_utf8_lossy(&out.stderr)
         .contains("no start context `mid` (its contexts: low, high)"));
 }
+
+/// `e3d run --table-cache DIR` on a scene with named start contexts looks
+/// its commands up in the contexts' tables that `scene table --cache DIR`
+/// wrote (said on stderr), with the same results as simulating them; with
+/// no table there it says so and simulates.
+#[test]
+fn run_reads_the_context_tables_of_its_cache() {
+    let dir = temp_dir("context-run-tables");
+    let path = dir.join("puck.ron");
+    std::fs::write(&path, PUCK).unwrap();
+    let file = path.to_str().unwrap();
+    let cache = dir.join("tables");
+    let cache_s = cache.to_str().unwrap();
+    let run = ["run", file, "--trials", "60", "--sessions", "2"];
+    let plain = stdout_of(&run);
+    let with_cache = [&run[..], &["--table-cache", cache_s]].concat();
+    let before = e3d(&with_cache);
+    assert!(before.status.success());
+    let err = String::from_utf8_lossy(&before.stderr);
+    assert!(
+        err.contains("note: no outcome table of a start context in"),
+        "{err}"
+    );
+    assert_eq!(String::from_utf8_lossy(&before.stdout), plain);
+    stdout_of(&["scene", "table", file, "--cache", cache_s]);
+    let after = e3d(&with_cache);
+    assert!(after.status.success());
+    let err = String::from_utf8_lossy(&after.stderr);
+    assert!(
+        err.contains("outcomes: the tables of start contexts low, high read from"),
+        "{err}"
+    );
+    assert_eq!(String::from_utf8_lossy(&after.stdout), plain);
+}

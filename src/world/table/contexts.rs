@@ -209,15 +209,7 @@ impl ContextTables {
     ) -> Result<(ContextTables, bool), WorldError> {
         let scene = contexts.scene;
         crate::io::remove_stale_temps(dir);
-        let read: Option<Vec<OutcomeTable>> = (0..contexts.count)
-            .map(|k| {
-                let path = Self::cache_path(scene, dir, k);
-                match OutcomeTable::read_file_keyed(&path, scene, Self::key(scene, k)) {
-                    Ok(CachedOutcomes::Full(t)) => Some(t),
-                    _ => None,
-                }
-            })
-            .collect();
+        let read: Option<Vec<OutcomeTable>> = Self::read_cached(scene, dir).into_iter().collect();
         if let Some(tables) = read {
             let names = start_contexts(scene).into_iter().map(|c| c.name).collect();
             return Ok((ContextTables { names, tables }, true));
@@ -228,6 +220,22 @@ impl ContextTables {
             let _ = t.write_file_keyed(&Self::cache_path(scene, dir, k), Self::key(scene, k));
         }
         Ok((built, false))
+    }
+
+    /// The whole tables of `scene`'s contexts that the folder `dir` holds
+    /// (as [`cached`](Self::cached) writes them), in context order: `None`
+    /// for a context whose table is not there, not whole or not this
+    /// scene's. Nothing is computed or written.
+    pub fn read_cached(scene: &Scene, dir: &Path) -> Vec<Option<OutcomeTable>> {
+        (0..start_contexts(scene).len())
+            .map(|k| {
+                let path = Self::cache_path(scene, dir, k);
+                match OutcomeTable::read_file_keyed(&path, scene, Self::key(scene, k)) {
+                    Ok(CachedOutcomes::Full(t)) => Some(t),
+                    _ => None,
+                }
+            })
+            .collect()
     }
 
     /// The key of context `k`'s table: the scene's
