@@ -3,6 +3,7 @@
 //! [`LearnerState`], and run by `run_session(learner=...)`, which
 //! continues from it.
 
+use crate::errors::params_arg;
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::{per_context_kind, state_kind, StateShape};
@@ -332,18 +333,9 @@ impl PyLearnerState {
         target: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyLearnerState> {
         let scene = scene_of(scene)?;
-        let kind: LearnerKind = learner
-            .parse()
-            .map_err(|e: e3d::ParseLearnerError| PyValueError::new_err(format!("learner: {e}")))?;
+        let kind = kind_arg(learner)?;
         let target = target_arg(&scene, target)?;
-        let params = Params {
-            alpha,
-            beta,
-            lambda: lambda_,
-            eta,
-            epsilon,
-            ..Params::TASK1
-        };
+        let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
         Ok(PyLearnerState {
             held: Held::new(&scene, kind, &params, &target)?,
         })
@@ -378,17 +370,8 @@ impl PyLearnerState {
         targets: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyLearnerState> {
         let scene = scene_of(scene)?;
-        let kind: LearnerKind = learner
-            .parse()
-            .map_err(|e: e3d::ParseLearnerError| PyValueError::new_err(format!("learner: {e}")))?;
-        let params = Params {
-            alpha,
-            beta,
-            lambda: lambda_,
-            eta,
-            epsilon,
-            ..Params::TASK1
-        };
+        let kind = kind_arg(learner)?;
+        let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
         let one = 1usize.into_pyobject(py)?.into_any();
         let held = crate::episode::contextual_held(
             &scene,
@@ -738,4 +721,12 @@ pub(crate) fn run_values_from(
         e3d::run_value_session(&mut guarded, learner, cfg, |t| watch.set(t as u64))
     })?;
     rec.map_err(|e| crate::errors::Fail::from(e).into())
+}
+
+/// The built-in learner named `learner`, or a `ValueError` naming the
+/// argument and the learners there are.
+fn kind_arg(learner: &str) -> PyResult<LearnerKind> {
+    learner
+        .parse()
+        .map_err(|e: e3d::ParseLearnerError| PyValueError::new_err(format!("learner: {e}")))
 }
