@@ -5,19 +5,8 @@ use crate::common::{e3d, stdout_of, temp_dir};
 use e3d::world::{ContextTables, TabledContexts};
 use e3d::{Scene, World};
 
-/// two_rooms from two named cells.
-const GRID: &str = r#"Scene(
-    name: "two_rooms_contexts",
-    world: Grid(rows: 3, cols: 6, start: (0, 0),
-        walls: [((0, 2), (0, 3)), ((2, 2), (2, 3))],
-        contexts: [(name: "a", cell: (0, 0)), (name: "b", cell: (2, 5))]),
-    command: Repeat(slots: 7, alphabet: [
-        (symbol: 'E', action: Move(drow: 0, dcol: 1)),
-        (symbol: 'S', action: Move(drow: 1, dcol: 0)),
-        (symbol: 'W', action: Move(drow: 0, dcol: -1)),
-        (symbol: 'N', action: Move(drow: -1, dcol: 0)),
-    ]),
-)"#;
+// two_rooms from two named cells (contexts `a` and `b`)
+use crate::contexts::CONTEXTS as GRID;
 
 /// A puck in a 3 m room, 2 impulses (4 commands), started in two corners.
 const PUCK: &str = r#"Scene(

@@ -3,7 +3,8 @@
 
 use crate::common::{e3d, ok, stdout_of, temp_dir};
 
-const CONTEXTS: &str = r#"Scene(
+/// two_rooms from two named cells, `a` (0, 0) and `b` (2, 5).
+pub(crate) const CONTEXTS: &str = r#"Scene(
     name: "two_rooms_contexts",
     world: Grid(rows: 3, cols: 6, start: (0, 0),
         walls: [((0, 2), (0, 3)), ((2, 2), (2, 3))],
