@@ -1,5 +1,6 @@
 //! The physics scenes: one rollout of each shipped physics scene (one
-//! command per world and many copies per world), the reset alone, and a
+//! command per world and many copies per world), a first pass of 256
+//! commands on a world that keeps prefix states, the reset alone, and a
 //! 5000-trial E3D session on each scene's outcome table; and a trial of
 //! continuous commands on arm7_continuous (one Gaussian E3D trial on live
 //! physics); 32 sessions of continuous commands on a puck, in lockstep
@@ -33,7 +34,9 @@ fn physics(c: &mut Criterion) {
         let mut g = c.benchmark_group(name);
         g.sample_size(10);
         g.throughput(Throughput::Elements(1));
+        // every step simulated: no prefix state kept
         let mut world = physics.world(1);
+        world.set_prefix_states(0);
         let mut i = 0;
         g.bench_function("rollout (one copy)", |b| {
             b.iter(|| {
@@ -41,6 +44,19 @@ fn physics(c: &mut Criterion) {
                 black_box(world.execute(&cmds[i]).unwrap().effect)
             })
         });
+        // the same 256 commands on a new world that keeps prefix states:
+        // what a first pass over new commands costs
+        if physics.world(1).prefix_depth() > 0 {
+            g.throughput(Throughput::Elements(cmds.len() as u64));
+            g.bench_function("256 commands on a new world (prefix states)", |b| {
+                b.iter(|| {
+                    let mut w = physics.world(1);
+                    let e: usize = cmds.iter().map(|c| w.execute(c).unwrap().effect).sum();
+                    black_box(e)
+                })
+            });
+            g.throughput(Throughput::Elements(1));
+        }
         let mut fresh = physics.world(1);
         g.bench_function("reset (restore the pristine sets)", |b| {
             b.iter(|| {

@@ -89,7 +89,16 @@ pub fn run(a: BenchArgs) -> CliResult {
     for name in &a.scenes {
         let scene = load_scene(name)?;
         let mut world = scene.build();
-        bench_rollouts(&scene, &mut *world, budget)?;
+        // every step simulated: a physics world of symbols keeps no prefix
+        // states here (its commands run in index order, sharing prefixes)
+        let plain = (!scene.spec().is_continuous()).then(|| scene.physics_world());
+        if let Some(mut plain) = plain.flatten() {
+            plain.set_prefix_states(0);
+            bench_rollouts(&scene, &mut plain, budget)?;
+            bench_prefixes(&scene, budget)?;
+        } else {
+            bench_rollouts(&scene, &mut *world, budget)?;
+        }
         if let Some(physics) = scene.as_physics() {
             bench_copies(&scene, &physics, budget);
         }
@@ -128,6 +137,45 @@ fn bench_rollouts(scene: &Scene, world: &mut dyn World, budget: Duration) -> Cli
             "1/s",
         );
     }
+    Ok(())
+}
+
+/// Rollouts per second of random commands (seed 0, uniform) on a world of
+/// one copy that keeps prefix states, as `execute` runs them (see
+/// [`PhysicsWorld::set_prefix_states`](e3d::PhysicsWorld::set_prefix_states));
+/// nothing on a scene whose schedule shares no prefix.
+fn bench_prefixes(scene: &Scene, budget: Duration) -> CliResult {
+    let Some(mut world) = scene.physics_world() else {
+        return Ok(());
+    };
+    if world.prefix_depth() == 0 {
+        return Ok(());
+    }
+    let space = scene.command_space();
+    let n_commands = space.num_commands().unwrap_or(u64::MAX);
+    let mut rng = <e3d::rng::SessionRng as rand::SeedableRng>::seed_from_u64(0);
+    let mut cmd = space.first();
+    let mut failure = None;
+    let rollouts = rate(budget, || {
+        for _ in 0..16 {
+            space.write_command_at(
+                rand::RngExt::random_range(&mut rng, 0..n_commands),
+                &mut cmd,
+            );
+            if let Err(e) = world.execute(&cmd) {
+                failure.get_or_insert(e);
+            }
+        }
+        16
+    });
+    if let Some(e) = failure {
+        return Err(CliError::simulation(e));
+    }
+    let measure = format!(
+        "rollouts (random commands; prefix states of up to {} slots kept)",
+        world.prefix_depth()
+    );
+    line(&scene.spec().name, &measure, rollouts, "1/s");
     Ok(())
 }
 

@@ -32,7 +32,7 @@ pub use from_scene::{ContinuousScene, PhysicsScene, ValueWorld};
 pub use grid::GridWorld;
 pub use memo::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
 pub use physics::{
-    BodyPose, Frame, Motion, PhysicsState, PhysicsWorld, RunStats, Trace, MAX_COPIES,
+    BodyPose, Frame, Motion, PhysicsState, PhysicsWorld, RunStats, Trace, MAX_COPIES, PREFIX_STATES,
 };
 pub use plan::{
     batch_rollout_seconds, calibration, calibration_on, lockstep_groups, rollout_seconds,

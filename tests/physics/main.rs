@@ -19,6 +19,7 @@ mod lockstep;
 mod motion;
 mod new_scenes;
 mod pendulum;
+mod prefixes;
 mod puck;
 mod scene_errors;
 mod symmetry;

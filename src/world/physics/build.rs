@@ -1,6 +1,7 @@
 //! Building a scene's Rapier sets: bodies, colliders, joints and the
 //! actions of every symbol, once per copy.
 
+use super::prefix::{Prefixes, PREFIX_STATES};
 use super::{
     v2, Act, JointInfo, PhysicsWorld, Probe, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
 };
@@ -401,6 +402,10 @@ impl PhysicsWorld {
         let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
         let (contexts, joint_geometry) =
             PhysicsWorld::context_starts(spec, scene.links(), &replicas[0], &s);
+        let sizes: Vec<usize> = scene.spec().slots().map(|a| a.len()).collect();
+        // a world of many copies runs batches, whose copies share no prefix
+        let capacity = if copies == 1 { PREFIX_STATES } else { 0 };
+        let prefixes = Prefixes::new(&sizes, !together && values.is_none(), capacity);
         PhysicsWorld {
             scene: scene.spec().name.clone(),
             space,
@@ -432,6 +437,7 @@ impl PhysicsWorld {
             joint_names: spec.joints.iter().map(|j| j.name.clone()).collect(),
             contexts,
             joint_geometry,
+            prefixes,
         }
     }
 }

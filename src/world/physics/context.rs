@@ -305,11 +305,14 @@ impl PhysicsWorld {
         f: impl FnOnce(&mut Self) -> R,
     ) -> Result<R, WorldError> {
         let snapshot = self.snapshot_of(from)?;
-        // a run restores `pristine` first: put the state's sets there
+        // a run restores `pristine` first: put the state's sets there, and
+        // keep no prefix state of the scene's start (see `prefix`)
         let saved = std::mem::replace(&mut self.pristine, Sets::clone(&snapshot));
+        let prefixes = std::mem::take(&mut self.prefixes);
         let mirror = self.mirror.take();
         let r = f(self);
         self.pristine = saved;
+        self.prefixes = prefixes;
         self.mirror = mirror;
         Ok(r)
     }
@@ -325,9 +328,11 @@ impl PhysicsWorld {
         let snapshot = self.snapshot_of(from)?;
         // the run restores `pristine` first: put the state's sets there
         let saved = std::mem::replace(&mut self.pristine, Sets::clone(&snapshot));
+        let prefixes = std::mem::take(&mut self.prefixes);
         let mut out = Vec::with_capacity(1);
         self.run_copies(&[super::Cmd::Symbols(command)], &mut out, true, |_| {});
         self.pristine = saved;
+        self.prefixes = prefixes;
         let outcome = out.pop().expect("one result per command")?;
         let end = self.state_of(Arc::new(self.sets.clone()), None);
         Ok((outcome, WorldState::Physics(end)))

@@ -29,10 +29,12 @@ mod build;
 mod context;
 mod joint_start;
 mod mirror;
+mod prefix;
 mod record;
 mod step;
 
 pub use context::PhysicsState;
+pub use prefix::PREFIX_STATES;
 pub use record::{BodyPose, Frame, Motion, RunStats, Trace};
 
 use super::{Outcome, World, WorldError, WorldState};
@@ -258,6 +260,9 @@ pub struct PhysicsWorld {
     contexts: Vec<context::ContextStart>,
     /// The joints' anchors and order, for the contexts that set them.
     joint_geometry: joint_start::JointGeometry,
+    /// The states at the phase ends of the prefixes run so far (a world
+    /// of one copy on a sequential schedule; see [`prefix`]).
+    prefixes: prefix::Prefixes,
 }
 
 /// One copy of a scene's non-fixed bodies and joints, resolved to handles.
@@ -330,6 +335,48 @@ impl PhysicsWorld {
         self.sets.restore(&self.pristine);
     }
 
+    /// Keeps at most `capacity` phase-end states of the prefixes of the
+    /// commands run (0: none), and forgets those kept.
+    ///
+    /// On a `Sequential` schedule, a world of one copy keeps the state of
+    /// its Rapier sets at the end of each phase of the commands it runs,
+    /// keyed by the symbols so far, and a command that shares a prefix
+    /// with an earlier one starts from the deepest state kept: the same
+    /// bits, fewer steps. The states kept are those of every prefix up to
+    /// the deepest length whose prefixes number at most `capacity` in all
+    /// (by default [`PREFIX_STATES`]; a world of many copies keeps none).
+    /// A state of puck_rooms takes about 18 KB.
+    ///
+    /// ```
+    /// use e3d::{Scene, World};
+    /// let scene = Scene::builtin("puck_rooms").unwrap();
+    /// let mut world = scene.physics_world().unwrap();
+    /// assert_eq!(world.prefix_depth(), 5); // 4 + 16 + ... + 1024 states
+    /// let c = world.command_space().parse("SEEEEES").unwrap();
+    /// let a = world.execute(&c).unwrap();
+    /// assert_eq!(world.prefix_states_kept(), 5);
+    /// let d = world.command_space().parse("SEEEEEN").unwrap();
+    /// world.execute(&d).unwrap(); // starts after `SEEEE`
+    /// world.set_prefix_states(0);
+    /// assert_eq!((world.prefix_depth(), world.prefix_states_kept()), (0, 0));
+    /// assert_eq!(world.execute(&c).unwrap(), a); // every step simulated
+    /// ```
+    pub fn set_prefix_states(&mut self, capacity: usize) {
+        self.prefixes = self.prefixes.with_capacity(capacity);
+    }
+
+    /// The longest prefix, in slots, whose phase-end states this world
+    /// keeps (see [`set_prefix_states`](Self::set_prefix_states)).
+    pub fn prefix_depth(&self) -> usize {
+        self.prefixes.depth()
+    }
+
+    /// The number of phase-end states kept now (see
+    /// [`set_prefix_states`](Self::set_prefix_states)).
+    pub fn prefix_states_kept(&self) -> usize {
+        self.prefixes.len()
+    }
+
     /// The number of copies this world holds (see
     /// [`PhysicsScene::world`](crate::world::PhysicsScene::world)).
     pub fn num_copies(&self) -> usize {
@@ -397,6 +444,7 @@ impl World for PhysicsWorld {
 mod tests {
     use super::*;
     use crate::scene::{Scene, WorldSpec};
+    use rapier2d::prelude::JointAxesMask;
 
     /// Leaving far limits out of a step changes no bit: arm7 (whose joints
     /// reach their limits on many commands) and pendulum3, on commands
@@ -455,5 +503,64 @@ mod tests {
             assert_eq!(a.point.map(f64::to_bits), b.point.map(f64::to_bits), "{k}");
         }
         assert!(reruns >= 15, "only {reruns} of 20 commands were rerun");
+    }
+
+    /// Prefix states and the gating together: on arm7 run sequentially
+    /// (its joints gated, a slot's torques for 0.25 s each), a world that
+    /// reuses prefix states and gates carelessly (some commands rerun)
+    /// gives the bits of a world that does neither. A state kept from a
+    /// gated phase has every limit on again.
+    #[test]
+    fn prefix_states_hold_every_limit() {
+        let mut arm = Scene::builtin("arm7").unwrap().to_spec();
+        let WorldSpec::Physics(p) = &mut arm.world else {
+            unreachable!("a physics scene")
+        };
+        p.schedule = crate::scene::physics::Schedule::Sequential {
+            phase: 0.25,
+            settle: 1.0,
+        };
+        p.symmetry = None;
+        let scene = arm.validate().unwrap();
+        let WorldSpec::Physics(spec) = &scene.spec().world else {
+            unreachable!("a physics scene")
+        };
+        let space = scene.command_space();
+        let n = space.num_commands().unwrap();
+        let mut careless = PhysicsWorld::of(&scene, spec, 1);
+        assert!(careless.prefix_depth() > 0);
+        careless.gate_margin = 0.15;
+        careless.gate_speed_steps = 0.0;
+        let mut plain = PhysicsWorld::of(&scene, spec, 1);
+        plain.gate_limits = false;
+        plain.set_prefix_states(0);
+        let (mut reruns, mut reused) = (0, 0);
+        let mut c = space.first();
+        for k in 0..120u64 {
+            // neighbours in index order share long prefixes
+            space.write_command_at((k / 4) * 7919 % n + k % 4, &mut c);
+            let kept = careless.prefix_states_kept();
+            let a = careless.execute(&c).unwrap();
+            reruns += usize::from(careless.gate_missed);
+            reused += usize::from(careless.prefix_states_kept() == kept);
+            let b = plain.execute(&c).unwrap();
+            assert_eq!(a.point.map(f64::to_bits), b.point.map(f64::to_bits), "{k}");
+        }
+        assert!(reruns >= 20, "only {reruns} of 120 commands were rerun");
+        assert!(reused >= 40, "only {reused} of 120 commands reused a state");
+        // every state kept has every limit on, as the pristine state has
+        let mbs = |s: &'_ Sets| {
+            let j = &careless.copies[0].joints;
+            j.iter()
+                .filter(|j| {
+                    let link = s.multibody_joints.rigid_body_link(j.child).unwrap();
+                    let mb = s.multibody_joints.get_multibody(link.multibody).unwrap();
+                    let axes = mb.link(link.id).unwrap().joint().data.limit_axes;
+                    axes.contains(JointAxesMask::ANG_X)
+                })
+                .count()
+        };
+        assert_eq!(mbs(&careless.pristine), 7);
+        assert!(careless.prefixes.states().all(|s| mbs(s) == 7));
     }
 }

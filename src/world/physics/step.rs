@@ -456,44 +456,95 @@ impl PhysicsWorld {
     /// `each_step` after every step, and appends one result per command to
     /// `out`.
     ///
-    /// With `gated`, limits far from their joints are left out of steps
-    /// ([`gate_limits`](Self::gate_limits)); if a joint then moves further
-    /// than the gating assumes, the commands are run again with every limit
-    /// on, so the results are always those of Rapier with every limit.
-    /// Traces run with every limit on (`gated` false), so that `each_step`
-    /// sees each step once.
+    /// `fast` is the path of `execute`: limits far from their joints are
+    /// left out of steps ([`gate_limits`](Self::gate_limits)); if a joint
+    /// then moves further than the gating assumes, the commands are run
+    /// again with every limit on, so the results are always those of
+    /// Rapier with every limit. A single command also starts from the
+    /// deepest phase-end state kept of its prefix ([`prefix`](super::prefix)),
+    /// so `each_step` sees only the steps simulated. Traces are not `fast`:
+    /// every limit on, every step simulated, `each_step` sees each once.
     pub(super) fn run_copies(
         &mut self,
         commands: &[Cmd<'_>],
         out: &mut Vec<Result<Outcome, WorldError>>,
-        gated: bool,
+        fast: bool,
         each_step: impl FnMut(&Self),
     ) {
         let configured = self.gate_limits;
-        self.gate_limits = configured && gated;
+        self.gate_limits = configured && fast;
         self.gate_missed = false;
         let start = out.len();
-        self.run_copies_once(commands, out, each_step);
+        // the command whose prefixes are reused and kept, if any
+        let prefixed = match commands {
+            [Cmd::Symbols(c)] if fast && self.prefixes.depth() > 0 => Some(&c.symbols[..]),
+            _ => None,
+        };
+        self.run_copies_once(commands, out, prefixed, each_step);
         if self.gate_missed {
             out.truncate(start);
             self.gate_limits = false;
-            self.run_copies_once(commands, out, |_| {});
+            self.run_copies_once(commands, out, prefixed, |_| {});
         }
         self.gate_limits = configured;
     }
 
-    /// [`run_copies`](Self::run_copies) once, with the gating as set.
+    /// Restores the state `commands` start from: the deepest phase-end
+    /// state kept of the prefixes of `prefixed` (see [`prefix`](super::prefix)),
+    /// else the pristine one. Returns the number of phases it is past.
+    fn restore_start(&mut self, prefixed: Option<&[u8]>) -> usize {
+        if let Some((k, sets)) = prefixed.and_then(|s| self.prefixes.deepest(s)) {
+            self.sets.restore(sets);
+            return k;
+        }
+        self.sets.restore(&self.pristine);
+        0
+    }
+
+    /// Notes the state now as the end of phase `phase` of `symbols`, for
+    /// the commands that share that prefix. A snapshot holds every limit
+    /// on (gating left some out of the last step), as a run from the
+    /// pristine state has them, so that it continues a gated or an ungated
+    /// run alike.
+    fn note_prefix(&mut self, symbols: &[u8], phase: usize) {
+        if !self.prefixes.wants(symbols, phase + 1) {
+            return;
+        }
+        let mut sets = self.sets.clone();
+        let mbs = &mut sets.multibody_joints;
+        let joints = self.copies.iter().flat_map(|c| &c.joints);
+        for (j, q0) in joints.zip(&self.gated_angles) {
+            if q0.is_nan() {
+                continue;
+            }
+            let Some(link) = mbs.rigid_body_link(j.child).copied() else {
+                continue;
+            };
+            if let Some(l) = mbs
+                .get_multibody_mut(link.multibody)
+                .and_then(|mb| mb.link_mut(link.id))
+            {
+                l.joint.data.limit_axes.insert(JointAxesMask::ANG_X);
+            }
+        }
+        self.prefixes.note(symbols, phase + 1, sets);
+    }
+
+    /// [`run_copies`](Self::run_copies) once, with the gating as set,
+    /// reusing and keeping the phase-end states of `prefixed`'s prefixes.
     fn run_copies_once(
         &mut self,
         commands: &[Cmd<'_>],
         out: &mut Vec<Result<Outcome, WorldError>>,
+        prefixed: Option<&[u8]>,
         mut each_step: impl FnMut(&Self),
     ) {
         let n = commands.len();
         assert!(n <= self.copies.len(), "more commands than copies");
         let mut failed: Vec<Option<WorldError>> =
             commands.iter().map(|&c| self.check(c).err()).collect();
-        self.sets.restore(&self.pristine);
+        let prefixed = prefixed.filter(|_| failed[0].is_none());
+        let first = self.restore_start(prefixed);
         let slots = self.space.num_slots();
         let mut running = failed.iter().any(Option::is_none);
         // one phase with every slot (simultaneous) or one phase per slot
@@ -503,7 +554,7 @@ impl PhysicsWorld {
         } else {
             (slots, 1)
         };
-        for phase in 0..phases {
+        for phase in first..phases {
             for (c, &command) in commands.iter().enumerate() {
                 if failed[c].is_none() {
                     for slot in phase * width..(phase + 1) * width {
@@ -519,6 +570,9 @@ impl PhysicsWorld {
                 each_step(self);
             }
             self.release();
+            if let Some(symbols) = prefixed.filter(|_| running) {
+                self.note_prefix(symbols, phase);
+            }
         }
         for _ in 0..self.settle_steps {
             if !running {
@@ -526,6 +580,11 @@ impl PhysicsWorld {
             }
             running = self.step(commands, &mut failed);
             each_step(self);
+        }
+        if prefixed.is_some() {
+            // a missed gate reruns the command ungated: keep that run's
+            let missed = self.gate_limits && self.gate_missed;
+            self.prefixes.settle(failed[0].is_none() && !missed);
         }
         for (c, f) in failed.into_iter().enumerate() {
             out.push(match f {
@@ -536,20 +595,21 @@ impl PhysicsWorld {
     }
 
     /// Runs `command` on copy 0 from the pristine state, calling
-    /// `each_step` after every step; returns the outcome.
+    /// `each_step` after every step simulated (`fast`: the path of
+    /// `execute`, see [`run_copies`](Self::run_copies)); returns the outcome.
     ///
     /// A command with a [`twin`](Self::twin) runs its twin instead, and
     /// gets the reflected outcome (`each_step` sees the twin's steps).
     pub(super) fn run(
         &mut self,
         command: &Command,
-        gated: bool,
+        fast: bool,
         each_step: impl FnMut(&Self),
     ) -> Result<Outcome, WorldError> {
         let mut out = Vec::with_capacity(1);
         let twin = self.twin(command);
         let run = Cmd::Symbols(twin.as_ref().unwrap_or(command));
-        self.run_copies(&[run], &mut out, gated, each_step);
+        self.run_copies(&[run], &mut out, fast, each_step);
         let result = out.pop().expect("one result per command");
         match twin {
             None => result,
@@ -562,11 +622,11 @@ impl PhysicsWorld {
     pub(super) fn run_values(
         &mut self,
         values: &[f64],
-        gated: bool,
+        fast: bool,
         each_step: impl FnMut(&Self),
     ) -> Result<Outcome, WorldError> {
         let mut out = Vec::with_capacity(1);
-        self.run_copies(&[Cmd::Values(values)], &mut out, gated, each_step);
+        self.run_copies(&[Cmd::Values(values)], &mut out, fast, each_step);
         out.pop().expect("one result per command")
     }
 
