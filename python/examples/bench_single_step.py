@@ -9,9 +9,12 @@ out in full).
 pymunk executes N random distinct commands (its --seed 1), one rollout at
 a time, and writes them; e3d then executes the same N commands one
 `World.execute` call at a time on a new World (every call a simulation:
-no command repeats, so the outcome memo never answers), then the same
-with `execute_batch` of one command at a time (the world of 32 copies
-that batches use), then with `E3dEnv.step` on a new environment. Runs alternate; medians are
+no command repeats, so the outcome memo never answers; a command that
+shares a prefix with an earlier one starts from the phase-end state kept),
+then on a new World that keeps no prefix state (`prefix_states=0`: every
+step of every command simulated, as pymunk does), then with
+`execute_batch` of one command at a time (the world of 32 copies that
+batches use), then with `E3dEnv.step` on a new environment. Runs alternate; medians are
 printed, on one core (RAYON_NUM_THREADS=1 is set: a single command never
 uses more than one anyway).
 """
@@ -35,7 +38,8 @@ def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 2000
     runs = int(sys.argv[2]) if len(sys.argv) > 2 else 3
     scene = e3d.Scene.builtin("puck_rooms")
-    rates = {"pymunk": [], "World.execute": [], "batch of one": [], "E3dEnv.step": []}
+    rates = {"pymunk": [], "World.execute": [], "every step": [], "batch of one": [],
+             "E3dEnv.step": []}
     with tempfile.TemporaryDirectory() as tmp:
         cmds_path = pathlib.Path(tmp) / "commands.txt"
         # the scene as pymunk's reader wants it: written out in full
@@ -55,6 +59,12 @@ def main():
             for c in cmds:
                 w.execute(c)
             rates["World.execute"].append(n / (time.perf_counter() - s))
+            # every step simulated: no prefix state kept
+            w = scene.world(prefix_states=0)
+            s = time.perf_counter()
+            for c in cmds:
+                w.execute(c)
+            rates["every step"].append(n / (time.perf_counter() - s))
             # a batch of one command: the world of 32 copies that batches
             # use (what World.execute ran on before it had a world of one)
             w = scene.world()
@@ -77,6 +87,8 @@ def main():
             print(f"{k:<14} rollouts/s: median {statistics.median(v):.0f}, range {min(v):.0f}-{max(v):.0f} ({len(v)} runs)")
     e, p = statistics.median(rates["World.execute"]), statistics.median(rates["pymunk"])
     print(f"World.execute / pymunk: {e / p:.2f}x")
+    f = statistics.median(rates["every step"])
+    print(f"World.execute with every step simulated (prefix_states=0) / pymunk: {f / p:.2f}x")
 
 
 if __name__ == "__main__":

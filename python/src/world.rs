@@ -39,10 +39,13 @@ pub(crate) struct PyWorld {
     single: Mutex<Option<Box<dyn World + Send>>>,
     /// Physics worlds of `copies` copies for a continuous scene's batches.
     valued: Mutex<Vec<PhysicsWorld>>,
+    /// The most phase-end states the world of `execute` keeps (see
+    /// `PhysicsWorld::set_prefix_states`).
+    prefix_states: usize,
 }
 
 impl PyWorld {
-    pub(crate) fn new(scene: PyScene) -> PyWorld {
+    pub(crate) fn new(scene: PyScene, prefix_states: usize) -> PyWorld {
         let copies = match &scene.inner.spec().world {
             WorldSpec::Physics(p) if p.copies_are_exact() => TABLE_COPIES,
             _ => 1,
@@ -62,6 +65,18 @@ impl PyWorld {
             tracer: Mutex::new(None),
             single: Mutex::new(None),
             valued: Mutex::new(Vec::new()),
+            prefix_states,
+        }
+    }
+
+    /// The world of `execute`: one copy, keeping `prefix_states` states.
+    fn build_single(&self) -> Box<dyn World + Send> {
+        match self.scene.inner.physics_world() {
+            Some(mut w) if self.scene.values.is_none() => {
+                w.set_prefix_states(self.prefix_states);
+                Box::new(w)
+            }
+            _ => self.scene.inner.build(),
         }
     }
 
@@ -82,7 +97,7 @@ impl PyWorld {
     /// a batch fills.
     fn run_one(&self, command: &Command) -> Result<Outcome, WorldError> {
         let mut slot = self.single.lock().unwrap_or_else(|e| e.into_inner());
-        let world = slot.take().unwrap_or_else(|| self.scene.inner.build());
+        let world = slot.take().unwrap_or_else(|| self.build_single());
         let (world, result) = if self.memoised() {
             let mut w = Memoized::new(world, &self.memo);
             let r = w.execute(command);
@@ -368,11 +383,19 @@ impl PyWorld {
         motion_to_py(py, text, motion)
     }
 
-    /// Pickling: the scene's world (`scene.world()`); the outcomes kept
-    /// are not carried (they are simulated again when asked).
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, ())> {
+    /// Pickling: the scene's world (`scene.world(prefix_states)`); the
+    /// outcomes and prefix states kept are not carried (they are simulated
+    /// again when asked).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (usize,))> {
         let scene = Bound::new(py, self.scene.clone())?;
-        Ok((scene.getattr("world")?, ()))
+        Ok((scene.getattr("world")?, (self.prefix_states,)))
+    }
+
+    /// The most phase-end states `execute` keeps (`Scene.world`'s
+    /// `prefix_states`).
+    #[getter]
+    fn prefix_states(&self) -> usize {
+        self.prefix_states
     }
 
     /// How many commands' outcomes this world keeps (each simulated once).

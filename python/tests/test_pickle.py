@@ -29,6 +29,8 @@ def test_world_round_trips_with_the_same_outcomes():
     got = back.execute_batch(cmds)
     assert got.effect.tolist() == want.effect.tolist() and got.x.tolist() == want.x.tolist()
     assert copy.deepcopy(w).execute("EESSEES") == w.execute("EESSEES")
+    lean = pickle.loads(pickle.dumps(e3d.Scene.builtin("puck_rooms").world(prefix_states=7)))
+    assert lean.prefix_states == 7
 
 
 def test_env_round_trips_with_its_generator():

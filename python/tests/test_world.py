@@ -47,6 +47,32 @@ def test_execute_one_command():
     assert w.execute([1, 0, 0, 0, 0, 0, 1]) == o
 
 
+@pytest.mark.parametrize("name", ["puck_rooms", "swimmer", "cart_pole"])
+def test_prefix_states_give_the_bits_of_every_step(cli, name):
+    # one command at a time: the default world starts commands that share
+    # a prefix from the state kept; prefix_states=0 simulates every step;
+    # both equal `e3d scene exec` bit for bit
+    scene = e3d.Scene.builtin(name)
+    base = random_commands(scene, 40, seed=4)
+    cmds = np.concatenate([base, base[:, ::-1]])  # shared prefixes, both ways
+    cmds[40:, :3] = base[:40, :3]
+    reusing, plain = scene.world(), scene.world(prefix_states=0)
+    assert (reusing.prefix_states, plain.prefix_states) == (4096, 0)
+    a = [reusing.execute(c) for c in cmds]
+    b = [plain.execute(c) for c in cmds]
+    assert a == b
+    rows = cli_exec(cli, name, scene.format(cmds))
+    assert [o.x for o in a] == [float(r["x"]) for r in rows]
+    assert [o.effect for o in a] == [int(r["effect"]) for r in rows]
+
+
+def test_prefix_states_must_be_a_count():
+    scene = e3d.Scene.builtin("puck_rooms")
+    with pytest.raises(ValueError, match="prefix_states"):
+        scene.world(prefix_states=-1)
+    assert scene.world(prefix_states=None).prefix_states == 4096
+
+
 def test_the_memo_keeps_each_command_once():
     scene = e3d.Scene.builtin("puck_rooms")
     w = scene.world()

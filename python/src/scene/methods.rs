@@ -3,7 +3,7 @@
 
 use super::{builtin_names, PyScene};
 use crate::commands::commands_from;
-use crate::errors::{scene_err, scene_error};
+use crate::errors::{scene_err, scene_error, usize_arg};
 use crate::world::PyWorld;
 use e3d::scene::WorldSpec;
 use numpy::ndarray::Array2;
@@ -223,8 +223,16 @@ impl PyScene {
     }
 
     /// A world that executes this scene's commands (see `World`).
-    fn world(&self) -> PyWorld {
-        PyWorld::new(self.clone())
+    /// `prefix_states`: the most phase-end states `execute` keeps for the
+    /// commands that share a prefix (default 4096; 0: every step of every
+    /// command simulated).
+    #[pyo3(signature = (prefix_states = None))]
+    fn world(&self, prefix_states: Option<&Bound<'_, PyAny>>) -> PyResult<PyWorld> {
+        let cap = match prefix_states {
+            Some(n) if !n.is_none() => usize_arg(n, "prefix_states", 0)?,
+            _ => e3d::world::PREFIX_STATES,
+        };
+        Ok(PyWorld::new(self.clone(), cap))
     }
 
     fn __repr__(&self) -> String {
