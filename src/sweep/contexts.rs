@@ -29,11 +29,7 @@ pub(super) fn check(
     let most = contexts.iter().copied().max().unwrap_or(1);
     let episodes = spec.runs_episodes() || most > 1;
     if !episodes {
-        if let Some(m) = metrics.iter().find(|m| m.context().is_some()) {
-            let name = m.column();
-            let name = name
-                .trim_end_matches(|c: char| c.is_ascii_digit())
-                .trim_end_matches('_');
+        if let Some((name, _)) = metrics.iter().find_map(MetricSpec::per_context) {
             return Err(bad(
                 "metrics",
                 Some(name),
@@ -57,11 +53,7 @@ pub(super) fn check(
         metrics.extend((0..most).map(MetricSpec::FirstRewardTrialContext));
     }
     for m in metrics.iter() {
-        if let Some(i) = m.context().filter(|&i| i >= most) {
-            let name = m.column();
-            let name = name
-                .trim_end_matches(|c: char| c.is_ascii_digit())
-                .trim_end_matches('_');
+        if let Some((name, i)) = m.per_context().filter(|&(_, i)| i >= most) {
             return Err(bad(
                 "metrics",
                 Some(name),

@@ -86,10 +86,16 @@ pub enum MetricSpec {
 impl MetricSpec {
     /// The start context of a per-context metric.
     pub fn context(&self) -> Option<usize> {
+        self.per_context().map(|(_, i)| i)
+    }
+
+    /// A per-context metric's name without its context (`name(I)` in a
+    /// sweep file, `name_I` as a column), and its context.
+    pub fn per_context(&self) -> Option<(&'static str, usize)> {
         match *self {
-            MetricSpec::NormalizedEntropyContext(i)
-            | MetricSpec::CumulativeRewardContext(i)
-            | MetricSpec::FirstRewardTrialContext(i) => Some(i),
+            MetricSpec::NormalizedEntropyContext(i) => Some(("normalized_entropy_context", i)),
+            MetricSpec::CumulativeRewardContext(i) => Some(("cumulative_reward_context", i)),
+            MetricSpec::FirstRewardTrialContext(i) => Some(("first_reward_trial_context", i)),
             _ => None,
         }
     }
@@ -106,9 +112,12 @@ impl MetricSpec {
             MetricSpec::Coverage => "coverage".into(),
             MetricSpec::TrialsTo50Percent => "trials_to_50_percent".into(),
             MetricSpec::TrialsTo90Percent => "trials_to_90_percent".into(),
-            MetricSpec::NormalizedEntropyContext(i) => format!("normalized_entropy_context_{i}"),
-            MetricSpec::CumulativeRewardContext(i) => format!("cumulative_reward_context_{i}"),
-            MetricSpec::FirstRewardTrialContext(i) => format!("first_reward_trial_context_{i}"),
+            MetricSpec::NormalizedEntropyContext(i)
+            | MetricSpec::CumulativeRewardContext(i)
+            | MetricSpec::FirstRewardTrialContext(i) => {
+                let (name, _) = self.per_context().expect("a per-context metric");
+                format!("{name}_{i}")
+            }
         }
     }
 
