@@ -153,20 +153,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
     let mut seen: BTreeMap<usize, PathBuf> = BTreeMap::new();
     let mut rows: BTreeMap<usize, String> = BTreeMap::new();
     for dir in inputs {
-        let jp = dir.join(JOURNAL);
-        if !jp.exists() {
-            return Err(SweepError::Output(format!(
-                "{}: no {JOURNAL}; expected the --out folder of `e3d sweep --shard K/N`",
-                dir.display()
-            )));
-        }
-        let read = journal::read(&jp)?;
-        let own = |name: &str| {
-            crate::text::read_own_bytes(&dir.join(name), crate::scene::MAX_FILE_BYTES, name)
-                .map_err(|e| SweepError::Output(e.to_string()))
-        };
-        let sweep_copy = own(SWEEP_COPY)?;
-        let version = own(VERSION_FILE)?;
+        let (read, sweep_copy, version) = read_shard(dir)?;
         let h = &read.header;
         match &first {
             None => first = Some((h.clone(), sweep_copy, version)),
@@ -182,23 +169,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
                 dir.display()
             )));
         }
-        let expected = h.shard.count(h.total);
-        let mine = read
-            .rows
-            .into_iter()
-            .filter(|(i, _)| h.shard.contains(*i) && *i < h.total)
-            .collect::<Vec<_>>();
-        if mine.len() != expected {
-            return Err(SweepError::Output(format!(
-                "{}: shard {} is incomplete ({} of {} sessions); finish it with `e3d sweep ... --shard {} --resume`",
-                dir.display(),
-                h.shard,
-                mine.len(),
-                expected,
-                h.shard
-            )));
-        }
-        rows.extend(mine);
+        rows.extend(shard_rows(dir, read)?);
     }
     let (h0, sweep_copy, version) = first.expect("at least one input");
     let missing: Vec<String> = (1..=h0.shard.n)
@@ -229,6 +200,45 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
         resumed: rows.len(),
         ran: 0,
     })
+}
+
+/// A shard's folder: its journal, and the bytes of its copy of the sweep
+/// file and of its version file.
+fn read_shard(dir: &Path) -> Result<(journal::JournalRead, Vec<u8>, Vec<u8>), SweepError> {
+    let jp = dir.join(JOURNAL);
+    if !jp.exists() {
+        return Err(SweepError::Output(format!(
+            "{}: no {JOURNAL}; expected the --out folder of `e3d sweep --shard K/N`",
+            dir.display()
+        )));
+    }
+    let read = journal::read(&jp)?;
+    let own = |name: &str| {
+        crate::text::read_own_bytes(&dir.join(name), crate::scene::MAX_FILE_BYTES, name)
+            .map_err(|e| SweepError::Output(e.to_string()))
+    };
+    Ok((read, own(SWEEP_COPY)?, own(VERSION_FILE)?))
+}
+
+/// The rows of a shard's own sessions, in its folder `dir`, all of them
+/// (else the shard is incomplete: an error saying how to finish it).
+fn shard_rows(dir: &Path, read: journal::JournalRead) -> Result<Vec<(usize, String)>, SweepError> {
+    let h = &read.header;
+    let expected = h.shard.count(h.total);
+    let (shard, total) = (h.shard, h.total);
+    let mine = read
+        .rows
+        .into_iter()
+        .filter(|(i, _)| shard.contains(*i) && *i < total)
+        .collect::<Vec<_>>();
+    if mine.len() != expected {
+        return Err(SweepError::Output(format!(
+            "{}: shard {shard} is incomplete ({} of {expected} sessions); finish it with `e3d sweep ... --shard {shard} --resume`",
+            dir.display(),
+            mine.len(),
+        )));
+    }
+    Ok(mine)
 }
 
 /// A shard's folder `dir` against the first one (`first_dir`): the same
