@@ -383,6 +383,71 @@ fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>)
     Ok(())
 }
 
+/// Fills `chunk` with the commands read next: the first one waited for,
+/// then those already read, up to `limit`. `None` when the reader is done
+/// (nothing read); else `Some` of the error that ends the input, if one
+/// came (the commands before it are in `chunk`).
+fn next_chunk(
+    rx: &std::sync::mpsc::Receiver<Read>,
+    limit: usize,
+    chunk: &mut Vec<Command>,
+) -> Option<Option<CliError>> {
+    chunk.clear();
+    let mut next = rx.recv().ok()?;
+    loop {
+        match next {
+            Ok(c) => chunk.push(c),
+            Err(e) => return Some(Some(e)),
+        }
+        if chunk.len() == limit {
+            return Some(None);
+        }
+        match rx.try_recv() {
+            Ok(r) => next = r,
+            Err(_) => return Some(None),
+        }
+    }
+}
+
+/// Appends the CSV rows of `chunk`'s outcomes (taken from `results`) to
+/// `text`, up to the first failure, which is returned.
+fn write_rows(
+    space: &CommandSpace,
+    chunk: &[Command],
+    results: &mut Vec<Result<e3d::Outcome, WorldError>>,
+    text: &mut String,
+) -> Option<CliError> {
+    for (c, r) in chunk.iter().zip(results.drain(..)) {
+        match r {
+            Ok(o) => {
+                let _ = writeln!(
+                    text,
+                    "{},{},{},{},{}",
+                    space.format(c),
+                    o.effect,
+                    o.reward,
+                    o.point[0],
+                    o.point[1]
+                );
+            }
+            Err(e) => return Some(world_error(e)),
+        }
+    }
+    None
+}
+
+/// Keeps the outcomes of `memo` in the table folder `dir` (merged with
+/// what its file holds); a failure is a note, the output stands.
+fn keep_memo(memo: &e3d::world::OutcomeMemo, scene: &Scene, dir: &Path) {
+    let path = OutcomeTable::cache_path(scene, dir);
+    if let Err(e) = memo.save(&path, scene) {
+        errln!(
+            "note: could not keep the outcomes in {}: {e}",
+            path.display()
+        );
+    }
+}
+
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
     match &scene.spec().world {
         WorldSpec::Grid(g) if !g.contexts.is_empty() => {
@@ -437,25 +502,9 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
             p.set_total(n);
         }
         while end.is_none() {
-            chunk.clear();
-            let Ok(mut next) = rx.recv() else {
-                break;
-            };
-            loop {
-                match next {
-                    Ok(c) => chunk.push(c),
-                    Err(e) => {
-                        end = Some(e);
-                        break;
-                    }
-                }
-                if chunk.len() == limit {
-                    break;
-                }
-                match rx.try_recv() {
-                    Ok(r) => next = r,
-                    Err(_) => break,
-                }
+            match next_chunk(&rx, limit, &mut chunk) {
+                None => break,
+                Some(e) => end = e,
             }
             results.clear();
             executor.run(&chunk, memo.as_ref(), &mut results);
@@ -470,24 +519,8 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
                 ));
             }
             text.clear();
-            for (c, r) in chunk.iter().zip(results.drain(..)) {
-                match r {
-                    Ok(o) => {
-                        let _ = writeln!(
-                            text,
-                            "{},{},{},{},{}",
-                            space.format(c),
-                            o.effect,
-                            o.reward,
-                            o.point[0],
-                            o.point[1]
-                        );
-                    }
-                    Err(e) => {
-                        end = Some(world_error(e));
-                        break;
-                    }
-                }
+            if let Some(e) = write_rows(&space, &chunk, &mut results, &mut text) {
+                end = Some(e);
             }
             if !text.is_empty() {
                 if !header_written {
@@ -500,13 +533,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
         Ok(())
     })?;
     if let (Some(m), Some(dir)) = (memo.as_ref().filter(|m| !m.is_empty()), table_cache) {
-        let path = OutcomeTable::cache_path(scene, dir);
-        if let Err(e) = m.save(&path, scene) {
-            errln!(
-                "note: could not keep the outcomes in {}: {e}",
-                path.display()
-            );
-        }
+        keep_memo(m, scene, dir);
     }
     match end {
         Some(e) => Err(e),
