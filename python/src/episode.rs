@@ -229,16 +229,8 @@ pub(crate) fn run_episodes(
         )
         .map_err(|e| Fail::Value(e.to_string()))
     };
-    let name = make()?.name().to_string();
-    let records = run_builtin_episodes(py, &inner, &seeds, &cfg, &make)?;
     let slots = space.num_slots();
-    let mut out = Vec::with_capacity(records.len());
-    for (rec, &seed) in records.into_iter().zip(&seeds) {
-        out.push(Py::new(
-            py,
-            record_to_py(py, rec, seed, &name, slots, starts)?,
-        )?);
-    }
+    let out = run_builtin_episodes(py, &inner, &seeds, &cfg, &make, slots, starts)?;
     one_or_list(py, out, one)
 }
 
@@ -302,8 +294,11 @@ fn run_builtin_episodes(
     seeds: &[u64],
     cfg: &(impl Fn(u64) -> EpisodeConfig + Sync),
     make: &(impl Fn() -> Result<Box<dyn ContextualLearner + Send>, Fail> + Sync),
-) -> PyResult<Vec<EpisodeRecord>> {
-    Ok(py.detach(|| {
+    slots: usize,
+    starts: usize,
+) -> PyResult<Vec<Py<PyEpisodeRecord>>> {
+    let name = make()?.name().to_string();
+    let records = py.detach(|| {
         seeds
             .par_iter()
             .map(|&seed| {
@@ -312,7 +307,15 @@ fn run_builtin_episodes(
                 e3d::episode::run_episodes(&mut world, &mut learner, &cfg(seed)).map_err(Fail::from)
             })
             .collect::<Result<Vec<_>, Fail>>()
-    })?)
+    })?;
+    let mut out = Vec::with_capacity(records.len());
+    for (rec, &seed) in records.into_iter().zip(seeds) {
+        out.push(Py::new(
+            py,
+            record_to_py(py, rec, seed, &name, slots, starts)?,
+        )?);
+    }
+    Ok(out)
 }
 
 /// A contextual built-in learner, as `run_episodes` would make it for
