@@ -179,81 +179,36 @@ impl OutcomeTable {
                 crate::text::ReadError::Io { error, .. } => error,
                 other => io::Error::new(io::ErrorKind::InvalidData, other.to_string()),
             })?;
-        let rewards = scene.reward_table();
-        let bad = |m: &str| {
-            io::Error::new(
-                io::ErrorKind::InvalidData,
-                format!("{}: {m}", path.display()),
-            )
+        let r = TableBytes {
+            bytes: &bytes,
+            path,
+            rewards: scene.reward_table(),
+            num_effects: scene.num_effects(),
         };
         let space = scene.command_space();
         let n = space
             .num_commands()
-            .ok_or_else(|| bad("command space too large"))?;
-        let num_effects = scene.num_effects();
-        if bytes.len() < HEADER + 8 || &bytes[..8] != MAGIC {
-            return Err(bad(if bytes.starts_with(OLD_MAGIC) {
-                "a table of an older e3d format"
-            } else {
-                "not an e3d table file"
-            }));
-        }
-        let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().expect("8 bytes"));
-        if u64_at(8) != key || u64_at(16) != n {
-            return Err(bad("the table belongs to another scene or e3d version"));
-        }
-        let entries = u64_at(24);
-        let full = entries == n;
-        let each = RECORD + if full { 0 } else { 8 };
-        if entries > n || (bytes.len() - HEADER - 8) as u64 != entries.saturating_mul(each as u64) {
-            return Err(bad("truncated or of the wrong length"));
-        }
-        let body = bytes.len() - 8;
-        if u64_at(body) != crate::hash::fnv1a64(&bytes[..body]) {
-            return Err(bad("damaged (its checksum does not match)"));
-        }
-        let record = |at: usize| -> io::Result<Outcome> {
-            let effect =
-                u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes")) as usize;
-            if effect >= num_effects {
-                return Err(bad("an effect out of range"));
-            }
-            let f = |i: usize| f64::from_le_bytes(bytes[i..i + 8].try_into().expect("8 bytes"));
-            let (reward, point) = (f(at + 4), [f(at + 12), f(at + 20)]);
-            if reward.to_bits() != rewards[effect].to_bits() {
-                return Err(bad(&format!(
-                    "a reward that is not the scene's: {reward} for effect {effect}, where the scene gives {}",
-                    rewards[effect]
-                )));
-            }
-            if !point.iter().all(|v| v.is_finite()) {
-                return Err(bad("a terminal point that is not finite"));
-            }
-            Ok(Outcome {
-                effect,
-                reward,
-                point,
-            })
-        };
-        if full {
+            .ok_or_else(|| r.bad("command space too large"))?;
+        let entries = r.check_header(key, n)?;
+        if entries == n {
             let outcomes = (0..n as usize)
-                .map(|k| record(HEADER + k * RECORD))
+                .map(|k| r.record(HEADER + k * RECORD))
                 .collect::<io::Result<Vec<_>>>()?;
             return Ok(CachedOutcomes::Full(OutcomeTable {
                 places: places(&space),
                 space,
-                num_effects,
+                num_effects: r.num_effects,
                 outcomes,
             }));
         }
         let mut out = Vec::with_capacity(entries as usize);
         for k in 0..entries as usize {
-            let at = HEADER + k * each;
-            let i = u64_at(at);
+            let at = HEADER + k * (RECORD + 8);
+            let i = r.u64_at(at);
             if i >= n || out.last().is_some_and(|&(p, _)| p >= i) {
-                return Err(bad("command indices out of order"));
+                return Err(r.bad("command indices out of order"));
             }
-            out.push((i, record(at + 8)?));
+            out.push((i, r.record(at + 8)?));
         }
         Ok(CachedOutcomes::Partial(out))
     }
@@ -315,4 +270,79 @@ pub(super) fn file_safe(name: &str) -> String {
             }
         })
         .collect()
+}
+
+/// The bytes of a table file being read, and what its outcomes must agree
+/// with (see [`OutcomeTable::read_file`]).
+struct TableBytes<'a> {
+    bytes: &'a [u8],
+    path: &'a Path,
+    rewards: Vec<f64>,
+    num_effects: usize,
+}
+
+impl TableBytes<'_> {
+    /// Why the file cannot be used, naming it.
+    fn bad(&self, m: &str) -> io::Error {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("{}: {m}", self.path.display()),
+        )
+    }
+
+    fn u64_at(&self, i: usize) -> u64 {
+        u64::from_le_bytes(self.bytes[i..i + 8].try_into().expect("8 bytes"))
+    }
+
+    /// Checks the magic, the key, the number of commands `n`, the length
+    /// and the checksum; returns the number of entries (`n`: a whole
+    /// table).
+    fn check_header(&self, key: u64, n: u64) -> io::Result<u64> {
+        let bytes = self.bytes;
+        if bytes.len() < HEADER + 8 || &bytes[..8] != MAGIC {
+            return Err(self.bad(if bytes.starts_with(OLD_MAGIC) {
+                "a table of an older e3d format"
+            } else {
+                "not an e3d table file"
+            }));
+        }
+        if self.u64_at(8) != key || self.u64_at(16) != n {
+            return Err(self.bad("the table belongs to another scene or e3d version"));
+        }
+        let entries = self.u64_at(24);
+        let each = RECORD + if entries == n { 0 } else { 8 };
+        if entries > n || (bytes.len() - HEADER - 8) as u64 != entries.saturating_mul(each as u64) {
+            return Err(self.bad("truncated or of the wrong length"));
+        }
+        let body = bytes.len() - 8;
+        if self.u64_at(body) != crate::hash::fnv1a64(&bytes[..body]) {
+            return Err(self.bad("damaged (its checksum does not match)"));
+        }
+        Ok(entries)
+    }
+
+    /// The outcome recorded at `at`, checked against the scene.
+    fn record(&self, at: usize) -> io::Result<Outcome> {
+        let bytes = self.bytes;
+        let effect = u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes")) as usize;
+        if effect >= self.num_effects {
+            return Err(self.bad("an effect out of range"));
+        }
+        let f = |i: usize| f64::from_le_bytes(bytes[i..i + 8].try_into().expect("8 bytes"));
+        let (reward, point) = (f(at + 4), [f(at + 12), f(at + 20)]);
+        if reward.to_bits() != self.rewards[effect].to_bits() {
+            return Err(self.bad(&format!(
+                "a reward that is not the scene's: {reward} for effect {effect}, where the scene gives {}",
+                self.rewards[effect]
+            )));
+        }
+        if !point.iter().all(|v| v.is_finite()) {
+            return Err(self.bad("a terminal point that is not finite"));
+        }
+        Ok(Outcome {
+            effect,
+            reward,
+            point,
+        })
+    }
 }
