@@ -67,7 +67,17 @@ pub(crate) fn commands_from(
                 .collect();
         }
     }
-    let array: Bound<'_, PyUntypedArray> = match obj.cast::<PyUntypedArray>() {
+    let array = untyped_array(py, obj)?;
+    check_array(space, &array, ndim)?;
+    array_commands(py, space, &array, ndim)
+}
+
+/// `obj` as a numpy array: itself, or `numpy.asarray(obj)`.
+fn untyped_array<'py>(
+    py: Python<'py>,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyUntypedArray>> {
+    Ok(match obj.cast::<PyUntypedArray>() {
         Ok(a) => a.clone(),
         Err(_) => {
             let np = py.import("numpy")?;
@@ -79,7 +89,16 @@ pub(crate) fn commands_from(
             a.cast_into::<PyUntypedArray>()
                 .map_err(|e| PyValueError::new_err(e.to_string()))?
         }
-    };
+    })
+}
+
+/// Checks that `array` holds commands of `space`: `ndim` dimensions (with
+/// `ndim == 2`, at least one row), a row as long as the slots, integers.
+fn check_array(
+    space: &CommandSpace,
+    array: &Bound<'_, PyUntypedArray>,
+    ndim: usize,
+) -> PyResult<()> {
     let shape = array.shape().to_vec();
     let what = if ndim == 1 {
         format!("one command, an array of shape [{}]", space.num_slots())
@@ -115,8 +134,20 @@ pub(crate) fn commands_from(
             dtype.str()?
         )));
     }
-    let rows = if ndim == 1 { 1 } else { shape[0] };
-    if dtype.is_equiv_to(&numpy::dtype::<u8>(py)) {
+    Ok(())
+}
+
+/// The commands of an integer array `check_array` accepted, each row
+/// checked against the slots' alphabets: a uint8 array read in place,
+/// another dtype through int64.
+fn array_commands(
+    py: Python<'_>,
+    space: &CommandSpace,
+    array: &Bound<'_, PyUntypedArray>,
+    ndim: usize,
+) -> PyResult<Vec<Command>> {
+    let rows = if ndim == 1 { 1 } else { array.shape()[0] };
+    if array.dtype().is_equiv_to(&numpy::dtype::<u8>(py)) {
         let a = array.cast::<PyArrayDyn<u8>>()?.readonly();
         let view = a.as_array();
         if let Ok(v) = view.view().into_shape_with_order((rows, space.num_slots())) {

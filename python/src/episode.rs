@@ -10,9 +10,9 @@ use crate::outcome::PyOutcome;
 use crate::saved::{Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::episode::{EpisodeConfig, EpisodeRecord, Observe};
-use e3d::learner::{ClosedLoopE3d, ContextTargets, QLearning};
+use e3d::learner::{ClosedLoopE3d, ContextTargets, ContextualLearner, QLearning};
 use e3d::world::WorldState;
-use e3d::{LearnerKind, Params};
+use e3d::{CommandSpace, LearnerKind, Params};
 use e3d::{SessionRng, Target, World};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
@@ -214,32 +214,8 @@ pub(crate) fn run_episodes(
     }
     let Some(kind) = kind else {
         let objs = python_learners(learner.expect("an object"), one, seeds.len())?;
-        let mut out = Vec::with_capacity(seeds.len());
-        for (obj, &seed) in objs.into_iter().zip(&seeds) {
-            let name = python_learner_name(&obj)?;
-            let error = RefCell::new(None);
-            let mut l = PyContextual(PyLearner::new(py, obj, &space, &error)?, contexts);
-            let mut world = inner.build();
-            let mut guarded = Guarded {
-                world: &mut *world,
-                stop: || error.borrow().is_some(),
-            };
-            let rec = e3d::episode::run_episodes(&mut guarded, &mut l, &cfg(seed));
-            drop(l);
-            if let Some(e) = error.take() {
-                return Err(e);
-            }
-            let rec = rec.map_err(Fail::from)?;
-            let slots = space.num_slots();
-            out.push(Py::new(
-                py,
-                record_to_py(py, rec, seed, &name, slots, starts)?,
-            )?);
-        }
-        if one {
-            return Ok(out.remove(0).into_any());
-        }
-        return Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind());
+        let out = run_python_episodes(py, &inner, &space, objs, &seeds, &cfg, contexts, starts)?;
+        return one_or_list(py, out, one);
     };
     let make = || {
         kind.make_episodic(
@@ -253,6 +229,74 @@ pub(crate) fn run_episodes(
         )
         .map_err(|e| Fail::Value(e.to_string()))
     };
+    let slots = space.num_slots();
+    let out = run_builtin_episodes(py, &inner, &seeds, &cfg, &make, slots, starts)?;
+    one_or_list(py, out, one)
+}
+
+/// What `run_episodes` returns: the record of its one seed (`seed`), or
+/// the list of them (`seeds`).
+fn one_or_list(
+    py: Python<'_>,
+    mut out: Vec<Py<PyEpisodeRecord>>,
+    one: bool,
+) -> PyResult<Py<PyAny>> {
+    if one {
+        return Ok(out.remove(0).into_any());
+    }
+    Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind())
+}
+
+/// Runs sessions of episodes of Python learners, one per seed, one after
+/// the other on this thread: the first exception a learner raises stops
+/// the run and is raised.
+#[allow(clippy::too_many_arguments)]
+fn run_python_episodes(
+    py: Python<'_>,
+    inner: &e3d::Scene,
+    space: &CommandSpace,
+    objs: Vec<Bound<'_, PyAny>>,
+    seeds: &[u64],
+    cfg: &impl Fn(u64) -> EpisodeConfig,
+    contexts: usize,
+    starts: usize,
+) -> PyResult<Vec<Py<PyEpisodeRecord>>> {
+    let mut out = Vec::with_capacity(seeds.len());
+    for (obj, &seed) in objs.into_iter().zip(seeds) {
+        let name = python_learner_name(&obj)?;
+        let error = RefCell::new(None);
+        let mut l = PyContextual(PyLearner::new(py, obj, space, &error)?, contexts);
+        let mut world = inner.build();
+        let mut guarded = Guarded {
+            world: &mut *world,
+            stop: || error.borrow().is_some(),
+        };
+        let rec = e3d::episode::run_episodes(&mut guarded, &mut l, &cfg(seed));
+        drop(l);
+        if let Some(e) = error.take() {
+            return Err(e);
+        }
+        let rec = rec.map_err(Fail::from)?;
+        let slots = space.num_slots();
+        out.push(Py::new(
+            py,
+            record_to_py(py, rec, seed, &name, slots, starts)?,
+        )?);
+    }
+    Ok(out)
+}
+
+/// Runs sessions of episodes of a built-in learner (`make` makes it), one
+/// per seed, in parallel without the GIL, each on a world of its own.
+fn run_builtin_episodes(
+    py: Python<'_>,
+    inner: &e3d::Scene,
+    seeds: &[u64],
+    cfg: &(impl Fn(u64) -> EpisodeConfig + Sync),
+    make: &(impl Fn() -> Result<Box<dyn ContextualLearner + Send>, Fail> + Sync),
+    slots: usize,
+    starts: usize,
+) -> PyResult<Vec<Py<PyEpisodeRecord>>> {
     let name = make()?.name().to_string();
     let records = py.detach(|| {
         seeds
@@ -264,18 +308,14 @@ pub(crate) fn run_episodes(
             })
             .collect::<Result<Vec<_>, Fail>>()
     })?;
-    let slots = space.num_slots();
     let mut out = Vec::with_capacity(records.len());
-    for (rec, &seed) in records.into_iter().zip(&seeds) {
+    for (rec, &seed) in records.into_iter().zip(seeds) {
         out.push(Py::new(
             py,
             record_to_py(py, rec, seed, &name, slots, starts)?,
         )?);
     }
-    if one {
-        return Ok(out.remove(0).into_any());
-    }
-    Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind())
+    Ok(out)
 }
 
 /// A contextual built-in learner, as `run_episodes` would make it for

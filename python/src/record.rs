@@ -369,6 +369,53 @@ impl PyBatchRecord {
     }
 }
 
+/// The metrics of a batch of sessions, one array each, one value per
+/// session: `SessionBatch.metrics`' keys, in order.
+const BATCH_COLUMNS: [&str; 9] = [
+    "normalized_entropy",
+    "normalized_entropy_last_1000",
+    "kl_to_target",
+    "distinct_effects",
+    "cumulative_reward",
+    "first_reward_trial",
+    "trials",
+    "reachable_effects",
+    "normalized_entropy_reachable",
+];
+
+/// A session's metrics as numbers, in the order of [`BATCH_COLUMNS`] (NaN
+/// for a metric it lacks).
+fn batch_row(m: &Metrics) -> [f64; 9] {
+    [
+        m.normalized_entropy,
+        m.normalized_entropy_last_1000,
+        m.kl_to_target,
+        m.distinct_effects as f64,
+        m.cumulative_reward,
+        m.first_reward_trial.map_or(f64::NAN, |t| t as f64),
+        m.trials as f64,
+        m.reachable_effects.map_or(f64::NAN, |k| k as f64),
+        m.normalized_entropy_reachable.unwrap_or(f64::NAN),
+    ]
+}
+
+/// `SessionBatch.metrics`: each column of [`BATCH_COLUMNS`] as an array,
+/// of integers for the counts (`distinct_effects`, `trials`).
+fn batch_metrics(py: Python<'_>, floats: Vec<Vec<f64>>) -> PyResult<Bound<'_, PyDict>> {
+    let metrics = PyDict::new(py);
+    for (name, v) in BATCH_COLUMNS.iter().zip(floats) {
+        if *name == "distinct_effects" || *name == "trials" {
+            let ints: Vec<i64> = v.iter().map(|&x| x as i64).collect();
+            metrics.set_item(name, ints.into_pyarray(py))?;
+        } else {
+            metrics.set_item(name, v.into_pyarray(py))?;
+        }
+    }
+    Ok(metrics)
+}
+
+/// A batch of sessions (`run_sessions`) as a `SessionBatch`: the sessions'
+/// arrays stacked, one row per session, and their metrics as columns.
 pub(crate) fn batch_to_py(
     py: Python<'_>,
     scene: &PyScene,
@@ -385,33 +432,11 @@ pub(crate) fn batch_to_py(
     let mut counts = Vec::with_capacity(s);
     let mut policies = Vec::with_capacity(s);
     let mut commands = Vec::with_capacity(s);
-    let cols: [&str; 9] = [
-        "normalized_entropy",
-        "normalized_entropy_last_1000",
-        "kl_to_target",
-        "distinct_effects",
-        "cumulative_reward",
-        "first_reward_trial",
-        "trials",
-        "reachable_effects",
-        "normalized_entropy_reachable",
-    ];
-    let mut floats: Vec<Vec<f64>> = vec![Vec::with_capacity(s); cols.len()];
+    let mut floats: Vec<Vec<f64>> = vec![Vec::with_capacity(s); BATCH_COLUMNS.len()];
     for r in rows {
         let m = &r.metrics;
         per_session.push(metrics_dict(py, m)?.unbind());
-        let row = [
-            m.normalized_entropy,
-            m.normalized_entropy_last_1000,
-            m.kl_to_target,
-            m.distinct_effects as f64,
-            m.cumulative_reward,
-            m.first_reward_trial.map_or(f64::NAN, |t| t as f64),
-            m.trials as f64,
-            m.reachable_effects.map_or(f64::NAN, |k| k as f64),
-            m.normalized_entropy_reachable.unwrap_or(f64::NAN),
-        ];
-        for (c, v) in floats.iter_mut().zip(row) {
+        for (c, v) in floats.iter_mut().zip(batch_row(m)) {
             c.push(v);
         }
         commands.push(r.commands);
@@ -420,15 +445,7 @@ pub(crate) fn batch_to_py(
         counts.push(r.effect_counts.into_pyarray(py).unbind());
         policies.push(r.policy);
     }
-    let metrics = PyDict::new(py);
-    for (name, v) in cols.iter().zip(floats) {
-        if *name == "distinct_effects" || *name == "trials" {
-            let ints: Vec<i64> = v.iter().map(|&x| x as i64).collect();
-            metrics.set_item(name, ints.into_pyarray(py))?;
-        } else {
-            metrics.set_item(name, v.into_pyarray(py))?;
-        }
-    }
+    let metrics = batch_metrics(py, floats)?;
     let commands = py
         .import("numpy")?
         .call_method1("stack", (PyList::new(py, commands)?,))?

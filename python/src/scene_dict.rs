@@ -197,62 +197,18 @@ pub(crate) fn set_path(
     }
     for (i, key) in keys.iter().enumerate() {
         let last = i + 1 == keys.len();
-        // step through an enum variant's one-key dict
-        loop {
-            let Ok(d) = at.cast::<PyDict>() else { break };
-            if d.contains(*key)? || d.len() != 1 {
-                break;
-            }
-            let (k, v) = d.iter().next().expect("one item");
-            let variant = k.extract::<String>().unwrap_or_default();
-            if !variant.starts_with(|c: char| c.is_ascii_uppercase()) {
-                break;
-            }
-            at = v;
-        }
+        at = through_variants(at, key)?;
         if let Ok(d) = at.cast::<PyDict>() {
             if last {
                 if !d.contains(*key)? {
-                    let keys: Vec<String> = d.keys().iter().map(|k| k.to_string()).collect();
-                    return Err(bad(format!(
-                        "no field `{key}` here; its fields: {}",
-                        keys.join(", ")
-                    )));
+                    return Err(bad(no_field(d, key)));
                 }
                 d.set_item(*key, value)?;
                 return Ok(());
             }
-            at = d.get_item(*key)?.ok_or_else(|| {
-                let keys: Vec<String> = d.keys().iter().map(|k| k.to_string()).collect();
-                bad(format!(
-                    "no field `{key}` here; its fields: {}",
-                    keys.join(", ")
-                ))
-            })?;
+            at = d.get_item(*key)?.ok_or_else(|| bad(no_field(d, key)))?;
         } else if let Ok(l) = at.cast::<PyList>() {
-            let idx = match key.parse::<usize>() {
-                Ok(n) if n < l.len() => n,
-                Ok(n) => return Err(bad(format!("index {n}: the list has {} items", l.len()))),
-                Err(_) => {
-                    let names: Vec<String> = l
-                        .iter()
-                        .filter_map(|x| {
-                            x.cast::<PyDict>()
-                                .ok()?
-                                .get_item("name")
-                                .ok()??
-                                .extract::<String>()
-                                .ok()
-                        })
-                        .collect();
-                    names.iter().position(|n| n == key).ok_or_else(|| {
-                        bad(format!(
-                            "no item named `{key}`; the names: {}",
-                            names.join(", ")
-                        ))
-                    })?
-                }
-            };
+            let idx = list_index(l, key).map_err(bad)?;
             if last {
                 l.set_item(idx, value)?;
                 return Ok(());
@@ -263,4 +219,55 @@ pub(crate) fn set_path(
         }
     }
     Ok(())
+}
+
+/// `at` stepped through the one-key dicts of enum variants (such as
+/// `{"Physics": {...}}`) down to the first dict that holds `key`, or that
+/// is not a variant's.
+fn through_variants<'py>(mut at: Bound<'py, PyAny>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+    loop {
+        let Ok(d) = at.cast::<PyDict>() else { break };
+        if d.contains(key)? || d.len() != 1 {
+            break;
+        }
+        let (k, v) = d.iter().next().expect("one item");
+        let variant = k.extract::<String>().unwrap_or_default();
+        if !variant.starts_with(|c: char| c.is_ascii_uppercase()) {
+            break;
+        }
+        at = v;
+    }
+    Ok(at)
+}
+
+/// The message for a dict without the field `key`: the fields it has.
+fn no_field(d: &Bound<'_, PyDict>, key: &str) -> String {
+    let keys: Vec<String> = d.keys().iter().map(|k| k.to_string()).collect();
+    format!("no field `{key}` here; its fields: {}", keys.join(", "))
+}
+
+/// The index `key` names in a list: a number below its length, or the
+/// `name` of one of its dicts; else the message saying why not.
+fn list_index(l: &Bound<'_, PyList>, key: &str) -> Result<usize, String> {
+    match key.parse::<usize>() {
+        Ok(n) if n < l.len() => Ok(n),
+        Ok(n) => Err(format!("index {n}: the list has {} items", l.len())),
+        Err(_) => {
+            let names: Vec<String> = l
+                .iter()
+                .filter_map(|x| {
+                    x.cast::<PyDict>()
+                        .ok()?
+                        .get_item("name")
+                        .ok()??
+                        .extract::<String>()
+                        .ok()
+                })
+                .collect();
+            names
+                .iter()
+                .position(|n| n == key)
+                .ok_or_else(|| format!("no item named `{key}`; the names: {}", names.join(", ")))
+        }
+    }
 }

@@ -104,6 +104,44 @@ pub(crate) fn run_sweep<'py>(
     resume: bool,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let sw = sweep_of(sweep, table_cache)?;
+    if threads == Some(0) {
+        return Err(PyValueError::new_err("threads = 0: expected at least 1"));
+    }
+    let threads = threads.unwrap_or_else(|| {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    });
+    let watch = Watch::new();
+    let sw = sw.with_trial_counter(watch.done.clone());
+    let total = sw.num_sessions() as u64 * sw.spec.trials as u64;
+    let header = sw.results_header();
+    let Some(dir) = out else {
+        let rows = rows_in_memory(py, &sw, threads, progress, total, &watch)?;
+        let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
+        return columns_of(py, &header, &rows);
+    };
+    let _lock = lock_out(&dir)?;
+    let options = DirOptions {
+        threads,
+        resume,
+        shard: Shard::ALL,
+    };
+    run_in_dir(py, &sw, &dir, &options, progress, total, &watch)?;
+    let path = dir.join(e3d::sweep::RESULTS);
+    // as the command line reads it: a regular file of bounded size
+    let text = e3d::text::read_own_file(&path, e3d::sweep::MAX_RESULTS_BYTES, e3d::sweep::RESULTS)
+        .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default();
+    let rows: Vec<&str> = lines.collect();
+    columns_of(py, header, &rows)
+}
+
+/// The sweep `sweep` gives: the text of one (when it names no file and
+/// holds a `(`), else the file it names; with its table cache.
+fn sweep_of(sweep: &Bound<'_, PyAny>, table_cache: Option<PathBuf>) -> PyResult<Sweep> {
     let text_or_path: PathBuf = sweep.extract()?;
     let s = text_or_path.to_string_lossy().to_string();
     let is_text = !Path::new(&s).exists() && s.contains('(');
@@ -116,45 +154,50 @@ pub(crate) fn run_sweep<'py>(
     if let Some(dir) = table_cache {
         sw = sw.with_table_cache(dir);
     }
-    if threads == Some(0) {
-        return Err(PyValueError::new_err("threads = 0: expected at least 1"));
-    }
-    let threads = threads.unwrap_or_else(|| {
-        std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(1)
-    });
-    let watch = Watch::new();
-    let sw = sw.with_trial_counter(watch.done.clone());
+    Ok(sw)
+}
+
+/// Runs the sweep's sessions without the GIL, watched, and returns their
+/// results rows in session order.
+fn rows_in_memory(
+    py: Python<'_>,
+    sw: &Sweep,
+    threads: usize,
+    progress: Option<&Bound<'_, PyAny>>,
+    total: u64,
+    watch: &Watch,
+) -> PyResult<Vec<String>> {
+    Ok(watched(py, progress, total, watch, |watch| {
+        let sessions = sw.sessions();
+        let mut rows: Vec<Option<String>> = vec![None; sessions.len()];
+        sw.run_with(&sessions, threads, |r| {
+            if watch.cancelled() {
+                return Err(SweepError::Other(STOPPED.into()));
+            }
+            rows[r.session.index] = Some(sw.result_row(&r));
+            Ok(())
+        })?;
+        Ok::<_, Fail>(rows.into_iter().flatten().collect())
+    })??)
+}
+
+/// Runs the sweep into the folder `dir` as `e3d sweep --out DIR` does,
+/// without the GIL, watched: the sessions of an earlier run count as
+/// done, and Ctrl-C stops it between sessions.
+fn run_in_dir(
+    py: Python<'_>,
+    sw: &Sweep,
+    dir: &Path,
+    options: &DirOptions,
+    progress: Option<&Bound<'_, PyAny>>,
+    total: u64,
+    watch: &Watch,
+) -> PyResult<()> {
     let per_session = sw.spec.trials as u64;
-    let total = sw.num_sessions() as u64 * per_session;
-    let header = sw.results_header();
-    let Some(dir) = out else {
-        let rows: Vec<String> = watched(py, progress, total, &watch, |watch| {
-            let sessions = sw.sessions();
-            let mut rows: Vec<Option<String>> = vec![None; sessions.len()];
-            sw.run_with(&sessions, threads, |r| {
-                if watch.cancelled() {
-                    return Err(SweepError::Other(STOPPED.into()));
-                }
-                rows[r.session.index] = Some(sw.result_row(&r));
-                Ok(())
-            })?;
-            Ok::<_, Fail>(rows.into_iter().flatten().collect())
-        })??;
-        let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
-        return columns_of(py, &header, &rows);
-    };
-    let _lock = lock_out(&dir)?;
-    let options = DirOptions {
-        threads,
-        resume,
-        shard: Shard::ALL,
-    };
-    watched(py, progress, total, &watch, |watch| {
+    watched(py, progress, total, watch, |watch| {
         let mut first = true;
         let run = std::panic::AssertUnwindSafe(|| {
-            sw.run_to_dir(&dir, &options, |done, _| {
+            sw.run_to_dir(dir, options, |done, _| {
                 if first {
                     // the sessions of an earlier run count as done
                     watch
@@ -173,12 +216,5 @@ pub(crate) fn run_sweep<'py>(
             Err(p) => std::panic::resume_unwind(p),
         }
     })??;
-    let path = dir.join(e3d::sweep::RESULTS);
-    // as the command line reads it: a regular file of bounded size
-    let text = e3d::text::read_own_file(&path, e3d::sweep::MAX_RESULTS_BYTES, e3d::sweep::RESULTS)
-        .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
-    let mut lines = text.lines();
-    let header = lines.next().unwrap_or_default();
-    let rows: Vec<&str> = lines.collect();
-    columns_of(py, header, &rows)
+    Ok(())
 }

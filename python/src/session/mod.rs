@@ -1,0 +1,605 @@
+//! `run_session` and `run_sessions`: sessions of built-in or Python
+//! learners on the world an [`Executor`] chooses. The arguments they share
+//! and the sessions of built-in learners on scenes of symbols are here;
+//! sessions run with the GIL (Python learners, `on_trials`) are in
+//! `python_learners`, sessions of continuous commands in `values`.
+
+use crate::errors::{params_arg, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail};
+use crate::learner::{builtin_kind, Guarded};
+use crate::progress::{watched, Watch};
+use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
+use crate::saved::{Held, PyLearnerState};
+use crate::scene::{scene_of, target_arg, PyScene};
+use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
+use e3d::{
+    E3d, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target, WorldError,
+};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use python_learners::{learner_sequence, run_here, run_python, run_python_batch};
+use std::cell::RefCell;
+use std::path::PathBuf;
+use values::{run_continuous, run_held_values};
+
+mod python_learners;
+mod values;
+
+// The defaults of `run_session` and `run_sessions` are written as numbers,
+// so that Python's signature shows them (`alpha=0.3`, not `alpha=...`):
+// the CLI's, `Params::TASK1`.
+const _: () = assert!(
+    Params::TASK1.alpha == 0.3
+        && Params::TASK1.beta == 1.0
+        && Params::TASK1.lambda == 0.03
+        && Params::TASK1.eta == 0.01
+        && Params::TASK1.epsilon == 0.1
+);
+
+/// What `run_session` and `run_sessions` share: the checked parameters,
+/// the executor's options and the learner (a built-in kind, or Python
+/// objects).
+pub(crate) struct SessionArgs {
+    params: Params,
+    options: ExecOptions,
+    use_reward: bool,
+    /// The target `p*` (E3D's, and the metrics' `kl_to_target`).
+    target: Target,
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn session_args(
+    trials: usize,
+    use_reward: bool,
+    alpha: f64,
+    beta: f64,
+    lambda_: f64,
+    eta: f64,
+    epsilon: f64,
+    outcomes: Option<&str>,
+    table_cache: Option<PathBuf>,
+    target: Target,
+) -> PyResult<SessionArgs> {
+    if trials == 0 {
+        return Err(PyValueError::new_err("trials = 0: expected at least 1"));
+    }
+    // the cap of the command line and of sweeps: a session's record holds
+    // every trial, so 10^12 would exhaust memory and abort the interpreter
+    if trials > e3d::sweep::MAX_TRIALS {
+        return Err(PyValueError::new_err(format!(
+            "trials = {trials}: expected at most {} (the command line's cap)",
+            e3d::sweep::MAX_TRIALS
+        )));
+    }
+    let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+    let force = match outcomes {
+        None | Some("auto") => None,
+        Some(s) => Some(s.parse::<Strategy>().map_err(|_| {
+            PyValueError::new_err(format!(
+                "outcomes = `{s}`: expected None, \"auto\", \"table\", \"memo\" or \"live\""
+            ))
+        })?),
+    };
+    Ok(SessionArgs {
+        params,
+        options: ExecOptions {
+            cache: table_cache,
+            memo_cap: DEFAULT_MEMO_CAP,
+            force,
+        },
+        use_reward,
+        target,
+    })
+}
+
+impl SessionArgs {
+    /// The configuration of a session of `trials` trials with `seed`.
+    fn config(&self, trials: usize, seed: u64) -> SessionConfig {
+        SessionConfig {
+            trials,
+            seed,
+            use_reward: self.use_reward,
+        }
+    }
+
+    /// The configurations of sessions of `trials` trials, one per seed.
+    fn configs(&self, trials: usize, seeds: &[u64]) -> Vec<SessionConfig> {
+        seeds
+            .iter()
+            .map(|&seed| self.config(trials, seed))
+            .collect()
+    }
+}
+
+/// The work the executor plans for: `sessions` sessions of `trials`
+/// trials, on rayon's threads.
+fn workload(trials: usize, sessions: usize) -> Workload {
+    Workload {
+        trials: (trials as u64).saturating_mul(sessions as u64),
+        sessions,
+        threads: rayon::current_num_threads(),
+    }
+}
+
+/// The metrics of a session of symbols as the CLI's `summary.json` gives
+/// them: over the reachable cells too when a table knows them (and they
+/// are fewer than all).
+fn symbol_metrics(exec: &Executor<'_>, rec: &SessionRecord, target: &Target) -> Metrics {
+    let n = rec.num_effects;
+    match exec
+        .table()
+        .map(|t| t.reachable_effects())
+        .filter(|&r| r < n)
+    {
+        Some(k) => rec.metrics_over_reachable(target, k),
+        None => rec.metrics(target),
+    }
+}
+
+/// The plan, and what the memo simulated and kept, as `execution` says it.
+pub(crate) fn execution_text(exec: Executor<'_>) -> String {
+    let mut execution = exec.plan().to_string();
+    if let Some(line) = exec.finish() {
+        execution.push('\n');
+        execution.push_str(&line);
+    }
+    execution
+}
+
+/// Runs one session of `trials` trials: the learner proposes a command,
+/// the scene's world executes it, the learner learns from its effect and
+/// reward. The same numbers as `e3d run SCENE --trials T --seed S`.
+///
+/// `learner`: a built-in learner's name (`"e3d"`, `"uniform"`, `"egreedy"`,
+/// `"e3d_relax"`, `"count"`, `"smm"`; on a continuous scene `"e3d"`, the
+/// Gaussian E3D, or `"uniform"`), or a Python object with
+/// `propose(rng) -> symbols` and `learn(command, effect, reward)` (see
+/// `docs/python.md`). `use_reward=False` is the CLI's `--no-reward`.
+/// `outcomes`: `None` (the cheapest of table, memo or live, as the CLI
+/// chooses) or one of `"table"`, `"memo"`, `"live"`; `table_cache`: a
+/// folder to keep outcomes in (the CLI's `--table-cache`).
+/// `progress`: a callable, called as `progress(trials_done, trials)` at
+/// most ten times a second and once at the end. Ctrl-C stops the session
+/// and raises `KeyboardInterrupt`. `target`: E3D's `p*` (None: uniform; an
+/// array of one weight per effect, or a dict `{effect or (row, col):
+/// weight}`), also the metrics' target.
+///
+/// `learner` may also be an `e3d.Learner` (or `E3dLearner`): the session
+/// starts from its state (its own alpha, beta, lambda, eta and target; those given here
+/// only set the metrics' target) and leaves it in the state it ends in.
+/// `on_trials`: a callable, called as `on_trials(first, commands,
+/// effects, rewards)` with the arrays of every `every` trials (the last
+/// call may hold fewer), `first` the index of their first trial; it runs
+/// the session on this thread (with the GIL), and an exception from it
+/// stops the session and is raised.
+#[pyfunction]
+#[pyo3(signature = (scene, learner = None, trials = 5000, seed = 0, use_reward = true,
+    alpha = 0.3, beta = 1.0, lambda_ = 0.03,
+    eta = 0.01, epsilon = 0.1, outcomes = None, table_cache = None,
+    progress = None, target = None, on_trials = None, every = 1000))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_session(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    learner: Option<&Bound<'_, PyAny>>,
+    #[pyo3(from_py_with = trials_arg)] trials: usize,
+    #[pyo3(from_py_with = seed_arg)] seed: u64,
+    use_reward: bool,
+    alpha: f64,
+    beta: f64,
+    lambda_: f64,
+    eta: f64,
+    epsilon: f64,
+    outcomes: Option<&str>,
+    table_cache: Option<PathBuf>,
+    progress: Option<&Bound<'_, PyAny>>,
+    target: Option<&Bound<'_, PyAny>>,
+    on_trials: Option<&Bound<'_, PyAny>>,
+    every: usize,
+) -> PyResult<PyRecord> {
+    let scene = scene_of(scene)?;
+    let on_trials = on_trials.filter(|c| !c.is_none());
+    if every == 0 {
+        return Err(PyValueError::new_err("every = 0: expected at least 1"));
+    }
+    let target = target_arg(&scene, target)?;
+    let a = session_args(
+        trials,
+        use_reward,
+        alpha,
+        beta,
+        lambda_,
+        eta,
+        epsilon,
+        outcomes,
+        table_cache,
+        target,
+    )?;
+    let run = OneSession {
+        work: workload(trials, 1),
+        cfg: a.config(trials, seed),
+        progress,
+        on_trials,
+        every,
+    };
+    // a Learner: its state, checked against the scene, written back at the end
+    let saved = saved_state(learner, &scene)?;
+    let held = saved.as_ref().map(|s| s.borrow().held.clone());
+    if scene.values.is_some() {
+        if let Some(h) = held {
+            return run_held_values(py, &scene, saved.as_ref(), h, &a, &run);
+        }
+    }
+    if let Some(space) = scene.values.clone() {
+        let (kind, mut rows, execution) =
+            run_continuous(py, &scene, &space, learner, &a, &[seed], trials, progress)?;
+        let rows = rows.remove(0);
+        return record_to_py(py, &scene, kind.as_str(), seed, rows, execution);
+    }
+    let kind = match &held {
+        Some(h) => Some(h.kind()),
+        None => builtin_kind(learner)?,
+    };
+    match kind {
+        Some(kind) => run_builtin(py, &scene, kind, saved.as_ref(), held, &a, &run),
+        None => run_python(py, &scene, learner.expect("an object"), &a, &run),
+    }
+}
+
+/// One session as `run_session` runs it: its workload, its configuration
+/// and the Python callbacks that watch it.
+struct OneSession<'b, 'py> {
+    work: Workload,
+    cfg: SessionConfig,
+    progress: Option<&'b Bound<'py, PyAny>>,
+    on_trials: Option<&'b Bound<'py, PyAny>>,
+    every: usize,
+}
+
+/// The `e3d.Learner` that `learner` is, if it is one, its state checked
+/// against the scene: the session starts from that state and writes back
+/// the state it ends in.
+fn saved_state<'py>(
+    learner: Option<&Bound<'py, PyAny>>,
+    scene: &PyScene,
+) -> PyResult<Option<Bound<'py, PyLearnerState>>> {
+    let saved = learner.and_then(|l| l.cast::<PyLearnerState>().ok().cloned());
+    if let Some(st) = &saved {
+        st.borrow().check_fits(scene)?;
+    }
+    Ok(saved)
+}
+
+/// Writes the state a session ended in back to the `e3d.Learner` it
+/// started from.
+fn write_back(saved: Option<&Bound<'_, PyLearnerState>>, held: Option<Held>) {
+    if let (Some(st), Some(h)) = (saved, held) {
+        st.borrow_mut().held = h;
+    }
+}
+
+/// Runs one session of a built-in learner (new, or an `e3d.Learner`'s
+/// state, then written back) on a scene of symbols; E3D's Q and effect
+/// model go into the record.
+fn run_builtin(
+    py: Python<'_>,
+    scene: &PyScene,
+    kind: LearnerKind,
+    saved: Option<&Bound<'_, PyLearnerState>>,
+    mut held: Option<Held>,
+    a: &SessionArgs,
+    run: &OneSession<'_, '_>,
+) -> PyResult<PyRecord> {
+    let space = &scene.space;
+    let (mut e3d_made, mut boxed) = make_symbols(kind, &held, a, scene)?;
+    let made = chosen(&mut e3d_made, &mut boxed, &mut held)?;
+    let (rec, metrics, exact, execution) = run_symbols(py, scene, a, run, made)?;
+    let mut rows = Rows::of_symbols(py, rec, metrics, Some(&*made), exact)?;
+    if let Some(e) = &e3d_made {
+        rows.q = Some((0..space.num_slots()).map(|s| e.q(s).to_vec()).collect());
+        rows.effect_model = Some(e.effect_model().probs());
+        if let Some(Held::E3d(h)) = &mut held {
+            *h = e.clone();
+        }
+    }
+    write_back(saved, held);
+    record_to_py(py, scene, kind.as_str(), run.cfg.seed, rows, execution)
+}
+
+/// A built-in learner of symbols, of any kind.
+type BoxedLearner = Box<dyn Learner + Send>;
+
+/// The learner a built-in session of symbols needs made: E3D as its own
+/// type (so that its Q and effect model can be read; a copy of a held
+/// E3D), or another kind boxed; neither when `held` is another kind.
+fn make_symbols(
+    kind: LearnerKind,
+    held: &Option<Held>,
+    a: &SessionArgs,
+    scene: &PyScene,
+) -> PyResult<(Option<E3d>, Option<BoxedLearner>)> {
+    let space = &scene.space;
+    let n_eff = scene.inner.num_effects();
+    let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
+    let e3d_made = match (kind, held) {
+        (_, Some(Held::E3d(e))) => Some(e.clone()),
+        (LearnerKind::E3d, None) => {
+            Some(E3d::new(space, n_eff, &a.params, &a.target).map_err(bad)?)
+        }
+        _ => None,
+    };
+    let boxed = match (kind, held) {
+        (LearnerKind::E3d, _) | (_, Some(_)) => None,
+        _ => Some(kind.make(&a.params, space, n_eff, &a.target).map_err(bad)?),
+    };
+    Ok((e3d_made, boxed))
+}
+
+/// The learner a built-in session of symbols runs: the E3D made, else the
+/// boxed one, else the held state's.
+fn chosen<'l>(
+    e3d_made: &'l mut Option<E3d>,
+    boxed: &'l mut Option<BoxedLearner>,
+    held: &'l mut Option<Held>,
+) -> PyResult<&'l mut (dyn Learner + Send)> {
+    let from_held = held.as_mut().and_then(Held::symbols);
+    Ok(match (e3d_made, boxed, from_held) {
+        (Some(e), _, _) => e,
+        (None, Some(b), _) => &mut **b,
+        (None, None, Some(h)) => h,
+        (None, None, None) => return Err(PyTypeError::new_err("no learner made")),
+    })
+}
+
+/// A session of symbols as a built-in learner's record takes it: the
+/// session, its metrics, the learner's exact effect distribution (when a
+/// table knows the outcomes) and the execution text.
+type SymbolRun = (SessionRecord, Metrics, Option<Vec<f64>>, String);
+
+/// Runs one session of a built-in learner on a scene of symbols: on this
+/// thread when its trials go to `on_trials`, else without the GIL.
+fn run_symbols(
+    py: Python<'_>,
+    scene: &PyScene,
+    a: &SessionArgs,
+    run: &OneSession<'_, '_>,
+    made: &mut (dyn Learner + Send),
+) -> PyResult<SymbolRun> {
+    if run.on_trials.is_some() {
+        let error = RefCell::new(None);
+        let (rec, exec) = run_here(py, scene, a, run, made, &error)?;
+        let metrics = symbol_metrics(&exec, &rec, &a.target);
+        let exact = exact_of(&exec, made);
+        return Ok((rec, metrics, exact, execution_text(exec)));
+    }
+    let cfg = &run.cfg;
+    let trials = cfg.trials;
+    unlocked(
+        py,
+        scene,
+        &run.work,
+        &a.options,
+        run.progress,
+        trials as u64,
+        |exec, watch| {
+            let mut world = exec.world(1);
+            let mut guarded = Guarded {
+                world: &mut *world,
+                stop: || watch.cancelled(),
+            };
+            let mut rec = SessionRecord::new(&guarded, trials);
+            e3d::run_session_into(&mut guarded, &mut *made, cfg, &mut rec, |t| {
+                watch.set(t as u64)
+            })?;
+            drop(world);
+            let metrics = symbol_metrics(&exec, &rec, &a.target);
+            let exact = exact_of(&exec, made);
+            Ok((rec, metrics, exact, execution_text(exec)))
+        },
+    )
+}
+
+/// The distribution of effects `learner`'s policy gives, exactly, when the
+/// executor has a table of the outcomes.
+fn exact_of(exec: &Executor<'_>, learner: &dyn Learner) -> Option<Vec<f64>> {
+    exec.table()
+        .and_then(|t| e3d::policy_effect_distribution(t, learner))
+}
+
+/// Runs `run` on the executor of `scene` without the GIL, watched (see
+/// [`watched`]): Ctrl-C stops it and `progress` sees `total` trials; the
+/// executor's table, if it builds one, can be stopped too.
+fn unlocked<T, F>(
+    py: Python<'_>,
+    scene: &PyScene,
+    work: &Workload,
+    options: &ExecOptions,
+    progress: Option<&Bound<'_, PyAny>>,
+    total: u64,
+    run: F,
+) -> PyResult<T>
+where
+    T: Send,
+    F: for<'s> FnOnce(Executor<'s>, &Watch) -> Result<T, Fail> + Send,
+{
+    let inner = scene.inner.clone();
+    let watch = Watch::new();
+    Ok(watched(py, progress, total, &watch, |watch| {
+        let stop = || watch.cancelled();
+        let exec = Executor::with_progress_until(&inner, work, options, &|_, _| {}, &stop)?;
+        run(exec, watch)
+    })??)
+}
+
+/// Runs several sessions of one scene together, in lockstep: at every
+/// trial each session proposes its command, the new commands of all are
+/// simulated together (several copies of a physics scene stepped at
+/// once, as `e3d run --sessions N` does), then each session learns from
+/// its own outcome. Each session's numbers are those of `run_session`
+/// with its seed, and of `e3d run SCENE --sessions N --seed S`.
+///
+/// `seeds`: the sessions' seeds; or `sessions=N` with `seed=S` for the
+/// CLI's seeds `S, S+1, ..., S+N-1`. `learner`: a built-in learner's name
+/// (the sessions run in parallel groups, without the GIL), or a sequence
+/// of Python learners, one per seed (they run on this thread, with the
+/// GIL). The other arguments are `run_session`'s; `progress` is called
+/// as `progress(trials_done, trials * sessions)`. The first session that
+/// fails (a simulation that blows up) raises its error.
+#[pyfunction]
+#[pyo3(signature = (scene, learner = None, trials = 5000, seeds = None, sessions = None, seed = 0,
+    use_reward = true, alpha = 0.3, beta = 1.0,
+    lambda_ = 0.03, eta = 0.01, epsilon = 0.1,
+    outcomes = None, table_cache = None, progress = None, target = None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_sessions(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    learner: Option<&Bound<'_, PyAny>>,
+    #[pyo3(from_py_with = trials_arg)] trials: usize,
+    #[pyo3(from_py_with = seeds_arg)] seeds: Option<Vec<u64>>,
+    #[pyo3(from_py_with = sessions_arg)] sessions: Option<usize>,
+    #[pyo3(from_py_with = seed_arg)] seed: u64,
+    use_reward: bool,
+    alpha: f64,
+    beta: f64,
+    lambda_: f64,
+    eta: f64,
+    epsilon: f64,
+    outcomes: Option<&str>,
+    table_cache: Option<PathBuf>,
+    progress: Option<&Bound<'_, PyAny>>,
+    target: Option<&Bound<'_, PyAny>>,
+) -> PyResult<PyBatchRecord> {
+    let scene = scene_of(scene)?;
+    let target = target_arg(&scene, target)?;
+    let seeds = seeds_of(seeds, sessions, seed)?;
+    let a = session_args(
+        trials,
+        use_reward,
+        alpha,
+        beta,
+        lambda_,
+        eta,
+        epsilon,
+        outcomes,
+        table_cache,
+        target,
+    )?;
+    let (name, rows, execution) = if let Some(space) = scene.values.clone() {
+        let (kind, rows, execution) =
+            run_continuous(py, &scene, &space, learner, &a, &seeds, trials, progress)?;
+        (kind.as_str().to_string(), rows, execution)
+    } else {
+        let work = workload(trials, seeds.len());
+        let configs = a.configs(trials, &seeds);
+        match builtin_kind(learner)? {
+            Some(kind) => {
+                let (rows, execution) =
+                    run_builtin_batch(py, &scene, kind, &a, &work, &configs, progress)?;
+                (kind.as_str().to_string(), rows, execution)
+            }
+            None => {
+                let objs = learner_sequence(learner.expect("an object"), seeds.len())?;
+                run_python_batch(py, &scene, objs, &a, &work, &configs, progress)?
+            }
+        }
+    };
+    batch_to_py(py, &scene, &name, &seeds, trials, rows, execution)
+}
+
+/// The seeds of `run_sessions`: `seeds`, or `sessions` seeds from `seed`
+/// on (the CLI's); at least one.
+fn seeds_of(seeds: Option<Vec<u64>>, sessions: Option<usize>, seed: u64) -> PyResult<Vec<u64>> {
+    let seeds: Vec<u64> = match (seeds, sessions) {
+        (Some(_), Some(_)) => {
+            return Err(PyValueError::new_err(
+                "give either seeds or sessions (with seed), not both",
+            ))
+        }
+        (Some(s), None) => s,
+        (None, Some(n)) => (0..n as u64)
+            .map(|i| seed.checked_add(i))
+            .collect::<Option<_>>()
+            .ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "seed = {seed} with sessions = {n}: the seeds seed..seed+N-1 pass 2^64 - 1"
+                ))
+            })?,
+        (None, None) => {
+            return Err(PyValueError::new_err(
+                "expected seeds=[...] or sessions=N (seeds seed, seed+1, ..., as e3d run --sessions N --seed S)",
+            ))
+        }
+    };
+    if seeds.is_empty() {
+        return Err(PyValueError::new_err(
+            "no session: expected at least one seed",
+        ));
+    }
+    Ok(seeds)
+}
+
+/// The first failing session fails the call, naming its command.
+fn first_failure(status: Vec<Result<(), WorldError>>) -> Result<(), Fail> {
+    status.into_iter().collect::<Result<(), _>>()?;
+    Ok(())
+}
+
+/// Runs sessions of a built-in learner, one per configuration, in
+/// parallel lockstep groups without the GIL (as `e3d run --sessions N`
+/// runs them). Returns their rows and the execution text.
+fn run_builtin_batch(
+    py: Python<'_>,
+    scene: &PyScene,
+    kind: LearnerKind,
+    a: &SessionArgs,
+    work: &Workload,
+    configs: &[SessionConfig],
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(Vec<Rows>, String)> {
+    let n_eff = scene.inner.num_effects();
+    let mut learners = Vec::with_capacity(configs.len());
+    for _ in 0..configs.len() {
+        learners.push(
+            kind.make(&a.params, &scene.space, n_eff, &a.target)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?,
+        );
+    }
+    let (records, metrics, execution) = unlocked(
+        py,
+        scene,
+        work,
+        &a.options,
+        progress,
+        work.trials,
+        |exec, watch| {
+            let mut records: Vec<SessionRecord> = {
+                let probe = exec.world(1);
+                configs
+                    .iter()
+                    .map(|c| SessionRecord::new(&*probe, c.trials))
+                    .collect()
+            };
+            let status = e3d::run_sessions_until(
+                &exec,
+                &mut learners,
+                configs,
+                &mut records,
+                &|t| watch.add(t),
+                &|| watch.cancelled(),
+            );
+            first_failure(status)?;
+            let metrics: Vec<Metrics> = records
+                .iter()
+                .map(|r| symbol_metrics(&exec, r, &a.target))
+                .collect();
+            Ok((records, metrics, execution_text(exec)))
+        },
+    )?;
+    let rows = records
+        .into_iter()
+        .zip(metrics)
+        .zip(&learners)
+        .map(|((r, m), l)| Rows::of_symbols(py, r, m, Some(&**l), None))
+        .collect::<PyResult<_>>()?;
+    Ok((rows, execution))
+}

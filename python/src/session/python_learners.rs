@@ -1,0 +1,201 @@
+//! Sessions of symbols run on this thread, with the GIL: Python learners
+//! (one, or several in lockstep), and built-in learners whose trials go to
+//! `on_trials`.
+
+use super::{execution_text, first_failure, symbol_metrics, OneSession, SessionArgs};
+use crate::errors::{learner_names, Fail};
+use crate::learner::{python_learner_name, Guarded, PyLearner, Tap};
+use crate::progress::{watched, Throttle, Watch};
+use crate::record::{record_to_py, PyRecord, Rows};
+use crate::scene::PyScene;
+use e3d::world::{ExecOptions, Executor, Workload};
+use e3d::{Learner, SessionConfig, SessionRecord};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use std::cell::RefCell;
+
+/// The executor of `scene` for work that then runs with the GIL (a Python
+/// learner): its table, if it builds one, is built without the GIL, and
+/// Ctrl-C stops it (`KeyboardInterrupt`) within a chunk of commands.
+fn executor<'s>(
+    py: Python<'_>,
+    scene: &'s e3d::Scene,
+    work: &Workload,
+    options: &ExecOptions,
+) -> PyResult<Executor<'s>> {
+    let watch = Watch::new();
+    let exec = watched(py, None, 0, &watch, |w| {
+        Executor::with_progress_until(scene, work, options, &|_, _| {}, &|| w.cancelled())
+    })?;
+    Ok(exec.map_err(Fail::from)?)
+}
+
+/// Runs one session of a Python learner on this thread, with the GIL.
+pub(super) fn run_python(
+    py: Python<'_>,
+    scene: &PyScene,
+    obj: &Bound<'_, PyAny>,
+    a: &SessionArgs,
+    run: &OneSession<'_, '_>,
+) -> PyResult<PyRecord> {
+    let obj = obj.clone();
+    let name = python_learner_name(&obj)?;
+    let error = RefCell::new(None);
+    let mut pl = PyLearner::new(py, obj, &scene.space, &error)?;
+    let (rec, exec) = run_here(py, scene, a, run, &mut pl, &error)?;
+    let metrics = symbol_metrics(&exec, &rec, &a.target);
+    let rows = Rows::of_symbols(py, rec, metrics, None, None)?;
+    record_to_py(py, scene, &name, run.cfg.seed, rows, execution_text(exec))
+}
+
+/// Runs a session of symbols on this thread, with the GIL (a Python
+/// learner, or a learner whose trials go to `on_trials`): the world the
+/// executor chooses, stopped at the first error put in `error` (by the
+/// learner, `progress` or `on_trials`), which is then raised.
+pub(super) fn run_here<'s, L: Learner + ?Sized>(
+    py: Python<'_>,
+    scene: &'s PyScene,
+    a: &SessionArgs,
+    run: &OneSession<'_, '_>,
+    learner: &mut L,
+    error: &RefCell<Option<PyErr>>,
+) -> PyResult<(SessionRecord, Executor<'s>)> {
+    let cfg = &run.cfg;
+    let trials = cfg.trials;
+    let exec = executor(py, &scene.inner, &run.work, &a.options)?;
+    let mut world = exec.world(1);
+    let mut guarded = Guarded {
+        world: &mut *world,
+        stop: || error.borrow().is_some(),
+    };
+    let mut rec = SessionRecord::new(&guarded, trials);
+    let mut throttle = Throttle::new(py, run.progress, trials as u64)?;
+    let mut tap = Tap::new(
+        py,
+        learner,
+        run.on_trials,
+        run.every,
+        scene.space.num_slots(),
+        error,
+    );
+    let status = e3d::run_session_into(&mut guarded, &mut tap, cfg, &mut rec, |t| {
+        if error.borrow().is_none() {
+            if let Err(e) = throttle.tick(t as u64, t == trials) {
+                *error.borrow_mut() = Some(e);
+            }
+        }
+    });
+    tap.flush();
+    drop(world);
+    if let Some(e) = error.take() {
+        return Err(e);
+    }
+    status.map_err(Fail::from)?;
+    Ok((rec, exec))
+}
+
+/// The Python learners of `run_sessions`: a sequence of `n`, one per seed.
+pub(super) fn learner_sequence<'py>(
+    learner: &Bound<'py, PyAny>,
+    n: usize,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let objs: Vec<Bound<'py, PyAny>> = learner
+        .try_iter()
+        .map_err(|_| {
+            PyTypeError::new_err(format!(
+                "learner: expected one of {} or a sequence of Python learners, one per seed",
+                learner_names()
+            ))
+        })?
+        .collect::<PyResult<_>>()?;
+    if objs.len() != n {
+        return Err(PyValueError::new_err(format!(
+            "{} Python learners for {n} seeds: expected one learner per seed",
+            objs.len()
+        )));
+    }
+    Ok(objs)
+}
+
+/// Runs sessions of Python learners, one per configuration, in one
+/// lockstep group on this thread, with the GIL. Returns the learners'
+/// name (their names joined by commas when they differ), their rows and
+/// the execution text.
+pub(super) fn run_python_batch(
+    py: Python<'_>,
+    scene: &PyScene,
+    objs: Vec<Bound<'_, PyAny>>,
+    a: &SessionArgs,
+    work: &Workload,
+    configs: &[SessionConfig],
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(String, Vec<Rows>, String)> {
+    let names: Vec<String> = objs
+        .iter()
+        .map(python_learner_name)
+        .collect::<PyResult<_>>()?;
+    let error = RefCell::new(None);
+    let mut learners: Vec<PyLearner<'_, '_>> = objs
+        .into_iter()
+        .map(|o| PyLearner::new(py, o, &scene.space, &error))
+        .collect::<PyResult<_>>()?;
+    let (records, exec) =
+        run_lockstep_here(py, scene, a, work, configs, &mut learners, &error, progress)?;
+    let rows = records
+        .into_iter()
+        .map(|r| {
+            let m = symbol_metrics(&exec, &r, &a.target);
+            Rows::of_symbols(py, r, m, None, None)
+        })
+        .collect::<PyResult<_>>()?;
+    let name = if names.iter().all(|m| *m == names[0]) {
+        names[0].clone()
+    } else {
+        names.join(",")
+    };
+    Ok((name, rows, execution_text(exec)))
+}
+
+/// Runs sessions of Python learners in one lockstep group on this thread,
+/// with the GIL, on the world the executor chooses; stopped at the first
+/// error put in `error` (by a learner or `progress`), which is then
+/// raised, else by the first failing session.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn run_lockstep_here<'s>(
+    py: Python<'_>,
+    scene: &'s PyScene,
+    a: &SessionArgs,
+    work: &Workload,
+    configs: &[SessionConfig],
+    learners: &mut [PyLearner<'_, '_>],
+    error: &RefCell<Option<PyErr>>,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(Vec<SessionRecord>, Executor<'s>)> {
+    let total = work.trials;
+    let exec = executor(py, &scene.inner, work, &a.options)?;
+    let mut world = exec.world(configs.len());
+    let mut guarded = Guarded {
+        world: &mut *world,
+        stop: || error.borrow().is_some(),
+    };
+    let mut records: Vec<SessionRecord> = configs
+        .iter()
+        .map(|c| SessionRecord::new(&guarded, c.trials))
+        .collect();
+    let mut throttle = Throttle::new(py, progress, total)?;
+    let mut done = 0u64;
+    let status = e3d::run_lockstep_into(&mut guarded, learners, configs, &mut records, |t| {
+        done += t;
+        if error.borrow().is_none() {
+            if let Err(e) = throttle.tick(done, done == total) {
+                *error.borrow_mut() = Some(e);
+            }
+        }
+    });
+    drop(world);
+    if let Some(e) = error.take() {
+        return Err(e);
+    }
+    first_failure(status)?;
+    Ok((records, exec))
+}

@@ -1,0 +1,129 @@
+//! Sessions of continuous commands: a built-in learner of values (the
+//! Gaussian E3D or uniform values), or an `e3d.Learner`'s state, each
+//! session live on a physics world of its own.
+
+use super::{write_back, OneSession, SessionArgs};
+use crate::errors::Fail;
+use crate::learner::{builtin_kind, Guarded};
+use crate::progress::{watched, Watch};
+use crate::record::{record_to_py, PyRecord, Rows};
+use crate::saved::{run_values_from, Held, PyLearnerState};
+use crate::scene::PyScene;
+use e3d::world::Strategy;
+use e3d::{LearnerKind, ValueSpace, WorldError};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+/// Runs sessions of a continuous scene, one per seed, in parallel without
+/// the GIL, each on a physics world of its own (`e3d run` on a continuous
+/// scene): the Gaussian E3D (`"e3d"`) or uniform values (`"uniform"`).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn run_continuous(
+    py: Python<'_>,
+    scene: &PyScene,
+    space: &ValueSpace,
+    learner: Option<&Bound<'_, PyAny>>,
+    a: &SessionArgs,
+    seeds: &[u64],
+    trials: usize,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(LearnerKind, Vec<Rows>, String)> {
+    let kind = continuous_kind(scene, learner, a)?;
+    let n_eff = scene.inner.num_effects();
+    let make = || kind.make_continuous(&a.params, space, n_eff, &a.target);
+    make().map_err(|e| PyValueError::new_err(e.to_string()))?;
+    if scene.inner.as_continuous().is_none() {
+        return Err(PyValueError::new_err(format!(
+            "scene `{}`: continuous commands need a physics world",
+            scene.inner.spec().name
+        )));
+    }
+    let configs = a.configs(trials, seeds);
+    let inner = scene.inner.clone();
+    let total = (trials as u64).saturating_mul(seeds.len() as u64);
+    let watch = Watch::new();
+    let records = watched(py, progress, total, &watch, |watch| {
+        configs
+            .par_iter()
+            .map(|cfg| {
+                let mut world = inner.as_continuous().map(|c| c.world(1)).ok_or_else(|| {
+                    WorldError::Other("continuous commands need a physics world".into())
+                })?;
+                let mut guarded = Guarded {
+                    world: &mut world,
+                    stop: || watch.cancelled(),
+                };
+                let mut learner = make().map_err(|e| WorldError::Other(e.to_string()))?;
+                let mut done = 0;
+                e3d::run_value_session(&mut guarded, &mut learner, cfg, |t| {
+                    watch.add((t - done) as u64);
+                    done = t;
+                })
+            })
+            .collect::<Result<Vec<_>, WorldError>>()
+    })?
+    .map_err(Fail::from)?;
+    let rows = records
+        .into_iter()
+        .map(|r| {
+            let m = r.metrics(&a.target);
+            Rows::of_values(py, r, m)
+        })
+        .collect();
+    Ok((kind, rows, LIVE_VALUES.into()))
+}
+
+/// The built-in learner of a session of a continuous scene, with the
+/// options checked: no table cache, no strategy but live.
+pub(super) fn continuous_kind(
+    scene: &PyScene,
+    learner: Option<&Bound<'_, PyAny>>,
+    a: &SessionArgs,
+) -> PyResult<LearnerKind> {
+    let name = &scene.inner.spec().name;
+    let Some(kind) = builtin_kind(learner)? else {
+        return Err(PyTypeError::new_err(format!(
+            "learner: scene `{name}` takes continuous commands: expected one of {}",
+            LearnerKind::CONTINUOUS
+                .map(|k| format!("\"{}\"", k.as_str()))
+                .join(", ")
+        )));
+    };
+    if a.options.cache.is_some() {
+        return Err(PyValueError::new_err(format!(
+            "table_cache: scene `{name}` takes continuous commands, which have no outcome table (every trial is simulated)"
+        )));
+    }
+    if matches!(a.options.force, Some(s) if s != Strategy::Live) {
+        return Err(PyValueError::new_err(format!(
+            "outcomes: scene `{name}` takes continuous commands, which run live only (no table, no memo)"
+        )));
+    }
+    Ok(kind)
+}
+
+/// Runs one session of an `e3d.Learner`'s state on a continuous scene, on
+/// a physics world of its own, and writes the state it ends in back.
+pub(super) fn run_held_values(
+    py: Python<'_>,
+    scene: &PyScene,
+    saved: Option<&Bound<'_, PyLearnerState>>,
+    mut held: Held,
+    a: &SessionArgs,
+    run: &OneSession<'_, '_>,
+) -> PyResult<PyRecord> {
+    let name = held.kind().as_str();
+    let l = held
+        .values()
+        .ok_or_else(|| PyTypeError::new_err("learner: not of values"))?;
+    let rec = run_values_from(py, scene, l, &run.cfg, run.progress)?;
+    let metrics = rec.metrics(&a.target);
+    let rows = Rows::of_values(py, rec, metrics);
+    write_back(saved, Some(held));
+    let execution = LIVE_VALUES.to_string();
+    record_to_py(py, scene, name, run.cfg.seed, rows, execution)
+}
+
+/// The execution text of sessions of continuous commands.
+pub(super) const LIVE_VALUES: &str = "live: continuous commands (no table, no memo)";
