@@ -448,6 +448,55 @@ fn keep_memo(memo: &e3d::world::OutcomeMemo, scene: &Scene, dir: &Path) {
     }
 }
 
+/// What the commands of `scene exec` cost, said once: before they run
+/// when their number is known, else once those read so far reach
+/// [`progress::LONG`] (stdin); never when a table looks them up.
+struct CostNote {
+    said: bool,
+    /// Seconds a command takes by the calibrated cost model.
+    per_command: f64,
+    threads: usize,
+    executed: u64,
+}
+
+impl CostNote {
+    /// Says the cost of `known` commands now if their number is known.
+    fn new(label: &str, scene: &Scene, known: Option<u64>, looked_up: bool) -> CostNote {
+        let threads = rayon::current_num_threads();
+        let copies = match &scene.spec().world {
+            WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
+            _ => 1,
+        };
+        let said =
+            looked_up || known.is_some_and(|n| say_cost_copies(label, scene, n, threads, copies));
+        let per_command = if said {
+            0.0
+        } else {
+            e3d::world::batch_rollout_seconds(scene, copies) * calibration(scene, threads, copies)
+        };
+        CostNote {
+            said,
+            per_command,
+            threads,
+            executed: 0,
+        }
+    }
+
+    /// Counts `n` more commands executed; says the cost once they are long.
+    fn add(&mut self, n: u64, label: &str, scene: &Scene, p: &progress::Progress) {
+        self.executed += n;
+        let (executed, threads) = (self.executed, self.threads);
+        if !self.said && executed as f64 * self.per_command / threads as f64 >= progress::LONG {
+            self.said = true;
+            p.say(format!(
+                "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model, calibrated here; more as stdin gives them",
+                steps_text(scene),
+                seconds_text(self.per_command)
+            ));
+        }
+    }
+}
+
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
     match &scene.spec().world {
         WorldSpec::Grid(g) if !g.contexts.is_empty() => {
@@ -464,22 +513,8 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
         None => (None, mirror_memo(scene)),
     };
     let label = format!("scene exec {}", scene.spec().name);
-    // what the commands cost, said before when their number is known, or
-    // once those read so far reach it (stdin); a table looks them up
-    let threads = rayon::current_num_threads();
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
-    let copies = match &scene.spec().world {
-        WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
-        _ => 1,
-    };
-    let mut cost_said = table.is_some()
-        || known.is_some_and(|n| say_cost_copies(&label, scene, n, threads, copies));
-    let per_command = if cost_said {
-        0.0
-    } else {
-        e3d::world::batch_rollout_seconds(scene, copies) * calibration(scene, threads, copies)
-    };
-    let mut executed = 0u64;
+    let mut cost = CostNote::new(&label, scene, known, table.is_some());
     let mut executor = ExecPool::new(scene, table);
     let limit = chunk_limit();
     let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(2 * limit);
@@ -509,15 +544,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
             results.clear();
             executor.run(&chunk, memo.as_ref(), &mut results);
             p.add(chunk.len() as u64);
-            executed += chunk.len() as u64;
-            if !cost_said && executed as f64 * per_command / threads as f64 >= progress::LONG {
-                cost_said = true;
-                p.say(format!(
-                    "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model, calibrated here; more as stdin gives them",
-                    steps_text(scene),
-                    seconds_text(per_command)
-                ));
-            }
+            cost.add(chunk.len() as u64, &label, scene, p);
             text.clear();
             if let Some(e) = write_rows(&space, &chunk, &mut results, &mut text) {
                 end = Some(e);
