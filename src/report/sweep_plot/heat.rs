@@ -69,6 +69,67 @@ pub(super) fn viridis(t: f64) -> RGBColor {
     )
 }
 
+/// The sweep's swept values and the metric's mean at each: the columns
+/// (x values) and rows (y values) of a heat map, sorted, and `cells[i][j]`
+/// the mean at (x i, y j), `None` where no row has it.
+struct HeatGrid {
+    xv: Vec<f64>,
+    yv: Vec<f64>,
+    cells: Vec<Vec<Option<f64>>>,
+}
+
+impl HeatGrid {
+    /// The grid of `rows`: x in column `xi`, y in column `yi`, the mean in
+    /// column `mi`; a swept value that is not a number is an error.
+    fn new(
+        rows: &[&Vec<String>],
+        xi: usize,
+        yi: usize,
+        mi: usize,
+        num: &dyn Fn(&str) -> Option<f64>,
+    ) -> Result<HeatGrid, PlotError> {
+        let axis = |c: usize| -> Result<Vec<f64>, PlotError> {
+            let mut v: Vec<f64> = Vec::new();
+            for r in rows {
+                let Some(x) = num(&r[c]) else {
+                    return err(format!("{} = `{}` is not a number", KEY_COLUMNS[c], r[c]));
+                };
+                if !v.contains(&x) {
+                    v.push(x);
+                }
+            }
+            v.sort_by(f64::total_cmp);
+            Ok(v)
+        };
+        let (xv, yv) = (axis(xi)?, axis(yi)?);
+        let mut cells: Vec<Vec<Option<f64>>> = vec![vec![None; yv.len()]; xv.len()];
+        for r in rows {
+            let i = xv.iter().position(|&x| Some(x) == num(&r[xi])).unwrap_or(0);
+            let j = yv.iter().position(|&y| Some(y) == num(&r[yi])).unwrap_or(0);
+            cells[i][j] = num(&r[mi]);
+        }
+        Ok(HeatGrid { xv, yv, cells })
+    }
+
+    /// The smallest value and the span of the values (1 when they are all
+    /// equal): the range of the colour scale; no value is an error.
+    fn range(&self) -> Result<(f64, f64), PlotError> {
+        let vals: Vec<f64> = self.cells.iter().flatten().flatten().copied().collect();
+        let (vmin, vmax) = vals
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        if vals.is_empty() {
+            return err("no value to draw");
+        }
+        let span = if vmax - vmin > 0.0 { vmax - vmin } else { 1.0 };
+        Ok((vmin, span))
+    }
+}
+
+/// The heat map of the mean in column `mi` over x (column `xi`) and y
+/// (column `yi`) of `rows`, with a colour bar, in SVG.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn draw_heat(
     title: &str,
@@ -80,134 +141,152 @@ pub(super) fn draw_heat(
     mi: usize,
     num: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<String, PlotError> {
-    let axis = |c: usize| -> Result<Vec<f64>, PlotError> {
-        let mut v: Vec<f64> = Vec::new();
-        for r in &rows {
-            let Some(x) = num(&r[c]) else {
-                return err(format!("{} = `{}` is not a number", KEY_COLUMNS[c], r[c]));
-            };
-            if !v.contains(&x) {
-                v.push(x);
-            }
-        }
-        v.sort_by(f64::total_cmp);
-        Ok(v)
-    };
-    let (xv, yv) = (axis(xi)?, axis(yi)?);
-    let mut grid: Vec<Vec<Option<f64>>> = vec![vec![None; yv.len()]; xv.len()];
-    for r in &rows {
-        let i = xv.iter().position(|&x| Some(x) == num(&r[xi])).unwrap_or(0);
-        let j = yv.iter().position(|&y| Some(y) == num(&r[yi])).unwrap_or(0);
-        grid[i][j] = num(&r[mi]);
-    }
-    let vals: Vec<f64> = grid.iter().flatten().flatten().copied().collect();
-    let (vmin, vmax) = vals
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-            (a.min(v), b.max(v))
-        });
-    if vals.is_empty() {
-        return err("no value to draw");
-    }
-    let span = if vmax - vmin > 0.0 { vmax - vmin } else { 1.0 };
+    let grid = HeatGrid::new(&rows, xi, yi, mi, num)?;
+    let (vmin, span) = grid.range()?;
     let (w, h) = (900u32, 650u32);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(draw_err)?;
         let (left, right) = root.split_horizontally(w - 130);
-        let (nx, ny) = (xv.len(), yv.len());
-        let mut chart = ChartBuilder::on(&left)
-            .caption(title, (FONT, 22))
-            .margin(15)
-            .x_label_area_size(56)
-            .y_label_area_size(80)
-            .build_cartesian_2d(0f64..nx as f64, 0f64..ny as f64)
-            .map_err(draw_err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_labels(0)
-            .y_labels(0)
-            .x_desc(heat_axis_label(x_name, &xv))
-            .y_desc(heat_axis_label(y_name, &yv))
-            .axis_desc_style((FONT, 19))
-            .draw()
-            .map_err(draw_err)?;
-        for (i, col) in grid.iter().enumerate() {
-            for (j, v) in col.iter().enumerate() {
-                let (x, y) = (i as f64, j as f64);
-                let t = v.map(|v| (v - vmin) / span);
-                let fill = match t {
-                    Some(t) => viridis(t).filled(),
-                    None => RGBColor(230, 230, 230).filled(),
-                };
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        [(x, y), (x + 1.0, y + 1.0)],
-                        fill,
-                    )))
-                    .map_err(draw_err)?;
-                let label = v.map(short).unwrap_or_else(|| "-".into());
-                let color = if t.unwrap_or(1.0) < 0.6 { WHITE } else { BLACK };
-                let style = TextStyle::from((FONT, 18).into_font())
-                    .color(&color)
-                    .pos(Pos::new(HPos::Center, VPos::Center));
-                chart
-                    .draw_series(std::iter::once(Text::new(label, (x + 0.5, y + 0.5), style)))
-                    .map_err(draw_err)?;
-            }
-        }
-        // tick labels at the centres of the cells, drawn by hand
-        for (i, v) in xv.iter().enumerate() {
-            let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
-            let style = TextStyle::from((FONT, 17).into_font())
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Center, VPos::Top));
-            left.draw(&Text::new(short3(*v), (px, py + 6), style))
-                .map_err(draw_err)?;
-        }
-        for (j, v) in yv.iter().enumerate() {
-            let (px, py) = chart.backend_coord(&(0.0, j as f64 + 0.5));
-            let style = TextStyle::from((FONT, 17).into_font())
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Right, VPos::Center));
-            left.draw(&Text::new(short3(*v), (px - 6, py), style))
-                .map_err(draw_err)?;
-        }
-        // the colour bar
-        right
-            .draw(&Text::new(
-                "mean",
-                (12, 22),
-                (FONT, 18).into_font().color(&BLACK),
-            ))
-            .map_err(draw_err)?;
-        let mut bar = ChartBuilder::on(&right)
-            .margin_top(50)
-            .margin_bottom(65)
-            .margin_right(10)
-            .y_label_area_size(70)
-            .build_cartesian_2d(0f64..1f64, vmin..vmin + span)
-            .map_err(draw_err)?;
-        bar.configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .label_style((FONT, 16))
-            .y_label_formatter(&|v: &f64| short(*v))
-            .draw()
-            .map_err(draw_err)?;
-        let steps = 100;
-        bar.draw_series((0..steps).map(|k| {
-            let a = vmin + span * k as f64 / steps as f64;
-            let b = vmin + span * (k + 1) as f64 / steps as f64;
-            Rectangle::new(
-                [(0.0, a), (1.0, b)],
-                viridis(k as f64 / (steps - 1) as f64).filled(),
-            )
-        }))
-        .map_err(draw_err)?;
+        let mut chart = heat_chart(&left, title, x_name, y_name, &grid)?;
+        draw_cells(&mut chart, &grid.cells, vmin, span)?;
+        draw_ticks(&left, &chart, &grid)?;
+        draw_colour_bar(&right, vmin, span)?;
         root.present().map_err(draw_err)?;
     }
     Ok(svg)
+}
+
+/// The heat map's chart on `left`: its title and axis names, one unit per
+/// cell, no mesh and no ticks (drawn by [`draw_ticks`]).
+fn heat_chart<'a, 'b>(
+    left: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    title: &str,
+    x_name: &str,
+    y_name: &str,
+    grid: &HeatGrid,
+) -> Result<Chart<'a, 'b>, PlotError> {
+    let (nx, ny) = (grid.xv.len(), grid.yv.len());
+    let mut chart = ChartBuilder::on(left)
+        .caption(title, (FONT, 22))
+        .margin(15)
+        .x_label_area_size(56)
+        .y_label_area_size(80)
+        .build_cartesian_2d(0f64..nx as f64, 0f64..ny as f64)
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(0)
+        .y_labels(0)
+        .x_desc(heat_axis_label(x_name, &grid.xv))
+        .y_desc(heat_axis_label(y_name, &grid.yv))
+        .axis_desc_style((FONT, 19))
+        .draw()
+        .map_err(draw_err)?;
+    Ok(chart)
+}
+
+/// Each cell: filled with the viridis colour of its value (grey when it has
+/// none) and labelled with the value (`-` when none), in white on the dark
+/// colours.
+fn draw_cells(
+    chart: &mut Chart<'_, '_>,
+    cells: &[Vec<Option<f64>>],
+    vmin: f64,
+    span: f64,
+) -> Result<(), PlotError> {
+    for (i, col) in cells.iter().enumerate() {
+        for (j, v) in col.iter().enumerate() {
+            let (x, y) = (i as f64, j as f64);
+            let t = v.map(|v| (v - vmin) / span);
+            let fill = match t {
+                Some(t) => viridis(t).filled(),
+                None => RGBColor(230, 230, 230).filled(),
+            };
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(x, y), (x + 1.0, y + 1.0)],
+                    fill,
+                )))
+                .map_err(draw_err)?;
+            let label = v.map(short).unwrap_or_else(|| "-".into());
+            let color = if t.unwrap_or(1.0) < 0.6 { WHITE } else { BLACK };
+            let style = TextStyle::from((FONT, 18).into_font())
+                .color(&color)
+                .pos(Pos::new(HPos::Center, VPos::Center));
+            chart
+                .draw_series(std::iter::once(Text::new(label, (x + 0.5, y + 0.5), style)))
+                .map_err(draw_err)?;
+        }
+    }
+    Ok(())
+}
+
+/// The tick labels, the swept values, at the centres of the cells, drawn by
+/// hand on `left`: under the columns and left of the rows.
+fn draw_ticks(
+    left: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    chart: &Chart<'_, '_>,
+    grid: &HeatGrid,
+) -> Result<(), PlotError> {
+    for (i, v) in grid.xv.iter().enumerate() {
+        let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
+        let style = TextStyle::from((FONT, 17).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Top));
+        left.draw(&Text::new(short3(*v), (px, py + 6), style))
+            .map_err(draw_err)?;
+    }
+    for (j, v) in grid.yv.iter().enumerate() {
+        let (px, py) = chart.backend_coord(&(0.0, j as f64 + 0.5));
+        let style = TextStyle::from((FONT, 17).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Right, VPos::Center));
+        left.draw(&Text::new(short3(*v), (px - 6, py), style))
+            .map_err(draw_err)?;
+    }
+    Ok(())
+}
+
+/// The colour bar on `right`: titled `mean`, viridis in 100 steps from
+/// `vmin` to `vmin + span`, with its value axis.
+fn draw_colour_bar(
+    right: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    vmin: f64,
+    span: f64,
+) -> Result<(), PlotError> {
+    right
+        .draw(&Text::new(
+            "mean",
+            (12, 22),
+            (FONT, 18).into_font().color(&BLACK),
+        ))
+        .map_err(draw_err)?;
+    let mut bar = ChartBuilder::on(right)
+        .margin_top(50)
+        .margin_bottom(65)
+        .margin_right(10)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0f64..1f64, vmin..vmin + span)
+        .map_err(draw_err)?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .label_style((FONT, 16))
+        .y_label_formatter(&|v: &f64| short(*v))
+        .draw()
+        .map_err(draw_err)?;
+    let steps = 100;
+    bar.draw_series((0..steps).map(|k| {
+        let a = vmin + span * k as f64 / steps as f64;
+        let b = vmin + span * (k + 1) as f64 / steps as f64;
+        Rectangle::new(
+            [(0.0, a), (1.0, b)],
+            viridis(k as f64 / (steps - 1) as f64).filled(),
+        )
+    }))
+    .map_err(draw_err)?;
+    Ok(())
 }

@@ -2,10 +2,6 @@
 //! parameter, with 95% intervals.
 
 use super::*;
-use plotters::coord::types::RangedCoordf64;
-
-/// The chart of a line plot, in SVG.
-type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// One line of a line plot.
 pub(super) struct Series {
@@ -15,6 +11,9 @@ pub(super) struct Series {
     points: Vec<(f64, f64, Option<f64>, Option<f64>)>,
 }
 
+/// The series of a line plot of the mean in column `mi` (interval `lo` to
+/// `hi`) against column `xi`: one per setting of the other cell columns
+/// that vary, its points sorted by x.
 pub(super) fn line_series(
     rows: &[&Vec<String>],
     xi: usize,
@@ -28,25 +27,7 @@ pub(super) fn line_series(
         .filter(|&c| c != xi)
         .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
         .collect();
-    // the columns named in labels: those with two or more distinct
-    // non-empty values (a parameter only some learners use is not named)
-    let mut named: Vec<usize> = varying
-        .iter()
-        .copied()
-        .filter(|&c| {
-            let mut v: Vec<&str> = rows
-                .iter()
-                .map(|r| r[c].as_str())
-                .filter(|s| !s.is_empty())
-                .collect();
-            v.sort();
-            v.dedup();
-            v.len() >= 2
-        })
-        .collect();
-    if named.is_empty() {
-        named.push(1); // the learner
-    }
+    let named = named_columns(rows, &varying);
     let mut series: Vec<Series> = Vec::new();
     let mut keys: Vec<String> = Vec::new();
     for r in rows {
@@ -65,22 +46,7 @@ pub(super) fn line_series(
         match keys.iter().position(|k| *k == key) {
             Some(i) => series[i].points.push(p),
             None => {
-                let label = named
-                    .iter()
-                    .filter(|&&c| !r[c].is_empty())
-                    .map(|&c| match KEY_COLUMNS[c] {
-                        "learner" | "scene" => r[c].clone(),
-                        "use_reward" => {
-                            if r[c] == "true" {
-                                "with reward".into()
-                            } else {
-                                "without reward".into()
-                            }
-                        }
-                        name => format!("{name} {}", short(num(&r[c]).unwrap_or(f64::NAN))),
-                    })
-                    .collect::<Vec<_>>()
-                    .join(", ");
+                let label = series_label(r, &named, num);
                 keys.push(key);
                 series.push(Series {
                     label: if label.is_empty() {
@@ -103,6 +69,51 @@ pub(super) fn line_series(
         ));
     }
     Ok(series)
+}
+
+/// The columns named in the series' labels: of the `varying` cell
+/// columns, those with two or more distinct non-empty values (a parameter
+/// only some learners use is not named); the learner when none is.
+fn named_columns(rows: &[&Vec<String>], varying: &[usize]) -> Vec<usize> {
+    let mut named: Vec<usize> = varying
+        .iter()
+        .copied()
+        .filter(|&c| {
+            let mut v: Vec<&str> = rows
+                .iter()
+                .map(|r| r[c].as_str())
+                .filter(|s| !s.is_empty())
+                .collect();
+            v.sort();
+            v.dedup();
+            v.len() >= 2
+        })
+        .collect();
+    if named.is_empty() {
+        named.push(1); // the learner
+    }
+    named
+}
+
+/// The label of row `r`'s series, in words: its values of the `named`
+/// columns that it has (`e3d, with reward, eta 0.003`).
+fn series_label(r: &[String], named: &[usize], num: &dyn Fn(&str) -> Option<f64>) -> String {
+    named
+        .iter()
+        .filter(|&&c| !r[c].is_empty())
+        .map(|&c| match KEY_COLUMNS[c] {
+            "learner" | "scene" => r[c].clone(),
+            "use_reward" => {
+                if r[c] == "true" {
+                    "with reward".into()
+                } else {
+                    "without reward".into()
+                }
+            }
+            name => format!("{name} {}", short(num(&r[c]).unwrap_or(f64::NAN))),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 pub(super) fn draw_lines(

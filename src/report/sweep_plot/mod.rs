@@ -24,7 +24,11 @@ mod lines;
 
 use heat::draw_heat;
 use lines::{draw_lines, line_series};
+use plotters::coord::types::RangedCoordf64;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// The chart of a line plot or a heat map, in SVG.
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// A figure that cannot be drawn: why, and what was expected.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
