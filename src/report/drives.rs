@@ -21,7 +21,7 @@
 //! ```
 
 use super::{describe, median, Stats};
-use crate::sweep::{SessionResult, Sweep, PARAM_NAMES};
+use crate::sweep::{Cell, SessionResult, Sweep, PARAM_NAMES};
 use std::fmt::Write;
 
 /// Task 1 is read at this inverse temperature, task 2 at the other.
@@ -95,69 +95,15 @@ impl DriveComparison {
     /// at beta 1, task 2 from those with reward at beta 100 (learners that
     /// ignore beta: their one cell of each). Failed sessions are left out.
     pub fn new(sweep: &Sweep, results: &[SessionResult]) -> DriveComparison {
-        let columns = sweep.metric_columns();
-        let col = |name: &str| columns.iter().position(|c| c == name);
-        let entropy = col("normalized_entropy");
-        let reward = columns
-            .iter()
-            .position(|c| c.starts_with("cumulative_reward_at_"));
-        let first = col("first_reward_trial");
-        let coverage = col("coverage");
-        let to50 = col("trials_to_50_percent");
-        let to90 = col("trials_to_90_percent");
-        let cells = sweep.cells();
+        let columns = MetricColumns::of(sweep);
         let beta = PARAM_NAMES.iter().position(|&p| p == "beta").unwrap_or(1);
         let mut rows = Vec::new();
         for (si, scene) in sweep.scenes().iter().enumerate() {
             for kind in &sweep.spec.learners {
-                let pick = |task2: bool| -> Vec<&SessionResult> {
-                    let wanted = if task2 { TASK2_BETA } else { TASK1_BETA };
-                    let ids: Vec<usize> = cells
-                        .iter()
-                        .filter(|c| {
-                            c.scene == si
-                                && c.learner == *kind
-                                && c.use_reward == task2
-                                && (!c.used[beta] || c.params.beta == wanted)
-                        })
-                        .map(|c| c.index)
-                        .collect();
-                    results
-                        .iter()
-                        .filter(|r| r.failure.is_none() && ids.contains(&r.session.cell))
-                        .collect()
-                };
-                let values = |rs: &[&SessionResult], k: Option<usize>| -> Vec<Option<f64>> {
-                    rs.iter().map(|r| k.and_then(|k| r.values[k])).collect()
-                };
+                let pick =
+                    |task2: bool| task_sessions(sweep.cells(), results, si, kind, task2, beta);
                 let (t1, t2) = (pick(false), pick(true));
-                let h: Vec<f64> = values(&t1, entropy).into_iter().flatten().collect();
-                let rew: Vec<f64> = values(&t2, reward).into_iter().flatten().collect();
-                let firsts = values(&t2, first);
-                let rewarded: Vec<f64> = firsts.iter().flatten().copied().collect();
-                let cov: Vec<f64> = values(&t1, coverage).into_iter().flatten().collect();
-                let r50: Vec<f64> = values(&t1, to50).into_iter().flatten().collect();
-                let r90: Vec<f64> = values(&t1, to90).into_iter().flatten().collect();
-                rows.push(DriveRow {
-                    task1_coverage: describe(&cov),
-                    task1_trials_to_50: describe(&r50),
-                    task1_reached_50: r50.len(),
-                    task1_trials_to_90: describe(&r90),
-                    task1_reached_90: r90.len(),
-                    task1_sessions: t1.len(),
-                    task2_first_reward_stats: describe(&rewarded),
-                    scene: scene.name().to_string(),
-                    learner: kind.clone(),
-                    task1_entropy: describe(&h),
-                    task2_reward: describe(&rew),
-                    task2_first_reward: median(&rewarded),
-                    task2_never_rewarded: if t2.is_empty() {
-                        0.0
-                    } else {
-                        (t2.len() - rewarded.len()) as f64 / t2.len() as f64
-                    },
-                    task2_sessions: t2.len(),
-                });
+                rows.push(DriveRow::of(scene.name(), kind, &t1, &t2, &columns));
             }
         }
         let coverage_cells = sweep
@@ -346,19 +292,7 @@ impl DriveComparison {
     /// learner: task 1's entropy (with ± 1 sd) and task 2's reward per
     /// trial (the cumulative reward divided by the trials).
     pub fn svg(&self) -> String {
-        let mut scenes: Vec<&str> = Vec::new();
-        let mut learners: Vec<&str> = Vec::new();
-        for r in &self.rows {
-            if !scenes.contains(&r.scene.as_str()) {
-                scenes.push(&r.scene);
-            }
-            if !learners.contains(&r.learner.as_str()) {
-                learners.push(&r.learner);
-            }
-        }
-        const COLOURS: [&str; 8] = [
-            "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#7f7f7f", "#d62728", "#8c564b", "#e377c2",
-        ];
+        let (scenes, learners) = self.scenes_and_learners();
         let (pw, ph, left, top, gap) = (520.0, 230.0, 60.0, 40.0, 70.0);
         let width = left + pw + 150.0;
         let height = top + 2.0 * ph + gap + 50.0;
@@ -369,6 +303,13 @@ impl DriveComparison {
         );
         let group = pw / scenes.len().max(1) as f64;
         let bar = group * 0.8 / learners.len().max(1) as f64;
+        let layout = BarLayout {
+            pw,
+            ph,
+            left,
+            group,
+            bar,
+        };
         let trials = self.trials.max(1) as f64;
         let panels: [Panel; 2] = [
             (
@@ -380,64 +321,144 @@ impl DriveComparison {
                 (r.task2_reward.mean / trials, r.task2_reward.sd / trials)
             }),
         ];
-        for (p, (title, ymax, value)) in panels.iter().enumerate() {
+        for (p, panel) in panels.iter().enumerate() {
             let y0 = top + p as f64 * (ph + gap);
-            let _ = writeln!(
-                s,
-                r#"<text x="{left}" y="{}" font-size="13" font-weight="bold">{title}</text>"#,
-                y0 - 10.0
-            );
-            for k in 0..=4 {
-                let v = *ymax * k as f64 / 4.0;
-                let y = y0 + ph - ph * v / ymax;
-                let _ = writeln!(
-                    s,
-                    r##"<line x1="{left}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{v:.2}</text>"##,
-                    left + pw,
-                    left - 6.0,
-                    y + 4.0
-                );
+            layout.draw_panel_axes(&mut s, panel.0, panel.1, y0);
+            self.draw_panel_bars(&mut s, &layout, &scenes, &learners, panel, y0);
+        }
+        layout.draw_legend(&mut s, top, &learners);
+        let _ = writeln!(
+            s,
+            r##"<text x="{left}" y="{}" fill="#555">{} sessions per learner and task, {} trials each</text>"##,
+            height - 12.0,
+            self.sessions,
+            self.trials
+        );
+        s.push_str("</svg>\n");
+        s
+    }
+
+    /// The scenes and the learners of the rows, each in the order of its
+    /// first row: the groups of the figure and the bars of a group.
+    fn scenes_and_learners(&self) -> (Vec<&str>, Vec<&str>) {
+        let mut scenes: Vec<&str> = Vec::new();
+        let mut learners: Vec<&str> = Vec::new();
+        for r in &self.rows {
+            if !scenes.contains(&r.scene.as_str()) {
+                scenes.push(&r.scene);
             }
-            let _ = writeln!(
-                s,
-                r#"<line x1="{left}" y1="{}" x2="{}" y2="{}" stroke="black"/>"#,
-                y0 + ph,
-                left + pw,
-                y0 + ph
-            );
-            for (gi, scene) in scenes.iter().enumerate() {
-                let gx = left + gi as f64 * group + group * 0.1;
-                let _ = writeln!(
-                    s,
-                    r#"<text x="{:.1}" y="{}" text-anchor="middle">{scene}</text>"#,
-                    gx + group * 0.4,
-                    y0 + ph + 16.0
-                );
-                for (li, learner) in learners.iter().enumerate() {
-                    let Some(r) = self.row(scene, learner) else {
-                        continue;
-                    };
-                    let (v, sd) = value(r);
-                    let x = gx + li as f64 * bar;
-                    let h = (ph * v / ymax).clamp(0.0, ph);
-                    let _ = writeln!(
-                        s,
-                        r#"<rect x="{x:.1}" y="{:.1}" width="{:.1}" height="{h:.1}" fill="{}"><title>{scene}, {learner}: {v:.3}</title></rect>"#,
-                        y0 + ph - h,
-                        bar * 0.9,
-                        COLOURS[li % COLOURS.len()]
-                    );
-                    let (lo, hi) = ((v - sd).max(0.0), (v + sd).min(*ymax));
-                    let cx = x + bar * 0.45;
-                    let _ = writeln!(
-                        s,
-                        r#"<line x1="{cx:.1}" y1="{:.1}" x2="{cx:.1}" y2="{:.1}" stroke="black"/>"#,
-                        y0 + ph - ph * lo / ymax,
-                        y0 + ph - ph * hi / ymax
-                    );
-                }
+            if !learners.contains(&r.learner.as_str()) {
+                learners.push(&r.learner);
             }
         }
+        (scenes, learners)
+    }
+
+    /// A panel's bars, its top at `y0`: a group per scene (named under it),
+    /// a bar per learner with the panel's value of its row (up to the
+    /// panel's top) and its ± sd whisker; a learner with no row on a scene
+    /// has no bar.
+    fn draw_panel_bars(
+        &self,
+        s: &mut String,
+        layout: &BarLayout,
+        scenes: &[&str],
+        learners: &[&str],
+        &(_, ymax, value): &Panel<'_>,
+        y0: f64,
+    ) {
+        let BarLayout {
+            ph,
+            left,
+            group,
+            bar,
+            ..
+        } = *layout;
+        for (gi, scene) in scenes.iter().enumerate() {
+            let gx = left + gi as f64 * group + group * 0.1;
+            let _ = writeln!(
+                s,
+                r#"<text x="{:.1}" y="{}" text-anchor="middle">{scene}</text>"#,
+                gx + group * 0.4,
+                y0 + ph + 16.0
+            );
+            for (li, learner) in learners.iter().enumerate() {
+                let Some(r) = self.row(scene, learner) else {
+                    continue;
+                };
+                let (v, sd) = value(r);
+                let x = gx + li as f64 * bar;
+                let h = (ph * v / ymax).clamp(0.0, ph);
+                let _ = writeln!(
+                    s,
+                    r#"<rect x="{x:.1}" y="{:.1}" width="{:.1}" height="{h:.1}" fill="{}"><title>{scene}, {learner}: {v:.3}</title></rect>"#,
+                    y0 + ph - h,
+                    bar * 0.9,
+                    COLOURS[li % COLOURS.len()]
+                );
+                let (lo, hi) = ((v - sd).max(0.0), (v + sd).min(ymax));
+                let cx = x + bar * 0.45;
+                let _ = writeln!(
+                    s,
+                    r#"<line x1="{cx:.1}" y1="{:.1}" x2="{cx:.1}" y2="{:.1}" stroke="black"/>"#,
+                    y0 + ph - ph * lo / ymax,
+                    y0 + ph - ph * hi / ymax
+                );
+            }
+        }
+    }
+}
+
+/// The learners' colours in the figure, in the sweep's order.
+const COLOURS: [&str; 8] = [
+    "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#7f7f7f", "#d62728", "#8c564b", "#e377c2",
+];
+
+/// Where the figure's bars go: a panel's width and height, the left
+/// margin, the width of a scene's group of bars and of one bar.
+#[derive(Clone, Copy)]
+struct BarLayout {
+    pw: f64,
+    ph: f64,
+    left: f64,
+    group: f64,
+    bar: f64,
+}
+
+impl BarLayout {
+    /// A panel's frame, its top at `y0`: its title above, 5 value lines
+    /// from 0 to `ymax` with their values, and the base line.
+    fn draw_panel_axes(&self, s: &mut String, title: &str, ymax: f64, y0: f64) {
+        let BarLayout { pw, ph, left, .. } = *self;
+        let _ = writeln!(
+            s,
+            r#"<text x="{left}" y="{}" font-size="13" font-weight="bold">{title}</text>"#,
+            y0 - 10.0
+        );
+        for k in 0..=4 {
+            let v = ymax * k as f64 / 4.0;
+            let y = y0 + ph - ph * v / ymax;
+            let _ = writeln!(
+                s,
+                r##"<line x1="{left}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{v:.2}</text>"##,
+                left + pw,
+                left - 6.0,
+                y + 4.0
+            );
+        }
+        let _ = writeln!(
+            s,
+            r#"<line x1="{left}" y1="{}" x2="{}" y2="{}" stroke="black"/>"#,
+            y0 + ph,
+            left + pw,
+            y0 + ph
+        );
+    }
+
+    /// The legend right of the panels, from `top`: a colour swatch and
+    /// the name of each learner.
+    fn draw_legend(&self, s: &mut String, top: f64, learners: &[&str]) {
+        let BarLayout { pw, left, .. } = *self;
         for (li, learner) in learners.iter().enumerate() {
             let y = top + 10.0 + li as f64 * 18.0;
             let _ = writeln!(
@@ -450,14 +471,106 @@ impl DriveComparison {
                 y
             );
         }
-        let _ = writeln!(
-            s,
-            r##"<text x="{left}" y="{}" fill="#555">{} sessions per learner and task, {} trials each</text>"##,
-            height - 12.0,
-            self.sessions,
-            self.trials
-        );
-        s.push_str("</svg>\n");
-        s
+    }
+}
+
+/// The sessions of learner `kind` on scene `si` in task 1 or (`task2`)
+/// task 2, failures left out: those of its cells with (task 2) or without
+/// reward at the task's beta (column `beta` of the parameters), or at any
+/// beta when the learner ignores it.
+fn task_sessions<'r>(
+    cells: &[Cell],
+    results: &'r [SessionResult],
+    si: usize,
+    kind: &str,
+    task2: bool,
+    beta: usize,
+) -> Vec<&'r SessionResult> {
+    let wanted = if task2 { TASK2_BETA } else { TASK1_BETA };
+    let ids: Vec<usize> = cells
+        .iter()
+        .filter(|c| {
+            c.scene == si
+                && c.learner == *kind
+                && c.use_reward == task2
+                && (!c.used[beta] || c.params.beta == wanted)
+        })
+        .map(|c| c.index)
+        .collect();
+    results
+        .iter()
+        .filter(|r| r.failure.is_none() && ids.contains(&r.session.cell))
+        .collect()
+}
+
+/// Where the comparison's metrics are among a session's values (`None`:
+/// the sweep does not measure it).
+struct MetricColumns {
+    entropy: Option<usize>,
+    reward: Option<usize>,
+    first: Option<usize>,
+    coverage: Option<usize>,
+    to50: Option<usize>,
+    to90: Option<usize>,
+}
+
+impl MetricColumns {
+    /// The columns of `sweep`'s metrics.
+    fn of(sweep: &Sweep) -> MetricColumns {
+        let columns = sweep.metric_columns();
+        let col = |name: &str| columns.iter().position(|c| c == name);
+        MetricColumns {
+            entropy: col("normalized_entropy"),
+            reward: columns
+                .iter()
+                .position(|c| c.starts_with("cumulative_reward_at_")),
+            first: col("first_reward_trial"),
+            coverage: col("coverage"),
+            to50: col("trials_to_50_percent"),
+            to90: col("trials_to_90_percent"),
+        }
+    }
+}
+
+impl DriveRow {
+    /// The row of `learner` on `scene`, from its task-1 sessions `t1` and
+    /// its task-2 sessions `t2`, their metrics at `columns`.
+    fn of(
+        scene: &str,
+        learner: &str,
+        t1: &[&SessionResult],
+        t2: &[&SessionResult],
+        columns: &MetricColumns,
+    ) -> DriveRow {
+        let values = |rs: &[&SessionResult], k: Option<usize>| -> Vec<Option<f64>> {
+            rs.iter().map(|r| k.and_then(|k| r.values[k])).collect()
+        };
+        let h: Vec<f64> = values(t1, columns.entropy).into_iter().flatten().collect();
+        let rew: Vec<f64> = values(t2, columns.reward).into_iter().flatten().collect();
+        let firsts = values(t2, columns.first);
+        let rewarded: Vec<f64> = firsts.iter().flatten().copied().collect();
+        let cov: Vec<f64> = values(t1, columns.coverage).into_iter().flatten().collect();
+        let r50: Vec<f64> = values(t1, columns.to50).into_iter().flatten().collect();
+        let r90: Vec<f64> = values(t1, columns.to90).into_iter().flatten().collect();
+        DriveRow {
+            task1_coverage: describe(&cov),
+            task1_trials_to_50: describe(&r50),
+            task1_reached_50: r50.len(),
+            task1_trials_to_90: describe(&r90),
+            task1_reached_90: r90.len(),
+            task1_sessions: t1.len(),
+            task2_first_reward_stats: describe(&rewarded),
+            scene: scene.to_string(),
+            learner: learner.to_string(),
+            task1_entropy: describe(&h),
+            task2_reward: describe(&rew),
+            task2_first_reward: median(&rewarded),
+            task2_never_rewarded: if t2.is_empty() {
+                0.0
+            } else {
+                (t2.len() - rewarded.len()) as f64 / t2.len() as f64
+            },
+            task2_sessions: t2.len(),
+        }
     }
 }
