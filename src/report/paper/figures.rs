@@ -68,94 +68,14 @@ impl PaperResults {
             let root = SVGBackend::with_string(&mut svg, (1000, 640)).into_drawing_area();
             root.fill(&WHITE).map_err(|e| e.to_string())?;
             let (head, body) = root.split_vertically(78);
-            head.draw(&Text::new(
-                "two_rooms, task 2: cumulative reward".to_string(),
-                (30, 12),
-                ("sans-serif", 26).into_font().color(&BLACK),
-            ))
-            .map_err(|e| e.to_string())?;
-            head.draw(&Text::new(
-                format!(
-                    "over {} sessions: line, mean; dark band, mean \u{b1} sd; light band, min to max (the table's mean +- sd [min, max])",
-                    self.config.sessions
-                ),
-                (30, 48),
-                ("sans-serif", 17).into_font().color(&RGBColor(70, 70, 70)),
-            ))
-            .map_err(|e| e.to_string())?;
-            let mut chart = ChartBuilder::on(&body)
-                .margin(20)
-                .margin_top(5)
-                .x_label_area_size(60)
-                .y_label_area_size(90)
-                .build_cartesian_2d(0f64..trials as f64, 0f64..top * 1.05)
-                .map_err(|e| e.to_string())?;
-            chart
-                .configure_mesh()
-                .x_desc("trial")
-                .y_desc("cumulative reward")
-                .axis_desc_style(("sans-serif", 20))
-                .label_style(("sans-serif", 18))
-                .x_label_formatter(&|x| format!("{x:.0}"))
-                .y_label_formatter(&|y| format!("{y:.0}"))
-                .light_line_style(WHITE.mix(0.0))
-                .bold_line_style(RGBColor(225, 225, 225))
-                .draw()
-                .map_err(|e| e.to_string())?;
+            fig3_head(&head, self.config.sessions)?;
+            let mut chart = fig3_chart(&body, trials, top)?;
             let colours = [RGBColor(200, 60, 40), RGBColor(40, 90, 180)];
             // thin the curves to at most ~1000 points: the figure, not the CSV
             let step = (trials / 1000).max(1);
             let idx: Vec<usize> = (0..trials).step_by(step).chain([trials - 1]).collect();
-            let band_of =
-                |band: &[Stats], lo: &dyn Fn(&Stats) -> f64, hi: &dyn Fn(&Stats) -> f64| {
-                    let mut poly: Vec<(f64, f64)> = idx
-                        .iter()
-                        .map(|&t| ((t + 1) as f64, hi(&band[t])))
-                        .collect();
-                    poly.extend(idx.iter().rev().map(|&t| ((t + 1) as f64, lo(&band[t]))));
-                    poly
-                };
-            for (band, colour) in bands.iter().zip(colours) {
-                chart
-                    .draw_series(std::iter::once(Polygon::new(
-                        band_of(band, &|s| s.min, &|s| s.max),
-                        colour.mix(0.13).filled(),
-                    )))
-                    .map_err(|e| e.to_string())?;
-                // the sd band is clipped at 0: a cumulative reward is not negative
-                chart
-                    .draw_series(std::iter::once(Polygon::new(
-                        band_of(band, &|s| (s.mean - s.sd).max(0.0), &|s| s.mean + s.sd),
-                        colour.mix(0.3).filled(),
-                    )))
-                    .map_err(|e| e.to_string())?;
-            }
-            for ((arm, band), colour) in arms.iter().zip(&bands).zip(colours) {
-                chart
-                    .draw_series(LineSeries::new(
-                        idx.iter().map(|&t| ((t + 1) as f64, band[t].mean)),
-                        colour.stroke_width(3),
-                    ))
-                    .map_err(|e| e.to_string())?
-                    .label(format!("{}: mean", arm.arm.label))
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
-                    });
-                chart
-                    .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
-                    .map_err(|e| e.to_string())?
-                    .label("  mean \u{b1} sd")
-                    .legend(move |(x, y)| {
-                        Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.3).filled())
-                    });
-                chart
-                    .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
-                    .map_err(|e| e.to_string())?
-                    .label("  min to max")
-                    .legend(move |(x, y)| {
-                        Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.13).filled())
-                    });
-            }
+            draw_reward_bands(&mut chart, &bands, &idx, colours)?;
+            draw_reward_means(&mut chart, &arms, &bands, &idx, colours)?;
             chart
                 .configure_series_labels()
                 .position(SeriesLabelPosition::UpperLeft)
@@ -168,6 +88,142 @@ impl PaperResults {
         }
         Ok(svg)
     }
+}
+
+/// The chart of Figure 3, in SVG.
+type Chart<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// Figure 3's head: its title and the line saying what the line and the
+/// bands are over the `sessions`.
+fn fig3_head(head: &Area<'_>, sessions: usize) -> Result<(), String> {
+    head.draw(&Text::new(
+        "two_rooms, task 2: cumulative reward".to_string(),
+        (30, 12),
+        ("sans-serif", 26).into_font().color(&BLACK),
+    ))
+    .map_err(|e| e.to_string())?;
+    head.draw(&Text::new(
+        format!(
+            "over {sessions} sessions: line, mean; dark band, mean \u{b1} sd; light band, min to max (the table's mean +- sd [min, max])"
+        ),
+        (30, 48),
+        ("sans-serif", 17).into_font().color(&RGBColor(70, 70, 70)),
+    ))
+    .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// Figure 3's chart on `body`: trials 0 to `trials` across, cumulative
+/// reward 0 to 5% over `top` up, with its axes and light grid.
+fn fig3_chart<'a, 'b>(
+    body: &'a Area<'b>,
+    trials: usize,
+    top: f64,
+) -> Result<Chart<'a, 'b>, String> {
+    let mut chart = ChartBuilder::on(body)
+        .margin(20)
+        .margin_top(5)
+        .x_label_area_size(60)
+        .y_label_area_size(90)
+        .build_cartesian_2d(0f64..trials as f64, 0f64..top * 1.05)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("trial")
+        .y_desc("cumulative reward")
+        .axis_desc_style(("sans-serif", 20))
+        .label_style(("sans-serif", 18))
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .y_label_formatter(&|y| format!("{y:.0}"))
+        .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(RGBColor(225, 225, 225))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(chart)
+}
+
+/// The polygon between `lo` and `hi` of a learner's `band` at the trials
+/// `idx` (trial t drawn at t + 1): along `hi`, then back along `lo`.
+fn band_polygon(
+    band: &[Stats],
+    idx: &[usize],
+    lo: &dyn Fn(&Stats) -> f64,
+    hi: &dyn Fn(&Stats) -> f64,
+) -> Vec<(f64, f64)> {
+    let mut poly: Vec<(f64, f64)> = idx
+        .iter()
+        .map(|&t| ((t + 1) as f64, hi(&band[t])))
+        .collect();
+    poly.extend(idx.iter().rev().map(|&t| ((t + 1) as f64, lo(&band[t]))));
+    poly
+}
+
+/// Each learner's bands, in its colour: min to max, light, and mean +- sd
+/// (clipped at 0), darker.
+fn draw_reward_bands(
+    chart: &mut Chart<'_, '_>,
+    bands: &[Vec<Stats>],
+    idx: &[usize],
+    colours: [RGBColor; 2],
+) -> Result<(), String> {
+    for (band, colour) in bands.iter().zip(colours) {
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                band_polygon(band, idx, &|s| s.min, &|s| s.max),
+                colour.mix(0.13).filled(),
+            )))
+            .map_err(|e| e.to_string())?;
+        // the sd band is clipped at 0: a cumulative reward is not negative
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                band_polygon(band, idx, &|s| (s.mean - s.sd).max(0.0), &|s| s.mean + s.sd),
+                colour.mix(0.3).filled(),
+            )))
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// Each learner's mean as a line, in its colour, and its three legend
+/// entries: the line, the sd band and the min-max band.
+fn draw_reward_means(
+    chart: &mut Chart<'_, '_>,
+    arms: &[&ArmResult],
+    bands: &[Vec<Stats>],
+    idx: &[usize],
+    colours: [RGBColor; 2],
+) -> Result<(), String> {
+    for ((arm, band), colour) in arms.iter().zip(bands).zip(colours) {
+        chart
+            .draw_series(LineSeries::new(
+                idx.iter().map(|&t| ((t + 1) as f64, band[t].mean)),
+                colour.stroke_width(3),
+            ))
+            .map_err(|e| e.to_string())?
+            .label(format!("{}: mean", arm.arm.label))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+            });
+        chart
+            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
+            .map_err(|e| e.to_string())?
+            .label("  mean \u{b1} sd")
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.3).filled())
+            });
+        chart
+            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
+            .map_err(|e| e.to_string())?
+            .label("  min to max")
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.13).filled())
+            });
+    }
+    Ok(())
 }
 
 /// The colour (red, green, blue) of a share on Figure 2's scale from 0
