@@ -101,82 +101,124 @@ pub fn grid_motion_svg(scene: &Scene, command: &Command) -> Result<String, Anima
     let text = space.format(command);
     let cells = world.path(command);
     let grid = world.grid().clone();
-    let centre = |cell: usize| grid.center(cell / g.cols, cell % g.cols);
+    let centres: Vec<[f64; 2]> = cells
+        .iter()
+        .map(|&cell| grid.center(cell / g.cols, cell % g.cols))
+        .collect();
     let overlay = Overlay {
         command: text.clone(),
-        points: cells.iter().map(|&c| centre(c)).collect(),
+        points: centres.clone(),
         poses: None,
         effect: outcome.effect,
         reward: outcome.reward,
     };
-    let n = cells.len();
-    let dur = GRID_KEYFRAME_SECONDS * n as f64;
-    let key_times: String = (0..n)
-        .map(|k| format!("{:.4}", k as f64 / n as f64))
-        .collect::<Vec<_>>()
-        .join(";");
+    let keys = GridKeyframes::new(cells.len());
     let symbols: Vec<char> = text.chars().collect();
     let mut draw = |out: &mut String, v: &View| {
         let _ = writeln!(out, r#"<g class="motion">"#);
-        let xs: Vec<String> = cells
-            .iter()
-            .map(|&c| format!("{:.2}", v.x(centre(c)[0])))
-            .collect();
-        let ys: Vec<String> = cells
-            .iter()
-            .map(|&c| format!("{:.2}", v.y(centre(c)[1])))
-            .collect();
-        let anim = |attr: &str, values: &[String]| {
+        draw_grid_agent(out, v, &centres, &keys);
+        draw_grid_readout(out, v, grid.max, &cells, g.cols, &symbols, &keys);
+        out.push_str("</g>\n");
+    };
+    Ok(grid_picture(scene, g, Some(&overlay), Some(&mut draw)))
+}
+
+/// The timing of a grid animation: `n` keyframes, each shown
+/// [`GRID_KEYFRAME_SECONDS`], looping over `dur` seconds; `key_times`, the
+/// SMIL `keyTimes` of their starts.
+struct GridKeyframes {
+    n: usize,
+    dur: f64,
+    key_times: String,
+}
+
+impl GridKeyframes {
+    /// The timing of `n` keyframes.
+    fn new(n: usize) -> GridKeyframes {
+        let dur = GRID_KEYFRAME_SECONDS * n as f64;
+        let key_times: String = (0..n)
+            .map(|k| format!("{:.4}", k as f64 / n as f64))
+            .collect::<Vec<_>>()
+            .join(";");
+        GridKeyframes { n, dur, key_times }
+    }
+}
+
+/// The agent: a disc jumping from centre to centre of the cells of its
+/// path (`centres`, in world coordinates), one per keyframe.
+fn draw_grid_agent(out: &mut String, v: &View, centres: &[[f64; 2]], keys: &GridKeyframes) {
+    let GridKeyframes { dur, key_times, .. } = keys;
+    let xs: Vec<String> = centres
+        .iter()
+        .map(|p| format!("{:.2}", v.x(p[0])))
+        .collect();
+    let ys: Vec<String> = centres
+        .iter()
+        .map(|p| format!("{:.2}", v.y(p[1])))
+        .collect();
+    let anim = |attr: &str, values: &[String]| {
+        format!(
+            r#"<animate attributeName="{attr}" calcMode="discrete" values="{}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite"/>"#,
+            values.join(";")
+        )
+    };
+    let _ = writeln!(
+        out,
+        r##"<circle class="agent" cx="{}" cy="{}" r="{:.2}" fill="{TRACKED}" stroke="#ffffff" stroke-width="1.5"><title>agent</title>{}{}</circle>"##,
+        xs[0],
+        ys[0],
+        v.len(0.12).clamp(4.0, 14.0),
+        anim("cx", &xs),
+        anim("cy", &ys),
+    );
+}
+
+/// The readout at the grid's top right corner (`top`): one text per
+/// keyframe, shown in its turn, naming the start cell, then each slot of
+/// the path (`cells`, in a grid of `cols` columns), its symbol and the cell
+/// it led to.
+fn draw_grid_readout(
+    out: &mut String,
+    v: &View,
+    top: [f64; 2],
+    cells: &[usize],
+    cols: usize,
+    symbols: &[char],
+    keys: &GridKeyframes,
+) {
+    let GridKeyframes { n, dur, .. } = *keys;
+    let _ = writeln!(
+        out,
+        r##"<g class="step" font-size="14" fill="#222" font-family="monospace">"##
+    );
+    for (k, &cell) in cells.iter().enumerate() {
+        let (r, c) = (cell / cols, cell % cols);
+        let label = if k == 0 {
+            format!("start: cell ({r}, {c})")
+        } else {
             format!(
-                r#"<animate attributeName="{attr}" calcMode="discrete" values="{}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite"/>"#,
-                values.join(";")
+                "slot {k}/{}: {} → cell ({r}, {c})",
+                n - 1,
+                esc(&symbols.get(k - 1).map_or(String::new(), |s| s.to_string()))
             )
+        };
+        let (on, off) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
+        let (values, times) = if k == 0 {
+            ("1;0".to_string(), format!("0;{off:.4}"))
+        } else if k + 1 == n {
+            ("0;1".to_string(), format!("0;{on:.4}"))
+        } else {
+            ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
         };
         let _ = writeln!(
             out,
-            r##"<circle class="agent" cx="{}" cy="{}" r="{:.2}" fill="{TRACKED}" stroke="#ffffff" stroke-width="1.5"><title>agent</title>{}{}</circle>"##,
-            xs[0],
-            ys[0],
-            v.len(0.12).clamp(4.0, 14.0),
-            anim("cx", &xs),
-            anim("cy", &ys),
+            r#"<text class="keyframe" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
+            v.x(top[0]) - 4.0,
+            v.y(top[1]) - 8.0,
+            if k == 0 { 1 } else { 0 },
         );
-        // the readout: one text per keyframe, shown in its turn
-        let _ = writeln!(
-            out,
-            r##"<g class="step" font-size="14" fill="#222" font-family="monospace">"##
-        );
-        let top = grid.max;
-        for (k, &cell) in cells.iter().enumerate() {
-            let (r, c) = (cell / g.cols, cell % g.cols);
-            let label = if k == 0 {
-                format!("start: cell ({r}, {c})")
-            } else {
-                format!(
-                    "slot {k}/{}: {} → cell ({r}, {c})",
-                    n - 1,
-                    esc(&symbols.get(k - 1).map_or(String::new(), |s| s.to_string()))
-                )
-            };
-            let (on, off) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
-            let (values, times) = if k == 0 {
-                ("1;0".to_string(), format!("0;{off:.4}"))
-            } else if k + 1 == n {
-                ("0;1".to_string(), format!("0;{on:.4}"))
-            } else {
-                ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
-            };
-            let _ = writeln!(
-                out,
-                r#"<text class="keyframe" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
-                v.x(top[0]) - 4.0,
-                v.y(top[1]) - 8.0,
-                if k == 0 { 1 } else { 0 },
-            );
-        }
-        out.push_str("</g>\n</g>\n");
-    };
-    Ok(grid_picture(scene, g, Some(&overlay), Some(&mut draw)))
+    }
+    out.push_str("</g>\n");
 }
 
 /// The animated SVG of `motion`, the rollout of `command` on `scene`.
