@@ -6,7 +6,9 @@ outcome memos) each run.
     python python/examples/bench_vector_env.py [STEPS] [RUNS]
 
 Prints the environment steps per second (vector steps x 64) of each, and
-their ratio.
+their ratio; also SyncVectorEnv over environments whose worlds keep no
+prefix state (`Scene.world(prefix_states=0)`: every step simulated), the
+single-environment path as it was before prefix states.
 """
 
 import statistics
@@ -28,21 +30,31 @@ def rate(env, actions):
     return len(actions) * N / (time.perf_counter() - s)
 
 
+def plain_env():
+    """An E3dEnv whose world simulates every step of every command."""
+    env = E3dEnv("puck_rooms")
+    env.world = env.scene.world(prefix_states=0)
+    return env
+
+
 def main():
     steps = int(sys.argv[1]) if len(sys.argv) > 1 else 40
     runs = int(sys.argv[2]) if len(sys.argv) > 2 else 3
     probe = E3dVectorEnv("puck_rooms", N)
     probe.action_space.seed(0)
     actions = [probe.action_space.sample() for _ in range(steps)]
-    vec, sync = [], []
+    vec, sync, plain = [], [], []
     for _ in range(runs):
         vec.append(rate(E3dVectorEnv("puck_rooms", N), actions))
         sync.append(rate(SyncVectorEnv([lambda: E3dEnv("puck_rooms") for _ in range(N)],
                                        autoreset_mode=AutoresetMode.SAME_STEP), actions))
-    v, s = statistics.median(vec), statistics.median(sync)
+        plain.append(rate(SyncVectorEnv([plain_env for _ in range(N)],
+                                        autoreset_mode=AutoresetMode.SAME_STEP), actions))
+    v, s, p = statistics.median(vec), statistics.median(sync), statistics.median(plain)
     print(f"E3dVectorEnv  steps/s: median {v:.0f}, range {min(vec):.0f}-{max(vec):.0f} ({runs} runs)")
     print(f"SyncVectorEnv steps/s: median {s:.0f}, range {min(sync):.0f}-{max(sync):.0f} ({runs} runs)")
-    print(f"ratio: {v / s:.1f}x")
+    print(f"SyncVectorEnv, every step simulated: median {p:.0f}, range {min(plain):.0f}-{max(plain):.0f}")
+    print(f"ratio: {v / s:.1f}x (against every step simulated: {v / p:.1f}x)")
 
 
 if __name__ == "__main__":
