@@ -237,6 +237,37 @@ pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<Strin
     let WorldSpec::Physics(p) = &scene.spec().world else {
         return Err(AnimateError::Grid(scene.spec().name.clone()));
     };
+    draw_motion(scene, p, command, motion)
+}
+
+/// [`motion_svg`] of a motion that starts elsewhere than the poses the
+/// scene lists (a start context's start): the faint start pose drawn
+/// under the animation is the motion's first frame.
+pub fn motion_svg_from(
+    scene: &Scene,
+    command: &str,
+    motion: &Motion,
+) -> Result<String, AnimateError> {
+    let WorldSpec::Physics(p) = &scene.spec().world else {
+        return Err(AnimateError::Grid(scene.spec().name.clone()));
+    };
+    let mut posed = p.clone();
+    let first = motion.frames.first().map_or(&[][..], |f| &f.poses[..]);
+    for (b, pose) in posed.bodies.iter_mut().zip(first) {
+        b.position = (pose.position[0], pose.position[1]);
+        b.angle = pose.angle;
+    }
+    draw_motion(scene, &posed, command, motion)
+}
+
+/// The animated picture of `motion` over `p` (the scene's physics, its
+/// bodies at the faint start pose drawn).
+fn draw_motion(
+    scene: &Scene,
+    p: &PhysicsSpec,
+    command: &str,
+    motion: &Motion,
+) -> Result<String, AnimateError> {
     if motion.frames.is_empty()
         || motion.bodies.len() != p.bodies.len()
         || motion

@@ -217,6 +217,91 @@ fn scene_render_draws_each_context_from_its_start() {
         .contains("no start context `mid` (its contexts: low, high)"));
 }
 
+/// `e3d scene render --animate --context NAME` animates the rollout from
+/// that context's start: its readout ends on the effect `scene exec` gives
+/// from there (a physics scene and a grid), the contexts' apart, and the
+/// faint start pose drawn under a physics animation is the context's; an
+/// unknown context, or one on a scene without contexts, is refused.
+#[test]
+fn scene_render_animates_from_a_context() {
+    let dir = temp_dir("context-animate");
+    let path = dir.join("puck.ron");
+    std::fs::write(&path, PUCK).unwrap();
+    let grid = dir.join("grid.ron");
+    std::fs::write(&grid, GRID).unwrap();
+    for (file, command) in [(&path, "EN"), (&grid, "WWWWWWW")] {
+        let file = file.to_str().unwrap();
+        let names: Vec<String> = e3d::world::start_contexts(&Scene::load(file).unwrap())
+            .into_iter()
+            .map(|c| c.name)
+            .collect();
+        assert_eq!(names.len(), 2);
+        let effects = exec_effects(file, &[command], 2);
+        let mut pictures = Vec::new();
+        for (k, name) in names.iter().enumerate() {
+            let out = dir.join(format!("{name}.svg"));
+            let args = ["scene", "render", file, "--command", command, "--animate"];
+            let to = ["--context", name, "--out", out.to_str().unwrap()];
+            stdout_of(&[&args[..], &to[..]].concat());
+            let svg = std::fs::read_to_string(&out).unwrap();
+            let effect = effects[k][0];
+            assert!(
+                svg.contains(&format!("effect {effect}")),
+                "{file} {name}: {effect}"
+            );
+            pictures.push(svg);
+        }
+        assert_ne!(
+            effects[0][0], effects[1][0],
+            "{file}: the contexts end apart"
+        );
+        if file.ends_with("puck.ron") {
+            // the faint puck at each context's start: two places
+            let faint = |svg: &str| {
+                let s = svg.split("<g><title>puck</title>").nth(1).unwrap();
+                s.split("cx=\"")
+                    .nth(1)
+                    .unwrap()
+                    .split('"')
+                    .next()
+                    .unwrap()
+                    .to_string()
+            };
+            assert_ne!(faint(&pictures[0]), faint(&pictures[1]));
+        }
+        let x = dir.join("x.svg");
+        let out = e3d(&[
+            "scene",
+            "render",
+            file,
+            "--command",
+            command,
+            "--animate",
+            "--context",
+            "mid",
+            "--out",
+            x.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&out.stderr).contains("no start context `mid`"));
+    }
+    let y = dir.join("y.svg");
+    let out = e3d(&[
+        "scene",
+        "render",
+        "puck_rooms",
+        "--command",
+        "EEEEEEE",
+        "--animate",
+        "--context",
+        "a",
+        "--out",
+        y.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("has no start contexts"));
+}
+
 /// `e3d run --table-cache DIR` on a scene with named start contexts looks
 /// its commands up in the contexts' tables that `scene table --cache DIR`
 /// wrote (said on stderr), with the same results as simulating them; with

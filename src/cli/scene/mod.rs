@@ -60,10 +60,12 @@ pub enum SceneCmd {
         #[arg(long, allow_hyphen_values = true)]
         command: Option<String>,
         /// On a scene with start contexts: draw only the context NAME's
-        /// start (and the command's path from it). Without it, every
-        /// context gets a panel, stacked, titled with its name; a drawn
-        /// context (a range) shows its seed-0 draw, as `scene exec` runs it.
-        #[arg(long, value_name = "NAME", conflicts_with = "animate")]
+        /// start (and the command's path from it); with `--animate`, the
+        /// rollout from that start. Without it, every context gets a panel,
+        /// stacked, titled with its name (an animation starts where the
+        /// scene lists its bodies); a drawn context (a range) shows its
+        /// seed-0 draw, as `scene exec` runs it.
+        #[arg(long, value_name = "NAME")]
         context: Option<String>,
         /// Animate the command (needs `--command`): on a physics scene every
         /// moving body, the tracked point and the time; on a grid the
@@ -209,10 +211,15 @@ pub fn run(a: SceneArgs) -> CliResult {
         SceneCmd::Render {
             scene,
             command,
+            context,
             animate: true,
             out,
-            ..
-        } => animate(&load_scene(&scene)?, command.as_deref().unwrap_or(""), &out),
+        } => animate(
+            &load_scene(&scene)?,
+            command.as_deref().unwrap_or(""),
+            context.as_deref(),
+            &out,
+        ),
         SceneCmd::Render {
             scene,
             command,

@@ -21,10 +21,7 @@ pub(super) fn render(
         return render_contexts(scene, &contexts, command, context, out);
     }
     if let Some(name) = context {
-        return Err(CliError::input(format!(
-            "scene {} has no start contexts (`--context {name}`): it has one start, drawn without `--context`",
-            scene.spec().name
-        )));
+        return Err(no_contexts(scene, name));
     }
     let overlay = match command {
         None => None,
@@ -199,17 +196,65 @@ pub(super) fn stack_svgs(panels: &[String]) -> String {
     out
 }
 
+/// The error of `--context NAME` on a scene without start contexts.
+fn no_contexts(scene: &Scene, name: &str) -> CliError {
+    CliError::input(format!(
+        "scene {} has no start contexts (`--context {name}`): it has one start, drawn without `--context`",
+        scene.spec().name
+    ))
+}
+
+/// The start of the context `name` (its seed-0 draw when drawn from a
+/// range, said on stderr), for `scene render --animate --context`.
+fn animation_start(scene: &Scene, name: &str) -> Result<e3d::WorldState, CliError> {
+    let contexts = e3d::world::start_contexts(scene);
+    if contexts.is_empty() {
+        return Err(no_contexts(scene, name));
+    }
+    let k = context_index(scene, &contexts, name)?;
+    if contexts[k].drawn {
+        errln!(
+            "scene {}: context {name} is drawn from a range; the animation starts from its seed-0 draw (as `e3d scene exec` runs it)",
+            scene.spec().name
+        );
+    }
+    e3d::world::seed0_start(&*scene.build(), k).map_err(world_error)
+}
+
 /// `e3d scene render --animate`: the command's rollout, animated (SVG, or
-/// an HTML page when `out` ends in `.html`).
-pub(super) fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliResult {
-    use e3d::report::motion_svg::{grid_motion_svg, html_page, motion_svg, thin, MAX_FRAMES};
+/// an HTML page when `out` ends in `.html`), from the start of the context
+/// `context` if given, else from the scene's listed start.
+pub(super) fn animate(
+    scene: &Scene,
+    text: &str,
+    context: Option<&str>,
+    out: &std::path::Path,
+) -> CliResult {
+    use e3d::report::motion_svg::{
+        grid_motion_svg, html_page, motion_svg, motion_svg_from, thin, MAX_FRAMES,
+    };
     let space = scene.command_space();
     let c = space.parse(text).map_err(CliError::input)?;
     let cmd = space.format(&c);
+    let from = context
+        .map(|name| animation_start(scene, name))
+        .transpose()?;
     say_cost(&format!("scene render {}", scene.spec().name), scene, 1, 1);
     let (svg, what) = match scene.physics_world() {
         None => {
-            let svg = grid_motion_svg(scene, &c).map_err(|e| CliError::input(e.to_string()))?;
+            // a grid's start is its `start` cell: the context's, if given
+            let started = match &from {
+                Some(e3d::WorldState::Cell(cell)) => {
+                    let mut spec = scene.to_spec();
+                    if let WorldSpec::Grid(g) = &mut spec.world {
+                        g.start = (cell / g.cols, cell % g.cols);
+                    }
+                    Some(spec.validate().map_err(CliError::input)?)
+                }
+                _ => None,
+            };
+            let svg = grid_motion_svg(started.as_ref().unwrap_or(scene), &c)
+                .map_err(|e| CliError::input(e.to_string()))?;
             let keyframes = space.num_slots() + 1;
             (
                 svg,
@@ -224,16 +269,24 @@ pub(super) fn animate(scene: &Scene, text: &str, out: &std::path::Path) -> CliRe
             let total = scene.spec().steps_per_command().unwrap_or(0) + 1;
             let keep = thin(total, MAX_FRAMES);
             let mut frames = Vec::with_capacity(keep.len());
-            let mut motion = w
-                .motion_each(&c, &mut |k, f| {
-                    if keep.binary_search(&k).is_ok() {
-                        frames.push(f);
-                    }
-                })
-                .map_err(world_error)?;
+            let mut each = |k: usize, f| {
+                if keep.binary_search(&k).is_ok() {
+                    frames.push(f);
+                }
+            };
+            let mut motion = match &from {
+                Some(from) => w
+                    .from_start(from, |w| w.motion_each(&c, &mut each))
+                    .and_then(|m| m),
+                None => w.motion_each(&c, &mut each),
+            }
+            .map_err(world_error)?;
             motion.frames = frames;
-            let svg =
-                motion_svg(scene, &cmd, &motion).map_err(|e| CliError::input(e.to_string()))?;
+            let svg = match from {
+                Some(_) => motion_svg_from(scene, &cmd, &motion),
+                None => motion_svg(scene, &cmd, &motion),
+            }
+            .map_err(|e| CliError::input(e.to_string()))?;
             (
                 svg,
                 format!(
