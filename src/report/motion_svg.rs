@@ -203,13 +203,7 @@ fn draw_grid_readout(
             )
         };
         let (on, off) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
-        let (values, times) = if k == 0 {
-            ("1;0".to_string(), format!("0;{off:.4}"))
-        } else if k + 1 == n {
-            ("0;1".to_string(), format!("0;{on:.4}"))
-        } else {
-            ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
-        };
+        let (values, times) = shown_in_turn(k, n, on, off);
         let _ = writeln!(
             out,
             r#"<text class="keyframe" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
@@ -219,6 +213,19 @@ fn draw_grid_readout(
         );
     }
     out.push_str("</g>\n");
+}
+
+/// The discrete opacity keyframes (`values`, `keyTimes`) of item `k` of
+/// `n` shown in turn, from `on` to `off` (fractions of the loop): the
+/// first shows from the start, the last to the end.
+fn shown_in_turn(k: usize, n: usize, on: f64, off: f64) -> (String, String) {
+    if k == 0 {
+        ("1;0".to_string(), format!("0;{off:.4}"))
+    } else if k + 1 == n {
+        ("0;1".to_string(), format!("0;{on:.4}"))
+    } else {
+        ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
+    }
 }
 
 /// The animated SVG of `motion`, the rollout of `command` on `scene`.
@@ -439,13 +446,7 @@ fn time_readout_svg(out: &mut String, v: &View, motion: &Motion, tl: &Timeline) 
         } else {
             1.0
         };
-        let (values, times) = if k == 0 {
-            ("1;0".to_string(), format!("0;{off:.4}"))
-        } else if k + 1 == n {
-            ("0;1".to_string(), format!("0;{on:.4}"))
-        } else {
-            ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
-        };
+        let (values, times) = shown_in_turn(k, n, on, off);
         let _ = writeln!(
             out,
             r#"<text class="frame" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">t = {t:.3} s / {end:.3} s<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
