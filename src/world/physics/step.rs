@@ -7,7 +7,7 @@ use crate::command::Command;
 use crate::effect::wrap_angle;
 use crate::world::{Outcome, WorldError};
 use rapier2d::math::Real;
-use rapier2d::prelude::{JointAxesMask, RigidBodyHandle};
+use rapier2d::prelude::{JointAxesMask, MultibodyJointSet, MultibodyLink, RigidBodyHandle};
 
 impl ValueAct {
     /// The act of the value `v`.
@@ -55,6 +55,13 @@ impl ValueAct {
             },
         }
     }
+}
+
+/// The multibody link of the body `child`, to change its joint (`None`:
+/// the body is no multibody link).
+fn link_mut(mbs: &mut MultibodyJointSet, child: RigidBodyHandle) -> Option<&mut MultibodyLink> {
+    let link = *mbs.rigid_body_link(child)?;
+    mbs.get_multibody_mut(link.multibody)?.link_mut(link.id)
 }
 
 impl PhysicsWorld {
@@ -198,12 +205,7 @@ impl PhysicsWorld {
                 stiffness,
                 damping,
             } => {
-                let mbj = &mut self.sets.multibody_joints;
-                let link = *mbj.rigid_body_link(child).expect("a jointed body");
-                if let Some(l) = mbj
-                    .get_multibody_mut(link.multibody)
-                    .and_then(|mb| mb.link_mut(link.id))
-                {
+                if let Some(l) = link_mut(&mut self.sets.multibody_joints, child) {
                     l.joint
                         .data
                         .set_motor_position(axis, angle, stiffness, damping);
@@ -511,19 +513,12 @@ impl PhysicsWorld {
             return;
         }
         let mut sets = self.sets.clone();
-        let mbs = &mut sets.multibody_joints;
         let joints = self.copies.iter().flat_map(|c| &c.joints);
         for (j, q0) in joints.zip(&self.gated_angles) {
             if q0.is_nan() {
                 continue;
             }
-            let Some(link) = mbs.rigid_body_link(j.child).copied() else {
-                continue;
-            };
-            if let Some(l) = mbs
-                .get_multibody_mut(link.multibody)
-                .and_then(|mb| mb.link_mut(link.id))
-            {
+            if let Some(l) = link_mut(&mut sets.multibody_joints, j.child) {
                 l.joint.data.limit_axes.insert(JointAxesMask::ANG_X);
             }
         }
