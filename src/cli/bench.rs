@@ -107,27 +107,41 @@ pub fn run(a: BenchArgs) -> CliResult {
     Ok(())
 }
 
-/// Rollouts (and steps) per second: every command in index order,
-/// cycling (no table).
-fn bench_rollouts(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliResult {
+/// Rollouts per second of `world` executing one command at a time, the
+/// command of each rollout the index `next()` gives; a failure ends the
+/// measure with its error.
+fn execute_rate(
+    world: &mut dyn World,
+    budget: Duration,
+    mut next: impl FnMut() -> u64,
+) -> Result<Rate, CliError> {
     let space = world.command_space().clone();
-    let n_commands = space.num_commands().unwrap_or(u64::MAX);
-    let mut i = 0u64;
     let mut cmd = space.first();
     let mut failure = None;
     let rollouts = rate(budget, || {
         for _ in 0..16 {
-            space.write_command_at(i % n_commands, &mut cmd);
+            space.write_command_at(next(), &mut cmd);
             if let Err(e) = world.execute(&cmd) {
                 failure.get_or_insert(e);
             }
-            i += 1;
         }
         16
     });
-    if let Some(e) = failure {
-        return Err(CliError::simulation(e));
+    match failure {
+        Some(e) => Err(CliError::simulation(e)),
+        None => Ok(rollouts),
     }
+}
+
+/// Rollouts (and steps) per second: every command in index order,
+/// cycling (no table).
+fn bench_rollouts(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliResult {
+    let n_commands = world.command_space().num_commands().unwrap_or(u64::MAX);
+    let mut i = 0u64;
+    let rollouts = execute_rate(world, budget, || {
+        i += 1;
+        (i - 1) % n_commands
+    })?;
     line(&scene.spec().name, "rollouts", rollouts, "1/s");
     if let Some(steps) = scene.spec().steps_per_command() {
         line(
@@ -148,33 +162,16 @@ fn bench_prefixes(scene: &Scene, budget: Duration) -> CliResult {
     let Some(mut world) = scene.physics_world() else {
         return Ok(());
     };
-    if world.prefix_depth() == 0 {
+    let depth = world.prefix_depth();
+    if depth == 0 {
         return Ok(());
     }
-    let space = scene.command_space();
-    let n_commands = space.num_commands().unwrap_or(u64::MAX);
+    let n_commands = scene.command_space().num_commands().unwrap_or(u64::MAX);
     let mut rng = <e3d::rng::SessionRng as rand::SeedableRng>::seed_from_u64(0);
-    let mut cmd = space.first();
-    let mut failure = None;
-    let rollouts = rate(budget, || {
-        for _ in 0..16 {
-            space.write_command_at(
-                rand::RngExt::random_range(&mut rng, 0..n_commands),
-                &mut cmd,
-            );
-            if let Err(e) = world.execute(&cmd) {
-                failure.get_or_insert(e);
-            }
-        }
-        16
-    });
-    if let Some(e) = failure {
-        return Err(CliError::simulation(e));
-    }
-    let measure = format!(
-        "rollouts (random commands; prefix states of up to {} slots kept)",
-        world.prefix_depth()
-    );
+    let rollouts = execute_rate(&mut world, budget, || {
+        rand::RngExt::random_range(&mut rng, 0..n_commands)
+    })?;
+    let measure = format!("rollouts (random commands; prefix states of up to {depth} slots kept)");
     line(&scene.spec().name, &measure, rollouts, "1/s");
     Ok(())
 }
