@@ -325,16 +325,29 @@ impl StateField for String {
     }
 }
 
+/// A sequence: its length, then each item.
+fn put_seq<'a, T: StateField + 'a>(
+    w: &mut StateWriter,
+    items: impl ExactSizeIterator<Item = &'a T>,
+) {
+    w.put(&items.len());
+    for v in items {
+        v.put(w);
+    }
+}
+
+/// A sequence [`put_seq`] wrote, collected.
+fn get_seq<T: StateField, C: FromIterator<T>>(r: &mut StateReader<'_>) -> Result<C, LearnerError> {
+    let n = r.len(1)?;
+    (0..n).map(|_| T::get(r)).collect()
+}
+
 impl<T: StateField> StateField for Vec<T> {
     fn put(&self, w: &mut StateWriter) {
-        w.put(&self.len());
-        for v in self {
-            v.put(w);
-        }
+        put_seq(w, self.iter());
     }
     fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let n = r.len(1)?;
-        (0..n).map(|_| T::get(r)).collect()
+        get_seq(r)
     }
 }
 
@@ -378,14 +391,10 @@ impl StateField for [f64; 2] {
 
 impl<T: StateField> StateField for std::collections::VecDeque<T> {
     fn put(&self, w: &mut StateWriter) {
-        w.put(&self.len());
-        for v in self {
-            v.put(w);
-        }
+        put_seq(w, self.iter());
     }
     fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let n = r.len(1)?;
-        (0..n).map(|_| T::get(r)).collect()
+        get_seq(r)
     }
 }
 
