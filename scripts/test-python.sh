@@ -54,6 +54,9 @@ echo "== pip install $(basename "${wheel[0]}")"
 echo "== stubtest e3d (the stubs against the built module)"
 (cd "$venv" && "$venv/bin/python" -m mypy.stubtest --concise e3d)
 
+echo "== mypy --strict -p e3d (the installed package as a user's type checker reads it)"
+(cd "$venv" && "$venv/bin/python" -m mypy --strict --no-error-summary -p e3d)
+
 echo "== maturin sdist (the source distribution holds what its build needs)"
 sdist="$tmp/sdist"
 (cd python && "$venv/bin/maturin" sdist --out "$sdist" >/dev/null 2>&1) || {

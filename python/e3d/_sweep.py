@@ -88,7 +88,7 @@ def _values(v: Any, where: str) -> str:
     return _number(v, where)
 
 
-def _list(v: Any, item, where: str) -> str:
+def _list(v: Any, item: Any, where: str) -> str:
     if isinstance(v, (str, bytes)) or not hasattr(v, "__iter__"):
         v = [v]
     return "[" + ", ".join(item(x, where) for x in v) + "]"

@@ -51,6 +51,20 @@ from gymnasium.vector.utils import batch_space
 
 from . import EpisodeWorld, Scene
 
+
+def _checked_seed(seed: Any) -> Optional[int]:
+    """``seed`` as ``reset`` takes it: ``None`` or an integer from 0 to
+    2^64 - 1; else a ``ValueError`` (``TypeError`` for another type)
+    naming it, as ``run_session`` words them (gymnasium's own check raises
+    its ``Error``, which is neither)."""
+    if seed is None:
+        return None
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
+        raise TypeError(f"seed: expected an integer, found {type(seed).__name__}")
+    if not 0 <= int(seed) < 2**64:
+        raise ValueError(f"seed = {seed}: expected an integer from 0 to 2^64 - 1")
+    return int(seed)
+
 __all__ = ["E3dEnv", "E3dVectorEnv", "ENV_ID"]
 
 ENV_ID = "e3d/E3d-v0"
@@ -123,9 +137,9 @@ class E3dEnv(gym.Env):
         self._seeded = False
 
     def reset(
-        self, *, seed: Optional[int] = None, options: Optional[dict] = None
+        self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
     ) -> tuple[np.int64, dict[str, Any]]:
-        super().reset(seed=seed)
+        super().reset(seed=_checked_seed(seed))
         self._last = None
         if self.episodes is None:
             return self._start, {}
@@ -143,7 +157,7 @@ class E3dEnv(gym.Env):
         v = self._low + (u + 1.0) * 0.5 * (self._high - self._low)
         return np.where(u == 1.0, self._high, v)
 
-    def step(self, action) -> tuple[np.int64, float, bool, bool, dict[str, Any]]:
+    def step(self, action: Any) -> tuple[np.int64, float, bool, bool, dict[str, Any]]:
         info: dict[str, Any]
         if self.episodes is not None:
             symbols = np.asarray(action)
@@ -233,17 +247,23 @@ class E3dVectorEnv(VectorEnv):
         self._start = np.full(self.num_envs, self.scene.start_effect, dtype=np.int64)
 
     def reset(
-        self, *, seed: Optional[Union[int, list[Optional[int]]]] = None, options: Optional[dict] = None
+        self, *, seed: Optional[Union[int, list[Optional[int]]]] = None, options: Optional[dict[str, Any]] = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         if isinstance(seed, list):
             seed = seed[0]
+        seed = _checked_seed(seed)
         super().reset(seed=seed)
         if seed is not None:
             self.action_space.seed(seed)
         return self._start.copy(), {}
 
-    def step(self, actions) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+    def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         a = np.asarray(actions)
+        if a.ndim != 2 or a.shape[0] != self.num_envs:
+            raise ValueError(
+                f"actions: expected one action per environment, an array of shape "
+                f"[{self.num_envs}, {self.scene.num_slots}], found shape {list(a.shape)}"
+            )
         if self.scene.is_continuous:
             a = self.env.values_of(a)
         out = self.world.execute_batch(a)

@@ -209,3 +209,25 @@ def test_trials_are_capped_as_on_the_command_line(call):
     # 10**12 trials once aborted the interpreter (a record of every trial)
     with pytest.raises(ValueError, match=r"^trials = 1000000000000: expected at most 100000000"):
         call()
+
+
+def test_environment_seeds_and_vector_actions_raise_errors_naming_them():
+    from e3d.gym import E3dEnv, E3dVectorEnv
+
+    for env in (E3dEnv("puck_rooms"), E3dVectorEnv("puck_rooms", 4)):
+        with pytest.raises(ValueError, match=r"^seed = -1: expected an integer from 0 to 2\^64 - 1$"):
+            env.reset(seed=-1)
+        with pytest.raises(ValueError, match=r"^seed = 18446744073709551616: expected an integer"):
+            env.reset(seed=2**64)
+        with pytest.raises(TypeError, match=r"^seed: expected an integer, found float$"):
+            env.reset(seed=1.5)
+        env.reset(seed=np.uint64(7))
+    venv = E3dVectorEnv("puck_rooms", 4)
+    venv.reset(seed=0)
+    for shape in [(3, 7), (5, 7), (7,), (4,)]:
+        with pytest.raises(ValueError, match=r"^actions: expected one action per environment, "
+                                             r"an array of shape \[4, 7\], found shape"):
+            venv.step(np.zeros(shape, dtype=np.uint8))
+    # the slots of each row are the world's to check
+    with pytest.raises(ValueError, match="expected an array of shape \\[N, 7\\]"):
+        venv.step(np.zeros((4, 6), dtype=np.uint8))
