@@ -132,6 +132,10 @@ class Scene:
 
 @final
 class Outcome:
+    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
+        """Pickling: ``(Outcome._from_state, (fields,))``, every field."""
+    @staticmethod
+    def _from_state(state: tuple[Any, ...]) -> Outcome: ...
     @property
     def effect(self) -> int: ...
     @property
@@ -143,6 +147,10 @@ class Outcome:
 
 @final
 class BatchOutcome:
+    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
+        """Pickling: ``(BatchOutcome._from_state, (fields,))``, every field."""
+    @staticmethod
+    def _from_state(state: tuple[Any, ...]) -> BatchOutcome: ...
     @property
     def effect(self) -> npt.NDArray[np.int64]: ...
     @property
@@ -156,6 +164,10 @@ class BatchOutcome:
 @final
 class Motion:
     """A command's whole motion (``World.trace``): one row a frame, the start then every step."""
+    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
+        """Pickling: ``(Motion._from_state, (fields,))``, every field."""
+    @staticmethod
+    def _from_state(state: tuple[Any, ...]) -> Motion: ...
 
     @property
     def command(self) -> str: ...
@@ -316,9 +328,16 @@ class SessionRng:
     def random(self) -> float: ...
     def integers(self, n: int) -> int: ...
     def choice(self, weights: Sequence[float]) -> int: ...
+    def __reduce__(self) -> tuple[Any, tuple[int], tuple[str, bool]]:
+        """Pickling: the generator's state (a copy draws what it draws next)."""
+    def __setstate__(self, state: tuple[str, bool]) -> None: ...
 
 @final
 class SessionRecord:
+    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
+        """Pickling: ``(SessionRecord._from_state, (fields,))``, every field."""
+    @staticmethod
+    def _from_state(state: tuple[Any, ...]) -> SessionRecord: ...
     def _repr_svg_(self) -> str:
         """The effect grid shaded by the session's effect counts (notebooks)."""
     @property
@@ -383,6 +402,10 @@ def run_session(
 @final
 class SessionBatch:
     """Sessions run in lockstep (``run_sessions``): arrays with one row a session."""
+    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
+        """Pickling: ``(SessionBatch._from_state, (fields,))``, every field."""
+    @staticmethod
+    def _from_state(state: tuple[Any, ...]) -> SessionBatch: ...
 
     @property
     def scene(self) -> str: ...
@@ -431,6 +454,10 @@ def run_sessions(
 @final
 class EpisodeRecord:
     """A session of episodes (``run_episodes``): one entry per command, or per episode (``starts``)."""
+    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
+        """Pickling: ``(EpisodeRecord._from_state, (fields,))``, every field."""
+    @staticmethod
+    def _from_state(state: tuple[Any, ...]) -> EpisodeRecord: ...
 
     @property
     def seed(self) -> int: ...

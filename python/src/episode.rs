@@ -7,6 +7,7 @@ use crate::commands::commands_from;
 use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
 use crate::outcome::PyOutcome;
+use crate::pickling::{reduce, state, Fields};
 use crate::saved::{Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::episode::{EpisodeConfig, EpisodeRecord, Observe};
@@ -18,6 +19,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyTuple;
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -101,6 +103,37 @@ pub(crate) struct PyEpisodeRecord {
 
 #[pymethods]
 impl PyEpisodeRecord {
+    /// Pickling (see `pickling`): every field, in the struct's order.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
+        let fields = state![py; self.seed, &self.learner, self.commands_per_episode,
+            self.num_effects, self.episodes, &self.starts, &self.contexts, &self.commands,
+            &self.effects, &self.rewards, self.first_reward_episode, self.cumulative_reward,
+            &self.entropy_per_start];
+        reduce::<Self>(py, fields)
+    }
+    #[staticmethod]
+    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
+        let mut f = Fields::of(state, "EpisodeRecord", 13)?;
+        Ok(PyEpisodeRecord {
+            seed: f.take()?,
+            learner: f.take()?,
+            commands_per_episode: f.take()?,
+            num_effects: f.take()?,
+            episodes: f.take()?,
+            starts: f.take()?,
+            contexts: f.take()?,
+            commands: f.take()?,
+            effects: f.take()?,
+            rewards: f.take()?,
+            first_reward_episode: f.take()?,
+            cumulative_reward: f.take()?,
+            entropy_per_start: f.take()?,
+        })
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "EpisodeRecord(seed={}, learner={:?}, episodes={}, commands_per_episode={}, cumulative_reward={:?})",

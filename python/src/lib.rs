@@ -14,6 +14,7 @@ mod errors;
 mod learner;
 mod motion;
 mod outcome;
+mod pickling;
 mod picture;
 mod progress;
 mod record;

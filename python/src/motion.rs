@@ -1,10 +1,11 @@
 //! `Motion`: the whole motion of one command (`World.trace`).
 
 use crate::outcome::PyOutcome;
+use crate::pickling::{reduce, state, Fields};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 
 /// The whole motion of one command (`World.trace`), one row a frame (the
 /// start, then every step): `time` (float64 `[F]`, seconds), per body
@@ -33,6 +34,36 @@ pub(crate) struct PyMotion {
 
 #[pymethods]
 impl PyMotion {
+    /// Pickling (see `pickling`): every field, in the struct's order.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
+        let fields = state![py; &self.command, &self.bodies, &self.joints, &self.time, &self.x,
+            &self.y, &self.angle, &self.vx, &self.vy, &self.omega, &self.joint_angle,
+            &self.joint_velocity, self.outcome.clone()];
+        reduce::<Self>(py, fields)
+    }
+    #[staticmethod]
+    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
+        let mut f = Fields::of(state, "Motion", 13)?;
+        Ok(PyMotion {
+            command: f.take()?,
+            bodies: f.take()?,
+            joints: f.take()?,
+            time: f.take()?,
+            x: f.take()?,
+            y: f.take()?,
+            angle: f.take()?,
+            vx: f.take()?,
+            vy: f.take()?,
+            omega: f.take()?,
+            joint_angle: f.take()?,
+            joint_velocity: f.take()?,
+            outcome: f.take()?,
+        })
+    }
+
     /// The number of frames (the start and every step).
     fn __len__(&self, py: Python<'_>) -> usize {
         self.time.bind(py).len()

@@ -1,8 +1,10 @@
 //! `Outcome` and `BatchOutcome`: what executing one command, or a batch,
 //! gives back.
 
+use crate::pickling::{reduce, state, Fields};
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use pyo3::types::PyTuple;
 
 /// The outcome of one command: `effect` (int), `reward` (float) and the
 /// terminal point `x`, `y` (metres).
@@ -26,6 +28,23 @@ impl PyOutcome {
     fn __eq__(&self, o: &Self) -> bool {
         (self.effect, self.reward, self.x, self.y) == (o.effect, o.reward, o.x, o.y)
     }
+    /// Pickling (see `pickling`): `(effect, reward, x, y)`.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
+        reduce::<Self>(py, state![py; self.effect, self.reward, self.x, self.y])
+    }
+    #[staticmethod]
+    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
+        let mut f = Fields::of(state, "Outcome", 4)?;
+        Ok(PyOutcome {
+            effect: f.take()?,
+            reward: f.take()?,
+            x: f.take()?,
+            y: f.take()?,
+        })
+    }
 }
 
 /// The outcomes of a batch of commands, one entry per row, as numpy
@@ -45,5 +64,22 @@ impl PyBatch {
     }
     fn __repr__(&self, py: Python<'_>) -> String {
         format!("BatchOutcome({} commands)", self.effect.bind(py).len())
+    }
+    /// Pickling (see `pickling`): `(effect, reward, x, y)`.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
+        reduce::<Self>(py, state![py; &self.effect, &self.reward, &self.x, &self.y])
+    }
+    #[staticmethod]
+    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
+        let mut f = Fields::of(state, "BatchOutcome", 4)?;
+        Ok(PyBatch {
+            effect: f.take()?,
+            reward: f.take()?,
+            x: f.take()?,
+            y: f.take()?,
+        })
     }
 }

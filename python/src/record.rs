@@ -1,11 +1,12 @@
 //! What sessions recorded: `SessionRecord` and `SessionBatch`.
 
+use crate::pickling::{reduce, state, Fields};
 use crate::scene::PyScene;
 use e3d::{Learner, Metrics, SessionRecord, ValueSessionRecord};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyTuple};
 
 /// What a session recorded: `commands` (`[T, slots]`: uint8 symbol indices,
 /// or float64 values on a continuous scene), `effects` (int64 `[T]`),
@@ -205,6 +206,45 @@ pub(crate) fn slot_policies(
 
 #[pymethods]
 impl PyRecord {
+    /// Pickling (see `pickling`): every field, in the struct's order, the
+    /// grid's rows, columns and rewarded cells last.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
+        let g = &self.grid;
+        let fields = state![py; &self.scene, &self.learner, self.seed, self.trials,
+            &self.commands, &self.effects, &self.rewards, &self.metrics, &self.effect_counts,
+            &self.final_policy, &self.policy_effect_distribution, &self.q, &self.effect_model,
+            &self.execution, g.rows, g.cols, &g.rewarded];
+        reduce::<Self>(py, fields)
+    }
+    #[staticmethod]
+    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
+        let mut f = Fields::of(state, "SessionRecord", 17)?;
+        Ok(PyRecord {
+            scene: f.take()?,
+            learner: f.take()?,
+            seed: f.take()?,
+            trials: f.take()?,
+            commands: f.take()?,
+            effects: f.take()?,
+            rewards: f.take()?,
+            metrics: f.take()?,
+            effect_counts: f.take()?,
+            final_policy: f.take()?,
+            policy_effect_distribution: f.take()?,
+            q: f.take()?,
+            effect_model: f.take()?,
+            execution: f.take()?,
+            grid: Grid {
+                rows: f.take()?,
+                cols: f.take()?,
+                rewarded: f.take()?,
+            },
+        })
+    }
+
     /// The session as a picture, for notebooks: the effect grid with each
     /// cell shaded by its share of the trials (`effect_counts`), the
     /// rewarded cells outlined.
@@ -320,6 +360,42 @@ pub(crate) struct PyBatchRecord {
 
 #[pymethods]
 impl PyBatchRecord {
+    /// Pickling (see `pickling`): every field, in the struct's order, the
+    /// grid's rows, columns and rewarded cells in the grid's place.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
+        let g = &self.grid;
+        let fields = state![py; &self.scene, &self.learner, &self.seeds, self.trials,
+            &self.commands, &self.effects, &self.rewards, &self.metrics, &self.execution,
+            g.rows, g.cols, &g.rewarded, &self.per_session, &self.counts, &self.policies];
+        reduce::<Self>(py, fields)
+    }
+    #[staticmethod]
+    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
+        let mut f = Fields::of(state, "SessionBatch", 15)?;
+        Ok(PyBatchRecord {
+            scene: f.take()?,
+            learner: f.take()?,
+            seeds: f.take()?,
+            trials: f.take()?,
+            commands: f.take()?,
+            effects: f.take()?,
+            rewards: f.take()?,
+            metrics: f.take()?,
+            execution: f.take()?,
+            grid: Grid {
+                rows: f.take()?,
+                cols: f.take()?,
+                rewarded: f.take()?,
+            },
+            per_session: f.take()?,
+            counts: f.take()?,
+            policies: f.take()?,
+        })
+    }
+
     fn __len__(&self) -> usize {
         self.per_session.len()
     }

@@ -102,6 +102,25 @@ impl PyRng {
         }
         Ok(weights.iter().rposition(|w| *w > 0.0).unwrap_or(0))
     }
+
+    /// Pickles as its generator's state: a copy of one's own generator
+    /// draws what the original draws next; a copy of a session's
+    /// generator taken outside `propose` raises as the original does.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (u64,), (String, bool))> {
+        let me = slf.borrow();
+        let state =
+            serde_json::to_string(&me.inner).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        Ok((slf.get_type().into_any(), (0,), (state, me.active)))
+    }
+
+    fn __setstate__(&mut self, state: (String, bool)) -> PyResult<()> {
+        self.inner = serde_json::from_str(&state.0)
+            .map_err(|e| PyValueError::new_err(format!("SessionRng: not a pickled state: {e}")))?;
+        self.active = state.1;
+        Ok(())
+    }
 }
 
 /// `integers(n)`'s `n`: an integer >= 1.
