@@ -106,6 +106,7 @@ impl PyRng {
     /// Pickles as its generator's state: a copy of one's own generator
     /// draws what the original draws next; a copy of a session's
     /// generator taken outside `propose` raises as the original does.
+    #[allow(clippy::type_complexity)]
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, (u64,), (String, bool))> {
