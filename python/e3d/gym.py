@@ -150,10 +150,20 @@ class E3dEnv(gym.Env):
         context = self.episodes.reset(seed, start)
         return np.int64(context), {"start": self.episodes.start}
 
-    def values_of(self, action: Any) -> np.ndarray:
+    def values_of(self, action: Any, rows: bool = False) -> np.ndarray:
         """A continuous scene's values for an action in ``[-1, 1]`` per slot
-        (clamped): ``low + (u + 1) / 2 * (high - low)``, ``high`` at 1."""
-        u = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
+        (clamped): ``low + (u + 1) / 2 * (high - low)``, ``high`` at 1; one
+        action ``[slots]``, or with ``rows`` one per row ``[n, slots]``. An
+        action of another shape, or not finite, raises ``ValueError``."""
+        u = np.asarray(action, dtype=np.float64)
+        n = self.scene.num_slots
+        if u.ndim != 1 + rows or u.shape[-1] != n:
+            raise ValueError(
+                f"action: expected {n} values in [-1, 1] (one per slot), found shape {list(u.shape)}"
+            )
+        if not np.isfinite(u).all():
+            raise ValueError(f"action: expected finite values in [-1, 1], found {u[~np.isfinite(u)][0]}")
+        u = np.clip(u, -1.0, 1.0)
         v = self._low + (u + 1.0) * 0.5 * (self._high - self._low)
         return np.where(u == 1.0, self._high, v)
 
@@ -265,7 +275,7 @@ class E3dVectorEnv(VectorEnv):
                 f"[{self.num_envs}, {self.scene.num_slots}], found shape {list(a.shape)}"
             )
         if self.scene.is_continuous:
-            a = self.env.values_of(a)
+            a = self.env.values_of(a, rows=True)
         out = self.world.execute_batch(a)
         self._last = a
         reward = out.reward if self.env.use_reward else np.zeros(self.num_envs)

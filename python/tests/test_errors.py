@@ -231,3 +231,21 @@ def test_environment_seeds_and_vector_actions_raise_errors_naming_them():
     # the slots of each row are the world's to check
     with pytest.raises(ValueError, match="expected an array of shape \\[N, 7\\]"):
         venv.step(np.zeros((4, 6), dtype=np.uint8))
+
+
+def test_continuous_actions_of_the_wrong_shape_or_not_finite_raise_value_error():
+    from e3d.gym import E3dEnv, E3dVectorEnv
+
+    env = E3dEnv("arm7_continuous")
+    env.reset(seed=0)
+    for bad in [np.zeros(3), np.zeros((2, 7)), np.zeros(()), np.zeros(8)]:
+        with pytest.raises(ValueError, match=r"^action: expected 7 values in \[-1, 1\] \(one per slot\)"):
+            env.step(bad)
+    with pytest.raises(ValueError, match=r"^action: expected finite values in \[-1, 1\], found nan$"):
+        env.step(np.full(7, np.nan))
+    venv = E3dVectorEnv("arm7_continuous", 2)
+    venv.reset(seed=0)
+    with pytest.raises(ValueError, match=r"^action: expected 7 values"):
+        venv.step(np.zeros((2, 6)))
+    with pytest.raises(ValueError, match=r"^actions: expected one action per environment"):
+        venv.step(np.zeros((3, 7)))
