@@ -156,6 +156,31 @@ pub(crate) fn sessions_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
     usize_arg(obj, "sessions", 1).map(Some)
 }
 
+/// `every`: an integer >= 1.
+pub(crate) fn every_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    usize_arg(obj, "every", 1)
+}
+
+/// A float argument `name` that must be finite (a reward): a `TypeError`
+/// for a non-number, a `ValueError` naming it for NaN or an infinity.
+pub(crate) fn finite_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
+    let v: f64 = obj.extract().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "{name}: expected a number, found {}",
+            obj.get_type()
+                .name()
+                .map(|n| n.to_string())
+                .unwrap_or_default()
+        ))
+    })?;
+    if !v.is_finite() {
+        return Err(PyValueError::new_err(format!(
+            "{name} = {v}: expected a finite number"
+        )));
+    }
+    Ok(v)
+}
+
 /// `threads`: None (every core), or an integer >= 1.
 pub(crate) fn threads_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
     if obj.is_none() {

@@ -402,13 +402,28 @@ impl PyBatchRecord {
 
     /// Session `i`'s record, as `run_session(seed=seeds[i])` returns it
     /// (its arrays are views of this batch's).
-    fn __getitem__(&self, py: Python<'_>, i: isize) -> PyResult<PyRecord> {
-        let n = self.per_session.len() as isize;
+    fn __getitem__(&self, py: Python<'_>, i: &Bound<'_, PyAny>) -> PyResult<PyRecord> {
+        let n = self.per_session.len() as i128;
+        let out_of_range = || {
+            pyo3::exceptions::PyIndexError::new_err(format!(
+                "session {} out of range: {n} sessions",
+                i.str().map(|s| s.to_string()).unwrap_or_default()
+            ))
+        };
+        // any Python int: one beyond i128 is out of range too
+        let i: i128 = match i.extract::<i128>() {
+            Ok(i) => i,
+            Err(_) if i.hasattr("__index__")? => return Err(out_of_range()),
+            Err(_) => {
+                return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                    "session index: expected an integer, found {}",
+                    i.get_type().name()?
+                )))
+            }
+        };
         let k = if i < 0 { i + n } else { i };
         if k < 0 || k >= n {
-            return Err(pyo3::exceptions::PyIndexError::new_err(format!(
-                "session {i} out of range: {n} sessions"
-            )));
+            return Err(out_of_range());
         }
         let k = k as usize;
         let seed = self.seeds.bind(py).readonly().as_slice()?[k];

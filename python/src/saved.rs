@@ -3,7 +3,7 @@
 //! [`LearnerState`], and run by `run_session(learner=...)`, which
 //! continues from it.
 
-use crate::errors::params_arg;
+use crate::errors::{finite_arg, params_arg, usize_arg};
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::{per_context_kind, state_kind, StateShape};
@@ -539,26 +539,25 @@ impl PyLearnerState {
     fn learn(&mut self, args: &Bound<'_, PyTuple>) -> PyResult<()> {
         let shape = self.held.shape();
         let Some(n) = shape.contexts else {
-            let (command, effect, reward) = args.extract().map_err(|_| {
-                PyTypeError::new_err("learn(command, effect, reward): three arguments")
-            })?;
+            let (command, effect, reward): (Bound<'_, PyAny>, Bound<'_, PyAny>, Bound<'_, PyAny>) =
+                args.extract().map_err(|_| {
+                    PyTypeError::new_err("learn(command, effect, reward): three arguments")
+                })?;
+            let (effect, reward) = effect_reward(&effect, &reward)?;
             return self.learn_free(&command, effect, reward, &shape);
         };
         let usage = "learn(context, command, effect, reward, next=None): a contextual learner";
-        let (context, command, effect, reward, next): (
-            Bound<'_, PyAny>,
-            Bound<'_, PyAny>,
-            usize,
-            f64,
-            Option<Bound<'_, PyAny>>,
-        ) = match args.len() {
-            4 => {
-                let (c, a, e, r) = args.extract()?;
-                (c, a, e, r, None)
-            }
-            5 => args.extract()?,
-            _ => return Err(PyTypeError::new_err(usage)),
-        };
+        type Arg<'py> = Bound<'py, PyAny>;
+        let (context, command, effect, reward, next): (Arg, Arg, Arg, Arg, Option<Arg>) =
+            match args.len() {
+                4 => {
+                    let (c, a, e, r) = args.extract()?;
+                    (c, a, e, r, None)
+                }
+                5 => args.extract()?,
+                _ => return Err(PyTypeError::new_err(usage)),
+            };
+        let (effect, reward) = effect_reward(&effect, &reward)?;
         let context = context_arg(&context, n)?;
         let next = next
             .filter(|x| !x.is_none())
@@ -622,11 +621,18 @@ impl PyLearnerState {
     }
 }
 
+/// `learn`'s `effect` (an integer >= 0; its range is checked with the
+/// command) and `reward` (a finite number).
+fn effect_reward(effect: &Bound<'_, PyAny>, reward: &Bound<'_, PyAny>) -> PyResult<(usize, f64)> {
+    Ok((
+        usize_arg(effect, "effect", 0)?,
+        finite_arg(reward, "reward")?,
+    ))
+}
+
 /// A context in `[0, n)`.
 fn context_arg(obj: &Bound<'_, PyAny>, n: usize) -> PyResult<usize> {
-    let c: usize = obj
-        .extract()
-        .map_err(|_| PyValueError::new_err(format!("context: expected an integer in [0, {n})")))?;
+    let c = usize_arg(obj, "context", 0)?;
     if c >= n {
         return Err(PyValueError::new_err(format!(
             "context {c}: expected a context in [0, {n})"

@@ -3,6 +3,7 @@
 //! loading, pickling, `propose` / `learn`, the tables by name and
 //! `run_session(learner=...)` are `Learner`'s.
 
+use crate::errors::usize_arg;
 use crate::saved::{Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg};
 use e3d::{E3d, LearnerState, Params};
@@ -15,6 +16,11 @@ use pyo3::prelude::*;
 /// write per slot.
 #[pyclass(module = "e3d", name = "E3dLearner", extends = PyLearnerState)]
 pub(crate) struct PyE3dLearner;
+
+/// `slot`: an integer >= 0 (its range is the learner's to check).
+fn slot_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    usize_arg(obj, "slot", 0)
+}
 
 fn bad(e: e3d::LearnerError) -> PyErr {
     PyValueError::new_err(e.to_string())
@@ -120,7 +126,11 @@ impl PyE3dLearner {
     }
 
     /// Replaces `Q[:, slot]` (one finite value per symbol of the slot).
-    fn set_q(mut slf: PyRefMut<'_, Self>, slot: usize, q: Vec<f64>) -> PyResult<()> {
+    fn set_q(
+        mut slf: PyRefMut<'_, Self>,
+        #[pyo3(from_py_with = slot_arg)] slot: usize,
+        q: Vec<f64>,
+    ) -> PyResult<()> {
         e3d_mut(&mut slf).set_q(slot, &q).map_err(bad)
     }
 
@@ -137,7 +147,11 @@ impl PyE3dLearner {
     /// Sets slot `slot`'s policy to `probs` (each > 0, summing to 1): Q of
     /// the slot becomes `log(probs) / beta` (softmax is unchanged
     /// by a constant added to a slot's Q).
-    fn set_policy(mut slf: PyRefMut<'_, Self>, slot: usize, probs: Vec<f64>) -> PyResult<()> {
+    fn set_policy(
+        mut slf: PyRefMut<'_, Self>,
+        #[pyo3(from_py_with = slot_arg)] slot: usize,
+        probs: Vec<f64>,
+    ) -> PyResult<()> {
         let total: f64 = probs.iter().sum();
         if probs.iter().any(|p| !(p.is_finite() && *p > 0.0)) || (total - 1.0).abs() > 1e-9 {
             return Err(PyValueError::new_err(format!(

@@ -249,3 +249,61 @@ def test_continuous_actions_of_the_wrong_shape_or_not_finite_raise_value_error()
         venv.step(np.zeros((2, 6)))
     with pytest.raises(ValueError, match=r"^actions: expected one action per environment"):
         venv.step(np.zeros((3, 7)))
+
+
+def test_every_integer_argument_names_itself_when_negative_or_huge():
+    # no OverflowError reaches the user: each integer argument is checked
+    # and named, as seed and trials are
+    l = e3d.E3dLearner("two_rooms")
+    cmd = np.zeros(7, dtype=np.uint8)
+    calls = {
+        "slot": [lambda v: l.set_q(v, [0.0] * 4), lambda v: l.set_policy(v, [0.25] * 4)],
+        "effect": [lambda v: l.learn(cmd, v, 0.0)],
+        "every": [lambda v: e3d.run_session("two_rooms", trials=10, every=v)],
+    }
+    for name, fs in calls.items():
+        for f in fs:
+            for v in (-1, 2**64):
+                with pytest.raises(ValueError, match=rf"^{name} = {v}: expected an integer from"):
+                    f(v)
+            # (pyo3 prefixes a TypeError with "argument 'NAME': ")
+            with pytest.raises(TypeError, match=rf"{name}: expected an integer, found float$"):
+                f(1.5)
+
+
+def test_learn_refuses_a_reward_that_is_not_a_finite_number():
+    l = e3d.E3dLearner("two_rooms")
+    cmd = np.zeros(7, dtype=np.uint8)
+    for bad in (float("nan"), float("inf")):
+        with pytest.raises(ValueError, match=r"^reward = (NaN|inf): expected a finite number$"):
+            l.learn(cmd, 0, bad)
+    with pytest.raises(TypeError, match=r"^reward: expected a number, found str$"):
+        l.learn(cmd, 0, "1")
+    before = l.to_bytes()
+    l.learn(cmd, 3, 1.0)
+    assert l.to_bytes() != before
+
+
+def test_contextual_learn_checks_context_effect_and_reward(root):
+    l = e3d.Learner.contextual(e3d.Scene.load(root / "scenes" / "two_rooms_contexts.ron"))
+    cmd = np.zeros(7, dtype=np.uint8)
+    with pytest.raises(ValueError, match=r"^context = -1: expected an integer from 0"):
+        l.learn(-1, cmd, 0, 0.0)
+    with pytest.raises(ValueError, match=r"^context 5: expected a context in \[0, 2\)$"):
+        l.learn(5, cmd, 0, 0.0)
+    with pytest.raises(ValueError, match=r"^effect = -1: expected an integer from 0"):
+        l.learn(0, cmd, -1, 0.0)
+    with pytest.raises(ValueError, match=r"^reward = NaN: expected a finite number$"):
+        l.learn(0, cmd, 0, float("nan"))
+    with pytest.raises(ValueError, match=r"^context = -2: expected an integer from 0"):
+        l.learn(0, cmd, 0, 0.0, -2)
+
+
+def test_session_batch_indices_of_any_size():
+    b = e3d.run_sessions("two_rooms", trials=10, seeds=[0, 1])
+    assert b[-1].seed == 1 and b[0].seed == 0
+    for i in (2, -3, 2**70, -(2**70)):
+        with pytest.raises(IndexError, match=rf"^session {i} out of range: 2 sessions$"):
+            b[i]
+    with pytest.raises(TypeError, match=r"^session index: expected an integer, found str$"):
+        b["0"]

@@ -4,7 +4,7 @@
 //! sessions run with the GIL (Python learners, `on_trials`) are in
 //! `python_learners`, sessions of continuous commands in `values`.
 
-use crate::errors::{params_arg, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail};
+use crate::errors::{every_arg, params_arg, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail};
 use crate::learner::{builtin_kind, Guarded};
 use crate::progress::{watched, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
@@ -194,13 +194,10 @@ pub(crate) fn run_session(
     progress: Option<&Bound<'_, PyAny>>,
     target: Option<&Bound<'_, PyAny>>,
     on_trials: Option<&Bound<'_, PyAny>>,
-    every: usize,
+    #[pyo3(from_py_with = every_arg)] every: usize,
 ) -> PyResult<PyRecord> {
     let scene = scene_of(scene)?;
     let on_trials = on_trials.filter(|c| !c.is_none());
-    if every == 0 {
-        return Err(PyValueError::new_err("every = 0: expected at least 1"));
-    }
     let target = target_arg(&scene, target)?;
     let a = session_args(
         trials,
