@@ -11,6 +11,7 @@ and column in the text that ``sweep_text`` returns.
 from __future__ import annotations
 
 import math
+import os
 import re
 from typing import Any, Mapping
 
@@ -34,8 +35,17 @@ def _number(v: Any, where: str) -> str:
 
 
 def _string(v: Any, where: str) -> str:
+    if isinstance(v, os.PathLike):
+        v = os.fspath(v)
     if not isinstance(v, str):
-        v = str(v)  # a pathlib.Path
+        hint = (
+            " (a sweep names its scenes: write this one with its to_ron() to a .ron file and give the path)"
+            if hasattr(v, "to_ron") else ""
+        )
+        raise TypeError(
+            f"{where}: expected a string (a scene's name or path: str or os.PathLike), "
+            f"found {type(v).__name__} {v!r}{hint}"
+        )
     # every character RON would read otherwise is escaped: the backslash,
     # the quote and every control character (a line feed, ESC, ...)
     escaped = "".join(

@@ -1,4 +1,5 @@
 import math
+import pathlib
 
 import numpy as np
 import pytest
@@ -194,3 +195,13 @@ def test_dict_keys_are_field_names_and_strings_are_escaped():
     # quotes, backslashes and control characters of a string are escaped
     text = e3d.sweep_text({**d, "name": 'a"b\\c\n\x1bz'})
     assert '    name: "a\\"b\\\\c\\u{000a}\\u{001b}z",' in text.splitlines()
+
+
+def test_scenes_and_names_are_strings_or_paths(root):
+    d = {"learners": ["e3d"], "trials": 50}
+    assert 'scenes: ["x/y.ron"],' in e3d.sweep_text({**d, "scenes": pathlib.Path("x/y.ron")})
+    for bad in (3, [2.5], [e3d.Scene.builtin("two_rooms")], [None]):
+        with pytest.raises(TypeError, match=r"^scenes: expected a string \(a scene's name or path"):
+            e3d.sweep_text({**d, "scenes": bad})
+    with pytest.raises(TypeError, match=r"^name: expected a string"):
+        e3d.sweep_text({**d, "scenes": ["two_rooms"], "name": 7})
