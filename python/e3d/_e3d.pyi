@@ -402,6 +402,8 @@ def run_session(
 @final
 class SessionBatch:
     """Sessions run in lockstep (``run_sessions``): arrays with one row a session."""
+    def _repr_svg_(self) -> str:
+        """The effect grid shaded by the effect counts of every session together (notebooks)."""
     def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
         """Pickling: ``(SessionBatch._from_state, (fields,))``, every field."""
     @staticmethod
@@ -454,6 +456,8 @@ def run_sessions(
 @final
 class EpisodeRecord:
     """A session of episodes (``run_episodes``): one entry per command, or per episode (``starts``)."""
+    def _repr_svg_(self) -> str:
+        """The effect grid shaded by where the episodes ended (notebooks)."""
     def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
         """Pickling: ``(EpisodeRecord._from_state, (fields,))``, every field."""
     @staticmethod

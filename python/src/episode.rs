@@ -8,6 +8,7 @@ use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
 use crate::outcome::PyOutcome;
 use crate::pickling::{reduce, state, Fields};
+use crate::record::Grid;
 use crate::saved::{Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::episode::{EpisodeConfig, EpisodeRecord, Observe};
@@ -16,7 +17,7 @@ use e3d::world::WorldState;
 use e3d::{CommandSpace, LearnerKind, Params};
 use e3d::{SessionRng, Target, World};
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -73,37 +74,72 @@ fn observe_name(o: Observe) -> &'static str {
 /// A session of episodes, as numpy arrays, one entry per command
 /// (`commands_per_episode` per episode) or per episode (`starts`), and the
 /// command line's summary figures.
-#[pyclass(module = "e3d", name = "EpisodeRecord", frozen, get_all)]
+#[pyclass(module = "e3d", name = "EpisodeRecord", frozen)]
 pub(crate) struct PyEpisodeRecord {
     /// The session's seed.
+    #[pyo3(get)]
     seed: u64,
     /// The learner's name (`"e3d"`, `"e3d_closed_loop"`, `"qlearning"`, ...).
+    #[pyo3(get)]
     learner: String,
+    #[pyo3(get)]
     commands_per_episode: usize,
+    #[pyo3(get)]
     num_effects: usize,
+    #[pyo3(get)]
     episodes: usize,
     /// The start context of each episode (int64).
+    #[pyo3(get)]
     starts: Py<PyArray1<i64>>,
     /// The context observed before each command (int64).
+    #[pyo3(get)]
     contexts: Py<PyArray1<i64>>,
     /// The commands, one row per command, one symbol index per slot (uint8).
+    #[pyo3(get)]
     commands: Py<PyArray2<u8>>,
     /// The effect of each command (int64).
+    #[pyo3(get)]
     effects: Py<PyArray1<i64>>,
     /// The reward of each command: the scene's after an episode's last
     /// command, 0 after the others (float64).
+    #[pyo3(get)]
     rewards: Py<PyArray1<f64>>,
     /// The first episode (1-based) with a reward, or None.
+    #[pyo3(get)]
     first_reward_episode: Option<usize>,
+    #[pyo3(get)]
     cumulative_reward: f64,
     /// Per start context, the normalised entropy of the episodes'
     /// terminal cells (the command line's `entropy_per_start`).
+    #[pyo3(get)]
     entropy_per_start: Vec<f64>,
+    /// The scene's effect grid (for the picture).
+    grid: Grid,
 }
 
 #[pymethods]
 impl PyEpisodeRecord {
-    /// Pickling (see `pickling`): every field, in the struct's order.
+    /// The session as a picture, for notebooks: the effect grid with each
+    /// cell shaded by the number of episodes that ended in it (the effect
+    /// of each episode's last command), the rewarded cells outlined.
+    fn _repr_svg_(&self, py: Python<'_>) -> PyResult<String> {
+        let mut counts = vec![0.0; self.grid.rows * self.grid.cols];
+        let effects = self.effects.bind(py).readonly();
+        let k = self.commands_per_episode.max(1);
+        for &e in effects.as_slice()?.iter().skip(k - 1).step_by(k) {
+            if let Some(c) = counts.get_mut(e as usize) {
+                *c += 1.0;
+            }
+        }
+        let title = format!(
+            "{}, seed {}: {} episodes of {} commands, where they ended",
+            self.learner, self.seed, self.episodes, self.commands_per_episode
+        );
+        Ok(self.grid.svg(&counts, "episodes", &title))
+    }
+
+    /// Pickling (see `pickling`): every field, in the struct's order (the
+    /// grid's rows, columns and rewarded cells last).
     fn __reduce__<'py>(
         &self,
         py: Python<'py>,
@@ -111,12 +147,12 @@ impl PyEpisodeRecord {
         let fields = state![py; self.seed, &self.learner, self.commands_per_episode,
             self.num_effects, self.episodes, &self.starts, &self.contexts, &self.commands,
             &self.effects, &self.rewards, self.first_reward_episode, self.cumulative_reward,
-            &self.entropy_per_start];
+            &self.entropy_per_start, self.grid.rows, self.grid.cols, &self.grid.rewarded];
         reduce::<Self>(py, fields)
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        let mut f = Fields::of(state, "EpisodeRecord", 13)?;
+        let mut f = Fields::of(state, "EpisodeRecord", 16)?;
         Ok(PyEpisodeRecord {
             seed: f.take()?,
             learner: f.take()?,
@@ -131,6 +167,11 @@ impl PyEpisodeRecord {
             first_reward_episode: f.take()?,
             cumulative_reward: f.take()?,
             entropy_per_start: f.take()?,
+            grid: Grid {
+                rows: f.take()?,
+                cols: f.take()?,
+                rewarded: f.take()?,
+            },
         })
     }
 
@@ -149,6 +190,7 @@ fn record_to_py(
     learner: &str,
     slots: usize,
     starts: usize,
+    grid: &Grid,
 ) -> PyResult<PyEpisodeRecord> {
     let ints = |v: &[usize]| v.iter().map(|&x| x as i64).collect::<Vec<_>>();
     let rows = rec.effects.len();
@@ -168,6 +210,7 @@ fn record_to_py(
         commands: commands.into_pyarray(py).unbind(),
         effects: ints(&rec.effects).into_pyarray(py).unbind(),
         rewards: rec.rewards.into_pyarray(py).unbind(),
+        grid: grid.clone(),
     })
 }
 
@@ -313,7 +356,7 @@ fn run_python_episodes(
         let slots = space.num_slots();
         out.push(Py::new(
             py,
-            record_to_py(py, rec, seed, &name, slots, starts)?,
+            record_to_py(py, rec, seed, &name, slots, starts, &Grid::of(inner))?,
         )?);
     }
     Ok(out)
@@ -345,7 +388,7 @@ fn run_builtin_episodes(
     for (rec, &seed) in records.into_iter().zip(seeds) {
         out.push(Py::new(
             py,
-            record_to_py(py, rec, seed, &name, slots, starts)?,
+            record_to_py(py, rec, seed, &name, slots, starts, &Grid::of(inner))?,
         )?);
     }
     Ok(out)
@@ -443,7 +486,19 @@ fn run_from_state(
     st.borrow_mut().held = held;
     let starts = scene.inner.build().num_contexts();
     let slots = scene.space.num_slots();
-    Ok(Py::new(py, record_to_py(py, rec, cfg.seed, &name, slots, starts)?)?.into_any())
+    Ok(Py::new(
+        py,
+        record_to_py(
+            py,
+            rec,
+            cfg.seed,
+            &name,
+            slots,
+            starts,
+            &Grid::of(&scene.inner),
+        )?,
+    )?
+    .into_any())
 }
 
 /// The targets of `run_episodes`: `targets`, one per context, else

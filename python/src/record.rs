@@ -58,31 +58,27 @@ pub(crate) struct PyRecord {
 /// cell is rewarded.
 #[derive(Clone)]
 pub(crate) struct Grid {
-    rows: usize,
-    cols: usize,
-    rewarded: Vec<bool>,
+    pub(crate) rows: usize,
+    pub(crate) cols: usize,
+    pub(crate) rewarded: Vec<bool>,
 }
 
 impl Grid {
-    fn of(scene: &PyScene) -> Grid {
-        let g = scene.inner.effect_grid();
+    pub(crate) fn of(scene: &e3d::Scene) -> Grid {
+        let g = scene.effect_grid();
         Grid {
             rows: g.rows,
             cols: g.cols,
-            rewarded: scene
-                .inner
-                .reward_table()
-                .iter()
-                .map(|&r| r != 0.0)
-                .collect(),
+            rewarded: scene.reward_table().iter().map(|&r| r != 0.0).collect(),
         }
     }
 
     /// An SVG of the grid, each cell shaded by its share of `counts` (its
-    /// count over the largest, white to dark blue) and labelled with it,
+    /// count over the largest, white to dark blue) and labelled with it in
+    /// `unit` (`trials`, `episodes`),
     /// the rewarded cells outlined in green; row 0 at the bottom, as the
     /// scene's picture has it.
-    fn svg(&self, counts: &[f64], title: &str) -> String {
+    pub(crate) fn svg(&self, counts: &[f64], unit: &str, title: &str) -> String {
         use std::fmt::Write;
         let cell = (480.0 / self.cols.max(self.rows) as f64).clamp(4.0, 60.0);
         let (w, h) = (self.cols as f64 * cell, self.rows as f64 * cell);
@@ -112,7 +108,7 @@ impl Grid {
             };
             let _ = write!(
                 out,
-                r#"<rect x="{x:.1}" y="{y:.1}" width="{cell:.1}" height="{cell:.1}" fill="rgb({cr},{cg},{cb})" {stroke}><title>cell ({r}, {col}): {c} trials ({:.1}%)</title></rect>"#,
+                r#"<rect x="{x:.1}" y="{y:.1}" width="{cell:.1}" height="{cell:.1}" fill="rgb({cr},{cg},{cb})" {stroke}><title>cell ({r}, {col}): {c} {unit} ({:.1}%)</title></rect>"#,
                 100.0 * c / total
             );
         }
@@ -254,7 +250,7 @@ impl PyRecord {
             "{}: {}, seed {}, {} trials",
             self.scene, self.learner, self.seed, self.trials
         );
-        Ok(self.grid.svg(&counts, &title))
+        Ok(self.grid.svg(&counts, "trials", &title))
     }
 
     fn __repr__(&self) -> String {
@@ -316,7 +312,7 @@ pub(crate) fn record_to_py(
         },
         effect_model: rows.effect_model.map(|p| p.into_pyarray(py).unbind()),
         execution,
-        grid: Grid::of(scene),
+        grid: Grid::of(&scene.inner),
     })
 }
 
@@ -398,6 +394,27 @@ impl PyBatchRecord {
 
     fn __len__(&self) -> usize {
         self.per_session.len()
+    }
+
+    /// The sessions as a picture, for notebooks: the effect grid with each
+    /// cell shaded by its share of the trials of every session together
+    /// (the sum of their `effect_counts`), the rewarded cells outlined.
+    fn _repr_svg_(&self, py: Python<'_>) -> PyResult<String> {
+        let mut total = vec![0.0; self.grid.rows * self.grid.cols];
+        for c in &self.counts {
+            let c = c.bind(py).readonly();
+            for (t, x) in total.iter_mut().zip(c.as_slice()?) {
+                *t += x;
+            }
+        }
+        let title = format!(
+            "{}: {}, {} sessions of {} trials",
+            self.scene,
+            self.learner,
+            self.per_session.len(),
+            self.trials
+        );
+        Ok(self.grid.svg(&total, "trials", &title))
     }
 
     /// Session `i`'s record, as `run_session(seed=seeds[i])` returns it
@@ -553,7 +570,7 @@ pub(crate) fn batch_to_py(
         rewards: rewards.into_pyarray(py).unbind(),
         metrics: metrics.unbind(),
         execution,
-        grid: Grid::of(scene),
+        grid: Grid::of(&scene.inner),
         per_session,
         counts,
         policies,

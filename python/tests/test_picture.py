@@ -83,3 +83,32 @@ def test_session_record_draws_its_effect_counts():
     assert f"<title>cell ({top[0]}, {top[1]})" in svg.split('fill="rgb(31,78,156)"')[1][:200]
     batch = e3d.run_sessions("two_rooms", trials=500, seeds=[1, 2])
     assert batch[0]._repr_svg_() == svg
+
+
+def _cells(svg, unit):
+    import re
+    cells = re.findall(rf"<title>cell \((\d+), (\d+)\): ([\d.]+) {unit}", svg)
+    return {(int(r), int(c)): float(n) for r, c, n in cells}
+
+
+def test_a_batch_of_sessions_draws_their_effect_counts_together():
+    batch = e3d.run_sessions("two_rooms", trials=300, seeds=[1, 2, 3])
+    svg = batch._repr_svg_()
+    assert svg.startswith("<svg") and svg.endswith("</svg>")
+    assert "two_rooms: e3d, 3 sessions of 300 trials" in svg
+    counts = _cells(svg, "trials")
+    total = sum(batch[i].effect_counts for i in range(3))
+    assert len(counts) == 18 and [counts[(e // 6, e % 6)] for e in range(18)] == total.tolist()
+    assert sum(counts.values()) == 900
+
+
+def test_an_episode_record_draws_where_its_episodes_ended(root):
+    scene = e3d.Scene.load(root / "scenes" / "two_rooms_contexts.ron")
+    rec = e3d.run_episodes(scene, episodes=40, commands=2, seed=3)
+    svg = rec._repr_svg_()
+    assert svg.startswith("<svg") and f"seed 3: 40 episodes of 2 commands" in svg
+    counts = _cells(svg, "episodes")
+    ends = rec.effects[1::2]
+    assert len(ends) == 40 and sum(counts.values()) == 40
+    for e in range(scene.num_effects):
+        assert counts[(e // 6, e % 6)] == (ends == e).sum()
