@@ -1,7 +1,7 @@
 //! Errors: the package's exceptions, and the library's errors made Python
 //! exceptions with the CLI's text.
 
-use e3d::{LearnerKind, SceneErrorKind, SweepError, WorldError};
+use e3d::{LearnerKind, SweepError, WorldError};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -65,10 +65,7 @@ impl From<SweepError> for Fail {
 /// parts: `file`, `line`, `column`, `field`.
 pub(crate) fn scene_err(e: e3d::SceneError) -> PyErr {
     let (line, column) = e.position().unzip();
-    let field = match e.kind() {
-        SceneErrorKind::Invalid { field, .. } => Some(field.clone()),
-        _ => None,
-    };
+    let field = e.field().map(str::to_string);
     scene_error(e.to_string(), Some(e.file()), line, column, field)
 }
 

@@ -102,8 +102,21 @@ def test_scene_error_attributes_of_a_syntax_error():
     with pytest.raises(e3d.SceneError) as err:
         e3d.Scene.from_text('Scene(name: "x", wrold: Grid(rows: 1))', "x.ron")
     e = err.value
-    assert (e.file, e.line, e.column, e.field) == ("x.ron", 1, 18, None)
+    assert (e.file, e.line, e.column, e.field) == ("x.ron", 1, 18, "wrold")
     assert str(e).startswith("x.ron:1:18: unknown field `wrold`")
+    # every RON mistake that is about a field names it; one that is not, None
+    cases = [
+        ('Scene(name: 3)', "name", "field `name`: expected string"),
+        ('Scene(name: "x", name: "y")', "name", "field `name` given twice"),
+        ('Scene(name: "x", world: Grid(rows: 1, cols: 2, start: (0, 0)))', "command", "missing field `command`"),
+        ('Scene(name: "x", world: Grdi(rows: 1))', "world", "unknown variant `Grdi`"),
+        ('Scene(', None, "unexpected end of RON"),
+        ('[1, 2]', None, "expected opening `(` for struct `Scene`"),
+    ]
+    for text, field, message in cases:
+        with pytest.raises(e3d.SceneError) as err:
+            e3d.Scene.from_text(text, "x.ron")
+        assert err.value.field == field and message in str(err.value), (text, str(err.value))
 
 
 def test_scene_error_attributes_of_an_invalid_value(tmp_path):

@@ -68,6 +68,7 @@ pub enum SceneErrorKind {
     /// The text is not RON of the expected shape: a syntax error, an
     /// unknown or missing field, an unknown variant, a value of the wrong
     /// type.
+    #[non_exhaustive]
     Syntax {
         /// Line of the mistake.
         line: usize,
@@ -75,6 +76,11 @@ pub enum SceneErrorKind {
         col: usize,
         /// What is wrong and what was expected.
         message: String,
+        /// The field the mistake is about, where it names one: the
+        /// unknown, missing or repeated field, or the one given a value of
+        /// the wrong type or an unknown variant (see
+        /// [`SceneError::field`]).
+        field: Option<String>,
     },
     /// A value the format allows but the scene cannot hold (a range, a
     /// name that is not known, a symmetry the scene breaks, ...).
@@ -172,6 +178,27 @@ impl SceneError {
         }
     }
 
+    /// The field at fault, where the mistake is about one: the field of an
+    /// [`Invalid`](SceneErrorKind::Invalid) value, and for a RON mistake
+    /// ([`Syntax`](SceneErrorKind::Syntax)) the unknown, missing or
+    /// repeated field, or the field given a value of the wrong type or an
+    /// unknown variant. `None` for other mistakes (a bracket left open, a
+    /// file that cannot be read).
+    ///
+    /// ```
+    /// use e3d::Scene;
+    /// let e = Scene::parse("Scene(name: 3)", "x.ron").unwrap_err();
+    /// assert_eq!(e.field(), Some("name"));
+    /// assert_eq!(e.to_string(), "x.ron:1:12: field `name`: expected string");
+    /// ```
+    pub fn field(&self) -> Option<&str> {
+        match &self.kind {
+            SceneErrorKind::Invalid { field, .. } => Some(field),
+            SceneErrorKind::Syntax { field, .. } => field.as_deref(),
+            _ => None,
+        }
+    }
+
     /// An empty scene or sweep file (`what`).
     pub(crate) fn empty(file: &str, what: &'static str) -> Self {
         SceneError::new(file, what, SceneErrorKind::Empty)
@@ -208,6 +235,8 @@ impl SceneError {
     /// mean" for misspelt fields and variants.
     pub(crate) fn from_ron(file: &str, text: &str, e: ron::error::SpannedError) -> Self {
         use ron::error::Error as E;
+        // the field the mistake is about, if it names one
+        let at;
         let message = match &e.code {
             E::NoSuchStructField {
                 expected,
@@ -218,6 +247,7 @@ impl SceneError {
                     .as_ref()
                     .map(|o| format!(" in `{o}`"))
                     .unwrap_or_default();
+                at = Some(found.to_string());
                 format!(
                     "unknown field `{found}`{within}{}; expected one of: {}",
                     did_you_mean(found, expected),
@@ -233,6 +263,7 @@ impl SceneError {
                     .as_ref()
                     .map(|o| format!(" for `{o}`"))
                     .unwrap_or_default();
+                at = field_before(text, e.span.start.line, e.span.start.col);
                 format!(
                     "unknown variant `{found}`{within}{}; expected one of: {}",
                     did_you_mean(found, expected),
@@ -244,6 +275,7 @@ impl SceneError {
                     .as_ref()
                     .map(|o| format!(" in `{o}`"))
                     .unwrap_or_default();
+                at = Some(field.to_string());
                 format!("missing field `{field}`{within}")
             }
             E::DuplicateStructField { field, outer } => {
@@ -251,9 +283,14 @@ impl SceneError {
                     .as_ref()
                     .map(|o| format!(" in `{o}`"))
                     .unwrap_or_default();
+                at = Some(field.to_string());
                 format!("field `{field}` given twice{within}")
             }
-            other => other_message(other, text, &e),
+            other => {
+                let (m, f) = other_message(other, text, &e);
+                at = f;
+                m
+            }
         };
         SceneError::new(
             file,
@@ -262,6 +299,7 @@ impl SceneError {
                 line: e.span.start.line,
                 col: e.span.start.col,
                 message,
+                field: at,
             },
         )
     }
@@ -292,8 +330,13 @@ impl SceneError {
 
 /// The message of a RON error `other` than an unknown or missing field or
 /// variant: std's, lowercased, naming the field a value of the wrong type
-/// was given to (and what was written, for a count out of bounds).
-fn other_message(other: &ron::error::Error, text: &str, e: &ron::error::SpannedError) -> String {
+/// was given to (and what was written, for a count out of bounds); and
+/// that field.
+fn other_message(
+    other: &ron::error::Error,
+    text: &str,
+    e: &ron::error::SpannedError,
+) -> (String, Option<String>) {
     let mut m = other.to_string();
     if let Some(c) = m.get(..1) {
         m.replace_range(..1, &c.to_lowercase());
@@ -313,8 +356,8 @@ fn other_message(other: &ron::error::Error, text: &str, e: &ron::error::SpannedE
         }
     }
     match field_before(text, e.span.start.line, e.span.start.col) {
-        Some(f) if about_a_value => format!("field `{f}`: {m}"),
-        _ => m,
+        Some(f) if about_a_value => (format!("field `{f}`: {m}"), Some(f)),
+        _ => (m, None),
     }
 }
 

@@ -615,3 +615,34 @@ fn every_mistake_has_a_kind() {
         "s.ron: the file is empty; expected `Sweep(scenes: [...], learners: [...], sessions: N, trials: T)`"
     );
 }
+
+#[test]
+fn a_ron_mistake_about_a_field_names_it() {
+    let cases = [
+        ("Scene(name: 3)", Some("name")),
+        ("Scene(name: \"x\", wrold: Grid(rows: 1))", Some("wrold")),
+        ("Scene(name: \"x\", name: \"y\")", Some("name")),
+        ("Scene(name: \"x\", world: Grdi(rows: 1))", Some("world")),
+        (
+            "Scene(name: \"x\", world: Grid(rows: 1, cols: 2, start: (0, 0)))",
+            Some("command"),
+        ),
+        ("Scene(", None),
+        ("[1, 2]", None),
+    ];
+    for (text, field) in cases {
+        let e = Scene::parse(text, "x.ron").unwrap_err();
+        assert!(
+            matches!(e.kind(), SceneErrorKind::Syntax { .. }),
+            "{text}: {e}"
+        );
+        assert_eq!(e.field(), field, "{text}: {e}");
+    }
+    // a value the scene cannot hold names its field too
+    let e = Scene::parse(
+        "Scene(name: \"x\", world: Grid(rows: 0, cols: 2, start: (0, 0)), command: Repeat(slots: 1, alphabet: [(symbol: 'a', action: Idle)]))",
+        "x.ron",
+    )
+    .unwrap_err();
+    assert!(e.field().is_some(), "{e}");
+}
