@@ -93,7 +93,11 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
         a = np.asarray(actions)
         if not self.discrete:
             return a
-        return np.stack(np.unravel_index(a.reshape(-1).astype(np.int64), self._sizes), axis=1)
+        flat = a.reshape(-1)
+        n = int(np.prod(self._sizes))
+        if flat.dtype.kind not in "iu" or (flat < 0).any() or (flat >= n).any():
+            raise ValueError(f"actions: expected command indices from 0 to {n - 1}, found {flat.tolist()}")
+        return np.stack(np.unravel_index(flat.astype(np.int64), self._sizes), axis=1)
 
     def reset(self) -> np.ndarray:
         seeds = getattr(self, "_seeds", [None])
@@ -104,7 +108,13 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
         return obs
 
     def step_async(self, actions: np.ndarray) -> None:
-        self._actions = self.commands(actions)
+        a = np.asarray(actions)
+        if self.discrete and a.reshape(-1).size != self.num_envs:
+            raise ValueError(
+                f"actions: expected one command index per environment ({self.num_envs}), "
+                f"found shape {list(a.shape)}"
+            )
+        self._actions = self.commands(a)
 
     def step_wait(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
         assert self._actions is not None, "step_async first"

@@ -118,3 +118,18 @@ def test_dqn_learns_a_few_steps_on_discrete_actions():
         assert [i["terminal_observation"] for i in infos] == out.effect.tolist()
         assert rewards.tolist() == out.reward.astype(np.float32).tolist()
     assert len({int(a) for actions, _, _ in seen for a in actions}) > 50
+
+
+def test_discrete_actions_are_checked():
+    from e3d.sb3 import E3dSB3VecEnv
+
+    env = E3dSB3VecEnv("two_rooms", 4, discrete=True)
+    env.reset()
+    with pytest.raises(ValueError, match=r"^actions: expected one command index per environment \(4\)"):
+        env.step(np.array([1, 2, 3]))
+    with pytest.raises(ValueError, match=r"^actions: expected command indices from 0 to 16383"):
+        env.step(np.array([0, 1, 2, 16384]))
+    with pytest.raises(ValueError, match=r"^actions: expected command indices"):
+        env.step(np.array([0.5, 1, 2, 3]))
+    # commands() decodes any number of indices
+    assert env.commands(np.arange(6)).shape == (6, 7)
