@@ -230,9 +230,7 @@ pub(super) fn animate(
     context: Option<&str>,
     out: &std::path::Path,
 ) -> CliResult {
-    use e3d::report::motion_svg::{
-        grid_motion_svg, html_page, motion_svg, motion_svg_from, thin, MAX_FRAMES,
-    };
+    use e3d::report::motion_svg::html_page;
     let space = scene.command_space();
     let c = space.parse(text).map_err(CliError::input)?;
     let cmd = space.format(&c);
@@ -241,61 +239,8 @@ pub(super) fn animate(
         .transpose()?;
     say_cost(&format!("scene render {}", scene.spec().name), scene, 1, 1);
     let (svg, what) = match scene.physics_world() {
-        None => {
-            // a grid's start is its `start` cell: the context's, if given
-            let started = match &from {
-                Some(e3d::WorldState::Cell(cell)) => {
-                    let mut spec = scene.to_spec();
-                    if let WorldSpec::Grid(g) = &mut spec.world {
-                        g.start = (cell / g.cols, cell % g.cols);
-                    }
-                    Some(spec.validate().map_err(CliError::input)?)
-                }
-                _ => None,
-            };
-            let svg = grid_motion_svg(started.as_ref().unwrap_or(scene), &c)
-                .map_err(|e| CliError::input(e.to_string()))?;
-            let keyframes = space.num_slots() + 1;
-            (
-                svg,
-                format!(
-                    "{keyframes} keyframes: the start and a cell per slot, {:.1} s",
-                    keyframes as f64 * e3d::report::motion_svg::GRID_KEYFRAME_SECONDS
-                ),
-            )
-        }
-        Some(mut w) => {
-            // only the frames drawn are kept, as they are computed
-            let total = scene.spec().steps_per_command().unwrap_or(0) + 1;
-            let keep = thin(total, MAX_FRAMES);
-            let mut frames = Vec::with_capacity(keep.len());
-            let mut each = |k: usize, f| {
-                if keep.binary_search(&k).is_ok() {
-                    frames.push(f);
-                }
-            };
-            let mut motion = match &from {
-                Some(from) => w
-                    .from_start(from, |w| w.motion_each(&c, &mut each))
-                    .and_then(|m| m),
-                None => w.motion_each(&c, &mut each),
-            }
-            .map_err(world_error)?;
-            motion.frames = frames;
-            let svg = match from {
-                Some(_) => motion_svg_from(scene, &cmd, &motion),
-                None => motion_svg(scene, &cmd, &motion),
-            }
-            .map_err(|e| CliError::input(e.to_string()))?;
-            (
-                svg,
-                format!(
-                    "{} of {total} frames, {:.3} s",
-                    motion.frames.len(),
-                    motion.frames.last().map_or(0.0, |f| f.time)
-                ),
-            )
-        }
+        None => animate_grid(scene, &c, from.as_ref())?,
+        Some(w) => animate_physics(scene, w, &c, &cmd, from.as_ref())?,
     };
     let html = out
         .extension()
@@ -308,6 +253,75 @@ pub(super) fn animate(
     write_file(out, text.as_bytes())?;
     outln!("wrote {} ({what})", out.display());
     Ok(())
+}
+
+/// A grid scene's animation of `c` from its start cell (the context's
+/// `from`, if given), and what it holds.
+fn animate_grid(
+    scene: &Scene,
+    c: &Command,
+    from: Option<&e3d::WorldState>,
+) -> Result<(String, String), CliError> {
+    use e3d::report::motion_svg::{grid_motion_svg, GRID_KEYFRAME_SECONDS};
+    // a grid's start is its `start` cell: the context's, if given
+    let started = match from {
+        Some(e3d::WorldState::Cell(cell)) => {
+            let mut spec = scene.to_spec();
+            if let WorldSpec::Grid(g) = &mut spec.world {
+                g.start = (cell / g.cols, cell % g.cols);
+            }
+            Some(spec.validate().map_err(CliError::input)?)
+        }
+        _ => None,
+    };
+    let svg = grid_motion_svg(started.as_ref().unwrap_or(scene), c)
+        .map_err(|e| CliError::input(e.to_string()))?;
+    let keyframes = scene.command_space().num_slots() + 1;
+    let what = format!(
+        "{keyframes} keyframes: the start and a cell per slot, {:.1} s",
+        keyframes as f64 * GRID_KEYFRAME_SECONDS
+    );
+    Ok((svg, what))
+}
+
+/// A physics scene's animation of `c` (written `cmd`) on the world `w`,
+/// from the context's start `from` if given, and what it holds.
+fn animate_physics(
+    scene: &Scene,
+    mut w: e3d::PhysicsWorld,
+    c: &Command,
+    cmd: &str,
+    from: Option<&e3d::WorldState>,
+) -> Result<(String, String), CliError> {
+    use e3d::report::motion_svg::{motion_svg, motion_svg_from, thin, MAX_FRAMES};
+    // only the frames drawn are kept, as they are computed
+    let total = scene.spec().steps_per_command().unwrap_or(0) + 1;
+    let keep = thin(total, MAX_FRAMES);
+    let mut frames = Vec::with_capacity(keep.len());
+    let mut each = |k: usize, f| {
+        if keep.binary_search(&k).is_ok() {
+            frames.push(f);
+        }
+    };
+    let mut motion = match from {
+        Some(from) => w
+            .from_start(from, |w| w.motion_each(c, &mut each))
+            .and_then(|m| m),
+        None => w.motion_each(c, &mut each),
+    }
+    .map_err(world_error)?;
+    motion.frames = frames;
+    let svg = match from {
+        Some(_) => motion_svg_from(scene, cmd, &motion),
+        None => motion_svg(scene, cmd, &motion),
+    }
+    .map_err(|e| CliError::input(e.to_string()))?;
+    let what = format!(
+        "{} of {total} frames, {:.3} s",
+        motion.frames.len(),
+        motion.frames.last().map_or(0.0, |f| f.time)
+    );
+    Ok((svg, what))
 }
 
 pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overlay, CliError> {
