@@ -275,24 +275,7 @@ fn draw_motion(
     command: &str,
     motion: &Motion,
 ) -> Result<String, AnimateError> {
-    if motion.frames.is_empty()
-        || motion.bodies.len() != p.bodies.len()
-        || motion
-            .frames
-            .iter()
-            .any(|f| f.poses.len() != p.bodies.len())
-    {
-        return Err(AnimateError::Mismatch(scene.spec().name.clone()));
-    }
-    let (drawn, drawn_point) = p
-        .effect
-        .drawn_point(|j| p.child_of(j))
-        .ok_or_else(|| AnimateError::Mismatch(scene.spec().name.clone()))?;
-    let tracked = p
-        .bodies
-        .iter()
-        .position(|b| b.name == drawn)
-        .ok_or_else(|| AnimateError::Mismatch(scene.spec().name.clone()))?;
+    let (tracked, drawn_point) = tracked_of(scene, p, motion)?;
     let point_at = |f: usize| {
         let pose = &motion.frames[f].poses[tracked];
         to_world(
@@ -327,29 +310,68 @@ fn draw_motion(
                 esc(&j.name)
             );
         }
-        let xs: Vec<String> = tl
-            .keep
-            .iter()
-            .map(|&f| format!("{:.2}", v.x(point_at(f).0)))
-            .collect();
-        let ys: Vec<String> = tl
-            .keep
-            .iter()
-            .map(|&f| format!("{:.2}", v.y(point_at(f).1)))
-            .collect();
-        let p0 = point_at(0);
-        let _ = writeln!(
-            out,
-            r##"<circle class="tracked" cx="{:.2}" cy="{:.2}" r="4.5" fill="{TRACKED}" stroke="#ffffff" stroke-width="1"><title>tracked point</title>{}{}</circle>"##,
-            v.x(p0.0),
-            v.y(p0.1),
-            tl.anim("cx", None, xs.join(";")),
-            tl.anim("cy", None, ys.join(";")),
-        );
+        tracked_point_svg(out, v, &tl, &point_at);
         time_readout_svg(out, v, motion, &tl);
         out.push_str("</g>\n</g>\n");
     };
     Ok(physics_picture(scene, p, Some(&overlay), Some(&mut draw)))
+}
+
+/// The index of the body whose point is drawn, and that point in the
+/// body's frame; refused when `motion` is not a motion of `p`'s bodies.
+fn tracked_of(
+    scene: &Scene,
+    p: &PhysicsSpec,
+    motion: &Motion,
+) -> Result<(usize, (f64, f64)), AnimateError> {
+    if motion.frames.is_empty()
+        || motion.bodies.len() != p.bodies.len()
+        || motion
+            .frames
+            .iter()
+            .any(|f| f.poses.len() != p.bodies.len())
+    {
+        return Err(AnimateError::Mismatch(scene.spec().name.clone()));
+    }
+    let (drawn, drawn_point) = p
+        .effect
+        .drawn_point(|j| p.child_of(j))
+        .ok_or_else(|| AnimateError::Mismatch(scene.spec().name.clone()))?;
+    let tracked = p
+        .bodies
+        .iter()
+        .position(|b| b.name == drawn)
+        .ok_or_else(|| AnimateError::Mismatch(scene.spec().name.clone()))?;
+    Ok((tracked, drawn_point))
+}
+
+/// The tracked point, at its first frame's place and animated through the
+/// kept frames (`point_at(frame)`: its world position).
+fn tracked_point_svg(
+    out: &mut String,
+    v: &View,
+    tl: &Timeline,
+    point_at: &impl Fn(usize) -> (f64, f64),
+) {
+    let xs: Vec<String> = tl
+        .keep
+        .iter()
+        .map(|&f| format!("{:.2}", v.x(point_at(f).0)))
+        .collect();
+    let ys: Vec<String> = tl
+        .keep
+        .iter()
+        .map(|&f| format!("{:.2}", v.y(point_at(f).1)))
+        .collect();
+    let p0 = point_at(0);
+    let _ = writeln!(
+        out,
+        r##"<circle class="tracked" cx="{:.2}" cy="{:.2}" r="4.5" fill="{TRACKED}" stroke="#ffffff" stroke-width="1"><title>tracked point</title>{}{}</circle>"##,
+        v.x(p0.0),
+        v.y(p0.1),
+        tl.anim("cx", None, xs.join(";")),
+        tl.anim("cy", None, ys.join(";")),
+    );
 }
 
 /// Every moving body, with the joints it carries as a parent, at its start
