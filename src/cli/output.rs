@@ -53,6 +53,28 @@ pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
     Ok(())
 }
 
+/// Refuses an output file whose name does not end in one of the
+/// `formats` the command writes (`svg`, `html`, `csv`; any case): a picture
+/// asked as `x.png` would otherwise be SVG text under a PNG name. `flag`
+/// names the option (`--out`, `--trace`); `hint` says how to get another
+/// format, if there is a way.
+pub fn check_format(path: &Path, flag: &str, formats: &[&str], hint: &str) -> CliResult {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if formats.iter().any(|f| ext.eq_ignore_ascii_case(f)) {
+        return Ok(());
+    }
+    let expected: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();
+    let found = match ext {
+        "" => "no extension".to_string(),
+        e => format!("a .{e} file"),
+    };
+    Err(CliError::input(format!(
+        "{flag} {}: expected a file ending in {} (the format written), found {found}{hint}",
+        path.display(),
+        expected.join(" or ")
+    )))
+}
+
 /// Writes a file whole or not at all, as a CLI error.
 pub fn write_file(path: &Path, bytes: &[u8]) -> CliResult {
     e3d::io::write_atomic(path, bytes)

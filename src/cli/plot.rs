@@ -37,12 +37,7 @@ pub struct PlotArgs {
 }
 
 pub fn run(a: PlotArgs) -> CliResult {
-    if a.out.extension().and_then(|e| e.to_str()) != Some("svg") {
-        return Err(CliError::input(format!(
-            "--out {}: expected a file name ending in .svg",
-            a.out.display()
-        )));
-    }
+    super::output::check_format(&a.out, "--out", &["svg"], "")?;
     let filters = a
         .filters
         .iter()

@@ -26,6 +26,9 @@ pub struct ReportArgs {
 /// Writes the page: a run's if DIR holds trials.csv, a sweep's if it holds
 /// summary.csv.
 pub fn run(a: ReportArgs) -> CliResult {
+    if let Some(out) = &a.out {
+        super::output::check_format(out, "--out", &["html", "htm"], "")?;
+    }
     let dir = &a.dir;
     if !dir.is_dir() {
         return Err(CliError::input(format!(

@@ -349,3 +349,93 @@ fn a_refused_command_leaves_no_out_folder_it_created() {
     assert_eq!(o.status.code(), Some(2));
     assert!(kept.is_dir());
 }
+
+#[test]
+fn an_output_named_for_a_format_not_written_is_refused_before_any_work() {
+    let dir = temp_dir("output_formats");
+    let at = |f: &str| dir.join(f).to_string_lossy().into_owned();
+    let sweep_out = dir.join("no-such-run");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                "scene".into(),
+                "render".into(),
+                "two_rooms".into(),
+                "--out".into(),
+                at("s.png"),
+            ],
+            "--out ",
+        ),
+        (
+            vec![
+                "scene".into(),
+                "render".into(),
+                "two_rooms".into(),
+                "--command".into(),
+                "EEEEEEE".into(),
+                "--animate".into(),
+                "--out".into(),
+                at("a.gif"),
+            ],
+            "expected a file ending in .svg or .html or .htm",
+        ),
+        (
+            vec![
+                "scene".into(),
+                "render".into(),
+                "arm7_continuous".into(),
+                "--out".into(),
+                at("c"),
+            ],
+            "found no extension",
+        ),
+        (
+            vec![
+                "scene".into(),
+                "exec".into(),
+                "puck_rooms".into(),
+                "--trace".into(),
+                at("t.txt"),
+                "EEEEEEE".into(),
+            ],
+            "--trace ",
+        ),
+        (
+            vec![
+                "report".into(),
+                sweep_out.to_string_lossy().into_owned(),
+                "--out".into(),
+                at("r.svg"),
+            ],
+            "expected a file ending in .html or .htm",
+        ),
+        (
+            vec![
+                "plot".into(),
+                sweep_out.to_string_lossy().into_owned(),
+                "--x".into(),
+                "beta".into(),
+                "--metric".into(),
+                "normalized_entropy".into(),
+                "--out".into(),
+                at("p.png"),
+            ],
+            "expected a file ending in .svg",
+        ),
+    ];
+    for (args, says) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = e3d(&args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(says) && err.contains("(the format written)"),
+            "{args:?}: {err}"
+        );
+    }
+    // nothing was written, and the formats written are accepted in any case
+    assert_eq!(std::fs::read_dir(&*dir).unwrap().count(), 0);
+    let svg = at("S.SVG");
+    ok(e3d(&["scene", "render", "two_rooms", "--out", &svg]));
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+}

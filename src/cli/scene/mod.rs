@@ -180,8 +180,30 @@ fn parse_point(s: &str) -> Result<[f64; 2], String> {
     }
 }
 
+/// Refuses, before any work, an output file named for a format the
+/// subcommand does not write (`render --out x.png`).
+fn check_outputs(cmd: &SceneCmd) -> CliResult {
+    use super::output::check_format;
+    match cmd {
+        SceneCmd::Render { animate, out, .. } => {
+            let (formats, hint): (&[&str], &str) = if *animate {
+                (&["svg", "html", "htm"], "")
+            } else {
+                (
+                    &["svg"],
+                    " (for a raster image: Python's `Scene.render`, or convert the SVG, e.g. `rsvg-convert x.svg -o x.png`)",
+                )
+            };
+            check_format(out, "--out", formats, hint)
+        }
+        SceneCmd::Exec { trace: Some(t), .. } => check_format(t, "--trace", &["csv"], ""),
+        _ => Ok(()),
+    }
+}
+
 /// Runs `e3d scene ...`.
 pub fn run(a: SceneArgs) -> CliResult {
+    check_outputs(&a.command)?;
     if let Some(r) = continuous(&a.command) {
         return r;
     }
