@@ -54,6 +54,36 @@ fn folder_and_name(path: &Path) -> io::Result<(&Path, String)> {
     Ok((dir, name.to_string_lossy().into_owned()))
 }
 
+/// Whether `path` is a stream to write through rather than a file to
+/// replace: a character device or a FIFO (`/dev/null`, `/dev/stdout`, a
+/// named pipe), also through a symbolic link. Renaming a new file over it
+/// would put a regular file in the device's place (as root, in `/dev`),
+/// and writing whole-or-nothing means nothing for a stream.
+pub fn is_stream(path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        fs::metadata(path).is_ok_and(|m| m.file_type().is_char_device() || m.file_type().is_fifo())
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = path;
+        false
+    }
+}
+
+/// Where the output for `path` is written: a new temporary file beside it
+/// ([`create_temp_beside`]; `Some` of its path, to rename over `path` once
+/// written, or to remove), or `path` itself, opened for writing, when it
+/// is a stream ([`is_stream`]; `None`).
+pub fn create_output(path: &Path) -> io::Result<(Option<PathBuf>, File)> {
+    if is_stream(path) {
+        return Ok((None, OpenOptions::new().write(true).open(path)?));
+    }
+    let (tmp, f) = create_temp_beside(path)?;
+    Ok((Some(tmp), f))
+}
+
 /// Whether `name` is the name of a temporary file of [`write_atomic`]
 /// (`.NAME.tmp-...`), left behind by a process killed while writing.
 pub fn is_temporary(name: &str) -> bool {
@@ -65,9 +95,14 @@ pub fn is_temporary(name: &str) -> bool {
 /// existing file nor the target of a symbolic link), which is synced and
 /// then renamed over `path`. A crash or a full disk leaves either the old
 /// file or the new one, never half of one. If `path` is a symbolic link,
-/// the link itself is replaced, not the file it points to.
+/// the link itself is replaced, not the file it points to. A stream
+/// ([`is_stream`]: `/dev/null`, `/dev/stdout`, a named pipe) is written
+/// through instead, never replaced.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let (tmp, mut f) = create_temp_beside(path)?;
+    let (tmp, mut f) = match create_output(path)? {
+        (Some(tmp), f) => (tmp, f),
+        (None, mut f) => return f.write_all(bytes).and_then(|()| f.flush()),
+    };
     let result = (|| {
         f.write_all(bytes)?;
         f.sync_all()?;
@@ -354,6 +389,43 @@ pub fn open_append_nofollow(path: &Path) -> io::Result<File> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(unix)]
+    #[test]
+    fn a_stream_is_written_through_never_replaced() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = std::env::temp_dir().join(format!("e3d-io-stream-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        let fifo = dir.join("out.svg");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if !made.is_ok_and(|s| s.success()) {
+            return; // no mkfifo here
+        }
+        assert!(is_stream(&fifo) && !is_stream(&dir) && !is_stream(&dir.join("none")));
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || fs::read(&fifo).unwrap())
+        };
+        write_atomic(&fifo, b"<svg/>").unwrap();
+        assert_eq!(reader.join().unwrap(), b"<svg/>");
+        // still the named pipe, and nothing left beside it
+        assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+        // a link to a stream is written through too; a regular file is replaced
+        let link = dir.join("link.svg");
+        std::os::unix::fs::symlink("/dev/null", &link).unwrap();
+        write_atomic(&link, b"x").unwrap();
+        assert!(fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        let plain = dir.join("plain.svg");
+        write_atomic(&plain, b"a").unwrap();
+        write_atomic(&plain, b"b").unwrap();
+        assert_eq!(fs::read(&plain).unwrap(), b"b");
+        fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[cfg(unix)]
     #[test]

@@ -41,6 +41,7 @@ registers the environment as ``"e3d/E3d-v0"``:
 
 from __future__ import annotations
 
+import os
 from typing import Any, Optional, Union
 
 import gymnasium as gym
@@ -110,7 +111,14 @@ class E3dEnv(gym.Env):
             raise ValueError(f"render_mode = {render_mode!r}: expected None or 'rgb_array'")
         self.render_mode = render_mode
         self._last: Any = None
-        self.scene = scene if isinstance(scene, Scene) else Scene.resolve(str(scene))
+        if isinstance(scene, os.PathLike):
+            scene = os.fspath(scene)
+        if not isinstance(scene, (Scene, str)):
+            raise TypeError(
+                f"scene: expected a Scene, or a scene file's path or a built-in scene's name, "
+                f"found {type(scene).__name__}"
+            )
+        self.scene = scene if isinstance(scene, Scene) else Scene.resolve(scene)
         self.world = self.scene.world()
         self.use_reward = bool(use_reward)
         self.action_space: spaces.Space[Any]
@@ -238,6 +246,8 @@ class E3dVectorEnv(VectorEnv):
         render_mode: Optional[str] = None,
     ):
         super().__init__()
+        if isinstance(num_envs, (bool, np.bool_)) or not isinstance(num_envs, (int, np.integer)):
+            raise TypeError(f"num_envs: expected an integer, found {type(num_envs).__name__}")
         if int(num_envs) < 1:
             raise ValueError(f"num_envs = {num_envs}: expected an integer from 1")
         self.env = E3dEnv(scene, use_reward=use_reward, render_mode=render_mode)

@@ -320,3 +320,17 @@ def test_session_batch_indices_of_any_size():
             b[i]
     with pytest.raises(TypeError, match=r"^session index: expected an integer, found str$"):
         b["0"]
+
+
+def test_callables_scenes_and_env_counts_are_checked_before_any_work():
+    from e3d.gym import E3dEnv, E3dVectorEnv
+
+    with pytest.raises(TypeError, match=r"^on_trials: expected a callable, on_trials\(first, commands, effects, rewards\), found int$"):
+        e3d.run_session("two_rooms", trials=10, on_trials=5)
+    for bad in (3, 2.5, None):
+        with pytest.raises(TypeError, match=r"^scene: expected a Scene, or a scene file's path or a built-in scene's name, found"):
+            E3dEnv(bad)
+    for bad in (2.5, "4", True):
+        with pytest.raises(TypeError, match=r"^num_envs: expected an integer, found"):
+            E3dVectorEnv("two_rooms", bad)
+    assert E3dVectorEnv("two_rooms", np.int64(3)).num_envs == 3

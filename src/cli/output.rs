@@ -60,7 +60,8 @@ pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
 /// format, if there is a way.
 pub fn check_format(path: &Path, flag: &str, formats: &[&str], hint: &str) -> CliResult {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    if formats.iter().any(|f| ext.eq_ignore_ascii_case(f)) {
+    // a stream (`/dev/stdout`, a named pipe) takes whatever it is given
+    if formats.iter().any(|f| ext.eq_ignore_ascii_case(f)) || e3d::io::is_stream(path) {
         return Ok(());
     }
     let expected: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();

@@ -439,3 +439,35 @@ fn an_output_named_for_a_format_not_written_is_refused_before_any_work() {
     ok(e3d(&["scene", "render", "two_rooms", "--out", &svg]));
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
 }
+
+#[test]
+fn a_stream_output_is_written_through_whatever_its_name() {
+    // `--out /dev/stdout`: the picture on standard output, no format refused
+    let o = ok(e3d(&[
+        "scene",
+        "render",
+        "two_rooms",
+        "--out",
+        "/dev/stdout",
+    ]));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.starts_with("<svg") && out.contains("</svg>"), "{out}");
+    let o = ok(e3d(&[
+        "scene",
+        "exec",
+        "puck_rooms",
+        "--trace",
+        "/dev/stdout",
+        "EEEEEEE",
+    ]));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.starts_with("command,step,time,"),
+        "{}",
+        &out[..80.min(out.len())]
+    );
+    assert!(
+        out.contains("EEEEEEE,2,0,"),
+        "the outcome line follows the trace"
+    );
+}

@@ -198,6 +198,12 @@ pub(crate) fn run_session(
 ) -> PyResult<PyRecord> {
     let scene = scene_of(scene)?;
     let on_trials = on_trials.filter(|c| !c.is_none());
+    if let Some(c) = on_trials.filter(|c| !c.is_callable()) {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "on_trials: expected a callable, on_trials(first, commands, effects, rewards), found {}",
+            c.get_type().name()?
+        )));
+    }
     let target = target_arg(&scene, target)?;
     let a = session_args(
         trials,

@@ -79,7 +79,8 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     let out_err =
         |e: std::io::Error| CliError::output(format!("{}: cannot write: {e}", path.display()));
     // created exclusively: never through a link planted under its name
-    let (tmp, f) = e3d::io::create_temp_beside(path).map_err(out_err)?;
+    // (a stream, such as /dev/stdout, is written through)
+    let (tmp, f) = e3d::io::create_output(path).map_err(out_err)?;
     let mut file = std::io::BufWriter::new(f);
     let result = (|| -> CliResult {
         let mut stdout = std::io::stdout().lock();
@@ -134,10 +135,16 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
         })?;
         use std::io::Write as _;
         file.flush().map_err(out_err)?;
-        std::fs::rename(&tmp, path).map_err(out_err)
+        match &tmp {
+            Some(tmp) => std::fs::rename(tmp, path).map_err(out_err),
+            None => Ok(()),
+        }
     })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    if let Some(tmp) = &tmp {
+        if result.is_err() {
+            let _ = std::fs::remove_file(tmp);
+        }
+        e3d::io::forget_temp(tmp);
     }
     result
 }
