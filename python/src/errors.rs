@@ -5,6 +5,7 @@ use e3d::{LearnerKind, SweepError, WorldError};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use std::path::PathBuf;
 
 create_exception!(
     e3d,
@@ -176,6 +177,18 @@ pub(crate) fn finite_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
         )));
     }
     Ok(v)
+}
+
+/// A `table_cache` folder: refused when it exists and is not a folder
+/// (the outcomes would be computed and not kept, silently).
+pub(crate) fn cache_folder_arg(dir: Option<PathBuf>) -> PyResult<Option<PathBuf>> {
+    match dir {
+        Some(d) if d.exists() && !d.is_dir() => Err(PyValueError::new_err(format!(
+            "table_cache = {}: exists and is not a folder; expected the folder of the outcome cache (created if missing)",
+            d.display()
+        ))),
+        d => Ok(d),
+    }
 }
 
 /// `threads`: None (every core), or an integer >= 1.

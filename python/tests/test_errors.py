@@ -334,3 +334,16 @@ def test_callables_scenes_and_env_counts_are_checked_before_any_work():
         with pytest.raises(TypeError, match=r"^num_envs: expected an integer, found"):
             E3dVectorEnv("two_rooms", bad)
     assert E3dVectorEnv("two_rooms", np.int64(3)).num_envs == 3
+
+
+def test_a_table_cache_that_is_a_file_is_refused(tmp_path):
+    f = tmp_path / "afile"
+    f.write_text("x")
+    with pytest.raises(ValueError, match=r"^table_cache = .*afile: exists and is not a folder"):
+        e3d.run_session("puck_rooms", trials=10, table_cache=f)
+    with pytest.raises(ValueError, match=r"^table_cache = .*afile: exists and is not a folder"):
+        e3d.run_sessions("puck_rooms", trials=10, seeds=[0, 1], table_cache=f)
+    with pytest.raises(ValueError, match=r"^table_cache = .*afile: exists and is not a folder"):
+        e3d.run_sweep({"scenes": ["two_rooms"], "learners": ["e3d"], "sessions": 1, "trials": 10},
+                      table_cache=f)
+    assert f.read_text() == "x"

@@ -76,6 +76,19 @@ pub fn check_format(path: &Path, flag: &str, formats: &[&str], hint: &str) -> Cl
     )))
 }
 
+/// Refuses, before any work, a cache folder (`--table-cache DIR`,
+/// `scene table --cache DIR`) that exists and is not a folder: the outcomes
+/// would be computed and then not kept, the run otherwise silent about it.
+pub fn check_cache_folder(dir: &Path, flag: &str) -> CliResult {
+    if dir.exists() && !dir.is_dir() {
+        return Err(CliError::output(format!(
+            "{flag} {}: exists and is not a folder; expected the folder of the outcome cache (created if missing)",
+            dir.display()
+        )));
+    }
+    Ok(())
+}
+
 /// Writes a file whole or not at all, as a CLI error.
 pub fn write_file(path: &Path, bytes: &[u8]) -> CliResult {
     e3d::io::write_atomic(path, bytes)

@@ -59,6 +59,9 @@ struct OneSession<'a> {
 }
 
 pub fn run(a: RunArgs) -> CliResult {
+    if let Some(dir) = &a.table_cache {
+        super::output::check_cache_folder(dir, "--table-cache")?;
+    }
     let params = a.params.params()?;
     let scene = load_scene(&a.scene)?;
     if let Some(dir) = &a.out {

@@ -56,6 +56,9 @@ pub(crate) fn sweep_error(e: SweepError) -> CliError {
 }
 
 pub fn run(a: SweepArgs) -> CliResult {
+    if let Some(dir) = &a.table_cache {
+        super::output::check_cache_folder(dir, "--table-cache")?;
+    }
     let sweep = configured(&a)?;
     let threads = threads(&a);
     let shard = a.shard.unwrap_or(Shard::ALL);

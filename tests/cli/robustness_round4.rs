@@ -471,3 +471,37 @@ fn a_stream_output_is_written_through_whatever_its_name() {
         "the outcome line follows the trace"
     );
 }
+
+#[test]
+fn a_cache_folder_that_is_a_file_is_refused_before_any_work() {
+    let dir = temp_dir("cache_is_a_file");
+    let f = dir.join("afile");
+    std::fs::write(&f, "x").unwrap();
+    let f = f.to_string_lossy().into_owned();
+    let sweep = small_sweep(&dir, "s.ron");
+    let sweep = sweep.to_string_lossy().into_owned();
+    let out = dir.join("out").to_string_lossy().into_owned();
+    for args in [
+        vec!["scene", "table", "puck_rooms", "--cache", &f],
+        vec![
+            "scene",
+            "exec",
+            "puck_rooms",
+            "--table-cache",
+            &f,
+            "EEEEEEE",
+        ],
+        vec!["run", "puck_rooms", "--trials", "20", "--table-cache", &f],
+        vec!["sweep", &sweep, "--out", &out, "--table-cache", &f],
+    ] {
+        let o = e3d(&args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(3), "{args:?}: {err}");
+        assert!(
+            err.contains("exists and is not a folder"),
+            "{args:?}: {err}"
+        );
+    }
+    assert_eq!(std::fs::read_to_string(&f).unwrap(), "x");
+    assert!(!dir.join("out").exists(), "the sweep made no folder");
+}

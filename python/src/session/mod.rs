@@ -82,7 +82,7 @@ pub(crate) fn session_args(
     Ok(SessionArgs {
         params,
         options: ExecOptions {
-            cache: table_cache,
+            cache: crate::errors::cache_folder_arg(table_cache)?,
             memo_cap: DEFAULT_MEMO_CAP,
             force,
         },

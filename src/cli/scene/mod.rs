@@ -181,9 +181,10 @@ fn parse_point(s: &str) -> Result<[f64; 2], String> {
 }
 
 /// Refuses, before any work, an output file named for a format the
-/// subcommand does not write (`render --out x.png`).
+/// subcommand does not write (`render --out x.png`), and a cache folder
+/// that is a file.
 fn check_outputs(cmd: &SceneCmd) -> CliResult {
-    use super::output::check_format;
+    use super::output::{check_cache_folder, check_format};
     match cmd {
         SceneCmd::Render { animate, out, .. } => {
             let (formats, hint): (&[&str], &str) = if *animate {
@@ -196,7 +197,18 @@ fn check_outputs(cmd: &SceneCmd) -> CliResult {
             };
             check_format(out, "--out", formats, hint)
         }
-        SceneCmd::Exec { trace: Some(t), .. } => check_format(t, "--trace", &["csv"], ""),
+        SceneCmd::Exec {
+            trace, table_cache, ..
+        } => {
+            if let Some(t) = trace {
+                check_format(t, "--trace", &["csv"], "")?;
+            }
+            match table_cache {
+                Some(d) => check_cache_folder(d, "--table-cache"),
+                None => Ok(()),
+            }
+        }
+        SceneCmd::Table { cache: Some(d), .. } => check_cache_folder(d, "--cache"),
         _ => Ok(()),
     }
 }
