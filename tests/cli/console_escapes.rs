@@ -39,18 +39,19 @@ fn paths_in_progress_and_result_lines_are_escaped() {
 }
 
 #[test]
-fn warnings_on_stderr_are_escaped() {
+fn errors_on_stderr_are_escaped() {
     let dir = temp_dir("console-escapes-warn");
-    // a --table-cache that is a file, not a folder: the warning names it
+    // a --table-cache that is a file, not a folder: the error names it
     let cache = dir.join("cache\u{1b}[2J\u{7}");
     std::fs::write(&cache, b"not a folder").unwrap();
-    let o = ok(e3d(&[
+    let o = e3d(&[
         "run",
         "--trials",
         "20",
         "--table-cache",
         cache.to_str().unwrap(),
-    ]));
+    ]);
+    assert_eq!(o.status.code(), Some(3));
     let stderr = String::from_utf8(o.stderr).unwrap();
     assert!(stderr.contains("cache\\x1b[2J\\x07"), "{stderr}");
     assert!(
