@@ -99,16 +99,30 @@ pub fn is_temporary(name: &str) -> bool {
 /// ([`is_stream`]: `/dev/null`, `/dev/stdout`, a named pipe) is written
 /// through instead, never replaced.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let (tmp, mut f) = match create_output(path)? {
-        (Some(tmp), f) => (tmp, f),
-        (None, mut f) => return f.write_all(bytes).and_then(|()| f.flush()),
+    let (tmp, mut f) = create_output(path)?;
+    let written = f.write_all(bytes).and_then(|()| match tmp {
+        Some(_) => f.sync_all(),
+        None => f.flush(),
+    });
+    drop(f);
+    finish_output(tmp, path, written, |e| e)
+}
+
+/// Ends an output of [`create_output`] once its file is written and
+/// closed (`written`: how that went): a temporary file is renamed over
+/// `path`, or removed if the writing (or the renaming) failed; a stream
+/// needs nothing more. Returns the first error, `io_err` turning a
+/// renaming error into the caller's kind.
+pub fn finish_output<E>(
+    tmp: Option<PathBuf>,
+    path: &Path,
+    written: Result<(), E>,
+    io_err: impl FnOnce(io::Error) -> E,
+) -> Result<(), E> {
+    let Some(tmp) = tmp else {
+        return written;
     };
-    let result = (|| {
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        fs::rename(&tmp, path)
-    })();
+    let result = written.and_then(|()| fs::rename(&tmp, path).map_err(io_err));
     if result.is_err() {
         let _ = fs::remove_file(&tmp);
     }

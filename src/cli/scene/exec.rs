@@ -82,7 +82,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     // (a stream, such as /dev/stdout, is written through)
     let (tmp, f) = e3d::io::create_output(path).map_err(out_err)?;
     let mut file = std::io::BufWriter::new(f);
-    let result = (|| -> CliResult {
+    let written = (|| -> CliResult {
         let mut stdout = std::io::stdout().lock();
         let mut first = true;
         let label = format!("scene exec {}", scene.spec().name);
@@ -134,19 +134,10 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
             Ok(())
         })?;
         use std::io::Write as _;
-        file.flush().map_err(out_err)?;
-        match &tmp {
-            Some(tmp) => std::fs::rename(tmp, path).map_err(out_err),
-            None => Ok(()),
-        }
+        file.flush().map_err(out_err)
     })();
-    if let Some(tmp) = &tmp {
-        if result.is_err() {
-            let _ = std::fs::remove_file(tmp);
-        }
-        e3d::io::forget_temp(tmp);
-    }
-    result
+    drop(file);
+    e3d::io::finish_output(tmp, path, written, out_err)
 }
 
 /// A motion of `scene` without frames: what writes the trace's header.
