@@ -7,7 +7,7 @@ use crate::commands::commands_from;
 use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
 use crate::outcome::PyOutcome;
-use crate::pickling::{reduce, state, Fields};
+use crate::pickling::{pickled, Reduced};
 use crate::record::Grid;
 use crate::saved::{Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg, PyScene};
@@ -138,41 +138,12 @@ impl PyEpisodeRecord {
         Ok(self.grid.svg(&counts, "episodes", &title))
     }
 
-    /// Pickling (see `pickling`): every field, in the struct's order (the
-    /// grid's rows, columns and rewarded cells last).
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
-        let fields = state![py; self.seed, &self.learner, self.commands_per_episode,
-            self.num_effects, self.episodes, &self.starts, &self.contexts, &self.commands,
-            &self.effects, &self.rewards, self.first_reward_episode, self.cumulative_reward,
-            &self.entropy_per_start, self.grid.rows, self.grid.cols, &self.grid.rewarded];
-        reduce::<Self>(py, fields)
+    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
+        self.pickle_reduce(py)
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        let mut f = Fields::of(state, "EpisodeRecord", 16)?;
-        Ok(PyEpisodeRecord {
-            seed: f.take()?,
-            learner: f.take()?,
-            commands_per_episode: f.take()?,
-            num_effects: f.take()?,
-            episodes: f.take()?,
-            starts: f.take()?,
-            contexts: f.take()?,
-            commands: f.take()?,
-            effects: f.take()?,
-            rewards: f.take()?,
-            first_reward_episode: f.take()?,
-            cumulative_reward: f.take()?,
-            entropy_per_start: f.take()?,
-            grid: Grid {
-                rows: f.take()?,
-                cols: f.take()?,
-                rewarded: f.take()?,
-            },
-        })
+        Self::pickle_from(state)
     }
 
     fn __repr__(&self) -> String {
@@ -806,3 +777,8 @@ impl PyEpisodeWorld {
         )
     }
 }
+
+pickled!(PyEpisodeRecord, "EpisodeRecord" {
+    seed, learner, commands_per_episode, num_effects, episodes, starts, contexts, commands,
+    effects, rewards, first_reward_episode, cumulative_reward, entropy_per_start, grid,
+});

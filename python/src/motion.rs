@@ -1,7 +1,7 @@
 //! `Motion`: the whole motion of one command (`World.trace`).
 
 use crate::outcome::PyOutcome;
-use crate::pickling::{reduce, state, Fields};
+use crate::pickling::{pickled, Reduced};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -34,34 +34,12 @@ pub(crate) struct PyMotion {
 
 #[pymethods]
 impl PyMotion {
-    /// Pickling (see `pickling`): every field, in the struct's order.
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
-        let fields = state![py; &self.command, &self.bodies, &self.joints, &self.time, &self.x,
-            &self.y, &self.angle, &self.vx, &self.vy, &self.omega, &self.joint_angle,
-            &self.joint_velocity, self.outcome.clone()];
-        reduce::<Self>(py, fields)
+    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
+        self.pickle_reduce(py)
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        let mut f = Fields::of(state, "Motion", 13)?;
-        Ok(PyMotion {
-            command: f.take()?,
-            bodies: f.take()?,
-            joints: f.take()?,
-            time: f.take()?,
-            x: f.take()?,
-            y: f.take()?,
-            angle: f.take()?,
-            vx: f.take()?,
-            vy: f.take()?,
-            omega: f.take()?,
-            joint_angle: f.take()?,
-            joint_velocity: f.take()?,
-            outcome: f.take()?,
-        })
+        Self::pickle_from(state)
     }
 
     /// The number of frames (the start and every step).
@@ -154,3 +132,7 @@ pub(crate) fn motion_to_py(
         },
     })
 }
+
+pickled!(PyMotion, "Motion" {
+    command, bodies, joints, time, x, y, angle, vx, vy, omega, joint_angle, joint_velocity, outcome,
+});

@@ -1,7 +1,7 @@
 //! `Outcome` and `BatchOutcome`: what executing one command, or a batch,
 //! gives back.
 
-use crate::pickling::{reduce, state, Fields};
+use crate::pickling::{pickled, Reduced};
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -28,22 +28,23 @@ impl PyOutcome {
     fn __eq__(&self, o: &Self) -> bool {
         (self.effect, self.reward, self.x, self.y) == (o.effect, o.reward, o.x, o.y)
     }
-    /// Pickling (see `pickling`): `(effect, reward, x, y)`.
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
-        reduce::<Self>(py, state![py; self.effect, self.reward, self.x, self.y])
+    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
+        self.pickle_reduce(py)
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        let mut f = Fields::of(state, "Outcome", 4)?;
-        Ok(PyOutcome {
-            effect: f.take()?,
-            reward: f.take()?,
-            x: f.take()?,
-            y: f.take()?,
-        })
+        Self::pickle_from(state)
+    }
+}
+
+/// An `Outcome` held in another result (`Motion.outcome`) as a new Python
+/// object: what pickling that result writes.
+impl<'py> IntoPyObject<'py> for &PyOutcome {
+    type Target = PyOutcome;
+    type Output = Bound<'py, PyOutcome>;
+    type Error = PyErr;
+    fn into_pyobject(self, py: Python<'py>) -> PyResult<Bound<'py, PyOutcome>> {
+        Bound::new(py, self.clone())
     }
 }
 
@@ -65,21 +66,14 @@ impl PyBatch {
     fn __repr__(&self, py: Python<'_>) -> String {
         format!("BatchOutcome({} commands)", self.effect.bind(py).len())
     }
-    /// Pickling (see `pickling`): `(effect, reward, x, y)`.
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
-        reduce::<Self>(py, state![py; &self.effect, &self.reward, &self.x, &self.y])
+    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
+        self.pickle_reduce(py)
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        let mut f = Fields::of(state, "BatchOutcome", 4)?;
-        Ok(PyBatch {
-            effect: f.take()?,
-            reward: f.take()?,
-            x: f.take()?,
-            y: f.take()?,
-        })
+        Self::pickle_from(state)
     }
 }
+
+pickled!(PyOutcome, "Outcome" { effect, reward, x, y });
+pickled!(PyBatch, "BatchOutcome" { effect, reward, x, y });

@@ -1,8 +1,10 @@
 //! Pickling of the result classes (`Outcome`, `BatchOutcome`, `Motion`,
 //! `SessionRecord`, `SessionBatch`, `EpisodeRecord`): `__reduce__` gives
 //! `(cls._from_state, (state,))`, `state` a tuple of every field as Python
-//! holds it (numpy arrays pickle themselves), and `_from_state` takes the
-//! fields back in the same order, checking each one's type. So the results
+//! holds it (numpy arrays pickle themselves; an effect grid as a dict, a
+//! `Motion`'s outcome as an `Outcome`), and `_from_state` takes the fields
+//! back in the same order, checking each one's type. [`pickled`] writes
+//! both ways from one list of the fields. So the results
 //! cross process boundaries (multiprocessing, joblib) and `copy.deepcopy`
 //! works on them.
 
@@ -12,20 +14,41 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use pyo3::PyTypeInfo;
 
-/// The state of a pickled object, one item per field (see the module).
-macro_rules! state {
-    ($py:expr; $($field:expr),* $(,)?) => {{
-        use pyo3::IntoPyObjectExt;
-        vec![$(($field).into_bound_py_any($py)?),*]
-    }};
+/// What `__reduce__` returns: `(cls._from_state, (state,))`.
+pub(crate) type Reduced<'py> = PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))>;
+
+/// Pickling for a class of `fields` (each a Python value, or a type that
+/// converts to and from one: see the module), in a plain `impl` block:
+/// `pickle_reduce` (what `__reduce__` returns) and `pickle_from` (what
+/// `_from_state` returns), the fields listed once for both ways and their
+/// number counted from the list.
+macro_rules! pickled {
+    ($ty:ident, $class:literal { $($field:ident),* $(,)? }) => {
+        impl $ty {
+            /// `(cls._from_state, (fields,))`, every field in the list's order.
+            fn pickle_reduce<'py>(&self, py: Python<'py>) -> $crate::pickling::Reduced<'py> {
+                use pyo3::IntoPyObjectExt;
+                let state = vec![$((&self.$field).into_bound_py_any(py)?),*];
+                $crate::pickling::reduce::<Self>(py, state)
+            }
+
+            /// The object of a state `pickle_reduce` gave, each field's type
+            /// checked.
+            fn pickle_from(state: &Bound<'_, pyo3::types::PyTuple>) -> PyResult<Self> {
+                let names: &[&str] = &[$(stringify!($field)),*];
+                let mut f = $crate::pickling::Fields::of(state, $class, names.len())?;
+                Ok($ty { $($field: f.take()?),* })
+            }
+        }
+    };
 }
-pub(crate) use state;
+pub(crate) use pickled;
 
 /// `(cls._from_state, (state,))`, what `__reduce__` returns.
 pub(crate) fn reduce<'py, T: PyTypeInfo>(
     py: Python<'py>,
     state: Vec<Bound<'py, PyAny>>,
-) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
+) -> Reduced<'py> {
     let from_state = py.get_type::<T>().getattr("_from_state")?;
     Ok((from_state, (PyTuple::new(py, state)?,)))
 }

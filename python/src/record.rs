@@ -1,6 +1,6 @@
 //! What sessions recorded: `SessionRecord` and `SessionBatch`.
 
-use crate::pickling::{reduce, state, Fields};
+use crate::pickling::{pickled, Reduced};
 use crate::scene::PyScene;
 use e3d::{Learner, Metrics, SessionRecord, ValueSessionRecord};
 use numpy::ndarray::Array2;
@@ -56,7 +56,8 @@ pub(crate) struct PyRecord {
 
 /// The effect grid of a session's scene: rows, columns, and whether each
 /// cell is rewarded.
-#[derive(Clone)]
+#[derive(Clone, IntoPyObjectRef, FromPyObject)]
+#[pyo3(from_item_all)]
 pub(crate) struct Grid {
     pub(crate) rows: usize,
     pub(crate) cols: usize,
@@ -202,43 +203,12 @@ pub(crate) fn slot_policies(
 
 #[pymethods]
 impl PyRecord {
-    /// Pickling (see `pickling`): every field, in the struct's order, the
-    /// grid's rows, columns and rewarded cells last.
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
-        let g = &self.grid;
-        let fields = state![py; &self.scene, &self.learner, self.seed, self.trials,
-            &self.commands, &self.effects, &self.rewards, &self.metrics, &self.effect_counts,
-            &self.final_policy, &self.policy_effect_distribution, &self.q, &self.effect_model,
-            &self.execution, g.rows, g.cols, &g.rewarded];
-        reduce::<Self>(py, fields)
+    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
+        self.pickle_reduce(py)
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        let mut f = Fields::of(state, "SessionRecord", 17)?;
-        Ok(PyRecord {
-            scene: f.take()?,
-            learner: f.take()?,
-            seed: f.take()?,
-            trials: f.take()?,
-            commands: f.take()?,
-            effects: f.take()?,
-            rewards: f.take()?,
-            metrics: f.take()?,
-            effect_counts: f.take()?,
-            final_policy: f.take()?,
-            policy_effect_distribution: f.take()?,
-            q: f.take()?,
-            effect_model: f.take()?,
-            execution: f.take()?,
-            grid: Grid {
-                rows: f.take()?,
-                cols: f.take()?,
-                rewarded: f.take()?,
-            },
-        })
+        Self::pickle_from(state)
     }
 
     /// The session as a picture, for notebooks: the effect grid with each
@@ -356,40 +326,12 @@ pub(crate) struct PyBatchRecord {
 
 #[pymethods]
 impl PyBatchRecord {
-    /// Pickling (see `pickling`): every field, in the struct's order, the
-    /// grid's rows, columns and rewarded cells in the grid's place.
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyTuple>,))> {
-        let g = &self.grid;
-        let fields = state![py; &self.scene, &self.learner, &self.seeds, self.trials,
-            &self.commands, &self.effects, &self.rewards, &self.metrics, &self.execution,
-            g.rows, g.cols, &g.rewarded, &self.per_session, &self.counts, &self.policies];
-        reduce::<Self>(py, fields)
+    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
+        self.pickle_reduce(py)
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        let mut f = Fields::of(state, "SessionBatch", 15)?;
-        Ok(PyBatchRecord {
-            scene: f.take()?,
-            learner: f.take()?,
-            seeds: f.take()?,
-            trials: f.take()?,
-            commands: f.take()?,
-            effects: f.take()?,
-            rewards: f.take()?,
-            metrics: f.take()?,
-            execution: f.take()?,
-            grid: Grid {
-                rows: f.take()?,
-                cols: f.take()?,
-                rewarded: f.take()?,
-            },
-            per_session: f.take()?,
-            counts: f.take()?,
-            policies: f.take()?,
-        })
+        Self::pickle_from(state)
     }
 
     fn __len__(&self) -> usize {
@@ -576,3 +518,12 @@ pub(crate) fn batch_to_py(
         policies,
     })
 }
+
+pickled!(PyRecord, "SessionRecord" {
+    scene, learner, seed, trials, commands, effects, rewards, metrics, effect_counts,
+    final_policy, policy_effect_distribution, q, effect_model, execution, grid,
+});
+pickled!(PyBatchRecord, "SessionBatch" {
+    scene, learner, seeds, trials, commands, effects, rewards, metrics, execution, grid,
+    per_session, counts, policies,
+});
