@@ -53,6 +53,14 @@ from gymnasium.vector.utils import batch_space
 from . import EpisodeWorld, Scene
 
 
+def _integer(v: Any, name: str) -> int:
+    """``v`` if it is an integer (a Python or numpy int, not a bool), else a
+    ``TypeError`` naming ``name``, as ``run_session`` words it."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)):
+        raise TypeError(f"{name}: expected an integer, found {type(v).__name__}")
+    return int(v)
+
+
 def _checked_seed(seed: Any) -> Optional[int]:
     """``seed`` as ``reset`` takes it: ``None`` or an integer from 0 to
     2^64 - 1; else a ``ValueError`` (``TypeError`` for another type)
@@ -60,11 +68,10 @@ def _checked_seed(seed: Any) -> Optional[int]:
     its ``Error``, which is neither)."""
     if seed is None:
         return None
-    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
-        raise TypeError(f"seed: expected an integer, found {type(seed).__name__}")
-    if not 0 <= int(seed) < 2**64:
+    value = _integer(seed, "seed")
+    if not 0 <= value < 2**64:
         raise ValueError(f"seed = {seed}: expected an integer from 0 to 2^64 - 1")
-    return int(seed)
+    return value
 
 __all__ = ["E3dEnv", "E3dVectorEnv", "ENV_ID"]
 
@@ -246,9 +253,7 @@ class E3dVectorEnv(VectorEnv):
         render_mode: Optional[str] = None,
     ):
         super().__init__()
-        if isinstance(num_envs, (bool, np.bool_)) or not isinstance(num_envs, (int, np.integer)):
-            raise TypeError(f"num_envs: expected an integer, found {type(num_envs).__name__}")
-        if int(num_envs) < 1:
+        if _integer(num_envs, "num_envs") < 1:
             raise ValueError(f"num_envs = {num_envs}: expected an integer from 1")
         self.env = E3dEnv(scene, use_reward=use_reward, render_mode=render_mode)
         if self.env.episodes is not None:
