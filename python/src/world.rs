@@ -189,14 +189,17 @@ impl PyWorld {
     /// once) looked up or simulated once, the new ones in parallel.
     ///
     /// With a `watch`, each piece adds its commands to `watch.done` (a
-    /// repeated command counts as done at once), and once the watch is
-    /// cancelled the pieces not yet started are skipped (the call fails).
+    /// repeated or known command counts as done at once), and once the
+    /// watch is cancelled the pieces not yet started are skipped (the call
+    /// fails).
     fn run(&self, commands: &[Command], watch: Option<&Watch>) -> Result<Vec<Outcome>, WorldError> {
         let space = &self.scene.space;
         let keyer = self.take();
         // (index of the distinct command, whether it is the mirror image)
         let mut slot: Vec<(usize, bool)> = Vec::with_capacity(commands.len());
         let mut unique: Vec<Command> = Vec::new();
+        // the distinct commands the memo does not know yet, by index
+        let mut new = Vec::new();
         if self.memoised() {
             let mut first: HashMap<u64, usize> = HashMap::new();
             for c in commands {
@@ -204,23 +207,60 @@ impl PyWorld {
                 let key = keyer.mirror_of(c).map_or(own, |m| space.index_of(&m));
                 let k = *first.entry(key).or_insert_with(|| {
                     unique.push(c.clone());
+                    if self.memo.peek(key).is_none() {
+                        new.push(unique.len() - 1);
+                    }
                     unique.len() - 1
                 });
                 slot.push((k, space.index_of(&unique[k]) != own));
             }
         } else {
             unique = commands.to_vec();
+            new.extend(0..unique.len());
             slot.extend((0..commands.len()).map(|k| (k, false)));
         }
         if let Some(w) = watch {
-            w.base
-                .store((commands.len() - unique.len()) as u64, Ordering::Relaxed);
+            let done = commands.len() - new.len();
+            w.base.store(done as u64, Ordering::Relaxed);
         }
-        let piece = unique
+        let (results, keyer) = self.outcomes(&unique, &new, keyer, watch);
+        let mut out = Vec::with_capacity(commands.len());
+        for (c, &(k, mirrored)) in commands.iter().zip(&slot) {
+            match &results[k] {
+                Ok(o) if mirrored => out.push(keyer.mirror_outcome(*o)),
+                Ok(o) => out.push(*o),
+                // the error as the world words it for this very command
+                Err(e) if mirrored => {
+                    let mut w = self.take();
+                    let r = w.execute(c);
+                    self.give(w);
+                    return Err(r.err().unwrap_or_else(|| e.clone()));
+                }
+                Err(e) => return Err(e.clone()),
+            }
+        }
+        self.give(keyer);
+        Ok(out)
+    }
+
+    /// The result of each of `unique`: those of `new` (indices into
+    /// `unique`, the commands the memo did not know) simulated in parallel
+    /// pieces of even size, so that no thread waits on another holding
+    /// more new commands; the others looked up on this thread, through
+    /// `keyer` (returned).
+    fn outcomes(
+        &self,
+        unique: &[Command],
+        new: &[usize],
+        keyer: Box<dyn World + Send>,
+        watch: Option<&Watch>,
+    ) -> (Vec<Result<Outcome, WorldError>>, Box<dyn World + Send>) {
+        let simulated: Vec<Command> = new.iter().map(|&k| unique[k].clone()).collect();
+        let piece = simulated
             .len()
             .div_ceil(rayon::current_num_threads())
             .clamp(1, self.copies);
-        let parts: Vec<Vec<Result<Outcome, WorldError>>> = unique
+        let parts: Vec<Vec<Result<Outcome, WorldError>>> = simulated
             .par_chunks(piece)
             .map(|part| {
                 if watch.is_some_and(Watch::cancelled) {
@@ -242,24 +282,29 @@ impl PyWorld {
                 out
             })
             .collect();
-        let results: Vec<Result<Outcome, WorldError>> = parts.into_iter().flatten().collect();
-        let mut out = Vec::with_capacity(commands.len());
-        for (c, &(k, mirrored)) in commands.iter().zip(&slot) {
-            match &results[k] {
-                Ok(o) if mirrored => out.push(keyer.mirror_outcome(*o)),
-                Ok(o) => out.push(*o),
-                // the error as the world words it for this very command
-                Err(e) if mirrored => {
-                    let mut w = self.take();
-                    let r = w.execute(c);
-                    self.give(w);
-                    return Err(r.err().unwrap_or_else(|| e.clone()));
-                }
-                Err(e) => return Err(e.clone()),
+        let mut results: Vec<Option<Result<Outcome, WorldError>>> = vec![None; unique.len()];
+        for (&k, r) in new.iter().zip(parts.into_iter().flatten()) {
+            results[k] = Some(r);
+        }
+        let known: Vec<usize> = (0..unique.len())
+            .filter(|&k| results[k].is_none())
+            .collect();
+        let mut keyer = keyer;
+        if !known.is_empty() {
+            let commands: Vec<Command> = known.iter().map(|&k| unique[k].clone()).collect();
+            let mut w = Memoized::new(keyer, &self.memo);
+            let mut out = Vec::with_capacity(commands.len());
+            w.execute_batch(&commands, &mut out);
+            keyer = w.into_inner();
+            for (&k, r) in known.iter().zip(out) {
+                results[k] = Some(r);
             }
         }
-        self.give(keyer);
-        Ok(out)
+        let results = results
+            .into_iter()
+            .map(|r| r.expect("every command has a result"))
+            .collect();
+        (results, keyer)
     }
 }
 

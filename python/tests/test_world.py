@@ -86,6 +86,26 @@ def test_the_memo_keeps_each_command_once():
     assert again.x.tolist() == first.x[::-1].tolist()
 
 
+def test_a_batch_of_known_and_new_commands():
+    # the known commands are looked up, the new ones simulated in even
+    # pieces: the outcomes of a new world, in order, each kept once
+    scene = e3d.Scene.builtin("puck_rooms")
+    cmds = random_commands(scene, 120, seed=5)
+    w = scene.world()
+    w.execute_batch(cmds[::3])
+    mixed = w.execute_batch(cmds)
+    fresh = scene.world().execute_batch(cmds)
+    assert mixed.effect.tolist() == fresh.effect.tolist()
+    assert mixed.x.tolist() == fresh.x.tolist()
+    assert mixed.y.tolist() == fresh.y.tolist()
+    assert w.memo_len == len({bytes(r) for r in cmds})
+    done = []
+    again = w.execute_batch(np.concatenate([cmds, random_commands(scene, 40, seed=6)]),
+                            progress=lambda d, t: done.append((d, t)))
+    assert done[-1] == (160, 160)
+    assert again.effect[:120].tolist() == fresh.effect.tolist()
+
+
 def test_mirror_images_share_an_entry_and_stay_exact():
     # arm7 declares a FlipY symmetry: a command and its mirror image are one entry
     scene = e3d.Scene.builtin("arm7")
