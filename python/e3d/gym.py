@@ -42,7 +42,7 @@ registers the environment as ``"e3d/E3d-v0"``:
 from __future__ import annotations
 
 import os
-from typing import Any, Optional, Union
+from typing import Any, Mapping, Optional, Union
 
 import gymnasium as gym
 import numpy as np
@@ -61,6 +61,14 @@ def _integer(v: Any, name: str) -> int:
     return int(v)
 
 
+def _flag(v: Any, name: str) -> bool:
+    """``v`` if it is a bool (Python's or numpy's), else a ``TypeError``
+    naming ``name`` (a string such as ``"no"`` would be taken as True)."""
+    if not isinstance(v, (bool, np.bool_)):
+        raise TypeError(f"{name}: expected True or False, found {type(v).__name__}")
+    return bool(v)
+
+
 def _checked_seed(seed: Any) -> Optional[int]:
     """``seed`` as ``reset`` takes it: ``None`` or an integer from 0 to
     2^64 - 1; else a ``ValueError`` (``TypeError`` for another type)
@@ -72,6 +80,7 @@ def _checked_seed(seed: Any) -> Optional[int]:
     if not 0 <= value < 2**64:
         raise ValueError(f"seed = {seed}: expected an integer from 0 to 2^64 - 1")
     return value
+
 
 __all__ = ["E3dEnv", "E3dVectorEnv", "ENV_ID"]
 
@@ -88,13 +97,16 @@ class E3dEnv(gym.Env):
     scene:
         A ``Scene``, or a scene file's path or a built-in scene's name.
     use_reward:
-        ``False`` gives reward 0 always (the paper's task 1).
+        ``False`` gives reward 0 always (the paper's task 1); a bool
+        (Python's or numpy's), else ``TypeError``.
     render_mode:
         ``None``, or ``"rgb_array"``: ``render()`` returns the scene's
         picture (``Scene.render``, uint8 ``(H, W, 3)``) with the path of
         the last step's command (the bare scene before any step).
     commands:
-        The commands of an episode, ``K`` (1 to 64).
+        The commands of an episode, ``K`` (1 to 64; ``None``: 1; a
+        continuous scene takes 1 only): an integer (not a bool), else
+        ``TypeError``.
     observe:
         ``None``, ``"start"``, ``"state"`` or ``"blind"``: what the
         observation is on episodes (see the module's text).
@@ -110,7 +122,7 @@ class E3dEnv(gym.Env):
         scene: Union[Scene, str],
         use_reward: bool = True,
         render_mode: Optional[str] = None,
-        commands: int = 1,
+        commands: Optional[int] = 1,
         observe: Optional[str] = None,
     ):
         super().__init__()
@@ -127,7 +139,8 @@ class E3dEnv(gym.Env):
             )
         self.scene = scene if isinstance(scene, Scene) else Scene.resolve(scene)
         self.world = self.scene.world()
-        self.use_reward = bool(use_reward)
+        self.use_reward = _flag(use_reward, "use_reward")
+        k = 1 if commands is None else _integer(commands, "commands")
         self.action_space: spaces.Space[Any]
         if self.scene.is_continuous:
             ranges = np.array(self.scene.value_ranges, dtype=np.float64)
@@ -141,11 +154,11 @@ class E3dEnv(gym.Env):
         self._start = np.int64(self.scene.start_effect)
         self.episodes: Optional[EpisodeWorld] = None
         if not self.scene.is_continuous:
-            ep = EpisodeWorld(self.scene, commands, observe, self.use_reward)
+            ep = EpisodeWorld(self.scene, k, observe, self.use_reward)
             if ep.commands > 1 or observe is not None or ep.num_starts > 1:
                 self.episodes = ep
                 self.observation_space = spaces.Discrete(ep.num_contexts)
-        elif int(commands) != 1 or observe is not None:
+        elif k != 1 or observe is not None:
             raise ValueError(
                 f"scene `{self.scene.name}` takes continuous values: its episodes are one command"
             )
@@ -154,14 +167,19 @@ class E3dEnv(gym.Env):
     def reset(
         self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
     ) -> tuple[np.int64, dict[str, Any]]:
-        super().reset(seed=_checked_seed(seed))
+        seed = _checked_seed(seed)
+        if options is not None and not isinstance(options, Mapping):
+            raise TypeError(f"options: expected None or a dict such as {{'start': 0}}, found {type(options).__name__}")
+        start = (options or {}).get("start")
+        if start is not None:
+            start = _integer(start, "start")
+        super().reset(seed=seed)
         self._last = None
         if self.episodes is None:
             return self._start, {}
         if seed is None and not self._seeded:
             seed = int(self.np_random.integers(2**63))
         self._seeded = True
-        start = (options or {}).get("start")
         context = self.episodes.reset(seed, start)
         return np.int64(context), {"start": self.episodes.start}
 
@@ -169,7 +187,14 @@ class E3dEnv(gym.Env):
         """A continuous scene's values for an action in ``[-1, 1]`` per slot
         (clamped): ``low + (u + 1) / 2 * (high - low)``, ``high`` at 1; one
         action ``[slots]``, or with ``rows`` one per row ``[n, slots]``. An
-        action of another shape, or not finite, raises ``ValueError``."""
+        action of another shape, or not finite, raises ``ValueError``, and
+        so does a scene of symbols (its actions are symbol indices)."""
+        if not self.scene.is_continuous:
+            raise ValueError(
+                f"values_of: scene `{self.scene.name}` takes symbols, not continuous values: "
+                "its actions are symbol indices, one per slot"
+            )
+        rows = _flag(rows, "rows")
         u = np.asarray(action, dtype=np.float64)
         n = self.scene.num_slots
         if u.ndim != 1 + rows or u.shape[-1] != n:
@@ -236,7 +261,8 @@ class E3dVectorEnv(VectorEnv):
 
     ``render_mode="rgb_array"``: ``render()`` returns a tuple of
     ``num_envs`` pictures (``Scene.render``), each with the path of its
-    copy's last command.
+    copy's last command (the bare scene before any step and after
+    ``reset()``, as ``E3dEnv``).
     """
 
     metadata: dict[str, Any] = {
@@ -244,6 +270,9 @@ class E3dVectorEnv(VectorEnv):
         "render_fps": 1,
         "autoreset_mode": AutoresetMode.SAME_STEP,
     }
+
+    #: the most copies (each step's arrays hold one row per copy)
+    MAX_NUM_ENVS = 1 << 20
 
     def __init__(
         self,
@@ -253,8 +282,8 @@ class E3dVectorEnv(VectorEnv):
         render_mode: Optional[str] = None,
     ):
         super().__init__()
-        if _integer(num_envs, "num_envs") < 1:
-            raise ValueError(f"num_envs = {num_envs}: expected an integer from 1")
+        if not 1 <= _integer(num_envs, "num_envs") <= self.MAX_NUM_ENVS:
+            raise ValueError(f"num_envs = {num_envs}: expected an integer from 1 to {self.MAX_NUM_ENVS}")
         self.env = E3dEnv(scene, use_reward=use_reward, render_mode=render_mode)
         if self.env.episodes is not None:
             raise ValueError(
@@ -274,12 +303,25 @@ class E3dVectorEnv(VectorEnv):
     def reset(
         self, *, seed: Optional[Union[int, list[Optional[int]]]] = None, options: Optional[dict[str, Any]] = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        if isinstance(seed, list):
+        if isinstance(seed, (list, tuple)):
+            # gymnasium's form: one seed per copy; the copies share one
+            # world, whose start is the same whatever the seed: the first
+            # seeds the spaces
+            if len(seed) != self.num_envs:
+                raise ValueError(
+                    f"seed: expected None, an integer or a list of num_envs = {self.num_envs} seeds, "
+                    f"found a list of {len(seed)}"
+                )
+            for one in seed:
+                _checked_seed(one)
             seed = seed[0]
         seed = _checked_seed(seed)
+        if options is not None and not isinstance(options, Mapping):
+            raise TypeError(f"options: expected None or a dict, found {type(options).__name__}")
         super().reset(seed=seed)
         if seed is not None:
             self.action_space.seed(seed)
+        self._last = None
         return self._start.copy(), {}
 
     def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:

@@ -56,7 +56,7 @@ except ImportError:
     _Base = _StandIn
 
 from ._e3d import Scene
-from .gym import E3dVectorEnv
+from .gym import E3dVectorEnv, _flag, _integer
 
 
 class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-ignore]
@@ -67,6 +67,7 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
     MAX_DISCRETE = 1 << 20
 
     def __init__(self, scene: Union[Scene, str], num_envs: int, use_reward: bool = True, discrete: bool = False):
+        discrete = _flag(discrete, "discrete")
         self.venv = E3dVectorEnv(scene, num_envs, use_reward=use_reward)
         action_space = self.venv.single_action_space
         self.discrete = discrete
@@ -131,11 +132,20 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
         pass
 
     def _indices(self, indices: Union[None, int, Sequence[int]]) -> list[int]:
+        """The copies ``indices`` names (``None``: all; an integer or a
+        sequence of integers, numpy's too, each from 0 to ``num_envs - 1``,
+        else ``TypeError``/``ValueError`` naming ``indices``)."""
         if indices is None:
             return list(range(self.num_envs))
-        if isinstance(indices, int):
-            return [indices]
-        return list(indices)
+        if isinstance(indices, (str, bytes)) or not hasattr(indices, "__iter__"):
+            items = [indices]
+        else:
+            items = list(indices)
+        out = [_integer(i, "indices") for i in items]
+        for i in out:
+            if not 0 <= i < self.num_envs:
+                raise ValueError(f"indices: {i} is no copy's index: expected integers from 0 to {self.num_envs - 1}")
+        return out
 
     def get_attr(self, attr_name: str, indices: Union[None, int, Sequence[int]] = None) -> list[Any]:
         return [getattr(self.venv.env, attr_name) for _ in self._indices(indices)]

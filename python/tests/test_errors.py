@@ -347,3 +347,56 @@ def test_a_table_cache_that_is_a_file_is_refused(tmp_path):
         e3d.run_sweep({"scenes": ["two_rooms"], "learners": ["e3d"], "sessions": 1, "trials": 10},
                       table_cache=f)
     assert f.read_text() == "x"
+
+
+def test_sb3_adapter_arguments_are_checked_with_their_names():
+    pytest.importorskip("gymnasium")
+    from e3d.gym import E3dVectorEnv
+    from e3d.sb3 import E3dSB3VecEnv
+
+    with pytest.raises(ValueError, match=r"^num_envs = 1180591620717411303424: expected an integer from 1 to"):
+        E3dSB3VecEnv("two_rooms", 2**70)
+    with pytest.raises(TypeError, match=r"^num_envs: expected an integer, found bool"):
+        E3dSB3VecEnv("two_rooms", True)
+    for bad in ("yes", 1, None):
+        with pytest.raises(TypeError, match=r"^discrete: expected True or False, found"):
+            E3dSB3VecEnv("two_rooms", 2, discrete=bad)
+    with pytest.raises(TypeError, match=r"^use_reward: expected True or False, found str"):
+        E3dSB3VecEnv("two_rooms", 2, use_reward="no")
+    assert E3dSB3VecEnv("two_rooms", 2, discrete=np.True_).discrete is True
+    venv = E3dSB3VecEnv("two_rooms", 3)
+    assert venv.get_attr("use_reward", np.int64(2)) == [True]
+    assert venv.get_attr("use_reward", [0, np.int64(2)]) == [True, True]
+    assert venv.get_attr("use_reward", []) == []
+    for bad in (True, 1.0, "0", [0, True]):
+        with pytest.raises(TypeError, match=r"^indices: expected an integer, found"):
+            venv.get_attr("use_reward", bad)
+    for bad in (3, -1, 2**70, [0, 3]):
+        with pytest.raises(ValueError, match=r"^indices: -?\d+ is no copy's index: expected integers from 0 to 2$"):
+            venv.env_is_wrapped(object, bad)
+    assert E3dVectorEnv.MAX_NUM_ENVS == 1 << 20
+
+
+def test_docs_python_lists_the_learners_as_the_library_does(root):
+    # docs/python.md quotes the unknown-learner message and names the
+    # learners that run on a continuous scene: both as the library says
+    import re
+
+    text = " ".join((root / "docs" / "python.md").read_text().split())
+    with pytest.raises(ValueError) as e:
+        e3d.run_session("two_rooms", learner="nope", trials=1)
+    assert f"(`{e.value}`)" in text
+    with pytest.raises(ValueError) as e:
+        e3d.run_session("arm7_continuous", learner="egreedy", trials=1)
+    assert str(e.value) in text
+    section = text[text.index("### Continuous scenes"):text.index("## Worlds")]
+    runs = re.search(r"`run_sessions` take (.*?); the learners of symbols only \((.*?)\) raise", section)
+    assert runs, section
+    take, refuse = (re.findall(r'"(\w+)"', part) for part in runs.groups())
+    assert sorted(take + refuse) == sorted(LEARNERS)
+    for name in take:
+        assert len(e3d.run_sessions("arm7_continuous", learner=name, trials=3, seeds=[0, 1])) == 2
+    for name in refuse:
+        with pytest.raises(ValueError, match=rf"^learner `{name}` takes symbols; continuous commands take one of: "
+                                             + ", ".join(take) + "$"):
+            e3d.run_session("arm7_continuous", learner=name, trials=3)

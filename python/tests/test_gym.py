@@ -123,3 +123,69 @@ def test_rgb_array_render():
     venv.step(venv.scene.parse(["SEEEEES", "EEEEEEE"]))
     pics = venv.render()
     assert len(pics) == 2 and pics[0].tolist() == drawn.tolist()
+
+
+def test_commands_is_an_integer_checked_as_the_others():
+    # None is the default (1), as elsewhere; a float, a str or a bool is refused
+    assert E3dEnv("arm7_continuous", commands=None).episodes is None
+    assert E3dEnv("two_rooms", commands=None).episodes is None
+    assert E3dEnv("arm7_continuous", commands=np.int64(1)).episodes is None
+    assert E3dEnv("two_rooms", commands=np.int64(2)).episodes.commands == 2
+    for scene in ("arm7_continuous", "two_rooms"):
+        for bad in (1.9, "1", True, 1.0):
+            with pytest.raises(TypeError, match=r"^commands: expected an integer, found"):
+                E3dEnv(scene, commands=bad)
+    with pytest.raises(ValueError, match="takes continuous values: its episodes are one command"):
+        E3dEnv("arm7_continuous", commands=2)
+
+
+def test_values_of_on_a_scene_of_symbols_says_it_takes_symbols():
+    with pytest.raises(ValueError, match=r"^values_of: scene `two_rooms` takes symbols"):
+        E3dEnv("two_rooms").values_of(np.zeros(7))
+    env = E3dEnv("arm7_continuous")
+    assert env.values_of(np.ones(7)).tolist() == [hi for _, hi in env.scene.value_ranges]
+    with pytest.raises(TypeError, match=r"^rows: expected True or False"):
+        env.values_of(np.zeros((2, 7)), rows="yes")
+
+
+def test_use_reward_is_a_bool():
+    for bad in ("no", 0, 1, None, "False"):
+        with pytest.raises(TypeError, match=r"^use_reward: expected True or False, found"):
+            E3dEnv("two_rooms", use_reward=bad)
+    assert E3dEnv("two_rooms", use_reward=np.False_).use_reward is False
+    env = E3dEnv("two_rooms", use_reward=False)
+    env.reset()
+    assert env.step(env.scene.parse("SEEEEES")[0])[1] == 0.0
+
+
+def test_reset_options_and_start_are_checked(root):
+    env = E3dEnv(str(root / "scenes" / "two_rooms_contexts.ron"))
+    assert env.reset(seed=0, options={"start": np.int64(1)})[1] == {"start": 1}
+    for bad in (True, 1.0, "1"):
+        with pytest.raises(TypeError, match=r"^start: expected an integer, found"):
+            env.reset(options={"start": bad})
+    with pytest.raises(TypeError, match=r"^options: expected None or a dict"):
+        env.reset(options=[1])
+    with pytest.raises(ValueError, match=r"^start = 5"):
+        env.reset(options={"start": 5})
+
+
+@pytest.mark.parametrize("name", ["two_rooms", "arm7_continuous"])
+def test_check_env_warns_as_docs_python_says(name):
+    # docs/python.md: no warning on make(...).unwrapped nor on a bare E3dEnv
+    # with skip_render_check=True; one of the checker's own warnings each
+    # on a bare E3dEnv (no spec) and on make's wrapped environment
+    import warnings
+
+    def warned(env, **kw):
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            check_env(env, **kw)
+        return [str(x.message) for x in w]
+
+    assert warned(gym.make("e3d/E3d-v0", scene=name).unwrapped) == []
+    assert warned(E3dEnv(name), skip_render_check=True) == []
+    bare = warned(E3dEnv(name))
+    assert len(bare) == 1 and "Not able to test alternative render modes due to the environment not having a spec" in bare[0]
+    wrapped = warned(gym.make("e3d/E3d-v0", scene=name))
+    assert len(wrapped) == 1 and "is different from the unwrapped version" in wrapped[0]

@@ -205,3 +205,86 @@ def test_scenes_and_names_are_strings_or_paths(root):
             e3d.sweep_text({**d, "scenes": bad})
     with pytest.raises(TypeError, match=r"^name: expected a string"):
         e3d.sweep_text({**d, "scenes": ["two_rooms"], "name": 7})
+
+
+SWEEP_BASE = {"scenes": ["four_rooms"], "learners": ["e3d"], "sessions": 1, "trials": 50}
+BASE_TEXT = 'scenes: ["four_rooms"], learners: [e3d], sessions: 1, trials: 50'
+
+
+@pytest.mark.parametrize("extra, ron", [
+    ({"closed_loop": True}, ["closed_loop: true"]),
+    ({"closed_loop": np.True_, "gamma": 0.5}, ["closed_loop: true", "gamma: 0.5"]),
+    ({"observe": "State"}, ["observe: State"]),
+    ({"observe": "state"}, ["observe: State"]),  # as run_episodes spells it
+    ({"observe": "start", "commands": np.int64(2)}, ["observe: StartContext", "commands: 2"]),
+    ({"observe": "Blind", "commands": 2}, ["observe: Blind", "commands: 2"]),
+    ({"use_reward": (np.False_, True)}, ["use_reward: [false, true]"]),
+    ({"params": {"beta": (1, 10), "k": np.int64(3), "sigma": np.float32(0.5)}},
+     ["params: (beta: [1, 10], k: 3, sigma: 0.5)"]),
+    ({"params": {"beta": {"scale": "Log", "from": 1, "to": 100, "steps": np.int64(3)}}},
+     ["params: (beta: (scale: Log, from: 1, to: 100, steps: 3))"]),
+    ({"observe": None, "gamma": None, "metrics": None, "commands": None}, []),  # None: the default
+])
+def test_dict_values_are_written_in_their_fields_ron_form(extra, ron, tmp_path):
+    # each value in its field's RON form: the same sweep as the file
+    text = e3d.sweep_text({**SWEEP_BASE, **extra})
+    assert text.splitlines()[5:-1] == [f"    {part}," for part in ron], text
+    e3d.run_sweep({**SWEEP_BASE, **extra}, threads=1, out=tmp_path / "d")
+    e3d.run_sweep(f"Sweep({BASE_TEXT}, {', '.join(ron)})", threads=1, out=tmp_path / "f")
+    assert (tmp_path / "d" / "results.csv").read_bytes() == (tmp_path / "f" / "results.csv").read_bytes()
+
+
+def test_dict_metrics_of_start_contexts_by_column_name():
+    text = e3d.sweep_text({**SWEEP_BASE, "commands": 2, "metrics": [
+        "normalized_entropy_context_0", "cumulative_reward_context(0)", "first_reward_trial_context_0",
+        "normalized_entropy_last_1000"]})
+    assert ("metrics: [normalized_entropy_context(0), cumulative_reward_context(0), "
+            "first_reward_trial_context(0), normalized_entropy_last_1000]") in text
+    cols = e3d.run_sweep(text)
+    assert "normalized_entropy_context_0" in cols and "first_reward_trial_context_0" in cols
+
+
+def test_dict_values_of_the_wrong_type_name_their_field():
+    # an unknown name is the library's to refuse, with the names it knows
+    with pytest.raises(e3d.SceneError, match=r"unknown variant `Nope` for `Observe`; expected one of: StartContext, State, Blind"):
+        e3d.run_sweep({**SWEEP_BASE, "observe": "Nope"})
+    with pytest.raises(e3d.SceneError, match=r"unknown variant `Square`"):
+        e3d.run_sweep({**SWEEP_BASE, "params": {"beta": {"scale": "Square", "from": 1, "to": 2, "steps": 2}}})
+    # text that is no name cannot write more than a name
+    for bad in ("State, closed_loop: true", 3, True):
+        with pytest.raises(ValueError, match=r"^observe: expected a name"):
+            e3d.sweep_text({**SWEEP_BASE, "observe": bad})
+    for field in ("closed_loop",):
+        for bad in ("yes", 1, "true"):
+            with pytest.raises(TypeError, match=rf"^{field}: expected True or False"):
+                e3d.sweep_text({**SWEEP_BASE, field: bad})
+    for bad in ([1], ["true"]):
+        with pytest.raises(TypeError, match=r"^use_reward: expected True or False"):
+            e3d.sweep_text({**SWEEP_BASE, "use_reward": bad})
+    # integers: not bools, floats or strings (as run_session and e3d.gym)
+    for field in ("sessions", "trials", "seed", "commands"):
+        for bad in (True, 2.0, "2", np.float64(2)):
+            with pytest.raises(TypeError, match=rf"^{field}: expected an integer"):
+                e3d.sweep_text({**SWEEP_BASE, field: bad})
+    for params, where in (
+        ({"k": 2.0}, "params.k"),
+        ({"k": True}, "params.k"),
+        ({"beta": {"scale": "Log", "from": 1, "to": 2, "steps": True}}, "params.beta.steps"),
+        ({"beta": {"scale": "Log", "from": 1, "to": 2, "steps": 2.9}}, "params.beta.steps"),
+    ):
+        with pytest.raises(TypeError, match=rf"^{where}: expected an integer"):
+            e3d.sweep_text({**SWEEP_BASE, "params": params})
+    for params, where in (({"beta": np.True_}, "params.beta"), ({"sigma": "0.1"}, "params.sigma"),
+                          ({"beta": ["1"]}, "params.beta")):
+        with pytest.raises(TypeError, match=rf"^{where}: expected a number"):
+            e3d.sweep_text({**SWEEP_BASE, "params": params})
+    with pytest.raises(TypeError, match=r"^gamma: expected a number, found a bool"):
+        e3d.sweep_text({**SWEEP_BASE, "gamma": True})
+    # the range is the library's to check, named as in a file
+    with pytest.raises(e3d.SceneError, match=r"field `seed`: integer is out of bounds"):
+        e3d.run_sweep({**SWEEP_BASE, "seed": 2**70})
+    # an unknown field in RON form: refused by the library for its name
+    text = e3d.sweep_text({**SWEEP_BASE, "frob": {"a": (1, True, None)}})
+    assert "    frob: (a: [1, true, None])," in text.splitlines()
+    with pytest.raises(e3d.SceneError, match=r"unknown field `frob` in `Sweep`"):
+        e3d.run_sweep(text)
