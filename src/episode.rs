@@ -60,6 +60,28 @@ pub struct EpisodeConfig {
     pub observe: Observe,
 }
 
+/// The most commands a session of episodes may execute in all (episodes
+/// times commands per episode): [`MAX_TRIALS`](crate::sweep::MAX_TRIALS),
+/// the cap on a session's trials; its record keeps every one.
+pub const MAX_EPISODE_COMMANDS: usize = crate::sweep::MAX_TRIALS;
+
+/// Refuses `episodes` episodes of `commands` commands when they make more
+/// than [`MAX_EPISODE_COMMANDS`] commands in all (the message says so).
+///
+/// ```
+/// use e3d::episode::check_size;
+/// assert!(check_size(1_000_000, 64).is_ok());
+/// assert!(check_size(100_000_000, 64).is_err());
+/// ```
+pub fn check_size(episodes: usize, commands: usize) -> Result<(), String> {
+    match episodes.checked_mul(commands) {
+        Some(n) if n <= MAX_EPISODE_COMMANDS => Ok(()),
+        _ => Err(format!(
+            "at most {MAX_EPISODE_COMMANDS} commands in all per session (episodes x commands), found {episodes} episodes of {commands} commands"
+        )),
+    }
+}
+
 impl EpisodeConfig {
     /// The number of contexts a learner needs for `world` under this
     /// configuration.
@@ -203,6 +225,7 @@ where
             "an episode needs at least one command".into(),
         ));
     }
+    check_size(config.episodes, k).map_err(WorldError::Other)?;
     let needed = config.num_contexts(world);
     if learner.num_contexts() < needed {
         return Err(WorldError::Other(format!(

@@ -8,6 +8,7 @@ use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
 use crate::outcome::PyOutcome;
 use crate::pickling::{pickled, Reduced};
+use crate::progress::{watched, Watch};
 use crate::record::Grid;
 use crate::saved::{Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg, PyScene};
@@ -233,6 +234,8 @@ pub(crate) fn run_episodes(
     scene.require_symbols("run_episodes")?;
     let episodes = episodes.map(episodes_arg).transpose()?.unwrap_or(1000);
     let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
+    e3d::episode::check_size(episodes, k)
+        .map_err(|e| PyValueError::new_err(format!("episodes and commands: {e}")))?;
     let kind = builtin_kind(learner)?;
     let targets = context_targets(&scene, target, targets)?;
     let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
@@ -345,16 +348,23 @@ fn run_builtin_episodes(
     starts: usize,
 ) -> PyResult<Vec<Py<PyEpisodeRecord>>> {
     let name = make()?.name().to_string();
-    let records = py.detach(|| {
+    // Ctrl-C stops every seed at its next command
+    let records = watched(py, None, 0, &Watch::new(), |w| {
         seeds
             .par_iter()
             .map(|&seed| {
                 let mut world = inner.build();
+                let stop = || w.cancelled();
+                let mut guarded = Guarded {
+                    world: &mut *world,
+                    stop,
+                };
                 let mut learner = make()?;
-                e3d::episode::run_episodes(&mut world, &mut learner, &cfg(seed)).map_err(Fail::from)
+                e3d::episode::run_episodes(&mut guarded, &mut learner, &cfg(seed))
+                    .map_err(Fail::from)
             })
             .collect::<Result<Vec<_>, Fail>>()
-    })?;
+    })??;
     let mut out = Vec::with_capacity(records.len());
     for (rec, &seed) in records.into_iter().zip(seeds) {
         out.push(Py::new(
@@ -450,10 +460,15 @@ fn run_from_state(
     let l = held.contextual().expect("a learner with contexts");
     let name = l.name().to_string();
     let inner = scene.inner.clone();
-    let rec = py.detach(|| {
+    let rec = watched(py, None, 0, &Watch::new(), |w| {
         let mut world = inner.build();
-        e3d::episode::run_episodes(&mut world, l, cfg).map_err(Fail::from)
-    })?;
+        let stop = || w.cancelled();
+        let mut guarded = Guarded {
+            world: &mut *world,
+            stop,
+        };
+        e3d::episode::run_episodes(&mut guarded, l, cfg).map_err(Fail::from)
+    })??;
     st.borrow_mut().held = held;
     let starts = scene.inner.build().num_contexts();
     let slots = scene.space.num_slots();
@@ -507,6 +522,11 @@ fn python_learners<'py>(
     if one {
         return Ok(vec![learner.clone()]);
     }
+    if learner.is_instance_of::<PyLearnerState>() {
+        return Err(PyTypeError::new_err(
+            "learner: an e3d.Learner runs one seed (give seed, not seeds)",
+        ));
+    }
     let objs: Vec<Bound<'py, PyAny>> = learner
         .try_iter()
         .and_then(|it| it.collect::<PyResult<Vec<_>>>())
@@ -530,7 +550,14 @@ fn seed_list(
     seed: Option<&Bound<'_, PyAny>>,
     seeds: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(bool, Vec<u64>)> {
+    let seed = seed.filter(|s| !s.is_none());
     match seeds.map(seeds_arg).transpose()?.flatten() {
+        Some(_) if seed.is_some() => {
+            Err(PyValueError::new_err("give either seed or seeds, not both"))
+        }
+        Some(s) if s.is_empty() => Err(PyValueError::new_err(
+            "no session: expected at least one seed",
+        )),
         Some(s) => Ok((false, s)),
         None => Ok((true, vec![seed.map(seed_arg).transpose()?.unwrap_or(0)])),
     }
@@ -546,7 +573,9 @@ fn seed_list(
 /// `step(command)` executes the command from the current state and
 /// returns `(context, outcome, done)`, the reward 0 but after the
 /// episode's last command. `seed` reseeds the generator (the library's
-/// `SessionRng`); without it the draws continue.
+/// `SessionRng`); without it the draws continue. `rng` (a `SessionRng`)
+/// draws from that generator instead: the one a learner proposes from, so
+/// that a loop draws what `run_episodes` draws, in its order.
 #[pyclass(module = "e3d", name = "EpisodeWorld")]
 pub(crate) struct PyEpisodeWorld {
     scene: PyScene,
@@ -653,16 +682,38 @@ impl PyEpisodeWorld {
         self.scene.clone()
     }
 
-    #[pyo3(signature = (seed = None, start = None))]
+    #[pyo3(signature = (seed = None, start = None, rng = None))]
     fn reset(
         &mut self,
         seed: Option<&Bound<'_, PyAny>>,
         start: Option<&Bound<'_, PyAny>>,
+        rng: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
-        if let Some(s) = seed.filter(|s| !s.is_none()) {
+        let seed = seed.filter(|s| !s.is_none());
+        let rng = rng.filter(|r| !r.is_none());
+        if seed.is_some() && rng.is_some() {
+            return Err(PyValueError::new_err("give either seed or rng, not both"));
+        }
+        if let Some(s) = seed {
             self.rng = SessionRng::seed_from_u64(seed_arg(s)?);
         }
-        let n = self.world().num_contexts();
+        // the caller's generator (the one its learner proposes from), as
+        // run_episodes draws starts and commands from one
+        let mut lent = None;
+        let rng: &mut SessionRng = match rng {
+            Some(r) => {
+                let r = r
+                    .cast::<crate::rng::PyRng>()
+                    .map_err(|_| PyTypeError::new_err("rng: expected an e3d.SessionRng"))?;
+                lent.insert(r.try_borrow_mut()?).lent()?
+            }
+            None => &mut self.rng,
+        };
+        let n = self
+            .world
+            .get_mut()
+            .unwrap_or_else(|p| p.into_inner())
+            .num_contexts();
         let start = match start.filter(|s| !s.is_none()) {
             Some(s) => {
                 let s = usize_arg(s, "start", 0)?;
@@ -673,11 +724,11 @@ impl PyEpisodeWorld {
                 }
                 s
             }
-            None if n > 1 => self.rng.random_range(0..n),
+            None if n > 1 => rng.random_range(0..n),
             None => 0,
         };
         let world = self.world.get_mut().unwrap_or_else(|p| p.into_inner());
-        let state = world.draw_start(start, &mut self.rng).map_err(Fail::from)?;
+        let state = world.draw_start(start, rng).map_err(Fail::from)?;
         let effect = match self.observe {
             Observe::State => world.bin_state(&state).map_err(Fail::from)?,
             _ => 0,

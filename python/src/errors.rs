@@ -146,12 +146,22 @@ pub(crate) fn trials_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
     usize_arg(obj, "trials", 1)
 }
 
-/// `sessions`: None, or an integer >= 1.
+/// The most sessions one call runs: the cap of `e3d run --sessions`
+/// (each session's record is kept in memory).
+pub(crate) const MAX_SESSIONS: usize = 100_000;
+
+/// `sessions`: None, or an integer from 1 to [`MAX_SESSIONS`].
 pub(crate) fn sessions_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
     if obj.is_none() {
         return Ok(None);
     }
-    usize_arg(obj, "sessions", 1).map(Some)
+    let n = usize_arg(obj, "sessions", 1)?;
+    if n > MAX_SESSIONS {
+        return Err(PyValueError::new_err(format!(
+            "sessions = {n}: expected at most {MAX_SESSIONS} (the cap of `e3d run --sessions`)"
+        )));
+    }
+    Ok(Some(n))
 }
 
 /// `every`: an integer >= 1.
@@ -216,6 +226,11 @@ pub(crate) fn seeds_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
     })?;
     let mut out = Vec::new();
     for (i, item) in items.enumerate() {
+        if i == MAX_SESSIONS {
+            return Err(PyValueError::new_err(format!(
+                "seeds: expected at most {MAX_SESSIONS} seeds (the cap of `e3d run --sessions`)"
+            )));
+        }
         out.push(int_arg(&item?, &format!("seeds[{i}]"), 0)?);
     }
     Ok(Some(out))

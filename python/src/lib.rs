@@ -44,6 +44,10 @@ use world::PyWorld;
 /// e3d's native module (import `e3d`, which re-exports it).
 #[pymodule]
 fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // numpy's C API is imported on first use: once a Ctrl-C is pending,
+    // that import raises KeyboardInterrupt and rust-numpy panics, so it is
+    // imported here, before any long call
+    numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("E3D_VERSION", e3d::sweep::VERSION)?;
     m.add_class::<PyScene>()?;

@@ -249,6 +249,11 @@ pub(crate) fn metrics_dict<'py>(py: Python<'py>, m: &Metrics) -> PyResult<Bound<
         "normalized_entropy_reachable",
         m.normalized_entropy_reachable,
     )?;
+    metrics.set_item("coverage_cells", m.coverage_cells)?;
+    metrics.set_item("coverage", m.coverage)?;
+    metrics.set_item("trials_to_50_percent", m.trials_to_50_percent)?;
+    metrics.set_item("trials_to_90_percent", m.trials_to_90_percent)?;
+    metrics.set_item("discovery_trials", m.discovery_trials.clone())?;
     Ok(metrics)
 }
 
@@ -290,10 +295,11 @@ pub(crate) fn record_to_py(
 /// per-session arrays stacked along a first axis of one entry a session.
 /// `seeds` (uint64 `[S]`), `commands` (uint8 `[S, T, slots]`), `effects`
 /// (int64 `[S, T]`), `rewards` (float64 `[S, T]`), `metrics` (a dict of
-/// arrays `[S]`: float64, `distinct_effects` and `trials` int64,
-/// `first_reward_trial`, `reachable_effects` and
-/// `normalized_entropy_reachable` float64 with NaN for none, as in
-/// `run_sweep`).
+/// arrays `[S]`: float64, `distinct_effects`, `trials` and
+/// `coverage_cells` int64, `first_reward_trial`, `reachable_effects`,
+/// `normalized_entropy_reachable` and `trials_to_50_percent` / `_90_`
+/// float64 with NaN for none, as in `run_sweep`; each session's
+/// `discovery_trials` is in `batch[i].metrics`).
 /// `batch[i]` is session `i`'s `SessionRecord`.
 #[pyclass(module = "e3d", name = "SessionBatch", frozen)]
 pub(crate) struct PyBatchRecord {
@@ -421,7 +427,7 @@ impl PyBatchRecord {
 
 /// The metrics of a batch of sessions, one array each, one value per
 /// session: `SessionBatch.metrics`' keys, in order.
-const BATCH_COLUMNS: [&str; 9] = [
+const BATCH_COLUMNS: [&str; 13] = [
     "normalized_entropy",
     "normalized_entropy_last_1000",
     "kl_to_target",
@@ -431,11 +437,15 @@ const BATCH_COLUMNS: [&str; 9] = [
     "trials",
     "reachable_effects",
     "normalized_entropy_reachable",
+    "coverage_cells",
+    "coverage",
+    "trials_to_50_percent",
+    "trials_to_90_percent",
 ];
 
 /// A session's metrics as numbers, in the order of [`BATCH_COLUMNS`] (NaN
 /// for a metric it lacks).
-fn batch_row(m: &Metrics) -> [f64; 9] {
+fn batch_row(m: &Metrics) -> [f64; 13] {
     [
         m.normalized_entropy,
         m.normalized_entropy_last_1000,
@@ -446,15 +456,20 @@ fn batch_row(m: &Metrics) -> [f64; 9] {
         m.trials as f64,
         m.reachable_effects.map_or(f64::NAN, |k| k as f64),
         m.normalized_entropy_reachable.unwrap_or(f64::NAN),
+        m.coverage_cells as f64,
+        m.coverage,
+        m.trials_to_50_percent.map_or(f64::NAN, |t| t as f64),
+        m.trials_to_90_percent.map_or(f64::NAN, |t| t as f64),
     ]
 }
 
 /// `SessionBatch.metrics`: each column of [`BATCH_COLUMNS`] as an array,
-/// of integers for the counts (`distinct_effects`, `trials`).
+/// of integers for the counts (`distinct_effects`, `trials`,
+/// `coverage_cells`).
 fn batch_metrics(py: Python<'_>, floats: Vec<Vec<f64>>) -> PyResult<Bound<'_, PyDict>> {
     let metrics = PyDict::new(py);
     for (name, v) in BATCH_COLUMNS.iter().zip(floats) {
-        if *name == "distinct_effects" || *name == "trials" {
+        if matches!(*name, "distinct_effects" | "trials" | "coverage_cells") {
             let ints: Vec<i64> = v.iter().map(|&x| x as i64).collect();
             metrics.set_item(name, ints.into_pyarray(py))?;
         } else {

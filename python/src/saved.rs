@@ -4,6 +4,7 @@
 //! continues from it.
 
 use crate::errors::{finite_arg, params_arg, usize_arg};
+use crate::outcome::PyOutcome;
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::{per_context_kind, state_kind, StateShape};
@@ -442,6 +443,19 @@ impl PyLearnerState {
         self.held.tables().iter().map(|t| t.name).collect()
     }
 
+    /// Whether the learner has a table of that name (`"q" in learner`).
+    fn __contains__(&self, name: &Bound<'_, PyAny>) -> bool {
+        name.extract::<String>()
+            .is_ok_and(|n| self.held.tables().iter().any(|t| t.name == n))
+    }
+
+    /// The names of the tables, as `keys()` (`list(learner)`).
+    fn __iter__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        pyo3::types::PyList::new(py, self.keys())?
+            .try_iter()
+            .map(Bound::into_any)
+    }
+
     /// The names of the tables that `learner[name] = array` can write.
     #[getter]
     fn writable(&self) -> Vec<&'static str> {
@@ -531,20 +545,28 @@ impl PyLearnerState {
     }
 
     /// Learns from the outcome of `command` (symbol indices, or values on
-    /// a continuous scene): `learn(command, effect, reward)`; a contextual
-    /// learner's `learn(context, command, effect, reward, next=None)`
-    /// (`next`: the context the command led to, None after an episode's
-    /// last command).
-    #[pyo3(signature = (*args))]
-    fn learn(&mut self, args: &Bound<'_, PyTuple>) -> PyResult<()> {
+    /// a continuous scene, each within its slot's range):
+    /// `learn(command, outcome)` (an `Outcome`, as `World.execute`
+    /// returns) or `learn(command, effect, reward, point=None)` (`point`:
+    /// the terminal point `(x, y)`, which goal babbling learns from and
+    /// requires); a contextual learner's
+    /// `learn(context, command, effect, reward, next=None)` (`next`: the
+    /// context the command led to, None after an episode's last command).
+    #[pyo3(signature = (*args, point = None))]
+    fn learn(
+        &mut self,
+        args: &Bound<'_, PyTuple>,
+        point: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
         let shape = self.held.shape();
         let Some(n) = shape.contexts else {
-            let (command, effect, reward): (Bound<'_, PyAny>, Bound<'_, PyAny>, Bound<'_, PyAny>) =
-                args.extract().map_err(|_| {
-                    PyTypeError::new_err("learn(command, effect, reward): three arguments")
-                })?;
-            let (effect, reward) = effect_reward(&effect, &reward)?;
-            return self.learn_free(&command, effect, reward, &shape);
+            let (command, o, has_point) = free_outcome(args, point, &shape)?;
+            if !has_point && self.held.kind() == LearnerKind::GoalBabbling {
+                return Err(PyValueError::new_err(
+                    "point: a goal_babbling learner learns from the terminal point: learn(command, outcome), or learn(command, effect, reward, point=(x, y))",
+                ));
+            }
+            return self.learn_free(&command, o, &shape);
         };
         let usage = "learn(context, command, effect, reward, next=None): a contextual learner";
         type Arg<'py> = Bound<'py, PyAny>;
@@ -585,22 +607,34 @@ impl PyLearnerState {
     fn learn_free(
         &mut self,
         command: &Bound<'_, PyAny>,
-        effect: usize,
-        reward: f64,
+        o: e3d::Outcome,
         shape: &StateShape,
     ) -> PyResult<()> {
         if self.held.symbols().is_some() {
-            let (symbols, o) = outcome_of(command, effect, reward, shape)?;
+            let (symbols, checked) = outcome_of(command, o.effect, o.reward, shape)?;
             let l = self.held.symbols().expect("symbols");
-            l.learn(&e3d::Command::new(symbols), &o);
+            l.learn(
+                &e3d::Command::new(symbols),
+                &e3d::Outcome {
+                    point: o.point,
+                    ..checked
+                },
+            );
             return Ok(());
         }
-        let o = check_effect(effect, reward, shape)?;
         let values: Vec<f64> = command.extract().map_err(|_| bad_command(shape))?;
         if values.len() != shape.sizes.len() || values.iter().any(|v| !v.is_finite()) {
             return Err(bad_command(shape));
         }
-        self.held.values().expect("values").learn(&values, &o);
+        let l = self.held.values().expect("values");
+        if let Some(space) = l.value_space() {
+            // values out of their ranges would move the policy where it
+            // never proposes (World.execute refuses them alike)
+            space
+                .check(&values)
+                .map_err(|e| PyValueError::new_err(format!("command: {e}")))?;
+        }
+        l.learn(&values, &o);
         Ok(())
     }
 
@@ -639,6 +673,69 @@ fn context_arg(obj: &Bound<'_, PyAny>, n: usize) -> PyResult<usize> {
         )));
     }
     Ok(c)
+}
+
+/// The command and outcome of a free learner's `learn`: `(command,
+/// outcome)` or `(command, effect, reward)` with `point=` or not, and
+/// whether a terminal point was given.
+fn free_outcome<'py>(
+    args: &Bound<'py, PyTuple>,
+    point: Option<&Bound<'py, PyAny>>,
+    shape: &StateShape,
+) -> PyResult<(Bound<'py, PyAny>, e3d::Outcome, bool)> {
+    let usage = "learn(command, outcome) or learn(command, effect, reward, point=None)";
+    let point = point.filter(|p| !p.is_none()).cloned();
+    let (command, o, point) = match args.len() {
+        2 => {
+            let o = args.get_item(1)?;
+            let o = o.cast::<PyOutcome>().map_err(|_| {
+                PyTypeError::new_err(format!(
+                    "outcome: expected an e3d.Outcome ({usage}), found {}",
+                    o.get_type()
+                        .name()
+                        .map(|n| n.to_string())
+                        .unwrap_or_default()
+                ))
+            })?;
+            if point.is_some() {
+                return Err(PyTypeError::new_err(format!(
+                    "point: an Outcome holds its point ({usage})"
+                )));
+            }
+            let o = o.borrow();
+            let mut checked = check_effect(o.effect, o.reward, shape)?;
+            checked.point = [o.x, o.y];
+            return Ok((args.get_item(0)?, checked, true));
+        }
+        3 => (args.get_item(0)?, check_outcome(args, shape)?, point),
+        _ => return Err(PyTypeError::new_err(usage)),
+    };
+    let Some(p) = point else {
+        return Ok((command, o, false));
+    };
+    let xy: (f64, f64) = p.extract().map_err(|_| {
+        PyTypeError::new_err("point: expected the terminal point (x, y), two numbers")
+    })?;
+    if !(xy.0.is_finite() && xy.1.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "point = ({}, {}): expected finite numbers",
+            xy.0, xy.1
+        )));
+    }
+    Ok((
+        command,
+        e3d::Outcome {
+            point: [xy.0, xy.1],
+            ..o
+        },
+        true,
+    ))
+}
+
+/// The outcome of `args[1]` (effect) and `args[2]` (reward), checked.
+fn check_outcome(args: &Bound<'_, PyTuple>, shape: &StateShape) -> PyResult<e3d::Outcome> {
+    let (effect, reward) = effect_reward(&args.get_item(1)?, &args.get_item(2)?)?;
+    check_effect(effect, reward, shape)
 }
 
 /// The outcome of `effect` and `reward`, the effect checked.

@@ -18,7 +18,13 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 struct Writer {
     text: String,
     paths: Vec<String>,
+    /// The depth of the value being written.
+    depth: usize,
 }
+
+/// The deepest nesting of dicts and lists a scene's data may have (a
+/// scene's is under 15; a value that holds itself would recurse for ever).
+const MAX_DEPTH: usize = 100;
 
 impl Writer {
     fn line(&mut self, path: &str, s: &str) {
@@ -28,6 +34,25 @@ impl Writer {
     }
 
     fn value(&mut self, path: &str, head: &str, v: &Bound<'_, PyAny>, tail: &str) -> PyResult<()> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            let at = if path.is_empty() { "<scene>" } else { path };
+            return Err(scene_error(
+                format!(
+                    "<dict>: {at}: nested more than {MAX_DEPTH} levels deep (a dict or list that holds itself?)"
+                ),
+                Some("<dict>"),
+                None,
+                None,
+                Some(path.to_string()),
+            ));
+        }
+        let r = self.nested(path, head, v, tail);
+        self.depth -= 1;
+        r
+    }
+
+    fn nested(&mut self, path: &str, head: &str, v: &Bound<'_, PyAny>, tail: &str) -> PyResult<()> {
         if let Ok(d) = v.cast::<PyDict>() {
             self.line(path, &format!("{head}{{"));
             let n = d.len();
@@ -92,6 +117,13 @@ fn leaf_json(path: &str, v: &Bound<'_, PyAny>) -> PyResult<String> {
         if let Ok(u) = v.extract::<u64>() {
             return Ok(u.to_string());
         }
+        return Err(scene_error(
+            format!("<dict>: {path}: {} is out of range for any field", v.str()?),
+            Some("<dict>"),
+            None,
+            None,
+            Some(path.to_string()),
+        ));
     }
     let is_float = v.is_instance_of::<PyFloat>() || v.hasattr("__float__")?;
     if is_float {
@@ -136,6 +168,7 @@ pub(crate) fn from_dict(obj: &Bound<'_, PyAny>) -> PyResult<e3d::Scene> {
     let mut w = Writer {
         text: String::new(),
         paths: Vec::new(),
+        depth: 0,
     };
     w.value("", "", obj, "")?;
     let spec: e3d::scene::SceneSpec = serde_json::from_str(&w.text).map_err(|e| {

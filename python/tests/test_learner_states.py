@@ -96,17 +96,20 @@ def _hand_loop(scene, learner, trials, seed):
     world = e3d.Scene.resolve(scene).world() if isinstance(scene, str) else scene.world()
     rng = e3d.SessionRng(seed)
     commands, effects, rewards = [], [], []
-    for _ in range(trials):
+    for t in range(trials):
         c = learner.propose(rng)
         o = world.execute(c)
-        learner.learn(c, o.effect, o.reward)
+        if t % 2:
+            learner.learn(c, o)  # the outcome: effect, reward and terminal point
+        else:
+            learner.learn(c, o.effect, o.reward, point=(o.x, o.y))
         commands.append(c)
         effects.append(o.effect)
         rewards.append(o.reward)
     return np.array(commands), effects, rewards
 
 
-@pytest.mark.parametrize("kind", ["e3d", "egreedy", "count", "smm"])
+@pytest.mark.parametrize("kind", ["e3d", "egreedy", "count", "smm", "goal_babbling", "archive"])
 def test_a_hand_loop_is_run_session_bit_for_bit(kind):
     by_hand = e3d.Learner("two_rooms", kind, epsilon=0.2)
     e3d.run_session("two_rooms", learner=by_hand, trials=300, seed=1)  # not a fresh state
@@ -275,6 +278,62 @@ def test_a_hand_loop_of_episodes_is_run_episodes_bit_for_bit():
     assert effects == rec.effects.tolist() and rewards == rec.rewards.tolist()
     assert sum(rewards) > 0
     assert l.to_bytes() == session.to_bytes()
+
+
+def test_a_hand_loop_of_episodes_with_starts_drawn_from_the_learners_generator(root):
+    # two start contexts: reset(rng=...) draws the start from the
+    # generator the learner proposes from, as run_episodes does
+    path = root / CONTEXTS
+    l = e3d.Learner.contextual(path, "e3d", commands=2, closed_loop=True)
+    session = e3d.Learner.from_bytes(l.to_bytes())
+    ew = e3d.EpisodeWorld(path, commands=2, closed_loop=True)
+    assert ew.num_starts == 2
+    rng = e3d.SessionRng(4)
+    starts, effects = [], []
+    for _ in range(300):
+        context = ew.reset(rng=rng)
+        starts.append(ew.start)
+        done = False
+        while not done:
+            c = l.propose(context, rng)
+            nxt, o, done = ew.step(c)
+            l.learn(context, c, o.effect, o.reward, None if done else nxt)
+            effects.append(o.effect)
+            context = nxt
+    rec = e3d.run_episodes(path, episodes=300, commands=2, seed=4, learner=session, closed_loop=True)
+    assert starts == rec.starts.tolist() and 0 < sum(starts) < 300
+    assert effects == rec.effects.tolist()
+    assert l.to_bytes() == session.to_bytes()
+    with pytest.raises(ValueError, match="either seed or rng"):
+        ew.reset(seed=1, rng=rng)
+    with pytest.raises(TypeError, match="rng: expected an e3d.SessionRng"):
+        ew.reset(rng=4)
+
+
+def test_learn_refusals():
+    gb = e3d.Learner("two_rooms", "goal_babbling")
+    c = gb.propose(e3d.SessionRng(0))
+    with pytest.raises(ValueError, match="point: a goal_babbling learner learns from the terminal point"):
+        gb.learn(c, 3, 0.0)
+    with pytest.raises(TypeError, match="outcome: expected an e3d.Outcome"):
+        gb.learn(c, 3)
+    with pytest.raises(ValueError, match=r"point = \(NaN, 1\): expected finite numbers"):
+        gb.learn(c, 3, 0.0, point=(float("nan"), 1.0))
+    # continuous: values outside their ranges are refused, the learner unchanged
+    g = e3d.Learner("arm7_continuous")
+    before = g.to_bytes()
+    with pytest.raises(ValueError, match="value 100 at slot 0 is outside its range"):
+        g.learn(np.full(7, 100.0), 3, 0.0)
+    assert g.to_bytes() == before
+    # a Learner holds one session: run_sessions refuses it by name
+    with pytest.raises(TypeError, match="an e3d.Learner holds one session's state"):
+        e3d.run_sessions("two_rooms", learner=e3d.Learner("two_rooms"), trials=3, seeds=[0, 1])
+    l = e3d.Learner("two_rooms")
+    assert "q" in l and "nope" not in l and 3 not in l and list(l) == l.keys()
+    with pytest.raises(ValueError, match=r"keys 0 and \(0, 0\) are the same effect 0"):
+        e3d.Learner("two_rooms", target={0: 1.0, (0, 0): 2.0, 1: 1.0})
+    with pytest.raises(ValueError, match="found -0.1 for effect 0"):
+        e3d.E3dLearner("two_rooms").effect_model = np.r_[-0.1, 1.1, np.zeros(16)]
 
 
 def test_contextual_tables_and_misfits(root):

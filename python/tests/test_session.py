@@ -54,7 +54,8 @@ def test_record_shapes_and_types():
     assert set(rec.metrics) == {
         "normalized_entropy", "normalized_entropy_last_1000", "kl_to_target",
         "distinct_effects", "cumulative_reward", "first_reward_trial", "trials",
-        "reachable_effects", "normalized_entropy_reachable",
+        "reachable_effects", "normalized_entropy_reachable", "coverage_cells", "coverage",
+        "trials_to_50_percent", "trials_to_90_percent", "discovery_trials",
     }
     assert rec.metrics["cumulative_reward"] == rec.rewards.sum()
     assert "two_rooms: outcome table" in rec.execution

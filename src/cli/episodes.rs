@@ -68,6 +68,8 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             scene.spec().name
         )));
     }
+    e3d::episode::check_size(a.trials as usize, a.commands as usize)
+        .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))?;
     let observe = observe_of(a);
     let space = scene.command_space();
     let num_effects = scene.num_effects();

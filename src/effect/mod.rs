@@ -92,6 +92,15 @@ pub enum EffectError {
     /// ([`EffectModel::from_probs`]): their sum.
     #[error("finite weights >= 0 summing to 1, found a sum of {0}")]
     Probs(f64),
+    /// A weight that is negative or not finite
+    /// ([`EffectModel::from_probs`]): the effect and its weight.
+    #[error("finite weights >= 0 summing to 1, found {value} for effect {effect}")]
+    Weight {
+        /// The effect whose weight is wrong.
+        effect: usize,
+        /// Its weight.
+        value: f64,
+    },
 }
 
 /// A [`Target`] that does not fit the effects.
@@ -321,11 +330,20 @@ impl EffectModel {
     /// let p = EffectModel::from_probs(&[0.25, 0.75], 0.1).unwrap();
     /// assert_eq!(p.probs(), [0.25, 0.75]);
     /// assert!(EffectModel::from_probs(&[0.5, 0.6], 0.1).is_err());
+    /// let e = EffectModel::from_probs(&[-0.1, 1.1], 0.1).unwrap_err();
+    /// assert_eq!(e.to_string(), "finite weights >= 0 summing to 1, found -0.1 for effect 0");
     /// ```
     pub fn from_probs(probs: &[f64], eta: f64) -> Result<Self, EffectError> {
         let mut m = EffectModel::new(probs.len(), eta)?;
+        if let Some((effect, &value)) = probs
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !(p.is_finite() && **p >= 0.0))
+        {
+            return Err(EffectError::Weight { effect, value });
+        }
         let total: f64 = probs.iter().sum();
-        if probs.iter().any(|p| !(p.is_finite() && *p >= 0.0)) || (total - 1.0).abs() > 1e-9 {
+        if (total - 1.0).abs() > 1e-9 {
             return Err(EffectError::Probs(total));
         }
         m.q.copy_from_slice(probs);

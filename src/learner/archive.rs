@@ -251,6 +251,10 @@ impl ArchiveValues {
 }
 
 impl ContinuousLearner for ArchiveValues {
+    fn value_space(&self) -> Option<&ValueSpace> {
+        Some(&self.core.genome.space)
+    }
+
     fn name(&self) -> &str {
         "archive"
     }

@@ -143,6 +143,10 @@ impl GaussianE3d {
 }
 
 impl ContinuousLearner for GaussianE3d {
+    fn value_space(&self) -> Option<&ValueSpace> {
+        Some(&self.space)
+    }
+
     fn name(&self) -> &str {
         "e3d"
     }
@@ -222,6 +226,10 @@ impl UniformValues {
 }
 
 impl ContinuousLearner for UniformValues {
+    fn value_space(&self) -> Option<&ValueSpace> {
+        Some(&self.space)
+    }
+
     fn name(&self) -> &str {
         "uniform"
     }

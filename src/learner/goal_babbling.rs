@@ -141,14 +141,15 @@ impl<G: Genome> Core<G> {
     }
 
     /// The reached cell whose known outcome is nearest to `goal`
-    /// (Euclidean; ties: the first reached).
+    /// (Euclidean; ties: the first reached); `None` only when no cell is
+    /// known (distances that overflow to infinity still rank, NaN last).
     fn nearest(&self, goal: [f64; 2]) -> Option<usize> {
         let mut best = None;
-        let mut best_d = f64::INFINITY;
+        let mut best_d = f64::NAN;
         for &e in &self.known {
             let p = self.cells[e].as_ref().expect("a known cell").point;
             let d = (p[0] - goal[0]).powi(2) + (p[1] - goal[1]).powi(2);
-            if d < best_d {
+            if best.is_none() || d.total_cmp(&best_d).is_lt() {
                 best_d = d;
                 best = Some(e);
             }
@@ -358,6 +359,10 @@ impl GoalBabblingValues {
 }
 
 impl ContinuousLearner for GoalBabblingValues {
+    fn value_space(&self) -> Option<&ValueSpace> {
+        Some(&self.core.genome.space)
+    }
+
     fn name(&self) -> &str {
         "goal_babbling"
     }
@@ -429,6 +434,18 @@ where
             && c.last_parent.as_ref().is_none_or(known)
             && c.competence.len() == PROGRESS_BINS * PROGRESS_BINS
             && c.last_region < c.competence.len();
+        // a point that is not a number reaches no goal: a proposal would
+        // find no nearest known cell
+        let finite = |p: &[f64; 2]| p.iter().all(|x| x.is_finite());
+        let numbers = c.cells.iter().flatten().all(|k| finite(&k.point))
+            && c.last_goal.as_ref().is_none_or(finite)
+            && c.lo.iter().chain(&c.hi).all(|x| !x.is_nan())
+            && !c.goal_progress.is_nan()
+            && c.competence.iter().flatten().all(|x| x.is_finite());
+        r.check(numbers, || {
+            "goal babbling with a point, goal box or competence that is not a finite number"
+                .to_string()
+        })?;
         r.check(fits, || {
             format!(
                 "goal babbling whose cells, commands or regions do not fit {} cells of {n} slots",

@@ -129,6 +129,13 @@ pub trait ContinuousLearner {
     /// The mean and standard deviation of slot `slot`'s policy now, in the
     /// slot's unit (before the clamping to its range).
     fn slot_gaussian(&self, slot: usize) -> (f64, f64);
+
+    /// The slots' ranges the learner proposes in, if it keeps them (the
+    /// learners of the library do): a caller can check the values it is
+    /// told to learn from ([`ValueSpace::check`](crate::command::ValueSpace::check)).
+    fn value_space(&self) -> Option<&crate::command::ValueSpace> {
+        None
+    }
 }
 
 impl<L: ContinuousLearner + ?Sized> ContinuousLearner for Box<L> {
@@ -143,6 +150,9 @@ impl<L: ContinuousLearner + ?Sized> ContinuousLearner for Box<L> {
     }
     fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
         (**self).slot_gaussian(slot)
+    }
+    fn value_space(&self) -> Option<&crate::command::ValueSpace> {
+        (**self).value_space()
     }
 }
 

@@ -367,6 +367,7 @@ fn bad_sweep_files_are_refused_with_their_place() {
         ("range_without_scale.ron", "range_without_scale.ron:6:46: missing field `scale` in a range; expected `scale: Linear` or `scale: Log`"),
         ("bad_metric.ron", "bad_metric.ron:7:29: field `metrics`: expected cumulative_reward(T) with T in 1..=100 (the trials), found 500"),
         ("zero_commands.ron", "zero_commands.ron:6:5: field `commands`: expected 1 to 64 commands per episode, found 0"),
+        ("too_many_episode_commands.ron", "too_many_episode_commands.ron:6:5: field `commands`: expected at most 100000000 commands in all per session (episodes x commands), found 100000000 episodes of 64 commands"),
         ("gamma_without_closed_loop.ron", "gamma_without_closed_loop.ron:7:5: field `gamma`: expected closed_loop: true with a gamma (the discount of Q_ref and of Q-learning)"),
         ("context_metric_out_of_range.ron", "context_metric_out_of_range.ron:8:35: field `metrics`: expected normalized_entropy_context(I) with I below 1 (the most start contexts of the sweep's scenes), found 1"),
     ];

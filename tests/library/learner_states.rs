@@ -311,3 +311,53 @@ fn tables_by_name_read_write_and_refuse() {
     assert_eq!(table(&ql, "q").shape, [3, 24]);
     assert!(UniformPolicy::new(&s).tables().is_empty());
 }
+
+/// One trial of `l` on the made-up world, with a terminal point that
+/// spreads over the plane (goal babbling and the archive read it).
+fn spread_trial<L: Learner>(l: &mut L, rng: &mut SessionRng, c: &mut Command) {
+    l.propose(rng, c);
+    let (mut o, _) = outcome(c);
+    o.point = [o.effect as f64 * 0.3, c.symbols[0] as f64 * 0.7];
+    l.learn(c, &o);
+}
+
+/// A state with 8 of its bytes overwritten by a NaN, at every offset in
+/// turn, is refused or runs on without a panic (a NaN point once loaded
+/// and then left goal babbling with no nearest known cell).
+#[test]
+fn states_holding_a_nan_are_refused_or_run_on() {
+    fn check<L: LearnerState + Learner>(mut l: L) {
+        let mut rng = SessionRng::seed_from_u64(3);
+        let mut c = space().first();
+        for _ in 0..200 {
+            spread_trial(&mut l, &mut rng, &mut c);
+        }
+        let saved = l.to_bytes();
+        let mut refused = 0;
+        for at in 0..saved.len() - 8 {
+            let mut b = saved.clone();
+            b[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
+            let Ok(mut back) = L::from_bytes(&b) else {
+                refused += 1;
+                continue;
+            };
+            let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                let mut rng = SessionRng::seed_from_u64(4);
+                let mut c = space().first();
+                for _ in 0..50 {
+                    spread_trial(&mut back, &mut rng, &mut c);
+                }
+            }));
+            assert!(
+                ran.is_ok(),
+                "{}: a NaN at byte {at} loads, then panics",
+                L::KIND
+            );
+        }
+        assert!(refused > 0, "{}: no NaN refused", L::KIND);
+    }
+    let (s, p) = (space(), params());
+    check(GoalBabbling::new(&s, EFFECTS, &p));
+    check(Archive::new(&s, EFFECTS, &p));
+    check(CountBonus::new(&s, EFFECTS, &p));
+}

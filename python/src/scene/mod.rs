@@ -89,6 +89,7 @@ pub(crate) fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> 
     let weights: Vec<f64> = if let Ok(d) = obj.cast::<pyo3::types::PyDict>() {
         let g = scene.inner.effect_grid();
         let mut w = vec![0.0; n];
+        let mut named: Vec<Option<Bound<'_, PyAny>>> = vec![None; n];
         for (k, v) in d.iter() {
             let cell = if let Ok((r, c)) = k.extract::<(usize, usize)>() {
                 (r < g.rows && c < g.cols).then_some(r * g.cols + c)
@@ -103,6 +104,14 @@ pub(crate) fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> 
                     g.cols
                 )));
             };
+            if let Some(first) = &named[e] {
+                return Err(PyValueError::new_err(format!(
+                    "target: keys {} and {} are the same effect {e}: give each effect once",
+                    first.repr()?,
+                    k.repr()?
+                )));
+            }
+            named[e] = Some(k.clone());
             w[e] = v.extract::<f64>().map_err(|_| {
                 PyValueError::new_err(format!(
                     "target[{}]: expected a number",

@@ -204,6 +204,12 @@ pub(crate) fn run_session(
             c.get_type().name()?
         )));
     }
+    if let (Some(_), Some(_)) = (on_trials, &scene.values) {
+        return Err(PyValueError::new_err(format!(
+            "on_trials: scene `{}` is continuous: its sessions run without a per-trial callback; the record holds every trial's values, effects and rewards",
+            scene.inner.spec().name
+        )));
+    }
     let target = target_arg(&scene, target)?;
     let a = session_args(
         trials,
@@ -473,6 +479,11 @@ pub(crate) fn run_sessions(
     target: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyBatchRecord> {
     let scene = scene_of(scene)?;
+    if learner.is_some_and(|l| l.is_instance_of::<PyLearnerState>()) {
+        return Err(PyTypeError::new_err(
+            "learner: an e3d.Learner holds one session's state: run it with run_session (run_sessions takes a learner's name, or a sequence of Python learners, one per seed)",
+        ));
+    }
     let target = target_arg(&scene, target)?;
     let seeds = seeds_of(seeds, sessions, seed)?;
     let a = session_args(

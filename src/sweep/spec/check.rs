@@ -106,6 +106,9 @@ impl SweepSpec {
                 ),
             ));
         }
+        if let Err(e) = crate::episode::check_size(spec.trials, spec.commands) {
+            return Err(bad("commands", None, &e));
+        }
         if let Some(g) = spec.gamma {
             if !spec.closed_loop {
                 return Err(bad(

@@ -1,0 +1,98 @@
+"""Inputs at and past the limits: data that holds itself, counts whose
+product exhausts memory, floats that must keep every bit, Ctrl-C before
+the first array, and what a session's metrics must hold."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import e3d
+
+
+def test_data_that_holds_itself_is_a_scene_error():
+    looped = []
+    looped.append(looped)
+    with pytest.raises(e3d.SceneError, match="nested more than 100 levels deep") as e:
+        e3d.Scene.builtin("two_rooms").with_({"walls": looped})
+    assert e.value.field.startswith("world.Grid.walls[0][0]")
+    d = {}
+    d["self"] = d
+    with pytest.raises(e3d.SceneError, match="a dict or list that holds itself"):
+        e3d.Scene.from_dict({"name": "x", "world": d})
+    deep = 0
+    for _ in range(30_000):
+        deep = [deep]
+    with pytest.raises(e3d.SceneError, match="nested more than 100 levels deep"):
+        e3d.Scene.from_dict({"name": "x", "world": deep})
+
+
+def test_overrides_keep_every_bit_of_a_float():
+    scene = e3d.Scene.builtin("puck_rooms")
+    rng = np.random.default_rng(0)
+    for x in list(rng.uniform(0.1, 5.0, size=200)) + [2.5410453838964226]:
+        s = scene.with_({"bodies.puck.linear_damping": float(x)})
+        puck = [b for b in s.to_dict()["world"]["Physics"]["bodies"] if b["name"] == "puck"][0]
+        assert puck["linear_damping"] == float(x)
+        assert s == e3d.Scene.from_text(s.to_ron())
+    with pytest.raises(e3d.SceneError, match="is out of range for any field"):
+        e3d.Scene.builtin("two_rooms").with_({"rows": 2**70})
+
+
+def test_counts_whose_records_would_exhaust_memory_are_refused():
+    with pytest.raises(ValueError, match="at most 100000000 commands in all per session"):
+        e3d.run_episodes("four_rooms", episodes=10**8, commands=64, seed=0)
+    with pytest.raises(ValueError, match=r"sessions = 1000000000: expected at most 100000"):
+        e3d.run_sessions("two_rooms", trials=1, sessions=10**9)
+    with pytest.raises(ValueError, match="seeds: expected at most 100000 seeds"):
+        e3d.run_sessions("two_rooms", trials=1, seeds=range(10**9))
+    with pytest.raises(ValueError, match="give either seed or seeds"):
+        e3d.run_episodes("two_rooms", episodes=3, seed=5, seeds=[1])
+    with pytest.raises(ValueError, match="no session: expected at least one seed"):
+        e3d.run_episodes("two_rooms", episodes=3, seeds=[])
+
+
+def test_the_cli_refuses_episodes_past_the_cap(cli, tmp_path):
+    r = cli("run", "four_rooms", "--trials", "100000000", "--commands", "64",
+            "--out", str(tmp_path / "out"), check=False)
+    assert r.returncode != 0 and "at most 100000000 commands in all per session" in r.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_on_trials_on_a_continuous_scene_is_refused():
+    with pytest.raises(ValueError, match="on_trials: scene `arm7_continuous` is continuous"):
+        e3d.run_session("arm7_continuous", trials=20, on_trials=lambda *a: None)
+
+
+def test_metrics_hold_every_metric_of_summary_json(cli, tmp_path):
+    cli("run", "two_rooms", "--trials", "300", "--seed", "5", "--out", str(tmp_path))
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    rec = e3d.run_session("two_rooms", trials=300, seed=5)
+    batch = e3d.run_sessions("two_rooms", trials=300, seeds=[5])
+    assert batch.metrics["coverage"][0] == summary["coverage"]
+    assert batch.metrics["trials_to_50_percent"][0] == summary["trials_to_50_percent"]
+    for m in (rec.metrics, batch[0].metrics):
+        for k, v in m.items():
+            assert summary[k] == v, k
+        for k in ("coverage", "coverage_cells", "trials_to_50_percent", "trials_to_90_percent",
+                  "discovery_trials", "normalized_entropy_reachable"):
+            assert k in m, k
+
+
+def test_ctrl_c_in_a_new_process_during_run_episodes_is_keyboard_interrupt(root):
+    # before any array was made (numpy's C API then imported on first use
+    # raised the pending KeyboardInterrupt as a Rust panic), and
+    # run_episodes checks for Ctrl-C while it runs
+    code = (
+        "import os, signal, threading, e3d\n"
+        "threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT)).start()\n"
+        "try:\n"
+        f"    e3d.run_episodes({str(root / 'scenes' / 'puck_contexts.ron')!r}, episodes=10**7, seed=1)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted')\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.stdout.strip() == "interrupted", r.stderr
+    assert "Panic" not in r.stderr and "panicked" not in r.stderr
