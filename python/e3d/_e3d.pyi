@@ -276,7 +276,7 @@ class Learner:
     def learn(self, command: npt.ArrayLike, outcome: Outcome, /) -> None: ...
     @overload
     def learn(
-        self, command: npt.ArrayLike, effect: int, reward: float, /,
+        self, command: npt.ArrayLike, effect: int, reward: float, /, *,
         point: Optional[tuple[float, float]] = None,
     ) -> None: ...
     @overload

@@ -109,12 +109,34 @@ pub(crate) fn learner_names() -> String {
         .join(", ")
 }
 
+/// Whether `obj` is an integer as arguments take them: an int or a numpy
+/// integer (anything with `__index__` but a float), not a bool (`True` is
+/// no count) nor an array (numpy arrays have `__index__` too).
+fn is_integer(obj: &Bound<'_, PyAny>) -> PyResult<bool> {
+    if obj.is_instance_of::<pyo3::types::PyBool>() || obj.is_instance_of::<pyo3::types::PyFloat>() {
+        return Ok(false);
+    }
+    if obj.is_instance_of::<pyo3::types::PyInt>() {
+        return Ok(true);
+    }
+    let np_bool = obj.py().import("numpy")?.getattr("bool_")?;
+    if obj.is_instance(&np_bool)? {
+        return Ok(false);
+    }
+    if let Some(ndim) = obj.getattr_opt("ndim")? {
+        if ndim.extract::<usize>().unwrap_or(1) != 0 {
+            return Ok(false);
+        }
+    }
+    obj.hasattr("__index__")
+}
+
 /// An integer argument `name` of at least `min`: a Python int (or numpy
 /// integer) in `[min, 2^64 - 1]`; a negative or too large one raises
-/// `ValueError` naming the argument, a non-integer `TypeError`.
+/// `ValueError` naming the argument, anything else (a float, a str, a
+/// bool, an array) `TypeError`.
 pub(crate) fn int_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<u64> {
-    let is_int = obj.hasattr("__index__")? && !obj.is_instance_of::<pyo3::types::PyFloat>();
-    if !is_int {
+    if !is_integer(obj)? {
         return Err(PyTypeError::new_err(format!(
             "{name}: expected an integer, found {}",
             obj.get_type().name()?
@@ -256,8 +278,14 @@ pub(crate) fn params_arg(
         epsilon,
         ..e3d::Params::TASK1
     };
-    params
-        .validate()
-        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    params.validate().map_err(|e| {
+        // the library names `lambda`; Python's argument is `lambda_`
+        let msg = e.to_string();
+        let msg = match msg.strip_prefix("lambda ") {
+            Some(rest) => format!("lambda_ {rest}"),
+            None => msg,
+        };
+        pyo3::exceptions::PyValueError::new_err(msg)
+    })?;
     Ok(params)
 }

@@ -36,7 +36,6 @@ pub(crate) struct PyRecord {
     effects: Py<PyArray1<i64>>,
     #[pyo3(get)]
     rewards: Py<PyArray1<f64>>,
-    #[pyo3(get)]
     metrics: Py<PyDict>,
     #[pyo3(get)]
     effect_counts: Py<PyArray1<f64>>,
@@ -203,6 +202,12 @@ pub(crate) fn slot_policies(
 
 #[pymethods]
 impl PyRecord {
+    /// The metrics (a copy: the record keeps its own).
+    #[getter]
+    fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.metrics.bind(py).copy()
+    }
+
     fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
         self.pickle_reduce(py)
     }
@@ -317,7 +322,6 @@ pub(crate) struct PyBatchRecord {
     effects: Py<numpy::PyArray2<i64>>,
     #[pyo3(get)]
     rewards: Py<numpy::PyArray2<f64>>,
-    #[pyo3(get)]
     metrics: Py<PyDict>,
     #[pyo3(get)]
     execution: String,
@@ -332,6 +336,12 @@ pub(crate) struct PyBatchRecord {
 
 #[pymethods]
 impl PyBatchRecord {
+    /// The metrics (a copy: the record keeps its own).
+    #[getter]
+    fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.metrics.bind(py).copy()
+    }
+
     fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
         self.pickle_reduce(py)
     }

@@ -152,6 +152,18 @@ impl PyE3dLearner {
         #[pyo3(from_py_with = slot_arg)] slot: usize,
         probs: Vec<f64>,
     ) -> PyResult<()> {
+        let l = e3d_mut(&mut slf);
+        if slot >= l.num_slots() {
+            // set_q words it
+            return l.set_q(slot, &probs).map_err(bad);
+        }
+        let k = l.q(slot).len();
+        if probs.len() != k {
+            return Err(PyValueError::new_err(format!(
+                "policy of slot {slot}: {} probabilities given, the slot has {k} symbols",
+                probs.len()
+            )));
+        }
         let total: f64 = probs.iter().sum();
         if probs.iter().any(|p| !(p.is_finite() && *p > 0.0)) || (total - 1.0).abs() > 1e-9 {
             return Err(PyValueError::new_err(format!(
@@ -178,7 +190,8 @@ impl PyE3dLearner {
     }
 
     #[setter]
-    fn set_effect_model(mut slf: PyRefMut<'_, Self>, probs: Vec<f64>) -> PyResult<()> {
+    fn set_effect_model(mut slf: PyRefMut<'_, Self>, effect_model: Vec<f64>) -> PyResult<()> {
+        let probs = effect_model;
         let l = e3d_mut(&mut slf);
         let n = l.effect_model().num_effects();
         if probs.len() != n {

@@ -96,3 +96,40 @@ def test_ctrl_c_in_a_new_process_during_run_episodes_is_keyboard_interrupt(root)
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert r.stdout.strip() == "interrupted", r.stderr
     assert "Panic" not in r.stderr and "panicked" not in r.stderr
+
+
+@pytest.mark.parametrize("call,name", [
+    (lambda v: e3d.run_session("two_rooms", trials=v), "trials"),
+    (lambda v: e3d.run_session("two_rooms", trials=5, seed=v), "seed"),
+    (lambda v: e3d.run_session("two_rooms", trials=5, every=v, on_trials=lambda *a: None), "every"),
+    (lambda v: e3d.run_sessions("two_rooms", trials=5, sessions=v), "sessions"),
+    (lambda v: e3d.SessionRng(v), "seed"),
+    (lambda v: e3d.Scene.builtin("two_rooms").world(v), "prefix_states"),
+    (lambda v: e3d.EpisodeWorld("four_rooms", commands=v), "commands"),
+    (lambda v: e3d.run_episodes("four_rooms", episodes=v), "episodes"),
+])
+def test_a_bool_or_an_array_is_no_integer(call, name):
+    for v in (True, np.True_, np.zeros(3), np.array([2])):
+        with pytest.raises(TypeError, match=f"{name}: expected an integer, found"):
+            call(v)
+    call(np.int64(2))  # numpy integers are
+
+
+def test_messages_name_what_python_calls_them():
+    with pytest.raises(ValueError, match=r"^lambda_ = -1"):
+        e3d.run_session("two_rooms", trials=5, lambda_=-1.0)
+    with pytest.raises(ValueError, match="policy of slot 0: 2 probabilities given, the slot has 4 symbols"):
+        e3d.E3dLearner("two_rooms").set_policy(0, [0.5, 0.5])
+    with pytest.raises(TypeError, match="effect_model"):
+        e3d.E3dLearner("two_rooms").effect_model = "x"
+    with pytest.raises(TypeError, match="^scene: expected a Scene, or a scene file's path"):
+        e3d.run_session(1.5, trials=5)
+
+
+def test_a_records_metrics_are_a_copy():
+    rec = e3d.run_session("two_rooms", trials=20)
+    rec.metrics["trials"] = -1
+    assert rec.metrics["trials"] == 20
+    batch = e3d.run_sessions("two_rooms", trials=20, seeds=[1, 2])
+    batch.metrics["trials"] = None
+    assert batch.metrics["trials"].tolist() == [20, 20]

@@ -17,9 +17,10 @@ pub(crate) fn scene_of(obj: &Bound<'_, PyAny>) -> PyResult<PyScene> {
     if let Ok(p) = obj.extract::<PathBuf>() {
         return PyScene::resolved(&p.to_string_lossy());
     }
-    Err(PyTypeError::new_err(
-        "expected a Scene, or a scene file's path or a built-in scene's name",
-    ))
+    Err(PyTypeError::new_err(format!(
+        "scene: expected a Scene, or a scene file's path or a built-in scene's name, found {}",
+        obj.get_type().name()?
+    )))
 }
 
 /// A parsed and validated scene: a world, a command schema (slots and
