@@ -61,9 +61,9 @@ pub struct EpisodeConfig {
 }
 
 /// The most commands a session of episodes may execute in all (episodes
-/// times commands per episode): [`MAX_TRIALS`](crate::sweep::MAX_TRIALS),
-/// the cap on a session's trials; its record keeps every one.
-pub const MAX_EPISODE_COMMANDS: usize = crate::sweep::MAX_TRIALS;
+/// times commands per episode): 10^8, the cap on a session's trials
+/// ([`MAX_TRIALS`](crate::sweep::MAX_TRIALS)); its record keeps every one.
+pub const MAX_EPISODE_COMMANDS: usize = 100_000_000;
 
 /// Refuses `episodes` episodes of `commands` commands when they make more
 /// than [`MAX_EPISODE_COMMANDS`] commands in all (the message says so).

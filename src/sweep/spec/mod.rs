@@ -33,6 +33,7 @@ pub const MAX_SESSIONS: usize = 10_000_000;
 /// The largest number of trials per session (the bound of `e3d run
 /// --trials`).
 pub const MAX_TRIALS: usize = 100_000_000;
+const _: () = assert!(crate::episode::MAX_EPISODE_COMMANDS == MAX_TRIALS);
 
 /// The largest number of steps of a range.
 pub const MAX_STEPS: usize = 100_000;
