@@ -10,7 +10,9 @@
 
 mod commands;
 mod episode;
+mod episode_world;
 mod errors;
+mod learn_args;
 mod learner;
 mod motion;
 mod outcome;
@@ -27,7 +29,8 @@ mod state;
 mod sweep;
 mod world;
 
-use episode::{run_episodes, PyEpisodeRecord, PyEpisodeWorld};
+use episode::{run_episodes, PyEpisodeRecord};
+use episode_world::PyEpisodeWorld;
 use errors::{SceneError, SimulationError};
 use motion::PyMotion;
 use outcome::{PyBatch, PyOutcome};

@@ -61,7 +61,9 @@ struct Summary<'a> {
     scene_record: e3d::report::run_scene::SceneRecord,
 }
 
-pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
+/// Refuses, before any work, episodes on a continuous scene and more
+/// episode commands than a record holds.
+fn check_runnable(a: &RunArgs, scene: &Scene) -> CliResult {
     if scene.value_space().is_some() {
         return Err(CliError::input(format!(
             "scene `{}`: its slots take values (`Continuous`); start contexts and --commands, --observe, --closed-loop run on scenes of symbols",
@@ -69,7 +71,11 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         )));
     }
     e3d::episode::check_size(a.trials as usize, a.commands as usize)
-        .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))?;
+        .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))
+}
+
+pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
+    check_runnable(a, scene)?;
     let observe = observe_of(a);
     let space = scene.command_space();
     let num_effects = scene.num_effects();
