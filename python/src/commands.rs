@@ -10,11 +10,12 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyList, PyString, PyTuple};
 
-/// Checks one row of symbols against the space.
-pub(crate) fn check_row(space: &CommandSpace, row: usize, symbols: &[i64]) -> PyResult<Command> {
+/// Checks one row of symbols against the space (wide enough for any
+/// integer dtype's values, uint64 included, to be named as they are).
+pub(crate) fn check_row(space: &CommandSpace, row: usize, symbols: &[i128]) -> PyResult<Command> {
     let mut out = Vec::with_capacity(symbols.len());
     for (slot, (&s, k)) in symbols.iter().zip(space.sizes()).enumerate() {
-        if s < 0 || s as usize >= k {
+        if s < 0 || s >= k as i128 {
             let alphabet: String = space.alphabet(slot).iter().collect();
             return Err(PyValueError::new_err(format!(
                 "row {row}: symbol {s} at slot {slot} is out of range: slot {slot} has {k} symbols ({alphabet}), indices 0 to {}",
@@ -33,7 +34,7 @@ pub(crate) fn check_view(space: &CommandSpace, view: ArrayView2<'_, u8>) -> PyRe
         let symbols: Vec<u8> = row.iter().copied().collect();
         if symbols.iter().zip(&sizes).any(|(&s, &k)| s as usize >= k) {
             // the message names the first symbol out of range
-            let wide: Vec<i64> = symbols.iter().map(|&s| s as i64).collect();
+            let wide: Vec<i128> = symbols.iter().map(|&s| s as i128).collect();
             check_row(space, i, &wide)?;
         }
         out.push(Command::new(symbols));
@@ -159,9 +160,17 @@ fn array_commands(
         let owned = Array2::from_shape_vec((rows, space.num_slots()), flat).expect("same size");
         return check_view(space, owned.view());
     }
-    let wide = array.call_method1("astype", ("int64",))?;
-    let a = wide.cast::<PyArrayDyn<i64>>()?.readonly();
-    let flat: Vec<i64> = a.as_array().iter().copied().collect();
+    // an unsigned dtype through uint64, a signed one through int64: no
+    // value wraps round (2^63 would read as a negative symbol)
+    let flat: Vec<i128> = if array.dtype().kind() == b'u' {
+        let wide = array.call_method1("astype", ("uint64",))?;
+        let a = wide.cast::<PyArrayDyn<u64>>()?.readonly();
+        a.as_array().iter().map(|&s| s as i128).collect()
+    } else {
+        let wide = array.call_method1("astype", ("int64",))?;
+        let a = wide.cast::<PyArrayDyn<i64>>()?.readonly();
+        a.as_array().iter().map(|&s| s as i128).collect()
+    };
     flat.chunks(space.num_slots().max(1))
         .take(rows)
         .enumerate()

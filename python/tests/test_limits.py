@@ -133,3 +133,11 @@ def test_a_records_metrics_are_a_copy():
     batch = e3d.run_sessions("two_rooms", trials=20, seeds=[1, 2])
     batch.metrics["trials"] = None
     assert batch.metrics["trials"].tolist() == [20, 20]
+
+
+def test_a_uint64_symbol_past_2_63_is_named_as_it_is():
+    w = e3d.Scene.builtin("two_rooms").world()
+    with pytest.raises(ValueError, match="symbol 9223372036854775808 at slot 0 is out of range"):
+        w.execute(np.full(7, 2**63, np.uint64))
+    with pytest.raises(ValueError, match="symbol -1 at slot 0 is out of range"):
+        w.execute(np.full(7, -1, np.int64))
