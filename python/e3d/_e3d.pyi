@@ -230,7 +230,7 @@ class Learner:
 
     def __new__(
         cls,
-        scene: SceneLike,
+        scene: Union[SceneLike, bytes],
         learner: str = "e3d",
         alpha: float = 0.3,
         beta: float = 1.0,
@@ -287,7 +287,7 @@ class Learner:
     def to_bytes(self) -> bytes: ...
     @staticmethod
     def from_bytes(data: bytes) -> Learner: ...
-    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
+    def __reduce__(self) -> tuple[Any, ...]: ...
 
 @final
 class E3dLearner(Learner):

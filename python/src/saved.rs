@@ -333,6 +333,11 @@ impl PyLearnerState {
         epsilon: f64,
         target: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyLearnerState> {
+        if let Ok(data) = scene.cast::<PyBytes>() {
+            // a learner's bytes: how a subclass's instance is unpickled
+            // (`copyreg.__newobj__(cls, data)`, see `__reduce__`)
+            return PyLearnerState::from_bytes(data.as_bytes());
+        }
         let scene = scene_of(scene)?;
         let kind = kind_arg(learner)?;
         let target = target_arg(&scene, target)?;
@@ -421,12 +426,25 @@ impl PyLearnerState {
     }
 
     /// Pickling: the bytes of `to_bytes`, read back by the class's
-    /// `from_bytes` (an `E3dLearner` comes back as one).
-    fn __reduce__<'py>(
-        slf: &Bound<'py, Self>,
-    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyBytes>,))> {
-        let f = slf.get_type().getattr("from_bytes")?;
-        Ok((f, (slf.borrow().to_bytes(slf.py()),)))
+    /// `from_bytes` (an `E3dLearner` comes back as one); an instance of a
+    /// Python subclass comes back as one of that class, its `__dict__`
+    /// with it (`copyreg.__newobj__(cls, data)`, then the dict).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let data = slf.borrow().to_bytes(py).into_any();
+        let ty = slf.get_type();
+        let own = ty.is(py.get_type::<PyLearnerState>())
+            || ty.is(py.get_type::<crate::state::PyE3dLearner>());
+        if own {
+            let f = ty.getattr("from_bytes")?;
+            return PyTuple::new(py, [f, PyTuple::new(py, [data])?.into_any()]);
+        }
+        let newobj = py.import("copyreg")?.getattr("__newobj__")?;
+        let args = PyTuple::new(py, [ty.into_any(), data])?.into_any();
+        let dict = slf
+            .getattr_opt("__dict__")?
+            .unwrap_or_else(|| py.None().into_bound(py));
+        PyTuple::new(py, [newobj, args, dict])
     }
 
     /// Equal: learners whose saved bytes are equal.

@@ -310,6 +310,22 @@ def test_a_hand_loop_of_episodes_with_starts_drawn_from_the_learners_generator(r
         ew.reset(rng=4)
 
 
+class Tagged(e3d.Learner):
+    """A user's subclass, with attributes of its own."""
+
+
+def test_a_subclass_pickles_and_copies_as_itself():
+    import copy
+    t = Tagged("two_rooms", "count")
+    t.tag = [1, 2]
+    e3d.run_session("two_rooms", learner=t, trials=50, seed=1)
+    for back in (pickle.loads(pickle.dumps(t)), copy.copy(t), copy.deepcopy(t)):
+        assert type(back) is Tagged and back.tag == [1, 2]
+        assert back.to_bytes() == t.to_bytes() and back == t
+    assert e3d.Learner(t.to_bytes()) == t
+    assert type(pickle.loads(pickle.dumps(e3d.E3dLearner("two_rooms")))) is e3d.E3dLearner
+
+
 def test_learn_refusals():
     gb = e3d.Learner("two_rooms", "goal_babbling")
     c = gb.propose(e3d.SessionRng(0))
