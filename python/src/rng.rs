@@ -84,13 +84,17 @@ impl PyRng {
         use rand::RngExt;
         let total: f64 = weights.iter().sum();
         if weights.is_empty()
-            || !total.is_finite()
             || total <= 0.0
-            || weights.iter().any(|w| *w < 0.0)
+            || weights.iter().any(|w| !(w.is_finite() && *w >= 0.0))
         {
             return Err(PyValueError::new_err(
                 "choice(weights): expected finite weights >= 0, not all 0",
             ));
+        }
+        if !total.is_finite() {
+            return Err(PyValueError::new_err(format!(
+                "choice(weights): the weights sum past the largest float ({total}): scale them down"
+            )));
         }
         let u = self.lent()?.random::<f64>() * total;
         let mut acc = 0.0;

@@ -141,3 +141,12 @@ def test_a_uint64_symbol_past_2_63_is_named_as_it_is():
         w.execute(np.full(7, 2**63, np.uint64))
     with pytest.raises(ValueError, match="symbol -1 at slot 0 is out of range"):
         w.execute(np.full(7, -1, np.int64))
+
+
+def test_choice_says_when_its_weights_overflow():
+    rng = e3d.SessionRng(0)
+    with pytest.raises(ValueError, match="the weights sum past the largest float"):
+        rng.choice([1e308, 1e308])
+    with pytest.raises(ValueError, match="expected finite weights >= 0, not all 0"):
+        rng.choice([float("nan"), 1.0])
+    assert rng.choice([0.0, 1e308]) == 1
