@@ -241,6 +241,7 @@ pub(crate) fn run_episodes(
     let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
     let observe = observe_arg(observe, k, closed_loop)?;
     let (one, seeds) = seed_list(seed, seeds)?;
+    crate::errors::check_held("episodes, commands and seeds", seeds.len(), episodes * k)?;
     let inner = scene.inner.clone();
     let space = inner.command_space();
     let num_effects = inner.num_effects();
@@ -404,6 +405,7 @@ pub(crate) fn contextual_held(
     let (space, n) = (&scene.space, scene.inner.num_effects());
     let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
     params.validate().map_err(|e| bad(e.into()))?;
+    e3d::learner::contextual::check_context_effects(contexts, n).map_err(bad)?;
     match (closed_loop, kind) {
         (true, LearnerKind::E3d) => {
             ClosedLoopE3d::new(space, n, contexts, params, &ctx_targets, gamma)

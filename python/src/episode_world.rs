@@ -42,6 +42,12 @@ pub(crate) struct PyEpisodeWorld {
     #[pyo3(get)]
     use_reward: bool,
     command: e3d::Command,
+    /// The generator the start state was drawn from, as it was before
+    /// the draw, and the commands executed since: what rebuilds the
+    /// episode's state in a copy (a physics state's Rapier snapshot is
+    /// not carried by pickling).
+    before_start: Option<SessionRng>,
+    history: Vec<Vec<u8>>,
 }
 
 /// What `EpisodeWorld` pickles besides its constructor's arguments: the
@@ -52,11 +58,28 @@ struct Progress {
     state: Option<WorldState>,
     done: usize,
     start: usize,
+    #[serde(default)]
+    before_start: Option<SessionRng>,
+    #[serde(default)]
+    history: Vec<Vec<u8>>,
 }
 
 impl PyEpisodeWorld {
     fn world(&self) -> std::sync::MutexGuard<'_, Box<dyn World + Send>> {
         self.world.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// The state after drawing the start from `rng` and executing
+    /// `history` from it.
+    fn replay(&self, mut rng: SessionRng, history: &[Vec<u8>]) -> PyResult<WorldState> {
+        let mut world = self.world();
+        let mut state = world.draw_start(self.start, &mut rng).map_err(Fail::from)?;
+        for symbols in history {
+            let c = e3d::Command::new(symbols.clone());
+            e3d::world::check_command(world.command_space(), &c).map_err(Fail::from)?;
+            state = world.execute_from(&state, &c).map_err(Fail::from)?.1;
+        }
+        Ok(state)
     }
 
     fn observed(&self, start: usize, effect: usize) -> usize {
@@ -96,6 +119,8 @@ impl PyEpisodeWorld {
             observe,
             use_reward,
             command,
+            before_start: None,
+            history: Vec::new(),
         })
     }
 
@@ -178,8 +203,11 @@ impl PyEpisodeWorld {
             None if n > 1 => rng.random_range(0..n),
             None => 0,
         };
+        let before_start = rng.clone();
         let world = self.world.get_mut().unwrap_or_else(|p| p.into_inner());
         let state = world.draw_start(start, rng).map_err(Fail::from)?;
+        self.before_start = Some(before_start);
+        self.history.clear();
         let effect = match self.observe {
             Observe::State => world.bin_state(&state).map_err(Fail::from)?,
             _ => 0,
@@ -211,6 +239,7 @@ impl PyEpisodeWorld {
             .execute_from(state, &self.command)
             .map_err(Fail::from)?;
         self.done += 1;
+        self.history.push(self.command.symbols.clone());
         let last = self.done == self.commands;
         if !last || !self.use_reward {
             out.reward = 0.0;
@@ -244,6 +273,8 @@ impl PyEpisodeWorld {
             state: me.state.clone(),
             done: me.done,
             start: me.start,
+            before_start: me.before_start.clone(),
+            history: me.history.clone(),
         };
         let state =
             serde_json::to_string(&progress).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
@@ -263,10 +294,26 @@ impl PyEpisodeWorld {
         let p: Progress = serde_json::from_str(state).map_err(|e| {
             PyValueError::new_err(format!("EpisodeWorld: not a pickled state: {e}"))
         })?;
+        let starts = self.world().num_contexts();
+        let replayable = p.before_start.is_none() || p.history.len() == p.done;
+        if p.start >= starts.max(1) || p.done > self.commands || !replayable {
+            return Err(PyValueError::new_err(format!(
+                "EpisodeWorld: not a pickled state: start {} of {starts}, {} commands done of {}",
+                p.start, p.done, self.commands
+            )));
+        }
         self.rng = p.rng;
-        self.state = p.state;
         self.done = p.done;
         self.start = p.start;
+        self.state = match (p.state, &p.before_start) {
+            // rebuilt by drawing the start again from the same generator
+            // and executing the same commands: the same bits, the physics
+            // snapshot included
+            (Some(_), Some(before)) => Some(self.replay(before.clone(), &p.history)?),
+            (state, _) => state,
+        };
+        self.before_start = p.before_start;
+        self.history = p.history;
         Ok(())
     }
 

@@ -112,7 +112,7 @@ pub(crate) fn learner_names() -> String {
 /// Whether `obj` is an integer as arguments take them: an int or a numpy
 /// integer (anything with `__index__` but a float), not a bool (`True` is
 /// no count) nor an array (numpy arrays have `__index__` too).
-fn is_integer(obj: &Bound<'_, PyAny>) -> PyResult<bool> {
+pub(crate) fn is_integer(obj: &Bound<'_, PyAny>) -> PyResult<bool> {
     if obj.is_instance_of::<pyo3::types::PyBool>() || obj.is_instance_of::<pyo3::types::PyFloat>() {
         return Ok(false);
     }
@@ -184,6 +184,22 @@ pub(crate) fn sessions_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
         )));
     }
     Ok(Some(n))
+}
+
+/// The most trials (or episode commands) one call returns in its records,
+/// all sessions together: 10^8 (about 2.5 GB of arrays).
+pub(crate) const MAX_HELD_TRIALS: u64 = 100_000_000;
+
+/// Refuses `sessions` sessions of `per_session` trials (or episode
+/// commands) each when their records together would pass
+/// [`MAX_HELD_TRIALS`]: `what` names the arguments.
+pub(crate) fn check_held(what: &str, sessions: usize, per_session: usize) -> PyResult<()> {
+    match (sessions as u64).checked_mul(per_session as u64) {
+        Some(n) if n <= MAX_HELD_TRIALS => Ok(()),
+        _ => Err(PyValueError::new_err(format!(
+            "{what}: {sessions} sessions of {per_session} trials each: at most {MAX_HELD_TRIALS} trials in all (the records returned are held in memory; e3d run --sessions writes them as it goes)"
+        ))),
+    }
 }
 
 /// `every`: an integer >= 1.

@@ -22,11 +22,11 @@ pub(crate) fn effect_reward(
 }
 
 /// A context in `[0, n)`.
-pub(crate) fn context_arg(obj: &Bound<'_, PyAny>, n: usize) -> PyResult<usize> {
-    let c = usize_arg(obj, "context", 0)?;
+pub(crate) fn context_arg(obj: &Bound<'_, PyAny>, n: usize, name: &str) -> PyResult<usize> {
+    let c = usize_arg(obj, name, 0)?;
     if c >= n {
         return Err(PyValueError::new_err(format!(
-            "context {c}: expected a context in [0, {n})"
+            "{name} {c}: expected a context in [0, {n})"
         )));
     }
     Ok(c)

@@ -39,7 +39,9 @@ impl PyMotion {
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        Self::pickle_from(state)
+        let m = Self::pickle_from(state)?;
+        m.check_shapes(state.py())?;
+        Ok(m)
     }
 
     /// The number of frames (the start and every step).
@@ -131,6 +133,38 @@ pub(crate) fn motion_to_py(
             y: o.point[1],
         },
     })
+}
+
+impl PyMotion {
+    /// Refuses a state whose arrays are not `[frames, bodies]` and
+    /// `[frames, joints]` (the columns would index past them).
+    fn check_shapes(&self, py: Python<'_>) -> PyResult<()> {
+        use numpy::PyUntypedArrayMethods;
+        let frames = self.time.bind(py).len();
+        let per_body = [
+            &self.x,
+            &self.y,
+            &self.angle,
+            &self.vx,
+            &self.vy,
+            &self.omega,
+        ];
+        let per_joint = [&self.joint_angle, &self.joint_velocity];
+        let fits = per_body
+            .iter()
+            .all(|a| a.bind(py).shape() == [frames, self.bodies.len()])
+            && per_joint
+                .iter()
+                .all(|a| a.bind(py).shape() == [frames, self.joints.len()]);
+        if !fits {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "Motion: not a pickled state: arrays of {frames} frames x {} bodies and x {} joints expected",
+                self.bodies.len(),
+                self.joints.len()
+            )));
+        }
+        Ok(())
+    }
 }
 
 pickled!(PyMotion, "Motion" {

@@ -385,6 +385,12 @@ impl PyBatchRecord {
                 i.str().map(|s| s.to_string()).unwrap_or_default()
             ))
         };
+        if !crate::errors::is_integer(i)? {
+            return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "session index: expected an integer, found {}",
+                i.get_type().name()?
+            )));
+        }
         // any Python int: one beyond i128 is out of range too
         let i: i128 = match i.extract::<i128>() {
             Ok(i) => i,

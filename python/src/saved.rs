@@ -536,7 +536,10 @@ impl PyLearnerState {
         let shape = self.held.shape();
         let (context, rng) = match (shape.contexts, args.len()) {
             (None, 1) => (None, args.get_item(0)?),
-            (Some(n), 2) => (Some(context_arg(&args.get_item(0)?, n)?), args.get_item(1)?),
+            (Some(n), 2) => (
+                Some(context_arg(&args.get_item(0)?, n, "context")?),
+                args.get_item(1)?,
+            ),
             (None, _) => return Err(PyTypeError::new_err("propose(rng): one argument")),
             (Some(_), _) => {
                 return Err(PyTypeError::new_err(
@@ -598,10 +601,10 @@ impl PyLearnerState {
                 _ => return Err(PyTypeError::new_err(usage)),
             };
         let (effect, reward) = effect_reward(&effect, &reward)?;
-        let context = context_arg(&context, n)?;
+        let context = context_arg(&context, n, "context")?;
         let next = next
             .filter(|x| !x.is_none())
-            .map(|x| context_arg(&x, n))
+            .map(|x| context_arg(&x, n, "next"))
             .transpose()?;
         let (command, o) = outcome_of(&command, effect, reward, &shape)?;
         let l = self.held.contextual().expect("a contextual learner");
@@ -641,8 +644,13 @@ impl PyLearnerState {
             return Ok(());
         }
         let values: Vec<f64> = command.extract().map_err(|_| bad_command(shape))?;
-        if values.len() != shape.sizes.len() || values.iter().any(|v| !v.is_finite()) {
+        if values.len() != shape.sizes.len() {
             return Err(bad_command(shape));
+        }
+        if let Some((slot, v)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "command: value {v} at slot {slot}: expected finite numbers, one per slot"
+            )));
         }
         let l = self.held.values().expect("values");
         if let Some(space) = l.value_space() {

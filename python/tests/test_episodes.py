@@ -271,3 +271,19 @@ def test_python_contextual_learner_errors(root):
         e3d.run_episodes(path, episodes=10, seed=1, target={0: 1.0}, targets=[None, None])
     with pytest.raises(ValueError, match="1 Python learners for 2 seeds"):
         e3d.run_episodes(path, episodes=10, seeds=[1, 2], learner=[_PerContextE3d(path, [None, None])])
+
+
+def test_a_physics_episode_world_pickled_mid_episode_goes_on(root):
+    # a physics state's Rapier snapshot is not pickled: the copy draws the
+    # start again from the same generator and replays the episode's commands
+    import copy
+    import pickle
+    ew = e3d.EpisodeWorld(root / "scenes" / "puck_contexts.ron", commands=3)
+    ew.reset(seed=1)
+    ew.step([0] * 7)
+    copies = [pickle.loads(pickle.dumps(ew)), copy.deepcopy(ew)]
+    rest = ([1] * 7, [2] * 7)
+    mine = [(o.x, o.y, o.effect, d) for _, o, d in (ew.step(c) for c in rest)]
+    for back in copies:
+        assert [(o.x, o.y, o.effect, d) for _, o, d in (back.step(c) for c in rest)] == mine
+    assert mine[-1][3]

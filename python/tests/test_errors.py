@@ -308,7 +308,7 @@ def test_contextual_learn_checks_context_effect_and_reward(root):
         l.learn(0, cmd, -1, 0.0)
     with pytest.raises(ValueError, match=r"^reward = NaN: expected a finite number$"):
         l.learn(0, cmd, 0, float("nan"))
-    with pytest.raises(ValueError, match=r"^context = -2: expected an integer from 0"):
+    with pytest.raises(ValueError, match=r"^next = -2: expected an integer from 0"):
         l.learn(0, cmd, 0, 0.0, -2)
 
 

@@ -150,3 +150,50 @@ def test_choice_says_when_its_weights_overflow():
     with pytest.raises(ValueError, match="expected finite weights >= 0, not all 0"):
         rng.choice([float("nan"), 1.0])
     assert rng.choice([0.0, 1e308]) == 1
+
+
+def test_records_held_in_all_and_context_tables_are_capped():
+    with pytest.raises(ValueError, match="trials and sessions: 100000 sessions of 100000000 trials"):
+        e3d.run_sessions("two_rooms", trials=10**8, sessions=100_000)
+    with pytest.raises(ValueError, match="episodes, commands and seeds"):
+        e3d.run_episodes("four_rooms", episodes=10**6, commands=64, seeds=range(1000))
+    big = e3d.Scene.builtin("two_rooms").with_(
+        {"world.Grid.rows": 256, "world.Grid.cols": 256, "world.Grid.walls": []})
+    with pytest.raises(ValueError, match="tables over 65536 contexts x 65536 effects: at most 4194304"):
+        e3d.run_episodes(big, episodes=3, commands=2, observe="state", seed=0)
+    with pytest.raises(ValueError, match="tables over 65536 contexts x 65536 effects"):
+        e3d.Learner.contextual(big, "count", commands=2, observe="state")
+
+
+def test_pickled_states_that_do_not_fit_are_refused():
+    sc = e3d.Scene.builtin("arm7")
+    m = sc.world().trace(sc.parse("+++++++")[0])
+    f, (st,) = m.__reduce__()
+    st = list(st)
+    st[2] = st[2] + ["extra"]
+    with pytest.raises(ValueError, match="Motion: not a pickled state"):
+        f(tuple(st))
+    ew = e3d.EpisodeWorld("four_rooms", commands=2)
+    ew.reset(seed=0)
+    cls, args, state = ew.__reduce__()
+    bad = json.loads(state)
+    bad["start"] = 999
+    with pytest.raises(ValueError, match="EpisodeWorld: not a pickled state: start 999"):
+        cls(*args).__setstate__(json.dumps(bad))
+
+
+def test_more_arguments_named_as_python_names_them(root):
+    with pytest.raises(ValueError, match=r"^lambda_ = NaN"):
+        e3d.E3dLearner("two_rooms", lambda_=float("nan"))
+    ctx = e3d.Learner.contextual(root / "scenes" / "two_rooms_contexts.ron")
+    with pytest.raises(TypeError, match="next: expected an integer, found float"):
+        ctx.learn(0, [0] * 7, 0, 0.0, 1.5)
+    with pytest.raises(ValueError, match=r"key True is not an effect"):
+        e3d.Learner("two_rooms", target={True: 1.0})
+    batch = e3d.run_sessions("two_rooms", trials=5, seeds=[1, 2])
+    for bad in (True, np.array([1])):
+        with pytest.raises(TypeError, match="session index: expected an integer"):
+            batch[bad]
+    assert batch[np.int64(1)].seed == 2
+    with pytest.raises(ValueError, match="command: value NaN at slot 2: expected finite numbers"):
+        e3d.Learner("arm7_continuous").learn([0, 0, float("nan"), 0, 0, 0, 0], 1, 0.0)

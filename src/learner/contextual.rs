@@ -158,6 +158,25 @@ impl<L: Learner> ContextualLearner for PerContext<L> {
 /// action-values over (context, command) may hold: 2^22 (32 MiB).
 pub const MAX_ACTION_VALUES: u64 = 1 << 22;
 
+/// The most entries a table over (context, effect) may hold (each
+/// context's effect model and target: [`PerContext`], [`ClosedLoopE3d`]):
+/// 2^22. A grid's cells observed as contexts make contexts x effects grow
+/// as the square of the cells: 16384 cells would need 4 GB per table.
+pub const MAX_CONTEXT_EFFECTS: u64 = 1 << 22;
+
+/// Refuses tables over more than [`MAX_CONTEXT_EFFECTS`] (context,
+/// effect) pairs (a learner per context makes them).
+pub fn check_context_effects(num_contexts: usize, num_effects: usize) -> Result<(), LearnerError> {
+    match (num_contexts as u64).checked_mul(num_effects as u64) {
+        Some(n) if n <= MAX_CONTEXT_EFFECTS => Ok(()),
+        _ => Err(LearnerError::Contexts {
+            reason: format!(
+                "tables over {num_contexts} contexts x {num_effects} effects: at most {MAX_CONTEXT_EFFECTS} entries (observe fewer contexts, or use a coarser grid)"
+            ),
+        }),
+    }
+}
+
 /// A dense table of action-values `Q(s, a)` over every (context, whole
 /// command), all 0 at the start.
 #[derive(Debug, Clone, PartialEq)]
@@ -263,6 +282,7 @@ impl ClosedLoopE3d {
         gamma: f64,
     ) -> Result<Self, LearnerError> {
         check_gamma(gamma)?;
+        check_context_effects(num_contexts, num_effects)?;
         let reference = ActionValues::new(space, num_contexts)?;
         let learners = (0..num_contexts)
             .map(|s| E3d::new(space, num_effects, params, targets.of(s, num_contexts)?))
@@ -428,6 +448,7 @@ impl LearnerKind {
                 reason: "at least one context".into(),
             });
         }
+        check_context_effects(num_contexts, num_effects)?;
         let learners = (0..num_contexts)
             .map(|s| self.make(params, space, num_effects, targets.of(s, num_contexts)?))
             .collect::<Result<Vec<_>, _>>()?;

@@ -92,7 +92,9 @@ pub(crate) fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> 
         let mut w = vec![0.0; n];
         let mut named: Vec<Option<Bound<'_, PyAny>>> = vec![None; n];
         for (k, v) in d.iter() {
-            let cell = if let Ok((r, c)) = k.extract::<(usize, usize)>() {
+            let cell = if k.is_instance_of::<pyo3::types::PyBool>() {
+                None
+            } else if let Ok((r, c)) = k.extract::<(usize, usize)>() {
                 (r < g.rows && c < g.cols).then_some(r * g.cols + c)
             } else {
                 k.extract::<usize>().ok().filter(|&e| e < n)

@@ -4,7 +4,9 @@
 //! sessions run with the GIL (Python learners, `on_trials`) are in
 //! `python_learners`, sessions of continuous commands in `values`.
 
-use crate::errors::{every_arg, params_arg, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail};
+use crate::errors::{
+    check_held, every_arg, params_arg, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail,
+};
 use crate::learner::{builtin_kind, Guarded};
 use crate::progress::{watched, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
@@ -498,6 +500,7 @@ pub(crate) fn run_sessions(
         table_cache,
         target,
     )?;
+    check_held("trials and sessions", seeds.len(), trials)?;
     let (name, rows, execution) = if let Some(space) = scene.values.clone() {
         let (kind, rows, execution) =
             run_continuous(py, &scene, &space, learner, &a, &seeds, trials, progress)?;
