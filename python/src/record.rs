@@ -347,7 +347,22 @@ impl PyBatchRecord {
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        Self::pickle_from(state)
+        let b = Self::pickle_from(state)?;
+        // the commands are an array [S, T, slots] (indexed per session)
+        let py = state.py();
+        let commands = b.commands.bind(py);
+        let sessions = b.per_session.len();
+        let fits = commands
+            .getattr_opt("shape")?
+            .and_then(|s| s.extract::<Vec<usize>>().ok())
+            .is_some_and(|s| s.len() == 3 && s[0] == sessions && s[1] == b.trials);
+        if !fits {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "SessionBatch: not a pickled state: commands of {sessions} sessions x {} trials expected",
+                b.trials
+            )));
+        }
+        Ok(b)
     }
 
     fn __len__(&self) -> usize {

@@ -197,3 +197,14 @@ def test_more_arguments_named_as_python_names_them(root):
     assert batch[np.int64(1)].seed == 2
     with pytest.raises(ValueError, match="command: value NaN at slot 2: expected finite numbers"):
         e3d.Learner("arm7_continuous").learn([0, 0, float("nan"), 0, 0, 0, 0], 1, 0.0)
+
+
+def test_a_session_batch_state_whose_commands_do_not_fit_is_refused():
+    import pickle
+    batch = e3d.run_sessions("two_rooms", trials=5, seeds=[1, 2])
+    assert pickle.loads(pickle.dumps(batch))[1].commands.tolist() == batch[1].commands.tolist()
+    f, (st,) = batch.__reduce__()
+    st = list(st)
+    st[4] = {"not": "an array"}
+    with pytest.raises(ValueError, match="SessionBatch: not a pickled state: commands of 2 sessions x 5 trials"):
+        f(tuple(st))
