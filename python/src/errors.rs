@@ -202,6 +202,14 @@ pub(crate) fn check_held(what: &str, sessions: usize, per_session: usize) -> PyR
     }
 }
 
+/// The name of `obj`'s type, for messages (`found str`).
+pub(crate) fn type_name(obj: &Bound<'_, PyAny>) -> String {
+    obj.get_type()
+        .name()
+        .map(|n| n.to_string())
+        .unwrap_or_default()
+}
+
 /// `every`: an integer >= 1.
 pub(crate) fn every_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
     usize_arg(obj, "every", 1)
@@ -213,10 +221,7 @@ pub(crate) fn finite_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
     let v: f64 = obj.extract().map_err(|_| {
         PyTypeError::new_err(format!(
             "{name}: expected a number, found {}",
-            obj.get_type()
-                .name()
-                .map(|n| n.to_string())
-                .unwrap_or_default()
+            type_name(obj)
         ))
     })?;
     if !v.is_finite() {
@@ -256,10 +261,7 @@ pub(crate) fn seeds_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
     let items = obj.try_iter().map_err(|_| {
         PyTypeError::new_err(format!(
             "seeds: expected a sequence of integers, found {}",
-            obj.get_type()
-                .name()
-                .map(|n| n.to_string())
-                .unwrap_or_default()
+            type_name(obj)
         ))
     })?;
     let mut out = Vec::new();

@@ -2,7 +2,7 @@
 //! outcome (an `Outcome`, or an effect, a reward and a terminal point) and
 //! the context, each checked against the learner's shape.
 
-use crate::errors::{finite_arg, usize_arg};
+use crate::errors::{finite_arg, type_name, usize_arg};
 use crate::outcome::PyOutcome;
 use e3d::learner::state::StateShape;
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -48,10 +48,7 @@ pub(crate) fn free_outcome<'py>(
             let o = o.cast::<PyOutcome>().map_err(|_| {
                 PyTypeError::new_err(format!(
                     "outcome: expected an e3d.Outcome ({usage}), found {}",
-                    o.get_type()
-                        .name()
-                        .map(|n| n.to_string())
-                        .unwrap_or_default()
+                    type_name(&o)
                 ))
             })?;
             if point.is_some() {
@@ -123,14 +120,8 @@ pub(crate) fn bad_command(shape: &StateShape) -> PyErr {
     ))
 }
 
-/// A command of symbol indices and its outcome, checked against `shape`.
-pub(crate) fn outcome_of(
-    command: &Bound<'_, PyAny>,
-    effect: usize,
-    reward: f64,
-    shape: &StateShape,
-) -> PyResult<(Vec<u8>, e3d::Outcome)> {
-    let o = check_effect(effect, reward, shape)?;
+/// A command of symbol indices, checked against `shape`.
+pub(crate) fn symbols_of(command: &Bound<'_, PyAny>, shape: &StateShape) -> PyResult<Vec<u8>> {
     let symbols: Vec<u8> = command.extract().map_err(|_| bad_command(shape))?;
     let fits = symbols.len() == shape.sizes.len()
         && symbols
@@ -140,5 +131,5 @@ pub(crate) fn outcome_of(
     if !fits {
         return Err(bad_command(shape));
     }
-    Ok((symbols, o))
+    Ok(symbols)
 }

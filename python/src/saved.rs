@@ -4,7 +4,9 @@
 //! continues from it.
 
 use crate::errors::params_arg;
-use crate::learn_args::{bad_command, context_arg, effect_reward, free_outcome, outcome_of};
+use crate::learn_args::{
+    bad_command, check_effect, context_arg, effect_reward, free_outcome, symbols_of,
+};
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::{per_context_kind, state_kind, StateShape};
@@ -606,7 +608,8 @@ impl PyLearnerState {
             .filter(|x| !x.is_none())
             .map(|x| context_arg(&x, n, "next"))
             .transpose()?;
-        let (command, o) = outcome_of(&command, effect, reward, &shape)?;
+        let o = check_effect(effect, reward, &shape)?;
+        let command = symbols_of(&command, &shape)?;
         let l = self.held.contextual().expect("a contextual learner");
         l.learn(context, &e3d::Command::new(command), &o, next);
         Ok(())
@@ -632,15 +635,10 @@ impl PyLearnerState {
         shape: &StateShape,
     ) -> PyResult<()> {
         if self.held.symbols().is_some() {
-            let (symbols, checked) = outcome_of(command, o.effect, o.reward, shape)?;
+            // `o` is checked (free_outcome)
+            let symbols = symbols_of(command, shape)?;
             let l = self.held.symbols().expect("symbols");
-            l.learn(
-                &e3d::Command::new(symbols),
-                &e3d::Outcome {
-                    point: o.point,
-                    ..checked
-                },
-            );
+            l.learn(&e3d::Command::new(symbols), &o);
             return Ok(());
         }
         let values: Vec<f64> = command.extract().map_err(|_| bad_command(shape))?;
