@@ -86,6 +86,38 @@ fn pendulum3_and_maze3_copies_are_bit_identical() {
     check_identical("maze3", 60, 16);
 }
 
+/// A batch smaller than the world leaves copies without a command; they
+/// are switched off for the run (not simulated) and on again for the next.
+/// Batches of every size class, partial ones before and after full ones,
+/// give each command the bits of a world of its own.
+#[test]
+fn batches_smaller_than_the_world_give_the_same_bits() {
+    for (name, copies) in [("puck_rooms", 32), ("maze3", 16), ("pendulum3", 16)] {
+        let scene = Scene::load(format!("scenes/{name}.ron")).unwrap();
+        let cmds = commands(&scene, 90);
+        let mut single = world(&scene, 1);
+        let mut multi = world(&scene, copies);
+        let mut k = 0;
+        for size in [1, 5, copies, copies / 2 + 1, copies - 1, 2, copies] {
+            let batch: Vec<Command> = (0..size)
+                .map(|i| cmds[(k + i) % cmds.len()].clone())
+                .collect();
+            k += size;
+            let mut out = Vec::new();
+            multi.execute_batch(&batch, &mut out);
+            for (c, got) in batch.iter().zip(&out) {
+                let want = single.execute(c).unwrap();
+                let got = got.as_ref().unwrap();
+                assert!(
+                    same_bits(&want, got),
+                    "{name}, batch of {size}: {} single {want:?} batched {got:?}",
+                    scene.command_space().format(c)
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn a_blown_up_copy_fails_alone() {
     let text = include_str!("../scenes/blowup.ron");

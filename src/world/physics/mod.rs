@@ -505,6 +505,36 @@ mod tests {
         assert!(reruns >= 15, "only {reruns} of 20 commands were rerun");
     }
 
+    /// A batch of 3 commands on a world of 32 copies simulates 3: the
+    /// other copies' bodies are switched off and stay where they start;
+    /// the next batch of 32 switches every copy on again.
+    #[test]
+    fn copies_without_a_command_are_not_simulated() {
+        let scene = Scene::builtin("puck_rooms").unwrap();
+        let WorldSpec::Physics(spec) = &scene.spec().world else {
+            unreachable!("a physics scene")
+        };
+        let space = scene.command_space();
+        let mut world = PhysicsWorld::of(&scene, spec, 32);
+        let start = world.tracked_position_in(&world.pristine, 31);
+        let cmds: Vec<_> = (0..32u64)
+            .map(|k| {
+                let mut c = space.first();
+                space.write_command_at(k * 509 % 16384, &mut c);
+                c
+            })
+            .collect();
+        let enabled = |w: &PhysicsWorld, c: usize| w.sets.bodies[w.copies[c].tracked].is_enabled();
+        let mut out = Vec::new();
+        world.execute_batch(&cmds[..3], &mut out);
+        assert!((0..3).all(|c| enabled(&world, c)));
+        assert!((3..32).all(|c| !enabled(&world, c)));
+        assert_eq!(world.tracked_position_in(&world.sets, 31), start);
+        world.execute_batch(&cmds, &mut out);
+        assert!((0..32).all(|c| enabled(&world, c)));
+        assert_ne!(world.tracked_position_in(&world.sets, 31), start);
+    }
+
     /// Prefix states and the gating together: on arm7 run sequentially
     /// (its joints gated, a slot's torques for 0.25 s each), a world that
     /// reuses prefix states and gates carelessly (some commands rerun)

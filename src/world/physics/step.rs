@@ -503,6 +503,21 @@ impl PhysicsWorld {
         0
     }
 
+    /// Switches off the bodies of the copies from `n` on, which have no
+    /// command this run: Rapier leaves a disabled body out of every stage
+    /// of its step, so a batch of `n` commands costs a world of `n` copies,
+    /// not of all of them. The next run's restore switches them on again.
+    fn idle_copies(&mut self, n: usize) {
+        for r in &self.copies[n..] {
+            for &h in &r.handles {
+                let b = &mut self.sets.bodies[h];
+                if !b.is_fixed() {
+                    b.set_enabled(false);
+                }
+            }
+        }
+    }
+
     /// Notes the state now as the end of phase `phase` of `symbols`, for
     /// the commands that share that prefix. A snapshot holds every limit
     /// on (gating left some out of the last step), as a run from the
@@ -540,6 +555,7 @@ impl PhysicsWorld {
             commands.iter().map(|&c| self.check(c).err()).collect();
         let prefixed = prefixed.filter(|_| failed[0].is_none());
         let first = self.restore_start(prefixed);
+        self.idle_copies(n);
         let slots = self.space.num_slots();
         let mut running = failed.iter().any(Option::is_none);
         // one phase with every slot (simultaneous) or one phase per slot
