@@ -1,5 +1,6 @@
 //! The physics scenes: one rollout of each shipped physics scene (one
-//! command per world and many copies per world), a first pass of 256
+//! command per world and many copies per world, and a batch of 8 on a
+//! world of 32 copies), a first pass of 256
 //! commands on a world that keeps prefix states, the reset alone, and a
 //! 5000-trial E3D session on each scene's outcome table; and a trial of
 //! continuous commands on arm7_continuous (one Gaussian E3D trial on live
@@ -76,6 +77,19 @@ fn physics(c: &mut Criterion) {
                 black_box(out.len())
             })
         });
+        // a batch of 8 on the same world: its other copies are switched off
+        g.throughput(Throughput::Elements(8));
+        g.bench_function(
+            format!("8 rollouts on a world of {TABLE_COPIES} copies"),
+            |b| {
+                b.iter(|| {
+                    k = (k + 8) % cmds.len();
+                    out.clear();
+                    multi.execute_batch(&cmds[k..(k + 8).min(cmds.len())], &mut out);
+                    black_box(out.len())
+                })
+            },
+        );
         let table = OutcomeTable::build_scene(&scene).unwrap();
         g.throughput(Throughput::Elements(5000));
         g.bench_function("e3d session of 5000 trials (outcome table)", |b| {

@@ -454,7 +454,8 @@ impl PhysicsWorld {
     }
 
     /// Runs `commands` (at most one per copy; copy `c` runs `commands[c]`,
-    /// copies without a command stay idle) from the pristine state, calling
+    /// copies without a command are switched off for the run:
+    /// [`idle_copies`](Self::idle_copies)) from the pristine state, calling
     /// `each_step` after every step, and appends one result per command to
     /// `out`.
     ///
@@ -681,7 +682,8 @@ impl PhysicsWorld {
     }
 
     /// Executes `commands` (any number), up to [`num_copies`](Self::num_copies)
-    /// at once, and appends one result per command to `out`, in order. Each
+    /// at once, and appends one result per command to `out`, in order (a
+    /// last run of fewer commands than copies simulates only those). Each
     /// result is the one [`World::execute`](crate::World::execute) gives for that command; a
     /// command that blows up fails alone, the others of its batch go on.
     /// With a [`Symmetry`](crate::scene::Symmetry), a command with a [`twin`](Self::twin) runs as
