@@ -13,9 +13,12 @@ no command repeats, so the outcome memo never answers; a command that
 shares a prefix with an earlier one starts from the phase-end state kept),
 then on a new World that keeps no prefix state (`prefix_states=0`: every
 step of every command simulated, as pymunk does), then with
-`execute_batch` of one command at a time (the world of 32 copies that
-batches use), then with `E3dEnv.step` on a new environment. Runs alternate; medians are
-printed, on one core (RAYON_NUM_THREADS=1 is set: a single command never
+`execute_batch` of one command at a time (a lone new command of a batch
+runs on the same world of one copy), then with `E3dEnv.step` on a new
+environment. Runs alternate; medians are printed, and the ratio
+`World.execute` / pymunk run by run (each run's own pair, timed minutes
+apart at most: steadier than the ratio of the medians on a shared
+machine), on one core (RAYON_NUM_THREADS=1 is set: a single command never
 uses more than one anyway).
 """
 
@@ -65,8 +68,8 @@ def main():
             for c in cmds:
                 w.execute(c)
             rates["every step"].append(n / (time.perf_counter() - s))
-            # a batch of one command: the world of 32 copies that batches
-            # use (what World.execute ran on before it had a world of one)
+            # a batch of one command: a lone new command runs on the
+            # world of one copy, as World.execute does
             w = scene.world()
             s = time.perf_counter()
             for i in range(n):
@@ -89,6 +92,9 @@ def main():
     print(f"World.execute / pymunk: {e / p:.2f}x")
     f = statistics.median(rates["every step"])
     print(f"World.execute with every step simulated (prefix_states=0) / pymunk: {f / p:.2f}x")
+    paired = [a / b for a, b in zip(rates["World.execute"], rates["pymunk"])]
+    print(f"World.execute / pymunk run by run: median {statistics.median(paired):.2f}x, "
+          f"range {min(paired):.2f}x-{max(paired):.2f}x")
 
 
 if __name__ == "__main__":

@@ -246,8 +246,8 @@ impl PyWorld {
     /// The result of each of `unique`: those of `new` (indices into
     /// `unique`, the commands the memo did not know) simulated in parallel
     /// pieces of even size, so that no thread waits on another holding
-    /// more new commands; the others looked up on this thread, through
-    /// `keyer` (returned).
+    /// more new commands (a lone new command on the world of `execute`);
+    /// the others looked up on this thread, through `keyer` (returned).
     fn outcomes(
         &self,
         unique: &[Command],
@@ -255,6 +255,15 @@ impl PyWorld {
         keyer: Box<dyn World + Send>,
         watch: Option<&Watch>,
     ) -> (Vec<Result<Outcome, WorldError>>, Box<dyn World + Send>) {
+        if let [k] = new {
+            // one new command: the world of `execute` (one copy, keeping
+            // prefix states) runs it fastest, with the same bits
+            let r = self.run_one(&unique[*k]);
+            if let Some(w) = watch {
+                w.add(1);
+            }
+            return self.looked_up(unique, new, vec![r], keyer);
+        }
         let simulated: Vec<Command> = new.iter().map(|&k| unique[k].clone()).collect();
         let piece = simulated
             .len()
@@ -282,8 +291,22 @@ impl PyWorld {
                 out
             })
             .collect();
+        let simulated = parts.into_iter().flatten().collect();
+        self.looked_up(unique, new, simulated, keyer)
+    }
+
+    /// The result of each of `unique`: `simulated` for those of `new` (in
+    /// order), the memo's for the others, looked up through `keyer`
+    /// (returned).
+    fn looked_up(
+        &self,
+        unique: &[Command],
+        new: &[usize],
+        simulated: Vec<Result<Outcome, WorldError>>,
+        keyer: Box<dyn World + Send>,
+    ) -> (Vec<Result<Outcome, WorldError>>, Box<dyn World + Send>) {
         let mut results: Vec<Option<Result<Outcome, WorldError>>> = vec![None; unique.len()];
-        for (&k, r) in new.iter().zip(parts.into_iter().flatten()) {
+        for (&k, r) in new.iter().zip(simulated) {
             results[k] = Some(r);
         }
         let known: Vec<usize> = (0..unique.len())

@@ -106,6 +106,29 @@ def test_a_batch_of_known_and_new_commands():
     assert again.effect[:120].tolist() == fresh.effect.tolist()
 
 
+def test_batches_of_one_new_command_give_the_bits_of_every_step():
+    # each call below holds one new command (the others known): it runs on
+    # the world of `execute`, whose prefix states serve the later ones
+    scene = e3d.Scene.builtin("puck_rooms")
+    cmds = random_commands(scene, 24, seed=7)
+    cmds[12:, :4] = cmds[:12, :4]  # shared prefixes
+    w = scene.world()
+    last = [w.execute_batch(cmds[: k + 1]) for k in range(len(cmds))][-1]
+    plain = scene.world(prefix_states=0)
+    every = [plain.execute(c) for c in cmds]
+    assert last.x.tolist() == [o.x for o in every]
+    assert last.y.tolist() == [o.y for o in every]
+    assert last.effect.tolist() == [o.effect for o in every]
+    assert w.memo_len == len({bytes(r) for r in cmds})
+    # a lone new command of arm7, whose mirror image is known, is looked up
+    arm = e3d.Scene.builtin("arm7")
+    a = arm.world()
+    a.execute_batch(arm.parse(["-++++--", "0000000"]))
+    out = a.execute_batch(arm.parse(["+----++", "0+0-0+0"]))
+    assert out.x.tolist() == [arm.world().execute(c).x for c in ["+----++", "0+0-0+0"]]
+    assert a.memo_len == 3
+
+
 def test_mirror_images_share_an_entry_and_stay_exact():
     # arm7 declares a FlipY symmetry: a command and its mirror image are one entry
     scene = e3d.Scene.builtin("arm7")
