@@ -247,12 +247,7 @@ impl PyEpisodeWorld {
         self.state = (!last).then_some(next);
         Ok((
             self.observed(self.start, out.effect),
-            PyOutcome {
-                effect: out.effect,
-                reward: out.reward,
-                x: out.point[0],
-                y: out.point[1],
-            },
+            out.into(),
             last,
         ))
     }

@@ -126,12 +126,7 @@ pub(crate) fn motion_to_py(
         joint_velocity: table(j, &|fr, c| fr.joint_velocities[c]),
         bodies: m.bodies,
         joints: m.joints,
-        outcome: PyOutcome {
-            effect: o.effect,
-            reward: o.reward,
-            x: o.point[0],
-            y: o.point[1],
-        },
+        outcome: o.into(),
     })
 }
 

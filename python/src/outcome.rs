@@ -37,6 +37,17 @@ impl PyOutcome {
     }
 }
 
+impl From<e3d::Outcome> for PyOutcome {
+    fn from(o: e3d::Outcome) -> Self {
+        PyOutcome {
+            effect: o.effect,
+            reward: o.reward,
+            x: o.point[0],
+            y: o.point[1],
+        }
+    }
+}
+
 /// An `Outcome` held in another result (`Motion.outcome`) as a new Python
 /// object: what pickling that result writes.
 impl<'py> IntoPyObject<'py> for &PyOutcome {

@@ -403,7 +403,7 @@ impl PyBatchRecord {
         if !crate::errors::is_integer(i)? {
             return Err(pyo3::exceptions::PyTypeError::new_err(format!(
                 "session index: expected an integer, found {}",
-                i.get_type().name()?
+                crate::errors::type_name(i)
             )));
         }
         // any Python int: one beyond i128 is out of range too

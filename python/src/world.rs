@@ -353,12 +353,7 @@ impl PyWorld {
                 py.detach(|| self.run_one(&cs[0])).map_err(Fail::from)?
             }
         };
-        Ok(PyOutcome {
-            effect: o.effect,
-            reward: o.reward,
-            x: o.point[0],
-            y: o.point[1],
-        })
+        Ok(o.into())
     }
 
     /// Executes a batch of commands, an integer array `[N, slots]` of

@@ -30,6 +30,26 @@ fn same_bits(a: &Outcome, b: &Outcome) -> bool {
         && a.point[1].to_bits() == b.point[1].to_bits()
 }
 
+/// Asserts that each of `out` has the bits `single` gives its command.
+fn assert_as_single(
+    what: &str,
+    scene: &Scene,
+    single: &mut PhysicsWorld,
+    cmds: &[Command],
+    out: &[Result<Outcome, WorldError>],
+) {
+    assert_eq!(out.len(), cmds.len());
+    for (c, got) in cmds.iter().zip(out) {
+        let want = single.execute(c).unwrap();
+        let got = got.as_ref().unwrap();
+        assert!(
+            same_bits(&want, got),
+            "{what}: {} single {want:?} batched {got:?}",
+            scene.command_space().format(c)
+        );
+    }
+}
+
 fn check_identical(name: &str, n: u64, copies: usize) {
     let scene = Scene::load(format!("scenes/{name}.ron")).unwrap();
     let cmds = commands(&scene, n);
@@ -38,16 +58,7 @@ fn check_identical(name: &str, n: u64, copies: usize) {
     assert_eq!(multi.num_copies(), copies);
     let mut out = Vec::new();
     multi.execute_batch(&cmds, &mut out);
-    assert_eq!(out.len(), cmds.len());
-    for (c, got) in cmds.iter().zip(&out) {
-        let want = single.execute(c).unwrap();
-        let got = got.as_ref().unwrap();
-        assert!(
-            same_bits(&want, got),
-            "{name}: {} single {want:?} batched {got:?}",
-            scene.command_space().format(c)
-        );
-    }
+    assert_as_single(name, &scene, &mut single, &cmds, &out);
 }
 
 #[test]
@@ -105,15 +116,8 @@ fn batches_smaller_than_the_world_give_the_same_bits() {
             k += size;
             let mut out = Vec::new();
             multi.execute_batch(&batch, &mut out);
-            for (c, got) in batch.iter().zip(&out) {
-                let want = single.execute(c).unwrap();
-                let got = got.as_ref().unwrap();
-                assert!(
-                    same_bits(&want, got),
-                    "{name}, batch of {size}: {} single {want:?} batched {got:?}",
-                    scene.command_space().format(c)
-                );
-            }
+            let what = format!("{name}, batch of {size}");
+            assert_as_single(&what, &scene, &mut single, &batch, &out);
         }
     }
 }
