@@ -110,7 +110,7 @@ class Scene:
     def format(self, commands: npt.ArrayLike) -> Union[str, list[str]]: ...
     def world(self, prefix_states: Optional[int] = None) -> World:
         """A world that executes this scene's commands; ``execute`` keeps up to
-        ``prefix_states`` phase-end states (default 1024; 0: none)."""
+        ``prefix_states`` phase-end states (default 2048; 0: none)."""
     def svg(self, command: Optional[CommandsLike] = None) -> str:
         """The scene as SVG, with a command's path if given (``e3d scene render``)."""
     def _repr_svg_(self) -> str: ...

@@ -57,7 +57,7 @@ def test_prefix_states_give_the_bits_of_every_step(cli, name):
     cmds = np.concatenate([base, base[:, ::-1]])  # shared prefixes, both ways
     cmds[40:, :3] = base[:40, :3]
     reusing, plain = scene.world(), scene.world(prefix_states=0)
-    assert (reusing.prefix_states, plain.prefix_states) == (1024, 0)
+    assert (reusing.prefix_states, plain.prefix_states) == (2048, 0)
     a = [reusing.execute(c) for c in cmds]
     b = [plain.execute(c) for c in cmds]
     assert a == b
@@ -70,7 +70,7 @@ def test_prefix_states_must_be_a_count():
     scene = e3d.Scene.builtin("puck_rooms")
     with pytest.raises(ValueError, match="prefix_states"):
         scene.world(prefix_states=-1)
-    assert scene.world(prefix_states=None).prefix_states == 1024
+    assert scene.world(prefix_states=None).prefix_states == 2048
 
 
 def test_the_memo_keeps_each_command_once():

@@ -224,7 +224,7 @@ impl PyScene {
 
     /// A world that executes this scene's commands (see `World`).
     /// `prefix_states`: the most phase-end states `execute` keeps for the
-    /// commands that share a prefix (default 1024; 0: every step of every
+    /// commands that share a prefix (default 2048; 0: every step of every
     /// command simulated).
     #[pyo3(signature = (prefix_states = None))]
     fn world(&self, prefix_states: Option<&Bound<'_, PyAny>>) -> PyResult<PyWorld> {

@@ -351,10 +351,10 @@ impl PhysicsWorld {
     /// use e3d::{Scene, World};
     /// let scene = Scene::builtin("puck_rooms").unwrap();
     /// let mut world = scene.physics_world().unwrap();
-    /// assert_eq!(world.prefix_depth(), 4); // 4 + 16 + 64 + 256 states
+    /// assert_eq!(world.prefix_depth(), 5); // 4 + 16 + 64 + 256 + 1024 states
     /// let c = world.command_space().parse("SEEEEES").unwrap();
     /// let a = world.execute(&c).unwrap();
-    /// assert_eq!(world.prefix_states_kept(), 4);
+    /// assert_eq!(world.prefix_states_kept(), 5);
     /// let d = world.command_space().parse("SEEEWWN").unwrap();
     /// world.execute(&d).unwrap(); // starts after `SEEE`
     /// world.set_prefix_states(0);

@@ -14,14 +14,14 @@
 //! The number of states kept is bounded by construction: prefixes of at
 //! most `depth` slots, where `depth` is the deepest whose prefixes number
 //! at most [`PREFIX_STATES`] in all. puck_rooms (7 slots of 4 symbols)
-//! keeps prefixes of up to 4 slots (340 states, about 6 MB) and simulates
-//! 300 of the 540 steps of a command whose 4-slot prefix ran before.
+//! keeps prefixes of up to 5 slots (1364 states, about 25 MB) and simulates
+//! 240 of the 540 steps of a command whose 5-slot prefix ran before.
 
 use super::Sets;
 use std::collections::HashMap;
 
 /// The most phase-end states a world of one copy keeps by default.
-pub const PREFIX_STATES: usize = 1024;
+pub const PREFIX_STATES: usize = 2048;
 
 /// The phase-end states of the prefixes run so far (see the module).
 #[derive(Default)]
