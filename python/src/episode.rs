@@ -220,12 +220,12 @@ pub(crate) fn run_episodes(
     closed_loop: bool,
     observe: Option<&str>,
     use_reward: bool,
-    gamma: f64,
-    alpha: f64,
-    beta: f64,
-    lambda_: f64,
-    eta: f64,
-    epsilon: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] gamma: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] alpha: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] beta: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] lambda_: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] eta: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] epsilon: f64,
     target: Option<&Bound<'_, PyAny>>,
     targets: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
@@ -405,6 +405,7 @@ pub(crate) fn contextual_held(
     let (space, n) = (&scene.space, scene.inner.num_effects());
     let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
     params.validate().map_err(|e| bad(e.into()))?;
+    e3d::learner::contextual::check_gamma(gamma).map_err(bad)?;
     e3d::learner::contextual::check_context_effects(contexts, n).map_err(bad)?;
     match (closed_loop, kind) {
         (true, LearnerKind::E3d) => {

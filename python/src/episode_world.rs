@@ -245,11 +245,7 @@ impl PyEpisodeWorld {
             out.reward = 0.0;
         }
         self.state = (!last).then_some(next);
-        Ok((
-            self.observed(self.start, out.effect),
-            out.into(),
-            last,
-        ))
+        Ok((self.observed(self.start, out.effect), out.into(), last))
     }
 
     /// Pickles as its scene, arguments, generator and the episode's state:

@@ -3,7 +3,7 @@
 
 use e3d::{LearnerKind, SweepError, WorldError};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::exceptions::{PyOverflowError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
@@ -215,10 +215,26 @@ pub(crate) fn every_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
     usize_arg(obj, "every", 1)
 }
 
+/// A float argument as pyo3 takes it (`from_py_with`), except that an int
+/// too large for a float (`10**400`: Python's bare `OverflowError`)
+/// becomes an infinity of its sign, which the argument's own range check
+/// then refuses with a `ValueError` naming the argument; every float
+/// argument of the API is checked so.
+pub(crate) fn float_arg(obj: &Bound<'_, PyAny>) -> PyResult<f64> {
+    match obj.extract::<f64>() {
+        Err(e) if e.is_instance_of::<PyOverflowError>(obj.py()) => Ok(if obj.lt(0)? {
+            f64::NEG_INFINITY
+        } else {
+            f64::INFINITY
+        }),
+        r => r,
+    }
+}
+
 /// A float argument `name` that must be finite (a reward): a `TypeError`
 /// for a non-number, a `ValueError` naming it for NaN or an infinity.
 pub(crate) fn finite_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
-    let v: f64 = obj.extract().map_err(|_| {
+    let v: f64 = float_arg(obj).map_err(|_| {
         PyTypeError::new_err(format!(
             "{name}: expected a number, found {}",
             type_name(obj)

@@ -80,13 +80,14 @@ pub(crate) fn svg(
 /// `svg` rasterised (resvg, without text: the title, labels and legend
 /// need fonts) at `scale` pixels per SVG pixel: `(height, width, rgb)`,
 /// composited over white.
-pub(crate) fn rasterise(svg: &str, scale: f32) -> PyResult<(usize, usize, Vec<u8>)> {
+pub(crate) fn rasterise(svg: &str, scale: f64) -> PyResult<(usize, usize, Vec<u8>)> {
     use resvg::{tiny_skia, usvg};
     if !(scale.is_finite() && scale > 0.0 && scale <= 16.0) {
         return Err(PyValueError::new_err(format!(
             "scale = {scale}: expected a number in (0, 16]"
         )));
     }
+    let scale = scale as f32;
     let tree = usvg::Tree::from_str(svg, &usvg::Options::default())
         .map_err(|e| PyValueError::new_err(format!("the scene's SVG does not parse: {e}")))?;
     let size = tree.size();

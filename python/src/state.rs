@@ -55,10 +55,10 @@ impl PyE3dLearner {
     #[pyo3(signature = (scene, alpha = 0.3, beta = 1.0, lambda_ = 0.03, eta = 0.01, target = None))]
     fn new(
         scene: &Bound<'_, PyAny>,
-        alpha: f64,
-        beta: f64,
-        lambda_: f64,
-        eta: f64,
+        #[pyo3(from_py_with = crate::errors::float_arg)] alpha: f64,
+        #[pyo3(from_py_with = crate::errors::float_arg)] beta: f64,
+        #[pyo3(from_py_with = crate::errors::float_arg)] lambda_: f64,
+        #[pyo3(from_py_with = crate::errors::float_arg)] eta: f64,
         target: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyClassInitializer<PyE3dLearner>> {
         let scene = scene_of(scene)?;

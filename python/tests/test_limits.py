@@ -208,3 +208,63 @@ def test_a_session_batch_state_whose_commands_do_not_fit_is_refused():
     st[4] = {"not": "an array"}
     with pytest.raises(ValueError, match="SessionBatch: not a pickled state: commands of 2 sessions x 5 trials"):
         f(tuple(st))
+
+
+def _float_arguments():
+    """Every (callable, parameter) of the package with a float default."""
+    import inspect
+    found = set()
+    for name in dir(e3d):
+        obj = getattr(e3d, name)
+        if name.startswith("_") or not callable(obj):
+            continue
+        members = [(name, obj)]
+        if inspect.isclass(obj):
+            members += [(f"{name}.{m}", getattr(obj, m)) for m in dir(obj) if not m.startswith("_")]
+        for qual, f in members:
+            try:
+                params = inspect.signature(f).parameters.values()
+            except (TypeError, ValueError):
+                continue
+            found |= {(qual, p.name) for p in params if isinstance(p.default, float)}
+    return found
+
+
+def test_an_int_too_large_for_a_float_is_a_value_error_naming_the_argument(root):
+    # Python's own conversion raises a bare OverflowError for 10**400; every
+    # float argument takes it as an infinity and refuses it by name
+    contexts = root / "scenes" / "two_rooms_contexts.ron"
+    calls = {
+        "E3dLearner": lambda **kw: e3d.E3dLearner("two_rooms", **kw),
+        "E3dLearner.contextual": lambda **kw: e3d.E3dLearner.contextual(contexts, **kw),
+        "Learner": lambda **kw: e3d.Learner("two_rooms", **kw),
+        "Learner.contextual": lambda **kw: e3d.Learner.contextual(contexts, **kw),
+        "Scene.render": lambda **kw: e3d.Scene.builtin("two_rooms").render(**kw),
+        "run_episodes": lambda **kw: e3d.run_episodes(contexts, episodes=2, closed_loop=True, **kw),
+        "run_session": lambda **kw: e3d.run_session("two_rooms", trials=2, **kw),
+        "run_sessions": lambda **kw: e3d.run_sessions("two_rooms", trials=2, sessions=2, **kw),
+    }
+    arguments = _float_arguments()
+    # a new float argument must be added to `calls`
+    assert {q for q, _ in arguments} == set(calls)
+    assert len(arguments) == 38
+    for qual, name in sorted(arguments):
+        for big in (10**400, -10**400):
+            with pytest.raises(ValueError, match=rf"^{name} = -?inf: expected"):
+                calls[qual](**{name: big})
+    # a reward and a target weight too
+    with pytest.raises(ValueError, match=r"^reward = inf: expected a finite number"):
+        e3d.Learner("two_rooms").learn([0] * 7, 0, 10**400)
+    with pytest.raises(ValueError, match=r"target"):
+        e3d.Learner("two_rooms", target={0: 10**400})
+
+
+def test_gamma_is_checked_open_loop_too(root):
+    # the open loop has no discount, but a gamma out of [0, 1] is a mistake
+    # either way: refused, not silently ignored
+    contexts = root / "scenes" / "two_rooms_contexts.ron"
+    with pytest.raises(ValueError, match=r"^gamma = 7: expected a number in \[0, 1\]"):
+        e3d.Learner.contextual(contexts, gamma=7.0)
+    with pytest.raises(ValueError, match=r"^gamma = 7: expected a number in \[0, 1\]"):
+        e3d.run_episodes(contexts, episodes=2, gamma=7.0)
+    assert e3d.Learner.contextual(contexts, gamma=0.5) is not None

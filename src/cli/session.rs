@@ -63,8 +63,9 @@ pub struct RunArgs {
     /// Q-learning over whole commands.
     #[arg(long)]
     pub closed_loop: bool,
-    /// Discount of closed-loop E3D's Q_ref and of Q-learning, in [0, 1].
-    #[arg(long, default_value_t = e3d::learner::ClosedLoopE3d::GAMMA)]
+    /// Discount of closed-loop E3D's Q_ref and of Q-learning, in [0, 1]
+    /// (with --closed-loop only: the open loop has no discount).
+    #[arg(long, default_value_t = e3d::learner::ClosedLoopE3d::GAMMA, requires = "closed_loop")]
     pub gamma: f64,
 }
 

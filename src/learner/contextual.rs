@@ -307,7 +307,14 @@ impl ClosedLoopE3d {
     }
 }
 
-fn check_gamma(gamma: f64) -> Result<(), LearnerError> {
+/// Checks a discount `gamma` of the closed loop: a number in `[0, 1]`.
+///
+/// ```
+/// use e3d::learner::contextual::check_gamma;
+/// assert!(check_gamma(0.9).is_ok());
+/// assert_eq!(check_gamma(7.0).unwrap_err().to_string(), "gamma = 7: expected a number in [0, 1]");
+/// ```
+pub fn check_gamma(gamma: f64) -> Result<(), LearnerError> {
     if (0.0..=1.0).contains(&gamma) {
         Ok(())
     } else {
@@ -471,6 +478,8 @@ impl LearnerKind {
     ///     .unwrap();
     /// assert_eq!(l.name(), "qlearning");
     /// assert!(LearnerKind::Count.make_episodic(true, &Params::TASK1, &space, 4, 4, &shared, 0.9).is_err());
+    /// // gamma is checked open loop too
+    /// assert!(LearnerKind::E3d.make_episodic(false, &Params::TASK1, &space, 4, 4, &shared, 7.0).is_err());
     /// ```
     #[allow(clippy::too_many_arguments)]
     pub fn make_episodic(
@@ -483,6 +492,9 @@ impl LearnerKind {
         targets: &ContextTargets,
         gamma: f64,
     ) -> Result<Box<dyn ContextualLearner + Send>, LearnerError> {
+        // checked open loop too, which does not use it: a discount out of
+        // range is a mistake either way
+        check_gamma(gamma)?;
         match (closed_loop, self) {
             (false, kind) => kind.make_contextual(params, space, num_effects, num_contexts, targets),
             (true, LearnerKind::E3d) => {

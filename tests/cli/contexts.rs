@@ -125,6 +125,21 @@ fn closed_loop_runs_from_the_cli() {
     let bad = e3d(&["run", "four_rooms", "--closed-loop", "--learner", "count"]);
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--closed-loop takes"));
+    // the open loop has no discount: --gamma alone does nothing, so it is refused
+    let alone = e3d(&["run", "four_rooms", "--commands", "3", "--gamma", "0.5"]);
+    assert_eq!(alone.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&alone.stderr);
+    assert!(
+        err.contains("required arguments were not provided") && err.contains("--closed-loop"),
+        "{err}"
+    );
+    let out_of_range = e3d(&["run", "four_rooms", "--closed-loop", "--gamma", "5"]);
+    assert_eq!(out_of_range.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out_of_range.stderr);
+    assert!(
+        err.contains("gamma = 5: expected a number in [0, 1]"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -273,7 +273,7 @@ impl PyScene {
         &self,
         py: Python<'py>,
         command: Option<&Bound<'py, PyAny>>,
-        scale: f32,
+        #[pyo3(from_py_with = crate::errors::float_arg)] scale: f64,
     ) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
         let svg = crate::picture::svg(py, self, command)?;
         let (h, w, rgb) = py.detach(|| crate::picture::rasterise(&svg, scale))?;

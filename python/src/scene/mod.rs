@@ -115,7 +115,7 @@ pub(crate) fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> 
                 )));
             }
             named[e] = Some(k.clone());
-            w[e] = v.extract::<f64>().map_err(|_| {
+            w[e] = crate::errors::float_arg(&v).map_err(|_| {
                 PyValueError::new_err(format!(
                     "target[{}]: expected a number",
                     k.repr().map(|r| r.to_string()).unwrap_or_default()
