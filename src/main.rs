@@ -2,7 +2,8 @@
 
 mod cli;
 
-use clap::{Parser, Subcommand};
+use clap::parser::ValueSource;
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
 /// e3d: learn compositional motor commands by End-Effect Exploration.
@@ -89,7 +90,14 @@ fn main() -> ExitCode {
     // temporary files go on Ctrl-C and SIGTERM, and at the end whatever
     // the outcome (an error half-way leaves none)
     e3d::io::remove_temps_on_signals();
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let mut cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    if let (Cmd::Run(a), Some(("run", m))) = (&mut cli.command, matches.subcommand()) {
+        a.given_params = cli::session::ParamArgs::NAMES
+            .into_iter()
+            .filter(|id| m.value_source(id) == Some(ValueSource::CommandLine))
+            .collect();
+    }
     let result = match cli.command {
         Cmd::Run(a) => cli::run::run(a),
         Cmd::Reproduce(a) => cli::reproduce::run(a),

@@ -63,6 +63,7 @@ pub fn run(a: RunArgs) -> CliResult {
         super::output::check_cache_folder(dir, "--table-cache")?;
     }
     let params = a.params.params()?;
+    super::session::note_unused_params(a.learner, &a.given_params);
     let scene = load_scene(&a.scene)?;
     if let Some(dir) = &a.out {
         prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;

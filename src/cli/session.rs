@@ -3,7 +3,7 @@
 //! they print, and the streamed `trials.csv`.
 
 use super::{CliError, CliResult};
-use crate::cli::console::outln;
+use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::world::{ExecOptions, Strategy};
 use e3d::{Command, CommandSpace, LearnerKind, Metrics, Outcome, Params, Recorder};
@@ -27,6 +27,10 @@ pub struct RunArgs {
     pub seed: u64,
     #[command(flatten)]
     pub params: ParamArgs,
+    /// The hyper-parameters given on the command line, by name (set from
+    /// clap's matches: a learner that reads none of them gets a note).
+    #[arg(skip)]
+    pub given_params: Vec<&'static str>,
     /// Ignore the scene's reward (the paper's task 1).
     #[arg(long)]
     pub no_reward: bool,
@@ -113,6 +117,21 @@ pub struct ParamArgs {
 }
 
 impl ParamArgs {
+    /// The hyper-parameters' names, as clap knows the flags (`lambda` for
+    /// `--lambda`, `goal_progress` for `--goal-progress`) and as
+    /// [`LearnerKind::params`] names them.
+    pub const NAMES: [&'static str; 9] = [
+        "alpha",
+        "beta",
+        "lambda",
+        "eta",
+        "epsilon",
+        "k",
+        "sigma",
+        "rarity",
+        "goal_progress",
+    ];
+
     /// The checked parameters.
     pub fn params(&self) -> Result<Params, CliError> {
         let p = Params {
@@ -264,6 +283,23 @@ pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliRe
         let _ = std::fs::remove_file(&tmp);
     }
     result.map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
+}
+
+/// A note on standard error for every hyper-parameter given on the command
+/// line (`given`) that `learner` does not read: the run goes on (as a sweep
+/// spans only the parameters its learner uses), but the flag does nothing.
+pub(super) fn note_unused_params(learner: LearnerKind, given: &[&str]) {
+    let reads = learner.params();
+    for name in given.iter().filter(|n| !reads.contains(n)) {
+        let reads = match reads {
+            [] => "no hyper-parameter".to_string(),
+            r => r.join(", "),
+        };
+        errln!(
+            "note: --{} does nothing for learner {learner} (it reads {reads})",
+            name.replace('_', "-")
+        );
+    }
 }
 
 /// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order

@@ -104,6 +104,42 @@ fn bad_parameters_and_scenes_exit_with_code_2_and_say_why() {
 }
 
 #[test]
+fn a_hyper_parameter_the_learner_does_not_read_gets_a_note() {
+    let err = |args: &[&str]| {
+        let o = e3d(args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let base = ["run", "two_rooms", "--trials", "20"];
+    fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
+        [base, extra].concat()
+    }
+    let e = err(&with(&base, &["--learner", "uniform", "--alpha", "0.5"]));
+    assert!(
+        e.contains("note: --alpha does nothing for learner uniform (it reads no hyper-parameter)"),
+        "{e}"
+    );
+    let e = err(&with(
+        &base,
+        &["--epsilon", "0.5", "--goal-progress", "0.2", "--beta", "3"],
+    ));
+    assert!(
+        e.contains(
+            "note: --epsilon does nothing for learner e3d (it reads alpha, beta, lambda, eta)"
+        ),
+        "{e}"
+    );
+    assert!(
+        e.contains("note: --goal-progress does nothing for learner e3d"),
+        "{e}"
+    );
+    assert!(!e.contains("--beta does nothing"), "{e}");
+    // defaults and the parameters a learner reads: no note
+    assert!(!err(&base).contains("note:"));
+    assert!(!err(&with(&base, &["--learner", "egreedy", "--epsilon", "0.2"])).contains("note:"));
+}
+
+#[test]
 fn reproduce_writes_the_same_bytes_whatever_the_number_of_threads() {
     let outs: Vec<_> = ["1", "2"]
         .iter()
