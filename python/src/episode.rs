@@ -239,6 +239,8 @@ pub(crate) fn run_episodes(
     let kind = builtin_kind(learner)?;
     let targets = context_targets(&scene, target, targets)?;
     let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &params)?;
+    crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
     let observe = observe_arg(observe, k, closed_loop)?;
     let (one, seeds) = seed_list(seed, seeds)?;
     crate::errors::check_held("episodes, commands and seeds", seeds.len(), episodes * k)?;

@@ -323,3 +323,101 @@ pub(crate) fn params_arg(
     })?;
     Ok(params)
 }
+
+/// Whose hyper-parameters a call's `alpha` ... `epsilon` would be (see
+/// [`warn_unread`]).
+pub(crate) enum Reader {
+    /// A built-in learner made by the call: it reads its
+    /// [`LearnerKind::params`].
+    Kind(LearnerKind),
+    /// An `e3d.Learner`: it keeps the parameters it was made with.
+    State,
+    /// A learner object: it holds its own.
+    Object,
+}
+
+impl Reader {
+    /// The reader of a `learner` argument (None: `"e3d"`).
+    pub(crate) fn of(learner: Option<&Bound<'_, PyAny>>) -> PyResult<Reader> {
+        if learner.is_some_and(|l| l.cast::<crate::saved::PyLearnerState>().is_ok()) {
+            return Ok(Reader::State);
+        }
+        Ok(match crate::learner::builtin_kind(learner)? {
+            Some(kind) => Reader::Kind(kind),
+            None => Reader::Object,
+        })
+    }
+}
+
+/// Warns (`UserWarning`, at the caller's line) for every hyper-parameter
+/// given a value other than its default (`Params::TASK1`, the signatures'
+/// defaults) that `reader` does not read. The call goes on, as the CLI's
+/// note says and as a sweep spans only the parameters its learner uses.
+pub(crate) fn warn_unread(py: Python<'_>, reader: Reader, params: &e3d::Params) -> PyResult<()> {
+    let (reads, why): (&[&str], String) = match reader {
+        Reader::Kind(kind) => {
+            let reads = kind.params();
+            let list = match reads {
+                [] => "no hyper-parameter".to_string(),
+                r => r
+                    .iter()
+                    .map(|n| python_name(n))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            };
+            (reads, format!("learner {kind} reads {list}"))
+        }
+        Reader::State => (
+            &[],
+            "an e3d.Learner keeps the parameters it was made with".into(),
+        ),
+        Reader::Object => (&[], "a learner object holds its own parameters".into()),
+    };
+    let d = e3d::Params::TASK1;
+    let given = [
+        ("alpha", params.alpha, d.alpha),
+        ("beta", params.beta, d.beta),
+        ("lambda", params.lambda, d.lambda),
+        ("eta", params.eta, d.eta),
+        ("epsilon", params.epsilon, d.epsilon),
+    ];
+    for (name, v, default) in given {
+        if v != default && !reads.contains(&name) {
+            warn(
+                py,
+                &format!("{} = {v} does nothing: {why}", python_name(name)),
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Warns when a `gamma` other than the default is given open loop, which
+/// has no discount (checked all the same: see `check_gamma`).
+pub(crate) fn warn_open_loop_gamma(py: Python<'_>, closed_loop: bool, gamma: f64) -> PyResult<()> {
+    if !closed_loop && gamma != e3d::learner::ClosedLoopE3d::GAMMA {
+        warn(
+            py,
+            &format!(
+                "gamma = {gamma} does nothing: the open loop has no discount (closed_loop=False)"
+            ),
+        )?;
+    }
+    Ok(())
+}
+
+/// A hyper-parameter's name as Python's arguments spell it (`lambda_`).
+fn python_name(name: &str) -> &str {
+    if name == "lambda" {
+        "lambda_"
+    } else {
+        name
+    }
+}
+
+/// Issues a `UserWarning` with `msg`, at the caller's line.
+pub(crate) fn warn(py: Python<'_>, msg: &str) -> PyResult<()> {
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    let msg = std::ffi::CString::new(msg).unwrap_or_default();
+    PyErr::warn(py, &category, &msg, 1)
+}

@@ -326,6 +326,7 @@ impl PyLearnerState {
         eta = 0.01, epsilon = 0.1, target = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
+        py: Python<'_>,
         scene: &Bound<'_, PyAny>,
         learner: &str,
         #[pyo3(from_py_with = crate::errors::float_arg)] alpha: f64,
@@ -344,6 +345,7 @@ impl PyLearnerState {
         let kind = kind_arg(learner)?;
         let target = target_arg(&scene, target)?;
         let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+        crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params)?;
         Ok(PyLearnerState {
             held: Held::new(&scene, kind, &params, &target)?,
         })
@@ -380,6 +382,8 @@ impl PyLearnerState {
         let scene = scene_of(scene)?;
         let kind = kind_arg(learner)?;
         let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+        crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params)?;
+        crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
         let one = 1usize.into_pyobject(py)?.into_any();
         let held = crate::episode::contextual_held(
             &scene,

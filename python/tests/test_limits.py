@@ -268,3 +268,36 @@ def test_gamma_is_checked_open_loop_too(root):
     with pytest.raises(ValueError, match=r"^gamma = 7: expected a number in \[0, 1\]"):
         e3d.run_episodes(contexts, episodes=2, gamma=7.0)
     assert e3d.Learner.contextual(contexts, gamma=0.5) is not None
+
+
+def test_a_hyper_parameter_the_learner_does_not_read_is_a_warning(root):
+    import warnings
+    contexts = root / "scenes" / "two_rooms_contexts.ron"
+    cases = [
+        (lambda: e3d.run_session("two_rooms", trials=5, learner="uniform", alpha=0.5),
+         "alpha = 0.5 does nothing: learner uniform reads no hyper-parameter"),
+        (lambda: e3d.run_sessions("two_rooms", trials=5, sessions=2, learner="egreedy", beta=3.0),
+         "beta = 3 does nothing: learner egreedy reads alpha, epsilon"),
+        (lambda: e3d.run_session("two_rooms", trials=5, epsilon=0.5),
+         "epsilon = 0.5 does nothing: learner e3d reads alpha, beta, lambda_, eta"),
+        (lambda: e3d.Learner("two_rooms", learner="count", eta=0.5),
+         "eta = 0.5 does nothing: learner count reads alpha, beta, lambda_"),
+        (lambda: e3d.run_session("two_rooms", trials=5, learner=e3d.Learner("two_rooms"), alpha=0.9),
+         "alpha = 0.9 does nothing: an e3d.Learner keeps the parameters it was made with"),
+        (lambda: e3d.run_episodes(contexts, episodes=3, gamma=0.5),
+         "gamma = 0.5 does nothing: the open loop has no discount"),
+        (lambda: e3d.Learner.contextual(contexts, gamma=0.5),
+         "gamma = 0.5 does nothing: the open loop has no discount"),
+    ]
+    for call, message in cases:
+        with pytest.warns(UserWarning, match=message) as record:
+            call()
+        assert len(record) == 1
+        assert record[0].filename == __file__  # the caller's line
+    # defaults, and the parameters a learner reads: no warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        e3d.run_session("two_rooms", trials=5, learner="uniform")
+        e3d.run_session("two_rooms", trials=5, alpha=0.5, lambda_=0.1)
+        e3d.run_session("two_rooms", trials=5, learner="egreedy", epsilon=0.2)
+        e3d.run_episodes(contexts, episodes=3, closed_loop=True, gamma=0.5)

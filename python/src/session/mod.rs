@@ -225,6 +225,7 @@ pub(crate) fn run_session(
         table_cache,
         target,
     )?;
+    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
     let run = OneSession {
         work: workload(trials, 1),
         cfg: a.config(trials, seed),
@@ -500,6 +501,7 @@ pub(crate) fn run_sessions(
         table_cache,
         target,
     )?;
+    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
     check_held("trials and sessions", seeds.len(), trials)?;
     let (name, rows, execution) = if let Some(space) = scene.values.clone() {
         let (kind, rows, execution) =
