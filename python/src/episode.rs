@@ -240,6 +240,8 @@ pub(crate) fn run_episodes(
     let targets = context_targets(&scene, target, targets)?;
     let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
     crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &params)?;
+    e3d::learner::contextual::check_gamma(gamma)
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
     crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
     let observe = observe_arg(observe, k, closed_loop)?;
     let (one, seeds) = seed_list(seed, seeds)?;

@@ -345,10 +345,9 @@ impl PyLearnerState {
         let kind = kind_arg(learner)?;
         let target = target_arg(&scene, target)?;
         let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+        let held = Held::new(&scene, kind, &params, &target)?;
         crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params)?;
-        Ok(PyLearnerState {
-            held: Held::new(&scene, kind, &params, &target)?,
-        })
+        Ok(PyLearnerState { held })
     }
 
     /// A contextual built-in learner for sessions of episodes on `scene`
@@ -382,8 +381,6 @@ impl PyLearnerState {
         let scene = scene_of(scene)?;
         let kind = kind_arg(learner)?;
         let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
-        crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params)?;
-        crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
         let one = 1usize.into_pyobject(py)?.into_any();
         let held = crate::episode::contextual_held(
             &scene,
@@ -396,6 +393,9 @@ impl PyLearnerState {
             target,
             targets,
         )?;
+        // once everything is checked: a refused call warns of nothing
+        crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params)?;
+        crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
         Ok(PyLearnerState { held })
     }
 

@@ -10,6 +10,10 @@ import pytest
 
 import e3d
 
+# these tests give every learner the same hyper-parameters: the warnings
+# for those a learner does not read are expected
+pytestmark = pytest.mark.filterwarnings("ignore:.* does nothing:UserWarning")
+
 SYMBOL_KINDS = ["e3d", "e3d_relax", "count", "smm", "egreedy", "uniform", "goal_babbling", "archive"]
 
 

@@ -267,7 +267,8 @@ def test_gamma_is_checked_open_loop_too(root):
         e3d.Learner.contextual(contexts, gamma=7.0)
     with pytest.raises(ValueError, match=r"^gamma = 7: expected a number in \[0, 1\]"):
         e3d.run_episodes(contexts, episodes=2, gamma=7.0)
-    assert e3d.Learner.contextual(contexts, gamma=0.5) is not None
+    with pytest.warns(UserWarning, match="gamma = 0.5 does nothing"):
+        assert e3d.Learner.contextual(contexts, gamma=0.5) is not None
 
 
 def test_a_hyper_parameter_the_learner_does_not_read_is_a_warning(root):

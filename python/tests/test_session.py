@@ -21,7 +21,7 @@ def cli_run(cli, tmp_path, scene, *args):
     [
         ("two_rooms", "e3d", {}),
         ("two_rooms", "uniform", {}),
-        ("two_rooms", "egreedy", {"beta": 100.0, "epsilon": 0.2}),
+        ("two_rooms", "egreedy", {"alpha": 0.5, "epsilon": 0.2}),
         ("puck_rooms", "e3d", {"beta": 100.0}),
         ("puck_rooms", "e3d", {"use_reward": False}),
     ],

@@ -225,7 +225,6 @@ pub(crate) fn run_session(
         table_cache,
         target,
     )?;
-    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
     let run = OneSession {
         work: workload(trials, 1),
         cfg: a.config(trials, seed),
@@ -235,6 +234,7 @@ pub(crate) fn run_session(
     };
     // a Learner: its state, checked against the scene, written back at the end
     let saved = saved_state(learner, &scene)?;
+    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
     let held = saved.as_ref().map(|s| s.borrow().held.clone());
     if scene.values.is_some() {
         if let Some(h) = held {
@@ -501,8 +501,9 @@ pub(crate) fn run_sessions(
         table_cache,
         target,
     )?;
-    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
     check_held("trials and sessions", seeds.len(), trials)?;
+    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
+
     let (name, rows, execution) = if let Some(space) = scene.values.clone() {
         let (kind, rows, execution) =
             run_continuous(py, &scene, &space, learner, &a, &seeds, trials, progress)?;
