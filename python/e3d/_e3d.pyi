@@ -238,6 +238,10 @@ class Learner:
         eta: float = 0.01,
         epsilon: float = 0.1,
         target: Optional[TargetLike] = None,
+        k: int = 2,
+        sigma: float = 0.1,
+        rarity: float = 0.5,
+        goal_progress: float = 0.0,
     ) -> Learner: ...
     @staticmethod
     def contextual(
@@ -404,6 +408,10 @@ def run_session(
         Callable[[int, npt.NDArray[np.uint8], npt.NDArray[np.int64], npt.NDArray[np.float64]], object]
     ] = None,
     every: int = 1000,
+    k: int = 2,
+    sigma: float = 0.1,
+    rarity: float = 0.5,
+    goal_progress: float = 0.0,
 ) -> SessionRecord: ...
 
 @final
@@ -459,6 +467,10 @@ def run_sessions(
     table_cache: Optional[PathLike_] = None,
     progress: Optional[Progress] = None,
     target: Optional[TargetLike] = None,
+    k: int = 2,
+    sigma: float = 0.1,
+    rarity: float = 0.5,
+    goal_progress: float = 0.0,
 ) -> SessionBatch: ...
 @final
 class EpisodeRecord:

@@ -295,6 +295,33 @@ pub(crate) fn seeds_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
 /// The error text of work stopped on request (Ctrl-C, a failed callback).
 pub(crate) const STOPPED: &str = "stopped";
 
+/// The hyper-parameters of goal babbling and the archive as Python passes
+/// them (`run_session`, `run_sessions`, `Learner`), with the command
+/// line's names and defaults (`--k`, `--sigma`, `--rarity`,
+/// `--goal-progress`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Mutation {
+    pub(crate) k: usize,
+    pub(crate) sigma: f64,
+    pub(crate) rarity: f64,
+    pub(crate) goal_progress: f64,
+}
+
+impl Mutation {
+    /// The defaults: those of the paper's task 1.
+    pub(crate) const DEFAULT: Mutation = Mutation {
+        k: e3d::Params::TASK1.k,
+        sigma: e3d::Params::TASK1.sigma,
+        rarity: e3d::Params::TASK1.rarity,
+        goal_progress: e3d::Params::TASK1.goal_progress,
+    };
+}
+
+/// `k`: the slots a mutation resamples, an integer >= 1.
+pub(crate) fn k_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    usize_arg(obj, "k", 1)
+}
+
 /// The learning parameters of a session (the paper's task 1 beside the
 /// given ones), checked: a `ValueError` names the one out of range.
 pub(crate) fn params_arg(
@@ -304,13 +331,28 @@ pub(crate) fn params_arg(
     eta: f64,
     epsilon: f64,
 ) -> PyResult<e3d::Params> {
+    params_with(alpha, beta, lambda, eta, epsilon, Mutation::DEFAULT)
+}
+
+/// [`params_arg`] with goal babbling's and the archive's parameters.
+pub(crate) fn params_with(
+    alpha: f64,
+    beta: f64,
+    lambda: f64,
+    eta: f64,
+    epsilon: f64,
+    m: Mutation,
+) -> PyResult<e3d::Params> {
     let params = e3d::Params {
         alpha,
         beta,
         lambda,
         eta,
         epsilon,
-        ..e3d::Params::TASK1
+        k: m.k,
+        sigma: m.sigma,
+        rarity: m.rarity,
+        goal_progress: m.goal_progress,
     };
     params.validate().map_err(|e| {
         // the library names `lambda`; Python's argument is `lambda_`
@@ -380,6 +422,10 @@ pub(crate) fn warn_unread(py: Python<'_>, reader: Reader, params: &e3d::Params) 
         ("lambda", params.lambda, d.lambda),
         ("eta", params.eta, d.eta),
         ("epsilon", params.epsilon, d.epsilon),
+        ("k", params.k as f64, d.k as f64),
+        ("sigma", params.sigma, d.sigma),
+        ("rarity", params.rarity, d.rarity),
+        ("goal_progress", params.goal_progress, d.goal_progress),
     ];
     for (name, v, default) in given {
         if v != default && !reads.contains(&name) {

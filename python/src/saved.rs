@@ -323,7 +323,8 @@ impl PyLearnerState {
     /// `run_session` takes.
     #[new]
     #[pyo3(signature = (scene, learner = "e3d", alpha = 0.3, beta = 1.0, lambda_ = 0.03,
-        eta = 0.01, epsilon = 0.1, target = None))]
+        eta = 0.01, epsilon = 0.1, target = None, k = 2, sigma = 0.1, rarity = 0.5,
+        goal_progress = 0.0))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -335,6 +336,10 @@ impl PyLearnerState {
         #[pyo3(from_py_with = crate::errors::float_arg)] eta: f64,
         #[pyo3(from_py_with = crate::errors::float_arg)] epsilon: f64,
         target: Option<&Bound<'_, PyAny>>,
+        #[pyo3(from_py_with = crate::errors::k_arg)] k: usize,
+        #[pyo3(from_py_with = crate::errors::float_arg)] sigma: f64,
+        #[pyo3(from_py_with = crate::errors::float_arg)] rarity: f64,
+        #[pyo3(from_py_with = crate::errors::float_arg)] goal_progress: f64,
     ) -> PyResult<PyLearnerState> {
         if let Ok(data) = scene.cast::<PyBytes>() {
             // a learner's bytes: how a subclass's instance is unpickled
@@ -344,7 +349,13 @@ impl PyLearnerState {
         let scene = scene_of(scene)?;
         let kind = kind_arg(learner)?;
         let target = target_arg(&scene, target)?;
-        let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+        let mutation = crate::errors::Mutation {
+            k,
+            sigma,
+            rarity,
+            goal_progress,
+        };
+        let params = crate::errors::params_with(alpha, beta, lambda_, eta, epsilon, mutation)?;
         let held = Held::new(&scene, kind, &params, &target)?;
         crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params)?;
         Ok(PyLearnerState { held })

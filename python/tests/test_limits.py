@@ -247,7 +247,7 @@ def test_an_int_too_large_for_a_float_is_a_value_error_naming_the_argument(root)
     arguments = _float_arguments()
     # a new float argument must be added to `calls`
     assert {q for q, _ in arguments} == set(calls)
-    assert len(arguments) == 38
+    assert len(arguments) == 47
     for qual, name in sorted(arguments):
         for big in (10**400, -10**400):
             with pytest.raises(ValueError, match=rf"^{name} = -?inf: expected"):
@@ -283,6 +283,10 @@ def test_a_hyper_parameter_the_learner_does_not_read_is_a_warning(root):
          "epsilon = 0.5 does nothing: learner e3d reads alpha, beta, lambda_, eta"),
         (lambda: e3d.Learner("two_rooms", learner="count", eta=0.5),
          "eta = 0.5 does nothing: learner count reads alpha, beta, lambda_"),
+        (lambda: e3d.run_session("two_rooms", trials=5, k=3),
+         "k = 3 does nothing: learner e3d reads alpha, beta, lambda_, eta"),
+        (lambda: e3d.run_session("two_rooms", trials=5, learner="archive", goal_progress=0.5),
+         "goal_progress = 0.5 does nothing: learner archive reads k, sigma, rarity"),
         (lambda: e3d.run_session("two_rooms", trials=5, learner=e3d.Learner("two_rooms"), alpha=0.9),
          "alpha = 0.9 does nothing: an e3d.Learner keeps the parameters it was made with"),
         (lambda: e3d.run_episodes(contexts, episodes=3, gamma=0.5),

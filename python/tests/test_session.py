@@ -22,6 +22,8 @@ def cli_run(cli, tmp_path, scene, *args):
         ("two_rooms", "e3d", {}),
         ("two_rooms", "uniform", {}),
         ("two_rooms", "egreedy", {"alpha": 0.5, "epsilon": 0.2}),
+        ("two_rooms", "goal_babbling", {"k": 3, "goal_progress": 0.5}),
+        ("two_rooms", "archive", {"k": 1, "rarity": 2.0}),
         ("puck_rooms", "e3d", {"beta": 100.0}),
         ("puck_rooms", "e3d", {"use_reward": False}),
     ],
@@ -33,7 +35,7 @@ def test_run_session_equals_e3d_run(cli, tmp_path, scene, learner, extra):
         if k == "use_reward":
             args.append("--no-reward")
         else:
-            args += [f"--{k}", v]
+            args += [f"--{k.replace('_', '-')}", v]
     rows, summary = cli_run(cli, tmp_path, scene, *args)
     rec = e3d.run_session(scene, learner=learner, trials=trials, seed=seed, **extra)
     assert rec.effects.tolist() == [int(r["effect"]) for r in rows]
@@ -182,3 +184,25 @@ def test_rng_methods():
 
     e3d.run_session("two_rooms", learner=Probe(), trials=1)
     assert 0.0 <= seen["r"] < 1.0 and seen["c"] == 1
+
+
+def test_goal_babbling_and_archive_parameters_reach_the_learner():
+    # k, sigma, rarity and goal_progress (the CLI's --k, --sigma, --rarity,
+    # --goal-progress; the CLI comparison above checks the same trials)
+    def commands(scene, learner, trials, **kw):
+        return e3d.run_session(scene, learner=learner, trials=trials, seed=5, **kw).commands.tolist()
+    assert commands("two_rooms", "goal_babbling", 300) != commands(
+        "two_rooms", "goal_babbling", 300, k=3, goal_progress=0.5)
+    assert commands("two_rooms", "archive", 300) != commands("two_rooms", "archive", 300, rarity=2.0)
+    assert commands("arm7_continuous", "goal_babbling", 40) != commands(
+        "arm7_continuous", "goal_babbling", 40, sigma=0.3)
+    # a Learner made with them runs as run_session with them
+    held = e3d.Learner("two_rooms", learner="archive", k=1, rarity=2.0)
+    assert commands("two_rooms", held, 300) == commands("two_rooms", "archive", 300, k=1, rarity=2.0)
+    assert e3d.run_sessions("two_rooms", learner="archive", trials=300, seeds=[5], k=1,
+                            rarity=2.0)[0].commands.tolist() == commands(
+        "two_rooms", "archive", 300, k=1, rarity=2.0)
+    with pytest.raises(ValueError, match=r"^k = 0: expected an integer from 1"):
+        e3d.run_session("two_rooms", learner="archive", k=0)
+    with pytest.raises(ValueError, match=r"goal_progress"):
+        e3d.run_session("two_rooms", learner="goal_babbling", goal_progress=2.0)

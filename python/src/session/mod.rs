@@ -5,7 +5,7 @@
 //! `python_learners`, sessions of continuous commands in `values`.
 
 use crate::errors::{
-    check_held, every_arg, params_arg, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail,
+    check_held, every_arg, params_with, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail,
 };
 use crate::learner::{builtin_kind, Guarded};
 use crate::progress::{watched, Watch};
@@ -57,6 +57,7 @@ pub(crate) fn session_args(
     lambda_: f64,
     eta: f64,
     epsilon: f64,
+    mutation: crate::errors::Mutation,
     outcomes: Option<&str>,
     table_cache: Option<PathBuf>,
     target: Target,
@@ -72,7 +73,7 @@ pub(crate) fn session_args(
             e3d::sweep::MAX_TRIALS
         )));
     }
-    let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+    let params = params_with(alpha, beta, lambda_, eta, epsilon, mutation)?;
     let force = match outcomes {
         None | Some("auto") => None,
         Some(s) => Some(s.parse::<Strategy>().map_err(|_| {
@@ -177,7 +178,8 @@ pub(crate) fn execution_text(exec: Executor<'_>) -> String {
 #[pyo3(signature = (scene, learner = None, trials = 5000, seed = 0, use_reward = true,
     alpha = 0.3, beta = 1.0, lambda_ = 0.03,
     eta = 0.01, epsilon = 0.1, outcomes = None, table_cache = None,
-    progress = None, target = None, on_trials = None, every = 1000))]
+    progress = None, target = None, on_trials = None, every = 1000, k = 2, sigma = 0.1,
+    rarity = 0.5, goal_progress = 0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_session(
     py: Python<'_>,
@@ -197,6 +199,10 @@ pub(crate) fn run_session(
     target: Option<&Bound<'_, PyAny>>,
     on_trials: Option<&Bound<'_, PyAny>>,
     #[pyo3(from_py_with = every_arg)] every: usize,
+    #[pyo3(from_py_with = crate::errors::k_arg)] k: usize,
+    #[pyo3(from_py_with = crate::errors::float_arg)] sigma: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] rarity: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] goal_progress: f64,
 ) -> PyResult<PyRecord> {
     let scene = scene_of(scene)?;
     let on_trials = on_trials.filter(|c| !c.is_none());
@@ -221,6 +227,12 @@ pub(crate) fn run_session(
         lambda_,
         eta,
         epsilon,
+        crate::errors::Mutation {
+            k,
+            sigma,
+            rarity,
+            goal_progress,
+        },
         outcomes,
         table_cache,
         target,
@@ -460,7 +472,8 @@ where
 #[pyo3(signature = (scene, learner = None, trials = 5000, seeds = None, sessions = None, seed = 0,
     use_reward = true, alpha = 0.3, beta = 1.0,
     lambda_ = 0.03, eta = 0.01, epsilon = 0.1,
-    outcomes = None, table_cache = None, progress = None, target = None))]
+    outcomes = None, table_cache = None, progress = None, target = None, k = 2, sigma = 0.1,
+    rarity = 0.5, goal_progress = 0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_sessions(
     py: Python<'_>,
@@ -480,6 +493,10 @@ pub(crate) fn run_sessions(
     table_cache: Option<PathBuf>,
     progress: Option<&Bound<'_, PyAny>>,
     target: Option<&Bound<'_, PyAny>>,
+    #[pyo3(from_py_with = crate::errors::k_arg)] k: usize,
+    #[pyo3(from_py_with = crate::errors::float_arg)] sigma: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] rarity: f64,
+    #[pyo3(from_py_with = crate::errors::float_arg)] goal_progress: f64,
 ) -> PyResult<PyBatchRecord> {
     let scene = scene_of(scene)?;
     if learner.is_some_and(|l| l.is_instance_of::<PyLearnerState>()) {
@@ -497,6 +514,12 @@ pub(crate) fn run_sessions(
         lambda_,
         eta,
         epsilon,
+        crate::errors::Mutation {
+            k,
+            sigma,
+            rarity,
+            goal_progress,
+        },
         outcomes,
         table_cache,
         target,
