@@ -153,10 +153,15 @@ pub(crate) fn execution_text(exec: Executor<'_>) -> String {
 /// reward. The same numbers as `e3d run SCENE --trials T --seed S`.
 ///
 /// `learner`: a built-in learner's name (`"e3d"`, `"uniform"`, `"egreedy"`,
-/// `"e3d_relax"`, `"count"`, `"smm"`; on a continuous scene `"e3d"`, the
-/// Gaussian E3D, or `"uniform"`), or a Python object with
+/// `"e3d_relax"`, `"count"`, `"smm"`, `"goal_babbling"`, `"archive"`; on a
+/// continuous scene `"e3d"`, the Gaussian E3D, `"uniform"`,
+/// `"goal_babbling"` or `"archive"`), or a Python object with
 /// `propose(rng) -> symbols` and `learn(command, effect, reward)` (see
 /// `docs/python.md`). `use_reward=False` is the CLI's `--no-reward`.
+/// `k`, `sigma`, `rarity` and `goal_progress` are goal babbling's and the
+/// archive's (the CLI's `--k`, `--sigma`, `--rarity`, `--goal-progress`);
+/// a hyper-parameter given a non-default value that the learner does not
+/// read is a `UserWarning`.
 /// `outcomes`: `None` (the cheapest of table, memo or live, as the CLI
 /// chooses) or one of `"table"`, `"memo"`, `"live"`; `table_cache`: a
 /// folder to keep outcomes in (the CLI's `--table-cache`).
@@ -167,8 +172,8 @@ pub(crate) fn execution_text(exec: Executor<'_>) -> String {
 /// weight}`), also the metrics' target.
 ///
 /// `learner` may also be an `e3d.Learner` (or `E3dLearner`): the session
-/// starts from its state (its own alpha, beta, lambda, eta and target; those given here
-/// only set the metrics' target) and leaves it in the state it ends in.
+/// starts from its state (its own hyper-parameters and target; a target
+/// given here only sets the metrics') and leaves it in the state it ends in.
 /// `on_trials`: a callable, called as `on_trials(first, commands,
 /// effects, rewards)` with the arrays of every `every` trials (the last
 /// call may hold fewer), `first` the index of their first trial; it runs
