@@ -239,13 +239,14 @@ pub(crate) fn run_episodes(
     let kind = builtin_kind(learner)?;
     let targets = context_targets(&scene, target, targets)?;
     let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
-    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &params)?;
     e3d::learner::contextual::check_gamma(gamma)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
     let observe = observe_arg(observe, k, closed_loop)?;
     let (one, seeds) = seed_list(seed, seeds)?;
     crate::errors::check_held("episodes, commands and seeds", seeds.len(), episodes * k)?;
+    // after the arguments' checks: a refused call warns of nothing
+    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &params)?;
+    crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
     let inner = scene.inner.clone();
     let space = inner.command_space();
     let num_effects = inner.num_effects();

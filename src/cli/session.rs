@@ -290,13 +290,13 @@ pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliRe
 /// spans only the parameters its learner uses), but the flag does nothing.
 pub(super) fn note_unused_params(learner: LearnerKind, given: &[&str]) {
     let reads = learner.params();
+    let list = match reads {
+        [] => "no hyper-parameter".to_string(),
+        r => r.join(", "),
+    };
     for name in given.iter().filter(|n| !reads.contains(n)) {
-        let reads = match reads {
-            [] => "no hyper-parameter".to_string(),
-            r => r.join(", "),
-        };
         errln!(
-            "note: --{} does nothing for learner {learner} (it reads {reads})",
+            "note: --{} does nothing for learner {learner} (it reads {list})",
             name.replace('_', "-")
         );
     }

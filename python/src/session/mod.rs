@@ -531,7 +531,6 @@ pub(crate) fn run_sessions(
     )?;
     check_held("trials and sessions", seeds.len(), trials)?;
     crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
-
     let (name, rows, execution) = if let Some(space) = scene.values.clone() {
         let (kind, rows, execution) =
             run_continuous(py, &scene, &space, learner, &a, &seeds, trials, progress)?;
