@@ -158,26 +158,51 @@ pub(crate) fn usize_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResul
         .map_err(|_| PyValueError::new_err(format!("{name} = {v}: too large for this machine")))
 }
 
+/// An argument checker's result as a `from_py_with` checker gives it.
+/// pyo3 words the `TypeError` of such a checker `argument 'name':
+/// <message>`; the checkers' messages name their argument, as they must
+/// when called directly (`trials: expected an integer, found str`), so
+/// this drops the name the prefix already gives (`argument 'trials':
+/// expected an integer, found str`). A `ValueError` keeps its text.
+pub(crate) fn unnamed<T>(py: Python<'_>, name: &str, r: PyResult<T>) -> PyResult<T> {
+    r.map_err(|e| {
+        if !e.get_type(py).is(py.get_type::<PyTypeError>()) {
+            return e;
+        }
+        let text = e.value(py).to_string();
+        match text.strip_prefix(name).and_then(|t| t.strip_prefix(": ")) {
+            Some(rest) => PyTypeError::new_err(rest.to_string()),
+            None => e,
+        }
+    })
+}
+
 /// `seed`: an integer in [0, 2^64 - 1].
 pub(crate) fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
     int_arg(obj, "seed", 0)
 }
 
-/// `trials`: an integer >= 1.
+/// [`seed_arg`] for `from_py_with` (see [`unnamed`]).
+pub(crate) fn seed_param(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
+    unnamed(obj.py(), "seed", seed_arg(obj))
+}
+
+/// `trials`: an integer >= 1 (for `from_py_with`).
 pub(crate) fn trials_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    usize_arg(obj, "trials", 1)
+    unnamed(obj.py(), "trials", usize_arg(obj, "trials", 1))
 }
 
 /// The most sessions one call runs: the cap of `e3d run --sessions`
 /// (each session's record is kept in memory).
 pub(crate) const MAX_SESSIONS: usize = 100_000;
 
-/// `sessions`: None, or an integer from 1 to [`MAX_SESSIONS`].
+/// `sessions`: None, or an integer from 1 to [`MAX_SESSIONS`] (for
+/// `from_py_with`).
 pub(crate) fn sessions_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
     if obj.is_none() {
         return Ok(None);
     }
-    let n = usize_arg(obj, "sessions", 1)?;
+    let n = unnamed(obj.py(), "sessions", usize_arg(obj, "sessions", 1))?;
     if n > MAX_SESSIONS {
         return Err(PyValueError::new_err(format!(
             "sessions = {n}: expected at most {MAX_SESSIONS} (the cap of `e3d run --sessions`)"
@@ -210,9 +235,9 @@ pub(crate) fn type_name(obj: &Bound<'_, PyAny>) -> String {
         .unwrap_or_default()
 }
 
-/// `every`: an integer >= 1.
+/// `every`: an integer >= 1 (for `from_py_with`).
 pub(crate) fn every_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    usize_arg(obj, "every", 1)
+    unnamed(obj.py(), "every", usize_arg(obj, "every", 1))
 }
 
 /// A float argument as pyo3 takes it (`from_py_with`), except that an int
@@ -220,6 +245,8 @@ pub(crate) fn every_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
 /// becomes an infinity of its sign, which the argument's own range check
 /// then refuses with a `ValueError` naming the argument; every float
 /// argument of the API is checked so.
+/// Anything but a number is a `TypeError` worded as the integer
+/// arguments' (`argument 'alpha': expected a number, found str`).
 pub(crate) fn float_arg(obj: &Bound<'_, PyAny>) -> PyResult<f64> {
     match obj.extract::<f64>() {
         Err(e) if e.is_instance_of::<PyOverflowError>(obj.py()) => Ok(if obj.lt(0)? {
@@ -227,6 +254,9 @@ pub(crate) fn float_arg(obj: &Bound<'_, PyAny>) -> PyResult<f64> {
         } else {
             f64::INFINITY
         }),
+        Err(e) if e.get_type(obj.py()).is(obj.py().get_type::<PyTypeError>()) => Err(
+            PyTypeError::new_err(format!("expected a number, found {}", type_name(obj))),
+        ),
         r => r,
     }
 }
@@ -260,12 +290,12 @@ pub(crate) fn cache_folder_arg(dir: Option<PathBuf>) -> PyResult<Option<PathBuf>
     }
 }
 
-/// `threads`: None (every core), or an integer >= 1.
+/// `threads`: None (every core), or an integer >= 1 (for `from_py_with`).
 pub(crate) fn threads_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
     if obj.is_none() {
         return Ok(None);
     }
-    usize_arg(obj, "threads", 1).map(Some)
+    unnamed(obj.py(), "threads", usize_arg(obj, "threads", 1)).map(Some)
 }
 
 /// `seeds`: None, or an iterable of seeds, each an integer in
@@ -290,6 +320,11 @@ pub(crate) fn seeds_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
         out.push(int_arg(&item?, &format!("seeds[{i}]"), 0)?);
     }
     Ok(Some(out))
+}
+
+/// [`seeds_arg`] for `from_py_with` (see [`unnamed`]).
+pub(crate) fn seeds_param(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
+    unnamed(obj.py(), "seeds", seeds_arg(obj))
 }
 
 /// The error text of work stopped on request (Ctrl-C, a failed callback).
@@ -317,9 +352,10 @@ impl Mutation {
     };
 }
 
-/// `k`: the slots a mutation resamples, an integer >= 1.
+/// `k`: the slots a mutation resamples, an integer >= 1 (for
+/// `from_py_with`).
 pub(crate) fn k_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    usize_arg(obj, "k", 1)
+    unnamed(obj.py(), "k", usize_arg(obj, "k", 1))
 }
 
 /// The learning parameters of a session (the paper's task 1 beside the

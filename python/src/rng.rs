@@ -57,7 +57,7 @@ impl PyRng {
     /// its generator: with it, `Learner.propose` and `learn` in a loop of
     /// one's own draw what `run_session(seed=seed)` draws.
     #[new]
-    fn new(#[pyo3(from_py_with = crate::errors::seed_arg)] seed: u64) -> PyRng {
+    fn new(#[pyo3(from_py_with = crate::errors::seed_param)] seed: u64) -> PyRng {
         PyRng {
             inner: rand::SeedableRng::seed_from_u64(seed),
             active: true,
@@ -128,7 +128,7 @@ impl PyRng {
     }
 }
 
-/// `integers(n)`'s `n`: an integer >= 1.
+/// `integers(n)`'s `n`: an integer >= 1 (for `from_py_with`).
 fn n_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    usize_arg(obj, "n", 1)
+    crate::errors::unnamed(obj.py(), "n", usize_arg(obj, "n", 1))
 }

@@ -17,9 +17,10 @@ use pyo3::prelude::*;
 #[pyclass(module = "e3d", name = "E3dLearner", extends = PyLearnerState)]
 pub(crate) struct PyE3dLearner;
 
-/// `slot`: an integer >= 0 (its range is the learner's to check).
+/// `slot`: an integer >= 0 (its range is the learner's to check), for
+/// `from_py_with`.
 fn slot_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    usize_arg(obj, "slot", 0)
+    crate::errors::unnamed(obj.py(), "slot", usize_arg(obj, "slot", 0))
 }
 
 fn bad(e: e3d::LearnerError) -> PyErr {

@@ -5,7 +5,7 @@
 //! `python_learners`, sessions of continuous commands in `values`.
 
 use crate::errors::{
-    check_held, every_arg, params_with, seed_arg, seeds_arg, sessions_arg, trials_arg, Fail,
+    check_held, every_arg, params_with, seed_param, seeds_param, sessions_arg, trials_arg, Fail,
 };
 use crate::learner::{builtin_kind, Guarded};
 use crate::progress::{watched, Watch};
@@ -191,7 +191,7 @@ pub(crate) fn run_session(
     scene: &Bound<'_, PyAny>,
     learner: Option<&Bound<'_, PyAny>>,
     #[pyo3(from_py_with = trials_arg)] trials: usize,
-    #[pyo3(from_py_with = seed_arg)] seed: u64,
+    #[pyo3(from_py_with = seed_param)] seed: u64,
     use_reward: bool,
     #[pyo3(from_py_with = crate::errors::float_arg)] alpha: f64,
     #[pyo3(from_py_with = crate::errors::float_arg)] beta: f64,
@@ -485,9 +485,9 @@ pub(crate) fn run_sessions(
     scene: &Bound<'_, PyAny>,
     learner: Option<&Bound<'_, PyAny>>,
     #[pyo3(from_py_with = trials_arg)] trials: usize,
-    #[pyo3(from_py_with = seeds_arg)] seeds: Option<Vec<u64>>,
+    #[pyo3(from_py_with = seeds_param)] seeds: Option<Vec<u64>>,
     #[pyo3(from_py_with = sessions_arg)] sessions: Option<usize>,
-    #[pyo3(from_py_with = seed_arg)] seed: u64,
+    #[pyo3(from_py_with = seed_param)] seed: u64,
     use_reward: bool,
     #[pyo3(from_py_with = crate::errors::float_arg)] alpha: f64,
     #[pyo3(from_py_with = crate::errors::float_arg)] beta: f64,
