@@ -448,7 +448,12 @@ class SessionBatch:
     @property
     def execution(self) -> str: ...
     def __len__(self) -> int: ...
-    def __getitem__(self, i: int, /) -> SessionRecord: ...
+    @overload
+    def __getitem__(self, i: int, /) -> SessionRecord:
+        """Session ``i``'s record (views of this batch's arrays)."""
+    @overload
+    def __getitem__(self, i: slice, /) -> SessionBatch:
+        """The batch of the sessions of the slice (views of the rows)."""
 
 def run_sessions(
     scene: SceneLike,

@@ -6,7 +6,7 @@ use e3d::{Learner, Metrics, SessionRecord, ValueSessionRecord};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyDict, PyList, PySlice, PyTuple};
 
 /// What a session recorded: `commands` (`[T, slots]`: uint8 symbol indices,
 /// or float64 values on a continuous scene), `effects` (int64 `[T]`),
@@ -391,8 +391,72 @@ impl PyBatchRecord {
     }
 
     /// Session `i`'s record, as `run_session(seed=seeds[i])` returns it
-    /// (its arrays are views of this batch's).
-    fn __getitem__(&self, py: Python<'_>, i: &Bound<'_, PyAny>) -> PyResult<PyRecord> {
+    /// (its arrays are views of this batch's); a slice, the batch of
+    /// those sessions (`batch[:10]`, `batch[::2]`).
+    fn __getitem__<'py>(
+        &self,
+        py: Python<'py>,
+        i: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        if let Ok(slice) = i.cast::<PySlice>() {
+            return Ok(Bound::new(py, self.sliced(py, slice)?)?.into_any());
+        }
+        Ok(Bound::new(py, self.session(py, i)?)?.into_any())
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let seeds = self.seeds.bind(py).readonly();
+        let seeds = seeds.as_slice().unwrap_or(&[]);
+        format!(
+            "SessionBatch(scene={:?}, learner={:?}, {} sessions, seeds {:?}, trials={})",
+            self.scene,
+            self.learner,
+            seeds.len(),
+            seeds,
+            self.trials
+        )
+    }
+}
+
+impl PyBatchRecord {
+    /// The sessions of `slice`, as a batch of their own: its arrays are
+    /// views of this batch's rows, its metrics those sessions' values.
+    fn sliced(&self, py: Python<'_>, slice: &Bound<'_, PySlice>) -> PyResult<PyBatchRecord> {
+        let at = slice.indices(self.per_session.len() as isize)?;
+        let rows: Vec<usize> = (0..at.slicelength)
+            .map(|k| (at.start + k as isize * at.step) as usize)
+            .collect();
+        let seeds = self.seeds.bind(py).readonly();
+        let seeds = seeds.as_slice()?;
+        let metrics = PyDict::new(py);
+        for (k, v) in self.metrics.bind(py).iter() {
+            metrics.set_item(k, v.get_item(slice)?)?;
+        }
+        Ok(PyBatchRecord {
+            scene: self.scene.clone(),
+            learner: self.learner.clone(),
+            seeds: PyArray1::from_vec(py, rows.iter().map(|&k| seeds[k]).collect()).unbind(),
+            trials: self.trials,
+            commands: self.commands.bind(py).get_item(slice)?.unbind(),
+            effects: self.effects.bind(py).get_item(slice)?.cast_into()?.unbind(),
+            rewards: self.rewards.bind(py).get_item(slice)?.cast_into()?.unbind(),
+            metrics: metrics.unbind(),
+            execution: self.execution.clone(),
+            grid: self.grid.clone(),
+            per_session: rows
+                .iter()
+                .map(|&k| self.per_session[k].clone_ref(py))
+                .collect(),
+            counts: rows.iter().map(|&k| self.counts[k].clone_ref(py)).collect(),
+            policies: rows
+                .iter()
+                .map(|&k| self.policies[k].as_ref().map(|p| p.clone_ref(py)))
+                .collect(),
+        })
+    }
+
+    /// Session `i`'s record (`__getitem__` of an integer).
+    fn session(&self, py: Python<'_>, i: &Bound<'_, PyAny>) -> PyResult<PyRecord> {
         let n = self.per_session.len() as i128;
         let out_of_range = || {
             pyo3::exceptions::PyIndexError::new_err(format!(
@@ -402,7 +466,7 @@ impl PyBatchRecord {
         };
         if !crate::errors::is_integer(i)? {
             return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-                "session index: expected an integer, found {}",
+                "session index: expected an integer or a slice, found {}",
                 crate::errors::type_name(i)
             )));
         }
@@ -412,7 +476,7 @@ impl PyBatchRecord {
             Err(_) if i.hasattr("__index__")? => return Err(out_of_range()),
             Err(_) => {
                 return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-                    "session index: expected an integer, found {}",
+                    "session index: expected an integer or a slice, found {}",
                     i.get_type().name()?
                 )))
             }
@@ -440,19 +504,6 @@ impl PyBatchRecord {
             execution: self.execution.clone(),
             grid: self.grid.clone(),
         })
-    }
-
-    fn __repr__(&self, py: Python<'_>) -> String {
-        let seeds = self.seeds.bind(py).readonly();
-        let seeds = seeds.as_slice().unwrap_or(&[]);
-        format!(
-            "SessionBatch(scene={:?}, learner={:?}, {} sessions, seeds {:?}, trials={})",
-            self.scene,
-            self.learner,
-            seeds.len(),
-            seeds,
-            self.trials
-        )
     }
 }
 

@@ -51,6 +51,29 @@ def test_run_sessions_equals_separate_run_session_calls(scene, learner, trials, 
     assert [r.seed for r in batch] == seeds
 
 
+def test_a_slice_of_a_batch_is_the_batch_of_those_sessions():
+    import pickle
+    batch = e3d.run_sessions("two_rooms", trials=30, sessions=6, seed=4)
+    for sl in (slice(1, 4), slice(None, None, -2), slice(4, 100), slice(3, 3)):
+        part = batch[sl]
+        rows = list(range(6))[sl]
+        assert type(part) is e3d.SessionBatch and len(part) == len(rows)
+        assert part.seeds.tolist() == batch.seeds[sl].tolist() == [4 + i for i in rows]
+        assert part.trials == batch.trials and part.scene == batch.scene
+        for name in ("commands", "effects", "rewards"):
+            assert getattr(part, name).tolist() == getattr(batch, name)[sl].tolist()
+        for k, v in part.metrics.items():
+            assert np.array_equal(v, batch.metrics[k][sl], equal_nan=True), k
+        for j, i in enumerate(rows):
+            assert part[j].metrics == batch[i].metrics
+            assert part[j].effect_counts.tolist() == batch[i].effect_counts.tolist()
+        again = pickle.loads(pickle.dumps(part))
+        assert again.effects.tolist() == part.effects.tolist() and len(again) == len(rows)
+    assert "<svg" in batch[1:3]._repr_svg_()
+    with pytest.raises(TypeError, match=r"^session index: expected an integer or a slice, found str$"):
+        batch["1"]
+
+
 def test_run_sessions_equals_e3d_run_sessions(cli, tmp_path):
     out = tmp_path / "run"
     cli("run", "puck_rooms", "--sessions", 4, "--seed", 9, "--trials", 400,
