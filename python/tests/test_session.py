@@ -93,6 +93,10 @@ def test_bad_arguments():
         e3d.run_session("two_rooms", outcomes="fast")
     with pytest.raises(e3d.SceneError, match="no such file, and no built-in scene"):
         e3d.run_session("no_such_scene")
+    with pytest.raises(e3d.SceneError, match=r"of that name \(did you mean `puck_rooms`\?\); expected"):
+        e3d.run_session("puck_room")
+    with pytest.raises(e3d.SceneError, match=r"^puck_room: no built-in scene of that name \(did you mean `puck_rooms`\?\)"):
+        e3d.Scene.builtin("puck_room")
     with pytest.raises(TypeError, match="has no `propose`"):
         e3d.run_session("two_rooms", learner=object())
 

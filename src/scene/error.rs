@@ -160,7 +160,8 @@ impl fmt::Display for SceneError {
                 let names: Vec<&str> = super::BUILTIN.iter().map(|(n, _)| *n).collect();
                 write!(
                     f,
-                    "no such file, and no built-in scene of that name; expected a path to a .ron scene or one of: {}",
+                    "no such file, and no built-in scene of that name{}; expected a path to a .ron scene or one of: {}",
+                    did_you_mean(&stem(&self.file), &names),
                     names.join(", ")
                 )
             }
@@ -359,6 +360,14 @@ fn other_message(
         Some(f) if about_a_value => (format!("field `{f}`: {m}"), Some(f)),
         _ => (m, None),
     }
+}
+
+/// The name of `file` without its folders and extension (`puck_room` of
+/// `scenes/puck_room.ron`), to compare with the built-in scenes' names.
+fn stem(file: &str) -> String {
+    std::path::Path::new(file)
+        .file_stem()
+        .map_or_else(|| file.to_string(), |s| s.to_string_lossy().into_owned())
 }
 
 /// A known name close to `found`, as `" (did you mean `x`?)"`, or "".

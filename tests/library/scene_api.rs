@@ -529,6 +529,17 @@ fn every_mistake_has_a_kind() {
     let e = Scene::resolve("no_such_scene").unwrap_err();
     assert!(matches!(e.kind(), SceneErrorKind::NoSuchScene), "{e:?}");
     assert_eq!(e.file(), "no_such_scene");
+    assert!(!e.to_string().contains("did you mean"), "{e}");
+    // a near miss of a built-in name is suggested, from a path too
+    for typo in ["puck_room", "scenes/puck_room.ron", "Puck_Rooms"] {
+        let e = Scene::resolve(typo).unwrap_err();
+        assert!(
+            e.to_string().starts_with(&format!(
+                "{typo}: no such file, and no built-in scene of that name (did you mean `puck_rooms`?); expected"
+            )),
+            "{e}"
+        );
+    }
 
     let dir = temp_path("scene-api");
     std::fs::create_dir_all(&dir).unwrap();

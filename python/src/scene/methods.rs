@@ -30,7 +30,8 @@ impl PyScene {
         let scene = e3d::Scene::builtin(name).ok_or_else(|| {
             scene_error(
                 format!(
-                    "{name}: no built-in scene of that name; expected one of: {}",
+                    "{name}: no built-in scene of that name{}; expected one of: {}",
+                    e3d::scene::did_you_mean(name, &builtin_names()),
                     builtin_names().join(", ")
                 ),
                 Some(name),
