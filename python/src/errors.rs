@@ -451,19 +451,8 @@ pub(crate) fn warn_unread(py: Python<'_>, reader: Reader, params: &e3d::Params) 
         ),
         Reader::Object => (&[], "a learner object holds its own parameters".into()),
     };
-    let d = e3d::Params::TASK1;
-    let given = [
-        ("alpha", params.alpha, d.alpha),
-        ("beta", params.beta, d.beta),
-        ("lambda", params.lambda, d.lambda),
-        ("eta", params.eta, d.eta),
-        ("epsilon", params.epsilon, d.epsilon),
-        ("k", params.k as f64, d.k as f64),
-        ("sigma", params.sigma, d.sigma),
-        ("rarity", params.rarity, d.rarity),
-        ("goal_progress", params.goal_progress, d.goal_progress),
-    ];
-    for (name, v, default) in given {
+    let given = params.named().into_iter().zip(e3d::Params::TASK1.named());
+    for ((name, v), (_, default)) in given {
         if v != default && !reads.contains(&name) {
             warn(
                 py,

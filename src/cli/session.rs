@@ -118,19 +118,8 @@ pub struct ParamArgs {
 
 impl ParamArgs {
     /// The hyper-parameters' names, as clap knows the flags (`lambda` for
-    /// `--lambda`, `goal_progress` for `--goal-progress`) and as
-    /// [`LearnerKind::params`] names them.
-    pub const NAMES: [&'static str; 9] = [
-        "alpha",
-        "beta",
-        "lambda",
-        "eta",
-        "epsilon",
-        "k",
-        "sigma",
-        "rarity",
-        "goal_progress",
-    ];
+    /// `--lambda`, `goal_progress` for `--goal-progress`): [`Params::NAMES`].
+    pub const NAMES: [&'static str; 9] = Params::NAMES;
 
     /// The checked parameters.
     pub fn params(&self) -> Result<Params, CliError> {
@@ -305,17 +294,7 @@ pub(super) fn note_unused_params(learner: LearnerKind, given: &[&str]) {
 /// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order
 /// of a sweep's columns; nothing for the uniform policy, which uses none.
 pub(super) fn used_params(learner: LearnerKind, p: &Params) -> String {
-    let values = [
-        ("alpha", p.alpha),
-        ("beta", p.beta),
-        ("lambda", p.lambda),
-        ("eta", p.eta),
-        ("epsilon", p.epsilon),
-        ("k", p.k as f64),
-        ("sigma", p.sigma),
-        ("rarity", p.rarity),
-        ("goal_progress", p.goal_progress),
-    ];
+    let values = p.named();
     let used: Vec<String> = values
         .into_iter()
         .filter(|(name, _)| e3d::sweep::uses_param(learner, name))

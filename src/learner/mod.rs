@@ -285,6 +285,50 @@ impl Params {
         ..Params::TASK1
     };
 
+    /// The hyper-parameters' names, in the order of [`named`](Self::named),
+    /// as [`LearnerKind::params`] and a sweep's columns name them.
+    pub const NAMES: [&'static str; 9] = [
+        "alpha",
+        "beta",
+        "lambda",
+        "eta",
+        "epsilon",
+        "k",
+        "sigma",
+        "rarity",
+        "goal_progress",
+    ];
+
+    /// Each hyper-parameter by name, in the order of [`NAMES`](Self::NAMES)
+    /// (`k` as a float).
+    ///
+    /// ```
+    /// use e3d::Params;
+    /// let p = Params { beta: 100.0, ..Params::TASK1 };
+    /// assert_eq!(p.named()[1], ("beta", 100.0));
+    /// let changed: Vec<&str> = p.named().iter().zip(Params::TASK1.named())
+    ///     .filter(|(a, b)| a.1 != b.1).map(|(a, _)| a.0).collect();
+    /// assert_eq!(changed, ["beta"]);
+    /// // every learner's parameters are among them
+    /// for kind in e3d::LearnerKind::ALL {
+    ///     assert!(kind.params().iter().all(|n| Params::NAMES.contains(n)));
+    /// }
+    /// ```
+    pub fn named(&self) -> [(&'static str, f64); 9] {
+        let v = [
+            self.alpha,
+            self.beta,
+            self.lambda,
+            self.eta,
+            self.epsilon,
+            self.k as f64,
+            self.sigma,
+            self.rarity,
+            self.goal_progress,
+        ];
+        std::array::from_fn(|i| (Self::NAMES[i], v[i]))
+    }
+
     /// Checks every range: alpha > 0, beta > 0, lambda >= 0,
     /// 0 < eta <= 1, 0 <= epsilon <= 1, k >= 1, sigma > 0, rarity >= 0,
     /// 0 <= goal_progress <= 1, all finite.
