@@ -139,6 +139,12 @@ impl PyEpisodeRecord {
         Ok(self.grid.svg(&counts, "episodes", &title))
     }
 
+    /// Equal when every field is (arrays value by value, NaN equal to
+    /// NaN): a pickled copy, or the same work run again.
+    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
+        self.pickle_eq(py, &other)
+    }
+
     fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
         self.pickle_reduce(py)
     }

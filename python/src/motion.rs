@@ -34,6 +34,12 @@ pub(crate) struct PyMotion {
 
 #[pymethods]
 impl PyMotion {
+    /// Equal when every field is (arrays value by value, NaN equal to
+    /// NaN): a pickled copy, or the same work run again.
+    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
+        self.pickle_eq(py, &other)
+    }
+
     fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
         self.pickle_reduce(py)
     }

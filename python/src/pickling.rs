@@ -11,7 +11,7 @@
 use pyo3::conversion::FromPyObjectOwned;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::types::{PyDict, PyFloat, PyList, PyTuple};
 use pyo3::PyTypeInfo;
 
 /// What `__reduce__` returns: `(cls._from_state, (state,))`.
@@ -32,6 +32,16 @@ macro_rules! pickled {
                 $crate::pickling::reduce::<Self>(py, state)
             }
 
+            /// Whether `other` holds the same values field by field
+            /// ([`same`](crate::pickling::same)): `__eq__` (`Outcome`
+            /// compares its four numbers itself).
+            #[allow(dead_code)]
+            fn pickle_eq(&self, py: Python<'_>, other: &Self) -> PyResult<bool> {
+                let (_, (a,)) = self.pickle_reduce(py)?;
+                let (_, (b,)) = other.pickle_reduce(py)?;
+                $crate::pickling::same(a.as_any(), b.as_any())
+            }
+
             /// The object of a state `pickle_reduce` gave, each field's type
             /// checked.
             fn pickle_from(state: &Bound<'_, pyo3::types::PyTuple>) -> PyResult<Self> {
@@ -43,6 +53,70 @@ macro_rules! pickled {
     };
 }
 pub(crate) use pickled;
+
+/// Whether two values of pickled states are the same: numpy arrays of the
+/// same dtype and shape and equal values (NaN equal to NaN), dicts key by
+/// key, lists and tuples item by item, floats equal or both NaN, anything
+/// else by `==`. So a result equals its pickled copy and the same session
+/// run again, whose metrics may hold NaN (none) and whose arrays `==`
+/// compares element by element.
+pub(crate) fn same(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>) -> PyResult<bool> {
+    let py = a.py();
+    let np = py.import("numpy")?;
+    let ndarray = np.getattr("ndarray")?;
+    match (a.is_instance(&ndarray)?, b.is_instance(&ndarray)?) {
+        (true, true) => {
+            let dtype = a.getattr("dtype")?;
+            if !dtype.eq(b.getattr("dtype")?)? {
+                return Ok(false);
+            }
+            let kind: String = dtype.getattr("kind")?.extract()?;
+            let kw = PyDict::new(py);
+            kw.set_item("equal_nan", matches!(kind.as_str(), "f" | "c"))?;
+            return np
+                .call_method("array_equal", (a, b), Some(&kw))?
+                .is_truthy();
+        }
+        (false, false) => {}
+        _ => return Ok(false),
+    }
+    if let (Ok(x), Ok(y)) = (a.cast::<PyDict>(), b.cast::<PyDict>()) {
+        if x.len() != y.len() {
+            return Ok(false);
+        }
+        for (k, v) in x.iter() {
+            match y.get_item(&k)? {
+                Some(w) if same(&v, &w)? => {}
+                _ => return Ok(false),
+            }
+        }
+        return Ok(true);
+    }
+    if let (Some(x), Some(y)) = (items(a), items(b)) {
+        if x.len() != y.len() {
+            return Ok(false);
+        }
+        for (v, w) in x.iter().zip(&y) {
+            if !same(v, w)? {
+                return Ok(false);
+            }
+        }
+        return Ok(true);
+    }
+    if let (Ok(x), Ok(y)) = (a.cast::<PyFloat>(), b.cast::<PyFloat>()) {
+        let (x, y) = (x.value(), y.value());
+        return Ok(x == y || (x.is_nan() && y.is_nan()));
+    }
+    a.eq(b)
+}
+
+/// The items of a list or a tuple (`None`: neither).
+fn items<'py>(o: &Bound<'py, PyAny>) -> Option<Vec<Bound<'py, PyAny>>> {
+    if let Ok(l) = o.cast::<PyList>() {
+        return Some(l.iter().collect());
+    }
+    o.cast::<PyTuple>().ok().map(|t| t.iter().collect())
+}
 
 /// `(cls._from_state, (state,))`, what `__reduce__` returns.
 pub(crate) fn reduce<'py, T: PyTypeInfo>(

@@ -208,6 +208,12 @@ impl PyRecord {
         self.metrics.bind(py).copy()
     }
 
+    /// Equal when every field is (arrays value by value, NaN equal to
+    /// NaN): a pickled copy, or the same work run again.
+    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
+        self.pickle_eq(py, &other)
+    }
+
     fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
         self.pickle_reduce(py)
     }
@@ -340,6 +346,12 @@ impl PyBatchRecord {
     #[getter]
     fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         self.metrics.bind(py).copy()
+    }
+
+    /// Equal when every field is (arrays value by value, NaN equal to
+    /// NaN): a pickled copy, or the same work run again.
+    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
+        self.pickle_eq(py, &other)
     }
 
     fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {

@@ -106,6 +106,33 @@ def test_every_result_round_trips_field_for_field():
     assert _same(pickle.loads(pickle.dumps(motion)).columns(), motion.columns())
 
 
+def test_a_result_equals_its_copy_and_the_same_work_run_again():
+    # == compares every field (arrays value by value, NaN equal to NaN), so
+    # a reproducibility check reads `a == b`
+    first, again = _results(), _results()
+    for kind, r in first.items():
+        assert r == again[kind] == pickle.loads(pickle.dumps(r)) == copy.deepcopy(r), kind
+        assert not (r != again[kind]), kind
+        assert r != 3 and r is not None, kind
+    other = {
+        "BatchOutcome": e3d.Scene.builtin("puck_rooms").world().execute_batch(["EESSEES", "SEEEEEN"]),
+        "Motion": e3d.Scene.builtin("puck_rooms").world().trace("EESSEEN"),
+        "SessionRecord": e3d.run_session("two_rooms", trials=60, seed=3),
+        "SessionRecord (continuous)": e3d.run_session("arm7_continuous", trials=4, seed=2),
+        "SessionBatch": e3d.run_sessions("two_rooms", trials=40, seeds=[0, 6]),
+        "EpisodeRecord": e3d.run_episodes(e3d.Scene.builtin("two_rooms"), episodes=6, commands=2, seed=4),
+    }
+    for kind, r in other.items():
+        assert r != first[kind], kind
+    batch = first["SessionBatch"]
+    assert batch[0:1] == batch[0:1] and batch[0:1] != batch[1:2]
+    # NaN (no reward yet) in the batch's metrics compares equal to NaN
+    assert np.isnan(batch.metrics["first_reward_trial"]).all()
+    rec = first["SessionRecord"]
+    with pytest.raises(TypeError, match="unhashable"):
+        hash(rec)
+
+
 def test_a_broken_state_is_refused_with_the_class_named():
     with pytest.raises(TypeError, match=r"Outcome._from_state: expected a state of 4 fields"):
         e3d.Outcome._from_state((1, 2.0))
