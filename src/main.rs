@@ -93,7 +93,9 @@ fn main() -> ExitCode {
     let matches = Cli::command().get_matches();
     let mut cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let (Cmd::Run(a), Some(("run", m))) = (&mut cli.command, matches.subcommand()) {
-        a.given_params = cli::session::ParamArgs::NAMES
+        // clap's ids of the flags are the parameters' names (`goal_progress`
+        // for `--goal-progress`)
+        a.given_params = e3d::Params::NAMES
             .into_iter()
             .filter(|id| m.value_source(id) == Some(ValueSource::CommandLine))
             .collect();

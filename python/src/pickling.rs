@@ -61,10 +61,19 @@ pub(crate) use pickled;
 /// run again, whose metrics may hold NaN (none) and whose arrays `==`
 /// compares element by element.
 pub(crate) fn same(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>) -> PyResult<bool> {
+    let np = a.py().import("numpy")?;
+    same_in(&np, &np.getattr("ndarray")?, a, b)
+}
+
+/// [`same`], with numpy and its `ndarray` type looked up once.
+fn same_in(
+    np: &Bound<'_, PyModule>,
+    ndarray: &Bound<'_, PyAny>,
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+) -> PyResult<bool> {
     let py = a.py();
-    let np = py.import("numpy")?;
-    let ndarray = np.getattr("ndarray")?;
-    match (a.is_instance(&ndarray)?, b.is_instance(&ndarray)?) {
+    match (a.is_instance(ndarray)?, b.is_instance(ndarray)?) {
         (true, true) => {
             let dtype = a.getattr("dtype")?;
             if !dtype.eq(b.getattr("dtype")?)? {
@@ -86,7 +95,7 @@ pub(crate) fn same(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>) -> PyResult<bool>
         }
         for (k, v) in x.iter() {
             match y.get_item(&k)? {
-                Some(w) if same(&v, &w)? => {}
+                Some(w) if same_in(np, ndarray, &v, &w)? => {}
                 _ => return Ok(false),
             }
         }
@@ -97,7 +106,7 @@ pub(crate) fn same(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>) -> PyResult<bool>
             return Ok(false);
         }
         for (v, w) in x.iter().zip(&y) {
-            if !same(v, w)? {
+            if !same_in(np, ndarray, v, w)? {
                 return Ok(false);
             }
         }

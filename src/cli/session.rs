@@ -117,10 +117,6 @@ pub struct ParamArgs {
 }
 
 impl ParamArgs {
-    /// The hyper-parameters' names, as clap knows the flags (`lambda` for
-    /// `--lambda`, `goal_progress` for `--goal-progress`): [`Params::NAMES`].
-    pub const NAMES: [&'static str; 9] = Params::NAMES;
-
     /// The checked parameters.
     pub fn params(&self) -> Result<Params, CliError> {
         let p = Params {
