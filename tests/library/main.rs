@@ -7,6 +7,7 @@
 mod common;
 
 mod bad_scenes;
+mod build_script;
 mod baselines;
 mod consistency;
 mod contexts;
