@@ -11,7 +11,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use e3d::world::{ExecOptions, Executor, Memoized, OutcomeMemo, Strategy, Workload};
 use e3d::World;
-use e3d::{run_lockstep_into, LearnerKind, Params, RunningMetrics, Scene, SessionConfig, Target};
+use e3d::{run_group, Control, LearnerKind, Params, RunningMetrics, Scene, SessionConfig, Target};
 use std::hint::black_box;
 
 fn puck14() -> Scene {
@@ -91,12 +91,12 @@ fn scale(c: &mut Criterion) {
                 let mut rec: Vec<RunningMetrics> = (0..25)
                     .map(|_| RunningMetrics::new(scene.num_effects()))
                     .collect();
-                black_box(run_lockstep_into(
+                black_box(run_group(
                     &mut *world,
                     &mut learners,
                     &configs,
                     &mut rec,
-                    |_| {},
+                    &Control::default(),
                 ))
             })
         },

@@ -37,11 +37,12 @@
 //!   [`StateMarginalMatching`](learner::StateMarginalMatching));
 //! - [`rng`]: the [`SessionRng`] every session draws from, fixed by its
 //!   seed;
-//! - [`session`]: the trial loop ([`run_session`], or [`run_session_into`]
+//! - [`session`]: the one session engine, for commands of symbols and of
+//!   values alike: the trial loop ([`run_session`], or [`run_session_into`]
 //!   a [`Recorder`] such as [`RunningMetrics`], in constant memory),
-//!   sessions in lockstep ([`run_lockstep`]), sessions run the way an
-//!   [`Executor`] plans them, in parallel ([`run_sessions`]), and their
-//!   [`Metrics`];
+//!   sessions that share a world in lockstep ([`run_group`]), sessions run
+//!   the way an [`Executor`] plans them, in parallel ([`run_sessions`]),
+//!   a [`Control`] for progress and stop, and their [`Metrics`];
 //! - [`sweep`]: grids of sessions over scenes, learners and parameters
 //!   ([`Sweep`], from a file or a [`SweepSpec`](sweep::SweepSpec) built in
 //!   code), run in parallel, resumable, in shards; your own worlds and
@@ -118,10 +119,9 @@ pub use learner::{
 pub use rng::SessionRng;
 pub use scene::{Scene, SceneError, SceneErrorKind, SceneSpec};
 pub use session::{
-    policy_effect_distribution, run_group, run_lockstep, run_lockstep_into, run_session,
-    run_session_into, run_session_with, run_sessions, run_sessions_until, run_value_lockstep,
-    run_value_session, run_value_sessions, Metrics, Recorder, RunningMetrics, SessionConfig,
-    SessionRecord, ValueSessionRecord,
+    policy_effect_distribution, run_group, run_session, run_session_into, run_sessions,
+    run_value_session, Control, Metrics, Recorder, RunningMetrics, SessionConfig, SessionRecord,
+    ValueSessionRecord,
 };
 pub use sweep::{Sweep, SweepError};
 pub use world::{

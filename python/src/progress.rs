@@ -44,11 +44,6 @@ impl Watch {
         self.done.fetch_add(n, Ordering::Relaxed);
     }
 
-    /// Sets the units done.
-    pub fn set(&self, n: u64) {
-        self.done.store(n, Ordering::Relaxed);
-    }
-
     fn total_done(&self) -> u64 {
         self.base.load(Ordering::Relaxed) + self.done.load(Ordering::Relaxed)
     }

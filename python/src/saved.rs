@@ -731,12 +731,17 @@ pub(crate) fn run_values_from(
         )));
     };
     let watch = crate::progress::Watch::new();
+    let slots = e3d::ContinuousWorld::value_space(&world).num_slots();
     let rec = crate::progress::watched(py, progress, cfg.trials as u64, &watch, |watch| {
-        let mut guarded = crate::learner::Guarded {
-            world: &mut world,
-            stop: || watch.cancelled(),
+        let mut rec = e3d::ValueSessionRecord::new(slots, scene.inner.num_effects(), cfg.trials);
+        let (add, stop) = (|t| watch.add(t), || watch.cancelled());
+        let control = e3d::Control {
+            progress: &add,
+            stop: &stop,
         };
-        e3d::run_value_session(&mut guarded, learner, cfg, |t| watch.set(t as u64))
+        e3d::run_session_into(&mut world, &mut *learner, cfg, &mut rec, &control)?;
+        rec.set_policy(&*learner);
+        Ok::<_, e3d::WorldError>(rec)
     })?;
     rec.map_err(|e| crate::errors::Fail::from(e).into())
 }

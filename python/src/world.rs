@@ -2,7 +2,7 @@
 //! outcome memo.
 
 use crate::commands::{commands_from, values_from};
-use crate::errors::{Fail, STOPPED};
+use crate::errors::Fail;
 use crate::motion::{motion_to_py, PyMotion};
 use crate::outcome::{PyBatch, PyOutcome};
 use crate::progress::{watched, Watch};
@@ -158,7 +158,7 @@ impl PyWorld {
             .par_chunks(piece)
             .map(|part| {
                 if watch.is_some_and(Watch::cancelled) {
-                    return vec![Err(WorldError::Other(STOPPED.into())); part.len()];
+                    return vec![Err(WorldError::Stopped); part.len()];
                 }
                 let mut out = Vec::with_capacity(part.len());
                 match self.take_valued() {
@@ -273,7 +273,7 @@ impl PyWorld {
             .par_chunks(piece)
             .map(|part| {
                 if watch.is_some_and(Watch::cancelled) {
-                    return vec![Err(WorldError::Other(STOPPED.into())); part.len()];
+                    return vec![Err(WorldError::Stopped); part.len()];
                 }
                 let mut out = Vec::with_capacity(part.len());
                 if self.memoised() {

@@ -28,9 +28,8 @@ pub struct CompareArgs {
     /// two_rooms, puck_rooms, arm7, maze3).
     #[arg(long, value_delimiter = ',', value_name = "NAMES")]
     pub scenes: Vec<String>,
-    /// Threads (default: every core).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=4096))]
-    pub threads: Option<u16>,
+    #[command(flatten)]
+    pub threads: super::session::ThreadsArg,
     /// Replace the files of an earlier comparison in --out.
     #[arg(long)]
     pub force: bool,
@@ -43,20 +42,10 @@ pub fn run(a: CompareArgs) -> CliResult {
     let sweep = drives_sweep(a.sessions as usize, a.trials as usize, &names)
         .map_err(sweep_error)?
         .with_notices(|line| errln!("outcomes: {line}"));
-    let threads = a
-        .threads
-        .map(usize::from)
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let (threads, capped) = e3d::sweep::cap_threads(threads);
-    if let Some(w) = capped {
-        errln!("warning: {w}");
-    }
+    let threads = a.threads.count();
     // the reachable cells of each scene, from its outcome table: the
     // reference of the coverage measures
-    let sweep = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| super::CliError::input(format!("cannot start the threads: {e}")))?
+    let sweep = super::session::ThreadsArg::pool_of(threads)?
         .install(|| with_reachable_cells(sweep, None))
         .map_err(sweep_error)?;
     let total = sweep.num_sessions() as u64 * a.trials;

@@ -7,8 +7,8 @@ use crate::cli::console::{errln, outln};
 use e3d::report::run_scene::SceneRecord;
 use e3d::world::{Executor, Workload, WorldError};
 use e3d::{
-    policy_effect_distribution, run_sessions, CommandSpace, ExecutionPlan, Metrics, Params,
-    RunningMetrics, Scene, SessionConfig, Target,
+    policy_effect_distribution, run_sessions, CommandSpace, Control, ExecutionPlan, Metrics,
+    Params, RunningMetrics, Scene, SessionConfig, Target,
 };
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -59,6 +59,11 @@ struct OneSession<'a> {
 }
 
 pub fn run(a: RunArgs) -> CliResult {
+    a.threads.pool()?.install(|| run_here(a))
+}
+
+/// [`run`] on the current thread pool.
+fn run_here(a: RunArgs) -> CliResult {
     if let Some(dir) = &a.table_cache {
         super::output::check_cache_folder(dir, "--table-cache")?;
     }
@@ -104,9 +109,9 @@ pub fn run(a: RunArgs) -> CliResult {
     let label = format!("run {}", scene.spec().name);
     let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
     let status = super::progress::track(&label, "trials", work.trials, |p| {
-        run_sessions(&exec, &mut learners, &configs, &mut recorders, &|t| {
-            p.add(t)
-        })
+        let add = |t| p.add(t);
+        let control = Control::default().with_progress(&add);
+        run_sessions(&exec, &mut learners, &configs, &mut recorders, &control)
     });
     if let Some(line) = exec.finish() {
         errln!("outcomes: {line}");

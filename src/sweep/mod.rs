@@ -50,7 +50,7 @@
 //!   metric [`MetricSpec::NormalizedEntropyContext`] per start context;
 //! - continuous commands: a scene whose slots take values runs its sessions
 //!   live, in the lockstep groups of `e3d run --sessions N`
-//!   ([`Sweep::run_value_sessions_lockstep`], [`SceneRun::value_world`],
+//!   ([`SceneRun::value_world`],
 //!   [`LearnerFactory::make_continuous`]).
 //!
 //! # Cells

@@ -147,7 +147,7 @@ impl<'s> Executor<'s> {
     /// else one copy per world and a group per session. Sessions run on
     /// worlds of [`copies_for`](Self::copies_for) copies of its
     /// [`continuous`](Self::continuous) scene, by
-    /// [`run_value_sessions`](crate::run_value_sessions). A scene of
+    /// [`run_sessions`](crate::run_sessions). A scene of
     /// symbols is an error (its executor is [`new`](Self::new)).
     ///
     /// ```

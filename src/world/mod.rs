@@ -110,6 +110,10 @@ pub enum WorldError {
         /// What went wrong.
         reason: String,
     },
+    /// The run was stopped ([`Control::stop`](crate::session::Control)
+    /// said so): a Ctrl-C, a cancelled call.
+    #[error("stopped")]
+    Stopped,
     /// Any other failure of a user's world.
     #[error("{0}")]
     Other(String),

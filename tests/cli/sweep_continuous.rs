@@ -95,7 +95,7 @@ fn a_continuous_sweep_gives_each_session_alone_whatever_the_threads_and_shards()
             seed: s.seed,
             use_reward: true,
         };
-        let rec = run_value_session(&mut world, &mut learner, &config, |_| {}).unwrap();
+        let rec = run_value_session(&mut world, &mut learner, &config).unwrap();
         let m = rec.metrics(&Target::Uniform);
         let num = |i: usize| row[i].parse::<f64>().unwrap();
         assert_eq!(num(10).to_bits(), m.normalized_entropy.to_bits(), "{row:?}");

@@ -327,13 +327,8 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
             seed: 3,
             use_reward: false,
         };
-        let rec = run_value_session(
-            &mut arm.as_continuous().unwrap().world(1),
-            &mut l,
-            &cfg,
-            |_| {},
-        )
-        .unwrap();
+        let rec =
+            run_value_session(&mut arm.as_continuous().unwrap().world(1), &mut l, &cfg).unwrap();
         assert_eq!(rec.values.len(), 40 * 7);
         assert!(space.check(rec.values_of(39)).is_ok());
         // after the first, every command is a mutation of a kept one:

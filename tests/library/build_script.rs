@@ -28,15 +28,25 @@ fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
 fn every_watched_path_exists() {
     let watched = build_script::watched(root());
     for must in ["src/world/physics", "src/effect", "Cargo.lock", "build.rs"] {
-        assert!(watched.iter().any(|w| w == must), "{must} not watched: {watched:?}");
+        assert!(
+            watched.iter().any(|w| w == must),
+            "{must} not watched: {watched:?}"
+        );
     }
     // the script's own output, as cargo reads it
     for p in &watched {
-        assert!(root().join(p).exists(), "build.rs watches {p}, which does not exist");
+        assert!(
+            root().join(p).exists(),
+            "build.rs watches {p}, which does not exist"
+        );
     }
     // and nothing else in build.rs names a path to watch
     let text = std::fs::read_to_string(root().join("build.rs")).unwrap();
-    assert_eq!(text.matches("rerun-if-changed=").count(), 1, "one rerun-if-changed line, fed by watched()");
+    assert_eq!(
+        text.matches("rerun-if-changed=").count(),
+        1,
+        "one rerun-if-changed line, fed by watched()"
+    );
 }
 
 #[test]
@@ -59,8 +69,16 @@ fn physics_code_is_in_the_fingerprint() {
             outside.push(rel);
         }
     }
-    assert!(outside.is_empty(), "physics files outside the fingerprint: {outside:?}");
-    for must in ["effect/binning.rs", "effect/mod.rs", "world/grid.rs", "world/physics/step.rs"] {
+    assert!(
+        outside.is_empty(),
+        "physics files outside the fingerprint: {outside:?}"
+    );
+    for must in [
+        "effect/binning.rs",
+        "effect/mod.rs",
+        "world/grid.rs",
+        "world/physics/step.rs",
+    ] {
         assert!(hashed.contains(&PathBuf::from(must)), "{must} not hashed");
     }
 }

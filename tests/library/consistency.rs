@@ -182,6 +182,13 @@ fn metrics_hold_the_entropy_over_the_reachable_cells_when_a_table_knows_them() {
     assert_eq!(plain.normalized_entropy, m.normalized_entropy);
     // in constant memory, bit for bit
     let mut running = RunningMetrics::new(scene.num_effects());
-    run_session_into(&mut &*table, &mut *make(), &cfg, &mut running, |_| {}).unwrap();
+    run_session_into(
+        &mut &*table,
+        &mut *make(),
+        &cfg,
+        &mut running,
+        &Default::default(),
+    )
+    .unwrap();
     assert_eq!(running.metrics_over_reachable(&Target::Uniform, 68), m);
 }

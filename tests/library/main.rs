@@ -7,8 +7,8 @@
 mod common;
 
 mod bad_scenes;
-mod build_script;
 mod baselines;
+mod build_script;
 mod consistency;
 mod contexts;
 mod drives;

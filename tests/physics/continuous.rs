@@ -5,8 +5,8 @@ use crate::common::{e3d, e3d_command, temp_path, PUCK_HEADINGS};
 use e3d::scene::{Symmetry, WorldSpec};
 use e3d::world::{Executor, Workload};
 use e3d::{
-    run_value_session, run_value_sessions, ContinuousLearner, GaussianE3d, LearnerKind, Outcome,
-    Params, Scene, SessionConfig, SessionRng, Target, UniformValues, ValueSpace, World,
+    run_value_session, ContinuousLearner, GaussianE3d, LearnerKind, Outcome, Params, Scene,
+    SessionConfig, SessionRng, Target, UniformValues, ValueSpace, World,
 };
 use rand::SeedableRng;
 use std::path::Path;
@@ -176,8 +176,7 @@ fn sessions(kind: LearnerKind) -> Vec<e3d::ValueSessionRecord> {
         )
         .unwrap()
     };
-    let sessions = configs.iter().map(|&c| (c, learner())).collect();
-    run_value_sessions(&exec, sessions, &|_| {}).unwrap()
+    crate::common::value_sessions(&exec, &configs, configs.iter().map(|_| learner()).collect())
 }
 
 #[test]
@@ -227,8 +226,11 @@ fn sessions_are_the_same_whatever_the_threads() {
             let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
             let learner =
                 || GaussianE3d::new(&space, 225, &Params::TASK1, &Target::Uniform).unwrap();
-            let sessions = configs.iter().map(|&c| (c, learner())).collect();
-            run_value_sessions(&exec, sessions, &|_| {}).unwrap()
+            crate::common::value_sessions(
+                &exec,
+                &configs,
+                configs.iter().map(|_| learner()).collect(),
+            )
         })
     };
     let one = run(1);
@@ -237,7 +239,7 @@ fn sessions_are_the_same_whatever_the_threads() {
     let mut w = scene.as_continuous().unwrap().world(1);
     let mut l = GaussianE3d::new(&space, 225, &Params::TASK1, &Target::Uniform).unwrap();
     assert_eq!(
-        run_value_session(&mut w, &mut l, &configs[1], |_| {}).unwrap(),
+        run_value_session(&mut w, &mut l, &configs[1]).unwrap(),
         one[1]
     );
     // every value inside its range
@@ -496,8 +498,11 @@ fn sessions_of_exact_copies_step_together_and_give_the_bytes_of_each_alone() {
         .unwrap();
     let (groups, copies, together) = pool.install(|| {
         let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
-        let sessions = configs.iter().map(|&c| (c, learner())).collect();
-        let recs = run_value_sessions(&exec, sessions, &|_| {}).unwrap();
+        let recs = crate::common::value_sessions(
+            &exec,
+            &configs,
+            configs.iter().map(|_| learner()).collect(),
+        );
         (exec.session_groups(configs.len()), exec.plan().copies, recs)
     });
     // one thread: the five sessions are one group, on a world of 5 copies
@@ -505,7 +510,7 @@ fn sessions_of_exact_copies_step_together_and_give_the_bytes_of_each_alone() {
     assert_eq!(copies, 5, "copies per world");
     for (cfg, rec) in configs.iter().zip(&together) {
         let mut world = scene.as_continuous().unwrap().world(1);
-        let alone = run_value_session(&mut world, &mut learner(), cfg, |_| {}).unwrap();
+        let alone = run_value_session(&mut world, &mut learner(), cfg).unwrap();
         assert_eq!(rec.trials(), cfg.trials);
         assert_eq!(
             csv_of(rec, &space),

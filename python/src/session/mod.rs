@@ -7,14 +7,15 @@
 use crate::errors::{
     check_held, every_arg, params_with, seed_param, seeds_param, sessions_arg, trials_arg, Fail,
 };
-use crate::learner::{builtin_kind, Guarded};
+use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
 use crate::saved::{Held, PyLearnerState};
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
-    E3d, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target, WorldError,
+    Control, E3d, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target,
+    WorldError,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -411,14 +412,13 @@ fn run_symbols(
         trials as u64,
         |exec, watch| {
             let mut world = exec.world(1);
-            let mut guarded = Guarded {
-                world: &mut *world,
-                stop: || watch.cancelled(),
+            let mut rec = SessionRecord::new(&*world, trials);
+            let (add, stop) = (|t| watch.add(t), || watch.cancelled());
+            let control = Control {
+                progress: &add,
+                stop: &stop,
             };
-            let mut rec = SessionRecord::new(&guarded, trials);
-            e3d::run_session_into(&mut guarded, &mut *made, cfg, &mut rec, |t| {
-                watch.set(t as u64)
-            })?;
+            e3d::run_session_into(&mut *world, &mut *made, cfg, &mut rec, &control)?;
             drop(world);
             let metrics = symbol_metrics(&exec, &rec, &a.target);
             let exact = exact_of(&exec, made);
@@ -626,14 +626,12 @@ fn run_builtin_batch(
                     .map(|c| SessionRecord::new(&*probe, c.trials))
                     .collect()
             };
-            let status = e3d::run_sessions_until(
-                &exec,
-                &mut learners,
-                configs,
-                &mut records,
-                &|t| watch.add(t),
-                &|| watch.cancelled(),
-            );
+            let (add, stop) = (|t| watch.add(t), || watch.cancelled());
+            let control = Control {
+                progress: &add,
+                stop: &stop,
+            };
+            let status = e3d::run_sessions(&exec, &mut learners, configs, &mut records, &control);
             first_failure(status)?;
             let metrics: Vec<Metrics> = records
                 .iter()

@@ -110,10 +110,9 @@ fn twin_indices(world: &PhysicsWorld, space: &CommandSpace, n: u64) -> Vec<Optio
 
 /// The place value of each slot in [`CommandSpace::index_of`].
 /// The error of a table build stopped by its caller
-/// ([`OutcomeTable::build_scene_until`]): [`WorldError::Other`]`("stopped")`,
-/// as a stopped session's.
+/// ([`OutcomeTable::build_scene_until`]), as a stopped session's.
 pub(crate) fn stopped() -> WorldError {
-    WorldError::Other("stopped".into())
+    WorldError::Stopped
 }
 
 fn places(space: &CommandSpace) -> Places {
