@@ -48,6 +48,17 @@ impl Watch {
         self.base.load(Ordering::Relaxed) + self.done.load(Ordering::Relaxed)
     }
 
+    /// Runs `work` under the library's [`e3d::Control`] of this watch: its
+    /// progress adds to the units done, its stop is [`cancelled`](Self::cancelled).
+    pub fn control<R>(&self, work: impl FnOnce(&e3d::Control<'_>) -> R) -> R {
+        let (add, stop) = (|n| self.add(n), || self.cancelled());
+        work(&e3d::Control {
+            progress: &add,
+            stop: &stop,
+            ..e3d::Control::default()
+        })
+    }
+
     /// Whether the caller asked the work to stop (Ctrl-C, or an exception
     /// from the progress callback).
     pub fn cancelled(&self) -> bool {

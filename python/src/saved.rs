@@ -734,12 +734,9 @@ pub(crate) fn run_values_from(
     let slots = e3d::ContinuousWorld::value_space(&world).num_slots();
     let rec = crate::progress::watched(py, progress, cfg.trials as u64, &watch, |watch| {
         let mut rec = e3d::ValueSessionRecord::new(slots, scene.inner.num_effects(), cfg.trials);
-        let (add, stop) = (|t| watch.add(t), || watch.cancelled());
-        let control = e3d::Control {
-            progress: &add,
-            stop: &stop,
-        };
-        e3d::run_session_into(&mut world, &mut *learner, cfg, &mut rec, &control)?;
+        watch.control(|control| {
+            e3d::run_session_into(&mut world, &mut *learner, cfg, &mut rec, control)
+        })?;
         rec.set_policy(&*learner);
         Ok::<_, e3d::WorldError>(rec)
     })?;

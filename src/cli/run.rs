@@ -153,10 +153,13 @@ fn executor<'s>(a: &RunArgs, scene: &'s Scene, work: &Workload) -> Result<Execut
         "commands",
         0,
         |p| {
-            Executor::with_progress(scene, work, &options, &|k, total| {
-                p.set_total(total);
-                p.add(k);
-            })
+            let (add, total) = (|k| p.add(k), |n| p.set_total(n));
+            let control = Control {
+                progress: &add,
+                total: &total,
+                ..Control::default()
+            };
+            Executor::with_control(scene, work, &options, &control)
         },
     )
     .map_err(CliError::simulation)?;

@@ -20,11 +20,12 @@ use crate::world::{ContinuousWorld, Executor, Outcome, OutcomeTable, World, Worl
 use rand::SeedableRng;
 use std::ops::Range;
 
-/// What a long run reports and obeys: `progress(k)` is told of `k` more
-/// trials done (summed over the sessions, from the worker threads), and
-/// once `stop()` returns `true` (asked before every execution) the
-/// sessions still running end with [`WorldError::Stopped`]. A Ctrl-C, a
-/// cancelled call, a progress bar.
+/// What a long run reports and obeys: `total(n)` is told the size of the
+/// work once it is known (the commands a table simulates), `progress(k)`
+/// of `k` more units done (trials summed over the sessions, or commands
+/// of a table, from the worker threads), and once `stop()` returns `true`
+/// (asked before every execution) the work still running ends with
+/// [`WorldError::Stopped`]. A Ctrl-C, a cancelled call, a progress bar.
 ///
 /// ```
 /// use e3d::session::Control;
@@ -35,8 +36,10 @@ use std::ops::Range;
 /// ```
 #[derive(Clone, Copy)]
 pub struct Control<'a> {
-    /// Told of the trials done since its last call.
+    /// Told of the units done since its last call.
     pub progress: &'a (dyn Fn(u64) + Sync),
+    /// Told the size of the work, in the units of `progress`, once known.
+    pub total: &'a (dyn Fn(u64) + Sync),
     /// Asked before every execution: `true` stops the sessions.
     pub stop: &'a (dyn Fn() -> bool + Sync),
 }
@@ -46,6 +49,7 @@ impl Default for Control<'_> {
     fn default() -> Self {
         Control {
             progress: &|_| {},
+            total: &|_| {},
             stop: &|| false,
         }
     }

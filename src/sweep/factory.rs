@@ -44,6 +44,7 @@ use crate::effect::Target;
 use crate::hash::fnv1a64;
 use crate::learner::{ContinuousLearner, Learner, LearnerKind, Params};
 use crate::scene::Scene;
+use crate::session::Control;
 use crate::world::{
     ContinuousWorld, ExecOptions, Executor, OutcomeTable, Strategy, Workload, World,
 };
@@ -100,27 +101,17 @@ pub trait SweepScene: Send + Sync {
     /// sweep's table folder, memo cap and forced strategy (see
     /// [`Sweep::with_table_cache`](super::Sweep::with_table_cache)); a
     /// scene that keeps no outcomes may ignore them. Called on the run's
-    /// thread pool, so that a table can be built in parallel.
+    /// thread pool, so that a table can be built in parallel. `control` is
+    /// told of outcomes simulated ahead of the sessions (a [`Scene`] tells
+    /// the building of its outcome table: [`Executor::with_control`]); a
+    /// scene that simulates nothing ahead may ignore it. What is prepared
+    /// must be the same either way.
     fn prepare<'a>(
         &'a self,
         work: &Workload,
         options: &ExecOptions,
+        control: &Control<'_>,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError>;
-
-    /// [`prepare`](Self::prepare), calling `progress(k, total)` (from any
-    /// thread) while outcomes are simulated ahead of the sessions: `k` more
-    /// commands done, of about `total`. The default calls `prepare` and
-    /// tells nothing; a [`Scene`] tells the building of its outcome table
-    /// ([`Executor::with_progress`]). What is prepared must be the same.
-    fn prepare_with_progress<'a>(
-        &'a self,
-        work: &Workload,
-        options: &ExecOptions,
-        progress: &(dyn Fn(u64, u64) + Sync),
-    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-        let _ = progress;
-        self.prepare(work, options)
-    }
 
     /// The scene file behind this scene, if it has one.
     fn scene(&self) -> Option<&Scene> {
@@ -202,28 +193,17 @@ impl SweepScene for Scene {
     /// An [`Executor`]: the cheapest of an outcome table, a memo and live
     /// execution, for `work`; for a scene of continuous commands,
     /// [`Executor::for_values`] (live, in lockstep where copies are exact).
+    /// [`Executor::with_control`]: the table's building is told.
     fn prepare<'a>(
         &'a self,
         work: &Workload,
         options: &ExecOptions,
+        control: &Control<'_>,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
         if self.spec().is_continuous() {
             return prepare_values(self, work, options);
         }
-        let e = Executor::new(self, work, options)?;
-        Ok(Box::new(e))
-    }
-    /// [`Executor::with_progress`]: the table's building is told.
-    fn prepare_with_progress<'a>(
-        &'a self,
-        work: &Workload,
-        options: &ExecOptions,
-        progress: &(dyn Fn(u64, u64) + Sync),
-    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-        if self.spec().is_continuous() {
-            return prepare_values(self, work, options);
-        }
-        let e = Executor::with_progress(self, work, options, progress)?;
+        let e = Executor::with_control(self, work, options, control)?;
         Ok(Box::new(e))
     }
     fn scene(&self) -> Option<&Scene> {
@@ -384,6 +364,7 @@ where
         &'a self,
         _work: &Workload,
         _options: &ExecOptions,
+        _control: &Control<'_>,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
         Ok(Box::new(LiveRun(self)))
     }

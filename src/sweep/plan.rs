@@ -420,7 +420,7 @@ impl Sweep {
 
     /// Calls `f(scene, k, total)` from the worker threads while the
     /// outcome table of `scene` is built before its sessions run: `k` more
-    /// commands simulated, of about `total` ([`SweepScene::prepare_with_progress`]);
+    /// commands simulated, of about `total` ([`SweepScene::prepare`]);
     /// then, once the building has ended (the table built, or given up
     /// for the memo), `f(scene, 0, 0)` once. Nothing is called for a
     /// scene whose table is read whole or not built. The results are the

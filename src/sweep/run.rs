@@ -291,19 +291,27 @@ impl Sweep {
         }
         let e = match &self.table_progress {
             Some(f) => {
+                use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
                 let name = scene.name();
-                let told = std::sync::atomic::AtomicBool::new(false);
-                let e = scene.prepare_with_progress(w, &self.exec, &|k, total| {
-                    told.store(true, std::sync::atomic::Ordering::Relaxed);
-                    (f.0)(name, k, total)
-                });
+                let (told, size) = (AtomicBool::new(false), AtomicU64::new(0));
+                let total = |n| size.store(n, Relaxed);
+                let progress = |k| {
+                    told.store(true, Relaxed);
+                    (f.0)(name, k, size.load(Relaxed))
+                };
+                let control = Control {
+                    progress: &progress,
+                    total: &total,
+                    ..Control::default()
+                };
+                let e = scene.prepare(w, &self.exec, &control);
                 // the end of what was told, built or not
-                if told.load(std::sync::atomic::Ordering::Relaxed) {
+                if told.load(Relaxed) {
                     (f.0)(name, 0, 0);
                 }
                 e?
             }
-            None => scene.prepare(w, &self.exec)?,
+            None => scene.prepare(w, &self.exec, &Control::default())?,
         };
         if let Some(line) = e.describe() {
             self.notice(&line);

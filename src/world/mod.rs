@@ -40,7 +40,7 @@ pub use plan::{
     Workload, CALIBRATION_MAX_ROLLOUTS, CALIBRATION_ROLLOUTS, CALIBRATION_SECONDS,
 };
 pub use reach::{
-    farthest_reached_cell, sample_reach, sample_reach_with_progress, FarthestCell, ReachSample,
+    farthest_reached_cell, sample_reach, sample_reach_with, FarthestCell, ReachSample,
 };
 pub use table::{
     seed0_start, start_contexts, CachedOutcomes, ContextTables, OutcomeTable, StartContext,

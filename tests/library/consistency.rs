@@ -187,7 +187,7 @@ fn metrics_hold_the_entropy_over_the_reachable_cells_when_a_table_knows_them() {
         &mut *make(),
         &cfg,
         &mut running,
-        &Default::default(),
+        &e3d::Control::default(),
     )
     .unwrap();
     assert_eq!(running.metrics_over_reachable(&Target::Uniform, 68), m);

@@ -413,12 +413,9 @@ fn run_symbols(
         |exec, watch| {
             let mut world = exec.world(1);
             let mut rec = SessionRecord::new(&*world, trials);
-            let (add, stop) = (|t| watch.add(t), || watch.cancelled());
-            let control = Control {
-                progress: &add,
-                stop: &stop,
-            };
-            e3d::run_session_into(&mut *world, &mut *made, cfg, &mut rec, &control)?;
+            watch.control(|control| {
+                e3d::run_session_into(&mut *world, &mut *made, cfg, &mut rec, control)
+            })?;
             drop(world);
             let metrics = symbol_metrics(&exec, &rec, &a.target);
             let exact = exact_of(&exec, made);
@@ -454,7 +451,11 @@ where
     let watch = Watch::new();
     Ok(watched(py, progress, total, &watch, |watch| {
         let stop = || watch.cancelled();
-        let exec = Executor::with_progress_until(&inner, work, options, &|_, _| {}, &stop)?;
+        let control = Control {
+            stop: &stop,
+            ..Control::default()
+        };
+        let exec = Executor::with_control(&inner, work, options, &control)?;
         run(exec, watch)
     })??)
 }
@@ -626,12 +627,9 @@ fn run_builtin_batch(
                     .map(|c| SessionRecord::new(&*probe, c.trials))
                     .collect()
             };
-            let (add, stop) = (|t| watch.add(t), || watch.cancelled());
-            let control = Control {
-                progress: &add,
-                stop: &stop,
-            };
-            let status = e3d::run_sessions(&exec, &mut learners, configs, &mut records, &control);
+            let status = watch.control(|control| {
+                e3d::run_sessions(&exec, &mut learners, configs, &mut records, control)
+            });
             first_failure(status)?;
             let metrics: Vec<Metrics> = records
                 .iter()

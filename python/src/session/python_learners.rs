@@ -25,7 +25,12 @@ fn executor<'s>(
 ) -> PyResult<Executor<'s>> {
     let watch = Watch::new();
     let exec = watched(py, None, 0, &watch, |w| {
-        Executor::with_progress_until(scene, work, options, &|_, _| {}, &|| w.cancelled())
+        let stop = || w.cancelled();
+        let control = e3d::Control {
+            stop: &stop,
+            ..e3d::Control::default()
+        };
+        Executor::with_control(scene, work, options, &control)
     })?;
     Ok(exec.map_err(Fail::from)?)
 }

@@ -10,7 +10,7 @@ use crate::record::{record_to_py, PyRecord, Rows};
 use crate::saved::{run_values_from, Held, PyLearnerState};
 use crate::scene::PyScene;
 use e3d::world::Strategy;
-use e3d::{Control, LearnerKind, ValueSessionRecord, ValueSpace};
+use e3d::{LearnerKind, ValueSessionRecord, ValueSpace};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
@@ -57,12 +57,9 @@ pub(super) fn run_continuous(
         .collect();
     let watch = Watch::new();
     let status = watched(py, progress, total, &watch, |watch| {
-        let (add, stop) = (|t| watch.add(t), || watch.cancelled());
-        let control = Control {
-            progress: &add,
-            stop: &stop,
-        };
-        e3d::run_sessions(&exec, &mut learners, &configs, &mut records, &control)
+        watch.control(|control| {
+            e3d::run_sessions(&exec, &mut learners, &configs, &mut records, control)
+        })
     })?;
     for ((s, r), l) in status.into_iter().zip(&mut records).zip(&learners) {
         s.map_err(Fail::from)?;

@@ -39,7 +39,7 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
                 || physics.world(1),
                 |w, i| {
                     let stats = w.inspect(&space.command_at(i));
-                    progress(1);
+                    (progress.progress)(1);
                     stats
                 },
             )
@@ -122,7 +122,7 @@ fn context_stats(
                         |w, i| {
                             let c = space.command_at(i);
                             let stats = w.from_start(from, |w| w.inspect(&c)).and_then(|r| r);
-                            progress(1);
+                            (progress.progress)(1);
                             stats
                         },
                     )

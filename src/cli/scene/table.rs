@@ -91,7 +91,7 @@ pub(super) fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, b
             let whole = OutcomeTable::simulated_commands(scene).unwrap_or(n).max(1);
             let secs = table_seconds(scene) * simulated as f64 / whole as f64;
             simulate_all(scene, simulated, secs, |progress| {
-                OutcomeTable::complete_with_progress(scene, &known, progress)
+                OutcomeTable::complete_with(scene, &known, progress)
             })
             .map_err(world_error)?
         }
@@ -128,7 +128,7 @@ fn context_table(scene: &Scene, cache: Option<&Path>) -> CliResult {
         }
         None => (
             simulate_all(scene, simulated, secs, |progress| {
-                ContextTables::build_with_progress(contexts, progress)
+                ContextTables::build_with(contexts, progress)
             })
             .map_err(world_error)?,
             false,

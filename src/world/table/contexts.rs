@@ -4,6 +4,7 @@
 use super::file::file_safe;
 use super::*;
 use crate::rng::SessionRng;
+use crate::session::Control;
 use crate::world::WorldState;
 use rand::SeedableRng;
 
@@ -142,7 +143,7 @@ impl<'s> TabledContexts<'s> {
 impl ContextTables {
     /// The tables of `scene`'s contexts, computed in parallel (rayon).
     pub fn build(scene: &Scene) -> Result<ContextTables, WorldError> {
-        Self::build_with_progress(TabledContexts::of(scene)?, &|_| {})
+        Self::build_with(TabledContexts::of(scene)?, &Control::default())
     }
 
     /// The tables of `contexts`, in parallel (rayon: one world per
@@ -150,9 +151,9 @@ impl ContextTables {
     /// chunk done. Every command runs from the context's start exactly as
     /// [`World::execute_outcome_from`] runs it: the same outcomes, bit
     /// for bit, whatever the threads.
-    pub fn build_with_progress(
+    pub fn build_with(
         contexts: TabledContexts<'_>,
-        progress: &(dyn Fn(u64) + Sync),
+        control: &Control<'_>,
     ) -> Result<ContextTables, WorldError> {
         let scene = contexts.scene;
         let space = scene.command_space();
@@ -171,6 +172,7 @@ impl ContextTables {
                     .map_init(
                         || (scene.build(), space.first()),
                         |(world, c), k| {
+                            control.check()?;
                             let range = k * chunk..((k + 1) * chunk).min(n);
                             let done = range.end - range.start;
                             let out = range
@@ -179,7 +181,7 @@ impl ContextTables {
                                     world.execute_outcome_from(from, c)
                                 })
                                 .collect::<Result<Vec<_>, _>>();
-                            progress(done);
+                            (control.progress)(done);
                             out
                         },
                     )
@@ -205,7 +207,7 @@ impl ContextTables {
     pub fn cached(
         contexts: TabledContexts<'_>,
         dir: &Path,
-        progress: &(dyn Fn(u64) + Sync),
+        control: &Control<'_>,
     ) -> Result<(ContextTables, bool), WorldError> {
         let scene = contexts.scene;
         crate::io::remove_stale_temps(dir);
@@ -214,7 +216,7 @@ impl ContextTables {
             let names = start_contexts(scene).into_iter().map(|c| c.name).collect();
             return Ok((ContextTables { names, tables }, true));
         }
-        let built = Self::build_with_progress(contexts, progress)?;
+        let built = Self::build_with(contexts, control)?;
         for (k, t) in built.tables.iter().enumerate() {
             // a cache that cannot be written is not an error: it costs time only
             let _ = t.write_file_keyed(&Self::cache_path(scene, dir, k), Self::key(scene, k));
