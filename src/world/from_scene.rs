@@ -182,15 +182,6 @@ impl ValueWorld {
         &self.world
     }
 
-    /// The Rapier world itself, to execute on.
-    pub fn physics_mut(&mut self) -> &mut PhysicsWorld {
-        &mut self.world
-    }
-
-    /// The Rapier world, without its value space.
-    pub fn into_physics(self) -> PhysicsWorld {
-        self.world
-    }
 }
 
 impl ContinuousWorld for ValueWorld {

@@ -252,15 +252,6 @@ fn grid_as_written<S: serde::Serializer>(
 }
 
 impl EffectSpec {
-    /// The short form: one point of `body` binned on `grid`.
-    pub fn tracking(body: &str, point: (f64, f64), grid: EffectGrid) -> EffectSpec {
-        EffectSpec {
-            body: body.to_string(),
-            point,
-            grid: Some(grid),
-            features: Vec::new(),
-        }
-    }
 
     /// The effect's features, in order: the short form is one
     /// [`Feature::Point`] in world coordinates.

@@ -122,21 +122,6 @@ impl MetricSpec {
         }
     }
 
-    /// Whether a session may have no value (no first reward, a share of
-    /// the cells never reached): `summary.csv` then counts the sessions
-    /// that have one (`m_n`).
-    pub fn may_be_empty(&self) -> bool {
-        matches!(
-            self,
-            MetricSpec::FirstRewardTrial
-                | MetricSpec::TrialsTo50Percent
-                | MetricSpec::TrialsTo90Percent
-                | MetricSpec::NormalizedEntropyContext(_)
-                | MetricSpec::CumulativeRewardContext(_)
-                | MetricSpec::FirstRewardTrialContext(_)
-        )
-    }
-
     /// The metrics kept when a sweep names none: all of them, with the
     /// cumulative reward at the last trial (the coverage measures last,
     /// so that the columns before them are those of earlier versions).
@@ -423,23 +408,6 @@ impl SweepSpec {
     /// Sets the base seed.
     pub fn with_seed(mut self, seed: u64) -> SweepSpec {
         self.seed = seed;
-        self
-    }
-
-    /// Sets the episodes: `commands` commands each, what the learners
-    /// observe (`None`: the default), and whether closed loop with the
-    /// discount `gamma` (`None`: [`ClosedLoopE3d::GAMMA`]).
-    pub fn with_episodes(
-        mut self,
-        commands: usize,
-        observe: Option<Observe>,
-        closed_loop: bool,
-        gamma: Option<f64>,
-    ) -> SweepSpec {
-        self.commands = commands;
-        self.observe = observe;
-        self.closed_loop = closed_loop;
-        self.gamma = gamma;
         self
     }
 

@@ -30,14 +30,6 @@ pub enum CachedOutcomes {
 }
 
 impl OutcomeTable {
-    /// The table of `scene`: from the folder `cache` if given (see
-    /// [`cached`](Self::cached)), else built in parallel.
-    pub fn for_scene(scene: &Scene, cache: Option<&Path>) -> Result<OutcomeTable, WorldError> {
-        match cache {
-            Some(dir) => Self::cached(scene, dir),
-            None => Self::build_scene(scene),
-        }
-    }
 
     /// The key of a scene's table: a hash of the scene's content (its
     /// canonical RON form, so comments and layout do not matter) and of
@@ -213,27 +205,6 @@ impl OutcomeTable {
         Ok(CachedOutcomes::Partial(out))
     }
 
-    /// A whole table from `entries`, one per command in index order (as
-    /// [`CachedOutcomes::Partial`] holds once it covers the space).
-    pub fn from_entries(
-        scene: &Scene,
-        entries: Vec<(u64, Outcome)>,
-    ) -> Result<OutcomeTable, WorldError> {
-        let space = scene.command_space();
-        let n = Self::check_size(&space)?;
-        if entries.len() as u64 != n || entries.iter().enumerate().any(|(k, e)| e.0 != k as u64) {
-            return Err(WorldError::Other(format!(
-                "{} outcomes do not cover the {n} commands in order",
-                entries.len()
-            )));
-        }
-        Ok(OutcomeTable {
-            places: places(&space),
-            num_effects: scene.num_effects(),
-            space,
-            outcomes: entries.into_iter().map(|e| e.1).collect(),
-        })
-    }
 }
 
 fn header(key: u64, commands: u64, entries: u64) -> Vec<u8> {
