@@ -163,8 +163,9 @@ const PUCK_HEADINGS: &str = include_str!("../tests/scenes/puck_headings.ron");
 /// thread: in lockstep on one world of 32 copies (`run_sessions`,
 /// what `e3d run --sessions 32` does), and one world per session.
 fn continuous_lockstep(c: &mut Criterion) {
+    use e3d::session::{run_value_session, ValueSessionRecord};
     use e3d::world::{Executor, Workload};
-    use e3d::{run_sessions, run_value_session, Control, ValueSessionRecord};
+    use e3d::{run_sessions, Control};
     let scene = Scene::parse(PUCK_HEADINGS, "puck_headings.ron").unwrap();
     let space = scene.value_space().unwrap();
     let configs: Vec<SessionConfig> = (0..32)

@@ -9,9 +9,10 @@
 //! `scripts/bench-scale.sh`; the figures are in docs/benchmarks.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use e3d::session::{run_group, RunningMetrics};
 use e3d::world::{ExecOptions, Executor, Memoized, OutcomeMemo, Strategy, Workload};
 use e3d::World;
-use e3d::{run_group, Control, LearnerKind, Params, RunningMetrics, Scene, SessionConfig, Target};
+use e3d::{Control, LearnerKind, Params, Scene, SessionConfig, Target};
 use std::hint::black_box;
 
 fn puck14() -> Scene {

@@ -12,10 +12,10 @@
 //! minutes on 2 cores.
 
 use e3d::report::paper::effect_panels_svg;
+use e3d::session::ValueSessionRecord;
 use e3d::world::GridSpec;
 use e3d::{
     effect::entropy, run_sessions, Control, LearnerKind, Params, Scene, SessionConfig, Target,
-    ValueSessionRecord,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -44,7 +44,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut learners = configs
             .iter()
             .map(|_| kind.make_continuous(&Params::TASK1, &space, n, &Target::Uniform))
-            .collect::<Result<Vec<_>, e3d::LearnerError>>()?;
+            .collect::<Result<Vec<_>, e3d::learner::LearnerError>>()?;
         let mut records: Vec<ValueSessionRecord> = configs
             .iter()
             .map(|c| ValueSessionRecord::new(space.num_slots(), n, c.trials))

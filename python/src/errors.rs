@@ -1,7 +1,8 @@
 //! Errors: the package's exceptions, and the library's errors made Python
 //! exceptions with the CLI's text.
 
-use e3d::{LearnerKind, SweepError, WorldError};
+use e3d::sweep::SweepError;
+use e3d::{LearnerKind, WorldError};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyOverflowError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -412,19 +413,6 @@ pub(crate) enum Reader {
     State,
     /// A learner object: it holds its own.
     Object,
-}
-
-impl Reader {
-    /// The reader of a `learner` argument (None: `"e3d"`).
-    pub(crate) fn of(learner: Option<&Bound<'_, PyAny>>) -> PyResult<Reader> {
-        if learner.is_some_and(|l| l.cast::<crate::saved::PyLearnerState>().is_ok()) {
-            return Ok(Reader::State);
-        }
-        Ok(match crate::learner::builtin_kind(learner)? {
-            Some(kind) => Reader::Kind(kind),
-            None => Reader::Object,
-        })
-    }
 }
 
 /// Warns (`UserWarning`, at the caller's line) for every hyper-parameter

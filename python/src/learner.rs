@@ -4,9 +4,10 @@
 use crate::commands::commands_from;
 use crate::errors::learner_names;
 use crate::rng::PyRng;
+use e3d::command::CommandSpace;
 use e3d::learner::ContextualLearner;
 use e3d::world::WorldState;
-use e3d::{Command, CommandSpace, Learner, LearnerKind, Outcome, SessionRng, World, WorldError};
+use e3d::{Command, Learner, LearnerKind, Outcome, SessionRng, World, WorldError};
 use numpy::PyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;

@@ -2,7 +2,8 @@
 
 use crate::pickling::{pickled, Reduced};
 use crate::scene::PyScene;
-use e3d::{Learner, Metrics, SessionRecord, ValueSessionRecord};
+use e3d::session::ValueSessionRecord;
+use e3d::{Learner, Metrics, SessionRecord};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::prelude::*;

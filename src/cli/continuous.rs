@@ -6,10 +6,9 @@ use super::output::write_file;
 use super::session::{join_trials, print_header, print_metrics, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
+use e3d::session::ValueSessionRecord;
 use e3d::world::ContinuousScene;
-use e3d::{
-    run_sessions, Control, Metrics, Params, Scene, SessionConfig, Target, ValueSessionRecord,
-};
+use e3d::{run_sessions, Control, Metrics, Params, Scene, SessionConfig, Target};
 use serde::Serialize;
 
 /// What `summary.json` holds for a run of continuous commands.
@@ -55,7 +54,7 @@ pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u6
             scene.spec().name
         )));
     }
-    if matches!(a.memo.outcomes.0, Some(s) if s != e3d::Strategy::Live) {
+    if matches!(a.memo.outcomes.0, Some(s) if s != e3d::world::Strategy::Live) {
         return Err(CliError::input(format!(
             "--outcomes: scene `{}` takes continuous commands, which run live only (no table, no memo)",
             scene.spec().name
@@ -132,7 +131,7 @@ fn write_out(
     seeds: &[u64],
     records: &[ValueSessionRecord],
     metrics: &[Metrics],
-    space: &e3d::ValueSpace,
+    space: &e3d::command::ValueSpace,
 ) -> CliResult {
     let several = records.len() > 1;
     let csv = dir.join("trials.csv");

@@ -4,12 +4,12 @@ use super::output::{prepare_out, write_file};
 use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCsv};
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
+use e3d::command::CommandSpace;
 use e3d::report::run_scene::SceneRecord;
+use e3d::session::{policy_effect_distribution, RunningMetrics};
+use e3d::world::ExecutionPlan;
 use e3d::world::{Executor, Workload, WorldError};
-use e3d::{
-    policy_effect_distribution, run_sessions, CommandSpace, Control, ExecutionPlan, Metrics,
-    Params, RunningMetrics, Scene, SessionConfig, Target,
-};
+use e3d::{run_sessions, Control, Metrics, Params, Scene, SessionConfig, Target};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 

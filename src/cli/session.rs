@@ -5,8 +5,9 @@
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
+use e3d::command::CommandSpace;
 use e3d::world::{ExecOptions, Strategy};
-use e3d::{Command, CommandSpace, LearnerKind, Metrics, Outcome, Params, Recorder};
+use e3d::{Command, LearnerKind, Metrics, Outcome, Params, Recorder};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `e3d run`.

@@ -24,7 +24,7 @@ pub const P_FLOOR: f64 = 1e-300;
 /// with row 0 at the top (largest y) and column 0 at the left.
 ///
 /// ```
-/// use e3d::EffectGrid;
+/// use e3d::effect::EffectGrid;
 /// // arm7's grid: 15 x 15 cells of 0.25 m over [-1.875, 1.875]^2
 /// let g = EffectGrid::new(15, 15, [-1.875, -1.875], [1.875, 1.875]).unwrap();
 /// assert_eq!(g.effect_of([1.75, 0.0]), 119);
@@ -288,7 +288,7 @@ pub(crate) fn log_floored(p: f64) -> f64 {
 /// `scale` falls below 1e-150, which keeps every value in range.
 ///
 /// ```
-/// use e3d::EffectModel;
+/// use e3d::effect::EffectModel;
 /// let mut p = EffectModel::new(4, 0.5).unwrap();
 /// p.observe(2);
 /// assert!((p.prob(2) - 0.625).abs() < 1e-15);
@@ -326,7 +326,7 @@ impl EffectModel {
     /// 1e-9, one per effect) with rate `eta`.
     ///
     /// ```
-    /// use e3d::EffectModel;
+    /// use e3d::effect::EffectModel;
     /// let p = EffectModel::from_probs(&[0.25, 0.75], 0.1).unwrap();
     /// assert_eq!(p.probs(), [0.25, 0.75]);
     /// assert!(EffectModel::from_probs(&[0.5, 0.6], 0.1).is_err());

@@ -34,7 +34,7 @@
 //! let saved = l.to_bytes();
 //! let back = CountBonus::from_bytes(&saved).unwrap();
 //! assert_eq!(back.to_bytes(), saved);
-//! assert!(e3d::E3d::from_bytes(&saved).is_err()); // a count learner's state
+//! assert!(e3d::learner::E3d::from_bytes(&saved).is_err()); // a count learner's state
 //! ```
 
 use super::LearnerError;

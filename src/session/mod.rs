@@ -12,10 +12,12 @@ use crate::world::{Outcome, World, WorldError};
 use serde::{Deserialize, Serialize};
 use std::io::{self, Write};
 
+mod builder;
 mod engine;
 mod metrics;
 mod values;
 
+pub use builder::{Session, SessionError};
 pub use engine::{run_group, run_sessions, Control, Executes, Learns, Observer, Worlds};
 
 use metrics::LAST;

@@ -7,7 +7,7 @@
 //! values stepped together on one world of several copies where the
 //! scene's copies are exact (one session per world elsewhere), the groups
 //! in parallel. A session's results are those of
-//! [`run_value_session`](crate::run_value_session) alone, whatever the
+//! [`run_value_session`](crate::session::run_value_session) alone, whatever the
 //! threads, the groups and the shards. Its learner is the continuous form
 //! of the cell's learner
 //! ([`LearnerFactory::make_continuous`](super::LearnerFactory::make_continuous)); its

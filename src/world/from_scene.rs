@@ -168,7 +168,7 @@ impl<'a> ContinuousScene<'a> {
 }
 
 /// The physics world of a continuous scene, known to take values: what
-/// [`run_value_session`](crate::run_value_session) steps on (a
+/// [`run_value_session`](crate::session::run_value_session) steps on (a
 /// [`ContinuousWorld`]). Made by [`ContinuousScene::world`].
 #[derive(Debug)]
 pub struct ValueWorld {
@@ -181,7 +181,6 @@ impl ValueWorld {
     pub fn physics(&self) -> &PhysicsWorld {
         &self.world
     }
-
 }
 
 impl ContinuousWorld for ValueWorld {

@@ -186,7 +186,7 @@ pub fn sample_reach_with(
 }
 
 /// [`sample_reach`] of a continuous scene: `samples` commands drawn by
-/// the uniform sampler ([`UniformValues`](crate::UniformValues)) seeded
+/// the uniform sampler ([`UniformValues`](crate::learner::UniformValues)) seeded
 /// `seed`, on live physics.
 fn sample_reach_values(
     scene: super::ContinuousScene,
@@ -198,7 +198,7 @@ fn sample_reach_values(
     let progress = control.progress;
     use rand::SeedableRng;
     let mut world = scene.physics().world(1);
-    let mut sampler = crate::UniformValues::new(scene.values());
+    let mut sampler = crate::learner::UniformValues::new(scene.values());
     let mut rng = crate::SessionRng::seed_from_u64(seed);
     let mut counts = vec![0u64; scene.scene().num_effects()];
     let start = std::time::Instant::now();

@@ -4,7 +4,8 @@
 
 use crate::common::{e3d, ok, temp_dir, PUCK_HEADINGS};
 use crate::sweep::{assert_same_files, FINAL_FILES};
-use e3d::{run_value_session, LearnerKind, Scene, SessionConfig, Target};
+use e3d::session::run_value_session;
+use e3d::{LearnerKind, Scene, SessionConfig, Target};
 
 /// A puck of continuous commands (exact copies: its sessions step
 /// together) and arm7_continuous (a world per session), 2 learners, 2

@@ -94,7 +94,7 @@ pub const PUCK_HEADINGS: &str = include_str!("../scenes/puck_headings.ron");
 /// on the world `world()` makes: first observing its start context, then
 /// blind to it.
 pub fn seen_and_blind_entropy<W: e3d::World + ?Sized>(
-    space: &e3d::CommandSpace,
+    space: &e3d::command::CommandSpace,
     num_effects: usize,
     contexts: usize,
     seed: u64,
@@ -137,13 +137,13 @@ pub fn value_sessions<L: e3d::ContinuousLearner + Send>(
     exec: &e3d::Executor<'_>,
     configs: &[e3d::SessionConfig],
     mut learners: Vec<L>,
-) -> Vec<e3d::ValueSessionRecord> {
+) -> Vec<e3d::session::ValueSessionRecord> {
     let scene = exec.continuous().expect("a continuous scene");
     let slots = scene.values().num_slots();
     let effects = scene.scene().num_effects();
-    let mut records: Vec<e3d::ValueSessionRecord> = configs
+    let mut records: Vec<e3d::session::ValueSessionRecord> = configs
         .iter()
-        .map(|c| e3d::ValueSessionRecord::new(slots, effects, c.trials))
+        .map(|c| e3d::session::ValueSessionRecord::new(slots, effects, c.trials))
         .collect();
     let status = e3d::run_sessions(
         exec,

@@ -4,10 +4,12 @@
 //! and the metrics know the entropy over the reachable cells when a table
 //! gives them.
 
+use e3d::session::{run_session_into, RunningMetrics};
 use e3d::world::{check_command, ExecOptions, Executor, Strategy, Workload};
+use e3d::world::{Memoized, OutcomeMemo};
 use e3d::{
-    run_session, run_session_into, Command, LearnerKind, Memoized, OutcomeMemo, OutcomeTable,
-    Params, RunningMetrics, Scene, SessionConfig, Target, World, WorldError,
+    run_session, Command, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target, World,
+    WorldError,
 };
 
 /// A command with a symbol outside slot 1's alphabet, one slot too many,

@@ -2,15 +2,15 @@
 //! the same bytes as the learner never stopped; bad bytes are refused with
 //! a reason.
 
+use e3d::command::CommandSpace;
+use e3d::command::ValueSpace;
 use e3d::learner::contextual::{ContextTargets, ContextualLearner, PerContext};
 use e3d::learner::{
     Archive, ArchiveValues, ClosedLoopE3d, CountBonus, GoalBabbling, GoalBabblingValues, QLearning,
     RelaxedE3d, StateMarginalMatching,
 };
-use e3d::{
-    Command, CommandSpace, ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner,
-    LearnerState, Outcome, Params, SessionRng, Target, UniformPolicy, UniformValues, ValueSpace,
-};
+use e3d::learner::{E3d, EpsilonGreedy, GaussianE3d, LearnerState, UniformPolicy, UniformValues};
+use e3d::{Command, ContinuousLearner, Learner, Outcome, Params, SessionRng, Target};
 use rand::SeedableRng;
 
 const EFFECTS: usize = 7;

@@ -260,8 +260,8 @@ fn e3d_run_says_how_and_gives_the_same_trials_every_way() {
 fn a_command_and_its_mirror_image_share_one_memo_entry() {
     let arm = Scene::builtin("arm7").unwrap();
     let space = arm.command_space();
-    let memo = e3d::OutcomeMemo::new(&space, arm.num_effects(), 100).unwrap();
-    let mut world = e3d::Memoized::new(arm.build(), &memo);
+    let memo = e3d::world::OutcomeMemo::new(&space, arm.num_effects(), 100).unwrap();
+    let mut world = e3d::world::Memoized::new(arm.build(), &memo);
     let mut plain = arm.build();
     let c = space.parse("+-0+0-+").unwrap();
     let image = space.parse("-+0-0+-").unwrap();

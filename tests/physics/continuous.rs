@@ -2,11 +2,14 @@
 //! live physics, the Gaussian E3D against the uniform sampler, and the CLI.
 
 use crate::common::{e3d, e3d_command, temp_path, PUCK_HEADINGS};
+use e3d::command::ValueSpace;
+use e3d::learner::{GaussianE3d, UniformValues};
 use e3d::scene::{Symmetry, WorldSpec};
+use e3d::session::run_value_session;
 use e3d::world::{Executor, Workload};
 use e3d::{
-    run_value_session, ContinuousLearner, GaussianE3d, LearnerKind, Outcome, Params, Scene,
-    SessionConfig, SessionRng, Target, UniformValues, ValueSpace, World,
+    ContinuousLearner, LearnerKind, Outcome, Params, Scene, SessionConfig, SessionRng, Target,
+    World,
 };
 use rand::SeedableRng;
 use std::path::Path;
@@ -156,7 +159,7 @@ fn tools_of_symbols_refuse_a_continuous_scene_by_name() {
 }
 
 /// Sessions of `kind` on arm7_continuous, seeds 0 and 1, 1500 trials.
-fn sessions(kind: LearnerKind) -> Vec<e3d::ValueSessionRecord> {
+fn sessions(kind: LearnerKind) -> Vec<e3d::session::ValueSessionRecord> {
     let scene = continuous();
     let space = scene.value_space().unwrap();
     let configs: Vec<SessionConfig> = (0..2)
@@ -471,7 +474,7 @@ fn the_cli_runs_execs_and_refuses_continuous_scenes() {
 }
 
 /// The trials of a record as CSV bytes, without a session column.
-fn csv_of(rec: &e3d::ValueSessionRecord, space: &ValueSpace) -> Vec<u8> {
+fn csv_of(rec: &e3d::session::ValueSessionRecord, space: &ValueSpace) -> Vec<u8> {
     let mut out = Vec::new();
     rec.write_trials_csv(space, None, false, &mut out).unwrap();
     out

@@ -1,8 +1,9 @@
 //! Sessions in lockstep give the records of sessions run one by one.
 
+use e3d::session::run_group;
 use e3d::{
-    run_group, run_session, Control, LearnerKind, Params, Scene, SessionConfig, SessionRecord,
-    Target, World, WorldError,
+    run_session, Control, LearnerKind, Params, Scene, SessionConfig, SessionRecord, Target, World,
+    WorldError,
 };
 
 /// `run_group` into a record per session: each session's record, or its error.

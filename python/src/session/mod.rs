@@ -7,14 +7,16 @@
 use crate::errors::{
     check_held, every_arg, params_with, seed_param, seeds_param, sessions_arg, trials_arg, Fail,
 };
+use crate::held::Held;
 use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
-use crate::saved::{Held, PyLearnerState};
+use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, target_arg, PyScene};
+use e3d::learner::E3d;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
-    Control, E3d, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target,
+    Control, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target,
     WorldError,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -252,7 +254,7 @@ pub(crate) fn run_session(
     };
     // a Learner: its state, checked against the scene, written back at the end
     let saved = saved_state(learner, &scene)?;
-    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
+    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params)?;
     let held = saved.as_ref().map(|s| s.borrow().held.clone());
     if scene.values.is_some() {
         if let Some(h) = held {
@@ -349,7 +351,7 @@ fn make_symbols(
 ) -> PyResult<(Option<E3d>, Option<BoxedLearner>)> {
     let space = &scene.space;
     let n_eff = scene.inner.num_effects();
-    let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
+    let bad = |e: e3d::learner::LearnerError| PyValueError::new_err(e.to_string());
     let e3d_made = match (kind, held) {
         (_, Some(Held::E3d(e))) => Some(e.clone()),
         (LearnerKind::E3d, None) => {
@@ -414,7 +416,7 @@ fn run_symbols(
             let mut world = exec.world(1);
             let mut rec = SessionRecord::new(&*world, trials);
             watch.control(|control| {
-                e3d::run_session_into(&mut *world, &mut *made, cfg, &mut rec, control)
+                e3d::session::run_session_into(&mut *world, &mut *made, cfg, &mut rec, control)
             })?;
             drop(world);
             let metrics = symbol_metrics(&exec, &rec, &a.target);
@@ -428,7 +430,7 @@ fn run_symbols(
 /// executor has a table of the outcomes.
 fn exact_of(exec: &Executor<'_>, learner: &dyn Learner) -> Option<Vec<f64>> {
     exec.table()
-        .and_then(|t| e3d::policy_effect_distribution(t, learner))
+        .and_then(|t| e3d::session::policy_effect_distribution(t, learner))
 }
 
 /// Runs `run` on the executor of `scene` without the GIL, watched (see
@@ -531,7 +533,7 @@ pub(crate) fn run_sessions(
         target,
     )?;
     check_held("trials and sessions", seeds.len(), trials)?;
-    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
+    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params)?;
     let (name, rows, execution) = if let Some(space) = scene.values.clone() {
         let (kind, rows, execution) =
             run_continuous(py, &scene, &space, learner, &a, &seeds, trials, progress)?;

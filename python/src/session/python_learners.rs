@@ -83,7 +83,7 @@ pub(super) fn run_here<'s, L: Learner + ?Sized>(
         scene.space.num_slots(),
         error,
     );
-    let status = e3d::run_session_into(&mut *world, &mut tap, cfg, &mut rec, &ticks);
+    let status = e3d::session::run_session_into(&mut *world, &mut tap, cfg, &mut rec, &ticks);
     tap.flush();
     drop(world);
     if let Some(e) = error.take() {
@@ -178,7 +178,7 @@ pub(super) fn run_lockstep_here<'s>(
         .map(|c| SessionRecord::new(&*world, c.trials))
         .collect();
     let ticks = Ticks::new(Throttle::new(py, progress, total)?, total, error);
-    let status = e3d::run_group(&mut *world, learners, configs, &mut records, &ticks);
+    let status = e3d::session::run_group(&mut *world, learners, configs, &mut records, &ticks);
     drop(world);
     if let Some(e) = error.take() {
         return Err(e);

@@ -4,13 +4,16 @@
 
 use super::{write_back, OneSession, SessionArgs};
 use crate::errors::Fail;
+use crate::held::Held;
 use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
 use crate::record::{record_to_py, PyRecord, Rows};
-use crate::saved::{run_values_from, Held, PyLearnerState};
+use crate::saved::{run_values_from, PyLearnerState};
 use crate::scene::PyScene;
+use e3d::command::ValueSpace;
+use e3d::session::ValueSessionRecord;
 use e3d::world::Strategy;
-use e3d::{LearnerKind, ValueSessionRecord, ValueSpace};
+use e3d::LearnerKind;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 

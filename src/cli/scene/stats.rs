@@ -100,7 +100,7 @@ fn context_stats(
     use rayon::prelude::*;
     let space = scene.command_space();
     let probe = scene.build();
-    let starts: Vec<e3d::WorldState> = (0..contexts.len())
+    let starts: Vec<e3d::world::WorldState> = (0..contexts.len())
         .map(|k| e3d::world::seed0_start(&probe, k))
         .collect::<Result<_, _>>()
         .map_err(world_error)?;

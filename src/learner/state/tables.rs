@@ -11,7 +11,7 @@
 //! - a contextual learner's tables have one more axis in front, the
 //!   context: `(contexts, slots, k)`, `(contexts, effects)`; tables over
 //!   whole commands (`reference`, Q-learning's `q`) are `(contexts,
-//!   commands)`, in the order of [`CommandSpace::index_of`](crate::CommandSpace::index_of).
+//!   commands)`, in the order of [`CommandSpace::index_of`](crate::command::CommandSpace::index_of).
 //!
 //! ```
 //! use e3d::learner::state::tables::StateTable;

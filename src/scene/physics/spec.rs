@@ -252,7 +252,6 @@ fn grid_as_written<S: serde::Serializer>(
 }
 
 impl EffectSpec {
-
     /// The effect's features, in order: the short form is one
     /// [`Feature::Point`] in world coordinates.
     pub fn features(&self) -> Vec<Feature> {

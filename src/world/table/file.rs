@@ -30,7 +30,6 @@ pub enum CachedOutcomes {
 }
 
 impl OutcomeTable {
-
     /// The key of a scene's table: a hash of the scene's content (its
     /// canonical RON form, so comments and layout do not matter) and of
     /// [`sweep::VERSION`](crate::sweep::VERSION), the crate's version with
@@ -204,7 +203,6 @@ impl OutcomeTable {
         }
         Ok(CachedOutcomes::Partial(out))
     }
-
 }
 
 fn header(key: u64, commands: u64, entries: u64) -> Vec<u8> {
