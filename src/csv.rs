@@ -13,7 +13,8 @@
 
 use crate::command::MAX_SLOTS;
 use crate::effect::MAX_EFFECTS;
-use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS, PARAM_NAMES};
+use crate::learner::Params;
+use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS};
 use crate::text::{csv_fields, echo, parse_finite};
 
 /// A file that cannot be read as what it should be: where and why.
@@ -71,7 +72,7 @@ impl Summary {
             }
             let mut col = 1;
             for (k, v) in f.iter().enumerate() {
-                if k >= CELL_COLUMNS - PARAM_NAMES.len() && !v.is_empty() {
+                if k >= CELL_COLUMNS - Params::SWEPT.len() && !v.is_empty() {
                     crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
                         .map_err(CsvError)?;
                 }

@@ -299,6 +299,14 @@ impl Params {
         "goal_progress",
     ];
 
+    /// The hyper-parameters a sweep spans by axes of values (the first
+    /// five of [`NAMES`](Self::NAMES)), in the order of its columns.
+    pub const SWEPT: [&'static str; 5] = ["alpha", "beta", "lambda", "eta", "epsilon"];
+
+    /// The hyper-parameters a sweep sets once for all its cells (the last
+    /// four of [`NAMES`](Self::NAMES)).
+    pub const FIXED: [&'static str; 4] = ["k", "sigma", "rarity", "goal_progress"];
+
     /// Each hyper-parameter by name, in the order of [`NAMES`](Self::NAMES)
     /// (`k` as a float).
     ///

@@ -501,13 +501,13 @@ fn failures_list(body: &mut String, failures: &[String]) {
 #[cfg(feature = "plots")]
 fn plots_against_params(body: &mut String, summary: &crate::csv::Summary) {
     use super::sweep_plot::{plot, PlotSpec};
-    use crate::sweep::PARAM_NAMES;
+    use crate::learner::Params;
     let rows = &summary.rows;
     let col = |name: &str| summary.col(name);
     let values = |c: usize| distinct(rows, c);
     let num = |s: &str| s.parse::<f64>().ok();
     let metrics = summary.metrics();
-    for param in PARAM_NAMES {
+    for param in Params::SWEPT {
         let Some(c) = col(param) else { continue };
         if values(c).iter().filter(|v| !v.is_empty()).count() < 2 {
             continue;

@@ -52,11 +52,8 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// The names of the hyper-parameters, in the order of the cells and columns.
-pub const PARAM_NAMES: [&str; 5] = ["alpha", "beta", "lambda", "eta", "epsilon"];
-
 /// Whether `learner` uses the hyper-parameter `param` (one of
-/// [`PARAM_NAMES`]).
+/// [`Params::SWEPT`]).
 ///
 /// ```
 /// use e3d::{sweep::uses_param, LearnerKind};
@@ -480,13 +477,13 @@ impl WorldFactory for Worlds {
 /// A learner's name is written in `results.csv` and in the sessions'
 /// identities (so in their seeds); it must be a RON identifier (ASCII
 /// letters, digits and `_`, not starting with a digit) to be written in a
-/// sweep file. Its hyper-parameters are among [`PARAM_NAMES`]: its grid
+/// sweep file. Its hyper-parameters are among [`Params::SWEPT`]: its grid
 /// spans only those it uses, and the others are empty in the results.
 pub trait LearnerFactory: Send + Sync {
     /// The learners this factory makes, in the order messages list them.
     fn names(&self) -> Vec<String>;
 
-    /// Which of [`PARAM_NAMES`] learner `name` uses; `None` for a name
+    /// Which of [`Params::SWEPT`] learner `name` uses; `None` for a name
     /// this factory does not make.
     fn uses(&self, name: &str) -> Option<[bool; 5]>;
 
@@ -570,14 +567,14 @@ impl Learners {
     }
 
     /// Registers the learner `name`, which uses the hyper-parameters
-    /// `uses` (among [`PARAM_NAMES`]) and is made by `make`. It replaces
+    /// `uses` (among [`Params::SWEPT`]) and is made by `make`. It replaces
     /// any learner of that name registered before, built-in ones included.
     ///
     /// # Panics
     ///
     /// If `name` is not a RON identifier (ASCII letters, digits and `_`,
     /// not starting with a digit), or a parameter is not one of
-    /// [`PARAM_NAMES`]: mistakes in the program, not in its data.
+    /// [`Params::SWEPT`]: mistakes in the program, not in its data.
     pub fn with<F>(mut self, name: &str, uses: &[&str], make: F) -> Learners
     where
         F: Fn(&Params, &CommandSpace, usize, &Target) -> Result<Box<dyn Learner + Send>, BoxError>
@@ -591,12 +588,15 @@ impl Learners {
         );
         let mut used = [false; 5];
         for p in uses {
-            let i = PARAM_NAMES.iter().position(|n| n == p).unwrap_or_else(|| {
-                panic!(
-                    "learner `{name}`: parameter `{p}` is not one of {}",
-                    PARAM_NAMES.join(", ")
-                )
-            });
+            let i = Params::SWEPT
+                .iter()
+                .position(|n| n == p)
+                .unwrap_or_else(|| {
+                    panic!(
+                        "learner `{name}`: parameter `{p}` is not one of {}",
+                        Params::SWEPT.join(", ")
+                    )
+                });
             used[i] = true;
         }
         let entry = Entry::Custom(used, Arc::new(make));
@@ -627,7 +627,7 @@ impl LearnerFactory for Learners {
 
     fn uses(&self, name: &str) -> Option<[bool; 5]> {
         Some(match self.entry(name)? {
-            Entry::Builtin(k) => std::array::from_fn(|i| uses_param(*k, PARAM_NAMES[i])),
+            Entry::Builtin(k) => std::array::from_fn(|i| uses_param(*k, Params::SWEPT[i])),
             Entry::Custom(used, _) => *used,
         })
     }

@@ -7,8 +7,8 @@ use super::{
     TABLE_COPIES,
 };
 use crate::scene::{Scene, WorldSpec};
-use crate::session::Control;
 use crate::world::table::CachedOutcomes;
+use crate::world::Control;
 use std::path::{Path, PathBuf};
 
 /// Carries out an [`ExecutionPlan`] for one scene: holds its table or its

@@ -16,6 +16,7 @@
 //! Implement [`World`] to plug in your own simulator or robot.
 
 mod context_memo;
+mod control;
 mod executor;
 mod from_scene;
 mod grid;
@@ -27,6 +28,7 @@ mod table;
 
 pub use crate::scene::GridSpec;
 pub use context_memo::ContextMemoized;
+pub use control::{Control, Observer};
 pub use executor::Executor;
 pub use from_scene::{ContinuousScene, PhysicsScene, ValueWorld};
 pub use grid::GridWorld;
@@ -49,6 +51,23 @@ pub use table::{
 
 use crate::command::{Command, CommandSpace, ValueSpace};
 use serde::{Deserialize, Serialize};
+
+/// The e3d version written into output folders and into every outcome
+/// table's key: the crate's version and [`PHYSICS_FINGERPRINT`]
+/// (`0.1.0+physics.1a2b3c4d`), so that a sweep folder or a table cache
+/// made by a build whose physics differs is not reused.
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    "+physics.",
+    env!("E3D_PHYSICS_FINGERPRINT")
+);
+
+/// A hash (8 hex digits) of the code that decides what a command does,
+/// computed when e3d is built (`build.rs`): the physics and grid worlds,
+/// the physics scene checks and shorthands, the effect binning (their text
+/// without whitespace), and the versions of Rapier, parry, nalgebra and
+/// glam in Cargo.lock. Any change to them changes it.
+pub const PHYSICS_FINGERPRINT: &str = env!("E3D_PHYSICS_FINGERPRINT");
 
 /// What the learner reads after a command: the terminal state, binned.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -110,7 +129,7 @@ pub enum WorldError {
         /// What went wrong.
         reason: String,
     },
-    /// The run was stopped ([`Control::stop`](crate::session::Control)
+    /// The run was stopped ([`Control::stop`](Control)
     /// said so): a Ctrl-C, a cancelled call.
     #[error("stopped")]
     Stopped,

@@ -120,7 +120,7 @@ pub fn sample_reach(
     samples: u64,
     seed: u64,
 ) -> Result<ReachSample, crate::WorldError> {
-    sample_reach_with(scene, samples, seed, &crate::session::Control::default())
+    sample_reach_with(scene, samples, seed, &crate::world::Control::default())
 }
 
 /// [`sample_reach`] under `control`: told of `k` more commands executed
@@ -131,7 +131,7 @@ pub fn sample_reach_with(
     scene: &crate::Scene,
     samples: u64,
     seed: u64,
-    control: &crate::session::Control<'_>,
+    control: &crate::world::Control<'_>,
 ) -> Result<ReachSample, crate::WorldError> {
     use rand::{RngExt, SeedableRng};
     let progress = control.progress;
@@ -192,7 +192,7 @@ fn sample_reach_values(
     scene: super::ContinuousScene,
     samples: u64,
     seed: u64,
-    control: &crate::session::Control<'_>,
+    control: &crate::world::Control<'_>,
 ) -> Result<ReachSample, crate::WorldError> {
     use crate::ContinuousLearner;
     let progress = control.progress;

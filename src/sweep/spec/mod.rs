@@ -1,7 +1,7 @@
 //! The sweep file: hyper-parameter values, metrics and the [`SweepSpec`]
 //! as written, built in code, parsed, checked and written back.
 
-use super::factory::{LearnerFactory, Learners, PARAM_NAMES};
+use super::factory::{LearnerFactory, Learners};
 #[cfg(doc)]
 use super::Sweep;
 use super::SweepError;
@@ -23,7 +23,7 @@ mod values;
 
 pub(super) use check::invalid;
 pub(crate) use values::{param_of, set_param};
-pub use values::{ParamValues, Scale, Values, FIXED_PARAM_NAMES};
+pub use values::{ParamValues, Scale, Values};
 
 /// The largest number of sessions a sweep may hold: its plan keeps every
 /// cell and session in memory (about 150 bytes each, so at most about
@@ -481,7 +481,7 @@ impl SweepSpec {
         out.push_str(&format!("    learners: [{}],\n", self.learners.join(", ")));
         let use_reward: Vec<String> = self.use_reward.iter().map(bool::to_string).collect();
         out.push_str(&format!("    use_reward: [{}],\n", use_reward.join(", ")));
-        let mut params: Vec<String> = PARAM_NAMES
+        let mut params: Vec<String> = Params::SWEPT
             .iter()
             .filter_map(|name| {
                 let v = self.params.get(name)?;

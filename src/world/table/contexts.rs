@@ -4,7 +4,7 @@
 use super::file::file_safe;
 use super::*;
 use crate::rng::SessionRng;
-use crate::session::Control;
+use crate::world::Control;
 use crate::world::WorldState;
 use rand::SeedableRng;
 

@@ -32,12 +32,12 @@ pub enum CachedOutcomes {
 impl OutcomeTable {
     /// The key of a scene's table: a hash of the scene's content (its
     /// canonical RON form, so comments and layout do not matter) and of
-    /// [`sweep::VERSION`](crate::sweep::VERSION), the crate's version with
+    /// [`VERSION`](crate::world::VERSION), the crate's version with
     /// the fingerprint of the physics code it was built with, which
     /// changes whenever a simulation might.
     pub fn key(scene: &Scene) -> u64 {
         let canonical = ron::to_string(scene).unwrap_or_default();
-        crate::hash::fnv1a64(format!("e3d {} {canonical}", crate::sweep::VERSION).as_bytes())
+        crate::hash::fnv1a64(format!("e3d {} {canonical}", crate::world::VERSION).as_bytes())
     }
 
     /// The file of a scene's table in the folder `dir`:

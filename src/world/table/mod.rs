@@ -4,7 +4,7 @@ use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
 use crate::scene::physics::PhysicsSpec;
 use crate::scene::{Scene, WorldSpec};
-use crate::session::Control;
+use crate::world::Control;
 use crate::world::PhysicsWorld;
 use rayon::prelude::*;
 use std::io;
