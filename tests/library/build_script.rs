@@ -5,7 +5,7 @@
 
 #[allow(dead_code)]
 #[path = "../../build.rs"]
-mod build_script;
+mod build_rs;
 
 use std::path::{Path, PathBuf};
 
@@ -26,7 +26,7 @@ fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
 
 #[test]
 fn every_watched_path_exists() {
-    let watched = build_script::watched(root());
+    let watched = build_rs::watched(root());
     for must in ["src/world/physics", "src/effect", "Cargo.lock", "build.rs"] {
         assert!(
             watched.iter().any(|w| w == must),
@@ -52,7 +52,7 @@ fn every_watched_path_exists() {
 #[test]
 fn physics_code_is_in_the_fingerprint() {
     let src = root().join("src");
-    let hashed: Vec<PathBuf> = build_script::physics_files(root());
+    let hashed: Vec<PathBuf> = build_rs::physics_files(root());
     let mut all = Vec::new();
     sources(&src, &mut all);
     let mut outside = Vec::new();
@@ -87,7 +87,7 @@ fn physics_code_is_in_the_fingerprint() {
 fn the_compiled_fingerprint_is_the_sources() {
     assert_eq!(
         e3d::sweep::PHYSICS_FINGERPRINT,
-        build_script::fingerprint(root()),
+        build_rs::fingerprint(root()),
         "the crate was built from other physics sources than these"
     );
 }

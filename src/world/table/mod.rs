@@ -110,7 +110,6 @@ fn twin_indices(world: &PhysicsWorld, space: &CommandSpace, n: u64) -> Vec<Optio
 }
 
 /// The place value of each slot in [`CommandSpace::index_of`].
-
 fn places(space: &CommandSpace) -> Places {
     let mut each: Vec<u64> = space
         .sizes()
