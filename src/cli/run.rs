@@ -59,7 +59,8 @@ struct OneSession<'a> {
 }
 
 pub fn run(a: RunArgs) -> CliResult {
-    a.threads.pool()?.install(|| run_here(a))
+    let threads = a.threads;
+    threads.install(|| run_here(a))
 }
 
 /// [`run`] on the current thread pool.

@@ -398,13 +398,14 @@ pub struct ThreadsArg {
 }
 
 impl ThreadsArg {
-    /// `--threads` or the cores, capped (with a warning) at
+    /// `--threads`, or the threads of rayon's global pool (the cores, or
+    /// `RAYON_NUM_THREADS`), capped (with a warning) at
     /// [`e3d::sweep::max_threads`].
     pub fn count(&self) -> usize {
         let threads = self
             .threads
             .map(usize::from)
-            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+            .unwrap_or_else(rayon::current_num_threads);
         let (threads, capped) = e3d::sweep::cap_threads(threads);
         if let Some(w) = capped {
             errln!("warning: {w}");
@@ -412,9 +413,16 @@ impl ThreadsArg {
         threads
     }
 
-    /// A pool of [`count`](Self::count) threads.
-    pub fn pool(&self) -> Result<rayon::ThreadPool, CliError> {
-        Self::pool_of(self.count())
+    /// Runs `work` on a pool of `--threads` threads (capped), or on
+    /// rayon's global pool without the flag.
+    pub fn install<R: Send>(
+        &self,
+        work: impl FnOnce() -> Result<R, CliError> + Send,
+    ) -> Result<R, CliError> {
+        match self.threads {
+            None => work(),
+            Some(_) => Self::pool_of(self.count())?.install(work),
+        }
     }
 
     /// A pool of `threads` threads.
