@@ -22,7 +22,9 @@
 //!
 //! ```
 //! use e3d::learner::CountBonus;
-//! use e3d::{CommandSpace, Learner, LearnerState, Outcome, Params, SessionRng};
+//! use e3d::{Learner, Outcome, Params, SessionRng};
+//! use e3d::command::CommandSpace;
+//! use e3d::learner::LearnerState;
 //! use rand::SeedableRng;
 //! let space = CommandSpace::repeat(3, &['a', 'b']).unwrap();
 //! let mut l = CountBonus::new(&space, 4, &Params::TASK1);

@@ -221,7 +221,8 @@ impl Metrics {
     /// 0 before the first trial).
     ///
     /// ```
-    /// use e3d::{Command, Outcome, Recorder, RunningMetrics, Target};
+    /// use e3d::{Command, Outcome, Recorder, Target};
+    /// use e3d::session::RunningMetrics;
     /// let mut m = RunningMetrics::new(4);
     /// for e in [0, 0, 1, 0, 3] {
     ///     m.record(&Command::new(vec![0]), &Outcome { effect: e, reward: 0.0, point: [0.0; 2] });

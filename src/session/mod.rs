@@ -90,7 +90,8 @@ where
 ///
 /// ```
 /// use e3d::session::{run_session_into, Control};
-/// use e3d::{run_session, LearnerKind, Params, RunningMetrics, Scene, SessionConfig, Target};
+/// use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};
+/// use e3d::session::RunningMetrics;
 /// let scene = Scene::builtin("two_rooms").unwrap();
 /// let make = || LearnerKind::E3d
 ///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)

@@ -135,7 +135,8 @@ impl ValueSessionRecord {
 /// [`ValueSessionRecord`], with the learner's final policy).
 ///
 /// ```
-/// use e3d::{run_value_session, LearnerKind, Params, Scene, SessionConfig, Target};
+/// use e3d::{LearnerKind, Params, Scene, SessionConfig, Target};
+/// use e3d::session::run_value_session;
 /// let scene = Scene::builtin("arm7_continuous").unwrap();
 /// let mut world = scene.as_continuous().unwrap().world(1);
 /// let space = scene.value_space().unwrap();

@@ -13,7 +13,8 @@
 //!
 //! ```
 //! use e3d::sweep::{Learners, Sweep, SweepSpec, Worlds};
-//! use e3d::{Command, CommandSpace, Outcome, World, WorldError};
+//! use e3d::{Command, Outcome, World, WorldError};
+//! use e3d::command::CommandSpace;
 //!
 //! /// Effect = number of 'b' symbols.
 //! struct CountB(CommandSpace);

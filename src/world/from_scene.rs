@@ -44,7 +44,8 @@ impl Scene {
     /// [`is_continuous`](crate::scene::SceneSpec::is_continuous) is true.
     ///
     /// ```
-    /// use e3d::{ContinuousWorld, Scene};
+    /// use e3d::Scene;
+    /// use e3d::world::ContinuousWorld;
     /// let arm = Scene::builtin("arm7_continuous").unwrap();
     /// let c = arm.as_continuous().unwrap();
     /// assert_eq!(c.values().num_slots(), 7);

@@ -145,7 +145,8 @@ pub enum WorldError {
 ///
 /// ```
 /// use e3d::world::check_command;
-/// use e3d::{Command, CommandSpace, WorldError};
+/// use e3d::{Command, WorldError};
+/// use e3d::command::CommandSpace;
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// assert!(check_command(&space, &Command::new(vec![0, 1])).is_ok());
 /// let e = check_command(&space, &Command::new(vec![0, 2])).unwrap_err();
@@ -173,7 +174,8 @@ pub fn check_command(space: &CommandSpace, command: &Command) -> Result<(), Worl
 /// A world that executes commands open loop.
 ///
 /// ```
-/// use e3d::{Command, CommandSpace, Outcome, World, WorldError};
+/// use e3d::{Command, Outcome, World, WorldError};
+/// use e3d::command::CommandSpace;
 ///
 /// /// Effect = number of 'b' symbols.
 /// struct CountB { space: CommandSpace }

@@ -46,7 +46,9 @@ impl E3d {
     /// the slot becomes `softmax(beta q)`.
     ///
     /// ```
-    /// use e3d::{CommandSpace, E3d, Params, Target};
+    /// use e3d::{Params, Target};
+    /// use e3d::command::CommandSpace;
+    /// use e3d::learner::E3d;
     /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
     /// let mut l = E3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
     /// l.set_q(1, &[0.0, 2f64.ln()]).unwrap(); // beta = 1
@@ -125,7 +127,9 @@ impl<const W: usize> SlotTables<W> {
 /// same bits of Q).
 ///
 /// ```
-/// use e3d::{CommandSpace, E3d, LearnerState, Params, Target};
+/// use e3d::{Params, Target};
+/// use e3d::command::CommandSpace;
+/// use e3d::learner::{E3d, LearnerState};
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// let l = E3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
 /// let saved = l.to_bytes();

@@ -15,7 +15,9 @@
 //!
 //! ```
 //! use e3d::learner::state::tables::StateTable;
-//! use e3d::{CommandSpace, E3d, LearnerState, Params, Target};
+//! use e3d::{Params, Target};
+//! use e3d::command::CommandSpace;
+//! use e3d::learner::{E3d, LearnerState};
 //! let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 //! let mut l = E3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
 //! let names: Vec<&str> = l.tables().iter().map(|t| t.name).collect();
