@@ -87,6 +87,21 @@ impl SceneSpec {
                 "symbols in a Grid world (one-cell moves); continuous slots need a Physics world",
             ));
         }
+        if let WorldSpec::Physics(p) = &self.world {
+            if !p.contexts.is_empty() {
+                // a session of values starts every trial from the scene's
+                // start: the contexts would be ignored without a word
+                return Err(Invalid::at(
+                    "contexts",
+                    None,
+                    &format!(
+                        "no start contexts in a scene whose slots take values (`Continuous`): its sessions start every trial from the scene's start, found {} context(s) (`{}`...); remove `contexts`, or write the slots as symbols",
+                        p.contexts.len(),
+                        crate::text::echo(&p.contexts[0].name)
+                    ),
+                ));
+            }
+        }
         for (i, slot) in slots.iter().enumerate() {
             let (lo, hi) = slot.range;
             if !(lo.is_finite() && hi.is_finite() && lo < hi) {
