@@ -51,7 +51,13 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
         beta: a.beta,
         ..Params::TASK2
     };
-    params.validate().map_err(CliError::input)?;
+    params
+        .validate()
+        .map_err(|e| CliError::input(format!("--{e}")))?;
+    e3d::learner::contextual::check_gamma(a.gamma)
+        .map_err(|e| CliError::input(format!("--{e}")))?;
+    e3d::experiment::closed_loop::check_scene(&scene, a.commands as usize)
+        .map_err(|e| CliError::input(e.to_string().replace("commands per episode (K)", "--commands")))?;
     let cfg = ClosedLoopConfig {
         episodes: a.episodes as usize,
         seeds: a.seeds,
@@ -66,6 +72,11 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
         .threads
         .map(usize::from)
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    // capped as `sweep` and `compare` are
+    let (threads, capped) = e3d::sweep::cap_threads(threads);
+    if let Some(w) = capped {
+        errln!("warning: {w}");
+    }
     let moves = scene.spec().num_slots() * cfg.commands;
     errln!(
         "closed-loop: {} on {}, {} sessions per arm of {} episodes of {moves} moves, {threads} thread{}",
