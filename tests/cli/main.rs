@@ -12,6 +12,7 @@ mod compare;
 mod console_escapes;
 mod context_tools;
 mod contexts;
+mod faults;
 mod robustness_round3;
 mod robustness_round4;
 mod scene_check;
