@@ -24,10 +24,7 @@ impl PhysicsSpec {
         if self.contexts.is_empty() || self.effect.world_point().is_none() {
             return out;
         }
-        let bare = PhysicsSpec {
-            contexts: Vec::new(),
-            ..self.clone()
-        };
+        let bare = self.without_contexts();
         let own: std::collections::HashSet<String> = out.iter().cloned().collect();
         for c in &self.contexts {
             let corners: &[u64] = if c.is_sampled() { &[0, u64::MAX] } else { &[0] };

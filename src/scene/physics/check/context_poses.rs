@@ -174,10 +174,7 @@ impl PhysicsSpec {
         }
         // the scene without its contexts, posed for each (a clone of the
         // whole scene per context was quadratic in the contexts)
-        let bare = PhysicsSpec {
-            contexts: Vec::new(),
-            ..self.clone()
-        };
+        let bare = self.without_contexts();
         for (k, c) in self.contexts.iter().enumerate() {
             let ranged = c.bodies.iter().filter(|b| b.to.is_some()).count() * 2
                 + c.joints.iter().filter(|j| j.to.is_some()).count();
