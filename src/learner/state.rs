@@ -59,6 +59,18 @@ pub const STATE_HEADER: &[u8] = b"E3D-LEARNER-STATE 2\n";
 /// read without one.
 pub const STATE_HEADER_V1: &[u8] = b"E3D-LEARNER-STATE 1\n";
 
+/// The bytes of a state past its header (of version 1 or 2), checksum
+/// neither checked nor removed: enough to read the kind it starts with.
+fn state_start(bytes: &[u8]) -> Result<&[u8], LearnerError> {
+    if let Some(rest) = bytes
+        .strip_prefix(STATE_HEADER)
+        .or_else(|| bytes.strip_prefix(STATE_HEADER_V1))
+    {
+        return Ok(rest);
+    }
+    state_body(bytes)
+}
+
 /// The bytes of a state past its header, checksum checked and removed
 /// (version 2), as they are (version 1); the error of bytes of another
 /// version (named) or not a state at all.
@@ -86,6 +98,23 @@ fn state_body(bytes: &[u8]) -> Result<&[u8], LearnerError> {
     let want = u64::from_le_bytes(sum.try_into().expect("8 bytes"));
     let got = crate::hash::fnv1a64(&bytes[..bytes.len() - 8]);
     if want != got {
+        // a whole state followed by more bytes: the first place where the
+        // 8 bytes are the checksum of all before them (one pass)
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for (p, &b) in bytes.iter().enumerate() {
+            if p >= STATE_HEADER.len() && p + 8 < bytes.len() {
+                let at = u64::from_le_bytes(bytes[p..p + 8].try_into().expect("8 bytes"));
+                if at == h {
+                    let kind = state_kind(bytes).unwrap_or_else(|_| "?".into());
+                    return Err(LearnerError::State(format!(
+                        "state of a `{kind}` learner: {} bytes after the state",
+                        bytes.len() - p - 8
+                    )));
+                }
+            }
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
         return Err(LearnerError::State(format!(
             "a learner's state whose checksum does not match its bytes (damaged or edited: {got:016x}, recorded {want:016x})"
         )));
@@ -296,7 +325,7 @@ fn no_header() -> LearnerError {
 /// The kind of learner whose state `bytes` hold (`"e3d"`, `"count"`, ...),
 /// or why they are not a learner's state.
 pub fn state_kind(bytes: &[u8]) -> Result<String, LearnerError> {
-    let rest = state_body(bytes)?;
+    let rest = state_start(bytes)?;
     let mut r = StateReader { rest, kind: "?" };
     r.get()
         .map_err(|_| LearnerError::State("a learner's state cut before its kind".into()))
@@ -306,7 +335,7 @@ pub fn state_kind(bytes: &[u8]) -> Result<String, LearnerError> {
 /// `"count"`, ...: the kind written after `"per_context"`), or why
 /// `bytes` are not such a state.
 pub fn per_context_kind(bytes: &[u8]) -> Result<String, LearnerError> {
-    let rest = state_body(bytes)?;
+    let rest = state_start(bytes)?;
     let mut r = StateReader {
         rest,
         kind: "per_context",

@@ -119,7 +119,7 @@ impl GridSpec {
                             if Some(cell) == c.to { "to" } else { "cell" },
                             None,
                             &format!(
-                                "context `{}`: cells inside the {} x {} grid, found {cell:?}",
+                                "context `{}` of `contexts`: cells inside the {} x {} grid, found {cell:?}",
                                 crate::text::echo(&c.name),
                                 self.rows,
                                 self.cols

@@ -358,10 +358,10 @@ fn exec_table_cache_on_a_context_scene_is_refused() {
         e3d(&[
             "scene",
             "exec",
-            "scenes/two_rooms_contexts.ron",
-            "EEEEEEE",
             "--table-cache",
             d.to_str().unwrap(),
+            "scenes/two_rooms_contexts.ron",
+            "EEEEEEE",
         ]),
         2,
     );
