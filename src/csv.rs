@@ -63,7 +63,11 @@ impl Summary {
         let mut lines = text.lines();
         let columns: Vec<String> = match lines.next() {
             Some(h) => h.split(',').map(str::to_string).collect(),
-            None => return err(format!("{FILE}: the file is empty; expected a sweep summary")),
+            None => {
+                return err(format!(
+                    "{FILE}: the file is empty; expected a sweep summary"
+                ))
+            }
         };
         if columns.len() > MAX_SUMMARY_COLUMNS {
             return err(format!(

@@ -87,7 +87,7 @@ pub enum EffectError {
     /// 5e-324): see [`check_bins`].
     #[error("{0}")]
     Bins(String),
-        /// An effect model over no effects.
+    /// An effect model over no effects.
     #[error("there must be at least one effect")]
     NoEffects,
     /// An effect model's rate outside (0, 1].
@@ -175,8 +175,10 @@ impl EffectGrid {
                 max: self.max,
             });
         }
-        check_bins(cols, self.min[0], self.max[0]).map_err(|e| EffectError::Bins(format!("columns: {e}")))?;
-        check_bins(rows, self.min[1], self.max[1]).map_err(|e| EffectError::Bins(format!("rows: {e}")))?;
+        check_bins(cols, self.min[0], self.max[0])
+            .map_err(|e| EffectError::Bins(format!("columns: {e}")))?;
+        check_bins(rows, self.min[1], self.max[1])
+            .map_err(|e| EffectError::Bins(format!("rows: {e}")))?;
         Ok(())
     }
 
@@ -500,7 +502,9 @@ pub fn check_bins(n: usize, min: f64, max: f64) -> Result<f64, String> {
         return Err("at least one bin, found 0".into());
     }
     if !(min.is_finite() && max.is_finite() && min < max) {
-        return Err(format!("finite ends with min < max, found ({min:e}, {max:e})"));
+        return Err(format!(
+            "finite ends with min < max, found ({min:e}, {max:e})"
+        ));
     }
     let width = max - min;
     if !width.is_finite() {
@@ -517,7 +521,6 @@ pub fn check_bins(n: usize, min: f64, max: f64) -> Result<f64, String> {
     }
     Ok(bin)
 }
-
 
 #[cfg(test)]
 mod tests {

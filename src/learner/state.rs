@@ -81,7 +81,11 @@ fn state_body(bytes: &[u8]) -> Result<&[u8], LearnerError> {
     let Some(rest) = bytes.strip_prefix(STATE_HEADER) else {
         let prefix = b"E3D-LEARNER-STATE ";
         if let Some(v) = bytes.strip_prefix(&prefix[..]) {
-            let end = v.iter().position(|&b| b == b'\n').unwrap_or(v.len()).min(20);
+            let end = v
+                .iter()
+                .position(|&b| b == b'\n')
+                .unwrap_or(v.len())
+                .min(20);
             return Err(LearnerError::State(format!(
                 "a learner's state of version {}, which this e3d cannot read (it reads versions 1 and 2)",
                 crate::text::echo(&String::from_utf8_lossy(&v[..end]))

@@ -340,7 +340,11 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
             .map(|t| t.effect)
             .collect();
         // the counts of the cells reached (the others weigh nothing)
-        let mut sorted: Vec<usize> = effects.iter().copied().filter(|&e| e < rows * cols).collect();
+        let mut sorted: Vec<usize> = effects
+            .iter()
+            .copied()
+            .filter(|&e| e < rows * cols)
+            .collect();
         sorted.sort_unstable();
         let mut counts: Vec<f64> = Vec::new();
         for (i, e) in sorted.iter().enumerate() {

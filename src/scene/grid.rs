@@ -134,8 +134,7 @@ impl GridSpec {
                     crate::text::echo(&c.name)
                 )));
             }
-            crate::text::check_name(&c.name)
-                .map_err(|e| here(format!("context {i}: {e}")))?;
+            crate::text::check_name(&c.name).map_err(|e| here(format!("context {i}: {e}")))?;
         }
         for &(a, b) in &self.walls {
             if !inside(a) || !inside(b) {

@@ -85,7 +85,10 @@ fn context_names_pass_the_name_check() {
         let e = refused(e3d(&["scene", "check", &f]), 2);
         assert!(e.contains(&format!("{f}:")), "{e}");
         assert!(e.contains("name") && e.contains(code), "{bad}: {e}");
-        assert!(!e.contains('\u{1b}') && !e.contains('\u{7}') && !e.contains('\u{202e}'), "{e}");
+        assert!(
+            !e.contains('\u{1b}') && !e.contains('\u{7}') && !e.contains('\u{202e}'),
+            "{e}"
+        );
     }
 }
 
@@ -120,7 +123,10 @@ fn too_many_contexts_are_refused_quickly() {
         let e = refused(e3d(&["scene", "table", &f]), 2);
         assert!(t.elapsed() < Duration::from_secs(5), "{:?}", t.elapsed());
         assert!(e.contains(&format!("{f}:")), "{e}");
-        assert!(e.contains("at most 1024 start contexts") && e.contains(&n.to_string()), "{e}");
+        assert!(
+            e.contains("at most 1024 start contexts") && e.contains(&n.to_string()),
+            "{e}"
+        );
     }
 }
 
@@ -181,7 +187,10 @@ fn report_checks_the_columns_of_summary_csv() {
     )
     .unwrap();
     let e = refused(e3d(&["report", dir]), 2);
-    assert!(e.contains("summary.csv:1:") && e.contains("`h_mean` appears twice"), "{e}");
+    assert!(
+        e.contains("summary.csv:1:") && e.contains("`h_mean` appears twice"),
+        "{e}"
+    );
 
     std::fs::write(
         d.join("summary.csv"),
@@ -189,7 +198,11 @@ fn report_checks_the_columns_of_summary_csv() {
     )
     .unwrap();
     let e = refused(e3d(&["report", dir]), 2);
-    assert!(e.contains("summary.csv:2:") && e.contains("column `sessions`: expected a whole number >= 0"), "{e}");
+    assert!(
+        e.contains("summary.csv:2:")
+            && e.contains("column `sessions`: expected a whole number >= 0"),
+        "{e}"
+    );
 
     std::fs::write(
         d.join("summary.csv"),
@@ -248,7 +261,10 @@ fn a_context_outside_the_room_is_warned_about() {
     let f = write(&d, "outside.ron", &text);
     let o = ok(e3d(&["scene", "check", &f]));
     let e = stderr(&o);
-    assert!(e.contains("context `room_b`") && e.contains("outside the effect grid"), "{e}");
+    assert!(
+        e.contains("context `room_b`") && e.contains("outside the effect grid"),
+        "{e}"
+    );
     assert!(!e.contains("context `room_a`"), "{e}");
 }
 
@@ -271,8 +287,14 @@ fn a_continuous_scene_with_contexts_is_refused() {
         vec!["run", f.as_str(), "--trials", "5"],
     ] {
         let e = refused(e3d(&args), 2);
-        assert!(e.contains(&format!("{f}:")) && e.contains("field `contexts`"), "{e}");
-        assert!(e.contains("Continuous") && e.contains("2 context(s)"), "{e}");
+        assert!(
+            e.contains(&format!("{f}:")) && e.contains("field `contexts`"),
+            "{e}"
+        );
+        assert!(
+            e.contains("Continuous") && e.contains("2 context(s)"),
+            "{e}"
+        );
     }
 }
 
@@ -296,7 +318,10 @@ fn binned_ranges_with_degenerate_bins_are_refused() {
         assert_ne!(bad, text);
         let f = write(&d, "bins.ron", &bad);
         let e = refused(e3d(&["scene", "check", &f]), 2);
-        assert!(e.contains(&format!("{f}:")) && e.contains("field `range`") && e.contains(says), "{range}: {e}");
+        assert!(
+            e.contains(&format!("{f}:")) && e.contains("field `range`") && e.contains(says),
+            "{range}: {e}"
+        );
     }
 }
 
@@ -320,8 +345,14 @@ fn a_fifo_table_file_is_refused_by_name() {
         assert!(!files.is_empty());
         std::fs::remove_file(&files[0]).unwrap();
         mkfifo(&files[0]);
-        let e = refused(e3d_within_secs(60, &["scene", "table", scene, "--cache", c]), 3);
-        assert!(e.contains(&files[0].display().to_string()) && e.contains("not a regular file"), "{e}");
+        let e = refused(
+            e3d_within_secs(60, &["scene", "table", scene, "--cache", c]),
+            3,
+        );
+        assert!(
+            e.contains(&files[0].display().to_string()) && e.contains("not a regular file"),
+            "{e}"
+        );
     }
 }
 
@@ -344,7 +375,16 @@ fn run_with_a_fifo_table_file_does_not_block() {
     let out = d.join("out");
     let o = e3d_within_secs(
         120,
-        &["run", "two_rooms", "--trials", "2000", "--table-cache", c, "--out", out.to_str().unwrap()],
+        &[
+            "run",
+            "two_rooms",
+            "--trials",
+            "2000",
+            "--table-cache",
+            c,
+            "--out",
+            out.to_str().unwrap(),
+        ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
 }
@@ -365,7 +405,10 @@ fn exec_table_cache_on_a_context_scene_is_refused() {
         ]),
         2,
     );
-    assert!(e.contains("--table-cache") && e.contains("2 start contexts"), "{e}");
+    assert!(
+        e.contains("--table-cache") && e.contains("2 start contexts"),
+        "{e}"
+    );
 }
 
 // ---- the lock of a sweep folder --------------------------------------------------
@@ -387,7 +430,13 @@ fn a_lock_that_is_a_symlink_is_named() {
     std::fs::create_dir(&out).unwrap();
     std::os::unix::fs::symlink(d.join("elsewhere"), out.join(".lock")).unwrap();
     let e = refused(
-        e3d(&["sweep", f.to_str().unwrap(), "--out", out.to_str().unwrap(), "--resume"]),
+        e3d(&[
+            "sweep",
+            f.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--resume",
+        ]),
         3,
     );
     assert!(e.contains(".lock") && e.contains("a symbolic link"), "{e}");
@@ -419,18 +468,48 @@ fn closed_loop_threads_are_capped() {
 /// digits).
 #[test]
 fn closed_loop_names_its_flags() {
-    let e = refused(e3d(&["closed-loop", "--commands", "13", "--episodes", "2", "--seeds", "1"]), 2);
-    assert!(e.contains("--commands = 13") && e.contains("at most 12"), "{e}");
+    let e = refused(
+        e3d(&[
+            "closed-loop",
+            "--commands",
+            "13",
+            "--episodes",
+            "2",
+            "--seeds",
+            "1",
+        ]),
+        2,
+    );
+    assert!(
+        e.contains("--commands = 13") && e.contains("at most 12"),
+        "{e}"
+    );
     assert!(!e.contains("field `slots`"), "{e}");
 
     let e = refused(
-        e3d(&["closed-loop", "scenes/two_rooms_contexts.ron", "--episodes", "2", "--seeds", "1"]),
+        e3d(&[
+            "closed-loop",
+            "scenes/two_rooms_contexts.ron",
+            "--episodes",
+            "2",
+            "--seeds",
+            "1",
+        ]),
         2,
     );
-    assert!(e.contains("2 start contexts") && e.contains("without `contexts`"), "{e}");
+    assert!(
+        e.contains("2 start contexts") && e.contains("without `contexts`"),
+        "{e}"
+    );
 
-    let e = refused(e3d(&["closed-loop", "--gamma", "1e300", "--episodes", "2"]), 2);
-    assert!(e.contains("--gamma = 1e300: expected a number in [0, 1]"), "{e}");
+    let e = refused(
+        e3d(&["closed-loop", "--gamma", "1e300", "--episodes", "2"]),
+        2,
+    );
+    assert!(
+        e.contains("--gamma = 1e300: expected a number in [0, 1]"),
+        "{e}"
+    );
     assert!(e.len() < 200, "{e}");
 }
 
@@ -441,10 +520,19 @@ fn compare_names_its_scenes_flag() {
     let d = temp_dir("faults-compare");
     let out = d.join("out");
     let e = refused(
-        e3d(&["compare", "--scenes", "two_rooms,two_rooms", "--out", out.to_str().unwrap()]),
+        e3d(&[
+            "compare",
+            "--scenes",
+            "two_rooms,two_rooms",
+            "--out",
+            out.to_str().unwrap(),
+        ]),
         2,
     );
-    assert!(e.contains("--scenes two_rooms,two_rooms: `two_rooms` is listed twice"), "{e}");
+    assert!(
+        e.contains("--scenes two_rooms,two_rooms: `two_rooms` is listed twice"),
+        "{e}"
+    );
     assert!(!e.contains("SweepSpec"), "{e}");
     assert!(!out.exists());
 }

@@ -19,7 +19,14 @@ fn grid_with_contexts(contexts: &str) -> String {
 /// shows the bidirectional controls as code points.
 #[test]
 fn the_name_check_refuses_format_characters() {
-    for bad in ["a\u{202e}b", "a\u{200b}b", "a\u{2028}b", "a\u{2066}b", "a\u{feff}b", " "] {
+    for bad in [
+        "a\u{202e}b",
+        "a\u{200b}b",
+        "a\u{2028}b",
+        "a\u{2066}b",
+        "a\u{feff}b",
+        " ",
+    ] {
         assert!(e3d::text::check_name(bad).is_err(), "{bad:?}");
     }
     assert!(e3d::text::check_name("room_a").is_ok());
@@ -39,7 +46,12 @@ fn contexts_are_bounded_and_checked_in_linear_time() {
     let t = Instant::now();
     let e = Scene::parse(&text, "many.ron").unwrap_err().to_string();
     assert!(t.elapsed() < Duration::from_secs(1), "{:?}", t.elapsed());
-    assert!(e.starts_with("many.ron:") && e.contains("at most 1024 start contexts") && e.contains("100000"), "{e}");
+    assert!(
+        e.starts_with("many.ron:")
+            && e.contains("at most 1024 start contexts")
+            && e.contains("100000"),
+        "{e}"
+    );
 
     let text = grid_with_contexts(&list[..1024].join(", "));
     let t = Instant::now();
@@ -53,7 +65,10 @@ fn contexts_are_bounded_and_checked_in_linear_time() {
     let e = Scene::parse(&grid_with_contexts(&dup.join(", ")), "dup.ron")
         .unwrap_err()
         .to_string();
-    assert!(e.contains("a distinct, non-empty name for every context") && e.contains("`c3`"), "{e}");
+    assert!(
+        e.contains("a distinct, non-empty name for every context") && e.contains("`c3`"),
+        "{e}"
+    );
 }
 
 /// Every binned axis: widths that overflow and bins that cannot be told

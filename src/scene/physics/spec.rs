@@ -438,7 +438,7 @@ impl PhysicsSpec {
             effect: self.effect.clone(),
             chains: self.chains.clone(),
             walls: self.walls.clone(),
-            symmetry: self.symmetry.clone(),
+            symmetry: self.symmetry,
             contexts: Vec::new(),
         }
     }

@@ -279,7 +279,7 @@ impl ContextTables {
         dir.join(format!(
             "{}.{}-{:016x}.e3dtable",
             file_safe(&scene.spec().name),
-            file_safe(&context),
+            file_safe(context),
             Self::key(scene, k)
         ))
     }

@@ -59,7 +59,10 @@ impl PhysicsSpec {
                 let Some(spec) = bodies.get(b.body.as_str()) else {
                     return Err(here(
                         "body",
-                        format!("a body of the scene, found `{}`", crate::text::echo(&b.body)),
+                        format!(
+                            "a body of the scene, found `{}`",
+                            crate::text::echo(&b.body)
+                        ),
                     ));
                 };
                 if spec.kind != BodyKind::Dynamic || children.contains(b.body.as_str()) {
