@@ -237,6 +237,18 @@ impl TrialColumns {
             .into_iter()
             .map(|(f, _)| f.trim().to_string())
             .collect();
+        // each column once (a second `effect` was silently ignored)
+        let mut seen = std::collections::HashSet::with_capacity(header.len());
+        let mut at = 1;
+        for h in &header {
+            if !seen.insert(h.as_str()) {
+                return Err(format!(
+                    "trials.csv:1:{at}: column `{}` appears twice; expected each column once",
+                    echo(h)
+                ));
+            }
+            at += h.chars().count() + 1;
+        }
         let col = |name: &str| {
             header
                 .iter()

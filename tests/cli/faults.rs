@@ -536,3 +536,50 @@ fn compare_names_its_scenes_flag() {
     assert!(!e.contains("SweepSpec"), "{e}");
     assert!(!out.exists());
 }
+
+/// A 50-context run on a 128 x 128 grid: the per-context maps share the
+/// budget of cells drawn one by one (the page was 300 MB); it stays small.
+#[test]
+fn report_per_context_maps_share_the_cell_budget() {
+    let d = temp_dir("faults-report-maps");
+    let mut csv = String::from("session,episode,command,context,start,symbols,effect,reward\n");
+    for k in 0..1000 {
+        // effect 16383 once: a plain 128 x 128 grid (no summary.json)
+        let effect = if k == 0 { 16383 } else { (k * 37) % 16384 };
+        csv.push_str(&format!(
+            "0,{},1,{},s{},EE,{effect},0\n",
+            k + 1,
+            k % 50,
+            k % 50
+        ));
+    }
+    std::fs::write(d.join("trials.csv"), csv).unwrap();
+    let page = d.join("page.html");
+    ok(e3d(&[
+        "report",
+        d.to_str().unwrap(),
+        "--out",
+        page.to_str().unwrap(),
+    ]));
+    let bytes = std::fs::metadata(&page).unwrap().len();
+    assert!(bytes < 20 << 20, "{bytes} bytes");
+    let text = std::fs::read_to_string(&page).unwrap();
+    assert!(text.contains("s49, early") && text.contains("Per start context"));
+}
+
+/// A trials.csv whose header names a column twice is refused with its
+/// place (the second was silently ignored).
+#[test]
+fn report_refuses_a_duplicated_trials_column() {
+    let d = temp_dir("faults-report-dup");
+    std::fs::write(
+        d.join("trials.csv"),
+        "trial,command,effect,reward,effect\n1,EE,3,0,4\n",
+    )
+    .unwrap();
+    let e = refused(e3d(&["report", d.to_str().unwrap()]), 2);
+    assert!(
+        e.contains("trials.csv:1:") && e.contains("`effect` appears twice"),
+        "{e}"
+    );
+}
