@@ -114,7 +114,7 @@ impl PyEpisodeRecord {
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        Self::pickle_from(state)
+        Self::pickle_from(state)?.frozen(state.py())
     }
 
     fn __repr__(&self) -> String {
@@ -153,7 +153,8 @@ fn record_to_py(
         effects: ints(&rec.effects).into_pyarray(py).unbind(),
         rewards: rec.rewards.into_pyarray(py).unbind(),
         grid: grid.clone(),
-    })
+    }
+    .frozen(py)?)
 }
 
 /// Sessions of episodes on a scene with start contexts, or of `commands`
@@ -214,6 +215,16 @@ pub(crate) fn run_episodes(
     let observe = observe_arg(observe, k, closed_loop)?;
     let (one, seeds) = seed_list(seed, seeds)?;
     crate::errors::check_held("episodes, commands and seeds", seeds.len(), episodes * k)?;
+    crate::errors::reserve_records(
+        &format!(
+            "episodes = {episodes}, commands = {k}, {} seeds",
+            seeds.len()
+        ),
+        crate::errors::record_bytes(
+            &scene,
+            (episodes as u64 * k as u64).saturating_mul(seeds.len() as u64),
+        ),
+    )?;
     // after the arguments' checks: a refused call warns of nothing
     crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &params)?;
     crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;

@@ -228,6 +228,38 @@ pub(crate) fn check_held(what: &str, sessions: usize, per_session: usize) -> PyR
     }
 }
 
+/// The bytes the records of `trials` trials of `scene` take, as held by
+/// e3d and then by numpy (twice): each trial's command (a byte a symbol,
+/// 8 bytes a value), effect and reward.
+pub(crate) fn record_bytes(scene: &crate::scene::PyScene, trials: u64) -> u64 {
+    let slots = scene.inner.spec().num_slots() as u64;
+    let command = if scene.values.is_some() {
+        8 * slots
+    } else {
+        slots
+    };
+    trials.saturating_mul(2 * (command + 16))
+}
+
+/// Raises `MemoryError` when `bytes` cannot be allocated, before any work:
+/// the records of a session are allocated as it runs, and an allocation
+/// that fails there aborts the interpreter (`run_session(trials=10**8)` on
+/// a small machine). The memory is asked for (`try_reserve`) and given
+/// back at once; `what` names the arguments.
+pub(crate) fn reserve_records(what: &str, bytes: u64) -> PyResult<()> {
+    let mut probe: Vec<u8> = Vec::new();
+    let fits = usize::try_from(bytes)
+        .ok()
+        .is_some_and(|b| probe.try_reserve_exact(b).is_ok());
+    if !fits {
+        return Err(pyo3::exceptions::PyMemoryError::new_err(format!(
+            "{what}: the records would take about {} MB, which cannot be allocated here; run fewer trials (or sessions), or use `e3d run --out`, which writes them as it goes",
+            bytes >> 20
+        )));
+    }
+    Ok(())
+}
+
 /// The name of `obj`'s type, for messages (`found str`).
 pub(crate) fn type_name(obj: &Bound<'_, PyAny>) -> String {
     obj.get_type()

@@ -50,7 +50,17 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
         beta: a.beta,
         ..Params::TASK2
     };
-    params.validate().map_err(CliError::input)?;
+    params
+        .validate()
+        .map_err(|e| CliError::input(format!("--{e}")))?;
+    e3d::learner::contextual::check_gamma(a.gamma)
+        .map_err(|e| CliError::input(format!("--{e}")))?;
+    e3d::experiment::closed_loop::check_scene(&scene, a.commands as usize).map_err(|e| {
+        CliError::input(
+            e.to_string()
+                .replace("commands per episode (K)", "--commands"),
+        )
+    })?;
     let cfg = ClosedLoopConfig {
         episodes: a.episodes as usize,
         seeds: a.seeds,

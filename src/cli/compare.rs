@@ -37,10 +37,22 @@ pub struct CompareArgs {
 
 pub fn run(a: CompareArgs) -> CliResult {
     let names: Vec<&str> = a.scenes.iter().map(String::as_str).collect();
+    check_scene_names(&names)?;
     let files = ["drives.md", "drives.csv", "drives.svg", "results.csv"];
     prepare_out(&a.out, &files, a.force)?;
     let sweep = drives_sweep(a.sessions as usize, a.trials as usize, &names)
-        .map_err(sweep_error)?
+        .map_err(|e| {
+            // the sweep is built from the flags: speak of them, not of a
+            // `<SweepSpec>` the user never wrote
+            let mut e = sweep_error(e);
+            e.message = e
+                .message
+                .replace("<SweepSpec>: field `scenes`", "--scenes")
+                .replace("<SweepSpec>: field `sessions`", "--sessions")
+                .replace("<SweepSpec>: field `trials`", "--trials")
+                .replace("<SweepSpec>", "compare");
+            e
+        })?
         .with_notices(|line| errln!("outcomes: {line}"));
     let threads = a.threads.count();
     // the reachable cells of each scene, from its outcome table: the
@@ -87,5 +99,26 @@ pub fn run(a: CompareArgs) -> CliResult {
         a.out.display(),
         start.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+/// `--scenes` as the user wrote them: each named once, none empty
+/// (checked before any folder is made).
+fn check_scene_names(names: &[&str]) -> CliResult {
+    let mut seen = std::collections::HashSet::new();
+    for n in names {
+        if n.trim().is_empty() {
+            return Err(super::CliError::input(format!(
+                "--scenes {}: an empty scene name; expected comma-separated scene names or files",
+                names.join(",")
+            )));
+        }
+        if !seen.insert(*n) {
+            return Err(super::CliError::input(format!(
+                "--scenes {}: `{n}` is listed twice; expected each scene once",
+                names.join(",")
+            )));
+        }
+    }
     Ok(())
 }

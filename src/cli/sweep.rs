@@ -225,10 +225,10 @@ fn lock_out(dir: &std::path::Path) -> Result<Option<e3d::io::DirLock>, CliError>
             "{}: in use by {e}, which is running a sweep into it; wait for it to end or choose another --out",
             dir.display()
         ))),
+        // the error names the lock file
         Err(e) => Err(CliError::output(format!(
-            "{}: cannot take the lock {}: {e}",
-            dir.display(),
-            dir.join(e3d::io::LOCK_FILE).display()
+            "{}: cannot take the lock: {e}",
+            dir.display()
         ))),
     }
 }

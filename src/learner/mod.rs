@@ -158,7 +158,7 @@ impl<L: ContinuousLearner + ?Sized> ContinuousLearner for Box<L> {
 
 /// A hyper-parameter out of its range.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{name} = {value}: expected {expected}")]
+#[error("{name} = {}: expected {expected}", crate::text::show_number(*value))]
 pub struct ParamError {
     /// The parameter (`alpha`, `beta`, ...).
     pub name: &'static str,

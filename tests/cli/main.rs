@@ -12,6 +12,7 @@ mod compare;
 mod console_escapes;
 mod context_tools;
 mod contexts;
+mod faults;
 mod output_paths;
 mod own_outputs;
 mod scene_check;

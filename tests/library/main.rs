@@ -15,6 +15,7 @@ mod drives;
 mod edge_cases;
 mod effects;
 mod every_scene;
+mod faults;
 mod fuzz_outputs;
 mod fuzz_scenes;
 mod fuzz_sweeps;

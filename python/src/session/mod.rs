@@ -245,6 +245,10 @@ pub(crate) fn run_session(
         table_cache,
         target,
     )?;
+    crate::errors::reserve_records(
+        &format!("trials = {trials}"),
+        crate::errors::record_bytes(&scene, trials as u64),
+    )?;
     let run = OneSession {
         work: workload(trials, 1),
         cfg: a.config(trials, seed),
@@ -533,6 +537,10 @@ pub(crate) fn run_sessions(
         target,
     )?;
     check_held("trials and sessions", seeds.len(), trials)?;
+    crate::errors::reserve_records(
+        &format!("trials = {trials}, {} sessions", seeds.len()),
+        crate::errors::record_bytes(&scene, (trials as u64).saturating_mul(seeds.len() as u64)),
+    )?;
     crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params)?;
     let (name, rows, execution) = if let Some(space) = scene.values.clone() {
         let (kind, rows, execution) =

@@ -498,6 +498,15 @@ impl CostNote {
 }
 
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
+    let contexts = e3d::world::start_contexts(scene).len();
+    if let (Some(dir), true) = (table_cache, contexts > 0) {
+        // it was ignored without a word: every command ran live
+        return Err(CliError::input(format!(
+            "--table-cache {}: scene `{}` has {contexts} start contexts, whose commands `scene exec` runs live from each context's start; it reads no table cache (drop --table-cache; `e3d scene table --cache DIR` builds the contexts' tables)",
+            dir.display(),
+            scene.spec().name
+        )));
+    }
     match &scene.spec().world {
         WorldSpec::Grid(g) if !g.contexts.is_empty() => {
             return exec_contexts(scene, g, commands);

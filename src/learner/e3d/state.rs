@@ -110,8 +110,10 @@ impl<const W: usize> SlotTables<W> {
         };
         let mut out = Vec::with_capacity(slots.min(4096));
         for _ in 0..slots {
+            let q = array(r)?;
+            crate::learner::state::check_finite(r, "q", &q)?;
             out.push(Slot {
-                q: array(r)?,
+                q,
                 weights: array(r)?,
                 cumulative: array(r)?,
                 shift: r.get()?,
@@ -191,6 +193,15 @@ impl StateField for E3d {
 
     fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
         let rates: [f64; 4] = [r.get()?, r.get()?, r.get()?, r.get()?];
+        crate::learner::state::check_rates(
+            r,
+            &[
+                ("alpha lambda", rates[0]),
+                ("1 - alpha lambda", rates[1]),
+                ("alpha / beta", rates[2]),
+            ],
+            rates[3],
+        )?;
         let sizes: Vec<usize> = r.get()?;
         let width: usize = r.get()?;
         r.check(

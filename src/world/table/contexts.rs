@@ -52,6 +52,16 @@ pub fn start_contexts(scene: &Scene) -> Vec<StartContext> {
     }
 }
 
+/// The name of start context `k` of `scene` ("" past its contexts), in
+/// constant time (collecting every context for one name made the tools
+/// quadratic in the contexts).
+fn context_name(scene: &Scene, k: usize) -> &str {
+    match &scene.spec().world {
+        WorldSpec::Grid(g) => g.contexts.get(k).map_or("", |c| c.name.as_str()),
+        WorldSpec::Physics(p) => p.contexts.get(k).map_or("", |c| c.name.as_str()),
+    }
+}
+
 /// The start of context `k` of `world` as the scene tools use it: a named
 /// context's start, or a drawn context's draw with seed 0 (the start
 /// `e3d scene exec` and `e3d scene render` show).
@@ -115,7 +125,18 @@ impl<'s> TabledContexts<'s> {
                 "scene `{name}`: its slots take values (`Continuous`): no table"
             )));
         }
-        OutcomeTable::check_size(&scene.command_space())?;
+        let n = OutcomeTable::check_size(&scene.command_space())?;
+        // one table per context: the outcomes of all of them together
+        // are bounded as one table's are (3000 contexts of a 90 KB scene
+        // took 1.5 GB)
+        let total = n.saturating_mul(contexts.len() as u64);
+        if total > MAX_TABLE_COMMANDS {
+            return Err(WorldError::Other(format!(
+                "scene `{}`: {} contexts x {n} commands = {total} outcomes: too many for the tables of its contexts (at most {MAX_TABLE_COMMANDS} in all); run it live (`e3d run`, `e3d scene exec` without a table)",
+                crate::text::echo(name),
+                contexts.len()
+            )));
+        }
         Ok(TabledContexts {
             scene,
             count: contexts.len(),
@@ -229,7 +250,11 @@ impl ContextTables {
     /// for a context whose table is not there, not whole or not this
     /// scene's. Nothing is computed or written.
     pub fn read_cached(scene: &Scene, dir: &Path) -> Vec<Option<OutcomeTable>> {
-        (0..start_contexts(scene).len())
+        let declared = match &scene.spec().world {
+            WorldSpec::Grid(g) => g.contexts.len(),
+            WorldSpec::Physics(p) => p.contexts.len(),
+        };
+        (0..declared)
             .map(|k| {
                 let path = Self::cache_path(scene, dir, k);
                 match OutcomeTable::read_file_keyed(&path, scene, Self::key(scene, k)) {
@@ -243,9 +268,7 @@ impl ContextTables {
     /// The key of context `k`'s table: the scene's
     /// ([`OutcomeTable::key`]) with the context's index and name.
     pub fn key(scene: &Scene, k: usize) -> u64 {
-        let name = start_contexts(scene)
-            .get(k)
-            .map_or(String::new(), |c| c.name.clone());
+        let name = context_name(scene, k);
         let text = format!("{:016x} context {k} {name}", OutcomeTable::key(scene));
         crate::hash::fnv1a64(text.as_bytes())
     }
@@ -254,13 +277,11 @@ impl ContextTables {
     /// `NAME-KEY.e3dtable`, NAME the scene's then the context's, KEY
     /// [`key`](Self::key) (the same format as a plain table's file).
     pub fn cache_path(scene: &Scene, dir: &Path, k: usize) -> PathBuf {
-        let context = start_contexts(scene)
-            .get(k)
-            .map_or(String::new(), |c| c.name.clone());
+        let context = context_name(scene, k);
         dir.join(format!(
             "{}.{}-{:016x}.e3dtable",
             file_safe(&scene.spec().name),
-            file_safe(&context),
+            file_safe(context),
             Self::key(scene, k)
         ))
     }

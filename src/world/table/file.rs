@@ -16,6 +16,23 @@ const RECORD: usize = 28;
 /// The header: magic, key, commands of the space, entries in the file.
 const HEADER: usize = 32;
 
+/// Refuses a table file's path that exists and is not a regular file (a
+/// FIFO, a device, a socket, a folder; also through a symbolic link): a
+/// table cache is a file e3d replaces, never a stream it writes through
+/// (opening a FIFO to write blocked until a reader came, for ever).
+pub(crate) fn refuse_non_regular(path: &Path) -> io::Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "{}: this is not a regular file (a folder, a pipe, a device or a socket); a table cache file must be one",
+                path.display()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// What a table file of a scene holds (see [`OutcomeTable::read_file`]).
 #[derive(Debug, Clone)]
 // a file is read once per run: the size of the whole table's variant costs
@@ -73,6 +90,7 @@ impl OutcomeTable {
 
     /// [`write_file`](Self::write_file) with the key `key` in its header.
     pub(super) fn write_file_keyed(&self, path: &Path, key: u64) -> io::Result<()> {
+        refuse_non_regular(path)?;
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir)?;
         }
@@ -97,6 +115,7 @@ impl OutcomeTable {
             push_record(&mut b, o);
         }
         seal(&mut b);
+        refuse_non_regular(path)?;
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir)?;
         }
