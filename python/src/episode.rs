@@ -220,7 +220,7 @@ pub(crate) fn run_episodes(
             "episodes = {episodes}, commands = {k}, {} seeds",
             seeds.len()
         ),
-        crate::errors::record_bytes(
+        crate::scene::record_bytes(
             &scene,
             (episodes as u64 * k as u64).saturating_mul(seeds.len() as u64),
         ),

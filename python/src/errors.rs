@@ -228,19 +228,6 @@ pub(crate) fn check_held(what: &str, sessions: usize, per_session: usize) -> PyR
     }
 }
 
-/// The bytes the records of `trials` trials of `scene` take, as held by
-/// e3d and then by numpy (twice): each trial's command (a byte a symbol,
-/// 8 bytes a value), effect and reward.
-pub(crate) fn record_bytes(scene: &crate::scene::PyScene, trials: u64) -> u64 {
-    let slots = scene.inner.spec().num_slots() as u64;
-    let command = if scene.values.is_some() {
-        8 * slots
-    } else {
-        slots
-    };
-    trials.saturating_mul(2 * (command + 16))
-}
-
 /// Raises `MemoryError` when `bytes` cannot be allocated, before any work:
 /// the records of a session are allocated as it runs, and an allocation
 /// that fails there aborts the interpreter (`run_session(trials=10**8)` on

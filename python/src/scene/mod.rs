@@ -147,3 +147,16 @@ pub(crate) fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> 
         .map_err(|e| PyValueError::new_err(format!("target: {e}")))?;
     Ok(target)
 }
+
+/// The bytes the records of `trials` trials of `scene` take, as held by
+/// e3d and then by numpy (twice): each trial's command (a byte a symbol,
+/// 8 bytes a value), effect and reward.
+pub(crate) fn record_bytes(scene: &PyScene, trials: u64) -> u64 {
+    let slots = scene.inner.spec().num_slots() as u64;
+    let command = if scene.values.is_some() {
+        8 * slots
+    } else {
+        slots
+    };
+    trials.saturating_mul(2 * (command + 16))
+}

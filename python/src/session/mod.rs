@@ -247,7 +247,7 @@ pub(crate) fn run_session(
     )?;
     crate::errors::reserve_records(
         &format!("trials = {trials}"),
-        crate::errors::record_bytes(&scene, trials as u64),
+        crate::scene::record_bytes(&scene, trials as u64),
     )?;
     let run = OneSession {
         work: workload(trials, 1),
@@ -539,7 +539,7 @@ pub(crate) fn run_sessions(
     check_held("trials and sessions", seeds.len(), trials)?;
     crate::errors::reserve_records(
         &format!("trials = {trials}, {} sessions", seeds.len()),
-        crate::errors::record_bytes(&scene, (trials as u64).saturating_mul(seeds.len() as u64)),
+        crate::scene::record_bytes(&scene, (trials as u64).saturating_mul(seeds.len() as u64)),
     )?;
     crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params)?;
     let (name, rows, execution) = if let Some(space) = scene.values.clone() {
