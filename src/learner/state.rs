@@ -246,20 +246,29 @@ pub trait LearnerState: StateField {
     /// A learner from the bytes of [`to_bytes`](Self::to_bytes); an error
     /// saying what is wrong if they are not such bytes.
     fn from_bytes(bytes: &[u8]) -> Result<Self, LearnerError> {
-        let rest = state_body(bytes)?;
-        let mut r = StateReader {
-            rest,
-            kind: Self::KIND,
+        let read = |rest: &[u8]| -> Result<Self, LearnerError> {
+            let mut r = StateReader {
+                rest,
+                kind: Self::KIND,
+            };
+            let kind: String = r.get()?;
+            r.check(kind == Self::KIND, || {
+                format!("the bytes hold the state of a `{kind}` learner")
+            })?;
+            let l = Self::get(&mut r)?;
+            r.check(r.rest.is_empty(), || {
+                format!("{} bytes after the state", r.rest.len())
+            })?;
+            Ok(l)
         };
-        let kind: String = r.get()?;
-        r.check(kind == Self::KIND, || {
-            format!("the bytes hold the state of a `{kind}` learner")
-        })?;
-        let l = Self::get(&mut r)?;
-        r.check(r.rest.is_empty(), || {
-            format!("{} bytes after the state", r.rest.len())
-        })?;
-        Ok(l)
+        match state_body(bytes) {
+            Ok(rest) => read(rest),
+            // a state cut short fails its checksum too: say where it ends
+            Err(e) => match bytes.strip_prefix(STATE_HEADER).map(read) {
+                Some(Err(cut)) if cut.to_string().contains("end early") => Err(cut),
+                _ => Err(e),
+            },
+        }
     }
 }
 

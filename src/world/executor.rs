@@ -208,6 +208,8 @@ impl<'s> Executor<'s> {
                     "; the table could not be kept in {}: {e}",
                     p.display()
                 ));
+                // the plan line then does not also say it "will be kept"
+                self.plan.on_disk = OnDisk::NoCache;
             }
         }
         Ok(t)

@@ -387,6 +387,11 @@ fn run_with_a_fifo_table_file_does_not_block() {
         ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
+    // the plan says the table is not kept, and no more that it will be
+    let said = stderr(&o);
+    if said.contains("could not be kept") {
+        assert!(!said.contains("will be kept"), "{said}");
+    }
 }
 
 /// `scene exec --table-cache` on a scene with start contexts is refused
