@@ -47,12 +47,21 @@ fn concat_rb_mass_matrix(mass: Vector, inertia: Real) -> SMatrix<Real, SPATIAL_D
     result
 }
 
+/// The dot product of two 3-vectors, evaluated as nalgebra's `dot` evaluates it for vectors of
+/// static dimension 3: `(a[0] · b[0] + a[1] · b[1]) + a[2] · b[2]`.
+#[cfg(feature = "dim2")]
+#[inline(always)]
+fn dot3(a: &[Real], b: &[Real]) -> Real {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
 /// Adds `jᵀ · mass · j` to the top-left `n × n` block of both `m1` and `m2` (`n` being the number
 /// of columns of `j`), evaluating it once.
 ///
 /// Each entry is computed as `m.quadform(1.0, mass, j, 1.0)` computes it: one `gemv` of `mass`
-/// with each column of `j`, then one dot product of a column of `j` with that result, added to the
-/// entry. The two matrices therefore get exactly the values two `quadform` calls would give them.
+/// with each column of `j`, then one dot product of a column of `j` with that result (`dot3`),
+/// added to the entry (`1 · dot + 1 · m[(r, c)]` in nalgebra). The two matrices therefore get
+/// exactly the values two `quadform` calls would give them.
 #[cfg(feature = "dim2")]
 fn add_quadform_to_both(
     m1: &mut DMatrix<Real>,
@@ -61,15 +70,47 @@ fn add_quadform_to_both(
     j: &crate::math::JacobianView<Real>,
 ) {
     let n = j.ncols();
+    let (nrows1, nrows2) = (m1.nrows(), m2.nrows());
+    let (m1, m2) = (m1.as_mut_slice(), m2.as_mut_slice());
+    let j = &j.as_slice()[..SPATIAL_DIM * n];
     let mut work = SVector::<Real, SPATIAL_DIM>::zeros();
-    for c in 0..n {
-        work.gemv(1.0, mass, &j.column(c), 0.0);
-        for r in 0..n {
-            let e = j.column(r).dot(&work);
-            m1[(r, c)] += e;
-            m2[(r, c)] += e;
+    for (c, j_c) in j.chunks_exact(SPATIAL_DIM).enumerate() {
+        work.gemv(1.0, mass, &SVector::<Real, SPATIAL_DIM>::from_column_slice(j_c), 0.0);
+        let col1 = &mut m1[c * nrows1..c * nrows1 + n];
+        let col2 = &mut m2[c * nrows2..c * nrows2 + n];
+        for ((e1, e2), j_r) in col1.iter_mut().zip(col2.iter_mut()).zip(j.chunks_exact(SPATIAL_DIM)) {
+            let e = dot3(j_r, work.as_slice());
+            *e1 += e;
+            *e2 += e;
         }
     }
+}
+
+/// Adds `jᵀ · x` to the top-left `n × n` block of `m` (`n` being the number of columns of `j` and
+/// `x`), each entry as `m.gemm_tr(1.0, j, x, 1.0)` computes it: `1 · dot + 1 · m[(r, c)]`.
+#[inline]
+fn add_gemm_tr(
+    m: &mut DMatrix<Real>,
+    j: &crate::math::JacobianView<Real>,
+    x: &crate::math::JacobianView<Real>,
+) {
+    let n = j.ncols();
+    #[cfg(feature = "dim2")]
+    {
+        assert_eq!(x.ncols(), n, "add_gemm_tr: dimensions mismatch.");
+        let nrows = m.nrows();
+        let m = m.as_mut_slice();
+        let j = &j.as_slice()[..SPATIAL_DIM * n];
+        let x = &x.as_slice()[..SPATIAL_DIM * n];
+        for (c, x_c) in x.chunks_exact(SPATIAL_DIM).enumerate() {
+            let col = &mut m[c * nrows..c * nrows + n];
+            for (e, j_r) in col.iter_mut().zip(j.chunks_exact(SPATIAL_DIM)) {
+                *e += dot3(j_r, x_c);
+            }
+        }
+    }
+    #[cfg(feature = "dim3")]
+    m.view_mut((0, 0), (n, n)).gemm_tr(1.0, j, x, 1.0);
 }
 
 #[cfg(feature = "dim3")]
@@ -854,9 +895,10 @@ impl Multibody {
         }
 
         // NOTE: the previous call may have moved `acc_augmented_mass` into its LU
-        //       decomposition (see the end of this function), leaving it empty.
+        //       decomposition (see the end of this function), leaving it empty. Cloning
+        //       the zeroed `augmented_mass` allocates it with a plain copy.
         if self.acc_augmented_mass.ncols() != self.ndofs {
-            self.acc_augmented_mass = DMatrix::zeros(self.ndofs, self.ndofs);
+            self.acc_augmented_mass = self.augmented_mass.clone();
         } else {
             self.acc_augmented_mass.fill(0.0);
         }
@@ -1097,11 +1139,10 @@ impl Multibody {
                 i_coriolis_dt_w.gemm(dt, &mat_to_na(rb_inertia), &coriolis_w, 0.0);
             }
 
-            self.acc_augmented_mass.view_mut((0, 0), (nz, nz)).gemm_tr(
-                1.0,
+            add_gemm_tr(
+                &mut self.acc_augmented_mass,
                 &rb_j.columns(0, nz),
                 &self.i_coriolis_dt.columns(0, nz),
-                1.0,
             );
         }
 
@@ -1167,11 +1208,16 @@ impl Multibody {
                 .into_owned()
         };
         self.acc_inv_augmented_mass = LU::new(acc_augmented_mass);
-        self.inv_augmented_mass = LU::new(
+        // NOTE: `augmented_mass` is read again by `update_acceleration`: it is copied, with a
+        //       plain clone when the whole matrix is factorized.
+        let augmented_mass = if effective_dim == self.augmented_mass.nrows() {
+            self.augmented_mass.clone()
+        } else {
             self.augmented_mass
                 .view((0, 0), (effective_dim, effective_dim))
-                .into_owned(),
-        );
+                .into_owned()
+        };
+        self.inv_augmented_mass = LU::new(augmented_mass);
     }
 
     /// Per-DoF inverse joint-space inertia `diag(M⁻¹)` at the current configuration, where `M`
