@@ -69,11 +69,14 @@ fn arm7_poses_tables_are_the_unpatched_ones() {
         .iter()
         .map(|t| (t.len(), hash_outcomes(t.outcomes())))
         .collect();
-    assert_eq!(got, [
+    assert_eq!(
+        got,
+        [
             (2187, 5983385882423772421),
             (2187, 11069233876893459947),
             (2187, 5203232582299817726),
-        ]);
+        ]
+    );
 }
 
 /// The torque bounds of arm7_continuous's joints, as its scene file gives
@@ -142,6 +145,14 @@ fn scene_exec_of_random_continuous_commands_prints_the_unpatched_bits() {
         .unwrap();
     let out = ok(child.wait_with_output().unwrap());
     let csv = String::from_utf8(out.stdout).unwrap();
-    assert_eq!(csv.lines().count(), 101, "a header and one line per command");
-    assert_eq!(e3d::hash::fnv1a64(csv.as_bytes()), 6930194151253599839, "{csv}");
+    assert_eq!(
+        csv.lines().count(),
+        101,
+        "a header and one line per command"
+    );
+    assert_eq!(
+        e3d::hash::fnv1a64(csv.as_bytes()),
+        6930194151253599839,
+        "{csv}"
+    );
 }

@@ -75,10 +75,19 @@ fn add_quadform_to_both(
     let j = &j.as_slice()[..SPATIAL_DIM * n];
     let mut work = SVector::<Real, SPATIAL_DIM>::zeros();
     for (c, j_c) in j.chunks_exact(SPATIAL_DIM).enumerate() {
-        work.gemv(1.0, mass, &SVector::<Real, SPATIAL_DIM>::from_column_slice(j_c), 0.0);
+        work.gemv(
+            1.0,
+            mass,
+            &SVector::<Real, SPATIAL_DIM>::from_column_slice(j_c),
+            0.0,
+        );
         let col1 = &mut m1[c * nrows1..c * nrows1 + n];
         let col2 = &mut m2[c * nrows2..c * nrows2 + n];
-        for ((e1, e2), j_r) in col1.iter_mut().zip(col2.iter_mut()).zip(j.chunks_exact(SPATIAL_DIM)) {
+        for ((e1, e2), j_r) in col1
+            .iter_mut()
+            .zip(col2.iter_mut())
+            .zip(j.chunks_exact(SPATIAL_DIM))
+        {
             let e = dot3(j_r, work.as_slice());
             *e1 += e;
             *e2 += e;
