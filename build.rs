@@ -1,11 +1,17 @@
 //! Computes `E3D_PHYSICS_FINGERPRINT`: a hash of the code that decides
 //! what a command does (the physics and grid worlds, the physics scene
-//! checks and shorthands, effect binning) and of the Rapier and parry
-//! versions in Cargo.lock. It is part of every outcome table's key and
-//! of a sweep folder's identity (`e3d::sweep::VERSION`), so that a
-//! table or a journal written by a build with other physics is never
-//! reused. Whitespace does not count; anything else (comments included)
-//! does, which errs on the side of recomputing.
+//! checks and shorthands, effect binning), of the Rapier and parry
+//! versions in Cargo.lock and of the patch applied to the vendored Rapier,
+//! if any. It is part of every outcome table's key and of a sweep folder's
+//! identity (`e3d::sweep::VERSION`), so that a table or a journal written
+//! by a build with other physics is never reused. Whitespace does not
+//! count; anything else (comments included) does, which errs on the side
+//! of recomputing.
+//!
+//! Cargo reruns this script only when a path it was told to watch
+//! changed, and treats a watched path that does not exist as changed at
+//! every build: [`watched`] lists only paths that exist, and
+//! `tests/library/build_script.rs` checks it.
 
 use std::path::{Path, PathBuf};
 
@@ -32,30 +38,64 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// Whether `rel` (a path under src/) is physics code: anything named
-/// `physics*` (files or folders) under src/world or src/scene, the grid
-/// world, the shorthands and the effect binning.
+/// The folders (under src/) whose every file is physics code, and the
+/// single files beside them that are too.
+const PHYSICS_DIRS: [&str; 5] = [
+    "world/physics/",
+    "scene/physics/",
+    "scene/shorthand/",
+    "effect/",
+    "world/grid/",
+];
+const PHYSICS_FILES: [&str; 3] = ["world/grid.rs", "scene/enclosure.rs", "scene/overlap.rs"];
+
+/// The patch applied to the vendored Rapier, if the build uses one.
+const RAPIER_PATCH: &str = "vendor/rapier2d.diff";
+
+/// Whether `rel` (a path under src/, `/`-separated) is physics code: the
+/// physics and grid worlds, the physics scene checks, the shorthands, the
+/// effect binning, and the scene checks that call parry.
 fn is_physics(rel: &str) -> bool {
     let rel = rel.replace('\\', "/");
-    ((rel.starts_with("world/") || rel.starts_with("scene/")) && rel.contains("physics"))
-        || rel == "world/grid.rs"
-        || rel.starts_with("scene/shorthand")
-        || rel == "effect.rs"
+    PHYSICS_DIRS.iter().any(|d| rel.starts_with(d)) || PHYSICS_FILES.contains(&rel.as_str())
 }
 
-fn main() {
-    let src = Path::new("src");
+/// The physics files under `root/src`, as paths relative to `root/src`.
+pub fn physics_files(root: &Path) -> Vec<PathBuf> {
+    let src = root.join("src");
     let mut files = Vec::new();
-    rust_files(src, &mut files);
+    rust_files(&src, &mut files);
+    let mut rel: Vec<PathBuf> = files
+        .iter()
+        .filter_map(|p| p.strip_prefix(&src).ok())
+        .filter(|r| is_physics(&r.to_string_lossy()))
+        .map(Path::to_path_buf)
+        .collect();
+    rel.sort();
+    rel
+}
+
+/// What cargo watches, relative to `root`: the physics folders and files
+/// that exist, Cargo.lock, this script and the Rapier patch if present.
+pub fn watched(root: &Path) -> Vec<String> {
+    let mut paths: Vec<String> = PHYSICS_DIRS
+        .iter()
+        .map(|d| format!("src/{}", d.trim_end_matches('/')))
+        .chain(PHYSICS_FILES.iter().map(|f| format!("src/{f}")))
+        .chain(["Cargo.lock", "build.rs", RAPIER_PATCH].map(String::from))
+        .collect();
+    paths.retain(|p| root.join(p).exists());
+    paths
+}
+
+/// The fingerprint of the sources under `root`.
+pub fn fingerprint(root: &Path) -> String {
     // hashes of the contents, sorted: moving code between files that
     // keep the same text does not matter, any change of text does
-    let mut parts: Vec<u64> = files
+    let mut parts: Vec<u64> = physics_files(root)
         .iter()
-        .filter(|p| {
-            p.strip_prefix(src)
-                .is_ok_and(|r| is_physics(&r.to_string_lossy()))
-        })
-        .filter_map(|p| std::fs::read(p).ok())
+        .filter_map(|r| std::fs::read(root.join("src").join(r)).ok())
+        .chain(std::fs::read(root.join(RAPIER_PATCH)).ok())
         .map(|b| {
             fnv1a64(
                 b.into_iter().filter(|c| !c.is_ascii_whitespace()),
@@ -65,7 +105,7 @@ fn main() {
         .collect();
     parts.sort_unstable();
     // the engine's versions, as Cargo.lock pins them
-    if let Ok(lock) = std::fs::read_to_string("Cargo.lock") {
+    if let Ok(lock) = std::fs::read_to_string(root.join("Cargo.lock")) {
         let mut name = "";
         for line in lock.lines() {
             if let Some(n) = line.strip_prefix("name = ") {
@@ -86,10 +126,17 @@ fn main() {
     let h = parts
         .iter()
         .fold(0xcbf29ce484222325, |h, p| fnv1a64(p.to_le_bytes(), h));
-    println!("cargo:rustc-env=E3D_PHYSICS_FINGERPRINT={:08x}", h >> 32);
-    println!("cargo:rerun-if-changed=src/world");
-    println!("cargo:rerun-if-changed=src/scene");
-    println!("cargo:rerun-if-changed=src/effect.rs");
-    println!("cargo:rerun-if-changed=Cargo.lock");
-    println!("cargo:rerun-if-changed=build.rs");
+    format!("{:08x}", h >> 32)
+}
+
+#[allow(dead_code)] // the tests include this file for its functions, not for main
+fn main() {
+    let root = Path::new(".");
+    println!(
+        "cargo:rustc-env=E3D_PHYSICS_FINGERPRINT={}",
+        fingerprint(root)
+    );
+    for p in watched(root) {
+        println!("cargo:rerun-if-changed={p}");
+    }
 }

@@ -160,11 +160,12 @@ fn continuous(c: &mut Criterion) {
 const PUCK_HEADINGS: &str = include_str!("../tests/scenes/puck_headings.ron");
 
 /// 32 sessions of 8 Gaussian E3D trials of continuous commands on one
-/// thread: in lockstep on one world of 32 copies (`run_value_sessions`,
+/// thread: in lockstep on one world of 32 copies (`run_sessions`,
 /// what `e3d run --sessions 32` does), and one world per session.
 fn continuous_lockstep(c: &mut Criterion) {
+    use e3d::session::{run_value_session, ValueSessionRecord};
     use e3d::world::{Executor, Workload};
-    use e3d::{run_value_session, run_value_sessions};
+    use e3d::{run_sessions, Control};
     let scene = Scene::parse(PUCK_HEADINGS, "puck_headings.ron").unwrap();
     let space = scene.value_space().unwrap();
     let configs: Vec<SessionConfig> = (0..32)
@@ -200,8 +201,21 @@ fn continuous_lockstep(c: &mut Criterion) {
     g.bench_function("32 sessions in lockstep, 32 copies", |b| {
         b.iter(|| {
             pool.install(|| {
-                let sessions = configs.iter().map(|&c| (c, learner())).collect();
-                run_value_sessions(&exec, sessions, &|_| {}).unwrap()
+                let mut learners: Vec<_> = configs.iter().map(|_| learner()).collect();
+                let mut recs: Vec<ValueSessionRecord> = configs
+                    .iter()
+                    .map(|c| {
+                        ValueSessionRecord::new(space.num_slots(), scene.num_effects(), c.trials)
+                    })
+                    .collect();
+                run_sessions(
+                    &exec,
+                    &mut learners,
+                    &configs,
+                    &mut recs,
+                    &Control::default(),
+                );
+                recs
             })
         })
     });
@@ -211,7 +225,7 @@ fn continuous_lockstep(c: &mut Criterion) {
                 .iter()
                 .map(|cfg| {
                     let mut world = scene.as_continuous().unwrap().world(1);
-                    run_value_session(&mut world, &mut learner(), cfg, |_| {}).unwrap()
+                    run_value_session(&mut world, &mut learner(), cfg).unwrap()
                 })
                 .collect::<Vec<_>>()
         })

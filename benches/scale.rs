@@ -9,9 +9,10 @@
 //! `scripts/bench-scale.sh`; the figures are in docs/benchmarks.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use e3d::session::{run_group, RunningMetrics};
 use e3d::world::{ExecOptions, Executor, Memoized, OutcomeMemo, Strategy, Workload};
 use e3d::World;
-use e3d::{run_lockstep_into, LearnerKind, Params, RunningMetrics, Scene, SessionConfig, Target};
+use e3d::{Control, LearnerKind, Params, Scene, SessionConfig, Target};
 use std::hint::black_box;
 
 fn puck14() -> Scene {
@@ -91,12 +92,12 @@ fn scale(c: &mut Criterion) {
                 let mut rec: Vec<RunningMetrics> = (0..25)
                     .map(|_| RunningMetrics::new(scene.num_effects()))
                     .collect();
-                black_box(run_lockstep_into(
+                black_box(run_group(
                     &mut *world,
                     &mut learners,
                     &configs,
                     &mut rec,
-                    |_| {},
+                    &Control::default(),
                 ))
             })
         },

@@ -4,8 +4,9 @@
 //! docs/benchmarks.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use e3d::learner::E3d;
 use e3d::{
-    run_session, E3d, Learner, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, SessionRng,
+    run_session, Learner, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, SessionRng,
     Target, World,
 };
 use rand::SeedableRng;

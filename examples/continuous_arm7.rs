@@ -12,10 +12,10 @@
 //! minutes on 2 cores.
 
 use e3d::report::paper::effect_panels_svg;
+use e3d::session::ValueSessionRecord;
 use e3d::world::GridSpec;
 use e3d::{
-    effect::entropy, run_value_sessions, LearnerKind, Params, Scene, SessionConfig, Target,
-    ValueSessionRecord,
+    effect::entropy, run_sessions, Control, LearnerKind, Params, Scene, SessionConfig, Target,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -41,16 +41,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             threads: rayon::current_num_threads(),
         };
         let exec = e3d::Executor::for_values(&scene, &work)?;
-        let sessions = configs
+        let mut learners = configs
             .iter()
-            .map(|&c| {
-                Ok((
-                    c,
-                    kind.make_continuous(&Params::TASK1, &space, n, &Target::Uniform)?,
-                ))
-            })
-            .collect::<Result<_, e3d::LearnerError>>()?;
-        Ok(run_value_sessions(&exec, sessions, &|_| {})?)
+            .map(|_| kind.make_continuous(&Params::TASK1, &space, n, &Target::Uniform))
+            .collect::<Result<Vec<_>, e3d::learner::LearnerError>>()?;
+        let mut records: Vec<ValueSessionRecord> = configs
+            .iter()
+            .map(|c| ValueSessionRecord::new(space.num_slots(), n, c.trials))
+            .collect();
+        let status = run_sessions(
+            &exec,
+            &mut learners,
+            &configs,
+            &mut records,
+            &Control::default(),
+        );
+        for s in status {
+            s?;
+        }
+        Ok(records)
     };
     let mut panels = Vec::new();
     println!("| {sessions} sessions x {trials} trials | normalised entropy (mean ± sd, min-max) | cells reached (mean, min-max) | pooled entropy |");

@@ -6,10 +6,11 @@
 //! cargo run --release --example custom_learner
 //! ```
 
+use e3d::command::CommandSpace;
 use e3d::rand::RngExt;
 use e3d::{
-    run_session, Command, CommandSpace, Learner, LearnerKind, Outcome, Params, Scene,
-    SessionConfig, SessionRng, Target,
+    run_session, Command, Learner, LearnerKind, Outcome, Params, Scene, SessionConfig, SessionRng,
+    Target,
 }; // the rand e3d uses, re-exported: no version to pin
 
 /// Count-based exploration: `Q[a_i, i] += alpha (1/sqrt(N(e)) - Q[a_i, i])`.

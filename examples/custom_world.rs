@@ -9,9 +9,10 @@
 //! cargo run --release --example custom_world
 //! ```
 
+use e3d::command::CommandSpace;
+use e3d::effect::EffectGrid;
 use e3d::{
-    run_session, Command, CommandSpace, EffectGrid, LearnerKind, Outcome, Params, SessionConfig,
-    Target, World, WorldError,
+    run_session, Command, LearnerKind, Outcome, Params, SessionConfig, Target, World, WorldError,
 };
 
 /// A two-link arm, links 1.0 and 0.8 long, starting stretched along +x.

@@ -13,13 +13,13 @@
 //! cargo run --release --example sweep_custom
 //! ```
 
+use e3d::command::CommandSpace;
+use e3d::effect::EffectGrid;
 use e3d::rand::RngExt;
 use e3d::sweep::{
     Learners, MetricSpec, ParamValues, SessionResult, Sweep, SweepSpec, Values, Worlds,
 };
-use e3d::{
-    Command, CommandSpace, EffectGrid, Learner, Outcome, Params, SessionRng, World, WorldError,
-};
+use e3d::{Command, Learner, Outcome, Params, SessionRng, World, WorldError};
 
 /// A two-link arm, links 1.0 and 0.8 long, starting stretched along +x.
 struct TwoLinkArm {

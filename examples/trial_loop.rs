@@ -12,7 +12,8 @@
 //! one session's trials could overlap with another's), runs (default 1).
 //! The check value is a sum of the effects: the same for the same code and
 //! seed.
-use e3d::{E3d, Learner, LearnerKind, OutcomeTable, Params, Scene, SessionRng, Target};
+use e3d::learner::E3d;
+use e3d::{Learner, LearnerKind, OutcomeTable, Params, Scene, SessionRng, Target};
 use rand::SeedableRng;
 use std::hint::black_box;
 use std::time::Instant;

@@ -104,7 +104,7 @@ pub enum CommandError {
 /// The command space: `n` slots, each with its alphabet of symbols.
 ///
 /// ```
-/// use e3d::CommandSpace;
+/// use e3d::command::CommandSpace;
 /// let space = CommandSpace::repeat(7, &['E', 'S', 'W', 'N']).unwrap();
 /// assert_eq!(space.num_commands(), Some(16384));
 /// let c = space.parse("ESSEENE").unwrap();
@@ -327,7 +327,7 @@ impl fmt::Display for Command {
 /// direction: the scene says which).
 ///
 /// ```
-/// use e3d::ValueSpace;
+/// use e3d::command::ValueSpace;
 /// let space = ValueSpace::new(vec![(-1.8, 1.8), (0.0, 3.0)]).unwrap();
 /// let v = space.parse("1.5, 0.25").unwrap();
 /// assert_eq!(v, [1.5, 0.25]);

@@ -13,7 +13,8 @@
 
 use crate::command::MAX_SLOTS;
 use crate::effect::MAX_EFFECTS;
-use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS, PARAM_NAMES};
+use crate::learner::Params;
+use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS};
 use crate::text::{csv_fields, echo, parse_finite};
 
 /// A file that cannot be read as what it should be: where and why.
@@ -28,6 +29,11 @@ fn err<T>(m: impl Into<String>) -> Result<T, CsvError> {
 /// The largest `summary.csv` `e3d plot` and `e3d report` read (64 MiB;
 /// one row per cell, a few hundred bytes each).
 pub const MAX_SUMMARY_CSV_BYTES: u64 = 64 << 20;
+
+/// The most columns a `summary.csv` may have (1024: the cell's, then
+/// four per metric, for some 250 metrics): a summary of 30,000 columns
+/// took more than 30 s to draw.
+pub const MAX_SUMMARY_COLUMNS: usize = 1024;
 
 /// A sweep's `summary.csv`, parsed.
 #[derive(Debug, Clone, PartialEq)]
@@ -46,18 +52,52 @@ impl Summary {
     /// finite number: `inf`, `NaN` or a word is refused with
     /// `summary.csv:LINE:COL` and the column, since one infinite value
     /// would stretch a figure's axis without end. Linear in the text.
+    ///
+    /// Every message starts with `summary.csv` (the caller puts the
+    /// folder before it). A UTF-8 byte order mark is ignored; a column
+    /// named twice, more than [`MAX_SUMMARY_COLUMNS`] columns, and a
+    /// `sessions` or `failed` count that is not a whole number >= 0 are
+    /// refused with their place.
     pub fn parse(text: &str) -> Result<Summary, CsvError> {
         const FILE: &str = "summary.csv";
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut lines = text.lines();
         let columns: Vec<String> = match lines.next() {
             Some(h) => h.split(',').map(str::to_string).collect(),
-            None => return err("the summary is empty"),
+            None => {
+                return err(format!(
+                    "{FILE}: the file is empty; expected a sweep summary"
+                ))
+            }
         };
+        if columns.len() > MAX_SUMMARY_COLUMNS {
+            return err(format!(
+                "{FILE}:1:1: at most {MAX_SUMMARY_COLUMNS} columns (e3d::csv::MAX_SUMMARY_COLUMNS), found {}",
+                columns.len()
+            ));
+        }
         if columns.len() < CELL_COLUMNS + 1
             || columns[..CELL_COLUMNS] != KEY_COLUMNS[..CELL_COLUMNS]
         {
-            return err("not a sweep summary: expected the columns scene, learner, use_reward, alpha, beta, lambda, eta, epsilon, sessions, ...");
+            return err(format!("{FILE}:1:1: not a sweep summary: expected the columns scene, learner, use_reward, alpha, beta, lambda, eta, epsilon, sessions, ..., found `{}`", echo(text.lines().next().unwrap_or(""))));
         }
+        let mut seen = std::collections::HashMap::with_capacity(columns.len());
+        let mut col = 1;
+        for (k, c) in columns.iter().enumerate() {
+            if let Some(first) = seen.insert(c.as_str(), k) {
+                return err(format!(
+                    "{FILE}:1:{col}: column `{}` appears twice (columns {} and {}); expected each column once",
+                    echo(c),
+                    first + 1,
+                    k + 1
+                ));
+            }
+            col += c.chars().count() + 1;
+        }
+        let counts: Vec<usize> = ["sessions", "failed"]
+            .iter()
+            .filter_map(|c| seen.get(c).copied())
+            .collect();
         let mut rows = Vec::new();
         for (i, l) in lines.enumerate() {
             let f: Vec<String> = l.split(',').map(str::to_string).collect();
@@ -71,9 +111,17 @@ impl Summary {
             }
             let mut col = 1;
             for (k, v) in f.iter().enumerate() {
-                if k >= CELL_COLUMNS - PARAM_NAMES.len() && !v.is_empty() {
-                    crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
+                if k >= CELL_COLUMNS - Params::SWEPT.len() && !v.is_empty() {
+                    let x = crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
                         .map_err(CsvError)?;
+                    if counts.contains(&k) && !(x >= 0.0 && x.fract() == 0.0) {
+                        return err(format!(
+                            "{FILE}:{}:{col}: column `{}`: expected a whole number >= 0 (a count of sessions), found `{}`",
+                            i + 2,
+                            columns[k],
+                            echo(v)
+                        ));
+                    }
                 }
                 col += v.chars().count() + 1;
             }
@@ -140,12 +188,29 @@ pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, CsvError> {
 fn parse_trial_rows(csv: &str) -> Result<Vec<TrialRow>, String> {
     let mut lines = csv.lines();
     let columns = TrialColumns::new(lines.next().ok_or("trials.csv is empty")?)?;
-    let mut rows = Vec::new();
+    let mut rows: Vec<TrialRow> = Vec::new();
+    let mut starts = std::collections::HashSet::new();
     for (k, line) in lines.enumerate() {
         if line.trim().is_empty() {
             continue;
         }
-        rows.push(columns.row(k + 2, line)?);
+        let row = columns.row(k + 2, line)?;
+        if !row.start.is_empty()
+            && !starts.contains(row.start.as_str())
+            && starts.len() == crate::scene::MAX_CONTEXTS
+        {
+            return Err(format!(
+                "trials.csv:{}:1: column `start`: at most {} distinct start contexts, as a scene declares at most (e3d::scene::MAX_CONTEXTS), found a {}th, `{}`",
+                k + 2,
+                crate::scene::MAX_CONTEXTS,
+                crate::scene::MAX_CONTEXTS + 1,
+                echo(&row.start)
+            ));
+        }
+        if !row.start.is_empty() && !starts.contains(row.start.as_str()) {
+            starts.insert(row.start.clone());
+        }
+        rows.push(row);
     }
     Ok(rows)
 }
@@ -173,6 +238,18 @@ impl TrialColumns {
             .into_iter()
             .map(|(f, _)| f.trim().to_string())
             .collect();
+        // each column once (a second `effect` was silently ignored)
+        let mut seen = std::collections::HashSet::with_capacity(header.len());
+        let mut at = 1;
+        for h in &header {
+            if !seen.insert(h.as_str()) {
+                return Err(format!(
+                    "trials.csv:1:{at}: column `{}` appears twice; expected each column once",
+                    echo(h)
+                ));
+            }
+            at += h.chars().count() + 1;
+        }
         let col = |name: &str| {
             header
                 .iter()

@@ -501,6 +501,26 @@ fn holder() -> String {
     format!("pid={} host={host}", std::process::id())
 }
 
+/// The error of a lock file `path` that cannot be opened: a symbolic link
+/// or anything but a regular file in its place is named as such (the
+/// system said only "Too many levels of symbolic links"); other errors as
+/// they are, with the file.
+fn lock_file_error(path: &Path, e: io::Error) -> io::Error {
+    let is_link = fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
+    let not_regular = fs::symlink_metadata(path).is_ok_and(|m| !m.is_file());
+    if is_link || not_regular {
+        return io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "{}: the lock file is {}; e3d makes it as a regular file and never follows a link there (remove it, then run again)",
+                path.display(),
+                if is_link { "a symbolic link" } else { "not a regular file (a folder, a pipe, a device or a socket)" }
+            ),
+        );
+    }
+    io::Error::new(e.kind(), format!("{}: {e}", path.display()))
+}
+
 impl DirLock {
     /// Takes the lock of folder `dir` (which must exist), or says who holds
     /// it: `Err` of kind `WouldBlock` whose message is the holder.
@@ -512,9 +532,15 @@ impl DirLock {
             #[cfg(unix)]
             {
                 use std::os::unix::fs::OpenOptionsExt;
-                o.custom_flags(libc::O_NOFOLLOW);
+                o.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
             }
-            let mut file = o.open(&path)?;
+            let mut file = o.open(&path).map_err(|e| lock_file_error(&path, e))?;
+            if !file.metadata()?.is_file() {
+                return Err(lock_file_error(
+                    &path,
+                    io::Error::new(io::ErrorKind::InvalidInput, "not a regular file"),
+                ));
+            }
             #[cfg(unix)]
             {
                 use std::os::unix::fs::MetadataExt;

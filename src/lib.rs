@@ -6,6 +6,26 @@
 //! loop; the learner reads only the terminal state, binned into an
 //! *effect*, and a reward.
 //!
+//! ## Start here
+//!
+//! `use e3d::prelude::*;` brings the names a session needs; a scene and a
+//! learner make a [`Session`], run as `e3d run` runs it:
+//!
+//! ```
+//! use e3d::prelude::*;
+//!
+//! let scene = Scene::builtin("two_rooms").unwrap();
+//! let e3d = Session::new(&scene, LearnerKind::E3d).reward(false).seed(7).run()?;
+//! let uniform = Session::new(&scene, LearnerKind::Uniform).reward(false).seed(7).run()?;
+//! // E3D spreads the terminal cells more evenly than the uniform policy.
+//! let h = |r: &SessionRecord| r.metrics(&Target::Uniform).normalized_entropy;
+//! assert!(h(&e3d) > h(&uniform) + 0.05);
+//! # Ok::<(), e3d::session::SessionError>(())
+//! ```
+//!
+//! [`run_session`] runs a learner you made yourself (any [`Learner`]) on
+//! any [`World`], trial by trial.
+//!
 //! The flow of one trial:
 //!
 //! ```text
@@ -15,74 +35,56 @@
 //! Learner::learn(&Command, &Outcome)
 //! ```
 //!
+//! ## The modules
+//!
 //! - [`scene`]: the RON scene format, parsed and checked into a [`Scene`]
 //!   (valid by construction: building its world cannot fail); a scene
-//!   built or edited in code is a [`SceneSpec`], turned into a [`Scene`] by
-//!   [`SceneSpec::validate`] and written back by [`SceneSpec::to_ron`];
-//!   every mistake is a [`SceneError`] of some [`SceneErrorKind`];
-//! - [`command`]: [`CommandSpace`] (slots and alphabets) and [`Command`];
-//! - [`world`]: the [`World`] trait, the [`GridWorld`], the Rapier-based
-//!   [`PhysicsWorld`], the [`OutcomeTable`] (every command once, up
-//!   front), the [`OutcomeMemo`] (every proposed command once, whatever
-//!   the size of the space) and the [`ExecutionPlan`] that chooses between
-//!   them by cost;
-//! - [`effect`]: binning ([`EffectGrid`]), the running histogram
-//!   ([`EffectModel`]) and the target ([`Target`]);
-//! - [`hash`]: the FNV-1a hash that keys outcome tables and the rule that
-//!   derives a session's seed from its identity;
-//! - [`learner`]: the [`Learner`] trait, [`E3d`], [`UniformPolicy`],
-//!   [`EpsilonGreedy`], and drives beyond the paper
-//!   ([`RelaxedE3d`](learner::RelaxedE3d), an E3D that cannot lock;
-//!   [`CountBonus`](learner::CountBonus);
-//!   [`StateMarginalMatching`](learner::StateMarginalMatching));
+//!   built or edited in code is a [`SceneSpec`]; every mistake is a
+//!   [`SceneError`];
+//! - [`command`]: [`command::CommandSpace`] (slots and alphabets), [`Command`], and
+//!   the ranges of continuous commands ([`command::ValueSpace`]);
+//! - [`world`]: the [`World`] trait, the grid and Rapier worlds, the
+//!   [`OutcomeTable`] (every command once, up front), the outcome memo
+//!   (every proposed command once) and the [`Executor`] that chooses
+//!   between them by cost;
+//! - [`effect`]: binning, the running histogram of effects and the
+//!   [`Target`] distribution;
+//! - [`learner`]: the [`Learner`] trait (and [`ContinuousLearner`] for
+//!   values), E3D and the drives beyond the paper, all made by a
+//!   [`LearnerKind`] from [`Params`];
 //! - [`rng`]: the [`SessionRng`] every session draws from, fixed by its
 //!   seed;
-//! - [`session`]: the trial loop ([`run_session`], or [`run_session_into`]
-//!   a [`Recorder`] such as [`RunningMetrics`], in constant memory),
-//!   sessions in lockstep ([`run_lockstep`]), sessions run the way an
-//!   [`Executor`] plans them, in parallel ([`run_sessions`]), and their
+//! - [`session`]: the one session engine, for commands of symbols and of
+//!   values alike: [`run_session`], sessions that share a world in
+//!   lockstep ([`session::run_group`]), the groups an [`Executor`] plans
+//!   run in parallel ([`run_sessions`]), a [`Control`] for progress and
+//!   stop, what is kept of each trial (a [`Recorder`]: a
+//!   [`SessionRecord`], or running metrics in constant memory) and the
 //!   [`Metrics`];
 //! - [`sweep`]: grids of sessions over scenes, learners and parameters
-//!   ([`Sweep`], from a file or a [`SweepSpec`](sweep::SweepSpec) built in
-//!   code), run in parallel, resumable, in shards; your own worlds and
-//!   learners go in through [`sweep::Worlds`] and [`sweep::Learners`];
+//!   ([`Sweep`], from a file or a [`sweep::SweepSpec`] built in code), run
+//!   in parallel, resumable, in shards;
+//! - [`episode`]: episodes of several commands, each from where the last
+//!   left the world (start contexts, closed loop);
 //! - [`experiment`]: the experiments behind `e3d reproduce` (the paper's
-//!   figures), `e3d compare` (every drive) and `e3d closed-loop`, run;
+//!   figures), `e3d compare` (every drive) and `e3d closed-loop`;
 //! - [`report`]: what runs, sweeps and experiments produced, drawn
-//!   (tables, SVG figures, HTML pages); it runs no session;
-//! - [`csv`]: e3d's own `summary.csv`, `results.csv` and `trials.csv`,
-//!   read back (by `e3d report` and `e3d plot`).
+//!   (tables, SVG figures, HTML pages); it runs no session.
 //!
-//! ```
-//! use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};
-//!
-//! let scene = Scene::builtin("two_rooms").unwrap();
-//! let mut world = scene.build();
-//! let space = scene.command_space();
-//! let cfg = SessionConfig { trials: 5000, seed: 7, use_reward: false };
-//!
-//! let mut e3d = LearnerKind::E3d
-//!     .make(&Params::TASK1, &space, scene.num_effects(), &Target::Uniform)
-//!     .unwrap();
-//! let explored = run_session(&mut world, &mut e3d, &cfg).unwrap().metrics(&Target::Uniform);
-//!
-//! let mut uniform = LearnerKind::Uniform
-//!     .make(&Params::TASK1, &space, scene.num_effects(), &Target::Uniform)
-//!     .unwrap();
-//! let baseline = run_session(&mut world, &mut uniform, &cfg).unwrap().metrics(&Target::Uniform);
-//!
-//! // E3D spreads the terminal cells more evenly than the uniform policy.
-//! assert!(explored.normalized_entropy > baseline.normalized_entropy + 0.05);
-//! ```
+//! ARCHITECTURE.md in the repository draws the layers and says where to
+//! add a world, a learner or a kind of command.
 
 #![warn(missing_docs)]
 
 pub mod command;
+#[doc(hidden)]
 pub mod csv;
 pub mod effect;
 pub mod episode;
 pub mod experiment;
+#[doc(hidden)]
 pub mod hash;
+#[doc(hidden)]
 pub mod io;
 pub mod learner;
 pub mod report;
@@ -90,6 +92,7 @@ pub mod rng;
 pub mod scene;
 pub mod session;
 pub mod sweep;
+#[doc(hidden)]
 pub mod text;
 pub mod world;
 
@@ -109,23 +112,32 @@ pub struct OutcomesDoctests;
 /// rand to pin in its own manifest.
 pub use rand;
 
-pub use command::{Command, CommandError, CommandSpace, ValueSpace};
-pub use effect::{EffectError, EffectGrid, EffectModel, Target, TargetError};
-pub use learner::{
-    ContinuousLearner, E3d, EpsilonGreedy, GaussianE3d, Learner, LearnerError, LearnerKind,
-    LearnerState, ParamError, Params, ParseLearnerError, UniformPolicy, UniformValues,
-};
+pub use command::Command;
+pub use effect::Target;
+pub use learner::{ContinuousLearner, Learner, LearnerKind, Params};
 pub use rng::SessionRng;
-pub use scene::{Scene, SceneError, SceneErrorKind, SceneSpec};
+pub use scene::{Scene, SceneError, SceneSpec};
 pub use session::{
-    policy_effect_distribution, run_group, run_lockstep, run_lockstep_into, run_session,
-    run_session_into, run_session_with, run_sessions, run_sessions_until, run_value_lockstep,
-    run_value_session, run_value_sessions, Metrics, Recorder, RunningMetrics, SessionConfig,
-    SessionRecord, ValueSessionRecord,
+    run_session, run_sessions, Control, Metrics, Recorder, Session, SessionConfig, SessionRecord,
 };
-pub use sweep::{Sweep, SweepError};
-pub use world::{
-    ContinuousWorld, ExecutionPlan, Executor, GridWorld, Memoized, Outcome, OutcomeMemo,
-    OutcomeTable, ParseStrategyError, PhysicsWorld, Strategy, ValueWorld, World, WorldError,
-    WorldState,
-};
+pub use sweep::Sweep;
+pub use world::{Executor, Outcome, OutcomeTable, World, WorldError};
+
+/// The names a session needs, in one import: `use e3d::prelude::*;`.
+///
+/// ```
+/// use e3d::prelude::*;
+/// let scene = Scene::builtin("two_rooms").unwrap();
+/// let mut learner = LearnerKind::E3d
+///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+///     .unwrap();
+/// let config = SessionConfig { trials: 500, seed: 0, use_reward: false };
+/// let record = run_session(&mut scene.build(), &mut learner, &config).unwrap();
+/// assert_eq!(record.trials(), 500);
+/// ```
+pub mod prelude {
+    pub use crate::learner::{ContinuousLearner, Learner, LearnerKind, Params};
+    pub use crate::session::{run_session, Recorder, Session, SessionConfig};
+    pub use crate::world::{ContinuousWorld, World};
+    pub use crate::{Scene, SessionRecord, Target};
+}

@@ -28,10 +28,52 @@ use std::path::Path;
 /// shows; the rest is cut and its length said.
 pub const MAX_ECHO_CHARS: usize = 80;
 
-/// Whether `c` is a control character a terminal may act on: C0 (ESC,
-/// BEL, CR, ...), DEL and C1.
+/// Whether `c` is a character a terminal may act on or that changes how
+/// the text around it shows: the control characters C0 (ESC, BEL, CR,
+/// ...), DEL and C1, the bidirectional controls (U+202E, a right-to-left
+/// override, shows `abc` as `cba`) and the line and paragraph separators
+/// U+2028 and U+2029.
 fn is_terminal_control(c: char) -> bool {
-    c.is_control()
+    c.is_control() || is_bidi_control(c) || matches!(c, '\u{2028}' | '\u{2029}')
+}
+
+/// The bidirectional formatting characters: marks (U+200E, U+200F,
+/// U+061C), embeddings and overrides (U+202A to U+202E) and isolates
+/// (U+2066 to U+2069).
+fn is_bidi_control(c: char) -> bool {
+    matches!(c, '\u{200e}' | '\u{200f}' | '\u{061c}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+/// Whether `c` is a format character (Unicode category Cf: invisible, it
+/// changes how the text around it shows or joins), a line or paragraph
+/// separator, or a non-character: what a name may not hold besides the
+/// control characters ([`check_name`]).
+pub fn is_invisible_format(c: char) -> bool {
+    is_bidi_control(c)
+        || matches!(
+            c,
+            '\u{00ad}'
+                | '\u{0600}'..='\u{0605}'
+                | '\u{06dd}'
+                | '\u{070f}'
+                | '\u{0890}'..='\u{0891}'
+                | '\u{08e2}'
+                | '\u{180e}'
+                | '\u{200b}'..='\u{200d}'
+                | '\u{2028}'..='\u{2029}'
+                | '\u{2060}'..='\u{2064}'
+                | '\u{206a}'..='\u{206f}'
+                | '\u{feff}'
+                | '\u{fff9}'..='\u{fffb}'
+                | '\u{fffe}'..='\u{ffff}'
+                | '\u{110bd}'
+                | '\u{110cd}'
+                | '\u{13430}'..='\u{1343f}'
+                | '\u{1bca0}'..='\u{1bca3}'
+                | '\u{1d173}'..='\u{1d17a}'
+                | '\u{e0001}'
+                | '\u{e0020}'..='\u{e007f}'
+        )
 }
 
 /// `s` with every control character except the line feed and the tab
@@ -87,7 +129,7 @@ pub fn echo(s: &str) -> String {
             let _ = write!(out, "… ({} characters)", s.chars().count());
             return out;
         }
-        if c.is_control() {
+        if is_terminal_control(c) {
             push_code(&mut out, c);
         } else {
             out.push(c);
@@ -178,21 +220,38 @@ pub fn csv_field(s: &str) -> Cow<'_, str> {
     }
 }
 
-/// The most characters a scene, body or joint name may hold.
+/// The most characters a name (of a scene, a body, a joint, a start
+/// context) may hold.
 pub const MAX_NAME_CHARS: usize = 200;
 
-/// Checks a name (of a scene, a body, a joint): no control character
-/// (ESC, BEL, a line break: names are printed to terminals and written
-/// into files), no `,` or `"` (a scene's name is a CSV field of a sweep's
-/// results), at most [`MAX_NAME_CHARS`] characters. The error says what
-/// is expected and what was found (escaped, cut).
+/// Checks a name, the one check of every name e3d prints to a terminal or
+/// writes into a file (a scene's, a body's, a joint's, a start context's,
+/// a scene made in code for a sweep): not empty nor only spaces; no
+/// control character (ESC, BEL, a line break: names are printed to
+/// terminals and written into files), no format character (a
+/// right-to-left override U+202E, a zero-width space U+200B: they change
+/// how the text around them shows, see [`is_invisible_format`]), no `,`
+/// or `"` (names are CSV fields: a sweep's results, `trials.csv`, `scene
+/// exec`'s rows); at most [`MAX_NAME_CHARS`] characters. The error says
+/// what is expected and what was found (escaped, cut).
+///
+/// ```
+/// use e3d::text::check_name;
+/// assert!(check_name("room_a").is_ok());
+/// assert!(check_name("a,b").unwrap_err().contains("U+002C"));
+/// assert!(check_name("evil\u{202e}txt").unwrap_err().contains("U+202E"));
+/// assert!(check_name(" ").is_err());
+/// ```
 pub fn check_name(name: &str) -> Result<(), String> {
+    if name.trim().is_empty() {
+        return Err(format!("a non-empty name, found `{}`", echo(name)));
+    }
     if let Some(c) = name
         .chars()
-        .find(|&c| c.is_control() || c == ',' || c == '"')
+        .find(|&c| c.is_control() || c == ',' || c == '"' || is_invisible_format(c))
     {
         return Err(format!(
-            "a name without control characters, ',' or '\"' (it is printed and written into CSV files), found U+{:04X} in `{}`",
+            "a name without control or format characters, ',' or '\"' (it is printed and written into CSV files), found U+{:04X} in `{}`",
             u32::from(c),
             echo(name)
         ));
@@ -204,6 +263,47 @@ pub fn check_name(name: &str) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+/// A number for messages: as written for ordinary magnitudes, else in
+/// scientific notation (`1e39`, not 39 digits).
+///
+/// ```
+/// use e3d::text::show_number;
+/// assert_eq!(show_number(1e300), "1e300");
+/// assert_eq!(show_number(0.9), "0.9");
+/// assert_eq!(show_number(-1.7e308), "-1.7e308");
+/// ```
+pub fn show_number(v: f64) -> String {
+    let s = if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    };
+    if s.len() <= 12 {
+        return s;
+    }
+    // a computed value: 5 significant digits
+    let s = if (1e-4..1e6).contains(&v.abs()) {
+        format!(
+            "{v:.*}",
+            (4 - v.abs().log10().floor() as i64).max(0) as usize
+        )
+    } else {
+        format!("{v:.4e}")
+    };
+    let (m, e) = s
+        .split_once('e')
+        .map_or((s.as_str(), None), |(m, e)| (m, Some(e)));
+    let m = if m.contains('.') {
+        m.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        m
+    };
+    match e {
+        Some(e) => format!("{m}e{e}"),
+        None => m.to_string(),
+    }
 }
 
 /// Why one of e3d's own files could not be read (see [`read_own_file`]).

@@ -1,7 +1,9 @@
 //! Commands in: strings, lists or numpy arrays, checked against a
 //! scene's command space.
 
-use e3d::{Command, CommandSpace, ValueSpace};
+use e3d::command::CommandSpace;
+use e3d::command::ValueSpace;
+use e3d::Command;
 use numpy::ndarray::{Array2, ArrayView2};
 use numpy::{
     PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,

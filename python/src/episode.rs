@@ -4,17 +4,18 @@
 //! `EpisodeWorld` (one episode stepped command by command, for the
 //! Gymnasium environment) is in `episode_world`.
 
+use crate::contextual::{commands_arg, context_targets, observe_arg};
 use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
 use crate::pickling::{pickled, Reduced};
 use crate::progress::{watched, Watch};
 use crate::record::Grid;
-use crate::saved::{Held, PyLearnerState};
-use crate::scene::{scene_of, target_arg, PyScene};
-use e3d::episode::{EpisodeConfig, EpisodeRecord, Observe};
-use e3d::learner::{ClosedLoopE3d, ContextTargets, ContextualLearner, QLearning};
-use e3d::{CommandSpace, LearnerKind, Params};
-use e3d::{Target, World};
+use crate::saved::PyLearnerState;
+use crate::scene::{scene_of, PyScene};
+use e3d::command::CommandSpace;
+use e3d::episode::{EpisodeConfig, EpisodeRecord};
+use e3d::learner::{ClosedLoopE3d, ContextualLearner};
+use e3d::World;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
@@ -22,17 +23,6 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use rayon::prelude::*;
 use std::cell::RefCell;
-
-/// The commands of an episode: 1 to 64, the command line's range.
-pub(crate) fn commands_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    let k = usize_arg(obj, "commands", 1)?;
-    if k > 64 {
-        return Err(PyValueError::new_err(format!(
-            "commands = {k}: expected at most 64 (the command line's cap)"
-        )));
-    }
-    Ok(k)
-}
 
 /// The episodes of a session: 1 to the command line's cap on trials.
 fn episodes_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
@@ -44,32 +34,6 @@ fn episodes_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
         )));
     }
     Ok(n)
-}
-
-/// `observe`: None (the command line's default for `commands` and
-/// `closed_loop`), `"start"`, `"state"` or `"blind"`.
-pub(crate) fn observe_arg(
-    observe: Option<&str>,
-    commands: usize,
-    closed_loop: bool,
-) -> PyResult<Observe> {
-    match observe {
-        None => Ok(Observe::default_for(commands, closed_loop)),
-        Some("start") => Ok(Observe::StartContext),
-        Some("state") => Ok(Observe::State),
-        Some("blind") => Ok(Observe::Blind),
-        Some(o) => Err(PyValueError::new_err(format!(
-            "observe = `{o}`: expected None, \"start\", \"state\" or \"blind\""
-        ))),
-    }
-}
-
-pub(crate) fn observe_name(o: Observe) -> &'static str {
-    match o {
-        Observe::StartContext => "start",
-        Observe::State => "state",
-        Observe::Blind => "blind",
-    }
 }
 
 /// A session of episodes, as numpy arrays, one entry per command
@@ -150,7 +114,7 @@ impl PyEpisodeRecord {
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        Self::pickle_from(state)
+        Self::pickle_from(state)?.frozen(state.py())
     }
 
     fn __repr__(&self) -> String {
@@ -189,7 +153,8 @@ fn record_to_py(
         effects: ints(&rec.effects).into_pyarray(py).unbind(),
         rewards: rec.rewards.into_pyarray(py).unbind(),
         grid: grid.clone(),
-    })
+    }
+    .frozen(py)?)
 }
 
 /// Sessions of episodes on a scene with start contexts, or of `commands`
@@ -250,8 +215,18 @@ pub(crate) fn run_episodes(
     let observe = observe_arg(observe, k, closed_loop)?;
     let (one, seeds) = seed_list(seed, seeds)?;
     crate::errors::check_held("episodes, commands and seeds", seeds.len(), episodes * k)?;
+    crate::errors::reserve_records(
+        &format!(
+            "episodes = {episodes}, commands = {k}, {} seeds",
+            seeds.len()
+        ),
+        crate::errors::record_bytes(
+            &scene,
+            (episodes as u64 * k as u64).saturating_mul(seeds.len() as u64),
+        ),
+    )?;
     // after the arguments' checks: a refused call warns of nothing
-    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &params)?;
+    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &params)?;
     crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
     let inner = scene.inner.clone();
     let space = inner.command_space();
@@ -387,74 +362,6 @@ fn run_builtin_episodes(
     Ok(out)
 }
 
-/// A contextual built-in learner, as `run_episodes` would make it for
-/// `scene`, `commands` per episode, `closed_loop` and `observe`
-/// (`Learner.contextual`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn contextual_held(
-    scene: &PyScene,
-    kind: LearnerKind,
-    commands: &Bound<'_, PyAny>,
-    closed_loop: bool,
-    observe: Option<&str>,
-    gamma: f64,
-    params: &Params,
-    target: Option<&Bound<'_, PyAny>>,
-    targets: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Held> {
-    scene.require_symbols("Learner.contextual")?;
-    let k = commands_arg(commands)?;
-    let ctx_targets = context_targets(scene, target, targets)?;
-    let cfg = EpisodeConfig {
-        episodes: 1,
-        commands: k,
-        seed: 0,
-        use_reward: true,
-        observe: observe_arg(observe, k, closed_loop)?,
-    };
-    let contexts = cfg.num_contexts(&scene.inner.build());
-    let (space, n) = (&scene.space, scene.inner.num_effects());
-    let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
-    params.validate().map_err(|e| bad(e.into()))?;
-    e3d::learner::contextual::check_gamma(gamma).map_err(bad)?;
-    e3d::learner::contextual::check_context_effects(contexts, n).map_err(bad)?;
-    match (closed_loop, kind) {
-        (true, LearnerKind::E3d) => {
-            ClosedLoopE3d::new(space, n, contexts, params, &ctx_targets, gamma)
-                .map(Held::ClosedLoop)
-                .map_err(bad)
-        }
-        (true, LearnerKind::Egreedy) => QLearning::new(space, contexts, params, gamma)
-            .map(Held::QLearning)
-            .map_err(bad),
-        (true, other) => Err(PyValueError::new_err(format!(
-            "learner `{other}`: the closed loop takes e3d (closed-loop E3D) or egreedy (Q-learning)"
-        ))),
-        (false, LearnerKind::GoalBabbling | LearnerKind::Archive) => {
-            Err(PyValueError::new_err(format!(
-                "learner `{kind}`: no saved state per context (kept for e3d, e3d_relax, count, smm, egreedy and uniform)"
-            )))
-        }
-        (false, kind) => {
-            let per: Vec<Target> = match ctx_targets {
-                ContextTargets::Shared(t) => vec![t; contexts],
-                ContextTargets::PerContext(v) if v.len() == contexts => v,
-                ContextTargets::PerContext(v) => {
-                    return Err(PyValueError::new_err(format!(
-                        "targets: {} targets for {contexts} contexts: give one per context",
-                        v.len()
-                    )))
-                }
-            };
-            let learners = per
-                .iter()
-                .map(|t| Held::new(scene, kind, params, t))
-                .collect::<PyResult<Vec<Held>>>()?;
-            Ok(Held::per_context(learners))
-        }
-    }
-}
-
 /// Runs episodes from the contextual `e3d.Learner` `st` (one seed) and
 /// leaves it in the state they end in.
 fn run_from_state(
@@ -499,31 +406,6 @@ fn run_from_state(
         )?,
     )?
     .into_any())
-}
-
-/// The targets of `run_episodes`: `targets`, one per context, else
-/// `target` (None: uniform) for every context.
-fn context_targets(
-    scene: &PyScene,
-    target: Option<&Bound<'_, PyAny>>,
-    targets: Option<&Bound<'_, PyAny>>,
-) -> PyResult<ContextTargets> {
-    let Some(ts) = targets.filter(|t| !t.is_none()) else {
-        return Ok(ContextTargets::Shared(target_arg(scene, target)?));
-    };
-    if target.is_some_and(|t| !t.is_none()) {
-        return Err(PyValueError::new_err(
-            "targets: give either target (every context) or targets (one per context)",
-        ));
-    }
-    let list = ts
-        .try_iter()
-        .map_err(|_| {
-            PyTypeError::new_err("targets: expected a sequence of targets, one per context")
-        })?
-        .map(|t| target_arg(scene, Some(&t?)))
-        .collect::<PyResult<Vec<Target>>>()?;
-    Ok(ContextTargets::PerContext(list))
 }
 
 /// The Python learners of `run_episodes`: `learner` itself for one seed,

@@ -2,7 +2,7 @@
 //! from Python (the draws and executions of `run_episodes`).
 
 use crate::commands::commands_from;
-use crate::episode::{commands_arg, observe_arg, observe_name};
+use crate::contextual::{commands_arg, observe_arg, observe_name};
 use crate::errors::{seed_arg, usize_arg, Fail};
 use crate::outcome::PyOutcome;
 use crate::scene::{scene_of, PyScene};

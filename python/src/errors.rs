@@ -1,7 +1,8 @@
 //! Errors: the package's exceptions, and the library's errors made Python
 //! exceptions with the CLI's text.
 
-use e3d::{LearnerKind, SweepError, WorldError};
+use e3d::sweep::SweepError;
+use e3d::{LearnerKind, WorldError};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyOverflowError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -227,6 +228,38 @@ pub(crate) fn check_held(what: &str, sessions: usize, per_session: usize) -> PyR
     }
 }
 
+/// The bytes the records of `trials` trials of `scene` take, as held by
+/// e3d and then by numpy (twice): each trial's command (a byte a symbol,
+/// 8 bytes a value), effect and reward.
+pub(crate) fn record_bytes(scene: &crate::scene::PyScene, trials: u64) -> u64 {
+    let slots = scene.inner.spec().num_slots() as u64;
+    let command = if scene.values.is_some() {
+        8 * slots
+    } else {
+        slots
+    };
+    trials.saturating_mul(2 * (command + 16))
+}
+
+/// Raises `MemoryError` when `bytes` cannot be allocated, before any work:
+/// the records of a session are allocated as it runs, and an allocation
+/// that fails there aborts the interpreter (`run_session(trials=10**8)` on
+/// a small machine). The memory is asked for (`try_reserve`) and given
+/// back at once; `what` names the arguments.
+pub(crate) fn reserve_records(what: &str, bytes: u64) -> PyResult<()> {
+    let mut probe: Vec<u8> = Vec::new();
+    let fits = usize::try_from(bytes)
+        .ok()
+        .is_some_and(|b| probe.try_reserve_exact(b).is_ok());
+    if !fits {
+        return Err(pyo3::exceptions::PyMemoryError::new_err(format!(
+            "{what}: the records would take about {} MB, which cannot be allocated here; run fewer trials (or sessions), or use `e3d run --out`, which writes them as it goes",
+            bytes >> 20
+        )));
+    }
+    Ok(())
+}
+
 /// The name of `obj`'s type, for messages (`found str`).
 pub(crate) fn type_name(obj: &Bound<'_, PyAny>) -> String {
     obj.get_type()
@@ -412,19 +445,6 @@ pub(crate) enum Reader {
     State,
     /// A learner object: it holds its own.
     Object,
-}
-
-impl Reader {
-    /// The reader of a `learner` argument (None: `"e3d"`).
-    pub(crate) fn of(learner: Option<&Bound<'_, PyAny>>) -> PyResult<Reader> {
-        if learner.is_some_and(|l| l.cast::<crate::saved::PyLearnerState>().is_ok()) {
-            return Ok(Reader::State);
-        }
-        Ok(match crate::learner::builtin_kind(learner)? {
-            Some(kind) => Reader::Kind(kind),
-            None => Reader::Object,
-        })
-    }
 }
 
 /// Warns (`UserWarning`, at the caller's line) for every hyper-parameter

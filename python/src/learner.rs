@@ -2,14 +2,12 @@
 //! [`e3d::Learner`]s, and the world guard that stops their sessions.
 
 use crate::commands::commands_from;
-use crate::errors::{learner_names, STOPPED};
+use crate::errors::learner_names;
 use crate::rng::PyRng;
+use e3d::command::CommandSpace;
 use e3d::learner::ContextualLearner;
 use e3d::world::WorldState;
-use e3d::{
-    Command, CommandSpace, ContinuousWorld, Learner, LearnerKind, Outcome, SessionRng, ValueSpace,
-    World, WorldError,
-};
+use e3d::{Command, Learner, LearnerKind, Outcome, SessionRng, World, WorldError};
 use numpy::PyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -149,7 +147,7 @@ impl<W: World + ?Sized, S: Fn() -> bool> World for Guarded<'_, W, S> {
     }
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
         if (self.stop)() {
-            return Err(WorldError::Other(STOPPED.into()));
+            return Err(WorldError::Stopped);
         }
         self.world.execute(command)
     }
@@ -158,11 +156,7 @@ impl<W: World + ?Sized, S: Fn() -> bool> World for Guarded<'_, W, S> {
     }
     fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
         if (self.stop)() {
-            out.extend(
-                commands
-                    .iter()
-                    .map(|_| Err(WorldError::Other(STOPPED.into()))),
-            );
+            out.extend(commands.iter().map(|_| Err(WorldError::Stopped)));
         } else {
             self.world.execute_batch(commands, out)
         }
@@ -188,7 +182,7 @@ impl<W: World + ?Sized, S: Fn() -> bool> World for Guarded<'_, W, S> {
         command: &Command,
     ) -> Result<(Outcome, WorldState), WorldError> {
         if (self.stop)() {
-            return Err(WorldError::Other(STOPPED.into()));
+            return Err(WorldError::Stopped);
         }
         self.world.execute_from(from, command)
     }
@@ -198,7 +192,7 @@ impl<W: World + ?Sized, S: Fn() -> bool> World for Guarded<'_, W, S> {
         command: &Command,
     ) -> Result<Outcome, WorldError> {
         if (self.stop)() {
-            return Err(WorldError::Other(STOPPED.into()));
+            return Err(WorldError::Stopped);
         }
         self.world.execute_outcome_from(from, command)
     }
@@ -233,21 +227,6 @@ pub(crate) fn python_learner_name(obj: &Bound<'_, PyAny>) -> PyResult<String> {
         .getattr("name")
         .and_then(|n| n.extract())
         .unwrap_or_else(|_| "python".to_string()))
-}
-
-impl<W: ContinuousWorld + ?Sized, S: Fn() -> bool> ContinuousWorld for Guarded<'_, W, S> {
-    fn value_space(&self) -> &ValueSpace {
-        self.world.value_space()
-    }
-    fn num_effects(&self) -> usize {
-        self.world.num_effects()
-    }
-    fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
-        if (self.stop)() {
-            return Err(WorldError::Other(STOPPED.into()));
-        }
-        self.world.execute_values(values)
-    }
 }
 
 /// A learner whose trials are also handed to a Python callable,

@@ -3,15 +3,17 @@
 //! Everything is the Rust library's: scenes are parsed and checked by
 //! [`e3d::Scene`], commands executed by its worlds (multi-copy Rapier worlds
 //! in parallel, each command simulated once per [`World`] object through an
-//! [`OutcomeMemo`]), sessions run by [`e3d::run_session_into`] on the world
+//! [`OutcomeMemo`]), sessions run by [`e3d::session::run_session_into`] on the world
 //! an [`Executor`] chooses, sweeps by [`e3d::Sweep::run`]. These modules only
 //! convert: numpy arrays in and out, errors into Python exceptions with
 //! the CLI's text.
 
 mod commands;
+mod contextual;
 mod episode;
 mod episode_world;
 mod errors;
+mod held;
 mod learn_args;
 mod learner;
 mod motion;

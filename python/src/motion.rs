@@ -47,7 +47,7 @@ impl PyMotion {
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
         let m = Self::pickle_from(state)?;
         m.check_shapes(state.py())?;
-        Ok(m)
+        m.frozen(state.py())
     }
 
     /// The number of frames (the start and every step).
@@ -133,7 +133,8 @@ pub(crate) fn motion_to_py(
         bodies: m.bodies,
         joints: m.joints,
         outcome: o.into(),
-    })
+    }
+    .frozen(py)?)
 }
 
 impl PyMotion {

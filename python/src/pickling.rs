@@ -44,6 +44,18 @@ macro_rules! pickled {
 
             /// The object of a state `pickle_reduce` gave, each field's type
             /// checked.
+            /// `self` with every array it holds read-only (numpy's
+            /// `writeable` flag off, also inside its lists and dicts): a
+            /// result handed to Python cannot be changed through a getter
+            /// (`batch.metrics['normalized_entropy'][0] = 99` changed the
+            /// batch). `np.array(a)` is a writable copy.
+            #[allow(dead_code)]
+            pub(crate) fn frozen(self, py: Python<'_>) -> PyResult<Self> {
+                let (_, (state,)) = self.pickle_reduce(py)?;
+                $crate::pickling::freeze(state.as_any())?;
+                Ok(self)
+            }
+
             fn pickle_from(state: &Bound<'_, pyo3::types::PyTuple>) -> PyResult<Self> {
                 let names: &[&str] = &[$(stringify!($field)),*];
                 let mut f = $crate::pickling::Fields::of(state, $class, names.len())?;
@@ -53,6 +65,28 @@ macro_rules! pickled {
     };
 }
 pub(crate) use pickled;
+
+/// Makes every numpy array in `obj` read-only: `obj` itself, the items of
+/// a list or tuple, the values of a dict, recursively (a result's arrays,
+/// see `frozen`). Anything else is left as it is.
+pub(crate) fn freeze(obj: &Bound<'_, PyAny>) -> PyResult<()> {
+    if obj.cast::<numpy::PyUntypedArray>().is_ok() {
+        obj.call_method1("setflags", (false,))?;
+    } else if let Ok(t) = obj.cast::<PyTuple>() {
+        for item in t.iter() {
+            freeze(&item)?;
+        }
+    } else if let Ok(l) = obj.cast::<PyList>() {
+        for item in l.iter() {
+            freeze(&item)?;
+        }
+    } else if let Ok(d) = obj.cast::<PyDict>() {
+        for (_, v) in d.iter() {
+            freeze(&v)?;
+        }
+    }
+    Ok(())
+}
 
 /// Whether two values of pickled states are the same: numpy arrays of the
 /// same dtype and shape and equal values (NaN equal to NaN), dicts key by

@@ -44,13 +44,19 @@ impl Watch {
         self.done.fetch_add(n, Ordering::Relaxed);
     }
 
-    /// Sets the units done.
-    pub fn set(&self, n: u64) {
-        self.done.store(n, Ordering::Relaxed);
-    }
-
     fn total_done(&self) -> u64 {
         self.base.load(Ordering::Relaxed) + self.done.load(Ordering::Relaxed)
+    }
+
+    /// Runs `work` under the library's [`e3d::Control`] of this watch: its
+    /// progress adds to the units done, its stop is [`cancelled`](Self::cancelled).
+    pub fn control<R>(&self, work: impl FnOnce(&e3d::Control<'_>) -> R) -> R {
+        let (add, stop) = (|n| self.add(n), || self.cancelled());
+        work(&e3d::Control {
+            progress: &add,
+            stop: &stop,
+            ..e3d::Control::default()
+        })
     }
 
     /// Whether the caller asked the work to stop (Ctrl-C, or an exception

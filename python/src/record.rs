@@ -2,7 +2,8 @@
 
 use crate::pickling::{pickled, Reduced};
 use crate::scene::PyScene;
-use e3d::{Learner, Metrics, SessionRecord, ValueSessionRecord};
+use e3d::session::ValueSessionRecord;
+use e3d::{Learner, Metrics, SessionRecord};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -219,7 +220,7 @@ impl PyRecord {
     }
     #[staticmethod]
     fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        Self::pickle_from(state)
+        Self::pickle_from(state)?.frozen(state.py())
     }
 
     /// The session as a picture, for notebooks: the effect grid with each
@@ -277,7 +278,7 @@ pub(crate) fn record_to_py(
     execution: String,
 ) -> PyResult<PyRecord> {
     let effects: Vec<i64> = rows.effects.iter().map(|&e| e as i64).collect();
-    Ok(PyRecord {
+    PyRecord {
         scene: scene.inner.spec().name.clone(),
         learner: learner.to_string(),
         seed,
@@ -299,7 +300,8 @@ pub(crate) fn record_to_py(
         effect_model: rows.effect_model.map(|p| p.into_pyarray(py).unbind()),
         execution,
         grid: Grid::of(&scene.inner),
-    })
+    }
+    .frozen(py)
 }
 
 /// Sessions of one scene run together, in lockstep (`run_sessions`):
@@ -374,7 +376,7 @@ impl PyBatchRecord {
                 b.trials
             )));
         }
-        Ok(b)
+        b.frozen(py)
     }
 
     fn __len__(&self) -> usize {
@@ -444,7 +446,7 @@ impl PyBatchRecord {
         for (k, v) in self.metrics.bind(py).iter() {
             metrics.set_item(k, v.get_item(slice)?)?;
         }
-        Ok(PyBatchRecord {
+        PyBatchRecord {
             scene: self.scene.clone(),
             learner: self.learner.clone(),
             seeds: PyArray1::from_vec(py, rows.iter().map(|&k| seeds[k]).collect()).unbind(),
@@ -464,7 +466,8 @@ impl PyBatchRecord {
                 .iter()
                 .map(|&k| self.policies[k].as_ref().map(|p| p.clone_ref(py)))
                 .collect(),
-        })
+        }
+        .frozen(py)
     }
 
     /// Session `i`'s record (`__getitem__` of an integer).
@@ -499,7 +502,7 @@ impl PyBatchRecord {
         }
         let k = k as usize;
         let seed = self.seeds.bind(py).readonly().as_slice()?[k];
-        Ok(PyRecord {
+        PyRecord {
             scene: self.scene.clone(),
             learner: self.learner.clone(),
             seed,
@@ -515,7 +518,8 @@ impl PyBatchRecord {
             effect_model: None,
             execution: self.execution.clone(),
             grid: self.grid.clone(),
-        })
+        }
+        .frozen(py)
     }
 }
 
@@ -611,7 +615,7 @@ pub(crate) fn batch_to_py(
         .unbind();
     let effects = Array2::from_shape_vec((s, trials), effects).expect("S x T");
     let rewards = Array2::from_shape_vec((s, trials), rewards).expect("S x T");
-    Ok(PyBatchRecord {
+    PyBatchRecord {
         scene: scene.inner.spec().name.clone(),
         learner: learner.to_string(),
         seeds: seeds.to_vec().into_pyarray(py).unbind(),
@@ -625,7 +629,8 @@ pub(crate) fn batch_to_py(
         per_session,
         counts,
         policies,
-    })
+    }
+    .frozen(py)
 }
 
 pickled!(PyRecord, "SessionRecord" {

@@ -4,9 +4,11 @@
 //! `run_session(learner=...)` are `Learner`'s.
 
 use crate::errors::usize_arg;
-use crate::saved::{Held, PyLearnerState};
+use crate::held::Held;
+use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, target_arg};
-use e3d::{E3d, LearnerState, Params};
+use e3d::learner::{E3d, LearnerState};
+use e3d::Params;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -23,7 +25,7 @@ fn slot_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
     crate::errors::unnamed(obj.py(), "slot", usize_arg(obj, "slot", 0))
 }
 
-fn bad(e: e3d::LearnerError) -> PyErr {
+fn bad(e: e3d::learner::LearnerError) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 

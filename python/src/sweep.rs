@@ -3,8 +3,9 @@
 
 use crate::errors::{threads_arg, Fail, STOPPED};
 use crate::progress::{watched, Watch};
+use e3d::sweep::SweepError;
 use e3d::sweep::{DirOptions, Shard};
-use e3d::{Sweep, SweepError};
+use e3d::Sweep;
 use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

@@ -2,14 +2,16 @@
 //! outcome memo.
 
 use crate::commands::{commands_from, values_from};
-use crate::errors::{Fail, STOPPED};
+use crate::errors::Fail;
 use crate::motion::{motion_to_py, PyMotion};
 use crate::outcome::{PyBatch, PyOutcome};
 use crate::progress::{watched, Watch};
 use crate::scene::PyScene;
+use e3d::command::CommandSpace;
 use e3d::scene::WorldSpec;
+use e3d::world::PhysicsWorld;
 use e3d::world::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP, TABLE_COPIES};
-use e3d::{Command, CommandSpace, Outcome, PhysicsWorld, World, WorldError};
+use e3d::{Command, Outcome, World, WorldError};
 use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -158,7 +160,7 @@ impl PyWorld {
             .par_chunks(piece)
             .map(|part| {
                 if watch.is_some_and(Watch::cancelled) {
-                    return vec![Err(WorldError::Other(STOPPED.into())); part.len()];
+                    return vec![Err(WorldError::Stopped); part.len()];
                 }
                 let mut out = Vec::with_capacity(part.len());
                 match self.take_valued() {
@@ -273,7 +275,7 @@ impl PyWorld {
             .par_chunks(piece)
             .map(|part| {
                 if watch.is_some_and(Watch::cancelled) {
-                    return vec![Err(WorldError::Other(STOPPED.into())); part.len()];
+                    return vec![Err(WorldError::Stopped); part.len()];
                 }
                 let mut out = Vec::with_capacity(part.len());
                 if self.memoised() {

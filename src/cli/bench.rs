@@ -156,7 +156,7 @@ fn bench_rollouts(scene: &Scene, world: &mut dyn World, budget: Duration) -> Cli
 
 /// Rollouts per second of random commands (seed 0, uniform) on a world of
 /// one copy that keeps prefix states, as `execute` runs them (see
-/// [`PhysicsWorld::set_prefix_states`](e3d::PhysicsWorld::set_prefix_states));
+/// [`PhysicsWorld::set_prefix_states`](e3d::world::PhysicsWorld::set_prefix_states));
 /// nothing on a scene whose schedule shares no prefix.
 fn bench_prefixes(scene: &Scene, budget: Duration) -> CliResult {
     let Some(mut world) = scene.physics_world() else {

@@ -34,9 +34,8 @@ pub struct ClosedLoopArgs {
     /// Discount of Q_ref and of Q-learning, in [0, 1].
     #[arg(long, default_value_t = e3d::learner::ClosedLoopE3d::GAMMA)]
     pub gamma: f64,
-    /// Threads (default: every core).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=4096))]
-    pub threads: Option<u16>,
+    #[command(flatten)]
+    pub threads: super::session::ThreadsArg,
     /// Also write closed_loop.md and sessions.csv in this folder.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -51,7 +50,17 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
         beta: a.beta,
         ..Params::TASK2
     };
-    params.validate().map_err(CliError::input)?;
+    params
+        .validate()
+        .map_err(|e| CliError::input(format!("--{e}")))?;
+    e3d::learner::contextual::check_gamma(a.gamma)
+        .map_err(|e| CliError::input(format!("--{e}")))?;
+    e3d::experiment::closed_loop::check_scene(&scene, a.commands as usize).map_err(|e| {
+        CliError::input(
+            e.to_string()
+                .replace("commands per episode (K)", "--commands"),
+        )
+    })?;
     let cfg = ClosedLoopConfig {
         episodes: a.episodes as usize,
         seeds: a.seeds,
@@ -62,10 +71,7 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
     if let Some(out) = &a.out {
         prepare_out(out, &["closed_loop.md", "sessions.csv"], a.force)?;
     }
-    let threads = a
-        .threads
-        .map(usize::from)
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let threads = a.threads.count();
     let moves = scene.spec().num_slots() * cfg.commands;
     errln!(
         "closed-loop: {} on {}, {} sessions per arm of {} episodes of {moves} moves, {threads} thread{}",
@@ -75,10 +81,7 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
         cfg.episodes,
         if threads == 1 { "" } else { "s" }
     );
-    let sessions = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| CliError::input(format!("cannot start the threads: {e}")))?
+    let sessions = super::session::ThreadsArg::pool_of(threads)?
         .install(|| run_comparison(&scene, &cfg))
         .map_err(CliError::input)?;
     let md = markdown(&sessions, &cfg, moves);

@@ -28,9 +28,8 @@ pub struct CompareArgs {
     /// two_rooms, puck_rooms, arm7, maze3).
     #[arg(long, value_delimiter = ',', value_name = "NAMES")]
     pub scenes: Vec<String>,
-    /// Threads (default: every core).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=4096))]
-    pub threads: Option<u16>,
+    #[command(flatten)]
+    pub threads: super::session::ThreadsArg,
     /// Replace the files of an earlier comparison in --out.
     #[arg(long)]
     pub force: bool,
@@ -38,25 +37,27 @@ pub struct CompareArgs {
 
 pub fn run(a: CompareArgs) -> CliResult {
     let names: Vec<&str> = a.scenes.iter().map(String::as_str).collect();
+    check_scene_names(&names)?;
     let files = ["drives.md", "drives.csv", "drives.svg", "results.csv"];
     prepare_out(&a.out, &files, a.force)?;
     let sweep = drives_sweep(a.sessions as usize, a.trials as usize, &names)
-        .map_err(sweep_error)?
+        .map_err(|e| {
+            // the sweep is built from the flags: speak of them, not of a
+            // `<SweepSpec>` the user never wrote
+            let mut e = sweep_error(e);
+            e.message = e
+                .message
+                .replace("<SweepSpec>: field `scenes`", "--scenes")
+                .replace("<SweepSpec>: field `sessions`", "--sessions")
+                .replace("<SweepSpec>: field `trials`", "--trials")
+                .replace("<SweepSpec>", "compare");
+            e
+        })?
         .with_notices(|line| errln!("outcomes: {line}"));
-    let threads = a
-        .threads
-        .map(usize::from)
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let (threads, capped) = e3d::sweep::cap_threads(threads);
-    if let Some(w) = capped {
-        errln!("warning: {w}");
-    }
+    let threads = a.threads.count();
     // the reachable cells of each scene, from its outcome table: the
     // reference of the coverage measures
-    let sweep = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| super::CliError::input(format!("cannot start the threads: {e}")))?
+    let sweep = super::session::ThreadsArg::pool_of(threads)?
         .install(|| with_reachable_cells(sweep, None))
         .map_err(sweep_error)?;
     let total = sweep.num_sessions() as u64 * a.trials;
@@ -98,5 +99,26 @@ pub fn run(a: CompareArgs) -> CliResult {
         a.out.display(),
         start.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+/// `--scenes` as the user wrote them: each named once, none empty
+/// (checked before any folder is made).
+fn check_scene_names(names: &[&str]) -> CliResult {
+    let mut seen = std::collections::HashSet::new();
+    for n in names {
+        if n.trim().is_empty() {
+            return Err(super::CliError::input(format!(
+                "--scenes {}: an empty scene name; expected comma-separated scene names or files",
+                names.join(",")
+            )));
+        }
+        if !seen.insert(*n) {
+            return Err(super::CliError::input(format!(
+                "--scenes {}: `{n}` is listed twice; expected each scene once",
+                names.join(",")
+            )));
+        }
+    }
     Ok(())
 }

@@ -6,8 +6,9 @@ use super::output::write_file;
 use super::session::{join_trials, print_header, print_metrics, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
+use e3d::session::ValueSessionRecord;
 use e3d::world::ContinuousScene;
-use e3d::{run_value_sessions, Metrics, Params, Scene, SessionConfig, Target, ValueSessionRecord};
+use e3d::{run_sessions, Control, Metrics, Params, Scene, SessionConfig, Target};
 use serde::Serialize;
 
 /// What `summary.json` holds for a run of continuous commands.
@@ -53,7 +54,7 @@ pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u6
             scene.spec().name
         )));
     }
-    if matches!(a.memo.outcomes.0, Some(s) if s != e3d::Strategy::Live) {
+    if matches!(a.memo.outcomes.0, Some(s) if s != e3d::world::Strategy::Live) {
         return Err(CliError::input(format!(
             "--outcomes: scene `{}` takes continuous commands, which run live only (no table, no memo)",
             scene.spec().name
@@ -67,17 +68,22 @@ pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u6
             .make_continuous(&params, space, num_effects, &target)
             .map_err(CliError::input)
     };
-    let sessions: Vec<_> = seeds
+    let configs: Vec<SessionConfig> = seeds
         .iter()
-        .map(|&seed| {
-            let config = SessionConfig {
-                trials: a.trials as usize,
-                seed,
-                use_reward: !a.no_reward,
-            };
-            Ok((config, make()?))
+        .map(|&seed| SessionConfig {
+            trials: a.trials as usize,
+            seed,
+            use_reward: !a.no_reward,
         })
-        .collect::<Result<_, CliError>>()?;
+        .collect();
+    let mut learners = configs
+        .iter()
+        .map(|_| make())
+        .collect::<Result<Vec<_>, CliError>>()?;
+    let mut records: Vec<ValueSessionRecord> = configs
+        .iter()
+        .map(|c| ValueSessionRecord::new(space.num_slots(), num_effects, c.trials))
+        .collect();
     let num_sessions = seeds.len();
     let steps = scene.spec().steps_per_command().unwrap_or(0) as u64;
     let threads = rayon::current_num_threads();
@@ -97,11 +103,15 @@ pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u6
     );
     let label = format!("run {}", scene.spec().name);
     let total = a.trials.saturating_mul(num_sessions as u64);
-    let records = super::progress::track(&label, "trials", total, |p| {
+    let status = super::progress::track(&label, "trials", total, |p| {
         let add = |k: u64| p.add(k);
-        run_value_sessions(&exec, sessions, &add)
-    })
-    .map_err(CliError::simulation)?;
+        let control = Control::default().with_progress(&add);
+        run_sessions(&exec, &mut learners, &configs, &mut records, &control)
+    });
+    for ((st, rec), learner) in status.into_iter().zip(&mut records).zip(&learners) {
+        st.map_err(CliError::simulation)?;
+        rec.set_policy(learner);
+    }
     let metrics: Vec<Metrics> = records.iter().map(|r| r.metrics(&target)).collect();
     print_header(a, &scene.spec().name, " (continuous)", &params, seeds);
     print_metrics(&metrics, seeds, num_effects);
@@ -121,7 +131,7 @@ fn write_out(
     seeds: &[u64],
     records: &[ValueSessionRecord],
     metrics: &[Metrics],
-    space: &e3d::ValueSpace,
+    space: &e3d::command::ValueSpace,
 ) -> CliResult {
     let several = records.len() > 1;
     let csv = dir.join("trials.csv");

@@ -4,12 +4,12 @@ use super::output::{prepare_out, write_file};
 use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCsv};
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
+use e3d::command::CommandSpace;
 use e3d::report::run_scene::SceneRecord;
+use e3d::session::{policy_effect_distribution, RunningMetrics};
+use e3d::world::ExecutionPlan;
 use e3d::world::{Executor, Workload, WorldError};
-use e3d::{
-    policy_effect_distribution, run_sessions, CommandSpace, ExecutionPlan, Metrics, Params,
-    RunningMetrics, Scene, SessionConfig, Target,
-};
+use e3d::{run_sessions, Control, Metrics, Params, Scene, SessionConfig, Target};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -59,6 +59,12 @@ struct OneSession<'a> {
 }
 
 pub fn run(a: RunArgs) -> CliResult {
+    let threads = a.threads;
+    threads.install(|| run_here(a))
+}
+
+/// [`run`] on the current thread pool.
+fn run_here(a: RunArgs) -> CliResult {
     if let Some(dir) = &a.table_cache {
         super::output::check_cache_folder(dir, "--table-cache")?;
     }
@@ -104,9 +110,9 @@ pub fn run(a: RunArgs) -> CliResult {
     let label = format!("run {}", scene.spec().name);
     let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
     let status = super::progress::track(&label, "trials", work.trials, |p| {
-        run_sessions(&exec, &mut learners, &configs, &mut recorders, &|t| {
-            p.add(t)
-        })
+        let add = |t| p.add(t);
+        let control = Control::default().with_progress(&add);
+        run_sessions(&exec, &mut learners, &configs, &mut recorders, &control)
     });
     if let Some(line) = exec.finish() {
         errln!("outcomes: {line}");
@@ -148,10 +154,13 @@ fn executor<'s>(a: &RunArgs, scene: &'s Scene, work: &Workload) -> Result<Execut
         "commands",
         0,
         |p| {
-            Executor::with_progress(scene, work, &options, &|k, total| {
-                p.set_total(total);
-                p.add(k);
-            })
+            let (add, total) = (|k| p.add(k), |n| p.set_total(n));
+            let control = Control {
+                progress: &add,
+                total: &total,
+                ..Control::default()
+            };
+            Executor::with_control(scene, work, &options, &control)
         },
     )
     .map_err(CliError::simulation)?;

@@ -5,8 +5,9 @@
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
+use e3d::command::CommandSpace;
 use e3d::world::{ExecOptions, Strategy};
-use e3d::{Command, CommandSpace, LearnerKind, Metrics, Outcome, Params, Recorder};
+use e3d::{Command, LearnerKind, Metrics, Outcome, Params, Recorder};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `e3d run`.
@@ -67,6 +68,8 @@ pub struct RunArgs {
     /// Q-learning over whole commands.
     #[arg(long)]
     pub closed_loop: bool,
+    #[command(flatten)]
+    pub threads: ThreadsArg,
     /// Discount of closed-loop E3D's Q_ref and of Q-learning, in [0, 1]
     /// (with --closed-loop only: the open loop has no discount).
     #[arg(long, default_value_t = e3d::learner::ClosedLoopE3d::GAMMA, requires = "closed_loop")]
@@ -382,5 +385,51 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
             mean(&|m| m.coverage),
             mean(&|m| m.cumulative_reward)
         );
+    }
+}
+
+/// `--threads N`: the threads a command runs on, shared by `run`,
+/// `sweep`, `compare` and `closed-loop`.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct ThreadsArg {
+    /// Threads (default: every core).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=4096))]
+    pub threads: Option<u16>,
+}
+
+impl ThreadsArg {
+    /// `--threads`, or the threads of rayon's global pool (the cores, or
+    /// `RAYON_NUM_THREADS`), capped (with a warning) at
+    /// [`e3d::sweep::max_threads`].
+    pub fn count(&self) -> usize {
+        let threads = self
+            .threads
+            .map(usize::from)
+            .unwrap_or_else(rayon::current_num_threads);
+        let (threads, capped) = e3d::sweep::cap_threads(threads);
+        if let Some(w) = capped {
+            errln!("warning: {w}");
+        }
+        threads
+    }
+
+    /// Runs `work` on a pool of `--threads` threads (capped), or on
+    /// rayon's global pool without the flag.
+    pub fn install<R: Send>(
+        &self,
+        work: impl FnOnce() -> Result<R, CliError> + Send,
+    ) -> Result<R, CliError> {
+        match self.threads {
+            None => work(),
+            Some(_) => Self::pool_of(self.count())?.install(work),
+        }
+    }
+
+    /// A pool of `threads` threads.
+    pub fn pool_of(threads: usize) -> Result<rayon::ThreadPool, CliError> {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| CliError::input(format!("cannot start the threads: {e}")))
     }
 }

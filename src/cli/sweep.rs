@@ -16,9 +16,8 @@ pub struct SweepArgs {
     /// journal.txt.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// Threads (default: every core).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=4096))]
-    pub threads: Option<u16>,
+    #[command(flatten)]
+    pub threads: super::session::ThreadsArg,
     /// Complete the sweep that --out holds (only the missing sessions run).
     #[arg(long)]
     pub resume: bool,
@@ -60,7 +59,7 @@ pub fn run(a: SweepArgs) -> CliResult {
         super::output::check_cache_folder(dir, "--table-cache")?;
     }
     let sweep = configured(&a)?;
-    let threads = threads(&a);
+    let threads = a.threads.count();
     let shard = a.shard.unwrap_or(Shard::ALL);
     let plan = plan_line(&a, &sweep, shard, threads);
     // one run at a time in a folder: two would both do all the work
@@ -130,21 +129,6 @@ fn configured(a: &SweepArgs) -> Result<Sweep, CliError> {
         .map_err(|e| CliError::input(format!("--outcomes: {e}")))?
         .with_notices(|line| errln!("outcomes: {line}"));
     Ok(sweep)
-}
-
-/// The threads to run on: `--threads` or the cores, capped (with a
-/// warning) at [`e3d::sweep::max_threads`].
-fn threads(a: &SweepArgs) -> usize {
-    let threads = a.threads.map(usize::from).unwrap_or_else(|| {
-        std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(1)
-    });
-    let (threads, capped) = e3d::sweep::cap_threads(threads);
-    if let Some(w) = capped {
-        errln!("warning: {w}");
-    }
-    threads
 }
 
 /// The line that tells the plan: cells, sessions, trials, episodes,
@@ -241,10 +225,10 @@ fn lock_out(dir: &std::path::Path) -> Result<Option<e3d::io::DirLock>, CliError>
             "{}: in use by {e}, which is running a sweep into it; wait for it to end or choose another --out",
             dir.display()
         ))),
+        // the error names the lock file
         Err(e) => Err(CliError::output(format!(
-            "{}: cannot take the lock {}: {e}",
-            dir.display(),
-            dir.join(e3d::io::LOCK_FILE).display()
+            "{}: cannot take the lock: {e}",
+            dir.display()
         ))),
     }
 }

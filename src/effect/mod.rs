@@ -24,7 +24,7 @@ pub const P_FLOOR: f64 = 1e-300;
 /// with row 0 at the top (largest y) and column 0 at the left.
 ///
 /// ```
-/// use e3d::EffectGrid;
+/// use e3d::effect::EffectGrid;
 /// // arm7's grid: 15 x 15 cells of 0.25 m over [-1.875, 1.875]^2
 /// let g = EffectGrid::new(15, 15, [-1.875, -1.875], [1.875, 1.875]).unwrap();
 /// assert_eq!(g.effect_of([1.75, 0.0]), 119);
@@ -82,6 +82,11 @@ pub enum EffectError {
         /// The upper-right corner given.
         max: [f64; 2],
     },
+    /// Bins of an axis whose width overflows (a range from -1.7e308 to
+    /// 1.7e308) or is too small to tell their edges apart (a range of
+    /// 5e-324): see [`check_bins`].
+    #[error("{0}")]
+    Bins(String),
     /// An effect model over no effects.
     #[error("there must be at least one effect")]
     NoEffects,
@@ -170,6 +175,10 @@ impl EffectGrid {
                 max: self.max,
             });
         }
+        check_bins(cols, self.min[0], self.max[0])
+            .map_err(|e| EffectError::Bins(format!("columns: {e}")))?;
+        check_bins(rows, self.min[1], self.max[1])
+            .map_err(|e| EffectError::Bins(format!("rows: {e}")))?;
         Ok(())
     }
 
@@ -288,7 +297,7 @@ pub(crate) fn log_floored(p: f64) -> f64 {
 /// `scale` falls below 1e-150, which keeps every value in range.
 ///
 /// ```
-/// use e3d::EffectModel;
+/// use e3d::effect::EffectModel;
 /// let mut p = EffectModel::new(4, 0.5).unwrap();
 /// p.observe(2);
 /// assert!((p.prob(2) - 0.625).abs() < 1e-15);
@@ -326,7 +335,7 @@ impl EffectModel {
     /// 1e-9, one per effect) with rate `eta`.
     ///
     /// ```
-    /// use e3d::EffectModel;
+    /// use e3d::effect::EffectModel;
     /// let p = EffectModel::from_probs(&[0.25, 0.75], 0.1).unwrap();
     /// assert_eq!(p.probs(), [0.25, 0.75]);
     /// assert!(EffectModel::from_probs(&[0.5, 0.6], 0.1).is_err());
@@ -471,6 +480,46 @@ pub fn kl_divergence(weights: &[f64], log_target: &[f64]) -> f64 {
             q * (q.ln() - lt)
         })
         .sum()
+}
+
+/// Checks `n` equal bins over `[min, max]`, the one check of every binned
+/// axis (an effect grid's rows and columns, a `Joint` or `Angle`
+/// feature's `range`): finite ends with `min < max`, a finite width
+/// `max - min` (`(-1.7e308, 1.7e308)` overflows to infinity), and bins
+/// wide enough that their edges differ: each bin at least 2^-40 of the
+/// ends' magnitude and a normal number (`(0, 5e-324)` over 3 bins made
+/// bins of width 0). Returns a bin's width, or what was expected.
+///
+/// ```
+/// use e3d::effect::check_bins;
+/// assert_eq!(check_bins(4, 0.0, 2.0), Ok(0.5));
+/// assert!(check_bins(3, -1.7e308, 1.7e308).unwrap_err().contains("finite width"));
+/// assert!(check_bins(3, 0.0, 5e-324).unwrap_err().contains("too narrow"));
+/// assert!(check_bins(0, 0.0, 1.0).is_err());
+/// ```
+pub fn check_bins(n: usize, min: f64, max: f64) -> Result<f64, String> {
+    if n == 0 {
+        return Err("at least one bin, found 0".into());
+    }
+    if !(min.is_finite() && max.is_finite() && min < max) {
+        return Err(format!(
+            "finite ends with min < max, found ({min:e}, {max:e})"
+        ));
+    }
+    let width = max - min;
+    if !width.is_finite() {
+        return Err(format!(
+            "a range of finite width (max - min), found ({min:e}, {max:e}), whose width overflows to infinity"
+        ));
+    }
+    let bin = width / n as f64;
+    let scale = min.abs().max(max.abs());
+    if !(bin >= f64::MIN_POSITIVE && bin >= scale * (-40f64).exp2()) {
+        return Err(format!(
+            "bins wide enough to tell apart (each at least 2^-40 of the range's ends and 2.2e-308), found {n} bin(s) over ({min:e}, {max:e}): too narrow, each {bin:e} wide"
+        ));
+    }
+    Ok(bin)
 }
 
 #[cfg(test)]

@@ -82,6 +82,9 @@ pub enum ClosedLoopError {
     /// Not a grid scene of repeated one-alphabet slots.
     #[error("scene `{0}`: a closed-loop comparison takes a Grid scene whose command is `Repeat`")]
     Scene(String),
+    /// The scene and the settings do not fit ([`check_scene`]).
+    #[error("{0}")]
+    Setup(String),
     /// A learner could not be made.
     #[error(transparent)]
     Learner(#[from] LearnerError),
@@ -91,6 +94,39 @@ pub enum ClosedLoopError {
     /// The scene of the long command is invalid.
     #[error(transparent)]
     Long(#[from] crate::SceneError),
+}
+
+/// Checks that `scene` can be compared with `commands` commands per
+/// episode, before any work: a Grid scene whose command is `Repeat`,
+/// without start contexts (the closed-loop arms observe the current cell
+/// from the scene's one start), whose open-loop command of `commands`
+/// times its moves fits in [`MAX_SLOTS`](crate::command::MAX_SLOTS)
+/// slots. The error names the scene and what was expected.
+pub fn check_scene(scene: &Scene, commands: usize) -> Result<(), ClosedLoopError> {
+    let name = crate::text::echo(&scene.spec().name);
+    let WorldSpec::Grid(g) = &scene.spec().world else {
+        return Err(ClosedLoopError::Scene(name));
+    };
+    if !matches!(scene.spec().command, CommandSpec::Repeat { .. }) {
+        return Err(ClosedLoopError::Scene(name));
+    }
+    if !g.contexts.is_empty() {
+        return Err(ClosedLoopError::Setup(format!(
+            "scene `{name}` has {} start contexts (`{}`...); a closed-loop comparison observes the current cell from the scene's one start: expected a Grid scene without `contexts`",
+            g.contexts.len(),
+            crate::text::echo(&g.contexts[0].name)
+        )));
+    }
+    let n = scene.spec().num_slots();
+    let max = crate::command::MAX_SLOTS;
+    if n.saturating_mul(commands) > max {
+        return Err(ClosedLoopError::Setup(format!(
+            "commands per episode (K) = {commands}: the open-loop arms take one command of {commands} x {n} moves = {}, but a command has at most {max} slots; expected at most {} on scene `{name}`",
+            n.saturating_mul(commands),
+            max / n.max(1)
+        )));
+    }
+    Ok(())
 }
 
 /// The scene with `n` moves per command instead of its own.
@@ -186,6 +222,7 @@ pub fn run_comparison(
     scene: &Scene,
     cfg: &ClosedLoopConfig,
 ) -> Result<Vec<ArmSession>, ClosedLoopError> {
+    check_scene(scene, cfg.commands)?;
     let jobs: Vec<(&'static str, u64)> = ARMS
         .iter()
         .flat_map(|&a| (0..cfg.seeds).map(move |s| (a, s)))

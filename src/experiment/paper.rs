@@ -16,10 +16,9 @@ use crate::learner::{LearnerKind, Params};
 use crate::scene::Scene;
 use crate::scene::WorldSpec;
 use crate::session::{
-    policy_effect_distribution, run_session_with, Metrics, SessionConfig, SessionRecord,
+    policy_effect_distribution, run_sessions, Control, Metrics, SessionConfig, SessionRecord,
 };
 use crate::world::{GridSpec, OutcomeTable};
-use rayon::prelude::*;
 
 /// The settings of a reproduction.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -115,7 +114,7 @@ pub struct PaperResults {
 }
 
 /// Runs the paper's experiment. `progress` is called (from worker threads)
-/// with the number of trials just run, every 256 trials of a session and
+/// with the number of trials just run, every 64 trials of a session and
 /// at its end: the counts add up to `4 x sessions x trials`.
 pub fn run_paper(config: PaperConfig, progress: &(dyn Fn(u64) + Sync)) -> PaperResults {
     let scene = Scene::builtin("two_rooms").expect("two_rooms is built in");
@@ -125,26 +124,36 @@ pub fn run_paper(config: PaperConfig, progress: &(dyn Fn(u64) + Sync)) -> PaperR
     let jobs: Vec<(usize, usize)> = (0..ARMS.len())
         .flat_map(|a| (0..config.sessions).map(move |s| (a, s)))
         .collect();
-    let done: Vec<(SessionRecord, Vec<f64>)> = jobs
-        .par_iter()
-        .map(|&(a, s)| {
+    let mut learners: Vec<_> = jobs
+        .iter()
+        .map(|&(a, _)| {
             let arm = &ARMS[a];
-            let mut learner = arm
-                .learner
+            arm.learner
                 .make(&arm.params, &space, n_eff, &Target::Uniform)
-                .expect("the paper's parameters are valid");
-            let cfg = SessionConfig {
-                trials: config.trials,
-                seed: config.seed.wrapping_add(s as u64),
-                use_reward: arm.task == 2,
-            };
-            let mut reported = 0;
-            let rec = run_session_with(&mut &table, &mut learner, &cfg, |t| {
-                progress((t - reported) as u64);
-                reported = t;
-            })
-            .expect("the grid cannot fail");
-            let exact = policy_effect_distribution(&table, &*learner)
+                .expect("the paper's parameters are valid")
+        })
+        .collect();
+    let configs: Vec<SessionConfig> = jobs
+        .iter()
+        .map(|&(a, s)| SessionConfig {
+            trials: config.trials,
+            seed: config.seed.wrapping_add(s as u64),
+            use_reward: ARMS[a].task == 2,
+        })
+        .collect();
+    let mut records: Vec<SessionRecord> = configs
+        .iter()
+        .map(|c| SessionRecord::new(&table, c.trials))
+        .collect();
+    let control = Control::default().with_progress(progress);
+    for status in run_sessions(&table, &mut learners, &configs, &mut records, &control) {
+        status.expect("the grid cannot fail");
+    }
+    let done: Vec<(SessionRecord, Vec<f64>)> = records
+        .into_iter()
+        .zip(&learners)
+        .map(|(rec, learner)| {
+            let exact = policy_effect_distribution(&table, &**learner)
                 .expect("shipped learners have per-slot policies");
             (rec, exact)
         })

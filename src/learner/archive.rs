@@ -149,7 +149,8 @@ impl<G: Genome> Core<G> {
 /// ```
 /// use e3d::learner::Archive;
 /// use e3d::rand::SeedableRng;
-/// use e3d::{Command, CommandSpace, Learner, Outcome, Params, SessionRng};
+/// use e3d::{Command, Learner, Outcome, Params, SessionRng};
+/// use e3d::command::CommandSpace;
 /// let space = CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
 /// let mut a = Archive::new(&space, 5, &Params::TASK1);
 /// let mut rng = SessionRng::seed_from_u64(0);

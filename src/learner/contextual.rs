@@ -436,7 +436,8 @@ impl LearnerKind {
     ///
     /// ```
     /// use e3d::learner::{ContextTargets, ContextualLearner};
-    /// use e3d::{CommandSpace, LearnerKind, Params, Target};
+    /// use e3d::{LearnerKind, Params, Target};
+    /// use e3d::command::CommandSpace;
     /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
     /// let shared = ContextTargets::Shared(Target::Uniform);
     /// let l = LearnerKind::E3d.make_contextual(&Params::TASK1, &space, 4, 3, &shared).unwrap();
@@ -470,7 +471,8 @@ impl LearnerKind {
     ///
     /// ```
     /// use e3d::learner::{ContextTargets, ContextualLearner};
-    /// use e3d::{CommandSpace, LearnerKind, Params, Target};
+    /// use e3d::{LearnerKind, Params, Target};
+    /// use e3d::command::CommandSpace;
     /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
     /// let shared = ContextTargets::Shared(Target::Uniform);
     /// let l = LearnerKind::Egreedy

@@ -25,7 +25,8 @@ use crate::world::Outcome;
 ///
 /// ```
 /// use e3d::learner::CountBonus;
-/// use e3d::{Command, CommandSpace, Learner, Outcome, Params};
+/// use e3d::{Command, Learner, Outcome, Params};
+/// use e3d::command::CommandSpace;
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// let mut l = CountBonus::new(&space, 3, &Params::TASK1);
 /// let c = Command::new(vec![0, 1]);

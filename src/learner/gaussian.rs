@@ -82,7 +82,9 @@ pub(crate) fn normal(rng: &mut SessionRng) -> f64 {
 /// coordinates.
 ///
 /// ```
-/// use e3d::{ContinuousLearner, GaussianE3d, Outcome, Params, SessionRng, Target, ValueSpace};
+/// use e3d::{ContinuousLearner, Outcome, Params, SessionRng, Target};
+/// use e3d::command::ValueSpace;
+/// use e3d::learner::GaussianE3d;
 /// use rand::SeedableRng;
 /// let space = ValueSpace::new(vec![(-1.8, 1.8); 2]).unwrap();
 /// let mut l = GaussianE3d::new(&space, 4, &Params::TASK1, &Target::Uniform).unwrap();
@@ -202,7 +204,9 @@ impl ContinuousLearner for GaussianE3d {
 /// uniformly in its range, independently; learns nothing.
 ///
 /// ```
-/// use e3d::{ContinuousLearner, SessionRng, UniformValues, ValueSpace};
+/// use e3d::{ContinuousLearner, SessionRng};
+/// use e3d::command::ValueSpace;
+/// use e3d::learner::UniformValues;
 /// use rand::SeedableRng;
 /// let space = ValueSpace::new(vec![(0.0, 2.0), (-1.0, 1.0)]).unwrap();
 /// let mut l = UniformValues::new(&space);

@@ -239,7 +239,8 @@ impl<G: Genome> Core<G> {
 /// ```
 /// use e3d::learner::GoalBabbling;
 /// use e3d::rand::SeedableRng;
-/// use e3d::{Command, CommandSpace, Learner, Outcome, Params, SessionRng};
+/// use e3d::{Command, Learner, Outcome, Params, SessionRng};
+/// use e3d::command::CommandSpace;
 /// let space = CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
 /// let mut g = GoalBabbling::new(&space, 4, &Params::TASK1);
 /// g.learn(&Command::new(vec![0, 0, 0]), &Outcome { effect: 1, reward: 0.0, point: [0.0, 0.0] });

@@ -158,7 +158,7 @@ impl<L: ContinuousLearner + ?Sized> ContinuousLearner for Box<L> {
 
 /// A hyper-parameter out of its range.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{name} = {value}: expected {expected}")]
+#[error("{name} = {}: expected {expected}", crate::text::show_number(*value))]
 pub struct ParamError {
     /// The parameter (`alpha`, `beta`, ...).
     pub name: &'static str,
@@ -172,7 +172,9 @@ pub struct ParamError {
 /// [`E3d::new`]): the error of the part at fault, whose message it shows.
 ///
 /// ```
-/// use e3d::{CommandSpace, LearnerError, LearnerKind, Params, Target};
+/// use e3d::{LearnerKind, Params, Target};
+/// use e3d::command::CommandSpace;
+/// use e3d::learner::LearnerError;
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// let bad = Params { eta: 1.5, ..Params::TASK1 };
 /// let e = LearnerKind::E3d.make(&bad, &space, 4, &Target::Uniform).err().unwrap();
@@ -298,6 +300,14 @@ impl Params {
         "rarity",
         "goal_progress",
     ];
+
+    /// The hyper-parameters a sweep spans by axes of values (the first
+    /// five of [`NAMES`](Self::NAMES)), in the order of its columns.
+    pub const SWEPT: [&'static str; 5] = ["alpha", "beta", "lambda", "eta", "epsilon"];
+
+    /// The hyper-parameters a sweep sets once for all its cells (the last
+    /// four of [`NAMES`](Self::NAMES)).
+    pub const FIXED: [&'static str; 4] = ["k", "sigma", "rarity", "goal_progress"];
 
     /// Each hyper-parameter by name, in the order of [`NAMES`](Self::NAMES)
     /// (`k` as a float).
@@ -495,7 +505,9 @@ impl LearnerKind {
     /// [`LearnerError::NotContinuous`].
     ///
     /// ```
-    /// use e3d::{LearnerError, LearnerKind, Params, Target, ValueSpace};
+    /// use e3d::{LearnerKind, Params, Target};
+    /// use e3d::command::ValueSpace;
+    /// use e3d::learner::LearnerError;
     /// let space = ValueSpace::new(vec![(-1.0, 1.0); 3]).unwrap();
     /// let l = LearnerKind::E3d.make_continuous(&Params::TASK1, &space, 9, &Target::Uniform).unwrap();
     /// assert_eq!(l.name(), "e3d");
@@ -537,7 +549,8 @@ impl fmt::Display for LearnerKind {
 /// message names the built-in learners.
 ///
 /// ```
-/// use e3d::{LearnerKind, ParseLearnerError};
+/// use e3d::LearnerKind;
+/// use e3d::learner::ParseLearnerError;
 /// let e: ParseLearnerError = "e3d-relax".parse::<LearnerKind>().unwrap_err();
 /// assert_eq!(e.input(), "e3d-relax");
 /// assert!(e.to_string().starts_with("unknown learner `e3d-relax`; expected one of: e3d, "));

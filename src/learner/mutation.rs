@@ -64,7 +64,7 @@ pub fn mutate_symbols(
 /// ```
 /// use e3d::learner::mutation::mutate_values;
 /// use e3d::rand::SeedableRng;
-/// use e3d::ValueSpace;
+/// use e3d::command::ValueSpace;
 /// let space = ValueSpace::new(vec![(0.0, 2.0); 3]).unwrap();
 /// let mut v = vec![1.0, 0.0, 2.0];
 /// mutate_values(&space, 0.1, &mut e3d::SessionRng::seed_from_u64(1), &mut v);

@@ -43,7 +43,8 @@ use crate::world::Outcome;
 ///
 /// ```
 /// use e3d::learner::RelaxedE3d;
-/// use e3d::{Command, CommandSpace, Learner, Outcome, Params, Target};
+/// use e3d::{Command, Learner, Outcome, Params, Target};
+/// use e3d::command::CommandSpace;
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// let mut l = RelaxedE3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
 /// l.learn(&Command::new(vec![0, 1]), &Outcome { effect: 2, reward: 0.0, point: [0.0; 2] });

@@ -33,7 +33,8 @@ use rand::RngExt;
 ///
 /// ```
 /// use e3d::learner::StateMarginalMatching;
-/// use e3d::{Command, CommandSpace, Learner, Outcome, Params, Target};
+/// use e3d::{Command, Learner, Outcome, Params, Target};
+/// use e3d::command::CommandSpace;
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// let mut l = StateMarginalMatching::new(&space, 4, &Params::TASK1, &Target::Uniform).unwrap();
 /// l.learn(&Command::new(vec![0, 1]), &Outcome { effect: 3, reward: 0.0, point: [0.0; 2] });

@@ -147,6 +147,16 @@ impl StateField for SoftmaxSlots {
             alpha_over_beta: r.get()?,
         };
         check_offsets(r, &s.offsets, s.q.len())?;
+        crate::learner::state::check_rates(
+            r,
+            &[
+                ("1 - alpha lambda", s.decay),
+                ("alpha lambda", s.alpha_lambda),
+                ("alpha / beta", s.alpha_over_beta),
+            ],
+            s.beta,
+        )?;
+        crate::learner::state::check_finite(r, "q", &s.q)?;
         Ok(s)
     }
 }

@@ -6,13 +6,20 @@
 //! [`StateReader`]; [`LearnerState::to_bytes`] and
 //! [`LearnerState::from_bytes`] frame them. The bytes are:
 //!
-//! - the header `E3D-LEARNER-STATE 1\n` (the number is the format's version);
+//! - the header `E3D-LEARNER-STATE 2\n` (the number is the format's version);
 //! - the learner's kind ([`LearnerState::KIND`], e.g. `"e3d"`, `"count"`),
 //!   as a string;
 //! - its fields ([`StateField`]): a float is the 8 little-endian bytes of
 //!   its bits (so every value, NaN payloads included, comes back exact), an
 //!   integer 8 little-endian bytes (`u64`), a character its code point
-//!   (4 bytes), a string or a sequence its length (8 bytes) then its items.
+//!   (4 bytes), a string or a sequence its length (8 bytes) then its items;
+//! - the FNV-1a checksum (64 bits, little-endian) of every byte before it.
+//!
+//! A state is checked when it is read: its checksum (a state of version 1,
+//! written before the checksum, still loads without it; any other version
+//! is refused by its number), no NaN anywhere, and each learner's rates
+//! and tables finite and in range (a NaN learning rate or a NaN `Q` made a
+//! learner that proposed nonsense without a word).
 //!
 //! A learner read back proposes and learns exactly as the saved one would:
 //! given the same generator, the same draws and the same bits of every
@@ -22,7 +29,9 @@
 //!
 //! ```
 //! use e3d::learner::CountBonus;
-//! use e3d::{CommandSpace, Learner, LearnerState, Outcome, Params, SessionRng};
+//! use e3d::{Learner, Outcome, Params, SessionRng};
+//! use e3d::command::CommandSpace;
+//! use e3d::learner::LearnerState;
 //! use rand::SeedableRng;
 //! let space = CommandSpace::repeat(3, &['a', 'b']).unwrap();
 //! let mut l = CountBonus::new(&space, 4, &Params::TASK1);
@@ -34,7 +43,7 @@
 //! let saved = l.to_bytes();
 //! let back = CountBonus::from_bytes(&saved).unwrap();
 //! assert_eq!(back.to_bytes(), saved);
-//! assert!(e3d::E3d::from_bytes(&saved).is_err()); // a count learner's state
+//! assert!(e3d::learner::E3d::from_bytes(&saved).is_err()); // a count learner's state
 //! ```
 
 use super::LearnerError;
@@ -46,7 +55,78 @@ pub mod tables;
 
 /// The first bytes of every learner's saved state (the format's version
 /// is the number).
-pub const STATE_HEADER: &[u8] = b"E3D-LEARNER-STATE 1\n";
+pub const STATE_HEADER: &[u8] = b"E3D-LEARNER-STATE 2\n";
+
+/// The header of the states written before the checksum (version 1):
+/// read without one.
+pub const STATE_HEADER_V1: &[u8] = b"E3D-LEARNER-STATE 1\n";
+
+/// The bytes of a state past its header (of version 1 or 2), checksum
+/// neither checked nor removed: enough to read the kind it starts with.
+fn state_start(bytes: &[u8]) -> Result<&[u8], LearnerError> {
+    if let Some(rest) = bytes
+        .strip_prefix(STATE_HEADER)
+        .or_else(|| bytes.strip_prefix(STATE_HEADER_V1))
+    {
+        return Ok(rest);
+    }
+    state_body(bytes)
+}
+
+/// The bytes of a state past its header, checksum checked and removed
+/// (version 2), as they are (version 1); the error of bytes of another
+/// version (named) or not a state at all.
+fn state_body(bytes: &[u8]) -> Result<&[u8], LearnerError> {
+    if let Some(rest) = bytes.strip_prefix(STATE_HEADER_V1) {
+        return Ok(rest);
+    }
+    let Some(rest) = bytes.strip_prefix(STATE_HEADER) else {
+        let prefix = b"E3D-LEARNER-STATE ";
+        if let Some(v) = bytes.strip_prefix(&prefix[..]) {
+            let end = v
+                .iter()
+                .position(|&b| b == b'\n')
+                .unwrap_or(v.len())
+                .min(20);
+            return Err(LearnerError::State(format!(
+                "a learner's state of version {}, which this e3d cannot read (it reads versions 1 and 2)",
+                crate::text::echo(&String::from_utf8_lossy(&v[..end]))
+            )));
+        }
+        return Err(no_header());
+    };
+    if rest.len() < 8 {
+        return Err(LearnerError::State(
+            "a learner's state (version 2) cut before its checksum".into(),
+        ));
+    }
+    let (body, sum) = rest.split_at(rest.len() - 8);
+    let want = u64::from_le_bytes(sum.try_into().expect("8 bytes"));
+    let got = crate::hash::fnv1a64(&bytes[..bytes.len() - 8]);
+    if want != got {
+        // a whole state followed by more bytes: the first place where the
+        // 8 bytes are the checksum of all before them (one pass)
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for (p, &b) in bytes.iter().enumerate() {
+            if p >= STATE_HEADER.len() && p + 8 < bytes.len() {
+                let at = u64::from_le_bytes(bytes[p..p + 8].try_into().expect("8 bytes"));
+                if at == h {
+                    let kind = state_kind(bytes).unwrap_or_else(|_| "?".into());
+                    return Err(LearnerError::State(format!(
+                        "state of a `{kind}` learner: {} bytes after the state",
+                        bytes.len() - p - 8
+                    )));
+                }
+            }
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        return Err(LearnerError::State(format!(
+            "a learner's state whose checksum does not match its bytes (damaged or edited: {got:016x}, recorded {want:016x})"
+        )));
+    }
+    Ok(body)
+}
 
 /// The bytes of a state being written.
 #[derive(Debug, Default)]
@@ -158,13 +238,15 @@ pub trait LearnerState: StateField {
         w.bytes(STATE_HEADER);
         w.put(&Self::KIND.to_string());
         self.put(&mut w);
+        let sum = crate::hash::fnv1a64(&w.out);
+        w.bytes(&sum.to_le_bytes());
         w.out
     }
 
     /// A learner from the bytes of [`to_bytes`](Self::to_bytes); an error
     /// saying what is wrong if they are not such bytes.
     fn from_bytes(bytes: &[u8]) -> Result<Self, LearnerError> {
-        let rest = bytes.strip_prefix(STATE_HEADER).ok_or_else(no_header)?;
+        let rest = state_body(bytes)?;
         let mut r = StateReader {
             rest,
             kind: Self::KIND,
@@ -249,7 +331,7 @@ fn no_header() -> LearnerError {
 /// The kind of learner whose state `bytes` hold (`"e3d"`, `"count"`, ...),
 /// or why they are not a learner's state.
 pub fn state_kind(bytes: &[u8]) -> Result<String, LearnerError> {
-    let rest = bytes.strip_prefix(STATE_HEADER).ok_or_else(no_header)?;
+    let rest = state_start(bytes)?;
     let mut r = StateReader { rest, kind: "?" };
     r.get()
         .map_err(|_| LearnerError::State("a learner's state cut before its kind".into()))
@@ -259,7 +341,7 @@ pub fn state_kind(bytes: &[u8]) -> Result<String, LearnerError> {
 /// `"count"`, ...: the kind written after `"per_context"`), or why
 /// `bytes` are not such a state.
 pub fn per_context_kind(bytes: &[u8]) -> Result<String, LearnerError> {
-    let rest = bytes.strip_prefix(STATE_HEADER).ok_or_else(no_header)?;
+    let rest = state_start(bytes)?;
     let mut r = StateReader {
         rest,
         kind: "per_context",
@@ -275,11 +357,15 @@ impl StateField for f64 {
     fn put(&self, w: &mut StateWriter) {
         w.bytes(&self.to_bits().to_le_bytes());
     }
+    /// A number, never NaN: no learner keeps one, and a NaN rate or
+    /// table entry would make every proposal and update NaN.
     fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
         let b = r.take(8)?;
-        Ok(f64::from_bits(u64::from_le_bytes(
-            b.try_into().expect("8 bytes"),
-        )))
+        let v = f64::from_bits(u64::from_le_bytes(b.try_into().expect("8 bytes")));
+        if v.is_nan() {
+            return Err(r.error("a number that is NaN (a learner's state holds none)"));
+        }
+        Ok(v)
     }
 }
 
@@ -439,6 +525,37 @@ impl StateField for ValueSpace {
     fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
         let ranges: Vec<(f64, f64)> = r.get()?;
         ValueSpace::new(ranges).map_err(|e| r.error(&format!("value space: {e}")))
+    }
+}
+
+/// Checks that the rates and the `Q` tables read from a state are
+/// finite, the inverse temperature `beta` > 0 (`rates` named as the
+/// learner's fields).
+pub(crate) fn check_rates(
+    r: &StateReader<'_>,
+    rates: &[(&str, f64)],
+    beta: f64,
+) -> Result<(), LearnerError> {
+    if let Some((name, v)) = rates.iter().find(|(_, v)| !v.is_finite()) {
+        return Err(r.error(&format!("rate `{name}`: a finite number, found {v}")));
+    }
+    r.check(beta.is_finite() && beta > 0.0, || {
+        format!("`beta`: a finite number > 0, found {beta}")
+    })
+}
+
+/// Checks that every value of table `name` read from a state is finite.
+pub(crate) fn check_finite(
+    r: &StateReader<'_>,
+    name: &str,
+    values: &[f64],
+) -> Result<(), LearnerError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(r.error(&format!(
+            "table `{name}`: finite values, found {} at entry {i}",
+            values[i]
+        ))),
     }
 }
 

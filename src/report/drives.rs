@@ -21,7 +21,8 @@
 //! ```
 
 use super::{describe, median, Stats};
-use crate::sweep::{Cell, SessionResult, Sweep, PARAM_NAMES};
+use crate::learner::Params;
+use crate::sweep::{Cell, SessionResult, Sweep};
 use std::fmt::Write;
 
 /// Task 1 is read at this inverse temperature, task 2 at the other.
@@ -96,7 +97,7 @@ impl DriveComparison {
     /// ignore beta: their one cell of each). Failed sessions are left out.
     pub fn new(sweep: &Sweep, results: &[SessionResult]) -> DriveComparison {
         let columns = MetricColumns::of(sweep);
-        let beta = PARAM_NAMES.iter().position(|&p| p == "beta").unwrap_or(1);
+        let beta = Params::SWEPT.iter().position(|&p| p == "beta").unwrap_or(1);
         let mut rows = Vec::new();
         for (si, scene) in sweep.scenes().iter().enumerate() {
             for kind in &sweep.spec.learners {

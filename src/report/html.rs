@@ -24,14 +24,34 @@ const MAX_CELLS_DRAWN: usize = 16384;
 /// A heat map of the share of `effects` in each of `rows x cols`
 /// cells (effect `row * cols + col`), darker for more.
 fn heat_map(out: &mut String, title: &str, effects: &[usize], rows: usize, cols: usize) {
+    heat_map_drawn(out, title, effects, rows, cols, MAX_CELLS_DRAWN)
+}
+
+/// [`heat_map`], drawing every cell only when there are at most `dense`
+/// cells (the per-context maps share [`MAX_CELLS_DRAWN`] between them).
+/// Above, one background and the cells reached: the work and the text are
+/// then linear in `effects`, whatever the grid.
+fn heat_map_drawn(
+    out: &mut String,
+    title: &str,
+    effects: &[usize],
+    rows: usize,
+    cols: usize,
+    dense: usize,
+) {
     let px = (360.0 / cols.max(rows) as f64).clamp(4.0, 40.0);
-    let mut counts = vec![0usize; rows * cols];
-    for &e in effects {
-        if let Some(c) = counts.get_mut(e) {
-            *c += 1;
+    let cells = rows * cols;
+    // (effect, count) of the cells reached, in effect order
+    let mut sorted: Vec<usize> = effects.iter().copied().filter(|&e| e < cells).collect();
+    sorted.sort_unstable();
+    let mut reached: Vec<(usize, usize)> = Vec::new();
+    for e in sorted {
+        match reached.last_mut() {
+            Some((last, c)) if *last == e => *c += 1,
+            _ => reached.push((e, 1)),
         }
     }
-    let max = counts.iter().copied().max().unwrap_or(0).max(1) as f64;
+    let max = reached.iter().map(|r| r.1).max().unwrap_or(0).max(1) as f64;
     let n = effects.len().max(1) as f64;
     let (w, h) = (cols as f64 * px, rows as f64 * px + 24.0);
     let _ = writeln!(
@@ -41,19 +61,16 @@ fn heat_map(out: &mut String, title: &str, effects: &[usize], rows: usize, cols:
     );
     // a large grid (up to 2^20 cells) gets one background and only its
     // reached cells: a cell each made a 390 MB page of a 50-trial run
-    let sparse = counts.len() > MAX_CELLS_DRAWN;
+    let sparse = cells > dense;
     if sparse {
         let _ = writeln!(
             out,
-            r##"<rect x="0" y="24" width="{w:.1}" height="{:.1}" fill="rgb(255,255,255)" stroke="#ddd" stroke-width="0.5"><title>{} cells; those never reached are not drawn one by one</title></rect>"##,
+            r##"<rect x="0" y="24" width="{w:.1}" height="{:.1}" fill="rgb(255,255,255)" stroke="#ddd" stroke-width="0.5"><title>{cells} cells; those never reached are not drawn one by one</title></rect>"##,
             h - 24.0,
-            counts.len()
         );
     }
-    for (i, &c) in counts.iter().enumerate() {
-        if sparse && c == 0 {
-            continue;
-        }
+    let mut next = reached.iter().peekable();
+    let mut cell = |i: usize, c: usize| {
         let (r, col) = (i / cols, i % cols);
         // white (never) to dark blue (the most visited cell)
         let s = c as f64 / max;
@@ -68,6 +85,22 @@ fn heat_map(out: &mut String, title: &str, effects: &[usize], rows: usize, cols:
             shade(255.0, 107.0),
             100.0 * c as f64 / n
         );
+    };
+    if sparse {
+        for &(i, c) in &reached {
+            cell(i, c);
+        }
+    } else {
+        for i in 0..cells {
+            let c = match next.peek() {
+                Some(&&(e, c)) if e == i => {
+                    next.next();
+                    c
+                }
+                _ => 0,
+            };
+            cell(i, c);
+        }
     }
     out.push_str("</svg></figure>\n");
 }
@@ -277,34 +310,54 @@ fn early_and_late(
 /// order first met), the normalised entropy of its episodes' terminal
 /// effects over the `rows x cols` cells, their cumulative reward and the
 /// heat maps of the first and last 10% of them.
+///
+/// Linear in the trials (grouped by start in one pass; at most
+/// [`MAX_CONTEXTS`](crate::scene::MAX_CONTEXTS) starts, which
+/// [`parse_trials`](crate::csv::parse_trials) bounds), and the maps share
+/// [`MAX_CELLS_DRAWN`] cells drawn one by one: beyond, each draws only its
+/// reached cells (a 50-context run on a 128 x 128 grid made a 300 MB page).
 fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usize, cols: usize) {
-    let mut starts: Vec<&str> = Vec::new();
-    for t in trials {
-        if !t.start.is_empty() && !starts.contains(&t.start.as_str()) {
-            starts.push(&t.start);
-        }
+    let mut index: std::collections::HashMap<&str, usize> = Default::default();
+    let mut groups: Vec<(&str, Vec<&TrialRow>)> = Vec::new();
+    for t in trials.iter().filter(|t| !t.start.is_empty()) {
+        let g = *index.entry(t.start.as_str()).or_insert_with(|| {
+            groups.push((t.start.as_str(), Vec::new()));
+            groups.len() - 1
+        });
+        groups[g].1.push(t);
     }
-    if starts.is_empty() {
+    if groups.is_empty() {
         return;
     }
+    // two maps per start
+    let dense = MAX_CELLS_DRAWN / (2 * groups.len());
     out.push_str("<h2>Per start context</h2>\n<table class=\"contexts\">\n<tr><th>start context</th><th>episodes</th><th>normalised entropy of the terminal cells</th><th>cumulative reward</th><th>first rewarded episode (of its own)</th></tr>\n");
     let mut maps = String::new();
-    for s in &starts {
-        let mine = trials.iter().filter(|t| t.start == *s);
+    for (s, mine) in &groups {
         let effects: Vec<usize> = mine
-            .clone()
+            .iter()
             .filter(|t| t.step == k)
             .map(|t| t.effect)
             .collect();
-        let mut counts = vec![0.0; rows * cols];
-        for &e in &effects {
-            if let Some(c) = counts.get_mut(e) {
-                *c += 1.0;
+        // the counts of the cells reached (the others weigh nothing)
+        let mut sorted: Vec<usize> = effects
+            .iter()
+            .copied()
+            .filter(|&e| e < rows * cols)
+            .collect();
+        sorted.sort_unstable();
+        let mut counts: Vec<f64> = Vec::new();
+        for (i, e) in sorted.iter().enumerate() {
+            if i > 0 && sorted[i - 1] == *e {
+                *counts.last_mut().expect("a count") += 1.0;
+            } else {
+                counts.push(1.0);
             }
         }
         let h = crate::effect::normalized_entropy_over(&counts, rows * cols);
-        let reward: f64 = mine.clone().map(|t| t.reward).sum();
+        let reward: f64 = mine.iter().map(|t| t.reward).sum();
         let first = mine
+            .iter()
             .filter(|t| t.step == k)
             .position(|t| t.reward > 0.0)
             .map_or("never".to_string(), |i| (i + 1).to_string());
@@ -315,13 +368,24 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
             effects.len()
         );
         maps.push_str("<div class=\"row\">\n");
-        early_and_late(
+        let n = effects.len();
+        let tenth = (n / 10).max(1).min(n);
+        let what = "episodes";
+        heat_map_drawn(
             &mut maps,
-            &format!("{s}, "),
-            "episodes",
-            &effects,
+            &format!("{s}, early: {what} 1..{tenth}"),
+            &effects[..tenth],
             rows,
             cols,
+            dense,
+        );
+        heat_map_drawn(
+            &mut maps,
+            &format!("{s}, late: {what} {}..{n}", n - tenth + 1),
+            &effects[n - tenth..],
+            rows,
+            cols,
+            dense,
         );
         maps.push_str("</div>\n");
     }
@@ -501,13 +565,13 @@ fn failures_list(body: &mut String, failures: &[String]) {
 #[cfg(feature = "plots")]
 fn plots_against_params(body: &mut String, summary: &crate::csv::Summary) {
     use super::sweep_plot::{plot, PlotSpec};
-    use crate::sweep::PARAM_NAMES;
+    use crate::learner::Params;
     let rows = &summary.rows;
     let col = |name: &str| summary.col(name);
     let values = |c: usize| distinct(rows, c);
     let num = |s: &str| s.parse::<f64>().ok();
     let metrics = summary.metrics();
-    for param in PARAM_NAMES {
+    for param in Params::SWEPT {
         let Some(c) = col(param) else { continue };
         if values(c).iter().filter(|v| !v.is_empty()).count() < 2 {
             continue;

@@ -17,6 +17,7 @@ impl SceneSpec {
         crate::text::check_name(&self.name).map_err(|e| Invalid::at("name", None, &e))?;
         let n = self.slots().count();
         self.check_slot_count(n)?;
+        self.check_slot_names()?;
         if let Some(slots) = template::expand(&self.command)? {
             if let WorldSpec::Physics(p) = &self.world {
                 let mut e = p.clone();
@@ -44,6 +45,27 @@ impl SceneSpec {
         self.check_alphabets()?;
         self.check_world()?;
         self.check_reward()
+    }
+
+    /// The names a `Slots` or `Continuous` schema gives its slots pass the
+    /// one name check ([`check_name`](crate::text::check_name)): they are
+    /// printed and drawn.
+    fn check_slot_names(&self) -> Result<(), Invalid> {
+        let names: Vec<&str> = match &self.command {
+            CommandSpec::Slots(s) => s.iter().filter_map(|s| s.name.as_deref()).collect(),
+            CommandSpec::Continuous(s) => s.iter().filter_map(|s| s.name.as_deref()).collect(),
+            _ => Vec::new(),
+        };
+        for n in names {
+            crate::text::check_name(n).map_err(|e| {
+                Invalid::at(
+                    "name",
+                    Some(&format!("\"{n}\"")),
+                    &format!("slot name: {e}"),
+                )
+            })?;
+        }
+        Ok(())
     }
 
     /// The `n` slots the command lists: as many as the scene's `slots`
@@ -86,6 +108,21 @@ impl SceneSpec {
                 None,
                 "symbols in a Grid world (one-cell moves); continuous slots need a Physics world",
             ));
+        }
+        if let WorldSpec::Physics(p) = &self.world {
+            if !p.contexts.is_empty() {
+                // a session of values starts every trial from the scene's
+                // start: the contexts would be ignored without a word
+                return Err(Invalid::at(
+                    "contexts",
+                    None,
+                    &format!(
+                        "no start contexts in a scene whose slots take values (`Continuous`): its sessions start every trial from the scene's start, found {} context(s) (`{}`...); remove `contexts`, or write the slots as symbols",
+                        p.contexts.len(),
+                        crate::text::echo(&p.contexts[0].name)
+                    ),
+                ));
+            }
         }
         for (i, slot) in slots.iter().enumerate() {
             let (lo, hi) = slot.range;

@@ -104,29 +104,37 @@ impl GridSpec {
     /// names) and the walls (between neighbouring cells inside the grid).
     fn check_contexts_and_walls(&self) -> Result<(), Invalid> {
         let inside = |(r, c): (usize, usize)| r < self.rows && c < self.cols;
+        super::check_context_count(self.contexts.len())?;
+        let mut names = std::collections::HashSet::with_capacity(self.contexts.len());
         for (i, c) in self.contexts.iter().enumerate() {
+            let here = |expected: String| Invalid {
+                within: Some(("contexts", i)),
+                ..Invalid::at("name", None, &expected)
+            };
             for cell in [Some(c.cell), c.to].into_iter().flatten() {
                 if !inside(cell) {
-                    return Err(Invalid::at(
-                        "contexts",
-                        None,
-                        &format!(
-                            "context `{}`: cells inside the {} x {} grid, found {cell:?}",
-                            c.name, self.rows, self.cols
-                        ),
-                    ));
+                    return Err(Invalid {
+                        within: Some(("contexts", i)),
+                        ..Invalid::at(
+                            if Some(cell) == c.to { "to" } else { "cell" },
+                            None,
+                            &format!(
+                                "context `{}` of `contexts`: cells inside the {} x {} grid, found {cell:?}",
+                                crate::text::echo(&c.name),
+                                self.rows,
+                                self.cols
+                            ),
+                        )
+                    });
                 }
             }
-            if c.name.trim().is_empty() || self.contexts[..i].iter().any(|o| o.name == c.name) {
-                return Err(Invalid::at(
-                    "contexts",
-                    None,
-                    &format!(
-                        "a distinct, non-empty name for every context, found `{}`",
-                        c.name
-                    ),
-                ));
+            if c.name.trim().is_empty() || !names.insert(c.name.as_str()) {
+                return Err(here(format!(
+                    "a distinct, non-empty name for every context, found `{}`",
+                    crate::text::echo(&c.name)
+                )));
             }
+            crate::text::check_name(&c.name).map_err(|e| here(format!("context {i}: {e}")))?;
         }
         for &(a, b) in &self.walls {
             if !inside(a) || !inside(b) {

@@ -576,6 +576,25 @@ pub fn printable_symbol(c: char) -> bool {
         && c.width().is_some_and(|w| w > 0)
 }
 
+/// The most start contexts a scene may declare (1024): each is a start
+/// the tools run, table, draw and report one by one; a scene file of a few
+/// kB could otherwise declare 10^5 of them, whose tables (one per context)
+/// took gigabytes.
+pub const MAX_CONTEXTS: usize = 1024;
+
+/// Refuses more than [`MAX_CONTEXTS`] start contexts, before any of them
+/// is checked.
+pub(crate) fn check_context_count(n: usize) -> Result<(), Invalid> {
+    if n > MAX_CONTEXTS {
+        return Err(Invalid::at(
+            "contexts",
+            None,
+            &format!("at most {MAX_CONTEXTS} start contexts (e3d::scene::MAX_CONTEXTS), found {n}"),
+        ));
+    }
+    Ok(())
+}
+
 /// The largest reward value a scene may give, in magnitude (1e12): a
 /// cumulative reward over the most trials a run or sweep allows (10^8)
 /// stays far from overflowing, so no metric is infinite.

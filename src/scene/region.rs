@@ -39,6 +39,8 @@ impl RegionSpec {
 
     pub(crate) fn validate(&self, grid: &EffectGrid) -> Result<(), Invalid> {
         let at = format!("\"{}\"", self.name);
+        crate::text::check_name(&self.name)
+            .map_err(|e| Invalid::at("name", Some(&at), &format!("region: {e}")))?;
         let finite = [self.min.0, self.min.1, self.max.0, self.max.1]
             .iter()
             .all(|v| v.is_finite());

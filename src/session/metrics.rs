@@ -3,7 +3,6 @@
 //! distribution of a policy.
 
 use super::Recorder;
-use crate::command::Command;
 use crate::effect::{entropy, kl_divergence, normalized_entropy_over, Target};
 use crate::learner::Learner;
 use crate::world::{Outcome, OutcomeTable};
@@ -101,8 +100,8 @@ impl RunningMetrics {
     }
 }
 
-impl Recorder for RunningMetrics {
-    fn record(&mut self, _command: &Command, outcome: &Outcome) {
+impl<C: ?Sized> Recorder<C> for RunningMetrics {
+    fn record(&mut self, _command: &C, outcome: &Outcome) {
         if self.counts[outcome.effect] == 0 {
             self.discoveries.push(self.trials + 1);
         }
@@ -222,7 +221,8 @@ impl Metrics {
     /// 0 before the first trial).
     ///
     /// ```
-    /// use e3d::{Command, Outcome, Recorder, RunningMetrics, Target};
+    /// use e3d::{Command, Outcome, Recorder, Target};
+    /// use e3d::session::RunningMetrics;
     /// let mut m = RunningMetrics::new(4);
     /// for e in [0, 0, 1, 0, 3] {
     ///     m.record(&Command::new(vec![0]), &Outcome { effect: e, reward: 0.0, point: [0.0; 2] });

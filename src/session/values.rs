@@ -2,13 +2,11 @@
 //! of symbols, and what it records.
 
 use super::metrics::{discovery_trials, Metrics, LAST};
-use super::SessionConfig;
+use super::{Control, Recorder, SessionConfig};
 use crate::command::ValueSpace;
 use crate::effect::Target;
 use crate::learner::ContinuousLearner;
-use crate::rng::SessionRng;
-use crate::world::{ContinuousWorld, Executor, Outcome, WorldError};
-use rand::SeedableRng;
+use crate::world::{ContinuousWorld, Outcome, WorldError};
 use serde::{Deserialize, Serialize};
 use std::io::{self, Write};
 
@@ -33,9 +31,18 @@ pub struct ValueSessionRecord {
     pub final_policy: Vec<(f64, f64)>,
 }
 
+impl Recorder<Vec<f64>> for ValueSessionRecord {
+    fn record(&mut self, values: &Vec<f64>, outcome: &Outcome) {
+        self.values.extend_from_slice(values);
+        self.effects.push(outcome.effect);
+        self.rewards.push(outcome.reward);
+        self.points.push(outcome.point);
+    }
+}
+
 impl ValueSessionRecord {
     /// A record of no trials yet, with room for `trials`.
-    fn empty(num_slots: usize, num_effects: usize, trials: usize) -> ValueSessionRecord {
+    pub fn new(num_slots: usize, num_effects: usize, trials: usize) -> ValueSessionRecord {
         ValueSessionRecord {
             num_slots,
             num_effects,
@@ -47,12 +54,11 @@ impl ValueSessionRecord {
         }
     }
 
-    /// Records one trial: its values and outcome.
-    fn push(&mut self, values: &[f64], outcome: &Outcome) {
-        self.values.extend_from_slice(values);
-        self.effects.push(outcome.effect);
-        self.rewards.push(outcome.reward);
-        self.points.push(outcome.point);
+    /// Sets [`final_policy`](Self::final_policy) from `learner`'s policy now.
+    pub fn set_policy<L: ContinuousLearner + ?Sized>(&mut self, learner: &L) {
+        self.final_policy = (0..self.num_slots)
+            .map(|s| learner.slot_gaussian(s))
+            .collect();
     }
 
     /// The number of trials.
@@ -125,11 +131,12 @@ impl ValueSessionRecord {
 }
 
 /// Runs `config.trials` trials of a learner of continuous commands on a
-/// continuous world, calling `progress(t)` with the trials done every 64
-/// trials and at the end.
+/// continuous world ([`run_session_into`](super::run_session_into) into a
+/// [`ValueSessionRecord`], with the learner's final policy).
 ///
 /// ```
-/// use e3d::{run_value_session, LearnerKind, Params, Scene, SessionConfig, Target};
+/// use e3d::{LearnerKind, Params, Scene, SessionConfig, Target};
+/// use e3d::session::run_value_session;
 /// let scene = Scene::builtin("arm7_continuous").unwrap();
 /// let mut world = scene.as_continuous().unwrap().world(1);
 /// let space = scene.value_space().unwrap();
@@ -137,7 +144,7 @@ impl ValueSessionRecord {
 ///     .make_continuous(&Params::TASK1, &space, scene.num_effects(), &Target::Uniform)
 ///     .unwrap();
 /// let cfg = SessionConfig { trials: 20, seed: 1, use_reward: false };
-/// let rec = run_value_session(&mut world, &mut l, &cfg, |_| {}).unwrap();
+/// let rec = run_value_session(&mut world, &mut l, &cfg).unwrap();
 /// assert_eq!(rec.trials(), 20);
 /// assert_eq!(rec.values.len(), 20 * 7);
 /// ```
@@ -145,186 +152,14 @@ pub fn run_value_session<W, L>(
     world: &mut W,
     learner: &mut L,
     config: &SessionConfig,
-    mut progress: impl FnMut(usize),
 ) -> Result<ValueSessionRecord, WorldError>
 where
     W: ContinuousWorld + ?Sized,
     L: ContinuousLearner + ?Sized,
 {
     let n = world.value_space().num_slots();
-    let trials = config.trials;
-    let mut rec = ValueSessionRecord::empty(n, world.num_effects(), trials);
-    let mut rng = SessionRng::seed_from_u64(config.seed);
-    let mut values = Vec::with_capacity(n);
-    for t in 0..trials {
-        learner.propose(&mut rng, &mut values);
-        let mut outcome = world.execute_values(&values)?;
-        if !config.use_reward {
-            outcome.reward = 0.0;
-        }
-        learner.learn(&values, &outcome);
-        rec.push(&values, &outcome);
-        if (t + 1) % 64 == 0 {
-            progress(t + 1);
-        }
-    }
-    progress(trials);
-    rec.final_policy = (0..n).map(|s| learner.slot_gaussian(s)).collect();
+    let mut rec = ValueSessionRecord::new(n, world.num_effects(), config.trials);
+    super::run_session_into(world, learner, config, &mut rec, &Control::default())?;
+    rec.set_policy(learner);
     Ok(rec)
-}
-
-/// Runs several sessions of continuous commands on one world in
-/// lockstep: at every trial each session proposes its values, the world
-/// executes them all in one
-/// [`execute_values_batch`](ContinuousWorld::execute_values_batch)
-/// (several copies of a physics scene stepped together), then each
-/// session learns from its own outcome.
-///
-/// Every session follows its algorithm exactly as [`run_value_session`]
-/// would, trial by trial, with its own generator: on a world whose batches
-/// give each command's single-world outcome (copies that are exact), the
-/// records are those of the sessions run alone (tested). All sessions run
-/// the trials of the longest; a session with fewer trials stops proposing
-/// at its end. A session whose values fail gets the error; the others go
-/// on. `progress(k)` is called with the `k` trials done, summed over the
-/// sessions, every 64 lockstep trials and at the end.
-pub fn run_value_lockstep<W, L>(
-    world: &mut W,
-    learners: &mut [L],
-    configs: &[SessionConfig],
-    mut progress: impl FnMut(u64),
-) -> Vec<Result<ValueSessionRecord, WorldError>>
-where
-    W: ContinuousWorld + ?Sized,
-    L: ContinuousLearner,
-{
-    assert_eq!(learners.len(), configs.len(), "one config per learner");
-    let n = world.value_space().num_slots();
-    let mut records: Vec<Result<ValueSessionRecord, WorldError>> = configs
-        .iter()
-        .map(|c| Ok(ValueSessionRecord::empty(n, world.num_effects(), c.trials)))
-        .collect();
-    let mut rngs: Vec<SessionRng> = configs
-        .iter()
-        .map(|c| SessionRng::seed_from_u64(c.seed))
-        .collect();
-    let mut batch: Vec<Vec<f64>> = configs.iter().map(|_| Vec::with_capacity(n)).collect();
-    let mut active: Vec<usize> = Vec::with_capacity(configs.len());
-    let mut outcomes = Vec::with_capacity(configs.len());
-    let longest = configs.iter().map(|c| c.trials).max().unwrap_or(0);
-    let mut since = 0u64;
-    for t in 0..longest {
-        active.clear();
-        for (i, c) in configs.iter().enumerate() {
-            if t < c.trials && records[i].is_ok() {
-                learners[i].propose(&mut rngs[i], &mut batch[active.len()]);
-                active.push(i);
-            }
-        }
-        if active.is_empty() {
-            break;
-        }
-        outcomes.clear();
-        world.execute_values_batch(&batch[..active.len()], &mut outcomes);
-        for ((&i, values), result) in active.iter().zip(&batch).zip(outcomes.drain(..)) {
-            let Ok(rec) = &mut records[i] else {
-                continue;
-            };
-            match result {
-                Ok(mut outcome) => {
-                    if !configs[i].use_reward {
-                        outcome.reward = 0.0;
-                    }
-                    learners[i].learn(values, &outcome);
-                    rec.push(values, &outcome);
-                }
-                Err(e) => records[i] = Err(e),
-            }
-        }
-        since += active.len() as u64;
-        if (t + 1) % 64 == 0 {
-            progress(since);
-            since = 0;
-        }
-    }
-    progress(since);
-    for (rec, l) in records.iter_mut().zip(learners.iter()) {
-        if let Ok(rec) = rec {
-            rec.final_policy = (0..n).map(|s| l.slot_gaussian(s)).collect();
-        }
-    }
-    records
-}
-
-/// Runs each session of continuous commands, a config and its learner,
-/// the way `exec` plans them ([`Executor::for_values`]), on every core of
-/// the current rayon pool. The sessions are cut into
-/// [`Executor::session_groups`], each group stepping together on one
-/// world of [`Executor::copies_for`] copies of [`Executor::continuous`]
-/// ([`run_value_lockstep`]; a group of one is [`run_value_session`]), and
-/// the groups run in parallel. The records, in the order of `sessions`,
-/// are those of [`run_value_session`] alone, whatever the threads.
-/// `progress(k)` is called with each batch of `k` trials done. The first
-/// session to fail gives the error; an executor of a scene of symbols is
-/// an error.
-///
-/// ```
-/// use e3d::world::{Executor, Workload};
-/// use e3d::{run_value_session, run_value_sessions, LearnerKind, Params, Scene, SessionConfig, Target};
-/// let scene = Scene::builtin("arm7_continuous").unwrap();
-/// let space = scene.value_space().unwrap();
-/// let learner = || {
-///     LearnerKind::E3d
-///         .make_continuous(&Params::TASK1, &space, scene.num_effects(), &Target::Uniform)
-///         .unwrap()
-/// };
-/// let configs: Vec<SessionConfig> =
-///     (0..2).map(|seed| SessionConfig { trials: 10, seed, use_reward: false }).collect();
-/// let work = Workload { trials: 10, sessions: 2, threads: 2 };
-/// let exec = Executor::for_values(&scene, &work).unwrap();
-/// let sessions = configs.iter().map(|&c| (c, learner())).collect();
-/// let recs = run_value_sessions(&exec, sessions, &|_| {}).unwrap();
-/// let mut world = scene.as_continuous().unwrap().world(1);
-/// let alone = run_value_session(&mut world, &mut learner(), &configs[1], |_| {}).unwrap();
-/// assert_eq!(recs[1], alone);
-/// ```
-pub fn run_value_sessions<L>(
-    exec: &Executor<'_>,
-    sessions: Vec<(SessionConfig, L)>,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Vec<ValueSessionRecord>, WorldError>
-where
-    L: ContinuousLearner + Send,
-{
-    use rayon::prelude::*;
-    let scene = exec.continuous().ok_or_else(|| {
-        WorldError::Other(
-            "sessions of continuous commands need an executor of a continuous scene (Executor::for_values)"
-                .into(),
-        )
-    })?;
-    let mut rest = sessions.into_iter();
-    let groups: Vec<(Vec<SessionConfig>, Vec<L>)> = exec
-        .session_groups(rest.len())
-        .into_iter()
-        .map(|g| rest.by_ref().take(g.len()).unzip())
-        .collect();
-    groups
-        .into_par_iter()
-        .map(|(configs, mut learners)| {
-            let mut world = scene.world(exec.copies_for(configs.len()));
-            if let ([cfg], [learner]) = (&configs[..], &mut learners[..]) {
-                let mut done = 0;
-                let rec = run_value_session(&mut world, learner, cfg, |t| {
-                    progress((t - done) as u64);
-                    done = t;
-                });
-                return vec![rec];
-            }
-            run_value_lockstep(&mut world, &mut learners, &configs, progress)
-        })
-        .collect::<Vec<_>>()
-        .into_iter()
-        .flatten()
-        .collect()
 }

@@ -37,7 +37,7 @@ pub enum SweepError {
     Learner {
         /// The learner's name in the sweep.
         learner: String,
-        /// The factory's error ([`LearnerError`](crate::LearnerError) for
+        /// The factory's error ([`LearnerError`](crate::learner::LearnerError) for
         /// the built-in learners).
         source: BoxError,
     },

@@ -13,7 +13,8 @@
 //!
 //! ```
 //! use e3d::sweep::{Learners, Sweep, SweepSpec, Worlds};
-//! use e3d::{Command, CommandSpace, Outcome, World, WorldError};
+//! use e3d::{Command, Outcome, World, WorldError};
+//! use e3d::command::CommandSpace;
 //!
 //! /// Effect = number of 'b' symbols.
 //! struct CountB(CommandSpace);
@@ -44,6 +45,7 @@ use crate::effect::Target;
 use crate::hash::fnv1a64;
 use crate::learner::{ContinuousLearner, Learner, LearnerKind, Params};
 use crate::scene::Scene;
+use crate::session::Control;
 use crate::world::{
     ContinuousWorld, ExecOptions, Executor, OutcomeTable, Strategy, Workload, World,
 };
@@ -51,11 +53,8 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// The names of the hyper-parameters, in the order of the cells and columns.
-pub const PARAM_NAMES: [&str; 5] = ["alpha", "beta", "lambda", "eta", "epsilon"];
-
 /// Whether `learner` uses the hyper-parameter `param` (one of
-/// [`PARAM_NAMES`]).
+/// [`Params::SWEPT`]).
 ///
 /// ```
 /// use e3d::{sweep::uses_param, LearnerKind};
@@ -100,27 +99,17 @@ pub trait SweepScene: Send + Sync {
     /// sweep's table folder, memo cap and forced strategy (see
     /// [`Sweep::with_table_cache`](super::Sweep::with_table_cache)); a
     /// scene that keeps no outcomes may ignore them. Called on the run's
-    /// thread pool, so that a table can be built in parallel.
+    /// thread pool, so that a table can be built in parallel. `control` is
+    /// told of outcomes simulated ahead of the sessions (a [`Scene`] tells
+    /// the building of its outcome table: [`Executor::with_control`]); a
+    /// scene that simulates nothing ahead may ignore it. What is prepared
+    /// must be the same either way.
     fn prepare<'a>(
         &'a self,
         work: &Workload,
         options: &ExecOptions,
+        control: &Control<'_>,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError>;
-
-    /// [`prepare`](Self::prepare), calling `progress(k, total)` (from any
-    /// thread) while outcomes are simulated ahead of the sessions: `k` more
-    /// commands done, of about `total`. The default calls `prepare` and
-    /// tells nothing; a [`Scene`] tells the building of its outcome table
-    /// ([`Executor::with_progress`]). What is prepared must be the same.
-    fn prepare_with_progress<'a>(
-        &'a self,
-        work: &Workload,
-        options: &ExecOptions,
-        progress: &(dyn Fn(u64, u64) + Sync),
-    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-        let _ = progress;
-        self.prepare(work, options)
-    }
 
     /// The scene file behind this scene, if it has one.
     fn scene(&self) -> Option<&Scene> {
@@ -202,28 +191,17 @@ impl SweepScene for Scene {
     /// An [`Executor`]: the cheapest of an outcome table, a memo and live
     /// execution, for `work`; for a scene of continuous commands,
     /// [`Executor::for_values`] (live, in lockstep where copies are exact).
+    /// [`Executor::with_control`]: the table's building is told.
     fn prepare<'a>(
         &'a self,
         work: &Workload,
         options: &ExecOptions,
+        control: &Control<'_>,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
         if self.spec().is_continuous() {
             return prepare_values(self, work, options);
         }
-        let e = Executor::new(self, work, options)?;
-        Ok(Box::new(e))
-    }
-    /// [`Executor::with_progress`]: the table's building is told.
-    fn prepare_with_progress<'a>(
-        &'a self,
-        work: &Workload,
-        options: &ExecOptions,
-        progress: &(dyn Fn(u64, u64) + Sync),
-    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-        if self.spec().is_continuous() {
-            return prepare_values(self, work, options);
-        }
-        let e = Executor::with_progress(self, work, options, progress)?;
+        let e = Executor::with_control(self, work, options, control)?;
         Ok(Box::new(e))
     }
     fn scene(&self) -> Option<&Scene> {
@@ -384,6 +362,7 @@ where
         &'a self,
         _work: &Workload,
         _options: &ExecOptions,
+        _control: &Control<'_>,
     ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
         Ok(Box::new(LiveRun(self)))
     }
@@ -499,13 +478,13 @@ impl WorldFactory for Worlds {
 /// A learner's name is written in `results.csv` and in the sessions'
 /// identities (so in their seeds); it must be a RON identifier (ASCII
 /// letters, digits and `_`, not starting with a digit) to be written in a
-/// sweep file. Its hyper-parameters are among [`PARAM_NAMES`]: its grid
+/// sweep file. Its hyper-parameters are among [`Params::SWEPT`]: its grid
 /// spans only those it uses, and the others are empty in the results.
 pub trait LearnerFactory: Send + Sync {
     /// The learners this factory makes, in the order messages list them.
     fn names(&self) -> Vec<String>;
 
-    /// Which of [`PARAM_NAMES`] learner `name` uses; `None` for a name
+    /// Which of [`Params::SWEPT`] learner `name` uses; `None` for a name
     /// this factory does not make.
     fn uses(&self, name: &str) -> Option<[bool; 5]>;
 
@@ -589,14 +568,14 @@ impl Learners {
     }
 
     /// Registers the learner `name`, which uses the hyper-parameters
-    /// `uses` (among [`PARAM_NAMES`]) and is made by `make`. It replaces
+    /// `uses` (among [`Params::SWEPT`]) and is made by `make`. It replaces
     /// any learner of that name registered before, built-in ones included.
     ///
     /// # Panics
     ///
     /// If `name` is not a RON identifier (ASCII letters, digits and `_`,
     /// not starting with a digit), or a parameter is not one of
-    /// [`PARAM_NAMES`]: mistakes in the program, not in its data.
+    /// [`Params::SWEPT`]: mistakes in the program, not in its data.
     pub fn with<F>(mut self, name: &str, uses: &[&str], make: F) -> Learners
     where
         F: Fn(&Params, &CommandSpace, usize, &Target) -> Result<Box<dyn Learner + Send>, BoxError>
@@ -610,12 +589,15 @@ impl Learners {
         );
         let mut used = [false; 5];
         for p in uses {
-            let i = PARAM_NAMES.iter().position(|n| n == p).unwrap_or_else(|| {
-                panic!(
-                    "learner `{name}`: parameter `{p}` is not one of {}",
-                    PARAM_NAMES.join(", ")
-                )
-            });
+            let i = Params::SWEPT
+                .iter()
+                .position(|n| n == p)
+                .unwrap_or_else(|| {
+                    panic!(
+                        "learner `{name}`: parameter `{p}` is not one of {}",
+                        Params::SWEPT.join(", ")
+                    )
+                });
             used[i] = true;
         }
         let entry = Entry::Custom(used, Arc::new(make));
@@ -646,7 +628,7 @@ impl LearnerFactory for Learners {
 
     fn uses(&self, name: &str) -> Option<[bool; 5]> {
         Some(match self.entry(name)? {
-            Entry::Builtin(k) => std::array::from_fn(|i| uses_param(*k, PARAM_NAMES[i])),
+            Entry::Builtin(k) => std::array::from_fn(|i| uses_param(*k, Params::SWEPT[i])),
             Entry::Custom(used, _) => *used,
         })
     }

@@ -50,7 +50,7 @@
 //!   metric [`MetricSpec::NormalizedEntropyContext`] per start context;
 //! - continuous commands: a scene whose slots take values runs its sessions
 //!   live, in the lockstep groups of `e3d run --sessions N`
-//!   ([`Sweep::run_value_sessions_lockstep`], [`SceneRun::value_world`],
+//!   ([`SceneRun::value_world`],
 //!   [`LearnerFactory::make_continuous`]).
 //!
 //! # Cells
@@ -109,7 +109,7 @@ pub(crate) use error::io_err;
 pub use error::{BoxError, SweepError};
 pub use factory::{
     uses_param, FactoryError, LearnerFactory, Learners, LiveScene, MakeLearner, SceneFiles,
-    SceneRun, SweepScene, WorldFactory, Worlds, PARAM_NAMES,
+    SceneRun, SweepScene, WorldFactory, Worlds,
 };
 pub use plan::{format_number, Cell, ParseShardError, SessionSpec, Shard, Sweep};
 pub use results::{
@@ -118,7 +118,7 @@ pub use results::{
 };
 pub use run::{cap_threads, max_threads, DirOptions, THREADS_PER_CORE};
 pub use spec::{
-    MetricSpec, ParamValues, Scale, SweepSpec, Values, FIXED_PARAM_NAMES, MAX_COMMANDS,
-    MAX_SESSIONS, MAX_STEPS, MAX_TRIALS,
+    MetricSpec, ParamValues, Scale, SweepSpec, Values, MAX_COMMANDS, MAX_SESSIONS, MAX_STEPS,
+    MAX_TRIALS,
 };
 pub use summary::{CELL_COLUMNS, FAILURE_COLUMN, KEY_COLUMNS};

@@ -3,7 +3,6 @@
 
 use super::factory::{
     is_identifier, FactoryError, LearnerFactory, Learners, SceneFiles, SweepScene, WorldFactory,
-    PARAM_NAMES,
 };
 use super::spec::{
     invalid, param_of, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS,
@@ -40,7 +39,7 @@ pub struct Cell {
     /// The hyper-parameters (those the learner does not use hold the first
     /// value of their list; they have no effect).
     pub params: Params,
-    /// Which of [`PARAM_NAMES`] the learner uses.
+    /// Which of [`Params::SWEPT`] the learner uses.
     pub used: [bool; 5],
 }
 
@@ -420,7 +419,7 @@ impl Sweep {
 
     /// Calls `f(scene, k, total)` from the worker threads while the
     /// outcome table of `scene` is built before its sessions run: `k` more
-    /// commands simulated, of about `total` ([`SweepScene::prepare_with_progress`]);
+    /// commands simulated, of about `total` ([`SweepScene::prepare`]);
     /// then, once the building has ended (the table built, or given up
     /// for the memo), `f(scene, 0, 0)` once. Nothing is called for a
     /// scene whose table is read whole or not built. The results are the
@@ -488,7 +487,7 @@ impl Sweep {
     pub fn identity(&self, cell: &Cell, replicate: usize) -> String {
         let f = self.cell_fields(cell);
         let mut s = format!("scene={};learner={};use_reward={}", f[0], f[1], f[2]);
-        for (i, name) in PARAM_NAMES.iter().enumerate() {
+        for (i, name) in Params::SWEPT.iter().enumerate() {
             let v = if f[3 + i].is_empty() { "-" } else { &f[3 + i] };
             s.push_str(&format!(";{name}={v}"));
         }
@@ -643,13 +642,13 @@ fn make_cells(
     cells
 }
 
-/// The number of values of each of [`PARAM_NAMES`] in `spec` without
+/// The number of values of each of [`Params::SWEPT`] in `spec` without
 /// making them (a range's `steps`); `None` when one of them is a count
 /// that [`SweepSpec::check_in`] refuses (no values, too many steps), so
 /// that its own message comes first.
 fn value_counts(spec: &SweepSpec) -> Option<[usize; 5]> {
     let mut counts = [1; 5];
-    for (i, name) in PARAM_NAMES.iter().enumerate() {
+    for (i, name) in Params::SWEPT.iter().enumerate() {
         counts[i] = match spec.params.get(name) {
             None => 1,
             Some(Values::List(v)) => v.len(),

@@ -70,22 +70,8 @@ pub struct DirReport {
     pub ran: usize,
 }
 
-/// The e3d version written into output folders and into every outcome
-/// table's key: the crate's version and [`PHYSICS_FINGERPRINT`]
-/// (`0.1.0+physics.1a2b3c4d`), so that a sweep folder or a table cache
-/// made by a build whose physics differs is not reused.
-pub const VERSION: &str = concat!(
-    env!("CARGO_PKG_VERSION"),
-    "+physics.",
-    env!("E3D_PHYSICS_FINGERPRINT")
-);
+pub use crate::world::{PHYSICS_FINGERPRINT, VERSION};
 
-/// A hash (8 hex digits) of the code that decides what a command does,
-/// computed when e3d is built (`build.rs`): the physics and grid worlds,
-/// the physics scene checks and shorthands, the effect binning (their text
-/// without whitespace), and the versions of Rapier, parry, nalgebra and
-/// glam in Cargo.lock. Any change to them changes it.
-pub const PHYSICS_FINGERPRINT: &str = env!("E3D_PHYSICS_FINGERPRINT");
 /// The journal's file name in an output folder.
 pub const JOURNAL: &str = "journal.txt";
 /// The copy of the sweep file in an output folder.

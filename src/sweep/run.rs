@@ -12,7 +12,7 @@ use super::spec::MetricSpec;
 use super::{io_err, SweepError};
 use crate::effect::Target;
 use crate::hash::fnv1a64;
-use crate::session::{run_group, run_session_into, RunningMetrics, SessionConfig};
+use crate::session::{run_group, Control, Executes, Learns, RunningMetrics, SessionConfig};
 #[cfg(doc)]
 use crate::world::Executor;
 use crate::world::{Workload, World, WorldError};
@@ -42,17 +42,8 @@ impl Sweep {
         session: &SessionSpec,
         world: &mut dyn World,
     ) -> Result<SessionResult, SweepError> {
-        let mut learner = self.learner(session, world)?;
-        let mut metrics = self.recorder(world);
-        let status = run_session_into(
-            world,
-            &mut learner,
-            &self.config(session),
-            &mut metrics,
-            |_| {},
-        );
-        self.count_trials(metrics.trials() as u64);
-        Ok(self.result(session, status, &metrics))
+        let mut results = self.run_sessions_lockstep(std::slice::from_ref(session), world)?;
+        Ok(results.remove(0))
     }
 
     /// Runs `sessions` (all of one scene) together on `world`
@@ -64,22 +55,41 @@ impl Sweep {
         sessions: &[SessionSpec],
         world: &mut dyn World,
     ) -> Result<Vec<SessionResult>, SweepError> {
-        let mut learners = sessions
+        let learners = sessions
             .iter()
             .map(|s| self.learner(s, world))
             .collect::<Result<Vec<_>, _>>()?;
+        Ok(self.run_group_on(sessions, world, learners))
+    }
+
+    /// Runs `sessions` (all of one scene) with their `learners` together
+    /// on `world`, a world of symbols or of values ([`run_group`]), each
+    /// into its running metrics: their results, in order.
+    pub(super) fn run_group_on<C, W, L>(
+        &self,
+        sessions: &[SessionSpec],
+        world: &mut W,
+        mut learners: Vec<L>,
+    ) -> Vec<SessionResult>
+    where
+        C: Clone,
+        W: Executes<C> + ?Sized,
+        L: Learns<C>,
+    {
         let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
-        let mut recorders: Vec<RunningMetrics> =
-            sessions.iter().map(|_| self.recorder(world)).collect();
-        let status = run_group(world, &mut learners, &configs, &mut recorders, |t| {
-            self.count_trials(t)
-        });
-        Ok(sessions
+        let mut recorders: Vec<RunningMetrics> = sessions
+            .iter()
+            .map(|_| self.recorder_of(world.effects()))
+            .collect();
+        let count = |t| self.count_trials(t);
+        let control = Control::default().with_progress(&count);
+        let status = run_group(world, &mut learners, &configs, &mut recorders, &control);
+        sessions
             .iter()
             .zip(status)
             .zip(&recorders)
             .map(|((s, st), m)| self.result(s, st, m))
-            .collect())
+            .collect()
     }
 
     fn learner(
@@ -281,19 +291,27 @@ impl Sweep {
         }
         let e = match &self.table_progress {
             Some(f) => {
+                use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
                 let name = scene.name();
-                let told = std::sync::atomic::AtomicBool::new(false);
-                let e = scene.prepare_with_progress(w, &self.exec, &|k, total| {
-                    told.store(true, std::sync::atomic::Ordering::Relaxed);
-                    (f.0)(name, k, total)
-                });
+                let (told, size) = (AtomicBool::new(false), AtomicU64::new(0));
+                let total = |n| size.store(n, Relaxed);
+                let progress = |k| {
+                    told.store(true, Relaxed);
+                    (f.0)(name, k, size.load(Relaxed))
+                };
+                let control = Control {
+                    progress: &progress,
+                    total: &total,
+                    ..Control::default()
+                };
+                let e = scene.prepare(w, &self.exec, &control);
                 // the end of what was told, built or not
-                if told.load(std::sync::atomic::Ordering::Relaxed) {
+                if told.load(Relaxed) {
                     (f.0)(name, 0, 0);
                 }
                 e?
             }
-            None => scene.prepare(w, &self.exec)?,
+            None => scene.prepare(w, &self.exec, &Control::default())?,
         };
         if let Some(line) = e.describe() {
             self.notice(&line);
@@ -342,7 +360,8 @@ impl Sweep {
                     .collect();
             }
             if let Some(mut world) = exec.value_world(unit.len()) {
-                return self.run_value_sessions_lockstep(unit, &mut *world);
+                let learners = self.value_learners(unit, &*world)?;
+                return Ok(self.run_group_on(unit, &mut *world, learners));
             }
             let mut world = exec.world(unit.len());
             self.run_sessions_lockstep(unit, &mut *world)

@@ -7,7 +7,7 @@
 //! values stepped together on one world of several copies where the
 //! scene's copies are exact (one session per world elsewhere), the groups
 //! in parallel. A session's results are those of
-//! [`run_value_session`](crate::run_value_session) alone, whatever the
+//! [`run_value_session`](crate::session::run_value_session) alone, whatever the
 //! threads, the groups and the shards. Its learner is the continuous form
 //! of the cell's learner
 //! ([`LearnerFactory::make_continuous`](super::LearnerFactory::make_continuous)); its
@@ -17,29 +17,20 @@
 //! (`factory.rs`).
 
 use super::plan::{SessionSpec, Sweep};
-use super::results::SessionResult;
 use super::SweepError;
-use crate::command::Command;
 use crate::effect::Target;
 use crate::learner::ContinuousLearner;
-use crate::session::{run_value_lockstep, Recorder, SessionConfig};
-use crate::world::{ContinuousWorld, Outcome};
+use crate::world::ContinuousWorld;
 
 impl Sweep {
-    /// Runs `sessions` (all of one continuous scene) together on `world`
-    /// ([`run_value_lockstep`]): at each trial the values of all of them
-    /// are executed in one batch. The results are those of each session
-    /// run alone on a world of one copy, in order, when `world`'s batches
-    /// give each command's single-world outcome (the worlds of
-    /// [`SceneRun::value_world`](super::factory::SceneRun::value_world) do).
-    pub fn run_value_sessions_lockstep(
+    /// The learners of `sessions` (all of one continuous scene) on `world`:
+    /// the continuous form of each cell's learner.
+    pub(super) fn value_learners(
         &self,
         sessions: &[SessionSpec],
-        world: &mut dyn ContinuousWorld,
-    ) -> Result<Vec<SessionResult>, SweepError> {
-        let space = world.value_space().clone();
-        let num_effects = world.num_effects();
-        let mut learners = sessions
+        world: &dyn ContinuousWorld,
+    ) -> Result<Vec<Box<dyn ContinuousLearner + Send>>, SweepError> {
+        sessions
             .iter()
             .map(|s| {
                 let cell = &self.cells[s.cell];
@@ -47,8 +38,8 @@ impl Sweep {
                     .make_continuous(
                         &cell.learner,
                         &cell.params,
-                        &space,
-                        num_effects,
+                        world.value_space(),
+                        world.num_effects(),
                         &Target::Uniform,
                     )
                     .map_err(|source| SweepError::Learner {
@@ -56,29 +47,6 @@ impl Sweep {
                         source,
                     })
             })
-            .collect::<Result<Vec<Box<dyn ContinuousLearner + Send>>, _>>()?;
-        let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
-        let records = run_value_lockstep(world, &mut learners, &configs, |t| self.count_trials(t));
-        let none = Command::new(Vec::new());
-        Ok(sessions
-            .iter()
-            .zip(records)
-            .map(|(s, record)| {
-                let mut running = self.recorder_of(num_effects);
-                let record = match record {
-                    Ok(r) => r,
-                    Err(e) => return self.result(s, Err(e), &running),
-                };
-                for (&effect, &reward) in record.effects.iter().zip(&record.rewards) {
-                    let outcome = Outcome {
-                        effect,
-                        reward,
-                        point: [0.0; 2],
-                    };
-                    running.record(&none, &outcome);
-                }
-                self.result(s, Ok(()), &running)
-            })
-            .collect())
+            .collect()
     }
 }

@@ -8,6 +8,7 @@ use super::{
 };
 use crate::scene::{Scene, WorldSpec};
 use crate::world::table::CachedOutcomes;
+use crate::world::Control;
 use std::path::{Path, PathBuf};
 
 /// Carries out an [`ExecutionPlan`] for one scene: holds its table or its
@@ -47,34 +48,22 @@ impl<'s> Executor<'s> {
         work: &Workload,
         options: &ExecOptions,
     ) -> Result<Executor<'s>, WorldError> {
-        Self::with_progress(scene, work, options, &|_, _| {})
+        Self::with_control(scene, work, options, &Control::default())
     }
 
-    /// [`new`](Self::new), calling `progress(k, total)` from the workers
-    /// while a table is built: `k` more commands simulated, of about
-    /// `total` to simulate (the commands a partial file lacks, or the
-    /// simulated half under a mirror symmetry). Nothing is called when no
-    /// table is built. The executor is the same.
-    pub fn with_progress(
-        scene: &'s Scene,
-        work: &Workload,
-        options: &ExecOptions,
-        progress: &(dyn Fn(u64, u64) + Sync),
-    ) -> Result<Executor<'s>, WorldError> {
-        Self::with_progress_until(scene, work, options, progress, &|| false)
-    }
-
-    /// [`with_progress`](Self::with_progress) whose table building can be
-    /// stopped: `stop()` is asked before each chunk of commands, and once
-    /// it returns `true` the executor is not made: the error is
-    /// `WorldError::Other("stopped")` (a Ctrl-C in Python ends a build of a
+    /// [`new`](Self::new) under `control`, while a table is built: told
+    /// the `total` commands to simulate (the commands a partial file
+    /// lacks, or the simulated half under a mirror symmetry), then, from
+    /// the workers, of each chunk of commands simulated; asked before each
+    /// chunk whether to stop, and then the executor is not made: the error
+    /// is [`WorldError::Stopped`] (a Ctrl-C in Python ends a build of a
     /// minute within a chunk's time, instead of after the whole table).
-    pub fn with_progress_until(
+    /// Nothing is told when no table is built. The executor is the same.
+    pub fn with_control(
         scene: &'s Scene,
         work: &Workload,
         options: &ExecOptions,
-        progress: &(dyn Fn(u64, u64) + Sync),
-        stop: &(dyn Fn() -> bool + Sync),
+        control: &Control<'_>,
     ) -> Result<Executor<'s>, WorldError> {
         scene
             .spec()
@@ -111,13 +100,13 @@ impl<'s> Executor<'s> {
                     Ok(t)
                 }
                 // what a partial file holds is not simulated again
-                Some(CachedOutcomes::Partial(ref known)) => exec.build_table(known, progress, stop),
-                None => exec.build_table(&[], progress, stop),
+                Some(CachedOutcomes::Partial(ref known)) => exec.build_table(known, control),
+                None => exec.build_table(&[], control),
             };
             match built {
                 Ok(t) => exec.table = Some(t),
                 // stopped: no fallback to a memo or live execution
-                Err(e) if stop() => return Err(e),
+                Err(e @ WorldError::Stopped) => return Err(e),
                 Err(e) => {
                     exec.plan.strategy = if memo_cap > 0 {
                         Strategy::Memo
@@ -147,7 +136,7 @@ impl<'s> Executor<'s> {
     /// else one copy per world and a group per session. Sessions run on
     /// worlds of [`copies_for`](Self::copies_for) copies of its
     /// [`continuous`](Self::continuous) scene, by
-    /// [`run_value_sessions`](crate::run_value_sessions). A scene of
+    /// [`run_sessions`](crate::run_sessions). A scene of
     /// symbols is an error (its executor is [`new`](Self::new)).
     ///
     /// ```
@@ -199,8 +188,7 @@ impl<'s> Executor<'s> {
     fn build_table(
         &mut self,
         known: &[(u64, Outcome)],
-        progress: &(dyn Fn(u64, u64) + Sync),
-        stop: &(dyn Fn() -> bool + Sync),
+        control: &Control<'_>,
     ) -> Result<OutcomeTable, WorldError> {
         let n = self.plan.commands.unwrap_or(0);
         let total = self
@@ -208,11 +196,11 @@ impl<'s> Executor<'s> {
             .simulated
             .unwrap_or(n)
             .saturating_sub(known.len() as u64);
-        let each = |k: u64| progress(k, total);
+        (control.total)(total);
         let t = if known.is_empty() {
-            OutcomeTable::build_scene_until(self.scene, &each, stop)?
+            OutcomeTable::build_scene_with(self.scene, control)?
         } else {
-            OutcomeTable::complete_until(self.scene, known, &each, stop)?
+            OutcomeTable::complete_with(self.scene, known, control)?
         };
         if let Some(p) = &self.cache {
             if let Err(e) = t.write_file(p, self.scene) {

@@ -44,7 +44,8 @@ impl Scene {
     /// [`is_continuous`](crate::scene::SceneSpec::is_continuous) is true.
     ///
     /// ```
-    /// use e3d::{ContinuousWorld, Scene};
+    /// use e3d::Scene;
+    /// use e3d::world::ContinuousWorld;
     /// let arm = Scene::builtin("arm7_continuous").unwrap();
     /// let c = arm.as_continuous().unwrap();
     /// assert_eq!(c.values().num_slots(), 7);
@@ -168,7 +169,7 @@ impl<'a> ContinuousScene<'a> {
 }
 
 /// The physics world of a continuous scene, known to take values: what
-/// [`run_value_session`](crate::run_value_session) steps on (a
+/// [`run_value_session`](crate::session::run_value_session) steps on (a
 /// [`ContinuousWorld`]). Made by [`ContinuousScene::world`].
 #[derive(Debug)]
 pub struct ValueWorld {
@@ -180,16 +181,6 @@ impl ValueWorld {
     /// The Rapier world itself (motions, traces, batches).
     pub fn physics(&self) -> &PhysicsWorld {
         &self.world
-    }
-
-    /// The Rapier world itself, to execute on.
-    pub fn physics_mut(&mut self) -> &mut PhysicsWorld {
-        &mut self.world
-    }
-
-    /// The Rapier world, without its value space.
-    pub fn into_physics(self) -> PhysicsWorld {
-        self.world
     }
 }
 

@@ -16,6 +16,7 @@
 //! Implement [`World`] to plug in your own simulator or robot.
 
 mod context_memo;
+mod control;
 mod executor;
 mod from_scene;
 mod grid;
@@ -27,6 +28,7 @@ mod table;
 
 pub use crate::scene::GridSpec;
 pub use context_memo::ContextMemoized;
+pub use control::{Control, Observer};
 pub use executor::Executor;
 pub use from_scene::{ContinuousScene, PhysicsScene, ValueWorld};
 pub use grid::GridWorld;
@@ -40,7 +42,7 @@ pub use plan::{
     Workload, CALIBRATION_MAX_ROLLOUTS, CALIBRATION_ROLLOUTS, CALIBRATION_SECONDS,
 };
 pub use reach::{
-    farthest_reached_cell, sample_reach, sample_reach_with_progress, FarthestCell, ReachSample,
+    farthest_reached_cell, sample_reach, sample_reach_with, FarthestCell, ReachSample,
 };
 pub use table::{
     seed0_start, start_contexts, CachedOutcomes, ContextTables, OutcomeTable, StartContext,
@@ -49,6 +51,23 @@ pub use table::{
 
 use crate::command::{Command, CommandSpace, ValueSpace};
 use serde::{Deserialize, Serialize};
+
+/// The e3d version written into output folders and into every outcome
+/// table's key: the crate's version and [`PHYSICS_FINGERPRINT`]
+/// (`0.1.0+physics.1a2b3c4d`), so that a sweep folder or a table cache
+/// made by a build whose physics differs is not reused.
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    "+physics.",
+    env!("E3D_PHYSICS_FINGERPRINT")
+);
+
+/// A hash (8 hex digits) of the code that decides what a command does,
+/// computed when e3d is built (`build.rs`): the physics and grid worlds,
+/// the physics scene checks and shorthands, the effect binning (their text
+/// without whitespace), and the versions of Rapier, parry, nalgebra and
+/// glam in Cargo.lock. Any change to them changes it.
+pub const PHYSICS_FINGERPRINT: &str = env!("E3D_PHYSICS_FINGERPRINT");
 
 /// What the learner reads after a command: the terminal state, binned.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -110,6 +129,10 @@ pub enum WorldError {
         /// What went wrong.
         reason: String,
     },
+    /// The run was stopped ([`Control::stop`](Control)
+    /// said so): a Ctrl-C, a cancelled call.
+    #[error("stopped")]
+    Stopped,
     /// Any other failure of a user's world.
     #[error("{0}")]
     Other(String),
@@ -122,7 +145,8 @@ pub enum WorldError {
 ///
 /// ```
 /// use e3d::world::check_command;
-/// use e3d::{Command, CommandSpace, WorldError};
+/// use e3d::{Command, WorldError};
+/// use e3d::command::CommandSpace;
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// assert!(check_command(&space, &Command::new(vec![0, 1])).is_ok());
 /// let e = check_command(&space, &Command::new(vec![0, 2])).unwrap_err();
@@ -150,7 +174,8 @@ pub fn check_command(space: &CommandSpace, command: &Command) -> Result<(), Worl
 /// A world that executes commands open loop.
 ///
 /// ```
-/// use e3d::{Command, CommandSpace, Outcome, World, WorldError};
+/// use e3d::{Command, Outcome, World, WorldError};
+/// use e3d::command::CommandSpace;
 ///
 /// /// Effect = number of 'b' symbols.
 /// struct CountB { space: CommandSpace }

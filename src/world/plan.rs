@@ -58,7 +58,7 @@ pub enum Strategy {
 /// [`Strategy::from_str`](std::str::FromStr::from_str) refuses.
 ///
 /// ```
-/// use e3d::{ParseStrategyError, Strategy};
+/// use e3d::world::{ParseStrategyError, Strategy};
 /// let e: ParseStrategyError = "tables".parse::<Strategy>().unwrap_err();
 /// assert_eq!(e.to_string(), "`tables`: expected table, memo or live");
 /// assert_eq!(e.input(), "tables");

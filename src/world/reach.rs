@@ -120,21 +120,23 @@ pub fn sample_reach(
     samples: u64,
     seed: u64,
 ) -> Result<ReachSample, crate::WorldError> {
-    sample_reach_with_progress(scene, samples, seed, &|_| {})
+    sample_reach_with(scene, samples, seed, &crate::world::Control::default())
 }
 
-/// [`sample_reach`], calling `progress(k)` after each batch: `k` more
-/// commands executed (of [`ReachSample::samples`] in all: `samples`, or
-/// the size of a space that holds no more). The sample is the same.
-pub fn sample_reach_with_progress(
+/// [`sample_reach`] under `control`: told of `k` more commands executed
+/// after each batch (of [`ReachSample::samples`] in all: `samples`, or
+/// the size of a space that holds no more), asked before each batch
+/// whether to stop. The sample is the same.
+pub fn sample_reach_with(
     scene: &crate::Scene,
     samples: u64,
     seed: u64,
-    progress: &dyn Fn(u64),
+    control: &crate::world::Control<'_>,
 ) -> Result<ReachSample, crate::WorldError> {
     use rand::{RngExt, SeedableRng};
+    let progress = control.progress;
     if let Some(continuous) = scene.as_continuous() {
-        return sample_reach_values(continuous, samples, seed, progress);
+        return sample_reach_values(continuous, samples, seed, control);
     }
     let space = scene.command_space();
     let exhaustive = space.num_commands().is_some_and(|n| n <= samples);
@@ -152,6 +154,7 @@ pub fn sample_reach_with_progress(
     let mut out = Vec::with_capacity(32);
     let mut done = 0u64;
     while done < total {
+        control.check()?;
         batch.clear();
         while batch.len() < 32 && done + (batch.len() as u64) < total {
             let c = if exhaustive {
@@ -183,23 +186,25 @@ pub fn sample_reach_with_progress(
 }
 
 /// [`sample_reach`] of a continuous scene: `samples` commands drawn by
-/// the uniform sampler ([`UniformValues`](crate::UniformValues)) seeded
+/// the uniform sampler ([`UniformValues`](crate::learner::UniformValues)) seeded
 /// `seed`, on live physics.
 fn sample_reach_values(
     scene: super::ContinuousScene,
     samples: u64,
     seed: u64,
-    progress: &dyn Fn(u64),
+    control: &crate::world::Control<'_>,
 ) -> Result<ReachSample, crate::WorldError> {
     use crate::ContinuousLearner;
+    let progress = control.progress;
     use rand::SeedableRng;
     let mut world = scene.physics().world(1);
-    let mut sampler = crate::UniformValues::new(scene.values());
+    let mut sampler = crate::learner::UniformValues::new(scene.values());
     let mut rng = crate::SessionRng::seed_from_u64(seed);
     let mut counts = vec![0u64; scene.scene().num_effects()];
     let start = std::time::Instant::now();
     let mut v = Vec::new();
     for _ in 0..samples {
+        control.check()?;
         sampler.propose(&mut rng, &mut v);
         counts[world.execute_values(&v)?.effect] += 1;
         progress(1);

@@ -69,8 +69,12 @@ fn scene_table_keys_the_outcomes_by_context_and_command() {
     );
     // the files hold what exec gives from each context, command by command
     let scene = Scene::load(&path).unwrap();
-    let (tables, read) =
-        ContextTables::cached(TabledContexts::of(&scene).unwrap(), &cache, &|_| {}).unwrap();
+    let (tables, read) = ContextTables::cached(
+        TabledContexts::of(&scene).unwrap(),
+        &cache,
+        &e3d::Control::default(),
+    )
+    .unwrap();
     assert!(read);
     let space = scene.command_space();
     let commands = ["EEEEESS", "SSSSWWW", "NNNNNNN", "WSWSWSE"];

@@ -4,7 +4,8 @@
 
 use crate::common::{e3d, ok, temp_dir, PUCK_HEADINGS};
 use crate::sweep::{assert_same_files, FINAL_FILES};
-use e3d::{run_value_session, LearnerKind, Scene, SessionConfig, Target};
+use e3d::session::run_value_session;
+use e3d::{LearnerKind, Scene, SessionConfig, Target};
 
 /// A puck of continuous commands (exact copies: its sessions step
 /// together) and arm7_continuous (a world per session), 2 learners, 2
@@ -95,7 +96,7 @@ fn a_continuous_sweep_gives_each_session_alone_whatever_the_threads_and_shards()
             seed: s.seed,
             use_reward: true,
         };
-        let rec = run_value_session(&mut world, &mut learner, &config, |_| {}).unwrap();
+        let rec = run_value_session(&mut world, &mut learner, &config).unwrap();
         let m = rec.metrics(&Target::Uniform);
         let num = |i: usize| row[i].parse::<f64>().unwrap();
         assert_eq!(num(10).to_bits(), m.normalized_entropy.to_bits(), "{row:?}");

@@ -94,7 +94,7 @@ pub const PUCK_HEADINGS: &str = include_str!("../scenes/puck_headings.ron");
 /// on the world `world()` makes: first observing its start context, then
 /// blind to it.
 pub fn seen_and_blind_entropy<W: e3d::World + ?Sized>(
-    space: &e3d::CommandSpace,
+    space: &e3d::command::CommandSpace,
     num_effects: usize,
     contexts: usize,
     seed: u64,
@@ -128,4 +128,33 @@ pub fn seen_and_blind_entropy<W: e3d::World + ?Sized>(
                 .entropy_per_start(contexts)
         })
         .collect()
+}
+
+/// Sessions of continuous commands, `learners[i]` with `configs[i]`, run
+/// the way `exec` plans them ([`e3d::run_sessions`]): their records, each
+/// with its learner's final policy.
+pub fn value_sessions<L: e3d::ContinuousLearner + Send>(
+    exec: &e3d::Executor<'_>,
+    configs: &[e3d::SessionConfig],
+    mut learners: Vec<L>,
+) -> Vec<e3d::session::ValueSessionRecord> {
+    let scene = exec.continuous().expect("a continuous scene");
+    let slots = scene.values().num_slots();
+    let effects = scene.scene().num_effects();
+    let mut records: Vec<e3d::session::ValueSessionRecord> = configs
+        .iter()
+        .map(|c| e3d::session::ValueSessionRecord::new(slots, effects, c.trials))
+        .collect();
+    let status = e3d::run_sessions(
+        exec,
+        &mut learners,
+        configs,
+        &mut records,
+        &e3d::Control::default(),
+    );
+    for ((s, r), l) in status.into_iter().zip(&mut records).zip(&learners) {
+        s.unwrap();
+        r.set_policy(l);
+    }
+    records
 }

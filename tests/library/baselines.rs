@@ -3,12 +3,14 @@
 //! measures. Fixed seeds; every check compares numbers or contents that a
 //! wrong implementation would change.
 
+use e3d::command::ValueSpace;
 use e3d::learner::mutation::{mutate_symbols, mutate_values};
 use e3d::learner::{Archive, GoalBabbling};
 use e3d::rand::SeedableRng;
+use e3d::session::{run_value_session, RunningMetrics};
 use e3d::{
-    run_session, run_value_session, Command, Learner, LearnerKind, Outcome, OutcomeTable, Params,
-    Recorder, RunningMetrics, Scene, SessionConfig, SessionRng, Sweep, Target, ValueSpace, World,
+    run_session, Command, Learner, LearnerKind, Outcome, OutcomeTable, Params, Recorder, Scene,
+    SessionConfig, SessionRng, Sweep, Target, World,
 };
 use std::collections::HashMap;
 
@@ -129,7 +131,7 @@ fn the_archive_keeps_exactly_one_command_per_reached_cell() {
 
 #[test]
 fn a_rewarded_command_replaces_the_kept_one() {
-    let space = e3d::CommandSpace::repeat(2, &['a', 'b']).unwrap();
+    let space = e3d::command::CommandSpace::repeat(2, &['a', 'b']).unwrap();
     let mut a = Archive::new(&space, 3, &Params::TASK1);
     let o = |reward| Outcome {
         effect: 1,
@@ -152,7 +154,7 @@ fn the_archive_favours_rarely_chosen_cells() {
     // 200 picks, cell 0's chance is (1 + n0)^-r / ((1 + n0)^-r + (1 + n1)^-r):
     // picks of cell 0 about 100 (r = 0, sd 7.2), 67 (r = 0.5, sd 5.6) and
     // 50 (r = 1, sd 4.9) (4000 simulated runs)
-    let space = e3d::CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
+    let space = e3d::command::CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
     let o = |e| Outcome {
         effect: e,
         reward: 0.0,
@@ -238,7 +240,7 @@ fn goal_babbling_mutates_the_nearest_known_command() {
 #[test]
 fn goals_beyond_the_known_box_pull_outwards() {
     // two known cells on a line; goals are drawn within 10% beyond them
-    let space = e3d::CommandSpace::repeat(2, &['a', 'b', 'c']).unwrap();
+    let space = e3d::command::CommandSpace::repeat(2, &['a', 'b', 'c']).unwrap();
     let mut gb = GoalBabbling::new(&space, 4, &Params::TASK1);
     let o = |e, x| Outcome {
         effect: e,
@@ -327,13 +329,8 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
             seed: 3,
             use_reward: false,
         };
-        let rec = run_value_session(
-            &mut arm.as_continuous().unwrap().world(1),
-            &mut l,
-            &cfg,
-            |_| {},
-        )
-        .unwrap();
+        let rec =
+            run_value_session(&mut arm.as_continuous().unwrap().world(1), &mut l, &cfg).unwrap();
         assert_eq!(rec.values.len(), 40 * 7);
         assert!(space.check(rec.values_of(39)).is_ok());
         // after the first, every command is a mutation of a kept one:

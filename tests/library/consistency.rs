@@ -4,10 +4,12 @@
 //! and the metrics know the entropy over the reachable cells when a table
 //! gives them.
 
+use e3d::session::{run_session_into, RunningMetrics};
 use e3d::world::{check_command, ExecOptions, Executor, Strategy, Workload};
+use e3d::world::{Memoized, OutcomeMemo};
 use e3d::{
-    run_session, run_session_into, Command, LearnerKind, Memoized, OutcomeMemo, OutcomeTable,
-    Params, RunningMetrics, Scene, SessionConfig, Target, World, WorldError,
+    run_session, Command, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target, World,
+    WorldError,
 };
 
 /// A command with a symbol outside slot 1's alphabet, one slot too many,
@@ -182,6 +184,13 @@ fn metrics_hold_the_entropy_over_the_reachable_cells_when_a_table_knows_them() {
     assert_eq!(plain.normalized_entropy, m.normalized_entropy);
     // in constant memory, bit for bit
     let mut running = RunningMetrics::new(scene.num_effects());
-    run_session_into(&mut &*table, &mut *make(), &cfg, &mut running, |_| {}).unwrap();
+    run_session_into(
+        &mut &*table,
+        &mut *make(),
+        &cfg,
+        &mut running,
+        &e3d::Control::default(),
+    )
+    .unwrap();
     assert_eq!(running.metrics_over_reachable(&Target::Uniform, 68), m);
 }

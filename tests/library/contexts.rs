@@ -6,9 +6,10 @@
 use e3d::episode::{run_episodes, EpisodeConfig, Observe};
 use e3d::learner::{ClosedLoopE3d, ContextTargets, ContextualLearner, QLearning};
 use e3d::scene::{CommandSpec, WorldSpec};
+use e3d::world::WorldState;
 use e3d::{
     run_session, Command, LearnerKind, Outcome, Params, Scene, SessionConfig, SessionRng, Target,
-    World, WorldState,
+    World,
 };
 use rand::{RngExt, SeedableRng};
 

@@ -110,7 +110,7 @@ fn with_rho_zero_the_relaxed_update_is_e3d_s() {
         .unwrap()
         .with_relax(0.0)
         .unwrap();
-    let mut e3d = e3d::E3d::new(&space, 18, &Params::TASK2, &Target::Uniform).unwrap();
+    let mut e3d = e3d::learner::E3d::new(&space, 18, &Params::TASK2, &Target::Uniform).unwrap();
     let mut c = space.first();
     for i in 0..2000u64 {
         space.write_command_at((i * 7919) % 16384, &mut c);
@@ -133,7 +133,7 @@ fn with_rho_zero_the_relaxed_update_is_e3d_s() {
 
 #[test]
 fn count_bonus_counts_and_smm_keeps_a_bounded_history() {
-    let space = e3d::CommandSpace::repeat(2, &['a', 'b']).unwrap();
+    let space = e3d::command::CommandSpace::repeat(2, &['a', 'b']).unwrap();
     let mut count = CountBonus::new(&space, 3, &Params::TASK1);
     let mut smm = StateMarginalMatching::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
     let c = Command::new(vec![1, 0]);

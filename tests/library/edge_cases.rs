@@ -1,9 +1,9 @@
 //! Numeric edge cases of the learners: defined, finite, tested.
 
-use e3d::{
-    run_session, Command, CommandSpace, E3d, EffectModel, Learner, LearnerError, Outcome, Params,
-    Scene, SessionConfig, Target, TargetError,
-};
+use e3d::command::CommandSpace;
+use e3d::effect::{EffectModel, TargetError};
+use e3d::learner::{E3d, LearnerError};
+use e3d::{run_session, Command, Learner, Outcome, Params, Scene, SessionConfig, Target};
 
 fn outcome(effect: usize, reward: f64) -> Outcome {
     Outcome {

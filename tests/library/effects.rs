@@ -3,8 +3,8 @@
 //! other product on nested blocks; every layout is an `EffectGrid` whose
 //! cells are the effects.
 
+use e3d::effect::EffectGrid;
 use e3d::effect::{Axis, Binning, Feature};
-use e3d::EffectGrid;
 
 #[test]
 fn one_point_is_todays_effect_bit_for_bit() {

@@ -1,9 +1,8 @@
 //! The learners against hand-computed updates, and their ranges.
 
-use e3d::{
-    Command, CommandSpace, E3d, EpsilonGreedy, Learner, LearnerError, LearnerKind, Outcome, Params,
-    SessionRng, Target,
-};
+use e3d::command::CommandSpace;
+use e3d::learner::{E3d, EpsilonGreedy, LearnerError};
+use e3d::{Command, Learner, LearnerKind, Outcome, Params, SessionRng, Target};
 use rand::SeedableRng;
 
 fn outcome(effect: usize, reward: f64) -> Outcome {

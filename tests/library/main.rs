@@ -8,12 +8,14 @@ mod common;
 
 mod bad_scenes;
 mod baselines;
+mod build_script;
 mod consistency;
 mod contexts;
 mod drives;
 mod edge_cases;
 mod effects;
 mod every_scene;
+mod faults;
 mod fuzz_outputs;
 mod fuzz_scenes;
 mod fuzz_sweeps;

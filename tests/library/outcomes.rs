@@ -260,8 +260,8 @@ fn e3d_run_says_how_and_gives_the_same_trials_every_way() {
 fn a_command_and_its_mirror_image_share_one_memo_entry() {
     let arm = Scene::builtin("arm7").unwrap();
     let space = arm.command_space();
-    let memo = e3d::OutcomeMemo::new(&space, arm.num_effects(), 100).unwrap();
-    let mut world = e3d::Memoized::new(arm.build(), &memo);
+    let memo = e3d::world::OutcomeMemo::new(&space, arm.num_effects(), 100).unwrap();
+    let mut world = e3d::world::Memoized::new(arm.build(), &memo);
     let mut plain = arm.build();
     let c = space.parse("+-0+0-+").unwrap();
     let image = space.parse("-+0-0+-").unwrap();
@@ -379,7 +379,11 @@ fn an_executor_building_a_table_reports_every_simulated_command() {
     for name in ["two_rooms", "pendulum3"] {
         let scene = Scene::builtin(name).unwrap();
         let (done, total) = (AtomicU64::new(0), AtomicU64::new(0));
-        let exec = Executor::with_progress(
+        let add = |k| {
+            done.fetch_add(k, Ordering::Relaxed);
+        };
+        let size = |t| total.store(t, Ordering::Relaxed);
+        let exec = Executor::with_control(
             &scene,
             &Workload {
                 trials: 1000,
@@ -390,9 +394,10 @@ fn an_executor_building_a_table_reports_every_simulated_command() {
                 force: Some(Strategy::Table),
                 ..ExecOptions::default()
             },
-            &|k, t| {
-                done.fetch_add(k, Ordering::Relaxed);
-                total.store(t, Ordering::Relaxed);
+            &e3d::Control {
+                progress: &add,
+                total: &size,
+                ..e3d::Control::default()
             },
         )
         .unwrap();
@@ -419,11 +424,14 @@ fn a_stopped_table_build_ends_early_and_keeps_nothing() {
         };
         // stop once some commands are simulated
         let stop = || done.load(Ordering::Relaxed) > 0;
-        let e = OutcomeTable::build_scene_until(&scene, &progress, &stop).unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            e3d::WorldError::Other("stopped".into()).to_string()
-        );
+        let control = e3d::Control {
+            progress: &progress,
+            stop: &stop,
+            ..e3d::Control::default()
+        };
+        let e = OutcomeTable::build_scene_with(&scene, &control).unwrap_err();
+        assert_eq!(e, e3d::WorldError::Stopped);
+        assert_eq!(e.to_string(), "stopped");
         let simulated = done.load(Ordering::Relaxed);
         // at most a chunk of commands per worker after the first
         let threads = rayon::current_num_threads() as u64;
@@ -443,11 +451,13 @@ fn a_stopped_table_build_ends_early_and_keeps_nothing() {
             sessions: 1,
             threads: 1,
         };
-        let r = Executor::with_progress_until(&scene, &work, &options, &|_, _| {}, &|| true);
-        assert!(
-            matches!(r, Err(ref e) if e.to_string().contains("stopped")),
-            "{name}"
-        );
+        let always = || true;
+        let control = e3d::Control {
+            stop: &always,
+            ..e3d::Control::default()
+        };
+        let r = Executor::with_control(&scene, &work, &options, &control);
+        assert!(matches!(r, Err(e3d::WorldError::Stopped)), "{name}");
         let left: Vec<_> = std::fs::read_dir(&dir)
             .map(|d| d.map(|e| e.unwrap().file_name()).collect())
             .unwrap_or_default();
@@ -463,7 +473,7 @@ fn a_stopped_table_build_ends_early_and_keeps_nothing() {
     for name in ["two_rooms", "pendulum3"] {
         let scene = Scene::builtin(name).unwrap();
         assert_eq!(
-            OutcomeTable::build_scene_until(&scene, &|_| {}, &|| false)
+            OutcomeTable::build_scene_with(&scene, &e3d::Control::default())
                 .unwrap()
                 .to_bytes(0),
             OutcomeTable::build_scene(&scene).unwrap().to_bytes(0)

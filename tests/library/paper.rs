@@ -67,7 +67,7 @@ fn without_reward_beta_cancels_out() {
     assert_ne!(effects(1.0), effects_with_reward(&table, &space));
 }
 
-fn effects_with_reward(table: &OutcomeTable, space: &e3d::CommandSpace) -> Vec<usize> {
+fn effects_with_reward(table: &OutcomeTable, space: &e3d::command::CommandSpace) -> Vec<usize> {
     let mut l = LearnerKind::E3d
         .make(&Params::TASK2, space, 18, &Target::Uniform)
         .unwrap();

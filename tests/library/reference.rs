@@ -2,7 +2,8 @@
 //! sampling) against a straightforward transcription of the paper's
 //! Algorithm 1.
 
-use e3d::{Command, E3d, Learner, OutcomeTable, Params, Scene, SessionRng, Target};
+use e3d::learner::E3d;
+use e3d::{Command, Learner, OutcomeTable, Params, Scene, SessionRng, Target};
 use rand::{RngExt, SeedableRng};
 
 /// Algorithm 1 as written: full softmax each trial, plain histogram update.

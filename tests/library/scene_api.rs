@@ -8,7 +8,8 @@ use e3d::scene::{
     ron_options, Action, CommandSpec, Scene, SceneError, SceneErrorKind, SceneSpec, Symmetry,
     WorldSpec, BUILTIN,
 };
-use e3d::{SweepError, World};
+use e3d::sweep::SweepError;
+use e3d::World;
 use proptest::prelude::*;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 

@@ -3,12 +3,13 @@
 //! `e3d sweep`.
 
 use crate::common::temp_path;
+use e3d::command::CommandSpace;
 use e3d::episode::Observe;
 use e3d::sweep::{
     DirOptions, LearnerFactory, Learners, LiveScene, MetricSpec, ParamValues, Scale, Shard, Sweep,
     SweepSpec, Values, Worlds,
 };
-use e3d::{Command, CommandSpace, LearnerKind, Outcome, Scene, World, WorldError};
+use e3d::{Command, LearnerKind, Outcome, Scene, World, WorldError};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 

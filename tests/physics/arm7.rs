@@ -2,10 +2,8 @@
 //! and arm7 as a learning problem.
 
 use e3d::world::farthest_reached_cell;
-use e3d::{
-    run_session, LearnerKind, OutcomeTable, Params, PhysicsWorld, Scene, SessionConfig, Target,
-    World,
-};
+use e3d::world::PhysicsWorld;
+use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target, World};
 use std::sync::OnceLock;
 
 fn scene() -> Scene {

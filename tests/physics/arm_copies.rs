@@ -9,7 +9,8 @@
 //! `cargo test --release --test physics arm_copies:: -- --nocapture`.
 
 use e3d::scene::WorldSpec;
-use e3d::{Command, Outcome, PhysicsWorld, Scene, World};
+use e3d::world::PhysicsWorld;
+use e3d::{Command, Outcome, Scene, World};
 
 fn world(scene: &Scene, copies: usize) -> PhysicsWorld {
     scene.as_physics().expect("a physics scene").world(copies)

@@ -5,8 +5,9 @@
 
 use e3d::episode::{run_episodes, EpisodeConfig, Observe};
 use e3d::learner::ContextTargets;
+use e3d::world::WorldState;
 use e3d::world::{ContextMemoized, OutcomeMemo};
-use e3d::{LearnerKind, Params, Scene, SessionRng, Target, World, WorldState};
+use e3d::{LearnerKind, Params, Scene, SessionRng, Target, World};
 use rand::SeedableRng;
 
 fn puck_contexts() -> Scene {

@@ -2,11 +2,14 @@
 //! live physics, the Gaussian E3D against the uniform sampler, and the CLI.
 
 use crate::common::{e3d, e3d_command, temp_path, PUCK_HEADINGS};
+use e3d::command::ValueSpace;
+use e3d::learner::{GaussianE3d, UniformValues};
 use e3d::scene::{Symmetry, WorldSpec};
+use e3d::session::run_value_session;
 use e3d::world::{Executor, Workload};
 use e3d::{
-    run_value_session, run_value_sessions, ContinuousLearner, GaussianE3d, LearnerKind, Outcome,
-    Params, Scene, SessionConfig, SessionRng, Target, UniformValues, ValueSpace, World,
+    ContinuousLearner, LearnerKind, Outcome, Params, Scene, SessionConfig, SessionRng, Target,
+    World,
 };
 use rand::SeedableRng;
 use std::path::Path;
@@ -156,7 +159,7 @@ fn tools_of_symbols_refuse_a_continuous_scene_by_name() {
 }
 
 /// Sessions of `kind` on arm7_continuous, seeds 0 and 1, 1500 trials.
-fn sessions(kind: LearnerKind) -> Vec<e3d::ValueSessionRecord> {
+fn sessions(kind: LearnerKind) -> Vec<e3d::session::ValueSessionRecord> {
     let scene = continuous();
     let space = scene.value_space().unwrap();
     let configs: Vec<SessionConfig> = (0..2)
@@ -176,8 +179,7 @@ fn sessions(kind: LearnerKind) -> Vec<e3d::ValueSessionRecord> {
         )
         .unwrap()
     };
-    let sessions = configs.iter().map(|&c| (c, learner())).collect();
-    run_value_sessions(&exec, sessions, &|_| {}).unwrap()
+    crate::common::value_sessions(&exec, &configs, configs.iter().map(|_| learner()).collect())
 }
 
 #[test]
@@ -227,8 +229,11 @@ fn sessions_are_the_same_whatever_the_threads() {
             let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
             let learner =
                 || GaussianE3d::new(&space, 225, &Params::TASK1, &Target::Uniform).unwrap();
-            let sessions = configs.iter().map(|&c| (c, learner())).collect();
-            run_value_sessions(&exec, sessions, &|_| {}).unwrap()
+            crate::common::value_sessions(
+                &exec,
+                &configs,
+                configs.iter().map(|_| learner()).collect(),
+            )
         })
     };
     let one = run(1);
@@ -237,7 +242,7 @@ fn sessions_are_the_same_whatever_the_threads() {
     let mut w = scene.as_continuous().unwrap().world(1);
     let mut l = GaussianE3d::new(&space, 225, &Params::TASK1, &Target::Uniform).unwrap();
     assert_eq!(
-        run_value_session(&mut w, &mut l, &configs[1], |_| {}).unwrap(),
+        run_value_session(&mut w, &mut l, &configs[1]).unwrap(),
         one[1]
     );
     // every value inside its range
@@ -469,7 +474,7 @@ fn the_cli_runs_execs_and_refuses_continuous_scenes() {
 }
 
 /// The trials of a record as CSV bytes, without a session column.
-fn csv_of(rec: &e3d::ValueSessionRecord, space: &ValueSpace) -> Vec<u8> {
+fn csv_of(rec: &e3d::session::ValueSessionRecord, space: &ValueSpace) -> Vec<u8> {
     let mut out = Vec::new();
     rec.write_trials_csv(space, None, false, &mut out).unwrap();
     out
@@ -496,8 +501,11 @@ fn sessions_of_exact_copies_step_together_and_give_the_bytes_of_each_alone() {
         .unwrap();
     let (groups, copies, together) = pool.install(|| {
         let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
-        let sessions = configs.iter().map(|&c| (c, learner())).collect();
-        let recs = run_value_sessions(&exec, sessions, &|_| {}).unwrap();
+        let recs = crate::common::value_sessions(
+            &exec,
+            &configs,
+            configs.iter().map(|_| learner()).collect(),
+        );
         (exec.session_groups(configs.len()), exec.plan().copies, recs)
     });
     // one thread: the five sessions are one group, on a world of 5 copies
@@ -505,7 +513,7 @@ fn sessions_of_exact_copies_step_together_and_give_the_bytes_of_each_alone() {
     assert_eq!(copies, 5, "copies per world");
     for (cfg, rec) in configs.iter().zip(&together) {
         let mut world = scene.as_continuous().unwrap().world(1);
-        let alone = run_value_session(&mut world, &mut learner(), cfg, |_| {}).unwrap();
+        let alone = run_value_session(&mut world, &mut learner(), cfg).unwrap();
         assert_eq!(rec.trials(), cfg.trials);
         assert_eq!(
             csv_of(rec, &space),

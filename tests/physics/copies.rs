@@ -3,7 +3,8 @@
 //! up fails alone.
 
 use e3d::scene::WorldSpec;
-use e3d::{Command, Outcome, OutcomeTable, PhysicsWorld, Scene, World, WorldError};
+use e3d::world::PhysicsWorld;
+use e3d::{Command, Outcome, OutcomeTable, Scene, World, WorldError};
 
 fn world(scene: &Scene, copies: usize) -> PhysicsWorld {
     scene.as_physics().expect("a physics scene").world(copies)

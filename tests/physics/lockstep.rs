@@ -1,6 +1,28 @@
 //! Sessions in lockstep give the records of sessions run one by one.
 
-use e3d::{run_lockstep, run_session, LearnerKind, Params, Scene, SessionConfig, Target};
+use e3d::session::run_group;
+use e3d::{
+    run_session, Control, LearnerKind, Params, Scene, SessionConfig, SessionRecord, Target, World,
+    WorldError,
+};
+
+/// `run_group` into a record per session: each session's record, or its error.
+fn run_lockstep<W: World + ?Sized, L: e3d::Learner>(
+    world: &mut W,
+    learners: &mut [L],
+    configs: &[SessionConfig],
+) -> Vec<Result<SessionRecord, WorldError>> {
+    let mut records: Vec<SessionRecord> = configs
+        .iter()
+        .map(|c| SessionRecord::new(world, c.trials))
+        .collect();
+    let status = run_group(world, learners, configs, &mut records, &Control::default());
+    status
+        .into_iter()
+        .zip(records)
+        .map(|(s, r)| s.map(|()| r))
+        .collect()
+}
 
 #[test]
 fn lockstep_sessions_equal_independent_sessions() {

@@ -1,6 +1,7 @@
 //! Pendulums: the small-oscillation period, and joint position targets.
 
-use e3d::{PhysicsWorld, Scene, World};
+use e3d::world::PhysicsWorld;
+use e3d::{Scene, World};
 
 /// A rod of length 1 m, width 0.02 m and 1 kg hanging from the ground at
 /// the origin, started `theta0` rad off the vertical, no damping.

@@ -3,7 +3,9 @@
 
 mod methods;
 
-use e3d::{CommandSpace, Target, ValueSpace};
+use e3d::command::CommandSpace;
+use e3d::command::ValueSpace;
+use e3d::Target;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use std::path::PathBuf;

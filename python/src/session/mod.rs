@@ -7,14 +7,17 @@
 use crate::errors::{
     check_held, every_arg, params_with, seed_param, seeds_param, sessions_arg, trials_arg, Fail,
 };
-use crate::learner::{builtin_kind, Guarded};
+use crate::held::Held;
+use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
 use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
-use crate::saved::{Held, PyLearnerState};
+use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, target_arg, PyScene};
+use e3d::learner::E3d;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
-    E3d, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target, WorldError,
+    Control, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target,
+    WorldError,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -242,6 +245,10 @@ pub(crate) fn run_session(
         table_cache,
         target,
     )?;
+    crate::errors::reserve_records(
+        &format!("trials = {trials}"),
+        crate::errors::record_bytes(&scene, trials as u64),
+    )?;
     let run = OneSession {
         work: workload(trials, 1),
         cfg: a.config(trials, seed),
@@ -251,7 +258,7 @@ pub(crate) fn run_session(
     };
     // a Learner: its state, checked against the scene, written back at the end
     let saved = saved_state(learner, &scene)?;
-    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
+    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params)?;
     let held = saved.as_ref().map(|s| s.borrow().held.clone());
     if scene.values.is_some() {
         if let Some(h) = held {
@@ -348,7 +355,7 @@ fn make_symbols(
 ) -> PyResult<(Option<E3d>, Option<BoxedLearner>)> {
     let space = &scene.space;
     let n_eff = scene.inner.num_effects();
-    let bad = |e: e3d::LearnerError| PyValueError::new_err(e.to_string());
+    let bad = |e: e3d::learner::LearnerError| PyValueError::new_err(e.to_string());
     let e3d_made = match (kind, held) {
         (_, Some(Held::E3d(e))) => Some(e.clone()),
         (LearnerKind::E3d, None) => {
@@ -411,13 +418,9 @@ fn run_symbols(
         trials as u64,
         |exec, watch| {
             let mut world = exec.world(1);
-            let mut guarded = Guarded {
-                world: &mut *world,
-                stop: || watch.cancelled(),
-            };
-            let mut rec = SessionRecord::new(&guarded, trials);
-            e3d::run_session_into(&mut guarded, &mut *made, cfg, &mut rec, |t| {
-                watch.set(t as u64)
+            let mut rec = SessionRecord::new(&*world, trials);
+            watch.control(|control| {
+                e3d::session::run_session_into(&mut *world, &mut *made, cfg, &mut rec, control)
             })?;
             drop(world);
             let metrics = symbol_metrics(&exec, &rec, &a.target);
@@ -431,7 +434,7 @@ fn run_symbols(
 /// executor has a table of the outcomes.
 fn exact_of(exec: &Executor<'_>, learner: &dyn Learner) -> Option<Vec<f64>> {
     exec.table()
-        .and_then(|t| e3d::policy_effect_distribution(t, learner))
+        .and_then(|t| e3d::session::policy_effect_distribution(t, learner))
 }
 
 /// Runs `run` on the executor of `scene` without the GIL, watched (see
@@ -454,7 +457,11 @@ where
     let watch = Watch::new();
     Ok(watched(py, progress, total, &watch, |watch| {
         let stop = || watch.cancelled();
-        let exec = Executor::with_progress_until(&inner, work, options, &|_, _| {}, &stop)?;
+        let control = Control {
+            stop: &stop,
+            ..Control::default()
+        };
+        let exec = Executor::with_control(&inner, work, options, &control)?;
         run(exec, watch)
     })??)
 }
@@ -530,7 +537,11 @@ pub(crate) fn run_sessions(
         target,
     )?;
     check_held("trials and sessions", seeds.len(), trials)?;
-    crate::errors::warn_unread(py, crate::errors::Reader::of(learner)?, &a.params)?;
+    crate::errors::reserve_records(
+        &format!("trials = {trials}, {} sessions", seeds.len()),
+        crate::errors::record_bytes(&scene, (trials as u64).saturating_mul(seeds.len() as u64)),
+    )?;
+    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params)?;
     let (name, rows, execution) = if let Some(space) = scene.values.clone() {
         let (kind, rows, execution) =
             run_continuous(py, &scene, &space, learner, &a, &seeds, trials, progress)?;
@@ -626,14 +637,9 @@ fn run_builtin_batch(
                     .map(|c| SessionRecord::new(&*probe, c.trials))
                     .collect()
             };
-            let status = e3d::run_sessions_until(
-                &exec,
-                &mut learners,
-                configs,
-                &mut records,
-                &|t| watch.add(t),
-                &|| watch.cancelled(),
-            );
+            let status = watch.control(|control| {
+                e3d::run_sessions(&exec, &mut learners, configs, &mut records, control)
+            });
             first_failure(status)?;
             let metrics: Vec<Metrics> = records
                 .iter()

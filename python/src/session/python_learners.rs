@@ -4,7 +4,7 @@
 
 use super::{execution_text, first_failure, symbol_metrics, OneSession, SessionArgs};
 use crate::errors::{learner_names, Fail};
-use crate::learner::{python_learner_name, Guarded, PyLearner, Tap};
+use crate::learner::{python_learner_name, PyLearner, Tap};
 use crate::progress::{watched, Throttle, Watch};
 use crate::record::{record_to_py, PyRecord, Rows};
 use crate::scene::PyScene;
@@ -25,7 +25,12 @@ fn executor<'s>(
 ) -> PyResult<Executor<'s>> {
     let watch = Watch::new();
     let exec = watched(py, None, 0, &watch, |w| {
-        Executor::with_progress_until(scene, work, options, &|_, _| {}, &|| w.cancelled())
+        let stop = || w.cancelled();
+        let control = e3d::Control {
+            stop: &stop,
+            ..e3d::Control::default()
+        };
+        Executor::with_control(scene, work, options, &control)
     })?;
     Ok(exec.map_err(Fail::from)?)
 }
@@ -64,12 +69,12 @@ pub(super) fn run_here<'s, L: Learner + ?Sized>(
     let trials = cfg.trials;
     let exec = executor(py, &scene.inner, &run.work, &a.options)?;
     let mut world = exec.world(1);
-    let mut guarded = Guarded {
-        world: &mut *world,
-        stop: || error.borrow().is_some(),
-    };
-    let mut rec = SessionRecord::new(&guarded, trials);
-    let mut throttle = Throttle::new(py, run.progress, trials as u64)?;
+    let mut rec = SessionRecord::new(&*world, trials);
+    let ticks = Ticks::new(
+        Throttle::new(py, run.progress, trials as u64)?,
+        trials as u64,
+        error,
+    );
     let mut tap = Tap::new(
         py,
         learner,
@@ -78,13 +83,7 @@ pub(super) fn run_here<'s, L: Learner + ?Sized>(
         scene.space.num_slots(),
         error,
     );
-    let status = e3d::run_session_into(&mut guarded, &mut tap, cfg, &mut rec, |t| {
-        if error.borrow().is_none() {
-            if let Err(e) = throttle.tick(t as u64, t == trials) {
-                *error.borrow_mut() = Some(e);
-            }
-        }
-    });
+    let status = e3d::session::run_session_into(&mut *world, &mut tap, cfg, &mut rec, &ticks);
     tap.flush();
     drop(world);
     if let Some(e) = error.take() {
@@ -174,28 +173,52 @@ pub(super) fn run_lockstep_here<'s>(
     let total = work.trials;
     let exec = executor(py, &scene.inner, work, &a.options)?;
     let mut world = exec.world(configs.len());
-    let mut guarded = Guarded {
-        world: &mut *world,
-        stop: || error.borrow().is_some(),
-    };
     let mut records: Vec<SessionRecord> = configs
         .iter()
-        .map(|c| SessionRecord::new(&guarded, c.trials))
+        .map(|c| SessionRecord::new(&*world, c.trials))
         .collect();
-    let mut throttle = Throttle::new(py, progress, total)?;
-    let mut done = 0u64;
-    let status = e3d::run_lockstep_into(&mut guarded, learners, configs, &mut records, |t| {
-        done += t;
-        if error.borrow().is_none() {
-            if let Err(e) = throttle.tick(done, done == total) {
-                *error.borrow_mut() = Some(e);
-            }
-        }
-    });
+    let ticks = Ticks::new(Throttle::new(py, progress, total)?, total, error);
+    let status = e3d::session::run_group(&mut *world, learners, configs, &mut records, &ticks);
     drop(world);
     if let Some(e) = error.take() {
         return Err(e);
     }
     first_failure(status)?;
     Ok((records, exec))
+}
+
+/// The progress and stop of sessions of Python learners, on the calling
+/// thread: `progress(done, total)` throttled, and a stop once a callback
+/// raised.
+struct Ticks<'a, 'py> {
+    throttle: RefCell<Throttle<'py>>,
+    done: std::cell::Cell<u64>,
+    total: u64,
+    error: &'a RefCell<Option<PyErr>>,
+}
+
+impl<'a, 'py> Ticks<'a, 'py> {
+    fn new(throttle: Throttle<'py>, total: u64, error: &'a RefCell<Option<PyErr>>) -> Self {
+        Ticks {
+            throttle: RefCell::new(throttle),
+            done: std::cell::Cell::new(0),
+            total,
+            error,
+        }
+    }
+}
+
+impl e3d::session::Observer for Ticks<'_, '_> {
+    fn progress(&self, trials: u64) {
+        let done = self.done.get() + trials;
+        self.done.set(done);
+        if self.error.borrow().is_none() {
+            if let Err(e) = self.throttle.borrow_mut().tick(done, done == self.total) {
+                *self.error.borrow_mut() = Some(e);
+            }
+        }
+    }
+    fn stopped(&self) -> bool {
+        self.error.borrow().is_some()
+    }
 }

@@ -4,16 +4,18 @@
 
 use super::{write_back, OneSession, SessionArgs};
 use crate::errors::Fail;
-use crate::learner::{builtin_kind, Guarded};
+use crate::held::Held;
+use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
 use crate::record::{record_to_py, PyRecord, Rows};
-use crate::saved::{run_values_from, Held, PyLearnerState};
+use crate::saved::{run_values_from, PyLearnerState};
 use crate::scene::PyScene;
+use e3d::command::ValueSpace;
+use e3d::session::ValueSessionRecord;
 use e3d::world::Strategy;
-use e3d::{LearnerKind, ValueSpace, WorldError};
+use e3d::LearnerKind;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use rayon::prelude::*;
 
 /// Runs sessions of a continuous scene, one per seed, in parallel without
 /// the GIL, each on a physics world of its own (`e3d run` on a continuous
@@ -40,30 +42,32 @@ pub(super) fn run_continuous(
         )));
     }
     let configs = a.configs(trials, seeds);
-    let inner = scene.inner.clone();
     let total = (trials as u64).saturating_mul(seeds.len() as u64);
+    let work = e3d::world::Workload {
+        trials: total,
+        sessions: configs.len(),
+        threads: rayon::current_num_threads(),
+    };
+    let exec = e3d::Executor::for_values(&scene.inner, &work).map_err(Fail::from)?;
+    let mut learners = configs
+        .iter()
+        .map(|_| make())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let mut records: Vec<ValueSessionRecord> = configs
+        .iter()
+        .map(|c| ValueSessionRecord::new(space.num_slots(), n_eff, c.trials))
+        .collect();
     let watch = Watch::new();
-    let records = watched(py, progress, total, &watch, |watch| {
-        configs
-            .par_iter()
-            .map(|cfg| {
-                let mut world = inner.as_continuous().map(|c| c.world(1)).ok_or_else(|| {
-                    WorldError::Other("continuous commands need a physics world".into())
-                })?;
-                let mut guarded = Guarded {
-                    world: &mut world,
-                    stop: || watch.cancelled(),
-                };
-                let mut learner = make().map_err(|e| WorldError::Other(e.to_string()))?;
-                let mut done = 0;
-                e3d::run_value_session(&mut guarded, &mut learner, cfg, |t| {
-                    watch.add((t - done) as u64);
-                    done = t;
-                })
-            })
-            .collect::<Result<Vec<_>, WorldError>>()
-    })?
-    .map_err(Fail::from)?;
+    let status = watched(py, progress, total, &watch, |watch| {
+        watch.control(|control| {
+            e3d::run_sessions(&exec, &mut learners, &configs, &mut records, control)
+        })
+    })?;
+    for ((s, r), l) in status.into_iter().zip(&mut records).zip(&learners) {
+        s.map_err(Fail::from)?;
+        r.set_policy(l);
+    }
     let rows = records
         .into_iter()
         .map(|r| {

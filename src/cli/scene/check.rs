@@ -74,7 +74,13 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
     let label = format!("scene check {}", scene.spec().name);
     say_cost(&label, scene, total, 1);
     let sampled = progress::track(&label, "commands", total, |p| {
-        e3d::world::sample_reach_with_progress(scene, samples, seed, &|k| p.add(k))
+        let add = |k| p.add(k);
+        e3d::world::sample_reach_with(
+            scene,
+            samples,
+            seed,
+            &e3d::Control::default().with_progress(&add),
+        )
     });
     let s = match sampled {
         Ok(s) => s,

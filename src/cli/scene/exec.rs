@@ -5,9 +5,10 @@ use super::simulate::{
 };
 use crate::cli::console::errln;
 use crate::cli::{progress, CliError, CliResult};
+use e3d::command::CommandSpace;
 use e3d::scene::{Scene, WorldSpec};
 use e3d::world::{PhysicsScene, PhysicsWorld};
-use e3d::{Command, CommandSpace, OutcomeTable, World, WorldError};
+use e3d::{Command, OutcomeTable, World, WorldError};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
@@ -197,12 +198,12 @@ impl<'a> ExecPool<'a> {
     /// Appends the result of each of `commands` to `out`, in order: those
     /// of [`World::execute`], bit for bit.
     /// With `memo`, the physics worlds' commands go through it
-    /// ([`Memoized`](e3d::Memoized)): those kept are looked up, the others
+    /// ([`Memoized`](e3d::world::Memoized)): those kept are looked up, the others
     /// simulated once and kept.
     fn run(
         &mut self,
         commands: &[Command],
-        memo: Option<&e3d::OutcomeMemo>,
+        memo: Option<&e3d::world::OutcomeMemo>,
         out: &mut Vec<Result<e3d::Outcome, WorldError>>,
     ) {
         use rayon::prelude::*;
@@ -228,7 +229,7 @@ impl<'a> ExecPool<'a> {
                         let mut world = take().unwrap_or_else(|| scene.world(*copies));
                         let mut results = Vec::with_capacity(part.len());
                         if let Some(m) = memo {
-                            let mut through = e3d::Memoized::new(world, m);
+                            let mut through = e3d::world::Memoized::new(world, m);
                             through.execute_batch(part, &mut results);
                             world = through.into_inner();
                         } else {
@@ -257,11 +258,12 @@ pub(super) fn chunk_limit() -> usize {
 pub(super) fn exec_cache(
     scene: &Scene,
     dir: &Path,
-) -> (Option<OutcomeTable>, Option<e3d::OutcomeMemo>) {
+) -> (Option<OutcomeTable>, Option<e3d::world::OutcomeMemo>) {
     use e3d::world::CachedOutcomes;
     let path = OutcomeTable::cache_path(scene, dir);
     let space = scene.command_space();
-    let memo = || e3d::OutcomeMemo::new(&space, scene.num_effects(), e3d::world::DEFAULT_MEMO_CAP);
+    let memo =
+        || e3d::world::OutcomeMemo::new(&space, scene.num_effects(), e3d::world::DEFAULT_MEMO_CAP);
     match OutcomeTable::read_file(&path, scene) {
         Ok(CachedOutcomes::Full(t)) => (Some(t), None),
         Ok(CachedOutcomes::Partial(entries)) => {
@@ -293,9 +295,9 @@ pub(super) fn exec_cache(
 /// command and reflects it), so the rows are the same bytes in half the
 /// rollouts. Other scenes need no memo: each command is simulated once
 /// per appearance, as before.
-fn mirror_memo(scene: &Scene) -> Option<e3d::OutcomeMemo> {
+fn mirror_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
     match &scene.spec().world {
-        WorldSpec::Physics(p) if p.symmetry.is_some() => e3d::OutcomeMemo::new(
+        WorldSpec::Physics(p) if p.symmetry.is_some() => e3d::world::OutcomeMemo::new(
             &scene.command_space(),
             scene.num_effects(),
             e3d::world::DEFAULT_MEMO_CAP,
@@ -328,7 +330,7 @@ fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<Strin
             let ((r0, r1), (c0, c1)) = ctx.bounds();
             for r in r0..=r1 {
                 for col in c0..=c1 {
-                    let from = e3d::WorldState::Cell(r * grid.cols + col);
+                    let from = e3d::world::WorldState::Cell(r * grid.cols + col);
                     let (o, _) = world.execute_from(&from, &c).map_err(world_error)?;
                     let _ = writeln!(
                         out,
@@ -496,6 +498,15 @@ impl CostNote {
 }
 
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
+    let contexts = e3d::world::start_contexts(scene).len();
+    if let (Some(dir), true) = (table_cache, contexts > 0) {
+        // it was ignored without a word: every command ran live
+        return Err(CliError::input(format!(
+            "--table-cache {}: scene `{}` has {contexts} start contexts, whose commands `scene exec` runs live from each context's start; it reads no table cache (drop --table-cache; `e3d scene table --cache DIR` builds the contexts' tables)",
+            dir.display(),
+            scene.spec().name
+        )));
+    }
     match &scene.spec().world {
         WorldSpec::Grid(g) if !g.contexts.is_empty() => {
             return exec_contexts(scene, g, commands);

@@ -8,7 +8,8 @@ use crate::cli::{CliError, CliResult};
 use e3d::report::scene_svg::{posed_svg, scene_svg, Overlay};
 use e3d::scene::{Scene, WorldSpec};
 use e3d::world::GridSpec;
-use e3d::{Command, GridWorld, World};
+use e3d::world::GridWorld;
+use e3d::{Command, World};
 
 pub(super) fn render(
     scene: &Scene,
@@ -114,14 +115,14 @@ fn render_contexts(
 fn context_panel(
     scene: &Scene,
     label: &str,
-    from: &e3d::WorldState,
+    from: &e3d::world::WorldState,
     command: Option<&Command>,
 ) -> Result<String, CliError> {
     let space = scene.command_space();
     let mut spec = scene.to_spec();
     spec.name = label.to_string();
     match (from, &mut spec.world) {
-        (e3d::WorldState::Cell(cell), WorldSpec::Grid(g)) => {
+        (e3d::world::WorldState::Cell(cell), WorldSpec::Grid(g)) => {
             g.start = (cell / g.cols, cell % g.cols);
             let titled = spec.validate().map_err(CliError::input)?;
             let overlay = match command {
@@ -130,7 +131,7 @@ fn context_panel(
             };
             Ok(scene_svg(&titled, overlay.as_ref()))
         }
-        (e3d::WorldState::Physics(state), WorldSpec::Physics(_)) => {
+        (e3d::world::WorldState::Physics(state), WorldSpec::Physics(_)) => {
             let titled = spec.validate().map_err(CliError::input)?;
             let overlay = match command {
                 Some(c) => {
@@ -206,7 +207,7 @@ fn no_contexts(scene: &Scene, name: &str) -> CliError {
 
 /// The start of the context `name` (its seed-0 draw when drawn from a
 /// range, said on stderr), for `scene render --animate --context`.
-fn animation_start(scene: &Scene, name: &str) -> Result<e3d::WorldState, CliError> {
+fn animation_start(scene: &Scene, name: &str) -> Result<e3d::world::WorldState, CliError> {
     let contexts = e3d::world::start_contexts(scene);
     if contexts.is_empty() {
         return Err(no_contexts(scene, name));
@@ -260,12 +261,12 @@ pub(super) fn animate(
 fn animate_grid(
     scene: &Scene,
     c: &Command,
-    from: Option<&e3d::WorldState>,
+    from: Option<&e3d::world::WorldState>,
 ) -> Result<(String, String), CliError> {
     use e3d::report::motion_svg::{grid_motion_svg, GRID_KEYFRAME_SECONDS};
     // a grid's start is its `start` cell: the context's, if given
     let started = match from {
-        Some(e3d::WorldState::Cell(cell)) => {
+        Some(e3d::world::WorldState::Cell(cell)) => {
             let mut spec = scene.to_spec();
             if let WorldSpec::Grid(g) = &mut spec.world {
                 g.start = (cell / g.cols, cell % g.cols);
@@ -288,10 +289,10 @@ fn animate_grid(
 /// from the context's start `from` if given, and what it holds.
 fn animate_physics(
     scene: &Scene,
-    mut w: e3d::PhysicsWorld,
+    mut w: e3d::world::PhysicsWorld,
     c: &Command,
     cmd: &str,
-    from: Option<&e3d::WorldState>,
+    from: Option<&e3d::world::WorldState>,
 ) -> Result<(String, String), CliError> {
     use e3d::report::motion_svg::{motion_svg, motion_svg_from, thin, MAX_FRAMES};
     // only the frames drawn are kept, as they are computed

@@ -4,6 +4,7 @@
 use crate::cli::console::errln;
 use crate::cli::{progress, CliError};
 use e3d::scene::{Scene, WorldSpec};
+use e3d::Control;
 use e3d::{OutcomeTable, WorldError};
 
 pub(super) fn world_error(e: WorldError) -> CliError {
@@ -35,7 +36,7 @@ pub(super) fn simulate_all<T>(
     scene: &Scene,
     simulated: u64,
     seconds: f64,
-    work: impl FnOnce(&(dyn Fn(u64) + Sync)) -> T,
+    work: impl FnOnce(&Control<'_>) -> T,
 ) -> T {
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
     let what = if simulated < n {
@@ -54,7 +55,10 @@ pub(super) fn simulate_all<T>(
         &format!("scene {}", scene.spec().name),
         "commands",
         simulated,
-        |p| work(&|k| p.add(k)),
+        |p| {
+            let add = |k| p.add(k);
+            work(&Control::default().with_progress(&add))
+        },
     )
 }
 
@@ -63,7 +67,7 @@ pub(super) fn build_table(scene: &Scene) -> Result<OutcomeTable, CliError> {
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
     let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
     simulate_all(scene, simulated, table_seconds(scene), |progress| {
-        OutcomeTable::build_scene_with_progress(scene, progress)
+        OutcomeTable::build_scene_with(scene, progress)
     })
     .map_err(world_error)
 }

@@ -39,7 +39,7 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
                 || physics.world(1),
                 |w, i| {
                     let stats = w.inspect(&space.command_at(i));
-                    progress(1);
+                    (progress.progress)(1);
                     stats
                 },
             )
@@ -100,7 +100,7 @@ fn context_stats(
     use rayon::prelude::*;
     let space = scene.command_space();
     let probe = scene.build();
-    let starts: Vec<e3d::WorldState> = (0..contexts.len())
+    let starts: Vec<e3d::world::WorldState> = (0..contexts.len())
         .map(|k| e3d::world::seed0_start(&probe, k))
         .collect::<Result<_, _>>()
         .map_err(world_error)?;
@@ -122,7 +122,7 @@ fn context_stats(
                         |w, i| {
                             let c = space.command_at(i);
                             let stats = w.from_start(from, |w| w.inspect(&c)).and_then(|r| r);
-                            progress(1);
+                            (progress.progress)(1);
                             stats
                         },
                     )

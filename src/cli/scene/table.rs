@@ -20,6 +20,9 @@ pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult
             e3d::world::MAX_TABLE_COMMANDS
         )));
     }
+    if let Some(dir) = cache {
+        refuse_non_regular(&OutcomeTable::cache_path(scene, dir))?;
+    }
     let start = std::time::Instant::now();
     let (table, existed) = match cache {
         Some(dir) => cached_table(scene, dir)?,
@@ -54,7 +57,7 @@ pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult
             let path = OutcomeTable::cache_path(scene, dir);
             if existed {
                 outln!("read from {}", path.display());
-            } else if path.exists() {
+            } else if path.is_file() {
                 outln!("written to {}", path.display());
             } else {
                 outln!(
@@ -66,6 +69,19 @@ pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult
         None => outln!("not written (give --cache DIR to keep it)"),
     }
     Ok(())
+}
+
+/// Refuses, before any work, a table file's path that exists and is not a
+/// regular file (a FIFO blocked the write for ever; a device would take
+/// the bytes): exit code 3, naming the file.
+fn refuse_non_regular(path: &Path) -> CliResult {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(CliError::output(format!(
+            "--cache: {}: this is not a regular file (a folder, a pipe, a device or a socket); the table file must be one (remove it, or choose another --cache folder)",
+            path.display()
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// The table of `scene` as [`OutcomeTable::cached`] gives it, with the
@@ -91,7 +107,7 @@ pub(super) fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, b
             let whole = OutcomeTable::simulated_commands(scene).unwrap_or(n).max(1);
             let secs = table_seconds(scene) * simulated as f64 / whole as f64;
             simulate_all(scene, simulated, secs, |progress| {
-                OutcomeTable::complete_with_progress(scene, &known, progress)
+                OutcomeTable::complete_with(scene, &known, progress)
             })
             .map_err(world_error)?
         }
@@ -108,6 +124,11 @@ pub(super) fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, b
 fn context_table(scene: &Scene, cache: Option<&Path>) -> CliResult {
     use e3d::world::{ContextTables, TabledContexts};
     let contexts = TabledContexts::of(scene).map_err(|e| CliError::input(e.to_string()))?;
+    if let Some(dir) = cache {
+        for k in 0..contexts.len() {
+            refuse_non_regular(&ContextTables::cache_path(scene, dir, k))?;
+        }
+    }
     let simulated = contexts.simulated_commands();
     let secs = e3d::world::rollout_seconds(scene)
         * simulated as f64
@@ -128,7 +149,7 @@ fn context_table(scene: &Scene, cache: Option<&Path>) -> CliResult {
         }
         None => (
             simulate_all(scene, simulated, secs, |progress| {
-                ContextTables::build_with_progress(contexts, progress)
+                ContextTables::build_with(contexts, progress)
             })
             .map_err(world_error)?,
             false,
@@ -156,7 +177,7 @@ fn context_table(scene: &Scene, cache: Option<&Path>) -> CliResult {
             let path = ContextTables::cache_path(scene, dir, k);
             let how = if existed {
                 "read from"
-            } else if path.exists() {
+            } else if path.is_file() {
                 "written to"
             } else {
                 "could not write"

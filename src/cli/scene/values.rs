@@ -9,7 +9,7 @@ use e3d::world::ContinuousScene;
 /// The commands of `scene exec` (`-`: every non-blank line of stdin), each
 /// parsed when it is reached; an error names its stdin line.
 fn read_values<'a>(
-    space: &'a e3d::ValueSpace,
+    space: &'a e3d::command::ValueSpace,
     commands: &'a [String],
 ) -> impl Iterator<Item = Result<Vec<f64>, CliError>> + 'a {
     commands

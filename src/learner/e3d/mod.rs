@@ -42,7 +42,9 @@ use rand::RngExt;
 /// updates another entry of the same slot).
 ///
 /// ```
-/// use e3d::{Command, CommandSpace, E3d, Learner, Outcome, Params, Target};
+/// use e3d::{Command, Learner, Outcome, Params, Target};
+/// use e3d::command::CommandSpace;
+/// use e3d::learner::E3d;
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// let mut l = E3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
 /// let c = Command::new(vec![0, 1]);

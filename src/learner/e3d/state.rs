@@ -46,7 +46,9 @@ impl E3d {
     /// the slot becomes `softmax(beta q)`.
     ///
     /// ```
-    /// use e3d::{CommandSpace, E3d, Params, Target};
+    /// use e3d::{Params, Target};
+    /// use e3d::command::CommandSpace;
+    /// use e3d::learner::E3d;
     /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
     /// let mut l = E3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
     /// l.set_q(1, &[0.0, 2f64.ln()]).unwrap(); // beta = 1
@@ -108,8 +110,10 @@ impl<const W: usize> SlotTables<W> {
         };
         let mut out = Vec::with_capacity(slots.min(4096));
         for _ in 0..slots {
+            let q = array(r)?;
+            crate::learner::state::check_finite(r, "q", &q)?;
             out.push(Slot {
-                q: array(r)?,
+                q,
                 weights: array(r)?,
                 cumulative: array(r)?,
                 shift: r.get()?,
@@ -125,7 +129,9 @@ impl<const W: usize> SlotTables<W> {
 /// same bits of Q).
 ///
 /// ```
-/// use e3d::{CommandSpace, E3d, LearnerState, Params, Target};
+/// use e3d::{Params, Target};
+/// use e3d::command::CommandSpace;
+/// use e3d::learner::{E3d, LearnerState};
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// let l = E3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
 /// let saved = l.to_bytes();
@@ -187,6 +193,15 @@ impl StateField for E3d {
 
     fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
         let rates: [f64; 4] = [r.get()?, r.get()?, r.get()?, r.get()?];
+        crate::learner::state::check_rates(
+            r,
+            &[
+                ("alpha lambda", rates[0]),
+                ("1 - alpha lambda", rates[1]),
+                ("alpha / beta", rates[2]),
+            ],
+            rates[3],
+        )?;
         let sizes: Vec<usize> = r.get()?;
         let width: usize = r.get()?;
         r.check(

@@ -11,11 +11,13 @@
 //! - a contextual learner's tables have one more axis in front, the
 //!   context: `(contexts, slots, k)`, `(contexts, effects)`; tables over
 //!   whole commands (`reference`, Q-learning's `q`) are `(contexts,
-//!   commands)`, in the order of [`CommandSpace::index_of`](crate::CommandSpace::index_of).
+//!   commands)`, in the order of [`CommandSpace::index_of`](crate::command::CommandSpace::index_of).
 //!
 //! ```
 //! use e3d::learner::state::tables::StateTable;
-//! use e3d::{CommandSpace, E3d, LearnerState, Params, Target};
+//! use e3d::{Params, Target};
+//! use e3d::command::CommandSpace;
+//! use e3d::learner::{E3d, LearnerState};
 //! let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 //! let mut l = E3d::new(&space, 3, &Params::TASK1, &Target::Uniform).unwrap();
 //! let names: Vec<&str> = l.tables().iter().map(|t| t.name).collect();

@@ -134,7 +134,7 @@ pub fn posed_svg(scene: &Scene, start: &[BodyPose], overlay: Option<&Overlay>) -
     match &scene.spec().world {
         WorldSpec::Grid(g) => grid_svg(scene, g, overlay),
         WorldSpec::Physics(p) => {
-            let mut posed = p.clone();
+            let mut posed = p.without_contexts();
             for (b, pose) in posed.bodies.iter_mut().zip(start) {
                 b.position = (pose.position[0], pose.position[1]);
                 b.angle = pose.angle;

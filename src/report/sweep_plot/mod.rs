@@ -15,8 +15,9 @@
 //! ```
 
 use crate::csv::Summary;
+use crate::learner::Params;
 use crate::scene::did_you_mean;
-use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS, PARAM_NAMES};
+use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS};
 use plotters::prelude::*;
 
 mod heat;
@@ -94,11 +95,11 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
         ));
     }
     let check_param = |p: &str| -> Result<usize, PlotError> {
-        if !PARAM_NAMES.contains(&p) {
+        if !Params::SWEPT.contains(&p) {
             return err(format!(
                 "`{p}` is not a parameter{}; expected one of: {}",
-                did_you_mean(p, &PARAM_NAMES),
-                PARAM_NAMES.join(", ")
+                did_you_mean(p, &Params::SWEPT),
+                Params::SWEPT.join(", ")
             ));
         }
         summary.col(p).ok_or_else(|| {
@@ -167,7 +168,7 @@ fn filtered_rows<'a>(
         };
         let before = rows.clone();
         // a parameter a learner does not use (empty) passes any filter on it
-        let is_param = PARAM_NAMES.contains(&k.as_str());
+        let is_param = Params::SWEPT.contains(&k.as_str());
         rows.retain(|r| r[ci] == *v || (is_param && r[ci].is_empty()));
         if rows.is_empty() {
             let mut seen: Vec<&str> = before.iter().map(|r| r[ci].as_str()).collect();

@@ -68,38 +68,9 @@ pub(super) fn bounds(lo: f64, hi: f64, signed: bool, unit: &str) -> String {
     }
 }
 
-/// A number for messages: as written for ordinary magnitudes, else in
-/// scientific notation (`1e39`, not 39 digits).
+/// A number for messages ([`crate::text::show_number`]).
 pub(crate) fn show(v: f64) -> String {
-    let s = if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    };
-    if s.len() <= 12 {
-        return s;
-    }
-    // a computed value: 5 significant digits
-    let s = if (1e-4..1e6).contains(&v.abs()) {
-        format!(
-            "{v:.*}",
-            (4 - v.abs().log10().floor() as i64).max(0) as usize
-        )
-    } else {
-        format!("{v:.4e}")
-    };
-    let (m, e) = s
-        .split_once('e')
-        .map_or((s.as_str(), None), |(m, e)| (m, Some(e)));
-    let m = if m.contains('.') {
-        m.trim_end_matches('0').trim_end_matches('.')
-    } else {
-        m
-    };
-    match e {
-        Some(e) => format!("{m}e{e}"),
-        None => m.to_string(),
-    }
+    crate::text::show_number(v)
 }
 
 /// The check of one number: `who: WHAT BOUNDS, found V`.

@@ -252,16 +252,6 @@ fn grid_as_written<S: serde::Serializer>(
 }
 
 impl EffectSpec {
-    /// The short form: one point of `body` binned on `grid`.
-    pub fn tracking(body: &str, point: (f64, f64), grid: EffectGrid) -> EffectSpec {
-        EffectSpec {
-            body: body.to_string(),
-            point,
-            grid: Some(grid),
-            features: Vec::new(),
-        }
-    }
-
     /// The effect's features, in order: the short form is one
     /// [`Feature::Point`] in world coordinates.
     pub fn features(&self) -> Vec<Feature> {
@@ -423,6 +413,26 @@ pub(crate) fn to_world(pos: (f64, f64), angle: f64, p: (f64, f64)) -> (f64, f64)
 }
 
 impl PhysicsSpec {
+    /// A copy of the scene without its start contexts, which are not
+    /// copied at all: what is posed once per context (copying every
+    /// context for each made the per-context tools quadratic).
+    pub fn without_contexts(&self) -> PhysicsSpec {
+        PhysicsSpec {
+            gravity: self.gravity,
+            dt: self.dt,
+            solver_iterations: self.solver_iterations,
+            max_speed: self.max_speed,
+            bodies: self.bodies.clone(),
+            joints: self.joints.clone(),
+            schedule: self.schedule.clone(),
+            effect: self.effect.clone(),
+            chains: self.chains.clone(),
+            walls: self.walls.clone(),
+            symmetry: self.symmetry,
+            contexts: Vec::new(),
+        }
+    }
+
     /// The body named `name`, if any.
     pub fn body(&self, name: &str) -> Option<&BodySpec> {
         self.bodies.iter().find(|b| b.name == name)

@@ -14,7 +14,39 @@ impl PhysicsSpec {
     /// refuses them.) An effect other than one point's world cell (a
     /// joint's coordinate, an angle, a product) has no grid over the
     /// world: none of these apply to it.
+    ///
+    /// A start context is checked as the scene's start: each named
+    /// context's start (a drawn context at the two corners of its ranges
+    /// where every range is at one end), its warnings prefixed with
+    /// `context `NAME`: ` when the scene's own start does not give them.
     pub fn warnings(&self) -> Vec<String> {
+        let mut out = self.start_warnings();
+        if self.contexts.is_empty() || self.effect.world_point().is_none() {
+            return out;
+        }
+        let bare = self.without_contexts();
+        let own: std::collections::HashSet<String> = out.iter().cloned().collect();
+        for c in &self.contexts {
+            let corners: &[u64] = if c.is_sampled() { &[0, u64::MAX] } else { &[0] };
+            let mut seen = std::collections::HashSet::new();
+            for &corner in corners {
+                let mut posed = bare.clone();
+                for (b, p) in posed.bodies.iter_mut().zip(self.poses_at_corner(c, corner)) {
+                    b.position = (p.0, p.1);
+                    b.angle = p.2;
+                }
+                for w in posed.start_warnings() {
+                    if !own.contains(&w) && seen.insert(w.clone()) {
+                        out.push(format!("context `{}`: {w}", crate::text::echo(&c.name)));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// [`warnings`](Self::warnings) of the scene's own start.
+    fn start_warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
         let Some((tracked, point, g)) = self.effect.world_point() else {
             return out;

@@ -6,7 +6,6 @@ use super::{
 };
 use crate::learner::Params;
 use crate::scene::{Invalid, SceneError};
-use crate::sweep::factory::PARAM_NAMES;
 use crate::sweep::SweepError;
 
 /// What checking a spec finds: the values of each parameter and the
@@ -132,7 +131,7 @@ impl SweepSpec {
     /// after checking the parameters fixed for every cell.
     fn param_axes(&self, bad: &Bad) -> Result<Vec<Vec<f64>>, SweepError> {
         let mut axes: Vec<Vec<f64>> = Vec::with_capacity(5);
-        for (i, name) in PARAM_NAMES.iter().enumerate() {
+        for (i, name) in Params::SWEPT.iter().enumerate() {
             let values = match self.params.get(name) {
                 None => vec![param_of(&Params::TASK1, i)],
                 Some(v) => param_axis(name, i, v, bad)?,

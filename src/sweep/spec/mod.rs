@@ -1,7 +1,7 @@
 //! The sweep file: hyper-parameter values, metrics and the [`SweepSpec`]
 //! as written, built in code, parsed, checked and written back.
 
-use super::factory::{LearnerFactory, Learners, PARAM_NAMES};
+use super::factory::{LearnerFactory, Learners};
 #[cfg(doc)]
 use super::Sweep;
 use super::SweepError;
@@ -23,7 +23,7 @@ mod values;
 
 pub(super) use check::invalid;
 pub(crate) use values::{param_of, set_param};
-pub use values::{ParamValues, Scale, Values, FIXED_PARAM_NAMES};
+pub use values::{ParamValues, Scale, Values};
 
 /// The largest number of sessions a sweep may hold: its plan keeps every
 /// cell and session in memory (about 150 bytes each, so at most about
@@ -120,21 +120,6 @@ impl MetricSpec {
                 format!("{name}_{i}")
             }
         }
-    }
-
-    /// Whether a session may have no value (no first reward, a share of
-    /// the cells never reached): `summary.csv` then counts the sessions
-    /// that have one (`m_n`).
-    pub fn may_be_empty(&self) -> bool {
-        matches!(
-            self,
-            MetricSpec::FirstRewardTrial
-                | MetricSpec::TrialsTo50Percent
-                | MetricSpec::TrialsTo90Percent
-                | MetricSpec::NormalizedEntropyContext(_)
-                | MetricSpec::CumulativeRewardContext(_)
-                | MetricSpec::FirstRewardTrialContext(_)
-        )
     }
 
     /// The metrics kept when a sweep names none: all of them, with the
@@ -426,23 +411,6 @@ impl SweepSpec {
         self
     }
 
-    /// Sets the episodes: `commands` commands each, what the learners
-    /// observe (`None`: the default), and whether closed loop with the
-    /// discount `gamma` (`None`: [`ClosedLoopE3d::GAMMA`]).
-    pub fn with_episodes(
-        mut self,
-        commands: usize,
-        observe: Option<Observe>,
-        closed_loop: bool,
-        gamma: Option<f64>,
-    ) -> SweepSpec {
-        self.commands = commands;
-        self.observe = observe;
-        self.closed_loop = closed_loop;
-        self.gamma = gamma;
-        self
-    }
-
     /// Whether every session runs episodes, whatever its scene: several
     /// commands per episode, an observation or a closed loop set. (A
     /// scene with start contexts runs episodes anyway.)
@@ -513,7 +481,7 @@ impl SweepSpec {
         out.push_str(&format!("    learners: [{}],\n", self.learners.join(", ")));
         let use_reward: Vec<String> = self.use_reward.iter().map(bool::to_string).collect();
         out.push_str(&format!("    use_reward: [{}],\n", use_reward.join(", ")));
-        let mut params: Vec<String> = PARAM_NAMES
+        let mut params: Vec<String> = Params::SWEPT
             .iter()
             .filter_map(|name| {
                 let v = self.params.get(name)?;

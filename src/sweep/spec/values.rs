@@ -249,10 +249,6 @@ pub struct ParamValues {
     pub goal_progress: Option<f64>,
 }
 
-/// The names of the parameters a sweep fixes for all its cells (not grid
-/// axes), in the order a sweep file is written.
-pub const FIXED_PARAM_NAMES: [&str; 4] = ["k", "sigma", "rarity", "goal_progress"];
-
 impl ParamValues {
     /// `base` with the fixed parameters (`k`, `sigma`, `rarity`,
     /// `goal_progress`) that are given set.

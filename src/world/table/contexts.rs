@@ -4,6 +4,7 @@
 use super::file::file_safe;
 use super::*;
 use crate::rng::SessionRng;
+use crate::world::Control;
 use crate::world::WorldState;
 use rand::SeedableRng;
 
@@ -48,6 +49,16 @@ pub fn start_contexts(scene: &Scene) -> Vec<StartContext> {
                 drawn: c.is_sampled(),
             })
             .collect(),
+    }
+}
+
+/// The name of start context `k` of `scene` ("" past its contexts), in
+/// constant time (collecting every context for one name made the tools
+/// quadratic in the contexts).
+fn context_name(scene: &Scene, k: usize) -> &str {
+    match &scene.spec().world {
+        WorldSpec::Grid(g) => g.contexts.get(k).map_or("", |c| c.name.as_str()),
+        WorldSpec::Physics(p) => p.contexts.get(k).map_or("", |c| c.name.as_str()),
     }
 }
 
@@ -114,7 +125,18 @@ impl<'s> TabledContexts<'s> {
                 "scene `{name}`: its slots take values (`Continuous`): no table"
             )));
         }
-        OutcomeTable::check_size(&scene.command_space())?;
+        let n = OutcomeTable::check_size(&scene.command_space())?;
+        // one table per context: the outcomes of all of them together
+        // are bounded as one table's are (3000 contexts of a 90 KB scene
+        // took 1.5 GB)
+        let total = n.saturating_mul(contexts.len() as u64);
+        if total > MAX_TABLE_COMMANDS {
+            return Err(WorldError::Other(format!(
+                "scene `{}`: {} contexts x {n} commands = {total} outcomes: too many for the tables of its contexts (at most {MAX_TABLE_COMMANDS} in all); run it live (`e3d run`, `e3d scene exec` without a table)",
+                crate::text::echo(name),
+                contexts.len()
+            )));
+        }
         Ok(TabledContexts {
             scene,
             count: contexts.len(),
@@ -142,7 +164,7 @@ impl<'s> TabledContexts<'s> {
 impl ContextTables {
     /// The tables of `scene`'s contexts, computed in parallel (rayon).
     pub fn build(scene: &Scene) -> Result<ContextTables, WorldError> {
-        Self::build_with_progress(TabledContexts::of(scene)?, &|_| {})
+        Self::build_with(TabledContexts::of(scene)?, &Control::default())
     }
 
     /// The tables of `contexts`, in parallel (rayon: one world per
@@ -150,9 +172,9 @@ impl ContextTables {
     /// chunk done. Every command runs from the context's start exactly as
     /// [`World::execute_outcome_from`] runs it: the same outcomes, bit
     /// for bit, whatever the threads.
-    pub fn build_with_progress(
+    pub fn build_with(
         contexts: TabledContexts<'_>,
-        progress: &(dyn Fn(u64) + Sync),
+        control: &Control<'_>,
     ) -> Result<ContextTables, WorldError> {
         let scene = contexts.scene;
         let space = scene.command_space();
@@ -171,6 +193,7 @@ impl ContextTables {
                     .map_init(
                         || (scene.build(), space.first()),
                         |(world, c), k| {
+                            control.check()?;
                             let range = k * chunk..((k + 1) * chunk).min(n);
                             let done = range.end - range.start;
                             let out = range
@@ -179,7 +202,7 @@ impl ContextTables {
                                     world.execute_outcome_from(from, c)
                                 })
                                 .collect::<Result<Vec<_>, _>>();
-                            progress(done);
+                            (control.progress)(done);
                             out
                         },
                     )
@@ -205,7 +228,7 @@ impl ContextTables {
     pub fn cached(
         contexts: TabledContexts<'_>,
         dir: &Path,
-        progress: &(dyn Fn(u64) + Sync),
+        control: &Control<'_>,
     ) -> Result<(ContextTables, bool), WorldError> {
         let scene = contexts.scene;
         crate::io::remove_stale_temps(dir);
@@ -214,7 +237,7 @@ impl ContextTables {
             let names = start_contexts(scene).into_iter().map(|c| c.name).collect();
             return Ok((ContextTables { names, tables }, true));
         }
-        let built = Self::build_with_progress(contexts, progress)?;
+        let built = Self::build_with(contexts, control)?;
         for (k, t) in built.tables.iter().enumerate() {
             // a cache that cannot be written is not an error: it costs time only
             let _ = t.write_file_keyed(&Self::cache_path(scene, dir, k), Self::key(scene, k));
@@ -227,7 +250,11 @@ impl ContextTables {
     /// for a context whose table is not there, not whole or not this
     /// scene's. Nothing is computed or written.
     pub fn read_cached(scene: &Scene, dir: &Path) -> Vec<Option<OutcomeTable>> {
-        (0..start_contexts(scene).len())
+        let declared = match &scene.spec().world {
+            WorldSpec::Grid(g) => g.contexts.len(),
+            WorldSpec::Physics(p) => p.contexts.len(),
+        };
+        (0..declared)
             .map(|k| {
                 let path = Self::cache_path(scene, dir, k);
                 match OutcomeTable::read_file_keyed(&path, scene, Self::key(scene, k)) {
@@ -241,9 +268,7 @@ impl ContextTables {
     /// The key of context `k`'s table: the scene's
     /// ([`OutcomeTable::key`]) with the context's index and name.
     pub fn key(scene: &Scene, k: usize) -> u64 {
-        let name = start_contexts(scene)
-            .get(k)
-            .map_or(String::new(), |c| c.name.clone());
+        let name = context_name(scene, k);
         let text = format!("{:016x} context {k} {name}", OutcomeTable::key(scene));
         crate::hash::fnv1a64(text.as_bytes())
     }
@@ -252,13 +277,11 @@ impl ContextTables {
     /// `NAME-KEY.e3dtable`, NAME the scene's then the context's, KEY
     /// [`key`](Self::key) (the same format as a plain table's file).
     pub fn cache_path(scene: &Scene, dir: &Path, k: usize) -> PathBuf {
-        let context = start_contexts(scene)
-            .get(k)
-            .map_or(String::new(), |c| c.name.clone());
+        let context = context_name(scene, k);
         dir.join(format!(
             "{}.{}-{:016x}.e3dtable",
             file_safe(&scene.spec().name),
-            file_safe(&context),
+            file_safe(context),
             Self::key(scene, k)
         ))
     }

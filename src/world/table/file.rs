@@ -16,6 +16,23 @@ const RECORD: usize = 28;
 /// The header: magic, key, commands of the space, entries in the file.
 const HEADER: usize = 32;
 
+/// Refuses a table file's path that exists and is not a regular file (a
+/// FIFO, a device, a socket, a folder; also through a symbolic link): a
+/// table cache is a file e3d replaces, never a stream it writes through
+/// (opening a FIFO to write blocked until a reader came, for ever).
+pub(crate) fn refuse_non_regular(path: &Path) -> io::Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "{}: this is not a regular file (a folder, a pipe, a device or a socket); a table cache file must be one",
+                path.display()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// What a table file of a scene holds (see [`OutcomeTable::read_file`]).
 #[derive(Debug, Clone)]
 // a file is read once per run: the size of the whole table's variant costs
@@ -30,23 +47,14 @@ pub enum CachedOutcomes {
 }
 
 impl OutcomeTable {
-    /// The table of `scene`: from the folder `cache` if given (see
-    /// [`cached`](Self::cached)), else built in parallel.
-    pub fn for_scene(scene: &Scene, cache: Option<&Path>) -> Result<OutcomeTable, WorldError> {
-        match cache {
-            Some(dir) => Self::cached(scene, dir),
-            None => Self::build_scene(scene),
-        }
-    }
-
     /// The key of a scene's table: a hash of the scene's content (its
     /// canonical RON form, so comments and layout do not matter) and of
-    /// [`sweep::VERSION`](crate::sweep::VERSION), the crate's version with
+    /// [`VERSION`](crate::world::VERSION), the crate's version with
     /// the fingerprint of the physics code it was built with, which
     /// changes whenever a simulation might.
     pub fn key(scene: &Scene) -> u64 {
         let canonical = ron::to_string(scene).unwrap_or_default();
-        crate::hash::fnv1a64(format!("e3d {} {canonical}", crate::sweep::VERSION).as_bytes())
+        crate::hash::fnv1a64(format!("e3d {} {canonical}", crate::world::VERSION).as_bytes())
     }
 
     /// The file of a scene's table in the folder `dir`:
@@ -82,6 +90,7 @@ impl OutcomeTable {
 
     /// [`write_file`](Self::write_file) with the key `key` in its header.
     pub(super) fn write_file_keyed(&self, path: &Path, key: u64) -> io::Result<()> {
+        refuse_non_regular(path)?;
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir)?;
         }
@@ -106,6 +115,7 @@ impl OutcomeTable {
             push_record(&mut b, o);
         }
         seal(&mut b);
+        refuse_non_regular(path)?;
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir)?;
         }
@@ -211,28 +221,6 @@ impl OutcomeTable {
             out.push((i, r.record(at + 8)?));
         }
         Ok(CachedOutcomes::Partial(out))
-    }
-
-    /// A whole table from `entries`, one per command in index order (as
-    /// [`CachedOutcomes::Partial`] holds once it covers the space).
-    pub fn from_entries(
-        scene: &Scene,
-        entries: Vec<(u64, Outcome)>,
-    ) -> Result<OutcomeTable, WorldError> {
-        let space = scene.command_space();
-        let n = Self::check_size(&space)?;
-        if entries.len() as u64 != n || entries.iter().enumerate().any(|(k, e)| e.0 != k as u64) {
-            return Err(WorldError::Other(format!(
-                "{} outcomes do not cover the {n} commands in order",
-                entries.len()
-            )));
-        }
-        Ok(OutcomeTable {
-            places: places(&space),
-            num_effects: scene.num_effects(),
-            space,
-            outcomes: entries.into_iter().map(|e| e.1).collect(),
-        })
     }
 }
 

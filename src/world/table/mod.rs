@@ -4,6 +4,7 @@ use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
 use crate::scene::physics::PhysicsSpec;
 use crate::scene::{Scene, WorldSpec};
+use crate::world::Control;
 use crate::world::PhysicsWorld;
 use rayon::prelude::*;
 use std::io;
@@ -109,13 +110,6 @@ fn twin_indices(world: &PhysicsWorld, space: &CommandSpace, n: u64) -> Vec<Optio
 }
 
 /// The place value of each slot in [`CommandSpace::index_of`].
-/// The error of a table build stopped by its caller
-/// ([`OutcomeTable::build_scene_until`]): [`WorldError::Other`]`("stopped")`,
-/// as a stopped session's.
-pub(crate) fn stopped() -> WorldError {
-    WorldError::Other("stopped".into())
-}
-
 fn places(space: &CommandSpace) -> Places {
     let mut each: Vec<u64> = space
         .sizes()
@@ -163,15 +157,14 @@ impl OutcomeTable {
         W: World,
         F: Fn() -> W + Sync,
     {
-        Self::build_parallel_with_progress(make_world, &|_| {}, &|| false)
+        Self::build_parallel_with(make_world, &Control::default())
     }
 
-    /// [`build_parallel`](Self::build_parallel), calling `progress` with
-    /// the number of commands of each chunk done.
-    fn build_parallel_with_progress<W, F>(
+    /// [`build_parallel`](Self::build_parallel), telling `control` of the
+    /// commands of each chunk done.
+    fn build_parallel_with<W, F>(
         make_world: F,
-        progress: &(dyn Fn(u64) + Sync),
-        stop: &(dyn Fn() -> bool + Sync),
+        control: &Control<'_>,
     ) -> Result<OutcomeTable, WorldError>
     where
         W: World,
@@ -188,9 +181,7 @@ impl OutcomeTable {
             .map_init(
                 || (make_world(), space.first()),
                 |(world, c), k| {
-                    if stop() {
-                        return Err(stopped());
-                    }
+                    control.check()?;
                     let range = k * chunk..((k + 1) * chunk).min(n);
                     let done = range.end - range.start;
                     let outcomes = range
@@ -199,7 +190,7 @@ impl OutcomeTable {
                             world.execute(c)
                         })
                         .collect::<Result<Vec<_>, _>>();
-                    progress(done);
+                    (control.progress)(done);
                     outcomes
                 },
             )
@@ -223,65 +214,46 @@ impl OutcomeTable {
     /// ([`PhysicsWorld::twin`]). The table is identical to
     /// [`build`](Self::build)'s either way.
     pub fn build_scene(scene: &Scene) -> Result<OutcomeTable, WorldError> {
-        Self::build_scene_with_progress(scene, &|_| {})
+        Self::build_scene_with(scene, &Control::default())
     }
 
-    /// [`build_scene`](Self::build_scene), calling `progress` from the
-    /// workers with the number of commands of each chunk simulated (they
-    /// add up to [`simulated_commands`](Self::simulated_commands)), for a
-    /// progress bar. The table is the same, bit for bit.
-    pub fn build_scene_with_progress(
+    /// [`build_scene`](Self::build_scene) under `control`: told from the
+    /// workers of the commands of each chunk simulated (they add up to
+    /// [`simulated_commands`](Self::simulated_commands)), for a progress
+    /// bar, and asked before each chunk whether to stop (then the build
+    /// ends with [`WorldError::Stopped`]: a Ctrl-C in Python ends a build
+    /// of a minute within a chunk's time). The table is the same, bit for
+    /// bit.
+    pub fn build_scene_with(
         scene: &Scene,
-        progress: &(dyn Fn(u64) + Sync),
-    ) -> Result<OutcomeTable, WorldError> {
-        Self::build_scene_until(scene, progress, &|| false)
-    }
-
-    /// [`build_scene_with_progress`](Self::build_scene_with_progress) that
-    /// can be stopped: `stop()` is asked before each chunk of commands,
-    /// and once it returns `true` the build ends with `WorldError::Other("stopped")` (a
-    /// Ctrl-C in Python: a build of a minute ends within a chunk's time).
-    pub fn build_scene_until(
-        scene: &Scene,
-        progress: &(dyn Fn(u64) + Sync),
-        stop: &(dyn Fn() -> bool + Sync),
+        control: &Control<'_>,
     ) -> Result<OutcomeTable, WorldError> {
         match &scene.spec().world {
             WorldSpec::Physics(p) if p.symmetry.is_some() => {
-                Self::complete_physics(scene, p, &[], progress, stop)
+                Self::complete_physics(scene, p, &[], control)
             }
             WorldSpec::Physics(p) if p.copies_are_exact() => {
-                Self::build_batched_with_progress(scene, p, TABLE_COPIES, progress, stop)
+                Self::build_batched(scene, p, TABLE_COPIES, control)
             }
-            _ => Self::build_parallel_with_progress(|| scene.build(), progress, stop),
+            _ => Self::build_parallel_with(|| scene.build(), control),
         }
     }
 
     /// The table of a physics scene, computed in parallel with `copies`
     /// commands at once per Rapier world (see
-    /// [`PhysicsWorld::execute_batch`]). Identical to [`build`](Self::build)'s
+    /// [`PhysicsWorld::execute_batch`]), telling `control` of the
+    /// commands of each batch done. Identical to [`build`](Self::build)'s
     /// when the scene's copies are exact.
-    pub fn build_batched(
+    fn build_batched(
         scene: &Scene,
         spec: &PhysicsSpec,
         copies: usize,
-    ) -> Result<OutcomeTable, WorldError> {
-        Self::build_batched_with_progress(scene, spec, copies, &|_| {}, &|| false)
-    }
-
-    /// [`build_batched`](Self::build_batched), calling `progress` with the
-    /// number of commands of each batch done.
-    fn build_batched_with_progress(
-        scene: &Scene,
-        spec: &PhysicsSpec,
-        copies: usize,
-        progress: &(dyn Fn(u64) + Sync),
-        stop: &(dyn Fn() -> bool + Sync),
+        control: &Control<'_>,
     ) -> Result<OutcomeTable, WorldError> {
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
         let all: Vec<u64> = (0..n).collect();
-        let outcomes = Self::execute_indices(scene, spec, copies, &all, progress, stop)?;
+        let outcomes = Self::execute_indices(scene, spec, copies, &all, control)?;
         Ok(OutcomeTable {
             places: places(&space),
             num_effects: scene.num_effects(),
@@ -297,33 +269,21 @@ impl OutcomeTable {
     /// is the same, bit for bit, as [`build_scene`](Self::build_scene)'s
     /// when `known` holds the world's own outcomes.
     pub fn complete(scene: &Scene, known: &[(u64, Outcome)]) -> Result<OutcomeTable, WorldError> {
-        Self::complete_with_progress(scene, known, &|_| {})
+        Self::complete_with(scene, known, &Control::default())
     }
 
-    /// [`complete`](Self::complete), calling `progress` from the workers
-    /// with the number of commands of each simulated batch (as
-    /// [`build_scene_with_progress`](Self::build_scene_with_progress)
-    /// does). The table is the same, bit for bit.
-    pub fn complete_with_progress(
+    /// [`complete`](Self::complete) under `control`, as
+    /// [`build_scene_with`](Self::build_scene_with). The table is the same,
+    /// bit for bit.
+    pub fn complete_with(
         scene: &Scene,
         known: &[(u64, Outcome)],
-        progress: &(dyn Fn(u64) + Sync),
-    ) -> Result<OutcomeTable, WorldError> {
-        Self::complete_until(scene, known, progress, &|| false)
-    }
-
-    /// [`complete_with_progress`](Self::complete_with_progress) that can be
-    /// stopped, as [`build_scene_until`](Self::build_scene_until).
-    pub fn complete_until(
-        scene: &Scene,
-        known: &[(u64, Outcome)],
-        progress: &(dyn Fn(u64) + Sync),
-        stop: &(dyn Fn() -> bool + Sync),
+        control: &Control<'_>,
     ) -> Result<OutcomeTable, WorldError> {
         match &scene.spec().world {
-            WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, progress, stop),
+            WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, control),
             // a grid's table costs microseconds
-            WorldSpec::Grid(_) => Self::build_scene_until(scene, progress, stop),
+            WorldSpec::Grid(_) => Self::build_scene_with(scene, control),
         }
     }
 
@@ -333,8 +293,7 @@ impl OutcomeTable {
         scene: &Scene,
         spec: &PhysicsSpec,
         known: &[(u64, Outcome)],
-        progress: &(dyn Fn(u64) + Sync),
-        stop: &(dyn Fn() -> bool + Sync),
+        control: &Control<'_>,
     ) -> Result<OutcomeTable, WorldError> {
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
@@ -356,7 +315,7 @@ impl OutcomeTable {
         } else {
             1
         };
-        let results = Self::execute_indices(scene, spec, copies, &missing, progress, stop)?;
+        let results = Self::execute_indices(scene, spec, copies, &missing, control)?;
         for (&i, o) in missing.iter().zip(results) {
             outcomes[i as usize] = Some(o);
         }
@@ -403,8 +362,7 @@ impl OutcomeTable {
         spec: &PhysicsSpec,
         copies: usize,
         indices: &[u64],
-        progress: &(dyn Fn(u64) + Sync),
-        stop: &(dyn Fn() -> bool + Sync),
+        control: &Control<'_>,
     ) -> Result<Vec<Outcome>, WorldError> {
         let space = scene.command_space();
         let chunks: Vec<Vec<Outcome>> = indices
@@ -418,14 +376,12 @@ impl OutcomeTable {
                     )
                 },
                 |(world, cmds, out), batch| {
-                    if stop() {
-                        return Err(stopped());
-                    }
+                    control.check()?;
                     cmds.clear();
                     out.clear();
                     cmds.extend(batch.iter().map(|&i| space.command_at(i)));
                     world.execute_batch(cmds, out);
-                    progress(batch.len() as u64);
+                    (control.progress)(batch.len() as u64);
                     out.drain(..).collect::<Result<Vec<_>, _>>()
                 },
             )

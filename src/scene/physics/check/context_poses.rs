@@ -42,7 +42,7 @@ impl PhysicsSpec {
     /// coordinates at the ends picked by the bits of `corner` (bit `i`
     /// set: the `i`-th ranged coordinate, bodies' x then y in order, then
     /// joints, at its `to` end).
-    fn poses_at_corner(&self, c: &StartState, corner: u64) -> Vec<(f64, f64, f64)> {
+    pub(crate) fn poses_at_corner(&self, c: &StartState, corner: u64) -> Vec<(f64, f64, f64)> {
         let mut poses: Vec<(f64, f64, f64)> = self
             .bodies
             .iter()
@@ -169,6 +169,12 @@ impl PhysicsSpec {
     /// corners with every range at one end). Starts inside the ranges are
     /// not checked.
     pub(crate) fn check_context_overlaps(&self) -> Result<(), Invalid> {
+        if self.contexts.is_empty() {
+            return Ok(());
+        }
+        // the scene without its contexts, posed for each (a clone of the
+        // whole scene per context was quadratic in the contexts)
+        let bare = self.without_contexts();
         for (k, c) in self.contexts.iter().enumerate() {
             let ranged = c.bodies.iter().filter(|b| b.to.is_some()).count() * 2
                 + c.joints.iter().filter(|j| j.to.is_some()).count();
@@ -178,7 +184,7 @@ impl PhysicsSpec {
                 vec![0, u64::MAX]
             };
             for corner in corners {
-                let mut posed = self.clone();
+                let mut posed = bare.clone();
                 for (b, p) in posed.bodies.iter_mut().zip(self.poses_at_corner(c, corner)) {
                     b.position = (p.0, p.1);
                     b.angle = p.2;
@@ -203,7 +209,7 @@ impl PhysicsSpec {
                         None,
                         &format!(
                             "context `{}`: a start where no two bodies overlap, but `{}` and `{}` overlap by {:.4} m there{where_} (at most {} m, touching, is allowed)",
-                            c.name,
+                            crate::text::echo(&c.name),
                             self.bodies[i].name,
                             self.bodies[j].name,
                             depth,

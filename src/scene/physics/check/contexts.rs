@@ -25,29 +25,47 @@ impl PhysicsSpec {
     /// known joints, finite numbers, joint coordinates within the joints'
     /// limits, speeds under `max_speed`, `to` only with `position` or
     /// `angle`.
+    ///
+    /// At most [`MAX_CONTEXTS`](crate::scene::MAX_CONTEXTS) contexts;
+    /// names are looked up in hash maps, so the checks take time linear
+    /// in the scene.
     pub(crate) fn check_contexts(&self) -> Result<(), Invalid> {
+        use std::collections::{HashMap, HashSet};
+        crate::scene::check_context_count(self.contexts.len())?;
+        let bodies: HashMap<&str, &super::super::BodySpec> =
+            self.bodies.iter().map(|b| (b.name.as_str(), b)).collect();
+        let children: HashSet<&str> = self.joints.iter().map(|j| j.child.as_str()).collect();
+        let joints: HashMap<&str, &super::super::JointSpec> =
+            self.joints.iter().map(|j| (j.name.as_str(), j)).collect();
+        let mut names = HashSet::with_capacity(self.contexts.len());
         for (k, c) in self.contexts.iter().enumerate() {
+            let shown = crate::text::echo(&c.name);
             let here = |field: &str, expected: String| Invalid {
                 within: Some(("contexts", k)),
-                ..Invalid::at(field, None, &format!("context `{}`: {expected}", c.name))
+                ..Invalid::at(field, None, &format!("context `{shown}`: {expected}"))
             };
-            if c.name.trim().is_empty() || self.contexts[..k].iter().any(|o| o.name == c.name) {
+            if c.name.trim().is_empty() || !names.insert(c.name.as_str()) {
                 return Err(here(
                     "name",
                     "a distinct, non-empty name for every context".into(),
                 ));
             }
-            for (j, b) in c.bodies.iter().enumerate() {
-                if c.bodies[..j].iter().any(|o| o.body == b.body) {
+            crate::text::check_name(&c.name).map_err(|e| here("name", e))?;
+            let mut listed = HashSet::with_capacity(c.bodies.len());
+            for b in &c.bodies {
+                if !listed.insert(b.body.as_str()) {
                     return Err(here("body", format!("body `{}` listed once", b.body)));
                 }
-                let Some(spec) = self.bodies.iter().find(|s| s.name == b.body) else {
+                let Some(spec) = bodies.get(b.body.as_str()) else {
                     return Err(here(
                         "body",
-                        format!("a body of the scene, found `{}`", b.body),
+                        format!(
+                            "a body of the scene, found `{}`",
+                            crate::text::echo(&b.body)
+                        ),
                     ));
                 };
-                if spec.kind != BodyKind::Dynamic || self.joints.iter().any(|j| j.child == b.body) {
+                if spec.kind != BodyKind::Dynamic || children.contains(b.body.as_str()) {
                     return Err(here(
                         "body",
                         format!(
@@ -58,11 +76,12 @@ impl PhysicsSpec {
                 }
                 self.check_body_start(b, &here)?;
             }
-            for (j, s) in c.joints.iter().enumerate() {
-                if c.joints[..j].iter().any(|o| o.joint == s.joint) {
+            let mut listed = HashSet::with_capacity(c.joints.len());
+            for s in &c.joints {
+                if !listed.insert(s.joint.as_str()) {
                     return Err(here("joint", format!("joint `{}` listed once", s.joint)));
                 }
-                self.check_joint_start(s, &here)?;
+                self.check_joint_start(s, joints.get(s.joint.as_str()).copied(), &here)?;
             }
         }
         Ok(())
@@ -73,15 +92,16 @@ impl PhysicsSpec {
     fn check_joint_start(
         &self,
         s: &JointStart,
+        spec: Option<&super::super::JointSpec>,
         here: &dyn Fn(&str, String) -> Invalid,
     ) -> Result<(), Invalid> {
-        let Some(spec) = self.joints.iter().find(|j| j.name == s.joint) else {
+        let Some(spec) = spec else {
             let names: Vec<&str> = self.joints.iter().map(|j| j.name.as_str()).collect();
             return Err(here(
                 "joint",
                 format!(
                     "a joint of the scene, found `{}` (joints: {})",
-                    s.joint,
+                    crate::text::echo(&s.joint),
                     if names.is_empty() {
                         "none".into()
                     } else {

@@ -428,5 +428,12 @@ fn check_line(bins: usize, (lo, hi): (f64, f64), unit: &str, k: usize) -> Result
             ),
         )));
     }
+    if let Err(e) = crate::effect::check_bins(bins, lo, hi) {
+        return Err(place(Invalid::at(
+            "range",
+            None,
+            &format!("{e} (in {unit})"),
+        )));
+    }
     Ok(())
 }

@@ -1,4 +1,4 @@
-//! Bad input and faults, round 3 (issue 30): the readers of e3d's own
+//! e3d's own outputs under bad input and faults: the readers of its own
 //! outputs, a report that knows its scene, memory bounds, e3d's own
 //! folders (non-regular files, temporary files), terminals and formats,
 //! caches to trust. Each test fails on the code before these fixes.
@@ -622,7 +622,8 @@ fn memos_saved_at_once_into_one_file_lose_no_entry() {
             let (scene, table, space, p) = (&scene, &table, &space, &p);
             s.spawn(move || {
                 for r in 0..rounds {
-                    let memo = e3d::OutcomeMemo::new(space, scene.num_effects(), 1 << 20).unwrap();
+                    let memo =
+                        e3d::world::OutcomeMemo::new(space, scene.num_effects(), 1 << 20).unwrap();
                     let i = w * rounds + r;
                     memo.insert(i, *table.get(i));
                     memo.save(p, scene).unwrap();

@@ -1,4 +1,4 @@
-//! Bad input and faults, round 4 (issue 30): a sweep's journal streamed,
+//! Output paths and streams under bad input and faults: a sweep's journal streamed,
 //! every `scene` subcommand on continuous scenes, control characters in
 //! names that become files or text, and a new hostile round. Each test
 //! fails on the code before its fix.

@@ -1,0 +1,347 @@
+//! The session engine: the one trial loop every session runs through,
+//! whatever its kind of command (symbols or values), alone or in lockstep
+//! with others, and the groups of an [`Executor`] run in parallel.
+//!
+//! A kind of command `C` is a [`Command`] of symbols or a `Vec<f64>` of
+//! values. A learner of `C` is [`Learns<C>`] (every [`Learner`] learns
+//! commands, every [`ContinuousLearner`] values), a world of `C` is
+//! [`Executes<C>`] (every [`World`] and every [`ContinuousWorld`]), and
+//! what keeps the trials is a [`Recorder<C>`]. [`run_group`] runs sessions
+//! that share one world; [`run_sessions`] cuts sessions into the groups
+//! a [`Worlds<C>`] (an [`Executor`]) plans and runs the groups on every
+//! core of the current rayon pool. [`Control`] carries the progress and
+//! stop callbacks of both.
+
+pub use crate::world::{Control, Observer};
+
+use super::{Recorder, SessionConfig};
+use crate::command::Command;
+use crate::learner::{ContinuousLearner, Learner};
+use crate::rng::SessionRng;
+use crate::world::{ContinuousWorld, Executor, Outcome, OutcomeTable, World, WorldError};
+use rand::SeedableRng;
+use std::ops::Range;
+
+/// A learner of commands of kind `C`, as the engine drives it: every
+/// [`Learner`] is one for [`Command`], every [`ContinuousLearner`] for
+/// `Vec<f64>`. Implement those traits, not this one.
+pub trait Learns<C> {
+    /// Draws the next command into `command`.
+    fn propose_next(&mut self, rng: &mut SessionRng, command: &mut C);
+    /// Learns from the outcome of `command`.
+    fn learn_from(&mut self, command: &C, outcome: &Outcome);
+}
+
+impl<L: Learner + ?Sized> Learns<Command> for L {
+    fn propose_next(&mut self, rng: &mut SessionRng, command: &mut Command) {
+        self.propose(rng, command)
+    }
+    fn learn_from(&mut self, command: &Command, outcome: &Outcome) {
+        self.learn(command, outcome)
+    }
+}
+
+impl<L: ContinuousLearner + ?Sized> Learns<Vec<f64>> for L {
+    fn propose_next(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
+        self.propose(rng, values)
+    }
+    fn learn_from(&mut self, values: &Vec<f64>, outcome: &Outcome) {
+        self.learn(values, outcome)
+    }
+}
+
+/// A world that executes commands of kind `C` from its start state, as the
+/// engine drives it: every [`World`] is one for [`Command`], every
+/// [`ContinuousWorld`] for `Vec<f64>`. Implement those traits, not this
+/// one.
+pub trait Executes<C> {
+    /// A command buffer for a learner to propose into.
+    fn blank(&self) -> C;
+    /// The number of slots of a command.
+    fn slots(&self) -> usize;
+    /// The number of effects.
+    fn effects(&self) -> usize;
+    /// Executes one command.
+    fn execute_one(&mut self, command: &C) -> Result<Outcome, WorldError>;
+    /// Executes several commands, appending their outcomes in order.
+    fn execute_all(&mut self, commands: &[C], out: &mut Vec<Result<Outcome, WorldError>>);
+    /// Copies `from` into `to` without allocating.
+    fn copy(&self, from: &C, to: &mut C);
+}
+
+impl<W: World + ?Sized> Executes<Command> for W {
+    fn blank(&self) -> Command {
+        self.command_space().first()
+    }
+    fn slots(&self) -> usize {
+        self.command_space().num_slots()
+    }
+    fn effects(&self) -> usize {
+        self.num_effects()
+    }
+    fn execute_one(&mut self, command: &Command) -> Result<Outcome, WorldError> {
+        self.execute(command)
+    }
+    fn execute_all(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
+        self.execute_batch(commands, out)
+    }
+    fn copy(&self, from: &Command, to: &mut Command) {
+        to.symbols.clone_from(&from.symbols)
+    }
+}
+
+impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
+    fn blank(&self) -> Vec<f64> {
+        Vec::with_capacity(self.value_space().num_slots())
+    }
+    fn slots(&self) -> usize {
+        self.value_space().num_slots()
+    }
+    fn effects(&self) -> usize {
+        ContinuousWorld::num_effects(self)
+    }
+    fn execute_one(&mut self, values: &Vec<f64>) -> Result<Outcome, WorldError> {
+        self.execute_values(values)
+    }
+    fn execute_all(&mut self, commands: &[Vec<f64>], out: &mut Vec<Result<Outcome, WorldError>>) {
+        self.execute_values_batch(commands, out)
+    }
+    fn copy(&self, from: &Vec<f64>, to: &mut Vec<f64>) {
+        to.clone_from(from)
+    }
+}
+
+/// How often (in lockstep trials) the engine reports progress.
+const PROGRESS_EVERY: usize = 64;
+
+/// Runs sessions that share one world: session `i` is `learners[i]` with
+/// `configs[i]`, its trials handed to `recorders[i]`. At every trial each
+/// session still running proposes its command; a session alone executes
+/// it by itself, several in lockstep execute theirs in one batch (several
+/// copies of a physics scene stepped together); then each learns from its
+/// own outcome, with the reward zeroed unless its config uses rewards.
+///
+/// Every session follows its algorithm exactly as it would alone, with its
+/// own generator ([`SessionRng`] seeded by its config): on a world whose
+/// batches give each command's single-world outcome, the records are those
+/// of the sessions run one after the other (tested). All sessions run the
+/// trials of the longest; a session with fewer trials stops proposing at
+/// its end. A session whose command fails stops there with the error (its
+/// recorder keeps the trials before it); the others go on. Returns each
+/// session's status.
+///
+/// ```
+/// use e3d::session::{run_group, Control};
+/// use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, SessionRecord, Target};
+/// let scene = Scene::builtin("puck_rooms").unwrap();
+/// let make = || LearnerKind::E3d
+///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+///     .unwrap();
+/// let configs: Vec<SessionConfig> =
+///     (0..3).map(|seed| SessionConfig { trials: 50, seed, use_reward: true }).collect();
+/// let mut learners: Vec<_> = configs.iter().map(|_| make()).collect();
+/// let mut world = scene.build();
+/// let mut records: Vec<SessionRecord> =
+///     configs.iter().map(|c| SessionRecord::new(&*world, c.trials)).collect();
+/// let status = run_group(&mut world, &mut learners, &configs, &mut records, &Control::default());
+/// assert!(status.iter().all(Result::is_ok));
+/// assert_eq!(records[1], run_session(&mut scene.build(), &mut make(), &configs[1]).unwrap());
+/// ```
+pub fn run_group<C, W, L, R>(
+    world: &mut W,
+    learners: &mut [L],
+    configs: &[SessionConfig],
+    recorders: &mut [R],
+    control: &(impl Observer + ?Sized),
+) -> Vec<Result<(), WorldError>>
+where
+    C: Clone,
+    W: Executes<C> + ?Sized,
+    L: Learns<C>,
+    R: Recorder<C>,
+{
+    assert_eq!(learners.len(), configs.len(), "one config per learner");
+    assert_eq!(recorders.len(), configs.len(), "one recorder per session");
+    let mut rngs: Vec<SessionRng> = configs
+        .iter()
+        .map(|c| SessionRng::seed_from_u64(c.seed))
+        .collect();
+    let mut status: Vec<Result<(), WorldError>> = configs.iter().map(|_| Ok(())).collect();
+    let mut commands: Vec<C> = configs.iter().map(|_| world.blank()).collect();
+    // reused from trial to trial: no allocation per trial
+    let mut batch: Vec<C> = commands.clone();
+    let mut active: Vec<usize> = Vec::with_capacity(configs.len());
+    let mut outcomes = Vec::with_capacity(configs.len());
+    let alone = configs.len() == 1;
+    let longest = configs.iter().map(|c| c.trials).max().unwrap_or(0);
+    let mut since = 0u64;
+    for t in 0..longest {
+        if t % PROGRESS_EVERY == 0 && since > 0 {
+            control.progress(since);
+            since = 0;
+        }
+        active.clear();
+        for (i, c) in configs.iter().enumerate() {
+            if t < c.trials && status[i].is_ok() {
+                learners[i].propose_next(&mut rngs[i], &mut commands[i]);
+                active.push(i);
+            }
+        }
+        if active.is_empty() {
+            break;
+        }
+        outcomes.clear();
+        if control.stopped() {
+            outcomes.extend(active.iter().map(|_| Err(WorldError::Stopped)));
+        } else if alone {
+            outcomes.push(world.execute_one(&commands[0]));
+        } else {
+            for (j, &i) in active.iter().enumerate() {
+                world.copy(&commands[i], &mut batch[j]);
+            }
+            world.execute_all(&batch[..active.len()], &mut outcomes);
+        }
+        for (&i, result) in active.iter().zip(outcomes.drain(..)) {
+            let mut outcome = match result {
+                Ok(o) => o,
+                Err(e) => {
+                    status[i] = Err(e);
+                    continue;
+                }
+            };
+            if !configs[i].use_reward {
+                outcome.reward = 0.0;
+            }
+            learners[i].learn_from(&commands[i], &outcome);
+            recorders[i].record(&commands[i], &outcome);
+        }
+        since += active.len() as u64;
+    }
+    control.progress(since);
+    status
+}
+
+/// Where sessions of kind `C` run: the groups that step together, and a
+/// world for each. An [`Executor`] is one for both kinds (a scene of
+/// symbols: its table, memo or live worlds; a scene of values: live
+/// worlds of several exact copies).
+pub trait Worlds<C>: Sync {
+    /// The groups `sessions` sessions are cut into, as ranges in order.
+    fn session_groups(&self, sessions: usize) -> Vec<Range<usize>>;
+    /// A fresh world for `width` sessions stepping together; its outcomes
+    /// do not depend on the width.
+    fn world_for(&self, width: usize) -> Result<Box<dyn Executes<C> + Send + '_>, WorldError>;
+}
+
+impl Worlds<Command> for Executor<'_> {
+    fn session_groups(&self, sessions: usize) -> Vec<Range<usize>> {
+        Executor::session_groups(self, sessions)
+    }
+    fn world_for(
+        &self,
+        width: usize,
+    ) -> Result<Box<dyn Executes<Command> + Send + '_>, WorldError> {
+        Ok(Box::new(self.world(width)))
+    }
+}
+
+/// An outcome table: every session alone on it, all in parallel.
+impl Worlds<Command> for OutcomeTable {
+    fn session_groups(&self, sessions: usize) -> Vec<Range<usize>> {
+        (0..sessions).map(|i| i..i + 1).collect()
+    }
+    fn world_for(
+        &self,
+        _width: usize,
+    ) -> Result<Box<dyn Executes<Command> + Send + '_>, WorldError> {
+        Ok(Box::new(self))
+    }
+}
+
+impl Worlds<Vec<f64>> for Executor<'_> {
+    fn session_groups(&self, sessions: usize) -> Vec<Range<usize>> {
+        Executor::session_groups(self, sessions)
+    }
+    fn world_for(
+        &self,
+        width: usize,
+    ) -> Result<Box<dyn Executes<Vec<f64>> + Send + '_>, WorldError> {
+        let scene = self.continuous().ok_or_else(|| {
+            WorldError::Other(
+                "sessions of continuous commands need an executor of a continuous scene (Executor::for_values)"
+                    .into(),
+            )
+        })?;
+        Ok(Box::new(scene.world(self.copies_for(width))))
+    }
+}
+
+/// Runs sessions of one scene the way `worlds` plans them, on every core
+/// of the current rayon pool: session `i` is `learners[i]` with
+/// `configs[i]`, its trials handed to `recorders[i]`. The sessions are cut
+/// into [`Worlds::session_groups`] (alone on a table, else in lockstep
+/// groups that step together on one world), and the groups run in
+/// parallel through [`run_group`]. The records are those of running each
+/// session alone, whatever the threads.
+///
+/// Returns each session's status, in order. Call [`Executor::finish`]
+/// afterwards to keep a memo's outcomes.
+///
+/// ```
+/// use e3d::world::{ExecOptions, Executor, Workload};
+/// use e3d::session::{run_sessions, Control};
+/// use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, SessionRecord, Target};
+/// let scene = Scene::builtin("puck_rooms").unwrap();
+/// let make = || LearnerKind::E3d
+///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+///     .unwrap();
+/// let configs: Vec<SessionConfig> = (0..4)
+///     .map(|seed| SessionConfig { trials: 100, seed, use_reward: true })
+///     .collect();
+/// let work = Workload { trials: 400, sessions: 4, threads: 2 };
+/// let exec = Executor::new(&scene, &work, &ExecOptions::default()).unwrap();
+/// let mut learners: Vec<_> = configs.iter().map(|_| make()).collect();
+/// let mut records: Vec<SessionRecord> =
+///     configs.iter().map(|c| SessionRecord::new(&*exec.world(1), c.trials)).collect();
+/// let status = run_sessions(&exec, &mut learners, &configs, &mut records, &Control::default());
+/// assert!(status.iter().all(Result::is_ok));
+/// // the same as each session alone on a world of its own
+/// let alone = run_session(&mut scene.build(), &mut make(), &configs[2]).unwrap();
+/// assert_eq!(records[2], alone);
+/// ```
+pub fn run_sessions<C, L, R>(
+    worlds: &(impl Worlds<C> + ?Sized),
+    learners: &mut [L],
+    configs: &[SessionConfig],
+    recorders: &mut [R],
+    control: &(impl Observer + Sync + ?Sized),
+) -> Vec<Result<(), WorldError>>
+where
+    C: Clone,
+    L: Learns<C> + Send,
+    R: Recorder<C> + Send,
+{
+    use rayon::prelude::*;
+    assert_eq!(learners.len(), configs.len(), "one config per learner");
+    assert_eq!(recorders.len(), configs.len(), "one recorder per session");
+    // the groups, cut off the slices in order
+    let mut parts = Vec::new();
+    let (mut l, mut r, mut c) = (learners, recorders, configs);
+    for g in worlds.session_groups(c.len()) {
+        let (l0, l1) = l.split_at_mut(g.len());
+        let (r0, r1) = r.split_at_mut(g.len());
+        let (c0, c1) = c.split_at(g.len());
+        parts.push((l0, r0, c0));
+        (l, r, c) = (l1, r1, c1);
+    }
+    parts
+        .into_par_iter()
+        .map(|(l, r, c)| match worlds.world_for(l.len()) {
+            Ok(mut world) => run_group(&mut *world, l, c, r, control),
+            Err(e) => c.iter().map(|_| Err(e.clone())).collect(),
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .flatten()
+        .collect()
+}

@@ -1,0 +1,156 @@
+//! Bad input and faults, round 4 of issue 48, in the library: the one
+//! name check, the bound on contexts and its linear checks, binned
+//! ranges, loaded learner states. Each test fails on the code before its
+//! fix.
+
+use e3d::command::CommandSpace;
+use e3d::effect::EffectGrid;
+use e3d::learner::state::{STATE_HEADER, STATE_HEADER_V1};
+use e3d::learner::{E3d, LearnerState};
+use e3d::{Params, Scene, Target};
+use std::time::{Duration, Instant};
+
+fn grid_with_contexts(contexts: &str) -> String {
+    let text = std::fs::read_to_string("scenes/two_rooms_contexts.ron").unwrap();
+    let old = r#"contexts: [(name: "room_a", cell: (0, 0)), (name: "room_b", cell: (2, 5))],"#;
+    assert!(text.contains(old));
+    text.replace(old, &format!("contexts: [{contexts}],"))
+}
+
+/// Format characters (a right-to-left override, a zero-width space, a
+/// line separator) are refused by the one name check; escape_controls
+/// shows the bidirectional controls as code points.
+#[test]
+fn the_name_check_refuses_format_characters() {
+    for bad in [
+        "a\u{202e}b",
+        "a\u{200b}b",
+        "a\u{2028}b",
+        "a\u{2066}b",
+        "a\u{feff}b",
+        " ",
+    ] {
+        assert!(e3d::text::check_name(bad).is_err(), "{bad:?}");
+    }
+    assert!(e3d::text::check_name("room_a").is_ok());
+    assert!(e3d::text::check_name("é ü 中").is_ok());
+    assert_eq!(e3d::text::escape_controls("a\u{202e}b"), "a\\u{202e}b");
+    assert_eq!(e3d::text::echo("a\u{2067}b"), "a\\u{2067}b");
+}
+
+/// 10^5 grid contexts are refused by the documented bound in under a
+/// second; 1024 load, in linear time.
+#[test]
+fn contexts_are_bounded_and_checked_in_linear_time() {
+    let list: Vec<String> = (0..100_000)
+        .map(|k| format!(r#"(name: "c{k}", cell: ({}, {}))"#, k % 3, k % 6))
+        .collect();
+    let text = grid_with_contexts(&list.join(", "));
+    let t = Instant::now();
+    let e = Scene::parse(&text, "many.ron").unwrap_err().to_string();
+    assert!(t.elapsed() < Duration::from_secs(1), "{:?}", t.elapsed());
+    assert!(
+        e.starts_with("many.ron:")
+            && e.contains("at most 1024 start contexts")
+            && e.contains("100000"),
+        "{e}"
+    );
+
+    let text = grid_with_contexts(&list[..1024].join(", "));
+    let t = Instant::now();
+    let s = Scene::parse(&text, "ok.ron").unwrap();
+    assert!(t.elapsed() < Duration::from_secs(1), "{:?}", t.elapsed());
+    assert_eq!(e3d::world::start_contexts(&s).len(), 1024);
+
+    // a duplicate name far down the list is found, with its place
+    let mut dup = list[..1024].to_vec();
+    dup[1000] = r#"(name: "c3", cell: (0, 0))"#.into();
+    let e = Scene::parse(&grid_with_contexts(&dup.join(", ")), "dup.ron")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("a distinct, non-empty name for every context") && e.contains("`c3`"),
+        "{e}"
+    );
+}
+
+/// Every binned axis: widths that overflow and bins that cannot be told
+/// apart are refused, in effect grids and in features.
+#[test]
+fn binned_axes_need_finite_distinct_bins() {
+    assert!(e3d::effect::check_bins(3, -1.7e308, 1.7e308).is_err());
+    assert!(e3d::effect::check_bins(3, 0.0, 5e-324).is_err());
+    assert!(e3d::effect::check_bins(1 << 20, 0.0, 1e-303).is_err());
+    assert!(e3d::effect::check_bins(7, -1.4, 1.4).is_ok());
+    let e = EffectGrid::new(1, 3, [-1.7e308, 0.0], [1.7e308, 1.0]).unwrap_err();
+    assert!(e.to_string().contains("overflows to infinity"), "{e}");
+    let e = EffectGrid::new(2, 3, [0.0, 0.0], [1.0, 5e-324]).unwrap_err();
+    assert!(e.to_string().starts_with("rows:"), "{e}");
+    let axis = e3d::effect::Axis::Line {
+        bins: 3,
+        min: 0.0,
+        max: 5e-324,
+    };
+    assert!(e3d::effect::Binning::new(vec![axis]).is_err());
+}
+
+fn e3d_state() -> Vec<u8> {
+    let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
+    E3d::new(&space, 3, &Params::TASK1, &Target::Uniform)
+        .unwrap()
+        .to_bytes()
+}
+
+/// Saved states carry a checksum: a flipped bit is refused; a state of
+/// version 1 (no checksum) still loads; an unknown version is refused by
+/// its number.
+#[test]
+fn learner_states_are_checksummed_and_versioned() {
+    let saved = e3d_state();
+    assert!(saved.starts_with(STATE_HEADER));
+    assert_eq!(E3d::from_bytes(&saved).unwrap().to_bytes(), saved);
+    let mut flipped = saved.clone();
+    let k = saved.len() / 2;
+    flipped[k] ^= 1;
+    let e = E3d::from_bytes(&flipped).unwrap_err().to_string();
+    assert!(e.contains("checksum"), "{e}");
+
+    // version 1: the same body, no checksum
+    let body = &saved[STATE_HEADER.len()..saved.len() - 8];
+    let v1 = [STATE_HEADER_V1, body].concat();
+    assert_eq!(E3d::from_bytes(&v1).unwrap().to_bytes(), saved);
+    assert_eq!(e3d::learner::state::state_kind(&v1).unwrap(), "e3d");
+
+    let v9 = [&b"E3D-LEARNER-STATE 9\n"[..], body].concat();
+    let e = E3d::from_bytes(&v9).unwrap_err().to_string();
+    assert!(e.contains("version 9"), "{e}");
+}
+
+/// A NaN rate or a NaN table entry is refused when a state is read, also
+/// in a version 1 state (no checksum to catch an edit).
+#[test]
+fn learner_states_hold_no_nan() {
+    let saved = e3d_state();
+    let body = saved[STATE_HEADER.len()..saved.len() - 8].to_vec();
+    // the body: the kind (8-byte length, "e3d"), then the four rates
+    let rates_at = 8 + 3;
+    for (i, v) in [(0, f64::NAN), (3, f64::NAN), (3, 0.0), (2, f64::INFINITY)] {
+        let mut b = body.clone();
+        let at = rates_at + 8 * i;
+        b[at..at + 8].copy_from_slice(&v.to_le_bytes());
+        let v1 = [STATE_HEADER_V1, &b].concat();
+        let e = E3d::from_bytes(&v1).unwrap_err().to_string();
+        assert!(
+            e.contains("NaN") || e.contains("finite") || e.contains("beta"),
+            "rate {i} = {v}: {e}"
+        );
+    }
+    // a NaN anywhere in Q (after the rates, sizes and width)
+    let mut b = body.clone();
+    let q_at = rates_at + 8 * 4 + 8 + 8 * 2 + 8;
+    b[q_at..q_at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
+    let e = E3d::from_bytes(&[STATE_HEADER_V1, &b].concat())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("NaN"), "{e}");
+}
