@@ -70,7 +70,9 @@ import json, pathlib, subprocess, sys
 top = pathlib.Path(sys.argv[1]).resolve()
 need = ["pyproject.toml", "e3d/__init__.py", "e3d/_e3d.pyi", "e3d/py.typed", "e3d/gym.py",
         "python/Cargo.toml", "python/Cargo.lock", "python/src/lib.rs", "Cargo.toml",
-        "src/lib.rs", "scenes/two_rooms.ron", "scenes/arm7x5.ron"]
+        "src/lib.rs", "scenes/two_rooms.ron", "scenes/arm7x5.ron",
+        # the patched Rapier ([patch.crates-io], vendor/README.md) and its diff
+        "vendor/rapier2d/Cargo.toml", "vendor/rapier2d/src/lib.rs", "vendor/rapier2d.diff"]
 missing = [n for n in need if not (top / n).is_file()]
 # every file the crate includes at compile time (built-in scenes, docs)
 import re
@@ -85,7 +87,10 @@ meta = json.loads(subprocess.run(
     check=True, capture_output=True, text=True).stdout)
 lib = [p for p in meta["packages"] if p["name"] == "e3d"]
 assert lib and pathlib.Path(lib[0]["manifest_path"]).resolve() == top / "Cargo.toml", lib
-print("sdist ok:", top.name, "with the e3d crate inside")
+rapier = [p for p in meta["packages"] if p["name"] == "rapier2d"]
+assert len(rapier) == 1 and pathlib.Path(rapier[0]["manifest_path"]).resolve() == \
+    top / "vendor/rapier2d/Cargo.toml", f"rapier2d is not the vendored one: {rapier}"
+print("sdist ok:", top.name, "with the e3d crate and the patched rapier2d inside")
 PY
 
 echo "== pytest python/tests"

@@ -21,5 +21,6 @@ mod new_scenes;
 mod pendulum;
 mod prefixes;
 mod puck;
+mod rapier_identity;
 mod scene_errors;
 mod symmetry;
