@@ -480,7 +480,7 @@ fn sigterm_and_ctrl_c_during_run_out_leave_no_temporary_file() {
             .arg(&d)
             .stdin(Stdio::null())
             .stdout(Stdio::null())
-            .stderr(Stdio::null())
+            .stderr(Stdio::piped())
             .spawn()
             .unwrap();
         let temporary = |d: &Path| {
@@ -496,9 +496,15 @@ fn sigterm_and_ctrl_c_during_run_out_leave_no_temporary_file() {
         unsafe {
             libc::kill(child.id() as libc::pid_t, sig);
         }
-        let status = child.wait().unwrap();
+        let out = child.wait_with_output().unwrap();
         use std::os::unix::process::ExitStatusExt;
-        assert_eq!(status.signal(), Some(sig));
+        assert_eq!(
+            out.status.signal(),
+            Some(sig),
+            "{:?}: {}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        );
         let left: Vec<String> = std::fs::read_dir(&d)
             .unwrap()
             .flatten()
