@@ -475,7 +475,7 @@ fn the_next_run_removes_temporary_files_left_by_a_dead_one() {
 fn sigterm_and_ctrl_c_during_run_out_leave_no_temporary_file() {
     for sig in [libc::SIGTERM, libc::SIGINT] {
         let d = tmp(&format!("signal{sig}"));
-        let mut child = e3d()
+        let child = e3d()
             .args(["run", "two_rooms", "--trials", "100000000", "--out"])
             .arg(&d)
             .stdin(Stdio::null())
