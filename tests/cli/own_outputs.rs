@@ -475,14 +475,26 @@ fn the_next_run_removes_temporary_files_left_by_a_dead_one() {
 fn sigterm_and_ctrl_c_during_run_out_leave_no_temporary_file() {
     for sig in [libc::SIGTERM, libc::SIGINT] {
         let d = tmp(&format!("signal{sig}"));
-        let child = e3d()
+        let mut command = e3d();
+        command
             .args(["run", "two_rooms", "--trials", "100000000", "--out"])
             .arg(&d)
             .stdin(Stdio::null())
             .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
+            .stderr(Stdio::piped());
+        // a test run in the background of a shell inherits SIGINT ignored
+        // (and e3d keeps an ignored signal ignored, as nohup wants): give
+        // the child the default actions whatever started the tests
+        use std::os::unix::process::CommandExt;
+        // SAFETY: signal(2) is async-signal-safe, called between fork and exec
+        unsafe {
+            command.pre_exec(|| {
+                libc::signal(libc::SIGINT, libc::SIG_DFL);
+                libc::signal(libc::SIGTERM, libc::SIG_DFL);
+                Ok(())
+            });
+        }
+        let child = command.spawn().unwrap();
         let temporary = |d: &Path| {
             std::fs::read_dir(d)
                 .unwrap()
