@@ -264,10 +264,24 @@ pub trait LearnerState: StateField {
         match state_body(bytes) {
             Ok(rest) => read(rest),
             // a state cut short fails its checksum too: say where it ends
-            Err(e) => match bytes.strip_prefix(STATE_HEADER).map(read) {
-                Some(Err(cut)) if cut.to_string().contains("end early") => Err(cut),
-                _ => Err(e),
-            },
+            Err(e) => {
+                let Some(rest) = bytes.strip_prefix(STATE_HEADER) else {
+                    return Err(e);
+                };
+                match read(rest) {
+                    Err(cut) if cut.to_string().contains("end early") => Err(cut),
+                    // the whole state, then part of its checksum or none
+                    _ if (0..8)
+                        .any(|k| rest.len() >= k && read(&rest[..rest.len() - k]).is_ok()) =>
+                    {
+                        Err(LearnerError::State(format!(
+                            "state of a `{}` learner: the bytes end early, in or before its checksum",
+                            Self::KIND
+                        )))
+                    }
+                    _ => Err(e),
+                }
+            }
         }
     }
 }

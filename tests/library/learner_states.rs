@@ -368,3 +368,24 @@ fn states_holding_a_nan_are_refused_or_run_on() {
     check(Archive::new(&s, EFFECTS, &p));
     check(CountBonus::new(&s, EFFECTS, &p));
 }
+
+/// A state cut short says that its bytes end early, wherever the cut
+/// falls: in the body, or in the checksum that ends it.
+#[test]
+fn a_cut_state_says_its_bytes_end_early() {
+    let l = E3d::new(&space(), 18, &params(), &Target::Uniform).unwrap();
+    let bytes = l.to_bytes();
+    for cut in (1..=8).chain([20, bytes.len() / 2]) {
+        let e = E3d::from_bytes(&bytes[..bytes.len() - cut])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("end early"), "cut {cut}: {e}");
+    }
+    // a byte changed is a damaged state, not a cut one
+    let mut edited = bytes.clone();
+    let at = edited.len() / 2;
+    edited[at] ^= 1;
+    let e = E3d::from_bytes(&edited).unwrap_err().to_string();
+    assert!(e.contains("checksum"), "{e}");
+    assert!(E3d::from_bytes(&bytes).is_ok());
+}
