@@ -10,8 +10,9 @@
 //!
 //! Cargo reruns this script only when a path it was told to watch
 //! changed, and treats a watched path that does not exist as changed at
-//! every build: [`watched`] lists only paths that exist, and
-//! `tests/library/build_script.rs` checks it.
+//! every build: `main` names each watched path literally, and
+//! `tests/library/build_script.rs` checks that each exists and that every
+//! physics folder and file is among them.
 
 use std::path::{Path, PathBuf};
 
@@ -40,14 +41,13 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 /// The folders (under src/) whose every file is physics code, and the
 /// single files beside them that are too.
-const PHYSICS_DIRS: [&str; 5] = [
+pub const PHYSICS_DIRS: [&str; 4] = [
     "world/physics/",
     "scene/physics/",
     "scene/shorthand/",
     "effect/",
-    "world/grid/",
 ];
-const PHYSICS_FILES: [&str; 3] = ["world/grid.rs", "scene/enclosure.rs", "scene/overlap.rs"];
+pub const PHYSICS_FILES: [&str; 3] = ["world/grid.rs", "scene/enclosure.rs", "scene/overlap.rs"];
 
 /// The patch applied to the vendored Rapier, if the build uses one.
 const RAPIER_PATCH: &str = "vendor/rapier2d.diff";
@@ -73,19 +73,6 @@ pub fn physics_files(root: &Path) -> Vec<PathBuf> {
         .collect();
     rel.sort();
     rel
-}
-
-/// What cargo watches, relative to `root`: the physics folders and files
-/// that exist, Cargo.lock, this script and the Rapier patch if present.
-pub fn watched(root: &Path) -> Vec<String> {
-    let mut paths: Vec<String> = PHYSICS_DIRS
-        .iter()
-        .map(|d| format!("src/{}", d.trim_end_matches('/')))
-        .chain(PHYSICS_FILES.iter().map(|f| format!("src/{f}")))
-        .chain(["Cargo.lock", "build.rs", RAPIER_PATCH].map(String::from))
-        .collect();
-    paths.retain(|p| root.join(p).exists());
-    paths
 }
 
 /// The fingerprint of the sources under `root`.
@@ -136,7 +123,16 @@ fn main() {
         "cargo:rustc-env=E3D_PHYSICS_FINGERPRINT={}",
         fingerprint(root)
     );
-    for p in watched(root) {
-        println!("cargo:rerun-if-changed={p}");
-    }
+    // every path literally, each one that exists (a missing one reruns
+    // this script and recompiles the crate at every build)
+    println!("cargo:rerun-if-changed=src/world/physics");
+    println!("cargo:rerun-if-changed=src/scene/physics");
+    println!("cargo:rerun-if-changed=src/scene/shorthand");
+    println!("cargo:rerun-if-changed=src/effect");
+    println!("cargo:rerun-if-changed=src/world/grid.rs");
+    println!("cargo:rerun-if-changed=src/scene/enclosure.rs");
+    println!("cargo:rerun-if-changed=src/scene/overlap.rs");
+    println!("cargo:rerun-if-changed=vendor/rapier2d.diff");
+    println!("cargo:rerun-if-changed=Cargo.lock");
+    println!("cargo:rerun-if-changed=build.rs");
 }

@@ -121,5 +121,62 @@ fn sweep_refusal(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, scale, sweep_refusal);
+/// What the bounds of a file's declared counts cost (docs/robustness.md):
+/// 10^5 grid contexts refused by the bound, 1024 loaded, 1000 physics
+/// contexts loaded and checked, a summary.csv of 30,000 columns refused.
+/// These were quadratic (over 30 s) before the bounds and the linear
+/// checks; `cargo bench --bench scale -- bounds`.
+fn bounds(c: &mut Criterion) {
+    let two_rooms = std::fs::read_to_string("scenes/two_rooms_contexts.ron").unwrap();
+    let grid = |n: usize| {
+        let list: Vec<String> = (0..n)
+            .map(|k| format!(r#"(name: "c{k}", cell: ({}, {}))"#, k % 3, k % 6))
+            .collect();
+        two_rooms.replace(
+            r#"contexts: [(name: "room_a", cell: (0, 0)), (name: "room_b", cell: (2, 5))],"#,
+            &format!("contexts: [{}],", list.join(", ")),
+        )
+    };
+    let (refused, loaded) = (grid(100_000), grid(1024));
+    let puck = std::fs::read_to_string("scenes/puck_contexts.ron").unwrap();
+    let list: Vec<String> = (0..1000)
+        .map(|k| {
+            format!(
+                r#"(name: "c{k}", bodies: [(body: "puck", position: ({}, {}))])"#,
+                0.5 + (k % 5) as f64 * 0.5,
+                0.5 + (k % 4) as f64 * 0.5
+            )
+        })
+        .collect();
+    let two = r#"contexts: [
+            (name: "room_a", bodies: [(body: "puck", position: (0.5, 2.5))]),
+            (name: "room_b", bodies: [(body: "puck", position: (5.5, 0.5))]),
+        ],"#;
+    assert!(puck.contains(two));
+    let physics = puck.replace(two, &format!("contexts: [{}],", list.join(", ")));
+    let head = "scene,learner,use_reward,alpha,beta,lambda,eta,epsilon,sessions";
+    let wide: Vec<String> = (0..30_000).map(|k| format!("m{k}_mean")).collect();
+    let summary = format!(
+        "{head},{}\ntwo_rooms,e3d,false,0.3,1,0.03,0.01,,3{}\n",
+        wide.join(","),
+        ",1".repeat(30_000)
+    );
+    let mut g = c.benchmark_group("bounds");
+    g.sample_size(10);
+    g.bench_function("10^5 grid contexts refused", |b| {
+        b.iter(|| assert!(Scene::parse(black_box(&refused), "many.ron").is_err()))
+    });
+    g.bench_function("1024 grid contexts loaded", |b| {
+        b.iter(|| Scene::parse(black_box(&loaded), "ok.ron").unwrap())
+    });
+    g.bench_function("1000 physics contexts loaded", |b| {
+        b.iter(|| Scene::parse(black_box(&physics), "puck.ron").unwrap())
+    });
+    g.bench_function("summary.csv of 30000 columns refused", |b| {
+        b.iter(|| assert!(e3d::csv::Summary::parse(black_box(&summary)).is_err()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, scale, sweep_refusal, bounds);
 criterion_main!(benches);

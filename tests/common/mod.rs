@@ -158,3 +158,12 @@ pub fn value_sessions<L: e3d::ContinuousLearner + Send>(
     }
     records
 }
+
+/// `scenes/two_rooms_contexts.ron` with its two start contexts replaced by
+/// `contexts` (a RON list's items).
+pub fn grid_with_contexts(contexts: &str) -> String {
+    let text = std::fs::read_to_string("scenes/two_rooms_contexts.ron").unwrap();
+    let old = r#"contexts: [(name: "room_a", cell: (0, 0)), (name: "room_b", cell: (2, 5))],"#;
+    assert!(text.contains(old));
+    text.replace(old, &format!("contexts: [{contexts}],"))
+}

@@ -26,27 +26,36 @@ fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
 
 #[test]
 fn every_watched_path_exists() {
-    let watched = build_rs::watched(root());
-    for must in ["src/world/physics", "src/effect", "Cargo.lock", "build.rs"] {
-        assert!(
-            watched.iter().any(|w| w == must),
-            "{must} not watched: {watched:?}"
-        );
-    }
-    // the script's own output, as cargo reads it
+    let text = std::fs::read_to_string(root().join("build.rs")).unwrap();
+    let watched: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("println!(\"cargo:rerun-if-changed="))
+        .map(|l| l.trim_end_matches("\");"))
+        .collect();
+    // the script's own lines, as cargo reads them: each a literal path
+    assert_eq!(
+        watched.len(),
+        text.matches("rerun-if-changed=").count(),
+        "a watched path that is not written literally: {watched:?}"
+    );
     for p in &watched {
+        assert!(!p.contains('{'), "not a literal path: {p}");
         assert!(
             root().join(p).exists(),
             "build.rs watches {p}, which does not exist"
         );
     }
-    // and nothing else in build.rs names a path to watch
-    let text = std::fs::read_to_string(root().join("build.rs")).unwrap();
-    assert_eq!(
-        text.matches("rerun-if-changed=").count(),
-        1,
-        "one rerun-if-changed line, fed by watched()"
-    );
+    // every physics folder and file, Cargo.lock and the script itself
+    let physics = build_rs::PHYSICS_DIRS
+        .iter()
+        .map(|d| format!("src/{}", d.trim_end_matches('/')))
+        .chain(build_rs::PHYSICS_FILES.iter().map(|f| format!("src/{f}")));
+    for must in physics.chain(["Cargo.lock".into(), "build.rs".into()]) {
+        assert!(
+            watched.contains(&must.as_str()),
+            "{must} not watched: {watched:?}"
+        );
+    }
 }
 
 #[test]

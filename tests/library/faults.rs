@@ -3,19 +3,12 @@
 //! ranges, loaded learner states. Each test fails on the code before its
 //! fix.
 
+use crate::common::grid_with_contexts;
 use e3d::command::CommandSpace;
 use e3d::effect::EffectGrid;
 use e3d::learner::state::{STATE_HEADER, STATE_HEADER_V1};
 use e3d::learner::{E3d, LearnerState};
 use e3d::{Params, Scene, Target};
-use std::time::{Duration, Instant};
-
-fn grid_with_contexts(contexts: &str) -> String {
-    let text = std::fs::read_to_string("scenes/two_rooms_contexts.ron").unwrap();
-    let old = r#"contexts: [(name: "room_a", cell: (0, 0)), (name: "room_b", cell: (2, 5))],"#;
-    assert!(text.contains(old));
-    text.replace(old, &format!("contexts: [{contexts}],"))
-}
 
 /// Format characters (a right-to-left override, a zero-width space, a
 /// line separator) are refused by the one name check; escape_controls
@@ -38,17 +31,16 @@ fn the_name_check_refuses_format_characters() {
     assert_eq!(e3d::text::echo("a\u{2067}b"), "a\\u{2067}b");
 }
 
-/// 10^5 grid contexts are refused by the documented bound in under a
-/// second; 1024 load, in linear time.
+/// 10^5 grid contexts are refused by the documented bound; 1024 load,
+/// and a duplicate name far down the list is found (how long each takes:
+/// `cargo bench --bench scale -- bounds`).
 #[test]
 fn contexts_are_bounded_and_checked_in_linear_time() {
     let list: Vec<String> = (0..100_000)
         .map(|k| format!(r#"(name: "c{k}", cell: ({}, {}))"#, k % 3, k % 6))
         .collect();
     let text = grid_with_contexts(&list.join(", "));
-    let t = Instant::now();
     let e = Scene::parse(&text, "many.ron").unwrap_err().to_string();
-    assert!(t.elapsed() < Duration::from_secs(1), "{:?}", t.elapsed());
     assert!(
         e.starts_with("many.ron:")
             && e.contains("at most 1024 start contexts")
@@ -57,9 +49,7 @@ fn contexts_are_bounded_and_checked_in_linear_time() {
     );
 
     let text = grid_with_contexts(&list[..1024].join(", "));
-    let t = Instant::now();
     let s = Scene::parse(&text, "ok.ron").unwrap();
-    assert!(t.elapsed() < Duration::from_secs(1), "{:?}", t.elapsed());
     assert_eq!(e3d::world::start_contexts(&s).len(), 1024);
 
     // a duplicate name far down the list is found, with its place
