@@ -13,7 +13,11 @@ use crate::command::Command;
 use crate::effect::normalized_entropy_over;
 use crate::learner::ContextualLearner;
 use crate::rng::SessionRng;
-use crate::world::{World, WorldError};
+use crate::world::{Observer, World, WorldError};
+
+/// How often (in episodes) [`run_episodes`] reports progress and checks
+/// for a stop.
+const PROGRESS_EVERY: usize = 64;
 use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
 
@@ -197,23 +201,29 @@ impl EpisodeRecord {
 /// [`Observe::StartContext`] draws exactly what
 /// [`run_session`](crate::run_session) draws.
 ///
+/// `control` is told of the episodes done (every 64 episodes and at the
+/// end), and asked before each command is executed whether to stop: a
+/// stop ends the run with [`WorldError::Stopped`]. Many sessions in parallel:
+/// [`run_episode_sessions`](crate::session::run_episode_sessions).
+///
 /// ```
 /// use e3d::episode::{run_episodes, EpisodeConfig, Observe};
 /// use e3d::learner::{ClosedLoopE3d, ContextTargets};
-/// use e3d::{Params, Scene, Target};
+/// use e3d::{Control, Params, Scene, Target};
 /// let scene = Scene::builtin("two_rooms").unwrap();
 /// let mut world = scene.build();
 /// let cfg = EpisodeConfig { episodes: 200, commands: 2, seed: 1, use_reward: true,
 ///                           observe: Observe::State };
 /// let mut l = ClosedLoopE3d::new(&scene.command_space(), 18, cfg.num_contexts(&world),
 ///     &Params::TASK2, &ContextTargets::Shared(Target::Uniform), 0.9).unwrap();
-/// let rec = run_episodes(&mut world, &mut l, &cfg).unwrap();
+/// let rec = run_episodes(&mut world, &mut l, &cfg, &Control::default()).unwrap();
 /// assert_eq!((rec.episodes(), rec.effects.len()), (200, 400));
 /// ```
 pub fn run_episodes<W, L>(
     world: &mut W,
     learner: &mut L,
     config: &EpisodeConfig,
+    control: &(impl Observer + ?Sized),
 ) -> Result<EpisodeRecord, WorldError>
 where
     W: World + ?Sized,
@@ -245,7 +255,13 @@ where
     };
     let mut rng = SessionRng::seed_from_u64(config.seed);
     let mut command: Command = world.command_space().first();
+    let mut since = 0;
     for _ in 0..config.episodes {
+        if since == PROGRESS_EVERY {
+            control.progress(since as u64);
+            since = 0;
+        }
+        since += 1;
         let start = if num_starts > 1 {
             rng.random_range(0..num_starts)
         } else {
@@ -260,6 +276,9 @@ where
         rec.starts.push(start);
         for i in 0..k {
             learner.propose(context, &mut rng, &mut command);
+            if control.stopped() {
+                return Err(WorldError::Stopped);
+            }
             let last = i + 1 == k;
             // the last command's terminal state is not needed: its outcome
             // may be looked up (a memo keyed by context and command)
@@ -288,5 +307,6 @@ where
             context = next;
         }
     }
+    control.progress(since as u64);
     Ok(rec)
 }

@@ -6,13 +6,13 @@ use super::session::{ObserveArg, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
-use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
+use e3d::episode::{EpisodeConfig, EpisodeRecord, Observe};
 use e3d::learner::{ContextTargets, ContextualLearner};
 use e3d::scene::WorldSpec;
+use e3d::session::{run_episode_sessions, Control};
 use e3d::world::{ContextMemoized, OutcomeMemo};
 use e3d::World;
 use e3d::{LearnerKind, Params, Scene, Target};
-use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 
@@ -114,14 +114,21 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     if let Some(dir) = &a.table_cache {
         preload_context_tables(&a.scene, scene, dir, &memos);
     }
-    let records: Vec<EpisodeRecord> = seeds
-        .par_iter()
-        .map(|&seed| {
-            let mut world = ContextMemoized::new(scene.build(), &memos);
-            let mut learner = make()?;
-            run_episodes(&mut world, &mut learner, &cfg(seed)).map_err(CliError::simulation)
-        })
-        .collect::<Result<_, _>>()?;
+    let configs: Vec<EpisodeConfig> = seeds.iter().map(|&s| cfg(s)).collect();
+    let label = format!("run {}", scene.spec().name);
+    let total = (a.trials as u64).saturating_mul(seeds.len() as u64);
+    let records: Vec<EpisodeRecord> = super::progress::track(&label, "episodes", total, |p| {
+        let add = |t| p.add(t);
+        let make = |_| -> Result<_, CliError> {
+            Ok((
+                Box::new(ContextMemoized::new(scene.build(), &memos)),
+                make()?,
+            ))
+        };
+        run_episode_sessions(&configs, make, &Control::default().with_progress(&add))
+    })
+    .into_iter()
+    .collect::<Result<_, _>>()?;
     let names = start_names(scene);
     let sessions = sessions_of(&records, seeds, names.len());
     print_sessions(a, scene, &name, &names, &sessions, seeds);
