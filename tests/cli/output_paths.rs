@@ -505,3 +505,79 @@ fn a_cache_folder_that_is_a_file_is_refused_before_any_work() {
     assert_eq!(std::fs::read_to_string(&f).unwrap(), "x");
     assert!(!dir.join("out").exists(), "the sweep made no folder");
 }
+
+/// Every command that writes into a folder claims it, as a sweep does:
+/// while another process holds the folder's lock, `run`, `reproduce`,
+/// `compare`, `closed-loop` and `plot` are refused before any work,
+/// naming the folder and the process that holds it, and write nothing;
+/// once it is released, each runs and leaves no lock file behind.
+#[cfg(unix)]
+#[test]
+fn every_command_refuses_a_folder_another_process_writes_into() {
+    let d = temp_dir("locked-out");
+    let sweep = d.join("s.ron");
+    std::fs::write(
+        &sweep,
+        r#"Sweep(scenes: ["two_rooms"], learners: [e3d], params: (beta: [1, 10]),
+        sessions: 1, trials: 20, metrics: [normalized_entropy])"#,
+    )
+    .unwrap();
+    let results = d.join("sweep");
+    ok(e3d(&[
+        "sweep",
+        sweep.to_str().unwrap(),
+        "--out",
+        results.to_str().unwrap(),
+    ]));
+    let out = d.join("out");
+    let o = out.to_str().unwrap();
+    let plot = out.join("p.svg");
+    let r = results.to_str().unwrap();
+    let commands: [Vec<&str>; 5] = [
+        vec!["run", "two_rooms", "--trials", "20", "--out", o],
+        vec!["reproduce", "--sessions", "1", "--trials", "20", "--out", o],
+        vec!["compare", "--sessions", "1", "--trials", "20", "--out", o],
+        vec![
+            "closed-loop",
+            "--episodes",
+            "20",
+            "--seeds",
+            "1",
+            "--out",
+            o,
+        ],
+        vec![
+            "plot",
+            r,
+            "--x",
+            "beta",
+            "--metric",
+            "normalized_entropy",
+            "--out",
+            plot.to_str().unwrap(),
+        ],
+    ];
+    for args in &commands {
+        std::fs::create_dir_all(&out).unwrap();
+        {
+            let _held = e3d::io::DirLock::acquire(&out).unwrap();
+            let refused = e3d(args);
+            let err = stderr(&refused);
+            assert_eq!(refused.status.code(), Some(3), "{args:?}: {err}");
+            let me = format!(
+                "{}: in use by e3d pid={} host=",
+                out.display(),
+                std::process::id()
+            );
+            assert!(err.contains(&me), "{args:?}: {err}");
+            let names: Vec<_> = std::fs::read_dir(&out)
+                .unwrap()
+                .map(|e| e.unwrap().file_name())
+                .collect();
+            assert_eq!(names, [".lock"], "{args:?} wrote into a locked folder");
+        }
+        ok(e3d(args));
+        assert!(!out.join(".lock").exists(), "{args:?} left its lock");
+        std::fs::remove_dir_all(&out).unwrap();
+    }
+}
