@@ -336,9 +336,11 @@ fn run_builtin_episodes(
     let records = watched(py, None, 0, &Watch::new(), |w| {
         w.control(|control| {
             let make = |_| Ok((inner.build(), make()?));
-            e3d::session::run_episode_sessions(&configs, make, control)
+            let mut records = vec![EpisodeRecord::default(); configs.len()];
+            e3d::session::run_episode_sessions(&configs, make, &mut records, control)
                 .into_iter()
-                .collect::<Result<Vec<_>, Fail>>()
+                .collect::<Result<(), Fail>>()
+                .map(|()| records)
         })
     })??;
     let mut out = Vec::with_capacity(records.len());

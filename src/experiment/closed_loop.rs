@@ -257,9 +257,11 @@ pub fn run_comparison(
         .map(|&(arm, seed)| arm_config(arm, seed, cfg))
         .collect();
     let make = |i: usize| arm_setup(scene, jobs[i].0, cfg);
-    let records = run_episode_sessions(&configs, make, &Control::default());
+    let mut records = vec![EpisodeRecord::default(); jobs.len()];
+    let status = run_episode_sessions(&configs, make, &mut records, &Control::default());
     jobs.iter()
-        .zip(records)
-        .map(|(&(arm, seed), rec)| Ok(figures(arm, seed, &rec?)))
+        .zip(status)
+        .zip(&records)
+        .map(|((&(arm, seed), st), rec)| st.map(|()| figures(arm, seed, rec)))
         .collect()
 }

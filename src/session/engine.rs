@@ -16,7 +16,9 @@ pub use crate::world::{Control, Observer};
 
 use super::{Recorder, SessionConfig};
 use crate::command::Command;
-use crate::episode::{run_episodes, EpisodeConfig, EpisodeRecord};
+#[cfg(doc)]
+use crate::episode::{run_episodes, EpisodeRecord};
+use crate::episode::{run_episodes_into, EpisodeConfig, EpisodeRecorder};
 use crate::learner::{ContextualLearner, ContinuousLearner, Learner};
 use crate::rng::SessionRng;
 use crate::world::{ContinuousWorld, Executor, Outcome, OutcomeTable, World, WorldError};
@@ -347,18 +349,20 @@ where
         .collect()
 }
 
-/// Runs sessions of episodes ([`run_episodes`]) on every core of the
-/// current rayon pool: session `i` runs `configs[i]` on the world and the
-/// learner `make(i)` returns (each session on a world of its own). The
-/// records are those of running each session alone, whatever the threads
-/// (each session draws from its own generator). `control` is told of the
-/// episodes done, summed over the sessions, and its stop ends every
-/// session still running with [`WorldError::Stopped`]. Returns each
-/// session's record or error, in order; an error of `make` is that
-/// session's.
+/// Runs sessions of episodes ([`run_episodes_into`]) on every core of
+/// the current rayon pool: session `i` runs `configs[i]` on the world and
+/// the learner `make(i)` returns (each session on a world of its own),
+/// its episodes handed to `recorders[i]` (an [`EpisodeRecord`] keeps
+/// them all, an [`EpisodeTally`](crate::episode::EpisodeTally) only the
+/// figures). The records are those of running each session alone,
+/// whatever the threads (each session draws from its own generator).
+/// `control` is told of the episodes done, summed over the sessions, and
+/// its stop ends every session still running with
+/// [`WorldError::Stopped`]. Returns each session's status, in order; an
+/// error of `make` is that session's.
 ///
 /// ```
-/// use e3d::episode::{run_episodes, EpisodeConfig, Observe};
+/// use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
 /// use e3d::session::{run_episode_sessions, Control};
 /// use e3d::learner::ContextTargets;
 /// use e3d::{LearnerKind, Params, Scene, Target};
@@ -373,28 +377,40 @@ where
 ///         &ContextTargets::Shared(Target::Uniform), 0.9)?;
 ///     Ok((scene.build(), learner))
 /// };
-/// let records = run_episode_sessions(&configs, make, &Control::default());
+/// let mut records = vec![EpisodeRecord::default(); 3];
+/// let status = run_episode_sessions(&configs, make, &mut records, &Control::default());
+/// assert!(status.iter().all(Result::is_ok));
 /// let (mut world, mut learner) = make(1).unwrap();
 /// let alone = run_episodes(&mut world, &mut learner, &configs[1], &Control::default());
-/// assert_eq!(records[1].as_ref().unwrap(), &alone.unwrap());
+/// assert_eq!(records[1], alone.unwrap());
 /// ```
-pub fn run_episode_sessions<W, L, E>(
+pub fn run_episode_sessions<W, L, R, E>(
     configs: &[EpisodeConfig],
     make: impl Fn(usize) -> Result<(W, L), E> + Sync,
+    recorders: &mut [R],
     control: &(impl Observer + Sync + ?Sized),
-) -> Vec<Result<EpisodeRecord, E>>
+) -> Vec<Result<(), E>>
 where
     W: DerefMut<Target: World>,
     L: DerefMut<Target: ContextualLearner>,
+    R: EpisodeRecorder + Send,
     E: From<WorldError> + Send,
 {
     use rayon::prelude::*;
+    assert_eq!(recorders.len(), configs.len(), "one recorder per session");
     configs
         .par_iter()
+        .zip(recorders)
         .enumerate()
-        .map(|(i, config)| {
+        .map(|(i, (config, recorder))| {
             let (mut world, mut learner) = make(i)?;
-            Ok(run_episodes(&mut *world, &mut *learner, config, control)?)
+            Ok(run_episodes_into(
+                &mut *world,
+                &mut *learner,
+                config,
+                recorder,
+                control,
+            )?)
         })
         .collect()
 }

@@ -581,3 +581,45 @@ fn every_command_refuses_a_folder_another_process_writes_into() {
         std::fs::remove_dir_all(&out).unwrap();
     }
 }
+
+/// Episodes are streamed: a run of ten million episodes with start
+/// contexts keeps its figures, not its episodes, and finishes within
+/// 256 MiB of address space (it held every episode: an abort), and its
+/// trials.csv is written as the episodes run, the same bytes as before.
+#[cfg(unix)]
+#[test]
+fn episodes_run_in_bounded_memory() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/two_rooms_contexts.ron");
+    let big = e3d_within(256 << 20, &["run", scene, "--trials", "10000000"]);
+    assert_eq!(big.status.code(), Some(0), "{}", stderr(&big));
+    let out = String::from_utf8_lossy(&big.stdout);
+    assert!(
+        out.contains("seed 0: first reward at episode never, cumulative reward 0, normalised entropy of the terminal cells per start context: room_a 0.99"),
+        "{out}"
+    );
+    // the streamed file: a header, then a row per command
+    let d = temp_dir("episodes-streamed");
+    let o = d.join("out");
+    ok(e3d(&[
+        "run",
+        scene,
+        "--trials",
+        "500",
+        "--sessions",
+        "2",
+        "--commands",
+        "2",
+        "--out",
+        o.to_str().unwrap(),
+    ]));
+    let csv = std::fs::read_to_string(o.join("trials.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "session,episode,command,context,start,symbols,effect,reward"
+    );
+    assert_eq!(lines.len(), 1 + 2 * 500 * 2);
+    assert!(lines[1].starts_with("0,1,1,"), "{}", lines[1]);
+    assert!(lines[2].starts_with("0,1,2,"), "{}", lines[2]);
+    assert!(lines[2000].starts_with("1,500,2,"), "{}", lines[2000]);
+}
