@@ -154,5 +154,8 @@ fn learner_states_hold_no_nan() {
     assert!(e.contains("NaN"), "{e}");
     b[q_at..q_at + 8].copy_from_slice(&f64::INFINITY.to_le_bytes());
     let e = E3d::from_bytes(&sealed(&b)).unwrap_err().to_string();
-    assert!(e.contains("table `q`: finite values, found inf at entry 0"), "{e}");
+    assert!(
+        e.contains("table `q`: finite values, found inf at entry 0"),
+        "{e}"
+    );
 }
