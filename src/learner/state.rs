@@ -120,7 +120,7 @@ pub(crate) fn decode<L: LearnerState>(bytes: &[u8]) -> Result<L, LearnerError> {
     let rest = payload(bytes)?;
     let error =
         |what: String| LearnerError::State(format!("state of a `{}` learner: {what}", L::KIND));
-    if !intact(bytes) {
+    if rest.len() < 8 || !intact(bytes) {
         // a cut, bytes after a whole state, or damage
         let what = match read::<L>(rest) {
             Err(e) if e.ends_with("end early") => e,
