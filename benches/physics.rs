@@ -12,8 +12,9 @@
 //! are rollouts/s or trials/s). The figures are in docs/benchmarks.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use e3d::learner::LearnerSetup;
 use e3d::world::TABLE_COPIES;
-use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target, World};
+use e3d::{run_session, LearnerKind, OutcomeTable, Scene, SessionConfig, World};
 use std::hint::black_box;
 
 const SCENES: [&str; 4] = ["puck_rooms", "maze3", "pendulum3", "arm7"];
@@ -96,13 +97,8 @@ fn physics(c: &mut Criterion) {
             let mut seed = 0;
             b.iter(|| {
                 seed += 1;
-                let mut l = LearnerKind::E3d
-                    .make(
-                        &Params::TASK1,
-                        &space,
-                        table.num_effects(),
-                        &Target::Uniform,
-                    )
+                let mut l = LearnerSetup::new(LearnerKind::E3d)
+                    .symbols(&space, table.num_effects())
                     .unwrap();
                 let cfg = SessionConfig {
                     trials: 5000,
@@ -130,13 +126,8 @@ fn continuous(c: &mut Criterion) {
     let scene = Scene::builtin("arm7_continuous").unwrap();
     let space = scene.value_space().unwrap();
     let mut world = scene.physics_world().unwrap();
-    let mut l = LearnerKind::E3d
-        .make_continuous(
-            &Params::TASK1,
-            &space,
-            scene.num_effects(),
-            &Target::Uniform,
-        )
+    let mut l = LearnerSetup::new(LearnerKind::E3d)
+        .values(&space, scene.num_effects())
         .unwrap();
     let mut rng = SessionRng::seed_from_u64(0);
     let mut v = Vec::new();
@@ -176,13 +167,8 @@ fn continuous_lockstep(c: &mut Criterion) {
         })
         .collect();
     let learner = || {
-        LearnerKind::E3d
-            .make_continuous(
-                &Params::TASK1,
-                &space,
-                scene.num_effects(),
-                &Target::Uniform,
-            )
+        LearnerSetup::new(LearnerKind::E3d)
+            .values(&space, scene.num_effects())
             .unwrap()
     };
     let work = Workload {

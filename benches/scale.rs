@@ -9,10 +9,11 @@
 //! `scripts/bench-scale.sh`; the figures are in docs/benchmarks.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use e3d::learner::LearnerSetup;
 use e3d::session::{run_group, RunningMetrics};
 use e3d::world::{ExecOptions, Executor, Memoized, OutcomeMemo, Strategy, Workload};
 use e3d::World;
-use e3d::{Control, LearnerKind, Params, Scene, SessionConfig, Target};
+use e3d::{Control, LearnerKind, Scene, SessionConfig};
 use std::hint::black_box;
 
 fn puck14() -> Scene {
@@ -72,13 +73,8 @@ fn scale(c: &mut Criterion) {
                 let mut world = exec.world(25);
                 let mut learners: Vec<_> = (0..25)
                     .map(|_| {
-                        LearnerKind::E3d
-                            .make(
-                                &Params::TASK1,
-                                &space,
-                                scene.num_effects(),
-                                &Target::Uniform,
-                            )
+                        LearnerSetup::new(LearnerKind::E3d)
+                            .symbols(&space, scene.num_effects())
                             .unwrap()
                     })
                     .collect();

@@ -5,6 +5,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use e3d::learner::E3d;
+use e3d::learner::LearnerSetup;
 use e3d::{
     run_session, Learner, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, SessionRng,
     Target, World,
@@ -19,8 +20,9 @@ fn trial(c: &mut Criterion) {
     let mut g = c.benchmark_group("two_rooms");
     g.throughput(Throughput::Elements(1));
     for kind in LearnerKind::ALL {
-        let mut learner = kind
-            .make(&Params::TASK2, &space, 18, &Target::Uniform)
+        let mut learner = LearnerSetup::new(kind)
+            .params(Params::TASK2)
+            .symbols(&space, 18)
             .unwrap();
         let mut rng = SessionRng::seed_from_u64(1);
         let mut cmd = space.first();
@@ -60,8 +62,8 @@ fn trial(c: &mut Criterion) {
     g.sample_size(20);
     g.bench_function("e3d 5000 trials", |b| {
         b.iter(|| {
-            let mut l = LearnerKind::E3d
-                .make(&Params::TASK1, &space, 18, &Target::Uniform)
+            let mut l = LearnerSetup::new(LearnerKind::E3d)
+                .symbols(&space, 18)
                 .unwrap();
             let cfg = SessionConfig {
                 trials: 5000,

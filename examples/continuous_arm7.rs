@@ -11,12 +11,11 @@
 //! second per core): 10 x 5000 trials for both learners take about 6
 //! minutes on 2 cores.
 
+use e3d::learner::LearnerSetup;
 use e3d::report::paper::effect_panels_svg;
 use e3d::session::ValueSessionRecord;
 use e3d::world::GridSpec;
-use e3d::{
-    effect::entropy, run_sessions, Control, LearnerKind, Params, Scene, SessionConfig, Target,
-};
+use e3d::{effect::entropy, run_sessions, Control, LearnerKind, Scene, SessionConfig, Target};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -43,7 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let exec = e3d::Executor::for_values(&scene, &work)?;
         let mut learners = configs
             .iter()
-            .map(|_| kind.make_continuous(&Params::TASK1, &space, n, &Target::Uniform))
+            .map(|_| LearnerSetup::new(kind).values(&space, n))
             .collect::<Result<Vec<_>, e3d::learner::LearnerError>>()?;
         let mut records: Vec<ValueSessionRecord> = configs
             .iter()

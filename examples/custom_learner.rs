@@ -7,10 +7,10 @@
 //! ```
 
 use e3d::command::CommandSpace;
+use e3d::learner::LearnerSetup;
 use e3d::rand::RngExt;
 use e3d::{
-    run_session, Command, Learner, LearnerKind, Outcome, Params, Scene, SessionConfig, SessionRng,
-    Target,
+    run_session, Command, Learner, LearnerKind, Outcome, Scene, SessionConfig, SessionRng, Target,
 }; // the rand e3d uses, re-exported: no version to pin
 
 /// Count-based exploration: `Q[a_i, i] += alpha (1/sqrt(N(e)) - Q[a_i, i])`.
@@ -96,10 +96,7 @@ fn compare() -> (f64, f64, f64) {
     };
     let kind = |k: LearnerKind| {
         let space = space.clone();
-        move || -> Box<dyn Learner> {
-            k.make(&Params::TASK1, &space, 18, &Target::Uniform)
-                .unwrap()
-        }
+        move || -> Box<dyn Learner> { LearnerSetup::new(k).symbols(&space, 18).unwrap() }
     };
     let count = mean(&|| Box::new(CountBonus::new(&space, 18)));
     let e3d = mean(&kind(LearnerKind::E3d));

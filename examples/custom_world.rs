@@ -11,9 +11,8 @@
 
 use e3d::command::CommandSpace;
 use e3d::effect::EffectGrid;
-use e3d::{
-    run_session, Command, LearnerKind, Outcome, Params, SessionConfig, Target, World, WorldError,
-};
+use e3d::learner::LearnerSetup;
+use e3d::{run_session, Command, LearnerKind, Outcome, SessionConfig, Target, World, WorldError};
 
 /// A two-link arm, links 1.0 and 0.8 long, starting stretched along +x.
 struct TwoLinkArm {
@@ -69,13 +68,8 @@ fn compare() -> Vec<(LearnerKind, f64, usize)> {
     [LearnerKind::Uniform, LearnerKind::E3d]
         .into_iter()
         .map(|kind| {
-            let mut learner = kind
-                .make(
-                    &Params::TASK1,
-                    &space,
-                    world.num_effects(),
-                    &Target::Uniform,
-                )
+            let mut learner = LearnerSetup::new(kind)
+                .symbols(&space, world.num_effects())
                 .unwrap();
             let cfg = SessionConfig {
                 trials: 3000,

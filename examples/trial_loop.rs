@@ -13,6 +13,7 @@
 //! The check value is a sum of the effects: the same for the same code and
 //! seed.
 use e3d::learner::E3d;
+use e3d::learner::LearnerSetup;
 use e3d::{Learner, LearnerKind, OutcomeTable, Params, Scene, SessionRng, Target};
 use rand::SeedableRng;
 use std::hint::black_box;
@@ -65,8 +66,9 @@ fn main() {
             }
             acc
         } else if mode == "dyn" {
-            let mut l = LearnerKind::E3d
-                .make(&Params::TASK2, &space, 18, &Target::Uniform)
+            let mut l = LearnerSetup::new(LearnerKind::E3d)
+                .params(Params::TASK2)
+                .symbols(&space, 18)
                 .unwrap();
             run(&mut l, &table, &mut rng, &mut cmd, n)
         } else {

@@ -4,7 +4,7 @@
 //! session's generator when the world has several) and executes `K`
 //! commands one after another: the terminal state of command `k` is the
 //! start of command `k + 1`, continued exactly, with no reset
-//! ([`World::execute_from`]). Before each command the learner reads its
+//! ([`Episodic::execute_from`]). Before each command the learner reads its
 //! context ([`Observe`]); there is no feedback within a command. With
 //! `K = 1` an episode is one trial of an open-loop session started from a
 //! context.
@@ -13,7 +13,7 @@ use crate::command::Command;
 use crate::effect::normalized_entropy_over;
 use crate::learner::ContextualLearner;
 use crate::rng::SessionRng;
-use crate::world::{Observer, Outcome, World, WorldError};
+use crate::world::{Episodic, Observer, Outcome, WorldError};
 
 /// How often (in episodes) [`run_episodes`] reports progress and checks
 /// for a stop.
@@ -25,10 +25,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Observe {
     /// The index of the episode's start context (the same for every
-    /// command of the episode); a learner of [`World::num_contexts`]
+    /// command of the episode); a learner of [`Episodic::num_contexts`]
     /// contexts.
     StartContext,
-    /// The bin of the current state ([`World::bin_state`]: on a grid, the
+    /// The bin of the current state ([`Episodic::bin_state`]: on a grid, the
     /// cell): a learner of [`World::num_effects`] contexts.
     State,
     /// Nothing: context 0 always, a learner of one context (the
@@ -89,7 +89,7 @@ pub fn check_size(episodes: usize, commands: usize) -> Result<(), String> {
 impl EpisodeConfig {
     /// The number of contexts a learner needs for `world` under this
     /// configuration.
-    pub fn num_contexts<W: World + ?Sized>(&self, world: &W) -> usize {
+    pub fn num_contexts<W: Episodic + ?Sized>(&self, world: &W) -> usize {
         match self.observe {
             Observe::StartContext => world.num_contexts(),
             Observe::State => world.num_effects(),
@@ -157,14 +157,14 @@ impl<R: EpisodeRecorder> EpisodeRecorder for Option<R> {
 ///
 /// ```
 /// use e3d::episode::{run_episodes, run_episodes_into, EpisodeConfig, EpisodeTally, Observe};
-/// use e3d::learner::ContextTargets;
-/// use e3d::{Control, LearnerKind, Params, Scene, Target};
+/// use e3d::learner::LearnerSetup;
+/// use e3d::{Control, LearnerKind, Params, Scene};
 /// let scene = Scene::builtin("four_rooms").unwrap();
 /// let cfg = EpisodeConfig { episodes: 300, commands: 2, seed: 4, use_reward: true,
 ///                           observe: Observe::State };
-/// let learner = || LearnerKind::E3d.make_episodic(true, &Params::TASK2,
-///     &scene.command_space(), scene.num_effects(), scene.num_effects(),
-///     &ContextTargets::Shared(Target::Uniform), 0.9).unwrap();
+/// let setup = LearnerSetup::new(LearnerKind::E3d).params(Params::TASK2).closed_loop(true);
+/// let n = scene.num_effects(); // four_rooms: 36 cells, one context each
+/// let learner = || setup.contexts(&scene.command_space(), n, n).unwrap();
 /// let whole = run_episodes(&mut scene.build(), &mut learner(), &cfg, &Control::default()).unwrap();
 /// let mut tally = EpisodeTally::new(1);
 /// run_episodes_into(&mut scene.build(), &mut learner(), &cfg, &mut tally, &Control::default()).unwrap();
@@ -379,7 +379,7 @@ impl EpisodeRecord {
 ///
 /// Draws, in order, per episode: the start context (one integer of the
 /// session's generator, only when the world has more than one), the
-/// start state in it ([`World::draw_start`]), then each command's draws
+/// start state in it ([`Episodic::draw_start`]), then each command's draws
 /// by the learner. A world of one context and `K = 1` with
 /// [`Observe::StartContext`] draws exactly what
 /// [`run_session`](crate::run_session) draws.
@@ -409,7 +409,7 @@ pub fn run_episodes<W, L>(
     control: &(impl Observer + ?Sized),
 ) -> Result<EpisodeRecord, WorldError>
 where
-    W: World + ?Sized,
+    W: Episodic + ?Sized,
     L: ContextualLearner + ?Sized,
 {
     let mut rec = EpisodeRecord::default();
@@ -429,7 +429,7 @@ pub fn run_episodes_into<W, L>(
     control: &(impl Observer + ?Sized),
 ) -> Result<(), WorldError>
 where
-    W: World + ?Sized,
+    W: Episodic + ?Sized,
     L: ContextualLearner + ?Sized,
 {
     let k = config.commands;

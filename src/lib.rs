@@ -128,16 +128,16 @@ pub use world::{Executor, Outcome, OutcomeTable, World, WorldError};
 /// ```
 /// use e3d::prelude::*;
 /// let scene = Scene::builtin("two_rooms").unwrap();
-/// let mut learner = LearnerKind::E3d
-///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+/// let mut learner = LearnerSetup::new(LearnerKind::E3d)
+///     .symbols(&scene.command_space(), scene.num_effects())
 ///     .unwrap();
 /// let config = SessionConfig { trials: 500, seed: 0, use_reward: false };
 /// let record = run_session(&mut scene.build(), &mut learner, &config).unwrap();
 /// assert_eq!(record.trials(), 500);
 /// ```
 pub mod prelude {
-    pub use crate::learner::{ContinuousLearner, Learner, LearnerKind, Params};
+    pub use crate::learner::{ContinuousLearner, Learner, LearnerKind, LearnerSetup, Params};
     pub use crate::session::{run_session, Recorder, Session, SessionConfig};
-    pub use crate::world::{ContinuousWorld, World};
+    pub use crate::world::{ContinuousWorld, Episodic, World};
     pub use crate::{Scene, SessionRecord, Target};
 }

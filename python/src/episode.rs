@@ -14,8 +14,7 @@ use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, PyScene};
 use e3d::command::CommandSpace;
 use e3d::episode::{EpisodeConfig, EpisodeRecord};
-use e3d::learner::{ClosedLoopE3d, ContextualLearner};
-use e3d::World;
+use e3d::learner::{ClosedLoopE3d, ContextualLearner, LearnerSetup};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
@@ -254,15 +253,12 @@ pub(crate) fn run_episodes(
         return one_or_list(py, out, one);
     };
     let make = || {
-        kind.make_episodic(
-            closed_loop,
-            &params,
-            &space,
-            num_effects,
-            contexts,
-            &targets,
-            gamma,
-        )
+        LearnerSetup::new(kind)
+            .params(params)
+            .targets(targets.clone())
+            .closed_loop(closed_loop)
+            .gamma(gamma)
+            .contexts(&space, num_effects, contexts)
         .map_err(|e| Fail::Value(e.to_string()))
     };
     let slots = space.num_slots();

@@ -7,7 +7,7 @@ use crate::errors::{seed_arg, usize_arg, Fail};
 use crate::outcome::PyOutcome;
 use crate::scene::{scene_of, PyScene};
 use e3d::episode::Observe;
-use e3d::world::WorldState;
+use e3d::world::{Episodic, WorldState};
 use e3d::{SessionRng, World};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -30,7 +30,7 @@ use std::sync::Mutex;
 #[pyclass(module = "e3d", name = "EpisodeWorld")]
 pub(crate) struct PyEpisodeWorld {
     scene: PyScene,
-    world: Mutex<Box<dyn World + Send>>,
+    world: Mutex<Box<dyn Episodic + Send>>,
     rng: SessionRng,
     state: Option<WorldState>,
     /// Commands executed in this episode.
@@ -65,7 +65,7 @@ struct Progress {
 }
 
 impl PyEpisodeWorld {
-    fn world(&self) -> std::sync::MutexGuard<'_, Box<dyn World + Send>> {
+    fn world(&self) -> std::sync::MutexGuard<'_, Box<dyn Episodic + Send>> {
         self.world.lock().unwrap_or_else(|p| p.into_inner())
     }
 

@@ -4,8 +4,9 @@ use super::load_scene;
 use super::{CliError, CliResult};
 use crate::cli::console::outln;
 use clap::Args;
+use e3d::learner::LearnerSetup;
 use e3d::world::PhysicsScene;
-use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target, World};
+use e3d::{run_session, LearnerKind, OutcomeTable, Scene, SessionConfig, World};
 use std::time::{Duration, Instant};
 
 /// Arguments of `e3d bench`.
@@ -211,8 +212,8 @@ fn bench_trials(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliRe
     let n_commands = space.num_commands().unwrap_or(u64::MAX);
     let n_effects = world.num_effects();
     let make = || {
-        LearnerKind::E3d
-            .make(&Params::TASK1, &space, n_effects, &Target::Uniform)
+        LearnerSetup::new(LearnerKind::E3d)
+            .symbols(&space, n_effects)
             .map_err(CliError::input)
     };
     let trials = 5000;

@@ -6,6 +6,7 @@ use super::output::write_file;
 use super::session::{join_trials, print_header, print_metrics, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
+use e3d::learner::LearnerSetup;
 use e3d::session::ValueSessionRecord;
 use e3d::world::ContinuousScene;
 use e3d::{run_sessions, Control, Metrics, Params, Scene, SessionConfig, Target};
@@ -63,11 +64,8 @@ pub fn run(a: &RunArgs, continuous: ContinuousScene, params: Params, seeds: &[u6
     let space = continuous.values();
     let num_effects = scene.num_effects();
     let target = Target::Uniform;
-    let make = || {
-        a.learner
-            .make_continuous(&params, space, num_effects, &target)
-            .map_err(CliError::input)
-    };
+    let setup = LearnerSetup::new(a.learner).params(params);
+    let make = || setup.values(space, num_effects).map_err(CliError::input);
     let configs: Vec<SessionConfig> = seeds
         .iter()
         .map(|&seed| SessionConfig {

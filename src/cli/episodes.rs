@@ -7,11 +7,10 @@ use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
 use e3d::episode::{EpisodeConfig, EpisodeRecorder, EpisodeTally, Observe};
-use e3d::learner::{ContextTargets, ContextualLearner};
+use e3d::learner::{ContextTargets, ContextualLearner, LearnerSetup};
 use e3d::scene::WorldSpec;
 use e3d::session::{run_episode_sessions, Control};
 use e3d::world::{ContextMemoized, OutcomeMemo};
-use e3d::World;
 use e3d::{LearnerKind, Params, Scene, Target};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -88,7 +87,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         observe,
     };
     let contexts = cfg(0).num_contexts(&world);
-    let shared = ContextTargets::Shared(Target::Uniform);
+    let _shared = ContextTargets::Shared(Target::Uniform);
     if a.closed_loop && !matches!(a.learner, LearnerKind::E3d | LearnerKind::Egreedy) {
         return Err(CliError::input(format!(
             "--closed-loop takes --learner e3d (closed-loop E3D) or egreedy (Q-learning), not {}",
@@ -96,16 +95,11 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         )));
     }
     let make = || -> Result<Box<dyn ContextualLearner + Send>, CliError> {
-        a.learner
-            .make_episodic(
-                a.closed_loop,
-                &params,
-                &space,
-                num_effects,
-                contexts,
-                &shared,
-                a.gamma,
-            )
+        LearnerSetup::new(a.learner)
+            .params(params)
+            .closed_loop(a.closed_loop)
+            .gamma(a.gamma)
+            .contexts(&space, num_effects, contexts)
             .map_err(CliError::input)
     };
     let name = make()?.name().to_string();

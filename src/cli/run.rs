@@ -5,6 +5,7 @@ use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCs
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
+use e3d::learner::LearnerSetup;
 use e3d::report::run_scene::SceneRecord;
 use e3d::session::{policy_effect_distribution, RunningMetrics};
 use e3d::world::ExecutionPlan;
@@ -90,11 +91,8 @@ fn run_here(a: RunArgs) -> CliResult {
         seed,
         use_reward: !a.no_reward,
     };
-    let make = || {
-        a.learner
-            .make(&params, &space, num_effects, &target)
-            .map_err(CliError::input)
-    };
+    let setup = LearnerSetup::new(a.learner).params(params);
+    let make = || setup.symbols(&space, num_effects).map_err(CliError::input);
     make()?;
     let work = Workload {
         trials: a.trials.saturating_mul(a.sessions),

@@ -16,12 +16,14 @@
 //! - `uniform`: `K n` uniform moves.
 
 use crate::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
+use crate::learner::LearnerSetup;
 use crate::learner::{
     ClosedLoopE3d, ContextTargets, ContextualLearner, LearnerError, LearnerKind, Params, QLearning,
 };
 use crate::scene::{CommandSpec, Scene, WorldSpec};
 use crate::session::{run_episode_sessions, Control};
-use crate::{Target, World};
+use crate::world::Episodic;
+use crate::Target;
 
 /// The arms, in the order of the table.
 pub const ARMS: [&str; 5] = [
@@ -167,7 +169,7 @@ fn arm_setup(
     scene: &Scene,
     arm: &str,
     cfg: &ClosedLoopConfig,
-) -> Result<(Box<dyn World + Send>, Box<dyn ContextualLearner + Send>), ClosedLoopError> {
+) -> Result<(Box<dyn Episodic + Send>, Box<dyn ContextualLearner + Send>), ClosedLoopError> {
     if !matches!(scene.spec().world, WorldSpec::Grid(_)) {
         return Err(ClosedLoopError::Scene(scene.spec().name.clone()));
     }
@@ -201,13 +203,10 @@ fn arm_setup(
             } else {
                 LearnerKind::E3d
             };
-            let learner = kind.make_contextual(
-                &cfg.params,
-                &long.command_space(),
-                long.num_effects(),
-                1,
-                &shared,
-            )?;
+            let learner = LearnerSetup::new(kind)
+                .params(cfg.params)
+                .targets(shared)
+                .contexts(&long.command_space(), long.num_effects(), 1)?;
             (long.build(), learner)
         }
         _ => return Err(ClosedLoopError::Scene(format!("unknown arm {arm}"))),

@@ -12,6 +12,7 @@
 //! the number of threads.
 
 use crate::effect::{EffectGrid, Target};
+use crate::learner::LearnerSetup;
 use crate::learner::{LearnerKind, Params};
 use crate::scene::Scene;
 use crate::scene::WorldSpec;
@@ -128,8 +129,9 @@ pub fn run_paper(config: PaperConfig, progress: &(dyn Fn(u64) + Sync)) -> PaperR
         .iter()
         .map(|&(a, _)| {
             let arm = &ARMS[a];
-            arm.learner
-                .make(&arm.params, &space, n_eff, &Target::Uniform)
+            LearnerSetup::new(arm.learner)
+                .params(arm.params)
+                .symbols(&space, n_eff)
                 .expect("the paper's parameters are valid")
         })
         .collect();
@@ -176,8 +178,8 @@ pub fn run_paper(config: PaperConfig, progress: &(dyn Fn(u64) + Sync)) -> PaperR
             }
         })
         .collect();
-    let uniform = LearnerKind::Uniform
-        .make(&Params::TASK1, &space, n_eff, &Target::Uniform)
+    let uniform = LearnerSetup::new(LearnerKind::Uniform)
+        .symbols(&space, n_eff)
         .expect("valid");
     PaperResults {
         config,

@@ -9,7 +9,7 @@
 //!
 //! - [`PerContext`]: one learner of any kind per context, each seeing only
 //!   the trials of its context: exactly the paper's equations with an `s`
-//!   index ([`LearnerKind::make_contextual`]);
+//!   index ([`LearnerSetup::contexts`](super::LearnerSetup::contexts));
 //! - [`ClosedLoopE3d`]: contextual E3D whose reward is the Bellman target
 //!   of a reference action-value `Q_ref(s, a)` (the paper's conclusion);
 //! - [`QLearning`]: epsilon-greedy tabular Q-learning over whole commands,
@@ -17,7 +17,7 @@
 //!
 //! Equations: docs/algorithms.md, "Contexts and closed loop".
 
-use super::{E3d, Learner, LearnerError, LearnerKind, Params};
+use super::{E3d, Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
 use crate::rng::SessionRng;
@@ -88,7 +88,7 @@ pub enum ContextTargets {
 
 impl ContextTargets {
     /// The target of `context`.
-    fn of(&self, context: usize, num_contexts: usize) -> Result<&Target, LearnerError> {
+    pub(crate) fn of(&self, context: usize, num_contexts: usize) -> Result<&Target, LearnerError> {
         match self {
             ContextTargets::Shared(t) => Ok(t),
             ContextTargets::PerContext(v) if v.len() == num_contexts => Ok(&v[context]),
@@ -428,90 +428,5 @@ impl ContextualLearner for QLearning {
         let index = self.space.index_of(command) as usize;
         self.values
             .update(context, index, outcome.reward, next, self.alpha, self.gamma);
-    }
-}
-
-impl LearnerKind {
-    /// One fresh learner of this kind per context ([`PerContext`]), the
-    /// target of each context from `targets`.
-    ///
-    /// ```
-    /// use e3d::learner::{ContextTargets, ContextualLearner};
-    /// use e3d::{LearnerKind, Params, Target};
-    /// use e3d::command::CommandSpace;
-    /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
-    /// let shared = ContextTargets::Shared(Target::Uniform);
-    /// let l = LearnerKind::E3d.make_contextual(&Params::TASK1, &space, 4, 3, &shared).unwrap();
-    /// assert_eq!((l.name(), l.num_contexts()), ("e3d", 3));
-    /// ```
-    pub fn make_contextual(
-        self,
-        params: &Params,
-        space: &CommandSpace,
-        num_effects: usize,
-        num_contexts: usize,
-        targets: &ContextTargets,
-    ) -> Result<Box<dyn ContextualLearner + Send>, LearnerError> {
-        if num_contexts == 0 {
-            return Err(LearnerError::Contexts {
-                reason: "at least one context".into(),
-            });
-        }
-        check_context_effects(num_contexts, num_effects)?;
-        let learners = (0..num_contexts)
-            .map(|s| self.make(params, space, num_effects, targets.of(s, num_contexts)?))
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(Box::new(PerContext::new(learners)))
-    }
-
-    /// The learner of a session of episodes: with `closed_loop`, closed-loop
-    /// E3D for [`LearnerKind::E3d`] ([`ClosedLoopE3d`], discount `gamma`)
-    /// and Q-learning for [`LearnerKind::Egreedy`] ([`QLearning`]); without
-    /// it, [`make_contextual`](Self::make_contextual). What `e3d run
-    /// --commands K [--closed-loop]` and Python's `run_episodes` run.
-    ///
-    /// ```
-    /// use e3d::learner::{ContextTargets, ContextualLearner};
-    /// use e3d::{LearnerKind, Params, Target};
-    /// use e3d::command::CommandSpace;
-    /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
-    /// let shared = ContextTargets::Shared(Target::Uniform);
-    /// let l = LearnerKind::Egreedy
-    ///     .make_episodic(true, &Params::TASK1, &space, 4, 4, &shared, 0.9)
-    ///     .unwrap();
-    /// assert_eq!(l.name(), "qlearning");
-    /// assert!(LearnerKind::Count.make_episodic(true, &Params::TASK1, &space, 4, 4, &shared, 0.9).is_err());
-    /// // gamma is checked open loop too
-    /// assert!(LearnerKind::E3d.make_episodic(false, &Params::TASK1, &space, 4, 4, &shared, 7.0).is_err());
-    /// ```
-    #[allow(clippy::too_many_arguments)]
-    pub fn make_episodic(
-        self,
-        closed_loop: bool,
-        params: &Params,
-        space: &CommandSpace,
-        num_effects: usize,
-        num_contexts: usize,
-        targets: &ContextTargets,
-        gamma: f64,
-    ) -> Result<Box<dyn ContextualLearner + Send>, LearnerError> {
-        // checked open loop too, which does not use it: a discount out of
-        // range is a mistake either way
-        check_gamma(gamma)?;
-        match (closed_loop, self) {
-            (false, kind) => kind.make_contextual(params, space, num_effects, num_contexts, targets),
-            (true, LearnerKind::E3d) => {
-                ClosedLoopE3d::new(space, num_effects, num_contexts, params, targets, gamma)
-                    .map(|l| Box::new(l) as _)
-            }
-            (true, LearnerKind::Egreedy) => {
-                QLearning::new(space, num_contexts, params, gamma).map(|l| Box::new(l) as _)
-            }
-            (true, other) => Err(LearnerError::Contexts {
-                reason: format!(
-                    "the closed loop takes learner e3d (closed-loop E3D) or egreedy (Q-learning), not {other}"
-                ),
-            }),
-        }
     }
 }

@@ -40,6 +40,7 @@ pub mod gaussian;
 mod goal_babbling;
 pub mod mutation;
 mod relaxed;
+mod setup;
 mod smm;
 mod softmax;
 pub mod state;
@@ -55,12 +56,13 @@ pub use goal_babbling::{
     GoalBabbling, GoalBabblingValues, GOAL_MARGIN, PROGRESS_BINS, PROGRESS_WINDOW,
 };
 pub use relaxed::RelaxedE3d;
+pub use setup::LearnerSetup;
 pub use smm::StateMarginalMatching;
 pub use state::LearnerState;
 pub use uniform::UniformPolicy;
 
-use crate::command::{Command, CommandSpace, ValueSpace};
-use crate::effect::{EffectError, Target, TargetError};
+use crate::command::{Command, CommandSpace};
+use crate::effect::{EffectError, TargetError};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use serde::{Deserialize, Serialize};
@@ -172,15 +174,16 @@ pub struct ParamError {
 /// [`E3d::new`]): the error of the part at fault, whose message it shows.
 ///
 /// ```
+/// use e3d::learner::LearnerSetup;
 /// use e3d::{LearnerKind, Params, Target};
 /// use e3d::command::CommandSpace;
 /// use e3d::learner::LearnerError;
 /// let space = CommandSpace::repeat(2, &['a', 'b']).unwrap();
 /// let bad = Params { eta: 1.5, ..Params::TASK1 };
-/// let e = LearnerKind::E3d.make(&bad, &space, 4, &Target::Uniform).err().unwrap();
+/// let e = LearnerSetup::new(LearnerKind::E3d).params(bad).symbols(&space, 4).err().unwrap();
 /// assert!(matches!(&e, LearnerError::Params(p) if p.name == "eta"));
 /// assert_eq!(e.to_string(), "eta = 1.5: expected a number in (0, 1]");
-/// let e = LearnerKind::E3d.make(&Params::TASK1, &space, 4, &Target::Weights(vec![1.0])).err().unwrap();
+/// let e = LearnerSetup::new(LearnerKind::E3d).target(Target::Weights(vec![1.0])).symbols(&space, 4).err().unwrap();
 /// assert!(matches!(e, LearnerError::Target(_)));
 /// ```
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -460,82 +463,17 @@ impl LearnerKind {
             LearnerKind::Archive => &["k", "sigma", "rarity"],
         }
     }
-
-    /// Makes a fresh learner of this kind for `space`, `num_effects` effects
-    /// and target `p*` (used by E3D only).
-    pub fn make(
-        self,
-        params: &Params,
-        space: &CommandSpace,
-        num_effects: usize,
-        target: &Target,
-    ) -> Result<Box<dyn Learner + Send>, LearnerError> {
-        params.validate()?;
-        Ok(match self {
-            LearnerKind::E3d => Box::new(E3d::new(space, num_effects, params, target)?),
-            LearnerKind::Uniform => Box::new(UniformPolicy::new(space)),
-            LearnerKind::Egreedy => Box::new(EpsilonGreedy::new(space, params)),
-            LearnerKind::E3dRelax => Box::new(RelaxedE3d::new(space, num_effects, params, target)?),
-            LearnerKind::Count => Box::new(CountBonus::new(space, num_effects, params)),
-            LearnerKind::Smm => Box::new(StateMarginalMatching::new(
-                space,
-                num_effects,
-                params,
-                target,
-            )?),
-            LearnerKind::GoalBabbling => Box::new(GoalBabbling::new(space, num_effects, params)),
-            LearnerKind::Archive => Box::new(Archive::new(space, num_effects, params)),
-        })
-    }
 }
 
 impl LearnerKind {
     /// The kinds with a learner of continuous commands
-    /// ([`make_continuous`](Self::make_continuous)).
+    /// ([`LearnerSetup::values`]).
     pub const CONTINUOUS: [LearnerKind; 4] = [
         LearnerKind::E3d,
         LearnerKind::Uniform,
         LearnerKind::GoalBabbling,
         LearnerKind::Archive,
     ];
-
-    /// Makes a fresh learner of continuous commands of this kind for
-    /// `space`: [`GaussianE3d`] for `e3d`, [`UniformValues`] for `uniform`,
-    /// [`GoalBabblingValues`] and [`ArchiveValues`]; the other kinds are
-    /// [`LearnerError::NotContinuous`].
-    ///
-    /// ```
-    /// use e3d::{LearnerKind, Params, Target};
-    /// use e3d::command::ValueSpace;
-    /// use e3d::learner::LearnerError;
-    /// let space = ValueSpace::new(vec![(-1.0, 1.0); 3]).unwrap();
-    /// let l = LearnerKind::E3d.make_continuous(&Params::TASK1, &space, 9, &Target::Uniform).unwrap();
-    /// assert_eq!(l.name(), "e3d");
-    /// let e = LearnerKind::Egreedy.make_continuous(&Params::TASK1, &space, 9, &Target::Uniform);
-    /// assert!(matches!(e.err().unwrap(), LearnerError::NotContinuous { learner: "egreedy" }));
-    /// ```
-    pub fn make_continuous(
-        self,
-        params: &Params,
-        space: &ValueSpace,
-        num_effects: usize,
-        target: &Target,
-    ) -> Result<Box<dyn ContinuousLearner + Send>, LearnerError> {
-        params.validate()?;
-        Ok(match self {
-            LearnerKind::E3d => Box::new(GaussianE3d::new(space, num_effects, params, target)?),
-            LearnerKind::Uniform => Box::new(UniformValues::new(space)),
-            LearnerKind::GoalBabbling => {
-                Box::new(GoalBabblingValues::new(space, num_effects, params))
-            }
-            LearnerKind::Archive => Box::new(ArchiveValues::new(space, num_effects, params)),
-            other => {
-                return Err(LearnerError::NotContinuous {
-                    learner: other.as_str(),
-                })
-            }
-        })
-    }
 }
 
 impl fmt::Display for LearnerKind {

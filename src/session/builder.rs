@@ -2,7 +2,7 @@
 
 use super::{run_sessions, Control, SessionConfig, SessionRecord};
 use crate::effect::Target;
-use crate::learner::{LearnerError, LearnerKind, Params};
+use crate::learner::{LearnerError, LearnerKind, LearnerSetup, Params};
 use crate::scene::Scene;
 use crate::world::{ExecOptions, Executor, Workload, WorldError};
 
@@ -28,9 +28,7 @@ use crate::world::{ExecOptions, Executor, Workload, WorldError};
 #[derive(Debug, Clone)]
 pub struct Session<'s> {
     scene: &'s Scene,
-    learner: LearnerKind,
-    params: Params,
-    target: Target,
+    setup: LearnerSetup,
     trials: usize,
     seed: u64,
     use_reward: bool,
@@ -55,9 +53,7 @@ impl<'s> Session<'s> {
     pub fn new(scene: &'s Scene, learner: LearnerKind) -> Self {
         Session {
             scene,
-            learner,
-            params: Params::TASK1,
-            target: Target::Uniform,
+            setup: LearnerSetup::new(learner),
             trials: 5000,
             seed: 0,
             use_reward: true,
@@ -67,13 +63,13 @@ impl<'s> Session<'s> {
 
     /// The learner's hyper-parameters (default [`Params::TASK1`]).
     pub fn params(mut self, params: Params) -> Self {
-        self.params = params;
+        self.setup.params = params;
         self
     }
 
     /// The target distribution of effects (default uniform).
     pub fn target(mut self, target: Target) -> Self {
-        self.target = target;
+        self.setup = self.setup.target(target);
         self
     }
 
@@ -116,10 +112,7 @@ impl<'s> Session<'s> {
         let space = self.scene.command_space();
         let effects = self.scene.num_effects();
         let mut learners = (0..sessions)
-            .map(|_| {
-                self.learner
-                    .make(&self.params, &space, effects, &self.target)
-            })
+            .map(|_| self.setup.symbols(&space, effects))
             .collect::<Result<Vec<_>, _>>()?;
         let configs: Vec<SessionConfig> = (0..sessions as u64)
             .map(|i| SessionConfig {

@@ -21,7 +21,7 @@ use crate::episode::{run_episodes, EpisodeRecord};
 use crate::episode::{run_episodes_into, EpisodeConfig, EpisodeRecorder};
 use crate::learner::{ContextualLearner, ContinuousLearner, Learner};
 use crate::rng::SessionRng;
-use crate::world::{ContinuousWorld, Executor, Outcome, OutcomeTable, World, WorldError};
+use crate::world::{ContinuousWorld, Episodic, Executor, Outcome, OutcomeTable, World, WorldError};
 use rand::SeedableRng;
 use std::ops::{DerefMut, Range};
 
@@ -134,11 +134,12 @@ const PROGRESS_EVERY: usize = 64;
 /// session's status.
 ///
 /// ```
+/// use e3d::learner::LearnerSetup;
 /// use e3d::session::{run_group, Control};
 /// use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, SessionRecord, Target};
 /// let scene = Scene::builtin("puck_rooms").unwrap();
-/// let make = || LearnerKind::E3d
-///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+/// let make = || LearnerSetup::new(LearnerKind::E3d)
+///     .symbols(&scene.command_space(), scene.num_effects())
 ///     .unwrap();
 /// let configs: Vec<SessionConfig> =
 ///     (0..3).map(|seed| SessionConfig { trials: 50, seed, use_reward: true }).collect();
@@ -291,12 +292,13 @@ impl Worlds<Vec<f64>> for Executor<'_> {
 /// afterwards to keep a memo's outcomes.
 ///
 /// ```
+/// use e3d::learner::LearnerSetup;
 /// use e3d::world::{ExecOptions, Executor, Workload};
 /// use e3d::session::{run_sessions, Control};
 /// use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, SessionRecord, Target};
 /// let scene = Scene::builtin("puck_rooms").unwrap();
-/// let make = || LearnerKind::E3d
-///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+/// let make = || LearnerSetup::new(LearnerKind::E3d)
+///     .symbols(&scene.command_space(), scene.num_effects())
 ///     .unwrap();
 /// let configs: Vec<SessionConfig> = (0..4)
 ///     .map(|seed| SessionConfig { trials: 100, seed, use_reward: true })
@@ -364,17 +366,18 @@ where
 /// ```
 /// use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
 /// use e3d::session::{run_episode_sessions, Control};
-/// use e3d::learner::ContextTargets;
-/// use e3d::{LearnerKind, Params, Scene, Target};
+/// use e3d::learner::LearnerSetup;
+/// use e3d::{LearnerKind, Params, Scene};
 /// let scene = Scene::builtin("two_rooms").unwrap();
 /// let configs: Vec<EpisodeConfig> = (0..3)
 ///     .map(|seed| EpisodeConfig { episodes: 100, commands: 2, seed, use_reward: true,
 ///                                 observe: Observe::State })
 ///     .collect();
 /// let make = |_| -> Result<_, Box<dyn std::error::Error + Send + Sync>> {
-///     let learner = LearnerKind::E3d.make_episodic(true, &Params::TASK2,
-///         &scene.command_space(), scene.num_effects(), scene.num_effects(),
-///         &ContextTargets::Shared(Target::Uniform), 0.9)?;
+///     let learner = LearnerSetup::new(LearnerKind::E3d)
+///         .params(Params::TASK2)
+///         .closed_loop(true)
+///         .contexts(&scene.command_space(), scene.num_effects(), scene.num_effects())?;
 ///     Ok((scene.build(), learner))
 /// };
 /// let mut records = vec![EpisodeRecord::default(); 3];
@@ -391,7 +394,7 @@ pub fn run_episode_sessions<W, L, R, E>(
     control: &(impl Observer + Sync + ?Sized),
 ) -> Vec<Result<(), E>>
 where
-    W: DerefMut<Target: World>,
+    W: DerefMut<Target: Episodic>,
     L: DerefMut<Target: ContextualLearner>,
     R: EpisodeRecorder + Send,
     E: From<WorldError> + Send,

@@ -60,11 +60,12 @@ pub struct SessionRecord {
 /// Runs `config.trials` trials of `learner` on `world`.
 ///
 /// ```
+/// use e3d::learner::LearnerSetup;
 /// use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};
 /// let scene = Scene::builtin("two_rooms").unwrap();
 /// let mut world = scene.build();
-/// let mut learner = LearnerKind::E3d
-///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+/// let mut learner = LearnerSetup::new(LearnerKind::E3d)
+///     .symbols(&scene.command_space(), scene.num_effects())
 ///     .unwrap();
 /// let cfg = SessionConfig { trials: 500, seed: 1, use_reward: false };
 /// let rec = run_session(&mut world, &mut learner, &cfg).unwrap();
@@ -91,12 +92,13 @@ where
 /// of one session.
 ///
 /// ```
+/// use e3d::learner::LearnerSetup;
 /// use e3d::session::{run_session_into, Control};
 /// use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};
 /// use e3d::session::RunningMetrics;
 /// let scene = Scene::builtin("two_rooms").unwrap();
-/// let make = || LearnerKind::E3d
-///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+/// let make = || LearnerSetup::new(LearnerKind::E3d)
+///     .symbols(&scene.command_space(), scene.num_effects())
 ///     .unwrap();
 /// let cfg = SessionConfig { trials: 3000, seed: 1, use_reward: false };
 /// let mut running = RunningMetrics::new(scene.num_effects());
@@ -240,11 +242,12 @@ impl SessionRecord {
     /// some command reaches as well ([`Metrics::normalized_entropy_reachable`]).
     ///
     /// ```
+    /// use e3d::learner::LearnerSetup;
     /// use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target};
     /// let scene = Scene::builtin("two_rooms").unwrap();
     /// let table = OutcomeTable::build(&mut scene.build()).unwrap();
-    /// let mut l = LearnerKind::E3d
-    ///     .make(&Params::TASK1, &scene.command_space(), scene.num_effects(), &Target::Uniform)
+    /// let mut l = LearnerSetup::new(LearnerKind::E3d)
+    ///     .symbols(&scene.command_space(), scene.num_effects())
     ///     .unwrap();
     /// let cfg = SessionConfig { trials: 2000, seed: 3, use_reward: false };
     /// let rec = run_session(&mut &table, &mut l, &cfg).unwrap();

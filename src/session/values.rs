@@ -135,14 +135,13 @@ impl ValueSessionRecord {
 /// [`ValueSessionRecord`], with the learner's final policy).
 ///
 /// ```
-/// use e3d::{LearnerKind, Params, Scene, SessionConfig, Target};
+/// use e3d::learner::LearnerSetup;
+/// use e3d::{LearnerKind, Scene, SessionConfig};
 /// use e3d::session::run_value_session;
 /// let scene = Scene::builtin("arm7_continuous").unwrap();
 /// let mut world = scene.as_continuous().unwrap().world(1);
 /// let space = scene.value_space().unwrap();
-/// let mut l = LearnerKind::E3d
-///     .make_continuous(&Params::TASK1, &space, scene.num_effects(), &Target::Uniform)
-///     .unwrap();
+/// let mut l = LearnerSetup::new(LearnerKind::E3d).values(&space, scene.num_effects()).unwrap();
 /// let cfg = SessionConfig { trials: 20, seed: 1, use_reward: false };
 /// let rec = run_value_session(&mut world, &mut l, &cfg).unwrap();
 /// assert_eq!(rec.trials(), 20);

@@ -3,7 +3,7 @@
 //! ([`SweepSpec::observe`]) or a closed loop ([`SweepSpec::closed_loop`]).
 //!
 //! A session of such a sweep runs [`run_episodes`] with the contextual
-//! form of its learner ([`LearnerKind::make_episodic`]) on a live world of
+//! form of its learner ([`LearnerSetup::contexts`](crate::learner::LearnerSetup::contexts)) on a live world of
 //! its own; a trial of the metrics is an episode, its effect the
 //! episode's terminal effect and its reward the episode's. The metric
 //! [`MetricSpec::NormalizedEntropyContext`] gives the normalised entropy
@@ -19,12 +19,11 @@ use super::spec::MetricSpec;
 #[cfg(doc)]
 use super::spec::SweepSpec;
 use super::SweepError;
-use crate::effect::Target;
 use crate::episode::{run_episodes, EpisodeConfig, Observe};
-use crate::learner::{ClosedLoopE3d, ContextTargets, LearnerKind};
+use crate::learner::{ClosedLoopE3d, LearnerKind, LearnerSetup};
 use crate::scene::Scene;
 use crate::session::Recorder;
-use crate::world::{Outcome, World};
+use crate::world::{Episodic, Outcome, World};
 
 impl Sweep {
     /// Whether the sessions of scene `scene` (its index in
@@ -53,13 +52,11 @@ impl Sweep {
     }
 
     /// Runs one session of a scene that runs episodes
-    /// ([`runs_episodes`](Self::runs_episodes)) on `world`, which must
-    /// execute from given states ([`World::execute_from`]); a world that
-    /// cannot gives a failed session.
+    /// ([`runs_episodes`](Self::runs_episodes)) on `world`.
     pub fn run_episode_session(
         &self,
         session: &SessionSpec,
-        world: &mut dyn World,
+        world: &mut dyn Episodic,
     ) -> Result<SessionResult, SweepError> {
         let cell = &self.cells[session.cell];
         let as_learner_error = |source: crate::learner::LearnerError| SweepError::Learner {
@@ -83,15 +80,14 @@ impl Sweep {
         // contextual form of every other learner beside them
         let closed =
             self.spec.closed_loop && matches!(kind, LearnerKind::E3d | LearnerKind::Egreedy);
-        let mut learner = kind
-            .make_episodic(
-                closed,
-                &cell.params,
+        let mut learner = LearnerSetup::new(kind)
+            .params(cell.params)
+            .closed_loop(closed)
+            .gamma(self.spec.gamma.unwrap_or(ClosedLoopE3d::GAMMA))
+            .contexts(
                 world.command_space(),
                 world.num_effects(),
                 config.num_contexts(world),
-                &ContextTargets::Shared(Target::Uniform),
-                self.spec.gamma.unwrap_or(ClosedLoopE3d::GAMMA),
             )
             .map_err(as_learner_error)?;
         let mut running = self.recorder(world);

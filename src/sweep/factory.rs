@@ -44,7 +44,7 @@ use super::{BoxError, SweepError};
 use crate::command::{CommandSpace, ValueSpace};
 use crate::effect::Target;
 use crate::hash::fnv1a64;
-use crate::learner::{ContinuousLearner, Learner, LearnerKind, Params};
+use crate::learner::{ContinuousLearner, Learner, LearnerKind, LearnerSetup, Params};
 use crate::scene::Scene;
 use crate::session::Control;
 use crate::world::{
@@ -473,12 +473,13 @@ enum Entry {
 /// only those it uses, and the others are empty in the results.
 ///
 /// ```
+/// use e3d::learner::LearnerSetup;
 /// use e3d::sweep::Learners;
 /// use e3d::{Learner, LearnerKind, Params};
 /// // epsilon-greedy under another name, sweeping only epsilon
 /// let learners = Learners::builtin().with("greedy", &["epsilon"], |p, space, n, target| {
 ///     let p = Params { alpha: 0.5, ..*p };
-///     Ok(LearnerKind::Egreedy.make(&p, space, n, target)?)
+///     Ok(LearnerSetup::new(LearnerKind::Egreedy).params(p).target(target.clone()).symbols(space, n)?)
 /// });
 /// assert_eq!(learners.names(), ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm", "goal_babbling", "archive", "greedy"]);
 /// assert_eq!(learners.uses("greedy"), Some([false, false, false, false, true]));
@@ -589,7 +590,10 @@ impl Learners {
         target: &Target,
     ) -> Result<Box<dyn Learner + Send>, BoxError> {
         match self.entry(name) {
-            Some(Entry::Builtin(k)) => Ok(k.make(params, space, num_effects, target)?),
+            Some(Entry::Builtin(k)) => Ok(LearnerSetup::new(*k)
+                .params(*params)
+                .target(target.clone())
+                .symbols(space, num_effects)?),
             Some(Entry::Custom(_, make)) => make(params, space, num_effects, target),
             None => Err(format!("no learner `{name}` in this factory").into()),
         }
@@ -609,7 +613,10 @@ impl Learners {
         target: &Target,
     ) -> Result<Box<dyn ContinuousLearner + Send>, BoxError> {
         match self.entry(name) {
-            Some(Entry::Builtin(k)) => Ok(k.make_continuous(params, space, num_effects, target)?),
+            Some(Entry::Builtin(k)) => Ok(LearnerSetup::new(*k)
+                .params(*params)
+                .target(target.clone())
+                .values(space, num_effects)?),
             Some(Entry::Custom(..)) => Err(format!(
                 "learner `{name}` (registered in code) takes symbols only, not continuous commands"
             )

@@ -220,6 +220,7 @@ impl Sweep {
     /// at its place in the text.
     ///
     /// ```
+    /// use e3d::learner::LearnerSetup;
     /// use e3d::sweep::{Learners, Sweep, Worlds};
     /// use e3d::{LearnerKind, Scene};
     /// // the uniform policy under another name, on a scene edited in code
@@ -227,7 +228,7 @@ impl Sweep {
     /// spec.name = "rooms".into();
     /// let scene = spec.validate().unwrap();
     /// let learners = Learners::new().with("blind", &[], |p, space, n, target| {
-    ///     Ok(LearnerKind::Uniform.make(p, space, n, target)?)
+    ///     Ok(LearnerSetup::new(LearnerKind::Uniform).params(*p).target(target.clone()).symbols(space, n)?)
     /// });
     /// let text = r#"Sweep(scenes: ["rooms"], learners: [blind], sessions: 2, trials: 100)"#;
     /// let sweep = Sweep::parse_with(text, "code.ron", &Worlds::new().with_scene(scene), learners.clone()).unwrap();

@@ -354,9 +354,15 @@ impl Sweep {
         let scene = self.cells[unit[0].cell].scene;
         let run = std::panic::AssertUnwindSafe(|| {
             if self.runs_episodes(scene) {
+                let file = self.scenes[scene].scene().ok_or_else(|| {
+                    SweepError::Other(format!(
+                        "scene `{}` is made by code: a sweep of episodes runs scene files (their worlds start from contexts and states)",
+                        self.scenes[scene].name()
+                    ))
+                })?;
                 return unit
                     .iter()
-                    .map(|s| self.run_episode_session(s, &mut *exec.world(1)))
+                    .map(|s| self.run_episode_session(s, &mut *file.build()))
                     .collect();
             }
             if let Some(mut world) = exec.value_world(unit.len()) {

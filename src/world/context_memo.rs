@@ -6,17 +6,17 @@
 //! session of episodes need simulate it once. States drawn from ranges,
 //! and the states commands leave, run live.
 
-use super::{OutcomeMemo, World, WorldError, WorldState};
+use super::{Episodic, OutcomeMemo, World, WorldError, WorldState};
 use crate::command::{Command, CommandSpace};
 use crate::world::Outcome;
 
 /// `world`, the outcomes of its commands from named start contexts kept in
 /// `memos` (one per context, in context order, shared by every session of
-/// a run): [`World::execute_outcome_from`] looks them up; every other call
+/// a run): [`Episodic::execute_outcome_from`] looks them up; every other call
 /// goes to the world. Outcomes are the world's, bit for bit.
 ///
 /// ```
-/// use e3d::world::{ContextMemoized, OutcomeMemo};
+/// use e3d::world::{ContextMemoized, Episodic, OutcomeMemo};
 /// use e3d::{Scene, World};
 /// let scene = Scene::load("scenes/puck_contexts.ron").unwrap();
 /// let memos: Vec<OutcomeMemo> = (0..2)
@@ -61,6 +61,9 @@ impl<W: World> World for ContextMemoized<'_, W> {
     fn is_deterministic(&self) -> bool {
         self.world.is_deterministic()
     }
+}
+
+impl<W: Episodic> Episodic for ContextMemoized<'_, W> {
     fn num_contexts(&self) -> usize {
         self.world.num_contexts()
     }

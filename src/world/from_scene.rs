@@ -4,7 +4,7 @@
 //! [`Scene`]. A [`Scene`] is valid by construction, so building cannot
 //! fail.
 
-use super::{ContinuousWorld, GridWorld, Outcome, PhysicsWorld, World, WorldError};
+use super::{ContinuousWorld, Episodic, GridWorld, Outcome, PhysicsWorld, World, WorldError};
 use crate::command::ValueSpace;
 use crate::scene::physics::PhysicsSpec;
 use crate::scene::{Scene, WorldSpec};
@@ -59,7 +59,9 @@ impl Scene {
         })
     }
 
-    /// Builds the world that executes this scene's commands.
+    /// Builds the world that executes this scene's commands: open loop
+    /// from the scene's start ([`World`]), and from its start contexts and
+    /// given states ([`Episodic`]).
     ///
     /// A continuous scene's world is its [`PhysicsWorld`], whose command
     /// space of symbols is a placeholder that refuses every command of
@@ -74,7 +76,7 @@ impl Scene {
     /// let c = rooms.command_space().parse("EEEEESS").unwrap();
     /// assert_eq!(world.execute(&c).unwrap().effect, 14);
     /// ```
-    pub fn build(&self) -> Box<dyn World + Send> {
+    pub fn build(&self) -> Box<dyn Episodic + Send> {
         match &self.spec().world {
             WorldSpec::Grid(g) => Box::new(GridWorld::of(self, g)),
             WorldSpec::Physics(p) => Box::new(PhysicsWorld::of(self, p, 1)),

@@ -1,6 +1,6 @@
 //! The grid world: the paper's degenerate kinematic scene.
 
-use super::{Outcome, World, WorldError, WorldState};
+use super::{Episodic, Outcome, World, WorldError, WorldState};
 use crate::command::{Command, CommandSpace};
 use crate::effect::EffectGrid;
 use crate::rng::SessionRng;
@@ -150,7 +150,9 @@ impl World for GridWorld {
         super::check_command(&self.space, command)?;
         Ok(self.outcome(self.run_from(self.start, command)))
     }
+}
 
+impl Episodic for GridWorld {
     fn num_contexts(&self) -> usize {
         self.contexts.len()
     }

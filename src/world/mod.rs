@@ -223,60 +223,6 @@ pub trait World {
         }
     }
 
-    /// The number of start contexts (1 unless the scene declares several;
-    /// see [`draw_start`](World::draw_start)).
-    fn num_contexts(&self) -> usize {
-        1
-    }
-
-    /// The start state of context `context` (`< num_contexts()`), drawn
-    /// with `rng` when the context is a range of states. The default, for
-    /// worlds that do not expose their states, is an error.
-    fn draw_start(
-        &self,
-        _context: usize,
-        _rng: &mut crate::rng::SessionRng,
-    ) -> Result<WorldState, WorldError> {
-        Err(WorldError::Other(
-            "this world has no states to start from (World::draw_start)".into(),
-        ))
-    }
-
-    /// The bin of a state (the effect a command ending there has): what a
-    /// closed loop observes between commands. The default is an error.
-    fn bin_state(&self, _state: &WorldState) -> Result<usize, WorldError> {
-        Err(WorldError::Other(
-            "this world cannot bin a state (World::bin_state)".into(),
-        ))
-    }
-
-    /// Executes `command` open loop from the state `from` and returns its
-    /// outcome and the terminal state, from which the next command of a
-    /// closed loop continues exactly: executing `c1` from `s`, then `c2`
-    /// from the state it left, gives the terminal state of one continued
-    /// execution of `c1` then `c2`. The default, for worlds that do not
-    /// expose their states, is an error.
-    fn execute_from(
-        &mut self,
-        _from: &WorldState,
-        _command: &Command,
-    ) -> Result<(Outcome, WorldState), WorldError> {
-        Err(WorldError::Other(
-            "this world cannot execute from a given state (World::execute_from)".into(),
-        ))
-    }
-
-    /// The outcome of [`execute_from`](World::execute_from) without the
-    /// terminal state, when no command follows (the last of an episode):
-    /// wrappers that keep outcomes ([`ContextMemoized`]) look it up.
-    fn execute_outcome_from(
-        &mut self,
-        from: &WorldState,
-        command: &Command,
-    ) -> Result<Outcome, WorldError> {
-        self.execute_from(from, command).map(|(o, _)| o)
-    }
-
     /// Under a mirror symmetry: the command whose outcome, through
     /// [`mirror_outcome`](World::mirror_outcome), is `command`'s (its
     /// mirror image), when the world simulates that one in its place.
@@ -291,6 +237,54 @@ pub trait World {
     /// The default leaves it unchanged.
     fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
         outcome
+    }
+}
+
+/// A world whose commands can start from given states: its start
+/// contexts, and the terminal state of one command carried on to the next
+/// ([`run_episodes`](crate::episode::run_episodes): episodes of several
+/// commands, closed loops). Every scene's world is one
+/// ([`Scene::build`](crate::Scene::build)); an [`OutcomeTable`], which
+/// keeps outcomes and no states, is not.
+pub trait Episodic: World {
+    /// The number of start contexts (1 unless the scene declares several;
+    /// see [`draw_start`](Episodic::draw_start)).
+    fn num_contexts(&self) -> usize {
+        1
+    }
+
+    /// The start state of context `context` (`< num_contexts()`), drawn
+    /// with `rng` when the context is a range of states.
+    fn draw_start(
+        &self,
+        context: usize,
+        rng: &mut crate::rng::SessionRng,
+    ) -> Result<WorldState, WorldError>;
+
+    /// The bin of a state (the effect a command ending there has): what a
+    /// closed loop observes between commands.
+    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError>;
+
+    /// Executes `command` open loop from the state `from` and returns its
+    /// outcome and the terminal state, from which the next command of a
+    /// closed loop continues exactly: executing `c1` from `s`, then `c2`
+    /// from the state it left, gives the terminal state of one continued
+    /// execution of `c1` then `c2`.
+    fn execute_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<(Outcome, WorldState), WorldError>;
+
+    /// The outcome of [`execute_from`](Episodic::execute_from) without the
+    /// terminal state, when no command follows (the last of an episode):
+    /// wrappers that keep outcomes ([`ContextMemoized`]) look it up.
+    fn execute_outcome_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<Outcome, WorldError> {
+        self.execute_from(from, command).map(|(o, _)| o)
     }
 }
 
@@ -345,6 +339,9 @@ impl<W: World + ?Sized> World for Box<W> {
     fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
         (**self).mirror_outcome(outcome)
     }
+}
+
+impl<W: Episodic + ?Sized> Episodic for Box<W> {
     fn num_contexts(&self) -> usize {
         (**self).num_contexts()
     }

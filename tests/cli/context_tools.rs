@@ -2,8 +2,9 @@
 //! per context, as `scene exec` runs each command from each context.
 
 use crate::common::{e3d, stdout_of, temp_dir};
+use e3d::world::Episodic;
 use e3d::world::{ContextTables, TabledContexts};
-use e3d::{Scene, World};
+use e3d::Scene;
 
 // two_rooms from two named cells (contexts `a` and `b`)
 use crate::contexts::CONTEXTS as GRID;

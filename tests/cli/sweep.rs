@@ -1018,7 +1018,7 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
         assert!(row.last().unwrap().is_empty(), "a failed session: {row:?}");
     }
     use e3d::episode::{run_episodes, EpisodeConfig, Observe};
-    use e3d::learner::{ContextTargets, ContextualLearner};
+    use e3d::learner::ContextualLearner;
     let scene = e3d::Scene::load(d.join("contexts.ron")).unwrap();
     let mut checked = 0;
     for row in rows[1..].iter().filter(|r| r[0] == "two_rooms_contexts") {
@@ -1033,18 +1033,17 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
             observe: Observe::State,
         };
         let closed = matches!(kind, e3d::LearnerKind::E3d | e3d::LearnerKind::Egreedy);
-        let mut learner = kind
-            .make_episodic(
-                closed,
-                &e3d::Params {
-                    beta: row[4].parse().unwrap_or(1.0),
-                    ..e3d::Params::TASK1
-                },
+        let mut learner = e3d::learner::LearnerSetup::new(kind)
+            .params(e3d::Params {
+                beta: row[4].parse().unwrap_or(1.0),
+                ..e3d::Params::TASK1
+            })
+            .closed_loop(closed)
+            .gamma(0.8)
+            .contexts(
                 &scene.command_space(),
                 scene.num_effects(),
                 cfg.num_contexts(&*world),
-                &ContextTargets::Shared(e3d::Target::Uniform),
-                0.8,
             )
             .unwrap();
         assert_eq!(learner.num_contexts(), 18);

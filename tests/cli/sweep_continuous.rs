@@ -4,6 +4,7 @@
 
 use crate::common::{e3d, ok, temp_dir, PUCK_HEADINGS};
 use crate::sweep::{assert_same_files, FINAL_FILES};
+use e3d::learner::LearnerSetup;
 use e3d::session::run_value_session;
 use e3d::{LearnerKind, Scene, SessionConfig, Target};
 
@@ -87,8 +88,9 @@ fn a_continuous_sweep_gives_each_session_alone_whatever_the_threads_and_shards()
         assert_eq!(row[9], s.seed.to_string());
         let space = scene.value_space().unwrap();
         let kind: LearnerKind = cell.learner.parse().unwrap();
-        let mut learner = kind
-            .make_continuous(&cell.params, &space, scene.num_effects(), &Target::Uniform)
+        let mut learner = LearnerSetup::new(kind)
+            .params(cell.params)
+            .values(&space, scene.num_effects())
             .unwrap();
         let mut world = scene.as_continuous().unwrap().world(1);
         let config = SessionConfig {

@@ -7,6 +7,7 @@
 // each binary uses a part of it
 #![allow(dead_code)]
 
+use e3d::learner::LearnerSetup;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -93,7 +94,7 @@ pub const PUCK_HEADINGS: &str = include_str!("../scenes/puck_headings.ron");
 /// `contexts`) after 5000 one-command episodes of contextual E3D (task 1)
 /// on the world `world()` makes: first observing its start context, then
 /// blind to it.
-pub fn seen_and_blind_entropy<W: e3d::World + ?Sized>(
+pub fn seen_and_blind_entropy<W: e3d::world::Episodic + ?Sized>(
     space: &e3d::command::CommandSpace,
     num_effects: usize,
     contexts: usize,
@@ -101,8 +102,8 @@ pub fn seen_and_blind_entropy<W: e3d::World + ?Sized>(
     mut world: impl FnMut() -> Box<W>,
 ) -> Vec<Vec<f64>> {
     use e3d::episode::{run_episodes, EpisodeConfig, Observe};
-    use e3d::learner::ContextTargets;
-    use e3d::{LearnerKind, Params, Target};
+
+    use e3d::LearnerKind;
     [Observe::StartContext, Observe::Blind]
         .into_iter()
         .map(|observe| {
@@ -114,14 +115,8 @@ pub fn seen_and_blind_entropy<W: e3d::World + ?Sized>(
                 use_reward: false,
                 observe,
             };
-            let mut l = LearnerKind::E3d
-                .make_contextual(
-                    &Params::TASK1,
-                    space,
-                    num_effects,
-                    cfg.num_contexts(&*w),
-                    &ContextTargets::Shared(Target::Uniform),
-                )
+            let mut l = LearnerSetup::new(LearnerKind::E3d)
+                .contexts(space, num_effects, cfg.num_contexts(&*w))
                 .unwrap();
             run_episodes(&mut *w, &mut l, &cfg, &e3d::session::Control::default())
                 .unwrap()

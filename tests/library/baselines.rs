@@ -5,6 +5,7 @@
 
 use e3d::command::ValueSpace;
 use e3d::learner::mutation::{mutate_symbols, mutate_values};
+use e3d::learner::LearnerSetup;
 use e3d::learner::{Archive, GoalBabbling};
 use e3d::rand::SeedableRng;
 use e3d::session::{run_value_session, RunningMetrics};
@@ -273,8 +274,9 @@ fn learning_progress_goals_run_and_differ_from_uniform_goals() {
             goal_progress,
             ..Params::TASK1
         };
-        let mut l = LearnerKind::GoalBabbling
-            .make(&params, &scene.command_space(), 18, &Target::Uniform)
+        let mut l = LearnerSetup::new(LearnerKind::GoalBabbling)
+            .params(params)
+            .symbols(&scene.command_space(), 18)
             .unwrap();
         let cfg = SessionConfig {
             trials: 2000,
@@ -296,8 +298,8 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
     for kind in [LearnerKind::GoalBabbling, LearnerKind::Archive] {
         let name = kind.as_str();
         assert_eq!(name.parse::<LearnerKind>().unwrap(), kind);
-        let mut l = kind
-            .make(&Params::TASK1, &scene.command_space(), 18, &Target::Uniform)
+        let mut l = LearnerSetup::new(kind)
+            .symbols(&scene.command_space(), 18)
             .unwrap();
         assert_eq!(l.name(), name);
         let cfg = SessionConfig {
@@ -320,8 +322,8 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
     let arm = Scene::builtin("arm7_continuous").unwrap();
     let space = arm.value_space().unwrap();
     for kind in [LearnerKind::GoalBabbling, LearnerKind::Archive] {
-        let mut l = kind
-            .make_continuous(&Params::TASK1, &space, arm.num_effects(), &Target::Uniform)
+        let mut l = LearnerSetup::new(kind)
+            .values(&space, arm.num_effects())
             .unwrap();
         assert_eq!(l.name(), kind.as_str());
         let cfg = SessionConfig {

@@ -4,11 +4,12 @@
 //! and the metrics know the entropy over the reachable cells when a table
 //! gives them.
 
+use e3d::learner::LearnerSetup;
 use e3d::session::{run_session_into, RunningMetrics};
 use e3d::world::{check_command, ExecOptions, Executor, Strategy, Workload};
 use e3d::world::{Memoized, OutcomeMemo};
 use e3d::{
-    run_session, Command, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target, World,
+    run_session, Command, LearnerKind, OutcomeTable, Scene, SessionConfig, Target, World,
     WorldError,
 };
 
@@ -101,13 +102,8 @@ fn every_world_refuses_a_bad_command_with_the_same_error() {
 fn a_session_record_keeps_every_outcome_as_the_world_gave_it() {
     let scene = Scene::builtin("two_rooms").unwrap();
     let space = scene.command_space();
-    let mut learner = LearnerKind::E3d
-        .make(
-            &Params::TASK1,
-            &space,
-            scene.num_effects(),
-            &Target::Uniform,
-        )
+    let mut learner = LearnerSetup::new(LearnerKind::E3d)
+        .symbols(&space, scene.num_effects())
         .unwrap();
     let cfg = SessionConfig {
         trials: 5000,
@@ -149,13 +145,8 @@ fn metrics_hold_the_entropy_over_the_reachable_cells_when_a_table_knows_them() {
     let table = exec.table().unwrap();
     assert_eq!(table.reachable_effects(), 68);
     let make = || {
-        LearnerKind::E3d
-            .make(
-                &Params::TASK1,
-                &scene.command_space(),
-                scene.num_effects(),
-                &Target::Uniform,
-            )
+        LearnerSetup::new(LearnerKind::E3d)
+            .symbols(&scene.command_space(), scene.num_effects())
             .unwrap()
     };
     let cfg = SessionConfig {

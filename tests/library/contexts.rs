@@ -4,9 +4,10 @@
 //! continued command.
 
 use e3d::episode::{run_episodes, EpisodeConfig, Observe};
+use e3d::learner::LearnerSetup;
 use e3d::learner::{ClosedLoopE3d, ContextTargets, ContextualLearner, QLearning};
 use e3d::scene::{CommandSpec, WorldSpec};
-use e3d::world::WorldState;
+use e3d::world::{Episodic, WorldState};
 use e3d::{
     run_session, Command, LearnerKind, Outcome, Params, Scene, SessionConfig, SessionRng, Target,
     World,
@@ -218,14 +219,9 @@ fn follows_the_plain_transcription(kind: LearnerKind) {
     let mut world = scene.build();
     let space = scene.command_space();
     let mut plain = Plain::new(kind, 3, 3, 4, 18);
-    let mut fast = kind
-        .make_contextual(
-            &plain.params,
-            &space,
-            18,
-            3,
-            &ContextTargets::Shared(Target::Uniform),
-        )
+    let mut fast = LearnerSetup::new(kind)
+        .params(plain.params)
+        .contexts(&space, 18, 3)
         .unwrap();
     let (mut ra, mut rb) = (SessionRng::seed_from_u64(7), SessionRng::seed_from_u64(7));
     let mut c = space.first();
@@ -302,13 +298,16 @@ fn smm_per_context_is_one_smm_per_context() {
     let mut world = scene.build();
     let space = scene.command_space();
     let shared = ContextTargets::Shared(Target::Uniform);
-    let mut ctx = LearnerKind::Smm
-        .make_contextual(&Params::TASK2, &space, 18, 3, &shared)
+    let mut ctx = LearnerSetup::new(LearnerKind::Smm)
+        .params(Params::TASK2)
+        .targets(shared)
+        .contexts(&space, 18, 3)
         .unwrap();
     let mut apart: Vec<_> = (0..3)
         .map(|_| {
-            LearnerKind::Smm
-                .make(&Params::TASK2, &space, 18, &Target::Uniform)
+            LearnerSetup::new(LearnerKind::Smm)
+                .params(Params::TASK2)
+                .symbols(&space, 18)
                 .unwrap()
         })
         .collect();
@@ -333,8 +332,9 @@ fn one_context_and_one_command_is_the_open_loop_session() {
     let scene = Scene::builtin("two_rooms").unwrap();
     let space = scene.command_space();
     for kind in [LearnerKind::E3d, LearnerKind::Egreedy, LearnerKind::Count] {
-        let mut open = kind
-            .make(&Params::TASK2, &space, 18, &Target::Uniform)
+        let mut open = LearnerSetup::new(kind)
+            .params(Params::TASK2)
+            .symbols(&space, 18)
             .unwrap();
         let cfg = SessionConfig {
             trials: 3000,
@@ -342,14 +342,9 @@ fn one_context_and_one_command_is_the_open_loop_session() {
             use_reward: true,
         };
         let a = run_session(&mut scene.build(), &mut open, &cfg).unwrap();
-        let mut ctx = kind
-            .make_contextual(
-                &Params::TASK2,
-                &space,
-                18,
-                1,
-                &ContextTargets::Shared(Target::Uniform),
-            )
+        let mut ctx = LearnerSetup::new(kind)
+            .params(Params::TASK2)
+            .contexts(&space, 18, 1)
             .unwrap();
         let ecfg = EpisodeConfig {
             episodes: 3000,
@@ -479,8 +474,10 @@ fn closed_loop_e3d_with_one_command_is_contextual_e3d() {
         observe: Observe::StartContext,
     };
     let mut a = ClosedLoopE3d::new(&space, 18, 3, &Params::TASK2, &shared, 0.9).unwrap();
-    let mut b = LearnerKind::E3d
-        .make_contextual(&Params::TASK2, &space, 18, 3, &shared)
+    let mut b = LearnerSetup::new(LearnerKind::E3d)
+        .params(Params::TASK2)
+        .targets(shared)
+        .contexts(&space, 18, 3)
         .unwrap();
     let ra = run_episodes(
         &mut scene.build(),
@@ -563,8 +560,8 @@ fn states_outside_the_world_and_worlds_without_states_are_errors() {
     assert!(world
         .execute_from(&WorldState::Cell(0), &Command::new(vec![0; 4]))
         .is_err());
-    // a table has no states: run_episodes says so instead of panicking
-    let table = e3d::OutcomeTable::build(&mut scene.build()).unwrap();
+    // a table has no states: it is no Episodic world (a compile error, where
+    // run_episodes used to fail at run time)
     let cfg = EpisodeConfig {
         episodes: 3,
         commands: 2,
@@ -572,17 +569,9 @@ fn states_outside_the_world_and_worlds_without_states_are_errors() {
         use_reward: true,
         observe: Observe::StartContext,
     };
-    let mut l = LearnerKind::Uniform
-        .make_contextual(
-            &Params::TASK1,
-            &scene.command_space(),
-            36,
-            1,
-            &ContextTargets::Shared(Target::Uniform),
-        )
+    let mut l = LearnerSetup::new(LearnerKind::Uniform)
+        .contexts(&scene.command_space(), 36, 1)
         .unwrap();
-    let e = run_episodes(&mut &table, &mut l, &cfg, &e3d::session::Control::default()).unwrap_err();
-    assert!(e.to_string().contains("no states to start from"), "{e}");
     let zero = EpisodeConfig { commands: 0, ..cfg };
     assert!(run_episodes(
         &mut scene.build(),
@@ -610,14 +599,9 @@ fn rewards_are_counted_per_start_context() {
         use_reward: true,
         observe: Observe::StartContext,
     };
-    let mut learner = LearnerKind::Uniform
-        .make_contextual(
-            &Params::TASK2,
-            &scene.command_space(),
-            18,
-            3,
-            &ContextTargets::Shared(Target::Uniform),
-        )
+    let mut learner = LearnerSetup::new(LearnerKind::Uniform)
+        .params(Params::TASK2)
+        .contexts(&scene.command_space(), 18, 3)
         .unwrap();
     let rec = run_episodes(
         &mut *world,

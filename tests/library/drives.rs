@@ -3,6 +3,7 @@
 //! state marginal matching explore better than the uniform policy. Fixed
 //! seeds; the thresholds leave room around the figures measured.
 
+use e3d::learner::LearnerSetup;
 use e3d::learner::{CountBonus, RelaxedE3d, StateMarginalMatching};
 use e3d::{
     run_session, Command, Learner, LearnerKind, Outcome, OutcomeTable, Params, Scene,
@@ -28,13 +29,9 @@ fn sessions(kind: LearnerKind, task2: bool, seeds: std::ops::Range<u64>) -> Vec<
     seeds
         .into_par_iter()
         .map(|seed| {
-            let mut l = kind
-                .make(
-                    &params,
-                    &scene.command_space(),
-                    scene.num_effects(),
-                    &Target::Uniform,
-                )
+            let mut l = LearnerSetup::new(kind)
+                .params(params)
+                .symbols(&scene.command_space(), scene.num_effects())
                 .unwrap();
             let cfg = SessionConfig {
                 trials: 5000,
@@ -161,8 +158,8 @@ fn every_learner_is_named_on_the_command_line() {
     for kind in LearnerKind::ALL {
         assert_eq!(kind.as_str().parse::<LearnerKind>().unwrap(), kind);
         let (scene, _) = two_rooms();
-        let l = kind
-            .make(&Params::TASK1, &scene.command_space(), 18, &Target::Uniform)
+        let l = LearnerSetup::new(kind)
+            .symbols(&scene.command_space(), 18)
             .unwrap();
         assert_eq!(l.name(), kind.as_str());
     }

@@ -1,7 +1,8 @@
 //! Every shipped scene runs with every learner, reproducibly.
 
+use e3d::learner::LearnerSetup;
 use e3d::scene::BUILTIN;
-use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target};
+use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig};
 
 #[test]
 fn every_scene_with_every_learner_gives_effects_in_range_and_repeats() {
@@ -15,13 +16,9 @@ fn every_scene_with_every_learner_gives_effects_in_range_and_repeats() {
         for kind in LearnerKind::ALL {
             let run = || {
                 let mut world = scene.build();
-                let mut l = kind
-                    .make(
-                        &Params::TASK2,
-                        &space,
-                        scene.num_effects(),
-                        &Target::Uniform,
-                    )
+                let mut l = LearnerSetup::new(kind)
+                    .params(Params::TASK2)
+                    .symbols(&space, scene.num_effects())
                     .unwrap();
                 let cfg = SessionConfig {
                     trials: 25,

@@ -1,6 +1,7 @@
 //! The learners against hand-computed updates, and their ranges.
 
 use e3d::command::CommandSpace;
+use e3d::learner::LearnerSetup;
 use e3d::learner::{E3d, EpsilonGreedy, LearnerError};
 use e3d::{Command, Learner, LearnerKind, Outcome, Params, SessionRng, Target};
 use rand::SeedableRng;
@@ -168,8 +169,9 @@ fn parameters_out_of_range_are_refused_with_the_range() {
     let space = CommandSpace::repeat(1, &['a']).unwrap();
     for (p, msg) in bad {
         assert_eq!(p.validate().unwrap_err().to_string(), msg);
-        let err = LearnerKind::E3d
-            .make(&p, &space, 2, &Target::Uniform)
+        let err = LearnerSetup::new(LearnerKind::E3d)
+            .params(p)
+            .symbols(&space, 2)
             .err()
             .unwrap();
         assert_eq!(err.to_string(), msg);

@@ -2,7 +2,8 @@
 //! the thresholds are in docs/reproducing.md).
 
 use e3d::experiment::paper::{run_paper, PaperConfig};
-use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target};
+use e3d::learner::LearnerSetup;
+use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig};
 
 #[test]
 fn e3d_explores_more_evenly_and_gets_more_reward_than_the_baselines() {
@@ -45,8 +46,9 @@ fn without_reward_beta_cancels_out() {
             beta,
             ..Params::TASK1
         };
-        let mut l = LearnerKind::E3d
-            .make(&p, &space, 18, &Target::Uniform)
+        let mut l = LearnerSetup::new(LearnerKind::E3d)
+            .params(p)
+            .symbols(&space, 18)
             .unwrap();
         let cfg = SessionConfig {
             trials: 5000,
@@ -68,8 +70,9 @@ fn without_reward_beta_cancels_out() {
 }
 
 fn effects_with_reward(table: &OutcomeTable, space: &e3d::command::CommandSpace) -> Vec<usize> {
-    let mut l = LearnerKind::E3d
-        .make(&Params::TASK2, space, 18, &Target::Uniform)
+    let mut l = LearnerSetup::new(LearnerKind::E3d)
+        .params(Params::TASK2)
+        .symbols(space, 18)
         .unwrap();
     let cfg = SessionConfig {
         trials: 5000,
@@ -88,11 +91,13 @@ fn the_table_and_the_world_give_the_same_session() {
         seed: 5,
         use_reward: true,
     };
-    let mut a = LearnerKind::E3d
-        .make(&Params::TASK2, &scene.command_space(), 18, &Target::Uniform)
+    let mut a = LearnerSetup::new(LearnerKind::E3d)
+        .params(Params::TASK2)
+        .symbols(&scene.command_space(), 18)
         .unwrap();
-    let mut b = LearnerKind::E3d
-        .make(&Params::TASK2, &scene.command_space(), 18, &Target::Uniform)
+    let mut b = LearnerSetup::new(LearnerKind::E3d)
+        .params(Params::TASK2)
+        .symbols(&scene.command_space(), 18)
         .unwrap();
     let via_table = run_session(&mut &table, &mut a, &cfg).unwrap();
     let via_world = run_session(&mut scene.build(), &mut b, &cfg).unwrap();

@@ -5,6 +5,7 @@
 use crate::common::temp_path;
 use e3d::command::CommandSpace;
 use e3d::episode::Observe;
+use e3d::learner::LearnerSetup;
 use e3d::sweep::{
     DirOptions, Learners, LiveScene, MetricSpec, ParamValues, Scale, Shard, Sweep, SweepSpec,
     Values, Worlds,
@@ -129,7 +130,10 @@ fn mistakes_in_a_spec_built_in_code_are_refused_by_name() {
 )]
 fn a_learner_name_outside_identifiers_is_refused() {
     let _ = Learners::new().with("a,b", &[], |p, space, n, target| {
-        Ok(LearnerKind::Uniform.make(p, space, n, target)?)
+        Ok(LearnerSetup::new(LearnerKind::Uniform)
+            .params(*p)
+            .target(target.clone())
+            .symbols(space, n)?)
     });
 }
 
@@ -165,7 +169,10 @@ fn count_b(shift: usize) -> impl Fn() -> CountB + Send + Sync + 'static {
 
 fn blind() -> Learners {
     Learners::builtin().with("blind", &["epsilon"], |p, space, n, target| {
-        Ok(LearnerKind::Egreedy.make(p, space, n, target)?)
+        Ok(LearnerSetup::new(LearnerKind::Egreedy)
+            .params(*p)
+            .target(target.clone())
+            .symbols(space, n)?)
     })
 }
 

@@ -1,9 +1,10 @@
 //! arm7 (docs/canonical-scenes.md, section 3): rest, replay, energy, the reward-cell rule,
 //! and arm7 as a learning problem.
 
+use e3d::learner::LearnerSetup;
 use e3d::world::farthest_reached_cell;
 use e3d::world::PhysicsWorld;
-use e3d::{run_session, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target, World};
+use e3d::{run_session, LearnerKind, OutcomeTable, Scene, SessionConfig, World};
 use std::sync::OnceLock;
 
 fn scene() -> Scene {
@@ -160,9 +161,7 @@ fn e3d_spreads_arm7_effects_more_evenly_than_uniform() {
             use_reward: false,
         };
         let h = |kind: LearnerKind| {
-            let mut l = kind
-                .make(&Params::TASK1, &space, 225, &Target::Uniform)
-                .unwrap();
+            let mut l = LearnerSetup::new(kind).symbols(&space, 225).unwrap();
             let rec = run_session(&mut table(), &mut l, &cfg).unwrap();
             let counts = rec.effect_counts(0..cfg.trials);
             let reached = counts.iter().filter(|&&c| c > 0.0).count();

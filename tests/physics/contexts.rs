@@ -5,9 +5,10 @@
 
 use e3d::episode::{run_episodes, EpisodeConfig, Observe};
 use e3d::learner::ContextTargets;
-use e3d::world::WorldState;
+use e3d::learner::LearnerSetup;
 use e3d::world::{ContextMemoized, OutcomeMemo};
-use e3d::{LearnerKind, Params, Scene, SessionRng, Target, World};
+use e3d::world::{Episodic, WorldState};
+use e3d::{LearnerKind, Scene, SessionRng, Target, World};
 use rand::SeedableRng;
 
 fn puck_contexts() -> Scene {
@@ -139,7 +140,7 @@ fn named_contexts_start_where_they_say() {
 /// never looked up by context.
 /// The start drawn in `context` with seed `seed`: the same twice, and a
 /// drawn state (no listed context).
-fn seeded_draw(w: &dyn World, context: usize, seed: u64) -> WorldState {
+fn seeded_draw(w: &dyn Episodic, context: usize, seed: u64) -> WorldState {
     let s = w
         .draw_start(context, &mut SessionRng::seed_from_u64(seed))
         .unwrap();
@@ -196,8 +197,9 @@ fn the_context_memo_changes_no_result() {
         observe: Observe::StartContext,
     };
     let make = || {
-        LearnerKind::E3d
-            .make_contextual(&Params::TASK1, &space, 18, 2, &shared)
+        LearnerSetup::new(LearnerKind::E3d)
+            .targets(shared.clone())
+            .contexts(&space, 18, 2)
             .unwrap()
     };
     let plain = run_episodes(

@@ -3,6 +3,7 @@
 
 use crate::common::{e3d, e3d_command, temp_path, PUCK_HEADINGS};
 use e3d::command::ValueSpace;
+use e3d::learner::LearnerSetup;
 use e3d::learner::{GaussianE3d, UniformValues};
 use e3d::scene::{Symmetry, WorldSpec};
 use e3d::session::run_value_session;
@@ -171,13 +172,9 @@ fn sessions(kind: LearnerKind) -> Vec<e3d::session::ValueSessionRecord> {
         .collect();
     let exec = Executor::for_values(&scene, &work(&configs)).unwrap();
     let learner = || {
-        kind.make_continuous(
-            &Params::TASK1,
-            &space,
-            scene.num_effects(),
-            &Target::Uniform,
-        )
-        .unwrap()
+        LearnerSetup::new(kind)
+            .values(&space, scene.num_effects())
+            .unwrap()
     };
     crate::common::value_sessions(&exec, &configs, configs.iter().map(|_| learner()).collect())
 }

@@ -1,8 +1,9 @@
 //! Sessions in lockstep give the records of sessions run one by one.
 
+use e3d::learner::LearnerSetup;
 use e3d::session::run_group;
 use e3d::{
-    run_session, Control, LearnerKind, Params, Scene, SessionConfig, SessionRecord, Target, World,
+    run_session, Control, LearnerKind, Params, Scene, SessionConfig, SessionRecord, World,
     WorldError,
 };
 
@@ -45,13 +46,10 @@ fn lockstep_sessions_equal_independent_sessions() {
             })
             .collect();
         let make = |k: LearnerKind| {
-            k.make(
-                &Params::TASK2,
-                &space,
-                scene.num_effects(),
-                &Target::Uniform,
-            )
-            .unwrap()
+            LearnerSetup::new(k)
+                .params(Params::TASK2)
+                .symbols(&space, scene.num_effects())
+                .unwrap()
         };
         let mut learners: Vec<_> = kinds.iter().map(|&k| make(k)).collect();
         let together = run_lockstep(&mut scene.build(), &mut learners, &configs);
@@ -67,8 +65,8 @@ fn lockstep_on_a_multi_copy_world_equals_independent_sessions() {
     let scene = Scene::builtin("puck_rooms").unwrap();
     let space = scene.command_space();
     let make = || {
-        LearnerKind::E3d
-            .make(&Params::TASK1, &space, 18, &Target::Uniform)
+        LearnerSetup::new(LearnerKind::E3d)
+            .symbols(&space, 18)
             .unwrap()
     };
     let configs: Vec<SessionConfig> = (0..6)

@@ -4,7 +4,7 @@
 //! any order, and whatever ran from another start in between.
 
 use e3d::scene::BUILTIN;
-use e3d::world::PhysicsWorld;
+use e3d::world::{Episodic, PhysicsWorld};
 use e3d::{Command, Outcome, Scene, World, WorldError};
 use rand::seq::SliceRandom;
 use rand::{RngExt, SeedableRng};

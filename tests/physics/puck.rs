@@ -1,7 +1,8 @@
 //! Pucks: the integrator against closed forms, and puck_rooms as a learning
 //! problem (docs/canonical-scenes.md, section 2).
 
-use e3d::{run_session, LearnerKind, Params, Scene, SessionConfig, Target, World};
+use e3d::learner::LearnerSetup;
+use e3d::{run_session, LearnerKind, Scene, SessionConfig, World};
 
 /// A free puck (no walls) in a scene with one slot `E` = an impulse of
 /// 1.6 N*s along +x, then `settle` seconds, at time step `dt`.
@@ -126,9 +127,7 @@ fn puck_rooms_is_a_learning_problem_and_e3d_spreads_its_effects() {
         use_reward: false,
     };
     let mut run = |kind: LearnerKind| {
-        let mut l = kind
-            .make(&Params::TASK1, &space, 18, &Target::Uniform)
-            .unwrap();
+        let mut l = LearnerSetup::new(kind).symbols(&space, 18).unwrap();
         let rec = run_session(&mut w, &mut l, &cfg).unwrap();
         spread(&rec.effects, 18)
     };

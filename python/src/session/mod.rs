@@ -4,6 +4,7 @@
 //! sessions run with the GIL (Python learners, `on_trials`) are in
 //! `python_learners`, sessions of continuous commands in `values`.
 
+use e3d::learner::LearnerSetup;
 use crate::errors::{
     check_held, every_arg, params_with, seed_param, seeds_param, sessions_arg, trials_arg, Fail,
 };
@@ -365,7 +366,7 @@ fn make_symbols(
     };
     let boxed = match (kind, held) {
         (LearnerKind::E3d, _) | (_, Some(_)) => None,
-        _ => Some(kind.make(&a.params, space, n_eff, &a.target).map_err(bad)?),
+        _ => Some(LearnerSetup::new(kind).params(a.params).target(a.target).symbols(space, n_eff).map_err(bad)?),
     };
     Ok((e3d_made, boxed))
 }
@@ -618,7 +619,7 @@ fn run_builtin_batch(
     let mut learners = Vec::with_capacity(configs.len());
     for _ in 0..configs.len() {
         learners.push(
-            kind.make(&a.params, &scene.space, n_eff, &a.target)
+            LearnerSetup::new(kind).params(a.params).target(a.target).symbols(&scene.space, n_eff)
                 .map_err(|e| PyValueError::new_err(e.to_string()))?,
         );
     }

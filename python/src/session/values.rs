@@ -2,6 +2,7 @@
 //! Gaussian E3D or uniform values), or an `e3d.Learner`'s state, each
 //! session live on a physics world of its own.
 
+use e3d::learner::LearnerSetup;
 use super::{write_back, OneSession, SessionArgs};
 use crate::errors::Fail;
 use crate::held::Held;
@@ -33,7 +34,7 @@ pub(super) fn run_continuous(
 ) -> PyResult<(LearnerKind, Vec<Rows>, String)> {
     let kind = continuous_kind(scene, learner, a)?;
     let n_eff = scene.inner.num_effects();
-    let make = || kind.make_continuous(&a.params, space, n_eff, &a.target);
+    let make = || LearnerSetup::new(kind).params(a.params).target(a.target).values(space, n_eff);
     make().map_err(|e| PyValueError::new_err(e.to_string()))?;
     if scene.inner.as_continuous().is_none() {
         return Err(PyValueError::new_err(format!(

@@ -289,6 +289,7 @@ impl PhysicsWorld {
     /// `f` does from `from`.
     ///
     /// ```
+    /// use e3d::world::Episodic;
     /// use e3d::{Scene, World};
     /// let scene = Scene::load("scenes/puck_contexts.ron").unwrap();
     /// let mut world = scene.physics_world().unwrap();

@@ -37,7 +37,7 @@ pub use context::PhysicsState;
 pub use prefix::PREFIX_STATES;
 pub use record::{BodyPose, Frame, Motion, RunStats, Trace};
 
-use super::{Outcome, World, WorldError, WorldState};
+use super::{Episodic, Outcome, World, WorldError, WorldState};
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::{Binning, EffectGrid};
 use crate::scene::Symmetry;
@@ -409,7 +409,9 @@ impl World for PhysicsWorld {
     fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
         self.reflect_outcome(outcome)
     }
+}
 
+impl Episodic for PhysicsWorld {
     fn num_contexts(&self) -> usize {
         self.contexts.len()
     }

@@ -5,7 +5,7 @@ use super::file::file_safe;
 use super::*;
 use crate::rng::SessionRng;
 use crate::world::Control;
-use crate::world::WorldState;
+use crate::world::{Episodic, WorldState};
 use rand::SeedableRng;
 
 /// One start context of a scene, as the scene tools show it: its name and
@@ -65,7 +65,7 @@ fn context_name(scene: &Scene, k: usize) -> &str {
 /// The start of context `k` of `world` as the scene tools use it: a named
 /// context's start, or a drawn context's draw with seed 0 (the start
 /// `e3d scene exec` and `e3d scene render` show).
-pub fn seed0_start(world: &dyn World, k: usize) -> Result<WorldState, WorldError> {
+pub fn seed0_start(world: &dyn Episodic, k: usize) -> Result<WorldState, WorldError> {
     world.draw_start(k, &mut SessionRng::seed_from_u64(0))
 }
 
