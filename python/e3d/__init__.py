@@ -43,10 +43,9 @@ from ._e3d import (
     SimulationError,
     World,
     __version__,
-    run_episodes,
-    run_session,
-    run_sessions,
 )
+from ._args import optional
+from ._run import run_episodes, run_session, run_sessions
 from ._sweep import sweep_text
 from ._types import PythonContextualLearner, PythonLearner
 
@@ -80,7 +79,7 @@ def run_sweep(
     """
     if isinstance(sweep, Mapping):
         sweep = sweep_text(sweep)
-    return _e3d.run_sweep(sweep, threads, table_cache, out, resume, progress)
+    return _e3d.run_sweep(sweep, optional("threads", threads, 1), table_cache, out, resume, progress)
 
 
 __all__ = [

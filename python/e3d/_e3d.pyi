@@ -52,9 +52,9 @@ __all__ = [
     "SimulationError",
     "World",
     "__version__",
-    "run_episodes",
-    "run_session",
-    "run_sessions",
+    "_run_episodes",
+    "_run_session",
+    "_run_sessions",
     "run_sweep",
 ]
 
@@ -389,29 +389,10 @@ class SessionRecord:
     def effect_model(self) -> Optional[npt.NDArray[np.float64]]:
         """E3D's running effect histogram p at the end (``run_session(learner="e3d")`` only)."""
 
-def run_session(
-    scene: SceneLike,
-    learner: Union[str, PythonLearner, Learner, None] = None,
-    trials: int = 5000,
-    seed: int = 0,
-    use_reward: bool = True,
-    alpha: float = 0.3,
-    beta: float = 1.0,
-    lambda_: float = 0.03,
-    eta: float = 0.01,
-    epsilon: float = 0.1,
-    outcomes: Optional[str] = None,
-    table_cache: Optional[PathLike_] = None,
-    progress: Optional[Progress] = None,
-    target: Optional[TargetLike] = None,
-    on_trials: Optional[
-        Callable[[int, npt.NDArray[np.uint8], npt.NDArray[np.int64], npt.NDArray[np.float64]], object]
-    ] = None,
-    every: int = 1000,
-    k: int = 2,
-    sigma: float = 0.1,
-    rarity: float = 0.5,
-    goal_progress: float = 0.0,
+def _run_session(
+    scene: SceneLike, learner: Any, trials: int, seed: int, use_reward: bool,
+    params: dict[str, float], outcomes: Optional[str], table_cache: Optional[PathLike_],
+    progress: Optional[Progress], target: Optional[TargetLike], on_trials: Any, every: int,
 ) -> SessionRecord: ...
 
 @final
@@ -455,28 +436,12 @@ class SessionBatch:
     def __getitem__(self, i: slice, /) -> SessionBatch:
         """The batch of the sessions of the slice (views of the rows)."""
 
-def run_sessions(
-    scene: SceneLike,
-    learner: Union[str, Sequence[PythonLearner], None] = None,
-    trials: int = 5000,
-    seeds: Optional[Sequence[int]] = None,
-    sessions: Optional[int] = None,
-    seed: int = 0,
-    use_reward: bool = True,
-    alpha: float = 0.3,
-    beta: float = 1.0,
-    lambda_: float = 0.03,
-    eta: float = 0.01,
-    epsilon: float = 0.1,
-    outcomes: Optional[str] = None,
-    table_cache: Optional[PathLike_] = None,
-    progress: Optional[Progress] = None,
-    target: Optional[TargetLike] = None,
-    k: int = 2,
-    sigma: float = 0.1,
-    rarity: float = 0.5,
-    goal_progress: float = 0.0,
+def _run_sessions(
+    scene: SceneLike, learner: Any, trials: int, seeds: Sequence[int], use_reward: bool,
+    params: dict[str, float], outcomes: Optional[str], table_cache: Optional[PathLike_],
+    progress: Optional[Progress], target: Optional[TargetLike],
 ) -> SessionBatch: ...
+
 @final
 class EpisodeRecord:
     """A session of episodes (``run_episodes``): one entry per command, or per episode (``starts``)."""
@@ -514,47 +479,12 @@ class EpisodeRecord:
     @property
     def entropy_per_start(self) -> list[float]: ...
 
-@overload
-def run_episodes(
-    scene: SceneLike,
-    episodes: Optional[int] = None,
-    commands: Optional[int] = None,
-    seed: Optional[int] = None,
-    seeds: None = None,
-    learner: Union[str, PythonContextualLearner, Learner, None] = None,
-    closed_loop: bool = False,
-    observe: Optional[str] = None,
-    use_reward: bool = True,
-    gamma: float = 0.9,
-    alpha: float = 0.3,
-    beta: float = 1.0,
-    lambda_: float = 0.03,
-    eta: float = 0.01,
-    epsilon: float = 0.1,
-    target: Optional[TargetLike] = None,
-    targets: Optional[Sequence[Optional[TargetLike]]] = None,
-) -> EpisodeRecord: ...
-@overload
-def run_episodes(
-    scene: SceneLike,
-    episodes: Optional[int] = None,
-    commands: Optional[int] = None,
-    seed: Optional[int] = None,
-    *,
-    seeds: Sequence[int],
-    learner: Union[str, Sequence[PythonContextualLearner], None] = None,
-    closed_loop: bool = False,
-    observe: Optional[str] = None,
-    use_reward: bool = True,
-    gamma: float = 0.9,
-    alpha: float = 0.3,
-    beta: float = 1.0,
-    lambda_: float = 0.03,
-    eta: float = 0.01,
-    epsilon: float = 0.1,
-    target: Optional[TargetLike] = None,
-    targets: Optional[Sequence[Optional[TargetLike]]] = None,
-) -> list[EpisodeRecord]: ...
+def _run_episodes(
+    scene: SceneLike, episodes: int, commands: Optional[int], seeds: Sequence[int], one: bool,
+    learner: Any, closed_loop: bool, observe: Optional[str], use_reward: bool, gamma: float,
+    params: dict[str, float], target: Optional[TargetLike],
+    targets: Optional[Sequence[Optional[TargetLike]]],
+) -> Any: ...
 
 @final
 class EpisodeWorld:

@@ -5,7 +5,7 @@
 //! Gymnasium environment) is in `episode_world`.
 
 use crate::contextual::{commands_arg, context_targets, observe_arg};
-use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
+use crate::errors::{params_of, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
 use crate::pickling::{pickled, Reduced};
 use crate::progress::{watched, Watch};
@@ -14,7 +14,7 @@ use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, PyScene};
 use e3d::command::CommandSpace;
 use e3d::episode::{EpisodeConfig, EpisodeRecord};
-use e3d::learner::{ClosedLoopE3d, ContextualLearner};
+use e3d::learner::ContextualLearner;
 use e3d::World;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
@@ -23,18 +23,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use rayon::prelude::*;
 use std::cell::RefCell;
-
-/// The episodes of a session: 1 to the command line's cap on trials.
-fn episodes_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    let n = usize_arg(obj, "episodes", 1)?;
-    if n > e3d::sweep::MAX_TRIALS {
-        return Err(PyValueError::new_err(format!(
-            "episodes = {n}: expected at most {} (the command line's cap)",
-            e3d::sweep::MAX_TRIALS
-        )));
-    }
-    Ok(n)
-}
+use std::collections::HashMap;
 
 /// A session of episodes, as numpy arrays, one entry per command
 /// (`commands_per_episode` per episode) or per episode (`starts`), and the
@@ -138,7 +127,7 @@ fn record_to_py(
     let rows = rec.effects.len();
     let commands = Array2::from_shape_vec((rows, slots), rec.commands.clone())
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    Ok(PyEpisodeRecord {
+    PyEpisodeRecord {
         seed,
         learner: learner.to_string(),
         commands_per_episode: rec.commands_per_episode,
@@ -154,66 +143,46 @@ fn record_to_py(
         rewards: rec.rewards.into_pyarray(py).unbind(),
         grid: grid.clone(),
     }
-    .frozen(py)?)
+    .frozen(py)
 }
 
-/// Sessions of episodes on a scene with start contexts, or of `commands`
-/// commands per episode (closed loop): `e3d run SCENE --trials EPISODES
-/// --commands K [--closed-loop] [--observe ...]`, bit for bit.
-///
-/// `learner`: a built-in learner's name (None: `"e3d"`), one per observed
-/// context; with `closed_loop=True`, `"e3d"` is closed-loop E3D (Q_ref,
-/// discount `gamma`) and `"egreedy"` epsilon-greedy Q-learning. Or a
-/// Python learner (with `seeds`, a sequence of them, one per seed) with
-/// `propose(context, rng)` and `learn(context, command, effect, reward,
-/// next)`, run on this thread; its first exception stops the run and is
-/// raised. `target`: the target `p*` of every context; `targets`: one per
-/// context (`p*(e|s)`), in context order. `observe`: what the
-/// learner reads before each command, `"start"` (the episode's start
-/// context), `"state"` (the current cell) or `"blind"`; None: `"state"`
-/// with `commands > 1` or `closed_loop`, else `"start"`. Returns an
-/// `EpisodeRecord` for `seed`, or with `seeds` a list of them (run in
-/// parallel, the same whatever the threads).
+/// `e3d.run_episodes` (python/e3d/_run.py), its arguments checked there:
+/// the sessions of `seeds`, one record returned if `one`.
 #[pyfunction]
-#[pyo3(signature = (scene, episodes = None, commands = None, seed = None, seeds = None,
-    learner = None, closed_loop = false, observe = None, use_reward = true, gamma = 0.9,
-    alpha = 0.3, beta = 1.0, lambda_ = 0.03, eta = 0.01, epsilon = 0.1, target = None,
-    targets = None))]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn run_episodes(
+pub(crate) fn _run_episodes(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
-    episodes: Option<&Bound<'_, PyAny>>,
+    episodes: usize,
     commands: Option<&Bound<'_, PyAny>>,
-    seed: Option<&Bound<'_, PyAny>>,
-    seeds: Option<&Bound<'_, PyAny>>,
+    seeds: Vec<u64>,
+    one: bool,
     learner: Option<&Bound<'_, PyAny>>,
     closed_loop: bool,
     observe: Option<&str>,
     use_reward: bool,
-    #[pyo3(from_py_with = crate::errors::float_arg)] gamma: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] alpha: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] beta: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] lambda_: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] eta: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] epsilon: f64,
+    gamma: f64,
+    params: HashMap<String, f64>,
     target: Option<&Bound<'_, PyAny>>,
     targets: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
-    const _: () = assert!(ClosedLoopE3d::GAMMA == 0.9);
     let scene = scene_of(scene)?;
     scene.require_symbols("run_episodes")?;
-    let episodes = episodes.map(episodes_arg).transpose()?.unwrap_or(1000);
+    if episodes > e3d::sweep::MAX_TRIALS {
+        return Err(PyValueError::new_err(format!(
+            "episodes = {episodes}: expected at most {} (the command line's cap)",
+            e3d::sweep::MAX_TRIALS
+        )));
+    }
     let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
     e3d::episode::check_size(episodes, k)
         .map_err(|e| PyValueError::new_err(format!("episodes and commands: {e}")))?;
     let kind = builtin_kind(learner)?;
     let targets = context_targets(&scene, target, targets)?;
-    let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+    let params = params_of(params)?;
     e3d::learner::contextual::check_gamma(gamma)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let observe = observe_arg(observe, k, closed_loop)?;
-    let (one, seeds) = seed_list(seed, seeds)?;
     crate::errors::check_held("episodes, commands and seeds", seeds.len(), episodes * k)?;
     crate::errors::reserve_records(
         &format!(
@@ -226,8 +195,8 @@ pub(crate) fn run_episodes(
         ),
     )?;
     // after the arguments' checks: a refused call warns of nothing
-    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &params)?;
-    crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
+    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &params, 2)?;
+    crate::errors::warn_open_loop_gamma(py, closed_loop, gamma, 2)?;
     let inner = scene.inner.clone();
     let space = inner.command_space();
     let num_effects = inner.num_effects();
@@ -438,25 +407,6 @@ fn python_learners<'py>(
         )));
     }
     Ok(objs)
-}
-
-/// The seeds of `run_episodes`: `seeds` (false), else `[seed]` (true: one
-/// record is returned).
-fn seed_list(
-    seed: Option<&Bound<'_, PyAny>>,
-    seeds: Option<&Bound<'_, PyAny>>,
-) -> PyResult<(bool, Vec<u64>)> {
-    let seed = seed.filter(|s| !s.is_none());
-    match seeds.map(seeds_arg).transpose()?.flatten() {
-        Some(_) if seed.is_some() => {
-            Err(PyValueError::new_err("give either seed or seeds, not both"))
-        }
-        Some(s) if s.is_empty() => Err(PyValueError::new_err(
-            "no session: expected at least one seed",
-        )),
-        Some(s) => Ok((false, s)),
-        None => Ok((true, vec![seed.map(seed_arg).transpose()?.unwrap_or(0)])),
-    }
 }
 
 pickled!(PyEpisodeRecord, "EpisodeRecord" {

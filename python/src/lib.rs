@@ -31,7 +31,7 @@ mod state;
 mod sweep;
 mod world;
 
-use episode::{run_episodes, PyEpisodeRecord};
+use episode::{_run_episodes, PyEpisodeRecord};
 use episode_world::PyEpisodeWorld;
 use errors::{SceneError, SimulationError};
 use motion::PyMotion;
@@ -41,7 +41,7 @@ use record::{PyBatchRecord, PyRecord};
 use rng::PyRng;
 use saved::PyLearnerState;
 use scene::PyScene;
-use session::{run_session, run_sessions};
+use session::{_run_session, _run_sessions};
 use state::PyE3dLearner;
 use sweep::run_sweep;
 use world::PyWorld;
@@ -70,9 +70,9 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::scene_error_defaults(m.py())?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
-    m.add_function(wrap_pyfunction!(run_session, m)?)?;
-    m.add_function(wrap_pyfunction!(run_sessions, m)?)?;
+    m.add_function(wrap_pyfunction!(_run_session, m)?)?;
+    m.add_function(wrap_pyfunction!(_run_sessions, m)?)?;
     m.add_function(wrap_pyfunction!(run_sweep, m)?)?;
-    m.add_function(wrap_pyfunction!(run_episodes, m)?)?;
+    m.add_function(wrap_pyfunction!(_run_episodes, m)?)?;
     Ok(())
 }

@@ -119,7 +119,7 @@ pub(crate) fn motion_to_py(
     };
     let time: Vec<f64> = m.frames.iter().map(|fr| fr.time).collect();
     let o = m.outcome;
-    Ok(PyMotion {
+    PyMotion {
         command,
         time: time.into_pyarray(py).unbind(),
         x: table(b, &|fr, c| fr.poses[c].position[0]),
@@ -134,7 +134,7 @@ pub(crate) fn motion_to_py(
         joints: m.joints,
         outcome: o.into(),
     }
-    .frozen(py)?)
+    .frozen(py)
 }
 
 impl PyMotion {

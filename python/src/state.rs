@@ -67,7 +67,13 @@ impl PyE3dLearner {
         let scene = scene_of(scene)?;
         scene.require_symbols("E3dLearner")?;
         let target = target_arg(&scene, target)?;
-        let params = crate::errors::params_arg(alpha, beta, lambda_, eta, Params::TASK1.epsilon)?;
+        let params = crate::errors::checked(Params {
+            alpha,
+            beta,
+            lambda: lambda_,
+            eta,
+            ..Params::TASK1
+        })?;
         let l = E3d::new(&scene.space, scene.inner.num_effects(), &params, &target).map_err(bad)?;
         Ok(with(l))
     }
