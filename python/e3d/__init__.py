@@ -28,23 +28,19 @@ import numpy as np
 from . import _e3d
 from ._e3d import (
     E3D_VERSION,
-    BatchOutcome,
     E3dLearner,
-    EpisodeRecord,
     EpisodeWorld,
     Learner,
-    Motion,
-    Outcome,
     Scene,
     SceneError,
-    SessionBatch,
-    SessionRecord,
     SessionRng,
     SimulationError,
     World,
     __version__,
 )
 from ._args import optional
+from ._results import (BatchOutcome, EpisodeRecord, Motion, Outcome, SessionBatch,
+                       SessionRecord)
 from ._run import run_episodes, run_session, run_sessions
 from ._sweep import sweep_text
 from ._types import PythonContextualLearner, PythonLearner

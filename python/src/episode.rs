@@ -7,7 +7,6 @@
 use crate::contextual::{commands_arg, context_targets, observe_arg};
 use crate::errors::{params_of, Fail};
 use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
-use crate::pickling::{pickled, Reduced};
 use crate::progress::{watched, Watch};
 use crate::record::Grid;
 use crate::saved::PyLearnerState;
@@ -17,7 +16,7 @@ use e3d::episode::{EpisodeConfig, EpisodeRecord};
 use e3d::learner::ContextualLearner;
 use e3d::World;
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
+use numpy::IntoPyArray;
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -25,95 +24,7 @@ use rayon::prelude::*;
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-/// A session of episodes, as numpy arrays, one entry per command
-/// (`commands_per_episode` per episode) or per episode (`starts`), and the
-/// command line's summary figures.
-#[pyclass(module = "e3d", name = "EpisodeRecord", frozen)]
-pub(crate) struct PyEpisodeRecord {
-    /// The session's seed.
-    #[pyo3(get)]
-    seed: u64,
-    /// The learner's name (`"e3d"`, `"e3d_closed_loop"`, `"qlearning"`, ...).
-    #[pyo3(get)]
-    learner: String,
-    #[pyo3(get)]
-    commands_per_episode: usize,
-    #[pyo3(get)]
-    num_effects: usize,
-    #[pyo3(get)]
-    episodes: usize,
-    /// The start context of each episode (int64).
-    #[pyo3(get)]
-    starts: Py<PyArray1<i64>>,
-    /// The context observed before each command (int64).
-    #[pyo3(get)]
-    contexts: Py<PyArray1<i64>>,
-    /// The commands, one row per command, one symbol index per slot (uint8).
-    #[pyo3(get)]
-    commands: Py<PyArray2<u8>>,
-    /// The effect of each command (int64).
-    #[pyo3(get)]
-    effects: Py<PyArray1<i64>>,
-    /// The reward of each command: the scene's after an episode's last
-    /// command, 0 after the others (float64).
-    #[pyo3(get)]
-    rewards: Py<PyArray1<f64>>,
-    /// The first episode (1-based) with a reward, or None.
-    #[pyo3(get)]
-    first_reward_episode: Option<usize>,
-    #[pyo3(get)]
-    cumulative_reward: f64,
-    /// Per start context, the normalised entropy of the episodes'
-    /// terminal cells (the command line's `entropy_per_start`).
-    #[pyo3(get)]
-    entropy_per_start: Vec<f64>,
-    /// The scene's effect grid (for the picture).
-    grid: Grid,
-}
-
-#[pymethods]
-impl PyEpisodeRecord {
-    /// The session as a picture, for notebooks: the effect grid with each
-    /// cell shaded by the number of episodes that ended in it (the effect
-    /// of each episode's last command), the rewarded cells outlined.
-    fn _repr_svg_(&self, py: Python<'_>) -> PyResult<String> {
-        let mut counts = vec![0.0; self.grid.rows * self.grid.cols];
-        let effects = self.effects.bind(py).readonly();
-        let k = self.commands_per_episode.max(1);
-        for &e in effects.as_slice()?.iter().skip(k - 1).step_by(k) {
-            if let Some(c) = counts.get_mut(e as usize) {
-                *c += 1.0;
-            }
-        }
-        let title = format!(
-            "{}, seed {}: {} episodes of {} commands, where they ended",
-            self.learner, self.seed, self.episodes, self.commands_per_episode
-        );
-        Ok(self.grid.svg(&counts, "episodes", &title))
-    }
-
-    /// Equal when every field is (arrays value by value, NaN equal to
-    /// NaN): a pickled copy, or the same work run again.
-    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
-        self.pickle_eq(py, &other)
-    }
-
-    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
-        self.pickle_reduce(py)
-    }
-    #[staticmethod]
-    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        Self::pickle_from(state)?.frozen(state.py())
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "EpisodeRecord(seed={}, learner={:?}, episodes={}, commands_per_episode={}, cumulative_reward={:?})",
-            self.seed, self.learner, self.episodes, self.commands_per_episode, self.cumulative_reward
-        )
-    }
-}
-
+/// A session of episodes as an `EpisodeRecord` (python/e3d/_results.py).
 fn record_to_py(
     py: Python<'_>,
     rec: EpisodeRecord,
@@ -122,28 +33,29 @@ fn record_to_py(
     slots: usize,
     starts: usize,
     grid: &Grid,
-) -> PyResult<PyEpisodeRecord> {
+) -> PyResult<Py<PyAny>> {
     let ints = |v: &[usize]| v.iter().map(|&x| x as i64).collect::<Vec<_>>();
     let rows = rec.effects.len();
     let commands = Array2::from_shape_vec((rows, slots), rec.commands.clone())
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    PyEpisodeRecord {
+    let fields = (
         seed,
-        learner: learner.to_string(),
-        commands_per_episode: rec.commands_per_episode,
-        num_effects: rec.num_effects,
-        episodes: rec.episodes(),
-        first_reward_episode: rec.first_reward_episode(),
-        cumulative_reward: rec.cumulative_reward(),
-        entropy_per_start: rec.entropy_per_start(starts),
-        starts: ints(&rec.starts).into_pyarray(py).unbind(),
-        contexts: ints(&rec.contexts).into_pyarray(py).unbind(),
-        commands: commands.into_pyarray(py).unbind(),
-        effects: ints(&rec.effects).into_pyarray(py).unbind(),
-        rewards: rec.rewards.into_pyarray(py).unbind(),
-        grid: grid.clone(),
-    }
-    .frozen(py)
+        learner,
+        rec.commands_per_episode,
+        rec.num_effects,
+        rec.episodes(),
+        ints(&rec.starts).into_pyarray(py),
+        ints(&rec.contexts).into_pyarray(py),
+        commands.into_pyarray(py),
+        ints(&rec.effects).into_pyarray(py),
+        rec.rewards.clone().into_pyarray(py),
+        rec.first_reward_episode(),
+        rec.cumulative_reward(),
+    );
+    let more = (rec.entropy_per_start(starts), grid.clone());
+    let state = fields.into_pyobject(py)?.add(more.into_pyobject(py)?)?;
+    let class = crate::record::result_class(py, "EpisodeRecord")?;
+    Ok(class.call1(state.cast_into::<PyTuple>()?)?.unbind())
 }
 
 /// `e3d.run_episodes` (python/e3d/_run.py), its arguments checked there:
@@ -242,13 +154,9 @@ pub(crate) fn _run_episodes(
 
 /// What `run_episodes` returns: the record of its one seed (`seed`), or
 /// the list of them (`seeds`).
-fn one_or_list(
-    py: Python<'_>,
-    mut out: Vec<Py<PyEpisodeRecord>>,
-    one: bool,
-) -> PyResult<Py<PyAny>> {
+fn one_or_list(py: Python<'_>, mut out: Vec<Py<PyAny>>, one: bool) -> PyResult<Py<PyAny>> {
     if one {
-        return Ok(out.remove(0).into_any());
+        return Ok(out.remove(0));
     }
     Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind())
 }
@@ -266,7 +174,7 @@ fn run_python_episodes(
     cfg: &impl Fn(u64) -> EpisodeConfig,
     contexts: usize,
     starts: usize,
-) -> PyResult<Vec<Py<PyEpisodeRecord>>> {
+) -> PyResult<Vec<Py<PyAny>>> {
     let mut out = Vec::with_capacity(seeds.len());
     for (obj, &seed) in objs.into_iter().zip(seeds) {
         let name = python_learner_name(&obj)?;
@@ -284,9 +192,14 @@ fn run_python_episodes(
         }
         let rec = rec.map_err(Fail::from)?;
         let slots = space.num_slots();
-        out.push(Py::new(
+        out.push(record_to_py(
             py,
-            record_to_py(py, rec, seed, &name, slots, starts, &Grid::of(inner))?,
+            rec,
+            seed,
+            &name,
+            slots,
+            starts,
+            &Grid::of(inner),
         )?);
     }
     Ok(out)
@@ -302,7 +215,7 @@ fn run_builtin_episodes(
     make: &(impl Fn() -> Result<Box<dyn ContextualLearner + Send>, Fail> + Sync),
     slots: usize,
     starts: usize,
-) -> PyResult<Vec<Py<PyEpisodeRecord>>> {
+) -> PyResult<Vec<Py<PyAny>>> {
     let name = make()?.name().to_string();
     // Ctrl-C stops every seed at its next command
     let records = watched(py, None, 0, &Watch::new(), |w| {
@@ -323,9 +236,14 @@ fn run_builtin_episodes(
     })??;
     let mut out = Vec::with_capacity(records.len());
     for (rec, &seed) in records.into_iter().zip(seeds) {
-        out.push(Py::new(
+        out.push(record_to_py(
             py,
-            record_to_py(py, rec, seed, &name, slots, starts, &Grid::of(inner))?,
+            rec,
+            seed,
+            &name,
+            slots,
+            starts,
+            &Grid::of(inner),
         )?);
     }
     Ok(out)
@@ -362,19 +280,15 @@ fn run_from_state(
     st.borrow_mut().held = held;
     let starts = scene.inner.build().num_contexts();
     let slots = scene.space.num_slots();
-    Ok(Py::new(
+    record_to_py(
         py,
-        record_to_py(
-            py,
-            rec,
-            cfg.seed,
-            &name,
-            slots,
-            starts,
-            &Grid::of(&scene.inner),
-        )?,
-    )?
-    .into_any())
+        rec,
+        cfg.seed,
+        &name,
+        slots,
+        starts,
+        &Grid::of(&scene.inner),
+    )
 }
 
 /// The Python learners of `run_episodes`: `learner` itself for one seed,
@@ -408,8 +322,3 @@ fn python_learners<'py>(
     }
     Ok(objs)
 }
-
-pickled!(PyEpisodeRecord, "EpisodeRecord" {
-    seed, learner, commands_per_episode, num_effects, episodes, starts, contexts, commands,
-    effects, rewards, first_reward_episode, cumulative_reward, entropy_per_start, grid,
-});

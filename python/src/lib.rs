@@ -18,7 +18,6 @@ mod learn_args;
 mod learner;
 mod motion;
 mod outcome;
-mod pickling;
 mod picture;
 mod progress;
 mod record;
@@ -31,13 +30,10 @@ mod state;
 mod sweep;
 mod world;
 
-use episode::{_run_episodes, PyEpisodeRecord};
+use episode::_run_episodes;
 use episode_world::PyEpisodeWorld;
 use errors::{SceneError, SimulationError};
-use motion::PyMotion;
-use outcome::{PyBatch, PyOutcome};
 use pyo3::prelude::*;
-use record::{PyBatchRecord, PyRecord};
 use rng::PyRng;
 use saved::PyLearnerState;
 use scene::PyScene;
@@ -57,15 +53,9 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("E3D_VERSION", e3d::sweep::VERSION)?;
     m.add_class::<PyScene>()?;
     m.add_class::<PyWorld>()?;
-    m.add_class::<PyOutcome>()?;
-    m.add_class::<PyBatch>()?;
-    m.add_class::<PyRecord>()?;
     m.add_class::<PyRng>()?;
-    m.add_class::<PyBatchRecord>()?;
-    m.add_class::<PyMotion>()?;
     m.add_class::<PyE3dLearner>()?;
     m.add_class::<PyLearnerState>()?;
-    m.add_class::<PyEpisodeRecord>()?;
     m.add_class::<PyEpisodeWorld>()?;
     errors::scene_error_defaults(m.py())?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
@@ -74,5 +64,6 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_run_sessions, m)?)?;
     m.add_function(wrap_pyfunction!(run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(_run_episodes, m)?)?;
+    m.add_function(wrap_pyfunction!(record::_grid_svg, m)?)?;
     Ok(())
 }

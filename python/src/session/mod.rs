@@ -8,7 +8,7 @@ use crate::errors::{check_held, params_of, Fail};
 use crate::held::Held;
 use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
-use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
+use crate::record::{batch_to_py, record_to_py, Rows};
 use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::E3d;
@@ -148,7 +148,7 @@ pub(crate) fn _run_session(
     target: Option<&Bound<'_, PyAny>>,
     on_trials: Option<&Bound<'_, PyAny>>,
     every: usize,
-) -> PyResult<PyRecord> {
+) -> PyResult<Py<PyAny>> {
     let scene = scene_of(scene)?;
     let on_trials = on_trials.filter(|c| !c.is_none());
     if let Some(c) = on_trials.filter(|c| !c.is_callable()) {
@@ -244,7 +244,7 @@ fn run_builtin(
     mut held: Option<Held>,
     a: &SessionArgs,
     run: &OneSession<'_, '_>,
-) -> PyResult<PyRecord> {
+) -> PyResult<Py<PyAny>> {
     let space = &scene.space;
     let (mut e3d_made, mut boxed) = make_symbols(kind, &held, a, scene)?;
     let made = chosen(&mut e3d_made, &mut boxed, &mut held)?;
@@ -402,7 +402,7 @@ pub(crate) fn _run_sessions(
     table_cache: Option<PathBuf>,
     progress: Option<&Bound<'_, PyAny>>,
     target: Option<&Bound<'_, PyAny>>,
-) -> PyResult<PyBatchRecord> {
+) -> PyResult<Py<PyAny>> {
     let scene = scene_of(scene)?;
     if learner.is_some_and(|l| l.is_instance_of::<PyLearnerState>()) {
         return Err(PyTypeError::new_err(
@@ -436,7 +436,7 @@ pub(crate) fn _run_sessions(
             }
         }
     };
-    batch_to_py(py, &scene, &name, &seeds, trials, rows, execution)
+    batch_to_py(py, &scene, &name, &seeds, rows, execution)
 }
 
 /// The first failing session fails the call, naming its command.

@@ -7,7 +7,7 @@ use crate::errors::Fail;
 use crate::held::Held;
 use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
-use crate::record::{record_to_py, PyRecord, Rows};
+use crate::record::{record_to_py, Rows};
 use crate::saved::{run_values_from, PyLearnerState};
 use crate::scene::PyScene;
 use e3d::command::ValueSpace;
@@ -116,7 +116,7 @@ pub(super) fn run_held_values(
     mut held: Held,
     a: &SessionArgs,
     run: &OneSession<'_, '_>,
-) -> PyResult<PyRecord> {
+) -> PyResult<Py<PyAny>> {
     let name = held.kind().as_str();
     let l = held
         .values()
