@@ -6,6 +6,7 @@ writable copy); they pickle field by field (``(cls._from_state,
 field by field (arrays value by value, NaN equal to NaN) and draw
 themselves for notebooks (``_repr_svg_``)."""
 
+import dataclasses
 import json
 from typing import Any, ClassVar, Optional, Union
 
@@ -45,39 +46,35 @@ def _same(a: Any, b: Any) -> bool:
     return bool(a == b)
 
 
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class _Result:
-    """A result of ``_FIELDS`` (a leading ``_``: kept, not shown), each of
-    the type of ``_TYPES`` (``object``: any)."""
+    """A result of the fields its subclass declares (a leading ``_``: kept,
+    not shown), each of the type of ``_TYPES`` (``object``: any)."""
 
-    _FIELDS: ClassVar[tuple[str, ...]] = ()
     _TYPES: ClassVar[tuple[Any, ...]] = ()
     _FROZEN: ClassVar[bool] = True
     __hash__ = None  # type: ignore[assignment]
 
-    def __init__(self, *state: Any) -> None:
-        for name, v in zip(self._FIELDS, state):
-            object.__setattr__(self, name, v)
+    def __post_init__(self) -> None:
         if self._FROZEN:
-            _freeze(state)
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        raise AttributeError(f"{type(self).__name__}.{name} is read-only")
+            _freeze(self._state())
 
     def _state(self) -> tuple[Any, ...]:
-        return tuple(getattr(self, n) for n in self._FIELDS)
+        return tuple(getattr(self, f.name) for f in dataclasses.fields(self))
 
     def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
         return (type(self)._from_state, (self._state(),))
 
     @classmethod
     def _from_state(cls, state: tuple[Any, ...]) -> Any:
-        name, n = cls.__name__, len(cls._FIELDS)
+        names = [f.name for f in dataclasses.fields(cls)]
+        name, n = cls.__name__, len(names)
         if not isinstance(state, tuple) or len(state) != n:
             raise TypeError(f"{name}._from_state: expected a state of {n} fields (what pickling "
                             f"an {name} gives), found {len(state) if isinstance(state, tuple) else state!r}")
         for i, (v, t) in enumerate(zip(state, cls._TYPES)):
             if not isinstance(v, t) or (t is int and isinstance(v, bool)):
-                raise TypeError(f"{name}._from_state: field {i} ({cls._FIELDS[i].lstrip('_')}): "
+                raise TypeError(f"{name}._from_state: field {i} ({names[i].lstrip('_')}): "
                                 f"expected {getattr(t, '__name__', t)}, found {type(v).__name__}")
         return cls(*state)
 
@@ -90,11 +87,11 @@ class _Result:
 _NUM: Any = (float, int)
 
 
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class Outcome(_Result):
     """The outcome of one command: ``effect`` (int), ``reward`` (float) and
     the terminal point ``x``, ``y`` (metres)."""
 
-    _FIELDS = ("effect", "reward", "x", "y")
     _TYPES = (int, _NUM, _NUM, _NUM)
     _FROZEN = False
     effect: int
@@ -106,11 +103,11 @@ class Outcome(_Result):
         return f"Outcome(effect={self.effect}, reward={self.reward!r}, x={self.x!r}, y={self.y!r})"
 
 
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class BatchOutcome(_Result):
     """The outcomes of a batch of commands, one entry per row: ``effect``
     (int64), ``reward``, ``x``, ``y`` (float64)."""
 
-    _FIELDS = ("effect", "reward", "x", "y")
     _TYPES = (np.ndarray,) * 4
     _FROZEN = False
     effect: npt.NDArray[np.int64]
@@ -125,6 +122,7 @@ class BatchOutcome(_Result):
         return f"BatchOutcome({len(self)} commands)"
 
 
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class Motion(_Result):
     """The whole motion of one command (``World.trace``), one row a frame
     (the start, then every step): ``time`` (float64 ``[F]``, seconds), per
@@ -137,8 +135,6 @@ class Motion(_Result):
     of ``e3d scene exec --trace``."""
 
     _BODY = ("x", "y", "angle", "vx", "vy", "omega")
-    _FIELDS = ("command", "bodies", "joints", "time", *_BODY, "joint_angle", "joint_velocity",
-               "outcome")
     _TYPES = (str, list, list, *(np.ndarray,) * 9, Outcome)
     command: str
     bodies: list[str]
@@ -187,6 +183,7 @@ class Motion(_Result):
                 f"{len(self.bodies)} bodies, {len(self.joints)} joints)")
 
 
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class SessionRecord(_Result):
     """What a session recorded: ``commands`` (``[T, slots]``: uint8 symbol
     indices, or float64 values on a continuous scene), ``effects`` (int64
@@ -200,9 +197,6 @@ class SessionRecord(_Result):
     running effect histogram), from ``run_session(learner="e3d")`` only
     (else None), and how outcomes were obtained (``execution``)."""
 
-    _FIELDS = ("scene", "learner", "seed", "trials", "commands", "effects", "rewards", "_metrics",
-               "effect_counts", "final_policy", "policy_effect_distribution", "q", "effect_model",
-               "execution", "_grid")
     _TYPES = (str, str, int, int, np.ndarray, np.ndarray, np.ndarray, dict, np.ndarray, _ANY,
               _OPT_ARRAY, (list, type(None)), _OPT_ARRAY, str, dict)
     scene: str
@@ -244,6 +238,7 @@ _COLUMNS = ("normalized_entropy", "normalized_entropy_last_1000", "kl_to_target"
             "trials_to_50_percent", "trials_to_90_percent")
 
 
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class SessionBatch(_Result):
     """Sessions of one scene run together, in lockstep (``run_sessions``):
     ``seeds`` (uint64 ``[S]``), ``commands`` (``[S, T, slots]``), ``effects``
@@ -254,8 +249,6 @@ class SessionBatch(_Result):
     ``batch[i]`` is session ``i``'s ``SessionRecord`` (views of these
     arrays), ``batch[a:b]`` the batch of those sessions."""
 
-    _FIELDS = ("scene", "learner", "seeds", "trials", "commands", "effects", "rewards", "_metrics",
-               "execution", "_grid", "_per_session", "_counts", "_policies")
     _TYPES = (str, str, np.ndarray, int, _ANY, np.ndarray, np.ndarray, dict, str, dict, list, list,
               list)
     scene: str
@@ -334,6 +327,7 @@ class SessionBatch(_Result):
                 f"{len(self)} sessions, seeds {self.seeds.tolist()}, trials={self.trials})")
 
 
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class EpisodeRecord(_Result):
     """A session of episodes (``run_episodes``), one entry per command
     (``commands_per_episode`` per episode) or per episode (``starts``): the
@@ -343,9 +337,6 @@ class EpisodeRecord(_Result):
     the others), the first rewarded episode (1-based, or None), and per
     start context the normalised entropy of the episodes' terminal cells."""
 
-    _FIELDS = ("seed", "learner", "commands_per_episode", "num_effects", "episodes", "starts",
-               "contexts", "commands", "effects", "rewards", "first_reward_episode",
-               "cumulative_reward", "entropy_per_start", "_grid")
     _TYPES = (int, str, int, int, int, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
               (int, type(None)), float, list, dict)
     seed: int

@@ -110,46 +110,12 @@ pub(crate) fn learner_names() -> String {
         .join(", ")
 }
 
-/// Whether `obj` is an integer as arguments take them: an int or a numpy
-/// integer (anything with `__index__` but a float), not a bool (`True` is
-/// no count) nor an array (numpy arrays have `__index__` too).
-pub(crate) fn is_integer(obj: &Bound<'_, PyAny>) -> PyResult<bool> {
-    if obj.is_instance_of::<pyo3::types::PyBool>() || obj.is_instance_of::<pyo3::types::PyFloat>() {
-        return Ok(false);
-    }
-    if obj.is_instance_of::<pyo3::types::PyInt>() {
-        return Ok(true);
-    }
-    let np_bool = obj.py().import("numpy")?.getattr("bool_")?;
-    if obj.is_instance(&np_bool)? {
-        return Ok(false);
-    }
-    if let Some(ndim) = obj.getattr_opt("ndim")? {
-        if ndim.extract::<usize>().unwrap_or(1) != 0 {
-            return Ok(false);
-        }
-    }
-    obj.hasattr("__index__")
-}
-
-/// An integer argument `name` of at least `min`: a Python int (or numpy
-/// integer) in `[min, 2^64 - 1]`; a negative or too large one raises
-/// `ValueError` naming the argument, anything else (a float, a str, a
-/// bool, an array) `TypeError`.
+/// An integer argument `name` of at least `min`: an int or numpy integer
+/// in `[min, 2^64 - 1]` (`_args.integer`: `ValueError` naming the
+/// argument out of range, `TypeError` for a float, str, bool or array).
 pub(crate) fn int_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<u64> {
-    if !is_integer(obj)? {
-        return Err(PyTypeError::new_err(format!(
-            "{name}: expected an integer, found {}",
-            obj.get_type().name()?
-        )));
-    }
-    match obj.extract::<u64>() {
-        Ok(v) if v >= min => Ok(v),
-        _ => Err(PyValueError::new_err(format!(
-            "{name} = {}: expected an integer from {min} to 2^64 - 1",
-            obj.str()?
-        ))),
-    }
+    let args = obj.py().import("e3d._args")?;
+    args.call_method1("integer", (name, obj, min))?.extract()
 }
 
 /// `int_arg` as `usize`.
@@ -260,12 +226,8 @@ pub(crate) fn float_arg(obj: &Bound<'_, PyAny>) -> PyResult<f64> {
 /// A float argument `name` that must be finite (a reward): a `TypeError`
 /// for a non-number, a `ValueError` naming it for NaN or an infinity.
 pub(crate) fn finite_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
-    let v: f64 = float_arg(obj).map_err(|_| {
-        PyTypeError::new_err(format!(
-            "{name}: expected a number, found {}",
-            type_name(obj)
-        ))
-    })?;
+    let args = obj.py().import("e3d._args")?;
+    let v: f64 = args.call_method1("number", (name, obj))?.extract()?;
     if !v.is_finite() {
         return Err(PyValueError::new_err(format!(
             "{name} = {v}: expected a finite number"
