@@ -13,16 +13,17 @@ MAX_SESSIONS = 100_000
 """The most sessions one call runs: the cap of ``e3d run --sessions``."""
 
 
-def integer(name: str, value: Any, low: int = 0) -> int:
-    """An int or numpy integer in ``[low, 2^64 - 1]``: ``TypeError`` for
-    anything else (a float, a str, a bool, an array), ``ValueError`` naming
-    ``name`` out of range."""
+def integer(name: str, value: Any, low: Optional[int] = 0, high: int = 2**64 - 1) -> int:
+    """An int or numpy integer in ``[low, high]`` (``low`` None: any):
+    ``TypeError`` for anything else (a float, a str, a bool, an array),
+    ``ValueError`` naming ``name`` out of range."""
     if isinstance(value, (bool, float, np.bool_)) or getattr(value, "ndim", 0) != 0 \
             or not hasattr(value, "__index__"):
         raise TypeError(f"{name}: expected an integer, found {type(value).__name__}")
     v = operator.index(value)
-    if not low <= v <= 2**64 - 1:
-        raise ValueError(f"{name} = {value}: expected an integer from {low} to 2^64 - 1")
+    if low is not None and not low <= v <= high:
+        top = "2^64 - 1" if high == 2**64 - 1 else high
+        raise ValueError(f"{name} = {value}: expected an integer from {low} to {top}")
     return v
 
 
