@@ -38,7 +38,7 @@ from ._e3d import (
     World,
     __version__,
 )
-from ._args import optional
+from ._args import cache_folder, optional
 from ._results import (BatchOutcome, EpisodeRecord, Motion, Outcome, SessionBatch,
                        SessionRecord)
 from ._run import run_episodes, run_session, run_sessions
@@ -75,7 +75,8 @@ def run_sweep(
     """
     if isinstance(sweep, Mapping):
         sweep = sweep_text(sweep)
-    return _e3d.run_sweep(sweep, optional("threads", threads, 1), table_cache, out, resume, progress)
+    return _e3d.run_sweep(sweep, optional("threads", threads, 1), cache_folder(table_cache), out,
+                          resume, progress)
 
 
 __all__ = [

@@ -4,6 +4,7 @@ keyword; the ranges of the hyper-parameters are the library's to check
 (``e3d::Params::validate``), the rest the native module's."""
 
 import math
+import os
 import operator
 from typing import Any, Iterable, Optional
 
@@ -71,3 +72,12 @@ def hyper(alpha: Any, beta: Any, lambda_: Any, eta: Any, epsilon: Any, k: Any = 
             "epsilon": number("epsilon", epsilon), "k": float(integer("k", k, 1)),
             "sigma": number("sigma", sigma), "rarity": number("rarity", rarity),
             "goal_progress": number("goal_progress", goal_progress)}
+
+
+def cache_folder(path: Any) -> Any:
+    """``table_cache``: refused when it exists and is not a folder (the
+    outcomes would be computed and not kept, silently)."""
+    if path is not None and os.path.exists(path) and not os.path.isdir(path):
+        raise ValueError(f"table_cache = {os.fspath(path)}: exists and is not a folder; expected "
+                         "the folder of the outcome cache (created if missing)")
+    return path

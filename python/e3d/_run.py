@@ -8,7 +8,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _e3d
-from ._args import MAX_SESSIONS, hyper, integer, number, optional, seeds as seeds_arg
+from ._args import MAX_SESSIONS, cache_folder, hyper, integer, number, optional, seeds as seeds_arg
 from ._e3d import Learner
 from ._results import EpisodeRecord, SessionBatch, SessionRecord
 from ._types import (PathLike_, Progress, PythonContextualLearner, PythonLearner, SceneLike,
@@ -73,10 +73,13 @@ def run_session(
     trial; it runs the session on this thread (with the GIL), and an
     exception from it stops the session and is raised.
     """
+    if on_trials is not None and not callable(on_trials):
+        raise TypeError("on_trials: expected a callable, on_trials(first, commands, effects, "
+                        f"rewards), found {type(on_trials).__name__}")
     return _e3d._run_session(
         scene, learner, integer("trials", trials, 1), integer("seed", seed), use_reward,
         hyper(alpha, beta, lambda_, eta, epsilon, k, sigma, rarity, goal_progress),
-        outcomes, table_cache, progress, target, on_trials, integer("every", every, 1))
+        outcomes, cache_folder(table_cache), progress, target, on_trials, integer("every", every, 1))
 
 
 def run_sessions(
@@ -139,7 +142,7 @@ def run_sessions(
     return _e3d._run_sessions(
         scene, learner, trials, listed, use_reward,
         hyper(alpha, beta, lambda_, eta, epsilon, k, sigma, rarity, goal_progress),
-        outcomes, table_cache, progress, target)
+        outcomes, cache_folder(table_cache), progress, target)
 
 
 @overload

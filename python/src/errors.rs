@@ -6,7 +6,6 @@ use e3d::{LearnerKind, WorldError};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyOverflowError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use std::path::PathBuf;
 
 create_exception!(
     e3d,
@@ -114,6 +113,14 @@ pub(crate) fn learner_names() -> String {
 /// in `[min, 2^64 - 1]` (`_args.integer`: `ValueError` naming the
 /// argument out of range, `TypeError` for a float, str, bool or array).
 pub(crate) fn int_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<u64> {
+    // the common case without a call into Python (`SessionRng.integers`)
+    if obj.is_exact_instance_of::<pyo3::types::PyInt>() {
+        if let Ok(v) = obj.extract::<u64>() {
+            if v >= min {
+                return Ok(v);
+            }
+        }
+    }
     let args = obj.py().import("e3d._args")?;
     args.call_method1("integer", (name, obj, min))?.extract()
 }
@@ -125,33 +132,9 @@ pub(crate) fn usize_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResul
         .map_err(|_| PyValueError::new_err(format!("{name} = {v}: too large for this machine")))
 }
 
-/// An argument checker's result as a `from_py_with` checker gives it.
-/// pyo3 words the `TypeError` of such a checker `argument 'name':
-/// <message>`; the checkers' messages name their argument, as they must
-/// when called directly (`trials: expected an integer, found str`), so
-/// this drops the name the prefix already gives (`argument 'trials':
-/// expected an integer, found str`). A `ValueError` keeps its text.
-pub(crate) fn unnamed<T>(py: Python<'_>, name: &str, r: PyResult<T>) -> PyResult<T> {
-    r.map_err(|e| {
-        if !e.get_type(py).is(py.get_type::<PyTypeError>()) {
-            return e;
-        }
-        let text = e.value(py).to_string();
-        match text.strip_prefix(name).and_then(|t| t.strip_prefix(": ")) {
-            Some(rest) => PyTypeError::new_err(rest.to_string()),
-            None => e,
-        }
-    })
-}
-
 /// `seed`: an integer in [0, 2^64 - 1].
 pub(crate) fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
     int_arg(obj, "seed", 0)
-}
-
-/// [`seed_arg`] for `from_py_with` (see [`unnamed`]).
-pub(crate) fn seed_param(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
-    unnamed(obj.py(), "seed", seed_arg(obj))
 }
 
 /// The most trials (or episode commands) one call returns in its records,
@@ -197,9 +180,18 @@ pub(crate) fn type_name(obj: &Bound<'_, PyAny>) -> String {
         .unwrap_or_default()
 }
 
-/// `k` of `Learner`: an integer >= 1 (for `from_py_with`).
+/// `k` of `Learner`: an integer >= 1, for `from_py_with` (pyo3 names the
+/// argument in a `TypeError`: `argument 'k': expected an integer, ...`).
 pub(crate) fn k_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    unnamed(obj.py(), "k", usize_arg(obj, "k", 1))
+    usize_arg(obj, "k", 1).map_err(|e| {
+        let text = e.value(obj.py()).to_string();
+        match text.strip_prefix("k: ") {
+            Some(rest) if e.is_instance_of::<PyTypeError>(obj.py()) => {
+                PyTypeError::new_err(rest.to_string())
+            }
+            _ => e,
+        }
+    })
 }
 
 /// A float argument as pyo3 takes it (`from_py_with`), except that an int
@@ -234,18 +226,6 @@ pub(crate) fn finite_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
         )));
     }
     Ok(v)
-}
-
-/// A `table_cache` folder: refused when it exists and is not a folder
-/// (the outcomes would be computed and not kept, silently).
-pub(crate) fn cache_folder_arg(dir: Option<PathBuf>) -> PyResult<Option<PathBuf>> {
-    match dir {
-        Some(d) if d.exists() && !d.is_dir() => Err(PyValueError::new_err(format!(
-            "table_cache = {}: exists and is not a folder; expected the folder of the outcome cache (created if missing)",
-            d.display()
-        ))),
-        d => Ok(d),
-    }
 }
 
 /// The error text of work stopped on request (Ctrl-C, a failed callback).

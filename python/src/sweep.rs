@@ -148,7 +148,7 @@ fn sweep_of(sweep: &Bound<'_, PyAny>, table_cache: Option<PathBuf>) -> PyResult<
         Sweep::load(&text_or_path)
     }
     .map_err(|e| PyErr::from(Fail::from(e)))?;
-    if let Some(dir) = crate::errors::cache_folder_arg(table_cache)? {
+    if let Some(dir) = table_cache {
         sw = sw.with_table_cache(dir);
     }
     Ok(sw)

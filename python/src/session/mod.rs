@@ -68,7 +68,7 @@ pub(crate) fn session_args(
     Ok(SessionArgs {
         params: params_of(params)?,
         options: ExecOptions {
-            cache: crate::errors::cache_folder_arg(table_cache)?,
+            cache: table_cache,
             memo_cap: DEFAULT_MEMO_CAP,
             force,
         },
@@ -151,12 +151,6 @@ pub(crate) fn _run_session(
 ) -> PyResult<Py<PyAny>> {
     let scene = scene_of(scene)?;
     let on_trials = on_trials.filter(|c| !c.is_none());
-    if let Some(c) = on_trials.filter(|c| !c.is_callable()) {
-        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-            "on_trials: expected a callable, on_trials(first, commands, effects, rewards), found {}",
-            c.get_type().name()?
-        )));
-    }
     if let (Some(_), Some(_)) = (on_trials, &scene.values) {
         return Err(PyValueError::new_err(format!(
             "on_trials: scene `{}` is continuous: its sessions run without a per-trial callback; the record holds every trial's values, effects and rewards",
