@@ -30,10 +30,10 @@ fn record_to_py(
     rec: EpisodeRecord,
     seed: u64,
     learner: &str,
-    slots: usize,
+    scene: &e3d::Scene,
     starts: usize,
-    grid: &Grid,
 ) -> PyResult<Py<PyAny>> {
+    let slots = scene.command_space().num_slots();
     let ints = |v: &[usize]| v.iter().map(|&x| x as i64).collect::<Vec<_>>();
     let rows = rec.effects.len();
     let commands = Array2::from_shape_vec((rows, slots), rec.commands.clone())
@@ -52,7 +52,7 @@ fn record_to_py(
         rec.first_reward_episode(),
         rec.cumulative_reward(),
     );
-    let more = (rec.entropy_per_start(starts), grid.clone());
+    let more = (rec.entropy_per_start(starts), Grid::of(scene));
     let state = fields.into_pyobject(py)?.add(more.into_pyobject(py)?)?;
     let class = crate::record::result_class(py, "EpisodeRecord")?;
     Ok(class.call1(state.cast_into::<PyTuple>()?)?.unbind())
@@ -147,8 +147,7 @@ pub(crate) fn _run_episodes(
         )
         .map_err(|e| Fail::Value(e.to_string()))
     };
-    let slots = space.num_slots();
-    let out = run_builtin_episodes(py, &inner, &seeds, &cfg, &make, slots, starts)?;
+    let out = run_builtin_episodes(py, &inner, &seeds, &cfg, &make, starts)?;
     one_or_list(py, out, one)
 }
 
@@ -191,16 +190,7 @@ fn run_python_episodes(
             return Err(e);
         }
         let rec = rec.map_err(Fail::from)?;
-        let slots = space.num_slots();
-        out.push(record_to_py(
-            py,
-            rec,
-            seed,
-            &name,
-            slots,
-            starts,
-            &Grid::of(inner),
-        )?);
+        out.push(record_to_py(py, rec, seed, &name, inner, starts)?);
     }
     Ok(out)
 }
@@ -213,7 +203,6 @@ fn run_builtin_episodes(
     seeds: &[u64],
     cfg: &(impl Fn(u64) -> EpisodeConfig + Sync),
     make: &(impl Fn() -> Result<Box<dyn ContextualLearner + Send>, Fail> + Sync),
-    slots: usize,
     starts: usize,
 ) -> PyResult<Vec<Py<PyAny>>> {
     let name = make()?.name().to_string();
@@ -236,15 +225,7 @@ fn run_builtin_episodes(
     })??;
     let mut out = Vec::with_capacity(records.len());
     for (rec, &seed) in records.into_iter().zip(seeds) {
-        out.push(record_to_py(
-            py,
-            rec,
-            seed,
-            &name,
-            slots,
-            starts,
-            &Grid::of(inner),
-        )?);
+        out.push(record_to_py(py, rec, seed, &name, inner, starts)?);
     }
     Ok(out)
 }
@@ -279,16 +260,7 @@ fn run_from_state(
     })??;
     st.borrow_mut().held = held;
     let starts = scene.inner.build().num_contexts();
-    let slots = scene.space.num_slots();
-    record_to_py(
-        py,
-        rec,
-        cfg.seed,
-        &name,
-        slots,
-        starts,
-        &Grid::of(&scene.inner),
-    )
+    record_to_py(py, rec, cfg.seed, &name, &scene.inner, starts)
 }
 
 /// The Python learners of `run_episodes`: `learner` itself for one seed,

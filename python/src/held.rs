@@ -81,7 +81,6 @@ impl Held {
         params: &Params,
         target: &e3d::Target,
     ) -> PyResult<Held> {
-        params.validate().map_err(|e| bad(e.into()))?;
         let n = scene.inner.num_effects();
         if let Some(values) = &scene.values {
             return match kind {
