@@ -13,7 +13,11 @@ use crate::command::Command;
 use crate::effect::normalized_entropy_over;
 use crate::learner::ContextualLearner;
 use crate::rng::SessionRng;
-use crate::world::{World, WorldError};
+use crate::world::{Observer, Outcome, World, WorldError};
+
+/// How often (in episodes) [`run_episodes`] reports progress and checks
+/// for a stop.
+const PROGRESS_EVERY: usize = 64;
 use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
 
@@ -94,9 +98,169 @@ impl EpisodeConfig {
     }
 }
 
+/// What keeps the episodes of a session as they run
+/// ([`run_episodes_into`]): an [`EpisodeRecord`] keeps every command, an
+/// [`EpisodeTally`] only the session's figures (in memory that does not
+/// grow with the episodes), and a recorder of your own may stream them to
+/// a file. A pair of recorders records into both.
+pub trait EpisodeRecorder {
+    /// Called once, before the first episode, with the session's
+    /// configuration and the world's number of effects.
+    fn begin(&mut self, config: &EpisodeConfig, num_effects: usize) {
+        let _ = (config, num_effects);
+    }
+    /// A new episode starts, from start context `start`.
+    fn start(&mut self, start: usize);
+    /// The episode's next command, proposed in `context`, had `outcome`
+    /// (its reward zeroed but for the episode's last command, and for all
+    /// when rewards are not used).
+    fn record(&mut self, context: usize, command: &Command, outcome: &Outcome);
+}
+
+impl<A: EpisodeRecorder, B: EpisodeRecorder> EpisodeRecorder for (A, B) {
+    fn begin(&mut self, config: &EpisodeConfig, num_effects: usize) {
+        self.0.begin(config, num_effects);
+        self.1.begin(config, num_effects);
+    }
+    fn start(&mut self, start: usize) {
+        self.0.start(start);
+        self.1.start(start);
+    }
+    fn record(&mut self, context: usize, command: &Command, outcome: &Outcome) {
+        self.0.record(context, command, outcome);
+        self.1.record(context, command, outcome);
+    }
+}
+
+impl<R: EpisodeRecorder> EpisodeRecorder for Option<R> {
+    fn begin(&mut self, config: &EpisodeConfig, num_effects: usize) {
+        if let Some(r) = self {
+            r.begin(config, num_effects)
+        }
+    }
+    fn start(&mut self, start: usize) {
+        if let Some(r) = self {
+            r.start(start)
+        }
+    }
+    fn record(&mut self, context: usize, command: &Command, outcome: &Outcome) {
+        if let Some(r) = self {
+            r.record(context, command, outcome)
+        }
+    }
+}
+
+/// A session's figures over its episodes, kept as they run: what
+/// [`EpisodeRecord`]'s methods compute from the whole record, the same to
+/// the bit, in memory that does not grow with the episodes (start
+/// contexts x effects counts).
+///
+/// ```
+/// use e3d::episode::{run_episodes, run_episodes_into, EpisodeConfig, EpisodeTally, Observe};
+/// use e3d::learner::ContextTargets;
+/// use e3d::{Control, LearnerKind, Params, Scene, Target};
+/// let scene = Scene::builtin("four_rooms").unwrap();
+/// let cfg = EpisodeConfig { episodes: 300, commands: 2, seed: 4, use_reward: true,
+///                           observe: Observe::State };
+/// let learner = || LearnerKind::E3d.make_episodic(true, &Params::TASK2,
+///     &scene.command_space(), scene.num_effects(), scene.num_effects(),
+///     &ContextTargets::Shared(Target::Uniform), 0.9).unwrap();
+/// let whole = run_episodes(&mut scene.build(), &mut learner(), &cfg, &Control::default()).unwrap();
+/// let mut tally = EpisodeTally::new(1);
+/// run_episodes_into(&mut scene.build(), &mut learner(), &cfg, &mut tally, &Control::default()).unwrap();
+/// assert_eq!(tally.episodes(), 300);
+/// assert_eq!(tally.cumulative_reward(), whole.cumulative_reward());
+/// assert_eq!(tally.first_reward_episode(), whole.first_reward_episode());
+/// assert_eq!(tally.entropy_per_start(), whole.entropy_per_start(1));
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct EpisodeTally {
+    num_effects: usize,
+    commands_per_episode: usize,
+    /// Per start context, the episodes' terminal cells counted
+    /// (`num_effects` per start).
+    terminal: Vec<f64>,
+    starts: usize,
+    episodes: usize,
+    /// The command of the current episode reached, and its start.
+    command: usize,
+    start: usize,
+    /// The current episode's reward so far.
+    reward: f64,
+    cumulative: f64,
+    first_reward_episode: Option<usize>,
+}
+
+impl EpisodeTally {
+    /// A tally of a world of `starts` start contexts.
+    pub fn new(starts: usize) -> EpisodeTally {
+        EpisodeTally {
+            num_effects: 0,
+            commands_per_episode: 1,
+            terminal: Vec::new(),
+            starts,
+            episodes: 0,
+            command: 0,
+            start: 0,
+            // as `Iterator::sum` of f64 starts
+            reward: -0.0,
+            cumulative: -0.0,
+            first_reward_episode: None,
+        }
+    }
+    /// The episodes run.
+    pub fn episodes(&self) -> usize {
+        self.episodes
+    }
+    /// The reward of all episodes ([`EpisodeRecord::cumulative_reward`]).
+    pub fn cumulative_reward(&self) -> f64 {
+        self.cumulative
+    }
+    /// The first rewarded episode, 1-based
+    /// ([`EpisodeRecord::first_reward_episode`]).
+    pub fn first_reward_episode(&self) -> Option<usize> {
+        self.first_reward_episode
+    }
+    /// Per start context, the normalised entropy of the episodes' terminal
+    /// cells ([`EpisodeRecord::entropy_per_start`]).
+    pub fn entropy_per_start(&self) -> Vec<f64> {
+        (0..self.starts)
+            .map(|s| {
+                let counts = &self.terminal[s * self.num_effects..(s + 1) * self.num_effects];
+                normalized_entropy_over(counts, self.num_effects)
+            })
+            .collect()
+    }
+}
+
+impl EpisodeRecorder for EpisodeTally {
+    fn begin(&mut self, config: &EpisodeConfig, num_effects: usize) {
+        self.num_effects = num_effects;
+        self.commands_per_episode = config.commands.max(1);
+        self.terminal = vec![0.0; self.starts * num_effects];
+    }
+    fn start(&mut self, start: usize) {
+        self.start = start;
+        self.command = 0;
+        self.reward = -0.0;
+    }
+    fn record(&mut self, _context: usize, _command: &Command, outcome: &Outcome) {
+        self.reward += outcome.reward;
+        self.command += 1;
+        if self.command == self.commands_per_episode {
+            self.episodes += 1;
+            self.terminal[self.start * self.num_effects + outcome.effect] += 1.0;
+            self.cumulative += self.reward;
+            if self.reward > 0.0 && self.first_reward_episode.is_none() {
+                self.first_reward_episode = Some(self.episodes);
+            }
+        }
+    }
+}
+
 /// What a session of episodes recorded, command by command (`K` entries
 /// per episode).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct EpisodeRecord {
     /// The commands of an episode, `K`.
     pub commands_per_episode: usize,
@@ -114,6 +278,29 @@ pub struct EpisodeRecord {
     /// terminal state after its last command, 0 after the others (and 0
     /// always without reward).
     pub rewards: Vec<f64>,
+}
+
+impl EpisodeRecorder for EpisodeRecord {
+    /// Sets the record's shape and takes the memory of every command
+    /// ahead.
+    fn begin(&mut self, config: &EpisodeConfig, num_effects: usize) {
+        let n = config.episodes.saturating_mul(config.commands);
+        self.commands_per_episode = config.commands;
+        self.num_effects = num_effects;
+        self.starts.reserve(config.episodes);
+        self.contexts.reserve(n);
+        self.effects.reserve(n);
+        self.rewards.reserve(n);
+    }
+    fn start(&mut self, start: usize) {
+        self.starts.push(start);
+    }
+    fn record(&mut self, context: usize, command: &Command, outcome: &Outcome) {
+        self.contexts.push(context);
+        self.commands.extend_from_slice(&command.symbols);
+        self.effects.push(outcome.effect);
+        self.rewards.push(outcome.reward);
+    }
 }
 
 impl EpisodeRecord {
@@ -197,24 +384,50 @@ impl EpisodeRecord {
 /// [`Observe::StartContext`] draws exactly what
 /// [`run_session`](crate::run_session) draws.
 ///
+/// `control` is told of the episodes done (every 64 episodes and at the
+/// end), and asked before each command is executed whether to stop: a
+/// stop ends the run with [`WorldError::Stopped`]. Many sessions in parallel:
+/// [`run_episode_sessions`](crate::session::run_episode_sessions).
+///
 /// ```
 /// use e3d::episode::{run_episodes, EpisodeConfig, Observe};
 /// use e3d::learner::{ClosedLoopE3d, ContextTargets};
-/// use e3d::{Params, Scene, Target};
+/// use e3d::{Control, Params, Scene, Target};
 /// let scene = Scene::builtin("two_rooms").unwrap();
 /// let mut world = scene.build();
 /// let cfg = EpisodeConfig { episodes: 200, commands: 2, seed: 1, use_reward: true,
 ///                           observe: Observe::State };
 /// let mut l = ClosedLoopE3d::new(&scene.command_space(), 18, cfg.num_contexts(&world),
 ///     &Params::TASK2, &ContextTargets::Shared(Target::Uniform), 0.9).unwrap();
-/// let rec = run_episodes(&mut world, &mut l, &cfg).unwrap();
+/// let rec = run_episodes(&mut world, &mut l, &cfg, &Control::default()).unwrap();
 /// assert_eq!((rec.episodes(), rec.effects.len()), (200, 400));
 /// ```
 pub fn run_episodes<W, L>(
     world: &mut W,
     learner: &mut L,
     config: &EpisodeConfig,
+    control: &(impl Observer + ?Sized),
 ) -> Result<EpisodeRecord, WorldError>
+where
+    W: World + ?Sized,
+    L: ContextualLearner + ?Sized,
+{
+    let mut rec = EpisodeRecord::default();
+    run_episodes_into(world, learner, config, &mut rec, control)?;
+    Ok(rec)
+}
+
+/// [`run_episodes`], each episode's start and commands handed to
+/// `recorder` as they run (an [`EpisodeTally`] keeps the session's
+/// figures without keeping the episodes; a file may take them as they
+/// come). On an error, `recorder` holds the episodes before it.
+pub fn run_episodes_into<W, L>(
+    world: &mut W,
+    learner: &mut L,
+    config: &EpisodeConfig,
+    recorder: &mut (impl EpisodeRecorder + ?Sized),
+    control: &(impl Observer + ?Sized),
+) -> Result<(), WorldError>
 where
     W: World + ?Sized,
     L: ContextualLearner + ?Sized,
@@ -234,18 +447,16 @@ where
         )));
     }
     let num_starts = world.num_contexts();
-    let mut rec = EpisodeRecord {
-        commands_per_episode: k,
-        num_effects: world.num_effects(),
-        starts: Vec::with_capacity(config.episodes),
-        contexts: Vec::with_capacity(config.episodes * k),
-        commands: Vec::new(),
-        effects: Vec::with_capacity(config.episodes * k),
-        rewards: Vec::with_capacity(config.episodes * k),
-    };
+    recorder.begin(config, world.num_effects());
     let mut rng = SessionRng::seed_from_u64(config.seed);
     let mut command: Command = world.command_space().first();
+    let mut since = 0;
     for _ in 0..config.episodes {
+        if since == PROGRESS_EVERY {
+            control.progress(since as u64);
+            since = 0;
+        }
+        since += 1;
         let start = if num_starts > 1 {
             rng.random_range(0..num_starts)
         } else {
@@ -257,9 +468,12 @@ where
             Observe::State => world.bin_state(&state)?,
             Observe::Blind => 0,
         };
-        rec.starts.push(start);
+        recorder.start(start);
         for i in 0..k {
             learner.propose(context, &mut rng, &mut command);
+            if control.stopped() {
+                return Err(WorldError::Stopped);
+            }
             let last = i + 1 == k;
             // the last command's terminal state is not needed: its outcome
             // may be looked up (a memo keyed by context and command)
@@ -278,15 +492,13 @@ where
                 Observe::Blind => 0,
             };
             learner.learn(context, &command, &outcome, (!last).then_some(next));
-            rec.contexts.push(context);
-            rec.commands.extend_from_slice(&command.symbols);
-            rec.effects.push(outcome.effect);
-            rec.rewards.push(outcome.reward);
+            recorder.record(context, &command, &outcome);
             if let Some(s) = next_state {
                 state = s;
             }
             context = next;
         }
     }
-    Ok(rec)
+    control.progress(since as u64);
+    Ok(())
 }

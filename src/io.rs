@@ -475,7 +475,8 @@ pub const LOCK_FILE: &str = ".lock";
 /// An exclusive lock on an output folder: `DIR/.lock`, held with
 /// `flock` (unix) and holding `pid=P host=H` for messages. The kernel
 /// releases it when its process ends, however it ends; the file is removed
-/// when the lock is dropped.
+/// when the lock is dropped, and on the signals that end the process
+/// ([`remove_temps_on_signals`]).
 #[derive(Debug)]
 pub struct DirLock {
     path: PathBuf,
@@ -577,6 +578,9 @@ impl DirLock {
             io::Seek::seek(&mut file, io::SeekFrom::Start(0))?;
             file.write_all(format!("{}\n", holder()).as_bytes())?;
             let old = old.trim().to_string();
+            // removed on the signals that end the process, as temporary
+            // files are
+            register_temp(&path);
             return Ok(DirLock {
                 path,
                 file,
@@ -590,6 +594,7 @@ impl Drop for DirLock {
     fn drop(&mut self) {
         // removed while still held: a process that opened it meanwhile
         // sees the change of file and opens it again
+        forget_temp(&self.path);
         let _ = fs::remove_file(&self.path);
     }
 }

@@ -112,6 +112,7 @@ fn main() -> ExitCode {
         Cmd::Scene(a) => cli::scene::run(a),
         Cmd::Report(a) => cli::report::run(a),
     };
+    cli::output::release_locks();
     e3d::io::remove_temps();
     // what is still buffered: a failed flush is a failed write too
     let flushed = {

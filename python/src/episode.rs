@@ -6,8 +6,8 @@
 
 use crate::contextual::{commands_arg, context_targets, observe_arg};
 use crate::errors::{params_of, Fail};
-use crate::learner::{builtin_kind, python_learner_name, Guarded, PyContextual, PyLearner};
-use crate::progress::{watched, Watch};
+use crate::learner::{builtin_kind, python_learner_name, PyContextual, PyLearner};
+use crate::progress::{watched, Throttle, Ticks, Watch};
 use crate::record::Grid;
 use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, PyScene};
@@ -20,7 +20,6 @@ use numpy::IntoPyArray;
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use rayon::prelude::*;
 use std::cell::RefCell;
 use std::collections::HashMap;
 
@@ -180,11 +179,8 @@ fn run_python_episodes(
         let error = RefCell::new(None);
         let mut l = PyContextual(PyLearner::new(py, obj, space, &error)?, contexts);
         let mut world = inner.build();
-        let mut guarded = Guarded {
-            world: &mut *world,
-            stop: || error.borrow().is_some(),
-        };
-        let rec = e3d::episode::run_episodes(&mut guarded, &mut l, &cfg(seed));
+        let raised = Ticks::new(Throttle::new(py, None, 0)?, 0, &error);
+        let rec = e3d::episode::run_episodes(&mut *world, &mut l, &cfg(seed), &raised);
         drop(l);
         if let Some(e) = error.take() {
             return Err(e);
@@ -207,21 +203,16 @@ fn run_builtin_episodes(
 ) -> PyResult<Vec<Py<PyAny>>> {
     let name = make()?.name().to_string();
     // Ctrl-C stops every seed at its next command
+    let configs: Vec<EpisodeConfig> = seeds.iter().map(|&s| cfg(s)).collect();
     let records = watched(py, None, 0, &Watch::new(), |w| {
-        seeds
-            .par_iter()
-            .map(|&seed| {
-                let mut world = inner.build();
-                let stop = || w.cancelled();
-                let mut guarded = Guarded {
-                    world: &mut *world,
-                    stop,
-                };
-                let mut learner = make()?;
-                e3d::episode::run_episodes(&mut guarded, &mut learner, &cfg(seed))
-                    .map_err(Fail::from)
-            })
-            .collect::<Result<Vec<_>, Fail>>()
+        w.control(|control| {
+            let make = |_| Ok((inner.build(), make()?));
+            let mut records = vec![EpisodeRecord::default(); configs.len()];
+            e3d::session::run_episode_sessions(&configs, make, &mut records, control)
+                .into_iter()
+                .collect::<Result<(), Fail>>()
+                .map(|()| records)
+        })
     })??;
     let mut out = Vec::with_capacity(records.len());
     for (rec, &seed) in records.into_iter().zip(seeds) {
@@ -251,12 +242,8 @@ fn run_from_state(
     let inner = scene.inner.clone();
     let rec = watched(py, None, 0, &Watch::new(), |w| {
         let mut world = inner.build();
-        let stop = || w.cancelled();
-        let mut guarded = Guarded {
-            world: &mut *world,
-            stop,
-        };
-        e3d::episode::run_episodes(&mut guarded, l, cfg).map_err(Fail::from)
+        w.control(|control| e3d::episode::run_episodes(&mut *world, l, cfg, control))
+            .map_err(Fail::from)
     })??;
     st.borrow_mut().held = held;
     let starts = scene.inner.build().num_contexts();

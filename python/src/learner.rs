@@ -6,8 +6,7 @@ use crate::errors::learner_names;
 use crate::rng::PyRng;
 use e3d::command::CommandSpace;
 use e3d::learner::ContextualLearner;
-use e3d::world::WorldState;
-use e3d::{Command, Learner, LearnerKind, Outcome, SessionRng, World, WorldError};
+use e3d::{Command, Learner, LearnerKind, Outcome, SessionRng};
 use numpy::PyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -125,76 +124,6 @@ impl ContextualLearner for PyContextual<'_, '_> {
     }
     fn learn(&mut self, context: usize, command: &Command, outcome: &Outcome, next: Option<usize>) {
         self.0.learn_in(Some((context, next)), command, outcome)
-    }
-}
-
-/// A world that refuses to execute once `stop()` says so (the Python
-/// learner raised, or the caller asked to stop: Ctrl-C or an exception
-/// from a progress callback), so that the session loop ends there. It
-/// passes everything else through, batches included (sessions in lockstep
-/// keep their multi-copy stepping).
-pub(crate) struct Guarded<'a, W: ?Sized, S: Fn() -> bool> {
-    pub(crate) world: &'a mut W,
-    pub(crate) stop: S,
-}
-
-impl<W: World + ?Sized, S: Fn() -> bool> World for Guarded<'_, W, S> {
-    fn command_space(&self) -> &CommandSpace {
-        self.world.command_space()
-    }
-    fn num_effects(&self) -> usize {
-        self.world.num_effects()
-    }
-    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        if (self.stop)() {
-            return Err(WorldError::Stopped);
-        }
-        self.world.execute(command)
-    }
-    fn is_deterministic(&self) -> bool {
-        self.world.is_deterministic()
-    }
-    fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
-        if (self.stop)() {
-            out.extend(commands.iter().map(|_| Err(WorldError::Stopped)));
-        } else {
-            self.world.execute_batch(commands, out)
-        }
-    }
-    fn mirror_of(&self, command: &Command) -> Option<Command> {
-        self.world.mirror_of(command)
-    }
-    fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
-        self.world.mirror_outcome(outcome)
-    }
-    fn num_contexts(&self) -> usize {
-        self.world.num_contexts()
-    }
-    fn draw_start(&self, context: usize, rng: &mut SessionRng) -> Result<WorldState, WorldError> {
-        self.world.draw_start(context, rng)
-    }
-    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
-        self.world.bin_state(state)
-    }
-    fn execute_from(
-        &mut self,
-        from: &WorldState,
-        command: &Command,
-    ) -> Result<(Outcome, WorldState), WorldError> {
-        if (self.stop)() {
-            return Err(WorldError::Stopped);
-        }
-        self.world.execute_from(from, command)
-    }
-    fn execute_outcome_from(
-        &mut self,
-        from: &WorldState,
-        command: &Command,
-    ) -> Result<Outcome, WorldError> {
-        if (self.stop)() {
-            return Err(WorldError::Stopped);
-        }
-        self.world.execute_outcome_from(from, command)
     }
 }
 

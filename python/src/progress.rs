@@ -13,6 +13,7 @@
 //! progress callback.
 
 use pyo3::prelude::*;
+use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -196,5 +197,45 @@ impl<'py> Throttle<'py> {
             self.reported = Some(done);
         }
         Ok(())
+    }
+}
+
+/// The progress and stop of sessions of Python learners, on the calling
+/// thread: `progress(done, total)` throttled, and a stop once a callback
+/// raised.
+pub(crate) struct Ticks<'a, 'py> {
+    throttle: RefCell<Throttle<'py>>,
+    done: std::cell::Cell<u64>,
+    total: u64,
+    error: &'a RefCell<Option<PyErr>>,
+}
+
+impl<'a, 'py> Ticks<'a, 'py> {
+    pub(crate) fn new(
+        throttle: Throttle<'py>,
+        total: u64,
+        error: &'a RefCell<Option<PyErr>>,
+    ) -> Self {
+        Ticks {
+            throttle: RefCell::new(throttle),
+            done: std::cell::Cell::new(0),
+            total,
+            error,
+        }
+    }
+}
+
+impl e3d::session::Observer for Ticks<'_, '_> {
+    fn progress(&self, trials: u64) {
+        let done = self.done.get() + trials;
+        self.done.set(done);
+        if self.error.borrow().is_none() {
+            if let Err(e) = self.throttle.borrow_mut().tick(done, done == self.total) {
+                *self.error.borrow_mut() = Some(e);
+            }
+        }
+    }
+    fn stopped(&self) -> bool {
+        self.error.borrow().is_some()
     }
 }

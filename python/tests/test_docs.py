@@ -67,6 +67,6 @@ def test_python_md_runs_in_order(root, capsys):
     assert ns["infos"]["final_obs"].shape == (64,)
     assert (ns["out"] / "results.csv").is_file()
     assert ns["l"].keys() == ["q", "policy", "p", "target"] and ns["l"]["q"].shape == (7, 4)
-    assert len(ns["saved"]) == 1191
+    assert len(ns["saved"]) == 1129
     assert (ns["cl"].name, ns["cl"]["q"].shape) == ("e3d_closed_loop", (18, 7, 4))
     assert set(skipped) <= OPTIONAL

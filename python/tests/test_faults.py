@@ -75,7 +75,7 @@ def test_records_that_cannot_be_allocated_raise_memory_error():
 def test_learner_states_are_checksummed():
     l = e3d.Learner("two_rooms", "e3d")
     data = l.to_bytes()
-    assert data.startswith(b"E3D-LEARNER-STATE 2\n")
+    assert data.startswith(b"E3D-LEARNER-STATE 3\n")
     e3d.Learner.from_bytes(data)
     bad = bytearray(data)
     bad[len(bad) // 2] ^= 1
@@ -83,11 +83,24 @@ def test_learner_states_are_checksummed():
         e3d.Learner.from_bytes(bytes(bad))
 
 
+def fnv1a64(data):
+    h = 0xCBF29CE484222325
+    for b in data:
+        h = ((h ^ b) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
+    return h.to_bytes(8, "little")
+
+
 def test_a_nan_learning_rate_is_refused():
     data = e3d.Learner("two_rooms", "e3d").to_bytes()
-    header = b"E3D-LEARNER-STATE 2\n"
-    body = bytearray(data[len(header):-8])
-    # the kind (8-byte length, "e3d"), then the rates
-    body[11:19] = np.float64("nan").tobytes()
+    body = bytearray(data[:-8])
+    # E3D's fields end with beta; the checksum made anew after the edit
+    body[-8:] = np.float64("nan").tobytes()
     with pytest.raises(ValueError, match="NaN"):
-        e3d.Learner.from_bytes(b"E3D-LEARNER-STATE 1\n" + bytes(body))
+        e3d.Learner.from_bytes(bytes(body) + fnv1a64(body))
+
+
+def test_states_of_older_versions_are_refused_by_version():
+    data = e3d.Learner("two_rooms", "e3d").to_bytes()
+    old = b"E3D-LEARNER-STATE 2\n" + data[len(b"E3D-LEARNER-STATE 3\n"):]
+    with pytest.raises(ValueError, match="format version 2 .*: this e3d reads version 3 only"):
+        e3d.Learner.from_bytes(old)

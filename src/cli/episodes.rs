@@ -2,19 +2,19 @@
 //! commands per episode (closed loop), with a contextual learner.
 
 use super::output::write_file;
-use super::session::{ObserveArg, RunArgs};
+use super::session::{join_trials, ObserveArg, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
-use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
+use e3d::episode::{EpisodeConfig, EpisodeRecorder, EpisodeTally, Observe};
 use e3d::learner::{ContextTargets, ContextualLearner};
 use e3d::scene::WorldSpec;
+use e3d::session::{run_episode_sessions, Control};
 use e3d::world::{ContextMemoized, OutcomeMemo};
 use e3d::World;
 use e3d::{LearnerKind, Params, Scene, Target};
-use rayon::prelude::*;
 use serde::Serialize;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Whether `e3d run` runs episodes: start contexts, several commands per
 /// episode, or a closed-loop learner.
@@ -114,19 +114,41 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     if let Some(dir) = &a.table_cache {
         preload_context_tables(&a.scene, scene, dir, &memos);
     }
-    let records: Vec<EpisodeRecord> = seeds
-        .par_iter()
-        .map(|&seed| {
-            let mut world = ContextMemoized::new(scene.build(), &memos);
-            let mut learner = make()?;
-            run_episodes(&mut world, &mut learner, &cfg(seed)).map_err(CliError::simulation)
-        })
-        .collect::<Result<_, _>>()?;
+    let configs: Vec<EpisodeConfig> = seeds.iter().map(|&s| cfg(s)).collect();
     let names = start_names(scene);
-    let sessions = sessions_of(&records, seeds, names.len());
+    let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
+    let mut recorders = (0..seeds.len())
+        .map(|i| -> Result<_, CliError> {
+            let csv = match &csv_path {
+                Some(p) => Some(EpisodeCsv::create(p, &space, &names, i)?),
+                None => None,
+            };
+            Ok((EpisodeTally::new(names.len()), csv))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let label = format!("run {}", scene.spec().name);
+    let total = (a.trials as u64).saturating_mul(seeds.len() as u64);
+    let status = super::progress::track(&label, "episodes", total, |p| {
+        let add = |t| p.add(t);
+        let make = |_| -> Result<_, CliError> {
+            Ok((
+                Box::new(ContextMemoized::new(scene.build(), &memos)),
+                make()?,
+            ))
+        };
+        let control = Control::default().with_progress(&add);
+        run_episode_sessions(&configs, make, &mut recorders, &control)
+    });
+    let mut parts = Vec::new();
+    for (st, (_, csv)) in status.into_iter().zip(&mut recorders) {
+        st?;
+        if let Some(c) = csv.take() {
+            parts.push(c.finish()?);
+        }
+    }
+    let sessions = sessions_of(&recorders, seeds);
     print_sessions(a, scene, &name, &names, &sessions, seeds);
     if let Some(dir) = &a.out {
-        let csv = trials_csv(&records, &space, &names);
         let summary = Summary {
             e3d_version: env!("CARGO_PKG_VERSION"),
             scene: &scene.spec().name,
@@ -144,23 +166,22 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             sessions,
             scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
         };
-        write_outputs(dir, &csv, &summary)?;
+        write_outputs(dir, &parts, &summary)?;
     }
     Ok(())
 }
 
-/// What each session (of seed `seeds[i]`) found, on `starts` start
-/// contexts.
-fn sessions_of(records: &[EpisodeRecord], seeds: &[u64], starts: usize) -> Vec<OneSession> {
-    records
+/// What each session (of seed `seeds[i]`) found.
+fn sessions_of(recorders: &[(EpisodeTally, Option<EpisodeCsv>)], seeds: &[u64]) -> Vec<OneSession> {
+    recorders
         .iter()
         .zip(seeds)
-        .map(|(r, &seed)| OneSession {
+        .map(|((t, _), &seed)| OneSession {
             seed,
-            episodes: r.episodes(),
-            first_reward_episode: r.first_reward_episode(),
-            cumulative_reward: r.cumulative_reward(),
-            entropy_per_start: r.entropy_per_start(starts),
+            episodes: t.episodes(),
+            first_reward_episode: t.first_reward_episode(),
+            cumulative_reward: t.cumulative_reward(),
+            entropy_per_start: t.entropy_per_start(),
         })
         .collect()
 }
@@ -285,34 +306,92 @@ fn print_sessions(
     }
 }
 
-/// `trials.csv`: a row per command of every episode of every session.
-fn trials_csv(records: &[EpisodeRecord], space: &CommandSpace, names: &[String]) -> String {
-    let mut csv = String::from("session,episode,command,context,start,symbols,effect,reward\n");
-    for (i, r) in records.iter().enumerate() {
-        let k = r.commands_per_episode;
-        let n = space.num_slots();
-        for j in 0..r.effects.len() {
-            let c = e3d::Command::new(r.commands[j * n..(j + 1) * n].to_vec());
-            csv.push_str(&format!(
-                "{i},{},{},{},{},{},{},{}\n",
-                j / k + 1,
-                j % k + 1,
-                r.contexts[j],
-                names[r.starts[j / k]],
-                space.format(&c),
-                r.effects[j],
-                r.rewards[j]
-            ));
-        }
-    }
-    csv
+/// `trials.csv`'s header.
+const TRIALS_HEADER: &str = "session,episode,command,context,start,symbols,effect,reward";
+
+/// A session's rows of `trials.csv`, written as its episodes run (into a
+/// temporary file beside it, joined at the end): a row per command.
+struct EpisodeCsv {
+    out: std::io::BufWriter<std::fs::File>,
+    path: PathBuf,
+    space: CommandSpace,
+    /// The start contexts' names, as CSV fields.
+    names: Vec<String>,
+    session: usize,
+    episode: usize,
+    command: usize,
+    start: usize,
+    error: Option<std::io::Error>,
 }
 
-/// Writes `trials.csv` and `summary.json` into `dir`.
-fn write_outputs(dir: &Path, csv: &str, summary: &Summary) -> CliResult {
+impl EpisodeCsv {
+    fn create(
+        target: &Path,
+        space: &CommandSpace,
+        names: &[String],
+        session: usize,
+    ) -> Result<EpisodeCsv, CliError> {
+        let (path, f) = e3d::io::create_temp_beside(target)
+            .map_err(|e| CliError::output(format!("{}: cannot write: {e}", target.display())))?;
+        Ok(EpisodeCsv {
+            out: std::io::BufWriter::with_capacity(1 << 16, f),
+            path,
+            space: space.clone(),
+            names: names.to_vec(),
+            session,
+            episode: 0,
+            command: 0,
+            start: 0,
+            error: None,
+        })
+    }
+
+    /// Flushes; the file's path, or why it could not be written.
+    fn finish(mut self) -> Result<PathBuf, CliError> {
+        use std::io::Write;
+        let r = match self.error.take() {
+            Some(e) => Err(e),
+            None => self.out.flush(),
+        };
+        r.map_err(|e| CliError::output(format!("{}: cannot write: {e}", self.path.display())))?;
+        Ok(self.path)
+    }
+}
+
+impl EpisodeRecorder for EpisodeCsv {
+    fn start(&mut self, start: usize) {
+        self.episode += 1;
+        self.command = 0;
+        self.start = start;
+    }
+    fn record(&mut self, context: usize, command: &e3d::Command, outcome: &e3d::Outcome) {
+        use std::io::Write;
+        self.command += 1;
+        if self.error.is_none() {
+            if let Err(e) = writeln!(
+                self.out,
+                "{},{},{},{},{},{},{},{}",
+                self.session,
+                self.episode,
+                self.command,
+                context,
+                self.names[self.start],
+                self.space.format(command),
+                outcome.effect,
+                outcome.reward
+            ) {
+                self.error = Some(e);
+            }
+        }
+    }
+}
+
+/// Writes `trials.csv` (the sessions' streamed `parts` joined) and
+/// `summary.json` into `dir`.
+fn write_outputs(dir: &Path, parts: &[PathBuf], summary: &Summary) -> CliResult {
     let mut json = serde_json::to_vec_pretty(summary).map_err(CliError::output)?;
     json.push(b'\n');
-    write_file(&dir.join("trials.csv"), csv.as_bytes())?;
+    join_trials(&dir.join("trials.csv"), TRIALS_HEADER, parts)?;
     write_file(&dir.join("summary.json"), &json)?;
     outln!(
         "wrote {} and {}",

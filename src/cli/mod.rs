@@ -64,6 +64,13 @@ impl std::fmt::Display for CliError {
 
 impl std::error::Error for CliError {}
 
+/// A world's failure is a failed simulation.
+impl From<e3d::WorldError> for CliError {
+    fn from(e: e3d::WorldError) -> Self {
+        CliError::simulation(e)
+    }
+}
+
 pub type CliResult = Result<(), CliError>;
 
 /// Loads a scene by path or built-in name, as a CLI error.

@@ -8,6 +8,54 @@ use std::sync::Mutex;
 /// The folders [`prepare_out`] created, deepest first.
 static CREATED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// The locks of the output folders this process writes into, held until
+/// [`release_locks`] (the end of the command).
+static LOCKS: Mutex<Vec<e3d::io::DirLock>> = Mutex::new(Vec::new());
+
+/// Takes the lock of the output folder `dir` (creating it), held to the
+/// end of the command ([`release_locks`]), or refuses with who holds it:
+/// two commands writing into one folder would mix or overwrite each
+/// other's files. A lock file left by a killed run is taken over, with a warning. A folder
+/// that cannot be created is left to the command's own checks and
+/// messages.
+pub fn lock_out(dir: &Path) -> CliResult {
+    if dir.exists() && !dir.is_dir() {
+        return Ok(());
+    }
+    if std::fs::create_dir_all(dir).is_err() {
+        return Ok(());
+    }
+    let lock = match e3d::io::DirLock::acquire(dir) {
+        Ok(lock) => lock,
+        Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+            return Err(CliError::output(format!(
+                "{}: in use by {e}, which is writing into it; wait for it to end or choose another --out",
+                dir.display()
+            )))
+        }
+        // the error names the lock file
+        Err(e) => {
+            return Err(CliError::output(format!(
+                "{}: cannot take the lock: {e}",
+                dir.display()
+            )))
+        }
+    };
+    if let Some(old) = &lock.previous {
+        crate::cli::console::errln!(
+            "warning: {}: took over the lock of a run that ended without releasing it ({old})",
+            dir.display()
+        );
+    }
+    LOCKS.lock().unwrap_or_else(|e| e.into_inner()).push(lock);
+    Ok(())
+}
+
+/// Releases the locks [`lock_out`] took (their files removed).
+pub fn release_locks() {
+    std::mem::take(&mut *LOCKS.lock().unwrap_or_else(|e| e.into_inner()));
+}
+
 /// Removes the folders [`prepare_out`] created that are still empty: a
 /// command refused after it prepared its `--out` (a bad scene name for
 /// `compare`, a learner that does not fit the scene for `run`) leaves no
@@ -20,7 +68,9 @@ pub fn remove_created_if_empty() {
     }
 }
 
-/// Refuses to overwrite the given files in `dir` unless `force`; creates `dir`.
+/// Refuses to overwrite the given files in `dir` unless `force`; creates
+/// `dir` and takes its lock ([`lock_out`]): a second command writing into
+/// it meanwhile is refused, naming the process that holds it.
 pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
     if dir.exists() && !dir.is_dir() {
         return Err(CliError::output(format!(
@@ -48,6 +98,7 @@ pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
         .lock()
         .unwrap_or_else(|e| e.into_inner())
         .extend(missing);
+    lock_out(dir)?;
     // what a run killed while writing here left (a full disk, SIGKILL)
     e3d::io::remove_stale_temps(dir);
     Ok(())

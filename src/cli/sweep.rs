@@ -63,7 +63,7 @@ pub fn run(a: SweepArgs) -> CliResult {
     let shard = a.shard.unwrap_or(Shard::ALL);
     let plan = plan_line(&a, &sweep, shard, threads);
     // one run at a time in a folder: two would both do all the work
-    let _lock = lock_out(&a.out)?;
+    super::output::lock_out(&a.out)?;
     let start = Instant::now();
     let per_session = sweep.spec.trials as u64;
     // progress counts trials, so that sessions in lockstep, which all end
@@ -198,39 +198,6 @@ fn tell_written(a: &SweepArgs, shard: Shard) {
             .collect::<Vec<_>>()
             .join(" and ")
     );
-}
-
-/// Takes the lock of the output folder (creating it), or refuses with who
-/// holds it. A lock file left by a killed run is taken over, with a
-/// warning. A folder that cannot be created is left to the sweep's own
-/// checks and messages.
-fn lock_out(dir: &std::path::Path) -> Result<Option<e3d::io::DirLock>, CliError> {
-    if dir.exists() && !dir.is_dir() {
-        return Ok(None);
-    }
-    if std::fs::create_dir_all(dir).is_err() {
-        return Ok(None);
-    }
-    match e3d::io::DirLock::acquire(dir) {
-        Ok(lock) => {
-            if let Some(old) = &lock.previous {
-                errln!(
-                    "warning: {}: took over the lock of a run that ended without releasing it ({old})",
-                    dir.display()
-                );
-            }
-            Ok(Some(lock))
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => Err(CliError::output(format!(
-            "{}: in use by {e}, which is running a sweep into it; wait for it to end or choose another --out",
-            dir.display()
-        ))),
-        // the error names the lock file
-        Err(e) => Err(CliError::output(format!(
-            "{}: cannot take the lock: {e}",
-            dir.display()
-        ))),
-    }
 }
 
 pub fn merge(a: MergeArgs) -> CliResult {

@@ -20,8 +20,8 @@ use crate::learner::{
     ClosedLoopE3d, ContextTargets, ContextualLearner, LearnerError, LearnerKind, Params, QLearning,
 };
 use crate::scene::{CommandSpec, Scene, WorldSpec};
-use crate::Target;
-use rayon::prelude::*;
+use crate::session::{run_episode_sessions, Control};
+use crate::{Target, World};
 
 /// The arms, in the order of the table.
 pub const ARMS: [&str; 5] = [
@@ -140,18 +140,10 @@ fn with_slots(scene: &Scene, n: usize) -> Result<Scene, ClosedLoopError> {
     Ok(long.validate()?)
 }
 
-/// Runs one session of `arm`.
-pub fn run_arm(
-    scene: &Scene,
-    arm: &'static str,
-    seed: u64,
-    cfg: &ClosedLoopConfig,
-) -> Result<ArmSession, ClosedLoopError> {
-    if !matches!(scene.spec().world, WorldSpec::Grid(_)) {
-        return Err(ClosedLoopError::Scene(scene.spec().name.clone()));
-    }
-    let n = scene.spec().num_slots();
-    let shared = ContextTargets::Shared(Target::Uniform);
+/// The episodes of a session of `arm`: `K` commands observing the
+/// current cell (the closed-loop arms), or one command of `K n` moves
+/// from the scene's start (the open-loop arms).
+fn arm_config(arm: &str, seed: u64, cfg: &ClosedLoopConfig) -> EpisodeConfig {
     let closed = EpisodeConfig {
         episodes: cfg.episodes,
         commands: cfg.commands,
@@ -159,12 +151,33 @@ pub fn run_arm(
         use_reward: true,
         observe: Observe::State,
     };
-    let rec: EpisodeRecord = match arm {
+    match arm {
+        "e3d_open_loop" | "uniform" => EpisodeConfig {
+            commands: 1,
+            observe: Observe::StartContext,
+            ..closed
+        },
+        _ => closed,
+    }
+}
+
+/// A session of `arm`: its world (the scene, or the scene of the long
+/// command) and its learner, fresh.
+fn arm_setup(
+    scene: &Scene,
+    arm: &str,
+    cfg: &ClosedLoopConfig,
+) -> Result<(Box<dyn World + Send>, Box<dyn ContextualLearner + Send>), ClosedLoopError> {
+    if !matches!(scene.spec().world, WorldSpec::Grid(_)) {
+        return Err(ClosedLoopError::Scene(scene.spec().name.clone()));
+    }
+    let shared = ContextTargets::Shared(Target::Uniform);
+    Ok(match arm {
         "e3d_closed_loop" | "e3d_contextual" | "qlearning" => {
-            let mut world = scene.build();
+            let world = scene.build();
             let space = scene.command_space();
-            let contexts = closed.num_contexts(&world);
-            let mut learner: Box<dyn ContextualLearner> = match arm {
+            let contexts = arm_config(arm, 0, cfg).num_contexts(&*world);
+            let learner: Box<dyn ContextualLearner + Send> = match arm {
                 "qlearning" => Box::new(QLearning::new(&space, contexts, &cfg.params, cfg.gamma)?),
                 _ => Box::new(ClosedLoopE3d::new(
                     &space,
@@ -179,45 +192,57 @@ pub fn run_arm(
                     },
                 )?),
             };
-            run_episodes(&mut world, &mut learner, &closed)?
+            (world, learner)
         }
         "e3d_open_loop" | "uniform" => {
-            let long = with_slots(scene, n * cfg.commands)?;
-            let mut world = long.build();
+            let long = with_slots(scene, scene.spec().num_slots() * cfg.commands)?;
             let kind = if arm == "uniform" {
                 LearnerKind::Uniform
             } else {
                 LearnerKind::E3d
             };
-            let mut learner = kind.make_contextual(
+            let learner = kind.make_contextual(
                 &cfg.params,
                 &long.command_space(),
                 long.num_effects(),
                 1,
                 &shared,
             )?;
-            let open = EpisodeConfig {
-                commands: 1,
-                observe: Observe::StartContext,
-                ..closed
-            };
-            run_episodes(&mut world, &mut learner, &open)?
+            (long.build(), learner)
         }
         _ => return Err(ClosedLoopError::Scene(format!("unknown arm {arm}"))),
-    };
+    })
+}
+
+/// A session's figures, from its record.
+fn figures(arm: &'static str, seed: u64, rec: &EpisodeRecord) -> ArmSession {
     let rewards: Vec<f64> = rec.episode_rewards().collect();
     let late = rewards.len().saturating_sub(1000);
-    Ok(ArmSession {
+    ArmSession {
         arm,
         seed,
         first_reward_episode: rec.first_reward_episode(),
         cumulative_reward: rewards.iter().sum(),
         late_reward: rewards[late..].iter().sum(),
-    })
+    }
 }
 
-/// Every arm on every seed, in parallel (the results do not depend on the
-/// threads: each session has its own generator), in the order arm, seed.
+/// Runs one session of `arm` (one of [`ARMS`]).
+pub fn run_arm(
+    scene: &Scene,
+    arm: &'static str,
+    seed: u64,
+    cfg: &ClosedLoopConfig,
+) -> Result<ArmSession, ClosedLoopError> {
+    let (mut world, mut learner) = arm_setup(scene, arm, cfg)?;
+    let config = arm_config(arm, seed, cfg);
+    let rec = run_episodes(&mut *world, &mut *learner, &config, &Control::default())?;
+    Ok(figures(arm, seed, &rec))
+}
+
+/// Every arm on every seed, in parallel through
+/// [`run_episode_sessions`] (the results do not depend on the threads:
+/// each session has its own generator), in the order arm, seed.
 pub fn run_comparison(
     scene: &Scene,
     cfg: &ClosedLoopConfig,
@@ -227,7 +252,16 @@ pub fn run_comparison(
         .iter()
         .flat_map(|&a| (0..cfg.seeds).map(move |s| (a, s)))
         .collect();
-    jobs.par_iter()
-        .map(|&(arm, seed)| run_arm(scene, arm, seed, cfg))
+    let configs: Vec<EpisodeConfig> = jobs
+        .iter()
+        .map(|&(arm, seed)| arm_config(arm, seed, cfg))
+        .collect();
+    let make = |i: usize| arm_setup(scene, jobs[i].0, cfg);
+    let mut records = vec![EpisodeRecord::default(); jobs.len()];
+    let status = run_episode_sessions(&configs, make, &mut records, &Control::default());
+    jobs.iter()
+        .zip(status)
+        .zip(&records)
+        .map(|((&(arm, seed), st), rec)| st.map(|()| figures(arm, seed, rec)))
         .collect()
 }

@@ -3,18 +3,18 @@
 //! arXiv 1901.10995): one command per reached cell; pick a cell, mutate
 //! its command, execute it.
 
-use super::mutation::{Genome, Slots, SymbolGenome, ValueGenome};
-use super::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
-use super::LearnerError;
+use super::mutation::{check_cells, kept_commands_state, Genome, SymbolGenome, ValueGenome};
+use super::state::{LearnerState, StateShape};
 use super::{ContinuousLearner, Learner, Params};
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
+use serde::{Deserialize, Serialize};
 
 /// One reached cell: the command kept for it, the reward it got, and how
 /// many times the cell was chosen.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 struct Entry<T> {
     command: Vec<T>,
     reward: f64,
@@ -24,7 +24,8 @@ struct Entry<T> {
 }
 
 /// The archive, for either kind of command.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(bound = "")]
 struct Core<G: Genome> {
     genome: G,
     cells: Vec<Option<Entry<G::Elem>>>,
@@ -162,7 +163,7 @@ impl<G: Genome> Core<G> {
 /// assert_eq!(a.last_cell(), Some(2));
 /// assert_eq!(a.reached(), [2]);
 /// ```
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Archive {
     core: Core<SymbolGenome>,
 }
@@ -219,7 +220,7 @@ impl Learner for Archive {
 /// [`Archive`] over continuous commands: the same archive, a mutation adds
 /// `N(0, sigma^2)` to every value in the unit coordinates of its range
 /// ([`Params::sigma`], default 0.1; [`mutate_values`](super::mutation::mutate_values)).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ArchiveValues {
     core: Core<ValueGenome>,
 }
@@ -298,90 +299,16 @@ pub(crate) fn spread(xs: impl Iterator<Item = f64>, range: (f64, f64)) -> (f64, 
     (mean, (sq / n - mean * mean).max(0.0).sqrt())
 }
 
-impl<T: StateField> StateField for Entry<T> {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.command).put(&self.reward);
-        w.put(&self.chosen).put(&self.weight);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok(Entry {
-            command: r.get()?,
-            reward: r.get()?,
-            chosen: r.get()?,
-            weight: r.get()?,
+impl<G: Genome> Core<G> {
+    /// Checks an archive read from a state.
+    fn validate(&self) -> Result<(), String> {
+        self.genome.validate()?;
+        let n = self.genome.sizes().len();
+        let (cells, reached) = (&self.cells, &self.reached);
+        check_cells("an archive", n, cells, reached, self.last_cell, |e| {
+            e.command.len()
         })
     }
 }
 
-/// The genome, every cell's entry, the order they were reached in, the
-/// rarity and the last cell chosen.
-impl<G: Genome + StateField + Slots> StateField for Core<G>
-where
-    G::Elem: StateField,
-{
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.genome).put(&self.cells).put(&self.reached);
-        w.put(&self.rarity).put(&self.last_cell);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let c = Core {
-            genome: G::get(r)?,
-            cells: r.get()?,
-            reached: r.get()?,
-            rarity: r.get()?,
-            last_cell: r.get()?,
-        };
-        let n = c.genome.slots();
-        r.check(!c.cells.is_empty(), || "no cell".into())?;
-        let kept = c.cells.iter().flatten().all(|e| e.command.len() == n);
-        let reached = c
-            .reached
-            .iter()
-            .all(|&e| c.cells.get(e).is_some_and(Option::is_some))
-            && c.reached.len() == c.cells.iter().flatten().count()
-            && c.last_cell
-                .is_none_or(|e| c.cells.get(e).is_some_and(Option::is_some));
-        r.check(kept && reached, || {
-            format!(
-                "an archive whose commands or reached cells do not fit {} cells of {n} slots",
-                c.cells.len()
-            )
-        })?;
-        Ok(c)
-    }
-}
-
-impl StateField for Archive {
-    fn put(&self, w: &mut StateWriter) {
-        self.core.put(w)
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok(Archive { core: r.get()? })
-    }
-}
-
-impl LearnerState for Archive {
-    const KIND: &'static str = "archive";
-    fn shape(&self) -> StateShape {
-        StateShape::of(self.core.genome.sizes.clone(), Some(self.core.cells.len()))
-    }
-}
-
-impl StateField for ArchiveValues {
-    fn put(&self, w: &mut StateWriter) {
-        self.core.put(w)
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok(ArchiveValues { core: r.get()? })
-    }
-}
-
-impl LearnerState for ArchiveValues {
-    const KIND: &'static str = "archive_values";
-    fn shape(&self) -> StateShape {
-        StateShape::of(
-            vec![0; self.core.genome.slots()],
-            Some(self.core.cells.len()),
-        )
-    }
-}
+kept_commands_state!(Archive "archive", ArchiveValues "archive_values");

@@ -23,6 +23,7 @@ use crate::effect::Target;
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
+use serde::{Deserialize, Serialize};
 
 mod state;
 
@@ -179,7 +180,7 @@ pub fn check_context_effects(num_contexts: usize, num_effects: usize) -> Result<
 
 /// A dense table of action-values `Q(s, a)` over every (context, whole
 /// command), all 0 at the start.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 struct ActionValues {
     q: Vec<f64>,
     commands: usize,
@@ -257,7 +258,7 @@ impl ActionValues {
 /// ```
 ///
 /// With one command per episode it is contextual E3D, bit for bit.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ClosedLoopE3d {
     policy: PerContext<E3d>,
     reference: ActionValues,
@@ -358,7 +359,7 @@ impl ContextualLearner for ClosedLoopE3d {
 /// a command of largest `Q(s, .)`, ties broken uniformly at random; after
 /// each command `Q(s, a) <- Q(s, a) + alpha (r + gamma max_a' Q(s', a') - Q(s, a))`
 /// (`r` alone after the episode's last command).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct QLearning {
     values: ActionValues,
     space: CommandSpace,

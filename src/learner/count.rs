@@ -1,10 +1,11 @@
 use super::softmax::SoftmaxSlots;
 use super::state::tables::{counts_of, no_table, StateTable};
-use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
+use super::state::{ensure, sizes_of, LearnerState, StateShape};
 use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
+use serde::{Deserialize, Serialize};
 
 /// A count-based exploration bonus on effects (after Bellemare et al.
 /// 2016, "Unifying count-based exploration and intrinsic motivation"):
@@ -39,7 +40,7 @@ use crate::world::Outcome;
 /// assert!((l.q(0)[0] - second).abs() < 1e-12);
 /// assert_eq!(l.count(2), 2);
 /// ```
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CountBonus {
     slots: SoftmaxSlots,
     counts: Vec<u64>,
@@ -90,24 +91,14 @@ impl Learner for CountBonus {
     }
 }
 
-impl StateField for CountBonus {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.slots).put(&self.counts);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let l = CountBonus {
-            slots: r.get()?,
-            counts: r.get()?,
-        };
-        r.check(!l.counts.is_empty(), || "no effect counted".into())?;
-        Ok(l)
-    }
-}
-
 impl LearnerState for CountBonus {
     const KIND: &'static str = "count";
     fn shape(&self) -> StateShape {
         StateShape::of(sizes_of(&self.slots.offsets), Some(self.counts.len()))
+    }
+    fn validate(&self) -> Result<(), String> {
+        self.slots.validate()?;
+        ensure(!self.counts.is_empty(), || "no effect counted".into())
     }
     /// `q`, `policy` and `counts` (`N(e)`, integers), all writable.
     fn tables(&self) -> Vec<StateTable> {

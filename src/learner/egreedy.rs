@@ -1,11 +1,12 @@
 use super::softmax::check_offsets;
 use super::state::tables::{no_table, slot_rows, StateTable};
-use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
+use super::state::{sizes_of, LearnerState, StateShape};
 use super::{slot_offsets, Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
+use serde::{Deserialize, Serialize};
 
 /// Epsilon-greedy, per slot and off-policy: with probability `epsilon` a
 /// slot's symbol is drawn uniformly, otherwise it is the argmax of
@@ -15,7 +16,7 @@ use rand::RngExt;
 /// Ties are broken at random on purpose: taking the first maximal symbol
 /// would start the greedy policy on `EEEEEEE`, next to the goal of
 /// `two_rooms`, and flatter the baseline.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct EpsilonGreedy {
     q: Vec<f64>,
     offsets: Vec<usize>,
@@ -95,27 +96,13 @@ impl Learner for EpsilonGreedy {
     }
 }
 
-impl StateField for EpsilonGreedy {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.q).put(&self.offsets).put(&self.alpha);
-        w.put(&self.epsilon);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let l = EpsilonGreedy {
-            q: r.get()?,
-            offsets: r.get()?,
-            alpha: r.get()?,
-            epsilon: r.get()?,
-        };
-        check_offsets(r, &l.offsets, l.q.len())?;
-        Ok(l)
-    }
-}
-
 impl LearnerState for EpsilonGreedy {
     const KIND: &'static str = "egreedy";
     fn shape(&self) -> StateShape {
         StateShape::of(sizes_of(&self.offsets), None)
+    }
+    fn validate(&self) -> Result<(), String> {
+        check_offsets(&self.offsets, self.q.len())
     }
     /// `q` (writable) and the `policy` it implies (read-only: the
     /// probability of each symbol, epsilon spread over the slot).

@@ -1,13 +1,14 @@
 //! Learners of continuous commands: a Gaussian E3D and the uniform sampler.
 
 use super::state::tables::{check_len, log_target_of, model_of, no_table, target_of, StateTable};
-use super::state::{check_target, LearnerState, StateField, StateReader, StateShape, StateWriter};
+use super::state::{check_model, check_values, ensure, LearnerState, StateShape};
 use super::{ContinuousLearner, LearnerError, Params};
 use crate::command::ValueSpace;
 use crate::effect::{log_floored, EffectModel, Target};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
+use serde::{Deserialize, Serialize};
 
 /// The standard deviation a [`GaussianE3d`] slot starts with, in the unit
 /// coordinates of its range (`[-1, 1]`): `1 / sqrt(3)`, the uniform
@@ -95,7 +96,7 @@ pub(crate) fn normal(rng: &mut SessionRng) -> f64 {
 /// assert_eq!(l.slot_gaussian(0), (0.0, 1.8 / 3f64.sqrt()));
 /// l.learn(&v, &Outcome { effect: 1, reward: 0.0, point: [0.0, 0.0] });
 /// ```
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct GaussianE3d {
     space: ValueSpace,
     mean: Vec<f64>,
@@ -215,7 +216,7 @@ impl ContinuousLearner for GaussianE3d {
 /// assert!((0.0..2.0).contains(&v[0]) && (-1.0..1.0).contains(&v[1]));
 /// assert_eq!(l.slot_gaussian(0), (1.0, 2.0 / 12f64.sqrt())); // its mean and sd
 /// ```
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct UniformValues {
     space: ValueSpace,
 }
@@ -253,38 +254,6 @@ impl ContinuousLearner for UniformValues {
     }
 }
 
-impl StateField for GaussianE3d {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.space).put(&self.mean).put(&self.log_sd);
-        w.put(&self.draws).put(&self.sent).put(&self.model);
-        w.put(&self.log_target).put(&self.baseline).put(&self.step);
-        w.put(&self.lambda).put(&self.inv_beta);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let l = GaussianE3d {
-            space: r.get()?,
-            mean: r.get()?,
-            log_sd: r.get()?,
-            draws: r.get()?,
-            sent: r.get()?,
-            model: r.get()?,
-            log_target: r.get()?,
-            baseline: r.get()?,
-            step: r.get()?,
-            lambda: r.get()?,
-            inv_beta: r.get()?,
-        };
-        let n = l.space.num_slots();
-        let fits = |v: &[f64]| v.is_empty() || v.len() == n;
-        r.check(
-            l.mean.len() == n && l.log_sd.len() == n && fits(&l.draws) && fits(&l.sent),
-            || format!("a policy of other than {n} slots"),
-        )?;
-        check_target(r, &l.log_target, &l.model)?;
-        Ok(l)
-    }
-}
-
 impl LearnerState for GaussianE3d {
     const KIND: &'static str = "gaussian_e3d";
     fn shape(&self) -> StateShape {
@@ -292,6 +261,16 @@ impl LearnerState for GaussianE3d {
             vec![0; self.space.num_slots()],
             Some(self.model.num_effects()),
         )
+    }
+    fn validate(&self) -> Result<(), String> {
+        check_values(&self.space)?;
+        let n = self.space.num_slots();
+        let fits = |v: &[f64]| v.is_empty() || v.len() == n;
+        ensure(
+            self.mean.len() == n && self.log_sd.len() == n && fits(&self.draws) && fits(&self.sent),
+            || format!("a policy of other than {n} slots"),
+        )?;
+        check_model(&self.model, &self.log_target)
     }
     /// The policy's `mean` and standard deviation `sd` per slot (in the
     /// slot's unit coordinates, `[-1, 1]` mapped onto its range, as the
@@ -345,18 +324,12 @@ impl LearnerState for GaussianE3d {
     }
 }
 
-impl StateField for UniformValues {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.space);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok(UniformValues { space: r.get()? })
-    }
-}
-
 impl LearnerState for UniformValues {
     const KIND: &'static str = "uniform_values";
     fn shape(&self) -> StateShape {
         StateShape::of(vec![0; self.space.num_slots()], None)
+    }
+    fn validate(&self) -> Result<(), String> {
+        check_values(&self.space)
     }
 }

@@ -5,14 +5,14 @@
 //! is nearest to it, mutate it, execute it, remember what it reached.
 
 use super::archive::spread;
-use super::mutation::{Genome, Slots, SymbolGenome, ValueGenome};
-use super::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
-use super::LearnerError;
+use super::mutation::{check_cells, kept_commands_state, Genome, SymbolGenome, ValueGenome};
+use super::state::{ensure, LearnerState, StateShape};
 use super::{ContinuousLearner, Learner, Params};
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
+use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 
 /// Goals are drawn in the box of the known outcomes widened by this share
@@ -29,14 +29,15 @@ pub const PROGRESS_BINS: usize = 4;
 pub const PROGRESS_WINDOW: usize = 20;
 
 /// A reached cell: where its command ended, and the command.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 struct Known<T> {
     point: [f64; 2],
     command: Vec<T>,
 }
 
 /// Goal babbling, for either kind of command.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(bound = "")]
 struct Core<G: Genome> {
     genome: G,
     cells: Vec<Option<Known<G::Elem>>>,
@@ -252,7 +253,7 @@ impl<G: Genome> Core<G> {
 /// let parent = g.last_parent().unwrap();
 /// assert_eq!(g.nearest(g.last_goal().unwrap()), Some(parent));
 /// ```
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct GoalBabbling {
     core: Core<SymbolGenome>,
 }
@@ -318,7 +319,7 @@ impl Learner for GoalBabbling {
 /// [`GoalBabbling`] over continuous commands: a mutation adds `N(0,
 /// sigma^2)` to every value in the unit coordinates of its range
 /// ([`Params::sigma`], default 0.1).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct GoalBabblingValues {
     core: Core<ValueGenome>,
 }
@@ -389,105 +390,30 @@ impl ContinuousLearner for GoalBabblingValues {
     }
 }
 
-impl<T: StateField> StateField for Known<T> {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.point).put(&self.command);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok(Known {
-            point: r.get()?,
-            command: r.get()?,
-        })
-    }
-}
-
-/// The genome, every known cell, the goal box, the regions'
-/// competences and what the last proposal chose.
-impl<G: Genome + StateField + Slots> StateField for Core<G>
-where
-    G::Elem: StateField,
-{
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.genome).put(&self.cells).put(&self.known);
-        w.put(&self.lo).put(&self.hi).put(&self.goal_progress);
-        w.put(&self.competence).put(&self.last_goal);
-        w.put(&self.last_region).put(&self.last_parent);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let c = Core {
-            genome: G::get(r)?,
-            cells: r.get()?,
-            known: r.get()?,
-            lo: r.get()?,
-            hi: r.get()?,
-            goal_progress: r.get()?,
-            competence: r.get()?,
-            last_goal: r.get()?,
-            last_region: r.get()?,
-            last_parent: r.get()?,
-        };
-        let n = c.genome.slots();
-        let known = |e: &usize| c.cells.get(*e).is_some_and(Option::is_some);
-        let fits = !c.cells.is_empty()
-            && c.cells.iter().flatten().all(|k| k.command.len() == n)
-            && c.known.iter().all(known)
-            && c.known.len() == c.cells.iter().flatten().count()
-            && c.last_parent.as_ref().is_none_or(known)
-            && c.competence.len() == PROGRESS_BINS * PROGRESS_BINS
-            && c.last_region < c.competence.len();
+impl<G: Genome> Core<G> {
+    /// Checks goal babbling read from a state.
+    fn validate(&self) -> Result<(), String> {
+        self.genome.validate()?;
         // a point that is not a number reaches no goal: a proposal would
         // find no nearest known cell
         let finite = |p: &[f64; 2]| p.iter().all(|x| x.is_finite());
-        let numbers = c.cells.iter().flatten().all(|k| finite(&k.point))
-            && c.last_goal.as_ref().is_none_or(finite)
-            && c.lo.iter().chain(&c.hi).all(|x| !x.is_nan())
-            && !c.goal_progress.is_nan()
-            && c.competence.iter().flatten().all(|x| x.is_finite());
-        r.check(numbers, || {
-            "goal babbling with a point, goal box or competence that is not a finite number"
-                .to_string()
+        let numbers = self.cells.iter().flatten().all(|k| finite(&k.point))
+            && self.last_goal.as_ref().is_none_or(finite)
+            && self.competence.iter().flatten().all(|x| x.is_finite());
+        ensure(numbers, || {
+            "goal babbling with a point, goal or competence that is not a finite number".into()
         })?;
-        r.check(fits, || {
-            format!(
-                "goal babbling whose cells, commands or regions do not fit {} cells of {n} slots",
-                c.cells.len()
-            )
+        let n = self.genome.sizes().len();
+        let (cells, known) = (&self.cells, &self.known);
+        check_cells("goal babbling", n, cells, known, self.last_parent, |k| {
+            k.command.len()
         })?;
-        Ok(c)
-    }
-}
-
-impl StateField for GoalBabbling {
-    fn put(&self, w: &mut StateWriter) {
-        self.core.put(w)
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok(GoalBabbling { core: r.get()? })
-    }
-}
-
-impl LearnerState for GoalBabbling {
-    const KIND: &'static str = "goal_babbling";
-    fn shape(&self) -> StateShape {
-        StateShape::of(self.core.genome.sizes.clone(), Some(self.core.cells.len()))
-    }
-}
-
-impl StateField for GoalBabblingValues {
-    fn put(&self, w: &mut StateWriter) {
-        self.core.put(w)
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok(GoalBabblingValues { core: r.get()? })
-    }
-}
-
-impl LearnerState for GoalBabblingValues {
-    const KIND: &'static str = "goal_babbling_values";
-    fn shape(&self) -> StateShape {
-        StateShape::of(
-            vec![0; self.core.genome.slots()],
-            Some(self.core.cells.len()),
+        ensure(
+            self.competence.len() == PROGRESS_BINS * PROGRESS_BINS
+                && self.last_region < self.competence.len(),
+            || format!("goal babbling of {} regions", self.competence.len()),
         )
     }
 }
+
+kept_commands_state!(GoalBabbling "goal_babbling", GoalBabblingValues "goal_babbling_values");

@@ -10,11 +10,11 @@
 //!   clamps to the range.
 
 use super::gaussian::normal;
-use super::state::{StateField, StateReader, StateWriter};
-use super::LearnerError;
+use super::state::{check_values, ensure};
 use crate::command::ValueSpace;
 use crate::rng::SessionRng;
 use rand::RngExt;
+use serde::{de::DeserializeOwned, Deserialize, Serialize};
 
 /// Resamples exactly `min(k, m)` distinct slots of `symbols`, `m` the
 /// number of slots whose alphabet has more than one symbol: the slots are
@@ -105,20 +105,25 @@ pub(crate) fn random_values(space: &ValueSpace, rng: &mut SessionRng, out: &mut 
 
 /// What a learner of kept commands needs of a command type: a uniform
 /// command and a mutation (symbols: `u8`; values: `f64`).
-pub(crate) trait Genome: Clone + Send {
+pub(crate) trait Genome: Clone + Send + Serialize + DeserializeOwned {
     /// The element of a command.
-    type Elem: Copy + PartialEq + Send + std::fmt::Debug;
+    type Elem: Copy + PartialEq + Send + std::fmt::Debug + Serialize + DeserializeOwned;
     /// A uniform command into `out`.
     fn random(&self, rng: &mut SessionRng, out: &mut Vec<Self::Elem>);
     /// Mutates `cmd` in place.
     fn mutate(&mut self, rng: &mut SessionRng, cmd: &mut [Self::Elem]);
+    /// The alphabet size of each slot (0 for a slot of values).
+    fn sizes(&self) -> Vec<usize>;
+    /// Checks a genome read from a state.
+    fn validate(&self) -> Result<(), String>;
 }
 
 /// Commands of symbols, mutated by resampling `k` slots.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub(crate) struct SymbolGenome {
     pub(crate) sizes: Vec<usize>,
     pub(crate) k: usize,
+    #[serde(skip)]
     scratch: Vec<usize>,
 }
 
@@ -140,11 +145,21 @@ impl Genome for SymbolGenome {
     fn mutate(&mut self, rng: &mut SessionRng, cmd: &mut [u8]) {
         mutate_symbols(&self.sizes, self.k, rng, cmd, &mut self.scratch)
     }
+    fn sizes(&self) -> Vec<usize> {
+        self.sizes.clone()
+    }
+    fn validate(&self) -> Result<(), String> {
+        let sizes = &self.sizes;
+        ensure(
+            !sizes.is_empty() && sizes.iter().all(|&n| (1..=256).contains(&n)),
+            || format!("slots of alphabet sizes {sizes:?}"),
+        )
+    }
 }
 
 /// Commands of values, mutated by Gaussian noise of `sigma` (unit
 /// coordinates).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub(crate) struct ValueGenome {
     pub(crate) space: ValueSpace,
     pub(crate) sigma: f64,
@@ -158,48 +173,52 @@ impl Genome for ValueGenome {
     fn mutate(&mut self, rng: &mut SessionRng, cmd: &mut [f64]) {
         mutate_values(&self.space, self.sigma, rng, cmd)
     }
-}
-
-impl StateField for SymbolGenome {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.sizes).put(&self.k);
+    fn sizes(&self) -> Vec<usize> {
+        vec![0; self.space.num_slots()]
     }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let (sizes, k): (Vec<usize>, usize) = (r.get()?, r.get()?);
-        r.check(
-            !sizes.is_empty() && sizes.iter().all(|&n| (1..=256).contains(&n)),
-            || format!("slots of alphabet sizes {sizes:?}"),
-        )?;
-        Ok(SymbolGenome::new(sizes, k))
+    fn validate(&self) -> Result<(), String> {
+        check_values(&self.space)
     }
 }
 
-impl StateField for ValueGenome {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.space).put(&self.sigma);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok(ValueGenome {
-            space: r.get()?,
-            sigma: r.get()?,
-        })
-    }
+/// Checks kept commands read from a state (`what`: the learner, named
+/// in the error): some cells, each kept command of `slots` slots, `order`
+/// the kept cells each once, `last` a kept cell.
+pub(crate) fn check_cells<T>(
+    what: &str,
+    slots: usize,
+    cells: &[Option<T>],
+    order: &[usize],
+    last: Option<usize>,
+    len: impl Fn(&T) -> usize,
+) -> Result<(), String> {
+    let kept = |e: &usize| cells.get(*e).is_some_and(Option::is_some);
+    let ok = !cells.is_empty()
+        && cells.iter().flatten().all(|c| len(c) == slots)
+        && order.iter().all(kept)
+        && order.len() == cells.iter().flatten().count()
+        && last.as_ref().is_none_or(kept);
+    ensure(ok, || {
+        format!(
+            "{what} whose commands or reached cells do not fit {} cells of {slots} slots",
+            cells.len()
+        )
+    })
 }
 
-/// The number of slots of a genome's commands, to check kept commands
-/// read from a state.
-pub(crate) trait Slots {
-    fn slots(&self) -> usize;
+/// [`LearnerState`](super::LearnerState) for learners of kept commands
+/// (a `core` with a `genome` and `cells`, and `Core::validate`), by kind.
+macro_rules! kept_commands_state {
+    ($($learner:ident $kind:literal),*) => {$(
+        impl LearnerState for $learner {
+            const KIND: &'static str = $kind;
+            fn shape(&self) -> StateShape {
+                StateShape::of(self.core.genome.sizes(), Some(self.core.cells.len()))
+            }
+            fn validate(&self) -> Result<(), String> {
+                self.core.validate()
+            }
+        }
+    )*};
 }
-
-impl Slots for SymbolGenome {
-    fn slots(&self) -> usize {
-        self.sizes.len()
-    }
-}
-
-impl Slots for ValueGenome {
-    fn slots(&self) -> usize {
-        self.space.num_slots()
-    }
-}
+pub(crate) use kept_commands_state;

@@ -1,13 +1,12 @@
 use super::softmax::SoftmaxSlots;
 use super::state::tables::{log_target_of, model_of, no_table, target_of, StateTable};
-use super::state::{
-    check_target, sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter,
-};
+use super::state::{check_model, sizes_of, LearnerState, StateShape};
 use super::{Learner, LearnerError, ParamError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::{log_floored, EffectModel, Target};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
+use serde::{Deserialize, Serialize};
 
 /// E3D that cannot lock: the paper's update of the chosen symbols, and
 /// every value relaxing slowly towards 0.
@@ -55,7 +54,7 @@ use crate::world::Outcome;
 /// let relaxed = (1.0 - RelaxedE3d::RELAX * 0.3 * 0.03) * pushed;
 /// assert_eq!(l.q(0)[0], relaxed);
 /// ```
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct RelaxedE3d {
     slots: SoftmaxSlots,
     model: EffectModel,
@@ -134,23 +133,6 @@ impl Learner for RelaxedE3d {
     }
 }
 
-impl StateField for RelaxedE3d {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.slots).put(&self.model).put(&self.log_target);
-        w.put(&self.relax);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let l = RelaxedE3d {
-            slots: r.get()?,
-            model: r.get()?,
-            log_target: r.get()?,
-            relax: r.get()?,
-        };
-        check_target(r, &l.log_target, &l.model)?;
-        Ok(l)
-    }
-}
-
 impl LearnerState for RelaxedE3d {
     const KIND: &'static str = "e3d_relax";
     fn shape(&self) -> StateShape {
@@ -158,6 +140,10 @@ impl LearnerState for RelaxedE3d {
             sizes_of(&self.slots.offsets),
             Some(self.model.num_effects()),
         )
+    }
+    fn validate(&self) -> Result<(), String> {
+        self.slots.validate()?;
+        check_model(&self.model, &self.log_target)
     }
     /// `q`, `policy`, `p` and `target`, all writable.
     fn tables(&self) -> Vec<StateTable> {

@@ -1,12 +1,13 @@
 use super::softmax::SoftmaxSlots;
 use super::state::tables::{log_target_of, no_table, target_of, StateTable};
-use super::state::{sizes_of, LearnerState, StateField, StateReader, StateShape, StateWriter};
+use super::state::{ensure, sizes_of, LearnerState, StateShape};
 use super::{Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
+use serde::{Deserialize, Serialize};
 
 /// State marginal matching (after Lee et al. 2019, "Efficient exploration
 /// via state marginal matching") on the effect histogram: the intrinsic
@@ -43,7 +44,7 @@ use rand::RngExt;
 /// assert!((l.q(0)[0] - expected).abs() < 1e-12);
 /// assert_eq!(l.slot_policy(0), None);
 /// ```
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct StateMarginalMatching {
     slots: SoftmaxSlots,
     counts: Vec<u64>,
@@ -123,50 +124,29 @@ impl Learner for StateMarginalMatching {
     }
 }
 
-impl StateField for StateMarginalMatching {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.slots).put(&self.counts).put(&self.trials);
-        w.put(&self.log_target)
-            .put(&self.snapshots)
-            .put(&self.every);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let l = StateMarginalMatching {
-            slots: r.get()?,
-            counts: r.get()?,
-            trials: r.get()?,
-            log_target: r.get()?,
-            snapshots: r.get()?,
-            every: r.get()?,
-        };
-        let n = l.slots.q.len();
-        r.check(
-            !l.counts.is_empty() && l.counts.len() == l.log_target.len(),
-            || {
-                format!(
-                    "{} counts for a target of {} effects",
-                    l.counts.len(),
-                    l.log_target.len()
-                )
-            },
-        )?;
-        r.check(
-            l.every > 0 && l.snapshots.iter().all(|s| s.len() == n),
-            || {
-                format!(
-                    "policies kept every {} trials, of sizes other than {n}",
-                    l.every
-                )
-            },
-        )?;
-        Ok(l)
-    }
-}
-
 impl LearnerState for StateMarginalMatching {
     const KIND: &'static str = "smm";
     fn shape(&self) -> StateShape {
         StateShape::of(sizes_of(&self.slots.offsets), Some(self.counts.len()))
+    }
+    fn validate(&self) -> Result<(), String> {
+        self.slots.validate()?;
+        let (counts, n) = (self.counts.len(), self.slots.q.len());
+        ensure(counts > 0 && counts == self.log_target.len(), || {
+            format!(
+                "{counts} counts for a target of {} effects",
+                self.log_target.len()
+            )
+        })?;
+        ensure(
+            self.every > 0 && self.snapshots.iter().all(|s| s.len() == n),
+            || {
+                format!(
+                    "policies kept every {} trials, of sizes other than {n}",
+                    self.every
+                )
+            },
+        )
     }
     /// `q` and `policy` (of the current policy) and `target`, writable;
     /// `counts` (the effects' visits, which the kept copies' schedule

@@ -8,15 +8,16 @@
 //! slots of 4 symbols (E3D: 0.13 µs). [`E3d`](super::E3d) keeps its own, incremental tables.
 
 use super::state::tables::{q_of_policy, slot_rows, StateTable};
-use super::state::{sizes_of, StateField, StateReader, StateWriter};
+use super::state::{check_finite, check_rates, ensure, sizes_of};
 use super::{slot_offsets, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
 use rand::RngExt;
+use serde::{Deserialize, Serialize};
 
 /// `Q` per slot, the inverse temperature `beta`, and the rates of the
 /// paper's update (computed once).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub(crate) struct SoftmaxSlots {
     /// `Q[symbol, slot]` at `offsets[slot] + symbol`.
     pub q: Vec<f64>,
@@ -131,50 +132,32 @@ impl SoftmaxSlots {
     }
 }
 
-impl StateField for SoftmaxSlots {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.q).put(&self.offsets).put(&self.beta);
-        w.put(&self.decay).put(&self.alpha_lambda);
-        w.put(&self.alpha_over_beta);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let s = SoftmaxSlots {
-            q: r.get()?,
-            offsets: r.get()?,
-            beta: r.get()?,
-            decay: r.get()?,
-            alpha_lambda: r.get()?,
-            alpha_over_beta: r.get()?,
-        };
-        check_offsets(r, &s.offsets, s.q.len())?;
-        crate::learner::state::check_rates(
-            r,
+impl SoftmaxSlots {
+    /// Checks slots read from a state: their offsets, rates and `Q`.
+    pub fn validate(&self) -> Result<(), String> {
+        check_offsets(&self.offsets, self.q.len())?;
+        check_rates(
             &[
-                ("1 - alpha lambda", s.decay),
-                ("alpha lambda", s.alpha_lambda),
-                ("alpha / beta", s.alpha_over_beta),
+                ("1 - alpha lambda", self.decay),
+                ("alpha lambda", self.alpha_lambda),
+                ("alpha / beta", self.alpha_over_beta),
             ],
-            s.beta,
+            self.beta,
         )?;
-        crate::learner::state::check_finite(r, "q", &s.q)?;
-        Ok(s)
+        check_finite("q", &self.q)
     }
 }
 
 /// Checks offsets of slots read from a state: from 0 to `len`, each slot
 /// 1 to 256 symbols.
-pub(crate) fn check_offsets(
-    r: &StateReader<'_>,
-    offsets: &[usize],
-    len: usize,
-) -> Result<(), LearnerError> {
+pub(crate) fn check_offsets(offsets: &[usize], len: usize) -> Result<(), String> {
     let ok = offsets.len() >= 2
         && offsets[0] == 0
         && offsets.last() == Some(&len)
         && offsets
             .windows(2)
             .all(|w| w[0] < w[1] && w[1] - w[0] <= 256);
-    r.check(ok, || {
+    ensure(ok, || {
         format!("slot offsets {offsets:?} for a table of {len} values")
     })
 }

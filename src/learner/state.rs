@@ -1,25 +1,27 @@
 //! Saving and loading a learner's whole state, bit for bit: one format
 //! shared by every learner.
 //!
-//! A learner that implements [`LearnerState`] writes its fields, in a fixed
-//! order, through a [`StateWriter`], and reads them back through a
-//! [`StateReader`]; [`LearnerState::to_bytes`] and
-//! [`LearnerState::from_bytes`] frame them. The bytes are:
+//! A learner that implements [`LearnerState`] derives `serde`'s
+//! `Serialize` and `Deserialize`; [`LearnerState::to_bytes`] and
+//! [`LearnerState::from_bytes`] frame it. The bytes are:
 //!
-//! - the header `E3D-LEARNER-STATE 2\n` (the number is the format's version);
-//! - the learner's kind ([`LearnerState::KIND`], e.g. `"e3d"`, `"count"`),
-//!   as a string;
-//! - its fields ([`StateField`]): a float is the 8 little-endian bytes of
-//!   its bits (so every value, NaN payloads included, comes back exact), an
-//!   integer 8 little-endian bytes (`u64`), a character its code point
-//!   (4 bytes), a string or a sequence its length (8 bytes) then its items;
+//! - the header `E3D-LEARNER-STATE 3\n` (the number is the format's version);
+//! - the learner's kind ([`LearnerState::KIND`], e.g. `"e3d"`, `"count"`)
+//!   then its fields, in the [postcard](https://docs.rs/postcard/1) wire
+//!   format: a float is the 8 little-endian bytes of its bits (so every
+//!   value, NaN payloads included, comes back exact), an integer, a
+//!   length or an enum's variant a varint, a string or a sequence its
+//!   length then its items, an option a byte 0 or 1 then its value;
 //! - the FNV-1a checksum (64 bits, little-endian) of every byte before it.
 //!
-//! A state is checked when it is read: its checksum (a state of version 1,
-//! written before the checksum, still loads without it; any other version
-//! is refused by its number), no NaN anywhere, and each learner's rates
-//! and tables finite and in range (a NaN learning rate or a NaN `Q` made a
-//! learner that proposed nonsense without a word).
+//! A state is checked when it is read: its checksum (a damaged byte is a
+//! checksum error, a cut state says that its bytes end early), its kind,
+//! no NaN anywhere, then the learner's own
+//! [`validate`](LearnerState::validate): rates and tables finite and in
+//! range, tables that fit together (a NaN learning rate or a NaN `Q` made
+//! a learner that proposed nonsense without a word). States of versions
+//! 1 and 2 (written by e3d before its states went through serde) are
+//! refused by their version; any other header is refused.
 //!
 //! A learner read back proposes and learns exactly as the saved one would:
 //! given the same generator, the same draws and the same bits of every
@@ -49,172 +51,131 @@
 use super::LearnerError;
 use crate::command::{CommandSpace, ValueSpace};
 use crate::effect::EffectModel;
+use crate::hash::fnv1a64;
+use serde::de::DeserializeOwned;
+use serde::ser::{self, Serialize};
 use tables::{no_table, StateTable};
 
 pub mod tables;
 
 /// The first bytes of every learner's saved state (the format's version
 /// is the number).
-pub const STATE_HEADER: &[u8] = b"E3D-LEARNER-STATE 2\n";
+pub const STATE_HEADER: &[u8] = b"E3D-LEARNER-STATE 3\n";
 
-/// The header of the states written before the checksum (version 1):
-/// read without one.
-pub const STATE_HEADER_V1: &[u8] = b"E3D-LEARNER-STATE 1\n";
-
-/// The bytes of a state past its header (of version 1 or 2), checksum
-/// neither checked nor removed: enough to read the kind it starts with.
-fn state_start(bytes: &[u8]) -> Result<&[u8], LearnerError> {
-    if let Some(rest) = bytes
-        .strip_prefix(STATE_HEADER)
-        .or_else(|| bytes.strip_prefix(STATE_HEADER_V1))
-    {
+/// The bytes of a state past its header; the error of a state of another
+/// version (named) or of bytes that are no state at all.
+fn payload(bytes: &[u8]) -> Result<&[u8], LearnerError> {
+    if let Some(rest) = bytes.strip_prefix(STATE_HEADER) {
         return Ok(rest);
     }
-    state_body(bytes)
+    let Some(v) = bytes.strip_prefix(b"E3D-LEARNER-STATE ") else {
+        return Err(LearnerError::State(format!(
+            "not a learner's state (it does not start with {:?})",
+            String::from_utf8_lossy(STATE_HEADER)
+        )));
+    };
+    let end = v.iter().position(|&b| b == b'\n').unwrap_or(v.len());
+    let v = crate::text::echo(&String::from_utf8_lossy(&v[..end.min(20)]));
+    let old = if v == "1" || v == "2" {
+        " (written by an e3d from before its learner states went through serde)"
+    } else {
+        ""
+    };
+    Err(LearnerError::State(format!(
+        "a learner's state of format version {v}{old}: this e3d reads version 3 only; \
+         save the learner again from a run of this e3d"
+    )))
 }
 
-/// The bytes of a state past its header, checksum checked and removed
-/// (version 2), as they are (version 1); the error of bytes of another
-/// version (named) or not a state at all.
-fn state_body(bytes: &[u8]) -> Result<&[u8], LearnerError> {
-    if let Some(rest) = bytes.strip_prefix(STATE_HEADER_V1) {
-        return Ok(rest);
-    }
-    let Some(rest) = bytes.strip_prefix(STATE_HEADER) else {
-        let prefix = b"E3D-LEARNER-STATE ";
-        if let Some(v) = bytes.strip_prefix(&prefix[..]) {
-            let end = v
-                .iter()
-                .position(|&b| b == b'\n')
-                .unwrap_or(v.len())
-                .min(20);
-            return Err(LearnerError::State(format!(
-                "a learner's state of version {}, which this e3d cannot read (it reads versions 1 and 2)",
-                crate::text::echo(&String::from_utf8_lossy(&v[..end]))
-            )));
-        }
-        return Err(no_header());
+/// Whether the last 8 bytes of `bytes` are the checksum of all before.
+pub(crate) fn intact(bytes: &[u8]) -> bool {
+    let Some(at) = bytes.len().checked_sub(8) else {
+        return false;
     };
-    if rest.len() < 8 {
-        return Err(LearnerError::State(
-            "a learner's state (version 2) cut before its checksum".into(),
-        ));
+    bytes[at..] == fnv1a64(&bytes[..at]).to_le_bytes()
+}
+
+/// What a decoding error says of the bytes.
+fn why(e: postcard::Error) -> String {
+    match e {
+        postcard::Error::DeserializeUnexpectedEnd => "the bytes end early".into(),
+        e => format!("bytes that do not decode as its state ({e})"),
     }
-    let (body, sum) = rest.split_at(rest.len() - 8);
-    let want = u64::from_le_bytes(sum.try_into().expect("8 bytes"));
-    let got = crate::hash::fnv1a64(&bytes[..bytes.len() - 8]);
-    if want != got {
-        // a whole state followed by more bytes: the first place where the
-        // 8 bytes are the checksum of all before them (one pass)
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        for (p, &b) in bytes.iter().enumerate() {
-            if p >= STATE_HEADER.len() && p + 8 < bytes.len() {
-                let at = u64::from_le_bytes(bytes[p..p + 8].try_into().expect("8 bytes"));
-                if at == h {
-                    let kind = state_kind(bytes).unwrap_or_else(|_| "?".into());
-                    return Err(LearnerError::State(format!(
-                        "state of a `{kind}` learner: {} bytes after the state",
-                        bytes.len() - p - 8
-                    )));
-                }
+}
+
+/// The learner of kind `L` in a state's `payload`, and the length of its
+/// bytes; `Err` says why not.
+fn read<L: LearnerState>(payload: &[u8]) -> Result<(L, usize), String> {
+    let (kind, rest): (String, _) = postcard::take_from_bytes(payload).map_err(why)?;
+    if kind != L::KIND {
+        return Err(format!("the bytes hold the state of a `{kind}` learner"));
+    }
+    let (l, rest) = postcard::take_from_bytes(rest).map_err(why)?;
+    Ok((l, payload.len() - rest.len()))
+}
+
+/// A learner of kind `L` from the bytes of [`LearnerState::to_bytes`],
+/// checked (see [the module](self)).
+pub(crate) fn decode<L: LearnerState>(bytes: &[u8]) -> Result<L, LearnerError> {
+    let rest = payload(bytes)?;
+    let error =
+        |what: String| LearnerError::State(format!("state of a `{}` learner: {what}", L::KIND));
+    if rest.len() < 8 || !intact(bytes) {
+        // a cut, bytes after a whole state, or damage
+        let what = match read::<L>(rest) {
+            Err(e) if e.ends_with("end early") => e,
+            Ok((_, n)) if rest.len() < n + 8 => {
+                "the bytes end early, in or before its checksum".into()
             }
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-        return Err(LearnerError::State(format!(
-            "a learner's state whose checksum does not match its bytes (damaged or edited: {got:016x}, recorded {want:016x})"
+            Ok((_, n)) if intact(&bytes[..bytes.len() - rest.len() + n + 8]) => {
+                format!("{} bytes after the state", rest.len() - n - 8)
+            }
+            _ => {
+                let (body, sum) = bytes.split_at(bytes.len().max(8) - 8);
+                return Err(LearnerError::State(format!(
+                    "a learner's state whose checksum does not match its bytes (damaged or edited: \
+                     {:016x}, recorded {})",
+                    fnv1a64(body),
+                    sum.iter().rev().map(|b| format!("{b:02x}")).collect::<String>()
+                )));
+            }
+        };
+        return Err(error(what));
+    }
+    let (l, n) = read::<L>(&rest[..rest.len() - 8]).map_err(error)?;
+    if n + 8 != rest.len() {
+        return Err(error(format!(
+            "{} bytes after the state",
+            rest.len() - n - 8
         )));
     }
-    Ok(body)
-}
-
-/// The bytes of a state being written.
-#[derive(Debug, Default)]
-pub struct StateWriter {
-    out: Vec<u8>,
-}
-
-impl StateWriter {
-    /// Writes `value`.
-    pub fn put<T: StateField>(&mut self, value: &T) -> &mut Self {
-        value.put(self);
-        self
+    if l.serialize(NanFinder).is_err() {
+        return Err(error(
+            "a number that is NaN (a learner's state holds none)".into(),
+        ));
     }
-
-    /// Writes raw bytes (the fields' own encodings use this).
-    pub fn bytes(&mut self, b: &[u8]) {
-        self.out.extend_from_slice(b);
-    }
-}
-
-/// The bytes of a state being read, with the kind of learner they are for
-/// (to name it in errors).
-#[derive(Debug)]
-pub struct StateReader<'a> {
-    rest: &'a [u8],
-    kind: &'static str,
-}
-
-impl<'a> StateReader<'a> {
-    /// Reads a `T`.
-    pub fn get<T: StateField>(&mut self) -> Result<T, LearnerError> {
-        T::get(self)
-    }
-
-    /// The next `n` raw bytes, or an error if the state ends before.
-    pub fn take(&mut self, n: usize) -> Result<&'a [u8], LearnerError> {
-        if self.rest.len() < n {
-            return Err(self.error("the bytes end early"));
-        }
-        let (a, b) = self.rest.split_at(n);
-        self.rest = b;
-        Ok(a)
-    }
-
-    /// A length of a sequence whose items take at least `min_item` bytes
-    /// each, checked against the bytes left (so that bad bytes cannot ask
-    /// for a huge allocation).
-    pub fn len(&mut self, min_item: usize) -> Result<usize, LearnerError> {
-        let n: u64 = self.get()?;
-        if n.saturating_mul(min_item as u64) > self.rest.len() as u64 {
-            return Err(self.error(&format!("a sequence of {n} items: the bytes end early")));
-        }
-        Ok(n as usize)
-    }
-
-    /// A [`LearnerError::State`] saying that this kind's state is wrong
-    /// and why.
-    pub fn error(&self, what: &str) -> LearnerError {
-        LearnerError::State(format!("state of a `{}` learner: {what}", self.kind))
-    }
-
-    /// Checks `ok`, else the error [`error`](Self::error)`(what)`.
-    pub fn check(&self, ok: bool, what: impl FnOnce() -> String) -> Result<(), LearnerError> {
-        if ok {
-            Ok(())
-        } else {
-            Err(self.error(&what()))
-        }
-    }
-}
-
-/// A value in a learner's saved state: how it is written and read back.
-pub trait StateField: Sized {
-    /// Writes the value.
-    fn put(&self, w: &mut StateWriter);
-    /// Reads a value written by [`put`](Self::put), checked.
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError>;
+    l.validate().map_err(error)?;
+    Ok(l)
 }
 
 /// A learner whose whole state can be saved as bytes and read back bit for
-/// bit (see [the module](self) for the format).
-pub trait LearnerState: StateField {
+/// bit (see [the module](self) for the format): derive `Serialize` and
+/// `Deserialize` for its fields, name its kind and its shape.
+pub trait LearnerState: Serialize + DeserializeOwned {
     /// The learner's kind, written in its state (`"e3d"`, `"count"`, ...).
     const KIND: &'static str;
 
     /// What the learner was made for: check it before running a loaded
     /// learner on a scene ([`StateShape::fits`]).
     fn shape(&self) -> StateShape;
+
+    /// Checks a learner just read from bytes (after the checksum, its kind
+    /// and the absence of NaN): what its constructor would have refused,
+    /// such as rates out of range or tables that do not fit together;
+    /// `Err` says what is wrong. Nothing by default.
+    fn validate(&self) -> Result<(), String> {
+        Ok(())
+    }
 
     /// The learner's tables by name (Q, the policy, the effect model,
     /// the target, counts, ... as the learner has them; see
@@ -234,55 +195,16 @@ pub trait LearnerState: StateField {
 
     /// The learner's whole state as bytes.
     fn to_bytes(&self) -> Vec<u8> {
-        let mut w = StateWriter::default();
-        w.bytes(STATE_HEADER);
-        w.put(&Self::KIND.to_string());
-        self.put(&mut w);
-        let sum = crate::hash::fnv1a64(&w.out);
-        w.bytes(&sum.to_le_bytes());
-        w.out
+        let mut out = postcard::to_extend(&(Self::KIND, self), STATE_HEADER.to_vec())
+            .expect("a learner's fields serialise");
+        out.extend_from_slice(&fnv1a64(&out).to_le_bytes());
+        out
     }
 
     /// A learner from the bytes of [`to_bytes`](Self::to_bytes); an error
     /// saying what is wrong if they are not such bytes.
     fn from_bytes(bytes: &[u8]) -> Result<Self, LearnerError> {
-        let read = |rest: &[u8]| -> Result<Self, LearnerError> {
-            let mut r = StateReader {
-                rest,
-                kind: Self::KIND,
-            };
-            let kind: String = r.get()?;
-            r.check(kind == Self::KIND, || {
-                format!("the bytes hold the state of a `{kind}` learner")
-            })?;
-            let l = Self::get(&mut r)?;
-            r.check(r.rest.is_empty(), || {
-                format!("{} bytes after the state", r.rest.len())
-            })?;
-            Ok(l)
-        };
-        match state_body(bytes) {
-            Ok(rest) => read(rest),
-            // a state cut short fails its checksum too: say where it ends
-            Err(e) => {
-                let Some(rest) = bytes.strip_prefix(STATE_HEADER) else {
-                    return Err(e);
-                };
-                match read(rest) {
-                    Err(cut) if cut.to_string().contains("end early") => Err(cut),
-                    // the whole state, then part of its checksum or none
-                    _ if (0..8)
-                        .any(|k| rest.len() >= k && read(&rest[..rest.len() - k]).is_ok()) =>
-                    {
-                        Err(LearnerError::State(format!(
-                            "state of a `{}` learner: the bytes end early, in or before its checksum",
-                            Self::KIND
-                        )))
-                    }
-                    _ => Err(e),
-                }
-            }
-        }
+        decode(bytes)
     }
 }
 
@@ -343,20 +265,11 @@ pub(crate) fn sizes_of(offsets: &[usize]) -> Vec<usize> {
     offsets.windows(2).map(|w| w[1] - w[0]).collect()
 }
 
-/// The error of bytes that do not start with [`STATE_HEADER`].
-fn no_header() -> LearnerError {
-    LearnerError::State(format!(
-        "not a learner's state (it does not start with {:?})",
-        String::from_utf8_lossy(STATE_HEADER)
-    ))
-}
-
 /// The kind of learner whose state `bytes` hold (`"e3d"`, `"count"`, ...),
 /// or why they are not a learner's state.
 pub fn state_kind(bytes: &[u8]) -> Result<String, LearnerError> {
-    let rest = state_start(bytes)?;
-    let mut r = StateReader { rest, kind: "?" };
-    r.get()
+    postcard::take_from_bytes(payload(bytes)?)
+        .map(|(kind, _)| kind)
         .map_err(|_| LearnerError::State("a learner's state cut before its kind".into()))
 }
 
@@ -364,236 +277,152 @@ pub fn state_kind(bytes: &[u8]) -> Result<String, LearnerError> {
 /// `"count"`, ...: the kind written after `"per_context"`), or why
 /// `bytes` are not such a state.
 pub fn per_context_kind(bytes: &[u8]) -> Result<String, LearnerError> {
-    let rest = state_start(bytes)?;
-    let mut r = StateReader {
-        rest,
-        kind: "per_context",
-    };
-    let kind: String = r.get()?;
-    r.check(kind == "per_context", || {
-        format!("the bytes hold the state of a `{kind}` learner")
-    })?;
-    r.get()
+    let error =
+        |what: String| LearnerError::State(format!("state of a `per_context` learner: {what}"));
+    let ((kind, inner), _): ((String, String), _) =
+        postcard::take_from_bytes(payload(bytes)?).map_err(|e| error(why(e)))?;
+    if kind != "per_context" {
+        return Err(error(format!(
+            "the bytes hold the state of a `{kind}` learner"
+        )));
+    }
+    Ok(inner)
 }
 
-impl StateField for f64 {
-    fn put(&self, w: &mut StateWriter) {
-        w.bytes(&self.to_bits().to_le_bytes());
-    }
-    /// A number, never NaN: no learner keeps one, and a NaN rate or
-    /// table entry would make every proposal and update NaN.
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let b = r.take(8)?;
-        let v = f64::from_bits(u64::from_le_bytes(b.try_into().expect("8 bytes")));
-        if v.is_nan() {
-            return Err(r.error("a number that is NaN (a learner's state holds none)"));
-        }
-        Ok(v)
-    }
+/// `Ok` if `ok`, else `Err(what())`.
+pub(crate) fn ensure(ok: bool, what: impl FnOnce() -> String) -> Result<(), String> {
+    ok.then_some(()).ok_or_else(what)
 }
 
-impl StateField for u64 {
-    fn put(&self, w: &mut StateWriter) {
-        w.bytes(&self.to_le_bytes());
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let b = r.take(8)?;
-        Ok(u64::from_le_bytes(b.try_into().expect("8 bytes")))
-    }
-}
-
-impl StateField for usize {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&(*self as u64));
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let v: u64 = r.get()?;
-        usize::try_from(v).map_err(|_| r.error(&format!("{v} does not fit a usize")))
-    }
-}
-
-impl StateField for char {
-    fn put(&self, w: &mut StateWriter) {
-        w.bytes(&u32::from(*self).to_le_bytes());
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let v = u32::from_le_bytes(r.take(4)?.try_into().expect("4 bytes"));
-        char::from_u32(v).ok_or_else(|| r.error(&format!("{v:#x} is not a character")))
-    }
-}
-
-impl StateField for String {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.len());
-        w.bytes(self.as_bytes());
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let n = r.len(1)?;
-        let b = r.take(n)?;
-        String::from_utf8(b.to_vec()).map_err(|_| r.error("a string that is not UTF-8"))
-    }
-}
-
-/// A sequence: its length, then each item.
-fn put_seq<'a, T: StateField + 'a>(
-    w: &mut StateWriter,
-    items: impl ExactSizeIterator<Item = &'a T>,
-) {
-    w.put(&items.len());
-    for v in items {
-        v.put(w);
-    }
-}
-
-/// A sequence [`put_seq`] wrote, collected.
-fn get_seq<T: StateField, C: FromIterator<T>>(r: &mut StateReader<'_>) -> Result<C, LearnerError> {
-    let n = r.len(1)?;
-    (0..n).map(|_| T::get(r)).collect()
-}
-
-impl<T: StateField> StateField for Vec<T> {
-    fn put(&self, w: &mut StateWriter) {
-        put_seq(w, self.iter());
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        get_seq(r)
-    }
-}
-
-impl StateField for u8 {
-    fn put(&self, w: &mut StateWriter) {
-        w.bytes(&[*self]);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok(r.take(1)?[0])
-    }
-}
-
-/// `None` is the byte 0; `Some(v)` the byte 1, then `v`.
-impl<T: StateField> StateField for Option<T> {
-    fn put(&self, w: &mut StateWriter) {
-        match self {
-            None => w.bytes(&[0]),
-            Some(v) => {
-                w.bytes(&[1]);
-                v.put(w);
-            }
-        }
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        match r.take(1)?[0] {
-            0 => Ok(None),
-            1 => Ok(Some(T::get(r)?)),
-            b => Err(r.error(&format!("an option tagged {b} (expected 0 or 1)"))),
-        }
-    }
-}
-
-impl StateField for [f64; 2] {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self[0]).put(&self[1]);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok([r.get()?, r.get()?])
-    }
-}
-
-impl<T: StateField> StateField for std::collections::VecDeque<T> {
-    fn put(&self, w: &mut StateWriter) {
-        put_seq(w, self.iter());
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        get_seq(r)
-    }
-}
-
-impl<A: StateField, B: StateField> StateField for (A, B) {
-    fn put(&self, w: &mut StateWriter) {
-        self.0.put(w);
-        self.1.put(w);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        Ok((A::get(r)?, B::get(r)?))
-    }
-}
-
-impl StateField for EffectModel {
-    fn put(&self, w: &mut StateWriter) {
-        let (q, scale, eta) = self.raw();
-        w.put(&q.to_vec()).put(&scale).put(&eta);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let (q, scale, eta) = (r.get()?, r.get()?, r.get()?);
-        EffectModel::from_raw(q, scale, eta).map_err(|e| r.error(&format!("effect model: {e}")))
-    }
-}
-
-impl StateField for CommandSpace {
-    fn put(&self, w: &mut StateWriter) {
-        let alphabets: Vec<Vec<char>> = (0..self.num_slots())
-            .map(|s| self.alphabet(s).to_vec())
-            .collect();
-        w.put(&alphabets);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let alphabets: Vec<Vec<char>> = r.get()?;
-        CommandSpace::new(alphabets).map_err(|e| r.error(&format!("command space: {e}")))
-    }
-}
-
-impl StateField for ValueSpace {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.ranges().to_vec());
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let ranges: Vec<(f64, f64)> = r.get()?;
-        ValueSpace::new(ranges).map_err(|e| r.error(&format!("value space: {e}")))
-    }
-}
-
-/// Checks that the rates and the `Q` tables read from a state are
-/// finite, the inverse temperature `beta` > 0 (`rates` named as the
-/// learner's fields).
-pub(crate) fn check_rates(
-    r: &StateReader<'_>,
-    rates: &[(&str, f64)],
-    beta: f64,
-) -> Result<(), LearnerError> {
+/// Checks rates read from a state: finite (`rates` named as the
+/// learner's fields), the inverse temperature `beta` > 0.
+pub(crate) fn check_rates(rates: &[(&str, f64)], beta: f64) -> Result<(), String> {
     if let Some((name, v)) = rates.iter().find(|(_, v)| !v.is_finite()) {
-        return Err(r.error(&format!("rate `{name}`: a finite number, found {v}")));
+        return Err(format!("rate `{name}`: a finite number, found {v}"));
     }
-    r.check(beta.is_finite() && beta > 0.0, || {
+    ensure(beta.is_finite() && beta > 0.0, || {
         format!("`beta`: a finite number > 0, found {beta}")
     })
 }
 
 /// Checks that every value of table `name` read from a state is finite.
-pub(crate) fn check_finite(
-    r: &StateReader<'_>,
-    name: &str,
-    values: &[f64],
-) -> Result<(), LearnerError> {
+pub(crate) fn check_finite(name: &str, values: &[f64]) -> Result<(), String> {
     match values.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
-        Some(i) => Err(r.error(&format!(
+        Some(i) => Err(format!(
             "table `{name}`: finite values, found {} at entry {i}",
             values[i]
-        ))),
+        )),
     }
 }
 
-/// Checks that `log_target` (read from a state) has one value per effect
-/// of `model`.
-pub(crate) fn check_target(
-    r: &StateReader<'_>,
-    log_target: &[f64],
-    model: &EffectModel,
-) -> Result<(), LearnerError> {
-    r.check(log_target.len() == model.num_effects(), || {
+/// Checks an effect model read from a state (as
+/// [`EffectModel::from_raw`]) and that `log_target` has one value per
+/// effect.
+pub(crate) fn check_model(model: &EffectModel, log_target: &[f64]) -> Result<(), String> {
+    let (q, scale, eta) = model.raw();
+    EffectModel::from_raw(q.to_vec(), scale, eta).map_err(|e| format!("effect model: {e}"))?;
+    ensure(log_target.len() == model.num_effects(), || {
         format!(
             "a target of {} effects for an effect model of {}",
             log_target.len(),
             model.num_effects()
         )
     })
+}
+
+/// Checks a command space read from a state (as [`CommandSpace::new`]).
+pub(crate) fn check_space(space: &CommandSpace) -> Result<(), String> {
+    let alphabets = (0..space.num_slots()).map(|s| space.alphabet(s).to_vec());
+    CommandSpace::new(alphabets.collect()).map_err(|e| format!("command space: {e}"))?;
+    Ok(())
+}
+
+/// Checks a value space read from a state (as [`ValueSpace::new`]).
+pub(crate) fn check_values(space: &ValueSpace) -> Result<(), String> {
+    ValueSpace::new(space.ranges().to_vec()).map_err(|e| format!("value space: {e}"))?;
+    Ok(())
+}
+
+/// A `serde` serializer that writes nothing and fails at the first NaN:
+/// `value.serialize(NanFinder).is_err()` when `value` holds one.
+struct NanFinder;
+
+/// What [`NanFinder`] found.
+#[derive(Debug)]
+struct FoundNan;
+
+impl std::fmt::Display for FoundNan {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("a NaN")
+    }
+}
+
+impl std::error::Error for FoundNan {}
+
+impl ser::Error for FoundNan {
+    fn custom<T: std::fmt::Display>(_: T) -> Self {
+        FoundNan
+    }
+}
+
+/// `NanFinder`'s methods: `leaf`s hold no float, `open` a compound value
+/// (its parts come next), `inner` a value around another.
+macro_rules! nan_finder {
+    (leaf $($l:ident($($lt:ty),*))*; open $($o:ident($($ot:ty),*))*; inner $($i:ident($($it:ty),*))*) => {
+        $(fn $l(self, $(_: $lt),*) -> Result<(), FoundNan> { Ok(()) })*
+        $(fn $o(self, $(_: $ot),*) -> Result<Self, FoundNan> { Ok(self) })*
+        $(fn $i<T: Serialize + ?Sized>(self, $(_: $it,)* v: &T) -> Result<(), FoundNan> { v.serialize(self) })*
+    };
+}
+
+/// The parts of compound values, each looked through.
+macro_rules! parts {
+    ($($tr:ident { $($m:ident($($k:ty)?))* })*) => {$(
+        impl ser::$tr for NanFinder {
+            type Ok = ();
+            type Error = FoundNan;
+            $(fn $m<T: Serialize + ?Sized>(&mut self, $(_: $k,)? v: &T) -> Result<(), FoundNan> { v.serialize(NanFinder) })*
+            fn end(self) -> Result<(), FoundNan> { Ok(()) }
+        }
+    )*};
+}
+
+parts! {
+    SerializeSeq { serialize_element() } SerializeTuple { serialize_element() }
+    SerializeTupleStruct { serialize_field() } SerializeTupleVariant { serialize_field() }
+    SerializeMap { serialize_key() serialize_value() }
+    SerializeStruct { serialize_field(&'static str) }
+    SerializeStructVariant { serialize_field(&'static str) }
+}
+
+impl ser::Serializer for NanFinder {
+    type Ok = ();
+    type Error = FoundNan;
+    type SerializeSeq = Self;
+    type SerializeTuple = Self;
+    type SerializeTupleStruct = Self;
+    type SerializeTupleVariant = Self;
+    type SerializeMap = Self;
+    type SerializeStruct = Self;
+    type SerializeStructVariant = Self;
+    fn serialize_f64(self, v: f64) -> Result<(), FoundNan> {
+        (!v.is_nan()).then_some(()).ok_or(FoundNan)
+    }
+    fn serialize_f32(self, v: f32) -> Result<(), FoundNan> {
+        self.serialize_f64(v.into())
+    }
+    nan_finder! {
+        leaf serialize_bool(bool) serialize_i8(i8) serialize_i16(i16) serialize_i32(i32)
+        serialize_i64(i64) serialize_u8(u8) serialize_u16(u16) serialize_u32(u32)
+        serialize_u64(u64) serialize_char(char) serialize_str(&str) serialize_bytes(&[u8])
+        serialize_none() serialize_unit() serialize_unit_struct(&'static str)
+        serialize_unit_variant(&'static str, u32, &'static str);
+        open serialize_seq(Option<usize>) serialize_tuple(usize) serialize_map(Option<usize>)
+        serialize_tuple_struct(&'static str, usize) serialize_struct(&'static str, usize)
+        serialize_tuple_variant(&'static str, u32, &'static str, usize)
+        serialize_struct_variant(&'static str, u32, &'static str, usize);
+        inner serialize_some() serialize_newtype_struct(&'static str)
+        serialize_newtype_variant(&'static str, u32, &'static str)
+    }
 }

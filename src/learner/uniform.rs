@@ -1,13 +1,14 @@
-use super::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
-use super::{Learner, LearnerError};
+use super::state::{ensure, LearnerState, StateShape};
+use super::Learner;
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
+use serde::{Deserialize, Serialize};
 
 /// The uniform policy: every symbol of every slot equally likely, always.
 /// The paper's baseline for task 1.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct UniformPolicy {
     sizes: Vec<usize>,
 }
@@ -41,23 +42,16 @@ impl Learner for UniformPolicy {
     }
 }
 
-impl StateField for UniformPolicy {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.sizes);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let sizes: Vec<usize> = r.get()?;
-        r.check(
-            !sizes.is_empty() && sizes.iter().all(|k| (1..=256).contains(k)),
-            || format!("alphabet sizes {sizes:?}"),
-        )?;
-        Ok(UniformPolicy { sizes })
-    }
-}
-
 impl LearnerState for UniformPolicy {
     const KIND: &'static str = "uniform";
     fn shape(&self) -> StateShape {
         StateShape::of(self.sizes.clone(), None)
+    }
+    fn validate(&self) -> Result<(), String> {
+        let sizes = &self.sizes;
+        ensure(
+            !sizes.is_empty() && sizes.iter().all(|k| (1..=256).contains(k)),
+            || format!("alphabet sizes {sizes:?}"),
+        )
     }
 }

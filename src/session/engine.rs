@@ -16,11 +16,14 @@ pub use crate::world::{Control, Observer};
 
 use super::{Recorder, SessionConfig};
 use crate::command::Command;
-use crate::learner::{ContinuousLearner, Learner};
+#[cfg(doc)]
+use crate::episode::{run_episodes, EpisodeRecord};
+use crate::episode::{run_episodes_into, EpisodeConfig, EpisodeRecorder};
+use crate::learner::{ContextualLearner, ContinuousLearner, Learner};
 use crate::rng::SessionRng;
 use crate::world::{ContinuousWorld, Executor, Outcome, OutcomeTable, World, WorldError};
 use rand::SeedableRng;
-use std::ops::Range;
+use std::ops::{DerefMut, Range};
 
 /// A learner of commands of kind `C`, as the engine drives it: every
 /// [`Learner`] is one for [`Command`], every [`ContinuousLearner`] for
@@ -343,5 +346,71 @@ where
         .collect::<Vec<_>>()
         .into_iter()
         .flatten()
+        .collect()
+}
+
+/// Runs sessions of episodes ([`run_episodes_into`]) on every core of
+/// the current rayon pool: session `i` runs `configs[i]` on the world and
+/// the learner `make(i)` returns (each session on a world of its own),
+/// its episodes handed to `recorders[i]` (an [`EpisodeRecord`] keeps
+/// them all, an [`EpisodeTally`](crate::episode::EpisodeTally) only the
+/// figures). The records are those of running each session alone,
+/// whatever the threads (each session draws from its own generator).
+/// `control` is told of the episodes done, summed over the sessions, and
+/// its stop ends every session still running with
+/// [`WorldError::Stopped`]. Returns each session's status, in order; an
+/// error of `make` is that session's.
+///
+/// ```
+/// use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
+/// use e3d::session::{run_episode_sessions, Control};
+/// use e3d::learner::ContextTargets;
+/// use e3d::{LearnerKind, Params, Scene, Target};
+/// let scene = Scene::builtin("two_rooms").unwrap();
+/// let configs: Vec<EpisodeConfig> = (0..3)
+///     .map(|seed| EpisodeConfig { episodes: 100, commands: 2, seed, use_reward: true,
+///                                 observe: Observe::State })
+///     .collect();
+/// let make = |_| -> Result<_, Box<dyn std::error::Error + Send + Sync>> {
+///     let learner = LearnerKind::E3d.make_episodic(true, &Params::TASK2,
+///         &scene.command_space(), scene.num_effects(), scene.num_effects(),
+///         &ContextTargets::Shared(Target::Uniform), 0.9)?;
+///     Ok((scene.build(), learner))
+/// };
+/// let mut records = vec![EpisodeRecord::default(); 3];
+/// let status = run_episode_sessions(&configs, make, &mut records, &Control::default());
+/// assert!(status.iter().all(Result::is_ok));
+/// let (mut world, mut learner) = make(1).unwrap();
+/// let alone = run_episodes(&mut world, &mut learner, &configs[1], &Control::default());
+/// assert_eq!(records[1], alone.unwrap());
+/// ```
+pub fn run_episode_sessions<W, L, R, E>(
+    configs: &[EpisodeConfig],
+    make: impl Fn(usize) -> Result<(W, L), E> + Sync,
+    recorders: &mut [R],
+    control: &(impl Observer + Sync + ?Sized),
+) -> Vec<Result<(), E>>
+where
+    W: DerefMut<Target: World>,
+    L: DerefMut<Target: ContextualLearner>,
+    R: EpisodeRecorder + Send,
+    E: From<WorldError> + Send,
+{
+    use rayon::prelude::*;
+    assert_eq!(recorders.len(), configs.len(), "one recorder per session");
+    configs
+        .par_iter()
+        .zip(recorders)
+        .enumerate()
+        .map(|(i, (config, recorder))| {
+            let (mut world, mut learner) = make(i)?;
+            Ok(run_episodes_into(
+                &mut *world,
+                &mut *learner,
+                config,
+                recorder,
+                control,
+            )?)
+        })
         .collect()
 }

@@ -18,7 +18,9 @@ mod metrics;
 mod values;
 
 pub use builder::{Session, SessionError};
-pub use engine::{run_group, run_sessions, Control, Executes, Learns, Observer, Worlds};
+pub use engine::{
+    run_episode_sessions, run_group, run_sessions, Control, Executes, Learns, Observer, Worlds,
+};
 
 use metrics::LAST;
 pub use metrics::{

@@ -95,7 +95,12 @@ impl Sweep {
             )
             .map_err(as_learner_error)?;
         let mut running = self.recorder(world);
-        let record = match run_episodes(world, &mut *learner, &config) {
+        let record = match run_episodes(
+            world,
+            &mut *learner,
+            &config,
+            &crate::session::Control::default(),
+        ) {
             Ok(r) => r,
             Err(e) => return Ok(self.result(session, Err(e), &running)),
         };

@@ -1,15 +1,16 @@
 //! What a sweep's names become: the worlds of its scenes and its learners.
 //!
-//! A [`SweepSpec`] names its scenes and learners; a [`WorldFactory`] turns
-//! each scene name into a [`SweepScene`] (its command space, its effects,
-//! and the worlds its sessions run on), and a [`LearnerFactory`] turns each
-//! learner name into fresh learners. The built-in factories are those of
-//! `e3d sweep`: [`SceneFiles`] (scene files and built-in scene names, each
-//! run through an [`Executor`]: outcome table, memo or live execution,
-//! sessions in lockstep) and [`Learners::builtin`] ([`LearnerKind`]).
+//! A [`SweepSpec`] names its scenes and learners; [`Worlds`] turns each
+//! scene name into a [`SweepScene`] (its command space, its effects, and
+//! the worlds its sessions run on), and [`Learners`] turns each learner
+//! name into fresh learners. `e3d sweep` uses
+//! [`Worlds::with_scene_files`] (scene files and built-in scene names,
+//! each run through an [`Executor`]: outcome table, memo or live
+//! execution, sessions in lockstep) and [`Learners::builtin`]
+//! ([`LearnerKind`]).
 //!
-//! Your own worlds and learners go in through the registries [`Worlds`]
-//! and [`Learners`], or through your own implementations of the traits:
+//! Your own worlds and learners are registered beside them (a world of
+//! your own can also come as your own [`SweepScene`]):
 //!
 //! ```
 //! use e3d::sweep::{Learners, Sweep, SweepSpec, Worlds};
@@ -70,7 +71,7 @@ pub fn uses_param(learner: LearnerKind, param: &str) -> bool {
 // Worlds
 // ---------------------------------------------------------------------------
 
-/// One scene of a sweep, as its [`WorldFactory`] made it: what its sessions
+/// One scene of a sweep, as its [`Worlds`] made it: what its sessions
 /// need to know, and the worlds they run on.
 ///
 /// [`Scene`] implements it (outcome table, memo or live execution, chosen
@@ -152,7 +153,7 @@ pub trait SceneRun: Send + Sync {
     }
 }
 
-/// Why a [`WorldFactory`] made no scene of a name.
+/// Why [`Worlds::scene`] made no scene of a name.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum FactoryError {
@@ -165,12 +166,6 @@ pub enum FactoryError {
     /// a simulator that does not start, ...).
     #[error(transparent)]
     Failed(SweepError),
-}
-
-/// Makes the scenes a sweep names (once each, before any session runs).
-pub trait WorldFactory {
-    /// The scene the sweep names `name`.
-    fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError>;
 }
 
 impl SweepScene for Scene {
@@ -224,31 +219,6 @@ impl SceneRun for Executor<'_> {
     }
     fn finish(&self) -> Option<String> {
         Executor::finish(self)
-    }
-}
-
-/// The built-in world factory, `e3d sweep`'s: a name is a scene file,
-/// relative to `base` (or absolute), or else a built-in scene name
-/// ([`Scene::builtin`]); each scene runs through an [`Executor`].
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct SceneFiles {
-    /// The folder relative scene paths start from (the current folder
-    /// when `None`); for a sweep file, its folder.
-    pub base: Option<PathBuf>,
-}
-
-impl SceneFiles {
-    /// Scene files relative to `base` (the current folder when `None`).
-    pub fn new(base: Option<&Path>) -> SceneFiles {
-        SceneFiles {
-            base: base.map(Path::to_path_buf),
-        }
-    }
-}
-
-impl WorldFactory for SceneFiles {
-    fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError> {
-        resolve_scene(name, self.base.as_deref()).map(|s| Arc::new(s) as Arc<dyn SweepScene>)
     }
 }
 
@@ -400,7 +370,9 @@ where
 #[derive(Clone, Default)]
 pub struct Worlds {
     scenes: Vec<Arc<dyn SweepScene>>,
-    files: Option<SceneFiles>,
+    /// With scene files: the folder relative paths start from (`None`:
+    /// the current folder).
+    files: Option<Option<PathBuf>>,
 }
 
 impl Worlds {
@@ -428,10 +400,11 @@ impl Worlds {
     }
 
     /// Makes the names that are not registered scene files relative to
-    /// `base` (the current folder when `None`) or built-in scenes, as
-    /// [`SceneFiles`].
+    /// `base` (the current folder when `None`; for a sweep file, its
+    /// folder) or else built-in scenes ([`Scene::builtin`]), each run
+    /// through an [`Executor`]: `e3d sweep`'s scenes.
     pub fn with_scene_files(mut self, base: Option<&Path>) -> Worlds {
-        self.files = Some(SceneFiles::new(base));
+        self.files = Some(base.map(Path::to_path_buf));
         self
     }
 
@@ -450,13 +423,17 @@ impl fmt::Debug for Worlds {
     }
 }
 
-impl WorldFactory for Worlds {
-    fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError> {
+impl Worlds {
+    /// The scene the sweep names `name` (made once, before any session
+    /// runs).
+    pub fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError> {
         if let Some(s) = self.scenes.iter().find(|s| s.name() == name) {
             return Ok(s.clone());
         }
         match &self.files {
-            Some(files) => files.scene(name),
+            Some(base) => {
+                resolve_scene(name, base.as_deref()).map(|s| Arc::new(s) as Arc<dyn SweepScene>)
+            }
             None => {
                 let names = self.names();
                 Err(FactoryError::Unknown(format!(
@@ -473,49 +450,6 @@ impl WorldFactory for Worlds {
 // Learners
 // ---------------------------------------------------------------------------
 
-/// Makes the learners a sweep names, afresh for each session.
-///
-/// A learner's name is written in `results.csv` and in the sessions'
-/// identities (so in their seeds); it must be a RON identifier (ASCII
-/// letters, digits and `_`, not starting with a digit) to be written in a
-/// sweep file. Its hyper-parameters are among [`Params::SWEPT`]: its grid
-/// spans only those it uses, and the others are empty in the results.
-pub trait LearnerFactory: Send + Sync {
-    /// The learners this factory makes, in the order messages list them.
-    fn names(&self) -> Vec<String>;
-
-    /// Which of [`Params::SWEPT`] learner `name` uses; `None` for a name
-    /// this factory does not make.
-    fn uses(&self, name: &str) -> Option<[bool; 5]>;
-
-    /// A fresh learner `name` with `params` (those it does not use hold
-    /// the first value of their list) for `space`, `num_effects` effects
-    /// and the target `p*`. An error stops the sweep.
-    fn make(
-        &self,
-        name: &str,
-        params: &Params,
-        space: &CommandSpace,
-        num_effects: usize,
-        target: &Target,
-    ) -> Result<Box<dyn Learner + Send>, BoxError>;
-
-    /// A fresh learner `name` of continuous commands (for a scene whose
-    /// slots take values), as [`make`](Self::make) with the value space
-    /// `space`. The default refuses: a learner of symbols only.
-    fn make_continuous(
-        &self,
-        name: &str,
-        params: &Params,
-        space: &ValueSpace,
-        num_effects: usize,
-        target: &Target,
-    ) -> Result<Box<dyn ContinuousLearner + Send>, BoxError> {
-        let _ = (params, space, num_effects, target);
-        Err(format!("learner `{name}` takes symbols only, not continuous commands").into())
-    }
-}
-
 /// How a custom learner is made: from its parameters, the command space,
 /// the number of effects and the target.
 pub type MakeLearner = dyn Fn(&Params, &CommandSpace, usize, &Target) -> Result<Box<dyn Learner + Send>, BoxError>
@@ -528,11 +462,18 @@ enum Entry {
     Custom([bool; 5], Arc<MakeLearner>),
 }
 
-/// A learner factory from learners registered by name: the built-in ones
-/// ([`LearnerKind`], with [`Learners::builtin`]) and your own.
+/// The learners a sweep names, registered by name and made afresh for
+/// each session: the built-in ones ([`LearnerKind`], with
+/// [`Learners::builtin`]) and your own.
+///
+/// A learner's name is written in `results.csv` and in the sessions'
+/// identities (so in their seeds); it is a RON identifier (ASCII letters,
+/// digits and `_`, not starting with a digit), to be written in a sweep
+/// file. Its hyper-parameters are among [`Params::SWEPT`]: its grid spans
+/// only those it uses, and the others are empty in the results.
 ///
 /// ```
-/// use e3d::sweep::{LearnerFactory, Learners};
+/// use e3d::sweep::Learners;
 /// use e3d::{Learner, LearnerKind, Params};
 /// // epsilon-greedy under another name, sweeping only epsilon
 /// let learners = Learners::builtin().with("greedy", &["epsilon"], |p, space, n, target| {
@@ -621,19 +562,25 @@ impl fmt::Debug for Learners {
     }
 }
 
-impl LearnerFactory for Learners {
-    fn names(&self) -> Vec<String> {
+impl Learners {
+    /// The learners registered, in the order messages list them.
+    pub fn names(&self) -> Vec<String> {
         self.entries.iter().map(|(n, _)| n.clone()).collect()
     }
 
-    fn uses(&self, name: &str) -> Option<[bool; 5]> {
+    /// Which of [`Params::SWEPT`] learner `name` uses; `None` for a name
+    /// not registered.
+    pub fn uses(&self, name: &str) -> Option<[bool; 5]> {
         Some(match self.entry(name)? {
             Entry::Builtin(k) => std::array::from_fn(|i| uses_param(*k, Params::SWEPT[i])),
             Entry::Custom(used, _) => *used,
         })
     }
 
-    fn make(
+    /// A fresh learner `name` with `params` (those it does not use hold
+    /// the first value of their list) for `space`, `num_effects` effects
+    /// and the target `p*`. An error stops the sweep.
+    pub fn make(
         &self,
         name: &str,
         params: &Params,
@@ -648,10 +595,12 @@ impl LearnerFactory for Learners {
         }
     }
 
-    /// [`LearnerKind::make_continuous`] for a built-in learner (e3d,
-    /// uniform, goal_babbling, archive take values); a learner registered
-    /// with [`with`](Learners::with) takes symbols only.
-    fn make_continuous(
+    /// A fresh learner `name` of continuous commands (for a scene whose
+    /// slots take values), as [`make`](Self::make) with the value space
+    /// `space`: [`LearnerKind::make_continuous`] for a built-in learner
+    /// (e3d, uniform, goal_babbling, archive take values); a learner
+    /// registered with [`with`](Learners::with) takes symbols only.
+    pub fn make_continuous(
         &self,
         name: &str,
         params: &Params,

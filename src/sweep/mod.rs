@@ -32,10 +32,9 @@
 //! - the spec ([`SweepSpec`], [`Values`], [`ParamValues`], [`MetricSpec`]):
 //!   what to run, parsed from a file ([`SweepSpec::parse`]) or built in
 //!   code ([`SweepSpec::new`]), written back by [`SweepSpec::to_ron`];
-//! - the [`factory`]: what the spec's names become, scenes
-//!   ([`WorldFactory`], [`SweepScene`]; built in: [`SceneFiles`]; a
-//!   registry of your own: [`Worlds`]) and learners ([`LearnerFactory`];
-//!   [`Learners`]). [`Sweep::parse`] and [`Sweep::new`] use the built-in
+//! - the [`factory`]: what the spec's names become, scenes ([`Worlds`]
+//!   of [`SweepScene`]s; built in: [`Worlds::with_scene_files`]) and
+//!   learners ([`Learners`]). [`Sweep::parse`] and [`Sweep::new`] use the built-in
 //!   ones, [`Sweep::parse_with`] and [`Sweep::with_factories`] yours;
 //! - the plan: [`Cell`]s, [`SessionSpec`]s with their identities and
 //!   seeds, [`Shard`]s;
@@ -51,7 +50,7 @@
 //! - continuous commands: a scene whose slots take values runs its sessions
 //!   live, in the lockstep groups of `e3d run --sessions N`
 //!   ([`SceneRun::value_world`],
-//!   [`LearnerFactory::make_continuous`]).
+//!   [`Learners::make_continuous`]).
 //!
 //! # Cells
 //!
@@ -59,7 +58,7 @@
 //! the `use_reward` values and the values of `alpha`, `beta`, `lambda`,
 //! `eta` and `epsilon`, each in the order of the file. A learner's grid
 //! spans only the parameters it uses ([`uses_param`]; for a custom
-//! learner, [`LearnerFactory::uses`]): the uniform policy uses none,
+//! learner, [`Learners::uses`]): the uniform policy uses none,
 //! epsilon-greedy `alpha` and `epsilon`, E3D the four others.
 //! A parameter a learner does not use is left empty in the results.
 //!
@@ -108,8 +107,7 @@ pub use crate::hash::{fnv1a64, session_seed, splitmix64};
 pub(crate) use error::io_err;
 pub use error::{BoxError, SweepError};
 pub use factory::{
-    uses_param, FactoryError, LearnerFactory, Learners, LiveScene, MakeLearner, SceneFiles,
-    SceneRun, SweepScene, WorldFactory, Worlds,
+    uses_param, FactoryError, Learners, LiveScene, MakeLearner, SceneRun, SweepScene, Worlds,
 };
 pub use plan::{format_number, Cell, ParseShardError, SessionSpec, Shard, Sweep};
 pub use results::{

@@ -1,9 +1,7 @@
 //! The plan of a sweep: its cells, its sessions with their identities and
 //! seeds, shards, and the work each scene gets.
 
-use super::factory::{
-    is_identifier, FactoryError, LearnerFactory, Learners, SceneFiles, SweepScene, WorldFactory,
-};
+use super::factory::{is_identifier, FactoryError, Learners, SweepScene, Worlds};
 use super::spec::{
     invalid, param_of, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS,
 };
@@ -146,7 +144,7 @@ pub struct Sweep {
     /// code).
     pub file: String,
     pub(super) scenes: Vec<Arc<dyn SweepScene>>,
-    pub(super) learners: Arc<dyn LearnerFactory>,
+    pub(super) learners: Arc<Learners>,
     pub(super) metrics: Vec<MetricSpec>,
     pub(super) cells: Vec<Cell>,
     pub(super) exec: ExecOptions,
@@ -206,10 +204,15 @@ impl Sweep {
 
     /// Parses and checks sweep text; `file` names it in errors, `base`
     /// is the folder scene paths are relative to (the current folder when
-    /// `None`). The factories are the built-in ones: [`SceneFiles`] and
+    /// `None`). The scenes and learners are the built-in ones: [`Worlds::with_scene_files`] and
     /// [`Learners::builtin`].
     pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<Sweep, SweepError> {
-        Sweep::parse_with(text, file, &SceneFiles::new(base), Learners::builtin())
+        Sweep::parse_with(
+            text,
+            file,
+            &Worlds::new().with_scene_files(base),
+            Learners::builtin(),
+        )
     }
 
     /// Parses and checks sweep text whose scenes `worlds` makes and whose
@@ -237,8 +240,8 @@ impl Sweep {
     pub fn parse_with(
         text: &str,
         file: &str,
-        worlds: &dyn WorldFactory,
-        learners: impl LearnerFactory + 'static,
+        worlds: &Worlds,
+        learners: Learners,
     ) -> Result<Sweep, SweepError> {
         let (spec, text) = SweepSpec::from_text(text, file, &learners)?;
         Sweep::build(
@@ -251,7 +254,7 @@ impl Sweep {
         )
     }
 
-    /// A sweep built in code, with the built-in factories ([`SceneFiles`]
+    /// A sweep built in code, with the built-in scenes and learners ([`Worlds::with_scene_files`]
     /// relative to the current folder, [`Learners::builtin`]).
     ///
     /// ```
@@ -265,7 +268,11 @@ impl Sweep {
     /// assert_eq!(e.to_string(), "<SweepSpec>: field `sessions`: expected at least 1 session per cell, found 0");
     /// ```
     pub fn new(spec: SweepSpec) -> Result<Sweep, SweepError> {
-        Sweep::with_factories(spec, &SceneFiles::default(), Learners::builtin())
+        Sweep::with_factories(
+            spec,
+            &Worlds::new().with_scene_files(None),
+            Learners::builtin(),
+        )
     }
 
     /// A sweep built in code whose scenes `worlds` makes and whose
@@ -273,8 +280,8 @@ impl Sweep {
     /// [`text`](Self::text) is [`SweepSpec::to_ron`].
     pub fn with_factories(
         spec: SweepSpec,
-        worlds: &dyn WorldFactory,
-        learners: impl LearnerFactory + 'static,
+        worlds: &Worlds,
+        learners: Learners,
     ) -> Result<Sweep, SweepError> {
         let text = spec.to_ron();
         Sweep::build(spec, text, CODE_FILE, "", worlds, Arc::new(learners))
@@ -287,8 +294,8 @@ impl Sweep {
         text: String,
         file: &str,
         located: &str,
-        worlds: &dyn WorldFactory,
-        learners: Arc<dyn LearnerFactory>,
+        worlds: &Worlds,
+        learners: Arc<Learners>,
     ) -> Result<Sweep, SweepError> {
         let bad = |field: &str, anchor: Option<&str>, expected: &str| {
             invalid(file, located, field, anchor, expected)
@@ -537,7 +544,7 @@ impl Sweep {
 /// CSV field and a file.
 fn learner_uses(
     spec: &SweepSpec,
-    learners: &dyn LearnerFactory,
+    learners: &Learners,
     bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
 ) -> Result<Vec<[bool; 5]>, SweepError> {
     let mut uses: Vec<[bool; 5]> = Vec::with_capacity(spec.learners.len());
@@ -568,7 +575,7 @@ fn learner_uses(
 /// must be, each once.
 fn make_scenes(
     spec: &SweepSpec,
-    worlds: &dyn WorldFactory,
+    worlds: &Worlds,
     bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
 ) -> Result<Vec<Arc<dyn SweepScene>>, SweepError> {
     let mut scenes: Vec<Arc<dyn SweepScene>> = Vec::new();
@@ -701,7 +708,7 @@ fn check_size(
 /// runs episodes. `bad(field, anchor, expected)` places the error.
 fn check_values(
     scenes: &[Arc<dyn SweepScene>],
-    learners: &dyn LearnerFactory,
+    learners: &Learners,
     names: &[String],
     episodes: bool,
     bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,

@@ -10,7 +10,7 @@
 //! [`run_value_session`](crate::session::run_value_session) alone, whatever the
 //! threads, the groups and the shards. Its learner is the continuous form
 //! of the cell's learner
-//! ([`LearnerFactory::make_continuous`](super::LearnerFactory::make_continuous)); its
+//! ([`Learners::make_continuous`](super::Learners::make_continuous)); its
 //! metrics are computed from its effects and rewards as for a session of
 //! symbols. The checks of such a sweep are made where it is planned
 //! (`plan.rs`), the worlds of such a scene where scenes are prepared

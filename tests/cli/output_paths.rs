@@ -505,3 +505,121 @@ fn a_cache_folder_that_is_a_file_is_refused_before_any_work() {
     assert_eq!(std::fs::read_to_string(&f).unwrap(), "x");
     assert!(!dir.join("out").exists(), "the sweep made no folder");
 }
+
+/// Every command that writes into a folder claims it, as a sweep does:
+/// while another process holds the folder's lock, `run`, `reproduce`,
+/// `compare`, `closed-loop` and `plot` are refused before any work,
+/// naming the folder and the process that holds it, and write nothing;
+/// once it is released, each runs and leaves no lock file behind.
+#[cfg(unix)]
+#[test]
+fn every_command_refuses_a_folder_another_process_writes_into() {
+    let d = temp_dir("locked-out");
+    let sweep = d.join("s.ron");
+    std::fs::write(
+        &sweep,
+        r#"Sweep(scenes: ["two_rooms"], learners: [e3d], params: (beta: [1, 10]),
+        sessions: 1, trials: 20, metrics: [normalized_entropy])"#,
+    )
+    .unwrap();
+    let results = d.join("sweep");
+    ok(e3d(&[
+        "sweep",
+        sweep.to_str().unwrap(),
+        "--out",
+        results.to_str().unwrap(),
+    ]));
+    let out = d.join("out");
+    let o = out.to_str().unwrap();
+    let plot = out.join("p.svg");
+    let r = results.to_str().unwrap();
+    let commands: [Vec<&str>; 5] = [
+        vec!["run", "two_rooms", "--trials", "20", "--out", o],
+        vec!["reproduce", "--sessions", "1", "--trials", "20", "--out", o],
+        vec!["compare", "--sessions", "1", "--trials", "20", "--out", o],
+        vec![
+            "closed-loop",
+            "--episodes",
+            "20",
+            "--seeds",
+            "1",
+            "--out",
+            o,
+        ],
+        vec![
+            "plot",
+            r,
+            "--x",
+            "beta",
+            "--metric",
+            "normalized_entropy",
+            "--out",
+            plot.to_str().unwrap(),
+        ],
+    ];
+    for args in &commands {
+        std::fs::create_dir_all(&out).unwrap();
+        {
+            let _held = e3d::io::DirLock::acquire(&out).unwrap();
+            let refused = e3d(args);
+            let err = stderr(&refused);
+            assert_eq!(refused.status.code(), Some(3), "{args:?}: {err}");
+            let me = format!(
+                "{}: in use by e3d pid={} host=",
+                out.display(),
+                std::process::id()
+            );
+            assert!(err.contains(&me), "{args:?}: {err}");
+            let names: Vec<_> = std::fs::read_dir(&out)
+                .unwrap()
+                .map(|e| e.unwrap().file_name())
+                .collect();
+            assert_eq!(names, [".lock"], "{args:?} wrote into a locked folder");
+        }
+        ok(e3d(args));
+        assert!(!out.join(".lock").exists(), "{args:?} left its lock");
+        std::fs::remove_dir_all(&out).unwrap();
+    }
+}
+
+/// Episodes are streamed: a run of ten million episodes with start
+/// contexts keeps its figures, not its episodes, and finishes within
+/// 256 MiB of address space (it held every episode: an abort), and its
+/// trials.csv is written as the episodes run, the same bytes as before.
+#[cfg(unix)]
+#[test]
+fn episodes_run_in_bounded_memory() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/two_rooms_contexts.ron");
+    let big = e3d_within(256 << 20, &["run", scene, "--trials", "10000000"]);
+    assert_eq!(big.status.code(), Some(0), "{}", stderr(&big));
+    let out = String::from_utf8_lossy(&big.stdout);
+    assert!(
+        out.contains("seed 0: first reward at episode never, cumulative reward 0, normalised entropy of the terminal cells per start context: room_a 0.99"),
+        "{out}"
+    );
+    // the streamed file: a header, then a row per command
+    let d = temp_dir("episodes-streamed");
+    let o = d.join("out");
+    ok(e3d(&[
+        "run",
+        scene,
+        "--trials",
+        "500",
+        "--sessions",
+        "2",
+        "--commands",
+        "2",
+        "--out",
+        o.to_str().unwrap(),
+    ]));
+    let csv = std::fs::read_to_string(o.join("trials.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "session,episode,command,context,start,symbols,effect,reward"
+    );
+    assert_eq!(lines.len(), 1 + 2 * 500 * 2);
+    assert!(lines[1].starts_with("0,1,1,"), "{}", lines[1]);
+    assert!(lines[2].starts_with("0,1,2,"), "{}", lines[2]);
+    assert!(lines[2000].starts_with("1,500,2,"), "{}", lines[2000]);
+}

@@ -1048,7 +1048,13 @@ fn a_closed_loop_sweep_on_start_contexts_is_the_same_bytes_whatever_the_threads_
             )
             .unwrap();
         assert_eq!(learner.num_contexts(), 18);
-        let rec = run_episodes(&mut *world, &mut *learner, &cfg).unwrap();
+        let rec = run_episodes(
+            &mut *world,
+            &mut *learner,
+            &cfg,
+            &e3d::session::Control::default(),
+        )
+        .unwrap();
         let per_start = rec.entropy_per_start(2);
         assert_eq!(row[c0], e3d::sweep::format_number(per_start[0]), "{row:?}");
         assert_eq!(row[c1], e3d::sweep::format_number(per_start[1]), "{row:?}");

@@ -123,7 +123,7 @@ pub fn seen_and_blind_entropy<W: e3d::World + ?Sized>(
                     &ContextTargets::Shared(Target::Uniform),
                 )
                 .unwrap();
-            run_episodes(&mut *w, &mut l, &cfg)
+            run_episodes(&mut *w, &mut l, &cfg, &e3d::session::Control::default())
                 .unwrap()
                 .entropy_per_start(contexts)
         })

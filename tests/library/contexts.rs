@@ -358,7 +358,13 @@ fn one_context_and_one_command_is_the_open_loop_session() {
             use_reward: true,
             observe: Observe::StartContext,
         };
-        let b = run_episodes(&mut scene.build(), &mut ctx, &ecfg).unwrap();
+        let b = run_episodes(
+            &mut scene.build(),
+            &mut ctx,
+            &ecfg,
+            &e3d::session::Control::default(),
+        )
+        .unwrap();
         assert_eq!(a.effects, b.effects, "{kind}");
         assert_eq!(a.commands, b.commands, "{kind}");
         assert_eq!(a.rewards, b.rewards, "{kind}");
@@ -476,8 +482,20 @@ fn closed_loop_e3d_with_one_command_is_contextual_e3d() {
     let mut b = LearnerKind::E3d
         .make_contextual(&Params::TASK2, &space, 18, 3, &shared)
         .unwrap();
-    let ra = run_episodes(&mut scene.build(), &mut a, &cfg).unwrap();
-    let rb = run_episodes(&mut scene.build(), &mut b, &cfg).unwrap();
+    let ra = run_episodes(
+        &mut scene.build(),
+        &mut a,
+        &cfg,
+        &e3d::session::Control::default(),
+    )
+    .unwrap();
+    let rb = run_episodes(
+        &mut scene.build(),
+        &mut b,
+        &cfg,
+        &e3d::session::Control::default(),
+    )
+    .unwrap();
     assert_eq!(ra, rb);
     assert!(ra.cumulative_reward() > 0.0);
     // per-context targets of the wrong length are refused
@@ -563,10 +581,16 @@ fn states_outside_the_world_and_worlds_without_states_are_errors() {
             &ContextTargets::Shared(Target::Uniform),
         )
         .unwrap();
-    let e = run_episodes(&mut &table, &mut l, &cfg).unwrap_err();
+    let e = run_episodes(&mut &table, &mut l, &cfg, &e3d::session::Control::default()).unwrap_err();
     assert!(e.to_string().contains("no states to start from"), "{e}");
     let zero = EpisodeConfig { commands: 0, ..cfg };
-    assert!(run_episodes(&mut scene.build(), &mut l, &zero).is_err());
+    assert!(run_episodes(
+        &mut scene.build(),
+        &mut l,
+        &zero,
+        &e3d::session::Control::default()
+    )
+    .is_err());
 }
 
 /// The reward per start context (the sweeps' `cumulative_reward_context_I`
@@ -595,7 +619,13 @@ fn rewards_are_counted_per_start_context() {
             &ContextTargets::Shared(Target::Uniform),
         )
         .unwrap();
-    let rec = run_episodes(&mut *world, &mut learner, &cfg).unwrap();
+    let rec = run_episodes(
+        &mut *world,
+        &mut learner,
+        &cfg,
+        &e3d::session::Control::default(),
+    )
+    .unwrap();
     let (mut sums, mut firsts) = (vec![0.0; 3], vec![None; 3]);
     for (i, &s) in rec.starts.iter().enumerate() {
         let r = rec.rewards[2 * i] + rec.rewards[2 * i + 1];

@@ -6,7 +6,7 @@
 use crate::common::grid_with_contexts;
 use e3d::command::CommandSpace;
 use e3d::effect::EffectGrid;
-use e3d::learner::state::{STATE_HEADER, STATE_HEADER_V1};
+use e3d::learner::state::STATE_HEADER;
 use e3d::learner::{E3d, LearnerState};
 use e3d::{Params, Scene, Target};
 
@@ -91,9 +91,14 @@ fn e3d_state() -> Vec<u8> {
         .to_bytes()
 }
 
-/// Saved states carry a checksum: a flipped bit is refused; a state of
-/// version 1 (no checksum) still loads; an unknown version is refused by
-/// its number.
+/// `body` as a state, with its checksum.
+fn sealed(body: &[u8]) -> Vec<u8> {
+    [body, &e3d::hash::fnv1a64(body).to_le_bytes()].concat()
+}
+
+/// Saved states carry a checksum: a flipped bit is refused; states of
+/// versions 1 and 2 (written before the states went through serde) and
+/// unknown versions are refused by their number.
 #[test]
 fn learner_states_are_checksummed_and_versioned() {
     let saved = e3d_state();
@@ -105,42 +110,52 @@ fn learner_states_are_checksummed_and_versioned() {
     let e = E3d::from_bytes(&flipped).unwrap_err().to_string();
     assert!(e.contains("checksum"), "{e}");
 
-    // version 1: the same body, no checksum
-    let body = &saved[STATE_HEADER.len()..saved.len() - 8];
-    let v1 = [STATE_HEADER_V1, body].concat();
-    assert_eq!(E3d::from_bytes(&v1).unwrap().to_bytes(), saved);
-    assert_eq!(e3d::learner::state::state_kind(&v1).unwrap(), "e3d");
-
-    let v9 = [&b"E3D-LEARNER-STATE 9\n"[..], body].concat();
-    let e = E3d::from_bytes(&v9).unwrap_err().to_string();
-    assert!(e.contains("version 9"), "{e}");
+    let body = &saved[STATE_HEADER.len()..];
+    for v in ["1", "2", "9"] {
+        let old = [format!("E3D-LEARNER-STATE {v}\n").as_bytes(), body].concat();
+        let e = E3d::from_bytes(&old).unwrap_err().to_string();
+        assert!(
+            e.starts_with(&format!("a learner's state of format version {v}"))
+                && e.contains("this e3d reads version 3 only")
+                && e.contains("from before its learner states went through serde") == (v != "9"),
+            "{e}"
+        );
+        let kind = e3d::learner::state::state_kind(&old).unwrap_err();
+        assert_eq!(kind.to_string(), e);
+    }
 }
 
 /// A NaN rate or a NaN table entry is refused when a state is read, also
-/// in a version 1 state (no checksum to catch an edit).
+/// when the checksum was made anew after the edit.
 #[test]
 fn learner_states_hold_no_nan() {
     let saved = e3d_state();
-    let body = saved[STATE_HEADER.len()..saved.len() - 8].to_vec();
-    // the body: the kind (8-byte length, "e3d"), then the four rates
-    let rates_at = 8 + 3;
+    let body = saved[..saved.len() - 8].to_vec();
+    // E3D's fields end with its four rates: alpha lambda, 1 - alpha
+    // lambda, alpha / beta, beta
+    let rates_at = body.len() - 4 * 8;
     for (i, v) in [(0, f64::NAN), (3, f64::NAN), (3, 0.0), (2, f64::INFINITY)] {
         let mut b = body.clone();
         let at = rates_at + 8 * i;
         b[at..at + 8].copy_from_slice(&v.to_le_bytes());
-        let v1 = [STATE_HEADER_V1, &b].concat();
-        let e = E3d::from_bytes(&v1).unwrap_err().to_string();
+        let e = E3d::from_bytes(&sealed(&b)).unwrap_err().to_string();
         assert!(
             e.contains("NaN") || e.contains("finite") || e.contains("beta"),
             "rate {i} = {v}: {e}"
         );
     }
-    // a NaN anywhere in Q (after the rates, sizes and width)
+    // a NaN in Q: after the header, the kind (its length, "e3d"), the
+    // tables' width (variant 0: 4), the number of slots and of entries
     let mut b = body.clone();
-    let q_at = rates_at + 8 * 4 + 8 + 8 * 2 + 8;
+    let q_at = STATE_HEADER.len() + 4 + 3;
+    assert_eq!(b[q_at - 3..q_at], [0, 2, 4]);
     b[q_at..q_at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
-    let e = E3d::from_bytes(&[STATE_HEADER_V1, &b].concat())
-        .unwrap_err()
-        .to_string();
+    let e = E3d::from_bytes(&sealed(&b)).unwrap_err().to_string();
     assert!(e.contains("NaN"), "{e}");
+    b[q_at..q_at + 8].copy_from_slice(&f64::INFINITY.to_le_bytes());
+    let e = E3d::from_bytes(&sealed(&b)).unwrap_err().to_string();
+    assert!(
+        e.contains("table `q`: finite values, found inf at entry 0"),
+        "{e}"
+    );
 }

@@ -85,7 +85,7 @@ where
     assert_eq!(rng, rng2);
     assert_eq!(back.shape(), l.shape());
     // cut short, one byte more, or another kind's bytes: refused
-    for n in [0, 20, saved.len() / 2, saved.len() - 1] {
+    for n in [0, 20, 25, saved.len() / 2, saved.len() - 1] {
         assert!(L::from_bytes(&saved[..n]).is_err(), "{}: {n}", L::KIND);
     }
     let mut long = saved.clone();
@@ -222,19 +222,16 @@ fn contextual_learners_continue_bit_for_bit_after_a_save() {
     let q = QLearning::new(&s, 2, &p, 0.5).unwrap().to_bytes();
     assert!(ClosedLoopE3d::from_bytes(&q).is_err());
     // a command space whose slot repeats a symbol: refused (its bytes end
-    // with the space's last slot, `a` then `b`, then alpha, epsilon, gamma)
+    // with the space's last slot, `a` then `b` (each its length, 1, then
+    // its UTF-8), then alpha, epsilon, gamma and the checksum)
     let other = CommandSpace::repeat(3, &['a', 'b']).unwrap();
     let mut bytes = QLearning::new(&other, 2, &p, 0.5).unwrap().to_bytes();
-    // as a state of version 1, which has no checksum to catch the edit
-    // (the checksum of version 2 would refuse it first)
     bytes.truncate(bytes.len() - 8);
-    bytes.splice(
-        ..e3d::learner::state::STATE_HEADER.len(),
-        e3d::learner::state::STATE_HEADER_V1.iter().copied(),
-    );
-    let b = bytes.len() - 3 * 8 - 4;
-    assert_eq!(bytes[b], b'b');
+    let b = bytes.len() - 3 * 8 - 1;
+    assert_eq!(bytes[b - 3..=b], [1, b'a', 1, b'b']);
     bytes[b] = b'a';
+    // with its checksum made anew (else the edit is a checksum error)
+    bytes.extend(e3d::hash::fnv1a64(&bytes).to_le_bytes());
     let e = QLearning::from_bytes(&bytes).err().unwrap().to_string();
     assert!(
         e.starts_with("state of a `qlearning` learner: command space"),

@@ -6,8 +6,8 @@ use crate::common::temp_path;
 use e3d::command::CommandSpace;
 use e3d::episode::Observe;
 use e3d::sweep::{
-    DirOptions, LearnerFactory, Learners, LiveScene, MetricSpec, ParamValues, Scale, Shard, Sweep,
-    SweepSpec, Values, Worlds,
+    DirOptions, Learners, LiveScene, MetricSpec, ParamValues, Scale, Shard, Sweep, SweepSpec,
+    Values, Worlds,
 };
 use e3d::{Command, LearnerKind, Outcome, Scene, World, WorldError};
 use proptest::prelude::*;
@@ -119,34 +119,18 @@ fn mistakes_in_a_spec_built_in_code_are_refused_by_name() {
         err(spec().with_use_reward([])),
         "<SweepSpec>: field `use_reward`: expected [true], [false] or [false, true], found []"
     );
-    // a name that would break the CSV or the identity, from a factory
-    let spec = SweepSpec::new(["two_rooms"], ["a,b"], 1, 10);
-    let e = Sweep::with_factories(spec, &Worlds::new().with_scene_files(None), Odd)
-        .unwrap_err()
-        .to_string();
-    assert_eq!(e, "<SweepSpec>: field `learners`: expected learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `a,b`");
 }
 
-/// A learner factory of its own: one learner with an impossible name.
-struct Odd;
-
-impl LearnerFactory for Odd {
-    fn names(&self) -> Vec<String> {
-        vec!["a,b".into()]
-    }
-    fn uses(&self, name: &str) -> Option<[bool; 5]> {
-        (name == "a,b").then_some([false; 5])
-    }
-    fn make(
-        &self,
-        _name: &str,
-        params: &e3d::Params,
-        space: &CommandSpace,
-        num_effects: usize,
-        target: &e3d::Target,
-    ) -> Result<Box<dyn e3d::Learner + Send>, e3d::sweep::BoxError> {
-        Ok(LearnerKind::Uniform.make(params, space, num_effects, target)?)
-    }
+/// A name that would break the CSV or the identity is refused when it
+/// is registered, before any sweep.
+#[test]
+#[should_panic(
+    expected = "learner `a,b`: a name of ASCII letters, digits and `_`, not starting with a digit"
+)]
+fn a_learner_name_outside_identifiers_is_refused() {
+    let _ = Learners::new().with("a,b", &[], |p, space, n, target| {
+        Ok(LearnerKind::Uniform.make(p, space, n, target)?)
+    });
 }
 
 /// A world whose effect is the number of `b` symbols (plus `shift`).

@@ -200,11 +200,29 @@ fn the_context_memo_changes_no_result() {
             .make_contextual(&Params::TASK1, &space, 18, 2, &shared)
             .unwrap()
     };
-    let plain = run_episodes(&mut scene.build(), &mut make(), &cfg).unwrap();
+    let plain = run_episodes(
+        &mut scene.build(),
+        &mut make(),
+        &cfg,
+        &e3d::session::Control::default(),
+    )
+    .unwrap();
     let mut kept = ContextMemoized::new(scene.build(), &memos);
-    let memoized = run_episodes(&mut kept, &mut make(), &cfg).unwrap();
+    let memoized = run_episodes(
+        &mut kept,
+        &mut make(),
+        &cfg,
+        &e3d::session::Control::default(),
+    )
+    .unwrap();
     assert_eq!(plain, memoized);
-    let again = run_episodes(&mut kept, &mut make(), &cfg).unwrap();
+    let again = run_episodes(
+        &mut kept,
+        &mut make(),
+        &cfg,
+        &e3d::session::Control::default(),
+    )
+    .unwrap();
     assert_eq!(plain, again);
     let len = memos[0].len() + memos[1].len();
     let misses = memos[0].misses() + memos[1].misses();

@@ -5,7 +5,7 @@
 use super::{execution_text, first_failure, symbol_metrics, OneSession, SessionArgs};
 use crate::errors::{learner_names, Fail};
 use crate::learner::{python_learner_name, PyLearner, Tap};
-use crate::progress::{watched, Throttle, Watch};
+use crate::progress::{watched, Throttle, Ticks, Watch};
 use crate::record::{record_to_py, Rows};
 use crate::scene::PyScene;
 use e3d::world::{ExecOptions, Executor, Workload};
@@ -185,40 +185,4 @@ pub(super) fn run_lockstep_here<'s>(
     }
     first_failure(status)?;
     Ok((records, exec))
-}
-
-/// The progress and stop of sessions of Python learners, on the calling
-/// thread: `progress(done, total)` throttled, and a stop once a callback
-/// raised.
-struct Ticks<'a, 'py> {
-    throttle: RefCell<Throttle<'py>>,
-    done: std::cell::Cell<u64>,
-    total: u64,
-    error: &'a RefCell<Option<PyErr>>,
-}
-
-impl<'a, 'py> Ticks<'a, 'py> {
-    fn new(throttle: Throttle<'py>, total: u64, error: &'a RefCell<Option<PyErr>>) -> Self {
-        Ticks {
-            throttle: RefCell::new(throttle),
-            done: std::cell::Cell::new(0),
-            total,
-            error,
-        }
-    }
-}
-
-impl e3d::session::Observer for Ticks<'_, '_> {
-    fn progress(&self, trials: u64) {
-        let done = self.done.get() + trials;
-        self.done.set(done);
-        if self.error.borrow().is_none() {
-            if let Err(e) = self.throttle.borrow_mut().tick(done, done == self.total) {
-                *self.error.borrow_mut() = Some(e);
-            }
-        }
-    }
-    fn stopped(&self) -> bool {
-        self.error.borrow().is_some()
-    }
 }

@@ -4,24 +4,24 @@
 use super::{ActionValues, ClosedLoopE3d, PerContext, QLearning};
 use crate::command::CommandSpace;
 use crate::learner::state::tables::{check_len, no_table, StateTable};
-use crate::learner::state::{LearnerState, StateField, StateReader, StateShape, StateWriter};
+use crate::learner::state::{check_space, decode, ensure, intact, per_context_kind};
+use crate::learner::state::{LearnerState, StateShape};
 use crate::learner::{Learner, LearnerError};
+use serde::{de::Error, Deserialize, Deserializer, Serialize, Serializer};
 
-/// The learners of every context, after the kind of each.
-impl<L: LearnerState + Learner + Clone> StateField for PerContext<L> {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&L::KIND.to_string())
-            .put(&self.name)
-            .put(&self.learners);
+/// The kind of the learners, then their name and the learners.
+impl<L: LearnerState> Serialize for PerContext<L> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        (L::KIND, &self.name, &self.learners).serialize(s)
     }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let kind: String = r.get()?;
-        r.check(kind == L::KIND, || {
-            format!("learners of kind `{kind}`, expected `{}`", L::KIND)
-        })?;
-        let name: String = r.get()?;
-        let learners: Vec<L> = r.get()?;
-        r.check(!learners.is_empty(), || "no context".into())?;
+}
+
+impl<'de, L: LearnerState> Deserialize<'de> for PerContext<L> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let (kind, name, learners) = <(String, String, Vec<L>)>::deserialize(d)?;
+        if kind != L::KIND {
+            return Err(D::Error::custom(format!("learners of kind `{kind}`")));
+        }
         Ok(PerContext { learners, name })
     }
 }
@@ -33,6 +33,10 @@ impl<L: LearnerState + Learner + Clone> LearnerState for PerContext<L> {
             contexts: Some(self.learners.len()),
             ..self.learners[0].shape()
         }
+    }
+    fn validate(&self) -> Result<(), String> {
+        ensure(!self.learners.is_empty(), || "no context".into())?;
+        self.learners.iter().try_for_each(L::validate)
     }
     /// The tables of each context's learner, the context as first axis.
     fn tables(&self) -> Vec<StateTable> {
@@ -54,66 +58,35 @@ impl<L: LearnerState + Learner + Clone> LearnerState for PerContext<L> {
         self.learners = next;
         Ok(())
     }
-}
-
-impl StateField for ActionValues {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.q).put(&self.commands);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let v = ActionValues {
-            q: r.get()?,
-            commands: r.get()?,
-        };
-        r.check(
-            v.commands > 0 && !v.q.is_empty() && v.q.len() % v.commands == 0,
-            || format!("{} action-values over {} commands", v.q.len(), v.commands),
-        )?;
-        Ok(v)
-    }
-}
-
-/// Checks that the action-values `v` are over the commands of `space`.
-fn check_values(
-    r: &StateReader<'_>,
-    v: &ActionValues,
-    space: &CommandSpace,
-) -> Result<(), LearnerError> {
-    r.check(space.num_commands() == Some(v.commands as u64), || {
-        format!(
-            "action-values over {} commands for a space of {}",
-            v.commands,
-            space.num_commands_text()
-        )
-    })
-}
-
-impl StateField for ClosedLoopE3d {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.policy).put(&self.reference).put(&self.space);
-        w.put(&self.alpha).put(&self.gamma);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let l = ClosedLoopE3d {
-            policy: r.get()?,
-            reference: r.get()?,
-            space: r.get()?,
-            alpha: r.get()?,
-            gamma: r.get()?,
-        };
-        check_values(r, &l.reference, &l.space)?;
-        let contexts = l.reference.q.len() / l.reference.commands;
-        r.check(l.policy.learners.len() == contexts, || {
-            format!(
-                "{} context policies for reference values over {contexts} contexts",
-                l.policy.learners.len()
-            )
-        })?;
-        Ok(l)
+    /// Also refuses an intact state of learners of another kind, naming
+    /// both kinds.
+    fn from_bytes(bytes: &[u8]) -> Result<Self, LearnerError> {
+        match per_context_kind(bytes) {
+            Ok(kind) if kind != L::KIND && intact(bytes) => Err(LearnerError::State(format!(
+                "state of a `per_context` learner: learners of kind `{kind}`, expected `{}`",
+                L::KIND
+            ))),
+            _ => decode(bytes),
+        }
     }
 }
 
 impl ActionValues {
+    /// Checks action-values read from a state, over the commands of `space`.
+    fn validate(&self, space: &CommandSpace) -> Result<(), String> {
+        check_space(space)?;
+        let (q, commands) = (self.q.len(), self.commands);
+        ensure(commands > 0 && q > 0 && q % commands == 0, || {
+            format!("{q} action-values over {commands} commands")
+        })?;
+        ensure(space.num_commands() == Some(commands as u64), || {
+            format!(
+                "action-values over {commands} commands for a space of {}",
+                space.num_commands_text()
+            )
+        })
+    }
+
     /// The table `name` of shape `(contexts, commands)`.
     fn table(&self, name: &'static str) -> StateTable {
         StateTable {
@@ -142,6 +115,17 @@ impl LearnerState for ClosedLoopE3d {
     fn shape(&self) -> StateShape {
         self.policy.shape()
     }
+    fn validate(&self) -> Result<(), String> {
+        self.policy.validate()?;
+        self.reference.validate(&self.space)?;
+        let contexts = self.reference.q.len() / self.reference.commands;
+        ensure(self.policy.learners.len() == contexts, || {
+            format!(
+                "{} context policies for reference values over {contexts} contexts",
+                self.policy.learners.len()
+            )
+        })
+    }
     /// The tables of each context's E3D (`q`, `policy`, `p`, `target`,
     /// the context first) and the `reference` action-values `Q_ref(s, a)`
     /// (`(contexts, commands)`), all writable.
@@ -158,24 +142,6 @@ impl LearnerState for ClosedLoopE3d {
     }
 }
 
-impl StateField for QLearning {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.values).put(&self.space).put(&self.alpha);
-        w.put(&self.epsilon).put(&self.gamma);
-    }
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let l = QLearning {
-            values: r.get()?,
-            space: r.get()?,
-            alpha: r.get()?,
-            epsilon: r.get()?,
-            gamma: r.get()?,
-        };
-        check_values(r, &l.values, &l.space)?;
-        Ok(l)
-    }
-}
-
 impl LearnerState for QLearning {
     const KIND: &'static str = "qlearning";
     fn shape(&self) -> StateShape {
@@ -184,6 +150,9 @@ impl LearnerState for QLearning {
             effects: None,
             contexts: Some(self.values.q.len() / self.values.commands),
         }
+    }
+    fn validate(&self) -> Result<(), String> {
+        self.values.validate(&self.space)
     }
     /// The action-values `q`, `(contexts, commands)`, writable.
     fn tables(&self) -> Vec<StateTable> {

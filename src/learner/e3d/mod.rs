@@ -5,6 +5,7 @@ use crate::effect::{log_floored, EffectModel, Target};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
+use serde::{Deserialize, Serialize};
 
 /// End-Effect Exploration Drive: the paper's Algorithm 1.
 ///
@@ -53,7 +54,7 @@ use rand::RngExt;
 /// assert!(l.q(0)[0] < 0.0 && l.q(1)[1] < 0.0);
 /// assert_eq!(l.q(0)[1], 0.0);
 /// ```
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct E3d {
     slots: Tables,
     /// Per slot: its alphabet size.
@@ -68,25 +69,29 @@ pub struct E3d {
     beta: f64,
     /// Whether `learn` and `propose` run their AVX2 builds (same results,
     /// fewer instructions); decided once, from the processor.
+    #[serde(skip, default = "has_avx2")]
     avx2: bool,
 }
 
 /// One slot's tables, `W` entries (`W` >= the largest alphabet), kept
 /// together so that a slot is one base address.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 struct Slot<const W: usize> {
     /// `Q`.
+    #[serde(with = "state::array")]
     q: [f64; W],
     /// `exp(beta Q - shift)` (0 on padding).
+    #[serde(with = "state::array")]
     weights: [f64; W],
     /// Running sums of `weights`; the last entry is the slot's total.
+    #[serde(with = "state::array")]
     cumulative: [f64; W],
     /// The shift of the slot's logits.
     shift: f64,
 }
 
 /// Every slot's tables.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 struct SlotTables<const W: usize> {
     slots: Vec<Slot<W>>,
 }
@@ -95,7 +100,7 @@ struct SlotTables<const W: usize> {
 const TOTAL_RANGE: std::ops::RangeInclusive<f64> = 1e-100..=1e100;
 
 /// The slot tables at the smallest width that fits.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 enum Tables {
     W4(SlotTables<4>),
     W8(SlotTables<8>),

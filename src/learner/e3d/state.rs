@@ -2,13 +2,13 @@
 //! effect model, and saving and loading the whole learner bit for bit
 //! ([`LearnerState`]).
 
-use super::{has_avx2, E3d, Slot, SlotTables, Tables};
+use super::{E3d, Tables};
 use crate::effect::EffectModel;
 use crate::learner::state::tables::{
     log_target_of, model_of, no_table, q_of_policy, slot_rows, target_of, StateTable,
 };
 use crate::learner::state::{
-    check_target, LearnerState, StateField, StateReader, StateShape, StateWriter,
+    check_finite, check_model, check_rates, ensure, LearnerState, StateShape,
 };
 use crate::learner::LearnerError;
 
@@ -90,36 +90,22 @@ impl E3d {
     }
 }
 
-impl<const W: usize> SlotTables<W> {
-    fn put(&self, w: &mut StateWriter) {
-        for s in &self.slots {
-            for v in s.q.iter().chain(&s.weights).chain(&s.cumulative) {
-                w.put(v);
-            }
-            w.put(&s.shift);
-        }
+/// A table of `W` floats saved as a sequence (`serde` has no arrays of
+/// 64).
+pub(super) mod array {
+    use serde::{de::Error, Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer, const W: usize>(a: &[f64; W], s: S) -> Result<S::Ok, S::Error> {
+        a[..].serialize(s)
     }
 
-    fn get(r: &mut StateReader<'_>, slots: usize) -> Result<Self, LearnerError> {
-        let array = |r: &mut StateReader<'_>| -> Result<[f64; W], LearnerError> {
-            let mut a = [0.0; W];
-            for v in &mut a {
-                *v = r.get()?;
-            }
-            Ok(a)
-        };
-        let mut out = Vec::with_capacity(slots.min(4096));
-        for _ in 0..slots {
-            let q = array(r)?;
-            crate::learner::state::check_finite(r, "q", &q)?;
-            out.push(Slot {
-                q,
-                weights: array(r)?,
-                cumulative: array(r)?,
-                shift: r.get()?,
-            });
-        }
-        Ok(SlotTables { slots: out })
+    pub fn deserialize<'de, D: Deserializer<'de>, const W: usize>(
+        d: D,
+    ) -> Result<[f64; W], D::Error> {
+        let v = Vec::<f64>::deserialize(d)?;
+        let n = v.len();
+        v.try_into()
+            .map_err(|_| D::Error::invalid_length(n, &"the width of the tables"))
     }
 }
 
@@ -142,6 +128,24 @@ impl LearnerState for E3d {
     const KIND: &'static str = "e3d";
     fn shape(&self) -> StateShape {
         StateShape::of(self.sizes.clone(), Some(self.model.num_effects()))
+    }
+    fn validate(&self) -> Result<(), String> {
+        check_rates(
+            &[
+                ("alpha lambda", self.alpha_lambda),
+                ("1 - alpha lambda", self.decay),
+                ("alpha / beta", self.alpha_over_beta),
+            ],
+            self.beta,
+        )?;
+        let (sizes, width) = (&self.sizes, with_tables!(&self.slots, t => t.width()));
+        let slots = with_tables!(&self.slots, t => t.slots.len());
+        ensure(
+            !sizes.is_empty() && slots == sizes.len() && sizes.iter().all(|&k| k > 0 && k <= width),
+            || format!("alphabet sizes {sizes:?} in {slots} tables of width {width}"),
+        )?;
+        with_tables!(&self.slots, t => t.slots.iter().try_for_each(|s| check_finite("q", &s.q)))?;
+        check_model(&self.model, &self.log_target)
     }
     /// `q`, `policy` (writing it sets Q to `log(policy) / beta`), `p` and
     /// `target`, all writable.
@@ -177,59 +181,5 @@ impl LearnerState for E3d {
             self.set_q(s, r)?;
         }
         Ok(())
-    }
-}
-
-impl StateField for E3d {
-    fn put(&self, w: &mut StateWriter) {
-        w.put(&self.alpha_lambda).put(&self.decay);
-        w.put(&self.alpha_over_beta).put(&self.beta);
-        w.put(&self.sizes);
-        let width = with_tables!(&self.slots, t => t.width());
-        w.put(&width);
-        with_tables!(&self.slots, t => t.put(w));
-        w.put(&self.model).put(&self.log_target);
-    }
-
-    fn get(r: &mut StateReader<'_>) -> Result<Self, LearnerError> {
-        let rates: [f64; 4] = [r.get()?, r.get()?, r.get()?, r.get()?];
-        crate::learner::state::check_rates(
-            r,
-            &[
-                ("alpha lambda", rates[0]),
-                ("1 - alpha lambda", rates[1]),
-                ("alpha / beta", rates[2]),
-            ],
-            rates[3],
-        )?;
-        let sizes: Vec<usize> = r.get()?;
-        let width: usize = r.get()?;
-        r.check(
-            !sizes.is_empty()
-                && matches!(width, 4 | 8 | 16 | 64)
-                && sizes.iter().all(|&k| k > 0 && k <= width),
-            || format!("alphabet sizes {sizes:?} in tables of width {width}"),
-        )?;
-        let n = sizes.len();
-        let slots = match width {
-            4 => Tables::W4(SlotTables::get(r, n)?),
-            8 => Tables::W8(SlotTables::get(r, n)?),
-            16 => Tables::W16(SlotTables::get(r, n)?),
-            _ => Tables::W64(SlotTables::get(r, n)?),
-        };
-        let model: EffectModel = r.get()?;
-        let log_target: Vec<f64> = r.get()?;
-        check_target(r, &log_target, &model)?;
-        Ok(E3d {
-            slots,
-            sizes,
-            model,
-            log_target,
-            alpha_lambda: rates[0],
-            decay: rates[1],
-            alpha_over_beta: rates[2],
-            beta: rates[3],
-            avx2: has_avx2(),
-        })
     }
 }

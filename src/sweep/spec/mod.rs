@@ -1,7 +1,7 @@
 //! The sweep file: hyper-parameter values, metrics and the [`SweepSpec`]
 //! as written, built in code, parsed, checked and written back.
 
-use super::factory::{LearnerFactory, Learners};
+use super::factory::Learners;
 #[cfg(doc)]
 use super::Sweep;
 use super::SweepError;
@@ -176,7 +176,7 @@ pub struct SweepSpec {
     /// scene files (relative to the sweep file's folder) or built-in names.
     pub scenes: Vec<String>,
     /// The learners' names (`e3d`, `uniform`, `egreedy`, or those of a
-    /// custom [`LearnerFactory`]); in a file, bare identifiers.
+    /// custom [`Learners`]); in a file, bare identifiers.
     #[serde(deserialize_with = "learner_names")]
     pub learners: Vec<String>,
     /// Whether the learners see the reward: `[true]`, `[false]` or both
@@ -436,7 +436,7 @@ impl SweepSpec {
     pub fn parse_with(
         text: &str,
         file: &str,
-        learners: &dyn LearnerFactory,
+        learners: &Learners,
     ) -> Result<SweepSpec, SweepError> {
         let (spec, text) = SweepSpec::from_text(text, file, learners)?;
         spec.check_in(file, text)?;
@@ -447,7 +447,7 @@ impl SweepSpec {
     pub(super) fn from_text<'t>(
         text: &'t str,
         file: &str,
-        learners: &dyn LearnerFactory,
+        learners: &Learners,
     ) -> Result<(SweepSpec, &'t str), SweepError> {
         let text = crate::scene::prepare_text(text, file, "sweep")?;
         if text.trim().is_empty() {
