@@ -28,25 +28,20 @@ import numpy as np
 from . import _e3d
 from ._e3d import (
     E3D_VERSION,
-    BatchOutcome,
     E3dLearner,
-    EpisodeRecord,
     EpisodeWorld,
     Learner,
-    Motion,
-    Outcome,
     Scene,
     SceneError,
-    SessionBatch,
-    SessionRecord,
     SessionRng,
     SimulationError,
     World,
     __version__,
-    run_episodes,
-    run_session,
-    run_sessions,
 )
+from ._args import cache_folder, optional
+from ._results import (BatchOutcome, EpisodeRecord, Motion, Outcome, SessionBatch,
+                       SessionRecord)
+from ._run import run_episodes, run_session, run_sessions
 from ._sweep import sweep_text
 from ._types import PythonContextualLearner, PythonLearner
 
@@ -80,7 +75,8 @@ def run_sweep(
     """
     if isinstance(sweep, Mapping):
         sweep = sweep_text(sweep)
-    return _e3d.run_sweep(sweep, threads, table_cache, out, resume, progress)
+    return _e3d.run_sweep(sweep, optional("threads", threads, 1), cache_folder(table_cache), out,
+                          resume, progress)
 
 
 __all__ = [

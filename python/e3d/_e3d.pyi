@@ -25,6 +25,14 @@ class SceneError(ValueError):
 class SimulationError(RuntimeError):
     """A command whose simulation failed (a physics blow-up), naming scene and command."""
 
+from e3d._results import (
+    BatchOutcome,
+    EpisodeRecord,
+    Motion,
+    Outcome,
+    SessionBatch,
+    SessionRecord,
+)
 from e3d._types import (
     CommandsLike,
     PathLike_,
@@ -36,25 +44,20 @@ from e3d._types import (
 )
 
 __all__ = [
-    "BatchOutcome",
     "E3D_VERSION",
     "E3dLearner",
-    "EpisodeRecord",
     "EpisodeWorld",
     "Learner",
-    "Motion",
-    "Outcome",
     "Scene",
     "SceneError",
-    "SessionBatch",
-    "SessionRecord",
     "SessionRng",
     "SimulationError",
     "World",
     "__version__",
-    "run_episodes",
-    "run_session",
-    "run_sessions",
+    "_run_episodes",
+    "_run_session",
+    "_run_sessions",
+    "_grid_svg",
     "run_sweep",
 ]
 
@@ -129,78 +132,6 @@ class Scene:
         """A scene from ``to_dict``'s form; ``SceneError`` names the path at fault."""
     def with_(self, overrides: dict[str, Any]) -> Scene:
         """A copy with ``{path: value}`` overrides (``"bodies.puck.linear_damping"``)."""
-
-@final
-class Outcome:
-    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
-        """Pickling: ``(Outcome._from_state, (fields,))``, every field."""
-    @staticmethod
-    def _from_state(state: tuple[Any, ...]) -> Outcome: ...
-    @property
-    def effect(self) -> int: ...
-    @property
-    def reward(self) -> float: ...
-    @property
-    def x(self) -> float: ...
-    @property
-    def y(self) -> float: ...
-
-@final
-class BatchOutcome:
-    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
-        """Pickling: ``(BatchOutcome._from_state, (fields,))``, every field."""
-    @staticmethod
-    def _from_state(state: tuple[Any, ...]) -> BatchOutcome: ...
-    @property
-    def effect(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def reward(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def x(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def y(self) -> npt.NDArray[np.float64]: ...
-    def __len__(self) -> int: ...
-
-@final
-class Motion:
-    """A command's whole motion (``World.trace``): one row a frame, the start then every step."""
-    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
-        """Pickling: ``(Motion._from_state, (fields,))``, every field."""
-    @staticmethod
-    def _from_state(state: tuple[Any, ...]) -> Motion: ...
-
-    @property
-    def command(self) -> str: ...
-    @property
-    def bodies(self) -> list[str]: ...
-    @property
-    def joints(self) -> list[str]: ...
-    @property
-    def time(self) -> npt.NDArray[np.float64]:
-        """``[frames]``, seconds."""
-    @property
-    def x(self) -> npt.NDArray[np.float64]:
-        """``[frames, bodies]``, metres; so are ``y``, ``angle`` (rad), ``vx``, ``vy``, ``omega``."""
-    @property
-    def y(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def angle(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def vx(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def vy(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def omega(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def joint_angle(self) -> npt.NDArray[np.float64]:
-        """``[frames, joints]``: the child's rotation relative to its parent, radians."""
-    @property
-    def joint_velocity(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def outcome(self) -> Outcome: ...
-    def columns(self) -> dict[str, npt.NDArray[Any]]:
-        """The columns of ``e3d scene exec --trace FILE.csv``, in its order."""
-    def __len__(self) -> int: ...
 
 @final
 class World:
@@ -343,218 +274,25 @@ class SessionRng:
         """Pickling: the generator's state (a copy draws what it draws next)."""
     def __setstate__(self, state: tuple[str, bool]) -> None: ...
 
-@final
-class SessionRecord:
-    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
-        """Pickling: ``(SessionRecord._from_state, (fields,))``, every field."""
-    @staticmethod
-    def _from_state(state: tuple[Any, ...]) -> SessionRecord: ...
-    def _repr_svg_(self) -> str:
-        """The effect grid shaded by the session's effect counts (notebooks)."""
-    @property
-    def scene(self) -> str: ...
-    @property
-    def learner(self) -> str: ...
-    @property
-    def seed(self) -> int: ...
-    @property
-    def trials(self) -> int: ...
-    @property
-    def commands(self) -> npt.NDArray[Any]:
-        """``[trials, num_slots]``: uint8 symbol indices, or float64 values on a continuous scene."""
-    @property
-    def effects(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def rewards(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def metrics(self) -> dict[str, Any]:
-        """normalized_entropy, normalized_entropy_last_1000, kl_to_target,
-        distinct_effects, cumulative_reward, first_reward_trial (None if no
-        reward), trials."""
-    @property
-    def execution(self) -> str: ...
-    @property
-    def effect_counts(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def final_policy(self) -> Union[list[npt.NDArray[np.float64]], npt.NDArray[np.float64], None]:
-        """Per slot the symbols' probabilities (a list of arrays), or ``[slots, 2]`` (mean, sd)
-        on a continuous scene; None for a Python learner."""
-    @property
-    def policy_effect_distribution(self) -> Optional[npt.NDArray[np.float64]]:
-        """The exact effect distribution of the final policy (outcomes from a table), else None."""
-    @property
-    def q(self) -> Optional[list[npt.NDArray[np.float64]]]:
-        """E3D's final Q, one array a slot (``run_session(learner="e3d")`` only)."""
-    @property
-    def effect_model(self) -> Optional[npt.NDArray[np.float64]]:
-        """E3D's running effect histogram p at the end (``run_session(learner="e3d")`` only)."""
-
-def run_session(
-    scene: SceneLike,
-    learner: Union[str, PythonLearner, Learner, None] = None,
-    trials: int = 5000,
-    seed: int = 0,
-    use_reward: bool = True,
-    alpha: float = 0.3,
-    beta: float = 1.0,
-    lambda_: float = 0.03,
-    eta: float = 0.01,
-    epsilon: float = 0.1,
-    outcomes: Optional[str] = None,
-    table_cache: Optional[PathLike_] = None,
-    progress: Optional[Progress] = None,
-    target: Optional[TargetLike] = None,
-    on_trials: Optional[
-        Callable[[int, npt.NDArray[np.uint8], npt.NDArray[np.int64], npt.NDArray[np.float64]], object]
-    ] = None,
-    every: int = 1000,
-    k: int = 2,
-    sigma: float = 0.1,
-    rarity: float = 0.5,
-    goal_progress: float = 0.0,
+def _grid_svg(grid: dict[str, Any], counts: Sequence[float], unit: str, title: str) -> str: ...
+def _run_session(
+    scene: SceneLike, learner: Any, trials: int, seed: int, use_reward: bool,
+    params: dict[str, float], outcomes: Optional[str], table_cache: Optional[PathLike_],
+    progress: Optional[Progress], target: Optional[TargetLike], on_trials: Any, every: int,
 ) -> SessionRecord: ...
 
-@final
-class SessionBatch:
-    """Sessions run in lockstep (``run_sessions``): arrays with one row a session."""
-    def _repr_svg_(self) -> str:
-        """The effect grid shaded by the effect counts of every session together (notebooks)."""
-    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
-        """Pickling: ``(SessionBatch._from_state, (fields,))``, every field."""
-    @staticmethod
-    def _from_state(state: tuple[Any, ...]) -> SessionBatch: ...
-
-    @property
-    def scene(self) -> str: ...
-    @property
-    def learner(self) -> str: ...
-    @property
-    def seeds(self) -> npt.NDArray[np.uint64]: ...
-    @property
-    def trials(self) -> int: ...
-    @property
-    def commands(self) -> npt.NDArray[Any]:
-        """``[sessions, trials, num_slots]``: uint8, or float64 on a continuous scene."""
-    @property
-    def effects(self) -> npt.NDArray[np.int64]:
-        """``[sessions, trials]``."""
-    @property
-    def rewards(self) -> npt.NDArray[np.float64]:
-        """``[sessions, trials]``."""
-    @property
-    def metrics(self) -> dict[str, npt.NDArray[Any]]:
-        """One array ``[sessions]`` a metric; ``first_reward_trial``, ``reachable_effects`` and
-        ``normalized_entropy_reachable`` are NaN where none."""
-    @property
-    def execution(self) -> str: ...
-    def __len__(self) -> int: ...
-    @overload
-    def __getitem__(self, i: int, /) -> SessionRecord:
-        """Session ``i``'s record (views of this batch's arrays)."""
-    @overload
-    def __getitem__(self, i: slice, /) -> SessionBatch:
-        """The batch of the sessions of the slice (views of the rows)."""
-
-def run_sessions(
-    scene: SceneLike,
-    learner: Union[str, Sequence[PythonLearner], None] = None,
-    trials: int = 5000,
-    seeds: Optional[Sequence[int]] = None,
-    sessions: Optional[int] = None,
-    seed: int = 0,
-    use_reward: bool = True,
-    alpha: float = 0.3,
-    beta: float = 1.0,
-    lambda_: float = 0.03,
-    eta: float = 0.01,
-    epsilon: float = 0.1,
-    outcomes: Optional[str] = None,
-    table_cache: Optional[PathLike_] = None,
-    progress: Optional[Progress] = None,
-    target: Optional[TargetLike] = None,
-    k: int = 2,
-    sigma: float = 0.1,
-    rarity: float = 0.5,
-    goal_progress: float = 0.0,
+def _run_sessions(
+    scene: SceneLike, learner: Any, trials: int, seeds: Sequence[int], use_reward: bool,
+    params: dict[str, float], outcomes: Optional[str], table_cache: Optional[PathLike_],
+    progress: Optional[Progress], target: Optional[TargetLike],
 ) -> SessionBatch: ...
-@final
-class EpisodeRecord:
-    """A session of episodes (``run_episodes``): one entry per command, or per episode (``starts``)."""
-    def _repr_svg_(self) -> str:
-        """The effect grid shaded by where the episodes ended (notebooks)."""
-    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
-        """Pickling: ``(EpisodeRecord._from_state, (fields,))``, every field."""
-    @staticmethod
-    def _from_state(state: tuple[Any, ...]) -> EpisodeRecord: ...
 
-    @property
-    def seed(self) -> int: ...
-    @property
-    def learner(self) -> str: ...
-    @property
-    def commands_per_episode(self) -> int: ...
-    @property
-    def num_effects(self) -> int: ...
-    @property
-    def episodes(self) -> int: ...
-    @property
-    def starts(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def contexts(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def commands(self) -> npt.NDArray[np.uint8]: ...
-    @property
-    def effects(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def rewards(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def first_reward_episode(self) -> Optional[int]: ...
-    @property
-    def cumulative_reward(self) -> float: ...
-    @property
-    def entropy_per_start(self) -> list[float]: ...
-
-@overload
-def run_episodes(
-    scene: SceneLike,
-    episodes: Optional[int] = None,
-    commands: Optional[int] = None,
-    seed: Optional[int] = None,
-    seeds: None = None,
-    learner: Union[str, PythonContextualLearner, Learner, None] = None,
-    closed_loop: bool = False,
-    observe: Optional[str] = None,
-    use_reward: bool = True,
-    gamma: float = 0.9,
-    alpha: float = 0.3,
-    beta: float = 1.0,
-    lambda_: float = 0.03,
-    eta: float = 0.01,
-    epsilon: float = 0.1,
-    target: Optional[TargetLike] = None,
-    targets: Optional[Sequence[Optional[TargetLike]]] = None,
-) -> EpisodeRecord: ...
-@overload
-def run_episodes(
-    scene: SceneLike,
-    episodes: Optional[int] = None,
-    commands: Optional[int] = None,
-    seed: Optional[int] = None,
-    *,
-    seeds: Sequence[int],
-    learner: Union[str, Sequence[PythonContextualLearner], None] = None,
-    closed_loop: bool = False,
-    observe: Optional[str] = None,
-    use_reward: bool = True,
-    gamma: float = 0.9,
-    alpha: float = 0.3,
-    beta: float = 1.0,
-    lambda_: float = 0.03,
-    eta: float = 0.01,
-    epsilon: float = 0.1,
-    target: Optional[TargetLike] = None,
-    targets: Optional[Sequence[Optional[TargetLike]]] = None,
-) -> list[EpisodeRecord]: ...
+def _run_episodes(
+    scene: SceneLike, episodes: int, commands: Optional[int], seeds: Sequence[int], one: bool,
+    learner: Any, closed_loop: bool, observe: Optional[str], use_reward: bool, gamma: float,
+    params: dict[str, float], target: Optional[TargetLike],
+    targets: Optional[Sequence[Optional[TargetLike]]],
+) -> Any: ...
 
 @final
 class EpisodeWorld:

@@ -51,14 +51,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from . import EpisodeWorld, Scene
-
-
-def _integer(v: Any, name: str) -> int:
-    """``v`` if it is an integer (a Python or numpy int, not a bool), else a
-    ``TypeError`` naming ``name``, as ``run_session`` words it."""
-    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)):
-        raise TypeError(f"{name}: expected an integer, found {type(v).__name__}")
-    return int(v)
+from ._args import integer, optional
 
 
 def _flag(v: Any, name: str) -> bool:
@@ -67,19 +60,6 @@ def _flag(v: Any, name: str) -> bool:
     if not isinstance(v, (bool, np.bool_)):
         raise TypeError(f"{name}: expected True or False, found {type(v).__name__}")
     return bool(v)
-
-
-def _checked_seed(seed: Any) -> Optional[int]:
-    """``seed`` as ``reset`` takes it: ``None`` or an integer from 0 to
-    2^64 - 1; else a ``ValueError`` (``TypeError`` for another type)
-    naming it, as ``run_session`` words them (gymnasium's own check raises
-    its ``Error``, which is neither)."""
-    if seed is None:
-        return None
-    value = _integer(seed, "seed")
-    if not 0 <= value < 2**64:
-        raise ValueError(f"seed = {seed}: expected an integer from 0 to 2^64 - 1")
-    return value
 
 
 __all__ = ["E3dEnv", "E3dVectorEnv", "ENV_ID"]
@@ -140,7 +120,7 @@ class E3dEnv(gym.Env):
         self.scene = scene if isinstance(scene, Scene) else Scene.resolve(scene)
         self.world = self.scene.world()
         self.use_reward = _flag(use_reward, "use_reward")
-        k = 1 if commands is None else _integer(commands, "commands")
+        k = 1 if commands is None else integer("commands", commands, None)
         self.action_space: spaces.Space[Any]
         if self.scene.is_continuous:
             ranges = np.array(self.scene.value_ranges, dtype=np.float64)
@@ -167,12 +147,12 @@ class E3dEnv(gym.Env):
     def reset(
         self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
     ) -> tuple[np.int64, dict[str, Any]]:
-        seed = _checked_seed(seed)
+        seed = optional("seed", seed, 0)
         if options is not None and not isinstance(options, Mapping):
             raise TypeError(f"options: expected None or a dict such as {{'start': 0}}, found {type(options).__name__}")
         start = (options or {}).get("start")
         if start is not None:
-            start = _integer(start, "start")
+            start = integer("start", start, None)
         super().reset(seed=seed)
         self._last = None
         if self.episodes is None:
@@ -282,8 +262,7 @@ class E3dVectorEnv(VectorEnv):
         render_mode: Optional[str] = None,
     ):
         super().__init__()
-        if not 1 <= _integer(num_envs, "num_envs") <= self.MAX_NUM_ENVS:
-            raise ValueError(f"num_envs = {num_envs}: expected an integer from 1 to {self.MAX_NUM_ENVS}")
+        integer("num_envs", num_envs, 1, self.MAX_NUM_ENVS)
         self.env = E3dEnv(scene, use_reward=use_reward, render_mode=render_mode)
         if self.env.episodes is not None:
             raise ValueError(
@@ -313,9 +292,9 @@ class E3dVectorEnv(VectorEnv):
                     f"found a list of {len(seed)}"
                 )
             for one in seed:
-                _checked_seed(one)
+                optional("seed", one, 0)
             seed = seed[0]
-        seed = _checked_seed(seed)
+        seed = optional("seed", seed, 0)
         if options is not None and not isinstance(options, Mapping):
             raise TypeError(f"options: expected None or a dict, found {type(options).__name__}")
         super().reset(seed=seed)

@@ -56,7 +56,8 @@ except ImportError:
     _Base = _StandIn
 
 from ._e3d import Scene
-from .gym import E3dVectorEnv, _flag, _integer
+from ._args import integer
+from .gym import E3dVectorEnv, _flag
 
 
 class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-ignore]
@@ -141,7 +142,7 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
             items = [indices]
         else:
             items = list(indices)
-        out = [_integer(i, "indices") for i in items]
+        out = [integer("indices", i, None) for i in items]
         for i in out:
             if not 0 <= i < self.num_envs:
                 raise ValueError(f"indices: {i} is no copy's index: expected integers from 0 to {self.num_envs - 1}")

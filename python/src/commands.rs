@@ -53,26 +53,64 @@ pub(crate) fn commands_from(
     obj: &Bound<'_, PyAny>,
     ndim: usize,
 ) -> PyResult<Vec<Command>> {
-    let parse = |text: &str| {
-        space
-            .parse(text)
-            .map_err(|e| PyValueError::new_err(e.to_string()))
-    };
-    if let Ok(s) = obj.cast::<PyString>() {
-        return Ok(vec![parse(&s.to_cow()?)?]);
-    }
-    if ndim == 2 && (obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>()) {
-        let items: Vec<Bound<'_, PyAny>> = obj.try_iter()?.collect::<PyResult<_>>()?;
-        if !items.is_empty() && items.iter().all(|i| i.is_instance_of::<PyString>()) {
-            return items
-                .iter()
-                .map(|i| parse(&i.cast::<PyString>()?.to_cow()?))
-                .collect();
-        }
+    if let Some(parsed) = texts(obj, ndim, |t| space.parse(t).map_err(|e| e.to_string()))? {
+        return Ok(parsed);
     }
     let array = untyped_array(py, obj)?;
     check_array(space, &array, ndim)?;
     array_commands(py, space, &array, ndim)
+}
+
+/// Commands given as text: one string, or (with `ndim == 2`) a non-empty
+/// list or tuple of strings, each read by `parse`; None for anything else.
+fn texts<T>(
+    obj: &Bound<'_, PyAny>,
+    ndim: usize,
+    parse: impl Fn(&str) -> Result<T, String>,
+) -> PyResult<Option<Vec<T>>> {
+    let one = |s: &Bound<'_, PyAny>| -> PyResult<T> {
+        parse(&s.cast::<PyString>()?.to_cow()?).map_err(PyValueError::new_err)
+    };
+    if obj.is_instance_of::<PyString>() {
+        return Ok(Some(vec![one(obj)?]));
+    }
+    if ndim == 2 && (obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>()) {
+        let items: Vec<Bound<'_, PyAny>> = obj.try_iter()?.collect::<PyResult<_>>()?;
+        if !items.is_empty() && items.iter().all(|i| i.is_instance_of::<PyString>()) {
+            return items.iter().map(one).collect::<PyResult<_>>().map(Some);
+        }
+    }
+    Ok(None)
+}
+
+/// Refuses an array that is not `ndim` dimensions of rows of `slots`
+/// values (with `ndim == 2`, at least one row); `what` says what is
+/// expected.
+fn check_shape(
+    array: &Bound<'_, PyUntypedArray>,
+    ndim: usize,
+    slots: usize,
+    what: &str,
+) -> PyResult<()> {
+    let shape = array.shape().to_vec();
+    if ndim == 2 && array.len() == 0 {
+        // `[]` and an array of shape (0, slots) alike
+        return Err(PyValueError::new_err(format!(
+            "commands: an empty batch (shape {shape:?}); expected at least one command, {what}"
+        )));
+    }
+    if array.ndim() != ndim {
+        return Err(PyValueError::new_err(format!(
+            "expected {what}, found an array of {} dimension(s), shape {shape:?}",
+            array.ndim()
+        )));
+    }
+    if shape[ndim - 1] != slots {
+        return Err(PyValueError::new_err(format!(
+            "expected {what}, found shape {shape:?}: the scene's commands have {slots} slots"
+        )));
+    }
+    Ok(())
 }
 
 /// `obj` as a numpy array: itself, or `numpy.asarray(obj)`.
@@ -102,7 +140,6 @@ fn check_array(
     array: &Bound<'_, PyUntypedArray>,
     ndim: usize,
 ) -> PyResult<()> {
-    let shape = array.shape().to_vec();
     let what = if ndim == 1 {
         format!("one command, an array of shape [{}]", space.num_slots())
     } else {
@@ -111,24 +148,7 @@ fn check_array(
             space.num_slots()
         )
     };
-    if ndim == 2 && array.len() == 0 {
-        // `[]` and an array of shape (0, slots) alike
-        return Err(PyValueError::new_err(format!(
-            "commands: an empty batch (shape {shape:?}); expected at least one command, {what}"
-        )));
-    }
-    if array.ndim() != ndim {
-        return Err(PyValueError::new_err(format!(
-            "expected {what}, found an array of {} dimension(s), shape {shape:?}",
-            array.ndim()
-        )));
-    }
-    if shape[ndim - 1] != space.num_slots() {
-        return Err(PyValueError::new_err(format!(
-            "expected {what}, found shape {shape:?}: the scene's commands have {} slots",
-            space.num_slots()
-        )));
-    }
+    check_shape(array, ndim, space.num_slots(), &what)?;
     let dtype = array.dtype();
     let kind = dtype.kind();
     if kind != b'u' && kind != b'i' {
@@ -191,22 +211,8 @@ pub(crate) fn values_from(
     obj: &Bound<'_, PyAny>,
     ndim: usize,
 ) -> PyResult<Vec<Vec<f64>>> {
-    let parse = |text: &str| {
-        space
-            .parse(text)
-            .map_err(|e| PyValueError::new_err(e.to_string()))
-    };
-    if let Ok(s) = obj.cast::<PyString>() {
-        return Ok(vec![parse(&s.to_cow()?)?]);
-    }
-    if ndim == 2 && (obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>()) {
-        let items: Vec<Bound<'_, PyAny>> = obj.try_iter()?.collect::<PyResult<_>>()?;
-        if !items.is_empty() && items.iter().all(|i| i.is_instance_of::<PyString>()) {
-            return items
-                .iter()
-                .map(|i| parse(&i.cast::<PyString>()?.to_cow()?))
-                .collect();
-        }
+    if let Some(parsed) = texts(obj, ndim, |t| space.parse(t).map_err(|e| e.to_string()))? {
+        return Ok(parsed);
     }
     let n = space.num_slots();
     let np = py.import("numpy")?;
@@ -219,28 +225,12 @@ pub(crate) fn values_from(
         })?
         .cast_into::<PyUntypedArray>()
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let shape = array.shape().to_vec();
     let what = if ndim == 1 {
         format!("one command, an array of shape [{n}] (one value per slot)")
     } else {
         format!("an array of shape [N, {n}] (one command of values per row)")
     };
-    if ndim == 2 && array.len() == 0 {
-        return Err(PyValueError::new_err(format!(
-            "commands: an empty batch (shape {shape:?}); expected at least one command, {what}"
-        )));
-    }
-    if array.ndim() != ndim {
-        return Err(PyValueError::new_err(format!(
-            "expected {what}, found an array of {} dimension(s), shape {shape:?}",
-            array.ndim()
-        )));
-    }
-    if shape[ndim - 1] != n {
-        return Err(PyValueError::new_err(format!(
-            "expected {what}, found shape {shape:?}: the scene's commands have {n} slots"
-        )));
-    }
+    check_shape(&array, ndim, n, &what)?;
     let a = array.cast::<PyArrayDyn<f64>>()?.readonly();
     let flat: Vec<f64> = a.as_array().iter().copied().collect();
     flat.chunks(n)

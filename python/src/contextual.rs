@@ -76,7 +76,6 @@ pub(crate) fn contextual_held(
     let contexts = cfg.num_contexts(&scene.inner.build());
     let (space, n) = (&scene.space, scene.inner.num_effects());
     let bad = |e: e3d::learner::LearnerError| PyValueError::new_err(e.to_string());
-    params.validate().map_err(|e| bad(e.into()))?;
     e3d::learner::contextual::check_gamma(gamma).map_err(bad)?;
     e3d::learner::contextual::check_context_effects(contexts, n).map_err(bad)?;
     match (closed_loop, kind) {

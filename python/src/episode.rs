@@ -5,213 +5,94 @@
 //! Gymnasium environment) is in `episode_world`.
 
 use crate::contextual::{commands_arg, context_targets, observe_arg};
-use crate::errors::{params_arg, seed_arg, seeds_arg, usize_arg, Fail};
+use crate::errors::{params_of, Fail};
 use crate::learner::{builtin_kind, python_learner_name, PyContextual, PyLearner};
-use crate::pickling::{pickled, Reduced};
 use crate::progress::{watched, Throttle, Ticks, Watch};
 use crate::record::Grid;
 use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, PyScene};
 use e3d::command::CommandSpace;
 use e3d::episode::{EpisodeConfig, EpisodeRecord};
-use e3d::learner::{ClosedLoopE3d, ContextualLearner, LearnerSetup};
+use e3d::learner::{ContextualLearner, LearnerSetup};
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
+use numpy::IntoPyArray;
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use std::cell::RefCell;
+use std::collections::HashMap;
 
-/// The episodes of a session: 1 to the command line's cap on trials.
-fn episodes_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    let n = usize_arg(obj, "episodes", 1)?;
-    if n > e3d::sweep::MAX_TRIALS {
-        return Err(PyValueError::new_err(format!(
-            "episodes = {n}: expected at most {} (the command line's cap)",
-            e3d::sweep::MAX_TRIALS
-        )));
-    }
-    Ok(n)
-}
-
-/// A session of episodes, as numpy arrays, one entry per command
-/// (`commands_per_episode` per episode) or per episode (`starts`), and the
-/// command line's summary figures.
-#[pyclass(module = "e3d", name = "EpisodeRecord", frozen)]
-pub(crate) struct PyEpisodeRecord {
-    /// The session's seed.
-    #[pyo3(get)]
-    seed: u64,
-    /// The learner's name (`"e3d"`, `"e3d_closed_loop"`, `"qlearning"`, ...).
-    #[pyo3(get)]
-    learner: String,
-    #[pyo3(get)]
-    commands_per_episode: usize,
-    #[pyo3(get)]
-    num_effects: usize,
-    #[pyo3(get)]
-    episodes: usize,
-    /// The start context of each episode (int64).
-    #[pyo3(get)]
-    starts: Py<PyArray1<i64>>,
-    /// The context observed before each command (int64).
-    #[pyo3(get)]
-    contexts: Py<PyArray1<i64>>,
-    /// The commands, one row per command, one symbol index per slot (uint8).
-    #[pyo3(get)]
-    commands: Py<PyArray2<u8>>,
-    /// The effect of each command (int64).
-    #[pyo3(get)]
-    effects: Py<PyArray1<i64>>,
-    /// The reward of each command: the scene's after an episode's last
-    /// command, 0 after the others (float64).
-    #[pyo3(get)]
-    rewards: Py<PyArray1<f64>>,
-    /// The first episode (1-based) with a reward, or None.
-    #[pyo3(get)]
-    first_reward_episode: Option<usize>,
-    #[pyo3(get)]
-    cumulative_reward: f64,
-    /// Per start context, the normalised entropy of the episodes'
-    /// terminal cells (the command line's `entropy_per_start`).
-    #[pyo3(get)]
-    entropy_per_start: Vec<f64>,
-    /// The scene's effect grid (for the picture).
-    grid: Grid,
-}
-
-#[pymethods]
-impl PyEpisodeRecord {
-    /// The session as a picture, for notebooks: the effect grid with each
-    /// cell shaded by the number of episodes that ended in it (the effect
-    /// of each episode's last command), the rewarded cells outlined.
-    fn _repr_svg_(&self, py: Python<'_>) -> PyResult<String> {
-        let mut counts = vec![0.0; self.grid.rows * self.grid.cols];
-        let effects = self.effects.bind(py).readonly();
-        let k = self.commands_per_episode.max(1);
-        for &e in effects.as_slice()?.iter().skip(k - 1).step_by(k) {
-            if let Some(c) = counts.get_mut(e as usize) {
-                *c += 1.0;
-            }
-        }
-        let title = format!(
-            "{}, seed {}: {} episodes of {} commands, where they ended",
-            self.learner, self.seed, self.episodes, self.commands_per_episode
-        );
-        Ok(self.grid.svg(&counts, "episodes", &title))
-    }
-
-    /// Equal when every field is (arrays value by value, NaN equal to
-    /// NaN): a pickled copy, or the same work run again.
-    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
-        self.pickle_eq(py, &other)
-    }
-
-    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
-        self.pickle_reduce(py)
-    }
-    #[staticmethod]
-    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        Self::pickle_from(state)?.frozen(state.py())
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "EpisodeRecord(seed={}, learner={:?}, episodes={}, commands_per_episode={}, cumulative_reward={:?})",
-            self.seed, self.learner, self.episodes, self.commands_per_episode, self.cumulative_reward
-        )
-    }
-}
-
+/// A session of episodes as an `EpisodeRecord` (python/e3d/_results.py).
 fn record_to_py(
     py: Python<'_>,
     rec: EpisodeRecord,
     seed: u64,
     learner: &str,
-    slots: usize,
+    scene: &e3d::Scene,
     starts: usize,
-    grid: &Grid,
-) -> PyResult<PyEpisodeRecord> {
+) -> PyResult<Py<PyAny>> {
+    let slots = scene.command_space().num_slots();
     let ints = |v: &[usize]| v.iter().map(|&x| x as i64).collect::<Vec<_>>();
     let rows = rec.effects.len();
     let commands = Array2::from_shape_vec((rows, slots), rec.commands.clone())
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    Ok(PyEpisodeRecord {
+    let fields = (
         seed,
-        learner: learner.to_string(),
-        commands_per_episode: rec.commands_per_episode,
-        num_effects: rec.num_effects,
-        episodes: rec.episodes(),
-        first_reward_episode: rec.first_reward_episode(),
-        cumulative_reward: rec.cumulative_reward(),
-        entropy_per_start: rec.entropy_per_start(starts),
-        starts: ints(&rec.starts).into_pyarray(py).unbind(),
-        contexts: ints(&rec.contexts).into_pyarray(py).unbind(),
-        commands: commands.into_pyarray(py).unbind(),
-        effects: ints(&rec.effects).into_pyarray(py).unbind(),
-        rewards: rec.rewards.into_pyarray(py).unbind(),
-        grid: grid.clone(),
-    }
-    .frozen(py)?)
+        learner,
+        rec.commands_per_episode,
+        rec.num_effects,
+        rec.episodes(),
+        ints(&rec.starts).into_pyarray(py),
+        ints(&rec.contexts).into_pyarray(py),
+        commands.into_pyarray(py),
+        ints(&rec.effects).into_pyarray(py),
+        rec.rewards.clone().into_pyarray(py),
+        rec.first_reward_episode(),
+        rec.cumulative_reward(),
+    );
+    let more = (rec.entropy_per_start(starts), Grid::of(scene));
+    let state = fields.into_pyobject(py)?.add(more.into_pyobject(py)?)?;
+    let class = crate::record::result_class(py, "EpisodeRecord")?;
+    Ok(class.call1(state.cast_into::<PyTuple>()?)?.unbind())
 }
 
-/// Sessions of episodes on a scene with start contexts, or of `commands`
-/// commands per episode (closed loop): `e3d run SCENE --trials EPISODES
-/// --commands K [--closed-loop] [--observe ...]`, bit for bit.
-///
-/// `learner`: a built-in learner's name (None: `"e3d"`), one per observed
-/// context; with `closed_loop=True`, `"e3d"` is closed-loop E3D (Q_ref,
-/// discount `gamma`) and `"egreedy"` epsilon-greedy Q-learning. Or a
-/// Python learner (with `seeds`, a sequence of them, one per seed) with
-/// `propose(context, rng)` and `learn(context, command, effect, reward,
-/// next)`, run on this thread; its first exception stops the run and is
-/// raised. `target`: the target `p*` of every context; `targets`: one per
-/// context (`p*(e|s)`), in context order. `observe`: what the
-/// learner reads before each command, `"start"` (the episode's start
-/// context), `"state"` (the current cell) or `"blind"`; None: `"state"`
-/// with `commands > 1` or `closed_loop`, else `"start"`. Returns an
-/// `EpisodeRecord` for `seed`, or with `seeds` a list of them (run in
-/// parallel, the same whatever the threads).
+/// `e3d.run_episodes` (python/e3d/_run.py), its arguments checked there:
+/// the sessions of `seeds`, one record returned if `one`.
 #[pyfunction]
-#[pyo3(signature = (scene, episodes = None, commands = None, seed = None, seeds = None,
-    learner = None, closed_loop = false, observe = None, use_reward = true, gamma = 0.9,
-    alpha = 0.3, beta = 1.0, lambda_ = 0.03, eta = 0.01, epsilon = 0.1, target = None,
-    targets = None))]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn run_episodes(
+pub(crate) fn _run_episodes(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
-    episodes: Option<&Bound<'_, PyAny>>,
+    episodes: usize,
     commands: Option<&Bound<'_, PyAny>>,
-    seed: Option<&Bound<'_, PyAny>>,
-    seeds: Option<&Bound<'_, PyAny>>,
+    seeds: Vec<u64>,
+    one: bool,
     learner: Option<&Bound<'_, PyAny>>,
     closed_loop: bool,
     observe: Option<&str>,
     use_reward: bool,
-    #[pyo3(from_py_with = crate::errors::float_arg)] gamma: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] alpha: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] beta: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] lambda_: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] eta: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] epsilon: f64,
+    gamma: f64,
+    params: HashMap<String, f64>,
     target: Option<&Bound<'_, PyAny>>,
     targets: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
-    const _: () = assert!(ClosedLoopE3d::GAMMA == 0.9);
     let scene = scene_of(scene)?;
     scene.require_symbols("run_episodes")?;
-    let episodes = episodes.map(episodes_arg).transpose()?.unwrap_or(1000);
+    if episodes > e3d::sweep::MAX_TRIALS {
+        return Err(PyValueError::new_err(format!(
+            "episodes = {episodes}: expected at most {} (the command line's cap)",
+            e3d::sweep::MAX_TRIALS
+        )));
+    }
     let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
     e3d::episode::check_size(episodes, k)
         .map_err(|e| PyValueError::new_err(format!("episodes and commands: {e}")))?;
     let kind = builtin_kind(learner)?;
     let targets = context_targets(&scene, target, targets)?;
-    let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+    let params = params_of(params)?;
     e3d::learner::contextual::check_gamma(gamma)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let observe = observe_arg(observe, k, closed_loop)?;
-    let (one, seeds) = seed_list(seed, seeds)?;
     crate::errors::check_held("episodes, commands and seeds", seeds.len(), episodes * k)?;
     crate::errors::reserve_records(
         &format!(
@@ -224,8 +105,8 @@ pub(crate) fn run_episodes(
         ),
     )?;
     // after the arguments' checks: a refused call warns of nothing
-    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &params)?;
-    crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
+    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &params, 2)?;
+    crate::errors::warn_open_loop_gamma(py, closed_loop, gamma, 2)?;
     let inner = scene.inner.clone();
     let space = inner.command_space();
     let num_effects = inner.num_effects();
@@ -259,22 +140,17 @@ pub(crate) fn run_episodes(
             .closed_loop(closed_loop)
             .gamma(gamma)
             .contexts(&space, num_effects, contexts)
-        .map_err(|e| Fail::Value(e.to_string()))
+            .map_err(|e| Fail::Value(e.to_string()))
     };
-    let slots = space.num_slots();
-    let out = run_builtin_episodes(py, &inner, &seeds, &cfg, &make, slots, starts)?;
+    let out = run_builtin_episodes(py, &inner, &seeds, &cfg, &make, starts)?;
     one_or_list(py, out, one)
 }
 
 /// What `run_episodes` returns: the record of its one seed (`seed`), or
 /// the list of them (`seeds`).
-fn one_or_list(
-    py: Python<'_>,
-    mut out: Vec<Py<PyEpisodeRecord>>,
-    one: bool,
-) -> PyResult<Py<PyAny>> {
+fn one_or_list(py: Python<'_>, mut out: Vec<Py<PyAny>>, one: bool) -> PyResult<Py<PyAny>> {
     if one {
-        return Ok(out.remove(0).into_any());
+        return Ok(out.remove(0));
     }
     Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind())
 }
@@ -292,7 +168,7 @@ fn run_python_episodes(
     cfg: &impl Fn(u64) -> EpisodeConfig,
     contexts: usize,
     starts: usize,
-) -> PyResult<Vec<Py<PyEpisodeRecord>>> {
+) -> PyResult<Vec<Py<PyAny>>> {
     let mut out = Vec::with_capacity(seeds.len());
     for (obj, &seed) in objs.into_iter().zip(seeds) {
         let name = python_learner_name(&obj)?;
@@ -306,11 +182,7 @@ fn run_python_episodes(
             return Err(e);
         }
         let rec = rec.map_err(Fail::from)?;
-        let slots = space.num_slots();
-        out.push(Py::new(
-            py,
-            record_to_py(py, rec, seed, &name, slots, starts, &Grid::of(inner))?,
-        )?);
+        out.push(record_to_py(py, rec, seed, &name, inner, starts)?);
     }
     Ok(out)
 }
@@ -323,9 +195,8 @@ fn run_builtin_episodes(
     seeds: &[u64],
     cfg: &(impl Fn(u64) -> EpisodeConfig + Sync),
     make: &(impl Fn() -> Result<Box<dyn ContextualLearner + Send>, Fail> + Sync),
-    slots: usize,
     starts: usize,
-) -> PyResult<Vec<Py<PyEpisodeRecord>>> {
+) -> PyResult<Vec<Py<PyAny>>> {
     let name = make()?.name().to_string();
     // Ctrl-C stops every seed at its next command
     let configs: Vec<EpisodeConfig> = seeds.iter().map(|&s| cfg(s)).collect();
@@ -341,10 +212,7 @@ fn run_builtin_episodes(
     })??;
     let mut out = Vec::with_capacity(records.len());
     for (rec, &seed) in records.into_iter().zip(seeds) {
-        out.push(Py::new(
-            py,
-            record_to_py(py, rec, seed, &name, slots, starts, &Grid::of(inner))?,
-        )?);
+        out.push(record_to_py(py, rec, seed, &name, inner, starts)?);
     }
     Ok(out)
 }
@@ -375,20 +243,7 @@ fn run_from_state(
     })??;
     st.borrow_mut().held = held;
     let starts = scene.inner.build().num_contexts();
-    let slots = scene.space.num_slots();
-    Ok(Py::new(
-        py,
-        record_to_py(
-            py,
-            rec,
-            cfg.seed,
-            &name,
-            slots,
-            starts,
-            &Grid::of(&scene.inner),
-        )?,
-    )?
-    .into_any())
+    record_to_py(py, rec, cfg.seed, &name, &scene.inner, starts)
 }
 
 /// The Python learners of `run_episodes`: `learner` itself for one seed,
@@ -422,27 +277,3 @@ fn python_learners<'py>(
     }
     Ok(objs)
 }
-
-/// The seeds of `run_episodes`: `seeds` (false), else `[seed]` (true: one
-/// record is returned).
-fn seed_list(
-    seed: Option<&Bound<'_, PyAny>>,
-    seeds: Option<&Bound<'_, PyAny>>,
-) -> PyResult<(bool, Vec<u64>)> {
-    let seed = seed.filter(|s| !s.is_none());
-    match seeds.map(seeds_arg).transpose()?.flatten() {
-        Some(_) if seed.is_some() => {
-            Err(PyValueError::new_err("give either seed or seeds, not both"))
-        }
-        Some(s) if s.is_empty() => Err(PyValueError::new_err(
-            "no session: expected at least one seed",
-        )),
-        Some(s) => Ok((false, s)),
-        None => Ok((true, vec![seed.map(seed_arg).transpose()?.unwrap_or(0)])),
-    }
-}
-
-pickled!(PyEpisodeRecord, "EpisodeRecord" {
-    seed, learner, commands_per_episode, num_effects, episodes, starts, contexts, commands,
-    effects, rewards, first_reward_episode, cumulative_reward, entropy_per_start, grid,
-});

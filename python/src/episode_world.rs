@@ -4,7 +4,7 @@
 use crate::commands::commands_from;
 use crate::contextual::{commands_arg, observe_arg, observe_name};
 use crate::errors::{seed_arg, usize_arg, Fail};
-use crate::outcome::PyOutcome;
+use crate::outcome::outcome_to_py;
 use crate::scene::{scene_of, PyScene};
 use e3d::episode::Observe;
 use e3d::world::{Episodic, WorldState};
@@ -220,7 +220,7 @@ impl PyEpisodeWorld {
 
     /// Executes `command` (symbols or text) from the current state:
     /// `(context, outcome, done)`.
-    fn step(&mut self, command: &Bound<'_, PyAny>) -> PyResult<(usize, PyOutcome, bool)> {
+    fn step(&mut self, command: &Bound<'_, PyAny>) -> PyResult<(usize, Py<PyAny>, bool)> {
         let Some(state) = self.state.as_ref() else {
             return Err(PyRuntimeError::new_err(
                 "EpisodeWorld.step: the episode is over (or never started); call reset() first",
@@ -245,7 +245,8 @@ impl PyEpisodeWorld {
             out.reward = 0.0;
         }
         self.state = (!last).then_some(next);
-        Ok((self.observed(self.start, out.effect), out.into(), last))
+        let context = self.observed(self.start, out.effect);
+        Ok((context, outcome_to_py(command.py(), &out)?, last))
     }
 
     /// Pickles as its scene, arguments, generator and the episode's state:

@@ -6,7 +6,6 @@ use e3d::{LearnerKind, WorldError};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyOverflowError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use std::path::PathBuf;
 
 create_exception!(
     e3d,
@@ -110,46 +109,20 @@ pub(crate) fn learner_names() -> String {
         .join(", ")
 }
 
-/// Whether `obj` is an integer as arguments take them: an int or a numpy
-/// integer (anything with `__index__` but a float), not a bool (`True` is
-/// no count) nor an array (numpy arrays have `__index__` too).
-pub(crate) fn is_integer(obj: &Bound<'_, PyAny>) -> PyResult<bool> {
-    if obj.is_instance_of::<pyo3::types::PyBool>() || obj.is_instance_of::<pyo3::types::PyFloat>() {
-        return Ok(false);
-    }
-    if obj.is_instance_of::<pyo3::types::PyInt>() {
-        return Ok(true);
-    }
-    let np_bool = obj.py().import("numpy")?.getattr("bool_")?;
-    if obj.is_instance(&np_bool)? {
-        return Ok(false);
-    }
-    if let Some(ndim) = obj.getattr_opt("ndim")? {
-        if ndim.extract::<usize>().unwrap_or(1) != 0 {
-            return Ok(false);
+/// An integer argument `name` of at least `min`: an int or numpy integer
+/// in `[min, 2^64 - 1]` (`_args.integer`: `ValueError` naming the
+/// argument out of range, `TypeError` for a float, str, bool or array).
+pub(crate) fn int_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<u64> {
+    // the common case without a call into Python (`SessionRng.integers`)
+    if obj.is_exact_instance_of::<pyo3::types::PyInt>() {
+        if let Ok(v) = obj.extract::<u64>() {
+            if v >= min {
+                return Ok(v);
+            }
         }
     }
-    obj.hasattr("__index__")
-}
-
-/// An integer argument `name` of at least `min`: a Python int (or numpy
-/// integer) in `[min, 2^64 - 1]`; a negative or too large one raises
-/// `ValueError` naming the argument, anything else (a float, a str, a
-/// bool, an array) `TypeError`.
-pub(crate) fn int_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<u64> {
-    if !is_integer(obj)? {
-        return Err(PyTypeError::new_err(format!(
-            "{name}: expected an integer, found {}",
-            obj.get_type().name()?
-        )));
-    }
-    match obj.extract::<u64>() {
-        Ok(v) if v >= min => Ok(v),
-        _ => Err(PyValueError::new_err(format!(
-            "{name} = {}: expected an integer from {min} to 2^64 - 1",
-            obj.str()?
-        ))),
-    }
+    let args = obj.py().import("e3d._args")?;
+    args.call_method1("integer", (name, obj, min))?.extract()
 }
 
 /// `int_arg` as `usize`.
@@ -159,57 +132,9 @@ pub(crate) fn usize_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResul
         .map_err(|_| PyValueError::new_err(format!("{name} = {v}: too large for this machine")))
 }
 
-/// An argument checker's result as a `from_py_with` checker gives it.
-/// pyo3 words the `TypeError` of such a checker `argument 'name':
-/// <message>`; the checkers' messages name their argument, as they must
-/// when called directly (`trials: expected an integer, found str`), so
-/// this drops the name the prefix already gives (`argument 'trials':
-/// expected an integer, found str`). A `ValueError` keeps its text.
-pub(crate) fn unnamed<T>(py: Python<'_>, name: &str, r: PyResult<T>) -> PyResult<T> {
-    r.map_err(|e| {
-        if !e.get_type(py).is(py.get_type::<PyTypeError>()) {
-            return e;
-        }
-        let text = e.value(py).to_string();
-        match text.strip_prefix(name).and_then(|t| t.strip_prefix(": ")) {
-            Some(rest) => PyTypeError::new_err(rest.to_string()),
-            None => e,
-        }
-    })
-}
-
 /// `seed`: an integer in [0, 2^64 - 1].
 pub(crate) fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
     int_arg(obj, "seed", 0)
-}
-
-/// [`seed_arg`] for `from_py_with` (see [`unnamed`]).
-pub(crate) fn seed_param(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
-    unnamed(obj.py(), "seed", seed_arg(obj))
-}
-
-/// `trials`: an integer >= 1 (for `from_py_with`).
-pub(crate) fn trials_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    unnamed(obj.py(), "trials", usize_arg(obj, "trials", 1))
-}
-
-/// The most sessions one call runs: the cap of `e3d run --sessions`
-/// (each session's record is kept in memory).
-pub(crate) const MAX_SESSIONS: usize = 100_000;
-
-/// `sessions`: None, or an integer from 1 to [`MAX_SESSIONS`] (for
-/// `from_py_with`).
-pub(crate) fn sessions_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
-    if obj.is_none() {
-        return Ok(None);
-    }
-    let n = unnamed(obj.py(), "sessions", usize_arg(obj, "sessions", 1))?;
-    if n > MAX_SESSIONS {
-        return Err(PyValueError::new_err(format!(
-            "sessions = {n}: expected at most {MAX_SESSIONS} (the cap of `e3d run --sessions`)"
-        )));
-    }
-    Ok(Some(n))
 }
 
 /// The most trials (or episode commands) one call returns in its records,
@@ -255,9 +180,18 @@ pub(crate) fn type_name(obj: &Bound<'_, PyAny>) -> String {
         .unwrap_or_default()
 }
 
-/// `every`: an integer >= 1 (for `from_py_with`).
-pub(crate) fn every_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    unnamed(obj.py(), "every", usize_arg(obj, "every", 1))
+/// `k` of `Learner`: an integer >= 1, for `from_py_with` (pyo3 names the
+/// argument in a `TypeError`: `argument 'k': expected an integer, ...`).
+pub(crate) fn k_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    usize_arg(obj, "k", 1).map_err(|e| {
+        let text = e.value(obj.py()).to_string();
+        match text.strip_prefix("k: ") {
+            Some(rest) if e.is_instance_of::<PyTypeError>(obj.py()) => {
+                PyTypeError::new_err(rest.to_string())
+            }
+            _ => e,
+        }
+    })
 }
 
 /// A float argument as pyo3 takes it (`from_py_with`), except that an int
@@ -284,12 +218,8 @@ pub(crate) fn float_arg(obj: &Bound<'_, PyAny>) -> PyResult<f64> {
 /// A float argument `name` that must be finite (a reward): a `TypeError`
 /// for a non-number, a `ValueError` naming it for NaN or an infinity.
 pub(crate) fn finite_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
-    let v: f64 = float_arg(obj).map_err(|_| {
-        PyTypeError::new_err(format!(
-            "{name}: expected a number, found {}",
-            type_name(obj)
-        ))
-    })?;
+    let args = obj.py().import("e3d._args")?;
+    let v: f64 = args.call_method1("number", (name, obj))?.extract()?;
     if !v.is_finite() {
         return Err(PyValueError::new_err(format!(
             "{name} = {v}: expected a finite number"
@@ -298,128 +228,47 @@ pub(crate) fn finite_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
     Ok(v)
 }
 
-/// A `table_cache` folder: refused when it exists and is not a folder
-/// (the outcomes would be computed and not kept, silently).
-pub(crate) fn cache_folder_arg(dir: Option<PathBuf>) -> PyResult<Option<PathBuf>> {
-    match dir {
-        Some(d) if d.exists() && !d.is_dir() => Err(PyValueError::new_err(format!(
-            "table_cache = {}: exists and is not a folder; expected the folder of the outcome cache (created if missing)",
-            d.display()
-        ))),
-        d => Ok(d),
-    }
-}
-
-/// `threads`: None (every core), or an integer >= 1 (for `from_py_with`).
-pub(crate) fn threads_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
-    if obj.is_none() {
-        return Ok(None);
-    }
-    unnamed(obj.py(), "threads", usize_arg(obj, "threads", 1)).map(Some)
-}
-
-/// `seeds`: None, or an iterable of seeds, each an integer in
-/// [0, 2^64 - 1] (`seeds[i]` named in the error).
-pub(crate) fn seeds_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
-    if obj.is_none() {
-        return Ok(None);
-    }
-    let items = obj.try_iter().map_err(|_| {
-        PyTypeError::new_err(format!(
-            "seeds: expected a sequence of integers, found {}",
-            type_name(obj)
-        ))
-    })?;
-    let mut out = Vec::new();
-    for (i, item) in items.enumerate() {
-        if i == MAX_SESSIONS {
-            return Err(PyValueError::new_err(format!(
-                "seeds: expected at most {MAX_SESSIONS} seeds (the cap of `e3d run --sessions`)"
-            )));
-        }
-        out.push(int_arg(&item?, &format!("seeds[{i}]"), 0)?);
-    }
-    Ok(Some(out))
-}
-
-/// [`seeds_arg`] for `from_py_with` (see [`unnamed`]).
-pub(crate) fn seeds_param(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<u64>>> {
-    unnamed(obj.py(), "seeds", seeds_arg(obj))
-}
-
 /// The error text of work stopped on request (Ctrl-C, a failed callback).
 pub(crate) const STOPPED: &str = "stopped";
 
-/// The hyper-parameters of goal babbling and the archive as Python passes
-/// them (`run_session`, `run_sessions`, `Learner`), with the command
-/// line's names and defaults (`--k`, `--sigma`, `--rarity`,
-/// `--goal-progress`).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Mutation {
-    pub(crate) k: usize,
-    pub(crate) sigma: f64,
-    pub(crate) rarity: f64,
-    pub(crate) goal_progress: f64,
+/// The hyper-parameters by the library's names ([`e3d::Params::NAMES`]),
+/// numbers the Python package has checked for type (`e3d/_args.py`; `k`
+/// an integer as a float), those not given the paper's task 1; their
+/// ranges are checked by the library, its message naming Python's
+/// `lambda_`.
+pub(crate) fn params_of(named: std::collections::HashMap<String, f64>) -> PyResult<e3d::Params> {
+    let mut p = e3d::Params::TASK1;
+    for (name, v) in named {
+        *match name.as_str() {
+            "alpha" => &mut p.alpha,
+            "beta" => &mut p.beta,
+            "lambda" => &mut p.lambda,
+            "eta" => &mut p.eta,
+            "epsilon" => &mut p.epsilon,
+            "sigma" => &mut p.sigma,
+            "rarity" => &mut p.rarity,
+            "goal_progress" => &mut p.goal_progress,
+            "k" => {
+                p.k = v as usize;
+                continue;
+            }
+            _ => return Err(PyTypeError::new_err(format!("no hyper-parameter `{name}`"))),
+        } = v;
+    }
+    checked(p)
 }
 
-impl Mutation {
-    /// The defaults: those of the paper's task 1.
-    pub(crate) const DEFAULT: Mutation = Mutation {
-        k: e3d::Params::TASK1.k,
-        sigma: e3d::Params::TASK1.sigma,
-        rarity: e3d::Params::TASK1.rarity,
-        goal_progress: e3d::Params::TASK1.goal_progress,
-    };
-}
-
-/// `k`: the slots a mutation resamples, an integer >= 1 (for
-/// `from_py_with`).
-pub(crate) fn k_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    unnamed(obj.py(), "k", usize_arg(obj, "k", 1))
-}
-
-/// The learning parameters of a session (the paper's task 1 beside the
-/// given ones), checked: a `ValueError` names the one out of range.
-pub(crate) fn params_arg(
-    alpha: f64,
-    beta: f64,
-    lambda: f64,
-    eta: f64,
-    epsilon: f64,
-) -> PyResult<e3d::Params> {
-    params_with(alpha, beta, lambda, eta, epsilon, Mutation::DEFAULT)
-}
-
-/// [`params_arg`] with goal babbling's and the archive's parameters.
-pub(crate) fn params_with(
-    alpha: f64,
-    beta: f64,
-    lambda: f64,
-    eta: f64,
-    epsilon: f64,
-    m: Mutation,
-) -> PyResult<e3d::Params> {
-    let params = e3d::Params {
-        alpha,
-        beta,
-        lambda,
-        eta,
-        epsilon,
-        k: m.k,
-        sigma: m.sigma,
-        rarity: m.rarity,
-        goal_progress: m.goal_progress,
-    };
-    params.validate().map_err(|e| {
-        // the library names `lambda`; Python's argument is `lambda_`
+/// `p` if its values are in range, else the library's message naming
+/// Python's `lambda_`.
+pub(crate) fn checked(p: e3d::Params) -> PyResult<e3d::Params> {
+    p.validate().map_err(|e| {
         let msg = e.to_string();
-        let msg = match msg.strip_prefix("lambda ") {
+        PyValueError::new_err(match msg.strip_prefix("lambda ") {
             Some(rest) => format!("lambda_ {rest}"),
             None => msg,
-        };
-        pyo3::exceptions::PyValueError::new_err(msg)
+        })
     })?;
-    Ok(params)
+    Ok(p)
 }
 
 /// Whose hyper-parameters a call's `alpha` ... `epsilon` would be (see
@@ -434,11 +283,18 @@ pub(crate) enum Reader {
     Object,
 }
 
-/// Warns (`UserWarning`, at the caller's line) for every hyper-parameter
-/// given a value other than its default (`Params::TASK1`, the signatures'
-/// defaults) that `reader` does not read. The call goes on, as the CLI's
-/// note says and as a sweep spans only the parameters its learner uses.
-pub(crate) fn warn_unread(py: Python<'_>, reader: Reader, params: &e3d::Params) -> PyResult<()> {
+/// Warns (`UserWarning`, at the caller's line: `level` 1 for a call from
+/// the user's code, 2 through a function of the package) for every
+/// hyper-parameter given a value other than its default (`Params::TASK1`,
+/// the signatures' defaults) that `reader` does not read. The call goes
+/// on, as the CLI's note says and as a sweep spans only the parameters
+/// its learner uses.
+pub(crate) fn warn_unread(
+    py: Python<'_>,
+    reader: Reader,
+    params: &e3d::Params,
+    level: i32,
+) -> PyResult<()> {
     let (reads, why): (&[&str], String) = match reader {
         Reader::Kind(kind) => {
             let reads = kind.params();
@@ -461,10 +317,8 @@ pub(crate) fn warn_unread(py: Python<'_>, reader: Reader, params: &e3d::Params) 
     let given = params.named().into_iter().zip(e3d::Params::TASK1.named());
     for ((name, v), (_, default)) in given {
         if v != default && !reads.contains(&name) {
-            warn(
-                py,
-                &format!("{} = {v} does nothing: {why}", python_name(name)),
-            )?;
+            let msg = format!("{} = {v} does nothing: {why}", python_name(name));
+            warn(py, &msg, level)?;
         }
     }
     Ok(())
@@ -472,13 +326,19 @@ pub(crate) fn warn_unread(py: Python<'_>, reader: Reader, params: &e3d::Params) 
 
 /// Warns when a `gamma` other than the default is given open loop, which
 /// has no discount (checked all the same: see `check_gamma`).
-pub(crate) fn warn_open_loop_gamma(py: Python<'_>, closed_loop: bool, gamma: f64) -> PyResult<()> {
+pub(crate) fn warn_open_loop_gamma(
+    py: Python<'_>,
+    closed_loop: bool,
+    gamma: f64,
+    level: i32,
+) -> PyResult<()> {
     if !closed_loop && gamma != e3d::learner::ClosedLoopE3d::GAMMA {
         warn(
             py,
             &format!(
                 "gamma = {gamma} does nothing: the open loop has no discount (closed_loop=False)"
             ),
+            level,
         )?;
     }
     Ok(())
@@ -493,9 +353,9 @@ fn python_name(name: &str) -> &str {
     }
 }
 
-/// Issues a `UserWarning` with `msg`, at the caller's line.
-pub(crate) fn warn(py: Python<'_>, msg: &str) -> PyResult<()> {
+/// Issues a `UserWarning` with `msg`, `level` frames up (1: the caller's).
+pub(crate) fn warn(py: Python<'_>, msg: &str, level: i32) -> PyResult<()> {
     let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
     let msg = std::ffi::CString::new(msg).unwrap_or_default();
-    PyErr::warn(py, &category, &msg, 1)
+    PyErr::warn(py, &category, &msg, level)
 }

@@ -81,7 +81,6 @@ impl Held {
         params: &Params,
         target: &e3d::Target,
     ) -> PyResult<Held> {
-        params.validate().map_err(|e| bad(e.into()))?;
         let n = scene.inner.num_effects();
         if let Some(values) = &scene.values {
             return match kind {
@@ -209,38 +208,24 @@ impl Held {
     /// A learner per context from one learner per context (all of one
     /// kind, as [`Held::new`] makes them).
     pub(crate) fn per_context(learners: Vec<Held>) -> Held {
-        fn all<L>(v: Vec<Held>, f: impl Fn(Held) -> Option<L>) -> PerContext<L>
-        where
-            L: Learner,
-        {
-            PerContext::new(v.into_iter().map(|h| f(h).expect("one kind")).collect())
+        macro_rules! per {
+            ($($one:ident => $per:ident),*) => {
+                match &learners[0] {
+                    $(Held::$one(_) => Held::$per(PerContext::new(
+                        learners
+                            .into_iter()
+                            .map(|h| match h {
+                                Held::$one(l) => l,
+                                _ => unreachable!("one kind"),
+                            })
+                            .collect(),
+                    )),)*
+                    _ => unreachable!("a learner of symbols per context"),
+                }
+            };
         }
-        match &learners[0] {
-            Held::E3d(_) => Held::PerE3d(all(learners, |h| match h {
-                Held::E3d(l) => Some(l),
-                _ => None,
-            })),
-            Held::Relaxed(_) => Held::PerRelaxed(all(learners, |h| match h {
-                Held::Relaxed(l) => Some(l),
-                _ => None,
-            })),
-            Held::Count(_) => Held::PerCount(all(learners, |h| match h {
-                Held::Count(l) => Some(l),
-                _ => None,
-            })),
-            Held::Smm(_) => Held::PerSmm(all(learners, |h| match h {
-                Held::Smm(l) => Some(l),
-                _ => None,
-            })),
-            Held::Egreedy(_) => Held::PerEgreedy(all(learners, |h| match h {
-                Held::Egreedy(l) => Some(l),
-                _ => None,
-            })),
-            _ => Held::PerUniform(all(learners, |h| match h {
-                Held::Uniform(l) => Some(l),
-                _ => None,
-            })),
-        }
+        per!(E3d => PerE3d, Relaxed => PerRelaxed, Count => PerCount, Smm => PerSmm,
+            Egreedy => PerEgreedy, Uniform => PerUniform)
     }
 
     /// The learner as a learner of values, if it is one.

@@ -2,8 +2,8 @@
 //! outcome (an `Outcome`, or an effect, a reward and a terminal point) and
 //! the context, each checked against the learner's shape.
 
-use crate::errors::{finite_arg, type_name, usize_arg};
-use crate::outcome::PyOutcome;
+use crate::errors::{finite_arg, usize_arg};
+use crate::outcome::outcome_of;
 use e3d::learner::state::StateShape;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -44,21 +44,15 @@ pub(crate) fn free_outcome<'py>(
     let point = point.filter(|p| !p.is_none()).cloned();
     let (command, o, point) = match args.len() {
         2 => {
-            let o = args.get_item(1)?;
-            let o = o.cast::<PyOutcome>().map_err(|_| {
-                PyTypeError::new_err(format!(
-                    "outcome: expected an e3d.Outcome ({usage}), found {}",
-                    type_name(&o)
-                ))
-            })?;
+            let what = format!("outcome: expected an e3d.Outcome ({usage})");
+            let o = outcome_of(&args.get_item(1)?, &what)?;
             if point.is_some() {
                 return Err(PyTypeError::new_err(format!(
                     "point: an Outcome holds its point ({usage})"
                 )));
             }
-            let o = o.borrow();
             let mut checked = check_effect(o.effect, o.reward, shape)?;
-            checked.point = [o.x, o.y];
+            checked.point = o.point;
             return Ok((args.get_item(0)?, checked, true));
         }
         3 => (args.get_item(0)?, check_outcome(args, shape)?, point),

@@ -1,96 +1,42 @@
-//! `Outcome` and `BatchOutcome`: what executing one command, or a batch,
-//! gives back.
+//! `Outcome` and `BatchOutcome` (python/e3d/_results.py): what executing
+//! one command, or a batch, gives back.
 
-use crate::pickling::{pickled, Reduced};
-use numpy::{PyArray1, PyUntypedArrayMethods};
+use crate::record::result_class;
+use numpy::IntoPyArray;
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
 
-/// The outcome of one command: `effect` (int), `reward` (float) and the
-/// terminal point `x`, `y` (metres).
-#[pyclass(module = "e3d", name = "Outcome", frozen, get_all)]
-#[derive(Clone)]
-pub(crate) struct PyOutcome {
-    pub(crate) effect: usize,
-    pub(crate) reward: f64,
-    pub(crate) x: f64,
-    pub(crate) y: f64,
+/// One command's outcome as an `Outcome`.
+pub(crate) fn outcome_to_py(py: Python<'_>, o: &e3d::Outcome) -> PyResult<Py<PyAny>> {
+    let fields = (o.effect, o.reward, o.point[0], o.point[1]);
+    Ok(result_class(py, "Outcome")?.call1(fields)?.unbind())
 }
 
-#[pymethods]
-impl PyOutcome {
-    fn __repr__(&self) -> String {
-        format!(
-            "Outcome(effect={}, reward={:?}, x={:?}, y={:?})",
-            self.effect, self.reward, self.x, self.y
-        )
-    }
-    fn __eq__(&self, o: &Self) -> bool {
-        (self.effect, self.reward, self.x, self.y) == (o.effect, o.reward, o.x, o.y)
-    }
-    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
-        self.pickle_reduce(py)
-    }
-    #[staticmethod]
-    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        Self::pickle_from(state)
-    }
+/// Outcomes as a `BatchOutcome` of numpy arrays, one entry per command.
+pub(crate) fn batch_to_py(py: Python<'_>, out: &[e3d::Outcome]) -> PyResult<Py<PyAny>> {
+    let effect: Vec<i64> = out.iter().map(|o| o.effect as i64).collect();
+    let column = |f: fn(&e3d::Outcome) -> f64| out.iter().map(f).collect::<Vec<f64>>();
+    let fields = (
+        effect.into_pyarray(py),
+        column(|o| o.reward).into_pyarray(py),
+        column(|o| o.point[0]).into_pyarray(py),
+        column(|o| o.point[1]).into_pyarray(py),
+    );
+    Ok(result_class(py, "BatchOutcome")?.call1(fields)?.unbind())
 }
 
-impl From<e3d::Outcome> for PyOutcome {
-    fn from(o: e3d::Outcome) -> Self {
-        PyOutcome {
-            effect: o.effect,
-            reward: o.reward,
-            x: o.point[0],
-            y: o.point[1],
-        }
+/// The fields of an `Outcome` (`what` names it in the `TypeError` for
+/// anything else).
+pub(crate) fn outcome_of(o: &Bound<'_, PyAny>, what: &str) -> PyResult<e3d::Outcome> {
+    if !o.is_instance(&result_class(o.py(), "Outcome")?)? {
+        return Err(PyTypeError::new_err(format!(
+            "{what}, found {}",
+            crate::errors::type_name(o)
+        )));
     }
+    Ok(e3d::Outcome {
+        effect: o.getattr("effect")?.extract()?,
+        reward: o.getattr("reward")?.extract()?,
+        point: [o.getattr("x")?.extract()?, o.getattr("y")?.extract()?],
+    })
 }
-
-/// An `Outcome` held in another result (`Motion.outcome`) as a new Python
-/// object: what pickling that result writes.
-impl<'py> IntoPyObject<'py> for &PyOutcome {
-    type Target = PyOutcome;
-    type Output = Bound<'py, PyOutcome>;
-    type Error = PyErr;
-    fn into_pyobject(self, py: Python<'py>) -> PyResult<Bound<'py, PyOutcome>> {
-        Bound::new(py, self.clone())
-    }
-}
-
-/// The outcomes of a batch of commands, one entry per row, as numpy
-/// arrays: `effect` (int64), `reward`, `x`, `y` (float64).
-#[pyclass(module = "e3d", name = "BatchOutcome", frozen, get_all)]
-pub(crate) struct PyBatch {
-    pub(crate) effect: Py<PyArray1<i64>>,
-    pub(crate) reward: Py<PyArray1<f64>>,
-    pub(crate) x: Py<PyArray1<f64>>,
-    pub(crate) y: Py<PyArray1<f64>>,
-}
-
-#[pymethods]
-impl PyBatch {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        self.effect.bind(py).len()
-    }
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!("BatchOutcome({} commands)", self.effect.bind(py).len())
-    }
-    /// Equal when every field is (arrays value by value, NaN equal to
-    /// NaN): a pickled copy, or the same work run again.
-    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
-        self.pickle_eq(py, &other)
-    }
-
-    fn __reduce__<'py>(&self, py: Python<'py>) -> Reduced<'py> {
-        self.pickle_reduce(py)
-    }
-    #[staticmethod]
-    fn _from_state(state: &Bound<'_, PyTuple>) -> PyResult<Self> {
-        Self::pickle_from(state)
-    }
-}
-
-pickled!(PyOutcome, "Outcome" { effect, reward, x, y });
-pickled!(PyBatch, "BatchOutcome" { effect, reward, x, y });

@@ -57,11 +57,11 @@ impl PyRng {
     /// its generator: with it, `Learner.propose` and `learn` in a loop of
     /// one's own draw what `run_session(seed=seed)` draws.
     #[new]
-    fn new(#[pyo3(from_py_with = crate::errors::seed_param)] seed: u64) -> PyRng {
-        PyRng {
-            inner: rand::SeedableRng::seed_from_u64(seed),
+    fn new(seed: &Bound<'_, PyAny>) -> PyResult<PyRng> {
+        Ok(PyRng {
+            inner: rand::SeedableRng::seed_from_u64(crate::errors::seed_arg(seed)?),
             active: true,
-        }
+        })
     }
 
     /// A float uniform in [0, 1).
@@ -73,8 +73,9 @@ impl PyRng {
     /// An integer uniform in [0, n): the draw of the library's uniform
     /// policy for a slot of `n` symbols (rand's `random_range(0..n)` on
     /// `usize`).
-    fn integers(&mut self, #[pyo3(from_py_with = n_arg)] n: usize) -> PyResult<usize> {
+    fn integers(&mut self, n: &Bound<'_, PyAny>) -> PyResult<usize> {
         use rand::RngExt;
+        let n = usize_arg(n, "n", 1)?;
         Ok(self.lent()?.random_range(0..n))
     }
 
@@ -126,9 +127,4 @@ impl PyRng {
         self.active = state.1;
         Ok(())
     }
-}
-
-/// `integers(n)`'s `n`: an integer >= 1 (for `from_py_with`).
-fn n_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    crate::errors::unnamed(obj.py(), "n", usize_arg(obj, "n", 1))
 }

@@ -3,7 +3,7 @@
 //! [`LearnerState`], and run by `run_session(learner=...)`, which
 //! continues from it.
 
-use crate::errors::params_arg;
+use crate::errors::checked;
 use crate::held::{bad, with_held, Held};
 use crate::learn_args::{
     bad_command, check_effect, context_arg, effect_reward, free_outcome, symbols_of,
@@ -12,7 +12,7 @@ use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::StateShape;
 use e3d::learner::LearnerState;
-use e3d::{ContinuousLearner, LearnerKind};
+use e3d::{ContinuousLearner, LearnerKind, Params};
 use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -84,15 +84,19 @@ impl PyLearnerState {
         let scene = scene_of(scene)?;
         let kind = kind_arg(learner)?;
         let target = target_arg(&scene, target)?;
-        let mutation = crate::errors::Mutation {
+        let params = checked(Params {
+            alpha,
+            beta,
+            lambda: lambda_,
+            eta,
+            epsilon,
             k,
             sigma,
             rarity,
             goal_progress,
-        };
-        let params = crate::errors::params_with(alpha, beta, lambda_, eta, epsilon, mutation)?;
+        })?;
         let held = Held::new(&scene, kind, &params, &target)?;
-        crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params)?;
+        crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params, 1)?;
         Ok(PyLearnerState { held })
     }
 
@@ -126,7 +130,14 @@ impl PyLearnerState {
     ) -> PyResult<PyLearnerState> {
         let scene = scene_of(scene)?;
         let kind = kind_arg(learner)?;
-        let params = params_arg(alpha, beta, lambda_, eta, epsilon)?;
+        let params = checked(Params {
+            alpha,
+            beta,
+            lambda: lambda_,
+            eta,
+            epsilon,
+            ..Params::TASK1
+        })?;
         let one = 1usize.into_pyobject(py)?.into_any();
         let held = crate::contextual::contextual_held(
             &scene,
@@ -140,8 +151,8 @@ impl PyLearnerState {
             targets,
         )?;
         // once everything is checked: a refused call warns of nothing
-        crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params)?;
-        crate::errors::warn_open_loop_gamma(py, closed_loop, gamma)?;
+        crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params, 1)?;
+        crate::errors::warn_open_loop_gamma(py, closed_loop, gamma, 1)?;
         Ok(PyLearnerState { held })
     }
 

@@ -19,12 +19,6 @@ use pyo3::prelude::*;
 #[pyclass(module = "e3d", name = "E3dLearner", extends = PyLearnerState)]
 pub(crate) struct PyE3dLearner;
 
-/// `slot`: an integer >= 0 (its range is the learner's to check), for
-/// `from_py_with`.
-fn slot_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    crate::errors::unnamed(obj.py(), "slot", usize_arg(obj, "slot", 0))
-}
-
 fn bad(e: e3d::learner::LearnerError) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
@@ -67,7 +61,13 @@ impl PyE3dLearner {
         let scene = scene_of(scene)?;
         scene.require_symbols("E3dLearner")?;
         let target = target_arg(&scene, target)?;
-        let params = crate::errors::params_arg(alpha, beta, lambda_, eta, Params::TASK1.epsilon)?;
+        let params = crate::errors::checked(Params {
+            alpha,
+            beta,
+            lambda: lambda_,
+            eta,
+            ..Params::TASK1
+        })?;
         let l = E3d::new(&scene.space, scene.inner.num_effects(), &params, &target).map_err(bad)?;
         Ok(with(l))
     }
@@ -123,11 +123,8 @@ impl PyE3dLearner {
     }
 
     /// Replaces `Q[:, slot]` (one finite value per symbol of the slot).
-    fn set_q(
-        mut slf: PyRefMut<'_, Self>,
-        #[pyo3(from_py_with = slot_arg)] slot: usize,
-        q: Vec<f64>,
-    ) -> PyResult<()> {
+    fn set_q(mut slf: PyRefMut<'_, Self>, slot: &Bound<'_, PyAny>, q: Vec<f64>) -> PyResult<()> {
+        let slot = usize_arg(slot, "slot", 0)?;
         e3d_mut(&mut slf).set_q(slot, &q).map_err(bad)
     }
 
@@ -146,9 +143,10 @@ impl PyE3dLearner {
     /// by a constant added to a slot's Q).
     fn set_policy(
         mut slf: PyRefMut<'_, Self>,
-        #[pyo3(from_py_with = slot_arg)] slot: usize,
+        slot: &Bound<'_, PyAny>,
         probs: Vec<f64>,
     ) -> PyResult<()> {
+        let slot = usize_arg(slot, "slot", 0)?;
         let l = e3d_mut(&mut slf);
         if slot >= l.num_slots() {
             // set_q words it

@@ -1,13 +1,12 @@
 //! `run_sweep`: sweeps, their `results.csv` as columns, and `--out`
 //! folders.
 
-use crate::errors::{threads_arg, Fail, STOPPED};
+use crate::errors::{Fail, STOPPED};
 use crate::progress::{watched, Watch};
 use e3d::sweep::SweepError;
 use e3d::sweep::{DirOptions, Shard};
 use e3d::Sweep;
 use numpy::IntoPyArray;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
@@ -99,16 +98,13 @@ pub(crate) fn lock_out(dir: &Path) -> PyResult<Option<e3d::io::DirLock>> {
 pub(crate) fn run_sweep<'py>(
     py: Python<'py>,
     sweep: &Bound<'py, PyAny>,
-    #[pyo3(from_py_with = threads_arg)] threads: Option<usize>,
+    threads: Option<usize>,
     table_cache: Option<PathBuf>,
     out: Option<PathBuf>,
     resume: bool,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sw = sweep_of(sweep, table_cache)?;
-    if threads == Some(0) {
-        return Err(PyValueError::new_err("threads = 0: expected at least 1"));
-    }
     let threads = threads.unwrap_or_else(|| {
         std::thread::available_parallelism()
             .map(|n| n.get())
@@ -152,7 +148,7 @@ fn sweep_of(sweep: &Bound<'_, PyAny>, table_cache: Option<PathBuf>) -> PyResult<
         Sweep::load(&text_or_path)
     }
     .map_err(|e| PyErr::from(Fail::from(e)))?;
-    if let Some(dir) = crate::errors::cache_folder_arg(table_cache)? {
+    if let Some(dir) = table_cache {
         sw = sw.with_table_cache(dir);
     }
     Ok(sw)

@@ -3,8 +3,8 @@
 
 use crate::commands::{commands_from, values_from};
 use crate::errors::Fail;
-use crate::motion::{motion_to_py, PyMotion};
-use crate::outcome::{PyBatch, PyOutcome};
+use crate::motion::motion_to_py;
+use crate::outcome::{batch_to_py, outcome_to_py};
 use crate::progress::{watched, Watch};
 use crate::scene::PyScene;
 use e3d::command::CommandSpace;
@@ -12,7 +12,6 @@ use e3d::scene::WorldSpec;
 use e3d::world::PhysicsWorld;
 use e3d::world::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP, TABLE_COPIES};
 use e3d::{Command, Outcome, World, WorldError};
-use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -343,7 +342,7 @@ impl PyWorld {
 
     /// Executes one command (a string of symbols, or an array of `slots`
     /// symbol indices) and returns its `Outcome`.
-    fn execute(&self, py: Python<'_>, command: &Bound<'_, PyAny>) -> PyResult<PyOutcome> {
+    fn execute(&self, py: Python<'_>, command: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
         let o = match &self.scene.values {
             Some(space) => {
                 let vs = values_from(py, space, command, 1)?;
@@ -355,7 +354,7 @@ impl PyWorld {
                 py.detach(|| self.run_one(&cs[0])).map_err(Fail::from)?
             }
         };
-        Ok(o.into())
+        outcome_to_py(py, &o)
     }
 
     /// Executes a batch of commands, an integer array `[N, slots]` of
@@ -372,7 +371,7 @@ impl PyWorld {
         py: Python<'_>,
         commands: &Bound<'_, PyAny>,
         progress: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<PyBatch> {
+    ) -> PyResult<Py<PyAny>> {
         if let Some(space) = &self.scene.values {
             let vs = values_from(py, space, commands, 2)?;
             let watch = Watch::new();
@@ -380,7 +379,7 @@ impl PyWorld {
                 self.run_values(&vs, Some(w))
             })?
             .map_err(Fail::from)?;
-            return Ok(batch_to_py(py, &out));
+            return batch_to_py(py, &out);
         }
         let cs = commands_from(py, &self.scene.space, commands, 2)?;
         // a small batch is not worth a thread of its own (a memo hit costs
@@ -394,7 +393,7 @@ impl PyWorld {
             })?
         }
         .map_err(Fail::from)?;
-        Ok(batch_to_py(py, &out))
+        batch_to_py(py, &out)
     }
 
     /// The whole motion of one command (a string, or an array of `slots`
@@ -403,7 +402,7 @@ impl PyWorld {
     /// at the start and after every step. The numbers of
     /// `e3d scene exec SCENE COMMAND --trace FILE.csv`. A grid scene raises
     /// `ValueError` (it has no motion).
-    fn trace(&self, py: Python<'_>, command: &Bound<'_, PyAny>) -> PyResult<PyMotion> {
+    fn trace(&self, py: Python<'_>, command: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
         let inner = &self.scene.inner;
         if matches!(inner.spec().world, WorldSpec::Grid(_)) {
             return Err(PyValueError::new_err(format!(
@@ -475,19 +474,5 @@ impl PyWorld {
             self.scene.inner.spec().name,
             self.memo.len()
         )
-    }
-}
-
-/// Outcomes as a `BatchOutcome` of numpy arrays.
-fn batch_to_py(py: Python<'_>, out: &[Outcome]) -> PyBatch {
-    let effect: Vec<i64> = out.iter().map(|o| o.effect as i64).collect();
-    let reward: Vec<f64> = out.iter().map(|o| o.reward).collect();
-    let x: Vec<f64> = out.iter().map(|o| o.point[0]).collect();
-    let y: Vec<f64> = out.iter().map(|o| o.point[1]).collect();
-    PyBatch {
-        effect: effect.into_pyarray(py).unbind(),
-        reward: reward.into_pyarray(py).unbind(),
-        x: x.into_pyarray(py).unbind(),
-        y: y.into_pyarray(py).unbind(),
     }
 }

@@ -325,14 +325,8 @@ impl PyScene {
         py: Python<'_>,
         overrides: &Bound<'_, pyo3::types::PyDict>,
     ) -> PyResult<PyScene> {
-        let d = crate::scene_dict::to_dict(py, &self.inner)?;
-        for (k, v) in overrides.iter() {
-            let path: String = k
-                .extract()
-                .map_err(|_| PyTypeError::new_err("with_: keys must be paths (str)"))?;
-            crate::scene_dict::set_path(&d, &path, &v)?;
-        }
-        PyScene::from_dict(&d)
+        let f = py.import("e3d._scene_dict")?.getattr("with_")?;
+        Ok(f.call1((self.clone(), overrides))?.extract()?)
     }
 
     /// The scene as RON text that `Scene.from_text` reads back as an equal

@@ -4,17 +4,15 @@
 //! sessions run with the GIL (Python learners, `on_trials`) are in
 //! `python_learners`, sessions of continuous commands in `values`.
 
-use e3d::learner::LearnerSetup;
-use crate::errors::{
-    check_held, every_arg, params_with, seed_param, seeds_param, sessions_arg, trials_arg, Fail,
-};
+use crate::errors::{check_held, params_of, Fail};
 use crate::held::Held;
 use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
-use crate::record::{batch_to_py, record_to_py, PyBatchRecord, PyRecord, Rows};
+use crate::record::{batch_to_py, record_to_py, Rows};
 use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::E3d;
+use e3d::learner::LearnerSetup;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
     Control, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target,
@@ -24,22 +22,12 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use python_learners::{learner_sequence, run_here, run_python, run_python_batch};
 use std::cell::RefCell;
+use std::collections::HashMap;
 use std::path::PathBuf;
 use values::{run_continuous, run_held_values};
 
 mod python_learners;
 mod values;
-
-// The defaults of `run_session` and `run_sessions` are written as numbers,
-// so that Python's signature shows them (`alpha=0.3`, not `alpha=...`):
-// the CLI's, `Params::TASK1`.
-const _: () = assert!(
-    Params::TASK1.alpha == 0.3
-        && Params::TASK1.beta == 1.0
-        && Params::TASK1.lambda == 0.03
-        && Params::TASK1.eta == 0.01
-        && Params::TASK1.epsilon == 0.1
-);
 
 /// What `run_session` and `run_sessions` share: the checked parameters,
 /// the executor's options and the learner (a built-in kind, or Python
@@ -52,23 +40,16 @@ pub(crate) struct SessionArgs {
     target: Target,
 }
 
-#[allow(clippy::too_many_arguments)]
+/// The arguments `run_session` and `run_sessions` share, checked (the
+/// hyper-parameters by the library).
 pub(crate) fn session_args(
     trials: usize,
     use_reward: bool,
-    alpha: f64,
-    beta: f64,
-    lambda_: f64,
-    eta: f64,
-    epsilon: f64,
-    mutation: crate::errors::Mutation,
+    params: HashMap<String, f64>,
     outcomes: Option<&str>,
     table_cache: Option<PathBuf>,
     target: Target,
 ) -> PyResult<SessionArgs> {
-    if trials == 0 {
-        return Err(PyValueError::new_err("trials = 0: expected at least 1"));
-    }
     // the cap of the command line and of sweeps: a session's record holds
     // every trial, so 10^12 would exhaust memory and abort the interpreter
     if trials > e3d::sweep::MAX_TRIALS {
@@ -77,7 +58,6 @@ pub(crate) fn session_args(
             e3d::sweep::MAX_TRIALS
         )));
     }
-    let params = params_with(alpha, beta, lambda_, eta, epsilon, mutation)?;
     let force = match outcomes {
         None | Some("auto") => None,
         Some(s) => Some(s.parse::<Strategy>().map_err(|_| {
@@ -87,9 +67,9 @@ pub(crate) fn session_args(
         })?),
     };
     Ok(SessionArgs {
-        params,
+        params: params_of(params)?,
         options: ExecOptions {
-            cache: crate::errors::cache_folder_arg(table_cache)?,
+            cache: table_cache,
             memo_cap: DEFAULT_MEMO_CAP,
             force,
         },
@@ -152,75 +132,26 @@ pub(crate) fn execution_text(exec: Executor<'_>) -> String {
     execution
 }
 
-/// Runs one session of `trials` trials: the learner proposes a command,
-/// the scene's world executes it, the learner learns from its effect and
-/// reward. The same numbers as `e3d run SCENE --trials T --seed S`.
-///
-/// `learner`: a built-in learner's name (`"e3d"`, `"uniform"`, `"egreedy"`,
-/// `"e3d_relax"`, `"count"`, `"smm"`, `"goal_babbling"`, `"archive"`; on a
-/// continuous scene `"e3d"`, the Gaussian E3D, `"uniform"`,
-/// `"goal_babbling"` or `"archive"`), or a Python object with
-/// `propose(rng) -> symbols` and `learn(command, effect, reward)` (see
-/// `docs/python.md`). `use_reward=False` is the CLI's `--no-reward`.
-/// `k`, `sigma`, `rarity` and `goal_progress` are goal babbling's and the
-/// archive's (the CLI's `--k`, `--sigma`, `--rarity`, `--goal-progress`);
-/// a hyper-parameter given a non-default value that the learner does not
-/// read is a `UserWarning`.
-/// `outcomes`: `None` (the cheapest of table, memo or live, as the CLI
-/// chooses) or one of `"table"`, `"memo"`, `"live"`; `table_cache`: a
-/// folder to keep outcomes in (the CLI's `--table-cache`).
-/// `progress`: a callable, called as `progress(trials_done, trials)` at
-/// most ten times a second and once at the end. Ctrl-C stops the session
-/// and raises `KeyboardInterrupt`. `target`: E3D's `p*` (None: uniform; an
-/// array of one weight per effect, or a dict `{effect or (row, col):
-/// weight}`), also the metrics' target.
-///
-/// `learner` may also be an `e3d.Learner` (or `E3dLearner`): the session
-/// starts from its state (its own hyper-parameters and target; a target
-/// given here only sets the metrics') and leaves it in the state it ends in.
-/// `on_trials`: a callable, called as `on_trials(first, commands,
-/// effects, rewards)` with the arrays of every `every` trials (the last
-/// call may hold fewer), `first` the index of their first trial; it runs
-/// the session on this thread (with the GIL), and an exception from it
-/// stops the session and is raised.
+/// `e3d.run_session` (python/e3d/_run.py), its arguments checked there.
 #[pyfunction]
-#[pyo3(signature = (scene, learner = None, trials = 5000, seed = 0, use_reward = true,
-    alpha = 0.3, beta = 1.0, lambda_ = 0.03,
-    eta = 0.01, epsilon = 0.1, outcomes = None, table_cache = None,
-    progress = None, target = None, on_trials = None, every = 1000, k = 2, sigma = 0.1,
-    rarity = 0.5, goal_progress = 0.0))]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn run_session(
+pub(crate) fn _run_session(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     learner: Option<&Bound<'_, PyAny>>,
-    #[pyo3(from_py_with = trials_arg)] trials: usize,
-    #[pyo3(from_py_with = seed_param)] seed: u64,
+    trials: usize,
+    seed: u64,
     use_reward: bool,
-    #[pyo3(from_py_with = crate::errors::float_arg)] alpha: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] beta: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] lambda_: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] eta: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] epsilon: f64,
+    params: HashMap<String, f64>,
     outcomes: Option<&str>,
     table_cache: Option<PathBuf>,
     progress: Option<&Bound<'_, PyAny>>,
     target: Option<&Bound<'_, PyAny>>,
     on_trials: Option<&Bound<'_, PyAny>>,
-    #[pyo3(from_py_with = every_arg)] every: usize,
-    #[pyo3(from_py_with = crate::errors::k_arg)] k: usize,
-    #[pyo3(from_py_with = crate::errors::float_arg)] sigma: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] rarity: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] goal_progress: f64,
-) -> PyResult<PyRecord> {
+    every: usize,
+) -> PyResult<Py<PyAny>> {
     let scene = scene_of(scene)?;
     let on_trials = on_trials.filter(|c| !c.is_none());
-    if let Some(c) = on_trials.filter(|c| !c.is_callable()) {
-        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-            "on_trials: expected a callable, on_trials(first, commands, effects, rewards), found {}",
-            c.get_type().name()?
-        )));
-    }
     if let (Some(_), Some(_)) = (on_trials, &scene.values) {
         return Err(PyValueError::new_err(format!(
             "on_trials: scene `{}` is continuous: its sessions run without a per-trial callback; the record holds every trial's values, effects and rewards",
@@ -228,24 +159,7 @@ pub(crate) fn run_session(
         )));
     }
     let target = target_arg(&scene, target)?;
-    let a = session_args(
-        trials,
-        use_reward,
-        alpha,
-        beta,
-        lambda_,
-        eta,
-        epsilon,
-        crate::errors::Mutation {
-            k,
-            sigma,
-            rarity,
-            goal_progress,
-        },
-        outcomes,
-        table_cache,
-        target,
-    )?;
+    let a = session_args(trials, use_reward, params, outcomes, table_cache, target)?;
     crate::errors::reserve_records(
         &format!("trials = {trials}"),
         crate::scene::record_bytes(&scene, trials as u64),
@@ -259,7 +173,7 @@ pub(crate) fn run_session(
     };
     // a Learner: its state, checked against the scene, written back at the end
     let saved = saved_state(learner, &scene)?;
-    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params)?;
+    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params, 2)?;
     let held = saved.as_ref().map(|s| s.borrow().held.clone());
     if scene.values.is_some() {
         if let Some(h) = held {
@@ -325,7 +239,7 @@ fn run_builtin(
     mut held: Option<Held>,
     a: &SessionArgs,
     run: &OneSession<'_, '_>,
-) -> PyResult<PyRecord> {
+) -> PyResult<Py<PyAny>> {
     let space = &scene.space;
     let (mut e3d_made, mut boxed) = make_symbols(kind, &held, a, scene)?;
     let made = chosen(&mut e3d_made, &mut boxed, &mut held)?;
@@ -366,7 +280,13 @@ fn make_symbols(
     };
     let boxed = match (kind, held) {
         (LearnerKind::E3d, _) | (_, Some(_)) => None,
-        _ => Some(LearnerSetup::new(kind).params(a.params).target(a.target).symbols(space, n_eff).map_err(bad)?),
+        _ => Some(
+            LearnerSetup::new(kind)
+                .params(a.params)
+                .target(a.target.clone())
+                .symbols(space, n_eff)
+                .map_err(bad)?,
+        ),
     };
     Ok((e3d_made, boxed))
 }
@@ -467,50 +387,23 @@ where
     })??)
 }
 
-/// Runs several sessions of one scene together, in lockstep: at every
-/// trial each session proposes its command, the new commands of all are
-/// simulated together (several copies of a physics scene stepped at
-/// once, as `e3d run --sessions N` does), then each session learns from
-/// its own outcome. Each session's numbers are those of `run_session`
-/// with its seed, and of `e3d run SCENE --sessions N --seed S`.
-///
-/// `seeds`: the sessions' seeds; or `sessions=N` with `seed=S` for the
-/// CLI's seeds `S, S+1, ..., S+N-1`. `learner`: a built-in learner's name
-/// (the sessions run in parallel groups, without the GIL), or a sequence
-/// of Python learners, one per seed (they run on this thread, with the
-/// GIL). The other arguments are `run_session`'s; `progress` is called
-/// as `progress(trials_done, trials * sessions)`. The first session that
-/// fails (a simulation that blows up) raises its error.
+/// `e3d.run_sessions` (python/e3d/_run.py), its arguments checked there
+/// (`seeds`: at least one).
 #[pyfunction]
-#[pyo3(signature = (scene, learner = None, trials = 5000, seeds = None, sessions = None, seed = 0,
-    use_reward = true, alpha = 0.3, beta = 1.0,
-    lambda_ = 0.03, eta = 0.01, epsilon = 0.1,
-    outcomes = None, table_cache = None, progress = None, target = None, k = 2, sigma = 0.1,
-    rarity = 0.5, goal_progress = 0.0))]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn run_sessions(
+pub(crate) fn _run_sessions(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     learner: Option<&Bound<'_, PyAny>>,
-    #[pyo3(from_py_with = trials_arg)] trials: usize,
-    #[pyo3(from_py_with = seeds_param)] seeds: Option<Vec<u64>>,
-    #[pyo3(from_py_with = sessions_arg)] sessions: Option<usize>,
-    #[pyo3(from_py_with = seed_param)] seed: u64,
+    trials: usize,
+    seeds: Vec<u64>,
     use_reward: bool,
-    #[pyo3(from_py_with = crate::errors::float_arg)] alpha: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] beta: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] lambda_: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] eta: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] epsilon: f64,
+    params: HashMap<String, f64>,
     outcomes: Option<&str>,
     table_cache: Option<PathBuf>,
     progress: Option<&Bound<'_, PyAny>>,
     target: Option<&Bound<'_, PyAny>>,
-    #[pyo3(from_py_with = crate::errors::k_arg)] k: usize,
-    #[pyo3(from_py_with = crate::errors::float_arg)] sigma: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] rarity: f64,
-    #[pyo3(from_py_with = crate::errors::float_arg)] goal_progress: f64,
-) -> PyResult<PyBatchRecord> {
+) -> PyResult<Py<PyAny>> {
     let scene = scene_of(scene)?;
     if learner.is_some_and(|l| l.is_instance_of::<PyLearnerState>()) {
         return Err(PyTypeError::new_err(
@@ -518,31 +411,13 @@ pub(crate) fn run_sessions(
         ));
     }
     let target = target_arg(&scene, target)?;
-    let seeds = seeds_of(seeds, sessions, seed)?;
-    let a = session_args(
-        trials,
-        use_reward,
-        alpha,
-        beta,
-        lambda_,
-        eta,
-        epsilon,
-        crate::errors::Mutation {
-            k,
-            sigma,
-            rarity,
-            goal_progress,
-        },
-        outcomes,
-        table_cache,
-        target,
-    )?;
+    let a = session_args(trials, use_reward, params, outcomes, table_cache, target)?;
     check_held("trials and sessions", seeds.len(), trials)?;
     crate::errors::reserve_records(
         &format!("trials = {trials}, {} sessions", seeds.len()),
         crate::scene::record_bytes(&scene, (trials as u64).saturating_mul(seeds.len() as u64)),
     )?;
-    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params)?;
+    crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &a.params, 2)?;
     let (name, rows, execution) = if let Some(space) = scene.values.clone() {
         let (kind, rows, execution) =
             run_continuous(py, &scene, &space, learner, &a, &seeds, trials, progress)?;
@@ -562,39 +437,7 @@ pub(crate) fn run_sessions(
             }
         }
     };
-    batch_to_py(py, &scene, &name, &seeds, trials, rows, execution)
-}
-
-/// The seeds of `run_sessions`: `seeds`, or `sessions` seeds from `seed`
-/// on (the CLI's); at least one.
-fn seeds_of(seeds: Option<Vec<u64>>, sessions: Option<usize>, seed: u64) -> PyResult<Vec<u64>> {
-    let seeds: Vec<u64> = match (seeds, sessions) {
-        (Some(_), Some(_)) => {
-            return Err(PyValueError::new_err(
-                "give either seeds or sessions (with seed), not both",
-            ))
-        }
-        (Some(s), None) => s,
-        (None, Some(n)) => (0..n as u64)
-            .map(|i| seed.checked_add(i))
-            .collect::<Option<_>>()
-            .ok_or_else(|| {
-                PyValueError::new_err(format!(
-                    "seed = {seed} with sessions = {n}: the seeds seed..seed+N-1 pass 2^64 - 1"
-                ))
-            })?,
-        (None, None) => {
-            return Err(PyValueError::new_err(
-                "expected seeds=[...] or sessions=N (seeds seed, seed+1, ..., as e3d run --sessions N --seed S)",
-            ))
-        }
-    };
-    if seeds.is_empty() {
-        return Err(PyValueError::new_err(
-            "no session: expected at least one seed",
-        ));
-    }
-    Ok(seeds)
+    batch_to_py(py, &scene, &name, &seeds, rows, execution)
 }
 
 /// The first failing session fails the call, naming its command.
@@ -619,7 +462,10 @@ fn run_builtin_batch(
     let mut learners = Vec::with_capacity(configs.len());
     for _ in 0..configs.len() {
         learners.push(
-            LearnerSetup::new(kind).params(a.params).target(a.target).symbols(&scene.space, n_eff)
+            LearnerSetup::new(kind)
+                .params(a.params)
+                .target(a.target.clone())
+                .symbols(&scene.space, n_eff)
                 .map_err(|e| PyValueError::new_err(e.to_string()))?,
         );
     }

@@ -6,7 +6,7 @@ use super::{execution_text, first_failure, symbol_metrics, OneSession, SessionAr
 use crate::errors::{learner_names, Fail};
 use crate::learner::{python_learner_name, PyLearner, Tap};
 use crate::progress::{watched, Throttle, Ticks, Watch};
-use crate::record::{record_to_py, PyRecord, Rows};
+use crate::record::{record_to_py, Rows};
 use crate::scene::PyScene;
 use e3d::world::{ExecOptions, Executor, Workload};
 use e3d::{Learner, SessionConfig, SessionRecord};
@@ -42,7 +42,7 @@ pub(super) fn run_python(
     obj: &Bound<'_, PyAny>,
     a: &SessionArgs,
     run: &OneSession<'_, '_>,
-) -> PyResult<PyRecord> {
+) -> PyResult<Py<PyAny>> {
     let obj = obj.clone();
     let name = python_learner_name(&obj)?;
     let error = RefCell::new(None);

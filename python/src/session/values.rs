@@ -2,16 +2,16 @@
 //! Gaussian E3D or uniform values), or an `e3d.Learner`'s state, each
 //! session live on a physics world of its own.
 
-use e3d::learner::LearnerSetup;
 use super::{write_back, OneSession, SessionArgs};
 use crate::errors::Fail;
 use crate::held::Held;
 use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
-use crate::record::{record_to_py, PyRecord, Rows};
+use crate::record::{record_to_py, Rows};
 use crate::saved::{run_values_from, PyLearnerState};
 use crate::scene::PyScene;
 use e3d::command::ValueSpace;
+use e3d::learner::LearnerSetup;
 use e3d::session::ValueSessionRecord;
 use e3d::world::Strategy;
 use e3d::LearnerKind;
@@ -34,7 +34,12 @@ pub(super) fn run_continuous(
 ) -> PyResult<(LearnerKind, Vec<Rows>, String)> {
     let kind = continuous_kind(scene, learner, a)?;
     let n_eff = scene.inner.num_effects();
-    let make = || LearnerSetup::new(kind).params(a.params).target(a.target).values(space, n_eff);
+    let make = || {
+        LearnerSetup::new(kind)
+            .params(a.params)
+            .target(a.target.clone())
+            .values(space, n_eff)
+    };
     make().map_err(|e| PyValueError::new_err(e.to_string()))?;
     if scene.inner.as_continuous().is_none() {
         return Err(PyValueError::new_err(format!(
@@ -117,7 +122,7 @@ pub(super) fn run_held_values(
     mut held: Held,
     a: &SessionArgs,
     run: &OneSession<'_, '_>,
-) -> PyResult<PyRecord> {
+) -> PyResult<Py<PyAny>> {
     let name = held.kind().as_str();
     let l = held
         .values()
