@@ -29,7 +29,7 @@ pub enum Observe {
     /// contexts.
     StartContext,
     /// The bin of the current state ([`Episodic::bin_state`]: on a grid, the
-    /// cell): a learner of [`World::num_effects`] contexts.
+    /// cell): a learner of [`World::num_effects`](crate::World::num_effects) contexts.
     State,
     /// Nothing: context 0 always, a learner of one context (the
     /// context-blind baseline).

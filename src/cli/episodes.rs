@@ -121,7 +121,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         })
         .collect::<Result<Vec<_>, _>>()?;
     let label = format!("run {}", scene.spec().name);
-    let total = (a.trials as u64).saturating_mul(seeds.len() as u64);
+    let total = a.trials.saturating_mul(seeds.len() as u64);
     let status = super::progress::track(&label, "episodes", total, |p| {
         let add = |t| p.add(t);
         let make = |_| -> Result<_, CliError> {

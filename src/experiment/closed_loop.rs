@@ -163,13 +163,12 @@ fn arm_config(arm: &str, seed: u64, cfg: &ClosedLoopConfig) -> EpisodeConfig {
     }
 }
 
+/// A session's world and learner.
+type Arm = (Box<dyn Episodic + Send>, Box<dyn ContextualLearner + Send>);
+
 /// A session of `arm`: its world (the scene, or the scene of the long
 /// command) and its learner, fresh.
-fn arm_setup(
-    scene: &Scene,
-    arm: &str,
-    cfg: &ClosedLoopConfig,
-) -> Result<(Box<dyn Episodic + Send>, Box<dyn ContextualLearner + Send>), ClosedLoopError> {
+fn arm_setup(scene: &Scene, arm: &str, cfg: &ClosedLoopConfig) -> Result<Arm, ClosedLoopError> {
     if !matches!(scene.spec().world, WorldSpec::Grid(_)) {
         return Err(ClosedLoopError::Scene(scene.spec().name.clone()));
     }

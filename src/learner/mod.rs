@@ -19,7 +19,7 @@
 //! - [`Archive`]: one command per reached cell, Go-Explore style; pick a
 //!   cell, mutate its command.
 //!
-//! Continuous commands (a value per slot, [`ValueSpace`]) have learners of
+//! Continuous commands (a value per slot, [`ValueSpace`](crate::command::ValueSpace)) have learners of
 //! their own, behind [`ContinuousLearner`]:
 //!
 //! - [`GaussianE3d`]: E3D with a Gaussian policy per slot, updated by the
@@ -112,7 +112,7 @@ impl<L: Learner + ?Sized> Learner for Box<L> {
 }
 
 /// A learner of continuous commands (one value per slot, in the slot's
-/// range: [`ValueSpace`]).
+/// range: [`ValueSpace`](crate::command::ValueSpace)).
 ///
 /// A session calls [`propose`](ContinuousLearner::propose), executes the
 /// values ([`PhysicsWorld::execute_values`](crate::world::PhysicsWorld::execute_values)),
@@ -170,7 +170,7 @@ pub struct ParamError {
     pub expected: &'static str,
 }
 
-/// Why a shipped learner could not be made ([`LearnerKind::make`],
+/// Why a shipped learner could not be made ([`LearnerSetup::symbols`](crate::learner::LearnerSetup::symbols),
 /// [`E3d::new`]): the error of the part at fault, whose message it shows.
 ///
 /// ```
@@ -205,7 +205,7 @@ pub enum LearnerError {
         /// What is wrong.
         reason: String,
     },
-    /// The learner has no continuous version ([`LearnerKind::make_continuous`]).
+    /// The learner has no continuous version ([`LearnerSetup::values`](crate::learner::LearnerSetup::values)).
     #[error("learner `{learner}` takes symbols; continuous commands take one of: {}", LearnerKind::CONTINUOUS.map(LearnerKind::as_str).join(", "))]
     NotContinuous {
         /// The learner's name.

@@ -498,7 +498,7 @@ impl Learners {
     }
 
     /// The built-in learners, `e3d sweep`'s: `e3d`, `uniform`, `egreedy`
-    /// ([`LearnerKind::make`], using the parameters of
+    /// ([`LearnerSetup::symbols`](crate::learner::LearnerSetup::symbols), using the parameters of
     /// [`uses_param`]).
     pub fn builtin() -> Learners {
         Learners {
@@ -601,7 +601,7 @@ impl Learners {
 
     /// A fresh learner `name` of continuous commands (for a scene whose
     /// slots take values), as [`make`](Self::make) with the value space
-    /// `space`: [`LearnerKind::make_continuous`] for a built-in learner
+    /// `space`: [`LearnerSetup::values`](crate::learner::LearnerSetup::values) for a built-in learner
     /// (e3d, uniform, goal_babbling, archive take values); a learner
     /// registered with [`with`](Learners::with) takes symbols only.
     pub fn make_continuous(

@@ -314,11 +314,11 @@ impl Sweep {
         }
         let checked = spec.check_in(file, located)?;
         let (axes, metrics) = (checked.axes, checked.metrics);
-        let uses = learner_uses(&spec, &*learners, &bad)?;
+        let uses = learner_uses(&spec, &learners, &bad)?;
         let scenes = make_scenes(&spec, worlds, &bad)?;
         check_values(
             &scenes,
-            &*learners,
+            &learners,
             &spec.learners,
             spec.runs_episodes(),
             &bad,

@@ -83,7 +83,7 @@ pub struct Outcome {
 }
 
 /// A state of a world from which a command can start
-/// ([`World::execute_from`]), and the state a command leaves: what a
+/// ([`Episodic::execute_from`]), and the state a command leaves: what a
 /// closed loop carries from one command to the next.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[non_exhaustive]

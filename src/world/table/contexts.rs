@@ -170,7 +170,7 @@ impl ContextTables {
     /// The tables of `contexts`, in parallel (rayon: one world per
     /// worker), calling `progress` with the number of commands of each
     /// chunk done. Every command runs from the context's start exactly as
-    /// [`World::execute_outcome_from`] runs it: the same outcomes, bit
+    /// [`Episodic::execute_outcome_from`] runs it: the same outcomes, bit
     /// for bit, whatever the threads.
     pub fn build_with(
         contexts: TabledContexts<'_>,
