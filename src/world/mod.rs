@@ -15,6 +15,7 @@
 //!
 //! Implement [`World`] to plug in your own simulator or robot.
 
+mod accuracy;
 mod context_memo;
 mod control;
 mod executor;
@@ -27,6 +28,9 @@ mod reach;
 mod table;
 
 pub use crate::scene::GridSpec;
+pub use accuracy::{
+    accuracy, AccuracyRow, ACCURACY_SETTINGS, CONVERGED_DT_DIVISOR, CONVERGED_ITERATIONS,
+};
 pub use context_memo::ContextMemoized;
 pub use control::{Control, Observer};
 pub use executor::Executor;

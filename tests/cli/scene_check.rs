@@ -1,7 +1,7 @@
 //! `e3d scene check`: the sampled reachability estimate and the geometric
 //! warnings, asserted on their messages.
 
-use crate::common::{e3d_command, temp_path};
+use crate::common::{e3d_command, stdout_of, temp_dir, temp_path};
 
 fn check(args: &[&str]) -> (String, String) {
     let out = e3d_command()
@@ -240,4 +240,77 @@ fn walls_with_a_gap_are_warned_about_with_a_point_near_it() {
         err.contains("from its start (0.5, 2.5) it may leave them near (0.52, 3.07)"),
         "{err}"
     );
+}
+
+/// Accuracy is a choice `scene check` shows: the solver's iterations per
+/// step on every physics scene, and with `--accuracy N` a row per
+/// setting (1, 2, 3, 4, 8 and the scene's own, marked) with the share of
+/// N commands in the converged run's cell and what a command costs.
+#[test]
+fn check_shows_the_solver_setting_and_measures_accuracy() {
+    let out = stdout_of(&[
+        "scene",
+        "check",
+        "arm7",
+        "--samples",
+        "0",
+        "--accuracy",
+        "40",
+    ]);
+    assert!(
+        out.contains("solver: 4 iteration(s) per step, Rapier's default (`--accuracy`"),
+        "{out}"
+    );
+    let rows: Vec<&str> = out
+        .lines()
+        .filter(|l| l.trim_start().starts_with("solver_iterations: "))
+        .collect();
+    assert_eq!(rows.len(), 5, "{out}");
+    let share = |row: &str| -> f64 {
+        let pct = row.split('%').next().unwrap();
+        pct.split_whitespace().last().unwrap().parse().unwrap()
+    };
+    let shares: Vec<f64> = rows.iter().map(|r| share(r)).collect();
+    assert!(shares.iter().all(|s| (0.0..=100.0).contains(s)), "{out}");
+    // the finest setting lands at least as often as the coarsest
+    assert!(shares[4] >= shares[0], "{out}");
+    assert!(rows[3].starts_with("  solver_iterations: 4 ") && rows[3].ends_with("<- the scene's"));
+    // a scene's own setting is listed and marked
+    let d = temp_dir("accuracy-own");
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/arm7.ron"))
+        .unwrap()
+        .replacen("dt:", "solver_iterations: 6,\n    dt:", 1);
+    let f = d.join("arm7_6.ron");
+    std::fs::write(&f, text).unwrap();
+    let out = stdout_of(&[
+        "scene",
+        "check",
+        f.to_str().unwrap(),
+        "--samples",
+        "0",
+        "--accuracy",
+        "5",
+    ]);
+    assert!(out.contains("solver: 6 iteration(s) per step ("), "{out}");
+    let own: Vec<&str> = out
+        .lines()
+        .filter(|l| l.ends_with("<- the scene's"))
+        .collect();
+    assert_eq!(own.len(), 1, "{out}");
+    assert!(own[0].starts_with("  solver_iterations: 6 "), "{out}");
+    // a grid has no solver
+    let grid = stdout_of(&[
+        "scene",
+        "check",
+        "two_rooms",
+        "--samples",
+        "0",
+        "--accuracy",
+        "5",
+    ]);
+    assert!(
+        grid.contains("accuracy: a grid scene has no solver iterations"),
+        "{grid}"
+    );
+    assert!(!grid.contains("solver: "), "{grid}");
 }

@@ -267,6 +267,15 @@ fn print_physics(scene: &Scene, p: &PhysicsSpec) {
             format!("{phase} steps per slot, then settle {settle}")
         }
     );
+    outln!(
+        "solver: {} iteration(s) per step{} (`--accuracy` measures what other settings cost and change)",
+        p.solver_iterations.unwrap_or(4),
+        if p.solver_iterations.is_none() {
+            ", Rapier's default"
+        } else {
+            ""
+        }
+    );
     print_bodies(p);
     print_joints(p);
     match p.effect.world_point() {
@@ -372,4 +381,40 @@ fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
             }
         );
     }
+}
+
+/// `scene check --accuracy N`: per setting of the solver iterations, how
+/// often `samples` seeded random commands land in the converged run's
+/// cell and what a command costs (one thread), the scene's own setting
+/// marked; a grid scene has none.
+pub(super) fn check_accuracy(scene: &Scene, samples: u64, seed: u64) -> CliResult {
+    if !matches!(scene.spec().world, WorldSpec::Physics(_)) {
+        outln!("accuracy: a grid scene has no solver iterations (its moves are exact)");
+        return Ok(());
+    }
+    let label = format!("accuracy {}", scene.spec().name);
+    let rows = progress::track(&label, "settings", 0, |_| {
+        e3d::world::accuracy(scene, samples, seed)
+    })
+    .map_err(crate::cli::CliError::simulation)?;
+    let own = rows
+        .iter()
+        .find(|r| r.scene)
+        .map_or(1.0, |r| r.seconds_per_command);
+    outln!(
+        "accuracy ({samples} random commands, seed {seed}, one thread): the share whose terminal point lands in the cell of the converged run (dt / {}, {} solver iterations), and what a command costs",
+        e3d::world::CONVERGED_DT_DIVISOR,
+        e3d::world::CONVERGED_ITERATIONS
+    );
+    for r in &rows {
+        outln!(
+            "  solver_iterations: {:<3} {:>6.1}% in the converged cell, {:>8} a command (x{:.2} the scene's cost){}",
+            r.iterations,
+            100.0 * r.in_converged_cell,
+            seconds_text(r.seconds_per_command),
+            r.seconds_per_command / own,
+            if r.scene { "  <- the scene's" } else { "" }
+        );
+    }
+    Ok(())
 }

@@ -10,7 +10,7 @@ mod table;
 mod values;
 
 use super::{load_scene, CliError, CliResult};
-use check::{check, check_reach};
+use check::{check, check_accuracy, check_reach};
 use clap::{Args, Subcommand};
 use exec::{exec, exec_trace};
 use render::{animate, render};
@@ -45,6 +45,13 @@ pub enum SceneCmd {
         /// The seed of the sample.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Also measure accuracy against cost on a physics scene: N seeded
+        /// random commands (default 200) run at 1, 2, 3, 4 and 8 solver
+        /// iterations per step (and the scene's own), each compared with a
+        /// converged run (dt / 4, 8 iterations): how many land in its
+        /// cell, and what a command costs on one thread.
+        #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "200", value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+        accuracy: Option<u64>,
         /// Print only the scene as RON with its shorthands (`chains`,
         /// `walls`) expanded into plain bodies and joints, every field
         /// written: text that loads back as the same scene.
@@ -236,11 +243,16 @@ pub fn run(a: SceneArgs) -> CliResult {
             scene,
             samples,
             seed,
+            accuracy,
             expanded: false,
         } => {
             let scene = load_scene(&scene)?;
             check(&scene)?;
-            check_reach(&scene, samples, seed)
+            check_reach(&scene, samples, seed)?;
+            match accuracy {
+                Some(n) => check_accuracy(&scene, n, seed),
+                None => Ok(()),
+            }
         }
         SceneCmd::Render {
             scene,
