@@ -2,7 +2,7 @@
 //! commands per episode (closed loop), with a contextual learner.
 
 use super::output::write_file;
-use super::session::{join_trials, ObserveArg, RunArgs};
+use super::session::{join_trials, CsvPart, ObserveArg, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
@@ -137,7 +137,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     for (st, (_, csv)) in status.into_iter().zip(&mut recorders) {
         st?;
         if let Some(c) = csv.take() {
-            parts.push(c.finish()?);
+            parts.push(c.part.finish()?);
         }
     }
     let sessions = sessions_of(&recorders, seeds);
@@ -303,11 +303,10 @@ fn print_sessions(
 /// `trials.csv`'s header.
 const TRIALS_HEADER: &str = "session,episode,command,context,start,symbols,effect,reward";
 
-/// A session's rows of `trials.csv`, written as its episodes run (into a
-/// temporary file beside it, joined at the end): a row per command.
+/// A session's rows of `trials.csv`, written as its episodes run (a
+/// [`CsvPart`]): a row per command.
 struct EpisodeCsv {
-    out: std::io::BufWriter<std::fs::File>,
-    path: PathBuf,
+    part: CsvPart,
     space: CommandSpace,
     /// The start contexts' names, as CSV fields.
     names: Vec<String>,
@@ -315,7 +314,6 @@ struct EpisodeCsv {
     episode: usize,
     command: usize,
     start: usize,
-    error: Option<std::io::Error>,
 }
 
 impl EpisodeCsv {
@@ -325,30 +323,15 @@ impl EpisodeCsv {
         names: &[String],
         session: usize,
     ) -> Result<EpisodeCsv, CliError> {
-        let (path, f) = e3d::io::create_temp_beside(target)
-            .map_err(|e| CliError::output(format!("{}: cannot write: {e}", target.display())))?;
         Ok(EpisodeCsv {
-            out: std::io::BufWriter::with_capacity(1 << 16, f),
-            path,
+            part: CsvPart::create(target)?,
             space: space.clone(),
             names: names.to_vec(),
             session,
             episode: 0,
             command: 0,
             start: 0,
-            error: None,
         })
-    }
-
-    /// Flushes; the file's path, or why it could not be written.
-    fn finish(mut self) -> Result<PathBuf, CliError> {
-        use std::io::Write;
-        let r = match self.error.take() {
-            Some(e) => Err(e),
-            None => self.out.flush(),
-        };
-        r.map_err(|e| CliError::output(format!("{}: cannot write: {e}", self.path.display())))?;
-        Ok(self.path)
     }
 }
 
@@ -361,22 +344,17 @@ impl EpisodeRecorder for EpisodeCsv {
     fn record(&mut self, context: usize, command: &e3d::Command, outcome: &e3d::Outcome) {
         use std::io::Write;
         self.command += 1;
-        if self.error.is_none() {
-            if let Err(e) = writeln!(
-                self.out,
-                "{},{},{},{},{},{},{},{}",
-                self.session,
-                self.episode,
-                self.command,
-                context,
-                self.names[self.start],
-                self.space.format(command),
+        let (session, episode, k) = (self.session, self.episode, self.command);
+        let (name, space) = (&self.names[self.start], &self.space);
+        self.part.row(|out| {
+            writeln!(
+                out,
+                "{session},{episode},{k},{context},{name},{},{},{}",
+                space.format(command),
                 outcome.effect,
                 outcome.reward
-            ) {
-                self.error = Some(e);
-            }
-        }
+            )
+        });
     }
 }
 

@@ -178,36 +178,39 @@ impl MemoArgs {
     }
 }
 
-/// Streams `trial,command,effect,reward` rows (with a leading `session`
-/// column for several sessions) into a temporary file beside the final
-/// one: a session of any length never holds its trials in memory.
-pub(super) struct TrialsCsv {
+/// One session's rows of a CSV file, streamed into a temporary file
+/// beside the final one (joined by [`join_trials`]): a session of any
+/// length never holds its rows in memory. The first write error is kept
+/// and said by [`finish`](Self::finish).
+pub(super) struct CsvPart {
     out: std::io::BufWriter<std::fs::File>,
     path: PathBuf,
-    space: CommandSpace,
-    session: Option<usize>,
-    trial: usize,
     error: Option<std::io::Error>,
 }
 
-impl TrialsCsv {
+impl CsvPart {
     /// A new temporary file beside the final file `target` (created
     /// exclusively: never through a link planted under its name).
-    pub(super) fn create(
-        target: &Path,
-        space: &CommandSpace,
-        session: Option<usize>,
-    ) -> Result<Self, CliError> {
+    pub(super) fn create(target: &Path) -> Result<Self, CliError> {
         let (path, f) = e3d::io::create_temp_beside(target)
             .map_err(|e| CliError::output(format!("{}: cannot write: {e}", target.display())))?;
-        Ok(TrialsCsv {
+        Ok(CsvPart {
             out: std::io::BufWriter::with_capacity(1 << 16, f),
             path,
-            space: space.clone(),
-            session,
-            trial: 0,
             error: None,
         })
+    }
+
+    /// Writes a row with `write` (nothing after a failed write).
+    pub(super) fn row(
+        &mut self,
+        write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+    ) {
+        if self.error.is_none() {
+            if let Err(e) = write(&mut self.out) {
+                self.error = Some(e);
+            }
+        }
     }
 
     /// Flushes; the file's path, or why it could not be written.
@@ -222,30 +225,53 @@ impl TrialsCsv {
     }
 }
 
+/// Streams `trial,command,effect,reward` rows (with a leading `session`
+/// column for several sessions) into a [`CsvPart`].
+pub(super) struct TrialsCsv {
+    part: CsvPart,
+    space: CommandSpace,
+    session: Option<usize>,
+    trial: usize,
+}
+
+impl TrialsCsv {
+    /// A new part of the final file `target`.
+    pub(super) fn create(
+        target: &Path,
+        space: &CommandSpace,
+        session: Option<usize>,
+    ) -> Result<Self, CliError> {
+        Ok(TrialsCsv {
+            part: CsvPart::create(target)?,
+            space: space.clone(),
+            session,
+            trial: 0,
+        })
+    }
+
+    /// Flushes; the file's path, or why it could not be written.
+    pub(super) fn finish(self) -> Result<PathBuf, CliError> {
+        self.part.finish()
+    }
+}
+
 impl Recorder for TrialsCsv {
     fn record(&mut self, command: &Command, outcome: &Outcome) {
         use std::io::Write;
         self.trial += 1;
-        if self.error.is_some() {
-            return;
-        }
-        let r = match self.session {
-            Some(s) => write!(self.out, "{s},"),
-            None => Ok(()),
-        }
-        .and_then(|()| {
+        let (trial, space, session) = (self.trial, &self.space, self.session);
+        self.part.row(|out| {
+            if let Some(s) = session {
+                write!(out, "{s},")?;
+            }
             writeln!(
-                self.out,
-                "{},{},{},{}",
-                self.trial,
-                self.space.format(command),
+                out,
+                "{trial},{},{},{}",
+                space.format(command),
                 outcome.effect,
                 outcome.reward
             )
         });
-        if let Err(e) = r {
-            self.error = Some(e);
-        }
     }
 }
 
