@@ -77,7 +77,10 @@ pub fn run(a: PlotArgs) -> CliResult {
         .file_name()
         .and_then(|n| n.to_str())
         .unwrap_or("plot.svg");
-    prepare_out(dir, &[name], a.force)?;
+    // a stream (`--out /dev/stdout`) is written through: no folder to claim
+    if !e3d::io::is_stream(&a.out) {
+        prepare_out(dir, &[name], a.force)?;
+    }
     write_file(&a.out, svg.as_bytes())?;
     outln!("wrote {}", a.out.display());
     Ok(())

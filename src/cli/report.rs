@@ -57,6 +57,12 @@ pub fn run(a: ReportArgs) -> CliResult {
         )));
     };
     let out = a.out.unwrap_or_else(|| dir.join("report.html"));
+    // the folder the page goes in is claimed, as every output folder is:
+    // a run or a sweep still writing there is named, not raced
+    if !e3d::io::is_stream(&out) {
+        let parent = out.parent().filter(|p| !p.as_os_str().is_empty());
+        super::output::lock_out(parent.unwrap_or(Path::new(".")))?;
+    }
     write_file(&out, page.as_bytes())?;
     outln!("wrote {} ({what} report)", out.display());
     Ok(())

@@ -201,6 +201,8 @@ fn tell_written(a: &SweepArgs, shard: Shard) {
 }
 
 pub fn merge(a: MergeArgs) -> CliResult {
+    // one command at a time writes into a folder, as `sweep` does
+    super::output::lock_out(&a.out)?;
     let report = sweep::merge(&a.dirs, &a.out).map_err(sweep_error)?;
     outln!(
         "merged {} shards, {} sessions: wrote {} and {}",

@@ -274,12 +274,14 @@ fn check_same_sweep(
 fn check_out_empty(out: &Path) -> Result<(), SweepError> {
     // what a killed merge left (`.summary.csv.tmp-*`) does not count
     crate::io::remove_stale_temps(out);
+    // the lock of the command writing here (`e3d merge` takes it) does
+    // not count either
     if out.exists()
         && (!out.is_dir()
             || std::fs::read_dir(out)
                 .map_err(io_err(out))?
-                .next()
-                .is_some())
+                .filter_map(Result::ok)
+                .any(|e| e.file_name() != crate::io::LOCK_FILE))
     {
         Err(SweepError::Output(format!(
             "{} exists and is not empty; choose another --out",

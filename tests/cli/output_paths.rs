@@ -508,7 +508,8 @@ fn a_cache_folder_that_is_a_file_is_refused_before_any_work() {
 
 /// Every command that writes into a folder claims it, as a sweep does:
 /// while another process holds the folder's lock, `run`, `reproduce`,
-/// `compare`, `closed-loop` and `plot` are refused before any work,
+/// `compare`, `closed-loop`, `plot`, `merge` and `report` are refused
+/// before any work,
 /// naming the folder and the process that holds it, and write nothing;
 /// once it is released, each runs and leaves no lock file behind.
 #[cfg(unix)]
@@ -533,7 +534,8 @@ fn every_command_refuses_a_folder_another_process_writes_into() {
     let o = out.to_str().unwrap();
     let plot = out.join("p.svg");
     let r = results.to_str().unwrap();
-    let commands: [Vec<&str>; 5] = [
+    let page = out.join("r.html");
+    let commands: [Vec<&str>; 7] = [
         vec!["run", "two_rooms", "--trials", "20", "--out", o],
         vec!["reproduce", "--sessions", "1", "--trials", "20", "--out", o],
         vec!["compare", "--sessions", "1", "--trials", "20", "--out", o],
@@ -556,6 +558,8 @@ fn every_command_refuses_a_folder_another_process_writes_into() {
             "--out",
             plot.to_str().unwrap(),
         ],
+        vec!["merge", r, "--out", o],
+        vec!["report", r, "--out", page.to_str().unwrap()],
     ];
     for args in &commands {
         std::fs::create_dir_all(&out).unwrap();
