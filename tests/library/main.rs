@@ -21,6 +21,7 @@ mod fuzz_scenes;
 mod fuzz_sweeps;
 mod grid;
 mod imports;
+mod intervals;
 mod learner_states;
 mod learners;
 mod motion_svg;
