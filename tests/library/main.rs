@@ -33,3 +33,4 @@ mod scene_api;
 mod shorthand;
 mod slot_templates;
 mod sweep_open;
+mod thresholds;
