@@ -33,4 +33,5 @@ mod scene_api;
 mod shorthand;
 mod slot_templates;
 mod sweep_open;
+mod targets;
 mod thresholds;

@@ -424,6 +424,14 @@ impl OutcomeTable {
         self.effect_counts().iter().filter(|&&c| c > 0).count()
     }
 
+    /// The effects some command reaches, in increasing order (the support
+    /// of [`Target::UniformOn`](crate::effect::Target::UniformOn) over the
+    /// reachable cells; its length is [`reachable_effects`](Self::reachable_effects)).
+    pub fn reachable(&self) -> Vec<usize> {
+        let counts = self.effect_counts();
+        (0..counts.len()).filter(|&e| counts[e] > 0).collect()
+    }
+
     /// How many commands end in each effect.
     pub fn effect_counts(&self) -> Vec<u64> {
         let mut counts = vec![0u64; self.num_effects];
