@@ -76,6 +76,12 @@ pub struct DriveRow {
     pub task1_entropy_ci: Option<MeanCi>,
     /// Task 1's coverage: its mean with a 95% Student t interval.
     pub task1_coverage_ci: Option<MeanCi>,
+    /// Task 1's trials to 50% of the reachable cells, over the sessions
+    /// that got there: their mean with a 95% Student t interval.
+    pub task1_trials_to_50_ci: Option<MeanCi>,
+    /// Task 1's trials to 90%, over the sessions that got there: their
+    /// mean with a 95% Student t interval.
+    pub task1_trials_to_90_ci: Option<MeanCi>,
     /// Task 2's cumulative reward: its mean with a 95% Student t interval.
     pub task2_reward_ci: Option<MeanCi>,
     /// Task 2: the quartiles `[q1, median, q3]` of the first rewarded
@@ -219,15 +225,16 @@ impl DriveComparison {
              reach 50% and 90% of them (over the sessions that did, with their number \
              when not all); mean ± sd. Task 2: reward, beta 100; cumulative reward at \
              trial {}, median first rewarded trial, share of sessions never rewarded. \
-             95% intervals: of the mean, Student's t (mean ± t(n-1) sd / sqrt n); of the \
-             first rewarded trial, its quartiles Q1..Q3 over the rewarded sessions.\n\n",
+             95% intervals: of each mean, Student's t (mean ± t(n-1) sd / sqrt n, over the \
+             sessions the mean is over); of the first rewarded trial, its quartiles Q1..Q3 \
+             over the rewarded sessions.\n\n",
             self.sessions,
             self.trials,
             cells.join(", "),
             self.trials
         );
-        s.push_str("| scene | learner | task 1 entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward (median) | never rewarded | entropy: 95% (t) | coverage: 95% (t) | reward: 95% (t) | first reward: Q1..Q3 |\n");
-        s.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        s.push_str("| scene | learner | task 1 entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward (median) | never rewarded | entropy: 95% (t) | coverage: 95% (t) | to 50%: 95% (t) | to 90%: 95% (t) | reward: 95% (t) | first reward: Q1..Q3 |\n");
+        s.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         let ci = |c: &Option<MeanCi>, digits: usize| -> String {
             c.map_or("-".to_string(), |c| {
                 format!("{:.d$}..{:.d$}", c.lo(), c.hi(), d = digits)
@@ -246,7 +253,7 @@ impl DriveComparison {
         for r in &self.rows {
             let _ = writeln!(
                 s,
-                "| {} | {} | {:.3} ± {:.3} | {:.3} ± {:.3} | {} | {} | {:.0} ± {:.0} | {} | {:.1}% | {} | {} | {} | {} |",
+                "| {} | {} | {:.3} ± {:.3} | {:.3} ± {:.3} | {} | {} | {:.0} ± {:.0} | {} | {:.1}% | {} | {} | {} | {} | {} | {} |",
                 r.scene,
                 r.learner,
                 r.task1_entropy.mean,
@@ -262,6 +269,8 @@ impl DriveComparison {
                 100.0 * r.task2_never_rewarded,
                 ci(&r.task1_entropy_ci, 3),
                 ci(&r.task1_coverage_ci, 3),
+                ci(&r.task1_trials_to_50_ci, 0),
+                ci(&r.task1_trials_to_90_ci, 0),
                 ci(&r.task2_reward_ci, 0),
                 r.task2_first_reward_quartiles
                     .map_or("-".to_string(), |[q1, _, q3]| format!("{q1:.0}..{q3:.0}")),
@@ -280,7 +289,7 @@ impl DriveComparison {
     /// The table as CSV, one row per scene and learner.
     pub fn csv(&self) -> String {
         let mut s = String::from(
-            "scene,learner,task1_entropy_mean,task1_entropy_sd,task2_reward_mean,task2_reward_sd,task2_first_reward_median,task2_never_rewarded,task2_sessions,task1_coverage_mean,task1_coverage_sd,task1_trials_to_50_mean,task1_trials_to_50_sd,task1_reached_50,task1_trials_to_90_mean,task1_trials_to_90_sd,task1_reached_90,task1_sessions,task2_first_reward_mean,task2_first_reward_sd,task1_entropy_ci95_lo,task1_entropy_ci95_hi,task1_coverage_ci95_lo,task1_coverage_ci95_hi,task2_reward_ci95_lo,task2_reward_ci95_hi,task2_first_reward_q1,task2_first_reward_q3\n",
+            "scene,learner,task1_entropy_mean,task1_entropy_sd,task2_reward_mean,task2_reward_sd,task2_first_reward_median,task2_never_rewarded,task2_sessions,task1_coverage_mean,task1_coverage_sd,task1_trials_to_50_mean,task1_trials_to_50_sd,task1_reached_50,task1_trials_to_90_mean,task1_trials_to_90_sd,task1_reached_90,task1_sessions,task2_first_reward_mean,task2_first_reward_sd,task1_entropy_ci95_lo,task1_entropy_ci95_hi,task1_coverage_ci95_lo,task1_coverage_ci95_hi,task2_reward_ci95_lo,task2_reward_ci95_hi,task2_first_reward_q1,task2_first_reward_q3,task1_trials_to_50_ci95_lo,task1_trials_to_50_ci95_hi,task1_trials_to_90_ci95_lo,task1_trials_to_90_ci95_hi\n",
         );
         let lo = |c: &Option<MeanCi>| c.map_or(String::new(), |c| c.lo().to_string());
         let hi = |c: &Option<MeanCi>| c.map_or(String::new(), |c| c.hi().to_string());
@@ -293,7 +302,7 @@ impl DriveComparison {
         for r in &self.rows {
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 r.scene,
                 r.learner,
                 r.task1_entropy.mean,
@@ -323,6 +332,10 @@ impl DriveComparison {
                 hi(&r.task2_reward_ci),
                 q(0)(r),
                 q(2)(r),
+                lo(&r.task1_trials_to_50_ci),
+                hi(&r.task1_trials_to_50_ci),
+                lo(&r.task1_trials_to_90_ci),
+                hi(&r.task1_trials_to_90_ci),
             );
         }
         s
@@ -613,6 +626,8 @@ impl DriveRow {
             task2_sessions: t2.len(),
             task1_entropy_ci: mean_ci95(&h),
             task1_coverage_ci: mean_ci95(&cov),
+            task1_trials_to_50_ci: mean_ci95(&r50),
+            task1_trials_to_90_ci: mean_ci95(&r90),
             task2_reward_ci: mean_ci95(&rew),
             task2_first_reward_quartiles: quartiles(&rewarded),
         }
