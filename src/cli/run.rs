@@ -123,7 +123,7 @@ fn run_here(a: RunArgs) -> CliResult {
     let target = match a.target {
         TargetArg::All => Target::Uniform,
         TargetArg::Reachable => match exec.table() {
-            Some(t) => Target::UniformOn(t.reachable()),
+            Some(t) => t.reachable_target(),
             None => {
                 return Err(only_trials(&format!(
                     "scene `{}` has no outcome table here ({})",
@@ -158,11 +158,11 @@ fn run_here(a: RunArgs) -> CliResult {
     };
 
     print_header(&a, &scene.spec().name, "", &params, &seeds);
-    if let Target::UniformOn(cells) = &target {
-        outln!(
-            "target: uniform over the {} reachable cells (of {num_effects})",
-            cells.len()
-        );
+    let support = (a.target == TargetArg::Reachable)
+        .then(|| exec.table().map(|t| t.reachable_effects()))
+        .flatten();
+    if let Some(cells) = support {
+        outln!("target: uniform over the {cells} reachable cells (of {num_effects})");
     }
     print_metrics(&metrics, &seeds, num_effects);
     if let Some(d) = &exact {
@@ -177,10 +177,7 @@ fn run_here(a: RunArgs) -> CliResult {
             counts: recorders.iter().map(|r| r.0.effect_counts()).collect(),
             exact,
             plan: exec.plan(),
-            support: match &target {
-                Target::UniformOn(cells) => Some(cells.len()),
-                _ => None,
-            },
+            support,
         };
         write_out(dir, &a, &scene, params, done, &files)?;
     }

@@ -87,8 +87,7 @@ pub struct RunArgs {
 pub enum TargetArg {
     /// Every cell of the scene (`Target::Uniform`).
     All,
-    /// The cells some command reaches (`Target::UniformOn` of the outcome
-    /// table's reachable cells).
+    /// The cells some command reaches (`OutcomeTable::reachable_target`).
     Reachable,
 }
 

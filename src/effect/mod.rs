@@ -136,17 +136,6 @@ pub enum TargetError {
     /// Weights whose sum is 0 or not finite.
     #[error("target weights must have a positive, finite sum")]
     Sum,
-    /// A support ([`Target::UniformOn`]) listing no effect.
-    #[error("the target's support lists no effect")]
-    EmptySupport,
-    /// A support listing an effect out of range.
-    #[error("the target's support lists effect {effect}, expected one of 0..{effects}")]
-    Support {
-        /// The effect listed.
-        effect: usize,
-        /// The effects.
-        effects: usize,
-    },
 }
 
 impl EffectGrid {
@@ -244,40 +233,13 @@ impl EffectGrid {
 }
 
 /// The target distribution `p*` over effects.
-///
-/// Its support matters to E3D's values: on the effects a learner reaches,
-/// `log p*` is `-log |E|` under [`Uniform`](Self::Uniform) (all `|E|`
-/// cells) and `-log |R|` under [`UniformOn`](Self::UniformOn) of the `|R|`
-/// reachable ones, so every reached effect's intrinsic reward, and the
-/// values' fixed point `r - (log p(e) - log p*(e)) / (beta lambda)`, are
-/// shifted by `log(|E| / |R|) / (beta lambda)`: 1.20 / (beta lambda) on
-/// arm7 (225 cells, 68 reachable). Symbols a slot has not tried stay at 0,
-/// so the shift changes which are tried, and the threshold of
-/// exploitation `beta lambda r > log(1 / p*(e))`.
-///
-/// ```
-/// use e3d::effect::Target;
-/// let all = Target::Uniform.log_probs(4).unwrap();
-/// let two = Target::UniformOn(vec![1, 3]).log_probs(4).unwrap();
-/// assert_eq!(all[1], -(4f64).ln());
-/// assert_eq!(two[1], -(2f64).ln());
-/// assert!((two[1] - all[1] - 2f64.ln()).abs() < 1e-15); // log(|E| / |R|)
-/// assert_eq!(Target::UniformOn(vec![1, 3]).probs(4).unwrap(), [0.0, 0.5, 0.0, 0.5]);
-/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Target {
-    /// The same weight on every effect, `p* = 1 / |E|` over all the
-    /// effects (cells) of the scene, reachable or not: explore everything.
-    /// The default of every learner, command and sweep.
+    /// The same weight on every effect: explore everything.
     Uniform,
     /// Given weights, one per effect; normalised to sum 1. Zeros are allowed
     /// (an effect to avoid): its `log p*` is taken at [`P_FLOOR`].
     Weights(Vec<f64>),
-    /// The same weight on each listed effect (its support, for example the
-    /// effects some command reaches: [`OutcomeTable::reachable`](crate::world::OutcomeTable::reachable)),
-    /// 0 on the others (their `log p*` taken at [`P_FLOOR`]). An effect
-    /// listed twice counts once.
-    UniformOn(Vec<usize>),
 }
 
 impl Target {
@@ -288,15 +250,6 @@ impl Target {
         }
         match self {
             Target::Uniform => Ok(vec![-(num_effects as f64).ln(); num_effects]),
-            Target::UniformOn(support) => {
-                let on = support_mask(support, num_effects)?;
-                let k = on.iter().filter(|&&b| b).count();
-                let (inside, outside) = (-(k as f64).ln(), P_FLOOR.ln());
-                Ok(on
-                    .iter()
-                    .map(|&b| if b { inside } else { outside })
-                    .collect())
-            }
             Target::Weights(w) => {
                 if w.len() != num_effects {
                     return Err(TargetError::Length {
@@ -322,33 +275,12 @@ impl Target {
         self.log_probs(num_effects)?;
         match self {
             Target::Uniform => Ok(vec![1.0 / num_effects as f64; num_effects]),
-            Target::UniformOn(support) => {
-                let on = support_mask(support, num_effects)?;
-                let k = on.iter().filter(|&&b| b).count() as f64;
-                Ok(on.iter().map(|&b| if b { 1.0 / k } else { 0.0 }).collect())
-            }
             Target::Weights(w) => {
                 let sum: f64 = w.iter().sum();
                 Ok(w.iter().map(|v| v / sum).collect())
             }
         }
     }
-}
-
-/// Which of `num_effects` effects `support` lists, checked: at least one,
-/// each in range.
-fn support_mask(support: &[usize], num_effects: usize) -> Result<Vec<bool>, TargetError> {
-    if support.is_empty() {
-        return Err(TargetError::EmptySupport);
-    }
-    let mut on = vec![false; num_effects];
-    for &e in support {
-        *on.get_mut(e).ok_or(TargetError::Support {
-            effect: e,
-            effects: num_effects,
-        })? = true;
-    }
-    Ok(on)
 }
 
 /// `log p`, taken at [`P_FLOOR`] for a vanishing `p`.

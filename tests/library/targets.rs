@@ -1,11 +1,10 @@
 //! The support of the uniform target `p*` (docs/algorithms.md, "E3D"):
 //! every cell (`Target::Uniform`, the default) or the cells some command
-//! reaches (`Target::UniformOn`). On the reached effects the two differ by
+//! reaches (`OutcomeTable::reachable_target`). On the reached effects the two differ by
 //! `log(|E| / |R|)` in `log p*`, so E3D's values differ by
 //! `(1 - (1 - alpha lambda)^n) log(|E| / |R|) / (beta lambda)` after `n`
 //! updates, `log(|E| / |R|) / (beta lambda)` in the limit.
 
-use e3d::effect::TargetError;
 use e3d::learner::{E3d, LearnerSetup};
 use e3d::{run_session, Learner, LearnerKind, OutcomeTable, Params, Scene, SessionConfig, Target};
 
@@ -20,7 +19,7 @@ fn the_reachable_support_shifts_e3ds_values_by_log_e_over_r() {
     let space = scene.command_space();
     let p = Params::TASK2;
     let mut uniform = E3d::new(&space, all, &p, &Target::Uniform).unwrap();
-    let mut on = E3d::new(&space, all, &p, &Target::UniformOn(reach.clone())).unwrap();
+    let mut on = E3d::new(&space, all, &p, &table.reachable_target()).unwrap();
     // the same commands and outcomes to both (the histograms p stay equal);
     // how often each slot chose each symbol
     let mut n = vec![[0i32; 4]; space.num_slots()];
@@ -70,7 +69,7 @@ fn the_support_changes_a_session_and_uniform_stays_the_default() {
     let plain = LearnerSetup::new(LearnerKind::E3d).params(Params::TASK1);
     let default = session(plain.clone());
     let uniform = session(plain.clone().target(Target::Uniform));
-    let reachable = session(plain.target(Target::UniformOn(table.reachable())));
+    let reachable = session(plain.target(table.reachable_target()));
     // the default is Target::Uniform, trial for trial
     assert_eq!(default.effects, uniform.effects);
     // the support of p* changes what E3D explores
@@ -78,23 +77,25 @@ fn the_support_changes_a_session_and_uniform_stays_the_default() {
 }
 
 #[test]
-fn a_support_must_list_effects_in_range() {
-    assert_eq!(
-        Target::UniformOn(vec![]).log_probs(3),
-        Err(TargetError::EmptySupport)
+fn the_reachable_target_is_uniform_on_the_reached_cells_and_floored_elsewhere() {
+    let scene = Scene::builtin("four_rooms").unwrap();
+    let table = OutcomeTable::build(&mut *scene.build()).unwrap();
+    let reach = table.reachable();
+    let lp = table.reachable_target().log_probs(36).unwrap();
+    for (e, &v) in lp.iter().enumerate() {
+        if reach.contains(&e) {
+            assert!((v + 13f64.ln()).abs() < 1e-12, "cell {e}: {v}");
+        } else {
+            assert_eq!(v, e3d::effect::P_FLOOR.ln(), "cell {e}");
+        }
+    }
+    // every cell reached: the same logs as the default, to rounding
+    let two = Scene::builtin("two_rooms").unwrap();
+    let t2 = OutcomeTable::build(&mut *two.build()).unwrap();
+    assert_eq!(t2.reachable_effects(), 18);
+    let (a, b) = (
+        t2.reachable_target().log_probs(18).unwrap(),
+        Target::Uniform.log_probs(18).unwrap(),
     );
-    assert_eq!(
-        Target::UniformOn(vec![0, 3]).probs(3),
-        Err(TargetError::Support {
-            effect: 3,
-            effects: 3
-        })
-    );
-    // listed twice counts once; outside the support, the floor
-    let lp = Target::UniformOn(vec![2, 0, 2]).log_probs(3).unwrap();
-    assert_eq!(lp[0], -(2f64).ln());
-    assert_eq!(lp[1], e3d::effect::P_FLOOR.ln());
-    // the whole support is the uniform target
-    let every = Target::UniformOn((0..5).collect()).log_probs(5).unwrap();
-    assert_eq!(every, Target::Uniform.log_probs(5).unwrap());
+    assert!(a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-12));
 }
