@@ -1,7 +1,7 @@
 //! `e3d run`: one session on a scene.
 
 use super::output::{prepare_out, write_file};
-use super::session::{join_trials, print_header, print_metrics, RunArgs, TrialsCsv};
+use super::session::{join_trials, print_header, print_metrics, RunArgs, TargetArg, TrialsCsv};
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
@@ -26,6 +26,9 @@ struct Summary<'a> {
     params: Params,
     seed: u64,
     use_reward: bool,
+    /// With `--target reachable`: the cells of the target's support.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    target_reachable_cells: Option<usize>,
     #[serde(flatten)]
     metrics: &'a Metrics,
     /// The exact effect distribution of the final policy (small command
@@ -46,6 +49,9 @@ struct SessionsSummary<'a> {
     #[serde(flatten)]
     params: Params,
     use_reward: bool,
+    /// With `--target reachable`: the cells of the target's support.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    target_reachable_cells: Option<usize>,
     /// Per session: its seed, metrics and effect counts.
     sessions: Vec<OneSession<'a>>,
     execution: &'a ExecutionPlan,
@@ -76,16 +82,29 @@ fn run_here(a: RunArgs) -> CliResult {
         prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
     }
     let seeds = seeds(&a)?;
+    let only_trials = |what: &str| {
+        CliError::input(format!(
+            "--target reachable: {what}; it takes a scene of symbol commands run trial by trial (its outcome table lists the reachable cells)"
+        ))
+    };
     if let Some(continuous) = scene.as_continuous() {
+        if a.target == TargetArg::Reachable {
+            return Err(only_trials(&format!(
+                "scene `{}` takes continuous commands",
+                scene.spec().name
+            )));
+        }
         return super::continuous::run(&a, continuous, params, &seeds);
     }
     if super::episodes::wanted(&a, &scene) {
+        if a.target == TargetArg::Reachable {
+            return Err(only_trials("this run is of episodes"));
+        }
         return super::episodes::run(&a, &scene, params, &seeds);
     }
     let sessions = a.sessions as usize;
     let space = scene.command_space();
     let num_effects = scene.num_effects();
-    let target = Target::Uniform;
     let cfg = |seed: u64| SessionConfig {
         trials: a.trials as usize,
         seed,
@@ -100,6 +119,22 @@ fn run_here(a: RunArgs) -> CliResult {
         threads: rayon::current_num_threads(),
     };
     let exec = executor(&a, &scene, &work)?;
+    // p*: uniform over every cell, or over the cells the table reaches
+    let target = match a.target {
+        TargetArg::All => Target::Uniform,
+        TargetArg::Reachable => match exec.table() {
+            Some(t) => t.reachable_target(),
+            None => {
+                return Err(only_trials(&format!(
+                    "scene `{}` has no outcome table here ({})",
+                    scene.spec().name,
+                    exec.plan()
+                )))
+            }
+        },
+    };
+    let setup = setup.target(target.clone());
+    let make = || setup.symbols(&space, num_effects).map_err(CliError::input);
     let mut learners = (0..sessions)
         .map(|_| make())
         .collect::<Result<Vec<_>, _>>()?;
@@ -123,6 +158,12 @@ fn run_here(a: RunArgs) -> CliResult {
     };
 
     print_header(&a, &scene.spec().name, "", &params, &seeds);
+    let support = (a.target == TargetArg::Reachable)
+        .then(|| exec.table().map(|t| t.reachable_effects()))
+        .flatten();
+    if let Some(cells) = support {
+        outln!("target: uniform over the {cells} reachable cells (of {num_effects})");
+    }
     print_metrics(&metrics, &seeds, num_effects);
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
@@ -136,6 +177,7 @@ fn run_here(a: RunArgs) -> CliResult {
             counts: recorders.iter().map(|r| r.0.effect_counts()).collect(),
             exact,
             plan: exec.plan(),
+            support,
         };
         write_out(dir, &a, &scene, params, done, &files)?;
     }
@@ -245,6 +287,8 @@ struct Finished<'a> {
     /// The final policy's exact effect distribution (one session on a table).
     exact: Option<Vec<f64>>,
     plan: &'a ExecutionPlan,
+    /// The cells of the target's support with `--target reachable`.
+    support: Option<usize>,
 }
 
 /// Writes DIR/trials.csv (the sessions' streamed `files` joined) and
@@ -267,6 +311,7 @@ fn write_out(
             params,
             seed: a.seed,
             use_reward: !a.no_reward,
+            target_reachable_cells: done.support,
             metrics: &done.metrics[0],
             policy_effect_distribution: done.exact,
             effect_counts: done.counts.into_iter().next().unwrap_or_default(),
@@ -280,6 +325,7 @@ fn write_out(
             learner: a.learner.as_str(),
             params,
             use_reward: !a.no_reward,
+            target_reachable_cells: done.support,
             sessions: done
                 .metrics
                 .iter()

@@ -74,6 +74,21 @@ pub struct RunArgs {
     /// (with --closed-loop only: the open loop has no discount).
     #[arg(long, default_value_t = e3d::learner::ClosedLoopE3d::GAMMA, requires = "closed_loop")]
     pub gamma: f64,
+    /// The support of the learner's uniform target p*: `all` (every cell
+    /// of the scene, reachable or not) or `reachable` (the cells some
+    /// command reaches, from the scene's outcome table; scenes of symbols
+    /// run trial by trial). docs/algorithms.md, "E3D".
+    #[arg(long, value_name = "all|reachable", default_value = "all")]
+    pub target: TargetArg,
+}
+
+/// `--target`: the support of the uniform target `p*`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TargetArg {
+    /// Every cell of the scene (`Target::Uniform`).
+    All,
+    /// The cells some command reaches (`OutcomeTable::reachable_target`).
+    Reachable,
 }
 
 /// `--observe`: what a contextual learner reads.

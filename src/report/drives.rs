@@ -20,7 +20,7 @@
 //! assert!(cmp.svg().starts_with("<svg"));
 //! ```
 
-use super::{describe, median, Stats};
+use super::{describe, mean_ci95, median, quartiles, MeanCi, Stats};
 use crate::learner::Params;
 use crate::sweep::{Cell, SessionResult, Sweep};
 use std::fmt::Write;
@@ -71,6 +71,23 @@ pub struct DriveRow {
     /// Task 2: the first rewarded trial over the sessions that were
     /// rewarded (mean and sd).
     pub task2_first_reward_stats: Stats,
+    /// Task 1's entropy: its mean with a 95% Student t interval (`None`
+    /// for fewer than two sessions).
+    pub task1_entropy_ci: Option<MeanCi>,
+    /// Task 1's coverage: its mean with a 95% Student t interval.
+    pub task1_coverage_ci: Option<MeanCi>,
+    /// Task 1's trials to 50% of the reachable cells, over the sessions
+    /// that got there: their mean with a 95% Student t interval.
+    pub task1_trials_to_50_ci: Option<MeanCi>,
+    /// Task 1's trials to 90%, over the sessions that got there: their
+    /// mean with a 95% Student t interval.
+    pub task1_trials_to_90_ci: Option<MeanCi>,
+    /// Task 2's cumulative reward: its mean with a 95% Student t interval.
+    pub task2_reward_ci: Option<MeanCi>,
+    /// Task 2: the quartiles `[q1, median, q3]` of the first rewarded
+    /// trial over the sessions that were rewarded (a skewed count: its
+    /// median and interquartile range rather than a mean).
+    pub task2_first_reward_quartiles: Option<[f64; 3]>,
 }
 
 /// The comparison: one row per scene and learner, in the sweep's order.
@@ -207,14 +224,22 @@ impl DriveComparison {
              fraction of the reachable cells ({}) reached by the last trial; trials to \
              reach 50% and 90% of them (over the sessions that did, with their number \
              when not all); mean ± sd. Task 2: reward, beta 100; cumulative reward at \
-             trial {}, median first rewarded trial, share of sessions never rewarded.\n\n",
+             trial {}, median first rewarded trial, share of sessions never rewarded. \
+             95% intervals: of each mean, Student's t (mean ± t(n-1) sd / sqrt n, over the \
+             sessions the mean is over); of the first rewarded trial, its quartiles Q1..Q3 \
+             over the rewarded sessions.\n\n",
             self.sessions,
             self.trials,
             cells.join(", "),
             self.trials
         );
-        s.push_str("| scene | learner | task 1 entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward (median) | never rewarded |\n");
-        s.push_str("|---|---|---|---|---|---|---|---|---|\n");
+        s.push_str("| scene | learner | task 1 entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward (median) | never rewarded | entropy: 95% (t) | coverage: 95% (t) | to 50%: 95% (t) | to 90%: 95% (t) | reward: 95% (t) | first reward: Q1..Q3 |\n");
+        s.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        let ci = |c: &Option<MeanCi>, digits: usize| -> String {
+            c.map_or("-".to_string(), |c| {
+                format!("{:.d$}..{:.d$}", c.lo(), c.hi(), d = digits)
+            })
+        };
         let reach = |st: &Stats, n: usize, of: usize| -> String {
             if n == 0 {
                 return "never".to_string();
@@ -228,7 +253,7 @@ impl DriveComparison {
         for r in &self.rows {
             let _ = writeln!(
                 s,
-                "| {} | {} | {:.3} ± {:.3} | {:.3} ± {:.3} | {} | {} | {:.0} ± {:.0} | {} | {:.1}% |",
+                "| {} | {} | {:.3} ± {:.3} | {:.3} ± {:.3} | {} | {} | {:.0} ± {:.0} | {} | {:.1}% | {} | {} | {} | {} | {} | {} |",
                 r.scene,
                 r.learner,
                 r.task1_entropy.mean,
@@ -241,7 +266,14 @@ impl DriveComparison {
                 r.task2_reward.sd,
                 r.task2_first_reward
                     .map_or("-".to_string(), |t| format!("{t:.0}")),
-                100.0 * r.task2_never_rewarded
+                100.0 * r.task2_never_rewarded,
+                ci(&r.task1_entropy_ci, 3),
+                ci(&r.task1_coverage_ci, 3),
+                ci(&r.task1_trials_to_50_ci, 0),
+                ci(&r.task1_trials_to_90_ci, 0),
+                ci(&r.task2_reward_ci, 0),
+                r.task2_first_reward_quartiles
+                    .map_or("-".to_string(), |[q1, _, q3]| format!("{q1:.0}..{q3:.0}")),
             );
         }
         s.push_str("\nBest per scene (highest entropy, coverage and reward; fewest mean trials to 50% and 90% among the learners whose every session got there; earliest median first reward):\n\n");
@@ -257,12 +289,20 @@ impl DriveComparison {
     /// The table as CSV, one row per scene and learner.
     pub fn csv(&self) -> String {
         let mut s = String::from(
-            "scene,learner,task1_entropy_mean,task1_entropy_sd,task2_reward_mean,task2_reward_sd,task2_first_reward_median,task2_never_rewarded,task2_sessions,task1_coverage_mean,task1_coverage_sd,task1_trials_to_50_mean,task1_trials_to_50_sd,task1_reached_50,task1_trials_to_90_mean,task1_trials_to_90_sd,task1_reached_90,task1_sessions,task2_first_reward_mean,task2_first_reward_sd\n",
+            "scene,learner,task1_entropy_mean,task1_entropy_sd,task2_reward_mean,task2_reward_sd,task2_first_reward_median,task2_never_rewarded,task2_sessions,task1_coverage_mean,task1_coverage_sd,task1_trials_to_50_mean,task1_trials_to_50_sd,task1_reached_50,task1_trials_to_90_mean,task1_trials_to_90_sd,task1_reached_90,task1_sessions,task2_first_reward_mean,task2_first_reward_sd,task1_entropy_ci95_lo,task1_entropy_ci95_hi,task1_coverage_ci95_lo,task1_coverage_ci95_hi,task2_reward_ci95_lo,task2_reward_ci95_hi,task2_first_reward_q1,task2_first_reward_q3,task1_trials_to_50_ci95_lo,task1_trials_to_50_ci95_hi,task1_trials_to_90_ci95_lo,task1_trials_to_90_ci95_hi\n",
         );
+        let lo = |c: &Option<MeanCi>| c.map_or(String::new(), |c| c.lo().to_string());
+        let hi = |c: &Option<MeanCi>| c.map_or(String::new(), |c| c.hi().to_string());
+        let q = |i: usize| {
+            move |r: &DriveRow| {
+                r.task2_first_reward_quartiles
+                    .map_or(String::new(), |q| q[i].to_string())
+            }
+        };
         for r in &self.rows {
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 r.scene,
                 r.learner,
                 r.task1_entropy.mean,
@@ -283,7 +323,19 @@ impl DriveComparison {
                 r.task1_reached_90,
                 r.task1_sessions,
                 r.task2_first_reward_stats.mean,
-                r.task2_first_reward_stats.sd
+                r.task2_first_reward_stats.sd,
+                lo(&r.task1_entropy_ci),
+                hi(&r.task1_entropy_ci),
+                lo(&r.task1_coverage_ci),
+                hi(&r.task1_coverage_ci),
+                lo(&r.task2_reward_ci),
+                hi(&r.task2_reward_ci),
+                q(0)(r),
+                q(2)(r),
+                lo(&r.task1_trials_to_50_ci),
+                hi(&r.task1_trials_to_50_ci),
+                lo(&r.task1_trials_to_90_ci),
+                hi(&r.task1_trials_to_90_ci),
             );
         }
         s
@@ -572,6 +624,12 @@ impl DriveRow {
                 (t2.len() - rewarded.len()) as f64 / t2.len() as f64
             },
             task2_sessions: t2.len(),
+            task1_entropy_ci: mean_ci95(&h),
+            task1_coverage_ci: mean_ci95(&cov),
+            task1_trials_to_50_ci: mean_ci95(&r50),
+            task1_trials_to_90_ci: mean_ci95(&r90),
+            task2_reward_ci: mean_ci95(&rew),
+            task2_first_reward_quartiles: quartiles(&rewarded),
         }
     }
 }

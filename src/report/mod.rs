@@ -19,7 +19,10 @@
 //! - [`motion_svg`]: a command's rollout as an animated SVG or HTML page;
 //! - [`run_scene`]: what a run folder records about its scene (its grid);
 //! - [`sweep_plot`]: line plots and heat maps of a sweep's summary;
-//! - [`describe`], [`median`], [`Stats`]: the statistics they print.
+//! - [`describe`], [`median`], [`Stats`]: the statistics they print, and
+//!   the intervals of the comparisons: [`mean_ci95`] (Student's t),
+//!   [`wilson95`] (a share of sessions), [`quartiles`] and
+//!   [`order_quartiles`] (skewed counts such as the first rewarded episode).
 //!
 //! `paper` and `sweep_plot` draw with plotters and need the feature
 //! `plots` (on by default); `scene_svg` writes its SVG itself.
@@ -82,4 +85,157 @@ pub struct Stats {
     pub min: f64,
     /// Maximum.
     pub max: f64,
+}
+
+/// The 97.5% quantile of Student's t with `df` degrees of freedom (the
+/// half-width factor of a two-sided 95% interval): tabulated to 3
+/// decimals up to 30, then the Cornish-Fisher expansion in `1/df` around
+/// the normal's 1.959964 (within 1e-4 of the exact quantile from 31 on).
+/// `df = 0` has no interval: infinity.
+///
+/// ```
+/// use e3d::report::t_quantile_975;
+/// assert_eq!(t_quantile_975(1), 12.706);
+/// assert_eq!(t_quantile_975(9), 2.262);
+/// assert!((t_quantile_975(99) - 1.98422).abs() < 1e-4);
+/// ```
+pub fn t_quantile_975(df: usize) -> f64 {
+    const TABLE: [f64; 30] = [
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
+        2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,
+        2.052, 2.048, 2.045, 2.042,
+    ];
+    if df == 0 {
+        return f64::INFINITY;
+    }
+    if df <= TABLE.len() {
+        return TABLE[df - 1];
+    }
+    let z: f64 = 1.959_963_984_540_054;
+    let v = df as f64;
+    let (z3, z5, z7, z9) = (z.powi(3), z.powi(5), z.powi(7), z.powi(9));
+    z + (z3 + z) / (4.0 * v)
+        + (5.0 * z5 + 16.0 * z3 + 3.0 * z) / (96.0 * v * v)
+        + (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / (384.0 * v.powi(3))
+        + (79.0 * z9 + 776.0 * z7 + 1482.0 * z5 - 1920.0 * z3 - 945.0 * z) / (92160.0 * v.powi(4))
+}
+
+/// A mean and its two-sided 95% interval (Student's t on the sample
+/// standard deviation: `mean ± t(n - 1) sd / sqrt n`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeanCi {
+    /// The mean.
+    pub mean: f64,
+    /// The half-width of the interval: `t_quantile_975(n - 1) * sd / sqrt(n)`.
+    pub half: f64,
+    /// The sample size.
+    pub n: usize,
+}
+
+impl MeanCi {
+    /// The lower end, `mean - half`.
+    pub fn lo(&self) -> f64 {
+        self.mean - self.half
+    }
+    /// The upper end, `mean + half`.
+    pub fn hi(&self) -> f64 {
+        self.mean + self.half
+    }
+}
+
+/// The mean of `xs` with its 95% t interval; `None` for fewer than two
+/// values (no interval).
+///
+/// ```
+/// use e3d::report::mean_ci95;
+/// // mean 3, sd sqrt(2.5), t(4) = 2.776: 3 ± 1.963
+/// let ci = mean_ci95(&[1.0, 2.0, 3.0, 4.0, 5.0]).unwrap();
+/// assert_eq!(ci.mean, 3.0);
+/// assert!((ci.half - 2.776 * 2.5f64.sqrt() / 5f64.sqrt()).abs() < 1e-12);
+/// assert_eq!(mean_ci95(&[1.0]), None);
+/// ```
+pub fn mean_ci95(xs: &[f64]) -> Option<MeanCi> {
+    if xs.len() < 2 {
+        return None;
+    }
+    let st = describe(xs);
+    let n = xs.len();
+    Some(MeanCi {
+        mean: st.mean,
+        half: t_quantile_975(n - 1) * st.sd / (n as f64).sqrt(),
+        n,
+    })
+}
+
+/// The Wilson score 95% interval `(lo, hi)` of a share of `k` successes in
+/// `n` trials (z = 1.959964); `None` for `n = 0`. Unlike the normal
+/// approximation it stays in [0, 1] and is not empty at 0 or `n`.
+///
+/// ```
+/// use e3d::report::wilson95;
+/// let (lo, hi) = wilson95(76, 100).unwrap();
+/// assert!((lo - 0.6677).abs() < 1e-4 && (hi - 0.8331).abs() < 1e-4);
+/// let (lo, hi) = wilson95(0, 20).unwrap();
+/// assert!(lo.abs() < 1e-12);
+/// assert!((hi - 0.1611).abs() < 1e-4);
+/// ```
+pub fn wilson95(k: usize, n: usize) -> Option<(f64, f64)> {
+    if n == 0 {
+        return None;
+    }
+    let z: f64 = 1.959_963_984_540_054;
+    let (nf, p) = (n as f64, k as f64 / n as f64);
+    let z2 = z * z;
+    let centre = (p + z2 / (2.0 * nf)) / (1.0 + z2 / nf);
+    let half = z * (p * (1.0 - p) / nf + z2 / (4.0 * nf * nf)).sqrt() / (1.0 + z2 / nf);
+    Some(((centre - half).max(0.0), (centre + half).min(1.0)))
+}
+
+/// The quartiles `[q1, median, q3]` of `xs`, interpolated between order
+/// statistics (position `(n - 1) p` of the sorted values: R's and numpy's
+/// default, and the same median as [`median`]); `None` for no value.
+///
+/// ```
+/// use e3d::report::quartiles;
+/// assert_eq!(quartiles(&[4.0, 1.0, 3.0, 2.0]), Some([1.75, 2.5, 3.25]));
+/// assert_eq!(quartiles(&[]), None);
+/// ```
+pub fn quartiles(xs: &[f64]) -> Option<[f64; 3]> {
+    if xs.is_empty() {
+        return None;
+    }
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    let at = |p: f64| {
+        let h = (v.len() - 1) as f64 * p;
+        let (i, f) = (h.floor() as usize, h - h.floor());
+        if f == 0.0 {
+            v[i]
+        } else {
+            v[i] + f * (v[i + 1] - v[i])
+        }
+    };
+    Some([at(0.25), at(0.5), at(0.75)])
+}
+
+/// The quartiles of `n` sessions of which those in `done` (any order)
+/// reached an event, at the given counts, and the others never did: each
+/// is the order statistic at position `floor((n - 1) p)` of the sorted
+/// counts, the sessions that never did counted as later than all (`None`
+/// for such a quartile). `[q1, median, q3]`; the median is the one `e3d
+/// closed-loop` prints.
+///
+/// ```
+/// use e3d::report::order_quartiles;
+/// // 5 sessions, 3 rewarded: positions 1, 2 and 3 of (10, 20, 30, never, never)
+/// assert_eq!(order_quartiles(&[30, 10, 20], 5), [Some(20), Some(30), None]);
+/// ```
+pub fn order_quartiles(done: &[usize], n: usize) -> [Option<usize>; 3] {
+    let mut v = done.to_vec();
+    v.sort_unstable();
+    let at = |p: usize| {
+        let i = n.saturating_sub(1) * p / 4;
+        v.get(i).copied()
+    };
+    [at(1), at(2), at(3)]
 }

@@ -895,3 +895,94 @@ fn run_out_leaves_only_its_files_and_writes_through_no_planted_link() {
     std::fs::remove_dir_all(&dir).unwrap();
     let _ = std::fs::remove_file(&victim);
 }
+
+/// `--target`: the default (`all`) is the run of before, byte for byte
+/// (its stdout and trials as printed by e3d before the flag existed);
+/// `reachable` spreads p* over the 13 cells four_rooms' commands reach,
+/// and says so; runs of episodes refuse it.
+#[test]
+fn run_target_all_is_the_default_and_reachable_shifts_the_target() {
+    let dir = crate::common::temp_dir("run-target");
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "run",
+            "four_rooms",
+            "--trials",
+            "2000",
+            "--seed",
+            "3",
+            "--beta",
+            "100",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+        let o = crate::common::ok(crate::common::e3d(&args));
+        let stdout = String::from_utf8(o.stdout).unwrap();
+        let trials = std::fs::read_to_string(out.join("trials.csv")).unwrap();
+        let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        (
+            stdout.replace(out.to_str().unwrap(), "OUT"),
+            trials,
+            summary,
+        )
+    };
+    let plain = run("plain", &[]);
+    assert_eq!(
+        plain.0,
+        "scene four_rooms | learner e3d | 2000 trials | seed 3 | alpha 0.3 beta 100 lambda 0.03 eta 0.01\n\
+         normalised entropy 0.6775 (last 1000: 0.6912) | KL to target 1.1556 nats | 13 of 36 effects reached\n\
+         over the 13 reachable cells: normalised entropy 0.9466\n\
+         coverage 1.0000 of the 13 reachable cells | 50% by trial 11 | 90% by trial 243\n\
+         cumulative reward 0 | first reward at trial -\n\
+         exact effect distribution of the final policy: normalised entropy 0.4948\n\
+         wrote OUT/trials.csv and OUT/summary.json\n"
+    );
+    // the trials of before: their first and last rows, count and a checksum of the effects
+    let rows: Vec<&str> = plain.1.lines().collect();
+    assert_eq!(rows.len(), 2001);
+    assert_eq!(
+        rows[..4],
+        [
+            "trial,command,effect,reward",
+            "1,EWWSS,24,0",
+            "2,EWNNS,12,0",
+            "3,SENEN,2,0"
+        ]
+    );
+    assert_eq!(rows[2000], "2000,EESEW,14,0");
+    let (mut sum, mut h) = (0u64, 0u64);
+    for r in &rows[1..] {
+        let e: u64 = r.split(',').nth(2).unwrap().parse().unwrap();
+        sum += e;
+        h = (h * 31 + e) % 1_000_000_007;
+    }
+    assert_eq!((sum, h), (25305, 935175152));
+    assert!(!plain.2.contains("target_reachable_cells"));
+    // --target all: the same bytes
+    let all = run("all", &["--target", "all"]);
+    assert_eq!(all, plain);
+    // --target reachable: p* on the 13 reachable cells, another session
+    let reach = run("reach", &["--target", "reachable"]);
+    assert!(
+        reach
+            .0
+            .contains("target: uniform over the 13 reachable cells (of 36)\n"),
+        "{}",
+        reach.0
+    );
+    assert!(reach.0.contains("KL to target 0.0738 nats"), "{}", reach.0);
+    assert_ne!(reach.1, plain.1);
+    assert!(reach.2.contains("\"target_reachable_cells\": 13"));
+    let bad = crate::common::e3d(&[
+        "run",
+        "four_rooms",
+        "--commands",
+        "2",
+        "--target",
+        "reachable",
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr)
+        .contains("--target reachable: this run is of episodes"));
+}

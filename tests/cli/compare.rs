@@ -68,6 +68,27 @@ fn compare_writes_the_table_the_figure_and_the_rows() {
     assert!(value("e3d", 4) > 100.0 * value("uniform", 4).max(1.0));
     // 4 task-2 sessions each
     assert_eq!(value("e3d", 8), 4.0);
+    // the 95% intervals: mean ± t(3) sd / sqrt 4, t(3) = 3.182
+    assert!(csv.lines().next().unwrap().ends_with(
+        ",task1_entropy_ci95_lo,task1_entropy_ci95_hi,task1_coverage_ci95_lo,task1_coverage_ci95_hi,task2_reward_ci95_lo,task2_reward_ci95_hi,task2_first_reward_q1,task2_first_reward_q3,task1_trials_to_50_ci95_lo,task1_trials_to_50_ci95_hi,task1_trials_to_90_ci95_lo,task1_trials_to_90_ci95_hi"
+    ));
+    for learner in ["e3d", "uniform", "archive"] {
+        for (mean, sd, lo, hi) in [(2, 3, 20, 21), (9, 10, 22, 23), (4, 5, 24, 25)] {
+            let half = 3.182 * value(learner, sd) / 2.0;
+            assert!((value(learner, lo) - (value(learner, mean) - half)).abs() < 1e-9);
+            assert!((value(learner, hi) - (value(learner, mean) + half)).abs() < 1e-9);
+        }
+    }
+    // the median first reward lies within its quartiles
+    let (q1, q3) = (value("e3d", 26), value("e3d", 27));
+    assert!(q1 <= value("e3d", 6) && value("e3d", 6) <= q3, "{q1} {q3}");
+    // trials to 50%: over the sessions that got there (column 13)
+    let n50 = value("e3d", 13);
+    let t = e3d::report::t_quantile_975(n50 as usize - 1);
+    let half = t * value("e3d", 12) / n50.sqrt();
+    assert!((value("e3d", 28) - (value("e3d", 11) - half)).abs() < 1e-9);
+    assert!((value("e3d", 29) - (value("e3d", 11) + half)).abs() < 1e-9);
+    assert!(md.contains("| entropy: 95% (t) | coverage: 95% (t) | to 50%: 95% (t) | to 90%: 95% (t) | reward: 95% (t) | first reward: Q1..Q3 |"));
     let svg = std::fs::read_to_string(dir.join("a/drives.svg")).unwrap();
     assert!(svg.contains("task 1: normalised entropy") && svg.contains(">smm</text>"));
     // results.csv: a header and 24 cells (4 learners x 2 betas x 2 tasks, and 4 x 2 tasks) x 4 sessions

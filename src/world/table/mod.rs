@@ -2,6 +2,7 @@
 
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
+use crate::effect::Target;
 use crate::scene::physics::PhysicsSpec;
 use crate::scene::{Scene, WorldSpec};
 use crate::world::Control;
@@ -422,6 +423,39 @@ impl OutcomeTable {
     /// The number of effects some command reaches.
     pub fn reachable_effects(&self) -> usize {
         self.effect_counts().iter().filter(|&&c| c > 0).count()
+    }
+
+    /// The effects some command reaches, in increasing order (its length
+    /// is [`reachable_effects`](Self::reachable_effects)).
+    pub fn reachable(&self) -> Vec<usize> {
+        let counts = self.effect_counts();
+        (0..counts.len()).filter(|&e| counts[e] > 0).collect()
+    }
+
+    /// The target `p*` uniform over the reachable effects only: weight 1 on
+    /// each effect some command reaches, 0 on the others (their `log p*`
+    /// taken at [`P_FLOOR`](crate::effect::P_FLOOR)), normalised by
+    /// [`Target::Weights`]. `Target::Uniform`, the default, spreads `p*`
+    /// over every effect instead; on a reached effect the two differ by
+    /// `log(|E| / |R|)` in `log p*`, which shifts E3D's values by
+    /// `log(|E| / |R|) / (beta lambda)` (docs/algorithms.md, "E3D").
+    ///
+    /// ```
+    /// use e3d::{OutcomeTable, Scene, Target};
+    /// let scene = Scene::builtin("four_rooms").unwrap();
+    /// let table = OutcomeTable::build(&mut *scene.build()).unwrap();
+    /// let target = table.reachable_target();
+    /// let p = target.probs(36).unwrap();
+    /// assert_eq!(p.iter().filter(|&&v| v > 0.0).count(), 13);
+    /// assert!(p.iter().all(|&v| v == 0.0 || (v - 1.0 / 13.0).abs() < 1e-15));
+    /// ```
+    pub fn reachable_target(&self) -> Target {
+        let weights = self
+            .effect_counts()
+            .iter()
+            .map(|&c| if c > 0 { 1.0 } else { 0.0 })
+            .collect();
+        Target::Weights(weights)
     }
 
     /// How many commands end in each effect.
