@@ -9,7 +9,7 @@ use crate::world::{Outcome, OutcomeTable};
 use serde::{Deserialize, Serialize};
 
 /// The trials the last-trials entropy covers.
-pub(super) const LAST: usize = 1000;
+const LAST: usize = 1000;
 
 /// The metrics of a session, kept as it runs, in constant memory: effect
 /// counts, the last 1000 effects, the reward so far and at chosen trials.
@@ -82,7 +82,18 @@ impl RunningMetrics {
         self.metrics_given(target, Some(reachable_effects))
     }
 
-    fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
+    /// The running metrics of the trials that ended in `effects` with
+    /// `rewards`: what a record's metrics are computed from.
+    pub(super) fn replay(num_effects: usize, effects: &[usize], rewards: &[f64]) -> Self {
+        let mut m = RunningMetrics::new(num_effects);
+        for (&effect, &reward) in effects.iter().zip(rewards) {
+            let point = [0.0; 2];
+            m.record(&(), &Outcome { effect, reward, point });
+        }
+        m
+    }
+
+    pub(super) fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
         let mut last = vec![0.0; self.counts.len()];
         for &e in &self.last {
             last[e as usize] += 1.0;
@@ -174,7 +185,7 @@ impl Metrics {
     /// 1000, the sum of the rewards, the first rewarded trial and the
     /// number of trials.
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn from_counts(
+    fn from_counts(
         all: &[f64],
         last: &[f64],
         cumulative_reward: f64,
@@ -258,19 +269,6 @@ fn coverage_cells(reachable: Option<usize>, num_effects: usize) -> usize {
 pub fn trials_to_fraction(discoveries: &[usize], cells: usize, fraction: f64) -> Option<usize> {
     let need = ((fraction * cells as f64) - 1e-9).ceil().max(1.0) as usize;
     discoveries.get(need - 1).copied()
-}
-
-/// The 1-based trial at which each distinct effect of `effects` was first
-/// reached, in order.
-pub fn discovery_trials(effects: &[usize], num_effects: usize) -> Vec<usize> {
-    let mut seen = vec![false; num_effects];
-    let mut out = Vec::new();
-    for (t, &e) in effects.iter().enumerate() {
-        if !std::mem::replace(&mut seen[e], true) {
-            out.push(t + 1);
-        }
-    }
-    out
 }
 
 /// The exact distribution of effects under `learner`'s current policy:

@@ -22,9 +22,8 @@ pub use engine::{
     run_episode_sessions, run_group, run_sessions, Control, Executes, Learns, Observer, Worlds,
 };
 
-use metrics::LAST;
 pub use metrics::{
-    discovery_trials, policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics,
+    policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics,
 };
 pub use values::{run_value_session, ValueSessionRecord};
 
@@ -262,19 +261,8 @@ impl SessionRecord {
     }
 
     fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
-        let t = self.trials();
-        let all = self.effect_counts(0..t);
-        let last = self.effect_counts(t.saturating_sub(LAST)..t);
-        Metrics::from_counts(
-            &all,
-            &last,
-            self.rewards.iter().fold(0.0, |a, r| a + r),
-            self.rewards.iter().position(|&r| r > 0.0).map(|i| i + 1),
-            &discovery_trials(&self.effects, self.num_effects),
-            t,
-            target,
-            reachable,
-        )
+        RunningMetrics::replay(self.num_effects, &self.effects, &self.rewards)
+            .metrics_given(target, reachable)
     }
 
     /// Writes `trial,command,effect,reward` CSV, one row per trial (trial

@@ -1,7 +1,7 @@
 //! Sessions of continuous commands: the trial loop with values in place
 //! of symbols, and what it records.
 
-use super::metrics::{discovery_trials, Metrics, LAST};
+use super::metrics::{Metrics, RunningMetrics};
 use super::{Control, Recorder, SessionConfig};
 use crate::command::ValueSpace;
 use crate::effect::Target;
@@ -83,17 +83,8 @@ impl ValueSessionRecord {
     /// The session's metrics against the target `p*` (as
     /// [`SessionRecord::metrics`](super::SessionRecord::metrics)).
     pub fn metrics(&self, target: &Target) -> Metrics {
-        let t = self.trials();
-        Metrics::from_counts(
-            &self.effect_counts(0..t),
-            &self.effect_counts(t.saturating_sub(LAST)..t),
-            self.rewards.iter().fold(0.0, |a, r| a + r),
-            self.rewards.iter().position(|&r| r > 0.0).map(|i| i + 1),
-            &discovery_trials(&self.effects, self.num_effects),
-            t,
-            target,
-            None,
-        )
+        RunningMetrics::replay(self.num_effects, &self.effects, &self.rewards)
+            .metrics_given(target, None)
     }
 
     /// Writes `trial,values,effect,reward,x,y` CSV, one row per trial
