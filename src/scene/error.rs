@@ -236,6 +236,13 @@ impl SceneError {
     /// mean" for misspelt fields and variants.
     pub(crate) fn from_ron(file: &str, text: &str, e: ron::error::SpannedError) -> Self {
         use ron::error::Error as E;
+        // " in `Outer`": the struct (or enum) the mistake is in
+        let within = |word: &str, outer: &Option<String>| {
+            outer
+                .as_ref()
+                .map(|o| format!(" {word} `{o}`"))
+                .unwrap_or_default()
+        };
         // the field the mistake is about, if it names one
         let at;
         let message = match &e.code {
@@ -244,13 +251,10 @@ impl SceneError {
                 found,
                 outer,
             } => {
-                let within = outer
-                    .as_ref()
-                    .map(|o| format!(" in `{o}`"))
-                    .unwrap_or_default();
                 at = Some(found.to_string());
                 format!(
-                    "unknown field `{found}`{within}{}; expected one of: {}",
+                    "unknown field `{found}`{}{}; expected one of: {}",
+                    within("in", outer),
                     did_you_mean(found, expected),
                     expected.join(", ")
                 )
@@ -260,32 +264,21 @@ impl SceneError {
                 found,
                 outer,
             } => {
-                let within = outer
-                    .as_ref()
-                    .map(|o| format!(" for `{o}`"))
-                    .unwrap_or_default();
                 at = field_before(text, e.span.start.line, e.span.start.col);
                 format!(
-                    "unknown variant `{found}`{within}{}; expected one of: {}",
+                    "unknown variant `{found}`{}{}; expected one of: {}",
+                    within("for", outer),
                     did_you_mean(found, expected),
                     expected.join(", ")
                 )
             }
             E::MissingStructField { field, outer } => {
-                let within = outer
-                    .as_ref()
-                    .map(|o| format!(" in `{o}`"))
-                    .unwrap_or_default();
                 at = Some(field.to_string());
-                format!("missing field `{field}`{within}")
+                format!("missing field `{field}`{}", within("in", outer))
             }
             E::DuplicateStructField { field, outer } => {
-                let within = outer
-                    .as_ref()
-                    .map(|o| format!(" in `{o}`"))
-                    .unwrap_or_default();
                 at = Some(field.to_string());
-                format!("field `{field}` given twice{within}")
+                format!("field `{field}` given twice{}", within("in", outer))
             }
             other => {
                 let (m, f) = other_message(other, text, &e);

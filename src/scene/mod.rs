@@ -437,10 +437,9 @@ impl SceneSpec {
         }
         Err(SceneError::invalid(
             &format!("<scene {}>", self.name),
-            Invalid::at(
+            Invalid::new(
                 "command",
-                None,
-                &format!(
+                format!(
                     "symbols in every slot for {what}, but this scene's slots take values (`Continuous`): it runs on live physics with `e3d run` or `e3d scene exec` (docs/scenes.md, \"Continuous commands\")"
                 ),
             ),
@@ -586,10 +585,9 @@ pub const MAX_CONTEXTS: usize = 1024;
 /// is checked.
 pub(crate) fn check_context_count(n: usize) -> Result<(), Invalid> {
     if n > MAX_CONTEXTS {
-        return Err(Invalid::at(
+        return Err(Invalid::new(
             "contexts",
-            None,
-            &format!("at most {MAX_CONTEXTS} start contexts (e3d::scene::MAX_CONTEXTS), found {n}"),
+            format!("at most {MAX_CONTEXTS} start contexts (e3d::scene::MAX_CONTEXTS), found {n}"),
         ));
     }
     Ok(())
@@ -674,13 +672,22 @@ pub(crate) struct Invalid {
 }
 
 impl Invalid {
-    pub(crate) fn at(field: &str, anchor: Option<&str>, expected: &str) -> Invalid {
+    /// A failure at the first `field` of the file.
+    pub(crate) fn new(field: &str, expected: impl Into<String>) -> Invalid {
         Invalid {
             field: field.to_string(),
-            anchor: anchor.map(str::to_string),
+            anchor: None,
             nth: 0,
-            expected: expected.to_string(),
+            expected: expected.into(),
             within: None,
+        }
+    }
+
+    /// A failure at `field`, searched after `anchor` if given.
+    pub(crate) fn at(field: &str, anchor: Option<&str>, expected: &str) -> Invalid {
+        Invalid {
+            anchor: anchor.map(str::to_string),
+            ..Invalid::new(field, expected)
         }
     }
 

@@ -26,7 +26,7 @@ fn tidy(x: f64) -> f64 {
 fn bad(list: &'static str, k: usize, field: &str, msg: String) -> Invalid {
     Invalid {
         within: Some((list, k)),
-        ..Invalid::at(field, None, &msg)
+        ..Invalid::new(field, msg)
     }
 }
 

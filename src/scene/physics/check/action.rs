@@ -43,9 +43,8 @@ impl PhysicsSpec {
             return Ok(());
         };
         if self.symmetry.is_some() {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "symmetry",
-                None,
                 "no symmetry with continuous slots (a symmetry maps symbols; continuous commands are not memoised)",
             ));
         }
@@ -67,15 +66,11 @@ impl PhysicsSpec {
                 let bad_at = |field: &str, what: String| match field {
                     "action" => Invalid {
                         nth: i,
-                        ..Invalid::at("action", None, &format!("slot {i}{name}: {what}"))
+                        ..Invalid::new("action", format!("slot {i}{name}: {what}"))
                     },
                     _ => Invalid {
                         nth: i,
-                        ..Invalid::at(
-                            "range",
-                            None,
-                            &format!("slot {i}{name} at {}: {what}", show(v)),
-                        )
+                        ..Invalid::new("range", format!("slot {i}{name} at {}: {what}", show(v)))
                     },
                 };
                 self.check_action(&slot.action.at(v), position, &bad_at)?;

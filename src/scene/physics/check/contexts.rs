@@ -42,7 +42,7 @@ impl PhysicsSpec {
             let shown = crate::text::echo(&c.name);
             let here = |field: &str, expected: String| Invalid {
                 within: Some(("contexts", k)),
-                ..Invalid::at(field, None, &format!("context `{shown}`: {expected}"))
+                ..Invalid::new(field, format!("context `{shown}`: {expected}"))
             };
             if c.name.trim().is_empty() || !names.insert(c.name.as_str()) {
                 return Err(here(
@@ -102,11 +102,7 @@ impl PhysicsSpec {
                 format!(
                     "a joint of the scene, found `{}` (joints: {})",
                     crate::text::echo(&s.joint),
-                    if names.is_empty() {
-                        "none".into()
-                    } else {
-                        names.join(", ")
-                    }
+                    super::listed(&names)
                 ),
             ));
         };
