@@ -106,24 +106,19 @@ impl GridSpec {
         super::check_context_count(self.contexts.len())?;
         let mut names = std::collections::HashSet::with_capacity(self.contexts.len());
         for (i, c) in self.contexts.iter().enumerate() {
-            let here = |expected: String| Invalid {
-                within: Some(("contexts", i)),
-                ..Invalid::new("name", expected)
-            };
+            let here = |expected: String| Invalid::new("name", expected).within("contexts", i);
             for cell in [Some(c.cell), c.to].into_iter().flatten() {
                 if !inside(cell) {
-                    return Err(Invalid {
-                        within: Some(("contexts", i)),
-                        ..Invalid::new(
-                            if Some(cell) == c.to { "to" } else { "cell" },
-                            format!(
-                                "context `{}` of `contexts`: cells inside the {} x {} grid, found {cell:?}",
-                                crate::text::echo(&c.name),
-                                self.rows,
-                                self.cols
-                            ),
-                        )
-                    });
+                    return Err(Invalid::new(
+                        if Some(cell) == c.to { "to" } else { "cell" },
+                        format!(
+                            "context `{}` of `contexts`: cells inside the {} x {} grid, found {cell:?}",
+                            crate::text::echo(&c.name),
+                            self.rows,
+                            self.cols
+                        ),
+                    )
+                    .within("contexts", i));
                 }
             }
             if c.name.trim().is_empty() || !names.insert(c.name.as_str()) {

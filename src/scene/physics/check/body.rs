@@ -24,14 +24,8 @@ impl PhysicsSpec {
             ));
         }
         if duplicate {
-            return Err(Invalid {
-                nth: 1,
-                ..Invalid::at(
-                    "name",
-                    Some(&at),
-                    &format!("distinct body names, but `{}` is used twice", b.name),
-                )
-            });
+            let twice = format!("distinct body names, but `{}` is used twice", b.name);
+            return Err(Invalid::at("name", Some(&at), &twice).nth(1));
         }
         let who = format!("body `{}`", b.name);
         let on = On {

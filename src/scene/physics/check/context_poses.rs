@@ -209,20 +209,18 @@ impl PhysicsSpec {
                 } else {
                     "joints"
                 };
-                return Err(Invalid {
-                    within: Some(("contexts", k)),
-                    ..Invalid::new(
-                        field,
-                        format!(
-                            "context `{}`: a start where no two bodies overlap, but `{}` and `{}` overlap by {:.4} m there{where_} (at most {} m, touching, is allowed)",
-                            crate::text::echo(&c.name),
-                            self.bodies[i].name,
-                            self.bodies[j].name,
-                            depth,
-                            OVERLAP_TOLERANCE
-                        ),
-                    )
-                });
+                return Err(Invalid::new(
+                    field,
+                    format!(
+                        "context `{}`: a start where no two bodies overlap, but `{}` and `{}` overlap by {:.4} m there{where_} (at most {} m, touching, is allowed)",
+                        crate::text::echo(&c.name),
+                        self.bodies[i].name,
+                        self.bodies[j].name,
+                        depth,
+                        OVERLAP_TOLERANCE
+                    ),
+                )
+                .within("contexts", k));
             }
         }
         Ok(())

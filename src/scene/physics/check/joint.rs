@@ -24,14 +24,8 @@ impl PhysicsSpec {
             crate::text::check_name(&j.name)
                 .map_err(|e| Invalid::at("name", Some(&at), &format!("joint: {e}")))?;
             if !joint_names.insert(j.name.as_str()) {
-                return Err(Invalid {
-                    nth: 1,
-                    ..Invalid::at(
-                        "name",
-                        Some(&at),
-                        &format!("distinct joint names, but `{}` is used twice", j.name),
-                    )
-                });
+                let twice = format!("distinct joint names, but `{}` is used twice", j.name);
+                return Err(Invalid::at("name", Some(&at), &twice).nth(1));
             }
             let who = format!("joint `{}`", j.name);
             let on = On {

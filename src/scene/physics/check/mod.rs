@@ -222,10 +222,7 @@ impl PhysicsSpec {
 
     /// Feature `k` of the effect's list.
     fn check_feature(&self, k: usize, f: &Feature) -> Result<(), Invalid> {
-        let within = |v: Invalid| Invalid {
-            within: Some(("features", k)),
-            ..v
-        };
+        let within = |v: Invalid| v.within("features", k);
         match f {
             Feature::Point {
                 body,
@@ -364,10 +361,7 @@ fn check_grid(grid: &EffectGrid, k: Option<usize>) -> Result<(), Invalid> {
 /// [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS)), a finite `range` with
 /// `min < max`.
 fn check_line(bins: usize, (lo, hi): (f64, f64), unit: &str, k: usize) -> Result<(), Invalid> {
-    let place = |v: Invalid| Invalid {
-        within: Some(("features", k)),
-        ..v
-    };
+    let place = |v: Invalid| v.within("features", k);
     if bins == 0 || bins > crate::effect::MAX_EFFECTS {
         return Err(place(Invalid::new(
             "bins",
