@@ -12,9 +12,9 @@ impl SceneSpec {
     /// [`validate`](SceneSpec::validate), before they are placed in a file).
     pub(super) fn check(&self) -> Result<(), Invalid> {
         if self.name.trim().is_empty() {
-            return Err(Invalid::at("name", None, "a non-empty name"));
+            return Err(Invalid::new("name", "a non-empty name"));
         }
-        crate::text::check_name(&self.name).map_err(|e| Invalid::at("name", None, &e))?;
+        crate::text::check_name(&self.name).map_err(|e| Invalid::new("name", e))?;
         let n = self.slots().count();
         self.check_slot_count(n)?;
         self.check_slot_names()?;
@@ -35,10 +35,9 @@ impl SceneSpec {
             .check();
         }
         if n > MAX_SLOTS {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "slots",
-                None,
-                &format!("at most {MAX_SLOTS} slots, found {n}"),
+                format!("at most {MAX_SLOTS} slots, found {n}"),
             ));
         }
         self.check_ranges()?;
@@ -81,17 +80,16 @@ impl SceneSpec {
                     CommandSpec::Slots(_) => ("Slots", format!("`Slots` lists {n}")),
                     CommandSpec::Continuous(_) => ("Continuous", format!("`Continuous` lists {n}")),
                 };
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     variant,
-                    None,
-                    &format!(
+                    format!(
                         "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: {how}"
                     ),
                 ));
             }
         }
         if n == 0 {
-            return Err(Invalid::at("command", None, "at least one slot"));
+            return Err(Invalid::new("command", "at least one slot"));
         }
         Ok(())
     }
@@ -103,9 +101,8 @@ impl SceneSpec {
             return Ok(());
         };
         if matches!(self.world, WorldSpec::Grid(_)) {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "Continuous",
-                None,
                 "symbols in a Grid world (one-cell moves); continuous slots need a Physics world",
             ));
         }
@@ -113,10 +110,9 @@ impl SceneSpec {
             if !p.contexts.is_empty() {
                 // a session of values starts every trial from the scene's
                 // start: the contexts would be ignored without a word
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "contexts",
-                    None,
-                    &format!(
+                    format!(
                         "no start contexts in a scene whose slots take values (`Continuous`): its sessions start every trial from the scene's start, found {} context(s) (`{}`...); remove `contexts`, or write the slots as symbols",
                         p.contexts.len(),
                         crate::text::echo(&p.contexts[0].name)
@@ -127,10 +123,9 @@ impl SceneSpec {
         for (i, slot) in slots.iter().enumerate() {
             let (lo, hi) = slot.range;
             if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "range",
-                    None,
-                    &format!(
+                    format!(
                         "slot {i}: a range (min, max) of finite numbers with min < max, found ({lo}, {hi})"
                     ),
                 )
@@ -158,17 +153,15 @@ impl SceneSpec {
             }
             let mut here: std::collections::HashSet<char> = Default::default();
             if alphabet.is_empty() {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "alphabet",
-                    None,
-                    &format!("slot {i}: at least one symbol in the alphabet, found none"),
+                    format!("slot {i}: at least one symbol in the alphabet, found none"),
                 ));
             }
             if alphabet.len() > MAX_ALPHABET {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "alphabet",
-                    None,
-                    &format!(
+                    format!(
                         "slot {i}: at most {MAX_ALPHABET} symbols, found {}",
                         alphabet.len()
                     ),
@@ -188,10 +181,9 @@ impl SceneSpec {
                     .nth(before + 1));
                 }
                 if !printable_symbol(s.symbol) {
-                    return Err(Invalid::at(
+                    return Err(Invalid::new(
                         "symbol",
-                        None,
-                        &format!(
+                        format!(
                             "a printable symbol other than ',' and '\"' (commands are written as strings and CSV fields): not whitespace, a control, format (zero-width) or combining character, found U+{:04X}",
                             u32::from(s.symbol)
                         ),
@@ -229,17 +221,15 @@ impl SceneSpec {
     fn check_reward(&self) -> Result<(), Invalid> {
         // the world's checks above refuse an effect that does not validate
         let Some(grid) = self.effect_grid() else {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "effect",
-                None,
                 "an effect that bins terminal states",
             ));
         };
         if !(self.reward.value.is_finite() && self.reward.value.abs() <= MAX_REWARD) {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "value",
-                None,
-                &format!(
+                format!(
                     "a finite reward value of at most {MAX_REWARD:e} in magnitude (a cumulative reward over 10^8 trials stays finite), found {}",
                     self.reward.value
                 ),
@@ -247,10 +237,9 @@ impl SceneSpec {
         }
         for &(r, c) in &self.reward.cells {
             if r >= grid.rows || c >= grid.cols {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "cells",
-                    None,
-                    &format!(
+                    format!(
                         "reward cells inside the {} x {} effect grid, found ({r}, {c})",
                         grid.rows, grid.cols
                     ),

@@ -236,6 +236,13 @@ impl SceneError {
     /// mean" for misspelt fields and variants.
     pub(crate) fn from_ron(file: &str, text: &str, e: ron::error::SpannedError) -> Self {
         use ron::error::Error as E;
+        // " in `Outer`": the struct (or enum) the mistake is in
+        let within = |word: &str, outer: &Option<String>| {
+            outer
+                .as_ref()
+                .map(|o| format!(" {word} `{o}`"))
+                .unwrap_or_default()
+        };
         // the field the mistake is about, if it names one
         let at;
         let message = match &e.code {
@@ -244,13 +251,10 @@ impl SceneError {
                 found,
                 outer,
             } => {
-                let within = outer
-                    .as_ref()
-                    .map(|o| format!(" in `{o}`"))
-                    .unwrap_or_default();
                 at = Some(found.to_string());
                 format!(
-                    "unknown field `{found}`{within}{}; expected one of: {}",
+                    "unknown field `{found}`{}{}; expected one of: {}",
+                    within("in", outer),
                     did_you_mean(found, expected),
                     expected.join(", ")
                 )
@@ -260,32 +264,21 @@ impl SceneError {
                 found,
                 outer,
             } => {
-                let within = outer
-                    .as_ref()
-                    .map(|o| format!(" for `{o}`"))
-                    .unwrap_or_default();
                 at = field_before(text, e.span.start.line, e.span.start.col);
                 format!(
-                    "unknown variant `{found}`{within}{}; expected one of: {}",
+                    "unknown variant `{found}`{}{}; expected one of: {}",
+                    within("for", outer),
                     did_you_mean(found, expected),
                     expected.join(", ")
                 )
             }
             E::MissingStructField { field, outer } => {
-                let within = outer
-                    .as_ref()
-                    .map(|o| format!(" in `{o}`"))
-                    .unwrap_or_default();
                 at = Some(field.to_string());
-                format!("missing field `{field}`{within}")
+                format!("missing field `{field}`{}", within("in", outer))
             }
             E::DuplicateStructField { field, outer } => {
-                let within = outer
-                    .as_ref()
-                    .map(|o| format!(" in `{o}`"))
-                    .unwrap_or_default();
                 at = Some(field.to_string());
-                format!("field `{field}` given twice{within}")
+                format!("field `{field}` given twice{}", within("in", outer))
             }
             other => {
                 let (m, f) = other_message(other, text, &e);
@@ -502,7 +495,7 @@ fn locate(text: &str, field: &str, anchor: Option<&str>, nth: usize) -> Option<(
     // written inside the same parentheses
     let at = match anchor {
         Some(_) => {
-            let end = closing_paren(&code, at);
+            let (_, end) = top_level(code.as_bytes(), at);
             fields(at, end).first().copied().unwrap_or(at)
         }
         None => at,
@@ -541,74 +534,45 @@ fn locate_within(text: &str, list: &str, k: usize, field: &str) -> Option<(usize
     let start = start?;
     let open = start + code[start..].find('[')?;
     // the entries: the groups at depth 1 inside the brackets
-    let (mut depth, mut in_str, mut n) = (0usize, false, 0usize);
-    let mut i = open + 1;
+    let (inside, _) = top_level(b, open + 1);
+    let mut entries = inside.into_iter().filter(|&i| matches!(b[i], b'(' | b'['));
+    let Some(i) = entries.nth(k) else {
+        return Some(position_at(text, start));
+    };
+    let (fields, _) = top_level(b, i + 1);
+    let at = fields.into_iter().find(|&j| name_at(j, field));
+    Some(position_at(text, at.unwrap_or(i)))
+}
+
+/// The byte offsets from `from` on that lie in no string and at the depth
+/// of `from` (the opening brackets of the groups there included), and the
+/// offset of the `)` or `]` that closes that depth (the end of the text if
+/// none).
+fn top_level(b: &[u8], from: usize) -> (Vec<usize>, usize) {
+    let (mut depth, mut in_str, mut out) = (0usize, false, Vec::new());
+    let mut i = from;
     while i < b.len() {
         match b[i] {
             b'\\' if in_str => i += 1,
             b'"' => in_str = !in_str,
             b'(' | b'[' if !in_str => {
                 if depth == 0 {
-                    if n == k {
-                        let end = closing_paren(&code, i + 1);
-                        let mut depth_in = 0usize;
-                        let mut in_s = false;
-                        let mut j = i + 1;
-                        while j < end {
-                            match b[j] {
-                                b'\\' if in_s => j += 1,
-                                b'"' => in_s = !in_s,
-                                b'(' | b'[' if !in_s => depth_in += 1,
-                                b')' | b']' if !in_s => depth_in = depth_in.saturating_sub(1),
-                                _ if !in_s && depth_in == 0 && name_at(j, field) => {
-                                    return Some(position_at(text, j));
-                                }
-                                _ => {}
-                            }
-                            j += 1;
-                        }
-                        return Some(position_at(text, i));
-                    }
-                    n += 1;
+                    out.push(i);
                 }
                 depth += 1;
             }
             b')' | b']' if !in_str => {
                 if depth == 0 {
-                    break;
+                    return (out, i);
                 }
                 depth -= 1;
             }
+            _ if !in_str && depth == 0 => out.push(i),
             _ => {}
         }
         i += 1;
     }
-    Some(position_at(text, start))
-}
-
-/// The byte offset of the `)` that closes the parentheses around `at` (the
-/// end of the text if none).
-fn closing_paren(code: &str, at: usize) -> usize {
-    let mut depth = 0usize;
-    let mut in_str = false;
-    let b = code.as_bytes();
-    let mut i = at;
-    while i < b.len() {
-        match b[i] {
-            b'\\' if in_str => i += 1,
-            b'"' => in_str = !in_str,
-            b'(' | b'[' if !in_str => depth += 1,
-            b')' | b']' if !in_str => {
-                if depth == 0 {
-                    return i;
-                }
-                depth -= 1;
-            }
-            _ => {}
-        }
-        i += 1;
-    }
-    b.len()
+    (out, b.len())
 }
 
 /// The text with `//` and `/* */` comments (outside strings) replaced by

@@ -82,14 +82,13 @@ impl GridSpec {
     pub(crate) fn validate(&self, scene: &SceneSpec) -> Result<(), Invalid> {
         self.effect_grid().validate().map_err(|e| {
             let field = if self.rows == 0 { "rows" } else { "cols" };
-            Invalid::at(field, None, &e.to_string())
+            Invalid::new(field, e.to_string())
         })?;
         let inside = |(r, c): (usize, usize)| r < self.rows && c < self.cols;
         if !inside(self.start) {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "start",
-                None,
-                &format!(
+                format!(
                     "a start cell inside the {} x {} grid, found {:?}",
                     self.rows, self.cols, self.start
                 ),
@@ -107,25 +106,19 @@ impl GridSpec {
         super::check_context_count(self.contexts.len())?;
         let mut names = std::collections::HashSet::with_capacity(self.contexts.len());
         for (i, c) in self.contexts.iter().enumerate() {
-            let here = |expected: String| Invalid {
-                within: Some(("contexts", i)),
-                ..Invalid::at("name", None, &expected)
-            };
+            let here = |expected: String| Invalid::new("name", expected).within("contexts", i);
             for cell in [Some(c.cell), c.to].into_iter().flatten() {
                 if !inside(cell) {
-                    return Err(Invalid {
-                        within: Some(("contexts", i)),
-                        ..Invalid::at(
-                            if Some(cell) == c.to { "to" } else { "cell" },
-                            None,
-                            &format!(
-                                "context `{}` of `contexts`: cells inside the {} x {} grid, found {cell:?}",
-                                crate::text::echo(&c.name),
-                                self.rows,
-                                self.cols
-                            ),
-                        )
-                    });
+                    return Err(Invalid::new(
+                        if Some(cell) == c.to { "to" } else { "cell" },
+                        format!(
+                            "context `{}` of `contexts`: cells inside the {} x {} grid, found {cell:?}",
+                            crate::text::echo(&c.name),
+                            self.rows,
+                            self.cols
+                        ),
+                    )
+                    .within("contexts", i));
                 }
             }
             if c.name.trim().is_empty() || !names.insert(c.name.as_str()) {
@@ -138,17 +131,15 @@ impl GridSpec {
         }
         for &(a, b) in &self.walls {
             if !inside(a) || !inside(b) {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "walls",
-                    None,
-                    &format!("walls between cells inside the grid, found {a:?}-{b:?}"),
+                    format!("walls between cells inside the grid, found {a:?}-{b:?}"),
                 ));
             }
             if a.0.abs_diff(b.0) + a.1.abs_diff(b.1) != 1 {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "walls",
-                    None,
-                    &format!("walls between neighbouring cells, found {a:?}-{b:?}"),
+                    format!("walls between neighbouring cells, found {a:?}-{b:?}"),
                 ));
             }
         }

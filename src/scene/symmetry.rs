@@ -68,25 +68,13 @@ impl Symmetry {
             let [x, y] = self.reflect([p.0, p.1]);
             (x, y)
         };
-        match action {
-            Action::Torque { joint, torque } => Action::Torque {
-                joint: joint.clone(),
-                torque: -torque,
-            },
-            Action::Target { joint, angle } => Action::Target {
-                joint: joint.clone(),
-                angle: -angle,
-            },
-            Action::Impulse { body, impulse } => Action::Impulse {
-                body: body.clone(),
-                impulse: v(*impulse),
-            },
-            Action::Force { body, force } => Action::Force {
-                body: body.clone(),
-                force: v(*force),
-            },
-            other => other.clone(),
+        let mut mirrored = action.clone();
+        match &mut mirrored {
+            Action::Torque { torque: a, .. } | Action::Target { angle: a, .. } => *a = -*a,
+            Action::Impulse { impulse: p, .. } | Action::Force { force: p, .. } => *p = v(*p),
+            _ => {}
         }
+        mirrored
     }
 
     /// Per slot, the index of each symbol's mirror image in the same slot

@@ -101,20 +101,18 @@ pub(crate) fn expand(command: &CommandSpec) -> Result<Option<CommandSpec>, Inval
     };
     let n = *slots;
     if n == 0 || n > MAX_SLOTS {
-        return Err(Invalid::at(
+        return Err(Invalid::new(
             "slots",
-            None,
-            &format!("between 1 and {MAX_SLOTS} slots, found {n}"),
+            format!("between 1 and {MAX_SLOTS} slots, found {n}"),
         ));
     }
     if let Some(bad) = cycle
         .iter()
         .position(|c| c.trim().is_empty() || c == PLACEHOLDER)
     {
-        return Err(Invalid::at(
+        return Err(Invalid::new(
             "cycle",
-            None,
-            &format!(
+            format!(
                 "joint or body names in the cycle (not empty, not `*`), found `{}` at position {bad}",
                 cycle[bad]
             ),
@@ -131,9 +129,8 @@ pub(crate) fn expand(command: &CommandSpec) -> Result<Option<CommandSpec>, Inval
         ));
     }
     if !uses && !cycle.is_empty() {
-        return Err(Invalid::at(
+        return Err(Invalid::new(
             "cycle",
-            None,
             "an action naming `*` (the cycle's joint or body) in the alphabet, found none: without `*` the cycle does nothing (write `Repeat` for one alphabet on every slot)",
         ));
     }

@@ -83,7 +83,7 @@ impl Forest {
     /// ground, and its child body) on `bodies` bodies; an error when they
     /// do not form one (which [`SceneSpec::check`] refused already).
     fn of(joints: &[(Option<usize>, usize)], bodies: usize) -> Result<Forest, Invalid> {
-        let not_trees = || Invalid::at("joint", None, "joints that form trees");
+        let not_trees = || Invalid::new("joint", "joints that form trees");
         let mut parent_of = vec![None; bodies];
         for (k, &(_, child)) in joints.iter().enumerate() {
             if parent_of[child].replace(k).is_some() {
@@ -298,7 +298,7 @@ impl Scene {
     /// expanded: its command space, links and symbol maps. Their errors
     /// are those the checks already refused (kept as errors, not panics).
     pub(super) fn of_checked(spec: SceneSpec) -> Result<Scene, Invalid> {
-        let invalid = |e: &dyn std::fmt::Display| Invalid::at("command", None, &e.to_string());
+        let invalid = |e: &dyn std::fmt::Display| Invalid::new("command", e.to_string());
         let values = match &spec.command {
             CommandSpec::Continuous(s) => Some(
                 ValueSpace::new(s.iter().map(|v| v.range).collect()).map_err(|e| invalid(&e))?,
@@ -332,7 +332,7 @@ impl Scene {
                 Binning::new(p.effect.features().iter().map(Feature::axis).collect())
             }
         }
-        .map_err(|e| Invalid::at("effect", None, &e.to_string()))?;
+        .map_err(|e| Invalid::new("effect", e.to_string()))?;
         Ok(Scene {
             spec,
             space,
@@ -397,7 +397,7 @@ impl Links {
         let (drawn, tracked_point) = p
             .effect
             .drawn_point(|j| p.child_of(j))
-            .ok_or_else(|| Invalid::at("effect", None, "an effect with at least one feature"))?;
+            .ok_or_else(|| Invalid::new("effect", "an effect with at least one feature"))?;
         let probes = names.probes()?;
         Ok(Links {
             joints,
@@ -422,7 +422,7 @@ impl Names<'_> {
             .bodies
             .iter()
             .position(|b| b.name == name)
-            .ok_or_else(|| Invalid::at("body", None, &format!("a known body, found `{name}`")))
+            .ok_or_else(|| Invalid::new("body", format!("a known body, found `{name}`")))
     }
 
     /// The index of joint `name`.
@@ -431,7 +431,7 @@ impl Names<'_> {
             .joints
             .iter()
             .position(|j| j.name == name)
-            .ok_or_else(|| Invalid::at("joint", None, &format!("a known joint, found `{name}`")))
+            .ok_or_else(|| Invalid::new("joint", format!("a known joint, found `{name}`")))
     }
 
     /// `action` with its joint or body as an index (a target's joint with
@@ -453,9 +453,9 @@ impl Names<'_> {
             },
             Action::Target { joint: j, angle } => {
                 let k = self.joint(j)?;
-                let motor = self.0.joints[k].motor.ok_or_else(|| {
-                    Invalid::at("joint", None, &format!("joint `{j}` with a motor"))
-                })?;
+                let motor = self.0.joints[k]
+                    .motor
+                    .ok_or_else(|| Invalid::new("joint", format!("joint `{j}` with a motor")))?;
                 Resolved::Target {
                     joint: k,
                     angle: *angle,

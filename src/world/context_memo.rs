@@ -49,41 +49,11 @@ impl<'m, W: World> ContextMemoized<'m, W> {
 }
 
 impl<W: World> World for ContextMemoized<'_, W> {
-    fn command_space(&self) -> &CommandSpace {
-        self.world.command_space()
-    }
-    fn num_effects(&self) -> usize {
-        self.world.num_effects()
-    }
-    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        self.world.execute(command)
-    }
-    fn is_deterministic(&self) -> bool {
-        self.world.is_deterministic()
-    }
+    super::forward!(world self => self.world);
 }
 
 impl<W: Episodic> Episodic for ContextMemoized<'_, W> {
-    fn num_contexts(&self) -> usize {
-        self.world.num_contexts()
-    }
-    fn draw_start(
-        &self,
-        context: usize,
-        rng: &mut crate::rng::SessionRng,
-    ) -> Result<WorldState, WorldError> {
-        self.world.draw_start(context, rng)
-    }
-    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
-        self.world.bin_state(state)
-    }
-    fn execute_from(
-        &mut self,
-        from: &WorldState,
-        command: &Command,
-    ) -> Result<(Outcome, WorldState), WorldError> {
-        self.world.execute_from(from, command)
-    }
+    super::forward!(episodic self => self.world);
 
     /// From a named context's start, the memo's outcome, or the world's
     /// (then kept); from any other state, the world's.

@@ -308,20 +308,15 @@ impl<W: World> World for Memoized<'_, W> {
         let key = mirror
             .as_ref()
             .map_or(i, |m| self.world.command_space().index_of(m));
+        let reflect = |w: &W, o| match mirror {
+            Some(_) => w.mirror_outcome(o),
+            None => o,
+        };
         if let Some(o) = self.memo.get(key) {
-            return Ok(match mirror {
-                Some(_) => self.world.mirror_outcome(o),
-                None => o,
-            });
+            return Ok(reflect(&self.world, o));
         }
         let o = self.world.execute(command)?;
-        self.memo.insert(
-            key,
-            match mirror {
-                Some(_) => self.world.mirror_outcome(o),
-                None => o,
-            },
-        );
+        self.memo.insert(key, reflect(&self.world, o));
         Ok(o)
     }
 

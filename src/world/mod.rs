@@ -41,9 +41,9 @@ pub use physics::{
     BodyPose, Frame, Motion, PhysicsState, PhysicsWorld, RunStats, Trace, MAX_COPIES, PREFIX_STATES,
 };
 pub use plan::{
-    batch_rollout_seconds, calibration, calibration_on, lockstep_groups, rollout_seconds,
-    timed_rollout_seconds, ExecOptions, ExecutionPlan, OnDisk, ParseStrategyError, Strategy,
-    Workload, CALIBRATION_MAX_ROLLOUTS, CALIBRATION_ROLLOUTS, CALIBRATION_SECONDS,
+    batch_rollout_seconds, calibration_on, lockstep_groups, rollout_seconds, timed_rollout_seconds,
+    ExecOptions, ExecutionPlan, OnDisk, ParseStrategyError, Strategy, Workload,
+    CALIBRATION_MAX_ROLLOUTS, CALIBRATION_ROLLOUTS, CALIBRATION_SECONDS,
 };
 pub use reach::{
     farthest_reached_cell, sample_reach, sample_reach_with, FarthestCell, ReachSample,
@@ -321,51 +321,67 @@ pub trait ContinuousWorld {
     }
 }
 
+/// The methods of [`World`] (`world`) or [`Episodic`] (`episodic`) that a
+/// wrapper leaves to the world `$inner` it wraps, forwarded.
+macro_rules! forward {
+    (world $s:ident => $inner:expr) => {
+        fn command_space(&$s) -> &CommandSpace {
+            $inner.command_space()
+        }
+        fn num_effects(&$s) -> usize {
+            $inner.num_effects()
+        }
+        fn execute(&mut $s, command: &Command) -> Result<Outcome, WorldError> {
+            $inner.execute(command)
+        }
+        fn is_deterministic(&$s) -> bool {
+            $inner.is_deterministic()
+        }
+        fn execute_batch(
+            &mut $s,
+            commands: &[Command],
+            out: &mut Vec<Result<Outcome, WorldError>>,
+        ) {
+            $inner.execute_batch(commands, out)
+        }
+        fn mirror_of(&$s, command: &Command) -> Option<Command> {
+            $inner.mirror_of(command)
+        }
+        fn mirror_outcome(&$s, outcome: Outcome) -> Outcome {
+            $inner.mirror_outcome(outcome)
+        }
+    };
+    (episodic $s:ident => $inner:expr) => {
+        fn num_contexts(&$s) -> usize {
+            $inner.num_contexts()
+        }
+        fn draw_start(
+            &$s,
+            context: usize,
+            rng: &mut crate::rng::SessionRng,
+        ) -> Result<WorldState, WorldError> {
+            $inner.draw_start(context, rng)
+        }
+        fn bin_state(&$s, state: &WorldState) -> Result<usize, WorldError> {
+            $inner.bin_state(state)
+        }
+        fn execute_from(
+            &mut $s,
+            from: &WorldState,
+            command: &Command,
+        ) -> Result<(Outcome, WorldState), WorldError> {
+            $inner.execute_from(from, command)
+        }
+    };
+}
+use forward;
+
 impl<W: World + ?Sized> World for Box<W> {
-    fn command_space(&self) -> &CommandSpace {
-        (**self).command_space()
-    }
-    fn num_effects(&self) -> usize {
-        (**self).num_effects()
-    }
-    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        (**self).execute(command)
-    }
-    fn is_deterministic(&self) -> bool {
-        (**self).is_deterministic()
-    }
-    fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
-        (**self).execute_batch(commands, out)
-    }
-    fn mirror_of(&self, command: &Command) -> Option<Command> {
-        (**self).mirror_of(command)
-    }
-    fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
-        (**self).mirror_outcome(outcome)
-    }
+    forward!(world self => (**self));
 }
 
 impl<W: Episodic + ?Sized> Episodic for Box<W> {
-    fn num_contexts(&self) -> usize {
-        (**self).num_contexts()
-    }
-    fn draw_start(
-        &self,
-        context: usize,
-        rng: &mut crate::rng::SessionRng,
-    ) -> Result<WorldState, WorldError> {
-        (**self).draw_start(context, rng)
-    }
-    fn execute_from(
-        &mut self,
-        from: &WorldState,
-        command: &Command,
-    ) -> Result<(Outcome, WorldState), WorldError> {
-        (**self).execute_from(from, command)
-    }
-    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
-        (**self).bin_state(state)
-    }
+    forward!(episodic self => (**self));
     fn execute_outcome_from(
         &mut self,
         from: &WorldState,

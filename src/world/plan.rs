@@ -313,7 +313,7 @@ pub fn rollout_seconds(scene: &Scene) -> f64 {
 /// ranges). A grid scene is not timed: its cost model is kept.
 ///
 /// This is what the scene tools' cost lines scale the cost model by (see
-/// [`calibration`]): the model gives the ratios (copies per world,
+/// [`calibration_on`]): the model gives the ratios (copies per world,
 /// threads), the measure the speed of this machine as it is loaded now.
 pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
     let WorldSpec::Physics(spec) = &scene.spec().world else {
@@ -418,18 +418,6 @@ pub const CALIBRATION_MAX_ROLLOUTS: u32 = 200;
 /// Seconds [`timed_rollout_seconds`] keeps timing (after its first
 /// [`CALIBRATION_ROLLOUTS`]).
 pub const CALIBRATION_SECONDS: f64 = 0.1;
-
-/// What the cost model's seconds of `scene` are multiplied by to give this
-/// machine's: [`timed_rollout_seconds`] over [`rollout_seconds`] (1 for a
-/// grid scene). The scene tools' cost lines (`e3d scene check --samples`,
-/// `exec`, `table`, `reward-cell`, `stats`) say the model's estimate times
-/// this factor.
-pub fn calibration(scene: &Scene) -> f64 {
-    match scene.spec().world {
-        WorldSpec::Grid(_) => 1.0,
-        WorldSpec::Physics(_) => timed_rollout_seconds(scene) / rollout_seconds(scene),
-    }
-}
 
 /// The cost model's seconds per command of `scene` when `copies` commands
 /// step together in one world (one thread): a single rollout

@@ -73,33 +73,71 @@ pub(crate) fn show(v: f64) -> String {
     crate::text::show_number(v)
 }
 
-/// The check of one number: `who: WHAT BOUNDS, found V`.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn number(
-    field: &str,
-    anchor: Option<&str>,
-    who: &str,
-    what: &str,
-    v: f64,
-    (lo, hi): (f64, f64),
+/// The bounds of a number: `[lo, hi]`, of its magnitude when `signed`,
+/// in `unit` (for messages).
+#[derive(Clone, Copy)]
+pub(super) struct Bound {
+    lo: f64,
+    hi: f64,
     signed: bool,
-    unit: &str,
-) -> Result<(), Invalid> {
-    if in_range(v, lo, hi, signed) {
-        return Ok(());
+    unit: &'static str,
+}
+
+impl Bound {
+    /// `|v| <= hi` in `unit`.
+    pub(super) const fn magnitude(hi: f64, unit: &'static str) -> Bound {
+        Bound {
+            lo: 0.0,
+            hi,
+            signed: true,
+            unit,
+        }
     }
-    let who = if who.is_empty() {
-        String::new()
-    } else {
-        format!("{who}: ")
+
+    /// `v` in `[lo, hi]`, in `unit`.
+    pub(super) const fn range(lo: f64, hi: f64, unit: &'static str) -> Bound {
+        Bound {
+            lo,
+            hi,
+            signed: false,
+            unit,
+        }
+    }
+}
+
+/// Coordinates in metres: `|v| <=` [`MAX_LENGTH`].
+pub(super) const COORDINATES: Bound = Bound::magnitude(MAX_LENGTH, "m");
+
+/// The item the errors of a check are about: placed at `anchor` (`None`:
+/// at the field), prefixed with `who` (`body `b``; "" for none).
+#[derive(Clone, Copy)]
+pub(super) struct On<'a> {
+    pub anchor: Option<&'a str>,
+    pub who: &'a str,
+}
+
+impl On<'_> {
+    /// The world's own fields: no anchor, no prefix.
+    pub(super) const WORLD: On<'static> = On {
+        anchor: None,
+        who: "",
     };
-    Err(Invalid::at(
-        field,
-        anchor,
-        &format!(
-            "{who}{what} {}, found {}",
-            bounds(lo, hi, signed, unit),
-            show(v)
-        ),
-    ))
+
+    /// The failure at `field`: `who: EXPECTED`.
+    pub(super) fn bad(&self, field: &str, expected: impl std::fmt::Display) -> Invalid {
+        let text = match self.who {
+            "" => expected.to_string(),
+            who => format!("{who}: {expected}"),
+        };
+        Invalid::at(field, self.anchor, &text)
+    }
+
+    /// The check of one number: `who: WHAT BOUNDS, found V`.
+    pub(super) fn number(&self, field: &str, what: &str, v: f64, b: Bound) -> Result<(), Invalid> {
+        if in_range(v, b.lo, b.hi, b.signed) {
+            return Ok(());
+        }
+        let bounds = bounds(b.lo, b.hi, b.signed, b.unit);
+        Err(self.bad(field, format!("{what} {bounds}, found {}", show(v))))
+    }
 }

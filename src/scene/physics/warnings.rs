@@ -30,12 +30,7 @@ impl PhysicsSpec {
             let corners: &[u64] = if c.is_sampled() { &[0, u64::MAX] } else { &[0] };
             let mut seen = std::collections::HashSet::new();
             for &corner in corners {
-                let mut posed = bare.clone();
-                for (b, p) in posed.bodies.iter_mut().zip(self.poses_at_corner(c, corner)) {
-                    b.position = (p.0, p.1);
-                    b.angle = p.2;
-                }
-                for w in posed.start_warnings() {
+                for w in self.posed(&bare, c, corner).start_warnings() {
                     if !own.contains(&w) && seen.insert(w.clone()) {
                         out.push(format!("context `{}`: {w}", crate::text::echo(&c.name)));
                     }

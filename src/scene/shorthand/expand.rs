@@ -24,10 +24,7 @@ fn tidy(x: f64) -> f64 {
 }
 
 fn bad(list: &'static str, k: usize, field: &str, msg: String) -> Invalid {
-    Invalid {
-        within: Some((list, k)),
-        ..Invalid::at(field, None, &msg)
-    }
+    Invalid::new(field, msg).within(list, k)
 }
 
 /// Replaces the shorthands of `spec` (its `walls` and `chains`) by the
@@ -536,14 +533,7 @@ impl Wall<'_> {
             .map(|(from, to)| self.span_box(s, from, to))
             .collect();
         if let Some(stem) = &s.stem {
-            let one = here.len() == 1;
-            for (m, b) in here.iter_mut().enumerate() {
-                b.name = if one {
-                    stem.clone()
-                } else {
-                    format!("{stem}{}", m + 1)
-                };
-            }
+            name_after(&mut here, stem);
         }
         Ok(here)
     }
@@ -553,15 +543,11 @@ impl Wall<'_> {
     /// `j1`).
     fn span_box(&self, s: &Piece, (s0, j0): (f64, bool), (s1, j1): (f64, bool)) -> BodySpec {
         let (w, t) = (self.w, self.w.thickness);
-        let ext = match w.placement {
-            Placement::Outside => t,
-            Placement::Centred => t / 2.0,
-            Placement::Inside => 0.0,
-        };
-        let off = match w.placement {
-            Placement::Outside => t / 2.0,
-            Placement::Centred => 0.0,
-            Placement::Inside => -t / 2.0,
+        // how far a box reaches past a corner, and its centre off the line
+        let (ext, off) = match w.placement {
+            Placement::Outside => (t, t / 2.0),
+            Placement::Centred => (t / 2.0, 0.0),
+            Placement::Inside => (0.0, -t / 2.0),
         };
         let (e0, e1) = (if j0 { ext } else { 0.0 }, if j1 { ext } else { 0.0 });
         let len = s1 - s0 + e0 + e1;
@@ -570,35 +556,22 @@ impl Wall<'_> {
             tidy(s.a.0 + s.u.0 * mid + s.out.0 * off),
             tidy(s.a.1 + s.u.1 * mid + s.out.1 * off),
         );
-        let (shape, angle) = if s.u.1 == 0.0 {
-            (
-                ShapeSpec::Cuboid {
-                    width: tidy(len),
-                    height: tidy(t),
-                },
-                0.0,
-            )
+        // an axis-aligned piece: an axis-aligned box (a vertical one
+        // `width: thickness`); any other along the piece, at its angle
+        let ((width, height), angle) = if s.u.1 == 0.0 {
+            ((len, t), 0.0)
         } else if s.u.0 == 0.0 {
-            (
-                ShapeSpec::Cuboid {
-                    width: tidy(t),
-                    height: tidy(len),
-                },
-                0.0,
-            )
+            ((t, len), 0.0)
         } else {
-            (
-                ShapeSpec::Cuboid {
-                    width: tidy(len),
-                    height: tidy(t),
-                },
-                s.u.1.atan2(s.u.0),
-            )
+            ((len, t), s.u.1.atan2(s.u.0))
         };
         BodySpec {
             name: String::new(),
             kind: BodyKind::Fixed,
-            shape,
+            shape: ShapeSpec::Cuboid {
+                width: tidy(width),
+                height: tidy(height),
+            },
             mass: None,
             density: None,
             position,
@@ -632,16 +605,21 @@ impl Wall<'_> {
                 b.name = n.clone();
             }
         } else if w.room.is_none() {
-            let one = boxes.len() == 1;
-            for (m, b) in boxes.iter_mut().enumerate() {
-                b.name = if one {
-                    w.name.clone()
-                } else {
-                    format!("{}{}", w.name, m + 1)
-                };
-            }
+            name_after(boxes, &w.name);
         }
         Ok(())
+    }
+}
+
+/// Names `boxes` after `stem`: `stem` for one box, else `stem1`, `stem2`, ...
+fn name_after(boxes: &mut [BodySpec], stem: &str) {
+    let one = boxes.len() == 1;
+    for (m, b) in boxes.iter_mut().enumerate() {
+        b.name = if one {
+            stem.to_string()
+        } else {
+            format!("{stem}{}", m + 1)
+        };
     }
 }
 

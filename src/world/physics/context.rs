@@ -326,15 +326,11 @@ impl PhysicsWorld {
         from: &WorldState,
         command: &crate::Command,
     ) -> Result<(crate::Outcome, WorldState), WorldError> {
-        let snapshot = self.snapshot_of(from)?;
-        // the run restores `pristine` first: put the state's sets there
-        let saved = std::mem::replace(&mut self.pristine, Sets::clone(&snapshot));
-        let prefixes = std::mem::take(&mut self.prefixes);
-        let mut out = Vec::with_capacity(1);
-        self.run_copies(&[super::Cmd::Symbols(command)], &mut out, true, |_| {});
-        self.pristine = saved;
-        self.prefixes = prefixes;
-        let outcome = out.pop().expect("one result per command")?;
+        let outcome = self.from_start(from, |w| {
+            let mut out = Vec::with_capacity(1);
+            w.run_copies(&[super::Cmd::Symbols(command)], &mut out, true, |_| {});
+            out.pop().expect("one result per command")
+        })??;
         let end = self.state_of(Arc::new(self.sets.clone()), None);
         Ok((outcome, WorldState::Physics(end)))
     }

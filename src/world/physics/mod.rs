@@ -394,7 +394,7 @@ impl World for PhysicsWorld {
     }
 
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        self.run(command, true, |_| {})
+        self.run(Cmd::Symbols(command), true, |_| {})
     }
 
     fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {

@@ -2,7 +2,7 @@
 //! pose and velocity and every joint's angle step by step, and statistics
 //! for diagnostics.
 
-use super::{PhysicsWorld, Sets};
+use super::{Cmd, PhysicsWorld, Sets};
 use crate::command::Command;
 use crate::world::{Outcome, WorldError};
 
@@ -147,10 +147,19 @@ impl PhysicsWorld {
     /// With a [`Symmetry`](crate::scene::Symmetry), a command whose [`twin`](Self::twin) is
     /// simulated in its place gets the twin's trace, reflected.
     pub fn trace(&mut self, command: &Command) -> Result<Trace, WorldError> {
+        self.trace_of(Cmd::Symbols(command))
+    }
+
+    /// [`trace`](Self::trace) of a continuous command.
+    pub fn trace_values(&mut self, values: &[f64]) -> Result<Trace, WorldError> {
+        self.trace_of(Cmd::Values(values))
+    }
+
+    fn trace_of(&mut self, command: Cmd<'_>) -> Result<Trace, WorldError> {
         let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
         let outcome = self.run(command, false, |w| points.push(w.tracked_position()))?;
         let mut poses = self.terminal_poses();
-        if let (Some((sym, _)), Some(_)) = (&self.mirror, self.twin(command)) {
+        if let (Some((sym, _)), Some(_)) = (&self.mirror, self.twin_of(command)) {
             for p in &mut points[1..] {
                 *p = sym.reflect(*p);
             }
@@ -184,8 +193,17 @@ impl PhysicsWorld {
     /// assert!(m.frames[15].joint_angles[0] > 0.0); // joint 1 pushed by +t
     /// ```
     pub fn motion(&mut self, command: &Command) -> Result<Motion, WorldError> {
+        self.motion_of(Cmd::Symbols(command))
+    }
+
+    /// [`motion`](Self::motion) of a continuous command.
+    pub fn motion_values(&mut self, values: &[f64]) -> Result<Motion, WorldError> {
+        self.motion_of(Cmd::Values(values))
+    }
+
+    fn motion_of(&mut self, command: Cmd<'_>) -> Result<Motion, WorldError> {
         let mut frames = Vec::new();
-        let mut m = self.motion_each(command, &mut |_, f| frames.push(f))?;
+        let mut m = self.motion_each_of(command, &mut |_, f| frames.push(f))?;
         m.frames = frames;
         Ok(m)
     }
@@ -200,8 +218,16 @@ impl PhysicsWorld {
         command: &Command,
         each: &mut dyn FnMut(usize, Frame),
     ) -> Result<Motion, WorldError> {
+        self.motion_each_of(Cmd::Symbols(command), each)
+    }
+
+    fn motion_each_of(
+        &mut self,
+        command: Cmd<'_>,
+        each: &mut dyn FnMut(usize, Frame),
+    ) -> Result<Motion, WorldError> {
         let dt = self.dt;
-        let mirror = match (&self.mirror, self.twin(command)) {
+        let mirror = match (&self.mirror, self.twin_of(command)) {
             (Some((sym, _)), Some(_)) => Some(*sym),
             _ => None,
         };
@@ -267,7 +293,7 @@ impl PhysicsWorld {
     /// each step of `command` (for tests of energy conservation).
     pub fn kinetic_energy_trace(&mut self, command: &Command) -> Result<Vec<f64>, WorldError> {
         let mut e = Vec::new();
-        self.run(command, false, |w| {
+        self.run(Cmd::Symbols(command), false, |w| {
             e.push(
                 w.copies[0]
                     .dynamic
@@ -285,7 +311,7 @@ impl PhysicsWorld {
         let (mut max_speed, mut max_spin) = (0.0f64, 0.0f64);
         let (mut contact_steps, mut limit_steps) = (0u64, 0u64);
         let outcome =
-            self.run(command, false, |w| {
+            self.run(Cmd::Symbols(command), false, |w| {
                 let bodies = &w.sets.bodies;
                 for (h, _) in &w.copies[0].dynamic {
                     let b = &bodies[*h];
@@ -322,45 +348,8 @@ impl PhysicsWorld {
         })
     }
 
-    /// [`trace`](Self::trace) of a continuous command.
-    pub fn trace_values(&mut self, values: &[f64]) -> Result<Trace, WorldError> {
-        let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
-        let outcome = self.run_values(values, false, |w| points.push(w.tracked_position()))?;
-        Ok(Trace {
-            points,
-            poses: self.terminal_poses(),
-            outcome,
-        })
-    }
-
-    /// [`motion`](Self::motion) of a continuous command.
-    pub fn motion_values(&mut self, values: &[f64]) -> Result<Motion, WorldError> {
-        let dt = self.dt;
-        let mut frames = vec![self.frame_of(&self.pristine, 0.0)];
-        let outcome = self.run_values(values, false, |w| {
-            let t = frames.len() as f64 * dt;
-            frames.push(w.frame_of(&w.sets, t));
-        })?;
-        Ok(Motion {
-            bodies: self.body_names.clone(),
-            joints: self.joint_names.clone(),
-            frames,
-            outcome,
-        })
-    }
-
     /// The pose of every body of copy 0 now.
     pub(super) fn terminal_poses(&self) -> Vec<BodyPose> {
-        self.copies[0]
-            .handles
-            .iter()
-            .map(|&h| {
-                let p = self.sets.bodies[h].position();
-                BodyPose {
-                    position: [p.translation.x as f64, p.translation.y as f64],
-                    angle: p.rotation.angle() as f64,
-                }
-            })
-            .collect()
+        self.frame_of(&self.sets, 0.0).poses
     }
 }

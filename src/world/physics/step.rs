@@ -14,41 +14,14 @@ impl ValueAct {
     fn at(self, v: f64) -> Act {
         let k = v as Real;
         match self {
-            ValueAct::Scaled(act) => match act {
-                Act::Idle => Act::Idle,
-                Act::Torque {
-                    child,
-                    parent,
-                    torque,
-                } => Act::Torque {
-                    child,
-                    parent,
-                    torque: torque * k,
-                },
-                Act::Impulse { body, impulse } => Act::Impulse {
-                    body,
-                    impulse: impulse * k,
-                },
-                Act::Force { body, force } => Act::Force {
-                    body,
-                    force: force * k,
-                },
-                Act::Target {
-                    child,
-                    impulse,
-                    axis,
-                    angle,
-                    stiffness,
-                    damping,
-                } => Act::Target {
-                    child,
-                    impulse,
-                    axis,
-                    angle: angle * k,
-                    stiffness,
-                    damping,
-                },
-            },
+            ValueAct::Scaled(mut act) => {
+                match &mut act {
+                    Act::Idle => {}
+                    Act::Torque { torque: x, .. } | Act::Target { angle: x, .. } => *x *= k,
+                    Act::Impulse { impulse: x, .. } | Act::Force { force: x, .. } => *x *= k,
+                }
+                act
+            }
             ValueAct::Heading { body, impulse } => Act::Impulse {
                 body,
                 impulse: v2((impulse * v.cos(), impulse * v.sin())),
@@ -606,6 +579,15 @@ impl PhysicsWorld {
         }
     }
 
+    /// The mirror image of `command` simulated in its place, if any (see
+    /// [`twin`](Self::twin)); never for values.
+    pub(super) fn twin_of(&self, command: Cmd<'_>) -> Option<Command> {
+        match command {
+            Cmd::Symbols(c) => self.twin(c),
+            Cmd::Values(_) => None,
+        }
+    }
+
     /// Runs `command` on copy 0 from the pristine state, calling
     /// `each_step` after every step simulated (`fast`: the path of
     /// `execute`, see [`run_copies`](Self::run_copies)); returns the outcome.
@@ -614,32 +596,19 @@ impl PhysicsWorld {
     /// gets the reflected outcome (`each_step` sees the twin's steps).
     pub(super) fn run(
         &mut self,
-        command: &Command,
+        command: Cmd<'_>,
         fast: bool,
         each_step: impl FnMut(&Self),
     ) -> Result<Outcome, WorldError> {
         let mut out = Vec::with_capacity(1);
-        let twin = self.twin(command);
-        let run = Cmd::Symbols(twin.as_ref().unwrap_or(command));
+        let twin = self.twin_of(command);
+        let run = twin.as_ref().map_or(command, Cmd::Symbols);
         self.run_copies(&[run], &mut out, fast, each_step);
         let result = out.pop().expect("one result per command");
-        match twin {
-            None => result,
-            Some(t) => self.mirrored_result(command, &t, result),
+        match (twin, command) {
+            (Some(t), Cmd::Symbols(c)) => self.mirrored_result(c, &t, result),
+            _ => result,
         }
-    }
-
-    /// Runs the values of a continuous command on copy 0 from the pristine
-    /// state, calling `each_step` after every step.
-    pub(super) fn run_values(
-        &mut self,
-        values: &[f64],
-        fast: bool,
-        each_step: impl FnMut(&Self),
-    ) -> Result<Outcome, WorldError> {
-        let mut out = Vec::with_capacity(1);
-        self.run_copies(&[Cmd::Values(values)], &mut out, fast, each_step);
-        out.pop().expect("one result per command")
     }
 
     /// Executes a continuous command open loop from the start state: slot
@@ -660,7 +629,7 @@ impl PhysicsWorld {
     /// assert!(world.execute_values(&[2.0; 7]).is_err()); // 2 > 1.8 on slot 0
     /// ```
     pub fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
-        self.run_values(values, true, |_| {})
+        self.run(Cmd::Values(values), true, |_| {})
     }
 
     /// Executes continuous commands (any number), up to

@@ -184,35 +184,17 @@ impl ContextTables {
             .map(|k| seed0_start(&probe, k))
             .collect::<Result<_, _>>()?;
         drop(probe);
-        let chunk = 64u64;
         let tables = starts
             .iter()
             .map(|from| {
-                let chunks: Vec<Vec<Outcome>> = (0..n.div_ceil(chunk))
-                    .into_par_iter()
-                    .map_init(
-                        || (scene.build(), space.first()),
-                        |(world, c), k| {
-                            control.check()?;
-                            let range = k * chunk..((k + 1) * chunk).min(n);
-                            let done = range.end - range.start;
-                            let out = range
-                                .map(|i| {
-                                    space.write_command_at(i, c);
-                                    world.execute_outcome_from(from, c)
-                                })
-                                .collect::<Result<Vec<_>, _>>();
-                            (control.progress)(done);
-                            out
-                        },
-                    )
-                    .collect::<Result<_, _>>()?;
-                Ok(OutcomeTable {
-                    places: places(&space),
-                    space: space.clone(),
-                    num_effects: scene.num_effects(),
-                    outcomes: chunks.into_iter().flatten().collect(),
-                })
+                let run =
+                    |w: &mut Box<dyn Episodic + Send>, c: &Command| w.execute_outcome_from(from, c);
+                let outcomes = run_chunks(&space, n, || scene.build(), run, control)?;
+                Ok(OutcomeTable::new(
+                    space.clone(),
+                    scene.num_effects(),
+                    outcomes,
+                ))
             })
             .collect::<Result<Vec<_>, WorldError>>()?;
         Ok(ContextTables {

@@ -90,11 +90,7 @@ impl OutcomeTable {
 
     /// [`write_file`](Self::write_file) with the key `key` in its header.
     pub(super) fn write_file_keyed(&self, path: &Path, key: u64) -> io::Result<()> {
-        refuse_non_regular(path)?;
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)?;
-        }
-        crate::io::write_atomic(path, &self.to_bytes(key))
+        write_table(path, &self.to_bytes(key))
     }
 
     /// Writes `entries` (command index and outcome, in increasing index
@@ -105,21 +101,8 @@ impl OutcomeTable {
         let n = scene.command_space().num_commands().ok_or_else(|| {
             io::Error::new(io::ErrorKind::InvalidInput, "more than 2^64 commands")
         })?;
-        let full = entries.len() as u64 == n;
-        let mut b = header(Self::key(scene), n, entries.len() as u64);
-        b.reserve(entries.len() * (RECORD + if full { 0 } else { 8 }) + 8);
-        for (i, o) in entries {
-            if !full {
-                b.extend_from_slice(&i.to_le_bytes());
-            }
-            push_record(&mut b, o);
-        }
-        seal(&mut b);
-        refuse_non_regular(path)?;
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)?;
-        }
-        crate::io::write_atomic(path, &b)
+        let entries = entries.iter().map(|(i, o)| (*i, o));
+        write_table(path, &encode(Self::key(scene), n, entries))
     }
 
     /// The table as the bytes of a whole table file: magic `E3DTAB02`,
@@ -129,14 +112,8 @@ impl OutcomeTable {
     /// ([`write_partial`](Self::write_partial)) has fewer entries, each
     /// preceded by its command index (u64).
     pub fn to_bytes(&self, key: u64) -> Vec<u8> {
-        let n = self.outcomes.len() as u64;
-        let mut b = header(key, n, n);
-        b.reserve(self.outcomes.len() * RECORD + 8);
-        for o in &self.outcomes {
-            push_record(&mut b, o);
-        }
-        seal(&mut b);
-        b
+        let entries = self.outcomes.iter().enumerate();
+        encode(key, self.len() as u64, entries.map(|(i, o)| (i as u64, o)))
     }
 
     /// Reads the whole table written for `scene` at `path`; refuses a
@@ -204,12 +181,11 @@ impl OutcomeTable {
             let outcomes = (0..n as usize)
                 .map(|k| r.record(HEADER + k * RECORD))
                 .collect::<io::Result<Vec<_>>>()?;
-            return Ok(CachedOutcomes::Full(OutcomeTable {
-                places: places(&space),
+            return Ok(CachedOutcomes::Full(OutcomeTable::new(
                 space,
-                num_effects: r.num_effects,
+                r.num_effects,
                 outcomes,
-            }));
+            )));
         }
         let mut out = Vec::with_capacity(entries as usize);
         for k in 0..entries as usize {
@@ -224,26 +200,44 @@ impl OutcomeTable {
     }
 }
 
-fn header(key: u64, commands: u64, entries: u64) -> Vec<u8> {
-    let mut b = Vec::with_capacity(HEADER);
+/// The bytes of a table file of `commands` commands holding `entries`
+/// (command index and outcome, in index order): the header, each record
+/// (preceded by its index unless the file is whole), the checksum of
+/// everything before it.
+fn encode<'a>(
+    key: u64,
+    commands: u64,
+    entries: impl ExactSizeIterator<Item = (u64, &'a Outcome)>,
+) -> Vec<u8> {
+    let len = entries.len();
+    let full = len as u64 == commands;
+    let mut b = Vec::with_capacity(HEADER + len * (RECORD + if full { 0 } else { 8 }) + 8);
     b.extend_from_slice(MAGIC);
-    for v in [key, commands, entries] {
+    for v in [key, commands, len as u64] {
         b.extend_from_slice(&v.to_le_bytes());
     }
+    for (i, o) in entries {
+        if !full {
+            b.extend_from_slice(&i.to_le_bytes());
+        }
+        b.extend_from_slice(&(o.effect as u32).to_le_bytes());
+        for v in [o.reward, o.point[0], o.point[1]] {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    let sum = crate::hash::fnv1a64(&b);
+    b.extend_from_slice(&sum.to_le_bytes());
     b
 }
 
-fn push_record(b: &mut Vec<u8>, o: &Outcome) {
-    b.extend_from_slice(&(o.effect as u32).to_le_bytes());
-    for v in [o.reward, o.point[0], o.point[1]] {
-        b.extend_from_slice(&v.to_le_bytes());
+/// Writes the bytes of a table file at `path` (whole or not at all),
+/// creating its folder.
+fn write_table(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    refuse_non_regular(path)?;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
     }
-}
-
-/// Appends the checksum of everything before it.
-fn seal(b: &mut Vec<u8>) {
-    let sum = crate::hash::fnv1a64(b);
-    b.extend_from_slice(&sum.to_le_bytes());
+    crate::io::write_atomic(path, bytes)
 }
 
 /// `name` with every character but ASCII letters, digits, `_` and `-`

@@ -132,23 +132,67 @@ fn places(space: &CommandSpace) -> Places {
     Places { each, sizes, short }
 }
 
+/// The outcomes of the `n` first commands of `space`, in index order,
+/// computed in parallel (rayon) in chunks of 64, each worker running
+/// `run` on its own world made by `make`; `control` is told of each chunk
+/// done and asked before each whether to stop.
+fn run_chunks<W, M, R>(
+    space: &CommandSpace,
+    n: u64,
+    make: M,
+    run: R,
+    control: &Control<'_>,
+) -> Result<Vec<Outcome>, WorldError>
+where
+    M: Fn() -> W + Sync,
+    R: Fn(&mut W, &Command) -> Result<Outcome, WorldError> + Sync,
+{
+    let chunk = 64u64;
+    let chunks: Vec<Vec<Outcome>> = (0..n.div_ceil(chunk))
+        .into_par_iter()
+        .map_init(
+            || (make(), space.first()),
+            |(world, c), k| {
+                control.check()?;
+                let range = k * chunk..((k + 1) * chunk).min(n);
+                let done = range.end - range.start;
+                let outcomes = range
+                    .map(|i| {
+                        space.write_command_at(i, c);
+                        run(world, c)
+                    })
+                    .collect::<Result<Vec<_>, _>>();
+                (control.progress)(done);
+                outcomes
+            },
+        )
+        .collect::<Result<_, _>>()?;
+    Ok(chunks.into_iter().flatten().collect())
+}
+
 impl OutcomeTable {
+    /// The table of `outcomes`, one per command of `space` in index order.
+    fn new(space: CommandSpace, num_effects: usize, outcomes: Vec<Outcome>) -> OutcomeTable {
+        OutcomeTable {
+            places: places(&space),
+            space,
+            num_effects,
+            outcomes,
+        }
+    }
+
     /// Executes every command of `world` in index order.
     pub fn build(world: &mut dyn World) -> Result<OutcomeTable, WorldError> {
         let space = world.command_space().clone();
         let n = Self::check_size(&space)?;
-        let mut outcomes = Vec::with_capacity(n as usize);
         let mut c = space.first();
-        for i in 0..n {
-            space.write_command_at(i, &mut c);
-            outcomes.push(world.execute(&c)?);
-        }
-        Ok(OutcomeTable {
-            num_effects: world.num_effects(),
-            places: places(&space),
-            space,
-            outcomes,
-        })
+        let outcomes = (0..n)
+            .map(|i| {
+                space.write_command_at(i, &mut c);
+                world.execute(&c)
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(Self::new(space, world.num_effects(), outcomes))
     }
 
     /// Executes every command in parallel (rayon), one world per worker made
@@ -176,32 +220,8 @@ impl OutcomeTable {
         let num_effects = probe.num_effects();
         drop(probe);
         let n = Self::check_size(&space)?;
-        let chunk = 64u64;
-        let chunks: Vec<Vec<Outcome>> = (0..n.div_ceil(chunk))
-            .into_par_iter()
-            .map_init(
-                || (make_world(), space.first()),
-                |(world, c), k| {
-                    control.check()?;
-                    let range = k * chunk..((k + 1) * chunk).min(n);
-                    let done = range.end - range.start;
-                    let outcomes = range
-                        .map(|i| {
-                            space.write_command_at(i, c);
-                            world.execute(c)
-                        })
-                        .collect::<Result<Vec<_>, _>>();
-                    (control.progress)(done);
-                    outcomes
-                },
-            )
-            .collect::<Result<_, _>>()?;
-        Ok(OutcomeTable {
-            places: places(&space),
-            space,
-            num_effects,
-            outcomes: chunks.into_iter().flatten().collect(),
-        })
+        let outcomes = run_chunks(&space, n, make_world, |w, c| w.execute(c), control)?;
+        Ok(Self::new(space, num_effects, outcomes))
     }
 
     /// The table of a scene, computed in parallel (rayon): for a physics
@@ -230,37 +250,11 @@ impl OutcomeTable {
         control: &Control<'_>,
     ) -> Result<OutcomeTable, WorldError> {
         match &scene.spec().world {
-            WorldSpec::Physics(p) if p.symmetry.is_some() => {
+            WorldSpec::Physics(p) if p.symmetry.is_some() || p.copies_are_exact() => {
                 Self::complete_physics(scene, p, &[], control)
-            }
-            WorldSpec::Physics(p) if p.copies_are_exact() => {
-                Self::build_batched(scene, p, TABLE_COPIES, control)
             }
             _ => Self::build_parallel_with(|| scene.build(), control),
         }
-    }
-
-    /// The table of a physics scene, computed in parallel with `copies`
-    /// commands at once per Rapier world (see
-    /// [`PhysicsWorld::execute_batch`]), telling `control` of the
-    /// commands of each batch done. Identical to [`build`](Self::build)'s
-    /// when the scene's copies are exact.
-    fn build_batched(
-        scene: &Scene,
-        spec: &PhysicsSpec,
-        copies: usize,
-        control: &Control<'_>,
-    ) -> Result<OutcomeTable, WorldError> {
-        let space = scene.command_space();
-        let n = Self::check_size(&space)?;
-        let all: Vec<u64> = (0..n).collect();
-        let outcomes = Self::execute_indices(scene, spec, copies, &all, control)?;
-        Ok(OutcomeTable {
-            places: places(&space),
-            num_effects: scene.num_effects(),
-            space,
-            outcomes,
-        })
     }
 
     /// The table of `scene` from the outcomes `known` (command index and
@@ -327,15 +321,8 @@ impl OutcomeTable {
                 outcomes[i as usize] = Some(probe.reflect_outcome(o));
             }
         }
-        Ok(OutcomeTable {
-            places: places(&space),
-            num_effects: scene.num_effects(),
-            space,
-            outcomes: outcomes
-                .into_iter()
-                .map(|o| o.expect("every command"))
-                .collect(),
-        })
+        let outcomes = outcomes.into_iter().map(|o| o.expect("every command"));
+        Ok(Self::new(space, scene.num_effects(), outcomes.collect()))
     }
 
     /// How many commands [`build_scene`](Self::build_scene) simulates for
@@ -468,21 +455,6 @@ impl OutcomeTable {
     }
 }
 
-impl World for OutcomeTable {
-    fn command_space(&self) -> &CommandSpace {
-        &self.space
-    }
-
-    fn num_effects(&self) -> usize {
-        self.num_effects
-    }
-
-    #[inline]
-    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        self.lookup(command).copied()
-    }
-}
-
 impl OutcomeTable {
     /// The outcome of `command`, without `&mut`; a command that does not
     /// fit the table's space is a [`WorldError::BadCommand`], as in every
@@ -516,21 +488,28 @@ fn bad_command(space: &CommandSpace, command: &Command) -> WorldError {
     }
 }
 
-/// A shared table is a world too (many sessions, one table).
-impl World for &OutcomeTable {
-    fn command_space(&self) -> &CommandSpace {
-        &self.space
-    }
+/// A table is a world, and so is a shared one (many sessions, one
+/// table): a look-up per command.
+macro_rules! table_world {
+    ($($t:ty),*) => {$(
+        impl World for $t {
+            fn command_space(&self) -> &CommandSpace {
+                &self.space
+            }
 
-    fn num_effects(&self) -> usize {
-        self.num_effects
-    }
+            fn num_effects(&self) -> usize {
+                self.num_effects
+            }
 
-    #[inline]
-    fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        self.lookup(command).copied()
-    }
+            #[inline]
+            fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
+                self.lookup(command).copied()
+            }
+        }
+    )*};
 }
+
+table_world!(OutcomeTable, &OutcomeTable);
 
 #[cfg(test)]
 mod tests {

@@ -43,9 +43,8 @@ impl PhysicsSpec {
             return Ok(());
         };
         if self.symmetry.is_some() {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "symmetry",
-                None,
                 "no symmetry with continuous slots (a symmetry maps symbols; continuous commands are not memoised)",
             ));
         }
@@ -64,19 +63,12 @@ impl PhysicsSpec {
                 // what is wrong with the action itself (a name, a
                 // motor) is placed there; a number out of bounds at an
                 // end of the range, at the range
-                let bad_at = |field: &str, what: String| match field {
-                    "action" => Invalid {
-                        nth: i,
-                        ..Invalid::at("action", None, &format!("slot {i}{name}: {what}"))
-                    },
-                    _ => Invalid {
-                        nth: i,
-                        ..Invalid::at(
-                            "range",
-                            None,
-                            &format!("slot {i}{name} at {}: {what}", show(v)),
-                        )
-                    },
+                let bad_at = |field: &str, what: String| {
+                    let (field, at) = match field {
+                        "action" => ("action", String::new()),
+                        _ => ("range", format!(" at {}", show(v))),
+                    };
+                    Invalid::new(field, format!("slot {i}{name}{at}: {what}")).nth(i)
                 };
                 self.check_action(&slot.action.at(v), position, &bad_at)?;
             }

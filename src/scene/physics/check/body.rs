@@ -12,7 +12,7 @@ impl PhysicsSpec {
     pub(super) fn validate_body(&self, b: &BodySpec, duplicate: bool) -> Result<(), Invalid> {
         let at = quoted(&b.name);
         if b.name.trim().is_empty() {
-            return Err(Invalid::at("name", None, "a non-empty body name"));
+            return Err(Invalid::new("name", "a non-empty body name"));
         }
         crate::text::check_name(&b.name)
             .map_err(|e| Invalid::at("name", Some(&at), &format!("body: {e}")))?;
@@ -24,19 +24,17 @@ impl PhysicsSpec {
             ));
         }
         if duplicate {
-            return Err(Invalid {
-                nth: 1,
-                ..Invalid::at(
-                    "name",
-                    Some(&at),
-                    &format!("distinct body names, but `{}` is used twice", b.name),
-                )
-            });
+            let twice = format!("distinct body names, but `{}` is used twice", b.name);
+            return Err(Invalid::at("name", Some(&at), &twice).nth(1));
         }
         let who = format!("body `{}`", b.name);
-        self.check_shape(b, &at, &who)?;
-        self.check_mass(b, &at, &who)?;
-        self.check_pose_and_material(b, &at, &who)
+        let on = On {
+            anchor: Some(&at),
+            who: &who,
+        };
+        check_shape(b, on)?;
+        check_mass(b, on)?;
+        check_pose_and_material(b, on)
     }
 
     /// Refuses a body field that would do nothing on this kind of body
@@ -81,226 +79,129 @@ impl PhysicsSpec {
         }
         Ok(())
     }
+}
 
-    /// A body's shape: finite, sizes > 0 within [`MIN_SIZE`] and
-    /// [`MAX_LENGTH`], coordinates within [`MAX_LENGTH`].
-    fn check_shape(&self, b: &BodySpec, at: &str, who: &str) -> Result<(), Invalid> {
-        if !b.shape.numbers().iter().all(|v| v.is_finite()) {
-            return Err(Invalid::at(
+/// A body's shape: finite, sizes > 0 within [`MIN_SIZE`] and
+/// [`MAX_LENGTH`], coordinates within [`MAX_LENGTH`].
+fn check_shape(b: &BodySpec, on: On) -> Result<(), Invalid> {
+    if !b.shape.numbers().iter().all(|v| v.is_finite()) {
+        return Err(on.bad("shape", "finite numbers in its shape"));
+    }
+    let found = |field, what: String| Err(on.bad(field, what));
+    match &b.shape {
+        ShapeSpec::Ball { radius } | ShapeSpec::Capsule { radius, .. } if *radius <= 0.0 => {
+            return found("radius", format!("a radius > 0, found {radius}"));
+        }
+        ShapeSpec::Cuboid { width, height } if *width <= 0.0 || *height <= 0.0 => {
+            return found(
                 "shape",
-                Some(at),
-                &format!("{who}: finite numbers in its shape"),
-            ));
+                format!("a width and height > 0, found {width} x {height}"),
+            );
         }
-        match &b.shape {
-            ShapeSpec::Ball { radius } | ShapeSpec::Capsule { radius, .. } if *radius <= 0.0 => {
-                return Err(Invalid::at(
-                    "radius",
-                    Some(at),
-                    &format!("{who}: a radius > 0, found {radius}"),
-                ))
-            }
-            ShapeSpec::Cuboid { width, height } if *width <= 0.0 || *height <= 0.0 => {
-                return Err(Invalid::at(
-                    "shape",
-                    Some(at),
-                    &format!("{who}: a width and height > 0, found {width} x {height}"),
-                ))
-            }
-            ShapeSpec::Segment { a, b: e } if a == e => {
-                return Err(Invalid::at(
-                    "shape",
-                    Some(at),
-                    &format!("{who}: a segment of two distinct points"),
-                ))
-            }
-            ShapeSpec::Polyline { points } if points.len() < 2 => {
-                return Err(Invalid::at(
-                    "points",
-                    Some(at),
-                    &format!("{who}: at least two points"),
-                ))
-            }
-            ShapeSpec::Polyline { points } if points.len() > MAX_POINTS => {
-                return Err(Invalid::at(
-                    "points",
-                    Some(at),
-                    &format!("{who}: at most {MAX_POINTS} points, found {}", points.len()),
-                ))
-            }
-            _ => {}
+        ShapeSpec::Segment { a, b: e } if a == e => {
+            return found("shape", "a segment of two distinct points".into());
         }
-        // what f32 can hold: sizes, then every coordinate
-        let sizes: Vec<(&str, f64)> = match &b.shape {
-            ShapeSpec::Ball { radius } | ShapeSpec::Capsule { radius, .. } => {
-                vec![("radius", *radius)]
-            }
-            ShapeSpec::Cuboid { width, height } => vec![("width", *width), ("height", *height)],
-            _ => Vec::new(),
-        };
-        for (f, v) in sizes {
-            number(f, Some(at), who, f, v, (MIN_SIZE, MAX_LENGTH), false, "m")?;
+        ShapeSpec::Polyline { points } if points.len() < 2 => {
+            return found("points", "at least two points".into());
         }
-        for v in b.shape.numbers() {
-            number(
-                "shape",
-                Some(at),
-                who,
-                "coordinates",
-                v,
-                (0.0, MAX_LENGTH),
-                true,
-                "m",
-            )?;
+        ShapeSpec::Polyline { points } if points.len() > MAX_POINTS => {
+            let n = points.len();
+            return found("points", format!("at most {MAX_POINTS} points, found {n}"));
         }
-        Ok(())
+        _ => {}
     }
+    // what f32 can hold: sizes, then every coordinate
+    let sizes: Vec<(&str, f64)> = match &b.shape {
+        ShapeSpec::Ball { radius } | ShapeSpec::Capsule { radius, .. } => {
+            vec![("radius", *radius)]
+        }
+        ShapeSpec::Cuboid { width, height } => vec![("width", *width), ("height", *height)],
+        _ => Vec::new(),
+    };
+    for (f, v) in sizes {
+        on.number(f, f, v, Bound::range(MIN_SIZE, MAX_LENGTH, "m"))?;
+    }
+    for v in b.shape.numbers() {
+        on.number("shape", "coordinates", v, COORDINATES)?;
+    }
+    Ok(())
+}
 
-    /// A body's `mass` or `density`: one of them, > 0, within bounds; a
-    /// dynamic body's mass from either, and an area if it rotates.
-    fn check_mass(&self, b: &BodySpec, at: &str, who: &str) -> Result<(), Invalid> {
-        if b.mass.is_some() && b.density.is_some() {
-            return Err(Invalid::at(
-                "mass",
-                Some(at),
-                &format!("{who}: `mass` or `density`, not both"),
-            ));
-        }
-        if let Some(m) = b.mass {
-            if !(m.is_finite() && m > 0.0) {
-                return Err(Invalid::at(
-                    "mass",
-                    Some(at),
-                    &format!("{who}: a mass > 0 in kg, found {m}"),
-                ));
-            }
-        }
-        if let Some(d) = b.density {
-            if !(d.is_finite() && d > 0.0) {
-                return Err(Invalid::at(
-                    "density",
-                    Some(at),
-                    &format!("{who}: a density > 0 in kg/m², found {d}"),
-                ));
-            }
-            number(
-                "density",
-                Some(at),
-                who,
-                "a density",
-                d,
-                (MIN_DENSITY, MAX_DENSITY),
-                false,
-                "kg/m²",
-            )?;
-        }
-        if let Some(m) = b.mass {
-            number(
-                "mass",
-                Some(at),
-                who,
-                "a mass",
-                m,
-                (MIN_MASS, MAX_MASS),
-                false,
-                "kg",
-            )?;
-        }
-        if b.kind == BodyKind::Dynamic {
-            check_dynamic_mass(b, at, who)?;
-        }
-        Ok(())
+/// A body's `mass` or `density`: one of them, > 0, within bounds; a
+/// dynamic body's mass from either, and an area if it rotates.
+fn check_mass(b: &BodySpec, on: On) -> Result<(), Invalid> {
+    if b.mass.is_some() && b.density.is_some() {
+        return Err(on.bad("mass", "`mass` or `density`, not both"));
     }
+    if let Some(m) = b.mass.filter(|m| !(m.is_finite() && *m > 0.0)) {
+        return Err(on.bad("mass", format!("a mass > 0 in kg, found {m}")));
+    }
+    if let Some(d) = b.density {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(on.bad("density", format!("a density > 0 in kg/m², found {d}")));
+        }
+        let bound = Bound::range(MIN_DENSITY, MAX_DENSITY, "kg/m²");
+        on.number("density", "a density", d, bound)?;
+    }
+    if let Some(m) = b.mass {
+        on.number("mass", "a mass", m, Bound::range(MIN_MASS, MAX_MASS, "kg"))?;
+    }
+    if b.kind == BodyKind::Dynamic {
+        check_dynamic_mass(b, on)?;
+    }
+    Ok(())
+}
 
-    /// A body's start pose, dampings, friction and restitution.
-    fn check_pose_and_material(&self, b: &BodySpec, at: &str, who: &str) -> Result<(), Invalid> {
-        if !finite2(b.position) || !b.angle.is_finite() {
-            return Err(Invalid::at(
-                "position",
-                Some(at),
-                &format!("{who}: a finite start pose"),
-            ));
-        }
-        for v in [b.position.0, b.position.1] {
-            number(
-                "position",
-                Some(at),
-                who,
-                "coordinates",
-                v,
-                (0.0, MAX_LENGTH),
-                true,
-                "m",
-            )?;
-        }
-        number(
-            "angle",
-            Some(at),
-            who,
-            "an angle",
-            b.angle,
-            (0.0, MAX_ANGLE),
-            true,
-            "rad",
-        )?;
-        for (f, v, hi) in [
-            ("linear_damping", b.linear_damping, MAX_COEFFICIENT),
-            ("angular_damping", b.angular_damping, MAX_COEFFICIENT),
-            ("friction", b.friction, MAX_FRICTION),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(Invalid::at(
-                    f,
-                    Some(at),
-                    &format!("{who}: a finite number >= 0, found {v}"),
-                ));
-            }
-            number(f, Some(at), who, "a number", v, (0.0, hi), false, "")?;
-        }
-        if !(in_range(b.restitution, 0.0, 1.0, false)) {
-            return Err(Invalid::at(
-                "restitution",
-                Some(at),
-                &format!("{who}: a restitution in [0, 1], found {}", b.restitution),
-            ));
-        }
-        Ok(())
+/// A body's start pose, dampings, friction and restitution.
+fn check_pose_and_material(b: &BodySpec, on: On) -> Result<(), Invalid> {
+    if !finite2(b.position) || !b.angle.is_finite() {
+        return Err(on.bad("position", "a finite start pose"));
     }
+    for v in [b.position.0, b.position.1] {
+        on.number("position", "coordinates", v, COORDINATES)?;
+    }
+    let angles = Bound::magnitude(MAX_ANGLE, "rad");
+    on.number("angle", "an angle", b.angle, angles)?;
+    for (f, v, hi) in [
+        ("linear_damping", b.linear_damping, MAX_COEFFICIENT),
+        ("angular_damping", b.angular_damping, MAX_COEFFICIENT),
+        ("friction", b.friction, MAX_FRICTION),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(on.bad(f, format!("a finite number >= 0, found {v}")));
+        }
+        on.number(f, "a number", v, Bound::range(0.0, hi, ""))?;
+    }
+    if !(in_range(b.restitution, 0.0, 1.0, false)) {
+        let r = b.restitution;
+        return Err(on.bad("restitution", format!("a restitution in [0, 1], found {r}")));
+    }
+    Ok(())
 }
 
 /// A dynamic body's mass (its own, or density x area): > 0, within
 /// bounds, and a shape with an area unless it does not rotate.
-fn check_dynamic_mass(b: &BodySpec, at: &str, who: &str) -> Result<(), Invalid> {
+fn check_dynamic_mass(b: &BodySpec, on: On) -> Result<(), Invalid> {
     if b.shape.area() <= 0.0 && b.mass.is_none() {
-        return Err(Invalid::at(
+        return Err(on.bad(
             "mass",
-            Some(at),
-            &format!("{who}: a `mass` (a dynamic segment or polyline has no area, so no mass from its density)"),
+            "a `mass` (a dynamic segment or polyline has no area, so no mass from its density)",
         ));
     }
     if b.mass_kg().is_nan() || b.mass_kg() <= 0.0 {
-        return Err(Invalid::at("mass", Some(at), &format!("{who}: a mass > 0")));
+        return Err(on.bad("mass", "a mass > 0"));
     }
     let field = if b.density.is_some() {
         "density"
     } else {
         "shape"
     };
-    number(
-        field,
-        Some(at),
-        who,
-        "a mass (density x area)",
-        b.mass_kg(),
-        (MIN_MASS, MAX_MASS),
-        false,
-        "kg",
-    )?;
+    let masses = Bound::range(MIN_MASS, MAX_MASS, "kg");
+    on.number(field, "a mass (density x area)", b.mass_kg(), masses)?;
     if b.shape.area() <= 0.0 && !b.lock_rotation {
-        return Err(Invalid::at(
+        return Err(on.bad(
             "shape",
-            Some(at),
-            &format!("{who}: a shape with an area (Ball, Cuboid, Capsule) for a dynamic body that rotates"),
+            "a shape with an area (Ball, Cuboid, Capsule) for a dynamic body that rotates",
         ));
     }
     Ok(())

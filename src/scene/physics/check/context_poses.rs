@@ -95,6 +95,18 @@ impl PhysicsSpec {
         poses
     }
 
+    /// `bare` (this scene without its contexts) with its bodies where
+    /// context `c` puts them at `corner` (see
+    /// [`poses_at_corner`](Self::poses_at_corner)).
+    pub(crate) fn posed(&self, bare: &PhysicsSpec, c: &StartState, corner: u64) -> PhysicsSpec {
+        let mut posed = bare.clone();
+        for (b, p) in posed.bodies.iter_mut().zip(self.poses_at_corner(c, corner)) {
+            b.position = (p.0, p.1);
+            b.angle = p.2;
+        }
+        posed
+    }
+
     /// Turns (or slides) joint `j` by `q` in `poses`: its child and every
     /// body beyond it rotate about the joint's anchor (a hinge) or move
     /// along its axis (a slider).
@@ -184,12 +196,7 @@ impl PhysicsSpec {
                 vec![0, u64::MAX]
             };
             for corner in corners {
-                let mut posed = bare.clone();
-                for (b, p) in posed.bodies.iter_mut().zip(self.poses_at_corner(c, corner)) {
-                    b.position = (p.0, p.1);
-                    b.angle = p.2;
-                }
-                let Some((i, j, depth)) = first_overlap(&posed) else {
+                let Some((i, j, depth)) = first_overlap(&self.posed(&bare, c, corner)) else {
                     continue;
                 };
                 let where_ = if ranged == 0 {
@@ -202,21 +209,18 @@ impl PhysicsSpec {
                 } else {
                     "joints"
                 };
-                return Err(Invalid {
-                    within: Some(("contexts", k)),
-                    ..Invalid::at(
-                        field,
-                        None,
-                        &format!(
-                            "context `{}`: a start where no two bodies overlap, but `{}` and `{}` overlap by {:.4} m there{where_} (at most {} m, touching, is allowed)",
-                            crate::text::echo(&c.name),
-                            self.bodies[i].name,
-                            self.bodies[j].name,
-                            depth,
-                            OVERLAP_TOLERANCE
-                        ),
-                    )
-                });
+                return Err(Invalid::new(
+                    field,
+                    format!(
+                        "context `{}`: a start where no two bodies overlap, but `{}` and `{}` overlap by {:.4} m there{where_} (at most {} m, touching, is allowed)",
+                        crate::text::echo(&c.name),
+                        self.bodies[i].name,
+                        self.bodies[j].name,
+                        depth,
+                        OVERLAP_TOLERANCE
+                    ),
+                )
+                .within("contexts", k));
             }
         }
         Ok(())

@@ -40,9 +40,8 @@ impl PhysicsSpec {
         let mut names = HashSet::with_capacity(self.contexts.len());
         for (k, c) in self.contexts.iter().enumerate() {
             let shown = crate::text::echo(&c.name);
-            let here = |field: &str, expected: String| Invalid {
-                within: Some(("contexts", k)),
-                ..Invalid::at(field, None, &format!("context `{shown}`: {expected}"))
+            let here = |field: &str, expected: String| {
+                Invalid::new(field, format!("context `{shown}`: {expected}")).within("contexts", k)
             };
             if c.name.trim().is_empty() || !names.insert(c.name.as_str()) {
                 return Err(here(
@@ -102,11 +101,7 @@ impl PhysicsSpec {
                 format!(
                     "a joint of the scene, found `{}` (joints: {})",
                     crate::text::echo(&s.joint),
-                    if names.is_empty() {
-                        "none".into()
-                    } else {
-                        names.join(", ")
-                    }
+                    super::listed(&names)
                 ),
             ));
         };

@@ -1,7 +1,7 @@
 //! The checks of the joints: names, the bodies they join (trees), their
 //! numbers, and their anchors meeting at the start pose.
 
-use super::{finite2, quoted};
+use super::{finite2, listed, quoted};
 use crate::scene::physics::limits::*;
 use crate::scene::physics::{to_world, BodyKind, JointKind, JointSpec, PhysicsSpec, GROUND};
 use crate::scene::Invalid;
@@ -19,25 +19,24 @@ impl PhysicsSpec {
         for (i, j) in self.joints.iter().enumerate() {
             let at = quoted(&j.name);
             if j.name.trim().is_empty() {
-                return Err(Invalid::at("name", None, "a non-empty joint name"));
+                return Err(Invalid::new("name", "a non-empty joint name"));
             }
             crate::text::check_name(&j.name)
                 .map_err(|e| Invalid::at("name", Some(&at), &format!("joint: {e}")))?;
             if !joint_names.insert(j.name.as_str()) {
-                return Err(Invalid {
-                    nth: 1,
-                    ..Invalid::at(
-                        "name",
-                        Some(&at),
-                        &format!("distinct joint names, but `{}` is used twice", j.name),
-                    )
-                });
+                let twice = format!("distinct joint names, but `{}` is used twice", j.name);
+                return Err(Invalid::at("name", Some(&at), &twice).nth(1));
             }
-            let (pb, cb) = self.joint_ends(j, &at, position)?;
-            self.check_tree(i, j, &at, (pb, cb), position, &mut parent_of)?;
-            self.check_joint_geometry(j, &at)?;
-            self.check_joint_drive(j, &at)?;
-            self.check_anchors_meet(j, &at, (pb, cb))?;
+            let who = format!("joint `{}`", j.name);
+            let on = On {
+                anchor: Some(&at),
+                who: &who,
+            };
+            let (pb, cb) = self.joint_ends(j, on, position)?;
+            self.check_tree(i, j, on, (pb, cb), position, &mut parent_of)?;
+            check_joint_geometry(j, on)?;
+            check_joint_drive(j, on)?;
+            self.check_anchors_meet(j, on, (pb, cb))?;
         }
         Ok(())
     }
@@ -47,56 +46,32 @@ impl PhysicsSpec {
     fn joint_ends(
         &self,
         j: &JointSpec,
-        at: &str,
+        on: On,
         position: &dyn Fn(&str) -> Option<usize>,
     ) -> Result<(Option<usize>, usize), Invalid> {
-        let pb = if j.parent == GROUND {
-            None
-        } else {
-            match position(&j.parent) {
-                Some(p) => Some(p),
-                None => {
-                    return Err(self.unknown_body(
-                        "parent",
-                        &j.parent,
-                        &format!("joint `{}`", j.name),
-                    ))
-                }
-            }
+        let known = |field, name: &str| {
+            position(name).ok_or_else(|| self.unknown_body(field, name, on.who))
+        };
+        let pb = match j.parent.as_str() {
+            GROUND => None,
+            parent => Some(known("parent", parent)?),
         };
         if j.child == GROUND {
-            return Err(Invalid::at(
-                "child",
-                Some(at),
-                &format!(
-                    "joint `{}`: a body as child; `ground` can only be a parent",
-                    j.name
-                ),
-            ));
+            return Err(on.bad("child", "a body as child; `ground` can only be a parent"));
         }
-        let cb = match position(&j.child) {
-            Some(c) => c,
-            None => {
-                return Err(self.unknown_body("child", &j.child, &format!("joint `{}`", j.name)))
-            }
-        };
+        let cb = known("child", &j.child)?;
         if pb == Some(cb) {
-            return Err(Invalid::at(
+            return Err(on.bad(
                 "child",
-                Some(at),
-                &format!(
-                    "joint `{}`: two different bodies, but it joins `{}` to itself",
-                    j.name, j.child
-                ),
+                format!("two different bodies, but it joins `{}` to itself", j.child),
             ));
         }
         if self.bodies[cb].kind != BodyKind::Dynamic {
-            return Err(Invalid::at(
+            return Err(on.bad(
                 "child",
-                Some(at),
-                &format!(
-                    "joint `{}`: a dynamic child body, but `{}` is {:?}",
-                    j.name, j.child, self.bodies[cb].kind
+                format!(
+                    "a dynamic child body, but `{}` is {:?}",
+                    j.child, self.bodies[cb].kind
                 ),
             ));
         }
@@ -110,18 +85,17 @@ impl PhysicsSpec {
         &self,
         i: usize,
         j: &JointSpec,
-        at: &str,
+        on: On,
         (pb, cb): (Option<usize>, usize),
         position: &dyn Fn(&str) -> Option<usize>,
         parent_of: &mut [Option<usize>],
     ) -> Result<(), Invalid> {
         if let Some(p) = parent_of[cb] {
-            return Err(Invalid::at(
+            return Err(on.bad(
                 "child",
-                Some(at),
-                &format!(
-                    "joint `{}`: a body that is the child of one joint only (joints form trees), but `{}` is already the child of `{}`",
-                    j.name, j.child, self.joints[p].name
+                format!(
+                    "a body that is the child of one joint only (joints form trees), but `{}` is already the child of `{}`",
+                    j.child, self.joints[p].name
                 ),
             ));
         }
@@ -131,13 +105,9 @@ impl PhysicsSpec {
         let mut hops = 0;
         while let Some(b) = up {
             if b == cb || hops > self.bodies.len() {
-                return Err(Invalid::at(
+                return Err(on.bad(
                     "parent",
-                    Some(at),
-                    &format!(
-                        "joint `{}`: joints that form trees, but this one closes a loop",
-                        j.name
-                    ),
+                    "joints that form trees, but this one closes a loop",
                 ));
             }
             hops += 1;
@@ -146,157 +116,11 @@ impl PhysicsSpec {
         Ok(())
     }
 
-    /// A joint's anchors and limits.
-    fn check_joint_geometry(&self, j: &JointSpec, at: &str) -> Result<(), Invalid> {
-        let who = format!("joint `{}`", j.name);
-        for (field, v) in [
-            ("parent_anchor", j.parent_anchor),
-            ("child_anchor", j.child_anchor),
-        ] {
-            if !finite2(v) {
-                return Err(Invalid::at(
-                    field,
-                    Some(at),
-                    &format!("joint `{}`: finite coordinates", j.name),
-                ));
-            }
-            for c in [v.0, v.1] {
-                number(
-                    field,
-                    Some(at),
-                    &who,
-                    "coordinates",
-                    c,
-                    (0.0, MAX_LENGTH),
-                    true,
-                    "m",
-                )?;
-            }
-        }
-        if let JointKind::Prismatic { axis } = j.kind {
-            let ok = finite2(axis)
-                && axis.0.hypot(axis.1) >= MIN_SIZE
-                && axis.0.abs() <= MAX_LENGTH
-                && axis.1.abs() <= MAX_LENGTH;
-            if !ok {
-                return Err(Invalid::at(
-                    "axis",
-                    Some(at),
-                    &format!(
-                        "joint `{}`: a slider's axis (x, y), finite, of length at least {} and components at most {} (any such length: it is normalised), found ({}, {})",
-                        j.name,
-                        show(MIN_SIZE),
-                        show(MAX_LENGTH),
-                        show(axis.0),
-                        show(axis.1)
-                    ),
-                ));
-            }
-        }
-        let (coordinate, unit, bound) = if j.kind.is_revolute() {
-            ("angle", "rad", MAX_ANGLE)
-        } else {
-            ("position", "m", MAX_LENGTH)
-        };
-        if let Some((lo, hi)) = j.limits {
-            if !(lo.is_finite() && hi.is_finite() && lo <= 0.0 && 0.0 <= hi && lo < hi) {
-                return Err(Invalid::at(
-                    "limits",
-                    Some(at),
-                    &format!(
-                        "joint `{}`: finite limits (min, max) with min <= 0 <= max and min < max ({coordinate} 0 is the start pose), found ({lo}, {hi})",
-                        j.name
-                    ),
-                ));
-            }
-            for v in [lo, hi] {
-                number(
-                    "limits",
-                    Some(at),
-                    &who,
-                    "limits",
-                    v,
-                    (0.0, bound),
-                    true,
-                    unit,
-                )?;
-            }
-        }
-        Ok(())
-    }
-
-    /// A joint's damping and motor.
-    fn check_joint_drive(&self, j: &JointSpec, at: &str) -> Result<(), Invalid> {
-        let who = format!("joint `{}`", j.name);
-        let (damping_unit, stiffness_unit) = if j.kind.is_revolute() {
-            ("N·m·s/rad", "N·m/rad")
-        } else {
-            ("N·s/m", "N/m")
-        };
-        if !(j.damping.is_finite() && j.damping >= 0.0) {
-            return Err(Invalid::at(
-                "damping",
-                Some(at),
-                &format!(
-                    "joint `{}`: a damping >= 0 in {damping_unit}, found {}",
-                    j.name, j.damping
-                ),
-            ));
-        }
-        number(
-            "damping",
-            Some(at),
-            &who,
-            "a damping",
-            j.damping,
-            (0.0, MAX_COEFFICIENT),
-            false,
-            damping_unit,
-        )?;
-        let Some(m) = j.motor else {
-            return Ok(());
-        };
-        if !(m.stiffness.is_finite()
-            && m.stiffness > 0.0
-            && m.damping.is_finite()
-            && m.damping >= 0.0)
-        {
-            return Err(Invalid::at(
-                "motor",
-                Some(at),
-                &format!(
-                    "joint `{}`: a motor with stiffness > 0 and damping >= 0, found ({}, {})",
-                    j.name, m.stiffness, m.damping
-                ),
-            ));
-        }
-        number(
-            "stiffness",
-            Some(at),
-            &who,
-            "a motor stiffness",
-            m.stiffness,
-            (MIN_MAGNITUDE, MAX_COEFFICIENT),
-            false,
-            stiffness_unit,
-        )?;
-        number(
-            "motor",
-            Some(at),
-            &who,
-            "a motor damping",
-            m.damping,
-            (0.0, MAX_COEFFICIENT),
-            false,
-            damping_unit,
-        )
-    }
-
     /// A joint's anchors meet at the start pose.
     fn check_anchors_meet(
         &self,
         j: &JointSpec,
-        at: &str,
+        on: On,
         (pb, cb): (Option<usize>, usize),
     ) -> Result<(), Invalid> {
         let pa = match pb {
@@ -311,12 +135,11 @@ impl PhysicsSpec {
         let ca = to_world(c.position, c.angle, j.child_anchor);
         let gap = ((pa.0 - ca.0).powi(2) + (pa.1 - ca.1).powi(2)).sqrt();
         if gap > 1e-6 {
-            return Err(Invalid::at(
+            return Err(on.bad(
                 "child_anchor",
-                Some(at),
-                &format!(
-                    "joint `{}`: anchors that meet at the start pose, but the parent's is at ({:.4}, {:.4}) and the child's at ({:.4}, {:.4})",
-                    j.name, pa.0, pa.1, ca.0, ca.1
+                format!(
+                    "anchors that meet at the start pose, but the parent's is at ({:.4}, {:.4}) and the child's at ({:.4}, {:.4})",
+                    pa.0, pa.1, ca.0, ca.1
                 ),
             ));
         }
@@ -333,12 +156,94 @@ impl PhysicsSpec {
             bad(format!(
                 "a known joint, but there is no joint `{name}`{}; joints: {}",
                 crate::scene::error::did_you_mean(name, &names),
-                if names.is_empty() {
-                    "none".to_string()
-                } else {
-                    names.join(", ")
-                }
+                listed(&names)
             ))
         })
     }
+}
+
+/// A joint's anchors and limits.
+fn check_joint_geometry(j: &JointSpec, on: On) -> Result<(), Invalid> {
+    for (field, v) in [
+        ("parent_anchor", j.parent_anchor),
+        ("child_anchor", j.child_anchor),
+    ] {
+        if !finite2(v) {
+            return Err(on.bad(field, "finite coordinates"));
+        }
+        for c in [v.0, v.1] {
+            on.number(field, "coordinates", c, COORDINATES)?;
+        }
+    }
+    if let JointKind::Prismatic { axis } = j.kind {
+        let ok = finite2(axis)
+            && axis.0.hypot(axis.1) >= MIN_SIZE
+            && axis.0.abs() <= MAX_LENGTH
+            && axis.1.abs() <= MAX_LENGTH;
+        if !ok {
+            return Err(on.bad(
+                "axis",
+                format!(
+                    "a slider's axis (x, y), finite, of length at least {} and components at most {} (any such length: it is normalised), found ({}, {})",
+                    show(MIN_SIZE),
+                    show(MAX_LENGTH),
+                    show(axis.0),
+                    show(axis.1)
+                ),
+            ));
+        }
+    }
+    let (coordinate, unit, bound) = if j.kind.is_revolute() {
+        ("angle", "rad", MAX_ANGLE)
+    } else {
+        ("position", "m", MAX_LENGTH)
+    };
+    if let Some((lo, hi)) = j.limits {
+        if !(lo.is_finite() && hi.is_finite() && lo <= 0.0 && 0.0 <= hi && lo < hi) {
+            return Err(on.bad(
+                "limits",
+                format!(
+                    "finite limits (min, max) with min <= 0 <= max and min < max ({coordinate} 0 is the start pose), found ({lo}, {hi})"
+                ),
+            ));
+        }
+        for v in [lo, hi] {
+            on.number("limits", "limits", v, Bound::magnitude(bound, unit))?;
+        }
+    }
+    Ok(())
+}
+
+/// A joint's damping and motor.
+fn check_joint_drive(j: &JointSpec, on: On) -> Result<(), Invalid> {
+    let (damping_unit, stiffness_unit) = if j.kind.is_revolute() {
+        ("N·m·s/rad", "N·m/rad")
+    } else {
+        ("N·s/m", "N/m")
+    };
+    let d = j.damping;
+    if !(d.is_finite() && d >= 0.0) {
+        return Err(on.bad(
+            "damping",
+            format!("a damping >= 0 in {damping_unit}, found {d}"),
+        ));
+    }
+    let dampings = Bound::range(0.0, MAX_COEFFICIENT, damping_unit);
+    on.number("damping", "a damping", d, dampings)?;
+    let Some(m) = j.motor else {
+        return Ok(());
+    };
+    if !(m.stiffness.is_finite() && m.stiffness > 0.0 && m.damping.is_finite() && m.damping >= 0.0)
+    {
+        return Err(on.bad(
+            "motor",
+            format!(
+                "a motor with stiffness > 0 and damping >= 0, found ({}, {})",
+                m.stiffness, m.damping
+            ),
+        ));
+    }
+    let stiffnesses = Bound::range(MIN_MAGNITUDE, MAX_COEFFICIENT, stiffness_unit);
+    on.number("stiffness", "a motor stiffness", m.stiffness, stiffnesses)?;
+    on.number("motor", "a motor damping", m.damping, dampings)
 }

@@ -21,6 +21,14 @@ fn quoted(name: &str) -> String {
     format!("\"{name}\"")
 }
 
+/// Names for a message: joined by commas, or `none`.
+fn listed(names: &[&str]) -> String {
+    match names {
+        [] => "none".into(),
+        _ => names.join(", "),
+    }
+}
+
 fn finite2(p: (f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite()
 }
@@ -57,41 +65,30 @@ impl PhysicsSpec {
     fn check_world_numbers(&self) -> Result<(), Invalid> {
         let g = self.gravity;
         if !finite2(g) {
-            return Err(Invalid::at("gravity", None, "finite numbers (m/s²)"));
+            return Err(Invalid::new("gravity", "finite numbers (m/s²)"));
         }
         for c in [g.0, g.1] {
-            number(
-                "gravity",
-                None,
-                "",
-                "components",
-                c,
-                (0.0, MAX_GRAVITY),
-                true,
-                "m/s²",
-            )?;
+            let bound = Bound::magnitude(MAX_GRAVITY, "m/s²");
+            On::WORLD.number("gravity", "components", c, bound)?;
         }
         if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "dt",
-                None,
-                &format!("a time step in (0, 1] seconds, found {}", self.dt),
+                format!("a time step in (0, 1] seconds, found {}", self.dt),
             ));
         }
         if let Some(n) = self.solver_iterations {
             if n == 0 || n > 1000 {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "solver_iterations",
-                    None,
-                    &format!("between 1 and 1000 iterations, found {n}"),
+                    format!("between 1 and 1000 iterations, found {n}"),
                 ));
             }
         }
         if !(self.max_speed > 0.0 && in_range(self.max_speed, MIN_MAGNITUDE, MAX_SPEED, false)) {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "max_speed",
-                None,
-                &format!(
+                format!(
                     "a speed in [1.2e-38, {MAX_SPEED}] m/s (Rapier caps speeds at 400 m/s, silently), found {}",
                     show(self.max_speed)
                 ),
@@ -104,20 +101,18 @@ impl PhysicsSpec {
     /// joints.
     fn check_counts(&self) -> Result<(), Invalid> {
         if self.bodies.is_empty() {
-            return Err(Invalid::at("bodies", None, "at least one body"));
+            return Err(Invalid::new("bodies", "at least one body"));
         }
         if self.bodies.len() > MAX_BODIES {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "bodies",
-                None,
-                &format!("at most {MAX_BODIES} bodies, found {}", self.bodies.len()),
+                format!("at most {MAX_BODIES} bodies, found {}", self.bodies.len()),
             ));
         }
         if self.joints.len() > MAX_JOINTS {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "joints",
-                None,
-                &format!("at most {MAX_JOINTS} joints, found {}", self.joints.len()),
+                format!("at most {MAX_JOINTS} joints, found {}", self.joints.len()),
             ));
         }
         Ok(())
@@ -143,28 +138,18 @@ impl PhysicsSpec {
         };
         for (f, v) in [(field, values[0]), ("settle", values[1])] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     f,
-                    None,
-                    &format!("a duration >= 0 in seconds, found {v}"),
+                    format!("a duration >= 0 in seconds, found {v}"),
                 ));
             }
-            number(
-                f,
-                None,
-                "",
-                "a duration",
-                v,
-                (0.0, MAX_STEPS as f64),
-                false,
-                "s",
-            )?;
+            let durations = Bound::range(0.0, MAX_STEPS as f64, "s");
+            On::WORLD.number(f, "a duration", v, durations)?;
             let steps = v / self.dt;
             if (steps - steps.round()).abs() > 1e-6 * steps.max(1.0) {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     f,
-                    None,
-                    &format!(
+                    format!(
                         "a whole number of time steps ({v} s / dt {} = {steps:.4} steps)",
                         self.dt
                     ),
@@ -173,19 +158,17 @@ impl PhysicsSpec {
         }
         let (phase, _, _) = self.schedule.steps(self.dt);
         if phase == 0 {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 field,
-                None,
                 "at least one time step in which the slots act",
             ));
         }
         let n = scene.slots().count();
         let total = self.schedule.total_steps(self.dt, n);
         if total > MAX_STEPS {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 field,
-                None,
-                &format!("at most {MAX_STEPS} steps per command, found {total}"),
+                format!("at most {MAX_STEPS} steps per command, found {total}"),
             ));
         }
         Ok(())
@@ -201,16 +184,14 @@ impl PhysicsSpec {
         let e = &self.effect;
         if e.features.is_empty() {
             let Some(grid) = &e.grid else {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "effect",
-                    None,
                     "an effect: `body` and `grid` (one tracked point), or `features: [...]` (see docs/scenes.md, \"Effects\")",
                 ));
             };
             if e.body.is_empty() {
-                return Err(Invalid::at(
+                return Err(Invalid::new(
                     "grid",
-                    None,
                     "the effect's tracked body beside its grid: `body: \"NAME\"`",
                 ));
             }
@@ -221,9 +202,8 @@ impl PhysicsSpec {
             return check_grid(grid, None);
         }
         if !e.body.is_empty() || e.grid.is_some() || e.point != (0.0, 0.0) {
-            return Err(Invalid::at(
+            return Err(Invalid::new(
                 "features",
-                None,
                 "either `features` or the short form (`body`, `point`, `grid`) in the effect, not both: move the tracked point into the list as `Point(body: ..., point: ..., grid: ...)`",
             ));
         }
@@ -232,10 +212,9 @@ impl PhysicsSpec {
         }
         let axes: Vec<_> = e.features.iter().map(Feature::axis).collect();
         Binning::new(axes).map_err(|err| {
-            Invalid::at(
+            Invalid::new(
                 "features",
-                None,
-                &format!("features whose product has a valid number of effects: {err}"),
+                format!("features whose product has a valid number of effects: {err}"),
             )
         })?;
         Ok(())
@@ -243,10 +222,7 @@ impl PhysicsSpec {
 
     /// Feature `k` of the effect's list.
     fn check_feature(&self, k: usize, f: &Feature) -> Result<(), Invalid> {
-        let within = |v: Invalid| Invalid {
-            within: Some(("features", k)),
-            ..v
-        };
+        let within = |v: Invalid| v.within("features", k);
         match f {
             Feature::Point {
                 body,
@@ -266,10 +242,9 @@ impl PhysicsSpec {
                         ));
                     }
                     if fr == body {
-                        return Err(within(Invalid::at(
+                        return Err(within(Invalid::new(
                             "frame",
-                            None,
-                            &format!("a frame other than the point's own body `{body}` (a point does not move in its own frame)"),
+                            format!("a frame other than the point's own body `{body}` (a point does not move in its own frame)"),
                         )));
                     }
                 }
@@ -277,18 +252,12 @@ impl PhysicsSpec {
                 check_grid(grid, Some(k))
             }
             Feature::Joint { joint, bins, range } => {
-                let Some(j) = self.joint(joint) else {
-                    let names: Vec<&str> = self.joints.iter().map(|j| j.name.as_str()).collect();
-                    return Err(Invalid::at(
-                        "joint",
-                        Some(&quoted(joint)),
-                        &format!(
-                            "the effect's joint: a known joint, but there is no joint `{joint}`{}; joints: {}",
-                            crate::scene::error::did_you_mean(joint, &names),
-                            if names.is_empty() { "none".to_string() } else { names.join(", ") }
-                        ),
-                    ));
+                let at = quoted(joint);
+                let on = On {
+                    anchor: Some(&at),
+                    who: "the effect's joint",
                 };
+                let j = self.known_joint(joint, &|what| on.bad("joint", what))?;
                 check_line(*bins, *range, j.kind.unit(), k)
             }
             Feature::Angle { body, bins, range } => {
@@ -353,24 +322,18 @@ fn check_point(p: (f64, f64), k: Option<usize>) -> Result<(), Invalid> {
         ..v
     };
     if !finite2(p) {
-        return Err(place(Invalid::at(
+        return Err(place(Invalid::new(
             "point",
-            None,
             "a tracked point with finite coordinates",
         )));
     }
+    let on = On {
+        anchor: None,
+        who: "the tracked point",
+    };
     for c in [p.0, p.1] {
-        number(
-            "point",
-            None,
-            "the tracked point",
-            "coordinates",
-            c,
-            (0.0, MAX_LENGTH),
-            true,
-            "m",
-        )
-        .map_err(place)?;
+        on.number("point", "coordinates", c, COORDINATES)
+            .map_err(place)?;
     }
     Ok(())
 }
@@ -382,19 +345,14 @@ fn check_grid(grid: &EffectGrid, k: Option<usize>) -> Result<(), Invalid> {
         ..v
     };
     grid.validate()
-        .map_err(|e| place(Invalid::at("grid", None, &format!("a valid grid: {e}"))))?;
+        .map_err(|e| place(Invalid::new("grid", format!("a valid grid: {e}"))))?;
+    let on = On {
+        anchor: None,
+        who: "the effect grid",
+    };
     for &c in grid.min.iter().chain(&grid.max) {
-        number(
-            "grid",
-            None,
-            "the effect grid",
-            "corners",
-            c,
-            (0.0, MAX_LENGTH),
-            true,
-            "m",
-        )
-        .map_err(place)?;
+        on.number("grid", "corners", c, COORDINATES)
+            .map_err(place)?;
     }
     Ok(())
 }
@@ -403,25 +361,20 @@ fn check_grid(grid: &EffectGrid, k: Option<usize>) -> Result<(), Invalid> {
 /// [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS)), a finite `range` with
 /// `min < max`.
 fn check_line(bins: usize, (lo, hi): (f64, f64), unit: &str, k: usize) -> Result<(), Invalid> {
-    let place = |v: Invalid| Invalid {
-        within: Some(("features", k)),
-        ..v
-    };
+    let place = |v: Invalid| v.within("features", k);
     if bins == 0 || bins > crate::effect::MAX_EFFECTS {
-        return Err(place(Invalid::at(
+        return Err(place(Invalid::new(
             "bins",
-            None,
-            &format!(
+            format!(
                 "between 1 and {} bins, found {bins}",
                 crate::effect::MAX_EFFECTS
             ),
         )));
     }
     if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-        return Err(place(Invalid::at(
+        return Err(place(Invalid::new(
             "range",
-            None,
-            &format!(
+            format!(
                 "a range (min, max) of finite numbers with min < max, in {unit}, found ({}, {})",
                 show(lo),
                 show(hi)
@@ -429,11 +382,7 @@ fn check_line(bins: usize, (lo, hi): (f64, f64), unit: &str, k: usize) -> Result
         )));
     }
     if let Err(e) = crate::effect::check_bins(bins, lo, hi) {
-        return Err(place(Invalid::at(
-            "range",
-            None,
-            &format!("{e} (in {unit})"),
-        )));
+        return Err(place(Invalid::new("range", format!("{e} (in {unit})"))));
     }
     Ok(())
 }
