@@ -12,7 +12,6 @@
 //! [`MetricSpec::FirstRewardTrialContext`] the reward collected from each
 //! start context and the first episode rewarded there.
 
-use super::factory::SceneRun;
 use super::plan::{SessionSpec, Sweep};
 use super::results::SessionResult;
 use super::spec::MetricSpec;
@@ -21,9 +20,8 @@ use super::spec::SweepSpec;
 use super::SweepError;
 use crate::episode::{run_episodes, EpisodeConfig, Observe};
 use crate::learner::{ClosedLoopE3d, LearnerKind, LearnerSetup};
-use crate::scene::Scene;
 use crate::session::Recorder;
-use crate::world::{Episodic, Outcome, World};
+use crate::world::{Episodic, Outcome};
 
 impl Sweep {
     /// Whether the sessions of scene `scene` (its index in
@@ -126,33 +124,5 @@ impl Sweep {
             }
         }
         Ok(result)
-    }
-}
-
-/// The worlds of a scene file whose sessions run episodes: each session
-/// alone on a live world of its own (episodes start from drawn states,
-/// which no outcome table or memo keeps).
-pub(super) struct EpisodeWorlds<'a> {
-    pub(super) scene: &'a Scene,
-    pub(super) commands: usize,
-    pub(super) contexts: usize,
-}
-
-impl SceneRun for EpisodeWorlds<'_> {
-    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
-        (0..sessions).map(|i| i..i + 1).collect()
-    }
-    fn world(&self, _width: usize) -> Box<dyn World + Send + '_> {
-        self.scene.build()
-    }
-    fn describe(&self) -> Option<String> {
-        Some(format!(
-            "{}: episodes of {} command{} from {} start context{}: each session on a live world of its own",
-            self.scene.spec().name,
-            self.commands,
-            if self.commands == 1 { "" } else { "s" },
-            self.contexts,
-            if self.contexts == 1 { "" } else { "s" },
-        ))
     }
 }
