@@ -57,10 +57,6 @@ impl Sweep {
         world: &mut dyn Episodic,
     ) -> Result<SessionResult, SweepError> {
         let cell = &self.cells[session.cell];
-        let as_learner_error = |source: crate::learner::LearnerError| SweepError::Learner {
-            learner: cell.learner.clone(),
-            source: Box::new(source),
-        };
         let kind: LearnerKind = cell.learner.parse().map_err(|_| {
             SweepError::Other(format!(
                 "learner `{}`: a sweep of episodes runs built-in learners only",
@@ -78,17 +74,18 @@ impl Sweep {
         // contextual form of every other learner beside them
         let closed =
             self.spec.closed_loop && matches!(kind, LearnerKind::E3d | LearnerKind::Egreedy);
-        let mut learner = LearnerSetup::new(kind)
-            .params(cell.params)
-            .closed_loop(closed)
-            .gamma(self.spec.gamma.unwrap_or(ClosedLoopE3d::GAMMA))
-            .contexts(
-                world.command_space(),
-                world.num_effects(),
-                config.num_contexts(world),
-            )
-            .map_err(as_learner_error)?;
-        let mut running = self.recorder(world);
+        let mut learner = self.learner(session, |c| {
+            Ok(LearnerSetup::new(kind)
+                .params(c.params)
+                .closed_loop(closed)
+                .gamma(self.spec.gamma.unwrap_or(ClosedLoopE3d::GAMMA))
+                .contexts(
+                    world.command_space(),
+                    world.num_effects(),
+                    config.num_contexts(world),
+                )?)
+        })?;
+        let mut running = self.recorder(world.num_effects());
         let record = match run_episodes(
             world,
             &mut *learner,

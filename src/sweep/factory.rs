@@ -410,18 +410,7 @@ impl Worlds {
     pub fn names(&self) -> Vec<&str> {
         self.scenes.iter().map(|s| s.name()).collect()
     }
-}
 
-impl fmt::Debug for Worlds {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("Worlds")
-            .field("scenes", &self.names())
-            .field("files", &self.files)
-            .finish()
-    }
-}
-
-impl Worlds {
     /// The scene the sweep names `name` (made once, before any session
     /// runs).
     pub fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError> {
@@ -441,6 +430,15 @@ impl Worlds {
                 )))
             }
         }
+    }
+}
+
+impl fmt::Debug for Worlds {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Worlds")
+            .field("scenes", &self.names())
+            .field("files", &self.files)
+            .finish()
     }
 }
 
@@ -551,17 +549,7 @@ impl Learners {
     fn entry(&self, name: &str) -> Option<&Entry> {
         self.entries.iter().find(|(n, _)| n == name).map(|(_, e)| e)
     }
-}
 
-impl fmt::Debug for Learners {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_list()
-            .entries(self.entries.iter().map(|(n, _)| n))
-            .finish()
-    }
-}
-
-impl Learners {
     /// The learners registered, in the order messages list them.
     pub fn names(&self) -> Vec<String> {
         self.entries.iter().map(|(n, _)| n.clone()).collect()
@@ -587,13 +575,11 @@ impl Learners {
         num_effects: usize,
         target: &Target,
     ) -> Result<Box<dyn Learner + Send>, BoxError> {
+        let setup = |k| LearnerSetup::new(k).params(*params).target(target.clone());
         match self.entry(name) {
-            Some(Entry::Builtin(k)) => Ok(LearnerSetup::new(*k)
-                .params(*params)
-                .target(target.clone())
-                .symbols(space, num_effects)?),
+            Some(Entry::Builtin(k)) => Ok(setup(*k).symbols(space, num_effects)?),
             Some(Entry::Custom(_, make)) => make(params, space, num_effects, target),
-            None => Err(format!("no learner `{name}` in this factory").into()),
+            None => Err(unknown(name)),
         }
     }
 
@@ -610,18 +596,29 @@ impl Learners {
         num_effects: usize,
         target: &Target,
     ) -> Result<Box<dyn ContinuousLearner + Send>, BoxError> {
+        let setup = |k| LearnerSetup::new(k).params(*params).target(target.clone());
         match self.entry(name) {
-            Some(Entry::Builtin(k)) => Ok(LearnerSetup::new(*k)
-                .params(*params)
-                .target(target.clone())
-                .values(space, num_effects)?),
+            Some(Entry::Builtin(k)) => Ok(setup(*k).values(space, num_effects)?),
             Some(Entry::Custom(..)) => Err(format!(
                 "learner `{name}` (registered in code) takes symbols only, not continuous commands"
             )
             .into()),
-            None => Err(format!("no learner `{name}` in this factory").into()),
+            None => Err(unknown(name)),
         }
     }
+}
+
+impl fmt::Debug for Learners {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_list()
+            .entries(self.entries.iter().map(|(n, _)| n))
+            .finish()
+    }
+}
+
+/// The refusal of a learner no factory registered.
+fn unknown(name: &str) -> BoxError {
+    format!("no learner `{name}` in this factory").into()
 }
 
 /// Whether `name` is a RON identifier: ASCII letters, digits and `_`, not

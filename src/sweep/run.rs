@@ -3,16 +3,14 @@
 
 use super::factory::{mismatch, SceneRun, SweepScene};
 use super::journal::{self, Journal, JournalHeader};
-use super::plan::{SessionSpec, Shard, Sweep};
+use super::plan::{Cell, SessionSpec, Shard, Sweep};
 use super::results::{
     version_line, write_final, DirReport, SessionResult, JOURNAL, SWEEP_COPY, VERSION, VERSION_FILE,
 };
 use super::spec::MetricSpec;
-use super::{io_err, SweepError};
-use crate::command::{CommandSpace, ValueSpace};
+use super::{io_err, BoxError, SweepError};
 use crate::effect::Target;
 use crate::hash::fnv1a64;
-use crate::learner::{ContinuousLearner, Learner};
 use crate::scene::Scene;
 use crate::session::{
     self, run_group, run_planned, Control, Executes, Learns, RunningMetrics, SessionConfig,
@@ -57,7 +55,11 @@ impl Sweep {
                 scene.name()
             )));
         }
-        let learner = self.learner(session, world.command_space(), world.num_effects())?;
+        let learner = self.learner(session, |c| {
+            let (space, n) = (world.command_space(), world.num_effects());
+            self.learners
+                .make(&c.learner, &c.params, space, n, &Target::Uniform)
+        })?;
         let mut results = self.run_group_on(std::slice::from_ref(session), world, vec![learner]);
         Ok(results.remove(0))
     }
@@ -80,7 +82,7 @@ impl Sweep {
         let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
         let mut recorders: Vec<RunningMetrics> = sessions
             .iter()
-            .map(|_| self.recorder_of(world.effects()))
+            .map(|_| self.recorder(world.effects()))
             .collect();
         let count = |t| self.count_trials(t);
         let control = Control::default().with_progress(&count);
@@ -93,44 +95,15 @@ impl Sweep {
             .collect()
     }
 
-    /// A fresh learner of `session`'s cell for `space` and `num_effects`.
-    fn learner(
+    /// What `make` makes for the cell of `session` (its learner), its
+    /// error naming the learner.
+    pub(super) fn learner<T>(
         &self,
         session: &SessionSpec,
-        space: &CommandSpace,
-        num_effects: usize,
-    ) -> Result<Box<dyn Learner + Send>, SweepError> {
+        make: impl FnOnce(&Cell) -> Result<T, BoxError>,
+    ) -> Result<T, SweepError> {
         let cell = &self.cells[session.cell];
-        let made = self.learners.make(
-            &cell.learner,
-            &cell.params,
-            space,
-            num_effects,
-            &Target::Uniform,
-        );
-        made.map_err(|source| SweepError::Learner {
-            learner: cell.learner.clone(),
-            source,
-        })
-    }
-
-    /// The continuous form of the learner of `session`'s cell, for
-    /// `space` and `num_effects`.
-    fn value_learner(
-        &self,
-        session: &SessionSpec,
-        space: &ValueSpace,
-        num_effects: usize,
-    ) -> Result<Box<dyn ContinuousLearner + Send>, SweepError> {
-        let cell = &self.cells[session.cell];
-        let made = self.learners.make_continuous(
-            &cell.learner,
-            &cell.params,
-            space,
-            num_effects,
-            &Target::Uniform,
-        );
-        made.map_err(|source| SweepError::Learner {
+        make(cell).map_err(|source| SweepError::Learner {
             learner: cell.learner.clone(),
             source,
         })
@@ -144,14 +117,9 @@ impl Sweep {
         }
     }
 
-    /// The running metrics a session keeps: the cumulative reward at the
-    /// trials the metrics name.
-    pub(super) fn recorder(&self, world: &dyn World) -> RunningMetrics {
-        self.recorder_of(world.num_effects())
-    }
-
-    /// The same for a world of `num_effects` effects.
-    pub(super) fn recorder_of(&self, num_effects: usize) -> RunningMetrics {
+    /// The running metrics a session on a world of `num_effects` effects
+    /// keeps: the cumulative reward at the trials the metrics name.
+    pub(super) fn recorder(&self, num_effects: usize) -> RunningMetrics {
         let checkpoints: Vec<usize> = self
             .metrics
             .iter()
@@ -298,11 +266,23 @@ impl Sweep {
             } else if let Some(values) = exec.as_ref().and_then(|e| e.values()) {
                 let space = scene.scene().and_then(Scene::value_space);
                 let space = space.expect("a scene of values");
-                self.run_scene(values, &mine, out, |s, n| self.value_learner(s, &space, n));
+                self.run_scene(values, &mine, out, |s, n| {
+                    self.learner(s, |c| {
+                        let uniform = &Target::Uniform;
+                        self.learners
+                            .make_continuous(&c.learner, &c.params, &space, n, uniform)
+                    })
+                });
             } else {
                 let exec = exec.as_ref().expect("a scene with work");
                 let space = scene.command_space();
-                self.run_scene(&**exec, &mine, out, |s, n| self.learner(s, &space, n));
+                self.run_scene(&**exec, &mine, out, |s, n| {
+                    self.learner(s, |c| {
+                        let uniform = &Target::Uniform;
+                        self.learners
+                            .make(&c.learner, &c.params, &space, n, uniform)
+                    })
+                });
             }
         }
     }
