@@ -326,7 +326,6 @@ where
     L: Learns<C> + Send,
     R: Recorder<C> + Send,
 {
-    use rayon::prelude::*;
     assert_eq!(learners.len(), configs.len(), "one config per learner");
     assert_eq!(recorders.len(), configs.len(), "one recorder per session");
     // the groups, cut off the slices in order
@@ -336,18 +335,40 @@ where
         let (l0, l1) = l.split_at_mut(g.len());
         let (r0, r1) = r.split_at_mut(g.len());
         let (c0, c1) = c.split_at(g.len());
-        parts.push((l0, r0, c0));
+        parts.push((g.len(), (l0, r0, c0)));
         (l, r, c) = (l1, r1, c1);
     }
+    run_planned(worlds, parts, |(l, r, c), world| match world {
+        Ok(world) => run_group(world, l, c, r, control),
+        Err(e) => c.iter().map(|_| Err(e.clone())).collect(),
+    })
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+/// Runs `parts`, each the sessions of one group of `worlds` and its width
+/// (as [`Worlds::session_groups`] cut them), in parallel on the current
+/// rayon pool: `run(part, world)` on a fresh world for its width, or the
+/// error that made none. The answers, in the order of the parts.
+/// [`run_sessions`] is this with learners and recorders made beforehand;
+/// a sweep makes them as each group starts.
+pub fn run_planned<C, P, T>(
+    worlds: &(impl Worlds<C> + ?Sized),
+    parts: Vec<(usize, P)>,
+    run: impl Fn(P, Result<&mut dyn Executes<C>, WorldError>) -> T + Sync,
+) -> Vec<T>
+where
+    P: Send,
+    T: Send,
+{
+    use rayon::prelude::*;
     parts
         .into_par_iter()
-        .map(|(l, r, c)| match worlds.world_for(l.len()) {
-            Ok(mut world) => run_group(&mut *world, l, c, r, control),
-            Err(e) => c.iter().map(|_| Err(e.clone())).collect(),
+        .map(|(width, part)| match worlds.world_for(width) {
+            Ok(mut world) => run(part, Ok(&mut *world)),
+            Err(e) => run(part, Err(e)),
         })
-        .collect::<Vec<_>>()
-        .into_iter()
-        .flatten()
         .collect()
 }
 

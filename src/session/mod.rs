@@ -19,7 +19,8 @@ mod values;
 
 pub use builder::{Session, SessionError};
 pub use engine::{
-    run_episode_sessions, run_group, run_sessions, Control, Executes, Learns, Observer, Worlds,
+    run_episode_sessions, run_group, run_planned, run_sessions, Control, Executes, Learns,
+    Observer, Worlds,
 };
 
 pub use metrics::{

@@ -12,7 +12,6 @@
 //! [`MetricSpec::FirstRewardTrialContext`] the reward collected from each
 //! start context and the first episode rewarded there.
 
-use super::factory::SceneRun;
 use super::plan::{SessionSpec, Sweep};
 use super::results::SessionResult;
 use super::spec::MetricSpec;
@@ -21,9 +20,8 @@ use super::spec::SweepSpec;
 use super::SweepError;
 use crate::episode::{run_episodes, EpisodeConfig, Observe};
 use crate::learner::{ClosedLoopE3d, LearnerKind, LearnerSetup};
-use crate::scene::Scene;
 use crate::session::Recorder;
-use crate::world::{Episodic, Outcome, World};
+use crate::world::{Episodic, Outcome};
 
 impl Sweep {
     /// Whether the sessions of scene `scene` (its index in
@@ -59,10 +57,6 @@ impl Sweep {
         world: &mut dyn Episodic,
     ) -> Result<SessionResult, SweepError> {
         let cell = &self.cells[session.cell];
-        let as_learner_error = |source: crate::learner::LearnerError| SweepError::Learner {
-            learner: cell.learner.clone(),
-            source: Box::new(source),
-        };
         let kind: LearnerKind = cell.learner.parse().map_err(|_| {
             SweepError::Other(format!(
                 "learner `{}`: a sweep of episodes runs built-in learners only",
@@ -80,17 +74,18 @@ impl Sweep {
         // contextual form of every other learner beside them
         let closed =
             self.spec.closed_loop && matches!(kind, LearnerKind::E3d | LearnerKind::Egreedy);
-        let mut learner = LearnerSetup::new(kind)
-            .params(cell.params)
-            .closed_loop(closed)
-            .gamma(self.spec.gamma.unwrap_or(ClosedLoopE3d::GAMMA))
-            .contexts(
-                world.command_space(),
-                world.num_effects(),
-                config.num_contexts(world),
-            )
-            .map_err(as_learner_error)?;
-        let mut running = self.recorder(world);
+        let mut learner = self.learner(session, |c| {
+            Ok(LearnerSetup::new(kind)
+                .params(c.params)
+                .closed_loop(closed)
+                .gamma(self.spec.gamma.unwrap_or(ClosedLoopE3d::GAMMA))
+                .contexts(
+                    world.command_space(),
+                    world.num_effects(),
+                    config.num_contexts(world),
+                )?)
+        })?;
+        let mut running = self.recorder(world.num_effects());
         let record = match run_episodes(
             world,
             &mut *learner,
@@ -126,33 +121,5 @@ impl Sweep {
             }
         }
         Ok(result)
-    }
-}
-
-/// The worlds of a scene file whose sessions run episodes: each session
-/// alone on a live world of its own (episodes start from drawn states,
-/// which no outcome table or memo keeps).
-pub(super) struct EpisodeWorlds<'a> {
-    pub(super) scene: &'a Scene,
-    pub(super) commands: usize,
-    pub(super) contexts: usize,
-}
-
-impl SceneRun for EpisodeWorlds<'_> {
-    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
-        (0..sessions).map(|i| i..i + 1).collect()
-    }
-    fn world(&self, _width: usize) -> Box<dyn World + Send + '_> {
-        self.scene.build()
-    }
-    fn describe(&self) -> Option<String> {
-        Some(format!(
-            "{}: episodes of {} command{} from {} start context{}: each session on a live world of its own",
-            self.scene.spec().name,
-            self.commands,
-            if self.commands == 1 { "" } else { "s" },
-            self.contexts,
-            if self.contexts == 1 { "" } else { "s" },
-        ))
     }
 }

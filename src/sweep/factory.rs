@@ -41,16 +41,16 @@
 #[cfg(doc)]
 use super::SweepSpec;
 use super::{BoxError, SweepError};
+use crate::command::Command;
 use crate::command::{CommandSpace, ValueSpace};
 use crate::effect::Target;
 use crate::hash::fnv1a64;
 use crate::learner::{ContinuousLearner, Learner, LearnerKind, LearnerSetup, Params};
 use crate::scene::Scene;
-use crate::session::Control;
-use crate::world::{
-    ContinuousWorld, ExecOptions, Executor, OutcomeTable, Strategy, Workload, World,
-};
+use crate::session::{self, Control};
+use crate::world::{ExecOptions, Executor, OutcomeTable, Strategy, Workload, World, WorldError};
 use std::fmt;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -118,25 +118,13 @@ pub trait SweepScene: Send + Sync {
     }
 }
 
-/// The worlds of one scene during one run (see [`SweepScene::prepare`]).
-pub trait SceneRun: Send + Sync {
-    /// How `sessions` sessions of the scene are run: the groups that step
-    /// together on one world ([`world`](Self::world)), as ranges of
-    /// session indices in order; a group of one runs alone, a larger one
-    /// in lockstep, the new commands of a group executed together
-    /// ([`World::execute_batch`]).
-    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>>;
-
-    /// A fresh world for `width` sessions stepping together (1 for a
-    /// session alone). Its outcomes must not depend on the width.
-    fn world(&self, width: usize) -> Box<dyn World + Send + '_>;
-
-    /// For a scene of continuous commands, a fresh world for `width`
-    /// sessions stepping together, as [`world`](Self::world) (its outcomes
-    /// must not depend on the width); `None` (the default) for a scene of
-    /// symbols, whose sessions run on [`world`](Self::world).
-    fn value_world(&self, width: usize) -> Option<Box<dyn ContinuousWorld + Send + '_>> {
-        let _ = width;
+/// The worlds of one scene during one run (see [`SweepScene::prepare`]):
+/// the engine's [`session::Worlds`] of its commands, cut into the groups
+/// that step together (a group of one runs alone), and what to tell.
+pub trait SceneRun: session::Worlds<Command> + Send {
+    /// For a scene of continuous commands, its worlds of values, on which
+    /// its sessions run; `None` (the default) for a scene of symbols.
+    fn values(&self) -> Option<&dyn session::Worlds<Vec<f64>>> {
         None
     }
 
@@ -205,13 +193,9 @@ impl SweepScene for Scene {
 }
 
 impl SceneRun for Executor<'_> {
-    /// [`Executor::session_groups`]: one at a time on the table; in the
-    /// plan's groups otherwise.
-    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
-        Executor::session_groups(self, sessions)
-    }
-    fn world(&self, width: usize) -> Box<dyn World + Send + '_> {
-        Executor::world(self, width)
+    fn values(&self) -> Option<&dyn session::Worlds<Vec<f64>>> {
+        self.continuous()
+            .map(|_| self as &dyn session::Worlds<Vec<f64>>)
     }
     /// The plan ([`Executor::plan`]) in words.
     fn describe(&self) -> Option<String> {
@@ -340,18 +324,32 @@ where
 
 struct LiveRun<'a, F>(&'a LiveScene<F>);
 
+/// Each session alone.
+impl<F, W> session::Worlds<Command> for LiveRun<'_, F>
+where
+    F: Fn() -> W + Send + Sync,
+    W: World + Send + 'static,
+{
+    fn session_groups(&self, sessions: usize) -> Vec<Range<usize>> {
+        (0..sessions).map(|i| i..i + 1).collect()
+    }
+    fn world_for(
+        &self,
+        _width: usize,
+    ) -> Result<Box<dyn session::Executes<Command> + Send + '_>, WorldError> {
+        let world = (self.0.make)();
+        match mismatch(self.0, &world) {
+            Some(why) => Err(WorldError::Other(why)),
+            None => Ok(Box::new(world)),
+        }
+    }
+}
+
 impl<F, W> SceneRun for LiveRun<'_, F>
 where
     F: Fn() -> W + Send + Sync,
     W: World + Send + 'static,
 {
-    /// Each session alone.
-    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
-        (0..sessions).map(|i| i..i + 1).collect()
-    }
-    fn world(&self, _width: usize) -> Box<dyn World + Send + '_> {
-        Box::new((self.0.make)())
-    }
     fn describe(&self) -> Option<String> {
         Some(format!(
             "{}: live execution: each session on a fresh world of its own (a world made by code)",
@@ -412,18 +410,7 @@ impl Worlds {
     pub fn names(&self) -> Vec<&str> {
         self.scenes.iter().map(|s| s.name()).collect()
     }
-}
 
-impl fmt::Debug for Worlds {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("Worlds")
-            .field("scenes", &self.names())
-            .field("files", &self.files)
-            .finish()
-    }
-}
-
-impl Worlds {
     /// The scene the sweep names `name` (made once, before any session
     /// runs).
     pub fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError> {
@@ -443,6 +430,15 @@ impl Worlds {
                 )))
             }
         }
+    }
+}
+
+impl fmt::Debug for Worlds {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Worlds")
+            .field("scenes", &self.names())
+            .field("files", &self.files)
+            .finish()
     }
 }
 
@@ -553,17 +549,7 @@ impl Learners {
     fn entry(&self, name: &str) -> Option<&Entry> {
         self.entries.iter().find(|(n, _)| n == name).map(|(_, e)| e)
     }
-}
 
-impl fmt::Debug for Learners {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_list()
-            .entries(self.entries.iter().map(|(n, _)| n))
-            .finish()
-    }
-}
-
-impl Learners {
     /// The learners registered, in the order messages list them.
     pub fn names(&self) -> Vec<String> {
         self.entries.iter().map(|(n, _)| n.clone()).collect()
@@ -589,13 +575,11 @@ impl Learners {
         num_effects: usize,
         target: &Target,
     ) -> Result<Box<dyn Learner + Send>, BoxError> {
+        let setup = |k| LearnerSetup::new(k).params(*params).target(target.clone());
         match self.entry(name) {
-            Some(Entry::Builtin(k)) => Ok(LearnerSetup::new(*k)
-                .params(*params)
-                .target(target.clone())
-                .symbols(space, num_effects)?),
+            Some(Entry::Builtin(k)) => Ok(setup(*k).symbols(space, num_effects)?),
             Some(Entry::Custom(_, make)) => make(params, space, num_effects, target),
-            None => Err(format!("no learner `{name}` in this factory").into()),
+            None => Err(unknown(name)),
         }
     }
 
@@ -612,18 +596,29 @@ impl Learners {
         num_effects: usize,
         target: &Target,
     ) -> Result<Box<dyn ContinuousLearner + Send>, BoxError> {
+        let setup = |k| LearnerSetup::new(k).params(*params).target(target.clone());
         match self.entry(name) {
-            Some(Entry::Builtin(k)) => Ok(LearnerSetup::new(*k)
-                .params(*params)
-                .target(target.clone())
-                .values(space, num_effects)?),
+            Some(Entry::Builtin(k)) => Ok(setup(*k).values(space, num_effects)?),
             Some(Entry::Custom(..)) => Err(format!(
                 "learner `{name}` (registered in code) takes symbols only, not continuous commands"
             )
             .into()),
-            None => Err(format!("no learner `{name}` in this factory").into()),
+            None => Err(unknown(name)),
         }
     }
+}
+
+impl fmt::Debug for Learners {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_list()
+            .entries(self.entries.iter().map(|(n, _)| n))
+            .finish()
+    }
+}
+
+/// The refusal of a learner no factory registered.
+fn unknown(name: &str) -> BoxError {
+    format!("no learner `{name}` in this factory").into()
 }
 
 /// Whether `name` is a RON identifier: ASCII letters, digits and `_`, not
@@ -633,6 +628,22 @@ pub(crate) fn is_identifier(name: &str) -> bool {
     let mut chars = name.chars();
     matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// Why a world of `scene` was refused, naming both command spaces; `None`
+/// for a world of the scene's space and effects.
+pub(super) fn mismatch(scene: &dyn SweepScene, world: &dyn World) -> Option<String> {
+    let space = scene.command_space();
+    if world.command_space() == &space && world.num_effects() == scene.num_effects() {
+        return None;
+    }
+    Some(format!(
+        "whose commands are {} with {} effects, but the world's commands are {} with {} effects",
+        describe_space(&space),
+        scene.num_effects(),
+        describe_space(world.command_space()),
+        world.num_effects()
+    ))
 }
 
 /// A command space in a sentence: `7 slots of ESWN`, or each slot's
@@ -668,8 +679,7 @@ fn prepare_values<'a>(
     if let Some(s @ (Strategy::Table | Strategy::Memo)) = options.force {
         return Err(forced_error(&scene.spec().name, s));
     }
-    let exec = Executor::for_values(scene, work)?;
-    Ok(Box::new(ValueRun(exec)))
+    Ok(Box::new(Executor::for_values(scene, work)?))
 }
 
 /// The refusal of a table or memo forced on the continuous scene `scene`.
@@ -677,25 +687,4 @@ pub(super) fn forced_error(scene: &str, forced: Strategy) -> SweepError {
     SweepError::Other(format!(
         "scene `{scene}` takes continuous commands, which run live only (no table, no memo), but the sweep forces {forced}"
     ))
-}
-
-/// The worlds of a continuous scene during one run.
-struct ValueRun<'a>(Executor<'a>);
-
-impl SceneRun for ValueRun<'_> {
-    fn session_groups(&self, sessions: usize) -> Vec<std::ops::Range<usize>> {
-        self.0.session_groups(sessions)
-    }
-    /// The scene's world of symbols, whose placeholder space refuses every
-    /// command (the sessions run on [`value_world`](Self::value_world)).
-    fn world(&self, width: usize) -> Box<dyn World + Send + '_> {
-        self.0.world(width)
-    }
-    fn value_world(&self, width: usize) -> Option<Box<dyn ContinuousWorld + Send + '_>> {
-        let world = self.0.continuous()?.world(self.0.copies_for(width));
-        Some(Box::new(world))
-    }
-    fn describe(&self) -> Option<String> {
-        Some(self.0.plan().to_string())
-    }
 }

@@ -49,7 +49,7 @@
 //!   metric [`MetricSpec::NormalizedEntropyContext`] per start context;
 //! - continuous commands: a scene whose slots take values runs its sessions
 //!   live, in the lockstep groups of `e3d run --sessions N`
-//!   ([`SceneRun::value_world`],
+//!   ([`SceneRun::values`],
 //!   [`Learners::make_continuous`]).
 //!
 //! # Cells
@@ -101,7 +101,6 @@ mod plan;
 mod results;
 mod run;
 mod spec;
-mod values;
 
 pub use crate::hash::{fnv1a64, session_seed, splitmix64};
 pub(crate) use error::io_err;

@@ -170,12 +170,6 @@ type TableProgressFn = dyn Fn(&str, u64, u64) + Send + Sync;
 #[derive(Clone)]
 pub(super) struct Notices(pub(super) std::sync::Arc<dyn Fn(&str) + Send + Sync>);
 
-impl fmt::Debug for Notices {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("Notices")
-    }
-}
-
 impl fmt::Debug for Sweep {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Sweep")
@@ -414,7 +408,7 @@ impl Sweep {
     }
 
     /// Adds every trial run to `counter` as sessions go (from the worker
-    /// threads, every 256 lockstep trials, or when a session on a table
+    /// threads, every 64 lockstep trials, or when a session on a table
     /// ends): progress finer than whole sessions, for sessions in lockstep
     /// that all end together.
     pub fn with_trial_counter(

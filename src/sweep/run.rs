@@ -1,24 +1,29 @@
 //! Running a sweep: one session, sessions in lockstep, all of them on a
 //! thread pool, and resumably into a folder.
 
-use super::episodes::EpisodeWorlds;
-use super::factory::{describe_space, SceneRun, SweepScene};
+use super::factory::{mismatch, SceneRun, SweepScene};
 use super::journal::{self, Journal, JournalHeader};
-use super::plan::{SessionSpec, Shard, Sweep};
+use super::plan::{Cell, SessionSpec, Shard, Sweep};
 use super::results::{
     version_line, write_final, DirReport, SessionResult, JOURNAL, SWEEP_COPY, VERSION, VERSION_FILE,
 };
 use super::spec::MetricSpec;
-use super::{io_err, SweepError};
+use super::{io_err, BoxError, SweepError};
 use crate::effect::Target;
 use crate::hash::fnv1a64;
-use crate::session::{run_group, Control, Executes, Learns, RunningMetrics, SessionConfig};
+use crate::scene::Scene;
+use crate::session::{
+    self, run_group, run_planned, Control, Executes, Learns, RunningMetrics, SessionConfig,
+};
 #[cfg(doc)]
 use crate::world::Executor;
 use crate::world::{Workload, World, WorldError};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
+use std::panic::AssertUnwindSafe;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+use std::sync::mpsc::Sender;
 
 impl Sweep {
     /// Runs one session on `world` (a world of the session's scene, or its
@@ -42,30 +47,28 @@ impl Sweep {
         session: &SessionSpec,
         world: &mut dyn World,
     ) -> Result<SessionResult, SweepError> {
-        let mut results = self.run_sessions_lockstep(std::slice::from_ref(session), world)?;
+        let scene = &self.scenes[self.cells[session.cell].scene];
+        if let Some(why) = mismatch(&**scene, world) {
+            return Err(SweepError::Other(format!(
+                "session {} is of scene `{}`, {why}",
+                session.index,
+                scene.name()
+            )));
+        }
+        let learner = self.learner(session, |c| {
+            let (space, n) = (world.command_space(), world.num_effects());
+            self.learners
+                .make(&c.learner, &c.params, space, n, &Target::Uniform)
+        })?;
+        let mut results = self.run_group_on(std::slice::from_ref(session), world, vec![learner]);
         Ok(results.remove(0))
     }
 
-    /// Runs `sessions` (all of one scene) together on `world`
-    /// ([`run_group`]): at each trial the new commands of all of them are
-    /// executed together; a session alone runs by itself. The results are
-    /// those of [`run_session`](Self::run_session), in order.
-    pub fn run_sessions_lockstep(
-        &self,
-        sessions: &[SessionSpec],
-        world: &mut dyn World,
-    ) -> Result<Vec<SessionResult>, SweepError> {
-        let learners = sessions
-            .iter()
-            .map(|s| self.learner(s, world))
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(self.run_group_on(sessions, world, learners))
-    }
-
-    /// Runs `sessions` (all of one scene) with their `learners` together
-    /// on `world`, a world of symbols or of values ([`run_group`]), each
-    /// into its running metrics: their results, in order.
-    pub(super) fn run_group_on<C, W, L>(
+    /// Runs `sessions` (one group of one scene) with their `learners`
+    /// together on `world`, a world of symbols or of values
+    /// ([`run_group`]), each into its running metrics: their results, in
+    /// order.
+    fn run_group_on<C, W, L>(
         &self,
         sessions: &[SessionSpec],
         world: &mut W,
@@ -79,7 +82,7 @@ impl Sweep {
         let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
         let mut recorders: Vec<RunningMetrics> = sessions
             .iter()
-            .map(|_| self.recorder_of(world.effects()))
+            .map(|_| self.recorder(world.effects()))
             .collect();
         let count = |t| self.count_trials(t);
         let control = Control::default().with_progress(&count);
@@ -92,37 +95,18 @@ impl Sweep {
             .collect()
     }
 
-    fn learner(
+    /// What `make` makes for the cell of `session` (its learner), its
+    /// error naming the learner.
+    pub(super) fn learner<T>(
         &self,
         session: &SessionSpec,
-        world: &dyn World,
-    ) -> Result<Box<dyn crate::learner::Learner + Send>, SweepError> {
+        make: impl FnOnce(&Cell) -> Result<T, BoxError>,
+    ) -> Result<T, SweepError> {
         let cell = &self.cells[session.cell];
-        let scene = &self.scenes[cell.scene];
-        let space = scene.command_space();
-        if world.command_space() != &space || world.num_effects() != scene.num_effects() {
-            return Err(SweepError::Other(format!(
-                "session {} is of scene `{}`, whose commands are {} with {} effects, but the world's commands are {} with {} effects",
-                session.index,
-                scene.name(),
-                describe_space(&space),
-                scene.num_effects(),
-                describe_space(world.command_space()),
-                world.num_effects()
-            )));
-        }
-        self.learners
-            .make(
-                &cell.learner,
-                &cell.params,
-                world.command_space(),
-                world.num_effects(),
-                &Target::Uniform,
-            )
-            .map_err(|source| SweepError::Learner {
-                learner: cell.learner.clone(),
-                source,
-            })
+        make(cell).map_err(|source| SweepError::Learner {
+            learner: cell.learner.clone(),
+            source,
+        })
     }
 
     pub(super) fn config(&self, session: &SessionSpec) -> SessionConfig {
@@ -133,14 +117,9 @@ impl Sweep {
         }
     }
 
-    /// The running metrics a session keeps: the cumulative reward at the
-    /// trials the metrics name.
-    pub(super) fn recorder(&self, world: &dyn World) -> RunningMetrics {
-        self.recorder_of(world.num_effects())
-    }
-
-    /// The same for a world of `num_effects` effects.
-    pub(super) fn recorder_of(&self, num_effects: usize) -> RunningMetrics {
+    /// The running metrics a session on a world of `num_effects` effects
+    /// keeps: the cumulative reward at the trials the metrics name.
+    pub(super) fn recorder(&self, num_effects: usize) -> RunningMetrics {
         let checkpoints: Vec<usize> = self
             .metrics
             .iter()
@@ -201,14 +180,14 @@ impl Sweep {
     ///
     /// Each scene's outcomes come from the cheapest of an outcome table,
     /// an outcome memo or live execution ([`Executor`]), shared by all
-    /// threads; under the memo and live execution the scene's sessions run
-    /// in lockstep groups, each group's new commands stepped together in
-    /// multi-copy worlds where copies are exact. The results are the same,
-    /// bit for bit, whatever is chosen and whatever the threads. Each
-    /// choice is told to the notice callback ([`with_notices`](Self::with_notices)),
-    /// and so is what a memo simulated and kept.
-    /// An error from `on_result` or from a session stops the sweep and is
-    /// returned.
+    /// threads; its sessions run through the session engine
+    /// ([`run_planned`]): under the memo and live execution in lockstep
+    /// groups, each group's new commands stepped together in multi-copy
+    /// worlds where copies are exact. The results are the same, bit for
+    /// bit, whatever is chosen and whatever the threads. Each choice is
+    /// told to the notice callback ([`with_notices`](Self::with_notices)),
+    /// and so is what a memo simulated and kept. An error from
+    /// `on_result` or from a session stops the sweep and is returned.
     pub fn run_with(
         &self,
         sessions: &[SessionSpec],
@@ -228,25 +207,11 @@ impl Sweep {
                 .map(|(si, (scene, w))| self.scene_run(si, &**scene, w))
                 .collect::<Result<_, SweepError>>()
         })?;
-        let units = self.units(&executors, sessions);
-        let (executors, units) = (&executors, &units);
+        let executors = &executors;
         let outcome = std::thread::scope(|scope| {
-            let (tx, rx) = std::sync::mpsc::channel::<Result<SessionResult, SweepError>>();
+            let (tx, rx) = std::sync::mpsc::channel();
             let pool = &pool;
-            scope.spawn(move || {
-                pool.install(|| {
-                    let _ = units.par_iter().try_for_each_with(tx, |tx, unit| {
-                        let scene = self.cells[unit[0].cell].scene;
-                        let exec = executors[scene].as_ref().expect("a scene with work");
-                        let results = self.run_unit(&**exec, unit);
-                        match results {
-                            Ok(rs) => rs.into_iter().try_for_each(|r| tx.send(Ok(r))),
-                            Err(e) => tx.send(Err(e)),
-                        }
-                        .map_err(|_| ())
-                    });
-                })
-            });
+            scope.spawn(move || pool.install(|| self.run_scenes(executors, sessions, &tx)));
             let mut outcome = Ok(());
             while let Ok(r) = rx.recv() {
                 if let Err(e) = r.and_then(&mut on_result) {
@@ -265,6 +230,130 @@ impl Sweep {
         outcome
     }
 
+    /// Runs `sessions` scene by scene, each scene's groups in parallel
+    /// through the engine ([`run_planned`]), sending each result, or the
+    /// error that stops the sweep, to `tx`; stops once nobody listens.
+    fn run_scenes(
+        &self,
+        executors: &[Option<Box<dyn SceneRun + '_>>],
+        sessions: &[SessionSpec],
+        tx: &Sender<Result<SessionResult, SweepError>>,
+    ) {
+        let gone = AtomicBool::new(false);
+        for (si, exec) in executors.iter().enumerate() {
+            let mine: Vec<SessionSpec> = sessions
+                .iter()
+                .filter(|s| self.cells[s.cell].scene == si)
+                .copied()
+                .collect();
+            if mine.is_empty() || gone.load(Relaxed) {
+                continue;
+            }
+            let scene = &*self.scenes[si];
+            let out = (tx, &gone);
+            if self.runs_episodes(si) {
+                mine.par_iter().for_each(|s| {
+                    self.guarded(std::slice::from_ref(s), out, || {
+                        let file = scene.scene().ok_or_else(|| {
+                            SweepError::Other(format!(
+                                "scene `{}` is made by code: a sweep of episodes runs scene files (their worlds start from contexts and states)",
+                                scene.name()
+                            ))
+                        })?;
+                        Ok(vec![self.run_episode_session(s, &mut *file.build())?])
+                    })
+                });
+            } else if let Some(values) = exec.as_ref().and_then(|e| e.values()) {
+                let space = scene.scene().and_then(Scene::value_space);
+                let space = space.expect("a scene of values");
+                self.run_scene(values, &mine, out, |s, n| {
+                    self.learner(s, |c| {
+                        let uniform = &Target::Uniform;
+                        self.learners
+                            .make_continuous(&c.learner, &c.params, &space, n, uniform)
+                    })
+                });
+            } else {
+                let exec = exec.as_ref().expect("a scene with work");
+                let space = scene.command_space();
+                self.run_scene(&**exec, &mine, out, |s, n| {
+                    self.learner(s, |c| {
+                        let uniform = &Target::Uniform;
+                        self.learners
+                            .make(&c.learner, &c.params, &space, n, uniform)
+                    })
+                });
+            }
+        }
+    }
+
+    /// Runs `mine`, the sessions of one scene, in the groups `worlds`
+    /// plans ([`run_planned`]), each with the learner `learner(session,
+    /// effects)` makes, into `out`.
+    fn run_scene<C: Clone, L: Learns<C>>(
+        &self,
+        worlds: &(impl session::Worlds<C> + ?Sized),
+        mine: &[SessionSpec],
+        out: Out<'_>,
+        learner: impl Fn(&SessionSpec, usize) -> Result<L, SweepError> + Sync,
+    ) {
+        let groups = worlds.session_groups(mine.len());
+        let parts = groups.into_iter().map(|g| (g.len(), &mine[g])).collect();
+        run_planned(worlds, parts, |unit, world| {
+            self.guarded(unit, out, || {
+                let world = world.map_err(|e| {
+                    let name = self.scenes[self.cells[unit[0].cell].scene].name();
+                    SweepError::Other(format!(
+                        "session {} is of scene `{name}`, {e}",
+                        unit[0].index
+                    ))
+                })?;
+                let learners = unit
+                    .iter()
+                    .map(|s| learner(s, world.effects()))
+                    .collect::<Result<Vec<_>, _>>()?;
+                Ok(self.run_group_on(unit, world, learners))
+            })
+        });
+    }
+
+    /// Sends to `out` the results of `unit` that `run` gives, or the error
+    /// that stops the sweep, unless nobody listens any more: a panic inside
+    /// the engine fails the unit's sessions, recorded so, not the whole
+    /// sweep.
+    fn guarded(
+        &self,
+        unit: &[SessionSpec],
+        (tx, gone): Out<'_>,
+        run: impl FnOnce() -> Result<Vec<SessionResult>, SweepError>,
+    ) {
+        if gone.load(Relaxed) {
+            return;
+        }
+        let results = std::panic::catch_unwind(AssertUnwindSafe(run)).unwrap_or_else(|p| {
+            let why = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "no message".into());
+            Ok(unit
+                .iter()
+                .map(|s| SessionResult {
+                    session: *s,
+                    values: vec![None; self.metrics.len()],
+                    failure: Some(format!("the simulation panicked: {why}")),
+                })
+                .collect())
+        });
+        let sent = match results {
+            Ok(rs) => rs.into_iter().try_for_each(|r| tx.send(Ok(r))),
+            Err(e) => tx.send(Err(e)),
+        };
+        if sent.is_err() {
+            gone.store(true, Relaxed);
+        }
+    }
+
     /// How scene `si` (`scene`, with workload `w`) runs: none without
     /// sessions, its episode worlds, or the cheapest of a table, a memo or
     /// live execution (told to the notice callback, its table's building
@@ -279,19 +368,18 @@ impl Sweep {
             return Ok(None);
         }
         if let (true, Some(file)) = (self.runs_episodes(si), scene.scene()) {
-            let e: Box<dyn SceneRun> = Box::new(EpisodeWorlds {
-                scene: file,
-                commands: self.spec.commands,
-                contexts: self.start_contexts(si),
-            });
-            if let Some(line) = e.describe() {
-                self.notice(&line);
-            }
-            return Ok(Some(e));
+            let (k, c) = (self.spec.commands, self.start_contexts(si));
+            self.notice(&format!(
+                "{}: episodes of {k} command{} from {c} start context{}: each session on a live world of its own",
+                file.spec().name,
+                if k == 1 { "" } else { "s" },
+                if c == 1 { "" } else { "s" },
+            ));
+            return Ok(None);
         }
         let e = match &self.table_progress {
             Some(f) => {
-                use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
+                use std::sync::atomic::AtomicU64;
                 let name = scene.name();
                 let (told, size) = (AtomicBool::new(false), AtomicU64::new(0));
                 let total = |n| size.store(n, Relaxed);
@@ -317,76 +405,6 @@ impl Sweep {
             self.notice(&line);
         }
         Ok(Some(e))
-    }
-
-    /// The units of work: one session on a table, or a lockstep group,
-    /// scene by scene (`executors`, by scene).
-    fn units(
-        &self,
-        executors: &[Option<Box<dyn SceneRun + '_>>],
-        sessions: &[SessionSpec],
-    ) -> Vec<Vec<SessionSpec>> {
-        let mut units: Vec<Vec<SessionSpec>> = Vec::new();
-        for (si, exec) in executors.iter().enumerate() {
-            let Some(exec) = exec else { continue };
-            let mine: Vec<SessionSpec> = sessions
-                .iter()
-                .filter(|s| self.cells[s.cell].scene == si)
-                .copied()
-                .collect();
-            units.extend(
-                exec.session_groups(mine.len())
-                    .into_iter()
-                    .map(|g| mine[g].to_vec()),
-            );
-        }
-        units
-    }
-
-    /// Runs one unit of work on `exec`: its sessions' results; a panic
-    /// inside the engine fails this unit's sessions, recorded so, not the
-    /// whole sweep.
-    fn run_unit(
-        &self,
-        exec: &dyn SceneRun,
-        unit: &[SessionSpec],
-    ) -> Result<Vec<SessionResult>, SweepError> {
-        let scene = self.cells[unit[0].cell].scene;
-        let run = std::panic::AssertUnwindSafe(|| {
-            if self.runs_episodes(scene) {
-                let file = self.scenes[scene].scene().ok_or_else(|| {
-                    SweepError::Other(format!(
-                        "scene `{}` is made by code: a sweep of episodes runs scene files (their worlds start from contexts and states)",
-                        self.scenes[scene].name()
-                    ))
-                })?;
-                return unit
-                    .iter()
-                    .map(|s| self.run_episode_session(s, &mut *file.build()))
-                    .collect();
-            }
-            if let Some(mut world) = exec.value_world(unit.len()) {
-                let learners = self.value_learners(unit, &*world)?;
-                return Ok(self.run_group_on(unit, &mut *world, learners));
-            }
-            let mut world = exec.world(unit.len());
-            self.run_sessions_lockstep(unit, &mut *world)
-        });
-        std::panic::catch_unwind(run).unwrap_or_else(|p| {
-            let why = p
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_else(|| "no message".into());
-            Ok(unit
-                .iter()
-                .map(|s| SessionResult {
-                    session: *s,
-                    values: vec![None; self.metrics.len()],
-                    failure: Some(format!("the simulation panicked: {why}")),
-                })
-                .collect())
-        })
     }
 
     /// Runs every session on `threads` threads and returns the results in
@@ -559,6 +577,13 @@ impl Sweep {
         Ok(())
     }
 }
+
+/// Where a sweep's threads send their results, and whether anybody still
+/// listens.
+type Out<'a> = (
+    &'a Sender<Result<SessionResult, SweepError>>,
+    &'a AtomicBool,
+);
 
 /// The journal at `journal_path`: a new one for `header`, or the existing
 /// one (written by the same run: same sweep, scenes, version and shard)
