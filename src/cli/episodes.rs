@@ -1,19 +1,19 @@
 //! `e3d run` on episodes: a scene with start contexts, or `--commands K`
 //! commands per episode (closed loop), with a contextual learner.
 
-use super::output::write_file;
-use super::session::{join_trials, CsvPart, ObserveArg, RunArgs};
+use super::run::track_run;
+use super::session::{finish_parts, write_run, CsvPart, ObserveArg, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
 use e3d::episode::{EpisodeConfig, EpisodeRecorder, EpisodeTally, Observe};
-use e3d::learner::{ContextTargets, ContextualLearner, LearnerSetup};
+use e3d::learner::{ContextualLearner, LearnerSetup};
 use e3d::scene::WorldSpec;
-use e3d::session::{run_episode_sessions, Control};
+use e3d::session::run_episode_sessions;
 use e3d::world::{ContextMemoized, OutcomeMemo};
-use e3d::{LearnerKind, Params, Scene, Target};
+use e3d::{LearnerKind, Params, Scene};
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Whether `e3d run` runs episodes: start contexts, several commands per
 /// episode, or a closed-loop learner.
@@ -87,7 +87,6 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         observe,
     };
     let contexts = cfg(0).num_contexts(&world);
-    let _shared = ContextTargets::Shared(Target::Uniform);
     if a.closed_loop && !matches!(a.learner, LearnerKind::E3d | LearnerKind::Egreedy) {
         return Err(CliError::input(format!(
             "--closed-loop takes --learner e3d (closed-loop E3D) or egreedy (Q-learning), not {}",
@@ -113,56 +112,46 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
     let mut recorders = (0..seeds.len())
         .map(|i| -> Result<_, CliError> {
-            let csv = match &csv_path {
-                Some(p) => Some(EpisodeCsv::create(p, &space, &names, i)?),
-                None => None,
-            };
+            let csv = csv_path
+                .as_ref()
+                .map(|p| EpisodeCsv::create(p, &space, &names, i))
+                .transpose()?;
             Ok((EpisodeTally::new(names.len()), csv))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let label = format!("run {}", scene.spec().name);
-    let total = a.trials.saturating_mul(seeds.len() as u64);
-    let status = super::progress::track(&label, "episodes", total, |p| {
-        let add = |t| p.add(t);
+    let status = track_run(a, scene, "episodes", seeds.len(), |control| {
         let make = |_| -> Result<_, CliError> {
-            Ok((
-                Box::new(ContextMemoized::new(scene.build(), &memos)),
-                make()?,
-            ))
+            let world = Box::new(ContextMemoized::new(scene.build(), &memos));
+            Ok((world, make()?))
         };
-        let control = Control::default().with_progress(&add);
-        run_episode_sessions(&configs, make, &mut recorders, &control)
+        run_episode_sessions(&configs, make, &mut recorders, control)
     });
-    let mut parts = Vec::new();
-    for (st, (_, csv)) in status.into_iter().zip(&mut recorders) {
-        st?;
-        if let Some(c) = csv.take() {
-            parts.push(c.part.finish()?);
-        }
-    }
+    let parts = recorders.iter_mut().map(|r| r.1.take().map(|c| c.part));
+    let parts = finish_parts(status, parts)?;
     let sessions = sessions_of(&recorders, seeds);
     print_sessions(a, scene, &name, &names, &sessions, seeds);
-    if let Some(dir) = &a.out {
-        let summary = Summary {
-            e3d_version: env!("CARGO_PKG_VERSION"),
-            scene: &scene.spec().name,
-            learner: &name,
-            params,
-            use_reward: !a.no_reward,
-            commands_per_episode: a.commands as usize,
-            observe: if observe == Observe::State {
-                "state"
-            } else {
-                "start"
-            },
-            gamma: a.closed_loop.then_some(a.gamma),
-            start_contexts: names,
-            sessions,
-            scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
-        };
-        write_outputs(dir, &parts, &summary)?;
-    }
-    Ok(())
+    let Some(dir) = &a.out else {
+        return Ok(());
+    };
+    let summary = Summary {
+        e3d_version: env!("CARGO_PKG_VERSION"),
+        scene: &scene.spec().name,
+        learner: &name,
+        params,
+        use_reward: !a.no_reward,
+        commands_per_episode: a.commands as usize,
+        observe: if observe == Observe::State {
+            "state"
+        } else {
+            "start"
+        },
+        gamma: a.closed_loop.then_some(a.gamma),
+        start_contexts: names,
+        sessions,
+        scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
+    };
+    let header = "session,episode,command,context,start,symbols,effect,reward";
+    write_run(dir, header, &parts, |_| Ok(()), &summary)
 }
 
 /// What each session (of seed `seeds[i]`) found.
@@ -300,9 +289,6 @@ fn print_sessions(
     }
 }
 
-/// `trials.csv`'s header.
-const TRIALS_HEADER: &str = "session,episode,command,context,start,symbols,effect,reward";
-
 /// A session's rows of `trials.csv`, written as its episodes run (a
 /// [`CsvPart`]): a row per command.
 struct EpisodeCsv {
@@ -356,19 +342,4 @@ impl EpisodeRecorder for EpisodeCsv {
             )
         });
     }
-}
-
-/// Writes `trials.csv` (the sessions' streamed `parts` joined) and
-/// `summary.json` into `dir`.
-fn write_outputs(dir: &Path, parts: &[PathBuf], summary: &Summary) -> CliResult {
-    let mut json = serde_json::to_vec_pretty(summary).map_err(CliError::output)?;
-    json.push(b'\n');
-    join_trials(&dir.join("trials.csv"), TRIALS_HEADER, parts)?;
-    write_file(&dir.join("summary.json"), &json)?;
-    outln!(
-        "wrote {} and {}",
-        dir.join("trials.csv").display(),
-        dir.join("summary.json").display()
-    );
-    Ok(())
 }

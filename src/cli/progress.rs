@@ -190,6 +190,19 @@ pub fn track<T>(label: &str, unit: &str, total: u64, work: impl FnOnce(&Progress
     track_as(label, unit, total, true, false, work)
 }
 
+/// [`track`] for work that reports its units through an [`e3d::Control`].
+pub fn track_control<T>(
+    label: &str,
+    unit: &str,
+    total: u64,
+    work: impl FnOnce(&e3d::Control<'_>) -> T,
+) -> T {
+    track(label, unit, total, |p| {
+        let add = |k| p.add(k);
+        work(&e3d::Control::default().with_progress(&add))
+    })
+}
+
 /// [`track`] for a command that prints its results as they come (`scene
 /// exec`): no total, and no spinner when standard output is the terminal
 /// too (the rows show the progress there, and a spinner would cut into

@@ -207,8 +207,7 @@ impl CsvPart {
     /// A new temporary file beside the final file `target` (created
     /// exclusively: never through a link planted under its name).
     pub(super) fn create(target: &Path) -> Result<Self, CliError> {
-        let (path, f) = e3d::io::create_temp_beside(target)
-            .map_err(|e| CliError::output(format!("{}: cannot write: {e}", target.display())))?;
+        let (path, f) = e3d::io::create_temp_beside(target).map_err(|e| cannot_write(target, e))?;
         Ok(CsvPart {
             out: std::io::BufWriter::with_capacity(1 << 16, f),
             path,
@@ -222,28 +221,29 @@ impl CsvPart {
         write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
     ) {
         if self.error.is_none() {
-            if let Err(e) = write(&mut self.out) {
-                self.error = Some(e);
-            }
+            self.error = write(&mut self.out).err();
         }
     }
 
     /// Flushes; the file's path, or why it could not be written.
-    pub(super) fn finish(mut self) -> Result<PathBuf, CliError> {
+    fn finish(mut self) -> Result<PathBuf, CliError> {
         use std::io::Write;
-        let r = match self.error.take() {
-            Some(e) => Err(e),
-            None => self.out.flush(),
-        };
-        r.map_err(|e| CliError::output(format!("{}: cannot write: {e}", self.path.display())))?;
-        Ok(self.path)
+        match self.error.take().map_or_else(|| self.out.flush(), Err) {
+            Ok(()) => Ok(self.path),
+            Err(e) => Err(cannot_write(&self.path, e)),
+        }
     }
+}
+
+/// `PATH: cannot write: E`.
+fn cannot_write(path: &Path, e: std::io::Error) -> CliError {
+    CliError::output(format!("{}: cannot write: {e}", path.display()))
 }
 
 /// Streams `trial,command,effect,reward` rows (with a leading `session`
 /// column for several sessions) into a [`CsvPart`].
 pub(super) struct TrialsCsv {
-    part: CsvPart,
+    pub(super) part: CsvPart,
     space: CommandSpace,
     session: Option<usize>,
     trial: usize,
@@ -263,11 +263,6 @@ impl TrialsCsv {
             trial: 0,
         })
     }
-
-    /// Flushes; the file's path, or why it could not be written.
-    pub(super) fn finish(self) -> Result<PathBuf, CliError> {
-        self.part.finish()
-    }
 }
 
 impl Recorder for TrialsCsv {
@@ -279,31 +274,53 @@ impl Recorder for TrialsCsv {
             if let Some(s) = session {
                 write!(out, "{s},")?;
             }
-            writeln!(
-                out,
-                "{trial},{},{},{}",
-                space.format(command),
-                outcome.effect,
-                outcome.reward
-            )
+            let (effect, reward) = (outcome.effect, outcome.reward);
+            writeln!(out, "{trial},{},{effect},{reward}", space.format(command))
         });
     }
 }
 
-/// Joins the temporary trial files into `path` under one header, then
-/// renames it into place: the final file is whole or absent.
-pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
+/// The sessions' CSV parts (`parts`, in step with `status`), finished;
+/// the first failed session fails the run with its error.
+pub(super) fn finish_parts<E>(
+    status: Vec<Result<(), E>>,
+    parts: impl Iterator<Item = Option<CsvPart>>,
+) -> Result<Vec<PathBuf>, CliError>
+where
+    CliError: From<E>,
+{
+    let mut files = Vec::new();
+    for (st, part) in status.into_iter().zip(parts) {
+        st?;
+        if let Some(p) = part {
+            files.push(p.finish()?);
+        }
+    }
+    Ok(files)
+}
+
+/// Writes DIR/trials.csv whole or not at all (`header`, the sessions'
+/// streamed `parts`, then what `rows` writes) and DIR/summary.json
+/// (`summary`), and says so.
+pub(super) fn write_run(
+    dir: &Path,
+    header: &str,
+    parts: &[PathBuf],
+    rows: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+    summary: &impl serde::Serialize,
+) -> CliResult {
     use std::io::Write;
-    let (tmp, file) = e3d::io::create_temp_beside(path)
-        .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))?;
+    let (csv, json_path) = (dir.join("trials.csv"), dir.join("summary.json"));
+    let (tmp, file) = e3d::io::create_temp_beside(&csv).map_err(|e| cannot_write(&csv, e))?;
     let result = (|| -> std::io::Result<()> {
         let mut out = std::io::BufWriter::new(file);
         writeln!(out, "{header}")?;
         for p in parts {
             std::io::copy(&mut std::fs::File::open(p)?, &mut out)?;
         }
+        rows(&mut out)?;
         out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        std::fs::rename(&tmp, path)
+        std::fs::rename(&tmp, &csv)
     })();
     for p in parts {
         let _ = std::fs::remove_file(p);
@@ -311,7 +328,12 @@ pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliRe
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
-    result.map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
+    result.map_err(|e| cannot_write(&csv, e))?;
+    let mut json = serde_json::to_vec_pretty(summary).map_err(CliError::output)?;
+    json.push(b'\n');
+    super::output::write_file(&json_path, &json)?;
+    outln!("wrote {} and {}", csv.display(), json_path.display());
+    Ok(())
 }
 
 /// A note on standard error for every hyper-parameter given on the command
