@@ -1,8 +1,6 @@
 //! `e3d scene exec`: commands executed as they come, their outcomes as CSV.
 
-use super::simulate::{
-    calibration, say_cost, say_cost_copies, seconds_text, steps_text, world_error,
-};
+use super::simulate::{calibration, say_cost, seconds_text, steps_text, world_error};
 use crate::cli::console::errln;
 use crate::cli::{progress, CliError, CliResult};
 use e3d::command::CommandSpace;
@@ -12,7 +10,7 @@ use e3d::{Command, OutcomeTable, World, WorldError};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
-use std::sync::mpsc::SyncSender;
+use std::sync::mpsc::{Receiver, SyncSender};
 use std::sync::Mutex;
 
 /// A command read by [`read_commands`], or why the input ends there.
@@ -60,6 +58,16 @@ pub(super) fn read_commands(space: &CommandSpace, commands: &[String], tx: &Sync
     }
 }
 
+/// A reader thread of the `commands` ([`read_commands`]), its channel
+/// holding `bound` of them; not joined: it may wait on stdin when the
+/// output ends with an error.
+fn reader(space: &CommandSpace, commands: Vec<String>, bound: usize) -> Receiver<Read> {
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(bound);
+    let space = space.clone();
+    std::thread::spawn(move || read_commands(&space, &commands, &tx));
+    rx
+}
+
 /// `e3d scene exec --trace FILE`: each command's motion, one after the
 /// other on one world, its CSV row printed as it is done and its frames
 /// streamed into a temporary file renamed to FILE at the end (whole or not
@@ -74,9 +82,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     let space = scene.command_space();
     // whether stdin is read, and how many commands otherwise
     let commands_known = (commands.iter().any(|c| c == "-"), commands.len() as u64);
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(64);
-    let reader_space = space.clone();
-    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let rx = reader(&space, commands, 64);
     let out_err =
         |e: std::io::Error| CliError::output(format!("{}: cannot write: {e}", path.display()));
     // created exclusively: never through a link planted under its name
@@ -89,7 +95,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
         let label = format!("scene exec {}", scene.spec().name);
         let known = (!commands_known.0).then_some(commands_known.1);
         if let Some(n) = known {
-            say_cost(&label, scene, n, 1);
+            say_cost(&label, scene, n, 1, 1);
         }
         progress::track_stream(&label, "commands", |p| -> CliResult {
             if let Some(n) = known {
@@ -307,50 +313,53 @@ fn mirror_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
     }
 }
 
-/// `e3d scene exec`: a reader thread parses the commands as they come; the
-/// main thread waits for one, takes what else is queued (up to
-/// [`chunk_limit`]), executes that chunk on every core and prints its rows
-/// in input order, flushed, before the next chunk. The first command that
-/// does not parse or that blows up ends the output, after the rows before
-/// it, with its error.
-/// `scene exec` on a grid with start contexts: every command from every
-/// start cell of every context, one row each, with the context's name and
-/// the start cell (a rectangle's every cell, in row order).
-fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<String>) -> CliResult {
-    let space = scene.command_space();
+/// `scene exec` on a scene with start contexts: `header`, then for each
+/// command the rows `rows` writes (one per start), printed as each
+/// command is done.
+fn exec_each(
+    scene: &Scene,
+    commands: Vec<String>,
+    header: &str,
+    mut rows: impl FnMut(&mut dyn e3d::world::Episodic, &Command, &mut String) -> CliResult,
+) -> CliResult {
     let mut world = scene.build();
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(1024);
-    let reader_space = space.clone();
-    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
-    let mut out = String::from("context,start_row,start_col,command,effect,reward,x,y\n");
+    let mut out = String::from(header);
     let mut stdout = std::io::stdout().lock();
-    for read in rx {
-        let c = read?;
-        for ctx in &grid.contexts {
-            let ((r0, r1), (c0, c1)) = ctx.bounds();
-            for r in r0..=r1 {
-                for col in c0..=c1 {
-                    let from = e3d::world::WorldState::Cell(r * grid.cols + col);
-                    let (o, _) = world.execute_from(&from, &c).map_err(world_error)?;
-                    let _ = writeln!(
-                        out,
-                        "{},{r},{col},{},{},{},{},{}",
-                        ctx.name,
-                        space.format(&c),
-                        o.effect,
-                        o.reward,
-                        o.point[0],
-                        o.point[1]
-                    );
-                }
-            }
-        }
+    for read in reader(&scene.command_space(), commands, 1024) {
+        rows(&mut *world, &read?, &mut out)?;
         stdout
             .write_all(out.as_bytes())
             .map_err(crate::cli::console::stdout_error)?;
         out.clear();
     }
     Ok(())
+}
+
+/// `scene exec` on a grid with start contexts: every command from every
+/// start cell of every context, one row each, with the context's name and
+/// the start cell (a rectangle's every cell, in row order).
+fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<String>) -> CliResult {
+    let space = scene.command_space();
+    let header = "context,start_row,start_col,command,effect,reward,x,y\n";
+    exec_each(scene, commands, header, |world, c, out| {
+        let command = space.format(c);
+        for ctx in &grid.contexts {
+            let ((r0, r1), (c0, c1)) = ctx.bounds();
+            for r in r0..=r1 {
+                for col in c0..=c1 {
+                    let from = e3d::world::WorldState::Cell(r * grid.cols + col);
+                    let (o, _) = world.execute_from(&from, c).map_err(world_error)?;
+                    let ([x, y], name) = (o.point, &ctx.name);
+                    let _ = writeln!(
+                        out,
+                        "{name},{r},{col},{command},{},{},{x},{y}",
+                        o.effect, o.reward
+                    );
+                }
+            }
+        }
+        Ok(())
+    })
 }
 
 /// `scene exec` on a physics scene with start contexts: every command from
@@ -359,28 +368,22 @@ fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<Strin
 fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>) -> CliResult {
     use rand::SeedableRng;
     let space = scene.command_space();
-    let mut world = scene.build();
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(1024);
-    let reader_space = space.clone();
-    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
-    let mut out = String::from("context,command,effect,reward,x,y\n");
-    let mut stdout = std::io::stdout().lock();
-    for read in rx {
-        let c = read?;
-        for (k, name) in names.iter().enumerate() {
-            let mut rng = e3d::SessionRng::seed_from_u64(0);
-            let from = world.draw_start(k, &mut rng).map_err(world_error)?;
-            let o = world.execute_outcome_from(&from, &c).map_err(world_error)?;
-            let [x, y] = o.point;
-            let command = space.format(&c);
-            let _ = writeln!(out, "{name},{command},{},{},{x},{y}", o.effect, o.reward);
-        }
-        stdout
-            .write_all(out.as_bytes())
-            .map_err(crate::cli::console::stdout_error)?;
-        out.clear();
-    }
-    Ok(())
+    exec_each(
+        scene,
+        commands,
+        "context,command,effect,reward,x,y\n",
+        |world, c, out| {
+            for (k, name) in names.iter().enumerate() {
+                let mut rng = e3d::SessionRng::seed_from_u64(0);
+                let from = world.draw_start(k, &mut rng).map_err(world_error)?;
+                let o = world.execute_outcome_from(&from, c).map_err(world_error)?;
+                let [x, y] = o.point;
+                let command = space.format(c);
+                let _ = writeln!(out, "{name},{command},{},{},{x},{y}", o.effect, o.reward);
+            }
+            Ok(())
+        },
+    )
 }
 
 /// Fills `chunk` with the commands read next: the first one waited for,
@@ -388,7 +391,7 @@ fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>)
 /// (nothing read); else `Some` of the error that ends the input, if one
 /// came (the commands before it are in `chunk`).
 fn next_chunk(
-    rx: &std::sync::mpsc::Receiver<Read>,
+    rx: &Receiver<Read>,
     limit: usize,
     chunk: &mut Vec<Command>,
 ) -> Option<Option<CliError>> {
@@ -467,8 +470,7 @@ impl CostNote {
             WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
             _ => 1,
         };
-        let said =
-            looked_up || known.is_some_and(|n| say_cost_copies(label, scene, n, threads, copies));
+        let said = looked_up || known.is_some_and(|n| say_cost(label, scene, n, threads, copies));
         let per_command = if said {
             0.0
         } else {
@@ -497,6 +499,12 @@ impl CostNote {
     }
 }
 
+/// `e3d scene exec`: a reader thread parses the commands as they come; the
+/// main thread waits for one, takes what else is queued (up to
+/// [`chunk_limit`]), executes that chunk on every core and prints its rows
+/// in input order, flushed, before the next chunk. The first command that
+/// does not parse or that blows up ends the output, after the rows before
+/// it, with its error.
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
     let contexts = e3d::world::start_contexts(scene).len();
     if let (Some(dir), true) = (table_cache, contexts > 0) {
@@ -526,10 +534,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let mut cost = CostNote::new(&label, scene, known, table.is_some());
     let mut executor = ExecPool::new(scene, table);
     let limit = chunk_limit();
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(2 * limit);
-    let reader_space = space.clone();
-    // not joined: it may wait on stdin when the output ends with an error
-    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let rx = reader(&space, commands, 2 * limit);
     let mut stdout = std::io::stdout().lock();
     let mut write = |text: &str| {
         stdout

@@ -14,24 +14,13 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
         ));
     };
     let space = scene.command_space();
-    let n = space.num_commands().unwrap_or(u64::MAX);
-    if n > e3d::world::MAX_TABLE_COMMANDS {
-        return Err(CliError::input(format!(
-            "{} commands: too many to execute them all (at most {})",
-            space.num_commands_text(),
-            e3d::world::MAX_TABLE_COMMANDS
-        )));
-    }
+    let n = super::simulate::all_commands(scene, "to execute them all")?;
     let contexts = e3d::world::start_contexts(scene);
     if !contexts.is_empty() {
         return context_stats(scene, physics, &contexts, n);
     }
     let start = std::time::Instant::now();
-    let threads = rayon::current_num_threads();
-    let secs = n as f64
-        * e3d::world::rollout_seconds(scene)
-        * super::simulate::calibration(scene, threads, 1)
-        / threads as f64;
+    let secs = super::simulate::live_seconds(scene, n);
     let all: Vec<e3d::world::RunStats> = simulate_all(scene, n, secs, |progress| {
         (0..n)
             .into_par_iter()
@@ -106,10 +95,7 @@ fn context_stats(
         .map_err(world_error)?;
     let threads = rayon::current_num_threads();
     let total = n * contexts.len() as u64;
-    let secs = total as f64
-        * e3d::world::rollout_seconds(scene)
-        * super::simulate::calibration(scene, threads, 1)
-        / threads as f64;
+    let secs = super::simulate::live_seconds(scene, total);
     let start = std::time::Instant::now();
     let all: Vec<Vec<e3d::world::RunStats>> = simulate_all(scene, total, secs, |progress| {
         starts
