@@ -73,6 +73,11 @@ impl From<e3d::WorldError> for CliError {
 
 pub type CliResult = Result<(), CliError>;
 
+/// `m` locked, even if a thread panicked holding it (what it guards stays usable).
+pub fn locked<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Loads a scene by path or built-in name, as a CLI error.
 pub fn load_scene(name: &str) -> Result<e3d::Scene, CliError> {
     e3d::Scene::resolve(name).map_err(CliError::input)

@@ -353,43 +353,29 @@ pub(super) fn note_unused_params(learner: LearnerKind, given: &[&str]) {
     }
 }
 
-/// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order
-/// of a sweep's columns; nothing for the uniform policy, which uses none.
-pub(super) fn used_params(learner: LearnerKind, p: &Params) -> String {
-    let values = p.named();
-    let used: Vec<String> = values
-        .into_iter()
-        .filter(|(name, _)| e3d::sweep::uses_param(learner, name))
-        .map(|(name, v)| format!("{name} {v}"))
-        .collect();
-    if used.is_empty() {
-        String::new()
-    } else {
-        format!(" | {}", used.join(" "))
-    }
-}
-
 /// The first line of a run's summary: scene, learner (`kind` after its
-/// name: `" (continuous)"` or nothing), trials, sessions and seeds, the
-/// parameters the learner reads.
+/// name: `" (continuous)"` or nothing), trials, sessions and seeds, and
+/// ` | alpha 0.3 beta 1 ...`: the parameters the learner reads, in the
+/// order of a sweep's columns (none for the uniform policy).
 pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params, seeds: &[u64]) {
-    let sessions = seeds.len();
+    let (first, last) = (seeds[0], seeds[seeds.len() - 1]);
+    let (sessions, seed) = match seeds.len() {
+        1 => (String::new(), first.to_string()),
+        n => (format!(" x {n} sessions"), format!("{first}..={last}")),
+    };
+    let used: Vec<String> = (params.named().into_iter())
+        .filter(|(name, _)| e3d::sweep::uses_param(a.learner, name))
+        .map(|(name, v)| format!(" {name} {v}"))
+        .collect();
+    let used = match used.concat() {
+        u if u.is_empty() => u,
+        u => format!(" |{u}"),
+    };
+    let no_reward = if a.no_reward { " | no reward" } else { "" };
     outln!(
-        "scene {scene} | learner {}{kind} | {} trials{} | seed {}{}{}",
+        "scene {scene} | learner {}{kind} | {} trials{sessions} | seed {seed}{used}{no_reward}",
         a.learner,
-        a.trials,
-        if sessions > 1 {
-            format!(" x {sessions} sessions")
-        } else {
-            String::new()
-        },
-        if sessions > 1 {
-            format!("{}..={}", seeds[0], seeds[sessions - 1])
-        } else {
-            seeds[0].to_string()
-        },
-        used_params(a.learner, params),
-        if a.no_reward { " | no reward" } else { "" }
+        a.trials
     );
 }
 
@@ -397,46 +383,37 @@ pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params
 /// are several) and, for several, their mean.
 pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usize) {
     let sessions = metrics.len();
-    for (i, m) in metrics.iter().enumerate() {
-        let who = if sessions > 1 {
-            format!("seed {}: ", seeds[i])
-        } else {
-            String::new()
+    let at = |t: Option<usize>| t.map_or("-".to_string(), |t| t.to_string());
+    for (m, seed) in metrics.iter().zip(seeds) {
+        let who = match sessions {
+            1 => String::new(),
+            _ => format!("seed {seed}: "),
         };
         outln!(
-            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
+            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {num_effects} effects reached",
             m.normalized_entropy,
             m.normalized_entropy_last_1000,
             m.kl_to_target,
-            m.distinct_effects,
-            num_effects
+            m.distinct_effects
         );
         if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
             outln!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
         }
-        let at = |t: Option<usize>| t.map_or("-".to_string(), |t| t.to_string());
+        let (of, reachable) = match m.reachable_effects {
+            Some(_) => ("the", " reachable"),
+            None => ("all", ""),
+        };
         outln!(
-            "{who}coverage {:.4} of {} {}{} cells | 50% by trial {} | 90% by trial {}",
+            "{who}coverage {:.4} of {of} {}{reachable} cells | 50% by trial {} | 90% by trial {}",
             m.coverage,
-            if m.reachable_effects.is_some() {
-                "the"
-            } else {
-                "all"
-            },
             m.coverage_cells,
-            if m.reachable_effects.is_some() {
-                " reachable"
-            } else {
-                ""
-            },
             at(m.trials_to_50_percent),
             at(m.trials_to_90_percent)
         );
         outln!(
             "{who}cumulative reward {} | first reward at trial {}",
             m.cumulative_reward,
-            m.first_reward_trial
-                .map_or("-".to_string(), |t| t.to_string())
+            at(m.first_reward_trial)
         );
     }
     if sessions > 1 {

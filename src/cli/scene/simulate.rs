@@ -156,7 +156,7 @@ pub(super) fn calibration(scene: &Scene, threads: usize, copies: usize) -> f64 {
     type Key = (String, usize, usize);
     static CACHE: std::sync::Mutex<Vec<(Key, f64)>> = std::sync::Mutex::new(Vec::new());
     let key = (scene.spec().name.clone(), threads, copies);
-    let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    let mut cache = crate::cli::locked(&CACHE);
     if let Some((_, f)) = cache.iter().find(|(k, _)| *k == key) {
         return *f;
     }
