@@ -8,7 +8,6 @@ use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
 use e3d::episode::{EpisodeConfig, EpisodeRecorder, EpisodeTally, Observe};
 use e3d::learner::{ContextualLearner, LearnerSetup};
-use e3d::scene::WorldSpec;
 use e3d::session::run_episode_sessions;
 use e3d::world::{ContextMemoized, OutcomeMemo};
 use e3d::{LearnerKind, Params, Scene};
@@ -23,12 +22,12 @@ pub fn wanted(a: &RunArgs, scene: &Scene) -> bool {
 
 /// The names of the scene's start contexts (`["start"]` without any).
 fn start_names(scene: &Scene) -> Vec<String> {
-    match &scene.spec().world {
-        WorldSpec::Grid(g) if !g.contexts.is_empty() => {
-            g.contexts.iter().map(|c| c.name.clone()).collect()
-        }
-        WorldSpec::Grid(_) => vec!["start".into()],
-        WorldSpec::Physics(p) => p.context_names(),
+    let names: Vec<String> = (e3d::world::start_contexts(scene).into_iter())
+        .map(|c| c.name)
+        .collect();
+    match names.is_empty() {
+        true => vec!["start".into()],
+        false => names,
     }
 }
 
@@ -103,7 +102,16 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     };
     let name = make()?.name().to_string();
     describe(a, seeds.len(), &name, contexts, observe);
-    let memos = memos(a, world.num_contexts(), &space, num_effects)?;
+    // one memo per start context (none with --memo-cap 0): commands from a
+    // named start context are simulated once, whatever the session
+    // (sampled starts and later commands run live)
+    let memos: Vec<OutcomeMemo> = match a.memo.memo_cap {
+        0 => Vec::new(),
+        cap => (0..world.num_contexts())
+            .map(|_| OutcomeMemo::new(&space, num_effects, cap))
+            .collect::<Result<_, _>>()
+            .map_err(CliError::input)?,
+    };
     if let Some(dir) = &a.table_cache {
         preload_context_tables(&a.scene, scene, dir, &memos);
     }
@@ -128,8 +136,16 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     });
     let parts = recorders.iter_mut().map(|r| r.1.take().map(|c| c.part));
     let parts = finish_parts(status, parts)?;
-    let sessions = sessions_of(&recorders, seeds);
-    print_sessions(a, scene, &name, &names, &sessions, seeds);
+    let sessions: Vec<OneSession> = (recorders.iter().zip(seeds))
+        .map(|((t, _), &seed)| OneSession {
+            seed,
+            episodes: t.episodes(),
+            first_reward_episode: t.first_reward_episode(),
+            cumulative_reward: t.cumulative_reward(),
+            entropy_per_start: t.entropy_per_start(),
+        })
+        .collect();
+    print_sessions(a, scene, &name, &names, &sessions);
     let Some(dir) = &a.out else {
         return Ok(());
     };
@@ -154,21 +170,6 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     write_run(dir, header, &parts, |_| Ok(()), &summary)
 }
 
-/// What each session (of seed `seeds[i]`) found.
-fn sessions_of(recorders: &[(EpisodeTally, Option<EpisodeCsv>)], seeds: &[u64]) -> Vec<OneSession> {
-    recorders
-        .iter()
-        .zip(seeds)
-        .map(|((t, _), &seed)| OneSession {
-            seed,
-            episodes: t.episodes(),
-            first_reward_episode: t.first_reward_episode(),
-            cumulative_reward: t.cumulative_reward(),
-            entropy_per_start: t.entropy_per_start(),
-        })
-        .collect()
-}
-
 /// Tells (on stderr) what runs: sessions, episodes, learner, contexts
 /// and what the learner observes.
 fn describe(a: &RunArgs, sessions: usize, name: &str, contexts: usize, observe: Observe) {
@@ -185,25 +186,6 @@ fn describe(a: &RunArgs, sessions: usize, name: &str, contexts: usize, observe: 
             Observe::Blind => "nothing (one policy)",
         }
     );
-}
-
-/// One memo per start context (none without `--memo-cap`): commands
-/// from a named start context are simulated once, whatever the session
-/// (sampled starts and later commands run live).
-fn memos(
-    a: &RunArgs,
-    contexts: usize,
-    space: &CommandSpace,
-    num_effects: usize,
-) -> Result<Vec<OutcomeMemo>, CliError> {
-    if a.memo.memo_cap > 0 {
-        (0..contexts)
-            .map(|_| OutcomeMemo::new(space, num_effects, a.memo.memo_cap))
-            .collect::<Result<_, _>>()
-            .map_err(CliError::input)
-    } else {
-        Ok(Vec::new())
-    }
 }
 
 /// With `--table-cache DIR`: the outcome tables of the scene's named
@@ -263,26 +245,24 @@ fn print_sessions(
     name: &str,
     names: &[String],
     sessions: &[OneSession],
-    seeds: &[u64],
 ) {
+    let (first, last) = (sessions[0].seed, sessions[sessions.len() - 1].seed);
     outln!(
-        "scene {}, learner {name}, {} episodes of {} command(s), seeds {}..={}",
+        "scene {}, learner {name}, {} episodes of {} command(s), seeds {first}..={last}",
         scene.spec().name,
         a.trials,
-        a.commands,
-        seeds[0],
-        seeds[seeds.len() - 1]
+        a.commands
     );
     for s in sessions {
-        let ent: Vec<String> = names
-            .iter()
-            .zip(&s.entropy_per_start)
+        let ent: Vec<String> = (names.iter().zip(&s.entropy_per_start))
             .map(|(n, h)| format!("{n} {h:.4}"))
             .collect();
+        let first = s
+            .first_reward_episode
+            .map_or("never".to_string(), |e| e.to_string());
         outln!(
-            "seed {}: first reward at episode {}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
+            "seed {}: first reward at episode {first}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
             s.seed,
-            s.first_reward_episode.map_or("never".to_string(), |e| e.to_string()),
             s.cumulative_reward,
             ent.join(", ")
         );

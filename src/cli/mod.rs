@@ -4,7 +4,6 @@ pub mod bench;
 pub mod closed_loop;
 pub mod compare;
 pub mod console;
-pub mod continuous;
 pub mod episodes;
 pub mod output;
 pub mod plot;

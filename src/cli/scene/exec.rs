@@ -58,6 +58,12 @@ pub(super) fn read_commands(space: &CommandSpace, commands: &[String], tx: &Sync
     }
 }
 
+/// Appends the CSV row `LEAD,effect,reward,x,y` of the outcome `o`.
+pub(super) fn push_row(out: &mut String, lead: impl std::fmt::Display, o: &e3d::Outcome) {
+    let [x, y] = o.point;
+    let _ = writeln!(out, "{lead},{},{},{x},{y}", o.effect, o.reward);
+}
+
 /// A reader thread of the `commands` ([`read_commands`]), its channel
 /// holding `bound` of them; not joined: it may wait on stdin when the
 /// output ends with an error.
@@ -122,16 +128,11 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
                     .map_err(world_error)?;
                 written.map_err(out_err)?;
                 p.add(1);
-                let o = m.outcome;
                 let mut row = String::new();
                 if first {
                     row.push_str("command,effect,reward,x,y\n");
                 }
-                let _ = writeln!(
-                    row,
-                    "{text},{},{},{},{}",
-                    o.effect, o.reward, o.point[0], o.point[1]
-                );
+                push_row(&mut row, &text, &m.outcome);
                 stdout
                     .write_all(row.as_bytes())
                     .and_then(|()| stdout.flush())
@@ -349,12 +350,7 @@ fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<Strin
                 for col in c0..=c1 {
                     let from = e3d::world::WorldState::Cell(r * grid.cols + col);
                     let (o, _) = world.execute_from(&from, c).map_err(world_error)?;
-                    let ([x, y], name) = (o.point, &ctx.name);
-                    let _ = writeln!(
-                        out,
-                        "{name},{r},{col},{command},{},{},{x},{y}",
-                        o.effect, o.reward
-                    );
+                    push_row(out, format_args!("{},{r},{col},{command}", ctx.name), &o);
                 }
             }
         }
@@ -377,9 +373,7 @@ fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>)
                 let mut rng = e3d::SessionRng::seed_from_u64(0);
                 let from = world.draw_start(k, &mut rng).map_err(world_error)?;
                 let o = world.execute_outcome_from(&from, c).map_err(world_error)?;
-                let [x, y] = o.point;
-                let command = space.format(c);
-                let _ = writeln!(out, "{name},{command},{},{},{x},{y}", o.effect, o.reward);
+                push_row(out, format_args!("{name},{}", space.format(c)), &o);
             }
             Ok(())
         },
@@ -422,17 +416,7 @@ fn write_rows(
 ) -> Option<CliError> {
     for (c, r) in chunk.iter().zip(results.drain(..)) {
         match r {
-            Ok(o) => {
-                let _ = writeln!(
-                    text,
-                    "{},{},{},{},{}",
-                    space.format(c),
-                    o.effect,
-                    o.reward,
-                    o.point[0],
-                    o.point[1]
-                );
-            }
+            Ok(o) => push_row(text, space.format(c), &o),
             Err(e) => return Some(world_error(e)),
         }
     }

@@ -78,10 +78,7 @@ pub(super) fn exec(
                 row.push_str("values,effect,reward,x,y\n");
                 first = false;
             }
-            row.push_str(&format!(
-                "\"{text}\",{},{},{},{}\n",
-                o.effect, o.reward, o.point[0], o.point[1]
-            ));
+            super::exec::push_row(&mut row, format_args!("\"{text}\""), &o);
             stdout
                 .write_all(row.as_bytes())
                 .and_then(|()| stdout.flush())
