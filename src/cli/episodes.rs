@@ -2,7 +2,7 @@
 //! commands per episode (closed loop), with a contextual learner.
 
 use super::run::track_run;
-use super::session::{finish_parts, write_run, CsvPart, ObserveArg, RunArgs};
+use super::session::{finish_parts, recorders, write_run, CsvPart, ObserveArg, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
@@ -12,7 +12,6 @@ use e3d::session::run_episode_sessions;
 use e3d::world::{ContextMemoized, OutcomeMemo};
 use e3d::{LearnerKind, Params, Scene};
 use serde::Serialize;
-use std::path::Path;
 
 /// Whether `e3d run` runs episodes: start contexts, several commands per
 /// episode, or a closed-loop learner.
@@ -117,16 +116,18 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     }
     let configs: Vec<EpisodeConfig> = seeds.iter().map(|&s| cfg(s)).collect();
     let names = start_names(scene);
-    let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
-    let mut recorders = (0..seeds.len())
-        .map(|i| -> Result<_, CliError> {
-            let csv = csv_path
-                .as_ref()
-                .map(|p| EpisodeCsv::create(p, &space, &names, i))
-                .transpose()?;
-            Ok((EpisodeTally::new(names.len()), csv))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let tally = || EpisodeTally::new(names.len());
+    let mut recorders = recorders(a.out.as_deref(), seeds.len(), tally, |part, session| {
+        EpisodeCsv {
+            part,
+            space: space.clone(),
+            names: names.clone(),
+            session,
+            episode: 0,
+            command: 0,
+            start: 0,
+        }
+    })?;
     let status = track_run(a, scene, "episodes", seeds.len(), |control| {
         let make = |_| -> Result<_, CliError> {
             let world = Box::new(ContextMemoized::new(scene.build(), &memos));
@@ -280,25 +281,6 @@ struct EpisodeCsv {
     episode: usize,
     command: usize,
     start: usize,
-}
-
-impl EpisodeCsv {
-    fn create(
-        target: &Path,
-        space: &CommandSpace,
-        names: &[String],
-        session: usize,
-    ) -> Result<EpisodeCsv, CliError> {
-        Ok(EpisodeCsv {
-            part: CsvPart::create(target)?,
-            space: space.clone(),
-            names: names.to_vec(),
-            session,
-            episode: 0,
-            command: 0,
-            start: 0,
-        })
-    }
 }
 
 impl EpisodeRecorder for EpisodeCsv {

@@ -35,23 +35,18 @@ pub struct CliError {
 }
 
 impl CliError {
+    fn new(code: u8, m: impl std::fmt::Display) -> Self {
+        let message = m.to_string();
+        CliError { code, message }
+    }
     pub fn input(m: impl std::fmt::Display) -> Self {
-        CliError {
-            code: exit::BAD_INPUT,
-            message: m.to_string(),
-        }
+        Self::new(exit::BAD_INPUT, m)
     }
     pub fn output(m: impl std::fmt::Display) -> Self {
-        CliError {
-            code: exit::OUTPUT,
-            message: m.to_string(),
-        }
+        Self::new(exit::OUTPUT, m)
     }
     pub fn simulation(m: impl std::fmt::Display) -> Self {
-        CliError {
-            code: exit::SIMULATION,
-            message: m.to_string(),
-        }
+        Self::new(exit::SIMULATION, m)
     }
 }
 

@@ -2,7 +2,7 @@
 //! episodes ([`super::episodes`]).
 
 use super::session::{
-    finish_parts, print_header, print_metrics, write_run, RunArgs, TargetArg, TrialsCsv,
+    finish_parts, print_header, print_metrics, recorders, write_run, RunArgs, TargetArg, TrialsCsv,
 };
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
@@ -144,16 +144,13 @@ fn run_here(a: RunArgs) -> CliResult {
         .iter()
         .map(|_| setup.symbols(&space, num_effects).map_err(CliError::input))
         .collect::<Result<Vec<_>, _>>()?;
-    let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
-    let mut recorders = (0..sessions)
-        .map(|i| -> Result<_, CliError> {
-            let csv = csv_path
-                .as_ref()
-                .map(|p| TrialsCsv::create(p, &space, (sessions > 1).then_some(i)))
-                .transpose()?;
-            Ok((RunningMetrics::new(num_effects), csv))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let tally = || RunningMetrics::new(num_effects);
+    let mut recorders = recorders(a.out.as_deref(), sessions, tally, |part, i| TrialsCsv {
+        part,
+        space: space.clone(),
+        session: (sessions > 1).then_some(i),
+        trial: 0,
+    })?;
     let configs = configs(&a, &seeds);
     let status = track_run(&a, &scene, "trials", sessions, |control| {
         run_sessions(&exec, &mut learners, &configs, &mut recorders, control)

@@ -244,25 +244,9 @@ fn cannot_write(path: &Path, e: std::io::Error) -> CliError {
 /// column for several sessions) into a [`CsvPart`].
 pub(super) struct TrialsCsv {
     pub(super) part: CsvPart,
-    space: CommandSpace,
-    session: Option<usize>,
-    trial: usize,
-}
-
-impl TrialsCsv {
-    /// A new part of the final file `target`.
-    pub(super) fn create(
-        target: &Path,
-        space: &CommandSpace,
-        session: Option<usize>,
-    ) -> Result<Self, CliError> {
-        Ok(TrialsCsv {
-            part: CsvPart::create(target)?,
-            space: space.clone(),
-            session,
-            trial: 0,
-        })
-    }
+    pub(super) space: CommandSpace,
+    pub(super) session: Option<usize>,
+    pub(super) trial: usize,
 }
 
 impl Recorder for TrialsCsv {
@@ -278,6 +262,23 @@ impl Recorder for TrialsCsv {
             writeln!(out, "{trial},{},{effect},{reward}", space.format(command))
         });
     }
+}
+
+/// Per session `i` of `n`, its `tally` and, with `--out DIR` (`out`), the
+/// recorder `csv` makes of its part of DIR/trials.csv.
+pub(super) fn recorders<T, C>(
+    out: Option<&Path>,
+    n: usize,
+    tally: impl Fn() -> T,
+    csv: impl Fn(CsvPart, usize) -> C,
+) -> Result<Vec<(T, Option<C>)>, CliError> {
+    let path = out.map(|d| d.join("trials.csv"));
+    (0..n)
+        .map(|i| {
+            let part = path.as_deref().map(CsvPart::create).transpose()?;
+            Ok((tally(), part.map(|p| csv(p, i))))
+        })
+        .collect()
 }
 
 /// The sessions' CSV parts (`parts`, in step with `status`), finished;

@@ -268,13 +268,10 @@ pub(super) fn exec_cache(
 ) -> (Option<OutcomeTable>, Option<e3d::world::OutcomeMemo>) {
     use e3d::world::CachedOutcomes;
     let path = OutcomeTable::cache_path(scene, dir);
-    let space = scene.command_space();
-    let memo =
-        || e3d::world::OutcomeMemo::new(&space, scene.num_effects(), e3d::world::DEFAULT_MEMO_CAP);
     match OutcomeTable::read_file(&path, scene) {
         Ok(CachedOutcomes::Full(t)) => (Some(t), None),
         Ok(CachedOutcomes::Partial(entries)) => {
-            let m = memo().ok();
+            let m = new_memo(scene);
             if let Some(m) = &m {
                 m.extend(entries);
             }
@@ -290,7 +287,7 @@ pub(super) fn exec_cache(
                 format!("cannot use the outcome table {shown}: {e}")
             };
             errln!("note: {why}; simulating the commands, keeping their outcomes there");
-            (None, memo().ok())
+            (None, new_memo(scene))
         }
     }
 }
@@ -301,17 +298,18 @@ pub(super) fn exec_cache(
 /// that command anyway (the world simulates the pair's lower-index
 /// command and reflects it), so the rows are the same bytes in half the
 /// rollouts. Other scenes need no memo: each command is simulated once
-/// per appearance, as before.
+/// per appearance.
 fn mirror_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
     match &scene.spec().world {
-        WorldSpec::Physics(p) if p.symmetry.is_some() => e3d::world::OutcomeMemo::new(
-            &scene.command_space(),
-            scene.num_effects(),
-            e3d::world::DEFAULT_MEMO_CAP,
-        )
-        .ok(),
+        WorldSpec::Physics(p) if p.symmetry.is_some() => new_memo(scene),
         _ => None,
     }
+}
+
+/// A memo of `scene`'s outcomes in memory, of the default cap.
+fn new_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
+    let (space, effects) = (scene.command_space(), scene.num_effects());
+    e3d::world::OutcomeMemo::new(&space, effects, e3d::world::DEFAULT_MEMO_CAP).ok()
 }
 
 /// `scene exec` on a scene with start contexts: `header`, then for each
@@ -492,7 +490,6 @@ impl CostNote {
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
     let contexts = e3d::world::start_contexts(scene).len();
     if let (Some(dir), true) = (table_cache, contexts > 0) {
-        // it was ignored without a word: every command ran live
         return Err(CliError::input(format!(
             "--table-cache {}: scene `{}` has {contexts} start contexts, whose commands `scene exec` runs live from each context's start; it reads no table cache (drop --table-cache; `e3d scene table --cache DIR` builds the contexts' tables)",
             dir.display(),

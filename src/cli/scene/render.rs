@@ -119,12 +119,9 @@ fn context_panel(
     command: Option<&Command>,
 ) -> Result<String, CliError> {
     let space = scene.command_space();
-    let mut spec = scene.to_spec();
-    spec.name = label.to_string();
-    match (from, &mut spec.world) {
-        (e3d::world::WorldState::Cell(cell), WorldSpec::Grid(g)) => {
-            g.start = (cell / g.cols, cell % g.cols);
-            let titled = spec.validate().map_err(CliError::input)?;
+    match (from, &scene.spec().world) {
+        (e3d::world::WorldState::Cell(cell), WorldSpec::Grid(_)) => {
+            let titled = started_at(scene, *cell, Some(label))?;
             let overlay = match command {
                 Some(c) => Some(overlay_of(&titled, c, &space.format(c))?),
                 None => None,
@@ -132,6 +129,8 @@ fn context_panel(
             Ok(scene_svg(&titled, overlay.as_ref()))
         }
         (e3d::world::WorldState::Physics(state), WorldSpec::Physics(_)) => {
+            let mut spec = scene.to_spec();
+            spec.name = label.to_string();
             let titled = spec.validate().map_err(CliError::input)?;
             let overlay = match command {
                 Some(c) => {
@@ -256,13 +255,7 @@ fn animate_grid(
     use e3d::report::motion_svg::{grid_motion_svg, GRID_KEYFRAME_SECONDS};
     // a grid's start is its `start` cell: the context's, if given
     let started = match from {
-        Some(e3d::world::WorldState::Cell(cell)) => {
-            let mut spec = scene.to_spec();
-            if let WorldSpec::Grid(g) = &mut spec.world {
-                g.start = (cell / g.cols, cell % g.cols);
-            }
-            Some(spec.validate().map_err(CliError::input)?)
-        }
+        Some(e3d::world::WorldState::Cell(cell)) => Some(started_at(scene, *cell, None)?),
         _ => None,
     };
     let svg = grid_motion_svg(started.as_ref().unwrap_or(scene), c)
@@ -273,6 +266,18 @@ fn animate_grid(
         keyframes as f64 * GRID_KEYFRAME_SECONDS
     );
     Ok((svg, what))
+}
+
+/// The grid scene `scene` started at `cell`, named `name` if given.
+fn started_at(scene: &Scene, cell: usize, name: Option<&str>) -> Result<Scene, CliError> {
+    let mut spec = scene.to_spec();
+    if let Some(name) = name {
+        spec.name = name.to_string();
+    }
+    if let WorldSpec::Grid(g) = &mut spec.world {
+        g.start = (cell / g.cols, cell % g.cols);
+    }
+    spec.validate().map_err(CliError::input)
 }
 
 /// A physics scene's animation of `c` (written `cmd`) on the world `w`,
