@@ -40,11 +40,11 @@ impl Rate {
         Rate { median: r, best: r }
     }
 
-    /// Both figures times `k`.
-    fn times(self, k: f64) -> Rate {
+    /// `f` of both figures.
+    fn map(self, f: impl Fn(f64) -> f64) -> Rate {
         Rate {
-            median: self.median * k,
-            best: self.best * k,
+            median: f(self.median),
+            best: f(self.best),
         }
     }
 }
@@ -148,7 +148,7 @@ fn bench_rollouts(scene: &Scene, world: &mut dyn World, budget: Duration) -> Cli
         line(
             &scene.spec().name,
             "steps",
-            rollouts.times(steps as f64),
+            rollouts.map(|r| r * steps as f64),
             "1/s",
         );
     }
@@ -217,20 +217,15 @@ fn bench_trials(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliRe
             .map_err(CliError::input)
     };
     let trials = 5000;
-    let cfg = |seed| SessionConfig {
+    let cfg = |trials, seed| SessionConfig {
         trials,
         seed,
         use_reward: true,
     };
     if !OutcomeTable::worthwhile(scene, &*world, trials as u64) {
-        let short = SessionConfig {
-            trials: 200,
-            seed: 1,
-            use_reward: true,
-        };
         let t0 = Instant::now();
         let mut l = make()?;
-        run_session(world, &mut l, &short).map_err(CliError::simulation)?;
+        run_session(world, &mut l, &cfg(200, 1)).map_err(CliError::simulation)?;
         let r = Rate::once(200.0 / t0.elapsed().as_secs_f64());
         line(&scene.spec().name, "e3d trials (simulated)", r, "1/s");
         return Ok(());
@@ -257,7 +252,7 @@ fn bench_trials(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliRe
     let r = rate(budget, || {
         seed += 1;
         let mut l = make().expect("valid parameters");
-        if let Err(e) = run_session(&mut &table, &mut l, &cfg(seed)) {
+        if let Err(e) = run_session(&mut &table, &mut l, &cfg(trials, seed)) {
             err.get_or_insert(e);
         }
         trials
@@ -266,10 +261,7 @@ fn bench_trials(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliRe
         return Err(CliError::simulation(e));
     }
     line(&scene.spec().name, "e3d trials (outcome table)", r, "1/s");
-    let ns = Rate {
-        median: 1e9 / r.median,
-        best: 1e9 / r.best,
-    };
+    let ns = r.map(|r| 1e9 / r);
     line(&scene.spec().name, "e3d trial (outcome table)", ns, "ns");
     Ok(())
 }

@@ -52,8 +52,8 @@ pub fn stdout_error(e: std::io::Error) -> super::CliError {
 /// broken pipe, else with `error: cannot write to STREAM: E`; exit code 3
 /// ([`exit::OUTPUT`](super::exit::OUTPUT)) either way.
 pub fn fail(stream: &str, e: &std::io::Error) -> ! {
-    // the temporary files of unfinished outputs go first (`> /dev/full`
-    // used to leave a hidden `.trials.csv.tmp-*` in `run --out`'s folder)
+    // the temporary files of unfinished outputs go first: `> /dev/full`
+    // must not leave a hidden `.trials.csv.tmp-*` in `run --out`'s folder
     e3d::io::remove_temps();
     if e.kind() == std::io::ErrorKind::BrokenPipe {
         // end of the closed pipe's signal, as other Unix tools do

@@ -1,19 +1,17 @@
 //! `e3d run` on episodes: a scene with start contexts, or `--commands K`
 //! commands per episode (closed loop), with a contextual learner.
 
-use super::output::write_file;
-use super::session::{join_trials, CsvPart, ObserveArg, RunArgs};
+use super::run::track_run;
+use super::session::{finish_parts, recorders, write_run, CsvPart, ObserveArg, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;
 use e3d::episode::{EpisodeConfig, EpisodeRecorder, EpisodeTally, Observe};
-use e3d::learner::{ContextTargets, ContextualLearner, LearnerSetup};
-use e3d::scene::WorldSpec;
-use e3d::session::{run_episode_sessions, Control};
+use e3d::learner::{ContextualLearner, LearnerSetup};
+use e3d::session::run_episode_sessions;
 use e3d::world::{ContextMemoized, OutcomeMemo};
-use e3d::{LearnerKind, Params, Scene, Target};
+use e3d::{LearnerKind, Params, Scene};
 use serde::Serialize;
-use std::path::{Path, PathBuf};
 
 /// Whether `e3d run` runs episodes: start contexts, several commands per
 /// episode, or a closed-loop learner.
@@ -23,12 +21,12 @@ pub fn wanted(a: &RunArgs, scene: &Scene) -> bool {
 
 /// The names of the scene's start contexts (`["start"]` without any).
 fn start_names(scene: &Scene) -> Vec<String> {
-    match &scene.spec().world {
-        WorldSpec::Grid(g) if !g.contexts.is_empty() => {
-            g.contexts.iter().map(|c| c.name.clone()).collect()
-        }
-        WorldSpec::Grid(_) => vec!["start".into()],
-        WorldSpec::Physics(p) => p.context_names(),
+    let names: Vec<String> = (e3d::world::start_contexts(scene).into_iter())
+        .map(|c| c.name)
+        .collect();
+    match names.is_empty() {
+        true => vec!["start".into()],
+        false => names,
     }
 }
 
@@ -87,7 +85,6 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         observe,
     };
     let contexts = cfg(0).num_contexts(&world);
-    let _shared = ContextTargets::Shared(Target::Uniform);
     if a.closed_loop && !matches!(a.learner, LearnerKind::E3d | LearnerKind::Egreedy) {
         return Err(CliError::input(format!(
             "--closed-loop takes --learner e3d (closed-loop E3D) or egreedy (Q-learning), not {}",
@@ -104,72 +101,43 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     };
     let name = make()?.name().to_string();
     describe(a, seeds.len(), &name, contexts, observe);
-    let memos = memos(a, world.num_contexts(), &space, num_effects)?;
+    // one memo per start context (none with --memo-cap 0): commands from a
+    // named start context are simulated once, whatever the session
+    // (sampled starts and later commands run live)
+    let memos: Vec<OutcomeMemo> = match a.memo.memo_cap {
+        0 => Vec::new(),
+        cap => (0..world.num_contexts())
+            .map(|_| OutcomeMemo::new(&space, num_effects, cap))
+            .collect::<Result<_, _>>()
+            .map_err(CliError::input)?,
+    };
     if let Some(dir) = &a.table_cache {
         preload_context_tables(&a.scene, scene, dir, &memos);
     }
     let configs: Vec<EpisodeConfig> = seeds.iter().map(|&s| cfg(s)).collect();
     let names = start_names(scene);
-    let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
-    let mut recorders = (0..seeds.len())
-        .map(|i| -> Result<_, CliError> {
-            let csv = match &csv_path {
-                Some(p) => Some(EpisodeCsv::create(p, &space, &names, i)?),
-                None => None,
-            };
-            Ok((EpisodeTally::new(names.len()), csv))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let label = format!("run {}", scene.spec().name);
-    let total = a.trials.saturating_mul(seeds.len() as u64);
-    let status = super::progress::track(&label, "episodes", total, |p| {
-        let add = |t| p.add(t);
-        let make = |_| -> Result<_, CliError> {
-            Ok((
-                Box::new(ContextMemoized::new(scene.build(), &memos)),
-                make()?,
-            ))
-        };
-        let control = Control::default().with_progress(&add);
-        run_episode_sessions(&configs, make, &mut recorders, &control)
-    });
-    let mut parts = Vec::new();
-    for (st, (_, csv)) in status.into_iter().zip(&mut recorders) {
-        st?;
-        if let Some(c) = csv.take() {
-            parts.push(c.part.finish()?);
+    let tally = || EpisodeTally::new(names.len());
+    let mut recorders = recorders(a.out.as_deref(), seeds.len(), tally, |part, session| {
+        EpisodeCsv {
+            part,
+            space: space.clone(),
+            names: names.clone(),
+            session,
+            episode: 0,
+            command: 0,
+            start: 0,
         }
-    }
-    let sessions = sessions_of(&recorders, seeds);
-    print_sessions(a, scene, &name, &names, &sessions, seeds);
-    if let Some(dir) = &a.out {
-        let summary = Summary {
-            e3d_version: env!("CARGO_PKG_VERSION"),
-            scene: &scene.spec().name,
-            learner: &name,
-            params,
-            use_reward: !a.no_reward,
-            commands_per_episode: a.commands as usize,
-            observe: if observe == Observe::State {
-                "state"
-            } else {
-                "start"
-            },
-            gamma: a.closed_loop.then_some(a.gamma),
-            start_contexts: names,
-            sessions,
-            scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
+    })?;
+    let status = track_run(a, scene, "episodes", seeds.len(), |control| {
+        let make = |_| -> Result<_, CliError> {
+            let world = Box::new(ContextMemoized::new(scene.build(), &memos));
+            Ok((world, make()?))
         };
-        write_outputs(dir, &parts, &summary)?;
-    }
-    Ok(())
-}
-
-/// What each session (of seed `seeds[i]`) found.
-fn sessions_of(recorders: &[(EpisodeTally, Option<EpisodeCsv>)], seeds: &[u64]) -> Vec<OneSession> {
-    recorders
-        .iter()
-        .zip(seeds)
+        run_episode_sessions(&configs, make, &mut recorders, control)
+    });
+    let parts = recorders.iter_mut().map(|r| r.1.take().map(|c| c.part));
+    let parts = finish_parts(status, parts)?;
+    let sessions: Vec<OneSession> = (recorders.iter().zip(seeds))
         .map(|((t, _), &seed)| OneSession {
             seed,
             episodes: t.episodes(),
@@ -177,7 +145,30 @@ fn sessions_of(recorders: &[(EpisodeTally, Option<EpisodeCsv>)], seeds: &[u64]) 
             cumulative_reward: t.cumulative_reward(),
             entropy_per_start: t.entropy_per_start(),
         })
-        .collect()
+        .collect();
+    print_sessions(a, scene, &name, &names, &sessions);
+    let Some(dir) = &a.out else {
+        return Ok(());
+    };
+    let summary = Summary {
+        e3d_version: env!("CARGO_PKG_VERSION"),
+        scene: &scene.spec().name,
+        learner: &name,
+        params,
+        use_reward: !a.no_reward,
+        commands_per_episode: a.commands as usize,
+        observe: if observe == Observe::State {
+            "state"
+        } else {
+            "start"
+        },
+        gamma: a.closed_loop.then_some(a.gamma),
+        start_contexts: names,
+        sessions,
+        scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
+    };
+    let header = "session,episode,command,context,start,symbols,effect,reward";
+    write_run(dir, header, &parts, |_| Ok(()), &summary)
 }
 
 /// Tells (on stderr) what runs: sessions, episodes, learner, contexts
@@ -196,25 +187,6 @@ fn describe(a: &RunArgs, sessions: usize, name: &str, contexts: usize, observe: 
             Observe::Blind => "nothing (one policy)",
         }
     );
-}
-
-/// One memo per start context (none without `--memo-cap`): commands
-/// from a named start context are simulated once, whatever the session
-/// (sampled starts and later commands run live).
-fn memos(
-    a: &RunArgs,
-    contexts: usize,
-    space: &CommandSpace,
-    num_effects: usize,
-) -> Result<Vec<OutcomeMemo>, CliError> {
-    if a.memo.memo_cap > 0 {
-        (0..contexts)
-            .map(|_| OutcomeMemo::new(space, num_effects, a.memo.memo_cap))
-            .collect::<Result<_, _>>()
-            .map_err(CliError::input)
-    } else {
-        Ok(Vec::new())
-    }
 }
 
 /// With `--table-cache DIR`: the outcome tables of the scene's named
@@ -274,34 +246,29 @@ fn print_sessions(
     name: &str,
     names: &[String],
     sessions: &[OneSession],
-    seeds: &[u64],
 ) {
+    let (first, last) = (sessions[0].seed, sessions[sessions.len() - 1].seed);
     outln!(
-        "scene {}, learner {name}, {} episodes of {} command(s), seeds {}..={}",
+        "scene {}, learner {name}, {} episodes of {} command(s), seeds {first}..={last}",
         scene.spec().name,
         a.trials,
-        a.commands,
-        seeds[0],
-        seeds[seeds.len() - 1]
+        a.commands
     );
     for s in sessions {
-        let ent: Vec<String> = names
-            .iter()
-            .zip(&s.entropy_per_start)
+        let ent: Vec<String> = (names.iter().zip(&s.entropy_per_start))
             .map(|(n, h)| format!("{n} {h:.4}"))
             .collect();
+        let first = s
+            .first_reward_episode
+            .map_or("never".to_string(), |e| e.to_string());
         outln!(
-            "seed {}: first reward at episode {}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
+            "seed {}: first reward at episode {first}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
             s.seed,
-            s.first_reward_episode.map_or("never".to_string(), |e| e.to_string()),
             s.cumulative_reward,
             ent.join(", ")
         );
     }
 }
-
-/// `trials.csv`'s header.
-const TRIALS_HEADER: &str = "session,episode,command,context,start,symbols,effect,reward";
 
 /// A session's rows of `trials.csv`, written as its episodes run (a
 /// [`CsvPart`]): a row per command.
@@ -314,25 +281,6 @@ struct EpisodeCsv {
     episode: usize,
     command: usize,
     start: usize,
-}
-
-impl EpisodeCsv {
-    fn create(
-        target: &Path,
-        space: &CommandSpace,
-        names: &[String],
-        session: usize,
-    ) -> Result<EpisodeCsv, CliError> {
-        Ok(EpisodeCsv {
-            part: CsvPart::create(target)?,
-            space: space.clone(),
-            names: names.to_vec(),
-            session,
-            episode: 0,
-            command: 0,
-            start: 0,
-        })
-    }
 }
 
 impl EpisodeRecorder for EpisodeCsv {
@@ -356,19 +304,4 @@ impl EpisodeRecorder for EpisodeCsv {
             )
         });
     }
-}
-
-/// Writes `trials.csv` (the sessions' streamed `parts` joined) and
-/// `summary.json` into `dir`.
-fn write_outputs(dir: &Path, parts: &[PathBuf], summary: &Summary) -> CliResult {
-    let mut json = serde_json::to_vec_pretty(summary).map_err(CliError::output)?;
-    json.push(b'\n');
-    join_trials(&dir.join("trials.csv"), TRIALS_HEADER, parts)?;
-    write_file(&dir.join("summary.json"), &json)?;
-    outln!(
-        "wrote {} and {}",
-        dir.join("trials.csv").display(),
-        dir.join("summary.json").display()
-    );
-    Ok(())
 }

@@ -4,7 +4,6 @@ pub mod bench;
 pub mod closed_loop;
 pub mod compare;
 pub mod console;
-pub mod continuous;
 pub mod episodes;
 pub mod output;
 pub mod plot;
@@ -36,23 +35,18 @@ pub struct CliError {
 }
 
 impl CliError {
+    fn new(code: u8, m: impl std::fmt::Display) -> Self {
+        let message = m.to_string();
+        CliError { code, message }
+    }
     pub fn input(m: impl std::fmt::Display) -> Self {
-        CliError {
-            code: exit::BAD_INPUT,
-            message: m.to_string(),
-        }
+        Self::new(exit::BAD_INPUT, m)
     }
     pub fn output(m: impl std::fmt::Display) -> Self {
-        CliError {
-            code: exit::OUTPUT,
-            message: m.to_string(),
-        }
+        Self::new(exit::OUTPUT, m)
     }
     pub fn simulation(m: impl std::fmt::Display) -> Self {
-        CliError {
-            code: exit::SIMULATION,
-            message: m.to_string(),
-        }
+        Self::new(exit::SIMULATION, m)
     }
 }
 
@@ -72,6 +66,11 @@ impl From<e3d::WorldError> for CliError {
 }
 
 pub type CliResult = Result<(), CliError>;
+
+/// `m` locked, even if a thread panicked holding it (what it guards stays usable).
+pub fn locked<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
 
 /// Loads a scene by path or built-in name, as a CLI error.
 pub fn load_scene(name: &str) -> Result<e3d::Scene, CliError> {

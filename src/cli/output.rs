@@ -1,7 +1,7 @@
 //! Where the commands' outputs go: folders that are not overwritten without
 //! `--force`, and files written whole or not at all.
 
-use super::{CliError, CliResult};
+use super::{locked, CliError, CliResult};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -47,13 +47,13 @@ pub fn lock_out(dir: &Path) -> CliResult {
             dir.display()
         );
     }
-    LOCKS.lock().unwrap_or_else(|e| e.into_inner()).push(lock);
+    locked(&LOCKS).push(lock);
     Ok(())
 }
 
 /// Releases the locks [`lock_out`] took (their files removed).
 pub fn release_locks() {
-    std::mem::take(&mut *LOCKS.lock().unwrap_or_else(|e| e.into_inner()));
+    std::mem::take(&mut *locked(&LOCKS));
 }
 
 /// Removes the folders [`prepare_out`] created that are still empty: a
@@ -61,7 +61,7 @@ pub fn release_locks() {
 /// `compare`, a learner that does not fit the scene for `run`) leaves no
 /// empty folder behind. A folder that existed before is never removed.
 pub fn remove_created_if_empty() {
-    let created = std::mem::take(&mut *CREATED.lock().unwrap_or_else(|e| e.into_inner()));
+    let created = std::mem::take(&mut *locked(&CREATED));
     for dir in created {
         // fails, as it should, on a folder that holds anything
         let _ = std::fs::remove_dir(dir);
@@ -94,10 +94,7 @@ pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
     std::fs::create_dir_all(dir).map_err(|e| {
         CliError::output(format!("{}: cannot create the folder: {e}", dir.display()))
     })?;
-    CREATED
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .extend(missing);
+    locked(&CREATED).extend(missing);
     lock_out(dir)?;
     // what a run killed while writing here left (a full disk, SIGKILL)
     e3d::io::remove_stale_temps(dir);

@@ -8,6 +8,7 @@
 //! seconds prints nothing.
 
 use crate::cli::console::errln;
+use crate::cli::locked;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -27,6 +28,7 @@ pub const LONG: f64 = 1.0;
 
 /// The count of a tracked computation, moved on by the work from any
 /// thread and read by the reporter.
+#[derive(Default)]
 pub struct Progress {
     /// Units done by this run.
     done: Arc<AtomicU64>,
@@ -66,7 +68,7 @@ impl Phase {
     /// running (one look, so that threads that all report a phase's first
     /// units start it once).
     pub fn enter(&self, label: &str, unit: &str, total: u64) {
-        let mut current = self.current.lock().unwrap_or_else(|e| e.into_inner());
+        let mut current = locked(&self.current);
         if current.as_ref().is_some_and(|(l, _)| l == label) {
             return;
         }
@@ -83,12 +85,12 @@ impl Phase {
 
     /// Ends the phase running: the computation's count shows again.
     pub fn end(&self) {
-        *self.current.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        *locked(&self.current) = None;
     }
 
     /// (serial, label, unit, done, total) of the phase running.
     fn read(&self) -> Option<(u64, String, String, u64, u64)> {
-        let current = self.current.lock().unwrap_or_else(|e| e.into_inner());
+        let current = locked(&self.current);
         let (label, unit) = current.as_ref()?;
         let total = self.total.load(Ordering::Relaxed);
         let done = self.done.load(Ordering::Relaxed).min(total);
@@ -105,13 +107,8 @@ impl Phase {
 impl Progress {
     fn new(total: u64) -> Progress {
         Progress {
-            done: Arc::new(AtomicU64::new(0)),
-            base: AtomicU64::new(0),
-            floor: AtomicU64::new(0),
             total: AtomicU64::new(total),
-            note: Mutex::new(String::new()),
-            said: Mutex::new(Vec::new()),
-            phase: Arc::new(Phase::default()),
+            ..Progress::default()
         }
     }
 
@@ -124,14 +121,11 @@ impl Progress {
     /// Prints `line` on standard error at the reporter's next look (within
     /// 0.1 s, and at the end at the latest), above the bar on a terminal.
     pub fn say(&self, line: impl Into<String>) {
-        self.said
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .push(line.into());
+        locked(&self.said).push(line.into());
     }
 
     fn take_said(&self) -> Vec<String> {
-        std::mem::take(&mut *self.said.lock().unwrap_or_else(|e| e.into_inner()))
+        std::mem::take(&mut *locked(&self.said))
     }
 
     /// `k` more units done.
@@ -162,7 +156,7 @@ impl Progress {
 
     /// What to show after the count.
     pub fn note(&self, note: impl Into<String>) {
-        *self.note.lock().unwrap_or_else(|e| e.into_inner()) = note.into();
+        *locked(&self.note) = note.into();
     }
 
     /// (position, units done by this run, total).
@@ -178,7 +172,7 @@ impl Progress {
     }
 
     fn note_text(&self) -> String {
-        self.note.lock().unwrap_or_else(|e| e.into_inner()).clone()
+        locked(&self.note).clone()
     }
 }
 
@@ -188,6 +182,19 @@ impl Progress {
 /// shown meanwhile).
 pub fn track<T>(label: &str, unit: &str, total: u64, work: impl FnOnce(&Progress) -> T) -> T {
     track_as(label, unit, total, true, false, work)
+}
+
+/// [`track`] for work that reports its units through an [`e3d::Control`].
+pub fn track_control<T>(
+    label: &str,
+    unit: &str,
+    total: u64,
+    work: impl FnOnce(&e3d::Control<'_>) -> T,
+) -> T {
+    track(label, unit, total, |p| {
+        let add = |k| p.add(k);
+        work(&e3d::Control::default().with_progress(&add))
+    })
 }
 
 /// [`track`] for a command that prints its results as they come (`scene
@@ -231,10 +238,7 @@ fn track_as<T>(
                 match progress.phase.read() {
                     Some((serial, label, unit, done, total)) if r.bar_allowed || !terminal => {
                         if sub.as_ref().is_none_or(|(k, _)| *k != serial) {
-                            if let Some((_, mut old)) = sub.take() {
-                                old.finish();
-                            }
-                            r.hide();
+                            r.finish();
                             let mut s = Reporter::new(&label, &unit, terminal);
                             // lines at the pace of the computation's
                             s.last_line = r.last_line;
@@ -246,17 +250,12 @@ fn track_as<T>(
                         }
                     }
                     _ => {
-                        if let Some((_, mut old)) = sub.take() {
-                            old.finish();
-                        }
+                        sub = None;
                         r.show(&progress, now);
                     }
                 }
             }
-            if let Some((_, mut old)) = sub.take() {
-                old.finish();
-            }
-            r.finish();
+            drop((sub, r));
             for line in progress.take_said() {
                 errln!("{line}");
             }
@@ -338,14 +337,6 @@ impl Reporter {
 
     fn show(&mut self, p: &Progress, now: Instant) {
         self.show_counts(p.read(), &p.note_text(), now);
-    }
-
-    /// Removes the bar (a phase shows its own meanwhile); it comes back,
-    /// its ETA anew, at the next [`show`](Self::show).
-    fn hide(&mut self) {
-        if let Some(bar) = self.bar.take() {
-            bar.finish_and_clear();
-        }
     }
 
     fn show_counts(&mut self, (pos, ran, total): (u64, u64, u64), note: &str, now: Instant) {
@@ -431,10 +422,18 @@ impl Reporter {
         }
     }
 
+    /// Removes the bar (also while a phase shows its own: it comes back,
+    /// its ETA anew, at the next [`show`](Self::show)).
     fn finish(&mut self) {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
         }
+    }
+}
+
+impl Drop for Reporter {
+    fn drop(&mut self) {
+        self.finish();
     }
 }
 

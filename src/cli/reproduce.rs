@@ -33,8 +33,8 @@ pub struct ReproduceArgs {
 const FILES: [&str; 5] = ["fig2.svg", "fig2.csv", "fig3.svg", "fig3.csv", "summary.md"];
 
 pub fn run(a: ReproduceArgs) -> CliResult {
-    // session i uses seed SEED + i: it must not pass 2^64 - 1 (it wrapped
-    // round to 0 silently, giving the seeds of another run)
+    // session i uses seed SEED + i: wrapping round to 0 would silently
+    // give the seeds of another run
     let last = a.sessions - 1;
     if a.seed.checked_add(last).is_none() {
         return Err(CliError::input(format!(

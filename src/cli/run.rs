@@ -1,22 +1,21 @@
-//! `e3d run`: one session on a scene.
+//! `e3d run`: sessions on a scene, of symbols or of values (here), or of
+//! episodes ([`super::episodes`]).
 
-use super::output::{prepare_out, write_file};
-use super::session::{join_trials, print_header, print_metrics, RunArgs, TargetArg, TrialsCsv};
+use super::session::{
+    finish_parts, print_header, print_metrics, recorders, write_run, RunArgs, TargetArg, TrialsCsv,
+};
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
-use e3d::command::CommandSpace;
 use e3d::learner::LearnerSetup;
 use e3d::report::run_scene::SceneRecord;
-use e3d::session::{policy_effect_distribution, RunningMetrics};
-use e3d::world::ExecutionPlan;
-use e3d::world::{Executor, Workload, WorldError};
+use e3d::session::{policy_effect_distribution, RunningMetrics, ValueSessionRecord};
+use e3d::world::{ContinuousScene, ExecutionPlan, Executor, Workload};
 use e3d::{run_sessions, Control, Metrics, Params, Scene, SessionConfig, Target};
 use serde::Serialize;
-use std::path::{Path, PathBuf};
 
-/// What `summary.json` holds (one session).
+/// What every `summary.json` of a run of symbols or values begins with.
 #[derive(Serialize)]
-struct Summary<'a> {
+struct Head<'a> {
     e3d_version: &'static str,
     scene: &'a str,
     /// The scene's file, content hash and effect grid (what `report` draws on).
@@ -24,37 +23,50 @@ struct Summary<'a> {
     learner: &'static str,
     #[serde(flatten)]
     params: Params,
-    seed: u64,
+}
+
+impl<'a> Head<'a> {
+    fn new(a: &RunArgs, scene: &'a Scene, params: Params) -> Self {
+        Head {
+            e3d_version: env!("CARGO_PKG_VERSION"),
+            scene: &scene.spec().name,
+            scene_record: SceneRecord::new(scene, &a.scene),
+            learner: a.learner.as_str(),
+            params,
+        }
+    }
+}
+
+/// What `summary.json` holds: one session's figures inline, or a list of
+/// several sessions'.
+#[derive(Serialize)]
+struct Summary<'a> {
+    #[serde(flatten)]
+    head: Head<'a>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    seed: Option<u64>,
     use_reward: bool,
     /// With `--target reachable`: the cells of the target's support.
     #[serde(skip_serializing_if = "Option::is_none")]
     target_reachable_cells: Option<usize>,
+    #[serde(flatten)]
+    single: Option<Single<'a>>,
+    /// Per session (of several): its seed, metrics and effect counts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sessions: Option<Vec<OneSession<'a>>>,
+    /// How the outcomes were obtained (table, memo or live, and why).
+    execution: &'a ExecutionPlan,
+}
+
+/// The figures of a run of one session.
+#[derive(Serialize)]
+struct Single<'a> {
     #[serde(flatten)]
     metrics: &'a Metrics,
     /// The exact effect distribution of the final policy (small command
     /// spaces only).
     policy_effect_distribution: Option<Vec<f64>>,
     effect_counts: Vec<f64>,
-    /// How the outcomes were obtained (table, memo or live, and why).
-    execution: &'a ExecutionPlan,
-}
-
-/// What `summary.json` holds with `--sessions N` (N > 1).
-#[derive(Serialize)]
-struct SessionsSummary<'a> {
-    e3d_version: &'static str,
-    scene: &'a str,
-    scene_record: SceneRecord,
-    learner: &'static str,
-    #[serde(flatten)]
-    params: Params,
-    use_reward: bool,
-    /// With `--target reachable`: the cells of the target's support.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    target_reachable_cells: Option<usize>,
-    /// Per session: its seed, metrics and effect counts.
-    sessions: Vec<OneSession<'a>>,
-    execution: &'a ExecutionPlan,
 }
 
 #[derive(Serialize)]
@@ -79,7 +91,7 @@ fn run_here(a: RunArgs) -> CliResult {
     super::session::note_unused_params(a.learner, &a.given_params);
     let scene = load_scene(&a.scene)?;
     if let Some(dir) = &a.out {
-        prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
+        super::output::prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
     }
     let seeds = seeds(&a)?;
     let only_trials = |what: &str| {
@@ -87,14 +99,14 @@ fn run_here(a: RunArgs) -> CliResult {
             "--target reachable: {what}; it takes a scene of symbol commands run trial by trial (its outcome table lists the reachable cells)"
         ))
     };
+    let name = &scene.spec().name;
     if let Some(continuous) = scene.as_continuous() {
         if a.target == TargetArg::Reachable {
             return Err(only_trials(&format!(
-                "scene `{}` takes continuous commands",
-                scene.spec().name
+                "scene `{name}` takes continuous commands"
             )));
         }
-        return super::continuous::run(&a, continuous, params, &seeds);
+        return run_values(&a, continuous, params, &seeds);
     }
     if super::episodes::wanted(&a, &scene) {
         if a.target == TargetArg::Reachable {
@@ -102,64 +114,72 @@ fn run_here(a: RunArgs) -> CliResult {
         }
         return super::episodes::run(&a, &scene, params, &seeds);
     }
-    let sessions = a.sessions as usize;
+    let sessions = seeds.len();
     let space = scene.command_space();
     let num_effects = scene.num_effects();
-    let cfg = |seed: u64| SessionConfig {
-        trials: a.trials as usize,
-        seed,
-        use_reward: !a.no_reward,
-    };
     let setup = LearnerSetup::new(a.learner).params(params);
-    let make = || setup.symbols(&space, num_effects).map_err(CliError::input);
-    make()?;
+    setup
+        .symbols(&space, num_effects)
+        .map_err(CliError::input)?;
     let work = Workload {
         trials: a.trials.saturating_mul(a.sessions),
         sessions,
         threads: rayon::current_num_threads(),
     };
     let exec = executor(&a, &scene, &work)?;
+    let table = exec.table();
     // p*: uniform over every cell, or over the cells the table reaches
-    let target = match a.target {
-        TargetArg::All => Target::Uniform,
-        TargetArg::Reachable => match exec.table() {
-            Some(t) => t.reachable_target(),
-            None => {
-                return Err(only_trials(&format!(
-                    "scene `{}` has no outcome table here ({})",
-                    scene.spec().name,
-                    exec.plan()
-                )))
-            }
-        },
+    let target = match (a.target, table) {
+        (TargetArg::All, _) => Target::Uniform,
+        (TargetArg::Reachable, Some(t)) => t.reachable_target(),
+        (TargetArg::Reachable, None) => {
+            return Err(only_trials(&format!(
+                "scene `{name}` has no outcome table here ({})",
+                exec.plan()
+            )))
+        }
     };
     let setup = setup.target(target.clone());
-    let make = || setup.symbols(&space, num_effects).map_err(CliError::input);
-    let mut learners = (0..sessions)
-        .map(|_| make())
+    let mut learners = seeds
+        .iter()
+        .map(|_| setup.symbols(&space, num_effects).map_err(CliError::input))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut recorders = recorders(&a, &space, num_effects)?;
-    // a bar on a terminal, a line every few seconds otherwise
-    let label = format!("run {}", scene.spec().name);
-    let configs: Vec<SessionConfig> = seeds.iter().map(|&s| cfg(s)).collect();
-    let status = super::progress::track(&label, "trials", work.trials, |p| {
-        let add = |t| p.add(t);
-        let control = Control::default().with_progress(&add);
-        run_sessions(&exec, &mut learners, &configs, &mut recorders, &control)
+    let tally = || RunningMetrics::new(num_effects);
+    let mut recorders = recorders(a.out.as_deref(), sessions, tally, |part, i| TrialsCsv {
+        part,
+        space: space.clone(),
+        session: (sessions > 1).then_some(i),
+        trial: 0,
+    })?;
+    let configs = configs(&a, &seeds);
+    let status = track_run(&a, &scene, "trials", sessions, |control| {
+        run_sessions(&exec, &mut learners, &configs, &mut recorders, control)
     });
     if let Some(line) = exec.finish() {
         errln!("outcomes: {line}");
     }
-    let files = finish_files(status, &mut recorders)?;
-    let metrics = session_metrics(&exec, &recorders, &target, num_effects);
-    let exact = match (exec.table(), sessions) {
+    let parts = recorders.iter_mut().map(|r| r.1.take().map(|c| c.part));
+    let files = finish_parts(status, parts)?;
+    // with a table, the reachable cells are known (when fewer than all):
+    // the metrics then hold the entropy over them too
+    let reachable = table
+        .map(|t| t.reachable_effects())
+        .filter(|&r| r < num_effects);
+    let metrics: Vec<Metrics> = recorders
+        .iter()
+        .map(|r| match reachable {
+            Some(k) => r.0.metrics_over_reachable(&target, k),
+            None => r.0.metrics(&target),
+        })
+        .collect();
+    let exact = match (table, sessions) {
         (Some(t), 1) => policy_effect_distribution(t, &*learners[0]),
         _ => None,
     };
 
-    print_header(&a, &scene.spec().name, "", &params, &seeds);
+    print_header(&a, name, "", &params, &seeds);
     let support = (a.target == TargetArg::Reachable)
-        .then(|| exec.table().map(|t| t.reachable_effects()))
+        .then(|| table.map(|t| t.reachable_effects()))
         .flatten();
     if let Some(cells) = support {
         outln!("target: uniform over the {cells} reachable cells (of {num_effects})");
@@ -169,19 +189,163 @@ fn run_here(a: RunArgs) -> CliResult {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
         outln!("exact effect distribution of the final policy: normalised entropy {h:.4}");
     }
+    let Some(dir) = &a.out else {
+        return Ok(());
+    };
+    let mut counts = recorders.iter().map(|r| r.0.effect_counts());
+    let single = sessions == 1;
+    let summary = Summary {
+        head: Head::new(&a, &scene, params),
+        seed: single.then_some(a.seed),
+        use_reward: !a.no_reward,
+        target_reachable_cells: support,
+        single: single.then(|| Single {
+            metrics: &metrics[0],
+            policy_effect_distribution: exact,
+            effect_counts: counts.next().unwrap_or_default(),
+        }),
+        sessions: (!single).then(|| {
+            let each = metrics.iter().zip(counts).zip(&seeds);
+            each.map(|((m, effect_counts), &seed)| OneSession {
+                seed,
+                metrics: m,
+                effect_counts,
+            })
+            .collect()
+        }),
+        execution: exec.plan(),
+    };
+    let header = if single {
+        "trial,command,effect,reward"
+    } else {
+        "session,trial,command,effect,reward"
+    };
+    write_run(dir, header, &files, |_| Ok(()), &summary)
+}
 
-    if let Some(dir) = &a.out {
-        let done = Finished {
-            seeds: &seeds,
-            metrics: &metrics,
-            counts: recorders.iter().map(|r| r.0.effect_counts()).collect(),
-            exact,
-            plan: exec.plan(),
-            support,
-        };
-        write_out(dir, &a, &scene, params, done, &files)?;
+/// What `summary.json` holds for a run of continuous commands.
+#[derive(Serialize)]
+struct ValuesSummary<'a> {
+    #[serde(flatten)]
+    head: Head<'a>,
+    use_reward: bool,
+    /// Always `"live"`: continuous commands have no table or memo.
+    execution: &'static str,
+    /// Per session: its seed, metrics, effect counts and final policy.
+    sessions: Vec<ValueSession<'a>>,
+}
+
+#[derive(Serialize)]
+struct ValueSession<'a> {
+    seed: u64,
+    #[serde(flatten)]
+    metrics: &'a Metrics,
+    effect_counts: Vec<f64>,
+    /// Per slot: the mean and standard deviation of the final policy, in
+    /// the slot's unit.
+    final_policy: Vec<SlotPolicy>,
+}
+
+#[derive(Serialize)]
+struct SlotPolicy {
+    mean: f64,
+    sd: f64,
+}
+
+/// `e3d run` on a scene of continuous commands: live physics, the
+/// sessions in lockstep groups of [`Executor::for_values`], the groups in
+/// parallel on every core.
+fn run_values(
+    a: &RunArgs,
+    continuous: ContinuousScene,
+    params: Params,
+    seeds: &[u64],
+) -> CliResult {
+    let scene = continuous.scene();
+    let name = &scene.spec().name;
+    if a.table_cache.is_some() {
+        return Err(CliError::input(format!(
+            "--table-cache: scene `{name}` takes continuous commands, which have no outcome table (every trial is simulated)"
+        )));
     }
-    Ok(())
+    if matches!(a.memo.outcomes.0, Some(s) if s != e3d::world::Strategy::Live) {
+        return Err(CliError::input(format!(
+            "--outcomes: scene `{name}` takes continuous commands, which run live only (no table, no memo)"
+        )));
+    }
+    let space = continuous.values();
+    let num_effects = scene.num_effects();
+    let setup = LearnerSetup::new(a.learner).params(params);
+    let configs = configs(a, seeds);
+    let mut learners = configs
+        .iter()
+        .map(|_| setup.values(space, num_effects).map_err(CliError::input))
+        .collect::<Result<Vec<_>, CliError>>()?;
+    let mut records: Vec<ValueSessionRecord> = configs
+        .iter()
+        .map(|c| ValueSessionRecord::new(space.num_slots(), num_effects, c.trials))
+        .collect();
+    let sessions = seeds.len();
+    let steps = scene.spec().steps_per_command().unwrap_or(0);
+    let threads = rayon::current_num_threads();
+    let work = Workload {
+        trials: a.trials.saturating_mul(sessions as u64),
+        sessions,
+        threads,
+    };
+    let exec = Executor::for_values(scene, &work).map_err(CliError::input)?;
+    errln!(
+        "outcomes: live: continuous commands, {} trials x {sessions} session(s) x {steps} steps, on {threads} thread(s){}",
+        a.trials,
+        match exec.plan().copies {
+            1 => String::new(),
+            k => format!(", in lockstep up to {k} sessions per world"),
+        }
+    );
+    let status = track_run(a, scene, "trials", sessions, |control| {
+        run_sessions(&exec, &mut learners, &configs, &mut records, control)
+    });
+    for ((st, rec), learner) in status.into_iter().zip(&mut records).zip(&learners) {
+        st.map_err(CliError::simulation)?;
+        rec.set_policy(learner);
+    }
+    let metrics: Vec<Metrics> = records
+        .iter()
+        .map(|r| r.metrics(&Target::Uniform))
+        .collect();
+    print_header(a, name, " (continuous)", &params, seeds);
+    print_metrics(&metrics, seeds, num_effects);
+    let Some(dir) = &a.out else {
+        return Ok(());
+    };
+    let several = sessions > 1;
+    let rows = |out: &mut _| {
+        for (i, r) in records.iter().enumerate() {
+            r.write_trials_csv(space, several.then_some(i), false, &mut *out)?;
+        }
+        Ok(())
+    };
+    let summary = ValuesSummary {
+        head: Head::new(a, scene, params),
+        use_reward: !a.no_reward,
+        execution: "live",
+        sessions: (records.iter().zip(&metrics).zip(seeds))
+            .map(|((r, m), &seed)| ValueSession {
+                seed,
+                metrics: m,
+                effect_counts: r.effect_counts(0..r.trials()),
+                final_policy: (r.final_policy.iter())
+                    .map(|&(mean, sd)| SlotPolicy { mean, sd })
+                    .collect(),
+            })
+            .collect(),
+    };
+    let header = if several {
+        "session,trial,values,effect,reward,x,y"
+    } else {
+        "trial,values,effect,reward,x,y"
+    };
+    write_run(dir, header, &[], rows, &summary)
 }
 
 /// The executor of `scene` for `work`: an outcome table built first
@@ -189,80 +353,44 @@ fn run_here(a: RunArgs) -> CliResult {
 /// plan is told.
 fn executor<'s>(a: &RunArgs, scene: &'s Scene, work: &Workload) -> Result<Executor<'s>, CliError> {
     let options = a.memo.options(a.table_cache.as_deref());
-    let exec = super::progress::track(
-        &format!("table {}", scene.spec().name),
-        "commands",
-        0,
-        |p| {
-            let (add, total) = (|k| p.add(k), |n| p.set_total(n));
-            let control = Control {
-                progress: &add,
-                total: &total,
-                ..Control::default()
-            };
-            Executor::with_control(scene, work, &options, &control)
-        },
-    )
+    let label = format!("table {}", scene.spec().name);
+    let exec = super::progress::track(&label, "commands", 0, |p| {
+        let (add, total) = (|k| p.add(k), |n| p.set_total(n));
+        let control = Control {
+            progress: &add,
+            total: &total,
+            ..Control::default()
+        };
+        Executor::with_control(scene, work, &options, &control)
+    })
     .map_err(CliError::simulation)?;
     errln!("outcomes: {}", exec.plan());
     Ok(exec)
 }
 
-/// Per session, its metrics and (with `--out`) its trials file.
-fn recorders(
+/// Runs `work` with the progress of `sessions` sessions of `a.trials`
+/// `unit` each shown on stderr (a bar on a terminal, a line every few
+/// seconds otherwise).
+pub(super) fn track_run<T>(
     a: &RunArgs,
-    space: &CommandSpace,
-    num_effects: usize,
-) -> Result<Vec<(RunningMetrics, Option<TrialsCsv>)>, CliError> {
-    let sessions = a.sessions as usize;
-    let csv_path = a.out.as_ref().map(|d| d.join("trials.csv"));
-    let csv = |i: usize| -> Result<Option<TrialsCsv>, CliError> {
-        csv_path
-            .as_ref()
-            .map(|p| TrialsCsv::create(p, space, (sessions > 1).then_some(i)))
-            .transpose()
+    scene: &Scene,
+    unit: &str,
+    sessions: usize,
+    work: impl FnOnce(&Control<'_>) -> T,
+) -> T {
+    let label = format!("run {}", scene.spec().name);
+    let total = a.trials.saturating_mul(sessions as u64);
+    super::progress::track_control(&label, unit, total, work)
+}
+
+/// A session's configuration per seed.
+fn configs(a: &RunArgs, seeds: &[u64]) -> Vec<SessionConfig> {
+    let config = |seed| SessionConfig {
+        trials: a.trials as usize,
+        seed,
+        use_reward: !a.no_reward,
     };
-    (0..sessions)
-        .map(|i| Ok((RunningMetrics::new(num_effects), csv(i)?)))
-        .collect()
-}
-
-/// The trials files of the sessions, finished; the first failing
-/// session (its `status`) fails the run, naming its command.
-fn finish_files(
-    status: Vec<Result<(), WorldError>>,
-    recorders: &mut [(RunningMetrics, Option<TrialsCsv>)],
-) -> Result<Vec<PathBuf>, CliError> {
-    let mut files = Vec::new();
-    for (st, (_, csv)) in status.into_iter().zip(recorders.iter_mut()) {
-        st.map_err(CliError::simulation)?;
-        if let Some(c) = csv.take() {
-            files.push(c.finish()?);
-        }
-    }
-    Ok(files)
-}
-
-/// Each session's metrics; with a table, the reachable cells are known
-/// (when fewer than all): the metrics then hold the entropy over them
-/// too.
-fn session_metrics(
-    exec: &Executor,
-    recorders: &[(RunningMetrics, Option<TrialsCsv>)],
-    target: &Target,
-    num_effects: usize,
-) -> Vec<Metrics> {
-    let reachable = exec
-        .table()
-        .map(|t| t.reachable_effects())
-        .filter(|&r| r < num_effects);
-    recorders
-        .iter()
-        .map(|r| match reachable {
-            Some(k) => r.0.metrics_over_reachable(target, k),
-            None => r.0.metrics(target),
-        })
-        .collect()
+    seeds.iter().map(|&seed| config(seed)).collect()
 }
 
 /// The sessions' seeds: `--seed`, `--seed + 1`, ..., one per session.
@@ -276,83 +404,4 @@ fn seeds(a: &RunArgs) -> Result<Vec<u64>, CliError> {
                 a.seed, a.sessions
             ))
         })
-}
-
-/// What the sessions of a run ended with, for `summary.json`.
-struct Finished<'a> {
-    seeds: &'a [u64],
-    metrics: &'a [Metrics],
-    /// Per session, its effect counts.
-    counts: Vec<Vec<f64>>,
-    /// The final policy's exact effect distribution (one session on a table).
-    exact: Option<Vec<f64>>,
-    plan: &'a ExecutionPlan,
-    /// The cells of the target's support with `--target reachable`.
-    support: Option<usize>,
-}
-
-/// Writes DIR/trials.csv (the sessions' streamed `files` joined) and
-/// DIR/summary.json.
-fn write_out(
-    dir: &Path,
-    a: &RunArgs,
-    scene: &Scene,
-    params: Params,
-    done: Finished<'_>,
-    files: &[PathBuf],
-) -> CliResult {
-    let sessions = done.seeds.len();
-    let mut json = if sessions == 1 {
-        serde_json::to_vec_pretty(&Summary {
-            e3d_version: env!("CARGO_PKG_VERSION"),
-            scene: &scene.spec().name,
-            scene_record: SceneRecord::new(scene, &a.scene),
-            learner: a.learner.as_str(),
-            params,
-            seed: a.seed,
-            use_reward: !a.no_reward,
-            target_reachable_cells: done.support,
-            metrics: &done.metrics[0],
-            policy_effect_distribution: done.exact,
-            effect_counts: done.counts.into_iter().next().unwrap_or_default(),
-            execution: done.plan,
-        })
-    } else {
-        serde_json::to_vec_pretty(&SessionsSummary {
-            e3d_version: env!("CARGO_PKG_VERSION"),
-            scene: &scene.spec().name,
-            scene_record: SceneRecord::new(scene, &a.scene),
-            learner: a.learner.as_str(),
-            params,
-            use_reward: !a.no_reward,
-            target_reachable_cells: done.support,
-            sessions: done
-                .metrics
-                .iter()
-                .zip(done.counts)
-                .zip(done.seeds)
-                .map(|((m, effect_counts), &seed)| OneSession {
-                    seed,
-                    metrics: m,
-                    effect_counts,
-                })
-                .collect(),
-            execution: done.plan,
-        })
-    }
-    .map_err(CliError::output)?;
-    json.push(b'\n');
-    let header = if sessions > 1 {
-        "session,trial,command,effect,reward"
-    } else {
-        "trial,command,effect,reward"
-    };
-    join_trials(&dir.join("trials.csv"), header, files)?;
-    write_file(&dir.join("summary.json"), &json)?;
-    outln!(
-        "wrote {} and {}",
-        dir.join("trials.csv").display(),
-        dir.join("summary.json").display()
-    );
-    Ok(())
 }

@@ -207,8 +207,7 @@ impl CsvPart {
     /// A new temporary file beside the final file `target` (created
     /// exclusively: never through a link planted under its name).
     pub(super) fn create(target: &Path) -> Result<Self, CliError> {
-        let (path, f) = e3d::io::create_temp_beside(target)
-            .map_err(|e| CliError::output(format!("{}: cannot write: {e}", target.display())))?;
+        let (path, f) = e3d::io::create_temp_beside(target).map_err(|e| cannot_write(target, e))?;
         Ok(CsvPart {
             out: std::io::BufWriter::with_capacity(1 << 16, f),
             path,
@@ -222,52 +221,32 @@ impl CsvPart {
         write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
     ) {
         if self.error.is_none() {
-            if let Err(e) = write(&mut self.out) {
-                self.error = Some(e);
-            }
+            self.error = write(&mut self.out).err();
         }
     }
 
     /// Flushes; the file's path, or why it could not be written.
-    pub(super) fn finish(mut self) -> Result<PathBuf, CliError> {
+    fn finish(mut self) -> Result<PathBuf, CliError> {
         use std::io::Write;
-        let r = match self.error.take() {
-            Some(e) => Err(e),
-            None => self.out.flush(),
-        };
-        r.map_err(|e| CliError::output(format!("{}: cannot write: {e}", self.path.display())))?;
-        Ok(self.path)
+        match self.error.take().map_or_else(|| self.out.flush(), Err) {
+            Ok(()) => Ok(self.path),
+            Err(e) => Err(cannot_write(&self.path, e)),
+        }
     }
+}
+
+/// `PATH: cannot write: E`.
+fn cannot_write(path: &Path, e: std::io::Error) -> CliError {
+    CliError::output(format!("{}: cannot write: {e}", path.display()))
 }
 
 /// Streams `trial,command,effect,reward` rows (with a leading `session`
 /// column for several sessions) into a [`CsvPart`].
 pub(super) struct TrialsCsv {
-    part: CsvPart,
-    space: CommandSpace,
-    session: Option<usize>,
-    trial: usize,
-}
-
-impl TrialsCsv {
-    /// A new part of the final file `target`.
-    pub(super) fn create(
-        target: &Path,
-        space: &CommandSpace,
-        session: Option<usize>,
-    ) -> Result<Self, CliError> {
-        Ok(TrialsCsv {
-            part: CsvPart::create(target)?,
-            space: space.clone(),
-            session,
-            trial: 0,
-        })
-    }
-
-    /// Flushes; the file's path, or why it could not be written.
-    pub(super) fn finish(self) -> Result<PathBuf, CliError> {
-        self.part.finish()
-    }
+    pub(super) part: CsvPart,
+    pub(super) space: CommandSpace,
+    pub(super) session: Option<usize>,
+    pub(super) trial: usize,
 }
 
 impl Recorder for TrialsCsv {
@@ -279,31 +258,70 @@ impl Recorder for TrialsCsv {
             if let Some(s) = session {
                 write!(out, "{s},")?;
             }
-            writeln!(
-                out,
-                "{trial},{},{},{}",
-                space.format(command),
-                outcome.effect,
-                outcome.reward
-            )
+            let (effect, reward) = (outcome.effect, outcome.reward);
+            writeln!(out, "{trial},{},{effect},{reward}", space.format(command))
         });
     }
 }
 
-/// Joins the temporary trial files into `path` under one header, then
-/// renames it into place: the final file is whole or absent.
-pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliResult {
+/// Per session `i` of `n`, its `tally` and, with `--out DIR` (`out`), the
+/// recorder `csv` makes of its part of DIR/trials.csv.
+pub(super) fn recorders<T, C>(
+    out: Option<&Path>,
+    n: usize,
+    tally: impl Fn() -> T,
+    csv: impl Fn(CsvPart, usize) -> C,
+) -> Result<Vec<(T, Option<C>)>, CliError> {
+    let path = out.map(|d| d.join("trials.csv"));
+    (0..n)
+        .map(|i| {
+            let part = path.as_deref().map(CsvPart::create).transpose()?;
+            Ok((tally(), part.map(|p| csv(p, i))))
+        })
+        .collect()
+}
+
+/// The sessions' CSV parts (`parts`, in step with `status`), finished;
+/// the first failed session fails the run with its error.
+pub(super) fn finish_parts<E>(
+    status: Vec<Result<(), E>>,
+    parts: impl Iterator<Item = Option<CsvPart>>,
+) -> Result<Vec<PathBuf>, CliError>
+where
+    CliError: From<E>,
+{
+    let mut files = Vec::new();
+    for (st, part) in status.into_iter().zip(parts) {
+        st?;
+        if let Some(p) = part {
+            files.push(p.finish()?);
+        }
+    }
+    Ok(files)
+}
+
+/// Writes DIR/trials.csv whole or not at all (`header`, the sessions'
+/// streamed `parts`, then what `rows` writes) and DIR/summary.json
+/// (`summary`), and says so.
+pub(super) fn write_run(
+    dir: &Path,
+    header: &str,
+    parts: &[PathBuf],
+    rows: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+    summary: &impl serde::Serialize,
+) -> CliResult {
     use std::io::Write;
-    let (tmp, file) = e3d::io::create_temp_beside(path)
-        .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))?;
+    let (csv, json_path) = (dir.join("trials.csv"), dir.join("summary.json"));
+    let (tmp, file) = e3d::io::create_temp_beside(&csv).map_err(|e| cannot_write(&csv, e))?;
     let result = (|| -> std::io::Result<()> {
         let mut out = std::io::BufWriter::new(file);
         writeln!(out, "{header}")?;
         for p in parts {
             std::io::copy(&mut std::fs::File::open(p)?, &mut out)?;
         }
+        rows(&mut out)?;
         out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        std::fs::rename(&tmp, path)
+        std::fs::rename(&tmp, &csv)
     })();
     for p in parts {
         let _ = std::fs::remove_file(p);
@@ -311,7 +329,12 @@ pub(super) fn join_trials(path: &Path, header: &str, parts: &[PathBuf]) -> CliRe
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
-    result.map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
+    result.map_err(|e| cannot_write(&csv, e))?;
+    let mut json = serde_json::to_vec_pretty(summary).map_err(CliError::output)?;
+    json.push(b'\n');
+    super::output::write_file(&json_path, &json)?;
+    outln!("wrote {} and {}", csv.display(), json_path.display());
+    Ok(())
 }
 
 /// A note on standard error for every hyper-parameter given on the command
@@ -331,43 +354,29 @@ pub(super) fn note_unused_params(learner: LearnerKind, given: &[&str]) {
     }
 }
 
-/// ` | alpha 0.3 beta 1 ...`: the parameters `learner` uses, in the order
-/// of a sweep's columns; nothing for the uniform policy, which uses none.
-pub(super) fn used_params(learner: LearnerKind, p: &Params) -> String {
-    let values = p.named();
-    let used: Vec<String> = values
-        .into_iter()
-        .filter(|(name, _)| e3d::sweep::uses_param(learner, name))
-        .map(|(name, v)| format!("{name} {v}"))
-        .collect();
-    if used.is_empty() {
-        String::new()
-    } else {
-        format!(" | {}", used.join(" "))
-    }
-}
-
 /// The first line of a run's summary: scene, learner (`kind` after its
-/// name: `" (continuous)"` or nothing), trials, sessions and seeds, the
-/// parameters the learner reads.
+/// name: `" (continuous)"` or nothing), trials, sessions and seeds, and
+/// ` | alpha 0.3 beta 1 ...`: the parameters the learner reads, in the
+/// order of a sweep's columns (none for the uniform policy).
 pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params, seeds: &[u64]) {
-    let sessions = seeds.len();
+    let (first, last) = (seeds[0], seeds[seeds.len() - 1]);
+    let (sessions, seed) = match seeds.len() {
+        1 => (String::new(), first.to_string()),
+        n => (format!(" x {n} sessions"), format!("{first}..={last}")),
+    };
+    let used: Vec<String> = (params.named().into_iter())
+        .filter(|(name, _)| e3d::sweep::uses_param(a.learner, name))
+        .map(|(name, v)| format!(" {name} {v}"))
+        .collect();
+    let used = match used.concat() {
+        u if u.is_empty() => u,
+        u => format!(" |{u}"),
+    };
+    let no_reward = if a.no_reward { " | no reward" } else { "" };
     outln!(
-        "scene {scene} | learner {}{kind} | {} trials{} | seed {}{}{}",
+        "scene {scene} | learner {}{kind} | {} trials{sessions} | seed {seed}{used}{no_reward}",
         a.learner,
-        a.trials,
-        if sessions > 1 {
-            format!(" x {sessions} sessions")
-        } else {
-            String::new()
-        },
-        if sessions > 1 {
-            format!("{}..={}", seeds[0], seeds[sessions - 1])
-        } else {
-            seeds[0].to_string()
-        },
-        used_params(a.learner, params),
-        if a.no_reward { " | no reward" } else { "" }
+        a.trials
     );
 }
 
@@ -375,46 +384,37 @@ pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params
 /// are several) and, for several, their mean.
 pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usize) {
     let sessions = metrics.len();
-    for (i, m) in metrics.iter().enumerate() {
-        let who = if sessions > 1 {
-            format!("seed {}: ", seeds[i])
-        } else {
-            String::new()
+    let at = |t: Option<usize>| t.map_or("-".to_string(), |t| t.to_string());
+    for (m, seed) in metrics.iter().zip(seeds) {
+        let who = match sessions {
+            1 => String::new(),
+            _ => format!("seed {seed}: "),
         };
         outln!(
-            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {} effects reached",
+            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {num_effects} effects reached",
             m.normalized_entropy,
             m.normalized_entropy_last_1000,
             m.kl_to_target,
-            m.distinct_effects,
-            num_effects
+            m.distinct_effects
         );
         if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
             outln!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
         }
-        let at = |t: Option<usize>| t.map_or("-".to_string(), |t| t.to_string());
+        let (of, reachable) = match m.reachable_effects {
+            Some(_) => ("the", " reachable"),
+            None => ("all", ""),
+        };
         outln!(
-            "{who}coverage {:.4} of {} {}{} cells | 50% by trial {} | 90% by trial {}",
+            "{who}coverage {:.4} of {of} {}{reachable} cells | 50% by trial {} | 90% by trial {}",
             m.coverage,
-            if m.reachable_effects.is_some() {
-                "the"
-            } else {
-                "all"
-            },
             m.coverage_cells,
-            if m.reachable_effects.is_some() {
-                " reachable"
-            } else {
-                ""
-            },
             at(m.trials_to_50_percent),
             at(m.trials_to_90_percent)
         );
         outln!(
             "{who}cumulative reward {} | first reward at trial {}",
             m.cumulative_reward,
-            m.first_reward_trial
-                .map_or("-".to_string(), |t| t.to_string())
+            at(m.first_reward_trial)
         );
     }
     if sessions > 1 {

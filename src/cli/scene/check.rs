@@ -72,15 +72,9 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
             .map_or(samples, |n| n.min(samples)),
     };
     let label = format!("scene check {}", scene.spec().name);
-    say_cost(&label, scene, total, 1);
-    let sampled = progress::track(&label, "commands", total, |p| {
-        let add = |k| p.add(k);
-        e3d::world::sample_reach_with(
-            scene,
-            samples,
-            seed,
-            &e3d::Control::default().with_progress(&add),
-        )
+    say_cost(&label, scene, total, 1, 1);
+    let sampled = progress::track_control(&label, "commands", total, |control| {
+        e3d::world::sample_reach_with(scene, samples, seed, control)
     });
     let s = match sampled {
         Ok(s) => s,
@@ -165,16 +159,7 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
         return "a full check is not possible: continuous commands cannot be enumerated; sample more with `--samples N`".to_string();
     }
     let threads = rayon::current_num_threads();
-    let plan = e3d::world::ExecutionPlan::choose(
-        scene,
-        &e3d::world::Workload {
-            trials: 0,
-            sessions: 1,
-            threads,
-        },
-        None,
-        0,
-    );
+    let plan = super::simulate::table_plan(scene);
     match (plan.simulated, plan.table_seconds) {
         (Some(k), Some(t)) => format!(
             "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model, calibrated here",

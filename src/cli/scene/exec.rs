@@ -1,8 +1,6 @@
 //! `e3d scene exec`: commands executed as they come, their outcomes as CSV.
 
-use super::simulate::{
-    calibration, say_cost, say_cost_copies, seconds_text, steps_text, world_error,
-};
+use super::simulate::{calibration, say_cost, seconds_text, steps_text, world_error};
 use crate::cli::console::errln;
 use crate::cli::{progress, CliError, CliResult};
 use e3d::command::CommandSpace;
@@ -12,7 +10,7 @@ use e3d::{Command, OutcomeTable, World, WorldError};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
-use std::sync::mpsc::SyncSender;
+use std::sync::mpsc::{Receiver, SyncSender};
 use std::sync::Mutex;
 
 /// A command read by [`read_commands`], or why the input ends there.
@@ -60,6 +58,22 @@ pub(super) fn read_commands(space: &CommandSpace, commands: &[String], tx: &Sync
     }
 }
 
+/// Appends the CSV row `LEAD,effect,reward,x,y` of the outcome `o`.
+pub(super) fn push_row(out: &mut String, lead: impl std::fmt::Display, o: &e3d::Outcome) {
+    let [x, y] = o.point;
+    let _ = writeln!(out, "{lead},{},{},{x},{y}", o.effect, o.reward);
+}
+
+/// A reader thread of the `commands` ([`read_commands`]), its channel
+/// holding `bound` of them; not joined: it may wait on stdin when the
+/// output ends with an error.
+fn reader(space: &CommandSpace, commands: Vec<String>, bound: usize) -> Receiver<Read> {
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(bound);
+    let space = space.clone();
+    std::thread::spawn(move || read_commands(&space, &commands, &tx));
+    rx
+}
+
 /// `e3d scene exec --trace FILE`: each command's motion, one after the
 /// other on one world, its CSV row printed as it is done and its frames
 /// streamed into a temporary file renamed to FILE at the end (whole or not
@@ -74,9 +88,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     let space = scene.command_space();
     // whether stdin is read, and how many commands otherwise
     let commands_known = (commands.iter().any(|c| c == "-"), commands.len() as u64);
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(64);
-    let reader_space = space.clone();
-    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let rx = reader(&space, commands, 64);
     let out_err =
         |e: std::io::Error| CliError::output(format!("{}: cannot write: {e}", path.display()));
     // created exclusively: never through a link planted under its name
@@ -89,7 +101,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
         let label = format!("scene exec {}", scene.spec().name);
         let known = (!commands_known.0).then_some(commands_known.1);
         if let Some(n) = known {
-            say_cost(&label, scene, n, 1);
+            say_cost(&label, scene, n, 1, 1);
         }
         progress::track_stream(&label, "commands", |p| -> CliResult {
             if let Some(n) = known {
@@ -116,16 +128,11 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
                     .map_err(world_error)?;
                 written.map_err(out_err)?;
                 p.add(1);
-                let o = m.outcome;
                 let mut row = String::new();
                 if first {
                     row.push_str("command,effect,reward,x,y\n");
                 }
-                let _ = writeln!(
-                    row,
-                    "{text},{},{},{},{}",
-                    o.effect, o.reward, o.point[0], o.point[1]
-                );
+                push_row(&mut row, &text, &m.outcome);
                 stdout
                     .write_all(row.as_bytes())
                     .and_then(|()| stdout.flush())
@@ -222,7 +229,7 @@ impl<'a> ExecPool<'a> {
                     .len()
                     .div_ceil(rayon::current_num_threads())
                     .clamp(1, *copies);
-                let take = || idle.lock().unwrap_or_else(|e| e.into_inner()).pop();
+                let take = || crate::cli::locked(&idle).pop();
                 let pieces: Vec<Vec<_>> = commands
                     .par_chunks(piece)
                     .map(|part| {
@@ -235,7 +242,7 @@ impl<'a> ExecPool<'a> {
                         } else {
                             world.execute_batch(part, &mut results);
                         }
-                        idle.lock().unwrap_or_else(|e| e.into_inner()).push(world);
+                        crate::cli::locked(&idle).push(world);
                         results
                     })
                     .collect();
@@ -261,13 +268,10 @@ pub(super) fn exec_cache(
 ) -> (Option<OutcomeTable>, Option<e3d::world::OutcomeMemo>) {
     use e3d::world::CachedOutcomes;
     let path = OutcomeTable::cache_path(scene, dir);
-    let space = scene.command_space();
-    let memo =
-        || e3d::world::OutcomeMemo::new(&space, scene.num_effects(), e3d::world::DEFAULT_MEMO_CAP);
     match OutcomeTable::read_file(&path, scene) {
         Ok(CachedOutcomes::Full(t)) => (Some(t), None),
         Ok(CachedOutcomes::Partial(entries)) => {
-            let m = memo().ok();
+            let m = new_memo(scene);
             if let Some(m) = &m {
                 m.extend(entries);
             }
@@ -283,7 +287,7 @@ pub(super) fn exec_cache(
                 format!("cannot use the outcome table {shown}: {e}")
             };
             errln!("note: {why}; simulating the commands, keeping their outcomes there");
-            (None, memo().ok())
+            (None, new_memo(scene))
         }
     }
 }
@@ -294,63 +298,62 @@ pub(super) fn exec_cache(
 /// that command anyway (the world simulates the pair's lower-index
 /// command and reflects it), so the rows are the same bytes in half the
 /// rollouts. Other scenes need no memo: each command is simulated once
-/// per appearance, as before.
+/// per appearance.
 fn mirror_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
     match &scene.spec().world {
-        WorldSpec::Physics(p) if p.symmetry.is_some() => e3d::world::OutcomeMemo::new(
-            &scene.command_space(),
-            scene.num_effects(),
-            e3d::world::DEFAULT_MEMO_CAP,
-        )
-        .ok(),
+        WorldSpec::Physics(p) if p.symmetry.is_some() => new_memo(scene),
         _ => None,
     }
 }
 
-/// `e3d scene exec`: a reader thread parses the commands as they come; the
-/// main thread waits for one, takes what else is queued (up to
-/// [`chunk_limit`]), executes that chunk on every core and prints its rows
-/// in input order, flushed, before the next chunk. The first command that
-/// does not parse or that blows up ends the output, after the rows before
-/// it, with its error.
-/// `scene exec` on a grid with start contexts: every command from every
-/// start cell of every context, one row each, with the context's name and
-/// the start cell (a rectangle's every cell, in row order).
-fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<String>) -> CliResult {
-    let space = scene.command_space();
+/// A memo of `scene`'s outcomes in memory, of the default cap.
+fn new_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
+    let (space, effects) = (scene.command_space(), scene.num_effects());
+    e3d::world::OutcomeMemo::new(&space, effects, e3d::world::DEFAULT_MEMO_CAP).ok()
+}
+
+/// `scene exec` on a scene with start contexts: `header`, then for each
+/// command the rows `rows` writes (one per start), printed as each
+/// command is done.
+fn exec_each(
+    scene: &Scene,
+    commands: Vec<String>,
+    header: &str,
+    mut rows: impl FnMut(&mut dyn e3d::world::Episodic, &Command, &mut String) -> CliResult,
+) -> CliResult {
     let mut world = scene.build();
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(1024);
-    let reader_space = space.clone();
-    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
-    let mut out = String::from("context,start_row,start_col,command,effect,reward,x,y\n");
+    let mut out = String::from(header);
     let mut stdout = std::io::stdout().lock();
-    for read in rx {
-        let c = read?;
-        for ctx in &grid.contexts {
-            let ((r0, r1), (c0, c1)) = ctx.bounds();
-            for r in r0..=r1 {
-                for col in c0..=c1 {
-                    let from = e3d::world::WorldState::Cell(r * grid.cols + col);
-                    let (o, _) = world.execute_from(&from, &c).map_err(world_error)?;
-                    let _ = writeln!(
-                        out,
-                        "{},{r},{col},{},{},{},{},{}",
-                        ctx.name,
-                        space.format(&c),
-                        o.effect,
-                        o.reward,
-                        o.point[0],
-                        o.point[1]
-                    );
-                }
-            }
-        }
+    for read in reader(&scene.command_space(), commands, 1024) {
+        rows(&mut *world, &read?, &mut out)?;
         stdout
             .write_all(out.as_bytes())
             .map_err(crate::cli::console::stdout_error)?;
         out.clear();
     }
     Ok(())
+}
+
+/// `scene exec` on a grid with start contexts: every command from every
+/// start cell of every context, one row each, with the context's name and
+/// the start cell (a rectangle's every cell, in row order).
+fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<String>) -> CliResult {
+    let space = scene.command_space();
+    let header = "context,start_row,start_col,command,effect,reward,x,y\n";
+    exec_each(scene, commands, header, |world, c, out| {
+        let command = space.format(c);
+        for ctx in &grid.contexts {
+            let ((r0, r1), (c0, c1)) = ctx.bounds();
+            for r in r0..=r1 {
+                for col in c0..=c1 {
+                    let from = e3d::world::WorldState::Cell(r * grid.cols + col);
+                    let (o, _) = world.execute_from(&from, c).map_err(world_error)?;
+                    push_row(out, format_args!("{},{r},{col},{command}", ctx.name), &o);
+                }
+            }
+        }
+        Ok(())
+    })
 }
 
 /// `scene exec` on a physics scene with start contexts: every command from
@@ -359,28 +362,20 @@ fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<Strin
 fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>) -> CliResult {
     use rand::SeedableRng;
     let space = scene.command_space();
-    let mut world = scene.build();
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(1024);
-    let reader_space = space.clone();
-    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
-    let mut out = String::from("context,command,effect,reward,x,y\n");
-    let mut stdout = std::io::stdout().lock();
-    for read in rx {
-        let c = read?;
-        for (k, name) in names.iter().enumerate() {
-            let mut rng = e3d::SessionRng::seed_from_u64(0);
-            let from = world.draw_start(k, &mut rng).map_err(world_error)?;
-            let o = world.execute_outcome_from(&from, &c).map_err(world_error)?;
-            let [x, y] = o.point;
-            let command = space.format(&c);
-            let _ = writeln!(out, "{name},{command},{},{},{x},{y}", o.effect, o.reward);
-        }
-        stdout
-            .write_all(out.as_bytes())
-            .map_err(crate::cli::console::stdout_error)?;
-        out.clear();
-    }
-    Ok(())
+    exec_each(
+        scene,
+        commands,
+        "context,command,effect,reward,x,y\n",
+        |world, c, out| {
+            for (k, name) in names.iter().enumerate() {
+                let mut rng = e3d::SessionRng::seed_from_u64(0);
+                let from = world.draw_start(k, &mut rng).map_err(world_error)?;
+                let o = world.execute_outcome_from(&from, c).map_err(world_error)?;
+                push_row(out, format_args!("{name},{}", space.format(c)), &o);
+            }
+            Ok(())
+        },
+    )
 }
 
 /// Fills `chunk` with the commands read next: the first one waited for,
@@ -388,7 +383,7 @@ fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>)
 /// (nothing read); else `Some` of the error that ends the input, if one
 /// came (the commands before it are in `chunk`).
 fn next_chunk(
-    rx: &std::sync::mpsc::Receiver<Read>,
+    rx: &Receiver<Read>,
     limit: usize,
     chunk: &mut Vec<Command>,
 ) -> Option<Option<CliError>> {
@@ -419,17 +414,7 @@ fn write_rows(
 ) -> Option<CliError> {
     for (c, r) in chunk.iter().zip(results.drain(..)) {
         match r {
-            Ok(o) => {
-                let _ = writeln!(
-                    text,
-                    "{},{},{},{},{}",
-                    space.format(c),
-                    o.effect,
-                    o.reward,
-                    o.point[0],
-                    o.point[1]
-                );
-            }
+            Ok(o) => push_row(text, space.format(c), &o),
             Err(e) => return Some(world_error(e)),
         }
     }
@@ -467,8 +452,7 @@ impl CostNote {
             WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
             _ => 1,
         };
-        let said =
-            looked_up || known.is_some_and(|n| say_cost_copies(label, scene, n, threads, copies));
+        let said = looked_up || known.is_some_and(|n| say_cost(label, scene, n, threads, copies));
         let per_command = if said {
             0.0
         } else {
@@ -497,10 +481,15 @@ impl CostNote {
     }
 }
 
+/// `e3d scene exec`: a reader thread parses the commands as they come; the
+/// main thread waits for one, takes what else is queued (up to
+/// [`chunk_limit`]), executes that chunk on every core and prints its rows
+/// in input order, flushed, before the next chunk. The first command that
+/// does not parse or that blows up ends the output, after the rows before
+/// it, with its error.
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
     let contexts = e3d::world::start_contexts(scene).len();
     if let (Some(dir), true) = (table_cache, contexts > 0) {
-        // it was ignored without a word: every command ran live
         return Err(CliError::input(format!(
             "--table-cache {}: scene `{}` has {contexts} start contexts, whose commands `scene exec` runs live from each context's start; it reads no table cache (drop --table-cache; `e3d scene table --cache DIR` builds the contexts' tables)",
             dir.display(),
@@ -526,10 +515,7 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let mut cost = CostNote::new(&label, scene, known, table.is_some());
     let mut executor = ExecPool::new(scene, table);
     let limit = chunk_limit();
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(2 * limit);
-    let reader_space = space.clone();
-    // not joined: it may wait on stdin when the output ends with an error
-    std::thread::spawn(move || read_commands(&reader_space, &commands, &tx));
+    let rx = reader(&space, commands, 2 * limit);
     let mut stdout = std::io::stdout().lock();
     let mut write = |text: &str| {
         stdout

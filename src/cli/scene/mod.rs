@@ -136,22 +136,27 @@ pub enum SceneCmd {
     },
 }
 
+impl SceneCmd {
+    /// The scene the sub-command works on, as given.
+    fn scene(&self) -> &str {
+        use SceneCmd as C;
+        match self {
+            C::Check { scene, .. }
+            | C::Render { scene, .. }
+            | C::Exec { scene, .. }
+            | C::RewardCell { scene, .. }
+            | C::Table { scene, .. }
+            | C::Stats { scene, .. } => scene,
+        }
+    }
+}
+
 /// `e3d scene ...` on a continuous scene: the sub-commands that differ
 /// (`exec`, `render --command`) and those that cannot apply (`table`,
 /// `reward-cell`, `stats`, which enumerate the commands); `None` for the
-/// others, and for scenes of symbols or that do not load (the plain path
-/// then reports them).
-fn continuous(cmd: &SceneCmd) -> Option<CliResult> {
+/// others, and for scenes of symbols (the plain path then runs them).
+fn continuous(cmd: &SceneCmd, scene: &e3d::Scene) -> Option<CliResult> {
     use SceneCmd as C;
-    let name = match cmd {
-        C::Exec { scene, .. }
-        | C::Render { scene, .. }
-        | C::RewardCell { scene, .. }
-        | C::Table { scene, .. }
-        | C::Stats { scene, .. } => scene,
-        _ => return None,
-    };
-    let scene = e3d::Scene::resolve(name).ok()?;
     let continuous = scene.as_continuous()?;
     let refuse = |what: &str| Some(scene.spec().require_symbols(what).map_err(CliError::input));
     match cmd {
@@ -168,11 +173,10 @@ fn continuous(cmd: &SceneCmd) -> Option<CliResult> {
             out,
             ..
         } => Some(values::render(continuous, text, *animate, out)),
-        C::Render { .. } => None,
         C::RewardCell { .. } => refuse("`e3d scene reward-cell` (which executes every command)"),
         C::Table { .. } => refuse("`e3d scene table` (an outcome table)"),
         C::Stats { .. } => refuse("`e3d scene stats` (which executes every command)"),
-        _ => None,
+        C::Render { .. } | C::Check { .. } => None,
     }
 }
 
@@ -223,16 +227,13 @@ fn check_outputs(cmd: &SceneCmd) -> CliResult {
 /// Runs `e3d scene ...`.
 pub fn run(a: SceneArgs) -> CliResult {
     check_outputs(&a.command)?;
-    if let Some(r) = continuous(&a.command) {
+    let scene = load_scene(a.command.scene())?;
+    if let Some(r) = continuous(&a.command, &scene) {
         return r;
     }
     match a.command {
-        SceneCmd::Check {
-            scene,
-            expanded: true,
-            ..
-        } => {
-            let text = load_scene(&scene)?.spec().to_ron();
+        SceneCmd::Check { expanded: true, .. } => {
+            let text = scene.spec().to_ron();
             let mut stdout = std::io::stdout().lock();
             stdout
                 .write_all(text.as_bytes())
@@ -240,13 +241,11 @@ pub fn run(a: SceneArgs) -> CliResult {
                 .map_err(crate::cli::console::stdout_error)
         }
         SceneCmd::Check {
-            scene,
             samples,
             seed,
             accuracy,
-            expanded: false,
+            ..
         } => {
-            let scene = load_scene(&scene)?;
             check(&scene)?;
             check_reach(&scene, samples, seed)?;
             match accuracy {
@@ -255,43 +254,35 @@ pub fn run(a: SceneArgs) -> CliResult {
             }
         }
         SceneCmd::Render {
-            scene,
             command,
             context,
             animate: true,
             out,
+            ..
         } => animate(
-            &load_scene(&scene)?,
+            &scene,
             command.as_deref().unwrap_or(""),
             context.as_deref(),
             &out,
         ),
         SceneCmd::Render {
-            scene,
             command,
             context,
-            animate: false,
             out,
-        } => render(
-            &load_scene(&scene)?,
-            command.as_deref(),
-            context.as_deref(),
-            &out,
-        ),
+            ..
+        } => render(&scene, command.as_deref(), context.as_deref(), &out),
         SceneCmd::Exec {
-            scene,
             commands,
             trace: Some(path),
             ..
-        } => exec_trace(&load_scene(&scene)?, commands, &path),
+        } => exec_trace(&scene, commands, &path),
         SceneCmd::Exec {
-            scene,
             commands,
             table_cache,
-            trace: None,
-        } => exec(&load_scene(&scene)?, commands, table_cache.as_deref()),
-        SceneCmd::RewardCell { scene, from } => reward_cell(&load_scene(&scene)?, from),
-        SceneCmd::Stats { scene } => stats(&load_scene(&scene)?),
-        SceneCmd::Table { scene, cache } => table(&load_scene(&scene)?, cache.as_deref()),
+            ..
+        } => exec(&scene, commands, table_cache.as_deref()),
+        SceneCmd::RewardCell { from, .. } => reward_cell(&scene, from),
+        SceneCmd::Stats { .. } => stats(&scene),
+        SceneCmd::Table { cache, .. } => table(&scene, cache.as_deref()),
     }
 }

@@ -119,12 +119,9 @@ fn context_panel(
     command: Option<&Command>,
 ) -> Result<String, CliError> {
     let space = scene.command_space();
-    let mut spec = scene.to_spec();
-    spec.name = label.to_string();
-    match (from, &mut spec.world) {
-        (e3d::world::WorldState::Cell(cell), WorldSpec::Grid(g)) => {
-            g.start = (cell / g.cols, cell % g.cols);
-            let titled = spec.validate().map_err(CliError::input)?;
+    match (from, &scene.spec().world) {
+        (e3d::world::WorldState::Cell(cell), WorldSpec::Grid(_)) => {
+            let titled = started_at(scene, *cell, Some(label))?;
             let overlay = match command {
                 Some(c) => Some(overlay_of(&titled, c, &space.format(c))?),
                 None => None,
@@ -132,19 +129,14 @@ fn context_panel(
             Ok(scene_svg(&titled, overlay.as_ref()))
         }
         (e3d::world::WorldState::Physics(state), WorldSpec::Physics(_)) => {
+            let mut spec = scene.to_spec();
+            spec.name = label.to_string();
             let titled = spec.validate().map_err(CliError::input)?;
             let overlay = match command {
                 Some(c) => {
                     let mut w = scene.physics_world().expect("a physics scene");
                     let t = w.from_start(from, |w| w.trace(c)).and_then(|t| t);
-                    let t = t.map_err(world_error)?;
-                    Some(Overlay {
-                        command: space.format(c),
-                        points: t.points,
-                        poses: Some(t.poses),
-                        effect: t.outcome.effect,
-                        reward: t.outcome.reward,
-                    })
+                    Some(traced(space.format(c), t.map_err(world_error)?))
                 }
                 None => None,
             };
@@ -231,27 +223,24 @@ pub(super) fn animate(
     context: Option<&str>,
     out: &std::path::Path,
 ) -> CliResult {
-    use e3d::report::motion_svg::html_page;
     let space = scene.command_space();
     let c = space.parse(text).map_err(CliError::input)?;
     let cmd = space.format(&c);
     let from = context
         .map(|name| animation_start(scene, name))
         .transpose()?;
-    say_cost(&format!("scene render {}", scene.spec().name), scene, 1, 1);
+    say_cost(
+        &format!("scene render {}", scene.spec().name),
+        scene,
+        1,
+        1,
+        1,
+    );
     let (svg, what) = match scene.physics_world() {
         None => animate_grid(scene, &c, from.as_ref())?,
         Some(w) => animate_physics(scene, w, &c, &cmd, from.as_ref())?,
     };
-    let html = out
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
-    let text = if html {
-        html_page(&format!("{}: command {cmd}", scene.spec().name), &svg)
-    } else {
-        svg
-    };
-    write_file(out, text.as_bytes())?;
+    write_file(out, animation_page(scene, &cmd, svg, out).as_bytes())?;
     outln!("wrote {} ({what})", out.display());
     Ok(())
 }
@@ -266,13 +255,7 @@ fn animate_grid(
     use e3d::report::motion_svg::{grid_motion_svg, GRID_KEYFRAME_SECONDS};
     // a grid's start is its `start` cell: the context's, if given
     let started = match from {
-        Some(e3d::world::WorldState::Cell(cell)) => {
-            let mut spec = scene.to_spec();
-            if let WorldSpec::Grid(g) = &mut spec.world {
-                g.start = (cell / g.cols, cell % g.cols);
-            }
-            Some(spec.validate().map_err(CliError::input)?)
-        }
+        Some(e3d::world::WorldState::Cell(cell)) => Some(started_at(scene, *cell, None)?),
         _ => None,
     };
     let svg = grid_motion_svg(started.as_ref().unwrap_or(scene), c)
@@ -283,6 +266,18 @@ fn animate_grid(
         keyframes as f64 * GRID_KEYFRAME_SECONDS
     );
     Ok((svg, what))
+}
+
+/// The grid scene `scene` started at `cell`, named `name` if given.
+fn started_at(scene: &Scene, cell: usize, name: Option<&str>) -> Result<Scene, CliError> {
+    let mut spec = scene.to_spec();
+    if let Some(name) = name {
+        spec.name = name.to_string();
+    }
+    if let WorldSpec::Grid(g) = &mut spec.world {
+        g.start = (cell / g.cols, cell % g.cols);
+    }
+    spec.validate().map_err(CliError::input)
 }
 
 /// A physics scene's animation of `c` (written `cmd`) on the world `w`,
@@ -325,6 +320,37 @@ fn animate_physics(
     Ok((svg, what))
 }
 
+/// The overlay of a physics command's trace `t`, the command written `command`.
+pub(super) fn traced(command: String, t: e3d::world::Trace) -> Overlay {
+    Overlay {
+        command,
+        points: t.points,
+        poses: Some(t.poses),
+        effect: t.outcome.effect,
+        reward: t.outcome.reward,
+    }
+}
+
+/// An animation `svg` as written to `out`: an HTML page holding it when
+/// `out` ends in `.html` or `.htm`, titled with the scene and `cmd`.
+pub(super) fn animation_page(
+    scene: &Scene,
+    cmd: &str,
+    svg: String,
+    out: &std::path::Path,
+) -> String {
+    let html = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
+    if html {
+        let title = format!("{}: command {cmd}", scene.spec().name);
+        e3d::report::motion_svg::html_page(&title, &svg)
+    } else {
+        svg
+    }
+}
+
+/// The overlay of `c` (written `text`) on `scene`: its path and outcome.
 pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overlay, CliError> {
     match (
         &scene.spec().world,
@@ -341,16 +367,7 @@ pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overl
                 reward: o.reward,
             })
         }
-        (_, _, Some(mut w)) => {
-            let t = w.trace(c).map_err(world_error)?;
-            Ok(Overlay {
-                command: text.to_string(),
-                points: t.points,
-                poses: Some(t.poses),
-                effect: t.outcome.effect,
-                reward: t.outcome.reward,
-            })
-        }
+        (_, _, Some(mut w)) => Ok(traced(text.to_string(), w.trace(c).map_err(world_error)?)),
         _ => Err(CliError::input(format!(
             "scene {}: neither a grid nor a physics world",
             scene.spec().name

@@ -12,14 +12,7 @@ use e3d::OutcomeTable;
 
 pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
     let from = from.unwrap_or_else(|| start_point(scene));
-    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
-    if n > e3d::world::MAX_TABLE_COMMANDS {
-        return Err(CliError::input(format!(
-            "{} commands: too many to execute them all (at most {})",
-            scene.command_space().num_commands_text(),
-            e3d::world::MAX_TABLE_COMMANDS
-        )));
-    }
+    super::simulate::all_commands(scene, "to execute them all")?;
     let start = std::time::Instant::now();
     let table = build_table(scene)?;
     let secs = start.elapsed().as_secs_f64();

@@ -51,15 +51,8 @@ pub(super) fn simulate_all<T>(
         steps_text(scene),
         seconds_text(seconds)
     );
-    progress::track(
-        &format!("scene {}", scene.spec().name),
-        "commands",
-        simulated,
-        |p| {
-            let add = |k| p.add(k);
-            work(&Control::default().with_progress(&add))
-        },
-    )
+    let label = format!("scene {}", scene.spec().name);
+    progress::track_control(&label, "commands", simulated, work)
 }
 
 /// [`OutcomeTable::build_scene`], its cost and progress on stderr.
@@ -72,21 +65,45 @@ pub(super) fn build_table(scene: &Scene) -> Result<OutcomeTable, CliError> {
     .map_err(world_error)
 }
 
+/// The plan of a run that only builds the table of `scene`, on the
+/// current threads.
+pub(super) fn table_plan(scene: &Scene) -> e3d::world::ExecutionPlan {
+    let threads = rayon::current_num_threads();
+    let work = e3d::world::Workload {
+        trials: 0,
+        sessions: 1,
+        threads,
+    };
+    e3d::world::ExecutionPlan::choose(scene, &work, None, 0)
+}
+
 /// The cost model's seconds for building the whole table of `scene` on
 /// the current threads (0 when no table is possible).
 pub(super) fn table_seconds(scene: &Scene) -> f64 {
+    let plan = table_plan(scene);
     let threads = rayon::current_num_threads();
-    let plan = e3d::world::ExecutionPlan::choose(
-        scene,
-        &e3d::world::Workload {
-            trials: 0,
-            sessions: 1,
-            threads,
-        },
-        None,
-        0,
-    );
     plan.table_seconds.unwrap_or(0.0) * calibration(scene, threads, plan.copies)
+}
+
+/// The cost model's seconds for `n` rollouts of `scene`, one command per
+/// world, on the current threads.
+pub(super) fn live_seconds(scene: &Scene, n: u64) -> f64 {
+    let threads = rayon::current_num_threads();
+    n as f64 * e3d::world::rollout_seconds(scene) * calibration(scene, threads, 1) / threads as f64
+}
+
+/// The number of commands of `scene`, refused (`too many WHAT`) above
+/// what a table holds.
+pub(super) fn all_commands(scene: &Scene, what: &str) -> Result<u64, CliError> {
+    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
+    if n > e3d::world::MAX_TABLE_COMMANDS {
+        return Err(CliError::input(format!(
+            "{} commands: too many {what} (at most {})",
+            scene.command_space().num_commands_text(),
+            e3d::world::MAX_TABLE_COMMANDS
+        )));
+    }
+    Ok(n)
 }
 
 /// ` (120 steps each)` for a physics scene (nothing for a grid).
@@ -101,16 +118,10 @@ pub(super) fn steps_text(scene: &Scene) -> String {
 }
 
 /// The cost model's estimate for `commands` rollouts of `scene` on
-/// `threads` threads, said on stderr (`LABEL: N commands, S steps each,
-/// on T thread(s): about X by the cost model`) when it reaches
-/// [`progress::LONG`]; whether it was said.
-pub(super) fn say_cost(label: &str, scene: &Scene, commands: u64, threads: usize) -> bool {
-    say_cost_copies(label, scene, commands, threads, 1)
-}
-
-/// [`say_cost`] for commands run `copies` to a world (as `scene exec`
-/// does on scenes whose copies are exact).
-pub(super) fn say_cost_copies(
+/// `threads` threads, run `copies` to a world, said on stderr (`LABEL: N
+/// commands, S steps each, on T thread(s): about X by the cost model`)
+/// when it reaches [`progress::LONG`]; whether it was said.
+pub(super) fn say_cost(
     label: &str,
     scene: &Scene,
     commands: u64,
@@ -145,7 +156,7 @@ pub(super) fn calibration(scene: &Scene, threads: usize, copies: usize) -> f64 {
     type Key = (String, usize, usize);
     static CACHE: std::sync::Mutex<Vec<(Key, f64)>> = std::sync::Mutex::new(Vec::new());
     let key = (scene.spec().name.clone(), threads, copies);
-    let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    let mut cache = crate::cli::locked(&CACHE);
     if let Some((_, f)) = cache.iter().find(|(k, _)| *k == key) {
         return *f;
     }

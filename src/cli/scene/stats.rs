@@ -7,43 +7,21 @@ use crate::cli::{CliError, CliResult};
 use e3d::scene::Scene;
 
 pub(super) fn stats(scene: &Scene) -> CliResult {
-    use rayon::prelude::*;
     let Some(physics) = scene.as_physics() else {
         return Err(CliError::input(
             "`e3d scene stats` is for physics scenes; this is a grid scene",
         ));
     };
     let space = scene.command_space();
-    let n = space.num_commands().unwrap_or(u64::MAX);
-    if n > e3d::world::MAX_TABLE_COMMANDS {
-        return Err(CliError::input(format!(
-            "{} commands: too many to execute them all (at most {})",
-            space.num_commands_text(),
-            e3d::world::MAX_TABLE_COMMANDS
-        )));
-    }
+    let n = super::simulate::all_commands(scene, "to execute them all")?;
     let contexts = e3d::world::start_contexts(scene);
     if !contexts.is_empty() {
         return context_stats(scene, physics, &contexts, n);
     }
     let start = std::time::Instant::now();
-    let threads = rayon::current_num_threads();
-    let secs = n as f64
-        * e3d::world::rollout_seconds(scene)
-        * super::simulate::calibration(scene, threads, 1)
-        / threads as f64;
-    let all: Vec<e3d::world::RunStats> = simulate_all(scene, n, secs, |progress| {
-        (0..n)
-            .into_par_iter()
-            .map_init(
-                || physics.world(1),
-                |w, i| {
-                    let stats = w.inspect(&space.command_at(i));
-                    (progress.progress)(1);
-                    stats
-                },
-            )
-            .collect::<Result<_, _>>()
+    let secs = super::simulate::live_seconds(scene, n);
+    let all = simulate_all(scene, n, secs, |progress| {
+        inspect_all(physics, &space, n, None, progress)
     })
     .map_err(world_error)?;
     let secs = start.elapsed().as_secs_f64();
@@ -97,7 +75,6 @@ fn context_stats(
     contexts: &[e3d::world::StartContext],
     n: u64,
 ) -> CliResult {
-    use rayon::prelude::*;
     let space = scene.command_space();
     let probe = scene.build();
     let starts: Vec<e3d::world::WorldState> = (0..contexts.len())
@@ -106,28 +83,11 @@ fn context_stats(
         .map_err(world_error)?;
     let threads = rayon::current_num_threads();
     let total = n * contexts.len() as u64;
-    let secs = total as f64
-        * e3d::world::rollout_seconds(scene)
-        * super::simulate::calibration(scene, threads, 1)
-        / threads as f64;
+    let secs = super::simulate::live_seconds(scene, total);
     let start = std::time::Instant::now();
     let all: Vec<Vec<e3d::world::RunStats>> = simulate_all(scene, total, secs, |progress| {
-        starts
-            .iter()
-            .map(|from| {
-                (0..n)
-                    .into_par_iter()
-                    .map_init(
-                        || physics.world(1),
-                        |w, i| {
-                            let c = space.command_at(i);
-                            let stats = w.from_start(from, |w| w.inspect(&c)).and_then(|r| r);
-                            (progress.progress)(1);
-                            stats
-                        },
-                    )
-                    .collect::<Result<Vec<_>, _>>()
-            })
+        (starts.iter())
+            .map(|from| inspect_all(physics, &space, n, Some(from), progress))
             .collect::<Result<_, _>>()
     })
     .map_err(world_error)?;
@@ -170,6 +130,33 @@ fn context_stats(
         entropy(&union)
     );
     Ok(())
+}
+
+/// The figures of the `n` commands of `physics` each run once (from
+/// `from` if given), in parallel, each counted to `control`.
+fn inspect_all(
+    physics: e3d::world::PhysicsScene<'_>,
+    space: &e3d::command::CommandSpace,
+    n: u64,
+    from: Option<&e3d::world::WorldState>,
+    control: &e3d::Control<'_>,
+) -> Result<Vec<e3d::world::RunStats>, e3d::WorldError> {
+    use rayon::prelude::*;
+    (0..n)
+        .into_par_iter()
+        .map_init(
+            || physics.world(1),
+            |w, i| {
+                let c = space.command_at(i);
+                let stats = match from {
+                    Some(from) => w.from_start(from, |w| w.inspect(&c)).and_then(|r| r),
+                    None => w.inspect(&c),
+                };
+                (control.progress)(1);
+                stats
+            },
+        )
+        .collect()
 }
 
 /// Counts as `cell:count` pairs of the non-zero ones, space-separated.

@@ -12,14 +12,7 @@ pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult
     if !e3d::world::start_contexts(scene).is_empty() {
         return context_table(scene, cache);
     }
-    let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
-    if n > e3d::world::MAX_TABLE_COMMANDS {
-        return Err(CliError::input(format!(
-            "{} commands: too many for an outcome table (at most {})",
-            scene.command_space().num_commands_text(),
-            e3d::world::MAX_TABLE_COMMANDS
-        )));
-    }
+    let n = super::simulate::all_commands(scene, "for an outcome table")?;
     if let Some(dir) = cache {
         refuse_non_regular(&OutcomeTable::cache_path(scene, dir))?;
     }
@@ -130,10 +123,7 @@ fn context_table(scene: &Scene, cache: Option<&Path>) -> CliResult {
         }
     }
     let simulated = contexts.simulated_commands();
-    let secs = e3d::world::rollout_seconds(scene)
-        * simulated as f64
-        * super::simulate::calibration(scene, rayon::current_num_threads(), 1)
-        / rayon::current_num_threads() as f64;
+    let secs = super::simulate::live_seconds(scene, simulated);
     let start = std::time::Instant::now();
     let (tables, existed) = match cache {
         Some(dir) => {

@@ -78,10 +78,7 @@ pub(super) fn exec(
                 row.push_str("values,effect,reward,x,y\n");
                 first = false;
             }
-            row.push_str(&format!(
-                "\"{text}\",{},{},{},{}\n",
-                o.effect, o.reward, o.point[0], o.point[1]
-            ));
+            super::exec::push_row(&mut row, format_args!("\"{text}\""), &o);
             stdout
                 .write_all(row.as_bytes())
                 .and_then(|()| stdout.flush())
@@ -118,34 +115,20 @@ pub(super) fn render(
     let v = space.parse(text).map_err(CliError::input)?;
     let cmd = space.format(&v);
     let mut world = scene.physics().world(1);
-    let bad = |e: e3d::WorldError| match e {
-        e3d::WorldError::BadCommand { .. } => CliError::input(e),
-        _ => CliError::simulation(e),
-    };
     let page = if animate {
-        let motion = world.motion_values(&v).map_err(bad)?;
+        let motion = world
+            .motion_values(&v)
+            .map_err(super::simulate::world_error)?;
         let svg = motion_svg::motion_svg(scene.scene(), &cmd, &motion)
             .map_err(|e| CliError::input(e.to_string()))?;
-        let html = out
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
-        if html {
-            motion_svg::html_page(
-                &format!("{}: command {cmd}", scene.scene().spec().name),
-                &svg,
-            )
-        } else {
-            svg
-        }
+        super::render::animation_page(scene.scene(), &cmd, svg, out)
     } else {
-        let t = world.trace_values(&v).map_err(bad)?;
-        let overlay = e3d::report::scene_svg::Overlay {
-            command: cmd,
-            points: t.points,
-            poses: Some(t.poses),
-            effect: t.outcome.effect,
-            reward: t.outcome.reward,
-        };
+        let overlay = super::render::traced(
+            cmd,
+            world
+                .trace_values(&v)
+                .map_err(super::simulate::world_error)?,
+        );
         e3d::report::scene_svg::scene_svg(scene.scene(), Some(&overlay))
     };
     write_file(out, page.as_bytes())?;
