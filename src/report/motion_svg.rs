@@ -14,10 +14,9 @@
 //! each slot), over the still picture of the grid with its walls and the
 //! whole path.
 
-use super::scene_svg::{
-    body_svg, colours, esc, grid_picture, physics_picture, Overlay, Paint, View,
-};
+use super::scene_svg::{body_svg, colours, grid_picture, physics_picture, Overlay, Paint, View};
 use super::scene_svg::{END_FILL, END_STROKE, TRACKED};
+use super::svg::esc;
 use crate::scene::physics::{to_world, BodyKind, PhysicsSpec, GROUND};
 use crate::scene::{Scene, WorldSpec};
 use crate::world::{GridWorld, Motion};
@@ -535,9 +534,9 @@ fn v_top(v: &View) -> f64 {
 
 /// `svg` in a self-contained HTML page (no script, no network).
 pub fn html_page(title: &str, svg: &str) -> String {
-    format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}svg{{max-width:100%;height:auto;background:#fff}}</style>\n</head>\n<body>\n<h1>{}</h1>\n{svg}</body>\n</html>\n",
-        esc(title),
-        esc(title)
+    super::svg::page(
+        title,
+        "svg{max-width:100%;height:auto;background:#fff}",
+        svg,
     )
 }

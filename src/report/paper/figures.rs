@@ -63,10 +63,7 @@ impl PaperResults {
             .flat_map(|b| b.last().map(|s| s.max))
             .fold(1.0, f64::max);
         let trials = self.config.trials;
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, (1000, 640)).into_drawing_area();
-            root.fill(&WHITE).map_err(|e| e.to_string())?;
+        plotted((1000, 640), |root| {
             let (head, body) = root.split_vertically(78);
             fig3_head(&head, self.config.sessions)?;
             let mut chart = fig3_chart(&body, trials, top)?;
@@ -82,11 +79,10 @@ impl PaperResults {
                 .label_font(("sans-serif", 17))
                 .background_style(WHITE.mix(0.9))
                 .border_style(BLACK)
-                .draw()
-                .map_err(|e| e.to_string())?;
-            root.present().map_err(|e| e.to_string())?;
-        }
-        Ok(svg)
+                .draw()?;
+            Ok(())
+        })
+        .map_err(|e| e.to_string())
     }
 }
 
@@ -99,38 +95,31 @@ type Chart<'a, 'b> = ChartContext<
 
 /// Figure 3's head: its title and the line saying what the line and the
 /// bands are over the `sessions`.
-fn fig3_head(head: &Area<'_>, sessions: usize) -> Result<(), String> {
+fn fig3_head(head: &Area<'_>, sessions: usize) -> Drawn {
     head.draw(&Text::new(
         "two_rooms, task 2: cumulative reward".to_string(),
         (30, 12),
         ("sans-serif", 26).into_font().color(&BLACK),
-    ))
-    .map_err(|e| e.to_string())?;
+    ))?;
     head.draw(&Text::new(
         format!(
             "over {sessions} sessions: line, mean; dark band, mean \u{b1} sd; light band, min to max (the table's mean +- sd [min, max])"
         ),
         (30, 48),
         ("sans-serif", 17).into_font().color(&RGBColor(70, 70, 70)),
-    ))
-    .map_err(|e| e.to_string())?;
+    ))?;
     Ok(())
 }
 
 /// Figure 3's chart on `body`: trials 0 to `trials` across, cumulative
 /// reward 0 to 5% over `top` up, with its axes and light grid.
-fn fig3_chart<'a, 'b>(
-    body: &'a Area<'b>,
-    trials: usize,
-    top: f64,
-) -> Result<Chart<'a, 'b>, String> {
+fn fig3_chart<'a, 'b>(body: &'a Area<'b>, trials: usize, top: f64) -> Drawn<Chart<'a, 'b>> {
     let mut chart = ChartBuilder::on(body)
         .margin(20)
         .margin_top(5)
         .x_label_area_size(60)
         .y_label_area_size(90)
-        .build_cartesian_2d(0f64..trials as f64, 0f64..top * 1.05)
-        .map_err(|e| e.to_string())?;
+        .build_cartesian_2d(0f64..trials as f64, 0f64..top * 1.05)?;
     chart
         .configure_mesh()
         .x_desc("trial")
@@ -141,8 +130,7 @@ fn fig3_chart<'a, 'b>(
         .y_label_formatter(&|y| format!("{y:.0}"))
         .light_line_style(WHITE.mix(0.0))
         .bold_line_style(RGBColor(225, 225, 225))
-        .draw()
-        .map_err(|e| e.to_string())?;
+        .draw()?;
     Ok(chart)
 }
 
@@ -169,21 +157,17 @@ fn draw_reward_bands(
     bands: &[Vec<Stats>],
     idx: &[usize],
     colours: [RGBColor; 2],
-) -> Result<(), String> {
+) -> Drawn {
     for (band, colour) in bands.iter().zip(colours) {
-        chart
-            .draw_series(std::iter::once(Polygon::new(
-                band_polygon(band, idx, &|s| s.min, &|s| s.max),
-                colour.mix(0.13).filled(),
-            )))
-            .map_err(|e| e.to_string())?;
+        chart.draw_series(std::iter::once(Polygon::new(
+            band_polygon(band, idx, &|s| s.min, &|s| s.max),
+            colour.mix(0.13).filled(),
+        )))?;
         // the sd band is clipped at 0: a cumulative reward is not negative
-        chart
-            .draw_series(std::iter::once(Polygon::new(
-                band_polygon(band, idx, &|s| (s.mean - s.sd).max(0.0), &|s| s.mean + s.sd),
-                colour.mix(0.3).filled(),
-            )))
-            .map_err(|e| e.to_string())?;
+        chart.draw_series(std::iter::once(Polygon::new(
+            band_polygon(band, idx, &|s| (s.mean - s.sd).max(0.0), &|s| s.mean + s.sd),
+            colour.mix(0.3).filled(),
+        )))?;
     }
     Ok(())
 }
@@ -196,28 +180,25 @@ fn draw_reward_means(
     bands: &[Vec<Stats>],
     idx: &[usize],
     colours: [RGBColor; 2],
-) -> Result<(), String> {
+) -> Drawn {
     for ((arm, band), colour) in arms.iter().zip(bands).zip(colours) {
         chart
             .draw_series(LineSeries::new(
                 idx.iter().map(|&t| ((t + 1) as f64, band[t].mean)),
                 colour.stroke_width(3),
-            ))
-            .map_err(|e| e.to_string())?
+            ))?
             .label(format!("{}: mean", arm.arm.label))
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
             });
         chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
-            .map_err(|e| e.to_string())?
+            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())?
             .label("  mean \u{b1} sd")
             .legend(move |(x, y)| {
                 Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.3).filled())
             });
         chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
-            .map_err(|e| e.to_string())?
+            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())?
             .label("  min to max")
             .legend(move |(x, y)| {
                 Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.13).filled())
@@ -268,10 +249,7 @@ pub fn effect_panels_svg(
     target: f64,
 ) -> Result<String, String> {
     let n = spec.rows * spec.cols;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (1100, 530)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+    plotted((1100, 530), |root| {
         let (title_area, body) = root.split_vertically(118);
         let text = |t: &str, at: (i32, i32), size: f64, colour: &RGBColor| {
             title_area.draw(&Text::new(
@@ -280,22 +258,20 @@ pub fn effect_panels_svg(
                 ("sans-serif", size).into_font().color(colour),
             ))
         };
-        text(title, (25, 12), 26.0, &BLACK).map_err(|e| e.to_string())?;
+        text(title, (25, 12), 26.0, &BLACK)?;
         let grey = RGBColor(70, 70, 70);
         for (k, line) in lines.iter().enumerate() {
-            text(line, (25, 48 + 21 * k as i32), 17.0, &grey).map_err(|e| e.to_string())?;
+            text(line, (25, 48 + 21 * k as i32), 17.0, &grey)?;
         }
         let (panels_area, bar_area) = body.split_horizontally(940);
         let areas = panels_area.split_evenly((1, panels.len().max(1)));
         for (area, (caption, shares)) in areas.iter().zip(panels) {
-            draw_grid_panel(area, caption, spec, shares, peak, n <= 60)
-                .map_err(|e| e.to_string())?;
+            draw_grid_panel(area, caption, spec, shares, peak, n <= 60)?;
         }
         let marks = (1.0 / target).round() as usize;
-        draw_colour_bar(&bar_area, peak, target, marks).map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
-    }
-    Ok(svg)
+        draw_colour_bar(&bar_area, peak, target, marks)
+    })
+    .map_err(|e| e.to_string())
 }
 
 fn draw_grid_panel(
@@ -305,7 +281,7 @@ fn draw_grid_panel(
     shares: &[f64],
     peak: f64,
     labels: bool,
-) -> Result<(), Box<dyn std::error::Error>> {
+) -> Drawn {
     let (rows, cols) = (spec.rows, spec.cols);
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 21))
@@ -375,12 +351,7 @@ fn draw_grid_panel(
 
 /// Figure 2's colour bar: the scale from 0 to `peak` (percent ticks), the
 /// target share 1/`n` marked across it.
-fn draw_colour_bar(
-    area: &Area<'_>,
-    peak: f64,
-    target: f64,
-    n: usize,
-) -> Result<(), Box<dyn std::error::Error>> {
+fn draw_colour_bar(area: &Area<'_>, peak: f64, target: f64, n: usize) -> Drawn {
     let mut bar = ChartBuilder::on(area)
         .caption("share of trials", ("sans-serif", 17))
         .margin_top(14)

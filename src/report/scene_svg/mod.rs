@@ -2,6 +2,7 @@
 //! grid and reward cells, optionally with the path of the tracked point
 //! under one command and its terminal cell.
 
+use super::svg::{esc, tick_step, ticks};
 use crate::scene::physics::{to_world, BodyKind, PhysicsSpec, ShapeSpec, GROUND};
 use crate::scene::{Scene, Symmetry, WorldSpec};
 use crate::world::{BodyPose, GridSpec};
@@ -95,10 +96,6 @@ impl View {
     pub(super) fn pt(&self, p: (f64, f64)) -> String {
         format!("{:.2},{:.2}", self.x(p.0), self.y(p.1))
     }
-}
-
-pub(super) fn esc(s: &str) -> String {
-    crate::text::xml_escape(s).into_owned()
 }
 
 /// Draws `scene` as SVG, with `overlay` (a command's path) if given.
@@ -289,25 +286,6 @@ fn path_layer(out: &mut String, v: &View, overlay: Option<&Overlay>) {
     );
 }
 
-/// A step of 1, 2 or 5 times a power of ten giving about 5 to 10 ticks
-/// over `span`.
-fn tick_step(span: f64) -> f64 {
-    let raw = span.max(1e-9) / 8.0;
-    let mag = 10f64.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|k| k * mag)
-        .find(|&s| s >= raw)
-        .unwrap_or(10.0 * mag)
-}
-
-/// The ticks of `[lo, hi]` at multiples of `step`.
-fn ticks(lo: f64, hi: f64, step: f64) -> Vec<f64> {
-    let first = (lo / step - 1e-9).ceil() as i64;
-    let last = (hi / step + 1e-9).floor() as i64;
-    (first..=last).map(|k| k as f64 * step).collect()
-}
-
 /// A tick's label with the decimals its step needs (never `-0`).
 fn tick_label(t: f64, step: f64) -> String {
     let decimals = (-step.log10().floor()).max(0.0) as usize;
@@ -319,7 +297,8 @@ fn tick_label(t: f64, step: f64) -> String {
 /// world units (`unit`: "m", or "cells" on a grid).
 fn axes(out: &mut String, v: &View, unit: &str) {
     let span = (v.max[0] - v.min[0]).max(v.max[1] - v.min[1]);
-    let step = tick_step(span);
+    let step = tick_step(span.max(1e-9));
+    let ticks = |lo, hi| ticks(lo, hi, step).unwrap_or_default();
     let (x0, x1) = (v.x(v.min[0]), v.x(v.max[0]));
     let (y0, y1) = (v.bottom(), v.y(v.max[1]));
     let _ = writeln!(
@@ -328,7 +307,7 @@ fn axes(out: &mut String, v: &View, unit: &str) {
     );
     let mut d = String::new();
     let mut labels = String::new();
-    for t in ticks(v.min[0], v.max[0], step) {
+    for t in ticks(v.min[0], v.max[0]) {
         let x = v.x(t);
         let _ = write!(d, "M{x:.2},{y0:.2}v5");
         let _ = write!(
@@ -338,7 +317,7 @@ fn axes(out: &mut String, v: &View, unit: &str) {
             tick_label(t, step)
         );
     }
-    for t in ticks(v.min[1], v.max[1], step) {
+    for t in ticks(v.min[1], v.max[1]) {
         let y = v.y(t);
         let _ = write!(d, "M{x0:.2},{y:.2}h-5");
         let _ = write!(
