@@ -71,8 +71,7 @@ impl PaperResults {
             // thin the curves to at most ~1000 points: the figure, not the CSV
             let step = (trials / 1000).max(1);
             let idx: Vec<usize> = (0..trials).step_by(step).chain([trials - 1]).collect();
-            draw_reward_bands(&mut chart, &bands, &idx, colours)?;
-            draw_reward_means(&mut chart, &arms, &bands, &idx, colours)?;
+            draw_rewards(&mut chart, &arms, &bands, &idx, colours)?;
             chart
                 .configure_series_labels()
                 .position(SeriesLabelPosition::UpperLeft)
@@ -151,36 +150,29 @@ fn band_polygon(
 }
 
 /// Each learner's bands, in its colour: min to max, light, and mean +- sd
-/// (clipped at 0), darker.
-fn draw_reward_bands(
-    chart: &mut Chart<'_, '_>,
-    bands: &[Vec<Stats>],
-    idx: &[usize],
-    colours: [RGBColor; 2],
-) -> Drawn {
-    for (band, colour) in bands.iter().zip(colours) {
-        chart.draw_series(std::iter::once(Polygon::new(
-            band_polygon(band, idx, &|s| s.min, &|s| s.max),
-            colour.mix(0.13).filled(),
-        )))?;
-        // the sd band is clipped at 0: a cumulative reward is not negative
-        chart.draw_series(std::iter::once(Polygon::new(
-            band_polygon(band, idx, &|s| (s.mean - s.sd).max(0.0), &|s| s.mean + s.sd),
-            colour.mix(0.3).filled(),
-        )))?;
-    }
-    Ok(())
-}
-
-/// Each learner's mean as a line, in its colour, and its three legend
-/// entries: the line, the sd band and the min-max band.
-fn draw_reward_means(
+/// (clipped at 0: a cumulative reward is not negative), darker; then each
+/// learner's mean as a line, and its three legend entries: the line, the
+/// sd band and the min-max band.
+fn draw_rewards(
     chart: &mut Chart<'_, '_>,
     arms: &[&ArmResult],
     bands: &[Vec<Stats>],
     idx: &[usize],
     colours: [RGBColor; 2],
 ) -> Drawn {
+    type Edge<'a> = &'a dyn Fn(&Stats) -> f64;
+    let spans: [(Edge, Edge, f64); 2] = [
+        (&|s| s.min, &|s| s.max, 0.13),
+        (&|s| (s.mean - s.sd).max(0.0), &|s| s.mean + s.sd, 0.3),
+    ];
+    for (band, colour) in bands.iter().zip(colours) {
+        for (lo, hi, mix) in spans {
+            chart.draw_series(std::iter::once(Polygon::new(
+                band_polygon(band, idx, lo, hi),
+                colour.mix(mix).filled(),
+            )))?;
+        }
+    }
     for ((arm, band), colour) in arms.iter().zip(bands).zip(colours) {
         chart
             .draw_series(LineSeries::new(
@@ -191,18 +183,14 @@ fn draw_reward_means(
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
             });
-        chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())?
-            .label("  mean \u{b1} sd")
-            .legend(move |(x, y)| {
-                Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.3).filled())
-            });
-        chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())?
-            .label("  min to max")
-            .legend(move |(x, y)| {
-                Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.13).filled())
-            });
+        for (label, mix) in [("  mean \u{b1} sd", 0.3), ("  min to max", 0.13)] {
+            chart
+                .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())?
+                .label(label)
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(mix).filled())
+                });
+        }
     }
     Ok(())
 }
@@ -224,8 +212,6 @@ fn share_colour(share: f64, peak: f64) -> RGBColor {
     RGBColor(r, g, b)
 }
 
-/// A heat map of `shares` over a grid world on the scale 0..`peak`, with
-/// its walls and start (no reward: this is task 1).
 /// Two (or more) effect grids side by side on one colour scale, with a
 /// colour bar marking `target`: Figure 2's layout, for any scene's grid
 /// (`spec` gives the rows, columns, start cell and walls; a grid of more
@@ -274,6 +260,8 @@ pub fn effect_panels_svg(
     .map_err(|e| e.to_string())
 }
 
+/// A heat map of `shares` over a grid world on the scale 0..`peak`, with
+/// its walls and start (no reward: this is task 1).
 fn draw_grid_panel(
     area: &Area<'_>,
     title: &str,

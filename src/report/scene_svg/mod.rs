@@ -130,15 +130,17 @@ pub fn scene_svg(scene: &Scene, overlay: Option<&Overlay>) -> String {
 pub fn posed_svg(scene: &Scene, start: &[BodyPose], overlay: Option<&Overlay>) -> String {
     match &scene.spec().world {
         WorldSpec::Grid(g) => grid_svg(scene, g, overlay),
-        WorldSpec::Physics(p) => {
-            let mut posed = p.without_contexts();
-            for (b, pose) in posed.bodies.iter_mut().zip(start) {
-                b.position = (pose.position[0], pose.position[1]);
-                b.angle = pose.angle;
-            }
-            physics_svg(scene, &posed, overlay)
-        }
+        WorldSpec::Physics(p) => physics_svg(scene, &posed(p.without_contexts(), start), overlay),
     }
+}
+
+/// `p` with its bodies at `start` (one pose per body, in order).
+pub(super) fn posed(mut p: PhysicsSpec, start: &[BodyPose]) -> PhysicsSpec {
+    for (b, pose) in p.bodies.iter_mut().zip(start) {
+        b.position = (pose.position[0], pose.position[1]);
+        b.angle = pose.angle;
+    }
+    p
 }
 
 fn header(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Overlay>) {
@@ -179,33 +181,28 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
     let g = scene.effect_grid();
     let [cw, ch] = g.cell_size();
     let rewards = scene.reward_table();
-    let rewarded = (0..g.num_cells())
-        .filter(|&e| rewards[e] != 0.0)
-        .map(|e| (e / g.cols, e % g.cols));
-    for (r, c) in rewarded {
+    // a cell's rectangle, then its look
+    let cell = |out: &mut String, e: usize, look: &str| {
+        let (r, c) = (e / g.cols, e % g.cols);
         let x0 = g.min[0] + c as f64 * cw;
         let y1 = g.max[1] - r as f64 * ch;
         let _ = writeln!(
             out,
-            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{REWARD}" fill-opacity="{REWARD_OPACITY}"/>"##,
+            r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" {look}/>"#,
             v.x(x0),
             v.y(y1),
             v.len(cw),
             v.len(ch)
         );
+    };
+    for e in (0..g.num_cells()).filter(|&e| rewards[e] != 0.0) {
+        let look = format!(r#"fill="{REWARD}" fill-opacity="{REWARD_OPACITY}""#);
+        cell(out, e, &look);
     }
     if let Some(o) = overlay {
-        let (r, c) = (o.effect / g.cols, o.effect % g.cols);
-        let x0 = g.min[0] + c as f64 * cw;
-        let y1 = g.max[1] - r as f64 * ch;
-        let _ = writeln!(
-            out,
-            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="{PATH}" stroke-width="3" stroke-dasharray="7,3"/>"##,
-            v.x(x0),
-            v.y(y1),
-            v.len(cw),
-            v.len(ch)
-        );
+        let look =
+            format!(r#"fill="none" stroke="{PATH}" stroke-width="3" stroke-dasharray="7,3""#);
+        cell(out, o.effect, &look);
     }
     let mut d = String::new();
     for c in 0..=g.cols {

@@ -96,11 +96,7 @@ impl HeatGrid {
     /// equal): the range of the colour scale; no value is an error.
     fn range(&self) -> Result<(f64, f64), PlotError> {
         let vals: Vec<f64> = self.cells.iter().flatten().flatten().copied().collect();
-        let (vmin, vmax) = vals
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
+        let (vmin, vmax) = range(vals.iter().copied());
         if vals.is_empty() {
             return err("no value to draw");
         }

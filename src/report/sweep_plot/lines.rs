@@ -195,49 +195,29 @@ struct Extents {
 }
 
 fn extents(series: &[Series]) -> Extents {
-    let xs: Vec<f64> = series
-        .iter()
-        .flat_map(|s| s.points.iter().map(|p| p.0))
-        .filter(|x| !x.is_nan())
-        .collect();
-    let (xmin, xmax) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        });
+    let points = || series.iter().flat_map(|s| s.points.iter());
+    let (xmin, xmax) = range(points().map(|p| p.0).filter(|x| !x.is_nan()));
     let log = xmin > 0.0 && xmax / xmin >= 20.0;
     let tx = |x: f64| if log { x.log10() } else { x };
-    let (mut x0, mut x1) = (tx(xmin), tx(xmax));
-    if x1 - x0 < 1e-12 {
-        x0 -= 0.5;
-        x1 += 0.5;
-    }
-    let pad = 0.04 * (x1 - x0);
-    let (x0, x1) = (x0 - pad, x1 + pad);
-    let ys: Vec<f64> = series
-        .iter()
-        .flat_map(|s| s.points.iter().flat_map(|p| [Some(p.1), p.2, p.3]))
-        .flatten()
-        .filter(|y| y.is_finite())
-        .collect();
-    let (mut y0, mut y1) = ys
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
-            (a.min(y), b.max(y))
-        });
-    if y1 - y0 < 1e-12 {
-        y0 -= 0.5;
-        y1 += 0.5;
-    }
-    let pad = 0.06 * (y1 - y0);
-    let (y0, y1) = (y0 - pad, y1 + pad);
+    let ys = points().flat_map(|p| [Some(p.1), p.2, p.3]).flatten();
     Extents {
         log,
         xmin,
         xmax,
-        x: (x0, x1),
-        y: (y0, y1),
+        x: padded((tx(xmin), tx(xmax)), 0.04),
+        y: padded(range(ys.filter(|y| y.is_finite())), 0.06),
     }
+}
+
+/// `(lo, hi)` widened by `by` of its span on each side (a span of
+/// nothing made 1 first).
+fn padded((mut lo, mut hi): (f64, f64), by: f64) -> (f64, f64) {
+    if hi - lo < 1e-12 {
+        lo -= 0.5;
+        hi += 0.5;
+    }
+    let pad = by * (hi - lo);
+    (lo - pad, hi + pad)
 }
 
 /// The x axis, drawn by hand: on a log axis light lines at 2..9 times
@@ -343,30 +323,26 @@ fn draw_series(
 
 /// The legend under the plot, `cols` columns of `col_w` pixels.
 fn draw_legend(bottom: &Area<'_>, series: &[Series], cols: u32, col_w: u32) -> Drawn {
-    // the legend: as each series is drawn (a dashed line alone for a
-    // learner that does not use x)
     for (i, s) in series.iter().enumerate() {
         let st = style(i);
         let c = st.colour;
         let (col, row) = (i as u32 % cols, i as u32 / cols);
         let x = 50 + (col * col_w) as i32;
         let y = 10 + 24 * row as i32;
+        // a learner that does not use x: a dashed line alone
         let flat = s.points.iter().all(|p| p.0.is_nan());
-        if flat {
-            for (a, b) in [(x, x + 12), (x + 18, x + 30)] {
-                bottom.draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(3)))?;
-            }
+        let (dashes, width): (&[(i32, i32)], u32) = if flat {
+            (&[(0, 12), (18, 30)], 3)
+        } else if st.dashed {
+            (&[(0, 6), (12, 18), (24, 30)], 2)
         } else {
-            if st.dashed {
-                for (a, b) in [(x, x + 6), (x + 12, x + 18), (x + 24, x + 30)] {
-                    bottom.draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(2)))?;
-                }
-            } else {
-                bottom.draw(&PathElement::new(
-                    vec![(x, y), (x + 30, y)],
-                    c.stroke_width(2),
-                ))?;
-            }
+            (&[(0, 30)], 2)
+        };
+        for &(a, b) in dashes {
+            let segment = vec![(x + a, y), (x + b, y)];
+            bottom.draw(&PathElement::new(segment, c.stroke_width(width)))?;
+        }
+        if !flat {
             draw_marker(bottom, (x + 15, y), st)?;
         }
         let style = TextStyle::from((FONT, 16).into_font())

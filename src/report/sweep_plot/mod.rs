@@ -347,6 +347,13 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     t
 }
 
+/// The smallest and the largest of `xs` (infinities for none).
+fn range(xs: impl Iterator<Item = f64>) -> (f64, f64) {
+    xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    })
+}
+
 /// Round ticks of a linear axis over `[lo, hi]` (its two ends when f64
 /// cannot step through it).
 fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
