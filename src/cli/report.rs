@@ -5,7 +5,7 @@ use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::csv::{failures, parse_trials, Summary, MAX_SUMMARY_CSV_BYTES, MAX_TRIALS_CSV_BYTES};
-use e3d::report::html::{run_page_with_note, sweep_page};
+use e3d::report::html::{run_page, sweep_page};
 use e3d::report::run_scene::{SceneRecord, MAX_SUMMARY_JSON_BYTES};
 use e3d::sweep::MAX_RESULTS_BYTES;
 use e3d::sweep::{RESULTS, SUMMARY, SWEEP_COPY};
@@ -144,9 +144,7 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
         "e3d run: {}",
         scene_name.unwrap_or_else(|| dir.display().to_string())
     );
-    Ok(run_page_with_note(
-        &title, &note, &summary, &trials, rows, cols,
-    ))
+    Ok(run_page(&title, &note, &summary, &trials, rows, cols))
 }
 
 /// The page of a sweep folder: summary.csv, the failures of results.csv

@@ -15,14 +15,14 @@
 //! assert_eq!(cmp.rows.len(), 8); // one per learner
 //! let e3d = cmp.row("two_rooms", "e3d").unwrap();
 //! let uniform = cmp.row("two_rooms", "uniform").unwrap();
-//! assert!(e3d.task1_entropy.mean > uniform.task1_entropy.mean);
+//! assert!(e3d.task1_entropy.stats.mean > uniform.task1_entropy.stats.mean);
 //! assert!(cmp.markdown().contains("| two_rooms | e3d |"));
 //! assert!(cmp.svg().starts_with("<svg"));
 //! ```
 
 use super::{describe, mean_ci95, median, quartiles, MeanCi, Stats};
 use crate::learner::Params;
-use crate::sweep::{Cell, SessionResult, Sweep};
+use crate::sweep::{SessionResult, Sweep};
 use std::fmt::Write;
 
 /// Task 1 is read at this inverse temperature, task 2 at the other.
@@ -30,64 +30,65 @@ const TASK1_BETA: f64 = 1.0;
 /// Task 2's inverse temperature (the paper's).
 const TASK2_BETA: f64 = 100.0;
 
-/// A panel of the figure: its title, the top of its axis, and the value
-/// and spread of a row.
-type Panel<'a> = (&'static str, f64, &'a dyn Fn(&DriveRow) -> (f64, f64));
+/// A measure over sessions: its statistics, its mean with a 95% Student t
+/// interval (`None` for fewer than two values) and how many sessions it
+/// is over.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Measure {
+    /// Mean, sd, min and max.
+    pub stats: Stats,
+    /// The mean with its 95% t interval.
+    pub ci: Option<MeanCi>,
+    /// The sessions measured.
+    pub n: usize,
+}
+
+impl Measure {
+    fn of(xs: &[f64]) -> Measure {
+        Measure {
+            stats: describe(xs),
+            ci: mean_ci95(xs),
+            n: xs.len(),
+        }
+    }
+}
 
 /// One scene and learner.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct DriveRow {
     /// The scene's name.
     pub scene: String,
     /// The learner's name.
     pub learner: String,
-    /// Task 1 (no reward, beta 1): the normalised entropy of the effects,
-    /// over the sessions.
-    pub task1_entropy: Stats,
-    /// Task 2 (reward, beta 100): the cumulative reward at the last trial.
-    pub task2_reward: Stats,
-    /// Task 2: the median first rewarded trial of the sessions that were
-    /// rewarded.
-    pub task2_first_reward: Option<f64>,
-    /// Task 2: the share of sessions never rewarded (for E3D on two_rooms,
-    /// the sessions locked away from the far corner).
-    pub task2_never_rewarded: f64,
-    /// Task 2's sessions.
-    pub task2_sessions: usize,
-    /// Task 1: the fraction of the reachable cells reached by the last
-    /// trial, over the sessions.
-    pub task1_coverage: Stats,
-    /// Task 1: the trials to reach 50% of the reachable cells, over the
-    /// sessions that reached them ([`task1_reached_50`](Self::task1_reached_50)).
-    pub task1_trials_to_50: Stats,
-    /// Task 1: the sessions that reached 50% of the reachable cells.
-    pub task1_reached_50: usize,
-    /// Task 1: the trials to reach 90%, over the sessions that did.
-    pub task1_trials_to_90: Stats,
-    /// Task 1: the sessions that reached 90% of the reachable cells.
-    pub task1_reached_90: usize,
     /// Task 1's sessions.
     pub task1_sessions: usize,
+    /// Task 1 (no reward, beta 1): the normalised entropy of the effects.
+    pub task1_entropy: Measure,
+    /// Task 1: the fraction of the reachable cells reached by the last
+    /// trial.
+    pub task1_coverage: Measure,
+    /// Task 1: the trials to reach 50% of the reachable cells, over the
+    /// sessions that reached them (`n`).
+    pub task1_trials_to_50: Measure,
+    /// Task 1: the trials to reach 90%, over the sessions that did.
+    pub task1_trials_to_90: Measure,
+    /// Task 2's sessions.
+    pub task2_sessions: usize,
+    /// Task 2 (reward, beta 100): the cumulative reward at the last trial.
+    pub task2_reward: Measure,
     /// Task 2: the first rewarded trial over the sessions that were
-    /// rewarded (mean and sd).
-    pub task2_first_reward_stats: Stats,
-    /// Task 1's entropy: its mean with a 95% Student t interval (`None`
-    /// for fewer than two sessions).
-    pub task1_entropy_ci: Option<MeanCi>,
-    /// Task 1's coverage: its mean with a 95% Student t interval.
-    pub task1_coverage_ci: Option<MeanCi>,
-    /// Task 1's trials to 50% of the reachable cells, over the sessions
-    /// that got there: their mean with a 95% Student t interval.
-    pub task1_trials_to_50_ci: Option<MeanCi>,
-    /// Task 1's trials to 90%, over the sessions that got there: their
-    /// mean with a 95% Student t interval.
-    pub task1_trials_to_90_ci: Option<MeanCi>,
-    /// Task 2's cumulative reward: its mean with a 95% Student t interval.
-    pub task2_reward_ci: Option<MeanCi>,
+    /// rewarded.
+    pub task2_first_reward: Measure,
+    /// Task 2: the median first rewarded trial of the sessions that were
+    /// rewarded.
+    pub task2_first_reward_median: Option<f64>,
     /// Task 2: the quartiles `[q1, median, q3]` of the first rewarded
     /// trial over the sessions that were rewarded (a skewed count: its
     /// median and interquartile range rather than a mean).
     pub task2_first_reward_quartiles: Option<[f64; 3]>,
+    /// Task 2: the share of sessions never rewarded (for E3D on two_rooms,
+    /// the sessions locked away from the far corner).
+    pub task2_never_rewarded: f64,
 }
 
 /// The comparison: one row per scene and learner, in the sweep's order.
@@ -113,13 +114,12 @@ impl DriveComparison {
     /// at beta 1, task 2 from those with reward at beta 100 (learners that
     /// ignore beta: their one cell of each). Failed sessions are left out.
     pub fn new(sweep: &Sweep, results: &[SessionResult]) -> DriveComparison {
-        let columns = MetricColumns::of(sweep);
+        let columns = sweep.metric_columns();
         let beta = Params::SWEPT.iter().position(|&p| p == "beta").unwrap_or(1);
         let mut rows = Vec::new();
         for (si, scene) in sweep.scenes().iter().enumerate() {
             for kind in &sweep.spec.learners {
-                let pick =
-                    |task2: bool| task_sessions(sweep.cells(), results, si, kind, task2, beta);
+                let pick = |task2: bool| task_sessions(sweep, results, si, kind, task2, beta);
                 let (t1, t2) = (pick(false), pick(true));
                 rows.push(DriveRow::of(scene.name(), kind, &t1, &t2, &columns));
             }
@@ -148,7 +148,20 @@ impl DriveComparison {
     /// median first reward (learners tied on a measure are all named).
     /// One line per scene.
     pub fn winners(&self) -> Vec<(String, Vec<(&'static str, String)>)> {
-        let mut out: Vec<(String, Vec<(&'static str, String)>)> = Vec::new();
+        // fewest trials among the learners whose every session got there
+        let all = |r: &DriveRow, m: &Measure| {
+            (m.n == r.task1_sessions && m.n > 0).then_some(m.stats.mean)
+        };
+        // a measure's name, whether higher is better, and its value in a row
+        let measures: [(&str, bool, &dyn Fn(&DriveRow) -> Option<f64>); 6] = [
+            ("entropy", true, &|r| Some(r.task1_entropy.stats.mean)),
+            ("coverage", true, &|r| Some(r.task1_coverage.stats.mean)),
+            ("trials to 50%", false, &|r| all(r, &r.task1_trials_to_50)),
+            ("trials to 90%", false, &|r| all(r, &r.task1_trials_to_90)),
+            ("task 2 reward", true, &|r| Some(r.task2_reward.stats.mean)),
+            ("first reward", false, &|r| r.task2_first_reward_median),
+        ];
+        let mut out = Vec::new();
         for (scene, _, _) in &self.coverage_cells {
             let rows: Vec<&DriveRow> = self.rows.iter().filter(|r| &r.scene == scene).collect();
             if rows.is_empty() {
@@ -157,11 +170,9 @@ impl DriveComparison {
             // the best value, and every learner that has it (ties listed)
             let best = |key: &dyn Fn(&DriveRow) -> Option<f64>, high: bool| -> String {
                 let mut b: Option<f64> = None;
-                for r in &rows {
-                    if let Some(v) = key(r) {
-                        if b.is_none_or(|w| (high && v > w) || (!high && v < w)) {
-                            b = Some(v);
-                        }
+                for v in rows.iter().filter_map(|r| key(r)) {
+                    if b.is_none_or(|w| (high && v > w) || (!high && v < w)) {
+                        b = Some(v);
                     }
                 }
                 let Some(b) = b else {
@@ -174,30 +185,10 @@ impl DriveComparison {
                     .collect();
                 names.join(", ")
             };
-            let all = |r: &DriveRow, n: usize| n == r.task1_sessions && n > 0;
-            out.push((
-                scene.clone(),
-                vec![
-                    ("entropy", best(&|r| Some(r.task1_entropy.mean), true)),
-                    ("coverage", best(&|r| Some(r.task1_coverage.mean), true)),
-                    (
-                        "trials to 50%",
-                        best(
-                            &|r| all(r, r.task1_reached_50).then_some(r.task1_trials_to_50.mean),
-                            false,
-                        ),
-                    ),
-                    (
-                        "trials to 90%",
-                        best(
-                            &|r| all(r, r.task1_reached_90).then_some(r.task1_trials_to_90.mean),
-                            false,
-                        ),
-                    ),
-                    ("task 2 reward", best(&|r| Some(r.task2_reward.mean), true)),
-                    ("first reward", best(&|r| r.task2_first_reward, false)),
-                ],
-            ));
+            let best_of = measures
+                .iter()
+                .map(|&(name, high, key)| (name, best(key, high)));
+            out.push((scene.clone(), best_of.collect()));
         }
         out
     }
@@ -235,20 +226,18 @@ impl DriveComparison {
         );
         s.push_str("| scene | learner | task 1 entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward (median) | never rewarded | entropy: 95% (t) | coverage: 95% (t) | to 50%: 95% (t) | to 90%: 95% (t) | reward: 95% (t) | first reward: Q1..Q3 |\n");
         s.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-        let ci = |c: &Option<MeanCi>, digits: usize| -> String {
-            c.map_or("-".to_string(), |c| {
-                format!("{:.d$}..{:.d$}", c.lo(), c.hi(), d = digits)
+        let ci = |m: &Measure, d: usize| -> String {
+            m.ci.map_or("-".to_string(), |c| {
+                format!("{:.d$}..{:.d$}", c.lo(), c.hi())
             })
         };
-        let reach = |st: &Stats, n: usize, of: usize| -> String {
-            if n == 0 {
-                return "never".to_string();
+        let reach = |m: &Measure, of: usize| -> String {
+            let (st, n) = (m.stats, m.n);
+            match n {
+                0 => "never".to_string(),
+                _ if n < of => format!("{:.0} ± {:.0} ({n}/{of})", st.mean, st.sd),
+                _ => format!("{:.0} ± {:.0}", st.mean, st.sd),
             }
-            let mut t = format!("{:.0} ± {:.0}", st.mean, st.sd);
-            if n < of {
-                let _ = write!(t, " ({n}/{of})");
-            }
-            t
         };
         for r in &self.rows {
             let _ = writeln!(
@@ -256,22 +245,22 @@ impl DriveComparison {
                 "| {} | {} | {:.3} ± {:.3} | {:.3} ± {:.3} | {} | {} | {:.0} ± {:.0} | {} | {:.1}% | {} | {} | {} | {} | {} | {} |",
                 r.scene,
                 r.learner,
-                r.task1_entropy.mean,
-                r.task1_entropy.sd,
-                r.task1_coverage.mean,
-                r.task1_coverage.sd,
-                reach(&r.task1_trials_to_50, r.task1_reached_50, r.task1_sessions),
-                reach(&r.task1_trials_to_90, r.task1_reached_90, r.task1_sessions),
-                r.task2_reward.mean,
-                r.task2_reward.sd,
-                r.task2_first_reward
+                r.task1_entropy.stats.mean,
+                r.task1_entropy.stats.sd,
+                r.task1_coverage.stats.mean,
+                r.task1_coverage.stats.sd,
+                reach(&r.task1_trials_to_50, r.task1_sessions),
+                reach(&r.task1_trials_to_90, r.task1_sessions),
+                r.task2_reward.stats.mean,
+                r.task2_reward.stats.sd,
+                r.task2_first_reward_median
                     .map_or("-".to_string(), |t| format!("{t:.0}")),
                 100.0 * r.task2_never_rewarded,
-                ci(&r.task1_entropy_ci, 3),
-                ci(&r.task1_coverage_ci, 3),
-                ci(&r.task1_trials_to_50_ci, 0),
-                ci(&r.task1_trials_to_90_ci, 0),
-                ci(&r.task2_reward_ci, 0),
+                ci(&r.task1_entropy, 3),
+                ci(&r.task1_coverage, 3),
+                ci(&r.task1_trials_to_50, 0),
+                ci(&r.task1_trials_to_90, 0),
+                ci(&r.task2_reward, 0),
                 r.task2_first_reward_quartiles
                     .map_or("-".to_string(), |[q1, _, q3]| format!("{q1:.0}..{q3:.0}")),
             );
@@ -288,55 +277,16 @@ impl DriveComparison {
 
     /// The table as CSV, one row per scene and learner.
     pub fn csv(&self) -> String {
-        let mut s = String::from(
-            "scene,learner,task1_entropy_mean,task1_entropy_sd,task2_reward_mean,task2_reward_sd,task2_first_reward_median,task2_never_rewarded,task2_sessions,task1_coverage_mean,task1_coverage_sd,task1_trials_to_50_mean,task1_trials_to_50_sd,task1_reached_50,task1_trials_to_90_mean,task1_trials_to_90_sd,task1_reached_90,task1_sessions,task2_first_reward_mean,task2_first_reward_sd,task1_entropy_ci95_lo,task1_entropy_ci95_hi,task1_coverage_ci95_lo,task1_coverage_ci95_hi,task2_reward_ci95_lo,task2_reward_ci95_hi,task2_first_reward_q1,task2_first_reward_q3,task1_trials_to_50_ci95_lo,task1_trials_to_50_ci95_hi,task1_trials_to_90_ci95_lo,task1_trials_to_90_ci95_hi\n",
-        );
-        let lo = |c: &Option<MeanCi>| c.map_or(String::new(), |c| c.lo().to_string());
-        let hi = |c: &Option<MeanCi>| c.map_or(String::new(), |c| c.hi().to_string());
-        let q = |i: usize| {
-            move |r: &DriveRow| {
-                r.task2_first_reward_quartiles
-                    .map_or(String::new(), |q| q[i].to_string())
-            }
+        let line = |fields: Vec<(String, String)>, name: bool| {
+            let f: Vec<String> = fields
+                .into_iter()
+                .map(|(n, v)| if name { n } else { v })
+                .collect();
+            f.join(",") + "\n"
         };
+        let mut s = line(DriveRow::default().csv_fields(), true);
         for r in &self.rows {
-            let _ = writeln!(
-                s,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                r.scene,
-                r.learner,
-                r.task1_entropy.mean,
-                r.task1_entropy.sd,
-                r.task2_reward.mean,
-                r.task2_reward.sd,
-                r.task2_first_reward
-                    .map_or(String::new(), |t| t.to_string()),
-                r.task2_never_rewarded,
-                r.task2_sessions,
-                r.task1_coverage.mean,
-                r.task1_coverage.sd,
-                r.task1_trials_to_50.mean,
-                r.task1_trials_to_50.sd,
-                r.task1_reached_50,
-                r.task1_trials_to_90.mean,
-                r.task1_trials_to_90.sd,
-                r.task1_reached_90,
-                r.task1_sessions,
-                r.task2_first_reward_stats.mean,
-                r.task2_first_reward_stats.sd,
-                lo(&r.task1_entropy_ci),
-                hi(&r.task1_entropy_ci),
-                lo(&r.task1_coverage_ci),
-                hi(&r.task1_coverage_ci),
-                lo(&r.task2_reward_ci),
-                hi(&r.task2_reward_ci),
-                q(0)(r),
-                q(2)(r),
-                lo(&r.task1_trials_to_50_ci),
-                hi(&r.task1_trials_to_50_ci),
-                lo(&r.task1_trials_to_90_ci),
-                hi(&r.task1_trials_to_90_ci),
-            );
+            s.push_str(&line(r.csv_fields(), false));
         }
         s
     }
@@ -356,30 +306,93 @@ impl DriveComparison {
         );
         let group = pw / scenes.len().max(1) as f64;
         let bar = group * 0.8 / learners.len().max(1) as f64;
-        let layout = BarLayout {
-            pw,
-            ph,
-            left,
-            group,
-            bar,
-        };
         let trials = self.trials.max(1) as f64;
-        let panels: [Panel; 2] = [
+        // both panels' axes run from 0 to ymax
+        let ymax = 1.0;
+        let panels: [(&str, &dyn Fn(&DriveRow) -> (f64, f64)); 2] = [
             (
                 "task 1: normalised entropy of the terminal cells (mean ± sd)",
-                1.0,
-                &|r| (r.task1_entropy.mean, r.task1_entropy.sd),
+                &|r| (r.task1_entropy.stats.mean, r.task1_entropy.stats.sd),
             ),
-            ("task 2: reward per trial (mean ± sd)", 1.0, &|r| {
-                (r.task2_reward.mean / trials, r.task2_reward.sd / trials)
+            ("task 2: reward per trial (mean ± sd)", &|r| {
+                let st = r.task2_reward.stats;
+                (st.mean / trials, st.sd / trials)
             }),
         ];
-        for (p, panel) in panels.iter().enumerate() {
+        for (p, (title, value)) in panels.iter().enumerate() {
             let y0 = top + p as f64 * (ph + gap);
-            layout.draw_panel_axes(&mut s, panel.0, panel.1, y0);
-            self.draw_panel_bars(&mut s, &layout, &scenes, &learners, panel, y0);
+            // the frame: the title, 5 value lines and the base line
+            let _ = writeln!(
+                s,
+                r#"<text x="{left}" y="{}" font-size="13" font-weight="bold">{title}</text>"#,
+                y0 - 10.0
+            );
+            for k in 0..=4 {
+                let v = ymax * k as f64 / 4.0;
+                let y = y0 + ph - ph * v / ymax;
+                let _ = writeln!(
+                    s,
+                    r##"<line x1="{left}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{v:.2}</text>"##,
+                    left + pw,
+                    left - 6.0,
+                    y + 4.0
+                );
+            }
+            let _ = writeln!(
+                s,
+                r#"<line x1="{left}" y1="{}" x2="{}" y2="{}" stroke="black"/>"#,
+                y0 + ph,
+                left + pw,
+                y0 + ph
+            );
+            // a group per scene, a bar per learner that has a row there,
+            // with its ± sd whisker
+            for (gi, scene) in scenes.iter().enumerate() {
+                let gx = left + gi as f64 * group + group * 0.1;
+                let _ = writeln!(
+                    s,
+                    r#"<text x="{:.1}" y="{}" text-anchor="middle">{scene}</text>"#,
+                    gx + group * 0.4,
+                    y0 + ph + 16.0
+                );
+                for (li, learner) in learners.iter().enumerate() {
+                    let Some(r) = self.row(scene, learner) else {
+                        continue;
+                    };
+                    let (v, sd) = value(r);
+                    let x = gx + li as f64 * bar;
+                    let h = (ph * v / ymax).clamp(0.0, ph);
+                    let _ = writeln!(
+                        s,
+                        r#"<rect x="{x:.1}" y="{:.1}" width="{:.1}" height="{h:.1}" fill="{}"><title>{scene}, {learner}: {v:.3}</title></rect>"#,
+                        y0 + ph - h,
+                        bar * 0.9,
+                        COLOURS[li % COLOURS.len()]
+                    );
+                    let (lo, hi) = ((v - sd).max(0.0), (v + sd).min(ymax));
+                    let cx = x + bar * 0.45;
+                    let _ = writeln!(
+                        s,
+                        r#"<line x1="{cx:.1}" y1="{:.1}" x2="{cx:.1}" y2="{:.1}" stroke="black"/>"#,
+                        y0 + ph - ph * lo / ymax,
+                        y0 + ph - ph * hi / ymax
+                    );
+                }
+            }
         }
-        layout.draw_legend(&mut s, top, &learners);
+        // the legend right of the panels
+        for (li, learner) in learners.iter().enumerate() {
+            let y = top + 10.0 + li as f64 * 18.0;
+            let _ = writeln!(
+                s,
+                r#"<rect x="{}" y="{}" width="12" height="12" fill="{}"/><text x="{}" y="{}">{learner}</text>"#,
+                left + pw + 20.0,
+                y - 10.0,
+                COLOURS[li % COLOURS.len()],
+                left + pw + 38.0,
+                y
+            );
+        }
         let _ = writeln!(
             s,
             r##"<text x="{left}" y="{}" fill="#555">{} sessions per learner and task, {} trials each</text>"##,
@@ -406,60 +419,6 @@ impl DriveComparison {
         }
         (scenes, learners)
     }
-
-    /// A panel's bars, its top at `y0`: a group per scene (named under it),
-    /// a bar per learner with the panel's value of its row (up to the
-    /// panel's top) and its ± sd whisker; a learner with no row on a scene
-    /// has no bar.
-    fn draw_panel_bars(
-        &self,
-        s: &mut String,
-        layout: &BarLayout,
-        scenes: &[&str],
-        learners: &[&str],
-        &(_, ymax, value): &Panel<'_>,
-        y0: f64,
-    ) {
-        let BarLayout {
-            ph,
-            left,
-            group,
-            bar,
-            ..
-        } = *layout;
-        for (gi, scene) in scenes.iter().enumerate() {
-            let gx = left + gi as f64 * group + group * 0.1;
-            let _ = writeln!(
-                s,
-                r#"<text x="{:.1}" y="{}" text-anchor="middle">{scene}</text>"#,
-                gx + group * 0.4,
-                y0 + ph + 16.0
-            );
-            for (li, learner) in learners.iter().enumerate() {
-                let Some(r) = self.row(scene, learner) else {
-                    continue;
-                };
-                let (v, sd) = value(r);
-                let x = gx + li as f64 * bar;
-                let h = (ph * v / ymax).clamp(0.0, ph);
-                let _ = writeln!(
-                    s,
-                    r#"<rect x="{x:.1}" y="{:.1}" width="{:.1}" height="{h:.1}" fill="{}"><title>{scene}, {learner}: {v:.3}</title></rect>"#,
-                    y0 + ph - h,
-                    bar * 0.9,
-                    COLOURS[li % COLOURS.len()]
-                );
-                let (lo, hi) = ((v - sd).max(0.0), (v + sd).min(ymax));
-                let cx = x + bar * 0.45;
-                let _ = writeln!(
-                    s,
-                    r#"<line x1="{cx:.1}" y1="{:.1}" x2="{cx:.1}" y2="{:.1}" stroke="black"/>"#,
-                    y0 + ph - ph * lo / ymax,
-                    y0 + ph - ph * hi / ymax
-                );
-            }
-        }
-    }
 }
 
 /// The learners' colours in the figure, in the sweep's order.
@@ -467,72 +426,12 @@ const COLOURS: [&str; 8] = [
     "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#7f7f7f", "#d62728", "#8c564b", "#e377c2",
 ];
 
-/// Where the figure's bars go: a panel's width and height, the left
-/// margin, the width of a scene's group of bars and of one bar.
-#[derive(Clone, Copy)]
-struct BarLayout {
-    pw: f64,
-    ph: f64,
-    left: f64,
-    group: f64,
-    bar: f64,
-}
-
-impl BarLayout {
-    /// A panel's frame, its top at `y0`: its title above, 5 value lines
-    /// from 0 to `ymax` with their values, and the base line.
-    fn draw_panel_axes(&self, s: &mut String, title: &str, ymax: f64, y0: f64) {
-        let BarLayout { pw, ph, left, .. } = *self;
-        let _ = writeln!(
-            s,
-            r#"<text x="{left}" y="{}" font-size="13" font-weight="bold">{title}</text>"#,
-            y0 - 10.0
-        );
-        for k in 0..=4 {
-            let v = ymax * k as f64 / 4.0;
-            let y = y0 + ph - ph * v / ymax;
-            let _ = writeln!(
-                s,
-                r##"<line x1="{left}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{v:.2}</text>"##,
-                left + pw,
-                left - 6.0,
-                y + 4.0
-            );
-        }
-        let _ = writeln!(
-            s,
-            r#"<line x1="{left}" y1="{}" x2="{}" y2="{}" stroke="black"/>"#,
-            y0 + ph,
-            left + pw,
-            y0 + ph
-        );
-    }
-
-    /// The legend right of the panels, from `top`: a colour swatch and
-    /// the name of each learner.
-    fn draw_legend(&self, s: &mut String, top: f64, learners: &[&str]) {
-        let BarLayout { pw, left, .. } = *self;
-        for (li, learner) in learners.iter().enumerate() {
-            let y = top + 10.0 + li as f64 * 18.0;
-            let _ = writeln!(
-                s,
-                r#"<rect x="{}" y="{}" width="12" height="12" fill="{}"/><text x="{}" y="{}">{learner}</text>"#,
-                left + pw + 20.0,
-                y - 10.0,
-                COLOURS[li % COLOURS.len()],
-                left + pw + 38.0,
-                y
-            );
-        }
-    }
-}
-
 /// The sessions of learner `kind` on scene `si` in task 1 or (`task2`)
 /// task 2, failures left out: those of its cells with (task 2) or without
 /// reward at the task's beta (column `beta` of the parameters), or at any
 /// beta when the learner ignores it.
 fn task_sessions<'r>(
-    cells: &[Cell],
+    sweep: &Sweep,
     results: &'r [SessionResult],
     si: usize,
     kind: &str,
@@ -540,7 +439,8 @@ fn task_sessions<'r>(
     beta: usize,
 ) -> Vec<&'r SessionResult> {
     let wanted = if task2 { TASK2_BETA } else { TASK1_BETA };
-    let ids: Vec<usize> = cells
+    let ids: Vec<usize> = sweep
+        .cells()
         .iter()
         .filter(|c| {
             c.scene == si
@@ -556,80 +456,96 @@ fn task_sessions<'r>(
         .collect()
 }
 
-/// Where the comparison's metrics are among a session's values (`None`:
-/// the sweep does not measure it).
-struct MetricColumns {
-    entropy: Option<usize>,
-    reward: Option<usize>,
-    first: Option<usize>,
-    coverage: Option<usize>,
-    to50: Option<usize>,
-    to90: Option<usize>,
-}
-
-impl MetricColumns {
-    /// The columns of `sweep`'s metrics.
-    fn of(sweep: &Sweep) -> MetricColumns {
-        let columns = sweep.metric_columns();
-        let col = |name: &str| columns.iter().position(|c| c == name);
-        MetricColumns {
-            entropy: col("normalized_entropy"),
-            reward: columns
-                .iter()
-                .position(|c| c.starts_with("cumulative_reward_at_")),
-            first: col("first_reward_trial"),
-            coverage: col("coverage"),
-            to50: col("trials_to_50_percent"),
-            to90: col("trials_to_90_percent"),
-        }
-    }
-}
-
 impl DriveRow {
     /// The row of `learner` on `scene`, from its task-1 sessions `t1` and
-    /// its task-2 sessions `t2`, their metrics at `columns`.
+    /// its task-2 sessions `t2`, their metrics named by `columns`.
     fn of(
         scene: &str,
         learner: &str,
         t1: &[&SessionResult],
         t2: &[&SessionResult],
-        columns: &MetricColumns,
+        columns: &[String],
     ) -> DriveRow {
-        let values = |rs: &[&SessionResult], k: Option<usize>| -> Vec<Option<f64>> {
-            rs.iter().map(|r| k.and_then(|k| r.values[k])).collect()
+        let values = |rs: &[&SessionResult], k: Option<usize>| -> Vec<f64> {
+            rs.iter()
+                .filter_map(|r| k.and_then(|k| r.values[k]))
+                .collect()
         };
-        let h: Vec<f64> = values(t1, columns.entropy).into_iter().flatten().collect();
-        let rew: Vec<f64> = values(t2, columns.reward).into_iter().flatten().collect();
-        let firsts = values(t2, columns.first);
-        let rewarded: Vec<f64> = firsts.iter().flatten().copied().collect();
-        let cov: Vec<f64> = values(t1, columns.coverage).into_iter().flatten().collect();
-        let r50: Vec<f64> = values(t1, columns.to50).into_iter().flatten().collect();
-        let r90: Vec<f64> = values(t1, columns.to90).into_iter().flatten().collect();
+        let col = |name: &str| columns.iter().position(|c| c == name);
+        let task1 = |name: &str| Measure::of(&values(t1, col(name)));
+        let reward = columns
+            .iter()
+            .position(|c| c.starts_with("cumulative_reward_at_"));
+        let rewarded = values(t2, col("first_reward_trial"));
         DriveRow {
-            task1_coverage: describe(&cov),
-            task1_trials_to_50: describe(&r50),
-            task1_reached_50: r50.len(),
-            task1_trials_to_90: describe(&r90),
-            task1_reached_90: r90.len(),
-            task1_sessions: t1.len(),
-            task2_first_reward_stats: describe(&rewarded),
             scene: scene.to_string(),
             learner: learner.to_string(),
-            task1_entropy: describe(&h),
-            task2_reward: describe(&rew),
-            task2_first_reward: median(&rewarded),
+            task1_sessions: t1.len(),
+            task1_entropy: task1("normalized_entropy"),
+            task1_coverage: task1("coverage"),
+            task1_trials_to_50: task1("trials_to_50_percent"),
+            task1_trials_to_90: task1("trials_to_90_percent"),
+            task2_sessions: t2.len(),
+            task2_reward: Measure::of(&values(t2, reward)),
+            task2_first_reward: Measure::of(&rewarded),
+            task2_first_reward_median: median(&rewarded),
+            task2_first_reward_quartiles: quartiles(&rewarded),
             task2_never_rewarded: if t2.is_empty() {
                 0.0
             } else {
                 (t2.len() - rewarded.len()) as f64 / t2.len() as f64
             },
-            task2_sessions: t2.len(),
-            task1_entropy_ci: mean_ci95(&h),
-            task1_coverage_ci: mean_ci95(&cov),
-            task1_trials_to_50_ci: mean_ci95(&r50),
-            task1_trials_to_90_ci: mean_ci95(&r90),
-            task2_reward_ci: mean_ci95(&rew),
-            task2_first_reward_quartiles: quartiles(&rewarded),
         }
+    }
+
+    /// The row's CSV fields: (column, value).
+    fn csv_fields(&self) -> Vec<(String, String)> {
+        let one = |name: &str, value: String| vec![(name.to_string(), value)];
+        let mean_sd = |name: &str, m: &Measure| {
+            vec![
+                (format!("{name}_mean"), m.stats.mean.to_string()),
+                (format!("{name}_sd"), m.stats.sd.to_string()),
+            ]
+        };
+        let ci = |name: &str, m: &Measure| {
+            let end =
+                |f: fn(&MeanCi) -> f64| m.ci.as_ref().map_or(String::new(), |c| f(c).to_string());
+            vec![
+                (format!("{name}_ci95_lo"), end(MeanCi::lo)),
+                (format!("{name}_ci95_hi"), end(MeanCi::hi)),
+            ]
+        };
+        let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
+        let q = |i: usize| opt(self.task2_first_reward_quartiles.map(|q| q[i]));
+        [
+            one("scene", self.scene.clone()),
+            one("learner", self.learner.clone()),
+            mean_sd("task1_entropy", &self.task1_entropy),
+            mean_sd("task2_reward", &self.task2_reward),
+            one(
+                "task2_first_reward_median",
+                opt(self.task2_first_reward_median),
+            ),
+            one(
+                "task2_never_rewarded",
+                self.task2_never_rewarded.to_string(),
+            ),
+            one("task2_sessions", self.task2_sessions.to_string()),
+            mean_sd("task1_coverage", &self.task1_coverage),
+            mean_sd("task1_trials_to_50", &self.task1_trials_to_50),
+            one("task1_reached_50", self.task1_trials_to_50.n.to_string()),
+            mean_sd("task1_trials_to_90", &self.task1_trials_to_90),
+            one("task1_reached_90", self.task1_trials_to_90.n.to_string()),
+            one("task1_sessions", self.task1_sessions.to_string()),
+            mean_sd("task2_first_reward", &self.task2_first_reward),
+            ci("task1_entropy", &self.task1_entropy),
+            ci("task1_coverage", &self.task1_coverage),
+            ci("task2_reward", &self.task2_reward),
+            one("task2_first_reward_q1", q(0)),
+            one("task2_first_reward_q3", q(2)),
+            ci("task1_trials_to_50", &self.task1_trials_to_50),
+            ci("task1_trials_to_90", &self.task1_trials_to_90),
+        ]
+        .concat()
     }
 }

@@ -10,38 +10,16 @@
 //! (feature `plots`) shows its summary as a table and each metric against
 //! each parameter the sweep varies.
 
+use super::svg::{esc, page};
 use crate::csv::TrialRow;
 use std::fmt::Write;
-
-fn esc(s: &str) -> std::borrow::Cow<'_, str> {
-    crate::text::xml_escape(s)
-}
 
 /// The most cells a heat map draws one by one: above, only the cells
 /// reached are drawn, over one white background.
 const MAX_CELLS_DRAWN: usize = 16384;
 
-/// A heat map of the share of `effects` in each of `rows x cols`
-/// cells (effect `row * cols + col`), darker for more.
-fn heat_map(out: &mut String, title: &str, effects: &[usize], rows: usize, cols: usize) {
-    heat_map_drawn(out, title, effects, rows, cols, MAX_CELLS_DRAWN)
-}
-
-/// [`heat_map`], drawing every cell only when there are at most `dense`
-/// cells (the per-context maps share [`MAX_CELLS_DRAWN`] between them).
-/// Above, one background and the cells reached: the work and the text are
-/// then linear in `effects`, whatever the grid.
-fn heat_map_drawn(
-    out: &mut String,
-    title: &str,
-    effects: &[usize],
-    rows: usize,
-    cols: usize,
-    dense: usize,
-) {
-    let px = (360.0 / cols.max(rows) as f64).clamp(4.0, 40.0);
-    let cells = rows * cols;
-    // (effect, count) of the cells reached, in effect order
+/// (effect, count) of the `effects` below `cells`, in effect order.
+fn reached(effects: &[usize], cells: usize) -> Vec<(usize, usize)> {
     let mut sorted: Vec<usize> = effects.iter().copied().filter(|&e| e < cells).collect();
     sorted.sort_unstable();
     let mut reached: Vec<(usize, usize)> = Vec::new();
@@ -51,6 +29,25 @@ fn heat_map_drawn(
             _ => reached.push((e, 1)),
         }
     }
+    reached
+}
+
+/// A heat map of the share of `effects` in each of `rows x cols`
+/// cells (effect `row * cols + col`), darker for more, drawing every cell
+/// only when there are at most `dense` cells (the per-context maps share
+/// [`MAX_CELLS_DRAWN`] between them). Above, one background and the cells
+/// reached: the work and the text are then linear in `effects`, whatever
+/// the grid.
+fn heat_map(
+    out: &mut String,
+    title: &str,
+    effects: &[usize],
+    (rows, cols): (usize, usize),
+    dense: usize,
+) {
+    let px = (360.0 / cols.max(rows) as f64).clamp(4.0, 40.0);
+    let cells = rows * cols;
+    let reached = reached(effects, cells);
     let max = reached.iter().map(|r| r.1).max().unwrap_or(0).max(1) as f64;
     let n = effects.len().max(1) as f64;
     let (w, h) = (cols as f64 * px, rows as f64 * px + 24.0);
@@ -69,7 +66,6 @@ fn heat_map_drawn(
             h - 24.0,
         );
     }
-    let mut next = reached.iter().peekable();
     let mut cell = |i: usize, c: usize| {
         let (r, col) = (i / cols, i % cols);
         // white (never) to dark blue (the most visited cell)
@@ -91,14 +87,11 @@ fn heat_map_drawn(
             cell(i, c);
         }
     } else {
-        for i in 0..cells {
-            let c = match next.peek() {
-                Some(&&(e, c)) if e == i => {
-                    next.next();
-                    c
-                }
-                _ => 0,
-            };
+        let mut counts = vec![0; cells];
+        for &(i, c) in &reached {
+            counts[i] = c;
+        }
+        for (i, c) in counts.into_iter().enumerate() {
             cell(i, c);
         }
     }
@@ -158,20 +151,10 @@ const PALETTE: [&str; 8] = [
 ];
 
 /// The HTML page for a run: `trials` in order, effects on a `rows x cols`
-/// grid, `title` and `summary` (summary.json's text, shown as is).
+/// grid, `title`, `note` shown under it (empty: none; for example why the
+/// effects are not drawn on the scene's grid) and `summary` (summary.json's
+/// text, shown as is).
 pub fn run_page(
-    title: &str,
-    summary: &str,
-    trials: &[TrialRow],
-    rows: usize,
-    cols: usize,
-) -> String {
-    run_page_with_note(title, "", summary, trials, rows, cols)
-}
-
-/// [`run_page`] with `note` shown under the title (empty: none), for
-/// example why the effects are not drawn on the scene's grid.
-pub fn run_page_with_note(
     title: &str,
     note: &str,
     summary: &str,
@@ -193,7 +176,14 @@ pub fn run_page_with_note(
         .collect();
     let what = if k > 1 { "episodes" } else { "trials" };
     body.push_str("<h2>Effects</h2>\n<div class=\"row\">\n");
-    early_and_late(&mut body, "", what, &terminal, rows, cols);
+    early_and_late(
+        &mut body,
+        "",
+        what,
+        &terminal,
+        (rows, cols),
+        MAX_CELLS_DRAWN,
+    );
     body.push_str("</div>\n");
     per_start_context(&mut body, trials, k, rows, cols);
     body.push_str("<h2>Reward</h2>\n");
@@ -215,10 +205,13 @@ pub fn run_page_with_note(
     let size = n.div_ceil(windows).max(1);
     value_charts(&mut body, trials, size);
     symbol_charts(&mut body, trials, size);
-    format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}figure{{display:inline-block;margin:0.5em}}svg{{background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:20em}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n<p>{n} trials</p>\n{body}<h2>summary.json</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
-        esc(summary),
-        t = esc(title)
+    page(
+        title,
+        "figure{display:inline-block;margin:0.5em}svg{background:#fff}pre{background:#fff;padding:0.5em;overflow:auto;max-height:20em}",
+        &format!(
+            "<p>{n} trials</p>\n{body}<h2>summary.json</h2>\n<pre>{}</pre>\n",
+            esc(summary)
+        ),
     )
 }
 
@@ -289,21 +282,21 @@ fn symbol_charts(body: &mut String, trials: &[TrialRow], size: usize) {
     }
 }
 
-/// The heat maps of the first and the last 10% of `effects`.
+/// The heat maps of the first and the last 10% of `effects` ([`heat_map`]).
 fn early_and_late(
     out: &mut String,
     prefix: &str,
     what: &str,
     effects: &[usize],
-    rows: usize,
-    cols: usize,
+    grid: (usize, usize),
+    dense: usize,
 ) {
     let n = effects.len();
     let tenth = (n / 10).max(1).min(n);
     let early = format!("{prefix}early: {what} 1..{tenth}");
-    heat_map(out, &early, &effects[..tenth], rows, cols);
+    heat_map(out, &early, &effects[..tenth], grid, dense);
     let late = format!("{prefix}late: {what} {}..{n}", n - tenth + 1);
-    heat_map(out, &late, &effects[n - tenth..], rows, cols);
+    heat_map(out, &late, &effects[n - tenth..], grid, dense);
 }
 
 /// For a run of episodes from start contexts: per start context (in the
@@ -340,20 +333,10 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
             .map(|t| t.effect)
             .collect();
         // the counts of the cells reached (the others weigh nothing)
-        let mut sorted: Vec<usize> = effects
+        let counts: Vec<f64> = reached(&effects, rows * cols)
             .iter()
-            .copied()
-            .filter(|&e| e < rows * cols)
+            .map(|r| r.1 as f64)
             .collect();
-        sorted.sort_unstable();
-        let mut counts: Vec<f64> = Vec::new();
-        for (i, e) in sorted.iter().enumerate() {
-            if i > 0 && sorted[i - 1] == *e {
-                *counts.last_mut().expect("a count") += 1.0;
-            } else {
-                counts.push(1.0);
-            }
-        }
         let h = crate::effect::normalized_entropy_over(&counts, rows * cols);
         let reward: f64 = mine.iter().map(|t| t.reward).sum();
         let first = mine
@@ -368,23 +351,13 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
             effects.len()
         );
         maps.push_str("<div class=\"row\">\n");
-        let n = effects.len();
-        let tenth = (n / 10).max(1).min(n);
-        let what = "episodes";
-        heat_map_drawn(
+        let prefix = format!("{s}, ");
+        early_and_late(
             &mut maps,
-            &format!("{s}, early: {what} 1..{tenth}"),
-            &effects[..tenth],
-            rows,
-            cols,
-            dense,
-        );
-        heat_map_drawn(
-            &mut maps,
-            &format!("{s}, late: {what} {}..{n}", n - tenth + 1),
-            &effects[n - tenth..],
-            rows,
-            cols,
+            &prefix,
+            "episodes",
+            &effects,
+            (rows, cols),
             dense,
         );
         maps.push_str("</div>\n");
@@ -428,12 +401,12 @@ pub fn sweep_page(
         (0..CELL_COLUMNS).partition(|&c| values(c).len() > 1);
     let metrics = summary.metrics();
     let mut body = String::new();
-    let sessions: usize = col("sessions")
-        .map(|c| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum())
-        .unwrap_or(0);
-    let failed: usize = col("failed")
-        .map(|c| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum())
-        .unwrap_or(0);
+    let total = |name: &str| -> usize {
+        col(name)
+            .map(|c| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum())
+            .unwrap_or(0)
+    };
+    let (sessions, failed) = (total("sessions"), total("failed"));
     let _ = writeln!(
         body,
         "<p>{} cells, {sessions} sessions ({failed} failed), {} metrics</p>",
@@ -461,10 +434,11 @@ pub fn sweep_page(
     summary_table(&mut body, summary, &varying);
     failures_list(&mut body, failures);
     plots_against_params(&mut body, summary);
-    format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}table{{border-collapse:collapse;background:#fff}}td,th{{border:1px solid #ddd;padding:2px 6px;font-size:13px}}td.n{{text-align:right;font-variant-numeric:tabular-nums}}figure{{margin:0.5em}}svg{{max-width:100%;height:auto;background:#fff}}pre{{background:#fff;padding:0.5em;overflow:auto;max-height:30em}}.note{{color:#666}}.scroll{{overflow-x:auto}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n{body}<h2>sweep.ron</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
-        esc(sweep_ron),
-        t = esc(title)
+    let _ = writeln!(body, "<h2>sweep.ron</h2>\n<pre>{}</pre>", esc(sweep_ron));
+    page(
+        title,
+        "table{border-collapse:collapse;background:#fff}td,th{border:1px solid #ddd;padding:2px 6px;font-size:13px}td.n{text-align:right;font-variant-numeric:tabular-nums}figure{margin:0.5em}svg{max-width:100%;height:auto;background:#fff}pre{background:#fff;padding:0.5em;overflow:auto;max-height:30em}.note{color:#666}.scroll{overflow-x:auto}",
+        &body,
     )
 }
 

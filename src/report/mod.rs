@@ -35,6 +35,7 @@ pub mod motion_svg;
 pub mod paper;
 pub mod run_scene;
 pub mod scene_svg;
+mod svg;
 #[cfg(feature = "plots")]
 pub mod sweep_plot;
 

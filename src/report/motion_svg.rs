@@ -15,9 +15,10 @@
 //! whole path.
 
 use super::scene_svg::{
-    body_svg, colours, esc, grid_picture, physics_picture, Overlay, Paint, View,
+    body_svg, colours, grid_picture, physics_picture, posed, Overlay, Paint, View,
 };
 use super::scene_svg::{END_FILL, END_STROKE, TRACKED};
+use super::svg::esc;
 use crate::scene::physics::{to_world, BodyKind, PhysicsSpec, GROUND};
 use crate::scene::{Scene, WorldSpec};
 use crate::world::{GridWorld, Motion};
@@ -97,8 +98,7 @@ pub fn grid_motion_svg(scene: &Scene, command: &Command) -> Result<String, Anima
     let outcome = world
         .execute(command)
         .map_err(|e| AnimateError::Command(e.to_string()))?;
-    let space = scene.command_space();
-    let text = space.format(command);
+    let text = scene.command_space().format(command);
     let cells = world.path(command);
     let grid = world.grid().clone();
     let centres: Vec<[f64; 2]> = cells
@@ -112,120 +112,91 @@ pub fn grid_motion_svg(scene: &Scene, command: &Command) -> Result<String, Anima
         effect: outcome.effect,
         reward: outcome.reward,
     };
-    let keys = GridKeyframes::new(cells.len());
+    // one keyframe per cell, each shown GRID_KEYFRAME_SECONDS
+    let n = cells.len();
+    let tl = Timeline {
+        key_times: (0..n).map(|k| k as f64 / n as f64).collect(),
+        dur: GRID_KEYFRAME_SECONDS * n as f64,
+        calc: r#" calcMode="discrete""#,
+    };
     let symbols: Vec<char> = text.chars().collect();
+    // the readout: the start cell, then each slot, its symbol and the cell
+    // it led to
+    let labels: Vec<(String, f64, f64)> = cells
+        .iter()
+        .enumerate()
+        .map(|(k, &cell)| {
+            let (r, c) = (cell / g.cols, cell % g.cols);
+            let label = if k == 0 {
+                format!("start: cell ({r}, {c})")
+            } else {
+                let symbol = symbols.get(k - 1).map_or(String::new(), |s| s.to_string());
+                format!("slot {k}/{}: {} → cell ({r}, {c})", n - 1, esc(&symbol))
+            };
+            (label, k as f64 / n as f64, (k + 1) as f64 / n as f64)
+        })
+        .collect();
     let mut draw = |out: &mut String, v: &View| {
         let _ = writeln!(out, r#"<g class="motion">"#);
-        draw_grid_agent(out, v, &centres, &keys);
-        draw_grid_readout(out, v, grid.max, &cells, g.cols, &symbols, &keys);
+        let radius = format!("{:.2}", v.len(0.12).clamp(4.0, 14.0));
+        let at: Vec<(f64, f64)> = centres.iter().map(|p| (p[0], p[1])).collect();
+        moving_dot(out, v, &tl, ["agent", &radius, "1.5", "agent"], &at);
+        let corner = (v.x(grid.max[0]) - 4.0, v.y(grid.max[1]) - 8.0);
+        readout(out, ["step", "keyframe"], corner, &labels, tl.dur);
         out.push_str("</g>\n");
     };
     Ok(grid_picture(scene, g, Some(&overlay), Some(&mut draw)))
 }
 
-/// The timing of a grid animation: `n` keyframes, each shown
-/// [`GRID_KEYFRAME_SECONDS`], looping over `dur` seconds; `key_times`, the
-/// SMIL `keyTimes` of their starts.
-struct GridKeyframes {
-    n: usize,
-    dur: f64,
-    key_times: String,
-}
-
-impl GridKeyframes {
-    /// The timing of `n` keyframes.
-    fn new(n: usize) -> GridKeyframes {
-        let dur = GRID_KEYFRAME_SECONDS * n as f64;
-        let key_times: String = (0..n)
-            .map(|k| format!("{:.4}", k as f64 / n as f64))
-            .collect::<Vec<_>>()
-            .join(";");
-        GridKeyframes { n, dur, key_times }
-    }
-}
-
-/// The agent: a disc jumping from centre to centre of the cells of its
-/// path (`centres`, in world coordinates), one per keyframe.
-fn draw_grid_agent(out: &mut String, v: &View, centres: &[[f64; 2]], keys: &GridKeyframes) {
-    let GridKeyframes { dur, key_times, .. } = keys;
-    let xs: Vec<String> = centres
-        .iter()
-        .map(|p| format!("{:.2}", v.x(p[0])))
-        .collect();
-    let ys: Vec<String> = centres
-        .iter()
-        .map(|p| format!("{:.2}", v.y(p[1])))
-        .collect();
-    let anim = |attr: &str, values: &[String]| {
-        format!(
-            r#"<animate attributeName="{attr}" calcMode="discrete" values="{}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite"/>"#,
-            values.join(";")
-        )
-    };
-    let _ = writeln!(
-        out,
-        r##"<circle class="agent" cx="{}" cy="{}" r="{:.2}" fill="{TRACKED}" stroke="#ffffff" stroke-width="1.5"><title>agent</title>{}{}</circle>"##,
-        xs[0],
-        ys[0],
-        v.len(0.12).clamp(4.0, 14.0),
-        anim("cx", &xs),
-        anim("cy", &ys),
-    );
-}
-
-/// The readout at the grid's top right corner (`top`): one text per
-/// keyframe, shown in its turn, naming the start cell, then each slot of
-/// the path (`cells`, in a grid of `cols` columns), its symbol and the cell
-/// it led to.
-fn draw_grid_readout(
+/// The readout at `at` (pixels; `classes`: of its group and of each
+/// text): one text per keyframe, `(label, on, off)` shown from `on` to
+/// `off` (fractions of the loop of `dur` seconds), the first from the start,
+/// the last to the end.
+fn readout(
     out: &mut String,
-    v: &View,
-    top: [f64; 2],
-    cells: &[usize],
-    cols: usize,
-    symbols: &[char],
-    keys: &GridKeyframes,
+    [group, class]: [&str; 2],
+    at: (f64, f64),
+    labels: &[(String, f64, f64)],
+    dur: f64,
 ) {
-    let GridKeyframes { n, dur, .. } = *keys;
     let _ = writeln!(
         out,
-        r##"<g class="step" font-size="14" fill="#222" font-family="monospace">"##
+        r##"<g class="{group}" font-size="14" fill="#222" font-family="monospace">"##
     );
-    for (k, &cell) in cells.iter().enumerate() {
-        let (r, c) = (cell / cols, cell % cols);
-        let label = if k == 0 {
-            format!("start: cell ({r}, {c})")
+    let n = labels.len();
+    for (k, (label, on, off)) in labels.iter().enumerate() {
+        let (values, times) = if k == 0 {
+            ("1;0".to_string(), format!("0;{off:.4}"))
+        } else if k + 1 == n {
+            ("0;1".to_string(), format!("0;{on:.4}"))
         } else {
-            format!(
-                "slot {k}/{}: {} → cell ({r}, {c})",
-                n - 1,
-                esc(&symbols.get(k - 1).map_or(String::new(), |s| s.to_string()))
-            )
+            ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
         };
-        let (on, off) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
-        let (values, times) = shown_in_turn(k, n, on, off);
         let _ = writeln!(
             out,
-            r#"<text class="keyframe" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
-            v.x(top[0]) - 4.0,
-            v.y(top[1]) - 8.0,
+            r#"<text class="{class}" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
+            at.0,
+            at.1,
             if k == 0 { 1 } else { 0 },
         );
     }
     out.push_str("</g>\n");
 }
 
-/// The discrete opacity keyframes (`values`, `keyTimes`) of item `k` of
-/// `n` shown in turn, from `on` to `off` (fractions of the loop): the
-/// first shows from the start, the last to the end.
-fn shown_in_turn(k: usize, n: usize, on: f64, off: f64) -> (String, String) {
-    if k == 0 {
-        ("1;0".to_string(), format!("0;{off:.4}"))
-    } else if k + 1 == n {
-        ("0;1".to_string(), format!("0;{on:.4}"))
-    } else {
-        ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
-    }
+/// A dot moving through `at` (world coordinates, one per keyframe of
+/// `tl`); `[class, radius, stroke width, title]`.
+fn moving_dot(out: &mut String, v: &View, tl: &Timeline, look: [&str; 4], at: &[(f64, f64)]) {
+    let [class, r, stroke, title] = look;
+    let xs: Vec<String> = at.iter().map(|p| format!("{:.2}", v.x(p.0))).collect();
+    let ys: Vec<String> = at.iter().map(|p| format!("{:.2}", v.y(p.1))).collect();
+    let _ = writeln!(
+        out,
+        r##"<circle class="{class}" cx="{}" cy="{}" r="{r}" fill="{TRACKED}" stroke="#ffffff" stroke-width="{stroke}"><title>{title}</title>{}{}</circle>"##,
+        xs[0],
+        ys[0],
+        tl.anim("cx", None, xs.join(";")),
+        tl.anim("cy", None, ys.join(";")),
+    );
 }
 
 /// The animated SVG of `motion`, the rollout of `command` on `scene`.
@@ -241,10 +212,7 @@ fn shown_in_turn(k: usize, n: usize, on: f64, off: f64) -> (String, String) {
 /// assert!(svg.contains("<animateTransform") && svg.contains("t = "));
 /// ```
 pub fn motion_svg(scene: &Scene, command: &str, motion: &Motion) -> Result<String, AnimateError> {
-    let WorldSpec::Physics(p) = &scene.spec().world else {
-        return Err(AnimateError::Grid(scene.spec().name.clone()));
-    };
-    draw_motion(scene, p, command, motion)
+    draw_motion(scene, physics(scene)?, command, motion)
 }
 
 /// [`motion_svg`] of a motion that starts elsewhere than the poses the
@@ -255,16 +223,17 @@ pub fn motion_svg_from(
     command: &str,
     motion: &Motion,
 ) -> Result<String, AnimateError> {
-    let WorldSpec::Physics(p) = &scene.spec().world else {
-        return Err(AnimateError::Grid(scene.spec().name.clone()));
-    };
-    let mut posed = p.clone();
     let first = motion.frames.first().map_or(&[][..], |f| &f.poses[..]);
-    for (b, pose) in posed.bodies.iter_mut().zip(first) {
-        b.position = (pose.position[0], pose.position[1]);
-        b.angle = pose.angle;
-    }
+    let posed = posed(physics(scene)?.clone(), first);
     draw_motion(scene, &posed, command, motion)
+}
+
+/// The physics of `scene`; a grid has no motion to animate.
+fn physics(scene: &Scene) -> Result<&PhysicsSpec, AnimateError> {
+    match &scene.spec().world {
+        WorldSpec::Physics(p) => Ok(p),
+        WorldSpec::Grid(_) => Err(AnimateError::Grid(scene.spec().name.clone())),
+    }
 }
 
 /// The animated picture of `motion` over `p` (the scene's physics, its
@@ -296,10 +265,29 @@ fn draw_motion(
         effect: motion.outcome.effect,
         reward: motion.outcome.reward,
     };
-    let tl = Timeline::new(motion, thin(motion.frames.len(), MAX_FRAMES));
+    let keep = thin(motion.frames.len(), MAX_FRAMES);
+    let end = motion.frames.last().map_or(0.0, |f| f.time);
+    // a motion shorter than a second plays over a second
+    let dur = end.max(1.0);
+    let at = |f: usize| (motion.frames[f].time / dur).min(1.0);
+    let tl = Timeline {
+        key_times: keep.iter().map(|&f| at(f)).collect(),
+        dur,
+        calc: "",
+    };
+    // the time readout: one text per kept frame, shown in its turn
+    let labels: Vec<(String, f64, f64)> = keep
+        .iter()
+        .enumerate()
+        .map(|(k, &f)| {
+            let t = motion.frames[f].time;
+            let off = keep.get(k + 1).map_or(1.0, |&g| at(g));
+            (format!("t = {t:.3} s / {end:.3} s"), at(f), off)
+        })
+        .collect();
     let mut draw = |out: &mut String, v: &View| {
         let _ = writeln!(out, r#"<g class="motion">"#);
-        moving_bodies_svg(out, v, p, motion, &tl);
+        moving_bodies_svg(out, v, p, motion, &keep, &tl);
         // ground hinges do not move: drawn once, over the bodies
         for j in p.joints.iter().filter(|j| j.parent == GROUND) {
             let _ = writeln!(
@@ -310,9 +298,17 @@ fn draw_motion(
                 esc(&j.name)
             );
         }
-        tracked_point_svg(out, v, &tl, &point_at);
-        time_readout_svg(out, v, motion, &tl);
-        out.push_str("</g>\n</g>\n");
+        let path: Vec<(f64, f64)> = keep.iter().map(|&f| point_at(f)).collect();
+        moving_dot(out, v, &tl, ["tracked", "4.5", "1", "tracked point"], &path);
+        let [right, top] = v.max_world();
+        readout(
+            out,
+            ["time", "frame"],
+            (v.x(right) - 4.0, v.y(top) + 16.0),
+            &labels,
+            dur,
+        );
+        out.push_str("</g>\n");
     };
     Ok(physics_picture(scene, p, Some(&overlay), Some(&mut draw)))
 }
@@ -345,38 +341,16 @@ fn tracked_of(
     Ok((tracked, drawn_point))
 }
 
-/// The tracked point, at its first frame's place and animated through the
-/// kept frames (`point_at(frame)`: its world position).
-fn tracked_point_svg(
-    out: &mut String,
-    v: &View,
-    tl: &Timeline,
-    point_at: &impl Fn(usize) -> (f64, f64),
-) {
-    let xs: Vec<String> = tl
-        .keep
-        .iter()
-        .map(|&f| format!("{:.2}", v.x(point_at(f).0)))
-        .collect();
-    let ys: Vec<String> = tl
-        .keep
-        .iter()
-        .map(|&f| format!("{:.2}", v.y(point_at(f).1)))
-        .collect();
-    let p0 = point_at(0);
-    let _ = writeln!(
-        out,
-        r##"<circle class="tracked" cx="{:.2}" cy="{:.2}" r="4.5" fill="{TRACKED}" stroke="#ffffff" stroke-width="1"><title>tracked point</title>{}{}</circle>"##,
-        v.x(p0.0),
-        v.y(p0.1),
-        tl.anim("cx", None, xs.join(";")),
-        tl.anim("cy", None, ys.join(";")),
-    );
-}
-
 /// Every moving body, with the joints it carries as a parent, at its start
 /// pose and animated by the rigid motion from it.
-fn moving_bodies_svg(out: &mut String, v: &View, p: &PhysicsSpec, motion: &Motion, tl: &Timeline) {
+fn moving_bodies_svg(
+    out: &mut String,
+    v: &View,
+    p: &PhysicsSpec,
+    motion: &Motion,
+    keep: &[usize],
+    tl: &Timeline,
+) {
     for (i, b) in p.bodies.iter().enumerate() {
         if b.kind == BodyKind::Fixed {
             continue;
@@ -385,8 +359,7 @@ fn moving_bodies_svg(out: &mut String, v: &View, p: &PhysicsSpec, motion: &Motio
         let c0 = (v.x(start.position[0]), v.y(start.position[1]));
         // the rigid motion from the start pose: rotate about the start
         // position, then translate to the current one
-        let moves: Vec<String> = tl
-            .keep
+        let moves: Vec<String> = keep
             .iter()
             .map(|&f| {
                 let q = &motion.frames[f].poses[i];
@@ -397,8 +370,7 @@ fn moving_bodies_svg(out: &mut String, v: &View, p: &PhysicsSpec, motion: &Motio
                 )
             })
             .collect();
-        let turns: Vec<String> = tl
-            .keep
+        let turns: Vec<String> = keep
             .iter()
             .map(|&f| {
                 let q = &motion.frames[f].poses[i];
@@ -452,92 +424,37 @@ fn moving_bodies_svg(out: &mut String, v: &View, p: &PhysicsSpec, motion: &Motio
     }
 }
 
-/// The time readout: one text per kept frame, shown in its turn.
-fn time_readout_svg(out: &mut String, v: &View, motion: &Motion, tl: &Timeline) {
-    let (keep, dur, end) = (&tl.keep, tl.dur, tl.end);
-    let _ = writeln!(
-        out,
-        r##"<g class="time" font-size="14" fill="#222" font-family="monospace">"##
-    );
-    let n = keep.len();
-    for (k, &f) in keep.iter().enumerate() {
-        let t = motion.frames[f].time;
-        let on = (t / dur).min(1.0);
-        let off = if k + 1 < n {
-            (motion.frames[keep[k + 1]].time / dur).min(1.0)
-        } else {
-            1.0
-        };
-        let (values, times) = shown_in_turn(k, n, on, off);
-        let _ = writeln!(
-            out,
-            r#"<text class="frame" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">t = {t:.3} s / {end:.3} s<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
-            v.x(v_right(v)) - 4.0,
-            v.y(v_top(v)) + 16.0,
-            if k == 0 { 1 } else { 0 },
-        );
-    }
-}
-
-/// The kept frames of a motion and the timing every animation of its
-/// picture shares: `dur` seconds (at least one), looping.
+/// The timing every animation of a picture shares: the keyframes' times
+/// as fractions of `dur` seconds, looping; `calc`, the calcMode of a
+/// plain `<animate>` (empty: linear).
 struct Timeline {
-    /// The indices of the frames kept ([`thin`]).
-    keep: Vec<usize>,
-    /// The time of the last frame.
-    end: f64,
-    /// The duration of the animation.
+    key_times: Vec<f64>,
     dur: f64,
-    /// The kept frames' times as fractions of `dur`.
-    key_times: String,
+    calc: &'static str,
 }
 
 impl Timeline {
-    fn new(motion: &Motion, keep: Vec<usize>) -> Timeline {
-        let end = motion.frames.last().map_or(0.0, |f| f.time);
-        // a motion shorter than a second plays over a second
-        let dur = end.max(1.0);
-        let key_times: String = keep
-            .iter()
-            .map(|&f| format!("{:.4}", (motion.frames[f].time / dur).min(1.0)))
-            .collect::<Vec<_>>()
-            .join(";");
-        Timeline {
-            keep,
-            end,
-            dur,
-            key_times,
-        }
-    }
-
     /// An `<animateTransform>` of `kind` (or, without one, an `<animate>`)
-    /// of `attr` through `values`, one per kept frame.
+    /// of `attr` through `values`, one per keyframe.
     fn anim(&self, attr: &str, kind: Option<&str>, values: String) -> String {
-        let (key_times, dur) = (&self.key_times, self.dur);
+        let times: Vec<String> = self.key_times.iter().map(|t| format!("{t:.4}")).collect();
+        let (key_times, dur, calc) = (times.join(";"), self.dur, self.calc);
         match kind {
             Some(t) => format!(
                 r#"<animateTransform attributeName="{attr}" type="{t}" values="{values}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite" additive="sum"/>"#
             ),
             None => format!(
-                r#"<animate attributeName="{attr}" values="{values}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite"/>"#
+                r#"<animate attributeName="{attr}"{calc} values="{values}" keyTimes="{key_times}" dur="{dur:.3}s" repeatCount="indefinite"/>"#
             ),
         }
     }
 }
 
-fn v_right(v: &View) -> f64 {
-    v.max_world()[0]
-}
-
-fn v_top(v: &View) -> f64 {
-    v.max_world()[1]
-}
-
 /// `svg` in a self-contained HTML page (no script, no network).
 pub fn html_page(title: &str, svg: &str) -> String {
-    format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>body{{font-family:Helvetica,Arial,sans-serif;margin:1em;background:#fafafa}}svg{{max-width:100%;height:auto;background:#fff}}</style>\n</head>\n<body>\n<h1>{}</h1>\n{svg}</body>\n</html>\n",
-        esc(title),
-        esc(title)
+    super::svg::page(
+        title,
+        "svg{max-width:100%;height:auto;background:#fff}",
+        svg,
     )
 }

@@ -37,7 +37,7 @@ fn parses_with_and_without_a_session_column() {
 #[test]
 fn the_page_has_both_heat_maps_the_reward_and_a_chart_per_slot() {
     let rows = parse_trials(&csv()).unwrap();
-    let page = run_page("t", "{\"scene\":\"x\"}", &rows, 2, 3);
+    let page = run_page("t", "", "{\"scene\":\"x\"}", &rows, 2, 3);
     assert!(page.starts_with("<!DOCTYPE html>"));
     // two heat maps of 2 x 3 cells
     assert_eq!(page.matches(r#"class="cell""#).count(), 12);

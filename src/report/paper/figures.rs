@@ -63,10 +63,7 @@ impl PaperResults {
             .flat_map(|b| b.last().map(|s| s.max))
             .fold(1.0, f64::max);
         let trials = self.config.trials;
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, (1000, 640)).into_drawing_area();
-            root.fill(&WHITE).map_err(|e| e.to_string())?;
+        plotted((1000, 640), |root| {
             let (head, body) = root.split_vertically(78);
             fig3_head(&head, self.config.sessions)?;
             let mut chart = fig3_chart(&body, trials, top)?;
@@ -74,19 +71,17 @@ impl PaperResults {
             // thin the curves to at most ~1000 points: the figure, not the CSV
             let step = (trials / 1000).max(1);
             let idx: Vec<usize> = (0..trials).step_by(step).chain([trials - 1]).collect();
-            draw_reward_bands(&mut chart, &bands, &idx, colours)?;
-            draw_reward_means(&mut chart, &arms, &bands, &idx, colours)?;
+            draw_rewards(&mut chart, &arms, &bands, &idx, colours)?;
             chart
                 .configure_series_labels()
                 .position(SeriesLabelPosition::UpperLeft)
                 .label_font(("sans-serif", 17))
                 .background_style(WHITE.mix(0.9))
                 .border_style(BLACK)
-                .draw()
-                .map_err(|e| e.to_string())?;
-            root.present().map_err(|e| e.to_string())?;
-        }
-        Ok(svg)
+                .draw()?;
+            Ok(())
+        })
+        .map_err(|e| e.to_string())
     }
 }
 
@@ -99,38 +94,31 @@ type Chart<'a, 'b> = ChartContext<
 
 /// Figure 3's head: its title and the line saying what the line and the
 /// bands are over the `sessions`.
-fn fig3_head(head: &Area<'_>, sessions: usize) -> Result<(), String> {
+fn fig3_head(head: &Area<'_>, sessions: usize) -> Drawn {
     head.draw(&Text::new(
         "two_rooms, task 2: cumulative reward".to_string(),
         (30, 12),
         ("sans-serif", 26).into_font().color(&BLACK),
-    ))
-    .map_err(|e| e.to_string())?;
+    ))?;
     head.draw(&Text::new(
         format!(
             "over {sessions} sessions: line, mean; dark band, mean \u{b1} sd; light band, min to max (the table's mean +- sd [min, max])"
         ),
         (30, 48),
         ("sans-serif", 17).into_font().color(&RGBColor(70, 70, 70)),
-    ))
-    .map_err(|e| e.to_string())?;
+    ))?;
     Ok(())
 }
 
 /// Figure 3's chart on `body`: trials 0 to `trials` across, cumulative
 /// reward 0 to 5% over `top` up, with its axes and light grid.
-fn fig3_chart<'a, 'b>(
-    body: &'a Area<'b>,
-    trials: usize,
-    top: f64,
-) -> Result<Chart<'a, 'b>, String> {
+fn fig3_chart<'a, 'b>(body: &'a Area<'b>, trials: usize, top: f64) -> Drawn<Chart<'a, 'b>> {
     let mut chart = ChartBuilder::on(body)
         .margin(20)
         .margin_top(5)
         .x_label_area_size(60)
         .y_label_area_size(90)
-        .build_cartesian_2d(0f64..trials as f64, 0f64..top * 1.05)
-        .map_err(|e| e.to_string())?;
+        .build_cartesian_2d(0f64..trials as f64, 0f64..top * 1.05)?;
     chart
         .configure_mesh()
         .x_desc("trial")
@@ -141,8 +129,7 @@ fn fig3_chart<'a, 'b>(
         .y_label_formatter(&|y| format!("{y:.0}"))
         .light_line_style(WHITE.mix(0.0))
         .bold_line_style(RGBColor(225, 225, 225))
-        .draw()
-        .map_err(|e| e.to_string())?;
+        .draw()?;
     Ok(chart)
 }
 
@@ -163,65 +150,47 @@ fn band_polygon(
 }
 
 /// Each learner's bands, in its colour: min to max, light, and mean +- sd
-/// (clipped at 0), darker.
-fn draw_reward_bands(
-    chart: &mut Chart<'_, '_>,
-    bands: &[Vec<Stats>],
-    idx: &[usize],
-    colours: [RGBColor; 2],
-) -> Result<(), String> {
-    for (band, colour) in bands.iter().zip(colours) {
-        chart
-            .draw_series(std::iter::once(Polygon::new(
-                band_polygon(band, idx, &|s| s.min, &|s| s.max),
-                colour.mix(0.13).filled(),
-            )))
-            .map_err(|e| e.to_string())?;
-        // the sd band is clipped at 0: a cumulative reward is not negative
-        chart
-            .draw_series(std::iter::once(Polygon::new(
-                band_polygon(band, idx, &|s| (s.mean - s.sd).max(0.0), &|s| s.mean + s.sd),
-                colour.mix(0.3).filled(),
-            )))
-            .map_err(|e| e.to_string())?;
-    }
-    Ok(())
-}
-
-/// Each learner's mean as a line, in its colour, and its three legend
-/// entries: the line, the sd band and the min-max band.
-fn draw_reward_means(
+/// (clipped at 0: a cumulative reward is not negative), darker; then each
+/// learner's mean as a line, and its three legend entries: the line, the
+/// sd band and the min-max band.
+fn draw_rewards(
     chart: &mut Chart<'_, '_>,
     arms: &[&ArmResult],
     bands: &[Vec<Stats>],
     idx: &[usize],
     colours: [RGBColor; 2],
-) -> Result<(), String> {
+) -> Drawn {
+    type Edge<'a> = &'a dyn Fn(&Stats) -> f64;
+    let spans: [(Edge, Edge, f64); 2] = [
+        (&|s| s.min, &|s| s.max, 0.13),
+        (&|s| (s.mean - s.sd).max(0.0), &|s| s.mean + s.sd, 0.3),
+    ];
+    for (band, colour) in bands.iter().zip(colours) {
+        for (lo, hi, mix) in spans {
+            chart.draw_series(std::iter::once(Polygon::new(
+                band_polygon(band, idx, lo, hi),
+                colour.mix(mix).filled(),
+            )))?;
+        }
+    }
     for ((arm, band), colour) in arms.iter().zip(bands).zip(colours) {
         chart
             .draw_series(LineSeries::new(
                 idx.iter().map(|&t| ((t + 1) as f64, band[t].mean)),
                 colour.stroke_width(3),
-            ))
-            .map_err(|e| e.to_string())?
+            ))?
             .label(format!("{}: mean", arm.arm.label))
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
             });
-        chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
-            .map_err(|e| e.to_string())?
-            .label("  mean \u{b1} sd")
-            .legend(move |(x, y)| {
-                Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.3).filled())
-            });
-        chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
-            .map_err(|e| e.to_string())?
-            .label("  min to max")
-            .legend(move |(x, y)| {
-                Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(0.13).filled())
-            });
+        for (label, mix) in [("  mean \u{b1} sd", 0.3), ("  min to max", 0.13)] {
+            chart
+                .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())?
+                .label(label)
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.mix(mix).filled())
+                });
+        }
     }
     Ok(())
 }
@@ -243,8 +212,6 @@ fn share_colour(share: f64, peak: f64) -> RGBColor {
     RGBColor(r, g, b)
 }
 
-/// A heat map of `shares` over a grid world on the scale 0..`peak`, with
-/// its walls and start (no reward: this is task 1).
 /// Two (or more) effect grids side by side on one colour scale, with a
 /// colour bar marking `target`: Figure 2's layout, for any scene's grid
 /// (`spec` gives the rows, columns, start cell and walls; a grid of more
@@ -268,10 +235,7 @@ pub fn effect_panels_svg(
     target: f64,
 ) -> Result<String, String> {
     let n = spec.rows * spec.cols;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (1100, 530)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+    plotted((1100, 530), |root| {
         let (title_area, body) = root.split_vertically(118);
         let text = |t: &str, at: (i32, i32), size: f64, colour: &RGBColor| {
             title_area.draw(&Text::new(
@@ -280,24 +244,24 @@ pub fn effect_panels_svg(
                 ("sans-serif", size).into_font().color(colour),
             ))
         };
-        text(title, (25, 12), 26.0, &BLACK).map_err(|e| e.to_string())?;
+        text(title, (25, 12), 26.0, &BLACK)?;
         let grey = RGBColor(70, 70, 70);
         for (k, line) in lines.iter().enumerate() {
-            text(line, (25, 48 + 21 * k as i32), 17.0, &grey).map_err(|e| e.to_string())?;
+            text(line, (25, 48 + 21 * k as i32), 17.0, &grey)?;
         }
         let (panels_area, bar_area) = body.split_horizontally(940);
         let areas = panels_area.split_evenly((1, panels.len().max(1)));
         for (area, (caption, shares)) in areas.iter().zip(panels) {
-            draw_grid_panel(area, caption, spec, shares, peak, n <= 60)
-                .map_err(|e| e.to_string())?;
+            draw_grid_panel(area, caption, spec, shares, peak, n <= 60)?;
         }
         let marks = (1.0 / target).round() as usize;
-        draw_colour_bar(&bar_area, peak, target, marks).map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
-    }
-    Ok(svg)
+        draw_colour_bar(&bar_area, peak, target, marks)
+    })
+    .map_err(|e| e.to_string())
 }
 
+/// A heat map of `shares` over a grid world on the scale 0..`peak`, with
+/// its walls and start (no reward: this is task 1).
 fn draw_grid_panel(
     area: &Area<'_>,
     title: &str,
@@ -305,7 +269,7 @@ fn draw_grid_panel(
     shares: &[f64],
     peak: f64,
     labels: bool,
-) -> Result<(), Box<dyn std::error::Error>> {
+) -> Drawn {
     let (rows, cols) = (spec.rows, spec.cols);
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 21))
@@ -375,12 +339,7 @@ fn draw_grid_panel(
 
 /// Figure 2's colour bar: the scale from 0 to `peak` (percent ticks), the
 /// target share 1/`n` marked across it.
-fn draw_colour_bar(
-    area: &Area<'_>,
-    peak: f64,
-    target: f64,
-    n: usize,
-) -> Result<(), Box<dyn std::error::Error>> {
+fn draw_colour_bar(area: &Area<'_>, peak: f64, target: f64, n: usize) -> Drawn {
     let mut bar = ChartBuilder::on(area)
         .caption("share of trials", ("sans-serif", 17))
         .margin_top(14)

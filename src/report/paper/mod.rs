@@ -3,6 +3,7 @@
 //! and 3 on `two_rooms`): the summary table, the CSV of both figures and
 //! their SVG.
 
+use super::svg::{plotted, Area, Drawn};
 use super::{describe, median, Stats};
 use crate::effect::entropy;
 use crate::experiment::paper::{ArmResult, PaperResults};
@@ -257,5 +258,3 @@ impl PaperResults {
         entropy(&arm.effect_shares()) / (self.grid.num_cells() as f64).ln()
     }
 }
-
-type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;

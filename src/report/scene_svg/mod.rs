@@ -2,6 +2,7 @@
 //! grid and reward cells, optionally with the path of the tracked point
 //! under one command and its terminal cell.
 
+use super::svg::{esc, tick_step, ticks};
 use crate::scene::physics::{to_world, BodyKind, PhysicsSpec, ShapeSpec, GROUND};
 use crate::scene::{Scene, Symmetry, WorldSpec};
 use crate::world::{BodyPose, GridSpec};
@@ -97,10 +98,6 @@ impl View {
     }
 }
 
-pub(super) fn esc(s: &str) -> String {
-    crate::text::xml_escape(s).into_owned()
-}
-
 /// Draws `scene` as SVG, with `overlay` (a command's path) if given.
 ///
 /// ```
@@ -133,15 +130,17 @@ pub fn scene_svg(scene: &Scene, overlay: Option<&Overlay>) -> String {
 pub fn posed_svg(scene: &Scene, start: &[BodyPose], overlay: Option<&Overlay>) -> String {
     match &scene.spec().world {
         WorldSpec::Grid(g) => grid_svg(scene, g, overlay),
-        WorldSpec::Physics(p) => {
-            let mut posed = p.without_contexts();
-            for (b, pose) in posed.bodies.iter_mut().zip(start) {
-                b.position = (pose.position[0], pose.position[1]);
-                b.angle = pose.angle;
-            }
-            physics_svg(scene, &posed, overlay)
-        }
+        WorldSpec::Physics(p) => physics_svg(scene, &posed(p.without_contexts(), start), overlay),
     }
+}
+
+/// `p` with its bodies at `start` (one pose per body, in order).
+pub(super) fn posed(mut p: PhysicsSpec, start: &[BodyPose]) -> PhysicsSpec {
+    for (b, pose) in p.bodies.iter_mut().zip(start) {
+        b.position = (pose.position[0], pose.position[1]);
+        b.angle = pose.angle;
+    }
+    p
 }
 
 fn header(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Overlay>) {
@@ -182,33 +181,28 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
     let g = scene.effect_grid();
     let [cw, ch] = g.cell_size();
     let rewards = scene.reward_table();
-    let rewarded = (0..g.num_cells())
-        .filter(|&e| rewards[e] != 0.0)
-        .map(|e| (e / g.cols, e % g.cols));
-    for (r, c) in rewarded {
+    // a cell's rectangle, then its look
+    let cell = |out: &mut String, e: usize, look: &str| {
+        let (r, c) = (e / g.cols, e % g.cols);
         let x0 = g.min[0] + c as f64 * cw;
         let y1 = g.max[1] - r as f64 * ch;
         let _ = writeln!(
             out,
-            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{REWARD}" fill-opacity="{REWARD_OPACITY}"/>"##,
+            r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" {look}/>"#,
             v.x(x0),
             v.y(y1),
             v.len(cw),
             v.len(ch)
         );
+    };
+    for e in (0..g.num_cells()).filter(|&e| rewards[e] != 0.0) {
+        let look = format!(r#"fill="{REWARD}" fill-opacity="{REWARD_OPACITY}""#);
+        cell(out, e, &look);
     }
     if let Some(o) = overlay {
-        let (r, c) = (o.effect / g.cols, o.effect % g.cols);
-        let x0 = g.min[0] + c as f64 * cw;
-        let y1 = g.max[1] - r as f64 * ch;
-        let _ = writeln!(
-            out,
-            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="{PATH}" stroke-width="3" stroke-dasharray="7,3"/>"##,
-            v.x(x0),
-            v.y(y1),
-            v.len(cw),
-            v.len(ch)
-        );
+        let look =
+            format!(r#"fill="none" stroke="{PATH}" stroke-width="3" stroke-dasharray="7,3""#);
+        cell(out, o.effect, &look);
     }
     let mut d = String::new();
     for c in 0..=g.cols {
@@ -289,25 +283,6 @@ fn path_layer(out: &mut String, v: &View, overlay: Option<&Overlay>) {
     );
 }
 
-/// A step of 1, 2 or 5 times a power of ten giving about 5 to 10 ticks
-/// over `span`.
-fn tick_step(span: f64) -> f64 {
-    let raw = span.max(1e-9) / 8.0;
-    let mag = 10f64.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|k| k * mag)
-        .find(|&s| s >= raw)
-        .unwrap_or(10.0 * mag)
-}
-
-/// The ticks of `[lo, hi]` at multiples of `step`.
-fn ticks(lo: f64, hi: f64, step: f64) -> Vec<f64> {
-    let first = (lo / step - 1e-9).ceil() as i64;
-    let last = (hi / step + 1e-9).floor() as i64;
-    (first..=last).map(|k| k as f64 * step).collect()
-}
-
 /// A tick's label with the decimals its step needs (never `-0`).
 fn tick_label(t: f64, step: f64) -> String {
     let decimals = (-step.log10().floor()).max(0.0) as usize;
@@ -319,7 +294,8 @@ fn tick_label(t: f64, step: f64) -> String {
 /// world units (`unit`: "m", or "cells" on a grid).
 fn axes(out: &mut String, v: &View, unit: &str) {
     let span = (v.max[0] - v.min[0]).max(v.max[1] - v.min[1]);
-    let step = tick_step(span);
+    let step = tick_step(span.max(1e-9));
+    let ticks = |lo, hi| ticks(lo, hi, step).unwrap_or_default();
     let (x0, x1) = (v.x(v.min[0]), v.x(v.max[0]));
     let (y0, y1) = (v.bottom(), v.y(v.max[1]));
     let _ = writeln!(
@@ -328,7 +304,7 @@ fn axes(out: &mut String, v: &View, unit: &str) {
     );
     let mut d = String::new();
     let mut labels = String::new();
-    for t in ticks(v.min[0], v.max[0], step) {
+    for t in ticks(v.min[0], v.max[0]) {
         let x = v.x(t);
         let _ = write!(d, "M{x:.2},{y0:.2}v5");
         let _ = write!(
@@ -338,7 +314,7 @@ fn axes(out: &mut String, v: &View, unit: &str) {
             tick_label(t, step)
         );
     }
-    for t in ticks(v.min[1], v.max[1], step) {
+    for t in ticks(v.min[1], v.max[1]) {
         let y = v.y(t);
         let _ = write!(d, "M{x0:.2},{y:.2}h-5");
         let _ = write!(

@@ -26,25 +26,6 @@ pub(super) fn heat_axis_label(param: &str, values: &[f64]) -> String {
     }
 }
 
-/// A number in 3 significant digits, without trailing zeros (the labels of
-/// a heat map's columns: 3.16, 31.6).
-pub(super) fn short3(v: f64) -> String {
-    if !v.is_finite() || v == 0.0 {
-        return short(v);
-    }
-    let mag = v.abs().log10().floor() as i32;
-    if !(-4..6).contains(&mag) {
-        return format!("{v:.2e}");
-    }
-    let decimals = (2 - mag).max(0) as usize;
-    let s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
-
 /// Viridis, by linear interpolation between five of its colours.
 pub(super) fn viridis(t: f64) -> RGBColor {
     const C: [(f64, f64, f64); 5] = [
@@ -115,11 +96,7 @@ impl HeatGrid {
     /// equal): the range of the colour scale; no value is an error.
     fn range(&self) -> Result<(f64, f64), PlotError> {
         let vals: Vec<f64> = self.cells.iter().flatten().flatten().copied().collect();
-        let (vmin, vmax) = vals
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
+        let (vmin, vmax) = range(vals.iter().copied());
         if vals.is_empty() {
             return err("no value to draw");
         }
@@ -144,37 +121,32 @@ pub(super) fn draw_heat(
     let grid = HeatGrid::new(&rows, xi, yi, mi, num)?;
     let (vmin, span) = grid.range()?;
     let (w, h) = (900u32, 650u32);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(draw_err)?;
+    plotted((w, h), |root| {
         let (left, right) = root.split_horizontally(w - 130);
         let mut chart = heat_chart(&left, title, x_name, y_name, &grid)?;
         draw_cells(&mut chart, &grid.cells, vmin, span)?;
         draw_ticks(&left, &chart, &grid)?;
-        draw_colour_bar(&right, vmin, span)?;
-        root.present().map_err(draw_err)?;
-    }
-    Ok(svg)
+        draw_colour_bar(&right, vmin, span)
+    })
+    .map_err(draw_err)
 }
 
 /// The heat map's chart on `left`: its title and axis names, one unit per
 /// cell, no mesh and no ticks (drawn by [`draw_ticks`]).
 fn heat_chart<'a, 'b>(
-    left: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    left: &'a Area<'b>,
     title: &str,
     x_name: &str,
     y_name: &str,
     grid: &HeatGrid,
-) -> Result<Chart<'a, 'b>, PlotError> {
+) -> Drawn<Chart<'a, 'b>> {
     let (nx, ny) = (grid.xv.len(), grid.yv.len());
     let mut chart = ChartBuilder::on(left)
         .caption(title, (FONT, 22))
         .margin(15)
         .x_label_area_size(56)
         .y_label_area_size(80)
-        .build_cartesian_2d(0f64..nx as f64, 0f64..ny as f64)
-        .map_err(draw_err)?;
+        .build_cartesian_2d(0f64..nx as f64, 0f64..ny as f64)?;
     chart
         .configure_mesh()
         .disable_mesh()
@@ -183,8 +155,7 @@ fn heat_chart<'a, 'b>(
         .x_desc(heat_axis_label(x_name, &grid.xv))
         .y_desc(heat_axis_label(y_name, &grid.yv))
         .axis_desc_style((FONT, 19))
-        .draw()
-        .map_err(draw_err)?;
+        .draw()?;
     Ok(chart)
 }
 
@@ -196,7 +167,7 @@ fn draw_cells(
     cells: &[Vec<Option<f64>>],
     vmin: f64,
     span: f64,
-) -> Result<(), PlotError> {
+) -> Drawn {
     for (i, col) in cells.iter().enumerate() {
         for (j, v) in col.iter().enumerate() {
             let (x, y) = (i as f64, j as f64);
@@ -205,20 +176,16 @@ fn draw_cells(
                 Some(t) => viridis(t).filled(),
                 None => RGBColor(230, 230, 230).filled(),
             };
-            chart
-                .draw_series(std::iter::once(Rectangle::new(
-                    [(x, y), (x + 1.0, y + 1.0)],
-                    fill,
-                )))
-                .map_err(draw_err)?;
+            chart.draw_series(std::iter::once(Rectangle::new(
+                [(x, y), (x + 1.0, y + 1.0)],
+                fill,
+            )))?;
             let label = v.map(short).unwrap_or_else(|| "-".into());
             let color = if t.unwrap_or(1.0) < 0.6 { WHITE } else { BLACK };
             let style = TextStyle::from((FONT, 18).into_font())
                 .color(&color)
                 .pos(Pos::new(HPos::Center, VPos::Center));
-            chart
-                .draw_series(std::iter::once(Text::new(label, (x + 0.5, y + 0.5), style)))
-                .map_err(draw_err)?;
+            chart.draw_series(std::iter::once(Text::new(label, (x + 0.5, y + 0.5), style)))?;
         }
     }
     Ok(())
@@ -226,58 +193,44 @@ fn draw_cells(
 
 /// The tick labels, the swept values, at the centres of the cells, drawn by
 /// hand on `left`: under the columns and left of the rows.
-fn draw_ticks(
-    left: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
-    chart: &Chart<'_, '_>,
-    grid: &HeatGrid,
-) -> Result<(), PlotError> {
+fn draw_ticks(left: &Area<'_>, chart: &Chart<'_, '_>, grid: &HeatGrid) -> Drawn {
     for (i, v) in grid.xv.iter().enumerate() {
         let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
         let style = TextStyle::from((FONT, 17).into_font())
             .color(&BLACK)
             .pos(Pos::new(HPos::Center, VPos::Top));
-        left.draw(&Text::new(short3(*v), (px, py + 6), style))
-            .map_err(draw_err)?;
+        left.draw(&Text::new(significant(*v, 3), (px, py + 6), style))?;
     }
     for (j, v) in grid.yv.iter().enumerate() {
         let (px, py) = chart.backend_coord(&(0.0, j as f64 + 0.5));
         let style = TextStyle::from((FONT, 17).into_font())
             .color(&BLACK)
             .pos(Pos::new(HPos::Right, VPos::Center));
-        left.draw(&Text::new(short3(*v), (px - 6, py), style))
-            .map_err(draw_err)?;
+        left.draw(&Text::new(significant(*v, 3), (px - 6, py), style))?;
     }
     Ok(())
 }
 
 /// The colour bar on `right`: titled `mean`, viridis in 100 steps from
 /// `vmin` to `vmin + span`, with its value axis.
-fn draw_colour_bar(
-    right: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
-    vmin: f64,
-    span: f64,
-) -> Result<(), PlotError> {
-    right
-        .draw(&Text::new(
-            "mean",
-            (12, 22),
-            (FONT, 18).into_font().color(&BLACK),
-        ))
-        .map_err(draw_err)?;
+fn draw_colour_bar(right: &Area<'_>, vmin: f64, span: f64) -> Drawn {
+    right.draw(&Text::new(
+        "mean",
+        (12, 22),
+        (FONT, 18).into_font().color(&BLACK),
+    ))?;
     let mut bar = ChartBuilder::on(right)
         .margin_top(50)
         .margin_bottom(65)
         .margin_right(10)
         .y_label_area_size(70)
-        .build_cartesian_2d(0f64..1f64, vmin..vmin + span)
-        .map_err(draw_err)?;
+        .build_cartesian_2d(0f64..1f64, vmin..vmin + span)?;
     bar.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
         .label_style((FONT, 16))
         .y_label_formatter(&|v: &f64| short(*v))
-        .draw()
-        .map_err(draw_err)?;
+        .draw()?;
     let steps = 100;
     bar.draw_series((0..steps).map(|k| {
         let a = vmin + span * k as f64 / steps as f64;
@@ -286,7 +239,6 @@ fn draw_colour_bar(
             [(0.0, a), (1.0, b)],
             viridis(k as f64 / (steps - 1) as f64).filled(),
         )
-    }))
-    .map_err(draw_err)?;
+    }))?;
     Ok(())
 }

@@ -144,10 +144,7 @@ pub(super) fn draw_lines(
     let rows = (series.len() as u32).div_ceil(cols);
     let legend_h = 16 + 24 * rows;
     let h = 580 + legend_h;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(draw_err)?;
+    plotted((w, h), |root| {
         let (top, bottom) = root.split_vertically(h - legend_h);
         let ticks: Vec<f64> = if log {
             log_ticks(xmin, xmax).into_iter().map(f64::log10).collect()
@@ -160,8 +157,7 @@ pub(super) fn draw_lines(
             .margin_right(25)
             .x_label_area_size(62)
             .y_label_area_size(80)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(draw_err)?;
+            .build_cartesian_2d(x0..x1, y0..y1)?;
         let x_fmt = |v: f64| if log { short(10f64.powf(v)) } else { short(v) };
         let y_fmt = |v: &f64| short(*v);
         chart
@@ -179,14 +175,12 @@ pub(super) fn draw_lines(
             .disable_x_mesh()
             .light_line_style(RGBColor(240, 240, 240))
             .bold_line_style(RGBColor(215, 215, 215))
-            .draw()
-            .map_err(draw_err)?;
+            .draw()?;
         draw_x_ticks(&mut chart, &top, &ticks, log, (x0, x1), (y0, y1), &x_fmt)?;
         draw_series(&mut chart, &top, series, &tx, (x0, x1))?;
-        draw_legend(&bottom, series, cols, col_w)?;
-        root.present().map_err(draw_err)?;
-    }
-    Ok(svg)
+        draw_legend(&bottom, series, cols, col_w)
+    })
+    .map_err(draw_err)
 }
 
 /// The axes of a line plot: a log x axis when every x is positive and
@@ -201,62 +195,42 @@ struct Extents {
 }
 
 fn extents(series: &[Series]) -> Extents {
-    let xs: Vec<f64> = series
-        .iter()
-        .flat_map(|s| s.points.iter().map(|p| p.0))
-        .filter(|x| !x.is_nan())
-        .collect();
-    let (xmin, xmax) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        });
+    let points = || series.iter().flat_map(|s| s.points.iter());
+    let (xmin, xmax) = range(points().map(|p| p.0).filter(|x| !x.is_nan()));
     let log = xmin > 0.0 && xmax / xmin >= 20.0;
     let tx = |x: f64| if log { x.log10() } else { x };
-    let (mut x0, mut x1) = (tx(xmin), tx(xmax));
-    if x1 - x0 < 1e-12 {
-        x0 -= 0.5;
-        x1 += 0.5;
-    }
-    let pad = 0.04 * (x1 - x0);
-    let (x0, x1) = (x0 - pad, x1 + pad);
-    let ys: Vec<f64> = series
-        .iter()
-        .flat_map(|s| s.points.iter().flat_map(|p| [Some(p.1), p.2, p.3]))
-        .flatten()
-        .filter(|y| y.is_finite())
-        .collect();
-    let (mut y0, mut y1) = ys
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
-            (a.min(y), b.max(y))
-        });
-    if y1 - y0 < 1e-12 {
-        y0 -= 0.5;
-        y1 += 0.5;
-    }
-    let pad = 0.06 * (y1 - y0);
-    let (y0, y1) = (y0 - pad, y1 + pad);
+    let ys = points().flat_map(|p| [Some(p.1), p.2, p.3]).flatten();
     Extents {
         log,
         xmin,
         xmax,
-        x: (x0, x1),
-        y: (y0, y1),
+        x: padded((tx(xmin), tx(xmax)), 0.04),
+        y: padded(range(ys.filter(|y| y.is_finite())), 0.06),
     }
+}
+
+/// `(lo, hi)` widened by `by` of its span on each side (a span of
+/// nothing made 1 first).
+fn padded((mut lo, mut hi): (f64, f64), by: f64) -> (f64, f64) {
+    if hi - lo < 1e-12 {
+        lo -= 0.5;
+        hi += 0.5;
+    }
+    let pad = by * (hi - lo);
+    (lo - pad, hi + pad)
 }
 
 /// The x axis, drawn by hand: on a log axis light lines at 2..9 times
 /// each decade, then a line, a mark and a label at each tick.
 fn draw_x_ticks(
     chart: &mut Chart<'_, '_>,
-    top: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    top: &Area<'_>,
     ticks: &[f64],
     log: bool,
     (x0, x1): (f64, f64),
     (y0, y1): (f64, f64),
     x_fmt: &dyn Fn(f64) -> String,
-) -> Result<(), PlotError> {
+) -> Drawn {
     // a log axis: light lines at 2..9 times each decade
     if log {
         let (a, b) = (x0.floor() as i32, x1.ceil() as i32);
@@ -264,12 +238,10 @@ fn draw_x_ticks(
             for m in 2..=9 {
                 let t = (m as f64 * 10f64.powi(k)).log10();
                 if t > x0 && t < x1 && !ticks.iter().any(|u| (u - t).abs() < 1e-9) {
-                    chart
-                        .draw_series(std::iter::once(PathElement::new(
-                            vec![(t, y0), (t, y1)],
-                            RGBColor(242, 242, 242),
-                        )))
-                        .map_err(draw_err)?;
+                    chart.draw_series(std::iter::once(PathElement::new(
+                        vec![(t, y0), (t, y1)],
+                        RGBColor(242, 242, 242),
+                    )))?;
                 }
             }
         }
@@ -277,20 +249,16 @@ fn draw_x_ticks(
     // the x ticks, drawn by hand: decades (or 1-2-5) on a log axis,
     // round numbers on a linear one; the swept values are the markers
     for &t in ticks {
-        chart
-            .draw_series(std::iter::once(PathElement::new(
-                vec![(t, y0), (t, y1)],
-                RGBColor(215, 215, 215),
-            )))
-            .map_err(draw_err)?;
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![(t, y0), (t, y1)],
+            RGBColor(215, 215, 215),
+        )))?;
         let (px, py) = chart.backend_coord(&(t, y0));
-        top.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
-            .map_err(draw_err)?;
+        top.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))?;
         let style = TextStyle::from((FONT, 17).into_font())
             .color(&BLACK)
             .pos(Pos::new(HPos::Center, VPos::Top));
-        top.draw(&Text::new(x_fmt(t), (px, py + 8), style))
-            .map_err(draw_err)?;
+        top.draw(&Text::new(x_fmt(t), (px, py + 8), style))?;
     }
     Ok(())
 }
@@ -299,11 +267,11 @@ fn draw_x_ticks(
 /// learner that does not use x as a dashed line across with its band.
 fn draw_series(
     chart: &mut Chart<'_, '_>,
-    top: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    top: &Area<'_>,
     series: &[Series],
     tx: &dyn Fn(f64) -> f64,
     (x0, x1): (f64, f64),
-) -> Result<(), PlotError> {
+) -> Drawn {
     for (i, s) in series.iter().enumerate() {
         let st = style(i);
         let c = st.colour;
@@ -312,21 +280,17 @@ fn draw_series(
             // a learner that does not use x: a dashed line across
             let p = s.points[0];
             if let (Some(l), Some(u)) = (p.2, p.3) {
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        [(x0, l), (x1, u)],
-                        c.mix(0.12).filled(),
-                    )))
-                    .map_err(draw_err)?;
+                chart.draw_series(std::iter::once(Rectangle::new(
+                    [(x0, l), (x1, u)],
+                    c.mix(0.12).filled(),
+                )))?;
             }
-            chart
-                .draw_series(DashedLineSeries::new(
-                    vec![(x0, p.1), (x1, p.1)],
-                    12,
-                    6,
-                    c.stroke_width(2),
-                ))
-                .map_err(draw_err)?;
+            chart.draw_series(DashedLineSeries::new(
+                vec![(x0, p.1), (x1, p.1)],
+                12,
+                6,
+                c.stroke_width(2),
+            ))?;
             continue;
         }
         let band: Vec<(f64, f64, f64)> = pts
@@ -336,80 +300,55 @@ fn draw_series(
         if band.len() >= 2 {
             let mut poly: Vec<(f64, f64)> = band.iter().map(|b| (b.0, b.1)).collect();
             poly.extend(band.iter().rev().map(|b| (b.0, b.2)));
-            chart
-                .draw_series(std::iter::once(Polygon::new(poly, c.mix(0.15).filled())))
-                .map_err(draw_err)?;
+            chart.draw_series(std::iter::once(Polygon::new(poly, c.mix(0.15).filled())))?;
         } else if let Some(&(x, l, u)) = band.first() {
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    vec![(x, l), (x, u)],
-                    c.stroke_width(2),
-                )))
-                .map_err(draw_err)?;
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![(x, l), (x, u)],
+                c.stroke_width(2),
+            )))?;
         }
         let line: Vec<(f64, f64)> = pts.iter().map(|p| (tx(p.0), p.1)).collect();
         if st.dashed {
-            chart
-                .draw_series(DashedLineSeries::new(line, 5, 4, c.stroke_width(2)))
-                .map_err(draw_err)?;
+            chart.draw_series(DashedLineSeries::new(line, 5, 4, c.stroke_width(2)))?;
         } else {
-            chart
-                .draw_series(LineSeries::new(line, c.stroke_width(2)))
-                .map_err(draw_err)?;
+            chart.draw_series(LineSeries::new(line, c.stroke_width(2)))?;
         }
         for p in &pts {
             let at = chart.backend_coord(&(tx(p.0), p.1));
-            draw_marker(top, at, st).map_err(draw_err)?;
+            draw_marker(top, at, st)?;
         }
     }
     Ok(())
 }
 
 /// The legend under the plot, `cols` columns of `col_w` pixels.
-fn draw_legend(
-    bottom: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
-    series: &[Series],
-    cols: u32,
-    col_w: u32,
-) -> Result<(), PlotError> {
-    // the legend: as each series is drawn (a dashed line alone for a
-    // learner that does not use x)
+fn draw_legend(bottom: &Area<'_>, series: &[Series], cols: u32, col_w: u32) -> Drawn {
     for (i, s) in series.iter().enumerate() {
         let st = style(i);
         let c = st.colour;
         let (col, row) = (i as u32 % cols, i as u32 / cols);
         let x = 50 + (col * col_w) as i32;
         let y = 10 + 24 * row as i32;
+        // a learner that does not use x: a dashed line alone
         let flat = s.points.iter().all(|p| p.0.is_nan());
-        if flat {
-            for (a, b) in [(x, x + 12), (x + 18, x + 30)] {
-                bottom
-                    .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(3)))
-                    .map_err(draw_err)?;
-            }
+        let (dashes, width): (&[(i32, i32)], u32) = if flat {
+            (&[(0, 12), (18, 30)], 3)
+        } else if st.dashed {
+            (&[(0, 6), (12, 18), (24, 30)], 2)
         } else {
-            if st.dashed {
-                for (a, b) in [(x, x + 6), (x + 12, x + 18), (x + 24, x + 30)] {
-                    bottom
-                        .draw(&PathElement::new(vec![(a, y), (b, y)], c.stroke_width(2)))
-                        .map_err(draw_err)?;
-                }
-            } else {
-                bottom
-                    .draw(&PathElement::new(
-                        vec![(x, y), (x + 30, y)],
-                        c.stroke_width(2),
-                    ))
-                    .map_err(draw_err)?;
-            }
-            draw_marker(bottom, (x + 15, y), st).map_err(draw_err)?;
+            (&[(0, 30)], 2)
+        };
+        for &(a, b) in dashes {
+            let segment = vec![(x + a, y), (x + b, y)];
+            bottom.draw(&PathElement::new(segment, c.stroke_width(width)))?;
+        }
+        if !flat {
+            draw_marker(bottom, (x + 15, y), st)?;
         }
         let style = TextStyle::from((FONT, 16).into_font())
             .color(&BLACK)
             .pos(Pos::new(HPos::Left, VPos::Center));
-        bottom
-            .draw(&Text::new(s.label.clone(), (x + 38, y), style))
-            .map_err(draw_err)?;
+        bottom.draw(&Text::new(s.label.clone(), (x + 38, y), style))?;
     }
     Ok(())
 }

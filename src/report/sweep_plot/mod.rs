@@ -14,6 +14,7 @@
 //! assert!(svg.starts_with("<svg") && svg.contains("uniform"));
 //! ```
 
+use super::svg::{plotted, Area, Drawn};
 use crate::csv::Summary;
 use crate::learner::Params;
 use crate::scene::did_you_mean;
@@ -244,6 +245,12 @@ fn one_setting<'a>(
 
 /// A number in 4 significant digits, without trailing zeros.
 pub(crate) fn short(v: f64) -> String {
+    significant(v, 4)
+}
+
+/// A number in `digits` significant digits, without trailing zeros (3 for
+/// the labels of a heat map's columns: 3.16, 31.6).
+fn significant(v: f64, digits: i32) -> String {
     if !v.is_finite() {
         return format!("{v}");
     }
@@ -254,7 +261,7 @@ pub(crate) fn short(v: f64) -> String {
     if !(-4..6).contains(&mag) {
         return format!("{v:.2e}");
     }
-    let decimals = (3 - mag).max(0) as usize;
+    let decimals = (digits - 1 - mag).max(0) as usize;
     let s = format!("{v:.decimals$}");
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -340,29 +347,24 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     t
 }
 
-/// Round ticks of a linear axis over `[lo, hi]`: steps of 1, 2 or 5 times
-/// a power of ten, about 5 to 10 of them.
+/// The smallest and the largest of `xs` (infinities for none).
+fn range(xs: impl Iterator<Item = f64>) -> (f64, f64) {
+    xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    })
+}
+
+/// Round ticks of a linear axis over `[lo, hi]` (its two ends when f64
+/// cannot step through it).
 fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
-    let raw = (hi - lo).max(1e-12) / 8.0;
-    let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|k| k * mag)
-        .find(|&s| s >= raw)
-        .unwrap_or(10.0 * mag);
-    let first = (lo / step - 1e-9).ceil() as i64;
-    let last = (hi / step + 1e-9).floor() as i64;
-    // a range that f64 cannot step through (ends too far apart, or too
-    // close for their size) gets its two ends
-    if !step.is_finite() || step <= 0.0 || last.saturating_sub(first) > 100 {
+    let step = super::svg::tick_step((hi - lo).max(1e-12));
+    let Some(ticks) = super::svg::ticks(lo, hi, step) else {
         return vec![lo, hi];
-    }
-    (first..=last)
-        .map(|k| {
-            let v = k as f64 * step;
-            // 0.30000000000000004 is written 0.3
-            format!("{v:.12}").parse().unwrap_or(v)
-        })
+    };
+    // 0.30000000000000004 is written 0.3
+    ticks
+        .into_iter()
+        .map(|v| format!("{v:.12}").parse().unwrap_or(v))
         .collect()
 }
 
@@ -434,13 +436,13 @@ const PALETTE: [RGBColor; 10] = [
 
 const FONT: &str = "sans-serif";
 
-fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> PlotError {
+fn draw_err(e: Box<dyn std::error::Error>) -> PlotError {
     PlotError(format!("cannot draw: {e}"))
 }
 
 #[cfg(test)]
 mod tests {
-    use super::heat::{heat_axis_label, short3};
+    use super::heat::heat_axis_label;
     use super::*;
 
     #[test]
@@ -474,9 +476,9 @@ mod tests {
             heat_axis_label("eta", &[0.01, 0.02, 0.03]),
             "eta (rate of the effect histogram)"
         );
-        assert_eq!(short3(3.16227766017), "3.16");
-        assert_eq!(short3(31.6227766017), "31.6");
-        assert_eq!(short3(1000.0), "1000");
+        assert_eq!(significant(3.16227766017, 3), "3.16");
+        assert_eq!(significant(31.6227766017, 3), "31.6");
+        assert_eq!(significant(1000.0, 3), "1000");
     }
 
     #[test]
