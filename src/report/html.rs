@@ -187,12 +187,11 @@ pub fn run_page(
     body.push_str("</div>\n");
     per_start_context(&mut body, trials, k, rows, cols);
     body.push_str("<h2>Reward</h2>\n");
-    let mut acc = 0.0;
     let cum: Vec<f64> = trials
         .iter()
-        .map(|t| {
-            acc += t.reward;
-            acc
+        .scan(0.0, |acc, t| {
+            *acc += t.reward;
+            Some(*acc)
         })
         .collect();
     line_chart(
@@ -392,10 +391,11 @@ pub fn sweep_page(
     sweep_ron: &str,
     failures: &[String],
 ) -> String {
+    use super::sweep_plot::distinct;
     use crate::sweep::CELL_COLUMNS;
     let rows = &summary.rows;
     let col = |name: &str| summary.columns.iter().position(|c| c == name);
-    let values = |c: usize| distinct(rows, c);
+    let values = |c: usize| distinct(rows.iter().map(|r| r[c].as_str()));
     // the cell columns that vary are the table's keys; the others are said once
     let (varying, fixed): (Vec<usize>, Vec<usize>) =
         (0..CELL_COLUMNS).partition(|&c| values(c).len() > 1);
@@ -440,15 +440,6 @@ pub fn sweep_page(
         "table{border-collapse:collapse;background:#fff}td,th{border:1px solid #ddd;padding:2px 6px;font-size:13px}td.n{text-align:right;font-variant-numeric:tabular-nums}figure{margin:0.5em}svg{max-width:100%;height:auto;background:#fff}pre{background:#fff;padding:0.5em;overflow:auto;max-height:30em}.note{color:#666}.scroll{overflow-x:auto}",
         &body,
     )
-}
-
-/// The distinct values of column `c` of `rows`, sorted.
-#[cfg(feature = "plots")]
-fn distinct(rows: &[Vec<String>], c: usize) -> Vec<&str> {
-    let mut v: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
-    v.sort_unstable();
-    v.dedup();
-    v
 }
 
 /// The summary as a table: the cell columns that vary, the sessions (and
@@ -538,11 +529,11 @@ fn failures_list(body: &mut String, failures: &[String]) {
 /// a line plot, or a note saying why it is not drawn.
 #[cfg(feature = "plots")]
 fn plots_against_params(body: &mut String, summary: &crate::csv::Summary) {
-    use super::sweep_plot::{plot, PlotSpec};
+    use super::sweep_plot::{distinct, plot, PlotSpec};
     use crate::learner::Params;
     let rows = &summary.rows;
     let col = |name: &str| summary.col(name);
-    let values = |c: usize| distinct(rows, c);
+    let values = |c: usize| distinct(rows.iter().map(|r| r[c].as_str()));
     let num = |s: &str| s.parse::<f64>().ok();
     let metrics = summary.metrics();
     for param in Params::SWEPT {

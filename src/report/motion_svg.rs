@@ -300,7 +300,7 @@ fn draw_motion(
         }
         let path: Vec<(f64, f64)> = keep.iter().map(|&f| point_at(f)).collect();
         moving_dot(out, v, &tl, ["tracked", "4.5", "1", "tracked point"], &path);
-        let [right, top] = v.max_world();
+        let [right, top] = v.max;
         readout(
             out,
             ["time", "frame"],
@@ -359,29 +359,13 @@ fn moving_bodies_svg(
         let c0 = (v.x(start.position[0]), v.y(start.position[1]));
         // the rigid motion from the start pose: rotate about the start
         // position, then translate to the current one
-        let moves: Vec<String> = keep
-            .iter()
-            .map(|&f| {
-                let q = &motion.frames[f].poses[i];
-                format!(
-                    "{:.2},{:.2}",
-                    v.x(q.position[0]) - c0.0,
-                    v.y(q.position[1]) - c0.1
-                )
-            })
-            .collect();
-        let turns: Vec<String> = keep
-            .iter()
-            .map(|&f| {
-                let q = &motion.frames[f].poses[i];
-                format!(
-                    "{:.2} {:.2} {:.2}",
-                    -(q.angle - start.angle).to_degrees(),
-                    c0.0,
-                    c0.1
-                )
-            })
-            .collect();
+        let (mut moves, mut turns) = (Vec::new(), Vec::new());
+        for q in keep.iter().map(|&f| &motion.frames[f].poses[i]) {
+            let (dx, dy) = (v.x(q.position[0]) - c0.0, v.y(q.position[1]) - c0.1);
+            moves.push(format!("{dx:.2},{dy:.2}"));
+            let turn = -(q.angle - start.angle).to_degrees();
+            turns.push(format!("{turn:.2} {:.2} {:.2}", c0.0, c0.1));
+        }
         let (fill, stroke) = if b.kind == BodyKind::Kinematic {
             colours(b.kind)
         } else {

@@ -65,15 +65,8 @@ impl ArmResult {
             .map(|r| r.cumulative_rewards())
             .collect();
         let trials = curves.first().map_or(0, Vec::len);
-        let mut column = vec![0.0; curves.len()];
-        (0..trials)
-            .map(|t| {
-                for (c, curve) in column.iter_mut().zip(&curves) {
-                    *c = curve[t];
-                }
-                describe(&column)
-            })
-            .collect()
+        let column = |t: usize| curves.iter().map(|c| c[t]).collect::<Vec<f64>>();
+        (0..trials).map(|t| describe(&column(t))).collect()
     }
 }
 

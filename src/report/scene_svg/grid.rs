@@ -2,10 +2,6 @@
 
 use super::*;
 
-pub(super) fn grid_svg(scene: &Scene, g: &GridSpec, overlay: Option<&Overlay>) -> String {
-    grid_picture(scene, g, overlay, None)
-}
-
 /// The picture of a grid scene; with `animated`, what moves is drawn by
 /// it after the path (the agent, see
 /// [`grid_motion_svg`](super::motion_svg::grid_motion_svg)).

@@ -3,7 +3,7 @@
 //! under one command and its terminal cell.
 
 use super::svg::{esc, tick_step, ticks};
-use crate::scene::physics::{to_world, BodyKind, PhysicsSpec, ShapeSpec, GROUND};
+use crate::scene::physics::{to_world, BodyKind, BodySpec, PhysicsSpec, ShapeSpec, GROUND};
 use crate::scene::{Scene, Symmetry, WorldSpec};
 use crate::world::{BodyPose, GridSpec};
 use std::fmt::Write;
@@ -13,8 +13,6 @@ mod physics;
 pub use physics::describe_effect;
 
 pub(super) use grid::grid_picture;
-use grid::grid_svg;
-use physics::physics_svg;
 pub(super) use physics::{body_svg, colours, physics_picture, Paint, END_FILL, END_STROKE};
 
 /// Draws the moving parts of an animation over the picture (see
@@ -53,7 +51,8 @@ const MARGIN: f64 = 30.0;
 /// Maps world coordinates to SVG pixels (y up in the world, down in SVG).
 pub(super) struct View {
     min: [f64; 2],
-    max: [f64; 2],
+    /// The top right corner of the drawing, in world coordinates.
+    pub(super) max: [f64; 2],
     scale: f64,
     /// Rows of the legend under the x axis.
     legend_rows: usize,
@@ -89,10 +88,6 @@ impl View {
     fn height(&self) -> f64 {
         self.bottom() + AXIS + ROW * self.legend_rows as f64 + 6.0
     }
-    /// The top right corner of the drawing, in world coordinates.
-    pub(super) fn max_world(&self) -> [f64; 2] {
-        self.max
-    }
     pub(super) fn pt(&self, p: (f64, f64)) -> String {
         format!("{:.2},{:.2}", self.x(p.0), self.y(p.1))
     }
@@ -108,8 +103,8 @@ impl View {
 /// ```
 pub fn scene_svg(scene: &Scene, overlay: Option<&Overlay>) -> String {
     match &scene.spec().world {
-        WorldSpec::Grid(g) => grid_svg(scene, g, overlay),
-        WorldSpec::Physics(p) => physics_svg(scene, p, overlay),
+        WorldSpec::Grid(g) => grid_picture(scene, g, overlay, None),
+        WorldSpec::Physics(p) => physics_picture(scene, p, overlay, None),
     }
 }
 
@@ -129,8 +124,10 @@ pub fn scene_svg(scene: &Scene, overlay: Option<&Overlay>) -> String {
 /// ```
 pub fn posed_svg(scene: &Scene, start: &[BodyPose], overlay: Option<&Overlay>) -> String {
     match &scene.spec().world {
-        WorldSpec::Grid(g) => grid_svg(scene, g, overlay),
-        WorldSpec::Physics(p) => physics_svg(scene, &posed(p.without_contexts(), start), overlay),
+        WorldSpec::Grid(g) => grid_picture(scene, g, overlay, None),
+        WorldSpec::Physics(p) => {
+            physics_picture(scene, &posed(p.without_contexts(), start), overlay, None)
+        }
     }
 }
 

@@ -46,6 +46,10 @@ pub(in crate::report) fn body_svg(
     paint: Paint,
 ) {
     let Paint(fill, stroke, opacity) = paint;
+    let points = || -> Vec<String> {
+        let pts = shape_points(shape, pos, angle).into_iter();
+        pts.map(|p| v.pt(p)).collect()
+    };
     let style = format!(
         r#"fill="{fill}" fill-opacity="{opacity}" stroke="{stroke}" stroke-opacity="{opacity}" stroke-width="1.5""#
     );
@@ -70,11 +74,7 @@ pub(in crate::report) fn body_svg(
             );
         }
         ShapeSpec::Cuboid { .. } => {
-            let pts: Vec<String> = shape_points(shape, pos, angle)
-                .into_iter()
-                .map(|p| v.pt(p))
-                .collect();
-            let _ = writeln!(out, r#"<polygon points="{}" {style}/>"#, pts.join(" "));
+            let _ = writeln!(out, r#"<polygon points="{}" {style}/>"#, points().join(" "));
         }
         ShapeSpec::Capsule { a, b, radius } => {
             let (a, b) = (to_world(pos, angle, *a), to_world(pos, angle, *b));
@@ -93,14 +93,10 @@ pub(in crate::report) fn body_svg(
             }
         }
         ShapeSpec::Segment { .. } | ShapeSpec::Polyline { .. } => {
-            let pts: Vec<String> = shape_points(shape, pos, angle)
-                .into_iter()
-                .map(|p| v.pt(p))
-                .collect();
             let _ = writeln!(
                 out,
                 r#"<polyline points="{}" fill="none" stroke="{stroke}" stroke-opacity="{opacity}" stroke-width="4" stroke-linecap="round" stroke-linejoin="round"/>"#,
-                pts.join(" ")
+                points().join(" ")
             );
         }
     }
@@ -116,10 +112,6 @@ pub(in crate::report) fn colours(kind: BodyKind) -> (&'static str, &'static str)
         BodyKind::Kinematic => ("#9c7bd1", "#5a3d8f"),
         BodyKind::Dynamic => ("#6fa8dc", "#1f4e9c"),
     }
-}
-
-pub(super) fn physics_svg(scene: &Scene, p: &PhysicsSpec, overlay: Option<&Overlay>) -> String {
-    physics_picture(scene, p, overlay, None)
 }
 
 /// The picture of a physics scene; with `animated`, the bodies at their
@@ -156,12 +148,32 @@ pub(in crate::report) fn physics_picture(
     if let Some(sym) = p.symmetry {
         mirror_line(&mut out, &v, sym);
     }
-    bodies_layer(&mut out, &v, p, start_opacity);
+    // every body at its start pose (fixed bodies opaque)
+    let start = p.bodies.iter().map(|b| {
+        let (fill, stroke) = colours(b.kind);
+        let op = if b.kind == BodyKind::Fixed {
+            0.95
+        } else {
+            start_opacity
+        };
+        (b, b.position, b.angle, Paint(fill, stroke, op))
+    });
+    bodies_layer(&mut out, &v, start, "");
     if let Some(poses) = overlay
         .and_then(|o| o.poses.as_ref())
         .filter(|_| animated.is_none())
     {
-        end_poses_layer(&mut out, &v, p, poses);
+        // the bodies that move, at their terminal poses
+        let moved = p
+            .bodies
+            .iter()
+            .zip(poses)
+            .filter(|(b, _)| b.kind != BodyKind::Fixed);
+        let end = moved.map(|(b, q)| {
+            let position = (q.position[0], q.position[1]);
+            (b, position, q.angle, Paint(END_FILL, END_STROKE, 0.9))
+        });
+        bodies_layer(&mut out, &v, end, " (end)");
     }
     joints_layer(&mut out, &v, p);
     path_layer(&mut out, &v, overlay);
@@ -216,35 +228,31 @@ fn picture_keys(
     start_opacity: f64,
 ) -> Vec<Key> {
     let end_pose = overlay.and_then(|o| o.poses.as_ref()).is_some();
-    let (dyn_fill, dyn_stroke) = colours(BodyKind::Dynamic);
-    let mut keys = Vec::new();
-    if p.bodies.iter().any(|b| b.kind == BodyKind::Fixed) {
-        let (f, st) = colours(BodyKind::Fixed);
-        keys.push(Key(Swatch::Fill(f, st, 0.95), "fixed body"));
-    }
-    if p.bodies.iter().any(|b| b.kind == BodyKind::Kinematic) {
-        let (f, st) = colours(BodyKind::Kinematic);
-        keys.push(Key(Swatch::Fill(f, st, start_opacity), "kinematic body"));
-    }
-    keys.push(Key(
-        Swatch::Fill(dyn_fill, dyn_stroke, start_opacity),
-        "start pose",
-    ));
-    if animated {
-        keys.push(Key(
-            Swatch::Fill(END_FILL, END_STROKE, 0.9),
-            "moving bodies",
-        ));
-    } else if end_pose {
-        keys.push(Key(Swatch::Fill(END_FILL, END_STROKE, 0.9), "end pose"));
-    }
-    if p.joints.iter().any(|j| j.parent == GROUND) {
-        keys.push(Key(Swatch::Hinge(true), "hinge on the ground"));
-    }
-    if p.joints.iter().any(|j| j.parent != GROUND) {
-        keys.push(Key(Swatch::Hinge(false), "joint"));
-    }
-    keys.push(Key(Swatch::Dot(TRACKED), "tracked point"));
+    use BodyKind::{Dynamic, Fixed, Kinematic};
+    let has = |k: BodyKind| p.bodies.iter().any(|b| b.kind == k);
+    let fill = |k: BodyKind, opacity: f64| {
+        let (f, st) = colours(k);
+        Swatch::Fill(f, st, opacity)
+    };
+    let end = || Swatch::Fill(END_FILL, END_STROKE, 0.9);
+    let ground = p.joints.iter().filter(|j| j.parent == GROUND).count();
+    let mut keys: Vec<Key> = [
+        (has(Fixed), fill(Fixed, 0.95), "fixed body"),
+        (
+            has(Kinematic),
+            fill(Kinematic, start_opacity),
+            "kinematic body",
+        ),
+        (true, fill(Dynamic, start_opacity), "start pose"),
+        (animated, end(), "moving bodies"),
+        (!animated && end_pose, end(), "end pose"),
+        (ground > 0, Swatch::Hinge(true), "hinge on the ground"),
+        (ground < p.joints.len(), Swatch::Hinge(false), "joint"),
+        (true, Swatch::Dot(TRACKED), "tracked point"),
+    ]
+    .into_iter()
+    .filter_map(|(shown, swatch, name)| shown.then_some(Key(swatch, name)))
+    .collect();
     keys.extend(reward_keys(scene));
     if overlay.is_some() {
         path_keys(&mut keys, Some(TRACKED));
@@ -292,43 +300,17 @@ fn mirror_line(out: &mut String, v: &View, sym: Symmetry) {
     );
 }
 
-/// Every body at its start pose (fixed bodies opaque).
-fn bodies_layer(out: &mut String, v: &View, p: &PhysicsSpec, start_opacity: f64) {
-    for b in &p.bodies {
-        let (fill, stroke) = colours(b.kind);
-        let op = if b.kind == BodyKind::Fixed {
-            0.95
-        } else {
-            start_opacity
-        };
-        let _ = writeln!(out, "<g><title>{}</title>", esc(&b.name));
-        body_svg(
-            out,
-            v,
-            &b.shape,
-            b.position,
-            b.angle,
-            Paint(fill, stroke, op),
-        );
-        out.push_str("</g>\n");
-    }
-}
-
-/// The bodies that move, at the terminal poses `poses` (one per body).
-fn end_poses_layer(out: &mut String, v: &View, p: &PhysicsSpec, poses: &[BodyPose]) {
-    for (b, pose) in p.bodies.iter().zip(poses) {
-        if b.kind == BodyKind::Fixed {
-            continue;
-        }
-        let _ = writeln!(out, "<g><title>{} (end)</title>", esc(&b.name));
-        body_svg(
-            out,
-            v,
-            &b.shape,
-            (pose.position[0], pose.position[1]),
-            pose.angle,
-            Paint(END_FILL, END_STROKE, 0.9),
-        );
+/// Each body at a pose, in its paint, in a group titled with its name and
+/// `suffix`.
+fn bodies_layer<'a>(
+    out: &mut String,
+    v: &View,
+    bodies: impl Iterator<Item = (&'a BodySpec, (f64, f64), f64, Paint<'a>)>,
+    suffix: &str,
+) {
+    for (b, position, angle, paint) in bodies {
+        let _ = writeln!(out, "<g><title>{}{suffix}</title>", esc(&b.name));
+        body_svg(out, v, &b.shape, position, angle, paint);
         out.push_str("</g>\n");
     }
 }

@@ -62,13 +62,7 @@ struct HeatGrid {
 impl HeatGrid {
     /// The grid of `rows`: x in column `xi`, y in column `yi`, the mean in
     /// column `mi`; a swept value that is not a number is an error.
-    fn new(
-        rows: &[&Vec<String>],
-        xi: usize,
-        yi: usize,
-        mi: usize,
-        num: &dyn Fn(&str) -> Option<f64>,
-    ) -> Result<HeatGrid, PlotError> {
+    fn new(rows: &[&Vec<String>], xi: usize, yi: usize, mi: usize) -> Result<HeatGrid, PlotError> {
         let axis = |c: usize| -> Result<Vec<f64>, PlotError> {
             let mut v: Vec<f64> = Vec::new();
             for r in rows {
@@ -107,7 +101,6 @@ impl HeatGrid {
 
 /// The heat map of the mean in column `mi` over x (column `xi`) and y
 /// (column `yi`) of `rows`, with a colour bar, in SVG.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn draw_heat(
     title: &str,
     x_name: &str,
@@ -116,9 +109,8 @@ pub(super) fn draw_heat(
     xi: usize,
     yi: usize,
     mi: usize,
-    num: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<String, PlotError> {
-    let grid = HeatGrid::new(&rows, xi, yi, mi, num)?;
+    let grid = HeatGrid::new(&rows, xi, yi, mi)?;
     let (vmin, span) = grid.range()?;
     let (w, h) = (900u32, 650u32);
     plotted((w, h), |root| {

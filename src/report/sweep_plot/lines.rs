@@ -20,7 +20,6 @@ pub(super) fn line_series(
     mi: usize,
     lo: usize,
     hi: usize,
-    num: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<Vec<Series>, PlotError> {
     // the cell columns that vary (besides x) name the series
     let varying: Vec<usize> = (0..CELL_COLUMNS)
@@ -46,7 +45,7 @@ pub(super) fn line_series(
         match keys.iter().position(|k| *k == key) {
             Some(i) => series[i].points.push(p),
             None => {
-                let label = series_label(r, &named, num);
+                let label = series_label(r, &named);
                 keys.push(key);
                 series.push(Series {
                     label: if label.is_empty() {
@@ -79,14 +78,8 @@ fn named_columns(rows: &[&Vec<String>], varying: &[usize]) -> Vec<usize> {
         .iter()
         .copied()
         .filter(|&c| {
-            let mut v: Vec<&str> = rows
-                .iter()
-                .map(|r| r[c].as_str())
-                .filter(|s| !s.is_empty())
-                .collect();
-            v.sort();
-            v.dedup();
-            v.len() >= 2
+            let v = rows.iter().map(|r| r[c].as_str()).filter(|s| !s.is_empty());
+            distinct(v).len() >= 2
         })
         .collect();
     if named.is_empty() {
@@ -97,7 +90,7 @@ fn named_columns(rows: &[&Vec<String>], varying: &[usize]) -> Vec<usize> {
 
 /// The label of row `r`'s series, in words: its values of the `named`
 /// columns that it has (`e3d, with reward, eta 0.003`).
-fn series_label(r: &[String], named: &[usize], num: &dyn Fn(&str) -> Option<f64>) -> String {
+fn series_label(r: &[String], named: &[usize]) -> String {
     named
         .iter()
         .filter(|&&c| !r[c].is_empty())

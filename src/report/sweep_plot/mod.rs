@@ -126,12 +126,11 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
         })
     };
     let (mi, lo, hi) = (col("mean")?, col("ci_low")?, col("ci_high")?);
-    let num = |s: &str| s.parse::<f64>().ok();
     let metric = metric_label(&spec.metric);
     let title = plot_title(spec, &metric);
     match yi {
         None => {
-            let series = line_series(&rows, xi, mi, lo, hi, &num)?;
+            let series = line_series(&rows, xi, mi, lo, hi)?;
             draw_lines(&title, &spec.x, &metric, &series)
         }
         Some(yi) => {
@@ -144,7 +143,6 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
                 xi,
                 yi,
                 mi,
-                &num,
             )
         }
     }
@@ -172,9 +170,7 @@ fn filtered_rows<'a>(
         let is_param = Params::SWEPT.contains(&k.as_str());
         rows.retain(|r| r[ci] == *v || (is_param && r[ci].is_empty()));
         if rows.is_empty() {
-            let mut seen: Vec<&str> = before.iter().map(|r| r[ci].as_str()).collect();
-            seen.sort();
-            seen.dedup();
+            let seen = distinct(before.iter().map(|r| r[ci].as_str()));
             return err(format!(
                 "--where {k}={v}: no cell left; `{k}` takes the values: {}",
                 seen.iter()
@@ -228,9 +224,7 @@ fn one_setting<'a>(
         .filter(|&c| c != xi && c != yi)
         .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
         .map(|c| {
-            let mut vals: Vec<&str> = rows.iter().map(|r| r[c].as_str()).collect();
-            vals.sort();
-            vals.dedup();
+            let vals = distinct(rows.iter().map(|r| r[c].as_str()));
             format!("{} ({})", KEY_COLUMNS[c], vals.join(", "))
         })
         .collect();
@@ -345,6 +339,19 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
         t = vec![lo, hi];
     }
     t
+}
+
+/// A summary's field as a number (`None`: empty or not a number).
+fn num(s: &str) -> Option<f64> {
+    s.parse().ok()
+}
+
+/// The distinct `values`, sorted.
+pub(super) fn distinct<'a>(values: impl Iterator<Item = &'a str>) -> Vec<&'a str> {
+    let mut v: Vec<&str> = values.collect();
+    v.sort_unstable();
+    v.dedup();
+    v
 }
 
 /// The smallest and the largest of `xs` (infinities for none).
