@@ -22,8 +22,7 @@ pub const MAX_SLOTS: usize = 64;
 pub const ECHO_CHARS: usize = 80;
 
 /// A command as echoed in messages: whole up to [`ECHO_CHARS`]
-/// characters, else its start and `…` with its length (a 50 MB line was
-/// printed whole).
+/// characters, else its start and `…` with its length.
 pub fn echo(text: &str) -> String {
     let mut chars = text.char_indices();
     match chars.nth(ECHO_CHARS) {
@@ -101,6 +100,21 @@ pub enum CommandError {
     },
 }
 
+/// Refuses a space of no slot or of more than [`MAX_SLOTS`].
+fn check_slots(n: usize) -> Result<(), CommandError> {
+    if n == 0 {
+        return Err(CommandError::Space(
+            "a command needs at least one slot".into(),
+        ));
+    }
+    if n > MAX_SLOTS {
+        return Err(CommandError::Space(format!(
+            "{n} slots: at most {MAX_SLOTS} are supported"
+        )));
+    }
+    Ok(())
+}
+
 /// The command space: `n` slots, each with its alphabet of symbols.
 ///
 /// ```
@@ -120,17 +134,7 @@ impl CommandSpace {
     /// A space whose slots have the given alphabets (slot `i` takes a symbol
     /// of `alphabets[i]`). Symbols within a slot must be distinct.
     pub fn new(alphabets: Vec<Vec<char>>) -> Result<Self, CommandError> {
-        if alphabets.is_empty() {
-            return Err(CommandError::Space(
-                "a command needs at least one slot".into(),
-            ));
-        }
-        if alphabets.len() > MAX_SLOTS {
-            return Err(CommandError::Space(format!(
-                "{} slots: at most {MAX_SLOTS} are supported",
-                alphabets.len()
-            )));
-        }
+        check_slots(alphabets.len())?;
         for (i, a) in alphabets.iter().enumerate() {
             if a.is_empty() {
                 return Err(CommandError::Space(format!(
@@ -172,11 +176,6 @@ impl CommandSpace {
     /// The alphabet sizes, slot by slot.
     pub fn sizes(&self) -> impl DoubleEndedIterator<Item = usize> + ExactSizeIterator + '_ {
         self.alphabets.iter().map(Vec::len)
-    }
-
-    /// The largest alphabet size over all slots.
-    pub fn max_alphabet(&self) -> usize {
-        self.sizes().max().unwrap_or(0)
     }
 
     /// The number of distinct commands, or `None` if it exceeds `u64`.
@@ -347,17 +346,7 @@ impl ValueSpace {
     /// A space whose slot `i` takes a value in `ranges[i] = (min, max)`,
     /// finite with `min < max`.
     pub fn new(ranges: Vec<(f64, f64)>) -> Result<Self, CommandError> {
-        if ranges.is_empty() {
-            return Err(CommandError::Space(
-                "a command needs at least one slot".into(),
-            ));
-        }
-        if ranges.len() > MAX_SLOTS {
-            return Err(CommandError::Space(format!(
-                "{} slots: at most {MAX_SLOTS} are supported",
-                ranges.len()
-            )));
-        }
+        check_slots(ranges.len())?;
         for (i, &(lo, hi)) in ranges.iter().enumerate() {
             if !(lo.is_finite() && hi.is_finite() && lo < hi) {
                 return Err(CommandError::Space(format!(
@@ -405,18 +394,31 @@ impl ValueSpace {
                 expected: self.num_slots(),
             });
         }
-        for (slot, (&v, &(lo, hi))) in values.iter().zip(&self.ranges).enumerate() {
-            if !(v >= lo && v <= hi) {
-                return Err(CommandError::OutOfRange {
-                    text: text(),
-                    value: v,
-                    slot,
-                    min: lo,
-                    max: hi,
-                });
-            }
+        for (slot, &v) in values.iter().enumerate() {
+            self.check_value(slot, v, text)?;
         }
         Ok(())
+    }
+
+    /// `Ok` if `v` is within `slot`'s range, else the
+    /// [`CommandError::OutOfRange`] of the command `text()`.
+    fn check_value(
+        &self,
+        slot: usize,
+        v: f64,
+        text: impl FnOnce() -> String,
+    ) -> Result<(), CommandError> {
+        let (lo, hi) = self.ranges[slot];
+        if v >= lo && v <= hi {
+            return Ok(());
+        }
+        Err(CommandError::OutOfRange {
+            text: text(),
+            value: v,
+            slot,
+            min: lo,
+            max: hi,
+        })
     }
 
     /// The values written as numbers separated by commas, each in the
@@ -438,21 +440,13 @@ impl ValueSpace {
             });
         }
         let mut values = Vec::with_capacity(parts.len());
-        for (slot, (part, &(lo, hi))) in parts.iter().zip(&self.ranges).enumerate() {
+        for (slot, part) in parts.iter().enumerate() {
             let v: f64 = part.parse().map_err(|_| CommandError::NotANumber {
                 text: echo(text.trim()),
                 part: echo(part),
                 slot,
             })?;
-            if !(v >= lo && v <= hi) {
-                return Err(CommandError::OutOfRange {
-                    text: echo(text.trim()),
-                    value: v,
-                    slot,
-                    min: lo,
-                    max: hi,
-                });
-            }
+            self.check_value(slot, v, || echo(text.trim()))?;
             values.push(v);
         }
         Ok(values)

@@ -238,7 +238,7 @@ impl TrialColumns {
             .into_iter()
             .map(|(f, _)| f.trim().to_string())
             .collect();
-        // each column once (a second `effect` was silently ignored)
+        // each column once
         let mut seen = std::collections::HashSet::with_capacity(header.len());
         let mut at = 1;
         for h in &header {
@@ -289,18 +289,8 @@ impl TrialColumns {
 
     /// Line `n` (1-based), `line`, as a row.
     fn row(&self, n: usize, line: &str) -> Result<TrialRow, String> {
-        let TrialColumns {
-            header,
-            continuous,
-            c,
-            e,
-            r,
-            step_col,
-            start_col,
-        } = self;
         const FILE: &str = "trials.csv";
-        let (continuous, c, e, r) = (*continuous, *c, *e, *r);
-        let (step_col, start_col) = (*step_col, *start_col);
+        let (header, c, e, r) = (&self.header, self.c, self.e, self.r);
         let f = csv_fields(line);
         if f.len() != header.len() {
             return Err(format!(
@@ -312,7 +302,7 @@ impl TrialColumns {
             ));
         }
         let (command, at) = (&f[c].0, f[c].1);
-        let (values, command) = command_field(command, n, at, continuous)?;
+        let (values, command) = command_field(command, n, at, self.continuous)?;
         let effect = f[e]
             .0
             .trim()
@@ -327,7 +317,7 @@ impl TrialColumns {
                 )
             })?;
         let reward = parse_finite(&f[r].0, FILE, n, f[r].1, "reward")?;
-        let step = match step_col {
+        let step = match self.step_col {
             None => 1,
             Some(k) => f[k]
                 .0
@@ -344,7 +334,9 @@ impl TrialColumns {
                     )
                 })?,
         };
-        let start = start_col.map_or(String::new(), |k| f[k].0.trim().to_string());
+        let start = self
+            .start_col
+            .map_or(String::new(), |k| f[k].0.trim().to_string());
         Ok(TrialRow {
             command,
             values,

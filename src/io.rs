@@ -321,14 +321,7 @@ impl FileLock {
     pub fn exclusive(path: &Path) -> io::Result<FileLock> {
         let (dir, name) = folder_and_name(path)?;
         let lock = dir.join(format!(".{name}.lock"));
-        let mut o = OpenOptions::new();
-        o.read(true).write(true).create(true).truncate(false);
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::OpenOptionsExt;
-            o.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
-        }
-        let file = o.open(&lock)?;
+        let file = open_lock(&lock)?;
         if !file.metadata()?.is_file() {
             return Err(io::Error::new(
                 io::ErrorKind::InvalidInput,
@@ -351,6 +344,19 @@ impl FileLock {
         }
         Ok(FileLock { file })
     }
+}
+
+/// Opens (or creates) the lock file `path` for reading and writing, never
+/// through a symbolic link, without blocking on a FIFO.
+fn open_lock(path: &Path) -> io::Result<File> {
+    let mut o = OpenOptions::new();
+    o.read(true).write(true).create(true).truncate(false);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        o.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+    }
+    o.open(path)
 }
 
 /// Opens `path` for reading only if it is a regular file (a symbolic
@@ -528,14 +534,7 @@ impl DirLock {
     pub fn acquire(dir: &Path) -> io::Result<DirLock> {
         let path = dir.join(LOCK_FILE);
         loop {
-            let mut o = OpenOptions::new();
-            o.read(true).write(true).create(true).truncate(false);
-            #[cfg(unix)]
-            {
-                use std::os::unix::fs::OpenOptionsExt;
-                o.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
-            }
-            let mut file = o.open(&path).map_err(|e| lock_file_error(&path, e))?;
+            let mut file = open_lock(&path).map_err(|e| lock_file_error(&path, e))?;
             if !file.metadata()?.is_file() {
                 return Err(lock_file_error(
                     &path,

@@ -86,15 +86,17 @@ pub fn is_invisible_format(c: char) -> bool {
 /// assert_eq!(escape_controls("two\nlines"), "two\nlines");
 /// ```
 pub fn escape_controls(s: &str) -> Cow<'_, str> {
-    if !s
-        .chars()
-        .any(|c| is_terminal_control(c) && c != '\n' && c != '\t')
-    {
+    escape_where(s, |c| is_terminal_control(c) && c != '\n' && c != '\t')
+}
+
+/// `s` with each character `escaped` picks written as by [`push_code`].
+fn escape_where(s: &str, escaped: impl Fn(char) -> bool) -> Cow<'_, str> {
+    if !s.chars().any(&escaped) {
         return Cow::Borrowed(s);
     }
     let mut out = String::with_capacity(s.len() + 8);
     for c in s.chars() {
-        if is_terminal_control(c) && c != '\n' && c != '\t' {
+        if escaped(c) {
             push_code(&mut out, c);
         } else {
             out.push(c);
@@ -103,6 +105,7 @@ pub fn escape_controls(s: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
+/// `c` written as `\xHH` (or `\u{HHHH}` past 0xFF).
 fn push_code(out: &mut String, c: char) {
     let u = u32::from(c);
     if u <= 0xff {
@@ -182,18 +185,7 @@ pub fn xml_escape(s: &str) -> Cow<'_, str> {
 /// escapes `<` and `&` but passes control characters through (plotters),
 /// which would make the document ill-formed.
 pub fn xml_forbidden_escaped(xml: String) -> String {
-    if !xml.chars().any(xml_forbidden) {
-        return xml;
-    }
-    let mut out = String::with_capacity(xml.len() + 16);
-    for c in xml.chars() {
-        if xml_forbidden(c) {
-            push_code(&mut out, c);
-        } else {
-            out.push(c);
-        }
-    }
-    out
+    escape_where(&xml, xml_forbidden).into_owned()
 }
 
 /// Characters XML 1.0 forbids in a document (C0 controls but tab, line
@@ -454,7 +446,7 @@ pub enum Line {
 
 /// Reads one line of `input` holding at most `max` bytes of memory,
 /// whatever the stream holds (standard input without a line feed, for
-/// example `/dev/zero`, used to be read whole). A longer line is
+/// example `/dev/zero`). A longer line is
 /// [`Line::TooLong`], with its start, as soon as the cap is passed; bytes
 /// that are not UTF-8 are replaced by U+FFFD.
 pub fn read_line_bounded(input: &mut impl BufRead, max: usize) -> io::Result<Line> {

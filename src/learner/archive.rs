@@ -3,10 +3,10 @@
 //! arXiv 1901.10995): one command per reached cell; pick a cell, mutate
 //! its command, execute it.
 
-use super::mutation::{check_cells, kept_commands_state, Genome, SymbolGenome, ValueGenome};
+use super::mutation::{check_cells, kept_commands, spread, Genome, SymbolGenome, ValueGenome};
 use super::state::{LearnerState, StateShape};
 use super::{ContinuousLearner, Learner, Params};
-use crate::command::{Command, CommandSpace, ValueSpace};
+use crate::command::{Command, ValueSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
@@ -23,10 +23,51 @@ struct Entry<T> {
     weight: f64,
 }
 
-/// The archive, for either kind of command.
+/// An archive of reached cells, Go-Explore style, over commands of
+/// symbols ([`Archive`]) or of values ([`ArchiveValues`]).
+///
+/// The archive keeps **one command per reached cell** (the first that
+/// reached it, replaced only by one that reached it with a higher reward).
+/// Each trial:
+///
+/// ```text
+/// if the archive is empty: a uniform command
+/// else:
+///     pick a reached cell c with probability proportional to (1 + n_c)^(-rarity),
+///         n_c the times c was picked before (rarity 0: uniformly)
+///     n_c <- n_c + 1
+///     propose the command of c with k slots resampled (Params::k)
+/// after the trial, ending in cell e with reward r:
+///     if e is not in the archive, or r > the reward kept for e: keep the command for e
+/// ```
+///
+/// `rarity` is [`Params::rarity`] (default 0.5, Go-Explore's
+/// `1/sqrt(n + 1)` weight), `k` is [`Params::k`] (default 2). Its draws:
+/// one `f64` per trial to pick a cell (one integer when `rarity` is 0),
+/// then two integers per mutated slot ([`mutate_symbols`](super::mutation::mutate_symbols)).
+/// Over values, a mutation adds `N(0, sigma^2)` to every value in the unit
+/// coordinates of its range ([`Params::sigma`], default 0.1;
+/// [`mutate_values`](super::mutation::mutate_values)).
+///
+/// ```
+/// use e3d::learner::Archive;
+/// use e3d::rand::SeedableRng;
+/// use e3d::{Command, Learner, Outcome, Params, SessionRng};
+/// use e3d::command::CommandSpace;
+/// let space = CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
+/// let mut a = Archive::new(&space, 5, &Params::TASK1);
+/// let mut rng = SessionRng::seed_from_u64(0);
+/// let mut c = space.first();
+/// a.propose(&mut rng, &mut c); // the archive is empty: a uniform command
+/// a.learn(&c, &Outcome { effect: 2, reward: 0.0, point: [0.0; 2] });
+/// assert_eq!(a.command_of(2), Some(&c.symbols[..]));
+/// a.propose(&mut rng, &mut c); // cell 2's command, one slot changed
+/// assert_eq!(a.last_cell(), Some(2));
+/// assert_eq!(a.reached(), [2]);
+/// ```
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(bound = "")]
-struct Core<G: Genome> {
+pub struct ArchiveOf<G: Genome> {
     genome: G,
     cells: Vec<Option<Entry<G::Elem>>>,
     /// The reached cells, in the order they were first reached.
@@ -36,15 +77,36 @@ struct Core<G: Genome> {
     last_cell: Option<usize>,
 }
 
-impl<G: Genome> Core<G> {
-    fn new(genome: G, num_effects: usize, rarity: f64) -> Self {
-        Core {
-            genome,
+/// The archive over commands of symbols.
+pub type Archive = ArchiveOf<SymbolGenome>;
+
+/// [`Archive`] over continuous commands: a mutation adds `N(0, sigma^2)`
+/// to every value in the unit coordinates of its range.
+pub type ArchiveValues = ArchiveOf<ValueGenome>;
+
+impl<G: Genome> ArchiveOf<G> {
+    /// An empty archive for `space` and `num_effects` cells, mutating
+    /// `params.k` slots (symbols) or with `params.sigma` (values), and
+    /// picking cells with `params.rarity`.
+    pub fn new(space: &G::Space, num_effects: usize, params: &Params) -> Self {
+        ArchiveOf {
+            genome: G::new(space, params),
             cells: vec![None; num_effects],
             reached: Vec::new(),
-            rarity,
+            rarity: params.rarity,
             last_cell: None,
         }
+    }
+
+    /// The reached cells, in the order they were first reached.
+    pub fn reached(&self) -> &[usize] {
+        &self.reached
+    }
+
+    /// The cell picked for the last proposal (`None`: the archive was
+    /// empty and the command uniform).
+    pub fn last_cell(&self) -> Option<usize> {
+        self.last_cell
     }
 
     fn choose(&mut self, rng: &mut SessionRng) -> Option<usize> {
@@ -71,7 +133,7 @@ impl<G: Genome> Core<G> {
         Some(self.reached[i])
     }
 
-    fn propose(&mut self, rng: &mut SessionRng, out: &mut Vec<G::Elem>) {
+    fn draw(&mut self, rng: &mut SessionRng, out: &mut Vec<G::Elem>) {
         self.last_cell = self.choose(rng);
         match self.last_cell {
             None => self.genome.random(rng, out),
@@ -87,7 +149,7 @@ impl<G: Genome> Core<G> {
         }
     }
 
-    fn learn(&mut self, command: &[G::Elem], outcome: &Outcome) {
+    fn keep(&mut self, command: &[G::Elem], outcome: &Outcome) {
         let e = outcome.effect;
         match &mut self.cells[e] {
             Some(entry) => {
@@ -109,199 +171,24 @@ impl<G: Genome> Core<G> {
         }
     }
 
-    fn command_of(&self, effect: usize) -> Option<&[G::Elem]> {
+    /// The command kept for cell `effect`, if it was reached.
+    pub fn command_of(&self, effect: usize) -> Option<&[G::Elem]> {
         self.cells
             .get(effect)?
             .as_ref()
             .map(|c| c.command.as_slice())
     }
 
-    fn times_chosen(&self, effect: usize) -> u64 {
+    /// How many times cell `effect` was picked.
+    pub fn times_chosen(&self, effect: usize) -> u64 {
         self.cells
             .get(effect)
             .and_then(|c| c.as_ref())
             .map_or(0, |c| c.chosen)
     }
-}
 
-/// An archive of reached cells, Go-Explore style, over commands of
-/// symbols.
-///
-/// The archive keeps **one command per reached cell** (the first that
-/// reached it, replaced only by one that reached it with a higher reward).
-/// Each trial:
-///
-/// ```text
-/// if the archive is empty: a uniform command
-/// else:
-///     pick a reached cell c with probability proportional to (1 + n_c)^(-rarity),
-///         n_c the times c was picked before (rarity 0: uniformly)
-///     n_c <- n_c + 1
-///     propose the command of c with k slots resampled (Params::k)
-/// after the trial, ending in cell e with reward r:
-///     if e is not in the archive, or r > the reward kept for e: keep the command for e
-/// ```
-///
-/// `rarity` is [`Params::rarity`] (default 0.5, Go-Explore's
-/// `1/sqrt(n + 1)` weight), `k` is [`Params::k`] (default 2). Its draws:
-/// one `f64` per trial to pick a cell (one integer when `rarity` is 0),
-/// then two integers per mutated slot ([`mutate_symbols`](super::mutation::mutate_symbols)).
-///
-/// ```
-/// use e3d::learner::Archive;
-/// use e3d::rand::SeedableRng;
-/// use e3d::{Command, Learner, Outcome, Params, SessionRng};
-/// use e3d::command::CommandSpace;
-/// let space = CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
-/// let mut a = Archive::new(&space, 5, &Params::TASK1);
-/// let mut rng = SessionRng::seed_from_u64(0);
-/// let mut c = space.first();
-/// a.propose(&mut rng, &mut c); // the archive is empty: a uniform command
-/// a.learn(&c, &Outcome { effect: 2, reward: 0.0, point: [0.0; 2] });
-/// assert_eq!(a.command_of(2), Some(&c.symbols[..]));
-/// a.propose(&mut rng, &mut c); // cell 2's command, one slot changed
-/// assert_eq!(a.last_cell(), Some(2));
-/// assert_eq!(a.reached(), [2]);
-/// ```
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct Archive {
-    core: Core<SymbolGenome>,
-}
-
-impl Archive {
-    /// An empty archive for `space` and `num_effects` cells, mutating
-    /// `params.k` slots and picking cells with `params.rarity`.
-    pub fn new(space: &CommandSpace, num_effects: usize, params: &Params) -> Self {
-        Archive {
-            core: Core::new(
-                SymbolGenome::new(space.sizes().collect(), params.k),
-                num_effects,
-                params.rarity,
-            ),
-        }
-    }
-
-    /// The command kept for cell `effect`, if it was reached.
-    pub fn command_of(&self, effect: usize) -> Option<&[u8]> {
-        self.core.command_of(effect)
-    }
-
-    /// The reached cells, in the order they were first reached.
-    pub fn reached(&self) -> &[usize] {
-        &self.core.reached
-    }
-
-    /// How many times cell `effect` was picked.
-    pub fn times_chosen(&self, effect: usize) -> u64 {
-        self.core.times_chosen(effect)
-    }
-
-    /// The cell picked for the last proposal (`None`: the archive was
-    /// empty and the command uniform).
-    pub fn last_cell(&self) -> Option<usize> {
-        self.core.last_cell
-    }
-}
-
-impl Learner for Archive {
-    fn name(&self) -> &str {
-        "archive"
-    }
-
-    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
-        self.core.propose(rng, &mut command.symbols);
-    }
-
-    fn learn(&mut self, command: &Command, outcome: &Outcome) {
-        self.core.learn(&command.symbols, outcome);
-    }
-}
-
-/// [`Archive`] over continuous commands: the same archive, a mutation adds
-/// `N(0, sigma^2)` to every value in the unit coordinates of its range
-/// ([`Params::sigma`], default 0.1; [`mutate_values`](super::mutation::mutate_values)).
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct ArchiveValues {
-    core: Core<ValueGenome>,
-}
-
-impl ArchiveValues {
-    /// An empty archive for `space` and `num_effects` cells, with
-    /// `params.sigma` and `params.rarity`.
-    pub fn new(space: &ValueSpace, num_effects: usize, params: &Params) -> Self {
-        ArchiveValues {
-            core: Core::new(
-                ValueGenome {
-                    space: space.clone(),
-                    sigma: params.sigma,
-                },
-                num_effects,
-                params.rarity,
-            ),
-        }
-    }
-
-    /// The values kept for cell `effect`, if it was reached.
-    pub fn command_of(&self, effect: usize) -> Option<&[f64]> {
-        self.core.command_of(effect)
-    }
-
-    /// The reached cells, in the order they were first reached.
-    pub fn reached(&self) -> &[usize] {
-        &self.core.reached
-    }
-}
-
-impl ContinuousLearner for ArchiveValues {
-    fn value_space(&self) -> Option<&ValueSpace> {
-        Some(&self.core.genome.space)
-    }
-
-    fn name(&self) -> &str {
-        "archive"
-    }
-
-    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
-        self.core.propose(rng, values);
-    }
-
-    fn learn(&mut self, values: &[f64], outcome: &Outcome) {
-        self.core.learn(values, outcome);
-    }
-
-    /// The archive is no Gaussian: the mean and standard deviation of the
-    /// slot's values over the reached cells' commands (the middle of the
-    /// range and 0 while the archive is empty).
-    fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
-        spread(
-            self.core
-                .reached
-                .iter()
-                .filter_map(|&e| self.core.command_of(e).map(|c| c[slot])),
-            self.core.genome.space.range(slot),
-        )
-    }
-}
-
-/// The mean and (population) standard deviation of `xs`; the middle of
-/// `range` and 0 when there are none.
-pub(crate) fn spread(xs: impl Iterator<Item = f64>, range: (f64, f64)) -> (f64, f64) {
-    let (mut n, mut sum, mut sq) = (0.0, 0.0, 0.0);
-    for x in xs {
-        n += 1.0;
-        sum += x;
-        sq += x * x;
-    }
-    if n == 0.0 {
-        return ((range.0 + range.1) / 2.0, 0.0);
-    }
-    let mean = sum / n;
-    (mean, (sq / n - mean * mean).max(0.0).sqrt())
-}
-
-impl<G: Genome> Core<G> {
     /// Checks an archive read from a state.
-    fn validate(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), String> {
         self.genome.validate()?;
         let n = self.genome.sizes().len();
         let (cells, reached) = (&self.cells, &self.reached);
@@ -311,4 +198,4 @@ impl<G: Genome> Core<G> {
     }
 }
 
-kept_commands_state!(Archive "archive", ArchiveValues "archive_values");
+kept_commands!(ArchiveOf "archive" reached);

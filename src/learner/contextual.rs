@@ -17,6 +17,8 @@
 //!
 //! Equations: docs/algorithms.md, "Contexts and closed loop".
 
+use super::egreedy::random_argmax;
+use super::mutation::random_symbols;
 use super::{E3d, Learner, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
@@ -216,14 +218,6 @@ impl ActionValues {
         &self.q[context * self.commands..(context + 1) * self.commands]
     }
 
-    /// `max_a Q(s, a)`.
-    fn best(&self, context: usize) -> f64 {
-        self.row(context)
-            .iter()
-            .copied()
-            .fold(f64::NEG_INFINITY, f64::max)
-    }
-
     /// The Bellman target `r + gamma max_a' Q(s', a')` (`r` after an
     /// episode's last command), then `Q(s, a) <- Q(s, a) + alpha (y - Q(s, a))`;
     /// returns `y`.
@@ -236,7 +230,13 @@ impl ActionValues {
         alpha: f64,
         gamma: f64,
     ) -> f64 {
-        let y = reward + next.map_or(0.0, |s| gamma * self.best(s));
+        let best = |s| {
+            self.row(s)
+                .iter()
+                .copied()
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let y = reward + next.map_or(0.0, |s| gamma * best(s));
         let q = &mut self.q[context * self.commands + index];
         *q += alpha * (y - *q);
         y
@@ -406,22 +406,10 @@ impl ContextualLearner for QLearning {
     fn propose(&mut self, context: usize, rng: &mut SessionRng, command: &mut Command) {
         let explore: f64 = rng.random();
         if explore < self.epsilon {
-            command.symbols.resize(self.space.num_slots(), 0);
-            for (s, k) in command.symbols.iter_mut().zip(self.space.sizes()) {
-                *s = rng.random_range(0..k) as u8;
-            }
+            random_symbols(self.space.sizes(), rng, &mut command.symbols);
             return;
         }
-        let row = self.values.row(context);
-        let best = self.values.best(context);
-        let ties = row.iter().filter(|&&v| v == best).count();
-        let pick = rng.random_range(0..ties);
-        let index = row
-            .iter()
-            .enumerate()
-            .filter(|(_, &v)| v == best)
-            .nth(pick)
-            .map_or(0, |(i, _)| i);
+        let index = random_argmax(self.values.row(context), rng);
         self.space.write_command_at(index as u64, command);
     }
     fn learn(&mut self, context: usize, command: &Command, outcome: &Outcome, next: Option<usize>) {

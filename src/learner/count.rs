@@ -84,10 +84,7 @@ impl Learner for CountBonus {
     }
 
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
-        Some(SoftmaxSlots::probs_of(
-            self.slots.beta,
-            self.slots.slot(slot),
-        ))
+        Some(self.slots.policy(slot))
     }
 }
 

@@ -42,6 +42,16 @@ impl EpsilonGreedy {
     }
 }
 
+/// The index of a largest value of `q`, ties broken uniformly at random
+/// (one `random_range` over the ties).
+pub(crate) fn random_argmax(q: &[f64], rng: &mut SessionRng) -> usize {
+    let best = q.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let ties = q.iter().filter(|&&v| v == best).count();
+    let pick = rng.random_range(0..ties);
+    let mut best_ones = q.iter().enumerate().filter(|(_, &v)| v == best);
+    best_ones.nth(pick).map_or(0, |(i, _)| i)
+}
+
 impl Learner for EpsilonGreedy {
     fn name(&self) -> &str {
         "egreedy"
@@ -56,15 +66,7 @@ impl Learner for EpsilonGreedy {
             command.symbols[slot] = if explore < self.epsilon {
                 rng.random_range(0..q.len()) as u8
             } else {
-                let best = q.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                let ties = q.iter().filter(|&&v| v == best).count();
-                let pick = rng.random_range(0..ties);
-                q.iter()
-                    .enumerate()
-                    .filter(|(_, &v)| v == best)
-                    .nth(pick)
-                    .map(|(i, _)| i)
-                    .unwrap_or(0) as u8
+                random_argmax(q, rng) as u8
             };
         }
     }
@@ -119,11 +121,7 @@ impl LearnerState for EpsilonGreedy {
         if name != "q" {
             return Err(no_table(Self::KIND, name, &self.tables()));
         }
-        let rows: Vec<Vec<f64>> = slot_rows(name, values, &sizes_of(&self.offsets), false)?
-            .into_iter()
-            .map(<[f64]>::to_vec)
-            .collect();
-        self.q = rows.concat();
+        self.q = slot_rows(name, values, &sizes_of(&self.offsets), false)?.concat();
         Ok(())
     }
 }

@@ -1,13 +1,13 @@
 //! Learners of continuous commands: a Gaussian E3D and the uniform sampler.
 
-use super::state::tables::{check_len, log_target_of, model_of, no_table, target_of, StateTable};
+use super::mutation::{normal, random_values, to_unit};
+use super::state::tables::{check_len, model_tables, no_table, set_model_table, StateTable};
 use super::state::{check_model, check_values, ensure, LearnerState, StateShape};
 use super::{ContinuousLearner, LearnerError, Params};
 use crate::command::ValueSpace;
 use crate::effect::{log_floored, EffectModel, Target};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
-use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
 /// The standard deviation a [`GaussianE3d`] slot starts with, in the unit
@@ -31,21 +31,6 @@ pub const BASELINE_RATE: f64 = 0.05;
 /// The step of the policy is `POLICY_STEP x alpha` (a mean moves by at most
 /// this times the advantage times the draw's distance from it).
 pub const POLICY_STEP: f64 = 0.3;
-
-/// One standard normal draw (Marsaglia's polar method: two uniforms, a
-/// square root and a logarithm per pair; the second of the pair is dropped
-/// so that each draw consumes the generator the same way whatever came
-/// before).
-pub(crate) fn normal(rng: &mut SessionRng) -> f64 {
-    loop {
-        let u = 2.0 * rng.random::<f64>() - 1.0;
-        let v = 2.0 * rng.random::<f64>() - 1.0;
-        let s = u * u + v * v;
-        if s > 0.0 && s < 1.0 {
-            return u * (-2.0 * s.ln() / s).sqrt();
-        }
-    }
-}
 
 /// E3D over continuous slots: a Gaussian policy per slot, updated by the
 /// paper's intrinsic reward through the score function.
@@ -169,10 +154,9 @@ impl ContinuousLearner for GaussianE3d {
         if values != self.sent.as_slice() {
             // a command this learner did not propose: its unit coordinates
             self.draws.clear();
-            for (slot, &v) in values.iter().enumerate() {
-                let (lo, hi) = self.space.range(slot);
-                self.draws.push(2.0 * (v - lo) / (hi - lo) - 1.0);
-            }
+            let unit = values.iter().enumerate();
+            self.draws
+                .extend(unit.map(|(slot, &v)| to_unit(&self.space, slot, v)));
         }
         let e = outcome.effect;
         let p = self.model.observe(e);
@@ -240,10 +224,7 @@ impl ContinuousLearner for UniformValues {
     }
 
     fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
-        values.clear();
-        for &(lo, hi) in self.space.ranges() {
-            values.push(lo + (hi - lo) * rng.random::<f64>());
-        }
+        random_values(&self.space, rng, values);
     }
 
     fn learn(&mut self, _values: &[f64], _outcome: &Outcome) {}
@@ -278,47 +259,42 @@ impl LearnerState for GaussianE3d {
     /// read-only.
     fn tables(&self) -> Vec<StateTable> {
         let sd = self.log_sd.iter().map(|v| v.exp()).collect();
-        vec![
+        let mut t = vec![
             StateTable::vector("mean", true, self.mean.clone()),
             StateTable::vector("sd", true, sd),
-            StateTable::vector("p", true, self.model.probs()),
-            StateTable::vector("target", true, target_of(&self.log_target)),
-            StateTable {
-                name: "baseline",
-                shape: vec![],
-                values: vec![self.baseline],
-                writable: false,
-            },
-        ]
+        ];
+        t.extend(model_tables(&self.model, &self.log_target));
+        t.push(StateTable {
+            name: "baseline",
+            shape: vec![],
+            values: vec![self.baseline],
+            writable: false,
+        });
+        t
     }
     fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
-        let n = self.space.num_slots();
-        match name {
-            "mean" | "sd" => {
-                check_len(name, values, n)?;
-                let positive = name == "sd";
-                if let Some(v) = values
-                    .iter()
-                    .find(|v| !v.is_finite() || (positive && **v <= 0.0))
-                {
-                    let expected = if positive {
-                        "a finite number > 0"
-                    } else {
-                        "a finite number"
-                    };
-                    return Err(LearnerError::State(format!(
-                        "table `{name}`: {v} is not {expected}"
-                    )));
-                }
-                if positive {
-                    self.log_sd = values.iter().map(|v| v.ln()).collect();
-                } else {
-                    self.mean = values.to_vec();
-                }
-            }
-            "p" => self.model = model_of(values, &self.model)?,
-            "target" => self.log_target = log_target_of(values, self.model.num_effects())?,
+        if set_model_table(name, values, &mut self.model, &mut self.log_target)? {
+            return Ok(());
+        }
+        let positive = match name {
+            "mean" => false,
+            "sd" => true,
             _ => return Err(no_table(Self::KIND, name, &self.tables())),
+        };
+        check_len(name, values, self.space.num_slots())?;
+        if let Some(v) = values
+            .iter()
+            .find(|v| !v.is_finite() || (positive && **v <= 0.0))
+        {
+            let expected = ["a finite number", "a finite number > 0"][usize::from(positive)];
+            return Err(LearnerError::State(format!(
+                "table `{name}`: {v} is not {expected}"
+            )));
+        }
+        if positive {
+            self.log_sd = values.iter().map(|v| v.ln()).collect();
+        } else {
+            self.mean = values.to_vec();
         }
         Ok(())
     }

@@ -4,11 +4,10 @@
 //! explauto): sample a goal effect, take the known command whose outcome
 //! is nearest to it, mutate it, execute it, remember what it reached.
 
-use super::archive::spread;
-use super::mutation::{check_cells, kept_commands_state, Genome, SymbolGenome, ValueGenome};
+use super::mutation::{check_cells, kept_commands, spread, Genome, SymbolGenome, ValueGenome};
 use super::state::{ensure, LearnerState, StateShape};
 use super::{ContinuousLearner, Learner, Params};
-use crate::command::{Command, CommandSpace, ValueSpace};
+use crate::command::{Command, ValueSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
@@ -35,10 +34,56 @@ struct Known<T> {
     command: Vec<T>,
 }
 
-/// Goal babbling, for either kind of command.
+/// Goal babbling with a nearest-neighbour inverse model, over commands of
+/// symbols ([`GoalBabbling`]) or of values ([`GoalBabblingValues`]).
+///
+/// The effect space is the plane of the terminal point: a cell's known
+/// outcome is where the command kept for it ended (on a grid, the cell's
+/// centre). Each trial:
+///
+/// ```text
+/// if no cell is known: a uniform command
+/// else:
+///     box <- the box of the known outcomes, widened by 10% of its size on each side
+///     goal g ~ uniform(box)        (or by learning progress, below)
+///     c <- the known cell whose outcome is nearest to g (ties: the first reached)
+///     propose the command of c with k slots resampled (Params::k)
+/// after the trial, ending in cell e at point x:
+///     cell e's command <- this command, its outcome <- x (the most recent one)
+/// ```
+///
+/// **Learning-progress goals** (explauto's "discretized progress"), with
+/// probability [`Params::goal_progress`] (default 0: every goal uniform):
+/// the goal box is split into 4 x 4 regions; each keeps the competences
+/// `-|g - x|` of the last 20 goals drawn in it, and its progress is the
+/// absolute difference between the means of the newer and the older half.
+/// A region is drawn with probability proportional to its progress
+/// (uniformly while all are 0) and the goal uniformly in it.
+///
+/// Its draws: two `f64` per goal (one more, and one for the region, when
+/// `goal_progress > 0`), then two integers per mutated slot. Over values,
+/// a mutation adds `N(0, sigma^2)` to every value in the unit coordinates
+/// of its range ([`Params::sigma`], default 0.1).
+///
+/// ```
+/// use e3d::learner::GoalBabbling;
+/// use e3d::rand::SeedableRng;
+/// use e3d::{Command, Learner, Outcome, Params, SessionRng};
+/// use e3d::command::CommandSpace;
+/// let space = CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
+/// let mut g = GoalBabbling::new(&space, 4, &Params::TASK1);
+/// g.learn(&Command::new(vec![0, 0, 0]), &Outcome { effect: 1, reward: 0.0, point: [0.0, 0.0] });
+/// g.learn(&Command::new(vec![2, 2, 2]), &Outcome { effect: 3, reward: 0.0, point: [4.0, 0.0] });
+/// assert_eq!(g.nearest([1.0, 0.0]), Some(1));
+/// assert_eq!(g.nearest([3.0, 1.0]), Some(3));
+/// let mut c = space.first();
+/// g.propose(&mut SessionRng::seed_from_u64(1), &mut c);
+/// let parent = g.last_parent().unwrap();
+/// assert_eq!(g.nearest(g.last_goal().unwrap()), Some(parent));
+/// ```
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(bound = "")]
-struct Core<G: Genome> {
+pub struct GoalBabblingOf<G: Genome> {
     genome: G,
     cells: Vec<Option<Known<G::Elem>>>,
     /// The reached cells, in the order they were first reached.
@@ -53,15 +98,25 @@ struct Core<G: Genome> {
     last_parent: Option<usize>,
 }
 
-impl<G: Genome> Core<G> {
-    fn new(genome: G, num_effects: usize, goal_progress: f64) -> Self {
-        Core {
-            genome,
+/// Goal babbling over commands of symbols.
+pub type GoalBabbling = GoalBabblingOf<SymbolGenome>;
+
+/// [`GoalBabbling`] over continuous commands: a mutation adds `N(0,
+/// sigma^2)` to every value in the unit coordinates of its range.
+pub type GoalBabblingValues = GoalBabblingOf<ValueGenome>;
+
+impl<G: Genome> GoalBabblingOf<G> {
+    /// A learner that knows nothing yet, for `space` and `num_effects`
+    /// cells, mutating `params.k` slots (symbols) or with `params.sigma`
+    /// (values), with `params.goal_progress`.
+    pub fn new(space: &G::Space, num_effects: usize, params: &Params) -> Self {
+        GoalBabblingOf {
+            genome: G::new(space, params),
             cells: vec![None; num_effects],
             known: Vec::new(),
             lo: [f64::INFINITY; 2],
             hi: [f64::NEG_INFINITY; 2],
-            goal_progress,
+            goal_progress: params.goal_progress,
             competence: vec![VecDeque::new(); PROGRESS_BINS * PROGRESS_BINS],
             last_goal: None,
             last_region: 0,
@@ -141,10 +196,34 @@ impl<G: Genome> Core<G> {
         goal
     }
 
+    /// The command kept for cell `effect` (the last that reached it).
+    pub fn command_of(&self, effect: usize) -> Option<&[G::Elem]> {
+        self.cells
+            .get(effect)?
+            .as_ref()
+            .map(|k| k.command.as_slice())
+    }
+
+    /// The goal of the last proposal (`None` until a cell is known, and
+    /// after a `learn`).
+    pub fn last_goal(&self) -> Option<[f64; 2]> {
+        self.last_goal
+    }
+
+    /// The cell whose command the last proposal mutated.
+    pub fn last_parent(&self) -> Option<usize> {
+        self.last_parent
+    }
+
+    /// The reached cells, in the order they were first reached.
+    pub fn known(&self) -> &[usize] {
+        &self.known
+    }
+
     /// The reached cell whose known outcome is nearest to `goal`
     /// (Euclidean; ties: the first reached); `None` only when no cell is
     /// known (distances that overflow to infinity still rank, NaN last).
-    fn nearest(&self, goal: [f64; 2]) -> Option<usize> {
+    pub fn nearest(&self, goal: [f64; 2]) -> Option<usize> {
         let mut best = None;
         let mut best_d = f64::NAN;
         for &e in &self.known {
@@ -158,7 +237,7 @@ impl<G: Genome> Core<G> {
         best
     }
 
-    fn propose(&mut self, rng: &mut SessionRng, out: &mut Vec<G::Elem>) {
+    fn draw(&mut self, rng: &mut SessionRng, out: &mut Vec<G::Elem>) {
         if self.known.is_empty() {
             self.last_goal = None;
             self.last_parent = None;
@@ -174,7 +253,7 @@ impl<G: Genome> Core<G> {
         self.genome.mutate(rng, out);
     }
 
-    fn learn(&mut self, command: &[G::Elem], outcome: &Outcome) {
+    fn keep(&mut self, command: &[G::Elem], outcome: &Outcome) {
         let p = outcome.point;
         if let Some(goal) = self.last_goal.take() {
             if self.goal_progress > 0.0 {
@@ -206,193 +285,9 @@ impl<G: Genome> Core<G> {
             self.hi[a] = self.hi[a].max(x);
         }
     }
-}
 
-/// Goal babbling with a nearest-neighbour inverse model, over commands of
-/// symbols.
-///
-/// The effect space is the plane of the terminal point: a cell's known
-/// outcome is where the command kept for it ended (on a grid, the cell's
-/// centre). Each trial:
-///
-/// ```text
-/// if no cell is known: a uniform command
-/// else:
-///     box <- the box of the known outcomes, widened by 10% of its size on each side
-///     goal g ~ uniform(box)        (or by learning progress, below)
-///     c <- the known cell whose outcome is nearest to g (ties: the first reached)
-///     propose the command of c with k slots resampled (Params::k)
-/// after the trial, ending in cell e at point x:
-///     cell e's command <- this command, its outcome <- x (the most recent one)
-/// ```
-///
-/// **Learning-progress goals** (explauto's "discretized progress"), with
-/// probability [`Params::goal_progress`] (default 0: every goal uniform):
-/// the goal box is split into 4 x 4 regions; each keeps the competences
-/// `-|g - x|` of the last 20 goals drawn in it, and its progress is the
-/// absolute difference between the means of the newer and the older half.
-/// A region is drawn with probability proportional to its progress
-/// (uniformly while all are 0) and the goal uniformly in it.
-///
-/// Its draws: two `f64` per goal (one more, and one for the region, when
-/// `goal_progress > 0`), then two integers per mutated slot.
-///
-/// ```
-/// use e3d::learner::GoalBabbling;
-/// use e3d::rand::SeedableRng;
-/// use e3d::{Command, Learner, Outcome, Params, SessionRng};
-/// use e3d::command::CommandSpace;
-/// let space = CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
-/// let mut g = GoalBabbling::new(&space, 4, &Params::TASK1);
-/// g.learn(&Command::new(vec![0, 0, 0]), &Outcome { effect: 1, reward: 0.0, point: [0.0, 0.0] });
-/// g.learn(&Command::new(vec![2, 2, 2]), &Outcome { effect: 3, reward: 0.0, point: [4.0, 0.0] });
-/// assert_eq!(g.nearest([1.0, 0.0]), Some(1));
-/// assert_eq!(g.nearest([3.0, 1.0]), Some(3));
-/// let mut c = space.first();
-/// g.propose(&mut SessionRng::seed_from_u64(1), &mut c);
-/// let parent = g.last_parent().unwrap();
-/// assert_eq!(g.nearest(g.last_goal().unwrap()), Some(parent));
-/// ```
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct GoalBabbling {
-    core: Core<SymbolGenome>,
-}
-
-impl GoalBabbling {
-    /// A learner that knows nothing yet, for `space` and `num_effects`
-    /// cells, mutating `params.k` slots, with `params.goal_progress`.
-    pub fn new(space: &CommandSpace, num_effects: usize, params: &Params) -> Self {
-        GoalBabbling {
-            core: Core::new(
-                SymbolGenome::new(space.sizes().collect(), params.k),
-                num_effects,
-                params.goal_progress,
-            ),
-        }
-    }
-
-    /// The known cell whose outcome is nearest to `goal`.
-    pub fn nearest(&self, goal: [f64; 2]) -> Option<usize> {
-        self.core.nearest(goal)
-    }
-
-    /// The command kept for cell `effect` (the last that reached it).
-    pub fn command_of(&self, effect: usize) -> Option<&[u8]> {
-        self.core
-            .cells
-            .get(effect)?
-            .as_ref()
-            .map(|k| k.command.as_slice())
-    }
-
-    /// The goal of the last proposal (`None` until a cell is known, and
-    /// after [`learn`](Learner::learn)).
-    pub fn last_goal(&self) -> Option<[f64; 2]> {
-        self.core.last_goal
-    }
-
-    /// The cell whose command the last proposal mutated.
-    pub fn last_parent(&self) -> Option<usize> {
-        self.core.last_parent
-    }
-
-    /// The reached cells, in the order they were first reached.
-    pub fn known(&self) -> &[usize] {
-        &self.core.known
-    }
-}
-
-impl Learner for GoalBabbling {
-    fn name(&self) -> &str {
-        "goal_babbling"
-    }
-
-    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
-        self.core.propose(rng, &mut command.symbols);
-    }
-
-    fn learn(&mut self, command: &Command, outcome: &Outcome) {
-        self.core.learn(&command.symbols, outcome);
-    }
-}
-
-/// [`GoalBabbling`] over continuous commands: a mutation adds `N(0,
-/// sigma^2)` to every value in the unit coordinates of its range
-/// ([`Params::sigma`], default 0.1).
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct GoalBabblingValues {
-    core: Core<ValueGenome>,
-}
-
-impl GoalBabblingValues {
-    /// A learner that knows nothing yet, for `space` and `num_effects`
-    /// cells, with `params.sigma` and `params.goal_progress`.
-    pub fn new(space: &ValueSpace, num_effects: usize, params: &Params) -> Self {
-        GoalBabblingValues {
-            core: Core::new(
-                ValueGenome {
-                    space: space.clone(),
-                    sigma: params.sigma,
-                },
-                num_effects,
-                params.goal_progress,
-            ),
-        }
-    }
-
-    /// The known cell whose outcome is nearest to `goal`.
-    pub fn nearest(&self, goal: [f64; 2]) -> Option<usize> {
-        self.core.nearest(goal)
-    }
-
-    /// The values kept for cell `effect`.
-    pub fn command_of(&self, effect: usize) -> Option<&[f64]> {
-        self.core
-            .cells
-            .get(effect)?
-            .as_ref()
-            .map(|k| k.command.as_slice())
-    }
-
-    /// The cell whose command the last proposal mutated.
-    pub fn last_parent(&self) -> Option<usize> {
-        self.core.last_parent
-    }
-}
-
-impl ContinuousLearner for GoalBabblingValues {
-    fn value_space(&self) -> Option<&ValueSpace> {
-        Some(&self.core.genome.space)
-    }
-
-    fn name(&self) -> &str {
-        "goal_babbling"
-    }
-
-    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
-        self.core.propose(rng, values);
-    }
-
-    fn learn(&mut self, values: &[f64], outcome: &Outcome) {
-        self.core.learn(values, outcome);
-    }
-
-    /// No Gaussian: the mean and standard deviation of the slot's values
-    /// over the known cells' commands.
-    fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
-        spread(
-            self.core
-                .known
-                .iter()
-                .filter_map(|&e| self.core.cells[e].as_ref().map(|k| k.command[slot])),
-            self.core.genome.space.range(slot),
-        )
-    }
-}
-
-impl<G: Genome> Core<G> {
     /// Checks goal babbling read from a state.
-    fn validate(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), String> {
         self.genome.validate()?;
         // a point that is not a number reaches no goal: a proposal would
         // find no nearest known cell
@@ -416,4 +311,4 @@ impl<G: Genome> Core<G> {
     }
 }
 
-kept_commands_state!(GoalBabbling "goal_babbling", GoalBabblingValues "goal_babbling_values");
+kept_commands!(GoalBabblingOf "goal_babbling" known);

@@ -46,14 +46,14 @@ mod softmax;
 pub mod state;
 mod uniform;
 
-pub use archive::{Archive, ArchiveValues};
+pub use archive::{Archive, ArchiveOf, ArchiveValues};
 pub use contextual::{ClosedLoopE3d, ContextTargets, ContextualLearner, PerContext, QLearning};
 pub use count::CountBonus;
 pub use e3d::E3d;
 pub use egreedy::EpsilonGreedy;
 pub use gaussian::{GaussianE3d, UniformValues};
 pub use goal_babbling::{
-    GoalBabbling, GoalBabblingValues, GOAL_MARGIN, PROGRESS_BINS, PROGRESS_WINDOW,
+    GoalBabbling, GoalBabblingOf, GoalBabblingValues, GOAL_MARGIN, PROGRESS_BINS, PROGRESS_WINDOW,
 };
 pub use relaxed::RelaxedE3d;
 pub use setup::LearnerSetup;
@@ -308,10 +308,6 @@ impl Params {
     /// five of [`NAMES`](Self::NAMES)), in the order of its columns.
     pub const SWEPT: [&'static str; 5] = ["alpha", "beta", "lambda", "eta", "epsilon"];
 
-    /// The hyper-parameters a sweep sets once for all its cells (the last
-    /// four of [`NAMES`](Self::NAMES)).
-    pub const FIXED: [&'static str; 4] = ["k", "sigma", "rarity", "goal_progress"];
-
     /// Each hyper-parameter by name, in the order of [`NAMES`](Self::NAMES)
     /// (`k` as a float).
     ///
@@ -346,51 +342,48 @@ impl Params {
     /// 0 < eta <= 1, 0 <= epsilon <= 1, k >= 1, sigma > 0, rarity >= 0,
     /// 0 <= goal_progress <= 1, all finite.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let check = |name, value: f64, ok: bool, expected| {
-            if ok && value.is_finite() {
-                Ok(())
-            } else {
-                Err(ParamError {
-                    name,
-                    value,
-                    expected,
-                })
-            }
-        };
-        check("alpha", self.alpha, self.alpha > 0.0, "a finite number > 0")?;
-        check("beta", self.beta, self.beta > 0.0, "a finite number > 0")?;
-        check(
-            "lambda",
-            self.lambda,
-            self.lambda >= 0.0,
+        let (pos, non_neg, unit) = (
+            "a finite number > 0",
             "a finite number >= 0",
-        )?;
-        check(
-            "eta",
-            self.eta,
-            self.eta > 0.0 && self.eta <= 1.0,
-            "a number in (0, 1]",
-        )?;
-        check(
-            "epsilon",
-            self.epsilon,
-            (0.0..=1.0).contains(&self.epsilon),
             "a number in [0, 1]",
-        )?;
-        check("k", self.k as f64, self.k >= 1, "a whole number >= 1")?;
-        check("sigma", self.sigma, self.sigma > 0.0, "a finite number > 0")?;
-        check(
-            "rarity",
-            self.rarity,
-            self.rarity >= 0.0,
-            "a finite number >= 0",
-        )?;
-        check(
-            "goal_progress",
-            self.goal_progress,
-            (0.0..=1.0).contains(&self.goal_progress),
-            "a number in [0, 1]",
-        )
+        );
+        let checks = [
+            ("alpha", self.alpha, self.alpha > 0.0, pos),
+            ("beta", self.beta, self.beta > 0.0, pos),
+            ("lambda", self.lambda, self.lambda >= 0.0, non_neg),
+            (
+                "eta",
+                self.eta,
+                self.eta > 0.0 && self.eta <= 1.0,
+                "a number in (0, 1]",
+            ),
+            (
+                "epsilon",
+                self.epsilon,
+                (0.0..=1.0).contains(&self.epsilon),
+                unit,
+            ),
+            ("k", self.k as f64, self.k >= 1, "a whole number >= 1"),
+            ("sigma", self.sigma, self.sigma > 0.0, pos),
+            ("rarity", self.rarity, self.rarity >= 0.0, non_neg),
+            (
+                "goal_progress",
+                self.goal_progress,
+                (0.0..=1.0).contains(&self.goal_progress),
+                unit,
+            ),
+        ];
+        match checks
+            .into_iter()
+            .find(|&(_, value, ok, _)| !(ok && value.is_finite()))
+        {
+            Some((name, value, _, expected)) => Err(ParamError {
+                name,
+                value,
+                expected,
+            }),
+            None => Ok(()),
+        }
     }
 }
 
@@ -463,9 +456,7 @@ impl LearnerKind {
             LearnerKind::Archive => &["k", "sigma", "rarity"],
         }
     }
-}
 
-impl LearnerKind {
     /// The kinds with a learner of continuous commands
     /// ([`LearnerSetup::values`]).
     pub const CONTINUOUS: [LearnerKind; 4] = [

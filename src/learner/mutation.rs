@@ -9,9 +9,9 @@
 //!   the unit coordinates of its range (`-1` its min, `1` its max) and
 //!   clamps to the range.
 
-use super::gaussian::normal;
 use super::state::{check_values, ensure};
-use crate::command::ValueSpace;
+use super::Params;
+use crate::command::{CommandSpace, ValueSpace};
 use crate::rng::SessionRng;
 use rand::RngExt;
 use serde::{de::DeserializeOwned, Deserialize, Serialize};
@@ -56,6 +56,21 @@ pub fn mutate_symbols(
     }
 }
 
+/// One standard normal draw (Marsaglia's polar method: two uniforms, a
+/// square root and a logarithm per pair; the second of the pair is dropped
+/// so that each draw consumes the generator the same way whatever came
+/// before).
+pub(crate) fn normal(rng: &mut SessionRng) -> f64 {
+    loop {
+        let u = 2.0 * rng.random::<f64>() - 1.0;
+        let v = 2.0 * rng.random::<f64>() - 1.0;
+        let s = u * u + v * v;
+        if s > 0.0 && s < 1.0 {
+            return u * (-2.0 * s.ln() / s).sqrt();
+        }
+    }
+}
+
 /// Adds `N(0, sigma^2)` to each value in the unit coordinates of its slot's
 /// range (one standard normal per slot, Marsaglia's polar method as in
 /// [`GaussianE3d`](super::GaussianE3d)) and clamps the result to the
@@ -84,14 +99,18 @@ pub(crate) fn to_unit(space: &ValueSpace, slot: usize, v: f64) -> f64 {
     2.0 * (v - lo) / (hi - lo) - 1.0
 }
 
-/// A uniform command of symbols (one `random_range` per slot, as
-/// [`UniformPolicy`](super::UniformPolicy)).
-pub(crate) fn random_symbols(sizes: &[usize], rng: &mut SessionRng, out: &mut Vec<u8>) {
+/// A uniform command of symbols into `out` (one `random_range` per slot,
+/// as [`UniformPolicy`](super::UniformPolicy)).
+pub(crate) fn random_symbols(
+    sizes: impl IntoIterator<Item = usize>,
+    rng: &mut SessionRng,
+    out: &mut Vec<u8>,
+) {
     out.clear();
-    out.extend(sizes.iter().map(|&k| rng.random_range(0..k) as u8));
+    out.extend(sizes.into_iter().map(|k| rng.random_range(0..k) as u8));
 }
 
-/// A uniform command of values (one `f64` per slot, as
+/// A uniform command of values into `out` (one `f64` per slot, as
 /// [`UniformValues`](super::UniformValues)).
 pub(crate) fn random_values(space: &ValueSpace, rng: &mut SessionRng, out: &mut Vec<f64>) {
     out.clear();
@@ -103,11 +122,15 @@ pub(crate) fn random_values(space: &ValueSpace, rng: &mut SessionRng, out: &mut 
     );
 }
 
-/// What a learner of kept commands needs of a command type: a uniform
-/// command and a mutation (symbols: `u8`; values: `f64`).
-pub(crate) trait Genome: Clone + Send + Serialize + DeserializeOwned {
+/// What a learner of kept commands needs of a kind of command: a uniform
+/// command and a mutation ([`SymbolGenome`]: `u8`; [`ValueGenome`]: `f64`).
+pub trait Genome: Clone + Send + Serialize + DeserializeOwned {
     /// The element of a command.
     type Elem: Copy + PartialEq + Send + std::fmt::Debug + Serialize + DeserializeOwned;
+    /// The space of the commands ([`CommandSpace`] or [`ValueSpace`]).
+    type Space;
+    /// The genome of `space`, mutating as `params` says (`k` or `sigma`).
+    fn new(space: &Self::Space, params: &Params) -> Self;
     /// A uniform command into `out`.
     fn random(&self, rng: &mut SessionRng, out: &mut Vec<Self::Elem>);
     /// Mutates `cmd` in place.
@@ -120,27 +143,25 @@ pub(crate) trait Genome: Clone + Send + Serialize + DeserializeOwned {
 
 /// Commands of symbols, mutated by resampling `k` slots.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-pub(crate) struct SymbolGenome {
-    pub(crate) sizes: Vec<usize>,
-    pub(crate) k: usize,
+pub struct SymbolGenome {
+    sizes: Vec<usize>,
+    k: usize,
     #[serde(skip)]
     scratch: Vec<usize>,
 }
 
-impl SymbolGenome {
-    pub(crate) fn new(sizes: Vec<usize>, k: usize) -> Self {
+impl Genome for SymbolGenome {
+    type Elem = u8;
+    type Space = CommandSpace;
+    fn new(space: &CommandSpace, params: &Params) -> Self {
         SymbolGenome {
-            sizes,
-            k,
+            sizes: space.sizes().collect(),
+            k: params.k,
             scratch: Vec::new(),
         }
     }
-}
-
-impl Genome for SymbolGenome {
-    type Elem = u8;
     fn random(&self, rng: &mut SessionRng, out: &mut Vec<u8>) {
-        random_symbols(&self.sizes, rng, out)
+        random_symbols(self.sizes.iter().copied(), rng, out)
     }
     fn mutate(&mut self, rng: &mut SessionRng, cmd: &mut [u8]) {
         mutate_symbols(&self.sizes, self.k, rng, cmd, &mut self.scratch)
@@ -160,13 +181,20 @@ impl Genome for SymbolGenome {
 /// Commands of values, mutated by Gaussian noise of `sigma` (unit
 /// coordinates).
 #[derive(Debug, Clone, Serialize, Deserialize)]
-pub(crate) struct ValueGenome {
+pub struct ValueGenome {
     pub(crate) space: ValueSpace,
-    pub(crate) sigma: f64,
+    sigma: f64,
 }
 
 impl Genome for ValueGenome {
     type Elem = f64;
+    type Space = ValueSpace;
+    fn new(space: &ValueSpace, params: &Params) -> Self {
+        ValueGenome {
+            space: space.clone(),
+            sigma: params.sigma,
+        }
+    }
     fn random(&self, rng: &mut SessionRng, out: &mut Vec<f64>) {
         random_values(&self.space, rng, out)
     }
@@ -206,19 +234,80 @@ pub(crate) fn check_cells<T>(
     })
 }
 
-/// [`LearnerState`](super::LearnerState) for learners of kept commands
-/// (a `core` with a `genome` and `cells`, and `Core::validate`), by kind.
-macro_rules! kept_commands_state {
-    ($($learner:ident $kind:literal),*) => {$(
-        impl LearnerState for $learner {
-            const KIND: &'static str = $kind;
-            fn shape(&self) -> StateShape {
-                StateShape::of(self.core.genome.sizes(), Some(self.core.cells.len()))
+/// The mean and (population) standard deviation of `xs`; the middle of
+/// `range` and 0 when there are none.
+pub(crate) fn spread(xs: impl Iterator<Item = f64>, range: (f64, f64)) -> (f64, f64) {
+    let (mut n, mut sum, mut sq) = (0.0, 0.0, 0.0);
+    for x in xs {
+        n += 1.0;
+        sum += x;
+        sq += x * x;
+    }
+    if n == 0.0 {
+        return ((range.0 + range.1) / 2.0, 0.0);
+    }
+    let mean = sum / n;
+    (mean, (sq / n - mean * mean).max(0.0).sqrt())
+}
+
+/// A learner of kept commands, `$of<G>` (with `genome`, `cells`, the kept
+/// cells in order in `$order`, `command_of`, `check`, and `draw` and
+/// `keep` proposing and learning a command's elements), as a [`Learner`]
+/// over symbols and a [`ContinuousLearner`] over values, and its
+/// [`LearnerState`] of kind `$kind` (`$kind_values` over values).
+///
+/// [`Learner`]: super::Learner
+/// [`ContinuousLearner`]: super::ContinuousLearner
+/// [`LearnerState`]: super::LearnerState
+macro_rules! kept_commands {
+    ($of:ident $kind:literal $order:ident) => {
+        impl Learner for $of<SymbolGenome> {
+            fn name(&self) -> &str {
+                $kind
             }
-            fn validate(&self) -> Result<(), String> {
-                self.core.validate()
+            fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
+                self.draw(rng, &mut command.symbols);
+            }
+            fn learn(&mut self, command: &Command, outcome: &Outcome) {
+                self.keep(&command.symbols, outcome);
             }
         }
-    )*};
+
+        impl ContinuousLearner for $of<ValueGenome> {
+            fn value_space(&self) -> Option<&ValueSpace> {
+                Some(&self.genome.space)
+            }
+            fn name(&self) -> &str {
+                $kind
+            }
+            fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
+                self.draw(rng, values);
+            }
+            fn learn(&mut self, values: &[f64], outcome: &Outcome) {
+                self.keep(values, outcome);
+            }
+            /// No Gaussian: the mean and standard deviation of the slot's
+            /// values over the kept commands (the middle of the range and
+            /// 0 while there are none).
+            fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
+                let kept = self.$order.iter().filter_map(|&e| self.command_of(e));
+                spread(kept.map(|c| c[slot]), self.genome.space.range(slot))
+            }
+        }
+
+        kept_commands!(@state $of SymbolGenome $kind);
+        kept_commands!(@state $of ValueGenome concat!($kind, "_values"));
+    };
+    (@state $of:ident $genome:ident $kind:expr) => {
+        impl LearnerState for $of<$genome> {
+            const KIND: &'static str = $kind;
+            fn shape(&self) -> StateShape {
+                StateShape::of(self.genome.sizes(), Some(self.cells.len()))
+            }
+            fn validate(&self) -> Result<(), String> {
+                self.check()
+            }
+        }
+    };
 }
-pub(crate) use kept_commands_state;
+pub(crate) use kept_commands;

@@ -1,5 +1,5 @@
 use super::softmax::SoftmaxSlots;
-use super::state::tables::{log_target_of, model_of, no_table, target_of, StateTable};
+use super::state::tables::{model_tables, no_table, set_model_table, StateTable};
 use super::state::{check_model, sizes_of, LearnerState, StateShape};
 use super::{Learner, LearnerError, ParamError, Params};
 use crate::command::{Command, CommandSpace};
@@ -126,10 +126,7 @@ impl Learner for RelaxedE3d {
     }
 
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
-        Some(SoftmaxSlots::probs_of(
-            self.slots.beta,
-            self.slots.slot(slot),
-        ))
+        Some(self.slots.policy(slot))
     }
 }
 
@@ -148,21 +145,15 @@ impl LearnerState for RelaxedE3d {
     /// `q`, `policy`, `p` and `target`, all writable.
     fn tables(&self) -> Vec<StateTable> {
         let mut t = self.slots.tables();
-        t.push(StateTable::vector("p", true, self.model.probs()));
-        t.push(StateTable::vector(
-            "target",
-            true,
-            target_of(&self.log_target),
-        ));
+        t.extend(model_tables(&self.model, &self.log_target));
         t
     }
     fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
-        match name {
-            "p" => self.model = model_of(values, &self.model)?,
-            "target" => self.log_target = log_target_of(values, self.model.num_effects())?,
-            _ if self.slots.set_table(name, values)? => {}
-            _ => return Err(no_table(Self::KIND, name, &self.tables())),
+        if set_model_table(name, values, &mut self.model, &mut self.log_target)?
+            || self.slots.set_table(name, values)?
+        {
+            return Ok(());
         }
-        Ok(())
+        Err(no_table(Self::KIND, name, &self.tables()))
     }
 }

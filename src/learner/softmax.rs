@@ -7,7 +7,7 @@
 //! for comparing drives, and cost about half a microsecond a trial on 7
 //! slots of 4 symbols (E3D: 0.13 µs). [`E3d`](super::E3d) keeps its own, incremental tables.
 
-use super::state::tables::{q_of_policy, slot_rows, StateTable};
+use super::state::tables::{q_rows, StateTable};
 use super::state::{check_finite, check_rates, ensure, sizes_of};
 use super::{slot_offsets, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
@@ -62,6 +62,11 @@ impl SoftmaxSlots {
         w.into_iter().map(|v| v / total).collect()
     }
 
+    /// `softmax(beta Q[:, slot])`.
+    pub fn policy(&self, slot: usize) -> Vec<f64> {
+        Self::probs_of(self.beta, self.slot(slot))
+    }
+
     /// Draws every slot of `command` from the softmax of `q` (a table laid
     /// out like `self.q`: the current one or an earlier copy), one uniform
     /// draw per slot.
@@ -96,43 +101,28 @@ impl SoftmaxSlots {
             *q = self.decay * *q + gain;
         }
     }
-}
 
-impl SoftmaxSlots {
     /// The tables `q` and `policy` (both writable).
     pub fn tables(&self) -> Vec<StateTable> {
         let sizes = sizes_of(&self.offsets);
         vec![
             StateTable::slots("q", true, &sizes, |s| self.slot(s).to_vec()),
-            StateTable::slots("policy", true, &sizes, |s| {
-                Self::probs_of(self.beta, self.slot(s))
-            }),
+            StateTable::slots("policy", true, &sizes, |s| self.policy(s)),
         ]
     }
 
     /// Writes the table `q` or `policy` (Q becomes `log(policy) / beta`);
     /// `Ok(false)` if `name` is neither.
     pub fn set_table(&mut self, name: &str, values: &[f64]) -> Result<bool, LearnerError> {
-        let sizes = sizes_of(&self.offsets);
-        let rows: Vec<Vec<f64>> = match name {
-            "q" => slot_rows(name, values, &sizes, false)?
-                .into_iter()
-                .map(<[f64]>::to_vec)
-                .collect(),
-            "policy" => slot_rows(name, values, &sizes, true)?
-                .into_iter()
-                .map(|r| q_of_policy(r, self.beta))
-                .collect(),
-            _ => return Ok(false),
+        let Some(rows) = q_rows(name, values, &sizes_of(&self.offsets), self.beta)? else {
+            return Ok(false);
         };
         for (s, r) in rows.iter().enumerate() {
             self.q[self.offsets[s]..self.offsets[s + 1]].copy_from_slice(r);
         }
         Ok(true)
     }
-}
 
-impl SoftmaxSlots {
     /// Checks slots read from a state: their offsets, rates and `Q`.
     pub fn validate(&self) -> Result<(), String> {
         check_offsets(&self.offsets, self.q.len())?;

@@ -1,9 +1,9 @@
+use super::mutation::random_symbols;
 use super::state::{ensure, LearnerState, StateShape};
 use super::Learner;
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
-use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
 /// The uniform policy: every symbol of every slot equally likely, always.
@@ -28,10 +28,7 @@ impl Learner for UniformPolicy {
     }
 
     fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
-        command.symbols.resize(self.sizes.len(), 0);
-        for (s, &k) in command.symbols.iter_mut().zip(&self.sizes) {
-            *s = rng.random_range(0..k) as u8;
-        }
+        random_symbols(self.sizes.iter().copied(), rng, &mut command.symbols);
     }
 
     fn learn(&mut self, _command: &Command, _outcome: &Outcome) {}

@@ -88,7 +88,14 @@ impl RunningMetrics {
         let mut m = RunningMetrics::new(num_effects);
         for (&effect, &reward) in effects.iter().zip(rewards) {
             let point = [0.0; 2];
-            m.record(&(), &Outcome { effect, reward, point });
+            m.record(
+                &(),
+                &Outcome {
+                    effect,
+                    reward,
+                    point,
+                },
+            );
         }
         m
     }
@@ -196,6 +203,9 @@ impl Metrics {
         reachable: Option<usize>,
     ) -> Metrics {
         let num_effects = all.len();
+        // the cells coverage counts against: the reachable ones if known
+        let cells = reachable.unwrap_or(num_effects).max(1);
+        let distinct = all.iter().filter(|&&c| c > 0.0).count();
         let norm = (num_effects as f64).ln();
         let norm = if norm > 0.0 { norm } else { 1.0 };
         let log_target = target
@@ -205,25 +215,16 @@ impl Metrics {
             normalized_entropy: entropy(all) / norm,
             normalized_entropy_last_1000: entropy(last) / norm,
             kl_to_target: kl_divergence(all, &log_target),
-            distinct_effects: all.iter().filter(|&&c| c > 0.0).count(),
+            distinct_effects: distinct,
             cumulative_reward,
             first_reward_trial,
             trials,
             reachable_effects: reachable,
             normalized_entropy_reachable: reachable.map(|k| normalized_entropy_over(all, k)),
-            coverage_cells: coverage_cells(reachable, num_effects),
-            coverage: all.iter().filter(|&&c| c > 0.0).count() as f64
-                / coverage_cells(reachable, num_effects) as f64,
-            trials_to_50_percent: trials_to_fraction(
-                discoveries,
-                coverage_cells(reachable, num_effects),
-                0.5,
-            ),
-            trials_to_90_percent: trials_to_fraction(
-                discoveries,
-                coverage_cells(reachable, num_effects),
-                0.9,
-            ),
+            coverage_cells: cells,
+            coverage: distinct as f64 / cells as f64,
+            trials_to_50_percent: trials_to_fraction(discoveries, cells, 0.5),
+            trials_to_90_percent: trials_to_fraction(discoveries, cells, 0.9),
             discovery_trials: discoveries.to_vec(),
         }
     }
@@ -247,11 +248,6 @@ impl Metrics {
         let found = self.discovery_trials.partition_point(|&d| d <= t);
         found as f64 / self.coverage_cells.max(1) as f64
     }
-}
-
-/// The cells coverage counts against: `reachable` if known, else all.
-fn coverage_cells(reachable: Option<usize>, num_effects: usize) -> usize {
-    reachable.unwrap_or(num_effects).max(1)
 }
 
 /// The trial by which `ceil(fraction x cells)` distinct effects were

@@ -23,9 +23,7 @@ pub use engine::{
     Observer, Worlds,
 };
 
-pub use metrics::{
-    policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics,
-};
+pub use metrics::{policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics};
 pub use values::{run_value_session, ValueSessionRecord};
 
 /// How to run a session.
@@ -55,6 +53,15 @@ pub struct SessionRecord {
     pub rewards: Vec<f64>,
     /// The terminal point `(x, y)` of each trial (as in [`Outcome::point`]).
     pub points: Vec<[f64; 2]>,
+}
+
+/// How many of `effects` are each of `num_effects` effects.
+fn count_effects(num_effects: usize, effects: &[usize]) -> Vec<f64> {
+    let mut counts = vec![0.0; num_effects];
+    for &e in effects {
+        counts[e] += 1.0;
+    }
+    counts
 }
 
 /// Runs `config.trials` trials of `learner` on `world`.
@@ -215,11 +222,7 @@ impl SessionRecord {
 
     /// How many trials in `range` ended in each effect.
     pub fn effect_counts(&self, range: std::ops::Range<usize>) -> Vec<f64> {
-        let mut counts = vec![0.0; self.num_effects];
-        for &e in &self.effects[range] {
-            counts[e] += 1.0;
-        }
-        counts
+        count_effects(self.num_effects, &self.effects[range])
     }
 
     /// The running sum of rewards, one value per trial.

@@ -73,11 +73,7 @@ impl ValueSessionRecord {
 
     /// How many trials in `range` ended in each effect.
     pub fn effect_counts(&self, range: std::ops::Range<usize>) -> Vec<f64> {
-        let mut counts = vec![0.0; self.num_effects];
-        for &e in &self.effects[range] {
-            counts[e] += 1.0;
-        }
-        counts
+        super::count_effects(self.num_effects, &self.effects[range])
     }
 
     /// The session's metrics against the target `p*` (as

@@ -142,7 +142,7 @@ fn running_sums<const W: usize>(weights: &[f64; W], cumulative: &mut [f64; W]) -
 /// symbol outside the alphabet is a caller's bug, caught by the debug
 /// assertion of `E3d`'s [`Learner::learn`], and can never touch memory
 /// outside the slot (a release build then updates a padding entry or
-/// another symbol's, where it used to update a padding entry or panic).
+/// another symbol's).
 #[inline(always)]
 fn entry<const W: usize>(a: u8) -> usize {
     const { assert!(W.is_power_of_two()) };
@@ -380,7 +380,7 @@ impl E3d {
     ) -> Result<Self, LearnerError> {
         params.validate()?;
         let sizes: Vec<usize> = space.sizes().collect();
-        let slots = match space.max_alphabet() {
+        let slots = match sizes.iter().copied().max().unwrap_or(0) {
             0..=4 => Tables::W4(SlotTables::new(&sizes)),
             5..=8 => Tables::W8(SlotTables::new(&sizes)),
             9..=16 => Tables::W16(SlotTables::new(&sizes)),
@@ -399,9 +399,8 @@ impl E3d {
         })
     }
 
-    ///
-    /// `splats`: where `exp` takes its constants from, if from memory (see
-    /// [`exp_lanes_in`]).
+    /// The update of [`Learner::learn`]; `splats`: where `exp` takes its
+    /// constants from, if from memory (see [`exp_lanes_in`]).
     #[inline(always)]
     fn learn_inline(&mut self, command: &Command, outcome: &Outcome, splats: Option<&Splats>) {
         let e = outcome.effect;

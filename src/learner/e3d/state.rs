@@ -4,9 +4,7 @@
 
 use super::{E3d, Tables};
 use crate::effect::EffectModel;
-use crate::learner::state::tables::{
-    log_target_of, model_of, no_table, q_of_policy, slot_rows, target_of, StateTable,
-};
+use crate::learner::state::tables::{model_tables, no_table, q_rows, set_model_table, StateTable};
 use crate::learner::state::{
     check_finite, check_model, check_rates, ensure, LearnerState, StateShape,
 };
@@ -150,32 +148,19 @@ impl LearnerState for E3d {
     /// `q`, `policy` (writing it sets Q to `log(policy) / beta`), `p` and
     /// `target`, all writable.
     fn tables(&self) -> Vec<StateTable> {
-        vec![
+        let mut t = vec![
             StateTable::slots("q", true, &self.sizes, |s| self.q(s).to_vec()),
             StateTable::slots("policy", true, &self.sizes, |s| self.policy(s)),
-            StateTable::vector("p", true, self.model.probs()),
-            StateTable::vector("target", true, target_of(&self.log_target)),
-        ]
+        ];
+        t.extend(model_tables(&self.model, &self.log_target));
+        t
     }
     fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
-        let rows: Vec<Vec<f64>> = match name {
-            "p" => {
-                self.model = model_of(values, &self.model)?;
-                return Ok(());
-            }
-            "target" => {
-                self.log_target = log_target_of(values, self.model.num_effects())?;
-                return Ok(());
-            }
-            "q" => slot_rows(name, values, &self.sizes, false)?
-                .into_iter()
-                .map(<[f64]>::to_vec)
-                .collect(),
-            "policy" => slot_rows(name, values, &self.sizes, true)?
-                .into_iter()
-                .map(|r| q_of_policy(r, self.beta))
-                .collect(),
-            _ => return Err(no_table(Self::KIND, name, &self.tables())),
+        if set_model_table(name, values, &mut self.model, &mut self.log_target)? {
+            return Ok(());
+        }
+        let Some(rows) = q_rows(name, values, &self.sizes, self.beta)? else {
+            return Err(no_table(Self::KIND, name, &self.tables()));
         };
         for (s, r) in rows.iter().enumerate() {
             self.set_q(s, r)?;

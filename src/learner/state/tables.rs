@@ -163,17 +163,55 @@ pub(crate) fn slot_rows<'a>(
     Ok(rows)
 }
 
-/// A policy's rows as Q: `log(p) / beta` (softmax gives `p` back: it is
-/// unchanged by a constant added to a slot's Q).
-pub(crate) fn q_of_policy(row: &[f64], beta: f64) -> Vec<f64> {
-    row.iter().map(|p| p.ln() / beta).collect()
+/// The rows a written table `q` or `policy` gives Q (laid out as
+/// [`StateTable::slots`], checked); a policy's as `log(p) / beta`
+/// (softmax gives `p` back: it is unchanged by a constant added to a
+/// slot's Q). `None` if `name` is neither.
+pub(crate) fn q_rows(
+    name: &str,
+    values: &[f64],
+    sizes: &[usize],
+    beta: f64,
+) -> Result<Option<Vec<Vec<f64>>>, LearnerError> {
+    if name != "q" && name != "policy" {
+        return Ok(None);
+    }
+    let rows = slot_rows(name, values, sizes, name == "policy")?.into_iter();
+    Ok(Some(if name == "q" {
+        rows.map(<[f64]>::to_vec).collect()
+    } else {
+        rows.map(|r| r.iter().map(|p| p.ln() / beta).collect())
+            .collect()
+    }))
 }
 
-/// The effect model `p` from the written probabilities, with `old`'s rate.
-pub(crate) fn model_of(values: &[f64], old: &EffectModel) -> Result<EffectModel, LearnerError> {
-    check_len("p", values, old.num_effects())?;
-    EffectModel::from_probs(values, old.eta())
-        .map_err(|e| LearnerError::State(format!("table `p`: {e}")))
+/// The tables `p` (the effect model) and `target` (`p*`, from its logs),
+/// both writable.
+pub(crate) fn model_tables(model: &EffectModel, log_target: &[f64]) -> [StateTable; 2] {
+    [
+        StateTable::vector("p", true, model.probs()),
+        StateTable::vector("target", true, target_of(log_target)),
+    ]
+}
+
+/// Writes the table `p` (with `model`'s rate) or `target` (weights `>= 0`,
+/// normalised); `Ok(false)` if `name` is neither.
+pub(crate) fn set_model_table(
+    name: &str,
+    values: &[f64],
+    model: &mut EffectModel,
+    log_target: &mut Vec<f64>,
+) -> Result<bool, LearnerError> {
+    match name {
+        "p" => {
+            check_len("p", values, model.num_effects())?;
+            *model = EffectModel::from_probs(values, model.eta())
+                .map_err(|e| LearnerError::State(format!("table `p`: {e}")))?;
+        }
+        "target" => *log_target = log_target_of(values, model.num_effects())?,
+        _ => return Ok(false),
+    }
+    Ok(true)
 }
 
 /// The target's logs from written weights (`>= 0`, normalised).
