@@ -39,6 +39,16 @@ pub fn err(args: std::fmt::Arguments<'_>) {
     }
 }
 
+/// Writes `text` to standard output and flushes it, as a CLI error
+/// ([`stdout_error`]).
+pub fn write_stdout(text: &[u8]) -> Result<(), super::CliError> {
+    let mut stdout = std::io::stdout().lock();
+    stdout
+        .write_all(text)
+        .and_then(|()| stdout.flush())
+        .map_err(stdout_error)
+}
+
 /// The error of a failed write to standard output: a closed pipe ends e3d
 /// quietly ([`fail`]), anything else is an output error.
 pub fn stdout_error(e: std::io::Error) -> super::CliError {
