@@ -228,7 +228,7 @@ impl<'a> ExecPool<'a> {
                     .len()
                     .div_ceil(rayon::current_num_threads())
                     .clamp(1, *copies);
-                let take = || crate::cli::locked(&idle).pop();
+                let take = || crate::cli::locked(idle).pop();
                 let pieces: Vec<Vec<_>> = commands
                     .par_chunks(piece)
                     .map(|part| {
@@ -241,7 +241,7 @@ impl<'a> ExecPool<'a> {
                         } else {
                             world.execute_batch(part, &mut results);
                         }
-                        crate::cli::locked(&idle).push(world);
+                        crate::cli::locked(idle).push(world);
                         results
                     })
                     .collect();
