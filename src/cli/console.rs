@@ -82,9 +82,6 @@ pub fn fail(stream: &str, e: &std::io::Error) -> ! {
 
 /// [`println!`] whose write is checked ([`out`]).
 macro_rules! outln {
-    () => {
-        $crate::cli::console::out(format_args!("\n"))
-    };
     ($($arg:tt)*) => {
         $crate::cli::console::out(format_args!("{}\n", format_args!($($arg)*)))
     };
@@ -92,9 +89,6 @@ macro_rules! outln {
 
 /// [`eprintln!`] whose write is checked ([`err`]).
 macro_rules! errln {
-    () => {
-        $crate::cli::console::err(format_args!("\n"))
-    };
     ($($arg:tt)*) => {
         $crate::cli::console::err(format_args!("{}\n", format_args!($($arg)*)))
     };
