@@ -39,6 +39,16 @@ pub fn err(args: std::fmt::Arguments<'_>) {
     }
 }
 
+/// Writes `text` to standard output and flushes it, as a CLI error
+/// ([`stdout_error`]).
+pub fn write_stdout(text: &[u8]) -> Result<(), super::CliError> {
+    let mut stdout = std::io::stdout().lock();
+    stdout
+        .write_all(text)
+        .and_then(|()| stdout.flush())
+        .map_err(stdout_error)
+}
+
 /// The error of a failed write to standard output: a closed pipe ends e3d
 /// quietly ([`fail`]), anything else is an output error.
 pub fn stdout_error(e: std::io::Error) -> super::CliError {
@@ -72,9 +82,6 @@ pub fn fail(stream: &str, e: &std::io::Error) -> ! {
 
 /// [`println!`] whose write is checked ([`out`]).
 macro_rules! outln {
-    () => {
-        $crate::cli::console::out(format_args!("\n"))
-    };
     ($($arg:tt)*) => {
         $crate::cli::console::out(format_args!("{}\n", format_args!($($arg)*)))
     };
@@ -82,9 +89,6 @@ macro_rules! outln {
 
 /// [`eprintln!`] whose write is checked ([`err`]).
 macro_rules! errln {
-    () => {
-        $crate::cli::console::err(format_args!("\n"))
-    };
     ($($arg:tt)*) => {
         $crate::cli::console::err(format_args!("{}\n", format_args!($($arg)*)))
     };

@@ -94,26 +94,35 @@ fn run_here(a: RunArgs) -> CliResult {
         super::output::prepare_out(dir, &["trials.csv", "summary.json"], a.force)?;
     }
     let seeds = seeds(&a)?;
-    let only_trials = |what: &str| {
-        CliError::input(format!(
-            "--target reachable: {what}; it takes a scene of symbol commands run trial by trial (its outcome table lists the reachable cells)"
-        ))
-    };
     let name = &scene.spec().name;
+    let reachable = a.target == TargetArg::Reachable;
     if let Some(continuous) = scene.as_continuous() {
-        if a.target == TargetArg::Reachable {
-            return Err(only_trials(&format!(
-                "scene `{name}` takes continuous commands"
-            )));
+        if reachable {
+            let what = format!("scene `{name}` takes continuous commands");
+            return Err(only_trials(&what));
         }
-        return run_values(&a, continuous, params, &seeds);
-    }
-    if super::episodes::wanted(&a, &scene) {
-        if a.target == TargetArg::Reachable {
+        run_values(&a, continuous, params, &seeds)
+    } else if super::episodes::wanted(&a, &scene) {
+        if reachable {
             return Err(only_trials("this run is of episodes"));
         }
-        return super::episodes::run(&a, &scene, params, &seeds);
+        super::episodes::run(&a, &scene, params, &seeds)
+    } else {
+        run_symbols(&a, &scene, params, &seeds)
     }
+}
+
+/// `--target reachable` refused: `what` the run is instead.
+fn only_trials(what: &str) -> CliError {
+    CliError::input(format!(
+        "--target reachable: {what}; it takes a scene of symbol commands run trial by trial (its outcome table lists the reachable cells)"
+    ))
+}
+
+/// `e3d run` on a scene of symbols, trial by trial: the outcomes from
+/// the executor's plan (a table, a memo or live worlds).
+fn run_symbols(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
+    let name = &scene.spec().name;
     let sessions = seeds.len();
     let space = scene.command_space();
     let num_effects = scene.num_effects();
@@ -126,7 +135,7 @@ fn run_here(a: RunArgs) -> CliResult {
         sessions,
         threads: rayon::current_num_threads(),
     };
-    let exec = executor(&a, &scene, &work)?;
+    let exec = executor(a, scene, &work)?;
     let table = exec.table();
     // p*: uniform over every cell, or over the cells the table reaches
     let target = match (a.target, table) {
@@ -151,8 +160,8 @@ fn run_here(a: RunArgs) -> CliResult {
         session: (sessions > 1).then_some(i),
         trial: 0,
     })?;
-    let configs = configs(&a, &seeds);
-    let status = track_run(&a, &scene, "trials", sessions, |control| {
+    let configs = configs(a, seeds);
+    let status = track_run(a, scene, "trials", sessions, |control| {
         run_sessions(&exec, &mut learners, &configs, &mut recorders, control)
     });
     if let Some(line) = exec.finish() {
@@ -177,14 +186,14 @@ fn run_here(a: RunArgs) -> CliResult {
         _ => None,
     };
 
-    print_header(&a, name, "", &params, &seeds);
+    print_header(a, name, "", &params, seeds);
     let support = (a.target == TargetArg::Reachable)
         .then(|| table.map(|t| t.reachable_effects()))
         .flatten();
     if let Some(cells) = support {
         outln!("target: uniform over the {cells} reachable cells (of {num_effects})");
     }
-    print_metrics(&metrics, &seeds, num_effects);
+    print_metrics(&metrics, seeds, num_effects);
     if let Some(d) = &exact {
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
         outln!("exact effect distribution of the final policy: normalised entropy {h:.4}");
@@ -195,7 +204,7 @@ fn run_here(a: RunArgs) -> CliResult {
     let mut counts = recorders.iter().map(|r| r.0.effect_counts());
     let single = sessions == 1;
     let summary = Summary {
-        head: Head::new(&a, &scene, params),
+        head: Head::new(a, scene, params),
         seed: single.then_some(a.seed),
         use_reward: !a.no_reward,
         target_reachable_cells: support,
@@ -205,7 +214,7 @@ fn run_here(a: RunArgs) -> CliResult {
             effect_counts: counts.next().unwrap_or_default(),
         }),
         sessions: (!single).then(|| {
-            let each = metrics.iter().zip(counts).zip(&seeds);
+            let each = metrics.iter().zip(counts).zip(seeds);
             each.map(|((m, effect_counts), &seed)| OneSession {
                 seed,
                 metrics: m,

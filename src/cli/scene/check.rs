@@ -90,23 +90,16 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
         Some(_) => "infinitely many, drawn uniformly in their ranges".to_string(),
         None => scene.command_space().num_commands_text(),
     };
-    if s.exhaustive {
-        outln!(
-            "reach: all {} commands executed ({:.2} s): {} of {} cells reached",
-            s.samples,
-            s.seconds,
-            s.reached_cells(),
-            grid.num_cells()
-        );
-    } else {
-        outln!(
-            "reach (estimate): {} random commands of {n} (seed {seed}, {:.2} s): {} of {} cells reached",
-            s.samples,
-            s.seconds,
-            s.reached_cells(),
-            grid.num_cells()
-        );
-    }
+    let (k, secs) = (s.samples, s.seconds);
+    let what = match s.exhaustive {
+        true => format!("reach: all {k} commands executed ({secs:.2} s)"),
+        false => format!("reach (estimate): {k} random commands of {n} (seed {seed}, {secs:.2} s)"),
+    };
+    outln!(
+        "{what}: {} of {} cells reached",
+        s.reached_cells(),
+        grid.num_cells()
+    );
     print_reward_reach(scene, &s);
     Ok(())
 }

@@ -1,33 +1,36 @@
 //! `e3d scene exec`: commands executed as they come, their outcomes as CSV.
 
 use super::simulate::{calibration, say_cost, seconds_text, steps_text, world_error};
-use crate::cli::console::errln;
+use crate::cli::console::{errln, write_stdout};
 use crate::cli::{progress, CliError, CliResult};
-use e3d::command::CommandSpace;
+use e3d::command::{CommandError, CommandSpace};
 use e3d::scene::{Scene, WorldSpec};
 use e3d::world::{PhysicsScene, PhysicsWorld};
 use e3d::{Command, OutcomeTable, World, WorldError};
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::Path;
 use std::sync::mpsc::{Receiver, SyncSender};
 use std::sync::Mutex;
 
 /// A command read by [`read_commands`], or why the input ends there.
-pub(super) type Read = Result<Command, CliError>;
+pub(super) type Read<T = Command> = Result<T, CliError>;
 
-/// Parses the `commands` of `e3d scene exec` in order (`-`: every
-/// non-blank line of stdin, as it comes) and sends them to `tx`, up to the
-/// first that does not parse (sent as an error naming its stdin line) or
-/// until the receiver is gone.
-pub(super) fn read_commands(space: &CommandSpace, commands: &[String], tx: &SyncSender<Read>) {
-    let send = |r: Read| {
+/// Parses the `commands` of `e3d scene exec` in order with `parse` (`-`:
+/// every non-blank line of stdin, as it comes) and sends them to `tx`, up
+/// to the first that does not parse (sent as an error naming its stdin
+/// line) or until the receiver is gone.
+fn read_commands<T, E: std::fmt::Display>(
+    parse: impl Fn(&str) -> Result<T, E>,
+    commands: &[String],
+    tx: &SyncSender<Read<T>>,
+) {
+    let send = |r: Read<T>| {
         let stop = r.is_err();
         tx.send(r).is_ok() && !stop
     };
     for arg in commands {
         if arg != "-" {
-            if !send(space.parse(arg).map_err(CliError::input)) {
+            if !send(parse(arg).map_err(CliError::input)) {
                 return;
             }
             continue;
@@ -35,23 +38,14 @@ pub(super) fn read_commands(space: &CommandSpace, commands: &[String], tx: &Sync
         // one line at a time, each at most MAX_LINE_BYTES in memory
         // (standard input without a line feed, such as /dev/zero, is never
         // read whole)
-        let mut stdin = std::io::stdin().lock();
-        for k in 0.. {
-            use e3d::text::{read_line_bounded, Line, MAX_LINE_BYTES};
-            let r = match read_line_bounded(&mut stdin, MAX_LINE_BYTES) {
-                Ok(Line::End) => break,
-                Err(e) => Err(CliError::input(format!("stdin line {}: {e}", k + 1))),
-                Ok(Line::TooLong(start, _)) => Err(CliError::input(format!(
-                    "stdin line {}: a line of more than {MAX_LINE_BYTES} bytes; expected a command, found `{}`",
-                    k + 1,
-                    e3d::text::echo(&start)
-                ))),
-                Ok(Line::Line(l)) if l.trim().is_empty() => continue,
-                Ok(Line::Line(l)) => space
-                    .parse(l.trim())
-                    .map_err(|e| CliError::input(format!("stdin line {}: {e}", k + 1))),
+        let stdin = std::io::stdin().lock();
+        for (k, line) in e3d::text::bounded_lines(stdin, e3d::text::MAX_LINE_BYTES).enumerate() {
+            let r = match line {
+                Ok(l) if l.trim().is_empty() => continue,
+                Ok(l) => parse(l.trim()).map_err(|e| e.to_string()),
+                Err(e) => Err(e.to_string()),
             };
-            if !send(r) {
+            if !send(r.map_err(|e| CliError::input(format!("stdin line {}: {e}", k + 1)))) {
                 return;
             }
         }
@@ -64,14 +58,23 @@ pub(super) fn push_row(out: &mut String, lead: impl std::fmt::Display, o: &e3d::
     let _ = writeln!(out, "{lead},{},{},{x},{y}", o.effect, o.reward);
 }
 
-/// A reader thread of the `commands` ([`read_commands`]), its channel
-/// holding `bound` of them; not joined: it may wait on stdin when the
-/// output ends with an error.
-fn reader(space: &CommandSpace, commands: Vec<String>, bound: usize) -> Receiver<Read> {
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Read>(bound);
-    let space = space.clone();
-    std::thread::spawn(move || read_commands(&space, &commands, &tx));
+/// A reader thread of the `commands` ([`read_commands`], by `parse`),
+/// its channel holding `bound` of them; not joined: it may wait on stdin
+/// when the output ends with an error.
+pub(super) fn reader<T: Send + 'static, E: std::fmt::Display>(
+    parse: impl Fn(&str) -> Result<T, E> + Send + 'static,
+    commands: Vec<String>,
+    bound: usize,
+) -> Receiver<Read<T>> {
+    let (tx, rx) = std::sync::mpsc::sync_channel(bound);
+    std::thread::spawn(move || read_commands(parse, &commands, &tx));
     rx
+}
+
+/// The parser of the commands of `space`.
+fn symbols(space: &CommandSpace) -> impl Fn(&str) -> Result<Command, CommandError> + Send {
+    let space = space.clone();
+    move |text| space.parse(text)
 }
 
 /// `e3d scene exec --trace FILE`: each command's motion, one after the
@@ -88,7 +91,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     let space = scene.command_space();
     // whether stdin is read, and how many commands otherwise
     let commands_known = (commands.iter().any(|c| c == "-"), commands.len() as u64);
-    let rx = reader(&space, commands, 64);
+    let rx = reader(symbols(&space), commands, 64);
     let out_err =
         |e: std::io::Error| CliError::output(format!("{}: cannot write: {e}", path.display()));
     // created exclusively: never through a link planted under its name
@@ -96,7 +99,6 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     let (tmp, f) = e3d::io::create_output(path).map_err(out_err)?;
     let mut file = std::io::BufWriter::new(f);
     let written = (|| -> CliResult {
-        let mut stdout = std::io::stdout().lock();
         let mut first = true;
         let label = format!("scene exec {}", scene.spec().name);
         let known = (!commands_known.0).then_some(commands_known.1);
@@ -133,10 +135,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
                     row.push_str("command,effect,reward,x,y\n");
                 }
                 push_row(&mut row, &text, &m.outcome);
-                stdout
-                    .write_all(row.as_bytes())
-                    .and_then(|()| stdout.flush())
-                    .map_err(crate::cli::console::stdout_error)?;
+                write_stdout(row.as_bytes())?;
                 first = false;
             }
             Ok(())
@@ -229,7 +228,7 @@ impl<'a> ExecPool<'a> {
                     .len()
                     .div_ceil(rayon::current_num_threads())
                     .clamp(1, *copies);
-                let take = || crate::cli::locked(&idle).pop();
+                let take = || crate::cli::locked(idle).pop();
                 let pieces: Vec<Vec<_>> = commands
                     .par_chunks(piece)
                     .map(|part| {
@@ -242,7 +241,7 @@ impl<'a> ExecPool<'a> {
                         } else {
                             world.execute_batch(part, &mut results);
                         }
-                        crate::cli::locked(&idle).push(world);
+                        crate::cli::locked(idle).push(world);
                         results
                     })
                     .collect();
@@ -323,12 +322,9 @@ fn exec_each(
 ) -> CliResult {
     let mut world = scene.build();
     let mut out = String::from(header);
-    let mut stdout = std::io::stdout().lock();
-    for read in reader(&scene.command_space(), commands, 1024) {
+    for read in reader(symbols(&scene.command_space()), commands, 1024) {
         rows(&mut *world, &read?, &mut out)?;
-        stdout
-            .write_all(out.as_bytes())
-            .map_err(crate::cli::console::stdout_error)?;
+        write_stdout(out.as_bytes())?;
         out.clear();
     }
     Ok(())
@@ -515,14 +511,8 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let mut cost = CostNote::new(&label, scene, known, table.is_some());
     let mut executor = ExecPool::new(scene, table);
     let limit = chunk_limit();
-    let rx = reader(&space, commands, 2 * limit);
-    let mut stdout = std::io::stdout().lock();
-    let mut write = |text: &str| {
-        stdout
-            .write_all(text.as_bytes())
-            .and_then(|()| stdout.flush())
-            .map_err(crate::cli::console::stdout_error)
-    };
+    let rx = reader(symbols(&space), commands, 2 * limit);
+    let write = |text: &str| write_stdout(text.as_bytes());
     let header = "command,effect,reward,x,y\n";
     let mut header_written = false;
     let (mut chunk, mut results, mut text) = (Vec::new(), Vec::new(), String::new());

@@ -16,7 +16,6 @@ use exec::{exec, exec_trace};
 use render::{animate, render};
 use reward_cell::reward_cell;
 use stats::stats;
-use std::io::Write as _;
 use std::path::PathBuf;
 use table::table;
 
@@ -233,12 +232,7 @@ pub fn run(a: SceneArgs) -> CliResult {
     }
     match a.command {
         SceneCmd::Check { expanded: true, .. } => {
-            let text = scene.spec().to_ron();
-            let mut stdout = std::io::stdout().lock();
-            stdout
-                .write_all(text.as_bytes())
-                .and_then(|()| stdout.flush())
-                .map_err(crate::cli::console::stdout_error)
+            crate::cli::console::write_stdout(scene.spec().to_ron().as_bytes())
         }
         SceneCmd::Check {
             samples,

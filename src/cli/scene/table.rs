@@ -4,11 +4,11 @@
 use super::simulate::{build_table, simulate_all, table_seconds, world_error};
 use crate::cli::console::{errln, outln};
 use crate::cli::{CliError, CliResult};
-use e3d::scene::{PhysicsSpec, Scene, WorldSpec};
+use e3d::scene::{Scene, WorldSpec};
 use e3d::OutcomeTable;
 use std::path::Path;
 
-pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult {
+pub(super) fn table(scene: &Scene, cache: Option<&Path>) -> CliResult {
     if !e3d::world::start_contexts(scene).is_empty() {
         return context_table(scene, cache);
     }
@@ -22,21 +22,22 @@ pub(super) fn table(scene: &Scene, cache: Option<&std::path::Path>) -> CliResult
         None => (build_table(scene)?, false),
     };
     let secs = start.elapsed().as_secs_f64();
-    let mut how = match &scene.spec().world {
-        WorldSpec::Physics(p) if p.copies_are_exact() => {
-            format!("{} copies per Rapier world", e3d::world::TABLE_COPIES)
-        }
-        WorldSpec::Physics(_) => "one command per Rapier world".to_string(),
+    let how = match &scene.spec().world {
         WorldSpec::Grid(_) => "grid".to_string(),
+        WorldSpec::Physics(p) => {
+            let copies = match p.copies_are_exact() {
+                true => format!("{} copies per Rapier world", e3d::world::TABLE_COPIES),
+                false => "one command per Rapier world".to_string(),
+            };
+            let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
+            match p.symmetry {
+                Some(sym) => format!(
+                    "{copies}; {sym:?} symmetry: {simulated} simulated, the others reflected"
+                ),
+                None => copies,
+            }
+        }
     };
-    if let WorldSpec::Physics(PhysicsSpec {
-        symmetry: Some(sym),
-        ..
-    }) = &scene.spec().world
-    {
-        let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
-        how = format!("{how}; {sym:?} symmetry: {simulated} simulated, the others reflected");
-    }
     outln!(
         "scene {}: {} commands in {:.3} s ({:.0} commands/s, {} thread(s), {how})",
         scene.spec().name,

@@ -1,37 +1,10 @@
 //! The scene tools on a scene of continuous commands: `exec` and
 //! `render --command` of values.
 
-use crate::cli::console::outln;
+use crate::cli::console::{outln, write_stdout};
 use crate::cli::output::write_file;
 use crate::cli::{CliError, CliResult};
 use e3d::world::ContinuousScene;
-
-/// The commands of `scene exec` (`-`: every non-blank line of stdin), each
-/// parsed when it is reached; an error names its stdin line.
-fn read_values<'a>(
-    space: &'a e3d::command::ValueSpace,
-    commands: &'a [String],
-) -> impl Iterator<Item = Result<Vec<f64>, CliError>> + 'a {
-    commands
-        .iter()
-        .flat_map(move |arg| -> Box<dyn Iterator<Item = _>> {
-            if arg != "-" {
-                return Box::new(std::iter::once(space.parse(arg).map_err(CliError::input)));
-            }
-            Box::new(
-                e3d::text::bounded_lines(std::io::stdin().lock(), e3d::text::MAX_LINE_BYTES)
-                    .enumerate()
-                    .filter(|(_, l)| l.as_ref().map_or(true, |l| !l.trim().is_empty()))
-                    .map(move |(k, l)| {
-                        let at = |e: &dyn std::fmt::Display| {
-                            CliError::input(format!("stdin line {}: {e}", k + 1))
-                        };
-                        l.map_err(|e| at(&e))
-                            .and_then(|l| space.parse(&l).map_err(|e| at(&e)))
-                    }),
-            )
-        })
-}
 
 /// `e3d scene exec` of continuous commands: `"values",effect,reward,x,y`
 /// rows as each command is done; with `trace`, every command's motion in
@@ -44,7 +17,6 @@ pub(super) fn exec(
     use std::io::Write;
     let space = scene.values();
     let mut world = scene.physics().world(1);
-    let mut stdout = std::io::stdout().lock();
     let mut file = match trace {
         Some(p) => {
             let (tmp, f) = e3d::io::create_temp_beside(p)
@@ -55,7 +27,11 @@ pub(super) fn exec(
     };
     let result = (|| -> CliResult {
         let mut first = true;
-        for v in read_values(space, commands) {
+        let parse = {
+            let space = space.clone();
+            move |text: &str| space.parse(text)
+        };
+        for v in super::exec::reader(parse, commands.to_vec(), 64) {
             let v = v?;
             let text = space.format(&v);
             let o = match &mut file {
@@ -79,15 +55,10 @@ pub(super) fn exec(
                 first = false;
             }
             super::exec::push_row(&mut row, format_args!("\"{text}\""), &o);
-            stdout
-                .write_all(row.as_bytes())
-                .and_then(|()| stdout.flush())
-                .map_err(crate::cli::console::stdout_error)?;
+            write_stdout(row.as_bytes())?;
         }
         if first {
-            stdout
-                .write_all(b"values,effect,reward,x,y\n")
-                .map_err(crate::cli::console::stdout_error)?;
+            write_stdout(b"values,effect,reward,x,y\n")?;
         }
         if let Some((p, tmp, f)) = &mut file {
             let p: &std::path::Path = p;
