@@ -4,7 +4,7 @@
 
 use super::{write_back, OneSession, SessionArgs};
 use crate::errors::Fail;
-use crate::held::Held;
+use crate::held::{bad, Held};
 use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
 use crate::record::{record_to_py, Rows};
@@ -40,7 +40,7 @@ pub(super) fn run_continuous(
             .target(a.target.clone())
             .values(space, n_eff)
     };
-    make().map_err(|e| PyValueError::new_err(e.to_string()))?;
+    make().map_err(bad)?;
     if scene.inner.as_continuous().is_none() {
         return Err(PyValueError::new_err(format!(
             "scene `{}`: continuous commands need a physics world",
@@ -59,7 +59,7 @@ pub(super) fn run_continuous(
         .iter()
         .map(|_| make())
         .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        .map_err(bad)?;
     let mut records: Vec<ValueSessionRecord> = configs
         .iter()
         .map(|c| ValueSessionRecord::new(space.num_slots(), n_eff, c.trials))
