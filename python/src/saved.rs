@@ -11,7 +11,7 @@ use crate::learn_args::{
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::StateShape;
-use e3d::{ContinuousLearner, LearnerKind, Params};
+use e3d::{LearnerKind, Params};
 use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -441,36 +441,6 @@ impl PyLearnerState {
             }
         }
     }
-}
-
-/// Runs one session of continuous commands from `learner`'s state on a
-/// physics world of `scene` (off the GIL, stopped by Ctrl-C or by
-/// `progress`), leaving `learner` in the state the session ends in.
-pub(crate) fn run_values_from(
-    py: Python<'_>,
-    scene: &PyScene,
-    learner: &mut (dyn ContinuousLearner + Send),
-    cfg: &e3d::SessionConfig,
-    progress: Option<&Bound<'_, PyAny>>,
-) -> PyResult<e3d::session::ValueSessionRecord> {
-    let Some(mut world) = scene.inner.as_continuous().map(|c| c.world(1)) else {
-        return Err(PyValueError::new_err(format!(
-            "scene `{}`: continuous commands need a physics world",
-            scene.inner.spec().name
-        )));
-    };
-    let watch = crate::progress::Watch::new();
-    let slots = e3d::world::ContinuousWorld::value_space(&world).num_slots();
-    let rec = crate::progress::watched(py, progress, cfg.trials as u64, &watch, |watch| {
-        let mut rec =
-            e3d::session::ValueSessionRecord::new(slots, scene.inner.num_effects(), cfg.trials);
-        watch.control(|control| {
-            e3d::session::run_session_into(&mut world, &mut *learner, cfg, &mut rec, control)
-        })?;
-        rec.set_policy(&*learner);
-        Ok::<_, e3d::WorldError>(rec)
-    })?;
-    rec.map_err(|e| crate::errors::Fail::from(e).into())
 }
 
 /// The built-in learner named `learner`, or a `ValueError` naming the
