@@ -42,7 +42,7 @@ from ._args import cache_folder, optional
 from ._results import (BatchOutcome, EpisodeRecord, Motion, Outcome, SessionBatch,
                        SessionRecord)
 from ._run import run_episodes, run_session, run_sessions
-from ._sweep import sweep_text
+from ._sweep import columns, sweep_text
 from ._types import PythonContextualLearner, PythonLearner
 
 
@@ -75,8 +75,8 @@ def run_sweep(
     """
     if isinstance(sweep, Mapping):
         sweep = sweep_text(sweep)
-    return _e3d.run_sweep(sweep, optional("threads", threads, 1), cache_folder(table_cache), out,
-                          resume, progress)
+    return columns(*_e3d.run_sweep(sweep, optional("threads", threads, 1),
+                                   cache_folder(table_cache), out, resume, progress))
 
 
 __all__ = [

@@ -81,3 +81,105 @@ def cache_folder(path: Any) -> Any:
         raise ValueError(f"table_cache = {os.fspath(path)}: exists and is not a folder; expected "
                          "the folder of the outcome cache (created if missing)")
     return path
+
+
+def target_weights(scene: Any, target: Any) -> list[float]:
+    """``target`` (not None): an array of one weight per effect, or a dict
+    ``{effect: weight}`` / ``{(row, col): weight}`` whose cells not named
+    weigh 0, as the weights the library then checks."""
+    n = scene.num_effects
+    if not isinstance(target, dict):
+        try:
+            a = np.asarray(target, "float64")
+        except Exception as err:
+            raise ValueError(f"target: expected None, {n} weights (one per effect) or a dict "
+                             f"{{effect: weight}}: {type(err).__qualname__}: {err}") from None
+        if a.ndim != 1:
+            raise ValueError(f"target: expected a 1-D array of {n} weights (one per effect), "
+                             f"found shape {a.shape!r}")
+        return a.tolist()  # type: ignore[no-any-return]
+    rows, cols = scene.effect_grid[:2]
+    weights, named = [0.0] * n, [None] * n
+    for k, v in target.items():
+        e = _cell(k, rows, cols, n)
+        if e is None:
+            raise ValueError(f"target: key {k!r} is not an effect: expected an int in [0, {n}) "
+                             f"or a (row, col) cell of the {rows}x{cols} grid")
+        if named[e] is not None:
+            raise ValueError(f"target: keys {named[e]!r} and {k!r} are the same effect {e}: "
+                             "give each effect once")
+        named[e] = k
+        try:
+            weights[e] = number("target", v)
+        except TypeError:
+            raise ValueError(f"target[{k!r}]: expected a number") from None
+    return weights
+
+
+def _cell(k: Any, rows: int, cols: int, n: int) -> Optional[int]:
+    """The effect a target's key names: an int below ``n`` or a ``(row,
+    col)`` tuple in the grid; None for anything else (a bool included)."""
+    try:
+        if isinstance(k, tuple) and len(k) == 2:
+            r, c = operator.index(k[0]), operator.index(k[1])
+            return r * cols + c if 0 <= r < rows and 0 <= c < cols else None
+        e = operator.index(k)
+        return e if not isinstance(k, (bool, np.bool_)) and 0 <= e < n else None
+    except TypeError:
+        return None
+
+
+def _check_shape(a: Any, ndim: int, slots: int, what: str) -> None:
+    """Refuses an array that is not ``ndim`` dimensions of rows of ``slots``
+    values (with ``ndim == 2``, at least one row)."""
+    shape = list(a.shape)
+    if ndim == 2 and a.size == 0:
+        raise ValueError(f"commands: an empty batch (shape {shape}); expected at least one "
+                         f"command, {what}")
+    if a.ndim != ndim:
+        raise ValueError(f"expected {what}, found an array of {a.ndim} dimension(s), shape {shape}")
+    if shape[-1] != slots:
+        raise ValueError(f"expected {what}, found shape {shape}: the scene's commands have "
+                         f"{slots} slots")
+
+
+def symbols(sizes: list[int], alphabets: list[str], obj: Any, ndim: int) -> Any:
+    """Commands of symbol indices from an integer array (anything
+    ``numpy.asarray`` takes) of shape ``[slots]`` (``ndim`` 1) or ``[N,
+    slots]`` (``ndim`` 2), each row checked against the slots' alphabet
+    ``sizes``: a C-contiguous uint8 array ``[N, slots]``."""
+    try:
+        a = np.asarray(obj)
+    except Exception as err:
+        raise ValueError("expected commands as an integer array, a command string or a list of "
+                         f"them: {type(err).__qualname__}: {err}") from None
+    slots = len(sizes)
+    what = (f"one command, an array of shape [{slots}]" if ndim == 1
+            else f"an array of shape [N, {slots}] (one command per row)")
+    _check_shape(a, ndim, slots, what)
+    if a.dtype.kind not in "ui":
+        raise ValueError("expected an integer array of symbol indices (dtype uint8, as "
+                         f"Scene.parse returns), found dtype {a.dtype}")
+    rows = a.reshape(-1, slots)
+    bad = (rows < 0) | (rows >= np.array(sizes))
+    if bad.any():
+        r, s = (int(i) for i in np.argwhere(bad)[0])
+        raise ValueError(f"row {r}: symbol {int(rows[r, s])} at slot {s} is out of range: slot "
+                         f"{s} has {sizes[s]} symbols ({alphabets[s]}), indices 0 to {sizes[s] - 1}")
+    return np.ascontiguousarray(rows, dtype=np.uint8)
+
+
+def values(slots: int, obj: Any, ndim: int) -> Any:
+    """Continuous commands from a float array (anything ``numpy.asarray``
+    takes) of shape ``[slots]`` (``ndim`` 1) or ``[N, slots]`` (``ndim``
+    2): a C-contiguous float64 array ``[N, slots]``, its ranges for the
+    library to check."""
+    try:
+        a = np.asarray(obj, "float64")
+    except Exception as err:
+        raise ValueError("expected continuous commands as a float array, a string of values or a "
+                         f"list of them: {type(err).__qualname__}: {err}") from None
+    what = (f"one command, an array of shape [{slots}] (one value per slot)" if ndim == 1
+            else f"an array of shape [N, {slots}] (one command of values per row)")
+    _check_shape(a, ndim, slots, what)
+    return np.ascontiguousarray(a.reshape(-1, slots))

@@ -57,7 +57,6 @@ __all__ = [
     "_run_episodes",
     "_run_session",
     "_run_sessions",
-    "_grid_svg",
     "run_sweep",
 ]
 
@@ -274,7 +273,6 @@ class SessionRng:
         """Pickling: the generator's state (a copy draws what it draws next)."""
     def __setstate__(self, state: tuple[str, bool]) -> None: ...
 
-def _grid_svg(grid: dict[str, Any], counts: Sequence[float], unit: str, title: str) -> str: ...
 def _run_session(
     scene: SceneLike, learner: Any, trials: int, seed: int, use_reward: bool,
     params: dict[str, float], outcomes: Optional[str], table_cache: Optional[PathLike_],
@@ -292,7 +290,7 @@ def _run_episodes(
     learner: Any, closed_loop: bool, observe: Optional[str], use_reward: bool, gamma: float,
     params: dict[str, float], target: Optional[TargetLike],
     targets: Optional[Sequence[Optional[TargetLike]]],
-) -> Any: ...
+) -> list[EpisodeRecord]: ...
 
 @final
 class EpisodeWorld:
@@ -335,4 +333,4 @@ def run_sweep(
     out: Optional[PathLike_] = None,
     resume: bool = False,
     progress: Optional[Progress] = None,
-) -> dict[str, Union[npt.NDArray[Any], list[str]]]: ...
+) -> tuple[str, list[str]]: ...

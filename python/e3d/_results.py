@@ -8,12 +8,11 @@ themselves for notebooks (``_repr_svg_``)."""
 
 import dataclasses
 import json
+import math
 from typing import Any, ClassVar, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
-
-from . import _e3d
 
 _ANY: Any = object
 _OPT_ARRAY: Any = (np.ndarray, type(None))
@@ -44,6 +43,35 @@ def _same(a: Any, b: Any) -> bool:
     if isinstance(a, float) and isinstance(b, float):
         return a == b or (a != a and b != b)
     return bool(a == b)
+
+
+def _grid_svg(grid: dict[str, Any], counts: list[float], unit: str, title: str) -> str:
+    """An SVG of the effect grid, each cell shaded by its count over the
+    largest (white to dark blue) and labelled with it in ``unit``, the
+    rewarded cells outlined in green; row 0 at the bottom, as the scene's
+    picture has it."""
+    rows, cols, rewarded = grid["rows"], grid["cols"], grid["rewarded"]
+    cell = min(max(480.0 / max(cols, rows), 4.0), 60.0)
+    w, h = cols * cell + 20.0, rows * cell + 40.0
+    top = max(max(counts, default=0.0), 0.0, 1.0)
+    total = max(sum(counts), 1.0)
+    title = title.replace("&", "&amp;").replace("<", "&lt;")
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0f}" height="{h:.0f}" '
+           f'viewBox="0 0 {w:.0f} {h:.0f}" font-family="Helvetica, Arial, sans-serif">'
+           f'<rect width="100%" height="100%" fill="#ffffff"/>'
+           f'<text x="10" y="20" font-size="14" fill="#222">{title}</text>']
+    for e, c in enumerate(counts):
+        r, col = divmod(e, cols)
+        x, y = 10.0 + col * cell, 30.0 + (rows - 1 - r) * cell
+        f = c / top
+        rgb = ",".join(str(math.floor(hi + (lo - hi) * f + 0.5)) for lo, hi in ((31, 255), (78, 255), (156, 255)))
+        stroke = ('stroke="#2e8b57" stroke-width="3"' if e < len(rewarded) and rewarded[e]
+                  else 'stroke="#b8c4d6" stroke-width="0.8"')
+        n = int(c) if c == int(c) else c
+        out.append(f'<rect x="{x:.1f}" y="{y:.1f}" width="{cell:.1f}" height="{cell:.1f}" '
+                   f'fill="rgb({rgb})" {stroke}><title>cell ({r}, {col}): {n} {unit} '
+                   f'({100.0 * c / total:.1f}%)</title></rect>')
+    return "".join(out) + "</svg>"
 
 
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)
@@ -224,7 +252,7 @@ class SessionRecord(_Result):
         """The effect grid, each cell shaded by its share of the trials, the
         rewarded cells outlined (notebooks)."""
         title = f"{self.scene}: {self.learner}, seed {self.seed}, {self.trials} trials"
-        return _e3d._grid_svg(self._grid, self.effect_counts.tolist(), "trials", title)
+        return _grid_svg(self._grid, self.effect_counts.tolist(), "trials", title)
 
     def __repr__(self) -> str:
         return (f"SessionRecord(scene={json.dumps(self.scene)}, learner={json.dumps(self.learner)}, "
@@ -320,7 +348,7 @@ class SessionBatch(_Result):
         cells = self._grid["rows"] * self._grid["cols"]
         total = np.sum([np.zeros(cells), *self._counts], axis=0).tolist()
         title = f"{self.scene}: {self.learner}, {len(self)} sessions of {self.trials} trials"
-        return _e3d._grid_svg(self._grid, total, "trials", title)
+        return _grid_svg(self._grid, total, "trials", title)
 
     def __repr__(self) -> str:
         return (f"SessionBatch(scene={json.dumps(self.scene)}, learner={json.dumps(self.learner)}, "
@@ -362,7 +390,7 @@ class EpisodeRecord(_Result):
         counts = np.bincount(ends, minlength=cells)[:cells]
         title = (f"{self.learner}, seed {self.seed}: {self.episodes} episodes of "
                  f"{self.commands_per_episode} commands, where they ended")
-        return _e3d._grid_svg(self._grid, counts.astype(np.float64).tolist(), "episodes", title)
+        return _grid_svg(self._grid, counts.astype(np.float64).tolist(), "episodes", title)
 
     def __repr__(self) -> str:
         return (f"EpisodeRecord(seed={self.seed}, learner={json.dumps(self.learner)}, "

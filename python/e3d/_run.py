@@ -234,6 +234,7 @@ def run_episodes(
         listed = [0 if seed is None else integer("seed", seed)]
     elif not listed:
         raise ValueError("no session: expected at least one seed")
-    return _e3d._run_episodes(  # type: ignore[no-any-return]
+    records = _e3d._run_episodes(
         scene, episodes, commands, listed, one, learner, closed_loop, observe, use_reward,
         number("gamma", gamma), hyper(alpha, beta, lambda_, eta, epsilon), target, targets)
+    return records[0] if one else records

@@ -142,3 +142,52 @@ def with_(scene: Scene, overrides: dict[Any, Any]) -> Scene:
             raise TypeError("with_: keys must be paths (str)")
         _set_path(d, k, v)
     return Scene.from_dict(d)
+
+
+def _world_point(body: dict[str, Any], q: Any) -> tuple[float, float]:
+    """A point of ``body`` (in its own frame) in world coordinates (the
+    library's ``to_world_point``)."""
+    (x, y), a = body["position"], body["angle"]
+    s, c = math.sin(a), math.cos(a)
+    return (x + c * q[0] - s * q[1], y + s * q[0] + c * q[1])
+
+
+def _body_geometry(b: dict[str, Any]) -> dict[str, Any]:
+    """A body's name, kind, pose, shape, radius and outline (world coordinates)."""
+    (shape, f), = b["shape"].items()
+    if shape == "Ball":
+        points = [tuple(b["position"])]
+    elif shape == "Cuboid":
+        x, y = f["width"] / 2.0, f["height"] / 2.0
+        points = [_world_point(b, q) for q in ((-x, -y), (x, -y), (x, y), (-x, y), (-x, -y))]
+    else:
+        points = [_world_point(b, q) for q in (f["points"] if shape == "Polyline" else (f["a"], f["b"]))]
+    return {"name": b["name"], "kind": b["kind"].lower(), "position": tuple(b["position"]),
+            "angle": b["angle"], "shape": shape.lower(), "radius": f.get("radius", 0.0),
+            "points": points}
+
+
+def geometry(scene: Scene) -> dict[str, Any]:
+    """``Scene.geometry``: what the scene's picture draws, as plain data."""
+    rows, cols, lo, hi = scene.effect_grid
+    d: dict[str, Any] = {
+        "effect_grid": {"rows": rows, "cols": cols, "min": lo, "max": hi},
+        "reward_cells": [divmod(e, cols) for e, r in enumerate(scene.reward_table()) if r != 0.0]}
+    world = scene.to_dict()["world"]
+    if "Grid" in world:
+        g = world["Grid"]
+        d.update(kind="grid", start=tuple(g["start"]),
+                 walls=[(tuple(a), tuple(b)) for a, b in g["walls"]])
+        return d
+    p = world["Physics"]
+    bodies = {b["name"]: b for b in p["bodies"]}
+    d["kind"] = "physics"
+    d["bodies"] = [_body_geometry(b) for b in p["bodies"]]
+    d["joints"] = [{"name": j["name"], "parent": j["parent"], "child": j["child"],
+                    "position": _world_point(bodies[j["child"]], j["child_anchor"])}
+                   for j in p["joints"]]
+    # an effect of features (cart_pole's joints) tracks no point
+    tracked = p["effect"].get("body")
+    d["tracked_point"] = _world_point(bodies[tracked], p["effect"]["point"]) if tracked else None
+    d["tracked_body"] = tracked
+    return d

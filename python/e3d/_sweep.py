@@ -18,6 +18,8 @@ import os
 import re
 from typing import Any, Callable, Mapping
 
+import numpy as np
+
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 # a metric's column name (results.csv) and its name in a sweep file
 _CUMULATIVE = re.compile(r"^cumulative_reward(?:_at_(\d+)|\((\d+)\))$")
@@ -263,3 +265,32 @@ def sweep_text(sweep: Mapping[str, Any]) -> str:
         text = _FIELDS.get(k, _ron)(v, k)
         fields.append(f"    {k}: {text},")
     return "Sweep(\n" + "\n".join(fields) + "\n)\n"
+
+
+def _cell(parse: Callable[[str], Any], s: str, missing: Any) -> Any:
+    try:
+        return parse(s)
+    except ValueError:
+        return missing
+
+
+def columns(header: str, rows: list[str]) -> dict[str, Any]:
+    """``results.csv``'s header and rows as the dict of columns ``run_sweep``
+    returns: ``scene``, ``learner`` and ``failure`` lists of str,
+    ``use_reward`` bool, ``session`` int64 (-1 if empty), ``seed`` uint64,
+    the others float64 (NaN where the cell is empty)."""
+    cells = [r.split(",") for r in rows]
+    out: dict[str, Any] = {}
+    for j, name in enumerate(header.split(",")):
+        col = [c[j] if j < len(c) else "" for c in cells]
+        if name in ("scene", "learner", "failure"):
+            out[name] = col
+        elif name == "use_reward":
+            out[name] = np.array([s == "true" for s in col], dtype=bool)
+        elif name in ("session", "seed"):
+            missing = -1 if name == "session" else 0
+            out[name] = np.array([_cell(int, s, missing) for s in col],
+                                 dtype=np.int64 if name == "session" else np.uint64)
+        else:
+            out[name] = np.array([_cell(float, s, np.nan) for s in col], dtype=np.float64)
+    return out

@@ -3,7 +3,7 @@
 //! (`Learner.contextual`, `run_episodes`).
 
 use crate::errors::usize_arg;
-use crate::held::Held;
+use crate::held::{bad, Held};
 use crate::scene::{target_arg, PyScene};
 use e3d::episode::{EpisodeConfig, Observe};
 use e3d::learner::{ClosedLoopE3d, ContextTargets, QLearning};
@@ -55,7 +55,7 @@ pub(crate) fn observe_name(o: Observe) -> &'static str {
 pub(crate) fn contextual_held(
     scene: &PyScene,
     kind: LearnerKind,
-    commands: &Bound<'_, PyAny>,
+    commands: Option<&Bound<'_, PyAny>>,
     closed_loop: bool,
     observe: Option<&str>,
     gamma: f64,
@@ -64,7 +64,7 @@ pub(crate) fn contextual_held(
     targets: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Held> {
     scene.require_symbols("Learner.contextual")?;
-    let k = commands_arg(commands)?;
+    let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
     let ctx_targets = context_targets(scene, target, targets)?;
     let cfg = EpisodeConfig {
         episodes: 1,
@@ -75,7 +75,6 @@ pub(crate) fn contextual_held(
     };
     let contexts = cfg.num_contexts(&scene.inner.build());
     let (space, n) = (&scene.space, scene.inner.num_effects());
-    let bad = |e: e3d::learner::LearnerError| PyValueError::new_err(e.to_string());
     e3d::learner::contextual::check_gamma(gamma).map_err(bad)?;
     e3d::learner::contextual::check_context_effects(contexts, n).map_err(bad)?;
     match (closed_loop, kind) {

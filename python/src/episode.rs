@@ -6,8 +6,8 @@
 
 use crate::contextual::{commands_arg, context_targets, observe_arg};
 use crate::errors::{params_of, Fail};
-use crate::learner::{builtin_kind, python_learner_name, PyContextual, PyLearner};
-use crate::progress::{watched, Throttle, Ticks, Watch};
+use crate::learner::{builtin_kind, learner_list, python_learner_name, PyContextual, PyLearner};
+use crate::progress::{watched, Ticks, Watch};
 use crate::record::Grid;
 use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, PyScene};
@@ -16,7 +16,7 @@ use e3d::episode::{EpisodeConfig, EpisodeRecord};
 use e3d::learner::{ContextualLearner, LearnerSetup};
 use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
-use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use std::cell::RefCell;
@@ -57,7 +57,7 @@ fn record_to_py(
 }
 
 /// `e3d.run_episodes` (python/e3d/_run.py), its arguments checked there:
-/// the sessions of `seeds`, one record returned if `one`.
+/// the records of the sessions of `seeds` (`one`: given as `seed`).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _run_episodes(
@@ -75,7 +75,7 @@ pub(crate) fn _run_episodes(
     params: HashMap<String, f64>,
     target: Option<&Bound<'_, PyAny>>,
     targets: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Py<PyAny>> {
+) -> PyResult<Vec<Py<PyAny>>> {
     let scene = scene_of(scene)?;
     scene.require_symbols("run_episodes")?;
     if episodes > e3d::sweep::MAX_TRIALS {
@@ -126,12 +126,26 @@ pub(crate) fn _run_episodes(
                 "learner: an e3d.Learner runs one seed (give seed, not seeds)",
             ));
         }
-        return run_from_state(py, &scene, st, &cfg(seeds[0]), contexts);
+        return Ok(vec![run_from_state(
+            py,
+            &scene,
+            st,
+            &cfg(seeds[0]),
+            contexts,
+        )?]);
     }
     let Some(kind) = kind else {
-        let objs = python_learners(learner.expect("an object"), one, seeds.len())?;
+        let obj = learner.expect("an object");
+        let objs = match one {
+            true => vec![obj.clone()],
+            false => learner_list(
+                obj,
+                seeds.len(),
+                "with seeds, expected a built-in learner's name",
+            )?,
+        };
         let out = run_python_episodes(py, &inner, &space, objs, &seeds, &cfg, contexts, starts)?;
-        return one_or_list(py, out, one);
+        return Ok(out);
     };
     let make = || {
         LearnerSetup::new(kind)
@@ -142,17 +156,7 @@ pub(crate) fn _run_episodes(
             .contexts(&space, num_effects, contexts)
             .map_err(|e| Fail::Value(e.to_string()))
     };
-    let out = run_builtin_episodes(py, &inner, &seeds, &cfg, &make, starts)?;
-    one_or_list(py, out, one)
-}
-
-/// What `run_episodes` returns: the record of its one seed (`seed`), or
-/// the list of them (`seeds`).
-fn one_or_list(py: Python<'_>, mut out: Vec<Py<PyAny>>, one: bool) -> PyResult<Py<PyAny>> {
-    if one {
-        return Ok(out.remove(0));
-    }
-    Ok(pyo3::types::PyList::new(py, out)?.into_any().unbind())
+    run_builtin_episodes(py, &inner, &seeds, &cfg, &make, starts)
 }
 
 /// Runs sessions of episodes of Python learners, one per seed, one after
@@ -175,7 +179,7 @@ fn run_python_episodes(
         let error = RefCell::new(None);
         let mut l = PyContextual(PyLearner::new(py, obj, space, &error)?, contexts);
         let mut world = inner.build();
-        let raised = Ticks::new(Throttle::new(py, None, 0)?, 0, &error);
+        let raised = Ticks::new(py, None, 0, &error)?;
         let rec = e3d::episode::run_episodes(&mut *world, &mut l, &cfg(seed), &raised);
         drop(l);
         if let Some(e) = error.take() {
@@ -228,7 +232,8 @@ fn run_from_state(
 ) -> PyResult<Py<PyAny>> {
     let mut held = st.borrow().held.clone();
     let sizes: Vec<usize> = scene.space.sizes().collect();
-    held.shape()
+    held.state()
+        .shape()
         .fits(&sizes, scene.inner.num_effects(), Some(contexts))
         .map_err(|e| {
             PyValueError::new_err(format!("learner: scene `{}`: {e}", scene.inner.spec().name))
@@ -244,36 +249,4 @@ fn run_from_state(
     st.borrow_mut().held = held;
     let starts = scene.inner.build().num_contexts();
     record_to_py(py, rec, cfg.seed, &name, &scene.inner, starts)
-}
-
-/// The Python learners of `run_episodes`: `learner` itself for one seed,
-/// else a sequence of `n`, one per seed.
-fn python_learners<'py>(
-    learner: &Bound<'py, PyAny>,
-    one: bool,
-    n: usize,
-) -> PyResult<Vec<Bound<'py, PyAny>>> {
-    if one {
-        return Ok(vec![learner.clone()]);
-    }
-    if learner.is_instance_of::<PyLearnerState>() {
-        return Err(PyTypeError::new_err(
-            "learner: an e3d.Learner runs one seed (give seed, not seeds)",
-        ));
-    }
-    let objs: Vec<Bound<'py, PyAny>> = learner
-        .try_iter()
-        .and_then(|it| it.collect::<PyResult<Vec<_>>>())
-        .map_err(|_| {
-            PyTypeError::new_err(format!(
-                "learner: with seeds, expected a built-in learner's name or a sequence of {n} Python learners, one per seed"
-            ))
-        })?;
-    if objs.len() != n {
-        return Err(PyValueError::new_err(format!(
-            "learner: {} Python learners for {n} seeds: expected one learner per seed",
-            objs.len()
-        )));
-    }
-    Ok(objs)
 }

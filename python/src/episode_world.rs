@@ -3,7 +3,7 @@
 
 use crate::commands::commands_from;
 use crate::contextual::{commands_arg, observe_arg, observe_name};
-use crate::errors::{seed_arg, usize_arg, Fail};
+use crate::errors::{int_arg, usize_arg, Fail};
 use crate::outcome::outcome_to_py;
 use crate::scene::{scene_of, PyScene};
 use e3d::episode::Observe;
@@ -171,7 +171,7 @@ impl PyEpisodeWorld {
             return Err(PyValueError::new_err("give either seed or rng, not both"));
         }
         if let Some(s) = seed {
-            self.rng = SessionRng::seed_from_u64(seed_arg(s)?);
+            self.rng = SessionRng::seed_from_u64(int_arg(s, "seed", 0)?);
         }
         // the caller's generator (the one its learner proposes from), as
         // run_episodes draws starts and commands from one

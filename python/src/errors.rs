@@ -132,11 +132,6 @@ pub(crate) fn usize_arg(obj: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResul
         .map_err(|_| PyValueError::new_err(format!("{name} = {v}: too large for this machine")))
 }
 
-/// `seed`: an integer in [0, 2^64 - 1].
-pub(crate) fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
-    int_arg(obj, "seed", 0)
-}
-
 /// The most trials (or episode commands) one call returns in its records,
 /// all sessions together: 10^8 (about 2.5 GB of arrays).
 pub(crate) const MAX_HELD_TRIALS: u64 = 100_000_000;

@@ -15,60 +15,164 @@ use e3d::{ContinuousLearner, Learner, LearnerKind, Params};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-/// A built-in learner of either kind of command, as its concrete type.
-#[derive(Clone)]
-pub(crate) enum Held {
-    E3d(E3d),
-    Relaxed(RelaxedE3d),
-    Count(CountBonus),
-    Smm(StateMarginalMatching),
-    Egreedy(EpsilonGreedy),
-    Uniform(UniformPolicy),
-    Gaussian(GaussianE3d),
-    UniformValues(UniformValues),
-    GoalBabbling(GoalBabbling),
-    GoalBabblingValues(GoalBabblingValues),
-    Archive(Archive),
-    ArchiveValues(ArchiveValues),
-    /// Contextual: a learner per context, closed-loop E3D, Q-learning.
-    PerE3d(PerContext<E3d>),
-    PerRelaxed(PerContext<RelaxedE3d>),
-    PerCount(PerContext<CountBonus>),
-    PerSmm(PerContext<StateMarginalMatching>),
-    PerEgreedy(PerContext<EpsilonGreedy>),
-    PerUniform(PerContext<UniformPolicy>),
-    ClosedLoop(ClosedLoopE3d),
-    QLearning(QLearning),
+/// A learner's state behind a reference: what `Learner` asks of every
+/// kind ([`LearnerState`] made object-safe).
+pub(crate) trait State {
+    /// [`LearnerState::KIND`].
+    fn kind(&self) -> &'static str;
+    fn to_bytes(&self) -> Vec<u8>;
+    fn shape(&self) -> StateShape;
+    fn tables(&self) -> Vec<StateTable>;
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError>;
 }
 
-/// Applies `$f` to the concrete learner of `$held`.
-macro_rules! with_held {
-    ($held:expr, $l:ident => $f:expr) => {
-        match $held {
-            Held::E3d($l) => $f,
-            Held::Relaxed($l) => $f,
-            Held::Count($l) => $f,
-            Held::Smm($l) => $f,
-            Held::Egreedy($l) => $f,
-            Held::Uniform($l) => $f,
-            Held::Gaussian($l) => $f,
-            Held::UniformValues($l) => $f,
-            Held::GoalBabbling($l) => $f,
-            Held::GoalBabblingValues($l) => $f,
-            Held::Archive($l) => $f,
-            Held::ArchiveValues($l) => $f,
-            Held::PerE3d($l) => $f,
-            Held::PerRelaxed($l) => $f,
-            Held::PerCount($l) => $f,
-            Held::PerSmm($l) => $f,
-            Held::PerEgreedy($l) => $f,
-            Held::PerUniform($l) => $f,
-            Held::ClosedLoop($l) => $f,
-            Held::QLearning($l) => $f,
+impl<L: LearnerState> State for L {
+    fn kind(&self) -> &'static str {
+        L::KIND
+    }
+    fn to_bytes(&self) -> Vec<u8> {
+        LearnerState::to_bytes(self)
+    }
+    fn shape(&self) -> StateShape {
+        LearnerState::shape(self)
+    }
+    fn tables(&self) -> Vec<StateTable> {
+        LearnerState::tables(self)
+    }
+    fn set_table(&mut self, name: &str, values: &[f64]) -> Result<(), LearnerError> {
+        LearnerState::set_table(self, name, values)
+    }
+}
+
+/// `Held` and what reads it, from one list: each variant, its type and
+/// the [`LearnerKind`] a session runs it as, by what it learns (symbols,
+/// values, one learner of symbols per context, one over contexts).
+macro_rules! held {
+    (
+        symbols: $($s:ident($st:ty) $sk:ident),*;
+        values: $($v:ident($vt:ty) $vk:ident),*;
+        per_context: $($p:ident($one:ident: $pt:ty) $pk:ident),*;
+        over_contexts: $($c:ident($ct:ty) $ck:ident),*;
+    ) => {
+        /// A built-in learner of either kind of command, as its concrete type.
+        #[derive(Clone)]
+        pub(crate) enum Held {
+            $($s($st),)*
+            $($v($vt),)*
+            $($p(PerContext<$pt>),)*
+            $($c($ct),)*
+        }
+
+        impl Held {
+            /// The learner's state.
+            pub(crate) fn state(&self) -> &dyn State {
+                match self {
+                    $(Held::$s(l) => l,)*
+                    $(Held::$v(l) => l,)*
+                    $(Held::$p(l) => l,)*
+                    $(Held::$c(l) => l,)*
+                }
+            }
+
+            /// The learner's state, to write.
+            pub(crate) fn state_mut(&mut self) -> &mut dyn State {
+                match self {
+                    $(Held::$s(l) => l,)*
+                    $(Held::$v(l) => l,)*
+                    $(Held::$p(l) => l,)*
+                    $(Held::$c(l) => l,)*
+                }
+            }
+
+            /// The learner as a learner of symbols, if it is one.
+            pub(crate) fn symbols(&mut self) -> Option<&mut (dyn Learner + Send)> {
+                match self {
+                    $(Held::$s(l) => Some(l),)*
+                    _ => None,
+                }
+            }
+
+            /// The learner as a learner of values, if it is one.
+            pub(crate) fn values(&mut self) -> Option<&mut (dyn ContinuousLearner + Send)> {
+                match self {
+                    $(Held::$v(l) => Some(l),)*
+                    _ => None,
+                }
+            }
+
+            /// The learner as a contextual learner, if it is one.
+            pub(crate) fn contextual(&mut self) -> Option<&mut (dyn ContextualLearner + Send)> {
+                match self {
+                    $(Held::$p(l) => Some(l),)*
+                    $(Held::$c(l) => Some(l),)*
+                    _ => None,
+                }
+            }
+
+            /// The kind a session runs (`LearnerKind`'s name).
+            pub(crate) fn kind(&self) -> LearnerKind {
+                match self {
+                    $(Held::$s(_) => LearnerKind::$sk,)*
+                    $(Held::$v(_) => LearnerKind::$vk,)*
+                    $(Held::$p(_) => LearnerKind::$pk,)*
+                    $(Held::$c(_) => LearnerKind::$ck,)*
+                }
+            }
+
+            /// The learner from the bytes of [`LearnerState::to_bytes`],
+            /// whatever its kind.
+            pub(crate) fn from_bytes(data: &[u8]) -> Result<Held, LearnerError> {
+                let kind = state_kind(data)?;
+                $(if kind == <$st>::KIND { return Ok(Held::$s(<$st>::from_bytes(data)?)); })*
+                $(if kind == <$vt>::KIND { return Ok(Held::$v(<$vt>::from_bytes(data)?)); })*
+                $(if kind == <$ct>::KIND { return Ok(Held::$c(<$ct>::from_bytes(data)?)); })*
+                if kind != "per_context" {
+                    return Err(LearnerError::State(format!(
+                        "the state of a `{kind}` learner, which e3d.Learner does not hold"
+                    )));
+                }
+                let inner = per_context_kind(data)?;
+                $(if inner == <$pt>::KIND { return Ok(Held::$p(PerContext::from_bytes(data)?)); })*
+                Err(LearnerError::State(format!(
+                    "the state of `{inner}` learners per context, which e3d.Learner does not hold"
+                )))
+            }
+
+            /// A learner per context from one learner per context (all of
+            /// one kind, as [`Held::new`] makes them).
+            pub(crate) fn per_context(learners: Vec<Held>) -> Held {
+                match &learners[0] {
+                    $(Held::$one(_) => Held::$p(PerContext::new(
+                        learners
+                            .into_iter()
+                            .map(|h| match h {
+                                Held::$one(l) => l,
+                                _ => unreachable!("one kind"),
+                            })
+                            .collect(),
+                    )),)*
+                    _ => unreachable!("a learner of symbols per context"),
+                }
+            }
         }
     };
 }
 
+held! {
+    symbols: E3d(E3d) E3d, Relaxed(RelaxedE3d) E3dRelax, Count(CountBonus) Count,
+        Smm(StateMarginalMatching) Smm, Egreedy(EpsilonGreedy) Egreedy,
+        Uniform(UniformPolicy) Uniform, GoalBabbling(GoalBabbling) GoalBabbling,
+        Archive(Archive) Archive;
+    values: Gaussian(GaussianE3d) E3d, UniformValues(UniformValues) Uniform,
+        GoalBabblingValues(GoalBabblingValues) GoalBabbling,
+        ArchiveValues(ArchiveValues) Archive;
+    per_context: PerE3d(E3d: E3d) E3d, PerRelaxed(Relaxed: RelaxedE3d) E3dRelax,
+        PerCount(Count: CountBonus) Count, PerSmm(Smm: StateMarginalMatching) Smm,
+        PerEgreedy(Egreedy: EpsilonGreedy) Egreedy, PerUniform(Uniform: UniformPolicy) Uniform;
+    over_contexts: ClosedLoop(ClosedLoopE3d) E3d, QLearning(QLearning) Egreedy;
+}
+
+/// A learner's error as a `ValueError`.
 pub(crate) fn bad(e: LearnerError) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
@@ -111,62 +215,6 @@ impl Held {
         })
     }
 
-    /// The learner from the bytes of [`LearnerState::to_bytes`], whatever
-    /// its kind.
-    pub(crate) fn from_bytes(data: &[u8]) -> Result<Held, LearnerError> {
-        let kind = state_kind(data)?;
-        Ok(match kind.as_str() {
-            "e3d" => Held::E3d(E3d::from_bytes(data)?),
-            "e3d_relax" => Held::Relaxed(RelaxedE3d::from_bytes(data)?),
-            "count" => Held::Count(CountBonus::from_bytes(data)?),
-            "smm" => Held::Smm(StateMarginalMatching::from_bytes(data)?),
-            "egreedy" => Held::Egreedy(EpsilonGreedy::from_bytes(data)?),
-            "uniform" => Held::Uniform(UniformPolicy::from_bytes(data)?),
-            "gaussian_e3d" => Held::Gaussian(GaussianE3d::from_bytes(data)?),
-            "uniform_values" => Held::UniformValues(UniformValues::from_bytes(data)?),
-            "goal_babbling" => Held::GoalBabbling(GoalBabbling::from_bytes(data)?),
-            "goal_babbling_values" => {
-                Held::GoalBabblingValues(GoalBabblingValues::from_bytes(data)?)
-            }
-            "archive" => Held::Archive(Archive::from_bytes(data)?),
-            "archive_values" => Held::ArchiveValues(ArchiveValues::from_bytes(data)?),
-            "e3d_closed_loop" => Held::ClosedLoop(ClosedLoopE3d::from_bytes(data)?),
-            "qlearning" => Held::QLearning(QLearning::from_bytes(data)?),
-            "per_context" => match per_context_kind(data)?.as_str() {
-                "e3d" => Held::PerE3d(PerContext::from_bytes(data)?),
-                "e3d_relax" => Held::PerRelaxed(PerContext::from_bytes(data)?),
-                "count" => Held::PerCount(PerContext::from_bytes(data)?),
-                "smm" => Held::PerSmm(PerContext::from_bytes(data)?),
-                "egreedy" => Held::PerEgreedy(PerContext::from_bytes(data)?),
-                "uniform" => Held::PerUniform(PerContext::from_bytes(data)?),
-                inner => {
-                    return Err(LearnerError::State(format!(
-                    "the state of `{inner}` learners per context, which e3d.Learner does not hold"
-                )))
-                }
-            },
-            _ => {
-                return Err(LearnerError::State(format!(
-                    "the state of a `{kind}` learner, which e3d.Learner does not hold"
-                )))
-            }
-        })
-    }
-
-    pub(crate) fn to_bytes(&self) -> Vec<u8> {
-        with_held!(self, l => l.to_bytes())
-    }
-
-    /// What the learner was made for (slots, effects, contexts).
-    pub(crate) fn shape(&self) -> StateShape {
-        with_held!(self, l => l.shape())
-    }
-
-    /// The learner's tables by name ([`LearnerState::tables`]).
-    pub(crate) fn tables(&self) -> Vec<StateTable> {
-        with_held!(self, l => l.tables())
-    }
-
     /// The E3D learner, if it is one.
     pub(crate) fn e3d(&mut self) -> Option<&mut E3d> {
         match self {
@@ -174,90 +222,4 @@ impl Held {
             _ => None,
         }
     }
-
-    /// The learner as a learner of symbols, if it is one.
-    pub(crate) fn symbols(&mut self) -> Option<&mut (dyn Learner + Send)> {
-        Some(match self {
-            Held::E3d(l) => l,
-            Held::Relaxed(l) => l,
-            Held::Count(l) => l,
-            Held::Smm(l) => l,
-            Held::Egreedy(l) => l,
-            Held::Uniform(l) => l,
-            Held::GoalBabbling(l) => l,
-            Held::Archive(l) => l,
-            _ => return None,
-        })
-    }
-
-    /// The learner as a contextual learner, if it is one.
-    pub(crate) fn contextual(&mut self) -> Option<&mut (dyn ContextualLearner + Send)> {
-        Some(match self {
-            Held::PerE3d(l) => l,
-            Held::PerRelaxed(l) => l,
-            Held::PerCount(l) => l,
-            Held::PerSmm(l) => l,
-            Held::PerEgreedy(l) => l,
-            Held::PerUniform(l) => l,
-            Held::ClosedLoop(l) => l,
-            Held::QLearning(l) => l,
-            _ => return None,
-        })
-    }
-
-    /// A learner per context from one learner per context (all of one
-    /// kind, as [`Held::new`] makes them).
-    pub(crate) fn per_context(learners: Vec<Held>) -> Held {
-        macro_rules! per {
-            ($($one:ident => $per:ident),*) => {
-                match &learners[0] {
-                    $(Held::$one(_) => Held::$per(PerContext::new(
-                        learners
-                            .into_iter()
-                            .map(|h| match h {
-                                Held::$one(l) => l,
-                                _ => unreachable!("one kind"),
-                            })
-                            .collect(),
-                    )),)*
-                    _ => unreachable!("a learner of symbols per context"),
-                }
-            };
-        }
-        per!(E3d => PerE3d, Relaxed => PerRelaxed, Count => PerCount, Smm => PerSmm,
-            Egreedy => PerEgreedy, Uniform => PerUniform)
-    }
-
-    /// The learner as a learner of values, if it is one.
-    pub(crate) fn values(&mut self) -> Option<&mut (dyn ContinuousLearner + Send)> {
-        match self {
-            Held::Gaussian(l) => Some(l),
-            Held::UniformValues(l) => Some(l),
-            Held::GoalBabblingValues(l) => Some(l),
-            Held::ArchiveValues(l) => Some(l),
-            _ => None,
-        }
-    }
-
-    /// The kind a session runs (`LearnerKind`'s name).
-    pub(crate) fn kind(&self) -> LearnerKind {
-        match self {
-            Held::E3d(_) | Held::Gaussian(_) => LearnerKind::E3d,
-            Held::Relaxed(_) => LearnerKind::E3dRelax,
-            Held::Count(_) => LearnerKind::Count,
-            Held::Smm(_) => LearnerKind::Smm,
-            Held::Egreedy(_) => LearnerKind::Egreedy,
-            Held::Uniform(_) | Held::UniformValues(_) => LearnerKind::Uniform,
-            Held::PerE3d(_) | Held::ClosedLoop(_) => LearnerKind::E3d,
-            Held::PerRelaxed(_) => LearnerKind::E3dRelax,
-            Held::PerCount(_) => LearnerKind::Count,
-            Held::PerSmm(_) => LearnerKind::Smm,
-            Held::PerEgreedy(_) | Held::QLearning(_) => LearnerKind::Egreedy,
-            Held::PerUniform(_) => LearnerKind::Uniform,
-            Held::GoalBabbling(_) | Held::GoalBabblingValues(_) => LearnerKind::GoalBabbling,
-            Held::Archive(_) | Held::ArchiveValues(_) => LearnerKind::Archive,
-        }
-    }
 }
-
-pub(crate) use with_held;

@@ -55,7 +55,14 @@ pub(crate) fn free_outcome<'py>(
             checked.point = o.point;
             return Ok((args.get_item(0)?, checked, true));
         }
-        3 => (args.get_item(0)?, check_outcome(args, shape)?, point),
+        3 => {
+            let (effect, reward) = effect_reward(&args.get_item(1)?, &args.get_item(2)?)?;
+            (
+                args.get_item(0)?,
+                check_effect(effect, reward, shape)?,
+                point,
+            )
+        }
         _ => return Err(PyTypeError::new_err(usage)),
     };
     let Some(p) = point else {
@@ -78,15 +85,6 @@ pub(crate) fn free_outcome<'py>(
         },
         true,
     ))
-}
-
-/// The outcome of `args[1]` (effect) and `args[2]` (reward), checked.
-pub(crate) fn check_outcome(
-    args: &Bound<'_, PyTuple>,
-    shape: &StateShape,
-) -> PyResult<e3d::Outcome> {
-    let (effect, reward) = effect_reward(&args.get_item(1)?, &args.get_item(2)?)?;
-    check_effect(effect, reward, shape)
 }
 
 /// The outcome of `effect` and `reward`, the effect checked.

@@ -158,16 +158,41 @@ pub(crate) fn python_learner_name(obj: &Bound<'_, PyAny>) -> PyResult<String> {
         .unwrap_or_else(|_| "python".to_string()))
 }
 
+/// The Python learners of a call with `n` seeds: `learner`, a sequence
+/// of `n` of them, one per seed (`expected` says what else it may be).
+pub(crate) fn learner_list<'py>(
+    learner: &Bound<'py, PyAny>,
+    n: usize,
+    expected: &str,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let objs: Vec<Bound<'py, PyAny>> = learner
+        .try_iter()
+        .and_then(|it| it.collect::<PyResult<Vec<_>>>())
+        .map_err(|_| {
+            PyTypeError::new_err(format!(
+                "learner: {expected} or a sequence of Python learners, one per seed ({n} seeds)"
+            ))
+        })?;
+    if objs.len() != n {
+        return Err(PyValueError::new_err(format!(
+            "learner: {} Python learners for {n} seeds: expected one learner per seed",
+            objs.len()
+        )));
+    }
+    Ok(objs)
+}
+
 /// A learner whose trials are also handed to a Python callable,
 /// `on_trials(first, commands, effects, rewards)`, `every` trials at a
-/// time (arrays: one call per batch, not per trial). Its first exception
-/// goes to `error`, which stops the session.
+/// time and at the session's last (arrays: one call per batch, not per
+/// trial). Its first exception goes to `error`, which stops the session.
 pub(crate) struct Tap<'py, 'a, L: ?Sized> {
     py: Python<'py>,
     inner: &'a mut L,
-    callback: Option<Bound<'py, PyAny>>,
+    callback: Bound<'py, PyAny>,
     every: usize,
     slots: usize,
+    trials: usize,
     first: usize,
     symbols: Vec<u8>,
     effects: Vec<usize>,
@@ -176,25 +201,22 @@ pub(crate) struct Tap<'py, 'a, L: ?Sized> {
 }
 
 impl<'py, 'a, L: Learner + ?Sized> Tap<'py, 'a, L> {
+    /// `inner` tapped for a session of `trials` trials of `slots` slots.
     pub(crate) fn new(
-        py: Python<'py>,
         inner: &'a mut L,
-        callback: Option<&Bound<'py, PyAny>>,
+        callback: &Bound<'py, PyAny>,
         every: usize,
-        slots: usize,
+        (slots, trials): (usize, usize),
         error: &'a RefCell<Option<PyErr>>,
     ) -> Self {
-        let cap = if callback.is_some() {
-            every.min(1 << 20)
-        } else {
-            0
-        };
+        let cap = every.min(1 << 20);
         Tap {
-            py,
+            py: callback.py(),
             inner,
-            callback: callback.cloned(),
+            callback: callback.clone(),
             every,
             slots,
+            trials,
             first: 0,
             symbols: Vec::with_capacity(cap * slots),
             effects: Vec::with_capacity(cap),
@@ -204,10 +226,9 @@ impl<'py, 'a, L: Learner + ?Sized> Tap<'py, 'a, L> {
     }
 
     /// Hands the trials kept so far to the callable.
-    pub(crate) fn flush(&mut self) {
-        let Some(cb) = &self.callback else { return };
+    fn flush(&mut self) {
         let n = self.effects.len();
-        if n == 0 || self.error.borrow().is_some() {
+        if self.error.borrow().is_some() {
             return;
         }
         let commands = numpy::ndarray::Array2::from_shape_vec(
@@ -218,7 +239,7 @@ impl<'py, 'a, L: Learner + ?Sized> Tap<'py, 'a, L> {
         let effects = PyArray1::from_iter(self.py, self.effects.drain(..).map(|e| e as i64));
         let rewards = PyArray1::from_slice(self.py, &self.rewards);
         self.rewards.clear();
-        let r = cb.call1((
+        let r = self.callback.call1((
             self.first,
             numpy::IntoPyArray::into_pyarray(commands, self.py),
             effects,
@@ -240,13 +261,11 @@ impl<L: Learner + ?Sized> Learner for Tap<'_, '_, L> {
     }
     fn learn(&mut self, command: &Command, outcome: &Outcome) {
         self.inner.learn(command, outcome);
-        if self.callback.is_some() {
-            self.symbols.extend_from_slice(&command.symbols);
-            self.effects.push(outcome.effect);
-            self.rewards.push(outcome.reward);
-            if self.effects.len() >= self.every {
-                self.flush();
-            }
+        self.symbols.extend_from_slice(&command.symbols);
+        self.effects.push(outcome.effect);
+        self.rewards.push(outcome.reward);
+        if self.effects.len() >= self.every || self.first + self.effects.len() == self.trials {
+            self.flush();
         }
     }
     fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {

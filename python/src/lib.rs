@@ -64,6 +64,5 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_run_sessions, m)?)?;
     m.add_function(wrap_pyfunction!(run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(_run_episodes, m)?)?;
-    m.add_function(wrap_pyfunction!(record::_grid_svg, m)?)?;
     Ok(())
 }

@@ -9,11 +9,11 @@
 //! the work to stop ([`Watch::cancelled`]) and is raised once it has.
 //!
 //! A Python learner runs on the calling thread with the GIL (it is called
-//! every trial): there, [`Throttle`] does the same from the session's own
+//! every trial): there, [`Ticks`] does the same from the session's own
 //! progress callback.
 
 use pyo3::prelude::*;
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -108,8 +108,7 @@ where
                 r
             });
             let mut error: Option<PyErr> = None;
-            let mut last_call: Option<Instant> = None;
-            let mut reported = None;
+            let mut pace = Pace::default();
             loop {
                 let finished = !matches!(
                     rx.recv_timeout(TICK),
@@ -117,8 +116,7 @@ where
                 );
                 if error.is_none() {
                     let done = watch.total_done();
-                    let due = finished || last_call.is_none_or(|t| t.elapsed() >= INTERVAL);
-                    let call = due && reported != Some(done);
+                    let call = pace.due(done, finished);
                     let r = Python::attach(|py| -> PyResult<()> {
                         py.check_signals()?;
                         if let (Some(cb), true) = (&callback, call) {
@@ -126,10 +124,6 @@ where
                         }
                         Ok(())
                     });
-                    if call {
-                        last_call = Some(Instant::now());
-                        reported = Some(done);
-                    }
                     if let Err(e) = r {
                         watch.cancel();
                         error = Some(e);
@@ -154,73 +148,73 @@ where
     }
 }
 
-/// Progress and signals for work that runs on the calling thread with the
-/// GIL (a Python learner): [`tick`](Throttle::tick) checks for signals and
-/// calls `progress` at most every [`INTERVAL`].
-pub struct Throttle<'py> {
-    py: Python<'py>,
-    callback: Option<Bound<'py, PyAny>>,
-    total: u64,
-    last_check: Instant,
+/// When a progress callback is due: at most every [`INTERVAL`], always
+/// at the end, never twice for the same count.
+#[derive(Default)]
+struct Pace {
     last_call: Option<Instant>,
     reported: Option<u64>,
 }
 
-impl<'py> Throttle<'py> {
-    pub fn new(
-        py: Python<'py>,
-        callback: Option<&Bound<'py, PyAny>>,
-        total: u64,
-    ) -> PyResult<Self> {
-        check_callable(callback)?;
-        Ok(Throttle {
-            py,
-            callback: callback.cloned(),
-            total,
-            last_check: Instant::now(),
-            last_call: None,
-            reported: None,
-        })
-    }
-
-    /// `done` units done; `last` for the final call (always made).
-    pub fn tick(&mut self, done: u64, last: bool) -> PyResult<()> {
-        if !last && self.last_check.elapsed() < TICK {
-            return Ok(());
-        }
-        self.last_check = Instant::now();
-        self.py.check_signals()?;
-        let due = last || self.last_call.is_none_or(|t| t.elapsed() >= INTERVAL);
-        if let (Some(cb), true) = (&self.callback, due && self.reported != Some(done)) {
-            cb.call1((done, self.total))?;
+impl Pace {
+    /// Whether to call now, `done` units done (`last`: the work is over);
+    /// a call due counts as made.
+    fn due(&mut self, done: u64, last: bool) -> bool {
+        let due = (last || self.last_call.is_none_or(|t| t.elapsed() >= INTERVAL))
+            && self.reported != Some(done);
+        if due {
             self.last_call = Some(Instant::now());
             self.reported = Some(done);
         }
-        Ok(())
+        due
     }
 }
 
-/// The progress and stop of sessions of Python learners, on the calling
-/// thread: `progress(done, total)` throttled, and a stop once a callback
-/// raised.
+/// The progress and stop of sessions run on the calling thread with the
+/// GIL (Python learners): signals checked every [`TICK`],
+/// `progress(done, total)` paced as [`watched`] paces it, and a stop once
+/// either raised (the error goes to `error`).
 pub(crate) struct Ticks<'a, 'py> {
-    throttle: RefCell<Throttle<'py>>,
-    done: std::cell::Cell<u64>,
+    py: Python<'py>,
+    callback: Option<Bound<'py, PyAny>>,
     total: u64,
+    done: Cell<u64>,
+    last_check: Cell<Instant>,
+    pace: RefCell<Pace>,
     error: &'a RefCell<Option<PyErr>>,
 }
 
 impl<'a, 'py> Ticks<'a, 'py> {
     pub(crate) fn new(
-        throttle: Throttle<'py>,
+        py: Python<'py>,
+        callback: Option<&Bound<'py, PyAny>>,
         total: u64,
         error: &'a RefCell<Option<PyErr>>,
-    ) -> Self {
-        Ticks {
-            throttle: RefCell::new(throttle),
-            done: std::cell::Cell::new(0),
+    ) -> PyResult<Self> {
+        check_callable(callback)?;
+        Ok(Ticks {
+            py,
+            callback: callback.cloned(),
             total,
+            done: Cell::new(0),
+            last_check: Cell::new(Instant::now()),
+            pace: RefCell::default(),
             error,
+        })
+    }
+
+    fn tick(&self, done: u64) -> PyResult<()> {
+        let last = done == self.total;
+        if !last && self.last_check.get().elapsed() < TICK {
+            return Ok(());
+        }
+        self.last_check.set(Instant::now());
+        self.py.check_signals()?;
+        match &self.callback {
+            Some(cb) if self.pace.borrow_mut().due(done, last) => {
+                cb.call1((done, self.total)).map(drop)
+            }
+            _ => Ok(()),
         }
     }
 }
@@ -230,7 +224,7 @@ impl e3d::session::Observer for Ticks<'_, '_> {
         let done = self.done.get() + trials;
         self.done.set(done);
         if self.error.borrow().is_none() {
-            if let Err(e) = self.throttle.borrow_mut().tick(done, done == self.total) {
+            if let Err(e) = self.tick(done) {
                 *self.error.borrow_mut() = Some(e);
             }
         }

@@ -1,5 +1,6 @@
 //! What sessions recorded, handed to `SessionRecord` and `SessionBatch`
-//! (python/e3d/_results.py), and the effect grid they draw.
+//! (python/e3d/_results.py), and the effect grid they draw (its SVG is
+//! `_results._grid_svg`).
 
 use crate::scene::PyScene;
 use e3d::session::ValueSessionRecord;
@@ -11,8 +12,7 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 
 /// The effect grid of a session's scene: rows, columns, and whether each
 /// cell is rewarded (a dict in Python).
-#[derive(Clone, IntoPyObject, FromPyObject)]
-#[pyo3(from_item_all)]
+#[derive(Clone, IntoPyObject)]
 pub(crate) struct Grid {
     pub(crate) rows: usize,
     pub(crate) cols: usize,
@@ -27,49 +27,6 @@ impl Grid {
             cols: g.cols,
             rewarded: scene.reward_table().iter().map(|&r| r != 0.0).collect(),
         }
-    }
-
-    /// An SVG of the grid, each cell shaded by its share of `counts` (its
-    /// count over the largest, white to dark blue) and labelled with it in
-    /// `unit` (`trials`, `episodes`),
-    /// the rewarded cells outlined in green; row 0 at the bottom, as the
-    /// scene's picture has it.
-    pub(crate) fn svg(&self, counts: &[f64], unit: &str, title: &str) -> String {
-        use std::fmt::Write;
-        let cell = (480.0 / self.cols.max(self.rows) as f64).clamp(4.0, 60.0);
-        let (w, h) = (self.cols as f64 * cell, self.rows as f64 * cell);
-        let top = counts.iter().copied().fold(0.0, f64::max).max(1.0);
-        let total: f64 = counts.iter().sum::<f64>().max(1.0);
-        let mut out = format!(
-            r##"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {:.0} {:.0}" font-family="Helvetica, Arial, sans-serif"><rect width="100%" height="100%" fill="#ffffff"/><text x="10" y="20" font-size="14" fill="#222">{}</text>"##,
-            w + 20.0,
-            h + 40.0,
-            w + 20.0,
-            h + 40.0,
-            title.replace('&', "&amp;").replace('<', "&lt;")
-        );
-        for (e, &c) in counts.iter().enumerate() {
-            let (r, col) = (e / self.cols, e % self.cols);
-            let (x, y) = (
-                10.0 + col as f64 * cell,
-                30.0 + (self.rows - 1 - r) as f64 * cell,
-            );
-            let f = c / top;
-            let shade = |lo: f64, hi: f64| (hi + (lo - hi) * f).round() as u8;
-            let (cr, cg, cb) = (shade(31.0, 255.0), shade(78.0, 255.0), shade(156.0, 255.0));
-            let stroke = if self.rewarded.get(e).copied().unwrap_or(false) {
-                r##"stroke="#2e8b57" stroke-width="3""##
-            } else {
-                r##"stroke="#b8c4d6" stroke-width="0.8""##
-            };
-            let _ = write!(
-                out,
-                r#"<rect x="{x:.1}" y="{y:.1}" width="{cell:.1}" height="{cell:.1}" fill="rgb({cr},{cg},{cb})" {stroke}><title>cell ({r}, {col}): {c} {unit} ({:.1}%)</title></rect>"#,
-                100.0 * c / total
-            );
-        }
-        out.push_str("</svg>");
-        out
     }
 }
 
@@ -154,12 +111,6 @@ pub(crate) fn slot_policies(
         }
     }
     Ok(Some(PyList::new(py, out)?.into_any().unbind()))
-}
-
-/// `Grid::svg` for the records' `_repr_svg_`.
-#[pyfunction]
-pub(crate) fn _grid_svg(grid: Grid, counts: Vec<f64>, unit: &str, title: &str) -> String {
-    grid.svg(&counts, unit, title)
 }
 
 /// A class of python/e3d/_results.py.

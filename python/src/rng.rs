@@ -59,7 +59,7 @@ impl PyRng {
     #[new]
     fn new(seed: &Bound<'_, PyAny>) -> PyResult<PyRng> {
         Ok(PyRng {
-            inner: rand::SeedableRng::seed_from_u64(crate::errors::seed_arg(seed)?),
+            inner: rand::SeedableRng::seed_from_u64(crate::errors::int_arg(seed, "seed", 0)?),
             active: true,
         })
     }

@@ -4,15 +4,14 @@
 //! continues from it.
 
 use crate::errors::checked;
-use crate::held::{bad, with_held, Held};
+use crate::held::{bad, Held};
 use crate::learn_args::{
     bad_command, check_effect, context_arg, effect_reward, free_outcome, symbols_of,
 };
 use crate::scene::{scene_of, target_arg, PyScene};
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::StateShape;
-use e3d::learner::LearnerState;
-use e3d::{ContinuousLearner, LearnerKind, Params};
+use e3d::{LearnerKind, Params};
 use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -38,7 +37,7 @@ pub(crate) struct PyLearnerState {
 impl PyLearnerState {
     /// Checks that `scene` fits this learner (its slots and effects).
     pub(crate) fn check_fits(&self, scene: &PyScene) -> PyResult<()> {
-        let shape = with_held!(&self.held, l => l.shape());
+        let shape = self.held.state().shape();
         let sizes: Vec<usize> = match &scene.values {
             Some(v) => vec![0; v.num_slots()],
             None => scene.space.sizes().collect(),
@@ -138,11 +137,10 @@ impl PyLearnerState {
             epsilon,
             ..Params::TASK1
         })?;
-        let one = 1usize.into_pyobject(py)?.into_any();
         let held = crate::contextual::contextual_held(
             &scene,
             kind,
-            commands.unwrap_or(&one),
+            commands,
             closed_loop,
             observe,
             gamma,
@@ -171,12 +169,12 @@ impl PyLearnerState {
     /// `"uniform_values"`, ...).
     #[getter]
     fn kind(&self) -> &'static str {
-        with_held!(&self.held, l => kind_of(l))
+        self.held.state().kind()
     }
 
     /// The whole state as bytes, bit for bit.
     fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
-        PyBytes::new(py, &self.held.to_bytes())
+        PyBytes::new(py, &self.held.state().to_bytes())
     }
 
     /// A learner from the bytes of `to_bytes` (or of `E3dLearner.to_bytes`),
@@ -217,20 +215,20 @@ impl PyLearnerState {
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
         other
             .cast::<PyLearnerState>()
-            .map(|o| o.borrow().held.to_bytes() == self.held.to_bytes())
+            .map(|o| o.borrow().held.state().to_bytes() == self.held.state().to_bytes())
             .unwrap_or(false)
     }
 
     /// The names of the learner's tables (`"q"`, `"policy"`, `"p"`,
     /// `"target"`, `"counts"`, ... as it has them), in order.
     fn keys(&self) -> Vec<&'static str> {
-        self.held.tables().iter().map(|t| t.name).collect()
+        self.held.state().tables().iter().map(|t| t.name).collect()
     }
 
     /// Whether the learner has a table of that name (`"q" in learner`).
     fn __contains__(&self, name: &Bound<'_, PyAny>) -> bool {
         name.extract::<String>()
-            .is_ok_and(|n| self.held.tables().iter().any(|t| t.name == n))
+            .is_ok_and(|n| self.held.state().tables().iter().any(|t| t.name == n))
     }
 
     /// The names of the tables, as `keys()` (`list(learner)`).
@@ -243,7 +241,7 @@ impl PyLearnerState {
     /// The names of the tables that `learner[name] = array` can write.
     #[getter]
     fn writable(&self) -> Vec<&'static str> {
-        let t = self.held.tables();
+        let t = self.held.state().tables();
         t.iter().filter(|t| t.writable).map(|t| t.name).collect()
     }
 
@@ -277,14 +275,16 @@ impl PyLearnerState {
         if array.shape() != t.shape.as_slice() {
             return Err(PyValueError::new_err(format!(
                 "learner['{name}']: expected an array of shape {}, found {}",
-                shape_text(&t.shape),
-                shape_text(array.shape())
+                PyTuple::new(py, &t.shape)?.repr()?,
+                PyTuple::new(py, array.shape())?.repr()?
             )));
         }
         let values = array.to_vec().or_else(|_| {
             Ok::<_, PyErr>(array.to_owned_array().iter().copied().collect::<Vec<f64>>())
         })?;
-        with_held!(&mut self.held, l => l.set_table(name, &values))
+        self.held
+            .state_mut()
+            .set_table(name, &values)
             .map_err(|e| PyValueError::new_err(format!("learner['{name}']: {e}")))
     }
 
@@ -299,7 +299,7 @@ impl PyLearnerState {
         py: Python<'py>,
         args: &Bound<'py, PyTuple>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let shape = self.held.shape();
+        let shape = self.held.state().shape();
         let (context, rng) = match (shape.contexts, args.len()) {
             (None, 1) => (None, args.get_item(0)?),
             (Some(n), 2) => (
@@ -345,7 +345,7 @@ impl PyLearnerState {
         args: &Bound<'_, PyTuple>,
         point: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let shape = self.held.shape();
+        let shape = self.held.state().shape();
         let Some(n) = shape.contexts else {
             let (command, o, has_point) = free_outcome(args, point, &shape)?;
             if !has_point && self.held.kind() == LearnerKind::GoalBabbling {
@@ -380,7 +380,7 @@ impl PyLearnerState {
     }
 
     fn __repr__(&self) -> String {
-        let shape = with_held!(&self.held, l => l.shape());
+        let shape = self.held.state().shape();
         format!(
             "Learner({:?}, slots {:?}, effects {})",
             self.kind(),
@@ -428,7 +428,7 @@ impl PyLearnerState {
 
     /// The table `name`, or a `KeyError` naming the learner's tables.
     fn table(&self, name: &str) -> PyResult<StateTable> {
-        let mut tables = self.held.tables();
+        let mut tables = self.held.state().tables();
         match tables.iter().position(|t| t.name == name) {
             Some(i) => Ok(tables.swap_remove(i)),
             None => {
@@ -441,56 +441,6 @@ impl PyLearnerState {
             }
         }
     }
-}
-
-/// A shape as Python writes it: `(7, 4)`, `(18,)`, `()`.
-fn shape_text(shape: &[usize]) -> String {
-    match shape {
-        [n] => format!("({n},)"),
-        _ => format!(
-            "({})",
-            shape
-                .iter()
-                .map(|n| n.to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-    }
-}
-
-/// `L::KIND` of a learner.
-fn kind_of<L: LearnerState>(_: &L) -> &'static str {
-    L::KIND
-}
-
-/// Runs one session of continuous commands from `learner`'s state on a
-/// physics world of `scene` (off the GIL, stopped by Ctrl-C or by
-/// `progress`), leaving `learner` in the state the session ends in.
-pub(crate) fn run_values_from(
-    py: Python<'_>,
-    scene: &PyScene,
-    learner: &mut (dyn ContinuousLearner + Send),
-    cfg: &e3d::SessionConfig,
-    progress: Option<&Bound<'_, PyAny>>,
-) -> PyResult<e3d::session::ValueSessionRecord> {
-    let Some(mut world) = scene.inner.as_continuous().map(|c| c.world(1)) else {
-        return Err(PyValueError::new_err(format!(
-            "scene `{}`: continuous commands need a physics world",
-            scene.inner.spec().name
-        )));
-    };
-    let watch = crate::progress::Watch::new();
-    let slots = e3d::world::ContinuousWorld::value_space(&world).num_slots();
-    let rec = crate::progress::watched(py, progress, cfg.trials as u64, &watch, |watch| {
-        let mut rec =
-            e3d::session::ValueSessionRecord::new(slots, scene.inner.num_effects(), cfg.trials);
-        watch.control(|control| {
-            e3d::session::run_session_into(&mut world, &mut *learner, cfg, &mut rec, control)
-        })?;
-        rec.set_policy(&*learner);
-        Ok::<_, e3d::WorldError>(rec)
-    })?;
-    rec.map_err(|e| crate::errors::Fail::from(e).into())
 }
 
 /// The built-in learner named `learner`, or a `ValueError` naming the

@@ -4,7 +4,7 @@
 //! `run_session(learner=...)` are `Learner`'s.
 
 use crate::errors::usize_arg;
-use crate::held::Held;
+use crate::held::{bad, Held};
 use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, target_arg};
 use e3d::learner::{E3d, LearnerState};
@@ -18,10 +18,6 @@ use pyo3::prelude::*;
 /// write per slot.
 #[pyclass(module = "e3d", name = "E3dLearner", extends = PyLearnerState)]
 pub(crate) struct PyE3dLearner;
-
-fn bad(e: e3d::learner::LearnerError) -> PyErr {
-    PyValueError::new_err(e.to_string())
-}
 
 /// The E3D learner of `slf`.
 fn e3d_of<'a>(slf: &'a PyRef<'_, PyE3dLearner>) -> &'a E3d {

@@ -1,54 +1,13 @@
-//! `run_sweep`: sweeps, their `results.csv` as columns, and `--out`
-//! folders.
+//! `run_sweep`: sweeps, their `results.csv` rows, and `--out` folders.
 
 use crate::errors::{Fail, STOPPED};
 use crate::progress::{watched, Watch};
 use e3d::sweep::SweepError;
 use e3d::sweep::{DirOptions, Shard};
 use e3d::Sweep;
-use numpy::IntoPyArray;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
-
-/// `results.csv`'s rows (`header` and one line a session) as a dict of
-/// columns (see `run_sweep`).
-pub(crate) fn columns_of<'py>(
-    py: Python<'py>,
-    header: &str,
-    rows: &[&str],
-) -> PyResult<Bound<'py, PyDict>> {
-    let header: Vec<&str> = header.split(',').collect();
-    let rows: Vec<Vec<&str>> = rows.iter().map(|r| r.split(',').collect()).collect();
-    let out = PyDict::new(py);
-    for (j, name) in header.iter().enumerate() {
-        let col = rows.iter().map(|r| r.get(j).copied().unwrap_or(""));
-        match *name {
-            "scene" | "learner" | "failure" => {
-                let v: Vec<&str> = col.collect();
-                out.set_item(name, v)?;
-            }
-            "use_reward" => {
-                let v: Vec<bool> = col.map(|s| s == "true").collect();
-                out.set_item(name, v.into_pyarray(py))?;
-            }
-            "session" => {
-                let v: Vec<i64> = col.map(|s| s.parse().unwrap_or(-1)).collect();
-                out.set_item(name, v.into_pyarray(py))?;
-            }
-            "seed" => {
-                let v: Vec<u64> = col.map(|s| s.parse().unwrap_or(0)).collect();
-                out.set_item(name, v.into_pyarray(py))?;
-            }
-            _ => {
-                let v: Vec<f64> = col.map(|s| s.parse().unwrap_or(f64::NAN)).collect();
-                out.set_item(name, v.into_pyarray(py))?;
-            }
-        }
-    }
-    Ok(out)
-}
 
 /// The marker a cancelled `run_to_dir` unwinds with (its progress callback
 /// cannot return an error). The journal is written to survive a kill at
@@ -76,12 +35,8 @@ pub(crate) fn lock_out(dir: &Path) -> PyResult<Option<e3d::io::DirLock>> {
 }
 
 /// Runs a sweep (the native part of `e3d.run_sweep`, which also takes a
-/// dict) and returns its `results.csv` as a dict of columns, in the
-/// file's order: `scene`, `learner`, `failure` (lists of str),
-/// `use_reward` (bool array), `session` (int64), `seed` (uint64), and
-/// float64 arrays for the parameters and the metrics (NaN where the CSV
-/// cell is empty: a parameter the learner does not use, no first reward,
-/// a failed session). The same values as `e3d sweep FILE --out DIR`.
+/// dict and makes columns of the rows) and returns its `results.csv`:
+/// the header and one row a session, the same as `e3d sweep FILE --out DIR`.
 ///
 /// `sweep`: a path to a sweep file (scene paths relative to its folder),
 /// or the text of one (scene paths relative to the current folder).
@@ -103,7 +58,7 @@ pub(crate) fn run_sweep<'py>(
     out: Option<PathBuf>,
     resume: bool,
     progress: Option<&Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<(String, Vec<String>)> {
     let sw = sweep_of(sweep, table_cache)?;
     let threads = threads.unwrap_or_else(|| {
         std::thread::available_parallelism()
@@ -116,8 +71,7 @@ pub(crate) fn run_sweep<'py>(
     let header = sw.results_header();
     let Some(dir) = out else {
         let rows = rows_in_memory(py, &sw, threads, progress, total, &watch)?;
-        let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
-        return columns_of(py, &header, &rows);
+        return Ok((header, rows));
     };
     let _lock = lock_out(&dir)?;
     let options = DirOptions {
@@ -130,10 +84,9 @@ pub(crate) fn run_sweep<'py>(
     // as the command line reads it: a regular file of bounded size
     let text = e3d::text::read_own_file(&path, e3d::sweep::MAX_RESULTS_BYTES, e3d::sweep::RESULTS)
         .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
-    let mut lines = text.lines();
+    let mut lines = text.lines().map(str::to_string);
     let header = lines.next().unwrap_or_default();
-    let rows: Vec<&str> = lines.collect();
-    columns_of(py, header, &rows)
+    Ok((header, lines.collect()))
 }
 
 /// The sweep `sweep` gives: the text of one (when it names no file and

@@ -99,17 +99,75 @@ impl PyWorld {
     fn run_one(&self, command: &Command) -> Result<Outcome, WorldError> {
         let mut slot = self.single.lock().unwrap_or_else(|e| e.into_inner());
         let world = slot.take().unwrap_or_else(|| self.build_single());
-        let (world, result) = if self.memoised() {
-            let mut w = Memoized::new(world, &self.memo);
-            let r = w.execute(command);
-            (w.into_inner(), r)
-        } else {
-            let mut w = world;
-            let r = w.execute(command);
-            (w, r)
-        };
+        let (world, result) = self.through_memo(world, |w| w.execute(command));
         *slot = Some(world);
         result
+    }
+
+    /// Runs `f` on `world`, through the memo when the space has one.
+    fn through_memo<R>(
+        &self,
+        world: Box<dyn World + Send>,
+        f: impl FnOnce(&mut dyn World) -> R,
+    ) -> (Box<dyn World + Send>, R) {
+        if !self.memoised() {
+            let mut w = world;
+            let r = f(&mut *w);
+            return (w, r);
+        }
+        let mut w = Memoized::new(world, &self.memo);
+        let r = f(&mut w);
+        (w.into_inner(), r)
+    }
+
+    /// Runs `f` on the single-copy physics world of `trace` (built on
+    /// first use).
+    fn with_tracer<R>(
+        &self,
+        f: impl FnOnce(&mut PhysicsWorld) -> Result<R, WorldError>,
+    ) -> Result<R, WorldError> {
+        let mut slot = self.tracer.lock().unwrap_or_else(|e| e.into_inner());
+        if slot.is_none() {
+            *slot = self.scene.inner.physics_world();
+        }
+        match slot.as_mut() {
+            Some(w) => f(w),
+            None => Err(WorldError::Other(format!(
+                "scene `{}`: continuous commands need a physics world",
+                self.scene.inner.spec().name
+            ))),
+        }
+    }
+
+    /// The results of `items` run by `run` in parallel pieces of even
+    /// size, at most `copies` each, so that no thread waits on another
+    /// holding more; each piece adds its size to `watch`, and once the
+    /// watch is cancelled the pieces not yet started fail (`Stopped`).
+    fn in_pieces<T: Sync>(
+        &self,
+        items: &[T],
+        watch: Option<&Watch>,
+        run: impl Fn(&[T], &mut Vec<Result<Outcome, WorldError>>) + Sync,
+    ) -> Vec<Result<Outcome, WorldError>> {
+        let piece = items
+            .len()
+            .div_ceil(rayon::current_num_threads())
+            .clamp(1, self.copies);
+        let parts: Vec<Vec<Result<Outcome, WorldError>>> = items
+            .par_chunks(piece)
+            .map(|part| {
+                if watch.is_some_and(Watch::cancelled) {
+                    return vec![Err(WorldError::Stopped); part.len()];
+                }
+                let mut out = Vec::with_capacity(part.len());
+                run(part, &mut out);
+                if let Some(w) = watch {
+                    w.add(part.len() as u64);
+                }
+                out
+            })
+            .collect();
+        parts.into_iter().flatten().collect()
     }
 
     /// A physics world of `copies` copies for a continuous scene.
@@ -135,50 +193,23 @@ impl PyWorld {
         watch: Option<&Watch>,
     ) -> Result<Vec<Outcome>, WorldError> {
         if let [one] = commands {
-            let mut slot = self.tracer.lock().unwrap_or_else(|e| e.into_inner());
-            if slot.is_none() {
-                *slot = self.scene.inner.physics_world();
-            }
-            let world = slot.as_mut().ok_or_else(|| {
-                WorldError::Other(format!(
-                    "scene `{}`: continuous commands need a physics world",
-                    self.scene.inner.spec().name
-                ))
-            })?;
-            let r = world.execute_values(one);
+            let r = self.with_tracer(|w| w.execute_values(one));
             if let Some(w) = watch {
                 w.add(1);
             }
             return r.map(|o| vec![o]);
         }
-        let piece = commands
-            .len()
-            .div_ceil(rayon::current_num_threads())
-            .clamp(1, self.copies);
-        let parts: Vec<Vec<Result<Outcome, WorldError>>> = commands
-            .par_chunks(piece)
-            .map(|part| {
-                if watch.is_some_and(Watch::cancelled) {
-                    return vec![Err(WorldError::Stopped); part.len()];
-                }
-                let mut out = Vec::with_capacity(part.len());
-                match self.take_valued() {
-                    Ok(mut w) => {
-                        w.execute_values_batch(part, &mut out);
-                        self.valued
-                            .lock()
-                            .unwrap_or_else(|e| e.into_inner())
-                            .push(w);
-                    }
-                    Err(e) => out.extend(part.iter().map(|_| Err(e.clone()))),
-                }
-                if let Some(w) = watch {
-                    w.add(part.len() as u64);
-                }
-                out
-            })
-            .collect();
-        parts.into_iter().flatten().collect()
+        let outcomes = self.in_pieces(commands, watch, |part, out| match self.take_valued() {
+            Ok(mut w) => {
+                w.execute_values_batch(part, out);
+                self.valued
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .push(w);
+            }
+            Err(e) => out.extend(part.iter().map(|_| Err(e.clone()))),
+        });
+        outcomes.into_iter().collect()
     }
 
     fn memoised(&self) -> bool {
@@ -248,64 +279,30 @@ impl PyWorld {
     /// `unique`, the commands the memo did not know) simulated in parallel
     /// pieces of even size, so that no thread waits on another holding
     /// more new commands (a lone new command on the world of `execute`);
-    /// the others looked up on this thread, through `keyer` (returned).
+    /// the others looked up in the memo on this thread, through `keyer`
+    /// (returned).
     fn outcomes(
         &self,
         unique: &[Command],
         new: &[usize],
-        keyer: Box<dyn World + Send>,
+        mut keyer: Box<dyn World + Send>,
         watch: Option<&Watch>,
     ) -> (Vec<Result<Outcome, WorldError>>, Box<dyn World + Send>) {
-        if let [k] = new {
+        let simulated = if let [k] = new {
             // one new command: the world of `execute` (one copy, keeping
             // prefix states) runs it fastest, with the same bits
             let r = self.run_one(&unique[*k]);
             if let Some(w) = watch {
                 w.add(1);
             }
-            return self.looked_up(unique, new, vec![r], keyer);
-        }
-        let simulated: Vec<Command> = new.iter().map(|&k| unique[k].clone()).collect();
-        let piece = simulated
-            .len()
-            .div_ceil(rayon::current_num_threads())
-            .clamp(1, self.copies);
-        let parts: Vec<Vec<Result<Outcome, WorldError>>> = simulated
-            .par_chunks(piece)
-            .map(|part| {
-                if watch.is_some_and(Watch::cancelled) {
-                    return vec![Err(WorldError::Stopped); part.len()];
-                }
-                let mut out = Vec::with_capacity(part.len());
-                if self.memoised() {
-                    let mut w = Memoized::new(self.take(), &self.memo);
-                    w.execute_batch(part, &mut out);
-                    self.give(w.into_inner());
-                } else {
-                    let mut w = self.take();
-                    w.execute_batch(part, &mut out);
-                    self.give(w);
-                }
-                if let Some(w) = watch {
-                    w.add(part.len() as u64);
-                }
-                out
+            vec![r]
+        } else {
+            let simulated: Vec<Command> = new.iter().map(|&k| unique[k].clone()).collect();
+            self.in_pieces(&simulated, watch, |part, out| {
+                let (w, ()) = self.through_memo(self.take(), |w| w.execute_batch(part, out));
+                self.give(w);
             })
-            .collect();
-        let simulated = parts.into_iter().flatten().collect();
-        self.looked_up(unique, new, simulated, keyer)
-    }
-
-    /// The result of each of `unique`: `simulated` for those of `new` (in
-    /// order), the memo's for the others, looked up through `keyer`
-    /// (returned).
-    fn looked_up(
-        &self,
-        unique: &[Command],
-        new: &[usize],
-        simulated: Vec<Result<Outcome, WorldError>>,
-        keyer: Box<dyn World + Send>,
-    ) -> (Vec<Result<Outcome, WorldError>>, Box<dyn World + Send>) {
+        };
         let mut results: Vec<Option<Result<Outcome, WorldError>>> = vec![None; unique.len()];
         for (&k, r) in new.iter().zip(simulated) {
             results[k] = Some(r);
@@ -313,7 +310,6 @@ impl PyWorld {
         let known: Vec<usize> = (0..unique.len())
             .filter(|&k| results[k].is_none())
             .collect();
-        let mut keyer = keyer;
         if !known.is_empty() {
             let commands: Vec<Command> = known.iter().map(|&k| unique[k].clone()).collect();
             let mut w = Memoized::new(keyer, &self.memo);
@@ -326,9 +322,8 @@ impl PyWorld {
         }
         let results = results
             .into_iter()
-            .map(|r| r.expect("every command has a result"))
-            .collect();
-        (results, keyer)
+            .map(|r| r.expect("every command has a result"));
+        (results.collect(), keyer)
     }
 }
 
@@ -428,20 +423,10 @@ impl PyWorld {
         };
         let motion = py
             .detach(|| {
-                let mut slot = self.tracer.lock().unwrap_or_else(|e| e.into_inner());
-                if slot.is_none() {
-                    *slot = inner.physics_world();
-                }
-                let Some(world) = slot.as_mut() else {
-                    return Err(WorldError::Other(format!(
-                        "scene `{}`: no physics world",
-                        inner.spec().name
-                    )));
-                };
-                match &one {
+                self.with_tracer(|world| match &one {
                     One::Symbols(c) => world.motion(c),
                     One::Values(v) => world.motion_values(v),
-                }
+                })
             })
             .map_err(Fail::from)?;
         motion_to_py(py, text, motion)

@@ -65,91 +65,6 @@ impl PyScene {
         builtin_names()
     }
 
-    /// The scene's name.
-    #[getter]
-    fn name(&self) -> &str {
-        &self.inner.spec().name
-    }
-
-    /// The scene's description.
-    #[getter]
-    fn description(&self) -> &str {
-        &self.inner.spec().description
-    }
-
-    /// `"grid"` or `"physics"`.
-    #[getter]
-    fn kind(&self) -> &'static str {
-        match self.inner.spec().world {
-            WorldSpec::Grid(_) => "grid",
-            WorldSpec::Physics(_) => "physics",
-        }
-    }
-
-    /// The number of slots of a command.
-    #[getter]
-    fn num_slots(&self) -> usize {
-        self.inner.spec().num_slots()
-    }
-
-    /// Whether the scene's slots take continuous values (`value_ranges`)
-    /// rather than symbols.
-    #[getter]
-    fn is_continuous(&self) -> bool {
-        self.values.is_some()
-    }
-
-    /// The `(low, high)` range of each slot of a continuous scene (empty
-    /// for a scene of symbols).
-    #[getter]
-    fn value_ranges(&self) -> Vec<(f64, f64)> {
-        self.values
-            .as_ref()
-            .map_or_else(Vec::new, |v| v.ranges().to_vec())
-    }
-
-    /// The alphabet size of each slot.
-    #[getter]
-    fn alphabet_sizes(&self) -> Vec<usize> {
-        if self.values.is_some() {
-            return Vec::new();
-        }
-        self.space.sizes().collect()
-    }
-
-    /// The alphabet of each slot, as a string of its symbols.
-    #[getter]
-    fn alphabets(&self) -> Vec<String> {
-        if self.values.is_some() {
-            return Vec::new();
-        }
-        (0..self.space.num_slots())
-            .map(|s| self.space.alphabet(s).iter().collect())
-            .collect()
-    }
-
-    /// The number of effects (cells of the effect grid).
-    #[getter]
-    fn num_effects(&self) -> usize {
-        self.inner.num_effects()
-    }
-
-    /// The effect grid: `(rows, cols, (xmin, ymin), (xmax, ymax))`.
-    #[getter]
-    fn effect_grid(&self) -> (usize, usize, (f64, f64), (f64, f64)) {
-        let g = self.inner.effect_grid();
-        (g.rows, g.cols, (g.min[0], g.min[1]), (g.max[0], g.max[1]))
-    }
-
-    /// The number of distinct commands, or `None` beyond 2^64.
-    #[getter]
-    fn num_commands(&self) -> Option<u64> {
-        if self.values.is_some() {
-            return None;
-        }
-        self.space.num_commands()
-    }
-
     /// The effect of the start state: the cell of the tracked point (or of
     /// the agent) before any command.
     #[getter]
@@ -239,9 +154,9 @@ impl PyScene {
     fn __repr__(&self) -> String {
         format!(
             "Scene({:?}: {}, {} {}slots, {} effects)",
-            self.inner.spec().name,
-            self.kind(),
-            self.inner.spec().num_slots(),
+            self.name,
+            self.kind,
+            self.num_slots,
             if self.values.is_some() {
                 "continuous "
             } else {
@@ -290,9 +205,10 @@ impl PyScene {
     /// `radius` and `points`: a ball's centre, a cuboid's closed outline,
     /// a capsule's or segment's two ends, a polyline's points), `joints`
     /// (`name`, `parent`, `child`, `position`), `tracked_body` and
-    /// `tracked_point`.
-    fn geometry<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        crate::picture::geometry(py, &self.inner)
+    /// `tracked_point` (None for an effect of features).
+    fn geometry<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let f = py.import("e3d._scene_dict")?.getattr("geometry")?;
+        f.call1((self.clone(),))
     }
 
     /// The scene's fields as Python data: the RON text's structure (a

@@ -5,6 +5,7 @@ mod methods;
 
 use e3d::command::CommandSpace;
 use e3d::command::ValueSpace;
+use e3d::scene::WorldSpec;
 use e3d::Target;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -37,6 +38,42 @@ pub(crate) struct PyScene {
     pub(crate) space: CommandSpace,
     /// The value ranges of a continuous scene.
     pub(crate) values: Option<ValueSpace>,
+    /// The scene's name.
+    #[pyo3(get)]
+    name: String,
+    /// The scene's description.
+    #[pyo3(get)]
+    description: String,
+    /// `"grid"` or `"physics"`.
+    #[pyo3(get)]
+    kind: &'static str,
+    /// The number of slots of a command.
+    #[pyo3(get)]
+    num_slots: usize,
+    /// Whether the scene's slots take continuous values (`value_ranges`)
+    /// rather than symbols.
+    #[pyo3(get)]
+    is_continuous: bool,
+    /// The `(low, high)` range of each slot of a continuous scene (empty
+    /// for a scene of symbols).
+    #[pyo3(get)]
+    value_ranges: Vec<(f64, f64)>,
+    /// The alphabet size of each slot (empty for a continuous scene).
+    #[pyo3(get)]
+    alphabet_sizes: Vec<usize>,
+    /// The alphabet of each slot, as a string of its symbols.
+    #[pyo3(get)]
+    alphabets: Vec<String>,
+    /// The number of effects (cells of the effect grid).
+    #[pyo3(get)]
+    num_effects: usize,
+    /// The effect grid: `(rows, cols, (xmin, ymin), (xmax, ymax))`.
+    #[pyo3(get)]
+    effect_grid: (usize, usize, (f64, f64), (f64, f64)),
+    /// The number of distinct commands, or `None` beyond 2^64 (and for a
+    /// continuous scene).
+    #[pyo3(get)]
+    num_commands: Option<u64>,
 }
 
 impl PyScene {
@@ -45,12 +82,35 @@ impl PyScene {
     /// of one slot that no symbol path uses).
     fn new(scene: e3d::Scene) -> Result<PyScene, e3d::SceneError> {
         let values = scene.value_space();
-        let space = match values {
-            Some(_) => CommandSpace::repeat(1, &['0']).expect("one symbol"),
-            None => scene.command_space(),
+        let symbols = match values {
+            Some(_) => None,
+            None => Some(scene.command_space()),
         };
+        let spec = scene.spec();
+        let g = scene.effect_grid();
+        let space = symbols.as_ref();
         Ok(PyScene {
-            space,
+            name: spec.name.clone(),
+            description: spec.description.clone(),
+            kind: match spec.world {
+                WorldSpec::Grid(_) => "grid",
+                WorldSpec::Physics(_) => "physics",
+            },
+            num_slots: spec.num_slots(),
+            is_continuous: values.is_some(),
+            value_ranges: values
+                .as_ref()
+                .map_or_else(Vec::new, |v| v.ranges().to_vec()),
+            alphabet_sizes: space.map_or_else(Vec::new, |s| s.sizes().collect()),
+            alphabets: space.map_or_else(Vec::new, |s| {
+                (0..s.num_slots())
+                    .map(|i| s.alphabet(i).iter().collect())
+                    .collect()
+            }),
+            num_effects: scene.num_effects(),
+            effect_grid: (g.rows, g.cols, (g.min[0], g.min[1]), (g.max[0], g.max[1])),
+            num_commands: space.and_then(CommandSpace::num_commands),
+            space: symbols.unwrap_or_else(|| CommandSpace::repeat(1, &['0']).expect("one symbol")),
             values,
             inner: Arc::new(scene),
         })
@@ -83,67 +143,17 @@ pub(crate) fn builtin_names() -> Vec<&'static str> {
 
 /// `target`: None (uniform), an array of one weight per effect, or a dict
 /// `{effect: weight}` / `{(row, col): weight}` (the cells not named weigh
-/// 0); checked as the library checks a target.
+/// 0), collected by `e3d._args.target_weights` and checked as the library
+/// checks a target.
 pub(crate) fn target_arg(scene: &PyScene, target: Option<&Bound<'_, PyAny>>) -> PyResult<Target> {
     let Some(obj) = target.filter(|t| !t.is_none()) else {
         return Ok(Target::Uniform);
     };
-    let n = scene.inner.num_effects();
-    let weights: Vec<f64> = if let Ok(d) = obj.cast::<pyo3::types::PyDict>() {
-        let g = scene.inner.effect_grid();
-        let mut w = vec![0.0; n];
-        let mut named: Vec<Option<Bound<'_, PyAny>>> = vec![None; n];
-        for (k, v) in d.iter() {
-            let cell = if k.is_instance_of::<pyo3::types::PyBool>() {
-                None
-            } else if let Ok((r, c)) = k.extract::<(usize, usize)>() {
-                (r < g.rows && c < g.cols).then_some(r * g.cols + c)
-            } else {
-                k.extract::<usize>().ok().filter(|&e| e < n)
-            };
-            let Some(e) = cell else {
-                return Err(PyValueError::new_err(format!(
-                    "target: key {} is not an effect: expected an int in [0, {n}) or a (row, col) cell of the {}x{} grid",
-                    k.repr()?,
-                    g.rows,
-                    g.cols
-                )));
-            };
-            if let Some(first) = &named[e] {
-                return Err(PyValueError::new_err(format!(
-                    "target: keys {} and {} are the same effect {e}: give each effect once",
-                    first.repr()?,
-                    k.repr()?
-                )));
-            }
-            named[e] = Some(k.clone());
-            w[e] = crate::errors::float_arg(&v).map_err(|_| {
-                PyValueError::new_err(format!(
-                    "target[{}]: expected a number",
-                    k.repr().map(|r| r.to_string()).unwrap_or_default()
-                ))
-            })?;
-        }
-        w
-    } else {
-        let np = obj.py().import("numpy")?;
-        let a = np.call_method1("asarray", (obj, "float64")).map_err(|e| {
-            PyValueError::new_err(format!(
-                "target: expected None, {n} weights (one per effect) or a dict {{effect: weight}}: {e}"
-            ))
-        })?;
-        let flat = a.call_method0("ravel")?;
-        if a.getattr("ndim")?.extract::<usize>()? != 1 {
-            return Err(PyValueError::new_err(format!(
-                "target: expected a 1-D array of {n} weights (one per effect), found shape {}",
-                a.getattr("shape")?.repr()?
-            )));
-        }
-        flat.extract()?
-    };
-    let target = Target::Weights(weights);
+    let args = obj.py().import("e3d._args")?;
+    let weights = args.call_method1("target_weights", (scene.clone(), obj))?;
+    let target = Target::Weights(weights.extract()?);
     target
-        .log_probs(n)
+        .log_probs(scene.inner.num_effects())
         .map_err(|e| PyValueError::new_err(format!("target: {e}")))?;
     Ok(target)
 }

@@ -4,14 +4,13 @@
 //! sessions run with the GIL (Python learners, `on_trials`) are in
 //! `python_learners`, sessions of continuous commands in `values`.
 
-use crate::errors::{check_held, params_of, Fail};
-use crate::held::Held;
-use crate::learner::builtin_kind;
+use crate::errors::{check_held, learner_names, params_of, Fail};
+use crate::held::{bad, Held};
+use crate::learner::{builtin_kind, learner_list, Tap};
 use crate::progress::{watched, Watch};
 use crate::record::{batch_to_py, record_to_py, Rows};
 use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, target_arg, PyScene};
-use e3d::learner::E3d;
 use e3d::learner::LearnerSetup;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
@@ -20,7 +19,7 @@ use e3d::{
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use python_learners::{learner_sequence, run_here, run_python, run_python_batch};
+use python_learners::{run_here, run_python, run_python_batch};
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -79,21 +78,15 @@ pub(crate) fn session_args(
 }
 
 impl SessionArgs {
-    /// The configuration of a session of `trials` trials with `seed`.
-    fn config(&self, trials: usize, seed: u64) -> SessionConfig {
-        SessionConfig {
-            trials,
-            seed,
-            use_reward: self.use_reward,
-        }
-    }
-
     /// The configurations of sessions of `trials` trials, one per seed.
     fn configs(&self, trials: usize, seeds: &[u64]) -> Vec<SessionConfig> {
-        seeds
-            .iter()
-            .map(|&seed| self.config(trials, seed))
-            .collect()
+        let use_reward = self.use_reward;
+        let config = |&seed| SessionConfig {
+            trials,
+            seed,
+            use_reward,
+        };
+        seeds.iter().map(config).collect()
     }
 }
 
@@ -166,7 +159,7 @@ pub(crate) fn _run_session(
     )?;
     let run = OneSession {
         work: workload(trials, 1),
-        cfg: a.config(trials, seed),
+        cfg: a.configs(trials, &[seed]).remove(0),
         progress,
         on_trials,
         every,
@@ -236,75 +229,23 @@ fn run_builtin(
     scene: &PyScene,
     kind: LearnerKind,
     saved: Option<&Bound<'_, PyLearnerState>>,
-    mut held: Option<Held>,
+    held: Option<Held>,
     a: &SessionArgs,
     run: &OneSession<'_, '_>,
 ) -> PyResult<Py<PyAny>> {
-    let space = &scene.space;
-    let (mut e3d_made, mut boxed) = make_symbols(kind, &held, a, scene)?;
-    let made = chosen(&mut e3d_made, &mut boxed, &mut held)?;
+    let mut held = match held {
+        Some(h) => h,
+        None => Held::new(scene, kind, &a.params, &a.target)?,
+    };
+    let made = held.symbols().expect("a learner of symbols");
     let (rec, metrics, exact, execution) = run_symbols(py, scene, a, run, made)?;
     let mut rows = Rows::of_symbols(py, rec, metrics, Some(&*made), exact)?;
-    if let Some(e) = &e3d_made {
-        rows.q = Some((0..space.num_slots()).map(|s| e.q(s).to_vec()).collect());
+    if let Some(e) = held.e3d() {
+        rows.q = Some((0..e.num_slots()).map(|s| e.q(s).to_vec()).collect());
         rows.effect_model = Some(e.effect_model().probs());
-        if let Some(Held::E3d(h)) = &mut held {
-            *h = e.clone();
-        }
     }
-    write_back(saved, held);
+    write_back(saved, Some(held));
     record_to_py(py, scene, kind.as_str(), run.cfg.seed, rows, execution)
-}
-
-/// A built-in learner of symbols, of any kind.
-type BoxedLearner = Box<dyn Learner + Send>;
-
-/// The learner a built-in session of symbols needs made: E3D as its own
-/// type (so that its Q and effect model can be read; a copy of a held
-/// E3D), or another kind boxed; neither when `held` is another kind.
-fn make_symbols(
-    kind: LearnerKind,
-    held: &Option<Held>,
-    a: &SessionArgs,
-    scene: &PyScene,
-) -> PyResult<(Option<E3d>, Option<BoxedLearner>)> {
-    let space = &scene.space;
-    let n_eff = scene.inner.num_effects();
-    let bad = |e: e3d::learner::LearnerError| PyValueError::new_err(e.to_string());
-    let e3d_made = match (kind, held) {
-        (_, Some(Held::E3d(e))) => Some(e.clone()),
-        (LearnerKind::E3d, None) => {
-            Some(E3d::new(space, n_eff, &a.params, &a.target).map_err(bad)?)
-        }
-        _ => None,
-    };
-    let boxed = match (kind, held) {
-        (LearnerKind::E3d, _) | (_, Some(_)) => None,
-        _ => Some(
-            LearnerSetup::new(kind)
-                .params(a.params)
-                .target(a.target.clone())
-                .symbols(space, n_eff)
-                .map_err(bad)?,
-        ),
-    };
-    Ok((e3d_made, boxed))
-}
-
-/// The learner a built-in session of symbols runs: the E3D made, else the
-/// boxed one, else the held state's.
-fn chosen<'l>(
-    e3d_made: &'l mut Option<E3d>,
-    boxed: &'l mut Option<BoxedLearner>,
-    held: &'l mut Option<Held>,
-) -> PyResult<&'l mut (dyn Learner + Send)> {
-    let from_held = held.as_mut().and_then(Held::symbols);
-    Ok(match (e3d_made, boxed, from_held) {
-        (Some(e), _, _) => e,
-        (None, Some(b), _) => &mut **b,
-        (None, None, Some(h)) => h,
-        (None, None, None) => return Err(PyTypeError::new_err("no learner made")),
-    })
 }
 
 /// A session of symbols as a built-in learner's record takes it: the
@@ -321,9 +262,23 @@ fn run_symbols(
     run: &OneSession<'_, '_>,
     made: &mut (dyn Learner + Send),
 ) -> PyResult<SymbolRun> {
-    if run.on_trials.is_some() {
+    if let Some(cb) = run.on_trials {
         let error = RefCell::new(None);
-        let (rec, exec) = run_here(py, scene, a, run, made, &error)?;
+        let shape = (scene.space.num_slots(), run.cfg.trials);
+        let mut tap = [Tap::new(&mut *made, cb, run.every, shape, &error)];
+        let configs = std::slice::from_ref(&run.cfg);
+        let (mut recs, exec) = run_here(
+            py,
+            scene,
+            a,
+            &run.work,
+            configs,
+            &mut tap,
+            &error,
+            run.progress,
+        )?;
+        drop(tap);
+        let rec = recs.remove(0);
         let metrics = symbol_metrics(&exec, &rec, &a.target);
         let exact = exact_of(&exec, made);
         return Ok((rec, metrics, exact, execution_text(exec)));
@@ -432,7 +387,8 @@ pub(crate) fn _run_sessions(
                 (kind.as_str().to_string(), rows, execution)
             }
             None => {
-                let objs = learner_sequence(learner.expect("an object"), seeds.len())?;
+                let expected = format!("expected one of {}", learner_names());
+                let objs = learner_list(learner.expect("an object"), seeds.len(), &expected)?;
                 run_python_batch(py, &scene, objs, &a, &work, &configs, progress)?
             }
         }
@@ -466,7 +422,7 @@ fn run_builtin_batch(
                 .params(a.params)
                 .target(a.target.clone())
                 .symbols(&scene.space, n_eff)
-                .map_err(|e| PyValueError::new_err(e.to_string()))?,
+                .map_err(bad)?,
         );
     }
     let (records, metrics, execution) = unlocked(

@@ -3,14 +3,13 @@
 //! `on_trials`.
 
 use super::{execution_text, first_failure, symbol_metrics, OneSession, SessionArgs};
-use crate::errors::{learner_names, Fail};
-use crate::learner::{python_learner_name, PyLearner, Tap};
-use crate::progress::{watched, Throttle, Ticks, Watch};
+use crate::errors::Fail;
+use crate::learner::{python_learner_name, PyLearner};
+use crate::progress::{watched, Ticks, Watch};
 use crate::record::{record_to_py, Rows};
 use crate::scene::PyScene;
 use e3d::world::{ExecOptions, Executor, Workload};
 use e3d::{Learner, SessionConfig, SessionRecord};
-use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use std::cell::RefCell;
 
@@ -46,74 +45,22 @@ pub(super) fn run_python(
     let obj = obj.clone();
     let name = python_learner_name(&obj)?;
     let error = RefCell::new(None);
-    let mut pl = PyLearner::new(py, obj, &scene.space, &error)?;
-    let (rec, exec) = run_here(py, scene, a, run, &mut pl, &error)?;
+    let mut pl = [PyLearner::new(py, obj, &scene.space, &error)?];
+    let configs = std::slice::from_ref(&run.cfg);
+    let (mut recs, exec) = run_here(
+        py,
+        scene,
+        a,
+        &run.work,
+        configs,
+        &mut pl,
+        &error,
+        run.progress,
+    )?;
+    let rec = recs.remove(0);
     let metrics = symbol_metrics(&exec, &rec, &a.target);
     let rows = Rows::of_symbols(py, rec, metrics, None, None)?;
     record_to_py(py, scene, &name, run.cfg.seed, rows, execution_text(exec))
-}
-
-/// Runs a session of symbols on this thread, with the GIL (a Python
-/// learner, or a learner whose trials go to `on_trials`): the world the
-/// executor chooses, stopped at the first error put in `error` (by the
-/// learner, `progress` or `on_trials`), which is then raised.
-pub(super) fn run_here<'s, L: Learner + ?Sized>(
-    py: Python<'_>,
-    scene: &'s PyScene,
-    a: &SessionArgs,
-    run: &OneSession<'_, '_>,
-    learner: &mut L,
-    error: &RefCell<Option<PyErr>>,
-) -> PyResult<(SessionRecord, Executor<'s>)> {
-    let cfg = &run.cfg;
-    let trials = cfg.trials;
-    let exec = executor(py, &scene.inner, &run.work, &a.options)?;
-    let mut world = exec.world(1);
-    let mut rec = SessionRecord::new(&*world, trials);
-    let ticks = Ticks::new(
-        Throttle::new(py, run.progress, trials as u64)?,
-        trials as u64,
-        error,
-    );
-    let mut tap = Tap::new(
-        py,
-        learner,
-        run.on_trials,
-        run.every,
-        scene.space.num_slots(),
-        error,
-    );
-    let status = e3d::session::run_session_into(&mut *world, &mut tap, cfg, &mut rec, &ticks);
-    tap.flush();
-    drop(world);
-    if let Some(e) = error.take() {
-        return Err(e);
-    }
-    status.map_err(Fail::from)?;
-    Ok((rec, exec))
-}
-
-/// The Python learners of `run_sessions`: a sequence of `n`, one per seed.
-pub(super) fn learner_sequence<'py>(
-    learner: &Bound<'py, PyAny>,
-    n: usize,
-) -> PyResult<Vec<Bound<'py, PyAny>>> {
-    let objs: Vec<Bound<'py, PyAny>> = learner
-        .try_iter()
-        .map_err(|_| {
-            PyTypeError::new_err(format!(
-                "learner: expected one of {} or a sequence of Python learners, one per seed",
-                learner_names()
-            ))
-        })?
-        .collect::<PyResult<_>>()?;
-    if objs.len() != n {
-        return Err(PyValueError::new_err(format!(
-            "{} Python learners for {n} seeds: expected one learner per seed",
-            objs.len()
-        )));
-    }
-    Ok(objs)
 }
 
 /// Runs sessions of Python learners, one per configuration, in one
@@ -138,8 +85,7 @@ pub(super) fn run_python_batch(
         .into_iter()
         .map(|o| PyLearner::new(py, o, &scene.space, &error))
         .collect::<PyResult<_>>()?;
-    let (records, exec) =
-        run_lockstep_here(py, scene, a, work, configs, &mut learners, &error, progress)?;
+    let (records, exec) = run_here(py, scene, a, work, configs, &mut learners, &error, progress)?;
     let rows = records
         .into_iter()
         .map(|r| {
@@ -155,18 +101,19 @@ pub(super) fn run_python_batch(
     Ok((name, rows, execution_text(exec)))
 }
 
-/// Runs sessions of Python learners in one lockstep group on this thread,
-/// with the GIL, on the world the executor chooses; stopped at the first
-/// error put in `error` (by a learner or `progress`), which is then
-/// raised, else by the first failing session.
+/// Runs sessions in one lockstep group on this thread, with the GIL (Python
+/// learners, or a learner whose trials go to `on_trials`), on the world
+/// the executor chooses; stopped at the first error put in `error` (by a
+/// learner, `progress` or `on_trials`), which is then raised, else by the
+/// first failing session.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn run_lockstep_here<'s>(
+pub(super) fn run_here<'s, L: Learner>(
     py: Python<'_>,
     scene: &'s PyScene,
     a: &SessionArgs,
     work: &Workload,
     configs: &[SessionConfig],
-    learners: &mut [PyLearner<'_, '_>],
+    learners: &mut [L],
     error: &RefCell<Option<PyErr>>,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(Vec<SessionRecord>, Executor<'s>)> {
@@ -177,7 +124,7 @@ pub(super) fn run_lockstep_here<'s>(
         .iter()
         .map(|c| SessionRecord::new(&*world, c.trials))
         .collect();
-    let ticks = Ticks::new(Throttle::new(py, progress, total)?, total, error);
+    let ticks = Ticks::new(py, progress, total, error)?;
     let status = e3d::session::run_group(&mut *world, learners, configs, &mut records, &ticks);
     drop(world);
     if let Some(e) = error.take() {

@@ -4,11 +4,11 @@
 
 use super::{write_back, OneSession, SessionArgs};
 use crate::errors::Fail;
-use crate::held::Held;
+use crate::held::{bad, Held};
 use crate::learner::builtin_kind;
 use crate::progress::{watched, Watch};
 use crate::record::{record_to_py, Rows};
-use crate::saved::{run_values_from, PyLearnerState};
+use crate::saved::PyLearnerState;
 use crate::scene::PyScene;
 use e3d::command::ValueSpace;
 use e3d::learner::LearnerSetup;
@@ -40,7 +40,7 @@ pub(super) fn run_continuous(
             .target(a.target.clone())
             .values(space, n_eff)
     };
-    make().map_err(|e| PyValueError::new_err(e.to_string()))?;
+    make().map_err(bad)?;
     if scene.inner.as_continuous().is_none() {
         return Err(PyValueError::new_err(format!(
             "scene `{}`: continuous commands need a physics world",
@@ -59,7 +59,7 @@ pub(super) fn run_continuous(
         .iter()
         .map(|_| make())
         .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        .map_err(bad)?;
     let mut records: Vec<ValueSessionRecord> = configs
         .iter()
         .map(|c| ValueSessionRecord::new(space.num_slots(), n_eff, c.trials))
@@ -114,7 +114,8 @@ pub(super) fn continuous_kind(
 }
 
 /// Runs one session of an `e3d.Learner`'s state on a continuous scene, on
-/// a physics world of its own, and writes the state it ends in back.
+/// a physics world of its own (off the GIL, stopped by Ctrl-C or by
+/// `progress`), and writes the state it ends in back.
 pub(super) fn run_held_values(
     py: Python<'_>,
     scene: &PyScene,
@@ -127,7 +128,29 @@ pub(super) fn run_held_values(
     let l = held
         .values()
         .ok_or_else(|| PyTypeError::new_err("learner: not of values"))?;
-    let rec = run_values_from(py, scene, l, &run.cfg, run.progress)?;
+    let Some(mut world) = scene.inner.as_continuous().map(|c| c.world(1)) else {
+        return Err(PyValueError::new_err(format!(
+            "scene `{}`: continuous commands need a physics world",
+            scene.inner.spec().name
+        )));
+    };
+    let cfg = &run.cfg;
+    let slots = e3d::world::ContinuousWorld::value_space(&world).num_slots();
+    let rec = watched(
+        py,
+        run.progress,
+        cfg.trials as u64,
+        &Watch::new(),
+        |watch| {
+            let mut rec = ValueSessionRecord::new(slots, scene.inner.num_effects(), cfg.trials);
+            watch.control(|control| {
+                e3d::session::run_session_into(&mut world, &mut *l, cfg, &mut rec, control)
+            })?;
+            rec.set_policy(&*l);
+            Ok::<_, e3d::WorldError>(rec)
+        },
+    )?
+    .map_err(Fail::from)?;
     let metrics = rec.metrics(&a.target);
     let rows = Rows::of_values(py, rec, metrics);
     write_back(saved, Some(held));
