@@ -64,7 +64,8 @@ def _grid_svg(grid: dict[str, Any], counts: list[float], unit: str, title: str) 
         r, col = divmod(e, cols)
         x, y = 10.0 + col * cell, 30.0 + (rows - 1 - r) * cell
         f = c / top
-        rgb = ",".join(str(math.floor(hi + (lo - hi) * f + 0.5)) for lo, hi in ((31, 255), (78, 255), (156, 255)))
+        # white to (31, 78, 156), each channel rounded half away from zero
+        rgb = ",".join(str(math.floor(255 + (lo - 255) * f + 0.5)) for lo in (31, 78, 156))
         stroke = ('stroke="#2e8b57" stroke-width="3"' if e < len(rewarded) and rewarded[e]
                   else 'stroke="#b8c4d6" stroke-width="0.8"')
         n = int(c) if c == int(c) else c

@@ -230,14 +230,8 @@ fn run_from_state(
     cfg: &EpisodeConfig,
     contexts: usize,
 ) -> PyResult<Py<PyAny>> {
+    st.borrow().check_fits(scene, Some(contexts))?;
     let mut held = st.borrow().held.clone();
-    let sizes: Vec<usize> = scene.space.sizes().collect();
-    held.state()
-        .shape()
-        .fits(&sizes, scene.inner.num_effects(), Some(contexts))
-        .map_err(|e| {
-            PyValueError::new_err(format!("learner: scene `{}`: {e}", scene.inner.spec().name))
-        })?;
     let l = held.contextual().expect("a learner with contexts");
     let name = l.name().to_string();
     let inner = scene.inner.clone();

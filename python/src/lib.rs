@@ -30,17 +30,7 @@ mod state;
 mod sweep;
 mod world;
 
-use episode::_run_episodes;
-use episode_world::PyEpisodeWorld;
-use errors::{SceneError, SimulationError};
 use pyo3::prelude::*;
-use rng::PyRng;
-use saved::PyLearnerState;
-use scene::PyScene;
-use session::{_run_session, _run_sessions};
-use state::PyE3dLearner;
-use sweep::run_sweep;
-use world::PyWorld;
 
 /// e3d's native module (import `e3d`, which re-exports it).
 #[pymodule]
@@ -51,18 +41,21 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("E3D_VERSION", e3d::sweep::VERSION)?;
-    m.add_class::<PyScene>()?;
-    m.add_class::<PyWorld>()?;
-    m.add_class::<PyRng>()?;
-    m.add_class::<PyE3dLearner>()?;
-    m.add_class::<PyLearnerState>()?;
-    m.add_class::<PyEpisodeWorld>()?;
+    m.add_class::<scene::PyScene>()?;
+    m.add_class::<world::PyWorld>()?;
+    m.add_class::<rng::PyRng>()?;
+    m.add_class::<state::PyE3dLearner>()?;
+    m.add_class::<saved::PyLearnerState>()?;
+    m.add_class::<episode_world::PyEpisodeWorld>()?;
     errors::scene_error_defaults(m.py())?;
-    m.add("SceneError", m.py().get_type::<SceneError>())?;
-    m.add("SimulationError", m.py().get_type::<SimulationError>())?;
-    m.add_function(wrap_pyfunction!(_run_session, m)?)?;
-    m.add_function(wrap_pyfunction!(_run_sessions, m)?)?;
-    m.add_function(wrap_pyfunction!(run_sweep, m)?)?;
-    m.add_function(wrap_pyfunction!(_run_episodes, m)?)?;
+    m.add("SceneError", m.py().get_type::<errors::SceneError>())?;
+    m.add(
+        "SimulationError",
+        m.py().get_type::<errors::SimulationError>(),
+    )?;
+    m.add_function(wrap_pyfunction!(session::_run_session, m)?)?;
+    m.add_function(wrap_pyfunction!(session::_run_sessions, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(episode::_run_episodes, m)?)?;
     Ok(())
 }

@@ -35,15 +35,16 @@ pub(crate) struct PyLearnerState {
 }
 
 impl PyLearnerState {
-    /// Checks that `scene` fits this learner (its slots and effects).
-    pub(crate) fn check_fits(&self, scene: &PyScene) -> PyResult<()> {
+    /// Checks that `scene` fits this learner (its slots and effects, and
+    /// with `contexts` its contexts).
+    pub(crate) fn check_fits(&self, scene: &PyScene, contexts: Option<usize>) -> PyResult<()> {
         let shape = self.held.state().shape();
         let sizes: Vec<usize> = match &scene.values {
             Some(v) => vec![0; v.num_slots()],
             None => scene.space.sizes().collect(),
         };
         shape
-            .fits(&sizes, scene.inner.num_effects(), None)
+            .fits(&sizes, scene.inner.num_effects(), contexts)
             .map_err(|e| {
                 PyValueError::new_err(format!("learner: scene `{}`: {e}", scene.inner.spec().name))
             })

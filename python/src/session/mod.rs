@@ -208,7 +208,7 @@ fn saved_state<'py>(
 ) -> PyResult<Option<Bound<'py, PyLearnerState>>> {
     let saved = learner.and_then(|l| l.cast::<PyLearnerState>().ok().cloned());
     if let Some(st) = &saved {
-        st.borrow().check_fits(scene)?;
+        st.borrow().check_fits(scene, None)?;
     }
     Ok(saved)
 }
