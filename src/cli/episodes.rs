@@ -1,8 +1,7 @@
 //! `e3d run` on episodes: a scene with start contexts, or `--commands K`
 //! commands per episode (closed loop), with a contextual learner.
 
-use super::run::track_run;
-use super::session::{finish_parts, recorders, write_run, CsvPart, ObserveArg, RunArgs};
+use super::session::{finish_parts, recorders, track_run, write_run, CsvPart, ObserveArg, RunArgs};
 use super::{CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::command::CommandSpace;

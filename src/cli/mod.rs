@@ -67,6 +67,11 @@ impl From<e3d::WorldError> for CliError {
 
 pub type CliResult = Result<(), CliError>;
 
+/// `PATH: cannot write: E`, an output error.
+pub fn cannot_write(path: &std::path::Path, e: impl std::fmt::Display) -> CliError {
+    CliError::output(format!("{}: cannot write: {e}", path.display()))
+}
+
 /// `m` locked, even if a thread panicked holding it (what it guards stays usable).
 pub fn locked<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())

@@ -139,6 +139,5 @@ pub fn check_cache_folder(dir: &Path, flag: &str) -> CliResult {
 
 /// Writes a file whole or not at all, as a CLI error.
 pub fn write_file(path: &Path, bytes: &[u8]) -> CliResult {
-    e3d::io::write_atomic(path, bytes)
-        .map_err(|e| CliError::output(format!("{}: cannot write: {e}", path.display())))
+    e3d::io::write_atomic(path, bytes).map_err(|e| super::cannot_write(path, e))
 }

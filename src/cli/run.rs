@@ -2,7 +2,8 @@
 //! episodes ([`super::episodes`]).
 
 use super::session::{
-    finish_parts, print_header, print_metrics, recorders, write_run, RunArgs, TargetArg, TrialsCsv,
+    finish_parts, print_header, print_metrics, recorders, track_run, write_run, RunArgs, TargetArg,
+    TrialsCsv,
 };
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
@@ -375,21 +376,6 @@ fn executor<'s>(a: &RunArgs, scene: &'s Scene, work: &Workload) -> Result<Execut
     .map_err(CliError::simulation)?;
     errln!("outcomes: {}", exec.plan());
     Ok(exec)
-}
-
-/// Runs `work` with the progress of `sessions` sessions of `a.trials`
-/// `unit` each shown on stderr (a bar on a terminal, a line every few
-/// seconds otherwise).
-pub(super) fn track_run<T>(
-    a: &RunArgs,
-    scene: &Scene,
-    unit: &str,
-    sessions: usize,
-    work: impl FnOnce(&Control<'_>) -> T,
-) -> T {
-    let label = format!("run {}", scene.spec().name);
-    let total = a.trials.saturating_mul(sessions as u64);
-    super::progress::track_control(&label, unit, total, work)
 }
 
 /// A session's configuration per seed.

@@ -2,7 +2,7 @@
 //! symbols and of values, `e3d sweep`): their arguments, the summary lines
 //! they print, and the streamed `trials.csv`.
 
-use super::{CliError, CliResult};
+use super::{cannot_write, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::command::CommandSpace;
@@ -235,11 +235,6 @@ impl CsvPart {
     }
 }
 
-/// `PATH: cannot write: E`.
-fn cannot_write(path: &Path, e: std::io::Error) -> CliError {
-    CliError::output(format!("{}: cannot write: {e}", path.display()))
-}
-
 /// Streams `trial,command,effect,reward` rows (with a leading `session`
 /// column for several sessions) into a [`CsvPart`].
 pub(super) struct TrialsCsv {
@@ -335,6 +330,21 @@ pub(super) fn write_run(
     super::output::write_file(&json_path, &json)?;
     outln!("wrote {} and {}", csv.display(), json_path.display());
     Ok(())
+}
+
+/// Runs `work` with the progress of `sessions` sessions of `a.trials`
+/// `unit` each shown on stderr (a bar on a terminal, a line every few
+/// seconds otherwise).
+pub(super) fn track_run<T>(
+    a: &RunArgs,
+    scene: &e3d::Scene,
+    unit: &str,
+    sessions: usize,
+    work: impl FnOnce(&e3d::Control<'_>) -> T,
+) -> T {
+    let label = format!("run {}", scene.spec().name);
+    let total = a.trials.saturating_mul(sessions as u64);
+    super::progress::track_control(&label, unit, total, work)
 }
 
 /// A note on standard error for every hyper-parameter given on the command

@@ -92,8 +92,7 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     // whether stdin is read, and how many commands otherwise
     let commands_known = (commands.iter().any(|c| c == "-"), commands.len() as u64);
     let rx = reader(symbols(&space), commands, 64);
-    let out_err =
-        |e: std::io::Error| CliError::output(format!("{}: cannot write: {e}", path.display()));
+    let out_err = |e| crate::cli::cannot_write(path, e);
     // created exclusively: never through a link planted under its name
     // (a stream, such as /dev/stdout, is written through)
     let (tmp, f) = e3d::io::create_output(path).map_err(out_err)?;

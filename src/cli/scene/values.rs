@@ -19,8 +19,8 @@ pub(super) fn exec(
     let mut world = scene.physics().world(1);
     let mut file = match trace {
         Some(p) => {
-            let (tmp, f) = e3d::io::create_temp_beside(p)
-                .map_err(|e| CliError::output(format!("{}: cannot write: {e}", p.display())))?;
+            let (tmp, f) =
+                e3d::io::create_temp_beside(p).map_err(|e| crate::cli::cannot_write(p, e))?;
             Some((p, tmp, std::io::BufWriter::new(f)))
         }
         None => None,
@@ -64,7 +64,7 @@ pub(super) fn exec(
             let p: &std::path::Path = p;
             f.flush()
                 .and_then(|()| std::fs::rename(&*tmp, p))
-                .map_err(|e| CliError::output(format!("{}: cannot write: {e}", p.display())))?;
+                .map_err(|e| crate::cli::cannot_write(p, e))?;
         }
         Ok(())
     })();
