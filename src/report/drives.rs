@@ -153,7 +153,8 @@ impl DriveComparison {
             (m.n == r.task1_sessions && m.n > 0).then_some(m.stats.mean)
         };
         // a measure's name, whether higher is better, and its value in a row
-        let measures: [(&str, bool, &dyn Fn(&DriveRow) -> Option<f64>); 6] = [
+        type Value<'a> = &'a dyn Fn(&DriveRow) -> Option<f64>;
+        let measures: [(&str, bool, Value); 6] = [
             ("entropy", true, &|r| Some(r.task1_entropy.stats.mean)),
             ("coverage", true, &|r| Some(r.task1_coverage.stats.mean)),
             ("trials to 50%", false, &|r| all(r, &r.task1_trials_to_50)),
@@ -309,7 +310,8 @@ impl DriveComparison {
         let trials = self.trials.max(1) as f64;
         // both panels' axes run from 0 to ymax
         let ymax = 1.0;
-        let panels: [(&str, &dyn Fn(&DriveRow) -> (f64, f64)); 2] = [
+        type Value<'a> = &'a dyn Fn(&DriveRow) -> (f64, f64);
+        let panels: [(&str, Value); 2] = [
             (
                 "task 1: normalised entropy of the terminal cells (mean ± sd)",
                 &|r| (r.task1_entropy.stats.mean, r.task1_entropy.stats.sd),
