@@ -106,43 +106,25 @@ impl PhysicsSpec {
             ));
         };
         let unit = if spec.kind.is_revolute() { "rad" } else { "m" };
+        let bad = |field, what: String| Err(here(field, format!("joint `{}`: {what}", s.joint)));
         for (field, v) in [("angle", s.angle), ("to", s.to)] {
             let Some(v) = v else { continue };
             if !v.is_finite() || v.abs() > 1e3 {
-                return Err(here(
+                return bad(
                     field,
-                    format!(
-                        "joint `{}`: a finite coordinate within 1000 {unit}, found {v}",
-                        s.joint
-                    ),
-                ));
+                    format!("a finite coordinate within 1000 {unit}, found {v}"),
+                );
             }
-            if let Some((lo, hi)) = spec.limits {
-                if v < lo || v > hi {
-                    return Err(here(
-                        field,
-                        format!(
-                            "joint `{}`: a coordinate within its limits [{lo}, {hi}] {unit}, found {v}",
-                            s.joint
-                        ),
-                    ));
-                }
+            if let Some((lo, hi)) = spec.limits.filter(|(lo, hi)| v < *lo || v > *hi) {
+                let within = format!("a coordinate within its limits [{lo}, {hi}] {unit}");
+                return bad(field, format!("{within}, found {v}"));
             }
         }
         if s.to.is_some() && s.angle.is_none() {
-            return Err(here(
-                "to",
-                format!(
-                    "joint `{}`: `to` with an `angle` (the range's other end)",
-                    s.joint
-                ),
-            ));
+            return bad("to", "`to` with an `angle` (the range's other end)".into());
         }
         if s.velocity.is_some_and(|w| !w.is_finite() || w.abs() > 1e3) {
-            return Err(here(
-                "velocity",
-                format!("joint `{}`: a finite rate within 1000 {unit}/s", s.joint),
-            ));
+            return bad("velocity", format!("a finite rate within 1000 {unit}/s"));
         }
         Ok(())
     }
@@ -154,50 +136,35 @@ impl PhysicsSpec {
         here: &dyn Fn(&str, String) -> Invalid,
     ) -> Result<(), Invalid> {
         let fin = |p: (f64, f64)| p.0.is_finite() && p.1.is_finite();
+        let bad = |field, what: String| Err(here(field, format!("body `{}`: {what}", b.body)));
         for (field, p) in [("position", b.position), ("to", b.to)] {
             if p.is_some_and(|p| !fin(p) || p.0.abs() > 1e6 || p.1.abs() > 1e6) {
-                return Err(here(
-                    field,
-                    format!("body `{}`: a finite position within 1e6 m", b.body),
-                ));
+                return bad(field, "a finite position within 1e6 m".into());
             }
         }
         if b.to.is_some() && b.position.is_none() {
-            return Err(here(
+            return bad(
                 "to",
-                format!(
-                    "body `{}`: `to` with a `position` (the range's other corner)",
-                    b.body
-                ),
-            ));
+                "`to` with a `position` (the range's other corner)".into(),
+            );
         }
         if b.angle.is_some_and(|a| !a.is_finite() || a.abs() > 1e3) {
-            return Err(here(
-                "angle",
-                format!("body `{}`: a finite angle (rad)", b.body),
-            ));
+            return bad("angle", "a finite angle (rad)".into());
         }
         if let Some(v) = b.velocity {
             if !fin(v) || v.0.hypot(v.1) >= self.max_speed {
-                return Err(here(
-                    "velocity",
-                    format!(
-                        "body `{}`: a finite velocity slower than max_speed ({} m/s), found {v:?}",
-                        b.body, self.max_speed
-                    ),
-                ));
+                let max = self.max_speed;
+                let slower = format!("a finite velocity slower than max_speed ({max} m/s)");
+                return bad("velocity", format!("{slower}, found {v:?}"));
             }
         }
         if b.angular_velocity
             .is_some_and(|w| !w.is_finite() || w.abs() > 1e3)
         {
-            return Err(here(
+            return bad(
                 "angular_velocity",
-                format!(
-                    "body `{}`: a finite angular velocity within 1000 rad/s",
-                    b.body
-                ),
-            ));
+                "a finite angular velocity within 1000 rad/s".into(),
+            );
         }
         Ok(())
     }
