@@ -88,7 +88,14 @@ impl RunningMetrics {
         let mut m = RunningMetrics::new(num_effects);
         for (&effect, &reward) in effects.iter().zip(rewards) {
             let point = [0.0; 2];
-            m.record(&(), &Outcome { effect, reward, point });
+            m.record(
+                &(),
+                &Outcome {
+                    effect,
+                    reward,
+                    point,
+                },
+            );
         }
         m
     }

@@ -23,9 +23,7 @@ pub use engine::{
     Observer, Worlds,
 };
 
-pub use metrics::{
-    policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics,
-};
+pub use metrics::{policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics};
 pub use values::{run_value_session, ValueSessionRecord};
 
 /// How to run a session.

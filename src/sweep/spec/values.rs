@@ -295,11 +295,11 @@ pub(crate) fn param_of(p: &Params, i: usize) -> f64 {
 }
 
 pub(crate) fn set_param(p: &mut Params, i: usize, v: f64) {
-    match i {
-        0 => p.alpha = v,
-        1 => p.beta = v,
-        2 => p.lambda = v,
-        3 => p.eta = v,
-        _ => p.epsilon = v,
-    }
+    *[
+        &mut p.alpha,
+        &mut p.beta,
+        &mut p.lambda,
+        &mut p.eta,
+        &mut p.epsilon,
+    ][i] = v;
 }
