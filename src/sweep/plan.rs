@@ -2,9 +2,7 @@
 //! seeds, shards, and the work each scene gets.
 
 use super::factory::{is_identifier, FactoryError, Learners, SweepScene, Worlds};
-use super::spec::{
-    invalid, param_of, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS,
-};
+use super::spec::{invalid, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS};
 use super::{SweepError, MAX_SESSIONS};
 use crate::hash::session_seed;
 use crate::learner::Params;
@@ -473,7 +471,7 @@ impl Sweep {
         ];
         for i in 0..5 {
             f.push(if cell.used[i] {
-                format_number(param_of(&cell.params, i))
+                format_number(cell.params.named()[i].1)
             } else {
                 String::new()
             });

@@ -1,9 +1,7 @@
 //! Checking a sweep spec: everything that does not depend on the scenes,
 //! each mistake placed in the sweep's text.
 
-use super::{
-    param_of, set_param, MetricSpec, Scale, SweepSpec, Values, MAX_COMMANDS, MAX_STEPS, MAX_TRIALS,
-};
+use super::{set_param, MetricSpec, Scale, SweepSpec, Values, MAX_COMMANDS, MAX_STEPS, MAX_TRIALS};
 use crate::learner::Params;
 use crate::scene::{Invalid, SceneError};
 use crate::sweep::SweepError;
@@ -102,7 +100,7 @@ impl SweepSpec {
         let mut axes: Vec<Vec<f64>> = Vec::with_capacity(5);
         for (i, name) in Params::SWEPT.iter().enumerate() {
             let values = match self.params.get(name) {
-                None => vec![param_of(&Params::TASK1, i)],
+                None => vec![Params::TASK1.named()[i].1],
                 Some(v) => param_axis(name, i, v, bad)?,
             };
             axes.push(values);

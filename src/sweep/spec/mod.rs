@@ -22,7 +22,7 @@ mod check;
 mod values;
 
 pub(super) use check::invalid;
-pub(crate) use values::{param_of, set_param};
+pub(crate) use values::set_param;
 pub use values::{ParamValues, Scale, Values};
 
 /// The largest number of sessions a sweep may hold: its plan keeps every

@@ -72,9 +72,7 @@ impl Values {
                 .collect(),
         }
     }
-}
 
-impl Values {
     /// The values given, in order.
     pub fn list(values: impl IntoIterator<Item = f64>) -> Values {
         Values::List(values.into_iter().collect())
@@ -288,10 +286,6 @@ impl ParamValues {
             _ => self.epsilon.as_ref(),
         }
     }
-}
-
-pub(crate) fn param_of(p: &Params, i: usize) -> f64 {
-    [p.alpha, p.beta, p.lambda, p.eta, p.epsilon][i]
 }
 
 pub(crate) fn set_param(p: &mut Params, i: usize, v: f64) {
