@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 /// The start contexts of each scene: those of a world of its scene file,
 /// 1 for a scene made by code.
-pub(super) fn start_contexts(scenes: &[Arc<dyn SweepScene>]) -> Vec<usize> {
+pub(super) fn start_contexts(scenes: &[Arc<SweepScene>]) -> Vec<usize> {
     scenes
         .iter()
         .map(|s| s.scene().map_or(1, |scene| scene.build().num_contexts()))

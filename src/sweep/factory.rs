@@ -9,8 +9,8 @@
 //! execution, sessions in lockstep) and [`Learners::builtin`]
 //! ([`LearnerKind`]).
 //!
-//! Your own worlds and learners are registered beside them (a world of
-//! your own can also come as your own [`SweepScene`]):
+//! Your own worlds and learners are registered beside them (a scene can
+//! also be a [`Scene`] made or edited in code):
 //!
 //! ```
 //! use e3d::sweep::{Learners, Sweep, SweepSpec, Worlds};
@@ -47,8 +47,10 @@ use crate::effect::Target;
 use crate::hash::fnv1a64;
 use crate::learner::{ContinuousLearner, Learner, LearnerKind, LearnerSetup, Params};
 use crate::scene::Scene;
-use crate::session::{self, Control};
-use crate::world::{ExecOptions, Executor, OutcomeTable, Strategy, Workload, World, WorldError};
+use crate::session;
+#[cfg(doc)]
+use crate::world::Executor;
+use crate::world::{OutcomeTable, World, WorldError};
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -72,72 +74,75 @@ pub fn uses_param(learner: LearnerKind, param: &str) -> bool {
 // ---------------------------------------------------------------------------
 
 /// One scene of a sweep, as its [`Worlds`] made it: what its sessions
-/// need to know, and the worlds they run on.
-///
-/// [`Scene`] implements it (outcome table, memo or live execution, chosen
-/// by cost, sessions in lockstep: exactly `e3d sweep`), and so does
-/// [`LiveScene`] (a closure that makes worlds). Implement it yourself to
-/// share outcomes between sessions in your own way.
-pub trait SweepScene: Send + Sync {
-    /// The name written in `results.csv` and in the sessions' identities
-    /// (so in their seeds). It must hold no comma, quote or line break.
-    fn name(&self) -> &str;
+/// need to know, and where their worlds come from.
+#[derive(Debug)]
+#[allow(clippy::large_enum_variant)] // one per scene, shared in an Arc
+pub enum SweepScene {
+    /// A scene file, or a [`Scene`] made or edited in code: run through an
+    /// [`Executor`] (outcome table, memo or live execution, chosen by
+    /// cost, sessions in lockstep: exactly `e3d sweep`).
+    Scene(Scene),
+    /// Worlds a closure makes, each session alone on a fresh one.
+    Live(LiveScene),
+}
 
-    /// The command space of every world of this scene (the learners are
-    /// made for it; a world of another space is refused).
-    fn command_space(&self) -> CommandSpace;
-
-    /// The number of effects of every world of this scene.
-    fn num_effects(&self) -> usize;
-
-    /// A key of the scene's content, written in the journal of an output
-    /// folder: a resume or a merge after it changed is refused, since one
-    /// results file would mix two versions of the scene.
-    fn content_key(&self) -> u64;
-
-    /// Gets ready for `work` (all the sessions of this scene in one run)
-    /// and returns where its sessions get their worlds. `options` are the
-    /// sweep's table folder, memo cap and forced strategy (see
-    /// [`Sweep::with_table_cache`](super::Sweep::with_table_cache)); a
-    /// scene that keeps no outcomes may ignore them. Called on the run's
-    /// thread pool, so that a table can be built in parallel. `control` is
-    /// told of outcomes simulated ahead of the sessions (a [`Scene`] tells
-    /// the building of its outcome table: [`Executor::with_control`]); a
-    /// scene that simulates nothing ahead may ignore it. What is prepared
-    /// must be the same either way.
-    fn prepare<'a>(
-        &'a self,
-        work: &Workload,
-        options: &ExecOptions,
-        control: &Control<'_>,
-    ) -> Result<Box<dyn SceneRun + 'a>, SweepError>;
-
-    /// The scene file behind this scene, if it has one.
-    fn scene(&self) -> Option<&Scene> {
-        None
+impl From<Scene> for SweepScene {
+    fn from(scene: Scene) -> SweepScene {
+        SweepScene::Scene(scene)
     }
 }
 
-/// The worlds of one scene during one run (see [`SweepScene::prepare`]):
-/// the engine's [`session::Worlds`] of its commands, cut into the groups
-/// that step together (a group of one runs alone), and what to tell.
-pub trait SceneRun: session::Worlds<Command> + Send {
-    /// For a scene of continuous commands, its worlds of values, on which
-    /// its sessions run; `None` (the default) for a scene of symbols.
-    fn values(&self) -> Option<&dyn session::Worlds<Vec<f64>>> {
-        None
+impl From<LiveScene> for SweepScene {
+    fn from(scene: LiveScene) -> SweepScene {
+        SweepScene::Live(scene)
+    }
+}
+
+impl SweepScene {
+    /// The name written in `results.csv` and in the sessions' identities
+    /// (so in their seeds). It must hold no comma, quote or line break.
+    pub fn name(&self) -> &str {
+        match self {
+            SweepScene::Scene(s) => &s.spec().name,
+            SweepScene::Live(l) => &l.name,
+        }
     }
 
-    /// One line saying how outcomes are obtained, told to the sweep's
-    /// notices before any session runs (`None`: nothing to say).
-    fn describe(&self) -> Option<String> {
-        None
+    /// The command space of every world of this scene (the learners are
+    /// made for it; a world of another space is refused).
+    pub fn command_space(&self) -> CommandSpace {
+        match self {
+            SweepScene::Scene(s) => s.command_space(),
+            SweepScene::Live(l) => l.space.clone(),
+        }
     }
 
-    /// Called once every session has run: keeps what should be kept and
-    /// returns one line saying what was done, told to the notices.
-    fn finish(&self) -> Option<String> {
-        None
+    /// The number of effects of every world of this scene.
+    pub fn num_effects(&self) -> usize {
+        match self {
+            SweepScene::Scene(s) => s.num_effects(),
+            SweepScene::Live(l) => l.num_effects,
+        }
+    }
+
+    /// A key of the scene's content, written in the journal of an output
+    /// folder: a resume or a merge after it changed is refused, since one
+    /// results file would mix two versions of the scene. For a scene,
+    /// [`OutcomeTable::key`] (its canonical form and the e3d version); for
+    /// a [`LiveScene`], [`LiveScene::with_key`].
+    pub fn content_key(&self) -> u64 {
+        match self {
+            SweepScene::Scene(s) => OutcomeTable::key(s),
+            SweepScene::Live(l) => l.key,
+        }
+    }
+
+    /// The scene file behind this scene, if it has one.
+    pub fn scene(&self) -> Option<&Scene> {
+        match self {
+            SweepScene::Scene(s) => Some(s),
+            SweepScene::Live(_) => None,
+        }
     }
 }
 
@@ -154,56 +159,6 @@ pub enum FactoryError {
     /// a simulator that does not start, ...).
     #[error(transparent)]
     Failed(SweepError),
-}
-
-impl SweepScene for Scene {
-    fn name(&self) -> &str {
-        &self.spec().name
-    }
-    fn command_space(&self) -> CommandSpace {
-        Scene::command_space(self)
-    }
-    fn num_effects(&self) -> usize {
-        Scene::num_effects(self)
-    }
-    /// [`OutcomeTable::key`]: the scene's canonical form and the e3d
-    /// version.
-    fn content_key(&self) -> u64 {
-        OutcomeTable::key(self)
-    }
-    /// An [`Executor`]: the cheapest of an outcome table, a memo and live
-    /// execution, for `work`; for a scene of continuous commands,
-    /// [`Executor::for_values`] (live, in lockstep where copies are exact).
-    /// [`Executor::with_control`]: the table's building is told.
-    fn prepare<'a>(
-        &'a self,
-        work: &Workload,
-        options: &ExecOptions,
-        control: &Control<'_>,
-    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-        if self.spec().is_continuous() {
-            return prepare_values(self, work, options);
-        }
-        let e = Executor::with_control(self, work, options, control)?;
-        Ok(Box::new(e))
-    }
-    fn scene(&self) -> Option<&Scene> {
-        Some(self)
-    }
-}
-
-impl SceneRun for Executor<'_> {
-    fn values(&self) -> Option<&dyn session::Worlds<Vec<f64>>> {
-        self.continuous()
-            .map(|_| self as &dyn session::Worlds<Vec<f64>>)
-    }
-    /// The plan ([`Executor::plan`]) in words.
-    fn describe(&self) -> Option<String> {
-        Some(Executor::plan(self).to_string())
-    }
-    fn finish(&self) -> Option<String> {
-        Executor::finish(self)
-    }
 }
 
 /// A scene named in a sweep: a path relative to `base` (or absolute), or a
@@ -236,28 +191,30 @@ fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, FactoryError>
 /// ```
 /// use e3d::sweep::{LiveScene, SweepScene};
 /// use e3d::Scene;
-/// let scene = LiveScene::new("rooms", || Scene::builtin("two_rooms").unwrap().build());
+/// let scene = SweepScene::from(LiveScene::new("rooms", || Scene::builtin("two_rooms").unwrap().build()));
 /// assert_eq!(scene.name(), "rooms");
 /// assert_eq!(scene.num_effects(), 18);
 /// ```
-pub struct LiveScene<F> {
+pub struct LiveScene {
     name: String,
     space: CommandSpace,
     num_effects: usize,
     key: u64,
-    make: F,
+    make: MakeWorld,
 }
 
-impl<F, W> LiveScene<F>
-where
-    F: Fn() -> W,
-    W: World,
-{
+type MakeWorld = Box<dyn Fn() -> Box<dyn World + Send> + Send + Sync>;
+
+impl LiveScene {
     /// The scene `name` whose worlds `make` makes. One world is made at
     /// once, for its command space and number of effects. The content key
     /// is a hash of the name, the command space and the number of effects
     /// (see [`with_key`](Self::with_key)).
-    pub fn new(name: impl Into<String>, make: F) -> LiveScene<F> {
+    pub fn new<F, W>(name: impl Into<String>, make: F) -> LiveScene
+    where
+        F: Fn() -> W + Send + Sync + 'static,
+        W: World + Send + 'static,
+    {
         let name = name.into();
         let world = make();
         let space = world.command_space().clone();
@@ -271,20 +228,20 @@ where
             space,
             num_effects,
             key,
-            make,
+            make: Box::new(move || Box::new(make())),
         }
     }
 
     /// Sets the content key ([`SweepScene::content_key`]): give a hash of
     /// whatever defines your world (its parameters, a version), so that a
     /// resume after it changed is refused.
-    pub fn with_key(mut self, key: u64) -> LiveScene<F> {
+    pub fn with_key(mut self, key: u64) -> LiveScene {
         self.key = key;
         self
     }
 }
 
-impl<F> fmt::Debug for LiveScene<F> {
+impl fmt::Debug for LiveScene {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("LiveScene")
             .field("name", &self.name)
@@ -295,41 +252,8 @@ impl<F> fmt::Debug for LiveScene<F> {
     }
 }
 
-impl<F, W> SweepScene for LiveScene<F>
-where
-    F: Fn() -> W + Send + Sync,
-    W: World + Send + 'static,
-{
-    fn name(&self) -> &str {
-        &self.name
-    }
-    fn command_space(&self) -> CommandSpace {
-        self.space.clone()
-    }
-    fn num_effects(&self) -> usize {
-        self.num_effects
-    }
-    fn content_key(&self) -> u64 {
-        self.key
-    }
-    fn prepare<'a>(
-        &'a self,
-        _work: &Workload,
-        _options: &ExecOptions,
-        _control: &Control<'_>,
-    ) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-        Ok(Box::new(LiveRun(self)))
-    }
-}
-
-struct LiveRun<'a, F>(&'a LiveScene<F>);
-
-/// Each session alone.
-impl<F, W> session::Worlds<Command> for LiveRun<'_, F>
-where
-    F: Fn() -> W + Send + Sync,
-    W: World + Send + 'static,
-{
+/// Each session alone, on a fresh world checked against the scene.
+impl session::Worlds<Command> for LiveScene {
     fn session_groups(&self, sessions: usize) -> Vec<Range<usize>> {
         (0..sessions).map(|i| i..i + 1).collect()
     }
@@ -337,24 +261,11 @@ where
         &self,
         _width: usize,
     ) -> Result<Box<dyn session::Executes<Command> + Send + '_>, WorldError> {
-        let world = (self.0.make)();
-        match mismatch(self.0, &world) {
+        let world = (self.make)();
+        match mismatch(&self.space, self.num_effects, &*world) {
             Some(why) => Err(WorldError::Other(why)),
             None => Ok(Box::new(world)),
         }
-    }
-}
-
-impl<F, W> SceneRun for LiveRun<'_, F>
-where
-    F: Fn() -> W + Send + Sync,
-    W: World + Send + 'static,
-{
-    fn describe(&self) -> Option<String> {
-        Some(format!(
-            "{}: live execution: each session on a fresh world of its own (a world made by code)",
-            self.0.name
-        ))
     }
 }
 
@@ -367,7 +278,7 @@ where
 /// scene file or a built-in scene.
 #[derive(Clone, Default)]
 pub struct Worlds {
-    scenes: Vec<Arc<dyn SweepScene>>,
+    scenes: Vec<Arc<SweepScene>>,
     /// With scene files: the folder relative paths start from (`None`:
     /// the current folder).
     files: Option<Option<PathBuf>>,
@@ -389,9 +300,10 @@ impl Worlds {
     }
 
     /// Registers a scene under its [`SweepScene::name`]: a [`Scene`] made
-    /// or edited in code (run as `e3d sweep` runs scene files), a
-    /// [`LiveScene`], or your own.
-    pub fn with_scene(mut self, scene: impl SweepScene + 'static) -> Worlds {
+    /// or edited in code (run as `e3d sweep` runs scene files) or a
+    /// [`LiveScene`].
+    pub fn with_scene(mut self, scene: impl Into<SweepScene>) -> Worlds {
+        let scene = scene.into();
         self.scenes.retain(|s| s.name() != scene.name());
         self.scenes.push(Arc::new(scene));
         self
@@ -413,14 +325,12 @@ impl Worlds {
 
     /// The scene the sweep names `name` (made once, before any session
     /// runs).
-    pub fn scene(&self, name: &str) -> Result<Arc<dyn SweepScene>, FactoryError> {
+    pub fn scene(&self, name: &str) -> Result<Arc<SweepScene>, FactoryError> {
         if let Some(s) = self.scenes.iter().find(|s| s.name() == name) {
             return Ok(s.clone());
         }
         match &self.files {
-            Some(base) => {
-                resolve_scene(name, base.as_deref()).map(|s| Arc::new(s) as Arc<dyn SweepScene>)
-            }
+            Some(base) => resolve_scene(name, base.as_deref()).map(|s| Arc::new(s.into())),
             None => {
                 let names = self.names();
                 Err(FactoryError::Unknown(format!(
@@ -630,17 +540,16 @@ pub(crate) fn is_identifier(name: &str) -> bool {
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
-/// Why a world of `scene` was refused, naming both command spaces; `None`
-/// for a world of the scene's space and effects.
-pub(super) fn mismatch(scene: &dyn SweepScene, world: &dyn World) -> Option<String> {
-    let space = scene.command_space();
-    if world.command_space() == &space && world.num_effects() == scene.num_effects() {
+/// Why a world was refused for a scene of commands `space` and
+/// `effects` effects, naming both command spaces; `None` for a world of
+/// that space and effects.
+pub(super) fn mismatch(space: &CommandSpace, effects: usize, world: &dyn World) -> Option<String> {
+    if world.command_space() == space && world.num_effects() == effects {
         return None;
     }
     Some(format!(
-        "whose commands are {} with {} effects, but the world's commands are {} with {} effects",
-        describe_space(&space),
-        scene.num_effects(),
+        "whose commands are {} with {effects} effects, but the world's commands are {} with {} effects",
+        describe_space(space),
         describe_space(world.command_space()),
         world.num_effects()
     ))
@@ -666,25 +575,4 @@ pub(crate) fn describe_space(space: &CommandSpace) -> String {
                 .join(", ")
         ))
     }
-}
-
-/// The executor of a continuous scene's sessions in a sweep: live, in the
-/// lockstep groups of [`Executor::for_values`]. A forced table or memo is
-/// refused (values cannot be tabled or memoised).
-fn prepare_values<'a>(
-    scene: &'a Scene,
-    work: &Workload,
-    options: &ExecOptions,
-) -> Result<Box<dyn SceneRun + 'a>, SweepError> {
-    if let Some(s @ (Strategy::Table | Strategy::Memo)) = options.force {
-        return Err(forced_error(&scene.spec().name, s));
-    }
-    Ok(Box::new(Executor::for_values(scene, work)?))
-}
-
-/// The refusal of a table or memo forced on the continuous scene `scene`.
-pub(super) fn forced_error(scene: &str, forced: Strategy) -> SweepError {
-    SweepError::Other(format!(
-        "scene `{scene}` takes continuous commands, which run live only (no table, no memo), but the sweep forces {forced}"
-    ))
 }

@@ -49,7 +49,7 @@
 //!   metric [`MetricSpec::NormalizedEntropyContext`] per start context;
 //! - continuous commands: a scene whose slots take values runs its sessions
 //!   live, in the lockstep groups of `e3d run --sessions N`
-//!   ([`SceneRun::values`],
+//!   ([`Executor::for_values`](crate::world::Executor::for_values),
 //!   [`Learners::make_continuous`]).
 //!
 //! # Cells
@@ -105,9 +105,7 @@ mod spec;
 pub use crate::hash::{fnv1a64, session_seed, splitmix64};
 pub(crate) use error::io_err;
 pub use error::{BoxError, SweepError};
-pub use factory::{
-    uses_param, FactoryError, Learners, LiveScene, MakeLearner, SceneRun, SweepScene, Worlds,
-};
+pub use factory::{uses_param, FactoryError, Learners, LiveScene, MakeLearner, SweepScene, Worlds};
 pub use plan::{format_number, Cell, ParseShardError, SessionSpec, Shard, Sweep};
 pub use results::{
     merge, DirReport, SessionResult, JOURNAL, MAX_RESULTS_BYTES, PHYSICS_FINGERPRINT, RESULTS,

@@ -2,15 +2,13 @@
 //! seeds, shards, and the work each scene gets.
 
 use super::factory::{is_identifier, FactoryError, Learners, SweepScene, Worlds};
-use super::spec::{
-    invalid, param_of, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS,
-};
+use super::spec::{invalid, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS};
 use super::{SweepError, MAX_SESSIONS};
 use crate::hash::session_seed;
 use crate::learner::Params;
 use crate::world::{ExecOptions, Strategy, Workload};
 #[cfg(doc)]
-use crate::world::{ExecutionPlan, OutcomeTable, DEFAULT_MEMO_CAP};
+use crate::world::{ExecutionPlan, Executor, OutcomeTable, DEFAULT_MEMO_CAP};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -143,14 +141,17 @@ pub struct Sweep {
     /// The file's name, for messages (`<SweepSpec>` for a sweep built in
     /// code).
     pub file: String,
-    pub(super) scenes: Vec<Arc<dyn SweepScene>>,
+    pub(super) scenes: Vec<Arc<SweepScene>>,
     pub(super) learners: Arc<Learners>,
     pub(super) metrics: Vec<MetricSpec>,
     pub(super) cells: Vec<Cell>,
     pub(super) exec: ExecOptions,
-    pub(super) notices: Option<Notices>,
+    /// Where the sweep tells how it obtains outcomes (one line each).
+    pub(super) notices: Option<Arc<Notice>>,
     pub(super) trials_done: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
-    pub(super) table_progress: Option<TableProgress>,
+    /// Where the sweep tells the building of its scenes' outcome tables:
+    /// `(scene, k more commands, of total)`.
+    pub(super) table_progress: Option<Arc<TableProgress>>,
     /// Per scene, the effects some command reaches, when told
     /// ([`with_reachable_effects`](Self::with_reachable_effects)).
     pub(super) reachable: Vec<Option<usize>>,
@@ -158,17 +159,8 @@ pub struct Sweep {
     pub(super) contexts: Vec<usize>,
 }
 
-/// Where a sweep tells the building of its scenes' outcome tables:
-/// `(scene, k more commands, of total)`.
-#[derive(Clone)]
-pub(super) struct TableProgress(pub(super) std::sync::Arc<TableProgressFn>);
-
-/// The callback of [`Sweep::with_table_progress`].
-type TableProgressFn = dyn Fn(&str, u64, u64) + Send + Sync;
-
-/// Where a sweep tells how it obtains outcomes (one line each).
-#[derive(Clone)]
-pub(super) struct Notices(pub(super) std::sync::Arc<dyn Fn(&str) + Send + Sync>);
+type Notice = dyn Fn(&str) + Send + Sync;
+type TableProgress = dyn Fn(&str, u64, u64) + Send + Sync;
 
 impl fmt::Debug for Sweep {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -375,7 +367,10 @@ impl Sweep {
                 .iter()
                 .find(|sc| sc.scene().and_then(crate::Scene::value_space).is_some());
             if let Some(scene) = continuous {
-                return Err(super::factory::forced_error(scene.name(), s));
+                return Err(SweepError::Other(format!(
+                    "scene `{}` takes continuous commands, which run live only (no table, no memo), but the sweep forces {s}",
+                    scene.name()
+                )));
             }
         }
         self.exec.force = strategy;
@@ -403,7 +398,7 @@ impl Sweep {
     /// obtained (table, memo or live, and why), and after the run what the
     /// memo simulated and kept. `e3d sweep` prints them on stderr.
     pub fn with_notices(mut self, f: impl Fn(&str) + Send + Sync + 'static) -> Self {
-        self.notices = Some(Notices(std::sync::Arc::new(f)));
+        self.notices = Some(Arc::new(f));
         self
     }
 
@@ -421,7 +416,7 @@ impl Sweep {
 
     /// Calls `f(scene, k, total)` from the worker threads while the
     /// outcome table of `scene` is built before its sessions run: `k` more
-    /// commands simulated, of about `total` ([`SweepScene::prepare`]);
+    /// commands simulated, of about `total` ([`Executor::with_control`]);
     /// then, once the building has ended (the table built, or given up
     /// for the memo), `f(scene, 0, 0)` once. Nothing is called for a
     /// scene whose table is read whole or not built. The results are the
@@ -430,7 +425,7 @@ impl Sweep {
         mut self,
         f: impl Fn(&str, u64, u64) + Send + Sync + 'static,
     ) -> Self {
-        self.table_progress = Some(TableProgress(std::sync::Arc::new(f)));
+        self.table_progress = Some(Arc::new(f));
         self
     }
 
@@ -442,12 +437,12 @@ impl Sweep {
 
     pub(super) fn notice(&self, line: &str) {
         if let Some(f) = &self.notices {
-            (f.0)(line);
+            f(line);
         }
     }
 
     /// The scenes, in the order of the spec.
-    pub fn scenes(&self) -> &[Arc<dyn SweepScene>] {
+    pub fn scenes(&self) -> &[Arc<SweepScene>] {
         &self.scenes
     }
 
@@ -476,7 +471,7 @@ impl Sweep {
         ];
         for i in 0..5 {
             f.push(if cell.used[i] {
-                format_number(param_of(&cell.params, i))
+                format_number(cell.params.named()[i].1)
             } else {
                 String::new()
             });
@@ -572,14 +567,14 @@ fn make_scenes(
     spec: &SweepSpec,
     worlds: &Worlds,
     bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
-) -> Result<Vec<Arc<dyn SweepScene>>, SweepError> {
-    let mut scenes: Vec<Arc<dyn SweepScene>> = Vec::new();
+) -> Result<Vec<Arc<SweepScene>>, SweepError> {
+    let mut scenes: Vec<Arc<SweepScene>> = Vec::new();
     for name in &spec.scenes {
         let scene = worlds.scene(name).map_err(|e| match e {
             FactoryError::Unknown(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
             FactoryError::Failed(e) => e,
         })?;
-        // a scene made in code (a LiveScene, your own SweepScene) gets
+        // a scene made in code (a Scene or a LiveScene) gets
         // the checks of a scene file's name: it is printed, and written
         // into CSV files and the journal
         if let Err(e) = crate::text::check_name(scene.name()) {
@@ -702,7 +697,7 @@ fn check_size(
 /// symbols only is refused with its reason) and that no continuous scene
 /// runs episodes. `bad(field, anchor, expected)` places the error.
 fn check_values(
-    scenes: &[Arc<dyn SweepScene>],
+    scenes: &[Arc<SweepScene>],
     learners: &Learners,
     names: &[String],
     episodes: bool,

@@ -1,7 +1,7 @@
 //! Running a sweep: one session, sessions in lockstep, all of them on a
 //! thread pool, and resumably into a folder.
 
-use super::factory::{mismatch, SceneRun, SweepScene};
+use super::factory::{mismatch, SweepScene};
 use super::journal::{self, Journal, JournalHeader};
 use super::plan::{Cell, SessionSpec, Shard, Sweep};
 use super::results::{
@@ -9,15 +9,14 @@ use super::results::{
 };
 use super::spec::MetricSpec;
 use super::{io_err, BoxError, SweepError};
+use crate::command::Command;
 use crate::effect::Target;
 use crate::hash::fnv1a64;
 use crate::scene::Scene;
 use crate::session::{
     self, run_group, run_planned, Control, Executes, Learns, RunningMetrics, SessionConfig,
 };
-#[cfg(doc)]
-use crate::world::Executor;
-use crate::world::{Workload, World, WorldError};
+use crate::world::{Executor, Workload, World, WorldError};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::panic::AssertUnwindSafe;
@@ -48,7 +47,7 @@ impl Sweep {
         world: &mut dyn World,
     ) -> Result<SessionResult, SweepError> {
         let scene = &self.scenes[self.cells[session.cell].scene];
-        if let Some(why) = mismatch(&**scene, world) {
+        if let Some(why) = mismatch(&scene.command_space(), scene.num_effects(), world) {
             return Err(SweepError::Other(format!(
                 "session {} is of scene `{}`, {why}",
                 session.index,
@@ -199,12 +198,12 @@ impl Sweep {
             .build()
             .map_err(|e| SweepError::Other(format!("cannot start the threads: {e}")))?;
         let work = self.workloads(sessions, pool.current_num_threads());
-        let executors: Vec<Option<Box<dyn SceneRun + '_>>> = pool.install(|| {
+        let executors: Vec<Option<Executor<'_>>> = pool.install(|| {
             self.scenes
                 .iter()
                 .zip(&work)
                 .enumerate()
-                .map(|(si, (scene, w))| self.scene_run(si, &**scene, w))
+                .map(|(si, (scene, w))| self.scene_run(si, scene, w))
                 .collect::<Result<_, SweepError>>()
         })?;
         let executors = &executors;
@@ -223,34 +222,42 @@ impl Sweep {
             outcome
         });
         for exec in executors.iter().flatten() {
-            if let Some(line) = exec.finish() {
+            if let Some(line) = Executor::finish(exec) {
                 self.notice(&line);
             }
         }
         outcome
     }
 
-    /// Runs `sessions` scene by scene, each scene's groups in parallel
-    /// through the engine ([`run_planned`]), sending each result, or the
-    /// error that stops the sweep, to `tx`; stops once nobody listens.
+    /// Runs `sessions`, every scene's groups in parallel through the
+    /// engine ([`run_planned`]) on the one pool, sending each result, or
+    /// the error that stops the sweep, to `tx`; stops once nobody listens.
     fn run_scenes(
         &self,
-        executors: &[Option<Box<dyn SceneRun + '_>>],
+        executors: &[Option<Executor<'_>>],
         sessions: &[SessionSpec],
         tx: &Sender<Result<SessionResult, SweepError>>,
     ) {
         let gone = AtomicBool::new(false);
-        for (si, exec) in executors.iter().enumerate() {
+        executors.par_iter().enumerate().for_each(|(si, exec)| {
             let mine: Vec<SessionSpec> = sessions
                 .iter()
                 .filter(|s| self.cells[s.cell].scene == si)
                 .copied()
                 .collect();
             if mine.is_empty() || gone.load(Relaxed) {
-                continue;
+                return;
             }
             let scene = &*self.scenes[si];
             let out = (tx, &gone);
+            let space = scene.command_space();
+            let symbols = |s: &SessionSpec, n| {
+                self.learner(s, |c| {
+                    let uniform = &Target::Uniform;
+                    self.learners
+                        .make(&c.learner, &c.params, &space, n, uniform)
+                })
+            };
             if self.runs_episodes(si) {
                 mine.par_iter().for_each(|s| {
                     self.guarded(std::slice::from_ref(s), out, || {
@@ -263,28 +270,24 @@ impl Sweep {
                         Ok(vec![self.run_episode_session(s, &mut *file.build())?])
                     })
                 });
-            } else if let Some(values) = exec.as_ref().and_then(|e| e.values()) {
-                let space = scene.scene().and_then(Scene::value_space);
-                let space = space.expect("a scene of values");
-                self.run_scene(values, &mine, out, |s, n| {
+            } else if let SweepScene::Live(live) = scene {
+                self.run_scene(live, &mine, out, symbols);
+            } else if let Some(values) = scene.scene().and_then(Scene::value_space) {
+                let exec = exec.as_ref().expect("a scene with work");
+                let worlds: &dyn session::Worlds<Vec<f64>> = exec;
+                self.run_scene(worlds, &mine, out, |s, n| {
                     self.learner(s, |c| {
                         let uniform = &Target::Uniform;
                         self.learners
-                            .make_continuous(&c.learner, &c.params, &space, n, uniform)
+                            .make_continuous(&c.learner, &c.params, &values, n, uniform)
                     })
                 });
             } else {
                 let exec = exec.as_ref().expect("a scene with work");
-                let space = scene.command_space();
-                self.run_scene(&**exec, &mine, out, |s, n| {
-                    self.learner(s, |c| {
-                        let uniform = &Target::Uniform;
-                        self.learners
-                            .make(&c.learner, &c.params, &space, n, uniform)
-                    })
-                });
+                let worlds: &dyn session::Worlds<Command> = exec;
+                self.run_scene(worlds, &mine, out, symbols);
             }
-        }
+        });
     }
 
     /// Runs `mine`, the sessions of one scene, in the groups `worlds`
@@ -354,56 +357,67 @@ impl Sweep {
         }
     }
 
-    /// How scene `si` (`scene`, with workload `w`) runs: none without
-    /// sessions, its episode worlds, or the cheapest of a table, a memo or
-    /// live execution (told to the notice callback, its table's building
-    /// to the table progress).
+    /// How scene `si` (`scene`, with workload `w`) runs, told to the
+    /// notice callback: none without sessions, its episode worlds, live
+    /// worlds made by code, or the cheapest of a table, a memo or live
+    /// execution (its table's building told to the table progress).
     fn scene_run<'a>(
         &'a self,
         si: usize,
-        scene: &'a dyn SweepScene,
+        scene: &'a SweepScene,
         w: &Workload,
-    ) -> Result<Option<Box<dyn SceneRun + 'a>>, SweepError> {
+    ) -> Result<Option<Executor<'a>>, SweepError> {
         if w.sessions == 0 {
             return Ok(None);
         }
-        if let (true, Some(file)) = (self.runs_episodes(si), scene.scene()) {
-            let (k, c) = (self.spec.commands, self.start_contexts(si));
-            self.notice(&format!(
-                "{}: episodes of {k} command{} from {c} start context{}: each session on a live world of its own",
-                file.spec().name,
-                if k == 1 { "" } else { "s" },
-                if c == 1 { "" } else { "s" },
-            ));
-            return Ok(None);
-        }
-        let e = match &self.table_progress {
-            Some(f) => {
-                use std::sync::atomic::AtomicU64;
-                let name = scene.name();
-                let (told, size) = (AtomicBool::new(false), AtomicU64::new(0));
-                let total = |n| size.store(n, Relaxed);
-                let progress = |k| {
-                    told.store(true, Relaxed);
-                    (f.0)(name, k, size.load(Relaxed))
-                };
-                let control = Control {
-                    progress: &progress,
-                    total: &total,
-                    ..Control::default()
-                };
-                let e = scene.prepare(w, &self.exec, &control);
-                // the end of what was told, built or not
-                if told.load(Relaxed) {
-                    (f.0)(name, 0, 0);
-                }
-                e?
+        let file = match (scene, self.runs_episodes(si)) {
+            (SweepScene::Scene(file), true) => {
+                let (k, c) = (self.spec.commands, self.start_contexts(si));
+                self.notice(&format!(
+                    "{}: episodes of {k} command{} from {c} start context{}: each session on a live world of its own",
+                    file.spec().name,
+                    if k == 1 { "" } else { "s" },
+                    if c == 1 { "" } else { "s" },
+                ));
+                return Ok(None);
             }
-            None => scene.prepare(w, &self.exec, &Control::default())?,
+            (SweepScene::Live(_), _) => {
+                self.notice(&format!(
+                    "{}: live execution: each session on a fresh world of its own (a world made by code)",
+                    scene.name()
+                ));
+                return Ok(None);
+            }
+            (SweepScene::Scene(file), false) => file,
         };
-        if let Some(line) = e.describe() {
-            self.notice(&line);
-        }
+        // a table or memo forced on a continuous scene was refused by
+        // Sweep::with_strategy
+        let e = if file.spec().is_continuous() {
+            Executor::for_values(file, w)?
+        } else if let Some(f) = &self.table_progress {
+            use std::sync::atomic::AtomicU64;
+            let name = scene.name();
+            let (told, size) = (AtomicBool::new(false), AtomicU64::new(0));
+            let total = |n| size.store(n, Relaxed);
+            let progress = |k| {
+                told.store(true, Relaxed);
+                f(name, k, size.load(Relaxed))
+            };
+            let control = Control {
+                progress: &progress,
+                total: &total,
+                ..Control::default()
+            };
+            let e = Executor::with_control(file, w, &self.exec, &control);
+            // the end of what was told, built or not
+            if told.load(Relaxed) {
+                f(name, 0, 0);
+            }
+            e?
+        } else {
+            Executor::with_control(file, w, &self.exec, &Control::default())?
+        };
+        self.notice(&e.plan().to_string());
         Ok(Some(e))
     }
 

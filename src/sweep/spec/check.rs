@@ -1,9 +1,7 @@
 //! Checking a sweep spec: everything that does not depend on the scenes,
 //! each mistake placed in the sweep's text.
 
-use super::{
-    param_of, set_param, MetricSpec, Scale, SweepSpec, Values, MAX_COMMANDS, MAX_STEPS, MAX_TRIALS,
-};
+use super::{set_param, MetricSpec, Scale, SweepSpec, Values, MAX_COMMANDS, MAX_STEPS, MAX_TRIALS};
 use crate::learner::Params;
 use crate::scene::{Invalid, SceneError};
 use crate::sweep::SweepError;
@@ -26,105 +24,74 @@ impl SweepSpec {
         let bad = |field: &str, anchor: Option<&str>, expected: &str| {
             invalid(file, text, field, anchor, expected)
         };
-        self.check_lists(&bad)?;
-        self.check_budget(&bad)?;
+        self.check_fields(&bad)?;
         let axes = self.param_axes(&bad)?;
         let metrics = self.checked_metrics(&bad)?;
         Ok(Checked { axes, metrics })
     }
 
-    /// Scenes and learners (each learner once), and each of true and
-    /// false once in `use_reward`.
-    fn check_lists(&self, bad: &Bad) -> Result<(), SweepError> {
+    /// Scenes and learners (each learner once), each of true and false
+    /// once in `use_reward`, sessions, trials and commands within their
+    /// bounds, a gamma only in closed loop, in [0, 1]: the first mistake,
+    /// in this order.
+    fn check_fields(&self, bad: &Bad) -> Result<(), SweepError> {
         let spec = self;
-        if spec.scenes.is_empty() {
-            return Err(bad("scenes", None, "at least one scene, found none"));
-        }
-        if spec.learners.is_empty() {
-            return Err(bad(
+        let twice =
+            (spec.learners.iter().enumerate()).find(|(i, l)| spec.learners[..*i].contains(l));
+        let reward = &spec.use_reward;
+        let gamma = spec.gamma.filter(|_| spec.closed_loop);
+        let checks: [(bool, &str, String); 12] = [
+            (spec.scenes.is_empty(), "scenes", "at least one scene, found none".into()),
+            (
+                spec.learners.is_empty(),
                 "learners",
-                None,
-                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive), found none",
-            ));
-        }
-        for (i, l) in spec.learners.iter().enumerate() {
-            if spec.learners[..i].contains(l) {
-                return Err(bad(
-                    "learners",
-                    None,
-                    &format!("each learner once, but `{l}` appears twice"),
-                ));
-            }
-        }
-        if spec.use_reward.is_empty() {
-            return Err(bad(
+                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive), found none".into(),
+            ),
+            (
+                twice.is_some(),
+                "learners",
+                format!("each learner once, but `{}` appears twice", twice.map_or("", |t| t.1)),
+            ),
+            (reward.is_empty(), "use_reward", "[true], [false] or [false, true], found []".into()),
+            (
+                reward.len() > 2 || (reward.len() == 2 && reward[0] == reward[1]),
                 "use_reward",
-                None,
-                "[true], [false] or [false, true], found []",
-            ));
-        }
-        if spec.use_reward.len() > 2
-            || (spec.use_reward.len() == 2 && spec.use_reward[0] == spec.use_reward[1])
-        {
-            return Err(bad("use_reward", None, "each of true and false once"));
-        }
-        Ok(())
-    }
-
-    /// Sessions, trials and commands within their bounds; a gamma only
-    /// in closed loop, in [0, 1].
-    fn check_budget(&self, bad: &Bad) -> Result<(), SweepError> {
-        let spec = self;
-        if spec.sessions == 0 {
-            return Err(bad(
-                "sessions",
-                None,
-                "at least 1 session per cell, found 0",
-            ));
-        }
-        if spec.trials == 0 {
-            return Err(bad("trials", None, "at least 1 trial per session, found 0"));
-        }
-        if spec.trials > MAX_TRIALS {
-            return Err(bad(
+                "each of true and false once".into(),
+            ),
+            (spec.sessions == 0, "sessions", "at least 1 session per cell, found 0".into()),
+            (spec.trials == 0, "trials", "at least 1 trial per session, found 0".into()),
+            (
+                spec.trials > MAX_TRIALS,
                 "trials",
-                None,
-                &format!(
-                    "at most {} trials per session (as `e3d run --trials`), found {}",
-                    MAX_TRIALS, spec.trials
+                format!(
+                    "at most {MAX_TRIALS} trials per session (as `e3d run --trials`), found {}",
+                    spec.trials
                 ),
-            ));
-        }
-        if !(1..=MAX_COMMANDS).contains(&spec.commands) {
-            return Err(bad(
+            ),
+            (
+                !(1..=MAX_COMMANDS).contains(&spec.commands),
                 "commands",
-                None,
-                &format!(
-                    "1 to {MAX_COMMANDS} commands per episode, found {}",
-                    spec.commands
-                ),
-            ));
+                format!("1 to {MAX_COMMANDS} commands per episode, found {}", spec.commands),
+            ),
+            {
+                let size = crate::episode::check_size(spec.trials, spec.commands);
+                (size.is_err(), "commands", size.err().unwrap_or_default())
+            },
+            (
+                spec.gamma.is_some() && !spec.closed_loop,
+                "gamma",
+                "closed_loop: true with a gamma (the discount of Q_ref and of Q-learning)".into(),
+            ),
+            (
+                gamma.is_some_and(|g| !(0.0..=1.0).contains(&g)),
+                "gamma",
+                format!("a discount in [0, 1], found {}", gamma.unwrap_or_default()),
+            ),
+        ];
+        match checks.into_iter().find(|c| c.0) {
+            Some((_, field, expected)) => Err(bad(field, None, &expected)),
+            None => Ok(()),
         }
-        if let Err(e) = crate::episode::check_size(spec.trials, spec.commands) {
-            return Err(bad("commands", None, &e));
-        }
-        if let Some(g) = spec.gamma {
-            if !spec.closed_loop {
-                return Err(bad(
-                    "gamma",
-                    None,
-                    "closed_loop: true with a gamma (the discount of Q_ref and of Q-learning)",
-                ));
-            }
-            if !(0.0..=1.0).contains(&g) {
-                return Err(bad(
-                    "gamma",
-                    None,
-                    &format!("a discount in [0, 1], found {g}"),
-                ));
-            }
-        }
-        Ok(())
     }
 
     /// The values of each hyper-parameter (task 1's where not swept),
@@ -133,7 +100,7 @@ impl SweepSpec {
         let mut axes: Vec<Vec<f64>> = Vec::with_capacity(5);
         for (i, name) in Params::SWEPT.iter().enumerate() {
             let values = match self.params.get(name) {
-                None => vec![param_of(&Params::TASK1, i)],
+                None => vec![Params::TASK1.named()[i].1],
                 Some(v) => param_axis(name, i, v, bad)?,
             };
             axes.push(values);
@@ -195,31 +162,25 @@ fn param_axis(name: &str, i: usize, v: &Values, bad: &Bad) -> Result<Vec<f64>, S
         steps,
     } = *v
     {
-        if steps == 0 {
-            return Err(bad(
-                name,
-                None,
-                "a range of at least 1 step, found steps: 0",
-            ));
-        }
-        if steps > MAX_STEPS {
-            return Err(bad(
-                name,
-                None,
-                &format!("a range of at most {MAX_STEPS} steps, found steps: {steps}"),
-            ));
-        }
-        if !(from.is_finite() && to.is_finite()) {
-            return Err(bad(name, None, "finite bounds `from` and `to`"));
-        }
-        if scale == Scale::Log && (from <= 0.0 || to <= 0.0) {
-            return Err(bad(
-                name,
-                None,
-                &format!(
+        let checks = [
+            (steps == 0, "a range of at least 1 step, found steps: 0".into()),
+            (
+                steps > MAX_STEPS,
+                format!("a range of at most {MAX_STEPS} steps, found steps: {steps}"),
+            ),
+            (
+                !(from.is_finite() && to.is_finite()),
+                "finite bounds `from` and `to`".into(),
+            ),
+            (
+                scale == Scale::Log && (from <= 0.0 || to <= 0.0),
+                format!(
                     "a log range between two numbers > 0, found from: {from}, to: {to} (a log range cannot reach or cross zero)"
                 ),
-            ));
+            ),
+        ];
+        if let Some((_, expected)) = checks.into_iter().find(|c| c.0) {
+            return Err(bad(name, None, &expected));
         }
     }
     let values = v.values();

@@ -22,7 +22,7 @@ mod check;
 mod values;
 
 pub(super) use check::invalid;
-pub(crate) use values::{param_of, set_param};
+pub(crate) use values::set_param;
 pub use values::{ParamValues, Scale, Values};
 
 /// The largest number of sessions a sweep may hold: its plan keeps every
@@ -103,22 +103,11 @@ impl MetricSpec {
 
     /// The column name.
     pub fn column(&self) -> String {
-        match self {
-            MetricSpec::NormalizedEntropy => "normalized_entropy".into(),
-            MetricSpec::NormalizedEntropyLast1000 => "normalized_entropy_last_1000".into(),
-            MetricSpec::KlToTarget => "kl_to_target".into(),
-            MetricSpec::DistinctEffects => "distinct_effects".into(),
-            MetricSpec::CumulativeReward(t) => format!("cumulative_reward_at_{t}"),
-            MetricSpec::FirstRewardTrial => "first_reward_trial".into(),
-            MetricSpec::Coverage => "coverage".into(),
-            MetricSpec::TrialsTo50Percent => "trials_to_50_percent".into(),
-            MetricSpec::TrialsTo90Percent => "trials_to_90_percent".into(),
-            MetricSpec::NormalizedEntropyContext(i)
-            | MetricSpec::CumulativeRewardContext(i)
-            | MetricSpec::FirstRewardTrialContext(i) => {
-                let (name, _) = self.per_context().expect("a per-context metric");
-                format!("{name}_{i}")
-            }
+        match (self, self.per_context()) {
+            (MetricSpec::CumulativeReward(t), _) => format!("cumulative_reward_at_{t}"),
+            (_, Some((name, i))) => format!("{name}_{i}"),
+            // the others: their name in a sweep file
+            _ => ron::to_string(self).unwrap_or_default(),
         }
     }
 

@@ -72,9 +72,7 @@ impl Values {
                 .collect(),
         }
     }
-}
 
-impl Values {
     /// The values given, in order.
     pub fn list(values: impl IntoIterator<Item = f64>) -> Values {
         Values::List(values.into_iter().collect())
@@ -290,16 +288,12 @@ impl ParamValues {
     }
 }
 
-pub(crate) fn param_of(p: &Params, i: usize) -> f64 {
-    [p.alpha, p.beta, p.lambda, p.eta, p.epsilon][i]
-}
-
 pub(crate) fn set_param(p: &mut Params, i: usize, v: f64) {
-    match i {
-        0 => p.alpha = v,
-        1 => p.beta = v,
-        2 => p.lambda = v,
-        3 => p.eta = v,
-        _ => p.epsilon = v,
-    }
+    *[
+        &mut p.alpha,
+        &mut p.beta,
+        &mut p.lambda,
+        &mut p.eta,
+        &mut p.epsilon,
+    ][i] = v;
 }
