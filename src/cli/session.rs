@@ -53,12 +53,13 @@ pub struct RunArgs {
     #[command(flatten)]
     pub memo: MemoArgs,
     /// Commands per episode (K): each trial is an episode of K commands,
-    /// each starting where the last one ended (grid scenes; see
-    /// docs/algorithms.md, "Contexts and closed loop").
+    /// each starting where the last one ended (any scene of symbols, grid
+    /// or physics; see docs/algorithms.md, "Contexts and closed loop").
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=64))]
     pub commands: u64,
     /// What the learner reads before each command: `start` (the index of
-    /// the episode's start context), `state` (the current cell) or `blind`
+    /// the episode's start context), `state` (the current cell: the grid
+    /// cell, or the effect cell of a physics state) or `blind`
     /// (nothing: one policy for every context); default
     /// `state` with --commands above 1 or --closed-loop, else `start`.
     #[arg(long, value_name = "start|state|blind")]

@@ -266,3 +266,18 @@ fn check_lists_the_joints_a_context_sets() {
         "{check}"
     );
 }
+
+/// `run --help` offers --commands for any scene of symbols: episodes run on
+/// physics scenes too (`physics_start_contexts_check_exec_and_run`).
+#[test]
+fn run_help_does_not_restrict_commands_to_grid_scenes() {
+    let help = stdout_of(&["run", "--help"]);
+    let flag = help.split("--commands").nth(1).unwrap();
+    let text = &flag[..flag.find("--observe").unwrap()];
+    let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(
+        text.contains("any scene of symbols, grid or physics"),
+        "{text}"
+    );
+    assert!(!text.contains("(grid scenes;"), "{text}");
+}

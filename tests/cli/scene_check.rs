@@ -314,3 +314,61 @@ fn check_shows_the_solver_setting_and_measures_accuracy() {
     );
     assert!(!grid.contains("solver: "), "{grid}");
 }
+
+/// `scene check` says what each slot's symbols do (runs of equal slots on
+/// one line) and where each start context puts its bodies and joints,
+/// after the lines it always printed.
+#[test]
+fn check_lists_each_slots_actions_and_each_contexts_start() {
+    let (arm, _) = check(&["arm7", "--samples", "0"]);
+    let lines: Vec<&str> = arm.lines().collect();
+    let at = lines.iter().position(|l| *l == "actions:").unwrap();
+    assert!(lines[at - 1].starts_with("reward cells: [(6, 5)]"), "{arm}");
+    assert_eq!(
+        lines[at + 1],
+        "  0: -: torque -1.8 N·m on hinge `j1` (ground -> link1), held; 0: nothing; +: torque 1.8 N·m on hinge `j1` (ground -> link1), held"
+    );
+    assert_eq!(lines.len(), at + 8, "{arm}");
+
+    let (puck, _) = check(&["scenes/puck_contexts.ron", "--samples", "0"]);
+    assert!(
+        puck.contains("start contexts (2): room_a (named: puck), room_b (named: puck)\n"),
+        "{puck}"
+    );
+    assert!(puck.contains("actions:\n  0-6: E: impulse (1.6, 0) N·s on `puck`, once; S: impulse (0, -1.6) N·s on `puck`, once;"), "{puck}");
+    assert!(
+        puck.ends_with(
+            "start context room_a: `puck` at (0.5, 2.5)\nstart context room_b: `puck` at (5.5, 0.5)\n"
+        ),
+        "{puck}"
+    );
+    let (poses, _) = check(&["scenes/arm7_poses.ron", "--samples", "0"]);
+    assert!(
+        poses.ends_with("start context curled: joint `j2` at 1.5 rad; joint `j4` at 1.5 rad\n"),
+        "{poses}"
+    );
+
+    let (grid, _) = check(&["two_rooms", "--samples", "0"]);
+    assert!(grid.ends_with("actions:\n  0-6: E: move east (drow 0, dcol 1); S: move south (drow 1, dcol 0); W: move west (drow 0, dcol -1); N: move north (drow -1, dcol 0)\n"), "{grid}");
+
+    let slider = write(
+        "check-slider.ron",
+        r#"Scene(
+    name: "slider",
+    world: Physics(
+        bodies: [(name: "cart", shape: Cuboid(width: 0.4, height: 0.2), mass: 1.0)],
+        joints: [(name: "rail", parent: "ground", child: "cart",
+                  kind: Prismatic(axis: (1.0, 0.0)), limits: (-1.0, 1.0), damping: 0.5,
+                  motor: (stiffness: 4.0, damping: 1.0))],
+        schedule: Simultaneous(push: 0.5, settle: 0.5),
+        effect: (body: "cart", grid: (rows: 1, cols: 4, min: (-1.0, -0.5), max: (1.0, 0.5))),
+    ),
+    command: Slots([(alphabet: [
+        (symbol: '+', action: Target(joint: "rail", position: 0.5)),
+        (symbol: 'f', action: Force(body: "cart", force: (2.0, 0.0))),
+    ])]),
+)"#,
+    );
+    let (s, _) = check(&[&slider, "--samples", "0"]);
+    assert!(s.ends_with("actions:\n  0: +: motor set point 0.5 m on slider `rail` (ground -> cart); f: force (2, 0) N on `cart`, held\n"), "{s}");
+}

@@ -249,6 +249,7 @@ fn scene_stats_reports_a_physics_scene_and_refuses_a_grid() {
             "scene pendulum3: 125 commands in ",
             "reached cells: 32 of 64",
             "commands bringing two moving bodies into contact: 0 (0.0%)",
+            "commands bringing a moving body into contact with a fixed body or wall: 0 (0.0%)",
             "commands pressing a joint against a limit (within 0.01 rad): 0 (0.0%)",
             "top linear speed 8.729 m/s (max_speed 100 m/s); top angular speed 22.59 rad/s",
         ],
@@ -260,6 +261,45 @@ fn scene_stats_reports_a_physics_scene_and_refuses_a_grid() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr)
         .contains("is for physics scenes; this is a grid scene"));
+}
+
+/// `e3d scene stats` counts the commands that bring a moving body against
+/// a fixed one (a wall) apart from those that bring two moving bodies
+/// together: of a puck's three kicks, only `E` reaches the wall.
+#[test]
+fn scene_stats_counts_contacts_with_fixed_bodies() {
+    let dir = temp_path("stats-wall");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("wall.ron");
+    std::fs::write(
+        &file,
+        r#"Scene(
+    name: "wall",
+    world: Physics(
+        bodies: [
+            (name: "wall", kind: Fixed, shape: Cuboid(width: 0.1, height: 2.0), position: (1.0, 0.0)),
+            (name: "puck", shape: Ball(radius: 0.2), mass: 1.0),
+        ],
+        schedule: Sequential(phase: 0.5, settle: 0.5),
+        effect: (body: "puck", grid: (rows: 1, cols: 4, min: (-2.0, -1.0), max: (2.0, 1.0))),
+    ),
+    command: Repeat(slots: 1, alphabet: [
+        (symbol: 'E', action: Impulse(body: "puck", impulse: (2.0, 0.0))),
+        (symbol: 'W', action: Impulse(body: "puck", impulse: (-1.0, 0.0))),
+        (symbol: '0', action: Idle),
+    ]),
+)"#,
+    )
+    .unwrap();
+    let text = stdout_of(&["scene", "stats", file.to_str().unwrap()]);
+    assert_contains_all(
+        &text,
+        &[
+            "commands bringing two moving bodies into contact: 0 (0.0%)\n",
+            "commands bringing a moving body into contact with a fixed body or wall: 1 (33.3%)\n",
+        ],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// `scene check` warns, on standard error, about what is possible but

@@ -4,8 +4,8 @@
 use super::simulate::{say_cost, seconds_text};
 use crate::cli::console::{errln, outln};
 use crate::cli::{progress, CliResult};
-use e3d::scene::physics::{BodyKind, PhysicsSpec};
-use e3d::scene::{GridSpec, Scene, WorldSpec};
+use e3d::scene::physics::{BodyKind, JointKind, PhysicsSpec};
+use e3d::scene::{Action, GridSpec, Scene, WorldSpec};
 use e3d::world::ReachSample;
 use e3d::OutcomeTable;
 
@@ -53,7 +53,150 @@ pub(super) fn check(scene: &Scene) -> CliResult {
         grid.max[1]
     );
     print_rewards(scene, &grid);
+    print_actions(scene);
+    print_context_starts(scene);
     Ok(())
+}
+
+/// What each slot's symbols do, a line per slot (scenes of symbols; a
+/// continuous slot's line above names its action).
+fn print_actions(scene: &Scene) {
+    if scene.spec().is_continuous() {
+        return;
+    }
+    let physics = match &scene.spec().world {
+        WorldSpec::Physics(p) => Some(p),
+        WorldSpec::Grid(_) => None,
+    };
+    outln!("actions:");
+    let lines: Vec<String> = (scene.spec().slots())
+        .map(|alphabet| {
+            let list: Vec<String> = (alphabet.iter())
+                .map(|s| format!("{}: {}", s.symbol, action_text(&s.action, physics)))
+                .collect();
+            list.join("; ")
+        })
+        .collect();
+    // a run of slots with the same actions is one line, `first-last`
+    let mut first = 0;
+    for i in 0..lines.len() {
+        if i + 1 < lines.len() && lines[i + 1] == lines[i] {
+            continue;
+        }
+        match first == i {
+            true => outln!("  {i}: {}", lines[i]),
+            false => outln!("  {first}-{i}: {}", lines[i]),
+        }
+        first = i + 1;
+    }
+}
+
+/// What `action` does, in words, with its joint's bodies.
+fn action_text(action: &Action, physics: Option<&PhysicsSpec>) -> String {
+    let joint = |name: &str| {
+        let j = physics.and_then(|p| p.joints.iter().find(|j| j.name == name));
+        match j {
+            Some(j) => {
+                let slider = matches!(j.kind, JointKind::Prismatic { .. });
+                let what = if slider { "slider" } else { "hinge" };
+                (
+                    format!("{what} `{name}` ({} -> {})", j.parent, j.child),
+                    slider,
+                )
+            }
+            None => (format!("joint `{name}`"), false),
+        }
+    };
+    match action {
+        Action::Idle => "nothing".to_string(),
+        Action::Move { drow, dcol } => {
+            let ns = match drow.signum() {
+                -1 => "north",
+                1 => "south",
+                _ => "",
+            };
+            let ew = match dcol.signum() {
+                -1 => "west",
+                1 => "east",
+                _ => "",
+            };
+            let way = match (ns, ew) {
+                ("", "") => "stay".to_string(),
+                (a, "") | ("", a) => format!("move {a}"),
+                (a, b) => format!("move {a}-{b}"),
+            };
+            format!("{way} (drow {drow}, dcol {dcol})")
+        }
+        Action::Torque { joint: j, torque } => {
+            format!("torque {torque} N·m on {}, held", joint(j).0)
+        }
+        Action::Force { body, force } => {
+            format!("force ({}, {}) N on `{body}`, held", force.0, force.1)
+        }
+        Action::Impulse { body, impulse } => {
+            format!(
+                "impulse ({}, {}) N·s on `{body}`, once",
+                impulse.0, impulse.1
+            )
+        }
+        Action::Target { joint: j, angle } => {
+            let (name, slider) = joint(j);
+            let unit = if slider { "m" } else { "rad" };
+            format!("motor set point {angle} {unit} on {name}")
+        }
+    }
+}
+
+/// Where each start context of a physics scene puts its bodies and
+/// joints, a line each (a grid context's cell is in the line above).
+fn print_context_starts(scene: &Scene) {
+    let WorldSpec::Physics(p) = &scene.spec().world else {
+        return;
+    };
+    let pair = |(x, y): (f64, f64)| format!("({x}, {y})");
+    for c in &p.contexts {
+        let mut parts: Vec<String> = Vec::new();
+        for b in &c.bodies {
+            let mut what = Vec::new();
+            match (b.position, b.to) {
+                (Some(a), Some(to)) => {
+                    what.push(format!("at a point drawn in {}..{}", pair(a), pair(to)))
+                }
+                (Some(a), None) => what.push(format!("at {}", pair(a))),
+                _ => {}
+            }
+            if let Some(a) = b.angle {
+                what.push(format!("angle {a} rad"));
+            }
+            if let Some(v) = b.velocity {
+                what.push(format!("velocity {} m/s", pair(v)));
+            }
+            if let Some(w) = b.angular_velocity {
+                what.push(format!("angular velocity {w} rad/s"));
+            }
+            parts.push(format!("`{}` {}", b.body, what.join(", ")));
+        }
+        for j in &c.joints {
+            let slider = (p.joints.iter().find(|s| s.name == j.joint))
+                .is_some_and(|s| matches!(s.kind, JointKind::Prismatic { .. }));
+            let unit = if slider { "m" } else { "rad" };
+            let mut what = Vec::new();
+            match (j.angle, j.to) {
+                (Some(a), Some(to)) => what.push(format!("drawn in [{a}, {to}] {unit}")),
+                (Some(a), None) => what.push(format!("at {a} {unit}")),
+                _ => {}
+            }
+            if let Some(v) = j.velocity {
+                what.push(format!("rate {v} {unit}/s"));
+            }
+            parts.push(format!("joint `{}` {}", j.joint, what.join(", ")));
+        }
+        let rest = match parts.is_empty() {
+            true => "the scene's start".to_string(),
+            false => parts.join("; "),
+        };
+        outln!("start context {}: {rest}", c.name);
+    }
 }
 
 /// The reachability estimate of `scene check`: `samples` seeded random

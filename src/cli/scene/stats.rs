@@ -28,6 +28,7 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
     let count = |f: &dyn Fn(&e3d::world::RunStats) -> bool| all.iter().filter(|s| f(s)).count();
     let pct = |k: usize| 100.0 * k as f64 / all.len() as f64;
     let contacts = count(&|s| s.contact_steps > 0);
+    let fixed = count(&|s| s.fixed_contact_steps > 0);
     let limits = count(&|s| s.limit_steps > 0);
     let max_speed = all.iter().map(|s| s.max_speed).fold(0.0, f64::max);
     let max_spin = all.iter().map(|s| s.max_spin).fold(0.0, f64::max);
@@ -51,6 +52,10 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
     outln!(
         "commands bringing two moving bodies into contact: {contacts} ({:.1}%)",
         pct(contacts)
+    );
+    outln!(
+        "commands bringing a moving body into contact with a fixed body or wall: {fixed} ({:.1}%)",
+        pct(fixed)
     );
     outln!(
         "commands pressing a joint against a limit (within 0.01 rad): {limits} ({:.1}%)",
@@ -109,16 +114,18 @@ fn context_stats(
         }
         let pct = |k: usize| 100.0 * k as f64 / runs.len() as f64;
         let contacts = runs.iter().filter(|s| s.contact_steps > 0).count();
+        let fixed = runs.iter().filter(|s| s.fixed_contact_steps > 0).count();
         let limits = runs.iter().filter(|s| s.limit_steps > 0).count();
         let max_speed = runs.iter().map(|s| s.max_speed).fold(0.0, f64::max);
         outln!(
-            "context {}{}: reached cells {} of {}, normalised entropy of the terminal cells {:.3}; contacts {contacts} ({:.1}%), at a limit {limits} ({:.1}%), top speed {max_speed:.3} m/s",
+            "context {}{}: reached cells {} of {}, normalised entropy of the terminal cells {:.3}; contacts {contacts} ({:.1}%), with fixed bodies or walls {fixed} ({:.1}%), at a limit {limits} ({:.1}%), top speed {max_speed:.3} m/s",
             ctx.name,
             if ctx.drawn { " (drawn: its seed-0 start)" } else { "" },
             cells.iter().filter(|&&c| c > 0).count(),
             cells.len(),
             entropy(&cells),
             pct(contacts),
+            pct(fixed),
             pct(limits)
         );
         outln!("  commands per cell: {}", counts_text(&cells));

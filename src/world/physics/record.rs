@@ -131,6 +131,9 @@ pub struct RunStats {
     /// Steps during which two dynamic bodies touch (jointed neighbours
     /// never do unless their joint has `contacts: true`).
     pub contact_steps: u64,
+    /// Steps during which a dynamic body touches a body that is not
+    /// dynamic: a fixed or kinematic body, a wall.
+    pub fixed_contact_steps: u64,
     /// Steps during which some joint is within 0.01 rad of a limit (or
     /// beyond it: limits are slightly compliant).
     pub limit_steps: u64,
@@ -306,10 +309,11 @@ impl PhysicsWorld {
     }
 
     /// Executes `command` and reports speeds, contacts between dynamic
-    /// bodies and joints at their limits (for diagnostics and docs).
+    /// bodies and with fixed ones, and joints at their limits (for diagnostics and docs).
     pub fn inspect(&mut self, command: &Command) -> Result<RunStats, WorldError> {
         let (mut max_speed, mut max_spin) = (0.0f64, 0.0f64);
         let (mut contact_steps, mut limit_steps) = (0u64, 0u64);
+        let mut fixed_contact_steps = 0u64;
         let outcome =
             self.run(Cmd::Symbols(command), false, |w| {
                 let bodies = &w.sets.bodies;
@@ -328,6 +332,11 @@ impl PhysicsWorld {
                 }) {
                     contact_steps += 1;
                 }
+                if w.sets.narrow_phase.contact_pairs().any(|p| {
+                    p.has_any_active_contact() && (dynamic(p.collider1) != dynamic(p.collider2))
+                }) {
+                    fixed_contact_steps += 1;
+                }
                 let at_limit = w.copies[0].joints.iter().any(|j| {
                     let Some((lo, hi)) = j.limits else {
                         return false;
@@ -344,6 +353,7 @@ impl PhysicsWorld {
             max_speed,
             max_spin,
             contact_steps,
+            fixed_contact_steps,
             limit_steps,
         })
     }
