@@ -179,7 +179,7 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
         tiles them; else ``None``."""
         if self.render_mode != "rgb_array":
             return None
-        images = self.get_images()
+        images = [im for im in self.get_images() if im is not None]
         n = len(images)
         cols = int(np.ceil(np.sqrt(n)))
         rows = int(np.ceil(n / cols))
