@@ -92,6 +92,8 @@ def test_ctrl_c_in_a_new_process_during_run_episodes_is_keyboard_interrupt(root)
     # so the test fails with what the child was doing instead of hanging
     code = (
         "import faulthandler, os, signal, sys, threading, e3d\n"
+        # started with SIGINT ignored (a background shell's), Python leaves it so
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "sent, done = [], threading.Event()\n"
         "def ctrl_c():\n"
         "    if done.wait(0.3): return\n"
