@@ -21,7 +21,7 @@ module does not). See docs/python.md in the repository.
 """
 
 import os
-from typing import Any, Callable, Mapping, Optional, Union
+from typing import Any, Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
@@ -38,7 +38,7 @@ from ._e3d import (
     World,
     __version__,
 )
-from ._args import cache_folder, optional
+from ._args import cache_folder, optional, shard_arg
 from ._results import (BatchOutcome, EpisodeRecord, Motion, Outcome, SessionBatch,
                        SessionRecord)
 from ._run import run_episodes, run_session, run_sessions
@@ -53,6 +53,7 @@ def run_sweep(
     out: Union[str, "os.PathLike[str]", None] = None,
     resume: bool = False,
     progress: Optional[Callable[[int, int], object]] = None,
+    shard: Union[tuple[int, int], str, None] = None,
 ) -> "dict[str, Union[np.ndarray, list[str]]]":
     """Runs every session of a sweep, in parallel, and returns its
     ``results.csv`` as a dict of columns (``pandas.DataFrame(cols)`` and
@@ -72,11 +73,36 @@ def run_sweep(
     ``progress(trials_done, trials_of_all_sessions)`` at most ten times a
     second and once at the end. Ctrl-C raises ``KeyboardInterrupt`` once
     the sessions running have finished.
+
+    ``shard=(k, n)`` (or ``"k/n"``; needs ``out``): runs only part ``k``
+    of ``n`` of the sessions (``e3d sweep --shard k/n``), into ``out``,
+    and returns that part's columns; ``merge_sweeps`` joins the folders of
+    all ``n`` parts into the files of a one-process run, byte for byte.
     """
     if isinstance(sweep, Mapping):
         sweep = sweep_text(sweep)
+    part = shard_arg(shard)
+    if part is not None and out is None:
+        raise ValueError("shard: a shard is written into a folder: give out= (then merge_sweeps "
+                         "joins the shards' folders)")
     return columns(*_e3d.run_sweep(sweep, optional("threads", threads, 1),
-                                   cache_folder(table_cache), out, resume, progress))
+                                   cache_folder(table_cache), out, resume, progress, part))
+
+
+def merge_sweeps(
+    dirs: "Sequence[Union[str, os.PathLike[str]]]",
+    out: Union[str, "os.PathLike[str]"],
+) -> "dict[str, Union[np.ndarray, list[str]]]":
+    """Joins the output folders of every shard of one sweep
+    (``run_sweep(..., out=DIR_k, shard=(k, n))`` for k = 1..n, or
+    ``e3d sweep --shard k/n``) into ``out``, which then holds the files of a
+    one-process run byte for byte (``e3d merge DIR... --out OUT``), and
+    returns its ``results.csv`` as ``run_sweep`` does. Every shard must be
+    given once and be complete; ``out`` must not exist or be empty
+    (``ValueError`` naming what is wrong otherwise)."""
+    if isinstance(dirs, (str, bytes, os.PathLike)):
+        raise TypeError("dirs: expected a sequence of the shards' folders, found one path")
+    return columns(*_e3d.merge_sweeps([os.fspath(d) for d in dirs], out))
 
 
 __all__ = [
@@ -101,6 +127,7 @@ __all__ = [
     "run_episodes",
     "run_session",
     "run_sessions",
+    "merge_sweeps",
     "run_sweep",
     "sweep_text",
 ]

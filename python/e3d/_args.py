@@ -183,3 +183,38 @@ def values(slots: int, obj: Any, ndim: int) -> Any:
             else f"an array of shape [N, {slots}] (one command of values per row)")
     _check_shape(a, ndim, slots, what)
     return np.ascontiguousarray(a.reshape(-1, slots))
+
+
+def learn_takes_point(learner: Any) -> bool:
+    """Whether a Python learner's ``learn`` takes the terminal point: a
+    parameter named ``point``, or ``**kwargs``. Such a learner is called
+    ``learn(command, effect, reward, point=(x, y))``, any other as before,
+    ``learn(command, effect, reward)``. A ``learn`` without a signature
+    (a builtin) is called without it."""
+    import inspect
+    try:
+        params = inspect.signature(learner.learn).parameters.values()
+    except (TypeError, ValueError):
+        return False
+    return any(p.name == "point" or p.kind is inspect.Parameter.VAR_KEYWORD for p in params)
+
+
+def shard_arg(shard: Any) -> Optional[tuple[int, int]]:
+    """``run_sweep``'s ``shard``: None, ``(k, n)`` or ``"k/n"`` with
+    ``1 <= k <= n`` (the CLI's ``--shard k/n``)."""
+    if shard is None:
+        return None
+    if isinstance(shard, str):
+        parts = shard.split("/")
+        if len(parts) != 2 or not all(p.strip().isdigit() for p in parts):
+            raise ValueError(f"shard = {shard!r}: expected K/N with 1 <= K <= N, for example 2/8")
+        k, n = int(parts[0]), int(parts[1])
+    elif isinstance(shard, (tuple, list)) and len(shard) == 2:
+        k, n = integer("shard[0]", shard[0], None), integer("shard[1]", shard[1], None)
+    else:
+        raise TypeError(f"shard: expected None, (k, n) or 'k/n', found {type(shard).__name__}")
+    if not 1 <= k <= n:
+        raise ValueError(f"shard = ({k}, {n}): expected K/N with 1 <= K <= N, for example 2/8")
+    if n > 2**64 - 1:
+        raise ValueError(f"shard = ({k}, {n}): too many parts")
+    return k, n

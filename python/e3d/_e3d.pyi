@@ -57,6 +57,7 @@ __all__ = [
     "_run_episodes",
     "_run_session",
     "_run_sessions",
+    "merge_sweeps",
     "run_sweep",
 ]
 
@@ -333,4 +334,6 @@ def run_sweep(
     out: Optional[PathLike_] = None,
     resume: bool = False,
     progress: Optional[Progress] = None,
+    shard: Optional[tuple[int, int]] = None,
 ) -> tuple[str, list[str]]: ...
+def merge_sweeps(dirs: Sequence[PathLike_], out: PathLike_) -> tuple[str, list[str]]: ...

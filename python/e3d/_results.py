@@ -193,14 +193,28 @@ class Motion(_Result):
         """The number of frames (the start and every step)."""
         return len(self.time)
 
-    def columns(self) -> dict[str, npt.NDArray[Any]]:
+    def still_bodies(self) -> list[str]:
+        """The bodies that do not move over the whole motion: all six of
+        their columns constant (walls and other fixed bodies, and a free
+        body this command never stirs), in the order of ``bodies``."""
+        return [name for c, name in enumerate(self.bodies)
+                if all((getattr(self, f)[:, c] == getattr(self, f)[0, c]).all() for f in self._BODY)]
+
+    def columns(self, still: bool = True) -> dict[str, npt.NDArray[Any]]:
         """The columns of ``e3d scene exec --trace FILE.csv``, in its order:
         ``step`` (int64), ``time``, then per body ``NAME.x``, ``NAME.y``,
         ``NAME.angle``, ``NAME.vx``, ``NAME.vy``, ``NAME.omega``, then per
-        joint ``NAME.angle``, ``NAME.velocity`` (float64 arrays ``[F]``)."""
+        joint ``NAME.angle``, ``NAME.velocity`` (float64 arrays ``[F]``).
+        ``still=False`` leaves out the columns of ``still_bodies()`` (on
+        puck_rooms: the 6 walls' 36 constant columns, leaving 8)."""
+        if not isinstance(still, (bool, np.bool_)):
+            raise TypeError(f"still: expected a bool, found {type(still).__name__}")
+        skip = set() if still else set(self.still_bodies())
         out: dict[str, npt.NDArray[Any]] = {"step": np.arange(len(self), dtype=np.int64),
                                             "time": self.time.copy()}
         for c, name in enumerate(self.bodies):
+            if name in skip:
+                continue
             out.update({f"{name}.{f}": getattr(self, f)[:, c].copy() for f in self._BODY})
         for c, name in enumerate(self.joints):
             out[f"{name}.angle"] = self.joint_angle[:, c].copy()
@@ -279,7 +293,7 @@ class SessionBatch(_Result):
     arrays), ``batch[a:b]`` the batch of those sessions."""
 
     _TYPES = (str, str, np.ndarray, int, _ANY, np.ndarray, np.ndarray, dict, str, dict, list, list,
-              list)
+              list, list)
     scene: str
     learner: str
     seeds: npt.NDArray[np.uint64]
@@ -293,6 +307,9 @@ class SessionBatch(_Result):
     _per_session: list[dict[str, Any]]
     _counts: list[npt.NDArray[np.float64]]
     _policies: list[Any]
+    #: per session ``(policy_effect_distribution, q, effect_model)``, as
+    #: ``run_session`` gives them
+    _finals: list[tuple[Any, Any, Any]]
 
     @classmethod
     def _stack(cls, seeds: list[int], records: list[SessionRecord]) -> "SessionBatch":
@@ -304,7 +321,8 @@ class SessionBatch(_Result):
         return cls(r0.scene, r0.learner, np.array(seeds, dtype=np.uint64), r0.trials,
                    np.stack([r.commands for r in records]), np.stack([r.effects for r in records]),
                    np.stack([r.rewards for r in records]), metrics, r0.execution, r0._grid, per,
-                   [r.effect_counts for r in records], [r.final_policy for r in records])
+                   [r.effect_counts for r in records], [r.final_policy for r in records],
+                   [(r.policy_effect_distribution, r.q, r.effect_model) for r in records])
 
     @classmethod
     def _from_state(cls, state: tuple[Any, ...]) -> "SessionBatch":
@@ -331,7 +349,8 @@ class SessionBatch(_Result):
                 self.scene, self.learner, self.seeds[i], self.trials, self.commands[i],
                 self.effects[i], self.rewards[i], {k: v[i] for k, v in self._metrics.items()},
                 self.execution, self._grid, [self._per_session[k] for k in rows],
-                [self._counts[k] for k in rows], [self._policies[k] for k in rows])
+                [self._counts[k] for k in rows], [self._policies[k] for k in rows],
+                [self._finals[k] for k in rows])
         if isinstance(i, (bool, float, np.bool_)) or getattr(i, "ndim", 0) != 0 \
                 or not hasattr(i, "__index__"):
             raise TypeError(f"session index: expected an integer or a slice, found {type(i).__name__}")
@@ -342,7 +361,7 @@ class SessionBatch(_Result):
         return SessionRecord(
             self.scene, self.learner, int(self.seeds[k]), self.trials, self.commands[k],
             self.effects[k], self.rewards[k], dict(self._per_session[k]), self._counts[k],
-            self._policies[k], None, None, None, self.execution, self._grid)
+            self._policies[k], *self._finals[k], self.execution, self._grid)
 
     def _repr_svg_(self) -> str:
         """The effect grid shaded by the effect counts of every session together (notebooks)."""
@@ -367,7 +386,7 @@ class EpisodeRecord(_Result):
     start context the normalised entropy of the episodes' terminal cells."""
 
     _TYPES = (int, str, int, int, int, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-              (int, type(None)), float, list, dict)
+              (int, type(None)), float, list, dict, dict)
     seed: int
     learner: str
     commands_per_episode: int
@@ -381,7 +400,18 @@ class EpisodeRecord(_Result):
     first_reward_episode: Optional[int]
     cumulative_reward: float
     entropy_per_start: list[float]
+    _metrics: dict[str, Any]
     _grid: dict[str, Any]
+
+    @property
+    def metrics(self) -> dict[str, Any]:
+        """The metrics of ``SessionRecord.metrics`` (the same names and
+        computation) over the episodes' terminal effects and rewards: each
+        episode counts as one trial (``trials``: the episodes,
+        ``first_reward_trial``: the first rewarded episode, ``coverage``:
+        the share of the effect grid's cells some episode ended in), the
+        target uniform (``kl_to_target``). A copy: the record keeps its own."""
+        return dict(self._metrics)
 
     def _repr_svg_(self) -> str:
         """The effect grid shaded by where the episodes ended (notebooks)."""

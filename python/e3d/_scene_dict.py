@@ -91,6 +91,10 @@ def _through_variants(at: Any, key: str) -> Any:
     return at
 
 
+#: the fields of a scene (docs/scenes.md), those it may leave out included
+_SCENE_FIELDS = ("name", "description", "world", "slots", "command", "reward")
+
+
 def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
     """``value`` at ``path`` in a scene's dict: dot-separated keys; a list's
     element by index or by its ``name``; a one-key dict (an enum variant)
@@ -103,6 +107,13 @@ def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
     if any(not k for k in keys):
         raise bad("expected dot-separated names, e.g. bodies.puck.linear_damping")
     at: Any = data
+    if keys[0] in _SCENE_FIELDS and keys[0] not in data:
+        # an optional field the scene leaves out (`slots`, the check of
+        # the number of slots): set, then checked with the scene
+        if len(keys) > 1:
+            raise bad(f"the scene has no `{keys[0]}` to step into: set `{keys[0]}` whole")
+        data[keys[0]] = value
+        return
     if keys[0] not in data:
         if "world" not in data:
             raise bad("the scene has no world")

@@ -35,7 +35,8 @@ class PythonLearner(Protocol):
         ...
 
     def learn(self, command: "npt.NDArray[np.uint8]", effect: int, reward: float) -> Any:
-        """Learns from the command's outcome."""
+        """Learns from the command's outcome; a ``learn`` that also takes
+        ``point`` (or ``**kwargs``) gets ``point=(x, y)``, the terminal point."""
         ...
 
 

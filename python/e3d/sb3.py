@@ -57,7 +57,7 @@ except ImportError:
 
 from ._e3d import Scene
 from ._args import integer
-from .gym import E3dVectorEnv, _flag
+from .gym import E3dEnv, E3dVectorEnv, _flag
 
 
 class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-ignore]
@@ -67,14 +67,28 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
     #: network per command)
     MAX_DISCRETE = 1 << 20
 
-    def __init__(self, scene: Union[Scene, str], num_envs: int, use_reward: bool = True, discrete: bool = False):
+    def __init__(self, scene: Union[Scene, str], num_envs: int, use_reward: bool = True, discrete: bool = False,
+                 render_mode: Optional[str] = None, commands: Optional[int] = 1):
         discrete = _flag(discrete, "discrete")
-        self.venv = E3dVectorEnv(scene, num_envs, use_reward=use_reward)
-        action_space = self.venv.single_action_space
+        integer("num_envs", num_envs, 1, E3dVectorEnv.MAX_NUM_ENVS)
+        one = E3dEnv(scene, use_reward=use_reward, render_mode=render_mode, commands=commands)
+        #: the copies, each an ``E3dEnv`` stepped in turn, when episodes are
+        #: several commands or start apart (``commands=K``, start
+        #: contexts); else None and ``venv`` steps them in one batch
+        self.envs: Optional[list[E3dEnv]] = None
+        if one.episodes is None:
+            self.venv = E3dVectorEnv(one.scene, num_envs, use_reward=use_reward, render_mode=render_mode)
+        else:
+            self.envs = [one] + [E3dEnv(one.scene, use_reward=use_reward, render_mode=render_mode,
+                                        commands=commands) for _ in range(int(num_envs) - 1)]
+            self.venv = None  # type: ignore[assignment]
+        self.scene = one.scene
+        self.render_mode = render_mode
+        action_space = one.action_space
         self.discrete = discrete
         self._sizes: tuple[int, ...] = ()
         if discrete:
-            scene = self.venv.scene
+            scene = one.scene
             n = scene.num_commands
             if scene.is_continuous or n is None or n > self.MAX_DISCRETE:
                 raise ValueError(
@@ -86,7 +100,7 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
 
             self._sizes = tuple(scene.alphabet_sizes)
             action_space = spaces.Discrete(n)
-        super().__init__(self.venv.num_envs, self.venv.single_observation_space, action_space)
+        super().__init__(int(num_envs), one.observation_space, action_space)
         self._actions: Optional[np.ndarray] = None
 
     def commands(self, actions: np.ndarray) -> np.ndarray:
@@ -104,7 +118,12 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
     def reset(self) -> np.ndarray:
         seeds = getattr(self, "_seeds", [None])
         seed = seeds[0] if seeds else None
-        obs, _ = self.venv.reset(seed=seed)
+        if self.envs is None:
+            obs, _ = self.venv.reset(seed=seed)
+        else:
+            # copy i seeded seed + i (SB3's VecEnv.seed(seed) convention)
+            obs = np.array([env.reset(seed=None if seed is None else seed + i)[0]
+                            for i, env in enumerate(self.envs)], dtype=np.int64)
         if hasattr(self, "_reset_seeds"):
             self._reset_seeds()
         return obs
@@ -120,6 +139,8 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
 
     def step_wait(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
         assert self._actions is not None, "step_async first"
+        if self.envs is not None:
+            return self._step_each(self._actions)
         obs, rewards, terminated, _, infos = self.venv.step(self._actions)
         final = infos["final_obs"]
         x, y = infos["final_info"]["x"], infos["final_info"]["y"]
@@ -128,6 +149,54 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
             for i in range(self.num_envs)
         ]
         return obs, rewards.astype(np.float32), terminated.copy(), out
+
+    def _step_each(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
+        """Steps each copy by its action, resetting (SB3's auto-reset) those
+        whose episode ended: their observation is the next episode's first
+        context, the last one's in ``terminal_observation``."""
+        assert self.envs is not None
+        if len(actions) != self.num_envs:
+            raise ValueError(f"actions: expected one action per environment ({self.num_envs}), "
+                             f"found {len(actions)}")
+        obs = np.zeros(self.num_envs, dtype=np.int64)
+        rewards = np.zeros(self.num_envs, dtype=np.float32)
+        dones = np.zeros(self.num_envs, dtype=np.bool_)
+        infos: list[dict[str, Any]] = []
+        for i, (env, a) in enumerate(zip(self.envs, actions)):
+            o, r, done, _, info = env.step(a)
+            info = {"x": float(info["x"]), "y": float(info["y"]), "start": info.get("start")}
+            if done:
+                info["terminal_observation"] = o
+                info["TimeLimit.truncated"] = False
+                o, _ = env.reset()
+            obs[i], rewards[i], dones[i] = o, r, done
+            infos.append(info)
+        return obs, rewards, dones, infos
+
+    def render(self, mode: Optional[str] = None) -> Optional[np.ndarray]:
+        """With ``render_mode="rgb_array"``: the copies' pictures (each with
+        the path of its last command) tiled in a grid, as SB3's ``VecEnv``
+        tiles them; else ``None``."""
+        if self.render_mode != "rgb_array":
+            return None
+        images = [im for im in self.get_images() if im is not None]
+        n = len(images)
+        cols = int(np.ceil(np.sqrt(n)))
+        rows = int(np.ceil(n / cols))
+        h, w, c = images[0].shape
+        out = np.zeros((rows * h, cols * w, c), dtype=np.uint8)
+        for i, im in enumerate(images):
+            r, q = divmod(i, cols)
+            out[r * h:(r + 1) * h, q * w:(q + 1) * w] = im
+        return out
+
+    def get_images(self) -> Sequence[Optional[np.ndarray]]:
+        """One picture per copy (``render_mode="rgb_array"``), else Nones."""
+        if self.render_mode != "rgb_array":
+            return [None] * self.num_envs
+        if self.envs is not None:
+            return [env.render() for env in self.envs]
+        return list(self.venv.render() or ())
 
     def close(self) -> None:
         pass
@@ -148,17 +217,25 @@ class E3dSB3VecEnv(_Base, metaclass=abc.ABCMeta):  # type: ignore[misc, unused-i
                 raise ValueError(f"indices: {i} is no copy's index: expected integers from 0 to {self.num_envs - 1}")
         return out
 
+    def _env(self, i: int) -> Any:
+        """The ``E3dEnv`` of copy ``i`` (one shared by all when batched)."""
+        return self.venv.env if self.envs is None else self.envs[i]
+
     def get_attr(self, attr_name: str, indices: Union[None, int, Sequence[int]] = None) -> list[Any]:
-        return [getattr(self.venv.env, attr_name) for _ in self._indices(indices)]
+        return [getattr(self._env(i), attr_name) for i in self._indices(indices)]
 
     def set_attr(self, attr_name: str, value: Any, indices: Union[None, int, Sequence[int]] = None) -> None:
-        # the copies share one environment: set once
-        setattr(self.venv.env, attr_name, value)
+        if self.envs is None:
+            # the copies share one environment: set once
+            setattr(self.venv.env, attr_name, value)
+        else:
+            for i in self._indices(indices):
+                setattr(self.envs[i], attr_name, value)
 
     def env_method(
         self, method_name: str, *method_args: Any, indices: Union[None, int, Sequence[int]] = None, **method_kwargs: Any
     ) -> list[Any]:
-        return [getattr(self.venv.env, method_name)(*method_args, **method_kwargs) for _ in self._indices(indices)]
+        return [getattr(self._env(i), method_name)(*method_args, **method_kwargs) for i in self._indices(indices)]
 
     def env_is_wrapped(self, wrapper_class: type, indices: Union[None, int, Sequence[int]] = None) -> list[bool]:
         return [False for _ in self._indices(indices)]

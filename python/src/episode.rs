@@ -50,10 +50,30 @@ fn record_to_py(
         rec.first_reward_episode(),
         rec.cumulative_reward(),
     );
-    let more = (rec.entropy_per_start(starts), Grid::of(scene));
+    let metrics = crate::record::metrics_dict(py, &terminal_metrics(&rec))?;
+    let more = (rec.entropy_per_start(starts), metrics, Grid::of(scene));
     let state = fields.into_pyobject(py)?.add(more.into_pyobject(py)?)?;
     let class = crate::record::result_class(py, "EpisodeRecord")?;
     Ok(class.call1(state.cast_into::<PyTuple>()?)?.unbind())
+}
+
+/// The metrics of a session record (`SessionRecord.metrics`) over the
+/// episodes' terminal effects and rewards: one "trial" per episode, the
+/// target uniform.
+fn terminal_metrics(rec: &EpisodeRecord) -> e3d::Metrics {
+    use e3d::session::{Recorder, RunningMetrics};
+    let k = rec.commands_per_episode.max(1);
+    let mut m = RunningMetrics::new(rec.num_effects);
+    let ends = rec.effects.iter().zip(&rec.rewards).skip(k - 1).step_by(k);
+    for (&effect, &reward) in ends {
+        let outcome = e3d::Outcome {
+            effect,
+            reward,
+            point: [0.0; 2],
+        };
+        Recorder::<()>::record(&mut m, &(), &outcome);
+    }
+    m.metrics(&e3d::Target::Uniform)
 }
 
 /// `e3d.run_episodes` (python/e3d/_run.py), its arguments checked there:

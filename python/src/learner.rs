@@ -10,17 +10,20 @@ use e3d::{Command, Learner, LearnerKind, Outcome, SessionRng};
 use numpy::PyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyString;
+use pyo3::types::{IntoPyDict, PyString};
 use std::cell::RefCell;
 
 /// A learner written in Python: an object with `propose(rng)` and
-/// `learn(command, effect, reward)`. Its first exception stops the session
-/// and is raised by `run_session`.
+/// `learn(command, effect, reward)` (with `point=(x, y)` when its `learn`
+/// takes it). Its first exception stops the session and is raised by
+/// `run_session`.
 pub(crate) struct PyLearner<'py, 'a> {
     py: Python<'py>,
     obj: Bound<'py, PyAny>,
     rng: Bound<'py, PyRng>,
     space: CommandSpace,
+    /// `learn` takes `point=` (`e3d._args.learn_takes_point`).
+    point: bool,
     error: &'a RefCell<Option<PyErr>>,
 }
 
@@ -32,11 +35,16 @@ impl<'py, 'a> PyLearner<'py, 'a> {
         error: &'a RefCell<Option<PyErr>>,
     ) -> PyResult<Self> {
         let rng = Bound::new(py, PyRng::idle())?;
+        let point = py
+            .import("e3d._args")?
+            .call_method1("learn_takes_point", (&obj,))?
+            .is_truthy()?;
         Ok(PyLearner {
             py,
             obj,
             rng,
             space: space.clone(),
+            point,
             error,
         })
     }
@@ -60,17 +68,34 @@ impl<'py> PyLearner<'py, '_> {
         // the session's generator back, even if another thread holds the
         // object now (then the session stops with that error)
         let back = PyRng::swap(&self.rng, rng, false);
-        let r = back
-            .and(r)
-            .and_then(|v| commands_from(self.py, &self.space, &v, 1));
+        let r = back.and(r).and_then(|v| {
+            commands_from(self.py, &self.space, &v, 1).map_err(|e| self.returned(context, e))
+        });
         match r {
             Ok(mut cs) => *command = cs.remove(0),
             Err(e) => *self.error.borrow_mut() = Some(e),
         }
     }
 
+    /// `e`, what is wrong with the command `propose` returned, named as
+    /// the user's own method (`Uniform.propose(rng) returned ...`).
+    fn returned(&self, context: Option<usize>, e: PyErr) -> PyErr {
+        let args = if context.is_some() {
+            "context, rng"
+        } else {
+            "rng"
+        };
+        let class = crate::errors::type_name(&self.obj);
+        let msg = format!(
+            "{class}.propose({args}) returned a bad command: {}",
+            e.value(self.py)
+        );
+        PyErr::from_type(e.get_type(self.py), msg)
+    }
+
     /// Calls `learn(command, effect, reward)`, or with a context
-    /// `learn(context, command, effect, reward, next)`.
+    /// `learn(context, command, effect, reward, next)`; `point=(x, y)` too
+    /// when `learn` takes it.
     fn learn_in(
         &mut self,
         context: Option<(usize, Option<usize>)>,
@@ -82,9 +107,25 @@ impl<'py> PyLearner<'py, '_> {
         }
         let symbols = PyArray1::from_slice(self.py, &command.symbols);
         let (e, r) = (outcome.effect, outcome.reward);
+        let kwargs = match self.point {
+            true => Some([("point", (outcome.point[0], outcome.point[1]))].into_py_dict(self.py)),
+            false => None,
+        };
+        let kwargs = match kwargs.transpose() {
+            Ok(k) => k,
+            Err(e) => {
+                *self.error.borrow_mut() = Some(e);
+                return;
+            }
+        };
         let done = match context {
-            None => self.obj.call_method1("learn", (symbols, e, r)),
-            Some((c, next)) => self.obj.call_method1("learn", (c, symbols, e, r, next)),
+            None => self
+                .obj
+                .call_method("learn", (symbols, e, r), kwargs.as_ref()),
+            Some((c, next)) => {
+                self.obj
+                    .call_method("learn", (c, symbols, e, r, next), kwargs.as_ref())
+            }
         };
         if let Err(e) = done {
             *self.error.borrow_mut() = Some(e);

@@ -56,6 +56,7 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(session::_run_session, m)?)?;
     m.add_function(wrap_pyfunction!(session::_run_sessions, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::merge_sweeps, m)?)?;
     m.add_function(wrap_pyfunction!(episode::_run_episodes, m)?)?;
     Ok(())
 }

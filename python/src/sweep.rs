@@ -48,8 +48,12 @@ pub(crate) fn lock_out(dir: &Path) -> PyResult<Option<e3d::io::DirLock>> {
 /// `KeyboardInterrupt` once the sessions running have finished (with
 /// `out`, `resume=True` completes the folder later).
 #[pyfunction]
+///
+/// `shard`: `(k, n)`, the part `k` of `n` (`--shard k/n`; with `out`,
+/// checked by `e3d.run_sweep`), whose folders `merge_sweeps` joins.
 #[pyo3(signature = (sweep, threads = None, table_cache = None, out = None, resume = false,
-    progress = None))]
+    progress = None, shard = None))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn run_sweep<'py>(
     py: Python<'py>,
     sweep: &Bound<'py, PyAny>,
@@ -58,6 +62,7 @@ pub(crate) fn run_sweep<'py>(
     out: Option<PathBuf>,
     resume: bool,
     progress: Option<&Bound<'py, PyAny>>,
+    shard: Option<(usize, usize)>,
 ) -> PyResult<(String, Vec<String>)> {
     let sw = sweep_of(sweep, table_cache)?;
     let threads = threads.unwrap_or_else(|| {
@@ -74,12 +79,34 @@ pub(crate) fn run_sweep<'py>(
         return Ok((header, rows));
     };
     let _lock = lock_out(&dir)?;
+    let shard = shard.map_or(Shard::ALL, |(k, n)| Shard { k, n });
+    let total = shard.count(sw.num_sessions()) as u64 * sw.spec.trials as u64;
     let options = DirOptions {
         threads,
         resume,
-        shard: Shard::ALL,
+        shard,
     };
     run_in_dir(py, &sw, &dir, &options, progress, total, &watch)?;
+    results_of(&dir)
+}
+
+/// `e3d merge DIR... --out OUT`: joins the folders of every shard of one
+/// sweep into `out` (the bytes of a one-process run) and returns its
+/// `results.csv` as `run_sweep` does.
+#[pyfunction]
+pub(crate) fn merge_sweeps(
+    py: Python<'_>,
+    dirs: Vec<PathBuf>,
+    out: PathBuf,
+) -> PyResult<(String, Vec<String>)> {
+    let _lock = lock_out(&out)?;
+    py.detach(|| e3d::sweep::merge(&dirs, &out))
+        .map_err(|e| PyErr::from(Fail::from(e)))?;
+    results_of(&out)
+}
+
+/// The header and rows of the `results.csv` in `dir`.
+fn results_of(dir: &Path) -> PyResult<(String, Vec<String>)> {
     let path = dir.join(e3d::sweep::RESULTS);
     // as the command line reads it: a regular file of bounded size
     let text = e3d::text::read_own_file(&path, e3d::sweep::MAX_RESULTS_BYTES, e3d::sweep::RESULTS)

@@ -9,11 +9,22 @@ import csv
 import io
 import os
 import pathlib
+import signal
 import subprocess
 
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+# A shell without job control starts a background command (`cmd &`,
+# `nohup ... &`, CI runners) with SIGINT ignored, and Python then leaves
+# it ignored: the Ctrl-C tests' SIGINT did nothing, so a 10-million-trial
+# call ran to its end (the "hang" seen under load, with the main thread
+# waiting in `watched`) or `pytest.raises(KeyboardInterrupt)` failed.
+# The tests send themselves SIGINT: restore Python's handler (children
+# then start with it too).
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def _cli_path():

@@ -11,7 +11,7 @@ import re
 
 import pytest
 
-OPTIONAL = {"pandas", "tqdm", "polars"}
+OPTIONAL = {"pandas", "tqdm", "polars", "submitit"}
 
 
 def blocks(text):

@@ -76,7 +76,11 @@ def test_q_and_effect_model_of_e3d():
     assert rec.effect_model.shape == (n,)
     assert np.allclose(rec.effect_model, p, rtol=0, atol=1e-9)
     assert e3d.run_session("two_rooms", learner="uniform", trials=10).q is None
-    assert e3d.run_sessions("two_rooms", trials=10, sessions=1)[0].q is None
+    # run_sessions keeps them too: each session's record is run_session's
+    lockstep = e3d.run_sessions("two_rooms", trials=10, sessions=1)[0]
+    alone = e3d.run_session("two_rooms", trials=10, seed=0)
+    assert [q.tolist() for q in lockstep.q] == [q.tolist() for q in alone.q]
+    assert lockstep.effect_model.tolist() == alone.effect_model.tolist()
 
 
 def test_e3d_learner_state_reads_and_writes():

@@ -5,13 +5,12 @@
 //! `python_learners`, sessions of continuous commands in `values`.
 
 use crate::errors::{check_held, learner_names, params_of, Fail};
-use crate::held::{bad, Held};
+use crate::held::Held;
 use crate::learner::{builtin_kind, learner_list, Tap};
 use crate::progress::{watched, Watch};
 use crate::record::{batch_to_py, record_to_py, Rows};
 use crate::saved::PyLearnerState;
 use crate::scene::{scene_of, target_arg, PyScene};
-use e3d::learner::LearnerSetup;
 use e3d::world::{ExecOptions, Executor, Strategy, Workload, DEFAULT_MEMO_CAP};
 use e3d::{
     Control, Learner, LearnerKind, Metrics, Params, SessionConfig, SessionRecord, Target,
@@ -240,10 +239,7 @@ fn run_builtin(
     let made = held.symbols().expect("a learner of symbols");
     let (rec, metrics, exact, execution) = run_symbols(py, scene, a, run, made)?;
     let mut rows = Rows::of_symbols(py, rec, metrics, Some(&*made), exact)?;
-    if let Some(e) = held.e3d() {
-        rows.q = Some((0..e.num_slots()).map(|s| e.q(s).to_vec()).collect());
-        rows.effect_model = Some(e.effect_model().probs());
-    }
+    final_e3d(&mut rows, &mut held);
     write_back(saved, Some(held));
     record_to_py(py, scene, kind.as_str(), run.cfg.seed, rows, execution)
 }
@@ -414,17 +410,14 @@ fn run_builtin_batch(
     configs: &[SessionConfig],
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(Vec<Rows>, String)> {
-    let n_eff = scene.inner.num_effects();
-    let mut learners = Vec::with_capacity(configs.len());
-    for _ in 0..configs.len() {
-        learners.push(
-            LearnerSetup::new(kind)
-                .params(a.params)
-                .target(a.target.clone())
-                .symbols(&scene.space, n_eff)
-                .map_err(bad)?,
-        );
-    }
+    // the learners run_session makes, kept to read E3D's final state
+    let mut held = (0..configs.len())
+        .map(|_| Held::new(scene, kind, &a.params, &a.target))
+        .collect::<PyResult<Vec<Held>>>()?;
+    let mut learners: Vec<Lent<'_>> = held
+        .iter_mut()
+        .map(|h| Lent(h.symbols().expect("a learner of symbols")))
+        .collect();
     let (records, metrics, execution) = unlocked(
         py,
         scene,
@@ -448,14 +441,47 @@ fn run_builtin_batch(
                 .iter()
                 .map(|r| symbol_metrics(&exec, r, &a.target))
                 .collect();
-            Ok((records, metrics, execution_text(exec)))
+            let exact: Vec<_> = learners.iter().map(|l| exact_of(&exec, l)).collect();
+            Ok((records, (metrics, exact), execution_text(exec)))
         },
     )?;
+    drop(learners);
     let rows = records
         .into_iter()
-        .zip(metrics)
-        .zip(&learners)
-        .map(|((r, m), l)| Rows::of_symbols(py, r, m, Some(&**l), None))
+        .zip(metrics.0.into_iter().zip(metrics.1))
+        .zip(&mut held)
+        .map(|((r, (m, exact)), h)| {
+            let l = h.symbols().map(|l| &*l as &dyn Learner);
+            let mut rows = Rows::of_symbols(py, r, m, l, exact)?;
+            final_e3d(&mut rows, h);
+            Ok(rows)
+        })
         .collect::<PyResult<_>>()?;
     Ok((rows, execution))
+}
+
+/// E3D's final `Q` and effect model into `rows` (other learners: none).
+fn final_e3d(rows: &mut Rows, held: &mut Held) {
+    if let Some(e) = held.e3d() {
+        rows.q = Some((0..e.num_slots()).map(|s| e.q(s).to_vec()).collect());
+        rows.effect_model = Some(e.effect_model().probs());
+    }
+}
+
+/// A held learner lent to the engine, which takes learners by value.
+struct Lent<'a>(&'a mut (dyn Learner + Send));
+
+impl Learner for Lent<'_> {
+    fn name(&self) -> &str {
+        self.0.name()
+    }
+    fn propose(&mut self, rng: &mut e3d::SessionRng, command: &mut e3d::Command) {
+        self.0.propose(rng, command)
+    }
+    fn learn(&mut self, command: &e3d::Command, outcome: &e3d::Outcome) {
+        self.0.learn(command, outcome)
+    }
+    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
+        self.0.slot_policy(slot)
+    }
 }
