@@ -4,8 +4,11 @@
 The project's speed targets are stated against "pymunk's single-rollout
 rate on puck_rooms measured in the same run". This script builds the scene
 of scenes/puck_rooms.ron in pymunk and executes N random distinct commands,
-one rollout at a time, rebuilding the space for every rollout (a fresh
-space, as e3d restores a pristine world before every command).
+one rollout at a time: with `--mode fresh` (the default) on a new space
+for every rollout, with `reuse` on one space with the puck put back at its
+start (what a user writes), with `cache` as `reuse` with the puck's state
+after each slot kept by command prefix (e3d's prefix states). The three
+give the same terminal points to the bit.
 
 Every number is read from the RON file (a tiny ad-hoc parser for the few
 fields needed, below; a file with shorthand `walls` is first expanded into
@@ -22,7 +25,7 @@ Usage:
 
 prints the rate, then a CSV line
 
-    pymunk,puck_rooms,<N>,<seconds>,<rollouts_per_s>
+    pymunk,puck_rooms,<N>,<seconds>,<rollouts_per_s>,<mode>
 
 `--commands-out` writes the N commands, one per line (feed them to
 `e3d scene exec puck_rooms -` to time e3d on the same commands);
@@ -224,14 +227,23 @@ class PuckRooms:
     def execute(self, command):
         """One rollout on a fresh space: the puck's terminal (x, y)."""
         space, puck = self.build()
+        return self.rollout(space, puck, command, 0, None)
+
+    def rollout(self, space, puck, command, start, cache):
+        """Steps `command[start:]` on `space` (the puck at the state after
+        `command[:start]`); with a `cache`, keeps the puck's state after
+        each slot's phase under the command's prefix."""
         dt = self.dt
-        for symbol in command:
-            puck.apply_impulse_at_local_point(self.impulse[symbol])
+        for i in range(start, len(command)):
+            puck.apply_impulse_at_local_point(self.impulse[command[i]])
             for _ in range(self.phase_steps):
                 space.step(dt)
+            if cache is not None:
+                cache[command[: i + 1]] = (tuple(puck.position), tuple(puck.velocity))
         for _ in range(self.settle_steps):
             space.step(dt)
         return puck.position.x, puck.position.y
+
 
     def effect(self, x, y):
         """The effect cell row * cols + col, clamped to the border (as e3d)."""
@@ -241,6 +253,34 @@ class PuckRooms:
         col = min(max(math.floor((x - g["min"][0]) / w), 0), g["cols"] - 1)
         row = min(max(math.floor((g["max"][1] - y) / h), 0), g["rows"] - 1)
         return row * g["cols"] + col
+
+
+class Reused:
+    """What a user writes: one space for every rollout, the puck put back at
+    its start (position, velocity, forces) before each; with `cache`, also
+    the puck's state after each slot's phase kept by command prefix, a
+    rollout starting from the deepest prefix kept (e3d's prefix states)."""
+
+    def __init__(self, world, cache):
+        self.world = world
+        self.space, self.puck = world.build()
+        self.start = tuple(self.puck.position)
+        self.cache = {} if cache else None
+
+    def execute(self, command):
+        start, state = 0, (self.start, (0.0, 0.0))
+        if self.cache is not None:
+            for k in range(len(command) - 1, 0, -1):
+                kept = self.cache.get(command[:k])
+                if kept is not None:
+                    start, state = k, kept
+                    break
+        puck = self.puck
+        puck.position, puck.velocity = state
+        puck.angular_velocity = 0.0
+        puck.force = (0.0, 0.0)
+        self.space.reindex_shapes_for_body(puck)
+        return self.world.rollout(self.space, puck, command, start, self.cache)
 
 
 def command_of(index, symbols, slots):
@@ -258,6 +298,13 @@ def main(argv):
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--commands-out", help="write the commands here, one per line")
     ap.add_argument("--outcomes-out", help="write command,effect,x,y here")
+    ap.add_argument(
+        "--mode",
+        choices=["fresh", "reuse", "cache"],
+        default="fresh",
+        help="fresh: a new space per rollout (default); reuse: one space, the puck reset; "
+        "cache: reuse plus the puck's state kept by command prefix",
+    )
     a = ap.parse_args(argv)
 
     scene = parse_scene(a.scene)
@@ -271,10 +318,11 @@ def main(argv):
     if a.commands_out:
         Path(a.commands_out).write_text("".join(c + "\n" for c in commands))
 
+    runner = world if a.mode == "fresh" else Reused(world, cache=a.mode == "cache")
     outcomes = []
     start = time.perf_counter()
     for c in commands:
-        outcomes.append(world.execute(c))
+        outcomes.append(runner.execute(c))
     secs = time.perf_counter() - start
 
     if a.outcomes_out:
@@ -284,11 +332,11 @@ def main(argv):
                 f.write(f"{c},{world.effect(x, y)},{x!r},{y!r}\n")
     rate = a.n / secs
     print(
-        f"pymunk {pymunk.version} (Chipmunk {pymunk.chipmunk_version.split('-')[0]}): "
+        f"pymunk {pymunk.version} (Chipmunk {pymunk.chipmunk_version.split('-')[0]}), {a.mode}: "
         f"{a.n} rollouts of {world.steps_per_command} steps in {secs:.3f} s: "
         f"{rate:.1f} rollouts/s ({rate * world.steps_per_command:.0f} steps/s)"
     )
-    print(f"pymunk,puck_rooms,{a.n},{secs:.4f},{rate:.2f}")
+    print(f"pymunk,puck_rooms,{a.n},{secs:.4f},{rate:.2f},{a.mode}")
 
 
 if __name__ == "__main__":

@@ -41,8 +41,8 @@ def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 2000
     runs = int(sys.argv[2]) if len(sys.argv) > 2 else 3
     scene = e3d.Scene.builtin("puck_rooms")
-    rates = {"pymunk": [], "World.execute": [], "every step": [], "batch of one": [],
-             "E3dEnv.step": []}
+    rates = {"pymunk": [], "pymunk reuse": [], "pymunk cache": [], "World.execute": [],
+             "every step": [], "batch of one": [], "E3dEnv.step": []}
     with tempfile.TemporaryDirectory() as tmp:
         cmds_path = pathlib.Path(tmp) / "commands.txt"
         # the scene as pymunk's reader wants it: written out in full
@@ -56,6 +56,15 @@ def main():
                 capture_output=True, text=True, check=True)
             line = [x for x in r.stdout.splitlines() if x.startswith("pymunk,")][-1]
             rates["pymunk"].append(float(line.split(",")[4]))
+            # what a user writes: one space, the puck reset; and with the
+            # puck's state kept by command prefix, as e3d keeps its own
+            for mode in ("reuse", "cache"):
+                r = subprocess.run(
+                    [sys.executable, str(ROOT / "benches/pymunk/puck_rooms.py"), str(n), "--seed",
+                     "1", "--scene", str(scene_path), "--mode", mode],
+                    capture_output=True, text=True, check=True)
+                line = [x for x in r.stdout.splitlines() if x.startswith("pymunk,")][-1]
+                rates[f"pymunk {mode}"].append(float(line.split(",")[4]))
             cmds = scene.parse(cmds_path.read_text().split())
             w = scene.world()
             s = time.perf_counter()
@@ -92,6 +101,9 @@ def main():
     print(f"World.execute / pymunk: {e / p:.2f}x")
     f = statistics.median(rates["every step"])
     print(f"World.execute with every step simulated (prefix_states=0) / pymunk: {f / p:.2f}x")
+    r, c = statistics.median(rates["pymunk reuse"]), statistics.median(rates["pymunk cache"])
+    print(f"every step simulated / pymunk reuse: {f / r:.2f}x")
+    print(f"World.execute (prefix states) / pymunk reuse with a prefix cache: {e / c:.2f}x")
     paired = [a / b for a, b in zip(rates["World.execute"], rates["pymunk"])]
     print(f"World.execute / pymunk run by run: median {statistics.median(paired):.2f}x, "
           f"range {min(paired):.2f}x-{max(paired):.2f}x")
