@@ -1,10 +1,9 @@
 //! The executor: carries out a scene's [`ExecutionPlan`] (its table, its
 //! memo or live worlds) and hands out the worlds sessions run on.
 
-use super::plan::{ExecOptions, ExecutionPlan, OnDisk, Strategy, Workload};
+use super::plan::{Costs, ExecOptions, ExecutionPlan, OnDisk, Strategy, Workload};
 use super::{
     ContinuousScene, Memoized, Outcome, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError,
-    TABLE_COPIES,
 };
 use crate::scene::{Scene, WorldSpec};
 use crate::world::table::CachedOutcomes;
@@ -197,11 +196,7 @@ impl<'s> Executor<'s> {
             .unwrap_or(n)
             .saturating_sub(known.len() as u64);
         (control.total)(total);
-        let t = if known.is_empty() {
-            OutcomeTable::build_scene_with(self.scene, control)?
-        } else {
-            OutcomeTable::complete_with(self.scene, known, control)?
-        };
+        let t = OutcomeTable::complete_with(self.scene, known, control)?;
         if let Some(p) = &self.cache {
             if let Err(e) = t.write_file(p, self.scene) {
                 self.plan.why.push_str(&format!(
@@ -324,35 +319,28 @@ impl<'s> Executor<'s> {
 /// What the cache file at `path` (none: no cache) holds for `scene`: its
 /// state for the plan, and the outcomes read.
 fn read_cache(path: Option<&Path>, scene: &Scene) -> (OnDisk, Option<CachedOutcomes>) {
-    let mut file = None;
-    let on_disk = match (path, scene.command_space().num_commands()) {
-        (None, _) => OnDisk::NoCache,
-        (Some(_), None) => OnDisk::TooLarge,
-        (Some(p), Some(_)) => match OutcomeTable::read_file(p, scene) {
-            Ok(CachedOutcomes::Full(t)) => {
-                file = Some(CachedOutcomes::Full(t));
-                OnDisk::Full {
-                    path: p.to_path_buf(),
-                }
-            }
-            Ok(CachedOutcomes::Partial(e)) => {
-                let entries = e.len() as u64;
-                file = Some(CachedOutcomes::Partial(e));
-                OnDisk::Partial {
-                    path: p.to_path_buf(),
-                    entries,
-                }
-            }
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => OnDisk::Missing {
-                path: p.to_path_buf(),
-            },
-            Err(e) => OnDisk::Unusable {
-                path: p.to_path_buf(),
-                reason: e.to_string().rsplit(": ").next().unwrap_or("").to_string(),
-            },
-        },
+    let path = match (path, scene.command_space().num_commands()) {
+        (None, _) => return (OnDisk::NoCache, None),
+        (Some(_), None) => return (OnDisk::TooLarge, None),
+        (Some(p), Some(_)) => p.to_path_buf(),
     };
-    (on_disk, file)
+    match OutcomeTable::read_file(&path, scene) {
+        Ok(file) => {
+            let on_disk = match &file {
+                CachedOutcomes::Full(_) => OnDisk::Full { path },
+                CachedOutcomes::Partial(e) => OnDisk::Partial {
+                    path,
+                    entries: e.len() as u64,
+                },
+            };
+            (on_disk, Some(file))
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => (OnDisk::Missing { path }, None),
+        Err(e) => {
+            let reason = e.to_string().rsplit(": ").next().unwrap_or("").to_string();
+            (OnDisk::Unusable { path, reason }, None)
+        }
+    }
 }
 
 /// Forces `plan` to the strategy `force` when it can be used (a table
@@ -367,12 +355,7 @@ fn force_strategy(plan: &mut ExecutionPlan, force: Strategy, scene: &Scene, memo
         plan.why = format!("asked for (the cost rule chose {})", plan.strategy);
         plan.strategy = force;
         if force == Strategy::Table {
-            plan.copies = if matches!(&scene.spec().world, WorldSpec::Physics(p) if p.copies_are_exact())
-            {
-                TABLE_COPIES
-            } else {
-                1
-            };
+            plan.copies = Costs::of(scene).copies();
         }
     } else if !possible {
         plan.why = format!("{force} was asked for but cannot be used: {}", plan.why);

@@ -36,11 +36,13 @@
 use super::{
     OutcomeTable, PhysicsWorld, World, DEFAULT_MEMO_CAP, MAX_TABLE_COMMANDS, TABLE_COPIES,
 };
+use crate::command::{Command, CommandSpace};
 use crate::scene::physics::BodyKind;
 use crate::scene::{Scene, WorldSpec};
 use serde::Serialize;
 use std::fmt;
 use std::path::PathBuf;
+use std::time::Instant;
 
 /// How outcomes are obtained (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -77,27 +79,25 @@ impl ParseStrategyError {
     }
 }
 
+/// Each strategy's name, in the order of [`Strategy`]'s variants.
+const NAMES: [(Strategy, &str); 3] = [
+    (Strategy::Table, "table"),
+    (Strategy::Memo, "memo"),
+    (Strategy::Live, "live"),
+];
+
 impl std::str::FromStr for Strategy {
     type Err = ParseStrategyError;
     fn from_str(s: &str) -> Result<Strategy, ParseStrategyError> {
-        match s {
-            "table" => Ok(Strategy::Table),
-            "memo" => Ok(Strategy::Memo),
-            "live" => Ok(Strategy::Live),
-            _ => Err(ParseStrategyError {
-                input: s.to_string(),
-            }),
-        }
+        let input = s.to_string();
+        let known = NAMES.iter().find(|(_, name)| *name == s);
+        known.map(|&(k, _)| k).ok_or(ParseStrategyError { input })
     }
 }
 
 impl fmt::Display for Strategy {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Strategy::Table => "table",
-            Strategy::Memo => "memo",
-            Strategy::Live => "live",
-        })
+        f.write_str(NAMES[*self as usize].1)
     }
 }
 
@@ -222,7 +222,7 @@ pub struct ExecutionPlan {
 
 /// The cost model: seconds of one rollout and how copies share a step.
 #[derive(Debug, Clone, Copy)]
-struct Costs {
+pub(super) struct Costs {
     /// One command in a single-copy world.
     rollout: f64,
     /// The part of a rollout that copies in one world share (the rest is
@@ -245,7 +245,7 @@ const TABLE_READ: f64 = 30e-9;
 const CHEAP_TABLE: f64 = 0.05;
 
 impl Costs {
-    fn of(scene: &Scene) -> Costs {
+    pub(super) fn of(scene: &Scene) -> Costs {
         match &scene.spec().world {
             WorldSpec::Grid(_) => Costs {
                 rollout: 2e-9 * scene.spec().num_slots() as f64 + 1e-9,
@@ -273,6 +273,15 @@ impl Costs {
                     grid: false,
                 }
             }
+        }
+    }
+
+    /// The copies per world of a table (and of lockstep groups).
+    pub(super) fn copies(&self) -> usize {
+        if self.exact {
+            TABLE_COPIES
+        } else {
+            1
         }
     }
 
@@ -316,21 +325,15 @@ pub fn rollout_seconds(scene: &Scene) -> f64 {
 /// [`calibration_on`]): the model gives the ratios (copies per world,
 /// threads), the measure the speed of this machine as it is loaded now.
 pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
-    let WorldSpec::Physics(spec) = &scene.spec().world else {
+    let Some(mut world) = scene.physics_world() else {
         return rollout_seconds(scene);
     };
-    let mut world = PhysicsWorld::of(scene, spec, 1);
-    let start = std::time::Instant::now();
-    let mut done = 0u32;
-    let values = scene.values();
     let space = scene.command_space();
-    while done < CALIBRATION_MAX_ROLLOUTS
-        && (done < CALIBRATION_ROLLOUTS || start.elapsed().as_secs_f64() < CALIBRATION_SECONDS)
-    {
-        let k = u64::from(done);
+    let start = Instant::now();
+    let done = timed(start, |k| {
         // the outcome does not matter (a command that blows up is timed
         // too: it ends early, as it would in the tool)
-        let _ = match values {
+        let _ = match scene.values() {
             Some(v) => {
                 let x: Vec<f64> = (0..v.num_slots())
                     .map(|i| {
@@ -343,15 +346,30 @@ pub fn timed_rollout_seconds(scene: &Scene) -> f64 {
                     .collect();
                 world.execute_values(&x)
             }
-            None => {
-                let n = space.num_commands().unwrap_or(u64::MAX);
-                let c = space.command_at(k.wrapping_mul(0x9E37_79B9_7F4A_7C15) % n);
-                world.execute(&c)
-            }
+            None => world.execute(&spread(&space, k)),
         };
-        done += 1;
-    }
+    });
     start.elapsed().as_secs_f64() / f64::from(done)
+}
+
+/// Runs `each(k)` for `k = 0, 1, ...`: [`CALIBRATION_ROLLOUTS`] times,
+/// then until [`CALIBRATION_SECONDS`] have passed since `start`, at most
+/// [`CALIBRATION_MAX_ROLLOUTS`] times in all; returns how many times.
+fn timed(start: Instant, mut each: impl FnMut(u64)) -> u32 {
+    let mut k = 0;
+    while k < CALIBRATION_MAX_ROLLOUTS
+        && (k < CALIBRATION_ROLLOUTS || start.elapsed().as_secs_f64() < CALIBRATION_SECONDS)
+    {
+        each(u64::from(k));
+        k += 1;
+    }
+    k
+}
+
+/// Command `k` of a sample spread over `space`.
+fn spread(space: &CommandSpace, k: u64) -> Command {
+    let n = space.num_commands().unwrap_or(u64::MAX);
+    space.command_at(k.wrapping_mul(0x9E37_79B9_7F4A_7C15) % n)
 }
 
 /// What the cost model's seconds per command of `scene`, run `copies` to
@@ -374,37 +392,26 @@ pub fn calibration_on(scene: &Scene, threads: usize, copies: usize) -> f64 {
         return timed_rollout_seconds(scene) / rollout_seconds(scene);
     }
     let space = scene.command_space();
-    let n = space.num_commands().unwrap_or(u64::MAX);
     let threads = threads.max(1);
     let copies = if spec.copies_are_exact() {
         copies.clamp(1, super::MAX_COPIES)
     } else {
         1
     };
-    let start = std::time::Instant::now();
+    let start = Instant::now();
     let done: u64 = (0..threads)
         .into_par_iter()
         .map(|t| {
             let mut world = PhysicsWorld::of(scene, spec, copies);
             let mut out = Vec::with_capacity(copies);
-            let mut done = 0u64;
-            let mut batches = 0u32;
-            while batches < CALIBRATION_MAX_ROLLOUTS
-                && (batches < CALIBRATION_ROLLOUTS
-                    || start.elapsed().as_secs_f64() < CALIBRATION_SECONDS)
-            {
+            let batches = timed(start, |b| {
                 let batch: Vec<_> = (0..copies as u64)
-                    .map(|i| {
-                        let k = (done + i) * threads as u64 + t as u64;
-                        space.command_at(k.wrapping_mul(0x9E37_79B9_7F4A_7C15) % n)
-                    })
+                    .map(|i| spread(&space, (b * copies as u64 + i) * threads as u64 + t as u64))
                     .collect();
                 out.clear();
                 world.execute_batch(&batch, &mut out);
-                done += copies as u64;
-                batches += 1;
-            }
-            done
+            });
+            u64::from(batches) * copies as u64
         })
         .sum();
     let per_command = start.elapsed().as_secs_f64() * threads as f64 / done.max(1) as f64;
@@ -484,7 +491,7 @@ impl ExecutionPlan {
             .num_commands()
             .filter(|_| !scene.spec().is_continuous());
         let threads = work.threads.max(1);
-        let copies = if costs.exact { TABLE_COPIES } else { 1 };
+        let copies = costs.copies();
         let groups = lockstep_groups(work.sessions, threads, copies);
         let width = work.sessions.div_ceil(groups).clamp(1, copies);
         let parallel = groups.min(threads) as f64;
@@ -536,8 +543,7 @@ impl ExecutionPlan {
         use_memo: bool,
     ) {
         let threads = work.threads.max(1);
-        let copies = if costs.exact { TABLE_COPIES } else { 1 };
-        let trials = work.trials as f64;
+        let copies = costs.copies();
         let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n);
         self.simulated = Some(simulated);
         let full = matches!(self.on_disk, OnDisk::Full { .. });
@@ -545,33 +551,28 @@ impl ExecutionPlan {
             n as f64 * TABLE_READ
         } else {
             simulated as f64 * costs.per_command(copies) / threads as f64 + n as f64 * TABLE_ENTRY
-        } + trials * TABLE_LOOKUP;
+        } + work.trials as f64 * TABLE_LOOKUP;
         self.table_seconds = Some(table_seconds);
         let alternative = self.sessions_seconds;
+        let trials = format!(
+            "{} trials {} (about {})",
+            work.trials,
+            if use_memo { "memoised" } else { "live" },
+            seconds(alternative)
+        );
+        let table = seconds(table_seconds);
+        self.why = if table_seconds > alternative && table_seconds >= CHEAP_TABLE {
+            format!("{trials} cost less than the table of {n} commands (about {table})")
+        } else if full {
+            "the whole table is on disk".into()
+        } else if table_seconds < CHEAP_TABLE {
+            "a table costs next to nothing".into()
+        } else {
+            format!("the table (about {table}) costs less than the {trials}")
+        };
         if table_seconds <= alternative || table_seconds < CHEAP_TABLE {
             self.strategy = Strategy::Table;
             self.copies = copies;
-            self.why = if full {
-                "the whole table is on disk".into()
-            } else if table_seconds < CHEAP_TABLE {
-                "a table costs next to nothing".to_string()
-            } else {
-                format!(
-                    "the table (about {}) costs less than the {} trials {} (about {})",
-                    seconds(table_seconds),
-                    work.trials,
-                    if use_memo { "memoised" } else { "live" },
-                    seconds(alternative)
-                )
-            };
-        } else {
-            self.why = format!(
-                "{} trials {} (about {}) cost less than the table of {n} commands (about {})",
-                work.trials,
-                if use_memo { "memoised" } else { "live" },
-                seconds(alternative),
-                seconds(table_seconds)
-            );
         }
     }
 }

@@ -324,7 +324,8 @@ fn a_table_completed_from_a_partial_file_equals_the_built_one() {
             .filter(|(i, _)| i % 3 == 0)
             .map(|(i, o)| (i as u64, *o))
             .collect();
-        let completed = OutcomeTable::complete(&scene, &known).unwrap();
+        let completed =
+            OutcomeTable::complete_with(&scene, &known, &e3d::Control::default()).unwrap();
         let a: Vec<_> = built.outcomes().collect();
         let b: Vec<_> = completed.outcomes().collect();
         assert_eq!(a, b, "{name}");

@@ -14,11 +14,12 @@
 //! coordinates are also kept in the open, to compare and serialise.
 
 use super::joint_start::{set_joints, JointGeometry};
-use super::{v2, JointInfo, PhysicsWorld, Replica, Sets};
+use super::{v2, Cmd, JointInfo, PhysicsWorld, Replica, Sets};
+use crate::command::Command;
 use crate::rng::SessionRng;
 use crate::scene::physics::{BodyStart, JointStart, PhysicsSpec};
 use crate::scene::valid::Links;
-use crate::world::{WorldError, WorldState};
+use crate::world::{Episodic, Outcome, WorldError, WorldState};
 use rand::RngExt;
 use rapier2d::math::{Real, Rotation, Vector};
 use rapier2d::prelude::RigidBodyHandle;
@@ -238,47 +239,13 @@ impl PhysicsWorld {
         }
     }
 
-    /// The start state of context `context`, drawn with `rng` for a
-    /// sampled context (two floats per ranged body: x, then y; then one
-    /// per ranged joint).
-    pub(super) fn start_of(
-        &self,
-        context: usize,
-        rng: &mut SessionRng,
-    ) -> Result<PhysicsState, WorldError> {
-        let start = self.contexts.get(context).ok_or_else(|| {
-            WorldError::Other(format!(
-                "context {context}: scene `{}` has {} start contexts",
-                self.scene,
-                self.contexts.len()
-            ))
-        })?;
-        Ok(match start {
-            ContextStart::Pristine => self.state_of(Arc::new(self.pristine.clone()), Some(0)),
-            ContextStart::Named(sets) => self.state_of(sets.clone(), Some(context)),
-            ContextStart::Sampled(starts) => {
-                let mut sets = self.pristine.clone();
-                let infos = &self.copies[0].joints;
-                place(&mut sets, starts, infos, &self.joint_geometry, Some(rng));
-                self.state_of(Arc::new(sets), None)
-            }
-        })
-    }
-
-    /// The snapshot of `from`, a state of this world that can be
-    /// continued.
-    fn snapshot_of(&self, from: &WorldState) -> Result<Arc<Sets>, WorldError> {
-        match from {
+    /// The snapshot of `state`, if it is a state of this world holding one.
+    fn snapshot<'a>(&'a self, state: &'a WorldState) -> Option<&'a Arc<Sets>> {
+        match state {
             WorldState::Physics(PhysicsState {
                 snapshot: Some(s), ..
-            }) if s.bodies.len() == self.pristine.bodies.len() => Ok(s.clone()),
-            WorldState::Physics(_) => Err(WorldError::Other(
-                "this physics state has no snapshot of this world (read back from a file, or another scene's): it cannot be continued exactly".into(),
-            )),
-            other => Err(WorldError::Other(format!(
-                "scene `{}` is a physics world; it cannot start from {other:?}",
-                self.scene
-            ))),
+            }) if s.bodies.len() == self.pristine.bodies.len() => Some(s),
+            _ => None,
         }
     }
 
@@ -305,7 +272,16 @@ impl PhysicsWorld {
         from: &WorldState,
         f: impl FnOnce(&mut Self) -> R,
     ) -> Result<R, WorldError> {
-        let snapshot = self.snapshot_of(from)?;
+        let snapshot = match (self.snapshot(from), from) {
+            (Some(s), _) => s.clone(),
+            (None, WorldState::Physics(_)) => return Err(WorldError::Other(
+                "this physics state has no snapshot of this world (read back from a file, or another scene's): it cannot be continued exactly".into(),
+            )),
+            (None, other) => return Err(WorldError::Other(format!(
+                "scene `{}` is a physics world; it cannot start from {other:?}",
+                self.scene
+            ))),
+        };
         // a run restores `pristine` first: put the state's sets there, and
         // keep no prefix state of the scene's start (see `prefix`)
         let saved = std::mem::replace(&mut self.pristine, Sets::clone(&snapshot));
@@ -317,34 +293,58 @@ impl PhysicsWorld {
         self.mirror = mirror;
         Ok(r)
     }
+}
 
-    /// Executes `command` from `from` on copy 0 (no mirror twin: the
-    /// symmetry holds about the scene's start only) and returns its
-    /// outcome and the state it leaves.
-    pub(super) fn run_from(
-        &mut self,
-        from: &WorldState,
-        command: &crate::Command,
-    ) -> Result<(crate::Outcome, WorldState), WorldError> {
-        let outcome = self.from_start(from, |w| {
-            let mut out = Vec::with_capacity(1);
-            w.run_copies(&[super::Cmd::Symbols(command)], &mut out, true, |_| {});
-            out.pop().expect("one result per command")
-        })??;
-        let end = self.state_of(Arc::new(self.sets.clone()), None);
-        Ok((outcome, WorldState::Physics(end)))
+impl Episodic for PhysicsWorld {
+    fn num_contexts(&self) -> usize {
+        self.contexts.len()
     }
 
-    /// The effect bin of a state: where the effect's features fall.
-    pub(super) fn bin_of(&self, state: &WorldState) -> Result<usize, WorldError> {
-        match state {
-            WorldState::Physics(PhysicsState {
-                snapshot: Some(s), ..
-            }) if s.bodies.len() == self.pristine.bodies.len() => Ok(self.located_in(s, 0).1),
-            _ => Err(WorldError::Other(format!(
+    /// The context's start state: a named context's is fixed, a sampled
+    /// one draws two floats (x, then y) per ranged body, then one per
+    /// ranged joint.
+    fn draw_start(&self, context: usize, rng: &mut SessionRng) -> Result<WorldState, WorldError> {
+        let start = self.contexts.get(context).ok_or_else(|| {
+            WorldError::Other(format!(
+                "context {context}: scene `{}` has {} start contexts",
+                self.scene,
+                self.contexts.len()
+            ))
+        })?;
+        Ok(WorldState::Physics(match start {
+            ContextStart::Pristine => self.state_of(Arc::new(self.pristine.clone()), Some(0)),
+            ContextStart::Named(sets) => self.state_of(sets.clone(), Some(context)),
+            ContextStart::Sampled(starts) => {
+                let mut sets = self.pristine.clone();
+                let infos = &self.copies[0].joints;
+                place(&mut sets, starts, infos, &self.joint_geometry, Some(rng));
+                self.state_of(Arc::new(sets), None)
+            }
+        }))
+    }
+
+    /// The effect's bin of the state (the effect a command ending there has).
+    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
+        let s = self.snapshot(state).ok_or_else(|| {
+            WorldError::Other(format!(
                 "scene `{}`: a state of this physics world, with its snapshot, found {state:?}",
                 self.scene
-            ))),
-        }
+            ))
+        })?;
+        Ok(self.located_in(s, 0).1)
+    }
+
+    /// Continues exactly from the state's snapshot of every Rapier set, on
+    /// copy 0 (no mirror twin: the symmetry holds about the scene's start
+    /// only).
+    fn execute_from(
+        &mut self,
+        from: &WorldState,
+        command: &Command,
+    ) -> Result<(Outcome, WorldState), WorldError> {
+        let outcome =
+            self.from_start(from, |w| w.run_one(Cmd::Symbols(command), true, |_| {}))??;
+        let end = self.state_of(Arc::new(self.sets.clone()), None);
+        Ok((outcome, WorldState::Physics(end)))
     }
 }

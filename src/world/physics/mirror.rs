@@ -12,7 +12,7 @@ impl PhysicsWorld {
     /// commands it simulates themselves (all of them without a symmetry).
     pub fn twin(&self, command: &Command) -> Option<Command> {
         let (_, maps) = self.mirror.as_ref()?;
-        self.check_command(command).ok()?;
+        self.check(super::Cmd::Symbols(command)).ok()?;
         let image = Command::new(
             command
                 .symbols

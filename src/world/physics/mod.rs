@@ -1,29 +1,11 @@
-//! The physics world: a scene's bodies and joints simulated by Rapier.
+//! The physics world: a scene's bodies and joints simulated by Rapier
+//! ([`PhysicsWorld`]).
 //!
-//! [`PhysicsWorld`] builds the Rapier world once, keeps a pristine copy of
-//! every set, and restores it (`clone_from`) before each command: every
-//! command starts from the same bits, so the same command always gives the
-//! same terminal state, whatever ran before it. Jointed bodies are
-//! [multibodies](rapier2d::dynamics::MultibodyJointSet) (reduced
-//! coordinates: chains do not stretch); joint damping is the multibody's
-//! implicit per-DoF damping.
-//!
-//! A command runs open loop. Per slot, per the scene's schedule:
-//! impulses are applied once at the start of the phase, forces and torques
-//! are held during the phase and removed at its end, joint targets move the
-//! set point of the joint's position motor and hold. After the last phase
-//! the world settles. The effect is the cell of the tracked point at the
-//! end (moving or not).
-//!
-//! After every step the world checks for a blown-up simulation (Rapier's
-//! quarantine, non-finite poses or velocities, a body faster than the
-//! scene's `max_speed`, a body at Rapier's angular speed cap) and reports
-//! it as [`WorldError::Diverged`] rather than a silent effect.
-//!
-//! The module is in four parts: `build` makes the Rapier sets of a scene,
-//! `step` applies commands, steps and guards against blow-ups, `record`
-//! records traces and motions, and `mirror` runs a command as its mirror
-//! image under the scene's symmetry.
+//! `build` makes the Rapier sets of a scene; `step` applies commands,
+//! steps and guards against blow-ups; `record` records traces and motions;
+//! `mirror` runs a command as its mirror image under the scene's symmetry;
+//! `context` and `joint_start` start commands from given states; `prefix`
+//! reuses the states at the phase ends of earlier commands.
 
 mod build;
 mod context;
@@ -37,7 +19,7 @@ pub use context::PhysicsState;
 pub use prefix::PREFIX_STATES;
 pub use record::{BodyPose, Frame, Motion, RunStats, Trace};
 
-use super::{Episodic, Outcome, World, WorldError, WorldState};
+use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::{Binning, EffectGrid};
 use crate::scene::Symmetry;
@@ -189,9 +171,11 @@ enum Probe {
 /// A scene's rigid-body world, simulated by Rapier.
 ///
 /// Built once per scene; before each command every Rapier set is restored
-/// from a pristine copy, so the same command always gives the same bits.
-/// Jointed bodies are multibodies; joint damping is their implicit per-DoF
-/// damping. Impulses act once at the start of a slot's phase, forces and
+/// (`clone_from`) from a pristine copy, so the same command always gives
+/// the same bits, whatever ran before. Jointed bodies are
+/// [multibodies](rapier2d::dynamics::MultibodyJointSet) (reduced
+/// coordinates: chains do not stretch); joint damping is their implicit
+/// per-DoF damping. Impulses act once at the start of a slot's phase, forces and
 /// torques are held during it, joint targets hold until changed; then the
 /// world settles and the effect is the cell of the tracked point. A
 /// blown-up state (quarantine, non-finite values, `max_speed`, Rapier's
@@ -394,7 +378,7 @@ impl World for PhysicsWorld {
     }
 
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        self.run(Cmd::Symbols(command), true, |_| {})
+        self.run_one(Cmd::Symbols(command), true, |_| {})
     }
 
     fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {
@@ -408,37 +392,6 @@ impl World for PhysicsWorld {
 
     fn mirror_outcome(&self, outcome: Outcome) -> Outcome {
         self.reflect_outcome(outcome)
-    }
-}
-
-impl Episodic for PhysicsWorld {
-    fn num_contexts(&self) -> usize {
-        self.contexts.len()
-    }
-
-    /// The context's start state: a named context's is fixed, a sampled
-    /// one draws two floats (x, then y) per ranged body.
-    fn draw_start(
-        &self,
-        context: usize,
-        rng: &mut crate::rng::SessionRng,
-    ) -> Result<WorldState, WorldError> {
-        self.start_of(context, rng).map(WorldState::Physics)
-    }
-
-    /// The effect's bin of the state (the effect a command ending there has).
-    fn bin_state(&self, state: &WorldState) -> Result<usize, WorldError> {
-        self.bin_of(state)
-    }
-
-    /// Continues exactly: the state holds a snapshot of every Rapier set
-    /// (see [`PhysicsState`]).
-    fn execute_from(
-        &mut self,
-        from: &WorldState,
-        command: &Command,
-    ) -> Result<(Outcome, WorldState), WorldError> {
-        self.run_from(from, command)
     }
 }
 
@@ -456,13 +409,10 @@ mod tests {
     fn limit_gating_changes_no_bit() {
         for name in ["arm7", "pendulum3"] {
             let scene = Scene::builtin(name).unwrap();
-            let WorldSpec::Physics(spec) = &scene.spec().world else {
-                unreachable!("a physics scene")
-            };
             let space = scene.command_space();
             let n = space.num_commands().unwrap();
-            let mut gated = PhysicsWorld::of(&scene, spec, 1);
-            let mut plain = PhysicsWorld::of(&scene, spec, 1);
+            let mut gated = scene.as_physics().unwrap().world(1);
+            let mut plain = scene.as_physics().unwrap().world(1);
             plain.gate_limits = false;
             let mut c = space.first();
             for k in 0..60u64 {
@@ -486,14 +436,11 @@ mod tests {
     #[test]
     fn a_missed_gate_reruns_the_command_with_every_limit() {
         let scene = Scene::builtin("arm7").unwrap();
-        let WorldSpec::Physics(spec) = &scene.spec().world else {
-            unreachable!("a physics scene")
-        };
         let space = scene.command_space();
-        let mut careless = PhysicsWorld::of(&scene, spec, 1);
+        let mut careless = scene.as_physics().unwrap().world(1);
         careless.gate_margin = 1e-6;
         careless.gate_speed_steps = 0.0;
-        let mut plain = PhysicsWorld::of(&scene, spec, 1);
+        let mut plain = scene.as_physics().unwrap().world(1);
         plain.gate_limits = false;
         let mut reruns = 0;
         let mut c = space.first();
@@ -513,18 +460,11 @@ mod tests {
     #[test]
     fn copies_without_a_command_are_not_simulated() {
         let scene = Scene::builtin("puck_rooms").unwrap();
-        let WorldSpec::Physics(spec) = &scene.spec().world else {
-            unreachable!("a physics scene")
-        };
         let space = scene.command_space();
-        let mut world = PhysicsWorld::of(&scene, spec, 32);
+        let mut world = scene.as_physics().unwrap().world(32);
         let start = world.tracked_position_in(&world.pristine, 31);
         let cmds: Vec<_> = (0..32u64)
-            .map(|k| {
-                let mut c = space.first();
-                space.write_command_at(k * 509 % 16384, &mut c);
-                c
-            })
+            .map(|k| space.command_at(k * 509 % 16384))
             .collect();
         let enabled = |w: &PhysicsWorld, c: usize| w.sets.bodies[w.copies[c].tracked].is_enabled();
         let mut out = Vec::new();
@@ -554,16 +494,13 @@ mod tests {
         };
         p.symmetry = None;
         let scene = arm.validate().unwrap();
-        let WorldSpec::Physics(spec) = &scene.spec().world else {
-            unreachable!("a physics scene")
-        };
         let space = scene.command_space();
         let n = space.num_commands().unwrap();
-        let mut careless = PhysicsWorld::of(&scene, spec, 1);
+        let mut careless = scene.as_physics().unwrap().world(1);
         assert!(careless.prefix_depth() > 0);
         careless.gate_margin = 0.15;
         careless.gate_speed_steps = 0.0;
-        let mut plain = PhysicsWorld::of(&scene, spec, 1);
+        let mut plain = scene.as_physics().unwrap().world(1);
         plain.gate_limits = false;
         plain.set_prefix_states(0);
         let (mut reruns, mut reused) = (0, 0);

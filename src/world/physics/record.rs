@@ -4,6 +4,7 @@
 
 use super::{Cmd, PhysicsWorld, Sets};
 use crate::command::Command;
+use crate::scene::Symmetry;
 use crate::world::{Outcome, WorldError};
 
 /// The pose of one body, for pictures.
@@ -140,10 +141,6 @@ pub struct RunStats {
 }
 
 impl PhysicsWorld {
-    pub(super) fn tracked_position(&self) -> [f64; 2] {
-        self.tracked_position_in(&self.sets, 0)
-    }
-
     /// Executes `command` and records the tracked point after every step
     /// and the terminal pose of every body (for pictures).
     ///
@@ -160,22 +157,26 @@ impl PhysicsWorld {
 
     fn trace_of(&mut self, command: Cmd<'_>) -> Result<Trace, WorldError> {
         let mut points = vec![self.tracked_position_in(&self.pristine, 0)];
-        let outcome = self.run(command, false, |w| points.push(w.tracked_position()))?;
-        let mut poses = self.terminal_poses();
-        if let (Some((sym, _)), Some(_)) = (&self.mirror, self.twin_of(command)) {
-            for p in &mut points[1..] {
-                *p = sym.reflect(*p);
-            }
-            for pose in &mut poses {
-                pose.position = sym.reflect(pose.position);
-                pose.angle = sym.reflect_angle(pose.angle);
-            }
+        let outcome = self.run_one(command, false, |w| {
+            points.push(w.tracked_position_in(&w.sets, 0))
+        })?;
+        let mut poses = self.frame_of(&self.sets, 0.0).poses;
+        if let Some(sym) = self.reflected_by(command) {
+            points[1..].iter_mut().for_each(|p| *p = sym.reflect(*p));
+            poses.iter_mut().for_each(|p| reflect_pose(&sym, p));
         }
         Ok(Trace {
             points,
             poses,
             outcome,
         })
+    }
+
+    /// The symmetry the records of `command` are reflected by: its
+    /// scene's, when its [`twin`](Self::twin) is simulated in its place.
+    fn reflected_by(&self, command: Cmd<'_>) -> Option<Symmetry> {
+        self.twin_of(command)?;
+        self.mirror.as_ref().map(|(sym, _)| *sym)
     }
 
     /// Executes `command` and records its whole motion ([`Motion`]): every
@@ -230,15 +231,11 @@ impl PhysicsWorld {
         each: &mut dyn FnMut(usize, Frame),
     ) -> Result<Motion, WorldError> {
         let dt = self.dt;
-        let mirror = match (&self.mirror, self.twin_of(command)) {
-            (Some((sym, _)), Some(_)) => Some(*sym),
-            _ => None,
-        };
+        let mirror = self.reflected_by(command);
         let reflect = move |mut f: Frame| {
             if let Some(sym) = mirror {
                 for (p, v) in f.poses.iter_mut().zip(&mut f.velocities) {
-                    p.position = sym.reflect(p.position);
-                    p.angle = sym.reflect_angle(p.angle);
+                    reflect_pose(&sym, p);
                     let [vx, vy] = sym.reflect([v[0], v[1]]);
                     *v = [vx, vy, -v[2]];
                 }
@@ -251,7 +248,7 @@ impl PhysicsWorld {
         };
         each(0, reflect(self.frame_of(&self.pristine, 0.0)));
         let mut k = 0;
-        let outcome = self.run(command, false, |w| {
+        let outcome = self.run_one(command, false, |w| {
             k += 1;
             each(k, reflect(w.frame_of(&w.sets, k as f64 * dt)));
         })?;
@@ -296,7 +293,7 @@ impl PhysicsWorld {
     /// each step of `command` (for tests of energy conservation).
     pub fn kinetic_energy_trace(&mut self, command: &Command) -> Result<Vec<f64>, WorldError> {
         let mut e = Vec::new();
-        self.run(Cmd::Symbols(command), false, |w| {
+        self.run_one(Cmd::Symbols(command), false, |w| {
             e.push(
                 w.copies[0]
                     .dynamic
@@ -315,7 +312,7 @@ impl PhysicsWorld {
         let (mut contact_steps, mut limit_steps) = (0u64, 0u64);
         let mut fixed_contact_steps = 0u64;
         let outcome =
-            self.run(Cmd::Symbols(command), false, |w| {
+            self.run_one(Cmd::Symbols(command), false, |w| {
                 let bodies = &w.sets.bodies;
                 for (h, _) in &w.copies[0].dynamic {
                     let b = &bodies[*h];
@@ -357,9 +354,10 @@ impl PhysicsWorld {
             limit_steps,
         })
     }
+}
 
-    /// The pose of every body of copy 0 now.
-    pub(super) fn terminal_poses(&self) -> Vec<BodyPose> {
-        self.frame_of(&self.sets, 0.0).poses
-    }
+/// `pose` reflected by `sym`.
+fn reflect_pose(sym: &Symmetry, pose: &mut BodyPose) {
+    pose.position = sym.reflect(pose.position);
+    pose.angle = sym.reflect_angle(pose.angle);
 }

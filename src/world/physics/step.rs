@@ -110,35 +110,30 @@ impl PhysicsWorld {
         }
     }
 
-    pub(super) fn check_command(&self, command: &Command) -> Result<(), WorldError> {
-        if self.values.is_some() {
-            return Err(WorldError::BadCommand {
-                command: command.to_string(),
-                reason: format!(
+    /// `Ok` if `command` fits this world.
+    pub(super) fn check(&self, command: Cmd<'_>) -> Result<(), WorldError> {
+        let (command, reason) = match (command, &self.values) {
+            (Cmd::Symbols(c), None) => return crate::world::check_command(&self.space, c),
+            (Cmd::Symbols(c), Some(_)) => (
+                c.to_string(),
+                format!(
                     "scene `{}` takes values, not symbols: its slots are continuous (execute_values)",
                     self.scene
                 ),
-            });
-        }
-        crate::world::check_command(&self.space, command)
-    }
-
-    /// `Ok` if `command` fits this world.
-    fn check(&self, command: Cmd<'_>) -> Result<(), WorldError> {
-        match (command, &self.values) {
-            (Cmd::Symbols(c), _) => self.check_command(c),
-            (Cmd::Values(v), Some(space)) => space.check(v).map_err(|e| WorldError::BadCommand {
-                command: space.format(v),
-                reason: e.to_string(),
-            }),
-            (Cmd::Values(v), None) => Err(WorldError::BadCommand {
-                command: format!("{v:?}"),
-                reason: format!(
+            ),
+            (Cmd::Values(v), Some(space)) => match space.check(v) {
+                Ok(()) => return Ok(()),
+                Err(e) => (space.format(v), e.to_string()),
+            },
+            (Cmd::Values(v), None) => (
+                format!("{v:?}"),
+                format!(
                     "scene `{}` takes symbols, not values: its slots are not continuous",
                     self.scene
                 ),
-            }),
-        }
+            ),
+        };
+        Err(WorldError::BadCommand { command, reason })
     }
 
     /// Starts the actions of one slot.
@@ -588,27 +583,48 @@ impl PhysicsWorld {
         }
     }
 
-    /// Runs `command` on copy 0 from the pristine state, calling
-    /// `each_step` after every step simulated (`fast`: the path of
-    /// `execute`, see [`run_copies`](Self::run_copies)); returns the outcome.
-    ///
-    /// A command with a [`twin`](Self::twin) runs its twin instead, and
-    /// gets the reflected outcome (`each_step` sees the twin's steps).
+    /// Runs `commands` (any number) from the pristine state, up to
+    /// [`num_copies`](Self::num_copies) at once, calling `each_step` after
+    /// every step simulated (`fast`: the path of `execute`, see
+    /// [`run_copies`](Self::run_copies)), and appends one result per
+    /// command to `out`, in order. A command with a [`twin`](Self::twin)
+    /// runs as its twin and gets the reflected outcome (`each_step` sees
+    /// the twin's steps).
     pub(super) fn run(
+        &mut self,
+        commands: &[Cmd<'_>],
+        out: &mut Vec<Result<Outcome, WorldError>>,
+        fast: bool,
+        mut each_step: impl FnMut(&Self),
+    ) {
+        out.reserve(commands.len());
+        let start = out.len();
+        let twins: Vec<Option<Command>> = commands.iter().map(|&c| self.twin_of(c)).collect();
+        let runs = commands.iter().zip(&twins);
+        let runs: Vec<Cmd<'_>> = runs
+            .map(|(&c, t)| t.as_ref().map_or(c, Cmd::Symbols))
+            .collect();
+        for batch in runs.chunks(self.copies.len()) {
+            self.run_copies(batch, out, fast, &mut each_step);
+        }
+        for (k, (c, t)) in commands.iter().zip(&twins).enumerate() {
+            if let (Cmd::Symbols(c), Some(t)) = (c, t) {
+                let r = std::mem::replace(&mut out[start + k], Err(WorldError::Stopped));
+                out[start + k] = self.mirrored_result(c, t, r);
+            }
+        }
+    }
+
+    /// [`run`](Self::run) of one command: its result.
+    pub(super) fn run_one(
         &mut self,
         command: Cmd<'_>,
         fast: bool,
         each_step: impl FnMut(&Self),
     ) -> Result<Outcome, WorldError> {
         let mut out = Vec::with_capacity(1);
-        let twin = self.twin_of(command);
-        let run = twin.as_ref().map_or(command, Cmd::Symbols);
-        self.run_copies(&[run], &mut out, fast, each_step);
-        let result = out.pop().expect("one result per command");
-        match (twin, command) {
-            (Some(t), Cmd::Symbols(c)) => self.mirrored_result(c, &t, result),
-            _ => result,
-        }
+        self.run(&[command], &mut out, fast, each_step);
+        out.pop().expect("one result per command")
     }
 
     /// Executes a continuous command open loop from the start state: slot
@@ -629,7 +645,7 @@ impl PhysicsWorld {
     /// assert!(world.execute_values(&[2.0; 7]).is_err()); // 2 > 1.8 on slot 0
     /// ```
     pub fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
-        self.run(Cmd::Values(values), true, |_| {})
+        self.run_one(Cmd::Values(values), true, |_| {})
     }
 
     /// Executes continuous commands (any number), up to
@@ -643,11 +659,8 @@ impl PhysicsWorld {
         commands: &[Vec<f64>],
         out: &mut Vec<Result<Outcome, WorldError>>,
     ) {
-        out.reserve(commands.len());
-        for batch in commands.chunks(self.copies.len()) {
-            let batch: Vec<Cmd<'_>> = batch.iter().map(|v| Cmd::Values(v)).collect();
-            self.run_copies(&batch, out, true, |_| {});
-        }
+        let commands: Vec<Cmd<'_>> = commands.iter().map(|v| Cmd::Values(v)).collect();
+        self.run(&commands, out, true, |_| {})
     }
 
     /// Executes `commands` (any number), up to [`num_copies`](Self::num_copies)
@@ -662,28 +675,7 @@ impl PhysicsWorld {
         commands: &[Command],
         out: &mut Vec<Result<Outcome, WorldError>>,
     ) {
-        out.reserve(commands.len());
-        let start = out.len();
-        let twins: Vec<Option<Command>> = match self.mirror {
-            Some(_) => commands.iter().map(|c| self.twin(c)).collect(),
-            None => Vec::new(),
-        };
-        let runs: std::borrow::Cow<'_, [Command]> = if twins.iter().any(Option::is_some) {
-            let runs = commands.iter().zip(&twins);
-            runs.map(|(c, t)| t.as_ref().unwrap_or(c).clone()).collect()
-        } else {
-            commands.into()
-        };
-        for batch in runs.chunks(self.copies.len()) {
-            let batch: Vec<Cmd<'_>> = batch.iter().map(Cmd::Symbols).collect();
-            self.run_copies(&batch, out, true, |_| {});
-        }
-        for (k, (c, t)) in commands.iter().zip(&twins).enumerate() {
-            if let Some(t) = t {
-                let r =
-                    std::mem::replace(&mut out[start + k], Err(WorldError::Other(String::new())));
-                out[start + k] = self.mirrored_result(c, t, r);
-            }
-        }
+        let commands: Vec<Cmd<'_>> = commands.iter().map(Cmd::Symbols).collect();
+        self.run(&commands, out, true, |_| {})
     }
 }

@@ -187,9 +187,10 @@ impl ContextTables {
         let tables = starts
             .iter()
             .map(|from| {
-                let run =
-                    |w: &mut Box<dyn Episodic + Send>, c: &Command| w.execute_outcome_from(from, c);
-                let outcomes = run_chunks(&space, n, || scene.build(), run, control)?;
+                let run = |w: &mut Box<dyn Episodic + Send>, cmds: &[Command], out: &mut Vec<_>| {
+                    out.extend(cmds.iter().map(|c| w.execute_outcome_from(from, c)))
+                };
+                let outcomes = run_chunks(&space, n, |i| i, || scene.build(), run, control)?;
                 Ok(OutcomeTable::new(
                     space.clone(),
                     scene.num_effects(),

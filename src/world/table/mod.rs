@@ -3,7 +3,6 @@
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
-use crate::scene::physics::PhysicsSpec;
 use crate::scene::{Scene, WorldSpec};
 use crate::world::Control;
 use crate::world::PhysicsWorld;
@@ -132,42 +131,53 @@ fn places(space: &CommandSpace) -> Places {
     Places { each, sizes, short }
 }
 
-/// The outcomes of the `n` first commands of `space`, in index order,
-/// computed in parallel (rayon) in chunks of 64, each worker running
-/// `run` on its own world made by `make`; `control` is told of each chunk
-/// done and asked before each whether to stop.
+/// The outcomes of the commands `index(0..n)` of `space`, in order,
+/// computed in parallel (rayon) in chunks of 64, each worker running `run`
+/// (one result per command of a batch) on its own world made by `make`;
+/// `control` is told of each chunk done and asked before each whether to
+/// stop.
 fn run_chunks<W, M, R>(
     space: &CommandSpace,
     n: u64,
+    index: impl Fn(u64) -> u64 + Sync,
     make: M,
     run: R,
     control: &Control<'_>,
 ) -> Result<Vec<Outcome>, WorldError>
 where
     M: Fn() -> W + Sync,
-    R: Fn(&mut W, &Command) -> Result<Outcome, WorldError> + Sync,
+    R: Fn(&mut W, &[Command], &mut Vec<Result<Outcome, WorldError>>) + Sync,
 {
     let chunk = 64u64;
     let chunks: Vec<Vec<Outcome>> = (0..n.div_ceil(chunk))
         .into_par_iter()
         .map_init(
-            || (make(), space.first()),
-            |(world, c), k| {
+            || (make(), Vec::new(), Vec::new()),
+            |(world, cmds, out), k| {
                 control.check()?;
                 let range = k * chunk..((k + 1) * chunk).min(n);
                 let done = range.end - range.start;
-                let outcomes = range
-                    .map(|i| {
-                        space.write_command_at(i, c);
-                        run(world, c)
-                    })
-                    .collect::<Result<Vec<_>, _>>();
+                cmds.resize_with(done as usize, || space.first());
+                for (c, i) in cmds.iter_mut().zip(range) {
+                    space.write_command_at(index(i), c);
+                }
+                out.clear();
+                run(world, cmds, out);
                 (control.progress)(done);
-                outcomes
+                out.drain(..).collect::<Result<Vec<_>, _>>()
             },
         )
         .collect::<Result<_, _>>()?;
     Ok(chunks.into_iter().flatten().collect())
+}
+
+/// Runs a batch of commands on a world, one result per command.
+fn batch<W: World>(
+    world: &mut W,
+    commands: &[Command],
+    out: &mut Vec<Result<Outcome, WorldError>>,
+) {
+    world.execute_batch(commands, out)
 }
 
 impl OutcomeTable {
@@ -220,7 +230,7 @@ impl OutcomeTable {
         let num_effects = probe.num_effects();
         drop(probe);
         let n = Self::check_size(&space)?;
-        let outcomes = run_chunks(&space, n, make_world, |w, c| w.execute(c), control)?;
+        let outcomes = run_chunks(&space, n, |i| i, make_world, batch, control)?;
         Ok(Self::new(space, num_effects, outcomes))
     }
 
@@ -228,7 +238,7 @@ impl OutcomeTable {
     /// scene whose copies are exact (see
     /// [`PhysicsSpec::copies_are_exact`](crate::scene::physics::PhysicsSpec::copies_are_exact)),
     /// [`TABLE_COPIES`] commands at once per Rapier world; otherwise one
-    /// command at a time per worker, as [`build_parallel`](Self::build_parallel).
+    /// command at a time per world.
     /// A physics scene with a [`Symmetry`](crate::scene::Symmetry)
     /// simulates only one command of each mirror-image pair and reflects
     /// the other's outcome, as its world does
@@ -249,47 +259,25 @@ impl OutcomeTable {
         scene: &Scene,
         control: &Control<'_>,
     ) -> Result<OutcomeTable, WorldError> {
-        match &scene.spec().world {
-            WorldSpec::Physics(p) if p.symmetry.is_some() || p.copies_are_exact() => {
-                Self::complete_physics(scene, p, &[], control)
-            }
-            _ => Self::build_parallel_with(|| scene.build(), control),
-        }
+        Self::complete_with(scene, &[], control)
     }
 
     /// The table of `scene` from the outcomes `known` (command index and
     /// outcome, for example a partial table file), simulating only the
     /// commands they lack (one of each mirror-image pair under a
-    /// symmetry), in parallel, batched where copies are exact. The table
-    /// is the same, bit for bit, as [`build_scene`](Self::build_scene)'s
+    /// symmetry), in parallel, batched where copies are exact, under
+    /// `control` as [`build_scene_with`](Self::build_scene_with). The
+    /// table is the same, bit for bit, as [`build_scene`](Self::build_scene)'s
     /// when `known` holds the world's own outcomes.
-    pub fn complete(scene: &Scene, known: &[(u64, Outcome)]) -> Result<OutcomeTable, WorldError> {
-        Self::complete_with(scene, known, &Control::default())
-    }
-
-    /// [`complete`](Self::complete) under `control`, as
-    /// [`build_scene_with`](Self::build_scene_with). The table is the same,
-    /// bit for bit.
     pub fn complete_with(
         scene: &Scene,
         known: &[(u64, Outcome)],
         control: &Control<'_>,
     ) -> Result<OutcomeTable, WorldError> {
-        match &scene.spec().world {
-            WorldSpec::Physics(spec) => Self::complete_physics(scene, spec, known, control),
+        let WorldSpec::Physics(spec) = &scene.spec().world else {
             // a grid's table costs microseconds
-            WorldSpec::Grid(_) => Self::build_scene_with(scene, control),
-        }
-    }
-
-    /// [`complete`](Self::complete) for a physics scene, calling `progress`
-    /// with the number of commands of each simulated batch.
-    fn complete_physics(
-        scene: &Scene,
-        spec: &PhysicsSpec,
-        known: &[(u64, Outcome)],
-        control: &Control<'_>,
-    ) -> Result<OutcomeTable, WorldError> {
+            return Self::build_parallel_with(|| scene.build(), control);
+        };
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
         let mut outcomes: Vec<Option<Outcome>> = vec![None; n as usize];
@@ -310,7 +298,9 @@ impl OutcomeTable {
         } else {
             1
         };
-        let results = Self::execute_indices(scene, spec, copies, &missing, control)?;
+        let make = || PhysicsWorld::of(scene, spec, copies);
+        let index = |k: u64| missing[k as usize];
+        let results = run_chunks(&space, missing.len() as u64, index, make, batch, control)?;
         for (&i, o) in missing.iter().zip(results) {
             outcomes[i as usize] = Some(o);
         }
@@ -340,41 +330,6 @@ impl OutcomeTable {
             }
             _ => Some(n),
         }
-    }
-
-    /// The outcomes of the commands with the given indices, in order,
-    /// computed in parallel with `copies` commands at once per Rapier world;
-    /// `progress` is called with the number of commands of each batch done.
-    fn execute_indices(
-        scene: &Scene,
-        spec: &PhysicsSpec,
-        copies: usize,
-        indices: &[u64],
-        control: &Control<'_>,
-    ) -> Result<Vec<Outcome>, WorldError> {
-        let space = scene.command_space();
-        let chunks: Vec<Vec<Outcome>> = indices
-            .par_chunks(2 * copies)
-            .map_init(
-                || {
-                    (
-                        PhysicsWorld::of(scene, spec, copies),
-                        Vec::new(),
-                        Vec::new(),
-                    )
-                },
-                |(world, cmds, out), batch| {
-                    control.check()?;
-                    cmds.clear();
-                    out.clear();
-                    cmds.extend(batch.iter().map(|&i| space.command_at(i)));
-                    world.execute_batch(cmds, out);
-                    (control.progress)(batch.len() as u64);
-                    out.drain(..).collect::<Result<Vec<_>, _>>()
-                },
-            )
-            .collect::<Result<_, _>>()?;
-        Ok(chunks.into_iter().flatten().collect())
     }
 
     fn check_size(space: &CommandSpace) -> Result<u64, WorldError> {
