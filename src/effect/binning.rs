@@ -206,11 +206,6 @@ impl Binning {
         Binning::new(vec![Axis::Plane(grid)])
     }
 
-    /// The features' axes, in order.
-    pub fn axes(&self) -> &[Axis] {
-        &self.axes
-    }
-
     /// The number of values [`locate`](Self::locate) reads: 2 per point,
     /// 1 per number.
     pub fn arity(&self) -> usize {

@@ -41,11 +41,6 @@ impl<'m, W: World> ContextMemoized<'m, W> {
     pub fn new(world: W, memos: &'m [OutcomeMemo]) -> Self {
         ContextMemoized { world, memos }
     }
-
-    /// The inner world.
-    pub fn inner(&self) -> &W {
-        &self.world
-    }
 }
 
 impl<W: World> World for ContextMemoized<'_, W> {

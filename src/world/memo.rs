@@ -162,11 +162,6 @@ impl OutcomeMemo {
         self.len() == 0
     }
 
-    /// The most outcomes it keeps.
-    pub fn cap(&self) -> usize {
-        self.cap
-    }
-
     /// Whether it is full (new commands are no longer kept).
     pub fn is_full(&self) -> bool {
         self.len() >= self.cap
@@ -247,7 +242,7 @@ enum Slot {
     /// of the command asked for, whose outcome is reflected.
     Executed(usize, bool),
     /// Not in the command space: passed to the world, which says why.
-    Bad(usize),
+    Bad,
 }
 
 impl<'m, W: World> Memoized<'m, W> {
@@ -266,11 +261,6 @@ impl<'m, W: World> Memoized<'m, W> {
         }
     }
 
-    /// The inner world.
-    pub fn inner(&self) -> &W {
-        &self.world
-    }
-
     /// The inner world back, to be kept and wrapped again later (a pool
     /// of multi-copy worlds costs less than building one per batch); the
     /// memo keeps every outcome it was given.
@@ -278,11 +268,15 @@ impl<'m, W: World> Memoized<'m, W> {
         self.world
     }
 
-    fn index(&self, c: &Command) -> Option<u64> {
+    /// The entry of `c` (`None`: it does not fit the space) and the
+    /// command the world simulates in its place, if any: under a symmetry
+    /// a command and its mirror image share the entry of the one simulated.
+    fn key(&self, c: &Command) -> Option<(u64, Option<Command>)> {
         let space = self.world.command_space();
-        super::check_command(space, c)
-            .is_ok()
-            .then(|| space.index_of(c))
+        super::check_command(space, c).ok()?;
+        let mirror = self.world.mirror_of(c);
+        let key = space.index_of(mirror.as_ref().unwrap_or(c));
+        Some((key, mirror))
     }
 }
 
@@ -300,14 +294,9 @@ impl<W: World> World for Memoized<'_, W> {
     }
 
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
-        let Some(i) = self.index(command) else {
+        let Some((key, mirror)) = self.key(command) else {
             return self.world.execute(command);
         };
-        // under a symmetry the memo keeps the simulated command of a pair
-        let mirror = self.world.mirror_of(command);
-        let key = mirror
-            .as_ref()
-            .map_or(i, |m| self.world.command_space().index_of(m));
         let reflect = |w: &W, o| match mirror {
             Some(_) => w.mirror_outcome(o),
             None => o,
@@ -329,20 +318,11 @@ impl<W: World> World for Memoized<'_, W> {
         self.miss_index.clear();
         self.pending.clear();
         for c in commands {
-            let slot = match self.index(c) {
-                None => {
-                    self.misses.push(c.clone());
-                    self.miss_index.push(u64::MAX);
-                    Slot::Bad(self.misses.len() - 1)
-                }
-                Some(i) => {
-                    // a command and its mirror image share one entry: the
-                    // one the world simulates
-                    let mirror = self.world.mirror_of(c);
+            let slot = match self.key(c) {
+                // not in the command space: the world says why
+                None => Slot::Bad,
+                Some((key, mirror)) => {
                     let reflect = mirror.is_some();
-                    let key = mirror
-                        .as_ref()
-                        .map_or(i, |m| self.world.command_space().index_of(m));
                     match self.pending.get(&key) {
                         // proposed twice in this batch: executed once
                         Some(&k) => Slot::Executed(k, reflect),
@@ -366,7 +346,7 @@ impl<W: World> World for Memoized<'_, W> {
             self.world.execute_batch(&self.misses, &mut self.results);
         }
         for (&i, r) in self.miss_index.iter().zip(&self.results) {
-            if let (true, Ok(o)) = (i != u64::MAX, r) {
+            if let Ok(o) = r {
                 self.memo.insert(i, *o);
             }
         }
@@ -374,12 +354,13 @@ impl<W: World> World for Memoized<'_, W> {
         for (c, slot) in commands.iter().zip(&self.slots) {
             out.push(match *slot {
                 Slot::Known(o) => Ok(o),
-                Slot::Executed(k, false) | Slot::Bad(k) => self.results[k].clone(),
+                Slot::Executed(k, false) => self.results[k].clone(),
                 Slot::Executed(k, true) => match &self.results[k] {
                     Ok(o) => Ok(self.world.mirror_outcome(*o)),
                     // the error as the world words it for this command
                     Err(_) => self.world.execute(c),
                 },
+                Slot::Bad => self.world.execute(c),
             });
         }
     }

@@ -2,6 +2,7 @@
 //! actions of every symbol, once per copy.
 
 use super::prefix::{Prefixes, PREFIX_STATES};
+use super::step::multibody_mut;
 use super::{
     v2, Act, JointInfo, PhysicsWorld, Probe, Replica, Sets, ValueAct, LIMIT_GATE_MARGIN, MAX_COPIES,
 };
@@ -271,12 +272,8 @@ fn set_multibody_damping(
     handles: &[RigidBodyHandle],
 ) {
     for (j, &(_, child)) in spec.joints.iter().zip(&links.joints) {
-        let Some(link) = s.multibody_joints.rigid_body_link(handles[child]).copied() else {
-            continue;
-        };
-        if let Some(mb) = s.multibody_joints.get_multibody_mut(link.multibody) {
-            if let Some(l) = mb.link(link.id) {
-                let aid = l.assembly_id();
+        if let Some((mb, id)) = multibody_mut(&mut s.multibody_joints, handles[child]) {
+            if let Some(aid) = mb.link(id).map(|l| l.assembly_id()) {
                 mb.damping_mut()[aid] = j.damping as Real;
             }
         }
@@ -394,12 +391,11 @@ impl PhysicsWorld {
         // (one symbol per slot) that no command passes (`check_command`)
         let values = scene.value_space();
         let space = scene.command_space();
-        let mut offset = Vec::new();
-        let mut n = 0;
-        for alphabet in scene.spec().slots() {
-            offset.push(n);
-            n += alphabet.len();
-        }
+        let sizes: Vec<usize> = scene.spec().slots().map(|a| a.len()).collect();
+        let offset = sizes
+            .iter()
+            .scan(0, |n, k| Some(std::mem::replace(n, *n + k)))
+            .collect();
         let mut params = IntegrationParameters {
             dt: spec.dt as Real,
             ..IntegrationParameters::default()
@@ -410,7 +406,6 @@ impl PhysicsWorld {
         let (phase_steps, settle_steps, together) = spec.schedule.steps(spec.dt);
         let (contexts, joint_geometry) =
             PhysicsWorld::context_starts(spec, scene.links(), &replicas[0], &s);
-        let sizes: Vec<usize> = scene.spec().slots().map(|a| a.len()).collect();
         // a world of many copies runs batches, whose copies share no prefix
         let capacity = if copies == 1 { PREFIX_STATES } else { 0 };
         let prefixes = Prefixes::new(&sizes, !together && values.is_none(), capacity);

@@ -263,23 +263,21 @@ impl PhysicsWorld {
     /// The state of copy 0 in `sets`, at time `time`.
     pub(super) fn frame_of(&self, sets: &Sets, time: f64) -> Frame {
         let bodies = &sets.bodies;
-        let (mut poses, mut velocities) = (Vec::new(), Vec::new());
-        for &h in &self.copies[0].handles {
-            let b = &bodies[h];
-            let p = b.position();
-            poses.push(BodyPose {
-                position: [p.translation.x as f64, p.translation.y as f64],
-                angle: p.rotation.angle() as f64,
-            });
-            let v = b.linvel();
-            velocities.push([v.x as f64, v.y as f64, b.angvel() as f64]);
-        }
-        let (mut joint_angles, mut joint_velocities) = (Vec::new(), Vec::new());
-        for j in &self.copies[0].joints {
-            let (a, w) = j.coordinate(bodies);
-            joint_angles.push(a);
-            joint_velocities.push(w);
-        }
+        let (poses, velocities) = (self.copies[0].handles.iter())
+            .map(|&h| {
+                let (b, p) = (&bodies[h], bodies[h].position());
+                let pose = BodyPose {
+                    position: [p.translation.x as f64, p.translation.y as f64],
+                    angle: p.rotation.angle() as f64,
+                };
+                (
+                    pose,
+                    [b.linvel().x as f64, b.linvel().y as f64, b.angvel() as f64],
+                )
+            })
+            .unzip();
+        let joints = self.copies[0].joints.iter();
+        let (joint_angles, joint_velocities) = joints.map(|j| j.coordinate(bodies)).unzip();
         Frame {
             time,
             poses,

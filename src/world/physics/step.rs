@@ -7,7 +7,9 @@ use crate::command::Command;
 use crate::effect::wrap_angle;
 use crate::world::{Outcome, WorldError};
 use rapier2d::math::Real;
-use rapier2d::prelude::{JointAxesMask, MultibodyJointSet, MultibodyLink, RigidBodyHandle};
+use rapier2d::prelude::{
+    JointAxesMask, Multibody, MultibodyJointSet, MultibodyLink, RigidBodyHandle,
+};
 
 impl ValueAct {
     /// The act of the value `v`.
@@ -30,11 +32,20 @@ impl ValueAct {
     }
 }
 
-/// The multibody link of the body `child`, to change its joint (`None`:
-/// the body is no multibody link).
-fn link_mut(mbs: &mut MultibodyJointSet, child: RigidBodyHandle) -> Option<&mut MultibodyLink> {
+/// The multibody of which the body `child` is a link, and the link's id
+/// (`None`: the body is no multibody link).
+pub(super) fn multibody_mut(
+    mbs: &mut MultibodyJointSet,
+    child: RigidBodyHandle,
+) -> Option<(&mut Multibody, usize)> {
     let link = *mbs.rigid_body_link(child)?;
-    mbs.get_multibody_mut(link.multibody)?.link_mut(link.id)
+    Some((mbs.get_multibody_mut(link.multibody)?, link.id))
+}
+
+/// The multibody link of the body `child`, to change its joint.
+fn link_mut(mbs: &mut MultibodyJointSet, child: RigidBodyHandle) -> Option<&mut MultibodyLink> {
+    let (mb, id) = multibody_mut(mbs, child)?;
+    mb.link_mut(id)
 }
 
 impl PhysicsWorld {
@@ -154,29 +165,25 @@ impl PhysicsWorld {
             Act::Impulse { body, impulse } => bodies[body].apply_impulse(impulse, true),
             Act::Force { body, force } => bodies[body].add_force(force, true),
             Act::Target {
-                impulse: Some(h),
-                axis,
-                angle,
-                stiffness,
-                damping,
-                ..
-            } => {
-                if let Some(j) = self.sets.impulse_joints.get_mut(h, true) {
-                    j.data.set_motor_position(axis, angle, stiffness, damping);
-                }
-            }
-            Act::Target {
                 child,
-                impulse: None,
+                impulse,
                 axis,
                 angle,
                 stiffness,
                 damping,
             } => {
-                if let Some(l) = link_mut(&mut self.sets.multibody_joints, child) {
-                    l.joint
-                        .data
-                        .set_motor_position(axis, angle, stiffness, damping);
+                let data = match impulse {
+                    Some(h) => self
+                        .sets
+                        .impulse_joints
+                        .get_mut(h, true)
+                        .map(|j| &mut j.data),
+                    None => {
+                        link_mut(&mut self.sets.multibody_joints, child).map(|l| &mut l.joint.data)
+                    }
+                };
+                if let Some(data) = data {
+                    data.set_motor_position(axis, angle, stiffness, damping);
                 }
             }
         }
@@ -236,13 +243,10 @@ impl PhysicsWorld {
             if j.slider.is_some() {
                 continue;
             }
-            let Some(link) = mbs.rigid_body_link(j.child).copied() else {
+            let Some((mb, id)) = multibody_mut(mbs, j.child) else {
                 continue;
             };
-            let Some(mb) = mbs.get_multibody_mut(link.multibody) else {
-                continue;
-            };
-            let Some(l) = mb.link(link.id) else { continue };
+            let Some(l) = mb.link(id) else { continue };
             if !l.joint().data.motor_axes.is_empty() {
                 continue;
             }
@@ -251,7 +255,7 @@ impl PhysicsWorld {
             let w = mb.generalized_velocity()[l.assembly_id()] as f64;
             let margin = self.gate_margin + self.gate_speed_steps * w.abs() * dt;
             let near = q - lo < margin || hi - q < margin;
-            let Some(l) = mb.link_mut(link.id) else {
+            let Some(l) = mb.link_mut(id) else {
                 continue;
             };
             let axes = &mut l.joint.data.limit_axes;
@@ -327,17 +331,11 @@ impl PhysicsWorld {
             (c != u32::MAX).then_some(c as usize)
         };
         // a body or collider of no known copy counts against every copy
-        let mut charge = |c: Option<usize>, body: bool| match c {
-            Some(c) => {
-                if body {
-                    per_copy[c].0 += 1
-                } else {
-                    per_copy[c].1 += 1
-                }
+        let mut charge = |c: Option<usize>, body: bool| {
+            let all = 0..per_copy.len();
+            for p in &mut per_copy[c.map_or(all, |c| c..c + 1)] {
+                *if body { &mut p.0 } else { &mut p.1 } += 1;
             }
-            None => per_copy
-                .iter_mut()
-                .for_each(|p| if body { p.0 += 1 } else { p.1 += 1 }),
         };
         for &h in q.bodies() {
             charge(copy_of(h), true);
