@@ -136,13 +136,7 @@ fn effects_at(
         let mut world = scene.build();
         let sizes: Vec<usize> = scene.command_space().sizes().collect();
         for _ in 0..samples {
-            let c = crate::Command::new(
-                sizes
-                    .iter()
-                    .map(|&k| rng.random_range(0..k) as u8)
-                    .collect(),
-            );
-            effects.push(world.execute(&c)?.effect);
+            effects.push(world.execute(&super::reach::draw(&sizes, &mut rng))?.effect);
         }
     }
     Ok((effects, start.elapsed().as_secs_f64()))

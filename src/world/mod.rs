@@ -158,21 +158,18 @@ pub enum WorldError {
 /// assert_eq!(e.to_string(), "command [0, 2] does not fit this world: slot 1 has no symbol 2");
 /// ```
 pub fn check_command(space: &CommandSpace, command: &Command) -> Result<(), WorldError> {
-    if command.len() != space.num_slots() {
-        return Err(WorldError::BadCommand {
-            command: command.to_string(),
-            reason: format!("expected {} slots", space.num_slots()),
-        });
-    }
-    for (slot, (&s, k)) in command.symbols.iter().zip(space.sizes()).enumerate() {
-        if s as usize >= k {
-            return Err(WorldError::BadCommand {
-                command: command.to_string(),
-                reason: format!("slot {slot} has no symbol {s}"),
-            });
-        }
-    }
-    Ok(())
+    let symbols = &command.symbols;
+    let reason = if command.len() != space.num_slots() {
+        format!("expected {} slots", space.num_slots())
+    } else if let Some(slot) =
+        (symbols.iter().zip(space.sizes())).position(|(&s, k)| s as usize >= k)
+    {
+        format!("slot {slot} has no symbol {}", symbols[slot])
+    } else {
+        return Ok(());
+    };
+    let command = command.to_string();
+    Err(WorldError::BadCommand { command, reason })
 }
 
 /// A world that executes commands open loop.

@@ -133,49 +133,59 @@ pub fn sample_reach_with(
     seed: u64,
     control: &crate::world::Control<'_>,
 ) -> Result<ReachSample, crate::WorldError> {
-    use rand::{RngExt, SeedableRng};
-    let progress = control.progress;
-    if let Some(continuous) = scene.as_continuous() {
-        return sample_reach_values(continuous, samples, seed, control);
-    }
+    use crate::ContinuousLearner;
+    use rand::SeedableRng;
     let space = scene.command_space();
-    let exhaustive = space.num_commands().is_some_and(|n| n <= samples);
+    let continuous = scene.as_continuous();
+    let exhaustive = continuous.is_none() && space.num_commands().is_some_and(|n| n <= samples);
     let total = if exhaustive {
         space.num_commands().unwrap_or(0)
     } else {
         samples
     };
-    let mut world = scene.build();
-    let mut counts = vec![0u64; scene.num_effects()];
     let mut rng = crate::SessionRng::seed_from_u64(seed);
     let sizes: Vec<usize> = space.sizes().collect();
+    // the results of the commands from the `done`-th on: a batch of 32,
+    // or one continuous command drawn by the uniform sampler
+    // ([`UniformValues`](crate::learner::UniformValues)) on live physics
+    type Out = Vec<Result<crate::Outcome, crate::WorldError>>;
+    let mut next: Box<dyn FnMut(u64, &mut Out)> = match continuous {
+        Some(c) => {
+            let (mut world, mut v) = (c.physics().world(1), Vec::new());
+            let mut sampler = crate::learner::UniformValues::new(c.values());
+            Box::new(move |_, out| {
+                sampler.propose(&mut rng, &mut v);
+                out.push(world.execute_values(&v));
+            })
+        }
+        None => {
+            let (mut world, mut batch) = (scene.build(), Vec::with_capacity(32));
+            Box::new(move |done, out| {
+                batch.clear();
+                while batch.len() < 32 && done + (batch.len() as u64) < total {
+                    let k = done + batch.len() as u64;
+                    batch.push(match exhaustive {
+                        true => space.command_at(k),
+                        false => draw(&sizes, &mut rng),
+                    });
+                }
+                world.execute_batch(&batch, out);
+            })
+        }
+    };
+    let mut counts = vec![0u64; scene.num_effects()];
     let start = std::time::Instant::now();
-    let mut batch = Vec::with_capacity(32);
-    let mut out = Vec::with_capacity(32);
-    let mut done = 0u64;
+    let (mut out, mut done) = (Vec::with_capacity(32), 0u64);
     while done < total {
         control.check()?;
-        batch.clear();
-        while batch.len() < 32 && done + (batch.len() as u64) < total {
-            let c = if exhaustive {
-                space.command_at(done + batch.len() as u64)
-            } else {
-                crate::Command::new(
-                    sizes
-                        .iter()
-                        .map(|&k| rng.random_range(0..k) as u8)
-                        .collect(),
-                )
-            };
-            batch.push(c);
-        }
         out.clear();
-        world.execute_batch(&batch, &mut out);
+        next(done, &mut out);
+        let k = out.len() as u64;
         for r in out.drain(..) {
             counts[r?.effect] += 1;
         }
-        done += batch.len() as u64;
-        progress(batch.len() as u64);
+        done += k;
+        (control.progress)(k);
     }
     Ok(ReachSample {
         samples: total,
@@ -185,34 +195,9 @@ pub fn sample_reach_with(
     })
 }
 
-/// [`sample_reach`] of a continuous scene: `samples` commands drawn by
-/// the uniform sampler ([`UniformValues`](crate::learner::UniformValues)) seeded
-/// `seed`, on live physics.
-fn sample_reach_values(
-    scene: super::ContinuousScene,
-    samples: u64,
-    seed: u64,
-    control: &crate::world::Control<'_>,
-) -> Result<ReachSample, crate::WorldError> {
-    use crate::ContinuousLearner;
-    let progress = control.progress;
-    use rand::SeedableRng;
-    let mut world = scene.physics().world(1);
-    let mut sampler = crate::learner::UniformValues::new(scene.values());
-    let mut rng = crate::SessionRng::seed_from_u64(seed);
-    let mut counts = vec![0u64; scene.scene().num_effects()];
-    let start = std::time::Instant::now();
-    let mut v = Vec::new();
-    for _ in 0..samples {
-        control.check()?;
-        sampler.propose(&mut rng, &mut v);
-        counts[world.execute_values(&v)?.effect] += 1;
-        progress(1);
-    }
-    Ok(ReachSample {
-        samples,
-        exhaustive: false,
-        counts,
-        seconds: start.elapsed().as_secs_f64(),
-    })
+/// A command of slots of `sizes` symbols, each drawn uniformly with `rng`.
+pub(super) fn draw(sizes: &[usize], rng: &mut crate::SessionRng) -> crate::Command {
+    use rand::RngExt;
+    let symbols = sizes.iter().map(|&k| rng.random_range(0..k) as u8);
+    crate::Command::new(symbols.collect())
 }

@@ -13,9 +13,8 @@ use rapier2d::geometry::BvhOptimizationStrategy;
 use rapier2d::math::{Pose, Real};
 use rapier2d::prelude::{
     BroadPhaseBvh, ColliderBuilder, GenericJoint, Group, ImpulseJointHandle, IntegrationParameters,
-    InteractionGroups, InteractionTestMode, JointAxis, MotorModel, PhysicsPipeline,
-    PrismaticJointBuilder, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
-    Vector,
+    InteractionGroups, InteractionTestMode, JointAxesMask, JointAxis, MotorModel, PhysicsPipeline,
+    RigidBodyBuilder, RigidBodyHandle, RigidBodyType, Vector,
 };
 
 /// Builds one copy of the scene's non-fixed bodies, their joints and the
@@ -208,29 +207,24 @@ fn joint_data(
     offset: f64,
     multibody: bool,
 ) -> (GenericJoint, Option<(Vector, Vector, Vector)>) {
-    let (axis, slider) = match j.axis() {
-        None => (JointAxis::AngX, None),
-        Some((x, y)) => {
-            let a = Vector::new(x as Real, y as Real);
-            (
-                JointAxis::LinX,
-                Some((a, v2(j.parent_anchor), v2(j.child_anchor))),
-            )
-        }
+    let (p, c) = (v2(j.parent_anchor), v2(j.child_anchor));
+    let slider = j
+        .axis()
+        .map(|(x, y)| (Vector::new(x as Real, y as Real), p, c));
+    let (axis, locked) = match slider {
+        None => (JointAxis::AngX, JointAxesMask::LOCKED_REVOLUTE_AXES),
+        Some(_) => (JointAxis::LinX, JointAxesMask::LOCKED_PRISMATIC_AXES),
     };
-    let mut data = match slider {
-        None => {
-            let mut rj = RevoluteJointBuilder::new()
-                .local_anchor1(v2(j.parent_anchor))
-                .local_anchor2(v2(j.child_anchor))
-                .contacts_enabled(j.contacts);
-            if let Some((lo, hi)) = j.limits {
-                rj = rj.limits([lo as Real, hi as Real]);
-            }
-            let mut data = rj.build().data;
-            data.set_local_frame1(Pose::new(v2(j.parent_anchor), offset as Real));
-            data
-        }
+    let mut data = GenericJoint::new(locked);
+    data.set_local_anchor1(p)
+        .set_local_anchor2(c)
+        .set_contacts_enabled(j.contacts);
+    if let Some((lo, hi)) = j.limits {
+        data.set_limits(axis, [lo as Real, hi as Real]);
+    }
+    match slider {
+        // a hinge's angle is 0 at the start pose
+        None => data.set_local_frame1(Pose::new(p, offset as Real)),
         Some((a, _, _)) => {
             // the axis in the child's frame: the parent's, turned back
             // by the child's start angle relative to the parent
@@ -239,15 +233,7 @@ fn joint_data(
                 (cs * a.x as f64 - sn * a.y as f64) as Real,
                 (sn * a.x as f64 + cs * a.y as f64) as Real,
             );
-            let mut pj = PrismaticJointBuilder::new(a)
-                .local_axis2(a2)
-                .local_anchor1(v2(j.parent_anchor))
-                .local_anchor2(v2(j.child_anchor))
-                .contacts_enabled(j.contacts);
-            if let Some((lo, hi)) = j.limits {
-                pj = pj.limits([lo as Real, hi as Real]);
-            }
-            pj.build().data
+            data.set_local_axis1(a).set_local_axis2(a2)
         }
     };
     // an impulse joint's damping is a velocity motor (a force-based

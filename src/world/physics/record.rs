@@ -72,20 +72,19 @@ impl Motion {
         header: bool,
     ) -> std::io::Result<()> {
         if header {
-            let mut cols: Vec<String> = Vec::new();
-            if command.is_some() {
-                cols.push("command".into());
-            }
-            cols.extend(["step".into(), "time".into()]);
-            for b in &self.bodies {
-                for f in ["x", "y", "angle", "vx", "vy", "omega"] {
-                    cols.push(format!("{b}.{f}"));
-                }
-            }
-            for j in &self.joints {
-                cols.push(format!("{j}.angle"));
-                cols.push(format!("{j}.velocity"));
-            }
+            let body = ["x", "y", "angle", "vx", "vy", "omega"];
+            let cols: Vec<String> = (command.map(|_| "command".to_string()).into_iter())
+                .chain(["step".into(), "time".into()])
+                .chain(
+                    self.bodies
+                        .iter()
+                        .flat_map(|b| body.map(|f| format!("{b}.{f}"))),
+                )
+                .chain(
+                    (self.joints.iter())
+                        .flat_map(|j| [format!("{j}.angle"), format!("{j}.velocity")]),
+                )
+                .collect();
             writeln!(out, "{}", cols.join(","))?;
         }
         for (k, f) in self.frames.iter().enumerate() {

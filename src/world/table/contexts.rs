@@ -233,11 +233,7 @@ impl ContextTables {
     /// for a context whose table is not there, not whole or not this
     /// scene's. Nothing is computed or written.
     pub fn read_cached(scene: &Scene, dir: &Path) -> Vec<Option<OutcomeTable>> {
-        let declared = match &scene.spec().world {
-            WorldSpec::Grid(g) => g.contexts.len(),
-            WorldSpec::Physics(p) => p.contexts.len(),
-        };
-        (0..declared)
+        (0..start_contexts(scene).len())
             .map(|k| {
                 let path = Self::cache_path(scene, dir, k);
                 match OutcomeTable::read_file_keyed(&path, scene, Self::key(scene, k)) {
