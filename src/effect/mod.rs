@@ -609,52 +609,33 @@ mod tests {
     fn nested_products_are_blocks() {
         let obj = EffectGrid::new(2, 2, [0.0, 0.0], [2.0, 2.0]).unwrap();
         let hand = EffectGrid::new(2, 3, [0.0, 0.0], [3.0, 2.0]).unwrap();
-        let b = Binning::new(vec![Axis::Plane(obj), Axis::Plane(hand)]).unwrap();
+        let b = Binning::new(vec![Axis::Plane(obj.clone()), Axis::Plane(hand)]).unwrap();
         assert_eq!((b.layout().rows, b.layout().cols), (4, 6));
         // object cell (1, 0), hand cell (0, 2): row 1*2+0, column 0*3+2
         let (p, e) = b.locate(&[0.5, 0.5, 2.5, 1.5]);
         assert_eq!(e, 2 * 6 + 2);
         assert_eq!(p, [2.5, 1.5]);
         // a strip after a point: one row of 3 per cell
-        let s = Binning::new(vec![
-            Axis::Plane(EffectGrid::new(2, 2, [0.0, 0.0], [2.0, 2.0]).unwrap()),
-            Axis::Line {
-                bins: 3,
-                min: 0.0,
-                max: 3.0,
-            },
-        ])
-        .unwrap();
+        let s = Binning::new(vec![Axis::Plane(obj), line(3, 0.0, 3.0)]).unwrap();
         assert_eq!((s.layout().rows, s.layout().cols), (2, 6));
         assert_eq!(s.locate(&[1.5, 1.5, 2.9]).1, 5);
         assert!(!s.has_units());
     }
 
+    fn line(bins: usize, min: f64, max: f64) -> Axis {
+        Axis::Line { bins, min, max }
+    }
+
     #[test]
     fn lines_bin_with_clamping() {
-        let b = Binning::new(vec![Axis::Line {
-            bins: 4,
-            min: -1.0,
-            max: 1.0,
-        }])
-        .unwrap();
+        let b = Binning::new(vec![line(4, -1.0, 1.0)]).unwrap();
         let e: Vec<usize> = [-5.0, -0.99, -0.4, 0.1, 0.6, 1.0, 9.0, f64::NAN]
             .iter()
             .map(|&v| b.locate(&[v]).1)
             .collect();
         assert_eq!(e, [0, 0, 1, 2, 3, 3, 3, 0]);
-        assert!(Binning::new(vec![Axis::Line {
-            bins: 0,
-            min: 0.0,
-            max: 1.0
-        }])
-        .is_err());
-        assert!(Binning::new(vec![Axis::Line {
-            bins: 2,
-            min: 1.0,
-            max: 1.0
-        }])
-        .is_err());
+        assert!(Binning::new(vec![line(0, 0.0, 1.0)]).is_err());
+        assert!(Binning::new(vec![line(2, 1.0, 1.0)]).is_err());
         assert_eq!(wrap_angle(std::f64::consts::PI), -std::f64::consts::PI);
         assert!((wrap_angle(7.0) - (7.0 - std::f64::consts::TAU)).abs() < 1e-12);
     }

@@ -1,10 +1,6 @@
 //! The outcomes of commands from named start contexts, kept by
-//! `(context, command)`: one [`OutcomeMemo`] per context.
-//!
-//! A command from the start of a named context (a state that
-//! [`WorldState::context`] names) always has the same outcome, so a
-//! session of episodes need simulate it once. States drawn from ranges,
-//! and the states commands leave, run live.
+//! `(context, command)`: one [`OutcomeMemo`] per context (states drawn
+//! from ranges, and the states commands leave, run live).
 
 use super::{Episodic, OutcomeMemo, World, WorldError, WorldState};
 use crate::command::{Command, CommandSpace};

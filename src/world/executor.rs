@@ -37,11 +37,11 @@ pub struct Executor<'s> {
 
 impl<'s> Executor<'s> {
     /// Reads the table folder of `options` if given, chooses the plan
-    /// (or takes the one forced) and prepares it: the table is read or
-    /// built (in parallel, on the current rayon pool), the memo filled
-    /// from a partial file. A table that cannot be built (some command
-    /// blows up) falls back to the memo or live execution, so that only
-    /// the sessions that meet the failing command fail.
+    /// (or takes the one forced) and prepares it: the table read or built
+    /// (on the current rayon pool), the memo filled from a partial file. A
+    /// table that cannot be built (some command blows up) falls back to
+    /// the memo or live execution: only the sessions that meet the failing
+    /// command fail.
     pub fn new(
         scene: &'s Scene,
         work: &Workload,
@@ -51,13 +51,10 @@ impl<'s> Executor<'s> {
     }
 
     /// [`new`](Self::new) under `control`, while a table is built: told
-    /// the `total` commands to simulate (the commands a partial file
-    /// lacks, or the simulated half under a mirror symmetry), then, from
-    /// the workers, of each chunk of commands simulated; asked before each
-    /// chunk whether to stop, and then the executor is not made: the error
-    /// is [`WorldError::Stopped`] (a Ctrl-C in Python ends a build of a
-    /// minute within a chunk's time, instead of after the whole table).
-    /// Nothing is told when no table is built. The executor is the same.
+    /// the `total` commands to simulate, then of each chunk simulated;
+    /// asked before each chunk whether to stop (then the error is
+    /// [`WorldError::Stopped`] and no executor is made). The executor is
+    /// the same.
     pub fn with_control(
         scene: &'s Scene,
         work: &Workload,
@@ -127,16 +124,11 @@ impl<'s> Executor<'s> {
         Ok(exec)
     }
 
-    /// The executor of a scene of continuous commands (its slots take
-    /// values): always live, since values cannot be tabled or memoised;
-    /// the sessions step together in lockstep groups, `plan().copies`
-    /// commands to a world, where the scene's copies are bit-identical to
-    /// one world ([`PhysicsSpec::copies_are_exact`](crate::scene::physics::PhysicsSpec::copies_are_exact)),
-    /// else one copy per world and a group per session. Sessions run on
-    /// worlds of [`copies_for`](Self::copies_for) copies of its
-    /// [`continuous`](Self::continuous) scene, by
-    /// [`run_sessions`](crate::run_sessions). A scene of
-    /// symbols is an error (its executor is [`new`](Self::new)).
+    /// The executor of a scene of continuous commands: always live (values
+    /// cannot be tabled or memoised), sessions in lockstep groups of
+    /// `plan().copies` commands to a world where the scene's copies are
+    /// exact, else one per world. A scene of symbols is an error (its
+    /// executor is [`new`](Self::new)).
     ///
     /// ```
     /// use e3d::world::{Executor, Strategy, Workload};
@@ -225,14 +217,12 @@ impl<'s> Executor<'s> {
         self.memo.as_ref()
     }
 
-    /// How `sessions` sessions of this scene run: the groups of sessions
-    /// that step together on one world ([`world`](Self::world)), as ranges
-    /// of session indices, in order. On a table each session runs alone (a
-    /// look-up gains nothing from company); otherwise the sessions are cut
-    /// into the plan's [`groups`](ExecutionPlan::groups), as even as can
-    /// be. This is the one rule for every caller:
-    /// [`run_sessions`](crate::run_sessions) (`e3d run --sessions N`,
-    /// Python's `run_sessions`) and the sweeps.
+    /// The groups of `sessions` sessions that step together on one world
+    /// ([`world`](Self::world)), as ranges of session indices, in order:
+    /// each session alone on a table (a look-up gains nothing from
+    /// company), else the plan's [`groups`](ExecutionPlan::groups), as even
+    /// as can be. The one rule of [`run_sessions`](crate::run_sessions)
+    /// and the sweeps.
     ///
     /// ```
     /// use e3d::world::{ExecOptions, Executor, Strategy, Workload};

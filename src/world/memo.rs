@@ -1,18 +1,7 @@
-//! The outcome memo: each command a deterministic world executed, kept, so
-//! that no command is simulated twice, whatever the size of the space.
-//!
-//! An [`OutcomeTable`](super::OutcomeTable) enumerates a whole command space
-//! up front; the memo keeps only the commands that sessions actually
-//! propose, as they propose them. It is shared by every session and thread
-//! of a run or a sweep (it is `Sync`), bounded by a cap on its entries, and
-//! persisted in the same file as a table (a *partial* table; see
-//! [`OutcomeTable::cache_path`](super::OutcomeTable::cache_path)).
-//!
-//! [`Memoized`] wraps any [`World`]: a command found in the memo is a
-//! look-up, the others are executed by the world (in one
-//! [`World::execute_batch`], several copies stepped together) and kept.
-//! Outcomes are the world's, bit for bit: a result never depends on
-//! whether its command came from the memo.
+//! The outcome memo: the commands sessions propose, each executed once and
+//! kept (shared by every session and thread, capped, saved as a *partial*
+//! table file), and [`Memoized`], any [`World`] looking its commands up
+//! there first. Outcomes are the world's, bit for bit.
 
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
@@ -21,8 +10,8 @@ use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-/// The default cap on a memo's entries: 2^21 = 2,097,152 commands, about
-/// 100 to 200 MB (48 to 96 bytes per entry, as the hash map grows).
+/// The default cap on a memo's entries: 2^21 commands, about 100 to 200
+/// MB.
 pub const DEFAULT_MEMO_CAP: usize = 1 << 21;
 
 /// The number of independently locked parts of a memo.

@@ -1,19 +1,8 @@
-//! Worlds: what executes a command open loop and reports its terminal state.
-//!
-//! A [`World`] takes a whole [`Command`], runs it without feedback, and
-//! returns an [`Outcome`]: the terminal position of the tracked point, the
-//! effect it falls in, and the reward. The learner sees only the outcome.
-//!
-//! - [`GridWorld`]: the degenerate kinematic scene (one-cell moves, walls);
-//! - [`PhysicsWorld`]: rigid bodies and joints simulated by Rapier;
-//! - [`OutcomeTable`]: every command of a deterministic world executed
-//!   once, then looked up;
-//! - [`OutcomeMemo`] and [`Memoized`]: the commands sessions propose, each
-//!   executed once, whatever the size of the space;
-//! - [`ExecutionPlan`] and [`Executor`]: table, memo or live, chosen by
-//!   cost for a run or a sweep, and carried out.
-//!
-//! Implement [`World`] to plug in your own simulator or robot.
+//! Worlds: what executes a whole [`Command`] open loop and reports its
+//! [`Outcome`]: [`GridWorld`], the Rapier [`PhysicsWorld`], the
+//! [`OutcomeTable`] (every command once), the [`OutcomeMemo`] (every
+//! proposed command once), and the [`Executor`] of an [`ExecutionPlan`]
+//! chosen by cost. Implement [`World`] to plug in your own simulator.
 
 mod accuracy;
 mod context_memo;
@@ -56,10 +45,9 @@ pub use table::{
 use crate::command::{Command, CommandSpace, ValueSpace};
 use serde::{Deserialize, Serialize};
 
-/// The e3d version written into output folders and into every outcome
-/// table's key: the crate's version and [`PHYSICS_FINGERPRINT`]
-/// (`0.1.0+physics.1a2b3c4d`), so that a sweep folder or a table cache
-/// made by a build whose physics differs is not reused.
+/// The e3d version written into output folders and every outcome table's
+/// key: the crate's version and [`PHYSICS_FINGERPRINT`]
+/// (`0.1.0+physics.1a2b3c4d`).
 pub const VERSION: &str = concat!(
     env!("CARGO_PKG_VERSION"),
     "+physics.",
@@ -67,10 +55,7 @@ pub const VERSION: &str = concat!(
 );
 
 /// A hash (8 hex digits) of the code that decides what a command does,
-/// computed when e3d is built (`build.rs`): the physics and grid worlds,
-/// the physics scene checks and shorthands, the effect binning (their text
-/// without whitespace), and the versions of Rapier, parry, nalgebra and
-/// glam in Cargo.lock. Any change to them changes it.
+/// computed by `build.rs` (see ARCHITECTURE.md, "Reproducibility").
 pub const PHYSICS_FINGERPRINT: &str = env!("E3D_PHYSICS_FINGERPRINT");
 
 /// What the learner reads after a command: the terminal state, binned.

@@ -1,24 +1,9 @@
-//! How the commands of a run or a sweep are executed, decided by cost.
-//!
-//! Three ways to get the outcomes of a scene's commands, all giving the same
-//! outcomes bit for bit:
-//!
-//! - [`Strategy::Table`]: every command executed once up front, in
-//!   parallel, many copies per Rapier world, then looked up
-//!   ([`OutcomeTable`]); or read whole from a table file;
-//! - [`Strategy::Memo`]: commands executed as sessions propose them, each
-//!   only once ([`OutcomeMemo`]), the new commands of sessions in lockstep
-//!   batched into multi-copy worlds;
-//! - [`Strategy::Live`]: every proposal executed (worlds that are not
-//!   deterministic, grids whose moves cost less than a look-up, spaces of
-//!   more than 2^64 commands).
-//!
+//! How the commands of a run or a sweep are executed, decided by cost: a
+//! [`Strategy`] (table, memo or live, the same outcomes bit for bit).
 //! [`ExecutionPlan::choose`] estimates the time of each from the size of
-//! the command space, the trials to run in all, how many sessions can step
-//! together, the threads, the scene's symmetry and what a table file
-//! already holds, and takes the cheapest. [`Executor`] carries the plan out
-//! for one scene: it reads or builds the table, or fills the memo, and
-//! makes the worlds the sessions run on.
+//! the command space, the trials, the sessions that can step together,
+//! the threads, the scene's symmetry and what a table file holds, and
+//! takes the cheapest; [`Executor`] carries the plan out.
 //!
 //! ```
 //! use e3d::world::{ExecutionPlan, Strategy, Workload, DEFAULT_MEMO_CAP};
@@ -44,15 +29,21 @@ use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// How outcomes are obtained (see the module docs).
+/// How outcomes are obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Strategy {
-    /// A whole outcome table, built or read.
+    /// Every command executed once up front ([`OutcomeTable`], many
+    /// copies per Rapier world), or read whole from a table file; then
+    /// looked up.
     Table,
-    /// An outcome memo: each proposed command executed once.
+    /// Each command executed once, as sessions propose it
+    /// ([`OutcomeMemo`](super::OutcomeMemo)), the new commands of sessions in lockstep batched
+    /// into multi-copy worlds.
     Memo,
-    /// Every proposal executed.
+    /// Every proposal executed (worlds that are not deterministic, grids
+    /// whose moves cost less than a look-up, spaces of more than 2^64
+    /// commands, continuous commands).
     Live,
 }
 

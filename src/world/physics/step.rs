@@ -291,15 +291,9 @@ impl PhysicsWorld {
         }
     }
 
-    /// One Rapier step of the whole world.
+    /// One Rapier step of the whole world, far limits gated.
     fn pipeline_step(&mut self) {
         self.gate_limits();
-        self.step_rapier();
-        self.check_gated();
-    }
-
-    /// Rapier's step, nothing else.
-    pub(super) fn step_rapier(&mut self) {
         let s = &mut self.sets;
         self.pipeline.step(
             self.gravity,
@@ -316,6 +310,7 @@ impl PhysicsWorld {
             &(),
             &(),
         );
+        self.check_gated();
     }
 
     /// The copies Rapier quarantined during the last step, with the number
@@ -458,18 +453,6 @@ impl PhysicsWorld {
         self.gate_limits = configured;
     }
 
-    /// Restores the state `commands` start from: the deepest phase-end
-    /// state kept of the prefixes of `prefixed` (see [`prefix`](super::prefix)),
-    /// else the pristine one. Returns the number of phases it is past.
-    fn restore_start(&mut self, prefixed: Option<&[u8]>) -> usize {
-        if let Some((k, sets)) = prefixed.and_then(|s| self.prefixes.deepest(s)) {
-            self.sets.restore(sets);
-            return k;
-        }
-        self.sets.restore(&self.pristine);
-        0
-    }
-
     /// Switches off the bodies of the copies from `n` on, which have no
     /// command this run: Rapier leaves a disabled body out of every stage
     /// of its step, so a batch of `n` commands costs a world of `n` copies,
@@ -521,7 +504,18 @@ impl PhysicsWorld {
         let mut failed: Vec<Option<WorldError>> =
             commands.iter().map(|&c| self.check(c).err()).collect();
         let prefixed = prefixed.filter(|_| failed[0].is_none());
-        let first = self.restore_start(prefixed);
+        // the deepest phase-end state kept of the prefixes of `prefixed`
+        // (see [`prefix`](super::prefix)), else the pristine one
+        let first = match prefixed.and_then(|s| self.prefixes.deepest(s)) {
+            Some((k, sets)) => {
+                self.sets.restore(sets);
+                k
+            }
+            None => {
+                self.sets.restore(&self.pristine);
+                0
+            }
+        };
         self.idle_copies(n);
         let slots = self.space.num_slots();
         let mut running = failed.iter().any(Option::is_none);

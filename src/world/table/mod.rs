@@ -234,27 +234,21 @@ impl OutcomeTable {
         Ok(Self::new(space, num_effects, outcomes))
     }
 
-    /// The table of a scene, computed in parallel (rayon): for a physics
-    /// scene whose copies are exact (see
-    /// [`PhysicsSpec::copies_are_exact`](crate::scene::physics::PhysicsSpec::copies_are_exact)),
-    /// [`TABLE_COPIES`] commands at once per Rapier world; otherwise one
-    /// command at a time per world.
-    /// A physics scene with a [`Symmetry`](crate::scene::Symmetry)
-    /// simulates only one command of each mirror-image pair and reflects
-    /// the other's outcome, as its world does
+    /// The table of a scene, computed in parallel (rayon), [`TABLE_COPIES`]
+    /// commands at once per Rapier world where the scene's copies are exact
+    /// ([`PhysicsSpec::copies_are_exact`](crate::scene::physics::PhysicsSpec::copies_are_exact)),
+    /// one command of each mirror-image pair simulated under a symmetry
     /// ([`PhysicsWorld::twin`]). The table is identical to
-    /// [`build`](Self::build)'s either way.
+    /// [`build`](Self::build)'s.
     pub fn build_scene(scene: &Scene) -> Result<OutcomeTable, WorldError> {
         Self::build_scene_with(scene, &Control::default())
     }
 
     /// [`build_scene`](Self::build_scene) under `control`: told from the
     /// workers of the commands of each chunk simulated (they add up to
-    /// [`simulated_commands`](Self::simulated_commands)), for a progress
-    /// bar, and asked before each chunk whether to stop (then the build
-    /// ends with [`WorldError::Stopped`]: a Ctrl-C in Python ends a build
-    /// of a minute within a chunk's time). The table is the same, bit for
-    /// bit.
+    /// [`simulated_commands`](Self::simulated_commands)), asked before each
+    /// chunk whether to stop (then the error is [`WorldError::Stopped`]).
+    /// The table is the same, bit for bit.
     pub fn build_scene_with(
         scene: &Scene,
         control: &Control<'_>,
@@ -262,13 +256,10 @@ impl OutcomeTable {
         Self::complete_with(scene, &[], control)
     }
 
-    /// The table of `scene` from the outcomes `known` (command index and
-    /// outcome, for example a partial table file), simulating only the
-    /// commands they lack (one of each mirror-image pair under a
-    /// symmetry), in parallel, batched where copies are exact, under
-    /// `control` as [`build_scene_with`](Self::build_scene_with). The
-    /// table is the same, bit for bit, as [`build_scene`](Self::build_scene)'s
-    /// when `known` holds the world's own outcomes.
+    /// [`build_scene_with`](Self::build_scene_with) from the outcomes
+    /// `known` (command index and outcome: a partial table file),
+    /// simulating only the commands they lack. The table is the same, bit
+    /// for bit, when `known` holds the world's own outcomes.
     pub fn complete_with(
         scene: &Scene,
         known: &[(u64, Outcome)],
@@ -374,13 +365,10 @@ impl OutcomeTable {
         (0..counts.len()).filter(|&e| counts[e] > 0).collect()
     }
 
-    /// The target `p*` uniform over the reachable effects only: weight 1 on
-    /// each effect some command reaches, 0 on the others (their `log p*`
-    /// taken at [`P_FLOOR`](crate::effect::P_FLOOR)), normalised by
-    /// [`Target::Weights`]. `Target::Uniform`, the default, spreads `p*`
-    /// over every effect instead; on a reached effect the two differ by
-    /// `log(|E| / |R|)` in `log p*`, which shifts E3D's values by
-    /// `log(|E| / |R|) / (beta lambda)` (docs/algorithms.md, "E3D").
+    /// The target `p*` uniform over the reachable effects only
+    /// ([`Target::Weights`] of 1 on each effect some command reaches, 0 on
+    /// the others), where `Target::Uniform` spreads it over every effect
+    /// (docs/algorithms.md, "E3D").
     ///
     /// ```
     /// use e3d::{OutcomeTable, Scene, Target};
