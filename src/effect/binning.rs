@@ -179,11 +179,9 @@ impl Binning {
             };
             (g, Shape::Pair)
         } else {
-            let (mut rows, mut cols) = (1usize, 1usize);
-            for g in &grids {
-                rows = rows.saturating_mul(g.rows);
-                cols = cols.saturating_mul(g.cols);
-            }
+            let (rows, cols) = (grids.iter()).fold((1usize, 1usize), |(r, c), g| {
+                (r.saturating_mul(g.rows), c.saturating_mul(g.cols))
+            });
             let g = EffectGrid {
                 rows,
                 cols,
@@ -238,12 +236,14 @@ impl Binning {
     /// When `values` does not hold [`arity`](Self::arity) values.
     pub fn locate(&self, values: &[f64]) -> ([f64; 2], usize) {
         assert_eq!(values.len(), self.arity(), "one value per coordinate");
+        // a point, or a number at mid-height of its strip
+        let point = |a: &Axis, at: usize| match a {
+            Axis::Plane(_) => [values[at], values[at + 1]],
+            Axis::Line { .. } => [values[at], 0.5],
+        };
         match self.shape {
             Shape::Single => {
-                let p = match self.axes[0] {
-                    Axis::Plane(_) => [values[0], values[1]],
-                    Axis::Line { .. } => [values[0], 0.5],
-                };
+                let p = point(&self.axes[0], 0);
                 (p, self.layout.effect_of(p))
             }
             Shape::Pair => {
@@ -253,12 +253,8 @@ impl Binning {
             Shape::Nested => {
                 let (mut row, mut col, mut at) = (0, 0, 0);
                 for (a, g) in self.axes.iter().zip(&self.grids) {
-                    let p = match a {
-                        Axis::Plane(_) => [values[at], values[at + 1]],
-                        Axis::Line { .. } => [values[at], 0.5],
-                    };
+                    let (r, c) = g.cell_of(point(a, at));
                     at += a.arity();
-                    let (r, c) = g.cell_of(p);
                     row = row * g.rows + r;
                     col = col * g.cols + c;
                 }

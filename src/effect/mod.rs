@@ -243,43 +243,39 @@ pub enum Target {
 }
 
 impl Target {
-    /// `log p*(e)` for every effect, checked against `num_effects`.
+    /// `log p*(e)` for every effect (taken at [`P_FLOOR`] for a weight
+    /// of 0), checked against `num_effects` as [`probs`](Self::probs).
     pub fn log_probs(&self, num_effects: usize) -> Result<Vec<f64>, TargetError> {
+        let p = self.probs(num_effects)?;
+        Ok(match self {
+            Target::Uniform => vec![-(num_effects as f64).ln(); num_effects],
+            Target::Weights(_) => p.into_iter().map(log_floored).collect(),
+        })
+    }
+
+    /// The target probabilities `p*(e)`, checked against `num_effects`:
+    /// one finite weight >= 0 per effect, of a positive sum.
+    pub fn probs(&self, num_effects: usize) -> Result<Vec<f64>, TargetError> {
         if num_effects == 0 {
             return Err(TargetError::NoEffects);
         }
-        match self {
-            Target::Uniform => Ok(vec![-(num_effects as f64).ln(); num_effects]),
-            Target::Weights(w) => {
-                if w.len() != num_effects {
-                    return Err(TargetError::Length {
-                        weights: w.len(),
-                        effects: num_effects,
-                    });
-                }
-                if let Some(&bad) = w.iter().find(|v| !v.is_finite() || **v < 0.0) {
-                    return Err(TargetError::Weight(bad));
-                }
-                let sum: f64 = w.iter().sum();
-                if sum <= 0.0 || !sum.is_finite() {
-                    return Err(TargetError::Sum);
-                }
-                Ok(w.iter().map(|v| (v / sum).max(P_FLOOR).ln()).collect())
-            }
+        let Target::Weights(w) = self else {
+            return Ok(vec![1.0 / num_effects as f64; num_effects]);
+        };
+        if w.len() != num_effects {
+            return Err(TargetError::Length {
+                weights: w.len(),
+                effects: num_effects,
+            });
         }
-    }
-
-    /// The target probabilities `p*(e)`, checked against `num_effects`
-    /// as [`log_probs`](Self::log_probs) checks them.
-    pub fn probs(&self, num_effects: usize) -> Result<Vec<f64>, TargetError> {
-        self.log_probs(num_effects)?;
-        match self {
-            Target::Uniform => Ok(vec![1.0 / num_effects as f64; num_effects]),
-            Target::Weights(w) => {
-                let sum: f64 = w.iter().sum();
-                Ok(w.iter().map(|v| v / sum).collect())
-            }
+        if let Some(&bad) = w.iter().find(|v| !v.is_finite() || **v < 0.0) {
+            return Err(TargetError::Weight(bad));
         }
+        let sum: f64 = w.iter().sum();
+        if sum <= 0.0 || !sum.is_finite() {
+            return Err(TargetError::Sum);
+        }
+        Ok(w.iter().map(|v| v / sum).collect())
     }
 }
 

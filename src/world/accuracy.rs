@@ -3,7 +3,7 @@
 //! terminal point lands in the cell of the converged run.
 
 use super::{ContinuousWorld, World, WorldError};
-use crate::scene::{Scene, SceneError, WorldSpec};
+use crate::scene::{Scene, WorldSpec};
 use crate::SessionRng;
 use rand::{RngExt, SeedableRng};
 use std::time::Instant;
@@ -69,14 +69,13 @@ pub fn accuracy(scene: &Scene, samples: u64, seed: u64) -> Result<Vec<AccuracyRo
     settings.push(own);
     settings.sort_unstable();
     settings.dedup();
-    let converged = effects_at(
+    let (converged, _) = effects_at(
         scene,
         CONVERGED_ITERATIONS,
         CONVERGED_DT_DIVISOR,
         samples,
         seed,
-    )?
-    .0;
+    )?;
     settings
         .into_iter()
         .map(|n| {
@@ -96,17 +95,6 @@ pub fn accuracy(scene: &Scene, samples: u64, seed: u64) -> Result<Vec<AccuracyRo
         .collect()
 }
 
-/// The scene with `iterations` solver iterations per step and its `dt`
-/// divided by `divisor`.
-fn with_setting(scene: &Scene, iterations: usize, divisor: f64) -> Result<Scene, SceneError> {
-    let mut spec = scene.to_spec();
-    if let WorldSpec::Physics(p) = &mut spec.world {
-        p.solver_iterations = Some(iterations);
-        p.dt /= divisor;
-    }
-    spec.validate()
-}
-
 /// The effects of `samples` seeded random commands of `scene` at
 /// `iterations` solver iterations and `dt / divisor`, and the seconds
 /// they took.
@@ -117,8 +105,14 @@ fn effects_at(
     samples: u64,
     seed: u64,
 ) -> Result<(Vec<usize>, f64), WorldError> {
-    let scene =
-        with_setting(scene, iterations, divisor).map_err(|e| WorldError::Other(e.to_string()))?;
+    let mut spec = scene.to_spec();
+    if let WorldSpec::Physics(p) = &mut spec.world {
+        p.solver_iterations = Some(iterations);
+        p.dt /= divisor;
+    }
+    let scene = spec
+        .validate()
+        .map_err(|e| WorldError::Other(e.to_string()))?;
     let mut rng = SessionRng::seed_from_u64(seed);
     let mut effects = Vec::with_capacity(samples as usize);
     let start = Instant::now();

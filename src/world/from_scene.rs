@@ -1,8 +1,5 @@
-//! Building the world that executes a scene's commands: a [`GridWorld`]
-//! for a grid scene, a [`PhysicsWorld`] for a physics scene. It lives with
-//! the worlds (a scene describes; the worlds simulate), as an `impl` of
-//! [`Scene`]. A [`Scene`] is valid by construction, so building cannot
-//! fail.
+//! Building the world of a [`Scene`] (valid by construction, so building
+//! cannot fail): a [`GridWorld`] or a [`PhysicsWorld`].
 
 use super::{ContinuousWorld, Episodic, GridWorld, Outcome, PhysicsWorld, World, WorldError};
 use crate::command::ValueSpace;
@@ -37,11 +34,9 @@ impl Scene {
         }
     }
 
-    /// The scene as a continuous scene (its slots take values), with its
-    /// physics and its value space together; `None` for a scene of
-    /// symbols. A continuous scene is a physics scene (validation refuses
-    /// values on a grid), so this is `Some` exactly when
-    /// [`is_continuous`](crate::scene::SceneSpec::is_continuous) is true.
+    /// The scene as a continuous scene (its slots take values): its physics
+    /// and its value space; `None` exactly when
+    /// [`is_continuous`](crate::scene::SceneSpec::is_continuous) is false.
     ///
     /// ```
     /// use e3d::Scene;
@@ -59,14 +54,10 @@ impl Scene {
         })
     }
 
-    /// Builds the world that executes this scene's commands: open loop
-    /// from the scene's start ([`World`]), and from its start contexts and
-    /// given states ([`Episodic`]).
-    ///
-    /// A continuous scene's world is its [`PhysicsWorld`], whose command
-    /// space of symbols is a placeholder that refuses every command of
-    /// symbols ([`WorldError::BadCommand`](crate::WorldError::BadCommand));
-    /// its commands are values
+    /// Builds the world that executes this scene's commands ([`World`]),
+    /// also from its start contexts and given states ([`Episodic`]). A
+    /// continuous scene's world refuses every command of symbols: its
+    /// commands are values
     /// ([`PhysicsWorld::execute_values`](crate::world::PhysicsWorld::execute_values)).
     ///
     /// ```
@@ -102,18 +93,12 @@ impl<'a> PhysicsScene<'a> {
         self.spec
     }
 
-    /// Builds a world holding `copies` independent copies of the scene's
-    /// non-fixed bodies and joints (fixed bodies are built once and
-    /// shared), for [`PhysicsWorld::execute_batch`]: up to `copies`
-    /// commands at once in one Rapier world, which amortises Rapier's
-    /// per-step overhead over the copies ([`Scene::physics_world`] is one
-    /// copy). Each copy has its own collision group: the copies touch the
-    /// fixed bodies and, within a copy, the scene's own collision rules
-    /// hold, but no two copies touch.
-    ///
-    /// Each copy's outcome is the one a single-copy world gives, bit for
-    /// bit, on the shipped scenes (tested); a scene whose copies would
-    /// differ ([`PhysicsSpec::copies_are_exact`]) should be executed one
+    /// Builds a world holding `copies` copies of the scene's non-fixed
+    /// bodies and joints (fixed bodies shared; no two copies touch), for
+    /// [`PhysicsWorld::execute_batch`]: up to `copies` commands stepped
+    /// together, Rapier's per-step overhead shared. Each copy gives a
+    /// single-copy world's outcome, bit for bit, where
+    /// [`PhysicsSpec::copies_are_exact`]; other scenes should run one
     /// command per world.
     ///
     /// # Panics

@@ -419,12 +419,8 @@ mod tests {
                 space.write_command_at(k * 7919 % n, &mut c);
                 let a = gated.execute(&c).unwrap();
                 let b = plain.execute(&c).unwrap();
-                assert_eq!(
-                    a.point.map(f64::to_bits),
-                    b.point.map(f64::to_bits),
-                    "{name} {k}"
-                );
-                assert_eq!(a.effect, b.effect);
+                let bits = |o: Outcome| (o.point.map(f64::to_bits), o.effect);
+                assert_eq!(bits(a), bits(b), "{name} {k}");
             }
         }
     }

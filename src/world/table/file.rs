@@ -243,15 +243,10 @@ fn write_table(path: &Path, bytes: &[u8]) -> io::Result<()> {
 /// `name` with every character but ASCII letters, digits, `_` and `-`
 /// made `_` (a file name's part).
 pub(super) fn file_safe(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
+    name.replace(
+        |c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'),
+        "_",
+    )
 }
 
 /// The bytes of a table file being read, and what its outcomes must agree
