@@ -126,11 +126,9 @@ impl GridWorld {
 
     /// The cells visited by a command, start included (for pictures).
     pub fn path(&self, command: &Command) -> Vec<usize> {
-        let mut cell = self.start;
-        let mut path = vec![cell];
+        let mut path = vec![self.start];
         for (slot, &s) in command.symbols.iter().enumerate() {
-            cell = self.step(cell, slot, s);
-            path.push(cell);
+            path.push(self.step(path[slot], slot, s));
         }
         path
     }

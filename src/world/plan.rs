@@ -582,22 +582,22 @@ impl fmt::Display for ExecutionPlan {
     /// One line: what was chosen, how, and why.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}: ", self.scene)?;
-        match self.strategy {
-            Strategy::Table => match &self.on_disk {
-                OnDisk::Full { path } => write!(f, "outcome table read from {}", path.display())?,
-                _ => {
-                    let n = self.commands.unwrap_or(0);
-                    let sim = self.simulated.unwrap_or(n);
-                    write!(f, "outcome table of {n} commands")?;
-                    if sim < n {
-                        write!(f, " ({sim} simulated, the others mirrored)")?;
-                    }
-                    if self.copies > 1 {
-                        write!(f, ", {} copies per world", self.copies)?;
-                    }
+        match (self.strategy, &self.on_disk) {
+            (Strategy::Table, OnDisk::Full { path }) => {
+                write!(f, "outcome table read from {}", path.display())?
+            }
+            (Strategy::Table, _) => {
+                let n = self.commands.unwrap_or(0);
+                let sim = self.simulated.unwrap_or(n);
+                write!(f, "outcome table of {n} commands")?;
+                if sim < n {
+                    write!(f, " ({sim} simulated, the others mirrored)")?;
                 }
-            },
-            Strategy::Memo | Strategy::Live => {
+                if self.copies > 1 {
+                    write!(f, ", {} copies per world", self.copies)?;
+                }
+            }
+            (Strategy::Memo | Strategy::Live, _) => {
                 write!(
                     f,
                     "{} ({}",

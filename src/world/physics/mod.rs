@@ -320,16 +320,11 @@ impl PhysicsWorld {
     }
 
     /// Keeps at most `capacity` phase-end states of the prefixes of the
-    /// commands run (0: none), and forgets those kept.
-    ///
-    /// On a `Sequential` schedule, a world of one copy keeps the state of
-    /// its Rapier sets at the end of each phase of the commands it runs,
-    /// keyed by the symbols so far, and a command that shares a prefix
-    /// with an earlier one starts from the deepest state kept: the same
-    /// bits, fewer steps. The states kept are those of every prefix up to
-    /// the deepest length whose prefixes number at most `capacity` in all
-    /// (by default [`PREFIX_STATES`]; a world of many copies keeps none).
-    /// A state takes 16 to 25 KB on the shipped scenes (puck_rooms: 19 KB).
+    /// commands run (0: none; by default [`PREFIX_STATES`], none in a world
+    /// of many copies), and forgets those kept. On a `Sequential` schedule
+    /// a command that shares a prefix with an earlier one starts from the
+    /// deepest state kept: the same bits, fewer steps. A state takes 16 to
+    /// 25 KB on the shipped scenes.
     ///
     /// ```
     /// use e3d::{Scene, World};

@@ -305,51 +305,46 @@ impl PhysicsWorld {
     /// Executes `command` and reports speeds, contacts between dynamic
     /// bodies and with fixed ones, and joints at their limits (for diagnostics and docs).
     pub fn inspect(&mut self, command: &Command) -> Result<RunStats, WorldError> {
-        let (mut max_speed, mut max_spin) = (0.0f64, 0.0f64);
-        let (mut contact_steps, mut limit_steps) = (0u64, 0u64);
-        let mut fixed_contact_steps = 0u64;
-        let outcome =
-            self.run_one(Cmd::Symbols(command), false, |w| {
-                let bodies = &w.sets.bodies;
-                for (h, _) in &w.copies[0].dynamic {
-                    let b = &bodies[*h];
-                    max_speed = max_speed.max((b.linvel().length()) as f64);
-                    max_spin = max_spin.max((b.angvel() as f64).abs());
-                }
-                let dynamic = |c: rapier2d::prelude::ColliderHandle| {
-                    w.sets.colliders[c]
-                        .parent()
-                        .is_some_and(|h| bodies[h].is_dynamic())
-                };
-                if w.sets.narrow_phase.contact_pairs().any(|p| {
-                    p.has_any_active_contact() && dynamic(p.collider1) && dynamic(p.collider2)
-                }) {
-                    contact_steps += 1;
-                }
-                if w.sets.narrow_phase.contact_pairs().any(|p| {
-                    p.has_any_active_contact() && (dynamic(p.collider1) != dynamic(p.collider2))
-                }) {
-                    fixed_contact_steps += 1;
-                }
-                let at_limit = w.copies[0].joints.iter().any(|j| {
-                    let Some((lo, hi)) = j.limits else {
-                        return false;
-                    };
-                    let (a, _) = j.coordinate(bodies);
-                    a <= lo + 0.01 || a >= hi - 0.01
-                });
-                if at_limit {
-                    limit_steps += 1;
-                }
-            })?;
-        Ok(RunStats {
-            outcome,
-            max_speed,
-            max_spin,
-            contact_steps,
-            fixed_contact_steps,
-            limit_steps,
-        })
+        let mut s = RunStats {
+            outcome: Outcome {
+                effect: 0,
+                reward: 0.0,
+                point: [0.0; 2],
+            },
+            max_speed: 0.0,
+            max_spin: 0.0,
+            contact_steps: 0,
+            fixed_contact_steps: 0,
+            limit_steps: 0,
+        };
+        s.outcome = self.run_one(Cmd::Symbols(command), false, |w| {
+            let bodies = &w.sets.bodies;
+            for (h, _) in &w.copies[0].dynamic {
+                let b = &bodies[*h];
+                s.max_speed = s.max_speed.max((b.linvel().length()) as f64);
+                s.max_spin = s.max_spin.max((b.angvel() as f64).abs());
+            }
+            let dynamic = |c: rapier2d::prelude::ColliderHandle| {
+                w.sets.colliders[c]
+                    .parent()
+                    .is_some_and(|h| bodies[h].is_dynamic())
+            };
+            // the touching pairs' kinds: (dynamic, dynamic) and (dynamic, not)
+            let pairs = || {
+                (w.sets.narrow_phase.contact_pairs())
+                    .filter(|p| p.has_any_active_contact())
+                    .map(|p| (dynamic(p.collider1), dynamic(p.collider2)))
+            };
+            s.contact_steps += u64::from(pairs().any(|(a, b)| a && b));
+            s.fixed_contact_steps += u64::from(pairs().any(|(a, b)| a != b));
+            let at_limit = w.copies[0].joints.iter().any(|j| {
+                let (a, _) = j.coordinate(bodies);
+                j.limits
+                    .is_some_and(|(lo, hi)| a <= lo + 0.01 || a >= hi - 0.01)
+            });
+            s.limit_steps += u64::from(at_limit);
+        })?;
+        Ok(s)
     }
 }
 
