@@ -149,7 +149,8 @@ pub fn sample_reach_with(
     // or one continuous command drawn by the uniform sampler
     // ([`UniformValues`](crate::learner::UniformValues)) on live physics
     type Out = Vec<Result<crate::Outcome, crate::WorldError>>;
-    let mut next: Box<dyn FnMut(u64, &mut Out)> = match continuous {
+    type Next<'a> = Box<dyn FnMut(u64, &mut Out) + 'a>;
+    let mut next: Next = match continuous {
         Some(c) => {
             let (mut world, mut v) = (c.physics().world(1), Vec::new());
             let mut sampler = crate::learner::UniformValues::new(c.values());
