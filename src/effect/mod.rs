@@ -1,13 +1,6 @@
-//! Effects: binning terminal states, the running effect model `p` and the
-//! target `p*`.
-//!
-//! An *effect* is an integer in `0..num_effects`. Scenes bin the terminal
-//! position of a tracked point on an [`EffectGrid`] of rectangular cells,
-//! `row * cols + col`, row 0 at the top (largest y).
-//!
-//! The learner keeps an [`EffectModel`]: the running histogram
-//! `p <- (1 - eta) p + eta onehot(e)`, and compares it with a [`Target`]
-//! distribution `p*` (uniform: explore everything).
+//! Effects (integers in `0..num_effects`): the binning of terminal states
+//! on an [`EffectGrid`] ([`Binning`]), the running effect model `p`
+//! ([`EffectModel`]) and the target `p*` ([`Target`]).
 
 use serde::{Deserialize, Serialize};
 

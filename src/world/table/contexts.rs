@@ -126,9 +126,8 @@ impl<'s> TabledContexts<'s> {
             )));
         }
         let n = OutcomeTable::check_size(&scene.command_space())?;
-        // one table per context: the outcomes of all of them together
-        // are bounded as one table's are (3000 contexts of a 90 KB scene
-        // took 1.5 GB)
+        // the outcomes of every context's table together are bounded as
+        // one table's are
         let total = n.saturating_mul(contexts.len() as u64);
         if total > MAX_TABLE_COMMANDS {
             return Err(WorldError::Other(format!(
