@@ -70,23 +70,19 @@ impl SceneSpec {
     /// The `n` slots the command lists: as many as the scene's `slots`
     /// declares, if it does, and at least one.
     fn check_slot_count(&self, n: usize) -> Result<(), Invalid> {
-        if let Some(declared) = self.slots {
-            if declared != n {
-                let (variant, how) = match &self.command {
-                    CommandSpec::Repeat { .. } => ("Repeat", format!("`Repeat` has `slots: {n}`")),
-                    CommandSpec::Template { .. } => {
-                        ("Template", format!("`Template` has `slots: {n}`"))
-                    }
-                    CommandSpec::Slots(_) => ("Slots", format!("`Slots` lists {n}")),
-                    CommandSpec::Continuous(_) => ("Continuous", format!("`Continuous` lists {n}")),
-                };
-                return Err(Invalid::new(
-                    variant,
-                    format!(
-                        "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: {how}"
-                    ),
-                ));
-            }
+        if let Some(declared) = self.slots.filter(|&d| d != n) {
+            let (variant, how) = match &self.command {
+                CommandSpec::Repeat { .. } => ("Repeat", format!("has `slots: {n}`")),
+                CommandSpec::Template { .. } => ("Template", format!("has `slots: {n}`")),
+                CommandSpec::Slots(_) => ("Slots", format!("lists {n}")),
+                CommandSpec::Continuous(_) => ("Continuous", format!("lists {n}")),
+            };
+            return Err(Invalid::new(
+                variant,
+                format!(
+                    "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: `{variant}` {how}"
+                ),
+            ));
         }
         if n == 0 {
             return Err(Invalid::new("command", "at least one slot"));
@@ -142,15 +138,13 @@ impl SceneSpec {
         // how often each symbol was written in the alphabets before this
         // slot's (a Repeat schema writes its alphabet once)
         let mut written: std::collections::HashMap<char, usize> = Default::default();
-        let repeat = matches!(self.command, CommandSpec::Repeat { .. });
+        let slots = match self.command {
+            CommandSpec::Continuous(_) => 0,
+            CommandSpec::Repeat { .. } => 1,
+            _ => usize::MAX,
+        };
         let mut written_symbols = 0;
-        for (i, alphabet) in self.slots().enumerate() {
-            if self.is_continuous() {
-                break;
-            }
-            if repeat && i > 0 {
-                break;
-            }
+        for (i, alphabet) in self.slots().enumerate().take(slots) {
             let mut here: std::collections::HashSet<char> = Default::default();
             if alphabet.is_empty() {
                 return Err(Invalid::new(

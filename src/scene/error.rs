@@ -200,11 +200,6 @@ impl SceneError {
         }
     }
 
-    /// An empty scene or sweep file (`what`).
-    pub(crate) fn empty(file: &str, what: &'static str) -> Self {
-        SceneError::new(file, what, SceneErrorKind::Empty)
-    }
-
     /// The file (or `<builtin NAME>` for a shipped scene, `<scene NAME>`
     /// for one validated in code, or the name that was not found).
     pub fn file(&self) -> &str {
@@ -415,17 +410,11 @@ fn field_before(text: &str, line: usize, col: usize) -> Option<String> {
     for chunk in [upto.as_str(), prev] {
         let mut best = None;
         for (i, _) in chunk.match_indices(':') {
-            let name: String = chunk[..i]
-                .trim_end()
-                .chars()
-                .rev()
-                .take_while(|c| c.is_alphanumeric() || *c == '_')
-                .collect::<Vec<_>>()
-                .into_iter()
-                .rev()
-                .collect();
+            let before = chunk[..i].trim_end();
+            let word = before.trim_end_matches(|c: char| c.is_alphanumeric() || c == '_');
+            let name = &before[word.len()..];
             if !name.is_empty() && !name.starts_with(|c: char| c.is_ascii_digit()) {
-                best = Some(name);
+                best = Some(name.to_string());
             }
         }
         if best.is_some() {
@@ -520,18 +509,12 @@ fn locate_within(text: &str, list: &str, k: usize, field: &str) -> Option<(usize
                 == Some(&b':')
     };
     let mut in_str = false;
-    let mut start = None;
-    for i in 0..b.len() {
-        match b[i] {
-            b'"' if i == 0 || b[i - 1] != b'\\' => in_str = !in_str,
-            _ if !in_str && name_at(i, list) => {
-                start = Some(i);
-                break;
-            }
-            _ => {}
+    let start = (0..b.len()).find(|&i| {
+        if b[i] == b'"' && (i == 0 || b[i - 1] != b'\\') {
+            in_str = !in_str;
         }
-    }
-    let start = start?;
+        !in_str && name_at(i, list)
+    })?;
     let open = start + code[start..].find('[')?;
     // the entries: the groups at depth 1 inside the brackets
     let (inside, _) = top_level(b, open + 1);
@@ -582,36 +565,28 @@ fn blank_comments(text: &str) -> String {
     let mut out = b.to_vec();
     let (mut i, mut in_str) = (0, false);
     while i < b.len() {
-        if in_str {
-            if b[i] == b'\\' {
-                i += 2;
-                continue;
-            }
-            if b[i] == b'"' {
-                in_str = false;
-            }
-            i += 1;
-        } else if b[i] == b'"' {
-            in_str = true;
-            i += 1;
-        } else if b[i..].starts_with(b"//") {
-            while i < b.len() && b[i] != b'\n' {
-                out[i] = b' ';
-                i += 1;
-            }
-        } else if b[i..].starts_with(b"/*") {
-            while i < b.len() && !b[i..].starts_with(b"*/") {
-                if b[i] != b'\n' {
-                    out[i] = b' ';
-                }
-                i += 1;
-            }
-            let end = (i + 2).min(b.len());
-            out[i..end].iter_mut().for_each(|c| *c = b' ');
+        let rest = &b[i..];
+        if in_str && b[i] == b'\\' {
             i += 2;
-        } else {
-            i += 1;
+            continue;
         }
+        if b[i] == b'"' {
+            in_str = !in_str;
+        } else if !in_str && (rest.starts_with(b"//") || rest.starts_with(b"/*")) {
+            // to the end of the line, or past the `*/` (the text's end if none)
+            let end = match rest[1] {
+                b'/' => rest.iter().position(|&c| c == b'\n'),
+                _ => rest.windows(2).position(|w| w == b"*/").map(|e| e + 2),
+            };
+            let end = i + end.unwrap_or(rest.len());
+            out[i..end]
+                .iter_mut()
+                .filter(|c| **c != b'\n')
+                .for_each(|c| *c = b' ');
+            i = end;
+            continue;
+        }
+        i += 1;
     }
     // Only ASCII bytes were replaced by ASCII spaces, within comments that
     // start and end on ASCII delimiters; multi-byte characters inside a

@@ -1,33 +1,12 @@
 //! Scenes: the RON files that describe a world, its command schema, its
-//! effects and its reward.
-//!
-//! A scene file holds one `Scene(...)`:
-//!
-//! ```ron
-//! Scene(
-//!     name: "two_rooms",
-//!     world: Grid(rows: 3, cols: 6, start: (0, 0), walls: [((0, 2), (0, 3))]),
-//!     command: Repeat(slots: 7, alphabet: [
-//!         (symbol: 'E', action: Move(drow: 0, dcol: 1)),
-//!         (symbol: 'S', action: Move(drow: 1, dcol: 0)),
-//!     ]),
-//!     reward: (cells: [(2, 5)]),
-//! )
-//! ```
+//! effects and its reward (`docs/scenes.md` documents every field).
 //!
 //! [`Scene::load`] parses and validates; every mistake is a [`SceneError`]
-//! naming the file, the line and column, the field and what was expected,
-//! of a [`SceneErrorKind`] a program can match (a missing file is
-//! [`SceneErrorKind::Io`], a RON mistake [`SceneErrorKind::Syntax`]).
-//! [`Scene::build`] turns a scene into a world ([`crate::World`]).
-//!
-//! Parse, don't validate: a [`Scene`] is expanded, immutable and known to
-//! be valid (its fields are read through [`SceneSpec`], which it derefs
-//! to), so building its world cannot fail. A scene built or edited in
-//! code is a [`SceneSpec`], with public fields: [`SceneSpec::validate`]
-//! (the loader's own checks) turns it into a [`Scene`], and
-//! [`SceneSpec::to_ron`] writes it as text that loads back equal.
-//! `docs/scenes.md` documents every field.
+//! naming the file, the line and column, the field and what was expected.
+//! A [`Scene`] is expanded (no shorthands, no templates), immutable and
+//! known to be valid, so building its world cannot fail; a scene built or
+//! edited in code is a [`SceneSpec`], which [`SceneSpec::validate`] turns
+//! into a [`Scene`] and [`SceneSpec::to_ron`] writes as text.
 
 mod check;
 pub mod enclosure;
@@ -300,25 +279,17 @@ pub enum Action {
 
 /// The reward: `value` when the terminal effect is one of `cells`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct RewardSpec {
     /// The rewarded cells `(row, col)` of the effect grid.
-    #[serde(default)]
     pub cells: Vec<(usize, usize)>,
     /// Named rectangles (metres): the cells whose centre lies inside are
     /// rewarded too.
-    #[serde(default)]
     pub regions: Vec<RegionSpec>,
     /// The reward given in a rewarded cell (default 1).
-    #[serde(default = "one")]
     pub value: f64,
     /// Why these cells (for example the rule that chose them).
-    #[serde(default)]
     pub note: String,
-}
-
-fn one() -> f64 {
-    1.0
 }
 
 impl Default for RewardSpec {
@@ -332,32 +303,29 @@ impl Default for RewardSpec {
     }
 }
 
+macro_rules! builtin {
+    ($($name:literal),*) => {
+        &[$(($name, include_str!(concat!("../../scenes/", $name, ".ron")))),*]
+    };
+}
+
 /// The scenes shipped in `scenes/`, built into the binary: `(name, RON text)`.
-pub const BUILTIN: &[(&str, &str)] = &[
-    ("two_rooms", include_str!("../../scenes/two_rooms.ron")),
-    ("puck_rooms", include_str!("../../scenes/puck_rooms.ron")),
-    ("arm7", include_str!("../../scenes/arm7.ron")),
-    ("pendulum3", include_str!("../../scenes/pendulum3.ron")),
-    ("maze3", include_str!("../../scenes/maze3.ron")),
-    (
-        "puck_rooms14",
-        include_str!("../../scenes/puck_rooms14.ron"),
-    ),
-    ("arm7x5", include_str!("../../scenes/arm7x5.ron")),
-    ("three_rooms", include_str!("../../scenes/three_rooms.ron")),
-    (
-        "arm4_gravity",
-        include_str!("../../scenes/arm4_gravity.ron"),
-    ),
-    (
-        "arm7_continuous",
-        include_str!("../../scenes/arm7_continuous.ron"),
-    ),
-    ("arm_push", include_str!("../../scenes/arm_push.ron")),
-    ("swimmer", include_str!("../../scenes/swimmer.ron")),
-    ("cart_pole", include_str!("../../scenes/cart_pole.ron")),
-    ("four_rooms", include_str!("../../scenes/four_rooms.ron")),
-];
+pub const BUILTIN: &[(&str, &str)] = builtin!(
+    "two_rooms",
+    "puck_rooms",
+    "arm7",
+    "pendulum3",
+    "maze3",
+    "puck_rooms14",
+    "arm7x5",
+    "three_rooms",
+    "arm4_gravity",
+    "arm7_continuous",
+    "arm_push",
+    "swimmer",
+    "cart_pole",
+    "four_rooms"
+);
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
 pub const DEFAULT_SCENE: &str = "two_rooms";
@@ -389,13 +357,11 @@ impl SceneSpec {
         if let Some(slots) = template::expand(&self.command).map_err(|v| self.invalid(v))? {
             self.command = slots;
         }
-        let file = format!("<scene {}>", self.name);
-        if let WorldSpec::Physics(p) = &mut self.world {
-            if p.has_shorthands() {
-                shorthand::expand(p).map_err(|v| SceneError::invalid(&file, v, None))?;
-            }
+        match &mut self.world {
+            WorldSpec::Physics(p) if p.has_shorthands() => shorthand::expand(p).map(drop),
+            _ => Ok(()),
         }
-        Ok(())
+        .map_err(|v| self.invalid(v))
     }
 
     /// The error of a failure `v` of this spec, which has no text: its
@@ -604,6 +570,7 @@ pub const MAX_FILE_BYTES: u64 = 16 << 20;
 /// directory, an unreadable file or bytes that are not UTF-8 are errors
 /// that name the file (and, for bad bytes, where they start).
 pub(crate) fn read_text(path: &Path, kind: &'static str) -> Result<String, SceneError> {
+    use std::io::Read;
     let file = path.display().to_string();
     let error = |k: SceneErrorKind| SceneError::new(&file, kind, k);
     if path.is_dir() {
@@ -622,14 +589,8 @@ pub(crate) fn read_text(path: &Path, kind: &'static str) -> Result<String, Scene
     }
     // read at most one byte more than allowed (the file may grow meanwhile)
     let mut bytes = Vec::with_capacity(meta.len() as usize);
-    std::io::Read::read_to_end(
-        &mut std::io::Read::take(
-            std::fs::File::open(path).map_err(cannot)?,
-            MAX_FILE_BYTES + 1,
-        ),
-        &mut bytes,
-    )
-    .map_err(cannot)?;
+    let f = std::fs::File::open(path).map_err(cannot)?;
+    (f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)).map_err(cannot)?;
     if bytes.len() as u64 > MAX_FILE_BYTES {
         return Err(error(SceneErrorKind::TooLarge { bytes: None }));
     }

@@ -354,9 +354,7 @@ impl BodySpec {
             (None, d) => d.unwrap_or(1.0) * self.shape.area(),
         }
     }
-}
 
-impl BodySpec {
     /// The body's moment of inertia about its centre of mass, kg·m², or a
     /// lower bound of it (a capsule counts as its disc of `radius`); `None`
     /// for a body that does not turn (not dynamic, or `lock_rotation`).
@@ -404,10 +402,6 @@ impl ShapeSpec {
 
 /// The world position of local point `p` on a body at `pos`, `angle`.
 pub fn to_world_point(pos: (f64, f64), angle: f64, p: (f64, f64)) -> (f64, f64) {
-    to_world(pos, angle, p)
-}
-
-pub(crate) fn to_world(pos: (f64, f64), angle: f64, p: (f64, f64)) -> (f64, f64) {
     let (s, c) = angle.sin_cos();
     (pos.0 + c * p.0 - s * p.1, pos.1 + s * p.0 + c * p.1)
 }
@@ -438,6 +432,23 @@ impl PhysicsSpec {
         self.bodies.iter().find(|b| b.name == name)
     }
 
+    /// The index of the body named `name`, if any.
+    pub(crate) fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    /// The joints up the tree from body `name`: the joint whose child it
+    /// is, then its parent's, ... (at most as many as there are joints).
+    pub(crate) fn joints_above<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a JointSpec> {
+        let mut at = name;
+        std::iter::from_fn(move || {
+            let j = self.joints.iter().find(|j| j.child == at)?;
+            at = &j.parent;
+            Some(j)
+        })
+        .take(self.joints.len() + 1)
+    }
+
     /// The joint named `name`, if any.
     pub fn joint(&self, name: &str) -> Option<&JointSpec> {
         self.joints.iter().find(|j| j.name == name)
@@ -450,15 +461,7 @@ impl PhysicsSpec {
     /// free-floating chain) is simulated with impulse joints instead, and
     /// a body without joints is a free body: both `false`.
     pub fn hangs_from_ground(&self, name: &str) -> bool {
-        let mut at = name;
-        for _ in 0..=self.joints.len() {
-            match self.joints.iter().find(|j| j.child == at) {
-                None => return false,
-                Some(j) if j.parent == super::GROUND => return true,
-                Some(j) => at = &j.parent,
-            }
-        }
-        false
+        self.joints_above(name).any(|j| j.parent == super::GROUND)
     }
 
     /// Whether copies of this world in one Rapier world (see

@@ -2,7 +2,7 @@
 //! check`.
 
 use super::limits::show;
-use super::spec::to_world;
+use super::to_world;
 use super::{BodyKind, PhysicsSpec};
 
 impl PhysicsSpec {

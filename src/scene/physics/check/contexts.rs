@@ -2,7 +2,8 @@
 //! number, names, and the checks of their fields.
 
 use super::super::context::{BodyStart, JointStart};
-use super::super::{BodyKind, PhysicsSpec};
+use super::super::{BodyKind, BodySpec, JointSpec, PhysicsSpec};
+use super::{finite2, listed};
 use crate::scene::Invalid;
 
 impl PhysicsSpec {
@@ -32,10 +33,10 @@ impl PhysicsSpec {
     pub(crate) fn check_contexts(&self) -> Result<(), Invalid> {
         use std::collections::{HashMap, HashSet};
         crate::scene::check_context_count(self.contexts.len())?;
-        let bodies: HashMap<&str, &super::super::BodySpec> =
+        let bodies: HashMap<&str, &BodySpec> =
             self.bodies.iter().map(|b| (b.name.as_str(), b)).collect();
         let children: HashSet<&str> = self.joints.iter().map(|j| j.child.as_str()).collect();
-        let joints: HashMap<&str, &super::super::JointSpec> =
+        let joints: HashMap<&str, &JointSpec> =
             self.joints.iter().map(|j| (j.name.as_str(), j)).collect();
         let mut names = HashSet::with_capacity(self.contexts.len());
         for (k, c) in self.contexts.iter().enumerate() {
@@ -91,7 +92,7 @@ impl PhysicsSpec {
     fn check_joint_start(
         &self,
         s: &JointStart,
-        spec: Option<&super::super::JointSpec>,
+        spec: Option<&JointSpec>,
         here: &dyn Fn(&str, String) -> Invalid,
     ) -> Result<(), Invalid> {
         let Some(spec) = spec else {
@@ -101,11 +102,11 @@ impl PhysicsSpec {
                 format!(
                     "a joint of the scene, found `{}` (joints: {})",
                     crate::text::echo(&s.joint),
-                    super::listed(&names)
+                    listed(&names)
                 ),
             ));
         };
-        let unit = if spec.kind.is_revolute() { "rad" } else { "m" };
+        let unit = spec.kind.unit();
         let bad = |field, what: String| Err(here(field, format!("joint `{}`: {what}", s.joint)));
         for (field, v) in [("angle", s.angle), ("to", s.to)] {
             let Some(v) = v else { continue };
@@ -135,10 +136,9 @@ impl PhysicsSpec {
         b: &BodyStart,
         here: &dyn Fn(&str, String) -> Invalid,
     ) -> Result<(), Invalid> {
-        let fin = |p: (f64, f64)| p.0.is_finite() && p.1.is_finite();
         let bad = |field, what: String| Err(here(field, format!("body `{}`: {what}", b.body)));
         for (field, p) in [("position", b.position), ("to", b.to)] {
-            if p.is_some_and(|p| !fin(p) || p.0.abs() > 1e6 || p.1.abs() > 1e6) {
+            if p.is_some_and(|p| !finite2(p) || p.0.abs() > 1e6 || p.1.abs() > 1e6) {
                 return bad(field, "a finite position within 1e6 m".into());
             }
         }
@@ -152,7 +152,7 @@ impl PhysicsSpec {
             return bad("angle", "a finite angle (rad)".into());
         }
         if let Some(v) = b.velocity {
-            if !fin(v) || v.0.hypot(v.1) >= self.max_speed {
+            if !finite2(v) || v.0.hypot(v.1) >= self.max_speed {
                 let max = self.max_speed;
                 let slower = format!("a finite velocity slower than max_speed ({max} m/s)");
                 return bad("velocity", format!("{slower}, found {v:?}"));
