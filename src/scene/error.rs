@@ -4,12 +4,8 @@ use super::{Invalid, MAX_FILE_BYTES};
 use std::fmt;
 
 /// A scene (or sweep) that cannot be loaded or used: which file, and what
-/// kind of mistake ([`SceneErrorKind`]).
-///
-/// Displays as `FILE:LINE:COL: MESSAGE` (or `FILE: MESSAGE` when there is no
-/// position), the form editors and terminals turn into links. A file that
-/// cannot be read has the I/O error as its [`source`](std::error::Error::source)
-/// (and in its message, which the command line prints alone).
+/// kind of mistake ([`SceneErrorKind`]); displays as `FILE:LINE:COL: MESSAGE`
+/// (or `FILE: MESSAGE`). An I/O error is its [`source`](std::error::Error::source).
 ///
 /// ```
 /// use e3d::scene::{Scene, SceneErrorKind};
@@ -179,12 +175,8 @@ impl SceneError {
         }
     }
 
-    /// The field at fault, where the mistake is about one: the field of an
-    /// [`Invalid`](SceneErrorKind::Invalid) value, and for a RON mistake
-    /// ([`Syntax`](SceneErrorKind::Syntax)) the unknown, missing or
-    /// repeated field, or the field given a value of the wrong type or an
-    /// unknown variant. `None` for other mistakes (a bracket left open, a
-    /// file that cannot be read).
+    /// The field at fault, where the mistake is about one (an invalid value,
+    /// or an unknown, missing, repeated or mistyped field); `None` otherwise.
     ///
     /// ```
     /// use e3d::Scene;
@@ -235,51 +227,42 @@ impl SceneError {
         let within = |word: &str, outer: &Option<String>| {
             outer
                 .as_ref()
-                .map(|o| format!(" {word} `{o}`"))
-                .unwrap_or_default()
+                .map_or(String::new(), |o| format!(" {word} `{o}`"))
         };
-        // the field the mistake is about, if it names one
-        let at;
-        let message = match &e.code {
+        let unknown = |what: &str, found: &str, expected: &[&str], within: String| {
+            format!(
+                "unknown {what} `{found}`{within}{}; expected one of: {}",
+                did_you_mean(found, expected),
+                expected.join(", ")
+            )
+        };
+        // the message, and the field the mistake is about if it names one
+        let (message, at) = match &e.code {
             E::NoSuchStructField {
                 expected,
                 found,
                 outer,
-            } => {
-                at = Some(found.to_string());
-                format!(
-                    "unknown field `{found}`{}{}; expected one of: {}",
-                    within("in", outer),
-                    did_you_mean(found, expected),
-                    expected.join(", ")
-                )
-            }
+            } => (
+                unknown("field", found, expected, within("in", outer)),
+                Some(found.to_string()),
+            ),
             E::NoSuchEnumVariant {
                 expected,
                 found,
                 outer,
-            } => {
-                at = field_before(text, e.span.start.line, e.span.start.col);
-                format!(
-                    "unknown variant `{found}`{}{}; expected one of: {}",
-                    within("for", outer),
-                    did_you_mean(found, expected),
-                    expected.join(", ")
-                )
-            }
-            E::MissingStructField { field, outer } => {
-                at = Some(field.to_string());
-                format!("missing field `{field}`{}", within("in", outer))
-            }
-            E::DuplicateStructField { field, outer } => {
-                at = Some(field.to_string());
-                format!("field `{field}` given twice{}", within("in", outer))
-            }
-            other => {
-                let (m, f) = other_message(other, text, &e);
-                at = f;
-                m
-            }
+            } => (
+                unknown("variant", found, expected, within("for", outer)),
+                field_before(text, e.span.start.line, e.span.start.col),
+            ),
+            E::MissingStructField { field, outer } => (
+                format!("missing field `{field}`{}", within("in", outer)),
+                Some(field.to_string()),
+            ),
+            E::DuplicateStructField { field, outer } => (
+                format!("field `{field}` given twice{}", within("in", outer)),
+                Some(field.to_string()),
+            ),
+            other => other_message(other, text, &e),
         };
         SceneError::new(
             file,

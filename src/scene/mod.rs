@@ -8,6 +8,16 @@
 //! edited in code is a [`SceneSpec`], which [`SceneSpec::validate`] turns
 //! into a [`Scene`] and [`SceneSpec::to_ron`] writes as text.
 
+/// The functions that give serde the defaults of fields
+/// (`#[serde(default = "half")]`).
+macro_rules! defaults {
+    ($($name:ident: $t:ty = $v:expr;)*) => {$(
+        fn $name() -> $t {
+            $v
+        }
+    )*};
+}
+
 mod check;
 pub mod enclosure;
 mod error;
@@ -32,12 +42,9 @@ use crate::effect::EffectGrid;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// An editable scene: the fields of a scene file, public, with serde.
-///
-/// Build one in code (or take one of a loaded [`Scene`] with
-/// [`Scene::to_spec`]), edit its fields, and [`validate`](Self::validate)
-/// it into a [`Scene`], the only thing worlds are built from; write it as
-/// scene text with [`to_ron`](Self::to_ron).
+/// An editable scene: the fields of a scene file, public, with serde;
+/// [`validate`](Self::validate) it into a [`Scene`], write it with
+/// [`to_ron`](Self::to_ron).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Scene")]
 pub struct SceneSpec {
@@ -331,12 +338,9 @@ pub const BUILTIN: &[(&str, &str)] = builtin!(
 pub const DEFAULT_SCENE: &str = "two_rooms";
 
 impl SceneSpec {
-    /// Replaces the shorthands of a physics scene (`chains`, `walls`: see
-    /// [`shorthand`]) and a [`CommandSpec::Template`] by the plain bodies,
-    /// joints and slots they stand for, in the documented order; nothing
-    /// to do without them. [`validate`](Self::validate) expands (a
-    /// [`Scene`] holds no shorthands); this shows a spec's expansion
-    /// without validating it.
+    /// Replaces the shorthands of a physics scene ([`shorthand`]) and a
+    /// [`CommandSpec::Template`] by the plain bodies, joints and slots they
+    /// stand for, without validating ([`validate`](Self::validate) expands too).
     ///
     /// ```
     /// use e3d::scene::{Scene, WorldSpec};
@@ -447,16 +451,10 @@ impl SceneSpec {
         }
     }
 
-    /// Checks the spec and returns the [`Scene`] it describes, expanded
-    /// (shorthands and templates replaced by what they stand for) and
-    /// known to be valid: the checks [`Scene::load`] and [`Scene::parse`]
-    /// run after reading the RON (the same function): ranges, names,
-    /// joints that form trees, a declared symmetry the scene keeps, bodies
-    /// that do not overlap, reward cells inside the grid, ...
-    ///
-    /// The error is [`SceneErrorKind::Invalid`], with the message loading
-    /// would give but no position (there is no text), and
-    /// `<scene NAME>` as its file.
+    /// Checks the spec and returns the [`Scene`] it describes, expanded and
+    /// known to be valid: the checks [`Scene::load`] runs after reading the
+    /// RON. The error is [`SceneErrorKind::Invalid`], with file `<scene NAME>`
+    /// and no position.
     ///
     /// ```
     /// use e3d::scene::{Scene, SceneErrorKind, WorldSpec};
@@ -477,22 +475,10 @@ impl SceneSpec {
         Scene::of_checked(spec).map_err(|v| self.invalid(v))
     }
 
-    /// The scene as RON text in the scene files' dialect, every field
-    /// written (defaults included): [`Scene::parse`] reads it back
-    /// equal, `Scene::parse(&s.to_ron(), f) == Ok(s)` for a valid scene
-    /// (numbers are written in Rust's shortest form that reads back the
-    /// same bits). An invalid scene is written too, and refused when read.
-    ///
-    /// A [`Scene`] holds no shorthands (they are expanded by
-    /// [`validate`](Self::validate)), so its text is the expanded form
-    /// (what `e3d scene check --expanded` prints); a spec built in code
-    /// with `chains` or `walls` is written with them, and reads back
-    /// expanded.
-    ///
-    /// Plain `ron::to_string` does not read back through [`Scene::parse`]:
-    /// it writes `world: Grid((rows: ...))` and `limits: Some((-1.0, 1.0))`,
-    /// which the scene dialect (newtype variants without their inner
-    /// parentheses, options without `Some`, [`ron_options`]) refuses.
+    /// The scene as RON text in the scene files' dialect ([`ron_options`]),
+    /// every field written: `Scene::parse(&s.to_ron(), f) == Ok(s)` for a valid
+    /// scene (plain `ron::to_string` does not read back). A spec with `chains`
+    /// or `walls` is written with them, and reads back expanded.
     ///
     /// ```
     /// use e3d::Scene;
@@ -527,12 +513,9 @@ pub(crate) fn prepare_text<'a>(
     Ok(text)
 }
 
-/// Whether `c` can stand for a symbol in a written command: it shows as
-/// one visible character. Refused: whitespace, `,` and `"` (commands are
-/// CSV fields, written unquoted), control characters
-/// (BEL), and what has no width of its own, format characters (U+200B, a
-/// zero-width space) and combining marks (U+0301), which would join the
-/// symbol before them.
+/// Whether `c` can stand for a symbol in a written command: one visible
+/// character, not `,` or `"` (commands are unquoted CSV fields), not
+/// whitespace, a control, format (zero-width) or combining character.
 pub fn printable_symbol(c: char) -> bool {
     use unicode_width::UnicodeWidthChar;
     !(c.is_whitespace() || c.is_control() || c == ',' || c == '"')

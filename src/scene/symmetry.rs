@@ -81,22 +81,17 @@ impl Symmetry {
             let mut map = Vec::with_capacity(alphabet.len());
             for s in alphabet {
                 let m = self.mirror_action(&s.action);
-                match alphabet.iter().position(|t| t.action == m) {
-                    Some(k) => map.push(k as u8),
-                    None => {
-                        return Err(Invalid {
-                            nth: seen.iter().filter(|&&c| c == s.symbol).count(),
-                            ..Invalid::at(
-                                "action",
-                                Some(&format!("'{}'", s.symbol)),
-                                &format!(
-                                    "symmetry {self:?}: the mirror image of every symbol's action in the same slot, but slot {slot} has none for '{}' (expected a symbol with {m:?})",
-                                    s.symbol
-                                ),
-                            )
-                        })
-                    }
-                }
+                let Some(k) = alphabet.iter().position(|t| t.action == m) else {
+                    let what = format!(
+                        "symmetry {self:?}: the mirror image of every symbol's action in the same slot, but slot {slot} has none for '{}' (expected a symbol with {m:?})",
+                        s.symbol
+                    );
+                    let nth = seen.iter().filter(|&&c| c == s.symbol).count();
+                    return Err(
+                        Invalid::at("action", Some(&format!("'{}'", s.symbol)), &what).nth(nth),
+                    );
+                };
+                map.push(k as u8);
             }
             seen.extend(alphabet.iter().map(|s| s.symbol));
             maps.push(map);

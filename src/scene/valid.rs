@@ -13,17 +13,10 @@ use crate::command::{CommandSpace, ValueSpace};
 use crate::effect::{Binning, EffectGrid, Feature};
 use std::path::Path;
 
-/// A scene known to be valid: made only by [`Scene::load`],
-/// [`Scene::parse`], [`Scene::builtin`], [`Scene::resolve`] and
-/// [`SceneSpec::validate`], expanded (no shorthands, no templates) and
-/// immutable.
-///
-/// Its fields are read through its [`SceneSpec`], [`spec`](Self::spec)
-/// (`scene.spec().name`, `scene.spec().world`); a `Scene` does not
-/// deref to its spec, so a valid scene cannot be validated again. To edit
-/// a scene, take its spec ([`to_spec`](Self::to_spec)), edit it and
-/// validate it again. Building its world ([`build`](Self::build),
-/// [`physics_world`](Self::physics_world)) cannot fail.
+/// A scene known to be valid: made only by the loaders and
+/// [`SceneSpec::validate`], expanded and immutable. Its fields are read
+/// through [`spec`](Self::spec); to edit it, take its spec
+/// ([`to_spec`](Self::to_spec)) and validate it again.
 ///
 /// ```
 /// use e3d::scene::{Scene, WorldSpec};
@@ -208,17 +201,11 @@ impl Scene {
     /// file exists.
     pub fn resolve(path_or_name: &str) -> Result<Scene, SceneError> {
         let p = Path::new(path_or_name);
-        if !p.exists() {
-            if let Some(s) = Scene::builtin(path_or_name) {
-                return Ok(s);
-            }
-            return Err(SceneError::new(
-                path_or_name,
-                "scene",
-                SceneErrorKind::NoSuchScene,
-            ));
+        if p.exists() {
+            return Scene::load(p);
         }
-        Scene::load(p)
+        Scene::builtin(path_or_name)
+            .ok_or_else(|| SceneError::new(path_or_name, "scene", SceneErrorKind::NoSuchScene))
     }
 
     /// The scene's spec, to read (`scene.spec().name`).
@@ -312,10 +299,9 @@ impl Scene {
         let (links, mirror) = match &spec.world {
             WorldSpec::Physics(p) => (
                 Links::of(&spec, p)?,
-                match p.symmetry {
-                    Some(sym) => Some((sym, sym.symbol_maps(&spec)?)),
-                    None => None,
-                },
+                p.symmetry
+                    .map(|sym| sym.symbol_maps(&spec).map(|m| (sym, m)))
+                    .transpose()?,
             ),
             WorldSpec::Grid(_) => (Links::default(), None),
         };
@@ -346,12 +332,8 @@ impl Links {
             .joints
             .iter()
             .map(|j| {
-                let parent = if j.parent == GROUND {
-                    None
-                } else {
-                    Some(names.body(&j.parent)?)
-                };
-                Ok((parent, names.body(&j.child)?))
+                let parent = (j.parent != GROUND).then(|| names.body(&j.parent));
+                Ok((parent.transpose()?, names.body(&j.child)?))
             })
             .collect::<Result<_, Invalid>>()?;
         let forest = Forest::of(&joints, p.bodies.len());

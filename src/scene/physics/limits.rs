@@ -55,11 +55,7 @@ pub(super) fn in_range(v: f64, lo: f64, hi: f64, signed: bool) -> bool {
 
 /// A number's bounds, for messages: `"in [lo, hi] UNIT"`, `"|v| <= hi UNIT"`.
 pub(super) fn bounds(lo: f64, hi: f64, signed: bool, unit: &str) -> String {
-    let unit = if unit.is_empty() {
-        String::new()
-    } else {
-        format!(" {unit}")
-    };
+    let unit = format!("{}{unit}", if unit.is_empty() { "" } else { " " });
     let tiny = "0 or at least 1.2e-38 in magnitude (f32)";
     match (signed, lo) {
         (true, _) => format!("|value| <= {}{unit}, {tiny}", show(hi)),

@@ -60,16 +60,11 @@ pub struct PhysicsSpec {
     pub contexts: Vec<super::StartState>,
 }
 
-fn default_dt() -> f64 {
-    1.0 / 60.0
-}
-
-fn default_max_speed() -> f64 {
-    100.0
-}
-
-fn yes() -> bool {
-    true
+defaults! {
+    default_dt: f64 = 1.0 / 60.0;
+    default_max_speed: f64 = 100.0;
+    yes: bool = true;
+    half: f64 = 0.5;
 }
 
 /// How a body moves.
@@ -175,10 +170,6 @@ pub struct BodySpec {
     /// as diverged rather than silently slowing it down.
     #[serde(default)]
     pub fast_rotation: bool,
-}
-
-fn half() -> f64 {
-    0.5
 }
 
 /// When the slots act. Durations in seconds; steps = round(seconds / dt).
@@ -325,14 +316,11 @@ impl Schedule {
     /// `(steps of one phase, settle steps)` for `dt`, and whether all slots
     /// act together.
     pub fn steps(&self, dt: f64) -> (u64, u64, bool) {
-        match *self {
-            Schedule::Sequential { phase, settle } => {
-                (steps_of(phase, dt), steps_of(settle, dt), false)
-            }
-            Schedule::Simultaneous { push, settle } => {
-                (steps_of(push, dt), steps_of(settle, dt), true)
-            }
-        }
+        let (phase, settle, together) = match *self {
+            Schedule::Sequential { phase, settle } => (phase, settle, false),
+            Schedule::Simultaneous { push, settle } => (push, settle, true),
+        };
+        (steps_of(phase, dt), steps_of(settle, dt), together)
     }
 
     /// The total number of steps of a command of `slots` slots.
@@ -454,23 +442,16 @@ impl PhysicsSpec {
         self.joints.iter().find(|j| j.name == name)
     }
 
-    /// Whether body `name` hangs, through its chain of joints, from
-    /// `ground`: such a tree is simulated as one Rapier multibody (reduced
-    /// coordinates), and its links are not free rigid bodies (see
-    /// `docs/physics.md`). A tree whose root is a dynamic body (a
-    /// free-floating chain) is simulated with impulse joints instead, and
-    /// a body without joints is a free body: both `false`.
+    /// Whether body `name` hangs, through its joints, from `ground`: such a tree
+    /// is one Rapier multibody (`docs/physics.md`); a free-floating chain or a
+    /// body without joints is not.
     pub fn hangs_from_ground(&self, name: &str) -> bool {
         self.joints_above(name).any(|j| j.parent == super::GROUND)
     }
 
-    /// Whether copies of this world in one Rapier world (see
-    /// [`PhysicsScene::world`](crate::world::PhysicsScene::world))
-    /// give exactly, bit for bit, the outcomes of one world per command:
-    /// when at most one non-fixed body has contacts. With several (arm7's
-    /// links touching each other), Rapier's contact ordering differs
-    /// between the worlds and the last bits of the terminal points do
-    /// too (measured: about 1e-5 m on arm7).
+    /// Whether copies of this world in one Rapier world give bit for bit the
+    /// outcomes of one world per command: when at most one non-fixed body has
+    /// contacts (with several, Rapier's contact ordering differs between them).
     pub fn copies_are_exact(&self) -> bool {
         self.bodies
             .iter()

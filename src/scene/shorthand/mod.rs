@@ -264,18 +264,10 @@ pub struct WallSpec {
     pub names: Vec<String>,
 }
 
-fn link_prefix() -> String {
-    "link".into()
-}
-fn joint_prefix() -> String {
-    "j".into()
-}
-fn ground() -> String {
-    GROUND.into()
-}
-fn no_damping() -> Each<f64> {
-    Each::All(0.0)
-}
-fn half() -> f64 {
-    0.5
+defaults! {
+    link_prefix: String = "link".into();
+    joint_prefix: String = "j".into();
+    ground: String = GROUND.into();
+    no_damping: Each<f64> = Each::All(0.0);
+    half: f64 = 0.5;
 }

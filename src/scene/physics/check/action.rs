@@ -21,9 +21,9 @@ impl PhysicsSpec {
                 let nth = *count;
                 *count += 1;
                 let at = format!("'{}'", s.symbol);
-                let bad_at = |field: &str, what: String| Invalid {
-                    nth,
-                    ..Invalid::at(field, Some(&at), &format!("symbol '{}': {what}", s.symbol))
+                let bad_at = |field: &str, what: String| {
+                    Invalid::at(field, Some(&at), &format!("symbol '{}': {what}", s.symbol))
+                        .nth(nth)
                 };
                 self.check_action(&s.action, position, &bad_at)?;
             }

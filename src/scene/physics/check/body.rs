@@ -18,11 +18,8 @@ impl PhysicsSpec {
     }
 
     /// Refuses a body field that would do nothing on this kind of body
-    /// (the audit of `docs/physics.md`): a link of a chain hung on
-    /// `ground` is a multibody link, integrated from its joints'
-    /// coordinates, so its own `linear_damping`, `angular_damping` and
-    /// `lock_rotation` would be ignored; a fixed or kinematic body does not
-    /// move, so its damping and `lock_rotation` would do nothing.
+    /// (`docs/physics.md`): damping or `lock_rotation` on a fixed or kinematic
+    /// body, or on a multibody link (a chain hung on `ground`).
     pub(super) fn check_body_kind(&self, b: &BodySpec) -> Result<(), Invalid> {
         let at = quoted(&b.name);
         let (kind, instead) = if b.kind != BodyKind::Dynamic {

@@ -15,13 +15,9 @@ use crate::scene::Invalid;
 pub const MAX_CHECKED_RANGES: usize = 8;
 
 impl PhysicsSpec {
-    /// Every body's start pose `(x, y, angle)` in context `k` (`<
-    /// contexts.len()`), in the scene's order: the free bodies it lists
-    /// placed (the trees they carry moved with them), then its joints
-    /// turned (or slid) from the root outwards, each carrying the bodies
-    /// beyond it. A ranged field is at its first end (`position`,
-    /// `angle`); the world's own start of a named context has these poses
-    /// to within Rapier's single precision.
+    /// Every body's start pose `(x, y, angle)` in context `k`, in the scene's
+    /// order: its free bodies placed (with the trees they carry), then its
+    /// joints turned from the root outwards; a ranged field at its first end.
     ///
     /// ```
     /// use e3d::Scene;
@@ -153,12 +149,9 @@ impl PhysicsSpec {
         self.joints_above(&self.joints[j].parent).count()
     }
 
-    /// No context starts two bodies in one another (as
-    /// [`first_overlap`] refuses for the scene's start): a named
-    /// context's start, and every corner of a drawn context's ranges (at
-    /// most [`MAX_CHECKED_RANGES`] ranged coordinates; beyond, the two
-    /// corners with every range at one end). Starts inside the ranges are
-    /// not checked.
+    /// No context starts two bodies in one another ([`first_overlap`]): a
+    /// named context's start, and every corner of a drawn one's ranges (the two
+    /// extreme corners beyond [`MAX_CHECKED_RANGES`] ranged coordinates).
     pub(crate) fn check_context_overlaps(&self) -> Result<(), Invalid> {
         if self.contexts.is_empty() {
             return Ok(());

@@ -21,15 +21,9 @@ impl PhysicsSpec {
         self.contexts.iter().map(|c| c.name.clone()).collect()
     }
 
-    /// Checks the contexts: distinct non-empty names, known free bodies
-    /// (dynamic, no joint's child: a jointed body is set by its joints),
-    /// known joints, finite numbers, joint coordinates within the joints'
-    /// limits, speeds under `max_speed`, `to` only with `position` or
-    /// `angle`.
-    ///
-    /// At most [`MAX_CONTEXTS`](crate::scene::MAX_CONTEXTS) contexts;
-    /// names are looked up in hash maps, so the checks take time linear
-    /// in the scene.
+    /// Checks the contexts (at most [`MAX_CONTEXTS`](crate::scene::MAX_CONTEXTS)):
+    /// distinct names, known free bodies and joints, finite numbers within the
+    /// limits, `to` only with `position` or `angle`; in time linear in the scene.
     pub(crate) fn check_contexts(&self) -> Result<(), Invalid> {
         use std::collections::{HashMap, HashSet};
         crate::scene::check_context_count(self.contexts.len())?;

@@ -111,14 +111,10 @@ impl PhysicsSpec {
         on: On,
         (pb, cb): (Option<usize>, usize),
     ) -> Result<(), Invalid> {
-        let pa = match pb {
-            None => j.parent_anchor,
-            Some(p) => to_world(
-                self.bodies[p].position,
-                self.bodies[p].angle,
-                j.parent_anchor,
-            ),
-        };
+        let pa = pb.map_or(j.parent_anchor, |p| {
+            let b = &self.bodies[p];
+            to_world(b.position, b.angle, j.parent_anchor)
+        });
         let c = &self.bodies[cb];
         let ca = to_world(c.position, c.angle, j.child_anchor);
         let gap = ((pa.0 - ca.0).powi(2) + (pa.1 - ca.1).powi(2)).sqrt();

@@ -198,12 +198,8 @@ impl PhysicsSpec {
         Ok(())
     }
 
-    /// The effect: the short form (a known tracked body, a finite
-    /// tracked point, a valid grid within [`MAX_LENGTH`]) or a list of
-    /// features, each checked in turn (known bodies and joints, finite
-    /// points, at least one bin, finite bounds with `min < max`), whose
-    /// product has at most [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS)
-    /// effects.
+    /// The effect: the short form (a known body, a finite point, a valid grid)
+    /// or a list of features, each checked, with a valid number of effects.
     fn check_effect(&self) -> Result<(), Invalid> {
         let e = &self.effect;
         if e.features.is_empty() {
