@@ -430,11 +430,9 @@ fn token_at(text: &str, line: usize, col: usize) -> String {
 pub(crate) fn position_at(text: &str, at: usize) -> (usize, usize) {
     let before = &text[..at.min(text.len())];
     let line = before.matches('\n').count() + 1;
-    let col = before
-        .rsplit('\n')
-        .next()
-        .map(|l| l.chars().count())
-        .unwrap_or(0)
+    let col = before[before.rfind('\n').map_or(0, |i| i + 1)..]
+        .chars()
+        .count()
         + 1;
     (line, col)
 }

@@ -130,18 +130,15 @@ impl GridSpec {
             crate::text::check_name(&c.name).map_err(|e| here(format!("context {i}: {e}")))?;
         }
         for &(a, b) in &self.walls {
-            if !inside(a) || !inside(b) {
-                return Err(Invalid::new(
-                    "walls",
-                    format!("walls between cells inside the grid, found {a:?}-{b:?}"),
-                ));
-            }
-            if a.0.abs_diff(b.0) + a.1.abs_diff(b.1) != 1 {
-                return Err(Invalid::new(
-                    "walls",
-                    format!("walls between neighbouring cells, found {a:?}-{b:?}"),
-                ));
-            }
+            let between = if !inside(a) || !inside(b) {
+                "cells inside the grid"
+            } else if a.0.abs_diff(b.0) + a.1.abs_diff(b.1) != 1 {
+                "neighbouring cells"
+            } else {
+                continue;
+            };
+            let found = format!("walls between {between}, found {a:?}-{b:?}");
+            return Err(Invalid::new("walls", found));
         }
         Ok(())
     }

@@ -429,13 +429,13 @@ impl SceneSpec {
     /// elsewhere).
     pub(crate) fn reward_table_on(&self, g: &EffectGrid) -> Vec<f64> {
         let mut r = vec![0.0; g.num_cells()];
-        for &(row, col) in &self.reward.cells {
+        let regions = self
+            .reward
+            .regions
+            .iter()
+            .flat_map(|region| region.cells(g));
+        for (row, col) in self.reward.cells.iter().copied().chain(regions) {
             r[row * g.cols + col] = self.reward.value;
-        }
-        for region in &self.reward.regions {
-            for (row, col) in region.cells(g) {
-                r[row * g.cols + col] = self.reward.value;
-            }
         }
         r
     }

@@ -466,24 +466,17 @@ impl Wall<'_> {
                 return Err(self.bad("doors", format!("{door}: two distinct finite points")));
             }
             let Some(i) = pieces.iter().position(|s| on_piece(s, p) && on_piece(s, q)) else {
-                return Err(
-                    match [p, q]
-                        .into_iter()
-                        .find(|x| !pieces.iter().any(|s| on_piece(s, *x)))
-                    {
-                        Some(x) => self.bad(
-                            "doors",
-                            format!(
-                                "{door}: ends on the wall's line, but ({}, {}) is not on it",
-                                x.0, x.1
-                            ),
-                        ),
-                        None => self.bad(
-                            "doors",
-                            format!("{door}: both ends on one straight piece of the wall"),
-                        ),
-                    },
-                );
+                let off = [p, q]
+                    .into_iter()
+                    .find(|x| !pieces.iter().any(|s| on_piece(s, *x)));
+                let what = match off {
+                    Some(x) => format!(
+                        "ends on the wall's line, but ({}, {}) is not on it",
+                        x.0, x.1
+                    ),
+                    None => "both ends on one straight piece of the wall".into(),
+                };
+                return Err(self.bad("doors", format!("{door}: {what}")));
             };
             let s = &pieces[i];
             let at =

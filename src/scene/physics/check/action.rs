@@ -125,10 +125,8 @@ impl PhysicsSpec {
         }
         // +torque on the child, -torque on a dynamic parent
         for name in [&j.child, &j.parent] {
-            let Some(b) = (a.position)(name).map(|i| &self.bodies[i]) else {
-                continue;
-            };
-            let Some(inertia) = b.min_inertia() else {
+            let Some(inertia) = (a.position)(name).and_then(|i| self.bodies[i].min_inertia())
+            else {
                 continue;
             };
             let spin = torque.abs() * self.dt / inertia;

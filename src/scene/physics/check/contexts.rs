@@ -47,28 +47,23 @@ impl PhysicsSpec {
             crate::text::check_name(&c.name).map_err(|e| here("name", e))?;
             let mut listed = HashSet::with_capacity(c.bodies.len());
             for b in &c.bodies {
-                if !listed.insert(b.body.as_str()) {
-                    return Err(here("body", format!("body `{}` listed once", b.body)));
+                let name = b.body.as_str();
+                if !listed.insert(name) {
+                    return Err(here("body", format!("body `{name}` listed once")));
                 }
-                let Some(spec) = bodies.get(b.body.as_str()) else {
-                    return Err(here(
-                        "body",
+                let what = match bodies.get(name) {
+                    None => format!("a body of the scene, found `{}`", crate::text::echo(name)),
+                    Some(spec) if spec.kind != BodyKind::Dynamic || children.contains(name) => {
                         format!(
-                            "a body of the scene, found `{}`",
-                            crate::text::echo(&b.body)
-                        ),
-                    ));
+                            "a free dynamic body (no joint's child), found `{name}` (set a jointed body by its joint: `joints: [(joint: \"...\", angle: ...)]`)"
+                        )
+                    }
+                    Some(_) => {
+                        self.check_body_start(b, &here)?;
+                        continue;
+                    }
                 };
-                if spec.kind != BodyKind::Dynamic || children.contains(b.body.as_str()) {
-                    return Err(here(
-                        "body",
-                        format!(
-                            "a free dynamic body (no joint's child), found `{}` (set a jointed body by its joint: `joints: [(joint: \"...\", angle: ...)]`)",
-                            b.body
-                        ),
-                    ));
-                }
-                self.check_body_start(b, &here)?;
+                return Err(here("body", what));
             }
             let mut listed = HashSet::with_capacity(c.joints.len());
             for s in &c.joints {

@@ -48,20 +48,14 @@ impl PhysicsSpec {
             return Err(on.bad("child", "a body as child; `ground` can only be a parent"));
         }
         let cb = known("child", &j.child)?;
+        let (child, kind) = (&j.child, self.bodies[cb].kind);
         if pb == Some(cb) {
-            return Err(on.bad(
-                "child",
-                format!("two different bodies, but it joins `{}` to itself", j.child),
-            ));
+            let what = format!("two different bodies, but it joins `{child}` to itself");
+            return Err(on.bad("child", what));
         }
-        if self.bodies[cb].kind != BodyKind::Dynamic {
-            return Err(on.bad(
-                "child",
-                format!(
-                    "a dynamic child body, but `{}` is {:?}",
-                    j.child, self.bodies[cb].kind
-                ),
-            ));
+        if kind != BodyKind::Dynamic {
+            let what = format!("a dynamic child body, but `{child}` is {kind:?}");
+            return Err(on.bad("child", what));
         }
         Ok((pb, cb))
     }

@@ -229,13 +229,10 @@ impl PhysicsSpec {
             self.check_feature(k, f)?;
         }
         let axes: Vec<_> = e.features.iter().map(Feature::axis).collect();
-        Binning::new(axes).map_err(|err| {
-            Invalid::new(
-                "features",
-                format!("features whose product has a valid number of effects: {err}"),
-            )
-        })?;
-        Ok(())
+        let valid = "features whose product has a valid number of effects";
+        Binning::new(axes)
+            .map(drop)
+            .map_err(|e| Invalid::new("features", format!("{valid}: {e}")))
     }
 
     /// Feature `k` of the effect's list.
