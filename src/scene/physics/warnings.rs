@@ -3,7 +3,7 @@
 
 use super::limits::show;
 use super::to_world;
-use super::{BodyKind, PhysicsSpec};
+use super::{BodyKind, BodySpec, PhysicsSpec};
 
 impl PhysicsSpec {
     /// What is possible but suspicious, for `e3d scene check`: a tracked point
@@ -43,23 +43,20 @@ impl PhysicsSpec {
             p.0 >= g.min[0] && p.0 <= g.max[0] && p.1 >= g.min[1] && p.1 <= g.max[1]
         };
         let body = self.body(tracked);
-        if let Some(p) = body.map(|b| to_world(b.position, b.angle, point)) {
-            if !inside(p) {
-                out.push(format!(
-                    "the tracked point starts at ({}, {}), outside the effect grid [{}, {}] x [{}, {}]: it counts in the nearest border cell",
-                    show(p.0), show(p.1), g.min[0], g.max[0], g.min[1], g.max[1]
-                ));
-            }
+        let start = body.map(|b| to_world(b.position, b.angle, point));
+        if let Some(p) = start.filter(|p| !inside(*p)) {
+            out.push(format!(
+                "the tracked point starts at ({}, {}), outside the effect grid [{}, {}] x [{}, {}]: it counts in the nearest border cell",
+                show(p.0), show(p.1), g.min[0], g.max[0], g.min[1], g.max[1]
+            ));
         }
-        for b in &self.bodies {
-            if b.kind == BodyKind::Dynamic && !inside(b.position) {
-                out.push(format!(
-                    "dynamic body `{}` starts at ({}, {}), outside the effect grid",
-                    b.name,
-                    show(b.position.0),
-                    show(b.position.1)
-                ));
-            }
+        let outside = |b: &&BodySpec| b.kind == BodyKind::Dynamic && !inside(b.position);
+        for b in self.bodies.iter().filter(outside) {
+            let (name, (x, y)) = (&b.name, b.position);
+            let (x, y) = (show(x), show(y));
+            out.push(format!(
+                "dynamic body `{name}` starts at ({x}, {y}), outside the effect grid"
+            ));
         }
         // walls that do not enclose a free tracked body
         if let Some(l) = crate::scene::enclosure::leak(self) {

@@ -143,23 +143,21 @@ impl Chain<'_> {
         {
             let per_joint = matches!(field, "damping" | "motor" | "joint_names");
             let want = if per_joint { nj } else { n };
-            if let Some(m) = len {
-                if m != want {
-                    let of = if per_joint && c.free {
-                        format!("{nj} joints (a free chain of {n} links)")
-                    } else if per_joint {
-                        format!("{n} joints")
-                    } else {
-                        format!("{n} links")
-                    };
-                    return Err(self.bad(
-                        field,
-                        format!(
-                            "one value for all {of} or a list of {want} {what} (one per {}), found a list of {m}",
-                            if per_joint { "joint" } else { "link" }
-                        ),
-                    ));
-                }
+            if let Some(m) = len.filter(|&m| m != want) {
+                let of = if per_joint && c.free {
+                    format!("{nj} joints (a free chain of {n} links)")
+                } else if per_joint {
+                    format!("{n} joints")
+                } else {
+                    format!("{n} links")
+                };
+                return Err(self.bad(
+                    field,
+                    format!(
+                        "one value for all {of} or a list of {want} {what} (one per {}), found a list of {m}",
+                        if per_joint { "joint" } else { "link" }
+                    ),
+                ));
             }
         }
         Ok(())

@@ -164,12 +164,10 @@ impl PhysicsSpec {
                 show(angle)
             )));
         }
-        if let Some((lo, hi)) = j.limits {
-            if angle < lo || angle > hi {
-                return Err(a.number(format!(
-                    "a target within joint `{joint}`'s limits ({lo}, {hi}), found {angle}"
-                )));
-            }
+        if let Some((lo, hi)) = j.limits.filter(|(lo, hi)| angle < *lo || angle > *hi) {
+            return Err(a.number(format!(
+                "a target within joint `{joint}`'s limits ({lo}, {hi}), found {angle}"
+            )));
         }
         Ok(())
     }

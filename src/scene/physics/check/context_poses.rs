@@ -132,10 +132,8 @@ impl PhysicsSpec {
         while k < out.len() && out.len() <= self.bodies.len() {
             let name = &self.bodies[out[k]].name;
             for j in self.joints.iter().filter(|j| &j.parent == name) {
-                if let Some(c) = self.body_index(&j.child) {
-                    if !out.contains(&c) {
-                        out.push(c);
-                    }
+                if let Some(c) = self.body_index(&j.child).filter(|c| !out.contains(c)) {
+                    out.push(c);
                 }
             }
             k += 1;

@@ -140,12 +140,10 @@ impl PhysicsSpec {
         if b.angle.is_some_and(|a| !a.is_finite() || a.abs() > 1e3) {
             return bad("angle", "a finite angle (rad)".into());
         }
-        if let Some(v) = b.velocity {
-            if !finite2(v) || v.0.hypot(v.1) >= self.max_speed {
-                let max = self.max_speed;
-                let slower = format!("a finite velocity slower than max_speed ({max} m/s)");
-                return bad("velocity", format!("{slower}, found {v:?}"));
-            }
+        let max = self.max_speed;
+        if let Some(v) = b.velocity.filter(|v| !finite2(*v) || v.0.hypot(v.1) >= max) {
+            let slower = format!("a finite velocity slower than max_speed ({max} m/s)");
+            return bad("velocity", format!("{slower}, found {v:?}"));
         }
         if b.angular_velocity
             .is_some_and(|w| !w.is_finite() || w.abs() > 1e3)

@@ -101,13 +101,11 @@ impl PhysicsSpec {
                 format!("a time step in (0, 1] seconds, found {}", self.dt),
             ));
         }
-        if let Some(n) = self.solver_iterations {
-            if n == 0 || n > 1000 {
-                return Err(Invalid::new(
-                    "solver_iterations",
-                    format!("between 1 and 1000 iterations, found {n}"),
-                ));
-            }
+        if let Some(n) = self.solver_iterations.filter(|n| !(1..=1000).contains(n)) {
+            return Err(Invalid::new(
+                "solver_iterations",
+                format!("between 1 and 1000 iterations, found {n}"),
+            ));
         }
         if !(self.max_speed > 0.0 && in_range(self.max_speed, MIN_MAGNITUDE, MAX_SPEED, false)) {
             return Err(Invalid::new(
