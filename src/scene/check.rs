@@ -56,13 +56,9 @@ impl SceneSpec {
             _ => Vec::new(),
         };
         for n in names {
-            crate::text::check_name(n).map_err(|e| {
-                Invalid::at(
-                    "name",
-                    Some(&format!("\"{n}\"")),
-                    &format!("slot name: {e}"),
-                )
-            })?;
+            let at = format!("\"{n}\"");
+            crate::text::check_name(n)
+                .map_err(|e| Invalid::at("name", Some(&at), &format!("slot name: {e}")))?;
         }
         Ok(())
     }
@@ -70,23 +66,19 @@ impl SceneSpec {
     /// The `n` slots the command lists: as many as the scene's `slots`
     /// declares, if it does, and at least one.
     fn check_slot_count(&self, n: usize) -> Result<(), Invalid> {
-        if let Some(declared) = self.slots {
-            if declared != n {
-                let (variant, how) = match &self.command {
-                    CommandSpec::Repeat { .. } => ("Repeat", format!("`Repeat` has `slots: {n}`")),
-                    CommandSpec::Template { .. } => {
-                        ("Template", format!("`Template` has `slots: {n}`"))
-                    }
-                    CommandSpec::Slots(_) => ("Slots", format!("`Slots` lists {n}")),
-                    CommandSpec::Continuous(_) => ("Continuous", format!("`Continuous` lists {n}")),
-                };
-                return Err(Invalid::new(
-                    variant,
-                    format!(
-                        "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: {how}"
-                    ),
-                ));
-            }
+        if let Some(declared) = self.slots.filter(|&d| d != n) {
+            let (variant, how) = match &self.command {
+                CommandSpec::Repeat { .. } => ("Repeat", format!("has `slots: {n}`")),
+                CommandSpec::Template { .. } => ("Template", format!("has `slots: {n}`")),
+                CommandSpec::Slots(_) => ("Slots", format!("lists {n}")),
+                CommandSpec::Continuous(_) => ("Continuous", format!("lists {n}")),
+            };
+            return Err(Invalid::new(
+                variant,
+                format!(
+                    "{declared} slot(s), as the scene's `slots: {declared}` declares, found {n}: `{variant}` {how}"
+                ),
+            ));
         }
         if n == 0 {
             return Err(Invalid::new("command", "at least one slot"));
@@ -100,16 +92,14 @@ impl SceneSpec {
         let CommandSpec::Continuous(slots) = &self.command else {
             return Ok(());
         };
-        if matches!(self.world, WorldSpec::Grid(_)) {
-            return Err(Invalid::new(
+        match &self.world {
+            WorldSpec::Grid(_) => return Err(Invalid::new(
                 "Continuous",
                 "symbols in a Grid world (one-cell moves); continuous slots need a Physics world",
-            ));
-        }
-        if let WorldSpec::Physics(p) = &self.world {
-            if !p.contexts.is_empty() {
-                // a session of values starts every trial from the scene's
-                // start: the contexts would be ignored without a word
+            )),
+            // a session of values starts every trial from the scene's
+            // start: the contexts would be ignored without a word
+            WorldSpec::Physics(p) if !p.contexts.is_empty() => {
                 return Err(Invalid::new(
                     "contexts",
                     format!(
@@ -119,6 +109,7 @@ impl SceneSpec {
                     ),
                 ));
             }
+            WorldSpec::Physics(_) => {}
         }
         for (i, slot) in slots.iter().enumerate() {
             let (lo, hi) = slot.range;
@@ -142,30 +133,21 @@ impl SceneSpec {
         // how often each symbol was written in the alphabets before this
         // slot's (a Repeat schema writes its alphabet once)
         let mut written: std::collections::HashMap<char, usize> = Default::default();
-        let repeat = matches!(self.command, CommandSpec::Repeat { .. });
+        let slots = match self.command {
+            CommandSpec::Continuous(_) => 0,
+            CommandSpec::Repeat { .. } => 1,
+            _ => usize::MAX,
+        };
         let mut written_symbols = 0;
-        for (i, alphabet) in self.slots().enumerate() {
-            if self.is_continuous() {
-                break;
-            }
-            if repeat && i > 0 {
-                break;
-            }
+        for (i, alphabet) in self.slots().enumerate().take(slots) {
             let mut here: std::collections::HashSet<char> = Default::default();
-            if alphabet.is_empty() {
-                return Err(Invalid::new(
-                    "alphabet",
-                    format!("slot {i}: at least one symbol in the alphabet, found none"),
-                ));
-            }
-            if alphabet.len() > MAX_ALPHABET {
-                return Err(Invalid::new(
-                    "alphabet",
-                    format!(
-                        "slot {i}: at most {MAX_ALPHABET} symbols, found {}",
-                        alphabet.len()
-                    ),
-                ));
+            let what = match alphabet.len() {
+                0 => "at least one symbol in the alphabet, found none".to_string(),
+                n if n > MAX_ALPHABET => format!("at most {MAX_ALPHABET} symbols, found {n}"),
+                _ => String::new(),
+            };
+            if !what.is_empty() {
+                return Err(Invalid::new("alphabet", format!("slot {i}: {what}")));
             }
             for s in alphabet {
                 if !here.insert(s.symbol) {
@@ -203,17 +185,16 @@ impl SceneSpec {
     /// an error placed at the shorthand that generated the item).
     fn check_world(&self) -> Result<(), Invalid> {
         match &self.world {
-            WorldSpec::Grid(g) => g.validate(self)?,
+            WorldSpec::Grid(g) => g.validate(self),
             WorldSpec::Physics(p) if p.has_shorthands() => {
                 // every check on the generated items, an error on one of
                 // them placed at the shorthand that generated it
                 let mut e = p.clone();
                 let origins = shorthand::expand(&mut e)?;
-                e.validate(self).map_err(|v| v.attributed(&origins))?
+                e.validate(self).map_err(|v| v.attributed(&origins))
             }
-            WorldSpec::Physics(p) => p.validate(self)?,
+            WorldSpec::Physics(p) => p.validate(self),
         }
-        Ok(())
     }
 
     /// The reward: a finite value, cells and regions inside the effect

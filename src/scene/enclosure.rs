@@ -61,16 +61,14 @@ pub fn leak(spec: &PhysicsSpec) -> Option<Leak> {
     if walls.is_empty() {
         return None;
     }
+    let mut h = r / 4.0;
+    let margin = 2.0 * r + 2.0 * h;
     let (mut wlo, mut whi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for (_, (a, b)) in &walls {
-        for k in 0..2 {
+    for k in 0..2 {
+        for (_, (a, b)) in &walls {
             wlo[k] = wlo[k].min(a[k]);
             whi[k] = whi[k].max(b[k]);
         }
-    }
-    let mut h = r / 4.0;
-    let margin = 2.0 * r + 2.0 * h;
-    for k in 0..2 {
         lo[k] = lo[k].min(wlo[k]) - margin;
         hi[k] = hi[k].max(whi[k]) + margin;
     }

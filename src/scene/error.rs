@@ -4,12 +4,8 @@ use super::{Invalid, MAX_FILE_BYTES};
 use std::fmt;
 
 /// A scene (or sweep) that cannot be loaded or used: which file, and what
-/// kind of mistake ([`SceneErrorKind`]).
-///
-/// Displays as `FILE:LINE:COL: MESSAGE` (or `FILE: MESSAGE` when there is no
-/// position), the form editors and terminals turn into links. A file that
-/// cannot be read has the I/O error as its [`source`](std::error::Error::source)
-/// (and in its message, which the command line prints alone).
+/// kind of mistake ([`SceneErrorKind`]); displays as `FILE:LINE:COL: MESSAGE`
+/// (or `FILE: MESSAGE`). An I/O error is its [`source`](std::error::Error::source).
 ///
 /// ```
 /// use e3d::scene::{Scene, SceneErrorKind};
@@ -179,12 +175,8 @@ impl SceneError {
         }
     }
 
-    /// The field at fault, where the mistake is about one: the field of an
-    /// [`Invalid`](SceneErrorKind::Invalid) value, and for a RON mistake
-    /// ([`Syntax`](SceneErrorKind::Syntax)) the unknown, missing or
-    /// repeated field, or the field given a value of the wrong type or an
-    /// unknown variant. `None` for other mistakes (a bracket left open, a
-    /// file that cannot be read).
+    /// The field at fault, where the mistake is about one (an invalid value,
+    /// or an unknown, missing, repeated or mistyped field); `None` otherwise.
     ///
     /// ```
     /// use e3d::Scene;
@@ -198,11 +190,6 @@ impl SceneError {
             SceneErrorKind::Syntax { field, .. } => field.as_deref(),
             _ => None,
         }
-    }
-
-    /// An empty scene or sweep file (`what`).
-    pub(crate) fn empty(file: &str, what: &'static str) -> Self {
-        SceneError::new(file, what, SceneErrorKind::Empty)
     }
 
     /// The file (or `<builtin NAME>` for a shipped scene, `<scene NAME>`
@@ -240,51 +227,42 @@ impl SceneError {
         let within = |word: &str, outer: &Option<String>| {
             outer
                 .as_ref()
-                .map(|o| format!(" {word} `{o}`"))
-                .unwrap_or_default()
+                .map_or(String::new(), |o| format!(" {word} `{o}`"))
         };
-        // the field the mistake is about, if it names one
-        let at;
-        let message = match &e.code {
+        let unknown = |what: &str, found: &str, expected: &[&str], within: String| {
+            format!(
+                "unknown {what} `{found}`{within}{}; expected one of: {}",
+                did_you_mean(found, expected),
+                expected.join(", ")
+            )
+        };
+        // the message, and the field the mistake is about if it names one
+        let (message, at) = match &e.code {
             E::NoSuchStructField {
                 expected,
                 found,
                 outer,
-            } => {
-                at = Some(found.to_string());
-                format!(
-                    "unknown field `{found}`{}{}; expected one of: {}",
-                    within("in", outer),
-                    did_you_mean(found, expected),
-                    expected.join(", ")
-                )
-            }
+            } => (
+                unknown("field", found, expected, within("in", outer)),
+                Some(found.to_string()),
+            ),
             E::NoSuchEnumVariant {
                 expected,
                 found,
                 outer,
-            } => {
-                at = field_before(text, e.span.start.line, e.span.start.col);
-                format!(
-                    "unknown variant `{found}`{}{}; expected one of: {}",
-                    within("for", outer),
-                    did_you_mean(found, expected),
-                    expected.join(", ")
-                )
-            }
-            E::MissingStructField { field, outer } => {
-                at = Some(field.to_string());
-                format!("missing field `{field}`{}", within("in", outer))
-            }
-            E::DuplicateStructField { field, outer } => {
-                at = Some(field.to_string());
-                format!("field `{field}` given twice{}", within("in", outer))
-            }
-            other => {
-                let (m, f) = other_message(other, text, &e);
-                at = f;
-                m
-            }
+            } => (
+                unknown("variant", found, expected, within("for", outer)),
+                field_before(text, e.span.start.line, e.span.start.col),
+            ),
+            E::MissingStructField { field, outer } => (
+                format!("missing field `{field}`{}", within("in", outer)),
+                Some(field.to_string()),
+            ),
+            E::DuplicateStructField { field, outer } => (
+                format!("field `{field}` given twice{}", within("in", outer)),
+                Some(field.to_string()),
+            ),
+            other => other_message(other, text, &e),
         };
         SceneError::new(
             file,
@@ -415,17 +393,11 @@ fn field_before(text: &str, line: usize, col: usize) -> Option<String> {
     for chunk in [upto.as_str(), prev] {
         let mut best = None;
         for (i, _) in chunk.match_indices(':') {
-            let name: String = chunk[..i]
-                .trim_end()
-                .chars()
-                .rev()
-                .take_while(|c| c.is_alphanumeric() || *c == '_')
-                .collect::<Vec<_>>()
-                .into_iter()
-                .rev()
-                .collect();
+            let before = chunk[..i].trim_end();
+            let word = before.trim_end_matches(|c: char| c.is_alphanumeric() || c == '_');
+            let name = &before[word.len()..];
             if !name.is_empty() && !name.starts_with(|c: char| c.is_ascii_digit()) {
-                best = Some(name);
+                best = Some(name.to_string());
             }
         }
         if best.is_some() {
@@ -458,11 +430,9 @@ fn token_at(text: &str, line: usize, col: usize) -> String {
 pub(crate) fn position_at(text: &str, at: usize) -> (usize, usize) {
     let before = &text[..at.min(text.len())];
     let line = before.matches('\n').count() + 1;
-    let col = before
-        .rsplit('\n')
-        .next()
-        .map(|l| l.chars().count())
-        .unwrap_or(0)
+    let col = before[before.rfind('\n').map_or(0, |i| i + 1)..]
+        .chars()
+        .count()
         + 1;
     (line, col)
 }
@@ -520,18 +490,12 @@ fn locate_within(text: &str, list: &str, k: usize, field: &str) -> Option<(usize
                 == Some(&b':')
     };
     let mut in_str = false;
-    let mut start = None;
-    for i in 0..b.len() {
-        match b[i] {
-            b'"' if i == 0 || b[i - 1] != b'\\' => in_str = !in_str,
-            _ if !in_str && name_at(i, list) => {
-                start = Some(i);
-                break;
-            }
-            _ => {}
+    let start = (0..b.len()).find(|&i| {
+        if b[i] == b'"' && (i == 0 || b[i - 1] != b'\\') {
+            in_str = !in_str;
         }
-    }
-    let start = start?;
+        !in_str && name_at(i, list)
+    })?;
     let open = start + code[start..].find('[')?;
     // the entries: the groups at depth 1 inside the brackets
     let (inside, _) = top_level(b, open + 1);
@@ -582,36 +546,28 @@ fn blank_comments(text: &str) -> String {
     let mut out = b.to_vec();
     let (mut i, mut in_str) = (0, false);
     while i < b.len() {
-        if in_str {
-            if b[i] == b'\\' {
-                i += 2;
-                continue;
-            }
-            if b[i] == b'"' {
-                in_str = false;
-            }
-            i += 1;
-        } else if b[i] == b'"' {
-            in_str = true;
-            i += 1;
-        } else if b[i..].starts_with(b"//") {
-            while i < b.len() && b[i] != b'\n' {
-                out[i] = b' ';
-                i += 1;
-            }
-        } else if b[i..].starts_with(b"/*") {
-            while i < b.len() && !b[i..].starts_with(b"*/") {
-                if b[i] != b'\n' {
-                    out[i] = b' ';
-                }
-                i += 1;
-            }
-            let end = (i + 2).min(b.len());
-            out[i..end].iter_mut().for_each(|c| *c = b' ');
+        let rest = &b[i..];
+        if in_str && b[i] == b'\\' {
             i += 2;
-        } else {
-            i += 1;
+            continue;
         }
+        if b[i] == b'"' {
+            in_str = !in_str;
+        } else if !in_str && (rest.starts_with(b"//") || rest.starts_with(b"/*")) {
+            // to the end of the line, or past the `*/` (the text's end if none)
+            let end = match rest[1] {
+                b'/' => rest.iter().position(|&c| c == b'\n'),
+                _ => rest.windows(2).position(|w| w == b"*/").map(|e| e + 2),
+            };
+            let end = i + end.unwrap_or(rest.len());
+            out[i..end]
+                .iter_mut()
+                .filter(|c| **c != b'\n')
+                .for_each(|c| *c = b' ');
+            i = end;
+            continue;
+        }
+        i += 1;
     }
     // Only ASCII bytes were replaced by ASCII spaces, within comments that
     // start and end on ASCII delimiters; multi-byte characters inside a

@@ -130,18 +130,15 @@ impl GridSpec {
             crate::text::check_name(&c.name).map_err(|e| here(format!("context {i}: {e}")))?;
         }
         for &(a, b) in &self.walls {
-            if !inside(a) || !inside(b) {
-                return Err(Invalid::new(
-                    "walls",
-                    format!("walls between cells inside the grid, found {a:?}-{b:?}"),
-                ));
-            }
-            if a.0.abs_diff(b.0) + a.1.abs_diff(b.1) != 1 {
-                return Err(Invalid::new(
-                    "walls",
-                    format!("walls between neighbouring cells, found {a:?}-{b:?}"),
-                ));
-            }
+            let between = if !inside(a) || !inside(b) {
+                "cells inside the grid"
+            } else if a.0.abs_diff(b.0) + a.1.abs_diff(b.1) != 1 {
+                "neighbouring cells"
+            } else {
+                continue;
+            };
+            let found = format!("walls between {between}, found {a:?}-{b:?}");
+            return Err(Invalid::new("walls", found));
         }
         Ok(())
     }
@@ -150,34 +147,18 @@ impl GridSpec {
 /// The symbols' actions: one-cell moves or idle, the only actions of a
 /// grid world.
 fn check_actions(scene: &SceneSpec) -> Result<(), Invalid> {
-    for alphabet in scene.slots() {
-        for s in alphabet {
-            match s.action {
-                Action::Idle => {}
-                Action::Move { drow, dcol } if drow.abs() + dcol.abs() <= 1 => {}
-                Action::Move { .. } => {
-                    return Err(Invalid::at(
-                        "action",
-                        Some("Move"),
-                        &format!(
-                            "symbol '{}': a one-cell move (|drow| + |dcol| <= 1)",
-                            s.symbol
-                        ),
-                    ))
-                }
-                #[allow(unreachable_patterns)]
-                _ => {
-                    return Err(Invalid::at(
-                        "action",
-                        Some(&format!("'{}'", s.symbol)),
-                        &format!(
-                            "symbol '{}': a Grid world takes Move or Idle actions only",
-                            s.symbol
-                        ),
-                    ))
-                }
-            }
-        }
+    for s in scene.slots().flatten() {
+        let (anchor, what) = match s.action {
+            Action::Idle => continue,
+            Action::Move { drow, dcol } if drow.abs() + dcol.abs() <= 1 => continue,
+            Action::Move { .. } => ("Move".into(), "a one-cell move (|drow| + |dcol| <= 1)"),
+            _ => (
+                format!("'{}'", s.symbol),
+                "a Grid world takes Move or Idle actions only",
+            ),
+        };
+        let what = format!("symbol '{}': {what}", s.symbol);
+        return Err(Invalid::at("action", Some(&anchor), &what));
     }
     Ok(())
 }

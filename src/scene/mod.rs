@@ -1,33 +1,22 @@
 //! Scenes: the RON files that describe a world, its command schema, its
-//! effects and its reward.
-//!
-//! A scene file holds one `Scene(...)`:
-//!
-//! ```ron
-//! Scene(
-//!     name: "two_rooms",
-//!     world: Grid(rows: 3, cols: 6, start: (0, 0), walls: [((0, 2), (0, 3))]),
-//!     command: Repeat(slots: 7, alphabet: [
-//!         (symbol: 'E', action: Move(drow: 0, dcol: 1)),
-//!         (symbol: 'S', action: Move(drow: 1, dcol: 0)),
-//!     ]),
-//!     reward: (cells: [(2, 5)]),
-//! )
-//! ```
+//! effects and its reward (`docs/scenes.md` documents every field).
 //!
 //! [`Scene::load`] parses and validates; every mistake is a [`SceneError`]
-//! naming the file, the line and column, the field and what was expected,
-//! of a [`SceneErrorKind`] a program can match (a missing file is
-//! [`SceneErrorKind::Io`], a RON mistake [`SceneErrorKind::Syntax`]).
-//! [`Scene::build`] turns a scene into a world ([`crate::World`]).
-//!
-//! Parse, don't validate: a [`Scene`] is expanded, immutable and known to
-//! be valid (its fields are read through [`SceneSpec`], which it derefs
-//! to), so building its world cannot fail. A scene built or edited in
-//! code is a [`SceneSpec`], with public fields: [`SceneSpec::validate`]
-//! (the loader's own checks) turns it into a [`Scene`], and
-//! [`SceneSpec::to_ron`] writes it as text that loads back equal.
-//! `docs/scenes.md` documents every field.
+//! naming the file, the line and column, the field and what was expected.
+//! A [`Scene`] is expanded (no shorthands, no templates), immutable and
+//! known to be valid, so building its world cannot fail; a scene built or
+//! edited in code is a [`SceneSpec`], which [`SceneSpec::validate`] turns
+//! into a [`Scene`] and [`SceneSpec::to_ron`] writes as text.
+
+/// The functions that give serde the defaults of fields
+/// (`#[serde(default = "half")]`).
+macro_rules! defaults {
+    ($($name:ident: $t:ty = $v:expr;)*) => {$(
+        fn $name() -> $t {
+            $v
+        }
+    )*};
+}
 
 mod check;
 pub mod enclosure;
@@ -53,12 +42,9 @@ use crate::effect::EffectGrid;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// An editable scene: the fields of a scene file, public, with serde.
-///
-/// Build one in code (or take one of a loaded [`Scene`] with
-/// [`Scene::to_spec`]), edit its fields, and [`validate`](Self::validate)
-/// it into a [`Scene`], the only thing worlds are built from; write it as
-/// scene text with [`to_ron`](Self::to_ron).
+/// An editable scene: the fields of a scene file, public, with serde;
+/// [`validate`](Self::validate) it into a [`Scene`], write it with
+/// [`to_ron`](Self::to_ron).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Scene")]
 pub struct SceneSpec {
@@ -300,25 +286,17 @@ pub enum Action {
 
 /// The reward: `value` when the terminal effect is one of `cells`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct RewardSpec {
     /// The rewarded cells `(row, col)` of the effect grid.
-    #[serde(default)]
     pub cells: Vec<(usize, usize)>,
     /// Named rectangles (metres): the cells whose centre lies inside are
     /// rewarded too.
-    #[serde(default)]
     pub regions: Vec<RegionSpec>,
     /// The reward given in a rewarded cell (default 1).
-    #[serde(default = "one")]
     pub value: f64,
     /// Why these cells (for example the rule that chose them).
-    #[serde(default)]
     pub note: String,
-}
-
-fn one() -> f64 {
-    1.0
 }
 
 impl Default for RewardSpec {
@@ -332,43 +310,37 @@ impl Default for RewardSpec {
     }
 }
 
+macro_rules! builtin {
+    ($($name:literal),*) => {
+        &[$(($name, include_str!(concat!("../../scenes/", $name, ".ron")))),*]
+    };
+}
+
 /// The scenes shipped in `scenes/`, built into the binary: `(name, RON text)`.
-pub const BUILTIN: &[(&str, &str)] = &[
-    ("two_rooms", include_str!("../../scenes/two_rooms.ron")),
-    ("puck_rooms", include_str!("../../scenes/puck_rooms.ron")),
-    ("arm7", include_str!("../../scenes/arm7.ron")),
-    ("pendulum3", include_str!("../../scenes/pendulum3.ron")),
-    ("maze3", include_str!("../../scenes/maze3.ron")),
-    (
-        "puck_rooms14",
-        include_str!("../../scenes/puck_rooms14.ron"),
-    ),
-    ("arm7x5", include_str!("../../scenes/arm7x5.ron")),
-    ("three_rooms", include_str!("../../scenes/three_rooms.ron")),
-    (
-        "arm4_gravity",
-        include_str!("../../scenes/arm4_gravity.ron"),
-    ),
-    (
-        "arm7_continuous",
-        include_str!("../../scenes/arm7_continuous.ron"),
-    ),
-    ("arm_push", include_str!("../../scenes/arm_push.ron")),
-    ("swimmer", include_str!("../../scenes/swimmer.ron")),
-    ("cart_pole", include_str!("../../scenes/cart_pole.ron")),
-    ("four_rooms", include_str!("../../scenes/four_rooms.ron")),
-];
+pub const BUILTIN: &[(&str, &str)] = builtin!(
+    "two_rooms",
+    "puck_rooms",
+    "arm7",
+    "pendulum3",
+    "maze3",
+    "puck_rooms14",
+    "arm7x5",
+    "three_rooms",
+    "arm4_gravity",
+    "arm7_continuous",
+    "arm_push",
+    "swimmer",
+    "cart_pole",
+    "four_rooms"
+);
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
 pub const DEFAULT_SCENE: &str = "two_rooms";
 
 impl SceneSpec {
-    /// Replaces the shorthands of a physics scene (`chains`, `walls`: see
-    /// [`shorthand`]) and a [`CommandSpec::Template`] by the plain bodies,
-    /// joints and slots they stand for, in the documented order; nothing
-    /// to do without them. [`validate`](Self::validate) expands (a
-    /// [`Scene`] holds no shorthands); this shows a spec's expansion
-    /// without validating it.
+    /// Replaces the shorthands of a physics scene ([`shorthand`]) and a
+    /// [`CommandSpec::Template`] by the plain bodies, joints and slots they
+    /// stand for, without validating ([`validate`](Self::validate) expands too).
     ///
     /// ```
     /// use e3d::scene::{Scene, WorldSpec};
@@ -389,13 +361,11 @@ impl SceneSpec {
         if let Some(slots) = template::expand(&self.command).map_err(|v| self.invalid(v))? {
             self.command = slots;
         }
-        let file = format!("<scene {}>", self.name);
-        if let WorldSpec::Physics(p) = &mut self.world {
-            if p.has_shorthands() {
-                shorthand::expand(p).map_err(|v| SceneError::invalid(&file, v, None))?;
-            }
+        match &mut self.world {
+            WorldSpec::Physics(p) if p.has_shorthands() => shorthand::expand(p).map(drop),
+            _ => Ok(()),
         }
-        Ok(())
+        .map_err(|v| self.invalid(v))
     }
 
     /// The error of a failure `v` of this spec, which has no text: its
@@ -459,13 +429,13 @@ impl SceneSpec {
     /// elsewhere).
     pub(crate) fn reward_table_on(&self, g: &EffectGrid) -> Vec<f64> {
         let mut r = vec![0.0; g.num_cells()];
-        for &(row, col) in &self.reward.cells {
+        let regions = self
+            .reward
+            .regions
+            .iter()
+            .flat_map(|region| region.cells(g));
+        for (row, col) in self.reward.cells.iter().copied().chain(regions) {
             r[row * g.cols + col] = self.reward.value;
-        }
-        for region in &self.reward.regions {
-            for (row, col) in region.cells(g) {
-                r[row * g.cols + col] = self.reward.value;
-            }
         }
         r
     }
@@ -481,16 +451,10 @@ impl SceneSpec {
         }
     }
 
-    /// Checks the spec and returns the [`Scene`] it describes, expanded
-    /// (shorthands and templates replaced by what they stand for) and
-    /// known to be valid: the checks [`Scene::load`] and [`Scene::parse`]
-    /// run after reading the RON (the same function): ranges, names,
-    /// joints that form trees, a declared symmetry the scene keeps, bodies
-    /// that do not overlap, reward cells inside the grid, ...
-    ///
-    /// The error is [`SceneErrorKind::Invalid`], with the message loading
-    /// would give but no position (there is no text), and
-    /// `<scene NAME>` as its file.
+    /// Checks the spec and returns the [`Scene`] it describes, expanded and
+    /// known to be valid: the checks [`Scene::load`] runs after reading the
+    /// RON. The error is [`SceneErrorKind::Invalid`], with file `<scene NAME>`
+    /// and no position.
     ///
     /// ```
     /// use e3d::scene::{Scene, SceneErrorKind, WorldSpec};
@@ -511,22 +475,10 @@ impl SceneSpec {
         Scene::of_checked(spec).map_err(|v| self.invalid(v))
     }
 
-    /// The scene as RON text in the scene files' dialect, every field
-    /// written (defaults included): [`Scene::parse`] reads it back
-    /// equal, `Scene::parse(&s.to_ron(), f) == Ok(s)` for a valid scene
-    /// (numbers are written in Rust's shortest form that reads back the
-    /// same bits). An invalid scene is written too, and refused when read.
-    ///
-    /// A [`Scene`] holds no shorthands (they are expanded by
-    /// [`validate`](Self::validate)), so its text is the expanded form
-    /// (what `e3d scene check --expanded` prints); a spec built in code
-    /// with `chains` or `walls` is written with them, and reads back
-    /// expanded.
-    ///
-    /// Plain `ron::to_string` does not read back through [`Scene::parse`]:
-    /// it writes `world: Grid((rows: ...))` and `limits: Some((-1.0, 1.0))`,
-    /// which the scene dialect (newtype variants without their inner
-    /// parentheses, options without `Some`, [`ron_options`]) refuses.
+    /// The scene as RON text in the scene files' dialect ([`ron_options`]),
+    /// every field written: `Scene::parse(&s.to_ron(), f) == Ok(s)` for a valid
+    /// scene (plain `ron::to_string` does not read back). A spec with `chains`
+    /// or `walls` is written with them, and reads back expanded.
     ///
     /// ```
     /// use e3d::Scene;
@@ -561,12 +513,9 @@ pub(crate) fn prepare_text<'a>(
     Ok(text)
 }
 
-/// Whether `c` can stand for a symbol in a written command: it shows as
-/// one visible character. Refused: whitespace, `,` and `"` (commands are
-/// CSV fields, written unquoted), control characters
-/// (BEL), and what has no width of its own, format characters (U+200B, a
-/// zero-width space) and combining marks (U+0301), which would join the
-/// symbol before them.
+/// Whether `c` can stand for a symbol in a written command: one visible
+/// character, not `,` or `"` (commands are unquoted CSV fields), not
+/// whitespace, a control, format (zero-width) or combining character.
 pub fn printable_symbol(c: char) -> bool {
     use unicode_width::UnicodeWidthChar;
     !(c.is_whitespace() || c.is_control() || c == ',' || c == '"')
@@ -604,6 +553,7 @@ pub const MAX_FILE_BYTES: u64 = 16 << 20;
 /// directory, an unreadable file or bytes that are not UTF-8 are errors
 /// that name the file (and, for bad bytes, where they start).
 pub(crate) fn read_text(path: &Path, kind: &'static str) -> Result<String, SceneError> {
+    use std::io::Read;
     let file = path.display().to_string();
     let error = |k: SceneErrorKind| SceneError::new(&file, kind, k);
     if path.is_dir() {
@@ -622,14 +572,8 @@ pub(crate) fn read_text(path: &Path, kind: &'static str) -> Result<String, Scene
     }
     // read at most one byte more than allowed (the file may grow meanwhile)
     let mut bytes = Vec::with_capacity(meta.len() as usize);
-    std::io::Read::read_to_end(
-        &mut std::io::Read::take(
-            std::fs::File::open(path).map_err(cannot)?,
-            MAX_FILE_BYTES + 1,
-        ),
-        &mut bytes,
-    )
-    .map_err(cannot)?;
+    let f = std::fs::File::open(path).map_err(cannot)?;
+    (f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)).map_err(cannot)?;
     if bytes.len() as u64 > MAX_FILE_BYTES {
         return Err(error(SceneErrorKind::TooLarge { bytes: None }));
     }

@@ -41,27 +41,20 @@ impl RegionSpec {
         let at = format!("\"{}\"", self.name);
         crate::text::check_name(&self.name)
             .map_err(|e| Invalid::at("name", Some(&at), &format!("region: {e}")))?;
+        let bad = |what: String| Err(Invalid::at("regions", Some(&at), &what));
         let finite = [self.min.0, self.min.1, self.max.0, self.max.1]
             .iter()
             .all(|v| v.is_finite());
         if !finite || self.min.0 >= self.max.0 || self.min.1 >= self.max.1 {
-            return Err(Invalid::at(
-                "regions",
-                Some(&at),
-                &format!(
-                    "region `{}`: finite corners with min < max, found min {:?}, max {:?}",
-                    self.name, self.min, self.max
-                ),
+            return bad(format!(
+                "region `{}`: finite corners with min < max, found min {:?}, max {:?}",
+                self.name, self.min, self.max
             ));
         }
         if self.cells(grid).is_empty() {
-            return Err(Invalid::at(
-                "regions",
-                Some(&at),
-                &format!(
-                    "region `{}`: a rectangle holding the centre of at least one effect cell",
-                    self.name
-                ),
+            return bad(format!(
+                "region `{}`: a rectangle holding the centre of at least one effect cell",
+                self.name
             ));
         }
         Ok(())

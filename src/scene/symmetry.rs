@@ -1,20 +1,13 @@
-//! Mirror symmetry of a physics scene (`symmetry: FlipY` or `FlipX`).
+//! Mirror symmetry of a physics scene (`symmetry: FlipY` or `FlipX`): a
+//! scene a reflection leaves unchanged answers the mirror image of a
+//! command with the mirror image of its outcome, so of each pair of
+//! mirror-image commands only the one with the lower index is simulated
+//! (see [`PhysicsWorld`](crate::world::PhysicsWorld)).
 //!
-//! A scene that a reflection leaves unchanged (every body on the mirror
-//! line, its own mirror image; gravity along the line; an effect grid
-//! symmetric about it; an alphabet that holds the mirror image of every
-//! symbol's action) answers the mirror image of a command with the mirror
-//! image of its outcome. Declaring the symmetry halves the simulations: of
-//! each pair of mirror-image commands, only the one with the lower index
-//! is simulated, the other's terminal point is its reflection (see
-//! [`PhysicsWorld`](crate::world::PhysicsWorld)).
-//!
-//! This holds exactly in real arithmetic, not bit for bit in Rapier, whose
-//! floating-point sums, contact ordering and contact features are not
-//! mirror-symmetric. Measured on arm7 (all 2187 commands): against Rapier's
-//! own outcome of every command, the table with the symmetry has 1896
-//! outcomes bit-identical and 2185 effects equal (`tests/physics/symmetry.rs`,
-//! docs/benchmarks.md). A scene opts in knowingly.
+//! Exact in real arithmetic, not bit for bit in Rapier (measured on arm7:
+//! 1896 of 2187 outcomes bit-identical, 2185 effects equal;
+//! `tests/physics/symmetry.rs`, docs/benchmarks.md): a scene opts in
+//! knowingly.
 
 use super::{Action, Invalid, SceneSpec};
 use serde::{Deserialize, Serialize};
@@ -88,22 +81,17 @@ impl Symmetry {
             let mut map = Vec::with_capacity(alphabet.len());
             for s in alphabet {
                 let m = self.mirror_action(&s.action);
-                match alphabet.iter().position(|t| t.action == m) {
-                    Some(k) => map.push(k as u8),
-                    None => {
-                        return Err(Invalid {
-                            nth: seen.iter().filter(|&&c| c == s.symbol).count(),
-                            ..Invalid::at(
-                                "action",
-                                Some(&format!("'{}'", s.symbol)),
-                                &format!(
-                                    "symmetry {self:?}: the mirror image of every symbol's action in the same slot, but slot {slot} has none for '{}' (expected a symbol with {m:?})",
-                                    s.symbol
-                                ),
-                            )
-                        })
-                    }
-                }
+                let Some(k) = alphabet.iter().position(|t| t.action == m) else {
+                    let what = format!(
+                        "symmetry {self:?}: the mirror image of every symbol's action in the same slot, but slot {slot} has none for '{}' (expected a symbol with {m:?})",
+                        s.symbol
+                    );
+                    let nth = seen.iter().filter(|&&c| c == s.symbol).count();
+                    return Err(
+                        Invalid::at("action", Some(&format!("'{}'", s.symbol)), &what).nth(nth),
+                    );
+                };
+                map.push(k as u8);
             }
             seen.extend(alphabet.iter().map(|s| s.symbol));
             maps.push(map);

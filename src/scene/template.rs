@@ -142,10 +142,9 @@ pub(crate) fn expand(command: &CommandSpec) -> Result<Option<CommandSpec>, Inval
                     .iter()
                     .map(|s| SymbolSpec {
                         symbol: s.symbol,
-                        action: match &name {
-                            Some(c) => filled(&s.action, c),
-                            None => s.action.clone(),
-                        },
+                        action: name
+                            .as_ref()
+                            .map_or(s.action.clone(), |c| filled(&s.action, c)),
                     })
                     .collect(),
                 name,

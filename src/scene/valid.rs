@@ -13,17 +13,10 @@ use crate::command::{CommandSpace, ValueSpace};
 use crate::effect::{Binning, EffectGrid, Feature};
 use std::path::Path;
 
-/// A scene known to be valid: made only by [`Scene::load`],
-/// [`Scene::parse`], [`Scene::builtin`], [`Scene::resolve`] and
-/// [`SceneSpec::validate`], expanded (no shorthands, no templates) and
-/// immutable.
-///
-/// Its fields are read through its [`SceneSpec`], [`spec`](Self::spec)
-/// (`scene.spec().name`, `scene.spec().world`); a `Scene` does not
-/// deref to its spec, so a valid scene cannot be validated again. To edit
-/// a scene, take its spec ([`to_spec`](Self::to_spec)), edit it and
-/// validate it again. Building its world ([`build`](Self::build),
-/// [`physics_world`](Self::physics_world)) cannot fail.
+/// A scene known to be valid: made only by the loaders and
+/// [`SceneSpec::validate`], expanded and immutable. Its fields are read
+/// through [`spec`](Self::spec); to edit it, take its spec
+/// ([`to_spec`](Self::to_spec)) and validate it again.
 ///
 /// ```
 /// use e3d::scene::{Scene, WorldSpec};
@@ -80,35 +73,28 @@ pub(crate) struct Forest {
 
 impl Forest {
     /// The forest of `joints` (per joint: its parent body, `None` for
-    /// ground, and its child body) on `bodies` bodies; an error when they
-    /// do not form one (which [`SceneSpec::check`] refused already).
-    fn of(joints: &[(Option<usize>, usize)], bodies: usize) -> Result<Forest, Invalid> {
-        let not_trees = || Invalid::new("joint", "joints that form trees");
+    /// ground, and its child body) on `bodies` bodies, which
+    /// [`SceneSpec::check`] found to form one.
+    fn of(joints: &[(Option<usize>, usize)], bodies: usize) -> Forest {
         let mut parent_of = vec![None; bodies];
         for (k, &(_, child)) in joints.iter().enumerate() {
-            if parent_of[child].replace(k).is_some() {
-                return Err(not_trees());
-            }
+            parent_of[child] = Some(k);
         }
+        // walk up from each parent to ground or a root body
         let hung = joints
             .iter()
-            .map(|&(parent, child)| {
-                // walk up from the parent: ground, a root body, or a loop
-                let mut up = parent;
+            .map(|&(mut up, _)| {
                 for _ in 0..=bodies {
-                    match up {
-                        None => return Ok(true),
-                        Some(b) if b == child => return Err(not_trees()),
-                        Some(b) => match parent_of[b] {
-                            None => return Ok(false),
-                            Some(k) => up = joints[k].0,
-                        },
+                    match up.map(|b| parent_of[b]) {
+                        None => return true,
+                        Some(None) => return false,
+                        Some(Some(k)) => up = joints[k].0,
                     }
                 }
-                Err(not_trees())
+                false
             })
-            .collect::<Result<_, Invalid>>()?;
-        Ok(Forest { hung })
+            .collect();
+        Forest { hung }
     }
 
     /// Whether joint `joint`'s tree hangs from ground: such a tree is one
@@ -190,7 +176,7 @@ impl Scene {
     pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
         let text = prepare_text(text, file, "scene")?;
         if text.trim().is_empty() {
-            return Err(SceneError::empty(file, "scene"));
+            return Err(SceneError::new(file, "scene", SceneErrorKind::Empty));
         }
         let mut spec: SceneSpec = ron_options()
             .from_str(text)
@@ -215,17 +201,11 @@ impl Scene {
     /// file exists.
     pub fn resolve(path_or_name: &str) -> Result<Scene, SceneError> {
         let p = Path::new(path_or_name);
-        if !p.exists() {
-            if let Some(s) = Scene::builtin(path_or_name) {
-                return Ok(s);
-            }
-            return Err(SceneError::new(
-                path_or_name,
-                "scene",
-                SceneErrorKind::NoSuchScene,
-            ));
+        if p.exists() {
+            return Scene::load(p);
         }
-        Scene::load(p)
+        Scene::builtin(path_or_name)
+            .ok_or_else(|| SceneError::new(path_or_name, "scene", SceneErrorKind::NoSuchScene))
     }
 
     /// The scene's spec, to read (`scene.spec().name`).
@@ -319,10 +299,9 @@ impl Scene {
         let (links, mirror) = match &spec.world {
             WorldSpec::Physics(p) => (
                 Links::of(&spec, p)?,
-                match p.symmetry {
-                    Some(sym) => Some((sym, sym.symbol_maps(&spec)?)),
-                    None => None,
-                },
+                p.symmetry
+                    .map(|sym| sym.symbol_maps(&spec).map(|m| (sym, m)))
+                    .transpose()?,
             ),
             WorldSpec::Grid(_) => (Links::default(), None),
         };
@@ -353,15 +332,11 @@ impl Links {
             .joints
             .iter()
             .map(|j| {
-                let parent = if j.parent == GROUND {
-                    None
-                } else {
-                    Some(names.body(&j.parent)?)
-                };
-                Ok((parent, names.body(&j.child)?))
+                let parent = (j.parent != GROUND).then(|| names.body(&j.parent));
+                Ok((parent.transpose()?, names.body(&j.child)?))
             })
             .collect::<Result<_, Invalid>>()?;
-        let forest = Forest::of(&joints, p.bodies.len())?;
+        let forest = Forest::of(&joints, p.bodies.len());
         let contexts = p
             .contexts
             .iter()
@@ -418,20 +393,14 @@ struct Names<'a>(&'a PhysicsSpec);
 impl Names<'_> {
     /// The index of body `name`.
     fn body(&self, name: &str) -> Result<usize, Invalid> {
-        self.0
-            .bodies
-            .iter()
-            .position(|b| b.name == name)
-            .ok_or_else(|| Invalid::new("body", format!("a known body, found `{name}`")))
+        let i = self.0.body_index(name);
+        i.ok_or_else(|| Invalid::new("body", format!("a known body, found `{name}`")))
     }
 
     /// The index of joint `name`.
     fn joint(&self, name: &str) -> Result<usize, Invalid> {
-        self.0
-            .joints
-            .iter()
-            .position(|j| j.name == name)
-            .ok_or_else(|| Invalid::new("joint", format!("a known joint, found `{name}`")))
+        let i = self.0.joints.iter().position(|j| j.name == name);
+        i.ok_or_else(|| Invalid::new("joint", format!("a known joint, found `{name}`")))
     }
 
     /// `action` with its joint or body as an index (a target's joint with

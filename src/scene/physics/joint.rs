@@ -1,6 +1,7 @@
 //! The joints of the physics part of the scene format: hinges and
 //! sliders between two bodies (or a body and ground), with their motors.
 
+use super::limits::{MAX_ANGLE, MAX_LENGTH};
 use serde::{Deserialize, Serialize};
 
 /// A revolute joint (a hinge) between `parent` and `child`.
@@ -72,9 +73,16 @@ impl JointKind {
     /// The unit of the joint's coordinate: `rad` for a hinge, `m` for a
     /// slider.
     pub fn unit(&self) -> &'static str {
+        self.coordinate().1
+    }
+
+    /// The joint's coordinate, its unit and the bound of its magnitude:
+    /// `angle` in `rad` up to [`MAX_ANGLE`] for a hinge, `position` in `m`
+    /// up to [`MAX_LENGTH`] for a slider.
+    pub(crate) fn coordinate(&self) -> (&'static str, &'static str, f64) {
         match self {
-            JointKind::Revolute => "rad",
-            JointKind::Prismatic { .. } => "m",
+            JointKind::Revolute => ("angle", "rad", MAX_ANGLE),
+            JointKind::Prismatic { .. } => ("position", "m", MAX_LENGTH),
         }
     }
 }

@@ -55,11 +55,7 @@ pub(super) fn in_range(v: f64, lo: f64, hi: f64, signed: bool) -> bool {
 
 /// A number's bounds, for messages: `"in [lo, hi] UNIT"`, `"|v| <= hi UNIT"`.
 pub(super) fn bounds(lo: f64, hi: f64, signed: bool, unit: &str) -> String {
-    let unit = if unit.is_empty() {
-        String::new()
-    } else {
-        format!(" {unit}")
-    };
+    let unit = format!("{}{unit}", if unit.is_empty() { "" } else { " " });
     let tiny = "0 or at least 1.2e-38 in magnitude (f32)";
     match (signed, lo) {
         (true, _) => format!("|value| <= {}{unit}, {tiny}", show(hi)),
@@ -68,10 +64,7 @@ pub(super) fn bounds(lo: f64, hi: f64, signed: bool, unit: &str) -> String {
     }
 }
 
-/// A number for messages ([`crate::text::show_number`]).
-pub(crate) fn show(v: f64) -> String {
-    crate::text::show_number(v)
-}
+pub(crate) use crate::text::show_number as show;
 
 /// The bounds of a number: `[lo, hi]`, of its magnitude when `signed`,
 /// in `unit` (for messages).
@@ -116,12 +109,13 @@ pub(super) struct On<'a> {
     pub who: &'a str,
 }
 
-impl On<'_> {
+impl<'a> On<'a> {
     /// The world's own fields: no anchor, no prefix.
-    pub(super) const WORLD: On<'static> = On {
-        anchor: None,
-        who: "",
-    };
+    pub(super) const WORLD: On<'static> = On::new(None, "");
+
+    pub(super) const fn new(anchor: Option<&'a str>, who: &'a str) -> On<'a> {
+        On { anchor, who }
+    }
 
     /// The failure at `field`: `who: EXPECTED`.
     pub(super) fn bad(&self, field: &str, expected: impl std::fmt::Display) -> Invalid {

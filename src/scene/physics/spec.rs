@@ -60,16 +60,11 @@ pub struct PhysicsSpec {
     pub contexts: Vec<super::StartState>,
 }
 
-fn default_dt() -> f64 {
-    1.0 / 60.0
-}
-
-fn default_max_speed() -> f64 {
-    100.0
-}
-
-fn yes() -> bool {
-    true
+defaults! {
+    default_dt: f64 = 1.0 / 60.0;
+    default_max_speed: f64 = 100.0;
+    yes: bool = true;
+    half: f64 = 0.5;
 }
 
 /// How a body moves.
@@ -175,10 +170,6 @@ pub struct BodySpec {
     /// as diverged rather than silently slowing it down.
     #[serde(default)]
     pub fast_rotation: bool,
-}
-
-fn half() -> f64 {
-    0.5
 }
 
 /// When the slots act. Durations in seconds; steps = round(seconds / dt).
@@ -325,14 +316,11 @@ impl Schedule {
     /// `(steps of one phase, settle steps)` for `dt`, and whether all slots
     /// act together.
     pub fn steps(&self, dt: f64) -> (u64, u64, bool) {
-        match *self {
-            Schedule::Sequential { phase, settle } => {
-                (steps_of(phase, dt), steps_of(settle, dt), false)
-            }
-            Schedule::Simultaneous { push, settle } => {
-                (steps_of(push, dt), steps_of(settle, dt), true)
-            }
-        }
+        let (phase, settle, together) = match *self {
+            Schedule::Sequential { phase, settle } => (phase, settle, false),
+            Schedule::Simultaneous { push, settle } => (push, settle, true),
+        };
+        (steps_of(phase, dt), steps_of(settle, dt), together)
     }
 
     /// The total number of steps of a command of `slots` slots.
@@ -354,9 +342,7 @@ impl BodySpec {
             (None, d) => d.unwrap_or(1.0) * self.shape.area(),
         }
     }
-}
 
-impl BodySpec {
     /// The body's moment of inertia about its centre of mass, kg·m², or a
     /// lower bound of it (a capsule counts as its disc of `radius`); `None`
     /// for a body that does not turn (not dynamic, or `lock_rotation`).
@@ -404,10 +390,6 @@ impl ShapeSpec {
 
 /// The world position of local point `p` on a body at `pos`, `angle`.
 pub fn to_world_point(pos: (f64, f64), angle: f64, p: (f64, f64)) -> (f64, f64) {
-    to_world(pos, angle, p)
-}
-
-pub(crate) fn to_world(pos: (f64, f64), angle: f64, p: (f64, f64)) -> (f64, f64) {
     let (s, c) = angle.sin_cos();
     (pos.0 + c * p.0 - s * p.1, pos.1 + s * p.0 + c * p.1)
 }
@@ -438,36 +420,38 @@ impl PhysicsSpec {
         self.bodies.iter().find(|b| b.name == name)
     }
 
+    /// The index of the body named `name`, if any.
+    pub(crate) fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    /// The joints up the tree from body `name`: the joint whose child it
+    /// is, then its parent's, ... (at most as many as there are joints).
+    pub(crate) fn joints_above<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a JointSpec> {
+        let mut at = name;
+        std::iter::from_fn(move || {
+            let j = self.joints.iter().find(|j| j.child == at)?;
+            at = &j.parent;
+            Some(j)
+        })
+        .take(self.joints.len() + 1)
+    }
+
     /// The joint named `name`, if any.
     pub fn joint(&self, name: &str) -> Option<&JointSpec> {
         self.joints.iter().find(|j| j.name == name)
     }
 
-    /// Whether body `name` hangs, through its chain of joints, from
-    /// `ground`: such a tree is simulated as one Rapier multibody (reduced
-    /// coordinates), and its links are not free rigid bodies (see
-    /// `docs/physics.md`). A tree whose root is a dynamic body (a
-    /// free-floating chain) is simulated with impulse joints instead, and
-    /// a body without joints is a free body: both `false`.
+    /// Whether body `name` hangs, through its joints, from `ground`: such a tree
+    /// is one Rapier multibody (`docs/physics.md`); a free-floating chain or a
+    /// body without joints is not.
     pub fn hangs_from_ground(&self, name: &str) -> bool {
-        let mut at = name;
-        for _ in 0..=self.joints.len() {
-            match self.joints.iter().find(|j| j.child == at) {
-                None => return false,
-                Some(j) if j.parent == super::GROUND => return true,
-                Some(j) => at = &j.parent,
-            }
-        }
-        false
+        self.joints_above(name).any(|j| j.parent == super::GROUND)
     }
 
-    /// Whether copies of this world in one Rapier world (see
-    /// [`PhysicsScene::world`](crate::world::PhysicsScene::world))
-    /// give exactly, bit for bit, the outcomes of one world per command:
-    /// when at most one non-fixed body has contacts. With several (arm7's
-    /// links touching each other), Rapier's contact ordering differs
-    /// between the worlds and the last bits of the terminal points do
-    /// too (measured: about 1e-5 m on arm7).
+    /// Whether copies of this world in one Rapier world give bit for bit the
+    /// outcomes of one world per command: when at most one non-fixed body has
+    /// contacts (with several, Rapier's contact ordering differs between them).
     pub fn copies_are_exact(&self) -> bool {
         self.bodies
             .iter()

@@ -2,23 +2,16 @@
 //! check`.
 
 use super::limits::show;
-use super::spec::to_world;
-use super::{BodyKind, PhysicsSpec};
+use super::to_world;
+use super::{BodyKind, BodySpec, PhysicsSpec};
 
 impl PhysicsSpec {
-    /// What is possible but suspicious, for `e3d scene check`: a tracked
-    /// point that starts outside the effect grid (it is binned in the
-    /// nearest border cell), a dynamic body outside it, a fixed body (a
-    /// wall) that neither lies in nor touches it. (Bodies overlapping at
-    /// the start are not a warning: [`SceneSpec::validate`](crate::SceneSpec::validate)
-    /// refuses them.) An effect other than one point's world cell (a
-    /// joint's coordinate, an angle, a product) has no grid over the
-    /// world: none of these apply to it.
-    ///
-    /// A start context is checked as the scene's start: each named
-    /// context's start (a drawn context at the two corners of its ranges
-    /// where every range is at one end), its warnings prefixed with
-    /// `context `NAME`: ` when the scene's own start does not give them.
+    /// What is possible but suspicious, for `e3d scene check`: a tracked point
+    /// or a dynamic body starting outside the effect grid, walls that do not
+    /// enclose the tracked body or lie wholly outside the grid (only for an
+    /// effect that is one point's world cell). Each context's start is checked
+    /// too (a drawn one at its two extreme corners), its new warnings prefixed
+    /// with `context `NAME`: `.
     pub fn warnings(&self) -> Vec<String> {
         let mut out = self.start_warnings();
         if self.contexts.is_empty() || self.effect.world_point().is_none() {
@@ -49,32 +42,30 @@ impl PhysicsSpec {
         let inside = |p: (f64, f64)| {
             p.0 >= g.min[0] && p.0 <= g.max[0] && p.1 >= g.min[1] && p.1 <= g.max[1]
         };
-        if let Some(b) = self.body(tracked) {
-            let p = to_world(b.position, b.angle, point);
-            if !inside(p) {
-                out.push(format!(
-                    "the tracked point starts at ({}, {}), outside the effect grid [{}, {}] x [{}, {}]: it counts in the nearest border cell",
-                    show(p.0), show(p.1), g.min[0], g.max[0], g.min[1], g.max[1]
-                ));
-            }
+        let body = self.body(tracked);
+        let start = body.map(|b| to_world(b.position, b.angle, point));
+        if let Some(p) = start.filter(|p| !inside(*p)) {
+            out.push(format!(
+                "the tracked point starts at ({}, {}), outside the effect grid [{}, {}] x [{}, {}]: it counts in the nearest border cell",
+                show(p.0), show(p.1), g.min[0], g.max[0], g.min[1], g.max[1]
+            ));
         }
-        for b in &self.bodies {
-            if b.kind == BodyKind::Dynamic && !inside(b.position) {
-                out.push(format!(
-                    "dynamic body `{}` starts at ({}, {}), outside the effect grid",
-                    b.name,
-                    show(b.position.0),
-                    show(b.position.1)
-                ));
-            }
+        let outside = |b: &&BodySpec| b.kind == BodyKind::Dynamic && !inside(b.position);
+        for b in self.bodies.iter().filter(outside) {
+            let (name, (x, y)) = (&b.name, b.position);
+            let (x, y) = (show(x), show(y));
+            out.push(format!(
+                "dynamic body `{name}` starts at ({x}, {y}), outside the effect grid"
+            ));
         }
         // walls that do not enclose a free tracked body
         if let Some(l) = crate::scene::enclosure::leak(self) {
+            let start = body.map_or((0.0, 0.0), |b| b.position);
             out.push(format!(
                 "the walls do not enclose the tracked body `{}`: from its start ({}, {}) it may leave them near ({:.2}, {:.2}) (fixed bodies rasterised on {} m cells; a gap of 1.5 times its radius or more counts)",
                 tracked,
-                show(self.effect_start(tracked).0),
-                show(self.effect_start(tracked).1),
+                show(start.0),
+                show(start.1),
                 l.point.0,
                 l.point.1,
                 show(l.cell)
@@ -83,10 +74,11 @@ impl PhysicsSpec {
         // a fixed body that neither lies in nor touches the effect grid
         // bounds no motion there: most likely a misplaced wall
         let tol = crate::scene::overlap::OVERLAP_TOLERANCE;
-        for b in &self.bodies {
-            if b.kind != BodyKind::Fixed || !b.collide {
-                continue;
-            }
+        for b in self
+            .bodies
+            .iter()
+            .filter(|b| b.kind == BodyKind::Fixed && b.collide)
+        {
             let (lo, hi) = crate::scene::overlap::start_aabb(b);
             if lo[0] > g.max[0] + tol
                 || hi[0] < g.min[0] - tol
@@ -102,9 +94,5 @@ impl PhysicsSpec {
             }
         }
         out
-    }
-
-    fn effect_start(&self, tracked: &str) -> (f64, f64) {
-        self.body(tracked).map_or((0.0, 0.0), |b| b.position)
     }
 }

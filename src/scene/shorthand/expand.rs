@@ -23,10 +23,6 @@ fn tidy(x: f64) -> f64 {
     }
 }
 
-fn bad(list: &'static str, k: usize, field: &str, msg: String) -> Invalid {
-    Invalid::new(field, msg).within(list, k)
-}
-
 /// Replaces the shorthands of `spec` (its `walls` and `chains`) by the
 /// bodies and joints they stand for, in the documented order; `Err` names
 /// the shorthand's field at fault. Returns which shorthand generated which
@@ -49,19 +45,18 @@ pub(crate) fn expand(spec: &mut PhysicsSpec) -> Result<Origins, Invalid> {
                 .find(|b| b.name == name)
                 .map(|b| (b.position, b.angle))
         })?;
-        for b in &links {
-            origins.entry(b.name.clone()).or_insert(("chains", k));
-        }
-        for j in &js {
-            origins.entry(j.name.clone()).or_insert(("chains", k));
+        for name in links
+            .iter()
+            .map(|b| &b.name)
+            .chain(js.iter().map(|j| &j.name))
+        {
+            origins.entry(name.clone()).or_insert(("chains", k));
         }
         bodies.extend(links);
         joints.extend(js);
     }
-    bodies.append(&mut spec.bodies);
-    joints.append(&mut spec.joints);
-    spec.bodies = bodies;
-    spec.joints = joints;
+    spec.bodies.splice(0..0, bodies);
+    spec.joints.splice(0..0, joints);
     spec.walls.clear();
     spec.chains.clear();
     Ok(origins)
@@ -108,7 +103,7 @@ impl Chain<'_> {
     /// The error at the chain's `field`.
     fn bad(&self, field: &str, msg: String) -> Invalid {
         let k = self.k;
-        bad("chains", k, field, format!("chains[{k}]: {msg}"))
+        Invalid::new(field, format!("chains[{k}]: {msg}")).within("chains", k)
     }
 
     /// The number of links, and one value per link (per joint) or a list
@@ -148,23 +143,21 @@ impl Chain<'_> {
         {
             let per_joint = matches!(field, "damping" | "motor" | "joint_names");
             let want = if per_joint { nj } else { n };
-            if let Some(m) = len {
-                if m != want {
-                    let of = if per_joint && c.free {
-                        format!("{nj} joints (a free chain of {n} links)")
-                    } else if per_joint {
-                        format!("{n} joints")
-                    } else {
-                        format!("{n} links")
-                    };
-                    return Err(self.bad(
-                        field,
-                        format!(
-                            "one value for all {of} or a list of {want} {what} (one per {}), found a list of {m}",
-                            if per_joint { "joint" } else { "link" }
-                        ),
-                    ));
-                }
+            if let Some(m) = len.filter(|&m| m != want) {
+                let of = if per_joint && c.free {
+                    format!("{nj} joints (a free chain of {n} links)")
+                } else if per_joint {
+                    format!("{n} joints")
+                } else {
+                    format!("{n} links")
+                };
+                return Err(self.bad(
+                    field,
+                    format!(
+                        "one value for all {of} or a list of {want} {what} (one per {}), found a list of {m}",
+                        if per_joint { "joint" } else { "link" }
+                    ),
+                ));
             }
         }
         Ok(())
@@ -229,10 +222,8 @@ impl Chain<'_> {
 
     /// Link `i`'s name.
     fn link_name(&self, i: usize) -> String {
-        match self.c.names.get(i) {
-            Some(s) => s.clone(),
-            None => format!("{}{}", self.c.prefix, i + 1),
-        }
+        let named = self.c.names.get(i).cloned();
+        named.unwrap_or_else(|| format!("{}{}", self.c.prefix, i + 1))
     }
 
     /// Link `i` (0-based), its centre `centre` metres along the chain.
@@ -275,22 +266,19 @@ impl Chain<'_> {
         let c = self.c;
         // joint j (0-based) of a free chain joins link j + 2 to link j + 1
         let j = i - usize::from(c.free);
+        let name = c.joint_names.get(j).cloned();
+        let (parent, parent_anchor) = match i {
+            0 => (c.parent.clone(), anchor0),
+            _ => (
+                self.link_name(i - 1),
+                (tidy(c.length.get(i - 1) / 2.0), 0.0),
+            ),
+        };
         JointSpec {
-            name: match c.joint_names.get(j) {
-                Some(s) => s.clone(),
-                None => format!("{}{}", c.joint_prefix, j + 1),
-            },
-            parent: if i == 0 {
-                c.parent.clone()
-            } else {
-                self.link_name(i - 1)
-            },
+            name: name.unwrap_or_else(|| format!("{}{}", c.joint_prefix, j + 1)),
+            parent,
             child: self.link_name(i),
-            parent_anchor: if i == 0 {
-                anchor0
-            } else {
-                (tidy(c.length.get(i - 1) / 2.0), 0.0)
-            },
+            parent_anchor,
             child_anchor: (tidy(-c.length.get(i) / 2.0), 0.0),
             limits: c.limits,
             damping: c.damping.get(j),
@@ -352,7 +340,7 @@ struct Wall<'a> {
 impl Wall<'_> {
     /// The error at the wall's `field`.
     fn bad(&self, field: &str, msg: String) -> Invalid {
-        bad("walls", self.k, field, format!("{}: {msg}", self.who))
+        Invalid::new(field, format!("{}: {msg}", self.who)).within("walls", self.k)
     }
 
     /// The straight pieces of the wall's line: a room's four sides, or a
@@ -476,24 +464,17 @@ impl Wall<'_> {
                 return Err(self.bad("doors", format!("{door}: two distinct finite points")));
             }
             let Some(i) = pieces.iter().position(|s| on_piece(s, p) && on_piece(s, q)) else {
-                return Err(
-                    match [p, q]
-                        .into_iter()
-                        .find(|x| !pieces.iter().any(|s| on_piece(s, *x)))
-                    {
-                        Some(x) => self.bad(
-                            "doors",
-                            format!(
-                                "{door}: ends on the wall's line, but ({}, {}) is not on it",
-                                x.0, x.1
-                            ),
-                        ),
-                        None => self.bad(
-                            "doors",
-                            format!("{door}: both ends on one straight piece of the wall"),
-                        ),
-                    },
-                );
+                let off = [p, q]
+                    .into_iter()
+                    .find(|x| !pieces.iter().any(|s| on_piece(s, *x)));
+                let what = match off {
+                    Some(x) => format!(
+                        "ends on the wall's line, but ({}, {}) is not on it",
+                        x.0, x.1
+                    ),
+                    None => "both ends on one straight piece of the wall".into(),
+                };
+                return Err(self.bad("doors", format!("{door}: {what}")));
             };
             let s = &pieces[i];
             let at =

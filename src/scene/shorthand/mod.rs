@@ -1,25 +1,9 @@
 //! Shorthands of the physics scene format: `chains` (a serial arm of box
 //! links joined end to end) and `walls` (fixed boxes along a polyline or
-//! around a rectangular room, with door gaps).
-//!
-//! The loader expands them into plain [`BodySpec`](super::physics::BodySpec)s and [`JointSpec`](super::physics::JointSpec)s
-//! before any other check runs, so every check of bodies and joints
-//! applies to generated items too: a loaded scene holds only plain bodies
-//! and joints (its `chains` and `walls` are empty), which every consumer
-//! reads as before, and [`Scene::to_ron`](super::SceneSpec::to_ron) writes
-//! that expanded form (what `e3d scene check --expanded` prints). A scene
-//! built in code with shorthands is expanded by
-//! [`Scene::expand`](super::SceneSpec::expand).
-//!
-//! The expanded `bodies` are, in this order: every wall's boxes (walls in
-//! their order, each wall's boxes in the order described at [`WallSpec`]),
-//! every chain's links (chains in order, link 1 first), then the bodies
-//! written in `bodies`. The expanded `joints` are every chain's joints
-//! (joint 1 first), then the joints written in `joints`.
-//!
-//! Generated lengths and coordinates are rounded to 1e-12 m, so that
-//! `3.0 + 0.05` is the `3.05` one would write by hand (angles are copied
-//! as written).
+//! around a room, with door gaps), expanded at load into plain bodies and
+//! joints, in the order and with the names of `docs/scenes.md`
+//! ("Shorthands: chains and walls"); generated lengths and coordinates are
+//! rounded to 1e-12 m.
 
 mod expand;
 
@@ -70,6 +54,15 @@ impl<T: Serialize> Serialize for Each<T> {
     }
 }
 
+/// The visits of one value for all: a number or a boolean.
+macro_rules! scalars {
+    ($($visit:ident: $t:ty),*) => {$(
+        fn $visit<E: de::Error>(self, x: $t) -> Result<Self::Value, E> {
+            T::deserialize(x.into_deserializer()).map(Each::All)
+        }
+    )*};
+}
+
 impl<'de, T: Deserialize<'de>> Deserialize<'de> for Each<T> {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         struct V<T>(PhantomData<T>);
@@ -78,53 +71,23 @@ impl<'de, T: Deserialize<'de>> Deserialize<'de> for Each<T> {
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
                 f.write_str("one value for all, or a list `[...]` of one value each")
             }
-            fn visit_seq<A: de::SeqAccess<'de>>(self, mut a: A) -> Result<Self::Value, A::Error> {
-                let mut v = Vec::new();
-                while let Some(x) = a.next_element()? {
-                    v.push(x);
-                }
-                Ok(Each::List(v))
+            fn visit_seq<A: de::SeqAccess<'de>>(self, a: A) -> Result<Self::Value, A::Error> {
+                Vec::deserialize(de::value::SeqAccessDeserializer::new(a)).map(Each::List)
             }
             fn visit_map<A: de::MapAccess<'de>>(self, a: A) -> Result<Self::Value, A::Error> {
                 T::deserialize(de::value::MapAccessDeserializer::new(a)).map(Each::All)
             }
-            fn visit_f64<E: de::Error>(self, x: f64) -> Result<Self::Value, E> {
-                T::deserialize(x.into_deserializer()).map(Each::All)
-            }
-            fn visit_i64<E: de::Error>(self, x: i64) -> Result<Self::Value, E> {
-                T::deserialize(x.into_deserializer()).map(Each::All)
-            }
-            fn visit_u64<E: de::Error>(self, x: u64) -> Result<Self::Value, E> {
-                T::deserialize(x.into_deserializer()).map(Each::All)
-            }
-            fn visit_bool<E: de::Error>(self, x: bool) -> Result<Self::Value, E> {
-                T::deserialize(x.into_deserializer()).map(Each::All)
-            }
+            scalars!(visit_f64: f64, visit_i64: i64, visit_u64: u64, visit_bool: bool);
         }
         d.deserialize_any(V(PhantomData))
     }
 }
 
 /// A serial chain of `links` box (or capsule) links joined end to end by
-/// revolute joints: link 1 hangs on `parent` (default `ground`) at `base`,
-/// link k on the far end of link k-1. At rest the chain is straight,
-/// pointing along `angle`.
-///
-/// Link k (1-based) is a dynamic `Cuboid(width: length_k, height:
-/// width_k)` (with `shape: Capsule`, a `Capsule(a: (-length_k / 2, 0), b:
-/// (length_k / 2, 0), radius: width_k / 2)`: rounded ends centred on the
-/// hinges) named `{prefix}{k}` (or `names[k-1]`), at angle `angle`,
-/// centred `length_1 + ... + length_(k-1) + length_k / 2` metres from
-/// `base` along `angle`. Joint k is named `{joint_prefix}{k}` (or
-/// `joint_names[k-1]`); its parent is `parent` (joint 1, anchored at
-/// `base`: world coordinates for `ground`, else converted to the parent's
-/// frame) or link k-1 (anchored at `(length_(k-1) / 2, 0)`), its child
-/// link k, anchored at `(-length_k / 2, 0)`.
-///
-/// A `free` chain has no joint 1: link 1 is a free body (a free-floating
-/// base, its near end at `base`), and the chain has `links - 1` joints,
-/// joint k joining link k + 1 to link k (named `{joint_prefix}{k}`, `k`
-/// from 1).
+/// revolute joints: link 1 hangs on `parent` at `base`, link k on the far
+/// end of link k-1, straight along `angle` at rest. Link k is named
+/// `{prefix}{k}`, joint k `{joint_prefix}{k}`; a `free` chain has no
+/// joint 1 (docs/scenes.md, "Chains (shorthand)").
 ///
 /// ```ron
 /// chains: [(links: 7, length: 0.25, width: 0.04, mass: 0.1, limits: (-2.5, 2.5),
@@ -226,29 +189,12 @@ impl ChainSpec {
     /// field at its default (from `ground` at the origin along +x, named
     /// `link1`..., joints `j1`...).
     pub fn new(links: usize, length: f64, width: f64) -> ChainSpec {
+        let defaults = "(links: 0, length: 0.0, width: 0.0)";
         ChainSpec {
             links,
-            prefix: link_prefix(),
-            joint_prefix: joint_prefix(),
-            names: Vec::new(),
-            joint_names: Vec::new(),
-            parent: ground(),
-            base: (0.0, 0.0),
-            angle: 0.0,
             length: Each::All(length),
             width: Each::All(width),
-            mass: None,
-            density: None,
-            limits: None,
-            damping: no_damping(),
-            motor: None,
-            contacts: false,
-            linear_damping: 0.0,
-            angular_damping: 0.0,
-            friction: half(),
-            restitution: 0.0,
-            shape: LinkShape::Cuboid,
-            free: false,
+            ..ron::from_str(defaults).expect("the other fields have defaults")
         }
     }
 }
@@ -270,19 +216,10 @@ pub enum Placement {
 }
 
 /// Fixed wall boxes along a polyline (`points`, `closed` or not) or around
-/// a rectangular `room: (min, max)`, with door gaps.
-///
-/// Each straight piece of the line gives one fixed `Cuboid` of
-/// `thickness`: an axis-aligned piece gives an axis-aligned box at angle 0
-/// (a vertical one `width: thickness`, its length as `height`), any other
-/// `width: length, height: thickness` at the piece's angle. A door
-/// `((x1, y1), (x2, y2))`, two points on one piece, cuts that piece in two.
-/// The boxes follow the pieces in order: the polyline's (with the closing
-/// piece last), or a room's sides south, north, west, east (each from its
-/// lower-left end). Default names: `{name}` for a wall of one box, else
-/// `{name}1`, `{name}2`, ...; a room's sides `{name}_south`,
-/// `{name}_north`, `{name}_west`, `{name}_east` (`{name}_south1`, ... when
-/// a door cuts it); `names` gives every box's name instead.
+/// a rectangular `room: (min, max)`, with door gaps: one `Cuboid` of
+/// `thickness` per straight piece (cut in two by a door), named `{name}`,
+/// `{name}1`, ... or a room's `{name}_south`, ... (docs/scenes.md, "Walls
+/// (shorthand)").
 ///
 /// ```ron
 /// walls: [
@@ -327,18 +264,10 @@ pub struct WallSpec {
     pub names: Vec<String>,
 }
 
-fn link_prefix() -> String {
-    "link".into()
-}
-fn joint_prefix() -> String {
-    "j".into()
-}
-fn ground() -> String {
-    GROUND.into()
-}
-fn no_damping() -> Each<f64> {
-    Each::All(0.0)
-}
-fn half() -> f64 {
-    0.5
+defaults! {
+    link_prefix: String = "link".into();
+    joint_prefix: String = "j".into();
+    ground: String = GROUND.into();
+    no_damping: Each<f64> = Each::All(0.0);
+    half: f64 = 0.5;
 }

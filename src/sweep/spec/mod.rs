@@ -13,7 +13,7 @@ use crate::learner::LearnerKind;
 use crate::learner::Params;
 #[cfg(doc)]
 use crate::learner::{ClosedLoopE3d, QLearning};
-use crate::scene::{ron_options, SceneError};
+use crate::scene::{ron_options, SceneError, SceneErrorKind};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -440,7 +440,7 @@ impl SweepSpec {
     ) -> Result<(SweepSpec, &'t str), SweepError> {
         let text = crate::scene::prepare_text(text, file, "sweep")?;
         if text.trim().is_empty() {
-            return Err(SceneError::empty(file, "sweep").into());
+            return Err(SceneError::new(file, "sweep", SceneErrorKind::Empty).into());
         }
         let _known = KnownLearners::set(learners.names());
         let spec: SweepSpec = ron_options()

@@ -1,48 +1,25 @@
 //! The checks of one body: its name, shape, mass, start pose and
 //! material.
 
-use super::{finite2, quoted};
+use super::{check_name, finite2, quoted};
 use crate::scene::physics::limits::*;
-use crate::scene::physics::{BodyKind, BodySpec, PhysicsSpec, ShapeSpec, GROUND};
+use crate::scene::physics::{BodyKind, BodySpec, PhysicsSpec, ShapeSpec};
 use crate::scene::Invalid;
 
 impl PhysicsSpec {
     /// One body: its name (not `ground`, not a duplicate), shape, mass,
     /// start pose and material.
     pub(super) fn validate_body(&self, b: &BodySpec, duplicate: bool) -> Result<(), Invalid> {
-        let at = quoted(&b.name);
-        if b.name.trim().is_empty() {
-            return Err(Invalid::new("name", "a non-empty body name"));
-        }
-        crate::text::check_name(&b.name)
-            .map_err(|e| Invalid::at("name", Some(&at), &format!("body: {e}")))?;
-        if b.name == GROUND {
-            return Err(Invalid::at(
-                "name",
-                Some(&at),
-                "a body name other than `ground` (it stands for the fixed world frame)",
-            ));
-        }
-        if duplicate {
-            let twice = format!("distinct body names, but `{}` is used twice", b.name);
-            return Err(Invalid::at("name", Some(&at), &twice).nth(1));
-        }
-        let who = format!("body `{}`", b.name);
-        let on = On {
-            anchor: Some(&at),
-            who: &who,
-        };
+        let (at, who) = check_name("body", &b.name, duplicate)?;
+        let on = On::new(Some(&at), &who);
         check_shape(b, on)?;
         check_mass(b, on)?;
         check_pose_and_material(b, on)
     }
 
     /// Refuses a body field that would do nothing on this kind of body
-    /// (the audit of `docs/physics.md`): a link of a chain hung on
-    /// `ground` is a multibody link, integrated from its joints'
-    /// coordinates, so its own `linear_damping`, `angular_damping` and
-    /// `lock_rotation` would be ignored; a fixed or kinematic body does not
-    /// move, so its damping and `lock_rotation` would do nothing.
+    /// (`docs/physics.md`): damping or `lock_rotation` on a fixed or kinematic
+    /// body, or on a multibody link (a chain hung on `ground`).
     pub(super) fn check_body_kind(&self, b: &BodySpec) -> Result<(), Invalid> {
         let at = quoted(&b.name);
         let (kind, instead) = if b.kind != BodyKind::Dynamic {

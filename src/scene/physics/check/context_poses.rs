@@ -4,7 +4,7 @@
 //! puts two bodies into one another, as the scene's own start is refused.
 
 use super::super::context::StartState;
-use super::super::{to_world, PhysicsSpec, GROUND};
+use super::super::{to_world, PhysicsSpec};
 use crate::scene::overlap::{first_overlap, OVERLAP_TOLERANCE};
 use crate::scene::Invalid;
 
@@ -15,13 +15,9 @@ use crate::scene::Invalid;
 pub const MAX_CHECKED_RANGES: usize = 8;
 
 impl PhysicsSpec {
-    /// Every body's start pose `(x, y, angle)` in context `k` (`<
-    /// contexts.len()`), in the scene's order: the free bodies it lists
-    /// placed (the trees they carry moved with them), then its joints
-    /// turned (or slid) from the root outwards, each carrying the bodies
-    /// beyond it. A ranged field is at its first end (`position`,
-    /// `angle`); the world's own start of a named context has these poses
-    /// to within Rapier's single precision.
+    /// Every body's start pose `(x, y, angle)` in context `k`, in the scene's
+    /// order: its free bodies placed (with the trees they carry), then its
+    /// joints turned from the root outwards; a ranged field at its first end.
     ///
     /// ```
     /// use e3d::Scene;
@@ -48,25 +44,16 @@ impl PhysicsSpec {
             .iter()
             .map(|b| (b.position.0, b.position.1, b.angle))
             .collect();
-        let index = |name: &str| self.bodies.iter().position(|b| b.name == name);
-        let mut bit = 0;
-        let mut end = |first: f64, to: Option<f64>| match to {
-            None => first,
-            Some(t) => {
-                bit += 1;
-                if at_to(corner, bit - 1) {
-                    t
-                } else {
-                    first
-                }
-            }
-        };
+        let mut k = Corner { corner, bit: 0 };
         for b in &c.bodies {
-            let Some(i) = index(&b.body) else { continue };
+            let Some(i) = self.body_index(&b.body) else {
+                continue;
+            };
             let (x0, y0, a0) = poses[i];
-            let (x, y) = match b.position {
-                Some((x, y)) => (end(x, b.to.map(|t| t.0)), end(y, b.to.map(|t| t.1))),
-                None => (x0, y0),
+            let (x, y) = match (b.position, b.to) {
+                (Some((x, y)), Some(t)) => (k.pick(x, t.0), k.pick(y, t.1)),
+                (Some(p), None) => p,
+                (None, _) => (x0, y0),
             };
             let a = b.angle.unwrap_or(a0);
             // the body and what it carries: rotate about its origin, then move it
@@ -84,7 +71,7 @@ impl PhysicsSpec {
             if let (Some(j), Some(a)) =
                 (self.joints.iter().position(|j| j.name == s.joint), s.angle)
             {
-                q[j] = end(a, s.to);
+                q[j] = s.to.map_or(a, |t| k.pick(a, t));
             }
         }
         let mut order: Vec<usize> = (0..self.joints.len()).collect();
@@ -112,11 +99,10 @@ impl PhysicsSpec {
     /// along its axis (a slider).
     fn turn_joint(&self, poses: &mut [(f64, f64, f64)], j: usize, q: f64) {
         let spec = &self.joints[j];
-        let index = |name: &str| self.bodies.iter().position(|b| b.name == name);
-        let Some(child) = index(&spec.child) else {
+        let Some(child) = self.body_index(&spec.child) else {
             return;
         };
-        let parent = index(&spec.parent).map(|p| poses[p]);
+        let parent = self.body_index(&spec.parent).map(|p| poses[p]);
         let (ax, ay) = match parent {
             Some((x, y, a)) => to_world((x, y), a, spec.parent_anchor),
             None => spec.parent_anchor,
@@ -146,10 +132,8 @@ impl PhysicsSpec {
         while k < out.len() && out.len() <= self.bodies.len() {
             let name = &self.bodies[out[k]].name;
             for j in self.joints.iter().filter(|j| &j.parent == name) {
-                if let Some(c) = self.bodies.iter().position(|b| b.name == j.child) {
-                    if !out.contains(&c) {
-                        out.push(c);
-                    }
+                if let Some(c) = self.body_index(&j.child).filter(|c| !out.contains(c)) {
+                    out.push(c);
                 }
             }
             k += 1;
@@ -160,26 +144,12 @@ impl PhysicsSpec {
     /// How many joints lie between joint `j`'s parent and the ground or a
     /// free body.
     fn joint_depth(&self, j: usize) -> usize {
-        let mut depth = 0;
-        let mut at = &self.joints[j].parent;
-        while at != GROUND && depth <= self.joints.len() {
-            match self.joints.iter().find(|o| &o.child == at) {
-                Some(o) => {
-                    depth += 1;
-                    at = &o.parent;
-                }
-                None => break,
-            }
-        }
-        depth
+        self.joints_above(&self.joints[j].parent).count()
     }
 
-    /// No context starts two bodies in one another (as
-    /// [`first_overlap`] refuses for the scene's start): a named
-    /// context's start, and every corner of a drawn context's ranges (at
-    /// most [`MAX_CHECKED_RANGES`] ranged coordinates; beyond, the two
-    /// corners with every range at one end). Starts inside the ranges are
-    /// not checked.
+    /// No context starts two bodies in one another ([`first_overlap`]): a
+    /// named context's start, and every corner of a drawn one's ranges (the two
+    /// extreme corners beyond [`MAX_CHECKED_RANGES`] ranged coordinates).
     pub(crate) fn check_context_overlaps(&self) -> Result<(), Invalid> {
         if self.contexts.is_empty() {
             return Ok(());
@@ -230,31 +200,38 @@ impl PhysicsSpec {
 /// The ranged fields of `c` at `corner`, as `body.x=…, joint=…`.
 fn corner_text(c: &StartState, corner: u64) -> String {
     let mut parts = Vec::new();
-    let mut bit = 0;
-    let mut pick = |first: f64, to: f64| {
-        bit += 1;
-        if at_to(corner, bit - 1) {
-            to
-        } else {
-            first
-        }
-    };
+    let mut k = Corner { corner, bit: 0 };
     for b in &c.bodies {
         if let (Some(p), Some(t)) = (b.position, b.to) {
-            let (x, y) = (pick(p.0, t.0), pick(p.1, t.1));
+            let (x, y) = (k.pick(p.0, t.0), k.pick(p.1, t.1));
             parts.push(format!("`{}` at ({x}, {y})", b.body));
         }
     }
     for j in &c.joints {
         if let (Some(a), Some(t)) = (j.angle, j.to) {
-            parts.push(format!("`{}` at {}", j.joint, pick(a, t)));
+            parts.push(format!("`{}` at {}", j.joint, k.pick(a, t)));
         }
     }
     parts.join(", ")
 }
 
-/// Whether the `i`-th ranged coordinate is at its `to` end at `corner`
-/// (`u64::MAX`: every one).
-fn at_to(corner: u64, i: usize) -> bool {
-    corner == u64::MAX || (i < 64 && corner >> i & 1 == 1)
+/// The ends of a context's ranged coordinates at `corner`, taken in order
+/// (bit `i` set: the `i`-th ranged coordinate at its `to` end; `u64::MAX`:
+/// every one).
+struct Corner {
+    corner: u64,
+    bit: usize,
+}
+
+impl Corner {
+    /// The next ranged coordinate, from `first` to `to`, at this corner.
+    fn pick(&mut self, first: f64, to: f64) -> f64 {
+        let i = self.bit;
+        self.bit += 1;
+        if self.corner == u64::MAX || (i < 64 && self.corner >> i & 1 == 1) {
+            to
+        } else {
+            first
+        }
+    }
 }

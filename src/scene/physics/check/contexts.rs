@@ -2,7 +2,8 @@
 //! number, names, and the checks of their fields.
 
 use super::super::context::{BodyStart, JointStart};
-use super::super::{BodyKind, PhysicsSpec};
+use super::super::{BodyKind, BodySpec, JointSpec, PhysicsSpec};
+use super::{finite2, listed};
 use crate::scene::Invalid;
 
 impl PhysicsSpec {
@@ -20,22 +21,16 @@ impl PhysicsSpec {
         self.contexts.iter().map(|c| c.name.clone()).collect()
     }
 
-    /// Checks the contexts: distinct non-empty names, known free bodies
-    /// (dynamic, no joint's child: a jointed body is set by its joints),
-    /// known joints, finite numbers, joint coordinates within the joints'
-    /// limits, speeds under `max_speed`, `to` only with `position` or
-    /// `angle`.
-    ///
-    /// At most [`MAX_CONTEXTS`](crate::scene::MAX_CONTEXTS) contexts;
-    /// names are looked up in hash maps, so the checks take time linear
-    /// in the scene.
+    /// Checks the contexts (at most [`MAX_CONTEXTS`](crate::scene::MAX_CONTEXTS)):
+    /// distinct names, known free bodies and joints, finite numbers within the
+    /// limits, `to` only with `position` or `angle`; in time linear in the scene.
     pub(crate) fn check_contexts(&self) -> Result<(), Invalid> {
         use std::collections::{HashMap, HashSet};
         crate::scene::check_context_count(self.contexts.len())?;
-        let bodies: HashMap<&str, &super::super::BodySpec> =
+        let bodies: HashMap<&str, &BodySpec> =
             self.bodies.iter().map(|b| (b.name.as_str(), b)).collect();
         let children: HashSet<&str> = self.joints.iter().map(|j| j.child.as_str()).collect();
-        let joints: HashMap<&str, &super::super::JointSpec> =
+        let joints: HashMap<&str, &JointSpec> =
             self.joints.iter().map(|j| (j.name.as_str(), j)).collect();
         let mut names = HashSet::with_capacity(self.contexts.len());
         for (k, c) in self.contexts.iter().enumerate() {
@@ -52,28 +47,23 @@ impl PhysicsSpec {
             crate::text::check_name(&c.name).map_err(|e| here("name", e))?;
             let mut listed = HashSet::with_capacity(c.bodies.len());
             for b in &c.bodies {
-                if !listed.insert(b.body.as_str()) {
-                    return Err(here("body", format!("body `{}` listed once", b.body)));
+                let name = b.body.as_str();
+                if !listed.insert(name) {
+                    return Err(here("body", format!("body `{name}` listed once")));
                 }
-                let Some(spec) = bodies.get(b.body.as_str()) else {
-                    return Err(here(
-                        "body",
+                let what = match bodies.get(name) {
+                    None => format!("a body of the scene, found `{}`", crate::text::echo(name)),
+                    Some(spec) if spec.kind != BodyKind::Dynamic || children.contains(name) => {
                         format!(
-                            "a body of the scene, found `{}`",
-                            crate::text::echo(&b.body)
-                        ),
-                    ));
+                            "a free dynamic body (no joint's child), found `{name}` (set a jointed body by its joint: `joints: [(joint: \"...\", angle: ...)]`)"
+                        )
+                    }
+                    Some(_) => {
+                        self.check_body_start(b, &here)?;
+                        continue;
+                    }
                 };
-                if spec.kind != BodyKind::Dynamic || children.contains(b.body.as_str()) {
-                    return Err(here(
-                        "body",
-                        format!(
-                            "a free dynamic body (no joint's child), found `{}` (set a jointed body by its joint: `joints: [(joint: \"...\", angle: ...)]`)",
-                            b.body
-                        ),
-                    ));
-                }
-                self.check_body_start(b, &here)?;
+                return Err(here("body", what));
             }
             let mut listed = HashSet::with_capacity(c.joints.len());
             for s in &c.joints {
@@ -91,7 +81,7 @@ impl PhysicsSpec {
     fn check_joint_start(
         &self,
         s: &JointStart,
-        spec: Option<&super::super::JointSpec>,
+        spec: Option<&JointSpec>,
         here: &dyn Fn(&str, String) -> Invalid,
     ) -> Result<(), Invalid> {
         let Some(spec) = spec else {
@@ -101,11 +91,11 @@ impl PhysicsSpec {
                 format!(
                     "a joint of the scene, found `{}` (joints: {})",
                     crate::text::echo(&s.joint),
-                    super::listed(&names)
+                    listed(&names)
                 ),
             ));
         };
-        let unit = if spec.kind.is_revolute() { "rad" } else { "m" };
+        let unit = spec.kind.unit();
         let bad = |field, what: String| Err(here(field, format!("joint `{}`: {what}", s.joint)));
         for (field, v) in [("angle", s.angle), ("to", s.to)] {
             let Some(v) = v else { continue };
@@ -135,10 +125,9 @@ impl PhysicsSpec {
         b: &BodyStart,
         here: &dyn Fn(&str, String) -> Invalid,
     ) -> Result<(), Invalid> {
-        let fin = |p: (f64, f64)| p.0.is_finite() && p.1.is_finite();
         let bad = |field, what: String| Err(here(field, format!("body `{}`: {what}", b.body)));
         for (field, p) in [("position", b.position), ("to", b.to)] {
-            if p.is_some_and(|p| !fin(p) || p.0.abs() > 1e6 || p.1.abs() > 1e6) {
+            if p.is_some_and(|p| !finite2(p) || p.0.abs() > 1e6 || p.1.abs() > 1e6) {
                 return bad(field, "a finite position within 1e6 m".into());
             }
         }
@@ -151,12 +140,10 @@ impl PhysicsSpec {
         if b.angle.is_some_and(|a| !a.is_finite() || a.abs() > 1e3) {
             return bad("angle", "a finite angle (rad)".into());
         }
-        if let Some(v) = b.velocity {
-            if !fin(v) || v.0.hypot(v.1) >= self.max_speed {
-                let max = self.max_speed;
-                let slower = format!("a finite velocity slower than max_speed ({max} m/s)");
-                return bad("velocity", format!("{slower}, found {v:?}"));
-            }
+        let max = self.max_speed;
+        if let Some(v) = b.velocity.filter(|v| !finite2(*v) || v.0.hypot(v.1) >= max) {
+            let slower = format!("a finite velocity slower than max_speed ({max} m/s)");
+            return bad("velocity", format!("{slower}, found {v:?}"));
         }
         if b.angular_velocity
             .is_some_and(|w| !w.is_finite() || w.abs() > 1e3)

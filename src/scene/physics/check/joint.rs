@@ -1,7 +1,7 @@
 //! The checks of the joints: names, the bodies they join (trees), their
 //! numbers, and their anchors meeting at the start pose.
 
-use super::{finite2, listed, quoted};
+use super::{check_name, finite2, listed};
 use crate::scene::physics::limits::*;
 use crate::scene::physics::{to_world, BodyKind, JointKind, JointSpec, PhysicsSpec, GROUND};
 use crate::scene::Invalid;
@@ -17,21 +17,9 @@ impl PhysicsSpec {
         let mut joint_names: HashSet<&str> = HashSet::with_capacity(self.joints.len());
         let mut parent_of: Vec<Option<usize>> = vec![None; self.bodies.len()];
         for (i, j) in self.joints.iter().enumerate() {
-            let at = quoted(&j.name);
-            if j.name.trim().is_empty() {
-                return Err(Invalid::new("name", "a non-empty joint name"));
-            }
-            crate::text::check_name(&j.name)
-                .map_err(|e| Invalid::at("name", Some(&at), &format!("joint: {e}")))?;
-            if !joint_names.insert(j.name.as_str()) {
-                let twice = format!("distinct joint names, but `{}` is used twice", j.name);
-                return Err(Invalid::at("name", Some(&at), &twice).nth(1));
-            }
-            let who = format!("joint `{}`", j.name);
-            let on = On {
-                anchor: Some(&at),
-                who: &who,
-            };
+            let duplicate = !joint_names.insert(j.name.as_str());
+            let (at, who) = check_name("joint", &j.name, duplicate)?;
+            let on = On::new(Some(&at), &who);
             let (pb, cb) = self.joint_ends(j, on, position)?;
             self.check_tree(i, j, on, (pb, cb), position, &mut parent_of)?;
             check_joint_geometry(j, on)?;
@@ -60,20 +48,14 @@ impl PhysicsSpec {
             return Err(on.bad("child", "a body as child; `ground` can only be a parent"));
         }
         let cb = known("child", &j.child)?;
+        let (child, kind) = (&j.child, self.bodies[cb].kind);
         if pb == Some(cb) {
-            return Err(on.bad(
-                "child",
-                format!("two different bodies, but it joins `{}` to itself", j.child),
-            ));
+            let what = format!("two different bodies, but it joins `{child}` to itself");
+            return Err(on.bad("child", what));
         }
-        if self.bodies[cb].kind != BodyKind::Dynamic {
-            return Err(on.bad(
-                "child",
-                format!(
-                    "a dynamic child body, but `{}` is {:?}",
-                    j.child, self.bodies[cb].kind
-                ),
-            ));
+        if kind != BodyKind::Dynamic {
+            let what = format!("a dynamic child body, but `{child}` is {kind:?}");
+            return Err(on.bad("child", what));
         }
         Ok((pb, cb))
     }
@@ -123,14 +105,10 @@ impl PhysicsSpec {
         on: On,
         (pb, cb): (Option<usize>, usize),
     ) -> Result<(), Invalid> {
-        let pa = match pb {
-            None => j.parent_anchor,
-            Some(p) => to_world(
-                self.bodies[p].position,
-                self.bodies[p].angle,
-                j.parent_anchor,
-            ),
-        };
+        let pa = pb.map_or(j.parent_anchor, |p| {
+            let b = &self.bodies[p];
+            to_world(b.position, b.angle, j.parent_anchor)
+        });
         let c = &self.bodies[cb];
         let ca = to_world(c.position, c.angle, j.child_anchor);
         let gap = ((pa.0 - ca.0).powi(2) + (pa.1 - ca.1).powi(2)).sqrt();
@@ -193,11 +171,7 @@ fn check_joint_geometry(j: &JointSpec, on: On) -> Result<(), Invalid> {
             ));
         }
     }
-    let (coordinate, unit, bound) = if j.kind.is_revolute() {
-        ("angle", "rad", MAX_ANGLE)
-    } else {
-        ("position", "m", MAX_LENGTH)
-    };
+    let (coordinate, unit, bound) = j.kind.coordinate();
     if let Some((lo, hi)) = j.limits {
         if !(lo.is_finite() && hi.is_finite() && lo <= 0.0 && 0.0 <= hi && lo < hi) {
             return Err(on.bad(

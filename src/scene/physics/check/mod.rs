@@ -33,6 +33,30 @@ fn finite2(p: (f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite()
 }
 
+/// The name of a body or joint (`what`): not empty, one the name check
+/// passes, not a `duplicate`; its anchor (`"name"`) and its `who` for
+/// messages (`body `name``).
+fn check_name(what: &str, name: &str, duplicate: bool) -> Result<(String, String), Invalid> {
+    let at = quoted(name);
+    if name.trim().is_empty() {
+        return Err(Invalid::new("name", format!("a non-empty {what} name")));
+    }
+    crate::text::check_name(name)
+        .map_err(|e| Invalid::at("name", Some(&at), &format!("{what}: {e}")))?;
+    if what == "body" && name == super::GROUND {
+        return Err(Invalid::at(
+            "name",
+            Some(&at),
+            "a body name other than `ground` (it stands for the fixed world frame)",
+        ));
+    }
+    if duplicate {
+        let twice = format!("distinct {what} names, but `{name}` is used twice");
+        return Err(Invalid::at("name", Some(&at), &twice).nth(1));
+    }
+    Ok((at, format!("{what} `{name}`")))
+}
+
 impl PhysicsSpec {
     /// Checks the whole world, part by part, in a fixed order (the first
     /// fault is reported): the world's own numbers, the bodies, the joints,
@@ -77,13 +101,11 @@ impl PhysicsSpec {
                 format!("a time step in (0, 1] seconds, found {}", self.dt),
             ));
         }
-        if let Some(n) = self.solver_iterations {
-            if n == 0 || n > 1000 {
-                return Err(Invalid::new(
-                    "solver_iterations",
-                    format!("between 1 and 1000 iterations, found {n}"),
-                ));
-            }
+        if let Some(n) = self.solver_iterations.filter(|n| !(1..=1000).contains(n)) {
+            return Err(Invalid::new(
+                "solver_iterations",
+                format!("between 1 and 1000 iterations, found {n}"),
+            ));
         }
         if !(self.max_speed > 0.0 && in_range(self.max_speed, MIN_MAGNITUDE, MAX_SPEED, false)) {
             return Err(Invalid::new(
@@ -174,12 +196,8 @@ impl PhysicsSpec {
         Ok(())
     }
 
-    /// The effect: the short form (a known tracked body, a finite
-    /// tracked point, a valid grid within [`MAX_LENGTH`]) or a list of
-    /// features, each checked in turn (known bodies and joints, finite
-    /// points, at least one bin, finite bounds with `min < max`), whose
-    /// product has at most [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS)
-    /// effects.
+    /// The effect: the short form (a known body, a finite point, a valid grid)
+    /// or a list of features, each checked, with a valid number of effects.
     fn check_effect(&self) -> Result<(), Invalid> {
         let e = &self.effect;
         if e.features.is_empty() {
@@ -195,9 +213,7 @@ impl PhysicsSpec {
                     "the effect's tracked body beside its grid: `body: \"NAME\"`",
                 ));
             }
-            if self.body(&e.body).is_none() {
-                return Err(self.unknown_body("body", &e.body, "the effect's tracked point"));
-            }
+            self.known_body("body", &e.body, "the effect's tracked point")?;
             check_point(e.point, None)?;
             return check_grid(grid, None);
         }
@@ -211,13 +227,10 @@ impl PhysicsSpec {
             self.check_feature(k, f)?;
         }
         let axes: Vec<_> = e.features.iter().map(Feature::axis).collect();
-        Binning::new(axes).map_err(|err| {
-            Invalid::new(
-                "features",
-                format!("features whose product has a valid number of effects: {err}"),
-            )
-        })?;
-        Ok(())
+        let valid = "features whose product has a valid number of effects";
+        Binning::new(axes)
+            .map(drop)
+            .map_err(|e| Invalid::new("features", format!("{valid}: {e}")))
     }
 
     /// Feature `k` of the effect's list.
@@ -230,17 +243,9 @@ impl PhysicsSpec {
                 frame,
                 grid,
             } => {
-                if self.body(body).is_none() {
-                    return Err(self.unknown_body("body", body, "the effect's point"));
-                }
+                self.known_body("body", body, "the effect's point")?;
                 if let Some(fr) = frame {
-                    if self.body(fr).is_none() {
-                        return Err(self.unknown_body(
-                            "frame",
-                            fr,
-                            "the frame of the effect's point",
-                        ));
-                    }
+                    self.known_body("frame", fr, "the frame of the effect's point")?;
                     if fr == body {
                         return Err(within(Invalid::new(
                             "frame",
@@ -253,17 +258,12 @@ impl PhysicsSpec {
             }
             Feature::Joint { joint, bins, range } => {
                 let at = quoted(joint);
-                let on = On {
-                    anchor: Some(&at),
-                    who: "the effect's joint",
-                };
+                let on = On::new(Some(&at), "the effect's joint");
                 let j = self.known_joint(joint, &|what| on.bad("joint", what))?;
                 check_line(*bins, *range, j.kind.unit(), k)
             }
             Feature::Angle { body, bins, range } => {
-                if self.body(body).is_none() {
-                    return Err(self.unknown_body("body", body, "the effect's angle"));
-                }
+                self.known_body("body", body, "the effect's angle")?;
                 check_line(*bins, *range, "rad", k)
             }
         }
@@ -291,8 +291,19 @@ impl PhysicsSpec {
     }
 
     pub(super) fn body_names(&self) -> String {
-        let names: Vec<&str> = self.bodies.iter().map(|b| b.name.as_str()).collect();
-        names.join(", ")
+        self.bodies
+            .iter()
+            .map(|b| b.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// `Ok` when body `name` exists; else the failure at `field`.
+    fn known_body(&self, field: &str, name: &str, whose: &str) -> Result<(), Invalid> {
+        match self.body(name) {
+            Some(_) => Ok(()),
+            None => Err(self.unknown_body(field, name, whose)),
+        }
     }
 
     pub(super) fn unknown_body(&self, field: &str, name: &str, whose: &str) -> Invalid {
@@ -314,23 +325,25 @@ impl PhysicsSpec {
     }
 }
 
+/// A failure placed in feature `k` of the effect's list, if given.
+fn in_feature(k: Option<usize>) -> impl Fn(Invalid) -> Invalid + Copy {
+    move |v| Invalid {
+        within: k.map(|k| ("features", k)),
+        ..v
+    }
+}
+
 /// A tracked point: finite, within [`MAX_LENGTH`]; in feature `k` of the
 /// effect's list, if given.
 fn check_point(p: (f64, f64), k: Option<usize>) -> Result<(), Invalid> {
-    let place = |v: Invalid| Invalid {
-        within: k.map(|k| ("features", k)),
-        ..v
-    };
+    let place = in_feature(k);
     if !finite2(p) {
         return Err(place(Invalid::new(
             "point",
             "a tracked point with finite coordinates",
         )));
     }
-    let on = On {
-        anchor: None,
-        who: "the tracked point",
-    };
+    let on = On::new(None, "the tracked point");
     for c in [p.0, p.1] {
         on.number("point", "coordinates", c, COORDINATES)
             .map_err(place)?;
@@ -340,16 +353,10 @@ fn check_point(p: (f64, f64), k: Option<usize>) -> Result<(), Invalid> {
 
 /// An effect grid: valid, its corners within [`MAX_LENGTH`].
 fn check_grid(grid: &EffectGrid, k: Option<usize>) -> Result<(), Invalid> {
-    let place = |v: Invalid| Invalid {
-        within: k.map(|k| ("features", k)),
-        ..v
-    };
+    let place = in_feature(k);
     grid.validate()
         .map_err(|e| place(Invalid::new("grid", format!("a valid grid: {e}"))))?;
-    let on = On {
-        anchor: None,
-        who: "the effect grid",
-    };
+    let on = On::new(None, "the effect grid");
     for &c in grid.min.iter().chain(&grid.max) {
         on.number("grid", "corners", c, COORDINATES)
             .map_err(place)?;
