@@ -1,17 +1,20 @@
 //! Output files written whole or not at all.
 
+#[cfg(unix)]
+use libc::{O_NOFOLLOW, O_NONBLOCK};
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+#[cfg(not(unix))]
+const O_NOFOLLOW: i32 = 0;
+#[cfg(not(unix))]
+const O_NONBLOCK: i32 = 0;
 
 /// Temporary files made by this process so far (part of their names).
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
-/// Creates a new temporary file next to `path`, named
-/// `.NAME.tmp-PID-N-T`: created exclusively (`O_EXCL`, which also refuses
-/// to follow a symbolic link planted under that name), retried under a new
-/// name if one exists.
+/// [`create_temp_beside`] in `dir`, retried under a new name if one exists.
 fn create_temp(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
     let mut last = None;
     for _ in 0..100 {
@@ -90,14 +93,10 @@ pub fn is_temporary(name: &str) -> bool {
     name.starts_with('.') && name.contains(".tmp-")
 }
 
-/// Writes `path` atomically: the bytes go to a new temporary file in the
-/// same folder (created exclusively, under a unique name: never an
-/// existing file nor the target of a symbolic link), which is synced and
-/// then renamed over `path`. A crash or a full disk leaves either the old
-/// file or the new one, never half of one. If `path` is a symbolic link,
-/// the link itself is replaced, not the file it points to. A stream
-/// ([`is_stream`]: `/dev/null`, `/dev/stdout`, a named pipe) is written
-/// through instead, never replaced.
+/// Writes `path` atomically: a temporary file ([`create_temp_beside`]),
+/// synced, then renamed over `path` (a link there is replaced, not
+/// followed); a crash or a full disk leaves the old file or the new one,
+/// never half of one. A stream ([`is_stream`]) is written through.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let (tmp, mut f) = create_output(path)?;
     let written = f.write_all(bytes).and_then(|()| match tmp {
@@ -154,23 +153,16 @@ pub fn forget_temp(path: &Path) {
     }
 }
 
-/// Removes every temporary file this process made with
-/// [`create_temp_beside`] and still holds (not renamed into place, not
-/// forgotten); returns how many it removed. A file already renamed is
-/// gone under its temporary name, which is unique: nothing else is
-/// touched.
+/// Removes every temporary file this process made and has not renamed
+/// into place nor forgotten; returns how many.
 pub fn remove_temps() -> usize {
     let paths = std::mem::take(&mut *TEMPS.lock().unwrap_or_else(|e| e.into_inner()));
     paths.iter().filter(|p| fs::remove_file(p).is_ok()).count()
 }
 
 /// The signals on which [`remove_temps_on_signals`] removes the
-/// temporary files: every signal whose default action ends the process
-/// and that can be caught. SIGINT (Ctrl-C), SIGTERM (`kill`), SIGHUP (the
-/// terminal closed), SIGQUIT (Ctrl-\\), SIGPIPE (a closed pipe, `e3d ... |
-/// head`), SIGXFSZ (`ulimit -f`), SIGXCPU (`ulimit -t`), SIGALRM, SIGUSR1
-/// and SIGUSR2. SIGKILL cannot be caught: the next run in the folder
-/// removes what it left ([`remove_stale_temps`]).
+/// temporary files: every one whose default action ends the process and
+/// that can be caught (after SIGKILL, [`remove_stale_temps`] cleans up).
 #[cfg(unix)]
 pub const CLEANUP_SIGNALS: [libc::c_int; 10] = [
     libc::SIGINT,
@@ -185,14 +177,11 @@ pub const CLEANUP_SIGNALS: [libc::c_int; 10] = [
     libc::SIGUSR2,
 ];
 
-/// On the signals that end a process ([`CLEANUP_SIGNALS`]: Ctrl-C,
-/// SIGTERM, a closed terminal or pipe, a file size limit, ...), removes
-/// this process's temporary files ([`remove_temps`]) and then dies of the
-/// signal as it would have (the exit status says which). A signal
-/// ignored when this is called (`nohup` ignores SIGHUP) stays ignored.
-/// Unix only; a no-op elsewhere. The signal
-/// handler only writes to a pipe (what is safe in a handler); a thread
-/// does the rest. Call once, early (the `e3d` binary does).
+/// On the signals that end a process ([`CLEANUP_SIGNALS`]), removes this
+/// process's temporary files ([`remove_temps`]), then dies of the signal
+/// as it would have; an ignored signal (`nohup`) stays ignored. The
+/// handler only writes to a pipe (what is safe there); a thread does the
+/// rest. Unix only; call once, early.
 pub fn remove_temps_on_signals() {
     #[cfg(unix)]
     {
@@ -329,21 +318,31 @@ impl FileLock {
             ));
         }
         #[cfg(unix)]
-        {
-            use std::os::unix::io::AsRawFd;
-            loop {
-                // SAFETY: flock on a descriptor we own
-                if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX) } == 0 {
-                    break;
-                }
-                let e = io::Error::last_os_error();
-                if e.kind() != io::ErrorKind::Interrupted {
-                    return Err(e);
-                }
-            }
-        }
+        flock(&file, libc::LOCK_EX)?;
         Ok(FileLock { file })
     }
+}
+
+/// `flock(2)` of `file` with `op`, retried when a signal interrupts it.
+#[cfg(unix)]
+fn flock(file: &File, op: libc::c_int) -> io::Result<()> {
+    use std::os::unix::io::AsRawFd;
+    // SAFETY: flock on a descriptor we own
+    while unsafe { libc::flock(file.as_raw_fd(), op) } != 0 {
+        let e = io::Error::last_os_error();
+        if e.kind() != io::ErrorKind::Interrupted {
+            return Err(e);
+        }
+    }
+    Ok(())
+}
+
+/// `o` with the open(2) `flags` on unix (ignored elsewhere).
+fn unix_flags(o: &mut OpenOptions, flags: i32) -> &mut OpenOptions {
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(o, flags);
+    let _ = flags;
+    o
 }
 
 /// Opens (or creates) the lock file `path` for reading and writing, never
@@ -351,12 +350,7 @@ impl FileLock {
 fn open_lock(path: &Path) -> io::Result<File> {
     let mut o = OpenOptions::new();
     o.read(true).write(true).create(true).truncate(false);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        o.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
-    }
-    o.open(path)
+    unix_flags(&mut o, O_NOFOLLOW | O_NONBLOCK).open(path)
 }
 
 /// Opens `path` for reading only if it is a regular file (a symbolic
@@ -369,14 +363,7 @@ pub fn open_regular(path: &Path) -> io::Result<File> {
     if !fs::metadata(path)?.is_file() {
         return Err(not_regular());
     }
-    let mut o = OpenOptions::new();
-    o.read(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        o.custom_flags(libc::O_NONBLOCK);
-    }
-    let f = o.open(path)?;
+    let f = unix_flags(OpenOptions::new().read(true), O_NONBLOCK).open(path)?;
     if !f.metadata()?.is_file() {
         return Err(not_regular());
     }
@@ -388,35 +375,37 @@ pub fn open_regular(path: &Path) -> io::Result<File> {
 /// planted link cannot make e3d append to, or truncate, another file.
 pub fn open_append_nofollow(path: &Path) -> io::Result<File> {
     let mut o = OpenOptions::new();
-    o.append(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        o.custom_flags(libc::O_NOFOLLOW);
-    }
-    o.open(path).map_err(|e| {
-        if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-            io::Error::new(
-                io::ErrorKind::InvalidInput,
-                "is a symbolic link; refused (e3d appends only to a file it made)",
-            )
-        } else {
-            e
-        }
-    })
+    unix_flags(o.append(true), O_NOFOLLOW)
+        .open(path)
+        .map_err(|e| {
+            if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+                io::Error::new(
+                    io::ErrorKind::InvalidInput,
+                    "is a symbolic link; refused (e3d appends only to a file it made)",
+                )
+            } else {
+                e
+            }
+        })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// A new empty folder `e3d-io-NAME-PID` in the system's temporary folder.
+    fn fresh_dir(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("e3d-io-{name}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
     #[cfg(unix)]
     #[test]
     fn a_stream_is_written_through_never_replaced() {
         use std::os::unix::fs::FileTypeExt;
-        let dir = std::env::temp_dir().join(format!("e3d-io-stream-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
+        let dir = fresh_dir("stream");
         let fifo = dir.join("out.svg");
         let made = std::process::Command::new("mkfifo").arg(&fifo).status();
         if !made.is_ok_and(|s| s.success()) {
@@ -450,9 +439,7 @@ mod tests {
     #[cfg(unix)]
     #[test]
     fn temporary_files_never_follow_a_planted_link() {
-        let dir = std::env::temp_dir().join(format!("e3d-io-test-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
+        let dir = fresh_dir("test");
         let victim = dir.join("victim.txt");
         fs::write(&victim, "keep me").unwrap();
         // the old, predictable temporary names of the next files, planted
@@ -544,10 +531,7 @@ impl DirLock {
             #[cfg(unix)]
             {
                 use std::os::unix::fs::MetadataExt;
-                use std::os::unix::io::AsRawFd;
-                // SAFETY: flock on a descriptor we own
-                if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } != 0 {
-                    let e = io::Error::last_os_error();
+                if let Err(e) = flock(&file, libc::LOCK_EX | libc::LOCK_NB) {
                     if e.kind() != io::ErrorKind::WouldBlock {
                         return Err(e);
                     }
