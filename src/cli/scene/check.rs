@@ -110,16 +110,8 @@ fn action_text(action: &Action, physics: Option<&PhysicsSpec>) -> String {
     match action {
         Action::Idle => "nothing".to_string(),
         Action::Move { drow, dcol } => {
-            let ns = match drow.signum() {
-                -1 => "north",
-                1 => "south",
-                _ => "",
-            };
-            let ew = match dcol.signum() {
-                -1 => "west",
-                1 => "east",
-                _ => "",
-            };
+            let ns = ["north", "", "south"][(drow.signum() + 1) as usize];
+            let ew = ["west", "", "east"][(dcol.signum() + 1) as usize];
             let way = match (ns, ew) {
                 ("", "") => "stay".to_string(),
                 (a, "") | ("", a) => format!("move {a}"),
@@ -157,38 +149,35 @@ fn print_context_starts(scene: &Scene) {
     for c in &p.contexts {
         let mut parts: Vec<String> = Vec::new();
         for b in &c.bodies {
-            let mut what = Vec::new();
-            match (b.position, b.to) {
-                (Some(a), Some(to)) => {
-                    what.push(format!("at a point drawn in {}..{}", pair(a), pair(to)))
-                }
-                (Some(a), None) => what.push(format!("at {}", pair(a))),
-                _ => {}
-            }
-            if let Some(a) = b.angle {
-                what.push(format!("angle {a} rad"));
-            }
-            if let Some(v) = b.velocity {
-                what.push(format!("velocity {} m/s", pair(v)));
-            }
-            if let Some(w) = b.angular_velocity {
-                what.push(format!("angular velocity {w} rad/s"));
-            }
+            let what: Vec<String> = [
+                b.position.map(|a| match b.to {
+                    Some(to) => format!("at a point drawn in {}..{}", pair(a), pair(to)),
+                    None => format!("at {}", pair(a)),
+                }),
+                b.angle.map(|a| format!("angle {a} rad")),
+                b.velocity.map(|v| format!("velocity {} m/s", pair(v))),
+                b.angular_velocity
+                    .map(|w| format!("angular velocity {w} rad/s")),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
             parts.push(format!("`{}` {}", b.body, what.join(", ")));
         }
         for j in &c.joints {
             let slider = (p.joints.iter().find(|s| s.name == j.joint))
                 .is_some_and(|s| matches!(s.kind, JointKind::Prismatic { .. }));
             let unit = if slider { "m" } else { "rad" };
-            let mut what = Vec::new();
-            match (j.angle, j.to) {
-                (Some(a), Some(to)) => what.push(format!("drawn in [{a}, {to}] {unit}")),
-                (Some(a), None) => what.push(format!("at {a} {unit}")),
-                _ => {}
-            }
-            if let Some(v) = j.velocity {
-                what.push(format!("rate {v} {unit}/s"));
-            }
+            let what: Vec<String> = [
+                j.angle.map(|a| match j.to {
+                    Some(to) => format!("drawn in [{a}, {to}] {unit}"),
+                    None => format!("at {a} {unit}"),
+                }),
+                j.velocity.map(|v| format!("rate {v} {unit}/s")),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
             parts.push(format!("joint `{}` {}", j.joint, what.join(", ")));
         }
         let rest = match parts.is_empty() {
@@ -391,11 +380,7 @@ fn print_physics(scene: &Scene, p: &PhysicsSpec) {
     outln!(
         "solver: {} iteration(s) per step{} (`--accuracy` measures what other settings cost and change)",
         p.solver_iterations.unwrap_or(4),
-        if p.solver_iterations.is_none() {
-            ", Rapier's default"
-        } else {
-            ""
-        }
+        p.solver_iterations.map_or(", Rapier's default", |_| "")
     );
     print_bodies(p);
     print_joints(p);
@@ -495,10 +480,9 @@ fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
         outln!(
             "reward cells: {cells:?}{from}, value {}{}",
             scene.spec().reward.value,
-            if scene.spec().reward.note.is_empty() {
-                String::new()
-            } else {
-                format!(" ({})", scene.spec().reward.note)
+            match &scene.spec().reward.note {
+                n if n.is_empty() => String::new(),
+                n => format!(" ({n})"),
             }
         );
     }

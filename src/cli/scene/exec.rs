@@ -82,15 +82,16 @@ fn symbols(space: &CommandSpace) -> impl Fn(&str) -> Result<Command, CommandErro
 /// streamed into a temporary file renamed to FILE at the end (whole or not
 /// at all).
 pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
-    let Some(mut world) = scene.physics_world() else {
+    let (Some(mut world), WorldSpec::Physics(spec)) = (scene.physics_world(), &scene.spec().world)
+    else {
         return Err(CliError::input(format!(
             "scene `{}` is a grid: it has no motion to trace (`e3d scene render --command` draws a command's path)",
             scene.spec().name
         )));
     };
     let space = scene.command_space();
-    // whether stdin is read, and how many commands otherwise
-    let commands_known = (commands.iter().any(|c| c == "-"), commands.len() as u64);
+    // how many commands, unless stdin is read
+    let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
     let rx = reader(symbols(&space), commands, 64);
     let out_err = |e| crate::cli::cannot_write(path, e);
     // created exclusively: never through a link planted under its name
@@ -100,7 +101,6 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     let written = (|| -> CliResult {
         let mut first = true;
         let label = format!("scene exec {}", scene.spec().name);
-        let known = (!commands_known.0).then_some(commands_known.1);
         if let Some(n) = known {
             say_cost(&label, scene, n, 1, 1);
         }
@@ -114,7 +114,18 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
                 // frames go to the file as they are computed (a long
                 // command's motion is never held whole)
                 if first {
-                    header_only(scene)
+                    // a motion without frames writes the header
+                    let header = e3d::world::Motion {
+                        bodies: spec.bodies.iter().map(|b| b.name.clone()).collect(),
+                        joints: spec.joints.iter().map(|j| j.name.clone()).collect(),
+                        frames: Vec::new(),
+                        outcome: e3d::Outcome {
+                            effect: 0,
+                            reward: 0.0,
+                            point: [0.0; 2],
+                        },
+                    };
+                    header
                         .write_csv(&mut file, Some(&text), true)
                         .map_err(out_err)?;
                 }
@@ -144,27 +155,6 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     })();
     drop(file);
     e3d::io::finish_output(tmp, path, written, out_err)
-}
-
-/// A motion of `scene` without frames: what writes the trace's header.
-fn header_only(scene: &Scene) -> e3d::world::Motion {
-    let (bodies, joints) = match &scene.spec().world {
-        WorldSpec::Physics(p) => (
-            p.bodies.iter().map(|b| b.name.clone()).collect(),
-            p.joints.iter().map(|j| j.name.clone()).collect(),
-        ),
-        WorldSpec::Grid(_) => (Vec::new(), Vec::new()),
-    };
-    e3d::world::Motion {
-        bodies,
-        joints,
-        frames: Vec::new(),
-        outcome: e3d::Outcome {
-            effect: 0,
-            reward: 0.0,
-            point: [0.0; 2],
-        },
-    }
 }
 
 /// How `e3d scene exec` executes a chunk of commands; it keeps its worlds
@@ -248,12 +238,6 @@ impl<'a> ExecPool<'a> {
             }
         }
     }
-}
-
-/// The most commands `e3d scene exec` executes at once: two batches of
-/// [`TABLE_COPIES`](e3d::world::TABLE_COPIES) per thread.
-pub(super) fn chunk_limit() -> usize {
-    2 * rayon::current_num_threads() * e3d::world::TABLE_COPIES
 }
 
 /// What the folder `dir` holds for `scene`: a whole table (looked up), or
@@ -399,35 +383,6 @@ fn next_chunk(
     }
 }
 
-/// Appends the CSV rows of `chunk`'s outcomes (taken from `results`) to
-/// `text`, up to the first failure, which is returned.
-fn write_rows(
-    space: &CommandSpace,
-    chunk: &[Command],
-    results: &mut Vec<Result<e3d::Outcome, WorldError>>,
-    text: &mut String,
-) -> Option<CliError> {
-    for (c, r) in chunk.iter().zip(results.drain(..)) {
-        match r {
-            Ok(o) => push_row(text, space.format(c), &o),
-            Err(e) => return Some(world_error(e)),
-        }
-    }
-    None
-}
-
-/// Keeps the outcomes of `memo` in the table folder `dir` (merged with
-/// what its file holds); a failure is a note, the output stands.
-fn keep_memo(memo: &e3d::world::OutcomeMemo, scene: &Scene, dir: &Path) {
-    let path = OutcomeTable::cache_path(scene, dir);
-    if let Err(e) = memo.save(&path, scene) {
-        errln!(
-            "note: could not keep the outcomes in {}: {e}",
-            path.display()
-        );
-    }
-}
-
 /// What the commands of `scene exec` cost, said once: before they run
 /// when their number is known, else once those read so far reach
 /// [`progress::LONG`] (stdin); never when a table looks them up.
@@ -509,7 +464,8 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
     let mut cost = CostNote::new(&label, scene, known, table.is_some());
     let mut executor = ExecPool::new(scene, table);
-    let limit = chunk_limit();
+    // at most two batches of TABLE_COPIES per thread at once
+    let limit = 2 * rayon::current_num_threads() * e3d::world::TABLE_COPIES;
     let rx = reader(symbols(&space), commands, 2 * limit);
     let write = |text: &str| write_stdout(text.as_bytes());
     let header = "command,effect,reward,x,y\n";
@@ -530,8 +486,15 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
             p.add(chunk.len() as u64);
             cost.add(chunk.len() as u64, &label, scene, p);
             text.clear();
-            if let Some(e) = write_rows(&space, &chunk, &mut results, &mut text) {
-                end = Some(e);
+            // the rows up to the first failure, which ends the output
+            for (c, r) in chunk.iter().zip(results.drain(..)) {
+                match r {
+                    Ok(o) => push_row(&mut text, space.format(c), &o),
+                    Err(e) => {
+                        end = Some(world_error(e));
+                        break;
+                    }
+                }
             }
             if !text.is_empty() {
                 if !header_written {
@@ -543,8 +506,16 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
         }
         Ok(())
     })?;
+    // the new outcomes kept in the table folder (merged with its file); a
+    // failure is a note, the output stands
     if let (Some(m), Some(dir)) = (memo.as_ref().filter(|m| !m.is_empty()), table_cache) {
-        keep_memo(m, scene, dir);
+        let path = OutcomeTable::cache_path(scene, dir);
+        if let Err(e) = m.save(&path, scene) {
+            errln!(
+                "note: could not keep the outcomes in {}: {e}",
+                path.display()
+            );
+        }
     }
     match end {
         Some(e) => Err(e),
