@@ -213,10 +213,7 @@ fn check_outputs(cmd: &SceneCmd) -> CliResult {
             if let Some(t) = trace {
                 check_format(t, "--trace", &["csv"], "")?;
             }
-            match table_cache {
-                Some(d) => check_cache_folder(d, "--table-cache"),
-                None => Ok(()),
-            }
+            (table_cache.as_deref()).map_or(Ok(()), |d| check_cache_folder(d, "--table-cache"))
         }
         SceneCmd::Table { cache: Some(d), .. } => check_cache_folder(d, "--cache"),
         _ => Ok(()),
@@ -242,10 +239,7 @@ pub fn run(a: SceneArgs) -> CliResult {
         } => {
             check(&scene)?;
             check_reach(&scene, samples, seed)?;
-            match accuracy {
-                Some(n) => check_accuracy(&scene, n, seed),
-                None => Ok(()),
-            }
+            accuracy.map_or(Ok(()), |n| check_accuracy(&scene, n, seed))
         }
         SceneCmd::Render {
             command,

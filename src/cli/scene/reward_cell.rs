@@ -27,11 +27,8 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
         table.len() as f64 / secs,
         rayon::current_num_threads()
     );
-    outln!(
-        "reached cells: {} of {}",
-        cell.reached_cells,
-        grid.num_cells()
-    );
+    let (reached, cells) = (cell.reached_cells, grid.num_cells());
+    outln!("reached cells: {reached} of {cells}");
     outln!("most common cells: {}", most_common_cells(&table, &grid));
     let center = grid.center(cell.row, cell.col);
     outln!(
@@ -75,24 +72,15 @@ fn start_point(scene: &Scene) -> [f64; 2] {
 /// shares.
 fn most_common_cells(table: &OutcomeTable, grid: &EffectGrid) -> String {
     let counts = table.effect_counts();
-    let mut sorted: Vec<(u64, usize)> = counts
-        .iter()
-        .enumerate()
-        .filter(|(_, &c)| c > 0)
-        .map(|(e, &c)| (c, e))
+    let mut sorted: Vec<(usize, u64)> = (counts.iter().copied().enumerate())
+        .filter(|&(_, c)| c > 0)
         .collect();
-    sorted.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-    let top: Vec<String> = sorted
-        .iter()
-        .take(5)
-        .map(|(c, e)| {
-            format!(
-                "({}, {}) {} ({:.1}%)",
-                e / grid.cols,
-                e % grid.cols,
-                c,
-                100.0 * *c as f64 / table.len() as f64
-            )
+    // the most common first, ties to the lower cell
+    sorted.sort_by_key(|&(e, c)| (std::cmp::Reverse(c), e));
+    let top: Vec<String> = (sorted.iter().take(5))
+        .map(|&(e, c)| {
+            let share = 100.0 * c as f64 / table.len() as f64;
+            format!("({}, {}) {c} ({share:.1}%)", e / grid.cols, e % grid.cols)
         })
         .collect();
     top.join(", ")
