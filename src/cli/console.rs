@@ -1,17 +1,7 @@
 //! The command line's standard output and standard error, written through
-//! [`outln!`] and [`errln!`]: every write is checked where it is made.
-//!
-//! A write that fails ends e3d at once, after removing the temporary
-//! files of unfinished outputs: with exit code 3 and
-//! `error: cannot write to stdout: ...` on standard error (when it can
-//! still take it) for a full device or disk (`> /dev/full`), quietly for a
-//! reader that has gone (a broken pipe, `e3d scene exec ... | head`; on
-//! Unix e3d then ends by SIGPIPE, as other tools).
-//!
-//! Both escape control characters (all but the line feed and the tab, as
-//! [`escape_controls`](e3d::text::escape_controls) does): a path, a name
-//! or a command echoed in a message cannot drive the terminal (ESC, BEL,
-//! a carriage return), whatever the message.
+//! [`outln!`] and [`errln!`]: every write is checked where it is made (a
+//! failed one ends e3d, [`fail`]), and control characters are escaped so
+//! that a name echoed in a message cannot drive the terminal.
 
 use std::io::Write;
 

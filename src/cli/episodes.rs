@@ -57,9 +57,9 @@ struct Summary<'a> {
     scene_record: e3d::report::run_scene::SceneRecord,
 }
 
-/// Refuses, before any work, episodes on a continuous scene and more
-/// episode commands than a record holds.
-fn check_runnable(a: &RunArgs, scene: &Scene) -> CliResult {
+pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
+    // refused before any work: a continuous scene, more commands than a
+    // record holds, a closed loop of another learner
     if scene.value_space().is_some() {
         return Err(CliError::input(format!(
             "scene `{}`: its slots take values (`Continuous`); start contexts and --commands, --observe, --closed-loop run on scenes of symbols",
@@ -67,11 +67,7 @@ fn check_runnable(a: &RunArgs, scene: &Scene) -> CliResult {
         )));
     }
     e3d::episode::check_size(a.trials as usize, a.commands as usize)
-        .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))
-}
-
-pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
-    check_runnable(a, scene)?;
+        .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))?;
     let observe = observe_of(a);
     let space = scene.command_space();
     let num_effects = scene.num_effects();
@@ -156,10 +152,9 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         params,
         use_reward: !a.no_reward,
         commands_per_episode: a.commands as usize,
-        observe: if observe == Observe::State {
-            "state"
-        } else {
-            "start"
+        observe: match observe {
+            Observe::State => "state",
+            _ => "start",
         },
         gamma: a.closed_loop.then_some(a.gamma),
         start_contexts: names,
@@ -257,9 +252,7 @@ fn print_sessions(
         let ent: Vec<String> = (names.iter().zip(&s.entropy_per_start))
             .map(|(n, h)| format!("{n} {h:.4}"))
             .collect();
-        let first = s
-            .first_reward_episode
-            .map_or("never".to_string(), |e| e.to_string());
+        let first = (s.first_reward_episode).map_or("never".into(), |e| e.to_string());
         outln!(
             "seed {}: first reward at episode {first}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
             s.seed,

@@ -19,28 +19,19 @@ static LOCKS: Mutex<Vec<e3d::io::DirLock>> = Mutex::new(Vec::new());
 /// that cannot be created is left to the command's own checks and
 /// messages.
 pub fn lock_out(dir: &Path) -> CliResult {
-    if dir.exists() && !dir.is_dir() {
+    if (dir.exists() && !dir.is_dir()) || std::fs::create_dir_all(dir).is_err() {
         return Ok(());
     }
-    if std::fs::create_dir_all(dir).is_err() {
-        return Ok(());
-    }
-    let lock = match e3d::io::DirLock::acquire(dir) {
-        Ok(lock) => lock,
-        Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
-            return Err(CliError::output(format!(
-                "{}: in use by {e}, which is writing into it; wait for it to end or choose another --out",
-                dir.display()
-            )))
-        }
-        // the error names the lock file
-        Err(e) => {
-            return Err(CliError::output(format!(
-                "{}: cannot take the lock: {e}",
-                dir.display()
-            )))
-        }
-    };
+    let lock = e3d::io::DirLock::acquire(dir).map_err(|e| {
+        let d = dir.display();
+        CliError::output(match e.kind() {
+            std::io::ErrorKind::WouldBlock => format!(
+                "{d}: in use by {e}, which is writing into it; wait for it to end or choose another --out"
+            ),
+            // the error names the lock file
+            _ => format!("{d}: cannot take the lock: {e}"),
+        })
+    })?;
     if let Some(old) = &lock.previous {
         crate::cli::console::errln!(
             "warning: {}: took over the lock of a run that ended without releasing it ({old})",

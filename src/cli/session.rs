@@ -195,7 +195,7 @@ impl MemoArgs {
 }
 
 /// One session's rows of a CSV file, streamed into a temporary file
-/// beside the final one (joined by [`join_trials`]): a session of any
+/// beside the final one (joined by [`write_run`]): a session of any
 /// length never holds its rows in memory. The first write error is kept
 /// and said by [`finish`](Self::finish).
 pub(super) struct CsvPart {
@@ -286,14 +286,12 @@ pub(super) fn finish_parts<E>(
 where
     CliError: From<E>,
 {
-    let mut files = Vec::new();
-    for (st, part) in status.into_iter().zip(parts) {
-        st?;
-        if let Some(p) = part {
-            files.push(p.finish()?);
-        }
-    }
-    Ok(files)
+    (status.into_iter().zip(parts))
+        .filter_map(|(st, part)| match st {
+            Ok(()) => part.map(CsvPart::finish),
+            Err(e) => Some(Err(e.into())),
+        })
+        .collect()
 }
 
 /// Writes DIR/trials.csv whole or not at all (`header`, the sessions'
@@ -309,23 +307,19 @@ pub(super) fn write_run(
     use std::io::Write;
     let (csv, json_path) = (dir.join("trials.csv"), dir.join("summary.json"));
     let (tmp, file) = e3d::io::create_temp_beside(&csv).map_err(|e| cannot_write(&csv, e))?;
-    let result = (|| -> std::io::Result<()> {
+    let written = (|| -> std::io::Result<()> {
         let mut out = std::io::BufWriter::new(file);
         writeln!(out, "{header}")?;
         for p in parts {
             std::io::copy(&mut std::fs::File::open(p)?, &mut out)?;
         }
         rows(&mut out)?;
-        out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        std::fs::rename(&tmp, &csv)
+        out.into_inner().map_err(|e| e.into_error())?.sync_all()
     })();
     for p in parts {
         let _ = std::fs::remove_file(p);
     }
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(|e| cannot_write(&csv, e))?;
+    e3d::io::finish_output(Some(tmp), &csv, written, |e| e).map_err(|e| cannot_write(&csv, e))?;
     let mut json = serde_json::to_vec_pretty(summary).map_err(CliError::output)?;
     json.push(b'\n');
     super::output::write_file(&json_path, &json)?;
