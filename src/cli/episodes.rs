@@ -168,19 +168,13 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
 /// Tells (on stderr) what runs: sessions, episodes, learner, contexts
 /// and what the learner observes.
 fn describe(a: &RunArgs, sessions: usize, name: &str, contexts: usize, observe: Observe) {
-    errln!(
-        "episodes: {} sessions of {} episodes of {} command{}, learner {name}, {} contexts observed as {}",
-        sessions,
-        a.trials,
-        a.commands,
-        if a.commands == 1 { "" } else { "s" },
-        contexts,
-        match observe {
-            Observe::State => "the current effect cell",
-            Observe::StartContext => "the start context",
-            Observe::Blind => "nothing (one policy)",
-        }
-    );
+    let how = match observe {
+        Observe::State => "the current effect cell",
+        Observe::StartContext => "the start context",
+        Observe::Blind => "nothing (one policy)",
+    };
+    let (trials, commands, s) = (a.trials, a.commands, if a.commands == 1 { "" } else { "s" });
+    errln!("episodes: {sessions} sessions of {trials} episodes of {commands} command{s}, learner {name}, {contexts} contexts observed as {how}");
 }
 
 /// With `--table-cache DIR`: the outcome tables of the scene's named
@@ -242,23 +236,15 @@ fn print_sessions(
     sessions: &[OneSession],
 ) {
     let (first, last) = (sessions[0].seed, sessions[sessions.len() - 1].seed);
-    outln!(
-        "scene {}, learner {name}, {} episodes of {} command(s), seeds {first}..={last}",
-        scene.spec().name,
-        a.trials,
-        a.commands
-    );
+    let (scene, trials, commands) = (&scene.spec().name, a.trials, a.commands);
+    outln!("scene {scene}, learner {name}, {trials} episodes of {commands} command(s), seeds {first}..={last}");
     for s in sessions {
         let ent: Vec<String> = (names.iter().zip(&s.entropy_per_start))
             .map(|(n, h)| format!("{n} {h:.4}"))
             .collect();
         let first = (s.first_reward_episode).map_or("never".into(), |e| e.to_string());
-        outln!(
-            "seed {}: first reward at episode {first}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
-            s.seed,
-            s.cumulative_reward,
-            ent.join(", ")
-        );
+        let (seed, reward, ent) = (s.seed, s.cumulative_reward, ent.join(", "));
+        outln!("seed {seed}: first reward at episode {first}, cumulative reward {reward}, normalised entropy of the terminal cells per start context: {ent}");
     }
 }
 

@@ -378,11 +378,8 @@ pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params
         u => format!(" |{u}"),
     };
     let no_reward = if a.no_reward { " | no reward" } else { "" };
-    outln!(
-        "scene {scene} | learner {}{kind} | {} trials{sessions} | seed {seed}{used}{no_reward}",
-        a.learner,
-        a.trials
-    );
+    let (learner, trials) = (a.learner, a.trials);
+    outln!("scene {scene} | learner {learner}{kind} | {trials} trials{sessions} | seed {seed}{used}{no_reward}");
 }
 
 /// The metrics of each session (`seeds[i]` names session `i` when there
@@ -395,13 +392,17 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
             1 => String::new(),
             _ => format!("seed {seed}: "),
         };
-        outln!(
-            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {num_effects} effects reached",
-            m.normalized_entropy,
-            m.normalized_entropy_last_1000,
-            m.kl_to_target,
-            m.distinct_effects
-        );
+        let Metrics {
+            normalized_entropy: h,
+            normalized_entropy_last_1000: h1000,
+            kl_to_target: kl,
+            distinct_effects: k,
+            coverage,
+            coverage_cells: cells,
+            cumulative_reward: reward,
+            ..
+        } = *m;
+        outln!("{who}normalised entropy {h:.4} (last 1000: {h1000:.4}) | KL to target {kl:.4} nats | {k} of {num_effects} effects reached");
         if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
             outln!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
         }
@@ -409,18 +410,10 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
             Some(_) => ("the", " reachable"),
             None => ("all", ""),
         };
-        outln!(
-            "{who}coverage {:.4} of {of} {}{reachable} cells | 50% by trial {} | 90% by trial {}",
-            m.coverage,
-            m.coverage_cells,
-            at(m.trials_to_50_percent),
-            at(m.trials_to_90_percent)
-        );
-        outln!(
-            "{who}cumulative reward {} | first reward at trial {}",
-            m.cumulative_reward,
-            at(m.first_reward_trial)
-        );
+        let (t50, t90) = (at(m.trials_to_50_percent), at(m.trials_to_90_percent));
+        outln!("{who}coverage {coverage:.4} of {of} {cells}{reachable} cells | 50% by trial {t50} | 90% by trial {t90}");
+        let first = at(m.first_reward_trial);
+        outln!("{who}cumulative reward {reward} | first reward at trial {first}");
     }
     if sessions > 1 {
         let mean =

@@ -10,48 +10,39 @@ use e3d::world::ReachSample;
 use e3d::OutcomeTable;
 
 pub(super) fn check(scene: &Scene) -> CliResult {
-    let grid = scene.effect_grid();
-    outln!("scene {}: valid", scene.spec().name);
-    if !scene.spec().description.is_empty() {
-        outln!("  {}", scene.spec().description);
+    let (grid, spec) = (scene.effect_grid(), scene.spec());
+    outln!("scene {}: valid", spec.name);
+    if !spec.description.is_empty() {
+        outln!("  {}", spec.description);
     }
-    print_world(scene);
-    outln!("slots ({}):", scene.spec().num_slots());
-    if let e3d::scene::CommandSpec::Continuous(slots) = &scene.spec().command {
+    match &spec.world {
+        WorldSpec::Grid(g) => print_grid(g),
+        WorldSpec::Physics(p) => print_physics(scene, p),
+    }
+    outln!("slots ({}):", spec.num_slots());
+    if let e3d::scene::CommandSpec::Continuous(slots) = &spec.command {
         for (i, slot) in slots.iter().enumerate() {
-            outln!(
-                "  {i}: a value in [{}, {}]{}: {:?}",
-                slot.range.0,
-                slot.range.1,
-                slot.name
-                    .as_deref()
-                    .map_or(String::new(), |n| format!(" ({n})")),
-                slot.action
-            );
+            let ((lo, hi), action) = (slot.range, &slot.action);
+            let name = slot
+                .name
+                .as_deref()
+                .map_or(String::new(), |n| format!(" ({n})"));
+            outln!("  {i}: a value in [{lo}, {hi}]{name}: {action:?}");
         }
         outln!(
             "distinct commands: infinitely many (continuous: live physics only, no table or memo)"
         );
     } else {
-        for (i, alphabet) in scene.spec().slots().enumerate() {
+        for (i, alphabet) in spec.slots().enumerate() {
             let syms: String = alphabet.iter().map(|s| s.symbol).collect();
             outln!("  {i}: {syms}");
         }
-        outln!(
-            "distinct commands: {}",
-            scene.command_space().num_commands_text()
-        );
+        let n = scene.command_space().num_commands_text();
+        outln!("distinct commands: {n}");
     }
-    outln!(
-        "effects: {} ({} x {} cells over [{}, {}] x [{}, {}])",
-        grid.num_cells(),
-        grid.rows,
-        grid.cols,
-        grid.min[0],
-        grid.max[0],
-        grid.min[1],
-        grid.max[1]
-    );
+    let ([x0, y0], [x1, y1], rows, cols) = (grid.min, grid.max, grid.rows, grid.cols);
+    let n = grid.num_cells();
+    outln!("effects: {n} ({rows} x {cols} cells over [{x0}, {x1}] x [{y0}, {y1}])");
     print_rewards(scene, &grid);
     print_actions(scene);
     print_context_starts(scene);
@@ -196,13 +187,10 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
     if samples == 0 {
         return Ok(());
     }
-    let total = match scene.spec().is_continuous() {
-        true => samples,
-        false => scene
-            .command_space()
-            .num_commands()
-            .map_or(samples, |n| n.min(samples)),
-    };
+    let n = scene.command_space().num_commands();
+    let total = n
+        .filter(|_| !scene.spec().is_continuous())
+        .map_or(samples, |n| n.min(samples));
     let label = format!("scene check {}", scene.spec().name);
     say_cost(&label, scene, total, 1, 1);
     let sampled = progress::track_control(&label, "commands", total, |control| {
@@ -227,11 +215,8 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
         true => format!("reach: all {k} commands executed ({secs:.2} s)"),
         false => format!("reach (estimate): {k} random commands of {n} (seed {seed}, {secs:.2} s)"),
     };
-    outln!(
-        "{what}: {} of {} cells reached",
-        s.reached_cells(),
-        grid.num_cells()
-    );
+    let (reached, cells) = (s.reached_cells(), grid.num_cells());
+    outln!("{what}: {reached} of {cells} cells reached");
     print_reward_reach(scene, &s);
     Ok(())
 }
@@ -245,14 +230,10 @@ fn print_reward_reach(scene: &Scene, s: &ReachSample) {
         return;
     }
     let effects: Vec<usize> = cells.iter().map(|&(r, c)| r * grid.cols + c).collect();
-    let hits = s.hits(&effects);
-    let share = hits as f64 / s.samples as f64;
+    let (hits, k) = (s.hits(&effects), s.samples);
+    let pct = 100.0 * (hits as f64 / k as f64);
     if s.exhaustive {
-        outln!(
-            "reward cells reached by {hits} of {} commands ({:.3}%)",
-            s.samples,
-            100.0 * share
-        );
+        outln!("reward cells reached by {hits} of {k} commands ({pct:.3}%)");
         if hits == 0 {
             errln!(
                 "warning: scene {}: no command reaches a reward cell {cells:?} (every command executed)",
@@ -261,14 +242,10 @@ fn print_reward_reach(scene: &Scene, s: &ReachSample) {
         }
         return;
     }
-    outln!(
-        "reward cells: estimated probability {:.3}% ({hits} of {} sampled commands)",
-        100.0 * share,
-        s.samples
-    );
+    outln!("reward cells: estimated probability {pct:.3}% ({hits} of {k} sampled commands)");
     if hits == 0 {
         // the rule of three: with no hit in k draws, p < 3/k at 95%
-        let bound = 100.0 * 3.0 / s.samples as f64;
+        let bound = 100.0 * 3.0 / k as f64;
         errln!(
             "warning: scene {}: no sampled command reached a reward cell {cells:?}: it may be unreachable, or rarer than about {bound:.2}% (95% bound); {}",
             scene.spec().name,
@@ -312,28 +289,12 @@ pub(super) fn rewarded_cells(scene: &Scene) -> Vec<(usize, usize)> {
     cells
 }
 
-/// The world's part of `scene check`: a grid's size, or a physics
-/// scene's schedule, bodies, joints, tracked point and symmetry.
-fn print_world(scene: &Scene) {
-    match &scene.spec().world {
-        WorldSpec::Grid(g) => print_grid(g),
-        WorldSpec::Physics(p) => print_physics(scene, p),
-    }
-}
-
 /// A grid world: its size, start, walls and start contexts.
 fn print_grid(g: &GridSpec) {
-    outln!(
-        "world: Grid, {} x {} cells, start {:?}, {} wall(s)",
-        g.rows,
-        g.cols,
-        g.start,
-        g.walls.len()
-    );
+    let (rows, cols, start, walls) = (g.rows, g.cols, g.start, g.walls.len());
+    outln!("world: Grid, {rows} x {cols} cells, start {start:?}, {walls} wall(s)");
     if !g.contexts.is_empty() {
-        let list: Vec<String> = g
-            .contexts
-            .iter()
+        let list: Vec<String> = (g.contexts.iter())
             .map(|c| match c.to {
                 Some(to) => format!("{} {:?}..={to:?}", c.name, c.cell),
                 None => format!("{} {:?}", c.name, c.cell),
@@ -347,9 +308,7 @@ fn print_grid(g: &GridSpec) {
 /// schedule, bodies, joints, effect and symmetry.
 fn print_physics(scene: &Scene, p: &PhysicsSpec) {
     if !p.contexts.is_empty() {
-        let list: Vec<String> = p
-            .contexts
-            .iter()
+        let list: Vec<String> = (p.contexts.iter())
             .map(|c| {
                 let kind = if c.is_sampled() { "drawn" } else { "named" };
                 // what the context sets: its bodies and its joints, by name
@@ -365,18 +324,13 @@ fn print_physics(scene: &Scene, p: &PhysicsSpec) {
         errln!("warning: scene {}: {w}", scene.spec().name);
     }
     let (phase, settle, together) = p.schedule.steps(p.dt);
-    outln!(
-        "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",
-        p.gravity.0,
-        p.gravity.1,
-        p.dt,
-        p.schedule.total_steps(p.dt, scene.spec().num_slots()),
-        if together {
-            format!("all slots push {phase} steps, then settle {settle}")
-        } else {
-            format!("{phase} steps per slot, then settle {settle}")
-        }
-    );
+    let how = match together {
+        true => format!("all slots push {phase} steps, then settle {settle}"),
+        false => format!("{phase} steps per slot, then settle {settle}"),
+    };
+    let ((gx, gy), dt) = (p.gravity, p.dt);
+    let steps = p.schedule.total_steps(dt, scene.spec().num_slots());
+    outln!("world: Physics, gravity ({gx}, {gy}) m/s², dt {dt:.6} s, {steps} step(s) per command ({how})");
     outln!(
         "solver: {} iteration(s) per step{} (`--accuracy` measures what other settings cost and change)",
         p.solver_iterations.unwrap_or(4),
@@ -385,9 +339,7 @@ fn print_physics(scene: &Scene, p: &PhysicsSpec) {
     print_bodies(p);
     print_joints(p);
     match p.effect.world_point() {
-        Some((body, point, _)) => {
-            outln!("tracked point: ({}, {}) on `{}`", point.0, point.1, body)
-        }
+        Some((body, (x, y), _)) => outln!("tracked point: ({x}, {y}) on `{body}`"),
         None => outln!("effect: {}", e3d::report::scene_svg::describe_effect(p)),
     }
     if let Some(sym) = p.symmetry {
@@ -410,15 +362,8 @@ fn print_bodies(p: &PhysicsSpec) {
         } else {
             String::new()
         };
-        outln!(
-            "  {:<12} {:?}, {:?}{mass}, at ({}, {}), angle {}",
-            b.name,
-            b.kind,
-            b.shape,
-            b.position.0,
-            b.position.1,
-            b.angle
-        );
+        let (name, kind, shape, (x, y), angle) = (&b.name, b.kind, &b.shape, b.position, b.angle);
+        outln!("  {name:<12} {kind:?}, {shape:?}{mass}, at ({x}, {y}), angle {angle}");
     }
 }
 
@@ -426,41 +371,30 @@ fn print_bodies(p: &PhysicsSpec) {
 fn print_joints(p: &PhysicsSpec) {
     outln!("joints ({}):", p.joints.len());
     for j in &p.joints {
-        // a slider's numbers are in m, N/m and N·s/m (its kind is
-        // named; a hinge's line is as it always was)
+        // a slider's numbers are in m, N/m and N·s/m (its kind is named)
         let (kind, unit, force) = match j.kind {
             e3d::scene::physics::JointKind::Revolute => (String::new(), "rad", "N·m"),
             e3d::scene::physics::JointKind::Prismatic { axis } => {
                 (format!(", slider along ({}, {})", axis.0, axis.1), "m", "N")
             }
         };
-        outln!(
-            "  {:<12} {} -> {}{kind}, limits {}, damping {} {force}·s/{unit}{}",
-            j.name,
-            j.parent,
-            j.child,
-            j.limits
-                .map_or("none".to_string(), |(a, b)| format!("[{a}, {b}] {unit}")),
-            j.damping,
-            j.motor.map_or(String::new(), |m| format!(
-                ", motor {} {force}/{unit}, {} {force}·s/{unit}",
-                m.stiffness, m.damping
-            ))
-        );
+        let limits = (j.limits).map_or("none".into(), |(a, b)| format!("[{a}, {b}] {unit}"));
+        let motor = (j.motor).map_or(String::new(), |m| {
+            let (k, d) = (m.stiffness, m.damping);
+            format!(", motor {k} {force}/{unit}, {d} {force}·s/{unit}")
+        });
+        let (name, parent, child, damping) = (&j.name, &j.parent, &j.child, j.damping);
+        outln!("  {name:<12} {parent} -> {child}{kind}, limits {limits}, damping {damping} {force}·s/{unit}{motor}");
     }
 }
 
 /// The reward's part of `scene check`: its regions and every rewarded cell.
 fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
     for r in &scene.spec().reward.regions {
+        let ((x0, y0), (x1, y1), cells) = (r.min, r.max, r.cells(grid));
         outln!(
-            "reward region `{}`: [{}, {}] x [{}, {}], cells {:?}",
-            r.name,
-            r.min.0,
-            r.max.0,
-            r.min.1,
-            r.max.1,
-            r.cells(grid)
+            "reward region `{}`: [{x0}, {x1}] x [{y0}, {y1}], cells {cells:?}",
+            r.name
         );
     }
     // every rewarded cell, listed or in a region: one answer
@@ -468,22 +402,20 @@ fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
     if cells.is_empty() {
         outln!("reward cells: none (the scene declares no reward cell or region)");
     } else {
-        let from = match (
-            scene.spec().reward.cells.is_empty(),
-            scene.spec().reward.regions.len(),
-        ) {
+        let reward = &scene.spec().reward;
+        let from = match (reward.cells.is_empty(), reward.regions.len()) {
             (true, 1) => " (from the region above)".to_string(),
             (true, _) => " (from the regions above)".to_string(),
             (false, 0) => String::new(),
             (false, _) => " (listed and from the regions above)".to_string(),
         };
+        let note = match &reward.note {
+            n if n.is_empty() => String::new(),
+            n => format!(" ({n})"),
+        };
         outln!(
-            "reward cells: {cells:?}{from}, value {}{}",
-            scene.spec().reward.value,
-            match &scene.spec().reward.note {
-                n if n.is_empty() => String::new(),
-                n => format!(" ({n})"),
-            }
+            "reward cells: {cells:?}{from}, value {}{note}",
+            reward.value
         );
     }
 }

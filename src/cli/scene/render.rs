@@ -78,11 +78,10 @@ fn render_contexts(
                 ctx.name
             );
         }
-        let drawn = if ctx.drawn {
-            " (drawn: its seed-0 start)"
-        } else {
-            ""
-        };
+        let drawn = ctx
+            .drawn
+            .then_some(" (drawn: its seed-0 start)")
+            .unwrap_or("");
         let label = format!("{}: context {}{drawn}", scene.spec().name, ctx.name);
         panels.push(context_panel(scene, &label, &from, command.as_ref())?);
     }

@@ -19,14 +19,9 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
     let grid = scene.effect_grid();
     let cell = farthest_reached_cell(&table, &grid, from)
         .ok_or_else(|| CliError::input("no command to execute"))?;
-    outln!(
-        "scene {}: executed {} commands in {:.2} s ({:.0} commands/s on {} thread(s))",
-        scene.spec().name,
-        table.len(),
-        secs,
-        table.len() as f64 / secs,
-        rayon::current_num_threads()
-    );
+    let (name, k) = (&scene.spec().name, table.len());
+    let (rate, threads) = (k as f64 / secs, rayon::current_num_threads());
+    outln!("scene {name}: executed {k} commands in {secs:.2} s ({rate:.0} commands/s on {threads} thread(s))");
     let (reached, cells) = (cell.reached_cells, grid.num_cells());
     outln!("reached cells: {reached} of {cells}");
     outln!("most common cells: {}", most_common_cells(&table, &grid));

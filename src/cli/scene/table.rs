@@ -38,14 +38,9 @@ pub(super) fn table(scene: &Scene, cache: Option<&Path>) -> CliResult {
             }
         }
     };
-    outln!(
-        "scene {}: {} commands in {:.3} s ({:.0} commands/s, {} thread(s), {how})",
-        scene.spec().name,
-        table.len(),
-        secs,
-        table.len() as f64 / secs,
-        rayon::current_num_threads()
-    );
+    let (name, k) = (&scene.spec().name, table.len());
+    let (rate, threads) = (k as f64 / secs, rayon::current_num_threads());
+    outln!("scene {name}: {k} commands in {secs:.3} s ({rate:.0} commands/s, {threads} thread(s), {how})");
     match cache.map(|dir| OutcomeTable::cache_path(scene, dir)) {
         Some(path) if !existed && !path.is_file() => {
             outln!(
@@ -136,21 +131,14 @@ fn context_table(scene: &Scene, cache: Option<&Path>) -> CliResult {
     .map_err(world_error)?;
     let secs = start.elapsed().as_secs_f64();
     let total: usize = tables.tables().iter().map(|t| t.len()).sum();
-    outln!(
-        "scene {}: {} start contexts x {} commands = {total} outcomes in {:.3} s ({:.0} commands/s, {} thread(s), one command per world, from each context's start)",
-        scene.spec().name,
-        tables.len(),
-        tables.table(0).len(),
-        secs,
-        total as f64 / secs,
-        rayon::current_num_threads()
-    );
+    let (scene_name, m, n) = (&scene.spec().name, tables.len(), tables.table(0).len());
+    let (rate, threads) = (total as f64 / secs, rayon::current_num_threads());
+    outln!("scene {scene_name}: {m} start contexts x {n} commands = {total} outcomes in {secs:.3} s ({rate:.0} commands/s, {threads} thread(s), one command per world, from each context's start)");
     for (k, (name, t)) in tables.names().iter().zip(tables.tables()).enumerate() {
         let rewarded = t.outcomes().filter(|o| o.reward > 0.0).count();
+        let (reached, all) = (t.reachable_effects(), scene.num_effects());
         let mut line = format!(
-            "context {name}: reached effects {} of {}, rewarded commands {rewarded}",
-            t.reachable_effects(),
-            scene.num_effects()
+            "context {name}: reached effects {reached} of {all}, rewarded commands {rewarded}"
         );
         if let Some(dir) = cache {
             let path = ContextTables::cache_path(scene, dir, k);
