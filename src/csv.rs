@@ -90,12 +90,8 @@ impl Summary {
             return err(format!("{FILE}:1:1: not a sweep summary: expected the columns scene, learner, use_reward, alpha, beta, lambda, eta, epsilon, sessions, ..., found `{}`", echo(text.lines().next().unwrap_or(""))));
         }
         if let Some((first, k, col)) = repeated(&columns) {
-            return err(format!(
-                "{FILE}:1:{col}: column `{}` appears twice (columns {} and {}); expected each column once",
-                echo(&columns[k]),
-                first + 1,
-                k + 1
-            ));
+            let (name, first, k) = (echo(&columns[k]), first + 1, k + 1);
+            return err(format!("{FILE}:1:{col}: column `{name}` appears twice (columns {first} and {k}); expected each column once"));
         }
         let counts: Vec<usize> = ["sessions", "failed"]
             .iter()
@@ -104,26 +100,19 @@ impl Summary {
         let mut rows = Vec::new();
         for (i, l) in lines.enumerate() {
             let f: Vec<String> = l.split(',').map(str::to_string).collect();
-            if f.len() != columns.len() {
+            let (line, found, expected) = (i + 2, f.len(), columns.len());
+            if found != expected {
                 return err(format!(
-                    "{FILE}:{}:1: {} fields, expected {}",
-                    i + 2,
-                    f.len(),
-                    columns.len()
+                    "{FILE}:{line}:1: {found} fields, expected {expected}"
                 ));
             }
             let mut col = 1;
             for (k, v) in f.iter().enumerate() {
                 if k >= CELL_COLUMNS - Params::SWEPT.len() && !v.is_empty() {
-                    let x = crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
-                        .map_err(CsvError)?;
+                    let x = parse_finite(v, FILE, line, col, &columns[k]).map_err(CsvError)?;
                     if counts.contains(&k) && !(x >= 0.0 && x.fract() == 0.0) {
-                        return err(format!(
-                            "{FILE}:{}:{col}: column `{}`: expected a whole number >= 0 (a count of sessions), found `{}`",
-                            i + 2,
-                            columns[k],
-                            echo(v)
-                        ));
+                        let (name, v) = (&columns[k], echo(v));
+                        return err(format!("{FILE}:{line}:{col}: column `{name}`: expected a whole number >= 0 (a count of sessions), found `{v}`"));
                     }
                 }
                 col += v.chars().count() + 1;
@@ -198,14 +187,10 @@ pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, CsvError> {
         }
         let row = columns.row(k + 2, line).map_err(CsvError)?;
         if !row.start.is_empty() && !starts.contains(row.start.as_str()) {
-            if starts.len() == crate::scene::MAX_CONTEXTS {
-                return err(format!(
-                    "trials.csv:{}:1: column `start`: at most {} distinct start contexts, as a scene declares at most (e3d::scene::MAX_CONTEXTS), found a {}th, `{}`",
-                    k + 2,
-                    crate::scene::MAX_CONTEXTS,
-                    crate::scene::MAX_CONTEXTS + 1,
-                    echo(&row.start)
-                ));
+            use crate::scene::MAX_CONTEXTS as MAX;
+            if starts.len() == MAX {
+                let (line, next, start) = (k + 2, MAX + 1, echo(&row.start));
+                return err(format!("trials.csv:{line}:1: column `start`: at most {MAX} distinct start contexts, as a scene declares at most (e3d::scene::MAX_CONTEXTS), found a {next}th, `{start}`"));
             }
             starts.insert(row.start.clone());
         }
@@ -286,12 +271,10 @@ impl TrialColumns {
         let (header, c, e, r) = (&self.header, self.c, self.e, self.r);
         let f = csv_fields(line);
         if f.len() != header.len() {
+            let (found, expected, names) = (f.len(), header.len(), header.join(","));
+            let line = echo(line);
             return Err(format!(
-                "{FILE}:{n}:1: {} fields, expected {} ({}): `{}`",
-                f.len(),
-                header.len(),
-                header.join(","),
-                echo(line)
+                "{FILE}:{n}:1: {found} fields, expected {expected} ({names}): `{line}`"
             ));
         }
         let (command, at) = (&f[c].0, f[c].1);

@@ -173,7 +173,7 @@ fn describe(a: &RunArgs, sessions: usize, name: &str, contexts: usize, observe: 
         Observe::StartContext => "the start context",
         Observe::Blind => "nothing (one policy)",
     };
-    let (trials, commands, s) = (a.trials, a.commands, if a.commands == 1 { "" } else { "s" });
+    let (trials, commands, s) = (a.trials, a.commands, super::plural(a.commands as usize));
     errln!("episodes: {sessions} sessions of {trials} episodes of {commands} command{s}, learner {name}, {contexts} contexts observed as {how}");
 }
 
@@ -271,14 +271,12 @@ impl EpisodeRecorder for EpisodeCsv {
         use std::io::Write;
         self.command += 1;
         let (session, episode, k) = (self.session, self.episode, self.command);
-        let (name, space) = (&self.names[self.start], &self.space);
+        let (name, command) = (&self.names[self.start], self.space.format(command));
+        let (effect, reward) = (outcome.effect, outcome.reward);
         self.part.row(|out| {
             writeln!(
                 out,
-                "{session},{episode},{k},{context},{name},{},{},{}",
-                space.format(command),
-                outcome.effect,
-                outcome.reward
+                "{session},{episode},{k},{context},{name},{command},{effect},{reward}"
             )
         });
     }

@@ -77,6 +77,11 @@ pub fn locked<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
+/// `"s"` after a count other than one.
+pub fn plural(n: usize) -> &'static str {
+    &"s"[usize::from(n == 1)..]
+}
+
 /// Loads a scene by path or built-in name, as a CLI error.
 pub fn load_scene(name: &str) -> Result<e3d::Scene, CliError> {
     e3d::Scene::resolve(name).map_err(CliError::input)

@@ -99,20 +99,13 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
     let (rows, cols, note) = match record {
         Some(Ok(r)) => {
             let g = &r.effect_grid;
-            let outside = trials
-                .iter()
-                .enumerate()
-                .find(|(_, t)| t.effect >= g.num_cells());
-            if let Some((k, t)) = outside {
+            let mut outside = trials.iter().enumerate();
+            if let Some((k, t)) = outside.find(|(_, t)| t.effect >= g.num_cells()) {
+                let (d, trial, effect, rows, cols) =
+                    (dir.display(), k + 1, t.effect, g.rows, g.cols);
+                let (name, path) = (e3d::text::echo(&r.name), e3d::text::echo(&r.path));
                 return Err(CliError::input(format!(
-                    "{}/trials.csv: trial {}: effect {} is outside the {} x {} effect grid of scene `{}` ({}) that summary.json records; the folder mixes two runs",
-                    dir.display(),
-                    k + 1,
-                    t.effect,
-                    g.rows,
-                    g.cols,
-                    e3d::text::echo(&r.name),
-                    e3d::text::echo(&r.path)
+                    "{d}/trials.csv: trial {trial}: effect {effect} is outside the {rows} x {cols} effect grid of scene `{name}` ({path}) that summary.json records; the folder mixes two runs"
                 )));
             }
             (g.rows, g.cols, String::new())

@@ -299,14 +299,12 @@ fn run_values(
         threads,
     };
     let exec = Executor::for_values(scene, &work).map_err(CliError::input)?;
-    errln!(
-        "outcomes: live: continuous commands, {} trials x {sessions} session(s) x {steps} steps, on {threads} thread(s){}",
-        a.trials,
-        match exec.plan().copies {
-            1 => String::new(),
-            k => format!(", in lockstep up to {k} sessions per world"),
-        }
-    );
+    let lockstep = match exec.plan().copies {
+        1 => String::new(),
+        k => format!(", in lockstep up to {k} sessions per world"),
+    };
+    let trials = a.trials;
+    errln!("outcomes: live: continuous commands, {trials} trials x {sessions} session(s) x {steps} steps, on {threads} thread(s){lockstep}");
     let status = track_run(a, scene, "trials", sessions, |control| {
         run_sessions(&exec, &mut learners, &configs, &mut records, control)
     });

@@ -1,6 +1,6 @@
 //! `e3d sweep` and `e3d merge`: grids of sessions, resumable, in shards.
 
-use super::{progress, CliError, CliResult};
+use super::{plural, progress, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::sweep::{self, DirOptions, DirReport, Shard, Sweep, SweepError};
@@ -133,7 +133,7 @@ fn plan_line(a: &SweepArgs, sweep: &Sweep, shard: Shard, threads: usize) -> Stri
     let (total, spec) = (sweep.num_sessions(), &sweep.spec);
     let mut episodes = String::new();
     if spec.runs_episodes() {
-        let s = if spec.commands == 1 { "" } else { "s" };
+        let s = plural(spec.commands);
         let closed = if spec.closed_loop {
             ", closed loop"
         } else {
@@ -145,31 +145,20 @@ fn plan_line(a: &SweepArgs, sweep: &Sweep, shard: Shard, threads: usize) -> Stri
     if shard.n > 1 {
         part = format!(", shard {shard} ({} sessions)", shard.count(total));
     }
-    format!(
-        "sweep {}: {} cells x {} sessions = {total} sessions of {} trials{episodes}{part}, {threads} thread{}",
-        a.file.display(),
-        sweep.cells().len(),
-        spec.sessions,
-        spec.trials,
-        if threads == 1 { "" } else { "s" }
-    )
+    let (file, cells, s) = (a.file.display(), sweep.cells().len(), plural(threads));
+    let (sessions, trials) = (spec.sessions, spec.trials);
+    format!("sweep {file}: {cells} cells x {sessions} sessions = {total} sessions of {trials} trials{episodes}{part}, {threads} thread{s}")
 }
 
 /// Tells how many sessions ran, how many an earlier run did, and how
 /// fast.
 fn tell_done(report: &DirReport, secs: f64) {
-    errln!(
-        "done: {} sessions ({} from an earlier run, {} now) in {:.2} s{}",
-        report.sessions,
-        report.resumed,
-        report.ran,
-        secs,
-        if report.ran > 0 && secs > 0.0 {
-            format!(", {:.1} sessions/s", report.ran as f64 / secs)
-        } else {
-            String::new()
-        }
-    );
+    let (all, resumed, ran) = (report.sessions, report.resumed, report.ran);
+    let mut rate = String::new();
+    if ran > 0 && secs > 0.0 {
+        rate = format!(", {:.1} sessions/s", ran as f64 / secs);
+    }
+    errln!("done: {all} sessions ({resumed} from an earlier run, {ran} now) in {secs:.2} s{rate}");
 }
 
 /// Tells the files written: the results, and for a whole sweep the
@@ -186,12 +175,9 @@ pub fn merge(a: MergeArgs) -> CliResult {
     // one command at a time writes into a folder, as `sweep` does
     super::output::lock_out(&a.out)?;
     let report = sweep::merge(&a.dirs, &a.out).map_err(sweep_error)?;
-    outln!(
-        "merged {} shards, {} sessions: wrote {} and {}",
-        a.dirs.len(),
-        report.sessions,
-        a.out.join(sweep::RESULTS).display(),
-        a.out.join(sweep::SUMMARY).display()
-    );
+    let (results, summary) = (a.out.join(sweep::RESULTS), a.out.join(sweep::SUMMARY));
+    let (results, summary) = (results.display(), summary.display());
+    let (shards, sessions) = (a.dirs.len(), report.sessions);
+    outln!("merged {shards} shards, {sessions} sessions: wrote {results} and {summary}");
     Ok(())
 }

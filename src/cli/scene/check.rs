@@ -438,20 +438,16 @@ pub(super) fn check_accuracy(scene: &Scene, samples: u64, seed: u64) -> CliResul
         .iter()
         .find(|r| r.scene)
         .map_or(1.0, |r| r.seconds_per_command);
-    outln!(
-        "accuracy ({samples} random commands, seed {seed}, one thread): the share whose terminal point lands in the cell of the converged run (dt / {}, {} solver iterations), and what a command costs",
-        e3d::world::CONVERGED_DT_DIVISOR,
-        e3d::world::CONVERGED_ITERATIONS
-    );
+    use e3d::world::{CONVERGED_DT_DIVISOR as DIVISOR, CONVERGED_ITERATIONS as ITERATIONS};
+    outln!("accuracy ({samples} random commands, seed {seed}, one thread): the share whose terminal point lands in the cell of the converged run (dt / {DIVISOR}, {ITERATIONS} solver iterations), and what a command costs");
     for r in &rows {
-        outln!(
-            "  solver_iterations: {:<3} {:>6.1}% in the converged cell, {:>8} a command (x{:.2} the scene's cost){}",
-            r.iterations,
-            100.0 * r.in_converged_cell,
+        let (iterations, pct) = (r.iterations, 100.0 * r.in_converged_cell);
+        let (cost, ratio) = (
             seconds_text(r.seconds_per_command),
             r.seconds_per_command / own,
-            if r.scene { "  <- the scene's" } else { "" }
         );
+        let mark = if r.scene { "  <- the scene's" } else { "" };
+        outln!("  solver_iterations: {iterations:<3} {pct:>6.1}% in the converged cell, {cost:>8} a command (x{ratio:.2} the scene's cost){mark}");
     }
     Ok(())
 }

@@ -422,28 +422,24 @@ impl CostNote {
         let (executed, threads) = (self.executed, self.threads);
         if !self.said && executed as f64 * self.per_command / threads as f64 >= progress::LONG {
             self.said = true;
-            p.say(format!(
-                "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model, calibrated here; more as stdin gives them",
-                steps_text(scene),
-                seconds_text(self.per_command)
-            ));
+            let (steps, each) = (steps_text(scene), seconds_text(self.per_command));
+            p.say(format!("{label}: {executed} commands so far{steps}, about {each} each on {threads} thread(s) by the cost model, calibrated here; more as stdin gives them"));
         }
     }
 }
 
 /// `e3d scene exec`: a reader thread parses the commands as they come; the
-/// main thread waits for one, takes what else is queued (up to
-/// [`chunk_limit`]), executes that chunk on every core and prints its rows
+/// main thread waits for one, takes what else is queued (up to two
+/// batches per thread), executes that chunk on every core and prints its rows
 /// in input order, flushed, before the next chunk. The first command that
 /// does not parse or that blows up ends the output, after the rows before
 /// it, with its error.
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
     let contexts = e3d::world::start_contexts(scene).len();
     if let (Some(dir), true) = (table_cache, contexts > 0) {
+        let (dir, name) = (dir.display(), &scene.spec().name);
         return Err(CliError::input(format!(
-            "--table-cache {}: scene `{}` has {contexts} start contexts, whose commands `scene exec` runs live from each context's start; it reads no table cache (drop --table-cache; `e3d scene table --cache DIR` builds the contexts' tables)",
-            dir.display(),
-            scene.spec().name
+            "--table-cache {dir}: scene `{name}` has {contexts} start contexts, whose commands `scene exec` runs live from each context's start; it reads no table cache (drop --table-cache; `e3d scene table --cache DIR` builds the contexts' tables)"
         )));
     }
     match &scene.spec().world {

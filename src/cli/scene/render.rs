@@ -41,10 +41,9 @@ pub(super) fn context_index(
 ) -> Result<usize, CliError> {
     contexts.iter().position(|c| c.name == name).ok_or_else(|| {
         let names: Vec<&str> = contexts.iter().map(|c| c.name.as_str()).collect();
+        let (scene, names) = (&scene.spec().name, names.join(", "));
         CliError::input(format!(
-            "scene {}: no start context `{name}` (its contexts: {})",
-            scene.spec().name,
-            names.join(", ")
+            "scene {scene}: no start context `{name}` (its contexts: {names})"
         ))
     })
 }
@@ -72,11 +71,8 @@ fn render_contexts(
         let ctx = &contexts[k];
         let from = e3d::world::seed0_start(&world, k).map_err(world_error)?;
         if ctx.drawn {
-            errln!(
-                "scene {}: context {} is drawn from a range; the picture shows its seed-0 draw (as `e3d scene exec` runs it)",
-                scene.spec().name,
-                ctx.name
-            );
+            let (scene, name) = (&scene.spec().name, &ctx.name);
+            errln!("scene {scene}: context {name} is drawn from a range; the picture shows its seed-0 draw (as `e3d scene exec` runs it)");
         }
         let drawn = ctx
             .drawn
@@ -85,13 +81,9 @@ fn render_contexts(
         let label = format!("{}: context {}{drawn}", scene.spec().name, ctx.name);
         panels.push(context_panel(scene, &label, &from, command.as_ref())?);
     }
-    let count = panels.len();
+    let (count, s) = (panels.len(), crate::cli::plural(panels.len()));
     write_file(out, stack_svgs(&panels).as_bytes())?;
-    outln!(
-        "wrote {} ({count} start context{})",
-        out.display(),
-        if count == 1 { "" } else { "s" }
-    );
+    outln!("wrote {} ({count} start context{s})", out.display());
     Ok(())
 }
 

@@ -87,12 +87,8 @@ pub(super) fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, b
         Ok(CachedOutcomes::Full(t)) => return Ok((t, true)),
         // what the partial file holds is not simulated again
         Ok(CachedOutcomes::Partial(known)) => {
-            errln!(
-                "scene {}: {} outcomes read from {}; simulating the others",
-                scene.spec().name,
-                known.len(),
-                path.display()
-            );
+            let (name, k, from) = (&scene.spec().name, known.len(), path.display());
+            errln!("scene {name}: {k} outcomes read from {from}; simulating the others");
             let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
             let whole = OutcomeTable::simulated_commands(scene).unwrap_or(n);
             let simulated = whole.saturating_sub(known.len() as u64);
