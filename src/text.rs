@@ -397,57 +397,29 @@ pub enum Line {
     End,
 }
 
-/// Reads one line of `input` holding at most `max` bytes of memory,
-/// whatever the stream holds (standard input without a line feed, for
-/// example `/dev/zero`). A longer line is
+/// Reads one line of `input`, reading at most `max` + 2 bytes whatever
+/// the stream holds (`/dev/zero` has no line feed): a longer line is
 /// [`Line::TooLong`], with its start, as soon as the cap is passed; bytes
 /// that are not UTF-8 are replaced by U+FFFD.
 pub fn read_line_bounded(input: &mut impl BufRead, max: usize) -> io::Result<Line> {
-    let mut kept: Vec<u8> = Vec::new();
-    let mut total: u64 = 0;
-    let mut any = false;
-    loop {
-        let buf = match input.fill_buf() {
-            Ok(b) => b,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
-        if buf.is_empty() {
-            break;
-        }
-        any = true;
-        let (chunk, done) = match buf.iter().position(|&b| b == b'\n') {
-            Some(i) => (&buf[..i], Some(i + 1)),
-            None => (buf, None),
-        };
-        let room = max.saturating_sub(kept.len());
-        kept.extend_from_slice(&chunk[..chunk.len().min(room)]);
-        total += chunk.len() as u64;
-        let used = done.unwrap_or(buf.len());
-        input.consume(used);
-        if done.is_some() {
-            break;
-        }
-        if total > max as u64 + 1 {
-            // past the cap (and a possible CR): stop in mid-line
-            return Ok(Line::TooLong(
-                String::from_utf8_lossy(&kept).into_owned(),
-                total,
-            ));
-        }
-    }
-    if !any {
+    let mut line = Vec::new();
+    // the cap, a carriage return and one byte more: a longer line stops there
+    input.take(max as u64 + 2).read_until(b'\n', &mut line)?;
+    if line.is_empty() {
         return Ok(Line::End);
     }
-    if kept.last() == Some(&b'\r') && total as usize == kept.len() {
-        kept.pop();
-        total -= 1;
+    if line.last() == Some(&b'\n') {
+        line.pop();
     }
-    let text = String::from_utf8_lossy(&kept).into_owned();
-    Ok(if total > max as u64 {
-        Line::TooLong(text, total)
-    } else {
-        Line::Line(text)
+    if line.len() <= max && line.last() == Some(&b'\r') {
+        line.pop();
+    }
+    let total = line.len() as u64;
+    line.truncate(max);
+    let text = String::from_utf8_lossy(&line).into_owned();
+    Ok(match total > max as u64 {
+        true => Line::TooLong(text, total),
+        false => Line::Line(text),
     })
 }
 

@@ -230,12 +230,12 @@ fn bench_trials(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliRe
     let table = OutcomeTable::build_scene(scene).map_err(CliError::simulation)?;
     let secs = t0.elapsed().as_secs_f64();
     let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n_commands);
-    let threads = rayon::current_num_threads();
-    outln!(
-        "{},outcome table build ({} commands; {simulated} simulated; {threads} thread(s)),{secs:.3},{secs:.3},s",
-        scene.spec().name,
+    let (threads, name, k) = (
+        rayon::current_num_threads(),
+        &scene.spec().name,
         table.len(),
     );
+    outln!("{name},outcome table build ({k} commands; {simulated} simulated; {threads} thread(s)),{secs:.3},{secs:.3},s");
     let measure = format!("outcome table commands ({threads} thread(s))");
     line(scene, &measure, Rate::once(table.len() as f64 / secs));
     let mut seed = 0;
@@ -252,11 +252,7 @@ fn bench_trials(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliRe
         return Err(CliError::simulation(e));
     }
     line(scene, "e3d trials (outcome table)", r);
-    let (name, ns) = (&scene.spec().name, r.map(|r| 1e9 / r));
-    outln!(
-        "{name},e3d trial (outcome table),{:.1},{:.1},ns",
-        ns.median,
-        ns.best
-    );
+    let Rate { median, best } = r.map(|r| 1e9 / r);
+    outln!("{name},e3d trial (outcome table),{median:.1},{best:.1},ns");
     Ok(())
 }

@@ -200,18 +200,11 @@ fn preload_context_tables(
             read.push(name.as_str());
         }
     }
+    let (dir, read) = (dir.display(), read.join(", "));
     if read.is_empty() {
-        errln!(
-            "note: no outcome table of a start context in {}; simulating the commands (`e3d scene table {given} --cache {}` writes them)",
-            dir.display(),
-            dir.display()
-        );
+        errln!("note: no outcome table of a start context in {dir}; simulating the commands (`e3d scene table {given} --cache {dir}` writes them)");
     } else {
-        errln!(
-            "outcomes: the tables of start contexts {} read from {}",
-            read.join(", "),
-            dir.display()
-        );
+        errln!("outcomes: the tables of start contexts {read} read from {dir}");
     }
 }
 

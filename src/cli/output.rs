@@ -104,14 +104,13 @@ pub fn check_format(path: &Path, flag: &str, formats: &[&str], hint: &str) -> Cl
         return Ok(());
     }
     let expected: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();
+    let (path, expected) = (path.display(), expected.join(" or "));
     let found = match ext {
         "" => "no extension".to_string(),
         e => format!("a .{e} file"),
     };
     Err(CliError::input(format!(
-        "{flag} {}: expected a file ending in {} (the format written), found {found}{hint}",
-        path.display(),
-        expected.join(" or ")
+        "{flag} {path}: expected a file ending in {expected} (the format written), found {found}{hint}"
     )))
 }
 

@@ -416,14 +416,10 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
         outln!("{who}cumulative reward {reward} | first reward at trial {first}");
     }
     if sessions > 1 {
-        let mean =
-            |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
-        outln!(
-            "mean of {sessions} sessions: normalised entropy {:.4} | coverage {:.4} | cumulative reward {:.1}",
-            mean(&|m| m.normalized_entropy),
-            mean(&|m| m.coverage),
-            mean(&|m| m.cumulative_reward)
-        );
+        let mean = |f: fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
+        let (h, coverage) = (mean(|m| m.normalized_entropy), mean(|m| m.coverage));
+        let reward = mean(|m| m.cumulative_reward);
+        outln!("mean of {sessions} sessions: normalised entropy {h:.4} | coverage {coverage:.4} | cumulative reward {reward:.1}");
     }
 }
 

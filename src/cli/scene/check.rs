@@ -246,11 +246,8 @@ fn print_reward_reach(scene: &Scene, s: &ReachSample) {
     if hits == 0 {
         // the rule of three: with no hit in k draws, p < 3/k at 95%
         let bound = 100.0 * 3.0 / k as f64;
-        errln!(
-            "warning: scene {}: no sampled command reached a reward cell {cells:?}: it may be unreachable, or rarer than about {bound:.2}% (95% bound); {}",
-            scene.spec().name,
-            full_check_cost(scene)
-        );
+        let (name, full) = (&scene.spec().name, full_check_cost(scene));
+        errln!("warning: scene {name}: no sampled command reached a reward cell {cells:?}: it may be unreachable, or rarer than about {bound:.2}% (95% bound); {full}");
     }
 }
 
@@ -260,19 +257,21 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
     if scene.spec().is_continuous() {
         return "a full check is not possible: continuous commands cannot be enumerated; sample more with `--samples N`".to_string();
     }
-    let threads = rayon::current_num_threads();
+    let (threads, name) = (rayon::current_num_threads(), &scene.spec().name);
     let plan = super::simulate::table_plan(scene);
     match (plan.simulated, plan.table_seconds) {
-        (Some(k), Some(t)) => format!(
-            "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model, calibrated here",
-            scene.spec().name,
-            seconds_text(t * super::simulate::calibration(scene, threads, plan.copies))
-        ),
-        _ => format!(
-            "a full check is not possible: {} commands are too many for `e3d scene reward-cell` (at most {}); sample more with `--samples N`",
-            scene.command_space().num_commands_text(),
-            e3d::world::MAX_TABLE_COMMANDS
-        ),
+        (Some(k), Some(t)) => {
+            let calibrated = t * super::simulate::calibration(scene, threads, plan.copies);
+            let time = seconds_text(calibrated);
+            format!("a full check (`e3d scene reward-cell {name}`) simulates {k} commands: about {time} on {threads} thread(s) by the cost model, calibrated here")
+        }
+        _ => {
+            let (n, most) = (
+                scene.command_space().num_commands_text(),
+                e3d::world::MAX_TABLE_COMMANDS,
+            );
+            format!("a full check is not possible: {n} commands are too many for `e3d scene reward-cell` (at most {most}); sample more with `--samples N`")
+        }
     }
 }
 
@@ -331,11 +330,9 @@ fn print_physics(scene: &Scene, p: &PhysicsSpec) {
     let ((gx, gy), dt) = (p.gravity, p.dt);
     let steps = p.schedule.total_steps(dt, scene.spec().num_slots());
     outln!("world: Physics, gravity ({gx}, {gy}) m/s², dt {dt:.6} s, {steps} step(s) per command ({how})");
-    outln!(
-        "solver: {} iteration(s) per step{} (`--accuracy` measures what other settings cost and change)",
-        p.solver_iterations.unwrap_or(4),
-        p.solver_iterations.map_or(", Rapier's default", |_| "")
-    );
+    let iterations = p.solver_iterations.unwrap_or(4);
+    let default = p.solver_iterations.map_or(", Rapier's default", |_| "");
+    outln!("solver: {iterations} iteration(s) per step{default} (`--accuracy` measures what other settings cost and change)");
     print_bodies(p);
     print_joints(p);
     match p.effect.world_point() {

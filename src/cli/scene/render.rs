@@ -281,11 +281,11 @@ fn animate_physics(
         None => motion_svg(scene, cmd, &motion),
     }
     .map_err(|e| CliError::input(e.to_string()))?;
-    let what = format!(
-        "{} of {total} frames, {:.3} s",
+    let (k, time) = (
         motion.frames.len(),
-        motion.frames.last().map_or(0.0, |f| f.time)
+        motion.frames.last().map_or(0.0, |f| f.time),
     );
+    let what = format!("{k} of {total} frames, {time:.3} s");
     Ok((svg, what))
 }
 
