@@ -53,19 +53,12 @@ pub struct Summary {
 }
 
 impl Summary {
-    /// Parses the text of a `summary.csv`.
-    ///
-    /// The parameters and every column after the cell's (sessions,
-    /// failures, the metrics' means, sds and intervals) must be empty or a
-    /// finite number: `inf`, `NaN` or a word is refused with
-    /// `summary.csv:LINE:COL` and the column, since one infinite value
-    /// would stretch a figure's axis without end. Linear in the text.
-    ///
-    /// Every message starts with `summary.csv` (the caller puts the
-    /// folder before it). A UTF-8 byte order mark is ignored; a column
-    /// named twice, more than [`MAX_SUMMARY_COLUMNS`] columns, and a
-    /// `sessions` or `failed` count that is not a whole number >= 0 are
-    /// refused with their place.
+    /// Parses the text of a `summary.csv` (a byte order mark is ignored).
+    /// The parameters and the columns after the cell's must be empty or
+    /// finite numbers (an infinite one would stretch a figure's axis
+    /// without end), `sessions` and `failed` whole numbers >= 0; a column
+    /// named twice or more than [`MAX_SUMMARY_COLUMNS`] are refused. Every
+    /// message starts with `summary.csv` (the caller puts the folder first).
     pub fn parse(text: &str) -> Result<Summary, CsvError> {
         const FILE: &str = "summary.csv";
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
@@ -161,18 +154,11 @@ pub struct TrialRow {
 /// (256 MiB, some 8 million trials): the page keeps every trial in memory.
 pub const MAX_TRIALS_CSV_BYTES: u64 = 256 << 20;
 
-/// Reads `trials.csv` (with or without a leading `session` column).
-/// That of a run of episodes (`session,episode,command,context,start,
-/// symbols,effect,reward`) gives the command's symbols from `symbols`,
-/// its place in the episode from `command` and the start context from
-/// `start`.
-///
-/// Every value is checked, and a bad one is refused with
-/// `trials.csv:LINE:COL`, its column and what was expected: an effect is
-/// a whole number below [`MAX_EFFECTS`], a
-/// reward and a command's values finite numbers, a command at most
-/// [`MAX_SLOTS`] symbols (or values). Linear
-/// in the length of the text; nothing is sized by a value read.
+/// Reads `trials.csv` (with or without a leading `session` column; a run
+/// of episodes' `symbols`, `command` and `start` columns give the command,
+/// its place in the episode and the start context). An effect must be a
+/// whole number below [`MAX_EFFECTS`], a reward and values finite numbers,
+/// a command at most [`MAX_SLOTS`] symbols (or values).
 pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, CsvError> {
     let mut lines = csv.lines();
     let Some(header) = lines.next() else {

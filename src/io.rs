@@ -35,11 +35,9 @@ fn create_temp(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
     Err(last.unwrap_or_else(|| io::Error::other("no free temporary name")))
 }
 
-/// Creates a new temporary file beside `path` (in its folder, named
-/// `.NAME.tmp-PID-N-T` after its file name): created exclusively, so that
-/// it is never an existing file nor the target of a symbolic link planted
-/// under that name. The caller writes it, then renames it over `path` or
-/// removes it.
+/// Creates a new temporary file `.NAME.tmp-PID-N-T` beside `path`,
+/// exclusively (never an existing file nor a link planted under that
+/// name); the caller writes it, then renames it over `path` or removes it.
 pub fn create_temp_beside(path: &Path) -> io::Result<(PathBuf, File)> {
     let (dir, name) = folder_and_name(path)?;
     create_temp(dir, &name)
@@ -57,11 +55,9 @@ fn folder_and_name(path: &Path) -> io::Result<(&Path, String)> {
     Ok((dir, name.to_string_lossy().into_owned()))
 }
 
-/// Whether `path` is a stream to write through rather than a file to
-/// replace: a character device or a FIFO (`/dev/null`, `/dev/stdout`, a
-/// named pipe), also through a symbolic link. Renaming a new file over it
-/// would put a regular file in the device's place (as root, in `/dev`),
-/// and writing whole-or-nothing means nothing for a stream.
+/// Whether `path` (or what a link there leads to) is a character device or
+/// a FIFO (`/dev/stdout`, a named pipe): a stream to write through, since
+/// renaming a file over it would put a regular file in the device's place.
 pub fn is_stream(path: &Path) -> bool {
     #[cfg(unix)]
     {
@@ -75,9 +71,8 @@ pub fn is_stream(path: &Path) -> bool {
     }
 }
 
-/// Where the output for `path` is written: a new temporary file beside it
-/// ([`create_temp_beside`]; `Some` of its path, to rename over `path` once
-/// written, or to remove), or `path` itself, opened for writing, when it
+/// Where the output for `path` is written: a temporary file beside it
+/// (`Some` of its path, [`create_temp_beside`]), or `path` itself when it
 /// is a stream ([`is_stream`]; `None`).
 pub fn create_output(path: &Path) -> io::Result<(Option<PathBuf>, File)> {
     if is_stream(path) {
@@ -107,11 +102,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     finish_output(tmp, path, written, |e| e)
 }
 
-/// Ends an output of [`create_output`] once its file is written and
-/// closed (`written`: how that went): a temporary file is renamed over
-/// `path`, or removed if the writing (or the renaming) failed; a stream
-/// needs nothing more. Returns the first error, `io_err` turning a
-/// renaming error into the caller's kind.
+/// Ends an output of [`create_output`] once written and closed: a
+/// temporary file is renamed over `path`, or removed if `written` (or the
+/// renaming, made an `E` by `io_err`) failed. Returns the first error.
 pub fn finish_output<E>(
     tmp: Option<PathBuf>,
     path: &Path,
@@ -130,9 +123,7 @@ pub fn finish_output<E>(
 }
 
 /// The temporary files this process made and may not have renamed or
-/// removed yet: removed by [`remove_temps`] (at the end of the command
-/// line, whatever its outcome) and on the signals that end a process
-/// ([`remove_temps_on_signals`]).
+/// removed yet ([`remove_temps`], [`remove_temps_on_signals`]).
 static TEMPS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
 
 fn register_temp(path: &Path) {
@@ -243,11 +234,9 @@ pub fn remove_temps_on_signals() {
     }
 }
 
-/// Removes the temporary files (`.NAME.tmp-PID-...`) in `dir` left by an
-/// e3d process that no longer runs (killed, or out of disk), and returns
-/// them. A file of a process that still runs (checked by its PID, on this
-/// machine) is kept: it may be writing into the same folder. Errors are
-/// ignored (a folder that cannot be listed holds nothing to clean).
+/// Removes (and returns) the temporary files in `dir` of e3d processes
+/// that no longer run (by their PID, on this machine: a running one may be
+/// writing there). Errors are ignored.
 pub fn remove_stale_temps(dir: &Path) -> Vec<PathBuf> {
     let mut removed = Vec::new();
     let Ok(entries) = fs::read_dir(dir) else {
@@ -293,12 +282,10 @@ fn process_alive(pid: u32) -> bool {
     }
 }
 
-/// An exclusive lock tied to a file: `flock` on `.NAME.lock` beside it
-/// (created if needed, never through a symbolic link), held until
-/// dropped. Writers that read a file, add to it and write it back
-/// (outcome memos saved into a shared table folder) take it so that none
-/// loses another's additions. The lock file stays (removing it would let
-/// two processes lock two different files).
+/// An exclusive lock tied to a file: `flock` on `.NAME.lock` beside it,
+/// held until dropped, so that writers that read, add to and write back a
+/// file (outcome memos) lose none of another's additions. The lock file
+/// stays (removing it would let two processes lock two different files).
 #[derive(Debug)]
 pub struct FileLock {
     #[allow(dead_code)]
@@ -353,11 +340,9 @@ fn open_lock(path: &Path) -> io::Result<File> {
     unix_flags(&mut o, O_NOFOLLOW | O_NONBLOCK).open(path)
 }
 
-/// Opens `path` for reading only if it is a regular file (a symbolic
-/// link is followed; what it leads to must be one), without blocking: a
-/// FIFO with no writer would block `open` for ever, and `/dev/zero` never
-/// ends. Anything else is an error of kind `InvalidInput`. Checked before
-/// and after opening (the file may be swapped between the two).
+/// Opens `path` for reading only if it (or what a link leads to) is a
+/// regular file, checked before and after a non-blocking open (a FIFO
+/// would block, `/dev/zero` never ends); anything else is `InvalidInput`.
 pub fn open_regular(path: &Path) -> io::Result<File> {
     let not_regular = || io::Error::new(io::ErrorKind::InvalidInput, "not a regular file");
     if !fs::metadata(path)?.is_file() {
@@ -500,19 +485,14 @@ fn holder() -> String {
 /// system said only "Too many levels of symbolic links"); other errors as
 /// they are, with the file.
 fn lock_file_error(path: &Path, e: io::Error) -> io::Error {
-    let is_link = fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
-    let not_regular = fs::symlink_metadata(path).is_ok_and(|m| !m.is_file());
-    if is_link || not_regular {
-        return io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!(
-                "{}: the lock file is {}; e3d makes it as a regular file and never follows a link there (remove it, then run again)",
-                path.display(),
-                if is_link { "a symbolic link" } else { "not a regular file (a folder, a pipe, a device or a socket)" }
-            ),
-        );
-    }
-    io::Error::new(e.kind(), format!("{}: {e}", path.display()))
+    let p = path.display();
+    let what = match fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => "a symbolic link",
+        Ok(m) if !m.is_file() => "not a regular file (a folder, a pipe, a device or a socket)",
+        _ => return io::Error::new(e.kind(), format!("{p}: {e}")),
+    };
+    let why = format!("{p}: the lock file is {what}; e3d makes it as a regular file and never follows a link there (remove it, then run again)");
+    io::Error::new(io::ErrorKind::InvalidInput, why)
 }
 
 impl DirLock {
@@ -537,15 +517,11 @@ impl DirLock {
                     }
                     let mut who = String::new();
                     let _ = io::Read::read_to_string(&mut file, &mut who);
-                    let who = who.trim();
-                    return Err(io::Error::new(
-                        io::ErrorKind::WouldBlock,
-                        if who.is_empty() {
-                            "another e3d".to_string()
-                        } else {
-                            format!("e3d {who}")
-                        },
-                    ));
+                    let who = match who.trim() {
+                        "" => "another e3d".to_string(),
+                        w => format!("e3d {w}"),
+                    };
+                    return Err(io::Error::new(io::ErrorKind::WouldBlock, who));
                 }
                 // the holder before us may have removed the file meanwhile:
                 // then our lock is on a file nobody else will open

@@ -169,16 +169,11 @@ fn xml_forbidden(c: char) -> bool {
 /// context) may hold.
 pub const MAX_NAME_CHARS: usize = 200;
 
-/// Checks a name, the one check of every name e3d prints to a terminal or
-/// writes into a file (a scene's, a body's, a joint's, a start context's,
-/// a scene made in code for a sweep): not empty nor only spaces; no
-/// control character (ESC, BEL, a line break: names are printed to
-/// terminals and written into files), no format character (a
-/// right-to-left override U+202E, a zero-width space U+200B: they change
-/// how the text around them shows, see [`is_invisible_format`]), no `,`
-/// or `"` (names are CSV fields: a sweep's results, `trials.csv`, `scene
-/// exec`'s rows); at most [`MAX_NAME_CHARS`] characters. The error says
-/// what is expected and what was found (escaped, cut).
+/// Checks a name (of a scene, a body, a joint, a start context), which e3d
+/// prints to terminals and writes into CSV files: not blank; no control or
+/// format character ([`is_invisible_format`]), no `,` or `"`; at most
+/// [`MAX_NAME_CHARS`] characters. The error says what is expected and
+/// what was found (escaped, cut).
 ///
 /// ```
 /// use e3d::text::check_name;
@@ -191,15 +186,10 @@ pub fn check_name(name: &str) -> Result<(), String> {
     if name.trim().is_empty() {
         return Err(format!("a non-empty name, found `{}`", echo(name)));
     }
-    if let Some(c) = name
-        .chars()
-        .find(|&c| c.is_control() || c == ',' || c == '"' || is_invisible_format(c))
-    {
-        return Err(format!(
-            "a name without control or format characters, ',' or '\"' (it is printed and written into CSV files), found U+{:04X} in `{}`",
-            u32::from(c),
-            echo(name)
-        ));
+    let bad = |c: char| c.is_control() || c == ',' || c == '"' || is_invisible_format(c);
+    if let Some(c) = name.chars().find(|&c| bad(c)) {
+        let (code, name) = (u32::from(c), echo(name));
+        return Err(format!("a name without control or format characters, ',' or '\"' (it is printed and written into CSV files), found U+{code:04X} in `{name}`"));
     }
     let n = name.chars().count();
     if n > MAX_NAME_CHARS {

@@ -83,15 +83,9 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
     if let Some(out) = &a.out {
         let mut csv = String::from("arm,seed,first_reward_episode,cumulative_reward,late_reward\n");
         for s in &sessions {
-            csv.push_str(&format!(
-                "{},{},{},{},{}\n",
-                s.arm,
-                s.seed,
-                s.first_reward_episode
-                    .map_or(String::new(), |e| e.to_string()),
-                s.cumulative_reward,
-                s.late_reward
-            ));
+            let (arm, seed, reward, late) = (&s.arm, s.seed, s.cumulative_reward, s.late_reward);
+            let first = (s.first_reward_episode).map_or(String::new(), |e| e.to_string());
+            csv.push_str(&format!("{arm},{seed},{first},{reward},{late}\n"));
         }
         write_file(&out.join("closed_loop.md"), md.as_bytes())?;
         write_file(&out.join("sessions.csv"), csv.as_bytes())?;

@@ -28,7 +28,8 @@ pub mod exit {
 }
 
 /// An error of the command line, with its exit code.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
+#[error("{message}")]
 pub struct CliError {
     pub code: u8,
     pub message: String,
@@ -49,14 +50,6 @@ impl CliError {
         Self::new(exit::SIMULATION, m)
     }
 }
-
-impl std::fmt::Display for CliError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.message)
-    }
-}
-
-impl std::error::Error for CliError {}
 
 /// A world's failure is a failed simulation.
 impl From<e3d::WorldError> for CliError {

@@ -200,12 +200,11 @@ fn track_as<T>(
             let mut sub: Option<(Arc<Part>, Reporter)> = None;
             loop {
                 std::thread::park_timeout(Duration::from_millis(100));
-                for line in progress.take_said() {
-                    match &sub {
-                        Some((_, s)) => s.print(line),
-                        None => r.print(line),
-                    }
-                }
+                let printer = sub.as_ref().map_or(&r, |(_, s)| s);
+                progress
+                    .take_said()
+                    .into_iter()
+                    .for_each(|line| printer.print(line));
                 if finished.load(Ordering::Acquire) {
                     break;
                 }

@@ -104,8 +104,9 @@ fn run_here(a: RunArgs) -> CliResult {
     let reachable = a.target == TargetArg::Reachable;
     if let Some(continuous) = scene.as_continuous() {
         if reachable {
-            let what = format!("scene `{name}` takes continuous commands");
-            return Err(only_trials(&what));
+            return Err(only_trials(&format!(
+                "scene `{name}` takes continuous commands"
+            )));
         }
         run_values(&a, continuous, params, &seeds)
     } else if super::episodes::wanted(&a, &scene) {

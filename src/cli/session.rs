@@ -352,10 +352,8 @@ pub(super) fn note_unused_params(learner: LearnerKind, given: &[&str]) {
         r => r.join(", "),
     };
     for name in given.iter().filter(|n| !reads.contains(n)) {
-        errln!(
-            "note: --{} does nothing for learner {learner} (it reads {list})",
-            name.replace('_', "-")
-        );
+        let flag = name.replace('_', "-");
+        errln!("note: --{flag} does nothing for learner {learner} (it reads {list})");
     }
 }
 

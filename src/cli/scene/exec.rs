@@ -340,21 +340,16 @@ fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<Strin
 /// context's start is drawn with seed 0 (the same start on every row).
 fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>) -> CliResult {
     use rand::SeedableRng;
-    let space = scene.command_space();
-    exec_each(
-        scene,
-        commands,
-        "context,command,effect,reward,x,y\n",
-        |world, c, out| {
-            for (k, name) in names.iter().enumerate() {
-                let mut rng = e3d::SessionRng::seed_from_u64(0);
-                let from = world.draw_start(k, &mut rng).map_err(world_error)?;
-                let o = world.execute_outcome_from(&from, c).map_err(world_error)?;
-                push_row(out, format_args!("{name},{}", space.format(c)), &o);
-            }
-            Ok(())
-        },
-    )
+    let (space, header) = (scene.command_space(), "context,command,effect,reward,x,y\n");
+    exec_each(scene, commands, header, |world, c, out| {
+        for (k, name) in names.iter().enumerate() {
+            let mut rng = e3d::SessionRng::seed_from_u64(0);
+            let from = world.draw_start(k, &mut rng).map_err(world_error)?;
+            let o = world.execute_outcome_from(&from, c).map_err(world_error)?;
+            push_row(out, format_args!("{name},{}", space.format(c)), &o);
+        }
+        Ok(())
+    })
 }
 
 /// Fills `chunk` with the commands read next: the first one waited for,
