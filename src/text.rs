@@ -11,11 +11,9 @@ use std::path::Path;
 /// shows; the rest is cut and its length said.
 pub const MAX_ECHO_CHARS: usize = 80;
 
-/// Whether `c` is a character a terminal may act on or that changes how
-/// the text around it shows: the control characters C0 (ESC, BEL, CR,
-/// ...), DEL and C1, the bidirectional controls (U+202E, a right-to-left
-/// override, shows `abc` as `cba`) and the line and paragraph separators
-/// U+2028 and U+2029.
+/// Whether a terminal may act on `c` or it changes how the text around it
+/// shows: C0 (ESC, BEL, CR, ...), DEL and C1, the bidirectional controls
+/// (U+202E shows `abc` as `cba`), the separators U+2028 and U+2029.
 fn is_terminal_control(c: char) -> bool {
     c.is_control() || is_bidi_control(c) || matches!(c, '\u{2028}' | '\u{2029}')
 }

@@ -201,10 +201,9 @@ fn track_as<T>(
             loop {
                 std::thread::park_timeout(Duration::from_millis(100));
                 let printer = sub.as_ref().map_or(&r, |(_, s)| s);
-                progress
-                    .take_said()
-                    .into_iter()
-                    .for_each(|line| printer.print(line));
+                for line in progress.take_said() {
+                    printer.print(line);
+                }
                 if finished.load(Ordering::Acquire) {
                     break;
                 }

@@ -194,10 +194,9 @@ impl MemoArgs {
     }
 }
 
-/// One session's rows of a CSV file, streamed into a temporary file
-/// beside the final one (joined by [`write_run`]): a session of any
-/// length never holds its rows in memory. The first write error is kept
-/// and said by [`finish`](Self::finish).
+/// One session's rows of a CSV file, streamed into a temporary file beside
+/// the final one (joined by [`write_run`]), never held in memory; the first
+/// write error is said by [`finish`](Self::finish).
 pub(super) struct CsvPart {
     out: std::io::BufWriter<std::fs::File>,
     path: PathBuf,

@@ -191,10 +191,8 @@ impl<'a> ExecPool<'a> {
     }
 
     /// Appends the result of each of `commands` to `out`, in order: those
-    /// of [`World::execute`], bit for bit.
-    /// With `memo`, the physics worlds' commands go through it
-    /// ([`Memoized`](e3d::world::Memoized)): those kept are looked up, the others
-    /// simulated once and kept.
+    /// of [`World::execute`], bit for bit; with `memo`, the physics worlds'
+    /// commands go through it ([`Memoized`](e3d::world::Memoized)).
     fn run(
         &mut self,
         commands: &[Command],
@@ -240,10 +238,9 @@ impl<'a> ExecPool<'a> {
     }
 }
 
-/// What the folder `dir` holds for `scene`: a whole table (looked up), or
-/// a memo of the commands executed so far (partial file, or empty when the
-/// file is missing or cannot be used, having said why on stderr). The
-/// memo's new outcomes are written back at the end (`OutcomeMemo::save`).
+/// What the folder `dir` holds for `scene`: a whole table, or a memo of
+/// the commands executed so far (empty, said why, when the file is missing
+/// or cannot be used), whose new outcomes are written back at the end.
 pub(super) fn exec_cache(
     scene: &Scene,
     dir: &Path,
@@ -274,13 +271,9 @@ pub(super) fn exec_cache(
     }
 }
 
-/// Without a table cache, a scene with a mirror symmetry still simulates
-/// one command of each mirror pair: a memo in memory (never written)
-/// hands the other its reflected outcome, which is what the world gives
-/// that command anyway (the world simulates the pair's lower-index
-/// command and reflects it), so the rows are the same bytes in half the
-/// rollouts. Other scenes need no memo: each command is simulated once
-/// per appearance.
+/// Without a table cache, a memo in memory for a scene with a mirror
+/// symmetry: it hands a command its mirror's reflected outcome, which is
+/// what the world gives it anyway, in half the rollouts.
 fn mirror_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
     match &scene.spec().world {
         WorldSpec::Physics(p) if p.symmetry.is_some() => new_memo(scene),
@@ -294,9 +287,8 @@ fn new_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
     e3d::world::OutcomeMemo::new(&space, effects, e3d::world::DEFAULT_MEMO_CAP).ok()
 }
 
-/// `scene exec` on a scene with start contexts: `header`, then for each
-/// command the rows `rows` writes (one per start), printed as each
-/// command is done.
+/// `scene exec` on a scene with start contexts: `header`, then per command
+/// the rows `rows` writes (one per start), printed as each is done.
 fn exec_each(
     scene: &Scene,
     commands: Vec<String>,

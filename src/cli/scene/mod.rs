@@ -196,16 +196,12 @@ fn parse_point(s: &str) -> Result<[f64; 2], String> {
 fn check_outputs(cmd: &SceneCmd) -> CliResult {
     use super::output::{check_cache_folder, check_format};
     match cmd {
-        SceneCmd::Render { animate, out, .. } => {
-            let (formats, hint): (&[&str], &str) = if *animate {
-                (&["svg", "html", "htm"], "")
-            } else {
-                (
-                    &["svg"],
-                    " (for a raster image: Python's `Scene.render`, or convert the SVG, e.g. `rsvg-convert x.svg -o x.png`)",
-                )
-            };
-            check_format(out, "--out", formats, hint)
+        SceneCmd::Render {
+            animate: true, out, ..
+        } => check_format(out, "--out", &["svg", "html", "htm"], ""),
+        SceneCmd::Render { out, .. } => {
+            let hint = " (for a raster image: Python's `Scene.render`, or convert the SVG, e.g. `rsvg-convert x.svg -o x.png`)";
+            check_format(out, "--out", &["svg"], hint)
         }
         SceneCmd::Exec {
             trace, table_cache, ..

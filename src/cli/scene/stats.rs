@@ -45,11 +45,9 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
     Ok(())
 }
 
-/// `e3d scene stats` on a physics scene with start contexts: per context
-/// (a drawn one from its seed-0 draw, as `scene exec`), every command run
-/// from its start, with its contacts, limits and speeds, the effects it
-/// reaches and how evenly (the normalised entropy of the terminal
-/// effects); then the union of the contexts' reached effects.
+/// `e3d scene stats` with start contexts: per context (a drawn one from
+/// its seed-0 draw, as `scene exec`), every command run from its start and
+/// what it did; then the union of the contexts' reached effects.
 fn context_stats(
     scene: &Scene,
     physics: e3d::world::PhysicsScene<'_>,
