@@ -74,10 +74,11 @@ fn render_contexts(
             let (scene, name) = (&scene.spec().name, &ctx.name);
             errln!("scene {scene}: context {name} is drawn from a range; the picture shows its seed-0 draw (as `e3d scene exec` runs it)");
         }
-        let drawn = ctx
-            .drawn
-            .then_some(" (drawn: its seed-0 start)")
-            .unwrap_or("");
+        let drawn = if ctx.drawn {
+            " (drawn: its seed-0 start)"
+        } else {
+            ""
+        };
         let label = format!("{}: context {}{drawn}", scene.spec().name, ctx.name);
         panels.push(context_panel(scene, &label, &from, command.as_ref())?);
     }

@@ -78,10 +78,11 @@ fn context_stats(
         let cells = per_cell(runs, scene.num_effects());
         union.iter_mut().zip(&cells).for_each(|(u, c)| *u += c);
         let ([contacts, fixed, limits], max_speed, _) = figures(runs);
-        let drawn = ctx
-            .drawn
-            .then_some(" (drawn: its seed-0 start)")
-            .unwrap_or("");
+        let drawn = if ctx.drawn {
+            " (drawn: its seed-0 start)"
+        } else {
+            ""
+        };
         let (k, h) = (reached(&cells), entropy(&cells));
         outln!(
             "context {}{drawn}: reached cells {k} of {}, normalised entropy of the terminal cells {h:.3}; contacts {contacts}, with fixed bodies or walls {fixed}, at a limit {limits}, top speed {max_speed:.3} m/s",
