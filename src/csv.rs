@@ -1,15 +1,9 @@
 //! e3d's own CSV files, read back: a sweep's `summary.csv` ([`Summary`]),
 //! the failures its `results.csv` records ([`failures`]) and a run's
-//! `trials.csv` ([`parse_trials`], [`TrialRow`]). `e3d report` and
-//! `e3d plot` read them here, and only here.
-//!
-//! These files may have been edited by hand, cut short or replaced: every
-//! reader is linear in the text, sizes nothing by a value it reads, and
-//! refuses a bad value with `FILE:LINE:COL`, its column and what was
-//! expected. The callers read the files with
-//! [`read_own_file`](crate::text::read_own_file), capped at
-//! [`MAX_SUMMARY_CSV_BYTES`], [`MAX_TRIALS_CSV_BYTES`] and
-//! [`MAX_RESULTS_BYTES`](crate::sweep::MAX_RESULTS_BYTES).
+//! `trials.csv` ([`parse_trials`]). They may have been edited by hand or
+//! cut short: every reader is linear in the text, sizes nothing by a value
+//! it reads, and refuses a bad value with `FILE:LINE:COL`, its column and
+//! what was expected.
 
 use crate::command::MAX_SLOTS;
 use crate::effect::MAX_EFFECTS;
@@ -24,6 +18,20 @@ pub struct CsvError(pub String);
 
 fn err<T>(m: impl Into<String>) -> Result<T, CsvError> {
     Err(CsvError(m.into()))
+}
+
+/// The first column of `names` named before: (its first index, its index,
+/// its 1-based column in characters on the header line).
+fn repeated<S: AsRef<str>>(names: &[S]) -> Option<(usize, usize, usize)> {
+    let mut seen = std::collections::HashMap::with_capacity(names.len());
+    let mut col = 1;
+    for (k, c) in names.iter().enumerate() {
+        if let Some(first) = seen.insert(c.as_ref(), k) {
+            return Some((first, k, col));
+        }
+        col += c.as_ref().chars().count() + 1;
+    }
+    None
 }
 
 /// The largest `summary.csv` `e3d plot` and `e3d report` read (64 MiB;
@@ -45,19 +53,12 @@ pub struct Summary {
 }
 
 impl Summary {
-    /// Parses the text of a `summary.csv`.
-    ///
-    /// The parameters and every column after the cell's (sessions,
-    /// failures, the metrics' means, sds and intervals) must be empty or a
-    /// finite number: `inf`, `NaN` or a word is refused with
-    /// `summary.csv:LINE:COL` and the column, since one infinite value
-    /// would stretch a figure's axis without end. Linear in the text.
-    ///
-    /// Every message starts with `summary.csv` (the caller puts the
-    /// folder before it). A UTF-8 byte order mark is ignored; a column
-    /// named twice, more than [`MAX_SUMMARY_COLUMNS`] columns, and a
-    /// `sessions` or `failed` count that is not a whole number >= 0 are
-    /// refused with their place.
+    /// Parses the text of a `summary.csv` (a byte order mark is ignored).
+    /// The parameters and the columns after the cell's must be empty or
+    /// finite numbers (an infinite one would stretch a figure's axis
+    /// without end), `sessions` and `failed` whole numbers >= 0; a column
+    /// named twice or more than [`MAX_SUMMARY_COLUMNS`] are refused. Every
+    /// message starts with `summary.csv` (the caller puts the folder first).
     pub fn parse(text: &str) -> Result<Summary, CsvError> {
         const FILE: &str = "summary.csv";
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
@@ -81,46 +82,30 @@ impl Summary {
         {
             return err(format!("{FILE}:1:1: not a sweep summary: expected the columns scene, learner, use_reward, alpha, beta, lambda, eta, epsilon, sessions, ..., found `{}`", echo(text.lines().next().unwrap_or(""))));
         }
-        let mut seen = std::collections::HashMap::with_capacity(columns.len());
-        let mut col = 1;
-        for (k, c) in columns.iter().enumerate() {
-            if let Some(first) = seen.insert(c.as_str(), k) {
-                return err(format!(
-                    "{FILE}:1:{col}: column `{}` appears twice (columns {} and {}); expected each column once",
-                    echo(c),
-                    first + 1,
-                    k + 1
-                ));
-            }
-            col += c.chars().count() + 1;
+        if let Some((first, k, col)) = repeated(&columns) {
+            let (name, first, k) = (echo(&columns[k]), first + 1, k + 1);
+            return err(format!("{FILE}:1:{col}: column `{name}` appears twice (columns {first} and {k}); expected each column once"));
         }
         let counts: Vec<usize> = ["sessions", "failed"]
             .iter()
-            .filter_map(|c| seen.get(c).copied())
+            .filter_map(|c| columns.iter().position(|n| n == c))
             .collect();
         let mut rows = Vec::new();
         for (i, l) in lines.enumerate() {
             let f: Vec<String> = l.split(',').map(str::to_string).collect();
-            if f.len() != columns.len() {
+            let (line, found, expected) = (i + 2, f.len(), columns.len());
+            if found != expected {
                 return err(format!(
-                    "{FILE}:{}:1: {} fields, expected {}",
-                    i + 2,
-                    f.len(),
-                    columns.len()
+                    "{FILE}:{line}:1: {found} fields, expected {expected}"
                 ));
             }
             let mut col = 1;
             for (k, v) in f.iter().enumerate() {
                 if k >= CELL_COLUMNS - Params::SWEPT.len() && !v.is_empty() {
-                    let x = crate::text::parse_finite(v, FILE, i + 2, col, &columns[k])
-                        .map_err(CsvError)?;
+                    let x = parse_finite(v, FILE, line, col, &columns[k]).map_err(CsvError)?;
                     if counts.contains(&k) && !(x >= 0.0 && x.fract() == 0.0) {
-                        return err(format!(
-                            "{FILE}:{}:{col}: column `{}`: expected a whole number >= 0 (a count of sessions), found `{}`",
-                            i + 2,
-                            columns[k],
-                            echo(v)
-                        ));
+                        let (name, v) = (&columns[k], echo(v));
+                        return err(format!("{FILE}:{line}:{col}: column `{name}`: expected a whole number >= 0 (a count of sessions), found `{v}`"));
                     }
                 }
                 col += v.chars().count() + 1;
@@ -169,45 +154,30 @@ pub struct TrialRow {
 /// (256 MiB, some 8 million trials): the page keeps every trial in memory.
 pub const MAX_TRIALS_CSV_BYTES: u64 = 256 << 20;
 
-/// Reads `trials.csv` (with or without a leading `session` column).
-/// That of a run of episodes (`session,episode,command,context,start,
-/// symbols,effect,reward`) gives the command's symbols from `symbols`,
-/// its place in the episode from `command` and the start context from
-/// `start`.
-///
-/// Every value is checked, and a bad one is refused with
-/// `trials.csv:LINE:COL`, its column and what was expected: an effect is
-/// a whole number below [`MAX_EFFECTS`], a
-/// reward and a command's values finite numbers, a command at most
-/// [`MAX_SLOTS`] symbols (or values). Linear
-/// in the length of the text; nothing is sized by a value read.
+/// Reads `trials.csv` (with or without a leading `session` column; a run
+/// of episodes' `symbols`, `command` and `start` columns give the command,
+/// its place in the episode and the start context). An effect must be a
+/// whole number below [`MAX_EFFECTS`], a reward and values finite numbers,
+/// a command at most [`MAX_SLOTS`] symbols (or values).
 pub fn parse_trials(csv: &str) -> Result<Vec<TrialRow>, CsvError> {
-    parse_trial_rows(csv).map_err(CsvError)
-}
-
-fn parse_trial_rows(csv: &str) -> Result<Vec<TrialRow>, String> {
     let mut lines = csv.lines();
-    let columns = TrialColumns::new(lines.next().ok_or("trials.csv is empty")?)?;
+    let Some(header) = lines.next() else {
+        return err("trials.csv is empty");
+    };
+    let columns = TrialColumns::new(header).map_err(CsvError)?;
     let mut rows: Vec<TrialRow> = Vec::new();
     let mut starts = std::collections::HashSet::new();
     for (k, line) in lines.enumerate() {
         if line.trim().is_empty() {
             continue;
         }
-        let row = columns.row(k + 2, line)?;
-        if !row.start.is_empty()
-            && !starts.contains(row.start.as_str())
-            && starts.len() == crate::scene::MAX_CONTEXTS
-        {
-            return Err(format!(
-                "trials.csv:{}:1: column `start`: at most {} distinct start contexts, as a scene declares at most (e3d::scene::MAX_CONTEXTS), found a {}th, `{}`",
-                k + 2,
-                crate::scene::MAX_CONTEXTS,
-                crate::scene::MAX_CONTEXTS + 1,
-                echo(&row.start)
-            ));
-        }
+        let row = columns.row(k + 2, line).map_err(CsvError)?;
         if !row.start.is_empty() && !starts.contains(row.start.as_str()) {
+            use crate::scene::MAX_CONTEXTS as MAX;
+            if starts.len() == MAX {
+                let (line, next, start) = (k + 2, MAX + 1, echo(&row.start));
+                return err(format!("trials.csv:{line}:1: column `start`: at most {MAX} distinct start contexts, as a scene declares at most (e3d::scene::MAX_CONTEXTS), found a {next}th, `{start}`"));
+            }
             starts.insert(row.start.clone());
         }
         rows.push(row);
@@ -238,17 +208,11 @@ impl TrialColumns {
             .into_iter()
             .map(|(f, _)| f.trim().to_string())
             .collect();
-        // each column once
-        let mut seen = std::collections::HashSet::with_capacity(header.len());
-        let mut at = 1;
-        for h in &header {
-            if !seen.insert(h.as_str()) {
-                return Err(format!(
-                    "trials.csv:1:{at}: column `{}` appears twice; expected each column once",
-                    echo(h)
-                ));
-            }
-            at += h.chars().count() + 1;
+        if let Some((_, k, at)) = repeated(&header) {
+            return Err(format!(
+                "trials.csv:1:{at}: column `{}` appears twice; expected each column once",
+                echo(&header[k])
+            ));
         }
         let col = |name: &str| {
             header
@@ -293,46 +257,36 @@ impl TrialColumns {
         let (header, c, e, r) = (&self.header, self.c, self.e, self.r);
         let f = csv_fields(line);
         if f.len() != header.len() {
+            let (found, expected, names) = (f.len(), header.len(), header.join(","));
+            let line = echo(line);
             return Err(format!(
-                "{FILE}:{n}:1: {} fields, expected {} ({}): `{}`",
-                f.len(),
-                header.len(),
-                header.join(","),
-                echo(line)
+                "{FILE}:{n}:1: {found} fields, expected {expected} ({names}): `{line}`"
             ));
         }
         let (command, at) = (&f[c].0, f[c].1);
         let (values, command) = command_field(command, n, at, self.continuous)?;
-        let effect = f[e]
-            .0
-            .trim()
-            .parse::<usize>()
-            .ok()
-            .filter(|&v| v < MAX_EFFECTS)
-            .ok_or_else(|| {
+        // a whole number in `ok`, else refused with the column and what it holds
+        let whole = |k: usize, ok: std::ops::RangeInclusive<usize>, name: &str, what: &str| {
+            let v = &f[k].0;
+            let x = v.trim().parse::<usize>().ok().filter(|x| ok.contains(x));
+            x.ok_or_else(|| {
+                let at = f[k].1;
                 format!(
-                    "{FILE}:{n}:{}: column `effect`: expected a whole number below {MAX_EFFECTS}, found `{}`",
-                    f[e].1,
-                    echo(&f[e].0)
+                    "{FILE}:{n}:{at}: column `{name}`: expected {what}, found `{}`",
+                    echo(v)
                 )
-            })?;
+            })
+        };
+        let below = format!("a whole number below {MAX_EFFECTS}");
+        let effect = whole(e, 0..=MAX_EFFECTS - 1, "effect", &below)?;
         let reward = parse_finite(&f[r].0, FILE, n, f[r].1, "reward")?;
         let step = match self.step_col {
             None => 1,
-            Some(k) => f[k]
-                .0
-                .trim()
-                .parse::<usize>()
-                .ok()
-                .filter(|&v| (1..=crate::sweep::MAX_COMMANDS).contains(&v))
-                .ok_or_else(|| {
-                    format!(
-                        "{FILE}:{n}:{}: column `command`: expected the command's place in its episode, 1 to {}, found `{}`",
-                        f[k].1,
-                        crate::sweep::MAX_COMMANDS,
-                        echo(&f[k].0)
-                    )
-                })?,
+            Some(k) => {
+                let max = crate::sweep::MAX_COMMANDS;
+                let what = format!("the command's place in its episode, 1 to {max}");
+                whole(k, 1..=max, "command", &what)?
+            }
         };
         let start = self
             .start_col

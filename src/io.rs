@@ -1,17 +1,20 @@
 //! Output files written whole or not at all.
 
+#[cfg(unix)]
+use libc::{O_NOFOLLOW, O_NONBLOCK};
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+#[cfg(not(unix))]
+const O_NOFOLLOW: i32 = 0;
+#[cfg(not(unix))]
+const O_NONBLOCK: i32 = 0;
 
 /// Temporary files made by this process so far (part of their names).
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
-/// Creates a new temporary file next to `path`, named
-/// `.NAME.tmp-PID-N-T`: created exclusively (`O_EXCL`, which also refuses
-/// to follow a symbolic link planted under that name), retried under a new
-/// name if one exists.
+/// [`create_temp_beside`] in `dir`, retried under a new name if one exists.
 fn create_temp(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
     let mut last = None;
     for _ in 0..100 {
@@ -32,11 +35,9 @@ fn create_temp(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
     Err(last.unwrap_or_else(|| io::Error::other("no free temporary name")))
 }
 
-/// Creates a new temporary file beside `path` (in its folder, named
-/// `.NAME.tmp-PID-N-T` after its file name): created exclusively, so that
-/// it is never an existing file nor the target of a symbolic link planted
-/// under that name. The caller writes it, then renames it over `path` or
-/// removes it.
+/// Creates a new temporary file `.NAME.tmp-PID-N-T` beside `path`,
+/// exclusively (never an existing file nor a link planted under that
+/// name); the caller writes it, then renames it over `path` or removes it.
 pub fn create_temp_beside(path: &Path) -> io::Result<(PathBuf, File)> {
     let (dir, name) = folder_and_name(path)?;
     create_temp(dir, &name)
@@ -54,11 +55,9 @@ fn folder_and_name(path: &Path) -> io::Result<(&Path, String)> {
     Ok((dir, name.to_string_lossy().into_owned()))
 }
 
-/// Whether `path` is a stream to write through rather than a file to
-/// replace: a character device or a FIFO (`/dev/null`, `/dev/stdout`, a
-/// named pipe), also through a symbolic link. Renaming a new file over it
-/// would put a regular file in the device's place (as root, in `/dev`),
-/// and writing whole-or-nothing means nothing for a stream.
+/// Whether `path` (or what a link there leads to) is a character device or
+/// a FIFO (`/dev/stdout`, a named pipe): a stream to write through, since
+/// renaming a file over it would put a regular file in the device's place.
 pub fn is_stream(path: &Path) -> bool {
     #[cfg(unix)]
     {
@@ -72,9 +71,8 @@ pub fn is_stream(path: &Path) -> bool {
     }
 }
 
-/// Where the output for `path` is written: a new temporary file beside it
-/// ([`create_temp_beside`]; `Some` of its path, to rename over `path` once
-/// written, or to remove), or `path` itself, opened for writing, when it
+/// Where the output for `path` is written: a temporary file beside it
+/// (`Some` of its path, [`create_temp_beside`]), or `path` itself when it
 /// is a stream ([`is_stream`]; `None`).
 pub fn create_output(path: &Path) -> io::Result<(Option<PathBuf>, File)> {
     if is_stream(path) {
@@ -90,14 +88,10 @@ pub fn is_temporary(name: &str) -> bool {
     name.starts_with('.') && name.contains(".tmp-")
 }
 
-/// Writes `path` atomically: the bytes go to a new temporary file in the
-/// same folder (created exclusively, under a unique name: never an
-/// existing file nor the target of a symbolic link), which is synced and
-/// then renamed over `path`. A crash or a full disk leaves either the old
-/// file or the new one, never half of one. If `path` is a symbolic link,
-/// the link itself is replaced, not the file it points to. A stream
-/// ([`is_stream`]: `/dev/null`, `/dev/stdout`, a named pipe) is written
-/// through instead, never replaced.
+/// Writes `path` atomically: a temporary file ([`create_temp_beside`]),
+/// synced, then renamed over `path` (a link there is replaced, not
+/// followed); a crash or a full disk leaves the old file or the new one,
+/// never half of one. A stream ([`is_stream`]) is written through.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let (tmp, mut f) = create_output(path)?;
     let written = f.write_all(bytes).and_then(|()| match tmp {
@@ -108,11 +102,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     finish_output(tmp, path, written, |e| e)
 }
 
-/// Ends an output of [`create_output`] once its file is written and
-/// closed (`written`: how that went): a temporary file is renamed over
-/// `path`, or removed if the writing (or the renaming) failed; a stream
-/// needs nothing more. Returns the first error, `io_err` turning a
-/// renaming error into the caller's kind.
+/// Ends an output of [`create_output`] once written and closed: a
+/// temporary file is renamed over `path`, or removed if `written` (or the
+/// renaming, made an `E` by `io_err`) failed. Returns the first error.
 pub fn finish_output<E>(
     tmp: Option<PathBuf>,
     path: &Path,
@@ -131,9 +123,7 @@ pub fn finish_output<E>(
 }
 
 /// The temporary files this process made and may not have renamed or
-/// removed yet: removed by [`remove_temps`] (at the end of the command
-/// line, whatever its outcome) and on the signals that end a process
-/// ([`remove_temps_on_signals`]).
+/// removed yet ([`remove_temps`], [`remove_temps_on_signals`]).
 static TEMPS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
 
 fn register_temp(path: &Path) {
@@ -154,23 +144,16 @@ pub fn forget_temp(path: &Path) {
     }
 }
 
-/// Removes every temporary file this process made with
-/// [`create_temp_beside`] and still holds (not renamed into place, not
-/// forgotten); returns how many it removed. A file already renamed is
-/// gone under its temporary name, which is unique: nothing else is
-/// touched.
+/// Removes every temporary file this process made and has not renamed
+/// into place nor forgotten; returns how many.
 pub fn remove_temps() -> usize {
     let paths = std::mem::take(&mut *TEMPS.lock().unwrap_or_else(|e| e.into_inner()));
     paths.iter().filter(|p| fs::remove_file(p).is_ok()).count()
 }
 
 /// The signals on which [`remove_temps_on_signals`] removes the
-/// temporary files: every signal whose default action ends the process
-/// and that can be caught. SIGINT (Ctrl-C), SIGTERM (`kill`), SIGHUP (the
-/// terminal closed), SIGQUIT (Ctrl-\\), SIGPIPE (a closed pipe, `e3d ... |
-/// head`), SIGXFSZ (`ulimit -f`), SIGXCPU (`ulimit -t`), SIGALRM, SIGUSR1
-/// and SIGUSR2. SIGKILL cannot be caught: the next run in the folder
-/// removes what it left ([`remove_stale_temps`]).
+/// temporary files: every one whose default action ends the process and
+/// that can be caught (after SIGKILL, [`remove_stale_temps`] cleans up).
 #[cfg(unix)]
 pub const CLEANUP_SIGNALS: [libc::c_int; 10] = [
     libc::SIGINT,
@@ -185,14 +168,11 @@ pub const CLEANUP_SIGNALS: [libc::c_int; 10] = [
     libc::SIGUSR2,
 ];
 
-/// On the signals that end a process ([`CLEANUP_SIGNALS`]: Ctrl-C,
-/// SIGTERM, a closed terminal or pipe, a file size limit, ...), removes
-/// this process's temporary files ([`remove_temps`]) and then dies of the
-/// signal as it would have (the exit status says which). A signal
-/// ignored when this is called (`nohup` ignores SIGHUP) stays ignored.
-/// Unix only; a no-op elsewhere. The signal
-/// handler only writes to a pipe (what is safe in a handler); a thread
-/// does the rest. Call once, early (the `e3d` binary does).
+/// On the signals that end a process ([`CLEANUP_SIGNALS`]), removes this
+/// process's temporary files ([`remove_temps`]), then dies of the signal
+/// as it would have; an ignored signal (`nohup`) stays ignored. The
+/// handler only writes to a pipe (what is safe there); a thread does the
+/// rest. Unix only; call once, early.
 pub fn remove_temps_on_signals() {
     #[cfg(unix)]
     {
@@ -254,11 +234,9 @@ pub fn remove_temps_on_signals() {
     }
 }
 
-/// Removes the temporary files (`.NAME.tmp-PID-...`) in `dir` left by an
-/// e3d process that no longer runs (killed, or out of disk), and returns
-/// them. A file of a process that still runs (checked by its PID, on this
-/// machine) is kept: it may be writing into the same folder. Errors are
-/// ignored (a folder that cannot be listed holds nothing to clean).
+/// Removes (and returns) the temporary files in `dir` of e3d processes
+/// that no longer run (by their PID, on this machine: a running one may be
+/// writing there). Errors are ignored.
 pub fn remove_stale_temps(dir: &Path) -> Vec<PathBuf> {
     let mut removed = Vec::new();
     let Ok(entries) = fs::read_dir(dir) else {
@@ -304,12 +282,10 @@ fn process_alive(pid: u32) -> bool {
     }
 }
 
-/// An exclusive lock tied to a file: `flock` on `.NAME.lock` beside it
-/// (created if needed, never through a symbolic link), held until
-/// dropped. Writers that read a file, add to it and write it back
-/// (outcome memos saved into a shared table folder) take it so that none
-/// loses another's additions. The lock file stays (removing it would let
-/// two processes lock two different files).
+/// An exclusive lock tied to a file: `flock` on `.NAME.lock` beside it,
+/// held until dropped, so that writers that read, add to and write back a
+/// file (outcome memos) lose none of another's additions. The lock file
+/// stays (removing it would let two processes lock two different files).
 #[derive(Debug)]
 pub struct FileLock {
     #[allow(dead_code)]
@@ -329,21 +305,31 @@ impl FileLock {
             ));
         }
         #[cfg(unix)]
-        {
-            use std::os::unix::io::AsRawFd;
-            loop {
-                // SAFETY: flock on a descriptor we own
-                if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX) } == 0 {
-                    break;
-                }
-                let e = io::Error::last_os_error();
-                if e.kind() != io::ErrorKind::Interrupted {
-                    return Err(e);
-                }
-            }
-        }
+        flock(&file, libc::LOCK_EX)?;
         Ok(FileLock { file })
     }
+}
+
+/// `flock(2)` of `file` with `op`, retried when a signal interrupts it.
+#[cfg(unix)]
+fn flock(file: &File, op: libc::c_int) -> io::Result<()> {
+    use std::os::unix::io::AsRawFd;
+    // SAFETY: flock on a descriptor we own
+    while unsafe { libc::flock(file.as_raw_fd(), op) } != 0 {
+        let e = io::Error::last_os_error();
+        if e.kind() != io::ErrorKind::Interrupted {
+            return Err(e);
+        }
+    }
+    Ok(())
+}
+
+/// `o` with the open(2) `flags` on unix (ignored elsewhere).
+fn unix_flags(o: &mut OpenOptions, flags: i32) -> &mut OpenOptions {
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(o, flags);
+    let _ = flags;
+    o
 }
 
 /// Opens (or creates) the lock file `path` for reading and writing, never
@@ -351,32 +337,18 @@ impl FileLock {
 fn open_lock(path: &Path) -> io::Result<File> {
     let mut o = OpenOptions::new();
     o.read(true).write(true).create(true).truncate(false);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        o.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
-    }
-    o.open(path)
+    unix_flags(&mut o, O_NOFOLLOW | O_NONBLOCK).open(path)
 }
 
-/// Opens `path` for reading only if it is a regular file (a symbolic
-/// link is followed; what it leads to must be one), without blocking: a
-/// FIFO with no writer would block `open` for ever, and `/dev/zero` never
-/// ends. Anything else is an error of kind `InvalidInput`. Checked before
-/// and after opening (the file may be swapped between the two).
+/// Opens `path` for reading only if it (or what a link leads to) is a
+/// regular file, checked before and after a non-blocking open (a FIFO
+/// would block, `/dev/zero` never ends); anything else is `InvalidInput`.
 pub fn open_regular(path: &Path) -> io::Result<File> {
     let not_regular = || io::Error::new(io::ErrorKind::InvalidInput, "not a regular file");
     if !fs::metadata(path)?.is_file() {
         return Err(not_regular());
     }
-    let mut o = OpenOptions::new();
-    o.read(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        o.custom_flags(libc::O_NONBLOCK);
-    }
-    let f = o.open(path)?;
+    let f = unix_flags(OpenOptions::new().read(true), O_NONBLOCK).open(path)?;
     if !f.metadata()?.is_file() {
         return Err(not_regular());
     }
@@ -388,35 +360,37 @@ pub fn open_regular(path: &Path) -> io::Result<File> {
 /// planted link cannot make e3d append to, or truncate, another file.
 pub fn open_append_nofollow(path: &Path) -> io::Result<File> {
     let mut o = OpenOptions::new();
-    o.append(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        o.custom_flags(libc::O_NOFOLLOW);
-    }
-    o.open(path).map_err(|e| {
-        if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-            io::Error::new(
-                io::ErrorKind::InvalidInput,
-                "is a symbolic link; refused (e3d appends only to a file it made)",
-            )
-        } else {
-            e
-        }
-    })
+    unix_flags(o.append(true), O_NOFOLLOW)
+        .open(path)
+        .map_err(|e| {
+            if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+                io::Error::new(
+                    io::ErrorKind::InvalidInput,
+                    "is a symbolic link; refused (e3d appends only to a file it made)",
+                )
+            } else {
+                e
+            }
+        })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// A new empty folder `e3d-io-NAME-PID` in the system's temporary folder.
+    fn fresh_dir(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("e3d-io-{name}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
     #[cfg(unix)]
     #[test]
     fn a_stream_is_written_through_never_replaced() {
         use std::os::unix::fs::FileTypeExt;
-        let dir = std::env::temp_dir().join(format!("e3d-io-stream-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
+        let dir = fresh_dir("stream");
         let fifo = dir.join("out.svg");
         let made = std::process::Command::new("mkfifo").arg(&fifo).status();
         if !made.is_ok_and(|s| s.success()) {
@@ -450,9 +424,7 @@ mod tests {
     #[cfg(unix)]
     #[test]
     fn temporary_files_never_follow_a_planted_link() {
-        let dir = std::env::temp_dir().join(format!("e3d-io-test-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
+        let dir = fresh_dir("test");
         let victim = dir.join("victim.txt");
         fs::write(&victim, "keep me").unwrap();
         // the old, predictable temporary names of the next files, planted
@@ -513,19 +485,14 @@ fn holder() -> String {
 /// system said only "Too many levels of symbolic links"); other errors as
 /// they are, with the file.
 fn lock_file_error(path: &Path, e: io::Error) -> io::Error {
-    let is_link = fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
-    let not_regular = fs::symlink_metadata(path).is_ok_and(|m| !m.is_file());
-    if is_link || not_regular {
-        return io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!(
-                "{}: the lock file is {}; e3d makes it as a regular file and never follows a link there (remove it, then run again)",
-                path.display(),
-                if is_link { "a symbolic link" } else { "not a regular file (a folder, a pipe, a device or a socket)" }
-            ),
-        );
-    }
-    io::Error::new(e.kind(), format!("{}: {e}", path.display()))
+    let p = path.display();
+    let what = match fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => "a symbolic link",
+        Ok(m) if !m.is_file() => "not a regular file (a folder, a pipe, a device or a socket)",
+        _ => return io::Error::new(e.kind(), format!("{p}: {e}")),
+    };
+    let why = format!("{p}: the lock file is {what}; e3d makes it as a regular file and never follows a link there (remove it, then run again)");
+    io::Error::new(io::ErrorKind::InvalidInput, why)
 }
 
 impl DirLock {
@@ -544,24 +511,17 @@ impl DirLock {
             #[cfg(unix)]
             {
                 use std::os::unix::fs::MetadataExt;
-                use std::os::unix::io::AsRawFd;
-                // SAFETY: flock on a descriptor we own
-                if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } != 0 {
-                    let e = io::Error::last_os_error();
+                if let Err(e) = flock(&file, libc::LOCK_EX | libc::LOCK_NB) {
                     if e.kind() != io::ErrorKind::WouldBlock {
                         return Err(e);
                     }
                     let mut who = String::new();
                     let _ = io::Read::read_to_string(&mut file, &mut who);
-                    let who = who.trim();
-                    return Err(io::Error::new(
-                        io::ErrorKind::WouldBlock,
-                        if who.is_empty() {
-                            "another e3d".to_string()
-                        } else {
-                            format!("e3d {who}")
-                        },
-                    ));
+                    let who = match who.trim() {
+                        "" => "another e3d".to_string(),
+                        w => format!("e3d {w}"),
+                    };
+                    return Err(io::Error::new(io::ErrorKind::WouldBlock, who));
                 }
                 // the holder before us may have removed the file meanwhile:
                 // then our lock is on a file nobody else will open

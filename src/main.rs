@@ -115,10 +115,7 @@ fn main() -> ExitCode {
     cli::output::release_locks();
     e3d::io::remove_temps();
     // what is still buffered: a failed flush is a failed write too
-    let flushed = {
-        use std::io::Write;
-        std::io::stdout().flush()
-    };
+    let flushed = std::io::Write::flush(&mut std::io::stdout());
     match (result, flushed) {
         (Ok(()), Ok(())) => ExitCode::SUCCESS,
         (Ok(()), Err(e)) => cli::report_error(&cli::CliError::output(format!(

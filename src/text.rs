@@ -1,23 +1,6 @@
 //! Text that crosses a boundary: what e3d prints to a terminal, writes
-//! into SVG, HTML and CSV, and reads back from its own output files.
-//!
-//! - [`escape_controls`] and [`echo`]: control characters (ESC, BEL, ...)
-//!   shown as `\x1b`, so that a name or a command in a message cannot
-//!   drive the terminal; [`echo`] also cuts what it shows to
-//!   [`MAX_ECHO_CHARS`] characters.
-//! - [`xml_escape`]: the five XML-unsafe characters as entities, and the
-//!   control characters XML 1.0 forbids as `\x1b`, so that an SVG or an
-//!   HTML page stays well-formed whatever a name holds.
-//! - [`csv_field`]: a field quoted (RFC 4180) when it holds a comma, a
-//!   quote or a line break.
-//! - [`read_own_file`]: reads one of e3d's own output files (a table
-//!   cache, `journal.txt`, `sweep.ron`, `summary.csv`, `trials.csv`):
-//!   regular files only (a FIFO would block, `/dev/zero` never ends), at
-//!   most a given size, never blocking on open.
-//! - [`read_line_bounded`]: one line of a stream, at most a given length,
-//!   in memory bounded by that length whatever the stream holds.
-//! - [`parse_finite`]: a number of such a file, refused with its
-//!   `FILE:LINE:COL` when it is not a finite number.
+//! into SVG, HTML and CSV, and reads back from its own output files
+//! (regular files only, of bounded size, never blocking on open).
 
 use std::borrow::Cow;
 use std::fmt::Write as _;
@@ -28,11 +11,9 @@ use std::path::Path;
 /// shows; the rest is cut and its length said.
 pub const MAX_ECHO_CHARS: usize = 80;
 
-/// Whether `c` is a character a terminal may act on or that changes how
-/// the text around it shows: the control characters C0 (ESC, BEL, CR,
-/// ...), DEL and C1, the bidirectional controls (U+202E, a right-to-left
-/// override, shows `abc` as `cba`) and the line and paragraph separators
-/// U+2028 and U+2029.
+/// Whether a terminal may act on `c` or it changes how the text around it
+/// shows: C0 (ESC, BEL, CR, ...), DEL and C1, the bidirectional controls
+/// (U+202E shows `abc` as `cba`), the separators U+2028 and U+2029.
 fn is_terminal_control(c: char) -> bool {
     c.is_control() || is_bidi_control(c) || matches!(c, '\u{2028}' | '\u{2029}')
 }
@@ -126,19 +107,7 @@ fn push_code(out: &mut String, c: char) {
 /// assert_eq!(echo(&long), format!("{}… (100000 characters)", "x".repeat(80)));
 /// ```
 pub fn echo(s: &str) -> String {
-    let mut out = String::new();
-    for (shown, c) in s.chars().enumerate() {
-        if shown == MAX_ECHO_CHARS {
-            let _ = write!(out, "… ({} characters)", s.chars().count());
-            return out;
-        }
-        if is_terminal_control(c) {
-            push_code(&mut out, c);
-        } else {
-            out.push(c);
-        }
-    }
-    out
+    escape_where(&cut(s, MAX_ECHO_CHARS), is_terminal_control).into_owned()
 }
 
 /// `s` cut after `max` characters with `…` and its whole length in
@@ -194,38 +163,15 @@ fn xml_forbidden(c: char) -> bool {
     (c < ' ' && !matches!(c, '\t' | '\n' | '\r')) || c == '\u{fffe}' || c == '\u{ffff}'
 }
 
-/// `s` as one CSV field (RFC 4180): as is, or between double quotes with
-/// its quotes doubled when it holds a comma, a double quote, a line feed
-/// or a carriage return.
-///
-/// ```
-/// use e3d::text::csv_field;
-/// assert_eq!(csv_field("ab"), "ab");
-/// assert_eq!(csv_field("a\"b"), "\"a\"\"b\"");
-/// assert_eq!(csv_field("a,b"), "\"a,b\"");
-/// ```
-pub fn csv_field(s: &str) -> Cow<'_, str> {
-    if s.contains([',', '"', '\n', '\r']) {
-        Cow::Owned(format!("\"{}\"", s.replace('"', "\"\"")))
-    } else {
-        Cow::Borrowed(s)
-    }
-}
-
 /// The most characters a name (of a scene, a body, a joint, a start
 /// context) may hold.
 pub const MAX_NAME_CHARS: usize = 200;
 
-/// Checks a name, the one check of every name e3d prints to a terminal or
-/// writes into a file (a scene's, a body's, a joint's, a start context's,
-/// a scene made in code for a sweep): not empty nor only spaces; no
-/// control character (ESC, BEL, a line break: names are printed to
-/// terminals and written into files), no format character (a
-/// right-to-left override U+202E, a zero-width space U+200B: they change
-/// how the text around them shows, see [`is_invisible_format`]), no `,`
-/// or `"` (names are CSV fields: a sweep's results, `trials.csv`, `scene
-/// exec`'s rows); at most [`MAX_NAME_CHARS`] characters. The error says
-/// what is expected and what was found (escaped, cut).
+/// Checks a name (of a scene, a body, a joint, a start context), which e3d
+/// prints to terminals and writes into CSV files: not blank; no control or
+/// format character ([`is_invisible_format`]), no `,` or `"`; at most
+/// [`MAX_NAME_CHARS`] characters. The error says what is expected and
+/// what was found (escaped, cut).
 ///
 /// ```
 /// use e3d::text::check_name;
@@ -238,15 +184,10 @@ pub fn check_name(name: &str) -> Result<(), String> {
     if name.trim().is_empty() {
         return Err(format!("a non-empty name, found `{}`", echo(name)));
     }
-    if let Some(c) = name
-        .chars()
-        .find(|&c| c.is_control() || c == ',' || c == '"' || is_invisible_format(c))
-    {
-        return Err(format!(
-            "a name without control or format characters, ',' or '\"' (it is printed and written into CSV files), found U+{:04X} in `{}`",
-            u32::from(c),
-            echo(name)
-        ));
+    let bad = |c: char| c.is_control() || c == ',' || c == '"' || is_invisible_format(c);
+    if let Some(c) = name.chars().find(|&c| bad(c)) {
+        let (code, name) = (u32::from(c), echo(name));
+        return Err(format!("a name without control or format characters, ',' or '\"' (it is printed and written into CSV files), found U+{code:04X} in `{name}`"));
     }
     let n = name.chars().count();
     if n > MAX_NAME_CHARS {
@@ -444,57 +385,29 @@ pub enum Line {
     End,
 }
 
-/// Reads one line of `input` holding at most `max` bytes of memory,
-/// whatever the stream holds (standard input without a line feed, for
-/// example `/dev/zero`). A longer line is
+/// Reads one line of `input`, reading at most `max` + 2 bytes whatever
+/// the stream holds (`/dev/zero` has no line feed): a longer line is
 /// [`Line::TooLong`], with its start, as soon as the cap is passed; bytes
 /// that are not UTF-8 are replaced by U+FFFD.
 pub fn read_line_bounded(input: &mut impl BufRead, max: usize) -> io::Result<Line> {
-    let mut kept: Vec<u8> = Vec::new();
-    let mut total: u64 = 0;
-    let mut any = false;
-    loop {
-        let buf = match input.fill_buf() {
-            Ok(b) => b,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
-        if buf.is_empty() {
-            break;
-        }
-        any = true;
-        let (chunk, done) = match buf.iter().position(|&b| b == b'\n') {
-            Some(i) => (&buf[..i], Some(i + 1)),
-            None => (buf, None),
-        };
-        let room = max.saturating_sub(kept.len());
-        kept.extend_from_slice(&chunk[..chunk.len().min(room)]);
-        total += chunk.len() as u64;
-        let used = done.unwrap_or(buf.len());
-        input.consume(used);
-        if done.is_some() {
-            break;
-        }
-        if total > max as u64 + 1 {
-            // past the cap (and a possible CR): stop in mid-line
-            return Ok(Line::TooLong(
-                String::from_utf8_lossy(&kept).into_owned(),
-                total,
-            ));
-        }
-    }
-    if !any {
+    let mut line = Vec::new();
+    // the cap, a carriage return and one byte more: a longer line stops there
+    input.take(max as u64 + 2).read_until(b'\n', &mut line)?;
+    if line.is_empty() {
         return Ok(Line::End);
     }
-    if kept.last() == Some(&b'\r') && total as usize == kept.len() {
-        kept.pop();
-        total -= 1;
+    if line.last() == Some(&b'\n') {
+        line.pop();
     }
-    let text = String::from_utf8_lossy(&kept).into_owned();
-    Ok(if total > max as u64 {
-        Line::TooLong(text, total)
-    } else {
-        Line::Line(text)
+    if line.len() <= max && line.last() == Some(&b'\r') {
+        line.pop();
+    }
+    let total = line.len() as u64;
+    line.truncate(max);
+    let text = String::from_utf8_lossy(&line).into_owned();
+    Ok(match total > max as u64 {
+        true => Line::TooLong(text, total),
+        false => Line::Line(text),
     })
 }
 
@@ -560,62 +473,38 @@ pub fn parse_finite(
 /// quotes (RFC 4180; a line break inside quotes is not supported: e3d
 /// never writes one). Linear in the line's length.
 pub fn csv_fields(line: &str) -> Vec<(Cow<'_, str>, usize)> {
-    let mut out = Vec::new();
     let mut col = 1;
-    let mut rest = line;
-    loop {
-        let start = col;
-        if let Some(q) = rest.strip_prefix('"') {
-            // a quoted field: up to the closing quote not doubled
-            let mut value = String::new();
-            let mut chars = q.char_indices().peekable();
-            let mut end = q.len();
-            let mut used = 1;
-            while let Some((i, c)) = chars.next() {
-                used += 1;
-                if c == '"' {
-                    if chars.peek().map(|&(_, n)| n) == Some('"') {
-                        chars.next();
-                        used += 1;
-                        value.push('"');
-                        continue;
-                    }
-                    end = i + 1;
-                    break;
-                }
-                value.push(c);
-            }
-            rest = &q[end.min(q.len())..];
-            col += used;
-            // anything up to the next comma belongs to the field
-            let (tail, next) = match rest.find(',') {
-                Some(i) => (&rest[..i], Some(i)),
-                None => (rest, None),
-            };
-            value.push_str(tail);
-            col += tail.chars().count();
-            out.push((Cow::Owned(value), start));
-            match next {
-                Some(i) => {
-                    rest = &rest[i + 1..];
-                    col += 1;
-                }
-                None => return out,
-            }
-        } else {
-            match rest.find(',') {
-                Some(i) => {
-                    out.push((Cow::Borrowed(&rest[..i]), start));
-                    col += rest[..i].chars().count() + 1;
-                    rest = &rest[i + 1..];
-                }
-                None => {
-                    out.push((Cow::Borrowed(rest), start));
-                    return out;
-                }
-            }
+    let mut out: Vec<(Cow<'_, str>, usize)> = Vec::new();
+    if !line.contains('"') {
+        for f in line.split(',') {
+            out.push((Cow::Borrowed(f), col));
+            col += f.chars().count() + 1;
         }
+        return out;
     }
+    // a field opening with a quote runs to the closing quote not doubled;
+    // anything after it, up to the next comma, belongs to the field
+    let (mut value, mut start, mut at_start, mut quoted) = (String::new(), 1, true, false);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if at_start => quoted = true,
+            '"' if quoted && chars.next_if_eq(&'"').is_some() => {
+                col += 1;
+                value.push('"');
+            }
+            '"' if quoted => quoted = false,
+            ',' if !quoted => {
+                out.push((Cow::Owned(std::mem::take(&mut value)), start));
+                start = col + 1;
+            }
+            c => value.push(c),
+        }
+        at_start = c == ',' && !quoted;
+        col += 1;
+    }
+    out.push((Cow::Owned(value), start));
+    out
 }
 
 #[cfg(test)]
@@ -624,8 +513,7 @@ mod tests {
 
     #[test]
     fn csv_fields_round_trip_quoted_fields() {
-        let line = format!("{},{},x", csv_field("a\"b,c"), csv_field("d"));
-        let f: Vec<(String, usize)> = csv_fields(&line)
+        let f: Vec<(String, usize)> = csv_fields("\"a\"\"b,c\",d,x")
             .into_iter()
             .map(|(s, c)| (s.into_owned(), c))
             .collect();
@@ -647,22 +535,12 @@ mod tests {
             l => panic!("{l:?}"),
         }
         let mut r = io::BufReader::new(&b"ab\r\ncd\n\nef"[..]);
-        assert_eq!(
-            read_line_bounded(&mut r, 10).unwrap(),
-            Line::Line("ab".into())
-        );
-        assert_eq!(
-            read_line_bounded(&mut r, 10).unwrap(),
-            Line::Line("cd".into())
-        );
-        assert_eq!(
-            read_line_bounded(&mut r, 10).unwrap(),
-            Line::Line("".into())
-        );
-        assert_eq!(
-            read_line_bounded(&mut r, 10).unwrap(),
-            Line::Line("ef".into())
-        );
+        for line in ["ab", "cd", "", "ef"] {
+            assert_eq!(
+                read_line_bounded(&mut r, 10).unwrap(),
+                Line::Line(line.into())
+            );
+        }
         assert_eq!(read_line_bounded(&mut r, 10).unwrap(), Line::End);
     }
 }

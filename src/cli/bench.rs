@@ -73,9 +73,10 @@ fn rate(budget: Duration, mut f: impl FnMut() -> usize) -> Rate {
     }
 }
 
-/// Prints one line of the output.
-fn line(scene: &str, measure: &str, r: Rate, unit: &str) {
-    outln!("{scene},{measure},{:.1},{:.1},{unit}", r.median, r.best);
+/// Prints one line of the output: `scene`'s `measure`, per second.
+fn line(scene: &Scene, measure: &str, r: Rate) {
+    let name = &scene.spec().name;
+    outln!("{name},{measure},{:.1},{:.1},1/s", r.median, r.best);
 }
 
 pub fn run(a: BenchArgs) -> CliResult {
@@ -143,14 +144,9 @@ fn bench_rollouts(scene: &Scene, world: &mut dyn World, budget: Duration) -> Cli
         i += 1;
         (i - 1) % n_commands
     })?;
-    line(&scene.spec().name, "rollouts", rollouts, "1/s");
+    line(scene, "rollouts", rollouts);
     if let Some(steps) = scene.spec().steps_per_command() {
-        line(
-            &scene.spec().name,
-            "steps",
-            rollouts.map(|r| r * steps as f64),
-            "1/s",
-        );
+        line(scene, "steps", rollouts.map(|r| r * steps as f64));
     }
     Ok(())
 }
@@ -173,7 +169,7 @@ fn bench_prefixes(scene: &Scene, budget: Duration) -> CliResult {
         rand::RngExt::random_range(&mut rng, 0..n_commands)
     })?;
     let measure = format!("rollouts (random commands; prefix states of up to {depth} slots kept)");
-    line(&scene.spec().name, &measure, rollouts, "1/s");
+    line(scene, &measure, rollouts);
     Ok(())
 }
 
@@ -202,7 +198,7 @@ fn bench_copies(scene: &Scene, physics: &PhysicsScene, budget: Duration) {
         "not bit-identical: tables use one copy"
     };
     let measure = format!("rollouts ({copies} copies per world; {exact})");
-    line(&scene.spec().name, &measure, r, "1/s");
+    line(scene, &measure, r);
 }
 
 /// E3D trials per second: on the scene's outcome table (and the table's
@@ -227,26 +223,21 @@ fn bench_trials(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliRe
         let mut l = make()?;
         run_session(world, &mut l, &cfg(200, 1)).map_err(CliError::simulation)?;
         let r = Rate::once(200.0 / t0.elapsed().as_secs_f64());
-        line(&scene.spec().name, "e3d trials (simulated)", r, "1/s");
+        line(scene, "e3d trials (simulated)", r);
         return Ok(());
     }
     let t0 = Instant::now();
     let table = OutcomeTable::build_scene(scene).map_err(CliError::simulation)?;
     let secs = t0.elapsed().as_secs_f64();
     let simulated = OutcomeTable::simulated_commands(scene).unwrap_or(n_commands);
-    let threads = rayon::current_num_threads();
-    outln!(
-        "{},outcome table build ({} commands; {simulated} simulated; {threads} thread(s)),{secs:.3},{secs:.3},s",
-        scene.spec().name,
+    let (threads, name, k) = (
+        rayon::current_num_threads(),
+        &scene.spec().name,
         table.len(),
     );
+    outln!("{name},outcome table build ({k} commands; {simulated} simulated; {threads} thread(s)),{secs:.3},{secs:.3},s");
     let measure = format!("outcome table commands ({threads} thread(s))");
-    line(
-        &scene.spec().name,
-        &measure,
-        Rate::once(table.len() as f64 / secs),
-        "1/s",
-    );
+    line(scene, &measure, Rate::once(table.len() as f64 / secs));
     let mut seed = 0;
     let mut err = None;
     let r = rate(budget, || {
@@ -260,8 +251,8 @@ fn bench_trials(scene: &Scene, world: &mut dyn World, budget: Duration) -> CliRe
     if let Some(e) = err {
         return Err(CliError::simulation(e));
     }
-    line(&scene.spec().name, "e3d trials (outcome table)", r, "1/s");
-    let ns = r.map(|r| 1e9 / r);
-    line(&scene.spec().name, "e3d trial (outcome table)", ns, "ns");
+    line(scene, "e3d trials (outcome table)", r);
+    let Rate { median, best } = r.map(|r| 1e9 / r);
+    outln!("{name},e3d trial (outcome table),{median:.1},{best:.1},ns");
     Ok(())
 }

@@ -4,7 +4,7 @@
 //! [`e3d::report::closed_loop::markdown`]).
 
 use super::output::{prepare_out, write_file};
-use super::{load_scene, CliError, CliResult};
+use super::{load_scene, plural, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::experiment::closed_loop::{run_comparison, ClosedLoopConfig};
@@ -73,14 +73,9 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
     }
     let threads = a.threads.count();
     let moves = scene.spec().num_slots() * cfg.commands;
-    errln!(
-        "closed-loop: {} on {}, {} sessions per arm of {} episodes of {moves} moves, {threads} thread{}",
-        scene.spec().name,
-        if cfg.commands == 1 { "1 command".to_string() } else { format!("{} commands", cfg.commands) },
-        cfg.seeds,
-        cfg.episodes,
-        if threads == 1 { "" } else { "s" }
-    );
+    let (name, commands, seeds) = (&scene.spec().name, cfg.commands, cfg.seeds);
+    let (episodes, c, s) = (cfg.episodes, plural(commands), plural(threads));
+    errln!("closed-loop: {name} on {commands} command{c}, {seeds} sessions per arm of {episodes} episodes of {moves} moves, {threads} thread{s}");
     let sessions = super::session::ThreadsArg::pool_of(threads)?
         .install(|| run_comparison(&scene, &cfg))
         .map_err(CliError::input)?;
@@ -88,15 +83,9 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
     if let Some(out) = &a.out {
         let mut csv = String::from("arm,seed,first_reward_episode,cumulative_reward,late_reward\n");
         for s in &sessions {
-            csv.push_str(&format!(
-                "{},{},{},{},{}\n",
-                s.arm,
-                s.seed,
-                s.first_reward_episode
-                    .map_or(String::new(), |e| e.to_string()),
-                s.cumulative_reward,
-                s.late_reward
-            ));
+            let (arm, seed, reward, late) = (&s.arm, s.seed, s.cumulative_reward, s.late_reward);
+            let first = (s.first_reward_episode).map_or(String::new(), |e| e.to_string());
+            csv.push_str(&format!("{arm},{seed},{first},{reward},{late}\n"));
         }
         write_file(&out.join("closed_loop.md"), md.as_bytes())?;
         write_file(&out.join("sessions.csv"), csv.as_bytes())?;

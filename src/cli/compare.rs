@@ -61,15 +61,10 @@ pub fn run(a: CompareArgs) -> CliResult {
         .install(|| with_reachable_cells(sweep, None))
         .map_err(sweep_error)?;
     let total = sweep.num_sessions() as u64 * a.trials;
-    errln!(
-        "compare: {} learners on {} scenes, tasks 1 and 2: {} cells x {} sessions of {} trials, {threads} thread{}",
-        sweep.spec.learners.len(),
-        sweep.scenes().len(),
-        sweep.cells().len(),
-        a.sessions,
-        a.trials,
-        if threads == 1 { "" } else { "s" }
-    );
+    let (learners, scenes) = (sweep.spec.learners.len(), sweep.scenes().len());
+    let (cells, sessions, trials) = (sweep.cells().len(), a.sessions, a.trials);
+    let s = super::plural(threads);
+    errln!("compare: {learners} learners on {scenes} scenes, tasks 1 and 2: {cells} cells x {sessions} sessions of {trials} trials, {threads} thread{s}");
     let start = Instant::now();
     let (sweep, results) = progress::track("compare", "trials", total, |p| {
         let sweep = sweep.with_trial_counter(p.counter());
@@ -94,11 +89,8 @@ pub fn run(a: CompareArgs) -> CliResult {
         write_file(&a.out.join(name), bytes)?;
     }
     outln!("{md}");
-    outln!(
-        "wrote drives.md, drives.csv, drives.svg and results.csv in {} ({:.1} s)",
-        a.out.display(),
-        start.elapsed().as_secs_f64()
-    );
+    let (out, secs) = (a.out.display(), start.elapsed().as_secs_f64());
+    outln!("wrote drives.md, drives.csv, drives.svg and results.csv in {out} ({secs:.1} s)");
     Ok(())
 }
 

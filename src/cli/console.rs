@@ -1,41 +1,21 @@
 //! The command line's standard output and standard error, written through
-//! [`outln!`] and [`errln!`]: every write is checked where it is made.
-//!
-//! A write that fails ends e3d at once, after removing the temporary
-//! files of unfinished outputs: with exit code 3 and
-//! `error: cannot write to stdout: ...` on standard error (when it can
-//! still take it) for a full device or disk (`> /dev/full`), quietly for a
-//! reader that has gone (a broken pipe, `e3d scene exec ... | head`; on
-//! Unix e3d then ends by SIGPIPE, as other tools).
-//!
-//! Both escape control characters (all but the line feed and the tab, as
-//! [`escape_controls`](e3d::text::escape_controls) does): a path, a name
-//! or a command echoed in a message cannot drive the terminal (ESC, BEL,
-//! a carriage return), whatever the message.
+//! [`outln!`] and [`errln!`]: every write is checked where it is made (a
+//! failed one ends e3d, [`fail`]), and control characters are escaped so
+//! that a name echoed in a message cannot drive the terminal.
 
 use std::io::Write;
 
-/// `args` written out, with its control characters escaped.
-fn escaped(args: std::fmt::Arguments<'_>) -> String {
-    match args.as_str() {
-        Some(s) => e3d::text::escape_controls(s).into_owned(),
-        None => e3d::text::escape_controls(&args.to_string()).into_owned(),
-    }
-}
-
-/// Writes `args` to standard output (control characters escaped), or
-/// ends e3d ([`fail`]).
-pub fn out(args: std::fmt::Arguments<'_>) {
-    if let Err(e) = std::io::stdout().lock().write_all(escaped(args).as_bytes()) {
-        fail("stdout", &e)
-    }
-}
-
-/// Writes `args` to standard error (control characters escaped), or ends
-/// e3d ([`fail`]).
-pub fn err(args: std::fmt::Arguments<'_>) {
-    if let Err(e) = std::io::stderr().lock().write_all(escaped(args).as_bytes()) {
-        fail("stderr", &e)
+/// Writes `args` to `stream` (`stdout` or `stderr`), its control
+/// characters escaped, or ends e3d ([`fail`]).
+pub fn write(stream: &str, args: std::fmt::Arguments<'_>) {
+    let text = args.to_string();
+    let bytes = e3d::text::escape_controls(&text);
+    let written = match stream {
+        "stdout" => std::io::stdout().lock().write_all(bytes.as_bytes()),
+        _ => std::io::stderr().lock().write_all(bytes.as_bytes()),
+    };
+    if let Err(e) = written {
+        fail(stream, &e)
     }
 }
 
@@ -80,17 +60,17 @@ pub fn fail(stream: &str, e: &std::io::Error) -> ! {
     std::process::exit(i32::from(super::exit::OUTPUT))
 }
 
-/// [`println!`] whose write is checked ([`out`]).
+/// [`println!`] whose write is checked ([`write`]).
 macro_rules! outln {
     ($($arg:tt)*) => {
-        $crate::cli::console::out(format_args!("{}\n", format_args!($($arg)*)))
+        $crate::cli::console::write("stdout", format_args!("{}\n", format_args!($($arg)*)))
     };
 }
 
-/// [`eprintln!`] whose write is checked ([`err`]).
+/// [`eprintln!`] whose write is checked ([`write`]).
 macro_rules! errln {
     ($($arg:tt)*) => {
-        $crate::cli::console::err(format_args!("{}\n", format_args!($($arg)*)))
+        $crate::cli::console::write("stderr", format_args!("{}\n", format_args!($($arg)*)))
     };
 }
 

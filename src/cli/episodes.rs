@@ -57,9 +57,9 @@ struct Summary<'a> {
     scene_record: e3d::report::run_scene::SceneRecord,
 }
 
-/// Refuses, before any work, episodes on a continuous scene and more
-/// episode commands than a record holds.
-fn check_runnable(a: &RunArgs, scene: &Scene) -> CliResult {
+pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
+    // refused before any work: a continuous scene, more commands than a
+    // record holds, a closed loop of another learner
     if scene.value_space().is_some() {
         return Err(CliError::input(format!(
             "scene `{}`: its slots take values (`Continuous`); start contexts and --commands, --observe, --closed-loop run on scenes of symbols",
@@ -67,11 +67,7 @@ fn check_runnable(a: &RunArgs, scene: &Scene) -> CliResult {
         )));
     }
     e3d::episode::check_size(a.trials as usize, a.commands as usize)
-        .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))
-}
-
-pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
-    check_runnable(a, scene)?;
+        .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))?;
     let observe = observe_of(a);
     let space = scene.command_space();
     let num_effects = scene.num_effects();
@@ -156,10 +152,9 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         params,
         use_reward: !a.no_reward,
         commands_per_episode: a.commands as usize,
-        observe: if observe == Observe::State {
-            "state"
-        } else {
-            "start"
+        observe: match observe {
+            Observe::State => "state",
+            _ => "start",
         },
         gamma: a.closed_loop.then_some(a.gamma),
         start_contexts: names,
@@ -173,19 +168,13 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
 /// Tells (on stderr) what runs: sessions, episodes, learner, contexts
 /// and what the learner observes.
 fn describe(a: &RunArgs, sessions: usize, name: &str, contexts: usize, observe: Observe) {
-    errln!(
-        "episodes: {} sessions of {} episodes of {} command{}, learner {name}, {} contexts observed as {}",
-        sessions,
-        a.trials,
-        a.commands,
-        if a.commands == 1 { "" } else { "s" },
-        contexts,
-        match observe {
-            Observe::State => "the current effect cell",
-            Observe::StartContext => "the start context",
-            Observe::Blind => "nothing (one policy)",
-        }
-    );
+    let how = match observe {
+        Observe::State => "the current effect cell",
+        Observe::StartContext => "the start context",
+        Observe::Blind => "nothing (one policy)",
+    };
+    let (trials, commands, s) = (a.trials, a.commands, super::plural(a.commands as usize));
+    errln!("episodes: {sessions} sessions of {trials} episodes of {commands} command{s}, learner {name}, {contexts} contexts observed as {how}");
 }
 
 /// With `--table-cache DIR`: the outcome tables of the scene's named
@@ -211,18 +200,11 @@ fn preload_context_tables(
             read.push(name.as_str());
         }
     }
+    let (dir, read) = (dir.display(), read.join(", "));
     if read.is_empty() {
-        errln!(
-            "note: no outcome table of a start context in {}; simulating the commands (`e3d scene table {given} --cache {}` writes them)",
-            dir.display(),
-            dir.display()
-        );
+        errln!("note: no outcome table of a start context in {dir}; simulating the commands (`e3d scene table {given} --cache {dir}` writes them)");
     } else {
-        errln!(
-            "outcomes: the tables of start contexts {} read from {}",
-            read.join(", "),
-            dir.display()
-        );
+        errln!("outcomes: the tables of start contexts {read} read from {dir}");
     }
 }
 
@@ -247,25 +229,15 @@ fn print_sessions(
     sessions: &[OneSession],
 ) {
     let (first, last) = (sessions[0].seed, sessions[sessions.len() - 1].seed);
-    outln!(
-        "scene {}, learner {name}, {} episodes of {} command(s), seeds {first}..={last}",
-        scene.spec().name,
-        a.trials,
-        a.commands
-    );
+    let (scene, trials, commands) = (&scene.spec().name, a.trials, a.commands);
+    outln!("scene {scene}, learner {name}, {trials} episodes of {commands} command(s), seeds {first}..={last}");
     for s in sessions {
         let ent: Vec<String> = (names.iter().zip(&s.entropy_per_start))
             .map(|(n, h)| format!("{n} {h:.4}"))
             .collect();
-        let first = s
-            .first_reward_episode
-            .map_or("never".to_string(), |e| e.to_string());
-        outln!(
-            "seed {}: first reward at episode {first}, cumulative reward {}, normalised entropy of the terminal cells per start context: {}",
-            s.seed,
-            s.cumulative_reward,
-            ent.join(", ")
-        );
+        let first = (s.first_reward_episode).map_or("never".into(), |e| e.to_string());
+        let (seed, reward, ent) = (s.seed, s.cumulative_reward, ent.join(", "));
+        outln!("seed {seed}: first reward at episode {first}, cumulative reward {reward}, normalised entropy of the terminal cells per start context: {ent}");
     }
 }
 
@@ -292,14 +264,12 @@ impl EpisodeRecorder for EpisodeCsv {
         use std::io::Write;
         self.command += 1;
         let (session, episode, k) = (self.session, self.episode, self.command);
-        let (name, space) = (&self.names[self.start], &self.space);
+        let (name, command) = (&self.names[self.start], self.space.format(command));
+        let (effect, reward) = (outcome.effect, outcome.reward);
         self.part.row(|out| {
             writeln!(
                 out,
-                "{session},{episode},{k},{context},{name},{},{},{}",
-                space.format(command),
-                outcome.effect,
-                outcome.reward
+                "{session},{episode},{k},{context},{name},{command},{effect},{reward}"
             )
         });
     }

@@ -28,7 +28,8 @@ pub mod exit {
 }
 
 /// An error of the command line, with its exit code.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
+#[error("{message}")]
 pub struct CliError {
     pub code: u8,
     pub message: String,
@@ -50,14 +51,6 @@ impl CliError {
     }
 }
 
-impl std::fmt::Display for CliError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.message)
-    }
-}
-
-impl std::error::Error for CliError {}
-
 /// A world's failure is a failed simulation.
 impl From<e3d::WorldError> for CliError {
     fn from(e: e3d::WorldError) -> Self {
@@ -75,6 +68,11 @@ pub fn cannot_write(path: &std::path::Path, e: impl std::fmt::Display) -> CliErr
 /// `m` locked, even if a thread panicked holding it (what it guards stays usable).
 pub fn locked<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// `"s"` after a count other than one.
+pub fn plural(n: usize) -> &'static str {
+    &"s"[usize::from(n == 1)..]
 }
 
 /// Loads a scene by path or built-in name, as a CLI error.

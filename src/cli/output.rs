@@ -12,35 +12,24 @@ static CREATED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// [`release_locks`] (the end of the command).
 static LOCKS: Mutex<Vec<e3d::io::DirLock>> = Mutex::new(Vec::new());
 
-/// Takes the lock of the output folder `dir` (creating it), held to the
-/// end of the command ([`release_locks`]), or refuses with who holds it:
-/// two commands writing into one folder would mix or overwrite each
-/// other's files. A lock file left by a killed run is taken over, with a warning. A folder
-/// that cannot be created is left to the command's own checks and
-/// messages.
+/// Takes the lock of the output folder `dir` (creating it) to the end of
+/// the command ([`release_locks`]), or refuses naming who holds it (two
+/// commands would mix their files); a killed run's lock is taken over, with
+/// a warning. A folder that cannot be created is left to the command.
 pub fn lock_out(dir: &Path) -> CliResult {
-    if dir.exists() && !dir.is_dir() {
+    if (dir.exists() && !dir.is_dir()) || std::fs::create_dir_all(dir).is_err() {
         return Ok(());
     }
-    if std::fs::create_dir_all(dir).is_err() {
-        return Ok(());
-    }
-    let lock = match e3d::io::DirLock::acquire(dir) {
-        Ok(lock) => lock,
-        Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
-            return Err(CliError::output(format!(
-                "{}: in use by {e}, which is writing into it; wait for it to end or choose another --out",
-                dir.display()
-            )))
-        }
-        // the error names the lock file
-        Err(e) => {
-            return Err(CliError::output(format!(
-                "{}: cannot take the lock: {e}",
-                dir.display()
-            )))
-        }
-    };
+    let lock = e3d::io::DirLock::acquire(dir).map_err(|e| {
+        let d = dir.display();
+        CliError::output(match e.kind() {
+            std::io::ErrorKind::WouldBlock => format!(
+                "{d}: in use by {e}, which is writing into it; wait for it to end or choose another --out"
+            ),
+            // the error names the lock file
+            _ => format!("{d}: cannot take the lock: {e}"),
+        })
+    })?;
     if let Some(old) = &lock.previous {
         crate::cli::console::errln!(
             "warning: {}: took over the lock of a run that ended without releasing it ({old})",
@@ -57,9 +46,7 @@ pub fn release_locks() {
 }
 
 /// Removes the folders [`prepare_out`] created that are still empty: a
-/// command refused after it prepared its `--out` (a bad scene name for
-/// `compare`, a learner that does not fit the scene for `run`) leaves no
-/// empty folder behind. A folder that existed before is never removed.
+/// command refused after it prepared its `--out` leaves no empty folder.
 pub fn remove_created_if_empty() {
     let created = std::mem::take(&mut *locked(&CREATED));
     for dir in created {
@@ -101,11 +88,9 @@ pub fn prepare_out(dir: &Path, files: &[&str], force: bool) -> CliResult {
     Ok(())
 }
 
-/// Refuses an output file whose name does not end in one of the
-/// `formats` the command writes (`svg`, `html`, `csv`; any case): a picture
-/// asked as `x.png` would otherwise be SVG text under a PNG name. `flag`
-/// names the option (`--out`, `--trace`); `hint` says how to get another
-/// format, if there is a way.
+/// Refuses an output file (of the option `flag`) whose name does not end in
+/// one of the `formats` written, any case (`x.png` would be SVG under a PNG
+/// name); `hint` says how to get another format, if there is a way.
 pub fn check_format(path: &Path, flag: &str, formats: &[&str], hint: &str) -> CliResult {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     // a stream (`/dev/stdout`, a named pipe) takes whatever it is given
@@ -113,14 +98,13 @@ pub fn check_format(path: &Path, flag: &str, formats: &[&str], hint: &str) -> Cl
         return Ok(());
     }
     let expected: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();
+    let (path, expected) = (path.display(), expected.join(" or "));
     let found = match ext {
         "" => "no extension".to_string(),
         e => format!("a .{e} file"),
     };
     Err(CliError::input(format!(
-        "{flag} {}: expected a file ending in {} (the format written), found {found}{hint}",
-        path.display(),
-        expected.join(" or ")
+        "{flag} {path}: expected a file ending in {expected} (the format written), found {found}{hint}"
     )))
 }
 

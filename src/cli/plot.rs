@@ -38,9 +38,7 @@ pub struct PlotArgs {
 
 pub fn run(a: PlotArgs) -> CliResult {
     super::output::check_format(&a.out, "--out", &["svg"], "")?;
-    let filters = a
-        .filters
-        .iter()
+    let filters = (a.filters.iter())
         .map(|f| {
             f.split_once('=')
                 .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
@@ -57,26 +55,16 @@ pub fn run(a: PlotArgs) -> CliResult {
         })?;
     let summary =
         Summary::parse(&text).map_err(|e| CliError::input(format!("{}/{e}", a.dir.display())))?;
-    let svg = plot(
-        &summary,
-        &PlotSpec {
-            x: a.x,
-            y: a.y,
-            metric: a.metric,
-            filters,
-        },
-    )
-    .map_err(CliError::input)?;
-    let dir = a
-        .out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(std::path::Path::new("."));
-    let name = a
-        .out
-        .file_name()
-        .and_then(|n| n.to_str())
-        .unwrap_or("plot.svg");
+    let spec = PlotSpec {
+        x: a.x,
+        y: a.y,
+        metric: a.metric,
+        filters,
+    };
+    let svg = plot(&summary, &spec).map_err(CliError::input)?;
+    let dir =
+        (a.out.parent().filter(|p| !p.as_os_str().is_empty())).unwrap_or(std::path::Path::new("."));
+    let name = (a.out.file_name().and_then(|n| n.to_str())).unwrap_or("plot.svg");
     // a stream (`--out /dev/stdout`) is written through: no folder to claim
     if !e3d::io::is_stream(&a.out) {
         prepare_out(dir, &[name], a.force)?;

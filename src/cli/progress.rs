@@ -1,11 +1,7 @@
-//! The progress of a long computation, on standard error, for every long
-//! command (`run`, `sweep` and its table builds, `reproduce`, `scene
-//! table|stats|reward-cell|exec|check --samples`):
-//! an estimate of its time once a sample has been measured, then a bar
-//! with ETA on a terminal, or a line every few seconds otherwise, so that a
-//! batch log (Slurm, `2> log`, a pipe) shows that work goes on. Nothing
-//! goes to standard output, and a command that ends within the first
-//! seconds prints nothing.
+//! The progress of a long computation on standard error: an estimate of
+//! its time once a sample is measured, then a bar with ETA on a terminal,
+//! or a line every few seconds otherwise (a batch log shows that work goes
+//! on). A command that ends within the first seconds prints nothing.
 
 use crate::cli::console::errln;
 use crate::cli::locked;
@@ -54,53 +50,36 @@ pub struct Progress {
 /// its own lines otherwise (`sweep: table of arm7: 300/1094 commands
 /// (27%), 5 s elapsed, about 13 s left`). Moved on from any thread.
 #[derive(Default)]
-pub struct Phase {
-    /// The label and unit of the phase running, if one is.
-    current: Mutex<Option<(String, String)>>,
-    /// Bumped at each new phase, so that the reporter starts afresh.
-    serial: AtomicU64,
-    done: AtomicU64,
-    total: AtomicU64,
-}
+pub struct Phase(Mutex<Option<Arc<Part>>>);
+
+/// The label, unit and count of a [`Phase`] running.
+type Part = (String, String, Progress);
 
 impl Phase {
     /// Starts the phase `label` of `total` units unless it is the one
     /// running (one look, so that threads that all report a phase's first
     /// units start it once).
     pub fn enter(&self, label: &str, unit: &str, total: u64) {
-        let mut current = locked(&self.current);
-        if current.as_ref().is_some_and(|(l, _)| l == label) {
-            return;
+        let mut current = locked(&self.0);
+        if current.as_ref().is_none_or(|p| p.0 != label) {
+            *current = Some(Arc::new((label.into(), unit.into(), Progress::new(total))));
         }
-        self.done.store(0, Ordering::Relaxed);
-        self.total.store(total, Ordering::Relaxed);
-        self.serial.fetch_add(1, Ordering::Relaxed);
-        *current = Some((label.to_string(), unit.to_string()));
     }
 
     /// `k` more units of the phase done.
     pub fn add(&self, k: u64) {
-        self.done.fetch_add(k, Ordering::Relaxed);
+        if let Some(p) = &*locked(&self.0) {
+            p.2.add(k);
+        }
     }
 
     /// Ends the phase running: the computation's count shows again.
     pub fn end(&self) {
-        *locked(&self.current) = None;
+        *locked(&self.0) = None;
     }
 
-    /// (serial, label, unit, done, total) of the phase running.
-    fn read(&self) -> Option<(u64, String, String, u64, u64)> {
-        let current = locked(&self.current);
-        let (label, unit) = current.as_ref()?;
-        let total = self.total.load(Ordering::Relaxed);
-        let done = self.done.load(Ordering::Relaxed).min(total);
-        Some((
-            self.serial.load(Ordering::Relaxed),
-            label.clone(),
-            unit.clone(),
-            done,
-            total,
-        ))
+    fn current(&self) -> Option<Arc<Part>> {
+        locked(&self.0).clone()
     }
 }
 
@@ -170,10 +149,6 @@ impl Progress {
         }
         (pos, pos.saturating_sub(base), total)
     }
-
-    fn note_text(&self) -> String {
-        locked(&self.note).clone()
-    }
 }
 
 /// Runs `work`, which moves its [`Progress`] on (from any thread), while a
@@ -221,31 +196,29 @@ fn track_as<T>(
             let mut r = Reporter::new(label, unit, terminal);
             r.bar_allowed = bar;
             r.stream = stream;
-            // the phase being shown: its serial and its reporter
-            let mut sub: Option<(u64, Reporter)> = None;
+            // the phase being shown and its reporter
+            let mut sub: Option<(Arc<Part>, Reporter)> = None;
             loop {
                 std::thread::park_timeout(Duration::from_millis(100));
+                let printer = sub.as_ref().map_or(&r, |(_, s)| s);
                 for line in progress.take_said() {
-                    match &sub {
-                        Some((_, s)) => s.print(line),
-                        None => r.print(line),
-                    }
+                    printer.print(line);
                 }
                 if finished.load(Ordering::Acquire) {
                     break;
                 }
                 let now = Instant::now();
-                match progress.phase.read() {
-                    Some((serial, label, unit, done, total)) if r.bar_allowed || !terminal => {
-                        if sub.as_ref().is_none_or(|(k, _)| *k != serial) {
+                match progress.phase.current() {
+                    Some(phase) if r.bar_allowed || !terminal => {
+                        if sub.as_ref().is_none_or(|(p, _)| !Arc::ptr_eq(p, &phase)) {
                             r.finish();
-                            let mut s = Reporter::new(&label, &unit, terminal);
+                            let mut s = Reporter::new(&phase.0, &phase.1, terminal);
                             // lines at the pace of the computation's
                             s.last_line = r.last_line;
-                            sub = Some((serial, s));
+                            sub = Some((phase, s));
                         }
-                        if let Some((_, s)) = sub.as_mut() {
-                            s.show_counts((done, done, total), "", now);
+                        if let Some((p, s)) = sub.as_mut() {
+                            s.show(&p.2, now);
                             r.last_line = s.last_line;
                         }
                     }
@@ -336,7 +309,7 @@ impl Reporter {
     }
 
     fn show(&mut self, p: &Progress, now: Instant) {
-        self.show_counts(p.read(), &p.note_text(), now);
+        self.show_counts(p.read(), &locked(&p.note).clone(), now);
     }
 
     fn show_counts(&mut self, (pos, ran, total): (u64, u64, u64), note: &str, now: Instant) {
@@ -551,25 +524,25 @@ mod tests {
     fn a_phase_is_entered_once_counts_its_own_units_and_ends() {
         let p = Progress::new(100);
         let phase = p.phase();
-        assert!(phase.read().is_none());
+        assert!(phase.current().is_none());
         phase.enter("sweep: table of arm7", "commands", 1094);
         phase.add(24);
         // a second thread's first units do not start it again
         phase.enter("sweep: table of arm7", "commands", 1094);
         phase.add(24);
-        let (serial, label, unit, done, total) = phase.read().unwrap();
+        let first = phase.current().unwrap();
         assert_eq!(
-            (label.as_str(), unit.as_str(), done, total),
-            ("sweep: table of arm7", "commands", 48, 1094)
+            (first.0.as_str(), first.1.as_str(), first.2.read()),
+            ("sweep: table of arm7", "commands", (48, 48, 1094))
         );
         // the next scene's table: a new phase, counted from 0
         phase.enter("sweep: table of maze3", "commands", 10);
         phase.add(50);
-        let (next, _, _, done, total) = phase.read().unwrap();
-        assert!(next > serial);
-        assert_eq!((done, total), (10, 10));
+        let next = phase.current().unwrap();
+        assert!(!Arc::ptr_eq(&first, &next));
+        assert_eq!(next.2.read(), (10, 10, 10));
         phase.end();
-        assert!(phase.read().is_none());
+        assert!(phase.current().is_none());
         // the computation's own count is untouched
         assert_eq!(p.read(), (0, 0, 100));
     }

@@ -31,15 +31,12 @@ pub fn run(a: ReportArgs) -> CliResult {
     }
     let dir = &a.dir;
     if !dir.is_dir() {
-        return Err(CliError::input(format!(
-            "{}: {}",
-            dir.display(),
-            if dir.exists() {
-                "not a folder"
-            } else {
-                "no such folder"
-            }
-        )));
+        let what = if dir.exists() {
+            "not a folder"
+        } else {
+            "no such folder"
+        };
+        return Err(CliError::input(format!("{}: {what}", dir.display())));
     }
     let (page, what) = if dir.join("trials.csv").exists() {
         (run_report(dir)?, "run")
@@ -93,33 +90,22 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
         Err(e) => return Err(e),
     };
     let json = serde_json::from_str::<serde_json::Value>(&summary).ok();
-    let scene_name = json
-        .as_ref()
-        .and_then(|v| v.get("scene").and_then(|s| s.as_str()).map(String::from));
+    let scene_name = json.as_ref().and_then(|v| v.get("scene")?.as_str());
     let record = json.as_ref().and_then(|v| v.get("scene_record")).map(|r| {
         serde_json::from_value::<SceneRecord>(r.clone())
             .map_err(|e| e.to_string())
             .and_then(|r| r.check().map(|()| r))
     });
-    let max_effect = trials.iter().map(|t| t.effect).max().unwrap_or(0);
     let (rows, cols, note) = match record {
         Some(Ok(r)) => {
             let g = &r.effect_grid;
-            if max_effect >= g.num_cells() {
-                let (k, t) = trials
-                    .iter()
-                    .enumerate()
-                    .find(|(_, t)| t.effect >= g.num_cells())
-                    .expect("the largest effect");
+            let mut outside = trials.iter().enumerate();
+            if let Some((k, t)) = outside.find(|(_, t)| t.effect >= g.num_cells()) {
+                let (d, trial, effect, rows, cols) =
+                    (dir.display(), k + 1, t.effect, g.rows, g.cols);
+                let (name, path) = (e3d::text::echo(&r.name), e3d::text::echo(&r.path));
                 return Err(CliError::input(format!(
-                    "{}/trials.csv: trial {}: effect {} is outside the {} x {} effect grid of scene `{}` ({}) that summary.json records; the folder mixes two runs",
-                    dir.display(),
-                    k + 1,
-                    t.effect,
-                    g.rows,
-                    g.cols,
-                    e3d::text::echo(&r.name),
-                    e3d::text::echo(&r.path)
+                    "{d}/trials.csv: trial {trial}: effect {effect} is outside the {rows} x {cols} effect grid of scene `{name}` ({path}) that summary.json records; the folder mixes two runs"
                 )));
             }
             (g.rows, g.cols, String::new())
@@ -130,7 +116,7 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
                 _ => "it records no scene grid (written by an older e3d, or missing)".to_string(),
             };
             // the effects seen, on a near-square grid
-            let n = max_effect + 1;
+            let n = trials.iter().map(|t| t.effect).max().unwrap_or(0) + 1;
             let cols = (n as f64).sqrt().ceil().max(1.0) as usize;
             let note = format!(
                 "summary.json: {why}; the effects are drawn on a plain {} x {cols} grid in index order, not on the scene's grid",
@@ -140,10 +126,10 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
             (n.div_ceil(cols), cols, note)
         }
     };
-    let title = format!(
-        "e3d run: {}",
-        scene_name.unwrap_or_else(|| dir.display().to_string())
-    );
+    let title = match scene_name {
+        Some(name) => format!("e3d run: {name}"),
+        None => format!("e3d run: {}", dir.display()),
+    };
     Ok(run_page(&title, &note, &summary, &trials, rows, cols))
 }
 

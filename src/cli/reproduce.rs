@@ -37,11 +37,9 @@ pub fn run(a: ReproduceArgs) -> CliResult {
     // give the seeds of another run
     let last = a.sessions - 1;
     if a.seed.checked_add(last).is_none() {
+        let (seed, sessions, most) = (a.seed, a.sessions, u64::MAX - last);
         return Err(CliError::input(format!(
-            "--seed {} with --sessions {}: session i uses seed SEED + i, which would pass 2^64 - 1; expected a seed of at most {}",
-            a.seed,
-            a.sessions,
-            u64::MAX - last
+            "--seed {seed} with --sessions {sessions}: session i uses seed SEED + i, which would pass 2^64 - 1; expected a seed of at most {most}"
         )));
     }
     let config = PaperConfig {
@@ -73,10 +71,7 @@ pub fn run(a: ReproduceArgs) -> CliResult {
         write_file(&a.out.join(name), bytes)?;
     }
     outln!("{summary}");
-    outln!(
-        "wrote fig2.svg, fig2.csv, fig3.svg, fig3.csv and summary.md in {} ({:.1} s)",
-        a.out.display(),
-        start.elapsed().as_secs_f64()
-    );
+    let (out, secs) = (a.out.display(), start.elapsed().as_secs_f64());
+    outln!("wrote fig2.svg, fig2.csv, fig3.svg, fig3.csv and summary.md in {out} ({secs:.1} s)");
     Ok(())
 }

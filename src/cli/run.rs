@@ -70,12 +70,17 @@ struct Single<'a> {
     effect_counts: Vec<f64>,
 }
 
+/// A session's seed, metrics and effect counts (of several, or of values).
 #[derive(Serialize)]
 struct OneSession<'a> {
     seed: u64,
     #[serde(flatten)]
     metrics: &'a Metrics,
     effect_counts: Vec<f64>,
+    /// Continuous commands: per slot, the mean and standard deviation of
+    /// the final policy, in the slot's unit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    final_policy: Option<Vec<SlotPolicy>>,
 }
 
 pub fn run(a: RunArgs) -> CliResult {
@@ -99,8 +104,9 @@ fn run_here(a: RunArgs) -> CliResult {
     let reachable = a.target == TargetArg::Reachable;
     if let Some(continuous) = scene.as_continuous() {
         if reachable {
-            let what = format!("scene `{name}` takes continuous commands");
-            return Err(only_trials(&what));
+            return Err(only_trials(&format!(
+                "scene `{name}` takes continuous commands"
+            )));
         }
         run_values(&a, continuous, params, &seeds)
     } else if super::episodes::wanted(&a, &scene) {
@@ -220,6 +226,7 @@ fn run_symbols(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> Cli
                 seed,
                 metrics: m,
                 effect_counts,
+                final_policy: None,
             })
             .collect()
         }),
@@ -242,18 +249,7 @@ struct ValuesSummary<'a> {
     /// Always `"live"`: continuous commands have no table or memo.
     execution: &'static str,
     /// Per session: its seed, metrics, effect counts and final policy.
-    sessions: Vec<ValueSession<'a>>,
-}
-
-#[derive(Serialize)]
-struct ValueSession<'a> {
-    seed: u64,
-    #[serde(flatten)]
-    metrics: &'a Metrics,
-    effect_counts: Vec<f64>,
-    /// Per slot: the mean and standard deviation of the final policy, in
-    /// the slot's unit.
-    final_policy: Vec<SlotPolicy>,
+    sessions: Vec<OneSession<'a>>,
 }
 
 #[derive(Serialize)]
@@ -304,14 +300,12 @@ fn run_values(
         threads,
     };
     let exec = Executor::for_values(scene, &work).map_err(CliError::input)?;
-    errln!(
-        "outcomes: live: continuous commands, {} trials x {sessions} session(s) x {steps} steps, on {threads} thread(s){}",
-        a.trials,
-        match exec.plan().copies {
-            1 => String::new(),
-            k => format!(", in lockstep up to {k} sessions per world"),
-        }
-    );
+    let lockstep = match exec.plan().copies {
+        1 => String::new(),
+        k => format!(", in lockstep up to {k} sessions per world"),
+    };
+    let trials = a.trials;
+    errln!("outcomes: live: continuous commands, {trials} trials x {sessions} session(s) x {steps} steps, on {threads} thread(s){lockstep}");
     let status = track_run(a, scene, "trials", sessions, |control| {
         run_sessions(&exec, &mut learners, &configs, &mut records, control)
     });
@@ -340,13 +334,15 @@ fn run_values(
         use_reward: !a.no_reward,
         execution: "live",
         sessions: (records.iter().zip(&metrics).zip(seeds))
-            .map(|((r, m), &seed)| ValueSession {
+            .map(|((r, m), &seed)| OneSession {
                 seed,
                 metrics: m,
                 effect_counts: r.effect_counts(0..r.trials()),
-                final_policy: (r.final_policy.iter())
-                    .map(|&(mean, sd)| SlotPolicy { mean, sd })
-                    .collect(),
+                final_policy: Some(
+                    (r.final_policy.iter())
+                        .map(|&(mean, sd)| SlotPolicy { mean, sd })
+                        .collect(),
+                ),
             })
             .collect(),
     };
@@ -380,12 +376,13 @@ fn executor<'s>(a: &RunArgs, scene: &'s Scene, work: &Workload) -> Result<Execut
 
 /// A session's configuration per seed.
 fn configs(a: &RunArgs, seeds: &[u64]) -> Vec<SessionConfig> {
-    let config = |seed| SessionConfig {
-        trials: a.trials as usize,
-        seed,
-        use_reward: !a.no_reward,
-    };
-    seeds.iter().map(|&seed| config(seed)).collect()
+    (seeds.iter())
+        .map(|&seed| SessionConfig {
+            trials: a.trials as usize,
+            seed,
+            use_reward: !a.no_reward,
+        })
+        .collect()
 }
 
 /// The sessions' seeds: `--seed`, `--seed + 1`, ..., one per session.

@@ -194,10 +194,9 @@ impl MemoArgs {
     }
 }
 
-/// One session's rows of a CSV file, streamed into a temporary file
-/// beside the final one (joined by [`join_trials`]): a session of any
-/// length never holds its rows in memory. The first write error is kept
-/// and said by [`finish`](Self::finish).
+/// One session's rows of a CSV file, streamed into a temporary file beside
+/// the final one (joined by [`write_run`]), never held in memory; the first
+/// write error is said by [`finish`](Self::finish).
 pub(super) struct CsvPart {
     out: std::io::BufWriter<std::fs::File>,
     path: PathBuf,
@@ -286,14 +285,12 @@ pub(super) fn finish_parts<E>(
 where
     CliError: From<E>,
 {
-    let mut files = Vec::new();
-    for (st, part) in status.into_iter().zip(parts) {
-        st?;
-        if let Some(p) = part {
-            files.push(p.finish()?);
-        }
-    }
-    Ok(files)
+    (status.into_iter().zip(parts))
+        .filter_map(|(st, part)| match st {
+            Ok(()) => part.map(CsvPart::finish),
+            Err(e) => Some(Err(e.into())),
+        })
+        .collect()
 }
 
 /// Writes DIR/trials.csv whole or not at all (`header`, the sessions'
@@ -309,23 +306,19 @@ pub(super) fn write_run(
     use std::io::Write;
     let (csv, json_path) = (dir.join("trials.csv"), dir.join("summary.json"));
     let (tmp, file) = e3d::io::create_temp_beside(&csv).map_err(|e| cannot_write(&csv, e))?;
-    let result = (|| -> std::io::Result<()> {
+    let written = (|| -> std::io::Result<()> {
         let mut out = std::io::BufWriter::new(file);
         writeln!(out, "{header}")?;
         for p in parts {
             std::io::copy(&mut std::fs::File::open(p)?, &mut out)?;
         }
         rows(&mut out)?;
-        out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        std::fs::rename(&tmp, &csv)
+        out.into_inner().map_err(|e| e.into_error())?.sync_all()
     })();
     for p in parts {
         let _ = std::fs::remove_file(p);
     }
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(|e| cannot_write(&csv, e))?;
+    e3d::io::finish_output(Some(tmp), &csv, written, |e| e).map_err(|e| cannot_write(&csv, e))?;
     let mut json = serde_json::to_vec_pretty(summary).map_err(CliError::output)?;
     json.push(b'\n');
     super::output::write_file(&json_path, &json)?;
@@ -358,10 +351,8 @@ pub(super) fn note_unused_params(learner: LearnerKind, given: &[&str]) {
         r => r.join(", "),
     };
     for name in given.iter().filter(|n| !reads.contains(n)) {
-        errln!(
-            "note: --{} does nothing for learner {learner} (it reads {list})",
-            name.replace('_', "-")
-        );
+        let flag = name.replace('_', "-");
+        errln!("note: --{flag} does nothing for learner {learner} (it reads {list})");
     }
 }
 
@@ -384,11 +375,8 @@ pub(super) fn print_header(a: &RunArgs, scene: &str, kind: &str, params: &Params
         u => format!(" |{u}"),
     };
     let no_reward = if a.no_reward { " | no reward" } else { "" };
-    outln!(
-        "scene {scene} | learner {}{kind} | {} trials{sessions} | seed {seed}{used}{no_reward}",
-        a.learner,
-        a.trials
-    );
+    let (learner, trials) = (a.learner, a.trials);
+    outln!("scene {scene} | learner {learner}{kind} | {trials} trials{sessions} | seed {seed}{used}{no_reward}");
 }
 
 /// The metrics of each session (`seeds[i]` names session `i` when there
@@ -401,13 +389,17 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
             1 => String::new(),
             _ => format!("seed {seed}: "),
         };
-        outln!(
-            "{who}normalised entropy {:.4} (last 1000: {:.4}) | KL to target {:.4} nats | {} of {num_effects} effects reached",
-            m.normalized_entropy,
-            m.normalized_entropy_last_1000,
-            m.kl_to_target,
-            m.distinct_effects
-        );
+        let Metrics {
+            normalized_entropy: h,
+            normalized_entropy_last_1000: h1000,
+            kl_to_target: kl,
+            distinct_effects: k,
+            coverage,
+            coverage_cells: cells,
+            cumulative_reward: reward,
+            ..
+        } = *m;
+        outln!("{who}normalised entropy {h:.4} (last 1000: {h1000:.4}) | KL to target {kl:.4} nats | {k} of {num_effects} effects reached");
         if let (Some(k), Some(h)) = (m.reachable_effects, m.normalized_entropy_reachable) {
             outln!("{who}over the {k} reachable cells: normalised entropy {h:.4}");
         }
@@ -415,28 +407,16 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
             Some(_) => ("the", " reachable"),
             None => ("all", ""),
         };
-        outln!(
-            "{who}coverage {:.4} of {of} {}{reachable} cells | 50% by trial {} | 90% by trial {}",
-            m.coverage,
-            m.coverage_cells,
-            at(m.trials_to_50_percent),
-            at(m.trials_to_90_percent)
-        );
-        outln!(
-            "{who}cumulative reward {} | first reward at trial {}",
-            m.cumulative_reward,
-            at(m.first_reward_trial)
-        );
+        let (t50, t90) = (at(m.trials_to_50_percent), at(m.trials_to_90_percent));
+        outln!("{who}coverage {coverage:.4} of {of} {cells}{reachable} cells | 50% by trial {t50} | 90% by trial {t90}");
+        let first = at(m.first_reward_trial);
+        outln!("{who}cumulative reward {reward} | first reward at trial {first}");
     }
     if sessions > 1 {
-        let mean =
-            |f: &dyn Fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
-        outln!(
-            "mean of {sessions} sessions: normalised entropy {:.4} | coverage {:.4} | cumulative reward {:.1}",
-            mean(&|m| m.normalized_entropy),
-            mean(&|m| m.coverage),
-            mean(&|m| m.cumulative_reward)
-        );
+        let mean = |f: fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
+        let (h, coverage) = (mean(|m| m.normalized_entropy), mean(|m| m.coverage));
+        let reward = mean(|m| m.cumulative_reward);
+        outln!("mean of {sessions} sessions: normalised entropy {h:.4} | coverage {coverage:.4} | cumulative reward {reward:.1}");
     }
 }
 

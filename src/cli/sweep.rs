@@ -1,6 +1,6 @@
 //! `e3d sweep` and `e3d merge`: grids of sessions, resumable, in shards.
 
-use super::{progress, CliError, CliResult};
+use super::{plural, progress, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::sweep::{self, DirOptions, DirReport, Shard, Sweep, SweepError};
@@ -48,7 +48,6 @@ pub struct MergeArgs {
 pub(crate) fn sweep_error(e: SweepError) -> CliError {
     match e {
         SweepError::Input(_) => CliError::input(e),
-        SweepError::World(_) => CliError::simulation(e),
         SweepError::Io { .. } | SweepError::Output(_) => CliError::output(e),
         _ => CliError::simulation(e),
     }
@@ -71,17 +70,16 @@ pub fn run(a: SweepArgs) -> CliResult {
     let report = progress::track("sweep", "trials", 0, |p| {
         // a table built before the trials shows its own count and ETA
         let phase = p.phase();
-        let sweep =
-            sweep
-                .with_trial_counter(p.counter())
-                .with_table_progress(move |scene, k, total| {
-                    if total == 0 {
-                        phase.end();
-                    } else {
-                        phase.enter(&format!("sweep: table of {scene}"), "commands", total);
-                        phase.add(k);
-                    }
-                });
+        let on_table = move |scene: &str, k, total| match total {
+            0 => phase.end(),
+            _ => {
+                phase.enter(&format!("sweep: table of {scene}"), "commands", total);
+                phase.add(k);
+            }
+        };
+        let sweep = sweep
+            .with_trial_counter(p.counter())
+            .with_table_progress(on_table);
         let mut planned = false;
         sweep.run_to_dir(
             &a.out,
@@ -108,10 +106,8 @@ pub fn run(a: SweepArgs) -> CliResult {
             },
         )
     })
-    .map_err(sweep_error);
-    let report = report?;
-    let secs = start.elapsed().as_secs_f64();
-    tell_done(&report, secs);
+    .map_err(sweep_error)?;
+    tell_done(&report, start.elapsed().as_secs_f64());
     tell_written(&a, shard);
     Ok(())
 }
@@ -134,82 +130,54 @@ fn configured(a: &SweepArgs) -> Result<Sweep, CliError> {
 /// The line that tells the plan: cells, sessions, trials, episodes,
 /// shard and threads.
 fn plan_line(a: &SweepArgs, sweep: &Sweep, shard: Shard, threads: usize) -> String {
-    let total = sweep.num_sessions();
-    format!(
-        "sweep {}: {} cells x {} sessions = {} sessions of {} trials{}{}, {} thread{}",
-        a.file.display(),
-        sweep.cells().len(),
-        sweep.spec.sessions,
-        total,
-        sweep.spec.trials,
-        if sweep.spec.runs_episodes() {
-            format!(
-                " (episodes of {} command{}{})",
-                sweep.spec.commands,
-                if sweep.spec.commands == 1 { "" } else { "s" },
-                if sweep.spec.closed_loop {
-                    ", closed loop"
-                } else {
-                    ""
-                }
-            )
+    let (total, spec) = (sweep.num_sessions(), &sweep.spec);
+    let mut episodes = String::new();
+    if spec.runs_episodes() {
+        let s = plural(spec.commands);
+        let closed = if spec.closed_loop {
+            ", closed loop"
         } else {
-            String::new()
-        },
-        if shard.n > 1 {
-            format!(", shard {shard} ({} sessions)", shard.count(total))
-        } else {
-            String::new()
-        },
-        threads,
-        if threads == 1 { "" } else { "s" }
-    )
+            ""
+        };
+        episodes = format!(" (episodes of {} command{s}{closed})", spec.commands);
+    }
+    let mut part = String::new();
+    if shard.n > 1 {
+        part = format!(", shard {shard} ({} sessions)", shard.count(total));
+    }
+    let (file, cells, s) = (a.file.display(), sweep.cells().len(), plural(threads));
+    let (sessions, trials) = (spec.sessions, spec.trials);
+    format!("sweep {file}: {cells} cells x {sessions} sessions = {total} sessions of {trials} trials{episodes}{part}, {threads} thread{s}")
 }
 
 /// Tells how many sessions ran, how many an earlier run did, and how
 /// fast.
 fn tell_done(report: &DirReport, secs: f64) {
-    errln!(
-        "done: {} sessions ({} from an earlier run, {} now) in {:.2} s{}",
-        report.sessions,
-        report.resumed,
-        report.ran,
-        secs,
-        if report.ran > 0 && secs > 0.0 {
-            format!(", {:.1} sessions/s", report.ran as f64 / secs)
-        } else {
-            String::new()
-        }
-    );
+    let (all, resumed, ran) = (report.sessions, report.resumed, report.ran);
+    let mut rate = String::new();
+    if ran > 0 && secs > 0.0 {
+        rate = format!(", {:.1} sessions/s", ran as f64 / secs);
+    }
+    errln!("done: {all} sessions ({resumed} from an earlier run, {ran} now) in {secs:.2} s{rate}");
 }
 
 /// Tells the files written: the results, and for a whole sweep the
 /// summary.
 fn tell_written(a: &SweepArgs, shard: Shard) {
-    let mut wrote = vec![a.out.join(sweep::RESULTS)];
+    let mut wrote = a.out.join(sweep::RESULTS).display().to_string();
     if shard.n == 1 {
-        wrote.push(a.out.join(sweep::SUMMARY));
+        wrote += &format!(" and {}", a.out.join(sweep::SUMMARY).display());
     }
-    outln!(
-        "wrote {}",
-        wrote
-            .iter()
-            .map(|p| p.display().to_string())
-            .collect::<Vec<_>>()
-            .join(" and ")
-    );
+    outln!("wrote {wrote}");
 }
 
 pub fn merge(a: MergeArgs) -> CliResult {
     // one command at a time writes into a folder, as `sweep` does
     super::output::lock_out(&a.out)?;
     let report = sweep::merge(&a.dirs, &a.out).map_err(sweep_error)?;
-    outln!(
-        "merged {} shards, {} sessions: wrote {} and {}",
-        a.dirs.len(),
-        report.sessions,
-        a.out.join(sweep::RESULTS).display(),
-        a.out.join(sweep::SUMMARY).display()
-    );
+    let (results, summary) = (a.out.join(sweep::RESULTS), a.out.join(sweep::SUMMARY));
+    let (results, summary) = (results.display(), summary.display());
+    let (shards, sessions) = (a.dirs.len(), report.sessions);
+    outln!("merged {shards} shards, {sessions} sessions: wrote {results} and {summary}");
     Ok(())
 }

@@ -10,48 +10,39 @@ use e3d::world::ReachSample;
 use e3d::OutcomeTable;
 
 pub(super) fn check(scene: &Scene) -> CliResult {
-    let grid = scene.effect_grid();
-    outln!("scene {}: valid", scene.spec().name);
-    if !scene.spec().description.is_empty() {
-        outln!("  {}", scene.spec().description);
+    let (grid, spec) = (scene.effect_grid(), scene.spec());
+    outln!("scene {}: valid", spec.name);
+    if !spec.description.is_empty() {
+        outln!("  {}", spec.description);
     }
-    print_world(scene);
-    outln!("slots ({}):", scene.spec().num_slots());
-    if let e3d::scene::CommandSpec::Continuous(slots) = &scene.spec().command {
+    match &spec.world {
+        WorldSpec::Grid(g) => print_grid(g),
+        WorldSpec::Physics(p) => print_physics(scene, p),
+    }
+    outln!("slots ({}):", spec.num_slots());
+    if let e3d::scene::CommandSpec::Continuous(slots) = &spec.command {
         for (i, slot) in slots.iter().enumerate() {
-            outln!(
-                "  {i}: a value in [{}, {}]{}: {:?}",
-                slot.range.0,
-                slot.range.1,
-                slot.name
-                    .as_deref()
-                    .map_or(String::new(), |n| format!(" ({n})")),
-                slot.action
-            );
+            let ((lo, hi), action) = (slot.range, &slot.action);
+            let name = slot
+                .name
+                .as_deref()
+                .map_or(String::new(), |n| format!(" ({n})"));
+            outln!("  {i}: a value in [{lo}, {hi}]{name}: {action:?}");
         }
         outln!(
             "distinct commands: infinitely many (continuous: live physics only, no table or memo)"
         );
     } else {
-        for (i, alphabet) in scene.spec().slots().enumerate() {
+        for (i, alphabet) in spec.slots().enumerate() {
             let syms: String = alphabet.iter().map(|s| s.symbol).collect();
             outln!("  {i}: {syms}");
         }
-        outln!(
-            "distinct commands: {}",
-            scene.command_space().num_commands_text()
-        );
+        let n = scene.command_space().num_commands_text();
+        outln!("distinct commands: {n}");
     }
-    outln!(
-        "effects: {} ({} x {} cells over [{}, {}] x [{}, {}])",
-        grid.num_cells(),
-        grid.rows,
-        grid.cols,
-        grid.min[0],
-        grid.max[0],
-        grid.min[1],
-        grid.max[1]
-    );
+    let ([x0, y0], [x1, y1], rows, cols) = (grid.min, grid.max, grid.rows, grid.cols);
+    let n = grid.num_cells();
+    outln!("effects: {n} ({rows} x {cols} cells over [{x0}, {x1}] x [{y0}, {y1}])");
     print_rewards(scene, &grid);
     print_actions(scene);
     print_context_starts(scene);
@@ -110,16 +101,8 @@ fn action_text(action: &Action, physics: Option<&PhysicsSpec>) -> String {
     match action {
         Action::Idle => "nothing".to_string(),
         Action::Move { drow, dcol } => {
-            let ns = match drow.signum() {
-                -1 => "north",
-                1 => "south",
-                _ => "",
-            };
-            let ew = match dcol.signum() {
-                -1 => "west",
-                1 => "east",
-                _ => "",
-            };
+            let ns = ["north", "", "south"][(drow.signum() + 1) as usize];
+            let ew = ["west", "", "east"][(dcol.signum() + 1) as usize];
             let way = match (ns, ew) {
                 ("", "") => "stay".to_string(),
                 (a, "") | ("", a) => format!("move {a}"),
@@ -157,38 +140,35 @@ fn print_context_starts(scene: &Scene) {
     for c in &p.contexts {
         let mut parts: Vec<String> = Vec::new();
         for b in &c.bodies {
-            let mut what = Vec::new();
-            match (b.position, b.to) {
-                (Some(a), Some(to)) => {
-                    what.push(format!("at a point drawn in {}..{}", pair(a), pair(to)))
-                }
-                (Some(a), None) => what.push(format!("at {}", pair(a))),
-                _ => {}
-            }
-            if let Some(a) = b.angle {
-                what.push(format!("angle {a} rad"));
-            }
-            if let Some(v) = b.velocity {
-                what.push(format!("velocity {} m/s", pair(v)));
-            }
-            if let Some(w) = b.angular_velocity {
-                what.push(format!("angular velocity {w} rad/s"));
-            }
+            let what: Vec<String> = [
+                b.position.map(|a| match b.to {
+                    Some(to) => format!("at a point drawn in {}..{}", pair(a), pair(to)),
+                    None => format!("at {}", pair(a)),
+                }),
+                b.angle.map(|a| format!("angle {a} rad")),
+                b.velocity.map(|v| format!("velocity {} m/s", pair(v))),
+                b.angular_velocity
+                    .map(|w| format!("angular velocity {w} rad/s")),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
             parts.push(format!("`{}` {}", b.body, what.join(", ")));
         }
         for j in &c.joints {
             let slider = (p.joints.iter().find(|s| s.name == j.joint))
                 .is_some_and(|s| matches!(s.kind, JointKind::Prismatic { .. }));
             let unit = if slider { "m" } else { "rad" };
-            let mut what = Vec::new();
-            match (j.angle, j.to) {
-                (Some(a), Some(to)) => what.push(format!("drawn in [{a}, {to}] {unit}")),
-                (Some(a), None) => what.push(format!("at {a} {unit}")),
-                _ => {}
-            }
-            if let Some(v) = j.velocity {
-                what.push(format!("rate {v} {unit}/s"));
-            }
+            let what: Vec<String> = [
+                j.angle.map(|a| match j.to {
+                    Some(to) => format!("drawn in [{a}, {to}] {unit}"),
+                    None => format!("at {a} {unit}"),
+                }),
+                j.velocity.map(|v| format!("rate {v} {unit}/s")),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
             parts.push(format!("joint `{}` {}", j.joint, what.join(", ")));
         }
         let rest = match parts.is_empty() {
@@ -207,13 +187,10 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
     if samples == 0 {
         return Ok(());
     }
-    let total = match scene.spec().is_continuous() {
-        true => samples,
-        false => scene
-            .command_space()
-            .num_commands()
-            .map_or(samples, |n| n.min(samples)),
-    };
+    let n = scene.command_space().num_commands();
+    let total = n
+        .filter(|_| !scene.spec().is_continuous())
+        .map_or(samples, |n| n.min(samples));
     let label = format!("scene check {}", scene.spec().name);
     say_cost(&label, scene, total, 1, 1);
     let sampled = progress::track_control(&label, "commands", total, |control| {
@@ -238,11 +215,8 @@ pub(super) fn check_reach(scene: &Scene, samples: u64, seed: u64) -> CliResult {
         true => format!("reach: all {k} commands executed ({secs:.2} s)"),
         false => format!("reach (estimate): {k} random commands of {n} (seed {seed}, {secs:.2} s)"),
     };
-    outln!(
-        "{what}: {} of {} cells reached",
-        s.reached_cells(),
-        grid.num_cells()
-    );
+    let (reached, cells) = (s.reached_cells(), grid.num_cells());
+    outln!("{what}: {reached} of {cells} cells reached");
     print_reward_reach(scene, &s);
     Ok(())
 }
@@ -256,14 +230,10 @@ fn print_reward_reach(scene: &Scene, s: &ReachSample) {
         return;
     }
     let effects: Vec<usize> = cells.iter().map(|&(r, c)| r * grid.cols + c).collect();
-    let hits = s.hits(&effects);
-    let share = hits as f64 / s.samples as f64;
+    let (hits, k) = (s.hits(&effects), s.samples);
+    let pct = 100.0 * (hits as f64 / k as f64);
     if s.exhaustive {
-        outln!(
-            "reward cells reached by {hits} of {} commands ({:.3}%)",
-            s.samples,
-            100.0 * share
-        );
+        outln!("reward cells reached by {hits} of {k} commands ({pct:.3}%)");
         if hits == 0 {
             errln!(
                 "warning: scene {}: no command reaches a reward cell {cells:?} (every command executed)",
@@ -272,19 +242,12 @@ fn print_reward_reach(scene: &Scene, s: &ReachSample) {
         }
         return;
     }
-    outln!(
-        "reward cells: estimated probability {:.3}% ({hits} of {} sampled commands)",
-        100.0 * share,
-        s.samples
-    );
+    outln!("reward cells: estimated probability {pct:.3}% ({hits} of {k} sampled commands)");
     if hits == 0 {
         // the rule of three: with no hit in k draws, p < 3/k at 95%
-        let bound = 100.0 * 3.0 / s.samples as f64;
-        errln!(
-            "warning: scene {}: no sampled command reached a reward cell {cells:?}: it may be unreachable, or rarer than about {bound:.2}% (95% bound); {}",
-            scene.spec().name,
-            full_check_cost(scene)
-        );
+        let bound = 100.0 * 3.0 / k as f64;
+        let (name, full) = (&scene.spec().name, full_check_cost(scene));
+        errln!("warning: scene {name}: no sampled command reached a reward cell {cells:?}: it may be unreachable, or rarer than about {bound:.2}% (95% bound); {full}");
     }
 }
 
@@ -294,19 +257,21 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
     if scene.spec().is_continuous() {
         return "a full check is not possible: continuous commands cannot be enumerated; sample more with `--samples N`".to_string();
     }
-    let threads = rayon::current_num_threads();
+    let (threads, name) = (rayon::current_num_threads(), &scene.spec().name);
     let plan = super::simulate::table_plan(scene);
     match (plan.simulated, plan.table_seconds) {
-        (Some(k), Some(t)) => format!(
-            "a full check (`e3d scene reward-cell {}`) simulates {k} commands: about {} on {threads} thread(s) by the cost model, calibrated here",
-            scene.spec().name,
-            seconds_text(t * super::simulate::calibration(scene, threads, plan.copies))
-        ),
-        _ => format!(
-            "a full check is not possible: {} commands are too many for `e3d scene reward-cell` (at most {}); sample more with `--samples N`",
-            scene.command_space().num_commands_text(),
-            e3d::world::MAX_TABLE_COMMANDS
-        ),
+        (Some(k), Some(t)) => {
+            let calibrated = t * super::simulate::calibration(scene, threads, plan.copies);
+            let time = seconds_text(calibrated);
+            format!("a full check (`e3d scene reward-cell {name}`) simulates {k} commands: about {time} on {threads} thread(s) by the cost model, calibrated here")
+        }
+        _ => {
+            let (n, most) = (
+                scene.command_space().num_commands_text(),
+                e3d::world::MAX_TABLE_COMMANDS,
+            );
+            format!("a full check is not possible: {n} commands are too many for `e3d scene reward-cell` (at most {most}); sample more with `--samples N`")
+        }
     }
 }
 
@@ -323,28 +288,12 @@ pub(super) fn rewarded_cells(scene: &Scene) -> Vec<(usize, usize)> {
     cells
 }
 
-/// The world's part of `scene check`: a grid's size, or a physics
-/// scene's schedule, bodies, joints, tracked point and symmetry.
-fn print_world(scene: &Scene) {
-    match &scene.spec().world {
-        WorldSpec::Grid(g) => print_grid(g),
-        WorldSpec::Physics(p) => print_physics(scene, p),
-    }
-}
-
 /// A grid world: its size, start, walls and start contexts.
 fn print_grid(g: &GridSpec) {
-    outln!(
-        "world: Grid, {} x {} cells, start {:?}, {} wall(s)",
-        g.rows,
-        g.cols,
-        g.start,
-        g.walls.len()
-    );
+    let (rows, cols, start, walls) = (g.rows, g.cols, g.start, g.walls.len());
+    outln!("world: Grid, {rows} x {cols} cells, start {start:?}, {walls} wall(s)");
     if !g.contexts.is_empty() {
-        let list: Vec<String> = g
-            .contexts
-            .iter()
+        let list: Vec<String> = (g.contexts.iter())
             .map(|c| match c.to {
                 Some(to) => format!("{} {:?}..={to:?}", c.name, c.cell),
                 None => format!("{} {:?}", c.name, c.cell),
@@ -358,9 +307,7 @@ fn print_grid(g: &GridSpec) {
 /// schedule, bodies, joints, effect and symmetry.
 fn print_physics(scene: &Scene, p: &PhysicsSpec) {
     if !p.contexts.is_empty() {
-        let list: Vec<String> = p
-            .contexts
-            .iter()
+        let list: Vec<String> = (p.contexts.iter())
             .map(|c| {
                 let kind = if c.is_sampled() { "drawn" } else { "named" };
                 // what the context sets: its bodies and its joints, by name
@@ -376,33 +323,20 @@ fn print_physics(scene: &Scene, p: &PhysicsSpec) {
         errln!("warning: scene {}: {w}", scene.spec().name);
     }
     let (phase, settle, together) = p.schedule.steps(p.dt);
-    outln!(
-        "world: Physics, gravity ({}, {}) m/s², dt {:.6} s, {} step(s) per command ({})",
-        p.gravity.0,
-        p.gravity.1,
-        p.dt,
-        p.schedule.total_steps(p.dt, scene.spec().num_slots()),
-        if together {
-            format!("all slots push {phase} steps, then settle {settle}")
-        } else {
-            format!("{phase} steps per slot, then settle {settle}")
-        }
-    );
-    outln!(
-        "solver: {} iteration(s) per step{} (`--accuracy` measures what other settings cost and change)",
-        p.solver_iterations.unwrap_or(4),
-        if p.solver_iterations.is_none() {
-            ", Rapier's default"
-        } else {
-            ""
-        }
-    );
+    let how = match together {
+        true => format!("all slots push {phase} steps, then settle {settle}"),
+        false => format!("{phase} steps per slot, then settle {settle}"),
+    };
+    let ((gx, gy), dt) = (p.gravity, p.dt);
+    let steps = p.schedule.total_steps(dt, scene.spec().num_slots());
+    outln!("world: Physics, gravity ({gx}, {gy}) m/s², dt {dt:.6} s, {steps} step(s) per command ({how})");
+    let iterations = p.solver_iterations.unwrap_or(4);
+    let default = p.solver_iterations.map_or(", Rapier's default", |_| "");
+    outln!("solver: {iterations} iteration(s) per step{default} (`--accuracy` measures what other settings cost and change)");
     print_bodies(p);
     print_joints(p);
     match p.effect.world_point() {
-        Some((body, point, _)) => {
-            outln!("tracked point: ({}, {}) on `{}`", point.0, point.1, body)
-        }
+        Some((body, (x, y), _)) => outln!("tracked point: ({x}, {y}) on `{body}`"),
         None => outln!("effect: {}", e3d::report::scene_svg::describe_effect(p)),
     }
     if let Some(sym) = p.symmetry {
@@ -425,15 +359,8 @@ fn print_bodies(p: &PhysicsSpec) {
         } else {
             String::new()
         };
-        outln!(
-            "  {:<12} {:?}, {:?}{mass}, at ({}, {}), angle {}",
-            b.name,
-            b.kind,
-            b.shape,
-            b.position.0,
-            b.position.1,
-            b.angle
-        );
+        let (name, kind, shape, (x, y), angle) = (&b.name, b.kind, &b.shape, b.position, b.angle);
+        outln!("  {name:<12} {kind:?}, {shape:?}{mass}, at ({x}, {y}), angle {angle}");
     }
 }
 
@@ -441,41 +368,30 @@ fn print_bodies(p: &PhysicsSpec) {
 fn print_joints(p: &PhysicsSpec) {
     outln!("joints ({}):", p.joints.len());
     for j in &p.joints {
-        // a slider's numbers are in m, N/m and N·s/m (its kind is
-        // named; a hinge's line is as it always was)
+        // a slider's numbers are in m, N/m and N·s/m (its kind is named)
         let (kind, unit, force) = match j.kind {
             e3d::scene::physics::JointKind::Revolute => (String::new(), "rad", "N·m"),
             e3d::scene::physics::JointKind::Prismatic { axis } => {
                 (format!(", slider along ({}, {})", axis.0, axis.1), "m", "N")
             }
         };
-        outln!(
-            "  {:<12} {} -> {}{kind}, limits {}, damping {} {force}·s/{unit}{}",
-            j.name,
-            j.parent,
-            j.child,
-            j.limits
-                .map_or("none".to_string(), |(a, b)| format!("[{a}, {b}] {unit}")),
-            j.damping,
-            j.motor.map_or(String::new(), |m| format!(
-                ", motor {} {force}/{unit}, {} {force}·s/{unit}",
-                m.stiffness, m.damping
-            ))
-        );
+        let limits = (j.limits).map_or("none".into(), |(a, b)| format!("[{a}, {b}] {unit}"));
+        let motor = (j.motor).map_or(String::new(), |m| {
+            let (k, d) = (m.stiffness, m.damping);
+            format!(", motor {k} {force}/{unit}, {d} {force}·s/{unit}")
+        });
+        let (name, parent, child, damping) = (&j.name, &j.parent, &j.child, j.damping);
+        outln!("  {name:<12} {parent} -> {child}{kind}, limits {limits}, damping {damping} {force}·s/{unit}{motor}");
     }
 }
 
 /// The reward's part of `scene check`: its regions and every rewarded cell.
 fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
     for r in &scene.spec().reward.regions {
+        let ((x0, y0), (x1, y1), cells) = (r.min, r.max, r.cells(grid));
         outln!(
-            "reward region `{}`: [{}, {}] x [{}, {}], cells {:?}",
-            r.name,
-            r.min.0,
-            r.max.0,
-            r.min.1,
-            r.max.1,
-            r.cells(grid)
+            "reward region `{}`: [{x0}, {x1}] x [{y0}, {y1}], cells {cells:?}",
+            r.name
         );
     }
     // every rewarded cell, listed or in a region: one answer
@@ -483,23 +399,20 @@ fn print_rewards(scene: &Scene, grid: &e3d::effect::EffectGrid) {
     if cells.is_empty() {
         outln!("reward cells: none (the scene declares no reward cell or region)");
     } else {
-        let from = match (
-            scene.spec().reward.cells.is_empty(),
-            scene.spec().reward.regions.len(),
-        ) {
+        let reward = &scene.spec().reward;
+        let from = match (reward.cells.is_empty(), reward.regions.len()) {
             (true, 1) => " (from the region above)".to_string(),
             (true, _) => " (from the regions above)".to_string(),
             (false, 0) => String::new(),
             (false, _) => " (listed and from the regions above)".to_string(),
         };
+        let note = match &reward.note {
+            n if n.is_empty() => String::new(),
+            n => format!(" ({n})"),
+        };
         outln!(
-            "reward cells: {cells:?}{from}, value {}{}",
-            scene.spec().reward.value,
-            if scene.spec().reward.note.is_empty() {
-                String::new()
-            } else {
-                format!(" ({})", scene.spec().reward.note)
-            }
+            "reward cells: {cells:?}{from}, value {}{note}",
+            reward.value
         );
     }
 }
@@ -522,20 +435,16 @@ pub(super) fn check_accuracy(scene: &Scene, samples: u64, seed: u64) -> CliResul
         .iter()
         .find(|r| r.scene)
         .map_or(1.0, |r| r.seconds_per_command);
-    outln!(
-        "accuracy ({samples} random commands, seed {seed}, one thread): the share whose terminal point lands in the cell of the converged run (dt / {}, {} solver iterations), and what a command costs",
-        e3d::world::CONVERGED_DT_DIVISOR,
-        e3d::world::CONVERGED_ITERATIONS
-    );
+    use e3d::world::{CONVERGED_DT_DIVISOR as DIVISOR, CONVERGED_ITERATIONS as ITERATIONS};
+    outln!("accuracy ({samples} random commands, seed {seed}, one thread): the share whose terminal point lands in the cell of the converged run (dt / {DIVISOR}, {ITERATIONS} solver iterations), and what a command costs");
     for r in &rows {
-        outln!(
-            "  solver_iterations: {:<3} {:>6.1}% in the converged cell, {:>8} a command (x{:.2} the scene's cost){}",
-            r.iterations,
-            100.0 * r.in_converged_cell,
+        let (iterations, pct) = (r.iterations, 100.0 * r.in_converged_cell);
+        let (cost, ratio) = (
             seconds_text(r.seconds_per_command),
             r.seconds_per_command / own,
-            if r.scene { "  <- the scene's" } else { "" }
         );
+        let mark = if r.scene { "  <- the scene's" } else { "" };
+        outln!("  solver_iterations: {iterations:<3} {pct:>6.1}% in the converged cell, {cost:>8} a command (x{ratio:.2} the scene's cost){mark}");
     }
     Ok(())
 }

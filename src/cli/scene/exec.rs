@@ -82,15 +82,16 @@ fn symbols(space: &CommandSpace) -> impl Fn(&str) -> Result<Command, CommandErro
 /// streamed into a temporary file renamed to FILE at the end (whole or not
 /// at all).
 pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
-    let Some(mut world) = scene.physics_world() else {
+    let (Some(mut world), WorldSpec::Physics(spec)) = (scene.physics_world(), &scene.spec().world)
+    else {
         return Err(CliError::input(format!(
             "scene `{}` is a grid: it has no motion to trace (`e3d scene render --command` draws a command's path)",
             scene.spec().name
         )));
     };
     let space = scene.command_space();
-    // whether stdin is read, and how many commands otherwise
-    let commands_known = (commands.iter().any(|c| c == "-"), commands.len() as u64);
+    // how many commands, unless stdin is read
+    let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
     let rx = reader(symbols(&space), commands, 64);
     let out_err = |e| crate::cli::cannot_write(path, e);
     // created exclusively: never through a link planted under its name
@@ -100,7 +101,6 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     let written = (|| -> CliResult {
         let mut first = true;
         let label = format!("scene exec {}", scene.spec().name);
-        let known = (!commands_known.0).then_some(commands_known.1);
         if let Some(n) = known {
             say_cost(&label, scene, n, 1, 1);
         }
@@ -114,7 +114,18 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
                 // frames go to the file as they are computed (a long
                 // command's motion is never held whole)
                 if first {
-                    header_only(scene)
+                    // a motion without frames writes the header
+                    let header = e3d::world::Motion {
+                        bodies: spec.bodies.iter().map(|b| b.name.clone()).collect(),
+                        joints: spec.joints.iter().map(|j| j.name.clone()).collect(),
+                        frames: Vec::new(),
+                        outcome: e3d::Outcome {
+                            effect: 0,
+                            reward: 0.0,
+                            point: [0.0; 2],
+                        },
+                    };
+                    header
                         .write_csv(&mut file, Some(&text), true)
                         .map_err(out_err)?;
                 }
@@ -144,27 +155,6 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
     })();
     drop(file);
     e3d::io::finish_output(tmp, path, written, out_err)
-}
-
-/// A motion of `scene` without frames: what writes the trace's header.
-fn header_only(scene: &Scene) -> e3d::world::Motion {
-    let (bodies, joints) = match &scene.spec().world {
-        WorldSpec::Physics(p) => (
-            p.bodies.iter().map(|b| b.name.clone()).collect(),
-            p.joints.iter().map(|j| j.name.clone()).collect(),
-        ),
-        WorldSpec::Grid(_) => (Vec::new(), Vec::new()),
-    };
-    e3d::world::Motion {
-        bodies,
-        joints,
-        frames: Vec::new(),
-        outcome: e3d::Outcome {
-            effect: 0,
-            reward: 0.0,
-            point: [0.0; 2],
-        },
-    }
 }
 
 /// How `e3d scene exec` executes a chunk of commands; it keeps its worlds
@@ -201,10 +191,8 @@ impl<'a> ExecPool<'a> {
     }
 
     /// Appends the result of each of `commands` to `out`, in order: those
-    /// of [`World::execute`], bit for bit.
-    /// With `memo`, the physics worlds' commands go through it
-    /// ([`Memoized`](e3d::world::Memoized)): those kept are looked up, the others
-    /// simulated once and kept.
+    /// of [`World::execute`], bit for bit; with `memo`, the physics worlds'
+    /// commands go through it ([`Memoized`](e3d::world::Memoized)).
     fn run(
         &mut self,
         commands: &[Command],
@@ -250,16 +238,9 @@ impl<'a> ExecPool<'a> {
     }
 }
 
-/// The most commands `e3d scene exec` executes at once: two batches of
-/// [`TABLE_COPIES`](e3d::world::TABLE_COPIES) per thread.
-pub(super) fn chunk_limit() -> usize {
-    2 * rayon::current_num_threads() * e3d::world::TABLE_COPIES
-}
-
-/// What the folder `dir` holds for `scene`: a whole table (looked up), or
-/// a memo of the commands executed so far (partial file, or empty when the
-/// file is missing or cannot be used, having said why on stderr). The
-/// memo's new outcomes are written back at the end (`OutcomeMemo::save`).
+/// What the folder `dir` holds for `scene`: a whole table, or a memo of
+/// the commands executed so far (empty, said why, when the file is missing
+/// or cannot be used), whose new outcomes are written back at the end.
 pub(super) fn exec_cache(
     scene: &Scene,
     dir: &Path,
@@ -290,13 +271,9 @@ pub(super) fn exec_cache(
     }
 }
 
-/// Without a table cache, a scene with a mirror symmetry still simulates
-/// one command of each mirror pair: a memo in memory (never written)
-/// hands the other its reflected outcome, which is what the world gives
-/// that command anyway (the world simulates the pair's lower-index
-/// command and reflects it), so the rows are the same bytes in half the
-/// rollouts. Other scenes need no memo: each command is simulated once
-/// per appearance.
+/// Without a table cache, a memo in memory for a scene with a mirror
+/// symmetry: it hands a command its mirror's reflected outcome, which is
+/// what the world gives it anyway, in half the rollouts.
 fn mirror_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
     match &scene.spec().world {
         WorldSpec::Physics(p) if p.symmetry.is_some() => new_memo(scene),
@@ -310,9 +287,8 @@ fn new_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
     e3d::world::OutcomeMemo::new(&space, effects, e3d::world::DEFAULT_MEMO_CAP).ok()
 }
 
-/// `scene exec` on a scene with start contexts: `header`, then for each
-/// command the rows `rows` writes (one per start), printed as each
-/// command is done.
+/// `scene exec` on a scene with start contexts: `header`, then per command
+/// the rows `rows` writes (one per start), printed as each is done.
 fn exec_each(
     scene: &Scene,
     commands: Vec<String>,
@@ -356,21 +332,16 @@ fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<Strin
 /// context's start is drawn with seed 0 (the same start on every row).
 fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>) -> CliResult {
     use rand::SeedableRng;
-    let space = scene.command_space();
-    exec_each(
-        scene,
-        commands,
-        "context,command,effect,reward,x,y\n",
-        |world, c, out| {
-            for (k, name) in names.iter().enumerate() {
-                let mut rng = e3d::SessionRng::seed_from_u64(0);
-                let from = world.draw_start(k, &mut rng).map_err(world_error)?;
-                let o = world.execute_outcome_from(&from, c).map_err(world_error)?;
-                push_row(out, format_args!("{name},{}", space.format(c)), &o);
-            }
-            Ok(())
-        },
-    )
+    let (space, header) = (scene.command_space(), "context,command,effect,reward,x,y\n");
+    exec_each(scene, commands, header, |world, c, out| {
+        for (k, name) in names.iter().enumerate() {
+            let mut rng = e3d::SessionRng::seed_from_u64(0);
+            let from = world.draw_start(k, &mut rng).map_err(world_error)?;
+            let o = world.execute_outcome_from(&from, c).map_err(world_error)?;
+            push_row(out, format_args!("{name},{}", space.format(c)), &o);
+        }
+        Ok(())
+    })
 }
 
 /// Fills `chunk` with the commands read next: the first one waited for,
@@ -396,35 +367,6 @@ fn next_chunk(
             Ok(r) => next = r,
             Err(_) => return Some(None),
         }
-    }
-}
-
-/// Appends the CSV rows of `chunk`'s outcomes (taken from `results`) to
-/// `text`, up to the first failure, which is returned.
-fn write_rows(
-    space: &CommandSpace,
-    chunk: &[Command],
-    results: &mut Vec<Result<e3d::Outcome, WorldError>>,
-    text: &mut String,
-) -> Option<CliError> {
-    for (c, r) in chunk.iter().zip(results.drain(..)) {
-        match r {
-            Ok(o) => push_row(text, space.format(c), &o),
-            Err(e) => return Some(world_error(e)),
-        }
-    }
-    None
-}
-
-/// Keeps the outcomes of `memo` in the table folder `dir` (merged with
-/// what its file holds); a failure is a note, the output stands.
-fn keep_memo(memo: &e3d::world::OutcomeMemo, scene: &Scene, dir: &Path) {
-    let path = OutcomeTable::cache_path(scene, dir);
-    if let Err(e) = memo.save(&path, scene) {
-        errln!(
-            "note: could not keep the outcomes in {}: {e}",
-            path.display()
-        );
     }
 }
 
@@ -467,28 +409,24 @@ impl CostNote {
         let (executed, threads) = (self.executed, self.threads);
         if !self.said && executed as f64 * self.per_command / threads as f64 >= progress::LONG {
             self.said = true;
-            p.say(format!(
-                "{label}: {executed} commands so far{}, about {} each on {threads} thread(s) by the cost model, calibrated here; more as stdin gives them",
-                steps_text(scene),
-                seconds_text(self.per_command)
-            ));
+            let (steps, each) = (steps_text(scene), seconds_text(self.per_command));
+            p.say(format!("{label}: {executed} commands so far{steps}, about {each} each on {threads} thread(s) by the cost model, calibrated here; more as stdin gives them"));
         }
     }
 }
 
 /// `e3d scene exec`: a reader thread parses the commands as they come; the
-/// main thread waits for one, takes what else is queued (up to
-/// [`chunk_limit`]), executes that chunk on every core and prints its rows
+/// main thread waits for one, takes what else is queued (up to two
+/// batches per thread), executes that chunk on every core and prints its rows
 /// in input order, flushed, before the next chunk. The first command that
 /// does not parse or that blows up ends the output, after the rows before
 /// it, with its error.
 pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
     let contexts = e3d::world::start_contexts(scene).len();
     if let (Some(dir), true) = (table_cache, contexts > 0) {
+        let (dir, name) = (dir.display(), &scene.spec().name);
         return Err(CliError::input(format!(
-            "--table-cache {}: scene `{}` has {contexts} start contexts, whose commands `scene exec` runs live from each context's start; it reads no table cache (drop --table-cache; `e3d scene table --cache DIR` builds the contexts' tables)",
-            dir.display(),
-            scene.spec().name
+            "--table-cache {dir}: scene `{name}` has {contexts} start contexts, whose commands `scene exec` runs live from each context's start; it reads no table cache (drop --table-cache; `e3d scene table --cache DIR` builds the contexts' tables)"
         )));
     }
     match &scene.spec().world {
@@ -509,7 +447,8 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
     let mut cost = CostNote::new(&label, scene, known, table.is_some());
     let mut executor = ExecPool::new(scene, table);
-    let limit = chunk_limit();
+    // at most two batches of TABLE_COPIES per thread at once
+    let limit = 2 * rayon::current_num_threads() * e3d::world::TABLE_COPIES;
     let rx = reader(symbols(&space), commands, 2 * limit);
     let write = |text: &str| write_stdout(text.as_bytes());
     let header = "command,effect,reward,x,y\n";
@@ -530,8 +469,15 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
             p.add(chunk.len() as u64);
             cost.add(chunk.len() as u64, &label, scene, p);
             text.clear();
-            if let Some(e) = write_rows(&space, &chunk, &mut results, &mut text) {
-                end = Some(e);
+            // the rows up to the first failure, which ends the output
+            for (c, r) in chunk.iter().zip(results.drain(..)) {
+                match r {
+                    Ok(o) => push_row(&mut text, space.format(c), &o),
+                    Err(e) => {
+                        end = Some(world_error(e));
+                        break;
+                    }
+                }
             }
             if !text.is_empty() {
                 if !header_written {
@@ -543,8 +489,16 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
         }
         Ok(())
     })?;
+    // the new outcomes kept in the table folder (merged with its file); a
+    // failure is a note, the output stands
     if let (Some(m), Some(dir)) = (memo.as_ref().filter(|m| !m.is_empty()), table_cache) {
-        keep_memo(m, scene, dir);
+        let path = OutcomeTable::cache_path(scene, dir);
+        if let Err(e) = m.save(&path, scene) {
+            errln!(
+                "note: could not keep the outcomes in {}: {e}",
+                path.display()
+            );
+        }
     }
     match end {
         Some(e) => Err(e),

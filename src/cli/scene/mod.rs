@@ -196,16 +196,12 @@ fn parse_point(s: &str) -> Result<[f64; 2], String> {
 fn check_outputs(cmd: &SceneCmd) -> CliResult {
     use super::output::{check_cache_folder, check_format};
     match cmd {
-        SceneCmd::Render { animate, out, .. } => {
-            let (formats, hint): (&[&str], &str) = if *animate {
-                (&["svg", "html", "htm"], "")
-            } else {
-                (
-                    &["svg"],
-                    " (for a raster image: Python's `Scene.render`, or convert the SVG, e.g. `rsvg-convert x.svg -o x.png`)",
-                )
-            };
-            check_format(out, "--out", formats, hint)
+        SceneCmd::Render {
+            animate: true, out, ..
+        } => check_format(out, "--out", &["svg", "html", "htm"], ""),
+        SceneCmd::Render { out, .. } => {
+            let hint = " (for a raster image: Python's `Scene.render`, or convert the SVG, e.g. `rsvg-convert x.svg -o x.png`)";
+            check_format(out, "--out", &["svg"], hint)
         }
         SceneCmd::Exec {
             trace, table_cache, ..
@@ -213,10 +209,7 @@ fn check_outputs(cmd: &SceneCmd) -> CliResult {
             if let Some(t) = trace {
                 check_format(t, "--trace", &["csv"], "")?;
             }
-            match table_cache {
-                Some(d) => check_cache_folder(d, "--table-cache"),
-                None => Ok(()),
-            }
+            (table_cache.as_deref()).map_or(Ok(()), |d| check_cache_folder(d, "--table-cache"))
         }
         SceneCmd::Table { cache: Some(d), .. } => check_cache_folder(d, "--cache"),
         _ => Ok(()),
@@ -242,10 +235,7 @@ pub fn run(a: SceneArgs) -> CliResult {
         } => {
             check(&scene)?;
             check_reach(&scene, samples, seed)?;
-            match accuracy {
-                Some(n) => check_accuracy(&scene, n, seed),
-                None => Ok(()),
-            }
+            accuracy.map_or(Ok(()), |n| check_accuracy(&scene, n, seed))
         }
         SceneCmd::Render {
             command,

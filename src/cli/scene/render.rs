@@ -24,14 +24,8 @@ pub(super) fn render(
     if let Some(name) = context {
         return Err(no_contexts(scene, name));
     }
-    let overlay = match command {
-        None => None,
-        Some(text) => {
-            let space = scene.command_space();
-            let c = space.parse(text).map_err(CliError::input)?;
-            Some(overlay_of(scene, &c, &space.format(&c))?)
-        }
-    };
+    let command = parse(scene, command)?;
+    let overlay = command.map(|c| overlay_of(scene, &c)).transpose()?;
     let svg = scene_svg(scene, overlay.as_ref());
     write_file(out, svg.as_bytes())?;
     outln!("wrote {}", out.display());
@@ -47,10 +41,9 @@ pub(super) fn context_index(
 ) -> Result<usize, CliError> {
     contexts.iter().position(|c| c.name == name).ok_or_else(|| {
         let names: Vec<&str> = contexts.iter().map(|c| c.name.as_str()).collect();
+        let (scene, names) = (&scene.spec().name, names.join(", "));
         CliError::input(format!(
-            "scene {}: no start context `{name}` (its contexts: {})",
-            scene.spec().name,
-            names.join(", ")
+            "scene {scene}: no start context `{name}` (its contexts: {names})"
         ))
     })
 }
@@ -71,42 +64,27 @@ fn render_contexts(
         Some(name) => vec![context_index(scene, contexts, name)?],
         None => (0..contexts.len()).collect(),
     };
-    let space = scene.command_space();
-    let command = match command {
-        Some(text) => Some(space.parse(text).map_err(CliError::input)?),
-        None => None,
-    };
+    let command = parse(scene, command)?;
     let world = scene.build();
     let mut panels = Vec::new();
     for k in chosen {
         let ctx = &contexts[k];
         let from = e3d::world::seed0_start(&world, k).map_err(world_error)?;
         if ctx.drawn {
-            errln!(
-                "scene {}: context {} is drawn from a range; the picture shows its seed-0 draw (as `e3d scene exec` runs it)",
-                scene.spec().name,
-                ctx.name
-            );
+            let (scene, name) = (&scene.spec().name, &ctx.name);
+            errln!("scene {scene}: context {name} is drawn from a range; the picture shows its seed-0 draw (as `e3d scene exec` runs it)");
         }
-        let label = format!(
-            "{}: context {}{}",
-            scene.spec().name,
-            ctx.name,
-            if ctx.drawn {
-                " (drawn: its seed-0 start)"
-            } else {
-                ""
-            }
-        );
+        let drawn = if ctx.drawn {
+            " (drawn: its seed-0 start)"
+        } else {
+            ""
+        };
+        let label = format!("{}: context {}{drawn}", scene.spec().name, ctx.name);
         panels.push(context_panel(scene, &label, &from, command.as_ref())?);
     }
-    let count = panels.len();
+    let (count, s) = (panels.len(), crate::cli::plural(panels.len()));
     write_file(out, stack_svgs(&panels).as_bytes())?;
-    outln!(
-        "wrote {} ({count} start context{})",
-        out.display(),
-        if count == 1 { "" } else { "s" }
-    );
+    outln!("wrote {} ({count} start context{s})", out.display());
     Ok(())
 }
 
@@ -122,10 +100,7 @@ fn context_panel(
     match (from, &scene.spec().world) {
         (e3d::world::WorldState::Cell(cell), WorldSpec::Grid(_)) => {
             let titled = started_at(scene, *cell, Some(label))?;
-            let overlay = match command {
-                Some(c) => Some(overlay_of(&titled, c, &space.format(c))?),
-                None => None,
-            };
+            let overlay = command.map(|c| overlay_of(&titled, c)).transpose()?;
             Ok(scene_svg(&titled, overlay.as_ref()))
         }
         (e3d::world::WorldState::Physics(state), WorldSpec::Physics(_)) => {
@@ -229,13 +204,8 @@ pub(super) fn animate(
     let from = context
         .map(|name| animation_start(scene, name))
         .transpose()?;
-    say_cost(
-        &format!("scene render {}", scene.spec().name),
-        scene,
-        1,
-        1,
-        1,
-    );
+    let label = format!("scene render {}", scene.spec().name);
+    say_cost(&label, scene, 1, 1, 1);
     let (svg, what) = match scene.physics_world() {
         None => animate_grid(scene, &c, from.as_ref())?,
         Some(w) => animate_physics(scene, w, &c, &cmd, from.as_ref())?,
@@ -312,11 +282,11 @@ fn animate_physics(
         None => motion_svg(scene, cmd, &motion),
     }
     .map_err(|e| CliError::input(e.to_string()))?;
-    let what = format!(
-        "{} of {total} frames, {:.3} s",
+    let (k, time) = (
         motion.frames.len(),
-        motion.frames.last().map_or(0.0, |f| f.time)
+        motion.frames.last().map_or(0.0, |f| f.time),
     );
+    let what = format!("{k} of {total} frames, {time:.3} s");
     Ok((svg, what))
 }
 
@@ -350,8 +320,17 @@ pub(super) fn animation_page(
     }
 }
 
-/// The overlay of `c` (written `text`) on `scene`: its path and outcome.
-pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overlay, CliError> {
+/// The command `text` of `scene`, if given, parsed.
+fn parse(scene: &Scene, text: Option<&str>) -> Result<Option<Command>, CliError> {
+    let space = scene.command_space();
+    text.map(|t| space.parse(t))
+        .transpose()
+        .map_err(CliError::input)
+}
+
+/// The overlay of `c` on `scene`: its path and outcome.
+fn overlay_of(scene: &Scene, c: &Command) -> Result<Overlay, CliError> {
+    let text = scene.command_space().format(c);
     match (
         &scene.spec().world,
         GridWorld::from_scene(scene),
@@ -360,14 +339,14 @@ pub(super) fn overlay_of(scene: &Scene, c: &Command, text: &str) -> Result<Overl
         (WorldSpec::Grid(g), Some(mut w), _) => {
             let o = w.execute(c).map_err(world_error)?;
             Ok(Overlay {
-                command: text.to_string(),
+                command: text,
                 points: grid_path(&w, g, c),
                 poses: None,
                 effect: o.effect,
                 reward: o.reward,
             })
         }
-        (_, _, Some(mut w)) => Ok(traced(text.to_string(), w.trace(c).map_err(world_error)?)),
+        (_, _, Some(mut w)) => Ok(traced(text, w.trace(c).map_err(world_error)?)),
         _ => Err(CliError::input(format!(
             "scene {}: neither a grid nor a physics world",
             scene.spec().name

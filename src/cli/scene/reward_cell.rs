@@ -19,19 +19,11 @@ pub(super) fn reward_cell(scene: &Scene, from: Option<[f64; 2]>) -> CliResult {
     let grid = scene.effect_grid();
     let cell = farthest_reached_cell(&table, &grid, from)
         .ok_or_else(|| CliError::input("no command to execute"))?;
-    outln!(
-        "scene {}: executed {} commands in {:.2} s ({:.0} commands/s on {} thread(s))",
-        scene.spec().name,
-        table.len(),
-        secs,
-        table.len() as f64 / secs,
-        rayon::current_num_threads()
-    );
-    outln!(
-        "reached cells: {} of {}",
-        cell.reached_cells,
-        grid.num_cells()
-    );
+    let (name, k) = (&scene.spec().name, table.len());
+    let (rate, threads) = (k as f64 / secs, rayon::current_num_threads());
+    outln!("scene {name}: executed {k} commands in {secs:.2} s ({rate:.0} commands/s on {threads} thread(s))");
+    let (reached, cells) = (cell.reached_cells, grid.num_cells());
+    outln!("reached cells: {reached} of {cells}");
     outln!("most common cells: {}", most_common_cells(&table, &grid));
     let center = grid.center(cell.row, cell.col);
     outln!(
@@ -75,24 +67,15 @@ fn start_point(scene: &Scene) -> [f64; 2] {
 /// shares.
 fn most_common_cells(table: &OutcomeTable, grid: &EffectGrid) -> String {
     let counts = table.effect_counts();
-    let mut sorted: Vec<(u64, usize)> = counts
-        .iter()
-        .enumerate()
-        .filter(|(_, &c)| c > 0)
-        .map(|(e, &c)| (c, e))
+    let mut sorted: Vec<(usize, u64)> = (counts.iter().copied().enumerate())
+        .filter(|&(_, c)| c > 0)
         .collect();
-    sorted.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-    let top: Vec<String> = sorted
-        .iter()
-        .take(5)
-        .map(|(c, e)| {
-            format!(
-                "({}, {}) {} ({:.1}%)",
-                e / grid.cols,
-                e % grid.cols,
-                c,
-                100.0 * *c as f64 / table.len() as f64
-            )
+    // the most common first, ties to the lower cell
+    sorted.sort_by_key(|&(e, c)| (std::cmp::Reverse(c), e));
+    let top: Vec<String> = (sorted.iter().take(5))
+        .map(|&(e, c)| {
+            let share = 100.0 * c as f64 / table.len() as f64;
+            format!("({}, {}) {c} ({share:.1}%)", e / grid.cols, e % grid.cols)
         })
         .collect();
     top.join(", ")

@@ -44,14 +44,10 @@ pub(super) fn simulate_all<T>(
     } else {
         format!("{simulated} commands")
     };
-    errln!(
-        "scene {}: simulating {what} on {} thread(s){}: about {} by the cost model (calibrated on timed rollouts here)",
-        scene.spec().name,
-        rayon::current_num_threads(),
-        steps_text(scene),
-        seconds_text(seconds)
-    );
     let label = format!("scene {}", scene.spec().name);
+    let (steps, time) = (steps_text(scene), seconds_text(seconds));
+    let threads = rayon::current_num_threads();
+    errln!("{label}: simulating {what} on {threads} thread(s){steps}: about {time} by the cost model (calibrated on timed rollouts here)");
     progress::track_control(&label, "commands", simulated, work)
 }
 
@@ -97,10 +93,12 @@ pub(super) fn live_seconds(scene: &Scene, n: u64) -> f64 {
 pub(super) fn all_commands(scene: &Scene, what: &str) -> Result<u64, CliError> {
     let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
     if n > e3d::world::MAX_TABLE_COMMANDS {
-        return Err(CliError::input(format!(
-            "{} commands: too many {what} (at most {})",
+        let (n, most) = (
             scene.command_space().num_commands_text(),
-            e3d::world::MAX_TABLE_COMMANDS
+            e3d::world::MAX_TABLE_COMMANDS,
+        );
+        return Err(CliError::input(format!(
+            "{n} commands: too many {what} (at most {most})"
         )));
     }
     Ok(n)
@@ -139,12 +137,9 @@ pub(super) fn say_cost(
     if secs < progress::LONG {
         return false;
     }
-    errln!(
-        "{label}: {commands} command(s){} on {threads} thread(s): about {} (the cost model, calibrated on {} timed rollouts here)",
-        steps_text(scene),
-        seconds_text(secs),
-        calibration_rollouts(scene)
-    );
+    let (steps, time) = (steps_text(scene), seconds_text(secs));
+    let timed = calibration_rollouts(scene);
+    errln!("{label}: {commands} command(s){steps} on {threads} thread(s): about {time} (the cost model, calibrated on {timed} timed rollouts here)");
     true
 }
 

@@ -5,6 +5,7 @@ use super::simulate::{simulate_all, world_error};
 use crate::cli::console::outln;
 use crate::cli::{CliError, CliResult};
 use e3d::scene::Scene;
+use e3d::world::RunStats;
 
 pub(super) fn stats(scene: &Scene) -> CliResult {
     let Some(physics) = scene.as_physics() else {
@@ -25,55 +26,28 @@ pub(super) fn stats(scene: &Scene) -> CliResult {
     })
     .map_err(world_error)?;
     let secs = start.elapsed().as_secs_f64();
-    let count = |f: &dyn Fn(&e3d::world::RunStats) -> bool| all.iter().filter(|s| f(s)).count();
-    let pct = |k: usize| 100.0 * k as f64 / all.len() as f64;
-    let contacts = count(&|s| s.contact_steps > 0);
-    let fixed = count(&|s| s.fixed_contact_steps > 0);
-    let limits = count(&|s| s.limit_steps > 0);
-    let max_speed = all.iter().map(|s| s.max_speed).fold(0.0, f64::max);
-    let max_spin = all.iter().map(|s| s.max_spin).fold(0.0, f64::max);
-    let mut cells = vec![0u64; scene.num_effects()];
-    for s in &all {
-        cells[s.outcome.effect] += 1;
-    }
+    let ([contacts, fixed, limits], max_speed, max_spin) = figures(&all);
+    let cells = per_cell(&all, scene.num_effects());
+    let (name, k, threads) = (&scene.spec().name, all.len(), rayon::current_num_threads());
+    let rate = k as f64 / secs;
     outln!(
-        "scene {}: {} commands in {:.2} s ({:.0} rollouts/s on {} thread(s))",
-        scene.spec().name,
-        all.len(),
-        secs,
-        all.len() as f64 / secs,
-        rayon::current_num_threads()
+        "scene {name}: {k} commands in {secs:.2} s ({rate:.0} rollouts/s on {threads} thread(s))"
     );
+    outln!("reached cells: {} of {}", reached(&cells), cells.len());
+    outln!("commands bringing two moving bodies into contact: {contacts}");
+    outln!("commands bringing a moving body into contact with a fixed body or wall: {fixed}");
+    outln!("commands pressing a joint against a limit (within 0.01 rad): {limits}");
+    let cap = physics.spec().max_speed;
+    let cap_spin = std::f64::consts::FRAC_PI_4 / physics.spec().dt;
     outln!(
-        "reached cells: {} of {}",
-        cells.iter().filter(|&&c| c > 0).count(),
-        cells.len()
-    );
-    outln!(
-        "commands bringing two moving bodies into contact: {contacts} ({:.1}%)",
-        pct(contacts)
-    );
-    outln!(
-        "commands bringing a moving body into contact with a fixed body or wall: {fixed} ({:.1}%)",
-        pct(fixed)
-    );
-    outln!(
-        "commands pressing a joint against a limit (within 0.01 rad): {limits} ({:.1}%)",
-        pct(limits)
-    );
-    outln!(
-        "top linear speed {max_speed:.3} m/s (max_speed {} m/s); top angular speed {max_spin:.2} rad/s (Rapier's cap: {:.2} rad/s)",
-        physics.spec().max_speed,
-        std::f64::consts::FRAC_PI_4 / physics.spec().dt
+        "top linear speed {max_speed:.3} m/s (max_speed {cap} m/s); top angular speed {max_spin:.2} rad/s (Rapier's cap: {cap_spin:.2} rad/s)"
     );
     Ok(())
 }
 
-/// `e3d scene stats` on a physics scene with start contexts: per context
-/// (a drawn one from its seed-0 draw, as `scene exec`), every command run
-/// from its start, with its contacts, limits and speeds, the effects it
-/// reaches and how evenly (the normalised entropy of the terminal
-/// effects); then the union of the contexts' reached effects.
+/// `e3d scene stats` with start contexts: per context (a drawn one from
+/// its seed-0 draw, as `scene exec`), every command run from its start and
+/// what it did; then the union of the contexts' reached effects.
 fn context_stats(
     scene: &Scene,
     physics: e3d::world::PhysicsScene<'_>,
@@ -90,52 +64,35 @@ fn context_stats(
     let total = n * contexts.len() as u64;
     let secs = super::simulate::live_seconds(scene, total);
     let start = std::time::Instant::now();
-    let all: Vec<Vec<e3d::world::RunStats>> = simulate_all(scene, total, secs, |progress| {
+    let all: Vec<Vec<RunStats>> = simulate_all(scene, total, secs, |progress| {
         (starts.iter())
             .map(|from| inspect_all(physics, &space, n, Some(from), progress))
             .collect::<Result<_, _>>()
     })
     .map_err(world_error)?;
     let secs = start.elapsed().as_secs_f64();
-    outln!(
-        "scene {}: {} commands from each of {} start contexts in {:.2} s ({:.0} rollouts/s on {threads} thread(s))",
-        scene.spec().name,
-        n,
-        contexts.len(),
-        secs,
-        total as f64 / secs,
-    );
+    let (name, m, rate) = (&scene.spec().name, contexts.len(), total as f64 / secs);
+    outln!("scene {name}: {n} commands from each of {m} start contexts in {secs:.2} s ({rate:.0} rollouts/s on {threads} thread(s))");
     let mut union = vec![0u64; scene.num_effects()];
     for (ctx, runs) in contexts.iter().zip(&all) {
-        let mut cells = vec![0u64; scene.num_effects()];
-        for s in runs {
-            cells[s.outcome.effect] += 1;
-            union[s.outcome.effect] += 1;
-        }
-        let pct = |k: usize| 100.0 * k as f64 / runs.len() as f64;
-        let contacts = runs.iter().filter(|s| s.contact_steps > 0).count();
-        let fixed = runs.iter().filter(|s| s.fixed_contact_steps > 0).count();
-        let limits = runs.iter().filter(|s| s.limit_steps > 0).count();
-        let max_speed = runs.iter().map(|s| s.max_speed).fold(0.0, f64::max);
+        let cells = per_cell(runs, scene.num_effects());
+        union.iter_mut().zip(&cells).for_each(|(u, c)| *u += c);
+        let ([contacts, fixed, limits], max_speed, _) = figures(runs);
+        let drawn = if ctx.drawn {
+            " (drawn: its seed-0 start)"
+        } else {
+            ""
+        };
+        let (k, h) = (reached(&cells), entropy(&cells));
         outln!(
-            "context {}{}: reached cells {} of {}, normalised entropy of the terminal cells {:.3}; contacts {contacts} ({:.1}%), with fixed bodies or walls {fixed} ({:.1}%), at a limit {limits} ({:.1}%), top speed {max_speed:.3} m/s",
+            "context {}{drawn}: reached cells {k} of {}, normalised entropy of the terminal cells {h:.3}; contacts {contacts}, with fixed bodies or walls {fixed}, at a limit {limits}, top speed {max_speed:.3} m/s",
             ctx.name,
-            if ctx.drawn { " (drawn: its seed-0 start)" } else { "" },
-            cells.iter().filter(|&&c| c > 0).count(),
-            cells.len(),
-            entropy(&cells),
-            pct(contacts),
-            pct(fixed),
-            pct(limits)
+            cells.len()
         );
         outln!("  commands per cell: {}", counts_text(&cells));
     }
-    outln!(
-        "all contexts: reached cells {} of {} (the union), normalised entropy {:.3}",
-        union.iter().filter(|&&c| c > 0).count(),
-        union.len(),
-        entropy(&union)
-    );
+    let (k, all, h) = (reached(&union), union.len(), entropy(&union));
+    outln!("all contexts: reached cells {k} of {all} (the union), normalised entropy {h:.3}");
     Ok(())
 }
 
@@ -147,7 +104,7 @@ fn inspect_all(
     n: u64,
     from: Option<&e3d::world::WorldState>,
     control: &e3d::Control<'_>,
-) -> Result<Vec<e3d::world::RunStats>, e3d::WorldError> {
+) -> Result<Vec<RunStats>, e3d::WorldError> {
     use rayon::prelude::*;
     (0..n)
         .into_par_iter()
@@ -164,6 +121,37 @@ fn inspect_all(
             },
         )
         .collect()
+}
+
+/// Of `runs`, the commands (`K (P%)`) that brought two moving bodies into
+/// contact, a moving body into contact with a fixed one or a wall, a joint
+/// against a limit; the top linear and angular speeds.
+fn figures(runs: &[RunStats]) -> ([String; 3], f64, f64) {
+    let share = |f: fn(&RunStats) -> u64| {
+        let k = runs.iter().filter(|s| f(s) > 0).count();
+        format!("{k} ({:.1}%)", 100.0 * k as f64 / runs.len() as f64)
+    };
+    let top = |f: fn(&RunStats) -> f64| runs.iter().map(f).fold(0.0, f64::max);
+    let counts: [fn(&RunStats) -> u64; 3] = [
+        |s| s.contact_steps,
+        |s| s.fixed_contact_steps,
+        |s| s.limit_steps,
+    ];
+    (counts.map(share), top(|s| s.max_speed), top(|s| s.max_spin))
+}
+
+/// The commands of `runs` per effect cell (of `effects`).
+fn per_cell(runs: &[RunStats], effects: usize) -> Vec<u64> {
+    let mut cells = vec![0u64; effects];
+    for s in runs {
+        cells[s.outcome.effect] += 1;
+    }
+    cells
+}
+
+/// The cells of `counts` reached at least once.
+fn reached(counts: &[u64]) -> usize {
+    counts.iter().filter(|&&c| c > 0).count()
 }
 
 /// Counts as `cell:count` pairs of the non-zero ones, space-separated.

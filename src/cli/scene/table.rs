@@ -38,31 +38,30 @@ pub(super) fn table(scene: &Scene, cache: Option<&Path>) -> CliResult {
             }
         }
     };
-    outln!(
-        "scene {}: {} commands in {:.3} s ({:.0} commands/s, {} thread(s), {how})",
-        scene.spec().name,
-        table.len(),
-        secs,
-        table.len() as f64 / secs,
-        rayon::current_num_threads()
-    );
-    match cache {
-        Some(dir) => {
-            let path = OutcomeTable::cache_path(scene, dir);
-            if existed {
-                outln!("read from {}", path.display());
-            } else if path.is_file() {
-                outln!("written to {}", path.display());
-            } else {
-                outln!(
-                    "could not write {} (the table was computed)",
-                    path.display()
-                );
-            }
+    let (name, k) = (&scene.spec().name, table.len());
+    let (rate, threads) = (k as f64 / secs, rayon::current_num_threads());
+    outln!("scene {name}: {k} commands in {secs:.3} s ({rate:.0} commands/s, {threads} thread(s), {how})");
+    match cache.map(|dir| OutcomeTable::cache_path(scene, dir)) {
+        Some(path) if !existed && !path.is_file() => {
+            outln!(
+                "could not write {} (the table was computed)",
+                path.display()
+            )
         }
+        Some(path) => outln!("{} {}", cache_state(existed, &path), path.display()),
         None => outln!("not written (give --cache DIR to keep it)"),
     }
     Ok(())
+}
+
+/// What became of a table file at `path`: `read from` (it `existed`),
+/// `written to` or `could not write`.
+fn cache_state(existed: bool, path: &Path) -> &'static str {
+    match (existed, path.is_file()) {
+        (true, _) => "read from",
+        (false, true) => "written to",
+        (false, false) => "could not write",
+    }
 }
 
 /// Refuses, before any work, a table file's path that exists and is not a
@@ -88,17 +87,12 @@ pub(super) fn cached_table(scene: &Scene, dir: &Path) -> Result<(OutcomeTable, b
         Ok(CachedOutcomes::Full(t)) => return Ok((t, true)),
         // what the partial file holds is not simulated again
         Ok(CachedOutcomes::Partial(known)) => {
-            errln!(
-                "scene {}: {} outcomes read from {}; simulating the others",
-                scene.spec().name,
-                known.len(),
-                path.display()
-            );
+            let (name, k, from) = (&scene.spec().name, known.len(), path.display());
+            errln!("scene {name}: {k} outcomes read from {from}; simulating the others");
             let n = scene.command_space().num_commands().unwrap_or(u64::MAX);
-            let simulated = OutcomeTable::simulated_commands(scene)
-                .unwrap_or(n)
-                .saturating_sub(known.len() as u64);
-            let whole = OutcomeTable::simulated_commands(scene).unwrap_or(n).max(1);
+            let whole = OutcomeTable::simulated_commands(scene).unwrap_or(n);
+            let simulated = whole.saturating_sub(known.len() as u64);
+            let whole = whole.max(1);
             let secs = table_seconds(scene) * simulated as f64 / whole as f64;
             simulate_all(scene, simulated, secs, |progress| {
                 OutcomeTable::complete_with(scene, &known, progress)
@@ -126,54 +120,25 @@ fn context_table(scene: &Scene, cache: Option<&Path>) -> CliResult {
     let simulated = contexts.simulated_commands();
     let secs = super::simulate::live_seconds(scene, simulated);
     let start = std::time::Instant::now();
-    let (tables, existed) = match cache {
-        Some(dir) => {
-            let mut read = true;
-            let t = simulate_all(scene, simulated, secs, |progress| {
-                ContextTables::cached(contexts, dir, progress).map(|(t, r)| {
-                    read = r;
-                    t
-                })
-            })
-            .map_err(world_error)?;
-            (t, read)
-        }
-        None => (
-            simulate_all(scene, simulated, secs, |progress| {
-                ContextTables::build_with(contexts, progress)
-            })
-            .map_err(world_error)?,
-            false,
-        ),
-    };
+    let (tables, existed) = simulate_all(scene, simulated, secs, |progress| match cache {
+        Some(dir) => ContextTables::cached(contexts, dir, progress),
+        None => ContextTables::build_with(contexts, progress).map(|t| (t, false)),
+    })
+    .map_err(world_error)?;
     let secs = start.elapsed().as_secs_f64();
     let total: usize = tables.tables().iter().map(|t| t.len()).sum();
-    outln!(
-        "scene {}: {} start contexts x {} commands = {total} outcomes in {:.3} s ({:.0} commands/s, {} thread(s), one command per world, from each context's start)",
-        scene.spec().name,
-        tables.len(),
-        tables.table(0).len(),
-        secs,
-        total as f64 / secs,
-        rayon::current_num_threads()
-    );
+    let (scene_name, m, n) = (&scene.spec().name, tables.len(), tables.table(0).len());
+    let (rate, threads) = (total as f64 / secs, rayon::current_num_threads());
+    outln!("scene {scene_name}: {m} start contexts x {n} commands = {total} outcomes in {secs:.3} s ({rate:.0} commands/s, {threads} thread(s), one command per world, from each context's start)");
     for (k, (name, t)) in tables.names().iter().zip(tables.tables()).enumerate() {
         let rewarded = t.outcomes().filter(|o| o.reward > 0.0).count();
+        let (reached, all) = (t.reachable_effects(), scene.num_effects());
         let mut line = format!(
-            "context {name}: reached effects {} of {}, rewarded commands {rewarded}",
-            t.reachable_effects(),
-            scene.num_effects()
+            "context {name}: reached effects {reached} of {all}, rewarded commands {rewarded}"
         );
         if let Some(dir) = cache {
             let path = ContextTables::cache_path(scene, dir, k);
-            let how = if existed {
-                "read from"
-            } else if path.is_file() {
-                "written to"
-            } else {
-                "could not write"
-            };
-            line = format!("{line}; {how} {}", path.display());
+            line = format!("{line}; {} {}", cache_state(existed, &path), path.display());
         }
         outln!("{line}");
     }

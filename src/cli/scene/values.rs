@@ -3,75 +3,68 @@
 
 use crate::cli::console::{outln, write_stdout};
 use crate::cli::output::write_file;
-use crate::cli::{CliError, CliResult};
+use crate::cli::{cannot_write, CliError, CliResult};
 use e3d::world::ContinuousScene;
+use e3d::WorldError;
+use std::path::Path;
 
 /// `e3d scene exec` of continuous commands: `"values",effect,reward,x,y`
 /// rows as each command is done; with `trace`, every command's motion in
 /// that file (whole or absent).
-pub(super) fn exec(
-    scene: ContinuousScene,
-    commands: &[String],
-    trace: Option<&std::path::Path>,
-) -> CliResult {
+pub(super) fn exec(scene: ContinuousScene, commands: &[String], trace: Option<&Path>) -> CliResult {
     use std::io::Write;
     let space = scene.values();
     let mut world = scene.physics().world(1);
     let mut file = match trace {
         Some(p) => {
-            let (tmp, f) =
-                e3d::io::create_temp_beside(p).map_err(|e| crate::cli::cannot_write(p, e))?;
+            let (tmp, f) = e3d::io::create_temp_beside(p).map_err(|e| cannot_write(p, e))?;
             Some((p, tmp, std::io::BufWriter::new(f)))
         }
         None => None,
     };
-    let result = (|| -> CliResult {
-        let mut first = true;
+    let failed = |e: WorldError| match e {
+        WorldError::BadCommand { .. } => CliError::input(e),
+        WorldError::Other(_) => CliError::output(e),
+        _ => CliError::simulation(e),
+    };
+    let written = (|| -> CliResult {
         let parse = {
             let space = space.clone();
             move |text: &str| space.parse(text)
         };
+        let mut header = Some("values,effect,reward,x,y\n");
         for v in super::exec::reader(parse, commands.to_vec(), 64) {
             let v = v?;
-            let text = space.format(&v);
+            let text = format!("\"{}\"", space.format(&v));
             let o = match &mut file {
-                None => world.execute_values(&v),
-                Some((p, _, f)) => world.motion_values(&v).and_then(|m| {
-                    m.write_csv(&mut *f, Some(&format!("\"{text}\"")), first)
-                        .map_err(|e| {
-                            e3d::WorldError::Other(format!("{}: cannot write: {e}", p.display()))
-                        })?;
-                    Ok(m.outcome)
-                }),
-            }
-            .map_err(|e| match e {
-                e3d::WorldError::BadCommand { .. } => CliError::input(e),
-                e3d::WorldError::Other(_) => CliError::output(e),
-                _ => CliError::simulation(e),
-            })?;
-            let mut row = String::new();
-            if first {
-                row.push_str("values,effect,reward,x,y\n");
-                first = false;
-            }
-            super::exec::push_row(&mut row, format_args!("\"{text}\""), &o);
+                None => world.execute_values(&v).map_err(failed)?,
+                Some((p, _, f)) => {
+                    let m = world.motion_values(&v).map_err(failed)?;
+                    let first = header.is_some();
+                    m.write_csv(&mut *f, Some(&text), first)
+                        .map_err(|e| cannot_write(p, e))?;
+                    m.outcome
+                }
+            };
+            let mut row = header.take().unwrap_or_default().to_string();
+            super::exec::push_row(&mut row, &text, &o);
             write_stdout(row.as_bytes())?;
         }
-        if first {
-            write_stdout(b"values,effect,reward,x,y\n")?;
+        if let Some(h) = header {
+            write_stdout(h.as_bytes())?;
         }
-        if let Some((p, tmp, f)) = &mut file {
-            let p: &std::path::Path = p;
-            f.flush()
-                .and_then(|()| std::fs::rename(&*tmp, p))
-                .map_err(|e| crate::cli::cannot_write(p, e))?;
+        match &mut file {
+            Some((p, _, f)) => f.flush().map_err(|e| cannot_write(p, e)),
+            None => Ok(()),
         }
-        Ok(())
     })();
-    if let (Err(_), Some((_, tmp, _))) = (&result, &file) {
-        let _ = std::fs::remove_file(tmp);
+    match file {
+        Some((p, tmp, f)) => {
+            drop(f);
+            e3d::io::finish_output(Some(tmp), p, written, |e| cannot_write(p, e))
+        }
+        None => written,
     }
-    result
 }
 
 /// `e3d scene render --command VALUES [--animate]` of a continuous scene.
