@@ -38,31 +38,30 @@ pub struct SessionConfig {
     pub use_reward: bool,
 }
 
-/// What a session recorded, trial by trial.
+/// What a session recorded, trial by trial, of commands of `num_slots`
+/// elements `T`: symbol indices ([`SessionRecord`]) or values
+/// ([`ValueSessionRecord`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SessionRecord {
+pub struct TrialRecord<T> {
     /// The number of slots of each command.
     pub num_slots: usize,
     /// The number of effects of the world.
     pub num_effects: usize,
-    /// The commands, `num_slots` symbol indices per trial, one after another.
-    pub commands: Vec<u8>,
+    /// The commands, `num_slots` elements per trial, one after another.
+    pub commands: Vec<T>,
     /// The effect of each trial (as in [`Outcome::effect`]).
     pub effects: Vec<usize>,
     /// The reward the learner received at each trial.
     pub rewards: Vec<f64>,
     /// The terminal point `(x, y)` of each trial (as in [`Outcome::point`]).
     pub points: Vec<[f64; 2]>,
+    /// Per slot, the mean and standard deviation of a learner of values'
+    /// policy at the end ([`ValueSessionRecord::set_policy`]); else empty.
+    pub final_policy: Vec<(f64, f64)>,
 }
 
-/// How many of `effects` are each of `num_effects` effects.
-fn count_effects(num_effects: usize, effects: &[usize]) -> Vec<f64> {
-    let mut counts = vec![0.0; num_effects];
-    for &e in effects {
-        counts[e] += 1.0;
-    }
-    counts
-}
+/// What a session of commands of symbols recorded.
+pub type SessionRecord = TrialRecord<u8>;
 
 /// Runs `config.trials` trials of `learner` on `world`.
 ///
@@ -187,26 +186,26 @@ impl<C: ?Sized, A: Recorder<C>, B: Recorder<C>> Recorder<C> for (A, B) {
     }
 }
 
-impl Recorder for SessionRecord {
-    fn record(&mut self, command: &Command, outcome: &Outcome) {
-        self.commands.extend_from_slice(&command.symbols);
+impl<T: Copy, C: AsRef<[T]> + ?Sized> Recorder<C> for TrialRecord<T> {
+    fn record(&mut self, command: &C, outcome: &Outcome) {
+        self.commands.extend_from_slice(command.as_ref());
         self.effects.push(outcome.effect);
         self.rewards.push(outcome.reward);
         self.points.push(outcome.point);
     }
 }
 
-impl SessionRecord {
-    /// An empty record for `trials` trials on `world`.
-    pub fn new<W: World + ?Sized>(world: &W, trials: usize) -> Self {
-        let n = world.command_space().num_slots();
-        SessionRecord {
-            num_slots: n,
-            num_effects: world.num_effects(),
-            commands: Vec::with_capacity(trials.saturating_mul(n)),
+impl<T> TrialRecord<T> {
+    /// A record of no trials yet, with room for `trials`.
+    fn with_room(num_slots: usize, num_effects: usize, trials: usize) -> Self {
+        TrialRecord {
+            num_slots,
+            num_effects,
+            commands: Vec::with_capacity(trials.saturating_mul(num_slots)),
             effects: Vec::with_capacity(trials),
             rewards: Vec::with_capacity(trials),
             points: Vec::with_capacity(trials),
+            final_policy: Vec::new(),
         }
     }
 
@@ -215,14 +214,19 @@ impl SessionRecord {
         self.effects.len()
     }
 
-    /// The command of trial `t` (0-based).
-    pub fn command(&self, t: usize) -> Command {
-        Command::new(self.commands[t * self.num_slots..(t + 1) * self.num_slots].to_vec())
+    /// The command of trial `t` (0-based): its slots' symbol indices or
+    /// values.
+    pub fn values_of(&self, t: usize) -> &[T] {
+        &self.commands[t * self.num_slots..(t + 1) * self.num_slots]
     }
 
     /// How many trials in `range` ended in each effect.
     pub fn effect_counts(&self, range: std::ops::Range<usize>) -> Vec<f64> {
-        count_effects(self.num_effects, &self.effects[range])
+        let mut counts = vec![0.0; self.num_effects];
+        for &e in &self.effects[range] {
+            counts[e] += 1.0;
+        }
+        counts
     }
 
     /// The running sum of rewards, one value per trial.
@@ -268,6 +272,22 @@ impl SessionRecord {
         RunningMetrics::replay(self.num_effects, &self.effects, &self.rewards)
             .metrics_given(target, reachable)
     }
+}
+
+impl SessionRecord {
+    /// An empty record for `trials` trials on `world`.
+    pub fn new<W: World + ?Sized>(world: &W, trials: usize) -> Self {
+        Self::with_room(
+            world.command_space().num_slots(),
+            world.num_effects(),
+            trials,
+        )
+    }
+
+    /// The command of trial `t` (0-based).
+    pub fn command(&self, t: usize) -> Command {
+        Command::new(self.values_of(t).to_vec())
+    }
 
     /// Writes `trial,command,effect,reward` CSV, one row per trial (trial
     /// 1-based, the command as its symbols).
@@ -275,8 +295,7 @@ impl SessionRecord {
         writeln!(out, "trial,command,effect,reward")?;
         let mut c = space.first();
         for t in 0..self.trials() {
-            c.symbols
-                .copy_from_slice(&self.commands[t * self.num_slots..(t + 1) * self.num_slots]);
+            c.symbols.copy_from_slice(self.values_of(t));
             writeln!(
                 out,
                 "{},{},{},{}",
