@@ -18,11 +18,7 @@ use serde::{Deserialize, Serialize};
 /// Q[a_i, i] <- (1 - alpha lambda) Q[a_i, i] + alpha lambda r + (alpha / beta) / sqrt(N(e))
 /// ```
 ///
-/// with `a_i ~ softmax(beta Q[:, i])`. The bonus is always positive and
-/// shrinks as an effect is revisited: a symbol a slot keeps choosing
-/// settles at about `E[1 / sqrt N] / (beta lambda)`, which falls as the
-/// counts grow, below the values of the symbols it stopped choosing.
-/// There is no target `p*` and no `eta`.
+/// with `a_i ~ softmax(beta Q[:, i])`; no target `p*`, no `eta`.
 ///
 /// ```
 /// use e3d::learner::CountBonus;

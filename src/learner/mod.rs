@@ -1,34 +1,13 @@
 //! Learners: propose a command, learn from its outcome.
 //!
-//! - [`E3d`]: the paper's End-Effect Exploration Drive (Algorithm 1);
-//! - [`UniformPolicy`]: every symbol equally likely, learns nothing;
-//! - [`EpsilonGreedy`]: per-slot epsilon-greedy on the extrinsic reward;
-//!
-//! and drives beyond the paper, on the same per-slot softmax policy:
-//!
-//! - [`RelaxedE3d`]: E3D whose unchosen symbols relax towards 0, so that
-//!   no slot can lock onto a move that does nothing;
-//! - [`CountBonus`]: a `1 / sqrt(N(e))` bonus on effect counts;
-//! - [`StateMarginalMatching`]: the density ratio `log p*(e) - log rho(e)`
-//!   over every trial so far, with historical averaging of the policy.
-//!
-//! and two baselines that keep commands and vary them:
-//!
-//! - [`GoalBabbling`]: sample a goal effect, mutate the known command
-//!   whose outcome is nearest to it (a nearest-neighbour inverse model);
-//! - [`Archive`]: one command per reached cell, Go-Explore style; pick a
-//!   cell, mutate its command.
-//!
-//! Continuous commands (a value per slot, [`ValueSpace`](crate::command::ValueSpace)) have learners of
-//! their own, behind [`ContinuousLearner`]:
-//!
-//! - [`GaussianE3d`]: E3D with a Gaussian policy per slot, updated by the
-//!   same intrinsic reward through the score function;
-//! - [`UniformValues`]: every value uniform in its slot's range;
-//! - [`GoalBabblingValues`] and [`ArchiveValues`]: the two baselines,
-//!   mutating values by Gaussian noise.
-//!
-//! Implement [`Learner`] (or [`ContinuousLearner`]) to plug in your own.
+//! The paper's [`E3d`], [`UniformPolicy`] and [`EpsilonGreedy`]; the drives
+//! beyond it on the same per-slot softmax ([`RelaxedE3d`], [`CountBonus`],
+//! [`StateMarginalMatching`]); the baselines that keep commands and vary
+//! them ([`GoalBabbling`], [`Archive`]); and behind [`ContinuousLearner`],
+//! the learners of continuous commands ([`GaussianE3d`], [`UniformValues`],
+//! [`GoalBabblingValues`], [`ArchiveValues`]). Their equations:
+//! docs/algorithms.md. Implement [`Learner`] (or [`ContinuousLearner`]) to
+//! plug in your own.
 
 mod archive;
 pub mod contextual;
@@ -78,11 +57,9 @@ pub trait Learner {
     /// A short name (`"e3d"`, `"uniform"`, `"egreedy"`).
     fn name(&self) -> &str;
 
-    /// Draws the next command into `command` (which the caller reuses from
-    /// trial to trial: no allocation needed). Every random draw comes from
-    /// `rng`, the session's generator: a concrete, portable type rather than
-    /// `dyn Rng`, so that draws inline (a trial costs nanoseconds); use it
-    /// through `rand::RngExt` (`rng.random::<f64>()`, `rng.random_range(..)`).
+    /// Draws the next command into `command` (reused from trial to trial).
+    /// Every random draw comes from `rng`, the session's generator (a
+    /// concrete type, so that draws inline), through `rand::RngExt`.
     fn propose(&mut self, rng: &mut SessionRng, command: &mut Command);
 
     /// Learns from the outcome of `command`.
@@ -112,11 +89,8 @@ impl<L: Learner + ?Sized> Learner for Box<L> {
 }
 
 /// A learner of continuous commands (one value per slot, in the slot's
-/// range: [`ValueSpace`](crate::command::ValueSpace)).
-///
-/// A session calls [`propose`](ContinuousLearner::propose), executes the
-/// values ([`PhysicsWorld::execute_values`](crate::world::PhysicsWorld::execute_values)),
-/// then calls [`learn`](ContinuousLearner::learn) with the outcome.
+/// range: [`ValueSpace`](crate::command::ValueSpace)), driven as a
+/// [`Learner`] is.
 pub trait ContinuousLearner {
     /// A short name (`"e3d"`, `"uniform"`).
     fn name(&self) -> &str;
@@ -132,9 +106,8 @@ pub trait ContinuousLearner {
     /// slot's unit (before the clamping to its range).
     fn slot_gaussian(&self, slot: usize) -> (f64, f64);
 
-    /// The slots' ranges the learner proposes in, if it keeps them (the
-    /// learners of the library do): a caller can check the values it is
-    /// told to learn from ([`ValueSpace::check`](crate::command::ValueSpace::check)).
+    /// The slots' ranges the learner proposes in, if it keeps them: a
+    /// caller can check the values it is told to learn from.
     fn value_space(&self) -> Option<&crate::command::ValueSpace> {
         None
     }
@@ -342,42 +315,28 @@ impl Params {
     /// 0 < eta <= 1, 0 <= epsilon <= 1, k >= 1, sigma > 0, rarity >= 0,
     /// 0 <= goal_progress <= 1, all finite.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let (pos, non_neg, unit) = (
-            "a finite number > 0",
-            "a finite number >= 0",
-            "a number in [0, 1]",
-        );
+        type Rule = (&'static str, fn(f64) -> bool);
+        let pos: Rule = ("a finite number > 0", |v| v > 0.0);
+        let non_neg: Rule = ("a finite number >= 0", |v| v >= 0.0);
+        let unit: Rule = ("a number in [0, 1]", |v| (0.0..=1.0).contains(&v));
+        let eta: Rule = ("a number in (0, 1]", |v| v > 0.0 && v <= 1.0);
+        let whole: Rule = ("a whole number >= 1", |v| v >= 1.0);
         let checks = [
-            ("alpha", self.alpha, self.alpha > 0.0, pos),
-            ("beta", self.beta, self.beta > 0.0, pos),
-            ("lambda", self.lambda, self.lambda >= 0.0, non_neg),
-            (
-                "eta",
-                self.eta,
-                self.eta > 0.0 && self.eta <= 1.0,
-                "a number in (0, 1]",
-            ),
-            (
-                "epsilon",
-                self.epsilon,
-                (0.0..=1.0).contains(&self.epsilon),
-                unit,
-            ),
-            ("k", self.k as f64, self.k >= 1, "a whole number >= 1"),
-            ("sigma", self.sigma, self.sigma > 0.0, pos),
-            ("rarity", self.rarity, self.rarity >= 0.0, non_neg),
-            (
-                "goal_progress",
-                self.goal_progress,
-                (0.0..=1.0).contains(&self.goal_progress),
-                unit,
-            ),
+            ("alpha", self.alpha, pos),
+            ("beta", self.beta, pos),
+            ("lambda", self.lambda, non_neg),
+            ("eta", self.eta, eta),
+            ("epsilon", self.epsilon, unit),
+            ("k", self.k as f64, whole),
+            ("sigma", self.sigma, pos),
+            ("rarity", self.rarity, non_neg),
+            ("goal_progress", self.goal_progress, unit),
         ];
         match checks
             .into_iter()
-            .find(|&(_, value, ok, _)| !(ok && value.is_finite()))
+            .find(|&(_, value, (_, ok))| !(ok(value) && value.is_finite()))
         {
-            Some((name, value, _, expected)) => Err(ParamError {
+            Some((name, value, (expected, _))) => Err(ParamError {
                 name,
                 value,
                 expected,
@@ -387,56 +346,51 @@ impl Params {
     }
 }
 
-/// The shipped learners, by name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LearnerKind {
+/// `LearnerKind`, its [`ALL`](LearnerKind::ALL) and its names.
+macro_rules! learner_kinds {
+    ($($(#[$doc:meta])* $kind:ident $name:literal,)*) => {
+        /// The shipped learners, by name.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum LearnerKind {
+            $($(#[$doc])* $kind,)*
+        }
+
+        impl LearnerKind {
+            /// Every kind: the paper's three, the drives beyond it, then the
+            /// two baselines that mutate kept commands.
+            pub const ALL: [LearnerKind; 8] = [$(LearnerKind::$kind),*];
+
+            /// The name used on the command line and in results.
+            pub fn as_str(self) -> &'static str {
+                match self {
+                    $(LearnerKind::$kind => $name,)*
+                }
+            }
+        }
+    };
+}
+
+learner_kinds! {
     /// [`E3d`].
-    E3d,
+    E3d "e3d",
     /// [`UniformPolicy`].
-    Uniform,
+    Uniform "uniform",
     /// [`EpsilonGreedy`].
-    Egreedy,
-    /// [`RelaxedE3d`] (`e3d_relax`).
-    E3dRelax,
-    /// [`CountBonus`] (`count`).
-    Count,
-    /// [`StateMarginalMatching`] (`smm`).
-    Smm,
-    /// [`GoalBabbling`] (`goal_babbling`).
-    GoalBabbling,
-    /// [`Archive`] (`archive`).
-    Archive,
+    Egreedy "egreedy",
+    /// [`RelaxedE3d`].
+    E3dRelax "e3d_relax",
+    /// [`CountBonus`].
+    Count "count",
+    /// [`StateMarginalMatching`].
+    Smm "smm",
+    /// [`GoalBabbling`].
+    GoalBabbling "goal_babbling",
+    /// [`Archive`].
+    Archive "archive",
 }
 
 impl LearnerKind {
-    /// Every kind: the paper's three, the drives beyond it, then the two
-    /// baselines that mutate kept commands.
-    pub const ALL: [LearnerKind; 8] = [
-        LearnerKind::E3d,
-        LearnerKind::Uniform,
-        LearnerKind::Egreedy,
-        LearnerKind::E3dRelax,
-        LearnerKind::Count,
-        LearnerKind::Smm,
-        LearnerKind::GoalBabbling,
-        LearnerKind::Archive,
-    ];
-
-    /// The name used on the command line and in results.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            LearnerKind::E3d => "e3d",
-            LearnerKind::Uniform => "uniform",
-            LearnerKind::Egreedy => "egreedy",
-            LearnerKind::E3dRelax => "e3d_relax",
-            LearnerKind::Count => "count",
-            LearnerKind::Smm => "smm",
-            LearnerKind::GoalBabbling => "goal_babbling",
-            LearnerKind::Archive => "archive",
-        }
-    }
-
     /// The parameters of [`Params`] this kind reads (`alpha`, `beta`,
     /// `lambda`, `eta`, `epsilon`, `k`, `sigma`, `rarity`,
     /// `goal_progress`); the others it ignores.
@@ -508,6 +462,26 @@ impl FromStr for LearnerKind {
                 input: s.to_string(),
             })
     }
+}
+
+/// An index drawn with probability proportional to `weights` (one `f64`
+/// of `rng`): the first whose running sum passes `u x total`, else the last.
+pub(crate) fn draw_weighted(
+    weights: impl Iterator<Item = f64> + Clone,
+    rng: &mut SessionRng,
+) -> usize {
+    let total: f64 = weights.clone().sum();
+    let u = rand::RngExt::random::<f64>(rng) * total;
+    let mut acc = 0.0;
+    let mut last = 0;
+    for (i, w) in weights.enumerate() {
+        acc += w;
+        if u < acc {
+            return i;
+        }
+        last = i;
+    }
+    last
 }
 
 /// Flat per-slot table storage: `offsets[slot] + symbol`.

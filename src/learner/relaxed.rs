@@ -20,25 +20,9 @@ use serde::{Deserialize, Serialize};
 ///              - (alpha / beta) (log p(e) - log p*(e))
 /// ```
 ///
-/// with `rho` = [`RELAX`](Self::RELAX) = 0.02 by default: the chosen
-/// symbol gets E3D's update, and every value forgets towards 0 fifty times
-/// more slowly than a chosen one decays.
-///
-/// Why it cannot lock: in E3D, a symbol a slot stops choosing keeps its
-/// value for ever. A slot whose other symbols were pushed down early (say
-/// slot 0 of two_rooms on `N`, a move that does nothing from the start)
-/// then never tries them again, and the effects that need every move (the
-/// far corner) stay unseen: nothing pulls towards an effect never seen.
-/// Averaged over the effects a policy visits, E3D's intrinsic reward is
-/// `-(1/beta) KL(p || p*)`, negative while the visits miss the target, so
-/// the symbol a slot keeps choosing settles below 0, while here the ones
-/// it stopped choosing climb back towards 0 and are tried again. A
-/// rewarded symbol settles near `r`, above 0, and keeps its lead.
-///
-/// Measured on two_rooms over 10 000 sessions of 5000 trials
-/// (docs/reproducing.md): task 2 sessions that never reach the reward,
-/// 78 with E3D and 0 with this learner; task 1 entropy 0.985 and 0.978;
-/// task 2 reward 4440 and 4455.
+/// with `rho` = [`RELAX`](Self::RELAX): a symbol a slot stopped choosing
+/// climbs back towards 0 and is tried again, where E3D keeps its value
+/// for ever (why and measures: docs/algorithms.md, "E3D that cannot lock").
 ///
 /// ```
 /// use e3d::learner::RelaxedE3d;

@@ -9,13 +9,10 @@ use crate::world::Outcome;
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
-/// State marginal matching (after Lee et al. 2019, "Efficient exploration
-/// via state marginal matching") on the effect histogram: the intrinsic
-/// reward is the density ratio `log p*(e) - log rho(e)`, where `rho` is
-/// the marginal of **every** trial so far (counts with one pseudo-count
-/// per effect, not E3D's running histogram), and the behaviour is the
-/// **historical average** of the policies (a past policy drawn uniformly
-/// at each trial), SMM's fictitious play:
+/// State marginal matching (after Lee et al. 2019) on the effect
+/// histogram: the intrinsic reward is `log p*(e) - log rho(e)`, `rho` the
+/// marginal of every trial so far, and the behaviour the historical
+/// average of the policies (SMM's fictitious play):
 ///
 /// ```text
 /// N(e) <- N(e) + 1;  t <- t + 1;  rho(e) = (N(e) + 1) / (t + |E|)

@@ -9,10 +9,9 @@
 
 use super::state::tables::{q_rows, StateTable};
 use super::state::{check_finite, check_rates, ensure, sizes_of};
-use super::{slot_offsets, LearnerError, Params};
+use super::{draw_weighted, slot_offsets, LearnerError, Params};
 use crate::command::{Command, CommandSpace};
 use crate::rng::SessionRng;
-use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
 /// `Q` per slot, the inverse temperature `beta`, and the rates of the
@@ -76,17 +75,7 @@ impl SoftmaxSlots {
         for slot in 0..n {
             let qs = &q[self.offsets[slot]..self.offsets[slot + 1]];
             let m = qs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            let total: f64 = qs.iter().map(|&v| (self.beta * (v - m)).exp()).sum();
-            let u = rng.random::<f64>() * total;
-            let mut acc = 0.0;
-            let mut pick = qs.len() - 1;
-            for (a, &v) in qs.iter().enumerate() {
-                acc += (self.beta * (v - m)).exp();
-                if u < acc {
-                    pick = a;
-                    break;
-                }
-            }
+            let pick = draw_weighted(qs.iter().map(|&v| (self.beta * (v - m)).exp()), rng);
             command.symbols[slot] = pick as u8;
         }
     }

@@ -82,25 +82,7 @@ impl RunningMetrics {
         self.metrics_given(target, Some(reachable_effects))
     }
 
-    /// The running metrics of the trials that ended in `effects` with
-    /// `rewards`: what a record's metrics are computed from.
-    pub(super) fn replay(num_effects: usize, effects: &[usize], rewards: &[f64]) -> Self {
-        let mut m = RunningMetrics::new(num_effects);
-        for (&effect, &reward) in effects.iter().zip(rewards) {
-            let point = [0.0; 2];
-            m.record(
-                &(),
-                &Outcome {
-                    effect,
-                    reward,
-                    point,
-                },
-            );
-        }
-        m
-    }
-
-    pub(super) fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
+    fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
         let all = self.effect_counts();
         let mut last = vec![0.0; all.len()];
         for &e in &self.last {

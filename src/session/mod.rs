@@ -242,7 +242,7 @@ impl<T> TrialRecord<T> {
 
     /// The session's metrics against the target `p*`.
     pub fn metrics(&self, target: &Target) -> Metrics {
-        self.metrics_given(target, None)
+        self.replay().metrics(target)
     }
 
     /// The same, with the entropy over the `reachable_effects` effects
@@ -265,12 +265,24 @@ impl<T> TrialRecord<T> {
     /// assert_eq!(rec.metrics(&Target::Uniform).normalized_entropy_reachable, None);
     /// ```
     pub fn metrics_over_reachable(&self, target: &Target, reachable_effects: usize) -> Metrics {
-        self.metrics_given(target, Some(reachable_effects))
+        self.replay()
+            .metrics_over_reachable(target, reachable_effects)
     }
 
-    fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
-        RunningMetrics::replay(self.num_effects, &self.effects, &self.rewards)
-            .metrics_given(target, reachable)
+    fn replay(&self) -> RunningMetrics {
+        let mut m = RunningMetrics::new(self.num_effects);
+        for (&effect, &reward) in self.effects.iter().zip(&self.rewards) {
+            let point = [0.0; 2];
+            m.record(
+                &(),
+                &Outcome {
+                    effect,
+                    reward,
+                    point,
+                },
+            );
+        }
+        m
     }
 }
 
