@@ -178,15 +178,14 @@ pub struct EpisodeTally {
     num_effects: usize,
     commands_per_episode: usize,
     /// Per start context, the episodes' terminal cells counted
-    /// (`num_effects` per start), their reward and the first rewarded one.
+    /// (`num_effects` per start).
     terminal: Vec<f64>,
-    reward_per_start: Vec<f64>,
-    first_per_start: Vec<Option<usize>>,
+    starts: usize,
     episodes: usize,
-    /// The command of the current episode reached, its start and its
-    /// reward so far.
+    /// The command of the current episode reached, and its start.
     command: usize,
     start: usize,
+    /// The current episode's reward so far.
     reward: f64,
     cumulative: f64,
     first_reward_episode: Option<usize>,
@@ -199,8 +198,7 @@ impl EpisodeTally {
             num_effects: 0,
             commands_per_episode: 1,
             terminal: Vec::new(),
-            reward_per_start: vec![0.0; starts],
-            first_per_start: vec![None; starts],
+            starts,
             episodes: 0,
             command: 0,
             start: 0,
@@ -214,42 +212,32 @@ impl EpisodeTally {
     pub fn episodes(&self) -> usize {
         self.episodes
     }
-    /// The reward of all episodes.
+    /// The reward of all episodes ([`EpisodeRecord::cumulative_reward`]).
     pub fn cumulative_reward(&self) -> f64 {
         self.cumulative
     }
-    /// The first episode (1-based) with a reward > 0.
+    /// The first rewarded episode, 1-based
+    /// ([`EpisodeRecord::first_reward_episode`]).
     pub fn first_reward_episode(&self) -> Option<usize> {
         self.first_reward_episode
     }
-    /// The total reward of the episodes started in each start context (0
-    /// for a context never drawn).
-    pub fn reward_per_start(&self) -> Vec<f64> {
-        self.reward_per_start.clone()
-    }
-    /// Per start context, the first episode (1-based, counted over all
-    /// the session's episodes) started in it with a reward > 0.
-    pub fn first_reward_per_start(&self) -> Vec<Option<usize>> {
-        self.first_per_start.clone()
-    }
-    /// Per start context, the normalised entropy (over all effects) of
-    /// the episodes' terminal cells (0 for a context never drawn).
+    /// Per start context, the normalised entropy of the episodes' terminal
+    /// cells ([`EpisodeRecord::entropy_per_start`]).
     pub fn entropy_per_start(&self) -> Vec<f64> {
-        let n = self.num_effects;
-        (0..self.reward_per_start.len())
-            .map(|s| normalized_entropy_over(&self.terminal[s * n..(s + 1) * n], n))
+        (0..self.starts)
+            .map(|s| {
+                let counts = &self.terminal[s * self.num_effects..(s + 1) * self.num_effects];
+                normalized_entropy_over(counts, self.num_effects)
+            })
             .collect()
-    }
-    fn shape(&mut self, commands_per_episode: usize, num_effects: usize) {
-        self.num_effects = num_effects;
-        self.commands_per_episode = commands_per_episode.max(1);
-        self.terminal = vec![0.0; self.reward_per_start.len() * num_effects];
     }
 }
 
 impl EpisodeRecorder for EpisodeTally {
     fn begin(&mut self, config: &EpisodeConfig, num_effects: usize) {
-        self.shape(config.commands, num_effects);
+        self.num_effects = num_effects;
+        self.commands_per_episode = config.commands.max(1);
+        self.terminal = vec![0.0; self.starts * num_effects];
     }
     fn start(&mut self, start: usize) {
         self.start = start;
@@ -260,14 +248,11 @@ impl EpisodeRecorder for EpisodeTally {
         self.reward += outcome.reward;
         self.command += 1;
         if self.command == self.commands_per_episode {
-            let s = self.start;
             self.episodes += 1;
-            self.terminal[s * self.num_effects + outcome.effect] += 1.0;
+            self.terminal[self.start * self.num_effects + outcome.effect] += 1.0;
             self.cumulative += self.reward;
-            self.reward_per_start[s] += self.reward;
-            if self.reward > 0.0 {
-                self.first_reward_episode.get_or_insert(self.episodes);
-                self.first_per_start[s].get_or_insert(self.episodes);
+            if self.reward > 0.0 && self.first_reward_episode.is_none() {
+                self.first_reward_episode = Some(self.episodes);
             }
         }
     }
@@ -340,60 +325,53 @@ impl EpisodeRecord {
             .map(|c| c.iter().sum())
     }
 
-    /// The session's figures over `num_contexts` start contexts, the
-    /// record replayed into an [`EpisodeTally`].
-    pub fn tally(&self, num_contexts: usize) -> EpisodeTally {
-        let mut t = EpisodeTally::new(num_contexts);
-        t.shape(self.commands_per_episode, self.num_effects);
-        let (k, blank) = (self.commands_per_episode, Command::default());
-        for (i, &s) in self.starts.iter().enumerate() {
-            t.start(s);
-            for j in i * k..((i + 1) * k).min(self.effects.len()) {
-                let (effect, reward) = (self.effects[j], self.rewards[j]);
-                let point = [0.0; 2];
-                t.record(
-                    self.contexts[j],
-                    &blank,
-                    &Outcome {
-                        effect,
-                        reward,
-                        point,
-                    },
-                );
-            }
-        }
-        t
-    }
-
-    /// The tally over the start contexts drawn.
-    fn tally_drawn(&self) -> EpisodeTally {
-        self.tally(self.starts.iter().max().map_or(0, |&s| s + 1))
-    }
-
     /// The total reward.
     pub fn cumulative_reward(&self) -> f64 {
-        self.tally_drawn().cumulative_reward()
+        self.episode_rewards().sum()
     }
 
     /// The first episode (1-based) with a reward > 0.
     pub fn first_reward_episode(&self) -> Option<usize> {
-        self.tally_drawn().first_reward_episode()
+        self.episode_rewards().position(|r| r > 0.0).map(|i| i + 1)
     }
 
-    /// [`EpisodeTally::reward_per_start`] of `num_contexts` start contexts.
+    /// The total reward of the episodes started in each start context,
+    /// context by context (`num_contexts` entries; 0 for a context never
+    /// drawn).
     pub fn reward_per_start(&self, num_contexts: usize) -> Vec<f64> {
-        self.tally(num_contexts).reward_per_start()
+        let mut sums = vec![0.0; num_contexts];
+        for (&s, r) in self.starts.iter().zip(self.episode_rewards()) {
+            sums[s] += r;
+        }
+        sums
     }
 
-    /// [`EpisodeTally::first_reward_per_start`] of `num_contexts` start
-    /// contexts.
+    /// Per start context, the first episode (1-based, counted over all the
+    /// session's episodes, as [`first_reward_episode`](Self::first_reward_episode))
+    /// started in it with a reward > 0 (`None`: none).
     pub fn first_reward_per_start(&self, num_contexts: usize) -> Vec<Option<usize>> {
-        self.tally(num_contexts).first_reward_per_start()
+        let mut first = vec![None; num_contexts];
+        for (i, (&s, r)) in self.starts.iter().zip(self.episode_rewards()).enumerate() {
+            if r > 0.0 && first[s].is_none() {
+                first[s] = Some(i + 1);
+            }
+        }
+        first
     }
 
-    /// [`EpisodeTally::entropy_per_start`] of `num_contexts` start contexts.
+    /// The normalised entropy (over all `num_effects` effects) of the
+    /// terminal effects of the episodes started in each start context,
+    /// context by context (`num_contexts` entries; 0 for a context never
+    /// drawn).
     pub fn entropy_per_start(&self, num_contexts: usize) -> Vec<f64> {
-        self.tally(num_contexts).entropy_per_start()
+        let mut counts = vec![vec![0.0; self.num_effects]; num_contexts];
+        for (&s, e) in self.starts.iter().zip(self.terminal_effects()) {
+            counts[s][e] += 1.0;
+        }
+        counts
+            .iter()
+            .map(|c| normalized_entropy_over(c, self.num_effects))
+            .collect()
     }
 }
 

@@ -120,30 +120,6 @@ impl<G: Genome> GoalBabblingOf<G> {
         }
     }
 
-    /// The goal box: the known outcomes' box widened by [`GOAL_MARGIN`].
-    fn goal_box(&self) -> ([f64; 2], [f64; 2]) {
-        let mut lo = self.lo;
-        let mut hi = self.hi;
-        for a in 0..2 {
-            let m = GOAL_MARGIN * (hi[a] - lo[a]);
-            lo[a] -= m;
-            hi[a] += m;
-        }
-        (lo, hi)
-    }
-
-    fn region_of(&self, p: [f64; 2], lo: [f64; 2], hi: [f64; 2]) -> usize {
-        let bin = |a: usize| {
-            let w = hi[a] - lo[a];
-            if w > 0.0 {
-                (((p[a] - lo[a]) / w * PROGRESS_BINS as f64) as usize).min(PROGRESS_BINS - 1)
-            } else {
-                0
-            }
-        };
-        bin(1) * PROGRESS_BINS + bin(0)
-    }
-
     /// A region's learning progress: `|mean of the newer half - mean of
     /// the older half|` of its last [`PROGRESS_WINDOW`] competences (0
     /// with fewer than 2).
@@ -159,7 +135,13 @@ impl<G: Genome> GoalBabblingOf<G> {
     }
 
     fn sample_goal(&mut self, rng: &mut SessionRng) -> [f64; 2] {
-        let (lo, hi) = self.goal_box();
+        // the goal box: the known outcomes' box widened by GOAL_MARGIN
+        let (mut lo, mut hi) = (self.lo, self.hi);
+        for a in 0..2 {
+            let m = GOAL_MARGIN * (hi[a] - lo[a]);
+            lo[a] -= m;
+            hi[a] += m;
+        }
         let (mut glo, mut ghi) = (lo, hi);
         if self.goal_progress > 0.0 && rng.random::<f64>() < self.goal_progress {
             let lp: Vec<f64> = (0..self.competence.len())
@@ -180,9 +162,17 @@ impl<G: Genome> GoalBabblingOf<G> {
         }
         let gx = glo[0] + (ghi[0] - glo[0]) * rng.random::<f64>();
         let gy = glo[1] + (ghi[1] - glo[1]) * rng.random::<f64>();
-        let goal = [gx, gy];
-        self.last_region = self.region_of(goal, lo, hi);
-        goal
+        let bin = |a: usize, p: f64| {
+            let w = hi[a] - lo[a];
+            let b = ((p - lo[a]) / w * PROGRESS_BINS as f64) as usize;
+            if w > 0.0 {
+                b.min(PROGRESS_BINS - 1)
+            } else {
+                0
+            }
+        };
+        self.last_region = bin(1, gy) * PROGRESS_BINS + bin(0, gx);
+        [gx, gy]
     }
 
     /// The command kept for cell `effect` (the last that reached it).

@@ -11,32 +11,27 @@
 
 mod archive;
 pub mod contextual;
-mod count;
+mod drives;
 mod e3d;
 mod egreedy;
 mod exp;
 pub mod gaussian;
 mod goal_babbling;
 pub mod mutation;
-mod relaxed;
 mod setup;
-mod smm;
-mod softmax;
 pub mod state;
 mod uniform;
 
 pub use archive::{Archive, ArchiveOf, ArchiveValues};
 pub use contextual::{ClosedLoopE3d, ContextTargets, ContextualLearner, PerContext, QLearning};
-pub use count::CountBonus;
+pub use drives::{CountBonus, RelaxedE3d, StateMarginalMatching};
 pub use e3d::E3d;
 pub use egreedy::EpsilonGreedy;
 pub use gaussian::{GaussianE3d, UniformValues};
 pub use goal_babbling::{
     GoalBabbling, GoalBabblingOf, GoalBabblingValues, GOAL_MARGIN, PROGRESS_BINS, PROGRESS_WINDOW,
 };
-pub use relaxed::RelaxedE3d;
 pub use setup::LearnerSetup;
-pub use smm::StateMarginalMatching;
 pub use state::LearnerState;
 pub use uniform::UniformPolicy;
 
