@@ -247,11 +247,10 @@ impl LearnerState for GaussianE3d {
             StateTable::vector("sd", true, sd),
         ];
         t.extend(model_tables(&self.model, &self.log_target));
+        let baseline = StateTable::vector("baseline", false, vec![self.baseline]);
         t.push(StateTable {
-            name: "baseline",
             shape: vec![],
-            values: vec![self.baseline],
-            writable: false,
+            ..baseline
         });
         t
     }

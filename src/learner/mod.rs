@@ -9,6 +9,23 @@
 //! docs/algorithms.md. Implement [`Learner`] (or [`ContinuousLearner`]) to
 //! plug in your own.
 
+/// `Box<L>` is a `$learner` as `L` is: its `&self` methods, then its
+/// `&mut self` methods, forwarded.
+macro_rules! boxed {
+    ($learner:ident
+        { $(fn $m:ident(&self $(, $a:ident: $t:ty)*) $(-> $r:ty)?;)* }
+        { $(fn $mm:ident(&mut self $(, $ma:ident: $mt:ty)*);)* }) => {
+        impl<L: $learner + ?Sized> $learner for Box<L> {
+            $(fn $m(&self $(, $a: $t)*) $(-> $r)? {
+                (**self).$m($($a),*)
+            })*
+            $(fn $mm(&mut self $(, $ma: $mt)*) {
+                (**self).$mm($($ma),*)
+            })*
+        }
+    };
+}
+
 mod archive;
 pub mod contextual;
 mod drives;
@@ -68,20 +85,13 @@ pub trait Learner {
     }
 }
 
-impl<L: Learner + ?Sized> Learner for Box<L> {
-    fn name(&self) -> &str {
-        (**self).name()
-    }
-    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
-        (**self).propose(rng, command)
-    }
-    fn learn(&mut self, command: &Command, outcome: &Outcome) {
-        (**self).learn(command, outcome)
-    }
-    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
-        (**self).slot_policy(slot)
-    }
-}
+boxed!(Learner {
+    fn name(&self) -> &str;
+    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>>;
+} {
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command);
+    fn learn(&mut self, command: &Command, outcome: &Outcome);
+});
 
 /// A learner of continuous commands (one value per slot, in the slot's
 /// range: [`ValueSpace`](crate::command::ValueSpace)), driven as a
@@ -108,23 +118,14 @@ pub trait ContinuousLearner {
     }
 }
 
-impl<L: ContinuousLearner + ?Sized> ContinuousLearner for Box<L> {
-    fn name(&self) -> &str {
-        (**self).name()
-    }
-    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
-        (**self).propose(rng, values)
-    }
-    fn learn(&mut self, values: &[f64], outcome: &Outcome) {
-        (**self).learn(values, outcome)
-    }
-    fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
-        (**self).slot_gaussian(slot)
-    }
-    fn value_space(&self) -> Option<&crate::command::ValueSpace> {
-        (**self).value_space()
-    }
-}
+boxed!(ContinuousLearner {
+    fn name(&self) -> &str;
+    fn slot_gaussian(&self, slot: usize) -> (f64, f64);
+    fn value_space(&self) -> Option<&crate::command::ValueSpace>;
+} {
+    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>);
+    fn learn(&mut self, values: &[f64], outcome: &Outcome);
+});
 
 /// A hyper-parameter out of its range.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -183,6 +184,13 @@ pub enum LearnerError {
     /// wrong length, bytes that are not a saved state): what is wrong.
     #[error("{0}")]
     State(String),
+}
+
+impl LearnerError {
+    pub(crate) fn contexts(reason: impl Into<String>) -> LearnerError {
+        let reason = reason.into();
+        LearnerError::Contexts { reason }
+    }
 }
 
 /// The hyper-parameters of the shipped learners. Defaults: the paper's task
@@ -481,12 +489,9 @@ pub(crate) fn draw_weighted(
 
 /// Flat per-slot table storage: `offsets[slot] + symbol`.
 pub(crate) fn slot_offsets(space: &CommandSpace) -> Vec<usize> {
-    let mut offsets = Vec::with_capacity(space.num_slots() + 1);
-    let mut at = 0;
-    for k in space.sizes() {
-        offsets.push(at);
-        at += k;
-    }
-    offsets.push(at);
-    offsets
+    let ends = space.sizes().scan(0, |at, k| {
+        *at += k;
+        Some(*at)
+    });
+    std::iter::once(0).chain(ends).collect()
 }

@@ -197,9 +197,7 @@ impl LearnerSetup {
         match (self.closed_loop, self.kind) {
             (false, _) => {
                 if num_contexts == 0 {
-                    return Err(LearnerError::Contexts {
-                        reason: "at least one context".into(),
-                    });
+                    return Err(LearnerError::contexts("at least one context"));
                 }
                 check_context_effects(num_contexts, num_effects)?;
                 let learners = (0..num_contexts)
@@ -218,11 +216,9 @@ impl LearnerSetup {
             (true, LearnerKind::Egreedy) => {
                 QLearning::new(space, num_contexts, params, gamma).map(|l| Box::new(l) as _)
             }
-            (true, other) => Err(LearnerError::Contexts {
-                reason: format!(
-                    "the closed loop takes learner e3d (closed-loop E3D) or egreedy (Q-learning), not {other}"
-                ),
-            }),
+            (true, other) => Err(LearnerError::contexts(format!(
+                "the closed loop takes learner e3d (closed-loop E3D) or egreedy (Q-learning), not {other}"
+            ))),
         }
     }
 }

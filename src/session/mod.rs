@@ -125,17 +125,15 @@ where
     L: Learns<C> + ?Sized,
     R: Recorder<C> + ?Sized,
 {
-    let mut learner = [One(learner)];
-    let mut recorder = [recorder];
-    let [status] = <[_; 1]>::try_from(run_group(
+    let (learner, recorder) = (&mut [One(learner)], &mut [recorder]);
+    run_group(
         world,
-        &mut learner,
+        learner,
         std::slice::from_ref(config),
-        &mut recorder,
+        recorder,
         control,
-    ))
-    .expect("one status");
-    status
+    )
+    .remove(0)
 }
 
 /// A learner borrowed for [`run_session_into`].
