@@ -368,7 +368,7 @@ impl ValueSessionRecord {
 }
 
 /// Runs `config.trials` trials of a learner of continuous commands on a
-/// continuous world ([`run_session_into`](run_session_into) into a
+/// continuous world ([`run_session_into`] into a
 /// [`ValueSessionRecord`], with the learner's final policy).
 ///
 /// ```
