@@ -313,6 +313,12 @@ impl Command {
     }
 }
 
+impl AsRef<[u8]> for Command {
+    fn as_ref(&self) -> &[u8] {
+        &self.symbols
+    }
+}
+
 impl fmt::Display for Command {
     /// Writes the symbol indices, e.g. `[0, 1, 1, 0]`; use
     /// [`CommandSpace::format`] for the symbols themselves.

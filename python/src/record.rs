@@ -81,7 +81,7 @@ impl Rows {
         let effect_counts = rec.effect_counts(0..t);
         let flat: Vec<f64> = rec.final_policy.iter().flat_map(|&(m, s)| [m, s]).collect();
         let policy = Array2::from_shape_vec((rec.num_slots, 2), flat).expect("slots x 2");
-        let commands = Array2::from_shape_vec((t, rec.num_slots), rec.values).expect("T x slots");
+        let commands = Array2::from_shape_vec((t, rec.num_slots), rec.commands).expect("T x slots");
         Rows {
             commands: commands.into_pyarray(py).into_any().unbind(),
             effects: rec.effects,

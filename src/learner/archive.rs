@@ -3,9 +3,9 @@
 //! arXiv 1901.10995): one command per reached cell; pick a cell, mutate
 //! its command, execute it.
 
-use super::mutation::{check_cells, kept_commands, spread, Genome, SymbolGenome, ValueGenome};
+use super::mutation::{kept_commands, spread, Cells, Genome, Kept, SymbolGenome, ValueGenome};
 use super::state::{LearnerState, StateShape};
-use super::{ContinuousLearner, Learner, Params};
+use super::{draw_weighted, ContinuousLearner, Learner, Params};
 use crate::command::{Command, ValueSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
@@ -23,31 +23,21 @@ struct Entry<T> {
     weight: f64,
 }
 
+impl<T> Kept<T> for Entry<T> {
+    fn command(&self) -> &[T] {
+        &self.command
+    }
+}
+
 /// An archive of reached cells, Go-Explore style, over commands of
 /// symbols ([`Archive`]) or of values ([`ArchiveValues`]).
 ///
-/// The archive keeps **one command per reached cell** (the first that
-/// reached it, replaced only by one that reached it with a higher reward).
-/// Each trial:
-///
-/// ```text
-/// if the archive is empty: a uniform command
-/// else:
-///     pick a reached cell c with probability proportional to (1 + n_c)^(-rarity),
-///         n_c the times c was picked before (rarity 0: uniformly)
-///     n_c <- n_c + 1
-///     propose the command of c with k slots resampled (Params::k)
-/// after the trial, ending in cell e with reward r:
-///     if e is not in the archive, or r > the reward kept for e: keep the command for e
-/// ```
-///
-/// `rarity` is [`Params::rarity`] (default 0.5, Go-Explore's
-/// `1/sqrt(n + 1)` weight), `k` is [`Params::k`] (default 2). Its draws:
-/// one `f64` per trial to pick a cell (one integer when `rarity` is 0),
-/// then two integers per mutated slot ([`mutate_symbols`](super::mutation::mutate_symbols)).
-/// Over values, a mutation adds `N(0, sigma^2)` to every value in the unit
-/// coordinates of its range ([`Params::sigma`], default 0.1;
-/// [`mutate_values`](super::mutation::mutate_values)).
+/// The archive keeps one command per reached cell (the first that reached
+/// it, replaced only by one with a higher reward). Each trial picks a
+/// reached cell with weight `(1 + times picked)^(-rarity)` (one `f64`; one
+/// integer when [`Params::rarity`] is 0) and proposes its command mutated
+/// (docs/algorithms.md, "Archive of reached cells"); a uniform command
+/// while the archive is empty.
 ///
 /// ```
 /// use e3d::learner::Archive;
@@ -69,9 +59,7 @@ struct Entry<T> {
 #[serde(bound = "")]
 pub struct ArchiveOf<G: Genome> {
     genome: G,
-    cells: Vec<Option<Entry<G::Elem>>>,
-    /// The reached cells, in the order they were first reached.
-    reached: Vec<usize>,
+    cells: Cells<Entry<G::Elem>>,
     rarity: f64,
     /// The cell chosen for the last proposal (`None`: a uniform command).
     last_cell: Option<usize>,
@@ -91,8 +79,7 @@ impl<G: Genome> ArchiveOf<G> {
     pub fn new(space: &G::Space, num_effects: usize, params: &Params) -> Self {
         ArchiveOf {
             genome: G::new(space, params),
-            cells: vec![None; num_effects],
-            reached: Vec::new(),
+            cells: Cells::new(num_effects),
             rarity: params.rarity,
             last_cell: None,
         }
@@ -100,7 +87,7 @@ impl<G: Genome> ArchiveOf<G> {
 
     /// The reached cells, in the order they were first reached.
     pub fn reached(&self) -> &[usize] {
-        &self.reached
+        &self.cells.order
     }
 
     /// The cell picked for the last proposal (`None`: the archive was
@@ -110,27 +97,16 @@ impl<G: Genome> ArchiveOf<G> {
     }
 
     fn choose(&mut self, rng: &mut SessionRng) -> Option<usize> {
-        if self.reached.is_empty() {
+        let reached = &self.cells.order;
+        if reached.is_empty() {
             return None;
         }
         let i = if self.rarity == 0.0 {
-            rng.random_range(0..self.reached.len())
+            rng.random_range(0..reached.len())
         } else {
-            let entry = |e: usize| self.cells[e].as_ref().expect("a reached cell");
-            let total: f64 = self.reached.iter().map(|&e| entry(e).weight).sum();
-            let u = rng.random::<f64>() * total;
-            let mut acc = 0.0;
-            let mut pick = self.reached.len() - 1;
-            for (i, &e) in self.reached.iter().enumerate() {
-                acc += entry(e).weight;
-                if u < acc {
-                    pick = i;
-                    break;
-                }
-            }
-            pick
+            draw_weighted(reached.iter().map(|&e| self.cells.get(e).weight), rng)
         };
-        Some(self.reached[i])
+        Some(reached[i])
     }
 
     fn draw(&mut self, rng: &mut SessionRng, out: &mut Vec<G::Elem>) {
@@ -139,7 +115,7 @@ impl<G: Genome> ArchiveOf<G> {
             None => self.genome.random(rng, out),
             Some(e) => {
                 let rarity = self.rarity;
-                let entry = self.cells[e].as_mut().expect("a reached cell");
+                let entry = self.cells.cells[e].as_mut().expect("a reached cell");
                 entry.chosen += 1;
                 entry.weight = (1.0 + entry.chosen as f64).powf(-rarity);
                 out.clear();
@@ -150,39 +126,30 @@ impl<G: Genome> ArchiveOf<G> {
     }
 
     fn keep(&mut self, command: &[G::Elem], outcome: &Outcome) {
-        let e = outcome.effect;
-        match &mut self.cells[e] {
-            Some(entry) => {
-                if outcome.reward > entry.reward {
-                    entry.command.clear();
-                    entry.command.extend_from_slice(command);
-                    entry.reward = outcome.reward;
-                }
+        let reward = outcome.reward;
+        let first = || Entry {
+            command: command.to_vec(),
+            reward,
+            chosen: 0,
+            weight: 1.0,
+        };
+        self.cells.keep(outcome.effect, first, |entry| {
+            if reward > entry.reward {
+                entry.command.clear();
+                entry.command.extend_from_slice(command);
+                entry.reward = reward;
             }
-            slot @ None => {
-                *slot = Some(Entry {
-                    command: command.to_vec(),
-                    reward: outcome.reward,
-                    chosen: 0,
-                    weight: 1.0,
-                });
-                self.reached.push(e);
-            }
-        }
+        })
     }
 
     /// The command kept for cell `effect`, if it was reached.
     pub fn command_of(&self, effect: usize) -> Option<&[G::Elem]> {
-        self.cells
-            .get(effect)?
-            .as_ref()
-            .map(|c| c.command.as_slice())
+        self.cells.command_of(effect)
     }
 
     /// How many times cell `effect` was picked.
     pub fn times_chosen(&self, effect: usize) -> u64 {
-        self.cells
-            .get(effect)
+        (self.cells.cells.get(effect))
             .and_then(|c| c.as_ref())
             .map_or(0, |c| c.chosen)
     }
@@ -191,11 +158,8 @@ impl<G: Genome> ArchiveOf<G> {
     fn check(&self) -> Result<(), String> {
         self.genome.validate()?;
         let n = self.genome.sizes().len();
-        let (cells, reached) = (&self.cells, &self.reached);
-        check_cells("an archive", n, cells, reached, self.last_cell, |e| {
-            e.command.len()
-        })
+        self.cells.check("an archive", n, self.last_cell)
     }
 }
 
-kept_commands!(ArchiveOf "archive" reached);
+kept_commands!(ArchiveOf "archive");

@@ -60,23 +60,14 @@ pub trait ContextualLearner {
     }
 }
 
-impl<L: ContextualLearner + ?Sized> ContextualLearner for Box<L> {
-    fn name(&self) -> &str {
-        (**self).name()
-    }
-    fn num_contexts(&self) -> usize {
-        (**self).num_contexts()
-    }
-    fn propose(&mut self, context: usize, rng: &mut SessionRng, command: &mut Command) {
-        (**self).propose(context, rng, command)
-    }
-    fn learn(&mut self, context: usize, command: &Command, outcome: &Outcome, next: Option<usize>) {
-        (**self).learn(context, command, outcome, next)
-    }
-    fn slot_policy(&self, context: usize, slot: usize) -> Option<Vec<f64>> {
-        (**self).slot_policy(context, slot)
-    }
-}
+boxed!(ContextualLearner {
+    fn name(&self) -> &str;
+    fn num_contexts(&self) -> usize;
+    fn slot_policy(&self, context: usize, slot: usize) -> Option<Vec<f64>>;
+} {
+    fn propose(&mut self, context: usize, rng: &mut SessionRng, command: &mut Command);
+    fn learn(&mut self, context: usize, command: &Command, outcome: &Outcome, next: Option<usize>);
+});
 
 /// The target `p*` of a contextual learner: one for every context, or one
 /// per context.
@@ -94,12 +85,10 @@ impl ContextTargets {
         match self {
             ContextTargets::Shared(t) => Ok(t),
             ContextTargets::PerContext(v) if v.len() == num_contexts => Ok(&v[context]),
-            ContextTargets::PerContext(v) => Err(LearnerError::Contexts {
-                reason: format!(
-                    "{} targets for {num_contexts} contexts: give one per context",
-                    v.len()
-                ),
-            }),
+            ContextTargets::PerContext(v) => Err(LearnerError::contexts(format!(
+                "{} targets for {num_contexts} contexts: give one per context",
+                v.len()
+            ))),
         }
     }
 }
@@ -172,11 +161,9 @@ pub const MAX_CONTEXT_EFFECTS: u64 = 1 << 22;
 pub fn check_context_effects(num_contexts: usize, num_effects: usize) -> Result<(), LearnerError> {
     match (num_contexts as u64).checked_mul(num_effects as u64) {
         Some(n) if n <= MAX_CONTEXT_EFFECTS => Ok(()),
-        _ => Err(LearnerError::Contexts {
-            reason: format!(
-                "tables over {num_contexts} contexts x {num_effects} effects: at most {MAX_CONTEXT_EFFECTS} entries (observe fewer contexts, or use a coarser grid)"
-            ),
-        }),
+        _ => Err(LearnerError::contexts(format!(
+            "tables over {num_contexts} contexts x {num_effects} effects: at most {MAX_CONTEXT_EFFECTS} entries (observe fewer contexts, or use a coarser grid)"
+        ))),
     }
 }
 
@@ -191,18 +178,14 @@ struct ActionValues {
 impl ActionValues {
     fn new(space: &CommandSpace, num_contexts: usize) -> Result<Self, LearnerError> {
         let too_many = || {
-            LearnerError::Contexts {
-            reason: format!(
+            LearnerError::contexts(format!(
                 "a table of action-values over {num_contexts} contexts x {} commands: at most {MAX_ACTION_VALUES} entries",
                 space.num_commands_text()
-            ),
-        }
+            ))
         };
         let commands = space.num_commands().ok_or_else(too_many)?;
         if num_contexts == 0 {
-            return Err(LearnerError::Contexts {
-                reason: "at least one context".into(),
-            });
+            return Err(LearnerError::contexts("at least one context"));
         }
         let entries = commands
             .checked_mul(num_contexts as u64)

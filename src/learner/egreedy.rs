@@ -1,4 +1,4 @@
-use super::softmax::check_offsets;
+use super::drives::check_offsets;
 use super::state::tables::{no_table, slot_rows, StateTable};
 use super::state::{sizes_of, LearnerState, StateShape};
 use super::{slot_offsets, Learner, LearnerError, Params};

@@ -35,37 +35,20 @@ pub const POLICY_STEP: f64 = 0.3;
 /// E3D over continuous slots: a Gaussian policy per slot, updated by the
 /// paper's intrinsic reward through the score function.
 ///
-/// Each slot `i` works in the unit coordinates of its range (`-1` its min,
-/// `1` its max). It draws `x_i ~ N(mu_i, sigma_i^2)` and sends the value at
-/// `clamp(x_i, -1, 1)`; the slots are independent. After a trial with
-/// effect `e` and reward `r`, the running histogram is updated first, `p
-/// <- (1 - eta) p + eta onehot(e)`, then the drive is E3D's
+/// Each slot works in the unit coordinates of its range (`[-1, 1]`),
+/// draws `x ~ N(mu, sigma^2)` and sends `clamp(x, -1, 1)`. After a trial,
+/// `p` is updated as in E3D, the drive is `G = lambda r - (1 / beta) (log
+/// p(e) - log p*(e))`, and with the advantage `A = G - b` over a running
+/// baseline `b` each slot takes a natural-gradient REINFORCE step:
 ///
 /// ```text
-/// G = lambda r - (1 / beta) (log p(e) - log p*(e))
+/// mu      <- mu      + 0.3 alpha A (x - mu)
+/// log sig <- log sig + 0.3 alpha A ((x - mu)^2 / sig^2 - 1) / 2
 /// ```
 ///
-/// and with the advantage `A = G - b` over a running baseline `b <- b +
-/// 0.05 (G - b)` (taken before it moves), each slot takes a natural-gradient
-/// step of REINFORCE on `(mu_i, log sigma_i)`:
-///
-/// ```text
-/// mu_i      <- mu_i      + 0.3 alpha A (x_i - mu_i)
-/// log sig_i <- log sig_i + 0.3 alpha A ((x_i - mu_i)^2 / sig_i^2 - 1) / 2
-/// ```
-///
-/// (the score `d log N / d mu = (x - mu) / sigma^2` times the inverse Fisher
-/// information `sigma^2`, and `d log N / d log sigma = (x - mu)^2 / sigma^2 - 1`
-/// times `1/2`). Means stay in `[-1.5, 1.5]`, deviations in `[0.02, 2]`.
-/// A rare effect (`p(e) < p*(e)`) gives `A > 0`: the means move towards the
-/// draw that reached it, and a draw far from the mean widens the policy.
-/// Every slot starts at `mu = 0`, `sigma = 1 / sqrt(3)` (the uniform
-/// sampler's spread). `docs/algorithms.md` ("Continuous commands") derives
-/// it.
-///
-/// `learn` uses the draws of the last `propose` when `values` are what it
-/// proposed; for other values (a command from elsewhere), their unit
-/// coordinates.
+/// Derivation and bounds: docs/algorithms.md, "Gaussian E3D". `learn`
+/// uses the draws of the last `propose` when given its values, else their
+/// unit coordinates.
 ///
 /// ```
 /// use e3d::{ContinuousLearner, Outcome, Params, SessionRng, Target};
@@ -264,11 +247,10 @@ impl LearnerState for GaussianE3d {
             StateTable::vector("sd", true, sd),
         ];
         t.extend(model_tables(&self.model, &self.log_target));
+        let baseline = StateTable::vector("baseline", false, vec![self.baseline]);
         t.push(StateTable {
-            name: "baseline",
             shape: vec![],
-            values: vec![self.baseline],
-            writable: false,
+            ..baseline
         });
         t
     }

@@ -4,9 +4,9 @@
 //! explauto): sample a goal effect, take the known command whose outcome
 //! is nearest to it, mutate it, execute it, remember what it reached.
 
-use super::mutation::{check_cells, kept_commands, spread, Genome, SymbolGenome, ValueGenome};
+use super::mutation::{kept_commands, spread, Cells, Genome, Kept, SymbolGenome, ValueGenome};
 use super::state::{ensure, LearnerState, StateShape};
-use super::{ContinuousLearner, Learner, Params};
+use super::{draw_weighted, ContinuousLearner, Learner, Params};
 use crate::command::{Command, ValueSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
@@ -34,6 +34,12 @@ struct Known<T> {
     command: Vec<T>,
 }
 
+impl<T> Kept<T> for Known<T> {
+    fn command(&self) -> &[T] {
+        &self.command
+    }
+}
+
 /// Goal babbling with a nearest-neighbour inverse model, over commands of
 /// symbols ([`GoalBabbling`]) or of values ([`GoalBabblingValues`]).
 ///
@@ -52,18 +58,11 @@ struct Known<T> {
 ///     cell e's command <- this command, its outcome <- x (the most recent one)
 /// ```
 ///
-/// **Learning-progress goals** (explauto's "discretized progress"), with
-/// probability [`Params::goal_progress`] (default 0: every goal uniform):
-/// the goal box is split into 4 x 4 regions; each keeps the competences
-/// `-|g - x|` of the last 20 goals drawn in it, and its progress is the
-/// absolute difference between the means of the newer and the older half.
-/// A region is drawn with probability proportional to its progress
-/// (uniformly while all are 0) and the goal uniformly in it.
-///
-/// Its draws: two `f64` per goal (one more, and one for the region, when
-/// `goal_progress > 0`), then two integers per mutated slot. Over values,
-/// a mutation adds `N(0, sigma^2)` to every value in the unit coordinates
-/// of its range ([`Params::sigma`], default 0.1).
+/// With probability [`Params::goal_progress`], a goal is drawn in a
+/// region of the box chosen by learning progress (explauto's "discretized
+/// progress"; docs/algorithms.md, "Goal babbling"). Its draws: two `f64`
+/// per goal (one more, and one for the region, by learning progress),
+/// then the mutation's.
 ///
 /// ```
 /// use e3d::learner::GoalBabbling;
@@ -85,9 +84,7 @@ struct Known<T> {
 #[serde(bound = "")]
 pub struct GoalBabblingOf<G: Genome> {
     genome: G,
-    cells: Vec<Option<Known<G::Elem>>>,
-    /// The reached cells, in the order they were first reached.
-    known: Vec<usize>,
+    cells: Cells<Known<G::Elem>>,
     lo: [f64; 2],
     hi: [f64; 2],
     goal_progress: f64,
@@ -112,8 +109,7 @@ impl<G: Genome> GoalBabblingOf<G> {
     pub fn new(space: &G::Space, num_effects: usize, params: &Params) -> Self {
         GoalBabblingOf {
             genome: G::new(space, params),
-            cells: vec![None; num_effects],
-            known: Vec::new(),
+            cells: Cells::new(num_effects),
             lo: [f64::INFINITY; 2],
             hi: [f64::NEG_INFINITY; 2],
             goal_progress: params.goal_progress,
@@ -122,30 +118,6 @@ impl<G: Genome> GoalBabblingOf<G> {
             last_region: 0,
             last_parent: None,
         }
-    }
-
-    /// The goal box: the known outcomes' box widened by [`GOAL_MARGIN`].
-    fn goal_box(&self) -> ([f64; 2], [f64; 2]) {
-        let mut lo = self.lo;
-        let mut hi = self.hi;
-        for a in 0..2 {
-            let m = GOAL_MARGIN * (hi[a] - lo[a]);
-            lo[a] -= m;
-            hi[a] += m;
-        }
-        (lo, hi)
-    }
-
-    fn region_of(&self, p: [f64; 2], lo: [f64; 2], hi: [f64; 2]) -> usize {
-        let bin = |a: usize| {
-            let w = hi[a] - lo[a];
-            if w > 0.0 {
-                (((p[a] - lo[a]) / w * PROGRESS_BINS as f64) as usize).min(PROGRESS_BINS - 1)
-            } else {
-                0
-            }
-        };
-        bin(1) * PROGRESS_BINS + bin(0)
     }
 
     /// A region's learning progress: `|mean of the newer half - mean of
@@ -163,7 +135,13 @@ impl<G: Genome> GoalBabblingOf<G> {
     }
 
     fn sample_goal(&mut self, rng: &mut SessionRng) -> [f64; 2] {
-        let (lo, hi) = self.goal_box();
+        // the goal box: the known outcomes' box widened by GOAL_MARGIN
+        let (mut lo, mut hi) = (self.lo, self.hi);
+        for a in 0..2 {
+            let m = GOAL_MARGIN * (hi[a] - lo[a]);
+            lo[a] -= m;
+            hi[a] += m;
+        }
         let (mut glo, mut ghi) = (lo, hi);
         if self.goal_progress > 0.0 && rng.random::<f64>() < self.goal_progress {
             let lp: Vec<f64> = (0..self.competence.len())
@@ -171,14 +149,7 @@ impl<G: Genome> GoalBabblingOf<G> {
                 .collect();
             let total: f64 = lp.iter().sum();
             let region = if total > 0.0 {
-                let u = rng.random::<f64>() * total;
-                let mut acc = 0.0;
-                lp.iter()
-                    .position(|&w| {
-                        acc += w;
-                        u < acc
-                    })
-                    .unwrap_or(lp.len() - 1)
+                draw_weighted(lp.iter().copied(), rng)
             } else {
                 rng.random_range(0..lp.len())
             };
@@ -191,17 +162,22 @@ impl<G: Genome> GoalBabblingOf<G> {
         }
         let gx = glo[0] + (ghi[0] - glo[0]) * rng.random::<f64>();
         let gy = glo[1] + (ghi[1] - glo[1]) * rng.random::<f64>();
-        let goal = [gx, gy];
-        self.last_region = self.region_of(goal, lo, hi);
-        goal
+        let bin = |a: usize, p: f64| {
+            let w = hi[a] - lo[a];
+            let b = ((p - lo[a]) / w * PROGRESS_BINS as f64) as usize;
+            if w > 0.0 {
+                b.min(PROGRESS_BINS - 1)
+            } else {
+                0
+            }
+        };
+        self.last_region = bin(1, gy) * PROGRESS_BINS + bin(0, gx);
+        [gx, gy]
     }
 
     /// The command kept for cell `effect` (the last that reached it).
     pub fn command_of(&self, effect: usize) -> Option<&[G::Elem]> {
-        self.cells
-            .get(effect)?
-            .as_ref()
-            .map(|k| k.command.as_slice())
+        self.cells.command_of(effect)
     }
 
     /// The goal of the last proposal (`None` until a cell is known, and
@@ -217,7 +193,7 @@ impl<G: Genome> GoalBabblingOf<G> {
 
     /// The reached cells, in the order they were first reached.
     pub fn known(&self) -> &[usize] {
-        &self.known
+        &self.cells.order
     }
 
     /// The reached cell whose known outcome is nearest to `goal`
@@ -226,8 +202,8 @@ impl<G: Genome> GoalBabblingOf<G> {
     pub fn nearest(&self, goal: [f64; 2]) -> Option<usize> {
         let mut best = None;
         let mut best_d = f64::NAN;
-        for &e in &self.known {
-            let p = self.cells[e].as_ref().expect("a known cell").point;
+        for &e in &self.cells.order {
+            let p = self.cells.get(e).point;
             let d = (p[0] - goal[0]).powi(2) + (p[1] - goal[1]).powi(2);
             if best.is_none() || d.total_cmp(&best_d).is_lt() {
                 best_d = d;
@@ -238,7 +214,7 @@ impl<G: Genome> GoalBabblingOf<G> {
     }
 
     fn draw(&mut self, rng: &mut SessionRng, out: &mut Vec<G::Elem>) {
-        if self.known.is_empty() {
+        if self.cells.order.is_empty() {
             self.last_goal = None;
             self.last_parent = None;
             self.genome.random(rng, out);
@@ -249,7 +225,7 @@ impl<G: Genome> GoalBabblingOf<G> {
         self.last_goal = Some(goal);
         self.last_parent = Some(parent);
         out.clear();
-        out.extend_from_slice(&self.cells[parent].as_ref().expect("known").command);
+        out.extend_from_slice(&self.cells.get(parent).command);
         self.genome.mutate(rng, out);
     }
 
@@ -265,21 +241,15 @@ impl<G: Genome> GoalBabblingOf<G> {
                 c.push_back(-d);
             }
         }
-        let e = outcome.effect;
-        match &mut self.cells[e] {
-            Some(k) => {
-                k.point = p;
-                k.command.clear();
-                k.command.extend_from_slice(command);
-            }
-            slot @ None => {
-                *slot = Some(Known {
-                    point: p,
-                    command: command.to_vec(),
-                });
-                self.known.push(e);
-            }
-        }
+        let first = || Known {
+            point: p,
+            command: command.to_vec(),
+        };
+        self.cells.keep(outcome.effect, first, |k| {
+            k.point = p;
+            k.command.clear();
+            k.command.extend_from_slice(command);
+        });
         for (a, &x) in p.iter().enumerate() {
             self.lo[a] = self.lo[a].min(x);
             self.hi[a] = self.hi[a].max(x);
@@ -292,17 +262,14 @@ impl<G: Genome> GoalBabblingOf<G> {
         // a point that is not a number reaches no goal: a proposal would
         // find no nearest known cell
         let finite = |p: &[f64; 2]| p.iter().all(|x| x.is_finite());
-        let numbers = self.cells.iter().flatten().all(|k| finite(&k.point))
+        let numbers = self.cells.cells.iter().flatten().all(|k| finite(&k.point))
             && self.last_goal.as_ref().is_none_or(finite)
             && self.competence.iter().flatten().all(|x| x.is_finite());
         ensure(numbers, || {
             "goal babbling with a point, goal or competence that is not a finite number".into()
         })?;
         let n = self.genome.sizes().len();
-        let (cells, known) = (&self.cells, &self.known);
-        check_cells("goal babbling", n, cells, known, self.last_parent, |k| {
-            k.command.len()
-        })?;
+        self.cells.check("goal babbling", n, self.last_parent)?;
         ensure(
             self.competence.len() == PROGRESS_BINS * PROGRESS_BINS
                 && self.last_region < self.competence.len(),
@@ -311,4 +278,4 @@ impl<G: Genome> GoalBabblingOf<G> {
     }
 }
 
-kept_commands!(GoalBabblingOf "goal_babbling" known);
+kept_commands!(GoalBabblingOf "goal_babbling");

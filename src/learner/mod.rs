@@ -1,63 +1,54 @@
 //! Learners: propose a command, learn from its outcome.
 //!
-//! - [`E3d`]: the paper's End-Effect Exploration Drive (Algorithm 1);
-//! - [`UniformPolicy`]: every symbol equally likely, learns nothing;
-//! - [`EpsilonGreedy`]: per-slot epsilon-greedy on the extrinsic reward;
-//!
-//! and drives beyond the paper, on the same per-slot softmax policy:
-//!
-//! - [`RelaxedE3d`]: E3D whose unchosen symbols relax towards 0, so that
-//!   no slot can lock onto a move that does nothing;
-//! - [`CountBonus`]: a `1 / sqrt(N(e))` bonus on effect counts;
-//! - [`StateMarginalMatching`]: the density ratio `log p*(e) - log rho(e)`
-//!   over every trial so far, with historical averaging of the policy.
-//!
-//! and two baselines that keep commands and vary them:
-//!
-//! - [`GoalBabbling`]: sample a goal effect, mutate the known command
-//!   whose outcome is nearest to it (a nearest-neighbour inverse model);
-//! - [`Archive`]: one command per reached cell, Go-Explore style; pick a
-//!   cell, mutate its command.
-//!
-//! Continuous commands (a value per slot, [`ValueSpace`](crate::command::ValueSpace)) have learners of
-//! their own, behind [`ContinuousLearner`]:
-//!
-//! - [`GaussianE3d`]: E3D with a Gaussian policy per slot, updated by the
-//!   same intrinsic reward through the score function;
-//! - [`UniformValues`]: every value uniform in its slot's range;
-//! - [`GoalBabblingValues`] and [`ArchiveValues`]: the two baselines,
-//!   mutating values by Gaussian noise.
-//!
-//! Implement [`Learner`] (or [`ContinuousLearner`]) to plug in your own.
+//! The paper's [`E3d`], [`UniformPolicy`] and [`EpsilonGreedy`]; the drives
+//! beyond it on the same per-slot softmax ([`RelaxedE3d`], [`CountBonus`],
+//! [`StateMarginalMatching`]); the baselines that keep commands and vary
+//! them ([`GoalBabbling`], [`Archive`]); and behind [`ContinuousLearner`],
+//! the learners of continuous commands ([`GaussianE3d`], [`UniformValues`],
+//! [`GoalBabblingValues`], [`ArchiveValues`]). Their equations:
+//! docs/algorithms.md. Implement [`Learner`] (or [`ContinuousLearner`]) to
+//! plug in your own.
+
+/// `Box<L>` is a `$learner` as `L` is: its `&self` methods, then its
+/// `&mut self` methods, forwarded.
+macro_rules! boxed {
+    ($learner:ident
+        { $(fn $m:ident(&self $(, $a:ident: $t:ty)*) $(-> $r:ty)?;)* }
+        { $(fn $mm:ident(&mut self $(, $ma:ident: $mt:ty)*);)* }) => {
+        impl<L: $learner + ?Sized> $learner for Box<L> {
+            $(fn $m(&self $(, $a: $t)*) $(-> $r)? {
+                (**self).$m($($a),*)
+            })*
+            $(fn $mm(&mut self $(, $ma: $mt)*) {
+                (**self).$mm($($ma),*)
+            })*
+        }
+    };
+}
 
 mod archive;
 pub mod contextual;
-mod count;
+mod drives;
 mod e3d;
 mod egreedy;
 mod exp;
 pub mod gaussian;
 mod goal_babbling;
 pub mod mutation;
-mod relaxed;
 mod setup;
-mod smm;
-mod softmax;
 pub mod state;
 mod uniform;
 
 pub use archive::{Archive, ArchiveOf, ArchiveValues};
 pub use contextual::{ClosedLoopE3d, ContextTargets, ContextualLearner, PerContext, QLearning};
-pub use count::CountBonus;
+pub use drives::{CountBonus, RelaxedE3d, StateMarginalMatching};
 pub use e3d::E3d;
 pub use egreedy::EpsilonGreedy;
 pub use gaussian::{GaussianE3d, UniformValues};
 pub use goal_babbling::{
     GoalBabbling, GoalBabblingOf, GoalBabblingValues, GOAL_MARGIN, PROGRESS_BINS, PROGRESS_WINDOW,
 };
-pub use relaxed::RelaxedE3d;
 pub use setup::LearnerSetup;
-pub use smm::StateMarginalMatching;
 pub use state::LearnerState;
 pub use uniform::UniformPolicy;
 
@@ -78,11 +69,9 @@ pub trait Learner {
     /// A short name (`"e3d"`, `"uniform"`, `"egreedy"`).
     fn name(&self) -> &str;
 
-    /// Draws the next command into `command` (which the caller reuses from
-    /// trial to trial: no allocation needed). Every random draw comes from
-    /// `rng`, the session's generator: a concrete, portable type rather than
-    /// `dyn Rng`, so that draws inline (a trial costs nanoseconds); use it
-    /// through `rand::RngExt` (`rng.random::<f64>()`, `rng.random_range(..)`).
+    /// Draws the next command into `command` (reused from trial to trial).
+    /// Every random draw comes from `rng`, the session's generator (a
+    /// concrete type, so that draws inline), through `rand::RngExt`.
     fn propose(&mut self, rng: &mut SessionRng, command: &mut Command);
 
     /// Learns from the outcome of `command`.
@@ -96,27 +85,17 @@ pub trait Learner {
     }
 }
 
-impl<L: Learner + ?Sized> Learner for Box<L> {
-    fn name(&self) -> &str {
-        (**self).name()
-    }
-    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command) {
-        (**self).propose(rng, command)
-    }
-    fn learn(&mut self, command: &Command, outcome: &Outcome) {
-        (**self).learn(command, outcome)
-    }
-    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>> {
-        (**self).slot_policy(slot)
-    }
-}
+boxed!(Learner {
+    fn name(&self) -> &str;
+    fn slot_policy(&self, slot: usize) -> Option<Vec<f64>>;
+} {
+    fn propose(&mut self, rng: &mut SessionRng, command: &mut Command);
+    fn learn(&mut self, command: &Command, outcome: &Outcome);
+});
 
 /// A learner of continuous commands (one value per slot, in the slot's
-/// range: [`ValueSpace`](crate::command::ValueSpace)).
-///
-/// A session calls [`propose`](ContinuousLearner::propose), executes the
-/// values ([`PhysicsWorld::execute_values`](crate::world::PhysicsWorld::execute_values)),
-/// then calls [`learn`](ContinuousLearner::learn) with the outcome.
+/// range: [`ValueSpace`](crate::command::ValueSpace)), driven as a
+/// [`Learner`] is.
 pub trait ContinuousLearner {
     /// A short name (`"e3d"`, `"uniform"`).
     fn name(&self) -> &str;
@@ -132,31 +111,21 @@ pub trait ContinuousLearner {
     /// slot's unit (before the clamping to its range).
     fn slot_gaussian(&self, slot: usize) -> (f64, f64);
 
-    /// The slots' ranges the learner proposes in, if it keeps them (the
-    /// learners of the library do): a caller can check the values it is
-    /// told to learn from ([`ValueSpace::check`](crate::command::ValueSpace::check)).
+    /// The slots' ranges the learner proposes in, if it keeps them: a
+    /// caller can check the values it is told to learn from.
     fn value_space(&self) -> Option<&crate::command::ValueSpace> {
         None
     }
 }
 
-impl<L: ContinuousLearner + ?Sized> ContinuousLearner for Box<L> {
-    fn name(&self) -> &str {
-        (**self).name()
-    }
-    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>) {
-        (**self).propose(rng, values)
-    }
-    fn learn(&mut self, values: &[f64], outcome: &Outcome) {
-        (**self).learn(values, outcome)
-    }
-    fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
-        (**self).slot_gaussian(slot)
-    }
-    fn value_space(&self) -> Option<&crate::command::ValueSpace> {
-        (**self).value_space()
-    }
-}
+boxed!(ContinuousLearner {
+    fn name(&self) -> &str;
+    fn slot_gaussian(&self, slot: usize) -> (f64, f64);
+    fn value_space(&self) -> Option<&crate::command::ValueSpace>;
+} {
+    fn propose(&mut self, rng: &mut SessionRng, values: &mut Vec<f64>);
+    fn learn(&mut self, values: &[f64], outcome: &Outcome);
+});
 
 /// A hyper-parameter out of its range.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -215,6 +184,13 @@ pub enum LearnerError {
     /// wrong length, bytes that are not a saved state): what is wrong.
     #[error("{0}")]
     State(String),
+}
+
+impl LearnerError {
+    pub(crate) fn contexts(reason: impl Into<String>) -> LearnerError {
+        let reason = reason.into();
+        LearnerError::Contexts { reason }
+    }
 }
 
 /// The hyper-parameters of the shipped learners. Defaults: the paper's task
@@ -342,42 +318,28 @@ impl Params {
     /// 0 < eta <= 1, 0 <= epsilon <= 1, k >= 1, sigma > 0, rarity >= 0,
     /// 0 <= goal_progress <= 1, all finite.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let (pos, non_neg, unit) = (
-            "a finite number > 0",
-            "a finite number >= 0",
-            "a number in [0, 1]",
-        );
+        type Rule = (&'static str, fn(f64) -> bool);
+        let pos: Rule = ("a finite number > 0", |v| v > 0.0);
+        let non_neg: Rule = ("a finite number >= 0", |v| v >= 0.0);
+        let unit: Rule = ("a number in [0, 1]", |v| (0.0..=1.0).contains(&v));
+        let eta: Rule = ("a number in (0, 1]", |v| v > 0.0 && v <= 1.0);
+        let whole: Rule = ("a whole number >= 1", |v| v >= 1.0);
         let checks = [
-            ("alpha", self.alpha, self.alpha > 0.0, pos),
-            ("beta", self.beta, self.beta > 0.0, pos),
-            ("lambda", self.lambda, self.lambda >= 0.0, non_neg),
-            (
-                "eta",
-                self.eta,
-                self.eta > 0.0 && self.eta <= 1.0,
-                "a number in (0, 1]",
-            ),
-            (
-                "epsilon",
-                self.epsilon,
-                (0.0..=1.0).contains(&self.epsilon),
-                unit,
-            ),
-            ("k", self.k as f64, self.k >= 1, "a whole number >= 1"),
-            ("sigma", self.sigma, self.sigma > 0.0, pos),
-            ("rarity", self.rarity, self.rarity >= 0.0, non_neg),
-            (
-                "goal_progress",
-                self.goal_progress,
-                (0.0..=1.0).contains(&self.goal_progress),
-                unit,
-            ),
+            ("alpha", self.alpha, pos),
+            ("beta", self.beta, pos),
+            ("lambda", self.lambda, non_neg),
+            ("eta", self.eta, eta),
+            ("epsilon", self.epsilon, unit),
+            ("k", self.k as f64, whole),
+            ("sigma", self.sigma, pos),
+            ("rarity", self.rarity, non_neg),
+            ("goal_progress", self.goal_progress, unit),
         ];
         match checks
             .into_iter()
-            .find(|&(_, value, ok, _)| !(ok && value.is_finite()))
+            .find(|&(_, value, (_, ok))| !(ok(value) && value.is_finite()))
         {
-            Some((name, value, _, expected)) => Err(ParamError {
+            Some((name, value, (expected, _))) => Err(ParamError {
                 name,
                 value,
                 expected,
@@ -387,56 +349,51 @@ impl Params {
     }
 }
 
-/// The shipped learners, by name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LearnerKind {
+/// `LearnerKind`, its [`ALL`](LearnerKind::ALL) and its names.
+macro_rules! learner_kinds {
+    ($($(#[$doc:meta])* $kind:ident $name:literal,)*) => {
+        /// The shipped learners, by name.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum LearnerKind {
+            $($(#[$doc])* $kind,)*
+        }
+
+        impl LearnerKind {
+            /// Every kind: the paper's three, the drives beyond it, then the
+            /// two baselines that mutate kept commands.
+            pub const ALL: [LearnerKind; 8] = [$(LearnerKind::$kind),*];
+
+            /// The name used on the command line and in results.
+            pub fn as_str(self) -> &'static str {
+                match self {
+                    $(LearnerKind::$kind => $name,)*
+                }
+            }
+        }
+    };
+}
+
+learner_kinds! {
     /// [`E3d`].
-    E3d,
+    E3d "e3d",
     /// [`UniformPolicy`].
-    Uniform,
+    Uniform "uniform",
     /// [`EpsilonGreedy`].
-    Egreedy,
-    /// [`RelaxedE3d`] (`e3d_relax`).
-    E3dRelax,
-    /// [`CountBonus`] (`count`).
-    Count,
-    /// [`StateMarginalMatching`] (`smm`).
-    Smm,
-    /// [`GoalBabbling`] (`goal_babbling`).
-    GoalBabbling,
-    /// [`Archive`] (`archive`).
-    Archive,
+    Egreedy "egreedy",
+    /// [`RelaxedE3d`].
+    E3dRelax "e3d_relax",
+    /// [`CountBonus`].
+    Count "count",
+    /// [`StateMarginalMatching`].
+    Smm "smm",
+    /// [`GoalBabbling`].
+    GoalBabbling "goal_babbling",
+    /// [`Archive`].
+    Archive "archive",
 }
 
 impl LearnerKind {
-    /// Every kind: the paper's three, the drives beyond it, then the two
-    /// baselines that mutate kept commands.
-    pub const ALL: [LearnerKind; 8] = [
-        LearnerKind::E3d,
-        LearnerKind::Uniform,
-        LearnerKind::Egreedy,
-        LearnerKind::E3dRelax,
-        LearnerKind::Count,
-        LearnerKind::Smm,
-        LearnerKind::GoalBabbling,
-        LearnerKind::Archive,
-    ];
-
-    /// The name used on the command line and in results.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            LearnerKind::E3d => "e3d",
-            LearnerKind::Uniform => "uniform",
-            LearnerKind::Egreedy => "egreedy",
-            LearnerKind::E3dRelax => "e3d_relax",
-            LearnerKind::Count => "count",
-            LearnerKind::Smm => "smm",
-            LearnerKind::GoalBabbling => "goal_babbling",
-            LearnerKind::Archive => "archive",
-        }
-    }
-
     /// The parameters of [`Params`] this kind reads (`alpha`, `beta`,
     /// `lambda`, `eta`, `epsilon`, `k`, `sigma`, `rarity`,
     /// `goal_progress`); the others it ignores.
@@ -510,14 +467,31 @@ impl FromStr for LearnerKind {
     }
 }
 
+/// An index drawn with probability proportional to `weights` (one `f64`
+/// of `rng`): the first whose running sum passes `u x total`, else the last.
+pub(crate) fn draw_weighted(
+    weights: impl Iterator<Item = f64> + Clone,
+    rng: &mut SessionRng,
+) -> usize {
+    let total: f64 = weights.clone().sum();
+    let u = rand::RngExt::random::<f64>(rng) * total;
+    let mut acc = 0.0;
+    let mut last = 0;
+    for (i, w) in weights.enumerate() {
+        acc += w;
+        if u < acc {
+            return i;
+        }
+        last = i;
+    }
+    last
+}
+
 /// Flat per-slot table storage: `offsets[slot] + symbol`.
 pub(crate) fn slot_offsets(space: &CommandSpace) -> Vec<usize> {
-    let mut offsets = Vec::with_capacity(space.num_slots() + 1);
-    let mut at = 0;
-    for k in space.sizes() {
-        offsets.push(at);
-        at += k;
-    }
-    offsets.push(at);
-    offsets
+    let ends = space.sizes().scan(0, |at, k| {
+        *at += k;
+        Some(*at)
+    });
+    std::iter::once(0).chain(ends).collect()
 }

@@ -209,29 +209,76 @@ impl Genome for ValueGenome {
     }
 }
 
-/// Checks kept commands read from a state (`what`: the learner, named
-/// in the error): some cells, each kept command of `slots` slots, `order`
-/// the kept cells each once, `last` a kept cell.
-pub(crate) fn check_cells<T>(
-    what: &str,
-    slots: usize,
-    cells: &[Option<T>],
-    order: &[usize],
-    last: Option<usize>,
-    len: impl Fn(&T) -> usize,
-) -> Result<(), String> {
-    let kept = |e: &usize| cells.get(*e).is_some_and(Option::is_some);
-    let ok = !cells.is_empty()
-        && cells.iter().flatten().all(|c| len(c) == slots)
-        && order.iter().all(kept)
-        && order.len() == cells.iter().flatten().count()
-        && last.as_ref().is_none_or(kept);
-    ensure(ok, || {
-        format!(
-            "{what} whose commands or reached cells do not fit {} cells of {slots} slots",
-            cells.len()
-        )
-    })
+/// The cells a learner of kept commands reached, each with its entry `E`
+/// (the command kept for it, and more), and the reached cells in the order
+/// they were first reached.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub(crate) struct Cells<E> {
+    pub cells: Vec<Option<E>>,
+    pub order: Vec<usize>,
+}
+
+/// An entry of [`Cells`]: it keeps a command.
+pub(crate) trait Kept<T> {
+    fn command(&self) -> &[T];
+}
+
+impl<E> Cells<E> {
+    /// `n` cells, none reached.
+    pub fn new(n: usize) -> Self {
+        let cells = (0..n).map(|_| None).collect();
+        Cells {
+            cells,
+            order: Vec::new(),
+        }
+    }
+
+    /// The entry of reached cell `e`.
+    pub fn get(&self, e: usize) -> &E {
+        self.cells[e].as_ref().expect("a reached cell")
+    }
+
+    /// Updates the entry of cell `e`, or makes it (`first`) if `e` was not
+    /// reached yet.
+    pub fn keep(&mut self, e: usize, first: impl FnOnce() -> E, update: impl FnOnce(&mut E)) {
+        match &mut self.cells[e] {
+            Some(entry) => update(entry),
+            slot @ None => {
+                *slot = Some(first());
+                self.order.push(e);
+            }
+        }
+    }
+
+    /// The command kept for cell `e`, if it was reached.
+    pub fn command_of<T>(&self, e: usize) -> Option<&[T]>
+    where
+        E: Kept<T>,
+    {
+        self.cells.get(e)?.as_ref().map(Kept::command)
+    }
+
+    /// Checks cells read from a state (`what`: the learner, named in the
+    /// error): some cells, each command of `slots` slots, `order` the
+    /// reached cells each once, `last` a reached cell.
+    pub fn check<T>(&self, what: &str, slots: usize, last: Option<usize>) -> Result<(), String>
+    where
+        E: Kept<T>,
+    {
+        let cells = &self.cells;
+        let kept = |e: &usize| cells.get(*e).is_some_and(Option::is_some);
+        let ok = !cells.is_empty()
+            && cells.iter().flatten().all(|c| c.command().len() == slots)
+            && self.order.iter().all(kept)
+            && self.order.len() == cells.iter().flatten().count()
+            && last.as_ref().is_none_or(kept);
+        ensure(ok, || {
+            format!(
+                "{what} whose commands or reached cells do not fit {} cells of {slots} slots",
+                cells.len()
+            )
+        })
+    }
 }
 
 /// The mean and (population) standard deviation of `xs`; the middle of
@@ -250,9 +297,9 @@ pub(crate) fn spread(xs: impl Iterator<Item = f64>, range: (f64, f64)) -> (f64, 
     (mean, (sq / n - mean * mean).max(0.0).sqrt())
 }
 
-/// A learner of kept commands, `$of<G>` (with `genome`, `cells`, the kept
-/// cells in order in `$order`, `command_of`, `check`, and `draw` and
-/// `keep` proposing and learning a command's elements), as a [`Learner`]
+/// A learner of kept commands, `$of<G>` (with `genome`, `cells`,
+/// `command_of`, `check`, and `draw` and `keep` proposing and learning a
+/// command's elements), as a [`Learner`]
 /// over symbols and a [`ContinuousLearner`] over values, and its
 /// [`LearnerState`] of kind `$kind` (`$kind_values` over values).
 ///
@@ -260,7 +307,7 @@ pub(crate) fn spread(xs: impl Iterator<Item = f64>, range: (f64, f64)) -> (f64, 
 /// [`ContinuousLearner`]: super::ContinuousLearner
 /// [`LearnerState`]: super::LearnerState
 macro_rules! kept_commands {
-    ($of:ident $kind:literal $order:ident) => {
+    ($of:ident $kind:literal) => {
         impl Learner for $of<SymbolGenome> {
             fn name(&self) -> &str {
                 $kind
@@ -290,7 +337,7 @@ macro_rules! kept_commands {
             /// values over the kept commands (the middle of the range and
             /// 0 while there are none).
             fn slot_gaussian(&self, slot: usize) -> (f64, f64) {
-                let kept = self.$order.iter().filter_map(|&e| self.command_of(e));
+                let kept = self.cells.order.iter().filter_map(|&e| self.command_of(e));
                 spread(kept.map(|c| c[slot]), self.genome.space.range(slot))
             }
         }
@@ -302,7 +349,7 @@ macro_rules! kept_commands {
         impl LearnerState for $of<$genome> {
             const KIND: &'static str = $kind;
             fn shape(&self) -> StateShape {
-                StateShape::of(self.genome.sizes(), Some(self.cells.len()))
+                StateShape::of(self.genome.sizes(), Some(self.cells.cells.len()))
             }
             fn validate(&self) -> Result<(), String> {
                 self.check()

@@ -97,11 +97,6 @@ impl LearnerSetup {
         LearnerSetup { gamma, ..self }
     }
 
-    /// The shared target (the one of context 0 of one).
-    fn target_of_one(&self) -> Result<&Target, LearnerError> {
-        self.targets.of(0, 1)
-    }
-
     /// A fresh learner of commands of symbols of `space`, with
     /// `num_effects` effects.
     pub fn symbols(
@@ -109,7 +104,7 @@ impl LearnerSetup {
         space: &CommandSpace,
         num_effects: usize,
     ) -> Result<Box<dyn Learner + Send>, LearnerError> {
-        self.symbols_for(space, num_effects, self.target_of_one()?)
+        self.symbols_for(space, num_effects, self.targets.of(0, 1)?)
     }
 
     fn symbols_for(
@@ -155,7 +150,7 @@ impl LearnerSetup {
     ) -> Result<Box<dyn ContinuousLearner + Send>, LearnerError> {
         let (params, n) = (&self.params, num_effects);
         params.validate()?;
-        let target = self.target_of_one()?;
+        let target = self.targets.of(0, 1)?;
         Ok(match self.kind {
             LearnerKind::E3d => Box::new(GaussianE3d::new(space, n, params, target)?),
             LearnerKind::Uniform => Box::new(UniformValues::new(space)),
@@ -202,9 +197,7 @@ impl LearnerSetup {
         match (self.closed_loop, self.kind) {
             (false, _) => {
                 if num_contexts == 0 {
-                    return Err(LearnerError::Contexts {
-                        reason: "at least one context".into(),
-                    });
+                    return Err(LearnerError::contexts("at least one context"));
                 }
                 check_context_effects(num_contexts, num_effects)?;
                 let learners = (0..num_contexts)
@@ -223,11 +216,9 @@ impl LearnerSetup {
             (true, LearnerKind::Egreedy) => {
                 QLearning::new(space, num_contexts, params, gamma).map(|l| Box::new(l) as _)
             }
-            (true, other) => Err(LearnerError::Contexts {
-                reason: format!(
-                    "the closed loop takes learner e3d (closed-loop E3D) or egreedy (Q-learning), not {other}"
-                ),
-            }),
+            (true, other) => Err(LearnerError::contexts(format!(
+                "the closed loop takes learner e3d (closed-loop E3D) or egreedy (Q-learning), not {other}"
+            ))),
         }
     }
 }

@@ -1,33 +1,12 @@
-//! Saving and loading a learner's whole state, bit for bit: one format
-//! shared by every learner.
-//!
-//! A learner that implements [`LearnerState`] derives `serde`'s
-//! `Serialize` and `Deserialize`; [`LearnerState::to_bytes`] and
-//! [`LearnerState::from_bytes`] frame it. The bytes are:
-//!
-//! - the header `E3D-LEARNER-STATE 3\n` (the number is the format's version);
-//! - the learner's kind ([`LearnerState::KIND`], e.g. `"e3d"`, `"count"`)
-//!   then its fields, in the [postcard](https://docs.rs/postcard/1) wire
-//!   format: a float is the 8 little-endian bytes of its bits (so every
-//!   value, NaN payloads included, comes back exact), an integer, a
-//!   length or an enum's variant a varint, a string or a sequence its
-//!   length then its items, an option a byte 0 or 1 then its value;
-//! - the FNV-1a checksum (64 bits, little-endian) of every byte before it.
-//!
-//! A state is checked when it is read: its checksum (a damaged byte is a
-//! checksum error, a cut state says that its bytes end early), its kind,
-//! no NaN anywhere, then the learner's own
-//! [`validate`](LearnerState::validate): rates and tables finite and in
-//! range, tables that fit together (a NaN learning rate or a NaN `Q` made
-//! a learner that proposed nonsense without a word). States of versions
-//! 1 and 2 (written by e3d before its states went through serde) are
-//! refused by their version; any other header is refused.
-//!
-//! A learner read back proposes and learns exactly as the saved one would:
-//! given the same generator, the same draws and the same bits of every
-//! table. Bytes of another kind, cut short, with bytes left over or whose
-//! tables do not fit together are refused with a [`LearnerError::State`]
-//! saying what is wrong (never a panic).
+//! Saving and loading a learner's whole state, bit for bit, in one
+//! format for every learner (docs/robustness.md, "Saved learner states"):
+//! the header [`STATE_HEADER`], the learner's [`KIND`](LearnerState::KIND)
+//! and its serde fields in postcard's wire format (a float as its 8 bytes),
+//! then the FNV-1a checksum of all before. Reading checks the checksum,
+//! the kind, that no number is NaN, then the learner's own
+//! [`validate`](LearnerState::validate); what is wrong is a
+//! [`LearnerError::State`], never a panic. A learner read back proposes
+//! and learns exactly as the saved one would.
 //!
 //! ```
 //! use e3d::learner::CountBonus;

@@ -127,12 +127,10 @@ impl<'s> Session<'s> {
             threads: rayon::current_num_threads(),
         };
         let exec = Executor::new(self.scene, &work, &self.options)?;
-        let world = exec.world(1);
         let mut records: Vec<SessionRecord> = configs
             .iter()
-            .map(|c| SessionRecord::new(&*world, c.trials))
+            .map(|c| SessionRecord::with_room(space.num_slots(), effects, c.trials))
             .collect();
-        drop(world);
         let status = run_sessions(
             &exec,
             &mut learners,

@@ -1,23 +1,11 @@
-//! The session engine: the one trial loop every session runs through,
-//! whatever its kind of command (symbols or values), alone or in lockstep
-//! with others, and the groups of an [`Executor`] run in parallel.
-//!
-//! A kind of command `C` is a [`Command`] of symbols or a `Vec<f64>` of
-//! values. A learner of `C` is [`Learns<C>`] (every [`Learner`] learns
-//! commands, every [`ContinuousLearner`] values), a world of `C` is
-//! [`Executes<C>`] (every [`World`] and every [`ContinuousWorld`]), and
-//! what keeps the trials is a [`Recorder<C>`]. [`run_group`] runs sessions
-//! that share one world; [`run_sessions`] cuts sessions into the groups
-//! a [`Worlds<C>`] (an [`Executor`]) plans and runs the groups on every
-//! core of the current rayon pool. [`Control`] carries the progress and
-//! stop callbacks of both.
+//! The session engine: the one trial loop of every session, whatever its
+//! kind of command, alone or in lockstep, and the groups of an
+//! [`Executor`] run in parallel (see ARCHITECTURE.md, "One trial").
 
 pub use crate::world::{Control, Observer};
 
 use super::{Recorder, SessionConfig};
 use crate::command::Command;
-#[cfg(doc)]
-use crate::episode::{run_episodes, EpisodeRecord};
 use crate::episode::{run_episodes_into, EpisodeConfig, EpisodeRecorder};
 use crate::learner::{ContextualLearner, ContinuousLearner, Learner};
 use crate::rng::SessionRng;
@@ -25,9 +13,8 @@ use crate::world::{ContinuousWorld, Episodic, Executor, Outcome, OutcomeTable, W
 use rand::SeedableRng;
 use std::ops::{DerefMut, Range};
 
-/// A learner of commands of kind `C`, as the engine drives it: every
-/// [`Learner`] is one for [`Command`], every [`ContinuousLearner`] for
-/// `Vec<f64>`. Implement those traits, not this one.
+/// A learner of commands of kind `C`: every [`Learner`] of [`Command`],
+/// every [`ContinuousLearner`] of `Vec<f64>`. Implement those instead.
 pub trait Learns<C> {
     /// Draws the next command into `command`.
     fn propose_next(&mut self, rng: &mut SessionRng, command: &mut C);
@@ -53,15 +40,12 @@ impl<L: ContinuousLearner + ?Sized> Learns<Vec<f64>> for L {
     }
 }
 
-/// A world that executes commands of kind `C` from its start state, as the
-/// engine drives it: every [`World`] is one for [`Command`], every
-/// [`ContinuousWorld`] for `Vec<f64>`. Implement those traits, not this
-/// one.
+/// A world that executes commands of kind `C`: every [`World`] of
+/// [`Command`], every [`ContinuousWorld`] of `Vec<f64>`. Implement those
+/// instead.
 pub trait Executes<C> {
     /// A command buffer for a learner to propose into.
     fn blank(&self) -> C;
-    /// The number of slots of a command.
-    fn slots(&self) -> usize;
     /// The number of effects.
     fn effects(&self) -> usize;
     /// Executes one command.
@@ -75,9 +59,6 @@ pub trait Executes<C> {
 impl<W: World + ?Sized> Executes<Command> for W {
     fn blank(&self) -> Command {
         self.command_space().first()
-    }
-    fn slots(&self) -> usize {
-        self.command_space().num_slots()
     }
     fn effects(&self) -> usize {
         self.num_effects()
@@ -97,9 +78,6 @@ impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
     fn blank(&self) -> Vec<f64> {
         Vec::with_capacity(self.value_space().num_slots())
     }
-    fn slots(&self) -> usize {
-        self.value_space().num_slots()
-    }
     fn effects(&self) -> usize {
         ContinuousWorld::num_effects(self)
     }
@@ -118,20 +96,13 @@ impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
 const PROGRESS_EVERY: usize = 64;
 
 /// Runs sessions that share one world: session `i` is `learners[i]` with
-/// `configs[i]`, its trials handed to `recorders[i]`. At every trial each
-/// session still running proposes its command; a session alone executes
-/// it by itself, several in lockstep execute theirs in one batch (several
-/// copies of a physics scene stepped together); then each learns from its
-/// own outcome, with the reward zeroed unless its config uses rewards.
-///
-/// Every session follows its algorithm exactly as it would alone, with its
-/// own generator ([`SessionRng`] seeded by its config): on a world whose
-/// batches give each command's single-world outcome, the records are those
-/// of the sessions run one after the other (tested). All sessions run the
-/// trials of the longest; a session with fewer trials stops proposing at
-/// its end. A session whose command fails stops there with the error (its
-/// recorder keeps the trials before it); the others go on. Returns each
-/// session's status.
+/// `configs[i]`, its trials handed to `recorders[i]`. Each trial, every
+/// session still running proposes; one session executes alone, several
+/// in one batch; then each learns from its own outcome (the reward zeroed
+/// unless its config uses rewards). Each session draws from its own
+/// generator, so its record is the one it makes alone. A session whose
+/// command fails stops there (its recorder keeps the trials before); the
+/// others go on. Returns each session's status.
 ///
 /// ```
 /// use e3d::learner::LearnerSetup;
@@ -226,9 +197,7 @@ where
 }
 
 /// Where sessions of kind `C` run: the groups that step together, and a
-/// world for each. An [`Executor`] is one for both kinds (a scene of
-/// symbols: its table, memo or live worlds; a scene of values: live
-/// worlds of several exact copies).
+/// world for each (an [`Executor`], of both kinds).
 pub trait Worlds<C>: Sync {
     /// The groups `sessions` sessions are cut into, as ranges in order.
     fn session_groups(&self, sessions: usize) -> Vec<Range<usize>>;
@@ -280,16 +249,11 @@ impl Worlds<Vec<f64>> for Executor<'_> {
     }
 }
 
-/// Runs sessions of one scene the way `worlds` plans them, on every core
-/// of the current rayon pool: session `i` is `learners[i]` with
-/// `configs[i]`, its trials handed to `recorders[i]`. The sessions are cut
-/// into [`Worlds::session_groups`] (alone on a table, else in lockstep
-/// groups that step together on one world), and the groups run in
-/// parallel through [`run_group`]. The records are those of running each
-/// session alone, whatever the threads.
-///
-/// Returns each session's status, in order. Call [`Executor::finish`]
-/// afterwards to keep a memo's outcomes.
+/// Runs sessions of one scene as `worlds` plans them: cut into
+/// [`Worlds::session_groups`], each group a [`run_group`], the groups in
+/// parallel on the current rayon pool; the records are those of each
+/// session alone. Returns each session's status, in order. Call
+/// [`Executor::finish`] afterwards to keep a memo's outcomes.
 ///
 /// ```
 /// use e3d::learner::LearnerSetup;
@@ -347,12 +311,10 @@ where
     .collect()
 }
 
-/// Runs `parts`, each the sessions of one group of `worlds` and its width
-/// (as [`Worlds::session_groups`] cut them), in parallel on the current
-/// rayon pool: `run(part, world)` on a fresh world for its width, or the
-/// error that made none. The answers, in the order of the parts.
-/// [`run_sessions`] is this with learners and recorders made beforehand;
-/// a sweep makes them as each group starts.
+/// Runs `parts` (each a group's width and its sessions) in parallel on the
+/// current rayon pool: `run(part, world)` on a fresh world of its width,
+/// or the error that made none; the answers in order. A sweep makes its
+/// learners as each group starts; [`run_sessions`] has them already.
 pub fn run_planned<C, P, T>(
     worlds: &(impl Worlds<C> + ?Sized),
     parts: Vec<(usize, P)>,
@@ -372,17 +334,12 @@ where
         .collect()
 }
 
-/// Runs sessions of episodes ([`run_episodes_into`]) on every core of
-/// the current rayon pool: session `i` runs `configs[i]` on the world and
-/// the learner `make(i)` returns (each session on a world of its own),
-/// its episodes handed to `recorders[i]` (an [`EpisodeRecord`] keeps
-/// them all, an [`EpisodeTally`](crate::episode::EpisodeTally) only the
-/// figures). The records are those of running each session alone,
-/// whatever the threads (each session draws from its own generator).
-/// `control` is told of the episodes done, summed over the sessions, and
-/// its stop ends every session still running with
-/// [`WorldError::Stopped`]. Returns each session's status, in order; an
-/// error of `make` is that session's.
+/// Runs sessions of episodes ([`run_episodes_into`]) in parallel on the
+/// current rayon pool: session `i` runs `configs[i]` on the world and
+/// learner `make(i)` returns, into `recorders[i]`; its record is the one
+/// it makes alone. `control` is told of the episodes done over all
+/// sessions; its stop ends each with [`WorldError::Stopped`]. Returns
+/// each session's status, in order (an error of `make` is that session's).
 ///
 /// ```
 /// use e3d::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};

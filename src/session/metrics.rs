@@ -82,39 +82,38 @@ impl RunningMetrics {
         self.metrics_given(target, Some(reachable_effects))
     }
 
-    /// The running metrics of the trials that ended in `effects` with
-    /// `rewards`: what a record's metrics are computed from.
-    pub(super) fn replay(num_effects: usize, effects: &[usize], rewards: &[f64]) -> Self {
-        let mut m = RunningMetrics::new(num_effects);
-        for (&effect, &reward) in effects.iter().zip(rewards) {
-            let point = [0.0; 2];
-            m.record(
-                &(),
-                &Outcome {
-                    effect,
-                    reward,
-                    point,
-                },
-            );
-        }
-        m
-    }
-
-    pub(super) fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
-        let mut last = vec![0.0; self.counts.len()];
+    fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
+        let all = self.effect_counts();
+        let mut last = vec![0.0; all.len()];
         for &e in &self.last {
             last[e as usize] += 1.0;
         }
-        Metrics::from_counts(
-            &self.effect_counts(),
-            &last,
-            self.cumulative,
-            self.first_reward,
-            &self.discoveries,
-            self.trials,
-            target,
-            reachable,
-        )
+        let num_effects = all.len();
+        // the cells coverage counts against: the reachable ones if known
+        let cells = reachable.unwrap_or(num_effects).max(1);
+        let distinct = all.iter().filter(|&&c| c > 0.0).count();
+        let norm = (num_effects as f64).ln();
+        let norm = if norm > 0.0 { norm } else { 1.0 };
+        let log_target = target
+            .log_probs(num_effects)
+            .unwrap_or_else(|_| vec![-norm; num_effects]);
+        let discoveries = &self.discoveries;
+        Metrics {
+            normalized_entropy: entropy(&all) / norm,
+            normalized_entropy_last_1000: entropy(&last) / norm,
+            kl_to_target: kl_divergence(&all, &log_target),
+            distinct_effects: distinct,
+            cumulative_reward: self.cumulative,
+            first_reward_trial: self.first_reward,
+            trials: self.trials,
+            reachable_effects: reachable,
+            normalized_entropy_reachable: reachable.map(|k| normalized_entropy_over(&all, k)),
+            coverage_cells: cells,
+            coverage: distinct as f64 / cells as f64,
+            trials_to_50_percent: trials_to_fraction(discoveries, cells, 0.5),
+            trials_to_90_percent: trials_to_fraction(discoveries, cells, 0.9),
+            discovery_trials: discoveries.clone(),
+        }
     }
 }
 
@@ -188,47 +187,6 @@ pub struct Metrics {
 }
 
 impl Metrics {
-    /// The metrics from the effect counts over all trials and over the last
-    /// 1000, the sum of the rewards, the first rewarded trial and the
-    /// number of trials.
-    #[allow(clippy::too_many_arguments)]
-    fn from_counts(
-        all: &[f64],
-        last: &[f64],
-        cumulative_reward: f64,
-        first_reward_trial: Option<usize>,
-        discoveries: &[usize],
-        trials: usize,
-        target: &Target,
-        reachable: Option<usize>,
-    ) -> Metrics {
-        let num_effects = all.len();
-        // the cells coverage counts against: the reachable ones if known
-        let cells = reachable.unwrap_or(num_effects).max(1);
-        let distinct = all.iter().filter(|&&c| c > 0.0).count();
-        let norm = (num_effects as f64).ln();
-        let norm = if norm > 0.0 { norm } else { 1.0 };
-        let log_target = target
-            .log_probs(num_effects)
-            .unwrap_or_else(|_| vec![-norm; num_effects]);
-        Metrics {
-            normalized_entropy: entropy(all) / norm,
-            normalized_entropy_last_1000: entropy(last) / norm,
-            kl_to_target: kl_divergence(all, &log_target),
-            distinct_effects: distinct,
-            cumulative_reward,
-            first_reward_trial,
-            trials,
-            reachable_effects: reachable,
-            normalized_entropy_reachable: reachable.map(|k| normalized_entropy_over(all, k)),
-            coverage_cells: cells,
-            coverage: distinct as f64 / cells as f64,
-            trials_to_50_percent: trials_to_fraction(discoveries, cells, 0.5),
-            trials_to_90_percent: trials_to_fraction(discoveries, cells, 0.9),
-            discovery_trials: discoveries.to_vec(),
-        }
-    }
-
     /// The fraction of the coverage cells reached by trial `t` (1-based;
     /// 0 before the first trial).
     ///

@@ -4,18 +4,17 @@
 //! loop, the learner learns from the outcome. [`run_session`] repeats it
 //! and records, per trial, the command, the effect and the reward.
 
-use crate::command::{Command, CommandSpace};
+use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::Target;
-use crate::learner::Learner;
+use crate::learner::{ContinuousLearner, Learner};
 use crate::rng::SessionRng;
-use crate::world::{Outcome, World, WorldError};
+use crate::world::{ContinuousWorld, Outcome, World, WorldError};
 use serde::{Deserialize, Serialize};
 use std::io::{self, Write};
 
 mod builder;
 mod engine;
 mod metrics;
-mod values;
 
 pub use builder::{Session, SessionError};
 pub use engine::{
@@ -24,7 +23,6 @@ pub use engine::{
 };
 
 pub use metrics::{policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics};
-pub use values::{run_value_session, ValueSessionRecord};
 
 /// How to run a session.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -38,31 +36,30 @@ pub struct SessionConfig {
     pub use_reward: bool,
 }
 
-/// What a session recorded, trial by trial.
+/// What a session recorded, trial by trial, of commands of `num_slots`
+/// elements `T`: symbol indices ([`SessionRecord`]) or values
+/// ([`ValueSessionRecord`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SessionRecord {
+pub struct TrialRecord<T> {
     /// The number of slots of each command.
     pub num_slots: usize,
     /// The number of effects of the world.
     pub num_effects: usize,
-    /// The commands, `num_slots` symbol indices per trial, one after another.
-    pub commands: Vec<u8>,
+    /// The commands, `num_slots` elements per trial, one after another.
+    pub commands: Vec<T>,
     /// The effect of each trial (as in [`Outcome::effect`]).
     pub effects: Vec<usize>,
     /// The reward the learner received at each trial.
     pub rewards: Vec<f64>,
     /// The terminal point `(x, y)` of each trial (as in [`Outcome::point`]).
     pub points: Vec<[f64; 2]>,
+    /// Per slot, the mean and standard deviation of a learner of values'
+    /// policy at the end ([`ValueSessionRecord::set_policy`]); else empty.
+    pub final_policy: Vec<(f64, f64)>,
 }
 
-/// How many of `effects` are each of `num_effects` effects.
-fn count_effects(num_effects: usize, effects: &[usize]) -> Vec<f64> {
-    let mut counts = vec![0.0; num_effects];
-    for &e in effects {
-        counts[e] += 1.0;
-    }
-    counts
-}
+/// What a session of commands of symbols recorded.
+pub type SessionRecord = TrialRecord<u8>;
 
 /// Runs `config.trials` trials of `learner` on `world`.
 ///
@@ -128,17 +125,15 @@ where
     L: Learns<C> + ?Sized,
     R: Recorder<C> + ?Sized,
 {
-    let mut learner = [One(learner)];
-    let mut recorder = [recorder];
-    let [status] = <[_; 1]>::try_from(run_group(
+    let (learner, recorder) = (&mut [One(learner)], &mut [recorder]);
+    run_group(
         world,
-        &mut learner,
+        learner,
         std::slice::from_ref(config),
-        &mut recorder,
+        recorder,
         control,
-    ))
-    .expect("one status");
-    status
+    )
+    .remove(0)
 }
 
 /// A learner borrowed for [`run_session_into`].
@@ -187,26 +182,26 @@ impl<C: ?Sized, A: Recorder<C>, B: Recorder<C>> Recorder<C> for (A, B) {
     }
 }
 
-impl Recorder for SessionRecord {
-    fn record(&mut self, command: &Command, outcome: &Outcome) {
-        self.commands.extend_from_slice(&command.symbols);
+impl<T: Copy, C: AsRef<[T]> + ?Sized> Recorder<C> for TrialRecord<T> {
+    fn record(&mut self, command: &C, outcome: &Outcome) {
+        self.commands.extend_from_slice(command.as_ref());
         self.effects.push(outcome.effect);
         self.rewards.push(outcome.reward);
         self.points.push(outcome.point);
     }
 }
 
-impl SessionRecord {
-    /// An empty record for `trials` trials on `world`.
-    pub fn new<W: World + ?Sized>(world: &W, trials: usize) -> Self {
-        let n = world.command_space().num_slots();
-        SessionRecord {
-            num_slots: n,
-            num_effects: world.num_effects(),
-            commands: Vec::with_capacity(trials.saturating_mul(n)),
+impl<T> TrialRecord<T> {
+    /// A record of no trials yet, with room for `trials`.
+    fn with_room(num_slots: usize, num_effects: usize, trials: usize) -> Self {
+        TrialRecord {
+            num_slots,
+            num_effects,
+            commands: Vec::with_capacity(trials.saturating_mul(num_slots)),
             effects: Vec::with_capacity(trials),
             rewards: Vec::with_capacity(trials),
             points: Vec::with_capacity(trials),
+            final_policy: Vec::new(),
         }
     }
 
@@ -215,14 +210,19 @@ impl SessionRecord {
         self.effects.len()
     }
 
-    /// The command of trial `t` (0-based).
-    pub fn command(&self, t: usize) -> Command {
-        Command::new(self.commands[t * self.num_slots..(t + 1) * self.num_slots].to_vec())
+    /// The command of trial `t` (0-based): its slots' symbol indices or
+    /// values.
+    pub fn values_of(&self, t: usize) -> &[T] {
+        &self.commands[t * self.num_slots..(t + 1) * self.num_slots]
     }
 
     /// How many trials in `range` ended in each effect.
     pub fn effect_counts(&self, range: std::ops::Range<usize>) -> Vec<f64> {
-        count_effects(self.num_effects, &self.effects[range])
+        let mut counts = vec![0.0; self.num_effects];
+        for &e in &self.effects[range] {
+            counts[e] += 1.0;
+        }
+        counts
     }
 
     /// The running sum of rewards, one value per trial.
@@ -238,7 +238,7 @@ impl SessionRecord {
 
     /// The session's metrics against the target `p*`.
     pub fn metrics(&self, target: &Target) -> Metrics {
-        self.metrics_given(target, None)
+        self.replay().metrics(target)
     }
 
     /// The same, with the entropy over the `reachable_effects` effects
@@ -261,12 +261,40 @@ impl SessionRecord {
     /// assert_eq!(rec.metrics(&Target::Uniform).normalized_entropy_reachable, None);
     /// ```
     pub fn metrics_over_reachable(&self, target: &Target, reachable_effects: usize) -> Metrics {
-        self.metrics_given(target, Some(reachable_effects))
+        self.replay()
+            .metrics_over_reachable(target, reachable_effects)
     }
 
-    fn metrics_given(&self, target: &Target, reachable: Option<usize>) -> Metrics {
-        RunningMetrics::replay(self.num_effects, &self.effects, &self.rewards)
-            .metrics_given(target, reachable)
+    fn replay(&self) -> RunningMetrics {
+        let mut m = RunningMetrics::new(self.num_effects);
+        for (&effect, &reward) in self.effects.iter().zip(&self.rewards) {
+            let point = [0.0; 2];
+            m.record(
+                &(),
+                &Outcome {
+                    effect,
+                    reward,
+                    point,
+                },
+            );
+        }
+        m
+    }
+}
+
+impl SessionRecord {
+    /// An empty record for `trials` trials on `world`.
+    pub fn new<W: World + ?Sized>(world: &W, trials: usize) -> Self {
+        Self::with_room(
+            world.command_space().num_slots(),
+            world.num_effects(),
+            trials,
+        )
+    }
+
+    /// The command of trial `t` (0-based).
+    pub fn command(&self, t: usize) -> Command {
+        Command::new(self.values_of(t).to_vec())
     }
 
     /// Writes `trial,command,effect,reward` CSV, one row per trial (trial
@@ -275,8 +303,7 @@ impl SessionRecord {
         writeln!(out, "trial,command,effect,reward")?;
         let mut c = space.first();
         for t in 0..self.trials() {
-            c.symbols
-                .copy_from_slice(&self.commands[t * self.num_slots..(t + 1) * self.num_slots]);
+            c.symbols.copy_from_slice(self.values_of(t));
             writeln!(
                 out,
                 "{},{},{},{}",
@@ -288,4 +315,87 @@ impl SessionRecord {
         }
         Ok(())
     }
+}
+
+/// What a session of continuous commands recorded.
+pub type ValueSessionRecord = TrialRecord<f64>;
+
+impl ValueSessionRecord {
+    /// A record of no trials yet, with room for `trials`.
+    pub fn new(num_slots: usize, num_effects: usize, trials: usize) -> ValueSessionRecord {
+        Self::with_room(num_slots, num_effects, trials)
+    }
+
+    /// Sets [`final_policy`](Self::final_policy) from `learner`'s policy now.
+    pub fn set_policy<L: ContinuousLearner + ?Sized>(&mut self, learner: &L) {
+        self.final_policy = (0..self.num_slots)
+            .map(|s| learner.slot_gaussian(s))
+            .collect();
+    }
+
+    /// Writes `trial,values,effect,reward,x,y` CSV, one row per trial
+    /// (trial 1-based; the values as [`ValueSpace::format`] writes them,
+    /// quoted, for they hold commas), with a first `session` column when
+    /// `session` is given.
+    pub fn write_trials_csv(
+        &self,
+        space: &ValueSpace,
+        session: Option<usize>,
+        header: bool,
+        mut out: impl Write,
+    ) -> io::Result<()> {
+        let lead = |s: Option<usize>| s.map_or(String::new(), |s| format!("{s},"));
+        if header {
+            let h = if session.is_some() { "session," } else { "" };
+            writeln!(out, "{h}trial,values,effect,reward,x,y")?;
+        }
+        for t in 0..self.trials() {
+            let [x, y] = self.points[t];
+            writeln!(
+                out,
+                "{}{},\"{}\",{},{},{},{}",
+                lead(session),
+                t + 1,
+                space.format(self.values_of(t)),
+                self.effects[t],
+                self.rewards[t],
+                x,
+                y
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Runs `config.trials` trials of a learner of continuous commands on a
+/// continuous world ([`run_session_into`] into a
+/// [`ValueSessionRecord`], with the learner's final policy).
+///
+/// ```
+/// use e3d::learner::LearnerSetup;
+/// use e3d::{LearnerKind, Scene, SessionConfig};
+/// use e3d::session::run_value_session;
+/// let scene = Scene::builtin("arm7_continuous").unwrap();
+/// let mut world = scene.as_continuous().unwrap().world(1);
+/// let space = scene.value_space().unwrap();
+/// let mut l = LearnerSetup::new(LearnerKind::E3d).values(&space, scene.num_effects()).unwrap();
+/// let cfg = SessionConfig { trials: 20, seed: 1, use_reward: false };
+/// let rec = run_value_session(&mut world, &mut l, &cfg).unwrap();
+/// assert_eq!(rec.trials(), 20);
+/// assert_eq!(rec.commands.len(), 20 * 7);
+/// ```
+pub fn run_value_session<W, L>(
+    world: &mut W,
+    learner: &mut L,
+    config: &SessionConfig,
+) -> Result<ValueSessionRecord, WorldError>
+where
+    W: ContinuousWorld + ?Sized,
+    L: ContinuousLearner + ?Sized,
+{
+    let n = world.value_space().num_slots();
+    let mut rec = ValueSessionRecord::new(n, world.num_effects(), config.trials);
+    run_session_into(world, learner, config, &mut rec, &Control::default())?;
+    rec.set_policy(learner);
+    Ok(rec)
 }

@@ -333,7 +333,7 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
         };
         let rec =
             run_value_session(&mut arm.as_continuous().unwrap().world(1), &mut l, &cfg).unwrap();
-        assert_eq!(rec.values.len(), 40 * 7);
+        assert_eq!(rec.commands.len(), 40 * 7);
         assert!(space.check(rec.values_of(39)).is_ok());
         // after the first, every command is a mutation of a kept one:
         // within 5 sigma (in unit coordinates) of some earlier command
@@ -407,6 +407,7 @@ fn coverage_measures_of_a_hand_made_sequence() {
         effects: Vec::new(),
         rewards: Vec::new(),
         points: Vec::new(),
+        final_policy: Vec::new(),
     };
     for (t, &e) in effects.iter().enumerate() {
         let o = Outcome {

@@ -21,26 +21,16 @@ use serde::{Deserialize, Serialize};
 /// with the fresh `p(e)`. Without reward, `beta` cancels out: the logits are
 /// `beta Q` and the change of `Q` is proportional to `1 / beta`.
 ///
-/// Cost: a trial changes one entry of `Q` per slot, so the learner keeps the
-/// softmax weights `exp(beta Q - m_slot)` and their running sums per slot,
-/// and updates one weight per slot per trial; the shift `m_slot` is reset
-/// to the slot's largest logit only when the sum leaves `[1e-100, 1e100]`.
-/// The slots' new weights are computed together, 8
-/// exponentials at once by a portable, vectorised `exp` (`learner/exp.rs`:
-/// the same bits on every machine; AVX2 is used where the processor has
-/// it, with the same results). Each slot's table has a fixed width (4, 8,
-/// 16 or 64, the smallest that holds the largest alphabet; padding has
-/// weight 0), so that sampling counts the running sums below a uniform draw
-/// over the whole width (no branch to mispredict) and the running sums are
-/// recomputed over a fixed length; with AVX2, a slot's count is one vector
-/// compare of 4 running sums at a time and a population count (the same
-/// symbols). The histogram update is O(1) ([`EffectModel`]); nothing is
-/// allocated per trial.
+/// Cost: a trial changes one entry of `Q` per slot, so the learner keeps
+/// each slot's softmax weights `exp(beta Q - shift)` and their running sums
+/// in a table of fixed width (4, 8, 16 or 64; padding weighs 0), updates
+/// one weight per slot with a portable vectorised `exp` (`learner/exp.rs`:
+/// the same bits on every machine, with or without AVX2), and re-shifts a
+/// slot only when its total leaves `[1e-100, 1e100]`. Nothing is allocated
+/// per trial.
 ///
-/// `learn` takes a command of the learner's command space, as `propose`
-/// writes it: one symbol per slot, each within its slot's alphabet. Debug
-/// builds check this; release builds do not (a symbol outside its alphabet
-/// updates another entry of the same slot).
+/// `learn` takes a command of the learner's space (debug builds check it;
+/// in release, a symbol outside its alphabet updates another entry).
 ///
 /// ```
 /// use e3d::{Command, Learner, Outcome, Params, Target};
