@@ -50,30 +50,24 @@ pub fn markdown(
             None => "never".into(),
         };
         let never = |q: Option<usize>| q.map_or("never".to_string(), |q| q.to_string());
-        let totals: Vec<f64> = rows.iter().map(|s| s.cumulative_reward).collect();
-        let lates: Vec<f64> = rows.iter().map(|s| s.late_reward).collect();
-        let (total, late) = (super::describe(&totals), super::describe(&lates));
-        let ci = |xs: &[f64]| {
-            super::mean_ci95(xs).map_or("-".to_string(), |c| {
-                format!("{:.1} ± {:.1}", c.mean, c.half)
-            })
+        let (q1, q3) = (never(q1), never(q3));
+        // per reward: its mean (sd), and its mean ± its 95% t interval
+        let reward = |xs: Vec<f64>| {
+            let d = super::describe(&xs);
+            let ci = super::mean_ci95(&xs).map(|c| format!("{:.1} ± {:.1}", c.mean, c.half));
+            (
+                format!("{:.1} ({:.1})", d.mean, d.sd),
+                ci.unwrap_or("-".into()),
+            )
         };
-        let share = super::wilson95(firsts.len(), rows.len())
-            .map_or("-".to_string(), |(lo, hi)| {
-                format!("{:.0}%..{:.0}%", 100.0 * lo, 100.0 * hi)
-            });
+        let (total, total_ci) = reward(rows.iter().map(|s| s.cumulative_reward).collect());
+        let (late, late_ci) = reward(rows.iter().map(|s| s.late_reward).collect());
+        let (rewarded, n) = (firsts.len(), rows.len());
+        let share = super::wilson95(rewarded, n).map_or("-".to_string(), |(lo, hi)| {
+            format!("{:.0}%..{:.0}%", 100.0 * lo, 100.0 * hi)
+        });
         out.push_str(&format!(
-            "| {arm} | {}/{} | {median} | {:.1} ({:.1}) | {:.1} ({:.1}) | {share} | {}..{} | {} | {} |\n",
-            firsts.len(),
-            rows.len(),
-            total.mean,
-            total.sd,
-            late.mean,
-            late.sd,
-            never(q1),
-            never(q3),
-            ci(&totals),
-            ci(&lates),
+            "| {arm} | {rewarded}/{n} | {median} | {total} | {late} | {share} | {q1}..{q3} | {total_ci} | {late_ci} |\n"
         ));
     }
     out

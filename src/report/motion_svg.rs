@@ -165,19 +165,15 @@ fn readout(
     );
     let n = labels.len();
     for (k, (label, on, off)) in labels.iter().enumerate() {
-        let (values, times) = if k == 0 {
-            ("1;0".to_string(), format!("0;{off:.4}"))
-        } else if k + 1 == n {
-            ("0;1".to_string(), format!("0;{on:.4}"))
-        } else {
-            ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
+        let (values, times, opacity) = match k {
+            0 => ("1;0", format!("0;{off:.4}"), 1),
+            _ if k + 1 == n => ("0;1", format!("0;{on:.4}"), 0),
+            _ => ("0;1;0", format!("0;{on:.4};{off:.4}"), 0),
         };
+        let (x, y) = at;
         let _ = writeln!(
             out,
-            r#"<text class="{class}" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
-            at.0,
-            at.1,
-            if k == 0 { 1 } else { 0 },
+            r#"<text class="{class}" x="{x:.1}" y="{y:.1}" text-anchor="end" opacity="{opacity}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#
         );
     }
     out.push_str("</g>\n");
@@ -189,13 +185,12 @@ fn moving_dot(out: &mut String, v: &View, tl: &Timeline, look: [&str; 4], at: &[
     let [class, r, stroke, title] = look;
     let xs: Vec<String> = at.iter().map(|p| format!("{:.2}", v.x(p.0))).collect();
     let ys: Vec<String> = at.iter().map(|p| format!("{:.2}", v.y(p.1))).collect();
+    let (x, y) = (&xs[0], &ys[0]);
+    let ax = tl.anim("cx", None, xs.join(";"));
+    let ay = tl.anim("cy", None, ys.join(";"));
     let _ = writeln!(
         out,
-        r##"<circle class="{class}" cx="{}" cy="{}" r="{r}" fill="{TRACKED}" stroke="#ffffff" stroke-width="{stroke}"><title>{title}</title>{}{}</circle>"##,
-        xs[0],
-        ys[0],
-        tl.anim("cx", None, xs.join(";")),
-        tl.anim("cy", None, ys.join(";")),
+        r##"<circle class="{class}" cx="{x}" cy="{y}" r="{r}" fill="{TRACKED}" stroke="#ffffff" stroke-width="{stroke}"><title>{title}</title>{ax}{ay}</circle>"##
     );
 }
 
@@ -290,12 +285,10 @@ fn draw_motion(
         moving_bodies_svg(out, v, p, motion, &keep, &tl);
         // ground hinges do not move: drawn once, over the bodies
         for j in p.joints.iter().filter(|j| j.parent == GROUND) {
+            let (c, name) = (v.centre(j.parent_anchor), esc(&j.name));
             let _ = writeln!(
                 out,
-                r##"<circle cx="{:.2}" cy="{:.2}" r="4" fill="#2e323b"><title>{}</title></circle>"##,
-                v.x(j.parent_anchor.0),
-                v.y(j.parent_anchor.1),
-                esc(&j.name)
+                r##"<circle {c} r="4" fill="#2e323b"><title>{name}</title></circle>"##
             );
         }
         let path: Vec<(f64, f64)> = keep.iter().map(|&f| point_at(f)).collect();
@@ -396,12 +389,10 @@ fn moving_bodies_svg(
                 start.angle,
                 j.parent_anchor,
             );
+            let (c, name) = (v.centre(at), esc(&j.name));
             let _ = writeln!(
                 out,
-                r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="#ffffff" stroke="#2e323b" stroke-width="1.3"><title>{}</title></circle>"##,
-                v.x(at.0),
-                v.y(at.1),
-                esc(&j.name)
+                r##"<circle {c} r="3.5" fill="#ffffff" stroke="#2e323b" stroke-width="1.3"><title>{name}</title></circle>"##
             );
         }
         out.push_str("</g>\n");

@@ -1,10 +1,7 @@
 //! What the figures share: escaped text, round ticks, the frame of a page,
 //! and (feature `plots`) a plotters canvas drawn into a string.
 
-/// `s` with XML's special characters escaped.
-pub(crate) fn esc(s: &str) -> std::borrow::Cow<'_, str> {
-    crate::text::xml_escape(s)
-}
+pub(crate) use crate::text::xml_escape as esc;
 
 /// A step of 1, 2 or 5 times a power of ten giving about 5 to 10 ticks
 /// over `span` (positive).
@@ -50,6 +47,17 @@ pub(crate) type Drawn<T = ()> = Result<T, Box<dyn std::error::Error>>;
 #[cfg(feature = "plots")]
 pub(crate) type Area<'a> =
     plotters::prelude::DrawingArea<plotters::prelude::SVGBackend<'a>, plotters::coord::Shift>;
+
+/// A chart of two f64 axes on an SVG canvas.
+#[cfg(feature = "plots")]
+pub(crate) type Chart<'a, 'b> = plotters::prelude::ChartContext<
+    'a,
+    plotters::prelude::SVGBackend<'b>,
+    plotters::prelude::Cartesian2d<
+        plotters::coord::types::RangedCoordf64,
+        plotters::coord::types::RangedCoordf64,
+    >,
+>;
 
 /// The SVG text of a white canvas of `size` pixels on which `draw` draws.
 #[cfg(feature = "plots")]

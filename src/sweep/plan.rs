@@ -73,13 +73,11 @@ impl Shard {
 
     /// How many of `total` sessions belong to this shard.
     pub fn count(&self, total: usize) -> usize {
-        // the indices k-1, k-1+n, ... below total; no `total + n`, which
-        // overflowed for n near usize::MAX (1/18446744073709551615 had
-        // "0 sessions")
-        match total.checked_sub(self.k) {
-            Some(rest) => rest / self.n + 1,
-            None => 0,
-        }
+        // the indices k-1, k-1+n, ... below total (no `total + n`: n may
+        // be near usize::MAX)
+        total
+            .checked_sub(self.k)
+            .map_or(0, |rest| rest / self.n + 1)
     }
 }
 
@@ -464,19 +462,16 @@ impl Sweep {
     /// The cell columns of `cell` (scene, learner, use_reward, then the five
     /// parameters, empty when unused), as written in the CSV files.
     pub fn cell_fields(&self, cell: &Cell) -> Vec<String> {
-        let mut f = vec![
-            self.scenes[cell.scene].name().to_string(),
-            cell.learner.clone(),
-            cell.use_reward.to_string(),
-        ];
-        for i in 0..5 {
-            f.push(if cell.used[i] {
-                format_number(cell.params.named()[i].1)
-            } else {
-                String::new()
-            });
-        }
-        f
+        let params = cell.params.named();
+        let used = (0..5).map(|i| match cell.used[i] {
+            true => format_number(params[i].1),
+            false => String::new(),
+        });
+        let scene = self.scenes[cell.scene].name().to_string();
+        [scene, cell.learner.clone(), cell.use_reward.to_string()]
+            .into_iter()
+            .chain(used)
+            .collect()
     }
 
     /// The canonical identity text of session `replicate` of `cell` (see
@@ -488,8 +483,7 @@ impl Sweep {
             let v = if f[3 + i].is_empty() { "-" } else { &f[3 + i] };
             s.push_str(&format!(";{name}={v}"));
         }
-        s.push_str(&format!(";session={replicate}"));
-        s
+        s + &format!(";session={replicate}")
     }
 
     /// Every session, in canonical order.
@@ -537,8 +531,7 @@ fn learner_uses(
     learners: &Learners,
     bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
 ) -> Result<Vec<[bool; 5]>, SweepError> {
-    let mut uses: Vec<[bool; 5]> = Vec::with_capacity(spec.learners.len());
-    for name in &spec.learners {
+    let uses = spec.learners.iter().map(|name| {
         let Some(used) = learners.uses(name) else {
             return Err(bad(
                 "learners",
@@ -556,9 +549,9 @@ fn learner_uses(
                 &format!("learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `{name}`"),
             ));
         }
-        uses.push(used);
-    }
-    Ok(uses)
+        Ok(used)
+    });
+    uses.collect()
 }
 
 /// The scenes of `spec`, made by `worlds`: each named as a scene file
@@ -616,13 +609,10 @@ fn make_cells(
             for &use_reward in &spec.use_reward {
                 for mut k in 0..count {
                     let mut params = spec.params.fixed(Params::TASK1);
-                    let mut pick = [0usize; 5];
+                    // the last parameter varies fastest
                     for i in (0..5).rev() {
-                        pick[i] = k % dims[i];
+                        set_param(&mut params, i, axes[i][k % dims[i]]);
                         k /= dims[i];
-                    }
-                    for i in 0..5 {
-                        set_param(&mut params, i, axes[i][pick[i]]);
                     }
                     cells.push(Cell {
                         index: cells.len(),

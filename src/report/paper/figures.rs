@@ -85,13 +85,6 @@ impl PaperResults {
     }
 }
 
-/// The chart of Figure 3, in SVG.
-type Chart<'a, 'b> = ChartContext<
-    'a,
-    SVGBackend<'b>,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
-
 /// Figure 3's head: its title and the line saying what the line and the
 /// bands are over the `sessions`.
 fn fig3_head(head: &Area<'_>, sessions: usize) -> Drawn {

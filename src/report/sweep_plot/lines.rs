@@ -33,26 +33,19 @@ pub(super) fn line_series(
         let key: Vec<&str> = varying.iter().map(|&c| r[c].as_str()).collect();
         let key = key.join(",");
         let Some(mean) = num(&r[mi]) else { continue };
-        let x = if r[xi].is_empty() {
-            f64::NAN
-        } else {
-            match num(&r[xi]) {
-                Some(x) => x,
-                None => return err(format!("{} = `{}` is not a number", KEY_COLUMNS[xi], r[xi])),
-            }
+        let x = match num(&r[xi]) {
+            _ if r[xi].is_empty() => f64::NAN,
+            Some(x) => x,
+            None => return err(format!("{} = `{}` is not a number", KEY_COLUMNS[xi], r[xi])),
         };
         let p = (x, mean, num(&r[lo]), num(&r[hi]));
         match keys.iter().position(|k| *k == key) {
             Some(i) => series[i].points.push(p),
             None => {
-                let label = series_label(r, &named);
+                let label = Some(series_label(r, &named)).filter(|l| !l.is_empty());
                 keys.push(key);
                 series.push(Series {
-                    label: if label.is_empty() {
-                        "all".into()
-                    } else {
-                        label
-                    },
+                    label: label.unwrap_or_else(|| "all".into()),
                     points: vec![p],
                 });
             }

@@ -85,11 +85,6 @@ pub enum MetricSpec {
 }
 
 impl MetricSpec {
-    /// The start context of a per-context metric.
-    pub fn context(&self) -> Option<usize> {
-        self.per_context().map(|(_, i)| i)
-    }
-
     /// A per-context metric's name without its context (`name(I)` in a
     /// sweep file, `name_I` as a column), and its context.
     pub fn per_context(&self) -> Option<(&'static str, usize)> {
@@ -470,19 +465,9 @@ impl SweepSpec {
         out.push_str(&format!("    learners: [{}],\n", self.learners.join(", ")));
         let use_reward: Vec<String> = self.use_reward.iter().map(bool::to_string).collect();
         out.push_str(&format!("    use_reward: [{}],\n", use_reward.join(", ")));
-        let mut params: Vec<String> = Params::SWEPT
-            .iter()
-            .filter_map(|name| {
-                let v = self.params.get(name)?;
-                Some(format!("        {name}: {},\n", v.to_ron()))
-            })
+        let params: Vec<String> = (self.params.given_text().into_iter())
+            .map(|(name, v)| format!("        {name}: {v},\n"))
             .collect();
-        params.extend(
-            self.params
-                .fixed_text()
-                .into_iter()
-                .map(|(name, v)| format!("        {name}: {v},\n")),
-        );
         if !params.is_empty() {
             out.push_str(&format!("    params: (\n{}    ),\n", params.concat()));
         }
