@@ -201,11 +201,10 @@ fn value_charts(body: &mut String, trials: &[TrialRow], size: usize) {
         };
         let sds: Vec<f64> = windows.iter().map(sd).collect();
         let mags: Vec<f64> = windows.iter().map(|v| mean(v, &f64::abs)).collect();
-        line_chart(
-            body,
-            &format!("slot {s}: sd of the values and mean |value|, windows of {size} trials"),
-            &[("sd", PALETTE[0], sds), ("mean |value|", PALETTE[1], mags)],
-        );
+        let title =
+            format!("slot {s}: sd of the values and mean |value|, windows of {size} trials");
+        let series = [("sd", PALETTE[0], sds), ("mean |value|", PALETTE[1], mags)];
+        line_chart(body, &title, &series);
     }
 }
 
@@ -236,17 +235,11 @@ fn symbol_charts(body: &mut String, trials: &[TrialRow], size: usize) {
             }
         }
         let names: Vec<String> = symbols.iter().map(char::to_string).collect();
-        let refs: Vec<(&str, &str, Vec<f64>)> = names
-            .iter()
-            .zip(ys)
-            .enumerate()
+        let refs: Vec<(&str, &str, Vec<f64>)> = (names.iter().zip(ys).enumerate())
             .map(|(k, (a, ys))| (a.as_str(), PALETTE[k % PALETTE.len()], ys))
             .collect();
-        line_chart(
-            body,
-            &format!("slot {s}: share of each symbol, windows of {size} trials"),
-            &refs,
-        );
+        let title = format!("slot {s}: share of each symbol, windows of {size} trials");
+        line_chart(body, &title, &refs);
     }
 }
 
@@ -290,11 +283,8 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
     out.push_str("<h2>Per start context</h2>\n<table class=\"contexts\">\n<tr><th>start context</th><th>episodes</th><th>normalised entropy of the terminal cells</th><th>cumulative reward</th><th>first rewarded episode (of its own)</th></tr>\n");
     let mut maps = String::new();
     for (s, mine) in &groups {
-        let effects: Vec<usize> = mine
-            .iter()
-            .filter(|t| t.step == k)
-            .map(|t| t.effect)
-            .collect();
+        let last: Vec<&&TrialRow> = mine.iter().filter(|t| t.step == k).collect();
+        let effects: Vec<usize> = last.iter().map(|t| t.effect).collect();
         // the counts of the cells reached (the others weigh nothing)
         let counts: Vec<f64> = reached(&effects, rows * cols)
             .iter()
@@ -302,16 +292,12 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
             .collect();
         let h = crate::effect::normalized_entropy_over(&counts, rows * cols);
         let reward: f64 = mine.iter().map(|t| t.reward).sum();
-        let first = mine
-            .iter()
-            .filter(|t| t.step == k)
-            .position(|t| t.reward > 0.0)
-            .map_or("never".to_string(), |i| (i + 1).to_string());
+        let first = last.iter().position(|t| t.reward > 0.0);
+        let first = first.map_or("never".to_string(), |i| (i + 1).to_string());
+        let (name, n) = (esc(s), effects.len());
         let _ = writeln!(
             out,
-            "<tr><td>{}</td><td class=\"n\">{}</td><td class=\"n\">{h:.4}</td><td class=\"n\">{reward}</td><td class=\"n\">{first}</td></tr>",
-            esc(s),
-            effects.len()
+            "<tr><td>{name}</td><td class=\"n\">{n}</td><td class=\"n\">{h:.4}</td><td class=\"n\">{reward}</td><td class=\"n\">{first}</td></tr>"
         );
         maps.push_str("<div class=\"row\">\n");
         let prefix = format!("{s}, ");

@@ -59,6 +59,21 @@ pub(crate) type Chart<'a, 'b> = plotters::prelude::ChartContext<
     >,
 >;
 
+/// Sans-serif text of `size` in `colour`, anchored at `(h, v)`.
+#[cfg(feature = "plots")]
+pub(crate) fn text_style(
+    size: u32,
+    colour: &plotters::style::RGBColor,
+    h: plotters::style::text_anchor::HPos,
+    v: plotters::style::text_anchor::VPos,
+) -> plotters::style::TextStyle<'static> {
+    use plotters::style::{text_anchor::Pos, IntoFont};
+    ("sans-serif", size)
+        .into_font()
+        .color(colour)
+        .pos(Pos::new(h, v))
+}
+
 /// The SVG text of a white canvas of `size` pixels on which `draw` draws.
 #[cfg(feature = "plots")]
 pub(crate) fn plotted(size: (u32, u32), draw: impl FnOnce(&Area<'_>) -> Drawn) -> Drawn<String> {

@@ -531,23 +531,14 @@ fn learner_uses(
     learners: &Learners,
     bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
 ) -> Result<Vec<[bool; 5]>, SweepError> {
+    let bad = |expected: String| Err(bad("learners", None, &expected));
     let uses = spec.learners.iter().map(|name| {
         let Some(used) = learners.uses(name) else {
-            return Err(bad(
-                "learners",
-                None,
-                &format!(
-                    "one of the learners ({}), found `{name}`",
-                    learners.names().join(", ")
-                ),
-            ));
+            let names = learners.names().join(", ");
+            return bad(format!("one of the learners ({names}), found `{name}`"));
         };
         if !is_identifier(name) {
-            return Err(bad(
-                "learners",
-                None,
-                &format!("learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `{name}`"),
-            ));
+            return bad(format!("learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `{name}`"));
         }
         Ok(used)
     });
@@ -563,26 +554,22 @@ fn make_scenes(
 ) -> Result<Vec<Arc<SweepScene>>, SweepError> {
     let mut scenes: Vec<Arc<SweepScene>> = Vec::new();
     for name in &spec.scenes {
+        let anchor = format!("\"{name}\"");
+        let bad = |expected: &str| bad("scenes", Some(&anchor), expected);
         let scene = worlds.scene(name).map_err(|e| match e {
-            FactoryError::Unknown(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
+            FactoryError::Unknown(msg) => bad(&msg),
             FactoryError::Failed(e) => e,
         })?;
-        // a scene made in code (a Scene or a LiveScene) gets
-        // the checks of a scene file's name: it is printed, and written
-        // into CSV files and the journal
+        // a scene made in code (a Scene or a LiveScene) gets the checks of
+        // a scene file's name: it is printed, and written into CSV files
         if let Err(e) = crate::text::check_name(scene.name()) {
-            return Err(bad(
-                "scenes",
-                Some(&format!("\"{name}\"")),
-                &format!("scenes whose name is {e}"),
-            ));
+            return Err(bad(&format!("scenes whose name is {e}")));
         }
         if scenes.iter().any(|s| s.name() == scene.name()) {
-            return Err(bad(
-                "scenes",
-                Some(&format!("\"{name}\"")),
-                &format!("each scene once, but `{}` appears twice", scene.name()),
-            ));
+            let twice = scene.name();
+            return Err(bad(&format!(
+                "each scene once, but `{twice}` appears twice"
+            )));
         }
         scenes.push(scene);
     }
@@ -670,14 +657,9 @@ fn check_size(
     bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
 ) -> Result<usize, SweepError> {
     if num_cells.saturating_mul(spec.sessions) > MAX_SESSIONS {
-        return Err(bad(
-            "sessions",
-            None,
-            &format!(
-                "at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {}",
-                spec.sessions
-            ),
-        ));
+        let per_cell = spec.sessions;
+        let expected = format!("at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {per_cell}");
+        return Err(bad("sessions", None, &expected));
     }
     Ok(num_cells)
 }
@@ -697,31 +679,17 @@ fn check_values(
         let Some(space) = s.scene().and_then(crate::Scene::value_space) else {
             continue;
         };
-        let anchor = format!("\"{}\"", s.name());
+        let (scene, n) = (s.name(), s.num_effects());
         if episodes {
-            return Err(bad(
-                "scenes",
-                Some(&anchor),
-                &format!("scenes of symbols in a sweep of episodes (commands, observe or closed_loop set), found `{}`, whose slots take values (`Continuous`)", s.name()),
-            ));
+            let expected = format!("scenes of symbols in a sweep of episodes (commands, observe or closed_loop set), found `{scene}`, whose slots take values (`Continuous`)");
+            return Err(bad("scenes", Some(&format!("\"{scene}\"")), &expected));
         }
+        let uniform = crate::effect::Target::Uniform;
         for name in names {
-            let made = learners.make_continuous(
-                name,
-                &Params::TASK1,
-                &space,
-                s.num_effects(),
-                &crate::effect::Target::Uniform,
-            );
+            let made = learners.make_continuous(name, &Params::TASK1, &space, n, &uniform);
             if let Err(e) = made {
-                return Err(bad(
-                    "learners",
-                    None,
-                    &format!(
-                        "learners that take continuous commands on scene `{}`, found `{name}`: {e}",
-                        s.name()
-                    ),
-                ));
+                let expected = format!("learners that take continuous commands on scene `{scene}`, found `{name}`: {e}");
+                return Err(bad("learners", None, &expected));
             }
         }
     }

@@ -106,9 +106,7 @@ pub(super) fn write_final(
         )));
     }
     let mut csv = String::with_capacity(64 * (rows.len() + 1));
-    csv.push_str(&header.columns);
-    csv.push('\n');
-    for row in rows.values() {
+    for row in std::iter::once(&header.columns).chain(rows.values()) {
         csv.push_str(row);
         csv.push('\n');
     }

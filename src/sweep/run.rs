@@ -367,11 +367,10 @@ impl Sweep {
         let file = match (scene, self.runs_episodes(si)) {
             (SweepScene::Scene(file), true) => {
                 let (k, c) = (self.spec.commands, self.start_contexts(si));
+                let plural = |n| if n == 1 { "" } else { "s" };
+                let (name, ks, cs) = (&file.spec().name, plural(k), plural(c));
                 self.notice(&format!(
-                    "{}: episodes of {k} command{} from {c} start context{}: each session on a live world of its own",
-                    file.spec().name,
-                    if k == 1 { "" } else { "s" },
-                    if c == 1 { "" } else { "s" },
+                    "{name}: episodes of {k} command{ks} from {c} start context{cs}: each session on a live world of its own"
                 ));
                 return Ok(None);
             }
@@ -508,10 +507,10 @@ impl Sweep {
     /// Makes `dir`: a new or empty folder (temporary files of a killed
     /// copy removed), or with `resume` one that holds a sweep to complete.
     fn prepare_dir(dir: &Path, resume: bool) -> Result<(), SweepError> {
+        let shown = dir.display();
         if dir.exists() && !dir.is_dir() {
             return Err(SweepError::Output(format!(
-                "{}: exists and is not a folder",
-                dir.display()
+                "{shown}: exists and is not a folder"
             )));
         }
         // a folder that holds only temporary files of write_atomic (never
@@ -523,13 +522,10 @@ impl Sweep {
             for entry in std::fs::read_dir(dir).map_err(io_err(dir))? {
                 let entry = entry.map_err(io_err(dir))?;
                 let name = entry.file_name().to_string_lossy().into_owned();
-                if name == crate::io::LOCK_FILE {
-                    continue;
-                }
-                if crate::io::is_temporary(&name) {
-                    temporaries.push(entry.path());
-                } else {
-                    non_empty = true;
+                match name.as_str() {
+                    crate::io::LOCK_FILE => {}
+                    _ if crate::io::is_temporary(&name) => temporaries.push(entry.path()),
+                    _ => non_empty = true,
                 }
             }
         }
@@ -544,14 +540,12 @@ impl Sweep {
         }
         if non_empty && !resume {
             return Err(SweepError::Output(format!(
-                "{} exists and is not empty; pass --resume to complete the sweep it holds, or choose another --out",
-                dir.display()
+                "{shown} exists and is not empty; pass --resume to complete the sweep it holds, or choose another --out"
             )));
         }
         if non_empty && !dir.join(SWEEP_COPY).exists() {
             return Err(SweepError::Output(format!(
-                "{}: holds no {SWEEP_COPY}, so no sweep to resume; choose another --out",
-                dir.display()
+                "{shown}: holds no {SWEEP_COPY}, so no sweep to resume; choose another --out"
             )));
         }
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;

@@ -183,7 +183,6 @@ fn group_cells<'a>(
             )));
         }
         let key = f[..CELL_COLUMNS].join(",");
-        let failed = with_failure && !f[f.len() - 1].is_empty();
         let values = f[KEY_COLUMNS.len()..KEY_COLUMNS.len() + metrics]
             .iter()
             .map(|v| {
@@ -193,7 +192,7 @@ fn group_cells<'a>(
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let failed = usize::from(failed);
+        let failed = usize::from(with_failure && !f[f.len() - 1].is_empty());
         match groups.last_mut() {
             Some((k, v, n)) if *k == key => {
                 v.push(values);

@@ -3,13 +3,13 @@
 //! and 3 on `two_rooms`): the summary table, the CSV of both figures and
 //! their SVG.
 
-use super::svg::{plotted, Area, Chart, Drawn};
+use super::svg::{plotted, text_style, Area, Chart, Drawn};
 use super::{describe, median, Stats};
 use crate::effect::entropy;
 use crate::experiment::paper::{ArmResult, PaperConfig, PaperResults};
 use crate::session::{Metrics, SessionRecord};
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::text_anchor::{HPos, VPos};
 use std::fmt::Write as _;
 
 mod figures;

@@ -361,20 +361,17 @@ fn legend(out: &mut String, v: &View, keys: &[Key]) {
             y += ROW;
         }
         let (cx, cy) = (x + 7.0, y - 4.0);
+        // the corner of a filled square, and of an outlined one
+        let (fill_y, (out_x, out_y)) = (y - 9.5, (x + 1.0, y - 9.0));
         let swatch = match &k.0 {
             Swatch::Fill(fill, stroke, op) => format!(
-                r#"<rect x="{x:.1}" y="{:.1}" width="14" height="11" fill="{fill}" fill-opacity="{op}" stroke="{stroke}" stroke-opacity="{op}" stroke-width="1"/>"#,
-                y - 9.5
+                r#"<rect x="{x:.1}" y="{fill_y:.1}" width="14" height="11" fill="{fill}" fill-opacity="{op}" stroke="{stroke}" stroke-opacity="{op}" stroke-width="1"/>"#
             ),
             Swatch::Outline(colour) => format!(
-                r#"<rect x="{:.1}" y="{:.1}" width="12" height="10" fill="none" stroke="{colour}" stroke-width="2.5" stroke-dasharray="4,2"/>"#,
-                x + 1.0,
-                y - 9.0
+                r#"<rect x="{out_x:.1}" y="{out_y:.1}" width="12" height="10" fill="none" stroke="{colour}" stroke-width="2.5" stroke-dasharray="4,2"/>"#
             ),
             Swatch::Region => format!(
-                r##"<rect x="{:.1}" y="{:.1}" width="12" height="10" fill="none" stroke="#2e8b57" stroke-width="1.5" stroke-dasharray="3,2"/>"##,
-                x + 1.0,
-                y - 9.0
+                r##"<rect x="{out_x:.1}" y="{out_y:.1}" width="12" height="10" fill="none" stroke="#2e8b57" stroke-width="1.5" stroke-dasharray="3,2"/>"##
             ),
             Swatch::Line(colour, dash) => format!(
                 r#"<path d="M{x:.1},{cy:.1}h14" stroke="{colour}" stroke-width="2"{}/>"#,
@@ -398,11 +395,10 @@ fn legend(out: &mut String, v: &View, keys: &[Key]) {
                 y + 0.5
             ),
         };
+        let (text_x, name) = (x + 20.0, esc(k.1));
         let _ = writeln!(
             out,
-            r#"<g class="key">{swatch}<text x="{:.1}" y="{y:.1}">{}</text></g>"#,
-            x + 20.0,
-            esc(k.1)
+            r#"<g class="key">{swatch}<text x="{text_x:.1}" y="{y:.1}">{name}</text></g>"#
         );
         x += w;
     }

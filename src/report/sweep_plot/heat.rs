@@ -167,16 +167,11 @@ fn draw_cells(
                 Some(t) => viridis(t).filled(),
                 None => RGBColor(230, 230, 230).filled(),
             };
-            chart.draw_series(std::iter::once(Rectangle::new(
-                [(x, y), (x + 1.0, y + 1.0)],
-                fill,
-            )))?;
+            chart.draw_series([Rectangle::new([(x, y), (x + 1.0, y + 1.0)], fill)])?;
             let label = v.map(short).unwrap_or_else(|| "-".into());
             let color = if t.unwrap_or(1.0) < 0.6 { WHITE } else { BLACK };
-            let style = TextStyle::from((FONT, 18).into_font())
-                .color(&color)
-                .pos(Pos::new(HPos::Center, VPos::Center));
-            chart.draw_series(std::iter::once(Text::new(label, (x + 0.5, y + 0.5), style)))?;
+            let style = text_style(18, &color, HPos::Center, VPos::Center);
+            chart.draw_series([Text::new(label, (x + 0.5, y + 0.5), style)])?;
         }
     }
     Ok(())
@@ -187,16 +182,12 @@ fn draw_cells(
 fn draw_ticks(left: &Area<'_>, chart: &Chart<'_, '_>, grid: &HeatGrid) -> Drawn {
     for (i, v) in grid.xv.iter().enumerate() {
         let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
-        let style = TextStyle::from((FONT, 17).into_font())
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Center, VPos::Top));
+        let style = text_style(17, &BLACK, HPos::Center, VPos::Top);
         left.draw(&Text::new(significant(*v, 3), (px, py + 6), style))?;
     }
     for (j, v) in grid.yv.iter().enumerate() {
         let (px, py) = chart.backend_coord(&(0.0, j as f64 + 0.5));
-        let style = TextStyle::from((FONT, 17).into_font())
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Right, VPos::Center));
+        let style = text_style(17, &BLACK, HPos::Right, VPos::Center);
         left.draw(&Text::new(significant(*v, 3), (px - 6, py), style))?;
     }
     Ok(())

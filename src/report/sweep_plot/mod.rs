@@ -14,7 +14,7 @@
 //! assert!(svg.starts_with("<svg") && svg.contains("uniform"));
 //! ```
 
-use super::svg::{plotted, Area, Chart, Drawn};
+use super::svg::{plotted, text_style, Area, Chart, Drawn};
 use crate::csv::Summary;
 use crate::learner::Params;
 use crate::scene::did_you_mean;
@@ -26,7 +26,7 @@ mod lines;
 
 use heat::draw_heat;
 use lines::{draw_lines, line_series};
-use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::text_anchor::{HPos, VPos};
 
 /// A figure that cannot be drawn: why, and what was expected.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

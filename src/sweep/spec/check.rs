@@ -129,22 +129,16 @@ impl SweepSpec {
         for (i, m) in metrics.iter().enumerate() {
             if let MetricSpec::CumulativeReward(t) = *m {
                 if t == 0 || t > self.trials {
-                    return Err(bad(
-                        "metrics",
-                        Some("cumulative_reward"),
-                        &format!(
-                            "cumulative_reward(T) with T in 1..={} (the trials), found {t}",
-                            self.trials
-                        ),
-                    ));
+                    let trials = self.trials;
+                    let expected = format!(
+                        "cumulative_reward(T) with T in 1..={trials} (the trials), found {t}"
+                    );
+                    return Err(bad("metrics", Some("cumulative_reward"), &expected));
                 }
             }
             if metrics[..i].contains(m) {
-                return Err(bad(
-                    "metrics",
-                    None,
-                    &format!("each metric once, but `{}` appears twice", m.column()),
-                ));
+                let twice = format!("each metric once, but `{}` appears twice", m.column());
+                return Err(bad("metrics", None, &twice));
             }
         }
         Ok(metrics)
