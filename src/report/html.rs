@@ -66,17 +66,11 @@ fn heat_map(
         );
     };
     if sparse {
-        for &(i, c) in &reached {
-            cell(i, c);
-        }
+        reached.iter().for_each(|&(i, c)| cell(i, c));
     } else {
         let mut counts = vec![0; cells];
-        for &(i, c) in &reached {
-            counts[i] = c;
-        }
-        for (i, c) in counts.into_iter().enumerate() {
-            cell(i, c);
-        }
+        reached.iter().for_each(|&(i, c)| counts[i] = c);
+        counts.into_iter().enumerate().for_each(|(i, c)| cell(i, c));
     }
     out.push_str("</svg></figure>\n");
 }
@@ -146,14 +140,7 @@ pub fn run_page(
         .collect();
     let what = if k > 1 { "episodes" } else { "trials" };
     body.push_str("<h2>Effects</h2>\n<div class=\"row\">\n");
-    early_and_late(
-        &mut body,
-        "",
-        what,
-        &terminal,
-        (rows, cols),
-        MAX_CELLS_DRAWN,
-    );
+    body += &early_and_late("", what, &terminal, (rows, cols), MAX_CELLS_DRAWN);
     body.push_str("</div>\n");
     per_start_context(&mut body, trials, k, rows, cols);
     body.push_str("<h2>Reward</h2>\n");
@@ -164,11 +151,8 @@ pub fn run_page(
             Some(*acc)
         })
         .collect();
-    line_chart(
-        &mut body,
-        "cumulative reward",
-        &[("reward", "#2ca02c", cum)],
-    );
+    let reward = [("reward", "#2ca02c", cum)];
+    line_chart(&mut body, "cumulative reward", &reward);
     body.push_str("<h2>Policy per slot</h2>\n");
     let windows = 50.min(n.max(1));
     let size = n.div_ceil(windows).max(1);
@@ -245,19 +229,19 @@ fn symbol_charts(body: &mut String, trials: &[TrialRow], size: usize) {
 
 /// The heat maps of the first and the last 10% of `effects` ([`heat_map`]).
 fn early_and_late(
-    out: &mut String,
     prefix: &str,
     what: &str,
     effects: &[usize],
     grid: (usize, usize),
     dense: usize,
-) {
-    let n = effects.len();
+) -> String {
+    let (n, mut out) = (effects.len(), String::new());
     let tenth = (n / 10).max(1).min(n);
     let early = format!("{prefix}early: {what} 1..{tenth}");
-    heat_map(out, &early, &effects[..tenth], grid, dense);
+    heat_map(&mut out, &early, &effects[..tenth], grid, dense);
     let late = format!("{prefix}late: {what} {}..{n}", n - tenth + 1);
-    heat_map(out, &late, &effects[n - tenth..], grid, dense);
+    heat_map(&mut out, &late, &effects[n - tenth..], grid, dense);
+    out
 }
 
 /// For a run of episodes from start contexts: per start context (in the
@@ -301,14 +285,7 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
         );
         maps.push_str("<div class=\"row\">\n");
         let prefix = format!("{s}, ");
-        early_and_late(
-            &mut maps,
-            &prefix,
-            "episodes",
-            &effects,
-            (rows, cols),
-            dense,
-        );
+        maps += &early_and_late(&prefix, "episodes", &effects, (rows, cols), dense);
         maps.push_str("</div>\n");
     }
     out.push_str("</table>\n");
@@ -344,42 +321,32 @@ pub fn sweep_page(
     use super::sweep_plot::distinct;
     use crate::sweep::CELL_COLUMNS;
     let rows = &summary.rows;
-    let col = |name: &str| summary.columns.iter().position(|c| c == name);
     let values = |c: usize| distinct(rows.iter().map(|r| r[c].as_str()));
     // the cell columns that vary are the table's keys; the others are said once
     let (varying, fixed): (Vec<usize>, Vec<usize>) =
         (0..CELL_COLUMNS).partition(|&c| values(c).len() > 1);
-    let metrics = summary.metrics();
     let mut body = String::new();
     let total = |name: &str| -> usize {
-        col(name)
-            .map(|c| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum())
-            .unwrap_or(0)
+        let sum = |c: usize| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum();
+        summary.col(name).map_or(0, sum)
     };
     let (sessions, failed) = (total("sessions"), total("failed"));
+    let (cells, metrics) = (rows.len(), summary.metrics().len());
     let _ = writeln!(
         body,
-        "<p>{} cells, {sessions} sessions ({failed} failed), {} metrics</p>",
-        rows.len(),
-        metrics.len()
+        "<p>{cells} cells, {sessions} sessions ({failed} failed), {metrics} metrics</p>"
     );
     let fixed_text: Vec<String> = fixed
         .iter()
         .map(|&c| {
             let v = rows.first().map_or("", |r| r[c].as_str());
-            format!(
-                "{} {}",
-                esc(&summary.columns[c]),
-                if v.is_empty() { "(unused)" } else { v }
-            )
+            let v = if v.is_empty() { "(unused)" } else { v };
+            format!("{} {v}", esc(&summary.columns[c]))
         })
         .collect();
     if !fixed_text.is_empty() {
-        let _ = writeln!(
-            body,
-            "<p>the same in every cell: {}</p>",
-            fixed_text.join("; ")
-        );
+        let fixed = fixed_text.join("; ");
+        let _ = writeln!(body, "<p>the same in every cell: {fixed}</p>");
     }
     summary_table(&mut body, summary, &varying);
     failures_list(&mut body, failures);

@@ -349,7 +349,8 @@ fn moving_bodies_svg(
             continue;
         }
         let start = &motion.frames[0].poses[i];
-        let c0 = (v.x(start.position[0]), v.y(start.position[1]));
+        let (at, angle) = ((start.position[0], start.position[1]), start.angle);
+        let c0 = (v.x(at.0), v.y(at.1));
         // the rigid motion from the start pose: rotate about the start
         // position, then translate to the current one
         let (mut moves, mut turns) = (Vec::new(), Vec::new());
@@ -364,32 +365,20 @@ fn moving_bodies_svg(
         } else {
             (END_FILL, END_STROKE)
         };
+        let name = esc(&b.name);
+        let translate = tl.anim("transform", Some("translate"), moves.join(";"));
+        let rotate = tl.anim("transform", Some("rotate"), turns.join(";"));
         let _ = writeln!(
             out,
-            r#"<g class="body" data-body="{}"><title>{}</title>"#,
-            esc(&b.name),
-            esc(&b.name)
+            r#"<g class="body" data-body="{name}"><title>{name}</title>
+{translate}
+{rotate}"#
         );
-        out.push_str(&tl.anim("transform", Some("translate"), moves.join(";")));
-        out.push('\n');
-        out.push_str(&tl.anim("transform", Some("rotate"), turns.join(";")));
-        out.push('\n');
-        body_svg(
-            out,
-            v,
-            &b.shape,
-            (start.position[0], start.position[1]),
-            start.angle,
-            Paint(fill, stroke, 0.9),
-        );
+        body_svg(out, v, &b.shape, at, angle, Paint(fill, stroke, 0.9));
         // the joints this body carries as a parent ride with it
         for j in p.joints.iter().filter(|j| j.parent == b.name) {
-            let at = to_world(
-                (start.position[0], start.position[1]),
-                start.angle,
-                j.parent_anchor,
-            );
-            let (c, name) = (v.centre(at), esc(&j.name));
+            let c = v.centre(to_world(at, angle, j.parent_anchor));
+            let name = esc(&j.name);
             let _ = writeln!(
                 out,
                 r##"<circle {c} r="3.5" fill="#ffffff" stroke="#2e323b" stroke-width="1.3"><title>{name}</title></circle>"##

@@ -74,6 +74,25 @@ pub(crate) fn text_style(
         .pos(Pos::new(h, v))
 }
 
+/// The 100 steps of a colour bar on `bar` from `lo` to `lo + span`: step
+/// `k`, from `a` to `b`, filled with `colour(k, a, b)`.
+#[cfg(feature = "plots")]
+pub(crate) fn colour_steps(
+    bar: &mut Chart<'_, '_>,
+    (lo, span): (f64, f64),
+    colour: impl Fn(usize, f64, f64) -> plotters::style::RGBColor,
+) -> Drawn {
+    use plotters::prelude::*;
+    bar.draw_series((0..100).map(|k| {
+        let (a, b) = (
+            lo + span * k as f64 / 100.0,
+            lo + span * (k + 1) as f64 / 100.0,
+        );
+        Rectangle::new([(0.0, a), (1.0, b)], colour(k, a, b).filled())
+    }))?;
+    Ok(())
+}
+
 /// The SVG text of a white canvas of `size` pixels on which `draw` draws.
 #[cfg(feature = "plots")]
 pub(crate) fn plotted(size: (u32, u32), draw: impl FnOnce(&Area<'_>) -> Drawn) -> Drawn<String> {

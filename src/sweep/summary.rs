@@ -149,13 +149,8 @@ pub fn summarize<'a>(
         for (j, &n) in has_n.iter().enumerate() {
             let xs: Vec<f64> = sessions.iter().filter_map(|s| s[j]).collect();
             let (mean, sd, ci) = stats(&xs);
-            f.push(num(mean));
-            f.push(num(sd));
-            f.push(num(ci.map(|c| c.0)));
-            f.push(num(ci.map(|c| c.1)));
-            if n {
-                f.push(xs.len().to_string());
-            }
+            f.extend([mean, sd, ci.map(|c| c.0), ci.map(|c| c.1)].map(num));
+            f.extend(n.then(|| xs.len().to_string()));
         }
         out.push_str(&f.join(","));
         out.push('\n');
@@ -217,12 +212,8 @@ fn summary_header(metrics: &[&str], has_n: &[bool], with_failure: bool) -> Vec<S
         header.push("failed".into());
     }
     for (m, &n) in metrics.iter().zip(has_n) {
-        for suffix in ["mean", "sd", "ci_low", "ci_high"] {
-            header.push(format!("{m}_{suffix}"));
-        }
-        if n {
-            header.push(format!("{m}_n"));
-        }
+        header.extend(["mean", "sd", "ci_low", "ci_high"].map(|s| format!("{m}_{s}")));
+        header.extend(n.then(|| format!("{m}_n")));
     }
     header
 }

@@ -80,18 +80,13 @@ impl PaperResults {
 /// Figure 3's head: its title and the line saying what the line and the
 /// bands are over the `sessions`.
 fn fig3_head(head: &Area<'_>, sessions: usize) -> Drawn {
-    head.draw(&Text::new(
-        "two_rooms, task 2: cumulative reward".to_string(),
-        (30, 12),
-        ("sans-serif", 26).into_font().color(&BLACK),
-    ))?;
-    head.draw(&Text::new(
-        format!(
-            "over {sessions} sessions: line, mean; dark band, mean \u{b1} sd; light band, min to max (the table's mean +- sd [min, max])"
-        ),
-        (30, 48),
-        ("sans-serif", 17).into_font().color(&RGBColor(70, 70, 70)),
-    ))?;
+    let style = |size, colour| text_style(size, &colour, HPos::Left, VPos::Top);
+    let title = "two_rooms, task 2: cumulative reward".to_string();
+    head.draw(&Text::new(title, (30, 12), style(26, BLACK)))?;
+    let line = format!(
+        "over {sessions} sessions: line, mean; dark band, mean \u{b1} sd; light band, min to max (the table's mean +- sd [min, max])"
+    );
+    head.draw(&Text::new(line, (30, 48), style(17, RGBColor(70, 70, 70))))?;
     Ok(())
 }
 
@@ -222,17 +217,13 @@ pub fn effect_panels_svg(
     let n = spec.rows * spec.cols;
     plotted((1100, 530), |root| {
         let (title_area, body) = root.split_vertically(118);
-        let text = |t: &str, at: (i32, i32), size: f64, colour: &RGBColor| {
-            title_area.draw(&Text::new(
-                t.to_string(),
-                at,
-                ("sans-serif", size).into_font().color(colour),
-            ))
+        let text = |t: &str, at: (i32, i32), size: u32, colour: &RGBColor| {
+            let style = text_style(size, colour, HPos::Left, VPos::Top);
+            title_area.draw(&Text::new(t.to_string(), at, style))
         };
-        text(title, (25, 12), 26.0, &BLACK)?;
-        let grey = RGBColor(70, 70, 70);
+        text(title, (25, 12), 26, &BLACK)?;
         for (k, line) in lines.iter().enumerate() {
-            text(line, (25, 48 + 21 * k as i32), 17.0, &grey)?;
+            text(line, (25, 48 + 21 * k as i32), 17, &RGBColor(70, 70, 70))?;
         }
         let (panels_area, bar_area) = body.split_horizontally(940);
         let areas = panels_area.split_evenly((1, panels.len().max(1)));
@@ -279,23 +270,14 @@ fn draw_grid_panel(
         }
     }
     let (r, c) = spec.start;
-    chart.draw_series([Text::new(
-        "start",
-        (c as f64 + 0.06, (rows - r) as f64 - 0.06),
-        ("sans-serif", 15)
-            .into_font()
-            .color(&if shares[r * cols + c] / peak > 0.6 {
-                WHITE
-            } else {
-                RGBColor(90, 90, 90)
-            }),
-    )])?;
+    let colour = [RGBColor(90, 90, 90), WHITE][usize::from(shares[r * cols + c] / peak > 0.6)];
+    let style = text_style(15, &colour, HPos::Left, VPos::Top);
+    let at = (c as f64 + 0.06, (rows - r) as f64 - 0.06);
+    chart.draw_series([Text::new("start", at, style)])?;
     let wall = BLACK.stroke_width(5);
     let (w, h) = (cols as f64, rows as f64);
-    chart.draw_series([PathElement::new(
-        vec![(0.0, 0.0), (w, 0.0), (w, h), (0.0, h), (0.0, 0.0)],
-        wall,
-    )])?;
+    let frame = vec![(0.0, 0.0), (w, 0.0), (w, h), (0.0, h), (0.0, 0.0)];
+    chart.draw_series([PathElement::new(frame, wall)])?;
     // a wall between two cells is drawn on their common edge
     chart.draw_series(spec.walls.iter().map(|&(a, b)| {
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
@@ -330,15 +312,9 @@ fn draw_colour_bar(area: &Area<'_>, peak: f64, target: f64, n: usize) -> Drawn {
         .y_labels(8)
         .y_label_formatter(&|v| format!("{:.0}%", 100.0 * v))
         .draw()?;
-    let steps = 100;
-    bar.draw_series((0..steps).map(|k| {
-        let a = peak * k as f64 / steps as f64;
-        let b = peak * (k + 1) as f64 / steps as f64;
-        Rectangle::new(
-            [(0.0, a), (1.0, b)],
-            share_colour((a + b) / 2.0, peak).filled(),
-        )
-    }))?;
+    colour_steps(&mut bar, (0.0, peak), |_, a, b| {
+        share_colour((a + b) / 2.0, peak)
+    })?;
     bar.draw_series([Rectangle::new(
         [(0.0, 0.0), (1.0, peak)],
         RGBColor(120, 120, 120).stroke_width(1),

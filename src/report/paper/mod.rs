@@ -3,7 +3,7 @@
 //! and 3 on `two_rooms`): the summary table, the CSV of both figures and
 //! their SVG.
 
-use super::svg::{plotted, text_style, Area, Chart, Drawn};
+use super::svg::{colour_steps, plotted, text_style, Area, Chart, Drawn};
 use super::{describe, median, Stats};
 use crate::effect::entropy;
 use crate::experiment::paper::{ArmResult, PaperConfig, PaperResults};

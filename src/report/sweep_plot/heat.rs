@@ -196,11 +196,8 @@ fn draw_ticks(left: &Area<'_>, chart: &Chart<'_, '_>, grid: &HeatGrid) -> Drawn 
 /// The colour bar on `right`: titled `mean`, viridis in 100 steps from
 /// `vmin` to `vmin + span`, with its value axis.
 fn draw_colour_bar(right: &Area<'_>, vmin: f64, span: f64) -> Drawn {
-    right.draw(&Text::new(
-        "mean",
-        (12, 22),
-        (FONT, 18).into_font().color(&BLACK),
-    ))?;
+    let style = text_style(18, &BLACK, HPos::Left, VPos::Top);
+    right.draw(&Text::new("mean", (12, 22), style))?;
     let mut bar = ChartBuilder::on(right)
         .margin_top(50)
         .margin_bottom(65)
@@ -213,14 +210,5 @@ fn draw_colour_bar(right: &Area<'_>, vmin: f64, span: f64) -> Drawn {
         .label_style((FONT, 16))
         .y_label_formatter(&|v: &f64| short(*v))
         .draw()?;
-    let steps = 100;
-    bar.draw_series((0..steps).map(|k| {
-        let a = vmin + span * k as f64 / steps as f64;
-        let b = vmin + span * (k + 1) as f64 / steps as f64;
-        Rectangle::new(
-            [(0.0, a), (1.0, b)],
-            viridis(k as f64 / (steps - 1) as f64).filled(),
-        )
-    }))?;
-    Ok(())
+    colour_steps(&mut bar, (vmin, span), |k, _, _| viridis(k as f64 / 99.0))
 }

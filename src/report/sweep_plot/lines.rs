@@ -217,6 +217,10 @@ fn draw_x_ticks(
     (y0, y1): (f64, f64),
     x_fmt: &dyn Fn(f64) -> String,
 ) -> Drawn {
+    let grid = |t: f64, grey: u8| {
+        let colour = RGBColor(grey, grey, grey);
+        [PathElement::new(vec![(t, y0), (t, y1)], colour)]
+    };
     // a log axis: light lines at 2..9 times each decade
     if log {
         let (a, b) = (x0.floor() as i32, x1.ceil() as i32);
@@ -224,10 +228,7 @@ fn draw_x_ticks(
             for m in 2..=9 {
                 let t = (m as f64 * 10f64.powi(k)).log10();
                 if t > x0 && t < x1 && !ticks.iter().any(|u| (u - t).abs() < 1e-9) {
-                    chart.draw_series([PathElement::new(
-                        vec![(t, y0), (t, y1)],
-                        RGBColor(242, 242, 242),
-                    )])?;
+                    chart.draw_series(grid(t, 242))?;
                 }
             }
         }
@@ -235,10 +236,7 @@ fn draw_x_ticks(
     // the x ticks, drawn by hand: decades (or 1-2-5) on a log axis,
     // round numbers on a linear one; the swept values are the markers
     for &t in ticks {
-        chart.draw_series([PathElement::new(
-            vec![(t, y0), (t, y1)],
-            RGBColor(215, 215, 215),
-        )])?;
+        chart.draw_series(grid(t, 215))?;
         let (px, py) = chart.backend_coord(&(t, y0));
         top.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))?;
         let style = text_style(17, &BLACK, HPos::Center, VPos::Top);
@@ -266,16 +264,11 @@ fn draw_series(
             if let (Some(l), Some(u)) = (p.2, p.3) {
                 chart.draw_series([Rectangle::new([(x0, l), (x1, u)], c.mix(0.12).filled())])?;
             }
-            chart.draw_series(DashedLineSeries::new(
-                vec![(x0, p.1), (x1, p.1)],
-                12,
-                6,
-                c.stroke_width(2),
-            ))?;
+            let across = vec![(x0, p.1), (x1, p.1)];
+            chart.draw_series(DashedLineSeries::new(across, 12, 6, c.stroke_width(2)))?;
             continue;
         }
-        let band: Vec<(f64, f64, f64)> = pts
-            .iter()
+        let band: Vec<(f64, f64, f64)> = (pts.iter())
             .filter_map(|p| Some((tx(p.0), p.2?, p.3?)))
             .collect();
         if band.len() >= 2 {

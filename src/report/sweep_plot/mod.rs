@@ -14,7 +14,7 @@
 //! assert!(svg.starts_with("<svg") && svg.contains("uniform"));
 //! ```
 
-use super::svg::{plotted, text_style, Area, Chart, Drawn};
+use super::svg::{colour_steps, plotted, text_style, Area, Chart, Drawn};
 use crate::csv::Summary;
 use crate::learner::Params;
 use crate::scene::did_you_mean;
