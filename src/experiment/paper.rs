@@ -20,6 +20,7 @@ use crate::session::{
     policy_effect_distribution, run_sessions, Control, Metrics, SessionConfig, SessionRecord,
 };
 use crate::world::{GridSpec, OutcomeTable};
+use LearnerKind::{E3d, Egreedy, Uniform};
 
 /// The settings of a reproduction.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -58,15 +59,10 @@ pub struct Arm {
 /// The four arms of the paper: task 1 uniform and E3D, task 2 E3D and
 /// epsilon-greedy.
 pub const ARMS: [Arm; 4] = [
-    arm("uniform policy", 1, LearnerKind::Uniform, Params::TASK1),
-    arm("E3D", 1, LearnerKind::E3d, Params::TASK1),
-    arm("E3D (beta 100)", 2, LearnerKind::E3d, Params::TASK2),
-    arm(
-        "epsilon-greedy (0.1)",
-        2,
-        LearnerKind::Egreedy,
-        Params::TASK2,
-    ),
+    arm("uniform policy", 1, Uniform, Params::TASK1),
+    arm("E3D", 1, E3d, Params::TASK1),
+    arm("E3D (beta 100)", 2, E3d, Params::TASK2),
+    arm("epsilon-greedy (0.1)", 2, Egreedy, Params::TASK2),
 ];
 
 const fn arm(label: &'static str, task: u8, learner: LearnerKind, params: Params) -> Arm {

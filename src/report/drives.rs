@@ -495,19 +495,15 @@ impl DriveRow {
         };
         let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
         let q = |i: usize| opt(self.task2_first_reward_quartiles.map(|q| q[i]));
+        let median = opt(self.task2_first_reward_median);
+        let never = self.task2_never_rewarded.to_string();
         [
             one("scene", self.scene.clone()),
             one("learner", self.learner.clone()),
             mean_sd("task1_entropy", &self.task1_entropy),
             mean_sd("task2_reward", &self.task2_reward),
-            one(
-                "task2_first_reward_median",
-                opt(self.task2_first_reward_median),
-            ),
-            one(
-                "task2_never_rewarded",
-                self.task2_never_rewarded.to_string(),
-            ),
+            one("task2_first_reward_median", median),
+            one("task2_never_rewarded", never),
             one("task2_sessions", self.task2_sessions.to_string()),
             mean_sd("task1_coverage", &self.task1_coverage),
             mean_sd("task1_trials_to_50", &self.task1_trials_to_50),

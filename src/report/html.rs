@@ -457,27 +457,20 @@ fn plots_against_params(body: &mut String, summary: &crate::csv::Summary) {
                 metric: m.to_string(),
                 filters: vec![],
             };
-            let _ = writeln!(body, "<h3>{} against {param}</h3>", esc(m));
+            let name = esc(m);
+            let _ = writeln!(body, "<h3>{name} against {param}</h3>");
             let mean = col(&format!("{m}_mean"));
             let drawable = rows
                 .iter()
                 .any(|r| !r[c].is_empty() && mean.is_some_and(|k| num(&r[k]).is_some()));
-            if !drawable {
-                let _ = writeln!(
-                body,
-                "<p class=\"note\">not drawn: no cell with a value of {param} has a value of {}</p>",
-                esc(m)
-            );
-                continue;
-            }
-            match plot(summary, &spec) {
-                Ok(svg) => {
-                    let _ = writeln!(body, "<figure class=\"plot\">{svg}</figure>");
-                }
-                Err(e) => {
-                    let _ = writeln!(body, "<p class=\"note\">not drawn: {}</p>", esc(&e.0));
-                }
-            }
+            let _ = match drawable.then(|| plot(summary, &spec)) {
+                None => writeln!(
+                    body,
+                    "<p class=\"note\">not drawn: no cell with a value of {param} has a value of {name}</p>"
+                ),
+                Some(Ok(svg)) => writeln!(body, "<figure class=\"plot\">{svg}</figure>"),
+                Some(Err(e)) => writeln!(body, "<p class=\"note\">not drawn: {}</p>", esc(&e.0)),
+            };
         }
     }
 }

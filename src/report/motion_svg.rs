@@ -242,11 +242,8 @@ fn draw_motion(
     let (tracked, drawn_point) = tracked_of(scene, p, motion)?;
     let point_at = |f: usize| {
         let pose = &motion.frames[f].poses[tracked];
-        to_world(
-            (pose.position[0], pose.position[1]),
-            pose.angle,
-            drawn_point,
-        )
+        let at = (pose.position[0], pose.position[1]);
+        to_world(at, pose.angle, drawn_point)
     };
     let overlay = Overlay {
         command: command.to_string(),
@@ -293,14 +290,8 @@ fn draw_motion(
         }
         let path: Vec<(f64, f64)> = keep.iter().map(|&f| point_at(f)).collect();
         moving_dot(out, v, &tl, ["tracked", "4.5", "1", "tracked point"], &path);
-        let [right, top] = v.max;
-        readout(
-            out,
-            ["time", "frame"],
-            (v.x(right) - 4.0, v.y(top) + 16.0),
-            &labels,
-            dur,
-        );
+        let corner = (v.x(v.max[0]) - 4.0, v.y(v.max[1]) + 16.0);
+        readout(out, ["time", "frame"], corner, &labels, dur);
         out.push_str("</g>\n");
     };
     Ok(physics_picture(scene, p, Some(&overlay), Some(&mut draw)))
@@ -416,9 +407,6 @@ impl Timeline {
 
 /// `svg` in a self-contained HTML page (no script, no network).
 pub fn html_page(title: &str, svg: &str) -> String {
-    super::svg::page(
-        title,
-        "svg{max-width:100%;height:auto;background:#fff}",
-        svg,
-    )
+    let style = "svg{max-width:100%;height:auto;background:#fff}";
+    super::svg::page(title, style, svg)
 }

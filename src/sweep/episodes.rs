@@ -78,12 +78,8 @@ impl Sweep {
                 )?)
         })?;
         let mut running = self.recorder(world.num_effects());
-        let record = match run_episodes(
-            world,
-            &mut *learner,
-            &config,
-            &crate::session::Control::default(),
-        ) {
+        let control = crate::session::Control::default();
+        let record = match run_episodes(world, &mut *learner, &config, &control) {
             Ok(r) => r,
             Err(e) => return Ok(self.result(session, Err(e), &running)),
         };

@@ -218,11 +218,8 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
     // the cap while it was read is refused (what follows a bad line is not
     // read)
     if total > MAX_JOURNAL_BYTES {
-        return Err(own_err(crate::text::too_large(
-            path,
-            MAX_JOURNAL_BYTES,
-            "sweep journal",
-        )));
+        let e = crate::text::too_large(path, MAX_JOURNAL_BYTES, "sweep journal");
+        return Err(own_err(e));
     }
     Ok(JournalRead {
         header,

@@ -162,13 +162,11 @@ type TableProgress = dyn Fn(&str, u64, u64) + Send + Sync;
 
 impl fmt::Debug for Sweep {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let scenes: Vec<&str> = self.scenes.iter().map(|s| s.name()).collect();
         f.debug_struct("Sweep")
             .field("spec", &self.spec)
             .field("file", &self.file)
-            .field(
-                "scenes",
-                &self.scenes.iter().map(|s| s.name()).collect::<Vec<_>>(),
-            )
+            .field("scenes", &scenes)
             .field("learners", &self.learners.names())
             .field("metrics", &self.metrics)
             .field("cells", &self.cells.len())
@@ -191,12 +189,8 @@ impl Sweep {
     /// `None`). The scenes and learners are the built-in ones: [`Worlds::with_scene_files`] and
     /// [`Learners::builtin`].
     pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<Sweep, SweepError> {
-        Sweep::parse_with(
-            text,
-            file,
-            &Worlds::new().with_scene_files(base),
-            Learners::builtin(),
-        )
+        let worlds = Worlds::new().with_scene_files(base);
+        Sweep::parse_with(text, file, &worlds, Learners::builtin())
     }
 
     /// Parses and checks sweep text whose scenes `worlds` makes and whose
@@ -229,14 +223,8 @@ impl Sweep {
         learners: Learners,
     ) -> Result<Sweep, SweepError> {
         let (spec, text) = SweepSpec::from_text(text, file, &learners)?;
-        Sweep::build(
-            spec,
-            text.to_string(),
-            file,
-            text,
-            worlds,
-            Arc::new(learners),
-        )
+        let learners = Arc::new(learners);
+        Sweep::build(spec, text.to_string(), file, text, worlds, learners)
     }
 
     /// A sweep built in code, with the built-in scenes and learners ([`Worlds::with_scene_files`]
@@ -253,11 +241,8 @@ impl Sweep {
     /// assert_eq!(e.to_string(), "<SweepSpec>: field `sessions`: expected at least 1 session per cell, found 0");
     /// ```
     pub fn new(spec: SweepSpec) -> Result<Sweep, SweepError> {
-        Sweep::with_factories(
-            spec,
-            &Worlds::new().with_scene_files(None),
-            Learners::builtin(),
-        )
+        let worlds = Worlds::new().with_scene_files(None);
+        Sweep::with_factories(spec, &worlds, Learners::builtin())
     }
 
     /// A sweep built in code whose scenes `worlds` makes and whose
@@ -300,13 +285,8 @@ impl Sweep {
         let (axes, metrics) = (checked.axes, checked.metrics);
         let uses = learner_uses(&spec, &learners, &bad)?;
         let scenes = make_scenes(&spec, worlds, &bad)?;
-        check_values(
-            &scenes,
-            &learners,
-            &spec.learners,
-            spec.runs_episodes(),
-            &bad,
-        )?;
+        let episodes = spec.runs_episodes();
+        check_values(&scenes, &learners, &spec.learners, episodes, &bad)?;
         let contexts = super::contexts::start_contexts(&scenes);
         let mut metrics = metrics;
         super::contexts::check(&spec, &contexts, &mut metrics, &bad)?;

@@ -454,9 +454,7 @@ impl Sweep {
         Self::prepare_dir(dir, options.resume)?;
         self.copy_sweep_and_version(dir)?;
         let (mut journal, mut done) = open_journal(&journal_path, &header)?;
-        let all = self.sessions();
-        let mine: Vec<SessionSpec> = all
-            .into_iter()
+        let mine: Vec<SessionSpec> = (self.sessions().into_iter())
             .filter(|s| shard.contains(s.index))
             .collect();
         done.retain(|i, _| shard.contains(*i) && *i < header.total);
@@ -489,16 +487,14 @@ impl Sweep {
 
     /// The journal's header for `shard` of this sweep.
     fn journal_header(&self, shard: Shard) -> JournalHeader {
+        let scenes = self.scenes.iter();
+        let scenes = scenes.map(|s| (s.name().to_string(), s.content_key()));
         JournalHeader {
             sweep_hash: fnv1a64(self.text.as_bytes()),
             shard,
             total: self.num_sessions(),
             per_cell: self.spec.sessions,
-            scenes: self
-                .scenes
-                .iter()
-                .map(|s| (s.name().to_string(), s.content_key()))
-                .collect(),
+            scenes: scenes.collect(),
             version: VERSION.to_string(),
             columns: self.results_header(),
         }

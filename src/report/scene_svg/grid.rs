@@ -27,11 +27,8 @@ pub(in crate::report) fn grid_picture(
     header(&mut out, &v, scene, overlay);
     effect_layer(&mut out, &v, scene, overlay);
     // the border and the walls
-    let at = v.rect(
-        (eg.min[0], eg.max[1]),
-        eg.max[0] - eg.min[0],
-        eg.max[1] - eg.min[1],
-    );
+    let (w, h) = (eg.max[0] - eg.min[0], eg.max[1] - eg.min[1]);
+    let at = v.rect((eg.min[0], eg.max[1]), w, h);
     let _ = writeln!(
         out,
         r##"<rect {at} fill="none" stroke="#333" stroke-width="4"/>"##

@@ -138,12 +138,8 @@ pub(in crate::report) fn physics_picture(
     }
     // every body at its start pose (fixed bodies opaque)
     let start = p.bodies.iter().map(|b| {
-        let (fill, stroke) = colours(b.kind);
-        let op = if b.kind == BodyKind::Fixed {
-            0.95
-        } else {
-            start_opacity
-        };
+        let ((fill, stroke), fixed) = (colours(b.kind), b.kind == BodyKind::Fixed);
+        let op = if fixed { 0.95 } else { start_opacity };
         (b, b.position, b.angle, Paint(fill, stroke, op))
     });
     bodies_layer(&mut out, &v, start, "");
@@ -152,11 +148,7 @@ pub(in crate::report) fn physics_picture(
         .filter(|_| animated.is_none())
     {
         // the bodies that move, at their terminal poses
-        let moved = p
-            .bodies
-            .iter()
-            .zip(poses)
-            .filter(|(b, _)| b.kind != BodyKind::Fixed);
+        let moved = (p.bodies.iter().zip(poses)).filter(|(b, _)| b.kind != BodyKind::Fixed);
         let end = moved.map(|(b, q)| {
             let position = (q.position[0], q.position[1]);
             (b, position, q.angle, Paint(END_FILL, END_STROKE, 0.9))

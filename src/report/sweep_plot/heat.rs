@@ -28,12 +28,12 @@ pub(super) fn heat_axis_label(param: &str, values: &[f64]) -> String {
 
 /// Viridis, by linear interpolation between five of its colours.
 pub(super) fn viridis(t: f64) -> RGBColor {
-    const C: [(f64, f64, f64); 5] = [
-        (68.0, 1.0, 84.0),
-        (59.0, 82.0, 139.0),
-        (33.0, 145.0, 140.0),
-        (94.0, 201.0, 98.0),
-        (253.0, 231.0, 37.0),
+    const C: [[f64; 3]; 5] = [
+        [68.0, 1.0, 84.0],
+        [59.0, 82.0, 139.0],
+        [33.0, 145.0, 140.0],
+        [94.0, 201.0, 98.0],
+        [253.0, 231.0, 37.0],
     ];
     let t = t
         .is_finite()
@@ -41,12 +41,8 @@ pub(super) fn viridis(t: f64) -> RGBColor {
         .unwrap_or(0.0);
     let i = (t.floor() as usize).min(3);
     let f = t - i as f64;
-    let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
-    RGBColor(
-        mix(C[i].0, C[i + 1].0),
-        mix(C[i].1, C[i + 1].1),
-        mix(C[i].2, C[i + 1].2),
-    )
+    let [r, g, b] = [0, 1, 2].map(|j| (C[i][j] + (C[i + 1][j] - C[i][j]) * f).round() as u8);
+    RGBColor(r, g, b)
 }
 
 /// The sweep's swept values and the metric's mean at each: the columns

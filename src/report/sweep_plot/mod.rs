@@ -125,15 +125,8 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
         }
         Some(yi) => {
             let rows = one_setting(rows, xi, yi, spec)?;
-            draw_heat(
-                &title,
-                &spec.x,
-                spec.y.as_deref().unwrap_or_default(),
-                rows,
-                xi,
-                yi,
-                mi,
-            )
+            let y = spec.y.as_deref().unwrap_or_default();
+            draw_heat(&title, &spec.x, y, rows, xi, yi, mi)
         }
     }
 }

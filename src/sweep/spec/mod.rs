@@ -451,14 +451,10 @@ impl SweepSpec {
     pub fn to_ron(&self) -> String {
         let string = |s: &str| ron::to_string(s).unwrap_or_else(|_| format!("{s:?}"));
         let mut out = String::from("Sweep(\n");
-        if !self.name.is_empty() {
-            out.push_str(&format!("    name: {},\n", string(&self.name)));
-        }
-        if !self.description.is_empty() {
-            out.push_str(&format!(
-                "    description: {},\n",
-                string(&self.description)
-            ));
+        for (field, text) in [("name", &self.name), ("description", &self.description)] {
+            if !text.is_empty() {
+                out.push_str(&format!("    {field}: {},\n", string(text)));
+            }
         }
         let scenes: Vec<String> = self.scenes.iter().map(|s| string(s)).collect();
         out.push_str(&format!("    scenes: [{}],\n", scenes.join(", ")));
@@ -471,9 +467,10 @@ impl SweepSpec {
         if !params.is_empty() {
             out.push_str(&format!("    params: (\n{}    ),\n", params.concat()));
         }
-        out.push_str(&format!("    sessions: {},\n", self.sessions));
-        out.push_str(&format!("    trials: {},\n", self.trials));
-        out.push_str(&format!("    seed: {},\n", self.seed));
+        let (sessions, trials, seed) = (self.sessions, self.trials, self.seed);
+        out.push_str(&format!(
+            "    sessions: {sessions},\n    trials: {trials},\n    seed: {seed},\n"
+        ));
         if let Some(metrics) = &self.metrics {
             let m: Vec<String> = metrics
                 .iter()
