@@ -35,10 +35,11 @@ pub(super) fn viridis(t: f64) -> RGBColor {
         [94.0, 201.0, 98.0],
         [253.0, 231.0, 37.0],
     ];
-    let t = t
-        .is_finite()
-        .then(|| t.clamp(0.0, 1.0) * 4.0)
-        .unwrap_or(0.0);
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    } * 4.0;
     let i = (t.floor() as usize).min(3);
     let f = t - i as f64;
     let [r, g, b] = [0, 1, 2].map(|j| (C[i][j] + (C[i + 1][j] - C[i][j]) * f).round() as u8);
