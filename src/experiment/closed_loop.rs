@@ -112,20 +112,17 @@ pub fn check_scene(scene: &Scene, commands: usize) -> Result<(), ClosedLoopError
     if !matches!(scene.spec().command, CommandSpec::Repeat { .. }) {
         return Err(ClosedLoopError::Scene(name));
     }
-    if !g.contexts.is_empty() {
+    if let Some(first) = g.contexts.first() {
+        let (k, first) = (g.contexts.len(), crate::text::echo(&first.name));
         return Err(ClosedLoopError::Setup(format!(
-            "scene `{name}` has {} start contexts (`{}`...); a closed-loop comparison observes the current cell from the scene's one start: expected a Grid scene without `contexts`",
-            g.contexts.len(),
-            crate::text::echo(&g.contexts[0].name)
+            "scene `{name}` has {k} start contexts (`{first}`...); a closed-loop comparison observes the current cell from the scene's one start: expected a Grid scene without `contexts`"
         )));
     }
-    let n = scene.spec().num_slots();
-    let max = crate::command::MAX_SLOTS;
-    if n.saturating_mul(commands) > max {
+    let (n, max) = (scene.spec().num_slots(), crate::command::MAX_SLOTS);
+    let (moves, most) = (n.saturating_mul(commands), max / n.max(1));
+    if moves > max {
         return Err(ClosedLoopError::Setup(format!(
-            "commands per episode (K) = {commands}: the open-loop arms take one command of {commands} x {n} moves = {}, but a command has at most {max} slots; expected at most {} on scene `{name}`",
-            n.saturating_mul(commands),
-            max / n.max(1)
+            "commands per episode (K) = {commands}: the open-loop arms take one command of {commands} x {n} moves = {moves}, but a command has at most {max} slots; expected at most {most} on scene `{name}`"
         )));
     }
     Ok(())

@@ -30,25 +30,21 @@ pub fn with_reachable_cells(
     sweep: Sweep,
     cache: Option<&std::path::Path>,
 ) -> Result<Sweep, SweepError> {
+    let options = ExecOptions {
+        cache: cache.map(std::path::Path::to_path_buf),
+        force: Some(Strategy::Table),
+        ..ExecOptions::default()
+    };
+    let work = Workload {
+        trials: 1,
+        sessions: 1,
+        threads: rayon::current_num_threads(),
+    };
     let mut reachable = Vec::new();
     for s in sweep.scenes() {
+        let small = |n| n <= MAX_TABLE_COMMANDS;
         let k = match s.scene() {
-            Some(scene)
-                if scene
-                    .command_space()
-                    .num_commands()
-                    .is_some_and(|n| n <= MAX_TABLE_COMMANDS) =>
-            {
-                let options = ExecOptions {
-                    cache: cache.map(std::path::Path::to_path_buf),
-                    force: Some(Strategy::Table),
-                    ..ExecOptions::default()
-                };
-                let work = Workload {
-                    trials: 1,
-                    sessions: 1,
-                    threads: rayon::current_num_threads(),
-                };
+            Some(scene) if scene.command_space().num_commands().is_some_and(small) => {
                 let exec = Executor::new(scene, &work, &options)
                     .map_err(|e| SweepError::Other(format!("scene `{}`: {e}", s.name())))?;
                 exec.table().map(|t| t.reachable_effects())

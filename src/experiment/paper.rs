@@ -20,6 +20,7 @@ use crate::session::{
     policy_effect_distribution, run_sessions, Control, Metrics, SessionConfig, SessionRecord,
 };
 use crate::world::{GridSpec, OutcomeTable};
+use LearnerKind::{E3d, Egreedy, Uniform};
 
 /// The settings of a reproduction.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -58,31 +59,20 @@ pub struct Arm {
 /// The four arms of the paper: task 1 uniform and E3D, task 2 E3D and
 /// epsilon-greedy.
 pub const ARMS: [Arm; 4] = [
-    Arm {
-        label: "uniform policy",
-        task: 1,
-        learner: LearnerKind::Uniform,
-        params: Params::TASK1,
-    },
-    Arm {
-        label: "E3D",
-        task: 1,
-        learner: LearnerKind::E3d,
-        params: Params::TASK1,
-    },
-    Arm {
-        label: "E3D (beta 100)",
-        task: 2,
-        learner: LearnerKind::E3d,
-        params: Params::TASK2,
-    },
-    Arm {
-        label: "epsilon-greedy (0.1)",
-        task: 2,
-        learner: LearnerKind::Egreedy,
-        params: Params::TASK2,
-    },
+    arm("uniform policy", 1, Uniform, Params::TASK1),
+    arm("E3D", 1, E3d, Params::TASK1),
+    arm("E3D (beta 100)", 2, E3d, Params::TASK2),
+    arm("epsilon-greedy (0.1)", 2, Egreedy, Params::TASK2),
 ];
+
+const fn arm(label: &'static str, task: u8, learner: LearnerKind, params: Params) -> Arm {
+    Arm {
+        label,
+        task,
+        learner,
+        params,
+    }
+}
 
 /// The sessions of one arm.
 #[derive(Debug, Clone)]

@@ -45,35 +45,26 @@ pub fn markdown(
         let firsts: Vec<usize> = rows.iter().filter_map(|s| s.first_reward_episode).collect();
         // the median counts never-rewarded sessions as later than all
         let [q1, mid, q3] = super::order_quartiles(&firsts, rows.len());
-        let median = match mid {
-            Some(m) => format!("{m} ({})", m * moves_per_episode),
-            None => "never".into(),
-        };
+        let median = mid.map_or("never".into(), |m| {
+            format!("{m} ({})", m * moves_per_episode)
+        });
         let never = |q: Option<usize>| q.map_or("never".to_string(), |q| q.to_string());
-        let totals: Vec<f64> = rows.iter().map(|s| s.cumulative_reward).collect();
-        let lates: Vec<f64> = rows.iter().map(|s| s.late_reward).collect();
-        let (total, late) = (super::describe(&totals), super::describe(&lates));
-        let ci = |xs: &[f64]| {
-            super::mean_ci95(xs).map_or("-".to_string(), |c| {
-                format!("{:.1} ± {:.1}", c.mean, c.half)
-            })
+        let (q1, q3) = (never(q1), never(q3));
+        // per reward: its mean (sd), and its mean ± its 95% t interval
+        let reward = |xs: Vec<f64>| {
+            let d = super::describe(&xs);
+            let ci = super::mean_ci95(&xs).map(|c| format!("{:.1} ± {:.1}", c.mean, c.half));
+            let mean_sd = format!("{:.1} ({:.1})", d.mean, d.sd);
+            (mean_sd, ci.unwrap_or("-".into()))
         };
-        let share = super::wilson95(firsts.len(), rows.len())
-            .map_or("-".to_string(), |(lo, hi)| {
-                format!("{:.0}%..{:.0}%", 100.0 * lo, 100.0 * hi)
-            });
+        let (total, total_ci) = reward(rows.iter().map(|s| s.cumulative_reward).collect());
+        let (late, late_ci) = reward(rows.iter().map(|s| s.late_reward).collect());
+        let (rewarded, n) = (firsts.len(), rows.len());
+        let share = super::wilson95(rewarded, n).map_or("-".to_string(), |(lo, hi)| {
+            format!("{:.0}%..{:.0}%", 100.0 * lo, 100.0 * hi)
+        });
         out.push_str(&format!(
-            "| {arm} | {}/{} | {median} | {:.1} ({:.1}) | {:.1} ({:.1}) | {share} | {}..{} | {} | {} |\n",
-            firsts.len(),
-            rows.len(),
-            total.mean,
-            total.sd,
-            late.mean,
-            late.sd,
-            never(q1),
-            never(q3),
-            ci(&totals),
-            ci(&lates),
+            "| {arm} | {rewarded}/{n} | {median} | {total} | {late} | {share} | {q1}..{q3} | {total_ci} | {late_ci} |\n"
         ));
     }
     out

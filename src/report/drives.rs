@@ -170,18 +170,14 @@ impl DriveComparison {
             }
             // the best value, and every learner that has it (ties listed)
             let best = |key: &dyn Fn(&DriveRow) -> Option<f64>, high: bool| -> String {
-                let mut b: Option<f64> = None;
-                for v in rows.iter().filter_map(|r| key(r)) {
-                    if b.is_none_or(|w| (high && v > w) || (!high && v < w)) {
-                        b = Some(v);
-                    }
-                }
-                let Some(b) = b else {
+                let better = |w: f64, v: f64| match (high && v > w) || (!high && v < w) {
+                    true => v,
+                    false => w,
+                };
+                let Some(b) = rows.iter().filter_map(|r| key(r)).reduce(better) else {
                     return "-".to_string();
                 };
-                let names: Vec<&str> = rows
-                    .iter()
-                    .filter(|r| key(r) == Some(b))
+                let names: Vec<&str> = (rows.iter().filter(|r| key(r) == Some(b)))
                     .map(|r| r.learner.as_str())
                     .collect();
                 names.join(", ")
@@ -232,39 +228,32 @@ impl DriveComparison {
                 format!("{:.d$}..{:.d$}", c.lo(), c.hi())
             })
         };
-        let reach = |m: &Measure, of: usize| -> String {
-            let (st, n) = (m.stats, m.n);
-            match n {
-                0 => "never".to_string(),
-                _ if n < of => format!("{:.0} ± {:.0} ({n}/{of})", st.mean, st.sd),
-                _ => format!("{:.0} ± {:.0}", st.mean, st.sd),
-            }
+        let pm = |m: &Measure, d: usize| format!("{:.d$} ± {:.d$}", m.stats.mean, m.stats.sd);
+        let reach = |m: &Measure, of: usize| match m.n {
+            0 => "never".to_string(),
+            n if n < of => format!("{} ({n}/{of})", pm(m, 0)),
+            _ => pm(m, 0),
         };
         for r in &self.rows {
-            let _ = writeln!(
-                s,
-                "| {} | {} | {:.3} ± {:.3} | {:.3} ± {:.3} | {} | {} | {:.0} ± {:.0} | {} | {:.1}% | {} | {} | {} | {} | {} | {} |",
-                r.scene,
-                r.learner,
-                r.task1_entropy.stats.mean,
-                r.task1_entropy.stats.sd,
-                r.task1_coverage.stats.mean,
-                r.task1_coverage.stats.sd,
+            let (median, q) = (r.task2_first_reward_median, r.task2_first_reward_quartiles);
+            let cells = [
+                r.scene.clone(),
+                r.learner.clone(),
+                pm(&r.task1_entropy, 3),
+                pm(&r.task1_coverage, 3),
                 reach(&r.task1_trials_to_50, r.task1_sessions),
                 reach(&r.task1_trials_to_90, r.task1_sessions),
-                r.task2_reward.stats.mean,
-                r.task2_reward.stats.sd,
-                r.task2_first_reward_median
-                    .map_or("-".to_string(), |t| format!("{t:.0}")),
-                100.0 * r.task2_never_rewarded,
+                pm(&r.task2_reward, 0),
+                median.map_or("-".to_string(), |t| format!("{t:.0}")),
+                format!("{:.1}%", 100.0 * r.task2_never_rewarded),
                 ci(&r.task1_entropy, 3),
                 ci(&r.task1_coverage, 3),
                 ci(&r.task1_trials_to_50, 0),
                 ci(&r.task1_trials_to_90, 0),
                 ci(&r.task2_reward, 0),
-                r.task2_first_reward_quartiles
-                    .map_or("-".to_string(), |[q1, _, q3]| format!("{q1:.0}..{q3:.0}")),
-            );
+                q.map_or("-".to_string(), |[q1, _, q3]| format!("{q1:.0}..{q3:.0}")),
+            ];
+            let _ = writeln!(s, "| {} |", cells.join(" | "));
         }
         s.push_str("\nBest per scene (highest entropy, coverage and reward; fewest mean trials to 50% and 90% among the learners whose every session got there; earliest median first reward):\n\n");
         s.push_str("| scene | entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward |\n");
@@ -329,33 +318,28 @@ impl DriveComparison {
                 r#"<text x="{left}" y="{}" font-size="13" font-weight="bold">{title}</text>"#,
                 y0 - 10.0
             );
+            let (right, base) = (left + pw, y0 + ph);
             for k in 0..=4 {
                 let v = ymax * k as f64 / 4.0;
                 let y = y0 + ph - ph * v / ymax;
+                let (tx, ty) = (left - 6.0, y + 4.0);
                 let _ = writeln!(
                     s,
-                    r##"<line x1="{left}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{v:.2}</text>"##,
-                    left + pw,
-                    left - 6.0,
-                    y + 4.0
+                    r##"<line x1="{left}" y1="{y:.1}" x2="{right}" y2="{y:.1}" stroke="#ddd"/><text x="{tx}" y="{ty:.1}" text-anchor="end">{v:.2}</text>"##
                 );
             }
             let _ = writeln!(
                 s,
-                r#"<line x1="{left}" y1="{}" x2="{}" y2="{}" stroke="black"/>"#,
-                y0 + ph,
-                left + pw,
-                y0 + ph
+                r#"<line x1="{left}" y1="{base}" x2="{right}" y2="{base}" stroke="black"/>"#
             );
             // a group per scene, a bar per learner that has a row there,
             // with its ± sd whisker
             for (gi, scene) in scenes.iter().enumerate() {
                 let gx = left + gi as f64 * group + group * 0.1;
+                let (tx, ty) = (gx + group * 0.4, base + 16.0);
                 let _ = writeln!(
                     s,
-                    r#"<text x="{:.1}" y="{}" text-anchor="middle">{scene}</text>"#,
-                    gx + group * 0.4,
-                    y0 + ph + 16.0
+                    r#"<text x="{tx:.1}" y="{ty}" text-anchor="middle">{scene}</text>"#
                 );
                 for (li, learner) in learners.iter().enumerate() {
                     let Some(r) = self.row(scene, learner) else {
@@ -364,20 +348,17 @@ impl DriveComparison {
                     let (v, sd) = value(r);
                     let x = gx + li as f64 * bar;
                     let h = (ph * v / ymax).clamp(0.0, ph);
+                    let (y, w, fill) = (base - h, bar * 0.9, COLOURS[li % COLOURS.len()]);
                     let _ = writeln!(
                         s,
-                        r#"<rect x="{x:.1}" y="{:.1}" width="{:.1}" height="{h:.1}" fill="{}"><title>{scene}, {learner}: {v:.3}</title></rect>"#,
-                        y0 + ph - h,
-                        bar * 0.9,
-                        COLOURS[li % COLOURS.len()]
+                        r#"<rect x="{x:.1}" y="{y:.1}" width="{w:.1}" height="{h:.1}" fill="{fill}"><title>{scene}, {learner}: {v:.3}</title></rect>"#
                     );
                     let (lo, hi) = ((v - sd).max(0.0), (v + sd).min(ymax));
-                    let cx = x + bar * 0.45;
+                    let (cx, y1, y2) =
+                        (x + bar * 0.45, base - ph * lo / ymax, base - ph * hi / ymax);
                     let _ = writeln!(
                         s,
-                        r#"<line x1="{cx:.1}" y1="{:.1}" x2="{cx:.1}" y2="{:.1}" stroke="black"/>"#,
-                        y0 + ph - ph * lo / ymax,
-                        y0 + ph - ph * hi / ymax
+                        r#"<line x1="{cx:.1}" y1="{y1:.1}" x2="{cx:.1}" y2="{y2:.1}" stroke="black"/>"#
                     );
                 }
             }
@@ -385,22 +366,17 @@ impl DriveComparison {
         // the legend right of the panels
         for (li, learner) in learners.iter().enumerate() {
             let y = top + 10.0 + li as f64 * 18.0;
+            let (x, tx, box_y) = (left + pw + 20.0, left + pw + 38.0, y - 10.0);
+            let fill = COLOURS[li % COLOURS.len()];
             let _ = writeln!(
                 s,
-                r#"<rect x="{}" y="{}" width="12" height="12" fill="{}"/><text x="{}" y="{}">{learner}</text>"#,
-                left + pw + 20.0,
-                y - 10.0,
-                COLOURS[li % COLOURS.len()],
-                left + pw + 38.0,
-                y
+                r#"<rect x="{x}" y="{box_y}" width="12" height="12" fill="{fill}"/><text x="{tx}" y="{y}">{learner}</text>"#
             );
         }
+        let (y, sessions, trials) = (height - 12.0, self.sessions, self.trials);
         let _ = writeln!(
             s,
-            r##"<text x="{left}" y="{}" fill="#555">{} sessions per learner and task, {} trials each</text>"##,
-            height - 12.0,
-            self.sessions,
-            self.trials
+            r##"<text x="{left}" y="{y}" fill="#555">{sessions} sessions per learner and task, {trials} trials each</text>"##
         );
         s.push_str("</svg>\n");
         s
@@ -519,19 +495,15 @@ impl DriveRow {
         };
         let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
         let q = |i: usize| opt(self.task2_first_reward_quartiles.map(|q| q[i]));
+        let median = opt(self.task2_first_reward_median);
+        let never = self.task2_never_rewarded.to_string();
         [
             one("scene", self.scene.clone()),
             one("learner", self.learner.clone()),
             mean_sd("task1_entropy", &self.task1_entropy),
             mean_sd("task2_reward", &self.task2_reward),
-            one(
-                "task2_first_reward_median",
-                opt(self.task2_first_reward_median),
-            ),
-            one(
-                "task2_never_rewarded",
-                self.task2_never_rewarded.to_string(),
-            ),
+            one("task2_first_reward_median", median),
+            one("task2_never_rewarded", never),
             one("task2_sessions", self.task2_sessions.to_string()),
             mean_sd("task1_coverage", &self.task1_coverage),
             mean_sd("task1_trials_to_50", &self.task1_trials_to_50),

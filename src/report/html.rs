@@ -1,14 +1,6 @@
 //! `e3d report DIR`: one self-contained HTML page (inline SVG and CSS, no
-//! script, no network) for a run folder written by `e3d run --out DIR`.
-//!
-//! The page shows the share of trials per effect cell early (the first 10%
-//! of trials) and late (the last 10%) as two heat maps, the cumulative
-//! reward over trials, and the policy per slot over trials: the share of
-//! each symbol in each slot, in windows of trials, from `trials.csv`.
-//!
-//! For a sweep folder (written by `e3d sweep` or `e3d merge`), [`sweep_page`]
-//! (feature `plots`) shows its summary as a table and each metric against
-//! each parameter the sweep varies.
+//! script, no network) for a run folder ([`run_page`]) or a sweep folder
+//! ([`sweep_page`], feature `plots`).
 
 use super::svg::{esc, page};
 use crate::csv::TrialRow;
@@ -20,16 +12,11 @@ const MAX_CELLS_DRAWN: usize = 16384;
 
 /// (effect, count) of the `effects` below `cells`, in effect order.
 fn reached(effects: &[usize], cells: usize) -> Vec<(usize, usize)> {
-    let mut sorted: Vec<usize> = effects.iter().copied().filter(|&e| e < cells).collect();
-    sorted.sort_unstable();
-    let mut reached: Vec<(usize, usize)> = Vec::new();
-    for e in sorted {
-        match reached.last_mut() {
-            Some((last, c)) if *last == e => *c += 1,
-            _ => reached.push((e, 1)),
-        }
+    let mut counts = std::collections::BTreeMap::new();
+    for &e in effects.iter().filter(|&&e| e < cells) {
+        *counts.entry(e).or_insert(0) += 1;
     }
-    reached
+    counts.into_iter().collect()
 }
 
 /// A heat map of the share of `effects` in each of `rows x cols`
@@ -51,19 +38,19 @@ fn heat_map(
     let max = reached.iter().map(|r| r.1).max().unwrap_or(0).max(1) as f64;
     let n = effects.len().max(1) as f64;
     let (w, h) = (cols as f64 * px, rows as f64 * px + 24.0);
+    let title = esc(title);
     let _ = writeln!(
         out,
-        r##"<figure><svg class="heat" xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}"><text x="0" y="14" font-size="13">{}</text>"##,
-        esc(title)
+        r##"<figure><svg class="heat" xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}"><text x="0" y="14" font-size="13">{title}</text>"##
     );
     // a large grid (up to 2^20 cells) gets one background and only its
     // reached cells: a cell each made a 390 MB page of a 50-trial run
     let sparse = cells > dense;
     if sparse {
+        let below = h - 24.0;
         let _ = writeln!(
             out,
-            r##"<rect x="0" y="24" width="{w:.1}" height="{:.1}" fill="rgb(255,255,255)" stroke="#ddd" stroke-width="0.5"><title>{cells} cells; those never reached are not drawn one by one</title></rect>"##,
-            h - 24.0,
+            r##"<rect x="0" y="24" width="{w:.1}" height="{below:.1}" fill="rgb(255,255,255)" stroke="#ddd" stroke-width="0.5"><title>{cells} cells; those never reached are not drawn one by one</title></rect>"##
         );
     }
     let mut cell = |i: usize, c: usize| {
@@ -71,29 +58,19 @@ fn heat_map(
         // white (never) to dark blue (the most visited cell)
         let s = c as f64 / max;
         let shade = |lo: f64, hi: f64| (lo + (hi - lo) * s).round() as u8;
+        let (red, green, blue) = (shade(255.0, 8.0), shade(255.0, 48.0), shade(255.0, 107.0));
+        let (x, y, share) = (col as f64 * px, 24.0 + r as f64 * px, 100.0 * c as f64 / n);
         let _ = writeln!(
             out,
-            r##"<rect class="cell" x="{:.1}" y="{:.1}" width="{px:.1}" height="{px:.1}" fill="rgb({},{},{})" stroke="#ddd" stroke-width="0.5"><title>effect {i} (row {r}, col {col}): {:.2}%</title></rect>"##,
-            col as f64 * px,
-            24.0 + r as f64 * px,
-            shade(255.0, 8.0),
-            shade(255.0, 48.0),
-            shade(255.0, 107.0),
-            100.0 * c as f64 / n
+            r##"<rect class="cell" x="{x:.1}" y="{y:.1}" width="{px:.1}" height="{px:.1}" fill="rgb({red},{green},{blue})" stroke="#ddd" stroke-width="0.5"><title>effect {i} (row {r}, col {col}): {share:.2}%</title></rect>"##
         );
     };
     if sparse {
-        for &(i, c) in &reached {
-            cell(i, c);
-        }
+        reached.iter().for_each(|&(i, c)| cell(i, c));
     } else {
         let mut counts = vec![0; cells];
-        for &(i, c) in &reached {
-            counts[i] = c;
-        }
-        for (i, c) in counts.into_iter().enumerate() {
-            cell(i, c);
-        }
+        reached.iter().for_each(|&(i, c)| counts[i] = c);
+        counts.into_iter().enumerate().for_each(|(i, c)| cell(i, c));
     }
     out.push_str("</svg></figure>\n");
 }
@@ -107,18 +84,10 @@ fn line_chart(out: &mut String, title: &str, series: &[(&str, &str, Vec<f64>)]) 
         .flat_map(|s| s.2.iter().copied())
         .fold(0.0_f64, f64::max)
         .max(1e-9);
+    let (title, base, right, below) = (esc(title), h - pad, w - 10.0, h - pad + 14.0);
     let _ = writeln!(
         out,
-        r##"<figure><svg class="chart" xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}"><text x="{pad}" y="14" font-size="13">{}</text><line x1="{pad}" y1="{}" x2="{}" y2="{}" stroke="#888"/><line x1="{pad}" y1="20" x2="{pad}" y2="{}" stroke="#888"/><text x="2" y="28" font-size="10">{top:.3}</text><text x="2" y="{}" font-size="10">0</text><text x="{}" y="{}" font-size="10" text-anchor="end">{}</text>"##,
-        esc(title),
-        h - pad,
-        w - 10.0,
-        h - pad,
-        h - pad,
-        h - pad,
-        w - 10.0,
-        h - pad + 14.0,
-        n
+        r##"<figure><svg class="chart" xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}"><text x="{pad}" y="14" font-size="13">{title}</text><line x1="{pad}" y1="{base}" x2="{right}" y2="{base}" stroke="#888"/><line x1="{pad}" y1="20" x2="{pad}" y2="{base}" stroke="#888"/><text x="2" y="28" font-size="10">{top:.3}</text><text x="2" y="{base}" font-size="10">0</text><text x="{right}" y="{below}" font-size="10" text-anchor="end">{n}</text>"##
     );
     for (k, (name, colour, ys)) in series.iter().enumerate() {
         let step = (ys.len() / 600).max(1);
@@ -127,20 +96,15 @@ fn line_chart(out: &mut String, title: &str, series: &[(&str, &str, Vec<f64>)]) 
             .enumerate()
             .step_by(step)
             .map(|(i, y)| {
-                format!(
-                    "{:.1},{:.1}",
-                    pad + (w - 10.0 - pad) * i as f64 / (n - 1) as f64,
-                    h - pad - (h - pad - 20.0) * y / top
-                )
+                let x = pad + (w - 10.0 - pad) * i as f64 / (n - 1) as f64;
+                format!("{x:.1},{:.1}", h - pad - (h - pad - 20.0) * y / top)
             })
             .collect();
+        let (pts, name) = (pts.join(" "), esc(name));
+        let (x, y) = (pad + 8.0 + 90.0 * k as f64, h - 8.0);
         let _ = writeln!(
             out,
-            r##"<polyline fill="none" stroke="{colour}" stroke-width="1.5" points="{}"/><text x="{}" y="{}" font-size="11" fill="{colour}">{}</text>"##,
-            pts.join(" "),
-            pad + 8.0 + 90.0 * k as f64,
-            h - 8.0,
-            esc(name)
+            r##"<polyline fill="none" stroke="{colour}" stroke-width="1.5" points="{pts}"/><text x="{x}" y="{y}" font-size="11" fill="{colour}">{name}</text>"##
         );
     }
     out.push_str("</svg></figure>\n");
@@ -176,14 +140,7 @@ pub fn run_page(
         .collect();
     let what = if k > 1 { "episodes" } else { "trials" };
     body.push_str("<h2>Effects</h2>\n<div class=\"row\">\n");
-    early_and_late(
-        &mut body,
-        "",
-        what,
-        &terminal,
-        (rows, cols),
-        MAX_CELLS_DRAWN,
-    );
+    body += &early_and_late("", what, &terminal, (rows, cols), MAX_CELLS_DRAWN);
     body.push_str("</div>\n");
     per_start_context(&mut body, trials, k, rows, cols);
     body.push_str("<h2>Reward</h2>\n");
@@ -194,11 +151,8 @@ pub fn run_page(
             Some(*acc)
         })
         .collect();
-    line_chart(
-        &mut body,
-        "cumulative reward",
-        &[("reward", "#2ca02c", cum)],
-    );
+    let reward = [("reward", "#2ca02c", cum)];
+    line_chart(&mut body, "cumulative reward", &reward);
     body.push_str("<h2>Policy per slot</h2>\n");
     let windows = 50.min(n.max(1));
     let size = n.div_ceil(windows).max(1);
@@ -219,24 +173,22 @@ pub fn run_page(
 fn value_charts(body: &mut String, trials: &[TrialRow], size: usize) {
     let value_slots = trials.iter().map(|t| t.values.len()).max().unwrap_or(0);
     for s in 0..value_slots {
-        // continuous commands: the spread of each slot's values and their
-        // mean magnitude, in windows of trials
-        let stat = |w: &[TrialRow], f: &dyn Fn(&[f64]) -> f64| {
-            let v: Vec<f64> = w.iter().filter_map(|t| t.values.get(s).copied()).collect();
-            f(&v)
+        let windows: Vec<Vec<f64>> = (trials.chunks(size))
+            .map(|w| w.iter().filter_map(|t| t.values.get(s).copied()).collect())
+            .collect();
+        let mean = |v: &[f64], f: &dyn Fn(f64) -> f64| {
+            v.iter().map(|&x| f(x)).sum::<f64>() / v.len().max(1) as f64
         };
-        let sd = |v: &[f64]| {
-            let m = v.iter().sum::<f64>() / v.len().max(1) as f64;
-            (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / v.len().max(1) as f64).sqrt()
+        let sd = |v: &Vec<f64>| {
+            let m = mean(v, &|x| x);
+            mean(v, &|x| (x - m) * (x - m)).sqrt()
         };
-        let magnitude = |v: &[f64]| v.iter().map(|x| x.abs()).sum::<f64>() / v.len().max(1) as f64;
-        let sds: Vec<f64> = trials.chunks(size).map(|w| stat(w, &sd)).collect();
-        let mags: Vec<f64> = trials.chunks(size).map(|w| stat(w, &magnitude)).collect();
-        line_chart(
-            body,
-            &format!("slot {s}: sd of the values and mean |value|, windows of {size} trials"),
-            &[("sd", PALETTE[0], sds), ("mean |value|", PALETTE[1], mags)],
-        );
+        let sds: Vec<f64> = windows.iter().map(sd).collect();
+        let mags: Vec<f64> = windows.iter().map(|v| mean(v, &f64::abs)).collect();
+        let title =
+            format!("slot {s}: sd of the values and mean |value|, windows of {size} trials");
+        let series = [("sd", PALETTE[0], sds), ("mean |value|", PALETTE[1], mags)];
+        line_chart(body, &title, &series);
     }
 }
 
@@ -267,47 +219,36 @@ fn symbol_charts(body: &mut String, trials: &[TrialRow], size: usize) {
             }
         }
         let names: Vec<String> = symbols.iter().map(char::to_string).collect();
-        let refs: Vec<(&str, &str, Vec<f64>)> = names
-            .iter()
-            .zip(ys)
-            .enumerate()
+        let refs: Vec<(&str, &str, Vec<f64>)> = (names.iter().zip(ys).enumerate())
             .map(|(k, (a, ys))| (a.as_str(), PALETTE[k % PALETTE.len()], ys))
             .collect();
-        line_chart(
-            body,
-            &format!("slot {s}: share of each symbol, windows of {size} trials"),
-            &refs,
-        );
+        let title = format!("slot {s}: share of each symbol, windows of {size} trials");
+        line_chart(body, &title, &refs);
     }
 }
 
 /// The heat maps of the first and the last 10% of `effects` ([`heat_map`]).
 fn early_and_late(
-    out: &mut String,
     prefix: &str,
     what: &str,
     effects: &[usize],
     grid: (usize, usize),
     dense: usize,
-) {
-    let n = effects.len();
+) -> String {
+    let (n, mut out) = (effects.len(), String::new());
     let tenth = (n / 10).max(1).min(n);
     let early = format!("{prefix}early: {what} 1..{tenth}");
-    heat_map(out, &early, &effects[..tenth], grid, dense);
+    heat_map(&mut out, &early, &effects[..tenth], grid, dense);
     let late = format!("{prefix}late: {what} {}..{n}", n - tenth + 1);
-    heat_map(out, &late, &effects[n - tenth..], grid, dense);
+    heat_map(&mut out, &late, &effects[n - tenth..], grid, dense);
+    out
 }
 
 /// For a run of episodes from start contexts: per start context (in the
 /// order first met), the normalised entropy of its episodes' terminal
 /// effects over the `rows x cols` cells, their cumulative reward and the
-/// heat maps of the first and last 10% of them.
-///
-/// Linear in the trials (grouped by start in one pass; at most
-/// [`MAX_CONTEXTS`](crate::scene::MAX_CONTEXTS) starts, which
-/// [`parse_trials`](crate::csv::parse_trials) bounds), and the maps share
-/// [`MAX_CELLS_DRAWN`] cells drawn one by one: beyond, each draws only its
-/// reached cells (a 50-context run on a 128 x 128 grid made a 300 MB page).
+/// heat maps of the first and last 10% of them. Linear in the trials; the
+/// maps share [`MAX_CELLS_DRAWN`] cells drawn one by one.
 fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usize, cols: usize) {
     let mut index: std::collections::HashMap<&str, usize> = Default::default();
     let mut groups: Vec<(&str, Vec<&TrialRow>)> = Vec::new();
@@ -326,11 +267,8 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
     out.push_str("<h2>Per start context</h2>\n<table class=\"contexts\">\n<tr><th>start context</th><th>episodes</th><th>normalised entropy of the terminal cells</th><th>cumulative reward</th><th>first rewarded episode (of its own)</th></tr>\n");
     let mut maps = String::new();
     for (s, mine) in &groups {
-        let effects: Vec<usize> = mine
-            .iter()
-            .filter(|t| t.step == k)
-            .map(|t| t.effect)
-            .collect();
+        let last: Vec<&&TrialRow> = mine.iter().filter(|t| t.step == k).collect();
+        let effects: Vec<usize> = last.iter().map(|t| t.effect).collect();
         // the counts of the cells reached (the others weigh nothing)
         let counts: Vec<f64> = reached(&effects, rows * cols)
             .iter()
@@ -338,27 +276,16 @@ fn per_start_context(out: &mut String, trials: &[TrialRow], k: usize, rows: usiz
             .collect();
         let h = crate::effect::normalized_entropy_over(&counts, rows * cols);
         let reward: f64 = mine.iter().map(|t| t.reward).sum();
-        let first = mine
-            .iter()
-            .filter(|t| t.step == k)
-            .position(|t| t.reward > 0.0)
-            .map_or("never".to_string(), |i| (i + 1).to_string());
+        let first = last.iter().position(|t| t.reward > 0.0);
+        let first = first.map_or("never".to_string(), |i| (i + 1).to_string());
+        let (name, n) = (esc(s), effects.len());
         let _ = writeln!(
             out,
-            "<tr><td>{}</td><td class=\"n\">{}</td><td class=\"n\">{h:.4}</td><td class=\"n\">{reward}</td><td class=\"n\">{first}</td></tr>",
-            esc(s),
-            effects.len()
+            "<tr><td>{name}</td><td class=\"n\">{n}</td><td class=\"n\">{h:.4}</td><td class=\"n\">{reward}</td><td class=\"n\">{first}</td></tr>"
         );
         maps.push_str("<div class=\"row\">\n");
         let prefix = format!("{s}, ");
-        early_and_late(
-            &mut maps,
-            &prefix,
-            "episodes",
-            &effects,
-            (rows, cols),
-            dense,
-        );
+        maps += &early_and_late(&prefix, "episodes", &effects, (rows, cols), dense);
         maps.push_str("</div>\n");
     }
     out.push_str("</table>\n");
@@ -394,42 +321,32 @@ pub fn sweep_page(
     use super::sweep_plot::distinct;
     use crate::sweep::CELL_COLUMNS;
     let rows = &summary.rows;
-    let col = |name: &str| summary.columns.iter().position(|c| c == name);
     let values = |c: usize| distinct(rows.iter().map(|r| r[c].as_str()));
     // the cell columns that vary are the table's keys; the others are said once
     let (varying, fixed): (Vec<usize>, Vec<usize>) =
         (0..CELL_COLUMNS).partition(|&c| values(c).len() > 1);
-    let metrics = summary.metrics();
     let mut body = String::new();
     let total = |name: &str| -> usize {
-        col(name)
-            .map(|c| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum())
-            .unwrap_or(0)
+        let sum = |c: usize| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum();
+        summary.col(name).map_or(0, sum)
     };
     let (sessions, failed) = (total("sessions"), total("failed"));
+    let (cells, metrics) = (rows.len(), summary.metrics().len());
     let _ = writeln!(
         body,
-        "<p>{} cells, {sessions} sessions ({failed} failed), {} metrics</p>",
-        rows.len(),
-        metrics.len()
+        "<p>{cells} cells, {sessions} sessions ({failed} failed), {metrics} metrics</p>"
     );
     let fixed_text: Vec<String> = fixed
         .iter()
         .map(|&c| {
             let v = rows.first().map_or("", |r| r[c].as_str());
-            format!(
-                "{} {}",
-                esc(&summary.columns[c]),
-                if v.is_empty() { "(unused)" } else { v }
-            )
+            let v = if v.is_empty() { "(unused)" } else { v };
+            format!("{} {v}", esc(&summary.columns[c]))
         })
         .collect();
     if !fixed_text.is_empty() {
-        let _ = writeln!(
-            body,
-            "<p>the same in every cell: {}</p>",
-            fixed_text.join("; ")
-        );
+        let fixed = fixed_text.join("; ");
+        let _ = writeln!(body, "<p>the same in every cell: {fixed}</p>");
     }
     summary_table(&mut body, summary, &varying);
     failures_list(&mut body, failures);
@@ -475,29 +392,20 @@ fn summary_table(body: &mut String, summary: &crate::csv::Summary, varying: &[us
         }
         for m in &metrics {
             let field = |suffix: &str| {
-                col(&format!("{m}_{suffix}"))
-                    .map(|c| r[c].as_str())
-                    .unwrap_or("")
+                let text = col(&format!("{m}_{suffix}")).map_or("", |c| r[c].as_str());
+                (text, esc(text))
             };
-            let (mean, sd, lo, hi) = (
-                field("mean"),
-                field("sd"),
-                field("ci_low"),
-                field("ci_high"),
-            );
-            match num(mean) {
+            let (mean, sd) = (field("mean"), field("sd"));
+            let (lo, hi) = (field("ci_low").1, field("ci_high").1);
+            match num(mean.0) {
                 None => body.push_str("<td class=\"n\">-</td>"),
                 Some(v) => {
-                    let sd_text = num(sd).map_or(String::new(), |s| format!(" ± {}", short(s)));
+                    let sd_text = num(sd.0).map_or(String::new(), |s| format!(" ± {}", short(s)));
+                    let (mean, sd, v) = (mean.1, sd.1, short(v));
                     let _ = write!(
-                    body,
-                    "<td class=\"n\" title=\"mean {}, sd {}, 95% interval [{}, {}]\">{}{sd_text}</td>",
-                    esc(mean),
-                    esc(sd),
-                    esc(lo),
-                    esc(hi),
-                    short(v)
-                );
+                        body,
+                        "<td class=\"n\" title=\"mean {mean}, sd {sd}, 95% interval [{lo}, {hi}]\">{v}{sd_text}</td>"
+                    );
                 }
             }
         }
@@ -549,27 +457,20 @@ fn plots_against_params(body: &mut String, summary: &crate::csv::Summary) {
                 metric: m.to_string(),
                 filters: vec![],
             };
-            let _ = writeln!(body, "<h3>{} against {param}</h3>", esc(m));
+            let name = esc(m);
+            let _ = writeln!(body, "<h3>{name} against {param}</h3>");
             let mean = col(&format!("{m}_mean"));
             let drawable = rows
                 .iter()
                 .any(|r| !r[c].is_empty() && mean.is_some_and(|k| num(&r[k]).is_some()));
-            if !drawable {
-                let _ = writeln!(
-                body,
-                "<p class=\"note\">not drawn: no cell with a value of {param} has a value of {}</p>",
-                esc(m)
-            );
-                continue;
-            }
-            match plot(summary, &spec) {
-                Ok(svg) => {
-                    let _ = writeln!(body, "<figure class=\"plot\">{svg}</figure>");
-                }
-                Err(e) => {
-                    let _ = writeln!(body, "<p class=\"note\">not drawn: {}</p>", esc(&e.0));
-                }
-            }
+            let _ = match drawable.then(|| plot(summary, &spec)) {
+                None => writeln!(
+                    body,
+                    "<p class=\"note\">not drawn: no cell with a value of {param} has a value of {name}</p>"
+                ),
+                Some(Ok(svg)) => writeln!(body, "<figure class=\"plot\">{svg}</figure>"),
+                Some(Err(e)) => writeln!(body, "<p class=\"note\">not drawn: {}</p>", esc(&e.0)),
+            };
         }
     }
 }

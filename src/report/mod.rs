@@ -1,31 +1,10 @@
-//! Reports: what the experiments and runs produced, drawn. Nothing here
-//! runs a session: the experiments behind `e3d reproduce`, `e3d compare`
-//! and `e3d closed-loop` run in [`experiment`](crate::experiment), and the
-//! CSV files of runs and sweeps are read back by [`csv`](crate::csv).
-//!
-//! - [`paper`]: the tables and Figures 2 and 3 of Daucé (2020) on
-//!   `two_rooms`, from [`experiment::paper`](crate::experiment::paper)
-//!   (what `e3d reproduce` prints and draws);
-//! - [`drives`]: every drive on the canonical scenes, as a table and a
-//!   figure, from the sweep of
-//!   [`experiment::drives`](crate::experiment::drives) (what `e3d compare`
-//!   writes);
-//! - [`closed_loop`]: the table of
-//!   [`experiment::closed_loop`](crate::experiment::closed_loop) (what
-//!   `e3d closed-loop` prints);
-//! - [`html`]: the HTML page of a run folder or a sweep folder (`e3d
-//!   report`);
-//! - [`scene_svg`]: pictures of scenes, with a command's path;
-//! - [`motion_svg`]: a command's rollout as an animated SVG or HTML page;
-//! - [`run_scene`]: what a run folder records about its scene (its grid);
-//! - [`sweep_plot`]: line plots and heat maps of a sweep's summary;
-//! - [`describe`], [`median`], [`Stats`]: the statistics they print, and
-//!   the intervals of the comparisons: [`mean_ci95`] (Student's t),
-//!   [`wilson95`] (a share of sessions), [`quartiles`] and
-//!   [`order_quartiles`] (skewed counts such as the first rewarded episode).
-//!
-//! `paper` and `sweep_plot` draw with plotters and need the feature
-//! `plots` (on by default); `scene_svg` writes its SVG itself.
+//! Reports: what the experiments ([`experiment`](crate::experiment)) and
+//! runs produced, drawn as tables, SVG figures and HTML pages; nothing here
+//! runs a session. Also the statistics they print: [`describe`],
+//! [`median`], [`mean_ci95`] (Student's t), [`wilson95`] (a share of
+//! sessions), [`quartiles`] and [`order_quartiles`] (skewed counts).
+//! `paper` and `sweep_plot` draw with plotters (feature `plots`, on by
+//! default); the other figures write their SVG themselves.
 
 pub mod closed_loop;
 pub mod drives;
@@ -109,9 +88,15 @@ pub fn t_quantile_975(df: usize) -> f64 {
     if df == 0 {
         return f64::INFINITY;
     }
-    if df <= TABLE.len() {
-        return TABLE[df - 1];
+    match TABLE.get(df - 1) {
+        Some(&t) => t,
+        None => cornish_fisher_975(df),
     }
+}
+
+/// The 97.5% quantile of Student's t by the Cornish-Fisher expansion to
+/// `1/df^4` around the normal's 1.959964 (within 1e-7 from `df = 31` on).
+pub(crate) fn cornish_fisher_975(df: usize) -> f64 {
     let z: f64 = 1.959_963_984_540_054;
     let v = df as f64;
     let (z3, z5, z7, z9) = (z.powi(3), z.powi(5), z.powi(7), z.powi(9));

@@ -165,19 +165,15 @@ fn readout(
     );
     let n = labels.len();
     for (k, (label, on, off)) in labels.iter().enumerate() {
-        let (values, times) = if k == 0 {
-            ("1;0".to_string(), format!("0;{off:.4}"))
-        } else if k + 1 == n {
-            ("0;1".to_string(), format!("0;{on:.4}"))
-        } else {
-            ("0;1;0".to_string(), format!("0;{on:.4};{off:.4}"))
+        let (values, times, opacity) = match k {
+            0 => ("1;0", format!("0;{off:.4}"), 1),
+            _ if k + 1 == n => ("0;1", format!("0;{on:.4}"), 0),
+            _ => ("0;1;0", format!("0;{on:.4};{off:.4}"), 0),
         };
+        let (x, y) = at;
         let _ = writeln!(
             out,
-            r#"<text class="{class}" x="{:.1}" y="{:.1}" text-anchor="end" opacity="{}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#,
-            at.0,
-            at.1,
-            if k == 0 { 1 } else { 0 },
+            r#"<text class="{class}" x="{x:.1}" y="{y:.1}" text-anchor="end" opacity="{opacity}">{label}<animate attributeName="opacity" calcMode="discrete" values="{values}" keyTimes="{times}" dur="{dur:.3}s" repeatCount="indefinite"/></text>"#
         );
     }
     out.push_str("</g>\n");
@@ -189,13 +185,12 @@ fn moving_dot(out: &mut String, v: &View, tl: &Timeline, look: [&str; 4], at: &[
     let [class, r, stroke, title] = look;
     let xs: Vec<String> = at.iter().map(|p| format!("{:.2}", v.x(p.0))).collect();
     let ys: Vec<String> = at.iter().map(|p| format!("{:.2}", v.y(p.1))).collect();
+    let (x, y) = (&xs[0], &ys[0]);
+    let ax = tl.anim("cx", None, xs.join(";"));
+    let ay = tl.anim("cy", None, ys.join(";"));
     let _ = writeln!(
         out,
-        r##"<circle class="{class}" cx="{}" cy="{}" r="{r}" fill="{TRACKED}" stroke="#ffffff" stroke-width="{stroke}"><title>{title}</title>{}{}</circle>"##,
-        xs[0],
-        ys[0],
-        tl.anim("cx", None, xs.join(";")),
-        tl.anim("cy", None, ys.join(";")),
+        r##"<circle class="{class}" cx="{x}" cy="{y}" r="{r}" fill="{TRACKED}" stroke="#ffffff" stroke-width="{stroke}"><title>{title}</title>{ax}{ay}</circle>"##
     );
 }
 
@@ -247,11 +242,8 @@ fn draw_motion(
     let (tracked, drawn_point) = tracked_of(scene, p, motion)?;
     let point_at = |f: usize| {
         let pose = &motion.frames[f].poses[tracked];
-        to_world(
-            (pose.position[0], pose.position[1]),
-            pose.angle,
-            drawn_point,
-        )
+        let at = (pose.position[0], pose.position[1]);
+        to_world(at, pose.angle, drawn_point)
     };
     let overlay = Overlay {
         command: command.to_string(),
@@ -290,24 +282,16 @@ fn draw_motion(
         moving_bodies_svg(out, v, p, motion, &keep, &tl);
         // ground hinges do not move: drawn once, over the bodies
         for j in p.joints.iter().filter(|j| j.parent == GROUND) {
+            let (c, name) = (v.centre(j.parent_anchor), esc(&j.name));
             let _ = writeln!(
                 out,
-                r##"<circle cx="{:.2}" cy="{:.2}" r="4" fill="#2e323b"><title>{}</title></circle>"##,
-                v.x(j.parent_anchor.0),
-                v.y(j.parent_anchor.1),
-                esc(&j.name)
+                r##"<circle {c} r="4" fill="#2e323b"><title>{name}</title></circle>"##
             );
         }
         let path: Vec<(f64, f64)> = keep.iter().map(|&f| point_at(f)).collect();
         moving_dot(out, v, &tl, ["tracked", "4.5", "1", "tracked point"], &path);
-        let [right, top] = v.max;
-        readout(
-            out,
-            ["time", "frame"],
-            (v.x(right) - 4.0, v.y(top) + 16.0),
-            &labels,
-            dur,
-        );
+        let corner = (v.x(v.max[0]) - 4.0, v.y(v.max[1]) + 16.0);
+        readout(out, ["time", "frame"], corner, &labels, dur);
         out.push_str("</g>\n");
     };
     Ok(physics_picture(scene, p, Some(&overlay), Some(&mut draw)))
@@ -356,7 +340,8 @@ fn moving_bodies_svg(
             continue;
         }
         let start = &motion.frames[0].poses[i];
-        let c0 = (v.x(start.position[0]), v.y(start.position[1]));
+        let (at, angle) = ((start.position[0], start.position[1]), start.angle);
+        let c0 = (v.x(at.0), v.y(at.1));
         // the rigid motion from the start pose: rotate about the start
         // position, then translate to the current one
         let (mut moves, mut turns) = (Vec::new(), Vec::new());
@@ -371,37 +356,23 @@ fn moving_bodies_svg(
         } else {
             (END_FILL, END_STROKE)
         };
+        let name = esc(&b.name);
+        let translate = tl.anim("transform", Some("translate"), moves.join(";"));
+        let rotate = tl.anim("transform", Some("rotate"), turns.join(";"));
         let _ = writeln!(
             out,
-            r#"<g class="body" data-body="{}"><title>{}</title>"#,
-            esc(&b.name),
-            esc(&b.name)
+            r#"<g class="body" data-body="{name}"><title>{name}</title>
+{translate}
+{rotate}"#
         );
-        out.push_str(&tl.anim("transform", Some("translate"), moves.join(";")));
-        out.push('\n');
-        out.push_str(&tl.anim("transform", Some("rotate"), turns.join(";")));
-        out.push('\n');
-        body_svg(
-            out,
-            v,
-            &b.shape,
-            (start.position[0], start.position[1]),
-            start.angle,
-            Paint(fill, stroke, 0.9),
-        );
+        body_svg(out, v, &b.shape, at, angle, Paint(fill, stroke, 0.9));
         // the joints this body carries as a parent ride with it
         for j in p.joints.iter().filter(|j| j.parent == b.name) {
-            let at = to_world(
-                (start.position[0], start.position[1]),
-                start.angle,
-                j.parent_anchor,
-            );
+            let c = v.centre(to_world(at, angle, j.parent_anchor));
+            let name = esc(&j.name);
             let _ = writeln!(
                 out,
-                r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="#ffffff" stroke="#2e323b" stroke-width="1.3"><title>{}</title></circle>"##,
-                v.x(at.0),
-                v.y(at.1),
-                esc(&j.name)
+                r##"<circle {c} r="3.5" fill="#ffffff" stroke="#2e323b" stroke-width="1.3"><title>{name}</title></circle>"##
             );
         }
         out.push_str("</g>\n");
@@ -436,9 +407,6 @@ impl Timeline {
 
 /// `svg` in a self-contained HTML page (no script, no network).
 pub fn html_page(title: &str, svg: &str) -> String {
-    super::svg::page(
-        title,
-        "svg{max-width:100%;height:auto;background:#fff}",
-        svg,
-    )
+    let style = "svg{max-width:100%;height:auto;background:#fff}";
+    super::svg::page(title, style, svg)
 }

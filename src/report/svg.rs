@@ -1,10 +1,7 @@
 //! What the figures share: escaped text, round ticks, the frame of a page,
 //! and (feature `plots`) a plotters canvas drawn into a string.
 
-/// `s` with XML's special characters escaped.
-pub(crate) fn esc(s: &str) -> std::borrow::Cow<'_, str> {
-    crate::text::xml_escape(s)
-}
+pub(crate) use crate::text::xml_escape as esc;
 
 /// A step of 1, 2 or 5 times a power of ten giving about 5 to 10 ticks
 /// over `span` (positive).
@@ -50,6 +47,51 @@ pub(crate) type Drawn<T = ()> = Result<T, Box<dyn std::error::Error>>;
 #[cfg(feature = "plots")]
 pub(crate) type Area<'a> =
     plotters::prelude::DrawingArea<plotters::prelude::SVGBackend<'a>, plotters::coord::Shift>;
+
+/// A chart of two f64 axes on an SVG canvas.
+#[cfg(feature = "plots")]
+pub(crate) type Chart<'a, 'b> = plotters::prelude::ChartContext<
+    'a,
+    plotters::prelude::SVGBackend<'b>,
+    plotters::prelude::Cartesian2d<
+        plotters::coord::types::RangedCoordf64,
+        plotters::coord::types::RangedCoordf64,
+    >,
+>;
+
+/// Sans-serif text of `size` in `colour`, anchored at `(h, v)`.
+#[cfg(feature = "plots")]
+pub(crate) fn text_style(
+    size: u32,
+    colour: &plotters::style::RGBColor,
+    h: plotters::style::text_anchor::HPos,
+    v: plotters::style::text_anchor::VPos,
+) -> plotters::style::TextStyle<'static> {
+    use plotters::style::{text_anchor::Pos, IntoFont};
+    ("sans-serif", size)
+        .into_font()
+        .color(colour)
+        .pos(Pos::new(h, v))
+}
+
+/// The 100 steps of a colour bar on `bar` from `lo` to `lo + span`: step
+/// `k`, from `a` to `b`, filled with `colour(k, a, b)`.
+#[cfg(feature = "plots")]
+pub(crate) fn colour_steps(
+    bar: &mut Chart<'_, '_>,
+    (lo, span): (f64, f64),
+    colour: impl Fn(usize, f64, f64) -> plotters::style::RGBColor,
+) -> Drawn {
+    use plotters::prelude::*;
+    bar.draw_series((0..100).map(|k| {
+        let (a, b) = (
+            lo + span * k as f64 / 100.0,
+            lo + span * (k + 1) as f64 / 100.0,
+        );
+        Rectangle::new([(0.0, a), (1.0, b)], colour(k, a, b).filled())
+    }))?;
+    Ok(())
+}
 
 /// The SVG text of a white canvas of `size` pixels on which `draw` draws.
 #[cfg(feature = "plots")]

@@ -30,21 +30,15 @@ pub(super) fn check(
     let episodes = spec.runs_episodes() || most > 1;
     if !episodes {
         if let Some((name, _)) = metrics.iter().find_map(MetricSpec::per_context) {
-            return Err(bad(
-                "metrics",
-                Some(name),
-                &format!("{name}(I) only in a sweep of episodes (a scene with start contexts, or commands, observe or closed_loop set)"),
-            ));
+            let expected = format!("{name}(I) only in a sweep of episodes (a scene with start contexts, or commands, observe or closed_loop set)");
+            return Err(bad("metrics", Some(name), &expected));
         }
         return Ok(());
     }
     for name in &spec.learners {
         if name.parse::<LearnerKind>().is_err() {
-            return Err(bad(
-                "learners",
-                None,
-                &format!("built-in learners in a sweep of episodes (a scene with start contexts, or commands, observe or closed_loop set), found `{name}`"),
-            ));
+            let expected = format!("built-in learners in a sweep of episodes (a scene with start contexts, or commands, observe or closed_loop set), found `{name}`");
+            return Err(bad("learners", None, &expected));
         }
     }
     if spec.metrics.is_none() && most > 1 {
@@ -54,11 +48,8 @@ pub(super) fn check(
     }
     for m in metrics.iter() {
         if let Some((name, i)) = m.per_context().filter(|&(_, i)| i >= most) {
-            return Err(bad(
-                "metrics",
-                Some(name),
-                &format!("{name}(I) with I below {most} (the most start contexts of the sweep's scenes), found {i}"),
-            ));
+            let expected = format!("{name}(I) with I below {most} (the most start contexts of the sweep's scenes), found {i}");
+            return Err(bad("metrics", Some(name), &expected));
         }
     }
     Ok(())

@@ -1,16 +1,8 @@
-//! Sweeps of episodes: scenes with start contexts, several commands per
-//! episode ([`SweepSpec::commands`]), an observation
-//! ([`SweepSpec::observe`]) or a closed loop ([`SweepSpec::closed_loop`]).
-//!
-//! A session of such a sweep runs [`run_episodes`] with the contextual
-//! form of its learner ([`LearnerSetup::contexts`](crate::learner::LearnerSetup::contexts)) on a live world of
-//! its own; a trial of the metrics is an episode, its effect the
-//! episode's terminal effect and its reward the episode's. The metric
-//! [`MetricSpec::NormalizedEntropyContext`] gives the normalised entropy
-//! of the terminal effects per start context,
-//! [`MetricSpec::CumulativeRewardContext`] and
-//! [`MetricSpec::FirstRewardTrialContext`] the reward collected from each
-//! start context and the first episode rewarded there.
+//! Sweeps of episodes (scenes with start contexts, or
+//! [`SweepSpec::commands`], [`SweepSpec::observe`] or
+//! [`SweepSpec::closed_loop`] set): each session runs [`run_episodes`] with
+//! the contextual form of its learner on a live world of its own; a trial
+//! of the metrics is an episode (its terminal effect, its reward).
 
 use super::plan::{SessionSpec, Sweep};
 use super::results::SessionResult;
@@ -86,12 +78,8 @@ impl Sweep {
                 )?)
         })?;
         let mut running = self.recorder(world.num_effects());
-        let record = match run_episodes(
-            world,
-            &mut *learner,
-            &config,
-            &crate::session::Control::default(),
-        ) {
+        let control = crate::session::Control::default();
+        let record = match run_episodes(world, &mut *learner, &config, &control) {
             Ok(r) => r,
             Err(e) => return Ok(self.result(session, Err(e), &running)),
         };

@@ -69,10 +69,6 @@ pub fn uses_param(learner: LearnerKind, param: &str) -> bool {
     learner.params().contains(&param)
 }
 
-// ---------------------------------------------------------------------------
-// Worlds
-// ---------------------------------------------------------------------------
-
 /// One scene of a sweep, as its [`Worlds`] made it: what its sessions
 /// need to know, and where their worlds come from.
 #[derive(Debug)]
@@ -176,11 +172,10 @@ fn resolve_scene(name: &str, base: Option<&Path>) -> Result<Scene, FactoryError>
         return Ok(s);
     }
     let names: Vec<&str> = crate::scene::BUILTIN.iter().map(|(n, _)| *n).collect();
+    let (hint, path) = (crate::scene::did_you_mean(name, &names), path.display());
     Err(FactoryError::Unknown(format!(
-        "a scene file (relative to the sweep file) or a built-in scene ({}), found `{name}`: no file {}{}",
-        names.join(", "),
-        path.display(),
-        crate::scene::did_you_mean(name, &names)
+        "a scene file (relative to the sweep file) or a built-in scene ({}), found `{name}`: no file {path}{hint}",
+        names.join(", ")
     )))
 }
 
@@ -352,10 +347,6 @@ impl fmt::Debug for Worlds {
     }
 }
 
-// ---------------------------------------------------------------------------
-// Learners
-// ---------------------------------------------------------------------------
-
 /// How a custom learner is made: from its parameters, the command space,
 /// the number of effects and the target.
 pub type MakeLearner = dyn Fn(&Params, &CommandSpace, usize, &Target) -> Result<Box<dyn Learner + Send>, BoxError>
@@ -435,19 +426,14 @@ impl Learners {
             is_identifier(name),
             "learner `{name}`: a name of ASCII letters, digits and `_`, not starting with a digit"
         );
-        let mut used = [false; 5];
         for p in uses {
-            let i = Params::SWEPT
-                .iter()
-                .position(|n| n == p)
-                .unwrap_or_else(|| {
-                    panic!(
-                        "learner `{name}`: parameter `{p}` is not one of {}",
-                        Params::SWEPT.join(", ")
-                    )
-                });
-            used[i] = true;
+            assert!(
+                Params::SWEPT.contains(p),
+                "learner `{name}`: parameter `{p}` is not one of {}",
+                Params::SWEPT.join(", ")
+            );
         }
+        let used = Params::SWEPT.map(|n| uses.contains(&n));
         let entry = Entry::Custom(used, Arc::new(make));
         match self.entries.iter_mut().find(|(n, _)| n == name) {
             Some(e) => e.1 = entry,
@@ -547,11 +533,10 @@ pub(super) fn mismatch(space: &CommandSpace, effects: usize, world: &dyn World) 
     if world.command_space() == space && world.num_effects() == effects {
         return None;
     }
+    let (ours, theirs) = (describe_space(space), describe_space(world.command_space()));
+    let n = world.num_effects();
     Some(format!(
-        "whose commands are {} with {effects} effects, but the world's commands are {} with {} effects",
-        describe_space(space),
-        describe_space(world.command_space()),
-        world.num_effects()
+        "whose commands are {ours} with {effects} effects, but the world's commands are {theirs} with {n} effects"
     ))
 }
 
@@ -560,19 +545,14 @@ pub(super) fn mismatch(space: &CommandSpace, effects: usize, world: &dyn World) 
 pub(crate) fn describe_space(space: &CommandSpace) -> String {
     let alphabet = |i: usize| -> String { space.alphabet(i).iter().collect() };
     let n = space.num_slots();
-    if (1..n).all(|i| space.alphabet(i) == space.alphabet(0)) {
-        crate::command::echo(&format!(
+    crate::command::echo(&if (1..n).all(|i| space.alphabet(i) == space.alphabet(0)) {
+        format!(
             "{n} slot{} of `{}`",
             if n == 1 { "" } else { "s" },
             alphabet(0)
-        ))
+        )
     } else {
-        crate::command::echo(&format!(
-            "slots {}",
-            (0..n)
-                .map(|i| format!("`{}`", alphabet(i)))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ))
-    }
+        let each: Vec<String> = (0..n).map(|i| format!("`{}`", alphabet(i))).collect();
+        format!("slots {}", each.join(", "))
+    })
 }

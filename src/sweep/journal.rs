@@ -98,32 +98,19 @@ impl JournalHeader {
 /// A scene name in the header line: whitespace, `%`, `,`, `=` and `@`
 /// percent-encoded.
 fn encode(name: &str) -> String {
-    let mut out = String::new();
-    for c in name.chars() {
-        if c.is_whitespace() || "%,=@".contains(c) {
-            let mut buf = [0u8; 4];
-            for b in c.encode_utf8(&mut buf).bytes() {
-                out.push_str(&format!("%{b:02X}"));
-            }
-        } else {
-            out.push(c);
-        }
-    }
-    out
+    let encode = |c: char| match c.is_whitespace() || "%,=@".contains(c) {
+        true => c.to_string().bytes().map(|b| format!("%{b:02X}")).collect(),
+        false => c.to_string(),
+    };
+    name.chars().map(encode).collect()
 }
 
 fn decode(text: &str) -> Option<String> {
-    let b = text.as_bytes();
-    let mut out = Vec::with_capacity(b.len());
-    let mut i = 0;
-    while i < b.len() {
-        if b[i] == b'%' {
-            out.push(u8::from_str_radix(text.get(i + 1..i + 3)?, 16).ok()?);
-            i += 3;
-        } else {
-            out.push(b[i]);
-            i += 1;
-        }
+    let mut parts = text.split('%');
+    let mut out = parts.next()?.as_bytes().to_vec();
+    for part in parts {
+        out.push(u8::from_str_radix(part.get(..2)?, 16).ok()?);
+        out.extend_from_slice(&part.as_bytes()[2..]);
     }
     String::from_utf8(out).ok()
 }
@@ -231,11 +218,8 @@ pub fn read(path: &Path) -> Result<JournalRead, SweepError> {
     // the cap while it was read is refused (what follows a bad line is not
     // read)
     if total > MAX_JOURNAL_BYTES {
-        return Err(own_err(crate::text::too_large(
-            path,
-            MAX_JOURNAL_BYTES,
-            "sweep journal",
-        )));
+        let e = crate::text::too_large(path, MAX_JOURNAL_BYTES, "sweep journal");
+        return Err(own_err(e));
     }
     Ok(JournalRead {
         header,

@@ -22,35 +22,15 @@
 //! ```
 //!
 //! [`Sweep::parse`] (or [`Sweep::load`]) checks everything before any work
-//! starts; [`Sweep::cells`] lists the grid; [`Sweep::sessions`] lists every
-//! session with its seed; [`Sweep::run`] runs them all in parallel and
-//! returns the results in canonical order; [`Sweep::run_to_dir`] is the
-//! resumable, shardable form behind `e3d sweep`.
-//!
-//! The module, by concept:
-//!
-//! - the spec ([`SweepSpec`], [`Values`], [`ParamValues`], [`MetricSpec`]):
-//!   what to run, parsed from a file ([`SweepSpec::parse`]) or built in
-//!   code ([`SweepSpec::new`]), written back by [`SweepSpec::to_ron`];
-//! - the [`factory`]: what the spec's names become, scenes ([`Worlds`]
-//!   of [`SweepScene`]s; built in: [`Worlds::with_scene_files`]) and
-//!   learners ([`Learners`]). [`Sweep::parse`] and [`Sweep::new`] use the built-in
-//!   ones, [`Sweep::parse_with`] and [`Sweep::with_factories`] yours;
-//! - the plan: [`Cell`]s, [`SessionSpec`]s with their identities and
-//!   seeds, [`Shard`]s;
-//! - the run: [`Sweep::run_session`], [`Sweep::run_with`], [`Sweep::run`],
-//!   [`Sweep::run_to_dir`];
-//! - the results: [`SessionResult`], the rows of `results.csv`, the files
-//!   of an output folder ([`DirReport`]) and [`merge`];
-//! - episodes: a scene with start contexts, or a spec that sets
-//!   [`SweepSpec::commands`], [`SweepSpec::observe`] or
-//!   [`SweepSpec::closed_loop`], runs sessions of episodes
-//!   ([`Sweep::runs_episodes`], [`Sweep::run_episode_session`]), with the
-//!   metric [`MetricSpec::NormalizedEntropyContext`] per start context;
-//! - continuous commands: a scene whose slots take values runs its sessions
-//!   live, in the lockstep groups of `e3d run --sessions N`
-//!   ([`Executor::for_values`](crate::world::Executor::for_values),
-//!   [`Learners::make_continuous`]).
+//! starts; [`Sweep::cells`] lists the grid and [`Sweep::sessions`] every
+//! session with its seed; [`Sweep::run`] runs them in parallel and returns
+//! the results in canonical order; [`Sweep::run_to_dir`] is the resumable,
+//! shardable form behind `e3d sweep`. The [`factory`] makes the spec's
+//! scenes ([`Worlds`]) and learners ([`Learners`]). A scene with start
+//! contexts, or a spec that sets [`SweepSpec::commands`],
+//! [`SweepSpec::observe`] or [`SweepSpec::closed_loop`], runs sessions of
+//! episodes ([`Sweep::runs_episodes`]); a scene of continuous commands
+//! runs live, in lockstep groups.
 //!
 //! # Cells
 //!

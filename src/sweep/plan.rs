@@ -73,13 +73,11 @@ impl Shard {
 
     /// How many of `total` sessions belong to this shard.
     pub fn count(&self, total: usize) -> usize {
-        // the indices k-1, k-1+n, ... below total; no `total + n`, which
-        // overflowed for n near usize::MAX (1/18446744073709551615 had
-        // "0 sessions")
-        match total.checked_sub(self.k) {
-            Some(rest) => rest / self.n + 1,
-            None => 0,
-        }
+        // the indices k-1, k-1+n, ... below total (no `total + n`: n may
+        // be near usize::MAX)
+        total
+            .checked_sub(self.k)
+            .map_or(0, |rest| rest / self.n + 1)
     }
 }
 
@@ -164,13 +162,11 @@ type TableProgress = dyn Fn(&str, u64, u64) + Send + Sync;
 
 impl fmt::Debug for Sweep {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let scenes: Vec<&str> = self.scenes.iter().map(|s| s.name()).collect();
         f.debug_struct("Sweep")
             .field("spec", &self.spec)
             .field("file", &self.file)
-            .field(
-                "scenes",
-                &self.scenes.iter().map(|s| s.name()).collect::<Vec<_>>(),
-            )
+            .field("scenes", &scenes)
             .field("learners", &self.learners.names())
             .field("metrics", &self.metrics)
             .field("cells", &self.cells.len())
@@ -193,12 +189,8 @@ impl Sweep {
     /// `None`). The scenes and learners are the built-in ones: [`Worlds::with_scene_files`] and
     /// [`Learners::builtin`].
     pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<Sweep, SweepError> {
-        Sweep::parse_with(
-            text,
-            file,
-            &Worlds::new().with_scene_files(base),
-            Learners::builtin(),
-        )
+        let worlds = Worlds::new().with_scene_files(base);
+        Sweep::parse_with(text, file, &worlds, Learners::builtin())
     }
 
     /// Parses and checks sweep text whose scenes `worlds` makes and whose
@@ -231,14 +223,8 @@ impl Sweep {
         learners: Learners,
     ) -> Result<Sweep, SweepError> {
         let (spec, text) = SweepSpec::from_text(text, file, &learners)?;
-        Sweep::build(
-            spec,
-            text.to_string(),
-            file,
-            text,
-            worlds,
-            Arc::new(learners),
-        )
+        let learners = Arc::new(learners);
+        Sweep::build(spec, text.to_string(), file, text, worlds, learners)
     }
 
     /// A sweep built in code, with the built-in scenes and learners ([`Worlds::with_scene_files`]
@@ -255,11 +241,8 @@ impl Sweep {
     /// assert_eq!(e.to_string(), "<SweepSpec>: field `sessions`: expected at least 1 session per cell, found 0");
     /// ```
     pub fn new(spec: SweepSpec) -> Result<Sweep, SweepError> {
-        Sweep::with_factories(
-            spec,
-            &Worlds::new().with_scene_files(None),
-            Learners::builtin(),
-        )
+        let worlds = Worlds::new().with_scene_files(None);
+        Sweep::with_factories(spec, &worlds, Learners::builtin())
     }
 
     /// A sweep built in code whose scenes `worlds` makes and whose
@@ -302,13 +285,8 @@ impl Sweep {
         let (axes, metrics) = (checked.axes, checked.metrics);
         let uses = learner_uses(&spec, &learners, &bad)?;
         let scenes = make_scenes(&spec, worlds, &bad)?;
-        check_values(
-            &scenes,
-            &learners,
-            &spec.learners,
-            spec.runs_episodes(),
-            &bad,
-        )?;
+        let episodes = spec.runs_episodes();
+        check_values(&scenes, &learners, &spec.learners, episodes, &bad)?;
         let contexts = super::contexts::start_contexts(&scenes);
         let mut metrics = metrics;
         super::contexts::check(&spec, &contexts, &mut metrics, &bad)?;
@@ -464,19 +442,16 @@ impl Sweep {
     /// The cell columns of `cell` (scene, learner, use_reward, then the five
     /// parameters, empty when unused), as written in the CSV files.
     pub fn cell_fields(&self, cell: &Cell) -> Vec<String> {
-        let mut f = vec![
-            self.scenes[cell.scene].name().to_string(),
-            cell.learner.clone(),
-            cell.use_reward.to_string(),
-        ];
-        for i in 0..5 {
-            f.push(if cell.used[i] {
-                format_number(cell.params.named()[i].1)
-            } else {
-                String::new()
-            });
-        }
-        f
+        let params = cell.params.named();
+        let used = (0..5).map(|i| match cell.used[i] {
+            true => format_number(params[i].1),
+            false => String::new(),
+        });
+        let scene = self.scenes[cell.scene].name().to_string();
+        [scene, cell.learner.clone(), cell.use_reward.to_string()]
+            .into_iter()
+            .chain(used)
+            .collect()
     }
 
     /// The canonical identity text of session `replicate` of `cell` (see
@@ -488,8 +463,7 @@ impl Sweep {
             let v = if f[3 + i].is_empty() { "-" } else { &f[3 + i] };
             s.push_str(&format!(";{name}={v}"));
         }
-        s.push_str(&format!(";session={replicate}"));
-        s
+        s + &format!(";session={replicate}")
     }
 
     /// Every session, in canonical order.
@@ -537,28 +511,18 @@ fn learner_uses(
     learners: &Learners,
     bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
 ) -> Result<Vec<[bool; 5]>, SweepError> {
-    let mut uses: Vec<[bool; 5]> = Vec::with_capacity(spec.learners.len());
-    for name in &spec.learners {
+    let bad = |expected: String| Err(bad("learners", None, &expected));
+    let uses = spec.learners.iter().map(|name| {
         let Some(used) = learners.uses(name) else {
-            return Err(bad(
-                "learners",
-                None,
-                &format!(
-                    "one of the learners ({}), found `{name}`",
-                    learners.names().join(", ")
-                ),
-            ));
+            let names = learners.names().join(", ");
+            return bad(format!("one of the learners ({names}), found `{name}`"));
         };
         if !is_identifier(name) {
-            return Err(bad(
-                "learners",
-                None,
-                &format!("learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `{name}`"),
-            ));
+            return bad(format!("learner names of ASCII letters, digits and `_`, not starting with a digit (for CSV files and sweep files), found `{name}`"));
         }
-        uses.push(used);
-    }
-    Ok(uses)
+        Ok(used)
+    });
+    uses.collect()
 }
 
 /// The scenes of `spec`, made by `worlds`: each named as a scene file
@@ -570,26 +534,22 @@ fn make_scenes(
 ) -> Result<Vec<Arc<SweepScene>>, SweepError> {
     let mut scenes: Vec<Arc<SweepScene>> = Vec::new();
     for name in &spec.scenes {
+        let anchor = format!("\"{name}\"");
+        let bad = |expected: &str| bad("scenes", Some(&anchor), expected);
         let scene = worlds.scene(name).map_err(|e| match e {
-            FactoryError::Unknown(msg) => bad("scenes", Some(&format!("\"{name}\"")), &msg),
+            FactoryError::Unknown(msg) => bad(&msg),
             FactoryError::Failed(e) => e,
         })?;
-        // a scene made in code (a Scene or a LiveScene) gets
-        // the checks of a scene file's name: it is printed, and written
-        // into CSV files and the journal
+        // a scene made in code (a Scene or a LiveScene) gets the checks of
+        // a scene file's name: it is printed, and written into CSV files
         if let Err(e) = crate::text::check_name(scene.name()) {
-            return Err(bad(
-                "scenes",
-                Some(&format!("\"{name}\"")),
-                &format!("scenes whose name is {e}"),
-            ));
+            return Err(bad(&format!("scenes whose name is {e}")));
         }
         if scenes.iter().any(|s| s.name() == scene.name()) {
-            return Err(bad(
-                "scenes",
-                Some(&format!("\"{name}\"")),
-                &format!("each scene once, but `{}` appears twice", scene.name()),
-            ));
+            let twice = scene.name();
+            return Err(bad(&format!(
+                "each scene once, but `{twice}` appears twice"
+            )));
         }
         scenes.push(scene);
     }
@@ -616,13 +576,10 @@ fn make_cells(
             for &use_reward in &spec.use_reward {
                 for mut k in 0..count {
                     let mut params = spec.params.fixed(Params::TASK1);
-                    let mut pick = [0usize; 5];
+                    // the last parameter varies fastest
                     for i in (0..5).rev() {
-                        pick[i] = k % dims[i];
+                        set_param(&mut params, i, axes[i][k % dims[i]]);
                         k /= dims[i];
-                    }
-                    for i in 0..5 {
-                        set_param(&mut params, i, axes[i][pick[i]]);
                     }
                     cells.push(Cell {
                         index: cells.len(),
@@ -680,14 +637,9 @@ fn check_size(
     bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
 ) -> Result<usize, SweepError> {
     if num_cells.saturating_mul(spec.sessions) > MAX_SESSIONS {
-        return Err(bad(
-            "sessions",
-            None,
-            &format!(
-                "at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {}",
-                spec.sessions
-            ),
-        ));
+        let per_cell = spec.sessions;
+        let expected = format!("at most {MAX_SESSIONS} sessions in all (a sweep's plan holds each one in memory), found {num_cells} cells x {per_cell}");
+        return Err(bad("sessions", None, &expected));
     }
     Ok(num_cells)
 }
@@ -707,31 +659,17 @@ fn check_values(
         let Some(space) = s.scene().and_then(crate::Scene::value_space) else {
             continue;
         };
-        let anchor = format!("\"{}\"", s.name());
+        let (scene, n) = (s.name(), s.num_effects());
         if episodes {
-            return Err(bad(
-                "scenes",
-                Some(&anchor),
-                &format!("scenes of symbols in a sweep of episodes (commands, observe or closed_loop set), found `{}`, whose slots take values (`Continuous`)", s.name()),
-            ));
+            let expected = format!("scenes of symbols in a sweep of episodes (commands, observe or closed_loop set), found `{scene}`, whose slots take values (`Continuous`)");
+            return Err(bad("scenes", Some(&format!("\"{scene}\"")), &expected));
         }
+        let uniform = crate::effect::Target::Uniform;
         for name in names {
-            let made = learners.make_continuous(
-                name,
-                &Params::TASK1,
-                &space,
-                s.num_effects(),
-                &crate::effect::Target::Uniform,
-            );
+            let made = learners.make_continuous(name, &Params::TASK1, &space, n, &uniform);
             if let Err(e) = made {
-                return Err(bad(
-                    "learners",
-                    None,
-                    &format!(
-                        "learners that take continuous commands on scene `{}`, found `{name}`: {e}",
-                        s.name()
-                    ),
-                ));
+                let expected = format!("learners that take continuous commands on scene `{scene}`, found `{name}`: {e}");
+                return Err(bad("learners", None, &expected));
             }
         }
     }

@@ -100,17 +100,13 @@ pub(super) fn write_final(
 ) -> Result<(), SweepError> {
     let expected = header.shard.count(header.total);
     if rows.len() != expected {
+        let (dir, done) = (dir.display(), rows.len());
         return Err(SweepError::Output(format!(
-            "{}: {} of {} sessions done; run again with --resume",
-            dir.display(),
-            rows.len(),
-            expected
+            "{dir}: {done} of {expected} sessions done; run again with --resume"
         )));
     }
     let mut csv = String::with_capacity(64 * (rows.len() + 1));
-    csv.push_str(&header.columns);
-    csv.push('\n');
-    for row in rows.values() {
+    for row in std::iter::once(&header.columns).chain(rows.values()) {
         csv.push_str(row);
         csv.push('\n');
     }
@@ -148,11 +144,9 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<DirReport, SweepError> {
             }
         }
         if let Some(other) = seen.insert(h.shard.k, dir.clone()) {
+            let (shard, other, dir) = (h.shard, other.display(), dir.display());
             return Err(SweepError::Output(format!(
-                "shard {} given twice: {} and {}",
-                h.shard,
-                other.display(),
-                dir.display()
+                "shard {shard} given twice: {other} and {dir}"
             )));
         }
         rows.extend(shard_rows(dir, read)?);
@@ -236,11 +230,10 @@ fn check_same_sweep(
     (h, sweep_copy, version): (&JournalHeader, &[u8], &[u8]),
     (h0, s0, v0): (&JournalHeader, &[u8], &[u8]),
 ) -> Result<(), SweepError> {
+    let (dir, first) = (dir.display(), first_dir.display());
     if let Some((name, here, there)) = h.changed_scene(h0) {
         return Err(SweepError::Output(format!(
-            "{}: ran scene `{name}` with other content ({here:016x}) than {} ({there:016x}); the scene was edited between the shards, which cannot be merged: rerun them with one version",
-            dir.display(),
-            first_dir.display()
+            "{dir}: ran scene `{name}` with other content ({here:016x}) than {first} ({there:016x}); the scene was edited between the shards, which cannot be merged: rerun them with one version"
         )));
     }
     if h.sweep_hash != h0.sweep_hash
@@ -250,20 +243,15 @@ fn check_same_sweep(
         || sweep_copy != s0
     {
         return Err(SweepError::Output(format!(
-            "{}: holds {}, but {} holds {}; shards of different sweeps cannot be merged",
-            dir.display(),
+            "{dir}: holds {}, but {first} holds {}; shards of different sweeps cannot be merged",
             h.describe(),
-            first_dir.display(),
             h0.describe()
         )));
     }
     if version != v0 || h.version != h0.version {
+        let (here, there) = (&h.version, &h0.version);
         return Err(SweepError::Output(format!(
-            "{}: made by e3d {}, but {} by e3d {}; rerun the shards with one version",
-            dir.display(),
-            h.version,
-            first_dir.display(),
-            h0.version
+            "{dir}: made by e3d {here}, but {first} by e3d {there}; rerun the shards with one version"
         )));
     }
     Ok(())
@@ -272,7 +260,6 @@ fn check_same_sweep(
 /// `out` must not exist or be empty (what a killed merge left,
 /// `.summary.csv.tmp-*`, does not count, and is removed).
 fn check_out_empty(out: &Path) -> Result<(), SweepError> {
-    // what a killed merge left (`.summary.csv.tmp-*`) does not count
     crate::io::remove_stale_temps(out);
     // the lock of the command writing here (`e3d merge` takes it) does
     // not count either

@@ -54,11 +54,7 @@ impl Sweep {
                 scene.name()
             )));
         }
-        let learner = self.learner(session, |c| {
-            let (space, n) = (world.command_space(), world.num_effects());
-            self.learners
-                .make(&c.learner, &c.params, space, n, &Target::Uniform)
-        })?;
+        let learner = self.symbols_learner(session, world.command_space(), world.num_effects())?;
         let mut results = self.run_group_on(std::slice::from_ref(session), world, vec![learner]);
         Ok(results.remove(0))
     }
@@ -92,6 +88,18 @@ impl Sweep {
             .zip(&recorders)
             .map(|((s, st), m)| self.result(s, st, m))
             .collect()
+    }
+
+    /// A learner of symbols for `session` on `space` and `n` effects.
+    fn symbols_learner(
+        &self,
+        session: &SessionSpec,
+        space: &crate::command::CommandSpace,
+        n: usize,
+    ) -> Result<Box<dyn crate::Learner + Send>, SweepError> {
+        self.learner(session, |c| {
+            (self.learners).make(&c.learner, &c.params, space, n, &Target::Uniform)
+        })
     }
 
     /// What `make` makes for the cell of `session` (its learner), its
@@ -175,18 +183,11 @@ impl Sweep {
 
     /// Runs `sessions` on a local pool of `threads` threads, calling
     /// `on_result` on the calling thread as each one finishes (in no
-    /// particular order).
-    ///
-    /// Each scene's outcomes come from the cheapest of an outcome table,
-    /// an outcome memo or live execution ([`Executor`]), shared by all
-    /// threads; its sessions run through the session engine
-    /// ([`run_planned`]): under the memo and live execution in lockstep
-    /// groups, each group's new commands stepped together in multi-copy
-    /// worlds where copies are exact. The results are the same, bit for
-    /// bit, whatever is chosen and whatever the threads. Each choice is
-    /// told to the notice callback ([`with_notices`](Self::with_notices)),
-    /// and so is what a memo simulated and kept. An error from
-    /// `on_result` or from a session stops the sweep and is returned.
+    /// particular order). Each scene's outcomes come from the [`Executor`]
+    /// its workload chooses (told to [`with_notices`](Self::with_notices));
+    /// the results are the same bytes whatever it chooses and whatever the
+    /// threads. An error from `on_result` or from a session stops the
+    /// sweep and is returned.
     pub fn run_with(
         &self,
         sessions: &[SessionSpec],
@@ -251,13 +252,7 @@ impl Sweep {
             let scene = &*self.scenes[si];
             let out = (tx, &gone);
             let space = scene.command_space();
-            let symbols = |s: &SessionSpec, n| {
-                self.learner(s, |c| {
-                    let uniform = &Target::Uniform;
-                    self.learners
-                        .make(&c.learner, &c.params, &space, n, uniform)
-                })
-            };
+            let symbols = |s: &SessionSpec, n| self.symbols_learner(s, &space, n);
             if self.runs_episodes(si) {
                 mine.par_iter().for_each(|s| {
                     self.guarded(std::slice::from_ref(s), out, || {
@@ -278,8 +273,7 @@ impl Sweep {
                 self.run_scene(worlds, &mine, out, |s, n| {
                     self.learner(s, |c| {
                         let uniform = &Target::Uniform;
-                        self.learners
-                            .make_continuous(&c.learner, &c.params, &values, n, uniform)
+                        (self.learners).make_continuous(&c.learner, &c.params, &values, n, uniform)
                     })
                 });
             } else {
@@ -373,11 +367,10 @@ impl Sweep {
         let file = match (scene, self.runs_episodes(si)) {
             (SweepScene::Scene(file), true) => {
                 let (k, c) = (self.spec.commands, self.start_contexts(si));
+                let plural = |n| if n == 1 { "" } else { "s" };
+                let (name, ks, cs) = (&file.spec().name, plural(k), plural(c));
                 self.notice(&format!(
-                    "{}: episodes of {k} command{} from {c} start context{}: each session on a live world of its own",
-                    file.spec().name,
-                    if k == 1 { "" } else { "s" },
-                    if c == 1 { "" } else { "s" },
+                    "{name}: episodes of {k} command{ks} from {c} start context{cs}: each session on a live world of its own"
                 ));
                 return Ok(None);
             }
@@ -461,9 +454,7 @@ impl Sweep {
         Self::prepare_dir(dir, options.resume)?;
         self.copy_sweep_and_version(dir)?;
         let (mut journal, mut done) = open_journal(&journal_path, &header)?;
-        let all = self.sessions();
-        let mine: Vec<SessionSpec> = all
-            .into_iter()
+        let mine: Vec<SessionSpec> = (self.sessions().into_iter())
             .filter(|s| shard.contains(s.index))
             .collect();
         done.retain(|i, _| shard.contains(*i) && *i < header.total);
@@ -496,16 +487,14 @@ impl Sweep {
 
     /// The journal's header for `shard` of this sweep.
     fn journal_header(&self, shard: Shard) -> JournalHeader {
+        let scenes = self.scenes.iter();
+        let scenes = scenes.map(|s| (s.name().to_string(), s.content_key()));
         JournalHeader {
             sweep_hash: fnv1a64(self.text.as_bytes()),
             shard,
             total: self.num_sessions(),
             per_cell: self.spec.sessions,
-            scenes: self
-                .scenes
-                .iter()
-                .map(|s| (s.name().to_string(), s.content_key()))
-                .collect(),
+            scenes: scenes.collect(),
             version: VERSION.to_string(),
             columns: self.results_header(),
         }
@@ -514,10 +503,10 @@ impl Sweep {
     /// Makes `dir`: a new or empty folder (temporary files of a killed
     /// copy removed), or with `resume` one that holds a sweep to complete.
     fn prepare_dir(dir: &Path, resume: bool) -> Result<(), SweepError> {
+        let shown = dir.display();
         if dir.exists() && !dir.is_dir() {
             return Err(SweepError::Output(format!(
-                "{}: exists and is not a folder",
-                dir.display()
+                "{shown}: exists and is not a folder"
             )));
         }
         // a folder that holds only temporary files of write_atomic (never
@@ -529,13 +518,10 @@ impl Sweep {
             for entry in std::fs::read_dir(dir).map_err(io_err(dir))? {
                 let entry = entry.map_err(io_err(dir))?;
                 let name = entry.file_name().to_string_lossy().into_owned();
-                if name == crate::io::LOCK_FILE {
-                    continue;
-                }
-                if crate::io::is_temporary(&name) {
-                    temporaries.push(entry.path());
-                } else {
-                    non_empty = true;
+                match name.as_str() {
+                    crate::io::LOCK_FILE => {}
+                    _ if crate::io::is_temporary(&name) => temporaries.push(entry.path()),
+                    _ => non_empty = true,
                 }
             }
         }
@@ -550,14 +536,12 @@ impl Sweep {
         }
         if non_empty && !resume {
             return Err(SweepError::Output(format!(
-                "{} exists and is not empty; pass --resume to complete the sweep it holds, or choose another --out",
-                dir.display()
+                "{shown} exists and is not empty; pass --resume to complete the sweep it holds, or choose another --out"
             )));
         }
         if non_empty && !dir.join(SWEEP_COPY).exists() {
             return Err(SweepError::Output(format!(
-                "{}: holds no {SWEEP_COPY}, so no sweep to resume; choose another --out",
-                dir.display()
+                "{shown}: holds no {SWEEP_COPY}, so no sweep to resume; choose another --out"
             )));
         }
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
@@ -608,22 +592,19 @@ fn open_journal(
 ) -> Result<(Journal, BTreeMap<usize, String>), SweepError> {
     Ok(if journal_path.exists() {
         let read = journal::read(journal_path)?;
+        let path = journal_path.display();
         if let Some((name, now, then)) = header.changed_scene(&read.header) {
             if read.header.sweep_hash == header.sweep_hash {
                 return Err(SweepError::Output(format!(
-                    "{}: scene `{name}` changed since this folder's sessions ran (content {then:016x}, now {now:016x}); one results file cannot mix two versions of a scene: restore it, or choose another --out",
-                    journal_path.display()
+                    "{path}: scene `{name}` changed since this folder's sessions ran (content {then:016x}, now {now:016x}); one results file cannot mix two versions of a scene: restore it, or choose another --out"
                 )));
             }
         }
         if read.header != *header {
+            let other = read.header.describe();
+            let (shard, hash, total) = (header.shard, header.sweep_hash, header.total);
             return Err(SweepError::Output(format!(
-                "{}: written by another run ({}); this run is shard {} of sweep {:016x} with {} sessions; choose another --out",
-                journal_path.display(),
-                read.header.describe(),
-                header.shard,
-                header.sweep_hash,
-                header.total
+                "{path}: written by another run ({other}); this run is shard {shard} of sweep {hash:016x} with {total} sessions; choose another --out"
             )));
         }
         let j = Journal::append(journal_path, read.valid_len)?;

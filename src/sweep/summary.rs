@@ -76,19 +76,11 @@ pub fn t975(df: usize) -> f64 {
         2.045229642,
         2.042272456,
     ];
-    if df == 0 {
-        return f64::NAN;
+    match df {
+        0 => f64::NAN,
+        1..=30 => T[df - 1],
+        _ => crate::report::cornish_fisher_975(df),
     }
-    if df <= 30 {
-        return T[df - 1];
-    }
-    let z: f64 = 1.959_963_984_540_054;
-    let v = df as f64;
-    let (z3, z5, z7, z9) = (z.powi(3), z.powi(5), z.powi(7), z.powi(9));
-    z + (z3 + z) / (4.0 * v)
-        + (5.0 * z5 + 16.0 * z3 + 3.0 * z) / (96.0 * v.powi(2))
-        + (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / (384.0 * v.powi(3))
-        + (79.0 * z9 + 776.0 * z7 + 1482.0 * z5 - 1920.0 * z3 - 945.0 * z) / (92160.0 * v.powi(4))
 }
 
 /// Mean, sd and 95% interval of `xs` (sd and interval `None` below 2 values).
@@ -157,13 +149,8 @@ pub fn summarize<'a>(
         for (j, &n) in has_n.iter().enumerate() {
             let xs: Vec<f64> = sessions.iter().filter_map(|s| s[j]).collect();
             let (mean, sd, ci) = stats(&xs);
-            f.push(num(mean));
-            f.push(num(sd));
-            f.push(num(ci.map(|c| c.0)));
-            f.push(num(ci.map(|c| c.1)));
-            if n {
-                f.push(xs.len().to_string());
-            }
+            f.extend([mean, sd, ci.map(|c| c.0), ci.map(|c| c.1)].map(num));
+            f.extend(n.then(|| xs.len().to_string()));
         }
         out.push_str(&f.join(","));
         out.push('\n');
@@ -191,20 +178,16 @@ fn group_cells<'a>(
             )));
         }
         let key = f[..CELL_COLUMNS].join(",");
-        let failed = with_failure && !f[f.len() - 1].is_empty();
         let values = f[KEY_COLUMNS.len()..KEY_COLUMNS.len() + metrics]
             .iter()
             .map(|v| {
-                if v.is_empty() {
-                    Ok(None)
-                } else {
-                    v.parse::<f64>().map(Some).map_err(|_| {
-                        SweepError::Output(format!("a results value is not a number: `{v}`"))
-                    })
-                }
+                let value = (!v.is_empty()).then(|| v.parse::<f64>()).transpose();
+                value.map_err(|_| {
+                    SweepError::Output(format!("a results value is not a number: `{v}`"))
+                })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let failed = usize::from(failed);
+        let failed = usize::from(with_failure && !f[f.len() - 1].is_empty());
         match groups.last_mut() {
             Some((k, v, n)) if *k == key => {
                 v.push(values);
@@ -229,12 +212,8 @@ fn summary_header(metrics: &[&str], has_n: &[bool], with_failure: bool) -> Vec<S
         header.push("failed".into());
     }
     for (m, &n) in metrics.iter().zip(has_n) {
-        for suffix in ["mean", "sd", "ci_low", "ci_high"] {
-            header.push(format!("{m}_{suffix}"));
-        }
-        if n {
-            header.push(format!("{m}_n"));
-        }
+        header.extend(["mean", "sd", "ci_low", "ci_high"].map(|s| format!("{m}_{s}")));
+        header.extend(n.then(|| format!("{m}_n")));
     }
     header
 }

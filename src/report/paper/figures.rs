@@ -21,31 +21,23 @@ impl PaperResults {
             .filter(|r| r.task == 1)
             .map(|r| format!("{} {:.3}", r.label, r.normalized_entropy.mean))
             .collect();
-        let c = &self.config;
+        let (sessions, trials, means) =
+            (self.config.sessions, self.config.trials, means.join(", "));
+        let all = sessions * trials;
         let title = format!(
-            "two_rooms, task 1: where the trials end, {} sessions x {} trials pooled",
-            c.sessions, c.trials
+            "two_rooms, task 1: where the trials end, {sessions} sessions x {trials} trials pooled"
         );
         let lines = [
-            format!(
-                "Each cell: its share of all {} trials of the {} sessions, on one colour scale for both panels (the bar: target 1/{n}).",
-                c.sessions * c.trials,
-                c.sessions
-            ),
-            format!(
-                "H/log {n} here: of the pooled shares. The table gives the mean of the sessions' own ({}),",
-                means.join(", ")
-            ),
+            format!("Each cell: its share of all {all} trials of the {sessions} sessions, on one colour scale for both panels (the bar: target 1/{n})."),
+            format!("H/log {n} here: of the pooled shares. The table gives the mean of the sessions' own ({means}),"),
             "lower: each session is uneven in different cells, and pooling evens that out.".to_string(),
         ];
         let panels: Vec<(String, Vec<f64>)> = arms
             .iter()
             .map(|arm| {
-                let h = self.pooled_entropy(arm);
-                (
-                    format!("{}: H/log {n} = {h:.3} (pooled)", arm.arm.label),
-                    arm.effect_shares(),
-                )
+                let (label, h) = (arm.arm.label, self.pooled_entropy(arm));
+                let caption = format!("{label}: H/log {n} = {h:.3} (pooled)");
+                (caption, arm.effect_shares())
             })
             .collect();
         effect_panels_svg(&title, &lines, &self.spec, &panels, peak, target)
@@ -85,28 +77,16 @@ impl PaperResults {
     }
 }
 
-/// The chart of Figure 3, in SVG.
-type Chart<'a, 'b> = ChartContext<
-    'a,
-    SVGBackend<'b>,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
-
 /// Figure 3's head: its title and the line saying what the line and the
 /// bands are over the `sessions`.
 fn fig3_head(head: &Area<'_>, sessions: usize) -> Drawn {
-    head.draw(&Text::new(
-        "two_rooms, task 2: cumulative reward".to_string(),
-        (30, 12),
-        ("sans-serif", 26).into_font().color(&BLACK),
-    ))?;
-    head.draw(&Text::new(
-        format!(
-            "over {sessions} sessions: line, mean; dark band, mean \u{b1} sd; light band, min to max (the table's mean +- sd [min, max])"
-        ),
-        (30, 48),
-        ("sans-serif", 17).into_font().color(&RGBColor(70, 70, 70)),
-    ))?;
+    let style = |size, colour| text_style(size, &colour, HPos::Left, VPos::Top);
+    let title = "two_rooms, task 2: cumulative reward".to_string();
+    head.draw(&Text::new(title, (30, 12), style(26, BLACK)))?;
+    let line = format!(
+        "over {sessions} sessions: line, mean; dark band, mean \u{b1} sd; light band, min to max (the table's mean +- sd [min, max])"
+    );
+    head.draw(&Text::new(line, (30, 48), style(17, RGBColor(70, 70, 70))))?;
     Ok(())
 }
 
@@ -167,10 +147,10 @@ fn draw_rewards(
     ];
     for (band, colour) in bands.iter().zip(colours) {
         for (lo, hi, mix) in spans {
-            chart.draw_series(std::iter::once(Polygon::new(
+            chart.draw_series([Polygon::new(
                 band_polygon(band, idx, lo, hi),
                 colour.mix(mix).filled(),
-            )))?;
+            )])?;
         }
     }
     for ((arm, band), colour) in arms.iter().zip(bands).zip(colours) {
@@ -237,17 +217,13 @@ pub fn effect_panels_svg(
     let n = spec.rows * spec.cols;
     plotted((1100, 530), |root| {
         let (title_area, body) = root.split_vertically(118);
-        let text = |t: &str, at: (i32, i32), size: f64, colour: &RGBColor| {
-            title_area.draw(&Text::new(
-                t.to_string(),
-                at,
-                ("sans-serif", size).into_font().color(colour),
-            ))
+        let text = |t: &str, at: (i32, i32), size: u32, colour: &RGBColor| {
+            let style = text_style(size, colour, HPos::Left, VPos::Top);
+            title_area.draw(&Text::new(t.to_string(), at, style))
         };
-        text(title, (25, 12), 26.0, &BLACK)?;
-        let grey = RGBColor(70, 70, 70);
+        text(title, (25, 12), 26, &BLACK)?;
         for (k, line) in lines.iter().enumerate() {
-            text(line, (25, 48 + 21 * k as i32), 17.0, &grey)?;
+            text(line, (25, 48 + 21 * k as i32), 17, &RGBColor(70, 70, 70))?;
         }
         let (panels_area, bar_area) = body.split_horizontally(940);
         let areas = panels_area.split_evenly((1, panels.len().max(1)));
@@ -281,46 +257,27 @@ fn draw_grid_panel(
             let s = shares[r * cols + c];
             let colour = share_colour(s, peak);
             let (x0, y1) = (c as f64, (rows - r) as f64);
-            chart.draw_series(std::iter::once(Rectangle::new(
-                [(x0, y1 - 1.0), (x0 + 1.0, y1)],
-                colour.filled(),
-            )))?;
-            chart.draw_series(std::iter::once(Rectangle::new(
-                [(x0, y1 - 1.0), (x0 + 1.0, y1)],
-                RGBColor(200, 200, 200).stroke_width(1),
-            )))?;
+            let (cell, grey) = ([(x0, y1 - 1.0), (x0 + 1.0, y1)], RGBColor(200, 200, 200));
+            chart.draw_series([Rectangle::new(cell, colour.filled())])?;
+            chart.draw_series([Rectangle::new(cell, grey.stroke_width(1))])?;
             if !labels {
                 continue;
             }
             let text_colour = if s / peak > 0.6 { WHITE } else { BLACK };
-            chart.draw_series(std::iter::once(Text::new(
-                format!("{:.1}%", 100.0 * s),
-                (x0 + 0.5, y1 - 0.5),
-                ("sans-serif", 19)
-                    .into_font()
-                    .color(&text_colour)
-                    .pos(Pos::new(HPos::Center, VPos::Center)),
-            )))?;
+            let style = text_style(19, &text_colour, HPos::Center, VPos::Center);
+            let label = Text::new(format!("{:.1}%", 100.0 * s), (x0 + 0.5, y1 - 0.5), style);
+            chart.draw_series([label])?;
         }
     }
     let (r, c) = spec.start;
-    chart.draw_series(std::iter::once(Text::new(
-        "start",
-        (c as f64 + 0.06, (rows - r) as f64 - 0.06),
-        ("sans-serif", 15)
-            .into_font()
-            .color(&if shares[r * cols + c] / peak > 0.6 {
-                WHITE
-            } else {
-                RGBColor(90, 90, 90)
-            }),
-    )))?;
+    let colour = [RGBColor(90, 90, 90), WHITE][usize::from(shares[r * cols + c] / peak > 0.6)];
+    let style = text_style(15, &colour, HPos::Left, VPos::Top);
+    let at = (c as f64 + 0.06, (rows - r) as f64 - 0.06);
+    chart.draw_series([Text::new("start", at, style)])?;
     let wall = BLACK.stroke_width(5);
     let (w, h) = (cols as f64, rows as f64);
-    chart.draw_series(std::iter::once(PathElement::new(
-        vec![(0.0, 0.0), (w, 0.0), (w, h), (0.0, h), (0.0, 0.0)],
-        wall,
-    )))?;
+    let frame = vec![(0.0, 0.0), (w, 0.0), (w, h), (0.0, h), (0.0, 0.0)];
+    chart.draw_series([PathElement::new(frame, wall)])?;
     // a wall between two cells is drawn on their common edge
     chart.draw_series(spec.walls.iter().map(|&(a, b)| {
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
@@ -355,41 +312,25 @@ fn draw_colour_bar(area: &Area<'_>, peak: f64, target: f64, n: usize) -> Drawn {
         .y_labels(8)
         .y_label_formatter(&|v| format!("{:.0}%", 100.0 * v))
         .draw()?;
-    let steps = 100;
-    bar.draw_series((0..steps).map(|k| {
-        let a = peak * k as f64 / steps as f64;
-        let b = peak * (k + 1) as f64 / steps as f64;
-        Rectangle::new(
-            [(0.0, a), (1.0, b)],
-            share_colour((a + b) / 2.0, peak).filled(),
-        )
-    }))?;
-    bar.draw_series(std::iter::once(Rectangle::new(
+    colour_steps(&mut bar, (0.0, peak), |_, a, b| {
+        share_colour((a + b) / 2.0, peak)
+    })?;
+    bar.draw_series([Rectangle::new(
         [(0.0, 0.0), (1.0, peak)],
         RGBColor(120, 120, 120).stroke_width(1),
-    )))?;
+    )])?;
     // the target: every cell at 1/n would be this colour
-    bar.draw_series(std::iter::once(PathElement::new(
+    bar.draw_series([PathElement::new(
         vec![(-0.25, target), (1.0, target)],
         BLACK.stroke_width(2),
-    )))?;
+    )])?;
     // backend pixels, made relative to the bar's area
     let (px, py) = bar.backend_coord(&(-0.3, target));
     let (ox, oy) = area.get_base_pixel();
     let (px, py) = (px - ox, py - oy);
-    let style = ("sans-serif", 15)
-        .into_font()
-        .color(&BLACK)
-        .pos(Pos::new(HPos::Right, VPos::Center));
-    area.draw(&Text::new(
-        format!("target 1/{n}"),
-        (px, py - 9),
-        style.clone(),
-    ))?;
-    area.draw(&Text::new(
-        format!("= {:.1}%", 100.0 * target),
-        (px, py + 9),
-        style,
-    ))?;
+    let style = text_style(15, &BLACK, HPos::Right, VPos::Center);
+    let (named, share) = (format!("target 1/{n}"), format!("= {:.1}%", 100.0 * target));
+    area.draw(&Text::new(named, (px, py - 9), style.clone()))?;
+    area.draw(&Text::new(share, (px, py + 9), style))?;
     Ok(())
 }

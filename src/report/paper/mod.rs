@@ -3,13 +3,13 @@
 //! and 3 on `two_rooms`): the summary table, the CSV of both figures and
 //! their SVG.
 
-use super::svg::{plotted, Area, Drawn};
+use super::svg::{colour_steps, plotted, text_style, Area, Chart, Drawn};
 use super::{describe, median, Stats};
 use crate::effect::entropy;
-use crate::experiment::paper::{ArmResult, PaperResults};
+use crate::experiment::paper::{ArmResult, PaperConfig, PaperResults};
 use crate::session::{Metrics, SessionRecord};
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::text_anchor::{HPos, VPos};
 use std::fmt::Write as _;
 
 mod figures;
@@ -130,17 +130,18 @@ impl PaperResults {
     pub fn summary_markdown(&self) -> String {
         let cps = self.checkpoints();
         let mut s = String::new();
-        let c = &self.config;
+        let PaperConfig {
+            sessions,
+            trials,
+            seed,
+        } = self.config;
+        let h = entropy(&self.uniform_exact) / (self.grid.num_cells() as f64).ln();
         let _ = writeln!(
             s,
-            "# two_rooms: the paper's experiment\n\n{} sessions x {} trials per learner, session i seeded with {} + i. \
-             Normalised entropy: H / log(18) of the terminal cells over all trials (the exact value for the uniform policy is {:.4}); \
+            "# two_rooms: the paper's experiment\n\n{sessions} sessions x {trials} trials per learner, session i seeded with {seed} + i. \
+             Normalised entropy: H / log(18) of the terminal cells over all trials (the exact value for the uniform policy is {h:.4}); \
              final policy: the same for the exact effect distribution of the policy after the last trial. \
-             Cells give mean +- sd [min, max] over sessions.\n",
-            c.sessions,
-            c.trials,
-            c.seed,
-            entropy(&self.uniform_exact) / (self.grid.num_cells() as f64).ln()
+             Cells give mean +- sd [min, max] over sessions.\n"
         );
         let mut head =
             "| task | learner | normalised entropy | final policy entropy | share in room B |"
@@ -154,28 +155,21 @@ impl PaperResults {
         rule.push_str("---|");
         let _ = writeln!(s, "{head}\n{rule}");
         let fmt = |st: &Stats, d: usize| {
-            format!(
-                "{:.d$} +- {:.d$} [{:.d$}, {:.d$}]",
-                st.mean, st.sd, st.min, st.max
-            )
+            let Stats { mean, sd, min, max } = *st;
+            format!("{mean:.d$} +- {sd:.d$} [{min:.d$}, {max:.d$}]")
         };
         for r in self.summary() {
-            let _ = write!(
-                s,
-                "| {} | {} | {} | {} | {} |",
-                r.task,
-                r.label,
-                fmt(&r.normalized_entropy, 3),
-                fmt(&r.final_policy_entropy, 3),
-                fmt(&r.room_b_share, 3)
-            );
+            let (task, label) = (r.task.to_string(), r.label.to_string());
+            let stats = [
+                &r.normalized_entropy,
+                &r.final_policy_entropy,
+                &r.room_b_share,
+            ];
+            let cells = [task, label].into_iter().chain(stats.map(|st| fmt(st, 3)));
+            let _ = write!(s, "| {} |", cells.collect::<Vec<_>>().join(" | "));
             for st in &r.cumulative_reward {
-                let cell = if r.task == 1 {
-                    "-".to_string()
-                } else {
-                    fmt(st, 1)
-                };
-                let _ = write!(s, " {cell} |");
+                let cell = (r.task != 1).then(|| fmt(st, 1));
+                let _ = write!(s, " {} |", cell.as_deref().unwrap_or("-"));
             }
             let first = match (r.median_first_reward, r.sessions_without_reward) {
                 _ if r.task == 1 => "- (no reward in task 1)".to_string(),
@@ -193,16 +187,9 @@ impl PaperResults {
         let mut s = String::from("learner,row,col,effect,share,uniform_exact\n");
         for a in self.arms.iter().filter(|a| a.arm.task == 1) {
             for (e, share) in a.effect_shares().iter().enumerate() {
-                let _ = writeln!(
-                    s,
-                    "{},{},{},{},{},{}",
-                    a.arm.learner,
-                    e / self.grid.cols,
-                    e % self.grid.cols,
-                    e,
-                    share,
-                    self.uniform_exact[e]
-                );
+                let (row, col) = (e / self.grid.cols, e % self.grid.cols);
+                let exact = self.uniform_exact[e];
+                let _ = writeln!(s, "{},{row},{col},{e},{share},{exact}", a.arm.learner);
             }
         }
         s
@@ -223,8 +210,8 @@ impl PaperResults {
         for t in 0..self.config.trials {
             let _ = write!(s, "{}", t + 1);
             for b in &bands {
-                let st = b[t];
-                let _ = write!(s, ",{},{},{},{}", st.mean, st.sd, st.min, st.max);
+                let Stats { mean, sd, min, max } = b[t];
+                let _ = write!(s, ",{mean},{sd},{min},{max}");
             }
             s.push('\n');
         }

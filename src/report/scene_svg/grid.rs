@@ -27,13 +27,11 @@ pub(in crate::report) fn grid_picture(
     header(&mut out, &v, scene, overlay);
     effect_layer(&mut out, &v, scene, overlay);
     // the border and the walls
+    let (w, h) = (eg.max[0] - eg.min[0], eg.max[1] - eg.min[1]);
+    let at = v.rect((eg.min[0], eg.max[1]), w, h);
     let _ = writeln!(
         out,
-        r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="#333" stroke-width="4"/>"##,
-        v.x(eg.min[0]),
-        v.y(eg.max[1]),
-        v.len(eg.max[0] - eg.min[0]),
-        v.len(eg.max[1] - eg.min[1])
+        r##"<rect {at} fill="none" stroke="#333" stroke-width="4"/>"##
     );
     let rows = g.rows as f64;
     for &((r1, c1), (r2, c2)) in &g.walls {
@@ -46,20 +44,15 @@ pub(in crate::report) fn grid_picture(
         };
         let _ = writeln!(
             out,
-            r##"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="#333" stroke-width="6" stroke-linecap="round"/>"##,
-            v.x(x0),
-            v.y(y0),
-            v.x(x1),
-            v.y(y1)
+            r##"<line {} stroke="#333" stroke-width="6" stroke-linecap="round"/>"##,
+            v.segment((x0, y0), (x1, y1))
         );
     }
     let s = eg.center(g.start.0, g.start.1);
+    let (x, y, size) = (v.x(s[0] - 0.3), v.y(s[1] + 0.28), v.len(0.25));
     let _ = writeln!(
         out,
-        r##"<text x="{:.2}" y="{:.2}" font-size="{:.0}" text-anchor="middle" dominant-baseline="central" fill="#1f4e9c" font-weight="bold">S</text>"##,
-        v.x(s[0] - 0.3),
-        v.y(s[1] + 0.28),
-        v.len(0.25)
+        r##"<text x="{x:.2}" y="{y:.2}" font-size="{size:.0}" text-anchor="middle" dominant-baseline="central" fill="#1f4e9c" font-weight="bold">S</text>"##
     );
     path_layer(&mut out, &v, overlay);
     if let Some(draw) = animated.as_mut() {

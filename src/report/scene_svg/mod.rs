@@ -91,6 +91,21 @@ impl View {
     pub(super) fn pt(&self, p: (f64, f64)) -> String {
         format!("{:.2},{:.2}", self.x(p.0), self.y(p.1))
     }
+    /// `x=".." y=".." width=".." height=".."` of the rectangle of top left
+    /// corner `(x, y)` and size `w x h` (world units).
+    pub(super) fn rect(&self, (x, y): (f64, f64), w: f64, h: f64) -> String {
+        let (x, y, w, h) = (self.x(x), self.y(y), self.len(w), self.len(h));
+        format!(r#"x="{x:.2}" y="{y:.2}" width="{w:.2}" height="{h:.2}""#)
+    }
+    /// `cx=".." cy=".."` of the point `p`.
+    pub(super) fn centre(&self, p: (f64, f64)) -> String {
+        format!(r#"cx="{:.2}" cy="{:.2}""#, self.x(p.0), self.y(p.1))
+    }
+    /// `x1=".." y1=".." x2=".." y2=".."` of the segment from `a` to `b`.
+    pub(super) fn segment(&self, a: (f64, f64), b: (f64, f64)) -> String {
+        let (x1, y1, x2, y2) = (self.x(a.0), self.y(a.1), self.x(b.0), self.y(b.1));
+        format!(r#"x1="{x1:.2}" y1="{y1:.2}" x2="{x2:.2}" y2="{y2:.2}""#)
+    }
 }
 
 /// Draws `scene` as SVG, with `overlay` (a command's path) if given.
@@ -142,34 +157,23 @@ pub(super) fn posed(mut p: PhysicsSpec, start: &[BodyPose]) -> PhysicsSpec {
 
 fn header(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Overlay>) {
     let (w, h) = (v.width(), v.height());
-    let _ = writeln!(
-        out,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}" font-family="Helvetica, Arial, sans-serif">"#
-    );
-    let _ = writeln!(
-        out,
-        r##"<rect width="100%" height="100%" fill="#ffffff"/>"##
-    );
-    let _ = writeln!(
-        out,
-        r##"<text x="{MARGIN}" y="24" font-size="18" font-weight="bold" fill="#222">{}</text>"##,
-        esc(&scene.spec().name)
-    );
     let sub = match overlay {
-        Some(o) => format!(
-            "command {}  →  effect {}  (point {:.3}, {:.3})  reward {}",
-            o.command,
-            o.effect,
-            o.points.last().map_or(0.0, |p| p[0]),
-            o.points.last().map_or(0.0, |p| p[1]),
-            o.reward
-        ),
+        Some(o) => {
+            let [x, y] = o.points.last().copied().unwrap_or_default();
+            let (command, effect, reward) = (&o.command, o.effect, o.reward);
+            format!(
+                "command {command}  →  effect {effect}  (point {x:.3}, {y:.3})  reward {reward}"
+            )
+        }
         None => scene.spec().description.clone(),
     };
+    let (name, sub) = (esc(&scene.spec().name), esc(&sub));
     let _ = writeln!(
         out,
-        r##"<text x="{MARGIN}" y="42" font-size="13" fill="#555">{}</text>"##,
-        esc(&sub)
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}" font-family="Helvetica, Arial, sans-serif">
+<rect width="100%" height="100%" fill="#ffffff"/>
+<text x="{MARGIN}" y="24" font-size="18" font-weight="bold" fill="#222">{name}</text>
+<text x="{MARGIN}" y="42" font-size="13" fill="#555">{sub}</text>"##
     );
 }
 
@@ -180,17 +184,9 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
     let rewards = scene.reward_table();
     // a cell's rectangle, then its look
     let cell = |out: &mut String, e: usize, look: &str| {
-        let (r, c) = (e / g.cols, e % g.cols);
-        let x0 = g.min[0] + c as f64 * cw;
-        let y1 = g.max[1] - r as f64 * ch;
-        let _ = writeln!(
-            out,
-            r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" {look}/>"#,
-            v.x(x0),
-            v.y(y1),
-            v.len(cw),
-            v.len(ch)
-        );
+        let (r, c) = ((e / g.cols) as f64, (e % g.cols) as f64);
+        let at = v.rect((g.min[0] + c * cw, g.max[1] - r * ch), cw, ch);
+        let _ = writeln!(out, "<rect {at} {look}/>");
     };
     for e in (0..g.num_cells()).filter(|&e| rewards[e] != 0.0) {
         let look = format!(r#"fill="{REWARD}" fill-opacity="{REWARD_OPACITY}""#);
@@ -203,40 +199,24 @@ fn effect_layer(out: &mut String, v: &View, scene: &Scene, overlay: Option<&Over
     }
     let mut d = String::new();
     for c in 0..=g.cols {
-        let x = g.min[0] + c as f64 * cw;
-        let _ = write!(
-            d,
-            "M{:.2},{:.2}V{:.2}",
-            v.x(x),
-            v.y(g.max[1]),
-            v.y(g.min[1])
-        );
+        let (x, top, bottom) = (v.x(g.min[0] + c as f64 * cw), v.y(g.max[1]), v.y(g.min[1]));
+        let _ = write!(d, "M{x:.2},{top:.2}V{bottom:.2}");
     }
     for r in 0..=g.rows {
-        let y = g.max[1] - r as f64 * ch;
-        let _ = write!(
-            d,
-            "M{:.2},{:.2}H{:.2}",
-            v.x(g.min[0]),
-            v.y(y),
-            v.x(g.max[0])
-        );
+        let (left, y, right) = (v.x(g.min[0]), v.y(g.max[1] - r as f64 * ch), v.x(g.max[0]));
+        let _ = write!(d, "M{left:.2},{y:.2}H{right:.2}");
     }
     let _ = writeln!(
         out,
         r##"<path d="{d}" stroke="#b8c4d6" stroke-width="0.8" fill="none"/>"##
     );
     for region in &scene.spec().reward.regions {
+        let (min, max) = (region.min, region.max);
+        let at = v.rect((min.0, max.1), max.0 - min.0, max.1 - min.1);
+        let (x, y, name) = (v.x(min.0) + 3.0, v.y(max.1) + 12.0, esc(&region.name));
         let _ = writeln!(
             out,
-            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="#2e8b57" stroke-width="1.5" stroke-dasharray="5,3"/><text x="{:.2}" y="{:.2}" font-size="11" fill="#2e8b57">{}</text>"##,
-            v.x(region.min.0),
-            v.y(region.max.1),
-            v.len(region.max.0 - region.min.0),
-            v.len(region.max.1 - region.min.1),
-            v.x(region.min.0) + 3.0,
-            v.y(region.max.1) + 12.0,
-            esc(&region.name)
+            r##"<rect {at} fill="none" stroke="#2e8b57" stroke-width="1.5" stroke-dasharray="5,3"/><text x="{x:.2}" y="{y:.2}" font-size="11" fill="#2e8b57">{name}</text>"##
         );
     }
 }
@@ -266,17 +246,11 @@ fn path_layer(out: &mut String, v: &View, overlay: Option<&Overlay>) {
     let s = o.points[0];
     let e = o.points[o.points.len() - 1];
     // the start: a ring around the tracked point, which stays visible in it
+    let (s, e) = (v.centre((s[0], s[1])), v.centre((e[0], e[1])));
     let _ = writeln!(
         out,
-        r##"<circle cx="{:.2}" cy="{:.2}" r="7" fill="none" stroke="{PATH}" stroke-width="2"><title>start of the path</title></circle>"##,
-        v.x(s[0]),
-        v.y(s[1])
-    );
-    let _ = writeln!(
-        out,
-        r##"<circle cx="{:.2}" cy="{:.2}" r="5" fill="{PATH}"><title>end of the path</title></circle>"##,
-        v.x(e[0]),
-        v.y(e[1])
+        r##"<circle {s} r="7" fill="none" stroke="{PATH}" stroke-width="2"><title>start of the path</title></circle>
+<circle {e} r="5" fill="{PATH}"><title>end of the path</title></circle>"##
     );
 }
 
@@ -304,37 +278,31 @@ fn axes(out: &mut String, v: &View, unit: &str) {
     for t in ticks(v.min[0], v.max[0]) {
         let x = v.x(t);
         let _ = write!(d, "M{x:.2},{y0:.2}v5");
+        let (y, label) = (y0 + 18.0, tick_label(t, step));
         let _ = write!(
             labels,
-            r##"<text x="{x:.2}" y="{:.2}" text-anchor="middle">{}</text>"##,
-            y0 + 18.0,
-            tick_label(t, step)
+            r##"<text x="{x:.2}" y="{y:.2}" text-anchor="middle">{label}</text>"##
         );
     }
     for t in ticks(v.min[1], v.max[1]) {
         let y = v.y(t);
         let _ = write!(d, "M{x0:.2},{y:.2}h-5");
+        let (x, y, label) = (x0 - 8.0, y + 4.0, tick_label(t, step));
         let _ = write!(
             labels,
-            r##"<text x="{:.2}" y="{:.2}" text-anchor="end">{}</text>"##,
-            x0 - 8.0,
-            y + 4.0,
-            tick_label(t, step)
+            r##"<text x="{x:.2}" y="{y:.2}" text-anchor="end">{label}</text>"##
         );
     }
     let _ = writeln!(
         out,
         r##"<path class="ticks" d="{d}" stroke="#333" stroke-width="1"/><g class="tick-labels" font-size="12" fill="#333">{labels}</g>"##
     );
+    let (ax, ay) = (LEFT - 48.0, (y0 + y1) / 2.0);
     let _ = writeln!(
         out,
-        r##"<text x="{:.2}" y="{:.2}" font-size="13" fill="#333" text-anchor="middle">x ({unit})</text><text x="{:.2}" y="{:.2}" font-size="13" fill="#333" text-anchor="middle" transform="rotate(-90 {:.2} {:.2})">y ({unit})</text>"##,
+        r##"<text x="{:.2}" y="{:.2}" font-size="13" fill="#333" text-anchor="middle">x ({unit})</text><text x="{ax:.2}" y="{ay:.2}" font-size="13" fill="#333" text-anchor="middle" transform="rotate(-90 {ax:.2} {ay:.2})">y ({unit})</text>"##,
         (x0 + x1) / 2.0,
         y0 + 36.0,
-        LEFT - 48.0,
-        (y0 + y1) / 2.0,
-        LEFT - 48.0,
-        (y0 + y1) / 2.0,
     );
 }
 
@@ -393,20 +361,17 @@ fn legend(out: &mut String, v: &View, keys: &[Key]) {
             y += ROW;
         }
         let (cx, cy) = (x + 7.0, y - 4.0);
+        // the corner of a filled square, and of an outlined one
+        let (fill_y, (out_x, out_y)) = (y - 9.5, (x + 1.0, y - 9.0));
         let swatch = match &k.0 {
             Swatch::Fill(fill, stroke, op) => format!(
-                r#"<rect x="{x:.1}" y="{:.1}" width="14" height="11" fill="{fill}" fill-opacity="{op}" stroke="{stroke}" stroke-opacity="{op}" stroke-width="1"/>"#,
-                y - 9.5
+                r#"<rect x="{x:.1}" y="{fill_y:.1}" width="14" height="11" fill="{fill}" fill-opacity="{op}" stroke="{stroke}" stroke-opacity="{op}" stroke-width="1"/>"#
             ),
             Swatch::Outline(colour) => format!(
-                r#"<rect x="{:.1}" y="{:.1}" width="12" height="10" fill="none" stroke="{colour}" stroke-width="2.5" stroke-dasharray="4,2"/>"#,
-                x + 1.0,
-                y - 9.0
+                r#"<rect x="{out_x:.1}" y="{out_y:.1}" width="12" height="10" fill="none" stroke="{colour}" stroke-width="2.5" stroke-dasharray="4,2"/>"#
             ),
             Swatch::Region => format!(
-                r##"<rect x="{:.1}" y="{:.1}" width="12" height="10" fill="none" stroke="#2e8b57" stroke-width="1.5" stroke-dasharray="3,2"/>"##,
-                x + 1.0,
-                y - 9.0
+                r##"<rect x="{out_x:.1}" y="{out_y:.1}" width="12" height="10" fill="none" stroke="#2e8b57" stroke-width="1.5" stroke-dasharray="3,2"/>"##
             ),
             Swatch::Line(colour, dash) => format!(
                 r#"<path d="M{x:.1},{cy:.1}h14" stroke="{colour}" stroke-width="2"{}/>"#,
@@ -430,11 +395,10 @@ fn legend(out: &mut String, v: &View, keys: &[Key]) {
                 y + 0.5
             ),
         };
+        let (text_x, name) = (x + 20.0, esc(k.1));
         let _ = writeln!(
             out,
-            r#"<g class="key">{swatch}<text x="{:.1}" y="{y:.1}">{}</text></g>"#,
-            x + 20.0,
-            esc(k.1)
+            r#"<g class="key">{swatch}<text x="{text_x:.1}" y="{y:.1}">{name}</text></g>"#
         );
         x += w;
     }

@@ -55,22 +55,13 @@ pub(in crate::report) fn body_svg(
     );
     match shape {
         ShapeSpec::Ball { radius } => {
-            let _ = writeln!(
-                out,
-                r#"<circle cx="{:.2}" cy="{:.2}" r="{:.2}" {style}/>"#,
-                v.x(pos.0),
-                v.y(pos.1),
-                v.len(*radius)
-            );
+            let (c, r) = (v.centre(pos), v.len(*radius));
             // a tick shows the rotation
-            let t = to_world(pos, angle, (*radius, 0.0));
+            let tick = v.segment(pos, to_world(pos, angle, (*radius, 0.0)));
             let _ = writeln!(
                 out,
-                r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{stroke}" stroke-opacity="{opacity}" stroke-width="1.2"/>"#,
-                v.x(pos.0),
-                v.y(pos.1),
-                v.x(t.0),
-                v.y(t.1)
+                r#"<circle {c} r="{r:.2}" {style}/>
+<line {tick} stroke="{stroke}" stroke-opacity="{opacity}" stroke-width="1.2"/>"#
             );
         }
         ShapeSpec::Cuboid { .. } => {
@@ -84,11 +75,8 @@ pub(in crate::report) fn body_svg(
             for (colour, width) in [(stroke, w + 3.0), (fill, w)] {
                 let _ = writeln!(
                     out,
-                    r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{colour}" stroke-opacity="{opacity}" stroke-width="{width:.2}" stroke-linecap="round"/>"#,
-                    v.x(a.0),
-                    v.y(a.1),
-                    v.x(b.0),
-                    v.y(b.1),
+                    r#"<line {} stroke="{colour}" stroke-opacity="{opacity}" stroke-width="{width:.2}" stroke-linecap="round"/>"#,
+                    v.segment(a, b)
                 );
             }
         }
@@ -150,12 +138,8 @@ pub(in crate::report) fn physics_picture(
     }
     // every body at its start pose (fixed bodies opaque)
     let start = p.bodies.iter().map(|b| {
-        let (fill, stroke) = colours(b.kind);
-        let op = if b.kind == BodyKind::Fixed {
-            0.95
-        } else {
-            start_opacity
-        };
+        let ((fill, stroke), fixed) = (colours(b.kind), b.kind == BodyKind::Fixed);
+        let op = if fixed { 0.95 } else { start_opacity };
         (b, b.position, b.angle, Paint(fill, stroke, op))
     });
     bodies_layer(&mut out, &v, start, "");
@@ -164,11 +148,7 @@ pub(in crate::report) fn physics_picture(
         .filter(|_| animated.is_none())
     {
         // the bodies that move, at their terminal poses
-        let moved = p
-            .bodies
-            .iter()
-            .zip(poses)
-            .filter(|(b, _)| b.kind != BodyKind::Fixed);
+        let moved = (p.bodies.iter().zip(poses)).filter(|(b, _)| b.kind != BodyKind::Fixed);
         let end = moved.map(|(b, q)| {
             let position = (q.position[0], q.position[1]);
             (b, position, q.angle, Paint(END_FILL, END_STROKE, 0.9))
@@ -292,11 +272,8 @@ fn mirror_line(out: &mut String, v: &View, sym: Symmetry) {
     };
     let _ = writeln!(
         out,
-        r##"<g><title>mirror line ({sym:?}): one command of each mirror pair is simulated</title><line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{MIRROR}" stroke-width="1.2" stroke-dasharray="{MIRROR_DASH}"/></g>"##,
-        v.x(a.0),
-        v.y(a.1),
-        v.x(b.0),
-        v.y(b.1)
+        r##"<g><title>mirror line ({sym:?}): one command of each mirror pair is simulated</title><line {} stroke="{MIRROR}" stroke-width="1.2" stroke-dasharray="{MIRROR_DASH}"/></g>"##,
+        v.segment(a, b)
     );
 }
 
@@ -325,17 +302,11 @@ fn joints_layer(out: &mut String, v: &View, p: &PhysicsSpec) {
         } else {
             continue;
         };
-        let fill = if j.parent == GROUND {
-            "#2e323b"
-        } else {
-            "#ffffff"
-        };
+        let fill = ["#ffffff", "#2e323b"][usize::from(j.parent == GROUND)];
+        let (c, name) = (v.centre(at), esc(&j.name));
         let _ = writeln!(
             out,
-            r##"<circle cx="{:.2}" cy="{:.2}" r="4" fill="{fill}" stroke="#2e323b" stroke-width="1.5"><title>{}</title></circle>"##,
-            v.x(at.0),
-            v.y(at.1),
-            esc(&j.name)
+            r##"<circle {c} r="4" fill="{fill}" stroke="#2e323b" stroke-width="1.5"><title>{name}</title></circle>"##
         );
     }
 }
@@ -347,9 +318,8 @@ fn tracked_start(out: &mut String, v: &View, p: &PhysicsSpec) {
         let t = to_world(b.position, b.angle, point);
         let _ = writeln!(
             out,
-            r##"<circle cx="{:.2}" cy="{:.2}" r="3.5" fill="{TRACKED}"><title>tracked point</title></circle>"##,
-            v.x(t.0),
-            v.y(t.1)
+            r##"<circle {} r="3.5" fill="{TRACKED}"><title>tracked point</title></circle>"##,
+            v.centre(t)
         );
     }
 }
@@ -367,20 +337,16 @@ pub fn describe_effect(p: &PhysicsSpec) -> String {
                 point,
                 frame,
                 grid,
-            } => format!(
-                "point ({}, {}) of `{body}`{} ({} x {} cells over [{}, {}] x [{}, {}] m)",
-                point.0,
-                point.1,
-                frame
-                    .as_ref()
-                    .map_or(String::new(), |f| format!(" in the frame of `{f}`")),
-                grid.rows,
-                grid.cols,
-                grid.min[0],
-                grid.max[0],
-                grid.min[1],
-                grid.max[1]
-            ),
+            } => {
+                let frame = frame.as_ref().map(|f| format!(" in the frame of `{f}`"));
+                let ([x0, y0], [x1, y1], (x, y)) = (grid.min, grid.max, point);
+                format!(
+                    "point ({x}, {y}) of `{body}`{} ({} x {} cells over [{x0}, {x1}] x [{y0}, {y1}] m)",
+                    frame.unwrap_or_default(),
+                    grid.rows,
+                    grid.cols,
+                )
+            }
             Feature::Joint { joint, bins, range } => {
                 let unit = p.joint(joint).map_or("", |j| j.kind.unit());
                 format!(

@@ -28,12 +28,12 @@ pub(super) fn heat_axis_label(param: &str, values: &[f64]) -> String {
 
 /// Viridis, by linear interpolation between five of its colours.
 pub(super) fn viridis(t: f64) -> RGBColor {
-    const C: [(f64, f64, f64); 5] = [
-        (68.0, 1.0, 84.0),
-        (59.0, 82.0, 139.0),
-        (33.0, 145.0, 140.0),
-        (94.0, 201.0, 98.0),
-        (253.0, 231.0, 37.0),
+    const C: [[f64; 3]; 5] = [
+        [68.0, 1.0, 84.0],
+        [59.0, 82.0, 139.0],
+        [33.0, 145.0, 140.0],
+        [94.0, 201.0, 98.0],
+        [253.0, 231.0, 37.0],
     ];
     let t = if t.is_finite() {
         t.clamp(0.0, 1.0)
@@ -42,12 +42,8 @@ pub(super) fn viridis(t: f64) -> RGBColor {
     } * 4.0;
     let i = (t.floor() as usize).min(3);
     let f = t - i as f64;
-    let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
-    RGBColor(
-        mix(C[i].0, C[i + 1].0),
-        mix(C[i].1, C[i + 1].1),
-        mix(C[i].2, C[i + 1].2),
-    )
+    let [r, g, b] = [0, 1, 2].map(|j| (C[i][j] + (C[i + 1][j] - C[i][j]) * f).round() as u8);
+    RGBColor(r, g, b)
 }
 
 /// The sweep's swept values and the metric's mean at each: the columns
@@ -168,16 +164,11 @@ fn draw_cells(
                 Some(t) => viridis(t).filled(),
                 None => RGBColor(230, 230, 230).filled(),
             };
-            chart.draw_series(std::iter::once(Rectangle::new(
-                [(x, y), (x + 1.0, y + 1.0)],
-                fill,
-            )))?;
+            chart.draw_series([Rectangle::new([(x, y), (x + 1.0, y + 1.0)], fill)])?;
             let label = v.map(short).unwrap_or_else(|| "-".into());
             let color = if t.unwrap_or(1.0) < 0.6 { WHITE } else { BLACK };
-            let style = TextStyle::from((FONT, 18).into_font())
-                .color(&color)
-                .pos(Pos::new(HPos::Center, VPos::Center));
-            chart.draw_series(std::iter::once(Text::new(label, (x + 0.5, y + 0.5), style)))?;
+            let style = text_style(18, &color, HPos::Center, VPos::Center);
+            chart.draw_series([Text::new(label, (x + 0.5, y + 0.5), style)])?;
         }
     }
     Ok(())
@@ -188,16 +179,12 @@ fn draw_cells(
 fn draw_ticks(left: &Area<'_>, chart: &Chart<'_, '_>, grid: &HeatGrid) -> Drawn {
     for (i, v) in grid.xv.iter().enumerate() {
         let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
-        let style = TextStyle::from((FONT, 17).into_font())
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Center, VPos::Top));
+        let style = text_style(17, &BLACK, HPos::Center, VPos::Top);
         left.draw(&Text::new(significant(*v, 3), (px, py + 6), style))?;
     }
     for (j, v) in grid.yv.iter().enumerate() {
         let (px, py) = chart.backend_coord(&(0.0, j as f64 + 0.5));
-        let style = TextStyle::from((FONT, 17).into_font())
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Right, VPos::Center));
+        let style = text_style(17, &BLACK, HPos::Right, VPos::Center);
         left.draw(&Text::new(significant(*v, 3), (px - 6, py), style))?;
     }
     Ok(())
@@ -206,11 +193,8 @@ fn draw_ticks(left: &Area<'_>, chart: &Chart<'_, '_>, grid: &HeatGrid) -> Drawn 
 /// The colour bar on `right`: titled `mean`, viridis in 100 steps from
 /// `vmin` to `vmin + span`, with its value axis.
 fn draw_colour_bar(right: &Area<'_>, vmin: f64, span: f64) -> Drawn {
-    right.draw(&Text::new(
-        "mean",
-        (12, 22),
-        (FONT, 18).into_font().color(&BLACK),
-    ))?;
+    let style = text_style(18, &BLACK, HPos::Left, VPos::Top);
+    right.draw(&Text::new("mean", (12, 22), style))?;
     let mut bar = ChartBuilder::on(right)
         .margin_top(50)
         .margin_bottom(65)
@@ -223,14 +207,5 @@ fn draw_colour_bar(right: &Area<'_>, vmin: f64, span: f64) -> Drawn {
         .label_style((FONT, 16))
         .y_label_formatter(&|v: &f64| short(*v))
         .draw()?;
-    let steps = 100;
-    bar.draw_series((0..steps).map(|k| {
-        let a = vmin + span * k as f64 / steps as f64;
-        let b = vmin + span * (k + 1) as f64 / steps as f64;
-        Rectangle::new(
-            [(0.0, a), (1.0, b)],
-            viridis(k as f64 / (steps - 1) as f64).filled(),
-        )
-    }))?;
-    Ok(())
+    colour_steps(&mut bar, (vmin, span), |k, _, _| viridis(k as f64 / 99.0))
 }

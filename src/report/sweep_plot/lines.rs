@@ -33,26 +33,19 @@ pub(super) fn line_series(
         let key: Vec<&str> = varying.iter().map(|&c| r[c].as_str()).collect();
         let key = key.join(",");
         let Some(mean) = num(&r[mi]) else { continue };
-        let x = if r[xi].is_empty() {
-            f64::NAN
-        } else {
-            match num(&r[xi]) {
-                Some(x) => x,
-                None => return err(format!("{} = `{}` is not a number", KEY_COLUMNS[xi], r[xi])),
-            }
+        let x = match num(&r[xi]) {
+            _ if r[xi].is_empty() => f64::NAN,
+            Some(x) => x,
+            None => return err(format!("{} = `{}` is not a number", KEY_COLUMNS[xi], r[xi])),
         };
         let p = (x, mean, num(&r[lo]), num(&r[hi]));
         match keys.iter().position(|k| *k == key) {
             Some(i) => series[i].points.push(p),
             None => {
-                let label = series_label(r, &named);
+                let label = Some(series_label(r, &named)).filter(|l| !l.is_empty());
                 keys.push(key);
                 series.push(Series {
-                    label: if label.is_empty() {
-                        "all".into()
-                    } else {
-                        label
-                    },
+                    label: label.unwrap_or_else(|| "all".into()),
                     points: vec![p],
                 });
             }
@@ -224,6 +217,10 @@ fn draw_x_ticks(
     (y0, y1): (f64, f64),
     x_fmt: &dyn Fn(f64) -> String,
 ) -> Drawn {
+    let grid = |t: f64, grey: u8| {
+        let colour = RGBColor(grey, grey, grey);
+        [PathElement::new(vec![(t, y0), (t, y1)], colour)]
+    };
     // a log axis: light lines at 2..9 times each decade
     if log {
         let (a, b) = (x0.floor() as i32, x1.ceil() as i32);
@@ -231,10 +228,7 @@ fn draw_x_ticks(
             for m in 2..=9 {
                 let t = (m as f64 * 10f64.powi(k)).log10();
                 if t > x0 && t < x1 && !ticks.iter().any(|u| (u - t).abs() < 1e-9) {
-                    chart.draw_series(std::iter::once(PathElement::new(
-                        vec![(t, y0), (t, y1)],
-                        RGBColor(242, 242, 242),
-                    )))?;
+                    chart.draw_series(grid(t, 242))?;
                 }
             }
         }
@@ -242,15 +236,10 @@ fn draw_x_ticks(
     // the x ticks, drawn by hand: decades (or 1-2-5) on a log axis,
     // round numbers on a linear one; the swept values are the markers
     for &t in ticks {
-        chart.draw_series(std::iter::once(PathElement::new(
-            vec![(t, y0), (t, y1)],
-            RGBColor(215, 215, 215),
-        )))?;
+        chart.draw_series(grid(t, 215))?;
         let (px, py) = chart.backend_coord(&(t, y0));
         top.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))?;
-        let style = TextStyle::from((FONT, 17).into_font())
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Center, VPos::Top));
+        let style = text_style(17, &BLACK, HPos::Center, VPos::Top);
         top.draw(&Text::new(x_fmt(t), (px, py + 8), style))?;
     }
     Ok(())
@@ -273,32 +262,21 @@ fn draw_series(
             // a learner that does not use x: a dashed line across
             let p = s.points[0];
             if let (Some(l), Some(u)) = (p.2, p.3) {
-                chart.draw_series(std::iter::once(Rectangle::new(
-                    [(x0, l), (x1, u)],
-                    c.mix(0.12).filled(),
-                )))?;
+                chart.draw_series([Rectangle::new([(x0, l), (x1, u)], c.mix(0.12).filled())])?;
             }
-            chart.draw_series(DashedLineSeries::new(
-                vec![(x0, p.1), (x1, p.1)],
-                12,
-                6,
-                c.stroke_width(2),
-            ))?;
+            let across = vec![(x0, p.1), (x1, p.1)];
+            chart.draw_series(DashedLineSeries::new(across, 12, 6, c.stroke_width(2)))?;
             continue;
         }
-        let band: Vec<(f64, f64, f64)> = pts
-            .iter()
+        let band: Vec<(f64, f64, f64)> = (pts.iter())
             .filter_map(|p| Some((tx(p.0), p.2?, p.3?)))
             .collect();
         if band.len() >= 2 {
             let mut poly: Vec<(f64, f64)> = band.iter().map(|b| (b.0, b.1)).collect();
             poly.extend(band.iter().rev().map(|b| (b.0, b.2)));
-            chart.draw_series(std::iter::once(Polygon::new(poly, c.mix(0.15).filled())))?;
+            chart.draw_series([Polygon::new(poly, c.mix(0.15).filled())])?;
         } else if let Some(&(x, l, u)) = band.first() {
-            chart.draw_series(std::iter::once(PathElement::new(
-                vec![(x, l), (x, u)],
-                c.stroke_width(2),
-            )))?;
+            chart.draw_series([PathElement::new(vec![(x, l), (x, u)], c.stroke_width(2))])?;
         }
         let line: Vec<(f64, f64)> = pts.iter().map(|p| (tx(p.0), p.1)).collect();
         if st.dashed {
@@ -338,9 +316,7 @@ fn draw_legend(bottom: &Area<'_>, series: &[Series], cols: u32, col_w: u32) -> D
         if !flat {
             draw_marker(bottom, (x + 15, y), st)?;
         }
-        let style = TextStyle::from((FONT, 16).into_font())
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Left, VPos::Center));
+        let style = text_style(16, &BLACK, HPos::Left, VPos::Center);
         bottom.draw(&Text::new(s.label.clone(), (x + 38, y), style))?;
     }
     Ok(())

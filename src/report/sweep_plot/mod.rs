@@ -14,7 +14,7 @@
 //! assert!(svg.starts_with("<svg") && svg.contains("uniform"));
 //! ```
 
-use super::svg::{plotted, Area, Drawn};
+use super::svg::{colour_steps, plotted, text_style, Area, Chart, Drawn};
 use crate::csv::Summary;
 use crate::learner::Params;
 use crate::scene::did_you_mean;
@@ -26,11 +26,7 @@ mod lines;
 
 use heat::draw_heat;
 use lines::{draw_lines, line_series};
-use plotters::coord::types::RangedCoordf64;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
-
-/// The chart of a line plot or a heat map, in SVG.
-type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+use plotters::style::text_anchor::{HPos, VPos};
 
 /// A figure that cannot be drawn: why, and what was expected.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -82,17 +78,11 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
     // a summary read by `Summary::parse` has every parameter's column and
     // rows of the header's length; one built in code may not
     let columns = summary.columns.len();
-    if let Some((i, r)) = summary
-        .rows
-        .iter()
-        .enumerate()
-        .find(|(_, r)| r.len() != columns)
-    {
+    let mut widths = summary.rows.iter().map(Vec::len).enumerate();
+    if let Some((i, fields)) = widths.find(|&(_, n)| n != columns) {
+        let row = i + 1;
         return err(format!(
-            "row {} of the summary has {} fields, expected {} (one per column)",
-            i + 1,
-            r.len(),
-            columns
+            "row {row} of the summary has {fields} fields, expected {columns} (one per column)"
         ));
     }
     let check_param = |p: &str| -> Result<usize, PlotError> {
@@ -135,15 +125,8 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
         }
         Some(yi) => {
             let rows = one_setting(rows, xi, yi, spec)?;
-            draw_heat(
-                &title,
-                &spec.x,
-                spec.y.as_deref().unwrap_or_default(),
-                rows,
-                xi,
-                yi,
-                mi,
-            )
+            let y = spec.y.as_deref().unwrap_or_default();
+            draw_heat(&title, &spec.x, y, rows, xi, yi, mi)
         }
     }
 }
@@ -171,12 +154,12 @@ fn filtered_rows<'a>(
         rows.retain(|r| r[ci] == *v || (is_param && r[ci].is_empty()));
         if rows.is_empty() {
             let seen = distinct(before.iter().map(|r| r[ci].as_str()));
+            let seen: Vec<&str> = (seen.iter())
+                .map(|&s| if s.is_empty() { "(empty)" } else { s })
+                .collect();
             return err(format!(
                 "--where {k}={v}: no cell left; `{k}` takes the values: {}",
-                seen.iter()
-                    .map(|s| if s.is_empty() { "(empty)" } else { s })
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                seen.join(", ")
             ));
         }
     }
@@ -380,28 +363,15 @@ fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
 #[derive(Clone, Copy)]
 struct Style {
     colour: RGBColor,
-    marker: Marker,
+    /// A circle, a square, a triangle or a diamond (0 to 3).
+    marker: usize,
     dashed: bool,
 }
 
-#[derive(Clone, Copy, PartialEq, Debug)]
-enum Marker {
-    Circle,
-    Square,
-    Triangle,
-    Diamond,
-}
-
 fn style(i: usize) -> Style {
-    let markers = [
-        Marker::Circle,
-        Marker::Square,
-        Marker::Triangle,
-        Marker::Diamond,
-    ];
     Style {
         colour: PALETTE[i % PALETTE.len()],
-        marker: markers[(i / PALETTE.len()) % markers.len()],
+        marker: (i / PALETTE.len()) % 4,
         dashed: (i / PALETTE.len()) % 2 == 1,
     }
 }
@@ -414,13 +384,13 @@ fn draw_marker<DB: DrawingBackend>(
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     let c = st.colour.filled();
     match st.marker {
-        Marker::Circle => area.draw(&Circle::new((x, y), 4, c)),
-        Marker::Square => area.draw(&Rectangle::new([(x - 4, y - 4), (x + 4, y + 4)], c)),
-        Marker::Triangle => area.draw(&Polygon::new(
+        0 => area.draw(&Circle::new((x, y), 4, c)),
+        1 => area.draw(&Rectangle::new([(x - 4, y - 4), (x + 4, y + 4)], c)),
+        2 => area.draw(&Polygon::new(
             vec![(x, y - 5), (x + 5, y + 4), (x - 5, y + 4)],
             c,
         )),
-        Marker::Diamond => area.draw(&Polygon::new(
+        _ => area.draw(&Polygon::new(
             vec![(x, y - 5), (x + 5, y), (x, y + 5), (x - 5, y)],
             c,
         )),
@@ -490,7 +460,7 @@ mod tests {
 
     #[test]
     fn styles_differ_past_the_ten_colours() {
-        let all: Vec<(RGBColor, Marker, bool)> = (0..40)
+        let all: Vec<(RGBColor, usize, bool)> = (0..40)
             .map(|i| {
                 let s = style(i);
                 (s.colour, s.marker, s.dashed)

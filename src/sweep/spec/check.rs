@@ -107,11 +107,8 @@ impl SweepSpec {
         }
         // the parameters fixed for every cell
         if let Err(e) = self.params.fixed(Params::TASK1).validate() {
-            return Err(bad(
-                e.name,
-                None,
-                &format!("{}, found {}", e.expected, e.value),
-            ));
+            let expected = format!("{}, found {}", e.expected, e.value);
+            return Err(bad(e.name, None, &expected));
         }
         Ok(axes)
     }
@@ -129,22 +126,16 @@ impl SweepSpec {
         for (i, m) in metrics.iter().enumerate() {
             if let MetricSpec::CumulativeReward(t) = *m {
                 if t == 0 || t > self.trials {
-                    return Err(bad(
-                        "metrics",
-                        Some("cumulative_reward"),
-                        &format!(
-                            "cumulative_reward(T) with T in 1..={} (the trials), found {t}",
-                            self.trials
-                        ),
-                    ));
+                    let trials = self.trials;
+                    let expected = format!(
+                        "cumulative_reward(T) with T in 1..={trials} (the trials), found {t}"
+                    );
+                    return Err(bad("metrics", Some("cumulative_reward"), &expected));
                 }
             }
             if metrics[..i].contains(m) {
-                return Err(bad(
-                    "metrics",
-                    None,
-                    &format!("each metric once, but `{}` appears twice", m.column()),
-                ));
+                let twice = format!("each metric once, but `{}` appears twice", m.column());
+                return Err(bad("metrics", None, &twice));
             }
         }
         Ok(metrics)
@@ -192,11 +183,8 @@ fn param_axis(name: &str, i: usize, v: &Values, bad: &Bad) -> Result<Vec<f64>, S
     let mut seen = std::collections::HashSet::with_capacity(values.len());
     for x in &values {
         if !x.is_nan() && !seen.insert((x + 0.0).to_bits()) {
-            return Err(bad(
-                name,
-                None,
-                &format!("distinct values, but {x} appears twice"),
-            ));
+            let twice = format!("distinct values, but {x} appears twice");
+            return Err(bad(name, None, &twice));
         }
         let mut p = Params::TASK1;
         set_param(&mut p, i, *x);

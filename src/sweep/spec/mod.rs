@@ -85,11 +85,6 @@ pub enum MetricSpec {
 }
 
 impl MetricSpec {
-    /// The start context of a per-context metric.
-    pub fn context(&self) -> Option<usize> {
-        self.per_context().map(|(_, i)| i)
-    }
-
     /// A per-context metric's name without its context (`name(I)` in a
     /// sweep file, `name_I` as a column), and its context.
     pub fn per_context(&self) -> Option<(&'static str, usize)> {
@@ -456,39 +451,26 @@ impl SweepSpec {
     pub fn to_ron(&self) -> String {
         let string = |s: &str| ron::to_string(s).unwrap_or_else(|_| format!("{s:?}"));
         let mut out = String::from("Sweep(\n");
-        if !self.name.is_empty() {
-            out.push_str(&format!("    name: {},\n", string(&self.name)));
-        }
-        if !self.description.is_empty() {
-            out.push_str(&format!(
-                "    description: {},\n",
-                string(&self.description)
-            ));
+        for (field, text) in [("name", &self.name), ("description", &self.description)] {
+            if !text.is_empty() {
+                out.push_str(&format!("    {field}: {},\n", string(text)));
+            }
         }
         let scenes: Vec<String> = self.scenes.iter().map(|s| string(s)).collect();
         out.push_str(&format!("    scenes: [{}],\n", scenes.join(", ")));
         out.push_str(&format!("    learners: [{}],\n", self.learners.join(", ")));
         let use_reward: Vec<String> = self.use_reward.iter().map(bool::to_string).collect();
         out.push_str(&format!("    use_reward: [{}],\n", use_reward.join(", ")));
-        let mut params: Vec<String> = Params::SWEPT
-            .iter()
-            .filter_map(|name| {
-                let v = self.params.get(name)?;
-                Some(format!("        {name}: {},\n", v.to_ron()))
-            })
+        let params: Vec<String> = (self.params.given_text().into_iter())
+            .map(|(name, v)| format!("        {name}: {v},\n"))
             .collect();
-        params.extend(
-            self.params
-                .fixed_text()
-                .into_iter()
-                .map(|(name, v)| format!("        {name}: {v},\n")),
-        );
         if !params.is_empty() {
             out.push_str(&format!("    params: (\n{}    ),\n", params.concat()));
         }
-        out.push_str(&format!("    sessions: {},\n", self.sessions));
-        out.push_str(&format!("    trials: {},\n", self.trials));
-        out.push_str(&format!("    seed: {},\n", self.seed));
+        let (sessions, trials, seed) = (self.sessions, self.trials, self.seed);
+        out.push_str(&format!(
+            "    sessions: {sessions},\n    trials: {trials},\n    seed: {seed},\n"
+        ));
         if let Some(metrics) = &self.metrics {
             let m: Vec<String> = metrics
                 .iter()

@@ -109,13 +109,10 @@ impl Values {
     /// ```
     pub fn to_ron(&self) -> String {
         match self {
-            Values::List(v) => format!(
-                "[{}]",
-                v.iter()
-                    .map(|x| format!("{x:?}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
+            Values::List(v) => {
+                let v: Vec<String> = v.iter().map(|x| format!("{x:?}")).collect();
+                format!("[{}]", v.join(", "))
+            }
             Values::Range {
                 scale,
                 from,
@@ -130,18 +127,6 @@ impl From<f64> for Values {
     /// One value.
     fn from(v: f64) -> Values {
         Values::List(vec![v])
-    }
-}
-
-impl From<Vec<f64>> for Values {
-    fn from(v: Vec<f64>) -> Values {
-        Values::List(v)
-    }
-}
-
-impl<const N: usize> From<[f64; N]> for Values {
-    fn from(v: [f64; N]) -> Values {
-        Values::List(v.to_vec())
     }
 }
 
@@ -171,12 +156,8 @@ impl<'de> Deserialize<'de> for Values {
             fn visit_u64<E: de::Error>(self, v: u64) -> Result<Values, E> {
                 Ok(Values::List(vec![v as f64]))
             }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut s: A) -> Result<Values, A::Error> {
-                let mut v = Vec::new();
-                while let Some(x) = s.next_element::<f64>()? {
-                    v.push(x);
-                }
-                Ok(Values::List(v))
+            fn visit_seq<A: SeqAccess<'de>>(self, s: A) -> Result<Values, A::Error> {
+                Vec::deserialize(de::value::SeqAccessDeserializer::new(s)).map(Values::List)
             }
             fn visit_map<A: MapAccess<'de>>(self, mut m: A) -> Result<Values, A::Error> {
                 let (mut scale, mut from, mut to, mut steps) = (None, None, None, None);
@@ -260,21 +241,16 @@ impl ParamValues {
         }
     }
 
-    pub(super) fn fixed_text(&self) -> Vec<(&'static str, String)> {
-        let mut out = Vec::new();
-        if let Some(k) = self.k {
-            out.push(("k", k.to_string()));
-        }
-        for (name, v) in [
-            ("sigma", self.sigma),
-            ("rarity", self.rarity),
-            ("goal_progress", self.goal_progress),
-        ] {
-            if let Some(v) = v {
-                out.push((name, format!("{v:?}")));
-            }
-        }
-        out
+    /// Each parameter given, as a sweep file writes it: the swept ones,
+    /// then the fixed ones.
+    pub(super) fn given_text(&self) -> Vec<(&'static str, String)> {
+        let swept = (Params::SWEPT.into_iter()).filter_map(|n| Some((n, self.get(n)?.to_ron())));
+        let k = self.k.map(|k| ("k", k.to_string()));
+        let f = [self.sigma, self.rarity, self.goal_progress];
+        let floats = ["sigma", "rarity", "goal_progress"].into_iter().zip(f);
+        (swept.chain(k))
+            .chain(floats.filter_map(|(name, v)| Some((name, format!("{:?}", v?)))))
+            .collect()
     }
 
     pub(crate) fn get(&self, name: &str) -> Option<&Values> {
