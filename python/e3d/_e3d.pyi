@@ -30,7 +30,6 @@ from e3d._results import (
     EpisodeRecord,
     Motion,
     Outcome,
-    SessionBatch,
     SessionRecord,
 )
 from e3d._types import (
@@ -55,7 +54,6 @@ __all__ = [
     "World",
     "__version__",
     "_run_episodes",
-    "_run_session",
     "_run_sessions",
     "merge_sweeps",
     "run_sweep",
@@ -274,17 +272,12 @@ class SessionRng:
         """Pickling: the generator's state (a copy draws what it draws next)."""
     def __setstate__(self, state: tuple[str, bool]) -> None: ...
 
-def _run_session(
-    scene: SceneLike, learner: Any, trials: int, seed: int, use_reward: bool,
-    params: dict[str, float], outcomes: Optional[str], table_cache: Optional[PathLike_],
-    progress: Optional[Progress], target: Optional[TargetLike], on_trials: Any, every: int,
-) -> SessionRecord: ...
-
 def _run_sessions(
-    scene: SceneLike, learner: Any, trials: int, seeds: Sequence[int], use_reward: bool,
-    params: dict[str, float], outcomes: Optional[str], table_cache: Optional[PathLike_],
-    progress: Optional[Progress], target: Optional[TargetLike],
-) -> SessionBatch: ...
+    scene: SceneLike, learner: Any, trials: int, seeds: Sequence[int], one: bool,
+    use_reward: bool, params: dict[str, float], outcomes: Optional[str],
+    table_cache: Optional[PathLike_], progress: Optional[Progress], target: Optional[TargetLike],
+    on_trials: Any, every: int,
+) -> list[SessionRecord]: ...
 
 def _run_episodes(
     scene: SceneLike, episodes: int, commands: Optional[int], seeds: Sequence[int], one: bool,

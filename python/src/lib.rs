@@ -53,7 +53,6 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "SimulationError",
         m.py().get_type::<errors::SimulationError>(),
     )?;
-    m.add_function(wrap_pyfunction!(session::_run_session, m)?)?;
     m.add_function(wrap_pyfunction!(session::_run_sessions, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::merge_sweeps, m)?)?;

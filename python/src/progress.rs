@@ -72,7 +72,7 @@ impl Watch {
 }
 
 /// Refuses a `progress` that cannot be called, before any work.
-fn check_callable(progress: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+pub(crate) fn check_callable(progress: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
     match progress {
         Some(p) if !p.is_callable() => Err(pyo3::exceptions::PyTypeError::new_err(format!(
             "progress: expected a callable, progress(done, total), found {}",

@@ -184,23 +184,3 @@ pub(crate) fn record_to_py(
     let class = result_class(py, "SessionRecord")?;
     Ok(class.call1(state.cast_into::<PyTuple>()?)?.unbind())
 }
-
-/// Sessions of one scene run together (`run_sessions`), one per seed, as a
-/// `SessionBatch`: their arrays stacked, one row a session.
-pub(crate) fn batch_to_py(
-    py: Python<'_>,
-    scene: &PyScene,
-    learner: &str,
-    seeds: &[u64],
-    rows: Vec<Rows>,
-    execution: String,
-) -> PyResult<Py<PyAny>> {
-    let records = seeds
-        .iter()
-        .zip(rows)
-        .map(|(&seed, r)| record_to_py(py, scene, learner, seed, r, execution.clone()))
-        .collect::<PyResult<Vec<_>>>()?;
-    let batch =
-        result_class(py, "SessionBatch")?.call_method1("_stack", (seeds.to_vec(), records))?;
-    Ok(batch.unbind())
-}
