@@ -5,7 +5,7 @@ from typing import Any, Callable, Iterator, Optional, Sequence, Union, final, ov
 
 import numpy as np
 import numpy.typing as npt
-from typing_extensions import disjoint_base
+from typing_extensions import Self, disjoint_base
 
 __version__: str
 E3D_VERSION: str
@@ -44,7 +44,6 @@ from e3d._types import (
 
 __all__ = [
     "E3D_VERSION",
-    "E3dLearner",
     "EpisodeWorld",
     "Learner",
     "Scene",
@@ -52,6 +51,7 @@ __all__ = [
     "SessionRng",
     "SimulationError",
     "World",
+    "_E3dLearner",
     "__version__",
     "_run_episodes",
     "_run_sessions",
@@ -222,40 +222,23 @@ class Learner:
     def from_bytes(data: bytes) -> Learner: ...
     def __reduce__(self) -> tuple[Any, ...]: ...
 
-@final
-class E3dLearner(Learner):
-    """An E3D learner (a ``Learner`` of kind ``"e3d"``) whose Q table,
-    policy and effect model also read and write per slot."""
+class _E3dLearner(Learner):
+    """The native base of ``e3d.E3dLearner``: a ``Learner`` holding E3D."""
 
     def __new__(
         cls,
-        scene: SceneLike,
+        scene: Union[SceneLike, bytes],
         alpha: float = 0.3,
         beta: float = 1.0,
         lambda_: float = 0.03,
         eta: float = 0.01,
         target: Optional[TargetLike] = None,
-    ) -> E3dLearner: ...
-    @property
-    def alphabet_sizes(self) -> list[int]: ...
-    @property
-    def num_effects(self) -> int: ...
+    ) -> Self: ...
     @property
     def beta(self) -> float: ...
-    @property
-    def q(self) -> list[npt.NDArray[np.float64]]: ...
-    @q.setter
-    def q(self, value: Sequence[Sequence[float]]) -> None: ...
     def set_q(self, slot: int, q: Sequence[float]) -> None: ...
-    @property
-    def policy(self) -> list[npt.NDArray[np.float64]]: ...
     def set_policy(self, slot: int, probs: Sequence[float]) -> None: ...
-    @property
-    def effect_model(self) -> npt.NDArray[np.float64]: ...
-    @effect_model.setter
-    def effect_model(self, value: Sequence[float]) -> None: ...
-    @staticmethod
-    def from_bytes(data: bytes) -> E3dLearner: ...
+    def _set_effect_model(self, effect_model: Sequence[float]) -> None: ...
 
 @final
 class SessionRng:

@@ -178,7 +178,7 @@ impl PyLearnerState {
         PyBytes::new(py, &self.held.state().to_bytes())
     }
 
-    /// A learner from the bytes of `to_bytes` (or of `E3dLearner.to_bytes`),
+    /// A learner from the bytes of `to_bytes` (an `E3dLearner`'s too),
     /// whatever its kind (`ValueError` saying what is wrong if they are not).
     #[staticmethod]
     fn from_bytes(data: &[u8]) -> PyResult<PyLearnerState> {
@@ -187,20 +187,15 @@ impl PyLearnerState {
         })
     }
 
-    /// Pickling: the bytes of `to_bytes`, read back by the class's
-    /// `from_bytes` (an `E3dLearner` comes back as one); an instance of a
-    /// Python subclass comes back as one of that class, its `__dict__`
-    /// with it (`copyreg.__newobj__(cls, data)`, then the dict).
+    /// Pickling: the bytes of `to_bytes`, read back by `from_bytes`; an
+    /// instance of a subclass (`E3dLearner` too) comes back as one of that
+    /// class, its `__dict__` with it (`copyreg.__newobj__(cls, data)`, then
+    /// the dict).
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
         let py = slf.py();
         let data = slf.borrow().to_bytes(py).into_any();
         let ty = slf.get_type();
-        // the extension's own classes (Learner, E3dLearner), read back
-        // by their own from_bytes; not a Python subclass
-        let own = ty.is(py.get_type::<PyLearnerState>())
-            || (ty.module()?.extract::<String>()? == "e3d"
-                && ty.name()?.extract::<String>()? == "E3dLearner");
-        if own {
+        if ty.is(py.get_type::<PyLearnerState>()) {
             let f = ty.getattr("from_bytes")?;
             return PyTuple::new(py, [f, PyTuple::new(py, [data])?.into_any()]);
         }
@@ -268,7 +263,7 @@ impl PyLearnerState {
         let py = value.py();
         let array = py
             .import("numpy")?
-            .call_method1("asarray", (value, "float64"))
+            .call_method1("asarray", (value, "float64", "C"))
             .and_then(|a| Ok(a.cast_into::<PyArrayDyn<f64>>()?))
             .map_err(|_| {
                 PyValueError::new_err(format!("learner['{name}']: expected an array of numbers"))
@@ -280,9 +275,7 @@ impl PyLearnerState {
                 PyTuple::new(py, array.shape())?.repr()?
             )));
         }
-        let values = array.to_vec().or_else(|_| {
-            Ok::<_, PyErr>(array.to_owned_array().iter().copied().collect::<Vec<f64>>())
-        })?;
+        let values = array.to_vec()?;
         self.held
             .state_mut()
             .set_table(name, &values)
