@@ -36,10 +36,6 @@ pub struct Watch {
 }
 
 impl Watch {
-    pub fn new() -> Watch {
-        Watch::default()
-    }
-
     /// Adds `n` units done.
     pub fn add(&self, n: u64) {
         self.done.fetch_add(n, Ordering::Relaxed);

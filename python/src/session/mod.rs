@@ -222,7 +222,7 @@ fn executor<'s>(
     scene: &'s e3d::Scene,
     run: &Run<'_, '_>,
 ) -> PyResult<Executor<'s>> {
-    let exec = watched(py, None, 0, &Watch::new(), |w| {
+    let exec = watched(py, None, 0, &Watch::default(), |w| {
         let stop = || w.cancelled();
         let control = e3d::Control {
             stop: &stop,
@@ -263,7 +263,7 @@ fn run_builtin(
         run_here(py, &exec, run, &mut tap, &error)?
     } else {
         let mut records = new_records(&exec, run.configs);
-        let status = watched(py, run.progress, run.work.trials, &Watch::new(), |w| {
+        let status = watched(py, run.progress, run.work.trials, &Watch::default(), |w| {
             w.control(|c| e3d::run_sessions(&exec, &mut learners, run.configs, &mut records, c))
         })?;
         first_failure(status)?;

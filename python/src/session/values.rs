@@ -72,7 +72,7 @@ pub(super) fn run_values(
         .iter()
         .map(|c| ValueSessionRecord::new(slots, inner.num_effects(), c.trials))
         .collect();
-    let status = watched(py, run.progress, run.work.trials, &Watch::new(), |w| {
+    let status = watched(py, run.progress, run.work.trials, &Watch::default(), |w| {
         w.control(|c| e3d::run_sessions(&exec, &mut learners, run.configs, &mut records, c))
     })?;
     for ((s, r), l) in status.into_iter().zip(&mut records).zip(&learners) {
