@@ -3,15 +3,18 @@
 //! [`LearnerState`], and run by `run_session(learner=...)`, which
 //! continues from it.
 
+use crate::contextual::{commands_arg, context_targets, observe_arg};
 use crate::errors::checked;
 use crate::held::{bad, Held};
 use crate::learn_args::{
     bad_command, check_effect, context_arg, effect_reward, free_outcome, symbols_of,
 };
 use crate::scene::{scene_of, target_arg, PyScene};
+use e3d::episode::EpisodeConfig;
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::StateShape;
-use e3d::{LearnerKind, Params};
+use e3d::learner::{ClosedLoopE3d, ContextTargets, QLearning};
+use e3d::{LearnerKind, Params, Target};
 use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -138,17 +141,55 @@ impl PyLearnerState {
             epsilon,
             ..Params::TASK1
         })?;
-        let held = crate::contextual::contextual_held(
-            &scene,
-            kind,
-            commands,
-            closed_loop,
-            observe,
-            gamma,
-            &params,
-            target,
-            targets,
-        )?;
+        scene.require_symbols("Learner.contextual")?;
+        let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
+        let ctx_targets = context_targets(&scene, target, targets)?;
+        let cfg = EpisodeConfig {
+            episodes: 1,
+            commands: k,
+            seed: 0,
+            use_reward: true,
+            observe: observe_arg(observe, k, closed_loop)?,
+        };
+        let contexts = cfg.num_contexts(&scene.inner.build());
+        let (space, n) = (&scene.space, scene.inner.num_effects());
+        e3d::learner::contextual::check_gamma(gamma).map_err(bad)?;
+        e3d::learner::contextual::check_context_effects(contexts, n).map_err(bad)?;
+        let held = match (closed_loop, kind) {
+            (true, LearnerKind::E3d) => Held::ClosedLoop(
+                ClosedLoopE3d::new(space, n, contexts, &params, &ctx_targets, gamma).map_err(bad)?,
+            ),
+            (true, LearnerKind::Egreedy) => {
+                Held::QLearning(QLearning::new(space, contexts, &params, gamma).map_err(bad)?)
+            }
+            (true, other) => {
+                return Err(PyValueError::new_err(format!(
+                    "learner `{other}`: the closed loop takes e3d (closed-loop E3D) or egreedy (Q-learning)"
+                )))
+            }
+            (false, LearnerKind::GoalBabbling | LearnerKind::Archive) => {
+                return Err(PyValueError::new_err(format!(
+                    "learner `{kind}`: no saved state per context (kept for e3d, e3d_relax, count, smm, egreedy and uniform)"
+                )))
+            }
+            (false, kind) => {
+                let per: Vec<Target> = match ctx_targets {
+                    ContextTargets::Shared(t) => vec![t; contexts],
+                    ContextTargets::PerContext(v) if v.len() == contexts => v,
+                    ContextTargets::PerContext(v) => {
+                        return Err(PyValueError::new_err(format!(
+                            "targets: {} targets for {contexts} contexts: give one per context",
+                            v.len()
+                        )))
+                    }
+                };
+                let learners = per
+                    .iter()
+                    .map(|t| Held::new(&scene, kind, &params, t))
+                    .collect::<PyResult<Vec<Held>>>()?;
+                Held::per_context(learners)
+            }
+        };
         // once everything is checked: a refused call warns of nothing
         crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params, 1)?;
         crate::errors::warn_open_loop_gamma(py, closed_loop, gamma, 1)?;
