@@ -29,7 +29,6 @@ from . import _e3d
 from ._e3d import (
     E3D_VERSION,
     EpisodeWorld,
-    Learner,
     Scene,
     SceneError,
     SessionRng,
@@ -38,7 +37,7 @@ from ._e3d import (
     __version__,
 )
 from ._args import cache_folder, optional, shard_arg
-from ._learner import E3dLearner
+from ._learner import E3dLearner, Learner
 from ._results import (BatchOutcome, EpisodeRecord, Motion, Outcome, SessionBatch,
                        SessionRecord)
 from ._run import run_episodes, run_session, run_sessions

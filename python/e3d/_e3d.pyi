@@ -1,7 +1,7 @@
 """Type stubs of e3d's native module (``e3d._e3d``), re-exported by ``e3d``."""
 
 from os import PathLike
-from typing import Any, Callable, Iterator, Optional, Sequence, Union, final, overload
+from typing import Any, Callable, Optional, Sequence, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -32,6 +32,7 @@ from e3d._results import (
     Outcome,
     SessionRecord,
 )
+from e3d._learner import Learner
 from e3d._types import (
     CommandsLike,
     PathLike_,
@@ -45,13 +46,13 @@ from e3d._types import (
 __all__ = [
     "E3D_VERSION",
     "EpisodeWorld",
-    "Learner",
     "Scene",
     "SceneError",
     "SessionRng",
     "SimulationError",
     "World",
     "_E3dLearner",
+    "_Learner",
     "__version__",
     "_run_episodes",
     "_run_sessions",
@@ -148,14 +149,9 @@ class World:
     def trace(self, command: CommandsLike) -> Motion: ...
 
 @disjoint_base
-class Learner:
-    """A built-in learner's state (``"e3d"``, ``"e3d_relax"``, ``"count"``,
-    ``"smm"``, ``"egreedy"``, ``"uniform"``, ``"goal_babbling"``, ``"archive"``; on a continuous scene the
-    Gaussian ``"e3d"`` or ``"uniform"`` values; with contexts, from
-    ``Learner.contextual``): its tables by name (``l["q"]``, ``l["p"] =
-    ...``), stepped by ``propose`` / ``learn``, saved as bytes bit for bit
-    (``to_bytes``, ``from_bytes``, pickling); ``run_session(scene,
-    learner=l)`` (``run_episodes`` with contexts) continues from it."""
+class _Learner:
+    """The native base of ``e3d.Learner``: a built-in learner's state, made,
+    stepped by ``propose`` / ``learn``, saved and loaded bit for bit."""
 
     def __new__(
         cls,
@@ -171,7 +167,7 @@ class Learner:
         sigma: float = 0.1,
         rarity: float = 0.5,
         goal_progress: float = 0.0,
-    ) -> Learner: ...
+    ) -> Self: ...
     @staticmethod
     def contextual(
         scene: SceneLike,
@@ -193,18 +189,10 @@ class Learner:
     def name(self) -> str: ...
     @property
     def kind(self) -> str: ...
-    def keys(self) -> list[str]:
-        """The names of the learner's tables (``"q"``, ``"policy"``, ``"p"``, ``"target"``, ...)."""
-    @property
-    def writable(self) -> list[str]: ...
-    def __getitem__(self, name: str, /) -> npt.NDArray[np.float64]: ...
-    def __setitem__(self, name: str, value: npt.ArrayLike, /) -> None: ...
     @overload
     def propose(self, rng: SessionRng, /) -> npt.NDArray[Any]: ...
     @overload
     def propose(self, context: int, rng: SessionRng, /) -> npt.NDArray[Any]: ...
-    def __contains__(self, name: object, /) -> bool: ...
-    def __iter__(self) -> Iterator[str]: ...
     @overload
     def learn(self, command: npt.ArrayLike, outcome: Outcome, /) -> None: ...
     @overload
@@ -218,11 +206,10 @@ class Learner:
         next: Optional[int] = None, /,
     ) -> None: ...
     def to_bytes(self) -> bytes: ...
-    @staticmethod
-    def from_bytes(data: bytes) -> Learner: ...
-    def __reduce__(self) -> tuple[Any, ...]: ...
+    def _tables(self) -> list[tuple[str, list[int], npt.NDArray[np.float64], bool]]: ...
+    def _set_table(self, name: str, values: npt.NDArray[np.float64]) -> None: ...
 
-class _E3dLearner(Learner):
+class _E3dLearner(_Learner):
     """The native base of ``e3d.E3dLearner``: a ``Learner`` holding E3D."""
 
     def __new__(

@@ -9,7 +9,7 @@ import numpy.typing as npt
 
 from . import _e3d
 from ._args import MAX_SESSIONS, cache_folder, hyper, integer, number, optional, seeds as seeds_arg
-from ._e3d import Learner
+from ._learner import Learner
 from ._results import EpisodeRecord, SessionBatch, SessionRecord
 from ._types import (PathLike_, Progress, PythonContextualLearner, PythonLearner, SceneLike,
                      TargetLike)
