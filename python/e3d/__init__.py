@@ -28,9 +28,7 @@ import numpy as np
 from . import _e3d
 from ._e3d import (
     E3D_VERSION,
-    E3dLearner,
     EpisodeWorld,
-    Learner,
     Scene,
     SceneError,
     SessionRng,
@@ -39,6 +37,7 @@ from ._e3d import (
     __version__,
 )
 from ._args import cache_folder, optional, shard_arg
+from ._learner import E3dLearner, Learner
 from ._results import (BatchOutcome, EpisodeRecord, Motion, Outcome, SessionBatch,
                        SessionRecord)
 from ._run import run_episodes, run_session, run_sessions

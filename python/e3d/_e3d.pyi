@@ -1,11 +1,11 @@
 """Type stubs of e3d's native module (``e3d._e3d``), re-exported by ``e3d``."""
 
 from os import PathLike
-from typing import Any, Callable, Iterator, Optional, Sequence, Union, final, overload
+from typing import Any, Callable, Optional, Sequence, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
-from typing_extensions import disjoint_base
+from typing_extensions import Self, disjoint_base
 
 __version__: str
 E3D_VERSION: str
@@ -30,9 +30,9 @@ from e3d._results import (
     EpisodeRecord,
     Motion,
     Outcome,
-    SessionBatch,
     SessionRecord,
 )
+from e3d._learner import Learner
 from e3d._types import (
     CommandsLike,
     PathLike_,
@@ -45,17 +45,16 @@ from e3d._types import (
 
 __all__ = [
     "E3D_VERSION",
-    "E3dLearner",
     "EpisodeWorld",
-    "Learner",
     "Scene",
     "SceneError",
     "SessionRng",
     "SimulationError",
     "World",
+    "_E3dLearner",
+    "_Learner",
     "__version__",
     "_run_episodes",
-    "_run_session",
     "_run_sessions",
     "merge_sweeps",
     "run_sweep",
@@ -150,14 +149,9 @@ class World:
     def trace(self, command: CommandsLike) -> Motion: ...
 
 @disjoint_base
-class Learner:
-    """A built-in learner's state (``"e3d"``, ``"e3d_relax"``, ``"count"``,
-    ``"smm"``, ``"egreedy"``, ``"uniform"``, ``"goal_babbling"``, ``"archive"``; on a continuous scene the
-    Gaussian ``"e3d"`` or ``"uniform"`` values; with contexts, from
-    ``Learner.contextual``): its tables by name (``l["q"]``, ``l["p"] =
-    ...``), stepped by ``propose`` / ``learn``, saved as bytes bit for bit
-    (``to_bytes``, ``from_bytes``, pickling); ``run_session(scene,
-    learner=l)`` (``run_episodes`` with contexts) continues from it."""
+class _Learner:
+    """The native base of ``e3d.Learner``: a built-in learner's state, made,
+    stepped by ``propose`` / ``learn``, saved and loaded bit for bit."""
 
     def __new__(
         cls,
@@ -173,7 +167,7 @@ class Learner:
         sigma: float = 0.1,
         rarity: float = 0.5,
         goal_progress: float = 0.0,
-    ) -> Learner: ...
+    ) -> Self: ...
     @staticmethod
     def contextual(
         scene: SceneLike,
@@ -195,18 +189,10 @@ class Learner:
     def name(self) -> str: ...
     @property
     def kind(self) -> str: ...
-    def keys(self) -> list[str]:
-        """The names of the learner's tables (``"q"``, ``"policy"``, ``"p"``, ``"target"``, ...)."""
-    @property
-    def writable(self) -> list[str]: ...
-    def __getitem__(self, name: str, /) -> npt.NDArray[np.float64]: ...
-    def __setitem__(self, name: str, value: npt.ArrayLike, /) -> None: ...
     @overload
     def propose(self, rng: SessionRng, /) -> npt.NDArray[Any]: ...
     @overload
     def propose(self, context: int, rng: SessionRng, /) -> npt.NDArray[Any]: ...
-    def __contains__(self, name: object, /) -> bool: ...
-    def __iter__(self) -> Iterator[str]: ...
     @overload
     def learn(self, command: npt.ArrayLike, outcome: Outcome, /) -> None: ...
     @overload
@@ -220,44 +206,26 @@ class Learner:
         next: Optional[int] = None, /,
     ) -> None: ...
     def to_bytes(self) -> bytes: ...
-    @staticmethod
-    def from_bytes(data: bytes) -> Learner: ...
-    def __reduce__(self) -> tuple[Any, ...]: ...
+    def _tables(self) -> list[tuple[str, list[int], npt.NDArray[np.float64], bool]]: ...
+    def _set_table(self, name: str, values: npt.NDArray[np.float64]) -> None: ...
 
-@final
-class E3dLearner(Learner):
-    """An E3D learner (a ``Learner`` of kind ``"e3d"``) whose Q table,
-    policy and effect model also read and write per slot."""
+class _E3dLearner(_Learner):
+    """The native base of ``e3d.E3dLearner``: a ``Learner`` holding E3D."""
 
     def __new__(
         cls,
-        scene: SceneLike,
+        scene: Union[SceneLike, bytes],
         alpha: float = 0.3,
         beta: float = 1.0,
         lambda_: float = 0.03,
         eta: float = 0.01,
         target: Optional[TargetLike] = None,
-    ) -> E3dLearner: ...
-    @property
-    def alphabet_sizes(self) -> list[int]: ...
-    @property
-    def num_effects(self) -> int: ...
+    ) -> Self: ...
     @property
     def beta(self) -> float: ...
-    @property
-    def q(self) -> list[npt.NDArray[np.float64]]: ...
-    @q.setter
-    def q(self, value: Sequence[Sequence[float]]) -> None: ...
     def set_q(self, slot: int, q: Sequence[float]) -> None: ...
-    @property
-    def policy(self) -> list[npt.NDArray[np.float64]]: ...
     def set_policy(self, slot: int, probs: Sequence[float]) -> None: ...
-    @property
-    def effect_model(self) -> npt.NDArray[np.float64]: ...
-    @effect_model.setter
-    def effect_model(self, value: Sequence[float]) -> None: ...
-    @staticmethod
-    def from_bytes(data: bytes) -> E3dLearner: ...
+    def _set_effect_model(self, effect_model: Sequence[float]) -> None: ...
 
 @final
 class SessionRng:
@@ -274,17 +242,12 @@ class SessionRng:
         """Pickling: the generator's state (a copy draws what it draws next)."""
     def __setstate__(self, state: tuple[str, bool]) -> None: ...
 
-def _run_session(
-    scene: SceneLike, learner: Any, trials: int, seed: int, use_reward: bool,
-    params: dict[str, float], outcomes: Optional[str], table_cache: Optional[PathLike_],
-    progress: Optional[Progress], target: Optional[TargetLike], on_trials: Any, every: int,
-) -> SessionRecord: ...
-
 def _run_sessions(
-    scene: SceneLike, learner: Any, trials: int, seeds: Sequence[int], use_reward: bool,
-    params: dict[str, float], outcomes: Optional[str], table_cache: Optional[PathLike_],
-    progress: Optional[Progress], target: Optional[TargetLike],
-) -> SessionBatch: ...
+    scene: SceneLike, learner: Any, trials: int, seeds: Sequence[int], one: bool,
+    use_reward: bool, params: dict[str, float], outcomes: Optional[str],
+    table_cache: Optional[PathLike_], progress: Optional[Progress], target: Optional[TargetLike],
+    on_trials: Any, every: int,
+) -> list[SessionRecord]: ...
 
 def _run_episodes(
     scene: SceneLike, episodes: int, commands: Optional[int], seeds: Sequence[int], one: bool,

@@ -281,6 +281,11 @@ _COLUMNS = ("normalized_entropy", "normalized_entropy_last_1000", "kl_to_target"
             "trials_to_50_percent", "trials_to_90_percent")
 
 
+def _metrics(*values: Any) -> dict[str, Any]:
+    """A session's metrics by ``summary.json``'s names, from the native module's values."""
+    return dict(zip(_COLUMNS + ("discovery_trials",), values))
+
+
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class SessionBatch(_Result):
     """Sessions of one scene run together, in lockstep (``run_sessions``):

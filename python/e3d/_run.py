@@ -9,7 +9,7 @@ import numpy.typing as npt
 
 from . import _e3d
 from ._args import MAX_SESSIONS, cache_folder, hyper, integer, number, optional, seeds as seeds_arg
-from ._e3d import Learner
+from ._learner import Learner
 from ._results import EpisodeRecord, SessionBatch, SessionRecord
 from ._types import (PathLike_, Progress, PythonContextualLearner, PythonLearner, SceneLike,
                      TargetLike)
@@ -76,10 +76,11 @@ def run_session(
     if on_trials is not None and not callable(on_trials):
         raise TypeError("on_trials: expected a callable, on_trials(first, commands, effects, "
                         f"rewards), found {type(on_trials).__name__}")
-    return _e3d._run_session(
-        scene, learner, integer("trials", trials, 1), integer("seed", seed), use_reward,
+    return _e3d._run_sessions(
+        scene, learner, integer("trials", trials, 1), [integer("seed", seed)], True, use_reward,
         hyper(alpha, beta, lambda_, eta, epsilon, k, sigma, rarity, goal_progress),
-        outcomes, cache_folder(table_cache), progress, target, on_trials, integer("every", every, 1))
+        outcomes, cache_folder(table_cache), progress, target, on_trials,
+        integer("every", every, 1))[0]
 
 
 def run_sessions(
@@ -139,10 +140,10 @@ def run_sessions(
         listed = list(range(seed, seed + n))
     if not listed:
         raise ValueError("no session: expected at least one seed")
-    return _e3d._run_sessions(
-        scene, learner, trials, listed, use_reward,
+    return SessionBatch._stack(listed, _e3d._run_sessions(
+        scene, learner, trials, listed, False, use_reward,
         hyper(alpha, beta, lambda_, eta, epsilon, k, sigma, rarity, goal_progress),
-        outcomes, cache_folder(table_cache), progress, target)
+        outcomes, cache_folder(table_cache), progress, target, None, 1))
 
 
 @overload

@@ -1,13 +1,12 @@
 //! The arguments of episodes and contexts (`commands`, `observe`,
-//! `targets`), and the contextual learners they make
-//! (`Learner.contextual`, `run_episodes`).
+//! `targets`) that `run_episodes`, `EpisodeWorld` and `Learner.contextual`
+//! take.
 
 use crate::errors::usize_arg;
-use crate::held::{bad, Held};
 use crate::scene::{target_arg, PyScene};
-use e3d::episode::{EpisodeConfig, Observe};
-use e3d::learner::{ClosedLoopE3d, ContextTargets, QLearning};
-use e3d::{LearnerKind, Params, Target};
+use e3d::episode::Observe;
+use e3d::learner::ContextTargets;
+use e3d::Target;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
@@ -45,72 +44,6 @@ pub(crate) fn observe_name(o: Observe) -> &'static str {
         Observe::StartContext => "start",
         Observe::State => "state",
         Observe::Blind => "blind",
-    }
-}
-
-/// A contextual built-in learner, as `run_episodes` would make it for
-/// `scene`, `commands` per episode, `closed_loop` and `observe`
-/// (`Learner.contextual`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn contextual_held(
-    scene: &PyScene,
-    kind: LearnerKind,
-    commands: Option<&Bound<'_, PyAny>>,
-    closed_loop: bool,
-    observe: Option<&str>,
-    gamma: f64,
-    params: &Params,
-    target: Option<&Bound<'_, PyAny>>,
-    targets: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Held> {
-    scene.require_symbols("Learner.contextual")?;
-    let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
-    let ctx_targets = context_targets(scene, target, targets)?;
-    let cfg = EpisodeConfig {
-        episodes: 1,
-        commands: k,
-        seed: 0,
-        use_reward: true,
-        observe: observe_arg(observe, k, closed_loop)?,
-    };
-    let contexts = cfg.num_contexts(&scene.inner.build());
-    let (space, n) = (&scene.space, scene.inner.num_effects());
-    e3d::learner::contextual::check_gamma(gamma).map_err(bad)?;
-    e3d::learner::contextual::check_context_effects(contexts, n).map_err(bad)?;
-    match (closed_loop, kind) {
-        (true, LearnerKind::E3d) => {
-            ClosedLoopE3d::new(space, n, contexts, params, &ctx_targets, gamma)
-                .map(Held::ClosedLoop)
-                .map_err(bad)
-        }
-        (true, LearnerKind::Egreedy) => QLearning::new(space, contexts, params, gamma)
-            .map(Held::QLearning)
-            .map_err(bad),
-        (true, other) => Err(PyValueError::new_err(format!(
-            "learner `{other}`: the closed loop takes e3d (closed-loop E3D) or egreedy (Q-learning)"
-        ))),
-        (false, LearnerKind::GoalBabbling | LearnerKind::Archive) => {
-            Err(PyValueError::new_err(format!(
-                "learner `{kind}`: no saved state per context (kept for e3d, e3d_relax, count, smm, egreedy and uniform)"
-            )))
-        }
-        (false, kind) => {
-            let per: Vec<Target> = match ctx_targets {
-                ContextTargets::Shared(t) => vec![t; contexts],
-                ContextTargets::PerContext(v) if v.len() == contexts => v,
-                ContextTargets::PerContext(v) => {
-                    return Err(PyValueError::new_err(format!(
-                        "targets: {} targets for {contexts} contexts: give one per context",
-                        v.len()
-                    )))
-                }
-            };
-            let learners = per
-                .iter()
-                .map(|t| Held::new(scene, kind, params, t))
-                .collect::<PyResult<Vec<Held>>>()?;
-            Ok(Held::per_context(learners))
-        }
     }
 }
 

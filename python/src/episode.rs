@@ -10,7 +10,7 @@ use crate::learner::{builtin_kind, learner_list, python_learner_name, PyContextu
 use crate::progress::{watched, Ticks, Watch};
 use crate::record::Grid;
 use crate::saved::PyLearnerState;
-use crate::scene::{scene_of, PyScene};
+use crate::scene::scene_of;
 use e3d::command::CommandSpace;
 use e3d::episode::{EpisodeConfig, EpisodeRecord};
 use e3d::learner::{ContextualLearner, LearnerSetup};
@@ -21,6 +21,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::ops::DerefMut;
+use std::sync::Mutex;
 
 /// A session of episodes as an `EpisodeRecord` (python/e3d/_results.py).
 fn record_to_py(
@@ -129,30 +131,40 @@ pub(crate) fn _run_episodes(
     crate::errors::warn_open_loop_gamma(py, closed_loop, gamma, 2)?;
     let inner = scene.inner.clone();
     let space = inner.command_space();
-    let num_effects = inner.num_effects();
-    let cfg = |seed| EpisodeConfig {
-        episodes,
-        commands: k,
-        seed,
-        use_reward,
-        observe,
-    };
+    let configs: Vec<EpisodeConfig> = seeds
+        .iter()
+        .map(|&seed| EpisodeConfig {
+            episodes,
+            commands: k,
+            seed,
+            use_reward,
+            observe,
+        })
+        .collect();
     let probe = inner.build();
-    let contexts = cfg(0).num_contexts(&probe);
+    let contexts = configs[0].num_contexts(&probe);
     let starts = probe.num_contexts();
+    let records = |records: Vec<EpisodeRecord>, name: &str| {
+        let record =
+            |(rec, c): (_, &EpisodeConfig)| record_to_py(py, rec, c.seed, name, &inner, starts);
+        records.into_iter().zip(&configs).map(record).collect()
+    };
     if let Some(st) = learner.and_then(|l| l.cast::<PyLearnerState>().ok()) {
         if !one {
             return Err(PyValueError::new_err(
                 "learner: an e3d.Learner runs one seed (give seed, not seeds)",
             ));
         }
-        return Ok(vec![run_from_state(
-            py,
-            &scene,
-            st,
-            &cfg(seeds[0]),
-            contexts,
-        )?]);
+        // its state, lent to the run and left in the state it ends in
+        st.borrow().check_fits(&scene, Some(contexts))?;
+        let mut held = st.borrow().held.clone();
+        let l = held.contextual().expect("a learner with contexts");
+        let name = l.name().to_string();
+        let lent = Mutex::new(Some(l));
+        let take = || lent.lock().unwrap_or_else(|e| e.into_inner()).take();
+        let recs = run_builtin_episodes(py, &inner, &configs, &|| Ok(take().expect("one seed")))?;
+        st.borrow_mut().held = held;
+        return records(recs, &name);
     }
     let Some(kind) = kind else {
         let obj = learner.expect("an object");
@@ -164,8 +176,7 @@ pub(crate) fn _run_episodes(
                 "with seeds, expected a built-in learner's name",
             )?,
         };
-        let out = run_python_episodes(py, &inner, &space, objs, &seeds, &cfg, contexts, starts)?;
-        return Ok(out);
+        return run_python_episodes(py, &inner, &space, objs, &configs, contexts, starts);
     };
     let make = || {
         LearnerSetup::new(kind)
@@ -173,94 +184,60 @@ pub(crate) fn _run_episodes(
             .targets(targets.clone())
             .closed_loop(closed_loop)
             .gamma(gamma)
-            .contexts(&space, num_effects, contexts)
+            .contexts(&space, inner.num_effects(), contexts)
             .map_err(|e| Fail::Value(e.to_string()))
     };
-    run_builtin_episodes(py, &inner, &seeds, &cfg, &make, starts)
+    let name = make()?.name().to_string();
+    records(run_builtin_episodes(py, &inner, &configs, &make)?, &name)
 }
 
-/// Runs sessions of episodes of Python learners, one per seed, one after
-/// the other on this thread: the first exception a learner raises stops
-/// the run and is raised.
-#[allow(clippy::too_many_arguments)]
+/// Runs sessions of episodes of Python learners, one per configuration,
+/// one after the other on this thread: the first exception a learner
+/// raises stops the run and is raised.
 fn run_python_episodes(
     py: Python<'_>,
     inner: &e3d::Scene,
     space: &CommandSpace,
     objs: Vec<Bound<'_, PyAny>>,
-    seeds: &[u64],
-    cfg: &impl Fn(u64) -> EpisodeConfig,
+    configs: &[EpisodeConfig],
     contexts: usize,
     starts: usize,
 ) -> PyResult<Vec<Py<PyAny>>> {
-    let mut out = Vec::with_capacity(seeds.len());
-    for (obj, &seed) in objs.into_iter().zip(seeds) {
+    let mut out = Vec::with_capacity(configs.len());
+    for (obj, cfg) in objs.into_iter().zip(configs) {
         let name = python_learner_name(&obj)?;
         let error = RefCell::new(None);
         let mut l = PyContextual(PyLearner::new(py, obj, space, &error)?, contexts);
         let mut world = inner.build();
         let raised = Ticks::new(py, None, 0, &error)?;
-        let rec = e3d::episode::run_episodes(&mut *world, &mut l, &cfg(seed), &raised);
+        let rec = e3d::episode::run_episodes(&mut *world, &mut l, cfg, &raised);
         drop(l);
         if let Some(e) = error.take() {
             return Err(e);
         }
         let rec = rec.map_err(Fail::from)?;
-        out.push(record_to_py(py, rec, seed, &name, inner, starts)?);
+        out.push(record_to_py(py, rec, cfg.seed, &name, inner, starts)?);
     }
     Ok(out)
 }
 
-/// Runs sessions of episodes of a built-in learner (`make` makes it), one
-/// per seed, in parallel without the GIL, each on a world of its own.
-fn run_builtin_episodes(
+/// Runs sessions of episodes of built-in learners (`make` makes each), one
+/// per configuration, in parallel without the GIL, each on a world of its
+/// own; Ctrl-C stops every one at its next command.
+fn run_builtin_episodes<L: DerefMut<Target: ContextualLearner>>(
     py: Python<'_>,
     inner: &e3d::Scene,
-    seeds: &[u64],
-    cfg: &(impl Fn(u64) -> EpisodeConfig + Sync),
-    make: &(impl Fn() -> Result<Box<dyn ContextualLearner + Send>, Fail> + Sync),
-    starts: usize,
-) -> PyResult<Vec<Py<PyAny>>> {
-    let name = make()?.name().to_string();
-    // Ctrl-C stops every seed at its next command
-    let configs: Vec<EpisodeConfig> = seeds.iter().map(|&s| cfg(s)).collect();
-    let records = watched(py, None, 0, &Watch::new(), |w| {
+    configs: &[EpisodeConfig],
+    make: &(impl Fn() -> Result<L, Fail> + Sync),
+) -> PyResult<Vec<EpisodeRecord>> {
+    Ok(watched(py, None, 0, &Watch::default(), |w| {
         w.control(|control| {
             let make = |_| Ok((inner.build(), make()?));
             let mut records = vec![EpisodeRecord::default(); configs.len()];
-            e3d::session::run_episode_sessions(&configs, make, &mut records, control)
+            e3d::session::run_episode_sessions(configs, make, &mut records, control)
                 .into_iter()
                 .collect::<Result<(), Fail>>()
                 .map(|()| records)
         })
-    })??;
-    let mut out = Vec::with_capacity(records.len());
-    for (rec, &seed) in records.into_iter().zip(seeds) {
-        out.push(record_to_py(py, rec, seed, &name, inner, starts)?);
-    }
-    Ok(out)
-}
-
-/// Runs episodes from the contextual `e3d.Learner` `st` (one seed) and
-/// leaves it in the state they end in.
-fn run_from_state(
-    py: Python<'_>,
-    scene: &PyScene,
-    st: &Bound<'_, PyLearnerState>,
-    cfg: &EpisodeConfig,
-    contexts: usize,
-) -> PyResult<Py<PyAny>> {
-    st.borrow().check_fits(scene, Some(contexts))?;
-    let mut held = st.borrow().held.clone();
-    let l = held.contextual().expect("a learner with contexts");
-    let name = l.name().to_string();
-    let inner = scene.inner.clone();
-    let rec = watched(py, None, 0, &Watch::new(), |w| {
-        let mut world = inner.build();
-        w.control(|control| e3d::episode::run_episodes(&mut *world, l, cfg, control))
-            .map_err(Fail::from)
-    })??;
-    st.borrow_mut().held = held;
-    let starts = scene.inner.build().num_contexts();
-    record_to_py(py, rec, cfg.seed, &name, &scene.inner, starts)
+    })??)
 }

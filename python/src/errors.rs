@@ -189,13 +189,10 @@ pub(crate) fn k_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
     })
 }
 
-/// A float argument as pyo3 takes it (`from_py_with`), except that an int
-/// too large for a float (`10**400`: Python's bare `OverflowError`)
-/// becomes an infinity of its sign, which the argument's own range check
-/// then refuses with a `ValueError` naming the argument; every float
-/// argument of the API is checked so.
-/// Anything but a number is a `TypeError` worded as the integer
-/// arguments' (`argument 'alpha': expected a number, found str`).
+/// A float argument (`from_py_with`): an int too large for a float
+/// (`10**400`) is an infinity of its sign, which the argument's range check
+/// refuses by name, not Python's bare `OverflowError`; anything but a
+/// number is a `TypeError` (`argument 'alpha': expected a number, found str`).
 pub(crate) fn float_arg(obj: &Bound<'_, PyAny>) -> PyResult<f64> {
     match obj.extract::<f64>() {
         Err(e) if e.is_instance_of::<PyOverflowError>(obj.py()) => Ok(if obj.lt(0)? {
@@ -226,11 +223,9 @@ pub(crate) fn finite_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
 /// The error text of work stopped on request (Ctrl-C, a failed callback).
 pub(crate) const STOPPED: &str = "stopped";
 
-/// The hyper-parameters by the library's names ([`e3d::Params::NAMES`]),
-/// numbers the Python package has checked for type (`e3d/_args.py`; `k`
-/// an integer as a float), those not given the paper's task 1; their
-/// ranges are checked by the library, its message naming Python's
-/// `lambda_`.
+/// The hyper-parameters by the library's names, as `e3d._args.hyper` gives
+/// them (`k` an integer as a float), those not given the paper's task 1,
+/// checked by the library.
 pub(crate) fn params_of(named: std::collections::HashMap<String, f64>) -> PyResult<e3d::Params> {
     let mut p = e3d::Params::TASK1;
     for (name, v) in named {

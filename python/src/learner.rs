@@ -107,26 +107,17 @@ impl<'py> PyLearner<'py, '_> {
         }
         let symbols = PyArray1::from_slice(self.py, &command.symbols);
         let (e, r) = (outcome.effect, outcome.reward);
-        let kwargs = match self.point {
-            true => Some([("point", (outcome.point[0], outcome.point[1]))].into_py_dict(self.py)),
-            false => None,
-        };
-        let kwargs = match kwargs.transpose() {
-            Ok(k) => k,
-            Err(e) => {
-                *self.error.borrow_mut() = Some(e);
-                return;
-            }
-        };
-        let done = match context {
+        let point = [("point", (outcome.point[0], outcome.point[1]))];
+        let kwargs = self.point.then(|| point.into_py_dict(self.py)).transpose();
+        let done = kwargs.and_then(|kwargs| match context {
             None => self
                 .obj
                 .call_method("learn", (symbols, e, r), kwargs.as_ref()),
             Some((c, next)) => {
-                self.obj
-                    .call_method("learn", (c, symbols, e, r, next), kwargs.as_ref())
+                let args = (c, symbols, e, r, next);
+                self.obj.call_method("learn", args, kwargs.as_ref())
             }
-        };
+        });
         if let Err(e) = done {
             *self.error.borrow_mut() = Some(e);
         }

@@ -1,11 +1,7 @@
-//! The `e3d._e3d` extension module: Python bindings of the e3d library.
-//!
-//! Everything is the Rust library's: scenes are parsed and checked by
-//! [`e3d::Scene`], commands executed by its worlds (multi-copy Rapier worlds
-//! in parallel, each command simulated once per [`World`] object through an
-//! [`OutcomeMemo`]), sessions run by [`e3d::session::run_session_into`] on the world
-//! an [`Executor`] chooses, sweeps by [`e3d::Sweep::run`]. These modules only
-//! convert: numpy arrays in and out, errors into Python exceptions with
+//! The `e3d._e3d` extension module: Python bindings of the e3d library,
+//! which does all the work (scenes, worlds through an [`e3d::world::OutcomeMemo`],
+//! sessions on the world an [`e3d::Executor`] chooses, sweeps). These modules
+//! only convert: numpy arrays in and out, errors into Python exceptions with
 //! the CLI's text.
 
 mod commands;
@@ -53,7 +49,6 @@ fn _e3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "SimulationError",
         m.py().get_type::<errors::SimulationError>(),
     )?;
-    m.add_function(wrap_pyfunction!(session::_run_session, m)?)?;
     m.add_function(wrap_pyfunction!(session::_run_sessions, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::merge_sweeps, m)?)?;

@@ -36,10 +36,6 @@ pub struct Watch {
 }
 
 impl Watch {
-    pub fn new() -> Watch {
-        Watch::default()
-    }
-
     /// Adds `n` units done.
     pub fn add(&self, n: u64) {
         self.done.fetch_add(n, Ordering::Relaxed);
@@ -72,7 +68,7 @@ impl Watch {
 }
 
 /// Refuses a `progress` that cannot be called, before any work.
-fn check_callable(progress: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+pub(crate) fn check_callable(progress: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
     match progress {
         Some(p) if !p.is_callable() => Err(pyo3::exceptions::PyTypeError::new_err(format!(
             "progress: expected a callable, progress(done, total), found {}",

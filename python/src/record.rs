@@ -8,7 +8,7 @@ use e3d::{Learner, Metrics, SessionRecord};
 use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyList, PyTuple};
 
 /// The effect grid of a session's scene: rows, columns, and whether each
 /// cell is rewarded (a dict in Python).
@@ -118,30 +118,26 @@ pub(crate) fn result_class<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'
     py.import("e3d._results")?.getattr(name)
 }
 
-/// A session's metrics as a dict (`summary.json`'s names).
-pub(crate) fn metrics_dict<'py>(py: Python<'py>, m: &Metrics) -> PyResult<Bound<'py, PyDict>> {
-    let metrics = PyDict::new(py);
-    metrics.set_item("normalized_entropy", m.normalized_entropy)?;
-    metrics.set_item(
-        "normalized_entropy_last_1000",
+/// A session's metrics as a dict of `summary.json`'s names
+/// (`_results._metrics`).
+pub(crate) fn metrics_dict<'py>(py: Python<'py>, m: &Metrics) -> PyResult<Bound<'py, PyAny>> {
+    let values = (
+        m.normalized_entropy,
         m.normalized_entropy_last_1000,
-    )?;
-    metrics.set_item("kl_to_target", m.kl_to_target)?;
-    metrics.set_item("distinct_effects", m.distinct_effects)?;
-    metrics.set_item("cumulative_reward", m.cumulative_reward)?;
-    metrics.set_item("first_reward_trial", m.first_reward_trial)?;
-    metrics.set_item("trials", m.trials)?;
-    metrics.set_item("reachable_effects", m.reachable_effects)?;
-    metrics.set_item(
-        "normalized_entropy_reachable",
+        m.kl_to_target,
+        m.distinct_effects,
+        m.cumulative_reward,
+        m.first_reward_trial,
+        m.trials,
+        m.reachable_effects,
         m.normalized_entropy_reachable,
-    )?;
-    metrics.set_item("coverage_cells", m.coverage_cells)?;
-    metrics.set_item("coverage", m.coverage)?;
-    metrics.set_item("trials_to_50_percent", m.trials_to_50_percent)?;
-    metrics.set_item("trials_to_90_percent", m.trials_to_90_percent)?;
-    metrics.set_item("discovery_trials", m.discovery_trials.clone())?;
-    Ok(metrics)
+        m.coverage_cells,
+        m.coverage,
+        m.trials_to_50_percent,
+    );
+    let more = (m.trials_to_90_percent, m.discovery_trials.clone());
+    let values = values.into_pyobject(py)?.add(more.into_pyobject(py)?)?;
+    result_class(py, "_metrics")?.call1(values.cast_into::<PyTuple>()?)
 }
 
 /// A session's rows as a `SessionRecord`.
@@ -183,24 +179,4 @@ pub(crate) fn record_to_py(
     let state = fields.into_pyobject(py)?.add(more.into_pyobject(py)?)?;
     let class = result_class(py, "SessionRecord")?;
     Ok(class.call1(state.cast_into::<PyTuple>()?)?.unbind())
-}
-
-/// Sessions of one scene run together (`run_sessions`), one per seed, as a
-/// `SessionBatch`: their arrays stacked, one row a session.
-pub(crate) fn batch_to_py(
-    py: Python<'_>,
-    scene: &PyScene,
-    learner: &str,
-    seeds: &[u64],
-    rows: Vec<Rows>,
-    execution: String,
-) -> PyResult<Py<PyAny>> {
-    let records = seeds
-        .iter()
-        .zip(rows)
-        .map(|(&seed, r)| record_to_py(py, scene, learner, seed, r, execution.clone()))
-        .collect::<PyResult<Vec<_>>>()?;
-    let batch =
-        result_class(py, "SessionBatch")?.call_method1("_stack", (seeds.to_vec(), records))?;
-    Ok(batch.unbind())
 }

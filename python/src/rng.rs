@@ -99,13 +99,11 @@ impl PyRng {
         }
         let u = self.lent()?.random::<f64>() * total;
         let mut acc = 0.0;
-        for (i, w) in weights.iter().enumerate() {
+        let first = weights.iter().position(|w| {
             acc += w;
-            if u < acc {
-                return Ok(i);
-            }
-        }
-        Ok(weights.iter().rposition(|w| *w > 0.0).unwrap_or(0))
+            u < acc
+        });
+        Ok(first.unwrap_or_else(|| weights.iter().rposition(|w| *w > 0.0).unwrap_or(0)))
     }
 
     /// Pickles as its generator's state: a copy of one's own generator

@@ -3,32 +3,27 @@
 //! [`LearnerState`], and run by `run_session(learner=...)`, which
 //! continues from it.
 
+use crate::contextual::{commands_arg, context_targets, observe_arg};
 use crate::errors::checked;
 use crate::held::{bad, Held};
 use crate::learn_args::{
     bad_command, check_effect, context_arg, effect_reward, free_outcome, symbols_of,
 };
 use crate::scene::{scene_of, target_arg, PyScene};
-use e3d::learner::state::tables::StateTable;
+use e3d::episode::EpisodeConfig;
 use e3d::learner::state::StateShape;
-use e3d::{LearnerKind, Params};
-use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
+use e3d::learner::{ClosedLoopE3d, ContextTargets, QLearning};
+use e3d::{LearnerKind, Params, Target};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use pyo3::types::PyTuple;
 
-/// A built-in learner (`"e3d"`, `"e3d_relax"`, `"count"`, `"smm"`,
-/// `"egreedy"`, `"uniform"`, `"goal_babbling"`, `"archive"`; on a
-/// continuous scene the Gaussian `"e3d"`, `"uniform"`, `"goal_babbling"` or
-/// `"archive"` values; with contexts, from `Learner.contextual`) as a
-/// state: its tables by name (`l["q"]`, `l["target"] = ...`), stepped by
-/// `propose` / `learn`, saved as bytes bit for bit (`to_bytes`,
-/// `Learner.from_bytes`, pickling) and read back as a learner that goes
-/// on exactly as this one would. `run_session(scene, learner=l)` (with
-/// contexts `run_episodes`) runs from `l`'s state and leaves `l` in the
-/// state it ends in.
-#[pyclass(module = "e3d", name = "Learner", subclass)]
+/// The native base of `e3d.Learner` (python/e3d/_learner.py, which adds
+/// its tables by name, equality and pickling): any built-in learner's state,
+/// made, stepped by `propose` / `learn`, saved and loaded bit for bit.
+#[pyclass(module = "e3d", name = "_Learner", subclass)]
 #[derive(Clone)]
 pub(crate) struct PyLearnerState {
     pub(crate) held: Held,
@@ -79,7 +74,8 @@ impl PyLearnerState {
         if let Ok(data) = scene.cast::<PyBytes>() {
             // a learner's bytes: how a subclass's instance is unpickled
             // (`copyreg.__newobj__(cls, data)`, see `__reduce__`)
-            return PyLearnerState::from_bytes(data.as_bytes());
+            let held = Held::from_bytes(data.as_bytes()).map_err(bad)?;
+            return Ok(PyLearnerState { held });
         }
         let scene = scene_of(scene)?;
         let kind = kind_arg(learner)?;
@@ -112,8 +108,8 @@ impl PyLearnerState {
         observe = None, gamma = 0.9, alpha = 0.3, beta = 1.0, lambda_ = 0.03, eta = 0.01,
         epsilon = 0.1, target = None, targets = None))]
     #[allow(clippy::too_many_arguments)]
-    fn contextual(
-        py: Python<'_>,
+    fn contextual<'py>(
+        py: Python<'py>,
         scene: &Bound<'_, PyAny>,
         learner: &str,
         commands: Option<&Bound<'_, PyAny>>,
@@ -127,7 +123,7 @@ impl PyLearnerState {
         #[pyo3(from_py_with = crate::errors::float_arg)] epsilon: f64,
         target: Option<&Bound<'_, PyAny>>,
         targets: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<PyLearnerState> {
+    ) -> PyResult<Bound<'py, PyAny>> {
         let scene = scene_of(scene)?;
         let kind = kind_arg(learner)?;
         let params = checked(Params {
@@ -138,21 +134,63 @@ impl PyLearnerState {
             epsilon,
             ..Params::TASK1
         })?;
-        let held = crate::contextual::contextual_held(
-            &scene,
-            kind,
-            commands,
-            closed_loop,
-            observe,
-            gamma,
-            &params,
-            target,
-            targets,
-        )?;
+        scene.require_symbols("Learner.contextual")?;
+        let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
+        let ctx_targets = context_targets(&scene, target, targets)?;
+        let cfg = EpisodeConfig {
+            episodes: 1,
+            commands: k,
+            seed: 0,
+            use_reward: true,
+            observe: observe_arg(observe, k, closed_loop)?,
+        };
+        let contexts = cfg.num_contexts(&scene.inner.build());
+        let (space, n) = (&scene.space, scene.inner.num_effects());
+        e3d::learner::contextual::check_gamma(gamma).map_err(bad)?;
+        e3d::learner::contextual::check_context_effects(contexts, n).map_err(bad)?;
+        let held = match (closed_loop, kind) {
+            (true, LearnerKind::E3d) => Held::ClosedLoop(
+                ClosedLoopE3d::new(space, n, contexts, &params, &ctx_targets, gamma).map_err(bad)?,
+            ),
+            (true, LearnerKind::Egreedy) => {
+                Held::QLearning(QLearning::new(space, contexts, &params, gamma).map_err(bad)?)
+            }
+            (true, other) => {
+                return Err(PyValueError::new_err(format!(
+                    "learner `{other}`: the closed loop takes e3d (closed-loop E3D) or egreedy (Q-learning)"
+                )))
+            }
+            (false, LearnerKind::GoalBabbling | LearnerKind::Archive) => {
+                return Err(PyValueError::new_err(format!(
+                    "learner `{kind}`: no saved state per context (kept for e3d, e3d_relax, count, smm, egreedy and uniform)"
+                )))
+            }
+            (false, kind) => {
+                let per: Vec<Target> = match ctx_targets {
+                    ContextTargets::Shared(t) => vec![t; contexts],
+                    ContextTargets::PerContext(v) if v.len() == contexts => v,
+                    ContextTargets::PerContext(v) => {
+                        return Err(PyValueError::new_err(format!(
+                            "targets: {} targets for {contexts} contexts: give one per context",
+                            v.len()
+                        )))
+                    }
+                };
+                let learners = per
+                    .iter()
+                    .map(|t| Held::new(&scene, kind, &params, t))
+                    .collect::<PyResult<Vec<Held>>>()?;
+                Held::per_context(learners)
+            }
+        };
         // once everything is checked: a refused call warns of nothing
         crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params, 1)?;
         crate::errors::warn_open_loop_gamma(py, closed_loop, gamma, 1)?;
-        Ok(PyLearnerState { held })
+        // an e3d.Learner, read from the bytes: the same state bit for bit
+        let data = PyBytes::new(py, &held.state().to_bytes());
+        py.import("e3d._learner")?
+            .getattr("Learner")?
+            .call1((data,))
     }
 
     /// The name a session record gives this learner (`"e3d"`, `"count"`, ...).
@@ -178,114 +216,25 @@ impl PyLearnerState {
         PyBytes::new(py, &self.held.state().to_bytes())
     }
 
-    /// A learner from the bytes of `to_bytes` (or of `E3dLearner.to_bytes`),
-    /// whatever its kind (`ValueError` saying what is wrong if they are not).
-    #[staticmethod]
-    fn from_bytes(data: &[u8]) -> PyResult<PyLearnerState> {
-        Ok(PyLearnerState {
-            held: Held::from_bytes(data).map_err(bad)?,
-        })
-    }
-
-    /// Pickling: the bytes of `to_bytes`, read back by the class's
-    /// `from_bytes` (an `E3dLearner` comes back as one); an instance of a
-    /// Python subclass comes back as one of that class, its `__dict__`
-    /// with it (`copyreg.__newobj__(cls, data)`, then the dict).
-    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
-        let py = slf.py();
-        let data = slf.borrow().to_bytes(py).into_any();
-        let ty = slf.get_type();
-        // the extension's own classes (Learner, E3dLearner), read back
-        // by their own from_bytes; not a Python subclass
-        let own = ty.is(py.get_type::<PyLearnerState>())
-            || (ty.module()?.extract::<String>()? == "e3d"
-                && ty.name()?.extract::<String>()? == "E3dLearner");
-        if own {
-            let f = ty.getattr("from_bytes")?;
-            return PyTuple::new(py, [f, PyTuple::new(py, [data])?.into_any()]);
-        }
-        let newobj = py.import("copyreg")?.getattr("__newobj__")?;
-        let args = PyTuple::new(py, [ty.into_any(), data])?.into_any();
-        let dict = slf
-            .getattr_opt("__dict__")?
-            .unwrap_or_else(|| py.None().into_bound(py));
-        PyTuple::new(py, [newobj, args, dict])
-    }
-
-    /// Equal: learners whose saved bytes are equal.
-    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
-        other
-            .cast::<PyLearnerState>()
-            .map(|o| o.borrow().held.state().to_bytes() == self.held.state().to_bytes())
-            .unwrap_or(false)
-    }
-
-    /// The names of the learner's tables (`"q"`, `"policy"`, `"p"`,
-    /// `"target"`, `"counts"`, ... as it has them), in order.
-    fn keys(&self) -> Vec<&'static str> {
-        self.held.state().tables().iter().map(|t| t.name).collect()
-    }
-
-    /// Whether the learner has a table of that name (`"q" in learner`).
-    fn __contains__(&self, name: &Bound<'_, PyAny>) -> bool {
-        name.extract::<String>()
-            .is_ok_and(|n| self.held.state().tables().iter().any(|t| t.name == n))
-    }
-
-    /// The names of the tables, as `keys()` (`list(learner)`).
-    fn __iter__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        pyo3::types::PyList::new(py, self.keys())?
-            .try_iter()
-            .map(Bound::into_any)
-    }
-
-    /// The names of the tables that `learner[name] = array` can write.
-    #[getter]
-    fn writable(&self) -> Vec<&'static str> {
-        let t = self.held.state().tables();
-        t.iter().filter(|t| t.writable).map(|t| t.name).collect()
-    }
-
-    /// The table `name` as a float64 array (a copy), e.g. `l["q"]`
-    /// `(slots, k)`, `l["p"]` `(effects,)`; `KeyError` naming the tables
-    /// there are if it has none of that name.
-    fn __getitem__<'py>(
+    /// The learner's tables, `(name, shape, values, writable)` each, the
+    /// values flat (row-major).
+    #[allow(clippy::type_complexity)]
+    fn _tables<'py>(
         &self,
         py: Python<'py>,
-        name: &str,
-    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let t = self.table(name)?;
-        numpy::ndarray::ArrayD::from_shape_vec(t.shape, t.values)
-            .map(|a| a.into_pyarray(py))
-            .map_err(|e| PyValueError::new_err(e.to_string()))
+    ) -> Vec<(&'static str, Vec<usize>, Bound<'py, PyArray1<f64>>, bool)> {
+        let tables = self.held.state().tables().into_iter();
+        tables
+            .map(|t| (t.name, t.shape, t.values.into_pyarray(py), t.writable))
+            .collect()
     }
 
-    /// Replaces the table `name` by `value` (an array of its shape):
-    /// `ValueError` naming the table if the shape, a value or the table's
-    /// rules do not fit (the learner is then unchanged).
-    fn __setitem__(&mut self, name: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        let t = self.table(name)?;
-        let py = value.py();
-        let array = py
-            .import("numpy")?
-            .call_method1("asarray", (value, "float64"))
-            .and_then(|a| Ok(a.cast_into::<PyArrayDyn<f64>>()?))
-            .map_err(|_| {
-                PyValueError::new_err(format!("learner['{name}']: expected an array of numbers"))
-            })?;
-        if array.shape() != t.shape.as_slice() {
-            return Err(PyValueError::new_err(format!(
-                "learner['{name}']: expected an array of shape {}, found {}",
-                PyTuple::new(py, &t.shape)?.repr()?,
-                PyTuple::new(py, array.shape())?.repr()?
-            )));
-        }
-        let values = array.to_vec().or_else(|_| {
-            Ok::<_, PyErr>(array.to_owned_array().iter().copied().collect::<Vec<f64>>())
-        })?;
+    /// Replaces the table `name` by `values` (flat, of its shape):
+    /// `ValueError` naming the table if they do not fit its rules.
+    fn _set_table(&mut self, name: &str, values: PyReadonlyArray1<'_, f64>) -> PyResult<()> {
         self.held
             .state_mut()
-            .set_table(name, &values)
+            .set_table(name, values.as_slice()?)
             .map_err(|e| PyValueError::new_err(format!("learner['{name}']: {e}")))
     }
 
@@ -425,22 +374,6 @@ impl PyLearnerState {
         }
         l.learn(&values, &o);
         Ok(())
-    }
-
-    /// The table `name`, or a `KeyError` naming the learner's tables.
-    fn table(&self, name: &str) -> PyResult<StateTable> {
-        let mut tables = self.held.state().tables();
-        match tables.iter().position(|t| t.name == name) {
-            Some(i) => Ok(tables.swap_remove(i)),
-            None => {
-                let names: Vec<String> = tables.iter().map(|t| format!("'{}'", t.name)).collect();
-                Err(PyKeyError::new_err(format!(
-                    "a `{}` learner has no table '{name}' (its tables: [{}])",
-                    self.kind(),
-                    names.join(", ")
-                )))
-            }
-        }
     }
 }
 

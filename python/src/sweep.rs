@@ -34,23 +34,10 @@ pub(crate) fn lock_out(dir: &Path) -> PyResult<Option<e3d::io::DirLock>> {
     }
 }
 
-/// Runs a sweep (the native part of `e3d.run_sweep`, which also takes a
-/// dict and makes columns of the rows) and returns its `results.csv`:
-/// the header and one row a session, the same as `e3d sweep FILE --out DIR`.
-///
-/// `sweep`: a path to a sweep file (scene paths relative to its folder),
-/// or the text of one (scene paths relative to the current folder).
-/// `threads`: default every core. `out`: a folder to write what
-/// `e3d sweep --out DIR` writes, byte for byte (`results.csv`,
-/// `summary.csv`, `sweep.ron`, `version.txt`, `journal.txt`); `resume`:
-/// complete the sweep that `out` holds (`--resume`). `progress`: called
-/// as `progress(trials_done, trials_of_all_sessions)`. Ctrl-C raises
-/// `KeyboardInterrupt` once the sessions running have finished (with
-/// `out`, `resume=True` completes the folder later).
+/// The native part of `e3d.run_sweep` (python/e3d/__init__.py, which
+/// documents it, takes a dict and makes columns of the rows): the header
+/// and rows of the sweep's `results.csv`, in memory or in the folder `out`.
 #[pyfunction]
-///
-/// `shard`: `(k, n)`, the part `k` of `n` (`--shard k/n`; with `out`,
-/// checked by `e3d.run_sweep`), whose folders `merge_sweeps` joins.
 #[pyo3(signature = (sweep, threads = None, table_cache = None, out = None, resume = false,
     progress = None, shard = None))]
 #[allow(clippy::too_many_arguments)]
@@ -70,7 +57,7 @@ pub(crate) fn run_sweep<'py>(
             .map(|n| n.get())
             .unwrap_or(1)
     });
-    let watch = Watch::new();
+    let watch = Watch::default();
     let sw = sw.with_trial_counter(watch.done.clone());
     let total = sw.num_sessions() as u64 * sw.spec.trials as u64;
     let header = sw.results_header();

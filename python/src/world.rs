@@ -121,22 +121,11 @@ impl PyWorld {
     }
 
     /// Runs `f` on the single-copy physics world of `trace` (built on
-    /// first use).
-    fn with_tracer<R>(
-        &self,
-        f: impl FnOnce(&mut PhysicsWorld) -> Result<R, WorldError>,
-    ) -> Result<R, WorldError> {
+    /// first use; a continuous scene is a physics scene).
+    fn with_tracer<R>(&self, f: impl FnOnce(&mut PhysicsWorld) -> R) -> R {
         let mut slot = self.tracer.lock().unwrap_or_else(|e| e.into_inner());
-        if slot.is_none() {
-            *slot = self.scene.inner.physics_world();
-        }
-        match slot.as_mut() {
-            Some(w) => f(w),
-            None => Err(WorldError::Other(format!(
-                "scene `{}`: continuous commands need a physics world",
-                self.scene.inner.spec().name
-            ))),
-        }
+        let physics = || self.scene.inner.physics_world().expect("a physics scene");
+        f(slot.get_or_insert_with(physics))
     }
 
     /// The results of `items` run by `run` in parallel pieces of even
@@ -171,16 +160,10 @@ impl PyWorld {
     }
 
     /// A physics world of `copies` copies for a continuous scene.
-    fn take_valued(&self) -> Result<PhysicsWorld, WorldError> {
+    fn take_valued(&self) -> PhysicsWorld {
         let kept = self.valued.lock().unwrap_or_else(|e| e.into_inner()).pop();
-        match (kept, self.scene.inner.as_physics()) {
-            (Some(w), _) => Ok(w),
-            (None, Some(p)) => Ok(p.world(self.copies)),
-            (None, _) => Err(WorldError::Other(format!(
-                "scene `{}`: continuous commands need a physics world",
-                self.scene.inner.spec().name
-            ))),
-        }
+        let physics = || self.scene.inner.as_physics().expect("a physics scene");
+        kept.unwrap_or_else(|| physics().world(self.copies))
     }
 
     /// The outcomes of continuous commands, in order (the first failure
@@ -199,15 +182,13 @@ impl PyWorld {
             }
             return r.map(|o| vec![o]);
         }
-        let outcomes = self.in_pieces(commands, watch, |part, out| match self.take_valued() {
-            Ok(mut w) => {
-                w.execute_values_batch(part, out);
-                self.valued
-                    .lock()
-                    .unwrap_or_else(|e| e.into_inner())
-                    .push(w);
-            }
-            Err(e) => out.extend(part.iter().map(|_| Err(e.clone()))),
+        let outcomes = self.in_pieces(commands, watch, |part, out| {
+            let mut w = self.take_valued();
+            w.execute_values_batch(part, out);
+            self.valued
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(w);
         });
         outcomes.into_iter().collect()
     }
@@ -369,7 +350,7 @@ impl PyWorld {
     ) -> PyResult<Py<PyAny>> {
         if let Some(space) = &self.scene.values {
             let vs = values_from(py, space, commands, 2)?;
-            let watch = Watch::new();
+            let watch = Watch::default();
             let out = watched(py, progress, vs.len() as u64, &watch, |w| {
                 self.run_values(&vs, Some(w))
             })?
@@ -382,7 +363,7 @@ impl PyWorld {
         let out = if progress.is_none() && cs.len() <= 256 {
             py.detach(|| self.run(&cs, None))
         } else {
-            let watch = Watch::new();
+            let watch = Watch::default();
             watched(py, progress, cs.len() as u64, &watch, |w| {
                 self.run(&cs, Some(w))
             })?
@@ -405,31 +386,19 @@ impl PyWorld {
                 inner.spec().name
             )));
         }
-        enum One {
-            Symbols(Command),
-            Values(Vec<f64>),
-        }
-        let (one, text) = match &self.scene.values {
+        let (text, motion) = match &self.scene.values {
             Some(space) => {
                 let v = values_from(py, space, command, 1)?.remove(0);
-                let text = space.format(&v);
-                (One::Values(v), text)
+                let motion = py.detach(|| self.with_tracer(|w| w.motion_values(&v)));
+                (space.format(&v), motion)
             }
             None => {
                 let c = commands_from(py, &self.scene.space, command, 1)?.remove(0);
-                let text = self.scene.space.format(&c);
-                (One::Symbols(c), text)
+                let motion = py.detach(|| self.with_tracer(|w| w.motion(&c)));
+                (self.scene.space.format(&c), motion)
             }
         };
-        let motion = py
-            .detach(|| {
-                self.with_tracer(|world| match &one {
-                    One::Symbols(c) => world.motion(c),
-                    One::Values(v) => world.motion_values(v),
-                })
-            })
-            .map_err(Fail::from)?;
-        motion_to_py(py, text, motion)
+        motion_to_py(py, text, motion.map_err(Fail::from)?)
     }
 
     /// Pickling: the scene's world (`scene.world(prefix_states)`); the

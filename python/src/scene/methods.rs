@@ -123,19 +123,14 @@ impl PyScene {
         self.require_symbols("Scene.format")?;
         let one = commands
             .cast::<PyUntypedArray>()
-            .map(|a| a.ndim() == 1)
-            .unwrap_or(false)
-            || commands
-                .extract::<Vec<i64>>()
-                .map(|_| true)
-                .unwrap_or(false);
+            .is_ok_and(|a| a.ndim() == 1)
+            || commands.extract::<Vec<i64>>().is_ok();
         let cs = commands_from(py, &self.space, commands, if one { 1 } else { 2 })?;
-        let texts: Vec<String> = cs.iter().map(|c| self.space.format(c)).collect();
-        if one {
-            Ok(texts[0].clone().into_pyobject(py)?.into_any().unbind())
-        } else {
-            Ok(texts.into_pyobject(py)?.into_any().unbind())
-        }
+        let mut texts: Vec<String> = cs.iter().map(|c| self.space.format(c)).collect();
+        Ok(match one {
+            true => texts.remove(0).into_pyobject(py)?.into_any().unbind(),
+            false => texts.into_pyobject(py)?.into_any().unbind(),
+        })
     }
 
     /// A world that executes this scene's commands (see `World`).
