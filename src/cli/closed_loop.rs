@@ -1,5 +1,6 @@
-//! `e3d closed-loop`: closed-loop E3D against open-loop E3D, Q-learning and
-//! the uniform policy on equal budgets of moves
+//! `e3d closed-loop`: closed-loop E3D against open-loop E3D, Q-learning
+//! (over whole commands, and per move with optimistic values) and the
+//! uniform policy on equal budgets of moves
 //! ([`e3d::experiment::closed_loop`], its table
 //! [`e3d::report::closed_loop::markdown`]).
 

@@ -13,6 +13,10 @@
 //! - `e3d_open_loop`: E3D with one command of `K n` moves (the paper's
 //!   learner on the longer command);
 //! - `qlearning`: [`QLearning`], `K` commands, the context the current cell;
+//! - `qlearning_moves`: per-move Q-learning ([`QLearning::optimistic`]):
+//!   `K n` commands of one move, the context the current cell before each
+//!   move, values from [`QLearning::OPTIMISTIC`], epsilon
+//!   [`MOVES_EPSILON`];
 //! - `uniform`: `K n` uniform moves.
 
 use crate::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
@@ -26,13 +30,18 @@ use crate::world::Episodic;
 use crate::Target;
 
 /// The arms, in the order of the table.
-pub const ARMS: [&str; 5] = [
+pub const ARMS: [&str; 6] = [
     "e3d_closed_loop",
     "e3d_contextual",
     "e3d_open_loop",
     "qlearning",
+    "qlearning_moves",
     "uniform",
 ];
+
+/// The exploration rate of the arm `qlearning_moves`: 0, its optimistic
+/// values explore.
+pub const MOVES_EPSILON: f64 = 0.0;
 
 /// The settings of a comparison.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -140,9 +149,12 @@ fn with_slots(scene: &Scene, n: usize) -> Result<Scene, ClosedLoopError> {
 }
 
 /// The episodes of a session of `arm`: `K` commands observing the
-/// current cell (the closed-loop arms), or one command of `K n` moves
-/// from the scene's start (the open-loop arms).
-fn arm_config(arm: &str, seed: u64, cfg: &ClosedLoopConfig) -> EpisodeConfig {
+/// current cell (the closed-loop arms; `K n` commands of one move for
+/// `qlearning_moves`), or one command of `K n` moves from the scene's
+/// start (the open-loop arms).
+/// `moves` is the scene's moves per command (`n`): `qlearning_moves` runs
+/// `K n` commands of one move.
+fn arm_config(arm: &str, seed: u64, cfg: &ClosedLoopConfig, moves: usize) -> EpisodeConfig {
     let closed = EpisodeConfig {
         episodes: cfg.episodes,
         commands: cfg.commands,
@@ -154,6 +166,10 @@ fn arm_config(arm: &str, seed: u64, cfg: &ClosedLoopConfig) -> EpisodeConfig {
         "e3d_open_loop" | "uniform" => EpisodeConfig {
             commands: 1,
             observe: Observe::StartContext,
+            ..closed
+        },
+        "qlearning_moves" => EpisodeConfig {
+            commands: cfg.commands.saturating_mul(moves),
             ..closed
         },
         _ => closed,
@@ -174,7 +190,7 @@ fn arm_setup(scene: &Scene, arm: &str, cfg: &ClosedLoopConfig) -> Result<Arm, Cl
         "e3d_closed_loop" | "e3d_contextual" | "qlearning" => {
             let world = scene.build();
             let space = scene.command_space();
-            let contexts = arm_config(arm, 0, cfg).num_contexts(&*world);
+            let contexts = arm_config(arm, 0, cfg, 1).num_contexts(&*world);
             let learner: Box<dyn ContextualLearner + Send> = match arm {
                 "qlearning" => Box::new(QLearning::new(&space, contexts, &cfg.params, cfg.gamma)?),
                 _ => Box::new(ClosedLoopE3d::new(
@@ -191,6 +207,23 @@ fn arm_setup(scene: &Scene, arm: &str, cfg: &ClosedLoopConfig) -> Result<Arm, Cl
                 )?),
             };
             (world, learner)
+        }
+        "qlearning_moves" => {
+            let single = with_slots(scene, 1)?;
+            let world = single.build();
+            let contexts = arm_config(arm, 0, cfg, 1).num_contexts(&*world);
+            let params = Params {
+                epsilon: MOVES_EPSILON,
+                ..cfg.params
+            };
+            let learner = QLearning::optimistic(
+                &single.command_space(),
+                contexts,
+                &params,
+                cfg.gamma,
+                QLearning::OPTIMISTIC,
+            )?;
+            (world, Box::new(learner))
         }
         "e3d_open_loop" | "uniform" => {
             let long = with_slots(scene, scene.spec().num_slots() * cfg.commands)?;
@@ -230,7 +263,7 @@ pub fn run_arm(
     cfg: &ClosedLoopConfig,
 ) -> Result<ArmSession, ClosedLoopError> {
     let (mut world, mut learner) = arm_setup(scene, arm, cfg)?;
-    let config = arm_config(arm, seed, cfg);
+    let config = arm_config(arm, seed, cfg, scene.spec().num_slots());
     let rec = run_episodes(&mut *world, &mut *learner, &config, &Control::default())?;
     Ok(figures(arm, seed, &rec))
 }
@@ -249,7 +282,7 @@ pub fn run_comparison(
         .collect();
     let configs: Vec<EpisodeConfig> = jobs
         .iter()
-        .map(|&(arm, seed)| arm_config(arm, seed, cfg))
+        .map(|&(arm, seed)| arm_config(arm, seed, cfg, scene.spec().num_slots()))
         .collect();
     let make = |i: usize| arm_setup(scene, jobs[i].0, cfg);
     let mut records = vec![EpisodeRecord::default(); jobs.len()];

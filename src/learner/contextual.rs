@@ -12,8 +12,9 @@
 //!   index ([`LearnerSetup::contexts`](super::LearnerSetup::contexts));
 //! - [`ClosedLoopE3d`]: contextual E3D whose reward is the Bellman target
 //!   of a reference action-value `Q_ref(s, a)` (the paper's conclusion);
-//! - [`QLearning`]: epsilon-greedy tabular Q-learning over whole commands,
-//!   the closed-loop baseline.
+//! - [`QLearning`]: epsilon-greedy tabular Q-learning over (context,
+//!   command), the closed-loop baseline: over whole commands with values
+//!   from 0, or over single moves with optimistic values.
 //!
 //! Equations: docs/algorithms.md, "Contexts and closed loop".
 
@@ -168,7 +169,7 @@ pub fn check_context_effects(num_contexts: usize, num_effects: usize) -> Result<
 }
 
 /// A dense table of action-values `Q(s, a)` over every (context, whole
-/// command), all 0 at the start.
+/// command), all equal at the start (0, or an optimistic value).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 struct ActionValues {
     q: Vec<f64>,
@@ -176,7 +177,7 @@ struct ActionValues {
 }
 
 impl ActionValues {
-    fn new(space: &CommandSpace, num_contexts: usize) -> Result<Self, LearnerError> {
+    fn new(space: &CommandSpace, num_contexts: usize, initial: f64) -> Result<Self, LearnerError> {
         let too_many = || {
             LearnerError::contexts(format!(
                 "a table of action-values over {num_contexts} contexts x {} commands: at most {MAX_ACTION_VALUES} entries",
@@ -192,7 +193,7 @@ impl ActionValues {
             .filter(|&n| n <= MAX_ACTION_VALUES)
             .ok_or_else(too_many)?;
         Ok(ActionValues {
-            q: vec![0.0; entries as usize],
+            q: vec![initial; entries as usize],
             commands: commands as usize,
         })
     }
@@ -267,7 +268,7 @@ impl ClosedLoopE3d {
     ) -> Result<Self, LearnerError> {
         check_gamma(gamma)?;
         check_context_effects(num_contexts, num_effects)?;
-        let reference = ActionValues::new(space, num_contexts)?;
+        let reference = ActionValues::new(space, num_contexts, 0.0)?;
         let learners = (0..num_contexts)
             .map(|s| E3d::new(space, num_effects, params, targets.of(s, num_contexts)?))
             .collect::<Result<Vec<_>, _>>()?;
@@ -337,11 +338,21 @@ impl ContextualLearner for ClosedLoopE3d {
     }
 }
 
-/// Epsilon-greedy tabular Q-learning over (context, whole command): with
+/// Epsilon-greedy tabular Q-learning over (context, command): with
 /// probability `epsilon` a uniform command (each slot uniform), otherwise
 /// a command of largest `Q(s, .)`, ties broken uniformly at random; after
 /// each command `Q(s, a) <- Q(s, a) + alpha (r + gamma max_a' Q(s', a') - Q(s, a))`
 /// (`r` alone after the episode's last command).
+///
+/// Every value starts at `initial`: 0 for [`new`](Self::new), the
+/// closed-loop baseline over whole commands (1024 a cell on four_rooms:
+/// until its first reward every value is 0 and its greedy choice is
+/// uniform); an optimistic value for [`optimistic`](Self::optimistic).
+/// Over commands of **one move**, an episode of `K n` such commands
+/// observing the current cell is ordinary per-move Q-learning (what
+/// `e3d closed-loop`'s arm `qlearning_moves` runs): optimistic values make
+/// the greedy policy try every move of a cell before it repeats one, a
+/// systematic exploration that reaches far cells without epsilon.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct QLearning {
     values: ActionValues,
@@ -352,6 +363,11 @@ pub struct QLearning {
 }
 
 impl QLearning {
+    /// The default optimistic initial value of
+    /// [`optimistic`](Self::optimistic): 1, the largest reward of the
+    /// shipped grid scenes.
+    pub const OPTIMISTIC: f64 = 1.0;
+
     /// A fresh learner (`Q = 0`) for `num_contexts` contexts, with
     /// `params.alpha`, `params.epsilon` and the discount `gamma` in `[0, 1]`.
     pub fn new(
@@ -360,10 +376,35 @@ impl QLearning {
         params: &Params,
         gamma: f64,
     ) -> Result<Self, LearnerError> {
+        Self::optimistic(space, num_contexts, params, gamma, 0.0)
+    }
+
+    /// A fresh learner whose values all start at `initial` (a finite
+    /// number; [`OPTIMISTIC`](Self::OPTIMISTIC) by default), otherwise as
+    /// [`new`](Self::new).
+    ///
+    /// ```
+    /// use e3d::command::CommandSpace;
+    /// use e3d::learner::QLearning;
+    /// use e3d::Params;
+    /// let space = CommandSpace::repeat(1, &['E', 'S', 'W', 'N']).unwrap();
+    /// let q = QLearning::optimistic(&space, 9, &Params::TASK2, 0.9, 1.0).unwrap();
+    /// assert_eq!(q.values(8), [1.0; 4]);
+    /// let e = QLearning::optimistic(&space, 9, &Params::TASK2, 0.9, f64::NAN).unwrap_err();
+    /// assert_eq!(e.to_string(), "initial = NaN: expected a finite number");
+    /// ```
+    pub fn optimistic(
+        space: &CommandSpace,
+        num_contexts: usize,
+        params: &Params,
+        gamma: f64,
+        initial: f64,
+    ) -> Result<Self, LearnerError> {
         params.validate()?;
         check_gamma(gamma)?;
+        check_initial(initial)?;
         Ok(QLearning {
-            values: ActionValues::new(space, num_contexts)?,
+            values: ActionValues::new(space, num_contexts, initial)?,
             space: space.clone(),
             alpha: params.alpha,
             epsilon: params.epsilon,
@@ -377,6 +418,25 @@ impl QLearning {
     }
 }
 
+/// Checks the initial action-value of Q-learning: a finite number.
+///
+/// ```
+/// use e3d::learner::contextual::check_initial;
+/// assert!(check_initial(1.0).is_ok());
+/// assert_eq!(check_initial(f64::INFINITY).unwrap_err().to_string(), "initial = inf: expected a finite number");
+/// ```
+pub fn check_initial(initial: f64) -> Result<(), LearnerError> {
+    if initial.is_finite() {
+        Ok(())
+    } else {
+        Err(super::ParamError {
+            name: "initial",
+            value: initial,
+            expected: "a finite number",
+        }
+        .into())
+    }
+}
 impl ContextualLearner for QLearning {
     fn name(&self) -> &str {
         "qlearning"

@@ -159,6 +159,7 @@ fn the_closed_loop_comparison_prints_every_arm() {
         "e3d_contextual",
         "e3d_open_loop",
         "qlearning",
+        "qlearning_moves",
         "uniform",
     ] {
         assert!(s.contains(&format!("| {arm} | ")), "{s}");
