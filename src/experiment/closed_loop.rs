@@ -276,6 +276,11 @@ pub fn run_comparison(
     cfg: &ClosedLoopConfig,
 ) -> Result<Vec<ArmSession>, ClosedLoopError> {
     check_scene(scene, cfg.commands)?;
+    // every move of `qlearning_moves` is a command: refuse before any work
+    let moves = cfg.commands.saturating_mul(scene.spec().num_slots());
+    crate::episode::check_size(cfg.episodes, moves).map_err(|e| {
+        ClosedLoopError::Setup(format!("arm qlearning_moves (one move a command): {e}"))
+    })?;
     let jobs: Vec<(&'static str, u64)> = ARMS
         .iter()
         .flat_map(|&a| (0..cfg.seeds).map(move |s| (a, s)))

@@ -774,4 +774,18 @@ fn per_move_qlearning_refuses_bad_parameters_by_name() {
     // whole-command Q-learning starts at 0, as before
     let q = QLearning::new(&space, 36, &params, 0.9).unwrap();
     assert_eq!(q.values(0), [0.0; 4]);
+    // the comparison refuses, before any work, more moves than a session
+    // of episodes may hold (every move of the arm is a command)
+    use e3d::experiment::closed_loop::{run_comparison, ClosedLoopConfig};
+    let cfg = ClosedLoopConfig {
+        episodes: 7_000_000,
+        ..ClosedLoopConfig::default()
+    };
+    let e = run_comparison(&Scene::builtin("four_rooms").unwrap(), &cfg)
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "arm qlearning_moves (one move a command): at most 100000000 commands in all per session (episodes x commands), found 7000000 episodes of 15 commands"
+    );
 }
