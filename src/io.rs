@@ -23,9 +23,12 @@ fn create_temp(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.subsec_nanos());
         let tmp = dir.join(format!(".{name}.tmp-{}-{n}-{t:x}", std::process::id()));
+        // created and registered under the lock, which a fatal signal's
+        // cleanup holds until the process ends: no file escapes it
+        let mut temps = TEMPS.lock().unwrap_or_else(|e| e.into_inner());
         match OpenOptions::new().write(true).create_new(true).open(&tmp) {
             Ok(f) => {
-                register_temp(&tmp);
+                temps.push(absolute(&tmp));
                 return Ok((tmp, f));
             }
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last = Some(e),
@@ -126,13 +129,15 @@ pub fn finish_output<E>(
 /// removed yet ([`remove_temps`], [`remove_temps_on_signals`]).
 static TEMPS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
 
+fn absolute(path: &Path) -> PathBuf {
+    std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf())
+}
+
 fn register_temp(path: &Path) {
-    let abs = if path.is_absolute() {
-        path.to_path_buf()
-    } else {
-        std::env::current_dir().map_or_else(|_| path.to_path_buf(), |d| d.join(path))
-    };
-    TEMPS.lock().unwrap_or_else(|e| e.into_inner()).push(abs);
+    TEMPS
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(absolute(path));
 }
 
 /// Says that the temporary file `path` (of [`create_temp_beside`]) was
@@ -147,8 +152,14 @@ pub fn forget_temp(path: &Path) {
 /// Removes every temporary file this process made and has not renamed
 /// into place nor forgotten; returns how many.
 pub fn remove_temps() -> usize {
-    let paths = std::mem::take(&mut *TEMPS.lock().unwrap_or_else(|e| e.into_inner()));
-    paths.iter().filter(|p| fs::remove_file(p).is_ok()).count()
+    remove_held(&mut TEMPS.lock().unwrap_or_else(|e| e.into_inner()))
+}
+
+fn remove_held(temps: &mut Vec<PathBuf>) -> usize {
+    temps
+        .drain(..)
+        .filter(|p| fs::remove_file(p).is_ok())
+        .count()
 }
 
 /// The signals on which [`remove_temps_on_signals`] removes the
@@ -203,7 +214,9 @@ pub fn remove_temps_on_signals() {
                 // SAFETY: reads one byte into a valid buffer
                 let n = unsafe { libc::read(read_fd, (&mut b as *mut u8).cast(), 1) };
                 if n == 1 {
-                    remove_temps();
+                    // the lock is kept until the process ends of the signal
+                    let mut temps = TEMPS.lock().unwrap_or_else(|e| e.into_inner());
+                    remove_held(&mut temps);
                     let sig = libc::c_int::from(b);
                     // SAFETY: restores the default action and raises the
                     // signal again, so that the process ends of it
