@@ -298,19 +298,7 @@ fn torques_act_on_hinges_and_are_refused_on_sliders() {
 /// (continuous scenes included): no panic, exit code 0.
 #[test]
 fn scene_check_samples_never_panics() {
-    let scenes = [
-        "two_rooms",
-        "puck_rooms",
-        "arm7",
-        "pendulum3",
-        "maze3",
-        "puck_rooms14",
-        "arm7x5",
-        "three_rooms",
-        "arm4_gravity",
-        "arm7_continuous",
-    ];
-    for scene in scenes {
+    for &(scene, _) in e3d::scene::BUILTIN {
         for n in ["0", "1", "2", "7"] {
             let out = std::process::Command::new(env!("CARGO_BIN_EXE_e3d"))
                 .args(["scene", "check", "--samples", n, scene])
