@@ -1,0 +1,91 @@
+//! The checks of a physics world's `noise` section: spreads that are
+//! finite, >= 0 and within bounds (an action's factor stays positive), and
+//! start offsets on free dynamic bodies only.
+
+use crate::scene::physics::limits::{MAX_ANGLE_NOISE, MAX_POSITION_NOISE};
+use crate::scene::physics::{BodyKind, PhysicsSpec, Spread};
+use crate::scene::Invalid;
+
+/// `Err(expected)` unless the spread is finite, >= 0 and reaches at most
+/// `max` (below `max` when `below`), `unit` for the message.
+fn check_spread(s: Spread, max: f64, below: bool, unit: &str) -> Result<(), String> {
+    let (field, v, cut) = match s {
+        Spread::Gaussian { sd } => ("sd", sd, 3.0),
+        Spread::Uniform { half_width } => ("half_width", half_width, 1.0),
+    };
+    let r = s.reach();
+    if v.is_finite() && v >= 0.0 && (r < max || (!below && r == max)) {
+        return Ok(());
+    }
+    let (close, bound) = (if below { ")" } else { "]" }, max / cut);
+    let why = match s {
+        Spread::Gaussian { .. } => " (draws are cut at 3 sd)",
+        Spread::Uniform { .. } => "",
+    };
+    let unit = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    Err(format!(
+        "{field} in [0, {bound}{close}{unit}{why}, found {v}"
+    ))
+}
+
+impl PhysicsSpec {
+    /// The `noise` section: the action spread keeps every factor `1 + x`
+    /// above 0 (a Gaussian's `sd` at most 1/3, a uniform `half_width`
+    /// below 1); start offsets name distinct free dynamic bodies (no
+    /// joint's child), with position spreads within
+    /// [`MAX_POSITION_NOISE`] m and angle spreads within
+    /// [`MAX_ANGLE_NOISE`] rad.
+    pub(super) fn check_noise(&self) -> Result<(), Invalid> {
+        let Some(noise) = &self.noise else {
+            return Ok(());
+        };
+        if let Some(e) = noise
+            .actions
+            .and_then(|a| check_spread(a, 1.0, true, "").err())
+        {
+            return Err(Invalid::at(
+                "actions",
+                Some("noise:"),
+                &format!("noise on actions: {e}: each action is multiplied by 1 + x, which must stay above 0"),
+            ));
+        }
+        let mut seen = std::collections::HashSet::new();
+        for (k, s) in noise.starts.iter().enumerate() {
+            let here = |field: &str, expected: String| {
+                Invalid::new(
+                    field,
+                    format!(
+                        "noise on the start of body `{}`: {expected}",
+                        crate::text::echo(&s.body)
+                    ),
+                )
+                .within("starts", k)
+            };
+            let free = self.body(&s.body).is_some_and(|b| {
+                b.kind == BodyKind::Dynamic && !self.joints.iter().any(|j| j.child == s.body)
+            });
+            if !free {
+                return Err(here(
+                    "body",
+                    "a free dynamic body of the scene (no joint's child)".into(),
+                ));
+            }
+            if !seen.insert(s.body.as_str()) {
+                return Err(here("body", "each body listed once".into()));
+            }
+            for (field, spread, max, unit) in [
+                ("position", s.position, MAX_POSITION_NOISE, "m"),
+                ("angle", s.angle, MAX_ANGLE_NOISE, "rad"),
+            ] {
+                if let Some(e) = spread.and_then(|p| check_spread(p, max, false, unit).err()) {
+                    return Err(here(field, e));
+                }
+            }
+        }
+        Ok(())
+    }
+}

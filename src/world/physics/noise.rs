@@ -1,0 +1,114 @@
+//! A noisy world's draws: before each command, the start offsets of the
+//! bodies of its copy, then one factor per slot for its actions, all from
+//! the generator of the command's key (see
+//! [`World::set_draw_keys`](crate::World::set_draw_keys)).
+
+use super::PhysicsWorld;
+use crate::scene::physics::{draw_key, generator, PhysicsSpec, Spread};
+use rapier2d::math::{Real, Rotation, Vector};
+
+/// A scene's noise, resolved to body indices.
+#[derive(Debug, Clone)]
+pub(super) struct Noise {
+    actions: Option<Spread>,
+    /// Per noisy body: its index in the scene, its position's and its
+    /// angle's spreads.
+    starts: Vec<(usize, Option<Spread>, Option<Spread>)>,
+    /// The keys given for the next commands, and those of the batch
+    /// being run.
+    given: Vec<u64>,
+    batch: Vec<u64>,
+    /// Commands executed without keys given: their keys count on.
+    unkeyed: u64,
+    /// Per copy, then per slot: the factor of the slot's action.
+    factors: Vec<Real>,
+}
+
+impl Noise {
+    /// The noise of `spec`, if it draws anything.
+    pub(super) fn of(spec: &PhysicsSpec) -> Option<Noise> {
+        let n = spec.active_noise()?;
+        let starts = n
+            .starts
+            .iter()
+            .filter_map(|s| Some((spec.body_index(&s.body)?, s.position, s.angle)))
+            .collect();
+        Some(Noise {
+            actions: n.actions,
+            starts,
+            given: Vec::new(),
+            batch: Vec::new(),
+            unkeyed: 0,
+            factors: Vec::new(),
+        })
+    }
+
+    /// The keys of the next `n` commands: those given, if `n` were given,
+    /// else the next `n` of a count kept by the world (commands executed
+    /// outside a session, keyed by the world's history).
+    pub(super) fn take_keys(&mut self, n: usize) -> Vec<u64> {
+        let given = std::mem::take(&mut self.given);
+        if given.len() == n {
+            return given;
+        }
+        let first = self.unkeyed;
+        self.unkeyed += n as u64;
+        (first..first + n as u64)
+            .map(|k| draw_key(u64::MAX, k))
+            .collect()
+    }
+
+    pub(super) fn give(&mut self, keys: &[u64]) {
+        self.given.clear();
+        self.given.extend_from_slice(keys);
+    }
+
+    pub(super) fn set_batch(&mut self, keys: &[u64]) {
+        self.batch.clear();
+        self.batch.extend_from_slice(keys);
+    }
+
+    /// The factor of slot `slot`'s action on copy `copy`.
+    pub(super) fn factor(&self, copy: usize, slots: usize, slot: usize) -> Real {
+        self.factors
+            .get(copy * slots + slot)
+            .copied()
+            .unwrap_or(1.0)
+    }
+}
+
+impl PhysicsWorld {
+    /// Draws the noise of the first `n` copies' commands, keyed by the
+    /// batch's keys: offsets the starts of the noisy bodies (after the restore)
+    /// (x, y, then the angle, body after body), then draws each slot's
+    /// factor in slot order.
+    pub(super) fn draw_noise(&mut self, n: usize) {
+        let slots = self.space.num_slots();
+        let Some(noise) = self.noise.as_mut() else {
+            return;
+        };
+        noise.factors.clear();
+        noise.factors.resize(n * slots, 1.0);
+        for c in 0..n {
+            let mut rng = generator(noise.batch[c]);
+            for &(i, position, angle) in &noise.starts {
+                let b = &mut self.sets.bodies[self.copies[c].handles[i]];
+                if let Some(p) = position {
+                    let (dx, dy) = (p.draw(&mut rng), p.draw(&mut rng));
+                    let t = b.translation();
+                    let at = Vector::new(t.x + dx as Real, t.y + dy as Real);
+                    b.set_translation(at, true);
+                }
+                if let Some(a) = angle {
+                    let turned = b.rotation().angle() + a.draw(&mut rng) as Real;
+                    b.set_rotation(Rotation::new(turned), true);
+                }
+            }
+            if let Some(a) = noise.actions {
+                for f in &mut noise.factors[c * slots..(c + 1) * slots] {
+                    *f = (1.0 + a.draw(&mut rng)) as Real;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,221 @@
+//! Seeded noise (a scene's `noise` section): the draws are keyed by the
+//! session's seed and the trial, so records are the same bytes on 1 and 2
+//! threads and in lockstep; a noisy world refuses tables and memos; the
+//! loader checks the bounds, with the file, line and column.
+
+use e3d::learner::LearnerSetup;
+use e3d::session::run_group;
+use e3d::world::{ExecOptions, Executor, Strategy, Workload};
+use e3d::{
+    run_session, Control, LearnerKind, OutcomeTable, Scene, Session, SessionConfig, SessionRecord,
+    World,
+};
+
+fn noisy() -> Scene {
+    Scene::load("tests/scenes/puck_noisy.ron").unwrap()
+}
+
+/// `sessions` E3D sessions of 60 trials on `threads` threads.
+fn records_on(scene: &Scene, threads: usize, sessions: usize) -> Vec<SessionRecord> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        Session::new(scene, LearnerKind::E3d)
+            .trials(60)
+            .seed(7)
+            .run_many(sessions)
+            .unwrap()
+    })
+}
+
+#[test]
+fn a_noisy_scene_gives_the_same_records_on_1_and_2_threads() {
+    let scene = noisy();
+    let one = records_on(&scene, 1, 4);
+    let two = records_on(&scene, 2, 4);
+    assert_eq!(one, two);
+    // and the same again: a fixed seed, fixed bytes
+    assert_eq!(records_on(&scene, 2, 4), one);
+    // the noise is there: the noise-free scene's records differ
+    let plain = records_on(&Scene::builtin("puck_rooms").unwrap(), 1, 4);
+    assert_ne!(plain, one);
+}
+
+#[test]
+fn lockstep_under_noise_equals_sessions_alone() {
+    let scene = noisy();
+    let space = scene.command_space();
+    let make = || {
+        LearnerSetup::new(LearnerKind::Uniform)
+            .symbols(&space, scene.num_effects())
+            .unwrap()
+    };
+    let configs: Vec<SessionConfig> = (0..3)
+        .map(|i| SessionConfig {
+            trials: 30 - 5 * i,
+            seed: 40 + i as u64,
+            use_reward: true,
+        })
+        .collect();
+    let mut learners: Vec<_> = configs.iter().map(|_| make()).collect();
+    let mut world = scene.as_physics().unwrap().world(3);
+    let mut records: Vec<SessionRecord> = configs
+        .iter()
+        .map(|c| SessionRecord::new(&world, c.trials))
+        .collect();
+    let status = run_group(
+        &mut world,
+        &mut learners,
+        &configs,
+        &mut records,
+        &Control::default(),
+    );
+    assert!(status.iter().all(Result::is_ok));
+    for (c, r) in configs.iter().zip(&records) {
+        let alone = run_session(&mut scene.build(), &mut make(), c).unwrap();
+        assert_eq!(*r, alone, "seed {}", c.seed);
+    }
+}
+
+#[test]
+fn the_same_key_draws_the_same_outcome_and_another_key_another() {
+    let scene = noisy();
+    let mut world = scene.build();
+    let c = world.command_space().parse("SEEEEES").unwrap();
+    let at = |world: &mut Box<dyn e3d::world::Episodic + Send>, key: u64| {
+        world.set_draw_keys(&[key]);
+        world.execute(&c).unwrap().point
+    };
+    let a = at(&mut world, 5);
+    assert_eq!(at(&mut world, 9), at(&mut world, 9));
+    assert_eq!(at(&mut world, 5), a);
+    assert_ne!(at(&mut world, 6), a);
+    assert!(!world.is_deterministic());
+    // a batch of copies gives each command its key's outcome
+    let mut copies = scene.as_physics().unwrap().world(4);
+    copies.set_draw_keys(&[9, 5, 6, 5]);
+    let mut out = Vec::new();
+    copies.execute_batch(&[c.clone(), c.clone(), c.clone(), c.clone()], &mut out);
+    let points: Vec<_> = out.into_iter().map(|o| o.unwrap().point).collect();
+    assert_eq!(points[1], a);
+    assert_eq!(points[3], a);
+    assert_eq!(points[0], at(&mut world, 9));
+}
+
+#[test]
+fn a_noise_section_that_draws_nothing_changes_no_bit() {
+    let plain = Scene::builtin("puck_rooms").unwrap();
+    let text = std::fs::read_to_string("scenes/puck_rooms.ron")
+        .unwrap()
+        .replace(
+            "effect: (body: \"puck\"",
+            "noise: (actions: Gaussian(sd: 0.0)),\n        effect: (body: \"puck\"",
+        );
+    let quiet = Scene::parse(&text, "quiet.ron").unwrap();
+    let (mut a, mut b) = (plain.build(), quiet.build());
+    assert!(b.is_deterministic());
+    let space = plain.command_space();
+    for k in 0..20u64 {
+        let c = space.command_at(k * 7919 % 16384);
+        assert_eq!(a.execute(&c).unwrap(), b.execute(&c).unwrap());
+    }
+}
+
+#[test]
+fn a_noisy_scene_refuses_tables_and_memos_naming_its_noise() {
+    let scene = noisy();
+    let work = Workload {
+        trials: 100_000,
+        sessions: 1,
+        threads: 1,
+    };
+    // left to choose, the executor runs live
+    let exec = Executor::new(&scene, &work, &ExecOptions::default()).unwrap();
+    assert_eq!(exec.plan().strategy, Strategy::Live);
+    for force in [Strategy::Table, Strategy::Memo] {
+        let options = ExecOptions {
+            force: Some(force),
+            ..ExecOptions::default()
+        };
+        let e = Executor::new(&scene, &work, &options)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("scene `puck_noisy` has a `noise` section"),
+            "{e}"
+        );
+        assert!(e.contains(&format!("--outcomes {force}")), "{e}");
+    }
+    let dir = std::env::temp_dir();
+    let options = ExecOptions {
+        cache: Some(dir),
+        ..ExecOptions::default()
+    };
+    let e = Executor::new(&scene, &work, &options)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("a table cache") && e.contains("`noise` section"),
+        "{e}"
+    );
+    let e = OutcomeTable::build_scene(&scene).unwrap_err().to_string();
+    assert!(e.contains("`noise` section"), "{e}");
+    let e = OutcomeTable::build(&mut scene.build())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not deterministic"), "{e}");
+}
+
+/// The noisy scene with `from` replaced by `to`: the error's text.
+fn error(from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string("tests/scenes/puck_noisy.ron").unwrap();
+    assert_eq!(text.matches(from).count(), 1, "`{from}`");
+    match Scene::parse(&text.replacen(from, to, 1), "n.ron") {
+        Ok(_) => panic!("accepted: {to}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn the_loader_checks_the_noise_bounds_at_their_place() {
+    // line 28 is `actions: ...`, line 29 the starts (see the fixture)
+    let e = error("Gaussian(sd: 0.05)", "Gaussian(sd: -0.05)");
+    assert!(e.starts_with("n.ron:28:13:"), "{e}");
+    assert!(
+        e.contains("sd in [0, 0.3333333333333333) (draws are cut at 3 sd), found -0.05"),
+        "{e}"
+    );
+    // a factor 1 + x that could reach 0
+    let e = error("Gaussian(sd: 0.05)", "Uniform(half_width: 1.0)");
+    assert!(
+        e.starts_with("n.ron:28:13:") && e.contains("half_width in [0, 1)"),
+        "{e}"
+    );
+    let e = error(
+        "position: Gaussian(sd: 0.02)",
+        "position: Gaussian(sd: NaN)",
+    );
+    assert!(e.starts_with("n.ron:29:37:"), "{e}");
+    assert!(
+        e.contains("noise on the start of body `puck`: sd in [0, 33.33"),
+        "{e}"
+    );
+    let e = error(
+        "(body: \"puck\", position: G",
+        "(body: \"wall_south\", position: G",
+    );
+    assert!(e.starts_with("n.ron:29:23:"), "{e}");
+    assert!(e.contains("a free dynamic body of the scene"), "{e}");
+    let e = error(
+        "position: Gaussian(sd: 0.02)",
+        "angle: Uniform(half_width: 4.0)",
+    );
+    assert!(
+        e.starts_with("n.ron:29:37:") && e.contains("half_width in [0, 3.14"),
+        "{e}"
+    );
+}
