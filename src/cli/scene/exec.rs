@@ -562,16 +562,15 @@ pub(super) fn exec(
             let mut results = results.drain(..);
             for c in &chunk {
                 each.clear();
-                for r in results.by_ref().take(runs) {
-                    match r {
-                        Ok(o) => each.push(o),
-                        Err(e) => {
-                            end = Some(world_error(e));
-                            break;
-                        }
+                let failed = results.by_ref().take(runs).find_map(|r| match r {
+                    Ok(o) => {
+                        each.push(o);
+                        None
                     }
-                }
-                if end.is_some() {
+                    Err(e) => Some(e),
+                });
+                if let Some(e) = failed {
+                    end = Some(world_error(e));
                     break;
                 }
                 if repeat > 1 {
