@@ -93,7 +93,12 @@ impl<'s> Executor<'s> {
         }
         if !deterministic {
             plan.strategy = Strategy::Live;
-            plan.why = "the world is not deterministic".into();
+            plan.why = match &scene.spec().world {
+                WorldSpec::Physics(p) if p.active_noise().is_some() => {
+                    "the scene's `noise` section draws anew at every execution".into()
+                }
+                _ => "the world is not deterministic".into(),
+            };
         }
         let mut exec = Executor {
             scene,

@@ -110,3 +110,50 @@ fn a_noisy_scene_refuses_table_caches_naming_its_noise() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// A sweep over the noisy scene: the same bytes on 1 and 2 threads, and
+/// from two shards merged.
+#[test]
+fn a_noisy_sweep_gives_the_same_bytes_on_threads_and_shards() {
+    use crate::sweep::{assert_same_files, FINAL_FILES};
+    let d = crate::common::temp_dir("noise-sweep");
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(NOISY);
+    let text = format!(
+        r#"Sweep(
+    scenes: ["{}"],
+    learners: [e3d, uniform],
+    params: (beta: [1, 100]),
+    sessions: 3,
+    trials: 60,
+    seed: 11,
+    metrics: [normalized_entropy, distinct_effects],
+)
+"#,
+        scene.display()
+    );
+    let file = d.join("noisy.ron");
+    std::fs::write(&file, text).unwrap();
+    let f = file.to_str().unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = d.join(name);
+        let mut args = vec!["sweep", f];
+        args.extend_from_slice(extra);
+        args.extend(["--out", out.to_str().unwrap()]);
+        ok(e3d(&args));
+        out
+    };
+    let one = run("one", &["--threads", "1"]);
+    let two = run("two", &["--threads", "2"]);
+    assert_same_files(&one, &two, &FINAL_FILES);
+    let s1 = run("s1", &["--threads", "1", "--shard", "1/2"]);
+    let s2 = run("s2", &["--threads", "2", "--shard", "2/2"]);
+    let merged = d.join("merged");
+    ok(e3d(&[
+        "merge",
+        s2.to_str().unwrap(),
+        s1.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]));
+    assert_same_files(&one, &merged, &FINAL_FILES);
+}
