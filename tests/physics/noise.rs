@@ -219,3 +219,61 @@ fn the_loader_checks_the_noise_bounds_at_their_place() {
         "{e}"
     );
 }
+
+/// puck_rooms with `noise` as its noise section.
+fn puck_with(noise: &str) -> Result<Scene, e3d::scene::SceneError> {
+    let text = std::fs::read_to_string("scenes/puck_rooms.ron")
+        .unwrap()
+        .replace(
+            "effect: (body: \"puck\"",
+            &format!("noise: {noise},\n        effect: (body: \"puck\""),
+        );
+    Scene::parse(&text, "p.ron")
+}
+
+#[test]
+fn body_numbers_are_drawn_per_execution_and_keyed() {
+    let noise = r#"(body_numbers: [(body: "puck", mass: Gaussian(sd: 0.1), linear_damping: Uniform(half_width: 0.2))])"#;
+    let scene = puck_with(noise).unwrap();
+    let c = scene.command_space().parse("SEEEEES").unwrap();
+    let mut world = scene.build();
+    assert!(!world.is_deterministic());
+    let mut at = |key: u64| {
+        world.set_draw_keys(&[key]);
+        world.execute(&c).unwrap().point
+    };
+    let a = at(1);
+    assert_eq!(at(1), a);
+    assert_ne!(at(2), a);
+    // the puck's own numbers come back at the next execution
+    let plain = Scene::builtin("puck_rooms").unwrap();
+    let mut copies = scene.as_physics().unwrap().world(3);
+    copies.set_draw_keys(&[2, 1, 3]);
+    let mut out = Vec::new();
+    copies.execute_batch(&[c.clone(), c.clone(), c.clone()], &mut out);
+    assert_eq!(out[1].as_ref().unwrap().point, a);
+    assert_ne!(plain.build().execute(&c).unwrap().point, a);
+}
+
+#[test]
+fn body_numbers_keep_masses_positive_and_name_their_place() {
+    let e = puck_with(r#"(body_numbers: [(body: "puck", mass: Uniform(half_width: 1.0))])"#)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(
+            "field `mass`: expected noise on the numbers of body `puck`: half_width in [0, 1)"
+        ),
+        "{e}"
+    );
+    // the line of the noise section, at the field
+    assert!(e.starts_with("p.ron:44:47:"), "{e}");
+    let e = puck_with(r#"(body_numbers: [(body: "puck", friction: Gaussian(sd: -0.1))])"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("sd in [0, 0.3333333333333333] (draws are cut at 3 sd), found -0.1: the `friction` is multiplied by 1 + x"), "{e}");
+    let e = puck_with(r#"(body_numbers: [(body: "inner_low", mass: Gaussian(sd: 0.1))])"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("a free dynamic body of the scene"), "{e}");
+}

@@ -8,12 +8,14 @@ use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
 
 /// The `noise` section of a physics world (default none: every execution
-/// of a command gives the same bits).
+/// of a command gives the same bits). Each execution draws the start
+/// offsets, then the bodies' factors, then one factor per slot.
 ///
 /// ```ron
 /// noise: (
 ///     actions: Gaussian(sd: 0.05),
 ///     starts: [(body: "puck", position: Uniform(half_width: 0.02), angle: Gaussian(sd: 0.05))],
+///     body_numbers: [(body: "puck", mass: Gaussian(sd: 0.1), linear_damping: Uniform(half_width: 0.2))],
 /// ),
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -28,6 +30,44 @@ pub struct NoiseSpec {
     /// none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub starts: Vec<StartNoise>,
+    /// Free bodies whose physical numbers are multiplied by drawn factors
+    /// at every execution (default none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub body_numbers: Vec<BodyNoise>,
+}
+
+/// The factors `1 + x` of one free body's physical numbers (a dynamic
+/// body that is no joint's child), drawn anew at every execution.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyNoise {
+    /// The body, by name.
+    pub body: String,
+    /// Its mass (the factor stays above 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<Spread>,
+    /// Its linear damping.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linear_damping: Option<Spread>,
+    /// Its angular damping.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angular_damping: Option<Spread>,
+    /// Its friction coefficient.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<Spread>,
+}
+
+impl BodyNoise {
+    /// The spreads in draw order: mass, linear and angular damping,
+    /// friction, with their field names.
+    pub fn spreads(&self) -> [(&'static str, Option<Spread>); 4] {
+        [
+            ("mass", self.mass),
+            ("linear_damping", self.linear_damping),
+            ("angular_damping", self.angular_damping),
+            ("friction", self.friction),
+        ]
+    }
 }
 
 /// The offsets of one free body's start (a dynamic body that is no
@@ -95,6 +135,11 @@ impl NoiseSpec {
                     .iter()
                     .flatten()
                     .any(|p| p.reach() > 0.0)
+            })
+            || (self.body_numbers.iter()).any(|b| {
+                b.spreads()
+                    .iter()
+                    .any(|(_, p)| p.is_some_and(|p| p.reach() > 0.0))
             })
     }
 }

@@ -14,6 +14,9 @@ pub(super) struct Noise {
     /// Per noisy body: its index in the scene, its position's and its
     /// angle's spreads.
     starts: Vec<(usize, Option<Spread>, Option<Spread>)>,
+    /// Per body whose numbers are drawn: its index, and the spreads of
+    /// its mass, linear and angular damping and friction factors.
+    numbers: Vec<(usize, [Option<Spread>; 4])>,
     /// The keys given for the next commands, and those of the batch
     /// being run.
     given: Vec<u64>,
@@ -33,9 +36,15 @@ impl Noise {
             .iter()
             .filter_map(|s| Some((spec.body_index(&s.body)?, s.position, s.angle)))
             .collect();
+        let numbers = n
+            .body_numbers
+            .iter()
+            .filter_map(|b| Some((spec.body_index(&b.body)?, b.spreads().map(|(_, p)| p))))
+            .collect();
         Some(Noise {
             actions: n.actions,
             starts,
+            numbers,
             given: Vec::new(),
             batch: Vec::new(),
             unkeyed: 0,
@@ -79,9 +88,10 @@ impl Noise {
 
 impl PhysicsWorld {
     /// Draws the noise of the first `n` copies' commands, keyed by the
-    /// batch's keys: offsets the starts of the noisy bodies (after the restore)
-    /// (x, y, then the angle, body after body), then draws each slot's
-    /// factor in slot order.
+    /// batch's keys: offsets the starts of the noisy bodies (after the
+    /// restore; x, y, then the angle, body after body), scales the bodies'
+    /// numbers (mass, linear and angular damping, friction, each drawn
+    /// when given), then draws each slot's factor in slot order.
     pub(super) fn draw_noise(&mut self, n: usize) {
         let slots = self.space.num_slots();
         let Some(noise) = self.noise.as_mut() else {
@@ -102,6 +112,37 @@ impl PhysicsWorld {
                 if let Some(a) = angle {
                     let turned = b.rotation().angle() + a.draw(&mut rng) as Real;
                     b.set_rotation(Rotation::new(turned), true);
+                }
+            }
+            for &(i, spreads) in &noise.numbers {
+                let h = self.copies[c].handles[i];
+                let mut factor = |k: usize| spreads[k].map(|p| 1.0 + p.draw(&mut rng) as Real);
+                let (mass, linear, angular, friction) =
+                    (factor(0), factor(1), factor(2), factor(3));
+                let b = &mut self.sets.bodies[h];
+                if let Some(k) = linear {
+                    b.set_linear_damping(b.linear_damping() * k);
+                }
+                if let Some(k) = angular {
+                    b.set_angular_damping(b.angular_damping() * k);
+                }
+                let colliders = b.colliders().to_vec();
+                let own = b.mass();
+                let mut on_colliders = 0.0;
+                for co in colliders {
+                    let co = &mut self.sets.colliders[co];
+                    if let Some(k) = friction {
+                        co.set_friction(co.friction() * k);
+                    }
+                    let m = co.mass();
+                    on_colliders += m;
+                    if let Some(k) = mass.filter(|_| m > 0.0) {
+                        co.set_mass(m * k);
+                    }
+                }
+                // a shape without area carries the body's own mass
+                if let Some(k) = mass.filter(|_| on_colliders == 0.0) {
+                    self.sets.bodies[h].set_additional_mass(own * k, true);
                 }
             }
             if let Some(a) = noise.actions {

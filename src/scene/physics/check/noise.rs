@@ -38,7 +38,8 @@ impl PhysicsSpec {
     /// below 1); start offsets name distinct free dynamic bodies (no
     /// joint's child), with position spreads within
     /// [`MAX_POSITION_NOISE`] m and angle spreads within
-    /// [`MAX_ANGLE_NOISE`] rad.
+    /// [`MAX_ANGLE_NOISE`] rad; body numbers' factors keep a mass above
+    /// 0 and a damping or friction at least 0.
     pub(super) fn check_noise(&self) -> Result<(), Invalid> {
         let Some(noise) = &self.noise else {
             return Ok(());
@@ -53,35 +54,51 @@ impl PhysicsSpec {
                 &format!("noise on actions: {e}: each action is multiplied by 1 + x, which must stay above 0"),
             ));
         }
+        // a free dynamic body (no joint's child), listed once per list
+        let free = |name: &str| {
+            self.body(name).is_some_and(|b| {
+                b.kind == BodyKind::Dynamic && !self.joints.iter().any(|j| j.child == name)
+            })
+        };
         let mut seen = std::collections::HashSet::new();
-        for (k, s) in noise.starts.iter().enumerate() {
-            let here = |field: &str, expected: String| {
-                Invalid::new(
-                    field,
-                    format!(
-                        "noise on the start of body `{}`: {expected}",
-                        crate::text::echo(&s.body)
-                    ),
-                )
-                .within("starts", k)
+        let mut body = |list: &'static str, k: usize, name: &str| {
+            let body = crate::text::echo(name);
+            let what = if list == "starts" {
+                "the start of"
+            } else {
+                "the numbers of"
             };
-            let free = self.body(&s.body).is_some_and(|b| {
-                b.kind == BodyKind::Dynamic && !self.joints.iter().any(|j| j.child == s.body)
-            });
-            if !free {
-                return Err(here(
-                    "body",
-                    "a free dynamic body of the scene (no joint's child)".into(),
-                ));
+            let here = move |field: &str, expected: String| {
+                Invalid::new(field, format!("noise on {what} body `{body}`: {expected}"))
+                    .within(list, k)
+            };
+            if !free(name) {
+                let expected = "a free dynamic body of the scene (no joint's child)";
+                return Err(here("body", expected.into()));
             }
-            if !seen.insert(s.body.as_str()) {
+            if !seen.insert((list, name.to_string())) {
                 return Err(here("body", "each body listed once".into()));
             }
+            Ok(here)
+        };
+        for (k, s) in noise.starts.iter().enumerate() {
+            let here = body("starts", k, &s.body)?;
             for (field, spread, max, unit) in [
                 ("position", s.position, MAX_POSITION_NOISE, "m"),
                 ("angle", s.angle, MAX_ANGLE_NOISE, "rad"),
             ] {
                 if let Some(e) = spread.and_then(|p| check_spread(p, max, false, unit).err()) {
+                    return Err(here(field, e));
+                }
+            }
+        }
+        for (k, b) in noise.body_numbers.iter().enumerate() {
+            let here = body("body_numbers", k, &b.body)?;
+            for (field, spread) in b.spreads() {
+                // a mass stays above 0, a damping or friction at least 0
+                let below = field == "mass";
+                if let Some(e) = spread.and_then(|p| check_spread(p, 1.0, below, "").err()) {
+                    let e = format!("{e}: the `{field}` is multiplied by 1 + x");
                     return Err(here(field, e));
                 }
             }
