@@ -277,3 +277,57 @@ fn body_numbers_keep_masses_positive_and_name_their_place() {
         .to_string();
     assert!(e.contains("a free dynamic body of the scene"), "{e}");
 }
+
+/// arm7 with `noise` as its noise section.
+fn arm_with(noise: &str) -> Result<Scene, e3d::scene::SceneError> {
+    let text = std::fs::read_to_string("scenes/arm7.ron").unwrap().replace(
+        "effect: (body: \"link7\"",
+        &format!("noise: {noise},\n        effect: (body: \"link7\""),
+    );
+    Scene::parse(&text, "a.ron")
+}
+
+#[test]
+fn joint_start_noise_turns_the_joint_and_its_tree_follows() {
+    let scene = arm_with(r#"(starts: [(joint: "j2", angle: Gaussian(sd: 0.05))])"#).unwrap();
+    let c = scene.command_space().parse("0000000").unwrap();
+    let mut world = scene.build();
+    let mut at = |key: u64| {
+        world.set_draw_keys(&[key]);
+        world.execute(&c).unwrap().point
+    };
+    let a = at(1);
+    assert_eq!(at(1), a);
+    assert_ne!(at(2), a);
+    // at rest, the tip is where the start put it: off the plain arm's tip
+    let plain = Scene::builtin("arm7")
+        .unwrap()
+        .build()
+        .execute(&c)
+        .unwrap()
+        .point;
+    assert_ne!(plain, a);
+    let moved = ((a[0] - plain[0]).powi(2) + (a[1] - plain[1]).powi(2)).sqrt();
+    assert!(moved < 0.5, "the tip moved {moved} m");
+}
+
+#[test]
+fn joint_start_noise_stays_within_the_joint_limits() {
+    let e = arm_with(r#"(starts: [(joint: "j2", angle: Uniform(half_width: 3.0))])"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("noise on the start of joint `j2`: half_width in [0, 2.5] rad, found 3 (its limits [-2.5, 2.5] rad hold every draw from 0)"), "{e}");
+    let e = arm_with(r#"(starts: [(joint: "j9", angle: Uniform(half_width: 0.1))])"#)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(
+            "field `joint`: expected noise on the start of joint `j9`: a joint of the scene"
+        ),
+        "{e}"
+    );
+    let e = arm_with(r#"(starts: [(joint: "j2", position: Uniform(half_width: 0.1))])"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("field `position`"), "{e}");
+}

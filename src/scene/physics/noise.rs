@@ -26,8 +26,8 @@ pub struct NoiseSpec {
     /// slot of every execution (default none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub actions: Option<Spread>,
-    /// Free bodies whose start is offset at every execution (default
-    /// none).
+    /// Free bodies and joints whose start is offset at every execution
+    /// (default none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub starts: Vec<StartNoise>,
     /// Free bodies whose physical numbers are multiplied by drawn factors
@@ -70,17 +70,24 @@ impl BodyNoise {
     }
 }
 
-/// The offsets of one free body's start (a dynamic body that is no
-/// joint's child), added to its start position and angle.
+/// The offsets of one start: a free body's (a dynamic body that is no
+/// joint's child), added to its position and angle, or a joint's, added
+/// to its coordinate (the bodies it carries follow). Give `body` or
+/// `joint`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StartNoise {
-    /// The body, by name.
+    /// The body, by name (empty for a joint).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub body: String,
-    /// Added to x, then to y, each drawn apart, in metres.
+    /// The joint, by name (empty for a body).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub joint: String,
+    /// A body's: added to x, then to y, each drawn apart, in metres.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub position: Option<Spread>,
-    /// Added to the angle, radians.
+    /// Added to a body's angle (rad), or to a joint's coordinate (rad for
+    /// a hinge, m for a slider).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub angle: Option<Spread>,
 }

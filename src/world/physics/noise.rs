@@ -3,6 +3,7 @@
 //! the generator of the command's key (see
 //! [`World::set_draw_keys`](crate::World::set_draw_keys)).
 
+use super::joint_start::set_joints;
 use super::PhysicsWorld;
 use crate::scene::physics::{draw_key, generator, PhysicsSpec, Spread};
 use rapier2d::math::{Real, Rotation, Vector};
@@ -14,6 +15,11 @@ pub(super) struct Noise {
     /// Per noisy body: its index in the scene, its position's and its
     /// angle's spreads.
     starts: Vec<(usize, Option<Spread>, Option<Spread>)>,
+    /// Per noisy joint: its index in the scene and its coordinate's spread.
+    joints: Vec<(usize, Spread)>,
+    /// Whether the joints are set after the offsets: some joint is noisy,
+    /// or some noisy body carries a joint (its tree follows it).
+    carry: bool,
     /// Per body whose numbers are drawn: its index, and the spreads of
     /// its mass, linear and angular damping and friction factors.
     numbers: Vec<(usize, [Option<Spread>; 4])>,
@@ -36,6 +42,16 @@ impl Noise {
             .iter()
             .filter_map(|s| Some((spec.body_index(&s.body)?, s.position, s.angle)))
             .collect();
+        let joints: Vec<(usize, Spread)> = (n.starts.iter())
+            .filter_map(|s| {
+                Some((
+                    spec.joints.iter().position(|j| j.name == s.joint)?,
+                    s.angle?,
+                ))
+            })
+            .collect();
+        let carries = |b: &str| spec.joints.iter().any(|j| j.parent == b);
+        let carry = !joints.is_empty() || n.starts.iter().any(|s| carries(&s.body));
         let numbers = n
             .body_numbers
             .iter()
@@ -44,6 +60,8 @@ impl Noise {
         Some(Noise {
             actions: n.actions,
             starts,
+            joints,
+            carry,
             numbers,
             given: Vec::new(),
             batch: Vec::new(),
@@ -89,7 +107,8 @@ impl Noise {
 impl PhysicsWorld {
     /// Draws the noise of the first `n` copies' commands, keyed by the
     /// batch's keys: offsets the starts of the noisy bodies (after the
-    /// restore; x, y, then the angle, body after body), scales the bodies'
+    /// restore; x, y, then the angle, body after body; then each noisy
+    /// joint's coordinate, the trees following), scales the bodies'
     /// numbers (mass, linear and angular damping, friction, each drawn
     /// when given), then draws each slot's factor in slot order.
     pub(super) fn draw_noise(&mut self, n: usize) {
@@ -101,6 +120,13 @@ impl PhysicsWorld {
         noise.factors.resize(n * slots, 1.0);
         for c in 0..n {
             let mut rng = generator(noise.batch[c]);
+            // the joints' coordinates before the bodies move: kept unless noisy
+            let mut target: Vec<(f64, f64)> = match noise.carry {
+                true => (self.copies[c].joints.iter())
+                    .map(|j| j.coordinate(&self.sets.bodies))
+                    .collect(),
+                false => Vec::new(),
+            };
             for &(i, position, angle) in &noise.starts {
                 let b = &mut self.sets.bodies[self.copies[c].handles[i]];
                 if let Some(p) = position {
@@ -113,6 +139,20 @@ impl PhysicsWorld {
                     let turned = b.rotation().angle() + a.draw(&mut rng) as Real;
                     b.set_rotation(Rotation::new(turned), true);
                 }
+            }
+            if noise.carry {
+                for &(k, a) in &noise.joints {
+                    target[k].0 += a.draw(&mut rng);
+                }
+                let listed: Vec<usize> = noise.joints.iter().map(|&(k, _)| k).collect();
+                let infos = &self.copies[c].joints;
+                set_joints(
+                    &mut self.sets,
+                    infos,
+                    &self.joint_geometry,
+                    &target,
+                    &listed,
+                );
             }
             for &(i, spreads) in &noise.numbers {
                 let h = self.copies[c].handles[i];

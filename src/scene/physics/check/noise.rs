@@ -3,7 +3,7 @@
 //! start offsets on free dynamic bodies only.
 
 use crate::scene::physics::limits::{MAX_ANGLE_NOISE, MAX_POSITION_NOISE};
-use crate::scene::physics::{BodyKind, PhysicsSpec, Spread};
+use crate::scene::physics::{BodyKind, PhysicsSpec, Spread, StartNoise};
 use crate::scene::Invalid;
 
 /// `Err(expected)` unless the spread is finite, >= 0 and reaches at most
@@ -81,7 +81,12 @@ impl PhysicsSpec {
             }
             Ok(here)
         };
+        let mut joints = std::collections::HashSet::new();
         for (k, s) in noise.starts.iter().enumerate() {
+            if !s.joint.is_empty() {
+                self.check_joint_noise(k, s, joints.insert(s.joint.as_str()))?;
+                continue;
+            }
             let here = body("starts", k, &s.body)?;
             for (field, spread, max, unit) in [
                 ("position", s.position, MAX_POSITION_NOISE, "m"),
@@ -104,5 +109,47 @@ impl PhysicsSpec {
             }
         }
         Ok(())
+    }
+
+    /// A joint's start noise (entry `k` of `starts`, `first`: its joint
+    /// not listed before): no `body` nor `position` with it, a known joint,
+    /// offsets that stay within its limits (its coordinate is 0 at the
+    /// start) and within [`MAX_ANGLE_NOISE`].
+    fn check_joint_noise(&self, k: usize, s: &StartNoise, first: bool) -> Result<(), Invalid> {
+        let name = crate::text::echo(&s.joint);
+        let here = |field: &str, expected: String| {
+            Invalid::new(
+                field,
+                format!("noise on the start of joint `{name}`: {expected}"),
+            )
+            .within("starts", k)
+        };
+        let Some(j) = self.joint(&s.joint) else {
+            return Err(here("joint", "a joint of the scene".into()));
+        };
+        if !first {
+            return Err(here("joint", "each joint listed once".into()));
+        }
+        if !s.body.is_empty() || s.position.is_some() {
+            let field = if s.body.is_empty() {
+                "position"
+            } else {
+                "body"
+            };
+            let expected = "a `joint` alone, with its `angle` (its coordinate); a body's start is another entry";
+            return Err(here(field, expected.into()));
+        }
+        let Some(a) = s.angle else { return Ok(()) };
+        let unit = j.kind.unit();
+        let max = match j.limits {
+            Some((lo, hi)) => MAX_ANGLE_NOISE.min(-lo).min(hi),
+            None => MAX_ANGLE_NOISE,
+        };
+        check_spread(a, max, false, unit).map_err(|e| {
+            let why = j.limits.map_or(String::new(), |(lo, hi)| {
+                format!(" (its limits [{lo}, {hi}] {unit} hold every draw from 0)")
+            });
+            here("angle", format!("{e}{why}"))
+        })
     }
 }
