@@ -66,6 +66,15 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             scene.spec().name
         )));
     }
+    if let e3d::scene::WorldSpec::Physics(p) = &scene.spec().world {
+        if p.active_noise().is_some() {
+            // their draws are not yet keyed by session and trial
+            return Err(CliError::input(format!(
+                "scene `{}` has a `noise` section: episodes (start contexts, --commands, --observe, --closed-loop) do not run under noise yet; plain sessions do",
+                scene.spec().name
+            )));
+        }
+    }
     e3d::episode::check_size(a.trials as usize, a.commands as usize)
         .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))?;
     let observe = observe_of(a);

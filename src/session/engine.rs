@@ -9,6 +9,7 @@ use crate::command::Command;
 use crate::episode::{run_episodes_into, EpisodeConfig, EpisodeRecorder};
 use crate::learner::{ContextualLearner, ContinuousLearner, Learner};
 use crate::rng::SessionRng;
+use crate::scene::physics::draw_key;
 use crate::world::{ContinuousWorld, Episodic, Executor, Outcome, OutcomeTable, World, WorldError};
 use rand::SeedableRng;
 use std::ops::{DerefMut, Range};
@@ -54,6 +55,9 @@ pub trait Executes<C> {
     fn execute_all(&mut self, commands: &[C], out: &mut Vec<Result<Outcome, WorldError>>);
     /// Copies `from` into `to` without allocating.
     fn copy(&self, from: &C, to: &mut C);
+    /// The keys of the draws of the next commands (see
+    /// [`World::set_draw_keys`]).
+    fn draw_keys(&mut self, keys: &[u64]);
 }
 
 impl<W: World + ?Sized> Executes<Command> for W {
@@ -71,6 +75,9 @@ impl<W: World + ?Sized> Executes<Command> for W {
     }
     fn copy(&self, from: &Command, to: &mut Command) {
         to.symbols.clone_from(&from.symbols)
+    }
+    fn draw_keys(&mut self, keys: &[u64]) {
+        self.set_draw_keys(keys)
     }
 }
 
@@ -90,6 +97,9 @@ impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
     fn copy(&self, from: &Vec<f64>, to: &mut Vec<f64>) {
         to.clone_from(from)
     }
+    fn draw_keys(&mut self, keys: &[u64]) {
+        self.set_draw_keys(keys)
+    }
 }
 
 /// How often (in lockstep trials) the engine reports progress.
@@ -100,7 +110,8 @@ const PROGRESS_EVERY: usize = 64;
 /// session still running proposes; one session executes alone, several
 /// in one batch; then each learns from its own outcome (the reward zeroed
 /// unless its config uses rewards). Each session draws from its own
-/// generator, so its record is the one it makes alone. A session whose
+/// generator, so its record is the one it makes alone; a noisy world
+/// draws each command's noise from `draw_key(seed, trial)`, alike. A session whose
 /// command fails stops there (its recorder keeps the trials before); the
 /// others go on. Returns each session's status.
 ///
@@ -147,6 +158,7 @@ where
     let mut batch: Vec<C> = commands.clone();
     let mut active: Vec<usize> = Vec::with_capacity(configs.len());
     let mut outcomes = Vec::with_capacity(configs.len());
+    let mut keys: Vec<u64> = Vec::with_capacity(configs.len());
     let alone = configs.len() == 1;
     let longest = configs.iter().map(|c| c.trials).max().unwrap_or(0);
     let mut since = 0u64;
@@ -166,6 +178,10 @@ where
             break;
         }
         outcomes.clear();
+        // a noisy world's draws: keyed by each session's seed and the trial
+        keys.clear();
+        keys.extend(active.iter().map(|&i| draw_key(configs[i].seed, t as u64)));
+        world.draw_keys(&keys);
         if control.stopped() {
             outcomes.extend(active.iter().map(|_| Err(WorldError::Stopped)));
         } else if alone {

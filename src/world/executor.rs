@@ -5,6 +5,7 @@ use super::plan::{Costs, ExecOptions, ExecutionPlan, OnDisk, Strategy, Workload}
 use super::{
     ContinuousScene, Memoized, Outcome, OutcomeMemo, OutcomeTable, PhysicsWorld, World, WorldError,
 };
+use crate::scene::physics::noise_refusal;
 use crate::scene::{Scene, WorldSpec};
 use crate::world::table::CachedOutcomes;
 use crate::world::Control;
@@ -77,9 +78,27 @@ impl<'s> Executor<'s> {
         if let Some(force) = options.force {
             force_strategy(&mut plan, force, scene, memo_cap);
         }
+        if let (WorldSpec::Physics(p), true) = (&scene.spec().world, !deterministic) {
+            // a table or memo asked for is refused, not silently dropped
+            let what = match options.force {
+                Some(Strategy::Table) => Some("an outcome table (--outcomes table)"),
+                Some(Strategy::Memo) => Some("a memo (--outcomes memo)"),
+                _ if options.cache.is_some() => Some("a table cache"),
+                _ => None,
+            };
+            if let (Some(what), Some(_)) = (what, p.active_noise()) {
+                let name = &scene.spec().name;
+                return Err(WorldError::Other(noise_refusal(name, what)));
+            }
+        }
         if !deterministic {
             plan.strategy = Strategy::Live;
-            plan.why = "the world is not deterministic".into();
+            plan.why = match &scene.spec().world {
+                WorldSpec::Physics(p) if p.active_noise().is_some() => {
+                    "the scene's `noise` section draws anew at every execution".into()
+                }
+                _ => "the world is not deterministic".into(),
+            };
         }
         let mut exec = Executor {
             scene,

@@ -181,6 +181,9 @@ impl ContinuousWorld for ValueWorld {
     fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
         self.world.execute_values(values)
     }
+    fn set_draw_keys(&mut self, keys: &[u64]) {
+        World::set_draw_keys(&mut self.world, keys)
+    }
     fn execute_values_batch(
         &mut self,
         commands: &[Vec<f64>],

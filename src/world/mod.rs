@@ -198,6 +198,16 @@ pub trait World {
         true
     }
 
+    /// The keys of the draws of the next commands executed, one per
+    /// command of the next [`execute`](World::execute) (one key) or
+    /// [`execute_batch`](World::execute_batch): a noisy world (a scene's
+    /// `noise` section) draws each command's noise from its key, so that
+    /// its outcome depends on the key, never on the batch or the thread.
+    /// The session engine gives `draw_key(session seed, trial)`
+    /// ([`draw_key`](crate::scene::physics::draw_key)). Deterministic
+    /// worlds ignore it (the default).
+    fn set_draw_keys(&mut self, _keys: &[u64]) {}
+
     /// Executes several commands, each from the start state, and appends
     /// their outcomes to `out` in order: the same outcomes as calling
     /// [`execute`](World::execute) on each. Worlds that can run many
@@ -290,6 +300,11 @@ pub trait ContinuousWorld {
     /// not fit the space).
     fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError>;
 
+    /// The keys of the draws of the next commands, as
+    /// [`World::set_draw_keys`]; deterministic worlds ignore it (the
+    /// default).
+    fn set_draw_keys(&mut self, _keys: &[u64]) {}
+
     /// Executes several commands, each from the start state, appending
     /// their outcomes to `out` in order; the default runs them one by one.
     fn execute_values_batch(
@@ -318,6 +333,9 @@ macro_rules! forward {
         }
         fn is_deterministic(&$s) -> bool {
             $inner.is_deterministic()
+        }
+        fn set_draw_keys(&mut $s, keys: &[u64]) {
+            $inner.set_draw_keys(keys)
         }
         fn execute_batch(
             &mut $s,

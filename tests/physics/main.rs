@@ -18,6 +18,7 @@ mod laws;
 mod lockstep;
 mod motion;
 mod new_scenes;
+mod noise;
 mod pendulum;
 mod prefixes;
 mod puck;

@@ -81,7 +81,12 @@ fn symbols(space: &CommandSpace) -> impl Fn(&str) -> Result<Command, CommandErro
 /// other on one world, its CSV row printed as it is done and its frames
 /// streamed into a temporary file renamed to FILE at the end (whole or not
 /// at all).
-pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> CliResult {
+pub(super) fn exec_trace(
+    scene: &Scene,
+    commands: Vec<String>,
+    path: &Path,
+    seed: u64,
+) -> CliResult {
     let (Some(mut world), WorldSpec::Physics(spec)) = (scene.physics_world(), &scene.spec().world)
     else {
         return Err(CliError::input(format!(
@@ -108,9 +113,11 @@ pub(super) fn exec_trace(scene: &Scene, commands: Vec<String>, path: &Path) -> C
             if let Some(n) = known {
                 p.set_total(n);
             }
-            for r in rx {
+            for (i, r) in rx.into_iter().enumerate() {
                 let c = r?;
                 let text = space.format(&c);
+                // a noisy scene's draws: those of `scene exec`'s row
+                world.set_draw_keys(&[run_key(seed, 0, i as u64)]);
                 // frames go to the file as they are computed (a long
                 // command's motion is never held whole)
                 if first {
@@ -196,13 +203,17 @@ impl<'a> ExecPool<'a> {
     fn run(
         &mut self,
         commands: &[Command],
+        keys: &[u64],
         memo: Option<&e3d::world::OutcomeMemo>,
         out: &mut Vec<Result<e3d::Outcome, WorldError>>,
     ) {
         use rayon::prelude::*;
         match self {
             // a grid's move or a table's look-up costs less than the memo's
-            ExecPool::Direct(world) => world.execute_batch(commands, out),
+            ExecPool::Direct(world) => {
+                world.set_draw_keys(keys);
+                world.execute_batch(commands, out)
+            }
             ExecPool::Parallel {
                 scene,
                 copies,
@@ -218,9 +229,14 @@ impl<'a> ExecPool<'a> {
                 let take = || crate::cli::locked(idle).pop();
                 let pieces: Vec<Vec<_>> = commands
                     .par_chunks(piece)
-                    .map(|part| {
+                    .enumerate()
+                    .map(|(k, part)| {
                         let mut world = take().unwrap_or_else(|| scene.world(*copies));
                         let mut results = Vec::with_capacity(part.len());
+                        // each command's draws from its own key
+                        world.set_draw_keys(
+                            keys.get(k * piece..k * piece + part.len()).unwrap_or(&[]),
+                        );
                         if let Some(m) = memo {
                             let mut through = e3d::world::Memoized::new(world, m);
                             through.execute_batch(part, &mut results);
@@ -276,7 +292,9 @@ pub(super) fn exec_cache(
 /// what the world gives it anyway, in half the rollouts.
 fn mirror_memo(scene: &Scene) -> Option<e3d::world::OutcomeMemo> {
     match &scene.spec().world {
-        WorldSpec::Physics(p) if p.symmetry.is_some() => new_memo(scene),
+        WorldSpec::Physics(p) if p.symmetry.is_some() && p.active_noise().is_none() => {
+            new_memo(scene)
+        }
         _ => None,
     }
 }
@@ -415,14 +433,61 @@ impl CostNote {
     }
 }
 
+/// The key of the draws of command `index` of the input, run `run`, for
+/// the seed `seed`: `draw_key(draw_key(seed, run), index)`.
+fn run_key(seed: u64, run: u32, index: u64) -> u64 {
+    use e3d::scene::physics::draw_key;
+    draw_key(draw_key(seed, run as u64), index)
+}
+
+/// The modal effect of `runs` (ties to the lowest) and how many end in it.
+fn modal(runs: &[e3d::Outcome]) -> (usize, usize) {
+    let mut counts = std::collections::BTreeMap::new();
+    for o in runs {
+        *counts.entry(o.effect).or_insert(0usize) += 1;
+    }
+    // the largest count, the lowest effect among equals
+    let (&e, &n) = counts
+        .iter()
+        .rev()
+        .max_by_key(|(_, &n)| n)
+        .unwrap_or((&0, &0));
+    (e, n)
+}
+
 /// `e3d scene exec`: a reader thread parses the commands as they come; the
 /// main thread waits for one, takes what else is queued (up to two
 /// batches per thread), executes that chunk on every core and prints its rows
 /// in input order, flushed, before the next chunk. The first command that
 /// does not parse or that blows up ends the output, after the rows before
-/// it, with its error.
-pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Path>) -> CliResult {
+/// it, with its error. A noisy scene draws command `i`'s noise from
+/// [`run_key`]`(seed, 0, i)`; with `repeat` R > 1, each command runs R
+/// times (run `r` keyed `run_key(seed, r, i)`) and its row is its modal
+/// effect and the share of the runs that end there.
+pub(super) fn exec(
+    scene: &Scene,
+    commands: Vec<String>,
+    table_cache: Option<&Path>,
+    (repeat, seed): (u32, u64),
+) -> CliResult {
     let contexts = e3d::world::start_contexts(scene).len();
+    let noisy = match &scene.spec().world {
+        WorldSpec::Physics(p) => p.active_noise().is_some(),
+        WorldSpec::Grid(_) => false,
+    };
+    if let (Some(dir), true) = (table_cache, noisy) {
+        let why = e3d::scene::physics::noise_refusal(&scene.spec().name, "a table cache");
+        return Err(CliError::input(format!(
+            "--table-cache {}: {why}",
+            dir.display()
+        )));
+    }
+    if repeat > 1 && contexts > 0 {
+        return Err(CliError::input(format!(
+            "--repeat: scene `{}` has start contexts, whose commands `scene exec` runs from each context's start; --repeat takes scenes without contexts",
+            scene.spec().name
+        )));
+    }
     if let (Some(dir), true) = (table_cache, contexts > 0) {
         let (dir, name) = (dir.display(), &scene.spec().name);
         return Err(CliError::input(format!(
@@ -447,11 +512,18 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
     let known = (!commands.iter().any(|c| c == "-")).then_some(commands.len() as u64);
     let mut cost = CostNote::new(&label, scene, known, table.is_some());
     let mut executor = ExecPool::new(scene, table);
+    // a noise-free command gives the same outcome every run: run it once
+    let runs = if noisy { repeat as usize } else { 1 };
     // at most two batches of TABLE_COPIES per thread at once
-    let limit = 2 * rayon::current_num_threads() * e3d::world::TABLE_COPIES;
+    let limit = (2 * rayon::current_num_threads() * e3d::world::TABLE_COPIES / runs).max(1);
     let rx = reader(symbols(&space), commands, 2 * limit);
     let write = |text: &str| write_stdout(text.as_bytes());
-    let header = "command,effect,reward,x,y\n";
+    let header = if repeat > 1 {
+        "command,effect,share,runs\n"
+    } else {
+        "command,effect,reward,x,y\n"
+    };
+    let (mut done, mut keys, mut each) = (0u64, Vec::new(), Vec::new());
     let mut header_written = false;
     let (mut chunk, mut results, mut text) = (Vec::new(), Vec::new(), String::new());
     let mut end: Option<CliError> = None;
@@ -465,18 +537,48 @@ pub(super) fn exec(scene: &Scene, commands: Vec<String>, table_cache: Option<&Pa
                 Some(e) => end = e,
             }
             results.clear();
-            executor.run(&chunk, memo.as_ref(), &mut results);
+            keys.clear();
+            if noisy {
+                // command after command, run after run
+                let first = done;
+                keys.extend(
+                    (first..first + chunk.len() as u64)
+                        .flat_map(|i| (0..runs as u32).map(move |r| run_key(seed, r, i))),
+                );
+            }
+            done += chunk.len() as u64;
+            if runs > 1 {
+                let repeated: Vec<Command> = (chunk.iter())
+                    .flat_map(|c| std::iter::repeat_n(c.clone(), runs))
+                    .collect();
+                executor.run(&repeated, &keys, memo.as_ref(), &mut results);
+            } else {
+                executor.run(&chunk, &keys, memo.as_ref(), &mut results);
+            }
             p.add(chunk.len() as u64);
-            cost.add(chunk.len() as u64, &label, scene, p);
+            cost.add((chunk.len() * runs) as u64, &label, scene, p);
             text.clear();
             // the rows up to the first failure, which ends the output
-            for (c, r) in chunk.iter().zip(results.drain(..)) {
-                match r {
-                    Ok(o) => push_row(&mut text, space.format(c), &o),
-                    Err(e) => {
-                        end = Some(world_error(e));
-                        break;
+            let mut results = results.drain(..);
+            for c in &chunk {
+                each.clear();
+                let failed = results.by_ref().take(runs).find_map(|r| match r {
+                    Ok(o) => {
+                        each.push(o);
+                        None
                     }
+                    Err(e) => Some(e),
+                });
+                if let Some(e) = failed {
+                    end = Some(world_error(e));
+                    break;
+                }
+                if repeat > 1 {
+                    let (effect, n) = modal(&each);
+                    let share = n as f64 / runs as f64;
+                    let _ = writeln!(text, "{},{effect},{share:.4},{repeat}", space.format(c));
+                } else {
+                    push_row(&mut text, space.format(c), &each[0]);
                 }
             }
             if !text.is_empty() {

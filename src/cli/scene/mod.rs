@@ -103,6 +103,17 @@ pub enum SceneCmd {
         /// velocity (physics scenes; one command at a time).
         #[arg(long, value_name = "FILE.csv", conflicts_with = "table_cache")]
         trace: Option<PathBuf>,
+        /// Run each command R times under the scene's `noise` and print,
+        /// per command, its modal effect and the share of the R runs that
+        /// end in it (`command,effect,share,runs`); a noise-free scene's
+        /// share is 1. Scenes of symbols without start contexts.
+        #[arg(long, value_name = "R", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1_000_000), conflicts_with_all = ["trace", "table_cache"])]
+        repeat: u32,
+        /// The seed of a noisy scene's draws: command `i` of the input, run
+        /// `r`, draws from `draw_key(draw_key(seed, r), i)` (docs/scenes.md,
+        /// "Noise").
+        #[arg(long, value_name = "S", default_value_t = 0)]
+        seed: u64,
     },
     /// Execute every command once and apply the rule of docs/canonical-scenes.md for a
     /// hard-to-reach reward cell: among the reached cells, the farthest
@@ -159,6 +170,7 @@ fn continuous(cmd: &SceneCmd, scene: &e3d::Scene) -> Option<CliResult> {
     let continuous = scene.as_continuous()?;
     let refuse = |what: &str| Some(scene.spec().require_symbols(what).map_err(CliError::input));
     match cmd {
+        C::Exec { repeat: 2.., .. } => refuse("`e3d scene exec --repeat`"),
         C::Exec {
             commands,
             table_cache: None,
@@ -258,13 +270,16 @@ pub fn run(a: SceneArgs) -> CliResult {
         SceneCmd::Exec {
             commands,
             trace: Some(path),
+            seed,
             ..
-        } => exec_trace(&scene, commands, &path),
+        } => exec_trace(&scene, commands, &path, seed),
         SceneCmd::Exec {
             commands,
             table_cache,
+            repeat,
+            seed,
             ..
-        } => exec(&scene, commands, table_cache.as_deref()),
+        } => exec(&scene, commands, table_cache.as_deref(), (repeat, seed)),
         SceneCmd::RewardCell { from, .. } => reward_cell(&scene, from),
         SceneCmd::Stats { .. } => stats(&scene),
         SceneCmd::Table { cache, .. } => table(&scene, cache.as_deref()),

@@ -135,3 +135,8 @@ impl<'a> On<'a> {
         Err(self.bad(field, format!("{what} {bounds}, found {}", show(v))))
     }
 }
+
+/// The largest offset (m) start noise may draw for a position.
+pub const MAX_POSITION_NOISE: f64 = 100.0;
+/// The largest offset (rad) start noise may draw for an angle.
+pub const MAX_ANGLE_NOISE: f64 = std::f64::consts::PI;

@@ -58,6 +58,11 @@ pub struct PhysicsSpec {
     /// session's generator (see [`StartState`](super::StartState)).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contexts: Vec<super::StartState>,
+    /// Seeded noise on the actions and the start (default none: the
+    /// world is deterministic; see [`NoiseSpec`](super::NoiseSpec)). A
+    /// noisy world runs live: no outcome table, no memo.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<super::NoiseSpec>,
 }
 
 defaults! {
@@ -412,7 +417,13 @@ impl PhysicsSpec {
             walls: self.walls.clone(),
             symmetry: self.symmetry,
             contexts: Vec::new(),
+            noise: self.noise.clone(),
         }
+    }
+
+    /// The scene's noise, when it draws anything.
+    pub fn active_noise(&self) -> Option<&super::NoiseSpec> {
+        self.noise.as_ref().filter(|n| n.is_active())
     }
 
     /// The body named `name`, if any.

@@ -393,7 +393,12 @@ impl PhysicsWorld {
         let (contexts, joint_geometry) =
             PhysicsWorld::context_starts(spec, scene.links(), &replicas[0], &s);
         // a world of many copies runs batches, whose copies share no prefix
-        let capacity = if copies == 1 { PREFIX_STATES } else { 0 };
+        let noise = super::noise::Noise::of(spec);
+        let capacity = if copies == 1 && noise.is_none() {
+            PREFIX_STATES
+        } else {
+            0
+        };
         let prefixes = Prefixes::new(&sizes, !together && values.is_none(), capacity);
         PhysicsWorld {
             scene: scene.spec().name.clone(),
@@ -420,13 +425,14 @@ impl PhysicsWorld {
             gate_margin: LIMIT_GATE_MARGIN,
             gate_speed_steps: 4.0,
             gate_missed: false,
-            mirror: scene.mirror().cloned(),
+            mirror: scene.mirror().cloned().filter(|_| noise.is_none()),
             dt: spec.dt,
             body_names: spec.bodies.iter().map(|b| b.name.clone()).collect(),
             joint_names: spec.joints.iter().map(|j| j.name.clone()).collect(),
             contexts,
             joint_geometry,
             prefixes,
+            noise,
         }
     }
 }

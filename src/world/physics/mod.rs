@@ -11,6 +11,7 @@ mod build;
 mod context;
 mod joint_start;
 mod mirror;
+mod noise;
 mod prefix;
 mod record;
 mod step;
@@ -247,6 +248,9 @@ pub struct PhysicsWorld {
     /// The states at the phase ends of the prefixes run so far (a world
     /// of one copy on a sequential schedule; see [`prefix`]).
     prefixes: prefix::Prefixes,
+    /// The scene's noise, if it draws anything: then no prefix state is
+    /// kept and no mirror twin runs (a command's draws are its own).
+    noise: Option<noise::Noise>,
 }
 
 /// One copy of a scene's non-fixed bodies and joints, resolved to handles.
@@ -374,6 +378,17 @@ impl World for PhysicsWorld {
 
     fn execute(&mut self, command: &Command) -> Result<Outcome, WorldError> {
         self.run_one(Cmd::Symbols(command), true, |_| {})
+    }
+
+    /// Not when the scene has a `noise` section that draws something.
+    fn is_deterministic(&self) -> bool {
+        self.noise.is_none()
+    }
+
+    fn set_draw_keys(&mut self, keys: &[u64]) {
+        if let Some(n) = &mut self.noise {
+            n.give(keys);
+        }
     }
 
     fn execute_batch(&mut self, commands: &[Command], out: &mut Vec<Result<Outcome, WorldError>>) {

@@ -11,19 +11,23 @@ use rapier2d::prelude::{
     JointAxesMask, Multibody, MultibodyJointSet, MultibodyLink, RigidBodyHandle,
 };
 
+impl Act {
+    /// The act times `k`: its torque, impulse, force or joint target.
+    fn scaled(mut self, k: Real) -> Act {
+        match &mut self {
+            Act::Idle => {}
+            Act::Torque { torque: x, .. } | Act::Target { angle: x, .. } => *x *= k,
+            Act::Impulse { impulse: x, .. } | Act::Force { force: x, .. } => *x *= k,
+        }
+        self
+    }
+}
+
 impl ValueAct {
     /// The act of the value `v`.
     fn at(self, v: f64) -> Act {
-        let k = v as Real;
         match self {
-            ValueAct::Scaled(mut act) => {
-                match &mut act {
-                    Act::Idle => {}
-                    Act::Torque { torque: x, .. } | Act::Target { angle: x, .. } => *x *= k,
-                    Act::Impulse { impulse: x, .. } | Act::Force { force: x, .. } => *x *= k,
-                }
-                act
-            }
+            ValueAct::Scaled(act) => act.scaled(v as Real),
             ValueAct::Heading { body, impulse } => Act::Impulse {
                 body,
                 impulse: v2((impulse * v.cos(), impulse * v.sin())),
@@ -189,11 +193,16 @@ impl PhysicsWorld {
         }
     }
 
-    /// Starts the actions of slot `slot` of `command` on copy `copy`.
+    /// Starts the actions of slot `slot` of `command` on copy `copy`
+    /// (times the slot's drawn factor in a noisy world).
     fn apply_slot(&mut self, copy: usize, command: Cmd<'_>, slot: usize) {
         let act = match command {
             Cmd::Symbols(c) => self.copies[copy].acts[self.offset[slot] + c.symbols[slot] as usize],
             Cmd::Values(v) => self.copies[copy].value_acts[slot].at(v[slot]),
+        };
+        let act = match &self.noise {
+            Some(n) => act.scaled(n.factor(copy, self.space.num_slots(), slot)),
+            None => act,
         };
         self.apply(act);
     }
@@ -517,6 +526,7 @@ impl PhysicsWorld {
             }
         };
         self.idle_copies(n);
+        self.draw_noise(n);
         let slots = self.space.num_slots();
         let mut running = failed.iter().any(Option::is_none);
         // one phase with every slot (simultaneous) or one phase per slot
@@ -596,7 +606,11 @@ impl PhysicsWorld {
         let runs: Vec<Cmd<'_>> = runs
             .map(|(&c, t)| t.as_ref().map_or(c, Cmd::Symbols))
             .collect();
-        for batch in runs.chunks(self.copies.len()) {
+        let keys = self.noise.as_mut().map(|n| n.take_keys(commands.len()));
+        for (b, batch) in runs.chunks(self.copies.len()).enumerate() {
+            if let (Some(n), Some(keys)) = (&mut self.noise, &keys) {
+                n.set_batch(&keys[b * self.copies.len()..][..batch.len()]);
+            }
             self.run_copies(batch, out, fast, &mut each_step);
         }
         for (k, (c, t)) in commands.iter().zip(&twins).enumerate() {

@@ -3,6 +3,7 @@
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace};
 use crate::effect::Target;
+use crate::scene::physics::noise_refusal;
 use crate::scene::{Scene, WorldSpec};
 use crate::world::Control;
 use crate::world::PhysicsWorld;
@@ -193,6 +194,11 @@ impl OutcomeTable {
 
     /// Executes every command of `world` in index order.
     pub fn build(world: &mut dyn World) -> Result<OutcomeTable, WorldError> {
+        if !world.is_deterministic() {
+            return Err(WorldError::Other(
+                "this world is not deterministic (a scene's `noise` section): an outcome table cannot stand for its executions".into(),
+            ));
+        }
         let space = world.command_space().clone();
         let n = Self::check_size(&space)?;
         let mut c = space.first();
@@ -269,6 +275,10 @@ impl OutcomeTable {
             // a grid's table costs microseconds
             return Self::build_parallel_with(|| scene.build(), control);
         };
+        if spec.active_noise().is_some() {
+            let refusal = noise_refusal(&scene.spec().name, "an outcome table");
+            return Err(WorldError::Other(refusal));
+        }
         let space = scene.command_space();
         let n = Self::check_size(&space)?;
         let mut outcomes: Vec<Option<Outcome>> = vec![None; n as usize];

@@ -7,6 +7,7 @@ mod body;
 mod context_poses;
 mod contexts;
 mod joint;
+mod noise;
 mod symmetry;
 
 use super::limits::*;
@@ -81,6 +82,7 @@ impl PhysicsSpec {
             sym.validate(self, scene)?;
         }
         self.check_contexts()?;
+        self.check_noise()?;
         self.check_overlap()?;
         self.check_context_overlaps()
     }

@@ -1,0 +1,159 @@
+//! `e3d scene exec` under a scene's `noise`: `--repeat` and its shares,
+//! the same bytes whatever the threads, and the refusals of tables.
+
+use crate::common::{e3d, e3d_command, ok, temp_path};
+use e3d::Scene;
+
+const NOISY: &str = "tests/scenes/puck_noisy.ron";
+
+/// `count` commands of puck_rooms spread over its space.
+fn commands(count: u64) -> Vec<String> {
+    let space = Scene::builtin("puck_rooms").unwrap().command_space();
+    (0..count)
+        .map(|k| space.format(&space.command_at(k * 7919 % 16384)))
+        .collect()
+}
+
+/// `e3d scene exec SCENE ARGS COMMANDS` on `threads` threads: its stdout.
+fn exec(scene: &str, args: &[&str], cmds: &[String], threads: usize) -> String {
+    let out = e3d_command()
+        .env("RAYON_NUM_THREADS", threads.to_string())
+        .args(["scene", "exec", scene])
+        .args(args)
+        .args(cmds)
+        .output()
+        .unwrap();
+    String::from_utf8(ok(out).stdout).unwrap()
+}
+
+/// The rows of a `--repeat` output: (command, effect, share, runs).
+fn shares(text: &str) -> Vec<(String, usize, f64, u32)> {
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("command,effect,share,runs"));
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (
+                f[0].to_string(),
+                f[1].parse().unwrap(),
+                f[2].parse().unwrap(),
+                f[3].parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn repeat_on_a_noise_free_scene_keeps_every_effect() {
+    let cmds = commands(12);
+    let rows = shares(&exec("puck_rooms", &["--repeat", "5"], &cmds, 2));
+    let plain = exec("puck_rooms", &[], &cmds, 2);
+    assert_eq!(rows.len(), cmds.len());
+    for (row, line) in rows.iter().zip(plain.lines().skip(1)) {
+        assert_eq!((row.2, row.3), (1.0, 5), "{row:?}");
+        let effect: usize = line.split(',').nth(1).unwrap().parse().unwrap();
+        assert_eq!(row.1, effect, "{row:?}");
+    }
+}
+
+#[test]
+fn repeat_on_a_noisy_scene_is_seeded_and_thread_free() {
+    let cmds = commands(40);
+    let args = ["--repeat", "12", "--seed", "3"];
+    let one = exec(NOISY, &args, &cmds, 1);
+    assert_eq!(exec(NOISY, &args, &cmds, 2), one);
+    let rows = shares(&one);
+    assert_eq!(rows.len(), 40);
+    assert!(rows.iter().all(|r| r.3 == 12 && r.2 > 0.0 && r.2 <= 1.0));
+    assert!(
+        rows.iter().any(|r| r.2 < 1.0),
+        "no command changed effect:\n{one}"
+    );
+    // another seed, other draws
+    let other = exec(NOISY, &["--repeat", "12", "--seed", "4"], &cmds, 2);
+    assert_ne!(other, one);
+    // one run per command: the same bytes on 1 and 2 threads, and each
+    // row the first run of --repeat (keyed by the seed, run 0, index)
+    let single = exec(NOISY, &["--seed", "3"], &cmds, 1);
+    assert_eq!(exec(NOISY, &["--seed", "3"], &cmds, 2), single);
+    let trace = temp_path("noise-trace").with_extension("csv");
+    let traced = exec(
+        NOISY,
+        &["--seed", "3", "--trace", trace.to_str().unwrap()],
+        &cmds[..3],
+        1,
+    );
+    let _ = std::fs::remove_file(&trace);
+    let head: Vec<&str> = single.lines().take(4).collect();
+    assert_eq!(traced.lines().collect::<Vec<_>>(), head);
+    assert_ne!(single, exec("puck_rooms", &[], &cmds, 1));
+}
+
+#[test]
+fn a_noisy_scene_refuses_table_caches_naming_its_noise() {
+    let dir = temp_path("noise-cache");
+    let dir = dir.to_str().unwrap();
+    let cmd = commands(1);
+    for args in [
+        vec!["scene", "exec", NOISY, "--table-cache", dir, &cmd[0]],
+        vec!["scene", "table", NOISY],
+        vec!["run", NOISY, "--trials", "10", "--outcomes", "table"],
+        vec!["run", NOISY, "--trials", "10", "--table-cache", dir],
+    ] {
+        let out = e3d(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(
+            err.contains("scene `puck_noisy` has a `noise` section"),
+            "{args:?}: {err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A sweep over the noisy scene: the same bytes on 1 and 2 threads, and
+/// from two shards merged.
+#[test]
+fn a_noisy_sweep_gives_the_same_bytes_on_threads_and_shards() {
+    use crate::sweep::{assert_same_files, FINAL_FILES};
+    let d = crate::common::temp_dir("noise-sweep");
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(NOISY);
+    let text = format!(
+        r#"Sweep(
+    scenes: ["{}"],
+    learners: [e3d, uniform],
+    params: (beta: [1, 100]),
+    sessions: 3,
+    trials: 60,
+    seed: 11,
+    metrics: [normalized_entropy, distinct_effects],
+)
+"#,
+        scene.display()
+    );
+    let file = d.join("noisy.ron");
+    std::fs::write(&file, text).unwrap();
+    let f = file.to_str().unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = d.join(name);
+        let mut args = vec!["sweep", f];
+        args.extend_from_slice(extra);
+        args.extend(["--out", out.to_str().unwrap()]);
+        ok(e3d(&args));
+        out
+    };
+    let one = run("one", &["--threads", "1"]);
+    let two = run("two", &["--threads", "2"]);
+    assert_same_files(&one, &two, &FINAL_FILES);
+    let s1 = run("s1", &["--threads", "1", "--shard", "1/2"]);
+    let s2 = run("s2", &["--threads", "2", "--shard", "2/2"]);
+    let merged = d.join("merged");
+    ok(e3d(&[
+        "merge",
+        s2.to_str().unwrap(),
+        s1.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]));
+    assert_same_files(&one, &merged, &FINAL_FILES);
+}
