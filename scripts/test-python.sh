@@ -2,7 +2,8 @@
 # The Python package's tests: builds the e3d CLI (the tests compare with
 # it), creates a virtual environment (a new one in a temporary folder, or
 # $E3D_VENV, created if missing and reused) with pytest, gymnasium, numpy,
-# mypy and maturin, builds the package's abi3 wheel with `maturin build
+# mypy, maturin and submitit (whose local executor runs the job-array
+# recipe), builds the package's abi3 wheel with `maturin build
 # --release` (cargo's target folder: $E3D_PY_TARGET, default
 # target/python under the repository's root, beside the CLI's build and
 # ignored by git like it), installs that wheel, checks the type stubs
@@ -33,9 +34,9 @@ start=$SECONDS
 echo "== cargo build --release (the CLI the tests compare with)"
 cargo build --release --quiet --bin e3d
 
-echo "== pip install pytest gymnasium numpy mypy maturin (into $venv)"
+echo "== pip install pytest gymnasium numpy mypy maturin submitit (into $venv)"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
-"$venv/bin/python" -m pip install --quiet pytest gymnasium numpy mypy 'maturin>=1.7,<2'
+"$venv/bin/python" -m pip install --quiet pytest gymnasium numpy mypy submitit 'maturin>=1.7,<2'
 
 pytarget="${E3D_PY_TARGET:-$root/target/python}"
 echo "== maturin build --release (an abi3 wheel; cargo's target folder: $pytarget)"
