@@ -204,3 +204,20 @@ def test_quality_diversity_md_runs(root):
     assert 0 < archive.stats.coverage <= 68 / 225  # arm7's tip reaches 68 of the 225 cells
     assert archive.stats.qd_score == pytest.approx(scoring.qd_score(ns["qd"].elites_of(archive, scoring)))
     assert 0 < scoring.qd_score(elites) <= scoring.coverage(elites) * 225 * 4.62
+
+
+def test_compare_script_prints_its_table(root, tmp_path):
+    pytest.importorskip("ribs")
+    pytest.importorskip("scipy")
+    r = subprocess.run([sys.executable, str(root / "scripts" / "qd-compare.py"), "--scenes",
+                        "two_rooms", "--learners", "e3d,uniform", "--seeds", "3", "--trials", "100",
+                        "--table-cache", str(tmp_path)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    rows = [line.split(" | ") for line in r.stdout.splitlines() if line.startswith("| two_rooms")]
+    assert [row[1] for row in rows] == ["e3d", "uniform", "pyribs MAP-Elites"]
+    s = Scoring("two_rooms")
+    batch = e3d.run_sessions("two_rooms", "uniform", trials=100, seeds=range(3))
+    cov = [s.coverage(s.elites(batch.commands[i], batch.effects[i])) for i in range(3)]
+    # the uniform row's coverage: the mean of the three sessions' coverages
+    assert rows[1][3].startswith(f"{np.mean(cov):.3f} ± ")
+    assert rows[2][4:] == ["", " |"]
