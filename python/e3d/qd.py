@@ -27,7 +27,7 @@ sampling and pyribs' MAP-Elites on arm7 and three_rooms.
 """
 
 import math
-from typing import Any, Optional
+from typing import Any, Optional, Union
 
 import numpy as np
 
@@ -43,13 +43,18 @@ from ._qd import DESCRIPTORS, QUALITIES, Array, Scoring
 from ._types import SceneLike
 
 
-def grid_archive(scoring: Scoring, **kwargs: Any) -> GridArchive:
+def grid_archive(scoring: Union[Scoring, SceneLike], quality: Any = "reward",
+                 **kwargs: Any) -> GridArchive:
     """pyribs' ``GridArchive`` matching the scene's effect grid: one cell
     per effect (``dims = (cols, rows)``, ``ranges`` the grid's x and y
     extent), ``solution_dim`` the scene's slots and ``qd_score_offset`` the
     scoring's ``offset``, so that its ``stats.qd_score`` and
     ``stats.coverage`` are ``scoring.qd_score`` and ``scoring.coverage``
-    of the same elites. ``kwargs`` go to ``GridArchive`` (``seed``, ...)."""
+    of the same elites. ``scoring``: a ``Scoring``, or a scene (then
+    ``Scoring(scene, quality)``'s). ``kwargs`` go to ``GridArchive``
+    (``seed``, ...)."""
+    if not isinstance(scoring, Scoring):
+        scoring = Scoring(scoring, quality)
     kwargs.setdefault("qd_score_offset", scoring.offset)
     return GridArchive(solution_dim=scoring.solution_dim, dims=list(scoring.dims),
                        ranges=list(scoring.ranges), **kwargs)

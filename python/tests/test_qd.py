@@ -158,6 +158,9 @@ def test_grid_archive_holds_e3ds_cells_and_its_stats():
     s = qd.Scoring("three_rooms", quality="effort")
     archive = qd.grid_archive(s)
     assert archive.cells == 27 and archive.qd_score_offset == pytest.approx(-21.6)
+    arm = qd.grid_archive("arm7", quality="effort")  # from a scene: its Scoring's archive
+    assert (arm.cells, arm.solution_dim, arm.qd_score_offset) == (225, 7, pytest.approx(-4.62))
+    assert arm.dims.tolist() == [15, 15] and arm.lower_bounds.tolist() == [-1.875, -1.875]
     rng = np.random.default_rng(5)
     x = rng.uniform(-0.5, 3.5, size=(200, 9))
     objective, measures, out = s.evaluate(x)
