@@ -3,7 +3,8 @@
 # it), creates a virtual environment (a new one in a temporary folder, or
 # $E3D_VENV, created if missing and reused) with pytest, gymnasium, numpy,
 # mypy, maturin and submitit (whose local executor runs the job-array
-# recipe), builds the package's abi3 wheel with `maturin build
+# recipe), and pyribs (e3d.qd's tests: without it they are skipped),
+# builds the package's abi3 wheel with `maturin build
 # --release` (cargo's target folder: $E3D_PY_TARGET, default
 # target/python under the repository's root, beside the CLI's build and
 # ignored by git like it), installs that wheel, checks the type stubs
@@ -37,6 +38,9 @@ cargo build --release --quiet --bin e3d
 echo "== pip install pytest gymnasium numpy mypy maturin submitit (into $venv)"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
 "$venv/bin/python" -m pip install --quiet pytest gymnasium numpy mypy submitit 'maturin>=1.7,<2'
+# pyribs (e3d.qd, the `qd` extra): where it cannot be installed, its tests are skipped
+"$venv/bin/python" -m pip install --quiet ribs \
+  || echo "test-python.sh: pyribs not installed: e3d.qd's pyribs tests will be skipped" >&2
 
 pytarget="${E3D_PY_TARGET:-$root/target/python}"
 echo "== maturin build --release (an abi3 wheel; cargo's target folder: $pytarget)"
