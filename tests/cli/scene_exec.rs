@@ -172,12 +172,20 @@ fn exec_with_a_table_cache_gives_the_same_rows() {
     let (rows, err) = run(&texts[..10]);
     assert_eq!(rows.lines().count(), 11);
     assert!(want.starts_with(&rows));
+    // the note first and alone of its kind (progress and cost lines, which
+    // depend on the machine's speed, may follow on a loaded machine)
+    let first = err.lines().next().unwrap_or_default();
     assert!(
-        err.starts_with("note: no outcome table ")
-            && err.ends_with("; simulating the commands, keeping their outcomes there\n"),
+        first.starts_with("note: no outcome table ")
+            && first.ends_with("; simulating the commands, keeping their outcomes there"),
         "{err}"
     );
-    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.lines()
+            .skip(1)
+            .all(|l| !l.contains("note:") && !l.contains("error")),
+        "{err}"
+    );
     assert_eq!(entries(), 10);
     // the partial file is used, the others added: now a whole table
     let (rows, err) = run(&texts);
