@@ -137,6 +137,11 @@ fn scene_axes_are_columns_named_by_their_paths_and_threads_change_no_byte() {
         svg.contains("bodies.puck.mass") && svg.contains("uniform"),
         "{svg}"
     );
+    // the report plots every metric against each axis
+    ok(e3d(&["report", one.to_str().unwrap()]));
+    let page = read(&one.join("report.html"));
+    assert!(page.contains("<h2>Against noise.actions.Gaussian.sd</h2>"));
+    assert!(page.contains("<h2>Against bodies.puck.mass</h2>"));
     let bad = e3d(&[
         "plot",
         one.to_str().unwrap(),
