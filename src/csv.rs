@@ -123,6 +123,12 @@ impl Summary {
             .collect()
     }
 
+    /// The number of cell columns (those before `sessions`): the scene,
+    /// learner, reward and parameters, then each scene axis's path.
+    pub fn cell_columns(&self) -> usize {
+        self.col("sessions").unwrap_or(CELL_COLUMNS)
+    }
+
     /// The index of the column `name`, if the summary has one.
     pub fn col(&self, name: &str) -> Option<usize> {
         self.columns.iter().position(|c| c == name)

@@ -45,9 +45,9 @@ def _leaf(path: str, v: Any) -> str:
                     f"found {type(v).__name__}")
 
 
-def json_lines(data: Any) -> tuple[str, list[str]]:
+def json_lines(data: Any, at: str = "") -> tuple[str, list[str]]:
     """``data`` as JSON text, one value a line, and the path each line holds
-    (``world.Physics.bodies[2].mass``)."""
+    (``world.Physics.bodies[2].mass``), starting at ``at``."""
     lines: list[str] = []
     paths: list[str] = []
 
@@ -75,84 +75,8 @@ def json_lines(data: Any) -> tuple[str, list[str]]:
             lines.append(head + _leaf(path, v) + tail)
         paths.append(path)
 
-    value("", "", data, "", 1)
+    value(at, "", data, "", 1)
     return "\n".join(lines) + "\n", paths
-
-
-def _through_variants(at: Any, key: str) -> Any:
-    """``at`` stepped through the one-key dicts of enum variants (such as
-    ``{"Physics": {...}}``) down to the first dict that holds ``key``, or
-    that is not a variant's."""
-    while isinstance(at, dict) and key not in at and len(at) == 1:
-        (variant, inner), = at.items()
-        if not (isinstance(variant, str) and variant[:1].isascii() and variant[:1].isupper()):
-            break
-        at = inner
-    return at
-
-
-#: the fields of a scene (docs/scenes.md), those it may leave out included
-_SCENE_FIELDS = ("name", "description", "world", "slots", "command", "reward")
-
-
-def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
-    """``value`` at ``path`` in a scene's dict: dot-separated keys; a list's
-    element by index or by its ``name``; a one-key dict (an enum variant)
-    may be stepped through without naming it; and a path whose first key
-    is not a field of the scene starts in the world (``bodies.puck.mass``)."""
-    def bad(msg: str) -> SceneError:
-        return _error(f"with_: {path}: {msg}", "<with_>", path)
-
-    keys = path.split(".")
-    if any(not k for k in keys):
-        raise bad("expected dot-separated names, e.g. bodies.puck.linear_damping")
-    at: Any = data
-    if keys[0] in _SCENE_FIELDS and keys[0] not in data:
-        # an optional field the scene leaves out (`slots`, the check of
-        # the number of slots): set, then checked with the scene
-        if len(keys) > 1:
-            raise bad(f"the scene has no `{keys[0]}` to step into: set `{keys[0]}` whole")
-        data[keys[0]] = value
-        return
-    if keys[0] not in data:
-        if "world" not in data:
-            raise bad("the scene has no world")
-        at = data["world"]
-    for i, key in enumerate(keys):
-        at = _through_variants(at, key)
-        if isinstance(at, dict):
-            if key not in at:
-                raise bad(f"no field `{key}` here; its fields: {', '.join(at)}")
-            if i + 1 == len(keys):
-                at[key] = value
-                return
-            at = at[key]
-        elif isinstance(at, list):
-            if key.isascii() and key.isdigit():
-                idx = int(key)
-                if idx >= len(at):
-                    raise bad(f"index {idx}: the list has {len(at)} items")
-            else:
-                names = [x["name"] for x in at if isinstance(x, dict) and isinstance(x.get("name"), str)]
-                if key not in names:
-                    raise bad(f"no item named `{key}`; the names: {', '.join(names)}")
-                idx = names.index(key)
-            if i + 1 == len(keys):
-                at[idx] = value
-                return
-            at = at[idx]
-        else:
-            raise bad(f"`{key}`: {at!r} has no fields")
-
-
-def with_(scene: Scene, overrides: dict[Any, Any]) -> Scene:
-    """``Scene.with_``: a copy of ``scene`` with ``{path: value}`` overrides."""
-    d = scene.to_dict()
-    for k, v in overrides.items():
-        if not isinstance(k, str):
-            raise TypeError("with_: keys must be paths (str)")
-        _set_path(d, k, v)
-    return Scene.from_dict(d)
 
 
 def _world_point(body: dict[str, Any], q: Any) -> tuple[float, float]:

@@ -31,7 +31,7 @@ _PER_CONTEXT = re.compile(
 _OBSERVE = {"start": "StartContext", "state": "State", "blind": "Blind"}
 # the fields a sweep file may leave out (``None`` leaves them out: their
 # default), the fixed parameters (integers and numbers, not grid axes)
-_DEFAULTED = ("name", "description", "use_reward", "params", "seed", "metrics",
+_DEFAULTED = ("name", "description", "use_reward", "params", "axes", "seed", "metrics",
               "commands", "observe", "closed_loop", "gamma")
 _INTEGERS = ("sessions", "trials", "seed", "commands")
 
@@ -184,6 +184,15 @@ def _params(v: Any, where: str) -> str:
     return "(" + ", ".join(fields) + ")"
 
 
+def _axes(v: Any, where: str) -> str:
+    """The scene axes: a dict of scene field paths to their values."""
+    if not isinstance(v, Mapping):
+        raise TypeError(f"{where}: expected a dict of scene field paths to values, "
+                        f"such as {{'joints.j1.damping': [0.1, 1.0]}}, found {type(v).__name__} {v!r}")
+    items = (f"{_string(p, where)}: {_values(x, f'{where}[{p!r}]')}" for p, x in v.items())
+    return "{" + ", ".join(items) + "}"
+
+
 def _list(v: Any, item: Callable[[Any, str], str], where: str) -> str:
     if hasattr(v, "tolist"):
         v = v.tolist()
@@ -222,6 +231,7 @@ _FIELDS: dict[str, Callable[[Any, str], str]] = {
     "learners": lambda v, k: _list(v, _learner, k),
     "use_reward": lambda v, k: _list(v, _bool, k),
     "params": _params,
+    "axes": _axes,
     "sessions": _integer,
     "trials": _integer,
     "seed": _integer,
@@ -247,7 +257,8 @@ def sweep_text(sweep: Mapping[str, Any]) -> str:
     or, as ``run_episodes`` spells them, ``"start"``, ``"state"``,
     ``"blind"``. A parameter is a number, a list of numbers or a range
     ``{"scale": "Log", "from": 1, "to": 1000, "steps": 7}`` (``k`` an
-    integer; ``sigma``, ``rarity``, ``goal_progress`` a number); a single
+    integer; ``sigma``, ``rarity``, ``goal_progress`` a number); ``axes``
+    a dict of scene field paths (``Scene.with_``'s) to such values; a single
     value where a list is expected is taken as a list of one; ``None`` (a
     field or a parameter) is its default. A value of the wrong type
     raises ``TypeError`` naming its field; a name the library does not

@@ -18,7 +18,7 @@ def test_data_that_holds_itself_is_a_scene_error():
     looped.append(looped)
     with pytest.raises(e3d.SceneError, match="nested more than 100 levels deep") as e:
         e3d.Scene.builtin("two_rooms").with_({"walls": looped})
-    assert e.value.field.startswith("world.Grid.walls[0][0]")
+    assert e.value.field.startswith("walls[0][0]")
     d = {}
     d["self"] = d
     with pytest.raises(e3d.SceneError, match="a dict or list that holds itself"):

@@ -146,8 +146,12 @@ def test_with_overrides_by_path():
     assert e3d.Scene.builtin("two_rooms").with_({"rows": 4}).num_effects == 24
     with pytest.raises(e3d.SceneError, match=r"no item named `puckx`; the names: wall_south"):
         scene.with_({"bodies.puckx.linear_damping": 2.0})
-    with pytest.raises(e3d.SceneError, match=r"no field `lin` here; its fields: name, kind, shape"):
+    with pytest.raises(e3d.SceneError, match=r"unknown field `lin`, expected one of `name`, `kind`, `shape`") as e:
         scene.with_({"bodies.puck.lin": 2.0})
+    assert e.value.field == "world.Physics.bodies[6].lin"
+    # a section the scene leaves out is created, a list's item by [index]
+    noisy = scene.with_({"noise.actions.Gaussian.sd": 0.05, "world.bodies[6].mass": 2.0})
+    assert noisy.to_dict()["world"]["Physics"]["noise"] == {"actions": {"Gaussian": {"sd": 0.05}}}
     with pytest.raises(e3d.SceneError, match=r"found -1"):
         scene.with_({"bodies.puck.linear_damping": -1.0})
 

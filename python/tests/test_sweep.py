@@ -1,5 +1,6 @@
 import math
 import pathlib
+import re
 
 import numpy as np
 import pytest
@@ -288,3 +289,37 @@ def test_dict_values_of_the_wrong_type_name_their_field():
     assert "    frob: (a: [1, true, None])," in text.splitlines()
     with pytest.raises(e3d.SceneError, match=r"unknown field `frob` in `Sweep`"):
         e3d.run_sweep(text)
+
+
+@pytest.mark.parametrize("name,axis", [("arm7_damping", "joints.j1.damping"),
+                                       ("puck_noise", "noise.actions.Gaussian.sd")])
+def test_the_example_sweeps_over_scene_fields_give_the_clis_bytes(name, axis, cli, tmp_path, root):
+    # the shipped example, shrunk: 2 sessions of 60 trials per cell
+    text = (root / "scenes" / "sweeps" / f"{name}.ron").read_text()
+    text = re.sub(r"sessions: \d+", "sessions: 2", text)
+    text = re.sub(r"trials: \d+", "trials: 60", text).replace("cumulative_reward(2000)", "cumulative_reward(60)")
+    text = text.replace('"../', f'"{root / "scenes"}/')
+    path = tmp_path / f"{name}.ron"
+    path.write_text(text)
+    cli("sweep", path, "--out", tmp_path / "cli")
+    cols = e3d.run_sweep(path, threads=2, out=tmp_path / "py")
+    for f in ["results.csv", "summary.csv", "sweep.ron", "version.txt"]:
+        assert (tmp_path / "py" / f).read_bytes() == (tmp_path / "cli" / f).read_bytes(), f
+    header = (tmp_path / "cli" / "results.csv").read_text().splitlines()[0]
+    assert f",epsilon,{axis},session,seed," in header
+    assert sorted(set(cols[axis].tolist())) == ([0.125, 0.5, 2.0] if name == "arm7_damping" else [0.0, 0.05, 0.2])
+
+
+def test_axes_from_a_dict_are_columns_and_bad_paths_are_placed():
+    d = {"scenes": ["two_rooms"], "learners": ["e3d", "uniform"], "axes": {"command.slots": [5, 7]},
+         "sessions": 2, "trials": 100, "seed": 1}
+    assert 'axes: {"command.slots": [5, 7]},' in e3d.sweep_text(d)
+    cols = e3d.run_sweep(d)
+    assert cols["command.slots"].tolist() == [5.0] * 4 + [7.0] * 4
+    assert cols["learner"] == ["e3d", "e3d", "uniform", "uniform"] * 2
+    # fewer moves, fewer cells reached
+    assert cols["distinct_effects"][:4].sum() < cols["distinct_effects"][4:].sum()
+    with pytest.raises(e3d.SceneError, match=r"^<string>:\d+:\d+: field `axes`: .*unknown field `joints`, expected one of `rows`"):
+        e3d.run_sweep({**d, "axes": {"joints.j1.damping": [1.0]}})
+    with pytest.raises(TypeError, match="axes: expected a dict of scene field paths"):
+        e3d.run_sweep({**d, "axes": [1.0]})

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 pub struct PlotArgs {
     /// The output folder of `e3d sweep` or `e3d merge` (holding summary.csv).
     pub dir: PathBuf,
-    /// The parameter on the x axis: alpha, beta, lambda, eta or epsilon.
+    /// The parameter on the x axis: alpha, beta, lambda, eta or epsilon, or a scene axis's path.
     #[arg(long)]
     pub x: String,
     /// A second parameter: draw a heat map of the mean over (x, y).

@@ -319,12 +319,11 @@ pub fn sweep_page(
     failures: &[String],
 ) -> String {
     use super::sweep_plot::distinct;
-    use crate::sweep::CELL_COLUMNS;
     let rows = &summary.rows;
     let values = |c: usize| distinct(rows.iter().map(|r| r[c].as_str()));
     // the cell columns that vary are the table's keys; the others are said once
     let (varying, fixed): (Vec<usize>, Vec<usize>) =
-        (0..CELL_COLUMNS).partition(|&c| values(c).len() > 1);
+        (0..summary.cell_columns()).partition(|&c| values(c).len() > 1);
     let mut body = String::new();
     let total = |name: &str| -> usize {
         let sum = |c: usize| rows.iter().filter_map(|r| r[c].parse::<usize>().ok()).sum();
@@ -444,7 +443,10 @@ fn plots_against_params(body: &mut String, summary: &crate::csv::Summary) {
     let values = |c: usize| distinct(rows.iter().map(|r| r[c].as_str()));
     let num = |s: &str| s.parse::<f64>().ok();
     let metrics = summary.metrics();
-    for param in Params::SWEPT {
+    // the parameters, then the scene axes' paths
+    let cells = summary.cell_columns();
+    let axes = summary.columns[crate::sweep::CELL_COLUMNS.min(cells)..cells].iter();
+    for param in Params::SWEPT.into_iter().chain(axes.map(String::as_str)) {
         let Some(c) = col(param) else { continue };
         if values(c).iter().filter(|v| !v.is_empty()).count() < 2 {
             continue;

@@ -23,6 +23,7 @@ pub mod enclosure;
 mod error;
 mod grid;
 pub mod overlap;
+pub mod path;
 pub mod physics;
 mod region;
 pub mod shorthand;

@@ -296,7 +296,8 @@ struct RowCheck<'h> {
 impl<'h> RowCheck<'h> {
     fn new(header: &'h JournalHeader) -> Self {
         let names: Vec<&str> = header.columns.split(',').collect();
-        let metrics = super::KEY_COLUMNS.len()..names.len().saturating_sub(1);
+        let keys = super::summary::cell_columns(&names).map_or(super::KEY_COLUMNS.len(), |n| n + 2);
+        let metrics = keys..names.len().saturating_sub(1);
         RowCheck { names, metrics }
     }
 

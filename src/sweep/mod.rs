@@ -1,4 +1,5 @@
-//! Sweeps: grids of sessions over scenes, learners and hyper-parameters.
+//! Sweeps: grids of sessions over scenes, learners, hyper-parameters and
+//! scene fields.
 //!
 //! A sweep file (RON, documented in `docs/sweeps.md`) names the scenes, the
 //! learners, the reward settings, a list or a range of values for each
@@ -34,8 +35,10 @@
 //!
 //! # Cells
 //!
-//! The cells are the product, in this order, of the scenes, the learners,
-//! the `use_reward` values and the values of `alpha`, `beta`, `lambda`,
+//! The cells are the product, in this order, of the scenes, the values of
+//! the scene axes ([`SweepSpec::axes`]: fields set by path, each
+//! combination a derived scene, the last axis fastest), the learners, the
+//! `use_reward` values and the values of `alpha`, `beta`, `lambda`,
 //! `eta` and `epsilon`, each in the order of the file. A learner's grid
 //! spans only the parameters it uses ([`uses_param`]; for a custom
 //! learner, [`Learners::uses`]): the uniform policy uses none,
@@ -48,7 +51,8 @@
 //! [`session_seed`]`(base_seed, identity)`, where the identity is the text
 //! `scene=S;learner=L;use_reward=B;alpha=A;beta=B;lambda=L;eta=E;epsilon=P;session=I`
 //! with every number written as in `results.csv` (Rust's shortest
-//! round-trip form, `-` for an unused parameter). A session's seed thus
+//! round-trip form, `-` for an unused parameter), and each scene axis's
+//! `;PATH=V` after `epsilon`. A session's seed thus
 //! depends on what it is, never on when or where it runs: the results are
 //! the same, byte for byte, with one thread or many, in one process or in
 //! shards.

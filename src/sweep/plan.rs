@@ -37,6 +37,9 @@ pub struct Cell {
     pub params: Params,
     /// Which of [`Params::SWEPT`] the learner uses.
     pub used: [bool; 5],
+    /// The value of each scene axis ([`SweepSpec::axes`]), in the spec's
+    /// order (empty without axes).
+    pub axes: Vec<f64>,
 }
 
 /// One session of a sweep.
@@ -273,18 +276,20 @@ impl Sweep {
         // the size first, from the counts of values alone: a sweep too
         // large to plan is refused before its ranges are expanded and
         // checked value by value (which takes seconds for 100000 steps)
-        if let Some(counts) = value_counts(&spec) {
+        if let Some((counts, variants)) = value_counts(&spec) {
             let uses: Vec<[bool; 5]> = spec
                 .learners
                 .iter()
                 .filter_map(|l| learners.uses(l))
                 .collect();
-            check_size(&spec, cells_of(&counts, &uses, &spec), &bad)?;
+            let scenes = spec.scenes.len().saturating_mul(variants);
+            check_size(&spec, cells_of(&counts, &uses, &spec, scenes), &bad)?;
         }
         let checked = spec.check_in(file, located)?;
         let (axes, metrics) = (checked.axes, checked.metrics);
         let uses = learner_uses(&spec, &learners, &bad)?;
         let scenes = make_scenes(&spec, worlds, &bad)?;
+        let (scenes, variants) = derive_scenes(&spec, scenes, &checked.scene_axes, &bad)?;
         let episodes = spec.runs_episodes();
         check_values(&scenes, &learners, &spec.learners, episodes, &bad)?;
         let contexts = super::contexts::start_contexts(&scenes);
@@ -293,8 +298,8 @@ impl Sweep {
         // the size, before making the cells (checked above already when
         // the counts of values were known before expanding them)
         let counts: [usize; 5] = std::array::from_fn(|i| axes[i].len());
-        let num_cells = check_size(&spec, cells_of(&counts, &uses, &spec), &bad)?;
-        let cells = make_cells(&spec, scenes.len(), &uses, &axes, num_cells);
+        let num_cells = check_size(&spec, cells_of(&counts, &uses, &spec, scenes.len()), &bad)?;
+        let cells = make_cells(&spec, &variants, &uses, &axes, num_cells);
         Ok(Sweep {
             spec,
             text,
@@ -419,7 +424,9 @@ impl Sweep {
         }
     }
 
-    /// The scenes, in the order of the spec.
+    /// The scenes, in the order of the spec; with scene axes
+    /// ([`SweepSpec::axes`]), each once per combination of the axes'
+    /// values (the last axis varying fastest), derived from it.
     pub fn scenes(&self) -> &[Arc<SweepScene>] {
         &self.scenes
     }
@@ -439,8 +446,17 @@ impl Sweep {
         self.cells.len() * self.spec.sessions
     }
 
-    /// The cell columns of `cell` (scene, learner, use_reward, then the five
-    /// parameters, empty when unused), as written in the CSV files.
+    /// The names of the cell columns: [`KEY_COLUMNS`](super::KEY_COLUMNS)
+    /// up to `epsilon`, then each scene axis's path.
+    pub fn cell_columns(&self) -> Vec<String> {
+        let keys = super::KEY_COLUMNS[..super::CELL_COLUMNS].iter();
+        let axes = self.spec.axes.iter().map(|(path, _)| path.clone());
+        keys.map(|k| k.to_string()).chain(axes).collect()
+    }
+
+    /// The cell columns of `cell` (scene, learner, use_reward, the five
+    /// parameters, empty when unused, then each scene axis's value), as
+    /// written in the CSV files.
     pub fn cell_fields(&self, cell: &Cell) -> Vec<String> {
         let params = cell.params.named();
         let used = (0..5).map(|i| match cell.used[i] {
@@ -448,9 +464,11 @@ impl Sweep {
             false => String::new(),
         });
         let scene = self.scenes[cell.scene].name().to_string();
+        let axes = cell.axes.iter().map(|&v| format_number(v));
         [scene, cell.learner.clone(), cell.use_reward.to_string()]
             .into_iter()
             .chain(used)
+            .chain(axes)
             .collect()
     }
 
@@ -462,6 +480,9 @@ impl Sweep {
         for (i, name) in Params::SWEPT.iter().enumerate() {
             let v = if f[3 + i].is_empty() { "-" } else { &f[3 + i] };
             s.push_str(&format!(";{name}={v}"));
+        }
+        for ((path, _), v) in self.spec.axes.iter().zip(&f[8..]) {
+            s.push_str(&format!(";{path}={v}"));
         }
         s + &format!(";session={replicate}")
     }
@@ -556,18 +577,104 @@ fn make_scenes(
     Ok(scenes)
 }
 
+/// Derived scenes, and the scene axes' values of each.
+type Derived = (Vec<Arc<SweepScene>>, Vec<Vec<f64>>);
+
+/// Each of `scenes` once per combination of the scene axes' values `axes`
+/// (the last axis fastest), the fields at their paths set, and the axes'
+/// values of each; the scenes themselves without axes. A scene made by
+/// code as worlds (a [`LiveScene`](super::LiveScene)) has no fields to
+/// set; a path a scene lacks, or a value its checks refuse, is an error
+/// at the path.
+fn derive_scenes(
+    spec: &SweepSpec,
+    scenes: Vec<Arc<SweepScene>>,
+    axes: &[Vec<f64>],
+    bad: &dyn Fn(&str, Option<&str>, &str) -> SweepError,
+) -> Result<Derived, SweepError> {
+    if axes.is_empty() {
+        let n = scenes.len();
+        return Ok((scenes, vec![Vec::new(); n]));
+    }
+    let count: usize = axes.iter().map(Vec::len).product();
+    let combos: Vec<Vec<f64>> = (0..count)
+        .map(|mut k| {
+            let mut v = vec![0.0; axes.len()];
+            for i in (0..axes.len()).rev() {
+                v[i] = axes[i][k % axes[i].len()];
+                k /= axes[i].len();
+            }
+            v
+        })
+        .collect();
+    let (mut derived, mut values) = (Vec::new(), Vec::new());
+    for s in &scenes {
+        let Some(scene) = s.scene() else {
+            let name = s.name();
+            let expected = format!(
+                "scenes with fields to set by the axes, found `{name}`, worlds made by code"
+            );
+            return Err(bad("scenes", Some(&format!("\"{name}\"")), &expected));
+        };
+        let refused = |path: &str, v: f64, e: crate::scene::SceneError| {
+            let why = match e.kind() {
+                crate::scene::SceneErrorKind::Invalid { expected, .. } => expected.clone(),
+                _ => e.to_string(),
+            };
+            let name = &scene.spec().name;
+            let v = format_number(v);
+            let expected = format!("a path to a field of scene `{name}` and values it takes, found `{path}` = {v}: {why}");
+            bad("axes", Some(&format!("{path:?}")), &expected)
+        };
+        // each path and value alone first, so that an error names the
+        // path and the value at fault
+        for ((path, _), values) in spec.axes.iter().zip(axes) {
+            for &v in values {
+                let one = [(path.as_str(), axis_value(v))];
+                scene.with_paths(one).map_err(|e| refused(path, v, e))?;
+            }
+        }
+        for combo in &combos {
+            let paths = spec.axes.iter().map(|(p, _)| p.as_str());
+            let overrides = paths.zip(combo.iter().map(|&v| axis_value(v)));
+            let one = scene.with_paths(overrides).map_err(|e| {
+                let at = spec
+                    .axes
+                    .iter()
+                    .position(|(p, _)| e.field() == Some(p.as_str()));
+                let i = at.unwrap_or(0);
+                refused(&spec.axes[i].0, combo[i], e)
+            })?;
+            derived.push(Arc::new(SweepScene::Scene(one)));
+            values.push(combo.clone());
+        }
+    }
+    Ok((derived, values))
+}
+
+/// A scene axis's value in a scene's serde form: a whole number as an
+/// integer (which a count such as `command.slots` needs, and a float
+/// field reads too), any other as a float.
+fn axis_value(v: f64) -> serde_json::Value {
+    if v.fract() == 0.0 && v.abs() < 9.0e15 {
+        serde_json::Value::from(v as i64)
+    } else {
+        serde_json::Value::from(v)
+    }
+}
+
 /// The cells of `spec` on `scenes` scenes, in canonical order: per scene,
 /// learner (using `uses` of the parameters) and reward, every
 /// combination of the parameters' values `axes` (`num_cells` in all).
 fn make_cells(
     spec: &SweepSpec,
-    scenes: usize,
+    variants: &[Vec<f64>],
     uses: &[[bool; 5]],
     axes: &[Vec<f64>],
     num_cells: usize,
 ) -> Vec<Cell> {
     let mut cells = Vec::with_capacity(num_cells);
-    for si in 0..scenes {
+    for (si, scene_axes) in variants.iter().enumerate() {
         for (learner, &used) in spec.learners.iter().zip(uses) {
             let dims: Vec<usize> = (0..5)
                 .map(|i| if used[i] { axes[i].len() } else { 1 })
@@ -588,6 +695,7 @@ fn make_cells(
                         use_reward,
                         params,
                         used,
+                        axes: scene_axes.clone(),
                     });
                 }
             }
@@ -600,7 +708,17 @@ fn make_cells(
 /// making them (a range's `steps`); `None` when one of them is a count
 /// that [`SweepSpec::check_in`] refuses (no values, too many steps), so
 /// that its own message comes first.
-fn value_counts(spec: &SweepSpec) -> Option<[usize; 5]> {
+fn value_counts(spec: &SweepSpec) -> Option<([usize; 5], usize)> {
+    let count = |v: &Values| match v {
+        Values::List(v) if v.is_empty() => None,
+        Values::List(v) => Some(v.len()),
+        Values::Range { steps, .. } if *steps > MAX_STEPS || *steps == 0 => None,
+        Values::Range { steps, .. } => Some(*steps),
+    };
+    let mut variants: usize = 1;
+    for (_, v) in &spec.axes {
+        variants = variants.saturating_mul(count(v)?);
+    }
     let mut counts = [1; 5];
     for (i, name) in Params::SWEPT.iter().enumerate() {
         counts[i] = match spec.params.get(name) {
@@ -613,12 +731,12 @@ fn value_counts(spec: &SweepSpec) -> Option<[usize; 5]> {
             return None;
         }
     }
-    Some(counts)
+    Some((counts, variants))
 }
 
-/// The number of cells of `spec` whose parameters have `counts` values
-/// and whose learners use the parameters `uses`.
-fn cells_of(counts: &[usize; 5], uses: &[[bool; 5]], spec: &SweepSpec) -> usize {
+/// The number of cells of `spec` on `scenes` scenes whose parameters
+/// have `counts` values and whose learners use the parameters `uses`.
+fn cells_of(counts: &[usize; 5], uses: &[[bool; 5]], spec: &SweepSpec, scenes: usize) -> usize {
     let mut num_cells: usize = 0;
     for used in uses {
         let per: usize = (0..5)
@@ -626,7 +744,7 @@ fn cells_of(counts: &[usize; 5], uses: &[[bool; 5]], spec: &SweepSpec) -> usize 
             .fold(1usize, |acc, i| acc.saturating_mul(counts[i]));
         num_cells = num_cells.saturating_add(per.saturating_mul(spec.use_reward.len()));
     }
-    num_cells.saturating_mul(spec.scenes.len())
+    num_cells.saturating_mul(scenes)
 }
 
 /// `num_cells`, or the refusal of a sweep of more than [`MAX_SESSIONS`]

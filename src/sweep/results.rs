@@ -31,7 +31,12 @@ impl Sweep {
 
     /// The header line of `results.csv` (without line break).
     pub fn results_header(&self) -> String {
-        let mut cols: Vec<String> = KEY_COLUMNS.iter().map(|s| s.to_string()).collect();
+        let mut cols = self.cell_columns();
+        cols.extend(
+            KEY_COLUMNS[super::CELL_COLUMNS..]
+                .iter()
+                .map(|s| s.to_string()),
+        );
         cols.extend(self.metric_columns());
         cols.push(FAILURE_COLUMN.to_string());
         cols.join(",")

@@ -35,6 +35,16 @@ pub const FAILURE_COLUMN: &str = "failure";
 /// `session` and `seed`).
 pub const CELL_COLUMNS: usize = 8;
 
+/// The number of cell columns of a `results.csv` header `cols`: the
+/// first [`CELL_COLUMNS`] of [`KEY_COLUMNS`], then the scene axes' paths,
+/// up to `session` and `seed`; `None` for another header.
+pub fn cell_columns(cols: &[&str]) -> Option<usize> {
+    let n = cols.iter().position(|&c| c == "session")?;
+    let keys = &KEY_COLUMNS[..CELL_COLUMNS];
+    (n >= CELL_COLUMNS && cols[..CELL_COLUMNS] == *keys && cols.get(n + 1) == Some(&"seed"))
+        .then_some(n)
+}
+
 /// The 97.5% quantile of Student's t with `df` degrees of freedom (exact
 /// to 9 digits up to 30, then the Cornish-Fisher expansion to 1/df^4, within 1e-7).
 ///
@@ -117,14 +127,14 @@ pub fn summarize<'a>(
     rows: impl Iterator<Item = &'a str>,
 ) -> Result<String, SweepError> {
     let cols: Vec<&str> = columns.split(',').collect();
-    if cols.len() < KEY_COLUMNS.len() || cols[..KEY_COLUMNS.len()] != KEY_COLUMNS {
+    let Some(cell) = cell_columns(&cols) else {
         return Err(SweepError::Output(format!(
             "unexpected results columns `{columns}`"
         )));
-    }
+    };
     let with_failure = cols.last() == Some(&FAILURE_COLUMN);
-    let metrics = &cols[KEY_COLUMNS.len()..cols.len() - usize::from(with_failure)];
-    let groups = group_cells(&cols, metrics.len(), with_failure, rows)?;
+    let metrics = &cols[cell + 2..cols.len() - usize::from(with_failure)];
+    let groups = group_cells(&cols, cell, metrics.len(), with_failure, rows)?;
     // which metrics may be empty (get an `_n` column)
     let has_n: Vec<bool> = metrics
         .iter()
@@ -138,7 +148,7 @@ pub fn summarize<'a>(
         })
         .collect();
     let mut out = String::new();
-    let header = summary_header(metrics, &has_n, with_failure);
+    let header = summary_header(&cols[..cell], metrics, &has_n, with_failure);
     out.push_str(&header.join(","));
     out.push('\n');
     for (key, sessions, failed) in &groups {
@@ -159,10 +169,11 @@ pub fn summarize<'a>(
 }
 
 /// Per cell: its key, each session's values of the `metrics` metrics,
-/// and how many of its sessions failed; the `rows` grouped by their cell
-/// columns (consecutive), checked against the columns `cols`.
+/// and how many of its sessions failed; the `rows` grouped by their
+/// `cell` cell columns (consecutive), checked against the columns `cols`.
 fn group_cells<'a>(
     cols: &[&str],
+    cell: usize,
     metrics: usize,
     with_failure: bool,
     rows: impl Iterator<Item = &'a str>,
@@ -177,8 +188,8 @@ fn group_cells<'a>(
                 cols.len()
             )));
         }
-        let key = f[..CELL_COLUMNS].join(",");
-        let values = f[KEY_COLUMNS.len()..KEY_COLUMNS.len() + metrics]
+        let key = f[..cell].join(",");
+        let values = f[cell + 2..cell + 2 + metrics]
             .iter()
             .map(|v| {
                 let value = (!v.is_empty()).then(|| v.parse::<f64>()).transpose();
@@ -199,14 +210,16 @@ fn group_cells<'a>(
     Ok(groups)
 }
 
-/// The summary's header: the cell columns, `sessions`, `failed` (when
-/// the results have failures), and per metric its mean, sd, interval and
-/// (for `has_n`) count.
-fn summary_header(metrics: &[&str], has_n: &[bool], with_failure: bool) -> Vec<String> {
-    let mut header: Vec<String> = KEY_COLUMNS[..CELL_COLUMNS]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+/// The summary's header: the cell columns `cells`, `sessions`, `failed`
+/// (when the results have failures), and per metric its mean, sd,
+/// interval and (for `has_n`) count.
+fn summary_header(
+    cells: &[&str],
+    metrics: &[&str],
+    has_n: &[bool],
+    with_failure: bool,
+) -> Vec<String> {
+    let mut header: Vec<String> = cells.iter().map(|s| s.to_string()).collect();
     header.push("sessions".into());
     if with_failure {
         header.push("failed".into());

@@ -21,6 +21,7 @@ mod scene_commands;
 mod scene_exec;
 mod scene_pictures;
 mod sweep;
+mod sweep_axes;
 mod sweep_continuous;
 mod sweep_failures;
 mod table_cache;

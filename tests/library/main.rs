@@ -30,6 +30,7 @@ mod paper;
 mod reference;
 mod report_html;
 mod scene_api;
+mod scene_axes;
 mod shorthand;
 mod slot_templates;
 mod sweep_open;

@@ -420,6 +420,7 @@ fn spec() -> impl Strategy<Value = SweepSpec> {
                     scenes: texts.2.clone(),
                     learners: learners.iter().map(|s| s.to_string()).collect(),
                     use_reward: use_reward.clone(),
+                    axes: Vec::new(),
                     params: ParamValues {
                         alpha: p.0.clone(),
                         beta: p.1.clone(),

@@ -226,18 +226,16 @@ impl PyScene {
 
     /// A copy of the scene with overrides: `{path: value}`, paths of
     /// dot-separated fields of `to_dict()`'s form, a list's item by index
-    /// or by name, enum variants stepped through, and paths that do not
-    /// start with a field of the scene (`name`, `description`, `world`,
-    /// `command`, `reward`, ...) starting in the world:
-    /// `scene.with_({"bodies.puck.linear_damping": 2.0})`. The result is
-    /// checked as `from_dict` checks.
-    fn with_(
-        &self,
-        py: Python<'_>,
-        overrides: &Bound<'_, pyo3::types::PyDict>,
-    ) -> PyResult<PyScene> {
-        let f = py.import("e3d._scene_dict")?.getattr("with_")?;
-        Ok(f.call1((self.clone(), overrides))?.extract()?)
+    /// (`bodies.2` or `bodies[2]`) or by name, enum variants stepped
+    /// through, fields the scene leaves out (`noise`) created, and paths
+    /// that do not start with a field of the scene (`name`, `description`,
+    /// `world`, `command`, `reward`, ...) starting in the world:
+    /// `scene.with_({"bodies.puck.linear_damping": 2.0})` (the library's
+    /// `Scene::with_paths`, as sweep axes). The result is checked as
+    /// `from_dict` checks.
+    fn with_(&self, overrides: &Bound<'_, pyo3::types::PyDict>) -> PyResult<PyScene> {
+        let scene = crate::scene_dict::with_(&self.inner, overrides)?;
+        PyScene::new(scene).map_err(scene_err)
     }
 
     /// The scene as RON text that `Scene.from_text` reads back as an equal

@@ -58,12 +58,18 @@ struct HeatGrid {
 impl HeatGrid {
     /// The grid of `rows`: x in column `xi`, y in column `yi`, the mean in
     /// column `mi`; a swept value that is not a number is an error.
-    fn new(rows: &[&Vec<String>], xi: usize, yi: usize, mi: usize) -> Result<HeatGrid, PlotError> {
+    fn new(
+        rows: &[&Vec<String>],
+        (xi, x_name): (usize, &str),
+        (yi, y_name): (usize, &str),
+        mi: usize,
+    ) -> Result<HeatGrid, PlotError> {
         let axis = |c: usize| -> Result<Vec<f64>, PlotError> {
+            let name = if c == xi { x_name } else { y_name };
             let mut v: Vec<f64> = Vec::new();
             for r in rows {
                 let Some(x) = num(&r[c]) else {
-                    return err(format!("{} = `{}` is not a number", KEY_COLUMNS[c], r[c]));
+                    return err(format!("{name} = `{}` is not a number", r[c]));
                 };
                 if !v.contains(&x) {
                     v.push(x);
@@ -106,7 +112,7 @@ pub(super) fn draw_heat(
     yi: usize,
     mi: usize,
 ) -> Result<String, PlotError> {
-    let grid = HeatGrid::new(&rows, xi, yi, mi)?;
+    let grid = HeatGrid::new(&rows, (xi, x_name), (yi, y_name), mi)?;
     let (vmin, span) = grid.range()?;
     let (w, h) = (900u32, 650u32);
     plotted((w, h), |root| {

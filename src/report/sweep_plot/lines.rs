@@ -15,6 +15,7 @@ pub(super) struct Series {
 /// `hi`) against column `xi`: one per setting of the other cell columns
 /// that vary, its points sorted by x.
 pub(super) fn line_series(
+    cells: &[String],
     rows: &[&Vec<String>],
     xi: usize,
     mi: usize,
@@ -22,7 +23,7 @@ pub(super) fn line_series(
     hi: usize,
 ) -> Result<Vec<Series>, PlotError> {
     // the cell columns that vary (besides x) name the series
-    let varying: Vec<usize> = (0..CELL_COLUMNS)
+    let varying: Vec<usize> = (0..cells.len())
         .filter(|&c| c != xi)
         .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
         .collect();
@@ -36,13 +37,13 @@ pub(super) fn line_series(
         let x = match num(&r[xi]) {
             _ if r[xi].is_empty() => f64::NAN,
             Some(x) => x,
-            None => return err(format!("{} = `{}` is not a number", KEY_COLUMNS[xi], r[xi])),
+            None => return err(format!("{} = `{}` is not a number", cells[xi], r[xi])),
         };
         let p = (x, mean, num(&r[lo]), num(&r[hi]));
         match keys.iter().position(|k| *k == key) {
             Some(i) => series[i].points.push(p),
             None => {
-                let label = Some(series_label(r, &named)).filter(|l| !l.is_empty());
+                let label = Some(series_label(cells, r, &named)).filter(|l| !l.is_empty());
                 keys.push(key);
                 series.push(Series {
                     label: label.unwrap_or_else(|| "all".into()),
@@ -57,7 +58,7 @@ pub(super) fn line_series(
     if series.iter().all(|s| s.points.iter().all(|p| p.0.is_nan())) {
         return err(format!(
             "no cell has a value of {} (no learner in the selection uses it)",
-            KEY_COLUMNS[xi]
+            cells[xi]
         ));
     }
     Ok(series)
@@ -83,11 +84,11 @@ fn named_columns(rows: &[&Vec<String>], varying: &[usize]) -> Vec<usize> {
 
 /// The label of row `r`'s series, in words: its values of the `named`
 /// columns that it has (`e3d, with reward, eta 0.003`).
-fn series_label(r: &[String], named: &[usize]) -> String {
+fn series_label(cells: &[String], r: &[String], named: &[usize]) -> String {
     named
         .iter()
         .filter(|&&c| !r[c].is_empty())
-        .map(|&c| match KEY_COLUMNS[c] {
+        .map(|&c| match cells[c].as_str() {
             "learner" | "scene" => r[c].clone(),
             "use_reward" => {
                 if r[c] == "true" {

@@ -18,7 +18,7 @@ use super::svg::{colour_steps, plotted, text_style, Area, Chart, Drawn};
 use crate::csv::Summary;
 use crate::learner::Params;
 use crate::scene::did_you_mean;
-use crate::sweep::{CELL_COLUMNS, KEY_COLUMNS};
+use crate::sweep::CELL_COLUMNS;
 use plotters::prelude::*;
 
 mod heat;
@@ -85,12 +85,19 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
             "row {row} of the summary has {fields} fields, expected {columns} (one per column)"
         ));
     }
+    // the parameters, and the scene axes' paths
+    let cells = summary.cell_columns();
+    let axes = summary.columns[CELL_COLUMNS.min(cells)..cells].iter();
+    let params: Vec<&str> = Params::SWEPT
+        .into_iter()
+        .chain(axes.map(String::as_str))
+        .collect();
     let check_param = |p: &str| -> Result<usize, PlotError> {
-        if !Params::SWEPT.contains(&p) {
+        if !params.contains(&p) {
             return err(format!(
                 "`{p}` is not a parameter{}; expected one of: {}",
-                did_you_mean(p, &Params::SWEPT),
-                Params::SWEPT.join(", ")
+                did_you_mean(p, &params),
+                params.join(", ")
             ));
         }
         summary.col(p).ok_or_else(|| {
@@ -120,11 +127,11 @@ fn draw(summary: &Summary, spec: &PlotSpec) -> Result<String, PlotError> {
     let title = plot_title(spec, &metric);
     match yi {
         None => {
-            let series = line_series(&rows, xi, mi, lo, hi)?;
+            let series = line_series(&summary.columns[..cells], &rows, xi, mi, lo, hi)?;
             draw_lines(&title, &spec.x, &metric, &series)
         }
         Some(yi) => {
-            let rows = one_setting(rows, xi, yi, spec)?;
+            let rows = one_setting(&summary.columns[..cells], rows, xi, yi, spec)?;
             let y = spec.y.as_deref().unwrap_or_default();
             draw_heat(&title, &spec.x, y, rows, xi, yi, mi)
         }
@@ -138,10 +145,14 @@ fn filtered_rows<'a>(
     summary: &'a Summary,
     filters: &[(String, String)],
 ) -> Result<Vec<&'a Vec<String>>, PlotError> {
-    let cell_cols: Vec<&str> = KEY_COLUMNS[..CELL_COLUMNS].to_vec();
+    let cells = summary.cell_columns();
+    let cell_cols: Vec<&str> = summary.columns[..cells]
+        .iter()
+        .map(String::as_str)
+        .collect();
     let mut rows: Vec<&Vec<String>> = summary.rows.iter().collect();
     for (k, v) in filters {
-        let Some(ci) = summary.col(k).filter(|&i| i < CELL_COLUMNS) else {
+        let Some(ci) = summary.col(k).filter(|&i| i < cells) else {
             return err(format!(
                 "--where {k}={v}: `{k}` is not a cell column{}; expected one of: {}",
                 did_you_mean(k, &cell_cols),
@@ -184,8 +195,9 @@ fn plot_title(spec: &PlotSpec, metric: &str) -> String {
 }
 
 /// The rows of a heat map: those with both x and y, in which no other
-/// cell column varies.
+/// cell column (named `cells`) varies.
 fn one_setting<'a>(
+    cells: &[String],
     rows: Vec<&'a Vec<String>>,
     xi: usize,
     yi: usize,
@@ -203,12 +215,12 @@ fn one_setting<'a>(
             spec.y.as_deref().unwrap_or_default()
         ));
     }
-    let varying: Vec<String> = (0..CELL_COLUMNS)
+    let varying: Vec<String> = (0..cells.len())
         .filter(|&c| c != xi && c != yi)
         .filter(|&c| rows.iter().any(|r| r[c] != rows[0][c]))
         .map(|c| {
             let vals = distinct(rows.iter().map(|r| r[c].as_str()));
-            format!("{} ({})", KEY_COLUMNS[c], vals.join(", "))
+            format!("{} ({})", cells[c], vals.join(", "))
         })
         .collect();
     if !varying.is_empty() {

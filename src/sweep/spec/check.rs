@@ -10,6 +10,8 @@ use crate::sweep::SweepError;
 /// metrics kept.
 pub(in crate::sweep) struct Checked {
     pub(in crate::sweep) axes: Vec<Vec<f64>>,
+    /// The values of each scene axis, in the spec's order.
+    pub(in crate::sweep) scene_axes: Vec<Vec<f64>>,
     pub(in crate::sweep) metrics: Vec<MetricSpec>,
 }
 
@@ -26,8 +28,13 @@ impl SweepSpec {
         };
         self.check_fields(&bad)?;
         let axes = self.param_axes(&bad)?;
+        let scene_axes = self.scene_axes(&bad)?;
         let metrics = self.checked_metrics(&bad)?;
-        Ok(Checked { axes, metrics })
+        Ok(Checked {
+            axes,
+            scene_axes,
+            metrics,
+        })
     }
 
     /// Scenes and learners (each learner once), each of true and false
@@ -113,6 +120,29 @@ impl SweepSpec {
         Ok(axes)
     }
 
+    /// The values of each scene axis, after checking its path can name a
+    /// column (the scenes check that it names a field).
+    fn scene_axes(&self, bad: &Bad) -> Result<Vec<Vec<f64>>, SweepError> {
+        let mut axes = Vec::with_capacity(self.axes.len());
+        for (path, v) in &self.axes {
+            let anchor = format!("{path:?}");
+            let bad = |expected: &str| bad("axes", Some(&anchor), expected);
+            let reserved = ["sessions", "failed"].contains(&path.as_str())
+                || crate::sweep::KEY_COLUMNS.contains(&path.as_str());
+            let odd = |c: char| !(c.is_ascii_alphanumeric() || "_.[]-".contains(c));
+            if reserved || path.is_empty() || path.contains(odd) {
+                let expected = format!("a scene field's path of ASCII letters, digits and `_.[]-` (dot-separated names, e.g. joints.j1.damping; it names a column of the results), not a column e3d writes, found `{}`", path.escape_debug());
+                return Err(bad(&expected));
+            }
+            let values = axis_values(v, &bad)?;
+            if let Some(x) = values.iter().find(|x| !x.is_finite()) {
+                return Err(bad(&format!("finite numbers, found {x}")));
+            }
+            axes.push(values);
+        }
+        Ok(axes)
+    }
+
     /// The metrics (the defaults if none are listed): at least one, each
     /// once, a cumulative reward within the trials.
     fn checked_metrics(&self, bad: &Bad) -> Result<Vec<MetricSpec>, SweepError> {
@@ -142,10 +172,24 @@ impl SweepSpec {
     }
 }
 
-/// The values `v` of parameter `name` (the `i`th): a range of 1 to
-/// [`MAX_STEPS`] steps between finite bounds (> 0 on a log scale), at
-/// least one value, distinct, each a valid value of the parameter.
+/// The values `v` of parameter `name` (the `i`th): those of
+/// [`axis_values`], each a valid value of the parameter.
 fn param_axis(name: &str, i: usize, v: &Values, bad: &Bad) -> Result<Vec<f64>, SweepError> {
+    let values = axis_values(v, &|expected| bad(name, None, expected))?;
+    for x in &values {
+        let mut p = Params::TASK1;
+        set_param(&mut p, i, *x);
+        if let Err(e) = p.validate() {
+            return Err(bad(name, None, &format!("{}, found {x}", e.expected)));
+        }
+    }
+    Ok(values)
+}
+
+/// The values `v` of an axis: a range of 1 to [`MAX_STEPS`] steps
+/// between finite bounds (> 0 on a log scale), at least one value,
+/// distinct; `bad(expected)` is the error.
+fn axis_values(v: &Values, bad: &dyn Fn(&str) -> SweepError) -> Result<Vec<f64>, SweepError> {
     if let Values::Range {
         scale,
         from,
@@ -171,25 +215,19 @@ fn param_axis(name: &str, i: usize, v: &Values, bad: &Bad) -> Result<Vec<f64>, S
             ),
         ];
         if let Some((_, expected)) = checks.into_iter().find(|c| c.0) {
-            return Err(bad(name, None, &expected));
+            return Err(bad(&expected));
         }
     }
     let values = v.values();
     if values.is_empty() {
-        return Err(bad(name, None, "at least one value, found an empty list"));
+        return Err(bad("at least one value, found an empty list"));
     }
     // distinct: equal floats have equal bits once -0 is +0
-    // (NaN equals nothing, and the check below refuses it)
+    // (NaN equals nothing, and the parameters' or scenes' checks refuse it)
     let mut seen = std::collections::HashSet::with_capacity(values.len());
     for x in &values {
         if !x.is_nan() && !seen.insert((x + 0.0).to_bits()) {
-            let twice = format!("distinct values, but {x} appears twice");
-            return Err(bad(name, None, &twice));
-        }
-        let mut p = Params::TASK1;
-        set_param(&mut p, i, *x);
-        if let Err(e) = p.validate() {
-            return Err(bad(name, None, &format!("{}, found {x}", e.expected)));
+            return Err(bad(&format!("distinct values, but {x} appears twice")));
         }
     }
     Ok(values)

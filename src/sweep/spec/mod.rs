@@ -170,6 +170,12 @@ pub struct SweepSpec {
     /// The values of each hyper-parameter.
     #[serde(default)]
     pub params: ParamValues,
+    /// Scene fields to vary, each by its path in the scene's serde form
+    /// ([`Scene::with_paths`](crate::Scene::with_paths)) with its values,
+    /// in the file's order: `axes: {"joints.j1.damping": [0.1, 1.0]}`.
+    /// Each combination of values makes a derived scene of every scene.
+    #[serde(default, with = "axes_map", skip_serializing_if = "Vec::is_empty")]
+    pub axes: Vec<(String, Values)>,
     /// Sessions (seeds) per cell, >= 1.
     pub sessions: usize,
     /// Trials per session, >= 1.
@@ -354,6 +360,7 @@ impl SweepSpec {
             learners: learners.into_iter().map(Into::into).collect(),
             use_reward: default_use_reward(),
             params: ParamValues::default(),
+            axes: Vec::new(),
             sessions,
             trials,
             seed: 0,
@@ -386,6 +393,13 @@ impl SweepSpec {
     /// Sets the values of the hyper-parameters.
     pub fn with_params(mut self, params: ParamValues) -> SweepSpec {
         self.params = params;
+        self
+    }
+
+    /// Adds a scene axis: the field at `path` of every scene takes each
+    /// of `values` (see [`axes`](Self::axes)).
+    pub fn with_axis(mut self, path: impl Into<String>, values: Values) -> SweepSpec {
+        self.axes.push((path.into(), values));
         self
     }
 
@@ -467,6 +481,12 @@ impl SweepSpec {
         if !params.is_empty() {
             out.push_str(&format!("    params: (\n{}    ),\n", params.concat()));
         }
+        if !self.axes.is_empty() {
+            let axes: Vec<String> = (self.axes.iter())
+                .map(|(path, v)| format!("        {}: {},\n", string(path), v.to_ron()))
+                .collect();
+            out.push_str(&format!("    axes: {{\n{}    }},\n", axes.concat()));
+        }
         let (sessions, trials, seed) = (self.sessions, self.trials, self.seed);
         out.push_str(&format!(
             "    sessions: {sessions},\n    trials: {trials},\n    seed: {seed},\n"
@@ -492,6 +512,53 @@ impl SweepSpec {
         }
         out.push_str(")\n");
         out
+    }
+}
+
+/// The scene axes as a RON map of paths to values, in the file's order,
+/// each path once.
+mod axes_map {
+    use super::Values;
+    use serde::de::{self, Deserializer, MapAccess, Visitor};
+    use serde::ser::{SerializeMap, Serializer};
+    use std::fmt;
+
+    pub(super) fn serialize<S: Serializer>(
+        axes: &[(String, Values)],
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_map(Some(axes.len()))?;
+        for (path, values) in axes {
+            m.serialize_entry(path, values)?;
+        }
+        m.end()
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Vec<(String, Values)>, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Vec<(String, Values)>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(
+                    "a map of scene field paths to values, `{\"joints.j1.damping\": [0.1, 1.0]}`",
+                )
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut m: A) -> Result<Self::Value, A::Error> {
+                let mut axes: Vec<(String, Values)> = Vec::new();
+                while let Some(path) = m.next_key::<String>()? {
+                    if axes.iter().any(|(p, _)| *p == path) {
+                        return Err(de::Error::custom(format_args!(
+                            "each path once, but `{path}` appears twice"
+                        )));
+                    }
+                    axes.push((path, m.next_value()?));
+                }
+                Ok(axes)
+            }
+        }
+        d.deserialize_map(V)
     }
 }
 
