@@ -18,9 +18,9 @@ pub struct RunArgs {
     pub scene: String,
     /// The learner: e3d, uniform or egreedy (the paper's), or e3d_relax,
     /// count, smm, goal_babbling or archive (docs/algorithms.md), or
-    /// qlearning_moves (per-move Q-learning: each of the --commands
-    /// commands' moves a command of its own, chosen from the cell it
-    /// starts in; `Repeat` scenes).
+    /// qlearning_moves (per-move Q-learning: each move of an episode's
+    /// commands a command of its own, chosen from the cell it starts in;
+    /// `Repeat` scenes).
     #[arg(long, default_value = "e3d")]
     pub learner: LearnerKind,
     /// The number of trials.
