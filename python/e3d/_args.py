@@ -63,7 +63,8 @@ def optional(name: str, value: Any, low: int) -> Optional[int]:
 
 
 def hyper(alpha: Any, beta: Any, lambda_: Any, eta: Any, epsilon: Any, k: Any = 2,
-          sigma: Any = 0.1, rarity: Any = 0.5, goal_progress: Any = 0.0) -> dict[str, float]:
+          sigma: Any = 0.1, rarity: Any = 0.5, goal_progress: Any = 0.0,
+          initial: Any = 1.0) -> dict[str, float]:
     """The hyper-parameters by the library's names (``e3d::Params``), each a
     number (``k`` an integer from 1); the native module has the library
     check their ranges."""
@@ -71,7 +72,8 @@ def hyper(alpha: Any, beta: Any, lambda_: Any, eta: Any, epsilon: Any, k: Any = 
             "lambda": number("lambda_", lambda_), "eta": number("eta", eta),
             "epsilon": number("epsilon", epsilon), "k": float(integer("k", k, 1)),
             "sigma": number("sigma", sigma), "rarity": number("rarity", rarity),
-            "goal_progress": number("goal_progress", goal_progress)}
+            "goal_progress": number("goal_progress", goal_progress),
+            "initial": number("initial", initial)}
 
 
 def cache_folder(path: Any) -> Any:

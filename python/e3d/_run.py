@@ -39,6 +39,7 @@ def run_session(
     sigma: float = 0.1,
     rarity: float = 0.5,
     goal_progress: float = 0.0,
+    initial: float = 1.0,
 ) -> SessionRecord:
     """Runs one session of ``trials`` trials: the learner proposes a command,
     the scene's world executes it, the learner learns from its effect and
@@ -52,7 +53,8 @@ def run_session(
     effect, reward)`` (see ``docs/python.md``). ``use_reward=False`` is the
     CLI's ``--no-reward``. ``k``, ``sigma``, ``rarity`` and
     ``goal_progress`` are goal babbling's and the archive's (the CLI's
-    ``--k``, ``--sigma``, ``--rarity``, ``--goal-progress``); a
+    ``--k``, ``--sigma``, ``--rarity``, ``--goal-progress``), ``initial``
+    per-move Q-learning's (``--initial``; it runs in ``run_episodes``); a
     hyper-parameter given a non-default value that the learner does not
     read is a ``UserWarning``. ``outcomes``: ``None`` (the cheapest of
     table, memo or live, as the CLI chooses) or one of ``"table"``,
@@ -78,7 +80,7 @@ def run_session(
                         f"rewards), found {type(on_trials).__name__}")
     return _e3d._run_sessions(
         scene, learner, integer("trials", trials, 1), [integer("seed", seed)], True, use_reward,
-        hyper(alpha, beta, lambda_, eta, epsilon, k, sigma, rarity, goal_progress),
+        hyper(alpha, beta, lambda_, eta, epsilon, k, sigma, rarity, goal_progress, initial),
         outcomes, cache_folder(table_cache), progress, target, on_trials,
         integer("every", every, 1))[0]
 
@@ -104,6 +106,7 @@ def run_sessions(
     sigma: float = 0.1,
     rarity: float = 0.5,
     goal_progress: float = 0.0,
+    initial: float = 1.0,
 ) -> SessionBatch:
     """Runs several sessions of one scene together, in lockstep: at every
     trial each session proposes its command, the new commands of all are
@@ -142,7 +145,7 @@ def run_sessions(
         raise ValueError("no session: expected at least one seed")
     return SessionBatch._stack(listed, _e3d._run_sessions(
         scene, learner, trials, listed, False, use_reward,
-        hyper(alpha, beta, lambda_, eta, epsilon, k, sigma, rarity, goal_progress),
+        hyper(alpha, beta, lambda_, eta, epsilon, k, sigma, rarity, goal_progress, initial),
         outcomes, cache_folder(table_cache), progress, target, None, 1))
 
 
@@ -165,6 +168,7 @@ def run_episodes(
     epsilon: float = 0.1,
     target: Optional[TargetLike] = None,
     targets: Optional[Sequence[Optional[TargetLike]]] = None,
+    initial: float = 1.0,
 ) -> EpisodeRecord: ...
 @overload
 def run_episodes(
@@ -186,6 +190,7 @@ def run_episodes(
     epsilon: float = 0.1,
     target: Optional[TargetLike] = None,
     targets: Optional[Sequence[Optional[TargetLike]]] = None,
+    initial: float = 1.0,
 ) -> list[EpisodeRecord]: ...
 def run_episodes(
     scene: SceneLike,
@@ -205,6 +210,7 @@ def run_episodes(
     epsilon: float = 0.1,
     target: Optional[TargetLike] = None,
     targets: Optional[Sequence[Optional[TargetLike]]] = None,
+    initial: float = 1.0,
 ) -> Union[EpisodeRecord, list[EpisodeRecord]]:
     """Sessions of episodes on a scene with start contexts, or of
     ``commands`` commands per episode (closed loop): ``e3d run SCENE
@@ -214,7 +220,12 @@ def run_episodes(
     ``learner``: a built-in learner's name (None: ``"e3d"``), one per
     observed context; with ``closed_loop=True``, ``"e3d"`` is closed-loop
     E3D (Q_ref, discount ``gamma``) and ``"egreedy"`` epsilon-greedy
-    Q-learning. Or a Python learner (with ``seeds``, a sequence of them, one
+    Q-learning. ``"qlearning_moves"`` is per-move Q-learning (``e3d run
+    --learner qlearning_moves``): on a scene whose command is ``Repeat``,
+    each episode is ``commands`` times the scene's moves, each move a
+    command chosen from the cell it starts in, the values starting at
+    ``initial`` (1: optimistic), ``epsilon`` and ``gamma`` its own. Or a
+    Python learner (with ``seeds``, a sequence of them, one
     per seed) with ``propose(context, rng)`` and ``learn(context, command,
     effect, reward, next)``, run on this thread; its first exception stops
     the run and is raised. ``target``: the target ``p*`` of every context;
@@ -237,5 +248,6 @@ def run_episodes(
         raise ValueError("no session: expected at least one seed")
     records = _e3d._run_episodes(
         scene, episodes, commands, listed, one, learner, closed_loop, observe, use_reward,
-        number("gamma", gamma), hyper(alpha, beta, lambda_, eta, epsilon), target, targets)
+        number("gamma", gamma), hyper(alpha, beta, lambda_, eta, epsilon, initial=initial),
+        target, targets)
     return records[0] if one else records

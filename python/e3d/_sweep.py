@@ -176,7 +176,7 @@ def _params(v: Any, where: str) -> str:
             continue  # the default
         if name == "k":
             text = _integer(x, at)
-        elif name in ("sigma", "rarity", "goal_progress"):
+        elif name in ("sigma", "rarity", "goal_progress", "initial"):
             text = _number(x, at)
         else:
             text = _values(x, at)
@@ -257,8 +257,8 @@ def sweep_text(sweep: Mapping[str, Any]) -> str:
     or, as ``run_episodes`` spells them, ``"start"``, ``"state"``,
     ``"blind"``. A parameter is a number, a list of numbers or a range
     ``{"scale": "Log", "from": 1, "to": 1000, "steps": 7}`` (``k`` an
-    integer; ``sigma``, ``rarity``, ``goal_progress`` a number); ``axes``
-    a dict of scene field paths (``Scene.with_``'s) to such values; a single
+    integer; ``sigma``, ``rarity``, ``goal_progress``, ``initial`` a number);
+    ``axes`` a dict of scene field paths (``Scene.with_``'s) to such values; a single
     value where a list is expected is taken as a list of one; ``None`` (a
     field or a parameter) is its default. A value of the wrong type
     raises ``TypeError`` naming its field; a name the library does not

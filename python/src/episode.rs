@@ -14,6 +14,7 @@ use crate::scene::scene_of;
 use e3d::command::CommandSpace;
 use e3d::episode::{EpisodeConfig, EpisodeRecord};
 use e3d::learner::{ContextualLearner, LearnerSetup};
+use e3d::LearnerKind;
 use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -106,10 +107,25 @@ pub(crate) fn _run_episodes(
             e3d::sweep::MAX_TRIALS
         )));
     }
-    let k = commands.map(commands_arg).transpose()?.unwrap_or(1);
+    let kind = builtin_kind(learner)?;
+    let mut k = commands.map(commands_arg).transpose()?.unwrap_or(1);
+    // per-move Q-learning: each move of the K commands a command of its own
+    let mut inner = scene.inner.clone();
+    if kind == Some(LearnerKind::QlearningMoves) {
+        let moves = inner.spec().num_slots();
+        inner = match inner.with_moves(1) {
+            Some(single) => single.map_err(|e| PyValueError::new_err(e.to_string()))?,
+            None => {
+                return Err(PyValueError::new_err(format!(
+                    "learner `qlearning_moves` takes a scene whose command is `Repeat` (every move from one alphabet); `{}`'s is not",
+                    inner.spec().name
+                )))
+            }
+        };
+        k *= moves;
+    }
     e3d::episode::check_size(episodes, k)
         .map_err(|e| PyValueError::new_err(format!("episodes and commands: {e}")))?;
-    let kind = builtin_kind(learner)?;
     let targets = context_targets(&scene, target, targets)?;
     let params = params_of(params)?;
     e3d::learner::contextual::check_gamma(gamma)
@@ -129,7 +145,6 @@ pub(crate) fn _run_episodes(
     // after the arguments' checks: a refused call warns of nothing
     crate::errors::warn_unread(py, crate::saved::reader_of(learner)?, &params, 2)?;
     crate::errors::warn_open_loop_gamma(py, closed_loop, gamma, 2)?;
-    let inner = scene.inner.clone();
     let space = inner.command_space();
     let configs: Vec<EpisodeConfig> = seeds
         .iter()

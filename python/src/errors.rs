@@ -238,6 +238,7 @@ pub(crate) fn params_of(named: std::collections::HashMap<String, f64>) -> PyResu
             "sigma" => &mut p.sigma,
             "rarity" => &mut p.rarity,
             "goal_progress" => &mut p.goal_progress,
+            "initial" => &mut p.initial,
             "k" => {
                 p.k = v as usize;
                 continue;

@@ -212,6 +212,12 @@ impl Held {
             LearnerKind::Uniform => Held::Uniform(UniformPolicy::new(s)),
             LearnerKind::GoalBabbling => Held::GoalBabbling(GoalBabbling::new(s, n, params)),
             LearnerKind::Archive => Held::Archive(Archive::new(s, n, params)),
+            LearnerKind::QlearningMoves => {
+                // its learner is over contexts (Learner.contextual), made below
+                return Err(PyValueError::new_err(
+                    "learner `qlearning_moves` chooses each move from the cell it is in: it runs episodes (run_episodes, Learner.contextual), not single commands",
+                ));
+            }
         })
     }
 

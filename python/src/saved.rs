@@ -90,6 +90,7 @@ impl PyLearnerState {
             sigma,
             rarity,
             goal_progress,
+            initial: Params::TASK1.initial,
         })?;
         let held = Held::new(&scene, kind, &params, &target)?;
         crate::errors::warn_unread(py, crate::errors::Reader::Kind(kind), &params, 1)?;
@@ -154,6 +155,13 @@ impl PyLearnerState {
             ),
             (true, LearnerKind::Egreedy) => {
                 Held::QLearning(QLearning::new(space, contexts, &params, gamma).map_err(bad)?)
+            }
+            (_, LearnerKind::QlearningMoves) => {
+                // it runs on the scene's single moves, which this scene's
+                // commands are not
+                return Err(PyValueError::new_err(
+                    "learner `qlearning_moves`: no saved state (run_episodes(scene, learner=\"qlearning_moves\") runs it on the scene's single moves)",
+                ));
             }
             (true, other) => {
                 return Err(PyValueError::new_err(format!(

@@ -10,7 +10,8 @@ import pytest
 import e3d
 
 # the library's LearnerKind::ALL, in its order
-LEARNERS = ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm", "goal_babbling", "archive"]
+LEARNERS = ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm", "goal_babbling", "archive",
+            "qlearning_moves"]
 
 
 @pytest.mark.parametrize("kw, match", [
@@ -98,9 +99,13 @@ def test_unknown_learner_lists_every_builtin_learner():
     with pytest.raises(TypeError) as err:
         e3d.run_sessions("two_rooms", learner=3, trials=10, sessions=2)
     assert f"expected one of {listed} or a sequence of Python learners" in str(err.value)
-    # every listed learner runs
-    for name in LEARNERS:
+    # every listed learner runs: per-move Q-learning in episodes only
+    for name in LEARNERS[:-1]:
         assert e3d.run_session("two_rooms", learner=name, trials=20).learner == name
+    with pytest.raises(ValueError, match=r"^learner `qlearning_moves` chooses each move"):
+        e3d.run_session("two_rooms", learner="qlearning_moves", trials=20)
+    rec = e3d.run_episodes("two_rooms", episodes=20, learner="qlearning_moves", seed=0)
+    assert rec.commands_per_episode == 7  # the 7 moves of a two_rooms command, one by one
 
 
 def test_scene_error_attributes_of_a_syntax_error():

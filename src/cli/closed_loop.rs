@@ -35,9 +35,17 @@ pub struct ClosedLoopArgs {
     /// Discount of Q_ref and of Q-learning, in [0, 1].
     #[arg(long, default_value_t = e3d::learner::ClosedLoopE3d::GAMMA)]
     pub gamma: f64,
+    /// The value every action-value of the arm qlearning_moves starts at
+    /// (1: optimistic; 0: the plain start).
+    #[arg(long, default_value_t = Params::TASK2.initial)]
+    pub initial: f64,
+    /// The exploration rate of the arm qlearning_moves, in [0, 1].
+    #[arg(long, default_value_t = e3d::experiment::closed_loop::MOVES_EPSILON)]
+    pub moves_epsilon: f64,
     #[command(flatten)]
     pub threads: super::session::ThreadsArg,
-    /// Also write closed_loop.md and sessions.csv in this folder.
+    /// Also write closed_loop.md, closed_loop.csv (its figures and
+    /// intervals) and sessions.csv in this folder.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Replace the files of an earlier comparison in --out.
@@ -49,8 +57,16 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
     let scene = load_scene(&a.scene)?;
     let params = Params {
         beta: a.beta,
+        initial: a.initial,
         ..Params::TASK2
     };
+    let moves = Params {
+        epsilon: a.moves_epsilon,
+        ..params
+    };
+    moves
+        .validate()
+        .map_err(|e| CliError::input(format!("--moves-{e}")))?;
     params
         .validate()
         .map_err(|e| CliError::input(format!("--{e}")))?;
@@ -68,9 +84,14 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
         commands: a.commands as usize,
         params,
         gamma: a.gamma,
+        moves_epsilon: a.moves_epsilon,
     };
     if let Some(out) = &a.out {
-        prepare_out(out, &["closed_loop.md", "sessions.csv"], a.force)?;
+        prepare_out(
+            out,
+            &["closed_loop.md", "closed_loop.csv", "sessions.csv"],
+            a.force,
+        )?;
     }
     let threads = a.threads.count();
     let moves = scene.spec().num_slots() * cfg.commands;
@@ -89,6 +110,8 @@ pub fn run(a: ClosedLoopArgs) -> CliResult {
             csv.push_str(&format!("{arm},{seed},{first},{reward},{late}\n"));
         }
         write_file(&out.join("closed_loop.md"), md.as_bytes())?;
+        let figures = e3d::report::closed_loop::csv(&sessions);
+        write_file(&out.join("closed_loop.csv"), figures.as_bytes())?;
         write_file(&out.join("sessions.csv"), csv.as_bytes())?;
     }
     outln!("{md}");

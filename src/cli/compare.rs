@@ -28,6 +28,12 @@ pub struct CompareArgs {
     /// two_rooms, puck_rooms, arm7, maze3).
     #[arg(long, value_delimiter = ',', value_name = "NAMES")]
     pub scenes: Vec<String>,
+    /// Only these learners (comma-separated; default: e3d, e3d_relax,
+    /// count, smm, uniform, egreedy, goal_babbling, archive);
+    /// qlearning_moves runs each trial as an episode of the scene's moves,
+    /// one by one (scenes whose command is `Repeat`).
+    #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+    pub learners: Vec<String>,
     #[command(flatten)]
     pub threads: super::session::ThreadsArg,
     /// Replace the files of an earlier comparison in --out.
@@ -38,9 +44,11 @@ pub struct CompareArgs {
 pub fn run(a: CompareArgs) -> CliResult {
     let names: Vec<&str> = a.scenes.iter().map(String::as_str).collect();
     check_scene_names(&names)?;
+    let learners: Vec<&str> = a.learners.iter().map(String::as_str).collect();
+    check_learner_names(&learners)?;
     let files = ["drives.md", "drives.csv", "drives.svg", "results.csv"];
     prepare_out(&a.out, &files, a.force)?;
-    let sweep = drives_sweep(a.sessions as usize, a.trials as usize, &names)
+    let sweep = drives_sweep(a.sessions as usize, a.trials as usize, &names, &learners)
         .map_err(|e| {
             // the sweep is built from the flags: speak of them, not of a
             // `<SweepSpec>` the user never wrote
@@ -91,6 +99,23 @@ pub fn run(a: CompareArgs) -> CliResult {
     outln!("{md}");
     let (out, secs) = (a.out.display(), start.elapsed().as_secs_f64());
     outln!("wrote drives.md, drives.csv, drives.svg and results.csv in {out} ({secs:.1} s)");
+    Ok(())
+}
+
+/// `--learners`: built-in learners' names, each once.
+fn check_learner_names(names: &[&str]) -> CliResult {
+    let mut seen = std::collections::HashSet::new();
+    for n in names {
+        if let Err(e) = n.parse::<e3d::LearnerKind>() {
+            return Err(super::CliError::input(format!("--learners: {e}")));
+        }
+        if !seen.insert(*n) {
+            return Err(super::CliError::input(format!(
+                "--learners {}: `{n}` is listed twice; expected each learner once",
+                names.join(",")
+            )));
+        }
+    }
     Ok(())
 }
 

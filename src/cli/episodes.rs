@@ -15,7 +15,11 @@ use serde::Serialize;
 /// Whether `e3d run` runs episodes: start contexts, several commands per
 /// episode, or a closed-loop learner.
 pub fn wanted(a: &RunArgs, scene: &Scene) -> bool {
-    start_names(scene).len() > 1 || a.commands > 1 || a.closed_loop || a.observe.is_some()
+    start_names(scene).len() > 1
+        || a.commands > 1
+        || a.closed_loop
+        || a.observe.is_some()
+        || a.learner == LearnerKind::QlearningMoves
 }
 
 /// The names of the scene's start contexts (`["start"]` without any).
@@ -58,6 +62,24 @@ struct Summary<'a> {
 }
 
 pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResult {
+    // per-move Q-learning: each of the K commands' n moves is a command of
+    // its own, chosen from the cell it starts in
+    let single;
+    let (scene, commands) = match a.learner {
+        LearnerKind::QlearningMoves => {
+            let moves = scene.spec().num_slots();
+            single = scene.with_moves(1).ok_or_else(|| {
+                CliError::input(format!(
+                    "scene `{}`: --learner qlearning_moves takes a scene whose command is `Repeat` (every move from one alphabet)",
+                    scene.spec().name
+                ))
+            })?;
+            let single = single.map_err(CliError::input)?;
+            (single, a.commands as usize * moves)
+        }
+        _ => (scene.clone(), a.commands as usize),
+    };
+    let scene = &scene;
     // refused before any work: a continuous scene, more commands than a
     // record holds, a closed loop of another learner
     if scene.value_space().is_some() {
@@ -75,23 +97,28 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             )));
         }
     }
-    e3d::episode::check_size(a.trials as usize, a.commands as usize)
+    e3d::episode::check_size(a.trials as usize, commands)
         .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))?;
-    let observe = observe_of(a);
+    let observe = observe_of(a, commands);
     let space = scene.command_space();
     let num_effects = scene.num_effects();
     let world = scene.build();
     let cfg = |seed| EpisodeConfig {
         episodes: a.trials as usize,
-        commands: a.commands as usize,
+        commands,
         seed,
         use_reward: !a.no_reward,
         observe,
     };
     let contexts = cfg(0).num_contexts(&world);
-    if a.closed_loop && !matches!(a.learner, LearnerKind::E3d | LearnerKind::Egreedy) {
+    let closing = [
+        LearnerKind::E3d,
+        LearnerKind::Egreedy,
+        LearnerKind::QlearningMoves,
+    ];
+    if a.closed_loop && !closing.contains(&a.learner) {
         return Err(CliError::input(format!(
-            "--closed-loop takes --learner e3d (closed-loop E3D) or egreedy (Q-learning), not {}",
+            "--closed-loop takes --learner e3d (closed-loop E3D), egreedy (Q-learning) or qlearning_moves, not {}",
             a.learner
         )));
     }
@@ -104,7 +131,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             .map_err(CliError::input)
     };
     let name = make()?.name().to_string();
-    describe(a, seeds.len(), &name, contexts, observe);
+    describe(a, commands, seeds.len(), &name, contexts, observe);
     // one memo per start context (none with --memo-cap 0): commands from a
     // named start context are simulated once, whatever the session
     // (sampled starts and later commands run live)
@@ -150,7 +177,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             entropy_per_start: t.entropy_per_start(),
         })
         .collect();
-    print_sessions(a, scene, &name, &names, &sessions);
+    print_sessions(a, commands, scene, &name, &names, &sessions);
     let Some(dir) = &a.out else {
         return Ok(());
     };
@@ -160,12 +187,12 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         learner: &name,
         params,
         use_reward: !a.no_reward,
-        commands_per_episode: a.commands as usize,
+        commands_per_episode: commands,
         observe: match observe {
             Observe::State => "state",
             _ => "start",
         },
-        gamma: a.closed_loop.then_some(a.gamma),
+        gamma: (a.closed_loop || a.learner == LearnerKind::QlearningMoves).then_some(a.gamma),
         start_contexts: names,
         sessions,
         scene_record: e3d::report::run_scene::SceneRecord::new(scene, &a.scene),
@@ -176,13 +203,20 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
 
 /// Tells (on stderr) what runs: sessions, episodes, learner, contexts
 /// and what the learner observes.
-fn describe(a: &RunArgs, sessions: usize, name: &str, contexts: usize, observe: Observe) {
+fn describe(
+    a: &RunArgs,
+    commands: usize,
+    sessions: usize,
+    name: &str,
+    contexts: usize,
+    observe: Observe,
+) {
     let how = match observe {
         Observe::State => "the current effect cell",
         Observe::StartContext => "the start context",
         Observe::Blind => "nothing (one policy)",
     };
-    let (trials, commands, s) = (a.trials, a.commands, super::plural(a.commands as usize));
+    let (trials, s) = (a.trials, super::plural(commands));
     errln!("episodes: {sessions} sessions of {trials} episodes of {commands} command{s}, learner {name}, {contexts} contexts observed as {how}");
 }
 
@@ -219,12 +253,12 @@ fn preload_context_tables(
 
 /// What the learner observes: `--observe`, else the default for the
 /// commands per episode and the loop.
-fn observe_of(a: &RunArgs) -> Observe {
+fn observe_of(a: &RunArgs, commands: usize) -> Observe {
     match a.observe {
         Some(ObserveArg::Start) => Observe::StartContext,
         Some(ObserveArg::State) => Observe::State,
         Some(ObserveArg::Blind) => Observe::Blind,
-        None => Observe::default_for(a.commands as usize, a.closed_loop),
+        None => Observe::default_for(commands, a.closed_loop),
     }
 }
 
@@ -232,13 +266,14 @@ fn observe_of(a: &RunArgs) -> Observe {
 /// cumulative reward and entropy per start context (`names`).
 fn print_sessions(
     a: &RunArgs,
+    commands: usize,
     scene: &Scene,
     name: &str,
     names: &[String],
     sessions: &[OneSession],
 ) {
     let (first, last) = (sessions[0].seed, sessions[sessions.len() - 1].seed);
-    let (scene, trials, commands) = (&scene.spec().name, a.trials, a.commands);
+    let (scene, trials) = (&scene.spec().name, a.trials);
     outln!("scene {scene}, learner {name}, {trials} episodes of {commands} command(s), seeds {first}..={last}");
     for s in sessions {
         let ent: Vec<String> = (names.iter().zip(&s.entropy_per_start))
@@ -248,6 +283,36 @@ fn print_sessions(
         let (seed, reward, ent) = (s.seed, s.cumulative_reward, ent.join(", "));
         outln!("seed {seed}: first reward at episode {first}, cumulative reward {reward}, normalised entropy of the terminal cells per start context: {ent}");
     }
+    if sessions.len() > 1 {
+        outln!("{}", mean_line(names, sessions));
+    }
+}
+
+/// The last line over several sessions: per start context, the mean
+/// normalised entropy ± the half-width of its 95% Student t interval;
+/// the same of the cumulative reward; the first rewarded episode's median
+/// and quartiles (never-rewarded sessions later than all).
+fn mean_line(names: &[String], sessions: &[OneSession]) -> String {
+    let n = sessions.len();
+    let ci = |xs: Vec<f64>, digits: usize| {
+        let c = e3d::report::mean_ci95(&xs).expect("two sessions or more");
+        format!("{:.digits$} ± {:.digits$}", c.mean, c.half)
+    };
+    let ent: Vec<String> = (names.iter().enumerate())
+        .map(|(i, name)| {
+            let xs = sessions.iter().map(|s| s.entropy_per_start[i]).collect();
+            format!("{name} {}", ci(xs, 4))
+        })
+        .collect();
+    let reward = ci(sessions.iter().map(|s| s.cumulative_reward).collect(), 1);
+    let firsts: Vec<usize> = sessions
+        .iter()
+        .filter_map(|s| s.first_reward_episode)
+        .collect();
+    let [q1, mid, q3] = e3d::report::order_quartiles(&firsts, n);
+    let at = |q: Option<usize>| q.map_or("never".to_string(), |q| q.to_string());
+    let (q1, mid, q3, k, ent) = (at(q1), at(mid), at(q3), firsts.len(), ent.join(", "));
+    format!("mean ± 95% (t) of {n} sessions: cumulative reward {reward} | first reward: median episode {mid} (Q1..Q3 {q1}..{q3}), {k} of {n} rewarded | normalised entropy of the terminal cells per start context: {ent}")
 }
 
 /// A session's rows of `trials.csv`, written as its episodes run (a

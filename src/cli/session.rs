@@ -17,7 +17,10 @@ pub struct RunArgs {
     #[arg(default_value = e3d::scene::DEFAULT_SCENE)]
     pub scene: String,
     /// The learner: e3d, uniform or egreedy (the paper's), or e3d_relax,
-    /// count, smm, goal_babbling or archive (docs/algorithms.md).
+    /// count, smm, goal_babbling or archive (docs/algorithms.md), or
+    /// qlearning_moves (per-move Q-learning: each move of an episode's
+    /// commands a command of its own, chosen from the cell it starts in;
+    /// `Repeat` scenes).
     #[arg(long, default_value = "e3d")]
     pub learner: LearnerKind,
     /// The number of trials.
@@ -133,6 +136,10 @@ pub struct ParamArgs {
     /// Share of goal babbling's goals chosen by learning progress, in [0, 1].
     #[arg(long, default_value_t = Params::TASK1.goal_progress)]
     pub goal_progress: f64,
+    /// The value every action-value of qlearning_moves starts at (1:
+    /// optimistic; 0: the plain start).
+    #[arg(long, default_value_t = Params::TASK1.initial)]
+    pub initial: f64,
 }
 
 impl ParamArgs {
@@ -148,6 +155,7 @@ impl ParamArgs {
             sigma: self.sigma,
             rarity: self.rarity,
             goal_progress: self.goal_progress,
+            initial: self.initial,
         };
         p.validate()
             .map_err(|e| CliError::input(format!("--{e}")))?;
@@ -413,11 +421,32 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
         outln!("{who}cumulative reward {reward} | first reward at trial {first}");
     }
     if sessions > 1 {
-        let mean = |f: fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
-        let (h, coverage) = (mean(|m| m.normalized_entropy), mean(|m| m.coverage));
-        let reward = mean(|m| m.cumulative_reward);
-        outln!("mean of {sessions} sessions: normalised entropy {h:.4} | coverage {coverage:.4} | cumulative reward {reward:.1}");
+        outln!("{}", mean_line(metrics));
     }
+}
+
+/// The last line of `e3d run` over several sessions: each measure's mean
+/// and the half-width of its 95% Student t interval
+/// ([`mean_ci95`](e3d::report::mean_ci95)), and the first rewarded
+/// trial's median and quartiles (a skewed count: order statistics, a
+/// session never rewarded later than all).
+fn mean_line(metrics: &[Metrics]) -> String {
+    let n = metrics.len();
+    let ci = |f: fn(&Metrics) -> f64, digits: usize| {
+        let xs: Vec<f64> = metrics.iter().map(f).collect();
+        let c = e3d::report::mean_ci95(&xs).expect("two sessions or more");
+        format!("{:.digits$} ± {:.digits$}", c.mean, c.half)
+    };
+    let (h, coverage) = (ci(|m| m.normalized_entropy, 4), ci(|m| m.coverage, 4));
+    let reward = ci(|m| m.cumulative_reward, 1);
+    let firsts: Vec<usize> = metrics
+        .iter()
+        .filter_map(|m| m.first_reward_trial)
+        .collect();
+    let [q1, mid, q3] = e3d::report::order_quartiles(&firsts, n);
+    let at = |q: Option<usize>| q.map_or("never".to_string(), |q| q.to_string());
+    let (q1, mid, q3, k) = (at(q1), at(mid), at(q3), firsts.len());
+    format!("mean ± 95% (t) of {n} sessions: normalised entropy {h} | coverage {coverage} | cumulative reward {reward} | first reward: median {mid} (Q1..Q3 {q1}..{q3}), {k} of {n} rewarded")
 }
 
 /// `--threads N`: the threads a command runs on, shared by `run`,

@@ -13,10 +13,10 @@
 //! - `e3d_open_loop`: E3D with one command of `K n` moves (the paper's
 //!   learner on the longer command);
 //! - `qlearning`: [`QLearning`], `K` commands, the context the current cell;
-//! - `qlearning_moves`: per-move Q-learning ([`QLearning::optimistic`]):
+//! - `qlearning_moves`: per-move Q-learning ([`LearnerKind::QlearningMoves`]):
 //!   `K n` commands of one move, the context the current cell before each
-//!   move, values from [`QLearning::OPTIMISTIC`], epsilon
-//!   [`MOVES_EPSILON`];
+//!   move, values from `params.initial` ([`QLearning::OPTIMISTIC`] by
+//!   default), epsilon [`ClosedLoopConfig::moves_epsilon`];
 //! - `uniform`: `K n` uniform moves.
 
 use crate::episode::{run_episodes, EpisodeConfig, EpisodeRecord, Observe};
@@ -57,6 +57,9 @@ pub struct ClosedLoopConfig {
     pub params: Params,
     /// The discount of `Q_ref` and of Q-learning.
     pub gamma: f64,
+    /// The exploration rate of `qlearning_moves` ([`MOVES_EPSILON`] by
+    /// default; its initial value is `params.initial`).
+    pub moves_epsilon: f64,
 }
 
 impl Default for ClosedLoopConfig {
@@ -68,6 +71,7 @@ impl Default for ClosedLoopConfig {
             commands: 3,
             params: Params::TASK2,
             gamma: ClosedLoopE3d::GAMMA,
+            moves_epsilon: MOVES_EPSILON,
         }
     }
 }
@@ -139,13 +143,8 @@ pub fn check_scene(scene: &Scene, commands: usize) -> Result<(), ClosedLoopError
 
 /// The scene with `n` moves per command instead of its own.
 fn with_slots(scene: &Scene, n: usize) -> Result<Scene, ClosedLoopError> {
-    let mut long = scene.to_spec();
-    match &mut long.command {
-        CommandSpec::Repeat { slots, .. } => *slots = n,
-        _ => return Err(ClosedLoopError::Scene(scene.spec().name.clone())),
-    }
-    long.slots = None;
-    Ok(long.validate()?)
+    let same = scene.with_moves(n);
+    Ok(same.ok_or_else(|| ClosedLoopError::Scene(scene.spec().name.clone()))??)
 }
 
 /// The episodes of a session of `arm`: `K` commands observing the
@@ -213,17 +212,14 @@ fn arm_setup(scene: &Scene, arm: &str, cfg: &ClosedLoopConfig) -> Result<Arm, Cl
             let world = single.build();
             let contexts = arm_config(arm, 0, cfg, 1).num_contexts(&*world);
             let params = Params {
-                epsilon: MOVES_EPSILON,
+                epsilon: cfg.moves_epsilon,
                 ..cfg.params
             };
-            let learner = QLearning::optimistic(
-                &single.command_space(),
-                contexts,
-                &params,
-                cfg.gamma,
-                QLearning::OPTIMISTIC,
-            )?;
-            (world, Box::new(learner))
+            let learner = LearnerSetup::new(LearnerKind::QlearningMoves)
+                .params(params)
+                .gamma(cfg.gamma)
+                .contexts(&single.command_space(), single.num_effects(), contexts)?;
+            (world, learner)
         }
         "e3d_open_loop" | "uniform" => {
             let long = with_slots(scene, scene.spec().num_slots() * cfg.commands)?;

@@ -10,13 +10,24 @@ use crate::world::{ExecOptions, Executor, Strategy, Workload, MAX_TABLE_COMMANDS
 pub const DRIVES_SWEEP: &str = include_str!("../../scenes/sweeps/drives.ron");
 
 /// The comparison's sweep with `sessions` per cell and `trials` per
-/// session, on `scenes` (built-in names; empty: the shipped four).
-pub fn drives_sweep(sessions: usize, trials: usize, scenes: &[&str]) -> Result<Sweep, SweepError> {
+/// session, on `scenes` (built-in names; empty: the shipped four), of
+/// `learners` (names; empty: the shipped eight; `qlearning_moves` runs
+/// each trial as an episode of the scene's moves one by one, on scenes
+/// whose command is `Repeat`).
+pub fn drives_sweep(
+    sessions: usize,
+    trials: usize,
+    scenes: &[&str],
+    learners: &[&str],
+) -> Result<Sweep, SweepError> {
     let mut spec = SweepSpec::parse(DRIVES_SWEEP, "drives.ron (built in)")?;
     spec.sessions = sessions;
     spec.trials = trials;
     if !scenes.is_empty() {
         spec.scenes = scenes.iter().map(|s| s.to_string()).collect();
+    }
+    if !learners.is_empty() {
+        spec.learners = learners.iter().map(|s| s.to_string()).collect();
     }
     Sweep::new(spec)
 }

@@ -194,9 +194,9 @@ impl LearnerError {
 }
 
 /// The hyper-parameters of the shipped learners. Defaults: the paper's task
-/// 1 (alpha 0.3, beta 1, lambda 0.03, eta 0.01), epsilon 0.1, and for the
+/// 1 (alpha 0.3, beta 1, lambda 0.03, eta 0.01), epsilon 0.1, for the
 /// learners that mutate kept commands k 2, sigma 0.1, rarity 0.5 and
-/// goal_progress 0.
+/// goal_progress 0, and per-move Q-learning's initial value 1.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Params {
@@ -227,6 +227,23 @@ pub struct Params {
     /// rather than uniformly, in [0, 1].
     #[serde(default)]
     pub goal_progress: f64,
+    /// The value every action-value of per-move Q-learning
+    /// (`qlearning_moves`) starts at: 1 (optimistic: the shipped scenes'
+    /// reward) by default, 0 for the plain start; finite. Written (a run's
+    /// `summary.json`) only when not the default.
+    #[serde(
+        default = "default_initial",
+        skip_serializing_if = "is_default_initial"
+    )]
+    pub initial: f64,
+}
+
+fn default_initial() -> f64 {
+    Params::TASK1.initial
+}
+
+fn is_default_initial(v: &f64) -> bool {
+    *v == Params::TASK1.initial
 }
 
 fn default_k() -> usize {
@@ -259,6 +276,7 @@ impl Params {
         sigma: 0.1,
         rarity: 0.5,
         goal_progress: 0.0,
+        initial: QLearning::OPTIMISTIC,
     };
     /// The paper's task 2 (sparse reward): beta = 100.
     pub const TASK2: Params = Params {
@@ -268,7 +286,7 @@ impl Params {
 
     /// The hyper-parameters' names, in the order of [`named`](Self::named),
     /// as [`LearnerKind::params`] and a sweep's columns name them.
-    pub const NAMES: [&'static str; 9] = [
+    pub const NAMES: [&'static str; 10] = [
         "alpha",
         "beta",
         "lambda",
@@ -278,6 +296,7 @@ impl Params {
         "sigma",
         "rarity",
         "goal_progress",
+        "initial",
     ];
 
     /// The hyper-parameters a sweep spans by axes of values (the first
@@ -299,7 +318,7 @@ impl Params {
     ///     assert!(kind.params().iter().all(|n| Params::NAMES.contains(n)));
     /// }
     /// ```
-    pub fn named(&self) -> [(&'static str, f64); 9] {
+    pub fn named(&self) -> [(&'static str, f64); 10] {
         let v = [
             self.alpha,
             self.beta,
@@ -310,13 +329,14 @@ impl Params {
             self.sigma,
             self.rarity,
             self.goal_progress,
+            self.initial,
         ];
         std::array::from_fn(|i| (Self::NAMES[i], v[i]))
     }
 
     /// Checks every range: alpha > 0, beta > 0, lambda >= 0,
     /// 0 < eta <= 1, 0 <= epsilon <= 1, k >= 1, sigma > 0, rarity >= 0,
-    /// 0 <= goal_progress <= 1, all finite.
+    /// 0 <= goal_progress <= 1, all finite (initial any finite number).
     pub fn validate(&self) -> Result<(), ParamError> {
         type Rule = (&'static str, fn(f64) -> bool);
         let pos: Rule = ("a finite number > 0", |v| v > 0.0);
@@ -324,6 +344,7 @@ impl Params {
         let unit: Rule = ("a number in [0, 1]", |v| (0.0..=1.0).contains(&v));
         let eta: Rule = ("a number in (0, 1]", |v| v > 0.0 && v <= 1.0);
         let whole: Rule = ("a whole number >= 1", |v| v >= 1.0);
+        let finite: Rule = ("a finite number", |_| true);
         let checks = [
             ("alpha", self.alpha, pos),
             ("beta", self.beta, pos),
@@ -334,6 +355,7 @@ impl Params {
             ("sigma", self.sigma, pos),
             ("rarity", self.rarity, non_neg),
             ("goal_progress", self.goal_progress, unit),
+            ("initial", self.initial, finite),
         ];
         match checks
             .into_iter()
@@ -360,9 +382,10 @@ macro_rules! learner_kinds {
         }
 
         impl LearnerKind {
-            /// Every kind: the paper's three, the drives beyond it, then the
-            /// two baselines that mutate kept commands.
-            pub const ALL: [LearnerKind; 8] = [$(LearnerKind::$kind),*];
+            /// Every kind: the paper's three, the drives beyond it, the
+            /// two baselines that mutate kept commands, then per-move
+            /// Q-learning.
+            pub const ALL: [LearnerKind; 9] = [$(LearnerKind::$kind),*];
 
             /// The name used on the command line and in results.
             pub fn as_str(self) -> &'static str {
@@ -391,12 +414,15 @@ learner_kinds! {
     GoalBabbling "goal_babbling",
     /// [`Archive`].
     Archive "archive",
+    /// Per-move Q-learning ([`QLearning::optimistic`]): episodes of
+    /// one-move commands, each chosen from the cell it starts in.
+    QlearningMoves "qlearning_moves",
 }
 
 impl LearnerKind {
     /// The parameters of [`Params`] this kind reads (`alpha`, `beta`,
     /// `lambda`, `eta`, `epsilon`, `k`, `sigma`, `rarity`,
-    /// `goal_progress`); the others it ignores.
+    /// `goal_progress`, `initial`); the others it ignores.
     ///
     /// ```
     /// use e3d::LearnerKind;
@@ -411,6 +437,7 @@ impl LearnerKind {
             LearnerKind::Uniform => &[],
             LearnerKind::GoalBabbling => &["k", "sigma", "goal_progress"],
             LearnerKind::Archive => &["k", "sigma", "rarity"],
+            LearnerKind::QlearningMoves => &["alpha", "epsilon", "initial"],
         }
     }
 

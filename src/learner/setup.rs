@@ -8,6 +8,9 @@ use super::{
     UniformPolicy, UniformValues,
 };
 use crate::command::{CommandSpace, ValueSpace};
+
+/// Why per-move Q-learning has no open-loop learner.
+const MOVES_RUN_EPISODES: &str = "learner qlearning_moves chooses each move from the cell it is in: it runs episodes (`e3d run --commands K`, a sweep of episodes, `e3d closed-loop`), not single open-loop commands";
 use crate::effect::Target;
 
 /// How to make a learner: its kind, its hyper-parameters, its target
@@ -124,6 +127,7 @@ impl LearnerSetup {
             LearnerKind::Smm => Box::new(StateMarginalMatching::new(space, n, params, target)?),
             LearnerKind::GoalBabbling => Box::new(GoalBabbling::new(space, n, params)),
             LearnerKind::Archive => Box::new(Archive::new(space, n, params)),
+            LearnerKind::QlearningMoves => return Err(LearnerError::contexts(MOVES_RUN_EPISODES)),
         })
     }
 
@@ -169,9 +173,12 @@ impl LearnerSetup {
     /// [`LearnerKind::E3d`] ([`ClosedLoopE3d`]) and Q-learning for
     /// [`LearnerKind::Egreedy`] ([`QLearning`]), other kinds refused;
     /// without it, one fresh learner of this kind per context
-    /// ([`PerContext`]), each with its context's target. What `e3d run
-    /// --commands K [--closed-loop]`, sweeps of episodes and Python's
-    /// `run_episodes` run.
+    /// ([`PerContext`]), each with its context's target.
+    /// [`LearnerKind::QlearningMoves`] is [`QLearning::optimistic`] (values
+    /// from `params.initial`, `params.epsilon`, the discount `gamma`) either
+    /// way: given commands of one move ([`Scene::with_moves`](crate::Scene::with_moves)),
+    /// it is per-move Q-learning. What `e3d run --commands K
+    /// [--closed-loop]`, sweeps of episodes and Python's `run_episodes` run.
     ///
     /// ```
     /// use e3d::learner::LearnerSetup;
@@ -182,6 +189,10 @@ impl LearnerSetup {
     /// assert_eq!(q.contexts(&space, 4, 4).unwrap().name(), "qlearning");
     /// let count = LearnerSetup::new(LearnerKind::Count).closed_loop(true);
     /// assert!(count.contexts(&space, 4, 4).is_err());
+    /// // per-move Q-learning learns per context only
+    /// let moves = LearnerSetup::new(LearnerKind::QlearningMoves);
+    /// assert_eq!(moves.contexts(&space, 4, 4).unwrap().name(), "qlearning");
+    /// assert!(moves.symbols(&space, 4).is_err());
     /// // gamma is checked open loop too
     /// let far = LearnerSetup::new(LearnerKind::E3d).gamma(7.0);
     /// assert!(far.contexts(&space, 4, 4).is_err());
@@ -195,6 +206,10 @@ impl LearnerSetup {
         let (params, gamma) = (&self.params, self.gamma);
         check_gamma(gamma)?;
         match (self.closed_loop, self.kind) {
+            (_, LearnerKind::QlearningMoves) => {
+                QLearning::optimistic(space, num_contexts, params, gamma, params.initial)
+                    .map(|l| Box::new(l) as _)
+            }
             (false, _) => {
                 if num_contexts == 0 {
                     return Err(LearnerError::contexts("at least one context"));

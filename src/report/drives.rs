@@ -9,7 +9,7 @@
 //! use e3d::experiment::drives::drives_sweep;
 //! use e3d::report::drives::DriveComparison;
 //! // a small version of the comparison: two_rooms only, 3 sessions of 500 trials
-//! let sweep = drives_sweep(3, 500, &["two_rooms"]).unwrap();
+//! let sweep = drives_sweep(3, 500, &["two_rooms"], &[]).unwrap();
 //! let results = sweep.run(1).unwrap();
 //! let cmp = DriveComparison::new(&sweep, &results);
 //! assert_eq!(cmp.rows.len(), 8); // one per learner

@@ -208,6 +208,30 @@ impl Scene {
             .ok_or_else(|| SceneError::new(path_or_name, "scene", SceneErrorKind::NoSuchScene))
     }
 
+    /// The scene whose command is `moves` moves of its `Repeat` alphabet
+    /// (every other field the same), validated again; `None` when its
+    /// command is not `Repeat` (its slots differ: nothing to repeat).
+    /// `with_moves(1)` is the scene of per-move Q-learning
+    /// (`qlearning_moves`): an episode of `K n` one-move commands spends
+    /// the moves of `K` commands of `n`.
+    ///
+    /// ```
+    /// use e3d::Scene;
+    /// let scene = Scene::builtin("four_rooms").unwrap();
+    /// let single = scene.with_moves(1).unwrap().unwrap();
+    /// assert_eq!((scene.spec().num_slots(), single.spec().num_slots()), (5, 1));
+    /// assert!(Scene::builtin("arm7").unwrap().with_moves(1).is_none());
+    /// ```
+    pub fn with_moves(&self, moves: usize) -> Option<Result<Scene, SceneError>> {
+        let mut spec = self.to_spec();
+        match &mut spec.command {
+            super::CommandSpec::Repeat { slots, .. } => *slots = moves,
+            _ => return None,
+        }
+        spec.slots = None;
+        Some(spec.validate())
+    }
+
     /// The scene's spec, to read (`scene.spec().name`).
     pub fn spec(&self) -> &SceneSpec {
         &self.spec

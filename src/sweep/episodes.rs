@@ -1,8 +1,13 @@
 //! Sweeps of episodes (scenes with start contexts, or
 //! [`SweepSpec::commands`], [`SweepSpec::observe`] or
-//! [`SweepSpec::closed_loop`] set): each session runs [`run_episodes`] with
+//! [`SweepSpec::closed_loop`] set), and per-move Q-learning
+//! (`qlearning_moves`) in any sweep: each session runs [`run_episodes`] with
 //! the contextual form of its learner on a live world of its own; a trial
 //! of the metrics is an episode (its terminal effect, its reward).
+//! Per-move Q-learning runs on the scene of one-move commands
+//! ([`Scene::with_moves`]), `commands x n` of them an episode (the moves
+//! of `commands` commands of the scene's `n`), observing the current cell
+//! unless the spec says otherwise.
 
 use super::plan::{SessionSpec, Sweep};
 use super::results::SessionResult;
@@ -13,7 +18,8 @@ use super::SweepError;
 use crate::episode::{run_episodes, EpisodeConfig, Observe};
 use crate::learner::{ClosedLoopE3d, LearnerKind, LearnerSetup};
 use crate::session::Recorder;
-use crate::world::{Episodic, Outcome};
+use crate::world::Outcome;
+use crate::Scene;
 
 impl Sweep {
     /// Whether the sessions of scene `scene` (its index in
@@ -41,12 +47,19 @@ impl Sweep {
         }
     }
 
-    /// Runs one session of a scene that runs episodes
-    /// ([`runs_episodes`](Self::runs_episodes)) on `world`.
+    /// Whether `session` is per-move Q-learning's (run as episodes
+    /// whatever the scene).
+    pub fn per_move(&self, session: &SessionSpec) -> bool {
+        self.cells[session.cell].learner == LearnerKind::QlearningMoves.as_str()
+    }
+
+    /// Runs one session of episodes (a scene that runs them,
+    /// [`runs_episodes`](Self::runs_episodes), or per-move Q-learning) on a
+    /// world of `scene`.
     pub fn run_episode_session(
         &self,
         session: &SessionSpec,
-        world: &mut dyn Episodic,
+        scene: &Scene,
     ) -> Result<SessionResult, SweepError> {
         let cell = &self.cells[session.cell];
         let kind: LearnerKind = cell.learner.parse().map_err(|_| {
@@ -55,13 +68,32 @@ impl Sweep {
                 cell.learner
             ))
         })?;
-        let config = EpisodeConfig {
-            episodes: self.spec.trials,
-            commands: self.spec.commands,
-            seed: session.seed,
-            use_reward: cell.use_reward,
-            observe: self.observe(),
+        let (mut config, single) = (
+            EpisodeConfig {
+                episodes: self.spec.trials,
+                commands: self.spec.commands,
+                seed: session.seed,
+                use_reward: cell.use_reward,
+                observe: self.observe(),
+            },
+            None,
+        );
+        let single = match kind {
+            LearnerKind::QlearningMoves => {
+                let name = crate::text::echo(&scene.spec().name);
+                let one = scene.with_moves(1).ok_or_else(|| {
+                    SweepError::Other(format!(
+                        "learner qlearning_moves on scene `{name}`: its command is not `Repeat` (one alphabet for every move), so it has no single move to choose"
+                    ))
+                })??;
+                config.commands = self.spec.commands * scene.spec().num_slots();
+                config.observe = self.spec.observe.unwrap_or(crate::episode::Observe::State);
+                Some(one)
+            }
+            _ => single,
         };
+        let mut world = single.as_ref().unwrap_or(scene).build();
+        let world = &mut *world;
         // a closed-loop sweep runs closed-loop E3D and Q-learning, and the
         // contextual form of every other learner beside them
         let closed =

@@ -253,18 +253,22 @@ impl Sweep {
             let out = (tx, &gone);
             let space = scene.command_space();
             let symbols = |s: &SessionSpec, n| self.symbols_learner(s, &space, n);
-            if self.runs_episodes(si) {
-                mine.par_iter().for_each(|s| {
-                    self.guarded(std::slice::from_ref(s), out, || {
-                        let file = scene.scene().ok_or_else(|| {
-                            SweepError::Other(format!(
-                                "scene `{}` is made by code: a sweep of episodes runs scene files (their worlds start from contexts and states)",
-                                scene.name()
-                            ))
-                        })?;
-                        Ok(vec![self.run_episode_session(s, &mut *file.build())?])
-                    })
-                });
+            // sessions of episodes: all of a scene that runs them, and
+            // per-move Q-learning's on any scene
+            let (episodic, mine): (Vec<SessionSpec>, Vec<SessionSpec>) = (mine.into_iter())
+                .partition(|s| self.runs_episodes(si) || self.per_move(s));
+            episodic.par_iter().for_each(|s| {
+                self.guarded(std::slice::from_ref(s), out, || {
+                    let file = scene.scene().ok_or_else(|| {
+                        SweepError::Other(format!(
+                            "scene `{}` is made by code: a sweep of episodes runs scene files (their worlds start from contexts and states)",
+                            scene.name()
+                        ))
+                    })?;
+                    Ok(vec![self.run_episode_session(s, file)?])
+                })
+            });
+            if mine.is_empty() {
             } else if let SweepScene::Live(live) = scene {
                 self.run_scene(live, &mine, out, symbols);
             } else if let Some(values) = scene.scene().and_then(Scene::value_space) {

@@ -45,54 +45,6 @@ pub fn cell_columns(cols: &[&str]) -> Option<usize> {
         .then_some(n)
 }
 
-/// The 97.5% quantile of Student's t with `df` degrees of freedom (exact
-/// to 9 digits up to 30, then the Cornish-Fisher expansion to 1/df^4, within 1e-7).
-///
-/// ```
-/// use e3d::sweep::summary::t975;
-/// assert!((t975(9) - 2.262157163).abs() < 1e-9);
-/// assert!((t975(1000) - 1.962339).abs() < 1e-6);
-/// ```
-pub fn t975(df: usize) -> f64 {
-    const T: [f64; 30] = [
-        12.706204736,
-        4.302652730,
-        3.182446305,
-        2.776445105,
-        2.570581836,
-        2.446911851,
-        2.364624252,
-        2.306004135,
-        2.262157163,
-        2.228138852,
-        2.200985160,
-        2.178812830,
-        2.160368656,
-        2.144786688,
-        2.131449546,
-        2.119905299,
-        2.109815578,
-        2.100922040,
-        2.093024054,
-        2.085963447,
-        2.079613845,
-        2.073873068,
-        2.068657610,
-        2.063898562,
-        2.059538553,
-        2.055529439,
-        2.051830516,
-        2.048407142,
-        2.045229642,
-        2.042272456,
-    ];
-    match df {
-        0 => f64::NAN,
-        1..=30 => T[df - 1],
-        _ => crate::report::cornish_fisher_975(df),
-    }
-}
-
 /// Mean, sd and 95% interval of `xs` (sd and interval `None` below 2 values).
 pub fn stats(xs: &[f64]) -> (Option<f64>, Option<f64>, Option<(f64, f64)>) {
     let n = xs.len();
@@ -100,10 +52,10 @@ pub fn stats(xs: &[f64]) -> (Option<f64>, Option<f64>, Option<(f64, f64)>) {
         return (None, None, None);
     }
     let d = crate::report::describe(xs);
-    if n < 2 {
+    let Some(ci) = crate::report::mean_ci95(xs) else {
         return (Some(d.mean), None, None);
-    }
-    let half = t975(n - 1) * d.sd / (n as f64).sqrt();
+    };
+    let half = ci.half;
     (
         Some(d.mean),
         Some(d.sd),
@@ -246,8 +198,8 @@ mod tests {
         assert!((lo - (2.5 - half)).abs() < 1e-12 && (hi - (2.5 + half)).abs() < 1e-12);
         assert_eq!(stats(&[5.0]), (Some(5.0), None, None));
         // the expansion joins the table smoothly
-        assert!((t975(31) - 2.039513446).abs() < 1e-7);
-        assert!((t975(60) - 2.000297822).abs() < 1e-7);
+        assert!((crate::report::t_quantile_975(31) - 2.039513446).abs() < 1e-7);
+        assert!((crate::report::t_quantile_975(60) - 2.000297822).abs() < 1e-7);
     }
 
     #[test]

@@ -68,13 +68,15 @@ fn compare_writes_the_table_the_figure_and_the_rows() {
     assert!(value("e3d", 4) > 100.0 * value("uniform", 4).max(1.0));
     // 4 task-2 sessions each
     assert_eq!(value("e3d", 8), 4.0);
-    // the 95% intervals: mean ± t(3) sd / sqrt 4, t(3) = 3.182
+    // the 95% intervals: mean ± t(3) sd / sqrt 4, t(3) = 3.182446
+    let t3 = e3d::report::t_quantile_975(3);
+    assert!((t3 - 3.182446).abs() < 1e-6);
     assert!(csv.lines().next().unwrap().ends_with(
         ",task1_entropy_ci95_lo,task1_entropy_ci95_hi,task1_coverage_ci95_lo,task1_coverage_ci95_hi,task2_reward_ci95_lo,task2_reward_ci95_hi,task2_first_reward_q1,task2_first_reward_q3,task1_trials_to_50_ci95_lo,task1_trials_to_50_ci95_hi,task1_trials_to_90_ci95_lo,task1_trials_to_90_ci95_hi"
     ));
     for learner in ["e3d", "uniform", "archive"] {
         for (mean, sd, lo, hi) in [(2, 3, 20, 21), (9, 10, 22, 23), (4, 5, 24, 25)] {
-            let half = 3.182 * value(learner, sd) / 2.0;
+            let half = t3 * value(learner, sd) / 2.0;
             assert!((value(learner, lo) - (value(learner, mean) - half)).abs() < 1e-9);
             assert!((value(learner, hi) - (value(learner, mean) + half)).abs() < 1e-9);
         }

@@ -282,3 +282,101 @@ fn run_help_does_not_restrict_commands_to_grid_scenes() {
     );
     assert!(!text.contains("(grid scenes;"), "{text}");
 }
+
+/// Per-move Q-learning by name: `e3d run --learner qlearning_moves` runs
+/// each of the K commands' moves as a command of its own and gives, session
+/// for session, the closed-loop comparison's arm `qlearning_moves` (seeds
+/// 0..3); `closed_loop.csv` holds the table's figures and intervals.
+#[test]
+fn per_move_q_learning_by_name_is_the_closed_loop_arm() {
+    let dir = temp_dir("moves");
+    let cl = dir.join("cl");
+    let args = [
+        "closed-loop",
+        "--episodes",
+        "1500",
+        "--seeds",
+        "3",
+        "--threads",
+        "1",
+    ];
+    ok(e3d(&[&args[..], &["--out", cl.to_str().unwrap()]].concat()));
+    let sessions = std::fs::read_to_string(cl.join("sessions.csv")).unwrap();
+    let arm: Vec<(String, String)> = (sessions.lines())
+        .filter_map(|l| l.strip_prefix("qlearning_moves,"))
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[1].to_string(), f[2].to_string()) // first reward, cumulative reward
+        })
+        .collect();
+    assert_eq!(arm.len(), 3);
+    let run = stdout_of(&[
+        "run",
+        "four_rooms",
+        "--learner",
+        "qlearning_moves",
+        "--commands",
+        "3",
+        "--epsilon",
+        "0",
+        "--trials",
+        "1500",
+        "--sessions",
+        "3",
+    ]);
+    assert!(
+        run.contains("learner qlearning, 1500 episodes of 15 command(s)"),
+        "{run}"
+    );
+    for (seed, (first, reward)) in arm.iter().enumerate() {
+        let line =
+            format!("seed {seed}: first reward at episode {first}, cumulative reward {reward},");
+        assert!(run.contains(&line), "{line}\n{run}");
+    }
+    // every session rewarded, the mean with its t interval
+    let csv = std::fs::read_to_string(cl.join("closed_loop.csv")).unwrap();
+    let head: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = (csv.lines())
+        .find(|l| l.starts_with("qlearning_moves,"))
+        .unwrap()
+        .split(',')
+        .collect();
+    let at = |name: &str| row[head.iter().position(|h| *h == name).unwrap()];
+    assert_eq!((at("sessions"), at("rewarded")), ("3", "3"));
+    let rewards: Vec<f64> = arm.iter().map(|a| a.1.parse().unwrap()).collect();
+    let ci = e3d::report::mean_ci95(&rewards).unwrap();
+    assert_eq!(
+        at("cumulative_reward_mean").parse::<f64>().unwrap(),
+        ci.mean
+    );
+    assert_eq!(
+        at("cumulative_reward_ci95_lo").parse::<f64>().unwrap(),
+        ci.lo()
+    );
+    let last = run.lines().last().unwrap();
+    assert!(
+        last.starts_with(&format!(
+            "mean ± 95% (t) of 3 sessions: cumulative reward {:.1} ± {:.1} |",
+            ci.mean, ci.half
+        )),
+        "{last}"
+    );
+    assert!(last.contains("3 of 3 rewarded"), "{last}");
+    // refused where a move is not one alphabet's, and with --initial out of range
+    let bad = e3d(&["run", "arm7", "--learner", "qlearning_moves"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&bad.stderr).contains("takes a scene whose command is `Repeat`")
+    );
+    let bad = e3d(&[
+        "run",
+        "four_rooms",
+        "--learner",
+        "qlearning_moves",
+        "--initial",
+        "inf",
+    ]);
+    assert!(
+        String::from_utf8_lossy(&bad.stderr).contains("--initial = inf: expected a finite number")
+    );
+}

@@ -789,3 +789,64 @@ fn per_move_qlearning_refuses_bad_parameters_by_name() {
         "arm qlearning_moves (one move a command): at most 100000000 commands in all per session (episodes x commands), found 7000000 episodes of 15 commands"
     );
 }
+
+/// Per-move Q-learning in a sweep of single commands (`e3d compare
+/// --learners`, `e3d sweep`): each of its sessions runs episodes of the
+/// scene's 7 moves one by one, observing the cell before each, on
+/// `Scene::with_moves(1)` with the session's seed: the same episodes as
+/// `run_episodes` with `LearnerSetup::new(QlearningMoves)`, exactly. On
+/// two_rooms' far corner its optimistic values find the reward in every
+/// session and then collect it in most trials, where uniform moves
+/// almost never reach it.
+#[test]
+fn per_move_q_learning_runs_in_a_sweep_of_single_commands() {
+    let sweep = e3d::sweep::Sweep::parse(
+        r#"Sweep(name: "moves", scenes: ["two_rooms"], learners: [qlearning_moves, uniform],
+            use_reward: [true], params: (epsilon: 0, initial: 1.0), sessions: 4, trials: 1500, seed: 3)"#,
+        "moves.ron",
+        None,
+    )
+    .unwrap();
+    let results = sweep.run(2).unwrap();
+    let cols = sweep.metric_columns();
+    let col = |name: &str| cols.iter().position(|c| c == name).unwrap();
+    let (reward, first) = (col("cumulative_reward_at_1500"), col("first_reward_trial"));
+    let scene = Scene::builtin("two_rooms").unwrap();
+    let single = scene.with_moves(1).unwrap().unwrap();
+    let mut uniform = 0.0;
+    for r in &results {
+        let r_reward = r.values[reward].unwrap();
+        if sweep.cells()[r.session.cell].learner == "uniform" {
+            uniform += r_reward;
+            continue;
+        }
+        let mut world = single.build();
+        let params = Params {
+            epsilon: 0.0,
+            ..Params::TASK1
+        };
+        let cfg = EpisodeConfig {
+            episodes: 1500,
+            commands: 7,
+            seed: r.session.seed,
+            use_reward: true,
+            observe: Observe::State,
+        };
+        let mut learner = LearnerSetup::new(LearnerKind::QlearningMoves)
+            .params(params)
+            .contexts(&single.command_space(), 18, cfg.num_contexts(&*world))
+            .unwrap();
+        let control = e3d::session::Control::default();
+        let rec = run_episodes(&mut *world, &mut *learner, &cfg, &control).unwrap();
+        let total: f64 = rec.episode_rewards().sum();
+        assert_eq!(r_reward, total);
+        assert_eq!(
+            r.values[first],
+            rec.first_reward_episode().map(|e| e as f64)
+        );
+        assert!(total > 1100.0, "{total}");
+    }
+    assert!(uniform < 20.0, "{uniform}");
+    // a scene whose moves are not one alphabet's has no single move
+    assert!(Scene::builtin("arm7").unwrap().with_moves(1).is_none());
+}

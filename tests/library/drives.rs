@@ -157,6 +157,9 @@ fn count_bonus_counts_and_smm_keeps_a_bounded_history() {
 fn every_learner_is_named_on_the_command_line() {
     for kind in LearnerKind::ALL {
         assert_eq!(kind.as_str().parse::<LearnerKind>().unwrap(), kind);
+        if kind == LearnerKind::QlearningMoves {
+            continue; // a learner of episodes only (tests/library/contexts.rs)
+        }
         let (scene, _) = two_rooms();
         let l = LearnerSetup::new(kind)
             .symbols(&scene.command_space(), 18)
@@ -166,7 +169,7 @@ fn every_learner_is_named_on_the_command_line() {
     let e = "e3d-relax".parse::<LearnerKind>().unwrap_err();
     assert_eq!(
         e.to_string(),
-        "unknown learner `e3d-relax`; expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive"
+        "unknown learner `e3d-relax`; expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, qlearning_moves"
     );
     assert_eq!(e.input(), "e3d-relax");
 }

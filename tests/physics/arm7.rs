@@ -205,3 +205,47 @@ fn arm7_curls_into_contacts_and_limits_well_below_the_speed_caps() {
         (0, 0, 0.0)
     );
 }
+
+/// p*'s support on arm7 (docs/algorithms.md, "E3D"): 68 of its 225 cells
+/// are reachable, so `OutcomeTable::reachable_target` raises `log p*` of a
+/// reached cell by `log(225/68)`, and E3D's values, fed the same outcomes,
+/// move by `log(225/68) / (beta lambda)` in the limit (0.399 at the paper's
+/// task 2), `(1 - (1 - alpha lambda)^n)` of it after `n` updates.
+#[test]
+fn the_reachable_support_shifts_the_values_by_log_225_over_68() {
+    use e3d::learner::E3d;
+    use e3d::{Learner, Params, Target};
+    let (s, table) = (scene(), table());
+    let (all, reach) = (s.num_effects(), table.reachable_effects());
+    assert_eq!((all, reach), (225, 68));
+    let space = s.command_space();
+    let p = Params::TASK2;
+    let mut uniform = E3d::new(&space, all, &p, &Target::Uniform).unwrap();
+    let mut on = E3d::new(&space, all, &p, &table.reachable_target()).unwrap();
+    let mut n = vec![[0i32; 3]; space.num_slots()];
+    // every command twice: each symbol of each slot 1458 times
+    for t in 0..2 * 2187u64 {
+        let cmd = space.command_at(t % 2187);
+        let o = table.lookup(&cmd).unwrap();
+        uniform.learn(&cmd, o);
+        on.learn(&cmd, o);
+        for (slot, &a) in cmd.symbols.iter().enumerate() {
+            n[slot][a as usize] += 1;
+        }
+    }
+    let shift = (225.0f64 / 68.0).ln() / (p.beta * p.lambda);
+    assert!((shift - 0.39885).abs() < 1e-4, "{shift}");
+    for (slot, counts) in n.iter().enumerate() {
+        for (a, &k) in counts.iter().enumerate() {
+            let expected = (1.0 - (1.0 - p.alpha * p.lambda).powi(k)) * shift;
+            let d = on.q(slot)[a] - uniform.q(slot)[a];
+            assert!(
+                (d - expected).abs() < 1e-9,
+                "slot {slot} symbol {a}: {d} against {expected}"
+            );
+        }
+    }
+    // each symbol chosen 1458 times: within 0.01% of the limit
+    assert!(n.iter().flatten().all(|&k| k == 1458));
+    assert!((on.q(0)[0] - uniform.q(0)[0] - shift).abs() < 1e-4 * shift);
+}

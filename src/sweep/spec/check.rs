@@ -52,7 +52,7 @@ impl SweepSpec {
             (
                 spec.learners.is_empty(),
                 "learners",
-                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive), found none".into(),
+                "at least one learner (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, qlearning_moves), found none".into(),
             ),
             (
                 twice.is_some(),

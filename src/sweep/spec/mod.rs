@@ -228,6 +228,7 @@ const BUILTIN_LEARNERS: &[&str] = &[
     "smm",
     "goal_babbling",
     "archive",
+    "qlearning_moves",
 ];
 
 #[cfg(test)]

@@ -226,17 +226,21 @@ pub struct ParamValues {
     /// Goal babbling's share of goals by learning progress (one value, as `k`).
     #[serde(default)]
     pub goal_progress: Option<f64>,
+    /// Per-move Q-learning's initial action-value (one value, as `k`).
+    #[serde(default)]
+    pub initial: Option<f64>,
 }
 
 impl ParamValues {
     /// `base` with the fixed parameters (`k`, `sigma`, `rarity`,
-    /// `goal_progress`) that are given set.
+    /// `goal_progress`, `initial`) that are given set.
     pub fn fixed(&self, base: Params) -> Params {
         Params {
             k: self.k.unwrap_or(base.k),
             sigma: self.sigma.unwrap_or(base.sigma),
             rarity: self.rarity.unwrap_or(base.rarity),
             goal_progress: self.goal_progress.unwrap_or(base.goal_progress),
+            initial: self.initial.unwrap_or(base.initial),
             ..base
         }
     }
@@ -246,8 +250,10 @@ impl ParamValues {
     pub(super) fn given_text(&self) -> Vec<(&'static str, String)> {
         let swept = (Params::SWEPT.into_iter()).filter_map(|n| Some((n, self.get(n)?.to_ron())));
         let k = self.k.map(|k| ("k", k.to_string()));
-        let f = [self.sigma, self.rarity, self.goal_progress];
-        let floats = ["sigma", "rarity", "goal_progress"].into_iter().zip(f);
+        let f = [self.sigma, self.rarity, self.goal_progress, self.initial];
+        let floats = ["sigma", "rarity", "goal_progress", "initial"]
+            .into_iter()
+            .zip(f);
         (swept.chain(k))
             .chain(floats.filter_map(|(name, v)| Some((name, format!("{:?}", v?)))))
             .collect()
