@@ -63,7 +63,7 @@ fn split(path: &str) -> Result<Vec<String>, String> {
     let mut keys = Vec::new();
     for part in path.split('.') {
         let (name, mut rest) = part.split_once('[').map_or((part, ""), |(n, r)| (n, r));
-        if name.is_empty() {
+        if name.is_empty() || part.ends_with('[') {
             return Err(bad());
         }
         keys.push(name.to_string());
