@@ -605,7 +605,7 @@ impl Multibody {
             return; // Nothing to do.
         }
 
-        self.accelerations.fill(0.0);
+        self.accelerations.as_mut_slice().fill(0.0);
 
         // If there is significant movement, the semi-implicit coriolis term
         // occasionally cause instabilities due to the matrix being near singular.
@@ -875,7 +875,9 @@ impl Multibody {
                 parent_to_world = parent_link.local_to_world;
 
                 let (link_j, parent_j) = self.body_jacobians.index_mut_const(i, parent_id);
-                link_j.copy_from(parent_j);
+                // NOTE: slice copies and fills (memcpy, memset) rather than nalgebra's
+                //       element-wise `copy_from` and `fill`: the same values, faster.
+                link_j.as_mut_slice().copy_from_slice(parent_j.as_slice());
 
                 #[cfg(feature = "dim2")]
                 {
@@ -902,7 +904,7 @@ impl Multibody {
                     link_j_v.gemm(1.0, &shift_tr, &parent_j_w, 1.0);
                 }
             } else {
-                self.body_jacobians[i].fill(0.0);
+                self.body_jacobians[i].as_mut_slice().fill(0.0);
                 parent_to_world = Pose::IDENTITY;
             }
 
@@ -947,7 +949,7 @@ impl Multibody {
             // TODO: do a resize instead of a full reallocation.
             self.augmented_mass = DMatrix::zeros(self.ndofs, self.ndofs);
         } else {
-            self.augmented_mass.fill(0.0);
+            self.augmented_mass.as_mut_slice().fill(0.0);
         }
 
         // NOTE: the previous call may have moved `acc_augmented_mass` into its LU
@@ -956,7 +958,7 @@ impl Multibody {
         if self.acc_augmented_mass.ncols() != self.ndofs {
             self.acc_augmented_mass = self.augmented_mass.clone();
         } else {
-            self.acc_augmented_mass.fill(0.0);
+            self.acc_augmented_mass.as_mut_slice().fill(0.0);
         }
 
         self.augmented_mass_indices.clear();
@@ -1074,8 +1076,12 @@ impl Multibody {
                 let (coriolis_v, parent_coriolis_v) = self.coriolis_v.index_mut2(i, parent_id);
                 let (coriolis_w, parent_coriolis_w) = self.coriolis_w.index_mut2(i, parent_id);
 
-                coriolis_v.copy_from(parent_coriolis_v);
-                coriolis_w.copy_from(parent_coriolis_w);
+                coriolis_v
+                    .as_mut_slice()
+                    .copy_from_slice(parent_coriolis_v.as_slice());
+                coriolis_w
+                    .as_mut_slice()
+                    .copy_from_slice(parent_coriolis_w.as_slice());
 
                 // NOTE: like the jacobians, the coriolis matrices are zero past the link's
                 //       `nz` first columns: the products below skip these columns.
@@ -1159,8 +1165,8 @@ impl Multibody {
                     }
                 }
             } else {
-                self.coriolis_v[i].fill(0.0);
-                self.coriolis_w[i].fill(0.0);
+                self.coriolis_v[i].as_mut_slice().fill(0.0);
+                self.coriolis_w[i].as_mut_slice().fill(0.0);
             }
 
             #[cfg(feature = "dim2")]
