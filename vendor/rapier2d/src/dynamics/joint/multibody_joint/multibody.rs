@@ -605,7 +605,7 @@ impl Multibody {
             return; // Nothing to do.
         }
 
-        self.accelerations.fill(0.0);
+        self.accelerations.as_mut_slice().fill(0.0);
 
         // If there is significant movement, the semi-implicit coriolis term
         // occasionally cause instabilities due to the matrix being near singular.
@@ -674,18 +674,23 @@ impl Multibody {
                 rb.forces.force - rb_mass * acc.linvel,
                 rb.forces.torque - gyroscopic - rb_inertia * acc.angvel,
             );
-            self.accelerations.gemv_tr(
+            // NOTE: the columns of the jacobian past `nz` are zero (see `update_mass_matrix`):
+            //       they would add `±0` to entries that are never `-0` (they start at `+0`, and a
+            //       sum is `-0` only if both its terms are), which leaves them unchanged.
+            let nz = link.assembly_id + link.joint.ndofs();
+            let body_jacobian = self.body_jacobians[i].columns(0, nz);
+            self.accelerations.rows_mut(0, nz).gemv_tr(
                 1.0,
-                &self.body_jacobians[i],
+                &body_jacobian,
                 external_forces.as_vector(),
                 1.0,
             );
 
             if check_implicit_coriolis_divergence {
                 let applied_forces = Force::new(rb.forces.force, rb.forces.torque);
-                pos_forces.gemv_tr(
+                pos_forces.rows_mut(0, nz).gemv_tr(
                     1.0,
-                    &self.body_jacobians[i],
+                    &body_jacobian,
                     applied_forces.as_vector(),
                     1.0,
                 );
@@ -752,23 +757,30 @@ impl Multibody {
         }
 
         // Move all quantities to the kinematic-reduced ordering of the
-        // factorized matrices (no-op when there is no kinematic dof).
-        let mut v = self.velocities.clone();
-        let mut f = gen_forces.clone();
-        let mut f_pos = pos_forces.clone();
-        self.augmented_mass_indices.rearrange_rows(&mut v, true);
-        self.augmented_mass_indices.rearrange_rows(&mut f, true);
-        self.augmented_mass_indices.rearrange_rows(&mut f_pos, true);
+        // factorized matrices (a no-op when there is no kinematic dof: the
+        // vectors are then read in place, without copies).
+        let indices = &self.augmented_mass_indices;
+        let rearranged = |x: &DVector| -> Option<DVector> {
+            (eff_dim != self.ndofs).then(|| {
+                let mut x = x.clone();
+                indices.rearrange_rows(&mut x, true);
+                x
+            })
+        };
+        let (v, f, f_pos) = (
+            rearranged(&self.velocities),
+            rearranged(gen_forces),
+            rearranged(pos_forces),
+        );
 
         let m = self.augmented_mass.view((0, 0), (eff_dim, eff_dim));
-        let v = v.rows(0, eff_dim);
-        let f = f.rows(0, eff_dim);
-        let f_pos = f_pos.rows(0, eff_dim);
+        let v = v.as_ref().unwrap_or(&self.velocities).rows(0, eff_dim);
+        let f = f.as_ref().unwrap_or(gen_forces).rows(0, eff_dim);
+        let f_pos = f_pos.as_ref().unwrap_or(pos_forces).rows(0, eff_dim);
 
         let energy_delta_minus_work = |accelerations: &DVector| -> Option<Real> {
-            let mut a = accelerations.clone();
-            self.augmented_mass_indices.rearrange_rows(&mut a, true);
-            let a = a.rows(0, eff_dim).into_owned();
+            let a = rearranged(accelerations);
+            let a = a.as_ref().unwrap_or(accelerations).rows(0, eff_dim);
             if !a.iter().all(|x| x.is_finite()) {
                 return None;
             }
@@ -850,6 +862,12 @@ impl Multibody {
             }
 
             let parent_to_world;
+            // Only the joints between the root and this link move it, and their dofs all come
+            // before the link's own in the assembly order: the columns of its jacobian past `nz`
+            // are zero (copied from its parent's, which are zero too). In 2D, the products below
+            // skip them: adding `shift · 0` to a `+0` entry leaves it `+0`.
+            #[cfg(feature = "dim2")]
+            let nz = link.assembly_id + link.joint.ndofs();
 
             if i != 0 {
                 let parent_id = link.parent_internal_id;
@@ -857,8 +875,27 @@ impl Multibody {
                 parent_to_world = parent_link.local_to_world;
 
                 let (link_j, parent_j) = self.body_jacobians.index_mut_const(i, parent_id);
-                link_j.copy_from(parent_j);
+                // NOTE: slice copies and fills (memcpy, memset) rather than nalgebra's
+                //       element-wise `copy_from` and `fill`: the same values, faster.
+                link_j.as_mut_slice().copy_from_slice(parent_j.as_slice());
 
+                #[cfg(feature = "dim2")]
+                {
+                    // The `gemm` below, on the link's `nz` first columns only (see `nz`), written
+                    // out: each entry as nalgebra computes it, `shift_tr[r] · j_w + j_v[r]`.
+                    let shift_tr = vect_to_na(link.shift02).gcross_matrix_tr();
+                    let parent_j = &parent_j.as_slice()[..SPATIAL_DIM * nz];
+                    let link_j = &mut link_j.as_mut_slice()[..SPATIAL_DIM * nz];
+                    for (j, parent_j) in link_j
+                        .chunks_exact_mut(SPATIAL_DIM)
+                        .zip(parent_j.chunks_exact(SPATIAL_DIM))
+                    {
+                        j[0] = shift_tr[0] * parent_j[2] + j[0];
+                        j[1] = shift_tr[1] * parent_j[2] + j[1];
+                    }
+                }
+
+                #[cfg(feature = "dim3")]
                 {
                     let mut link_j_v = link_j.fixed_rows_mut::<DIM>(0);
                     let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
@@ -867,7 +904,7 @@ impl Multibody {
                     link_j_v.gemm(1.0, &shift_tr, &parent_j_w, 1.0);
                 }
             } else {
-                self.body_jacobians[i].fill(0.0);
+                self.body_jacobians[i].as_mut_slice().fill(0.0);
                 parent_to_world = Pose::IDENTITY;
             }
 
@@ -881,6 +918,18 @@ impl Multibody {
             );
             link_j_part += link_joint_j;
 
+            #[cfg(feature = "dim2")]
+            {
+                // The `gemm` of the 3D branch below, on the `nz` first columns, written out.
+                let shift_tr = vect_to_na(link.shift23).gcross_matrix_tr();
+                let link_j = &mut self.body_jacobians[i].as_mut_slice()[..SPATIAL_DIM * nz];
+                for j in link_j.chunks_exact_mut(SPATIAL_DIM) {
+                    j[0] = shift_tr[0] * j[2] + j[0];
+                    j[1] = shift_tr[1] * j[2] + j[1];
+                }
+            }
+
+            #[cfg(feature = "dim3")]
             {
                 let link_j = &mut self.body_jacobians[i];
                 let (mut link_j_v, link_j_w) =
@@ -900,7 +949,7 @@ impl Multibody {
             // TODO: do a resize instead of a full reallocation.
             self.augmented_mass = DMatrix::zeros(self.ndofs, self.ndofs);
         } else {
-            self.augmented_mass.fill(0.0);
+            self.augmented_mass.as_mut_slice().fill(0.0);
         }
 
         // NOTE: the previous call may have moved `acc_augmented_mass` into its LU
@@ -909,7 +958,7 @@ impl Multibody {
         if self.acc_augmented_mass.ncols() != self.ndofs {
             self.acc_augmented_mass = self.augmented_mass.clone();
         } else {
-            self.acc_augmented_mass.fill(0.0);
+            self.acc_augmented_mass.as_mut_slice().fill(0.0);
         }
 
         self.augmented_mass_indices.clear();
@@ -1010,6 +1059,7 @@ impl Multibody {
              *
              */
             let rb_j = &self.body_jacobians[i];
+            #[cfg(feature = "dim3")]
             let rb_j_w = rb_j.fixed_rows::<ANG_DIM>(DIM);
 
             let ndofs = link.joint.ndofs();
@@ -1019,40 +1069,70 @@ impl Multibody {
                 let parent_link = &self.links[parent_id];
                 let parent_rb = &bodies[parent_link.rigid_body];
                 let parent_j = &self.body_jacobians[parent_id];
+                #[cfg(feature = "dim3")]
                 let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
                 let parent_w = SimdAngVector::<Real>::from(parent_rb.vels.angvel).gcross_matrix();
 
                 let (coriolis_v, parent_coriolis_v) = self.coriolis_v.index_mut2(i, parent_id);
                 let (coriolis_w, parent_coriolis_w) = self.coriolis_w.index_mut2(i, parent_id);
 
-                coriolis_v.copy_from(parent_coriolis_v);
-                coriolis_w.copy_from(parent_coriolis_w);
+                coriolis_v
+                    .as_mut_slice()
+                    .copy_from_slice(parent_coriolis_v.as_slice());
+                coriolis_w
+                    .as_mut_slice()
+                    .copy_from_slice(parent_coriolis_w.as_slice());
 
                 // NOTE: like the jacobians, the coriolis matrices are zero past the link's
                 //       `nz` first columns: the products below skip these columns.
                 let mut coriolis_v_nz = coriolis_v.columns_mut(0, nz);
+                #[cfg(feature = "dim3")]
                 let parent_coriolis_w_nz = parent_coriolis_w.columns(0, nz);
+                #[cfg(feature = "dim3")]
                 let parent_j_w_nz = parent_j_w.columns(0, nz);
 
                 // [c1 - c0].gcross() * (JDot + JDot/u * qdot)"
                 let shift_cross_tr = vect_to_na(link.shift02).gcross_matrix_tr();
-                coriolis_v_nz.gemm(1.0, &shift_cross_tr, &parent_coriolis_w_nz, 1.0);
-
                 // JDot (but the 2.0 originates from the sum of two identical terms in JDot and JDot/u * gdot)
                 let dvel_cross = vect_to_na(
                     rb.vels.angvel.gcross(link.shift02) + 2.0 * link.joint_velocity.linvel,
                 )
                 .gcross_matrix_tr();
-                coriolis_v_nz.gemm(1.0, &dvel_cross, &parent_j_w_nz, 1.0);
-
                 // JDot/u * qdot
-                coriolis_v_nz.gemm(
-                    1.0,
-                    &vect_to_na(link.joint_velocity.linvel).gcross_matrix_tr(),
-                    &parent_j_w_nz,
-                    1.0,
-                );
-                coriolis_v_nz.gemm(1.0, &(parent_w * shift_cross_tr), &parent_j_w_nz, 1.0);
+                let joint_vel_cross = vect_to_na(link.joint_velocity.linvel).gcross_matrix_tr();
+                let parent_w_shift_cross = parent_w * shift_cross_tr;
+
+                #[cfg(feature = "dim2")]
+                {
+                    // In 2D every factor on the left is a column and every factor on the right
+                    // a row: the four `gemm`s of the 3D branch are written out, column by
+                    // column, each entry receiving `left[r] · right[c] + entry` in the same order.
+                    let parent_j = &parent_j.as_slice()[..SPATIAL_DIM * nz];
+                    for ((v, w), parent_j) in coriolis_v_nz
+                        .as_mut_slice()
+                        .chunks_exact_mut(DIM)
+                        .zip(&parent_coriolis_w.as_slice()[..nz])
+                        .zip(parent_j.chunks_exact(SPATIAL_DIM))
+                    {
+                        let j_w = parent_j[DIM];
+                        for r in 0..DIM {
+                            let mut e = v[r];
+                            e = shift_cross_tr[r] * *w + e;
+                            e = dvel_cross[r] * j_w + e;
+                            e = joint_vel_cross[r] * j_w + e;
+                            e = parent_w_shift_cross[r] * j_w + e;
+                            v[r] = e;
+                        }
+                    }
+                }
+
+                #[cfg(feature = "dim3")]
+                {
+                    coriolis_v_nz.gemm(1.0, &shift_cross_tr, &parent_coriolis_w_nz, 1.0);
+                    coriolis_v_nz.gemm(1.0, &dvel_cross, &parent_j_w_nz, 1.0);
+                    coriolis_v_nz.gemm(1.0, &joint_vel_cross, &parent_j_w_nz, 1.0);
+                    coriolis_v_nz.gemm(1.0, &parent_w_shift_cross, &parent_j_w_nz, 1.0);
+                }
 
                 #[cfg(feature = "dim3")]
                 {
@@ -1085,67 +1165,100 @@ impl Multibody {
                     }
                 }
             } else {
-                self.coriolis_v[i].fill(0.0);
-                self.coriolis_w[i].fill(0.0);
-            }
-
-            let coriolis_v = &mut self.coriolis_v[i];
-            let coriolis_w = &mut self.coriolis_w[i];
-
-            {
-                let mut coriolis_v = coriolis_v.columns_mut(0, nz);
-                let coriolis_w = coriolis_w.columns(0, nz);
-                let rb_j_w = rb_j_w.columns(0, nz);
-
-                // [c3 - c2].gcross() * (JDot + JDot/u * qdot)
-                let shift_cross_tr = vect_to_na(link.shift23).gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &shift_cross_tr, &coriolis_w, 1.0);
-
-                // JDot
-                let dvel_cross = vect_to_na(rb.vels.angvel.gcross(link.shift23)).gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &dvel_cross, &rb_j_w, 1.0);
-
-                // JDot/u * qdot
-                coriolis_v.gemm(
-                    1.0,
-                    &(SimdAngVector::<Real>::from(rb.vels.angvel).gcross_matrix() * shift_cross_tr),
-                    &rb_j_w,
-                    1.0,
-                );
-            }
-
-            let coriolis_v = &mut self.coriolis_v[i];
-            let coriolis_w = &mut self.coriolis_w[i];
-
-            /*
-             * Meld with the mass matrix.
-             */
-            // NOTE: the columns of `coriolis_v` and `coriolis_w` past `nz` are zero, like the
-            //       jacobian's: only the first `nz` columns of `i_coriolis_dt` are computed and read.
-            let coriolis_v = coriolis_v.columns(0, nz);
-            let coriolis_w = coriolis_w.columns(0, nz);
-            {
-                let mut i_coriolis_dt_v = self.i_coriolis_dt.fixed_rows_mut::<DIM>(0);
-                let mut i_coriolis_dt_v = i_coriolis_dt_v.columns_mut(0, nz);
-                i_coriolis_dt_v.copy_from(&coriolis_v);
-                let rb_mass_dt = vect_to_na(rb_mass * dt);
-                i_coriolis_dt_v
-                    .column_iter_mut()
-                    .for_each(|mut c| c.component_mul_assign(&rb_mass_dt));
+                self.coriolis_v[i].as_mut_slice().fill(0.0);
+                self.coriolis_w[i].as_mut_slice().fill(0.0);
             }
 
             #[cfg(feature = "dim2")]
             {
-                let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
-                let mut i_coriolis_dt_w = i_coriolis_dt_w.columns_mut(0, nz);
-                // NOTE: this is just an axpy, but on row columns.
-                i_coriolis_dt_w.zip_apply(&coriolis_w, |o, x| *o = x * dt * rb_inertia);
+                // The three `gemm`s of the 3D branch below, then the meld with the mass matrix,
+                // written out column by column on the `nz` first columns: in 2D every factor on
+                // the left is a column and every factor on the right a row, and each entry
+                // receives the same operations in the same order.
+                // [c3 - c2].gcross() * (JDot + JDot/u * qdot)
+                let shift_cross_tr = vect_to_na(link.shift23).gcross_matrix_tr();
+                // JDot
+                let dvel_cross = vect_to_na(rb.vels.angvel.gcross(link.shift23)).gcross_matrix_tr();
+                // JDot/u * qdot
+                let w_shift_cross =
+                    SimdAngVector::<Real>::from(rb.vels.angvel).gcross_matrix() * shift_cross_tr;
+                let rb_mass_dt = vect_to_na(rb_mass * dt);
+
+                let coriolis_v = &mut self.coriolis_v[i].as_mut_slice()[..DIM * nz];
+                let coriolis_w = &self.coriolis_w[i].as_slice()[..nz];
+                let rb_j = &rb_j.as_slice()[..SPATIAL_DIM * nz];
+                let i_coriolis_dt = &mut self.i_coriolis_dt.as_mut_slice()[..SPATIAL_DIM * nz];
+                for (((v, w), j), out) in coriolis_v
+                    .chunks_exact_mut(DIM)
+                    .zip(coriolis_w)
+                    .zip(rb_j.chunks_exact(SPATIAL_DIM))
+                    .zip(i_coriolis_dt.chunks_exact_mut(SPATIAL_DIM))
+                {
+                    for r in 0..DIM {
+                        let mut e = v[r];
+                        e = shift_cross_tr[r] * *w + e;
+                        e = dvel_cross[r] * j[DIM] + e;
+                        e = w_shift_cross[r] * j[DIM] + e;
+                        v[r] = e;
+                        out[r] = e * rb_mass_dt[r];
+                    }
+                    // NOTE: this is just an axpy, but on row columns.
+                    out[DIM] = *w * dt * rb_inertia;
+                }
             }
+
             #[cfg(feature = "dim3")]
             {
-                let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
-                let mut i_coriolis_dt_w = i_coriolis_dt_w.columns_mut(0, nz);
-                i_coriolis_dt_w.gemm(dt, &mat_to_na(rb_inertia), &coriolis_w, 0.0);
+                let coriolis_v = &mut self.coriolis_v[i];
+                let coriolis_w = &mut self.coriolis_w[i];
+
+                {
+                    let mut coriolis_v = coriolis_v.columns_mut(0, nz);
+                    let coriolis_w = coriolis_w.columns(0, nz);
+                    let rb_j_w = rb_j_w.columns(0, nz);
+
+                    // [c3 - c2].gcross() * (JDot + JDot/u * qdot)
+                    let shift_cross_tr = vect_to_na(link.shift23).gcross_matrix_tr();
+                    coriolis_v.gemm(1.0, &shift_cross_tr, &coriolis_w, 1.0);
+
+                    // JDot
+                    let dvel_cross = vect_to_na(rb.vels.angvel.gcross(link.shift23)).gcross_matrix_tr();
+                    coriolis_v.gemm(1.0, &dvel_cross, &rb_j_w, 1.0);
+
+                    // JDot/u * qdot
+                    coriolis_v.gemm(
+                        1.0,
+                        &(SimdAngVector::<Real>::from(rb.vels.angvel).gcross_matrix() * shift_cross_tr),
+                        &rb_j_w,
+                        1.0,
+                    );
+                }
+
+                let coriolis_v = &mut self.coriolis_v[i];
+                let coriolis_w = &mut self.coriolis_w[i];
+
+                /*
+                 * Meld with the mass matrix.
+                 */
+                // NOTE: the columns of `coriolis_v` and `coriolis_w` past `nz` are zero, like the
+                //       jacobian's: only the first `nz` columns of `i_coriolis_dt` are computed and read.
+                let coriolis_v = coriolis_v.columns(0, nz);
+                let coriolis_w = coriolis_w.columns(0, nz);
+                {
+                    let mut i_coriolis_dt_v = self.i_coriolis_dt.fixed_rows_mut::<DIM>(0);
+                    let mut i_coriolis_dt_v = i_coriolis_dt_v.columns_mut(0, nz);
+                    i_coriolis_dt_v.copy_from(&coriolis_v);
+                    let rb_mass_dt = vect_to_na(rb_mass * dt);
+                    i_coriolis_dt_v
+                        .column_iter_mut()
+                        .for_each(|mut c| c.component_mul_assign(&rb_mass_dt));
+                }
+
+                {
+                    let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
+                    let mut i_coriolis_dt_w = i_coriolis_dt_w.columns_mut(0, nz);
+                    i_coriolis_dt_w.gemm(dt, &mat_to_na(rb_inertia), &coriolis_w, 0.0);
+                }
             }
 
             add_gemm_tr(
