@@ -292,3 +292,25 @@ fn a_sweep_reports_the_reproducibility_the_same_on_1_and_2_threads() {
     assert_eq!(values[1], [1.0, 1.0]);
     assert!(values[0].iter().all(|&v| v > 0.0 && v < 1.0), "{values:?}");
 }
+
+#[test]
+fn scene_check_lists_the_noise_section() {
+    let out = ok(e3d(&["scene", "check", NOISY, "--samples", "0"]));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let at = text
+        .find("noise (drawn anew at every execution")
+        .expect(&text);
+    let lines: Vec<&str> = text[at..].lines().skip(1).take(2).collect();
+    assert_eq!(
+        lines,
+        [
+            "  actions: each slot's action times 1 + N(0, 0.05) cut at 3 sd",
+            "  start of body `puck`: x and y (m) + N(0, 0.02) cut at 3 sd",
+        ]
+    );
+    // a noise-free scene lists none
+    let plain =
+        String::from_utf8(ok(e3d(&["scene", "check", "puck_rooms", "--samples", "0"])).stdout)
+            .unwrap();
+    assert!(!plain.contains("noise"), "{plain}");
+}
