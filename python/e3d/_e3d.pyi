@@ -146,6 +146,16 @@ class World:
     def execute_batch(
         self, commands: CommandsLike, progress: Optional[Progress] = None
     ) -> BatchOutcome: ...
+    def reevaluate(
+        self, commands: CommandsLike, repeat: int = 20, seed: int = 0
+    ) -> dict[str, Any]:
+        """Each command run ``repeat`` times under the scene's noise: ``effect``
+        (modal), ``share`` (of the runs ending there), ``runs``."""
+    def reproducibility(
+        self, learner: _Learner, repeat: int = 20, commands: int = 64, seed: int = 0
+    ) -> Optional[float]:
+        """The share of ``commands`` commands drawn from ``learner``'s policy whose
+        effect holds in at least 90% of ``repeat`` noisy runs."""
     def trace(self, command: CommandsLike) -> Motion: ...
 
 @disjoint_base

@@ -43,6 +43,9 @@ pub(crate) struct PyWorld {
     /// The most phase-end states the world of `execute` keeps (see
     /// `PhysicsWorld::set_prefix_states`).
     prefix_states: usize,
+    /// The scene has a `noise` section: no memo, and command `i` of a
+    /// call draws from `run_key(0, 0, i)` (as `e3d scene exec`).
+    noisy: bool,
 }
 
 impl PyWorld {
@@ -59,7 +62,6 @@ impl PyWorld {
                 OutcomeMemo::new(&tiny, 1, 0).expect("small")
             });
         PyWorld {
-            scene,
             memo,
             copies,
             idle: Mutex::new(Vec::new()),
@@ -67,6 +69,8 @@ impl PyWorld {
             single: Mutex::new(None),
             valued: Mutex::new(Vec::new()),
             prefix_states,
+            noisy: matches!(&scene.inner.spec().world, WorldSpec::Physics(p) if p.active_noise().is_some()),
+            scene,
         }
     }
 
@@ -97,6 +101,12 @@ impl PyWorld {
     /// memo): the same outcome as in a batch, without stepping the copies
     /// a batch fills.
     fn run_one(&self, command: &Command) -> Result<Outcome, WorldError> {
+        if self.noisy {
+            let key = e3d::session::run_key(0, 0, 0);
+            return self
+                .run_keyed(std::slice::from_ref(command), &[key], None)
+                .remove(0);
+        }
         let mut slot = self.single.lock().unwrap_or_else(|e| e.into_inner());
         let world = slot.take().unwrap_or_else(|| self.build_single());
         let (world, result) = self.through_memo(world, |w| w.execute(command));
@@ -194,7 +204,26 @@ impl PyWorld {
     }
 
     fn memoised(&self) -> bool {
-        self.scene.space.num_commands().is_some()
+        self.scene.space.num_commands().is_some() && !self.noisy
+    }
+
+    /// The result of each of `commands`, command `k` drawing its noise
+    /// from `keys[k]`: in parallel pieces, no memo.
+    fn run_keyed(
+        &self,
+        commands: &[Command],
+        keys: &[u64],
+        watch: Option<&Watch>,
+    ) -> Vec<Result<Outcome, WorldError>> {
+        let pairs: Vec<(&Command, u64)> = commands.iter().zip(keys.iter().copied()).collect();
+        self.in_pieces(&pairs, watch, |part, out| {
+            let (cs, ks): (Vec<Command>, Vec<u64>) =
+                part.iter().map(|&(c, k)| (c.clone(), k)).unzip();
+            let mut w = self.take();
+            w.set_draw_keys(&ks);
+            w.execute_batch(&cs, out);
+            self.give(w);
+        })
     }
 
     /// The outcome of each command, in order (the first failure, in input
@@ -206,6 +235,12 @@ impl PyWorld {
     /// watch is cancelled the pieces not yet started are skipped (the call
     /// fails).
     fn run(&self, commands: &[Command], watch: Option<&Watch>) -> Result<Vec<Outcome>, WorldError> {
+        if self.noisy {
+            let keys: Vec<u64> = (0..commands.len() as u64)
+                .map(|i| e3d::session::run_key(0, 0, i))
+                .collect();
+            return self.run_keyed(commands, &keys, watch).into_iter().collect();
+        }
         let space = &self.scene.space;
         let keyer = self.take();
         // (index of the distinct command, whether it is the mirror image)
@@ -370,6 +405,92 @@ impl PyWorld {
         }
         .map_err(Fail::from)?;
         batch_to_py(py, &out)
+    }
+
+    /// Runs each command (as `execute_batch` takes them) `repeat` times
+    /// under the scene's `noise`, run `r` of command `i` drawing from
+    /// `run_key(seed, r, i)` (`e3d scene exec --repeat R --seed S`), and
+    /// returns a dict: `effect` (each command's modal effect, ties to the
+    /// lowest), `share` (the share of its runs ending there) and `runs`.
+    /// A noise-free scene runs each command once (share 1). Scenes of
+    /// symbols.
+    #[pyo3(signature = (commands, repeat = 20, seed = 0))]
+    fn reevaluate(
+        &self,
+        py: Python<'_>,
+        commands: &Bound<'_, PyAny>,
+        repeat: usize,
+        seed: u64,
+    ) -> PyResult<Py<PyAny>> {
+        if self.scene.values.is_some() {
+            return Err(PyValueError::new_err(format!(
+                "reevaluate: scene `{}` takes continuous commands; reevaluate takes scenes of symbols",
+                self.scene.inner.spec().name
+            )));
+        }
+        if repeat == 0 {
+            return Err(PyValueError::new_err(
+                "repeat: expected at least 1, found 0",
+            ));
+        }
+        let cs = commands_from(py, &self.scene.space, commands, 2)?;
+        let runs = if self.noisy { repeat } else { 1 };
+        let each = py
+            .detach(|| {
+                e3d::session::reevaluate_with(&cs, 0, runs, seed, |cs, keys, out| {
+                    out.extend(self.run_keyed(cs, keys, None))
+                })
+                .into_iter()
+                .collect::<Result<Vec<_>, _>>()
+            })
+            .map_err(Fail::from)?;
+        let d = pyo3::types::PyDict::new(py);
+        let effect: Vec<u64> = each.iter().map(|r| r.effect as u64).collect();
+        let share: Vec<f64> = each.iter().map(|r| r.share()).collect();
+        d.set_item("effect", numpy::PyArray1::from_vec(py, effect))?;
+        d.set_item("share", numpy::PyArray1::from_vec(py, share))?;
+        d.set_item("runs", repeat)?;
+        Ok(d.into_any().unbind())
+    }
+
+    /// The reproducibility of `learner`'s repertoire on this scene: the
+    /// share of `commands` commands drawn from its current policy whose
+    /// effect holds in at least 90% of `repeat` noisy runs
+    /// (`e3d::session::reproducibility`, seeded `seed`; what `e3d run`
+    /// reports with the session's seed). 1.0 on a noise-free scene; `None`
+    /// for a learner whose policy cannot be drawn from. Scenes of symbols.
+    #[pyo3(signature = (learner, repeat = 20, commands = 64, seed = 0))]
+    fn reproducibility(
+        &self,
+        py: Python<'_>,
+        learner: &Bound<'_, crate::saved::PyLearnerState>,
+        repeat: usize,
+        commands: usize,
+        seed: u64,
+    ) -> PyResult<Option<f64>> {
+        if repeat == 0 || commands == 0 {
+            return Err(PyValueError::new_err(format!(
+                "repeat and commands: expected at least 1, found {repeat} and {commands}"
+            )));
+        }
+        let state = learner.borrow();
+        state.check_fits(&self.scene, None)?;
+        let mut held = state.held.clone();
+        drop(state);
+        let options = e3d::session::RepeatOptions {
+            commands,
+            runs: repeat,
+        };
+        let r = py.detach(|| {
+            let Some(l) = held.symbols() else {
+                return Ok(None);
+            };
+            let mut w = self.take();
+            let r = e3d::session::reproducibility(&mut *w, &*l, options, seed);
+            self.give(w);
+            r
+        });
+        Ok(r.map_err(Fail::from)?.map(|r| r.share))
     }
 
     /// The whole motion of one command (a string, or an array of `slots`

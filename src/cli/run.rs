@@ -9,7 +9,7 @@ use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use e3d::learner::LearnerSetup;
 use e3d::report::run_scene::SceneRecord;
-use e3d::session::{policy_effect_distribution, RunningMetrics, ValueSessionRecord};
+use e3d::session::{policy_effect_distribution, RepeatOptions, RunningMetrics, ValueSessionRecord};
 use e3d::world::{ContinuousScene, ExecutionPlan, Executor, Workload};
 use e3d::{run_sessions, Control, Metrics, Params, Scene, SessionConfig, Target};
 use serde::Serialize;
@@ -68,6 +68,20 @@ struct Single<'a> {
     /// spaces only).
     policy_effect_distribution: Option<Vec<f64>>,
     effect_counts: Vec<f64>,
+    /// On a noisy scene: the reproducibility of the final policy.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reproducibility: Option<Repro>,
+}
+
+/// The reproducibility of a session's final policy
+/// ([`e3d::session::reproducibility`]), as `summary.json` holds it.
+#[derive(Serialize, Clone, Copy)]
+struct Repro {
+    /// The share of the likely commands whose effect holds in >= 90% of runs.
+    share: f64,
+    /// How many likely commands were drawn, and how many runs each had.
+    commands: usize,
+    runs: usize,
 }
 
 /// A session's seed, metrics and effect counts (of several, or of values).
@@ -81,6 +95,8 @@ struct OneSession<'a> {
     /// the final policy, in the slot's unit.
     #[serde(skip_serializing_if = "Option::is_none")]
     final_policy: Option<Vec<SlotPolicy>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reproducibility: Option<Repro>,
 }
 
 pub fn run(a: RunArgs) -> CliResult {
@@ -205,6 +221,19 @@ fn run_symbols(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> Cli
         let h = e3d::effect::entropy(d) / (d.len() as f64).ln();
         outln!("exact effect distribution of the final policy: normalised entropy {h:.4}");
     }
+    let repro = reproducibility(a, scene, &exec, &mut learners, seeds)?;
+    for (r, seed) in repro.iter().zip(seeds) {
+        let who = if sessions == 1 {
+            String::new()
+        } else {
+            format!("seed {seed}: ")
+        };
+        match r {
+            Some(r) => outln!("{who}reproducibility {:.4}: of {} commands drawn from the final policy, the share whose effect holds in at least 90% of {} noisy runs", r.share, r.commands, r.runs),
+            None => outln!("{who}reproducibility: - (the learner's policy cannot be drawn from)"),
+        }
+    }
+    let mut repro = repro.into_iter().flatten();
     let Some(dir) = &a.out else {
         return Ok(());
     };
@@ -219,6 +248,7 @@ fn run_symbols(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> Cli
             metrics: &metrics[0],
             policy_effect_distribution: exact,
             effect_counts: counts.next().unwrap_or_default(),
+            reproducibility: repro.next(),
         }),
         sessions: (!single).then(|| {
             let each = metrics.iter().zip(counts).zip(seeds);
@@ -227,6 +257,7 @@ fn run_symbols(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> Cli
                 metrics: m,
                 effect_counts,
                 final_policy: None,
+                reproducibility: repro.next(),
             })
             .collect()
         }),
@@ -343,6 +374,7 @@ fn run_values(
                         .map(|&(mean, sd)| SlotPolicy { mean, sd })
                         .collect(),
                 ),
+                reproducibility: None,
             })
             .collect(),
     };
@@ -352,6 +384,41 @@ fn run_values(
         "trial,values,effect,reward,x,y"
     };
     write_run(dir, header, &[], rows, &summary)
+}
+
+/// On a noisy scene with `--repeat R` (R > 0): per session, the
+/// reproducibility of its final policy ([`e3d::session::reproducibility`],
+/// seeded by the session's seed), the sessions in parallel; else nothing
+/// (an empty list, so that the summary of a noise-free run is unchanged).
+fn reproducibility(
+    a: &RunArgs,
+    scene: &Scene,
+    exec: &Executor<'_>,
+    learners: &mut [Box<dyn e3d::Learner + Send>],
+    seeds: &[u64],
+) -> Result<Vec<Option<Repro>>, CliError> {
+    use rayon::prelude::*;
+    let noisy = matches!(&scene.spec().world, e3d::scene::WorldSpec::Physics(p) if p.active_noise().is_some());
+    if !noisy || a.repeat == 0 {
+        return Ok(Vec::new());
+    }
+    let options = RepeatOptions {
+        runs: a.repeat as usize,
+        ..RepeatOptions::default()
+    };
+    let width = exec.plan().copies;
+    (learners.par_iter_mut().zip(seeds))
+        .map(|(l, &seed)| {
+            let mut world = exec.world(width);
+            let r = e3d::session::reproducibility(&mut *world, &**l, options, seed)
+                .map_err(CliError::simulation)?;
+            Ok(r.map(|r| Repro {
+                share: r.share,
+                commands: options.commands,
+                runs: options.runs,
+            }))
+        })
+        .collect()
 }
 
 /// The executor of `scene` for `work`: an outcome table built first

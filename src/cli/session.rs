@@ -53,6 +53,12 @@ pub struct RunArgs {
     /// trial's new commands of all sessions are simulated together.
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
     pub sessions: u64,
+    /// On a scene with a `noise` section: at the end, run each of 64
+    /// commands drawn from each session's final policy R times and report
+    /// the share whose effect holds in at least 90% of the runs (its
+    /// reproducibility; docs/scenes.md, "Noise"); 0: do not.
+    #[arg(long, value_name = "R", default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub repeat: u32,
     #[command(flatten)]
     pub memo: MemoArgs,
     /// Commands per episode (K): each trial is an episode of K commands,

@@ -7,7 +7,7 @@ pub use crate::world::{Control, Observer};
 use super::{Recorder, SessionConfig};
 use crate::command::Command;
 use crate::episode::{run_episodes_into, EpisodeConfig, EpisodeRecorder};
-use crate::learner::{ContextualLearner, ContinuousLearner, Learner};
+use crate::learner::{draw_weighted, ContextualLearner, ContinuousLearner, Learner};
 use crate::rng::SessionRng;
 use crate::scene::physics::draw_key;
 use crate::world::{ContinuousWorld, Episodic, Executor, Outcome, OutcomeTable, World, WorldError};
@@ -21,6 +21,12 @@ pub trait Learns<C> {
     fn propose_next(&mut self, rng: &mut SessionRng, command: &mut C);
     /// Learns from the outcome of `command`.
     fn learn_from(&mut self, command: &C, outcome: &Outcome);
+    /// `n` commands drawn from the current policy with `rng`, each of the
+    /// shape of `blank` (the policy's likely commands: see
+    /// [`reproducibility`](super::reproducibility)); `None` if the policy
+    /// cannot be drawn from without changing the learner (a policy that is
+    /// not a product of per-slot distributions, or of continuous values).
+    fn likely(&self, blank: &C, n: usize, rng: &mut SessionRng) -> Option<Vec<C>>;
 }
 
 impl<L: Learner + ?Sized> Learns<Command> for L {
@@ -30,6 +36,18 @@ impl<L: Learner + ?Sized> Learns<Command> for L {
     fn learn_from(&mut self, command: &Command, outcome: &Outcome) {
         self.learn(command, outcome)
     }
+    fn likely(&self, blank: &Command, n: usize, rng: &mut SessionRng) -> Option<Vec<Command>> {
+        let slots: Vec<Vec<f64>> = (0..blank.len())
+            .map(|s| self.slot_policy(s))
+            .collect::<Option<_>>()?;
+        let draw = |rng: &mut SessionRng| {
+            let each = slots
+                .iter()
+                .map(|p| draw_weighted(p.iter().copied(), rng) as u8);
+            Command::new(each.collect())
+        };
+        Some((0..n).map(|_| draw(rng)).collect())
+    }
 }
 
 impl<L: ContinuousLearner + ?Sized> Learns<Vec<f64>> for L {
@@ -38,6 +56,10 @@ impl<L: ContinuousLearner + ?Sized> Learns<Vec<f64>> for L {
     }
     fn learn_from(&mut self, values: &Vec<f64>, outcome: &Outcome) {
         self.learn(values, outcome)
+    }
+    /// Not yet for continuous commands.
+    fn likely(&self, _: &Vec<f64>, _: usize, _: &mut SessionRng) -> Option<Vec<Vec<f64>>> {
+        None
     }
 }
 
@@ -58,6 +80,9 @@ pub trait Executes<C> {
     /// The keys of the draws of the next commands (see
     /// [`World::set_draw_keys`]).
     fn draw_keys(&mut self, keys: &[u64]);
+    /// Whether a command always gives the same outcome (no `noise`):
+    /// [`World::is_deterministic`]; continuous worlds say no.
+    fn deterministic(&self) -> bool;
 }
 
 impl<W: World + ?Sized> Executes<Command> for W {
@@ -79,6 +104,9 @@ impl<W: World + ?Sized> Executes<Command> for W {
     fn draw_keys(&mut self, keys: &[u64]) {
         self.set_draw_keys(keys)
     }
+    fn deterministic(&self) -> bool {
+        self.is_deterministic()
+    }
 }
 
 impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
@@ -99,6 +127,9 @@ impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
     }
     fn draw_keys(&mut self, keys: &[u64]) {
         self.set_draw_keys(keys)
+    }
+    fn deterministic(&self) -> bool {
+        false
     }
 }
 

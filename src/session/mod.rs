@@ -15,6 +15,7 @@ use std::io::{self, Write};
 mod builder;
 mod engine;
 mod metrics;
+mod repeat;
 
 pub use builder::{Session, SessionError};
 pub use engine::{
@@ -23,6 +24,9 @@ pub use engine::{
 };
 
 pub use metrics::{policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics};
+pub use repeat::{
+    reevaluate, reevaluate_with, reproducibility, run_key, RepeatOptions, Repeated, Reproducibility,
+};
 
 /// How to run a session.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -145,6 +149,9 @@ impl<C, L: Learns<C> + ?Sized> Learns<C> for One<'_, L> {
     }
     fn learn_from(&mut self, command: &C, outcome: &Outcome) {
         self.0.learn_from(command, outcome)
+    }
+    fn likely(&self, blank: &C, n: usize, rng: &mut SessionRng) -> Option<Vec<C>> {
+        self.0.likely(blank, n, rng)
     }
 }
 

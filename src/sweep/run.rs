@@ -82,11 +82,25 @@ impl Sweep {
         let count = |t| self.count_trials(t);
         let control = Control::default().with_progress(&count);
         let status = run_group(world, &mut learners, &configs, &mut recorders, &control);
-        sessions
+        let repro = self
+            .metrics
             .iter()
-            .zip(status)
-            .zip(&recorders)
-            .map(|((s, st), m)| self.result(s, st, m))
+            .position(|m| *m == MetricSpec::Reproducibility);
+        let options = session::RepeatOptions::default();
+        (sessions.iter().zip(status).zip(&recorders).zip(&learners))
+            .map(|(((s, st), m), learner)| {
+                let mut result = self.result(s, st, m);
+                if let (Some(k), None) = (repro, &result.failure) {
+                    match session::reproducibility(world, learner, options, s.seed) {
+                        Ok(r) => result.values[k] = r.map(|r| r.share),
+                        Err(e) => {
+                            result.values.iter_mut().for_each(|v| *v = None);
+                            result.failure = Some(e.to_string());
+                        }
+                    }
+                }
+                result
+            })
             .collect()
     }
 
@@ -172,6 +186,8 @@ impl Sweep {
                 MetricSpec::NormalizedEntropyContext(_)
                 | MetricSpec::CumulativeRewardContext(_)
                 | MetricSpec::FirstRewardTrialContext(_) => None,
+                // set by run_group_on, which holds the world and learner
+                MetricSpec::Reproducibility => None,
             })
             .collect();
         SessionResult {

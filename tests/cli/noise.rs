@@ -157,3 +157,160 @@ fn a_noisy_sweep_gives_the_same_bytes_on_threads_and_shards() {
     ]));
     assert_same_files(&one, &merged, &FINAL_FILES);
 }
+
+/// `e3d run NOISY ARGS --out DIR` on `threads` threads: its stdout and its
+/// summary.json.
+fn run_noisy(
+    scene: &str,
+    args: &[&str],
+    threads: usize,
+    dir: &std::path::Path,
+) -> (String, String) {
+    let out = e3d_command()
+        .args(["run", scene, "--trials", "40", "--seed", "5", "--threads"])
+        .arg(threads.to_string())
+        .args(args)
+        .arg("--out")
+        .arg(dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8(ok(out).stdout).unwrap();
+    (
+        stdout,
+        std::fs::read_to_string(dir.join("summary.json")).unwrap(),
+    )
+}
+
+#[test]
+fn run_reports_the_reproducibility_on_a_noisy_scene_the_same_on_1_and_2_threads() {
+    let d = crate::common::temp_dir("noise-run-repro");
+    let args = ["--sessions", "2", "--repeat", "4"];
+    let (out1, sum1) = run_noisy(NOISY, &args, 1, &d.join("one"));
+    let (out2, sum2) = run_noisy(NOISY, &args, 2, &d.join("two"));
+    // all but the folder written and `execution` (which says the threads)
+    let kept = |out: &str| -> Vec<String> {
+        let lines = out.lines().filter(|l| !l.starts_with("wrote "));
+        lines.map(str::to_string).collect()
+    };
+    assert_eq!(kept(&out1), kept(&out2));
+    let sessions =
+        |sum: &str| serde_json::from_str::<serde_json::Value>(sum).unwrap()["sessions"].clone();
+    assert_eq!(sessions(&sum1), sessions(&sum2));
+    let lines: Vec<&str> = out1
+        .lines()
+        .filter(|l| l.contains("reproducibility"))
+        .collect();
+    assert_eq!(lines.len(), 2, "{out1}");
+    assert!(lines[0].starts_with("seed 5: reproducibility 0."), "{out1}");
+    assert!(
+        lines[0].contains("of 64 commands drawn from the final policy"),
+        "{out1}"
+    );
+    assert!(lines[0].contains("90% of 4 noisy runs"), "{out1}");
+    let summary: serde_json::Value = serde_json::from_str(&sum1).unwrap();
+    for s in summary["sessions"].as_array().unwrap() {
+        let r = &s["reproducibility"];
+        assert_eq!(
+            (r["commands"].as_u64(), r["runs"].as_u64()),
+            (Some(64), Some(4))
+        );
+        let share = r["share"].as_f64().unwrap();
+        assert!(share > 0.0 && share <= 1.0, "{share}");
+        // the share of 64 commands
+        assert_eq!((share * 64.0).round() / 64.0, share);
+    }
+    // --repeat 0 and a noise-free scene: no line, no field
+    for (scene, args) in [
+        (NOISY, ["--repeat", "0"]),
+        ("puck_rooms", ["--repeat", "4"]),
+    ] {
+        let (out, sum) = run_noisy(scene, &args, 2, &d.join(format!("none-{}", args[1])));
+        assert!(!out.contains("reproducibility"), "{out}");
+        assert!(!sum.contains("reproducibility"), "{sum}");
+    }
+}
+
+#[test]
+fn scene_exec_repeat_gives_the_library_reevaluation() {
+    use e3d::session::reevaluate;
+    let scene = Scene::load(NOISY).unwrap();
+    let cmds = commands(5);
+    let rows = shares(&exec(NOISY, &["--repeat", "7", "--seed", "3"], &cmds, 2));
+    let space = scene.command_space();
+    let parsed: Vec<e3d::Command> = cmds.iter().map(|c| space.parse(c).unwrap()).collect();
+    let lib = reevaluate(&mut *scene.build(), &parsed, 7, 3).unwrap();
+    for (row, r) in rows.iter().zip(&lib) {
+        assert_eq!(
+            (row.1, row.2, row.3),
+            (r.effect, (r.share() * 1e4).round() / 1e4, 7)
+        );
+    }
+    assert_eq!(rows.len(), 5);
+}
+
+#[test]
+fn a_sweep_reports_the_reproducibility_the_same_on_1_and_2_threads() {
+    let d = crate::common::temp_dir("noise-sweep-repro");
+    let text = |scene: &std::path::Path| {
+        format!(
+            "Sweep(scenes: [{:?}], learners: [uniform], sessions: 2, trials: 10, seed: 4, metrics: [distinct_effects, reproducibility])",
+            scene.display()
+        )
+    };
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut values = Vec::new();
+    for (name, scene) in [
+        ("noisy", root.join(NOISY)),
+        ("plain", root.join("scenes/puck_rooms.ron")),
+    ] {
+        let file = d.join(format!("{name}.ron"));
+        std::fs::write(&file, text(&scene)).unwrap();
+        let mut outs = Vec::new();
+        for threads in ["1", "2"] {
+            let out = d.join(format!("{name}-{threads}"));
+            let f = file.to_str().unwrap();
+            ok(e3d(&[
+                "sweep",
+                f,
+                "--threads",
+                threads,
+                "--out",
+                out.to_str().unwrap(),
+            ]));
+            outs.push(std::fs::read_to_string(out.join("results.csv")).unwrap());
+        }
+        assert_eq!(outs[0], outs[1]);
+        let mut lines = outs[0].lines();
+        assert!(lines
+            .next()
+            .unwrap()
+            .ends_with(",distinct_effects,reproducibility,failure"));
+        let col = |l: &str| -> f64 { l.split(',').rev().nth(1).unwrap().parse().unwrap() };
+        values.push(lines.map(col).collect::<Vec<f64>>());
+    }
+    // a noise-free scene: every command keeps its effect
+    assert_eq!(values[1], [1.0, 1.0]);
+    assert!(values[0].iter().all(|&v| v > 0.0 && v < 1.0), "{values:?}");
+}
+
+#[test]
+fn scene_check_lists_the_noise_section() {
+    let out = ok(e3d(&["scene", "check", NOISY, "--samples", "0"]));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let at = text
+        .find("noise (drawn anew at every execution")
+        .expect(&text);
+    let lines: Vec<&str> = text[at..].lines().skip(1).take(2).collect();
+    assert_eq!(
+        lines,
+        [
+            "  actions: each slot's action times 1 + N(0, 0.05) cut at 3 sd",
+            "  start of body `puck`: x and y (m) + N(0, 0.02) cut at 3 sd",
+        ]
+    );
+    // a noise-free scene lists none
+    let plain =
+        String::from_utf8(ok(e3d(&["scene", "check", "puck_rooms", "--samples", "0"])).stdout)
+            .unwrap();
+    assert!(!plain.contains("noise"), "{plain}");
+}

@@ -331,3 +331,88 @@ fn joint_start_noise_stays_within_the_joint_limits() {
         .to_string();
     assert!(e.contains("field `position`"), "{e}");
 }
+
+/// The reproducibility of a uniform policy's repertoire on `scene`, of 16
+/// commands run 10 times each, on a world of `copies` copies.
+fn uniform_reproducibility(scene: &Scene, copies: usize) -> e3d::session::Reproducibility {
+    use e3d::session::{reproducibility, RepeatOptions};
+    let learner = LearnerSetup::new(LearnerKind::Uniform)
+        .symbols(&scene.command_space(), scene.num_effects())
+        .unwrap();
+    let mut world = scene.as_physics().unwrap().world(copies);
+    let options = RepeatOptions {
+        commands: 16,
+        runs: 10,
+    };
+    reproducibility(&mut world, &learner, options, 3)
+        .unwrap()
+        .unwrap()
+}
+
+#[test]
+fn reproducibility_is_1_without_noise_and_falls_with_it() {
+    let plain = uniform_reproducibility(&Scene::builtin("puck_rooms").unwrap(), 1);
+    assert_eq!(plain.share, 1.0);
+    assert_eq!(plain.each.len(), 16);
+    // a deterministic world runs each command once
+    assert!(plain.each.iter().all(|r| (r.kept, r.runs) == (1, 1)));
+    // the same commands (drawn from the same seed) under mild and heavy noise
+    let mild = uniform_reproducibility(&noisy(), 1);
+    let heavy = uniform_reproducibility(
+        &puck_with("(actions: Uniform(half_width: 0.9))").unwrap(),
+        1,
+    );
+    assert!(mild.each.iter().all(|r| r.runs == 10));
+    // a uniform policy's commands mostly end against a wall: 5% noise
+    // moves few of them (docs/analysis.md: 0.985 over 100 sessions)
+    assert!(mild.share >= 0.75, "{}", mild.share);
+    assert!(heavy.share < 0.3, "{}", heavy.share);
+    // the share counts the commands whose modal effect holds in >= 9 of 10
+    let holding = heavy.each.iter().filter(|r| r.kept >= 9).count();
+    assert_eq!(heavy.share, holding as f64 / 16.0);
+    assert!(heavy.each.iter().any(|r| r.kept < 9 && r.runs == 10));
+}
+
+#[test]
+fn reproducibility_is_the_same_in_lockstep_and_alone() {
+    let scene = noisy();
+    let alone = uniform_reproducibility(&scene, 1);
+    let lockstep = uniform_reproducibility(&scene, 32);
+    assert_eq!(alone, lockstep);
+}
+
+#[test]
+fn reevaluate_keys_run_r_of_command_i_by_run_key() {
+    use e3d::session::{reevaluate, run_key};
+    let scene = noisy();
+    let space = scene.command_space();
+    let cmds: Vec<e3d::Command> = ["SEEEEES", "SSEENNE"]
+        .iter()
+        .map(|t| space.parse(t).unwrap())
+        .collect();
+    let mut world = scene.build();
+    let r = reevaluate(&mut *world, &cmds, 6, 9).unwrap();
+    for (i, c) in cmds.iter().enumerate() {
+        // each run by hand, keyed run_key(seed, r, i)
+        let effects: Vec<usize> = (0..6)
+            .map(|run| {
+                world.set_draw_keys(&[run_key(9, run, i as u64)]);
+                world.execute(c).unwrap().effect
+            })
+            .collect();
+        let mode = (0..18)
+            .max_by_key(|e| {
+                (
+                    effects.iter().filter(|x| *x == e).count(),
+                    std::cmp::Reverse(*e),
+                )
+            })
+            .unwrap();
+        let kept = effects.iter().filter(|&&e| e == mode).count();
+        assert_eq!(
+            (r[i].effect, r[i].kept, r[i].runs),
+            (mode, kept, 6),
+            "{effects:?}"
+        );
+    }
+}

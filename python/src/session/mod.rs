@@ -310,4 +310,7 @@ impl<C, L: Learns<C> + ?Sized> Learns<C> for Lent<'_, L> {
     fn learn_from(&mut self, command: &C, outcome: &e3d::Outcome) {
         self.0.learn_from(command, outcome)
     }
+    fn likely(&self, blank: &C, n: usize, rng: &mut e3d::SessionRng) -> Option<Vec<C>> {
+        self.0.likely(blank, n, rng)
+    }
 }

@@ -46,7 +46,52 @@ pub(super) fn check(scene: &Scene) -> CliResult {
     print_rewards(scene, &grid);
     print_actions(scene);
     print_context_starts(scene);
+    print_noise(spec);
     Ok(())
+}
+
+/// A scene's `noise` section, a line per entry (nothing when it draws
+/// nothing: a noise-free scene's check is unchanged).
+fn print_noise(spec: &e3d::SceneSpec) {
+    use e3d::scene::physics::Spread;
+    let WorldSpec::Physics(p) = &spec.world else {
+        return;
+    };
+    let Some(n) = p.active_noise() else {
+        return;
+    };
+    let law = |s: Spread| match s {
+        Spread::Gaussian { sd } => format!("N(0, {sd}) cut at 3 sd"),
+        Spread::Uniform { half_width } => format!("U(-{half_width}, {half_width})"),
+    };
+    outln!("noise (drawn anew at every execution, keyed by seed and trial; runs live, no table or memo):");
+    if let Some(a) = n.actions {
+        outln!("  actions: each slot's action times 1 + {}", law(a));
+    }
+    for s in &n.starts {
+        let (what, name) = match s.joint.is_empty() {
+            true => ("body", &s.body),
+            false => ("joint", &s.joint),
+        };
+        let mut parts = Vec::new();
+        if let Some(x) = s.position {
+            parts.push(format!("x and y (m) + {}", law(x)));
+        }
+        if let Some(a) = s.angle {
+            let field = match s.joint.is_empty() {
+                true => "angle (rad)",
+                false => "coordinate (rad or m)",
+            };
+            parts.push(format!("{field} + {}", law(a)));
+        }
+        outln!("  start of {what} `{name}`: {}", parts.join(", "));
+    }
+    for b in &n.body_numbers {
+        let parts: Vec<String> = (b.spreads().iter())
+            .filter_map(|(field, s)| s.map(|s| format!("{field} times 1 + {}", law(s))))
+            .collect();
+        outln!("  numbers of body `{}`: {}", b.body, parts.join(", "));
+    }
 }
 
 /// What each slot's symbols do, a line per slot (scenes of symbols; a

@@ -5,6 +5,7 @@ use crate::cli::console::{errln, write_stdout};
 use crate::cli::{progress, CliError, CliResult};
 use e3d::command::{CommandError, CommandSpace};
 use e3d::scene::{Scene, WorldSpec};
+use e3d::session::{reevaluate_with, run_key};
 use e3d::world::{PhysicsScene, PhysicsWorld};
 use e3d::{Command, OutcomeTable, World, WorldError};
 use std::fmt::Write as _;
@@ -433,28 +434,6 @@ impl CostNote {
     }
 }
 
-/// The key of the draws of command `index` of the input, run `run`, for
-/// the seed `seed`: `draw_key(draw_key(seed, run), index)`.
-fn run_key(seed: u64, run: u32, index: u64) -> u64 {
-    use e3d::scene::physics::draw_key;
-    draw_key(draw_key(seed, run as u64), index)
-}
-
-/// The modal effect of `runs` (ties to the lowest) and how many end in it.
-fn modal(runs: &[e3d::Outcome]) -> (usize, usize) {
-    let mut counts = std::collections::BTreeMap::new();
-    for o in runs {
-        *counts.entry(o.effect).or_insert(0usize) += 1;
-    }
-    // the largest count, the lowest effect among equals
-    let (&e, &n) = counts
-        .iter()
-        .rev()
-        .max_by_key(|(_, &n)| n)
-        .unwrap_or((&0, &0));
-    (e, n)
-}
-
 /// `e3d scene exec`: a reader thread parses the commands as they come; the
 /// main thread waits for one, takes what else is queued (up to two
 /// batches per thread), executes that chunk on every core and prints its rows
@@ -523,7 +502,7 @@ pub(super) fn exec(
     } else {
         "command,effect,reward,x,y\n"
     };
-    let (mut done, mut keys, mut each) = (0u64, Vec::new(), Vec::new());
+    let (mut done, mut keys) = (0u64, Vec::new());
     let mut header_written = false;
     let (mut chunk, mut results, mut text) = (Vec::new(), Vec::new(), String::new());
     let mut end: Option<CliError> = None;
@@ -536,49 +515,45 @@ pub(super) fn exec(
                 None => break,
                 Some(e) => end = e,
             }
-            results.clear();
-            keys.clear();
-            if noisy {
-                // command after command, run after run
-                let first = done;
-                keys.extend(
-                    (first..first + chunk.len() as u64)
-                        .flat_map(|i| (0..runs as u32).map(move |r| run_key(seed, r, i))),
-                );
-            }
+            let first = done;
             done += chunk.len() as u64;
-            if runs > 1 {
-                let repeated: Vec<Command> = (chunk.iter())
-                    .flat_map(|c| std::iter::repeat_n(c.clone(), runs))
-                    .collect();
-                executor.run(&repeated, &keys, memo.as_ref(), &mut results);
-            } else {
-                executor.run(&chunk, &keys, memo.as_ref(), &mut results);
-            }
             p.add(chunk.len() as u64);
             cost.add((chunk.len() * runs) as u64, &label, scene, p);
             text.clear();
-            // the rows up to the first failure, which ends the output
-            let mut results = results.drain(..);
-            for c in &chunk {
-                each.clear();
-                let failed = results.by_ref().take(runs).find_map(|r| match r {
-                    Ok(o) => {
-                        each.push(o);
-                        None
-                    }
-                    Err(e) => Some(e),
+            if repeat > 1 {
+                // the library's re-evaluation, on every core
+                let each = reevaluate_with(&chunk, first, runs, seed, |cs, keys, out| {
+                    executor.run(cs, keys, memo.as_ref(), out)
                 });
-                if let Some(e) = failed {
-                    end = Some(world_error(e));
-                    break;
+                for (c, r) in chunk.iter().zip(each) {
+                    match r {
+                        Ok(r) => {
+                            let (effect, share) = (r.effect, r.share());
+                            let _ =
+                                writeln!(text, "{},{effect},{share:.4},{repeat}", space.format(c));
+                        }
+                        Err(e) => {
+                            end = Some(world_error(e));
+                            break;
+                        }
+                    }
                 }
-                if repeat > 1 {
-                    let (effect, n) = modal(&each);
-                    let share = n as f64 / runs as f64;
-                    let _ = writeln!(text, "{},{effect},{share:.4},{repeat}", space.format(c));
-                } else {
-                    push_row(&mut text, space.format(c), &each[0]);
+            } else {
+                results.clear();
+                keys.clear();
+                if noisy {
+                    keys.extend((first..done).map(|i| run_key(seed, 0, i)));
+                }
+                executor.run(&chunk, &keys, memo.as_ref(), &mut results);
+                // the rows up to the first failure, which ends the output
+                for (c, r) in chunk.iter().zip(results.drain(..)) {
+                    match r {
+                        Ok(o) => push_row(&mut text, space.format(c), &o),
+                        Err(e) => {
+                            end = Some(world_error(e));
+                            break;
+                        }
+                    }
                 }
             }
             if !text.is_empty() {

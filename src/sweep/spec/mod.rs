@@ -82,6 +82,14 @@ pub enum MetricSpec {
     /// `first_reward_trial_context_I`; empty when none, or for a scene of
     /// fewer contexts).
     FirstRewardTrialContext(usize),
+    /// The reproducibility of the final policy under the scene's noise
+    /// ([`session::reproducibility`](crate::session::reproducibility), its
+    /// default 64 commands and 20 runs, seeded by the session's seed): the
+    /// share of its likely commands whose effect holds in at least 90% of
+    /// the runs; 1 on a noise-free scene; empty for episodes, continuous
+    /// commands and a policy that cannot be drawn from. Not a default (it
+    /// costs 64 x 20 executions a session).
+    Reproducibility,
 }
 
 impl MetricSpec {
