@@ -408,7 +408,10 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
             None => ("all", ""),
         };
         let (t50, t90) = (at(m.trials_to_50_percent), at(m.trials_to_90_percent));
-        outln!("{who}coverage {coverage:.4} of {of} {cells}{reachable} cells | 50% by trial {t50} | 90% by trial {t90}");
+        let qd = m
+            .qd_score
+            .map_or(String::new(), |q| format!(" | qd_score {q:.4}"));
+        outln!("{who}coverage {coverage:.4} of {of} {cells}{reachable} cells | 50% by trial {t50} | 90% by trial {t90}{qd}");
         let first = at(m.first_reward_trial);
         outln!("{who}cumulative reward {reward} | first reward at trial {first}");
     }
@@ -416,7 +419,11 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
         let mean = |f: fn(&Metrics) -> f64| metrics.iter().map(f).sum::<f64>() / sessions as f64;
         let (h, coverage) = (mean(|m| m.normalized_entropy), mean(|m| m.coverage));
         let reward = mean(|m| m.cumulative_reward);
-        outln!("mean of {sessions} sessions: normalised entropy {h:.4} | coverage {coverage:.4} | cumulative reward {reward:.1}");
+        let qd = match metrics.iter().map(|m| m.qd_score).sum::<Option<f64>>() {
+            Some(q) => format!(" | qd_score {:.4}", q / sessions as f64),
+            None => String::new(),
+        };
+        outln!("mean of {sessions} sessions: normalised entropy {h:.4} | coverage {coverage:.4} | cumulative reward {reward:.1}{qd}");
     }
 }
 

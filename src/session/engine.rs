@@ -7,7 +7,7 @@ pub use crate::world::{Control, Observer};
 use super::{Recorder, SessionConfig};
 use crate::command::Command;
 use crate::episode::{run_episodes_into, EpisodeConfig, EpisodeRecorder};
-use crate::learner::{ContextualLearner, ContinuousLearner, Learner};
+use crate::learner::{ContextualLearner, ContinuousLearner, Effort, Learner};
 use crate::rng::SessionRng;
 use crate::scene::physics::draw_key;
 use crate::world::{ContinuousWorld, Episodic, Executor, Outcome, OutcomeTable, World, WorldError};
@@ -58,6 +58,9 @@ pub trait Executes<C> {
     /// The keys of the draws of the next commands (see
     /// [`World::set_draw_keys`]).
     fn draw_keys(&mut self, keys: &[u64]);
+    /// The effort of its commands, for the `qd_score`
+    /// ([`RunningMetrics::with_effort`](super::RunningMetrics::with_effort)).
+    fn effort(&self) -> Effort;
 }
 
 impl<W: World + ?Sized> Executes<Command> for W {
@@ -79,6 +82,9 @@ impl<W: World + ?Sized> Executes<Command> for W {
     fn draw_keys(&mut self, keys: &[u64]) {
         self.set_draw_keys(keys)
     }
+    fn effort(&self) -> Effort {
+        Effort::of_symbols(self.command_space())
+    }
 }
 
 impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
@@ -99,6 +105,9 @@ impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
     }
     fn draw_keys(&mut self, keys: &[u64]) {
         self.set_draw_keys(keys)
+    }
+    fn effort(&self) -> Effort {
+        Effort::of_values(self.value_space())
     }
 }
 
