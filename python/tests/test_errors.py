@@ -10,7 +10,8 @@ import pytest
 import e3d
 
 # the library's LearnerKind::ALL, in its order
-LEARNERS = ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm", "goal_babbling", "archive"]
+LEARNERS = ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm", "goal_babbling", "archive",
+            "archive_reached", "map_elites"]
 
 
 @pytest.mark.parametrize("kw, match", [

@@ -238,14 +238,14 @@ fn custom_factories_refuse_unknown_names_at_their_place() {
         .to_string();
     assert_eq!(
         e,
-        "s.ron:3:16: unknown learner `blnd` (did you mean `blind`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, blind"
+        "s.ron:3:16: unknown learner `blnd` (did you mean `blind`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, archive_reached, map_elites, blind"
     );
     // the built-in learners keep their words
     let text = text.replace("blnd", "e3b");
     let e = Sweep::parse_with(&text, "s.ron", &worlds, Learners::builtin()).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "s.ron:3:16: unknown variant `e3b` for `LearnerKind` (did you mean `e3d`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive"
+        "s.ron:3:16: unknown variant `e3b` for `LearnerKind` (did you mean `e3d`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, archive_reached, map_elites"
     );
 }
 
