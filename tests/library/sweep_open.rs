@@ -112,7 +112,7 @@ fn mistakes_in_a_spec_built_in_code_are_refused_by_name() {
     );
     assert_eq!(
         err(SweepSpec::new(["two_rooms"], ["e3b"], 2, 100)),
-        "<SweepSpec>: field `learners`: expected one of the learners (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive), found `e3b`"
+        "<SweepSpec>: field `learners`: expected one of the learners (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, archive_reached, map_elites), found `e3b`"
     );
     assert!(err(SweepSpec::new(["two_room"], ["e3d"], 2, 100))
         .starts_with("<SweepSpec>: field `scenes`: expected a scene file (relative to the sweep file) or a built-in scene"));
