@@ -14,9 +14,10 @@ from ._e3d import _E3dLearner, _Learner
 
 class Learner(_Learner):
     """A built-in learner (``"e3d"``, ``"e3d_relax"``, ``"count"``, ``"smm"``,
-    ``"egreedy"``, ``"uniform"``, ``"goal_babbling"``, ``"archive"``; on a
-    continuous scene the Gaussian ``"e3d"``, ``"uniform"``,
-    ``"goal_babbling"`` or ``"archive"`` values; with contexts, from
+    ``"egreedy"``, ``"uniform"``, ``"goal_babbling"``, ``"archive"``,
+    ``"archive_reached"``, ``"map_elites"``; on a continuous scene the
+    Gaussian ``"e3d"``, ``"uniform"``, ``"goal_babbling"``, ``"archive"``,
+    ``"archive_reached"`` or ``"map_elites"`` values; with contexts, from
     ``Learner.contextual``) as a state: its tables by name (``l["q"]``,
     ``l["target"] = ...``), stepped by ``propose`` / ``learn``, saved as
     bytes bit for bit (``to_bytes``, ``Learner.from_bytes``, pickling) and

@@ -278,7 +278,7 @@ _INTS = ("distinct_effects", "trials", "coverage_cells")
 _COLUMNS = ("normalized_entropy", "normalized_entropy_last_1000", "kl_to_target",
             "distinct_effects", "cumulative_reward", "first_reward_trial", "trials",
             "reachable_effects", "normalized_entropy_reachable", "coverage_cells", "coverage",
-            "trials_to_50_percent", "trials_to_90_percent")
+            "trials_to_50_percent", "trials_to_90_percent", "qd_score")
 
 
 def _metrics(*values: Any) -> dict[str, Any]:

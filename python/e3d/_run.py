@@ -47,8 +47,10 @@ def run_session(
 
     ``learner``: a built-in learner's name (``"e3d"``, ``"uniform"``,
     ``"egreedy"``, ``"e3d_relax"``, ``"count"``, ``"smm"``,
-    ``"goal_babbling"``, ``"archive"``; on a continuous scene ``"e3d"``, the
-    Gaussian E3D, ``"uniform"``, ``"goal_babbling"`` or ``"archive"``), or a
+    ``"goal_babbling"``, ``"archive"``, ``"archive_reached"``, ``"map_elites"``;
+    on a continuous scene ``"e3d"``, the Gaussian E3D, ``"uniform"``,
+    ``"goal_babbling"``, ``"archive"``, ``"archive_reached"`` or
+    ``"map_elites"``), or a
     Python object with ``propose(rng) -> symbols`` and ``learn(command,
     effect, reward)`` (see ``docs/python.md``). ``use_reward=False`` is the
     CLI's ``--no-reward``. ``k``, ``sigma``, ``rarity`` and

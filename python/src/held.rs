@@ -5,8 +5,9 @@ use crate::scene::PyScene;
 use e3d::learner::state::tables::StateTable;
 use e3d::learner::state::{per_context_kind, state_kind, StateShape};
 use e3d::learner::{
-    Archive, ArchiveValues, ClosedLoopE3d, ContextualLearner, CountBonus, GoalBabbling,
-    GoalBabblingValues, PerContext, QLearning, RelaxedE3d, StateMarginalMatching,
+    Archive, ArchiveReached, ArchiveReachedValues, ArchiveValues, ClosedLoopE3d, ContextualLearner,
+    CountBonus, GoalBabbling, GoalBabblingValues, MapElites, MapElitesValues, PerContext,
+    QLearning, RelaxedE3d, StateMarginalMatching,
 };
 use e3d::learner::{
     E3d, EpsilonGreedy, GaussianE3d, LearnerError, LearnerState, UniformPolicy, UniformValues,
@@ -162,10 +163,13 @@ held! {
     symbols: E3d(E3d) E3d, Relaxed(RelaxedE3d) E3dRelax, Count(CountBonus) Count,
         Smm(StateMarginalMatching) Smm, Egreedy(EpsilonGreedy) Egreedy,
         Uniform(UniformPolicy) Uniform, GoalBabbling(GoalBabbling) GoalBabbling,
-        Archive(Archive) Archive;
+        Archive(Archive) Archive, ArchiveReached(ArchiveReached) ArchiveReached,
+        MapElites(MapElites) MapElites;
     values: Gaussian(GaussianE3d) E3d, UniformValues(UniformValues) Uniform,
         GoalBabblingValues(GoalBabblingValues) GoalBabbling,
-        ArchiveValues(ArchiveValues) Archive;
+        ArchiveValues(ArchiveValues) Archive,
+        ArchiveReachedValues(ArchiveReachedValues) ArchiveReached,
+        MapElitesValues(MapElitesValues) MapElites;
     per_context: PerE3d(E3d: E3d) E3d, PerRelaxed(Relaxed: RelaxedE3d) E3dRelax,
         PerCount(Count: CountBonus) Count, PerSmm(Smm: StateMarginalMatching) Smm,
         PerEgreedy(Egreedy: EpsilonGreedy) Egreedy, PerUniform(Uniform: UniformPolicy) Uniform;
@@ -192,8 +196,10 @@ impl Held {
                 LearnerKind::Uniform => Ok(Held::UniformValues(UniformValues::new(values))),
                 LearnerKind::GoalBabbling => Ok(Held::GoalBabblingValues(GoalBabblingValues::new(values, n, params))),
                 LearnerKind::Archive => Ok(Held::ArchiveValues(ArchiveValues::new(values, n, params))),
+                LearnerKind::ArchiveReached => Ok(Held::ArchiveReachedValues(ArchiveReachedValues::new(values, n, params))),
+                LearnerKind::MapElites => Ok(Held::MapElitesValues(MapElitesValues::new(values, n, params))),
                 other => Err(LearnerError::State(format!(
-                    "learner `{other}`: a saved state of continuous commands is kept for \"e3d\", \"uniform\", \"goal_babbling\" and \"archive\""
+                    "learner `{other}`: a saved state of continuous commands is kept for \"e3d\", \"uniform\", \"goal_babbling\", \"archive\", \"archive_reached\" and \"map_elites\""
                 ))),
             }
             .map_err(bad);
@@ -212,6 +218,8 @@ impl Held {
             LearnerKind::Uniform => Held::Uniform(UniformPolicy::new(s)),
             LearnerKind::GoalBabbling => Held::GoalBabbling(GoalBabbling::new(s, n, params)),
             LearnerKind::Archive => Held::Archive(Archive::new(s, n, params)),
+            LearnerKind::ArchiveReached => Held::ArchiveReached(ArchiveReached::new(s, n, params)),
+            LearnerKind::MapElites => Held::MapElites(MapElites::new(s, n, params)),
             LearnerKind::QlearningMoves => {
                 // its learner is over contexts (Learner.contextual), made below
                 return Err(PyValueError::new_err(

@@ -135,7 +135,11 @@ pub(crate) fn metrics_dict<'py>(py: Python<'py>, m: &Metrics) -> PyResult<Bound<
         m.coverage,
         m.trials_to_50_percent,
     );
-    let more = (m.trials_to_90_percent, m.discovery_trials.clone());
+    let more = (
+        m.trials_to_90_percent,
+        m.qd_score,
+        m.discovery_trials.clone(),
+    );
     let values = values.into_pyobject(py)?.add(more.into_pyobject(py)?)?;
     result_class(py, "_metrics")?.call1(values.cast_into::<PyTuple>()?)
 }

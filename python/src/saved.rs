@@ -168,7 +168,13 @@ impl PyLearnerState {
                     "learner `{other}`: the closed loop takes e3d (closed-loop E3D) or egreedy (Q-learning)"
                 )))
             }
-            (false, LearnerKind::GoalBabbling | LearnerKind::Archive) => {
+            (
+                false,
+                LearnerKind::GoalBabbling
+                | LearnerKind::Archive
+                | LearnerKind::ArchiveReached
+                | LearnerKind::MapElites,
+            ) => {
                 return Err(PyValueError::new_err(format!(
                     "learner `{kind}`: no saved state per context (kept for e3d, e3d_relax, count, smm, egreedy and uniform)"
                 )))

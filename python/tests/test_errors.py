@@ -11,7 +11,7 @@ import e3d
 
 # the library's LearnerKind::ALL, in its order
 LEARNERS = ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm", "goal_babbling", "archive",
-            "qlearning_moves"]
+            "archive_reached", "map_elites", "qlearning_moves"]
 
 
 @pytest.mark.parametrize("kw, match", [

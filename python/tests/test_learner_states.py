@@ -14,7 +14,8 @@ import e3d
 # for those a learner does not read are expected
 pytestmark = pytest.mark.filterwarnings("ignore:.* does nothing:UserWarning")
 
-SYMBOL_KINDS = ["e3d", "e3d_relax", "count", "smm", "egreedy", "uniform", "goal_babbling", "archive"]
+SYMBOL_KINDS = ["e3d", "e3d_relax", "count", "smm", "egreedy", "uniform", "goal_babbling", "archive",
+                "archive_reached", "map_elites"]
 
 
 @pytest.mark.parametrize("kind", SYMBOL_KINDS)
@@ -46,7 +47,9 @@ def test_a_learner_state_goes_on_where_the_session_left_it():
 
 def test_the_gaussian_e3d_and_uniform_values_save_and_load():
     for kind, saved_kind in [("e3d", "gaussian_e3d"), ("uniform", "uniform_values"),
-                             ("goal_babbling", "goal_babbling_values"), ("archive", "archive_values")]:
+                             ("goal_babbling", "goal_babbling_values"), ("archive", "archive_values"),
+                             ("archive_reached", "archive_reached_values"),
+                             ("map_elites", "map_elites_values")]:
         l = e3d.Learner("arm7_continuous", kind)
         assert l.kind == saved_kind and l.name == kind
         e3d.run_session("arm7_continuous", learner=l, trials=40, seed=3)
@@ -170,7 +173,8 @@ def test_every_kind_shows_its_tables():
     shown = {k: e3d.Learner("two_rooms", k).keys() for k in SYMBOL_KINDS}
     assert shown == {"e3d": ["q", "policy", "p", "target"], "e3d_relax": ["q", "policy", "p", "target"],
                      "count": ["q", "policy", "counts"], "smm": ["q", "policy", "counts", "target"],
-                     "egreedy": ["q", "policy"], "uniform": [], "goal_babbling": [], "archive": []}
+                     "egreedy": ["q", "policy"], "uniform": [], "goal_babbling": [], "archive": [],
+                     "archive_reached": [], "map_elites": []}
     c = e3d.Learner("two_rooms", "count")
     rec = e3d.run_session("two_rooms", learner=c, trials=300, seed=2)
     assert c["counts"].tolist() == np.bincount(rec.effects, minlength=18).tolist()

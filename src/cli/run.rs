@@ -7,7 +7,7 @@ use super::session::{
 };
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
-use e3d::learner::LearnerSetup;
+use e3d::learner::{Effort, LearnerSetup};
 use e3d::report::run_scene::SceneRecord;
 use e3d::session::{policy_effect_distribution, RepeatOptions, RunningMetrics, ValueSessionRecord};
 use e3d::world::{ContinuousScene, ExecutionPlan, Executor, Workload};
@@ -176,7 +176,7 @@ fn run_symbols(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> Cli
         .iter()
         .map(|_| setup.symbols(&space, num_effects).map_err(CliError::input))
         .collect::<Result<Vec<_>, _>>()?;
-    let tally = || RunningMetrics::new(num_effects);
+    let tally = || RunningMetrics::new(num_effects).with_effort(Effort::of_symbols(&space));
     let mut recorders = recorders(a.out.as_deref(), sessions, tally, |part, i| TrialsCsv {
         part,
         space: space.clone(),
@@ -344,9 +344,13 @@ fn run_values(
         st.map_err(CliError::simulation)?;
         rec.set_policy(learner);
     }
+    let effort = Effort::of_values(space);
     let metrics: Vec<Metrics> = records
         .iter()
-        .map(|r| r.metrics(&Target::Uniform))
+        .map(|r| Metrics {
+            qd_score: Some(r.qd_score(&effort)),
+            ..r.metrics(&Target::Uniform)
+        })
         .collect();
     print_header(a, name, " (continuous)", &params, seeds);
     print_metrics(&metrics, seeds, num_effects);

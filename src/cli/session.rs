@@ -422,7 +422,10 @@ pub(super) fn print_metrics(metrics: &[Metrics], seeds: &[u64], num_effects: usi
             None => ("all", ""),
         };
         let (t50, t90) = (at(m.trials_to_50_percent), at(m.trials_to_90_percent));
-        outln!("{who}coverage {coverage:.4} of {of} {cells}{reachable} cells | 50% by trial {t50} | 90% by trial {t90}");
+        let qd = m
+            .qd_score
+            .map_or(String::new(), |q| format!(" | qd_score {q:.4}"));
+        outln!("{who}coverage {coverage:.4} of {of} {cells}{reachable} cells | 50% by trial {t50} | 90% by trial {t90}{qd}");
         let first = at(m.first_reward_trial);
         outln!("{who}cumulative reward {reward} | first reward at trial {first}");
     }
@@ -452,7 +455,11 @@ fn mean_line(metrics: &[Metrics]) -> String {
     let [q1, mid, q3] = e3d::report::order_quartiles(&firsts, n);
     let at = |q: Option<usize>| q.map_or("never".to_string(), |q| q.to_string());
     let (q1, mid, q3, k) = (at(q1), at(mid), at(q3), firsts.len());
-    format!("mean ± 95% (t) of {n} sessions: normalised entropy {h} | coverage {coverage} | cumulative reward {reward} | first reward: median {mid} (Q1..Q3 {q1}..{q3}), {k} of {n} rewarded")
+    let qd = match metrics.iter().map(|m| m.qd_score).collect::<Option<Vec<f64>>>() {
+        Some(_) => format!(" | qd_score {}", ci(|m| m.qd_score.unwrap_or(f64::NAN), 4)),
+        None => String::new(),
+    };
+    format!("mean ± 95% (t) of {n} sessions: normalised entropy {h} | coverage {coverage} | cumulative reward {reward} | first reward: median {mid} (Q1..Q3 {q1}..{q3}), {k} of {n} rewarded{qd}")
 }
 
 /// `--threads N`: the threads a command runs on, shared by `run`,

@@ -1,25 +1,30 @@
-//! An archive of reached cells, Go-Explore style (after Ecoffet et al.
+//! Archives of reached cells: Go-Explore style (after Ecoffet et al.
 //! 2019, "Go-Explore: a new approach for hard-exploration problems",
-//! arXiv 1901.10995): one command per reached cell; pick a cell, mutate
-//! its command, execute it.
+//! arXiv 1901.10995), weighting cells by how often they were chosen or
+//! reached, and MAP-Elites (after Mouret and Clune 2015, "Illuminating
+//! search spaces by mapping elites", arXiv 1504.04909): one command per
+//! reached cell; pick a cell, mutate its command, execute it.
 
 use super::mutation::{kept_commands, spread, Cells, Genome, Kept, SymbolGenome, ValueGenome};
-use super::state::{LearnerState, StateShape};
+use super::state::{ensure, LearnerState, StateShape};
 use super::{draw_weighted, ContinuousLearner, Learner, Params};
-use crate::command::{Command, ValueSpace};
+use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::rng::SessionRng;
 use crate::world::Outcome;
 use rand::RngExt;
-use serde::{Deserialize, Serialize};
+use serde::{de::DeserializeOwned, Deserialize, Serialize};
 
-/// One reached cell: the command kept for it, the reward it got, and how
-/// many times the cell was chosen.
+/// One reached cell: the command kept for it (its elite), the elite's
+/// quality, and how many times the cell was counted (chosen or reached).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 struct Entry<T> {
     command: Vec<T>,
-    reward: f64,
-    chosen: u64,
-    /// `(1 + chosen)^(-rarity)`.
+    /// The reward (archives) or the effort quality (MAP-Elites) of
+    /// `command`.
+    quality: f64,
+    /// Times chosen ([`Chosen`]) or reached ([`Reached`]).
+    count: u64,
+    /// `(1 + count)^(-rarity)`.
     weight: f64,
 }
 
@@ -29,15 +34,236 @@ impl<T> Kept<T> for Entry<T> {
     }
 }
 
-/// An archive of reached cells, Go-Explore style, over commands of
-/// symbols ([`Archive`]) or of values ([`ArchiveValues`]).
+/// The effort of a command, from which MAP-Elites' elites and the
+/// `qd_score` are measured (docs/algorithms.md, "MAP-Elites").
+///
+/// - symbols: the number of slots whose symbol is not the slot's neutral
+///   symbol `'0'` (the scenes' `Idle`; a slot without `'0'` always counts);
+/// - values: the sum over slots of `|v| / max(|min|, |max|)` of the slot's
+///   range.
+///
+/// Either is in `[0, n]`, `n` the slots; the **effort quality** of a
+/// command is `1 - effort / n`, in `[0, 1]` (1: a command at rest).
+///
+/// ```
+/// use e3d::learner::Effort;
+/// use e3d::command::{CommandSpace, ValueSpace};
+/// let space = CommandSpace::repeat(4, &['-', '0', '+']).unwrap();
+/// let e = Effort::of_symbols(&space);
+/// let c = space.parse("0+0-").unwrap();
+/// assert_eq!(e.of(&c.symbols[..]), Some(2.0));
+/// assert_eq!(e.quality(&c.symbols[..]), Some(0.5));
+/// let v = Effort::of_values(&ValueSpace::new(vec![(-2.0, 1.0); 2]).unwrap());
+/// assert_eq!(v.of(&[1.0, -2.0][..]), Some(1.5));
+/// assert_eq!(v.of(&c.symbols[..]), None); // not a command of values
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Effort {
+    /// Per slot, the index of its neutral symbol `'0'`, if it has one.
+    Symbols(Vec<Option<u8>>),
+    /// Per slot, the largest `|v|` of its range.
+    Values(Vec<f64>),
+}
+
+/// A command whose [`Effort`] can be measured: a command of symbols
+/// (`[u8]`, [`Command`]) or of values (`[f64]`); `()` has none.
+pub trait Effortful {
+    /// Its effort under `effort`, if `effort` measures its kind of command
+    /// and its slots.
+    fn effort(&self, effort: &Effort) -> Option<f64>;
+}
+
+impl Effortful for [u8] {
+    fn effort(&self, effort: &Effort) -> Option<f64> {
+        match effort {
+            Effort::Symbols(neutral) if neutral.len() == self.len() => Some(
+                self.iter()
+                    .zip(neutral)
+                    .filter(|&(&s, &n)| Some(s) != n)
+                    .count() as f64,
+            ),
+            _ => None,
+        }
+    }
+}
+
+impl Effortful for [f64] {
+    fn effort(&self, effort: &Effort) -> Option<f64> {
+        match effort {
+            Effort::Values(scale) if scale.len() == self.len() => {
+                Some(self.iter().zip(scale).map(|(v, s)| (v / s).abs()).sum())
+            }
+            _ => None,
+        }
+    }
+}
+
+impl Effortful for Command {
+    fn effort(&self, effort: &Effort) -> Option<f64> {
+        self.symbols[..].effort(effort)
+    }
+}
+
+impl Effortful for Vec<f64> {
+    fn effort(&self, effort: &Effort) -> Option<f64> {
+        self[..].effort(effort)
+    }
+}
+
+impl Effortful for () {
+    fn effort(&self, _: &Effort) -> Option<f64> {
+        None
+    }
+}
+
+impl Effort {
+    /// The effort of commands of `space`: `'0'` is each slot's neutral
+    /// symbol.
+    pub fn of_symbols(space: &CommandSpace) -> Effort {
+        let neutral = |s: usize| space.alphabet(s).iter().position(|&c| c == '0');
+        Effort::Symbols(
+            (0..space.num_slots())
+                .map(|s| neutral(s).map(|i| i as u8))
+                .collect(),
+        )
+    }
+
+    /// The effort of commands of values of `space`.
+    pub fn of_values(space: &ValueSpace) -> Effort {
+        let big = |&(lo, hi): &(f64, f64)| f64::max(lo.abs(), hi.abs());
+        Effort::Values(space.ranges().iter().map(big).collect())
+    }
+
+    /// The effort of `command` (see [`Effort`]), `None` if this effort
+    /// does not measure its kind or its number of slots.
+    pub fn of<C: Effortful + ?Sized>(&self, command: &C) -> Option<f64> {
+        command.effort(self)
+    }
+
+    /// The effort quality of `command`: `1 - effort / slots`, in `[0, 1]`.
+    pub fn quality<C: Effortful + ?Sized>(&self, command: &C) -> Option<f64> {
+        let n = match self {
+            Effort::Symbols(v) => v.len(),
+            Effort::Values(v) => v.len(),
+        };
+        Some(1.0 - command.effort(self)? / n.max(1) as f64)
+    }
+
+    fn check(&self) -> Result<(), String> {
+        let ok = match self {
+            Effort::Symbols(v) => !v.is_empty(),
+            Effort::Values(v) => !v.is_empty() && v.iter().all(|s| s.is_finite() && *s > 0.0),
+        };
+        ensure(ok, || {
+            format!("an effort of no slot or of scales <= 0: {self:?}")
+        })
+    }
+}
+
+/// How an archive picks the cell whose command it mutates, and what makes
+/// a command its cell's elite: [`Chosen`], [`Reached`] (the archives) or
+/// [`Elites`] (MAP-Elites).
+pub trait Variant: std::fmt::Debug + Clone + Send + Serialize + DeserializeOwned {
+    /// Whether a cell's count is of the times it was chosen (`Some(true)`),
+    /// reached (`Some(false)`), or not kept: cells are picked uniformly
+    /// (`None`).
+    const COUNTS_CHOSEN: Option<bool>;
+    /// The variant for commands whose effort is `effort`.
+    fn new(effort: Effort) -> Self;
+    /// The quality of `command`, which ended in `outcome`: a better one
+    /// replaces its cell's elite.
+    fn quality<T>(&self, command: &[T], outcome: &Outcome) -> f64
+    where
+        [T]: Effortful;
+    /// Whether the next proposal is a uniform command even though some
+    /// cell was reached (the initial random commands).
+    fn uniform_next(&mut self) -> bool {
+        false
+    }
+    /// Checks a variant read from a state.
+    fn check(&self) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// The archive that weights a cell by how often it was chosen.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub struct Chosen;
+
+/// The archive that weights a cell by how often it was reached.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub struct Reached;
+
+impl Variant for Chosen {
+    const COUNTS_CHOSEN: Option<bool> = Some(true);
+    fn new(_: Effort) -> Self {
+        Chosen
+    }
+    fn quality<T>(&self, _: &[T], outcome: &Outcome) -> f64 {
+        outcome.reward
+    }
+}
+
+impl Variant for Reached {
+    const COUNTS_CHOSEN: Option<bool> = Some(false);
+    fn new(_: Effort) -> Self {
+        Reached
+    }
+    fn quality<T>(&self, _: &[T], outcome: &Outcome) -> f64 {
+        outcome.reward
+    }
+}
+
+/// The random commands MAP-Elites proposes before it mutates elites.
+pub const MAP_ELITES_INITIAL: u32 = 10;
+
+/// MAP-Elites' elites: by effort quality, after
+/// [`MAP_ELITES_INITIAL`] uniform commands.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Elites {
+    effort: Effort,
+    /// The uniform commands still to propose.
+    initial: u32,
+}
+
+impl Variant for Elites {
+    const COUNTS_CHOSEN: Option<bool> = None;
+    fn new(effort: Effort) -> Self {
+        Elites {
+            effort,
+            initial: MAP_ELITES_INITIAL,
+        }
+    }
+    fn quality<T>(&self, command: &[T], _: &Outcome) -> f64
+    where
+        [T]: Effortful,
+    {
+        self.effort.quality(command).unwrap_or(0.0)
+    }
+    fn uniform_next(&mut self) -> bool {
+        let first = self.initial > 0;
+        self.initial = self.initial.saturating_sub(1);
+        first
+    }
+    fn check(&self) -> Result<(), String> {
+        self.effort.check()
+    }
+}
+
+/// An archive of reached cells over commands of symbols ([`Archive`],
+/// [`ArchiveReached`], [`MapElites`]) or of values (their `...Values`
+/// twins), its [`Variant`] `V` saying how cells are picked and elites
+/// kept.
 ///
 /// The archive keeps one command per reached cell (the first that reached
-/// it, replaced only by one with a higher reward). Each trial picks a
-/// reached cell with weight `(1 + times picked)^(-rarity)` (one `f64`; one
-/// integer when [`Params::rarity`] is 0) and proposes its command mutated
-/// (docs/algorithms.md, "Archive of reached cells"); a uniform command
-/// while the archive is empty.
+/// it, replaced only by one of a higher quality: the reward for the
+/// archives, the effort quality for MAP-Elites). Each trial picks a
+/// reached cell, with weight `(1 + n)^(-rarity)`, `n` the times it was
+/// chosen ([`Chosen`]) or reached ([`Reached`]) (one `f64`; one integer
+/// when [`Params::rarity`] is 0), or uniformly (MAP-Elites: one integer),
+/// and proposes its command mutated (docs/algorithms.md, "Archive of
+/// reached cells", "MAP-Elites"); a uniform command while the archive is
+/// empty, and for MAP-Elites' first [`MAP_ELITES_INITIAL`] trials.
 ///
 /// ```
 /// use e3d::learner::Archive;
@@ -57,31 +283,80 @@ impl<T> Kept<T> for Entry<T> {
 /// ```
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(bound = "")]
-pub struct ArchiveOf<G: Genome> {
+pub struct ArchiveOf<G: Genome, V: Variant = Chosen> {
     genome: G,
     cells: Cells<Entry<G::Elem>>,
     rarity: f64,
     /// The cell chosen for the last proposal (`None`: a uniform command).
     last_cell: Option<usize>,
+    variant: V,
 }
 
-/// The archive over commands of symbols.
+/// The archive over commands of symbols, weighting cells by the times
+/// they were chosen (`archive`).
 pub type Archive = ArchiveOf<SymbolGenome>;
 
 /// [`Archive`] over continuous commands: a mutation adds `N(0, sigma^2)`
 /// to every value in the unit coordinates of its range.
 pub type ArchiveValues = ArchiveOf<ValueGenome>;
 
-impl<G: Genome> ArchiveOf<G> {
+/// The archive weighting cells by the times they were reached, over any
+/// kind of command (`archive_reached`).
+pub type ArchiveReachedOf<G> = ArchiveOf<G, Reached>;
+
+/// [`ArchiveReachedOf`] over commands of symbols.
+pub type ArchiveReached = ArchiveReachedOf<SymbolGenome>;
+
+/// [`ArchiveReachedOf`] over continuous commands.
+pub type ArchiveReachedValues = ArchiveReachedOf<ValueGenome>;
+
+/// MAP-Elites over any kind of command (`map_elites`): cells picked
+/// uniformly, elites by effort quality ([`Effort`]).
+///
+/// ```
+/// use e3d::learner::{Effort, MapElites, MAP_ELITES_INITIAL};
+/// use e3d::rand::SeedableRng;
+/// use e3d::{Learner, Outcome, Params, SessionRng};
+/// use e3d::command::CommandSpace;
+/// let space = CommandSpace::repeat(3, &['-', '0', '+']).unwrap();
+/// let mut m = MapElites::new(&space, 4, &Params::TASK1);
+/// let o = Outcome { effect: 1, reward: 0.0, point: [0.0; 2] };
+/// m.learn(&space.parse("+-+").unwrap(), &o);
+/// m.learn(&space.parse("+0-").unwrap(), &o); // less effort: the new elite
+/// m.learn(&space.parse("+--").unwrap(), &o); // more: ignored
+/// assert_eq!(m.command_of(1), Some(&space.parse("+0-").unwrap().symbols[..]));
+/// assert_eq!(m.elite_quality(1), Some(1.0 - 2.0 / 3.0));
+/// let mut rng = SessionRng::seed_from_u64(0);
+/// let mut c = space.first();
+/// for _ in 0..MAP_ELITES_INITIAL {
+///     m.propose(&mut rng, &mut c);
+///     assert_eq!(m.last_cell(), None); // the initial random commands
+/// }
+/// m.propose(&mut rng, &mut c);
+/// assert_eq!(m.last_cell(), Some(1));
+/// ```
+pub type MapElitesOf<G> = ArchiveOf<G, Elites>;
+
+/// [`MapElitesOf`] over commands of symbols.
+pub type MapElites = MapElitesOf<SymbolGenome>;
+
+/// [`MapElitesOf`] over continuous commands.
+pub type MapElitesValues = MapElitesOf<ValueGenome>;
+
+impl<G: Genome, V: Variant> ArchiveOf<G, V>
+where
+    [G::Elem]: Effortful,
+{
     /// An empty archive for `space` and `num_effects` cells, mutating
     /// `params.k` slots (symbols) or with `params.sigma` (values), and
-    /// picking cells with `params.rarity`.
+    /// picking cells with `params.rarity` (not MAP-Elites: uniformly).
     pub fn new(space: &G::Space, num_effects: usize, params: &Params) -> Self {
         ArchiveOf {
             genome: G::new(space, params),
             cells: Cells::new(num_effects),
             rarity: params.rarity,
             last_cell: None,
+            variant: V::new(G::effort(space)),
         }
     }
 
@@ -90,18 +365,17 @@ impl<G: Genome> ArchiveOf<G> {
         &self.cells.order
     }
 
-    /// The cell picked for the last proposal (`None`: the archive was
-    /// empty and the command uniform).
+    /// The cell picked for the last proposal (`None`: a uniform command).
     pub fn last_cell(&self) -> Option<usize> {
         self.last_cell
     }
 
     fn choose(&mut self, rng: &mut SessionRng) -> Option<usize> {
         let reached = &self.cells.order;
-        if reached.is_empty() {
+        if self.variant.uniform_next() || reached.is_empty() {
             return None;
         }
-        let i = if self.rarity == 0.0 {
+        let i = if self.rarity == 0.0 || V::COUNTS_CHOSEN.is_none() {
             rng.random_range(0..reached.len())
         } else {
             draw_weighted(reached.iter().map(|&e| self.cells.get(e).weight), rng)
@@ -116,8 +390,10 @@ impl<G: Genome> ArchiveOf<G> {
             Some(e) => {
                 let rarity = self.rarity;
                 let entry = self.cells.cells[e].as_mut().expect("a reached cell");
-                entry.chosen += 1;
-                entry.weight = (1.0 + entry.chosen as f64).powf(-rarity);
+                if V::COUNTS_CHOSEN == Some(true) {
+                    entry.count += 1;
+                    entry.weight = (1.0 + entry.count as f64).powf(-rarity);
+                }
                 out.clear();
                 out.extend_from_slice(&entry.command);
                 self.genome.mutate(rng, out);
@@ -126,40 +402,57 @@ impl<G: Genome> ArchiveOf<G> {
     }
 
     fn keep(&mut self, command: &[G::Elem], outcome: &Outcome) {
-        let reward = outcome.reward;
+        let quality = self.variant.quality(command, outcome);
+        let reached = V::COUNTS_CHOSEN == Some(false);
+        let rarity = self.rarity;
         let first = || Entry {
             command: command.to_vec(),
-            reward,
-            chosen: 0,
-            weight: 1.0,
+            quality,
+            count: reached as u64,
+            weight: if reached { 2f64.powf(-rarity) } else { 1.0 },
         };
         self.cells.keep(outcome.effect, first, |entry| {
-            if reward > entry.reward {
+            if reached {
+                entry.count += 1;
+                entry.weight = (1.0 + entry.count as f64).powf(-rarity);
+            }
+            if quality > entry.quality {
                 entry.command.clear();
                 entry.command.extend_from_slice(command);
-                entry.reward = reward;
+                entry.quality = quality;
             }
         })
     }
 
-    /// The command kept for cell `effect`, if it was reached.
+    /// The command kept for cell `effect` (its elite), if it was reached.
     pub fn command_of(&self, effect: usize) -> Option<&[G::Elem]> {
         self.cells.command_of(effect)
     }
 
-    /// How many times cell `effect` was picked.
+    /// The quality of cell `effect`'s elite (the reward for the archives,
+    /// the effort quality for MAP-Elites), if it was reached.
+    pub fn elite_quality(&self, effect: usize) -> Option<f64> {
+        let cell = self.cells.cells.get(effect)?.as_ref()?;
+        Some(cell.quality)
+    }
+
+    /// How many times cell `effect` was picked ([`Archive`]) or reached
+    /// ([`ArchiveReached`]); 0 for MAP-Elites, which keeps no count.
     pub fn times_chosen(&self, effect: usize) -> u64 {
         (self.cells.cells.get(effect))
             .and_then(|c| c.as_ref())
-            .map_or(0, |c| c.chosen)
+            .map_or(0, |c| c.count)
     }
 
     /// Checks an archive read from a state.
     fn check(&self) -> Result<(), String> {
         self.genome.validate()?;
+        self.variant.check()?;
         let n = self.genome.sizes().len();
         self.cells.check("an archive", n, self.last_cell)
     }
 }
 
 kept_commands!(ArchiveOf "archive");
+kept_commands!(ArchiveReachedOf "archive_reached");
+kept_commands!(MapElitesOf "map_elites");

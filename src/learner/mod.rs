@@ -3,7 +3,7 @@
 //! The paper's [`E3d`], [`UniformPolicy`] and [`EpsilonGreedy`]; the drives
 //! beyond it on the same per-slot softmax ([`RelaxedE3d`], [`CountBonus`],
 //! [`StateMarginalMatching`]); the baselines that keep commands and vary
-//! them ([`GoalBabbling`], [`Archive`]); and behind [`ContinuousLearner`],
+//! them ([`GoalBabbling`], [`Archive`], [`ArchiveReached`], [`MapElites`]); and behind [`ContinuousLearner`],
 //! the learners of continuous commands ([`GaussianE3d`], [`UniformValues`],
 //! [`GoalBabblingValues`], [`ArchiveValues`]). Their equations:
 //! docs/algorithms.md. Implement [`Learner`] (or [`ContinuousLearner`]) to
@@ -39,7 +39,11 @@ mod setup;
 pub mod state;
 mod uniform;
 
-pub use archive::{Archive, ArchiveOf, ArchiveValues};
+pub use archive::{
+    Archive, ArchiveOf, ArchiveReached, ArchiveReachedOf, ArchiveReachedValues, ArchiveValues,
+    Chosen, Effort, Effortful, Elites, MapElites, MapElitesOf, MapElitesValues, Reached, Variant,
+    MAP_ELITES_INITIAL,
+};
 pub use contextual::{ClosedLoopE3d, ContextTargets, ContextualLearner, PerContext, QLearning};
 pub use drives::{CountBonus, RelaxedE3d, StateMarginalMatching};
 pub use e3d::E3d;
@@ -383,9 +387,9 @@ macro_rules! learner_kinds {
 
         impl LearnerKind {
             /// Every kind: the paper's three, the drives beyond it, the
-            /// two baselines that mutate kept commands, then per-move
+            /// baselines that mutate kept commands, then per-move
             /// Q-learning.
-            pub const ALL: [LearnerKind; 9] = [$(LearnerKind::$kind),*];
+            pub const ALL: [LearnerKind; 11] = [$(LearnerKind::$kind),*];
 
             /// The name used on the command line and in results.
             pub fn as_str(self) -> &'static str {
@@ -414,6 +418,10 @@ learner_kinds! {
     GoalBabbling "goal_babbling",
     /// [`Archive`].
     Archive "archive",
+    /// [`ArchiveReached`].
+    ArchiveReached "archive_reached",
+    /// [`MapElites`].
+    MapElites "map_elites",
     /// Per-move Q-learning ([`QLearning::optimistic`]): episodes of
     /// one-move commands, each chosen from the cell it starts in.
     QlearningMoves "qlearning_moves",
@@ -436,18 +444,21 @@ impl LearnerKind {
             LearnerKind::Egreedy => &["alpha", "epsilon"],
             LearnerKind::Uniform => &[],
             LearnerKind::GoalBabbling => &["k", "sigma", "goal_progress"],
-            LearnerKind::Archive => &["k", "sigma", "rarity"],
+            LearnerKind::Archive | LearnerKind::ArchiveReached => &["k", "sigma", "rarity"],
+            LearnerKind::MapElites => &["k", "sigma"],
             LearnerKind::QlearningMoves => &["alpha", "epsilon", "initial"],
         }
     }
 
     /// The kinds with a learner of continuous commands
     /// ([`LearnerSetup::values`]).
-    pub const CONTINUOUS: [LearnerKind; 4] = [
+    pub const CONTINUOUS: [LearnerKind; 6] = [
         LearnerKind::E3d,
         LearnerKind::Uniform,
         LearnerKind::GoalBabbling,
         LearnerKind::Archive,
+        LearnerKind::ArchiveReached,
+        LearnerKind::MapElites,
     ];
 }
 

@@ -139,6 +139,8 @@ pub trait Genome: Clone + Send + Serialize + DeserializeOwned {
     fn sizes(&self) -> Vec<usize>;
     /// Checks a genome read from a state.
     fn validate(&self) -> Result<(), String>;
+    /// The effort of the commands of `space`.
+    fn effort(space: &Self::Space) -> super::Effort;
 }
 
 /// Commands of symbols, mutated by resampling `k` slots.
@@ -176,6 +178,9 @@ impl Genome for SymbolGenome {
             || format!("slots of alphabet sizes {sizes:?}"),
         )
     }
+    fn effort(space: &CommandSpace) -> super::Effort {
+        super::Effort::of_symbols(space)
+    }
 }
 
 /// Commands of values, mutated by Gaussian noise of `sigma` (unit
@@ -206,6 +211,9 @@ impl Genome for ValueGenome {
     }
     fn validate(&self) -> Result<(), String> {
         check_values(&self.space)
+    }
+    fn effort(space: &ValueSpace) -> super::Effort {
+        super::Effort::of_values(space)
     }
 }
 

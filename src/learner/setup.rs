@@ -2,9 +2,10 @@
 
 use super::contextual::{check_context_effects, check_gamma};
 use super::{
-    Archive, ArchiveValues, ClosedLoopE3d, ContextTargets, ContextualLearner, ContinuousLearner,
-    CountBonus, E3d, EpsilonGreedy, GaussianE3d, GoalBabbling, GoalBabblingValues, Learner,
-    LearnerError, LearnerKind, Params, PerContext, QLearning, RelaxedE3d, StateMarginalMatching,
+    Archive, ArchiveReached, ArchiveReachedValues, ArchiveValues, ClosedLoopE3d, ContextTargets,
+    ContextualLearner, ContinuousLearner, CountBonus, E3d, EpsilonGreedy, GaussianE3d,
+    GoalBabbling, GoalBabblingValues, Learner, LearnerError, LearnerKind, MapElites,
+    MapElitesValues, Params, PerContext, QLearning, RelaxedE3d, StateMarginalMatching,
     UniformPolicy, UniformValues,
 };
 use crate::command::{CommandSpace, ValueSpace};
@@ -127,13 +128,16 @@ impl LearnerSetup {
             LearnerKind::Smm => Box::new(StateMarginalMatching::new(space, n, params, target)?),
             LearnerKind::GoalBabbling => Box::new(GoalBabbling::new(space, n, params)),
             LearnerKind::Archive => Box::new(Archive::new(space, n, params)),
+            LearnerKind::ArchiveReached => Box::new(ArchiveReached::new(space, n, params)),
+            LearnerKind::MapElites => Box::new(MapElites::new(space, n, params)),
             LearnerKind::QlearningMoves => return Err(LearnerError::contexts(MOVES_RUN_EPISODES)),
         })
     }
 
     /// A fresh learner of continuous commands of `space`, with
     /// `num_effects` effects: [`GaussianE3d`] for `e3d`, [`UniformValues`]
-    /// for `uniform`, [`GoalBabblingValues`] and [`ArchiveValues`]; the
+    /// for `uniform`, [`GoalBabblingValues`], [`ArchiveValues`],
+    /// [`ArchiveReachedValues`] and [`MapElitesValues`]; the
     /// other kinds ([`LearnerKind::CONTINUOUS`]) are
     /// [`LearnerError::NotContinuous`].
     ///
@@ -160,6 +164,8 @@ impl LearnerSetup {
             LearnerKind::Uniform => Box::new(UniformValues::new(space)),
             LearnerKind::GoalBabbling => Box::new(GoalBabblingValues::new(space, n, params)),
             LearnerKind::Archive => Box::new(ArchiveValues::new(space, n, params)),
+            LearnerKind::ArchiveReached => Box::new(ArchiveReachedValues::new(space, n, params)),
+            LearnerKind::MapElites => Box::new(MapElitesValues::new(space, n, params)),
             other => {
                 return Err(LearnerError::NotContinuous {
                     learner: other.as_str(),

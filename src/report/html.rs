@@ -25,18 +25,59 @@ fn reached(effects: &[usize], cells: usize) -> Vec<(usize, usize)> {
 /// [`MAX_CELLS_DRAWN`] between them). Above, one background and the cells
 /// reached: the work and the text are then linear in `effects`, whatever
 /// the grid.
-fn heat_map(
+fn heat_map(out: &mut String, title: &str, effects: &[usize], grid: (usize, usize), dense: usize) {
+    let reached = reached(effects, grid.0 * grid.1);
+    let max = reached.iter().map(|r| r.1).max().unwrap_or(0).max(1) as f64;
+    let n = effects.len().max(1) as f64;
+    let shaded: Vec<(usize, f64, String)> = (reached.iter())
+        .map(|&(i, c)| (i, c as f64 / max, format!("{:.2}%", 100.0 * c as f64 / n)))
+        .collect();
+    grid_map(out, title, &shaded, grid, dense, "0.00%");
+}
+
+/// The map of the elites of a run of symbols (docs/algorithms.md,
+/// "QD-score"): each reached cell shaded by the best effort quality `1 -
+/// effort / slots` of the commands that reached it (`'0'` the neutral
+/// symbol), from light (0) to dark (1); the title gives their sum, the
+/// QD-score. Nothing for commands of values.
+fn elite_map(out: &mut String, trials: &[TrialRow], grid: (usize, usize)) {
+    let cells = grid.0 * grid.1;
+    let mut best: std::collections::BTreeMap<usize, f64> = Default::default();
+    for t in trials
+        .iter()
+        .filter(|t| t.values.is_empty() && t.effect < cells)
+    {
+        let n = t.command.chars().count().max(1);
+        let effort = t.command.chars().filter(|&c| c != '0').count();
+        let q = 1.0 - effort as f64 / n as f64;
+        let b = best.entry(t.effect).or_insert(q);
+        *b = b.max(q);
+    }
+    if best.is_empty() {
+        return;
+    }
+    let qd: f64 = best.values().sum();
+    let shaded: Vec<(usize, f64, String)> = (best.into_iter())
+        .map(|(i, q)| (i, 0.15 + 0.85 * q, format!("elite quality {q:.3}")))
+        .collect();
+    let title = format!("elites: best effort quality per cell (qd_score {qd:.3})");
+    grid_map(out, &title, &shaded, grid, MAX_CELLS_DRAWN, "not reached");
+}
+
+/// A map of `rows x cols` cells (effect `row * cols + col`), the cells
+/// `shaded` (in effect order: effect, shade in `[0, 1]`, what its tooltip
+/// says) from white to dark blue, the others white saying `empty`;
+/// every cell drawn only when there are at most `dense`.
+fn grid_map(
     out: &mut String,
     title: &str,
-    effects: &[usize],
+    shaded: &[(usize, f64, String)],
     (rows, cols): (usize, usize),
     dense: usize,
+    empty: &str,
 ) {
     let px = (360.0 / cols.max(rows) as f64).clamp(4.0, 40.0);
     let cells = rows * cols;
-    let reached = reached(effects, cells);
-    let max = reached.iter().map(|r| r.1).max().unwrap_or(0).max(1) as f64;
-    let n = effects.len().max(1) as f64;
     let (w, h) = (cols as f64 * px, rows as f64 * px + 24.0);
     let title = esc(title);
     let _ = writeln!(
@@ -53,24 +94,27 @@ fn heat_map(
             r##"<rect x="0" y="24" width="{w:.1}" height="{below:.1}" fill="rgb(255,255,255)" stroke="#ddd" stroke-width="0.5"><title>{cells} cells; those never reached are not drawn one by one</title></rect>"##
         );
     }
-    let mut cell = |i: usize, c: usize| {
+    let mut cell = |i: usize, s: f64, tip: &str| {
         let (r, col) = (i / cols, i % cols);
         // white (never) to dark blue (the most visited cell)
-        let s = c as f64 / max;
         let shade = |lo: f64, hi: f64| (lo + (hi - lo) * s).round() as u8;
         let (red, green, blue) = (shade(255.0, 8.0), shade(255.0, 48.0), shade(255.0, 107.0));
-        let (x, y, share) = (col as f64 * px, 24.0 + r as f64 * px, 100.0 * c as f64 / n);
+        let (x, y) = (col as f64 * px, 24.0 + r as f64 * px);
         let _ = writeln!(
             out,
-            r##"<rect class="cell" x="{x:.1}" y="{y:.1}" width="{px:.1}" height="{px:.1}" fill="rgb({red},{green},{blue})" stroke="#ddd" stroke-width="0.5"><title>effect {i} (row {r}, col {col}): {share:.2}%</title></rect>"##
+            r##"<rect class="cell" x="{x:.1}" y="{y:.1}" width="{px:.1}" height="{px:.1}" fill="rgb({red},{green},{blue})" stroke="#ddd" stroke-width="0.5"><title>effect {i} (row {r}, col {col}): {tip}</title></rect>"##
         );
     };
     if sparse {
-        reached.iter().for_each(|&(i, c)| cell(i, c));
+        shaded.iter().for_each(|(i, s, tip)| cell(*i, *s, tip));
     } else {
-        let mut counts = vec![0; cells];
-        reached.iter().for_each(|&(i, c)| counts[i] = c);
-        counts.into_iter().enumerate().for_each(|(i, c)| cell(i, c));
+        let mut next = shaded.iter().peekable();
+        for i in 0..cells {
+            match next.next_if(|c| c.0 == i) {
+                Some((_, s, tip)) => cell(i, *s, tip),
+                None => cell(i, 0.0, empty),
+            }
+        }
     }
     out.push_str("</svg></figure>\n");
 }
@@ -141,6 +185,9 @@ pub fn run_page(
     let what = if k > 1 { "episodes" } else { "trials" };
     body.push_str("<h2>Effects</h2>\n<div class=\"row\">\n");
     body += &early_and_late("", what, &terminal, (rows, cols), MAX_CELLS_DRAWN);
+    if k == 1 {
+        elite_map(&mut body, trials, (rows, cols));
+    }
     body.push_str("</div>\n");
     per_start_context(&mut body, trials, k, rows, cols);
     body.push_str("<h2>Reward</h2>\n");

@@ -4,7 +4,7 @@
 
 use super::Recorder;
 use crate::effect::{entropy, kl_divergence, normalized_entropy_over, Target};
-use crate::learner::Learner;
+use crate::learner::{Effort, Effortful, Learner};
 use crate::world::{Outcome, OutcomeTable};
 use serde::{Deserialize, Serialize};
 
@@ -28,6 +28,11 @@ pub struct RunningMetrics {
     /// Trials (1-based, increasing) at which the cumulative reward is kept.
     checkpoints: Vec<usize>,
     at_checkpoints: Vec<f64>,
+    /// The effort the `qd_score` is measured by, if given.
+    effort: Option<Effort>,
+    /// Per cell, the best effort quality of the commands that reached it
+    /// (`-inf`: none).
+    elites: Vec<f64>,
 }
 
 impl RunningMetrics {
@@ -51,6 +56,34 @@ impl RunningMetrics {
             discoveries: Vec::new(),
             at_checkpoints: Vec::with_capacity(checkpoints.len()),
             checkpoints,
+            effort: None,
+            elites: Vec::new(),
+        }
+    }
+
+    /// The same, measuring the `qd_score` ([`Metrics::qd_score`]) by the
+    /// effort `effort` of the recorded commands (a session's world gives
+    /// it: [`Executes::effort`](super::Executes::effort)).
+    ///
+    /// ```
+    /// use e3d::learner::Effort;
+    /// use e3d::command::CommandSpace;
+    /// use e3d::session::RunningMetrics;
+    /// use e3d::{Outcome, Recorder, Target};
+    /// let space = CommandSpace::repeat(2, &['-', '0', '+']).unwrap();
+    /// let mut m = RunningMetrics::new(3).with_effort(Effort::of_symbols(&space));
+    /// for (c, e) in [("++", 0), ("0+", 0), ("+-", 2)] {
+    ///     let o = Outcome { effect: e, reward: 0.0, point: [0.0; 2] };
+    ///     m.record(&space.parse(c).unwrap(), &o);
+    /// }
+    /// // cell 0's elite "0+" (quality 1 - 1/2), cell 2's "+-" (0)
+    /// assert_eq!(m.metrics(&Target::Uniform).qd_score, Some(0.5));
+    /// ```
+    pub fn with_effort(self, effort: Effort) -> Self {
+        RunningMetrics {
+            elites: vec![f64::NEG_INFINITY; self.counts.len()],
+            effort: Some(effort),
+            ..self
         }
     }
 
@@ -113,12 +146,21 @@ impl RunningMetrics {
             trials_to_50_percent: trials_to_fraction(discoveries, cells, 0.5),
             trials_to_90_percent: trials_to_fraction(discoveries, cells, 0.9),
             discovery_trials: discoveries.clone(),
+            qd_score: self.effort.as_ref().map(|_| {
+                let filled = self.elites.iter().filter(|q| q.is_finite());
+                filled.sum()
+            }),
         }
     }
 }
 
-impl<C: ?Sized> Recorder<C> for RunningMetrics {
-    fn record(&mut self, _command: &C, outcome: &Outcome) {
+impl<C: Effortful + ?Sized> Recorder<C> for RunningMetrics {
+    fn record(&mut self, command: &C, outcome: &Outcome) {
+        if let Some(effort) = &self.effort {
+            let q = effort.quality(command).unwrap_or(0.0);
+            let best = &mut self.elites[outcome.effect];
+            *best = best.max(q);
+        }
         if self.counts[outcome.effect] == 0 {
             self.discoveries.push(self.trials + 1);
         }
@@ -184,6 +226,15 @@ pub struct Metrics {
     /// the number of these `<= t` over [`coverage_cells`](Self::coverage_cells)
     /// ([`coverage_at`](Self::coverage_at)).
     pub discovery_trials: Vec<usize>,
+    /// The QD-score (pyribs' and QDax's): the sum, over the reached
+    /// cells, of the best effort quality `1 - effort / slots` among the
+    /// commands that reached the cell ([`Effort`]; the quality `-effort /
+    /// slots` with the offset 1, so that each cell adds a number in
+    /// `[0, 1]`). `None` when the commands' effort is unknown
+    /// ([`RunningMetrics::with_effort`]; a [`SessionRecord`](super::SessionRecord)
+    /// keeps no command).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub qd_score: Option<f64>,
 }
 
 impl Metrics {

@@ -6,7 +6,7 @@
 
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::Target;
-use crate::learner::{ContinuousLearner, Learner};
+use crate::learner::{ContinuousLearner, Effort, Effortful, Learner};
 use crate::rng::SessionRng;
 use crate::world::{ContinuousWorld, Outcome, World, WorldError};
 use serde::{Deserialize, Serialize};
@@ -270,6 +270,41 @@ impl<T> TrialRecord<T> {
     pub fn metrics_over_reachable(&self, target: &Target, reachable_effects: usize) -> Metrics {
         self.replay()
             .metrics_over_reachable(target, reachable_effects)
+    }
+
+    /// The QD-score of the recorded commands by `effort`
+    /// ([`Metrics::qd_score`], which [`metrics`](Self::metrics) leaves
+    /// `None`): the sum over the reached cells of the best effort quality
+    /// among the commands that reached them.
+    ///
+    /// ```
+    /// use e3d::learner::Effort;
+    /// use e3d::{Command, Outcome, Recorder, SessionRecord, Scene};
+    /// let scene = Scene::builtin("arm7").unwrap();
+    /// let space = scene.command_space();
+    /// let mut rec = SessionRecord::new(&scene.build(), 2);
+    /// let o = Outcome { effect: 3, reward: 0.0, point: [0.0; 2] };
+    /// rec.record(&space.parse("+000000").unwrap(), &o);
+    /// rec.record(&space.parse("+00000-").unwrap(), &o);
+    /// assert_eq!(rec.qd_score(&Effort::of_symbols(&space)), 1.0 - 1.0 / 7.0);
+    /// ```
+    pub fn qd_score(&self, effort: &Effort) -> f64
+    where
+        [T]: Effortful,
+    {
+        let mut m = RunningMetrics::new(self.num_effects).with_effort(effort.clone());
+        for t in 0..self.trials() {
+            let (effect, reward, point) = (self.effects[t], self.rewards[t], self.points[t]);
+            m.record(
+                self.values_of(t),
+                &Outcome {
+                    effect,
+                    reward,
+                    point,
+                },
+            );
+        }
+        m.metrics(&Target::Uniform).qd_score.unwrap_or(0.0)
     }
 
     fn replay(&self) -> RunningMetrics {

@@ -378,7 +378,7 @@ enum Entry {
 ///     let p = Params { alpha: 0.5, ..*p };
 ///     Ok(LearnerSetup::new(LearnerKind::Egreedy).params(p).target(target.clone()).symbols(space, n)?)
 /// });
-/// assert_eq!(learners.names(), ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm", "goal_babbling", "archive", "qlearning_moves", "greedy"]);
+/// assert_eq!(learners.names(), ["e3d", "uniform", "egreedy", "e3d_relax", "count", "smm", "goal_babbling", "archive", "archive_reached", "map_elites", "qlearning_moves", "greedy"]);
 /// assert_eq!(learners.uses("greedy"), Some([false, false, false, false, true]));
 /// assert_eq!(learners.uses("e3d"), Some([true, true, true, true, false]));
 /// assert_eq!(learners.uses("nope"), None);

@@ -70,14 +70,14 @@ impl Sweep {
         mut learners: Vec<L>,
     ) -> Vec<SessionResult>
     where
-        C: Clone,
+        C: Clone + crate::learner::Effortful,
         W: Executes<C> + ?Sized,
         L: Learns<C>,
     {
         let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
         let mut recorders: Vec<RunningMetrics> = sessions
             .iter()
-            .map(|_| self.recorder(world.effects()))
+            .map(|_| self.recorder(world.effects()).with_effort(world.effort()))
             .collect();
         let count = |t| self.count_trials(t);
         let control = Control::default().with_progress(&count);
@@ -182,6 +182,7 @@ impl Sweep {
                 MetricSpec::Coverage => Some(m.coverage),
                 MetricSpec::TrialsTo50Percent => m.trials_to_50_percent.map(|t| t as f64),
                 MetricSpec::TrialsTo90Percent => m.trials_to_90_percent.map(|t| t as f64),
+                MetricSpec::QdScore => m.qd_score,
                 // set by run_episode_session
                 MetricSpec::NormalizedEntropyContext(_)
                 | MetricSpec::CumulativeRewardContext(_)
@@ -307,7 +308,7 @@ impl Sweep {
     /// Runs `mine`, the sessions of one scene, in the groups `worlds`
     /// plans ([`run_planned`]), each with the learner `learner(session,
     /// effects)` makes, into `out`.
-    fn run_scene<C: Clone, L: Learns<C>>(
+    fn run_scene<C: Clone + crate::learner::Effortful, L: Learns<C>>(
         &self,
         worlds: &(impl session::Worlds<C> + ?Sized),
         mine: &[SessionSpec],

@@ -363,7 +363,7 @@ fn bad_sweep_files_are_refused_with_their_place() {
         ("zero_trials.ron", "zero_trials.ron:6:5: field `trials`: expected at least 1 trial per session, found 0"),
         ("negative_sessions.ron", "negative_sessions.ron:5:16: field `sessions`: integer is out of bounds: expected a whole number >= 0, found -4"),
         ("too_many_trials.ron", "too_many_trials.ron:6:5: field `trials`: expected at most 100000000 trials per session (as `e3d run --trials`), found 1000000000"),
-        ("unknown_learner.ron", "unknown_learner.ron:3:25: unknown variant `e3b` for `LearnerKind` (did you mean `e3d`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, qlearning_moves"),
+        ("unknown_learner.ron", "unknown_learner.ron:3:25: unknown variant `e3b` for `LearnerKind` (did you mean `e3d`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, archive_reached, map_elites, qlearning_moves"),
         ("range_without_scale.ron", "range_without_scale.ron:6:46: missing field `scale` in a range; expected `scale: Linear` or `scale: Log`"),
         ("bad_metric.ron", "bad_metric.ron:7:29: field `metrics`: expected cumulative_reward(T) with T in 1..=100 (the trials), found 500"),
         ("zero_commands.ron", "zero_commands.ron:6:5: field `commands`: expected 1 to 64 commands per episode, found 0"),

@@ -371,13 +371,18 @@ fn both_learners_run_by_name_on_symbols_values_and_in_sweeps() {
     assert!(sweep.spec.to_ron().contains("k: 2,\n        sigma: 0.2,"));
     let cols = sweep.metric_columns();
     assert_eq!(
-        cols[cols.len() - 3..],
-        ["coverage", "trials_to_50_percent", "trials_to_90_percent"]
+        cols[cols.len() - 4..],
+        [
+            "coverage",
+            "trials_to_50_percent",
+            "trials_to_90_percent",
+            "qd_score"
+        ]
     );
     let results = sweep.run(1).unwrap();
     assert_eq!(results.len(), 4);
     for r in &results {
-        let cov = r.values[cols.len() - 3].unwrap();
+        let cov = r.values[cols.len() - 4].unwrap();
         assert!(cov > 0.5 && cov <= 1.0, "{cov}");
     }
     let bad = Sweep::parse(

@@ -169,7 +169,7 @@ fn every_learner_is_named_on_the_command_line() {
     let e = "e3d-relax".parse::<LearnerKind>().unwrap_err();
     assert_eq!(
         e.to_string(),
-        "unknown learner `e3d-relax`; expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, qlearning_moves"
+        "unknown learner `e3d-relax`; expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, archive_reached, map_elites, qlearning_moves"
     );
     assert_eq!(e.input(), "e3d-relax");
 }

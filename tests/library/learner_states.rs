@@ -107,6 +107,8 @@ fn every_symbol_learner_continues_bit_for_bit_after_a_save() {
     let n = continues_bit_for_bit(Archive::new(&s, EFFECTS, &p), run);
     assert!(n > 7 * 3, "{n} bytes: the kept commands are saved");
     continues_bit_for_bit(GoalBabbling::new(&s, EFFECTS, &p), run);
+    continues_bit_for_bit(e3d::learner::ArchiveReached::new(&s, EFFECTS, &p), run);
+    continues_bit_for_bit(e3d::learner::MapElites::new(&s, EFFECTS, &p), run);
     let saved = GoalBabbling::new(&s, EFFECTS, &p).to_bytes();
     let e = Archive::from_bytes(&saved).err().unwrap().to_string();
     assert!(
@@ -363,6 +365,7 @@ fn states_holding_a_nan_are_refused_or_run_on() {
     let (s, p) = (space(), params());
     check(GoalBabbling::new(&s, EFFECTS, &p));
     check(Archive::new(&s, EFFECTS, &p));
+    check(e3d::learner::MapElites::new(&s, EFFECTS, &p));
     check(CountBonus::new(&s, EFFECTS, &p));
 }
 

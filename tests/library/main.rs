@@ -27,6 +27,7 @@ mod learners;
 mod motion_svg;
 mod outcomes;
 mod paper;
+mod quality_diversity;
 mod reference;
 mod report_html;
 mod scene_api;

@@ -112,7 +112,7 @@ fn mistakes_in_a_spec_built_in_code_are_refused_by_name() {
     );
     assert_eq!(
         err(SweepSpec::new(["two_rooms"], ["e3b"], 2, 100)),
-        "<SweepSpec>: field `learners`: expected one of the learners (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, qlearning_moves), found `e3b`"
+        "<SweepSpec>: field `learners`: expected one of the learners (e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, archive_reached, map_elites, qlearning_moves), found `e3b`"
     );
     assert!(err(SweepSpec::new(["two_room"], ["e3d"], 2, 100))
         .starts_with("<SweepSpec>: field `scenes`: expected a scene file (relative to the sweep file) or a built-in scene"));
@@ -238,14 +238,14 @@ fn custom_factories_refuse_unknown_names_at_their_place() {
         .to_string();
     assert_eq!(
         e,
-        "s.ron:3:16: unknown learner `blnd` (did you mean `blind`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, qlearning_moves, blind"
+        "s.ron:3:16: unknown learner `blnd` (did you mean `blind`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, archive_reached, map_elites, qlearning_moves, blind"
     );
     // the built-in learners keep their words
     let text = text.replace("blnd", "e3b");
     let e = Sweep::parse_with(&text, "s.ron", &worlds, Learners::builtin()).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "s.ron:3:16: unknown variant `e3b` for `LearnerKind` (did you mean `e3d`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, qlearning_moves"
+        "s.ron:3:16: unknown variant `e3b` for `LearnerKind` (did you mean `e3d`?); expected one of: e3d, uniform, egreedy, e3d_relax, count, smm, goal_babbling, archive, archive_reached, map_elites, qlearning_moves"
     );
 }
 

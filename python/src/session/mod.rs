@@ -71,15 +71,25 @@ fn session_args(
 /// The metrics of a session of symbols as the CLI's `summary.json` gives
 /// them: over the reachable cells too when a table knows them (and they
 /// are fewer than all).
-fn symbol_metrics(exec: &Executor<'_>, rec: &SessionRecord, target: &Target) -> Metrics {
+fn symbol_metrics(
+    exec: &Executor<'_>,
+    space: &e3d::command::CommandSpace,
+    rec: &SessionRecord,
+    target: &Target,
+) -> Metrics {
     let n = rec.num_effects;
-    match exec
+    let m = match exec
         .table()
         .map(|t| t.reachable_effects())
         .filter(|&r| r < n)
     {
         Some(k) => rec.metrics_over_reachable(target, k),
         None => rec.metrics(target),
+    };
+    let effort = e3d::learner::Effort::of_symbols(space);
+    Metrics {
+        qd_score: Some(rec.qd_score(&effort)),
+        ..m
     }
 }
 
@@ -274,7 +284,7 @@ fn run_builtin(
     let rows = records
         .into_iter()
         .map(|r| {
-            let m = symbol_metrics(&exec, &r, &run.a.target);
+            let m = symbol_metrics(&exec, &run.scene.space, &r, &run.a.target);
             let Some(h) = held.next() else {
                 return Rows::of_symbols(py, r, m, None, None);
             };

@@ -82,7 +82,12 @@ pub(super) fn run_values(
     let rows = records
         .into_iter()
         .map(|r| {
-            let m = r.metrics(&run.a.target);
+            let effort =
+                e3d::learner::Effort::of_values(run.scene.values.as_ref().expect("values"));
+            let m = e3d::Metrics {
+                qd_score: Some(r.qd_score(&effort)),
+                ..r.metrics(&run.a.target)
+            };
             Rows::of_values(py, r, m)
         })
         .collect();

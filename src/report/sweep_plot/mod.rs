@@ -273,6 +273,7 @@ pub fn metric_label(metric: &str) -> String {
         "trials_to_50_percent" => "trials to reach 50% of the reachable cells".into(),
         "trials_to_90_percent" => "trials to reach 90% of the reachable cells".into(),
         "reproducibility" => "share of the final commands keeping their effect".into(),
+        "qd_score" => "QD-score (best effort quality summed over the reached cells)".into(),
         m => match m.strip_prefix("cumulative_reward_at_") {
             Some(t) => format!("cumulative reward at trial {t}"),
             None => m.replace('_', " "),

@@ -68,6 +68,10 @@ pub enum MetricSpec {
     /// The same for 90% (column `trials_to_90_percent`).
     #[serde(rename = "trials_to_90_percent")]
     TrialsTo90Percent,
+    /// The QD-score: the sum over the reached cells of their best effort
+    /// quality ([`Metrics::qd_score`](crate::Metrics::qd_score); empty for
+    /// episodes).
+    QdScore,
     /// The normalised entropy (over every effect) of the terminal effects
     /// of the episodes started in start context `i`, 0-based in the
     /// scene's order (column `normalized_entropy_context_I`; empty for a
@@ -115,8 +119,9 @@ impl MetricSpec {
     }
 
     /// The metrics kept when a sweep names none: all of them, with the
-    /// cumulative reward at the last trial (the coverage measures last,
-    /// so that the columns before them are those of earlier versions).
+    /// cumulative reward at the last trial (the coverage measures, then
+    /// the QD-score last, so that the columns before them are those of
+    /// earlier versions).
     pub fn defaults(trials: usize) -> Vec<MetricSpec> {
         vec![
             MetricSpec::NormalizedEntropy,
@@ -128,6 +133,7 @@ impl MetricSpec {
             MetricSpec::Coverage,
             MetricSpec::TrialsTo50Percent,
             MetricSpec::TrialsTo90Percent,
+            MetricSpec::QdScore,
         ]
     }
 }
@@ -236,6 +242,8 @@ const BUILTIN_LEARNERS: &[&str] = &[
     "smm",
     "goal_babbling",
     "archive",
+    "archive_reached",
+    "map_elites",
     "qlearning_moves",
 ];
 
