@@ -114,7 +114,7 @@ pub(crate) fn _run_episodes(
     if kind == Some(LearnerKind::QlearningMoves) {
         let moves = inner.spec().num_slots();
         inner = match inner.with_moves(1) {
-            Some(single) => single.map_err(|e| PyValueError::new_err(e.to_string()))?,
+            Some(single) => std::sync::Arc::new(single.map_err(|e| PyValueError::new_err(e.to_string()))?),
             None => {
                 return Err(PyValueError::new_err(format!(
                     "learner `qlearning_moves` takes a scene whose command is `Repeat` (every move from one alphabet); `{}`'s is not",

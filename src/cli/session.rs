@@ -455,7 +455,11 @@ fn mean_line(metrics: &[Metrics]) -> String {
     let [q1, mid, q3] = e3d::report::order_quartiles(&firsts, n);
     let at = |q: Option<usize>| q.map_or("never".to_string(), |q| q.to_string());
     let (q1, mid, q3, k) = (at(q1), at(mid), at(q3), firsts.len());
-    let qd = match metrics.iter().map(|m| m.qd_score).collect::<Option<Vec<f64>>>() {
+    let qd = match metrics
+        .iter()
+        .map(|m| m.qd_score)
+        .collect::<Option<Vec<f64>>>()
+    {
         Some(_) => format!(" | qd_score {}", ci(|m| m.qd_score.unwrap_or(f64::NAN), 4)),
         None => String::new(),
     };
