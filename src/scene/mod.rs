@@ -22,6 +22,7 @@ mod check;
 pub mod enclosure;
 mod error;
 mod grid;
+pub mod mjcf;
 pub mod overlap;
 pub mod physics;
 mod region;
@@ -331,7 +332,8 @@ pub const BUILTIN: &[(&str, &str)] = builtin!(
     "arm_push",
     "swimmer",
     "cart_pole",
-    "four_rooms"
+    "four_rooms",
+    "reacher"
 );
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.
