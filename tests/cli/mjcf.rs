@@ -122,7 +122,9 @@ fn the_export_writes_what_rapier_uses() {
         xml.contains(r#"<position name="j1_target" joint="j1" kp="8" kv="2.5" ctrlrange="-1 1"/>"#)
     );
     // the puck: a free body in the plane, its damping on its slides (c m, m in f32)
-    assert!(xml.contains(r#"<joint name="puck_x" type="slide" axis="1 0 0" damping="0.6000000089406967"/>"#));
+    assert!(xml.contains(
+        r#"<joint name="puck_x" type="slide" axis="1 0 0" damping="0.6000000089406967"/>"#
+    ));
     // restitution is not mapped: every contact is critically damped
     assert!(
         xml.contains(r#"friction="0.5 0 0" solref="0.008333333333333333 1"#),

@@ -83,6 +83,9 @@ enum Mode {
     Impulse = 3,
 }
 
+/// The controls of one action: (how they act, actuator, value).
+type Controls = Vec<(Mode, usize, f64)>;
+
 /// A scene on its way to MJCF.
 struct Export<'a> {
     scene: &'a Scene,
@@ -178,7 +181,7 @@ impl<'a> Export<'a> {
     }
 
     /// The controls of every symbol: per slot and symbol, in order.
-    fn symbol_controls(&mut self) -> Vec<((usize, usize), Vec<(Mode, usize, f64)>)> {
+    fn symbol_controls(&mut self) -> Vec<((usize, usize), Controls)> {
         if self.scene.values().is_some() {
             return Vec::new();
         }

@@ -1019,8 +1019,7 @@ impl Reader<'_, '_> {
                 self.sites
                     .iter()
                     .filter(moving)
-                    .filter(|s| !s.name.ends_with(COM_SITE))
-                    .last()
+                    .rfind(|s| !s.name.ends_with(COM_SITE))
             });
         let (body, point) = match site {
             Some(s) => (s.body, s.point),
