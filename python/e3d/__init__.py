@@ -37,6 +37,7 @@ from ._e3d import (
     __version__,
 )
 from ._args import cache_folder, optional, shard_arg
+from ._crosscheck import crosscheck
 from ._learner import E3dLearner, Learner
 from ._results import (BatchOutcome, EpisodeRecord, Motion, Outcome, SessionBatch,
                        SessionRecord)
@@ -123,6 +124,7 @@ __all__ = [
     "SimulationError",
     "World",
     "__version__",
+    "crosscheck",
     "run_episodes",
     "run_session",
     "run_sessions",

@@ -118,6 +118,10 @@ class Scene:
     def _repr_svg_(self) -> str: ...
     def to_ron(self) -> str:
         """RON text that ``Scene.from_text`` reads back as an equal scene."""
+    def to_mjcf(self) -> str:
+        """The scene as a MuJoCo model (MJCF text), ``e3d scene export --mjcf``."""
+    def effect_of(self, values: Sequence[float]) -> int:
+        """The effect of the effect's feature values (2 per point, 1 per joint or angle)."""
     def render(
         self, command: Optional[CommandsLike] = None, scale: float = 1.0
     ) -> npt.NDArray[np.uint8]:

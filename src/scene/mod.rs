@@ -22,6 +22,7 @@ mod check;
 pub mod enclosure;
 mod error;
 mod grid;
+pub mod mjcf;
 pub mod overlap;
 pub mod path;
 pub mod physics;
@@ -332,7 +333,8 @@ pub const BUILTIN: &[(&str, &str)] = builtin!(
     "arm_push",
     "swimmer",
     "cart_pole",
-    "four_rooms"
+    "four_rooms",
+    "reacher"
 );
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.

@@ -13,6 +13,7 @@ mod console_escapes;
 mod context_tools;
 mod contexts;
 mod faults;
+mod mjcf;
 mod noise;
 mod output_paths;
 mod own_outputs;

@@ -244,6 +244,35 @@ impl PyScene {
         self.inner.spec().to_ron()
     }
 
+    /// The scene as a MuJoCo model, MJCF text (`e3d scene export --mjcf`):
+    /// bodies, joints, motors and actuators in the x-y plane, with the table
+    /// that replays a command (docs/mjcf.md). Raises `ValueError` for a grid
+    /// scene.
+    fn to_mjcf(&self) -> PyResult<String> {
+        e3d::scene::mjcf::to_mjcf(&self.inner).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "scene `{}` is a grid: only physics scenes export to MJCF",
+                self.inner.spec().name
+            ))
+        })
+    }
+
+    /// The effect (cell) of the effect's feature values, in the effect's
+    /// order: 2 per point (x, y), 1 per joint or angle; binned as the
+    /// scene bins its terminal state.
+    fn effect_of(&self, values: Vec<f64>) -> PyResult<usize> {
+        let b = self.inner.binning();
+        if values.len() != b.arity() {
+            return Err(PyValueError::new_err(format!(
+                "scene `{}`: expected {} feature values, found {}",
+                self.inner.spec().name,
+                b.arity(),
+                values.len()
+            )));
+        }
+        Ok(b.locate(&values).1)
+    }
+
     /// Pickling: the scene's RON text, read back by `Scene.from_text`.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (String, String))> {
         let from_text = py.get_type::<PyScene>().getattr("from_text")?;

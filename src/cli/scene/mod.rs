@@ -2,6 +2,7 @@
 
 mod check;
 mod exec;
+mod mjcf;
 mod render;
 mod reward_cell;
 mod simulate;
@@ -138,6 +139,31 @@ pub enum SceneCmd {
         #[arg(long, value_name = "DIR")]
         cache: Option<PathBuf>,
     },
+    /// Write a physics scene as a MuJoCo model (MJCF) in the x-y plane:
+    /// bodies, masses and inertias as Rapier has them, joints, motors,
+    /// gravity, the time step, and an actuator for every action, with the
+    /// table that replays a command (docs/mjcf.md).
+    Export {
+        /// A scene file, or the name of a built-in scene.
+        scene: String,
+        /// Write MJCF (the one format exported).
+        #[arg(long, required = true)]
+        mjcf: bool,
+        /// The file to write (default: standard output).
+        #[arg(long, value_name = "FILE.xml")]
+        out: Option<PathBuf>,
+    },
+    /// Read the planar subset of an MJCF model (bodies in the x-y plane,
+    /// hinges about z, slides in the plane, sphere, box and capsule geoms,
+    /// motor and position actuators) and write it as a RON scene to edit
+    /// (docs/mjcf.md); anything outside the subset is refused with its line.
+    Import {
+        /// The MJCF file.
+        model: PathBuf,
+        /// The scene file to write (default: standard output).
+        #[arg(long, value_name = "FILE.ron")]
+        out: Option<PathBuf>,
+    },
     /// Execute every command of a physics scene and report what happens:
     /// contacts between moving bodies, joints at their limits, top speeds.
     Stats {
@@ -156,7 +182,9 @@ impl SceneCmd {
             | C::Exec { scene, .. }
             | C::RewardCell { scene, .. }
             | C::Table { scene, .. }
-            | C::Stats { scene, .. } => scene,
+            | C::Stats { scene, .. }
+            | C::Export { scene, .. } => scene,
+            C::Import { model, .. } => model.to_str().unwrap_or_default(),
         }
     }
 }
@@ -187,7 +215,7 @@ fn continuous(cmd: &SceneCmd, scene: &e3d::Scene) -> Option<CliResult> {
         C::RewardCell { .. } => refuse("`e3d scene reward-cell` (which executes every command)"),
         C::Table { .. } => refuse("`e3d scene table` (an outcome table)"),
         C::Stats { .. } => refuse("`e3d scene stats` (which executes every command)"),
-        C::Render { .. } | C::Check { .. } => None,
+        C::Render { .. } | C::Check { .. } | C::Export { .. } | C::Import { .. } => None,
     }
 }
 
@@ -224,6 +252,8 @@ fn check_outputs(cmd: &SceneCmd) -> CliResult {
             (table_cache.as_deref()).map_or(Ok(()), |d| check_cache_folder(d, "--table-cache"))
         }
         SceneCmd::Table { cache: Some(d), .. } => check_cache_folder(d, "--cache"),
+        SceneCmd::Export { out: Some(o), .. } => check_format(o, "--out", &["xml"], ""),
+        SceneCmd::Import { out: Some(o), .. } => check_format(o, "--out", &["ron"], ""),
         _ => Ok(()),
     }
 }
@@ -231,6 +261,9 @@ fn check_outputs(cmd: &SceneCmd) -> CliResult {
 /// Runs `e3d scene ...`.
 pub fn run(a: SceneArgs) -> CliResult {
     check_outputs(&a.command)?;
+    if let SceneCmd::Import { model, out } = &a.command {
+        return mjcf::import(model, out.as_deref());
+    }
     let scene = load_scene(a.command.scene())?;
     if let Some(r) = continuous(&a.command, &scene) {
         return r;
@@ -282,6 +315,8 @@ pub fn run(a: SceneArgs) -> CliResult {
         } => exec(&scene, commands, table_cache.as_deref(), (repeat, seed)),
         SceneCmd::RewardCell { from, .. } => reward_cell(&scene, from),
         SceneCmd::Stats { .. } => stats(&scene),
+        SceneCmd::Export { out, .. } => mjcf::export(&scene, out.as_deref()),
+        SceneCmd::Import { .. } => unreachable!("imports load no scene"),
         SceneCmd::Table { cache, .. } => table(&scene, cache.as_deref()),
     }
 }
