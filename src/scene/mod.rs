@@ -331,7 +331,8 @@ pub const BUILTIN: &[(&str, &str)] = builtin!(
     "arm_push",
     "swimmer",
     "cart_pole",
-    "four_rooms"
+    "four_rooms",
+    "swimmer_drag"
 );
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.

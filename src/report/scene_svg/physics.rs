@@ -354,6 +354,15 @@ pub fn describe_effect(p: &PhysicsSpec) -> String {
                     range.0, range.1
                 )
             }
+            Feature::Centre { bodies, grid } => {
+                let ([x0, y0], [x1, y1]) = (grid.min, grid.max);
+                format!(
+                    "centre of mass of `{}` ({} x {} cells over [{x0}, {x1}] x [{y0}, {y1}] m)",
+                    bodies.join("`, `"),
+                    grid.rows,
+                    grid.cols,
+                )
+            }
             Feature::Angle { body, bins, range } => format!(
                 "angle of `{body}` ({bins} bins over [{}, {}] rad)",
                 range.0, range.1

@@ -18,7 +18,8 @@ pub(crate) use noise::generator;
 pub use noise::{draw_key, noise_refusal, BodyNoise, NoiseSpec, Spread, StartNoise};
 pub(crate) use spec::to_world_point as to_world;
 pub use spec::{
-    steps_of, to_world_point, BodyKind, BodySpec, EffectSpec, PhysicsSpec, Schedule, ShapeSpec,
+    steps_of, to_world_point, BodyKind, BodySpec, DragSpec, EffectSpec, PhysicsSpec, Schedule,
+    ShapeSpec,
 };
 
 /// The name that stands for the fixed world frame in joints (`parent:
