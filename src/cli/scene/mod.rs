@@ -4,7 +4,7 @@ mod check;
 mod exec;
 mod render;
 mod reward_cell;
-mod simulate;
+pub(super) mod simulate;
 mod stats;
 mod table;
 mod values;
