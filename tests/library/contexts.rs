@@ -789,3 +789,34 @@ fn per_move_qlearning_refuses_bad_parameters_by_name() {
         "arm qlearning_moves (one move a command): at most 100000000 commands in all per session (episodes x commands), found 7000000 episodes of 15 commands"
     );
 }
+
+/// `e3d closed-loop` on a physics scene of repeated slots on a sequential
+/// schedule (puck_rooms): every arm runs on the same budget of impulses,
+/// the open-loop arms with one command of K n slots; a physics scene of
+/// other slots (arm7) is refused, naming what it takes.
+#[test]
+fn the_closed_loop_comparison_runs_on_a_sequential_physics_scene() {
+    use e3d::experiment::closed_loop::{check_scene, run_arm, ClosedLoopConfig, ARMS};
+    let puck = Scene::builtin("puck_rooms").unwrap();
+    let cfg = ClosedLoopConfig {
+        episodes: 5,
+        seeds: 1,
+        commands: 2,
+        ..ClosedLoopConfig::default()
+    };
+    check_scene(&puck, 2).unwrap();
+    for arm in ARMS {
+        let s = run_arm(&puck, arm, 0, &cfg).unwrap_or_else(|e| panic!("{arm}: {e}"));
+        assert!(
+            s.cumulative_reward >= 0.0 && s.cumulative_reward <= 5.0,
+            "{arm}: {s:?}"
+        );
+    }
+    let e = check_scene(&Scene::builtin("arm7").unwrap(), 2)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("a Physics scene on a `Sequential` schedule"),
+        "{e}"
+    );
+}
