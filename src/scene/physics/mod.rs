@@ -13,13 +13,12 @@ mod spec;
 mod warnings;
 
 pub use context::{BodyStart, JointStart, StartState};
-pub use joint::{JointKind, JointSpec, MotorSpec};
+pub use joint::{DragSpec, JointKind, JointSpec, MotorSpec};
 pub(crate) use noise::generator;
 pub use noise::{draw_key, noise_refusal, BodyNoise, NoiseSpec, Spread, StartNoise};
 pub(crate) use spec::to_world_point as to_world;
 pub use spec::{
-    steps_of, to_world_point, BodyKind, BodySpec, DragSpec, EffectSpec, PhysicsSpec, Schedule,
-    ShapeSpec,
+    steps_of, to_world_point, BodyKind, BodySpec, EffectSpec, PhysicsSpec, Schedule, ShapeSpec,
 };
 
 /// The name that stands for the fixed world frame in joints (`parent:
