@@ -28,7 +28,8 @@ enum Cmd {
     Compare(cli::compare::CompareArgs),
     /// Closed loop against open loop on equal budgets of moves: closed-loop
     /// E3D (K commands), open-loop E3D (one command of K times the moves),
-    /// Q-learning and uniform on a grid scene (default four_rooms).
+    /// Q-learning and uniform on a grid scene or a sequential physics
+    /// scene (default four_rooms).
     ClosedLoop(cli::closed_loop::ClosedLoopArgs),
     /// Run a sweep file: every (cell, seed) session, in parallel, resumably.
     Sweep(cli::sweep::SweepArgs),

@@ -16,7 +16,8 @@ use std::path::PathBuf;
 /// Arguments of `e3d closed-loop`.
 #[derive(Args, Debug)]
 pub struct ClosedLoopArgs {
-    /// A grid scene whose command is `Repeat` (path or built-in name).
+    /// A scene whose command is `Repeat`: a grid scene, or a physics
+    /// scene on a `Sequential` schedule (path or built-in name).
     #[arg(default_value = "four_rooms")]
     pub scene: String,
     /// Episodes per session.

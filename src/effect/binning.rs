@@ -5,7 +5,8 @@ use super::*;
 
 /// One feature of the terminal state an effect is made of, as a scene
 /// file writes it in `effect: (features: [...])`: a point's cell, a
-/// joint's coordinate or a body's angle, each binned on its own; several
+/// joint's coordinate, a body's angle or a centre of mass, each binned
+/// on its own; several
 /// features make their product (the object's cell by the hand's cell).
 ///
 /// ```ron
@@ -55,13 +56,22 @@ pub enum Feature {
         /// `(min, max)`: values outside count in the nearest end bin.
         range: (f64, f64),
     },
+    /// The centre of mass of a set of dynamic bodies (a free chain's
+    /// links, a robot and what it carries), in world coordinates, binned
+    /// on a grid.
+    Centre {
+        /// The bodies, at least one (a free chain: its links).
+        bodies: Vec<String>,
+        /// The grid the centre is binned on (row 0 at the top).
+        grid: EffectGrid,
+    },
 }
 
 impl Feature {
     /// How the feature's values are binned.
     pub fn axis(&self) -> Axis {
         match self {
-            Feature::Point { grid, .. } => Axis::Plane(grid.clone()),
+            Feature::Point { grid, .. } | Feature::Centre { grid, .. } => Axis::Plane(grid.clone()),
             Feature::Joint { bins, range, .. } | Feature::Angle { bins, range, .. } => Axis::Line {
                 bins: *bins,
                 min: range.0,

@@ -1,6 +1,6 @@
 //! Closed loop against open loop on equal budgets of moves (what
-//! `e3d closed-loop` prints): on a grid scene whose command has `n`
-//! moves, episodes of `K` commands of `n` moves against one command of
+//! `e3d closed-loop` prints): on a grid scene, or a physics scene on a
+//! sequential schedule, whose command has `n` moves (slots), episodes of `K` commands of `n` moves against one command of
 //! `K n` moves.
 //!
 //! The arms, every one `K n` moves per episode and the reward of the
@@ -24,6 +24,7 @@ use crate::learner::LearnerSetup;
 use crate::learner::{
     ClosedLoopE3d, ContextTargets, ContextualLearner, LearnerError, LearnerKind, Params, QLearning,
 };
+use crate::scene::physics::Schedule;
 use crate::scene::{CommandSpec, Scene, WorldSpec};
 use crate::session::{run_episode_sessions, Control};
 use crate::world::Episodic;
@@ -94,8 +95,8 @@ pub struct ArmSession {
 /// Why a comparison cannot run.
 #[derive(Debug, thiserror::Error)]
 pub enum ClosedLoopError {
-    /// Not a grid scene of repeated one-alphabet slots.
-    #[error("scene `{0}`: a closed-loop comparison takes a Grid scene whose command is `Repeat`")]
+    /// Not a scene of repeated one-alphabet slots, one after another.
+    #[error("scene `{0}`: a closed-loop comparison takes a scene whose command is `Repeat`: a Grid scene, or a Physics scene on a `Sequential` schedule")]
     Scene(String),
     /// The scene and the settings do not fit ([`check_scene`]).
     #[error("{0}")]
@@ -119,16 +120,31 @@ pub enum ClosedLoopError {
 /// slots. The error names the scene and what was expected.
 pub fn check_scene(scene: &Scene, commands: usize) -> Result<(), ClosedLoopError> {
     let name = crate::text::echo(&scene.spec().name);
-    let WorldSpec::Grid(g) = &scene.spec().world else {
-        return Err(ClosedLoopError::Scene(name));
+    // a physics scene's open-loop arm runs its K n slots one after
+    // another: a sequential schedule, whose budget is the same moves
+    let (contexts, noisy) = match &scene.spec().world {
+        WorldSpec::Grid(g) => (
+            g.contexts.iter().map(|c| &c.name).collect::<Vec<_>>(),
+            false,
+        ),
+        WorldSpec::Physics(p) if matches!(p.schedule, Schedule::Sequential { .. }) => (
+            p.contexts.iter().map(|c| &c.name).collect(),
+            p.active_noise().is_some(),
+        ),
+        _ => return Err(ClosedLoopError::Scene(name)),
     };
     if !matches!(scene.spec().command, CommandSpec::Repeat { .. }) {
         return Err(ClosedLoopError::Scene(name));
     }
-    if let Some(first) = g.contexts.first() {
-        let (k, first) = (g.contexts.len(), crate::text::echo(&first.name));
+    if let Some(first) = contexts.first() {
+        let (k, first) = (contexts.len(), crate::text::echo(first));
         return Err(ClosedLoopError::Setup(format!(
-            "scene `{name}` has {k} start contexts (`{first}`...); a closed-loop comparison observes the current cell from the scene's one start: expected a Grid scene without `contexts`"
+            "scene `{name}` has {k} start contexts (`{first}`...); a closed-loop comparison observes the current cell from the scene's one start: expected a scene without `contexts`"
+        )));
+    }
+    if noisy {
+        return Err(ClosedLoopError::Setup(format!(
+            "scene `{name}` has a `noise` section: episodes do not run under noise yet"
         )));
     }
     let (n, max) = (scene.spec().num_slots(), crate::command::MAX_SLOTS);
@@ -181,9 +197,7 @@ type Arm = (Box<dyn Episodic + Send>, Box<dyn ContextualLearner + Send>);
 /// A session of `arm`: its world (the scene, or the scene of the long
 /// command) and its learner, fresh.
 fn arm_setup(scene: &Scene, arm: &str, cfg: &ClosedLoopConfig) -> Result<Arm, ClosedLoopError> {
-    if !matches!(scene.spec().world, WorldSpec::Grid(_)) {
-        return Err(ClosedLoopError::Scene(scene.spec().name.clone()));
-    }
+    check_scene(scene, cfg.commands)?;
     let shared = ContextTargets::Shared(Target::Uniform);
     Ok(match arm {
         "e3d_closed_loop" | "e3d_contextual" | "qlearning" => {

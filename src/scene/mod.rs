@@ -334,7 +334,8 @@ pub const BUILTIN: &[(&str, &str)] = builtin!(
     "swimmer",
     "cart_pole",
     "four_rooms",
-    "reacher"
+    "reacher",
+    "swimmer_drag"
 );
 
 /// The scene [`Scene::resolve`] picks when none is named: `two_rooms`.

@@ -120,6 +120,8 @@ pub(crate) enum ResolvedProbe {
     Joint(usize),
     /// A body's angle.
     Angle(usize),
+    /// The centre of mass of these bodies.
+    Centre(Vec<usize>),
 }
 
 /// An [`Action`] with its joint or body as an index.
@@ -478,6 +480,12 @@ impl Names<'_> {
                     },
                     Feature::Joint { joint: j, .. } => ResolvedProbe::Joint(self.joint(j)?),
                     Feature::Angle { body: b, .. } => ResolvedProbe::Angle(self.body(b)?),
+                    Feature::Centre { bodies, .. } => ResolvedProbe::Centre(
+                        bodies
+                            .iter()
+                            .map(|b| self.body(b))
+                            .collect::<Result<_, _>>()?,
+                    ),
                 })
             })
             .collect()

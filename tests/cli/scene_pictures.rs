@@ -187,3 +187,65 @@ fn a_reward_region_is_in_the_legend() {
         "no command, no path: {keys:?}"
     );
 }
+
+/// A slider is drawn as a rail between its limits with end stops, not as
+/// a hinge's ring, inside the picture; a product of features is named
+/// in a note wrapped to the picture's width, which pushes the drawing
+/// down rather than under it.
+#[test]
+fn a_slider_is_a_rail_and_a_long_effect_note_is_wrapped() {
+    let svg = render("cart_pole", None);
+    let start = svg
+        .find("<g><title>rail: slider, limits [-1.5, 1.5] m</title>")
+        .expect("the rail");
+    let rail = &svg[start..start + svg[start..].find("</g>").unwrap()];
+    assert_eq!(
+        rail.matches("<line ").count(),
+        3,
+        "a rail and two stops: {rail}"
+    );
+    assert!(
+        !svg.contains("<title>rail</title></circle>"),
+        "a hinge ring for the slider"
+    );
+    let number = |s: &str, key: &str| -> f64 {
+        let at = s.find(key).unwrap() + key.len();
+        s[at..at + s[at..].find('"').unwrap()].parse().unwrap()
+    };
+    let width = number(&svg, "width=\"");
+    for key in ["x1=\"", "x2=\""] {
+        let x = number(rail, key);
+        assert!(
+            (0.0..=width).contains(&x),
+            "the rail leaves the picture: {x} of {width}"
+        );
+    }
+    let notes: Vec<&str> = svg
+        .lines()
+        .filter(|l| l.contains(r##"font-size="12" fill="#555""##))
+        .collect();
+    assert_eq!(notes.len(), 2, "{notes:?}");
+    assert!(
+        notes[0].contains("effect: joint `pivot`") && notes[1].contains("first feature"),
+        "{notes:?}"
+    );
+    for n in &notes {
+        let text = &n[n.find('>').unwrap() + 1..n.rfind('<').unwrap()];
+        assert!(
+            30.0 + 6.5 * text.chars().count() as f64 <= width - 30.0,
+            "{text}"
+        );
+    }
+    // the axes start below the note's second line (y 74)
+    let axes = &svg[svg.find("<g class=\"axes\"").unwrap()..];
+    let top: f64 = axes
+        .split("V")
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(top >= 84.0, "the drawing starts at {top}");
+}

@@ -358,7 +358,7 @@ fn bad_sweep_files_are_refused_with_their_place() {
         ("empty_list.ron", "empty_list.ron:5:25: field `eta`: expected at least one value, found an empty list"),
         ("log_through_zero.ron", "log_through_zero.ron:6:9: field `eta`: expected a log range between two numbers > 0, found from: 0, to: 0.1"),
         ("eta_out_of_range.ron", "eta_out_of_range.ron:5:25: field `eta`: expected a number in (0, 1], found 1.5"),
-        ("no_such_scene.ron", "no_such_scene.ron:2:14: field `scenes`: expected a scene file (relative to the sweep file) or a built-in scene (two_rooms, puck_rooms, arm7, pendulum3, maze3, puck_rooms14, arm7x5, three_rooms, arm4_gravity, arm7_continuous, arm_push, swimmer, cart_pole, four_rooms, reacher), found `two_room`"),
+        ("no_such_scene.ron", "no_such_scene.ron:2:14: field `scenes`: expected a scene file (relative to the sweep file) or a built-in scene (two_rooms, puck_rooms, arm7, pendulum3, maze3, puck_rooms14, arm7x5, three_rooms, arm4_gravity, arm7_continuous, arm_push, swimmer, cart_pole, four_rooms, reacher, swimmer_drag), found `two_room`"),
         ("zero_sessions.ron", "zero_sessions.ron:5:5: field `sessions`: expected at least 1 session per cell, found 0"),
         ("zero_trials.ron", "zero_trials.ron:6:5: field `trials`: expected at least 1 trial per session, found 0"),
         ("negative_sessions.ron", "negative_sessions.ron:5:16: field `sessions`: integer is out of bounds: expected a whole number >= 0, found -4"),

@@ -850,3 +850,34 @@ fn per_move_q_learning_runs_in_a_sweep_of_single_commands() {
     // a scene whose moves are not one alphabet's has no single move
     assert!(Scene::builtin("arm7").unwrap().with_moves(1).is_none());
 }
+
+/// `e3d closed-loop` on a physics scene of repeated slots on a sequential
+/// schedule (puck_rooms): every arm runs on the same budget of impulses,
+/// the open-loop arms with one command of K n slots; a physics scene of
+/// other slots (arm7) is refused, naming what it takes.
+#[test]
+fn the_closed_loop_comparison_runs_on_a_sequential_physics_scene() {
+    use e3d::experiment::closed_loop::{check_scene, run_arm, ClosedLoopConfig, ARMS};
+    let puck = Scene::builtin("puck_rooms").unwrap();
+    let cfg = ClosedLoopConfig {
+        episodes: 5,
+        seeds: 1,
+        commands: 2,
+        ..ClosedLoopConfig::default()
+    };
+    check_scene(&puck, 2).unwrap();
+    for arm in ARMS {
+        let s = run_arm(&puck, arm, 0, &cfg).unwrap_or_else(|e| panic!("{arm}: {e}"));
+        assert!(
+            s.cumulative_reward >= 0.0 && s.cumulative_reward <= 5.0,
+            "{arm}: {s:?}"
+        );
+    }
+    let e = check_scene(&Scene::builtin("arm7").unwrap(), 2)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("a Physics scene on a `Sequential` schedule"),
+        "{e}"
+    );
+}

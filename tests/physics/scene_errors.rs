@@ -566,3 +566,60 @@ fn body_names_are_checked_in_linear_time_and_bodies_are_capped() {
     );
     assert!(e.starts_with("s.ron:9005:"), "{e}");
 }
+
+/// Drag and inertia: numbers checked at load, on dynamic bodies only,
+/// and a drag weak enough for one explicit step.
+#[test]
+fn a_drag_or_an_inertia_that_cannot_be() {
+    let lower = "mass: 0.2, position: (0.75, 0.0)),";
+    check(
+        lower,
+        "mass: 0.2, position: (0.75, 0.0), drag: (along: 0.1, across: 20.0)),",
+        "across: 20.0",
+        "across",
+        "body `lower`: a drag of at most mass / dt = 12.0000 (one step of 0.016666666666666666 s would reverse the motion), found 20",
+    );
+    check(
+        lower,
+        "mass: 0.2, position: (0.75, 0.0), drag: (along: -0.1, across: 1.0)),",
+        "along: -0.1",
+        "along",
+        "a finite drag >= 0, found -0.1",
+    );
+    check(
+        lower,
+        "mass: 0.2, position: (0.75, 0.0), inertia: 0.0),",
+        "inertia: 0.0",
+        "inertia",
+        "body `lower`: an inertia > 0 in kg·m², found 0",
+    );
+    check(
+        "position: (0.0, -1.0)),",
+        "position: (0.0, -1.0), drag: (along: 0.1, across: 1.0)),",
+        "drag:",
+        "drag",
+        "body `wall`: no `drag` here, because `wall` is Fixed: it never moves",
+    );
+}
+
+/// A centre-of-mass feature names known, dynamic bodies, each once.
+#[test]
+fn a_centre_of_mass_of_bodies_that_cannot_be() {
+    let from = r#"effect: (body: "lower", point: (0.25, 0.0),
+                 grid: (rows: 4, cols: 4, min: (-1.0, -1.0), max: (1.0, 1.0))),"#;
+    let centre = |bodies: &str| {
+        format!("effect: (features: [Centre(bodies: [{bodies}], grid: (rows: 4, cols: 4, min: (-1.0, -1.0), max: (1.0, 1.0)))]),")
+    };
+    let ok = BASE.replacen(from, &centre(r#""upper", "lower""#), 1);
+    let s = Scene::parse(&ok, "s.ron").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.num_effects(), 16);
+    let e = error(from, &centre(r#""upper", "wall""#));
+    assert!(
+        e.contains("field `bodies`") && e.contains("`wall` never moves"),
+        "{e}"
+    );
+    let e = error(from, &centre(r#""upper", "upper""#));
+    assert!(e.contains("`upper` is twice"), "{e}");
+    let e = error(from, &centre(r#""uper""#));
+    assert!(e.contains("no body `uper`"), "{e}");
+}

@@ -5,7 +5,7 @@ mod exec;
 mod mjcf;
 mod render;
 mod reward_cell;
-mod simulate;
+pub(super) mod simulate;
 mod stats;
 mod table;
 mod values;

@@ -119,7 +119,7 @@ pub(super) fn steps_text(scene: &Scene) -> String {
 /// `threads` threads, run `copies` to a world, said on stderr (`LABEL: N
 /// commands, S steps each, on T thread(s): about X by the cost model`)
 /// when it reaches [`progress::LONG`]; whether it was said.
-pub(super) fn say_cost(
+pub(in crate::cli) fn say_cost(
     label: &str,
     scene: &Scene,
     commands: u64,

@@ -41,6 +41,8 @@ const LEFT: f64 = 66.0;
 const RIGHT: f64 = 24.0;
 /// Above the drawing: the title and the subtitle.
 const TOP: f64 = 70.0;
+/// The height of a line of a note under the header, px.
+const NOTE_LINE: f64 = 14.0;
 /// Below the drawing: the x axis, its ticks and its label.
 const AXIS: f64 = 48.0;
 /// One row of the legend.
@@ -56,6 +58,9 @@ pub(super) struct View {
     scale: f64,
     /// Rows of the legend under the x axis.
     legend_rows: usize,
+    /// Lines of a note under the header, past the first (they push the
+    /// drawing down).
+    note_lines: usize,
 }
 
 impl View {
@@ -67,13 +72,14 @@ impl View {
             max,
             scale: SIDE / w.max(h),
             legend_rows: 1,
+            note_lines: 0,
         }
     }
     pub(super) fn x(&self, x: f64) -> f64 {
         LEFT + (x - self.min[0]) * self.scale
     }
     pub(super) fn y(&self, y: f64) -> f64 {
-        TOP + (self.max[1] - y) * self.scale
+        TOP + NOTE_LINE * self.note_lines as f64 + (self.max[1] - y) * self.scale
     }
     pub(super) fn len(&self, l: f64) -> f64 {
         l * self.scale

@@ -2,6 +2,8 @@
 //! reward.
 
 use super::*;
+use crate::effect::Feature;
+use crate::scene::physics::{JointKind, JointSpec};
 
 /// The outline points of a shape at a pose (for bounds).
 pub(super) fn shape_points(shape: &ShapeSpec, pos: (f64, f64), angle: f64) -> Vec<(f64, f64)> {
@@ -113,8 +115,11 @@ pub(in crate::report) fn physics_picture(
     // an effect that is not one point's world cell (a joint's
     // coordinate, an angle, a product) has no cells over the world: the
     // picture says so instead of drawing them
-    let world_cells = p.effect.world_point().is_some();
+    let world_cells = p.effect.world_point().is_some()
+        || matches!(p.effect.features.as_slice(), [Feature::Centre { .. }]);
     let mut v = picture_view(scene, p, overlay, world_cells);
+    let note = (!world_cells).then(|| effect_note(scene, p, v.width()));
+    v.note_lines = note.as_ref().map_or(0, |n| n.len().saturating_sub(1));
     let end_pose = overlay.and_then(|o| o.poses.as_ref()).is_some();
     // bodies at their start pose, faded when a terminal pose is drawn too
     let start_opacity = if animated.is_some() {
@@ -131,7 +136,14 @@ pub(in crate::report) fn physics_picture(
     if world_cells {
         effect_layer(&mut out, &v, scene, overlay);
     } else {
-        effect_note(&mut out, scene, p);
+        for (k, line) in note.iter().flatten().enumerate() {
+            let y = 60.0 + NOTE_LINE * k as f64;
+            let _ = writeln!(
+                out,
+                r##"<text x="{MARGIN}" y="{y}" font-size="12" fill="#555">{}</text>"##,
+                esc(line)
+            );
+        }
     }
     if let Some(sym) = p.symmetry {
         mirror_line(&mut out, &v, sym);
@@ -189,6 +201,10 @@ fn picture_view(
         for q in shape_points(&b.shape, b.position, b.angle) {
             grow(q);
         }
+    }
+    for (_, a, b, _) in p.joints.iter().filter_map(|j| rail(p, j)) {
+        grow(a);
+        grow(b);
     }
     if let Some(o) = overlay {
         for q in &o.points {
@@ -250,18 +266,29 @@ fn picture_keys(
 }
 
 /// An effect whose cells are not over the world, said in words.
-fn effect_note(out: &mut String, scene: &Scene, p: &PhysicsSpec) {
+fn effect_note(scene: &Scene, p: &PhysicsSpec, width: f64) -> Vec<String> {
     let g = scene.effect_grid();
-    let _ = writeln!(
-        out,
-        r##"<text x="{MARGIN}" y="60" font-size="12" fill="#555">{}</text>"##,
-        esc(&format!(
-            "effect: {} ({} x {} cells, not drawn over the world; the dot and path are the first feature's body)",
-            describe_effect(p),
-            g.rows,
-            g.cols
-        ))
+    let text = format!(
+        "effect: {} ({} x {} cells, not drawn over the world; the dot and path are the first feature's body)",
+        describe_effect(p),
+        g.rows,
+        g.cols
     );
+    // about 6.5 px a character at 12 px: the lines fit the picture
+    let fits = ((width - 2.0 * MARGIN) / 6.5).max(20.0) as usize;
+    let mut lines = vec![String::new()];
+    for word in text.split(' ') {
+        let last = lines.last_mut().expect("a line");
+        if !last.is_empty() && last.chars().count() + 1 + word.chars().count() > fits {
+            lines.push(word.to_string());
+        } else {
+            if !last.is_empty() {
+                last.push(' ');
+            }
+            last.push_str(word);
+        }
+    }
+    lines
 }
 
 /// The mirror line of a declared symmetry, across the whole picture.
@@ -292,9 +319,63 @@ fn bodies_layer<'a>(
     }
 }
 
-/// Joints at their start pose: a ring at the hinge; ground hinges filled.
+/// A slider's anchor, the ends of its rail and the unit normal to it.
+type Rail = ((f64, f64), (f64, f64), (f64, f64), (f64, f64));
+
+/// A slider's rail at the start pose: its anchor, the ends at its
+/// limits (0.5 m each way without limits), the unit normal to its axis
+/// (`None` for a hinge).
+fn rail(p: &PhysicsSpec, j: &JointSpec) -> Option<Rail> {
+    let JointKind::Prismatic { axis } = j.kind else {
+        return None;
+    };
+    let (at, angle) = match p.body(&j.parent) {
+        Some(b) => (to_world(b.position, b.angle, j.parent_anchor), b.angle),
+        None => (j.parent_anchor, 0.0),
+    };
+    let n = axis.0.hypot(axis.1);
+    let (s, c) = angle.sin_cos();
+    let u = ((c * axis.0 - s * axis.1) / n, (s * axis.0 + c * axis.1) / n);
+    let (lo, hi) = j.limits.unwrap_or((-0.5, 0.5));
+    let along = |d: f64| (at.0 + d * u.0, at.1 + d * u.1);
+    Some((at, along(lo), along(hi), (-u.1, u.0)))
+}
+
+/// Joints at their start pose: a ring at a hinge (ground hinges filled);
+/// a slider's rail along its axis between its limits, with end stops
+/// (none without limits), its anchor a dot.
 fn joints_layer(out: &mut String, v: &View, p: &PhysicsSpec) {
     for j in &p.joints {
+        let name = esc(&j.name);
+        if let Some((at, a, b, n)) = rail(p, j) {
+            let limits = match j.limits {
+                Some((lo, hi)) => format!("limits [{lo}, {hi}] m"),
+                None => "no limits".into(),
+            };
+            let line = |a, b| {
+                format!(
+                    r##"<line {} stroke="#2e323b" stroke-width="2"/>"##,
+                    v.segment(a, b)
+                )
+            };
+            let mut g = format!("<g><title>{name}: slider, {limits}</title>{}", line(a, b));
+            if j.limits.is_some() {
+                // the end stops: 6 px each side of the rail
+                let t = 6.0 / v.len(1.0);
+                for e in [a, b] {
+                    g += &line(
+                        (e.0 - t * n.0, e.1 - t * n.1),
+                        (e.0 + t * n.0, e.1 + t * n.1),
+                    );
+                }
+            }
+            let _ = writeln!(
+                out,
+                r##"{g}<circle {} r="2.5" fill="#2e323b"/></g>"##,
+                v.centre(at)
+            );
+            continue;
+        }
         let at = if j.parent == GROUND {
             j.parent_anchor
         } else if let Some(b) = p.body(&j.parent) {
@@ -303,7 +384,7 @@ fn joints_layer(out: &mut String, v: &View, p: &PhysicsSpec) {
             continue;
         };
         let fill = ["#ffffff", "#2e323b"][usize::from(j.parent == GROUND)];
-        let (c, name) = (v.centre(at), esc(&j.name));
+        let c = v.centre(at);
         let _ = writeln!(
             out,
             r##"<circle {c} r="4" fill="{fill}" stroke="#2e323b" stroke-width="1.5"><title>{name}</title></circle>"##
@@ -326,7 +407,6 @@ fn tracked_start(out: &mut String, v: &View, p: &PhysicsSpec) {
 
 /// The effect's features in words: `joint \`pivot\` (9 bins over [-0.9, 0.9]) x ...`.
 pub fn describe_effect(p: &PhysicsSpec) -> String {
-    use crate::effect::Feature;
     let parts: Vec<String> = p
         .effect
         .features()
@@ -352,6 +432,15 @@ pub fn describe_effect(p: &PhysicsSpec) -> String {
                 format!(
                     "joint `{joint}` ({bins} bins over [{}, {}] {unit})",
                     range.0, range.1
+                )
+            }
+            Feature::Centre { bodies, grid } => {
+                let ([x0, y0], [x1, y1]) = (grid.min, grid.max);
+                format!(
+                    "centre of mass of `{}` ({} x {} cells over [{x0}, {x1}] x [{y0}, {y1}] m)",
+                    bodies.join("`, `"),
+                    grid.rows,
+                    grid.cols,
                 )
             }
             Feature::Angle { body, bins, range } => format!(

@@ -111,3 +111,36 @@ pub struct MotorSpec {
     #[serde(default)]
     pub damping: f64,
 }
+
+/// Viscous drag, anisotropic like a slender body's in a fluid (MuJoCo's
+/// fluid model for a capsule): with `u` the body's local x axis in the
+/// world, `n` its normal and `v` the velocity of its centre of mass, the
+/// force `-(along (v·u) u + across (v·n) n)` and the torque `-turn ω` act
+/// at the centre of mass, set from the velocity at the start of each step.
+///
+/// ```ron
+/// drag: (along: 0.05, across: 1.0, turn: 0.01),
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DragSpec {
+    /// N·s/m against the velocity along the body's local x axis.
+    pub along: f64,
+    /// N·s/m against the velocity across it (its local y axis).
+    pub across: f64,
+    /// N·m·s/rad against its spin (default 0).
+    #[serde(default)]
+    pub turn: f64,
+}
+
+impl DragSpec {
+    /// The drag force (N) on a body at `angle` moving at `v` (m/s), and
+    /// the torque (N·m) at spin `w` (rad/s).
+    pub fn force(&self, angle: f64, v: (f64, f64), w: f64) -> ((f64, f64), f64) {
+        let (s, c) = angle.sin_cos();
+        let along = c * v.0 + s * v.1;
+        let across = -s * v.0 + c * v.1;
+        let (fa, fn_) = (-self.along * along, -self.across * across);
+        ((c * fa - s * fn_, s * fa + c * fn_), -self.turn * w)
+    }
+}

@@ -13,7 +13,7 @@ mod spec;
 mod warnings;
 
 pub use context::{BodyStart, JointStart, StartState};
-pub use joint::{JointKind, JointSpec, MotorSpec};
+pub use joint::{DragSpec, JointKind, JointSpec, MotorSpec};
 pub(crate) use noise::generator;
 pub use noise::{draw_key, noise_refusal, BodyNoise, NoiseSpec, Spread, StartNoise};
 pub(crate) use spec::to_world_point as to_world;

@@ -175,6 +175,16 @@ pub struct BodySpec {
     /// as diverged rather than silently slowing it down.
     #[serde(default)]
     pub fast_rotation: bool,
+    /// Drag from the fluid the body moves in (default none): a force
+    /// against its velocity, stronger across the body than along it (see
+    /// [`DragSpec`](super::DragSpec)). Dynamic bodies only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drag: Option<super::DragSpec>,
+    /// The moment of inertia about the centre of mass, kg·m² (default:
+    /// from the shape and mass, [`BodySpec::inertia_kg_m2`]). Dynamic
+    /// bodies with an area only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia: Option<f64>,
 }
 
 /// When the slots act. Durations in seconds; steps = round(seconds / dt).
@@ -300,6 +310,7 @@ impl EffectSpec {
         match self.features.first()? {
             Feature::Point { body, point, .. } => Some((body.as_str(), *point)),
             Feature::Angle { body, .. } => Some((body.as_str(), (0.0, 0.0))),
+            Feature::Centre { bodies, .. } => Some((bodies.first()?.as_str(), (0.0, 0.0))),
             Feature::Joint { joint, .. } => Some((child_of(joint)?, (0.0, 0.0))),
         }
     }
@@ -345,6 +356,39 @@ impl BodySpec {
         match (self.mass, self.density) {
             (Some(m), _) => m,
             (None, d) => d.unwrap_or(1.0) * self.shape.area(),
+        }
+    }
+
+    /// The moment of inertia about the centre of mass, kg·m², that Rapier
+    /// (parry2d) gives the body: its `inertia` if set, else from its shape
+    /// and mass `m`: a ball of radius `r`, `m r²/2`; a cuboid `w` x `h`,
+    /// `m (w² + h²)/12`; a capsule of segment length `l` and radius `r`,
+    /// `m_r (l² + 4r²)/12 + m_d (r²/2 + l²/4 + 3lr/8)` with `m_r` and `m_d`
+    /// the mass shares of its rectangle `l` x `2r` and of its two half
+    /// discs (by area). `None` for a body without
+    /// area (a segment, a polyline), whose own mass is a point's.
+    pub fn inertia_kg_m2(&self) -> Option<f64> {
+        if let Some(i) = self.inertia {
+            return Some(i);
+        }
+        let m = self.mass_kg();
+        match self.shape {
+            ShapeSpec::Ball { radius } => Some(0.5 * m * radius * radius),
+            ShapeSpec::Cuboid { width, height } => {
+                Some(m * (width * width + height * height) / 12.0)
+            }
+            ShapeSpec::Capsule { a, b, radius: r } => {
+                let l = (b.0 - a.0).hypot(b.1 - a.1);
+                let (rect, disc) = (2.0 * r * l, std::f64::consts::PI * r * r);
+                let (mr, md) = (m * rect / (rect + disc), m * disc / (rect + disc));
+                // parry2d's: the half discs as one disc of r²/2, moved
+                // by l²/4 + 3lr/8 (its 3D hemispheres' term)
+                Some(
+                    mr * (l * l + 4.0 * r * r) / 12.0
+                        + md * (0.5 * r * r + l * l / 4.0 + 3.0 * l * r / 8.0),
+                )
+            }
+            ShapeSpec::Segment { .. } | ShapeSpec::Polyline { .. } => None,
         }
     }
 

@@ -256,6 +256,8 @@ impl Chain<'_> {
             lock_rotation: false,
             collide: true,
             fast_rotation: false,
+            drag: c.drag,
+            inertia: None,
         }
     }
 
@@ -564,6 +566,8 @@ impl Wall<'_> {
             lock_rotation: false,
             collide: true,
             fast_rotation: false,
+            drag: None,
+            inertia: None,
         }
     }
 

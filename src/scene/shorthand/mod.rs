@@ -165,6 +165,10 @@ pub struct ChainSpec {
     /// joints.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub free: bool,
+    /// Every link's drag (default none; see
+    /// [`DragSpec`](crate::scene::physics::DragSpec)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drag: Option<crate::scene::physics::DragSpec>,
 }
 
 /// The shape of a chain's links.

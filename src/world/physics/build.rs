@@ -13,8 +13,8 @@ use rapier2d::geometry::BvhOptimizationStrategy;
 use rapier2d::math::{Pose, Real};
 use rapier2d::prelude::{
     BroadPhaseBvh, ColliderBuilder, GenericJoint, Group, ImpulseJointHandle, IntegrationParameters,
-    InteractionGroups, InteractionTestMode, JointAxesMask, JointAxis, MotorModel, PhysicsPipeline,
-    RigidBodyBuilder, RigidBodyHandle, RigidBodyType, Vector,
+    InteractionGroups, InteractionTestMode, JointAxesMask, JointAxis, MassProperties, MotorModel,
+    PhysicsPipeline, RigidBodyBuilder, RigidBodyHandle, RigidBodyType, Vector,
 };
 
 /// Builds one copy of the scene's non-fixed bodies, their joints and the
@@ -31,6 +31,7 @@ fn build_copy(
 ) -> Replica {
     let mut handles = Vec::new();
     let mut dynamic = Vec::new();
+    let mut drag = Vec::new();
     for (i, b) in spec.bodies.iter().enumerate() {
         if let Some(h) = fixed[i] {
             handles.push(h);
@@ -40,6 +41,7 @@ fn build_copy(
         handles.push(h);
         if b.kind == BodyKind::Dynamic {
             dynamic.push((h, b.fast_rotation));
+            drag.extend(b.drag.map(|d| (h, d)));
         }
         if b.kind == BodyKind::Fixed {
             fixed[i] = Some(h);
@@ -76,6 +78,12 @@ fn build_copy(
             },
             ResolvedProbe::Joint(j) => Probe::Joint(*j),
             ResolvedProbe::Angle(b) => Probe::Angle(handles[*b]),
+            ResolvedProbe::Centre(bodies) => Probe::Centre(
+                bodies
+                    .iter()
+                    .map(|&b| (handles[b], spec.bodies[b].mass_kg()))
+                    .collect(),
+            ),
         })
         .collect();
     Replica {
@@ -84,6 +92,7 @@ fn build_copy(
         acts: links.symbols.iter().map(|a| acts.of(a)).collect(),
         handles,
         dynamic,
+        drag,
         value_acts,
         joints,
     }
@@ -132,6 +141,13 @@ fn insert_body(s: &mut Sets, b: &BodySpec, groups: InteractionGroups) -> RigidBo
     .restitution(b.restitution as Real);
     co = if area <= 0.0 {
         co.density(0.0)
+    } else if let (Some(i), BodyKind::Dynamic) = (b.inertia, b.kind) {
+        let centre = match &b.shape {
+            ShapeSpec::Capsule { a, b, .. } => ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0),
+            _ => (0.0, 0.0),
+        };
+        let m = b.mass_kg() as Real;
+        co.mass_properties(MassProperties::new(v2(centre), m, i as Real))
     } else if let Some(m) = b.mass {
         co.mass(m as Real)
     } else {

@@ -23,6 +23,7 @@ pub use record::{BodyPose, Frame, Motion, RunStats, Trace};
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::{Binning, EffectGrid};
+use crate::scene::physics::DragSpec;
 use crate::scene::Symmetry;
 use rapier2d::math::{Real, Vector};
 use rapier2d::prelude::{
@@ -155,7 +156,7 @@ impl JointInfo {
 }
 
 /// One feature of the effect, resolved to handles.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 enum Probe {
     /// A point of `body`, in world coordinates or in `frame`'s.
     Point {
@@ -167,6 +168,8 @@ enum Probe {
     Joint(usize),
     /// A body's angle in the world.
     Angle(RigidBodyHandle),
+    /// The centre of mass of bodies of these masses (kg).
+    Centre(Vec<(RigidBodyHandle, f64)>),
 }
 
 /// A scene's rigid-body world, simulated by Rapier.
@@ -260,6 +263,8 @@ struct Replica {
     handles: Vec<RigidBodyHandle>,
     /// Dynamic bodies, and whether each may spin fast.
     dynamic: Vec<(RigidBodyHandle, bool)>,
+    /// The dynamic bodies with drag, and their drag.
+    drag: Vec<(RigidBodyHandle, DragSpec)>,
     tracked: RigidBodyHandle,
     /// What the effect reads, one probe per feature.
     probes: Vec<Probe>,

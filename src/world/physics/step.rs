@@ -7,6 +7,7 @@ use crate::command::Command;
 use crate::effect::wrap_angle;
 use crate::world::{Outcome, WorldError};
 use rapier2d::math::Real;
+use rapier2d::math::Vector;
 use rapier2d::prelude::{
     JointAxesMask, Multibody, MultibodyJointSet, MultibodyLink, RigidBodyHandle,
 };
@@ -76,6 +77,18 @@ impl PhysicsWorld {
         let mut at = 0;
         for probe in &replica.probes {
             match *probe {
+                Probe::Centre(ref bodies) => {
+                    let (mut c, mut total) = ([0.0f64; 2], 0.0);
+                    for &(b, m) in bodies {
+                        let p = sets.bodies[b].center_of_mass();
+                        c[0] += m * p.x as f64;
+                        c[1] += m * p.y as f64;
+                        total += m;
+                    }
+                    out[at] = c[0] / total;
+                    out[at + 1] = c[1] / total;
+                    at += 2;
+                }
                 Probe::Point { body, point, frame } => {
                     let mut p = sets.bodies[body].position().transform_point(point);
                     if let Some(f) = frame {
@@ -394,11 +407,50 @@ impl PhysicsWorld {
         None
     }
 
+    /// Adds to the held forces of the first `n` copies' bodies with drag
+    /// their drag at the current velocities ([`DragSpec::force`](crate::scene::physics::DragSpec::force)),
+    /// for one step; returns the forces and torques they held before.
+    fn add_drag(&mut self, n: usize) -> Vec<(Vector, Real)> {
+        let mut held = Vec::new();
+        for r in &self.copies[..n] {
+            for (h, d) in &r.drag {
+                let b = &mut self.sets.bodies[*h];
+                held.push((b.user_force(), b.user_torque()));
+                let v = b.linvel();
+                let ((fx, fy), t) = d.force(
+                    b.rotation().angle() as f64,
+                    (v.x as f64, v.y as f64),
+                    b.angvel() as f64,
+                );
+                b.add_force(Vector::new(fx as Real, fy as Real), false);
+                b.add_torque(t as Real, false);
+            }
+        }
+        held
+    }
+
+    /// Gives the bodies with drag back the forces they held before
+    /// [`add_drag`](Self::add_drag).
+    fn remove_drag(&mut self, n: usize, held: &[(Vector, Real)]) {
+        let bodies = self.copies[..n].iter().flat_map(|r| &r.drag);
+        for ((h, _), &(f, t)) in bodies.zip(held) {
+            let b = &mut self.sets.bodies[*h];
+            b.reset_forces(false);
+            b.reset_torques(false);
+            b.add_force(f, false);
+            b.add_torque(t, false);
+        }
+    }
+
     /// One step, then the checks of the copies still running (`failed[c]`
     /// is `None`); a copy that blows up gets its error in `failed`.
     /// Returns whether some copy is still running.
     fn step(&mut self, commands: &[Cmd<'_>], failed: &mut [Option<WorldError>]) -> bool {
+        let held = self.add_drag(commands.len());
         self.pipeline_step();
+        if !held.is_empty() {
+            self.remove_drag(commands.len(), &held);
+        }
         if let Some(q) = self.quarantined() {
             for (c, &(bodies, colliders)) in q.iter().enumerate().take(commands.len()) {
                 if failed[c].is_none() && bodies + colliders > 0 {

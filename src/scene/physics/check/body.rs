@@ -14,7 +14,8 @@ impl PhysicsSpec {
         let on = On::new(Some(&at), &who);
         check_shape(b, on)?;
         check_mass(b, on)?;
-        check_pose_and_material(b, on)
+        check_pose_and_material(b, on)?;
+        check_inertia_and_drag(b, self.dt, on)
     }
 
     /// Refuses a body field that would do nothing on this kind of body
@@ -38,6 +39,20 @@ impl PhysicsSpec {
         } else {
             return Ok(());
         };
+        if b.kind != BodyKind::Dynamic {
+            for (field, set) in [("drag", b.drag.is_some()), ("inertia", b.inertia.is_some())] {
+                if set {
+                    return Err(Invalid::at(
+                        field,
+                        Some(&at),
+                        &format!(
+                            "body `{}`: no `{field}` here, because {kind}; {instead}",
+                            b.name
+                        ),
+                    ));
+                }
+            }
+        }
         for (field, set) in [
             ("linear_damping", b.linear_damping != 0.0),
             ("angular_damping", b.angular_damping != 0.0),
@@ -152,6 +167,53 @@ fn check_pose_and_material(b: &BodySpec, on: On) -> Result<(), Invalid> {
     if !(in_range(b.restitution, 0.0, 1.0, false)) {
         let r = b.restitution;
         return Err(on.bad("restitution", format!("a restitution in [0, 1], found {r}")));
+    }
+    Ok(())
+}
+
+/// A body's `inertia` (> 0, on a shape with an area) and `drag`
+/// (coefficients >= 0, weak enough that one explicit step of `dt` never
+/// reverses the velocity it acts on: `across x dt / mass <= 1`, the same
+/// for `along`, and `turn x dt / inertia <= 1`).
+fn check_inertia_and_drag(b: &BodySpec, dt: f64, on: On) -> Result<(), Invalid> {
+    if let Some(i) = b.inertia {
+        if !(i.is_finite() && i > 0.0) {
+            return Err(on.bad("inertia", format!("an inertia > 0 in kg·m², found {i}")));
+        }
+        on.number(
+            "inertia",
+            "an inertia",
+            i,
+            Bound::range(MIN_MASS * MIN_SIZE * MIN_SIZE, MAX_MASS, "kg·m²"),
+        )?;
+        if b.shape.area() <= 0.0 {
+            return Err(on.bad(
+                "inertia",
+                "no `inertia` on a segment or polyline (it has no area, so it does not rotate)",
+            ));
+        }
+    }
+    let Some(d) = b.drag else { return Ok(()) };
+    let (m, i) = (b.mass_kg(), b.inertia_kg_m2());
+    for (f, v, of) in [
+        ("along", d.along, Some(m)),
+        ("across", d.across, Some(m)),
+        ("turn", d.turn, i),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(on.bad(f, format!("a finite drag >= 0, found {v}")));
+        }
+        on.number(f, "a drag", v, Bound::range(0.0, MAX_COEFFICIENT, ""))?;
+        if let Some(of) = of.filter(|&of| v * dt > of) {
+            let what = if f == "turn" { "inertia" } else { "mass" };
+            return Err(on.bad(
+                f,
+                format!(
+                    "a drag of at most {what} / dt = {:.4} (one step of {dt} s would reverse the motion), found {v}",
+                    of / dt
+                ),
+            ));
+        }
     }
     Ok(())
 }

@@ -268,6 +268,32 @@ impl PhysicsSpec {
                 self.known_body("body", body, "the effect's angle")?;
                 check_line(*bins, *range, "rad", k)
             }
+            Feature::Centre { bodies, grid } => {
+                for (i, b) in bodies.iter().enumerate() {
+                    self.known_body("bodies", b, "the effect's centre of mass")?;
+                    let bad = |what: String| Err(within(Invalid::new("bodies", what)));
+                    if bodies[..i].contains(b) {
+                        return bad(format!(
+                            "each body once in the centre's `bodies`, but `{b}` is twice"
+                        ));
+                    }
+                    if self
+                        .body(b)
+                        .is_some_and(|s| s.kind != super::BodyKind::Dynamic)
+                    {
+                        return bad(format!(
+                            "dynamic bodies in the centre's `bodies`, but `{b}` never moves"
+                        ));
+                    }
+                }
+                if bodies.is_empty() {
+                    return Err(within(Invalid::new(
+                        "bodies",
+                        "the bodies whose centre of mass is the feature: `bodies: [\"NAME\", ...]`",
+                    )));
+                }
+                check_grid(grid, Some(k))
+            }
         }
     }
     /// No two bodies in one another at the start: Rapier would push them
