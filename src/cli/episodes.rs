@@ -161,10 +161,10 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     })?;
     // what the episodes cost at most (every command simulated; the
     // memos cut it), said when long, as every run says it
-    let commands = (seeds.len() as u64) * a.trials * a.commands;
+    let total = (seeds.len() as u64) * a.trials * commands as u64;
     let threads = seeds.len().min(rayon::current_num_threads());
     let label = format!("run {}", scene.spec().name);
-    super::scene::simulate::say_cost(&label, scene, commands, threads, 1);
+    super::scene::simulate::say_cost(&label, scene, total, threads, 1);
     let status = track_run(a, scene, "episodes", seeds.len(), |control| {
         let make = |_| -> Result<_, CliError> {
             let world = Box::new(ContextMemoized::new(scene.build(), &memos));

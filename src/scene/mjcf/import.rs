@@ -396,6 +396,8 @@ impl Reader<'_, '_> {
             lock_rotation: false,
             collide: true,
             fast_rotation: false,
+            drag: None,
+            inertia: None,
         });
         self.frames.push((pose.0, pose.1, moves));
         Ok(())
