@@ -30,6 +30,7 @@ mod archive;
 pub mod contextual;
 mod drives;
 mod e3d;
+mod effort;
 mod egreedy;
 mod exp;
 pub mod gaussian;
@@ -41,12 +42,12 @@ mod uniform;
 
 pub use archive::{
     Archive, ArchiveOf, ArchiveReached, ArchiveReachedOf, ArchiveReachedValues, ArchiveValues,
-    Chosen, Effort, Effortful, Elites, MapElites, MapElitesOf, MapElitesValues, Reached, Variant,
-    MAP_ELITES_INITIAL,
+    Chosen, Elites, MapElites, MapElitesOf, MapElitesValues, Reached, Variant, MAP_ELITES_INITIAL,
 };
 pub use contextual::{ClosedLoopE3d, ContextTargets, ContextualLearner, PerContext, QLearning};
 pub use drives::{CountBonus, RelaxedE3d, StateMarginalMatching};
 pub use e3d::E3d;
+pub use effort::{Effort, Effortful};
 pub use egreedy::EpsilonGreedy;
 pub use gaussian::{GaussianE3d, UniformValues};
 pub use goal_babbling::{

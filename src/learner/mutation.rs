@@ -140,7 +140,7 @@ pub trait Genome: Clone + Send + Serialize + DeserializeOwned {
     /// Checks a genome read from a state.
     fn validate(&self) -> Result<(), String>;
     /// The effort of the commands of `space`.
-    fn effort(space: &Self::Space) -> super::Effort;
+    fn effort(space: &Self::Space) -> super::effort::Effort;
 }
 
 /// Commands of symbols, mutated by resampling `k` slots.
@@ -178,8 +178,8 @@ impl Genome for SymbolGenome {
             || format!("slots of alphabet sizes {sizes:?}"),
         )
     }
-    fn effort(space: &CommandSpace) -> super::Effort {
-        super::Effort::of_symbols(space)
+    fn effort(space: &CommandSpace) -> super::effort::Effort {
+        super::effort::Effort::of_symbols(space)
     }
 }
 
@@ -212,8 +212,8 @@ impl Genome for ValueGenome {
     fn validate(&self) -> Result<(), String> {
         check_values(&self.space)
     }
-    fn effort(space: &ValueSpace) -> super::Effort {
-        super::Effort::of_values(space)
+    fn effort(space: &ValueSpace) -> super::effort::Effort {
+        super::effort::Effort::of_values(space)
     }
 }
 

@@ -163,10 +163,10 @@ impl MeanCi {
 ///
 /// ```
 /// use e3d::report::mean_ci95;
-/// // mean 3, sd sqrt(2.5), t(4) = 2.776: 3 ± 1.963
+/// // mean 3, sd sqrt(2.5), t(4) = 2.776445105: 3 ± 1.963
 /// let ci = mean_ci95(&[1.0, 2.0, 3.0, 4.0, 5.0]).unwrap();
 /// assert_eq!(ci.mean, 3.0);
-/// assert!((ci.half - 2.776 * 2.5f64.sqrt() / 5f64.sqrt()).abs() < 1e-12);
+/// assert!((ci.half - 2.776445105 * 2.5f64.sqrt() / 5f64.sqrt()).abs() < 1e-9);
 /// assert_eq!(mean_ci95(&[1.0]), None);
 /// ```
 pub fn mean_ci95(xs: &[f64]) -> Option<MeanCi> {

@@ -3,6 +3,7 @@
 
 use super::factory::{is_identifier, FactoryError, Learners, SweepScene, Worlds};
 use super::spec::{invalid, set_param, MetricSpec, SweepSpec, Values, CODE_FILE, MAX_STEPS};
+pub use super::summary::format_number;
 use super::{SweepError, MAX_SESSIONS};
 use crate::hash::session_seed;
 use crate::learner::Params;
@@ -13,12 +14,6 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::Arc;
-
-/// A number as written in results and identities: Rust's shortest
-/// round-trip decimal form (`0.3`, `100`, `0.001`).
-pub fn format_number(v: f64) -> String {
-    format!("{v}")
-}
 
 /// One cell of the grid: a scene, a learner, a reward setting and one value
 /// of each hyper-parameter.

@@ -14,6 +14,12 @@
 
 use super::SweepError;
 
+/// A number as written in results and identities: Rust's shortest
+/// round-trip decimal form (`0.3`, `100`, `0.001`).
+pub fn format_number(v: f64) -> String {
+    format!("{v}")
+}
+
 /// The columns of `results.csv` before the metrics.
 pub const KEY_COLUMNS: [&str; 10] = [
     "scene",
@@ -64,7 +70,7 @@ pub fn stats(xs: &[f64]) -> (Option<f64>, Option<f64>, Option<(f64, f64)>) {
 }
 
 fn num(v: Option<f64>) -> String {
-    v.map(super::format_number).unwrap_or_default()
+    v.map(format_number).unwrap_or_default()
 }
 
 /// A cell's key, each session's values, and how many of its sessions

@@ -97,7 +97,8 @@ fn run_on_start_contexts_spreads_each_context_and_writes_a_context_column() {
             "{row}"
         );
     }
-    assert_eq!(page.matches("<svg class=\"heat\"").count(), 2 + 2 * 2);
+    // two heat maps, two per context, and the elite map
+    assert_eq!(page.matches("<svg class=\"heat\"").count(), 2 + 2 * 2 + 1);
     assert!(page.contains("a, late: episodes "));
 }
 

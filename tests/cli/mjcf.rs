@@ -109,7 +109,7 @@ fn every_shipped_physics_scene_exports_and_imports_back() {
         assert_same_world(physics(scene.spec()), physics(back.spec()), name);
         n += 1;
     }
-    assert_eq!(n, 12);
+    assert_eq!(n, 13);
 }
 
 #[test]

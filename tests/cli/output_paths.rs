@@ -135,6 +135,9 @@ const SCENE_INVOCATIONS: &[(&str, &[&str])] = &[
     ("table", &[]),
     ("table", &["--cache", "OUT"]),
     ("stats", &[]),
+    ("export", &["--mjcf"]),
+    ("export", &["--mjcf", "--out", "OUT.xml"]),
+    ("import", &[]),
 ];
 
 /// The subcommands `e3d scene --help` lists (but `help`).

@@ -39,8 +39,8 @@ fn the_page_has_both_heat_maps_the_reward_and_a_chart_per_slot() {
     let rows = parse_trials(&csv()).unwrap();
     let page = run_page("t", "", "{\"scene\":\"x\"}", &rows, 2, 3);
     assert!(page.starts_with("<!DOCTYPE html>"));
-    // two heat maps of 2 x 3 cells
-    assert_eq!(page.matches(r#"class="cell""#).count(), 12);
+    // two heat maps and the elite map of 2 x 3 cells
+    assert_eq!(page.matches(r#"class="cell""#).count(), 18);
     assert!(page.contains("early: trials 1..10") && page.contains("late: trials 91..100"));
     // early all in effect 0, late all in effect 5
     assert!(page.contains("effect 0 (row 0, col 0): 100.00%"));

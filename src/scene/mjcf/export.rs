@@ -35,7 +35,8 @@ What does not map exactly:
 - Numbers. Rapier computes in f32, MuJoCo in f64. Masses and inertias are
   those Rapier uses (parry2d's, from the shape and mass or density).
 - Not exported: start contexts (the model starts from the bodies as the
-  scene lists them), noise, symmetry, max_speed, fast_rotation.";
+  scene lists them), noise, drag (MuJoCo's fluid model is another law),
+  symmetry, max_speed, fast_rotation.";
 
 /// The MJCF model of a physics scene (`None` for a grid scene): every body
 /// with its shape, mass and inertia as Rapier gives them, its joints
@@ -693,7 +694,11 @@ impl MassProps {
             Some(mp) => MassProps {
                 mass: mp.mass() as f64,
                 com: (mp.local_com.x as f64, mp.local_com.y as f64),
-                inertia: mp.principal_inertia() as f64,
+                // a set `inertia:` is what the world gives a dynamic body
+                inertia: match (b.inertia, b.kind) {
+                    (Some(i), BodyKind::Dynamic) => i as f32 as f64,
+                    _ => mp.principal_inertia() as f64,
+                },
             },
             None => MassProps {
                 mass: b.mass_kg(),
