@@ -273,7 +273,7 @@ def test_an_int_too_large_for_a_float_is_a_value_error_naming_the_argument(root)
     arguments = _float_arguments()
     # a new float argument must be added to `calls`
     assert {q for q, _ in arguments} == set(calls)
-    assert len(arguments) == 47
+    assert len(arguments) == 50
     for qual, name in sorted(arguments):
         for big in (10**400, -10**400):
             with pytest.raises(ValueError, match=rf"^{name} = -?inf: expected"):

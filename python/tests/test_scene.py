@@ -3,7 +3,7 @@ import pytest
 
 import e3d
 
-SHIPPED = ["two_rooms", "puck_rooms", "arm7", "pendulum3", "maze3", "puck_rooms14", "arm7x5", "three_rooms", "arm4_gravity", "arm7_continuous", "arm_push", "swimmer", "cart_pole", "four_rooms"]
+SHIPPED = ["two_rooms", "puck_rooms", "arm7", "pendulum3", "maze3", "puck_rooms14", "arm7x5", "three_rooms", "arm4_gravity", "arm7_continuous", "arm_push", "swimmer", "cart_pole", "four_rooms", "reacher", "swimmer_drag"]
 
 
 def test_version():

@@ -57,7 +57,7 @@ def test_record_shapes_and_types():
         "normalized_entropy", "normalized_entropy_last_1000", "kl_to_target",
         "distinct_effects", "cumulative_reward", "first_reward_trial", "trials",
         "reachable_effects", "normalized_entropy_reachable", "coverage_cells", "coverage",
-        "trials_to_50_percent", "trials_to_90_percent", "discovery_trials",
+        "trials_to_50_percent", "trials_to_90_percent", "discovery_trials", "qd_score",
     }
     assert rec.metrics["cumulative_reward"] == rec.rewards.sum()
     assert "two_rooms: outcome table" in rec.execution

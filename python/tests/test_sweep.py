@@ -177,7 +177,7 @@ def test_columns_are_those_of_docs_analysis(root, monkeypatch):
     assert list(cols)[len(keys):] == [
         "normalized_entropy", "normalized_entropy_last_1000", "kl_to_target",
         "distinct_effects", "cumulative_reward_at_300", "first_reward_trial",
-        "coverage", "trials_to_50_percent", "trials_to_90_percent", "failure"]
+        "coverage", "trials_to_50_percent", "trials_to_90_percent", "qd_score", "failure"]
     n = len(cols["scene"])
     assert n == 32 and all(len(v) == n for v in cols.values())
 
