@@ -32,7 +32,10 @@ pub(crate) fn with_(scene: &e3d::Scene, overrides: &Bound<'_, PyDict>) -> PyResu
         })?;
     }
     let text = serde_json::to_string(&data).expect("JSON values serialise");
-    let dict = overrides.py().import("json")?.call_method1("loads", (text,))?;
+    let dict = overrides
+        .py()
+        .import("json")?
+        .call_method1("loads", (text,))?;
     from_dict(&dict)
 }
 
