@@ -78,6 +78,7 @@ pub mod summary;
 
 pub mod factory;
 
+mod axes;
 mod contexts;
 mod episodes;
 mod error;
