@@ -45,7 +45,7 @@ struct OneSession {
     /// On a noisy scene: the reproducibility of the final policy's
     /// episodes.
     #[serde(skip_serializing_if = "Option::is_none")]
-    reproducibility: Option<super::run::Repro>,
+    reproducibility: Option<super::session::Repro>,
 }
 
 #[derive(Serialize)]
@@ -196,7 +196,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
         })
         .collect();
     print_sessions(a, commands, scene, &name, &names, &sessions);
-    super::run::print_repro(&repro, seeds, "episodes");
+    super::session::print_repro(&repro, seeds, "episodes");
     for (s, r) in sessions.iter_mut().zip(repro) {
         s.reproducibility = r;
     }
@@ -253,7 +253,7 @@ fn episode_reproducibility(
     noisy: bool,
     configs: &[EpisodeConfig],
     learners: Vec<std::sync::Mutex<Option<Box<dyn ContextualLearner + Send>>>>,
-) -> Result<Vec<Option<super::run::Repro>>, CliError> {
+) -> Result<Vec<Option<super::session::Repro>>, CliError> {
     use rayon::prelude::*;
     if !noisy || a.repeat == 0 {
         return Ok(Vec::new());
@@ -269,7 +269,7 @@ fn episode_reproducibility(
             let mut world = scene.build();
             let r = e3d::session::episode_reproducibility(&mut *world, &*l, config, options)
                 .map_err(CliError::simulation)?;
-            Ok(r.map(|r| super::run::Repro::of(r, options)))
+            Ok(r.map(|r| super::session::Repro::of(r, options)))
         })
         .collect()
 }

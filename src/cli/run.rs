@@ -2,8 +2,8 @@
 //! episodes ([`super::episodes`]).
 
 use super::session::{
-    finish_parts, print_header, print_metrics, recorders, track_run, write_run, RunArgs, TargetArg,
-    TrialsCsv,
+    finish_parts, print_header, print_metrics, recorders, track_run, write_run, Repro, RunArgs,
+    TargetArg, TrialsCsv,
 };
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
@@ -71,17 +71,6 @@ struct Single<'a> {
     /// On a noisy scene: the reproducibility of the final policy.
     #[serde(skip_serializing_if = "Option::is_none")]
     reproducibility: Option<Repro>,
-}
-
-/// The reproducibility of a session's final policy
-/// ([`e3d::session::reproducibility`]), as `summary.json` holds it.
-#[derive(Serialize, Clone, Copy)]
-pub(super) struct Repro {
-    /// The share of the likely commands whose effect holds in >= 90% of runs.
-    share: f64,
-    /// How many likely commands were drawn, and how many runs each had.
-    commands: usize,
-    runs: usize,
 }
 
 /// A session's seed, metrics and effect counts (of several, or of values).
@@ -417,35 +406,8 @@ where
             Ok(r.map(|r| Repro::of(r, options)))
         })
         .collect::<Result<_, CliError>>()?;
-    print_repro(&repro, seeds, "commands");
+    super::session::print_repro(&repro, seeds, "commands");
     Ok(repro)
-}
-
-/// Prints each session's reproducibility (a line each, the seed named when
-/// several): of `what` (commands, episodes) drawn from the final policy.
-pub(super) fn print_repro(repro: &[Option<Repro>], seeds: &[u64], what: &str) {
-    for (r, seed) in repro.iter().zip(seeds) {
-        let who = if seeds.len() == 1 {
-            String::new()
-        } else {
-            format!("seed {seed}: ")
-        };
-        match r {
-            Some(r) => outln!("{who}reproducibility {:.4}: of {} {what} drawn from the final policy, the share whose effect holds in at least 90% of {} noisy runs", r.share, r.commands, r.runs),
-            None => outln!("{who}reproducibility: - (the learner's policy cannot be drawn from)"),
-        }
-    }
-}
-
-impl Repro {
-    /// The figure `summary.json` keeps of `r`, measured with `options`.
-    pub(super) fn of(r: e3d::session::Reproducibility, options: RepeatOptions) -> Repro {
-        Repro {
-            share: r.share,
-            commands: options.commands,
-            runs: options.runs,
-        }
-    }
 }
 
 /// The executor of `scene` for `work`: an outcome table built first
