@@ -13,6 +13,7 @@ use crate::command::Command;
 use crate::effect::normalized_entropy_over;
 use crate::learner::ContextualLearner;
 use crate::rng::SessionRng;
+use crate::scene::physics::DrawKey;
 use crate::world::{Episodic, Observer, Outcome, WorldError};
 
 /// How often (in episodes) [`run_episodes`] reports progress and checks
@@ -384,6 +385,12 @@ impl EpisodeRecord {
 /// [`Observe::StartContext`] draws exactly what
 /// [`run_session`](crate::run_session) draws.
 ///
+/// On a noisy world (a scene's `noise` section), command `i` of episode
+/// `e` draws its noise from [`DrawKey::trial`]`(seed, e * K + i)`: the
+/// record depends on the seed only, whatever the threads. The start
+/// offsets apply to an episode's start (the later commands continue from
+/// where the last left the world); the other draws to every command.
+///
 /// `control` is told of the episodes done (every 64 episodes and at the
 /// end), and asked before each command is executed whether to stop: a
 /// stop ends the run with [`WorldError::Stopped`]. Many sessions in parallel:
@@ -451,7 +458,7 @@ where
     let mut rng = SessionRng::seed_from_u64(config.seed);
     let mut command: Command = world.command_space().first();
     let mut since = 0;
-    for _ in 0..config.episodes {
+    for episode in 0..config.episodes {
         if since == PROGRESS_EVERY {
             control.progress(since as u64);
             since = 0;
@@ -475,6 +482,10 @@ where
                 return Err(WorldError::Stopped);
             }
             let last = i + 1 == k;
+            // a noisy world's draws: keyed by the seed and the command's
+            // place in the session
+            let step = (episode * k + i) as u64;
+            world.set_draw_keys(&[DrawKey::trial(config.seed, step)]);
             // the last command's terminal state is not needed: its outcome
             // may be looked up (a memo keyed by context and command)
             let (mut outcome, next_state) = if last {

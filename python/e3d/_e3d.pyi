@@ -146,10 +146,16 @@ class World:
     def memo_len(self) -> int: ...
     @property
     def prefix_states(self) -> int: ...
-    def execute(self, command: CommandsLike) -> Outcome: ...
+    def execute(self, command: CommandsLike, seed: int = 0) -> Outcome:
+        """One command; under noise its draws are ``run_key(seed, 0, 0)``'s."""
     def execute_batch(
-        self, commands: CommandsLike, progress: Optional[Progress] = None
-    ) -> BatchOutcome: ...
+        self,
+        commands: CommandsLike,
+        progress: Optional[Progress] = None,
+        seed: int = 0,
+    ) -> BatchOutcome:
+        """The commands' outcomes; under noise row ``i`` draws from
+        ``run_key(seed, 0, i)`` (``e3d scene exec --seed SEED``)."""
     def reevaluate(
         self, commands: CommandsLike, repeat: int = 20, seed: int = 0
     ) -> dict[str, Any]:

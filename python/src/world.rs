@@ -8,6 +8,7 @@ use crate::outcome::{batch_to_py, outcome_to_py};
 use crate::progress::{watched, Watch};
 use crate::scene::PyScene;
 use e3d::command::CommandSpace;
+use e3d::scene::physics::DrawKey;
 use e3d::scene::WorldSpec;
 use e3d::world::PhysicsWorld;
 use e3d::world::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP, TABLE_COPIES};
@@ -44,7 +45,8 @@ pub(crate) struct PyWorld {
     /// `PhysicsWorld::set_prefix_states`).
     prefix_states: usize,
     /// The scene has a `noise` section: no memo, and command `i` of a
-    /// call draws from `run_key(0, 0, i)` (as `e3d scene exec`).
+    /// call with seed `S` draws from `run_key(S, 0, i)` (as `e3d scene
+    /// exec --seed S`).
     noisy: bool,
 }
 
@@ -100,9 +102,10 @@ impl PyWorld {
     /// The outcome of one command, on a world of one copy (through the
     /// memo): the same outcome as in a batch, without stepping the copies
     /// a batch fills.
-    fn run_one(&self, command: &Command) -> Result<Outcome, WorldError> {
+    /// Under noise it draws from `run_key(seed, 0, 0)`.
+    fn run_one(&self, command: &Command, seed: u64) -> Result<Outcome, WorldError> {
         if self.noisy {
-            let key = e3d::session::run_key(0, 0, 0);
+            let key = e3d::session::run_key(seed, 0, 0);
             return self
                 .run_keyed(std::slice::from_ref(command), &[key], None)
                 .remove(0);
@@ -179,28 +182,52 @@ impl PyWorld {
     /// The outcomes of continuous commands, in order (the first failure
     /// instead): in parallel pieces of at most `copies` commands, each
     /// stepped together on one world (as `e3d scene exec` does); one
-    /// command runs on a world of one copy.
+    /// command runs on a world of one copy. Command `i` draws its noise
+    /// from `run_key(seed, 0, i)`.
     fn run_values(
         &self,
         commands: &[Vec<f64>],
         watch: Option<&Watch>,
+        seed: u64,
     ) -> Result<Vec<Outcome>, WorldError> {
-        if let [one] = commands {
-            let r = self.with_tracer(|w| w.execute_values(one));
+        let keys: Vec<DrawKey> = (0..commands.len() as u64)
+            .map(|i| e3d::session::run_key(seed, 0, i))
+            .collect();
+        self.run_values_keyed(commands, &keys, watch)
+            .into_iter()
+            .collect()
+    }
+
+    /// The result of each continuous command, command `k` drawing its
+    /// noise from `keys[k]` ([`run_values`](Self::run_values)).
+    fn run_values_keyed(
+        &self,
+        commands: &[Vec<f64>],
+        keys: &[DrawKey],
+        watch: Option<&Watch>,
+    ) -> Vec<Result<Outcome, WorldError>> {
+        if let ([one], [key]) = (commands, keys) {
+            let r = self.with_tracer(|w| {
+                w.set_draw_keys(&[*key]);
+                w.execute_values(one)
+            });
             if let Some(w) = watch {
                 w.add(1);
             }
-            return r.map(|o| vec![o]);
+            return vec![r];
         }
-        let outcomes = self.in_pieces(commands, watch, |part, out| {
+        let pairs: Vec<(&Vec<f64>, DrawKey)> = commands.iter().zip(keys.iter().copied()).collect();
+        self.in_pieces(&pairs, watch, |part, out| {
+            let (vs, ks): (Vec<Vec<f64>>, Vec<DrawKey>) =
+                part.iter().map(|&(v, k)| (v.clone(), k)).unzip();
             let mut w = self.take_valued();
-            w.execute_values_batch(part, out);
+            w.set_draw_keys(&ks);
+            w.execute_values_batch(&vs, out);
             self.valued
                 .lock()
                 .unwrap_or_else(|e| e.into_inner())
                 .push(w);
-        });
-        outcomes.into_iter().collect()
+        })
     }
 
     fn memoised(&self) -> bool {
@@ -212,12 +239,12 @@ impl PyWorld {
     fn run_keyed(
         &self,
         commands: &[Command],
-        keys: &[u64],
+        keys: &[DrawKey],
         watch: Option<&Watch>,
     ) -> Vec<Result<Outcome, WorldError>> {
-        let pairs: Vec<(&Command, u64)> = commands.iter().zip(keys.iter().copied()).collect();
+        let pairs: Vec<(&Command, DrawKey)> = commands.iter().zip(keys.iter().copied()).collect();
         self.in_pieces(&pairs, watch, |part, out| {
-            let (cs, ks): (Vec<Command>, Vec<u64>) =
+            let (cs, ks): (Vec<Command>, Vec<DrawKey>) =
                 part.iter().map(|&(c, k)| (c.clone(), k)).unzip();
             let mut w = self.take();
             w.set_draw_keys(&ks);
@@ -234,10 +261,17 @@ impl PyWorld {
     /// repeated or known command counts as done at once), and once the
     /// watch is cancelled the pieces not yet started are skipped (the call
     /// fails).
-    fn run(&self, commands: &[Command], watch: Option<&Watch>) -> Result<Vec<Outcome>, WorldError> {
+    ///
+    /// Under noise, command `i` draws from `run_key(seed, 0, i)`, no memo.
+    fn run(
+        &self,
+        commands: &[Command],
+        watch: Option<&Watch>,
+        seed: u64,
+    ) -> Result<Vec<Outcome>, WorldError> {
         if self.noisy {
-            let keys: Vec<u64> = (0..commands.len() as u64)
-                .map(|i| e3d::session::run_key(0, 0, i))
+            let keys: Vec<DrawKey> = (0..commands.len() as u64)
+                .map(|i| e3d::session::run_key(seed, 0, i))
                 .collect();
             return self.run_keyed(commands, &keys, watch).into_iter().collect();
         }
@@ -307,7 +341,7 @@ impl PyWorld {
         let simulated = if let [k] = new {
             // one new command: the world of `execute` (one copy, keeping
             // prefix states) runs it fastest, with the same bits
-            let r = self.run_one(&unique[*k]);
+            let r = self.run_one(&unique[*k], 0);
             if let Some(w) = watch {
                 w.add(1);
             }
@@ -352,17 +386,26 @@ impl PyWorld {
     }
 
     /// Executes one command (a string of symbols, or an array of `slots`
-    /// symbol indices) and returns its `Outcome`.
-    fn execute(&self, py: Python<'_>, command: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+    /// symbol indices) and returns its `Outcome`. On a scene with a
+    /// `noise` section it draws its noise from `run_key(seed, 0, 0)`: the
+    /// first row of `e3d scene exec --seed SEED`.
+    #[pyo3(signature = (command, seed = 0))]
+    fn execute(
+        &self,
+        py: Python<'_>,
+        command: &Bound<'_, PyAny>,
+        seed: u64,
+    ) -> PyResult<Py<PyAny>> {
         let o = match &self.scene.values {
             Some(space) => {
                 let vs = values_from(py, space, command, 1)?;
-                py.detach(|| self.run_values(&vs, None))
+                py.detach(|| self.run_values(&vs, None, seed))
                     .map_err(Fail::from)?[0]
             }
             None => {
                 let cs = commands_from(py, &self.scene.space, command, 1)?;
-                py.detach(|| self.run_one(&cs[0])).map_err(Fail::from)?
+                py.detach(|| self.run_one(&cs[0], seed))
+                    .map_err(Fail::from)?
             }
         };
         outcome_to_py(py, &o)
@@ -375,19 +418,22 @@ impl PyWorld {
     /// `progress`: a callable, called as `progress(commands_done, N)` at
     /// most ten times a second and once at the end. Ctrl-C stops the batch
     /// and raises `KeyboardInterrupt` (the outcomes simulated so far are
-    /// kept).
-    #[pyo3(signature = (commands, progress = None))]
+    /// kept). On a scene with a `noise` section, row `i` draws its noise
+    /// from `run_key(seed, 0, i)`: the rows of `e3d scene exec --seed
+    /// SEED`.
+    #[pyo3(signature = (commands, progress = None, seed = 0))]
     fn execute_batch(
         &self,
         py: Python<'_>,
         commands: &Bound<'_, PyAny>,
         progress: Option<&Bound<'_, PyAny>>,
+        seed: u64,
     ) -> PyResult<Py<PyAny>> {
         if let Some(space) = &self.scene.values {
             let vs = values_from(py, space, commands, 2)?;
             let watch = Watch::default();
             let out = watched(py, progress, vs.len() as u64, &watch, |w| {
-                self.run_values(&vs, Some(w))
+                self.run_values(&vs, Some(w), seed)
             })?
             .map_err(Fail::from)?;
             return batch_to_py(py, &out);
@@ -396,11 +442,11 @@ impl PyWorld {
         // a small batch is not worth a thread of its own (a memo hit costs
         // less than starting one)
         let out = if progress.is_none() && cs.len() <= 256 {
-            py.detach(|| self.run(&cs, None))
+            py.detach(|| self.run(&cs, None, seed))
         } else {
             let watch = Watch::default();
             watched(py, progress, cs.len() as u64, &watch, |w| {
-                self.run(&cs, Some(w))
+                self.run(&cs, Some(w), seed)
             })?
         }
         .map_err(Fail::from)?;
@@ -412,8 +458,9 @@ impl PyWorld {
     /// `run_key(seed, r, i)` (`e3d scene exec --repeat R --seed S`), and
     /// returns a dict: `effect` (each command's modal effect, ties to the
     /// lowest), `share` (the share of its runs ending there) and `runs`.
-    /// A noise-free scene runs each command once (share 1). Scenes of
-    /// symbols.
+    /// A noise-free scene runs each command once (share 1). Symbols or
+    /// values (a continuous scene's commands, as `execute_batch` takes
+    /// them).
     #[pyo3(signature = (commands, repeat = 20, seed = 0))]
     fn reevaluate(
         &self,
@@ -422,27 +469,32 @@ impl PyWorld {
         repeat: usize,
         seed: u64,
     ) -> PyResult<Py<PyAny>> {
-        if self.scene.values.is_some() {
-            return Err(PyValueError::new_err(format!(
-                "reevaluate: scene `{}` takes continuous commands; reevaluate takes scenes of symbols",
-                self.scene.inner.spec().name
-            )));
-        }
         if repeat == 0 {
             return Err(PyValueError::new_err(
                 "repeat: expected at least 1, found 0",
             ));
         }
-        let cs = commands_from(py, &self.scene.space, commands, 2)?;
         let runs = if self.noisy { repeat } else { 1 };
-        let each = py
-            .detach(|| {
-                e3d::session::reevaluate_with(&cs, 0, runs, seed, |cs, keys, out| {
-                    out.extend(self.run_keyed(cs, keys, None))
+        let each = match &self.scene.values {
+            Some(space) => {
+                let vs = values_from(py, space, commands, 2)?;
+                py.detach(|| {
+                    e3d::session::reevaluate_with(&vs, 0, runs, seed, |vs, keys, out| {
+                        out.extend(self.run_values_keyed(vs, keys, None))
+                    })
                 })
-                .into_iter()
-                .collect::<Result<Vec<_>, _>>()
-            })
+            }
+            None => {
+                let cs = commands_from(py, &self.scene.space, commands, 2)?;
+                py.detach(|| {
+                    e3d::session::reevaluate_with(&cs, 0, runs, seed, |cs, keys, out| {
+                        out.extend(self.run_keyed(cs, keys, None))
+                    })
+                })
+            }
+        };
+        let each = (each.into_iter())
+            .collect::<Result<Vec<_>, _>>()
             .map_err(Fail::from)?;
         let d = pyo3::types::PyDict::new(py);
         let effect: Vec<u64> = each.iter().map(|r| r.effect as u64).collect();

@@ -52,3 +52,27 @@ def test_reproducibility_is_1_without_noise_and_below_with_heavy_noise(tmp_path)
     assert plain.world().reproducibility(e3d.Learner(plain, "uniform"), repeat=10, commands=16) == 1.0
     # seeded: the same figure again
     assert heavy.world().reproducibility(learner, repeat=10, commands=16, seed=3) == low
+
+
+def test_seed_draws_each_rollout_reproducibly_as_scene_exec_seed(cli):
+    world = e3d.Scene.load(NOISY).world()
+    point = lambda o: (o.x, o.y)
+    a = point(world.execute("SSEENNE", seed=7))
+    # the same seed, the same terminal point; another seed, another
+    assert point(world.execute("SSEENNE", seed=7)) == a
+    assert point(world.execute("SSEENNE", seed=8)) != a
+    # seed=0 is the default
+    assert point(world.execute("SSEENNE")) == point(world.execute("SSEENNE", seed=0))
+    # a batch: row i drawn as `scene exec --seed S`'s row i
+    out = world.execute_batch(COMMANDS, seed=7)
+    rows = read_csv(cli("scene", "exec", NOISY, "--seed", "7", *COMMANDS).stdout)
+    assert out.x.tolist() == [float(r["x"]) for r in rows]
+    assert out.y.tolist() == [float(r["y"]) for r in rows]
+    assert out.effect.tolist() == [int(r["effect"]) for r in rows]
+    # execute is row 0 of `scene exec --seed S`
+    row = read_csv(cli("scene", "exec", NOISY, "--seed", "7", "SSEENNE").stdout)[0]
+    assert a == (float(row["x"]), float(row["y"]))
+    assert world.execute_batch(COMMANDS, seed=9).x.tolist() != out.x.tolist()
+    # run 0 of `reevaluate(repeat=1, seed=S)` is row i of seed S
+    r = world.reevaluate(COMMANDS, repeat=1, seed=7)
+    assert r["effect"].tolist() == out.effect.tolist()

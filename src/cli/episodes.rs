@@ -42,6 +42,10 @@ struct OneSession {
     /// Per start context, the normalised entropy of the episodes' terminal
     /// cells.
     entropy_per_start: Vec<f64>,
+    /// On a noisy scene: the reproducibility of the final policy's
+    /// episodes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reproducibility: Option<super::session::Repro>,
 }
 
 #[derive(Serialize)]
@@ -88,14 +92,14 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
             scene.spec().name
         )));
     }
-    if let e3d::scene::WorldSpec::Physics(p) = &scene.spec().world {
-        if p.active_noise().is_some() {
-            // their draws are not yet keyed by session and trial
-            return Err(CliError::input(format!(
-                "scene `{}` has a `noise` section: episodes (start contexts, --commands, --observe, --closed-loop) do not run under noise yet; plain sessions do",
-                scene.spec().name
-            )));
-        }
+    // a noisy scene's episodes run live: no memo, no table
+    let noisy = matches!(&scene.spec().world, e3d::scene::WorldSpec::Physics(p) if p.active_noise().is_some());
+    if let (Some(dir), true) = (&a.table_cache, noisy) {
+        let why = e3d::scene::physics::noise_refusal(&scene.spec().name, "a table cache");
+        return Err(CliError::input(format!(
+            "--table-cache {}: {why}",
+            dir.display()
+        )));
     }
     e3d::episode::check_size(a.trials as usize, commands)
         .map_err(|e| CliError::input(format!("--trials with --commands: {e}")))?;
@@ -136,6 +140,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     // named start context are simulated once, whatever the session
     // (sampled starts and later commands run live)
     let memos: Vec<OutcomeMemo> = match a.memo.memo_cap {
+        _ if noisy => Vec::new(),
         0 => Vec::new(),
         cap => (0..world.num_contexts())
             .map(|_| OutcomeMemo::new(&space, num_effects, cap))
@@ -165,25 +170,36 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     let threads = seeds.len().min(rayon::current_num_threads());
     let label = format!("run {}", scene.spec().name);
     super::scene::simulate::say_cost(&label, scene, total, threads, 1);
+    // each session's learner, kept to the end for its reproducibility
+    let learners: Vec<std::sync::Mutex<Option<_>>> =
+        seeds.iter().map(|_| std::sync::Mutex::new(None)).collect();
     let status = track_run(a, scene, "episodes", seeds.len(), |control| {
-        let make = |_| -> Result<_, CliError> {
+        let make = |i: usize| -> Result<_, CliError> {
             let world = Box::new(ContextMemoized::new(scene.build(), &memos));
-            Ok((world, make()?))
+            let mut kept = crate::cli::locked(&learners[i]);
+            *kept = Some(make()?);
+            Ok((world, Held(kept)))
         };
         run_episode_sessions(&configs, make, &mut recorders, control)
     });
     let parts = recorders.iter_mut().map(|r| r.1.take().map(|c| c.part));
     let parts = finish_parts(status, parts)?;
-    let sessions: Vec<OneSession> = (recorders.iter().zip(seeds))
+    let repro = episode_reproducibility(a, scene, noisy, &configs, learners)?;
+    let mut sessions: Vec<OneSession> = (recorders.iter().zip(seeds))
         .map(|((t, _), &seed)| OneSession {
             seed,
             episodes: t.episodes(),
             first_reward_episode: t.first_reward_episode(),
             cumulative_reward: t.cumulative_reward(),
             entropy_per_start: t.entropy_per_start(),
+            reproducibility: None,
         })
         .collect();
     print_sessions(a, commands, scene, &name, &names, &sessions);
+    super::session::print_repro(&repro, seeds, "episodes");
+    for (s, r) in sessions.iter_mut().zip(repro) {
+        s.reproducibility = r;
+    }
     let Some(dir) = &a.out else {
         return Ok(());
     };
@@ -205,6 +221,57 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     };
     let header = "session,episode,command,context,start,symbols,effect,reward";
     write_run(dir, header, &parts, |_| Ok(()), &summary)
+}
+
+/// A session's learner, held in its place while the session runs.
+struct Held<'a, L>(std::sync::MutexGuard<'a, Option<L>>);
+
+impl<L> std::ops::Deref for Held<'_, L> {
+    type Target = L;
+    fn deref(&self) -> &L {
+        self.0
+            .as_ref()
+            .expect("a learner is made before it is held")
+    }
+}
+
+impl<L> std::ops::DerefMut for Held<'_, L> {
+    fn deref_mut(&mut self) -> &mut L {
+        self.0
+            .as_mut()
+            .expect("a learner is made before it is held")
+    }
+}
+
+/// On a noisy scene with `--repeat R` (R > 0): per session, the
+/// reproducibility of its final policy's episodes
+/// ([`e3d::session::episode_reproducibility`], seeded by the session's
+/// seed), the sessions in parallel; else nothing.
+fn episode_reproducibility(
+    a: &RunArgs,
+    scene: &Scene,
+    noisy: bool,
+    configs: &[EpisodeConfig],
+    learners: Vec<std::sync::Mutex<Option<Box<dyn ContextualLearner + Send>>>>,
+) -> Result<Vec<Option<super::session::Repro>>, CliError> {
+    use rayon::prelude::*;
+    if !noisy || a.repeat == 0 {
+        return Ok(Vec::new());
+    }
+    let options = e3d::session::RepeatOptions {
+        runs: a.repeat as usize,
+        ..e3d::session::RepeatOptions::default()
+    };
+    (learners.into_par_iter().zip(configs))
+        .map(|(l, config)| {
+            let l = l.into_inner().unwrap_or_else(|e| e.into_inner());
+            let Some(l) = l else { return Ok(None) };
+            let mut world = scene.build();
+            let r = e3d::session::episode_reproducibility(&mut *world, &*l, config, options)
+                .map_err(CliError::simulation)?;
+            Ok(r.map(|r| super::session::Repro::of(r, options)))
+        })
+        .collect()
 }
 
 /// Tells (on stderr) what runs: sessions, episodes, learner, contexts

@@ -2,8 +2,8 @@
 //! episodes ([`super::episodes`]).
 
 use super::session::{
-    finish_parts, print_header, print_metrics, recorders, track_run, write_run, RunArgs, TargetArg,
-    TrialsCsv,
+    finish_parts, print_header, print_metrics, recorders, track_run, write_run, Repro, RunArgs,
+    TargetArg, TrialsCsv,
 };
 use super::{load_scene, CliError, CliResult};
 use crate::cli::console::{errln, outln};
@@ -71,17 +71,6 @@ struct Single<'a> {
     /// On a noisy scene: the reproducibility of the final policy.
     #[serde(skip_serializing_if = "Option::is_none")]
     reproducibility: Option<Repro>,
-}
-
-/// The reproducibility of a session's final policy
-/// ([`e3d::session::reproducibility`]), as `summary.json` holds it.
-#[derive(Serialize, Clone, Copy)]
-struct Repro {
-    /// The share of the likely commands whose effect holds in >= 90% of runs.
-    share: f64,
-    /// How many likely commands were drawn, and how many runs each had.
-    commands: usize,
-    runs: usize,
 }
 
 /// A session's seed, metrics and effect counts (of several, or of values).
@@ -222,17 +211,6 @@ fn run_symbols(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> Cli
         outln!("exact effect distribution of the final policy: normalised entropy {h:.4}");
     }
     let repro = reproducibility(a, scene, &exec, &mut learners, seeds)?;
-    for (r, seed) in repro.iter().zip(seeds) {
-        let who = if sessions == 1 {
-            String::new()
-        } else {
-            format!("seed {seed}: ")
-        };
-        match r {
-            Some(r) => outln!("{who}reproducibility {:.4}: of {} commands drawn from the final policy, the share whose effect holds in at least 90% of {} noisy runs", r.share, r.commands, r.runs),
-            None => outln!("{who}reproducibility: - (the learner's policy cannot be drawn from)"),
-        }
-    }
     let mut repro = repro.into_iter().flatten();
     let Some(dir) = &a.out else {
         return Ok(());
@@ -354,6 +332,8 @@ fn run_values(
         .collect();
     print_header(a, name, " (continuous)", &params, seeds);
     print_metrics(&metrics, seeds, num_effects);
+    let repro = reproducibility(a, scene, &exec, &mut learners, seeds)?;
+    let mut repro = repro.into_iter().flatten();
     let Some(dir) = &a.out else {
         return Ok(());
     };
@@ -378,7 +358,7 @@ fn run_values(
                         .map(|&(mean, sd)| SlotPolicy { mean, sd })
                         .collect(),
                 ),
-                reproducibility: None,
+                reproducibility: repro.next(),
             })
             .collect(),
     };
@@ -394,13 +374,20 @@ fn run_values(
 /// reproducibility of its final policy ([`e3d::session::reproducibility`],
 /// seeded by the session's seed), the sessions in parallel; else nothing
 /// (an empty list, so that the summary of a noise-free run is unchanged).
-fn reproducibility(
+/// Each session's figure is printed.
+fn reproducibility<C, L>(
     a: &RunArgs,
     scene: &Scene,
     exec: &Executor<'_>,
-    learners: &mut [Box<dyn e3d::Learner + Send>],
+    learners: &mut [L],
     seeds: &[u64],
-) -> Result<Vec<Option<Repro>>, CliError> {
+) -> Result<Vec<Option<Repro>>, CliError>
+where
+    C: Clone,
+    L: e3d::session::Learns<C> + Send,
+    for<'e> Executor<'e>: e3d::session::Worlds<C>,
+{
+    use e3d::session::Worlds;
     use rayon::prelude::*;
     let noisy = matches!(&scene.spec().world, e3d::scene::WorldSpec::Physics(p) if p.active_noise().is_some());
     if !noisy || a.repeat == 0 {
@@ -411,18 +398,16 @@ fn reproducibility(
         ..RepeatOptions::default()
     };
     let width = exec.plan().copies;
-    (learners.par_iter_mut().zip(seeds))
+    let repro: Vec<Option<Repro>> = (learners.par_iter_mut().zip(seeds))
         .map(|(l, &seed)| {
-            let mut world = exec.world(width);
-            let r = e3d::session::reproducibility(&mut *world, &**l, options, seed)
+            let mut world = exec.world_for(width).map_err(CliError::simulation)?;
+            let r = e3d::session::reproducibility(&mut *world, &*l, options, seed)
                 .map_err(CliError::simulation)?;
-            Ok(r.map(|r| Repro {
-                share: r.share,
-                commands: options.commands,
-                runs: options.runs,
-            }))
+            Ok(r.map(|r| Repro::of(r, options)))
         })
-        .collect()
+        .collect::<Result<_, CliError>>()?;
+    super::session::print_repro(&repro, seeds, "commands");
+    Ok(repro)
 }
 
 /// The executor of `scene` for `work`: an outcome table built first

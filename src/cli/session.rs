@@ -6,8 +6,10 @@ use super::{cannot_write, CliError, CliResult};
 use crate::cli::console::{errln, outln};
 use clap::Args;
 use e3d::command::CommandSpace;
+use e3d::session::RepeatOptions;
 use e3d::world::{ExecOptions, Strategy};
 use e3d::{Command, LearnerKind, Metrics, Outcome, Params, Recorder};
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `e3d run`.
@@ -509,5 +511,43 @@ impl ThreadsArg {
             .num_threads(threads)
             .build()
             .map_err(|e| CliError::input(format!("cannot start the threads: {e}")))
+    }
+}
+
+/// The reproducibility of a session's final policy
+/// ([`e3d::session::reproducibility`]), as `summary.json` holds it.
+#[derive(Serialize, Clone, Copy)]
+pub(super) struct Repro {
+    /// The share of the likely commands whose effect holds in >= 90% of runs.
+    share: f64,
+    /// How many likely commands were drawn, and how many runs each had.
+    commands: usize,
+    runs: usize,
+}
+
+/// Prints each session's reproducibility (a line each, the seed named when
+/// several): of `what` (commands, episodes) drawn from the final policy.
+pub(super) fn print_repro(repro: &[Option<Repro>], seeds: &[u64], what: &str) {
+    for (r, seed) in repro.iter().zip(seeds) {
+        let who = if seeds.len() == 1 {
+            String::new()
+        } else {
+            format!("seed {seed}: ")
+        };
+        match r {
+            Some(r) => outln!("{who}reproducibility {:.4}: of {} {what} drawn from the final policy, the share whose effect holds in at least 90% of {} noisy runs", r.share, r.commands, r.runs),
+            None => outln!("{who}reproducibility: - (the learner's policy cannot be drawn from)"),
+        }
+    }
+}
+
+impl Repro {
+    /// The figure `summary.json` keeps of `r`, measured with `options`.
+    pub(super) fn of(r: e3d::session::Reproducibility, options: RepeatOptions) -> Repro {
+        Repro {
+            share: r.share,
+            commands: options.commands,
+            runs: options.runs,
+        }
     }
 }

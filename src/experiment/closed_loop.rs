@@ -144,7 +144,7 @@ pub fn check_scene(scene: &Scene, commands: usize) -> Result<(), ClosedLoopError
     }
     if noisy {
         return Err(ClosedLoopError::Setup(format!(
-            "scene `{name}` has a `noise` section: episodes do not run under noise yet"
+            "scene `{name}` has a `noise` section: the comparison's open-loop arm runs one command of K x n slots where its closed-loop arms run K commands, so the arms would not draw the same noise; expected a noise-free scene (`e3d run --commands K` runs episodes under noise)"
         )));
     }
     let (n, max) = (scene.spec().num_slots(), crate::command::MAX_SLOTS);

@@ -9,7 +9,7 @@ use crate::command::Command;
 use crate::episode::{run_episodes_into, EpisodeConfig, EpisodeRecorder};
 use crate::learner::{draw_weighted, ContextualLearner, ContinuousLearner, Effort, Learner};
 use crate::rng::SessionRng;
-use crate::scene::physics::draw_key;
+use crate::scene::physics::DrawKey;
 use crate::world::{ContinuousWorld, Episodic, Executor, Outcome, OutcomeTable, World, WorldError};
 use rand::SeedableRng;
 use std::ops::{DerefMut, Range};
@@ -25,7 +25,8 @@ pub trait Learns<C> {
     /// shape of `blank` (the policy's likely commands: see
     /// [`reproducibility`](super::reproducibility)); `None` if the policy
     /// cannot be drawn from without changing the learner (a policy that is
-    /// not a product of per-slot distributions, or of continuous values).
+    /// not a product of per-slot distributions, a learner of values that
+    /// keeps no ranges).
     fn likely(&self, blank: &C, n: usize, rng: &mut SessionRng) -> Option<Vec<C>>;
 }
 
@@ -57,9 +58,27 @@ impl<L: ContinuousLearner + ?Sized> Learns<Vec<f64>> for L {
     fn learn_from(&mut self, values: &Vec<f64>, outcome: &Outcome) {
         self.learn(values, outcome)
     }
-    /// Not yet for continuous commands.
-    fn likely(&self, _: &Vec<f64>, _: usize, _: &mut SessionRng) -> Option<Vec<Vec<f64>>> {
-        None
+    /// Each slot's value drawn from its policy's Gaussian
+    /// ([`ContinuousLearner::slot_gaussian`]: the mean plus the standard
+    /// deviation times a standard normal draw, Box-Muller, two uniform
+    /// numbers) and clamped to the slot's range; `None` for a learner that
+    /// keeps no ranges ([`ContinuousLearner::value_space`]).
+    fn likely(&self, _: &Vec<f64>, n: usize, rng: &mut SessionRng) -> Option<Vec<Vec<f64>>> {
+        use rand::RngExt;
+        let space = self.value_space()?;
+        let mut draw = |slot: usize| {
+            let (mean, sd) = self.slot_gaussian(slot);
+            let u: f64 = 1.0 - rng.random::<f64>(); // in (0, 1]
+            let z = (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * rng.random::<f64>()).cos();
+            let (lo, hi) = space.range(slot);
+            (mean + sd * z).clamp(lo, hi)
+        };
+        let slots = space.num_slots();
+        Some(
+            (0..n)
+                .map(|_| (0..slots).map(&mut draw).collect())
+                .collect(),
+        )
     }
 }
 
@@ -79,9 +98,9 @@ pub trait Executes<C> {
     fn copy(&self, from: &C, to: &mut C);
     /// The keys of the draws of the next commands (see
     /// [`World::set_draw_keys`]).
-    fn draw_keys(&mut self, keys: &[u64]);
+    fn draw_keys(&mut self, keys: &[DrawKey]);
     /// Whether a command always gives the same outcome (no `noise`):
-    /// [`World::is_deterministic`]; continuous worlds say no.
+    /// [`World::is_deterministic`], [`ContinuousWorld::is_deterministic`].
     fn deterministic(&self) -> bool;
 
     /// The effort of its commands, for the `qd_score`
@@ -105,7 +124,7 @@ impl<W: World + ?Sized> Executes<Command> for W {
     fn copy(&self, from: &Command, to: &mut Command) {
         to.symbols.clone_from(&from.symbols)
     }
-    fn draw_keys(&mut self, keys: &[u64]) {
+    fn draw_keys(&mut self, keys: &[DrawKey]) {
         self.set_draw_keys(keys)
     }
     fn deterministic(&self) -> bool {
@@ -133,11 +152,11 @@ impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
     fn copy(&self, from: &Vec<f64>, to: &mut Vec<f64>) {
         to.clone_from(from)
     }
-    fn draw_keys(&mut self, keys: &[u64]) {
+    fn draw_keys(&mut self, keys: &[DrawKey]) {
         self.set_draw_keys(keys)
     }
     fn deterministic(&self) -> bool {
-        false
+        self.is_deterministic()
     }
 
     fn effort(&self) -> Effort {
@@ -154,7 +173,7 @@ const PROGRESS_EVERY: usize = 64;
 /// in one batch; then each learns from its own outcome (the reward zeroed
 /// unless its config uses rewards). Each session draws from its own
 /// generator, so its record is the one it makes alone; a noisy world
-/// draws each command's noise from `draw_key(seed, trial)`, alike. A session whose
+/// draws each command's noise from [`DrawKey::trial`]`(seed, trial)`, alike. A session whose
 /// command fails stops there (its recorder keeps the trials before); the
 /// others go on. Returns each session's status.
 ///
@@ -201,7 +220,7 @@ where
     let mut batch: Vec<C> = commands.clone();
     let mut active: Vec<usize> = Vec::with_capacity(configs.len());
     let mut outcomes = Vec::with_capacity(configs.len());
-    let mut keys: Vec<u64> = Vec::with_capacity(configs.len());
+    let mut keys: Vec<DrawKey> = Vec::with_capacity(configs.len());
     let alone = configs.len() == 1;
     let longest = configs.iter().map(|c| c.trials).max().unwrap_or(0);
     let mut since = 0u64;
@@ -223,7 +242,7 @@ where
         outcomes.clear();
         // a noisy world's draws: keyed by each session's seed and the trial
         keys.clear();
-        keys.extend(active.iter().map(|&i| draw_key(configs[i].seed, t as u64)));
+        keys.extend((active.iter()).map(|&i| DrawKey::trial(configs[i].seed, t as u64)));
         world.draw_keys(&keys);
         if control.stopped() {
             outcomes.extend(active.iter().map(|_| Err(WorldError::Stopped)));

@@ -25,7 +25,8 @@ pub use engine::{
 
 pub use metrics::{policy_effect_distribution, trials_to_fraction, Metrics, RunningMetrics};
 pub use repeat::{
-    reevaluate, reevaluate_with, reproducibility, run_key, RepeatOptions, Repeated, Reproducibility,
+    episode_reproducibility, reevaluate, reevaluate_with, reproducibility, run_key, RepeatOptions,
+    Repeated, Reproducibility,
 };
 
 /// How to run a session.

@@ -137,6 +137,15 @@ impl Sweep {
                 MetricSpec::FirstRewardTrialContext(i) => {
                     *value = first.get(i).copied().flatten().map(|t| t as f64)
                 }
+                MetricSpec::Reproducibility => {
+                    let options = crate::session::RepeatOptions::default();
+                    let r =
+                        crate::session::episode_reproducibility(world, &*learner, &config, options);
+                    match r {
+                        Ok(r) => *value = r.map(|r| r.share),
+                        Err(e) => return Ok(self.result(session, Err(e), &running)),
+                    }
+                }
                 _ => {}
             }
         }

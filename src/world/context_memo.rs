@@ -47,14 +47,17 @@ impl<W: Episodic> Episodic for ContextMemoized<'_, W> {
     super::forward!(episodic self => self.world);
 
     /// From a named context's start, the memo's outcome, or the world's
-    /// (then kept); from any other state, the world's.
+    /// (then kept); from any other state, or on a world that is not
+    /// deterministic (a `noise` section), the world's.
     fn execute_outcome_from(
         &mut self,
         from: &WorldState,
         command: &Command,
     ) -> Result<Outcome, WorldError> {
         let space = self.world.command_space();
-        let memo = from.context().and_then(|c| self.memos.get(c));
+        // a noisy world's commands draw anew: never kept
+        let kept = from.context().filter(|_| self.world.is_deterministic());
+        let memo = kept.and_then(|c| self.memos.get(c));
         let (Some(memo), true) = (memo, super::check_command(space, command).is_ok()) else {
             return self.world.execute_outcome_from(from, command);
         };

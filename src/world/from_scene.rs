@@ -3,7 +3,7 @@
 
 use super::{ContinuousWorld, Episodic, GridWorld, Outcome, PhysicsWorld, World, WorldError};
 use crate::command::ValueSpace;
-use crate::scene::physics::PhysicsSpec;
+use crate::scene::physics::{DrawKey, PhysicsSpec};
 use crate::scene::{Scene, WorldSpec};
 
 impl Scene {
@@ -181,8 +181,11 @@ impl ContinuousWorld for ValueWorld {
     fn execute_values(&mut self, values: &[f64]) -> Result<Outcome, WorldError> {
         self.world.execute_values(values)
     }
-    fn set_draw_keys(&mut self, keys: &[u64]) {
+    fn set_draw_keys(&mut self, keys: &[DrawKey]) {
         World::set_draw_keys(&mut self.world, keys)
+    }
+    fn is_deterministic(&self) -> bool {
+        World::is_deterministic(&self.world)
     }
     fn execute_values_batch(
         &mut self,

@@ -43,6 +43,7 @@ pub use table::{
 };
 
 use crate::command::{Command, CommandSpace, ValueSpace};
+use crate::scene::physics::DrawKey;
 use serde::{Deserialize, Serialize};
 
 /// The e3d version written into output folders and every outcome table's
@@ -203,10 +204,11 @@ pub trait World {
     /// [`execute_batch`](World::execute_batch): a noisy world (a scene's
     /// `noise` section) draws each command's noise from its key, so that
     /// its outcome depends on the key, never on the batch or the thread.
-    /// The session engine gives `draw_key(session seed, trial)`
-    /// ([`draw_key`](crate::scene::physics::draw_key)). Deterministic
-    /// worlds ignore it (the default).
-    fn set_draw_keys(&mut self, _keys: &[u64]) {}
+    /// A key holds the session's key (numbers drawn once per session) and
+    /// the execution's; the session engine gives
+    /// [`DrawKey::trial`]`(session seed, trial)`. Deterministic worlds
+    /// ignore it (the default).
+    fn set_draw_keys(&mut self, _keys: &[DrawKey]) {}
 
     /// Executes several commands, each from the start state, and appends
     /// their outcomes to `out` in order: the same outcomes as calling
@@ -303,7 +305,13 @@ pub trait ContinuousWorld {
     /// The keys of the draws of the next commands, as
     /// [`World::set_draw_keys`]; deterministic worlds ignore it (the
     /// default).
-    fn set_draw_keys(&mut self, _keys: &[u64]) {}
+    fn set_draw_keys(&mut self, _keys: &[DrawKey]) {}
+
+    /// Whether the same values always give the same outcome (no `noise`),
+    /// as [`World::is_deterministic`]; the default says no.
+    fn is_deterministic(&self) -> bool {
+        false
+    }
 
     /// Executes several commands, each from the start state, appending
     /// their outcomes to `out` in order; the default runs them one by one.
@@ -334,7 +342,7 @@ macro_rules! forward {
         fn is_deterministic(&$s) -> bool {
             $inner.is_deterministic()
         }
-        fn set_draw_keys(&mut $s, keys: &[u64]) {
+        fn set_draw_keys(&mut $s, keys: &[$crate::scene::physics::DrawKey]) {
             $inner.set_draw_keys(keys)
         }
         fn execute_batch(

@@ -314,3 +314,122 @@ fn scene_check_lists_the_noise_section() {
             .unwrap();
     assert!(!plain.contains("noise"), "{plain}");
 }
+
+/// `path`'s scene with `noise` as its noise section, written into `dir`.
+fn with_noise(path: &str, noise: &str, dir: &std::path::Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap().replace(
+        "effect: (body: \"puck\"",
+        &format!("noise: {noise},\n        effect: (body: \"puck\""),
+    );
+    let name = std::path::Path::new(path).file_name().unwrap();
+    let out = dir.join(name);
+    std::fs::write(&out, text).unwrap();
+    out.to_str().unwrap().to_string()
+}
+
+#[test]
+fn repeat_on_a_noisy_continuous_scene_is_seeded_and_thread_free() {
+    let d = crate::common::temp_dir("noise-values");
+    let noise =
+        r#"(actions: Gaussian(sd: 0.15), starts: [(body: "puck", position: Gaussian(sd: 0.1))])"#;
+    let scene = with_noise("tests/scenes/puck_headings.ron", noise, &d);
+    let values: Vec<String> = (0..12)
+        .map(|k| {
+            let a = -3.0 + 0.5 * k as f64;
+            format!("{a}, {}, 0.5", -a / 2.0)
+        })
+        .collect();
+    let args = ["--repeat", "10", "--seed", "2"];
+    let one = exec(&scene, &args, &values, 1);
+    assert_eq!(exec(&scene, &args, &values, 2), one);
+    let mut lines = one.lines();
+    assert_eq!(lines.next(), Some("values,effect,share,runs"));
+    let shares: Vec<f64> = lines
+        .map(|l| l.rsplit(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(shares.len(), 12);
+    assert!(shares.iter().all(|&s| s > 0.0 && s <= 1.0), "{one}");
+    assert!(shares.iter().any(|&s| s < 1.0), "{one}");
+    assert_ne!(
+        exec(&scene, &["--repeat", "10", "--seed", "3"], &values, 1),
+        one
+    );
+    // one run per command: keyed by the seed and the index, the first run
+    // of --repeat, whatever the threads
+    let single = exec(&scene, &["--seed", "2"], &values, 1);
+    assert_eq!(exec(&scene, &["--seed", "2"], &values, 2), single);
+    assert_ne!(exec(&scene, &["--seed", "3"], &values, 1), single);
+    // a noise-free scene: share 1
+    let plain = exec("tests/scenes/puck_headings.ron", &args, &values, 2);
+    assert!(
+        plain.lines().skip(1).all(|l| l.ends_with(",1.0000,10")),
+        "{plain}"
+    );
+}
+
+#[test]
+fn run_on_a_noisy_continuous_scene_reports_the_reproducibility() {
+    let d = crate::common::temp_dir("noise-run-values");
+    let noise = r#"(actions: Gaussian(sd: 0.15))"#;
+    let scene = with_noise("tests/scenes/puck_headings.ron", noise, &d);
+    let args = ["--sessions", "2", "--repeat", "4"];
+    let (out1, sum1) = run_noisy(&scene, &args, 1, &d.join("one"));
+    let (out2, sum2) = run_noisy(&scene, &args, 2, &d.join("two"));
+    let kept = |out: &str| -> Vec<String> {
+        let lines = out.lines().filter(|l| !l.starts_with("wrote "));
+        lines.map(str::to_string).collect()
+    };
+    assert_eq!(kept(&out1), kept(&out2));
+    let sessions =
+        |sum: &str| serde_json::from_str::<serde_json::Value>(sum).unwrap()["sessions"].clone();
+    assert_eq!(sessions(&sum1), sessions(&sum2));
+    let lines: Vec<&str> = (out1.lines())
+        .filter(|l| l.contains("reproducibility"))
+        .collect();
+    assert_eq!(lines.len(), 2, "{out1}");
+    assert!(lines[1].starts_with("seed 6: reproducibility "), "{out1}");
+    for s in sessions(&sum1).as_array().unwrap() {
+        let share = s["reproducibility"]["share"].as_f64().unwrap();
+        assert!(share > 0.0 && share <= 1.0, "{share}");
+        assert_eq!((share * 64.0).round() / 64.0, share);
+    }
+}
+
+#[test]
+fn episodes_run_under_noise_the_same_on_1_and_2_threads() {
+    let d = crate::common::temp_dir("noise-episodes");
+    let noise = r#"(actions: Gaussian(sd: 0.1), starts: [(body: "puck", position: Gaussian(sd: 0.05))], body_numbers: [(body: "puck", per: Session, linear_damping: Uniform(half_width: 0.3))])"#;
+    let scene = with_noise("scenes/puck_contexts.ron", noise, &d);
+    let args = ["--sessions", "2", "--repeat", "3", "--commands", "2"];
+    let (out1, sum1) = run_noisy(&scene, &args, 1, &d.join("one"));
+    let (out2, sum2) = run_noisy(&scene, &args, 2, &d.join("two"));
+    let kept = |out: &str| -> Vec<String> {
+        let lines = out.lines().filter(|l| !l.starts_with("wrote "));
+        lines.map(str::to_string).collect()
+    };
+    assert_eq!(kept(&out1), kept(&out2));
+    assert_eq!(sum1, sum2);
+    let trials = |dir: &std::path::Path| std::fs::read(dir.join("trials.csv")).unwrap();
+    assert_eq!(trials(&d.join("one")), trials(&d.join("two")));
+    let lines: Vec<&str> = (out1.lines())
+        .filter(|l| l.contains("reproducibility"))
+        .collect();
+    assert_eq!(lines.len(), 2, "{out1}");
+    assert!(
+        lines[0].contains("of 64 episodes drawn from the final policy"),
+        "{out1}"
+    );
+    // the noise-free scene's episodes differ
+    let (plain, _) = run_noisy("scenes/puck_contexts.ron", &args, 2, &d.join("plain"));
+    assert_ne!(kept(&plain), kept(&out1));
+    assert!(!plain.contains("reproducibility"), "{plain}");
+    // a table cache is refused, naming the noise
+    let out = e3d_command()
+        .args(["run", &scene, "--trials", "10", "--table-cache"])
+        .arg(d.join("tables"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(!out.status.success());
+    assert!(err.contains("has a `noise` section"), "{err}");
+}

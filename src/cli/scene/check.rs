@@ -90,7 +90,11 @@ fn print_noise(spec: &e3d::SceneSpec) {
         let parts: Vec<String> = (b.spreads().iter())
             .filter_map(|(field, s)| s.map(|s| format!("{field} times 1 + {}", law(s))))
             .collect();
-        outln!("  numbers of body `{}`: {}", b.body, parts.join(", "));
+        let when = match b.per {
+            e3d::scene::physics::Per::Execution => "",
+            e3d::scene::physics::Per::Session => ", drawn once per session",
+        };
+        outln!("  numbers of body `{}`{when}: {}", b.body, parts.join(", "));
     }
 }
 

@@ -4,6 +4,7 @@ use super::simulate::{calibration, say_cost, seconds_text, steps_text, world_err
 use crate::cli::console::{errln, write_stdout};
 use crate::cli::{progress, CliError, CliResult};
 use e3d::command::{CommandError, CommandSpace};
+use e3d::scene::physics::DrawKey;
 use e3d::scene::{Scene, WorldSpec};
 use e3d::session::{reevaluate_with, run_key};
 use e3d::world::{PhysicsScene, PhysicsWorld};
@@ -204,7 +205,7 @@ impl<'a> ExecPool<'a> {
     fn run(
         &mut self,
         commands: &[Command],
-        keys: &[u64],
+        keys: &[DrawKey],
         memo: Option<&e3d::world::OutcomeMemo>,
         out: &mut Vec<Result<e3d::Outcome, WorldError>>,
     ) {
@@ -348,14 +349,25 @@ fn exec_contexts(scene: &Scene, grid: &e3d::scene::GridSpec, commands: Vec<Strin
 
 /// `scene exec` on a physics scene with start contexts: every command from
 /// every context's start, one row each, with the context's name; a drawn
-/// context's start is drawn with seed 0 (the same start on every row).
-fn exec_physics_contexts(scene: &Scene, names: &[String], commands: Vec<String>) -> CliResult {
+/// context's start is drawn with seed 0 (the same start on every row). A
+/// noisy scene draws the `i`-th command's noise from [`run_key`]`(seed, 0,
+/// i)` from every context (the same draws).
+fn exec_physics_contexts(
+    scene: &Scene,
+    names: &[String],
+    commands: Vec<String>,
+    seed: u64,
+) -> CliResult {
     use rand::SeedableRng;
     let (space, header) = (scene.command_space(), "context,command,effect,reward,x,y\n");
+    let mut i = 0;
     exec_each(scene, commands, header, |world, c, out| {
+        let key = run_key(seed, 0, i);
+        i += 1;
         for (k, name) in names.iter().enumerate() {
             let mut rng = e3d::SessionRng::seed_from_u64(0);
             let from = world.draw_start(k, &mut rng).map_err(world_error)?;
+            world.set_draw_keys(&[key]);
             let o = world.execute_outcome_from(&from, c).map_err(world_error)?;
             push_row(out, format_args!("{name},{}", space.format(c)), &o);
         }
@@ -478,7 +490,7 @@ pub(super) fn exec(
             return exec_contexts(scene, g, commands);
         }
         WorldSpec::Physics(p) if !p.contexts.is_empty() && scene.value_space().is_none() => {
-            return exec_physics_contexts(scene, &p.context_names(), commands);
+            return exec_physics_contexts(scene, &p.context_names(), commands, seed);
         }
         _ => {}
     }
@@ -502,7 +514,7 @@ pub(super) fn exec(
     } else {
         "command,effect,reward,x,y\n"
     };
-    let (mut done, mut keys) = (0u64, Vec::new());
+    let (mut done, mut keys) = (0u64, Vec::<DrawKey>::new());
     let mut header_written = false;
     let (mut chunk, mut results, mut text) = (Vec::new(), Vec::new(), String::new());
     let mut end: Option<CliError> = None;

@@ -106,8 +106,9 @@ pub enum SceneCmd {
         trace: Option<PathBuf>,
         /// Run each command R times under the scene's `noise` and print,
         /// per command, its modal effect and the share of the R runs that
-        /// end in it (`command,effect,share,runs`); a noise-free scene's
-        /// share is 1. Scenes of symbols without start contexts.
+        /// end in it (`command,effect,share,runs`, `values,...` for a
+        /// continuous scene); a noise-free scene's share is 1. Scenes
+        /// without start contexts.
         #[arg(long, value_name = "R", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1_000_000), conflicts_with_all = ["trace", "table_cache"])]
         repeat: u32,
         /// The seed of a noisy scene's draws: command `i` of the input, run
@@ -198,13 +199,19 @@ fn continuous(cmd: &SceneCmd, scene: &e3d::Scene) -> Option<CliResult> {
     let continuous = scene.as_continuous()?;
     let refuse = |what: &str| Some(scene.spec().require_symbols(what).map_err(CliError::input));
     match cmd {
-        C::Exec { repeat: 2.., .. } => refuse("`e3d scene exec --repeat`"),
         C::Exec {
             commands,
             table_cache: None,
             trace,
+            repeat,
+            seed,
             ..
-        } => Some(values::exec(continuous, commands, trace.as_deref())),
+        } => Some(values::exec(
+            continuous,
+            commands,
+            trace.as_deref(),
+            (*repeat, *seed),
+        )),
         C::Exec { .. } => refuse("`e3d scene exec --table-cache` (an outcome table)"),
         C::Render {
             command: Some(text),

@@ -15,7 +15,9 @@ mod warnings;
 pub use context::{BodyStart, JointStart, StartState};
 pub use joint::{DragSpec, JointKind, JointSpec, MotorSpec};
 pub(crate) use noise::generator;
-pub use noise::{draw_key, noise_refusal, BodyNoise, NoiseSpec, Spread, StartNoise};
+pub use noise::{
+    draw_key, noise_refusal, session_key, BodyNoise, DrawKey, NoiseSpec, Per, Spread, StartNoise,
+};
 pub(crate) use spec::to_world_point as to_world;
 pub use spec::{
     steps_of, to_world_point, BodyKind, BodySpec, EffectSpec, PhysicsSpec, Schedule, ShapeSpec,

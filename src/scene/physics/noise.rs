@@ -1,7 +1,8 @@
 //! Seeded noise in a physics world: each execution of a command scales
-//! its actions by drawn factors and offsets the start of some free bodies
-//! by drawn amounts. The draws come from a generator keyed by the
-//! session's seed and the trial ([`draw_key`]), never from thread order.
+//! its actions by drawn factors, offsets the start of some free bodies by
+//! drawn amounts and scales bodies' numbers. The draws come from
+//! generators keyed by the session's seed and the trial ([`DrawKey`]),
+//! never from thread order.
 
 use crate::rng::SessionRng;
 use rand::{RngExt, SeedableRng};
@@ -15,7 +16,10 @@ use serde::{Deserialize, Serialize};
 /// noise: (
 ///     actions: Gaussian(sd: 0.05),
 ///     starts: [(body: "puck", position: Uniform(half_width: 0.02), angle: Gaussian(sd: 0.05))],
-///     body_numbers: [(body: "puck", mass: Gaussian(sd: 0.1), linear_damping: Uniform(half_width: 0.2))],
+///     body_numbers: [
+///         (body: "puck", mass: Gaussian(sd: 0.1), linear_damping: Uniform(half_width: 0.2)),
+///         (body: "puck", per: Session, friction: Uniform(half_width: 0.3)),
+///     ],
 /// ),
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -30,19 +34,23 @@ pub struct NoiseSpec {
     /// (default none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub starts: Vec<StartNoise>,
-    /// Free bodies whose physical numbers are multiplied by drawn factors
-    /// at every execution (default none).
+    /// Free bodies whose physical numbers are multiplied by drawn factors,
+    /// at every execution or once per session (default none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub body_numbers: Vec<BodyNoise>,
 }
 
 /// The factors `1 + x` of one free body's physical numbers (a dynamic
-/// body that is no joint's child), drawn anew at every execution.
+/// body that is no joint's child), drawn anew at every execution or once
+/// per session (`per`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodyNoise {
     /// The body, by name.
     pub body: String,
+    /// When the factors are drawn (default [`Per::Execution`]).
+    #[serde(default, skip_serializing_if = "Per::is_execution")]
+    pub per: Per,
     /// Its mass (the factor stays above 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass: Option<Spread>,
@@ -67,6 +75,26 @@ impl BodyNoise {
             ("angular_damping", self.angular_damping),
             ("friction", self.friction),
         ]
+    }
+}
+
+/// When a body's numbers are drawn.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Per {
+    /// Anew at every execution, from the execution's key
+    /// ([`DrawKey::execution`]).
+    #[default]
+    Execution,
+    /// Once per session: every execution of a session draws the same
+    /// factors, from the session's key ([`DrawKey::session`]); sessions of
+    /// other seeds draw others.
+    Session,
+}
+
+impl Per {
+    /// Whether this is the default, [`Per::Execution`].
+    pub fn is_execution(&self) -> bool {
+        *self == Per::Execution
     }
 }
 
@@ -149,6 +177,41 @@ impl NoiseSpec {
                     .any(|(_, p)| p.is_some_and(|p| p.reach() > 0.0))
             })
     }
+}
+
+/// The keys of one execution's draws: its session's, from which the body
+/// numbers drawn [`Per::Session`] come (the same for every execution of a
+/// session), and its own, from which every other draw comes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct DrawKey {
+    /// The session's key ([`session_key`] of its seed).
+    pub session: u64,
+    /// The execution's key ([`draw_key`] of the seed and the trial).
+    pub execution: u64,
+}
+
+impl DrawKey {
+    /// The keys of trial `trial` of the session seeded `seed`:
+    /// `session_key(seed)` and `draw_key(seed, trial)`.
+    ///
+    /// ```
+    /// use e3d::scene::physics::{draw_key, session_key, DrawKey};
+    /// let k = DrawKey::trial(7, 3);
+    /// assert_eq!((k.session, k.execution), (session_key(7), draw_key(7, 3)));
+    /// assert_eq!(DrawKey::trial(7, 4).session, k.session);
+    /// ```
+    pub fn trial(seed: u64, trial: u64) -> DrawKey {
+        DrawKey {
+            session: session_key(seed),
+            execution: draw_key(seed, trial),
+        }
+    }
+}
+
+/// The key of the draws made once per session of seed `seed`:
+/// `draw_key(seed, u64::MAX - 1)`, a trial no session reaches.
+pub fn session_key(seed: u64) -> u64 {
+    draw_key(seed, u64::MAX - 1)
 }
 
 /// The key of the draws of one execution: trial `trial` of the session

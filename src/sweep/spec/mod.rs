@@ -90,9 +90,11 @@ pub enum MetricSpec {
     /// ([`session::reproducibility`](crate::session::reproducibility), its
     /// default 64 commands and 20 runs, seeded by the session's seed): the
     /// share of its likely commands whose effect holds in at least 90% of
-    /// the runs; 1 on a noise-free scene; empty for episodes, continuous
-    /// commands and a policy that cannot be drawn from. Not a default (it
-    /// costs 64 x 20 executions a session).
+    /// the runs (for episodes, of its likely episodes:
+    /// [`session::episode_reproducibility`](crate::session::episode_reproducibility));
+    /// 1 on a noise-free scene; empty for a policy that cannot be drawn
+    /// from. Not a default (it costs 64 x 20 executions, or episodes, a
+    /// session).
     Reproducibility,
 }
 

@@ -409,7 +409,7 @@ impl PhysicsWorld {
         let (contexts, joint_geometry) =
             PhysicsWorld::context_starts(spec, scene.links(), &replicas[0], &s);
         // a world of many copies runs batches, whose copies share no prefix
-        let noise = super::noise::Noise::of(spec);
+        let noise = super::noise::Noise::of(spec, &s, &replicas[0]);
         let capacity = if copies == 1 && noise.is_none() {
             PREFIX_STATES
         } else {

@@ -49,6 +49,10 @@ pub struct PhysicsState {
     pub context: Option<usize>,
     #[serde(skip)]
     snapshot: Option<Arc<Sets>>,
+    /// Whether [`Episodic::draw_start`] drew it (a start, not where a
+    /// command left the world): a noisy world offsets its starts.
+    #[serde(skip)]
+    start: bool,
 }
 
 impl PhysicsState {
@@ -236,6 +240,7 @@ impl PhysicsWorld {
                 .collect(),
             context,
             snapshot: Some(snapshot),
+            start: false,
         }
     }
 
@@ -287,7 +292,15 @@ impl PhysicsWorld {
         let saved = std::mem::replace(&mut self.pristine, Sets::clone(&snapshot));
         let prefixes = std::mem::take(&mut self.prefixes);
         let mirror = self.mirror.take();
+        // the start offsets of a noisy world apply to starts only
+        let start = matches!(from, WorldState::Physics(s) if s.start);
+        if let Some(n) = &mut self.noise {
+            n.offsets = start;
+        }
         let r = f(self);
+        if let Some(n) = &mut self.noise {
+            n.offsets = true;
+        }
         self.pristine = saved;
         self.prefixes = prefixes;
         self.mirror = mirror;
@@ -302,7 +315,8 @@ impl Episodic for PhysicsWorld {
 
     /// The context's start state: a named context's is fixed, a sampled
     /// one draws two floats (x, then y) per ranged body, then one per
-    /// ranged joint.
+    /// ranged joint. A noisy world offsets the starts of a command from it
+    /// (not of one from a state a command left).
     fn draw_start(&self, context: usize, rng: &mut SessionRng) -> Result<WorldState, WorldError> {
         let start = self.contexts.get(context).ok_or_else(|| {
             WorldError::Other(format!(
@@ -311,7 +325,7 @@ impl Episodic for PhysicsWorld {
                 self.contexts.len()
             ))
         })?;
-        Ok(WorldState::Physics(match start {
+        let mut state = match start {
             ContextStart::Pristine => self.state_of(Arc::new(self.pristine.clone()), Some(0)),
             ContextStart::Named(sets) => self.state_of(sets.clone(), Some(context)),
             ContextStart::Sampled(starts) => {
@@ -320,7 +334,9 @@ impl Episodic for PhysicsWorld {
                 place(&mut sets, starts, infos, &self.joint_geometry, Some(rng));
                 self.state_of(Arc::new(sets), None)
             }
-        }))
+        };
+        state.start = true;
+        Ok(WorldState::Physics(state))
     }
 
     /// The effect's bin of the state (the effect a command ending there has).

@@ -23,7 +23,7 @@ pub use record::{BodyPose, Frame, Motion, RunStats, Trace};
 use super::{Outcome, World, WorldError};
 use crate::command::{Command, CommandSpace, ValueSpace};
 use crate::effect::{Binning, EffectGrid};
-use crate::scene::physics::DragSpec;
+use crate::scene::physics::{DragSpec, DrawKey};
 use crate::scene::Symmetry;
 use rapier2d::math::{Real, Vector};
 use rapier2d::prelude::{
@@ -390,7 +390,7 @@ impl World for PhysicsWorld {
         self.noise.is_none()
     }
 
-    fn set_draw_keys(&mut self, keys: &[u64]) {
+    fn set_draw_keys(&mut self, keys: &[DrawKey]) {
         if let Some(n) = &mut self.noise {
             n.give(keys);
         }

@@ -3,7 +3,7 @@
 //! start offsets on free dynamic bodies only.
 
 use crate::scene::physics::limits::{MAX_ANGLE_NOISE, MAX_POSITION_NOISE};
-use crate::scene::physics::{BodyKind, PhysicsSpec, Spread, StartNoise};
+use crate::scene::physics::{BodyKind, Per, PhysicsSpec, Spread, StartNoise};
 use crate::scene::Invalid;
 
 /// `Err(expected)` unless the spread is finite, >= 0 and reaches at most
@@ -39,7 +39,8 @@ impl PhysicsSpec {
     /// joint's child), with position spreads within
     /// [`MAX_POSITION_NOISE`] m and angle spreads within
     /// [`MAX_ANGLE_NOISE`] rad; body numbers' factors keep a mass above
-    /// 0 and a damping or friction at least 0.
+    /// 0 and a damping or friction at least 0; a body is listed once per
+    /// `per` there, and each of its numbers in one entry only.
     pub(super) fn check_noise(&self) -> Result<(), Invalid> {
         let Some(noise) = &self.noise else {
             return Ok(());
@@ -61,7 +62,8 @@ impl PhysicsSpec {
             })
         };
         let mut seen = std::collections::HashSet::new();
-        let mut body = |list: &'static str, k: usize, name: &str| {
+        // a body may be listed once per `per` in `body_numbers`
+        let mut body = |list: &'static str, k: usize, name: &str, per: Per| {
             let body = crate::text::echo(name);
             let what = if list == "starts" {
                 "the start of"
@@ -76,8 +78,12 @@ impl PhysicsSpec {
                 let expected = "a free dynamic body of the scene (no joint's child)";
                 return Err(here("body", expected.into()));
             }
-            if !seen.insert((list, name.to_string())) {
-                return Err(here("body", "each body listed once".into()));
+            if !seen.insert((list, name.to_string(), per)) {
+                let expected = match list {
+                    "starts" => "each body listed once",
+                    _ => "each body listed once per `per` (Execution, Session)",
+                };
+                return Err(here("body", expected.into()));
             }
             Ok(here)
         };
@@ -87,7 +93,7 @@ impl PhysicsSpec {
                 self.check_joint_noise(k, s, joints.insert(s.joint.as_str()))?;
                 continue;
             }
-            let here = body("starts", k, &s.body)?;
+            let here = body("starts", k, &s.body, Per::Execution)?;
             for (field, spread, max, unit) in [
                 ("position", s.position, MAX_POSITION_NOISE, "m"),
                 ("angle", s.angle, MAX_ANGLE_NOISE, "rad"),
@@ -97,9 +103,14 @@ impl PhysicsSpec {
                 }
             }
         }
+        let mut numbers = std::collections::HashSet::new();
         for (k, b) in noise.body_numbers.iter().enumerate() {
-            let here = body("body_numbers", k, &b.body)?;
+            let here = body("body_numbers", k, &b.body, b.per)?;
             for (field, spread) in b.spreads() {
+                if spread.is_some() && !numbers.insert((b.body.as_str(), field)) {
+                    let e = format!("the `{field}` of a body drawn in one entry only (per execution or per session, not both)");
+                    return Err(here(field, e));
+                }
                 // a mass stays above 0, a damping or friction at least 0
                 let below = field == "mass";
                 if let Some(e) = spread.and_then(|p| check_spread(p, 1.0, below, "").err()) {
