@@ -24,40 +24,6 @@ DESCRIPTORS = ("cell", "point")
 """The built-in descriptors (``Scoring(descriptor=...)``)."""
 
 
-def _size(action: Any) -> float:
-    """The size of one action of ``Scene.to_dict()``: 0 for ``Idle``,
-    ``|drow| + |dcol|`` for a grid's ``Move``, ``|torque|`` (N·m),
-    ``|angle|`` (a ``Target``'s set point), the norm of an ``Impulse``
-    (N·s) or a ``Force`` (N)."""
-    if action == "Idle":
-        return 0.0
-    (kind, f), = action.items()
-    if kind == "Move":
-        return float(abs(f["drow"]) + abs(f["dcol"]))
-    if kind == "Torque":
-        return abs(float(f["torque"]))
-    if kind == "Target":
-        return abs(float(f["angle"]))
-    if kind in ("Impulse", "Force"):
-        return float(np.hypot(*f[kind.lower()]))
-    raise ValueError(f"effort: no size for the action {kind}")
-
-
-def _value_size(action: Any) -> tuple[float, float]:
-    """A continuous slot's effort as ``a * |v| + b`` for its value ``v``:
-    ``(a, b)``. Torques and set points: ``|v|``; an impulse or force of
-    ``v * direction``: ``|v| * |direction|``; a ``Heading`` (an impulse of
-    fixed size in the direction ``v``): its size, whatever ``v``."""
-    (kind, f), = action.items()
-    if kind in ("Torque", "Target"):
-        return 1.0, 0.0
-    if kind in ("Impulse", "Force"):
-        return float(np.hypot(*f["direction"])), 0.0
-    if kind == "Heading":
-        return 0.0, abs(float(f["impulse"]))
-    raise ValueError(f"effort: no size for the continuous action {kind}")
-
-
 class Scoring:
     """A scene as a quality-diversity scoring function: ``scoring(solutions)
     -> (objective, measures)``, what pyribs' ``scheduler.tell`` takes.
@@ -72,10 +38,11 @@ class Scoring:
     ``Scene.value_ranges``).
 
     **Quality** (the objective), per command: ``"reward"`` (the scene's
-    reward of the outcome), ``"effort"`` (minus the command's effort: the
-    sum over slots of the size of the slot's action, ``|torque|`` in N·m,
-    the norm of an impulse in N·s or of a force in N, ``|angle|`` of a set
-    point, 1 for a grid move, 0 for ``Idle``; on a continuous scene of the
+    reward of the outcome), ``"effort"`` (e3d's effort quality ``1 -
+    effort / max_effort``, in [0, 1]: ``Scene.effort``, the sum over slots
+    of the size of the slot's action, ``|torque|`` in N·m, the norm of an
+    impulse in N·s or of a force in N, ``|angle|`` of a set point, the
+    length of a grid move, 0 for ``Idle``; on a continuous scene of the
     action of the value), or a callable ``quality(commands, outcome) ->
     array[N]`` (then give ``offset``).
 
@@ -91,8 +58,9 @@ class Scoring:
     **QD-score** (pyribs' ``archive.stats.qd_score``): the sum over filled
     cells of the elite's quality minus ``offset``; ``offset`` (pyribs'
     ``qd_score_offset``) is the lowest quality a command can have (default:
-    the smallest reward of a cell for ``"reward"``, minus the largest
-    effort of a command for ``"effort"``), so every term is non-negative.
+    the smallest reward of a cell for ``"reward"``, 0 for ``"effort"``), so
+    every term is non-negative; with ``"effort"`` it is e3d's own
+    ``qd_score`` of the same commands.
     **Coverage**: the share of the grid's ``rows * cols`` cells filled.
     """
 
@@ -123,7 +91,6 @@ class Scoring:
             raise ValueError(f"{s.name}: {s.num_effects} effects on a grid of {self.num_cells} "
                              "cells: expected one effect per cell")
         self.solution_dim: int = s.num_slots
-        self._effort, self._effort_max = self._effort_tables()
         if s.is_continuous:
             self.bounds: list[tuple[float, float]] = [(float(a), float(b)) for a, b in s.value_ranges]
         else:
@@ -133,27 +100,10 @@ class Scoring:
         elif quality == "reward":
             self.offset = float(np.min(s.reward_table()))
         elif quality == "effort":
-            self.offset = -self._effort_max
+            self.offset = 0.0
         else:
             raise ValueError("offset: a callable quality needs its offset (the lowest quality "
                              "a command can have, pyribs' qd_score_offset)")
-
-    def _effort_tables(self) -> tuple[list[Array], float]:
-        """Per slot the effort of each symbol (or ``(a, b)`` of a continuous
-        slot), and the largest effort of a command."""
-        spec = self.scene.to_dict()["command"]
-        (kind, f), = spec.items()
-        if kind == "Continuous":
-            ab = [np.array(_value_size(slot["action"])) for slot in f]
-            top = sum(a * max(abs(lo), abs(hi)) + b
-                      for (a, b), (lo, hi) in zip(ab, self.scene.value_ranges))
-            return ab, float(top)
-        if kind == "Slots":
-            alphabets = [slot["alphabet"] for slot in f]
-        else:  # Repeat, Template: one alphabet for every slot
-            alphabets = [f["alphabet"]] * f["slots"]
-        sizes = [np.array([_size(sym["action"]) for sym in a]) for a in alphabets]
-        return sizes, float(sum(t.max() for t in sizes))
 
     def commands(self, solutions: npt.ArrayLike) -> npt.NDArray[Any]:
         """The commands of ``solutions`` (``[N, num_slots]``, or one row):
@@ -176,20 +126,18 @@ class Scoring:
         return self.commands(c.astype(np.float64)).astype(np.float64)
 
     def effort(self, commands: npt.ArrayLike) -> Array:
-        """Each command's effort (``[N]``, see the class)."""
+        """Each command's effort (``[N]``): e3d's ``Scene.effort``."""
         c = np.atleast_2d(np.asarray(commands))
-        if self.scene.is_continuous:
-            ab = np.array(self._effort)
-            return np.asarray(np.abs(c.astype(np.float64)) @ ab[:, 0] + ab[:, 1].sum(), dtype=np.float64)
-        idx = c.astype(np.int64)
-        return np.asarray(sum(t[idx[:, k]] for k, t in enumerate(self._effort)), dtype=np.float64)
+        c = c.astype(np.float64) if self.scene.is_continuous else c.astype(np.uint8)
+        return np.asarray(self.scene.effort(c), dtype=np.float64)
 
     def quality_of(self, commands: npt.NDArray[Any], outcome: BatchOutcome) -> Array:
         """The quality of each command (``[N]``) given its outcome."""
         if self.quality == "reward":
             return np.array(outcome.reward, dtype=np.float64)
         if self.quality == "effort":
-            return -self.effort(commands)
+            top = self.scene.max_effort
+            return 1.0 - self.effort(commands) / top if top > 0 else np.ones(len(commands))
         assert callable(self.quality)
         q = np.asarray(self.quality(commands, outcome), dtype=np.float64)
         if q.shape != (len(commands),):

@@ -22,8 +22,9 @@ session's commands, computed as pyribs computes them::
 Needs pyribs (``pip install ribs``, or ``pip install e3d[qd]``); importing
 this module without it raises an ``ImportError`` that says so. ``Scoring``
 documents the encoding of commands, the qualities, the descriptors and the
-QD-score; docs/quality-diversity.md compares E3D, goal babbling, uniform
-sampling and pyribs' MAP-Elites on arm7 and three_rooms.
+QD-score (with ``quality="effort"``, e3d's own ``qd_score``);
+docs/quality-diversity.md compares E3D, goal babbling, uniform sampling,
+e3d's and pyribs' MAP-Elites on arm7 and three_rooms.
 """
 
 import math

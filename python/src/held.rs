@@ -10,7 +10,8 @@ use e3d::learner::{
     QLearning, RelaxedE3d, StateMarginalMatching,
 };
 use e3d::learner::{
-    E3d, EpsilonGreedy, GaussianE3d, LearnerError, LearnerState, UniformPolicy, UniformValues,
+    E3d, Effort, EpsilonGreedy, GaussianE3d, LearnerError, LearnerState, UniformPolicy,
+    UniformValues,
 };
 use e3d::{ContinuousLearner, Learner, LearnerKind, Params};
 use pyo3::exceptions::PyValueError;
@@ -197,7 +198,7 @@ impl Held {
                 LearnerKind::GoalBabbling => Ok(Held::GoalBabblingValues(GoalBabblingValues::new(values, n, params))),
                 LearnerKind::Archive => Ok(Held::ArchiveValues(ArchiveValues::new(values, n, params))),
                 LearnerKind::ArchiveReached => Ok(Held::ArchiveReachedValues(ArchiveReachedValues::new(values, n, params))),
-                LearnerKind::MapElites => Ok(Held::MapElitesValues(MapElitesValues::new(values, n, params))),
+                LearnerKind::MapElites => Ok(Held::MapElitesValues(MapElitesValues::new(values, n, params).with_effort(Some(Effort::of_scene(&scene.inner))))),
                 other => Err(LearnerError::State(format!(
                     "learner `{other}`: a saved state of continuous commands is kept for \"e3d\", \"uniform\", \"goal_babbling\", \"archive\", \"archive_reached\" and \"map_elites\""
                 ))),
@@ -219,7 +220,9 @@ impl Held {
             LearnerKind::GoalBabbling => Held::GoalBabbling(GoalBabbling::new(s, n, params)),
             LearnerKind::Archive => Held::Archive(Archive::new(s, n, params)),
             LearnerKind::ArchiveReached => Held::ArchiveReached(ArchiveReached::new(s, n, params)),
-            LearnerKind::MapElites => Held::MapElites(MapElites::new(s, n, params)),
+            LearnerKind::MapElites => Held::MapElites(
+                MapElites::new(s, n, params).with_effort(Some(Effort::of_scene(&scene.inner))),
+            ),
             LearnerKind::QlearningMoves => {
                 // its learner is over contexts (Learner.contextual), made below
                 return Err(PyValueError::new_err(

@@ -64,15 +64,20 @@ def test_two_rooms_reward_and_cell():
 
 
 def test_effort_sums_the_sizes_of_the_actions():
+    # e3d's own effort (Scene.effort): the quality is 1 - effort / max_effort, offset 0
     s = Scoring("arm7", quality="effort")
-    assert s.offset == pytest.approx(-sum(ARM7_TORQUES))
+    assert s.offset == 0.0 and s.scene.max_effort == pytest.approx(sum(ARM7_TORQUES))
     c = s.scene.parse(["+++++++", "0000000", "-0+0-0+"])
-    assert s.effort(c).tolist() == pytest.approx(
-        [sum(ARM7_TORQUES), 0.0, 1.8 + 0.75 + 0.24 + 0.06])
+    e = [sum(ARM7_TORQUES), 0.0, 1.8 + 0.75 + 0.24 + 0.06]
+    assert s.effort(c).tolist() == pytest.approx(e)
+    assert s.scene.effort(["-0+0-0+"]).tolist() == pytest.approx(e[2:])
+    nan = np.full(3, np.nan)
+    q = s.quality_of(c, e3d.BatchOutcome(np.zeros(3, np.int64), np.zeros(3), nan, nan))
+    assert q.tolist() == pytest.approx([0.0, 1.0, 1 - e[2] / sum(ARM7_TORQUES)])
     # three_rooms: 9 impulses of 2.4 N*s whatever the command
     t = Scoring("three_rooms", quality="effort")
     assert t.effort(t.scene.parse(["EEEEEEEEE", "NSWENSWEN"])).tolist() == pytest.approx([21.6] * 2)
-    assert t.offset == pytest.approx(-21.6)
+    assert not t.scene.effort_varies and s.scene.effort_varies
 
 
 def test_continuous_scene_values_clipped_and_effort():
@@ -82,7 +87,7 @@ def test_continuous_scene_values_clipped_and_effort():
     c = s.commands(x)
     assert c.tolist() == [[1.8, -0.5, 0.0, 0.1, -0.24, 0.0, 0.03]]
     assert s.effort(c).tolist() == pytest.approx([1.8 + 0.5 + 0.1 + 0.24 + 0.03])
-    assert s.offset == pytest.approx(-sum(ARM7_TORQUES))
+    assert s.scene.max_effort == pytest.approx(sum(ARM7_TORQUES))
 
 
 def test_elites_qd_score_and_coverage_by_hand():
@@ -107,9 +112,14 @@ def test_a_session_as_an_archive():
     s = Scoring("two_rooms", quality="effort")
     rec = e3d.run_session("two_rooms", "uniform", trials=300, seed=4)
     el = s.elites(rec.commands, rec.effects)
-    # every command is 7 moves: each filled cell holds quality -7, offset -7
+    # every command is 7 moves: each filled cell holds quality 0, and e3d reports no qd_score
     assert s.coverage(el) == rec.metrics["distinct_effects"] / 18
-    assert s.qd_score(el) == 0.0
+    assert s.qd_score(el) == 0.0 and rec.metrics["qd_score"] is None
+    # arm7: the Scoring's QD-score is e3d's own qd_score
+    arm = Scoring("arm7", quality="effort")
+    rec = e3d.run_session("arm7", "uniform", trials=300, seed=4)
+    el = arm.elites(rec.commands, rec.effects)
+    assert arm.qd_score(el) == pytest.approx(rec.metrics["qd_score"])
     assert set(np.flatnonzero(~np.isnan(el))) == set(rec.effects.tolist())
 
 
@@ -157,9 +167,9 @@ def test_grid_archive_holds_e3ds_cells_and_its_stats():
     from e3d import qd
     s = qd.Scoring("three_rooms", quality="effort")
     archive = qd.grid_archive(s)
-    assert archive.cells == 27 and archive.qd_score_offset == pytest.approx(-21.6)
+    assert archive.cells == 27 and archive.qd_score_offset == 0.0
     arm = qd.grid_archive("arm7", quality="effort")  # from a scene: its Scoring's archive
-    assert (arm.cells, arm.solution_dim, arm.qd_score_offset) == (225, 7, pytest.approx(-4.62))
+    assert (arm.cells, arm.solution_dim, arm.qd_score_offset) == (225, 7, 0.0)
     assert arm.dims.tolist() == [15, 15] and arm.lower_bounds.tolist() == [-1.875, -1.875]
     rng = np.random.default_rng(5)
     x = rng.uniform(-0.5, 3.5, size=(200, 9))
@@ -206,7 +216,7 @@ def test_quality_diversity_md_runs(root):
     scoring, archive, elites = ns["scoring"], ns["archive"], ns["elites"]
     assert 0 < archive.stats.coverage <= 68 / 225  # arm7's tip reaches 68 of the 225 cells
     assert archive.stats.qd_score == pytest.approx(scoring.qd_score(ns["qd"].elites_of(archive, scoring)))
-    assert 0 < scoring.qd_score(elites) <= scoring.coverage(elites) * 225 * 4.62
+    assert 0 < scoring.qd_score(elites) <= scoring.coverage(elites) * 225
 
 
 def test_compare_script_prints_its_table(root, tmp_path):

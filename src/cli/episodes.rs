@@ -129,6 +129,7 @@ pub fn run(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> CliResu
     let make = || -> Result<Box<dyn ContextualLearner + Send>, CliError> {
         LearnerSetup::new(a.learner)
             .params(params)
+            .effort_of(scene)
             .closed_loop(a.closed_loop)
             .gamma(a.gamma)
             .contexts(&space, num_effects, contexts)

@@ -96,6 +96,12 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
             .map_err(|e| e.to_string())
             .and_then(|r| r.check().map(|()| r))
     });
+    // the scene itself, if it is still the one recorded (the elite map
+    // needs its actions)
+    let scene = match &record {
+        Some(Ok(r)) => r.scene(),
+        _ => None,
+    };
     let (rows, cols, note) = match record {
         Some(Ok(r)) => {
             let g = &r.effect_grid;
@@ -130,7 +136,14 @@ fn run_report(dir: &Path) -> Result<String, CliError> {
         Some(name) => format!("e3d run: {name}"),
         None => format!("e3d run: {}", dir.display()),
     };
-    Ok(run_page(&title, &note, &summary, &trials, rows, cols))
+    Ok(run_page(
+        &title,
+        &note,
+        &summary,
+        &trials,
+        (rows, cols),
+        scene.as_ref(),
+    ))
 }
 
 /// The page of a sweep folder: summary.csv, the failures of results.csv

@@ -138,7 +138,7 @@ fn run_symbols(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> Cli
     let sessions = seeds.len();
     let space = scene.command_space();
     let num_effects = scene.num_effects();
-    let setup = LearnerSetup::new(a.learner).params(params);
+    let setup = LearnerSetup::new(a.learner).params(params).effort_of(scene);
     setup
         .symbols(&space, num_effects)
         .map_err(CliError::input)?;
@@ -165,7 +165,8 @@ fn run_symbols(a: &RunArgs, scene: &Scene, params: Params, seeds: &[u64]) -> Cli
         .iter()
         .map(|_| setup.symbols(&space, num_effects).map_err(CliError::input))
         .collect::<Result<Vec<_>, _>>()?;
-    let tally = || RunningMetrics::new(num_effects).with_effort(Effort::of_symbols(&space));
+    let effort = Effort::of_scene(scene);
+    let tally = || RunningMetrics::new(num_effects).with_effort(effort.clone());
     let mut recorders = recorders(a.out.as_deref(), sessions, tally, |part, i| TrialsCsv {
         part,
         space: space.clone(),
@@ -290,7 +291,7 @@ fn run_values(
     }
     let space = continuous.values();
     let num_effects = scene.num_effects();
-    let setup = LearnerSetup::new(a.learner).params(params);
+    let setup = (LearnerSetup::new(a.learner).params(params)).effort_of(scene);
     let configs = configs(a, seeds);
     let mut learners = configs
         .iter()
@@ -322,11 +323,11 @@ fn run_values(
         st.map_err(CliError::simulation)?;
         rec.set_policy(learner);
     }
-    let effort = Effort::of_values(space);
+    let effort = Effort::of_scene(scene);
     let metrics: Vec<Metrics> = records
         .iter()
         .map(|r| Metrics {
-            qd_score: Some(r.qd_score(&effort)),
+            qd_score: r.qd_score(&effort),
             ..r.metrics(&Target::Uniform)
         })
         .collect();

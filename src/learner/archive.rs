@@ -7,7 +7,7 @@
 
 use super::effort::{Effort, Effortful};
 use super::mutation::{kept_commands, spread, Cells, Genome, Kept, SymbolGenome, ValueGenome};
-use super::state::{LearnerState, StateShape};
+use super::state::{ensure, LearnerState, StateShape};
 use super::{draw_weighted, ContinuousLearner, Learner, Params};
 use crate::command::{Command, ValueSpace};
 use crate::rng::SessionRng;
@@ -43,8 +43,8 @@ pub trait Variant: std::fmt::Debug + Clone + Send + Serialize + DeserializeOwned
     /// reached (`Some(false)`), or not kept: cells are picked uniformly
     /// (`None`).
     const COUNTS_CHOSEN: Option<bool>;
-    /// The variant for commands whose effort is `effort`.
-    fn new(effort: Effort) -> Self;
+    /// The variant, measuring no effort yet.
+    fn new() -> Self;
     /// The quality of `command`, which ended in `outcome`: a better one
     /// replaces its cell's elite.
     fn quality<T>(&self, command: &[T], outcome: &Outcome) -> f64
@@ -55,6 +55,14 @@ pub trait Variant: std::fmt::Debug + Clone + Send + Serialize + DeserializeOwned
     fn uniform_next(&mut self) -> bool {
         false
     }
+    /// The cells a pick is among and their weights, when they are those
+    /// of the start of a batch ([`Reached`]); `None`: the archive as it is.
+    fn frozen(&self) -> Option<(&[usize], &[f64])> {
+        None
+    }
+    /// After each trial learned: the reached cells in order, and the
+    /// weight of each.
+    fn learned(&mut self, _order: &[usize], _weight: impl Fn(usize) -> f64) {}
     /// Checks a variant read from a state.
     fn check(&self) -> Result<(), String> {
         Ok(())
@@ -65,13 +73,29 @@ pub trait Variant: std::fmt::Debug + Clone + Send + Serialize + DeserializeOwned
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct Chosen;
 
-/// The archive that weights a cell by how often it was reached.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
-pub struct Reached;
+/// The batch of [`Reached`]: the trials whose picks share the archive
+/// (its cells and their weights) of the batch's start, as Go-Explore's
+/// parallel workers do (docs/algorithms.md, "Two archives").
+pub const REACHED_BATCH: usize = 64;
+
+/// The archive that weights a cell by how often it was reached, its
+/// picks in batches ([`REACHED_BATCH`] trials by default): every pick of
+/// a batch is among the cells, with the weights, of the batch's start.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Reached {
+    /// The trials of a batch.
+    batch: usize,
+    /// The trials learned.
+    learned: u64,
+    /// The reached cells at the start of the batch, in order.
+    cells: Vec<usize>,
+    /// Their weights then.
+    weights: Vec<f64>,
+}
 
 impl Variant for Chosen {
     const COUNTS_CHOSEN: Option<bool> = Some(true);
-    fn new(_: Effort) -> Self {
+    fn new() -> Self {
         Chosen
     }
     fn quality<T>(&self, _: &[T], outcome: &Outcome) -> f64 {
@@ -81,11 +105,38 @@ impl Variant for Chosen {
 
 impl Variant for Reached {
     const COUNTS_CHOSEN: Option<bool> = Some(false);
-    fn new(_: Effort) -> Self {
-        Reached
+    fn new() -> Self {
+        Reached {
+            batch: REACHED_BATCH,
+            learned: 0,
+            cells: Vec::new(),
+            weights: Vec::new(),
+        }
     }
     fn quality<T>(&self, _: &[T], outcome: &Outcome) -> f64 {
         outcome.reward
+    }
+    fn frozen(&self) -> Option<(&[usize], &[f64])> {
+        Some((&self.cells, &self.weights))
+    }
+    fn learned(&mut self, order: &[usize], weight: impl Fn(usize) -> f64) {
+        self.learned += 1;
+        if self.learned % self.batch as u64 == 0 {
+            self.cells = order.to_vec();
+            self.weights = order.iter().map(|&e| weight(e)).collect();
+        }
+    }
+    fn check(&self) -> Result<(), String> {
+        let ok = self.batch >= 1 && self.cells.len() == self.weights.len();
+        let weights = self.weights.iter().all(|w| w.is_finite() && *w > 0.0);
+        ensure(ok && weights, || {
+            format!(
+                "a reached archive's batch of {} trials, {} cells and {} weights",
+                self.batch,
+                self.cells.len(),
+                self.weights.len()
+            )
+        })
     }
 }
 
@@ -96,16 +147,18 @@ pub const MAP_ELITES_INITIAL: u32 = 10;
 /// [`MAP_ELITES_INITIAL`] uniform commands.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Elites {
-    effort: Effort,
+    /// The effort of the scene's commands (none: every command has the
+    /// quality 0, and each cell keeps its first command).
+    effort: Option<Effort>,
     /// The uniform commands still to propose.
     initial: u32,
 }
 
 impl Variant for Elites {
     const COUNTS_CHOSEN: Option<bool> = None;
-    fn new(effort: Effort) -> Self {
+    fn new() -> Self {
         Elites {
-            effort,
+            effort: None,
             initial: MAP_ELITES_INITIAL,
         }
     }
@@ -113,7 +166,8 @@ impl Variant for Elites {
     where
         [T]: Effortful,
     {
-        self.effort.quality(command).unwrap_or(0.0)
+        let q = self.effort.as_ref().and_then(|e| e.quality(command));
+        q.unwrap_or(0.0)
     }
     fn uniform_next(&mut self) -> bool {
         let first = self.initial > 0;
@@ -121,7 +175,7 @@ impl Variant for Elites {
         first
     }
     fn check(&self) -> Result<(), String> {
-        self.effort.check()
+        self.effort.as_ref().map_or(Ok(()), Effort::check)
     }
 }
 
@@ -194,7 +248,8 @@ pub type ArchiveReachedValues = ArchiveReachedOf<ValueGenome>;
 /// use e3d::{Learner, Outcome, Params, SessionRng};
 /// use e3d::command::CommandSpace;
 /// let space = CommandSpace::repeat(3, &['-', '0', '+']).unwrap();
-/// let mut m = MapElites::new(&space, 4, &Params::TASK1);
+/// let effort = Effort::Symbols(vec![vec![1.0, 0.0, 1.0]; 3]); // |torque| 1 or 0
+/// let mut m = MapElites::new(&space, 4, &Params::TASK1).with_effort(Some(effort));
 /// let o = Outcome { effect: 1, reward: 0.0, point: [0.0; 2] };
 /// m.learn(&space.parse("+-+").unwrap(), &o);
 /// m.learn(&space.parse("+0-").unwrap(), &o); // less effort: the new elite
@@ -218,6 +273,26 @@ pub type MapElites = MapElitesOf<SymbolGenome>;
 /// [`MapElitesOf`] over continuous commands.
 pub type MapElitesValues = MapElitesOf<ValueGenome>;
 
+impl<G: Genome> ArchiveReachedOf<G> {
+    /// The same archive, its picks in batches of `batch` trials (at least
+    /// 1: every pick sees the archive as it is; default
+    /// [`REACHED_BATCH`]).
+    pub fn with_batch(mut self, batch: usize) -> Self {
+        self.variant.batch = batch.max(1);
+        self
+    }
+}
+
+impl<G: Genome> MapElitesOf<G> {
+    /// The same MAP-Elites, its elites kept by the effort quality of
+    /// `effort` (the scene's: [`Effort::of_scene`]); `None`: every command
+    /// has the quality 0 (each cell keeps its first command).
+    pub fn with_effort(mut self, effort: Option<Effort>) -> Self {
+        self.variant.effort = effort;
+        self
+    }
+}
+
 impl<G: Genome, V: Variant> ArchiveOf<G, V>
 where
     [G::Elem]: Effortful,
@@ -231,7 +306,7 @@ where
             cells: Cells::new(num_effects),
             rarity: params.rarity,
             last_cell: None,
-            variant: V::new(G::effort(space)),
+            variant: V::new(),
         }
     }
 
@@ -246,12 +321,20 @@ where
     }
 
     fn choose(&mut self, rng: &mut SessionRng) -> Option<usize> {
-        let reached = &self.cells.order;
-        if self.variant.uniform_next() || reached.is_empty() {
+        if self.variant.uniform_next() {
+            return None;
+        }
+        let (reached, frozen) = match self.variant.frozen() {
+            Some((cells, weights)) => (cells, Some(weights)),
+            None => (&self.cells.order[..], None),
+        };
+        if reached.is_empty() {
             return None;
         }
         let i = if self.rarity == 0.0 || V::COUNTS_CHOSEN.is_none() {
             rng.random_range(0..reached.len())
+        } else if let Some(weights) = frozen {
+            draw_weighted(weights.iter().copied(), rng)
         } else {
             draw_weighted(reached.iter().map(|&e| self.cells.get(e).weight), rng)
         };
@@ -296,7 +379,9 @@ where
                 entry.command.extend_from_slice(command);
                 entry.quality = quality;
             }
-        })
+        });
+        let cells = &self.cells;
+        (self.variant).learned(&cells.order, |e| cells.get(e).weight);
     }
 
     /// The command kept for cell `effect` (its elite), if it was reached.
@@ -323,6 +408,12 @@ where
     fn check(&self) -> Result<(), String> {
         self.genome.validate()?;
         self.variant.check()?;
+        if let Some((frozen, _)) = self.variant.frozen() {
+            let reached = |e: &usize| self.cells.cells.get(*e).is_some_and(|c| c.is_some());
+            ensure(frozen.iter().all(reached), || {
+                format!("a batch's cells {frozen:?}, not all reached")
+            })?;
+        }
         let n = self.genome.sizes().len();
         self.cells.check("an archive", n, self.last_cell)
     }

@@ -43,11 +43,12 @@ mod uniform;
 pub use archive::{
     Archive, ArchiveOf, ArchiveReached, ArchiveReachedOf, ArchiveReachedValues, ArchiveValues,
     Chosen, Elites, MapElites, MapElitesOf, MapElitesValues, Reached, Variant, MAP_ELITES_INITIAL,
+    REACHED_BATCH,
 };
 pub use contextual::{ClosedLoopE3d, ContextTargets, ContextualLearner, PerContext, QLearning};
 pub use drives::{CountBonus, RelaxedE3d, StateMarginalMatching};
 pub use e3d::E3d;
-pub use effort::{Effort, Effortful};
+pub use effort::{Effort, Effortful, ValueEffort};
 pub use egreedy::EpsilonGreedy;
 pub use gaussian::{GaussianE3d, UniformValues};
 pub use goal_babbling::{

@@ -139,8 +139,6 @@ pub trait Genome: Clone + Send + Serialize + DeserializeOwned {
     fn sizes(&self) -> Vec<usize>;
     /// Checks a genome read from a state.
     fn validate(&self) -> Result<(), String>;
-    /// The effort of the commands of `space`.
-    fn effort(space: &Self::Space) -> super::effort::Effort;
 }
 
 /// Commands of symbols, mutated by resampling `k` slots.
@@ -178,9 +176,6 @@ impl Genome for SymbolGenome {
             || format!("slots of alphabet sizes {sizes:?}"),
         )
     }
-    fn effort(space: &CommandSpace) -> super::effort::Effort {
-        super::effort::Effort::of_symbols(space)
-    }
 }
 
 /// Commands of values, mutated by Gaussian noise of `sigma` (unit
@@ -211,9 +206,6 @@ impl Genome for ValueGenome {
     }
     fn validate(&self) -> Result<(), String> {
         check_values(&self.space)
-    }
-    fn effort(space: &ValueSpace) -> super::effort::Effort {
-        super::effort::Effort::of_values(space)
     }
 }
 

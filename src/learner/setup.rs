@@ -3,7 +3,7 @@
 use super::contextual::{check_context_effects, check_gamma};
 use super::{
     Archive, ArchiveReached, ArchiveReachedValues, ArchiveValues, ClosedLoopE3d, ContextTargets,
-    ContextualLearner, ContinuousLearner, CountBonus, E3d, EpsilonGreedy, GaussianE3d,
+    ContextualLearner, ContinuousLearner, CountBonus, E3d, Effort, EpsilonGreedy, GaussianE3d,
     GoalBabbling, GoalBabblingValues, Learner, LearnerError, LearnerKind, MapElites,
     MapElitesValues, Params, PerContext, QLearning, RelaxedE3d, StateMarginalMatching,
     UniformPolicy, UniformValues,
@@ -54,6 +54,10 @@ pub struct LearnerSetup {
     /// The discount of a closed loop, in `[0, 1]` (checked open loop too:
     /// a discount out of range is a mistake either way).
     pub gamma: f64,
+    /// The effort of the scene's commands, by which MAP-Elites keeps its
+    /// elites ([`Effort::of_scene`]; none: by nothing, each cell keeps its
+    /// first command).
+    pub effort: Option<Effort>,
 }
 
 impl LearnerSetup {
@@ -67,6 +71,7 @@ impl LearnerSetup {
             targets: ContextTargets::Shared(Target::Uniform),
             closed_loop: false,
             gamma: ClosedLoopE3d::GAMMA,
+            effort: None,
         }
     }
 
@@ -92,6 +97,15 @@ impl LearnerSetup {
     pub fn closed_loop(self, closed_loop: bool) -> LearnerSetup {
         LearnerSetup {
             closed_loop,
+            ..self
+        }
+    }
+
+    /// The same setup with MAP-Elites' elites kept by the effort of
+    /// `scene`'s commands ([`Effort::of_scene`]).
+    pub fn effort_of(self, scene: &crate::Scene) -> LearnerSetup {
+        LearnerSetup {
+            effort: Some(Effort::of_scene(scene)),
             ..self
         }
     }
@@ -129,7 +143,9 @@ impl LearnerSetup {
             LearnerKind::GoalBabbling => Box::new(GoalBabbling::new(space, n, params)),
             LearnerKind::Archive => Box::new(Archive::new(space, n, params)),
             LearnerKind::ArchiveReached => Box::new(ArchiveReached::new(space, n, params)),
-            LearnerKind::MapElites => Box::new(MapElites::new(space, n, params)),
+            LearnerKind::MapElites => {
+                Box::new(MapElites::new(space, n, params).with_effort(self.effort.clone()))
+            }
             LearnerKind::QlearningMoves => return Err(LearnerError::contexts(MOVES_RUN_EPISODES)),
         })
     }
@@ -165,7 +181,9 @@ impl LearnerSetup {
             LearnerKind::GoalBabbling => Box::new(GoalBabblingValues::new(space, n, params)),
             LearnerKind::Archive => Box::new(ArchiveValues::new(space, n, params)),
             LearnerKind::ArchiveReached => Box::new(ArchiveReachedValues::new(space, n, params)),
-            LearnerKind::MapElites => Box::new(MapElitesValues::new(space, n, params)),
+            LearnerKind::MapElites => {
+                Box::new(MapElitesValues::new(space, n, params).with_effort(self.effort.clone()))
+            }
             other => {
                 return Err(LearnerError::NotContinuous {
                     learner: other.as_str(),

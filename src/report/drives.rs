@@ -72,6 +72,10 @@ pub struct DriveRow {
     pub task1_trials_to_50: Measure,
     /// Task 1: the trials to reach 90%, over the sessions that did.
     pub task1_trials_to_90: Measure,
+    /// Task 1: the QD-score (docs/algorithms.md, "QD-score"), over the
+    /// sessions that have one (none where every command has the same
+    /// effort).
+    pub task1_qd_score: Measure,
     /// Task 2's sessions.
     pub task2_sessions: usize,
     /// Task 2 (reward, beta 100): the cumulative reward at the last trial.
@@ -142,7 +146,7 @@ impl DriveComparison {
     }
 
     /// Per scene, which learner is best on each measure: the highest task
-    /// 1 entropy, the highest coverage, the fewest mean trials to 50% and
+    /// 1 entropy, the highest coverage and QD-score, the fewest mean trials to 50% and
     /// to 90% of the reachable cells (among the learners whose every
     /// session got there), the highest task 2 reward and the earliest
     /// median first reward (learners tied on a measure are all named).
@@ -154,9 +158,11 @@ impl DriveComparison {
         };
         // a measure's name, whether higher is better, and its value in a row
         type Value<'a> = &'a dyn Fn(&DriveRow) -> Option<f64>;
-        let measures: [(&str, bool, Value); 6] = [
+        let qd = |r: &DriveRow| (r.task1_qd_score.n > 0).then_some(r.task1_qd_score.stats.mean);
+        let measures: [(&str, bool, Value); 7] = [
             ("entropy", true, &|r| Some(r.task1_entropy.stats.mean)),
             ("coverage", true, &|r| Some(r.task1_coverage.stats.mean)),
+            ("QD-score", true, &qd),
             ("trials to 50%", false, &|r| all(r, &r.task1_trials_to_50)),
             ("trials to 90%", false, &|r| all(r, &r.task1_trials_to_90)),
             ("task 2 reward", true, &|r| Some(r.task2_reward.stats.mean)),
@@ -209,9 +215,10 @@ impl DriveComparison {
         let mut s = format!(
             "{} sessions per learner and task, {} trials each. Task 1: no reward, beta 1; \
              entropy of the terminal cells normalised by log(all cells); coverage: the \
-             fraction of the reachable cells ({}) reached by the last trial; trials to \
-             reach 50% and 90% of them (over the sessions that did, with their number \
-             when not all); mean ± sd. Task 2: reward, beta 100; cumulative reward at \
+             fraction of the reachable cells ({}) reached by the last trial; QD-score: the \
+             sum over the reached cells of the best effort quality (- where every command \
+             has the same effort); trials to reach 50% and 90% of them (over the sessions \
+             that did, with their number when not all); mean ± sd. Task 2: reward, beta 100; cumulative reward at \
              trial {}, median first rewarded trial, share of sessions never rewarded. \
              95% intervals: of each mean, Student's t (mean ± t(n-1) sd / sqrt n, over the \
              sessions the mean is over); of the first rewarded trial, its quartiles Q1..Q3 \
@@ -221,14 +228,15 @@ impl DriveComparison {
             cells.join(", "),
             self.trials
         );
-        s.push_str("| scene | learner | task 1 entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward (median) | never rewarded | entropy: 95% (t) | coverage: 95% (t) | to 50%: 95% (t) | to 90%: 95% (t) | reward: 95% (t) | first reward: Q1..Q3 |\n");
-        s.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        s.push_str("| scene | learner | task 1 entropy | coverage | QD-score | trials to 50% | trials to 90% | task 2 reward | first reward (median) | never rewarded | entropy: 95% (t) | coverage: 95% (t) | QD-score: 95% (t) | to 50%: 95% (t) | to 90%: 95% (t) | reward: 95% (t) | first reward: Q1..Q3 |\n");
+        s.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         let ci = |m: &Measure, d: usize| -> String {
             m.ci.map_or("-".to_string(), |c| {
                 format!("{:.d$}..{:.d$}", c.lo(), c.hi())
             })
         };
         let pm = |m: &Measure, d: usize| format!("{:.d$} ± {:.d$}", m.stats.mean, m.stats.sd);
+        let some = |m: &Measure, d: usize| if m.n == 0 { "-".to_string() } else { pm(m, d) };
         let reach = |m: &Measure, of: usize| match m.n {
             0 => "never".to_string(),
             n if n < of => format!("{} ({n}/{of})", pm(m, 0)),
@@ -241,6 +249,7 @@ impl DriveComparison {
                 r.learner.clone(),
                 pm(&r.task1_entropy, 3),
                 pm(&r.task1_coverage, 3),
+                some(&r.task1_qd_score, 2),
                 reach(&r.task1_trials_to_50, r.task1_sessions),
                 reach(&r.task1_trials_to_90, r.task1_sessions),
                 pm(&r.task2_reward, 0),
@@ -248,6 +257,7 @@ impl DriveComparison {
                 format!("{:.1}%", 100.0 * r.task2_never_rewarded),
                 ci(&r.task1_entropy, 3),
                 ci(&r.task1_coverage, 3),
+                ci(&r.task1_qd_score, 2),
                 ci(&r.task1_trials_to_50, 0),
                 ci(&r.task1_trials_to_90, 0),
                 ci(&r.task2_reward, 0),
@@ -255,9 +265,9 @@ impl DriveComparison {
             ];
             let _ = writeln!(s, "| {} |", cells.join(" | "));
         }
-        s.push_str("\nBest per scene (highest entropy, coverage and reward; fewest mean trials to 50% and 90% among the learners whose every session got there; earliest median first reward):\n\n");
-        s.push_str("| scene | entropy | coverage | trials to 50% | trials to 90% | task 2 reward | first reward |\n");
-        s.push_str("|---|---|---|---|---|---|---|\n");
+        s.push_str("\nBest per scene (highest entropy, coverage, QD-score and reward; fewest mean trials to 50% and 90% among the learners whose every session got there; earliest median first reward):\n\n");
+        s.push_str("| scene | entropy | coverage | QD-score | trials to 50% | trials to 90% | task 2 reward | first reward |\n");
+        s.push_str("|---|---|---|---|---|---|---|---|\n");
         for (scene, best) in self.winners() {
             let names: Vec<&str> = best.iter().map(|(_, l)| l.as_str()).collect();
             let _ = writeln!(s, "| {scene} | {} |", names.join(" | "));
@@ -463,6 +473,7 @@ impl DriveRow {
             task1_coverage: task1("coverage"),
             task1_trials_to_50: task1("trials_to_50_percent"),
             task1_trials_to_90: task1("trials_to_90_percent"),
+            task1_qd_score: task1("qd_score"),
             task2_sessions: t2.len(),
             task2_reward: Measure::of(&values(t2, reward)),
             task2_first_reward: Measure::of(&rewarded),
@@ -494,6 +505,14 @@ impl DriveRow {
             ]
         };
         let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
+        // a measure of no session (the QD-score where effort does not vary): empty
+        let none_if_empty = |m: &Measure, fields: Vec<(String, String)>| match m.n {
+            0 => fields
+                .into_iter()
+                .map(|(k, _)| (k, String::new()))
+                .collect(),
+            _ => fields,
+        };
         let q = |i: usize| opt(self.task2_first_reward_quartiles.map(|q| q[i]));
         let median = opt(self.task2_first_reward_median);
         let never = self.task2_never_rewarded.to_string();
@@ -519,6 +538,12 @@ impl DriveRow {
             one("task2_first_reward_q3", q(2)),
             ci("task1_trials_to_50", &self.task1_trials_to_50),
             ci("task1_trials_to_90", &self.task1_trials_to_90),
+            none_if_empty(
+                &self.task1_qd_score,
+                mean_sd("task1_qd_score", &self.task1_qd_score),
+            ),
+            ci("task1_qd_score", &self.task1_qd_score),
+            one("task1_qd_scored", self.task1_qd_score.n.to_string()),
         ]
         .concat()
     }

@@ -4,6 +4,8 @@
 
 use super::svg::{esc, page};
 use crate::csv::TrialRow;
+use crate::learner::Effort;
+use crate::scene::Scene;
 use std::fmt::Write;
 
 /// The most cells a heat map draws one by one: above, only the cells
@@ -37,19 +39,26 @@ fn heat_map(out: &mut String, title: &str, effects: &[usize], grid: (usize, usiz
 
 /// The map of the elites of a run of symbols (docs/algorithms.md,
 /// "QD-score"): each reached cell shaded by the best effort quality `1 -
-/// effort / slots` of the commands that reached it (`'0'` the neutral
-/// symbol), from light (0) to dark (1); the title gives their sum, the
-/// QD-score. Nothing for commands of values.
-fn elite_map(out: &mut String, trials: &[TrialRow], grid: (usize, usize)) {
+/// effort / max` of the commands that reached it ([`Effort`], the
+/// scene's), from light (0) to dark (1); the title gives their sum, the
+/// QD-score. Nothing for commands of values, or where every command has
+/// the same effort ([`Effort::varies`]).
+fn elite_map(out: &mut String, trials: &[TrialRow], grid: (usize, usize), scene: &Scene) {
+    let effort = Effort::of_scene(scene);
+    if scene.spec().is_continuous() || !effort.varies() {
+        return;
+    }
+    let space = scene.command_space();
     let cells = grid.0 * grid.1;
     let mut best: std::collections::BTreeMap<usize, f64> = Default::default();
-    for t in trials
-        .iter()
-        .filter(|t| t.values.is_empty() && t.effect < cells)
-    {
-        let n = t.command.chars().count().max(1);
-        let effort = t.command.chars().filter(|&c| c != '0').count();
-        let q = 1.0 - effort as f64 / n as f64;
+    for t in trials.iter().filter(|t| t.effect < cells) {
+        let Some(q) = space
+            .parse(&t.command)
+            .ok()
+            .and_then(|c| effort.quality(&c))
+        else {
+            continue;
+        };
         let b = best.entry(t.effect).or_insert(q);
         *b = b.max(q);
     }
@@ -160,15 +169,16 @@ const PALETTE: [&str; 8] = [
 
 /// The HTML page for a run: `trials` in order, effects on a `rows x cols`
 /// grid, `title`, `note` shown under it (empty: none; for example why the
-/// effects are not drawn on the scene's grid) and `summary` (summary.json's
-/// text, shown as is).
+/// effects are not drawn on the scene's grid), `summary` (summary.json's
+/// text, shown as is) and the run's `scene` if known (for the map of
+/// elites, which needs its actions: [`Effort::of_scene`]).
 pub fn run_page(
     title: &str,
     note: &str,
     summary: &str,
     trials: &[TrialRow],
-    rows: usize,
-    cols: usize,
+    (rows, cols): (usize, usize),
+    scene: Option<&Scene>,
 ) -> String {
     let mut body = String::new();
     if !note.is_empty() {
@@ -185,8 +195,8 @@ pub fn run_page(
     let what = if k > 1 { "episodes" } else { "trials" };
     body.push_str("<h2>Effects</h2>\n<div class=\"row\">\n");
     body += &early_and_late("", what, &terminal, (rows, cols), MAX_CELLS_DRAWN);
-    if k == 1 {
-        elite_map(&mut body, trials, (rows, cols));
+    if let (1, Some(scene)) = (k, scene) {
+        elite_map(&mut body, trials, (rows, cols), scene);
     }
     body.push_str("</div>\n");
     per_start_context(&mut body, trials, k, rows, cols);

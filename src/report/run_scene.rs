@@ -63,6 +63,16 @@ impl SceneRecord {
         }
     }
 
+    /// The scene this record names, if it can still be read and its
+    /// content is the one recorded (the same [`content_hash`]).
+    pub fn scene(&self) -> Option<Scene> {
+        let scene = match self.path.strip_prefix("builtin:") {
+            Some(name) => Scene::builtin(name)?,
+            None => Scene::load(&self.path).ok()?,
+        };
+        (format!("{:016x}", content_hash(&scene)) == self.content_hash).then_some(scene)
+    }
+
     /// Checks a record read back from a file: a valid effect grid (at
     /// least one cell, at most [`MAX_EFFECTS`](crate::effect::MAX_EFFECTS),
     /// finite bounds).

@@ -53,7 +53,7 @@ impl<'s> Session<'s> {
     pub fn new(scene: &'s Scene, learner: LearnerKind) -> Self {
         Session {
             scene,
-            setup: LearnerSetup::new(learner),
+            setup: LearnerSetup::new(learner).effort_of(scene),
             trials: 5000,
             seed: 0,
             use_reward: true,

@@ -7,7 +7,7 @@ pub use crate::world::{Control, Observer};
 use super::{Recorder, SessionConfig};
 use crate::command::Command;
 use crate::episode::{run_episodes_into, EpisodeConfig, EpisodeRecorder};
-use crate::learner::{draw_weighted, ContextualLearner, ContinuousLearner, Effort, Learner};
+use crate::learner::{draw_weighted, ContextualLearner, ContinuousLearner, Learner};
 use crate::rng::SessionRng;
 use crate::scene::physics::DrawKey;
 use crate::world::{ContinuousWorld, Episodic, Executor, Outcome, OutcomeTable, World, WorldError};
@@ -102,10 +102,6 @@ pub trait Executes<C> {
     /// Whether a command always gives the same outcome (no `noise`):
     /// [`World::is_deterministic`], [`ContinuousWorld::is_deterministic`].
     fn deterministic(&self) -> bool;
-
-    /// The effort of its commands, for the `qd_score`
-    /// ([`RunningMetrics::with_effort`](super::RunningMetrics::with_effort)).
-    fn effort(&self) -> Effort;
 }
 
 impl<W: World + ?Sized> Executes<Command> for W {
@@ -130,10 +126,6 @@ impl<W: World + ?Sized> Executes<Command> for W {
     fn deterministic(&self) -> bool {
         self.is_deterministic()
     }
-
-    fn effort(&self) -> Effort {
-        Effort::of_symbols(self.command_space())
-    }
 }
 
 impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
@@ -157,10 +149,6 @@ impl<W: ContinuousWorld + ?Sized> Executes<Vec<f64>> for W {
     }
     fn deterministic(&self) -> bool {
         self.is_deterministic()
-    }
-
-    fn effort(&self) -> Effort {
-        Effort::of_values(self.value_space())
     }
 }
 

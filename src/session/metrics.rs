@@ -62,8 +62,10 @@ impl RunningMetrics {
     }
 
     /// The same, measuring the `qd_score` ([`Metrics::qd_score`]) by the
-    /// effort `effort` of the recorded commands (a session's world gives
-    /// it: [`Executes::effort`](super::Executes::effort)).
+    /// effort `effort` of the recorded commands (the scene's:
+    /// [`Effort::of_scene`]). An effort that does not vary
+    /// ([`Effort::varies`]: every command the same) is not kept, and the
+    /// `qd_score` stays `None`.
     ///
     /// ```
     /// use e3d::learner::Effort;
@@ -71,15 +73,21 @@ impl RunningMetrics {
     /// use e3d::session::RunningMetrics;
     /// use e3d::{Outcome, Recorder, Target};
     /// let space = CommandSpace::repeat(2, &['-', '0', '+']).unwrap();
-    /// let mut m = RunningMetrics::new(3).with_effort(Effort::of_symbols(&space));
-    /// for (c, e) in [("++", 0), ("0+", 0), ("+-", 2)] {
+    /// let effort = Effort::Symbols(vec![vec![1.0, 0.0, 1.0], vec![2.0, 0.0, 2.0]]);
+    /// let mut m = RunningMetrics::new(3).with_effort(effort);
+    /// for (c, e) in [("++", 0), ("+0", 0), ("+-", 2)] {
     ///     let o = Outcome { effect: e, reward: 0.0, point: [0.0; 2] };
     ///     m.record(&space.parse(c).unwrap(), &o);
     /// }
-    /// // cell 0's elite "0+" (quality 1 - 1/2), cell 2's "+-" (0)
-    /// assert_eq!(m.metrics(&Target::Uniform).qd_score, Some(0.5));
+    /// // cell 0's elite "+0" (quality 1 - 1/3), cell 2's "+-" (0)
+    /// assert_eq!(m.metrics(&Target::Uniform).qd_score, Some(1.0 - 1.0 / 3.0));
+    /// let flat = Effort::Symbols(vec![vec![1.0, 1.0]; 2]);
+    /// assert_eq!(RunningMetrics::new(3).with_effort(flat).metrics(&Target::Uniform).qd_score, None);
     /// ```
     pub fn with_effort(self, effort: Effort) -> Self {
+        if !effort.varies() {
+            return self;
+        }
         RunningMetrics {
             elites: vec![f64::NEG_INFINITY; self.counts.len()],
             effort: Some(effort),
@@ -227,12 +235,13 @@ pub struct Metrics {
     /// ([`coverage_at`](Self::coverage_at)).
     pub discovery_trials: Vec<usize>,
     /// The QD-score (pyribs' and QDax's): the sum, over the reached
-    /// cells, of the best effort quality `1 - effort / slots` among the
+    /// cells, of the best effort quality `1 - effort / max` among the
     /// commands that reached the cell ([`Effort`]; the quality `-effort /
-    /// slots` with the offset 1, so that each cell adds a number in
+    /// max` with the offset 1, so that each cell adds a number in
     /// `[0, 1]`). `None` when the commands' effort is unknown
     /// ([`RunningMetrics::with_effort`]; a [`SessionRecord`](super::SessionRecord)
-    /// keeps no command).
+    /// keeps no command), for episodes, and where every command has the
+    /// same effort ([`Effort::varies`]: the puck and grid scenes).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub qd_score: Option<f64>,
 }

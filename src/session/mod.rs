@@ -276,7 +276,8 @@ impl<T> TrialRecord<T> {
     /// The QD-score of the recorded commands by `effort`
     /// ([`Metrics::qd_score`], which [`metrics`](Self::metrics) leaves
     /// `None`): the sum over the reached cells of the best effort quality
-    /// among the commands that reached them.
+    /// among the commands that reached them; `None` if `effort` does not
+    /// vary ([`Effort::varies`]).
     ///
     /// ```
     /// use e3d::learner::Effort;
@@ -285,11 +286,12 @@ impl<T> TrialRecord<T> {
     /// let space = scene.command_space();
     /// let mut rec = SessionRecord::new(&scene.build(), 2);
     /// let o = Outcome { effect: 3, reward: 0.0, point: [0.0; 2] };
-    /// rec.record(&space.parse("+000000").unwrap(), &o);
-    /// rec.record(&space.parse("+00000-").unwrap(), &o);
-    /// assert_eq!(rec.qd_score(&Effort::of_symbols(&space)), 1.0 - 1.0 / 7.0);
+    /// rec.record(&space.parse("+000000").unwrap(), &o); // 1.8 N·m
+    /// rec.record(&space.parse("00000-0").unwrap(), &o); // 0.12 N·m: the elite
+    /// let qd = rec.qd_score(&Effort::of_scene(&scene)).unwrap();
+    /// assert!((qd - (1.0 - 0.12 / 4.62)).abs() < 1e-12);
     /// ```
-    pub fn qd_score(&self, effort: &Effort) -> f64
+    pub fn qd_score(&self, effort: &Effort) -> Option<f64>
     where
         [T]: Effortful,
     {
@@ -305,7 +307,7 @@ impl<T> TrialRecord<T> {
                 },
             );
         }
-        m.metrics(&Target::Uniform).qd_score.unwrap_or(0.0)
+        m.metrics(&Target::Uniform).qd_score
     }
 
     fn replay(&self) -> RunningMetrics {

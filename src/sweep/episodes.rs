@@ -101,6 +101,7 @@ impl Sweep {
         let mut learner = self.learner(session, |c| {
             Ok(LearnerSetup::new(kind)
                 .params(c.params)
+                .effort_of(single.as_ref().unwrap_or(scene))
                 .closed_loop(closed)
                 .gamma(self.spec.gamma.unwrap_or(ClosedLoopE3d::GAMMA))
                 .contexts(

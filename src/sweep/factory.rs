@@ -45,7 +45,7 @@ use crate::command::Command;
 use crate::command::{CommandSpace, ValueSpace};
 use crate::effect::Target;
 use crate::hash::fnv1a64;
-use crate::learner::{ContinuousLearner, Learner, LearnerKind, LearnerSetup, Params};
+use crate::learner::{ContinuousLearner, Effort, Learner, LearnerKind, LearnerSetup, Params};
 use crate::scene::Scene;
 use crate::session;
 #[cfg(doc)]
@@ -462,7 +462,8 @@ impl Learners {
 
     /// A fresh learner `name` with `params` (those it does not use hold
     /// the first value of their list) for `space`, `num_effects` effects
-    /// and the target `p*`. An error stops the sweep.
+    /// and the target `p*`; MAP-Elites keeps its elites by `effort` (the
+    /// scene's, [`Effort::of_scene`]). An error stops the sweep.
     pub fn make(
         &self,
         name: &str,
@@ -470,8 +471,12 @@ impl Learners {
         space: &CommandSpace,
         num_effects: usize,
         target: &Target,
+        effort: Option<&Effort>,
     ) -> Result<Box<dyn Learner + Send>, BoxError> {
-        let setup = |k| LearnerSetup::new(k).params(*params).target(target.clone());
+        let setup = |k| LearnerSetup {
+            effort: effort.cloned(),
+            ..LearnerSetup::new(k).params(*params).target(target.clone())
+        };
         match self.entry(name) {
             Some(Entry::Builtin(k)) => Ok(setup(*k).symbols(space, num_effects)?),
             Some(Entry::Custom(_, make)) => make(params, space, num_effects, target),
@@ -491,8 +496,12 @@ impl Learners {
         space: &ValueSpace,
         num_effects: usize,
         target: &Target,
+        effort: Option<&Effort>,
     ) -> Result<Box<dyn ContinuousLearner + Send>, BoxError> {
-        let setup = |k| LearnerSetup::new(k).params(*params).target(target.clone());
+        let setup = |k| LearnerSetup {
+            effort: effort.cloned(),
+            ..LearnerSetup::new(k).params(*params).target(target.clone())
+        };
         match self.entry(name) {
             Some(Entry::Builtin(k)) => Ok(setup(*k).values(space, num_effects)?),
             Some(Entry::Custom(..)) => Err(format!(

@@ -694,7 +694,7 @@ fn check_values(
         }
         let uniform = crate::effect::Target::Uniform;
         for name in names {
-            let made = learners.make_continuous(name, &Params::TASK1, &space, n, &uniform);
+            let made = learners.make_continuous(name, &Params::TASK1, &space, n, &uniform, None);
             if let Err(e) = made {
                 let expected = format!("learners that take continuous commands on scene `{scene}`, found `{name}`: {e}");
                 return Err(bad("learners", None, &expected));

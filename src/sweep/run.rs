@@ -12,6 +12,7 @@ use super::{io_err, BoxError, SweepError};
 use crate::command::Command;
 use crate::effect::Target;
 use crate::hash::fnv1a64;
+use crate::learner::Effort;
 use crate::scene::Scene;
 use crate::session::{
     self, run_group, run_planned, Control, Executes, Learns, RunningMetrics, SessionConfig,
@@ -54,7 +55,9 @@ impl Sweep {
                 scene.name()
             )));
         }
-        let learner = self.symbols_learner(session, world.command_space(), world.num_effects())?;
+        let effort = scene.scene().map(Effort::of_scene);
+        let (space, n) = (world.command_space(), world.num_effects());
+        let learner = self.symbols_learner(session, space, n, effort.as_ref())?;
         let mut results = self.run_group_on(std::slice::from_ref(session), world, vec![learner]);
         Ok(results.remove(0))
     }
@@ -75,10 +78,16 @@ impl Sweep {
         L: Learns<C>,
     {
         let configs: Vec<SessionConfig> = sessions.iter().map(|s| self.config(s)).collect();
-        let mut recorders: Vec<RunningMetrics> = sessions
-            .iter()
-            .map(|_| self.recorder(world.effects()).with_effort(world.effort()))
-            .collect();
+        // the qd_score by the scene's effort (none for worlds made by code)
+        let scene = sessions
+            .first()
+            .map(|s| &self.scenes[self.cells[s.cell].scene]);
+        let effort = scene.and_then(|s| s.scene()).map(Effort::of_scene);
+        let recorder = || match &effort {
+            Some(e) => self.recorder(world.effects()).with_effort(e.clone()),
+            None => self.recorder(world.effects()),
+        };
+        let mut recorders: Vec<RunningMetrics> = sessions.iter().map(|_| recorder()).collect();
         let count = |t| self.count_trials(t);
         let control = Control::default().with_progress(&count);
         let status = run_group(world, &mut learners, &configs, &mut recorders, &control);
@@ -104,15 +113,18 @@ impl Sweep {
             .collect()
     }
 
-    /// A learner of symbols for `session` on `space` and `n` effects.
+    /// A learner of symbols for `session` on `space` and `n` effects,
+    /// MAP-Elites' elites by `effort`.
     fn symbols_learner(
         &self,
         session: &SessionSpec,
         space: &crate::command::CommandSpace,
         n: usize,
+        effort: Option<&Effort>,
     ) -> Result<Box<dyn crate::Learner + Send>, SweepError> {
         self.learner(session, |c| {
-            (self.learners).make(&c.learner, &c.params, space, n, &Target::Uniform)
+            let uniform = &Target::Uniform;
+            (self.learners).make(&c.learner, &c.params, space, n, uniform, effort)
         })
     }
 
@@ -269,7 +281,9 @@ impl Sweep {
             let scene = &*self.scenes[si];
             let out = (tx, &gone);
             let space = scene.command_space();
-            let symbols = |s: &SessionSpec, n| self.symbols_learner(s, &space, n);
+            let effort = scene.scene().map(Effort::of_scene);
+            let effort = effort.as_ref();
+            let symbols = |s: &SessionSpec, n| self.symbols_learner(s, &space, n, effort);
             // sessions of episodes: all of a scene that runs them, and
             // per-move Q-learning's on any scene
             let (episodic, mine): (Vec<SessionSpec>, Vec<SessionSpec>) = (mine.into_iter())
@@ -294,7 +308,8 @@ impl Sweep {
                 self.run_scene(worlds, &mine, out, |s, n| {
                     self.learner(s, |c| {
                         let uniform = &Target::Uniform;
-                        (self.learners).make_continuous(&c.learner, &c.params, &values, n, uniform)
+                        let learners = &self.learners;
+                        learners.make_continuous(&c.learner, &c.params, &values, n, uniform, effort)
                     })
                 });
             } else {

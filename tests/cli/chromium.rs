@@ -89,7 +89,7 @@ fn pages_render_in_headless_chromium() {
     let page = dir.join("report.html");
     std::fs::write(
         &page,
-        run_page("t", "", "{}", &parse_trials(&csv).unwrap(), 2, 4),
+        run_page("t", "", "{}", &parse_trials(&csv).unwrap(), (2, 4), None),
     )
     .unwrap();
     check(&browser, &page);

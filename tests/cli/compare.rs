@@ -72,8 +72,10 @@ fn compare_writes_the_table_the_figure_and_the_rows() {
     let t3 = e3d::report::t_quantile_975(3);
     assert!((t3 - 3.182446).abs() < 1e-6);
     assert!(csv.lines().next().unwrap().ends_with(
-        ",task1_entropy_ci95_lo,task1_entropy_ci95_hi,task1_coverage_ci95_lo,task1_coverage_ci95_hi,task2_reward_ci95_lo,task2_reward_ci95_hi,task2_first_reward_q1,task2_first_reward_q3,task1_trials_to_50_ci95_lo,task1_trials_to_50_ci95_hi,task1_trials_to_90_ci95_lo,task1_trials_to_90_ci95_hi"
+        ",task1_entropy_ci95_lo,task1_entropy_ci95_hi,task1_coverage_ci95_lo,task1_coverage_ci95_hi,task2_reward_ci95_lo,task2_reward_ci95_hi,task2_first_reward_q1,task2_first_reward_q3,task1_trials_to_50_ci95_lo,task1_trials_to_50_ci95_hi,task1_trials_to_90_ci95_lo,task1_trials_to_90_ci95_hi,task1_qd_score_mean,task1_qd_score_sd,task1_qd_score_ci95_lo,task1_qd_score_ci95_hi,task1_qd_scored"
     ));
+    // two_rooms' commands all have the same effort: no QD-score
+    assert_eq!(value("e3d", 36), 0.0);
     for learner in ["e3d", "uniform", "archive"] {
         for (mean, sd, lo, hi) in [(2, 3, 20, 21), (9, 10, 22, 23), (4, 5, 24, 25)] {
             let half = t3 * value(learner, sd) / 2.0;
@@ -90,7 +92,7 @@ fn compare_writes_the_table_the_figure_and_the_rows() {
     let half = t * value("e3d", 12) / n50.sqrt();
     assert!((value("e3d", 28) - (value("e3d", 11) - half)).abs() < 1e-9);
     assert!((value("e3d", 29) - (value("e3d", 11) + half)).abs() < 1e-9);
-    assert!(md.contains("| entropy: 95% (t) | coverage: 95% (t) | to 50%: 95% (t) | to 90%: 95% (t) | reward: 95% (t) | first reward: Q1..Q3 |"));
+    assert!(md.contains("| entropy: 95% (t) | coverage: 95% (t) | QD-score: 95% (t) | to 50%: 95% (t) | to 90%: 95% (t) | reward: 95% (t) | first reward: Q1..Q3 |"));
     let svg = std::fs::read_to_string(dir.join("a/drives.svg")).unwrap();
     assert!(svg.contains("task 1: normalised entropy") && svg.contains(">smm</text>"));
     // results.csv: a header and 24 cells (4 learners x 2 betas x 2 tasks, and 4 x 2 tasks) x 4 sessions

@@ -4,7 +4,8 @@
 
 use e3d::command::{CommandSpace, ValueSpace};
 use e3d::learner::{
-    Archive, ArchiveReached, Effort, LearnerSetup, MapElites, MapElitesValues, MAP_ELITES_INITIAL,
+    Archive, ArchiveReached, Effort, LearnerSetup, MapElites, MapElitesValues, ValueEffort,
+    MAP_ELITES_INITIAL, REACHED_BATCH,
 };
 use e3d::rand::SeedableRng;
 use e3d::report::mean_ci95;
@@ -69,13 +70,14 @@ fn map_elites_fills_more_cells_than_uniform() {
 
 #[test]
 fn map_elites_keeps_the_least_effort_command_of_each_cell() {
-    // arm7: '0' is every joint's idle symbol; MAP-Elites' elite of a cell
-    // is the best quality among the commands that reached it, and the
-    // elites improve as the session goes on
+    // arm7: effort the sum of |torque| (4.62 N·m at most); MAP-Elites'
+    // elite of a cell is the best quality among the commands that reached
+    // it, and the elites improve as the session goes on
     let (scene, table) = table("arm7");
     let space = scene.command_space();
-    let effort = Effort::of_symbols(&space);
-    let mut me = MapElites::new(&space, scene.num_effects(), &Params::TASK1);
+    let effort = Effort::of_scene(&scene);
+    let mut me = MapElites::new(&space, scene.num_effects(), &Params::TASK1)
+        .with_effort(Some(effort.clone()));
     let mut best = vec![f64::NEG_INFINITY; scene.num_effects()];
     let mut rng = SessionRng::seed_from_u64(4);
     let mut c = space.first();
@@ -111,16 +113,52 @@ fn map_elites_keeps_the_least_effort_command_of_each_cell() {
             );
         }
     }
-    // the mean elite quality over the filled cells rises (seed 4: 0.462
-    // after 100 trials, 0.557 after 3000, with more cells filled)
+    // the mean elite quality over the filled cells rises, with more cells
+    // filled
     assert!(mean_at[1] > mean_at[0] + 0.05, "{mean_at:?}");
+}
+
+/// The effort of `command` on built-in scene `name`, and its largest.
+fn effort_on(name: &str, command: &str) -> (f64, f64) {
+    let scene = Scene::builtin(name).unwrap();
+    let e = Effort::of_scene(&scene);
+    let c = scene.command_space().parse(command).unwrap();
+    (e.of(&c).unwrap(), e.max())
+}
+
+#[test]
+fn the_effort_of_a_command_is_the_size_of_its_actions() {
+    let close = |(a, b): (f64, f64), (x, y): (f64, f64)| {
+        assert!((a - x).abs() < 1e-12 && (b - y).abs() < 1e-12, "{a} {b}")
+    };
+    // arm7: |torque| summed, 1.8 + 1.2 + ... + 0.06 = 4.62 N·m at most
+    close(effort_on("arm7", "+0-0000"), (1.8 + 0.75, 4.62));
+    close(effort_on("arm7", "0000000"), (0.0, 4.62));
+    close(effort_on("arm7", "------+"), (4.62, 4.62));
+    // pendulum3: |angle| of the set points, 'c' the idle symbol
+    close(effort_on("pendulum3", "ccc"), (0.0, 4.5));
+    close(effort_on("pendulum3", "adc"), (1.5 + 0.75, 4.5));
+    // puck_rooms: 7 impulses of 1.6 N·s whatever their directions
+    close(effort_on("puck_rooms", "ESWNESW"), (7.0 * 1.6, 7.0 * 1.6));
+    // a grid scene: 7 moves of one cell
+    close(effort_on("two_rooms", "EEEEESS"), (7.0, 7.0));
+    // continuous arm7: |v| summed over the torques' ranges
+    let arm = Scene::builtin("arm7_continuous").unwrap();
+    let e = Effort::of_scene(&arm);
+    let v = [1.0, -0.5, 0.0, 0.0, 0.0, 0.0, 0.25];
+    assert!((e.of(&v[..]).unwrap() - 1.75).abs() < 1e-12);
+    // only where commands differ does the quality (and the qd_score) mean anything
+    let varies = |n| Effort::of_scene(&Scene::builtin(n).unwrap()).varies();
+    assert!(varies("arm7") && varies("pendulum3") && varies("arm7_continuous"));
+    assert!(!varies("puck_rooms") && !varies("three_rooms") && !varies("two_rooms"));
 }
 
 #[test]
 fn qd_score_by_hand() {
-    // 3 slots of '-', '0', '+': quality 1 - (non-'0' slots) / 3
+    // 3 slots of '-', '0', '+' of sizes 1, 0, 1: quality 1 - effort / 3
     let space = CommandSpace::repeat(3, &['-', '0', '+']).unwrap();
-    let mut m = RunningMetrics::new(4).with_effort(Effort::of_symbols(&space));
+    let sizes = Effort::Symbols(vec![vec![1.0, 0.0, 1.0]; 3]);
+    let mut m = RunningMetrics::new(4).with_effort(sizes.clone());
     for (c, e) in [("+++", 0), ("0+0", 0), ("-++", 1), ("000", 3), ("+0+", 3)] {
         m.record(&space.parse(c).unwrap(), &outcome(e));
     }
@@ -132,15 +170,25 @@ fn qd_score_by_hand() {
         RunningMetrics::new(4).metrics(&Target::Uniform).qd_score,
         None
     );
-    // values: |v| / max(|min|, |max|) summed, ranges (-2, 1) and (0, 4)
-    let vs = ValueSpace::new(vec![(-2.0, 1.0), (0.0, 4.0)]).unwrap();
-    let mut m = RunningMetrics::new(2).with_effort(Effort::of_values(&vs));
-    m.record(&vec![-1.0, 2.0], &outcome(1)); // effort 0.5 + 0.5: quality 0.5
-    m.record(&vec![1.0, 4.0], &outcome(1)); // effort 2: quality 0
+    // values: |v| summed, |v| <= 2 and 4: at most 6
+    let slot = |bound| ValueEffort {
+        scale: 1.0,
+        fixed: 0.0,
+        bound,
+    };
+    let values = Effort::Values(vec![slot(2.0), slot(4.0)]);
+    let mut m = RunningMetrics::new(2).with_effort(values.clone());
+    m.record(&vec![-1.0, 2.0], &outcome(1)); // effort 3: quality 0.5
+    m.record(&vec![2.0, 4.0], &outcome(1)); // effort 6: quality 0
     assert_eq!(m.metrics(&Target::Uniform).qd_score, Some(0.5));
     // a command of the wrong kind or length has no effort
-    assert_eq!(Effort::of_values(&vs).of(&[0u8, 1][..]), None);
-    assert_eq!(Effort::of_symbols(&space).of(&[0u8][..]), None);
+    assert_eq!(values.of(&[0u8, 1][..]), None);
+    assert_eq!(sizes.of(&[0u8][..]), None);
+    // every command the same effort: no qd_score
+    let flat = Effort::Symbols(vec![vec![1.6; 4]; 7]);
+    let mut m = RunningMetrics::new(2).with_effort(flat);
+    m.record(&space.parse("+0+").unwrap(), &outcome(1));
+    assert_eq!(m.metrics(&Target::Uniform).qd_score, None);
 }
 
 #[test]
@@ -152,7 +200,8 @@ fn the_reached_archive_counts_reaches_not_picks() {
     // splits them about evenly
     let space = CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
     let p = Params::TASK1;
-    let mut reached = ArchiveReached::new(&space, 2, &p);
+    // batches of one trial: every pick sees the counts as they are
+    let mut reached = ArchiveReached::new(&space, 2, &p).with_batch(1);
     let mut chosen = Archive::new(&space, 2, &p);
     for e in [0, 0, 1, 0] {
         reached.learn(&Command::new(vec![e as u8; 3]), &outcome(e));
@@ -175,6 +224,28 @@ fn the_reached_archive_counts_reaches_not_picks() {
 }
 
 #[test]
+fn the_reached_archive_picks_in_batches_of_64() {
+    // a batch's picks are among the cells of its start: none during the
+    // first 64 trials (uniform commands), then cells 0 and 1 only, though
+    // cell 2 was reached at trial 65, until trial 128 adds it
+    let space = CommandSpace::repeat(3, &['a', 'b', 'c']).unwrap();
+    let mut a = ArchiveReached::new(&space, 3, &Params::TASK1);
+    let (mut rng, mut c) = (SessionRng::seed_from_u64(2), space.first());
+    let mut picked = vec![[0u32; 4]; 3]; // per batch: uniform, cell 0, 1, 2
+    for t in 0..192 {
+        a.propose(&mut rng, &mut c);
+        let k = a.last_cell().map_or(0, |e| e + 1);
+        picked[t / REACHED_BATCH][k] += 1;
+        let e = if t < 64 { t % 2 } else { 2 };
+        a.learn(&c, &outcome(e));
+    }
+    assert_eq!(picked[0], [64, 0, 0, 0]);
+    assert_eq!(picked[1][0] + picked[1][3], 0, "{picked:?}");
+    assert!(picked[2][3] > 0, "{picked:?}");
+    assert_eq!(a.times_chosen(2), 128);
+}
+
+#[test]
 fn quality_diversity_sweeps_repeat_whatever_the_threads() {
     let spec = SweepSpec::new(["two_rooms"], ["map_elites", "archive_reached"], 3, 400);
     let sweep = Sweep::new(spec).unwrap();
@@ -192,14 +263,20 @@ fn quality_diversity_sweeps_repeat_whatever_the_threads() {
         "{}",
         sweep.results_header()
     );
-    // two_rooms has no '0' symbol: every command spends full effort
-    assert!(one.iter().all(|r| r.ends_with(",0,")), "{one:?}");
+    // two_rooms' commands are all 7 moves: the same effort, no qd_score
+    assert!(one.iter().all(|r| r.ends_with(",,")), "{one:?}");
 }
 
 #[test]
 fn map_elites_on_values_keeps_the_least_effort_values() {
     let space = ValueSpace::new(vec![(-1.0, 1.0); 2]).unwrap();
-    let mut me = MapElitesValues::new(&space, 2, &Params::TASK1);
+    let unit = ValueEffort {
+        scale: 1.0,
+        fixed: 0.0,
+        bound: 1.0,
+    };
+    let effort = Effort::Values(vec![unit; 2]);
+    let mut me = MapElitesValues::new(&space, 2, &Params::TASK1).with_effort(Some(effort));
     use e3d::ContinuousLearner;
     me.learn(&[0.5, 0.5], &outcome(0));
     me.learn(&[0.1, -0.2], &outcome(0));

@@ -37,10 +37,10 @@ fn parses_with_and_without_a_session_column() {
 #[test]
 fn the_page_has_both_heat_maps_the_reward_and_a_chart_per_slot() {
     let rows = parse_trials(&csv()).unwrap();
-    let page = run_page("t", "", "{\"scene\":\"x\"}", &rows, 2, 3);
+    let page = run_page("t", "", "{\"scene\":\"x\"}", &rows, (2, 3), None);
     assert!(page.starts_with("<!DOCTYPE html>"));
-    // two heat maps and the elite map of 2 x 3 cells
-    assert_eq!(page.matches(r#"class="cell""#).count(), 18);
+    // two heat maps of 2 x 3 cells (no scene: no elite map)
+    assert_eq!(page.matches(r#"class="cell""#).count(), 12);
     assert!(page.contains("early: trials 1..10") && page.contains("late: trials 91..100"));
     // early all in effect 0, late all in effect 5
     assert!(page.contains("effect 0 (row 0, col 0): 100.00%"));
@@ -136,4 +136,30 @@ two_rooms,uniform,false,,,,,,2,0,0.7,0.02,0.6,0.8,,,,\n";
             .contains("not drawn: no cell with a value of eta has a value of first_reward_trial"));
         assert!(!page.contains("<h2>Failures</h2>"));
     }
+}
+
+#[test]
+fn the_elite_map_shades_each_cell_by_its_least_effort_command() {
+    // arm7: cell 3 reached by "+000000" (1.8 N·m) and "00000-0" (0.12),
+    // cell 7 by "------+" (4.62: quality 0)
+    let csv = "trial,command,effect,reward\n1,+000000,3,0\n2,00000-0,3,0\n3,------+,7,0\n";
+    let rows = parse_trials(csv).unwrap();
+    let arm = e3d::Scene::builtin("arm7").unwrap();
+    let page = run_page("t", "", "{}", &rows, (15, 15), Some(&arm));
+    let qd = 1.0 - 0.12 / 4.62;
+    assert!(page.contains(&format!("qd_score {qd:.3}")), "{page}");
+    assert!(page.contains(&format!("elite quality {qd:.3}")));
+    assert!(page.contains("elite quality 0.000"));
+    // three_rooms: every command the same effort, no elite map
+    let rooms = e3d::Scene::builtin("three_rooms").unwrap();
+    let csv = "trial,command,effect,reward\n1,EEEEEEEEE,3,0\n";
+    let page = run_page(
+        "t",
+        "",
+        "{}",
+        &parse_trials(csv).unwrap(),
+        (3, 9),
+        Some(&rooms),
+    );
+    assert!(!page.contains("qd_score"));
 }

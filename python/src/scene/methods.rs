@@ -2,7 +2,7 @@
 //! formatting commands, its world, pictures and dict / RON forms.
 
 use super::{builtin_names, PyScene};
-use crate::commands::commands_from;
+use crate::commands::{commands_from, values_from};
 use crate::errors::{scene_err, scene_error, usize_arg};
 use crate::world::PyWorld;
 use e3d::scene::WorldSpec;
@@ -87,6 +87,44 @@ impl PyScene {
     /// The reward of each effect, a float64 array of `num_effects`.
     fn reward_table<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.inner.reward_table().into_pyarray(py)
+    }
+
+    /// The effort of each command (docs/algorithms.md, "Effort"): the sum
+    /// over its slots of the size of the slot's action (`|torque|`, the
+    /// norm of an impulse or a force, `|angle|` of a set point, the length
+    /// of a grid move, 0 for `Idle`); `commands` as `World.execute_batch`
+    /// takes them (symbol indices `[N, num_slots]` or strings; values on a
+    /// continuous scene). A float64 array `[N]`.
+    fn effort<'py>(
+        &self,
+        py: Python<'py>,
+        commands: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let effort = e3d::learner::Effort::of_scene(&self.inner);
+        let of = |e: Option<f64>| e.expect("a command of the scene's slots");
+        let out: Vec<f64> = match &self.values {
+            Some(space) => (values_from(py, space, commands, 2)?.iter())
+                .map(|v| of(effort.of(&v[..])))
+                .collect(),
+            None => (commands_from(py, &self.space, commands, 2)?.iter())
+                .map(|c| of(effort.of(c)))
+                .collect(),
+        };
+        Ok(out.into_pyarray(py))
+    }
+
+    /// The largest effort of a command: the sum over slots of the largest
+    /// size of the slot's actions.
+    #[getter]
+    fn max_effort(&self) -> f64 {
+        e3d::learner::Effort::of_scene(&self.inner).max()
+    }
+
+    /// Whether commands differ in effort (else every command's effort
+    /// quality is the same, and sessions report no `qd_score`).
+    #[getter]
+    fn effort_varies(&self) -> bool {
+        e3d::learner::Effort::of_scene(&self.inner).varies()
     }
 
     /// Commands written as symbols (a string, or a list of strings) as a

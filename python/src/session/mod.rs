@@ -73,7 +73,7 @@ fn session_args(
 /// are fewer than all).
 fn symbol_metrics(
     exec: &Executor<'_>,
-    space: &e3d::command::CommandSpace,
+    scene: &e3d::Scene,
     rec: &SessionRecord,
     target: &Target,
 ) -> Metrics {
@@ -86,9 +86,9 @@ fn symbol_metrics(
         Some(k) => rec.metrics_over_reachable(target, k),
         None => rec.metrics(target),
     };
-    let effort = e3d::learner::Effort::of_symbols(space);
+    let effort = e3d::learner::Effort::of_scene(scene);
     Metrics {
-        qd_score: Some(rec.qd_score(&effort)),
+        qd_score: rec.qd_score(&effort),
         ..m
     }
 }
@@ -284,7 +284,7 @@ fn run_builtin(
     let rows = records
         .into_iter()
         .map(|r| {
-            let m = symbol_metrics(&exec, &run.scene.space, &r, &run.a.target);
+            let m = symbol_metrics(&exec, &run.scene.inner, &r, &run.a.target);
             let Some(h) = held.next() else {
                 return Rows::of_symbols(py, r, m, None, None);
             };

@@ -35,7 +35,7 @@ pub(super) fn run_python(
     let rows = records
         .into_iter()
         .map(|r| {
-            let m = symbol_metrics(&exec, space, &r, &run.a.target);
+            let m = symbol_metrics(&exec, &run.scene.inner, &r, &run.a.target);
             Rows::of_symbols(py, r, m, None, None)
         })
         .collect::<PyResult<_>>()?;

@@ -82,10 +82,9 @@ pub(super) fn run_values(
     let rows = records
         .into_iter()
         .map(|r| {
-            let effort =
-                e3d::learner::Effort::of_values(run.scene.values.as_ref().expect("values"));
+            let effort = e3d::learner::Effort::of_scene(&run.scene.inner);
             let m = e3d::Metrics {
-                qd_score: Some(r.qd_score(&effort)),
+                qd_score: r.qd_score(&effort),
                 ..r.metrics(&run.a.target)
             };
             Rows::of_values(py, r, m)
