@@ -106,7 +106,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
     /*
      * Stage: generate SIMD contact constraints (parallel over claimed chunk slots).
      */
-    {
+    if !ctx.unconstrained {
         let bodies = unsafe { &*ctx.bodies };
         let mut done = 0;
         let mut local_bouncy = false;
@@ -358,7 +358,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
              * scalar joint builders — each writes only its own constraint slot/rows).
              * Worker 0 also updates the generic joint and generic contact constraints.
              */
-            {
+            if !ctx.unconstrained {
                 let multibodies = unsafe { &*ctx.multibodies };
                 // NOTE: when warm-starting is enabled (the common case), the contact
                 //       constraint updates are fused into the warmstart stage below so
@@ -505,7 +505,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
              * Stages: warmstart, color by color (parallel within a color: constraints of a
              * same color write disjoint solver bodies).
              */
-            if params.warmstart_coefficient != 0.0 {
+            if !ctx.unconstrained && params.warmstart_coefficient != 0.0 {
                 let multibodies = unsafe { &*ctx.multibodies };
                 for (_, color) in &ctx.color_ranges[group.colors.clone()] {
                     let mut done = 0;
@@ -613,7 +613,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
              * request (`RigidBody::additional_pgs_iterations`, 3 by default for soft bodies), so
              * the substep's constraints converge against each other at the same positions.
              */
-            for pgs_iter in 0..group.num_pgs_iterations {
+            for pgs_iter in 0..if ctx.unconstrained { 0 } else { group.num_pgs_iterations } {
                 // Joint warm-starting is fused into the first biased pass: each claimed joint
                 // applies its warm impulse right before being solved. Soft-body constraints do
                 // the same and update their geometry on the first iteration of the pass.
@@ -710,7 +710,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
             /*
              * Stages: solve without bias.
              */
-            for stab_iter in 0..params.num_internal_stabilization_iterations {
+            for stab_iter in 0..if ctx.unconstrained { 0 } else { params.num_internal_stabilization_iterations } {
                 stage = unsafe {
                     solve_pass(
                         ctx,
@@ -818,7 +818,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
      * manifolds, padding lanes skipped). Worker 0 also writes back the joint and generic
      * contact impulses (disjoint from the chunk manifolds).
      */
-    {
+    if !ctx.unconstrained {
         let mut done = 0;
         while let Some(claimed) = sync.claim(
             stage,
