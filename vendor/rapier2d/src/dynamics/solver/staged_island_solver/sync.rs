@@ -86,7 +86,14 @@ impl StageSync {
         if count == 0 {
             return;
         }
-        let prev = self.completed.fetch_add(count, Ordering::AcqRel);
+        // One worker: no one else counts, so a load and a store (no locked read-modify-write)
+        let prev = if self.num_workers == 1 {
+            let prev = self.completed.load(Ordering::Relaxed);
+            self.completed.store(prev + count, Ordering::Relaxed);
+            prev
+        } else {
+            self.completed.fetch_add(count, Ordering::AcqRel)
+        };
         debug_assert!(prev + count <= stage_work, "stage work over-completed");
         if prev + count == stage_work {
             self.advance(stage);
