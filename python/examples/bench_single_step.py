@@ -15,10 +15,12 @@ then on a new World that keeps no prefix state (`prefix_states=0`: every
 step of every command simulated, as pymunk does), then with
 `execute_batch` of one command at a time (a lone new command of a batch
 runs on the same world of one copy), then with `E3dEnv.step` on a new
-environment. Runs alternate; medians are printed, and the ratio
-`World.execute` / pymunk run by run (each run's own pair, timed minutes
-apart at most: steadier than the ratio of the medians on a shared
-machine), on one core (RAYON_NUM_THREADS=1 is set: a single command never
+environment. Runs alternate; medians are printed, and
+each target ratio run by run (each run's own pair, timed minutes apart
+at most: steadier than the ratio of the medians on a shared machine):
+`World.execute` against pymunk's fresh space, every step simulated against
+pymunk reusing its space, `World.execute` against pymunk with the prefix
+cache, on one core (RAYON_NUM_THREADS=1 is set: a single command never
 uses more than one anyway).
 """
 
@@ -104,9 +106,12 @@ def main():
     r, c = statistics.median(rates["pymunk reuse"]), statistics.median(rates["pymunk cache"])
     print(f"every step simulated / pymunk reuse: {f / r:.2f}x")
     print(f"World.execute (prefix states) / pymunk reuse with a prefix cache: {e / c:.2f}x")
-    paired = [a / b for a, b in zip(rates["World.execute"], rates["pymunk"])]
-    print(f"World.execute / pymunk run by run: median {statistics.median(paired):.2f}x, "
-          f"range {min(paired):.2f}x-{max(paired):.2f}x")
+    for name, ours, theirs in (("World.execute / pymunk", "World.execute", "pymunk"),
+                               ("every step simulated / pymunk reuse", "every step", "pymunk reuse"),
+                               ("World.execute / pymunk cache", "World.execute", "pymunk cache")):
+        paired = [a / b for a, b in zip(rates[ours], rates[theirs])]
+        print(f"{name} run by run: median {statistics.median(paired):.2f}x, "
+              f"range {min(paired):.2f}x-{max(paired):.2f}x")
 
 
 if __name__ == "__main__":

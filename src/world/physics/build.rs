@@ -416,6 +416,10 @@ impl PhysicsWorld {
             0
         };
         let prefixes = Prefixes::new(&sizes, !together && values.is_none(), capacity);
+        // Rapier's statistics (on by default) are read by no one and cost
+        // a walk over every contact bucket at every step
+        let mut pipeline = PhysicsPipeline::new();
+        pipeline.counters.disable();
         PhysicsWorld {
             scene: scene.spec().name.clone(),
             space,
@@ -424,7 +428,7 @@ impl PhysicsWorld {
             reward: scene.reward_table(),
             gravity: v2(spec.gravity),
             params,
-            pipeline: PhysicsPipeline::new(),
+            pipeline,
             sets: s.clone(),
             pristine: s,
             copies: replicas,

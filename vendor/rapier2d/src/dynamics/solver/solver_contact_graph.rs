@@ -112,12 +112,17 @@ impl Default for GraphPos {
 #[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
 pub(crate) struct SolverContactGraph {
     buckets: Vec<Vec<ContactRef>>,
+    /// The number of refs in the color buckets (all but the generic one), kept
+    /// by every change: `len` without a walk, and no walk over the 129
+    /// buckets in a step without two-body contacts.
+    two_body: usize,
 }
 
 impl SolverContactGraph {
     pub(crate) fn new() -> Self {
         Self {
             buckets: alloc::vec![Vec::new(); NUM_BUCKETS + 1],
+            two_body: 0,
         }
     }
 
@@ -132,6 +137,7 @@ impl SolverContactGraph {
         for b in &mut self.buckets {
             b.clear();
         }
+        self.two_body = 0;
     }
 
     /// Inserts a solver-active manifold into its color bucket and returns its
@@ -142,6 +148,7 @@ impl SolverContactGraph {
         let arr = &mut self.buckets[bucket as usize];
         let local = arr.len() as u32;
         arr.push(contact);
+        self.two_body += 1;
         GraphPos::new(bucket, local)
     }
 
@@ -164,6 +171,7 @@ impl SolverContactGraph {
             self.buckets.resize_with(NUM_BUCKETS_WITH_GENERIC, Vec::new);
         }
         debug_assert_eq!(lens.len(), self.buckets.len());
+        self.two_body = lens[..NUM_BUCKETS].iter().map(|l| *l as usize).sum();
         self.buckets
             .iter_mut()
             .zip(lens.iter())
@@ -189,6 +197,9 @@ impl SolverContactGraph {
     #[inline]
     pub(crate) fn remove(&mut self, pos: GraphPos) -> Option<ContactRef> {
         debug_assert!(pos.is_some());
+        if pos.bucket() != GENERIC_BUCKET {
+            self.two_body -= 1;
+        }
         let arr = &mut self.buckets[pos.bucket() as usize];
         let local = pos.local() as usize;
         let last = arr.len() - 1;
@@ -207,14 +218,16 @@ impl SolverContactGraph {
     // doesn't need totals.
     #[cfg_attr(not(feature = "parallel"), allow(dead_code))]
     pub(crate) fn len(&self) -> usize {
-        self.buckets.iter().map(|b| b.len()).sum()
+        self.two_body + self.generic().len()
     }
 
     /// Iterates every non-empty two-body color bucket as `(color, &[ContactRef])`, skipping the
     /// generic list. Colors below [`crate::geometry::SOLVER_COLOR_OVERFLOW`] are body-disjoint;
     /// the overflow color's bucket may share bodies.
     pub(crate) fn buckets(&self) -> impl Iterator<Item = (u8, &[ContactRef])> {
-        self.buckets[..NUM_BUCKETS]
+        // nothing to walk when every color bucket is empty
+        let n = if self.two_body == 0 { 0 } else { NUM_BUCKETS };
+        self.buckets[..n]
             .iter()
             .enumerate()
             .filter_map(|(id, arr)| {

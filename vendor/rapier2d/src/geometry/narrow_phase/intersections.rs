@@ -23,6 +23,11 @@ impl NarrowPhase {
         hooks: &dyn PhysicsHooks,
         events: &dyn EventHandler,
     ) {
+        // No intersection pair (no sensor near anything): nothing to update. The awake-body
+        // mask is scratch space, recomputed by each of its users before it reads it.
+        if self.intersection_graph.graph.edges.is_empty() {
+            return;
+        }
         self.update_awake_body_mask(islands);
         let awake_body_mask = core::mem::take(&mut self.awake_body_mask);
 

@@ -25,6 +25,10 @@ impl SoftBodySet {
         params: &IntegrationParameters,
         quarantined: &mut Vec<SoftBodyHandle>,
     ) {
+        // Without soft bodies there is nothing to change (nor to allocate for).
+        if self.bodies.is_empty() && !self.attached_to_stale {
+            return;
+        }
         // The colliders' shapes say which surfaces are oriented (the user may have changed them).
         for (_, sb) in self.bodies.iter_mut() {
             for mesh in sb.meshes_mut() {
@@ -217,6 +221,9 @@ impl SoftBodySet {
         quarantined: &mut Vec<SoftBodyHandle>,
         synced_colliders: &mut Vec<ColliderHandle>,
     ) {
+        if self.bodies.is_empty() {
+            return;
+        }
         // Every body reads its own particles and writes only itself: updated in parallel, then
         // the writes to the shared sets are applied in body order. Disabled bodies are left
         // alone, like sleeping ones.
@@ -320,6 +327,9 @@ impl SoftBodySet {
         multibody_joints: &mut MultibodyJointSet,
         events: &dyn EventHandler,
     ) {
+        if self.bodies.is_empty() {
+            return;
+        }
         let pending: Vec<SoftBodyHandle> = self
             .bodies
             .iter()

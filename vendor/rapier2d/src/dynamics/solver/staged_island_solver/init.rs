@@ -18,7 +18,6 @@ use parry::math::SIMD_WIDTH;
 #[cfg(feature = "dim3")]
 use crate::dynamics::FrictionModel;
 
-use super::sync::StageSync;
 use super::worker::run_worker;
 use super::{
     CHUNK_BATCH, ChunkSegment, GroupLayout, LAYOUT_REF_WORKERS, SharedCtx, StagedIslandSolver,
@@ -617,7 +616,19 @@ impl StagedIslandSolver {
         /*
          * Parallel phase.
          */
-        self.sync = StageSync::new(num_workers);
+        self.sync.reset(num_workers);
+
+        let joints = &self.joint_constraints;
+        let unconstrained = num_chunks == 0
+            && joint_indices.is_empty()
+            && joints.velocity_constraints.is_empty()
+            && joints.simd_velocity_constraints.is_empty()
+            && joints.generic_velocity_constraints.is_empty()
+            && set.generic_velocity_constraints.is_empty()
+            && self.soft_constraints.is_empty()
+            && self.velocity_solver.multibody_roots.is_empty();
+        #[cfg(feature = "fem")]
+        let unconstrained = unconstrained && self.soft_fem.is_empty();
 
         let ctx = SharedCtx {
             sync: &self.sync,
@@ -653,6 +664,7 @@ impl StagedIslandSolver {
             any_gyroscopic: &self.any_gyroscopic as *const _,
             any_ccd_active: &self.any_ccd_active as *const _,
             any_bouncy: &self.any_bouncy as *const _,
+            unconstrained,
         };
 
         let ctx_ref = &ctx;

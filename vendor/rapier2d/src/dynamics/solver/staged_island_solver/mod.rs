@@ -224,6 +224,11 @@ struct SharedCtx<'a> {
     /// restitution seed (approaching bouncy contact); gates the end-of-step restitution
     /// pass. Published before the first substep barrier, read after it.
     any_bouncy: *const AtomicBool,
+    /// Nothing to solve in this step: no contact chunk, no joint, no generic (multibody)
+    /// contact, no soft-body constraint, no multibody. Every worker then skips the constraint
+    /// stages (generation, update, warmstart, the solve passes, the impulse writeback), which
+    /// would claim nothing and change nothing: the bodies' own stages give the same bits.
+    unconstrained: bool,
 }
 
 unsafe impl Sync for SharedCtx<'_> {}

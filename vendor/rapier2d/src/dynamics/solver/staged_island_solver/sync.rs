@@ -63,6 +63,21 @@ impl StageSync {
         }
     }
 
+    /// Sets `self` to [`Self::new`]`(num_workers)`, reusing its cursors when their number is
+    /// unchanged (no allocation per step).
+    pub(super) fn reset(&mut self, num_workers: usize) {
+        if self.cursors.len() != num_workers {
+            *self = Self::new(num_workers);
+            return;
+        }
+        self.published = AtomicUsize::new(0);
+        self.advance_ticket = AtomicUsize::new(0);
+        self.completed = AtomicUsize::new(0);
+        for cursor in &mut self.cursors {
+            cursor.0 = AtomicCursor::new(0);
+        }
+    }
+
     /// Records `count` executed units of `stage` (total `stage_work`, identical across workers).
     /// The completion crossing the total advances the stage right here, so [`Self::sync`] waiters
     /// only *read* `published` — no RMWs while spinning. Sound unconditionally: an incomplete
@@ -71,7 +86,14 @@ impl StageSync {
         if count == 0 {
             return;
         }
-        let prev = self.completed.fetch_add(count, Ordering::AcqRel);
+        // One worker: no one else counts, so a load and a store (no locked read-modify-write)
+        let prev = if self.num_workers == 1 {
+            let prev = self.completed.load(Ordering::Relaxed);
+            self.completed.store(prev + count, Ordering::Relaxed);
+            prev
+        } else {
+            self.completed.fetch_add(count, Ordering::AcqRel)
+        };
         debug_assert!(prev + count <= stage_work, "stage work over-completed");
         if prev + count == stage_work {
             self.advance(stage);
@@ -132,6 +154,7 @@ impl StageSync {
     /// Claims the next batch of stage-`stage` work in `range`, preferring the caller's own
     /// static sub-slice, then stealing from the others'. `None` when the range is drained —
     /// or when the machine already advanced past `stage` (straggler: this stage is done).
+    #[inline]
     pub(super) fn claim(
         &self,
         stage: usize,
@@ -139,9 +162,37 @@ impl StageSync {
         batch: usize,
         worker_id: usize,
     ) -> Option<Range<usize>> {
+        if self.num_workers == 1 {
+            // One worker: its slice is the whole range, nobody steals or
+            // advances behind its back; the same claims as `claim_shared`
+            // without the division, the victim loop and the compare-exchange.
+            let len = range.end - range.start;
+            let stage_tag = (stage as CursorInt) << STAGE_SHIFT;
+            let cursor = &self.cursors[0].0;
+            let packed = cursor.load(Ordering::Relaxed);
+            let got = (packed & POS_MASK) as usize;
+            if packed & !POS_MASK != stage_tag || got >= len {
+                return None;
+            }
+            cursor.store(packed + batch as CursorInt, Ordering::Relaxed);
+            let end = (got + batch).min(len);
+            return Some(range.start + got..range.start + end);
+        }
+        self.claim_shared(stage, range, batch, worker_id)
+    }
+
+    /// [`Self::claim`] with more than one worker.
+    #[inline(never)]
+    fn claim_shared(
+        &self,
+        stage: usize,
+        range: &Range<usize>,
+        batch: usize,
+        worker_id: usize,
+    ) -> Option<Range<usize>> {
         let len = range.end - range.start;
-        let per_worker = len.div_ceil(self.num_workers);
         let stage_tag = (stage as CursorInt) << STAGE_SHIFT;
+        let per_worker = len.div_ceil(self.num_workers);
 
         for k in 0..self.num_workers {
             let victim = (worker_id + k) % self.num_workers;

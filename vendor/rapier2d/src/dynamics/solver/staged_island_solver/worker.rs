@@ -6,7 +6,7 @@ use core::sync::atomic::Ordering;
 
 #[cfg(feature = "dim3")]
 use crate::dynamics::rigid_body::gyroscopic_corrected_angvel;
-use crate::dynamics::solver::JointConstraintsSet;
+use crate::dynamics::solver::{JointConstraintsSet, VelocitySolver};
 use crate::dynamics::solver::contact_constraint::ContactWithCoulombFrictionBuilder;
 #[cfg(feature = "dim3")]
 use crate::dynamics::solver::contact_constraint::ContactWithTwistFrictionBuilder;
@@ -38,6 +38,12 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
     // stage sites, so ordinals agree by construction. See `StageSync`.
     let mut stage = 0;
 
+    #[cfg(feature = "dim2")]
+    if ctx.unconstrained && sync.num_workers == 1 && ctx.groups.len() == 1 {
+        unsafe { run_unconstrained(ctx) };
+        return;
+    }
+
     /*
      * Stage: initialize solver bodies and their velocity increments (parallel over
      * claimed body slots; each writes solver-body slot i for island body i).
@@ -50,50 +56,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
         while let Some(claimed) = sync.claim(stage, &all_fill_slots, BODY_BATCH, worker_id) {
             let claimed_len = claimed.len();
             for i in claimed {
-                let handle = ctx.island_bodies[i];
-                if ctx.has_multibodies {
-                    let multibodies = unsafe { &*ctx.multibodies };
-                    if multibodies.rigid_body_link(handle).is_some() {
-                        continue;
-                    }
-                }
-
-                let bodies = unsafe { &*ctx.bodies };
-                let rb = &bodies[handle];
-                debug_assert_eq!(rb.ids.active_set_id, i as u32);
-                let vs = unsafe { &mut *ctx.velocity_solver };
-                vs.solver_bodies.copy_from(i, rb);
-
-                // The per-substep external-force increment, baked with the
-                // slot's group substep dt (groups are few; the scan is cheap).
-                let slot_dt = ctx
-                    .groups
-                    .iter()
-                    .find(|g| g.bodies.contains(&i))
-                    .map(|g| g.dt)
-                    .unwrap_or(ctx.groups[0].dt);
-                let incr = &mut vs.solver_vels_increment[i];
-                incr.angular = rb.mprops.effective_world_inv_inertia * rb.forces.torque * slot_dt;
-                incr.linear = rb.forces.force * rb.mprops.effective_inv_mass * slot_dt;
-
-                // Gyroscopic forces (3D) are applied per-substep by the increment
-                // stage; record the body's diagonal local inertia here.
-                #[cfg(feature = "dim3")]
-                {
-                    let gyro = &mut vs.solver_gyro[i];
-                    // Only dynamic bodies: a kinematic body's velocity is
-                    // user-prescribed and must not be altered by the solver.
-                    if rb.forces.gyroscopic_forces_enabled && rb.is_dynamic() && !rb.is_sleeping() {
-                        gyro.principal_inertia = rb.mprops.local_mprops.principal_inertia();
-                        gyro.inv_principal_inertia = rb.mprops.local_mprops.inv_principal_inertia;
-                        gyro.principal_frame = rb.mprops.local_mprops.principal_inertia_local_frame;
-                        gyro.enabled = true;
-                        // SAFETY: shared atomic; claimed slots make the writes disjoint.
-                        unsafe { &*ctx.any_gyroscopic }.store(true, Ordering::Relaxed);
-                    } else {
-                        gyro.enabled = false;
-                    }
-                }
+                unsafe { init_body(ctx, i) };
             }
             done += claimed_len;
         }
@@ -106,7 +69,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
     /*
      * Stage: generate SIMD contact constraints (parallel over claimed chunk slots).
      */
-    {
+    if !ctx.unconstrained {
         let bodies = unsafe { &*ctx.bodies };
         let mut done = 0;
         let mut local_bouncy = false;
@@ -358,7 +321,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
              * scalar joint builders — each writes only its own constraint slot/rows).
              * Worker 0 also updates the generic joint and generic contact constraints.
              */
-            {
+            if !ctx.unconstrained {
                 let multibodies = unsafe { &*ctx.multibodies };
                 // NOTE: when warm-starting is enabled (the common case), the contact
                 //       constraint updates are fused into the warmstart stage below so
@@ -505,7 +468,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
              * Stages: warmstart, color by color (parallel within a color: constraints of a
              * same color write disjoint solver bodies).
              */
-            if params.warmstart_coefficient != 0.0 {
+            if !ctx.unconstrained && params.warmstart_coefficient != 0.0 {
                 let multibodies = unsafe { &*ctx.multibodies };
                 for (_, color) in &ctx.color_ranges[group.colors.clone()] {
                     let mut done = 0;
@@ -613,7 +576,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
              * request (`RigidBody::additional_pgs_iterations`, 3 by default for soft bodies), so
              * the substep's constraints converge against each other at the same positions.
              */
-            for pgs_iter in 0..group.num_pgs_iterations {
+            for pgs_iter in 0..if ctx.unconstrained { 0 } else { group.num_pgs_iterations } {
                 // Joint warm-starting is fused into the first biased pass: each claimed joint
                 // applies its warm impulse right before being solved. Soft-body constraints do
                 // the same and update their geometry on the first iteration of the pass.
@@ -655,41 +618,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                     let vs = unsafe { &mut *ctx.velocity_solver };
                     let claimed_len = claimed.len();
                     for i in claimed {
-                        let i = slot_of(i);
-                        {
-                            let vel = &mut vs.solver_bodies.vels[i];
-                            if max_lin != Real::MAX {
-                                let n = vel.linear.length();
-                                if n > max_lin {
-                                    vel.linear *= max_lin / n;
-                                }
-                            }
-                            if vs.solver_bodies.flags[i] & SOLVER_BODY_ALLOW_FAST_ROTATION == 0 {
-                                #[cfg(feature = "dim2")]
-                                if vel.angular.abs() > max_ang {
-                                    vel.angular = vel.angular.signum() * max_ang;
-                                }
-                                #[cfg(feature = "dim3")]
-                                {
-                                    let n = vel.angular.length();
-                                    if n > max_ang {
-                                        vel.angular *= max_ang / n;
-                                    }
-                                }
-                            }
-                        }
-
-                        let vels = vs.solver_bodies.vels[i];
-                        let pose = &mut vs.solver_bodies.poses[i];
-                        let new_vels = RigidBodyVelocity {
-                            linvel: vels.linear,
-                            angvel: vels.angular,
-                        };
-                        new_vels.integrate_linearized(
-                            params.dt,
-                            &mut pose.translation,
-                            &mut pose.rotation,
-                        );
+                        integrate_body(vs, slot_of(i), max_lin, max_ang, params.dt);
                     }
                     done += claimed_len;
                 }
@@ -710,7 +639,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
             /*
              * Stages: solve without bias.
              */
-            for stab_iter in 0..params.num_internal_stabilization_iterations {
+            for stab_iter in 0..if ctx.unconstrained { 0 } else { params.num_internal_stabilization_iterations } {
                 stage = unsafe {
                     solve_pass(
                         ctx,
@@ -818,7 +747,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
      * manifolds, padding lanes skipped). Worker 0 also writes back the joint and generic
      * contact impulses (disjoint from the chunk manifolds).
      */
-    {
+    if !ctx.unconstrained {
         let mut done = 0;
         while let Some(claimed) = sync.claim(
             stage,
@@ -948,69 +877,11 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
      * writeback runs on worker 0 afterwards, exclusively.
      */
     {
-        let base_params = ctx.base_params;
         let mut done = 0;
         while let Some(claimed) = sync.claim(stage, &all_island_bodies, BODY_BATCH, worker_id) {
             let claimed_len = claimed.len();
             for i in claimed {
-                let handle = ctx.island_bodies[i];
-                if ctx.has_multibodies {
-                    let multibodies = unsafe { &*ctx.multibodies };
-                    if multibodies.rigid_body_link(handle).is_some() {
-                        continue;
-                    }
-                }
-
-                let bodies = unsafe { &mut *ctx.bodies };
-                let rb = bodies.index_mut_internal(handle);
-                let vs = unsafe { &*ctx.velocity_solver };
-                let solver_vels = &vs.solver_bodies.vels[rb.ids.active_set_id as usize];
-                let solver_poses = &vs.solver_bodies.poses[rb.ids.active_set_id as usize];
-
-                let mut new_vels = RigidBodyVelocity {
-                    linvel: solver_vels.linear,
-                    angvel: solver_vels.angular,
-                };
-                new_vels = new_vels.apply_damping(base_params.dt, &rb.damping);
-                rb.vels = new_vels;
-
-                // NOTE: if it's a position-based kinematic body, don't writeback as we want
-                //       to preserve exactly the value given by the user (it might not be
-                //       exactly equal to the integrated position because of rounding errors).
-                // A soft-frame proxy's pose is not integrated either: the soft-body sync
-                // re-derives it exactly from the particles at the end of the step.
-                if rb.body_type != RigidBodyType::KinematicPositionBased && !rb.is_soft_frame() {
-                    let local_com = -rb.mprops.local_mprops.local_com;
-                    rb.pos.next_position = solver_poses.pose().prepend_translation(local_com);
-                }
-
-                // Capture the post-solve velocity used by the CCD sweep — for *every* dynamic
-                // body (fast bodies get CCD vs fixed colliders by default), skipped entirely
-                // when CCD is globally off (`max_ccd_substeps == 0`) so those users pay nothing.
-                if base_params.max_ccd_substeps != 0 && rb.is_dynamic() && !rb.is_soft_frame() {
-                    rb.ccd_vels = rb
-                        .pos
-                        .interpolate_velocity(base_params.inv_dt(), rb.local_center_of_mass());
-
-                    // Fused post-solve CCD activation (fast-body criterion on the
-                    // solved motion): replaces the pipeline's serial post-solve
-                    // walk over every active body when no multibody is present.
-                    let moving_fast = rb.ccd.is_moving_fast_with_next_position(
-                        base_params.dt,
-                        &rb.ccd_vels,
-                        &rb.pos,
-                        rb.mprops.local_mprops.local_com,
-                        rb.mprops.max_extent(),
-                    );
-                    rb.ccd.ccd_active = moving_fast;
-                    if moving_fast {
-                        // SAFETY: shared atomic; claimed slots make the flag
-                        // writes disjoint.
-                        unsafe { &*ctx.any_ccd_active }.store(true, Ordering::Relaxed);
-                    }
-                } else {
-                    rb.ccd_vels = RigidBodyVelocity::zero();
-                }
+                unsafe { writeback_body(ctx, i) };
             }
             done += claimed_len;
         }
@@ -1037,5 +908,187 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
         // No sync after the multibody-velocity writeback: nothing follows, and
         // the caller's scope join is the final synchronization point.
         let _ = stage;
+    }
+}
+
+/// The solver body and velocity increment of island body `i` (the first stage of
+/// [`run_worker`]). See [`SharedCtx`] for the safety contract.
+#[inline]
+unsafe fn init_body(ctx: &SharedCtx, i: usize) {
+    let handle = ctx.island_bodies[i];
+    if ctx.has_multibodies {
+        let multibodies = unsafe { &*ctx.multibodies };
+        if multibodies.rigid_body_link(handle).is_some() {
+            return;
+        }
+    }
+
+    let bodies = unsafe { &*ctx.bodies };
+    let rb = &bodies[handle];
+    debug_assert_eq!(rb.ids.active_set_id, i as u32);
+    let vs = unsafe { &mut *ctx.velocity_solver };
+    vs.solver_bodies.copy_from(i, rb);
+
+    // The per-substep external-force increment, baked with the
+    // slot's group substep dt (groups are few; the scan is cheap).
+    let slot_dt = ctx
+        .groups
+        .iter()
+        .find(|g| g.bodies.contains(&i))
+        .map(|g| g.dt)
+        .unwrap_or(ctx.groups[0].dt);
+    let incr = &mut vs.solver_vels_increment[i];
+    incr.angular = rb.mprops.effective_world_inv_inertia * rb.forces.torque * slot_dt;
+    incr.linear = rb.forces.force * rb.mprops.effective_inv_mass * slot_dt;
+
+    // Gyroscopic forces (3D) are applied per-substep by the increment
+    // stage; record the body's diagonal local inertia here.
+    #[cfg(feature = "dim3")]
+    {
+        let gyro = &mut vs.solver_gyro[i];
+        // Only dynamic bodies: a kinematic body's velocity is
+        // user-prescribed and must not be altered by the solver.
+        if rb.forces.gyroscopic_forces_enabled && rb.is_dynamic() && !rb.is_sleeping() {
+            gyro.principal_inertia = rb.mprops.local_mprops.principal_inertia();
+            gyro.inv_principal_inertia = rb.mprops.local_mprops.inv_principal_inertia;
+            gyro.principal_frame = rb.mprops.local_mprops.principal_inertia_local_frame;
+            gyro.enabled = true;
+            // SAFETY: shared atomic; claimed slots make the writes disjoint.
+            unsafe { &*ctx.any_gyroscopic }.store(true, Ordering::Relaxed);
+        } else {
+            gyro.enabled = false;
+        }
+    }
+}
+
+/// Caps the velocity of solver body `i` (`max_lin`, and `max_ang` unless it may rotate fast)
+/// and integrates its pose over `dt` (the position stage of a substep).
+#[inline]
+fn integrate_body(vs: &mut VelocitySolver, i: usize, max_lin: Real, max_ang: Real, dt: Real) {
+    {
+        let vel = &mut vs.solver_bodies.vels[i];
+        if max_lin != Real::MAX {
+            let n = vel.linear.length();
+            if n > max_lin {
+                vel.linear *= max_lin / n;
+            }
+        }
+        if vs.solver_bodies.flags[i] & SOLVER_BODY_ALLOW_FAST_ROTATION == 0 {
+            #[cfg(feature = "dim2")]
+            if vel.angular.abs() > max_ang {
+                vel.angular = vel.angular.signum() * max_ang;
+            }
+            #[cfg(feature = "dim3")]
+            {
+                let n = vel.angular.length();
+                if n > max_ang {
+                    vel.angular *= max_ang / n;
+                }
+            }
+        }
+    }
+
+    let vels = vs.solver_bodies.vels[i];
+    let pose = &mut vs.solver_bodies.poses[i];
+    let new_vels = RigidBodyVelocity {
+        linvel: vels.linear,
+        angvel: vels.angular,
+    };
+    new_vels.integrate_linearized(dt, &mut pose.translation, &mut pose.rotation);
+}
+
+/// Writes the solved velocity (damped) and pose of island body `i` back to its rigid body,
+/// with its CCD velocity and activation (the last stage of [`run_worker`]). See [`SharedCtx`]
+/// for the safety contract.
+#[inline]
+unsafe fn writeback_body(ctx: &SharedCtx, i: usize) {
+    let base_params = ctx.base_params;
+    let handle = ctx.island_bodies[i];
+    if ctx.has_multibodies {
+        let multibodies = unsafe { &*ctx.multibodies };
+        if multibodies.rigid_body_link(handle).is_some() {
+            return;
+        }
+    }
+
+    let bodies = unsafe { &mut *ctx.bodies };
+    let rb = bodies.index_mut_internal(handle);
+    let vs = unsafe { &*ctx.velocity_solver };
+    let solver_vels = &vs.solver_bodies.vels[rb.ids.active_set_id as usize];
+    let solver_poses = &vs.solver_bodies.poses[rb.ids.active_set_id as usize];
+
+    let mut new_vels = RigidBodyVelocity {
+        linvel: solver_vels.linear,
+        angvel: solver_vels.angular,
+    };
+    new_vels = new_vels.apply_damping(base_params.dt, &rb.damping);
+    rb.vels = new_vels;
+
+    // NOTE: if it's a position-based kinematic body, don't writeback as we want
+    //       to preserve exactly the value given by the user (it might not be
+    //       exactly equal to the integrated position because of rounding errors).
+    // A soft-frame proxy's pose is not integrated either: the soft-body sync
+    // re-derives it exactly from the particles at the end of the step.
+    if rb.body_type != RigidBodyType::KinematicPositionBased && !rb.is_soft_frame() {
+        let local_com = -rb.mprops.local_mprops.local_com;
+        rb.pos.next_position = solver_poses.pose().prepend_translation(local_com);
+    }
+
+    // Capture the post-solve velocity used by the CCD sweep — for *every* dynamic
+    // body (fast bodies get CCD vs fixed colliders by default), skipped entirely
+    // when CCD is globally off (`max_ccd_substeps == 0`) so those users pay nothing.
+    if base_params.max_ccd_substeps != 0 && rb.is_dynamic() && !rb.is_soft_frame() {
+        rb.ccd_vels = rb
+            .pos
+            .interpolate_velocity(base_params.inv_dt(), rb.local_center_of_mass());
+
+        // Fused post-solve CCD activation (fast-body criterion on the
+        // solved motion): replaces the pipeline's serial post-solve
+        // walk over every active body when no multibody is present.
+        let moving_fast = rb.ccd.is_moving_fast_with_next_position(
+            base_params.dt,
+            &rb.ccd_vels,
+            &rb.pos,
+            rb.mprops.local_mprops.local_com,
+            rb.mprops.max_extent(),
+        );
+        rb.ccd.ccd_active = moving_fast;
+        if moving_fast {
+            // SAFETY: shared atomic; claimed slots make the flag
+            // writes disjoint.
+            unsafe { &*ctx.any_ccd_active }.store(true, Ordering::Relaxed);
+        }
+    } else {
+        rb.ccd_vels = RigidBodyVelocity::zero();
+    }
+}
+
+/// [`run_worker`] for one worker when there is nothing to solve (`SharedCtx::unconstrained`,
+/// one solve-group, 2D): the stages that remain, in the same order on the same bodies, without
+/// claims and barriers. Body init, then per substep the velocity increments and the position
+/// integration, then the writeback. The generic (multibody) increments and integration it
+/// leaves out act on no multibody. See [`SharedCtx`] for the safety contract.
+#[cfg(feature = "dim2")]
+unsafe fn run_unconstrained(ctx: &SharedCtx) {
+    for i in 0..ctx.island_bodies.len() {
+        unsafe { init_body(ctx, i) };
+    }
+    let group = &ctx.groups[0];
+    let max_lin = ctx.base_params.max_linear_velocity();
+    let max_ang = MAX_ROTATION * ctx.base_params.inv_dt();
+    let vs = unsafe { &mut *ctx.velocity_solver };
+    for _ in 0..group.num_substeps {
+        for i in group.bodies.clone() {
+            let incr = vs.solver_vels_increment[i];
+            let vels = &mut vs.solver_bodies.vels[i];
+            vels.linear += incr.linear;
+            vels.angular += incr.angular;
+        }
+        for i in group.bodies.clone() {
+            integrate_body(vs, i, max_lin, max_ang, group.dt);
+        }
+    }
+    for i in 0..ctx.island_bodies.len() {
+        unsafe { writeback_body(ctx, i) };
     }
 }
