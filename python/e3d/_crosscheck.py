@@ -35,7 +35,7 @@ class _Mujoco:
     """The exported model, with the table of what each symbol does."""
 
     def __init__(self, scene: Scene) -> None:
-        import mujoco  # type: ignore[import-not-found, unused-ignore]  # the optional extra
+        import mujoco  # type: ignore[import-not-found, import-untyped, unused-ignore]  # the optional extra
 
         self.mj = mujoco
         self.model = mujoco.MjModel.from_xml_string(scene.to_mjcf())
