@@ -35,15 +35,49 @@ class _Mujoco:
     """The exported model, with the table of what each symbol does."""
 
     def __init__(self, scene: Scene) -> None:
-        import mujoco  # type: ignore[import-not-found, unused-ignore]  # the optional extra
+        import mujoco  # type: ignore[import-not-found, import-untyped, unused-ignore]  # the optional extra
 
         self.mj = mujoco
         self.model = mujoco.MjModel.from_xml_string(scene.to_mjcf())
         self.data = mujoco.MjData(self.model)
-        together, self.per, self.after, _ = (int(x) for x in self.numeric("e3d_schedule"))
+        together, self.per, self.after, self.substeps = (
+            int(x) for x in self.numeric("e3d_schedule"))
         self.together = together == 1
         self.scene = scene
         self.features = _features(scene)
+        # e3d's drag (`e3d_drag_<body>`: along, across, turn), applied as
+        # xfrc_applied (docs/mjcf.md)
+        self.drags: list[tuple[int, npt.NDArray[np.float64]]] = []
+        for i in range(self.model.nnumeric):
+            name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_NUMERIC, i)
+            if name.startswith("e3d_drag_"):
+                body = self.model.body(name[len("e3d_drag_"):]).id
+                self.drags.append((body, self.numeric(name)))
+
+    def _drag(self) -> None:
+        """Sets each dragged body's applied force and torque (world frame,
+        at its centre of mass) from its state now, as e3d does at the start
+        of each of its steps: -(along (v.u) u + across (v.n) n), -turn w."""
+        mj, m, d = self.mj, self.model, self.data
+        v6 = np.zeros(6)
+        for b, (along, across, turn) in self.drags:
+            # the body frame's velocity, then its centre of mass's
+            mj.mj_objectVelocity(m, d, mj.mjtObj.mjOBJ_XBODY, b, v6, 0)
+            w = v6[2]
+            r = d.xipos[b] - d.xpos[b]
+            vx, vy = v6[3] - w * r[1], v6[4] + w * r[0]
+            c, s = d.xmat[b][0], d.xmat[b][3]
+            a, n = c * vx + s * vy, -s * vx + c * vy
+            fa, fn = -along * a, -across * n
+            d.xfrc_applied[b] = [c * fa - s * fn, s * fa + c * fn, 0.0, 0.0, 0.0, -turn * w]
+
+    def _step(self, k: int) -> int:
+        """One MuJoCo step, the `k`-th of the command; the drag is set at
+        the start of each e3d step."""
+        if self.drags and k % self.substeps == 0:
+            self._drag()
+        self.mj.mj_step(self.model, self.data)
+        return k + 1
 
     def numeric(self, name: str) -> npt.NDArray[np.float64]:
         return np.asarray(self.model.numeric(name).data, dtype=np.float64)
@@ -80,17 +114,18 @@ class _Mujoco:
         contact = False
         slots = len(command)
         groups = [range(slots)] if self.together else [[s] for s in range(slots)]
+        k = 0
         for group in groups:
             held, impulse = np.zeros(m.nu), np.zeros(m.nu)
             for s in group:
                 self._slot(s, command[s], held, impulse, setpoint)
             for step in range(self.per):
                 d.ctrl[:] = setpoint + held + (impulse if step == 0 else 0.0)
-                mj.mj_step(m, d)
+                k = self._step(k)
                 contact = contact or d.ncon > 0
         for _ in range(self.after):
             d.ctrl[:] = setpoint
-            mj.mj_step(m, d)
+            k = self._step(k)
             contact = contact or d.ncon > 0
         return self.values(), contact
 
@@ -110,6 +145,10 @@ class _Mujoco:
                     fx, fy, fa = pose(a["frame"])
                     x, y = _turn(-fa, (x - fx, y - fy))
                 out += [x, y]
+            elif kind == "Centre":
+                ids = [m.body(b).id for b in a["bodies"]]
+                w = m.body_mass[ids]
+                out += list(w @ d.xipos[ids, :2] / w.sum())
             elif kind == "Joint":
                 j = m.joint(a["joint"])
                 q = float(d.qpos[j.qposadr[0]])
@@ -119,8 +158,11 @@ class _Mujoco:
         return out
 
 
-def _e3d_values(scene: Scene, features: list[tuple[str, dict[str, Any]]], motion: Any) -> list[float]:
-    """The feature values at the end of an e3d motion (``World.trace``)."""
+def _e3d_values(mj: _Mujoco, features: list[tuple[str, dict[str, Any]]],
+                motion: Any) -> list[float]:
+    """The feature values at the end of an e3d motion (``World.trace``); a
+    centre of mass from the bodies' masses and centres the model holds
+    (Rapier's)."""
     last = len(motion.time) - 1
 
     def pose(body: str) -> tuple[float, float, float]:
@@ -137,6 +179,15 @@ def _e3d_values(scene: Scene, features: list[tuple[str, dict[str, Any]]], motion
                 fx, fy, fa = pose(a["frame"])
                 x, y = _turn(-fa, (x - fx, y - fy))
             out += [x, y]
+        elif kind == "Centre":
+            c, total = np.zeros(2), 0.0
+            for name in a["bodies"]:
+                b = mj.model.body(name)
+                bx, by, ba = pose(name)
+                dx, dy = _turn(ba, (b.ipos[0], b.ipos[1]))
+                c += b.mass[0] * np.array([bx + dx, by + dy])
+                total += b.mass[0]
+            out += list(c / total)
         elif kind == "Joint":
             out.append(float(motion.joint_angle[last, motion.joints.index(a["joint"])]))
         else:
@@ -177,13 +228,13 @@ def crosscheck(
     for i, row in enumerate(rows):
         motion = world.trace(row)
         texts.append(motion.command)
-        mine = _e3d_values(scene, mj.features, motion)
+        mine = _e3d_values(mj, mj.features, motion)
         values, contact[i] = mj.run(row)
         diffs = [a - b for a, b in zip(mine, values)]
         for f, (kind, a) in enumerate(mj.features):
             angular = kind == "Angle" or (kind == "Joint" and _is_hinge(mj, a["joint"]))
             if angular:
-                at = sum(2 if k == "Point" else 1 for k, _ in mj.features[:f])
+                at = sum(2 if k in ("Point", "Centre") else 1 for k, _ in mj.features[:f])
                 diffs[at] = _wrap(diffs[at])
         distance[i] = math.sqrt(sum(x * x for x in diffs))
         ours[i] = motion.outcome.effect

@@ -2,6 +2,7 @@
 //! before the failure is placed in a file ([`SceneSpec::validate`],
 //! [`Scene::parse`](super::Scene::parse)).
 
+use super::physics::PhysicsSpec;
 use super::{
     printable_symbol, shorthand, template, CommandSpec, Invalid, SceneSpec, WorldSpec, MAX_REWARD,
 };
@@ -18,10 +19,29 @@ impl SceneSpec {
         let n = self.slots().count();
         self.check_slot_count(n)?;
         self.check_slot_names()?;
-        if let Some(slots) = template::expand(&self.command)? {
-            if let WorldSpec::Physics(p) = &self.world {
+        if matches!(self.command, CommandSpec::Template { .. }) {
+            let world = || -> Result<Option<PhysicsSpec>, Invalid> {
+                let WorldSpec::Physics(p) = &self.world else {
+                    return Ok(None);
+                };
                 let mut e = p.clone();
                 shorthand::expand(&mut e)?;
+                Ok(Some(e))
+            };
+            // a template mixing joints and bodies expands by the joints' names
+            let mixed = template::needs_joints(&self.command);
+            let mut e = if mixed { world()? } else { None };
+            let early: Vec<&str> = e
+                .iter()
+                .flat_map(|e| &e.joints)
+                .map(|j| j.name.as_str())
+                .collect();
+            let slots = template::expand(&self.command, &|c| early.contains(&c))?
+                .expect("a template expands");
+            if !mixed {
+                e = world()?;
+            }
+            if let Some(e) = &e {
                 let joints: Vec<&str> = e.joints.iter().map(|j| j.name.as_str()).collect();
                 let bodies: Vec<&str> = e.bodies.iter().map(|b| b.name.as_str()).collect();
                 template::check_names(&self.command, &joints, &bodies)?;

@@ -362,7 +362,19 @@ impl SceneSpec {
     /// assert_eq!(p.joints[3].name, "j1");
     /// ```
     pub fn expand(&mut self) -> Result<(), SceneError> {
-        if let Some(slots) = template::expand(&self.command).map_err(|v| self.invalid(v))? {
+        // a template mixing joints and bodies needs the joints' names
+        let joints: Vec<String> = match &self.world {
+            WorldSpec::Physics(p) if template::needs_joints(&self.command) => {
+                let mut e = p.clone();
+                shorthand::expand(&mut e).map_err(|v| self.invalid(v))?;
+                e.joints.into_iter().map(|j| j.name).collect()
+            }
+            _ => Vec::new(),
+        };
+        let is_joint = |c: &str| joints.iter().any(|j| j == c);
+        if let Some(slots) =
+            template::expand(&self.command, &is_joint).map_err(|v| self.invalid(v))?
+        {
             self.command = slots;
         }
         match &mut self.world {

@@ -721,6 +721,53 @@ fn e3d_threads(args: &[&str], threads: usize, stdin: Option<&str>) -> Output {
     child.wait_with_output().unwrap()
 }
 
+/// Episode runs (`run --commands K`, `--closed-loop`, start contexts)
+/// say what they will cost, as every `run` does: a line after the
+/// description with the commands (sessions x episodes x commands per
+/// episode), the steps and the threads; then progress (its timing is not
+/// checked: the lines come by the clock). 1500 commands of arm7: about
+/// 2 s by the model on an idle machine, above the 1 s from which a
+/// cost is said.
+#[test]
+fn episode_runs_print_their_estimated_cost_and_progress() {
+    let runs: [(&[&str], &str, &str); 3] = [
+        (
+            &["run", "arm7", "--commands", "2", "--trials", "750"],
+            "episodes: 1 sessions of 750 episodes of 2 commands, learner e3d,",
+            "run arm7: 1500 command(s) (120 steps each) on 1 thread(s): about ",
+        ),
+        (
+            &["run", "arm7", "--commands", "2", "--closed-loop", "--trials", "750"],
+            "episodes: 1 sessions of 750 episodes of 2 commands, learner e3d_closed_loop,",
+            "run arm7: 1500 command(s) (120 steps each) on 1 thread(s): about ",
+        ),
+        (
+            &["run", "scenes/arm7_poses.ron", "--trials", "1500"],
+            "episodes: 1 sessions of 1500 episodes of 1 command, learner e3d, 3 contexts observed as the start context",
+            "run arm7_poses: 1500 command(s) (120 steps each) on 1 thread(s): about ",
+        ),
+    ];
+    for (args, describe, cost) in runs {
+        let (_, err) = ok(&e3d_threads(args, 1, None));
+        let lines: Vec<&str> = err.lines().collect();
+        assert!(lines[0].starts_with(describe), "{err}");
+        assert!(
+            lines[1].starts_with(cost)
+                && lines[1]
+                    .ends_with(" s (the cost model, calibrated on at least 3 timed rollouts here)"),
+            "{err}"
+        );
+        let label = cost.split(':').next().unwrap();
+        // the progress lines that came: the run's label and its episodes
+        for l in &lines[2..] {
+            assert!(
+                l.starts_with(&format!("{label}: ")) && l.contains(" episodes"),
+                "{l}\n{err}"
+            );
+        }
+    }
+}
+
 /// The long scene tools say what they will cost before they start (the
 /// progress lines that follow come every 5 s off a terminal: not checked);
 /// the short ones stay quiet.

@@ -48,6 +48,8 @@ fn assert_same_world(a: &PhysicsSpec, b: &PhysicsSpec, scene: &str) {
                 y.mass_kg()
             );
             assert_eq!(x.lock_rotation, y.lock_rotation, "{at}");
+            // drag travels as the custom numeric e3d_drag_<body>
+            assert_eq!(x.drag, y.drag, "{at}");
             if !a.joints.iter().any(|j| j.child == x.name) {
                 assert!(close(x.linear_damping, y.linear_damping), "{at}");
             }
@@ -81,7 +83,7 @@ fn assert_same_world(a: &PhysicsSpec, b: &PhysicsSpec, scene: &str) {
 
 #[test]
 fn every_shipped_physics_scene_exports_and_imports_back() {
-    let mut n = 0;
+    let (mut n, mut drags) = (0, 0);
     for (name, _) in BUILTIN {
         let scene = Scene::builtin(name).unwrap();
         let Some(xml) = to_mjcf(&scene) else {
@@ -107,9 +109,49 @@ fn every_shipped_physics_scene_exports_and_imports_back() {
         let text = imported.to_ron(&format!("{name}.xml"));
         let back = Scene::parse(&text, "imported.ron").unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_same_world(physics(scene.spec()), physics(back.spec()), name);
+        drags += physics(back.spec())
+            .bodies
+            .iter()
+            .filter(|b| b.drag.is_some())
+            .count();
         n += 1;
     }
     assert_eq!(n, 13);
+    // swimmer_drag's four links came back with their drag
+    assert_eq!(drags, 4);
+}
+
+#[test]
+fn drag_is_written_as_a_numeric_and_a_moving_body_is_needed_to_read_it() {
+    let xml = stdout_of(&["scene", "export", "--mjcf", "swimmer_drag"]);
+    assert!(
+        xml.contains(r#"<numeric name="e3d_drag_link3" data="0.02 0.5 0"/>"#),
+        "{xml}"
+    );
+    assert!(
+        xml.contains("set the body's xfrc_applied (world frame, at the"),
+        "{xml}"
+    );
+    // a drag numeric naming a fixed body is refused with its line
+    let bad = xml.replace("e3d_drag_link3", "e3d_drag_wall_south");
+    let e = from_mjcf(&bad, "bad.xml").unwrap_err();
+    assert!(
+        e.message.contains("there is no moving body `wall_south`"),
+        "{e}"
+    );
+    let line = bad
+        .lines()
+        .position(|l| l.contains("e3d_drag_wall_south"))
+        .unwrap()
+        + 1;
+    assert_eq!(e.line as usize, line, "{e}");
+    let bad = xml.replace(r#"data="0.02 0.5 0""#, r#"data="0.02 0.5""#);
+    let e = from_mjcf(&bad, "bad.xml").unwrap_err();
+    assert!(
+        e.message
+            .contains("expected 3 numbers (along, across, turn)"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -125,11 +167,14 @@ fn the_export_writes_what_rapier_uses() {
     assert!(xml.contains(
         r#"<joint name="puck_x" type="slide" axis="1 0 0" damping="0.6000000089406967"/>"#
     ));
-    // restitution is not mapped: every contact is critically damped
+    // without restitution, a critically damped contact; the puck's 0.3, a
+    // spring of natural frequency 1 / (4 timesteps) = 60 rad/s (stiffness
+    // 3600) with damping ratio -ln 0.3 / sqrt(pi² + ln² 0.3) = 0.3579
     assert!(
         xml.contains(r#"friction="0.5 0 0" solref="0.008333333333333333 1"#),
         "{xml}"
     );
+    assert!(xml.contains(r#"solref="-3600 -42.942855660398""#), "{xml}");
     assert!(xml.contains(r#"<numeric name="e3d_schedule" data="0 120 240 4"/>"#));
     assert!(xml.contains(r#"<numeric name="e3d_s0_2" data="2 0 1"/>"#));
     assert!(xml.contains("What does not map exactly"));

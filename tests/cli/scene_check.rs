@@ -372,3 +372,11 @@ fn check_lists_each_slots_actions_and_each_contexts_start() {
     let (s, _) = check(&[&slider, "--samples", "0"]);
     assert!(s.ends_with("actions:\n  0: +: motor set point 0.5 m on slider `rail` (ground -> cart); f: force (2, 0) N on `cart`, held\n"), "{s}");
 }
+
+#[test]
+fn check_lists_a_mixed_templates_force_and_torque_slots() {
+    // slot 0 pushes the puck, slot 1 turns the hinge (tests/library/slot_templates.rs)
+    let (s, _) = check(&["tests/scenes/mixed_template.ron", "--samples", "0"]);
+    assert!(s.contains("slots (2):\n  0: -0+\n  1: -0+\n"), "{s}");
+    assert!(s.contains("actions:\n  0: -: force (-1, 0) N on `puck`, held; 0: nothing; +: force (1, 0) N on `puck`, held\n  1: -: torque -0.01 N·m on hinge `pin` (ground -> rod), held; 0: nothing; +: torque 0.01 N·m on hinge `pin` (ground -> rod), held\n"), "{s}");
+}

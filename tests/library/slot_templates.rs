@@ -219,3 +219,78 @@ fn scene_check_refuses_a_declared_count_with_its_place() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A template whose cycle mixes a body and a joint: slot 0 pushes the
+/// free puck with a `Force`, slot 1 turns the rod's hinge with a
+/// `Torque`, each symbol written once per kind.
+const MIXED: &str = include_str!("../scenes/mixed_template.ron");
+
+#[test]
+fn a_template_mixing_a_bodys_force_and_a_joints_torque_does_both() {
+    let s = Scene::parse(MIXED, "mixed.ron").unwrap_or_else(|e| panic!("{e}"));
+    let CommandSpec::Slots(slots) = &s.spec().command else {
+        panic!("a loaded template is Slots")
+    };
+    assert_eq!(slots[0].name.as_deref(), Some("puck"));
+    assert_eq!(
+        slots[0].alphabet[2].action,
+        Action::Force {
+            body: "puck".into(),
+            force: (1.0, 0.0)
+        }
+    );
+    assert_eq!(
+        slots[1].alphabet[0].action,
+        Action::Torque {
+            joint: "pin".into(),
+            torque: -0.01
+        }
+    );
+    assert_eq!(s.command_space().num_commands(), Some(9));
+    // the puck's x and the hinge's angle at the end of a command
+    let end = |c: &str| {
+        let mut w = s.physics_world().unwrap();
+        let m = w.motion(&s.command_space().parse(c).unwrap()).unwrap();
+        let f = m.frames.last().unwrap();
+        (f.poses[0].position[0], f.joint_angles[0])
+    };
+    let (both, push, turn) = (end("++"), end("+0"), end("0+"));
+    // the two parts do not touch: the command's end is the sum of theirs
+    assert_eq!(both, (push.0, turn.1));
+    assert_eq!((turn.0, push.1), (0.0, 0.0));
+    assert_eq!(end("--"), (-both.0, -both.1));
+    // 1 N on 2 kg for 0.5 s, then 1 s at the speed reached: 0.3125 m;
+    // 0.01 N·m on the rod (I = 0.5 (0.4² + 0.04²) / 12 kg·m²) in the
+    // second phase, then 0.5 s at the spin reached: 0.557 rad
+    let i = 0.5 * (0.4f64.powi(2) + 0.04f64.powi(2)) / 12.0;
+    let (a, alpha) = (1.0 / 2.0, 0.01 / i);
+    let x = a * 0.25 / 2.0 + a * 0.5 * 1.0;
+    let angle = alpha * 0.25 / 2.0 + alpha * 0.5 * 0.5;
+    println!(
+        "mixed template: x {} for {x}, angle {} for {angle}",
+        both.0, both.1
+    );
+    assert!((both.0 / x - 1.0).abs() < 0.02, "x {} for {x}", both.0);
+    assert!(
+        (both.1 / angle - 1.0).abs() < 0.02,
+        "angle {} for {angle}",
+        both.1
+    );
+}
+
+#[test]
+fn a_mixed_template_refuses_a_symbol_without_an_action_of_the_entrys_kind() {
+    let one_sided = MIXED.replace(
+        "            (symbol: '+', action: Force(body: \"*\", force: (1.0, 0.0))),\n",
+        "",
+    );
+    assert_eq!(
+        refused(&one_sided),
+        "t.ron:27:9: field `cycle`: expected cycle[0]: `puck` is a body, so every symbol naming `*` needs an action on a body (Force or Impulse on \"*\"), but symbol '+' has none: in a cycle of joints and bodies, write each such symbol twice, once for each"
+    );
+    let e = refused(&MIXED.replace("[\"puck\", \"pin\"]", "[\"puck\", \"pim\"]"));
+    assert!(
+        e.starts_with("t.ron:28:9: field `cycle`: expected cycle[1]: a joint or a body (the alphabet's `*` names joints in some actions, bodies in others), but there is neither `pim` (did you mean `pin`?)"),
+        "{e}"
+    );
+}

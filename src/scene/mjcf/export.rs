@@ -1,13 +1,16 @@
 //! A physics scene as an MJCF model in the x-y plane (`e3d scene export
 //! --mjcf`, Python's `Scene.to_mjcf`).
 
-use super::{COM_SITE, DEPTH, EFFECT_SITE, ORIGIN_SITE, THIN};
+use super::{COM_SITE, DEPTH, DRAG, EFFECT_SITE, ORIGIN_SITE, THIN};
 use crate::scene::physics::{BodyKind, BodySpec, JointSpec, PhysicsSpec, ShapeSpec};
 use crate::scene::valid::{Resolved, ResolvedProbe, ResolvedValue};
 use crate::scene::{Scene, WorldSpec};
-use parry2d::mass_properties::MassProperties;
-use parry2d::math::Vector;
 use std::fmt::Write;
+
+/// The period of a bouncing contact's spring, in MuJoCo steps, over 2 pi:
+/// a stiffer one is under-resolved and bounces less than asked
+/// (docs/physics.md, the cross-check).
+const RESTITUTION_STEPS: f64 = 4.0;
 
 /// What the MJCF model of a scene cannot reproduce exactly, written at the
 /// top of every exported file.
@@ -17,7 +20,10 @@ What does not map exactly:
   friction model; MuJoCo's contacts are soft (solref, solimp) and let
   bodies overlap a little. Friction: Rapier takes the mean of a pair's
   coefficients, MuJoCo the larger; torsional and rolling friction are 0
-  here. Restitution is not mapped (MuJoCo's contacts do not bounce).
+  here. Restitution e > 0 becomes a bouncing contact spring (solref
+  = -stiffness -damping: natural frequency 1 / (4 timesteps), damping
+  ratio -ln e / sqrt(pi^2 + ln^2 e)); MuJoCo mixes two geoms' solref
+  where Rapier takes the mean of their restitutions.
   Shapes are prisms: boxes get a half-thickness of 0.1 m along z; segments
   and polylines (fixed walls) become capsules of radius 1 mm.
 - Joint limits. e3d's limits are inelastic stops (a joint reaching one
@@ -34,9 +40,12 @@ What does not map exactly:
   centre of mass during the first MuJoCo step of its phase.
 - Numbers. Rapier computes in f32, MuJoCo in f64. Masses and inertias are
   those Rapier uses (parry2d's, from the shape and mass or density).
+- Drag. A body's `drag` is e3d's linear law, not MuJoCo's fluid model: it
+  is written as the custom numeric e3d_drag_<body> (along, across, turn),
+  for a replay to apply as the body's xfrc_applied (the notes above say
+  how, in a scene with drag).
 - Not exported: start contexts (the model starts from the bodies as the
-  scene lists them), noise, drag (MuJoCo's fluid model is another law),
-  symmetry, max_speed, fast_rotation.";
+  scene lists them), noise, symmetry, max_speed, fast_rotation.";
 
 /// The MJCF model of a physics scene (`None` for a grid scene): every body
 /// with its shape, mass and inertia as Rapier gives them, its joints
@@ -306,6 +315,16 @@ impl<'a> Export<'a> {
              slots act together (1) or in turn (0), MuJoCo steps per phase, after the\n\
              last phase, and per e3d step.\n",
         );
+        if p.bodies.iter().any(|b| b.drag.is_some()) {
+            out.push_str(
+                "Drag (`e3d_drag_<body>`, data: along, across, turn, in N s/m and N m s/rad):\n\
+                 at the start of each e3d step (every `substeps` MuJoCo steps), with u the\n\
+                 body's local x axis in the world, n its normal, v the velocity of its centre\n\
+                 of mass and w its spin, set the body's xfrc_applied (world frame, at the\n\
+                 centre of mass) to the force -(along (v.u) u + across (v.n) n) and the\n\
+                 torque -turn w about z, and hold it for those MuJoCo steps.\n",
+            );
+        }
         let sizes: Vec<usize> = self.scene.spec().slots().map(|a| a.len()).collect();
         let links = self.scene.links();
         if self.scene.values().is_none() {
@@ -490,9 +509,24 @@ impl<'a> Export<'a> {
         );
     }
 
+    /// A geom's contact `solref` for restitution `e`: without it, (2
+    /// timesteps, damping ratio 1), the stiffest critically damped contact;
+    /// with it, MuJoCo's direct form `-stiffness -damping` of a spring of
+    /// natural frequency 1 / (4 timesteps) whose damping ratio
+    /// `-ln e / sqrt(pi² + ln² e)` gives a damped spring's half-period
+    /// bounce `e`.
+    fn solref(&self, e: f64) -> String {
+        if e <= 0.0 {
+            return format!("{} 1", num(2.0 * self.h));
+        }
+        let w = 1.0 / (RESTITUTION_STEPS * self.h);
+        let ratio = -e.ln() / (std::f64::consts::PI.powi(2) + e.ln().powi(2)).sqrt();
+        format!("{} {}", num(-w * w), num(-2.0 * ratio * w))
+    }
+
     fn write_geoms(&self, out: &mut String, pad: &str, b: &BodySpec) {
         let mut common = format!(" friction=\"{} 0 0\"", num(b.friction));
-        let _ = write!(common, " solref=\"{} 1\"", num(2.0 * self.h));
+        let _ = write!(common, " solref=\"{}\"", self.solref(b.restitution));
         if !b.collide {
             common.push_str(" contype=\"0\" conaffinity=\"0\"");
         }
@@ -627,6 +661,18 @@ impl<'a> Export<'a> {
             }
             d
         };
+        for b in &p.bodies {
+            if let Some(d) = b.drag {
+                let _ = writeln!(
+                    out,
+                    "    <numeric name=\"{DRAG}{}\" data=\"{} {} {}\"/>",
+                    attr(&b.name),
+                    num(d.along),
+                    num(d.across),
+                    num(d.turn)
+                );
+            }
+        }
         for ((slot, k), c) in x.symbol_controls() {
             let _ = writeln!(
                 out,
@@ -665,40 +711,15 @@ pub(crate) struct MassProps {
 }
 
 impl MassProps {
-    /// The mass properties Rapier gives body `b`: its collider's at the
-    /// density of its `mass` (or its `density`), or, without area, its
-    /// `mass` alone.
+    /// The mass properties Rapier gives body `b`
+    /// ([`BodySpec::mass_properties`]), or, without area, its `mass`
+    /// alone.
     pub(crate) fn of(b: &BodySpec) -> MassProps {
-        let v = |p: (f64, f64)| Vector::new(p.0 as f32, p.1 as f32);
-        let unit = |density: f32| -> Option<MassProperties> {
-            Some(match &b.shape {
-                ShapeSpec::Ball { radius } => MassProperties::from_ball(density, *radius as f32),
-                ShapeSpec::Cuboid { width, height } => MassProperties::from_cuboid(
-                    density,
-                    Vector::new((width / 2.0) as f32, (height / 2.0) as f32),
-                ),
-                ShapeSpec::Capsule { a, b, radius } => {
-                    MassProperties::from_capsule(density, v(*a), v(*b), *radius as f32)
-                }
-                ShapeSpec::Segment { .. } | ShapeSpec::Polyline { .. } => return None,
-            })
-        };
-        let props = match (b.mass, b.density) {
-            (Some(m), _) => unit(1.0).map(|mut mp| {
-                mp.set_mass(m as f32, true);
-                mp
-            }),
-            (None, d) => unit(d.unwrap_or(1.0) as f32),
-        };
-        match props {
+        match b.mass_properties() {
             Some(mp) => MassProps {
                 mass: mp.mass() as f64,
                 com: (mp.local_com.x as f64, mp.local_com.y as f64),
-                // a set `inertia:` is what the world gives a dynamic body
-                inertia: match (b.inertia, b.kind) {
-                    (Some(i), BodyKind::Dynamic) => i as f32 as f64,
-                    _ => mp.principal_inertia() as f64,
-                },
+                inertia: mp.principal_inertia() as f64,
             },
             None => MassProps {
                 mass: b.mass_kg(),

@@ -17,6 +17,9 @@ pub(crate) const COM_SITE: &str = "_com";
 pub(crate) const EFFECT_SITE: &str = "e3d_effect";
 /// The world frame's site, the reference of the force actuators.
 pub(crate) const ORIGIN_SITE: &str = "e3d_origin";
+/// The prefix of a body's drag numeric (`e3d_drag_<body>`: along, across,
+/// turn), which the import reads back.
+pub(crate) const DRAG: &str = "e3d_drag_";
 /// The half-thickness along z given to boxes (MuJoCo is 3D).
 pub(crate) const DEPTH: f64 = 0.1;
 /// The radius of the capsules that stand for segments and polylines.

@@ -5,6 +5,8 @@ use super::super::shorthand::{ChainSpec, WallSpec};
 use super::super::symmetry::Symmetry;
 use super::joint::JointSpec;
 use crate::effect::{Binning, EffectGrid, Feature};
+use parry2d::mass_properties::MassProperties;
+use parry2d::math::Vector;
 use serde::{Deserialize, Serialize};
 
 /// A rigid-body world simulated by Rapier (see [`PhysicsWorld`](crate::world::PhysicsWorld)).
@@ -366,29 +368,60 @@ impl BodySpec {
     /// `m_r (l² + 4r²)/12 + m_d (r²/2 + l²/4 + 3lr/8)` with `m_r` and `m_d`
     /// the mass shares of its rectangle `l` x `2r` and of its two half
     /// discs (by area). `None` for a body without
-    /// area (a segment, a polyline), whose own mass is a point's.
+    /// area (a segment, a polyline), whose own mass is a point's. The
+    /// number Rapier gives the world (parry2d's, in f32).
     pub fn inertia_kg_m2(&self) -> Option<f64> {
-        if let Some(i) = self.inertia {
+        if let (Some(i), false) = (self.inertia, self.kind == BodyKind::Dynamic) {
             return Some(i);
         }
-        let m = self.mass_kg();
-        match self.shape {
-            ShapeSpec::Ball { radius } => Some(0.5 * m * radius * radius),
-            ShapeSpec::Cuboid { width, height } => {
-                Some(m * (width * width + height * height) / 12.0)
-            }
-            ShapeSpec::Capsule { a, b, radius: r } => {
-                let l = (b.0 - a.0).hypot(b.1 - a.1);
-                let (rect, disc) = (2.0 * r * l, std::f64::consts::PI * r * r);
-                let (mr, md) = (m * rect / (rect + disc), m * disc / (rect + disc));
-                // parry2d's: the half discs as one disc of r²/2, moved
-                // by l²/4 + 3lr/8 (its 3D hemispheres' term)
-                Some(
-                    mr * (l * l + 4.0 * r * r) / 12.0
-                        + md * (0.5 * r * r + l * l / 4.0 + 3.0 * l * r / 8.0),
-                )
-            }
+        self.mass_properties()
+            .map(|mp| mp.principal_inertia() as f64)
+    }
+
+    /// The mass properties Rapier gives the body's collider (parry2d's,
+    /// f32): its shape's at the density of its `mass` (or its `density`),
+    /// with a dynamic body's `inertia` about the shape's centre if set
+    /// ([`inertia_kg_m2`](Self::inertia_kg_m2) says the formulas).
+    /// `None` for a body without area (a segment, a polyline): its own
+    /// mass is a point's at its origin. The one computation the world,
+    /// the MJCF export and the import use.
+    pub(crate) fn mass_properties(&self) -> Option<MassProperties> {
+        let v = |p: (f64, f64)| Vector::new(p.0 as f32, p.1 as f32);
+        let unit = |density: f32| match &self.shape {
+            ShapeSpec::Ball { radius } => Some(MassProperties::from_ball(density, *radius as f32)),
+            ShapeSpec::Cuboid { width, height } => Some(MassProperties::from_cuboid(
+                density,
+                Vector::new((width / 2.0) as f32, (height / 2.0) as f32),
+            )),
+            ShapeSpec::Capsule { a, b, radius } => Some(MassProperties::from_capsule(
+                density,
+                v(*a),
+                v(*b),
+                *radius as f32,
+            )),
             ShapeSpec::Segment { .. } | ShapeSpec::Polyline { .. } => None,
+        };
+        if self.shape.area() <= 0.0 {
+            return None;
+        }
+        if let (Some(i), BodyKind::Dynamic) = (self.inertia, self.kind) {
+            let centre = match &self.shape {
+                ShapeSpec::Capsule { a, b, .. } => ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0),
+                _ => (0.0, 0.0),
+            };
+            return Some(MassProperties::new(
+                v(centre),
+                self.mass_kg() as f32,
+                i as f32,
+            ));
+        }
+        match (self.mass, self.density) {
+            (Some(m), _) => unit(1.0).map(|mut mp| {
+                // what Rapier does with a collider's `mass`
+                mp.set_mass(m as f32, true);
+                mp
+            }),
+            (None, d) => unit(d.unwrap_or(1.0) as f32),
         }
     }
 

@@ -13,8 +13,8 @@ use rapier2d::geometry::BvhOptimizationStrategy;
 use rapier2d::math::{Pose, Real};
 use rapier2d::prelude::{
     BroadPhaseBvh, ColliderBuilder, GenericJoint, Group, ImpulseJointHandle, IntegrationParameters,
-    InteractionGroups, InteractionTestMode, JointAxesMask, JointAxis, MassProperties, MotorModel,
-    PhysicsPipeline, RigidBodyBuilder, RigidBodyHandle, RigidBodyType, Vector,
+    InteractionGroups, InteractionTestMode, JointAxesMask, JointAxis, MotorModel, PhysicsPipeline,
+    RigidBodyBuilder, RigidBodyHandle, RigidBodyType, Vector,
 };
 
 /// Builds one copy of the scene's non-fixed bodies, their joints and the
@@ -139,19 +139,10 @@ fn insert_body(s: &mut Sets, b: &BodySpec, groups: InteractionGroups) -> RigidBo
     }
     .friction(b.friction as Real)
     .restitution(b.restitution as Real);
-    co = if area <= 0.0 {
-        co.density(0.0)
-    } else if let (Some(i), BodyKind::Dynamic) = (b.inertia, b.kind) {
-        let centre = match &b.shape {
-            ShapeSpec::Capsule { a, b, .. } => ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0),
-            _ => (0.0, 0.0),
-        };
-        let m = b.mass_kg() as Real;
-        co.mass_properties(MassProperties::new(v2(centre), m, i as Real))
-    } else if let Some(m) = b.mass {
-        co.mass(m as Real)
-    } else {
-        co.density(b.density.unwrap_or(1.0) as Real)
+    co = match b.mass_properties() {
+        // a segment or polyline: no area, the body's own mass (above)
+        None => co.density(0.0),
+        Some(mp) => co.mass_properties(mp),
     };
     co = if !b.collide {
         co.collision_groups(InteractionGroups::none())
