@@ -52,22 +52,15 @@ fn a_noisy_scene_gives_the_same_records_on_1_and_2_threads() {
     assert_ne!(plain, one);
 }
 
-#[test]
-fn lockstep_under_noise_equals_sessions_alone() {
-    let scene = noisy();
+/// Runs `configs` in lockstep on one world of 3 copies of `scene` and
+/// asserts that each session's record equals the session run alone.
+fn assert_lockstep_equals_alone(scene: &Scene, configs: &[SessionConfig]) {
     let space = scene.command_space();
     let make = || {
         LearnerSetup::new(LearnerKind::Uniform)
             .symbols(&space, scene.num_effects())
             .unwrap()
     };
-    let configs: Vec<SessionConfig> = (0..3)
-        .map(|i| SessionConfig {
-            trials: 30 - 5 * i,
-            seed: 40 + i as u64,
-            use_reward: true,
-        })
-        .collect();
     let mut learners: Vec<_> = configs.iter().map(|_| make()).collect();
     let mut world = scene.as_physics().unwrap().world(3);
     let mut records: Vec<SessionRecord> = configs
@@ -77,7 +70,7 @@ fn lockstep_under_noise_equals_sessions_alone() {
     let status = run_group(
         &mut world,
         &mut learners,
-        &configs,
+        configs,
         &mut records,
         &Control::default(),
     );
@@ -86,6 +79,18 @@ fn lockstep_under_noise_equals_sessions_alone() {
         let alone = run_session(&mut scene.build(), &mut make(), c).unwrap();
         assert_eq!(*r, alone, "seed {}", c.seed);
     }
+}
+
+#[test]
+fn lockstep_under_noise_equals_sessions_alone() {
+    let configs: Vec<SessionConfig> = (0..3)
+        .map(|i| SessionConfig {
+            trials: 30 - 5 * i,
+            seed: 40 + i as u64,
+            use_reward: true,
+        })
+        .collect();
+    assert_lockstep_equals_alone(&noisy(), &configs);
 }
 
 #[test]
@@ -485,12 +490,6 @@ fn sessions_with_per_session_draws_give_the_same_bytes_on_1_and_2_threads() {
     let one = records_on(&scene, 1, 4);
     assert_eq!(records_on(&scene, 2, 4), one);
     // lockstep: 3 sessions on one world of 3 copies, as each alone
-    let space = scene.command_space();
-    let make = || {
-        LearnerSetup::new(LearnerKind::Uniform)
-            .symbols(&space, scene.num_effects())
-            .unwrap()
-    };
     let configs: Vec<SessionConfig> = (0..3)
         .map(|i| SessionConfig {
             trials: 40,
@@ -498,23 +497,7 @@ fn sessions_with_per_session_draws_give_the_same_bytes_on_1_and_2_threads() {
             use_reward: true,
         })
         .collect();
-    let mut learners: Vec<_> = configs.iter().map(|_| make()).collect();
-    let mut world = scene.as_physics().unwrap().world(3);
-    let mut records: Vec<SessionRecord> = (configs.iter())
-        .map(|c| SessionRecord::new(&world, c.trials))
-        .collect();
-    let status = run_group(
-        &mut world,
-        &mut learners,
-        &configs,
-        &mut records,
-        &Control::default(),
-    );
-    assert!(status.iter().all(Result::is_ok));
-    for (c, r) in configs.iter().zip(&records) {
-        let alone = run_session(&mut scene.build(), &mut make(), c).unwrap();
-        assert_eq!(*r, alone, "seed {}", c.seed);
-    }
+    assert_lockstep_equals_alone(&scene, &configs);
     // the per-session draw is there: the mass alone gives other records
     let mass = puck_with(r#"(body_numbers: [(body: "puck", mass: Gaussian(sd: 0.1))])"#).unwrap();
     assert_ne!(records_on(&mass, 1, 4), one);
