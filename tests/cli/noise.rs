@@ -181,13 +181,17 @@ fn run_noisy(
     )
 }
 
-#[test]
-fn run_reports_the_reproducibility_on_a_noisy_scene_the_same_on_1_and_2_threads() {
-    let d = crate::common::temp_dir("noise-run-repro");
-    let args = ["--sessions", "2", "--repeat", "4"];
-    let (out1, sum1) = run_noisy(NOISY, &args, 1, &d.join("one"));
-    let (out2, sum2) = run_noisy(NOISY, &args, 2, &d.join("two"));
-    // all but the folder written and `execution` (which says the threads)
+/// [`run_noisy`] on 1 and on 2 threads (in `dir`'s `one` and `two`):
+/// asserts that the printed lines (all but the folder written) and the
+/// sessions of summary.json are the same, and returns the printed text
+/// and those sessions.
+fn run_noisy_on_1_and_2_threads(
+    scene: &str,
+    args: &[&str],
+    dir: &std::path::Path,
+) -> (String, serde_json::Value) {
+    let (out1, sum1) = run_noisy(scene, args, 1, &dir.join("one"));
+    let (out2, sum2) = run_noisy(scene, args, 2, &dir.join("two"));
     let kept = |out: &str| -> Vec<String> {
         let lines = out.lines().filter(|l| !l.starts_with("wrote "));
         lines.map(str::to_string).collect()
@@ -196,6 +200,14 @@ fn run_reports_the_reproducibility_on_a_noisy_scene_the_same_on_1_and_2_threads(
     let sessions =
         |sum: &str| serde_json::from_str::<serde_json::Value>(sum).unwrap()["sessions"].clone();
     assert_eq!(sessions(&sum1), sessions(&sum2));
+    (out1, sessions(&sum1))
+}
+
+#[test]
+fn run_reports_the_reproducibility_on_a_noisy_scene_the_same_on_1_and_2_threads() {
+    let d = crate::common::temp_dir("noise-run-repro");
+    let args = ["--sessions", "2", "--repeat", "4"];
+    let (out1, sessions) = run_noisy_on_1_and_2_threads(NOISY, &args, &d);
     let lines: Vec<&str> = out1
         .lines()
         .filter(|l| l.contains("reproducibility"))
@@ -207,8 +219,7 @@ fn run_reports_the_reproducibility_on_a_noisy_scene_the_same_on_1_and_2_threads(
         "{out1}"
     );
     assert!(lines[0].contains("90% of 4 noisy runs"), "{out1}");
-    let summary: serde_json::Value = serde_json::from_str(&sum1).unwrap();
-    for s in summary["sessions"].as_array().unwrap() {
+    for s in sessions.as_array().unwrap() {
         let r = &s["reproducibility"];
         assert_eq!(
             (r["commands"].as_u64(), r["runs"].as_u64()),
@@ -373,22 +384,13 @@ fn run_on_a_noisy_continuous_scene_reports_the_reproducibility() {
     let noise = r#"(actions: Gaussian(sd: 0.15))"#;
     let scene = with_noise("tests/scenes/puck_headings.ron", noise, &d);
     let args = ["--sessions", "2", "--repeat", "4"];
-    let (out1, sum1) = run_noisy(&scene, &args, 1, &d.join("one"));
-    let (out2, sum2) = run_noisy(&scene, &args, 2, &d.join("two"));
-    let kept = |out: &str| -> Vec<String> {
-        let lines = out.lines().filter(|l| !l.starts_with("wrote "));
-        lines.map(str::to_string).collect()
-    };
-    assert_eq!(kept(&out1), kept(&out2));
-    let sessions =
-        |sum: &str| serde_json::from_str::<serde_json::Value>(sum).unwrap()["sessions"].clone();
-    assert_eq!(sessions(&sum1), sessions(&sum2));
+    let (out1, sessions) = run_noisy_on_1_and_2_threads(&scene, &args, &d);
     let lines: Vec<&str> = (out1.lines())
         .filter(|l| l.contains("reproducibility"))
         .collect();
     assert_eq!(lines.len(), 2, "{out1}");
     assert!(lines[1].starts_with("seed 6: reproducibility "), "{out1}");
-    for s in sessions(&sum1).as_array().unwrap() {
+    for s in sessions.as_array().unwrap() {
         let share = s["reproducibility"]["share"].as_f64().unwrap();
         assert!(share > 0.0 && share <= 1.0, "{share}");
         assert_eq!((share * 64.0).round() / 64.0, share);
