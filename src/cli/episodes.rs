@@ -353,7 +353,7 @@ fn print_sessions(
         let ent: Vec<String> = (names.iter().zip(&s.entropy_per_start))
             .map(|(n, h)| format!("{n} {h:.4}"))
             .collect();
-        let first = (s.first_reward_episode).map_or("never".into(), |e| e.to_string());
+        let first = e3d::report::or_never(s.first_reward_episode);
         let (seed, reward, ent) = (s.seed, s.cumulative_reward, ent.join(", "));
         outln!("seed {seed}: first reward at episode {first}, cumulative reward {reward}, normalised entropy of the terminal cells per start context: {ent}");
     }
@@ -370,7 +370,7 @@ fn mean_line(names: &[String], sessions: &[OneSession]) -> String {
     let n = sessions.len();
     let ci = |xs: Vec<f64>, digits: usize| {
         let c = e3d::report::mean_ci95(&xs).expect("two sessions or more");
-        format!("{:.digits$} ± {:.digits$}", c.mean, c.half)
+        format!("{c:.digits$}")
     };
     let ent: Vec<String> = (names.iter().enumerate())
         .map(|(i, name)| {
@@ -384,7 +384,7 @@ fn mean_line(names: &[String], sessions: &[OneSession]) -> String {
         .filter_map(|s| s.first_reward_episode)
         .collect();
     let [q1, mid, q3] = e3d::report::order_quartiles(&firsts, n);
-    let at = |q: Option<usize>| q.map_or("never".to_string(), |q| q.to_string());
+    let at = e3d::report::or_never;
     let (q1, mid, q3, k, ent) = (at(q1), at(mid), at(q3), firsts.len(), ent.join(", "));
     format!("mean ± 95% (t) of {n} sessions: cumulative reward {reward} | first reward: median episode {mid} (Q1..Q3 {q1}..{q3}), {k} of {n} rewarded | normalised entropy of the terminal cells per start context: {ent}")
 }

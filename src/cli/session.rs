@@ -446,7 +446,7 @@ fn mean_line(metrics: &[Metrics]) -> String {
     let ci = |f: fn(&Metrics) -> f64, digits: usize| {
         let xs: Vec<f64> = metrics.iter().map(f).collect();
         let c = e3d::report::mean_ci95(&xs).expect("two sessions or more");
-        format!("{:.digits$} ± {:.digits$}", c.mean, c.half)
+        format!("{c:.digits$}")
     };
     let (h, coverage) = (ci(|m| m.normalized_entropy, 4), ci(|m| m.coverage, 4));
     let reward = ci(|m| m.cumulative_reward, 1);
@@ -455,7 +455,7 @@ fn mean_line(metrics: &[Metrics]) -> String {
         .filter_map(|m| m.first_reward_trial)
         .collect();
     let [q1, mid, q3] = e3d::report::order_quartiles(&firsts, n);
-    let at = |q: Option<usize>| q.map_or("never".to_string(), |q| q.to_string());
+    let at = e3d::report::or_never;
     let (q1, mid, q3, k) = (at(q1), at(mid), at(q3), firsts.len());
     let qd = match metrics
         .iter()

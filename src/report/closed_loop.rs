@@ -39,14 +39,14 @@ pub fn markdown(
         cfg.episodes
     );
     for r in arms(sessions) {
-        let never = |q: Option<usize>| q.map_or("never".to_string(), |q| q.to_string());
+        let never = super::or_never;
         let median = r.first[1].map_or("never".into(), |m| {
             format!("{m} ({})", m * moves_per_episode)
         });
         let (q1, q3) = (never(r.first[0]), never(r.first[2]));
         // per reward: its mean (sd), and its mean ± its 95% t interval
         let reward = |(d, ci): &(Stats, Option<MeanCi>)| {
-            let ci = ci.map(|c| format!("{:.1} ± {:.1}", c.mean, c.half));
+            let ci = ci.map(|c| format!("{c:.1}"));
             (
                 format!("{:.1} ({:.1})", d.mean, d.sd),
                 ci.unwrap_or("-".into()),

@@ -158,6 +158,24 @@ impl MeanCi {
     }
 }
 
+/// `mean ± half`, both to the formatter's precision.
+///
+/// ```
+/// let ci = e3d::report::mean_ci95(&[1.0, 2.0, 3.0, 4.0, 5.0]).unwrap();
+/// assert_eq!(format!("{ci:.2}"), "3.00 ± 1.96");
+/// ```
+impl std::fmt::Display for MeanCi {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let d = f.precision().unwrap_or(4);
+        write!(f, "{:.d$} ± {:.d$}", self.mean, self.half)
+    }
+}
+
+/// A trial or episode number, or `never` (a first reward not reached).
+pub fn or_never(at: Option<usize>) -> String {
+    at.map_or("never".to_string(), |i| i.to_string())
+}
+
 /// The mean of `xs` with its 95% t interval; `None` for fewer than two
 /// values (no interval).
 ///
