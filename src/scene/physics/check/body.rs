@@ -20,7 +20,8 @@ impl PhysicsSpec {
 
     /// Refuses a body field that would do nothing on this kind of body
     /// (`docs/physics.md`): damping or `lock_rotation` on a fixed or kinematic
-    /// body, or on a multibody link (a chain hung on `ground`).
+    /// body, or on a multibody link (a chain hung on `ground`); `drag` or
+    /// `inertia` on a fixed or kinematic body.
     pub(super) fn check_body_kind(&self, b: &BodySpec) -> Result<(), Invalid> {
         let at = quoted(&b.name);
         let (kind, instead) = if b.kind != BodyKind::Dynamic {
@@ -39,35 +40,25 @@ impl PhysicsSpec {
         } else {
             return Ok(());
         };
-        if b.kind != BodyKind::Dynamic {
-            for (field, set) in [("drag", b.drag.is_some()), ("inertia", b.inertia.is_some())] {
-                if set {
-                    return Err(Invalid::at(
-                        field,
-                        Some(&at),
-                        &format!(
-                            "body `{}`: no `{field}` here, because {kind}; {instead}",
-                            b.name
-                        ),
-                    ));
-                }
-            }
-        }
-        for (field, set) in [
+        // drag and inertia act on a link too: refused on fixed and
+        // kinematic bodies only
+        let never_moves = b.kind != BodyKind::Dynamic;
+        let fields = [
+            ("drag", never_moves && b.drag.is_some()),
+            ("inertia", never_moves && b.inertia.is_some()),
             ("linear_damping", b.linear_damping != 0.0),
             ("angular_damping", b.angular_damping != 0.0),
             ("lock_rotation", b.lock_rotation),
-        ] {
-            if set {
-                return Err(Invalid::at(
-                    field,
-                    Some(&at),
-                    &format!(
-                        "body `{}`: no `{field}` here, because {kind}; {instead}",
-                        b.name
-                    ),
-                ));
-            }
+        ];
+        if let Some((field, _)) = fields.into_iter().find(|&(_, set)| set) {
+            return Err(Invalid::at(
+                field,
+                Some(&at),
+                &format!(
+                    "body `{}`: no `{field}` here, because {kind}; {instead}",
+                    b.name
+                ),
+            ));
         }
         Ok(())
     }
