@@ -444,6 +444,7 @@ impl PhysicsWorld {
             joint_geometry,
             prefixes,
             noise,
+            held_forces: Vec::new(),
         }
     }
 }

@@ -254,6 +254,9 @@ pub struct PhysicsWorld {
     /// The scene's noise, if it draws anything: then no prefix state is
     /// kept and no mirror twin runs (a command's draws are its own).
     noise: Option<noise::Noise>,
+    /// The forces and torques the bodies with drag held before a step's
+    /// drag was added (kept between steps: no allocation per step).
+    held_forces: Vec<(Vector, Real)>,
 }
 
 /// One copy of a scene's non-fixed bodies and joints, resolved to handles.

@@ -409,13 +409,14 @@ impl PhysicsWorld {
 
     /// Adds to the held forces of the first `n` copies' bodies with drag
     /// their drag at the current velocities ([`DragSpec::force`](crate::scene::physics::DragSpec::force)),
-    /// for one step; returns the forces and torques they held before.
-    fn add_drag(&mut self, n: usize) -> Vec<(Vector, Real)> {
-        let mut held = Vec::new();
+    /// for one step; keeps the forces and torques they held before in
+    /// `held_forces`.
+    fn add_drag(&mut self, n: usize) {
+        self.held_forces.clear();
         for r in &self.copies[..n] {
             for (h, d) in &r.drag {
                 let b = &mut self.sets.bodies[*h];
-                held.push((b.user_force(), b.user_torque()));
+                self.held_forces.push((b.user_force(), b.user_torque()));
                 let v = b.linvel();
                 let ((fx, fy), t) = d.force(
                     b.rotation().angle() as f64,
@@ -426,14 +427,13 @@ impl PhysicsWorld {
                 b.add_torque(t as Real, false);
             }
         }
-        held
     }
 
     /// Gives the bodies with drag back the forces they held before
     /// [`add_drag`](Self::add_drag).
-    fn remove_drag(&mut self, n: usize, held: &[(Vector, Real)]) {
+    fn remove_drag(&mut self, n: usize) {
         let bodies = self.copies[..n].iter().flat_map(|r| &r.drag);
-        for ((h, _), &(f, t)) in bodies.zip(held) {
+        for ((h, _), &(f, t)) in bodies.zip(&self.held_forces) {
             let b = &mut self.sets.bodies[*h];
             b.reset_forces(false);
             b.reset_torques(false);
@@ -446,10 +446,10 @@ impl PhysicsWorld {
     /// is `None`); a copy that blows up gets its error in `failed`.
     /// Returns whether some copy is still running.
     fn step(&mut self, commands: &[Cmd<'_>], failed: &mut [Option<WorldError>]) -> bool {
-        let held = self.add_drag(commands.len());
+        self.add_drag(commands.len());
         self.pipeline_step();
-        if !held.is_empty() {
-            self.remove_drag(commands.len(), &held);
+        if !self.held_forces.is_empty() {
+            self.remove_drag(commands.len());
         }
         if let Some(q) = self.quarantined() {
             for (c, &(bodies, colliders)) in q.iter().enumerate().take(commands.len()) {
