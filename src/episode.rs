@@ -48,6 +48,22 @@ impl Observe {
             Observe::StartContext
         }
     }
+
+    /// The context observed in an episode started in context `start`,
+    /// `cell` giving the current state's bin (at the start, the start
+    /// state's; after a command, its effect): called only when observing
+    /// [`Observe::State`].
+    pub(crate) fn context(
+        self,
+        start: usize,
+        cell: impl FnOnce() -> Result<usize, WorldError>,
+    ) -> Result<usize, WorldError> {
+        match self {
+            Observe::StartContext => Ok(start),
+            Observe::State => cell(),
+            Observe::Blind => Ok(0),
+        }
+    }
 }
 
 /// How to run a session of episodes.
@@ -470,11 +486,7 @@ where
             0
         };
         let mut state = world.draw_start(start, &mut rng)?;
-        let mut context = match config.observe {
-            Observe::StartContext => start,
-            Observe::State => world.bin_state(&state)?,
-            Observe::Blind => 0,
-        };
+        let mut context = config.observe.context(start, || world.bin_state(&state))?;
         recorder.start(start);
         for i in 0..k {
             learner.propose(context, &mut rng, &mut command);
@@ -497,11 +509,7 @@ where
             if !last || !config.use_reward {
                 outcome.reward = 0.0;
             }
-            let next = match config.observe {
-                Observe::StartContext => start,
-                Observe::State => outcome.effect,
-                Observe::Blind => 0,
-            };
+            let next = config.observe.context(start, || Ok(outcome.effect))?;
             learner.learn(context, &command, &outcome, (!last).then_some(next));
             recorder.record(context, &command, &outcome);
             if let Some(s) = next_state {
