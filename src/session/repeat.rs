@@ -5,11 +5,11 @@
 
 use super::engine::{Executes, Learns};
 use crate::command::Command;
-use crate::episode::{EpisodeConfig, Observe};
+use crate::episode::EpisodeConfig;
 use crate::learner::{draw_weighted, ContextualLearner};
 use crate::rng::SessionRng;
 use crate::scene::physics::{draw_key, session_key, DrawKey};
-use crate::world::{Episodic, Outcome, WorldError, WorldState};
+use crate::world::{Episodic, Outcome, WorldError};
 use rand::{RngExt, SeedableRng};
 use serde::Serialize;
 
@@ -183,6 +183,17 @@ pub struct Reproducibility {
     pub each: Vec<Repeated>,
 }
 
+impl Reproducibility {
+    /// The share of `each` that holds, and `each`.
+    fn of(each: Vec<Repeated>) -> Reproducibility {
+        let holding = each.iter().filter(|r| r.holds()).count();
+        Reproducibility {
+            share: holding as f64 / each.len().max(1) as f64,
+            each,
+        }
+    }
+}
+
 /// The reproducibility of `learner`'s repertoire on `world`: the share of
 /// its policy's likely commands whose effect holds in at least 90% of
 /// `options.runs` runs under the world's noise.
@@ -224,11 +235,7 @@ pub fn reproducibility<C: Clone, W: Executes<C> + ?Sized, L: Learns<C> + ?Sized>
         return Ok(None);
     };
     let each = reevaluate(world, &likely, options.runs, seed)?;
-    let holding = each.iter().filter(|r| r.holds()).count();
-    Ok(Some(Reproducibility {
-        share: holding as f64 / each.len().max(1) as f64,
-        each,
-    }))
+    Ok(Some(Reproducibility::of(each)))
 }
 
 /// The reproducibility of a session of episodes: the share of the final
@@ -307,12 +314,7 @@ where
             n => rng.random_range(0..n),
         };
         let first = world.draw_start(start, &mut rng)?;
-        let observe = |w: &W, state: &WorldState, o: Option<&Outcome>| match config.observe {
-            Observe::StartContext => Ok(start),
-            Observe::State => o.map_or_else(|| w.bin_state(state), |o| Ok(o.effect)),
-            Observe::Blind => Ok(0),
-        };
-        let mut context = observe(world, &first, None)?;
+        let mut context = config.observe.context(start, || world.bin_state(&first))?;
         commands.clear();
         terminal.clear();
         for r in 0..runs as u64 {
@@ -335,7 +337,7 @@ where
                 } else {
                     let (o, next) = world.execute_from(&state, &commands[i])?;
                     if r == 0 {
-                        context = observe(world, &next, Some(&o))?;
+                        context = config.observe.context(start, || Ok(o.effect))?;
                     }
                     state = next;
                 }
@@ -343,9 +345,5 @@ where
         }
         each.push(Repeated::of(&terminal));
     }
-    let holding = each.iter().filter(|r| r.holds()).count();
-    Ok(Some(Reproducibility {
-        share: holding as f64 / each.len().max(1) as f64,
-        each,
-    }))
+    Ok(Some(Reproducibility::of(each)))
 }
