@@ -404,10 +404,13 @@ impl PhysicsPipeline {
                 unsafe { contact_color_masks.as_slice() },
             );
             // The soft-body surface contacts live outside the solver contact graph: write their
-            // impulses back to the manifolds (contact-force events, warm start) here.
-            self.staged_solver
-                .soft_constraints
-                .writeback_contacts(narrow_phase);
+            // impulses back to the manifolds (contact-force events, warm start) here. Without
+            // awake soft bodies there are none (item 13 of vendor/README.md).
+            if !self.staged_solver.soft_constraints.is_empty() {
+                self.staged_solver
+                    .soft_constraints
+                    .writeback_contacts(narrow_phase);
+            }
         }
 
         // Generate contact force events if needed, and update each pair's

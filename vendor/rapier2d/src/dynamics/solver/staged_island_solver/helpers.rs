@@ -98,8 +98,18 @@ impl VelocitySolver {
             }
         }
 
-        self.generic_solver_vels_increment = DVector::zeros(multibody_solver_id as usize);
-        self.generic_solver_vels = DVector::zeros(multibody_solver_id as usize);
+        // NOTE: zeroed in place (a memset) when the size is unchanged, rather than allocated
+        //       anew at every step: the same zeros.
+        for vels in [
+            &mut self.generic_solver_vels_increment,
+            &mut self.generic_solver_vels,
+        ] {
+            if vels.len() == multibody_solver_id as usize {
+                vels.as_mut_slice().fill(0.0);
+            } else {
+                *vels = DVector::zeros(multibody_solver_id as usize);
+            }
+        }
 
         for link in &self.multibody_roots {
             let multibody = multibodies

@@ -18,9 +18,12 @@ use parry::math::SIMD_WIDTH;
 #[cfg(feature = "dim3")]
 use crate::dynamics::FrictionModel;
 
+#[cfg(all(feature = "dim2", not(feature = "fem")))]
+use super::worker::run_unconstrained;
 use super::worker::run_worker;
 use super::{
-    CHUNK_BATCH, ChunkSegment, GroupLayout, LAYOUT_REF_WORKERS, SharedCtx, StagedIslandSolver,
+    BodyStages, CHUNK_BATCH, ChunkSegment, GroupLayout, LAYOUT_REF_WORKERS, SharedCtx,
+    StagedIslandSolver,
 };
 
 impl StagedIslandSolver {
@@ -110,6 +113,33 @@ impl StagedIslandSolver {
             });
         }
         let num_solver_iterations = base_params.num_solver_iterations + max_extra;
+
+        // A step with nothing to solve, known as such before any assembly (vendor/README.md
+        // item 13): one solve-group, no contact ref (so no chunk and no generic contact), no
+        // joint, no multibody (so no generic joint and no multibody root), no soft body (so no
+        // soft constraint; the set was emptied by the last assembly). The full path would end in
+        // `run_unconstrained` after an assembly that builds nothing it reads.
+        #[cfg(all(feature = "dim2", not(feature = "fem")))]
+        if self.groups.len() == 1
+            && graph.len() == 0
+            && joint_indices.is_empty()
+            && multibodies.multibodies.is_empty()
+            && soft_bodies.is_empty()
+            && self.soft_constraints.is_empty()
+        {
+            self.solve_unconstrained(
+                counters,
+                base_params,
+                islands.active_set_epoch,
+                island_bodies,
+                bodies,
+                impulse_joints,
+                joint_assembly_epoch,
+                multibodies,
+                contact_color_masks,
+            );
+            return;
+        }
 
         // `params` keeps the FIRST group's substep dt (multibody precompute uses it; multibody
         // scenes are always single-group). The worker loop re-derives each group's dt from
@@ -631,21 +661,28 @@ impl StagedIslandSolver {
         let unconstrained = unconstrained && self.soft_fem.is_empty();
 
         let ctx = SharedCtx {
+            body: BodyStages {
+                groups: &self.groups,
+                island_bodies,
+                has_multibodies: !self.velocity_solver.multibody_roots.is_empty(),
+                base_params,
+                velocity_solver: &mut self.velocity_solver as *mut _,
+                bodies: bodies as *mut _,
+                multibodies: multibodies as *mut _,
+                #[cfg(feature = "dim3")]
+                any_gyroscopic: &self.any_gyroscopic as *const _,
+                any_ccd_active: &self.any_ccd_active as *const _,
+            },
             sync: &self.sync,
             chunk_segments: &self.chunk_segments,
             num_chunks,
-            groups: &self.groups,
             color_ranges: &self.color_ranges,
             joint_color_ranges: &self.joint_color_ranges,
             joint_rows: &self.joint_rows,
             joint_chunk_rows: &self.joint_chunk_rows,
-            island_bodies,
-            has_multibodies: !self.velocity_solver.multibody_roots.is_empty(),
-            base_params,
             store,
             joints: impulse_joints.as_mut_ptr(),
             num_joints: impulse_joints.len(),
-            velocity_solver: &mut self.velocity_solver as *mut _,
             joint_constraints: &mut self.joint_constraints as *mut _,
             contact_constraints: set as *mut _,
             soft_constraints: &mut self.soft_constraints as *mut _,
@@ -658,11 +695,6 @@ impl StagedIslandSolver {
             #[cfg(feature = "dim3")]
             twist_constraints: set.simd_velocity_twist_constraints.as_mut_ptr(),
             use_twist,
-            bodies: bodies as *mut _,
-            multibodies: multibodies as *mut _,
-            #[cfg(feature = "dim3")]
-            any_gyroscopic: &self.any_gyroscopic as *const _,
-            any_ccd_active: &self.any_ccd_active as *const _,
             any_bouncy: &self.any_bouncy as *const _,
             unconstrained,
         };
@@ -710,5 +742,76 @@ impl StagedIslandSolver {
             .multibody_roots
             .is_empty()
             .then(|| self.any_ccd_active.load(Ordering::Relaxed));
+    }
+
+    /// The rest of [`Self::init_and_solve`] for a step it found unconstrained before any
+    /// assembly (its groups are built): only what [`run_unconstrained`] and the later steps
+    /// read. The joint assembly cache is left as the full path's `init_joints` would leave it;
+    /// the solver bodies keep their length; every other buffer of the assembly is rebuilt by the
+    /// next full step before anything reads it.
+    #[cfg(all(feature = "dim2", not(feature = "fem")))]
+    #[allow(clippy::too_many_arguments)]
+    fn solve_unconstrained(
+        &mut self,
+        counters: &mut Counters,
+        base_params: &IntegrationParameters,
+        active_set_epoch: u32,
+        island_bodies: &[crate::dynamics::RigidBodyHandle],
+        bodies: &mut RigidBodySet,
+        impulse_joints: &mut [JointGraphEdge],
+        joint_assembly_epoch: u32,
+        multibodies: &mut MultibodyJointSet,
+        contact_color_masks: &[u128],
+    ) {
+        // A reusable cache for no joint has no builder: `init_joints` would only rebuild the
+        // generic joint constraints (none without multibodies; read by no stage run here).
+        if !self.staged_joints_reusable(
+            active_set_epoch,
+            joint_assembly_epoch,
+            impulse_joints,
+            &[],
+            contact_color_masks,
+        ) {
+            self.init_joints(
+                active_set_epoch,
+                joint_assembly_epoch,
+                base_params.warmstart_joints,
+                island_bodies,
+                bodies,
+                multibodies,
+                impulse_joints,
+                &[],
+                contact_color_masks,
+            );
+        }
+        // `init_solver_buffers_and_multibodies` without multibodies: the body stages write every
+        // field they read of the island's slots; the padding slots are read by no stage.
+        let vs = &mut self.velocity_solver;
+        vs.multibody_roots.clear();
+        let num_slots = island_bodies.len().div_ceil(SIMD_WIDTH) * SIMD_WIDTH;
+        if vs.solver_bodies.len() != num_slots || vs.solver_vels_increment.len() != num_slots {
+            vs.solver_bodies.clear();
+            vs.solver_bodies.resize(num_slots);
+            vs.solver_vels_increment.clear();
+            vs.solver_vels_increment
+                .resize(num_slots, crate::dynamics::solver::SolverVel::zero());
+        }
+        self.any_ccd_active.store(false, Ordering::Relaxed);
+        counters.solver.velocity_assembly_time.pause();
+        counters.solver.velocity_resolution_time.resume();
+        let ctx = BodyStages {
+            groups: &self.groups,
+            island_bodies,
+            has_multibodies: false,
+            base_params,
+            velocity_solver: &mut self.velocity_solver as *mut _,
+            bodies: bodies as *mut _,
+            multibodies: multibodies as *mut _,
+            any_ccd_active: &self.any_ccd_active as *const _,
+        };
+        // SAFETY: one worker, no concurrent access.
+        unsafe { run_unconstrained(&ctx) };
+        counters.solver.velocity_resolution_time.pause();
+        self.post_solve_ccd_active = Some(self.any_ccd_active.load(Ordering::Relaxed));
     }
 }

@@ -37,21 +37,13 @@ impl StagedIslandSolver {
         joint_indices: &[JointIndex],
         contact_color_masks: &[u128],
     ) {
-        // Group boundaries can move without an epoch bump (a component split
-        // keeps the partition key sequence sorted), so the group-major layout
-        // is validated by comparing the body ranges explicitly.
-        let groups_unchanged = self.prev_staged_group_bodies.len() == self.groups.len()
-            && self
-                .prev_staged_group_bodies
-                .iter()
-                .zip(self.groups.iter())
-                .all(|(prev, g)| *prev == g.bodies);
-        let reusable = self.staged_joints_valid
-            && groups_unchanged
-            && self.prev_staged_active_set_epoch == active_set_epoch
-            && self.prev_staged_assembly_epoch == joint_assembly_epoch
-            && self.prev_staged_joint_indices == joint_indices
-            && self.staged_joint_colors_still_free(impulse_joints, contact_color_masks);
+        let reusable = self.staged_joints_reusable(
+            active_set_epoch,
+            joint_assembly_epoch,
+            impulse_joints,
+            joint_indices,
+            contact_color_masks,
+        );
 
         if reusable {
             // Recycled coloring/chunk layout/builders: only the warm-start seeds (last step's
@@ -319,6 +311,33 @@ impl StagedIslandSolver {
             .extend(self.groups.iter().map(|g| g.bodies.clone()));
 
         self.rebuild_generic_joints_staged(island_bodies, bodies, multibodies, impulse_joints);
+    }
+
+    /// `true` if [`Self::init_joints`] reuses the cached joint assembly for this step's groups,
+    /// epochs and joints instead of rebuilding it.
+    pub(super) fn staged_joints_reusable(
+        &self,
+        active_set_epoch: u32,
+        joint_assembly_epoch: u32,
+        impulse_joints: &[JointGraphEdge],
+        joint_indices: &[JointIndex],
+        contact_color_masks: &[u128],
+    ) -> bool {
+        // Group boundaries can move without an epoch bump (a component split
+        // keeps the partition key sequence sorted), so the group-major layout
+        // is validated by comparing the body ranges explicitly.
+        let groups_unchanged = self.prev_staged_group_bodies.len() == self.groups.len()
+            && self
+                .prev_staged_group_bodies
+                .iter()
+                .zip(self.groups.iter())
+                .all(|(prev, g)| *prev == g.bodies);
+        self.staged_joints_valid
+            && groups_unchanged
+            && self.prev_staged_active_set_epoch == active_set_epoch
+            && self.prev_staged_assembly_epoch == joint_assembly_epoch
+            && self.prev_staged_joint_indices == joint_indices
+            && self.staged_joint_colors_still_free(impulse_joints, contact_color_masks)
     }
 
     /// The historical single-group joint layout: coloring, SIMD chunking and

@@ -160,37 +160,56 @@ struct GroupJointRanges {
     overflow: Range<usize>,
 }
 
-/// State shared between solver workers. Safety: the raw pointers are dereferenced by multiple
-/// workers, sound only under [`run_worker`]'s stage/color discipline — slots reached only via
-/// claimed indices, same-color body writes disjoint, worker 0 alone mutates joints/bodies/multibodies.
-struct SharedCtx<'a> {
-    sync: &'a StageSync,
-    /// The SIMD chunk layout as segments over the persistent bucket slices (and
-    /// the overflow grouper's output); resolve with [`chunk_at`].
-    chunk_segments: &'a [ChunkSegment],
-    num_chunks: usize,
-    /// The substep solve-groups, group-major over every layout table below.
+/// What the bodies' own stages read (solver-body init, velocity increments, integration,
+/// writeback): the part of [`SharedCtx`] that [`worker::run_unconstrained`] needs, and all that
+/// the lean unconstrained step builds. Same safety contract as [`SharedCtx`].
+struct BodyStages<'a> {
+    /// The substep solve-groups, group-major over every layout table of [`SharedCtx`].
     /// Always at least one entry; exactly one on the ungrouped fast path.
     groups: &'a [GroupLayout],
-    color_ranges: &'a [(u8, Range<usize>)],
-    joint_color_ranges: &'a [(u8, Range<usize>)],
-    joint_rows: &'a [Range<usize>],
-    /// Constraint-row range of each SIMD joint chunk in
-    /// `joint_constraints.simd_velocity_constraints`.
-    joint_chunk_rows: &'a [Range<usize>],
     island_bodies: &'a [RigidBodyHandle],
     /// Sleeping bodies filled as read-only (kinematic-like) solver bodies after
     /// the island's own bodies (slot id = `island_bodies.len() + position`).
     /// Never written back.
     has_multibodies: bool,
     base_params: &'a IntegrationParameters,
+    velocity_solver: *mut VelocitySolver,
+    bodies: *mut RigidBodySet,
+    multibodies: *mut MultibodyJointSet,
+    /// Set by the body-copy stage when any island body has gyroscopic forces
+    /// enabled (3D); gates the per-substep gyroscopic pass. Published before
+    /// the first substep barrier, read after it.
+    #[cfg(feature = "dim3")]
+    any_gyroscopic: *const AtomicBool,
+    /// Set by the body-writeback stage when any (non-multibody) dynamic body's
+    /// post-solve motion qualifies it for CCD; replaces the pipeline's serial
+    /// post-solve `update_ccd_active_flags` walk over the active bodies.
+    any_ccd_active: *const AtomicBool,
+}
+
+/// State shared between solver workers. Safety: the raw pointers are dereferenced by multiple
+/// workers, sound only under [`run_worker`]'s stage/color discipline — slots reached only via
+/// claimed indices, same-color body writes disjoint, worker 0 alone mutates joints/bodies/multibodies.
+/// Its [`BodyStages`] fields are read through `Deref`.
+struct SharedCtx<'a> {
+    body: BodyStages<'a>,
+    sync: &'a StageSync,
+    /// The SIMD chunk layout as segments over the persistent bucket slices (and
+    /// the overflow grouper's output); resolve with [`chunk_at`].
+    chunk_segments: &'a [ChunkSegment],
+    num_chunks: usize,
+    color_ranges: &'a [(u8, Range<usize>)],
+    joint_color_ranges: &'a [(u8, Range<usize>)],
+    joint_rows: &'a [Range<usize>],
+    /// Constraint-row range of each SIMD joint chunk in
+    /// `joint_constraints.simd_velocity_constraints`.
+    joint_chunk_rows: &'a [Range<usize>],
     /// Raw manifold resolution: constraint generation reads manifolds through
     /// it, the impulse-writeback stage writes them back through it.
     store: &'a ManifoldStore<'a>,
     joints: *mut JointGraphEdge,
     num_joints: usize,
 
-    velocity_solver: *mut VelocitySolver,
     joint_constraints: *mut JointConstraintsSet,
     contact_constraints: *mut ContactConstraintsSet,
     /// The soft-body constraints of the awake soft bodies (empty when the step has none: every soft
@@ -209,17 +228,6 @@ struct SharedCtx<'a> {
     twist_constraints: *mut ContactWithTwistFriction<SimdReal>,
     use_twist: bool,
 
-    bodies: *mut RigidBodySet,
-    multibodies: *mut MultibodyJointSet,
-    /// Set by the body-copy stage when any island body has gyroscopic forces
-    /// enabled (3D); gates the per-substep gyroscopic pass. Published before
-    /// the first substep barrier, read after it.
-    #[cfg(feature = "dim3")]
-    any_gyroscopic: *const AtomicBool,
-    /// Set by the body-writeback stage when any (non-multibody) dynamic body's
-    /// post-solve motion qualifies it for CCD; replaces the pipeline's serial
-    /// post-solve `update_ccd_active_flags` walk over the active bodies.
-    any_ccd_active: *const AtomicBool,
     /// Set by the constraint-generation stage when any contact constraint captured a
     /// restitution seed (approaching bouncy contact); gates the end-of-step restitution
     /// pass. Published before the first substep barrier, read after it.
@@ -232,6 +240,14 @@ struct SharedCtx<'a> {
 }
 
 unsafe impl Sync for SharedCtx<'_> {}
+
+impl<'a> core::ops::Deref for SharedCtx<'a> {
+    type Target = BodyStages<'a>;
+
+    fn deref(&self) -> &BodyStages<'a> {
+        &self.body
+    }
+}
 
 pub(crate) struct StagedIslandSolver {
     pub contact_constraints: ContactConstraintsSet,

@@ -19,7 +19,7 @@ use crate::math::Real;
 use parry::math::SIMD_WIDTH;
 
 use super::solve::solve_pass;
-use super::{BODY_BATCH, SharedCtx, chunk_at, stage_batch};
+use super::{BODY_BATCH, BodyStages, SharedCtx, chunk_at, stage_batch};
 
 /// Per-full-step angular rotation cap (0.25π ≈ 45°): bodies without
 /// `allow_fast_rotation` get their angular velocity clamped each substep so the full-step
@@ -914,7 +914,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
 /// The solver body and velocity increment of island body `i` (the first stage of
 /// [`run_worker`]). See [`SharedCtx`] for the safety contract.
 #[inline]
-unsafe fn init_body(ctx: &SharedCtx, i: usize) {
+unsafe fn init_body(ctx: &BodyStages, i: usize) {
     let handle = ctx.island_bodies[i];
     if ctx.has_multibodies {
         let multibodies = unsafe { &*ctx.multibodies };
@@ -1001,7 +1001,7 @@ fn integrate_body(vs: &mut VelocitySolver, i: usize, max_lin: Real, max_ang: Rea
 /// with its CCD velocity and activation (the last stage of [`run_worker`]). See [`SharedCtx`]
 /// for the safety contract.
 #[inline]
-unsafe fn writeback_body(ctx: &SharedCtx, i: usize) {
+unsafe fn writeback_body(ctx: &BodyStages, i: usize) {
     let base_params = ctx.base_params;
     let handle = ctx.island_bodies[i];
     if ctx.has_multibodies {
@@ -1067,9 +1067,10 @@ unsafe fn writeback_body(ctx: &SharedCtx, i: usize) {
 /// one solve-group, 2D): the stages that remain, in the same order on the same bodies, without
 /// claims and barriers. Body init, then per substep the velocity increments and the position
 /// integration, then the writeback. The generic (multibody) increments and integration it
-/// leaves out act on no multibody. See [`SharedCtx`] for the safety contract.
+/// leaves out act on no multibody. It reads only [`BodyStages`], which is all that the lean
+/// unconstrained step of `init_and_solve` builds. See [`SharedCtx`] for the safety contract.
 #[cfg(feature = "dim2")]
-unsafe fn run_unconstrained(ctx: &SharedCtx) {
+pub(super) unsafe fn run_unconstrained(ctx: &BodyStages) {
     for i in 0..ctx.island_bodies.len() {
         unsafe { init_body(ctx, i) };
     }
