@@ -427,7 +427,12 @@ impl IslandManager {
         // sleep-eligible long enough; one that lost constraints must split first (unless
         // single-body). Observations come from the pipeline's fused active-bodies traversal, so this never touches the body arena.
         let mut chunks: Vec<Vec<RigidBodyHandle>> = Vec::new();
-        if !sleep_observations.is_empty() {
+        if !sleep_observations.iter().any(|&(_, eligible)| eligible) {
+            // No island can sleep, so the scan would find nothing (vendor/README.md item 15).
+            if !sleep_observations.is_empty() {
+                self.persistent.skip_sleep_scan();
+            }
+        } else {
             self.persistent.begin_sleep_scan();
             for (island_id, eligible) in sleep_observations {
                 self.persistent

@@ -502,6 +502,14 @@ impl PersistentIslands {
         self.sleep_scan_touched.clear();
     }
 
+    /// A scan in which no body is eligible: it would put no island to sleep (every island it
+    /// touches fails the eligibility test of [`Self::finish_sleep_scan`]), and its per-island
+    /// slots are stamped scratch; only its clock, which times the split cooldown, advances.
+    #[inline]
+    pub fn skip_sleep_scan(&mut self) {
+        self.sleep_scan_stamp = self.sleep_scan_stamp.wrapping_add(1);
+    }
+
     /// Feeds one awake body's sleep eligibility into the scan.
     #[inline]
     pub fn observe_body_for_sleep(&mut self, island_id: u32, eligible: bool) {
