@@ -116,6 +116,9 @@ pub(crate) struct SolverContactGraph {
     /// by every change: `len` without a walk, and no walk over the 129
     /// buckets in a step without two-body contacts.
     two_body: usize,
+    /// Which color buckets are non-empty (bit `c % 64` of word `c / 64` for color `c`), kept by
+    /// every change: `buckets` visits those alone instead of walking all 129.
+    occupied: [u64; 3],
 }
 
 impl SolverContactGraph {
@@ -123,6 +126,7 @@ impl SolverContactGraph {
         Self {
             buckets: alloc::vec![Vec::new(); NUM_BUCKETS + 1],
             two_body: 0,
+            occupied: [0; 3],
         }
     }
 
@@ -138,6 +142,7 @@ impl SolverContactGraph {
             b.clear();
         }
         self.two_body = 0;
+        self.occupied = [0; 3];
     }
 
     /// Inserts a solver-active manifold into its color bucket and returns its
@@ -149,6 +154,7 @@ impl SolverContactGraph {
         let local = arr.len() as u32;
         arr.push(contact);
         self.two_body += 1;
+        self.occupied[bucket as usize / 64] |= 1 << (bucket % 64);
         GraphPos::new(bucket, local)
     }
 
@@ -172,6 +178,12 @@ impl SolverContactGraph {
         }
         debug_assert_eq!(lens.len(), self.buckets.len());
         self.two_body = lens[..NUM_BUCKETS].iter().map(|l| *l as usize).sum();
+        self.occupied = [0; 3];
+        for (bucket, len) in lens[..NUM_BUCKETS].iter().enumerate() {
+            if *len > 0 {
+                self.occupied[bucket / 64] |= 1 << (bucket % 64);
+            }
+        }
         self.buckets
             .iter_mut()
             .zip(lens.iter())
@@ -204,6 +216,9 @@ impl SolverContactGraph {
         let local = pos.local() as usize;
         let last = arr.len() - 1;
         arr.swap_remove(local);
+        if last == 0 && pos.bucket() != GENERIC_BUCKET {
+            self.occupied[pos.bucket() as usize / 64] &= !(1 << (pos.bucket() % 64));
+        }
         if local != last {
             // The previously-last entry now lives at `local`; its owner's
             // back-ref must be fixed to `pos`.
@@ -225,18 +240,21 @@ impl SolverContactGraph {
     /// generic list. Colors below [`crate::geometry::SOLVER_COLOR_OVERFLOW`] are body-disjoint;
     /// the overflow color's bucket may share bodies.
     pub(crate) fn buckets(&self) -> impl Iterator<Item = (u8, &[ContactRef])> {
-        // nothing to walk when every color bucket is empty
-        let n = if self.two_body == 0 { 0 } else { NUM_BUCKETS };
-        self.buckets[..n]
-            .iter()
-            .enumerate()
-            .filter_map(|(id, arr)| {
-                if arr.is_empty() {
-                    None
-                } else {
-                    Some((id as u8, arr.as_slice()))
+        // Only the non-empty buckets, colors ascending: the set bits of `occupied`.
+        let mut words = self.occupied;
+        let mut w = 0;
+        core::iter::from_fn(move || {
+            while w < words.len() {
+                if words[w] != 0 {
+                    let id = w * 64 + words[w].trailing_zeros() as usize;
+                    words[w] &= words[w] - 1;
+                    debug_assert!(!self.buckets[id].is_empty());
+                    return Some((id as u8, self.buckets[id].as_slice()));
                 }
-            })
+                w += 1;
+            }
+            None
+        })
     }
 
     /// The generic (multibody-involved) manifold list.
