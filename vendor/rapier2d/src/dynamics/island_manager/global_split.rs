@@ -38,6 +38,7 @@ impl PersistentIslands {
     /// Runs the pending split, if any (at most one island per step). Sleeping
     /// islands are skipped: splits only run on awake islands (their old-style
     /// sleeping-chunk container wouldn't follow the split).
+    #[inline]
     pub fn run_pending_split(&mut self, bodies: &mut RigidBodySet) {
         if let Some(id) = self.split_island.take() {
             if self

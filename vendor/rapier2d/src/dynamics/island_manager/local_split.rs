@@ -216,6 +216,7 @@ impl PersistentIslands {
     /// Resolves the edges unlinked since the last call (see module docs). Runs at the top of the
     /// step — after the narrow phase's touch transitions, before the split-candidate bids — so a
     /// harmless removal never reaches the global machinery at all.
+    #[inline]
     pub(crate) fn resolve_removals(
         &mut self,
         bodies: &mut RigidBodySet,
@@ -226,10 +227,32 @@ impl PersistentIslands {
         soft_bodies: &SoftBodySet,
         length_unit: Real,
     ) {
-        if self.removal_journal.is_empty() {
-            return;
+        // Most steps unlink nothing: decided inline, without the call (vendor/README.md item 17).
+        if !self.removal_journal.is_empty() {
+            self.resolve_journal(
+                bodies,
+                colliders,
+                narrow_phase,
+                impulse_joints,
+                multibody_joints,
+                soft_bodies,
+                length_unit,
+            );
         }
+    }
 
+    /// [`Self::resolve_removals`] with a non-empty removal journal.
+    #[inline(never)]
+    fn resolve_journal(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        impulse_joints: &ImpulseJointSet,
+        multibody_joints: &MultibodyJointSet,
+        soft_bodies: &SoftBodySet,
+        length_unit: Real,
+    ) {
         let journal = core::mem::take(&mut self.removal_journal);
         let mut workspace = core::mem::take(&mut self.local_split);
 

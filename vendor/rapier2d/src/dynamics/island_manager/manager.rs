@@ -387,7 +387,42 @@ impl IslandManager {
         );
     }
 
+    #[inline]
     pub(crate) fn update_islands(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &mut NarrowPhase,
+        impulse_joints: &ImpulseJointSet,
+        multibody_joints: &MultibodyJointSet,
+        soft_bodies: &SoftBodySet,
+        sleep_observations: &[(u32, bool)],
+    ) {
+        // Nothing to bootstrap, put to sleep (item 15) or validate: what `update_islands_now`
+        // does then, decided inline without the call (vendor/README.md item 17).
+        if self.persistent.bootstrapped
+            && !cfg!(debug_assertions)
+            && !sleep_observations.iter().any(|&(_, eligible)| eligible)
+        {
+            if !sleep_observations.is_empty() {
+                self.persistent.skip_sleep_scan();
+            }
+            return;
+        }
+        self.update_islands_now(
+            bodies,
+            colliders,
+            narrow_phase,
+            impulse_joints,
+            multibody_joints,
+            soft_bodies,
+            sleep_observations,
+        );
+    }
+
+    /// [`Self::update_islands`] in full.
+    #[inline(never)]
+    fn update_islands_now(
         &mut self,
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,

@@ -60,6 +60,7 @@ impl IslandManager {
     /// Recomputes the awake set's substep solve-groups, reordering the awake island's body list so
     /// groups are contiguous (descending extra count). Must run after `update_islands` (last
     /// mutator of the awake body list) and before anything consumes body order or stamps solver-body indices. `any_extra` = caller's OR of `additional_solver_iterations > 0`; when `false` this is one branch + `Vec::clear` (empty groups = one implicit whole-set group).
+    #[inline]
     pub(crate) fn update_substep_groups(
         &mut self,
         any_extra: bool,
@@ -71,9 +72,30 @@ impl IslandManager {
         soft_bodies: &SoftBodySet,
     ) {
         self.solve_groups.clear();
-        if !any_extra {
-            return;
+        // Decided inline, without the call (vendor/README.md item 17).
+        if any_extra {
+            self.partition_substep_groups(
+                bodies,
+                narrow_phase,
+                colliders,
+                impulse_joints,
+                multibody_joints,
+                soft_bodies,
+            );
         }
+    }
+
+    /// [`Self::update_substep_groups`] when some awake body asks for extra iterations.
+    #[inline(never)]
+    fn partition_substep_groups(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        narrow_phase: &NarrowPhase,
+        colliders: &ColliderSet,
+        impulse_joints: &ImpulseJointSet,
+        multibody_joints: &MultibodyJointSet,
+        soft_bodies: &SoftBodySet,
+    ) {
         let Some(awake_id) = self.awake_island else {
             return;
         };
