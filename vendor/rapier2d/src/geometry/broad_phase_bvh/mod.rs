@@ -100,6 +100,18 @@ pub struct BroadPhaseBvh {
     /// solver; consumed by [`Self::take_deferred_optimize`].
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     deferred_optimize_pending: bool,
+    /// True when a full [`Bvh::refit`] would give the tree it has now, apart from the
+    /// ancestors of the leaves the next [`Self::update`] lists as updated: the nodes are
+    /// in the depth-first layout a refit makes (no orphaned slot), and every other
+    /// internal node is the merge of its two children. A flag-resolving refit is then
+    /// exactly [`Bvh::refit_partial`] over the previous and current updated leaves
+    /// (see `update`). Set by every full refit; kept by in-place leaf updates, by the
+    /// partial refits that follow them, and by the deferred optimization pass (which ends
+    /// with a layout-compacting refit); cleared by any structural change (removal,
+    /// insertion, re-insertion). `false` (always correct: a full refit) after
+    /// deserialization.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    refit_exact: bool,
 }
 
 // TODO: would be interesting to try out:
@@ -256,6 +268,9 @@ impl BroadPhaseBvh {
             BvhLeafUpdateStatus::UpdatedInPlace | BvhLeafUpdateStatus::Inserted => {
                 if !self.reinsert_leaf_updates && status == BvhLeafUpdateStatus::UpdatedInPlace {
                     self.changes_since_optimize = self.changes_since_optimize.saturating_add(1);
+                } else {
+                    // A re-insertion or an insertion changed the tree's structure.
+                    self.refit_exact = false;
                 }
                 self.pending_set_aabb.push(handle);
             }

@@ -55,6 +55,8 @@ impl BroadPhaseBvh {
         for handle in removed_colliders {
             self.tree.remove(handle.into_raw_parts().0);
         }
+        // Any removal changes the tree's structure (see `refit_exact`).
+        let mut structural_change = !removed_colliders.is_empty();
 
         let first_pass = self.tree.is_empty();
 
@@ -68,6 +70,9 @@ impl BroadPhaseBvh {
             if colliders.contains(handle) {
                 self.updated_colliders.push(handle);
                 self.curr_updated_leaves.push(handle.into_raw_parts().0);
+            } else {
+                // A leaf updated but not listed: `refit_exact` no longer describes it.
+                self.refit_exact = false;
             }
         }
 
@@ -89,6 +94,7 @@ impl BroadPhaseBvh {
                 {
                     self.tree.remove(leaf_index);
                     forced_reinsertion = true;
+                    structural_change = true;
                 }
             }
         }
@@ -225,6 +231,9 @@ impl BroadPhaseBvh {
                         if !use_reinsert && status == BvhLeafUpdateStatus::UpdatedInPlace {
                             self.changes_since_optimize =
                                 self.changes_since_optimize.saturating_add(1);
+                        } else {
+                            // A re-insertion or an insertion.
+                            structural_change = true;
                         }
                         self.updated_colliders.push(*modified);
                         self.curr_updated_leaves.push(leaf_index);
@@ -242,6 +251,7 @@ impl BroadPhaseBvh {
                     self.tree
                         .insert_or_update_partially(*aabb, leaf_index, *change_detection_skin);
                 debug_assert_eq!(status, BvhLeafUpdateStatus::Inserted);
+                structural_change = true;
                 self.updated_colliders.push(*modified);
                 self.curr_updated_leaves.push(leaf_index);
             }
@@ -287,8 +297,23 @@ impl BroadPhaseBvh {
         // a partial refit visits just the ancestors of BOTH frames' changed leaves (flag clearing) — serial, so full is cheaper when most leaves changed.
         let partial_refit_too_expensive =
             (num_updated + self.prev_updated_leaves.len()) * 16 >= self.tree.leaf_count() as usize;
-        let full_refit =
-            must_full_refit || (run_optimizer && !defer_optimize) || partial_refit_too_expensive;
+        //
+        // When the tree is `refit_exact` and nothing changed its structure since, a full
+        // refit would only resolve the leaves' change flags and recompute the internal
+        // nodes, in the layout the nodes already have: the flagged leaves are among the
+        // previous and current updated leaves (the partial refit's own precondition), and
+        // the internal nodes that can differ from the merge of their children are their
+        // ancestors. The partial refit resolves the same leaves and recomputes the same
+        // ancestors from the same children (a merge of resolved flags is already
+        // normalized), so it leaves the very nodes, parents and leaf indices a full refit
+        // would, at the cost of the changed paths (a tree of a few leaves always deems the
+        // partial refit too expensive, yet a full refit walks and copies every node).
+        let refit_exact_before = self.refit_exact && !structural_change;
+        let partial_refit_exact = refit_exact_before && self.tree.leaf_count() > 2;
+        let full_refit = must_full_refit
+            || (run_optimizer && !defer_optimize)
+            || (partial_refit_too_expensive && !partial_refit_exact);
+        self.refit_exact = full_refit || refit_exact_before;
         if full_refit {
             #[cfg(feature = "parallel")]
             self.tree.refit_parallel(&mut self.workspace);
@@ -331,6 +356,21 @@ impl BroadPhaseBvh {
                 );
             candidates
         };
+
+        // No candidate pair, no updated or removed collider: no pair to add, and no pair
+        // to examine for staleness. What follows would only clear and refill the scratch
+        // buffers `stale_pairs` and `updated_mask` (cleared again before any read) with
+        // nothing.
+        if candidates.is_empty()
+            && self.updated_colliders.is_empty()
+            && removed_colliders.is_empty()
+        {
+            #[cfg(not(feature = "parallel"))]
+            {
+                self.candidates_workspace = candidates;
+            }
+            return;
+        }
 
         {
             let filter_new =

@@ -43,6 +43,22 @@ impl NarrowPhase {
         // meshes (`None`: no soft contact detection, as in the collision pipeline).
         soft_bodies: Option<(&SoftBodySet, &IntegrationParameters)>,
     ) {
+        // No pair and no soft body: every pass below would run over nothing (no update
+        // candidate, hence no pair update, no transition, no coloring; no self-contact
+        // job and no stored self contacts to retain). Leave what those passes would have
+        // left: an empty dirty list (read by the solver-graph maintenance) and the hints
+        // resized to the (empty) edge list. The awake-body mask, the candidate list and
+        // the coloring list are scratch space, rebuilt before every read.
+        if self.contact_graph.graph.edges.is_empty()
+            && self.soft_self.is_empty()
+            && soft_bodies.is_none_or(|(soft_bodies, _)| soft_bodies.is_empty())
+        {
+            self.pair_solver_hints.clear();
+            self.solver_graph_dirty.clear();
+            self.update_candidates.clear();
+            return;
+        }
+
         self.update_awake_body_mask(islands);
         let awake_body_mask = core::mem::take(&mut self.awake_body_mask);
         let soft_ctx = soft_bodies.map(|(soft_bodies, params)| SoftDetectionCtx {
