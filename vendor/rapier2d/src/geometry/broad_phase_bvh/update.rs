@@ -2,7 +2,7 @@
 //! partial/full refits, deferred optimization scheduling) plus the pair
 //! creation and stale-pair removal bookkeeping.
 
-use super::{BroadPhaseBvh, BvhOptimizationStrategy};
+use super::{BroadPhaseBvh, BvhOptimizationStrategy, RefitLayout};
 use crate::alloc_prelude::*;
 use crate::dynamics::{IntegrationParameters, RigidBodySet, RigidBodyType};
 use crate::geometry::Collider;
@@ -55,8 +55,12 @@ impl BroadPhaseBvh {
         for handle in removed_colliders {
             self.tree.remove(handle.into_raw_parts().0);
         }
-        // Any removal changes the tree's structure (see `refit_exact`).
-        let mut structural_change = !removed_colliders.is_empty();
+        // A removal orphans a node slot (see `RefitLayout`).
+        let mut layout = if removed_colliders.is_empty() {
+            self.refit_layout
+        } else {
+            RefitLayout::Unknown
+        };
 
         let first_pass = self.tree.is_empty();
 
@@ -71,8 +75,8 @@ impl BroadPhaseBvh {
                 self.updated_colliders.push(handle);
                 self.curr_updated_leaves.push(handle.into_raw_parts().0);
             } else {
-                // A leaf updated but not listed: `refit_exact` no longer describes it.
-                self.refit_exact = false;
+                // A leaf updated but not listed: `RefitLayout` no longer describes it.
+                layout = RefitLayout::Unknown;
             }
         }
 
@@ -94,7 +98,7 @@ impl BroadPhaseBvh {
                 {
                     self.tree.remove(leaf_index);
                     forced_reinsertion = true;
-                    structural_change = true;
+                    layout = RefitLayout::Unknown;
                 }
             }
         }
@@ -242,8 +246,8 @@ impl BroadPhaseBvh {
                                 self.changes_since_optimize =
                                     self.changes_since_optimize.saturating_add(1);
                             } else {
-                                // A re-insertion or an insertion.
-                                structural_change = true;
+                                // A re-insertion or an insertion (see `set_aabb`).
+                                layout = layout.min(RefitLayout::Compact);
                             }
                             self.updated_colliders.push(*modified);
                             self.curr_updated_leaves.push(leaf_index);
@@ -263,7 +267,7 @@ impl BroadPhaseBvh {
                         *change_detection_skin,
                     );
                     debug_assert_eq!(status, BvhLeafUpdateStatus::Inserted);
-                    structural_change = true;
+                    layout = layout.min(RefitLayout::Compact);
                     self.updated_colliders.push(*modified);
                     self.curr_updated_leaves.push(leaf_index);
                 }
@@ -311,22 +315,32 @@ impl BroadPhaseBvh {
         let partial_refit_too_expensive =
             (num_updated + self.prev_updated_leaves.len()) * 16 >= self.tree.leaf_count() as usize;
         //
-        // When the tree is `refit_exact` and nothing changed its structure since, a full
-        // refit would only resolve the leaves' change flags and recompute the internal
-        // nodes, in the layout the nodes already have: the flagged leaves are among the
-        // previous and current updated leaves (the partial refit's own precondition), and
-        // the internal nodes that can differ from the merge of their children are their
-        // ancestors. The partial refit resolves the same leaves and recomputes the same
-        // ancestors from the same children (a merge of resolved flags is already
-        // normalized), so it leaves the very nodes, parents and leaf indices a full refit
-        // would, at the cost of the changed paths (a tree of a few leaves always deems the
-        // partial refit too expensive, yet a full refit walks and copies every node).
-        let refit_exact_before = self.refit_exact && !structural_change;
-        let partial_refit_exact = refit_exact_before && self.tree.leaf_count() > 2;
-        let full_refit = must_full_refit
-            || (run_optimizer && !defer_optimize)
-            || (partial_refit_too_expensive && !partial_refit_exact);
-        self.refit_exact = full_refit || refit_exact_before;
+        // When a full refit would keep the nodes where they are (`RefitLayout::DepthFirst`,
+        // or `Compact` with the nodes found in depth-first order), it would only resolve
+        // the leaves' change flags and recompute the internal nodes: the flagged leaves are
+        // among the previous and current updated leaves (the partial refit's own
+        // precondition), and the internal nodes that can differ from the merge of their
+        // children are their ancestors. The partial refit resolves the same leaves and
+        // recomputes the same ancestors from the same children (a merge of resolved flags
+        // is already normalized), so it leaves the very nodes, parents and leaf indices a
+        // full refit would, at the cost of the changed paths (a tree of a few leaves always
+        // deems the partial refit too expensive, yet a full refit walks and copies every
+        // node).
+        let cheap_refit = !must_full_refit && !(run_optimizer && !defer_optimize);
+        let partial_refit_exact = partial_refit_too_expensive
+            && cheap_refit
+            && self.tree.leaf_count() > 2
+            && match layout {
+                RefitLayout::DepthFirst => true,
+                RefitLayout::Compact => self.is_depth_first(),
+                RefitLayout::Unknown => false,
+            };
+        let full_refit = !cheap_refit || (partial_refit_too_expensive && !partial_refit_exact);
+        self.refit_layout = if full_refit || partial_refit_exact {
+            RefitLayout::DepthFirst
+        } else {
+            layout
+        };
         if full_refit {
             #[cfg(feature = "parallel")]
             self.tree.refit_parallel(&mut self.workspace);
