@@ -70,13 +70,15 @@ impl BroadPhaseBvh {
         // Colliders updated through `set_aabb` since the last update already have an
         // up-to-date tree leaf, but must still be taken into account for change-flag
         // resolution and stale-pair detection.
-        for handle in self.pending_set_aabb.drain(..) {
-            if colliders.contains(handle) {
-                self.updated_colliders.push(handle);
-                self.curr_updated_leaves.push(handle.into_raw_parts().0);
-            } else {
-                // A leaf updated but not listed: `RefitLayout` no longer describes it.
-                layout = RefitLayout::Unknown;
+        if !self.pending_set_aabb.is_empty() {
+            for handle in self.pending_set_aabb.drain(..) {
+                if colliders.contains(handle) {
+                    self.updated_colliders.push(handle);
+                    self.curr_updated_leaves.push(handle.into_raw_parts().0);
+                } else {
+                    // A leaf updated but not listed: `RefitLayout` no longer describes it.
+                    layout = RefitLayout::Unknown;
+                }
             }
         }
 

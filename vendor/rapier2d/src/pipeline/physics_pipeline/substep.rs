@@ -421,25 +421,32 @@ impl PhysicsPipeline {
         }
 
         // Persistent islands: apply the joint connectivity edits (in order).
+        // (Each event list is taken out only when it has an event to apply.)
         impulse_joints.flush_modified_joints();
-        let joint_island_events: Vec<_> = core::mem::take(&mut impulse_joints.island_events);
-        for event in joint_island_events {
-            islands.apply_impulse_joint_island_event(bodies, event);
+        if !impulse_joints.island_events.is_empty() {
+            let joint_island_events: Vec<_> = core::mem::take(&mut impulse_joints.island_events);
+            for event in joint_island_events {
+                islands.apply_impulse_joint_island_event(bodies, event);
+            }
         }
-        let mut mb_chain_events = core::mem::take(&mut multibody_joints.island_chain_events);
-        for mb_id in &mb_chain_events {
-            islands.update_multibody_chain(bodies, multibody_joints, *mb_id);
+        if !multibody_joints.island_chain_events.is_empty() {
+            let mut mb_chain_events = core::mem::take(&mut multibody_joints.island_chain_events);
+            for mb_id in &mb_chain_events {
+                islands.update_multibody_chain(bodies, multibody_joints, *mb_id);
+            }
+            mb_chain_events.clear();
+            multibody_joints.island_chain_events = mb_chain_events;
         }
-        mb_chain_events.clear();
-        multibody_joints.island_chain_events = mb_chain_events;
         // Soft bodies inserted/removed or reattached since the last step: update their
         // attachment links.
-        let mut sb_events = core::mem::take(&mut soft_bodies.island_events);
-        for event in &sb_events {
-            islands.update_soft_body_attachments(bodies, soft_bodies, event.handle);
+        if !soft_bodies.island_events.is_empty() {
+            let mut sb_events = core::mem::take(&mut soft_bodies.island_events);
+            for event in &sb_events {
+                islands.update_soft_body_attachments(bodies, soft_bodies, event.handle);
+            }
+            sb_events.clear();
+            soft_bodies.island_events = sb_events;
         }
-        sb_events.clear();
-        soft_bodies.island_events = sb_events;
         self.counters.stages.user_changes.pause();
 
         // TODO: do this only on user-change.
