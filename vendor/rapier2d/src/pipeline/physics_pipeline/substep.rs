@@ -237,6 +237,7 @@ impl PhysicsPipeline {
     /// Feeds the broad-phase the AABBs computed by the last `advance_to_final_positions`
     /// call, through `set_aabb` (whose `pending_set_aabb` protocol makes the next
     /// broad-phase update account for them in change-flag resolution and stale-pair detection).
+    #[inline]
     fn update_moved_collider_aabbs(
         &mut self,
         integration_parameters: &IntegrationParameters,
