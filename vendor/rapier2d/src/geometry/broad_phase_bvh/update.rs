@@ -189,6 +189,9 @@ impl BroadPhaseBvh {
                             if *status == BvhLeafUpdateStatus::UpdatedInPlace {
                                 self.changes_since_optimize =
                                     self.changes_since_optimize.saturating_add(1);
+                            } else {
+                                // An insertion (see `set_aabb`).
+                                layout = layout.min(RefitLayout::Compact);
                             }
                             self.updated_colliders.push(*modified);
                             self.curr_updated_leaves.push(leaf_index);
