@@ -3,7 +3,7 @@ use crate::data::Coarena;
 use crate::dynamics::IntegrationParameters;
 use crate::geometry::{Aabb, ColliderHandle};
 use crate::math::Real;
-use parry::partitioning::{Bvh, BvhLeafUpdateStatus, BvhWorkspace};
+use parry::partitioning::{Bvh, BvhLeafUpdateStatus, BvhWorkspace, TraversalAction};
 use parry::utils::hashmap::HashMap;
 
 mod update;
@@ -100,6 +100,30 @@ pub struct BroadPhaseBvh {
     /// solver; consumed by [`Self::take_deferred_optimize`].
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     deferred_optimize_pending: bool,
+    /// What a full [`Bvh::refit`] would change in the tree's layout, as far as the
+    /// broad phase knows: when it would change nothing, a flag-resolving refit is exactly
+    /// [`Bvh::refit_partial`] over the previous and current updated leaves (see
+    /// `update`). `Unknown` (always correct: a full refit) after deserialization.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    refit_layout: RefitLayout,
+}
+
+/// What a full [`Bvh::refit`] would change in the broad phase's tree (see
+/// `BroadPhaseBvh::update`). Ordered from the least to the most known.
+#[derive(Default, Copy, Clone, PartialEq, Eq, PartialOrd, Ord, Debug)]
+enum RefitLayout {
+    /// Nothing known (after a removal, or a deserialization).
+    #[default]
+    Unknown,
+    /// No node slot is orphaned, and every internal node that is not the merge of its
+    /// two children is an ancestor of one of the leaves the next `update` lists as
+    /// updated (now or at the previous update), but leaves were inserted or re-inserted
+    /// since the last full refit: the nodes may not be in depth-first order.
+    Compact,
+    /// `Compact`, and the nodes are in the depth-first order a full refit numbers them
+    /// in. Set by every full refit; kept by in-place leaf updates, by partial refits
+    /// and by the deferred optimization pass (which ends with a compacting refit).
+    DepthFirst,
 }
 
 // TODO: would be interesting to try out:
@@ -228,6 +252,29 @@ impl BroadPhaseBvh {
         self.workspace = task.workspace;
     }
 
+    /// Whether the tree's wide nodes are numbered in the depth-first order a full refit
+    /// gives them: the root is 0, and each wide node's left subtree comes right after
+    /// it, then its right subtree. `traverse_indexed` visits the wide nodes in that very
+    /// order (the left child first, the right one stacked), reporting each node's two
+    /// entries, so the left entries' wide-node ids must read 0, 1, 2…
+    fn is_depth_first(&self) -> bool {
+        let mut next = 0;
+        let mut depth_first = true;
+        self.tree.traverse_indexed(None, |_, index| {
+            let (wide_id, is_right) = index.decompose();
+            if is_right {
+                TraversalAction::Continue
+            } else if wide_id == next {
+                next += 1;
+                TraversalAction::Continue
+            } else {
+                depth_first = false;
+                TraversalAction::EarlyExit
+            }
+        });
+        depth_first
+    }
+
     /// Sets the AABB associated to the given collider.
     ///
     /// The change is immediately applied and propagated through the underlying BVH;
@@ -256,6 +303,11 @@ impl BroadPhaseBvh {
             BvhLeafUpdateStatus::UpdatedInPlace | BvhLeafUpdateStatus::Inserted => {
                 if !self.reinsert_leaf_updates && status == BvhLeafUpdateStatus::UpdatedInPlace {
                     self.changes_since_optimize = self.changes_since_optimize.saturating_add(1);
+                } else {
+                    // A re-insertion (a removal whose slot the insertion reuses) or an
+                    // insertion (of a new slot, none being orphaned) changed the tree's
+                    // structure, but left no orphaned slot.
+                    self.refit_layout = self.refit_layout.min(RefitLayout::Compact);
                 }
                 self.pending_set_aabb.push(handle);
             }

@@ -2,7 +2,7 @@
 //! partial/full refits, deferred optimization scheduling) plus the pair
 //! creation and stale-pair removal bookkeeping.
 
-use super::{BroadPhaseBvh, BvhOptimizationStrategy};
+use super::{BroadPhaseBvh, BvhOptimizationStrategy, RefitLayout};
 use crate::alloc_prelude::*;
 use crate::dynamics::{IntegrationParameters, RigidBodySet, RigidBodyType};
 use crate::geometry::Collider;
@@ -55,6 +55,12 @@ impl BroadPhaseBvh {
         for handle in removed_colliders {
             self.tree.remove(handle.into_raw_parts().0);
         }
+        // A removal orphans a node slot (see `RefitLayout`).
+        let mut layout = if removed_colliders.is_empty() {
+            self.refit_layout
+        } else {
+            RefitLayout::Unknown
+        };
 
         let first_pass = self.tree.is_empty();
 
@@ -64,10 +70,15 @@ impl BroadPhaseBvh {
         // Colliders updated through `set_aabb` since the last update already have an
         // up-to-date tree leaf, but must still be taken into account for change-flag
         // resolution and stale-pair detection.
-        for handle in self.pending_set_aabb.drain(..) {
-            if colliders.contains(handle) {
-                self.updated_colliders.push(handle);
-                self.curr_updated_leaves.push(handle.into_raw_parts().0);
+        if !self.pending_set_aabb.is_empty() {
+            for handle in self.pending_set_aabb.drain(..) {
+                if colliders.contains(handle) {
+                    self.updated_colliders.push(handle);
+                    self.curr_updated_leaves.push(handle.into_raw_parts().0);
+                } else {
+                    // A leaf updated but not listed: `RefitLayout` no longer describes it.
+                    layout = RefitLayout::Unknown;
+                }
             }
         }
 
@@ -89,165 +100,186 @@ impl BroadPhaseBvh {
                 {
                     self.tree.remove(leaf_index);
                     forced_reinsertion = true;
+                    layout = RefitLayout::Unknown;
                 }
             }
         }
 
-        // The AABB (and margin) computation is the expensive part of the leaf-update
-        // loop; precompute it in parallel and keep only the tree writes sequential.
-        let mut update_workspace = core::mem::take(&mut self.update_workspace);
-        update_workspace.clear();
-
-        let compute_update = |modified: &ColliderHandle| -> Option<(ColliderHandle, Aabb, Real)> {
-            let collider = colliders.get(*modified)?;
-            // `PARENT_EFFECTIVE_DOMINANCE` and `GROUPS` are NF-only in general, but the
-            // forced leaf-removal pre-pass above targets exactly these colliders: they
-            // MUST be re-inserted here or their leaf would be lost.
-            if !collider.is_enabled()
-                || !(collider.changes.needs_broad_phase_update()
-                    || collider.changes.intersects(
-                        ColliderChanges::PARENT_EFFECTIVE_DOMINANCE | ColliderChanges::GROUPS,
-                    ))
-            {
-                return None;
-            }
-
-            let aabb = collider.compute_broad_phase_aabb(params, bodies);
-            // A non-finite AABB would corrupt the tree (NaN breaks the partitioning
-            // invariants); skip it and let the pipeline's end-of-step quarantine handle it.
-            if !(aabb.mins.is_finite() && aabb.maxs.is_finite()) {
-                return None;
-            }
-            let change_detection_skin = self.change_detection_skin(params, &aabb);
-
-            Some((*modified, aabb, change_detection_skin))
-        };
-
-        #[cfg(feature = "parallel")]
-        {
-            // TODO(PERF): avoid the systematic Vec<Vec<_>> allocation?
-            use rayon::prelude::*;
-            let precomputed: Vec<Vec<_>> = modified_colliders
-                .par_chunks(1024)
-                .map(|chunk| chunk.iter().filter_map(compute_update).collect())
-                .collect();
-            update_workspace.extend(precomputed.into_iter().flatten());
-        }
-        #[cfg(not(feature = "parallel"))]
-        update_workspace.extend(modified_colliders.iter().filter_map(compute_update));
-
-        // Small change volumes relocate moved leaves via SAH re-insertion (O(log n) per leaf):
-        // tree quality maintains itself and the periodic O(tree) optimizer never runs — what keeps
-        // huge mostly-static scenes free of multi-ms spikes. Bulk volumes keep O(1) in-place updates.
         let leaf_count = self.tree.leaf_count() as usize;
-        let use_reinsert =
-            self.reinsert_leaf_updates && update_workspace.len() * 16 < leaf_count && !first_pass;
 
-        // In-place leaf updates apply in parallel; the change-flag bookkeeping
-        // below stays sequential (it's a cheap push per *changed* leaf).
-        #[cfg(feature = "parallel")]
-        let parallel_leaf_updates = !use_reinsert;
-        #[cfg(feature = "parallel")]
-        if parallel_leaf_updates {
-            self.update_batch_workspace.clear();
-            self.update_batch_workspace.extend(
-                update_workspace
-                    .iter()
-                    .map(|(handle, aabb, skin)| (*aabb, handle.into_raw_parts().0, *skin)),
-            );
-            self.tree.insert_or_update_batch_partially_parallel(
-                &self.update_batch_workspace,
-                &mut self.update_batch_statuses,
-            );
+        // No modified collider: no leaf to update (the workspace is scratch space).
+        if !modified_colliders.is_empty() {
+            // The AABB (and margin) computation is the expensive part of the leaf-update
+            // loop; precompute it in parallel and keep only the tree writes sequential.
+            let mut update_workspace = core::mem::take(&mut self.update_workspace);
+            update_workspace.clear();
 
-            for ((modified, _, _), status) in update_workspace
-                .iter()
-                .zip(self.update_batch_statuses.iter())
+            let compute_update =
+                |modified: &ColliderHandle| -> Option<(ColliderHandle, Aabb, Real)> {
+                    let collider = colliders.get(*modified)?;
+                    // `PARENT_EFFECTIVE_DOMINANCE` and `GROUPS` are NF-only in general, but the
+                    // forced leaf-removal pre-pass above targets exactly these colliders: they
+                    // MUST be re-inserted here or their leaf would be lost.
+                    if !collider.is_enabled()
+                        || !(collider.changes.needs_broad_phase_update()
+                            || collider.changes.intersects(
+                                ColliderChanges::PARENT_EFFECTIVE_DOMINANCE
+                                    | ColliderChanges::GROUPS,
+                            ))
+                    {
+                        return None;
+                    }
+
+                    let aabb = collider.compute_broad_phase_aabb(params, bodies);
+                    // A non-finite AABB would corrupt the tree (NaN breaks the partitioning
+                    // invariants); skip it and let the pipeline's end-of-step quarantine handle it.
+                    if !(aabb.mins.is_finite() && aabb.maxs.is_finite()) {
+                        return None;
+                    }
+                    let change_detection_skin = self.change_detection_skin(params, &aabb);
+
+                    Some((*modified, aabb, change_detection_skin))
+                };
+
+            #[cfg(feature = "parallel")]
             {
-                let leaf_index = modified.into_raw_parts().0;
-                match status {
-                    BvhLeafUpdateStatus::Unchanged => {}
-                    BvhLeafUpdateStatus::UpdatedInPlace | BvhLeafUpdateStatus::Inserted => {
-                        if *status == BvhLeafUpdateStatus::UpdatedInPlace {
-                            self.changes_since_optimize =
-                                self.changes_since_optimize.saturating_add(1);
+                // TODO(PERF): avoid the systematic Vec<Vec<_>> allocation?
+                use rayon::prelude::*;
+                let precomputed: Vec<Vec<_>> = modified_colliders
+                    .par_chunks(1024)
+                    .map(|chunk| chunk.iter().filter_map(compute_update).collect())
+                    .collect();
+                update_workspace.extend(precomputed.into_iter().flatten());
+            }
+            #[cfg(not(feature = "parallel"))]
+            update_workspace.extend(modified_colliders.iter().filter_map(compute_update));
+
+            // Small change volumes relocate moved leaves via SAH re-insertion (O(log n) per leaf):
+            // tree quality maintains itself and the periodic O(tree) optimizer never runs — what keeps
+            // huge mostly-static scenes free of multi-ms spikes. Bulk volumes keep O(1) in-place updates.
+            let use_reinsert = self.reinsert_leaf_updates
+                && update_workspace.len() * 16 < leaf_count
+                && !first_pass;
+
+            // In-place leaf updates apply in parallel; the change-flag bookkeeping
+            // below stays sequential (it's a cheap push per *changed* leaf).
+            #[cfg(feature = "parallel")]
+            let parallel_leaf_updates = !use_reinsert;
+            #[cfg(feature = "parallel")]
+            if parallel_leaf_updates {
+                self.update_batch_workspace.clear();
+                self.update_batch_workspace.extend(
+                    update_workspace
+                        .iter()
+                        .map(|(handle, aabb, skin)| (*aabb, handle.into_raw_parts().0, *skin)),
+                );
+                self.tree.insert_or_update_batch_partially_parallel(
+                    &self.update_batch_workspace,
+                    &mut self.update_batch_statuses,
+                );
+
+                for ((modified, _, _), status) in update_workspace
+                    .iter()
+                    .zip(self.update_batch_statuses.iter())
+                {
+                    let leaf_index = modified.into_raw_parts().0;
+                    match status {
+                        BvhLeafUpdateStatus::Unchanged => {}
+                        BvhLeafUpdateStatus::UpdatedInPlace | BvhLeafUpdateStatus::Inserted => {
+                            if *status == BvhLeafUpdateStatus::UpdatedInPlace {
+                                self.changes_since_optimize =
+                                    self.changes_since_optimize.saturating_add(1);
+                            } else {
+                                // An insertion (see `set_aabb`).
+                                layout = layout.min(RefitLayout::Compact);
+                            }
+                            self.updated_colliders.push(*modified);
+                            self.curr_updated_leaves.push(leaf_index);
                         }
-                        self.updated_colliders.push(*modified);
-                        self.curr_updated_leaves.push(leaf_index);
                     }
                 }
             }
-        }
 
-        #[cfg(feature = "parallel")]
-        let sequential_leaf_updates = !parallel_leaf_updates;
-        #[cfg(not(feature = "parallel"))]
-        let sequential_leaf_updates = true;
+            #[cfg(feature = "parallel")]
+            let sequential_leaf_updates = !parallel_leaf_updates;
+            #[cfg(not(feature = "parallel"))]
+            let sequential_leaf_updates = true;
 
-        #[allow(clippy::collapsible_if)]
-        if sequential_leaf_updates {
-            // Two passes, mirroring `insert_or_update_batch_partially_parallel`: every
-            // existing leaf is updated before any structural insertion, so an insertion's
-            // SAH descent (and the rotations it applies) sees all of this step's AABBs
-            // rather than a half-updated tree. The batch path cannot interleave the two
-            // (its updates run concurrently), so this one must not either — a step that
-            // mixes moved colliders with newly added ones would otherwise build a
-            // different tree here than it does there.
-            let mut deferred_inserts: Vec<usize> = Vec::new();
-            for (i, (modified, aabb, change_detection_skin)) in update_workspace.iter().enumerate()
-            {
-                let leaf_index = modified.into_raw_parts().0;
-                // `..._if_present` reports a missing leaf through the lookup it already
-                // performs, so deferring insertions costs no extra probe.
-                let status = if use_reinsert {
-                    self.tree.reinsert_or_update_if_present(
+            #[allow(clippy::collapsible_if)]
+            if sequential_leaf_updates {
+                // Two passes, mirroring `insert_or_update_batch_partially_parallel`: every
+                // existing leaf is updated before any structural insertion, so an insertion's
+                // SAH descent (and the rotations it applies) sees all of this step's AABBs
+                // rather than a half-updated tree. The batch path cannot interleave the two
+                // (its updates run concurrently), so this one must not either — a step that
+                // mixes moved colliders with newly added ones would otherwise build a
+                // different tree here than it does there.
+                let mut deferred_inserts: Vec<usize> = Vec::new();
+                for (i, (modified, aabb, change_detection_skin)) in
+                    update_workspace.iter().enumerate()
+                {
+                    let leaf_index = modified.into_raw_parts().0;
+                    // `..._if_present` reports a missing leaf through the lookup it already
+                    // performs, so deferring insertions costs no extra probe.
+                    let status = if use_reinsert {
+                        self.tree.reinsert_or_update_if_present(
+                            *aabb,
+                            leaf_index,
+                            *change_detection_skin,
+                        )
+                    } else {
+                        self.tree.update_partially_if_present(
+                            *aabb,
+                            leaf_index,
+                            *change_detection_skin,
+                        )
+                    };
+                    let Some(status) = status else {
+                        deferred_inserts.push(i);
+                        continue;
+                    };
+                    match status {
+                        // New AABB still inside the leaf's fattened AABB: tree untouched. No
+                        // refit needed, no new pairs possible (traversal only visits changed
+                        // leaves), no pair invalidation (deletion requires a changed leaf).
+                        BvhLeafUpdateStatus::Unchanged => {}
+                        BvhLeafUpdateStatus::UpdatedInPlace | BvhLeafUpdateStatus::Inserted => {
+                            // Only in-place updates degrade the tree quality
+                            // (re-insertions self-optimize, fresh insertions pick their
+                            // spot by SAH descent).
+                            if !use_reinsert && status == BvhLeafUpdateStatus::UpdatedInPlace {
+                                self.changes_since_optimize =
+                                    self.changes_since_optimize.saturating_add(1);
+                            } else {
+                                // A re-insertion or an insertion (see `set_aabb`).
+                                layout = layout.min(RefitLayout::Compact);
+                            }
+                            self.updated_colliders.push(*modified);
+                            self.curr_updated_leaves.push(leaf_index);
+                        }
+                    }
+                }
+
+                // Pass 2: the structural insertions, in `update_workspace` order. Fresh
+                // insertions pick their spot by SAH descent, so they never count toward the
+                // optimizer's debt, and their status is always `Inserted`.
+                for i in deferred_inserts {
+                    let (modified, aabb, change_detection_skin) = &update_workspace[i];
+                    let leaf_index = modified.into_raw_parts().0;
+                    let status = self.tree.insert_or_update_partially(
                         *aabb,
                         leaf_index,
                         *change_detection_skin,
-                    )
-                } else {
-                    self.tree
-                        .update_partially_if_present(*aabb, leaf_index, *change_detection_skin)
-                };
-                let Some(status) = status else {
-                    deferred_inserts.push(i);
-                    continue;
-                };
-                match status {
-                    // New AABB still inside the leaf's fattened AABB: tree untouched. No
-                    // refit needed, no new pairs possible (traversal only visits changed
-                    // leaves), no pair invalidation (deletion requires a changed leaf).
-                    BvhLeafUpdateStatus::Unchanged => {}
-                    BvhLeafUpdateStatus::UpdatedInPlace | BvhLeafUpdateStatus::Inserted => {
-                        // Only in-place updates degrade the tree quality
-                        // (re-insertions self-optimize, fresh insertions pick their
-                        // spot by SAH descent).
-                        if !use_reinsert && status == BvhLeafUpdateStatus::UpdatedInPlace {
-                            self.changes_since_optimize =
-                                self.changes_since_optimize.saturating_add(1);
-                        }
-                        self.updated_colliders.push(*modified);
-                        self.curr_updated_leaves.push(leaf_index);
-                    }
+                    );
+                    debug_assert_eq!(status, BvhLeafUpdateStatus::Inserted);
+                    layout = layout.min(RefitLayout::Compact);
+                    self.updated_colliders.push(*modified);
+                    self.curr_updated_leaves.push(leaf_index);
                 }
             }
 
-            // Pass 2: the structural insertions, in `update_workspace` order. Fresh
-            // insertions pick their spot by SAH descent, so they never count toward the
-            // optimizer's debt, and their status is always `Inserted`.
-            for i in deferred_inserts {
-                let (modified, aabb, change_detection_skin) = &update_workspace[i];
-                let leaf_index = modified.into_raw_parts().0;
-                let status =
-                    self.tree
-                        .insert_or_update_partially(*aabb, leaf_index, *change_detection_skin);
-                debug_assert_eq!(status, BvhLeafUpdateStatus::Inserted);
-                self.updated_colliders.push(*modified);
-                self.curr_updated_leaves.push(leaf_index);
-            }
+            self.update_workspace = update_workspace;
         }
-
-        self.update_workspace = update_workspace;
 
         // The incremental optimizer (and its O(tree) full refit) only runs when enough quality-degrading
         // changes accumulated: every frame under bulk volumes, every 8th for moderate, never for small
@@ -287,14 +319,40 @@ impl BroadPhaseBvh {
         // a partial refit visits just the ancestors of BOTH frames' changed leaves (flag clearing) — serial, so full is cheaper when most leaves changed.
         let partial_refit_too_expensive =
             (num_updated + self.prev_updated_leaves.len()) * 16 >= self.tree.leaf_count() as usize;
-        let full_refit =
-            must_full_refit || (run_optimizer && !defer_optimize) || partial_refit_too_expensive;
+        //
+        // When a full refit would keep the nodes where they are (`RefitLayout::DepthFirst`,
+        // or `Compact` with the nodes found in depth-first order), it would only resolve
+        // the leaves' change flags and recompute the internal nodes: the flagged leaves are
+        // among the previous and current updated leaves (the partial refit's own
+        // precondition), and the internal nodes that can differ from the merge of their
+        // children are their ancestors. The partial refit resolves the same leaves and
+        // recomputes the same ancestors from the same children (a merge of resolved flags
+        // is already normalized), so it leaves the very nodes, parents and leaf indices a
+        // full refit would, at the cost of the changed paths (a tree of a few leaves always
+        // deems the partial refit too expensive, yet a full refit walks and copies every
+        // node).
+        let cheap_refit = !must_full_refit && !(run_optimizer && !defer_optimize);
+        let partial_refit_exact = partial_refit_too_expensive
+            && cheap_refit
+            && self.tree.leaf_count() > 2
+            && match layout {
+                RefitLayout::DepthFirst => true,
+                RefitLayout::Compact => self.is_depth_first(),
+                RefitLayout::Unknown => false,
+            };
+        let full_refit = !cheap_refit || (partial_refit_too_expensive && !partial_refit_exact);
+        self.refit_layout = if full_refit || partial_refit_exact {
+            RefitLayout::DepthFirst
+        } else {
+            layout
+        };
         if full_refit {
             #[cfg(feature = "parallel")]
             self.tree.refit_parallel(&mut self.workspace);
             #[cfg(not(feature = "parallel"))]
             self.tree.refit(&mut self.workspace);
-        } else {
+        } else if !(self.prev_updated_leaves.is_empty() && self.curr_updated_leaves.is_empty()) {
+            // (A partial refit over no leaf is a no-op.)
             self.tree
                 .refit_partial(&self.prev_updated_leaves, &self.curr_updated_leaves);
         }
@@ -331,6 +389,21 @@ impl BroadPhaseBvh {
                 );
             candidates
         };
+
+        // No candidate pair, no updated or removed collider: no pair to add, and no pair
+        // to examine for staleness. What follows would only clear and refill the scratch
+        // buffers `stale_pairs` and `updated_mask` (cleared again before any read) with
+        // nothing.
+        if candidates.is_empty()
+            && self.updated_colliders.is_empty()
+            && removed_colliders.is_empty()
+        {
+            #[cfg(not(feature = "parallel"))]
+            {
+                self.candidates_workspace = candidates;
+            }
+            return;
+        }
 
         {
             let filter_new =

@@ -23,7 +23,64 @@ use crate::pipeline::ActiveHooks;
 use crate::pipeline::{ActiveEvents, EventHandler, PhysicsHooks};
 
 impl NarrowPhase {
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn compute_contacts(
+        &mut self,
+        prediction_distance: Real,
+        dt: Real,
+        contact_clustering: bool,
+        // Contact-recycling drift threshold; `0.0` disables recycling.
+        contact_recycle_distance: Real,
+        islands: &mut IslandManager,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        impulse_joints: &ImpulseJointSet,
+        multibody_joints: &MultibodyJointSet,
+        modified_colliders: &[ColliderHandle],
+        hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+        // The soft bodies and the step's parameters: the soft contact detection runs on
+        // the soft-surface pairs and, after the transitions, on the awake self-colliding
+        // meshes (`None`: no soft contact detection, as in the collision pipeline).
+        soft_bodies: Option<(&SoftBodySet, &IntegrationParameters)>,
+    ) {
+        // No pair and no soft body: every pass of `update_contacts` would run over nothing
+        // (no update candidate, hence no pair update, no transition, no coloring; no
+        // self-contact job and no stored self contacts to retain). Leave what those passes
+        // would have left: an empty dirty list (read by the solver-graph maintenance) and
+        // the hints resized to the (empty) edge list. The awake-body mask, the candidate
+        // list and the coloring list are scratch space, rebuilt before every read.
+        // (Inline, so that a step without pairs doesn't even pass the arguments.)
+        if self.contact_graph.graph.edges.is_empty()
+            && self.soft_self.is_empty()
+            && soft_bodies.is_none_or(|(soft_bodies, _)| soft_bodies.is_empty())
+        {
+            self.pair_solver_hints.clear();
+            self.solver_graph_dirty.clear();
+            self.update_candidates.clear();
+            return;
+        }
+        self.update_contacts(
+            prediction_distance,
+            dt,
+            contact_clustering,
+            contact_recycle_distance,
+            islands,
+            bodies,
+            colliders,
+            impulse_joints,
+            multibody_joints,
+            modified_colliders,
+            hooks,
+            events,
+            soft_bodies,
+        );
+    }
+
+    /// [`Self::compute_contacts`] when there is a pair or a soft body.
+    #[allow(clippy::too_many_arguments)]
+    fn update_contacts(
         &mut self,
         prediction_distance: Real,
         dt: Real,

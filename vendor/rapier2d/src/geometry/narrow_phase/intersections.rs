@@ -14,6 +14,7 @@ use crate::utils::SyncPtr;
 
 impl NarrowPhase {
     #[profiling::function]
+    #[inline]
     pub(crate) fn compute_intersections(
         &mut self,
         islands: &IslandManager,
@@ -25,9 +26,30 @@ impl NarrowPhase {
     ) {
         // No intersection pair (no sensor near anything): nothing to update. The awake-body
         // mask is scratch space, recomputed by each of its users before it reads it.
+        // (Inline, so that a step without such pairs doesn't even pass the arguments.)
         if self.intersection_graph.graph.edges.is_empty() {
             return;
         }
+        self.update_intersections(
+            islands,
+            bodies,
+            colliders,
+            modified_colliders,
+            hooks,
+            events,
+        );
+    }
+
+    /// [`Self::compute_intersections`] when there is an intersection pair.
+    fn update_intersections(
+        &mut self,
+        islands: &IslandManager,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        modified_colliders: &[ColliderHandle],
+        hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+    ) {
         self.update_awake_body_mask(islands);
         let awake_body_mask = core::mem::take(&mut self.awake_body_mask);
 

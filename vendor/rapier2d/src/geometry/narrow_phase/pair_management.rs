@@ -30,6 +30,11 @@ impl NarrowPhase {
         bodies: &mut RigidBodySet,
         events: &dyn EventHandler,
     ) {
+        // Nothing removed or modified: both loops below run over nothing.
+        if removed_colliders.is_empty() && modified_colliders.is_empty() {
+            return;
+        }
+
         // TODO: avoid these hash-maps.
         // They are necessary to handle the swap-remove done internally
         // by the contact/intersection graphs when a node is removed.

@@ -126,7 +126,35 @@ impl NarrowPhase {
     /// Maintains the persistent per-color [`SolverContactGraph`]:
     /// full rebuild when the awake set shifts (epoch bump),
     /// else only this step's fully-updated pairs reconcile — unchanged manifolds keep their slots.
+    ///
+    /// Inline: when nothing is to rebuild or reconcile (graph valid at the current epochs,
+    /// qualification table built, no fully-updated edge, a valid force-event list covering
+    /// every edge and no flagged edge), every pass of `reconcile_solver_contact_graph` runs
+    /// over nothing, and a step in that state returns at once (release builds: debug builds
+    /// still run the validations).
+    #[inline]
     pub(crate) fn maintain_solver_contact_graph(
+        &mut self,
+        islands: &IslandManager,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        multibody_joints: &MultibodyJointSet,
+    ) {
+        let nothing_to_do = self.solver_graph_valid
+            && islands.active_set_epoch == self.solver_graph_epoch
+            && multibody_joints.topology_epoch == self.solver_graph_mb_epoch
+            && !self.body_qualify_info.is_empty()
+            && self.solver_graph_dirty.is_empty()
+            && self.force_list_valid
+            && self.force_event_flagged.is_empty()
+            && self.force_event_pos.len() >= self.contact_graph.graph.edges.len();
+        if !(nothing_to_do && !cfg!(debug_assertions)) {
+            self.reconcile_solver_contact_graph(islands, bodies, colliders, multibody_joints);
+        }
+    }
+
+    /// [`Self::maintain_solver_contact_graph`] when there may be something to do.
+    fn reconcile_solver_contact_graph(
         &mut self,
         islands: &IslandManager,
         bodies: &RigidBodySet,
@@ -458,8 +486,25 @@ impl NarrowPhase {
     ///
     /// The narrow-phase maintains the exact set of solver-active pairs with force events
     /// enabled, so scenes without them pay nothing here.
+    ///
+    /// Inline: without such pairs, it returns at once.
     #[cfg(feature = "alloc")]
+    #[inline]
     pub(crate) fn emit_contact_force_events(
+        &mut self,
+        dt: Real,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        events: &dyn EventHandler,
+    ) {
+        if !self.force_event_pairs.is_empty() {
+            self.emit_force_events_of_pairs(dt, bodies, colliders, events);
+        }
+    }
+
+    /// [`Self::emit_contact_force_events`] with pairs to inspect.
+    #[cfg(feature = "alloc")]
+    fn emit_force_events_of_pairs(
         &mut self,
         dt: Real,
         bodies: &RigidBodySet,

@@ -75,11 +75,21 @@ impl Quarantine {
     /// Step-start chokepoint: quarantines user-modified bodies and colliders whose new state is
     /// non-finite, before it reaches the broad-phase. Quarantined objects are already in the
     /// modified lists, so their disable is processed by the same step's user-changes handling.
+    ///
+    /// Inline: a step without user changes (empty modified lists) only tests the lists.
+    #[inline]
     pub(super) fn detect_user_changes(
         &mut self,
         bodies: &mut RigidBodySet,
         colliders: &mut ColliderSet,
     ) {
+        if !(bodies.modified_bodies.is_empty() && colliders.modified_colliders.is_empty()) {
+            self.detect_modified(bodies, colliders);
+        }
+    }
+
+    /// [`Self::detect_user_changes`] when a body or a collider was modified.
+    fn detect_modified(&mut self, bodies: &mut RigidBodySet, colliders: &mut ColliderSet) {
         for i in 0..bodies.modified_bodies.len() {
             let handle = bodies.modified_bodies[i];
             let Some(rb) = bodies.get_mut_internal(handle) else {
@@ -138,15 +148,21 @@ impl Quarantine {
     /// broad-phase-consistent), so rolling back only means discarding `next_position`.
     /// Velocities are zeroed immediately so remaining CCD substeps can't spread them; the
     /// disable is processed next step, like a user `set_enabled(false)` between steps.
+    ///
+    /// Inline: a step that found nothing non-finite only tests the workspaces.
+    #[inline]
     pub(super) fn apply_end_step(
         &mut self,
         bodies: &mut RigidBodySet,
         colliders: &mut ColliderSet,
     ) {
-        if self.body_workspace.is_empty() && self.collider_workspace.is_empty() {
-            return;
+        if !(self.body_workspace.is_empty() && self.collider_workspace.is_empty()) {
+            self.apply_detected(bodies, colliders);
         }
+    }
 
+    /// [`Self::apply_end_step`] when a body or a collider was found non-finite.
+    fn apply_detected(&mut self, bodies: &mut RigidBodySet, colliders: &mut ColliderSet) {
         let mut body_workspace = core::mem::take(&mut self.body_workspace);
         for (handle, prev_pose) in body_workspace.drain(..) {
             let Some(rb) = bodies.get_mut_internal_with_modification_tracking(handle) else {

@@ -109,8 +109,8 @@ impl PhysicsPipeline {
         self.counters.cd.broad_phase_time.pause();
         self.counters.cd.narrow_phase_time.resume();
 
-        // Update narrow-phase.
-        if handle_user_changes {
+        // Update narrow-phase (nothing to handle when no collider was modified or removed).
+        if handle_user_changes && !(modified_colliders.is_empty() && removed_colliders.is_empty()) {
             narrow_phase.handle_user_changes(
                 Some(islands),
                 modified_colliders,

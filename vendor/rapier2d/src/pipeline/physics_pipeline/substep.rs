@@ -237,6 +237,7 @@ impl PhysicsPipeline {
     /// Feeds the broad-phase the AABBs computed by the last `advance_to_final_positions`
     /// call, through `set_aabb` (whose `pending_set_aabb` protocol makes the next
     /// broad-phase update account for them in change-flag resolution and stale-pair detection).
+    #[inline]
     fn update_moved_collider_aabbs(
         &mut self,
         integration_parameters: &IntegrationParameters,
@@ -326,20 +327,22 @@ impl PhysicsPipeline {
         self.counters.step_started();
         self.quarantine.clear();
 
-        // Apply some of delayed wake-ups.
+        // Apply some of delayed wake-ups (draining empty sets is a no-op).
         self.counters.stages.user_changes.start();
-        #[cfg(feature = "enhanced-determinism")]
-        let to_wake_up_iterator = impulse_joints
-            .to_wake_up
-            .drain(..)
-            .chain(multibody_joints.to_wake_up.drain(..));
-        #[cfg(not(feature = "enhanced-determinism"))]
-        let to_wake_up_iterator = impulse_joints
-            .to_wake_up
-            .drain()
-            .chain(multibody_joints.to_wake_up.drain());
-        for handle in to_wake_up_iterator {
-            islands.wake_up(bodies, handle, true);
+        if !(impulse_joints.to_wake_up.is_empty() && multibody_joints.to_wake_up.is_empty()) {
+            #[cfg(feature = "enhanced-determinism")]
+            let to_wake_up_iterator = impulse_joints
+                .to_wake_up
+                .drain(..)
+                .chain(multibody_joints.to_wake_up.drain(..));
+            #[cfg(not(feature = "enhanced-determinism"))]
+            let to_wake_up_iterator = impulse_joints
+                .to_wake_up
+                .drain()
+                .chain(multibody_joints.to_wake_up.drain());
+            for handle in to_wake_up_iterator {
+                islands.wake_up(bodies, handle, true);
+            }
         }
 
         // Quarantine user-introduced non-finite state before it reaches the broad-phase.
@@ -359,22 +362,27 @@ impl PhysicsPipeline {
         let mut modified_colliders = colliders.take_modified();
         let mut removed_colliders = colliders.take_removed();
 
-        crate::pipeline::user_changes::handle_user_changes_to_colliders(
-            bodies,
-            colliders,
-            &modified_colliders[..],
-        );
+        // Both handlers loop over their modified lists, and do nothing else.
+        if !modified_colliders.is_empty() {
+            crate::pipeline::user_changes::handle_user_changes_to_colliders(
+                bodies,
+                colliders,
+                &modified_colliders[..],
+            );
+        }
 
         let mut modified_bodies = bodies.take_modified();
-        crate::pipeline::user_changes::handle_user_changes_to_rigid_bodies(
-            Some(islands),
-            bodies,
-            colliders,
-            impulse_joints,
-            multibody_joints,
-            &modified_bodies,
-            &mut modified_colliders,
-        );
+        if !modified_bodies.is_empty() {
+            crate::pipeline::user_changes::handle_user_changes_to_rigid_bodies(
+                Some(islands),
+                bodies,
+                colliders,
+                impulse_joints,
+                multibody_joints,
+                &modified_bodies,
+                &mut modified_colliders,
+            );
+        }
 
         // Disabled colliders are treated as if they were removed.
         // NOTE: this must be called here, after handle_user_changes_to_rigid_bodies to take into
@@ -396,41 +404,50 @@ impl PhysicsPipeline {
             ccd_solver.invalidate_fixed_targets_cache();
         }
 
-        // Join islands based on new joints.
-        #[cfg(feature = "enhanced-determinism")]
-        let to_join_iterator = impulse_joints
-            .to_join
-            .drain(..)
-            .chain(multibody_joints.to_join.drain(..));
-        #[cfg(not(feature = "enhanced-determinism"))]
-        let to_join_iterator = impulse_joints
-            .to_join
-            .drain()
-            .chain(multibody_joints.to_join.drain());
-        for (handle1, handle2) in to_join_iterator {
-            islands.interaction_changed(bodies, Some(handle1), Some(handle2), false);
+        // Join islands based on new joints (draining empty sets is a no-op).
+        if !(impulse_joints.to_join.is_empty() && multibody_joints.to_join.is_empty()) {
+            #[cfg(feature = "enhanced-determinism")]
+            let to_join_iterator = impulse_joints
+                .to_join
+                .drain(..)
+                .chain(multibody_joints.to_join.drain(..));
+            #[cfg(not(feature = "enhanced-determinism"))]
+            let to_join_iterator = impulse_joints
+                .to_join
+                .drain()
+                .chain(multibody_joints.to_join.drain());
+            for (handle1, handle2) in to_join_iterator {
+                islands.interaction_changed(bodies, Some(handle1), Some(handle2), false);
+            }
         }
 
         // Persistent islands: apply the joint connectivity edits (in order).
+        // (Each event list is taken out only when it has an event to apply.)
         impulse_joints.flush_modified_joints();
-        let joint_island_events: Vec<_> = core::mem::take(&mut impulse_joints.island_events);
-        for event in joint_island_events {
-            islands.apply_impulse_joint_island_event(bodies, event);
+        if !impulse_joints.island_events.is_empty() {
+            let joint_island_events: Vec<_> = core::mem::take(&mut impulse_joints.island_events);
+            for event in joint_island_events {
+                islands.apply_impulse_joint_island_event(bodies, event);
+            }
         }
-        let mut mb_chain_events = core::mem::take(&mut multibody_joints.island_chain_events);
-        for mb_id in &mb_chain_events {
-            islands.update_multibody_chain(bodies, multibody_joints, *mb_id);
+        if !multibody_joints.island_chain_events.is_empty() {
+            let mut mb_chain_events = core::mem::take(&mut multibody_joints.island_chain_events);
+            for mb_id in &mb_chain_events {
+                islands.update_multibody_chain(bodies, multibody_joints, *mb_id);
+            }
+            mb_chain_events.clear();
+            multibody_joints.island_chain_events = mb_chain_events;
         }
-        mb_chain_events.clear();
-        multibody_joints.island_chain_events = mb_chain_events;
         // Soft bodies inserted/removed or reattached since the last step: update their
         // attachment links.
-        let mut sb_events = core::mem::take(&mut soft_bodies.island_events);
-        for event in &sb_events {
-            islands.update_soft_body_attachments(bodies, soft_bodies, event.handle);
+        if !soft_bodies.island_events.is_empty() {
+            let mut sb_events = core::mem::take(&mut soft_bodies.island_events);
+            for event in &sb_events {
+                islands.update_soft_body_attachments(bodies, soft_bodies, event.handle);
+            }
+            sb_events.clear();
+            soft_bodies.island_events = sb_events;
         }
-        sb_events.clear();
-        soft_bodies.island_events = sb_events;
         self.counters.stages.user_changes.pause();
 
         // TODO: do this only on user-change.
@@ -485,7 +502,8 @@ impl PhysicsPipeline {
         let mut remaining_time = integration_parameters.dt;
         // The CCD passes shrink `integration_parameters.dt`: what predicts the next step (the
         // end-of-step AABBs and soft-body sync) reads the full step's parameters instead.
-        let step_parameters = *integration_parameters;
+        // (The caller's parameters, unchanged: a reference rather than a copy.)
+        let step_parameters: &IntegrationParameters = integration_parameters;
         let mut integration_parameters = *integration_parameters;
 
         // CCD substeps are only reported when the CCD had to act during the step.
@@ -616,7 +634,7 @@ impl PhysicsPipeline {
             let prediction_parameters = if remaining_substeps > 0 {
                 &integration_parameters
             } else {
-                &step_parameters
+                step_parameters
             };
             self.advance_to_final_positions(prediction_parameters, islands, bodies, colliders);
             // Neutralize bodies whose integrated pose went non-finite before the remaining
@@ -659,7 +677,7 @@ impl PhysicsPipeline {
                 // harvested by `advance_to_final_positions`.
                 self.counters.stages.collision_detection_time.resume();
                 self.counters.cd.final_broad_phase_time.resume();
-                self.update_moved_collider_aabbs(&step_parameters, broad_phase);
+                self.update_moved_collider_aabbs(step_parameters, broad_phase);
                 self.counters.cd.final_broad_phase_time.pause();
                 self.counters.stages.collision_detection_time.pause();
             }
@@ -697,7 +715,7 @@ impl PhysicsPipeline {
         soft_bodies.sync_particle_positions_and_collect(
             bodies,
             colliders,
-            &step_parameters,
+            step_parameters,
             integration_parameters.dt,
             &mut self.quarantine.soft_bodies,
             &mut self.soft_synced_colliders,
@@ -706,7 +724,7 @@ impl PhysicsPipeline {
         // them: the broad phase follows, so scene queries between steps see their final geometry.
         self.counters.stages.collision_detection_time.resume();
         self.counters.cd.final_broad_phase_time.resume();
-        self.update_soft_synced_collider_aabbs(&step_parameters, bodies, colliders, broad_phase);
+        self.update_soft_synced_collider_aabbs(step_parameters, bodies, colliders, broad_phase);
         self.counters.cd.final_broad_phase_time.pause();
         self.counters.stages.collision_detection_time.pause();
 

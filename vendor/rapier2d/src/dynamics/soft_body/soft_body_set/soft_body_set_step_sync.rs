@@ -18,6 +18,10 @@ impl SoftBodySet {
     /// Applies the user's changes since the last step: wakes the soft bodies whose settings
     /// changed, enables or disables their root body, moves the colliders of moved particles, and
     /// updates attachment index and island links. A non-finite particle quarantines its body.
+    ///
+    /// Inline: without soft bodies (nor a stale attachment index) there is nothing to change
+    /// (nor to allocate for), and a step without them doesn't even pass the arguments.
+    #[inline]
     pub(crate) fn apply_user_changes(
         &mut self,
         bodies: &mut RigidBodySet,
@@ -25,10 +29,19 @@ impl SoftBodySet {
         params: &IntegrationParameters,
         quarantined: &mut Vec<SoftBodyHandle>,
     ) {
-        // Without soft bodies there is nothing to change (nor to allocate for).
-        if self.bodies.is_empty() && !self.attached_to_stale {
-            return;
+        if !self.bodies.is_empty() || self.attached_to_stale {
+            self.apply_user_changes_to_bodies(bodies, colliders, params, quarantined);
         }
+    }
+
+    /// [`Self::apply_user_changes`] with soft bodies or a stale attachment index.
+    fn apply_user_changes_to_bodies(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+        params: &IntegrationParameters,
+        quarantined: &mut Vec<SoftBodyHandle>,
+    ) {
         // The colliders' shapes say which surfaces are oriented (the user may have changed them).
         for (_, sb) in self.bodies.iter_mut() {
             for mesh in sb.meshes_mut() {
@@ -212,6 +225,9 @@ impl SoftBodySet {
     /// surface colliders and the rigid colliders moved to their proxy's fresh pose, whose
     /// broad-phase AABBs must follow. `params` are the full step's (sizing the coming step's
     /// margin and substeps); `last_pass_dt` is the length of the step's last CCD pass.
+    ///
+    /// Inline: without soft bodies there is nothing to sync.
+    #[inline]
     pub(crate) fn sync_particle_positions_and_collect(
         &mut self,
         bodies: &mut RigidBodySet,
@@ -221,9 +237,28 @@ impl SoftBodySet {
         quarantined: &mut Vec<SoftBodyHandle>,
         synced_colliders: &mut Vec<ColliderHandle>,
     ) {
-        if self.bodies.is_empty() {
-            return;
+        if !self.bodies.is_empty() {
+            self.sync_bodies_and_collect(
+                bodies,
+                colliders,
+                params,
+                last_pass_dt,
+                quarantined,
+                synced_colliders,
+            );
         }
+    }
+
+    /// [`Self::sync_particle_positions_and_collect`] with soft bodies.
+    fn sync_bodies_and_collect(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+        params: &IntegrationParameters,
+        last_pass_dt: Real,
+        quarantined: &mut Vec<SoftBodyHandle>,
+        synced_colliders: &mut Vec<ColliderHandle>,
+    ) {
         // Every body reads its own particles and writes only itself: updated in parallel, then
         // the writes to the shared sets are applied in body order. Disabled bodies are left
         // alone, like sleeping ones.
@@ -318,6 +353,9 @@ impl SoftBodySet {
     /// Applies the tear marks left by the solver (elements loaded past their tear threshold) and
     /// by `SoftBody::tear_edge`/`tear_cell`, and reports each tear to `events`. Runs at the end
     /// of a step, before [`Self::sync_particle_positions`].
+    ///
+    /// Inline: without soft bodies there is nothing to tear.
+    #[inline]
     pub(crate) fn apply_pending_tears(
         &mut self,
         islands: &mut IslandManager,
@@ -327,9 +365,28 @@ impl SoftBodySet {
         multibody_joints: &mut MultibodyJointSet,
         events: &dyn EventHandler,
     ) {
-        if self.bodies.is_empty() {
-            return;
+        if !self.bodies.is_empty() {
+            self.apply_pending_tears_to_bodies(
+                islands,
+                bodies,
+                colliders,
+                impulse_joints,
+                multibody_joints,
+                events,
+            );
         }
+    }
+
+    /// [`Self::apply_pending_tears`] with soft bodies.
+    fn apply_pending_tears_to_bodies(
+        &mut self,
+        islands: &mut IslandManager,
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+        impulse_joints: &mut ImpulseJointSet,
+        multibody_joints: &mut MultibodyJointSet,
+        events: &dyn EventHandler,
+    ) {
         let pending: Vec<SoftBodyHandle> = self
             .bodies
             .iter()
