@@ -309,9 +309,8 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
     let (threads, name) = (rayon::current_num_threads(), &scene.spec().name);
     let plan = super::simulate::table_plan(scene);
     match (plan.simulated, plan.table_seconds) {
-        (Some(k), Some(t)) => {
-            let calibrated = t * super::simulate::calibration(scene, threads, plan.copies);
-            let time = seconds_text(calibrated);
+        (Some(k), Some(_)) => {
+            let time = seconds_text(super::simulate::table_seconds(scene));
             format!("a full check (`e3d scene reward-cell {name}`) simulates {k} commands: about {time} on {threads} thread(s) by the cost model, calibrated here")
         }
         _ => {

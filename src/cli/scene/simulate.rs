@@ -74,11 +74,20 @@ pub(super) fn table_plan(scene: &Scene) -> e3d::world::ExecutionPlan {
 }
 
 /// The cost model's seconds for building the whole table of `scene` on
-/// the current threads (0 when no table is possible).
+/// the current threads (0 when no table is possible), calibrated on
+/// rollouts run as the table runs them: [`TABLE_COPIES`](e3d::world::TABLE_COPIES)
+/// to a world where the scene's copies are exact. (The plan's own `copies`
+/// are those of one session, whose single-copy world keeps prefix states
+/// and costs per command what a table's world of many copies does not.)
 pub(super) fn table_seconds(scene: &Scene) -> f64 {
     let plan = table_plan(scene);
     let threads = rayon::current_num_threads();
-    plan.table_seconds.unwrap_or(0.0) * calibration(scene, threads, plan.copies)
+    let copies = if plan.exact_copies {
+        e3d::world::TABLE_COPIES
+    } else {
+        1
+    };
+    plan.table_seconds.unwrap_or(0.0) * calibration(scene, threads, copies)
 }
 
 /// The cost model's seconds for `n` rollouts of `scene`, one command per
