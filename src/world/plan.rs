@@ -251,11 +251,13 @@ impl Costs {
                     .filter(|b| b.kind != BodyKind::Fixed)
                     .count() as f64;
                 let joints = p.joints.len() as f64;
-                // per single-copy step: 1.6 us that copies share, 0.3 us per
-                // moving body, and the multibody algebra, quadratic in the
-                // joints (fitted to puck_rooms and arm7: 1.9 and 24 us)
-                let shared = 1.6e-6;
-                let own = 0.3e-6 * moving + 0.4e-6 * joints * joints;
+                // per single-copy step: 0.165 us that copies share, 0.2 us
+                // per moving body, and the multibody algebra, quadratic in
+                // the joints (fitted to `e3d bench puck_rooms arm7` on one
+                // core: 0.36 us a puck step, 0.20 us a copy's step in a
+                // world of 32, 10.9 us an arm7 step)
+                let shared = 0.165e-6;
+                let own = 0.2e-6 * moving + 0.19e-6 * joints * joints;
                 let steps = p.schedule.total_steps(p.dt, scene.spec().num_slots()) as f64;
                 Costs {
                     rollout: steps * (shared + own),
