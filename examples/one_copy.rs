@@ -33,14 +33,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if args.get(2).map(String::as_str) == Some("--random") {
         let n: u64 = args.get(3).ok_or(usage)?.parse()?;
         let total = space.num_commands().ok_or("too many commands to index")?;
-        // splitmix64: a fixed sequence, the same on every build
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        for _ in 0..n {
-            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            let command = space.command_at((z ^ (z >> 31)) % total);
+        // the SplitMix64 sequence seeded with its own increment: the same
+        // commands on every build
+        const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
+        for k in 1..=n {
+            let draw = e3d::hash::splitmix64(GOLDEN.wrapping_mul(k));
+            let command = space.command_at(draw % total);
             print!("{} ", space.format(&command));
             print(world.execute(&command)?);
         }
