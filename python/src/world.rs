@@ -11,7 +11,7 @@ use e3d::command::CommandSpace;
 use e3d::scene::physics::DrawKey;
 use e3d::scene::WorldSpec;
 use e3d::world::PhysicsWorld;
-use e3d::world::{Memoized, OutcomeMemo, DEFAULT_MEMO_CAP, TABLE_COPIES};
+use e3d::world::{table_copies, Memoized, OutcomeMemo, DEFAULT_MEMO_CAP};
 use e3d::{Command, Outcome, World, WorldError};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -52,10 +52,7 @@ pub(crate) struct PyWorld {
 
 impl PyWorld {
     pub(crate) fn new(scene: PyScene, prefix_states: usize) -> PyWorld {
-        let copies = match &scene.inner.spec().world {
-            WorldSpec::Physics(p) if p.copies_are_exact() => TABLE_COPIES,
-            _ => 1,
-        };
+        let copies = table_copies(&scene.inner);
         // a space of more than 2^64 commands cannot be indexed: its memo
         // is refused, and such a world keeps nothing (cap 0 never fills)
         let memo = OutcomeMemo::new(&scene.space, scene.inner.num_effects(), DEFAULT_MEMO_CAP)

@@ -38,8 +38,8 @@ pub use reach::{
     farthest_reached_cell, sample_reach, sample_reach_with, FarthestCell, ReachSample,
 };
 pub use table::{
-    seed0_start, start_contexts, CachedOutcomes, ContextTables, OutcomeTable, StartContext,
-    TabledContexts, MAX_TABLE_COMMANDS, TABLE_COPIES,
+    seed0_start, start_contexts, table_copies, CachedOutcomes, ContextTables, OutcomeTable,
+    StartContext, TabledContexts, MAX_TABLE_COMMANDS, TABLE_COPIES,
 };
 
 use crate::command::{Command, CommandSpace, ValueSpace};

@@ -310,7 +310,7 @@ pub(super) fn full_check_cost(scene: &Scene) -> String {
     let plan = super::simulate::table_plan(scene);
     match (plan.simulated, plan.table_seconds) {
         (Some(k), Some(_)) => {
-            let time = seconds_text(super::simulate::table_seconds(scene));
+            let time = seconds_text(super::simulate::plan_table_seconds(scene, &plan));
             format!("a full check (`e3d scene reward-cell {name}`) simulates {k} commands: about {time} on {threads} thread(s) by the cost model, calibrated here")
         }
         _ => {

@@ -189,11 +189,7 @@ impl<'a> ExecPool<'a> {
             (None, Some(physics)) => ExecPool::Parallel {
                 scene: physics,
                 // as the outcome table: bit-identical to one copy per world
-                copies: if physics.spec().copies_are_exact() {
-                    e3d::world::TABLE_COPIES
-                } else {
-                    1
-                },
+                copies: e3d::world::table_copies(scene),
                 idle: Mutex::new(Vec::new()),
             },
         }
@@ -416,10 +412,7 @@ impl CostNote {
     /// Says the cost of `known` commands now if their number is known.
     fn new(label: &str, scene: &Scene, known: Option<u64>, looked_up: bool) -> CostNote {
         let threads = rayon::current_num_threads();
-        let copies = match &scene.spec().world {
-            WorldSpec::Physics(p) if p.copies_are_exact() => e3d::world::TABLE_COPIES,
-            _ => 1,
-        };
+        let copies = e3d::world::table_copies(scene);
         let said = looked_up || known.is_some_and(|n| say_cost(label, scene, n, threads, copies));
         let per_command = if said {
             0.0

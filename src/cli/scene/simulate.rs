@@ -74,19 +74,21 @@ pub(super) fn table_plan(scene: &Scene) -> e3d::world::ExecutionPlan {
 }
 
 /// The cost model's seconds for building the whole table of `scene` on
-/// the current threads (0 when no table is possible), calibrated on
-/// rollouts run as the table runs them: [`TABLE_COPIES`](e3d::world::TABLE_COPIES)
-/// to a world where the scene's copies are exact. (The plan's own `copies`
-/// are those of one session, whose single-copy world keeps prefix states
-/// and costs per command what a table's world of many copies does not.)
+/// the current threads (0 when no table is possible).
 pub(super) fn table_seconds(scene: &Scene) -> f64 {
-    let plan = table_plan(scene);
-    let threads = rayon::current_num_threads();
-    let copies = if plan.exact_copies {
-        e3d::world::TABLE_COPIES
-    } else {
-        1
-    };
+    plan_table_seconds(scene, &table_plan(scene))
+}
+
+/// [`table_seconds`] from `scene`'s [`table_plan`], calibrated on rollouts
+/// run as the table runs them ([`table_copies`](e3d::world::table_copies)
+/// to a world), not on the plan's `copies`: those are one session's, whose
+/// single-copy world keeps prefix states and costs per command what a
+/// table's world of many copies does not.
+pub(super) fn plan_table_seconds(scene: &Scene, plan: &e3d::world::ExecutionPlan) -> f64 {
+    let (threads, copies) = (
+        rayon::current_num_threads(),
+        e3d::world::table_copies(scene),
+    );
     plan.table_seconds.unwrap_or(0.0) * calibration(scene, threads, copies)
 }
 

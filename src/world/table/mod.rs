@@ -24,6 +24,25 @@ pub const MAX_TABLE_COMMANDS: u64 = 1 << 22;
 /// physics scenes (measured on puck_rooms: see docs/benchmarks.md).
 pub const TABLE_COPIES: usize = 32;
 
+/// The copies per Rapier world a table of `scene` steps together:
+/// [`TABLE_COPIES`] where the scene's copies are exact
+/// ([`PhysicsSpec::copies_are_exact`](crate::scene::physics::PhysicsSpec::copies_are_exact)),
+/// else 1. Batches run the same way (`e3d scene exec`, Python's
+/// `execute_batch`), and the cost estimates of both are calibrated on it.
+///
+/// ```
+/// use e3d::{world::table_copies, Scene};
+/// assert_eq!(table_copies(&Scene::builtin("puck_rooms").unwrap()), 32);
+/// assert_eq!(table_copies(&Scene::builtin("arm7").unwrap()), 1); // its copies are not exact
+/// assert_eq!(table_copies(&Scene::builtin("two_rooms").unwrap()), 1); // a grid
+/// ```
+pub fn table_copies(scene: &Scene) -> usize {
+    match &scene.spec().world {
+        WorldSpec::Physics(p) if p.copies_are_exact() => TABLE_COPIES,
+        _ => 1,
+    }
+}
+
 /// Every command of a deterministic world, executed once, its outcome kept.
 ///
 /// A table is itself a [`World`]: executing a command is one look-up, with
@@ -294,11 +313,7 @@ impl OutcomeTable {
         let missing: Vec<u64> = (0..n)
             .filter(|&i| outcomes[i as usize].is_none() && twin(i).is_none())
             .collect();
-        let copies = if spec.copies_are_exact() {
-            TABLE_COPIES
-        } else {
-            1
-        };
+        let copies = table_copies(scene);
         let make = || PhysicsWorld::of(scene, spec, copies);
         let index = |k: u64| missing[k as usize];
         let results = run_chunks(&space, missing.len() as u64, index, make, batch, control)?;
